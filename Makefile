@@ -1,0 +1,48 @@
+# trical — the two commands of the README: `make run` and `make test`.
+PYTHON ?= python3
+VENV ?= .venv
+HOST ?= 127.0.0.1
+PORT ?= 8000
+BIN := $(VENV)/bin
+CHROMIUM ?= /usr/bin/chromium
+
+.PHONY: run test install install-test browser bench clean
+
+# The service: a virtual environment, the package, and the server on $(HOST):$(PORT) with SQLite under ./var.
+run: $(VENV)/.installed
+	mkdir -p var
+	HOST=$(HOST) PORT=$(PORT) $(BIN)/trical serve --host $(HOST) --port $(PORT)
+
+# The whole suite, with the test extras and the browser the end-to-end tests drive.
+test: $(VENV)/.installed-test browser
+	$(BIN)/python -m pytest
+
+install: $(VENV)/.installed
+install-test: $(VENV)/.installed-test
+
+$(VENV)/bin/python:
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --upgrade pip
+
+$(VENV)/.installed: pyproject.toml | $(VENV)/bin/python
+	$(BIN)/python -m pip install -e .
+	touch $@
+
+$(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
+	$(BIN)/python -m pip install -e '.[test]'
+	touch $@ $(VENV)/.installed
+
+# Debian's Chromium for the end-to-end tests (no browser download: the package registry only).
+browser:
+	@if [ ! -x "$(CHROMIUM)" ]; then \
+		echo "installing Debian's chromium for the end-to-end tests"; \
+		SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+		$$SUDO apt-get update -q && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q chromium; \
+	fi
+	@test -x "$(CHROMIUM)" || { echo "chromium is missing at $(CHROMIUM) and could not be installed" >&2; exit 1; }
+
+bench: $(VENV)/.installed-test
+	$(BIN)/python bench/api_latency.py
+
+clean:
+	rm -rf $(VENV) build *.egg-info .pytest_cache test-artifacts

@@ -1,0 +1,22 @@
+"""The numerical core of trical: numpy and scipy only, nothing of HTTP, JSON or files.
+
+One method = one function = one frozen result dataclass (DESIGN.md section 1).
+"""
+
+from .affine import AffineCalibration, fit_orientations, fit_six_position
+from .errors import CalibrationError, InsufficientDataError
+from .gravity import STANDARD_GRAVITY, normal_gravity
+from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
+
+__all__ = [
+    "AffineCalibration",
+    "CANONICAL_SIX",
+    "CalibrationError",
+    "InsufficientDataError",
+    "STANDARD_GRAVITY",
+    "fit_orientations",
+    "fit_six_position",
+    "nearest_orientation",
+    "normal_gravity",
+    "up_vector",
+]

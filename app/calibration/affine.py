@@ -1,0 +1,523 @@
+"""Known-orientation calibration: the 12-parameter affine model of 000, Approach 2.
+
+000_cb2cbc1c5eaccf1a.txt, section 3: the measurement m of a true specific force a is modelled as
+``m = X a + y`` (section 3.2); the calibrated value is ``a = X⁻¹ (m − y)`` (eq. (20)).  With N ≥ 4
+readings in known orientations the parameters z (eq. (21)) solve ``K z = m̄`` in the least-squares
+sense (section 3.3), provided condition (22) holds; for the six canonical orientations the solution
+has a closed form (section 3.3.1).  The metrics are those of section 3.5.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import CalibrationError, InsufficientDataError
+from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
+from .uncertainty import CONFIDENCE, half_widths
+from .validation import as_vectors, check_gravity, near_duplicate_pairs
+
+MODEL_TYPE = "affine"
+
+PLAUSIBLE_SCALE = (0.8, 1.2)
+"""Diagonal of X outside this range is implausible for a MEMS accelerometer (DESIGN.md §5)."""
+
+MAX_FIT_ERROR = 0.05
+"""A calibrated reading further than 5 % of g from its orientation fails the fit (ok = false)."""
+
+NEAR_DUPLICATE_FRACTION = 0.01
+"""Readings closer than 1 % of g to each other are named as near duplicates (DESIGN.md §3)."""
+
+MAX_CONDITION_NUMBER = 10.0
+"""Above this condition number of the normalised design, the orientations are poorly spread."""
+
+
+@dataclass(frozen=True)
+class AffineCalibration:
+    """Result of an affine (12-parameter) calibration, 000 Approach 2.
+
+    Attributes
+    ----------
+    X, y : numpy.ndarray
+        Model ``m = X a + y`` (000 section 3.2), X of shape (3, 3), y of shape (3,), in the unit of
+        the readings (X maps the reference unit to it).
+    gravity : float
+        Reference magnitude g the expected readings were built with.
+    means, expected : numpy.ndarray
+        The fitted readings m⁽ⁱ⁾ and their known specific forces a⁽ⁱ⁾, shape (N, 3).
+    labels : tuple
+        Orientation label of each reading, or None where an explicit vector was given.
+    covariance : numpy.ndarray or None
+        Covariance (12, 12) of z in the order of 000 eq. (21); None without degrees of freedom.
+    dof : int
+        Residual degrees of freedom per axis, N − 4.
+    metrics : dict
+        The figures of 000 section 3.5 and the design's condition number.
+    warnings : tuple of str
+        Everything worth telling, gate failures first.
+    reasons : tuple of str
+        The gate failures; ``ok`` is true exactly when there are none.
+    method : str
+        ``six_position`` or ``orientations``.
+    """
+
+    X: np.ndarray
+    y: np.ndarray
+    gravity: float
+    means: np.ndarray
+    expected: np.ndarray
+    labels: tuple
+    covariance: np.ndarray | None
+    dof: int
+    metrics: dict = field(default_factory=dict)
+    warnings: tuple = ()
+    reasons: tuple = ()
+    method: str = "orientations"
+
+    @property
+    def ok(self) -> bool:
+        """True when no quality gate failed."""
+        return not self.reasons
+
+    @property
+    def correction_matrix(self) -> np.ndarray:
+        """X⁻¹, the matrix firmware multiplies by after subtracting y (000 eq. (20))."""
+        return np.linalg.inv(self.X)
+
+    def apply(self, raw) -> np.ndarray:
+        """Calibrate readings: ``a = X⁻¹ (m − y)`` (000 eq. (20)).
+
+        Parameters
+        ----------
+        raw : array_like, shape (3,) or (N, 3)
+
+        Returns
+        -------
+        numpy.ndarray of the same shape as ``raw``.
+        """
+        m = np.asarray(raw, dtype=float)
+        if m.shape[-1:] != (3,) or m.ndim > 2:
+            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        return np.linalg.solve(self.X, (m - self.y).reshape(-1, 3).T).T.reshape(m.shape)
+
+    @property
+    def residuals(self) -> np.ndarray:
+        """Calibrated readings minus their expected specific force, shape (N, 3)."""
+        return self.apply(self.means) - self.expected
+
+    def uncertainty(self) -> dict:
+        """95 % half-widths of X and y, or nulls with the reason when there is no residual dof."""
+        out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
+        if self.covariance is None:
+            out.update(
+                X=None,
+                y=None,
+                note=(
+                    f"no intervals: {len(self.means)} readings fit 4 parameters per axis exactly "
+                    "(0 residual degrees of freedom); add orientations to estimate the uncertainty"
+                ),
+            )
+            return out
+        hw = half_widths(self.covariance, self.dof)
+        out.update(X=hw[:9].reshape(3, 3).tolist(), y=hw[9:].tolist())
+        return out
+
+    def evaluate(self, means) -> dict:
+        """Norm errors of further still readings of unknown orientation (000 section 3.5).
+
+        Parameters
+        ----------
+        means : array_like, shape (M, 3)
+            Still readings; their true norm is ``gravity``.
+
+        Returns
+        -------
+        dict
+            ``norm_error_max`` and ``norm_error_max_raw`` (relative, 000 section 3.5),
+            ``error_before_mg`` and ``error_after_mg`` (mean | |a| − g | in thousandths of g)
+            and ``count``.
+        """
+        m = as_vectors(means, "holdout means")
+        g = self.gravity
+        before = np.abs(np.linalg.norm(m, axis=1) - g) / g
+        after = np.abs(np.linalg.norm(self.apply(m), axis=1) - g) / g
+        return {
+            "count": int(len(m)),
+            "norm_error_max": float(after.max()),
+            "norm_error_max_raw": float(before.max()),
+            "error_before_mg": float(1000.0 * before.mean()),
+            "error_after_mg": float(1000.0 * after.mean()),
+        }
+
+    def readings(self) -> list[dict]:
+        """Per-reading detail: label, mean, expected, calibrated residual and relative errors."""
+        cal = self.apply(self.means)
+        g = self.gravity
+        rows = []
+        for i, (label, m, a, c) in enumerate(zip(self.labels, self.means, self.expected, cal)):
+            rows.append(
+                {
+                    "index": i,
+                    "up": label,
+                    "mean": m.tolist(),
+                    "expected": a.tolist(),
+                    "residual": (c - a).tolist(),
+                    "fit_error": float(np.linalg.norm(c - a) / np.linalg.norm(a)),
+                    "fit_error_raw": float(np.linalg.norm(m - a) / np.linalg.norm(a)),
+                    "norm_error": float(abs(np.linalg.norm(c) - g) / g),
+                    "norm_error_raw": float(abs(np.linalg.norm(m) - g) / g),
+                }
+            )
+        return rows
+
+    def to_dict(self) -> dict:
+        """Plain-JSON form: model, metrics, uncertainty, ok, warnings, reasons and readings."""
+        return {
+            "method": self.method,
+            "model": {"type": MODEL_TYPE, "X": self.X.tolist(), "y": self.y.tolist()},
+            "metrics": dict(self.metrics),
+            "uncertainty": self.uncertainty(),
+            "covariance": None if self.covariance is None else self.covariance.tolist(),
+            "gravity": self.gravity,
+            "ok": self.ok,
+            "warnings": list(self.warnings),
+            "reasons": list(self.reasons),
+            "readings": self.readings(),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "AffineCalibration":
+        """Rebuild a result from :meth:`to_dict` output."""
+        model = data["model"]
+        if model.get("type") != MODEL_TYPE:
+            raise CalibrationError(f"not an affine model: type {model.get('type')!r}")
+        readings = data.get("readings") or []
+        cov = data.get("covariance")
+        return cls(
+            X=np.asarray(model["X"], dtype=float),
+            y=np.asarray(model["y"], dtype=float),
+            gravity=float(data["gravity"]),
+            means=np.asarray([r["mean"] for r in readings], dtype=float).reshape(-1, 3),
+            expected=np.asarray([r["expected"] for r in readings], dtype=float).reshape(-1, 3),
+            labels=tuple(r.get("up") for r in readings),
+            covariance=None if cov is None else np.asarray(cov, dtype=float),
+            dof=int(data.get("uncertainty", {}).get("dof", max(len(readings) - 4, 0))),
+            metrics=dict(data.get("metrics", {})),
+            warnings=tuple(data.get("warnings", ())),
+            reasons=tuple(data.get("reasons", ())),
+            method=data.get("method", "orientations"),
+        )
+
+
+def _design(expected: np.ndarray, gravity: float) -> np.ndarray:
+    """Rows (a⁽ⁱ⁾/g, 1) of 000 condition (22), normalised so that the design is unit-free."""
+    return np.hstack([expected / gravity, np.ones((len(expected), 1))])
+
+
+def _check_condition_22(expected: np.ndarray, gravity: float, labels: tuple) -> None:
+    """Raise unless the rows (a⁽ⁱ⁾, 1) have rank 4 (000 condition (22), read as in DESIGN.md §3)."""
+    design = _design(expected, gravity)
+    sv = np.linalg.svd(design, compute_uv=False)
+    rank = int(np.sum(sv > 1e-9 * sv[0]))
+    if rank >= 4:
+        return
+    names = ", ".join(lab if lab else np.array2string(a / gravity, precision=2) for lab, a in zip(labels, expected))
+    hint = ""
+    if rank == 3:
+        # The expected vectors lie on one plane; its normal names the direction that is missing.
+        centred = expected - expected.mean(axis=0)
+        normal = np.linalg.svd(centred)[2][-1]
+        axis = nearest_orientation(normal, max_angle_deg=45.0)
+        if axis:
+            hint = f"; add a reading with the {axis[1]} axis up or down"
+    raise InsufficientDataError(
+        f"the orientations {names} do not satisfy condition (22) of 000 section 3.3: the rows "
+        f"(a, 1) have rank {rank}, not 4, so X and y are not determined. At least four "
+        f"orientations that do not lie on one plane are needed{hint}"
+    )
+
+
+def _covariance(design: np.ndarray, residuals: np.ndarray, gravity: float) -> tuple[np.ndarray | None, int]:
+    """Least-squares covariance of z (000 eq. (21) order) from the residual variance per axis.
+
+    Each output axis j is its own linear model ``m_j = [a, 1] · [X_j, y_j]``; its parameters
+    have covariance σ_j² (AᵀA)⁻¹ with σ_j² = RSS_j / (N − 4).  Axes are taken as independent.
+    """
+    n = len(design)
+    dof = n - 4
+    if dof <= 0:
+        return None, 0
+    # Undo the 1/g normalisation of the first three columns: parameters of X multiply a, not a/g.
+    scale = np.array([1.0 / gravity] * 3 + [1.0])
+    inv = np.linalg.inv(design.T @ design) * np.outer(scale, scale)
+    sigma2 = (residuals**2).sum(axis=0) / dof
+    cov = np.zeros((12, 12))
+    for j in range(3):
+        idx = [3 * j, 3 * j + 1, 3 * j + 2, 9 + j]
+        cov[np.ix_(idx, idx)] = sigma2[j] * inv
+    return cov, dof
+
+
+def _finish(
+    X: np.ndarray,
+    y: np.ndarray,
+    means: np.ndarray,
+    expected: np.ndarray,
+    labels: tuple,
+    gravity: float,
+    method: str,
+    *,
+    stds: np.ndarray | None,
+    plausible_scale: tuple[float, float] | None,
+    max_offset: float | None,
+) -> AffineCalibration:
+    """Metrics, uncertainty, warnings and gates shared by both solvers."""
+    design = _design(expected, gravity)
+    fitted = expected @ X.T + y
+    cov, dof = _covariance(design, means - fitted, gravity)
+
+    warnings: list[str] = []
+    reasons: list[str] = []
+    cond = float(np.linalg.cond(design))
+
+    det = float(np.linalg.det(X))
+    if not np.isfinite(det) or abs(det) < 1e-12:
+        raise CalibrationError(
+            "the fitted matrix X is singular: the readings do not change with orientation; "
+            "check that the readings are from the accelerometer and that the device was turned"
+        )
+    cal = np.linalg.solve(X, (means - y).T).T
+    norm_a = np.linalg.norm(expected, axis=1)
+    fit = np.linalg.norm(cal - expected, axis=1) / norm_a
+    fit_raw = np.linalg.norm(means - expected, axis=1) / norm_a
+    norm_err = np.abs(np.linalg.norm(cal, axis=1) - gravity) / gravity
+    norm_err_raw = np.abs(np.linalg.norm(means, axis=1) - gravity) / gravity
+    metrics = {
+        # 000 section 3.5: relative fitting error, calibrated and raw, over the fitted readings.
+        "fit_error_max": float(fit.max()),
+        "fit_error_max_raw": float(fit_raw.max()),
+        # 000 section 3.5: relative error of the norms.
+        "norm_error_max": float(norm_err.max()),
+        "norm_error_max_raw": float(norm_err_raw.max()),
+        "fit_improvement": float(fit_raw.max() / fit.max()) if fit.max() > 0 else None,
+        "norm_improvement": float(norm_err_raw.max() / norm_err.max()) if norm_err.max() > 0 else None,
+        "rms_residual": float(np.sqrt(np.mean((cal - expected) ** 2))),
+        "condition_number": cond,
+        "dof": dof,
+        "count": int(len(means)),
+    }
+
+    if fit.max() > MAX_FIT_ERROR:
+        worst = int(np.argmax(fit))
+        name = labels[worst] or f"reading {worst}"
+        reasons.append(
+            f"reading {worst} ({name}) is {100 * fit[worst]:.1f} % of g from its orientation after "
+            f"calibration (gate {100 * MAX_FIT_ERROR:.0f} %): it may be mislabelled or not still"
+        )
+    if plausible_scale is not None:
+        lo, hi = plausible_scale
+        for k, s in enumerate(np.diag(X)):
+            if not lo <= s <= hi:
+                reasons.append(
+                    f"scale of the {'xyz'[k]} axis is {s:.4f}, outside the plausible {lo}–{hi}: "
+                    "check the unit and the orientation labels"
+                )
+    if max_offset is not None:
+        for k, o in enumerate(y):
+            if abs(o) > max_offset:
+                reasons.append(
+                    f"offset of the {'xyz'[k]} axis is {o:.4g}, above 1 g in magnitude: "
+                    "check the unit and the orientation labels"
+                )
+    if cond > MAX_CONDITION_NUMBER:
+        warnings.append(
+            f"the orientations are poorly spread (condition number {cond:.1f}): the parameters "
+            "are sensitive to noise; add opposite orientations"
+        )
+    for i, j in near_duplicate_pairs(means, NEAR_DUPLICATE_FRACTION * gravity):
+        warnings.append(
+            f"readings {i} and {j} are within 1 % of g of each other (near-duplicate positions, "
+            "000 Dataset 3): they weigh one orientation twice"
+        )
+    if stds is not None:
+        for i, s in enumerate(stds):
+            if s is not None and np.all(np.isfinite(s)) and np.linalg.norm(s) > 0.05 * gravity:
+                warnings.append(
+                    f"reading {i} has a spread of {np.linalg.norm(s):.3g} (above 5 % of g): "
+                    "the device may have moved during the capture"
+                )
+    if dof == 0:
+        warnings.append(
+            "4 readings fit the 12 parameters exactly: there are no residual degrees of freedom, "
+            "so no intervals and no check of the fit; use six or more orientations"
+        )
+    return AffineCalibration(
+        X=X,
+        y=y,
+        gravity=gravity,
+        means=means,
+        expected=expected,
+        labels=tuple(labels),
+        covariance=cov,
+        dof=dof,
+        metrics=metrics,
+        warnings=tuple(reasons + warnings),
+        reasons=tuple(reasons),
+        method=method,
+    )
+
+
+def _expected_from(ups, expected, n: int, gravity: float) -> tuple[np.ndarray, tuple]:
+    """Known specific forces from labels and/or explicit vectors (explicit ones in the data's unit)."""
+    if ups is None and expected is None:
+        raise CalibrationError("each reading needs its orientation: give `ups` labels or `expected` vectors")
+    labels = list(ups) if ups is not None else [None] * n
+    if len(labels) != n:
+        raise CalibrationError(f"{n} readings but {len(labels)} orientation labels: give one per reading")
+    explicit = None
+    if expected is not None:
+        explicit = list(expected)
+        if len(explicit) != n:
+            raise CalibrationError(f"{n} readings but {len(explicit)} expected vectors: give one per reading")
+    rows = []
+    for i in range(n):
+        e = None if explicit is None else explicit[i]
+        if e is not None:
+            v = as_vectors(e, f"expected vector of reading {i}")[0]
+            if np.linalg.norm(v) == 0:
+                raise CalibrationError(f"expected vector of reading {i} is zero; it must be the specific force at rest")
+            rows.append(v)
+        elif labels[i] is not None:
+            rows.append(up_vector(labels[i]) * gravity)
+        else:
+            raise CalibrationError(f"reading {i} has neither an `up` label nor an `expected` vector")
+    return np.array(rows), tuple(labels)
+
+
+def fit_orientations(
+    means,
+    ups=None,
+    *,
+    expected=None,
+    gravity: float,
+    stds=None,
+    plausible_scale: tuple[float, float] | None = PLAUSIBLE_SCALE,
+    max_offset: float | None = None,
+) -> AffineCalibration:
+    """Least-squares affine calibration from readings in known orientations (000 section 3.3).
+
+    Solves ``K z = m̄`` for z = (x11, …, x33, y1, y2, y3) (000 eq. (21)) in the least-squares
+    sense, after checking condition (22).
+
+    Parameters
+    ----------
+    means : array_like, shape (N, 3)
+        Averaged still readings m⁽ⁱ⁾, N ≥ 4.
+    ups : sequence of str, optional
+        Orientation label of each reading (``+x`` … ``-z``, the axis that points up).
+    expected : sequence, optional
+        Explicit specific force a⁽ⁱ⁾ for each reading (None entries fall back to ``ups``), in the
+        unit of the readings.
+    gravity : float
+        Reference magnitude, in the unit of the readings (1 for readings in g).
+    stds : array_like, optional
+        Per-reading standard deviations, only used to warn about movement.
+    plausible_scale : (float, float) or None
+        Bounds of the diagonal of X that pass the gate; None for raw units.
+    max_offset : float or None
+        Largest |y| that passes the gate; defaults to ``gravity`` (1 g).
+
+    Returns
+    -------
+    AffineCalibration
+
+    Raises
+    ------
+    CalibrationError
+        Wrong shapes, non-finite values, unknown labels.
+    InsufficientDataError
+        Fewer than 4 readings, or orientations that violate condition (22).
+    """
+    g = check_gravity(gravity)
+    m = as_vectors(means, "means")
+    a, labels = _expected_from(ups, expected, len(m), g)
+    if len(m) < 4:
+        raise InsufficientDataError(
+            f"{len(m)} readings cannot determine the 12 parameters of X and y: at least 4 "
+            "orientations that do not lie on one plane are needed (000 condition (22))"
+        )
+    _check_condition_22(a, g, labels)
+    # 000 section 3.3: K z = m̄ decouples into A W = M with A = [a, 1] and W = [Xᵀ; yᵀ].
+    design = np.hstack([a, np.ones((len(a), 1))])
+    W, *_ = np.linalg.lstsq(design, m, rcond=None)
+    X, y = W[:3].T.copy(), W[3].copy()
+    return _finish(
+        X, y, m, a, labels, g, "orientations",
+        stds=None if stds is None else np.asarray(stds, dtype=float),
+        plausible_scale=plausible_scale,
+        max_offset=g if max_offset is None else max_offset,
+    )
+
+
+def fit_six_position(
+    means,
+    ups=CANONICAL_SIX,
+    *,
+    gravity: float,
+    stds=None,
+    plausible_scale: tuple[float, float] | None = PLAUSIBLE_SCALE,
+    max_offset: float | None = None,
+) -> AffineCalibration:
+    """Closed-form affine calibration from the six canonical orientations (000 section 3.3.1).
+
+    ``X = (1/2g) [m⁽⁺ˣ⁾ − m⁽⁻ˣ⁾, m⁽⁺ʸ⁾ − m⁽⁻ʸ⁾, m⁽⁺ᶻ⁾ − m⁽⁻ᶻ⁾]`` and ``y = (1/6) Σ m⁽ⁱ⁾``; it
+    equals the least-squares solution of section 3.3 on the same readings.
+
+    Parameters
+    ----------
+    means : array_like, shape (6, 3)
+        Averaged still readings, one per canonical orientation, in any order.
+    ups : sequence of str
+        The label of each reading; each of ``-x, +x, -y, +y, -z, +z`` exactly once.
+        Defaults to the canonical order of 000 section 3.3.1.
+    gravity, stds, plausible_scale, max_offset
+        As in :func:`fit_orientations`.
+
+    Returns
+    -------
+    AffineCalibration
+
+    Raises
+    ------
+    CalibrationError
+        Not exactly six readings, unknown, missing or repeated orientations, non-finite values.
+    """
+    g = check_gravity(gravity)
+    m = as_vectors(means, "means")
+    labels = list(ups)
+    if len(m) != 6 or len(labels) != 6:
+        raise CalibrationError(
+            f"six_position needs exactly 6 readings, one per orientation {', '.join(CANONICAL_SIX)}; "
+            f"got {len(m)} readings and {len(labels)} labels (use method `orientations` for other sets)"
+        )
+    for lab in labels:
+        up_vector(lab)  # raises on an unknown label
+    repeated = sorted({lab for lab in labels if labels.count(lab) > 1})
+    if repeated:
+        missing = [lab for lab in CANONICAL_SIX if lab not in labels]
+        raise CalibrationError(
+            f"orientation {', '.join(repeated)} is given more than once and {', '.join(missing)} "
+            "is missing: six_position needs each of the six orientations exactly once"
+        )
+    by_label = {lab: m[i] for i, lab in enumerate(labels)}
+    # 000 section 3.3.1: closed form of the least-squares solution for the canonical orientations.
+    X = np.column_stack([by_label["+" + ax] - by_label["-" + ax] for ax in "xyz"]) / (2.0 * g)
+    y = m.mean(axis=0)
+    a = np.array([up_vector(lab) * g for lab in labels])
+    return _finish(
+        X, y, m, a, tuple(labels), g, "six_position",
+        stds=None if stds is None else np.asarray(stds, dtype=float),
+        plausible_scale=plausible_scale,
+        max_offset=g if max_offset is None else max_offset,
+    )
