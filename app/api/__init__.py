@@ -1,0 +1,9 @@
+"""The REST API (v1): routers, schemas, dependencies and the error mapping."""
+
+from fastapi import APIRouter
+
+from . import calibrations, health, recordings
+
+router = APIRouter()
+for module in (health, calibrations, recordings):
+    router.include_router(module.router)

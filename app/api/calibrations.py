@@ -1,0 +1,84 @@
+"""Routes of /api/v1/calibrations: compute and store, read, list, export, apply."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter, Body, Depends, Query
+from fastapi.responses import Response
+
+from app import workflow
+from app.api.deps import get_store
+from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, KnownOrientationIn
+from app.calibration.registry import result_from_dict
+from app.io.exporters import EXPORTERS, export_calibration
+from app.store import SQLiteStore
+
+router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
+
+
+def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> dict:
+    gravity, notes = workflow.reference_gravity(request.unit, request.gravity, request.latitude_deg, request.height_m)
+    source: dict = {}
+    if request.recording_id is not None:
+        recording, _ = store.get_recording(request.recording_id)
+        if request.unit != recording["units"]["acc"]:
+            notes.append(
+                f"the recording's accelerometer unit is {recording['units']['acc']}; the request's unit "
+                f"{request.unit} was replaced by it"
+            )
+            gravity, more = workflow.reference_gravity(recording["units"]["acc"], request.gravity,
+                                                       request.latitude_deg, request.height_m)
+            notes += more
+        unit = recording["units"]["acc"]
+        readings, used = workflow.readings_from_segments(recording, request.method, request.segments)
+        source = {"recording_id": request.recording_id, "segments_used": used}
+        if recording.get("quantization_step"):
+            notes.append(
+                f"the recording's values are rounded to {recording['quantization_step']} m/s² (as browsers "
+                "round motion sensor data): each reading's mean is still precise when averaged over many samples"
+            )
+    else:
+        unit = request.unit
+        readings = [workflow.Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
+                                     std=None if r.std is None else tuple(r.std), count=r.count)
+                    for r in request.readings]
+    result, extra = workflow.calibrate_known(request.method, readings, unit=unit, gravity=gravity,
+                                             holdout=request.holdout)
+    return workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                     label=request.label, **source)
+
+
+@router.post("", status_code=201, response_model=CalibrationOut, summary="Compute and store a calibration")
+def create_calibration(request: CalibrationIn = Body(...), store: SQLiteStore = Depends(get_store)):
+    """Compute a calibration by `method` and store it; 201 with the stored resource."""
+    return store.add_calibration(_known_orientation_body(request, store))
+
+
+@router.get("", response_model=CalibrationList, summary="List calibrations")
+def list_calibrations(device_id: str | None = Query(None, max_length=200),
+                      limit: int = Query(100, ge=1, le=1000), store: SQLiteStore = Depends(get_store)):
+    """Calibrations, newest first, optionally of one device."""
+    return {"items": store.list_calibrations(device_id=device_id, limit=limit)}
+
+
+@router.get("/{calibration_id}", response_model=CalibrationOut, summary="Read a calibration")
+def get_calibration(calibration_id: str, store: SQLiteStore = Depends(get_store)):
+    """One stored calibration."""
+    return store.get_calibration(calibration_id)
+
+
+@router.get("/{calibration_id}/export", summary="Export a calibration",
+            responses={200: {"content": {"application/json": {}, "text/x-c": {}}}})
+def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(EXPORTERS)}"),
+           store: SQLiteStore = Depends(get_store)):
+    """The calibration as a file for firmware or analysis code."""
+    out = export_calibration(store.get_calibration(calibration_id), format)
+    return Response(out.content, media_type=out.media_type,
+                    headers={"Content-Disposition": f'attachment; filename="{out.filename}"'})
+
+
+@router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")
+def apply(calibration_id: str, request: ApplyIn, store: SQLiteStore = Depends(get_store)):
+    """Samples calibrated with a stored calibration."""
+    body = store.get_calibration(calibration_id)
+    calibrated = result_from_dict(body).apply(request.samples)
+    return {"samples": calibrated.tolist(), "unit": body.get("output_unit")}

@@ -1,0 +1,100 @@
+"""The one place that maps errors to HTTP responses: ``{"detail": "..."}`` with a 4xx status.
+
+Bad input never yields a 500; an unexpected failure is logged with its traceback and answered
+with a 500 whose message holds no internals.
+"""
+
+from __future__ import annotations
+
+import logging
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from app.calibration import CalibrationError
+from app.io.errors import ExportError, LogFormatError
+from app.store import NotFoundError
+
+log = logging.getLogger("trical")
+
+
+class PayloadTooLarge(Exception):
+    """An upload exceeds TRICAL_MAX_UPLOAD_MB."""
+
+    def __init__(self, limit_mb: float):
+        super().__init__(
+            f"the upload is larger than the limit of {limit_mb:g} MiB (TRICAL_MAX_UPLOAD_MB): "
+            "split the recording or raise the limit"
+        )
+
+
+def _location(loc) -> str:
+    parts: list[str] = []
+    for item in loc:
+        if item in ("body", "query", "path", "form") and not parts:
+            continue
+        if item in ("six_position", "orientations") and len(parts) == 0:
+            continue  # the discriminator's branch, not a field
+        if isinstance(item, int):
+            parts.append(f"[{item}]")
+        else:
+            parts.append(("." if parts else "") + str(item))
+    return "".join(parts) or "body"
+
+
+def describe_validation(exc: RequestValidationError) -> str:
+    """One readable sentence per problem, e.g. ``readings[2].up: Input should be '+x', ...``."""
+    messages = []
+    for err in exc.errors():
+        if err.get("type") == "json_invalid":
+            messages.append(f"the body is not valid JSON ({err.get('ctx', {}).get('error', 'parse error')})")
+            continue
+        if err.get("type") == "missing" and tuple(err.get("loc", ())) == ("body",):
+            messages.append("the request needs a JSON body")
+            continue
+        msg = err.get("msg", "invalid").removeprefix("Value error, ")
+        messages.append(f"{_location(err.get('loc', ()))}: {msg}")
+    return "; ".join(dict.fromkeys(messages)) or "invalid request"
+
+
+def _json(status: int, detail: str) -> JSONResponse:
+    return JSONResponse({"detail": detail}, status_code=status)
+
+
+def install_error_handlers(app: FastAPI) -> None:
+    """Register the mapping of every error class to its HTTP status."""
+
+    @app.exception_handler(RequestValidationError)
+    async def _validation(request: Request, exc: RequestValidationError):
+        return _json(422, describe_validation(exc))
+
+    @app.exception_handler(CalibrationError)
+    async def _calibration(request: Request, exc: CalibrationError):
+        return _json(422, str(exc))
+
+    @app.exception_handler(LogFormatError)
+    async def _log_format(request: Request, exc: LogFormatError):
+        return _json(exc.status, str(exc))
+
+    @app.exception_handler(ExportError)
+    async def _export(request: Request, exc: ExportError):
+        return _json(422, str(exc))
+
+    @app.exception_handler(NotFoundError)
+    async def _not_found(request: Request, exc: NotFoundError):
+        return _json(404, str(exc.args[0]) if exc.args else "not found")
+
+    @app.exception_handler(PayloadTooLarge)
+    async def _too_large(request: Request, exc: PayloadTooLarge):
+        return _json(413, str(exc))
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http(request: Request, exc: StarletteHTTPException):
+        return JSONResponse({"detail": exc.detail}, status_code=exc.status_code, headers=exc.headers)
+
+    @app.exception_handler(Exception)
+    async def _unexpected(request: Request, exc: Exception):
+        log.exception("unexpected error on %s %s", request.method, request.url.path)
+        return _json(500, "internal error: the request was not completed; nothing was stored")

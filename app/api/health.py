@@ -1,0 +1,13 @@
+"""Liveness."""
+
+from fastapi import APIRouter
+
+from app.api.schemas import Health
+
+router = APIRouter(tags=["health"])
+
+
+@router.get("/healthz", response_model=Health, summary="Liveness")
+def healthz():
+    """`{"status": "ok"}` while the service answers."""
+    return {"status": "ok"}

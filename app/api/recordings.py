@@ -1,0 +1,70 @@
+"""Routes of /api/v1/recordings: upload a log, read its segments."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Literal
+
+from fastapi import APIRouter, Depends, File, Form, UploadFile
+
+from app import workflow
+from app.api.deps import get_settings, get_store
+from app.api.errors import PayloadTooLarge
+from app.api.schemas import RecordingOut
+from app.config import Settings
+from app.store import SQLiteStore
+from app.store.sqlite import new_id
+
+router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
+CHUNK = 1 << 20
+
+
+def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
+    """Copy an upload to ``dest`` in chunks, refusing it past the size limit; returns its size."""
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    size = 0
+    try:
+        with open(dest, "wb") as out:
+            while chunk := source.read(CHUNK):
+                size += len(chunk)
+                if size > limit_bytes:
+                    raise PayloadTooLarge(limit_mb)
+                out.write(chunk)
+    except BaseException:
+        dest.unlink(missing_ok=True)
+        raise
+    return size
+
+
+@router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log")
+def upload_recording(
+    file: UploadFile = File(..., description="A CSV log with a header row."),
+    sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
+    acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
+    gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
+    mag_unit: Literal["uT", "nT", "raw"] | None = Form(None),
+    format: Literal["auto", "csv"] = Form("auto"),
+    settings: Settings = Depends(get_settings),
+    store: SQLiteStore = Depends(get_store),
+):
+    """Store a log and return its static segments with their orientation."""
+    recording_id = new_id("rec")
+    dest = settings.recordings_dir / f"{recording_id}.csv"
+    save_upload(file.file, dest, settings.max_upload_bytes, settings.max_upload_mb)
+    try:
+        units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
+        log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, units=units,
+                                name=file.filename or "the file")
+        body = workflow.describe_log(log)
+        body["filename"] = file.filename
+        return store.add_recording(recording_id, body, dest)
+    except BaseException:
+        dest.unlink(missing_ok=True)
+        raise
+
+
+@router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
+def get_recording(recording_id: str, store: SQLiteStore = Depends(get_store)):
+    """A recording's metadata and static segments."""
+    body, _ = store.get_recording(recording_id)
+    return body

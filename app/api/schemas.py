@@ -1,0 +1,128 @@
+"""Request and response models of the REST API (v1). Pydantic lives here and nowhere else."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
+
+Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
+Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
+AccUnit = Literal["m/s^2", "g", "raw"]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class ReadingIn(Strict):
+    """An averaged still reading in a known orientation."""
+
+    mean: Vec3 = Field(description="Mean specific force [x, y, z] in `unit`.")
+    up: Label | None = Field(None, description="The device axis that points up (`+x` reads +g on x).")
+    expected: Vec3 | None = Field(None, description="Explicit true specific force, instead of `up`.")
+    std: Annotated[list[Annotated[float, Field(ge=0, allow_inf_nan=False)]], Field(min_length=3, max_length=3)] | None = None
+    count: int | None = Field(None, ge=1)
+
+    @model_validator(mode="after")
+    def _orientation_given(self):
+        if self.up is None and self.expected is None:
+            raise ValueError("each reading needs `up` (e.g. \"+z\") or an explicit `expected` vector")
+        return self
+
+
+class CommonIn(Strict):
+    unit: AccUnit = Field("m/s^2", description="Unit of the readings; `g` calibrates into g.")
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = Field(
+        None, description="Reference gravity in m/s² (default 9.80665, or local gravity from latitude_deg)."
+    )
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+    holdout: Annotated[list[Vec3], Field(max_length=100_000)] | None = Field(
+        None, description="Further still readings of unknown orientation, used only to report norm errors."
+    )
+
+
+class KnownOrientationIn(CommonIn):
+    readings: Annotated[list[ReadingIn], Field(min_length=1, max_length=10_000)] | None = None
+    recording_id: str | None = Field(None, description="Use the static segments of an uploaded recording.")
+    segments: list[int] | None = Field(None, description="Segment indices to use from the recording.")
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if (self.readings is None) == (self.recording_id is None):
+            raise ValueError("give either `readings` or `recording_id` (exactly one of them)")
+        if self.segments is not None and self.recording_id is None:
+            raise ValueError("`segments` selects segments of a recording: give `recording_id` too")
+        return self
+
+
+class SixPositionIn(KnownOrientationIn):
+    method: Literal["six_position"]
+
+
+class OrientationsIn(KnownOrientationIn):
+    method: Literal["orientations"]
+
+
+CalibrationIn = Annotated[Union[SixPositionIn, OrientationsIn], Field(discriminator="method")]
+
+
+class CalibrationOut(BaseModel):
+    """A stored calibration. `model`, `metrics` and `uncertainty` depend on the method."""
+
+    model_config = ConfigDict(extra="allow")
+
+    id: str
+    method: str
+    created_at: str
+    model: dict[str, Any]
+    metrics: dict[str, Any]
+    uncertainty: dict[str, Any]
+    ok: bool
+    warnings: list[str]
+    reasons: list[str] = []
+    device_id: str | None = None
+    label: str | None = None
+
+
+class CalibrationList(BaseModel):
+    items: list[CalibrationOut]
+
+
+class ApplyIn(Strict):
+    samples: Annotated[list[Vec3], Field(min_length=1, max_length=1_000_000)]
+
+
+class ApplyOut(BaseModel):
+    samples: list[list[float]]
+    unit: str
+
+
+class SegmentOut(BaseModel):
+    index: int
+    start: int
+    end: int
+    acc_mean: list[float]
+    acc_std: list[float]
+    up: str | None
+    count: int
+
+
+class RecordingOut(BaseModel):
+    model_config = ConfigDict(extra="allow")
+
+    id: str
+    created_at: str
+    format: str
+    n_samples: int
+    sampling_rate_hz: float
+    channels: list[str]
+    units: dict[str, str]
+    segments: list[SegmentOut]
+
+
+class Health(BaseModel):
+    status: Literal["ok"]

@@ -1,0 +1,91 @@
+"""All settings in one place, read from TRICAL_* environment variables (DESIGN.md section 3)."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+PROJECT_ROOT = Path(__file__).resolve().parent.parent
+"""The checkout (or image) root holding static/ and templates/."""
+
+
+class SettingsError(ValueError):
+    """An environment variable holds a value that cannot be used."""
+
+
+@dataclass(frozen=True)
+class Settings:
+    """trical's configuration.
+
+    Attributes
+    ----------
+    database_url : str
+        ``sqlite:///relative/or/absolute/path.db`` (TRICAL_DATABASE_URL).
+    max_upload_mb : float
+        Largest accepted upload in MiB (TRICAL_MAX_UPLOAD_MB).
+    api_keys : tuple of str
+        When non-empty, every API call needs ``Authorization: Bearer <key>`` (TRICAL_API_KEYS).
+    host, port : str, int
+        Where ``trical serve`` and ``make run`` listen (HOST, PORT).
+    data_dir : pathlib.Path
+        Where uploaded recordings are kept (TRICAL_DATA_DIR; default: beside the database).
+    """
+
+    database_url: str = "sqlite:///./var/trical.db"
+    max_upload_mb: float = 512.0
+    api_keys: tuple[str, ...] = ()
+    host: str = "127.0.0.1"
+    port: int = 8000
+    data_dir: Path | None = None
+    static_dir: Path = field(default=PROJECT_ROOT / "static")
+    templates_dir: Path = field(default=PROJECT_ROOT / "templates")
+
+    @property
+    def database_path(self) -> Path:
+        """Filesystem path of the SQLite database named by ``database_url``."""
+        prefix = "sqlite:///"
+        if not self.database_url.startswith(prefix):
+            raise SettingsError(
+                f"TRICAL_DATABASE_URL must look like sqlite:///path/to/trical.db; got {self.database_url!r}"
+            )
+        return Path(self.database_url[len(prefix):])
+
+    @property
+    def recordings_dir(self) -> Path:
+        """Directory of uploaded recordings."""
+        base = self.data_dir if self.data_dir is not None else self.database_path.parent
+        return Path(base) / "recordings"
+
+    @property
+    def max_upload_bytes(self) -> int:
+        return int(self.max_upload_mb * 1024 * 1024)
+
+    @classmethod
+    def from_env(cls, environ=None) -> "Settings":
+        """Build the settings from the environment (``os.environ`` by default)."""
+        env = os.environ if environ is None else environ
+        kwargs: dict = {}
+        if env.get("TRICAL_DATABASE_URL"):
+            kwargs["database_url"] = env["TRICAL_DATABASE_URL"]
+        if env.get("TRICAL_MAX_UPLOAD_MB"):
+            try:
+                kwargs["max_upload_mb"] = float(env["TRICAL_MAX_UPLOAD_MB"])
+            except ValueError:
+                raise SettingsError(f"TRICAL_MAX_UPLOAD_MB must be a number of MiB; got {env['TRICAL_MAX_UPLOAD_MB']!r}") from None
+            if not kwargs["max_upload_mb"] > 0:
+                raise SettingsError("TRICAL_MAX_UPLOAD_MB must be positive")
+        if env.get("TRICAL_API_KEYS"):
+            kwargs["api_keys"] = tuple(k.strip() for k in env["TRICAL_API_KEYS"].split(",") if k.strip())
+        if env.get("TRICAL_DATA_DIR"):
+            kwargs["data_dir"] = Path(env["TRICAL_DATA_DIR"])
+        if env.get("HOST"):
+            kwargs["host"] = env["HOST"]
+        if env.get("PORT"):
+            try:
+                kwargs["port"] = int(env["PORT"])
+            except ValueError:
+                raise SettingsError(f"PORT must be an integer; got {env['PORT']!r}") from None
+        settings = cls(**kwargs)
+        settings.database_path  # validate the URL early
+        return settings

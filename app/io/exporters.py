@@ -1,0 +1,128 @@
+"""Exports of a stored calibration for firmware and analysis code.
+
+Every export of an affine calibration carries the correction in the form firmware applies,
+``a = M (m − o)`` with ``M = X⁻¹`` and ``o = y`` (000_cb2cbc1c5eaccf1a.txt eq. (20)).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ExportError
+
+JSON_SCHEMA = "https://trical.dev/schema/calibration/v1"
+FRAME = "device frame of the data: x right, y up along the screen, z out of the screen (W3C DeviceMotion)"
+
+
+@dataclass(frozen=True)
+class Export:
+    content: str
+    media_type: str
+    filename: str
+
+
+def _affine_correction(body: dict) -> tuple[np.ndarray, np.ndarray]:
+    model = body["model"]
+    if model.get("type") != "affine":
+        raise ExportError(f"this export needs an affine calibration; this one is {model.get('type')!r}")
+    X = np.asarray(model["X"], dtype=float)
+    return np.linalg.inv(X), np.asarray(model["y"], dtype=float)
+
+
+def to_json(body: dict) -> Export:
+    """Versioned JSON: units, frame, gravity, counts, intervals, method, created_at, device_id."""
+    doc = {
+        "$schema": JSON_SCHEMA,
+        "schema_version": 1,
+        "id": body["id"],
+        "method": body["method"],
+        "created_at": body["created_at"],
+        "device_id": body.get("device_id"),
+        "label": body.get("label"),
+        "sensor": "accelerometer",
+        "frame": FRAME,
+        "input_unit": body.get("unit"),
+        "output_unit": body.get("output_unit"),
+        "gravity": body.get("gravity"),
+        "model": body["model"],
+        "uncertainty": body.get("uncertainty"),
+        "metrics": body.get("metrics"),
+        "count": (body.get("metrics") or {}).get("count"),
+        "ok": body.get("ok"),
+        "warnings": body.get("warnings", []),
+    }
+    if body["model"].get("type") == "affine":
+        M, o = _affine_correction(body)
+        doc["correction"] = {
+            "formula": "a = M (m - o)",
+            "M": M.tolist(),
+            "o": o.tolist(),
+            "source": "000_cb2cbc1c5eaccf1a.txt eq. (20): M = X^-1, o = y",
+        }
+    return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
+
+
+def _c_number(v: float) -> str:
+    # 9 significant digits round-trip an IEEE single exactly; 'f' makes it a float literal.
+    text = f"{v:.9g}"
+    if "e" not in text and "." not in text:
+        text += ".0"
+    return text + "f"
+
+
+def to_c_header(body: dict) -> Export:
+    """A C99 header with the correction matrix, the offset and an inline apply function."""
+    M, o = _affine_correction(body)
+    guard = "TRICAL_" + re.sub(r"[^A-Za-z0-9]", "_", body["id"]).upper() + "_H"
+    rows = ",\n".join("    {" + ", ".join(_c_number(v) for v in row) + "}" for row in M)
+    text = f"""/* trical calibration {body['id']}
+ * method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}
+ * input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}
+ * calibrated a = M (m - o), 000_cb2cbc1c5eaccf1a.txt eq. (20) with M = X^-1 and o = y.
+ */
+#ifndef {guard}
+#define {guard}
+
+static const float trical_acc_offset[3] = {{{", ".join(_c_number(v) for v in o)}}};
+
+static const float trical_acc_matrix[3][3] = {{
+{rows}
+}};
+
+/* Calibrate one raw reading m into a. */
+static inline void trical_acc_apply(const float m[3], float a[3])
+{{
+    float d[3];
+    for (int i = 0; i < 3; ++i) d[i] = m[i] - trical_acc_offset[i];
+    for (int i = 0; i < 3; ++i)
+        a[i] = trical_acc_matrix[i][0] * d[0] + trical_acc_matrix[i][1] * d[1] + trical_acc_matrix[i][2] * d[2];
+}}
+
+#endif /* {guard} */
+"""
+    return Export(text, "text/x-c", f"trical_{body['id']}.h")
+
+
+EXPORTERS = {"json": to_json, "c": to_c_header}
+"""Export formats by their query name; the page names them `JSON`, `C header`."""
+
+FORMAT_NAMES = {"json": "JSON", "c": "C header"}
+
+
+def export_calibration(body: dict, fmt: str) -> Export:
+    """Render a stored calibration in ``fmt``.
+
+    Raises
+    ------
+    ExportError
+        Unknown format, or a format that does not fit this calibration's model.
+    """
+    try:
+        exporter = EXPORTERS[fmt]
+    except KeyError:
+        raise ExportError(f"unknown export format {fmt!r}: use one of {', '.join(EXPORTERS)}") from None
+    return exporter(body)

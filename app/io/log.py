@@ -1,0 +1,57 @@
+"""The in-memory form of a sensor log, whatever file it came from."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+UNITS: dict[str, tuple[str, ...]] = {
+    "acc": ("m/s^2", "g", "raw"),
+    "gyr": ("rad/s", "deg/s", "raw"),
+    "mag": ("uT", "nT", "raw"),
+}
+"""Accepted units per sensor; the first is the default when neither header nor caller names one."""
+
+
+@dataclass(frozen=True)
+class LogData:
+    """Samples of one recording.
+
+    Attributes
+    ----------
+    acc : numpy.ndarray, shape (N, 3)
+        Accelerometer specific force in ``units["acc"]``.
+    gyr, mag : numpy.ndarray or None
+        Gyroscope and magnetometer samples, when present.
+    time_s : numpy.ndarray or None
+        Seconds since the first sample, when the file had a time column.
+    sampling_rate_hz : float
+    units : dict
+        Unit per present sensor.
+    format : str
+        Reader that produced it (``csv``...).
+    columns : list of str
+        The file's column names, for messages.
+    """
+
+    acc: np.ndarray
+    gyr: np.ndarray | None
+    mag: np.ndarray | None
+    time_s: np.ndarray | None
+    sampling_rate_hz: float
+    units: dict
+    format: str
+    columns: list
+
+    @property
+    def n_samples(self) -> int:
+        return int(self.acc.shape[0])
+
+    @property
+    def channels(self) -> list[str]:
+        return [s for s in ("acc", "gyr", "mag") if getattr(self, s) is not None]
+
+    def stacked(self) -> np.ndarray:
+        """All present sensors side by side, shape (N, 3·channels), for storage."""
+        return np.hstack([getattr(self, s) for s in self.channels])

@@ -1,0 +1,56 @@
+"""The application: ``create_app()`` wires routers, static files, templates and error handlers.
+
+``uvicorn app.main:app`` serves it with settings from the environment.
+"""
+
+from __future__ import annotations
+
+import logging
+
+from fastapi import FastAPI, Request
+from fastapi.responses import JSONResponse
+from fastapi.staticfiles import StaticFiles
+
+from app import __version__
+from app.api import router as api_router
+from app.api.errors import PayloadTooLarge, install_error_handlers
+from app.config import Settings
+from app.store import SQLiteStore
+from app.web import router as web_router
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    """Build the FastAPI application; the SQLite database is created and migrated here."""
+    settings = settings or Settings.from_env()
+    app = FastAPI(
+        title="trical",
+        version=__version__,
+        summary="Calibration of accelerometers (and gyroscopes and magnetometers) of phones and IMU boards.",
+    )
+    app.state.settings = settings
+    app.state.store = SQLiteStore(settings.database_path)
+    settings.recordings_dir.mkdir(parents=True, exist_ok=True)
+
+    @app.middleware("http")
+    async def refuse_oversized_uploads(request: Request, call_next):
+        # Refuse before reading the body when the client declares a size above the limit;
+        # chunked uploads are counted while they are copied (app.api.recordings.save_upload).
+        length = request.headers.get("content-length")
+        if length and length.isdigit() and int(length) > settings.max_upload_bytes + 64 * 1024:
+            return JSONResponse({"detail": str(PayloadTooLarge(settings.max_upload_mb))}, status_code=413)
+        return await call_next(request)
+
+    install_error_handlers(app)
+    app.include_router(api_router)
+    app.include_router(web_router)
+    app.mount("/static", StaticFiles(directory=settings.static_dir), name="static")
+    logging.getLogger("trical").setLevel(logging.INFO)
+    return app
+
+
+def __getattr__(name: str):
+    # `app` is built on first access so that importing app.main has no side effects.
+    if name == "app":
+        globals()["app"] = create_app()
+        return globals()["app"]
+    raise AttributeError(name)

@@ -1,0 +1,5 @@
+"""Page routes rendering templates/."""
+
+from .pages import router
+
+__all__ = ["router"]

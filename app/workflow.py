@@ -1,0 +1,169 @@
+"""The steps the API and the CLI share: logs into recordings, readings into calibrations.
+
+Data flows one way (DESIGN.md section 1): the callers parse and validate, this module calls ``io``
+to turn files into arrays and one function of ``calibration``, and returns plain dicts that the
+callers store, export and serialise.  Nothing here knows HTTP.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
+from app.calibration.errors import InsufficientDataError
+from app.calibration.static import detect_static_segments
+from app.io.csv_log import read_csv_log
+from app.io.log import LogData
+
+OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
+BROWSER_STEP = 0.1
+"""Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One averaged still reading handed to a known-orientation method."""
+
+    mean: tuple
+    up: str | None = None
+    expected: tuple | None = None
+    std: tuple | None = None
+    count: int | None = None
+
+
+def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: float | None = None,
+                      height_m: float | None = None) -> tuple[float, list[str]]:
+    """Reference magnitude in the calibrated output unit, and notes about how it was chosen.
+
+    ``unit: g`` calibrates into g, so the magnitude is 1; otherwise an explicit ``gravity`` wins,
+    then local normal gravity from ``latitude_deg`` (and ``height_m``), then 9.80665 m/s².
+    """
+    notes: list[str] = []
+    if unit == "g":
+        if gravity is not None or latitude_deg is not None:
+            notes.append("readings in g calibrate into g with reference magnitude 1: gravity/latitude_deg ignored")
+        return 1.0, notes
+    if gravity is not None:
+        if latitude_deg is not None:
+            notes.append("both gravity and latitude_deg given: the explicit gravity is used")
+        return float(gravity), notes
+    if latitude_deg is not None:
+        return normal_gravity(latitude_deg, 0.0 if height_m is None else height_m), notes
+    if height_m is not None:
+        notes.append("height_m without latitude_deg is ignored: give latitude_deg too")
+    return STANDARD_GRAVITY, notes
+
+
+def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str) -> LogData:
+    """Read an uploaded log file into arrays (generic CSV for now)."""
+    return read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
+
+
+def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
+    """``step`` when every sample is a multiple of it (browser rounding), else None."""
+    sub = samples[: 10_000]
+    scaled = sub / step
+    if len(sub) > 10 and np.allclose(scaled, np.round(scaled), atol=1e-6):
+        return step
+    return None
+
+
+def describe_log(log: LogData) -> dict:
+    """Recording metadata and its static segments (DESIGN.md section 3, POST /recordings)."""
+    unit = log.units["acc"]
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    segments = detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
+    return {
+        "format": log.format,
+        "n_samples": log.n_samples,
+        "sampling_rate_hz": log.sampling_rate_hz,
+        "duration_s": log.n_samples / log.sampling_rate_hz,
+        "channels": log.channels,
+        "units": log.units,
+        "columns": log.columns,
+        "quantization_step": quantization_step(log.acc) if unit == "m/s^2" else None,
+        "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
+    }
+
+
+def readings_from_segments(recording: dict, method: str, indices: list[int] | None) -> tuple[list[Reading], list[int]]:
+    """Readings from a recording's static segments, and the indices of the segments used.
+
+    ``six_position`` takes the first segment of each orientation unless ``indices`` lists them;
+    ``orientations`` takes every labelled segment (or the listed ones).
+    """
+    segments = recording["segments"]
+    if indices is not None:
+        chosen = []
+        for i in indices:
+            if not 0 <= i < len(segments):
+                raise CalibrationError(
+                    f"segment {i} does not exist: the recording has {len(segments)} static segments (0–{len(segments) - 1})"
+                )
+            if segments[i]["up"] is None:
+                raise CalibrationError(
+                    f"segment {i} has no recognised orientation (no axis within 20° of its direction): "
+                    "leave it out, or send its mean with an explicit `expected` vector"
+                )
+            chosen.append(i)
+    elif method == "six_position":
+        first: dict[str, int] = {}
+        for i, seg in enumerate(segments):
+            if seg["up"] is not None and seg["up"] not in first:
+                first[seg["up"]] = i
+        missing = [lab for lab in ("-x", "+x", "-y", "+y", "-z", "+z") if lab not in first]
+        if missing:
+            found = ", ".join(f"{lab} (segment {i})" for lab, i in first.items()) or "none"
+            raise InsufficientDataError(
+                f"the recording has no still segment with {', '.join(missing)} up; found {found}. "
+                "Record the device resting a few seconds in each of the six orientations"
+            )
+        chosen = sorted(first.values())
+    else:
+        chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
+    readings = [
+        Reading(mean=tuple(segments[i]["acc_mean"]), up=segments[i]["up"], std=tuple(segments[i]["acc_std"]),
+                count=segments[i].get("count"))
+        for i in chosen
+    ]
+    return readings, chosen
+
+
+def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity: float,
+                    holdout=None):
+    """Run ``six_position`` or ``orientations`` on readings; returns the core result and extra metrics."""
+    means = [r.mean for r in readings]
+    stds = None
+    if readings and all(r.std is not None for r in readings):
+        stds = [r.std for r in readings]
+    raw = unit == "raw"
+    # Raw readings: the reference stays in m/s² and X maps it to counts, so scale gates do not apply.
+    gates = dict(plausible_scale=None, max_offset=math.inf) if raw else {}
+    if method == "six_position":
+        if any(r.up is None for r in readings):
+            raise CalibrationError("six_position readings each need an `up` label (+x, -x, +y, -y, +z, -z)")
+        result = fit_six_position(means, [r.up for r in readings], gravity=gravity, stds=stds, **gates)
+    elif method == "orientations":
+        result = fit_orientations(
+            means, [r.up for r in readings], expected=[r.expected for r in readings],
+            gravity=gravity, stds=stds, **gates,
+        )
+    else:  # pragma: no cover - the schemas only route these two here
+        raise CalibrationError(f"unknown known-orientation method {method!r}")
+    extra = {}
+    if holdout:
+        extra = {f"holdout_{k}" if not k.startswith("error_") else k: v for k, v in result.evaluate(holdout).items()}
+    return result, extra
+
+
+def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:
+    """The stored and returned form of a calibration (DESIGN.md section 3 response)."""
+    body = result.to_dict()
+    body["metrics"].update(extra_metrics)
+    body["warnings"] = list(body["warnings"]) + notes
+    body.update(unit=unit, output_unit=OUTPUT_UNIT[unit], **fields)
+    return body

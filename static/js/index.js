@@ -1,0 +1,113 @@
+// The start page: the only module here that touches the DOM.
+import { createCalibration, exportUrl, uploadRecording } from "./api.js";
+import { formatNumber, parseReadings } from "./readings.js";
+
+const $ = (sel) => document.querySelector(sel);
+const status = $("#status");
+let recordingId = null;
+
+function say(text) { status.textContent = text; }
+
+function cell(tag, text) { const el = document.createElement(tag); el.textContent = text; return el; }
+
+function fillMatrix(table, rows) {
+  table.replaceChildren(...rows.map((row) => {
+    const tr = document.createElement("tr");
+    row.forEach((v) => tr.append(cell("td", formatNumber(v))));
+    return tr;
+  }));
+}
+
+function showResult(cal) {
+  $("#result").hidden = false;
+  const ok = $("#result-ok");
+  ok.className = cal.ok ? "ok" : "bad";
+  ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
+  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
+  fillMatrix($("#result-X"), cal.model.X);
+  fillMatrix($("#result-y"), cal.model.y.map((v) => [v]));
+  const metrics = $("#result-metrics");
+  metrics.replaceChildren(...Object.entries(cal.metrics).map(([k, v]) => {
+    const tr = document.createElement("tr");
+    tr.append(cell("th", k), cell("td", formatNumber(v)));
+    tr.firstChild.scope = "row";
+    return tr;
+  }));
+  $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
+    const tr = document.createElement("tr");
+    tr.append(cell("td", r.up ?? "—"), ...r.residual.map((v) => cell("td", formatNumber(v, 4))),
+      cell("td", formatNumber(r.fit_error)), cell("td", formatNumber(r.fit_error_raw)));
+    return tr;
+  }));
+  const list = $("#downloads");
+  const formats = JSON.parse(list.dataset.formats);
+  list.replaceChildren(...Object.entries(formats).map(([key, name]) => {
+    const li = document.createElement("li");
+    const a = cell("a", name);
+    a.href = exportUrl(cal.id, key);
+    a.setAttribute("download", "");
+    li.append(a);
+    return li;
+  }));
+  $("#result").focus();
+  say(cal.ok ? "Calibration done." : "Calibration done, but it failed its checks.");
+}
+
+$("#upload-form").addEventListener("submit", async (event) => {
+  event.preventDefault();
+  const data = new FormData(event.target);
+  for (const key of ["sampling_rate_hz", "acc_unit"]) if (!data.get(key)) data.delete(key);
+  say("Uploading…");
+  try {
+    const rec = await uploadRecording(data);
+    recordingId = rec.id;
+    $("#segments").hidden = false;
+    $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
+      const tr = document.createElement("tr");
+      tr.append(cell("td", String(s.index)), cell("td", `${s.start}–${s.end}`), cell("td", s.up ?? "—"),
+        cell("td", s.acc_mean.map((v) => formatNumber(v, 3)).join(", ")));
+      return tr;
+    }));
+    say(`Found ${rec.segments.length} still segments in ${rec.n_samples} samples at ${formatNumber(rec.sampling_rate_hz, 1)} Hz.`);
+  } catch (err) {
+    say(`Upload refused: ${err.message}`);
+  }
+});
+
+$("#calibrate-recording").addEventListener("click", async () => {
+  say("Calibrating…");
+  try {
+    showResult(await createCalibration({ method: "six_position", recording_id: recordingId }));
+  } catch (err) {
+    say(`Calibration refused: ${err.message}`);
+  }
+});
+
+$("#fill").addEventListener("click", () => {
+  try {
+    for (const { up, mean } of parseReadings($("#paste").value)) {
+      const row = document.querySelector(`#readings-table tr[data-up="${up}"]`);
+      row.querySelectorAll("input").forEach((input, i) => { input.value = String(mean[i]); });
+    }
+    say("Table filled from the pasted lines.");
+  } catch (err) {
+    say(`Could not read the pasted lines: ${err.message}`);
+  }
+});
+
+$("#readings-form").addEventListener("submit", async (event) => {
+  event.preventDefault();
+  const readings = [...document.querySelectorAll("#readings-table tbody tr")].map((tr) => ({
+    up: tr.dataset.up,
+    mean: [...tr.querySelectorAll("input")].map((input) => Number(input.value)),
+  }));
+  const payload = { method: "six_position", readings, unit: $("#r-unit").value };
+  const g = $("#r-gravity").value;
+  if (g) payload.gravity = Number(g);
+  say("Calibrating…");
+  try {
+    showResult(await createCalibration(payload));
+  } catch (err) {
+    say(`Calibration refused: ${err.message}`);
+  }
+});

@@ -1,0 +1,25 @@
+// Parsing of pasted readings (pure functions, no DOM).
+
+export const CANONICAL = ["-x", "+x", "-y", "+y", "-z", "+z"];
+const LABEL = /^[+-][xyz]$/;
+
+// Lines "label x y z" or "x y z" (canonical order); separators: spaces, tabs, commas, semicolons.
+export function parseReadings(text) {
+  const lines = text.split(/\r?\n/).map((l) => l.trim()).filter((l) => l && !l.startsWith("#"));
+  if (lines.length !== 6) throw new Error(`expected 6 lines, got ${lines.length}`);
+  return lines.map((line, i) => {
+    const parts = line.split(/[\s,;]+/).filter(Boolean);
+    let up = CANONICAL[i];
+    if (LABEL.test(parts[0])) up = parts.shift();
+    if (parts.length !== 3) throw new Error(`line ${i + 1}: expected three numbers`);
+    const mean = parts.map(Number);
+    if (!mean.every(Number.isFinite)) throw new Error(`line ${i + 1}: ${parts.join(" ")} are not all numbers`);
+    return { up, mean };
+  });
+}
+
+export function formatNumber(v, digits = 6) {
+  if (v === null || v === undefined) return "—";
+  if (typeof v !== "number") return String(v);
+  return Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-3 && v !== 0) ? v.toExponential(4) : v.toFixed(digits);
+}

@@ -1,0 +1,25 @@
+"""Shared fixtures: seed tables (copied into tests/data) and a fresh application per test."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+DATA = Path(__file__).parent / "data"
+
+
+def seed_table(number: int) -> np.ndarray:
+    """Rows of 000_cb2cbc1c5eaccf1a.txt Table ``number`` (x, y, z in m/s²), as copied in tests/data."""
+    return np.loadtxt(DATA / f"000_table{number}.csv", delimiter=",", skiprows=2)[:, 1:]
+
+
+@pytest.fixture
+def table1() -> np.ndarray:
+    return seed_table(1)
+
+
+@pytest.fixture
+def table3() -> np.ndarray:
+    return seed_table(3)
