@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Body, Depends, Query
+from fastapi import APIRouter, Depends, Query
 from fastapi.responses import Response
 
 from app import workflow
@@ -48,7 +48,7 @@ def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> 
 
 
 @router.post("", status_code=201, response_model=CalibrationOut, summary="Compute and store a calibration")
-def create_calibration(request: CalibrationIn = Body(...), store: SQLiteStore = Depends(get_store)):
+def create_calibration(request: CalibrationIn, store: SQLiteStore = Depends(get_store)):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     return store.add_calibration(_known_orientation_body(request, store))
 

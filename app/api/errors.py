@@ -13,6 +13,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from app.api.schemas import METHODS
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.store import NotFoundError
@@ -53,6 +54,10 @@ def describe_validation(exc: RequestValidationError) -> str:
             continue
         if err.get("type") == "missing" and tuple(err.get("loc", ())) == ("body",):
             messages.append("the request needs a JSON body")
+            continue
+        if err.get("type") == "union_tag_not_found":
+            messages.append(f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
+                            f"required: one of {', '.join(METHODS)}")
             continue
         msg = err.get("msg", "invalid").removeprefix("Value error, ")
         messages.append(f"{_location(err.get('loc', ()))}: {msg}")

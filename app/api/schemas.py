@@ -67,6 +67,9 @@ class OrientationsIn(KnownOrientationIn):
     method: Literal["orientations"]
 
 
+METHODS = ("six_position", "orientations")
+"""The values of `method` that POST /api/v1/calibrations accepts."""
+
 CalibrationIn = Annotated[Union[SixPositionIn, OrientationsIn], Field(discriminator="method")]
 
 
