@@ -68,8 +68,8 @@ class SQLiteStore:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._local = threading.local()
-        with self._tx() as db:
-            db.execute("PRAGMA journal_mode=WAL")
+        # Write-ahead log: readers never block the writer; set outside any transaction.
+        self._connect().execute("PRAGMA journal_mode=WAL")
         self._migrate()
 
     def _connect(self) -> sqlite3.Connection:

@@ -22,5 +22,5 @@ def _templates(request: Request) -> Jinja2Templates:
 def index(request: Request):
     """Start page."""
     return _templates(request).TemplateResponse(
-        request, "index.html", {"labels": ["-x", "+x", "-y", "+y", "-z", "+z"], "formats": FORMAT_NAMES}
+        request, "index.html", {"labels": ["-x", "+x", "-y", "+y", "-z", "+z"], "formats": list(FORMAT_NAMES.items())}
     )

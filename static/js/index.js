@@ -41,7 +41,7 @@ function showResult(cal) {
   }));
   const list = $("#downloads");
   const formats = JSON.parse(list.dataset.formats);
-  list.replaceChildren(...Object.entries(formats).map(([key, name]) => {
+  list.replaceChildren(...formats.map(([key, name]) => {
     const li = document.createElement("li");
     const a = cell("a", name);
     a.href = exportUrl(cal.id, key);

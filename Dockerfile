@@ -1,0 +1,37 @@
+# trical: the API and the pages on 0.0.0.0:8000, SQLite in the /data volume.
+FROM python:3.11-slim
+
+ENV PYTHONDONTWRITEBYTECODE=1 \
+    PYTHONUNBUFFERED=1 \
+    PIP_NO_CACHE_DIR=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1
+
+WORKDIR /srv/trical
+
+# Dependencies in their own layer: it is rebuilt only when pyproject.toml changes.
+COPY pyproject.toml README.md ./
+RUN mkdir app && touch app/__init__.py \
+    && pip install . \
+    && pip uninstall -y trical \
+    && rm -rf app build ./*.egg-info
+
+# The code, installed in place so that static/ and templates/ sit beside the package.
+COPY app ./app
+COPY static ./static
+COPY templates ./templates
+RUN pip install --no-deps -e . \
+    && useradd --create-home --uid 10001 trical \
+    && mkdir -p /data \
+    && chown trical:trical /data
+
+ENV TRICAL_DATABASE_URL=sqlite:////data/trical.db \
+    HOST=0.0.0.0 \
+    PORT=8000
+VOLUME ["/data"]
+USER trical
+EXPOSE 8000
+
+HEALTHCHECK --interval=30s --timeout=3s --start-period=10s --retries=3 \
+    CMD ["python", "-c", "import sys, urllib.request; sys.exit(0 if urllib.request.urlopen('http://127.0.0.1:8000/healthz', timeout=2).status == 200 else 1)"]
+
+CMD ["trical", "serve", "--host", "0.0.0.0", "--port", "8000"]

@@ -1,0 +1,29 @@
+"""Real HTTP against `trical serve`, and durability across kill -9."""
+
+from __future__ import annotations
+
+import httpx
+
+from tests.api.test_calibrations import CANONICAL, six_request
+from tests.conftest import seed_table
+from tests.live_server import LiveServer
+
+
+def test_acknowledged_calibrations_survive_kill_9(tmp_path):
+    env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}
+    server = LiveServer(env).start()
+    try:
+        acknowledged = []
+        with httpx.Client(base_url=server.url, timeout=10) as http:
+            assert http.get("/healthz").json() == {"status": "ok"}
+            for i in range(20):
+                r = http.post("/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL, device_id=f"d{i % 3}"))
+                assert r.status_code == 201
+                acknowledged.append(r.json())
+        server.kill()  # right after the last 201
+        server.start()
+        with httpx.Client(base_url=server.url, timeout=10) as http:
+            for body in acknowledged:
+                assert http.get(f"/api/v1/calibrations/{body['id']}").json() == body
+    finally:
+        server.stop()

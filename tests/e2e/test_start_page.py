@@ -1,0 +1,57 @@
+"""The start page in real Chromium at a phone's viewport: paste six readings, upload a log."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.calibration import fit_six_position
+from tests.conftest import DATA, seed_table
+from tests.e2e.conftest import shot
+
+
+def read_matrix(page, selector):
+    return np.array([[float(td) for td in row] for row in page.eval_on_selector_all(
+        f"{selector} tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))")])
+
+
+def test_paste_six_readings(page, server):
+    t1 = seed_table(1)
+    page.goto(server.url + "/")
+    shot(page, "start_page")
+    page.fill("#paste", "\n".join(" ".join(repr(float(v)) for v in row) for row in t1[:6]))
+    page.click("#fill")
+    assert page.input_value('input[name="+zz"]') == repr(float(t1[5][2]))
+    page.fill("#r-gravity", "9.81")
+    page.click("#readings-form button[type=submit]")
+    page.wait_for_selector("#result:not([hidden])")
+    shot(page, "start_page_result")
+    expected = fit_six_position(t1[:6], gravity=9.81)
+    np.testing.assert_allclose(read_matrix(page, "#result-X"), expected.X, atol=1e-6)
+    np.testing.assert_allclose(read_matrix(page, "#result-y").ravel(), expected.y, atol=1e-6)
+    assert "passed its checks" in page.text_content("#result-ok")
+    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href])")
+    assert [name for name, _ in links] == ["JSON", "C header"]
+    assert page.errors == []
+
+
+def test_upload_a_log(page, server):
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(DATA / "six_orientations_150hz.csv"))
+    page.fill("#log-rate", "150")
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#segments:not([hidden])")
+    shot(page, "upload_segments")
+    ups = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => r.cells[2].textContent)")
+    assert {"-x", "+x", "-y", "+y", "-z", "+z"} <= set(ups)
+    page.click("#calibrate-recording")
+    page.wait_for_selector("#result:not([hidden])")
+    shot(page, "upload_result")
+    assert "passed its checks" in page.text_content("#result-ok")
+    assert page.errors == []
+
+
+def test_bad_paste_is_explained(page, server):
+    page.goto(server.url + "/")
+    page.fill("#paste", "1 2 3\n4 5")
+    page.click("#fill")
+    assert "expected 6 lines" in page.text_content("#status")

@@ -1,0 +1,78 @@
+"""A real trical server in a subprocess on a free loopback port (real HTTP, real SQLite file)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from contextlib import contextmanager
+from pathlib import Path
+
+import httpx
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class LiveServer:
+    """``trical serve`` as a child process; ``kill()`` sends SIGKILL, ``start()`` starts it again."""
+
+    def __init__(self, env: dict, port: int | None = None, command: list[str] | None = None):
+        self.port = port or free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.env = {**os.environ, **env}
+        self.command = command or [sys.executable, "-m", "app.cli", "serve", "--host", "127.0.0.1",
+                                   "--port", str(self.port)]
+        self.process: subprocess.Popen | None = None
+        self.log = Path(tempfile.mkstemp(prefix="trical-server-", suffix=".log")[1])
+
+    def start(self, timeout_s: float = 30.0) -> "LiveServer":
+        with open(self.log, "ab") as out:
+            self.process = subprocess.Popen(self.command, cwd=ROOT, env=self.env, stdout=out, stderr=subprocess.STDOUT)
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if self.process.poll() is not None:
+                raise RuntimeError(f"the server exited with status {self.process.returncode}:\n{self.output()}")
+            try:
+                if httpx.get(f"{self.url}/healthz", timeout=1.0).status_code == 200:
+                    return self
+            except httpx.HTTPError:
+                time.sleep(0.1)
+        self.stop()
+        raise RuntimeError(f"the server did not answer /healthz within {timeout_s} s:\n{self.output()}")
+
+    def output(self) -> str:
+        """The tail of what the server printed."""
+        return self.log.read_text(errors="replace")[-4000:]
+
+    def kill(self) -> None:
+        """SIGKILL, as a crash or power loss would end it."""
+        if self.process and self.process.poll() is None:
+            self.process.send_signal(signal.SIGKILL)
+            self.process.wait(timeout=10)
+
+    def stop(self) -> None:
+        if self.process and self.process.poll() is None:
+            self.process.terminate()
+            try:
+                self.process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                self.kill()
+
+
+@contextmanager
+def live_server(env: dict, **kwargs):
+    server = LiveServer(env, **kwargs).start()
+    try:
+        yield server
+    finally:
+        server.stop()

@@ -1,0 +1,46 @@
+"""The trical command, run as a user runs it (a subprocess, a real database file)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+
+from tests.conftest import DATA
+from tests.live_server import ROOT
+
+
+def trical(*args, tmp_path, check=False):
+    env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "PATH": "/usr/bin:/bin"}
+    return subprocess.run([sys.executable, "-m", "app.cli", *args], cwd=ROOT, env=env, capture_output=True,
+                          text=True, check=check, timeout=120)
+
+
+def test_calibrate_json_then_export(tmp_path):
+    log = DATA / "six_orientations_150hz.csv"
+    out = trical("calibrate", str(log), "--method", "six_position", "--sampling-rate-hz", "150", "--json",
+                 tmp_path=tmp_path)
+    assert out.returncode == 0, out.stderr
+    body = json.loads(out.stdout)
+    assert body["method"] == "six_position" and body["ok"] and body["id"].startswith("cal_")
+    truth = json.loads((DATA / "six_orientations_150hz.json").read_text())
+    np.testing.assert_allclose(body["model"]["X"], truth["X"], atol=2e-3)
+    np.testing.assert_allclose(body["model"]["y"], truth["y"], atol=2e-2)
+
+    header = trical("export", body["id"], "--format", "c", tmp_path=tmp_path)
+    assert header.returncode == 0 and "trical_acc_apply" in header.stdout
+    human = trical("calibrate", str(log), "--sampling-rate-hz", "150", "--no-store", tmp_path=tmp_path)
+    assert human.returncode == 0 and "X =" in human.stdout and "fit error max" in human.stdout
+
+
+def test_errors_are_one_line_without_traceback(tmp_path):
+    missing = trical("calibrate", str(tmp_path / "nope.csv"), "--sampling-rate-hz", "100", tmp_path=tmp_path)
+    assert missing.returncode == 2 and missing.stderr.startswith("trical: error: no such file")
+    no_rate = trical("calibrate", str(DATA / "six_orientations_150hz.csv"), tmp_path=tmp_path)
+    assert no_rate.returncode == 2 and "sampling_rate_hz" in no_rate.stderr
+    unknown = trical("export", "cal_missing", tmp_path=tmp_path)
+    assert unknown.returncode == 2 and "no calibration with id" in unknown.stderr
+    for result in (missing, no_rate, unknown):
+        assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1

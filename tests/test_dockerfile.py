@@ -1,0 +1,63 @@
+"""What can be tested of the Dockerfile without a Docker engine: its rules, its entry command
+and its health check, run here as the image would run them."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+
+from tests.live_server import ROOT, LiveServer, free_port
+
+DOCKERFILE = (ROOT / "Dockerfile").read_text()
+
+
+def instructions() -> list[tuple[str, str]]:
+    text = re.sub(r"\\\n", " ", DOCKERFILE)
+    out = []
+    for line in text.splitlines():
+        line = line.strip()
+        if line and not line.startswith("#"):
+            word, _, rest = line.partition(" ")
+            out.append((word.upper(), rest.strip()))
+    return out
+
+
+def test_image_rules():
+    ins = instructions()
+    words = [w for w, _ in ins]
+    assert re.match(r"python:3\.1[1-9]-slim", dict(ins)["FROM"])
+    # Dependencies in a layer before the code.
+    first_code_copy = next(i for i, (w, r) in enumerate(ins) if w == "COPY" and r.startswith("app"))
+    deps_install = next(i for i, (w, r) in enumerate(ins) if w == "RUN" and "pip install ." in r)
+    assert deps_install < first_code_copy
+    user = [r for w, r in ins if w == "USER"]
+    assert user and user[-1] not in ("root", "0")
+    assert any(w == "VOLUME" and "/data" in r for w, r in ins)
+    assert "sqlite:////data/trical.db" in DOCKERFILE
+    assert "HEALTHCHECK" in words and "/healthz" in dict(ins)["HEALTHCHECK"]
+    cmd = json.loads(dict(ins)["CMD"])
+    assert cmd[:2] == ["trical", "serve"] and "0.0.0.0" in cmd and "8000" in cmd
+    # Every path the image copies exists in the repository.
+    for w, r in ins:
+        if w == "COPY":
+            for src in r.split()[:-1]:
+                assert (ROOT / src).exists(), src
+
+
+def test_entry_command_and_health_check(tmp_path):
+    ins = dict(instructions())
+    port = free_port()
+    cmd = json.loads(ins["CMD"])
+    cmd = [sys.executable, "-m", "app.cli"] + [str(port) if c == "8000" else c for c in cmd[1:]]
+    env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'data' / 'trical.db'}"}
+    server = LiveServer(env, port=port, command=cmd).start()
+    try:
+        check = json.loads(ins["HEALTHCHECK"].split("CMD", 1)[1].strip())
+        assert check[0] == "python"
+        check = [sys.executable] + [c.replace(":8000/", f":{port}/") for c in check[1:]]
+        assert subprocess.run(check, timeout=10).returncode == 0
+        assert (tmp_path / "data" / "trical.db").exists()
+    finally:
+        server.stop()
