@@ -278,7 +278,8 @@ def simulate_static_log(
             parts_dir.append(np.repeat(dirs[i][None, :], m, axis=0))
             parts_acc.append(np.zeros((m, 3)))
             u = orientations[i] if isinstance(orientations[i], str) else nearest_orientation(dirs[i])
-            segments.append((pos, pos + m, u))
+            if m > 0:
+                segments.append((pos, pos + m, u))
             pos += m
     # A short tail in the hand after the pick-up.
     tail = int(round(0.5 * fs))

@@ -156,39 +156,54 @@ def window_stats(samples: np.ndarray, window: int) -> tuple[np.ndarray, np.ndarr
     return np.sqrt(var_sum), np.sqrt(norm2)
 
 
-def _smoothed(seg: np.ndarray, half: int) -> np.ndarray:
-    """Centred moving mean of half-width ``half``, shrinking at the ends."""
-    n = len(seg)
-    c = np.vstack([np.zeros((1, 3)), np.cumsum(seg, axis=0)])
-    i = np.arange(n)
-    lo = np.maximum(i - half, 0)
-    hi = np.minimum(i + half + 1, n)
-    return (c[hi] - c[lo]) / (hi - lo)[:, None]
+def _ranges(starts: np.ndarray, lengths: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Concatenated sample indices of the ranges [starts, starts + lengths), their range number
+    and the offset of each range in the concatenation."""
+    reg = np.repeat(np.arange(len(starts)), lengths)
+    offsets = np.concatenate(([0], np.cumsum(lengths)[:-1])).astype(np.int64)
+    idx = np.arange(int(lengths.sum())) - offsets[reg] + starts[reg]
+    return idx, reg, offsets
 
 
-def _trim(x: np.ndarray, a: int, b: int, max_trim: int, half: int, tol: float) -> tuple[int, int]:
-    """Cut the transition edges of the still run [a, b).
+def _edge_rms(xc, idx, reg, offsets, lengths, ref, half) -> np.ndarray:
+    """RMS distance of the samples ``idx`` from their range's reference, over a centred window of
+    half-width ``half`` that shrinks at the ends of each range."""
+    d2 = ((xc[idx] - ref[reg]) ** 2).sum(axis=1)
+    cs = np.concatenate(([0.0], np.cumsum(d2)))
+    i = np.arange(len(d2))
+    lo = np.maximum(i - half, offsets[reg])
+    hi = np.minimum(i + half + 1, (offsets + lengths)[reg])
+    return np.sqrt((cs[hi] - cs[lo]) / (hi - lo))
 
-    Within ``max_trim`` samples of each end, the smoothed samples are compared with the mean of
-    the run just inside that edge; the edge moves inwards past the last sample further than
-    ``tol`` from it.
+
+def _trim(xc, csum, a, b, max_trim: int, half: int, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Cut the transition edges of the still runs [a, b), all runs at once.
+
+    Within ``k = min(max_trim, length // 3)`` samples of each end, the RMS distance of the samples
+    (over a short centred window) from the mean of the run just inside that edge is compared with
+    ``tol``; the edge moves inwards past the innermost sample where it is larger.  The RMS catches
+    both the slow tail of a turn and the ringing tail of a knock.
     """
-    seg = x[a:b]
-    n = len(seg)
-    k = min(max_trim, n // 3)
-    if k == 0:
-        return a, b
-    sm = _smoothed(seg, half)
-    ref_len = max(max_trim, 1)
-    if n >= 2 * k + ref_len:
-        ref_start = seg[k : k + ref_len].mean(axis=0)
-        ref_end = seg[n - k - ref_len : n - k].mean(axis=0)
-    else:
-        ref_start = ref_end = seg[k : n - k].mean(axis=0)
-    bad = np.flatnonzero(np.linalg.norm(sm[:k] - ref_start, axis=1) > tol)
-    new_a = a + (int(bad[-1]) + 1 if bad.size else 0)
-    bad = np.flatnonzero(np.linalg.norm(sm[n - k :] - ref_end, axis=1) > tol)
-    new_b = b - (k - int(bad[0]) if bad.size else 0)
+    n = b - a
+    k = np.maximum(np.minimum(max_trim, n // 3), 1)
+    long = n >= 2 * k + max_trim
+    rs_a, rs_b = a + k, np.where(long, a + k + max_trim, b - k)
+    re_a, re_b = np.where(long, b - k - max_trim, a + k), b - k
+    ref_s = (csum[rs_b] - csum[rs_a]) / (rs_b - rs_a)[:, None]
+    ref_e = (csum[re_b] - csum[re_a]) / (re_b - re_a)[:, None]
+    length = np.minimum(k + half, n)
+
+    idx, reg, off = _ranges(a, length)
+    rms = _edge_rms(xc, idx, reg, off, length, ref_s, half)
+    pos = idx - a[reg]
+    cut = np.where((rms > tol) & (pos < k[reg]), pos + 1, 0)
+    new_a = a + np.maximum.reduceat(cut, off)
+
+    idx, reg, off = _ranges(b - length, length)
+    rms = _edge_rms(xc, idx, reg, off, length, ref_e, half)
+    pos = b[reg] - 1 - idx  # distance from the end
+    cut = np.where((rms > tol) & (pos < k[reg]), pos + 1, 0)
+    new_b = b - np.maximum.reduceat(cut, off)
     return new_a, new_b
 
 
@@ -327,67 +342,79 @@ def detect_static_segments(
 
     # Runs of still windows [i, j) cover samples [i, j - 1 + w).
     edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
+    del still
     run_a = np.flatnonzero(edges == 1)
     run_b = np.flatnonzero(edges == -1) - 1 + w
     min_samples = max(1, int(round(min_duration_s * fs)))
     min_piece = max(w, min_samples // 4)
     keep = (run_b - run_a) >= min_piece
     run_a, run_b = run_a[keep], run_b[keep]
+    if len(run_a) == 0:
+        return []
+
+    # Centred cumulative sums: O(1) sums of any range, without losing the noise to cancellation.
+    centre = np.median(x[:: max(1, n // 100_000)], axis=0)
+    xc = x - centre
+    csum = np.zeros((n + 1, 3))
+    np.cumsum(xc, axis=0, out=csum[1:])
 
     half = max(1, int(round(EDGE_SMOOTH_S * fs / 2)))
-    pieces = []  # (a, b, sum, count)
-    for a, b in zip(run_a.tolist(), run_b.tolist()):
-        a, b = _trim(x, a, b, w, half, thr)
-        if b - a >= min(min_piece, w):
-            pieces.append((a, b, x[a:b].sum(axis=0), b - a))
+    run_a, run_b = _trim(xc, csum, run_a, run_b, w, half, thr)
+    keep = (run_b - run_a) >= min(min_piece, w)
+    run_a, run_b = run_a[keep], run_b[keep]
+    sums = csum[run_b] - csum[run_a]
+    counts = run_b - run_a
+    means = sums / counts[:, None]
 
-    # Merge runs split by a knock: short gap, same mean (DESIGN.md: a bump is not an orientation).
+    # Merge runs split by a knock: short gap, same mean (a bump is not an orientation).
     max_gap = int(round(max_gap_s * fs))
-    groups: list[list[tuple]] = []
-    for p in pieces:
-        if groups:
-            last = groups[-1]
-            g_sum = sum(q[2] for q in last)
-            g_cnt = sum(q[3] for q in last)
-            if p[0] - last[-1][1] <= max_gap and np.linalg.norm(p[2] / p[3] - g_sum / g_cnt) <= 2 * thr:
-                last.append(p)
+    groups: list[list[int]] = []
+    g_sum = g_cnt = None
+    for i in range(len(run_a)):
+        if groups and run_a[i] - run_b[groups[-1][-1]] <= max_gap:
+            if np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr:
+                groups[-1].append(i)
+                g_sum = g_sum + sums[i]
+                g_cnt += counts[i]
                 continue
-        groups.append([p])
+        groups.append([i])
+        g_sum, g_cnt = sums[i], counts[i]
 
     lo_norm, hi_norm = norm_range_g[0] * g_ref, norm_range_g[1] * g_ref
     out: list[StaticSegment] = []
     for grp in groups:
-        count = sum(q[3] for q in grp)
+        count = int(counts[grp].sum())
         if count < min_samples:
             continue
-        xs = x[grp[0][0] : grp[0][1]] if len(grp) == 1 else np.concatenate([x[a:b] for a, b, *_ in grp])
-        mean = xs.mean(axis=0)
-        mnorm = float(np.linalg.norm(mean))
-        if not lo_norm <= mnorm <= hi_norm:
+        mean = sums[grp].sum(axis=0) / count + centre
+        if not lo_norm <= float(np.linalg.norm(mean)) <= hi_norm:
             continue
         # Direction drift between the first and last thirds (a slow turn, not a rest).
-        t = np.concatenate([np.arange(a, b) for a, b, *_ in grp]) if len(grp) > 1 else None
         k = max(1, count // 3)
-        m1, m3 = xs[:k].mean(axis=0), xs[-k:].mean(axis=0)
-        cosang = float(m1 @ m3 / (np.linalg.norm(m1) * np.linalg.norm(m3)))
-        angle = math.degrees(math.acos(min(1.0, max(-1.0, cosang))))
-        if t is None:
+        if len(grp) == 1:
+            a, b = int(run_a[grp[0]]), int(run_b[grp[0]])
+            m1 = (csum[a + k] - csum[a]) / k + centre
+            m3 = (csum[b] - csum[b - k]) / k + centre
             dt = (count - k) / fs
+            xs = x[a:b]
         else:
+            t = np.concatenate([np.arange(run_a[i], run_b[i]) for i in grp])
+            xs = x[t]
+            m1, m3 = xs[:k].mean(axis=0), xs[-k:].mean(axis=0)
             dt = (t[-k:].mean() - t[:k].mean()) / fs
-        rate = angle / dt if dt > 0 else 0.0
+        cosang = float(m1 @ m3 / (np.linalg.norm(m1) * np.linalg.norm(m3)))
+        rate = math.degrees(math.acos(min(1.0, max(-1.0, cosang)))) / dt if dt > 0 else 0.0
         if rate > max_drift_deg_per_s:
             continue
-        gaps = tuple((grp[i][1], grp[i + 1][0]) for i in range(len(grp) - 1))
         out.append(
             StaticSegment(
-                start=int(grp[0][0]),
-                end=int(grp[-1][1]),
+                start=int(run_a[grp[0]]),
+                end=int(run_b[grp[-1]]),
                 mean=mean,
                 std=xs.std(axis=0),
-                count=int(count),
+                count=count,
                 up=nearest_orientation(mean, label_max_angle_deg),
-                gaps=gaps,
+                gaps=tuple((int(run_b[i]), int(run_a[j])) for i, j in zip(grp[:-1], grp[1:])),
                 drift_deg_per_s=float(rate),
             )
         )
