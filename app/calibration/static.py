@@ -47,9 +47,10 @@ noise floor says (a stream that is all motion)."""
 MAX_GAP_S = 1.0
 """Two still runs separated by at most this gap and agreeing in mean are one rest (a knock)."""
 
-MAX_DRIFT_DEG_PER_S = 0.5
-"""Largest rate of change of a rest's direction; a temperature drift is ~0.05 °/s at most, a hand
-turn slow enough to look still is 1–4 °/s."""
+MAX_DRIFT_DEG_PER_S = 0.2
+"""Largest rate of change of a rest's direction (plus four standard deviations of its noise): a
+temperature drift of 0.3 m/s² per minute is 0.03 °/s, a turn slow enough to look still is
+0.3–4 °/s."""
 
 NORM_RANGE_G = (0.5, 1.5)
 """A rest's mean norm must lie in this range of the reference magnitude (else free fall, a
@@ -299,7 +300,8 @@ def detect_static_segments(
     max_gap_s : float
         Longest knock inside one rest, seconds.
     max_drift_deg_per_s : float
-        Largest rate of change of a rest's direction, degrees per second.
+        Largest rate of change of a rest's direction, degrees per second, beyond four standard
+        deviations of the rate that the segment's own noise makes.
     norm_range_g : (float, float)
         Plausible mean norm of a rest, as fractions of the reference magnitude.
     label_max_angle_deg : float
@@ -404,14 +406,17 @@ def detect_static_segments(
             dt = (t[-k:].mean() - t[:k].mean()) / fs
         cosang = float(m1 @ m3 / (np.linalg.norm(m1) * np.linalg.norm(m3)))
         rate = math.degrees(math.acos(min(1.0, max(-1.0, cosang)))) / dt if dt > 0 else 0.0
-        if rate > max_drift_deg_per_s:
+        std = xs.std(axis=0)
+        # The angle between two means of k noisy samples has a spread of about σ √(2 / k) / |g|.
+        noise_rate = math.degrees(float(np.sqrt(np.mean(std**2))) * math.sqrt(2.0 / k) / float(np.linalg.norm(mean))) / dt if dt > 0 else 0.0
+        if rate > max_drift_deg_per_s + 4.0 * noise_rate:
             continue
         out.append(
             StaticSegment(
                 start=int(run_a[grp[0]]),
                 end=int(run_b[grp[-1]]),
                 mean=mean,
-                std=xs.std(axis=0),
+                std=std,
                 count=count,
                 up=nearest_orientation(mean, label_max_angle_deg),
                 gaps=tuple((int(run_b[i]), int(run_a[j])) for i, j in zip(grp[:-1], grp[1:])),
