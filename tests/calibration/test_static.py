@@ -190,3 +190,19 @@ def test_simulator_is_seeded():
     assert a.segments == b.segments and a.bumps == b.bumps
     d = a.to_dict()
     assert d["model"]["type"] == "affine" and len(d["segments"]) == 6
+
+
+def test_fixture_csv_matches_its_truth():
+    import json
+    from pathlib import Path
+
+    data = Path(__file__).resolve().parents[1] / "data"
+    truth = json.loads((data / "six_orientations_150hz.json").read_text())
+    samples = np.loadtxt(data / "six_orientations_150hz.csv", delimiter=",", skiprows=1)
+    assert samples.shape == (truth["n_samples"], 3)
+    segs = detect_static_segments(samples, truth["sampling_rate_hz"])
+    assert [s.up for s in segs] == [t["up"] for t in truth["segments"]]
+    assert [s.up for s in segs] != list(CANONICAL_SIX)
+    for seg, t in zip(segs, truth["segments"]):
+        assert abs(seg.start - t["start"]) <= 0.4 * 150 and abs(seg.end - t["end"]) <= 0.4 * 150
+    assert any(s.gaps for s in segs)  # the knock
