@@ -73,10 +73,14 @@ def test_descents_as_published():
     run32 = fixed_point_descent(v, bits=32, h=1e-5, alphas=alpha_vector())
     np.testing.assert_allclose(run32.p, p, atol=2e-5)
     assert run32.q_format == "Q7.24" and run32.h == 168 / 2**24
-    # 16-bit: h = 0.01 (41 LSB of Q3.12); the forward difference biases the minimum by about −h/2.
+    # 16-bit: h = 0.01 (41 LSB of Q3.12).  The forward difference moves the stationary point by
+    # −(h/2) H⁻¹ diag(H) to first order (H the Hessian of the cost), up to 0.017 here; the 16-bit
+    # run lands within a few LSB of the float descent run with the same h.
     run16 = fixed_point_descent(v, bits=16, h=0.01, alphas=alpha_vector())
     assert run16.q_format == "Q3.12" and run16.h == 41 / 4096
-    np.testing.assert_allclose(run16.p, P_TRUE, atol=1.2e-2)
+    p16f, _ = gradient_descent(v, h=41 / 4096)
+    np.testing.assert_allclose(run16.p, p16f, atol=4 / 4096)
+    np.testing.assert_allclose(run16.p, P_TRUE, atol=0.02)
     assert not run16.saturated and not run32.saturated
 
 
