@@ -188,3 +188,12 @@ def test_one_hemisphere_is_not_ok():
     cal = fit_nonorthogonal(upper, gravity=G_PAPER)
     assert not cal.ok
     assert any("one hemisphere" in r for r in cal.reasons)
+
+
+def test_readings_in_g():
+    m = table(2)[:20]
+    si = fit_nonorthogonal(m, gravity=G_PAPER)
+    in_g = fit_nonorthogonal(m / G_PAPER, gravity=1.0)
+    np.testing.assert_allclose(in_g.s * G_PAPER, si.s, atol=1e-7)
+    np.testing.assert_allclose(in_g.b, si.b, atol=1e-8)
+    np.testing.assert_allclose([in_g.phi, in_g.psi, in_g.theta], [si.phi, si.psi, si.theta], atol=1e-8)
