@@ -418,6 +418,22 @@ def fit_triangular(
             "or use solver 'lm'"
         )
 
+    if solver != "lm":
+        # How far the descent stopped from the least-squares optimum, in its own 95 % intervals.
+        ref = least_squares(_residuals_lm, P0.copy(), jac=_jacobian_lm, args=(v,), method="lm",
+                            xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        J_ref = _jacobian_lm(ref.x, v, central=True)
+        cov_ref, dof_ref, _ = covariance_from_jacobian(J_ref, ref.fun)
+        if cov_ref is not None:
+            dist = float(np.max(np.abs(p_g - ref.x) / half_widths(cov_ref, dof_ref)))
+            metrics["distance_to_lm"] = dist
+            if dist > 1.0:
+                warnings.append(
+                    f"the {solver} solver stopped {dist:.1f} times the 95 % interval from the "
+                    "least-squares optimum (iteration cap, finite-difference step or number format); "
+                    "use solver 'lm' for the best estimate"
+                )
+
     K = k_matrix(p_g)
     o = p_g[6:9] * g
     # Covariance: 003 Appendix A eq. (22) with V(ε) = σ² I, σ² from the residuals (in g).

@@ -223,3 +223,14 @@ def test_fixed_point_descent_is_bit_exact(bits, frac, h):
     ref = _reference_run(v.tolist(), bits, frac, h, alphas.tolist(), iters=5)
     run = fixed_point_descent(v, bits=bits, h=h, alphas=alphas, max_iter=5)
     assert run.p_raw.tolist() == ref
+
+
+def test_descents_report_their_distance_to_the_optimum():
+    m = table(1)[:20]
+    assert "distance_to_lm" not in fit_triangular(m, gravity=9.806).metrics
+    cal16 = fit_triangular(m, gravity=9.806, solver="fixed16")
+    assert cal16.metrics["distance_to_lm"] > 1.0
+    assert any("fixed16 solver stopped" in w for w in cal16.warnings)
+    assert cal16.ok  # a warning, not a gate failure
+    cal32 = fit_triangular(m, gravity=9.806, solver="fixed32")
+    assert cal32.metrics["distance_to_lm"] < 1.0
