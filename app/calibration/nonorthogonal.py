@@ -440,8 +440,8 @@ def fit_nonorthogonal(
     col = np.linalg.norm(J, axis=0)
     cond = float(np.linalg.cond(J / np.where(col > 0, col, 1.0)))
 
-    result_tmp = NonOrthogonalCalibration(s=s, b=b, phi=phi, psi=psi, theta=theta, gravity=g, means=m, covariance=cov, dof=dof)
-    norms = np.linalg.norm(result_tmp.apply(m), axis=1)
+    # 000 eq. (16)
+    norms = np.linalg.norm((m - s) @ calibration_matrix(b, phi, psi, theta).T, axis=1)
     norm_err = np.abs(norms - g) / g
     norm_err_raw = np.abs(np.linalg.norm(m, axis=1) - g) / g
     metrics = {
