@@ -1,0 +1,524 @@
+"""Unknown-orientation calibration with non-orthogonal axes: 000, Approach 1.
+
+000_cb2cbc1c5eaccf1a.txt, section 2.  Each accelerometer reading â is shifted and scaled,
+``a = (â − s) / b`` component-wise (eq. (1)); a = (a_x, a_y, a_z) are the projections of the
+acceleration onto the three sensing axes, which make the angles φ = ∠(Ox, Oy), ψ = ∠(Ox, Oz) and
+θ = ∠(Oy, Oz) (eq. (3)).  The affine coordinates are ``ā = T̄ a`` (eq. (5), T̄ the inverse of the
+Gram matrix of the axes, eq. (8)), and the coordinates in the orthonormal frame f₁ = e₁, f₂ in the
+e₁e₂ plane (Proposition 3) are ``ā_orth = T̄_orth ā`` (eqs. (12), (15)), so that the calibrated
+value is eq. (16): ``ā_orth = T̄_orth T̄ T â − T̄_orth T̄ s``.
+
+The fit (section 2.2) first fits the orthogonal model (all angles π/2) to fix the signs of the
+parameters, then minimises (17), ``Σ (|ā_orth⁽ⁱ⁾|² − g²)²``, over all nine parameters under those
+sign restrictions.
+
+Sign convention.  The norm in (17) is unchanged when all three scales b change sign (the angles
+then stay the same), so the sign of b is not determined by the data.  trical fixes b > 0, which keeps
+the calibrated values in the device frame of the readings (the axis that points up reads +g).  The
+paper prints negative scales (000 section 2.4); their magnitudes, the shifts and the angles are the
+same as ours.  The signs of the shifts s come from the rough orthogonal fit, as in the paper.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from .errors import CalibrationError
+from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
+from .validation import (
+    as_vectors,
+    check_gravity,
+    check_sphere_points,
+    near_duplicate_pairs,
+    one_hemisphere_axis,
+    uncovered_directions,
+)
+
+MODEL_TYPE = "nonorthogonal"
+
+N_PARAMS = 9
+"""s (3), b (3), φ, ψ, θ."""
+
+PARAM_NAMES = ("s1", "s2", "s3", "b1", "b2", "b3", "phi", "psi", "theta")
+
+PLAUSIBLE_SCALE = (0.8, 1.2)
+"""|b| outside this range is implausible for a MEMS accelerometer read in its own unit (DESIGN.md §5)."""
+
+MAX_ANGLE_DEVIATION = 0.05 * np.pi / 2
+"""Angles further than 5 % from π/2 are flagged; 000 section 2 assumes 90° ± 2 %."""
+
+MAX_NORM_ERROR = 0.05
+"""A fitted position whose calibrated norm is further than 5 % from g fails the fit (ok = false)."""
+
+NEAR_DUPLICATE_FRACTION = 0.01
+"""Positions closer than 1 % of g to each other are named as near duplicates (DESIGN.md §3)."""
+
+MAX_CONDITION_NUMBER = 30.0
+"""Above this condition number of the column-scaled Jacobian the parameters are poorly determined."""
+
+
+# ---------------------------------------------------------------------------------------------
+# The model, eqs. (1)–(16)
+# ---------------------------------------------------------------------------------------------
+
+
+def gram_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
+    """Matrix of system (8): the Gram matrix of the unit vectors e₁, e₂, e₃ along the axes."""
+    cf, cp, ct = np.cos(phi), np.cos(psi), np.cos(theta)
+    # 000 eq. (8)
+    return np.array([[1.0, cf, cp], [cf, 1.0, ct], [cp, ct, 1.0]])
+
+
+def affine_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
+    """T̄ of Remark 2: affine coordinates ā from the projections a, ā = T̄ a (000 eq. (5))."""
+    cf, cp, ct = np.cos(phi), np.cos(psi), np.cos(theta)
+    # 000 eq. (5) / Remark 2: den = −1 + cos²φ + cos²ψ + cos²θ − 2 cosφ cosψ cosθ.
+    den = -1.0 + cf**2 + cp**2 + ct**2 - 2.0 * cf * cp * ct
+    return (
+        np.array(
+            [
+                [-np.sin(theta) ** 2, cf - ct * cp, cp - cf * ct],
+                [cf - ct * cp, -np.sin(psi) ** 2, ct - cf * cp],
+                [cp - cf * ct, ct - cf * cp, -np.sin(phi) ** 2],
+            ]
+        )
+        / den
+    )
+
+
+def orthonormal_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
+    """T̄_orth of Proposition 3: coordinates in the orthonormal frame f from ā (000 eq. (12)).
+
+    Its columns are e₁, e₂, e₃ in the frame f₁ = e₁, f₂ in the e₁e₂ plane (eq. (15) uses it as
+    ``ā_orth = T̄_orth ā``).
+    """
+    cf, cp, ct = np.cos(phi), np.cos(psi), np.cos(theta)
+    sf = np.sin(phi)
+    det = 1.0 - cf**2 - cp**2 - ct**2 + 2.0 * cf * cp * ct
+    if det <= 0.0:
+        raise CalibrationError(
+            f"angles φ={phi}, ψ={psi}, θ={theta} do not describe three independent axes"
+        )
+    # 000 eq. (12)
+    return np.array(
+        [
+            [1.0, cf, cp],
+            [0.0, sf, (ct - cf * cp) / sf],
+            [0.0, 0.0, np.sqrt(det) / sf],
+        ]
+    )
+
+
+def calibration_matrix(b, phi: float, psi: float, theta: float) -> np.ndarray:
+    """M = T̄_orth T̄ T of eq. (16), so that ā_orth = M (â − s)."""
+    T = np.diag(1.0 / np.asarray(b, dtype=float))  # 000 eq. (1)–(2)
+    return orthonormal_matrix(phi, psi, theta) @ affine_matrix(phi, psi, theta) @ T
+
+
+def _squared_norms(p: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """|ā_orth|² = aᵀ G⁻¹ a with a = (â − s)/b (eqs. (1), (5), (9)); faster than building eq. (16)."""
+    s, b = p[:3], p[3:6]
+    a = (m - s) / b
+    G = gram_matrix(*p[6:9])
+    return np.einsum("ij,ij->i", a, np.linalg.solve(G, a.T).T)
+
+
+def _residuals_17(p: np.ndarray, m: np.ndarray, g: float) -> np.ndarray:
+    """Terms of the sum (17): |ā_orth⁽ⁱ⁾|² − g²."""
+    return _squared_norms(p, m) - g * g
+
+
+def _jacobian_17(p: np.ndarray, m: np.ndarray, g: float) -> np.ndarray:
+    """Analytic Jacobian of the terms of (17) with respect to (s, b, φ, ψ, θ)."""
+    s, b = p[:3], p[3:6]
+    a = (m - s) / b
+    G = gram_matrix(*p[6:9])
+    Gi = np.linalg.inv(G)
+    w = a @ Gi  # rows G⁻¹ a (G symmetric)
+    J = np.empty((len(m), N_PARAMS))
+    # ∂(aᵀG⁻¹a)/∂a = 2 G⁻¹ a; ∂a_k/∂s_k = −1/b_k; ∂a_k/∂b_k = −a_k/b_k.
+    J[:, 0:3] = -2.0 * w / b
+    J[:, 3:6] = -2.0 * w * a / b
+    # ∂(aᵀG⁻¹a)/∂G_jk = −(G⁻¹a)_j (G⁻¹a)_k; G_12 = G_21 = cos φ, etc.
+    for col, (j, k), ang in ((6, (0, 1), p[6]), (7, (0, 2), p[7]), (8, (1, 2), p[8])):
+        J[:, col] = -2.0 * w[:, j] * w[:, k] * (-np.sin(ang))
+    return J
+
+
+# ---------------------------------------------------------------------------------------------
+# Result
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class NonOrthogonalCalibration:
+    """Result of the non-orthogonal-axes (9-parameter) calibration, 000 Approach 1.
+
+    Attributes
+    ----------
+    s : numpy.ndarray, shape (3,)
+        Shifts s₁, s₂, s₃ of eq. (1), in the unit of the readings.
+    b : numpy.ndarray, shape (3,)
+        Scaling coefficients b₁, b₂, b₃ of eq. (1), dimensionless, positive (module docstring).
+    phi, psi, theta : float
+        Angles ∠(Ox, Oy), ∠(Ox, Oz), ∠(Oy, Oz) between the sensing axes in radians (eq. (3)).
+    gravity : float
+        Reference magnitude g of (17), in the unit of the readings.
+    means : numpy.ndarray, shape (N, 3)
+        The fitted readings â⁽ⁱ⁾.
+    covariance : numpy.ndarray or None
+        Covariance (9, 9) of (s₁, s₂, s₃, b₁, b₂, b₃, φ, ψ, θ); None without degrees of freedom.
+    dof : int
+        Residual degrees of freedom, N − 9.
+    metrics, warnings, reasons
+        As in :class:`~app.calibration.affine.AffineCalibration`.
+    """
+
+    s: np.ndarray
+    b: np.ndarray
+    phi: float
+    psi: float
+    theta: float
+    gravity: float
+    means: np.ndarray
+    covariance: np.ndarray | None
+    dof: int
+    metrics: dict = field(default_factory=dict)
+    warnings: tuple = ()
+    reasons: tuple = ()
+    method: str = MODEL_TYPE
+
+    @property
+    def ok(self) -> bool:
+        """True when no quality gate failed."""
+        return not self.reasons
+
+    @property
+    def params(self) -> np.ndarray:
+        """(s₁, s₂, s₃, b₁, b₂, b₃, φ, ψ, θ)."""
+        return np.r_[self.s, self.b, self.phi, self.psi, self.theta]
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """T̄_orth T̄ T of eq. (16): calibrated = matrix @ (raw − s)."""
+        return calibration_matrix(self.b, self.phi, self.psi, self.theta)
+
+    def apply(self, raw) -> np.ndarray:
+        """Calibrate readings by eq. (16): ``ā_orth = T̄_orth T̄ T â − T̄_orth T̄ s``.
+
+        The output is in the orthonormal frame of Proposition 3: f₁ along the sensor's x axis,
+        f₂ in the plane of its x and y axes.
+
+        Parameters
+        ----------
+        raw : array_like, shape (3,) or (N, 3)
+
+        Returns
+        -------
+        numpy.ndarray of the same shape as ``raw``.
+        """
+        m = np.asarray(raw, dtype=float)
+        if m.shape[-1:] != (3,) or m.ndim > 2:
+            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        # 000 eq. (16): T̄_orth T̄ T â − T̄_orth T̄ s with the vector s = T (s₁, s₂, s₃) of eq. (2),
+        # i.e. T̄_orth T̄ T (â − s).
+        out = (m.reshape(-1, 3) - self.s) @ self.matrix.T
+        return out.reshape(m.shape)
+
+    def uncertainty(self) -> dict:
+        """95 % half-widths of s, b and the three angles, or nulls with the reason."""
+        out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
+        if self.covariance is None:
+            out.update(
+                s=None, b=None, phi=None, psi=None, theta=None,
+                note=(
+                    f"no intervals: {len(self.means)} positions fit the 9 parameters exactly "
+                    "(0 residual degrees of freedom) or the fit is degenerate; add positions"
+                ),
+            )
+            return out
+        hw = half_widths(self.covariance, self.dof)
+        out.update(s=hw[0:3].tolist(), b=hw[3:6].tolist(), phi=float(hw[6]), psi=float(hw[7]), theta=float(hw[8]))
+        return out
+
+    def evaluate(self, means) -> dict:
+        """Relative norm errors |(|a| − g)/g| of still readings (000 section 2.4).
+
+        Parameters
+        ----------
+        means : array_like, shape (M, 3)
+            Still readings, e.g. held-out positions; their true norm is ``gravity``.
+
+        Returns
+        -------
+        dict
+            ``norm_error_max`` and ``norm_error_max_raw`` (relative), ``error_before_mg`` and
+            ``error_after_mg`` (mean | |a| − g | in thousandths of g), ``count``.
+        """
+        m = as_vectors(means, "means")
+        g = self.gravity
+        before = np.abs(np.linalg.norm(m, axis=1) - g) / g
+        after = np.abs(np.linalg.norm(self.apply(m), axis=1) - g) / g
+        return {
+            "count": int(len(m)),
+            "norm_error_max": float(after.max()),
+            "norm_error_max_raw": float(before.max()),
+            "error_before_mg": float(1000.0 * before.mean()),
+            "error_after_mg": float(1000.0 * after.mean()),
+        }
+
+    def readings(self) -> list[dict]:
+        """Per-reading detail: mean, calibrated vector and relative norm errors before and after."""
+        cal = self.apply(self.means)
+        g = self.gravity
+        return [
+            {
+                "index": i,
+                "mean": m.tolist(),
+                "calibrated": c.tolist(),
+                "norm_error": float(abs(np.linalg.norm(c) - g) / g),
+                "norm_error_raw": float(abs(np.linalg.norm(m) - g) / g),
+            }
+            for i, (m, c) in enumerate(zip(self.means, cal))
+        ]
+
+    def to_dict(self) -> dict:
+        """Plain-JSON form: model, metrics, uncertainty, ok, warnings, reasons and readings."""
+        return {
+            "method": self.method,
+            "model": {
+                "type": MODEL_TYPE,
+                "s": self.s.tolist(),
+                "b": self.b.tolist(),
+                "phi": float(self.phi),
+                "psi": float(self.psi),
+                "theta": float(self.theta),
+            },
+            "metrics": dict(self.metrics),
+            "uncertainty": self.uncertainty(),
+            "covariance": None if self.covariance is None else self.covariance.tolist(),
+            "gravity": self.gravity,
+            "ok": self.ok,
+            "warnings": list(self.warnings),
+            "reasons": list(self.reasons),
+            "readings": self.readings(),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "NonOrthogonalCalibration":
+        """Rebuild a result from :meth:`to_dict` output."""
+        model = data["model"]
+        if model.get("type") != MODEL_TYPE:
+            raise CalibrationError(f"not a nonorthogonal model: type {model.get('type')!r}")
+        readings = data.get("readings") or []
+        cov = data.get("covariance")
+        return cls(
+            s=np.asarray(model["s"], dtype=float),
+            b=np.asarray(model["b"], dtype=float),
+            phi=float(model["phi"]),
+            psi=float(model["psi"]),
+            theta=float(model["theta"]),
+            gravity=float(data["gravity"]),
+            means=np.asarray([r["mean"] for r in readings], dtype=float).reshape(-1, 3),
+            covariance=None if cov is None else np.asarray(cov, dtype=float),
+            dof=int(data.get("uncertainty", {}).get("dof", max(len(readings) - N_PARAMS, 0))),
+            metrics=dict(data.get("metrics", {})),
+            warnings=tuple(data.get("warnings", ())),
+            reasons=tuple(data.get("reasons", ())),
+            method=data.get("method", MODEL_TYPE),
+        )
+
+
+# ---------------------------------------------------------------------------------------------
+# Fit, section 2.2
+# ---------------------------------------------------------------------------------------------
+
+
+def _ellipsoid_start(m: np.ndarray, g: float) -> tuple[np.ndarray, np.ndarray]:
+    """Centre and semi-axes of the axis-aligned ellipsoid through the readings (linear LS).
+
+    ``Σ_k A_k x_k² + B_k x_k = 1`` is linear in (A, B); it starts the rough fit of step 2 so that
+    no starting guess has to be made.
+    """
+    design = np.hstack([m**2, m])
+    coef, *_ = np.linalg.lstsq(design, np.ones(len(m)), rcond=None)
+    A, B = coef[:3], coef[3:]
+    if np.all(A > 0):
+        centre = -B / (2.0 * A)
+        rhs = 1.0 + np.sum(B**2 / (4.0 * A))
+        radii = np.sqrt(rhs / A)
+        if np.all(np.isfinite(radii)):
+            return centre, radii / g
+    return m.mean(axis=0), np.ones(3)
+
+
+def _rough_orthogonal_fit(m: np.ndarray, g: float) -> least_squares:
+    """Step 2 of section 2.2: minimise Σ [(Tâ − s)ᵀ(Tâ − s) − g²]² with all angles π/2."""
+    centre, scale = _ellipsoid_start(m, g)
+
+    def res(q):
+        # 000 section 2.2, step 2 (eq. (2) with orthogonal axes), parametrised by the shifts s_i
+        # and scales b_i of eq. (1).
+        a = (m - q[:3]) / q[3:]
+        return np.sum(a * a, axis=1) - g * g
+
+    return least_squares(res, np.r_[centre, scale], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+
+
+def fit_nonorthogonal(
+    means,
+    *,
+    gravity: float,
+    plausible_scale: tuple[float, float] | None = PLAUSIBLE_SCALE,
+    max_offset: float | None = None,
+) -> NonOrthogonalCalibration:
+    """Fit the non-orthogonal-axes model of 000 Approach 1 to still readings of unknown orientation.
+
+    Two steps (000 section 2.2): a rough fit of the orthogonal model (angles π/2) fixes the signs
+    of the shifts; the nine parameters then minimise (17), ``Σ (|ā_orth⁽ⁱ⁾|² − g²)²``, under those
+    sign restrictions, with b > 0 (module docstring) and the angles in (0, π).
+
+    Parameters
+    ----------
+    means : array_like, shape (N, 3)
+        Averaged still readings â⁽ⁱ⁾ in N ≥ 9 different positions (the paper uses 20).
+    gravity : float
+        Reference magnitude g, in the unit of the readings (1 for readings in g).
+    plausible_scale : (float, float) or None
+        Bounds of the scales b that pass the gate; None for raw units.
+    max_offset : float or None
+        Largest |s| that passes the gate; defaults to ``gravity`` (1 g).
+
+    Returns
+    -------
+    NonOrthogonalCalibration
+
+    Raises
+    ------
+    CalibrationError
+        Wrong shapes, non-finite values.
+    InsufficientDataError
+        Fewer than 9 positions, or fewer than 9 distinct ones (e.g. all identical).
+    """
+    g = check_gravity(gravity)
+    m = check_sphere_points(means, g, min_points=N_PARAMS, method="nonorthogonal", n_params=N_PARAMS)
+    hemisphere = one_hemisphere_axis(m)
+
+    rough = _rough_orthogonal_fit(m, g)
+    s0, b0 = rough.x[:3], np.abs(rough.x[3:])
+    # Sign restrictions of step 3: each shift keeps the sign of the rough fit unless the rough
+    # fit cannot tell it from zero (|s| below 3 standard errors), b > 0, angles in (0, π).
+    cov0, _, _ = covariance_from_jacobian(rough.jac, rough.fun)
+    se0 = np.full(3, np.inf) if cov0 is None else np.sqrt(np.clip(np.diag(cov0)[:3], 0, None))
+    lower = np.r_[np.full(3, -np.inf), np.full(3, 1e-9), np.full(3, 1e-6)]
+    upper = np.r_[np.full(3, np.inf), np.full(3, np.inf), np.full(3, np.pi - 1e-6)]
+    for k in range(3):
+        if abs(s0[k]) > 3.0 * se0[k]:
+            if s0[k] > 0:
+                lower[k] = 0.0
+            else:
+                upper[k] = 0.0
+    p0 = np.r_[s0, b0, np.full(3, np.pi / 2)]
+    p0 = np.clip(p0, lower + 1e-12, upper - 1e-12)
+    # 000 eq. (17)
+    sol = least_squares(
+        _residuals_17, p0, jac=_jacobian_17, args=(m, g), bounds=(lower, upper),
+        method="trf", x_scale="jac", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000,
+    )
+    p = sol.x
+    s, b = p[:3].copy(), p[3:6].copy()
+    phi, psi, theta = (float(v) for v in p[6:9])
+
+    warnings: list[str] = []
+    reasons: list[str] = []
+    J = _jacobian_17(p, m, g)
+    r = _residuals_17(p, m, g)
+    cov, dof, _ = covariance_from_jacobian(J, r)
+    col = np.linalg.norm(J, axis=0)
+    cond = float(np.linalg.cond(J / np.where(col > 0, col, 1.0)))
+
+    # 000 eq. (16)
+    norms = np.linalg.norm((m - s) @ calibration_matrix(b, phi, psi, theta).T, axis=1)
+    norm_err = np.abs(norms - g) / g
+    norm_err_raw = np.abs(np.linalg.norm(m, axis=1) - g) / g
+    metrics = {
+        # 000 section 2.4: relative error |(a − g)/g| of the calibrated norms, fitted positions.
+        "norm_error_max": float(norm_err.max()),
+        "norm_error_max_raw": float(norm_err_raw.max()),
+        "error_before_mg": float(1000.0 * norm_err_raw.mean()),
+        "error_after_mg": float(1000.0 * norm_err.mean()),
+        "norm_improvement": float(norm_err_raw.max() / norm_err.max()) if norm_err.max() > 0 else None,
+        "rms_norm_residual": float(np.sqrt(np.mean((norms - g) ** 2))),
+        "cost_17": float(np.sum(r**2)),
+        "condition_number": cond,
+        "angle_deviation_max_deg": float(np.degrees(np.max(np.abs(p[6:9] - np.pi / 2)))),
+        "rough_s": s0.tolist(),
+        "rough_b": b0.tolist(),
+        "converged": bool(sol.success),
+        "dof": dof,
+        "count": int(len(m)),
+    }
+
+    if hemisphere is not None:
+        reasons.append(
+            "all positions lie in one hemisphere (around the direction "
+            f"{np.array2string(hemisphere, precision=2)}): the shifts cannot be told from the scales; "
+            "add positions with the device turned the other way up"
+        )
+    if not sol.success:
+        reasons.append(f"the least-squares fit of (17) did not converge ({sol.message}); add positions")
+    if norm_err.max() > MAX_NORM_ERROR:
+        worst = int(np.argmax(norm_err))
+        reasons.append(
+            f"reading {worst} has a calibrated norm {100 * norm_err[worst]:.1f} % from g after "
+            f"calibration (gate {100 * MAX_NORM_ERROR:.0f} %): it may not have been still"
+        )
+    if plausible_scale is not None:
+        lo, hi = plausible_scale
+        for k, bk in enumerate(b):
+            if not lo <= bk <= hi:
+                reasons.append(
+                    f"scale b{k + 1} of the {'xyz'[k]} axis is {bk:.4f}, outside the plausible {lo}–{hi}: "
+                    "check the unit and the gravity value"
+                )
+    limit = g if max_offset is None else max_offset
+    for k, sk in enumerate(s):
+        if abs(sk) > limit:
+            reasons.append(
+                f"shift s{k + 1} of the {'xyz'[k]} axis is {sk:.4g}, above 1 g in magnitude: check the unit"
+            )
+    for name, ang in (("phi", phi), ("psi", psi), ("theta", theta)):
+        if abs(ang - np.pi / 2) > MAX_ANGLE_DEVIATION:
+            warnings.append(
+                f"the angle {name} between the axes is {np.degrees(ang):.2f}°, more than 5 % from 90° "
+                "(000 section 2 assumes 90° ± 2 %): check the positions"
+            )
+    if cond > MAX_CONDITION_NUMBER:
+        warnings.append(
+            f"the positions determine the parameters poorly (condition number {cond:.3g}): "
+            "spread the positions over the whole sphere"
+        )
+    missing = uncovered_directions(m)
+    if missing and hemisphere is None:
+        warnings.append(
+            "poor coverage of the sphere: no position has the "
+            + ", ".join(missing)
+            + " axis within 60° of up; add such positions"
+        )
+    for i, j in near_duplicate_pairs(m, NEAR_DUPLICATE_FRACTION * g):
+        warnings.append(
+            f"readings {i} and {j} (positions {i + 1} and {j + 1}, counting from 1) are within 1 % of g "
+            "of each other (near-duplicate positions, 000 Dataset 3): they weigh one orientation twice"
+        )
+    if dof == 0:
+        warnings.append(
+            "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
+            "so no intervals and no check of the fit; use about 20 positions"
+        )
+    return NonOrthogonalCalibration(
+        s=s, b=b, phi=phi, psi=psi, theta=theta, gravity=g, means=m, covariance=cov, dof=dof,
+        metrics=metrics, warnings=tuple(reasons + warnings), reasons=tuple(reasons),
+    )
