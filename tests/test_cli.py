@@ -26,8 +26,9 @@ def test_calibrate_json_then_export(tmp_path):
     body = json.loads(out.stdout)
     assert body["method"] == "six_position" and body["ok"] and body["id"].startswith("cal_")
     truth = json.loads((DATA / "six_orientations_150hz.json").read_text())
-    np.testing.assert_allclose(body["model"]["X"], truth["X"], atol=2e-3)
-    np.testing.assert_allclose(body["model"]["y"], truth["y"], atol=2e-2)
+    np.testing.assert_allclose(body["model"]["X"], truth["model"]["X"], atol=2e-3)
+    # The fixture drifts by 0.05 m/s² over the minute (tests/data/make_six_orientation_log.py).
+    np.testing.assert_allclose(body["model"]["y"], truth["model"]["y"], atol=5e-2)
 
     header = trical("export", body["id"], "--format", "c", tmp_path=tmp_path)
     assert header.returncode == 0 and "trical_acc_apply" in header.stdout
