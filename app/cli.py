@@ -11,6 +11,8 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from app import __version__, workflow
 from app.calibration import CalibrationError
 from app.config import Settings, SettingsError
@@ -19,6 +21,7 @@ from app.io.exporters import EXPORTERS, export_calibration
 from app.store import NotFoundError, SQLiteStore
 
 KNOWN_METHODS = ("six_position", "orientations")
+UNKNOWN_METHODS = ("nonorthogonal", "triangular")
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -32,7 +35,9 @@ def _parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument("log", type=Path, help="CSV log with a header row")
-    c.add_argument("--method", choices=KNOWN_METHODS, default="six_position")
+    c.add_argument("--method", choices=KNOWN_METHODS + UNKNOWN_METHODS, default="six_position")
+    c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
+                   help="triangular only: lm, or 002's descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=float, default=None, help="needed when the log has no time column")
     c.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None, help="accelerometer unit of the log")
     c.add_argument("--gravity", type=float, default=None, help="reference gravity in m/s^2")
@@ -66,8 +71,12 @@ def _calibrate(args, settings: Settings) -> int:
     recording = workflow.describe_log(log)
     unit = log.units["acc"]
     gravity, notes = workflow.reference_gravity(unit, args.gravity, args.latitude_deg, args.height_m)
-    readings, used = workflow.readings_from_segments(recording, args.method, None)
-    result, extra = workflow.calibrate_known(args.method, readings, unit=unit, gravity=gravity)
+    if args.method in KNOWN_METHODS:
+        readings, used = workflow.readings_from_segments(recording, args.method, None)
+        result, extra = workflow.calibrate_known(args.method, readings, unit=unit, gravity=gravity)
+    else:
+        means, used = workflow.means_from_segments(recording, None)
+        result, extra = workflow.calibrate_unknown(args.method, means, unit=unit, gravity=gravity, solver=args.solver)
     body = workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=args.device_id,
                                      label=str(args.log.name), segments_used=used)
     if not args.no_store:
@@ -84,14 +93,18 @@ def _print_summary(body: dict, recording: dict) -> None:
           f"at {recording['sampling_rate_hz']:g} Hz; used {body['segments_used']}")
     if body.get("id"):
         print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
-    model = body["model"]
-    print("X =")
-    for row in model["X"]:
-        print("   " + "  ".join(f"{v: .6f}" for v in row))
-    print("y = " + "  ".join(f"{v: .6f}" for v in model["y"]))
+    for name, value in body["model"].items():
+        if name == "type":
+            continue
+        arr = np.atleast_2d(np.asarray(value, dtype=float))
+        print(f"{name} =" if arr.shape[0] > 1 else f"{name} = " + "  ".join(f"{v: .6f}" for v in arr[0]))
+        if arr.shape[0] > 1:
+            for row in arr:
+                print("   " + "  ".join(f"{v: .6f}" for v in row))
     m = body["metrics"]
-    print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f}); "
-          f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
+    if "fit_error_max" in m:
+        print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f})")
+    print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
     for w in body["warnings"]:
         print(f"warning: {w}")
 

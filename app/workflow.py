@@ -15,6 +15,8 @@ import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
 from app.calibration.errors import InsufficientDataError
+from app.calibration.nonorthogonal import fit_nonorthogonal
+from app.calibration.triangular import fit_triangular
 from app.calibration.static import detect_static_segments
 from app.io.csv_log import read_csv_log
 from app.io.log import LogData
@@ -133,6 +135,13 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
     return readings, chosen
 
 
+def holdout_metrics(result, holdout) -> dict:
+    """Norm errors of further still readings, prefixed ``holdout_`` (000 section 3.5, 002 Table 3)."""
+    if not holdout:
+        return {}
+    return {f"holdout_{k}": v for k, v in result.evaluate(holdout).items()}
+
+
 def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity: float,
                     holdout=None):
     """Run ``six_position`` or ``orientations`` on readings; returns the core result and extra metrics."""
@@ -154,10 +163,31 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
         )
     else:  # pragma: no cover - the schemas only route these two here
         raise CalibrationError(f"unknown known-orientation method {method!r}")
-    extra = {}
-    if holdout:
-        extra = {f"holdout_{k}" if not k.startswith("error_") else k: v for k, v in result.evaluate(holdout).items()}
-    return result, extra
+    return result, holdout_metrics(result, holdout)
+
+
+def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
+    """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+    segments = recording["segments"]
+    chosen = list(range(len(segments))) if indices is None else list(indices)
+    for i in chosen:
+        if not 0 <= i < len(segments):
+            raise CalibrationError(
+                f"segment {i} does not exist: the recording has {len(segments)} static segments"
+            )
+    return [segments[i]["acc_mean"] for i in chosen], chosen
+
+
+def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: str = "lm", holdout=None):
+    """Run ``nonorthogonal`` (000 Approach 1) or ``triangular`` (002) on still readings."""
+    gates = dict(plausible_scale=None, max_offset=math.inf) if unit == "raw" else {}
+    if method == "nonorthogonal":
+        result = fit_nonorthogonal(means, gravity=gravity, **gates)
+    elif method == "triangular":
+        result = fit_triangular(means, gravity=gravity, solver=solver, **gates)
+    else:  # pragma: no cover - the schemas only route these two here
+        raise CalibrationError(f"unknown magnitude method {method!r}")
+    return result, holdout_metrics(result, holdout)
 
 
 def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:

@@ -34,6 +34,9 @@ def test_calibrate_json_then_export(tmp_path):
     assert header.returncode == 0 and "trical_acc_apply" in header.stdout
     human = trical("calibrate", str(log), "--sampling-rate-hz", "150", "--no-store", tmp_path=tmp_path)
     assert human.returncode == 0 and "X =" in human.stdout and "fit error max" in human.stdout
+    tri = trical("calibrate", str(log), "--sampling-rate-hz", "150", "--method", "orientations", "--no-store",
+                 tmp_path=tmp_path)
+    assert tri.returncode == 0 and "norm error max" in tri.stdout
 
 
 def test_errors_are_one_line_without_traceback(tmp_path):

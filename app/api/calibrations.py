@@ -7,7 +7,15 @@ from fastapi.responses import Response
 
 from app import workflow
 from app.api.deps import get_store
-from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, KnownOrientationIn
+from app.api.schemas import (
+    ApplyIn,
+    ApplyOut,
+    CalibrationIn,
+    CalibrationList,
+    CalibrationOut,
+    KnownOrientationIn,
+    UnknownOrientationIn,
+)
 from app.calibration.registry import result_from_dict
 from app.io.exporters import EXPORTERS, export_calibration
 from app.store import SQLiteStore
@@ -15,9 +23,11 @@ from app.store import SQLiteStore
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
 
-def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> dict:
-    gravity, notes = workflow.reference_gravity(request.unit, request.gravity, request.latitude_deg, request.height_m)
-    source: dict = {}
+def _source(request, store: SQLiteStore) -> tuple[dict | None, str, float, list[str]]:
+    """The recording (if any), the unit, the reference magnitude and notes for a request."""
+    recording = None
+    unit = request.unit
+    notes: list[str] = []
     if request.recording_id is not None:
         recording, _ = store.get_recording(request.recording_id)
         if request.unit != recording["units"]["acc"]:
@@ -25,20 +35,25 @@ def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> 
                 f"the recording's accelerometer unit is {recording['units']['acc']}; the request's unit "
                 f"{request.unit} was replaced by it"
             )
-            gravity, more = workflow.reference_gravity(recording["units"]["acc"], request.gravity,
-                                                       request.latitude_deg, request.height_m)
-            notes += more
         unit = recording["units"]["acc"]
-        readings, used = workflow.readings_from_segments(recording, request.method, request.segments)
-        source = {"recording_id": request.recording_id, "segments_used": used}
         if recording.get("quantization_step"):
             notes.append(
                 f"the recording's values are rounded to {recording['quantization_step']} m/s² (as browsers "
                 "round motion sensor data): each reading's mean is still precise when averaged over many samples"
             )
+    gravity, more = workflow.reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
+    return recording, unit, gravity, notes + more
+
+
+def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> dict:
+    recording, unit, gravity, notes = _source(request, store)
+    source: dict = {}
+    if recording is not None:
+        readings, used = workflow.readings_from_segments(recording, request.method, request.segments)
+        source = {"recording_id": request.recording_id, "segments_used": used}
     else:
-        unit = request.unit
-        readings = [workflow.Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
+        readings = [workflow.Reading(mean=tuple(r.mean), up=r.up,
+                                     expected=None if r.expected is None else tuple(r.expected),
                                      std=None if r.std is None else tuple(r.std), count=r.count)
                     for r in request.readings]
     result, extra = workflow.calibrate_known(request.method, readings, unit=unit, gravity=gravity,
@@ -47,10 +62,27 @@ def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> 
                                      label=request.label, **source)
 
 
+def _unknown_orientation_body(request: UnknownOrientationIn, store: SQLiteStore) -> dict:
+    recording, unit, gravity, notes = _source(request, store)
+    source: dict = {}
+    means = request.means
+    if recording is not None:
+        means, used = workflow.means_from_segments(recording, request.segments)
+        source = {"recording_id": request.recording_id, "segments_used": used}
+    result, extra = workflow.calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
+                                               solver=getattr(request, "solver", "lm"), holdout=request.holdout)
+    return workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                     label=request.label, **source)
+
+
 @router.post("", status_code=201, response_model=CalibrationOut, summary="Compute and store a calibration")
 def create_calibration(request: CalibrationIn, store: SQLiteStore = Depends(get_store)):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
-    return store.add_calibration(_known_orientation_body(request, store))
+    if isinstance(request, KnownOrientationIn):
+        body = _known_orientation_body(request, store)
+    else:
+        body = _unknown_orientation_body(request, store)
+    return store.add_calibration(body)
 
 
 @router.get("", response_model=CalibrationList, summary="List calibrations")

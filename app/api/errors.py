@@ -36,7 +36,7 @@ def _location(loc) -> str:
     for item in loc:
         if item in ("body", "query", "path", "form") and not parts:
             continue
-        if item in ("six_position", "orientations") and len(parts) == 0:
+        if item in METHODS and len(parts) == 0:
             continue  # the discriminator's branch, not a field
         if isinstance(item, int):
             parts.append(f"[{item}]")

@@ -67,10 +67,41 @@ class OrientationsIn(KnownOrientationIn):
     method: Literal["orientations"]
 
 
-METHODS = ("six_position", "orientations")
+class UnknownOrientationIn(CommonIn):
+    """Still readings whose orientations are unknown: only the magnitude of gravity is known."""
+
+    means: Annotated[list[Vec3], Field(min_length=1, max_length=100_000)] | None = Field(
+        None, description="N×3 still readings in `unit`, in arbitrary orientations (N ≥ 9)."
+    )
+    recording_id: str | None = Field(None, description="Use the static segments of an uploaded recording.")
+    segments: list[int] | None = Field(None, description="Segment indices to use (default: all).")
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if (self.means is None) == (self.recording_id is None):
+            raise ValueError("give either `means` or `recording_id` (exactly one of them)")
+        if self.segments is not None and self.recording_id is None:
+            raise ValueError("`segments` selects segments of a recording: give `recording_id` too")
+        return self
+
+
+class NonOrthogonalIn(UnknownOrientationIn):
+    method: Literal["nonorthogonal"]
+
+
+class TriangularIn(UnknownOrientationIn):
+    method: Literal["triangular"]
+    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = Field(
+        "lm", description="lm (optimal), or 002's finite-difference descent in float, 16- or 32-bit fixed point."
+    )
+
+
+METHODS = ("six_position", "orientations", "nonorthogonal", "triangular")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
-CalibrationIn = Annotated[Union[SixPositionIn, OrientationsIn], Field(discriminator="method")]
+CalibrationIn = Annotated[
+    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn], Field(discriminator="method")
+]
 
 
 class CalibrationOut(BaseModel):

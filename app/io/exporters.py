@@ -12,7 +12,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from app.calibration.registry import affine_correction, result_from_dict
+
 from .errors import ExportError
+
+CORRECTION_SOURCE = {
+    "affine": "000_cb2cbc1c5eaccf1a.txt eq. (20): M = X^-1, o = y",
+    "nonorthogonal": "000_cb2cbc1c5eaccf1a.txt eq. (16): M = T_orth T_bar T, o = s / b",
+    "triangular": "002_7135f13639ec18ce.txt eq. (6): M = K, o = -o_model",
+}
 
 JSON_SCHEMA = "https://trical.dev/schema/calibration/v1"
 FRAME = "device frame of the data: x right, y up along the screen, z out of the screen (W3C DeviceMotion)"
@@ -25,12 +33,21 @@ class Export:
     filename: str
 
 
+AFFINE_MODELS = ("affine", "nonorthogonal", "triangular")
+"""Models whose calibration is ``a = M (m − o)`` for one accelerometer."""
+
+
 def _affine_correction(body: dict) -> tuple[np.ndarray, np.ndarray]:
-    model = body["model"]
-    if model.get("type") != "affine":
-        raise ExportError(f"this export needs an affine calibration; this one is {model.get('type')!r}")
-    X = np.asarray(model["X"], dtype=float)
-    return np.linalg.inv(X), np.asarray(model["y"], dtype=float)
+    kind = body["model"].get("type")
+    if kind not in AFFINE_MODELS:
+        raise ExportError(
+            f"this export holds one accelerometer correction a = M (m - o); a {kind!r} calibration "
+            f"does not fit it: use the json export"
+        )
+    if kind == "affine":
+        X = np.asarray(body["model"]["X"], dtype=float)
+        return np.linalg.inv(X), np.asarray(body["model"]["y"], dtype=float)
+    return affine_correction(result_from_dict(body))
 
 
 def to_json(body: dict) -> Export:
@@ -55,13 +72,13 @@ def to_json(body: dict) -> Export:
         "ok": body.get("ok"),
         "warnings": body.get("warnings", []),
     }
-    if body["model"].get("type") == "affine":
+    if body["model"].get("type") in AFFINE_MODELS:
         M, o = _affine_correction(body)
         doc["correction"] = {
             "formula": "a = M (m - o)",
             "M": M.tolist(),
             "o": o.tolist(),
-            "source": "000_cb2cbc1c5eaccf1a.txt eq. (20): M = X^-1, o = y",
+            "source": CORRECTION_SOURCE[body["model"]["type"]],
         }
     return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
 
@@ -82,7 +99,7 @@ def to_c_header(body: dict) -> Export:
     text = f"""/* trical calibration {body['id']}
  * method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}
  * input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}
- * calibrated a = M (m - o), 000_cb2cbc1c5eaccf1a.txt eq. (20) with M = X^-1 and o = y.
+ * calibrated a = M (m - o): {CORRECTION_SOURCE[body['model']['type']]}
  */
 #ifndef {guard}
 #define {guard}
