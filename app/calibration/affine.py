@@ -15,6 +15,7 @@ import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
+from .result import SerialisableResult
 from .uncertainty import CONFIDENCE, half_widths
 from .validation import as_vectors, check_gravity, near_duplicate_pairs
 
@@ -34,7 +35,7 @@ MAX_CONDITION_NUMBER = 10.0
 
 
 @dataclass(frozen=True)
-class AffineCalibration:
+class AffineCalibration(SerialisableResult):
     """Result of an affine (12-parameter) calibration, 000 Approach 2.
 
     Attributes
@@ -74,11 +75,6 @@ class AffineCalibration:
     warnings: tuple = ()
     reasons: tuple = ()
     method: str = "orientations"
-
-    @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
 
     @property
     def correction_matrix(self) -> np.ndarray:
@@ -171,44 +167,24 @@ class AffineCalibration:
             )
         return rows
 
-    def to_dict(self) -> dict:
-        """Plain-JSON form: model, metrics, uncertainty, ok, warnings, reasons and readings."""
-        return {
-            "method": self.method,
-            "model": {"type": MODEL_TYPE, "X": self.X.tolist(), "y": self.y.tolist()},
-            "metrics": dict(self.metrics),
-            "uncertainty": self.uncertainty(),
-            "covariance": None if self.covariance is None else self.covariance.tolist(),
-            "gravity": self.gravity,
-            "ok": self.ok,
-            "warnings": list(self.warnings),
-            "reasons": list(self.reasons),
-            "readings": self.readings(),
-        }
+    MODEL_TYPE = MODEL_TYPE
+    N_PARAMS = 12
+
+    def model_dict(self) -> dict:
+        return {"X": self.X.tolist(), "y": self.y.tolist()}
 
     @classmethod
     def from_dict(cls, data: dict) -> "AffineCalibration":
         """Rebuild a result from :meth:`to_dict` output."""
-        model = data["model"]
-        if model.get("type") != MODEL_TYPE:
-            raise CalibrationError(f"not an affine model: type {model.get('type')!r}")
-        readings = data.get("readings") or []
-        cov = data.get("covariance")
+        model, readings, common = cls.common_from_dict(data)
+        common["dof"] = int((data.get("uncertainty") or {}).get("dof", max(len(readings) - 4, 0)))
         return cls(
             X=np.asarray(model["X"], dtype=float),
             y=np.asarray(model["y"], dtype=float),
-            gravity=float(data["gravity"]),
-            means=np.asarray([r["mean"] for r in readings], dtype=float).reshape(-1, 3),
             expected=np.asarray([r["expected"] for r in readings], dtype=float).reshape(-1, 3),
             labels=tuple(r.get("up") for r in readings),
-            covariance=None if cov is None else np.asarray(cov, dtype=float),
-            dof=int(data.get("uncertainty", {}).get("dof", max(len(readings) - 4, 0))),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
-            method=data.get("method", "orientations"),
+            **common,
         )
-
 
 def _design(expected: np.ndarray, gravity: float) -> np.ndarray:
     """Rows (a⁽ⁱ⁾/g, 1) of 000 condition (22), normalised so that the design is unit-free."""

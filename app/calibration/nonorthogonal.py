@@ -27,6 +27,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .errors import CalibrationError
+from .result import SerialisableResult
 from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
 from .validation import (
     as_vectors,
@@ -154,7 +155,7 @@ def _jacobian_17(p: np.ndarray, m: np.ndarray, g: float) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class NonOrthogonalCalibration:
+class NonOrthogonalCalibration(SerialisableResult):
     """Result of the non-orthogonal-axes (9-parameter) calibration, 000 Approach 1.
 
     Attributes
@@ -190,11 +191,6 @@ class NonOrthogonalCalibration:
     warnings: tuple = ()
     reasons: tuple = ()
     method: str = MODEL_TYPE
-
-    @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
 
     @property
     def params(self) -> np.ndarray:
@@ -285,52 +281,30 @@ class NonOrthogonalCalibration:
             for i, (m, c) in enumerate(zip(self.means, cal))
         ]
 
-    def to_dict(self) -> dict:
-        """Plain-JSON form: model, metrics, uncertainty, ok, warnings, reasons and readings."""
+    MODEL_TYPE = MODEL_TYPE
+    N_PARAMS = N_PARAMS
+
+    def model_dict(self) -> dict:
         return {
-            "method": self.method,
-            "model": {
-                "type": MODEL_TYPE,
-                "s": self.s.tolist(),
-                "b": self.b.tolist(),
-                "phi": float(self.phi),
-                "psi": float(self.psi),
-                "theta": float(self.theta),
-            },
-            "metrics": dict(self.metrics),
-            "uncertainty": self.uncertainty(),
-            "covariance": None if self.covariance is None else self.covariance.tolist(),
-            "gravity": self.gravity,
-            "ok": self.ok,
-            "warnings": list(self.warnings),
-            "reasons": list(self.reasons),
-            "readings": self.readings(),
+            "s": self.s.tolist(),
+            "b": self.b.tolist(),
+            "phi": float(self.phi),
+            "psi": float(self.psi),
+            "theta": float(self.theta),
         }
 
     @classmethod
     def from_dict(cls, data: dict) -> "NonOrthogonalCalibration":
         """Rebuild a result from :meth:`to_dict` output."""
-        model = data["model"]
-        if model.get("type") != MODEL_TYPE:
-            raise CalibrationError(f"not a nonorthogonal model: type {model.get('type')!r}")
-        readings = data.get("readings") or []
-        cov = data.get("covariance")
+        model, _, common = cls.common_from_dict(data)
         return cls(
             s=np.asarray(model["s"], dtype=float),
             b=np.asarray(model["b"], dtype=float),
             phi=float(model["phi"]),
             psi=float(model["psi"]),
             theta=float(model["theta"]),
-            gravity=float(data["gravity"]),
-            means=np.asarray([r["mean"] for r in readings], dtype=float).reshape(-1, 3),
-            covariance=None if cov is None else np.asarray(cov, dtype=float),
-            dof=int(data.get("uncertainty", {}).get("dof", max(len(readings) - N_PARAMS, 0))),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
-            method=data.get("method", MODEL_TYPE),
+            **common,
         )
-
 
 # ---------------------------------------------------------------------------------------------
 # Fit, section 2.2

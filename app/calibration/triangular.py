@@ -43,6 +43,7 @@ from scipy.optimize import least_squares
 
 from .errors import CalibrationError
 from .fixed_point import fixed_point_descent
+from .result import SerialisableResult
 from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
 from .validation import (
     as_vectors,
@@ -181,7 +182,7 @@ def gradient_descent(
 
 
 @dataclass(frozen=True)
-class TriangularCalibration:
+class TriangularCalibration(SerialisableResult):
     """Result of the 9-parameter lower-triangular calibration of 002.
 
     Attributes
@@ -215,11 +216,6 @@ class TriangularCalibration:
     warnings: tuple = ()
     reasons: tuple = ()
     method: str = MODEL_TYPE
-
-    @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
 
     @property
     def p(self) -> np.ndarray:
@@ -296,44 +292,25 @@ class TriangularCalibration:
             for i, (m, c) in enumerate(zip(self.means, cal))
         ]
 
-    def to_dict(self) -> dict:
-        """Plain-JSON form: model, metrics, uncertainty, ok, warnings, reasons and readings."""
-        return {
-            "method": self.method,
-            "solver": self.solver,
-            "model": {"type": MODEL_TYPE, "K": self.K.tolist(), "o": self.o.tolist()},
-            "metrics": dict(self.metrics),
-            "uncertainty": self.uncertainty(),
-            "covariance": None if self.covariance is None else self.covariance.tolist(),
-            "gravity": self.gravity,
-            "ok": self.ok,
-            "warnings": list(self.warnings),
-            "reasons": list(self.reasons),
-            "readings": self.readings(),
-        }
+    MODEL_TYPE = MODEL_TYPE
+    N_PARAMS = N_PARAMS
+
+    def model_dict(self) -> dict:
+        return {"K": self.K.tolist(), "o": self.o.tolist()}
+
+    def extra_dict(self) -> dict:
+        return {"solver": self.solver}
 
     @classmethod
     def from_dict(cls, data: dict) -> "TriangularCalibration":
         """Rebuild a result from :meth:`to_dict` output."""
-        model = data["model"]
-        if model.get("type") != MODEL_TYPE:
-            raise CalibrationError(f"not a triangular model: type {model.get('type')!r}")
-        readings = data.get("readings") or []
-        cov = data.get("covariance")
+        model, _, common = cls.common_from_dict(data)
         return cls(
             K=np.asarray(model["K"], dtype=float),
             o=np.asarray(model["o"], dtype=float),
-            gravity=float(data["gravity"]),
-            means=np.asarray([r["mean"] for r in readings], dtype=float).reshape(-1, 3),
             solver=data.get("solver", "lm"),
-            covariance=None if cov is None else np.asarray(cov, dtype=float),
-            dof=int(data.get("uncertainty", {}).get("dof", max(len(readings) - N_PARAMS, 0))),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
-            method=data.get("method", MODEL_TYPE),
+            **common,
         )
-
 
 def fit_triangular(
     means,
