@@ -18,7 +18,7 @@ from app.calibration.errors import InsufficientDataError
 from app.calibration.nonorthogonal import fit_nonorthogonal
 from app.calibration.triangular import fit_triangular
 from app.calibration.static import detect_static_segments
-from app.io.csv_log import read_csv_log
+from app.io.formats import read_log
 from app.io.log import LogData
 
 OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
@@ -60,9 +60,11 @@ def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: flo
     return STANDARD_GRAVITY, notes
 
 
-def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str) -> LogData:
-    """Read an uploaded log file into arrays (generic CSV for now)."""
-    return read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
+def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
+             lsb_per_g: float | None = None) -> LogData:
+    """Read an uploaded log file into arrays, its format given or detected (app.io.formats)."""
+    return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
+                    lsb_per_g=lsb_per_g)
 
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
@@ -87,6 +89,7 @@ def describe_log(log: LogData) -> dict:
         "channels": log.channels,
         "units": log.units,
         "columns": log.columns,
+        "notes": list(log.notes),
         "quantization_step": quantization_step(log.acc) if unit == "m/s^2" else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
     }

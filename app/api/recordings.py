@@ -38,23 +38,26 @@ def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
 
 @router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log")
 def upload_recording(
-    file: UploadFile = File(..., description="A CSV log with a header row."),
+    file: UploadFile = File(..., description="A log: CSV with a header row, or a phyphox / Sensor Logger zip."),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
     mag_unit: Literal["uT", "nT", "raw"] | None = Form(None),
-    format: Literal["auto", "csv"] = Form("auto"),
+    format: Literal["auto", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "arduino"] = Form(
+        "auto", description="Log format; auto detects it from the header (app.io.formats)."),
+    lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
     settings: Settings = Depends(get_settings),
     store: SQLiteStore = Depends(get_store),
 ):
     """Store a log and return its static segments with their orientation."""
     recording_id = new_id("rec")
-    dest = settings.recordings_dir / f"{recording_id}.csv"
+    suffix = ".zip" if (file.filename or "").lower().endswith(".zip") else ".csv"
+    dest = settings.recordings_dir / f"{recording_id}{suffix}"
     save_upload(file.file, dest, settings.max_upload_bytes, settings.max_upload_mb)
     try:
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
         log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, units=units,
-                                name=file.filename or "the file")
+                                name=file.filename or "the file", format=format, lsb_per_g=lsb_per_g)
         body = workflow.describe_log(log)
         body["filename"] = file.filename
         return store.add_recording(recording_id, body, dest)

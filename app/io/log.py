@@ -33,6 +33,8 @@ class LogData:
         Reader that produced it (``csv``...).
     columns : list of str
         The file's column names, for messages.
+    notes : tuple of str
+        What the reader decided on the way (sign flipped, unit inferred, file chosen in a zip).
     """
 
     acc: np.ndarray
@@ -43,6 +45,7 @@ class LogData:
     units: dict
     format: str
     columns: list
+    notes: tuple = ()
 
     @property
     def n_samples(self) -> int:

@@ -1,0 +1,129 @@
+"""Log formats of phone and microcontroller apps, recognised by their header, read into :class:`LogData`.
+
+``read_log(path, format="auto")`` sniffs the upload (the first 64 KiB, or the member names of a
+zip), picks the first format whose ``detect`` accepts it — in the order of :data:`DETECTORS`, most
+specific first — and reads it.  Whatever the format, the result then goes through the same checks:
+counts become g when ``lsb_per_g`` is known (caller or a ``# lsb_per_g=…`` comment), and a log
+without gravity (linear acceleration) is refused with that reason.
+
+========================  =====================================================================
+format                    recognised by
+========================  =====================================================================
+``phyphox``               zip holding ``Raw Data.csv``; header ``"Time (s)","Acceleration x (m/s^2)"…``
+``sensor_logger``         zip holding ``Metadata.csv``; header ``time,seconds_elapsed,z,y,x``
+``gnss_logger``           lines ``UncalAccel,…`` (or the ``# UncalAccel,…`` header)
+``physics_toolbox``       header naming ``gFx, gFy, gFz``
+``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
+``csv``                   any other header row (:mod:`app.io.csv_log`)
+========================  =====================================================================
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+from ..errors import LogFormatError
+from ..log import LogData
+from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger
+from .table import Sniff, sniff
+from .units import apply_lsb_per_g, refuse_linear_acceleration
+
+READERS = {
+    phyphox.NAME: phyphox.read,
+    sensor_logger.NAME: sensor_logger.read,
+    gnss_logger.NAME: gnss_logger.read,
+    physics_toolbox.NAME: physics_toolbox.read,
+    generic_csv.ARDUINO: generic_csv.read_arduino,
+    generic_csv.CSV: generic_csv.read_csv,
+}
+"""Readers by format name."""
+
+DETECTORS = (
+    (phyphox.NAME, phyphox.detect),
+    (sensor_logger.NAME, sensor_logger.detect),
+    (gnss_logger.NAME, gnss_logger.detect),
+    (physics_toolbox.NAME, physics_toolbox.detect),
+    (generic_csv.ARDUINO, generic_csv.detect_arduino),
+    (generic_csv.CSV, generic_csv.detect_csv),
+)
+"""Detection order: the first format whose detector accepts the sniffed file is read."""
+
+FORMATS = ("auto", *READERS)
+"""Values of the upload's ``format`` field."""
+
+
+def detect_format(s: Sniff) -> str:
+    """The name of the format of a sniffed upload.
+
+    Raises
+    ------
+    LogFormatError
+        A zip that is neither a phyphox nor a Sensor Logger export.
+    """
+    for fmt, accepts in DETECTORS:
+        if accepts(s):
+            return fmt
+    listed = ", ".join(s.members[:12]) if s.members else "nothing"
+    raise LogFormatError(
+        f"{s.name} is a zip holding {listed}: only phyphox exports (Raw Data.csv) and Sensor Logger "
+        "exports (Metadata.csv with TotalAcceleration.csv or AccelerometerUncalibrated.csv) are read; "
+        "upload the CSV itself otherwise", status=415,
+    )
+
+
+def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None = None,
+             units: dict | None = None, lsb_per_g: float | None = None, name: str = "the file") -> LogData:
+    """Read a log in any supported format into arrays.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The uploaded file (text or zip).
+    format : str
+        One of :data:`FORMATS`; ``auto`` detects it from the header.
+    sampling_rate_hz : float, optional
+        Required when the file has no time column; overrides the rate the time column gives.
+    units : dict, optional
+        Units per sensor (``{"acc": "g"}``), overriding what the format and the data say.
+    lsb_per_g : float, optional
+        Sensitivity of an accelerometer read in counts: readings are divided by it into g.  A
+        comment ``# lsb_per_g=16384`` in the file gives it too.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Readings as specific force with +g on the up axis (iOS signs flipped where the format says
+        so), ``format`` naming the reader and ``notes`` what it decided.
+
+    Raises
+    ------
+    LogFormatError
+        Unknown format, a file the format cannot read (the message names the line or column and
+        the fix), linear acceleration, inconsistent units or signs.
+    """
+    if format not in FORMATS:
+        raise LogFormatError(f"unknown format {format!r}: use one of {', '.join(FORMATS)}")
+    s = sniff(path, name)
+    fmt = detect_format(s) if format == "auto" else format
+    if s.is_zip and fmt not in (phyphox.NAME, sensor_logger.NAME):
+        raise LogFormatError(f"{name} is a zip archive, which the {fmt} format does not read: use format=auto, "
+                             "phyphox or sensor_logger, or upload the CSV itself", status=415)
+    if not s.is_zip and fmt in (phyphox.NAME, sensor_logger.NAME, gnss_logger.NAME, physics_toolbox.NAME) \
+            and not dict(DETECTORS)[fmt](s):
+        raise LogFormatError(f"{name} does not look like a {fmt} file (its header does not match): use "
+                             "format=auto, or map its columns as acc_x, acc_y, acc_z with format=csv")
+    comment_lsb = None if s.is_zip else generic_csv.lsb_from_comments(s.lines)
+    lsb = lsb_per_g if lsb_per_g is not None else comment_lsb
+    log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
+                       lsb_per_g=lsb)
+    acc, unit, notes = apply_lsb_per_g(log.acc, log.units["acc"], lsb)
+    if notes and lsb_per_g is None:
+        notes = [n + " (from the file's comment)" for n in notes]
+    refuse_linear_acceleration(acc, unit, name)
+    if fmt != log.format:
+        notes.append(f"read as {fmt}")
+    return dataclasses.replace(log, acc=acc, units={**log.units, "acc": unit}, format=fmt,
+                               notes=tuple(log.notes) + tuple(notes))

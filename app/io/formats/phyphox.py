@@ -1,0 +1,114 @@
+"""phyphox exports: ``Raw Data.csv`` alone or inside the zip export ("CSV (…)" formats).
+
+phyphox names its columns ``"Time (s)"``, ``"Acceleration x (m/s^2)"`` … (experiment
+*Acceleration with g*), ``"Linear Acceleration x (m/s^2)"`` (*Acceleration without g*, refused),
+``"Gyroscope x (rad/s)"``, ``"Magnetic field x (µT)"``; the zip holds ``Raw Data.csv`` and a ``meta``
+folder.  Its CSV flavours are comma, tab or semicolon separated with a decimal point, and tab or
+semicolon separated with a decimal comma.  Readings are specific force in m/s² with +g on the up
+axis.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import LogFormatError
+from ..log import LogData
+from .table import Sniff, find_member, guess_delimiter, rate_from_time, read_columns, read_member, split_row
+
+NAME = "phyphox"
+RAW_DATA = "Raw Data.csv"
+_TIME = re.compile(r"^time \(s\)$")
+_COLUMN = re.compile(
+    r"^(?P<sensor>linear acceleration|acceleration|gyroscope|magnetic field) (?P<axis>[xyz]) \((?P<unit>[^)]*)\)$"
+)
+_SENSOR = {"acceleration": "acc", "gyroscope": "gyr", "magnetic field": "mag"}
+_UNIT = {"m/s^2": "m/s^2", "rad/s": "rad/s", "µt": "uT", "μt": "uT", "ut": "uT"}
+
+
+def _header(lines: list[str]) -> tuple[int, str, list[str]] | None:
+    for index, line in enumerate(lines):
+        if line.strip():
+            delimiter = guess_delimiter(line)
+            return index, delimiter, split_row(line, delimiter)
+    return None
+
+
+def _is_phyphox_header(names: list[str]) -> bool:
+    lowered = [n.lower() for n in names]
+    return bool(lowered) and bool(_TIME.match(lowered[0])) and any(_COLUMN.match(n) for n in lowered)
+
+
+def detect(s: Sniff) -> bool:
+    """A zip holding ``Raw Data.csv``, or a header ``Time (s)`` followed by phyphox sensor columns."""
+    if s.is_zip:
+        return find_member(s.members, RAW_DATA) is not None
+    found = _header(s.lines)
+    return found is not None and _is_phyphox_header(found[2])
+
+
+def _decimal(lines: list[str], start: int, delimiter: str) -> str:
+    """``,`` when the data fields carry a decimal comma (only possible with tab or ``;`` separators)."""
+    if delimiter == ",":
+        return "."
+    for line in lines[start:start + 20]:
+        if line.strip():
+            return "," if any("," in f for f in split_row(line, delimiter)) else "."
+    return "."
+
+
+def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
+    """Read a phyphox CSV or zip export."""
+    notes: list[str] = []
+    if s.is_zip:
+        member = find_member(s.members, RAW_DATA)
+        data = read_member(path, member, name)
+        label = f"{member} in {name}"
+        notes.append(f"read {member} from the phyphox zip export")
+    else:
+        data, label = path.read_bytes(), name
+    lines = data.decode("utf-8-sig", errors="replace").splitlines()
+    found = _header(lines)
+    if found is None or not _is_phyphox_header(found[2]):
+        raise LogFormatError(f"{label} is not a phyphox table: its first line must be \"Time (s)\", then the sensor columns")
+    index, delimiter, names = found
+    decimal = _decimal(lines, index + 1, delimiter)
+    channels: dict[str, dict[str, int]] = {}
+    found_units: dict[str, str] = {}
+    linear = False
+    for col, raw in enumerate(names):
+        m = _COLUMN.match(raw.lower())
+        if not m:
+            continue
+        if m.group("sensor") == "linear acceleration":
+            linear = True
+            continue
+        sensor = _SENSOR[m.group("sensor")]
+        channels.setdefault(sensor, {})[m.group("axis")] = col
+        found_units[sensor] = _UNIT.get(m.group("unit").lower(), m.group("unit"))
+    if "acc" not in channels:
+        if linear:
+            raise LogFormatError(
+                f"{label} holds linear acceleration (gravity removed; phyphox 'Acceleration without g'): "
+                "calibration needs gravity in the readings: record with phyphox 'Acceleration with g' instead"
+            )
+        listed = ", ".join(repr(n) for n in names)
+        raise LogFormatError(f"{label} has no phyphox accelerometer columns among {listed}: record with "
+                             "'Acceleration with g', or map the columns as acc_x, acc_y, acc_z (format=csv)")
+    channels = {k: v for k, v in channels.items() if set(v) == {"x", "y", "z"}}
+    order = [0] + [channels[s_][a] for s_ in channels for a in "xyz"]
+    arrays = read_columns(data, skip_lines=index + 1, n_columns=len(names), columns=order, delimiter=delimiter,
+                          decimal=decimal, name=label, column_names=names)
+    time = arrays[0]
+    stacked = {s_: np.column_stack(arrays[1 + 3 * k: 4 + 3 * k]) for k, s_ in enumerate(channels)}
+    final_units = {s_: (units or {}).get(s_) or found_units.get(s_) for s_ in stacked}
+    if decimal == ",":
+        notes.append("decimal comma")
+    return LogData(
+        acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"), time_s=time - time[0],
+        sampling_rate_hz=rate_from_time(time, sampling_rate_hz, label), units=final_units, format=NAME,
+        columns=names, notes=tuple(notes),
+    )

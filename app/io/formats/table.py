@@ -1,0 +1,204 @@
+"""Shared pieces of the format readers: the sniffed head of an upload, zip members, numeric columns.
+
+The readers of :mod:`app.io.formats` see an upload through :class:`Sniff` (its first bytes as
+text, or the member names of a zip) and read their numeric columns with :func:`read_columns`,
+which takes the delimiter and the decimal mark (phyphox writes ``1,5`` with ``;`` separators).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.csv as pacsv
+
+from ..errors import LogFormatError
+
+SNIFF_BYTES = 64 * 1024
+ZIP_MAGIC = b"PK\x03\x04"
+MAX_UNZIPPED_BYTES = 1 << 30
+"""A zip member above this size (uncompressed) is refused rather than expanded in memory."""
+
+
+@dataclass(frozen=True)
+class Sniff:
+    """What format detection looks at: the head of a text file, or the member names of a zip."""
+
+    name: str
+    text: str = ""
+    members: tuple[str, ...] | None = None
+    lines: list[str] = field(default_factory=list)
+
+    @property
+    def is_zip(self) -> bool:
+        return self.members is not None
+
+
+def sniff(path: Path, name: str) -> Sniff:
+    """Read the head of ``path`` (or its zip directory) for format detection."""
+    with open(path, "rb") as f:
+        head = f.read(SNIFF_BYTES)
+    if head.startswith(ZIP_MAGIC):
+        try:
+            with zipfile.ZipFile(path) as zf:
+                members = tuple(i.filename for i in zf.infolist() if not i.is_dir())
+        except zipfile.BadZipFile:
+            raise LogFormatError(f"{name} starts like a zip archive but cannot be opened: upload the "
+                                 "export again (the zip may be cut short)", status=415) from None
+        return Sniff(name=name, members=members)
+    text = decode_head(head, name)
+    return Sniff(name=name, text=text, lines=text.splitlines()[:200])
+
+
+def decode_head(head: bytes, name: str) -> str:
+    """The head as text; binary or non-UTF-8 files are refused with status 415."""
+    if not head.strip():
+        raise LogFormatError(f"{name} is empty: upload a CSV with a header row and one sample per line")
+    if b"\x00" in head:
+        raise LogFormatError(
+            f"{name} is not a text file (it holds NUL bytes): upload a CSV log with a header row, "
+            "or a zip export of phyphox or Sensor Logger", status=415,
+        )
+    try:
+        return head.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        if exc.start < len(head) - 4:  # a character cut by the sniff window is fine
+            raise LogFormatError(
+                f"{name} is not UTF-8 text (byte {exc.start}): upload a CSV log with a header row",
+                status=415,
+            ) from None
+        return head[: exc.start].decode("utf-8-sig")
+
+
+def find_member(members, *names: str) -> str | None:
+    """The first member whose base name equals one of ``names`` (case-insensitive), in that order."""
+    by_base = {}
+    for m in members:
+        by_base.setdefault(m.rsplit("/", 1)[-1].lower(), m)
+    for n in names:
+        if n.lower() in by_base:
+            return by_base[n.lower()]
+    return None
+
+
+def read_member(path: Path, member: str, name: str) -> bytes:
+    """The bytes of one zip member, refusing members that would expand beyond a sane size."""
+    with zipfile.ZipFile(path) as zf:
+        info = zf.getinfo(member)
+        if info.file_size > MAX_UNZIPPED_BYTES:
+            raise LogFormatError(f"{member} in {name} expands to {info.file_size} bytes: export a shorter recording",
+                                 status=413)
+        return zf.read(member)
+
+
+def split_row(line: str, delimiter: str) -> list[str]:
+    return [c.strip() for c in next(csv.reader([line], delimiter=delimiter))]
+
+
+def guess_delimiter(line: str) -> str:
+    return max((",", ";", "\t"), key=line.count)
+
+
+def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[int], delimiter: str,
+                 decimal: str = ".", name: str = "the file", column_names: list[str] | None = None,
+                 first_line: int | None = None) -> list[np.ndarray]:
+    """Numeric columns of a delimited table, as float arrays.
+
+    Parameters
+    ----------
+    data : bytes
+        The table's text; the first ``skip_lines`` lines (header, comments) are skipped.
+    n_columns : int
+        Columns per row (the header's count).
+    columns : list of int
+        Which columns to return, in that order.
+    delimiter, decimal : str
+        Field separator and decimal mark.
+    name : str
+        How to call the file in messages.
+    column_names : list of str, optional
+        The header's names, for messages.
+    first_line : int, optional
+        1-based line number of the first data line in the uploaded file (default ``skip_lines + 1``).
+
+    Raises
+    ------
+    LogFormatError
+        A non-numeric value (naming its line and column), or no data rows.
+    """
+    names = [f"c{i}" for i in range(n_columns)]
+    try:
+        table = pacsv.read_csv(
+            io.BytesIO(data),
+            read_options=pacsv.ReadOptions(skip_rows=skip_lines, column_names=names, block_size=1 << 22),
+            parse_options=pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True),
+            convert_options=pacsv.ConvertOptions(
+                include_columns=[names[c] for c in columns],
+                column_types={names[c]: pa.float64() for c in columns},
+                null_values=["", "nan", "NaN", "NA"], strings_can_be_null=False, decimal_point=decimal,
+            ),
+        )
+    except (pa.ArrowInvalid, pa.ArrowTypeError, UnicodeDecodeError):
+        detail = first_bad_line(data, skip_lines, delimiter, decimal, columns, column_names or names,
+                                first_line or skip_lines + 1)
+        raise LogFormatError(f"{name}: {detail}: every used column must hold numbers") from None
+    if table.num_rows == 0:
+        raise LogFormatError(f"{name} has a header but no data rows: add the samples below it")
+    out = [table.column(names[c]).to_numpy(zero_copy_only=False).astype(float, copy=False) for c in columns]
+    for c, arr in zip(columns, out):
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            row = int(np.flatnonzero(bad)[0])
+            label = (column_names or names)[c]
+            raise LogFormatError(
+                f"{name}: data row {row + 1} has an empty or non-finite value in column {label!r}: fill or "
+                "remove that line"
+            )
+    return out
+
+
+def first_bad_line(data: bytes, skip_lines: int, delimiter: str, decimal: str, columns: list[int],
+                   names: list[str], first_line: int) -> str:
+    """Describe the first data line whose used columns are not all numbers (slow path, errors only)."""
+    lines = data.decode("utf-8-sig", errors="replace").splitlines()
+    for offset, line in enumerate(lines[skip_lines:]):
+        number = first_line + offset
+        if not line.strip():
+            continue
+        row = split_row(line, delimiter)
+        if len(row) < len(names):
+            return f"line {number} has {len(row)} columns but the header names {len(names)}"
+        for c in columns:
+            value = row[c]
+            try:
+                float(value.replace(decimal, ".") if decimal != "." else value)
+            except ValueError:
+                return f"line {number}, column {names[c]!r}: {value[:40]!r} is not a number"
+    return "a line could not be read as numbers"
+
+
+def rate_from_time(time_s: np.ndarray | None, sampling_rate_hz: float | None, name: str) -> float:
+    """The sampling rate: the caller's, else the median step of the time in seconds."""
+    if sampling_rate_hz is not None:
+        if not (np.isfinite(sampling_rate_hz) and sampling_rate_hz > 0):
+            raise LogFormatError(f"sampling_rate_hz must be a positive number; got {sampling_rate_hz}")
+        return float(sampling_rate_hz)
+    if time_s is None or len(time_s) < 2:
+        raise LogFormatError(f"{name} gives no sampling rate (no time column or one sample): give sampling_rate_hz")
+    steps = np.diff(time_s)
+    steps = steps[steps > 0]
+    if len(steps) == 0:
+        raise LogFormatError(f"the time column of {name} does not increase: give sampling_rate_hz or fix it")
+    return float(1.0 / np.median(steps))
+
+
+def resample_to(time_s: np.ndarray, other_time_s: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Values of another stream (gyroscope, magnetometer) linearly interpolated at ``time_s``."""
+    order = np.argsort(other_time_s, kind="stable")
+    t, v = other_time_s[order], values[order]
+    return np.column_stack([np.interp(time_s, t, v[:, k]) for k in range(v.shape[1])])
