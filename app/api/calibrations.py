@@ -99,10 +99,17 @@ def get_calibration(calibration_id: str, store: SQLiteStore = Depends(get_store)
 
 
 @router.get("/{calibration_id}/export", summary="Export a calibration",
-            responses={200: {"content": {"application/json": {}, "text/x-c": {}}}})
+            responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
+                                         "application/yaml": {}, "text/csv": {}}}})
 def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(EXPORTERS)}"),
            store: SQLiteStore = Depends(get_store)):
-    """The calibration as a file for firmware or analysis code."""
+    """The calibration as a file for firmware or analysis code.
+
+    ``json`` (versioned schema), ``c`` (C99 header), ``yaml`` and ``csv`` carry the full correction
+    ``a = M (m - o)``; ``ardupilot`` (``INS_ACCOFFS_*``, ``INS_ACCSCAL_*``) and ``px4``
+    (``CAL_ACC0_*OFF``, ``CAL_ACC0_*SCALE``) carry offsets and per-axis scales only, their comment
+    header reporting the residual of the dropped cross-axis terms; ArduPilot's ranges are enforced.
+    """
     out = export_calibration(store.get_calibration(calibration_id), format)
     return Response(out.content, media_type=out.media_type,
                     headers={"Content-Disposition": f'attachment; filename="{out.filename}"'})

@@ -8,46 +8,11 @@ from __future__ import annotations
 
 import json
 import re
-from dataclasses import dataclass
-
-import numpy as np
-
-from app.calibration.registry import affine_correction, result_from_dict
 
 from .errors import ExportError
-
-CORRECTION_SOURCE = {
-    "affine": "000_cb2cbc1c5eaccf1a.txt eq. (20): M = X^-1, o = y",
-    "nonorthogonal": "000_cb2cbc1c5eaccf1a.txt eq. (16): M = T_orth T_bar T, o = s / b",
-    "triangular": "002_7135f13639ec18ce.txt eq. (6): M = K, o = -o_model",
-}
-
-JSON_SCHEMA = "https://trical.dev/schema/calibration/v1"
-FRAME = "device frame of the data: x right, y up along the screen, z out of the screen (W3C DeviceMotion)"
-
-
-@dataclass(frozen=True)
-class Export:
-    content: str
-    media_type: str
-    filename: str
-
-
-AFFINE_MODELS = ("affine", "nonorthogonal", "triangular")
-"""Models whose calibration is ``a = M (m − o)`` for one accelerometer."""
-
-
-def _affine_correction(body: dict) -> tuple[np.ndarray, np.ndarray]:
-    kind = body["model"].get("type")
-    if kind not in AFFINE_MODELS:
-        raise ExportError(
-            f"this export holds one accelerometer correction a = M (m - o); a {kind!r} calibration "
-            f"does not fit it: use the json export"
-        )
-    if kind == "affine":
-        X = np.asarray(body["model"]["X"], dtype=float)
-        return np.linalg.inv(X), np.asarray(body["model"]["y"], dtype=float)
-    return affine_correction(result_from_dict(body))
+from .export_common import AFFINE_MODELS, CORRECTION_SOURCE, FRAME, JSON_SCHEMA, Export, _affine_correction
+from .export_params import to_ardupilot, to_px4
+from .export_tables import to_csv, to_yaml
 
 
 def to_json(body: dict) -> Export:
@@ -124,10 +89,14 @@ static inline void trical_acc_apply(const float m[3], float a[3])
     return Export(text, "text/x-c", f"trical_{body['id']}.h")
 
 
-EXPORTERS = {"json": to_json, "c": to_c_header}
-"""Export formats by their query name; the page names them `JSON`, `C header`."""
+EXPORTERS = {"json": to_json, "c": to_c_header, "ardupilot": to_ardupilot, "px4": to_px4, "yaml": to_yaml,
+             "csv": to_csv}
+"""Export formats by their query name; FORMAT_NAMES gives the names the page shows."""
 
-FORMAT_NAMES = {"json": "JSON", "c": "C header"}
+FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4": "PX4", "yaml": "YAML", "csv": "CSV"}
+
+__all__ = ["AFFINE_MODELS", "CORRECTION_SOURCE", "EXPORTERS", "FORMAT_NAMES", "FRAME", "JSON_SCHEMA", "Export",
+           "export_calibration"]
 
 
 def export_calibration(body: dict, fmt: str) -> Export:

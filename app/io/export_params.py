@@ -1,0 +1,151 @@
+"""Flight-controller parameter exports: ArduPilot ``INS_ACCOFFS_*``/``INS_ACCSCAL_*``, PX4 ``CAL_ACC0_*``.
+
+Both firmwares correct each accelerometer axis with an offset and a scale only, in the sensor
+frame, readings in m/s², before rotating into the body frame:
+
+* ArduPilot, ``libraries/AP_InertialSensor/AP_InertialSensor_Backend.cpp``,
+  ``AP_InertialSensor_Backend::_rotate_and_correct_accel``: ``accel -= _accel_offset`` then
+  ``accel.x *= accel_scale.x`` (and y, z) — ``a_i = INS_ACCSCAL_i · (m_i − INS_ACCOFFS_i)``.
+  Accepted ranges: ``INS_ACCOFFS_*`` −3.5…3.5 m/s/s and ``INS_ACCSCAL_*`` 0.8…1.2
+  (``@Range`` in ``libraries/AP_InertialSensor/AP_InertialSensor_Params.cpp``; the same scale
+  bounds in ``libraries/AP_AccelCal/AccelCalibrator.cpp``, ``AccelCalibrator::accept_result``).
+* PX4, ``src/lib/sensor_calibration/Accelerometer.hpp``, ``Accelerometer::Correct``:
+  ``_rotation * ((data - _thermal_offset - _offset).emult(_scale))`` —
+  ``a_i = CAL_ACC0_iSCALE · (m_i − CAL_ACC0_iOFF)`` (thermal offset zero without thermal calibration).
+
+trical's correction is ``a = M (m − o)``; the export keeps ``o`` and the diagonal ``D`` of ``M``.  The
+dropped off-diagonal terms leave a residual ``(M − D)(m − o) = (I − D M⁻¹) a``, whose largest value
+over readings of magnitude g is ``‖I − D M⁻¹‖₂ · g``: the export's comment header reports it, overall
+and per axis.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import ExportError
+from .export_common import Export, _affine_correction, describe
+
+STANDARD_GRAVITY = 9.80665
+"""ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G, m/s²."""
+
+ARDUPILOT_OFFSET_RANGE = (-3.5, 3.5)
+ARDUPILOT_SCALE_RANGE = (0.8, 1.2)
+ARDUPILOT_SOURCE = "libraries/AP_InertialSensor/AP_InertialSensor_Backend.cpp (_rotate_and_correct_accel)"
+ARDUPILOT_RANGE_SOURCE = "libraries/AP_InertialSensor/AP_InertialSensor_Params.cpp (@Range)"
+PX4_SOURCE = "src/lib/sensor_calibration/Accelerometer.hpp (Accelerometer::Correct)"
+
+
+def offset_scale(body: dict, target: str) -> dict:
+    """Per-axis offset (m/s²) and scale of a calibration, and the residual of the dropped terms.
+
+    Parameters
+    ----------
+    body : dict
+        A stored calibration of an affine-in-the-reading model.
+    target : str
+        Firmware name, for messages.
+
+    Returns
+    -------
+    dict
+        ``offset_mps2``, ``scale`` (arrays of 3), ``residual_max`` (worst case over readings of
+        magnitude ``gravity``, in the calibration's output unit), ``residual_axis`` (per axis),
+        ``residual_max_mps2`` and ``output_unit``.
+
+    Raises
+    ------
+    ExportError
+        Calibrations of readings in counts (the firmware applies its parameters to m/s²).
+    """
+    M, o = _affine_correction(body)
+    unit = body.get("unit")
+    if unit not in ("m/s^2", "g"):
+        raise ExportError(
+            f"{target} applies its offsets and scales to readings its drivers already give in m/s², but this "
+            f"calibration maps readings in {unit!r} (counts): calibrate a log in m/s^2 or g (upload it with "
+            f"lsb_per_g to convert counts to g) to export it for {target}"
+        )
+    to_mps2 = 1.0 if unit == "m/s^2" else STANDARD_GRAVITY
+    D = np.diag(np.diag(M))
+    R = np.eye(3) - D @ np.linalg.inv(M)
+    gravity = float(body.get("gravity") or (1.0 if unit == "g" else STANDARD_GRAVITY))
+    residual_max = float(np.linalg.norm(R, 2) * gravity)
+    return {
+        "offset_mps2": o * to_mps2,
+        "scale": np.diag(M).copy(),
+        "residual_max": residual_max,
+        "residual_axis": np.linalg.norm(R, axis=1) * gravity,
+        "residual_max_mps2": residual_max * to_mps2,
+        "output_unit": body.get("output_unit"),
+        "matrix": M,
+    }
+
+
+def _number(v: float) -> str:
+    # 9 significant digits round-trip the firmware's float32 parameters.
+    return f"{v:.9g}"
+
+
+def _residual_lines(p: dict, target: str) -> list[str]:
+    unit = p["output_unit"]
+    axis = ", ".join(f"{a} {v:.6g}" for a, v in zip("xyz", p["residual_axis"]))
+    return [
+        f"{target} has no cross-axis terms: the off-diagonal terms of M are dropped.",
+        "residual (trical minus this export) = (I - D M^-1) a, D = diag(M); over readings of magnitude g:",
+        f"dropped_terms_residual_max: {p['residual_max']:.6g} {unit} "
+        f"({p['residual_max_mps2'] / STANDARD_GRAVITY * 1000:.4g} mg)",
+        f"dropped_terms_residual_per_axis: {axis} {unit}",
+        "Axes are those of the logged data: the numbers fit the firmware only if they are the IMU's sensor axes.",
+    ]
+
+
+def to_ardupilot(body: dict) -> Export:
+    """ArduPilot parameter file: ``INS_ACCOFFS_X/Y/Z`` (m/s²) and ``INS_ACCSCAL_X/Y/Z``.
+
+    Raises
+    ------
+    ExportError
+        Counts calibrations, and values outside ArduPilot's accepted ranges (the reason named).
+    """
+    p = offset_scale(body, "ArduPilot")
+    problems = []
+    lo, hi = ARDUPILOT_OFFSET_RANGE
+    for axis, v in zip("XYZ", p["offset_mps2"]):
+        if not lo <= v <= hi:
+            problems.append(f"INS_ACCOFFS_{axis} = {v:.4g} m/s/s is outside {lo:g}…{hi:g} m/s/s")
+    lo, hi = ARDUPILOT_SCALE_RANGE
+    for axis, v in zip("XYZ", p["scale"]):
+        if not lo <= v <= hi:
+            problems.append(f"INS_ACCSCAL_{axis} = {v:.4g} is outside {lo:g}…{hi:g}")
+    if problems:
+        raise ExportError(
+            "ArduPilot would not accept this calibration: " + "; ".join(problems)
+            + f" (ArduPilot's ranges, {ARDUPILOT_RANGE_SOURCE}). Check the log's unit (g read as m/s² or the "
+            "reverse gives such values) and that the axes are the IMU's; otherwise use the json or c export"
+        )
+    comments = describe(body) + [
+        f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_SOURCE}):",
+        "  a_i = INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i), m and INS_ACCOFFS in m/s/s",
+    ] + _residual_lines(p, "ArduPilot")
+    lines = [f"# {c}" for c in comments]
+    lines += [f"INS_ACCOFFS_{a} {_number(v)}" for a, v in zip("XYZ", p["offset_mps2"])]
+    lines += [f"INS_ACCSCAL_{a} {_number(v)}" for a, v in zip("XYZ", p["scale"])]
+    return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body['id']}_ardupilot.parm")
+
+
+def to_px4(body: dict) -> Export:
+    """PX4 parameters ``CAL_ACC0_XOFF``… (m/s²) and ``CAL_ACC0_XSCALE``…, as ``param set`` lines."""
+    p = offset_scale(body, "PX4")
+    if not (np.all(np.isfinite(p["scale"])) and np.all(p["scale"] > 0)):
+        raise ExportError(f"the scales {p['scale'].tolist()} are not all positive: an axis of the log is inverted "
+                          "relative to the sensor; PX4's CAL_ACC0_*SCALE cannot express it: use the json export")
+    comments = describe(body) + [
+        f"PX4 applies, per axis in the sensor frame ({PX4_SOURCE}):",
+        "  a_i = CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF), m and CAL_ACC0_iOFF in m/s^2",
+        "Set CAL_ACC0_ID to the accelerometer's device id: PX4 uses the calibration slot whose id matches.",
+    ] + _residual_lines(p, "PX4")
+    lines = [f"# {c}" for c in comments]
+    lines += [f"param set CAL_ACC0_{a}OFF {_number(v)}" for a, v in zip("XYZ", p["offset_mps2"])]
+    lines += [f"param set CAL_ACC0_{a}SCALE {_number(v)}" for a, v in zip("XYZ", p["scale"])]
+    return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body['id']}_px4.txt")
