@@ -5,7 +5,10 @@ phyphox names its columns ``"Time (s)"``, ``"Acceleration x (m/s^2)"`` … (expe
 ``"Gyroscope x (rad/s)"``, ``"Magnetic field x (µT)"``; the zip holds ``Raw Data.csv`` and a ``meta``
 folder.  Its CSV flavours are comma, tab or semicolon separated with a decimal point, and tab or
 semicolon separated with a decimal comma.  Readings are specific force in m/s² with +g on the up
-axis.
+axis on both platforms: phyphox's iOS app multiplies Core Motion's readings (in g, opposite sign) by
+``kG = -9.81`` (phyphox-ios, ``ExperimentSensorInput.swift``), so no flip is needed here.  (Its very
+first iOS releases used ``+9.81``; such files read upside down, every rest labelled with the
+opposite axis.)
 """
 
 from __future__ import annotations

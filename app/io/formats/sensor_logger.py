@@ -10,7 +10,8 @@ Which accelerometer file holds gravity (awesome-sensor-logger UNITS.md, CROSSPLA
 
 iOS and Android differ by a sign on all three acceleration axes; with "Standardise Units & Frames"
 on, iOS follows Android (+g on the up axis, DESIGN.md section 2).  The zip's ``Metadata.csv`` gives
-``platform`` and the ``standardisation`` flag.  The sign is flipped only when the data confirm the
+``platform`` and the standardisation flag (a column whose name contains ``standardi``, e.g.
+``standardisation``; absent in exports older than the option, meaning off).  The sign is flipped only when the data confirm the
 platform: a raw iOS stream is the only one in g, so readings in g without standardisation are iOS
 readings and get flipped; readings in m/s² are on the Android sign.  When the metadata and the data
 disagree, the file is refused rather than guessed.
@@ -72,7 +73,7 @@ def _read_sensor(data: bytes, label: str) -> tuple[np.ndarray, np.ndarray, list[
     lowered = [n.lower() for n in names]
     cols = [lowered.index(c) for c in ("time", "x", "y", "z")]
     time_ns, x, y, z = read_columns(data, skip_lines=index + 1, n_columns=len(names), columns=cols,
-                                    delimiter=",", name=label, column_names=names)
+                                    delimiter=",", name=label, column_names=names, integer_columns=(cols[0],))
     return time_ns, np.column_stack([x, y, z]), names
 
 
@@ -91,7 +92,8 @@ def _sign_and_unit(acc: np.ndarray, meta: dict | None, acc_file: str | None, cal
     notes: list[str] = []
     if meta:
         platform = meta.get("platform", "").lower()
-        standardised = meta.get("standardisation", meta.get("standardization", "")).lower() in _TRUE
+        flag = next((v for k, v in meta.items() if "standardi" in k), "")
+        standardised = flag.lower() in _TRUE
         ios_raw = platform == "ios" and not standardised
         if platform not in ("ios", "android"):
             raise LogFormatError(f"Metadata.csv gives platform {meta.get('platform')!r}, not iOS or Android: "
@@ -145,8 +147,8 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     sign, unit, sign_notes = _sign_and_unit(acc, meta, member, units.get("acc"), label)
     notes += sign_notes
     # Streams share the epoch clock: the others are interpolated at the accelerometer's samples.
-    time_s = (time_ns - time_ns[0]) * 1e-9
-    aligned = {k: resample_to(time_s, (t - time_ns[0]) * 1e-9, v) for k, (t, v) in extra.items()}
+    time_s = (time_ns - time_ns[0]).astype(float) * 1e-9
+    aligned = {k: resample_to(time_s, (t - time_ns[0]).astype(float) * 1e-9, v) for k, (t, v) in extra.items()}
     return LogData(
         acc=sign * acc, gyr=aligned.get("gyr"), mag=aligned.get("mag"), time_s=time_s,
         sampling_rate_hz=rate_from_time(time_s, sampling_rate_hz, label),

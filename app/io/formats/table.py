@@ -106,7 +106,7 @@ def guess_delimiter(line: str) -> str:
 
 def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[int], delimiter: str,
                  decimal: str = ".", name: str = "the file", column_names: list[str] | None = None,
-                 first_line: int | None = None) -> list[np.ndarray]:
+                 first_line: int | None = None, integer_columns: tuple[int, ...] = ()) -> list[np.ndarray]:
     """Numeric columns of a delimited table, as float arrays.
 
     Parameters
@@ -125,6 +125,8 @@ def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[
         The header's names, for messages.
     first_line : int, optional
         1-based line number of the first data line in the uploaded file (default ``skip_lines + 1``).
+    integer_columns : tuple of int
+        Columns read as int64 (epoch nanoseconds, beyond float64's 2⁵³).
 
     Raises
     ------
@@ -139,7 +141,7 @@ def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[
             parse_options=pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True),
             convert_options=pacsv.ConvertOptions(
                 include_columns=[names[c] for c in columns],
-                column_types={names[c]: pa.float64() for c in columns},
+                column_types={names[c]: pa.int64() if c in integer_columns else pa.float64() for c in columns},
                 null_values=["", "nan", "NaN", "NA"], strings_can_be_null=False, decimal_point=decimal,
             ),
         )
@@ -149,7 +151,15 @@ def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[
         raise LogFormatError(f"{name}: {detail}: every used column must hold numbers") from None
     if table.num_rows == 0:
         raise LogFormatError(f"{name} has a header but no data rows: add the samples below it")
-    out = [table.column(names[c]).to_numpy(zero_copy_only=False).astype(float, copy=False) for c in columns]
+    out = []
+    for c in columns:
+        arr = table.column(names[c])
+        if arr.null_count:
+            row = int(np.flatnonzero(arr.is_null().to_numpy(zero_copy_only=False))[0])
+            raise LogFormatError(f"{name}: data row {row + 1} has an empty value in column "
+                                 f"{(column_names or names)[c]!r}: fill or remove that line")
+        arr = arr.to_numpy(zero_copy_only=False)
+        out.append(arr if c in integer_columns else arr.astype(float, copy=False))
     for c, arr in zip(columns, out):
         bad = ~np.isfinite(arr)
         if bad.any():

@@ -1,0 +1,168 @@
+"""app.io.formats: detection rules, decimal commas, clocks, Sensor Logger signs, GnssLogger lines, units."""
+
+from __future__ import annotations
+
+import zipfile
+
+import numpy as np
+import pytest
+
+from app.io.errors import LogFormatError
+from app.io.formats import detect_format, read_log
+from app.io.formats.table import sniff
+from app.io.formats.units import infer_acc_unit
+from tests.conftest import DATA
+
+SAMPLES = DATA / "formats"
+G0 = 9.80665
+
+
+def write(tmp_path, name, text):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def write_zip(tmp_path, name, members):
+    p = tmp_path / name
+    with zipfile.ZipFile(p, "w") as zf:
+        for member, text in members.items():
+            zf.writestr(member, text)
+    return p
+
+
+@pytest.mark.parametrize(
+    "filename, fmt",
+    [
+        ("phyphox_comma.csv", "phyphox"), ("phyphox_tab.csv", "phyphox"),
+        ("phyphox_semicolon_decimal_comma.csv", "phyphox"), ("phyphox_export.zip", "phyphox"),
+        ("sensor_logger_android.zip", "sensor_logger"), ("sensor_logger_TotalAcceleration.csv", "sensor_logger"),
+        ("physics_toolbox_gforce.csv", "physics_toolbox"), ("gnss_logger.txt", "gnss_logger"),
+        ("arduino_serial_plotter.txt", "arduino"), ("arduino_lsb.csv", "arduino"), ("generic_g.csv", "csv"),
+        ("../six_orientations_150hz.csv", "csv"),
+    ],
+)
+def test_detection(filename, fmt):
+    assert detect_format(sniff(SAMPLES / filename, filename)) == fmt
+
+
+def test_phyphox_flavours_read_the_same_numbers():
+    ref = read_log(SAMPLES / "phyphox_comma.csv")
+    for name in ("phyphox_tab.csv", "phyphox_semicolon_decimal_comma.csv", "phyphox_export.zip"):
+        log = read_log(SAMPLES / name)
+        np.testing.assert_array_equal(log.acc, ref.acc)
+        np.testing.assert_array_equal(log.time_s, ref.time_s)
+
+
+def test_phyphox_bad_number_names_line_and_column(tmp_path):
+    p = write(tmp_path, "p.csv", '"Time (s)";"Acceleration x (m/s^2)";"Acceleration y (m/s^2)";"Acceleration z (m/s^2)"\n'
+                                 "0,0;0,1;0,2;9,8\n0,01;0,1;oops;9,8\n")
+    with pytest.raises(LogFormatError, match=r"line 3, column 'Acceleration y \(m/s\^2\)': 'oops' is not a number"):
+        read_log(p)
+
+
+def test_physics_toolbox_clock_time_and_decimal_comma(tmp_path):
+    rows = "\n".join(f"12:00:{i // 100:02d}:{(i % 100) * 10:03d};0,01;0,02;1,0;1,0" for i in range(300))
+    log = read_log(write(tmp_path, "ptb.csv", f"time;gFx;gFy;gFz;TgF\n{rows}\n"))
+    assert log.format == "physics_toolbox" and log.units["acc"] == "g"
+    assert log.sampling_rate_hz == pytest.approx(100.0)
+    np.testing.assert_allclose(log.acc[0], [0.01, 0.02, 1.0])
+
+
+def test_physics_toolbox_multi_record_ignores_linear_columns(tmp_path):
+    rows = "\n".join(f"{i / 100:.2f},0.0,0.0,1.0,0.3,0.2,0.1,0.01,0.02,0.03,20,30,-40" for i in range(200))
+    log = read_log(write(tmp_path, "m.csv", f"time,gFx,gFy,gFz,ax,ay,az,wx,wy,wz,Bx,By,Bz\n{rows}\n"))
+    np.testing.assert_allclose(log.acc[0], [0, 0, 1])
+    assert log.channels == ["acc", "gyr", "mag"] and log.units["mag"] == "uT"
+
+
+def _sl_csv(rows):
+    return "time,seconds_elapsed,z,y,x\n" + "\n".join(
+        f"{1_700_000_000_000_000_000 + i * 10_000_000},{i / 100},{z},{y},{x}" for i, (x, y, z) in enumerate(rows)) + "\n"
+
+
+def test_sensor_logger_ios_standardised_keeps_the_sign(tmp_path):
+    rows = [(0.0, 0.0, 9.81)] * 200
+    meta = "version,device name,recording time,platform,appVersion,standardisation\n3,x,t,ios,1.41,true\n"
+    log = read_log(write_zip(tmp_path, "s.zip", {"Metadata.csv": meta, "AccelerometerUncalibrated.csv": _sl_csv(rows)}))
+    assert log.units["acc"] == "m/s^2" and log.acc[0, 2] == pytest.approx(9.81)
+
+
+def test_sensor_logger_metadata_contradicting_the_data_is_refused(tmp_path):
+    rows = [(0.0, 0.0, -9.81)] * 200  # m/s², but metadata says raw iOS (which is in g)
+    meta = "version,device name,recording time,platform,appVersion,standardisation\n3,x,t,iOS,1.41,false\n"
+    with pytest.raises(LogFormatError, match="looks edited"):
+        read_log(write_zip(tmp_path, "s.zip", {"Metadata.csv": meta, "AccelerometerUncalibrated.csv": _sl_csv(rows)}))
+
+
+def test_sensor_logger_single_csv_in_g_is_the_ios_raw_stream(tmp_path):
+    log = read_log(write(tmp_path, "AccelerometerUncalibrated.csv", _sl_csv([(0.0, 0.0, -1.0)] * 200)))
+    assert log.units["acc"] == "g" and log.acc[0, 2] == pytest.approx(1.0)
+    assert any("sign decided from the unit" in n for n in log.notes)
+
+
+def test_sensor_logger_columns_are_reordered_from_z_y_x(tmp_path):
+    log = read_log(write(tmp_path, "TotalAcceleration.csv", _sl_csv([(1.0, 2.0, 9.5)] * 200)))
+    np.testing.assert_allclose(log.acc[0], [1.0, 2.0, 9.5])
+    assert log.sampling_rate_hz == pytest.approx(100.0)
+
+
+def test_gnss_logger_bad_line_is_named(tmp_path):
+    text = ("# UncalAccel,utcTimeMillis,elapsedRealtimeNanos,UncalAccelXMps2,UncalAccelYMps2,UncalAccelZMps2,"
+            "BiasXMps2,BiasYMps2,BiasZMps2\n"
+            "UncalAccel,1,1000000,0.1,0.2,9.8,0,0,0\nUncalAccel,2,2000000,0.1,x,9.8,0,0,0\n")
+    with pytest.raises(LogFormatError, match="line 3 \\(UncalAccel\\)"):
+        read_log(write(tmp_path, "g.txt", text))
+
+
+def test_gnss_logger_gyroscope_is_interpolated_at_the_accelerometer_times():
+    log = read_log(SAMPLES / "gnss_logger.txt")
+    assert log.gyr.shape == log.acc.shape and log.units == {"acc": "m/s^2", "gyr": "rad/s"}
+
+
+def test_gnss_logger_without_uncal_accel(tmp_path):
+    text = "# UncalAccel,utcTimeMillis,elapsedRealtimeNanos,UncalAccelXMps2\nFix,GPS,1,2\n"
+    with pytest.raises(LogFormatError, match="no UncalAccel lines"):
+        read_log(write(tmp_path, "g.txt", text))
+
+
+@pytest.mark.parametrize("scale, unit", [(1.0, "g"), (G0, "m/s^2"), (16384.0, "raw"), (3.0, None)])
+def test_unit_inference(scale, unit):
+    acc = np.tile([0.0, 0.0, 1.0], (100, 1)) * scale
+    if unit == "raw":
+        acc = np.round(acc)
+    assert infer_acc_unit(acc) == unit
+
+
+def test_lsb_per_g_needs_counts(tmp_path):
+    with pytest.raises(LogFormatError, match="converts counts"):
+        read_log(SAMPLES / "generic_g.csv", lsb_per_g=4096, units={"acc": "g"})
+    with pytest.raises(LogFormatError, match="positive number"):
+        read_log(SAMPLES / "arduino_lsb.csv", lsb_per_g=-1)
+
+
+def test_serial_plotter_without_accelerometer_labels(tmp_path):
+    with pytest.raises(LogFormatError, match="name no accelerometer x, y and z"):
+        read_log(write(tmp_path, "s.txt", "temp:21 hum:40\ntemp:22 hum:41\n"), sampling_rate_hz=10)
+
+
+def test_unknown_format_name(tmp_path):
+    with pytest.raises(LogFormatError, match="unknown format 'xlsx'"):
+        read_log(SAMPLES / "generic_g.csv", format="xlsx")
+
+
+def test_zip_with_a_broken_directory(tmp_path):
+    p = tmp_path / "b.zip"
+    p.write_bytes(b"PK\x03\x04" + b"\x00" * 100)
+    with pytest.raises(LogFormatError, match="cannot be opened") as e:
+        read_log(p)
+    assert e.value.status == 415
+
+
+def test_zip_member_size_is_checked(tmp_path, monkeypatch):
+    import app.io.formats.table as table
+
+    monkeypatch.setattr(table, "MAX_UNZIPPED_BYTES", 1000)
+    with pytest.raises(LogFormatError, match="expands to") as e:
+        read_log(SAMPLES / "phyphox_export.zip")
+    assert e.value.status == 413
