@@ -107,6 +107,19 @@ def test_sensor_logger_columns_are_reordered_from_z_y_x(tmp_path):
     assert log.sampling_rate_hz == pytest.approx(100.0)
 
 
+def test_sensor_logger_linear_accelerometer_file_alone_is_refused(tmp_path):
+    rows = np.random.default_rng(2).normal(0, 0.05, (200, 3))
+    with pytest.raises(LogFormatError, match="linear acceleration \\(gravity removed\\).*TotalAcceleration"):
+        read_log(write(tmp_path, "Accelerometer.csv", _sl_csv(rows)))
+
+
+def test_gnss_logger_found_past_the_first_lines(tmp_path):
+    raw = "\n".join(f"Raw,{i},1,2,3" for i in range(400))
+    acc = "\n".join(f"UncalAccel,{i},{i * 10_000_000},0.0,0.1,9.8,0,0,0" for i in range(200))
+    log = read_log(write(tmp_path, "g.txt", f"{raw}\n{acc}\n"))
+    assert log.format == "gnss_logger" and log.sampling_rate_hz == pytest.approx(100.0)
+
+
 def test_gnss_logger_bad_line_is_named(tmp_path):
     text = ("# UncalAccel,utcTimeMillis,elapsedRealtimeNanos,UncalAccelXMps2,UncalAccelYMps2,UncalAccelZMps2,"
             "BiasXMps2,BiasYMps2,BiasZMps2\n"

@@ -28,10 +28,10 @@ TIME = "elapsedRealtimeNanos"
 
 
 def detect(s: Sniff) -> bool:
-    """A line starting with ``UncalAccel,`` or its header ``# UncalAccel,``."""
+    """A line starting with ``UncalAccel,`` or its header ``# UncalAccel,`` in the first 64 KiB."""
     if s.is_zip:
         return False
-    return any(line.lstrip("# ").startswith("UncalAccel,") for line in s.lines)
+    return any(line.lstrip("# ").startswith("UncalAccel,") for line in s.text.splitlines())
 
 
 def _layouts(lines: list[str]) -> dict[str, list[str]]:

@@ -28,7 +28,7 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import LogData
 from .table import Sniff, find_member, rate_from_time, read_columns, read_member, resample_to, split_row
-from .units import infer_acc_unit, refuse_linear_acceleration
+from .units import infer_acc_unit, median_norm, refuse_linear_acceleration
 
 NAME = "sensor_logger"
 METADATA = "Metadata.csv"
@@ -82,6 +82,8 @@ def _sign_and_unit(acc: np.ndarray, meta: dict | None, acc_file: str | None, cal
     """The factor (+1 or −1) and unit of the accelerometer readings, from the data and the metadata."""
     data_unit = infer_acc_unit(acc)
     unit = caller_unit or data_unit
+    if unit is None and median_norm(acc) < 0.6:
+        unit = "m/s^2"  # well below 1 g in either unit: no gravity, refused just below
     if unit is None:
         raise LogFormatError(
             f"the accelerometer readings of {label} are neither about 1 g nor about 9.8 m/s² in norm: give "
