@@ -61,10 +61,10 @@ def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: flo
 
 
 def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
-             lsb_per_g: float | None = None) -> LogData:
+             lsb_per_g: float | None = None, columns: str | None = None) -> LogData:
     """Read an uploaded log file into arrays, its format given or detected (app.io.formats)."""
     return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                    lsb_per_g=lsb_per_g)
+                    lsb_per_g=lsb_per_g, columns=columns)
 
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:

@@ -46,6 +46,7 @@ def upload_recording(
     format: Literal["auto", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "arduino"] = Form(
         "auto", description="Log format; auto detects it from the header (app.io.formats)."),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
+    columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down"),
     settings: Settings = Depends(get_settings),
     store: SQLiteStore = Depends(get_store),
 ):
@@ -57,7 +58,8 @@ def upload_recording(
     try:
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
         log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, units=units,
-                                name=file.filename or "the file", format=format, lsb_per_g=lsb_per_g)
+                                name=file.filename or "the file", format=format, lsb_per_g=lsb_per_g,
+                                columns=columns)
         body = workflow.describe_log(log)
         body["filename"] = file.filename
         return store.add_recording(recording_id, body, dest)

@@ -127,12 +127,30 @@ def _map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict
         raise LogFormatError(
             f"no accelerometer x, y and z columns among the header's columns {listed}: name them "
             "acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), optionally with a time column "
-            "time_s / time_ms / time_ns"
+            "time_s / time_ms / time_ns, or map them without editing the file with the upload field "
+            "columns, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
+            "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
+            "recognised as they are"
         )
     partial = [s for s, axes in channels.items() if s != "acc" and set(axes) != {"x", "y", "z"}]
     for sensor in partial:
         del channels[sensor]
     return channels, time_col, time_scale, units
+
+
+def _renamed(names: list[str], column_map: dict | None) -> list[str]:
+    """The header with the columns of ``column_map`` (canonical name → file column) renamed."""
+    if not column_map:
+        return names
+    stripped = [n.strip().strip('"').strip() for n in names]
+    out = list(names)
+    for canonical, column in column_map.items():
+        if column not in stripped:
+            listed = ", ".join(repr(n) for n in stripped)
+            raise LogFormatError(f"columns maps {canonical} to {column!r}, which is not a column of the header "
+                                 f"({listed}): use one of those names")
+        out[stripped.index(column)] = canonical
+    return out
 
 
 def _first_bad_line(path: Path, header_line: int, delimiter: str, columns: list[int], names: list[str]) -> str:
@@ -155,7 +173,7 @@ def _first_bad_line(path: Path, header_line: int, delimiter: str, columns: list[
 
 
 def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
-                 name: str = "the file") -> LogData:
+                 name: str = "the file", column_map: dict | None = None) -> LogData:
     """Read a generic CSV log into arrays.
 
     Parameters
@@ -168,18 +186,21 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         Units per sensor (``{"acc": "g"}``); override those named in the header.
     name : str
         How to call the file in messages.
+    column_map : dict, optional
+        Canonical names for the file's columns, ``{"acc_x": "north", ...}``: the named columns are
+        read as if the header called them so.
 
     Raises
     ------
     LogFormatError
-        Empty, binary or header-only files, unrecognised columns, text in a numeric column
+        Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks, text in a numeric column
         (with its line number), a missing sampling rate.
     """
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
     text = _decode_head(head, name)
     header_line, delimiter, names = _split_header(text)
-    channels, time_col, time_scale, header_units = _map_columns(names)
+    channels, time_col, time_scale, header_units = _map_columns(_renamed(names, column_map))
 
     used = [time_col] if time_col is not None else []
     for sensor in ("acc", "gyr", "mag"):

@@ -137,3 +137,20 @@ def test_lsb_per_g_form_field(client):
 def test_the_upload_field_offers_every_format():
     hints = typing.get_type_hints(upload_recording, include_extras=True)
     assert set(typing.get_args(hints["format"])) == set(FORMATS)
+
+
+def test_unrecognised_columns_mapped_with_the_columns_field(client):
+    text = (SAMPLES / "generic_g.csv").read_text().replace("time_ms,acc_x,acc_y,acc_z", "stamp,north,east,down")
+    files = {"file": ("mine.csv", text.encode(), "text/csv")}
+    refused = client.post("/api/v1/recordings", files=files)
+    assert refused.status_code == 422 and "columns=acc_x:<name>" in refused.json()["detail"]
+    r = client.post("/api/v1/recordings", files=files,
+                    data={"columns": "acc_x:north,acc_y:east,acc_z:down,time_ms:stamp"})
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    assert rec["units"]["acc"] == "g" and rec["sampling_rate_hz"] == pytest.approx(50.0)
+    assert [s["up"] for s in rec["segments"]] == TRUTH["labels"]
+    bad = client.post("/api/v1/recordings", files=files, data={"columns": "acc_x:nord,acc_y:east,acc_z:down"})
+    assert bad.status_code == 422 and "'nord', which is not a column" in bad.json()["detail"]
+    bad = client.post("/api/v1/recordings", files=files, data={"columns": "accel_x:north"})
+    assert bad.status_code == 422 and "trical does not know" in bad.json()["detail"]

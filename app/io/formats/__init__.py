@@ -52,6 +52,35 @@ DETECTORS = (
 FORMATS = ("auto", *READERS)
 """Values of the upload's ``format`` field."""
 
+CANONICAL_COLUMNS = (*(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
+                     "time_s", "time_ms", "time_us", "time_ns")
+"""Names a column can be mapped to with ``columns``."""
+
+
+def parse_column_map(columns: str | dict | None) -> dict | None:
+    """``"acc_x:north,acc_y:east"`` (or a dict) as ``{"acc_x": "north", ...}``, its names checked.
+
+    Raises
+    ------
+    LogFormatError
+        An entry without ``:``, or a canonical name trical does not know.
+    """
+    if not columns:
+        return None
+    if isinstance(columns, str):
+        pairs = {}
+        for entry in columns.split(","):
+            canonical, sep, column = entry.partition(":")
+            if not sep or not canonical.strip() or not column.strip():
+                raise LogFormatError(f"columns entry {entry!r} is not canonical:column, e.g. acc_x:north")
+            pairs[canonical.strip().lower()] = column.strip()
+        columns = pairs
+    unknown = [k for k in columns if k not in CANONICAL_COLUMNS]
+    if unknown:
+        raise LogFormatError(f"columns maps {', '.join(unknown)}, which trical does not know: map to "
+                             f"{', '.join(CANONICAL_COLUMNS)}")
+    return dict(columns)
+
 
 def detect_format(s: Sniff) -> str:
     """The name of the format of a sniffed upload.
@@ -73,7 +102,8 @@ def detect_format(s: Sniff) -> str:
 
 
 def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None = None,
-             units: dict | None = None, lsb_per_g: float | None = None, name: str = "the file") -> LogData:
+             units: dict | None = None, lsb_per_g: float | None = None, columns: str | dict | None = None,
+             name: str = "the file") -> LogData:
     """Read a log in any supported format into arrays.
 
     Parameters
@@ -89,6 +119,9 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     lsb_per_g : float, optional
         Sensitivity of an accelerometer read in counts: readings are divided by it into g.  A
         comment ``# lsb_per_g=16384`` in the file gives it too.
+    columns : str or dict, optional
+        Column mapping of a CSV whose header trical does not recognise, ``"acc_x:north,acc_y:east,
+        acc_z:down,time_ms:t"``; the file is then read as a generic (or Arduino) CSV.
     name : str
         How to call the file in messages.
 
@@ -106,8 +139,14 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     """
     if format not in FORMATS:
         raise LogFormatError(f"unknown format {format!r}: use one of {', '.join(FORMATS)}")
+    column_map = parse_column_map(columns)
     s = sniff(path, name)
+    if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
+        raise LogFormatError(f"columns maps the columns of a generic CSV; the {format} format has fixed columns: "
+                             "leave columns out, or use format=csv")
     fmt = detect_format(s) if format == "auto" else format
+    if column_map and fmt not in (generic_csv.CSV, generic_csv.ARDUINO):
+        fmt = generic_csv.CSV
     if s.is_zip and fmt not in (phyphox.NAME, sensor_logger.NAME):
         raise LogFormatError(f"{name} is a zip archive, which the {fmt} format does not read: use format=auto, "
                              "phyphox or sensor_logger, or upload the CSV itself", status=415)
@@ -117,8 +156,9 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
                              "format=auto, or map its columns as acc_x, acc_y, acc_z with format=csv")
     comment_lsb = None if s.is_zip else generic_csv.lsb_from_comments(s.lines)
     lsb = lsb_per_g if lsb_per_g is not None else comment_lsb
+    extra = {"column_map": column_map} if column_map else {}
     log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
-                       lsb_per_g=lsb)
+                       lsb_per_g=lsb, **extra)
     acc, unit, notes = apply_lsb_per_g(log.acc, log.units["acc"], lsb)
     if notes and lsb_per_g is None:
         notes = [n + " (from the file's comment)" for n in notes]

@@ -81,10 +81,10 @@ def _settle_units(log: LogData, caller_acc: str | None, header_acc: str | None, 
 
 
 def read_csv(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
-             fmt: str = CSV, **_) -> LogData:
+             fmt: str = CSV, column_map: dict | None = None, **_) -> LogData:
     """Read a generic CSV log, settling the accelerometer unit (caller, header, data)."""
     units = units or {}
-    log = read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
+    log = read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name, column_map=column_map)
     return _settle_units(log, units.get("acc"), _header_acc_unit(s.text), lsb_per_g, fmt, [])
 
 
@@ -94,7 +94,7 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     data = _data_lines(s.lines)
     if not (data and _PLOTTER_LINE.match(data[0])):
         return read_csv(path, s, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                        lsb_per_g=lsb_per_g, fmt=ARDUINO)
+                        lsb_per_g=lsb_per_g, fmt=ARDUINO, column_map=kw.get("column_map"))
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
     first = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(data[0]))
