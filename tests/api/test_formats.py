@@ -95,8 +95,10 @@ def test_linear_acceleration_is_refused(client, filename, fragment):
 def test_linear_acceleration_found_from_the_data(client):
     # Physics Toolbox 'Linear Accelerometer' layout: the generic reader maps ax, ay, az, the data say no gravity.
     rng = np.random.default_rng(1)
-    rows = "\n".join(f"{i / 100:.2f};{a:.4f};{b:.4f};{c:.4f};0" for i, (a, b, c) in enumerate(rng.normal(0, 0.05, (300, 3))))
-    r = client.post("/api/v1/recordings", files={"file": ("lin.csv", f"time;ax;ay;az;aT\n{rows}\n".encode(), "text/csv")})
+    noise = rng.normal(0, 0.05, (300, 3))
+    rows = "\n".join(f"{i / 100:.2f};{a:.4f};{b:.4f};{c:.4f};0" for i, (a, b, c) in enumerate(noise))
+    content = f"time;ax;ay;az;aT\n{rows}\n".encode()
+    r = client.post("/api/v1/recordings", files={"file": ("lin.csv", content, "text/csv")})
     assert r.status_code == 422, r.text
     assert "linear acceleration (gravity removed)" in r.json()["detail"]
 

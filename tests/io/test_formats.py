@@ -55,8 +55,8 @@ def test_phyphox_flavours_read_the_same_numbers():
 
 
 def test_phyphox_bad_number_names_line_and_column(tmp_path):
-    p = write(tmp_path, "p.csv", '"Time (s)";"Acceleration x (m/s^2)";"Acceleration y (m/s^2)";"Acceleration z (m/s^2)"\n'
-                                 "0,0;0,1;0,2;9,8\n0,01;0,1;oops;9,8\n")
+    header = '"Time (s)";"Acceleration x (m/s^2)";"Acceleration y (m/s^2)";"Acceleration z (m/s^2)"\n'
+    p = write(tmp_path, "p.csv", header + "0,0;0,1;0,2;9,8\n0,01;0,1;oops;9,8\n")
     with pytest.raises(LogFormatError, match=r"line 3, column 'Acceleration y \(m/s\^2\)': 'oops' is not a number"):
         read_log(p)
 
@@ -78,7 +78,8 @@ def test_physics_toolbox_multi_record_ignores_linear_columns(tmp_path):
 
 def _sl_csv(rows):
     return "time,seconds_elapsed,z,y,x\n" + "\n".join(
-        f"{1_700_000_000_000_000_000 + i * 10_000_000},{i / 100},{z},{y},{x}" for i, (x, y, z) in enumerate(rows)) + "\n"
+        f"{1_700_000_000_000_000_000 + i * 10_000_000},{i / 100},{z},{y},{x}"
+        for i, (x, y, z) in enumerate(rows)) + "\n"
 
 
 def test_sensor_logger_ios_standardised_keeps_the_sign(tmp_path):

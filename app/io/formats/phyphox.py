@@ -76,7 +76,8 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
     found = _header(lines)
     if found is None or not _is_phyphox_header(found[2]):
-        raise LogFormatError(f"{label} is not a phyphox table: its first line must be \"Time (s)\", then the sensor columns")
+        raise LogFormatError(f"{label} is not a phyphox table: its first line must be \"Time (s)\", then the "
+                             "sensor columns")
     index, delimiter, names = found
     decimal = _decimal(lines, index + 1, delimiter)
     channels: dict[str, dict[str, int]] = {}

@@ -83,7 +83,8 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
                 period = 86400.0 if ":" in rows[0][col] and rows[0][col].count(":") >= 2 else 3600.0
                 time = time + period * np.concatenate([[0], np.cumsum(back)])
     if time is None and sampling_rate_hz is None:
-        raise LogFormatError(f"the time column of {name} could not be read as seconds or a clock: give sampling_rate_hz")
+        raise LogFormatError(f"the time column of {name} could not be read as seconds or a clock: "
+                             "give sampling_rate_hz")
     units = units or {}
     return LogData(
         acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"),

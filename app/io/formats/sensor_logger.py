@@ -11,10 +11,10 @@ Which accelerometer file holds gravity (awesome-sensor-logger UNITS.md, CROSSPLA
 iOS and Android differ by a sign on all three acceleration axes; with "Standardise Units & Frames"
 on, iOS follows Android (+g on the up axis, DESIGN.md section 2).  The zip's ``Metadata.csv`` gives
 ``platform`` and the standardisation flag (a column whose name contains ``standardi``, e.g.
-``standardisation``; absent in exports older than the option, meaning off).  The sign is flipped only when the data confirm the
-platform: a raw iOS stream is the only one in g, so readings in g without standardisation are iOS
-readings and get flipped; readings in m/s² are on the Android sign.  When the metadata and the data
-disagree, the file is refused rather than guessed.
+``standardisation``; absent in exports older than the option, meaning off).  The sign is flipped
+only when the data confirm the platform: a raw iOS stream is the only one in g, so readings in g
+without standardisation are iOS readings and get flipped; readings in m/s² are on the Android sign.
+When the metadata and the data disagree, the file is refused rather than guessed.
 """
 
 from __future__ import annotations
