@@ -129,6 +129,18 @@ def test_other_zips_are_refused_with_their_contents(client):
     assert r.status_code == 415 and "photo.jpg" in r.json()["detail"]
 
 
+def test_excel_workbooks_are_refused_with_the_fix(client):
+    import io
+    import zipfile
+
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as zf:
+        zf.writestr("[Content_Types].xml", "<Types/>")
+        zf.writestr("xl/workbook.xml", "<workbook/>")
+    r = client.post("/api/v1/recordings", files={"file": ("data.xlsx", buf.getvalue(), "application/zip")})
+    assert r.status_code == 415 and "Excel workbook" in r.json()["detail"]
+
+
 def test_lsb_per_g_form_field(client):
     r = upload(client, SAMPLES / "arduino_lsb.csv", lsb_per_g=4096)
     assert r.status_code == 201 and r.json()["units"]["acc"] == "g"

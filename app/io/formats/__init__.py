@@ -94,6 +94,9 @@ def detect_format(s: Sniff) -> str:
         if accepts(s):
             return fmt
     listed = ", ".join(s.members[:12]) if s.members else "nothing"
+    if any(m.startswith("xl/") for m in s.members or ()):
+        raise LogFormatError(f"{s.name} is an Excel workbook: export the log as CSV (phyphox: 'CSV (Comma, "
+                             "decimal point)') and upload that", status=415)
     raise LogFormatError(
         f"{s.name} is a zip holding {listed}: only phyphox exports (Raw Data.csv) and Sensor Logger "
         "exports (Metadata.csv with TotalAcceleration.csv or AccelerometerUncalibrated.csv) are read; "
