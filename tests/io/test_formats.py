@@ -180,3 +180,16 @@ def test_zip_member_size_is_checked(tmp_path, monkeypatch):
     with pytest.raises(LogFormatError, match="expands to") as e:
         read_log(SAMPLES / "phyphox_export.zip")
     assert e.value.status == 413
+
+
+def test_the_samples_are_the_generator_output(tmp_path):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_format_samples", SAMPLES / "make_format_samples.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.main(tmp_path)
+    written = sorted(p.name for p in tmp_path.iterdir())
+    assert written == sorted(p.name for p in SAMPLES.iterdir() if p.suffix in (".csv", ".txt", ".zip", ".json"))
+    for name in written:
+        assert (tmp_path / name).read_bytes() == (SAMPLES / name).read_bytes(), name
