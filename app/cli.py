@@ -18,6 +18,7 @@ from app.calibration import CalibrationError
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import EXPORTERS, export_calibration
+from app.io.formats import FORMATS
 from app.store import NotFoundError, SQLiteStore
 
 KNOWN_METHODS = ("six_position", "orientations")
@@ -40,6 +41,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="triangular only: lm, or 002's descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=float, default=None, help="needed when the log has no time column")
     c.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None, help="accelerometer unit of the log")
+    c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
+    c.add_argument("--lsb-per-g", type=float, default=None, help="counts per g of a raw (LSB) accelerometer")
     c.add_argument("--gravity", type=float, default=None, help="reference gravity in m/s^2")
     c.add_argument("--latitude-deg", type=float, default=None, help="local normal gravity from latitude")
     c.add_argument("--height-m", type=float, default=None, help="height above the ellipsoid, with --latitude-deg")
@@ -67,7 +70,8 @@ def _serve(args, settings: Settings) -> int:
 
 def _calibrate(args, settings: Settings) -> int:
     units = {"acc": args.unit} if args.unit else {}
-    log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, units=units, name=str(args.log))
+    log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, units=units, name=str(args.log),
+                            format=args.log_format, lsb_per_g=args.lsb_per_g)
     recording = workflow.describe_log(log)
     unit = log.units["acc"]
     gravity, notes = workflow.reference_gravity(unit, args.gravity, args.latitude_deg, args.height_m)
