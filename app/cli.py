@@ -35,7 +35,7 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--port", type=int, default=None, help="port (default: PORT or 8000)")
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
-    c.add_argument("log", type=Path, help="CSV log with a header row")
+    c.add_argument("log", type=Path, help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
     c.add_argument("--method", choices=KNOWN_METHODS + UNKNOWN_METHODS, default="six_position")
     c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
                    help="triangular only: lm, or 002's descent in float, 16- or 32-bit fixed point")
