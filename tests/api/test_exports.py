@@ -170,3 +170,20 @@ def test_raw_calibrations_are_not_exported_to_firmware_parameters(client):
         assert r.status_code == 422 and "counts" in r.json()["detail"] and "lsb_per_g" in r.json()["detail"]
     for fmt in ("yaml", "csv"):
         assert export(client, cal, fmt).status_code == 200
+
+
+@pytest.mark.parametrize("method, table", [("nonorthogonal", 1), ("triangular", 2)])
+def test_unknown_orientation_models_export_alike(client, method, table):
+    t = seed_table(table)
+    r = client.post("/api/v1/calibrations", json={"method": method, "means": t[:20].tolist(), "gravity": 9.806})
+    assert r.status_code == 201, r.text
+    cal = r.json()
+    expected = trical_apply(client, cal, t)
+    doc = tiny_yaml(export(client, cal, "yaml").text)
+    M, o = np.array(doc["matrix"]), np.array(doc["offset"])
+    np.testing.assert_allclose((t - o) @ M.T, expected, rtol=0, atol=1e-12)
+    text = export(client, cal, "px4").text
+    worst, _ = _reported_residual(text)
+    diff = np.linalg.norm(expected - px4_apply(text, t), axis=1)
+    # The seed's readings are near |a| = g, so the bound holds up to their norm error (well under 1 %).
+    assert diff.max() <= worst * 1.01

@@ -21,7 +21,7 @@ from ..errors import LogFormatError
 
 SNIFF_BYTES = 64 * 1024
 ZIP_MAGIC = b"PK\x03\x04"
-MAX_UNZIPPED_BYTES = 1 << 30
+MAX_UNZIPPED_BYTES = 512 << 20
 """A zip member above this size (uncompressed) is refused rather than expanded in memory."""
 
 
