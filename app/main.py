@@ -19,6 +19,20 @@ from app.store import SQLiteStore
 from app.web import router as web_router
 
 
+SECURITY_HEADERS = {
+    "X-Content-Type-Options": "nosniff",
+    "X-Frame-Options": "DENY",
+    "Referrer-Policy": "no-referrer",
+    # The wizard reads the motion sensors of its own origin only.
+    "Permissions-Policy": "accelerometer=(self), gyroscope=(self), magnetometer=(self), camera=(), microphone=()",
+}
+CONTENT_SECURITY_POLICY = (
+    "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
+    "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
+)
+"""No CORS middleware: cross-origin browser calls are refused by default (DESIGN.md, issue 7)."""
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     """Build the FastAPI application; the SQLite database is created and migrated here."""
     settings = settings or Settings.from_env()
@@ -39,6 +53,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if length and length.isdigit() and int(length) > settings.max_upload_bytes + 64 * 1024:
             return JSONResponse({"detail": str(PayloadTooLarge(settings.max_upload_mb))}, status_code=413)
         return await call_next(request)
+
+    @app.middleware("http")
+    async def security_headers(request: Request, call_next):
+        response = await call_next(request)
+        for name, value in SECURITY_HEADERS.items():
+            response.headers.setdefault(name, value)
+        if not request.url.path.startswith(("/docs", "/redoc")):  # Swagger UI loads its own assets
+            response.headers.setdefault("Content-Security-Policy", CONTENT_SECURITY_POLICY)
+        return response
 
     install_error_handlers(app)
     app.include_router(api_router)
