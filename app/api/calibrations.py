@@ -18,12 +18,12 @@ from app.api.schemas import (
 )
 from app.calibration.registry import result_from_dict
 from app.io.exporters import EXPORTERS, export_calibration
-from app.store import SQLiteStore
+from app.store.sqlite import OwnedStore
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
 
-def _source(request, store: SQLiteStore) -> tuple[dict | None, str, float, list[str]]:
+def _source(request, store: OwnedStore) -> tuple[dict | None, str, float, list[str]]:
     """The recording (if any), the unit, the reference magnitude and notes for a request."""
     recording = None
     unit = request.unit
@@ -45,7 +45,7 @@ def _source(request, store: SQLiteStore) -> tuple[dict | None, str, float, list[
     return recording, unit, gravity, notes + more
 
 
-def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> dict:
+def _known_orientation_body(request: KnownOrientationIn, store: OwnedStore) -> dict:
     recording, unit, gravity, notes = _source(request, store)
     source: dict = {}
     if recording is not None:
@@ -62,7 +62,7 @@ def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> 
                                      label=request.label, **source)
 
 
-def _unknown_orientation_body(request: UnknownOrientationIn, store: SQLiteStore) -> dict:
+def _unknown_orientation_body(request: UnknownOrientationIn, store: OwnedStore) -> dict:
     recording, unit, gravity, notes = _source(request, store)
     source: dict = {}
     means = request.means
@@ -76,7 +76,7 @@ def _unknown_orientation_body(request: UnknownOrientationIn, store: SQLiteStore)
 
 
 @router.post("", status_code=201, response_model=CalibrationOut, summary="Compute and store a calibration")
-def create_calibration(request: CalibrationIn, store: SQLiteStore = Depends(get_store)):
+def create_calibration(request: CalibrationIn, store: OwnedStore = Depends(get_store)):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     if isinstance(request, KnownOrientationIn):
         body = _known_orientation_body(request, store)
@@ -87,13 +87,13 @@ def create_calibration(request: CalibrationIn, store: SQLiteStore = Depends(get_
 
 @router.get("", response_model=CalibrationList, summary="List calibrations")
 def list_calibrations(device_id: str | None = Query(None, max_length=200),
-                      limit: int = Query(100, ge=1, le=1000), store: SQLiteStore = Depends(get_store)):
+                      limit: int = Query(100, ge=1, le=1000), store: OwnedStore = Depends(get_store)):
     """Calibrations, newest first, optionally of one device."""
     return {"items": store.list_calibrations(device_id=device_id, limit=limit)}
 
 
 @router.get("/{calibration_id}", response_model=CalibrationOut, summary="Read a calibration")
-def get_calibration(calibration_id: str, store: SQLiteStore = Depends(get_store)):
+def get_calibration(calibration_id: str, store: OwnedStore = Depends(get_store)):
     """One stored calibration."""
     return store.get_calibration(calibration_id)
 
@@ -101,7 +101,7 @@ def get_calibration(calibration_id: str, store: SQLiteStore = Depends(get_store)
 @router.get("/{calibration_id}/export", summary="Export a calibration",
             responses={200: {"content": {"application/json": {}, "text/x-c": {}}}})
 def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(EXPORTERS)}"),
-           store: SQLiteStore = Depends(get_store)):
+           store: OwnedStore = Depends(get_store)):
     """The calibration as a file for firmware or analysis code."""
     out = export_calibration(store.get_calibration(calibration_id), format)
     return Response(out.content, media_type=out.media_type,
@@ -109,7 +109,7 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")
-def apply(calibration_id: str, request: ApplyIn, store: SQLiteStore = Depends(get_store)):
+def apply(calibration_id: str, request: ApplyIn, store: OwnedStore = Depends(get_store)):
     """Samples calibrated with a stored calibration."""
     body = store.get_calibration(calibration_id)
     calibrated = result_from_dict(body).apply(request.samples)

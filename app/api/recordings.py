@@ -12,7 +12,7 @@ from app.api.deps import get_settings, get_store
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import RecordingOut
 from app.config import Settings
-from app.store import SQLiteStore
+from app.store.sqlite import OwnedStore
 from app.store.sqlite import new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
@@ -45,7 +45,7 @@ def upload_recording(
     mag_unit: Literal["uT", "nT", "raw"] | None = Form(None),
     format: Literal["auto", "csv"] = Form("auto"),
     settings: Settings = Depends(get_settings),
-    store: SQLiteStore = Depends(get_store),
+    store: OwnedStore = Depends(get_store),
 ):
     """Store a log and return its static segments with their orientation."""
     recording_id = new_id("rec")
@@ -64,7 +64,7 @@ def upload_recording(
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
-def get_recording(recording_id: str, store: SQLiteStore = Depends(get_store)):
+def get_recording(recording_id: str, store: OwnedStore = Depends(get_store)):
     """A recording's metadata and static segments."""
     body, _ = store.get_recording(recording_id)
     return body

@@ -6,6 +6,8 @@ acknowledged calibration survives a crash or power loss.
 
 from __future__ import annotations
 
+import functools
+import inspect
 import json
 import secrets
 import sqlite3
@@ -168,3 +170,20 @@ class SQLiteStore:
         if row is None:
             raise NotFoundError(f"no recording with id {recording_id!r}; upload it with POST /api/v1/recordings")
         return json.loads(row[0]), Path(row[1])
+
+
+class OwnedStore:
+    """A store seen by one owner: every method that takes ``owner`` gets this one.
+
+    Routes use it without naming the owner, so no call can forget to confine itself.
+    """
+
+    def __init__(self, store: SQLiteStore, owner: str | None):
+        self._store = store
+        self.owner = owner
+
+    def __getattr__(self, name: str):
+        attr = getattr(self._store, name)
+        if callable(attr) and "owner" in inspect.signature(attr).parameters:
+            return functools.partial(attr, owner=self.owner)
+        return attr
