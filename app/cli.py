@@ -18,7 +18,7 @@ from app.calibration import CalibrationError
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import EXPORTERS, export_calibration
-from app.store import NotFoundError, SQLiteStore
+from app.store import NotFoundError, open_store
 
 KNOWN_METHODS = ("six_position", "orientations")
 UNKNOWN_METHODS = ("nonorthogonal", "triangular")
@@ -59,8 +59,7 @@ def _serve(args, settings: Settings) -> int:
 
     host = args.host or settings.host
     port = args.port or settings.port
-    settings.database_path.parent.mkdir(parents=True, exist_ok=True)
-    print(f"trical {__version__} on http://{host}:{port}  (database {settings.database_path})", flush=True)
+    print(f"trical {__version__} on http://{host}:{port}  (database {settings.database_label})", flush=True)
     uvicorn.run("app.main:app", host=host, port=port, log_level="info")
     return 0
 
@@ -80,7 +79,7 @@ def _calibrate(args, settings: Settings) -> int:
     body = workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=args.device_id,
                                      label=str(args.log.name), segments_used=used)
     if not args.no_store:
-        body = SQLiteStore(settings.database_path).add_calibration(body)
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -110,7 +109,7 @@ def _print_summary(body: dict, recording: dict) -> None:
 
 
 def _export(args, settings: Settings) -> int:
-    body = SQLiteStore(settings.database_path).get_calibration(args.id)
+    body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id)
     out = export_calibration(body, args.format)
     if args.output:
         args.output.write_text(out.content)

@@ -15,7 +15,7 @@ from app import __version__
 from app.api import router as api_router
 from app.api.errors import PayloadTooLarge, install_error_handlers
 from app.config import Settings
-from app.store import SQLiteStore
+from app.store import open_store
 from app.web import router as web_router
 
 
@@ -34,7 +34,7 @@ CONTENT_SECURITY_POLICY = (
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
-    """Build the FastAPI application; the SQLite database is created and migrated here."""
+    """Build the FastAPI application; the database is created and migrated here."""
     settings = settings or Settings.from_env()
     app = FastAPI(
         title="trical",
@@ -42,8 +42,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         summary="Calibration of accelerometers (and gyroscopes and magnetometers) of phones and IMU boards.",
     )
     app.state.settings = settings
-    app.state.store = SQLiteStore(settings.database_path)
-    settings.recordings_dir.mkdir(parents=True, exist_ok=True)
+    app.state.store = open_store(settings.database_url, settings.recordings_dir)
 
     @app.middleware("http")
     async def refuse_oversized_uploads(request: Request, call_next):

@@ -18,7 +18,7 @@ from app.api.schemas import (
 )
 from app.calibration.registry import result_from_dict
 from app.io.exporters import EXPORTERS, export_calibration
-from app.store.sqlite import OwnedStore
+from app.store import OwnedStore
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 

@@ -8,8 +8,7 @@ import hmac
 from fastapi import Request
 
 from app.config import Settings
-from app.store import SQLiteStore
-from app.store.sqlite import OwnedStore
+from app.store import OwnedStore, Store
 
 
 class Unauthorized(Exception):
@@ -45,5 +44,5 @@ def get_owner(request: Request) -> str | None:
 
 def get_store(request: Request) -> OwnedStore:
     """The store, seen as the calling owner: reads and writes are confined to its objects."""
-    store: SQLiteStore = request.app.state.store
+    store: Store = request.app.state.store
     return OwnedStore(store, get_owner(request))

@@ -12,8 +12,8 @@ from app.api.deps import get_settings, get_store
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import RecordingOut
 from app.config import Settings
-from app.store.sqlite import OwnedStore
-from app.store.sqlite import new_id
+from app.store import OwnedStore
+from app.store.base import new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
