@@ -26,6 +26,8 @@ class Settings:
         (TRICAL_DATABASE_URL).
     max_upload_mb : float
         Largest accepted upload in MiB (TRICAL_MAX_UPLOAD_MB).
+    rate_limit_per_minute : float
+        Requests per minute one client may make to /api/ (TRICAL_RATE_LIMIT_PER_MINUTE; 0 = off).
     api_keys : tuple of str
         When non-empty, every API call needs ``Authorization: Bearer <key>`` (TRICAL_API_KEYS).
     host, port : str, int
@@ -36,6 +38,7 @@ class Settings:
 
     database_url: str = "sqlite:///./var/trical.db"
     max_upload_mb: float = 512.0
+    rate_limit_per_minute: float = 0.0
     api_keys: tuple[str, ...] = ()
     host: str = "127.0.0.1"
     port: int = 8000
@@ -91,6 +94,13 @@ class Settings:
                 raise SettingsError(f"TRICAL_MAX_UPLOAD_MB must be a number of MiB; got {env['TRICAL_MAX_UPLOAD_MB']!r}") from None
             if not kwargs["max_upload_mb"] > 0:
                 raise SettingsError("TRICAL_MAX_UPLOAD_MB must be positive")
+        if env.get("TRICAL_RATE_LIMIT_PER_MINUTE"):
+            try:
+                kwargs["rate_limit_per_minute"] = float(env["TRICAL_RATE_LIMIT_PER_MINUTE"])
+            except ValueError:
+                raise SettingsError("TRICAL_RATE_LIMIT_PER_MINUTE must be a number of requests per minute") from None
+            if kwargs["rate_limit_per_minute"] < 0:
+                raise SettingsError("TRICAL_RATE_LIMIT_PER_MINUTE must be 0 (off) or positive")
         if env.get("TRICAL_API_KEYS"):
             kwargs["api_keys"] = tuple(k.strip() for k in env["TRICAL_API_KEYS"].split(",") if k.strip())
         if env.get("TRICAL_DATA_DIR"):

@@ -13,7 +13,9 @@ from fastapi.staticfiles import StaticFiles
 
 from app import __version__
 from app.api import router as api_router
+from app.api.deps import bearer_token
 from app.api.errors import PayloadTooLarge, install_error_handlers
+from app.api.ratelimit import RateLimiter, retry_after
 from app.config import Settings
 from app.store import open_store
 from app.web import router as web_router
@@ -61,6 +63,21 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if not request.url.path.startswith(("/docs", "/redoc")):  # Swagger UI loads its own assets
             response.headers.setdefault("Content-Security-Policy", CONTENT_SECURITY_POLICY)
         return response
+
+    if settings.rate_limit_per_minute > 0:
+        limiter = RateLimiter(settings.rate_limit_per_minute)
+
+        @app.middleware("http")
+        async def rate_limit(request: Request, call_next):
+            if request.url.path.startswith("/api/"):
+                client = bearer_token(request) or (request.client.host if request.client else "unknown")
+                wait = limiter.acquire(client)
+                if wait > 0:
+                    return JSONResponse(
+                        {"detail": f"too many requests: at most {settings.rate_limit_per_minute:g} a minute "
+                                   f"(TRICAL_RATE_LIMIT_PER_MINUTE); retry in {retry_after(wait)} s"},
+                        status_code=429, headers={"Retry-After": retry_after(wait)})
+            return await call_next(request)
 
     install_error_handlers(app)
     app.include_router(api_router)

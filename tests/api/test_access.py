@@ -54,3 +54,22 @@ def test_missing_or_wrong_key_is_401(keyed, headers):
 def test_health_and_pages_need_no_key(keyed):
     assert keyed.get("/healthz").status_code == 200
     assert keyed.get("/").status_code == 200
+
+
+def test_rate_limit_per_client(tmp_path):
+    with TestClient(create_app(make_settings(tmp_path, rate_limit_per_minute=5))) as c:
+        codes = [c.get("/api/v1/calibrations").status_code for _ in range(7)]
+        assert codes[:5] == [200] * 5 and codes[5:] == [429, 429]
+        r = c.get("/api/v1/calibrations")
+        assert int(r.headers["retry-after"]) >= 1 and "TRICAL_RATE_LIMIT_PER_MINUTE" in r.json()["detail"]
+        assert c.get("/healthz").status_code == 200  # not an API call
+
+
+def test_token_bucket_refills():
+    from app.api.ratelimit import RateLimiter
+
+    limiter = RateLimiter(60)  # one a second
+    assert all(limiter.acquire("a", now=0.0) == 0 for _ in range(60))
+    assert limiter.acquire("a", now=0.0) == pytest.approx(1.0)
+    assert limiter.acquire("b", now=0.0) == 0  # another client has its own bucket
+    assert limiter.acquire("a", now=1.0) == 0
