@@ -71,9 +71,9 @@ def test_ferraris_full_turns_are_on_the_negative_branch():
 def test_explicit_protocols_and_their_errors():
     p = explicit_protocol(["z+", "x+", "y-180"])
     assert p.ups == ("+z", "+z", "+x", "-x")
-    assert get_protocol({"rotations": ["z+", "x+"], "ups": ["+z", "+z", "-y"]}).n_positions == 3
+    assert get_protocol({"rotations": ["z+", "x+"], "ups": ["+z", "+z", "+x"]}).n_positions == 3
     with pytest.raises(CalibrationError, match="protocol says"):
-        explicit_protocol(["z+", "x+"], ups=["+z", "+z", "+x"])
+        explicit_protocol(["z+", "x+"], ups=["+z", "+z", "-y"])
     with pytest.raises(CalibrationError, match="unknown rotation"):
         explicit_protocol(["w+"])
     with pytest.raises(CalibrationError, match="free move"):
