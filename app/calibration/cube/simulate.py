@@ -136,8 +136,7 @@ class SimulatedSession:
 
 def _rotation_path(q_start, rot, n, wander_deg, rng):
     """Attitudes along one rotation with a wandering axis, ending exactly at rot ⊗ q_start."""
-    T = 1.0
-    s = np.linspace(0.0, T, n)
+    s = np.linspace(0.0, 1.0, n)
 
     def attitude(s):
         phi = 0.5 * (1.0 - np.cos(np.pi * s))  # 0 → 1 smoothly
@@ -251,8 +250,8 @@ def simulate_session(
         qs = attitude(s)
         d = 1e-6
         dq_ds = (attitude(s + d) - attitude(s - d)) / (2 * d)
-        # Body rate from q̇ = ½ q ⊗ [0, ω] (003 eq. (2)), with ds/dt = 1/rotation_s.
-        om = 2.0 * quat.multiply(quat.conjugate(qs), dq_ds)[:, 1:] / rotation_s
+        # Body rate from q̇ = ½ q ⊗ [0, ω] (003 eq. (2)); s runs 0 → 1 over (n_rot − 1) steps.
+        om = 2.0 * quat.multiply(quat.conjugate(qs), dq_ds)[:, 1:] / ((n_rot - 1) * h)
         attitudes_q.append(qs)
         omegas.append(om)
         pos += n_rot
