@@ -376,6 +376,7 @@ def fit_gyroscope(
     lam: float | None = None,
     lambdas=LAMBDAS,
     estimate_bias: bool = True,
+    bias_covariance=None,
     rotation_numbers=None,
     max_iterations: int = 20,
     tolerance: float = 1e-10,
@@ -404,6 +405,9 @@ def fit_gyroscope(
         The λ values tried upwards.
     estimate_bias : bool
         False holds b at ``bias0`` (for protocols with fewer than four rotations).
+    bias_covariance : array_like, shape (3, 3), optional
+        Covariance of ``bias0`` when it is held (the still positions' covariance over their
+        sample count, 003 eq. (23)); it fills the bias block of the covariance.
     rotation_numbers : sequence of int, optional
         1-based protocol numbers of the rotations, for messages.
     max_iterations, tolerance
@@ -509,6 +513,8 @@ def fit_gyroscope(
     cov_t = np.tensordot(Uy, Sigma @ Uy, axes=([0, 1], [0, 1]))
     cov = np.zeros((12, 12))
     cov[:n_theta, :n_theta] = cov_t
+    if not estimate_bias and bias_covariance is not None:
+        cov[9:12, 9:12] = np.asarray(bias_covariance, float).reshape(3, 3)
 
     M_hat, b_hat = prob.theta_parts(x[prob.n_q:])
     # Check: forward solution with the calibrated rates against the protocol's end attitudes.
