@@ -242,25 +242,54 @@ def _model_and_jacobian(x: np.ndarray, attitudes: np.ndarray, ref: float):
     return h.reshape(-1), J.reshape(3 * P, N_PARAMETERS)
 
 
-def _weights(covariances: np.ndarray, counts: np.ndarray, warnings: list) -> np.ndarray:
-    """Cholesky factors L_p with L_p L_pᵀ = (Σ_p / n_p)⁻¹ (003 eq. (23)); singular ones floored."""
+def _whitener(covariances: np.ndarray, counts: np.ndarray, warnings: list, extra=None) -> np.ndarray:
+    """W with WᵀW = V(ε)⁻¹, V(ε) = diag(Σ_p / n_p) (003 eq. (23)) plus ``extra`` (3P × 3P).
+
+    ``extra`` carries errors shared between positions, e.g. those of a removed drift.  Singular
+    blocks (rounded or constant readings) are floored, with a warning.
+    """
     V = covariances / counts[:, None, None]
+    P = len(V)
     scale = np.median(np.trace(V, axis1=1, axis2=2)) / 3.0
     floored = False
-    out = np.empty_like(V)
+    full = np.zeros((3 * P, 3 * P))
     for p, Vp in enumerate(V):
         w, Q = np.linalg.eigh(Vp)
         floor = max(1e-6 * scale, 1e-300)
         if not np.all(w > floor):
             floored = True
             w = np.maximum(w, floor if scale > 0 else 1.0)
-        out[p] = Q @ np.diag(1.0 / np.sqrt(w)) @ Q.T  # symmetric V⁻¹ᐟ²
+        full[3 * p:3 * p + 3, 3 * p:3 * p + 3] = Q @ np.diag(w) @ Q.T
     if floored:
         warnings.append(
             "some positions have a (near-)zero sample variance, e.g. rounded or constant readings: "
             "their weight was floored and the intervals are not reliable"
         )
-    return out
+    if extra is not None:
+        full = full + np.asarray(extra, dtype=float)
+    Lc = np.linalg.cholesky(full)
+    return np.linalg.inv(Lc)  # W = L⁻¹: WᵀW = (L Lᵀ)⁻¹
+
+
+def drift_covariance(times_s, covariances, counts) -> np.ndarray:
+    """Covariance (3P × 3P) added to the position means by removing an affine drift (003 §II).
+
+    The drift is the difference of the last mean (the return to position 1, not fitted) and
+    the first over their time apart; position p is corrected by τ_p (m_E − m_1), τ_p = (t_p −
+    t_1)/(t_E − t_1).  ``times_s``, ``covariances`` and ``counts`` cover the P fitted positions
+    followed by the return.
+    """
+    t = np.asarray(times_s, float)
+    V = np.asarray(covariances, float) / np.asarray(counts, float)[:, None, None]
+    P = len(t) - 1
+    tau = (t[:P] - t[0]) / (t[-1] - t[0])
+    Vd = V[0] + V[-1]
+    extra = np.kron(np.outer(tau, tau), Vd)
+    # Cross terms with position 1, whose own error enters the drift estimate.
+    for q in range(1, P):
+        extra[0:3, 3 * q:3 * q + 3] += tau[q] * V[0]
+        extra[3 * q:3 * q + 3, 0:3] += tau[q] * V[0]
+    return extra
 
 
 def _initial_guess(means: np.ndarray, attitudes: np.ndarray, ref: float, estimate_angles: bool) -> np.ndarray:
@@ -292,6 +321,7 @@ def fit_field_sensor(
     sensor: str = "acc",
     estimate_angles: bool = True,
     positions=None,
+    mean_covariance_extra=None,
     max_iterations: int = 50,
     tolerance: float = 1e-10,
 ) -> FieldSensorCalibration:
@@ -316,6 +346,8 @@ def fit_field_sensor(
         axis, so the reference is vertical in the calibration frame).
     positions : sequence of int, optional
         1-based protocol number of each position, for messages.
+    mean_covariance_extra : array_like, shape (3P, 3P), optional
+        Covariance added to V(ε), e.g. :func:`drift_covariance` after a drift was removed.
     max_iterations, tolerance
         Stopping rule of the iteration of 003 section IV-B (relative step size).
 
@@ -353,7 +385,7 @@ def fit_field_sensor(
     positions = tuple(range(1, P + 1)) if positions is None else tuple(int(p) for p in positions)
     warnings: list[str] = []
     reasons: list[str] = []
-    L = _weights(C, n, warnings)
+    L = _whitener(C, n, warnings, extra=mean_covariance_extra)
 
     x = _initial_guess(m, Rs, float(reference), estimate_angles)
     free = np.arange(n_par)
@@ -364,8 +396,8 @@ def fit_field_sensor(
         h, J = _model_and_jacobian(x, Rs, float(reference))
         p = h - y  # 003 eq. (12)
         # 003 eq. (13), step 3: (Jᵀ W J) Δx = Jᵀ W p, solved in whitened least-squares form.
-        Jw = np.einsum("pij,pjk->pik", L, J.reshape(P, 3, -1)[:, :, free]).reshape(3 * P, -1)
-        pw = np.einsum("pij,pj->pi", L, p.reshape(P, 3)).reshape(-1)
+        Jw = L @ J[:, free]
+        pw = L @ p
         scale = np.linalg.norm(Jw, axis=0)
         if np.any(scale == 0) or not np.all(np.isfinite(Jw)):
             raise CalibrationError(
@@ -381,8 +413,8 @@ def fit_field_sensor(
             converged = True
             break
     h, J = _model_and_jacobian(x, Rs, float(reference))
-    Jw = np.einsum("pij,pjk->pik", L, J.reshape(P, 3, -1)[:, :, free]).reshape(3 * P, -1)
-    pw = np.einsum("pij,pj->pi", L, (h - y).reshape(P, 3)).reshape(-1)
+    Jw = L @ J[:, free]
+    pw = L @ (h - y)
     info = Jw.T @ Jw
     cond = float(np.linalg.cond(info))
     if not np.isfinite(cond) or cond > 1e15:

@@ -16,9 +16,9 @@ import numpy as np
 from ..errors import CalibrationError, InsufficientDataError
 from ..uncertainty import CONFIDENCE
 from ..validation import as_vectors, check_gravity
-from .accmag import FieldSensorCalibration, fit_field_sensor
+from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
 from .drift import Drift, estimate_drift
-from .gyro import GyroCalibration, fit_gyroscope
+from .gyro import GyroCalibration, fit_gyroscope, fit_gyroscope_full_turns
 from .protocols import Protocol, get_protocol
 from .segmentation import Segmentation, segment_recording
 from .sequence import check_sequence, saturated_samples
@@ -327,11 +327,18 @@ def calibrate_cube(
     static_valid = seg.static[:n_valid]
     positions = tuple(range(1, n_valid + 1))
 
+    centres_s = np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static])
+
     def field_fit(raw, means, covs, counts, ref, name):
+        extra = None
+        if name in drift and drift[name].significant:
+            idx = list(range(n_valid)) + [len(seg.static) - 1]
+            extra = drift_covariance(centres_s[idx], covs[idx], counts[idx])
         try:
             return fit_field_sensor(
                 means[:n_valid], covs[:n_valid], counts[:n_valid], proto.attitudes[:n_valid], reference=ref,
                 sensor=name, estimate_angles=proto.heading_known, positions=positions,
+                mean_covariance_extra=extra,
             )
         except InsufficientDataError as exc:
             if seq.first_wrong is None:
@@ -362,7 +369,16 @@ def calibrate_cube(
     noise_cov = np.average(still_covs, axis=0, weights=still_counts - 1)
     bias0 = np.vstack([w[s0:s1] for s0, s1 in static_valid]).mean(axis=0)
     estimate_bias = len(used) >= 4
-    if 3 * len(used) < (12 if estimate_bias else 9):
+    full_turns = bool(used) and all(abs(proto.rotations[k].angle_deg) >= 360.0 for k in used)
+    if full_turns and len(used) == 3:
+        gyr_res = fit_gyroscope_full_turns(
+            [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used],
+            [proto.attitudes[k].T @ proto.rotations[k].axis for k in used],
+            [proto.rotations[k].angle_deg for k in used],
+            sampling_rate_hz=fs, noise_cov=noise_cov, bias=bias0,
+            bias_covariance=noise_cov / still_counts.sum(), rotation_numbers=[k + 1 for k in used],
+        )
+    elif 3 * len(used) < (12 if estimate_bias else 9):
         msg = (
             f"gyr not calibrated: {len(used)} usable known rotation(s) before the mistake; at least 3 "
             "(4 to estimate the bias) are needed"
@@ -373,6 +389,19 @@ def calibrate_cube(
             )
         reasons.append(msg)
     else:
+        gyro_drift = {}
+        if "gyr" in drift and drift["gyr"].significant:
+            # The removed drift's error e = error of (m_E − m_1) enters sample i as τ_i e.
+            (f0, f1), (e0, e1) = seg.static[0], seg.static[-1]
+            v0 = np.cov(w[f0:f1].T) / (f1 - f0)
+            v1 = np.cov(w[e0:e1].T) / (e1 - e0)
+            span = centres_s[-1] - centres_s[0]
+            gyro_drift = {
+                "rate_error_weights": [
+                    (np.arange(*seg.rotations[k]) / fs - centres_s[0]) / span for k in used
+                ],
+                "rate_error_covariance": v0 + v1,
+            }
         gyr_res = fit_gyroscope(
             [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used],
             proto.quaternions[[k for k in used]],
@@ -384,6 +413,7 @@ def calibrate_cube(
             estimate_bias=estimate_bias,
             bias_covariance=noise_cov / still_counts.sum(),
             rotation_numbers=[k + 1 for k in used],
+            **gyro_drift,
         )
 
     for res in (acc_res, gyr_res, mag_res):

@@ -377,6 +377,8 @@ def fit_gyroscope(
     lambdas=LAMBDAS,
     estimate_bias: bool = True,
     bias_covariance=None,
+    rate_error_weights=None,
+    rate_error_covariance=None,
     rotation_numbers=None,
     max_iterations: int = 20,
     tolerance: float = 1e-10,
@@ -408,6 +410,11 @@ def fit_gyroscope(
     bias_covariance : array_like, shape (3, 3), optional
         Covariance of ``bias0`` when it is held (the still positions' covariance over their
         sample count, 003 eq. (23)); it fills the bias block of the covariance.
+    rate_error_weights : sequence of numpy.ndarray, optional
+        Per rotation, per sample, the factor τ by which an error e common to all samples enters
+        the rates (a removed drift: τ = (t − t_1)/(t_E − t_1)); with ``rate_error_covariance``
+        (of e, 3×3) its effect is added to the covariance.
+    rate_error_covariance : array_like, shape (3, 3), optional
     rotation_numbers : sequence of int, optional
         1-based protocol numbers of the rotations, for messages.
     max_iterations, tolerance
@@ -511,6 +518,10 @@ def fit_gyroscope(
     Uy[prob.a] += _tmm(ka, T)
     Uy[prob.c] += _tmm(kc, T)
     cov_t = np.tensordot(Uy, Sigma @ Uy, axes=([0, 1], [0, 1]))
+    if rate_error_weights is not None and rate_error_covariance is not None:
+        tau = np.concatenate([np.asarray(t, float).reshape(-1) for t in rate_error_weights])
+        G = np.tensordot(tau, Uy, axes=(0, 0))  # (3, n_θ): δθ = Gᵀ e
+        cov_t = cov_t + G.T @ np.asarray(rate_error_covariance, float).reshape(3, 3) @ G
     cov = np.zeros((12, 12))
     cov[:n_theta, :n_theta] = cov_t
     if not estimate_bias and bias_covariance is not None:
@@ -555,4 +566,82 @@ def fit_gyroscope(
         metrics=metrics,
         warnings=tuple(reasons + warnings),
         reasons=tuple(reasons),
+    )
+
+
+def fit_gyroscope_full_turns(
+    rotations,
+    body_axes,
+    angles_deg,
+    *,
+    sampling_rate_hz: float,
+    noise_cov,
+    bias,
+    bias_covariance,
+    rotation_numbers=None,
+) -> GyroCalibration:
+    """S_ω⁻¹ from full turns about three sensor axes (the ferraris protocol), bias from rest.
+
+    A 360° turn ends where it started whatever the axis, so the attitude residual (5) of 003
+    constrains only the turn's magnitude, not its axis.  Here, as in Ferraris' method, the
+    integrated rate of each turn must equal the turn's rotation vector:
+    ``S_ω⁻¹ ∫(ω̃ − b) dt = θ_k a_k`` (trapezoidal rule), three columns for the nine elements.
+    The covariance propagates the sample noise of the integrals and the error of the bias.
+    Like Ferraris' method it assumes each turn keeps a fixed axis; a wandering axis biases S⁻¹.
+
+    Parameters
+    ----------
+    rotations : sequence of numpy.ndarray (N_k, 3)
+        Raw rates over each turn (three turns about independent axes).
+    body_axes : array_like, shape (3, 3)
+        Unit axis of each turn in the sensor frame.
+    angles_deg : array_like, shape (3,)
+        Signed angle of each turn.
+    sampling_rate_hz, noise_cov
+        As in :func:`fit_gyroscope`.
+    bias, bias_covariance : array_like
+        Bias from the still positions and its covariance (noise / count, 003 eq. (23)).
+
+    Returns
+    -------
+    GyroCalibration
+    """
+    rots = [np.asarray(r, float) for r in rotations]
+    if len(rots) != 3:
+        raise InsufficientDataError(f"full-turn calibration needs three turns about independent axes; got {len(rots)}")
+    h = 1.0 / float(sampling_rate_hz)
+    b = np.asarray(bias, float).reshape(3)
+    Sigma = np.asarray(noise_cov, float).reshape(3, 3)
+    Vb = np.asarray(bias_covariance, float).reshape(3, 3)
+    U = np.zeros((3, 3))
+    T = np.zeros(3)
+    for k, r in enumerate(rots):
+        u = r - b
+        U[:, k] = h * (u.sum(axis=0) - 0.5 * (u[0] + u[-1]))  # trapezoidal rule
+        T[k] = h * (len(r) - 1)
+    A = np.asarray(body_axes, float).T * np.radians(np.asarray(angles_deg, float))
+    if abs(np.linalg.det(U)) < 1e-12 * np.prod(np.linalg.norm(U, axis=0)):
+        raise InsufficientDataError("the three turns are not about independent axes")
+    M = A @ np.linalg.inv(U)
+    # δM = −M δU U⁻¹, vec(δM) = −(U⁻ᵀ ⊗ M) vec(δU); δU_k = δs_k − T_k δb.
+    JU = -np.kron(np.linalg.inv(U).T, M)
+    dU_de = np.hstack([np.eye(9), -np.kron(T[:, None], np.eye(3))])
+    Je = np.vstack([JU @ dU_de, np.hstack([np.zeros((3, 9)), np.eye(3)])])
+    Ce = np.zeros((12, 12))
+    for k, r in enumerate(rots):
+        Ce[3 * k:3 * k + 3, 3 * k:3 * k + 3] = (len(r) - 1) * h * h * Sigma
+    Ce[9:, 9:] = Vb
+    cov = Je @ Ce @ Je.T
+    numbers = tuple(range(1, 4)) if rotation_numbers is None else tuple(int(n) for n in rotation_numbers)
+    return GyroCalibration(
+        S_inv=M,
+        b=b.copy(),
+        lam=float("nan"),
+        covariance=cov,
+        rotations=numbers,
+        sampling_rate_hz=float(sampling_rate_hz),
+        metrics={"method": "full_turns", "n_rotations": 3},
+        warnings=("gyr: full turns calibrate S⁻¹ from their integrated rates (Ferraris); the bias is the "
+                  "mean rate of the still positions",),
+        reasons=(),
     )

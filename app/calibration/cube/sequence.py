@@ -19,7 +19,16 @@ from . import quaternion as quat
 from .protocols import Protocol
 
 MAX_ELEMENT_DIFFERENCE = 0.1
-"""003 section VII-A-1: a larger difference in any quaternion element flags a wrong rotation."""
+"""003 section VII-A-1: a larger difference in any quaternion element flags a wrong rotation.
+
+The paper's rotations are 90°; a scale error of the pre-adjusted gyroscope grows with the angle,
+so for larger rotations the tolerance grows in proportion (0.1 per 90°, e.g. 0.4 for a 360° turn
+of the ferraris protocol — still far below the difference 2 between a full turn and none)."""
+
+
+def element_tolerance(angle_deg: float) -> float:
+    """Largest quaternion element difference accepted for a rotation of this angle."""
+    return MAX_ELEMENT_DIFFERENCE * max(1.0, abs(angle_deg) / 90.0)
 
 FACE_MAX_ANGLE_DEG = 45.0
 """The up axis seen by the accelerometer is the nearest axis within this angle."""
@@ -155,7 +164,8 @@ def check_sequence(
             entry["end_error_deg"] = float(np.degrees(2 * np.arccos(min(1.0, abs(float(q_end @ q_exp))))))
             entry["end_quaternion"] = q_end.tolist()
             entry["expected_quaternion"] = q_exp.tolist()
-            gyro_ok = diff <= MAX_ELEMENT_DIFFERENCE
+            entry["tolerance"] = element_tolerance(rot.angle_deg)
+            gyro_ok = diff <= entry["tolerance"]
         # A saturated rotation that lands on the right face is a range problem, not a mistake.
         wrong = (not face_ok) or (not gyro_ok and not (entry["saturated"] and face_ok))
         entry["ok"] = not wrong and not entry["saturated"]
@@ -165,7 +175,7 @@ def check_sequence(
             if not gyro_ok:
                 parts.append(
                     f"the gyroscope ends {entry['end_error_deg']:.0f}° from the protocol's attitude (largest "
-                    f"quaternion element difference {entry['max_element_difference']:.2f} > {MAX_ELEMENT_DIFFERENCE})"
+                    f"quaternion element difference {entry['max_element_difference']:.2f} > {entry['tolerance']:.2g})"
                 )
             if not face_ok:
                 parts.append(
