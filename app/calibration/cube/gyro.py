@@ -209,21 +209,29 @@ class _Problem:
         nb = len(self.a)
         self.n_r1 = 4 * nb
         R = len(rotations)
-        # Fixed sparsity pattern of J: r1 blocks, then the r2 rows.
-        rows1 = np.repeat(np.arange(self.n_r1).reshape(nb, 4), 4 + 4 + self.n_theta, axis=1)
-        cols_a = 4 * self.a[:, None] + np.arange(4)
-        cols_c = 4 * self.c[:, None] + np.arange(4)
-        cols_t = self.n_q + np.arange(self.n_theta)
-        cols1 = np.concatenate(
-            [np.repeat(cols_a[:, None, :], 4, axis=1), np.repeat(cols_c[:, None, :], 4, axis=1),
-             np.broadcast_to(cols_t, (nb, 4, self.n_theta))],
-            axis=2,
-        )
-        rows2 = self.n_r1 + np.arange(8 * R)
-        cols2 = np.concatenate([4 * self.first[:, None] + np.arange(4), 4 * self.last[:, None] + np.arange(4)], axis=1)
-        self._rows = np.concatenate([rows1.reshape(-1), rows2])
-        self._cols = np.concatenate([cols1.reshape(-1), cols2.reshape(-1)])
+        self._pattern = None
         self.n_rows = self.n_r1 + 8 * R
+
+    def pattern(self) -> tuple[np.ndarray, np.ndarray]:
+        """Row and column indices of the non-zeros of J (r1 blocks, then the r2 rows), cached."""
+        if self._pattern is None:
+            nb, nt = len(self.a), self.n_theta
+            idx = np.int32 if self.n_x < 2**31 else np.int64
+            rows1 = np.repeat(np.arange(self.n_r1, dtype=idx).reshape(nb, 4), 8 + nt, axis=1)
+            cols_a = 4 * self.a[:, None].astype(idx) + np.arange(4, dtype=idx)
+            cols_c = 4 * self.c[:, None].astype(idx) + np.arange(4, dtype=idx)
+            cols_t = self.n_q + np.arange(nt, dtype=idx)
+            cols1 = np.concatenate(
+                [np.repeat(cols_a[:, None, :], 4, axis=1), np.repeat(cols_c[:, None, :], 4, axis=1),
+                 np.broadcast_to(cols_t, (nb, 4, nt))],
+                axis=2,
+            )
+            R = len(self.first)
+            rows2 = self.n_r1 + np.arange(8 * R, dtype=idx)
+            cols2 = np.concatenate([4 * self.first[:, None] + np.arange(4), 4 * self.last[:, None] + np.arange(4)], axis=1)
+            self._pattern = (np.concatenate([rows1.reshape(-1), rows2]),
+                             np.concatenate([cols1.reshape(-1), cols2.reshape(-1).astype(idx)]))
+        return self._pattern
 
     def theta_parts(self, theta):
         M = theta[:9].reshape(3, 3).T  # columns of S⁻¹ (003 eq. (4))
@@ -284,8 +292,9 @@ class _Linearisation:
         p = self.prob
         vals1 = np.concatenate([self.A, self.C, self.Th], axis=2)
         vals2 = np.full(8 * len(p.first), self.sl)
+        rows, cols = p.pattern()
         return sp.csr_matrix(
-            (np.concatenate([vals1.reshape(-1), vals2]), (p._rows, p._cols)), shape=(p.n_rows, p.n_x)
+            (np.concatenate([vals1.reshape(-1), vals2]), (rows, cols)), shape=(p.n_rows, p.n_x)
         )
 
     def normal_equations(self):
