@@ -66,7 +66,7 @@ class GyroCalibration:
     b : numpy.ndarray, shape (3,)
         Bias, in the unit of the raw rates.
     lam : float
-        Regularisation parameter λ of eq. (9) that was used.
+        Regularisation parameter λ of eq. (9) that was used (NaN for the full-turn method).
     covariance : numpy.ndarray, shape (12, 12)
         Covariance of [columns of S_ω⁻¹, b] (003 eq. (28)).
     rotations : tuple of int
@@ -149,7 +149,7 @@ class GyroCalibration:
             "D": self.D.tolist(),
             "misalignment": self.misalignment.tolist(),
             "S_inv": self.S_inv.tolist(),
-            "lambda": self.lam,
+            "lambda": None if np.isnan(self.lam) else self.lam,
         }
 
     def to_dict(self) -> dict:
@@ -174,7 +174,7 @@ class GyroCalibration:
         return cls(
             S_inv=np.asarray(model["S_inv"], dtype=float),
             b=np.asarray(model["b"], dtype=float),
-            lam=float(model["lambda"]),
+            lam=float("nan") if model.get("lambda") is None else float(model["lambda"]),
             covariance=np.asarray(data["covariance"], dtype=float),
             rotations=tuple(data.get("rotations", ())),
             sampling_rate_hz=float(data["sampling_rate_hz"]),

@@ -149,3 +149,19 @@ def test_too_few_positions_and_bad_input():
         # Only the four +z positions: the model is not determined.
         fit_field_sensor(np.tile(m[:4], (2, 1)), np.tile(c[:4], (2, 1, 1)), np.tile(n[:4], 2),
                          np.tile(p.attitudes[:4], (2, 1, 1)), reference=GRAVITY)
+
+
+def test_eq8_matrix_is_the_product_of_the_two_inclinations_and_dof_is_72_minus_14():
+    from app.calibration.cube.accmag import direction_matrix, reference_direction
+
+    a, b = np.radians(15.0), np.radians(10.0)
+    Rx = np.array([[1, 0, 0], [0, np.cos(a), np.sin(a)], [0, -np.sin(a), np.cos(a)]])
+    Ry = np.array([[np.cos(b), 0, -np.sin(b)], [0, 1, 0], [np.sin(b), 0, np.cos(b)]])
+    np.testing.assert_allclose(direction_matrix(a, b), Rx @ Ry, atol=1e-15)  # 003 eq. (8)
+    np.testing.assert_allclose(reference_direction(a, b), (Rx @ Ry)[:, 2], atol=1e-15)
+    np.testing.assert_allclose(direction_matrix(0.0, 0.0), np.eye(3))
+    p = cube24()
+    m, c, n = simulate_position_means(np.random.default_rng(8), p, sensor="acc")
+    r = fit_field_sensor(m, c, n, p.attitudes, reference=GRAVITY)
+    assert r.metrics["dof"] == 3 * 24 - 14  # 003 section III-C: 72 equations, 14 unknowns
+    assert r.metrics["iterations"] < 8  # section VII-A: converged in less than 8 iterations
