@@ -148,3 +148,26 @@ def test_core_does_not_import_the_web_stack():
     code = "import sys, app.calibration.cube as c; print(any(m.split('.')[0] in ('fastapi', 'pydantic') for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_segmentation_finds_the_still_positions_inside_the_true_ones(good):
+    s, r = good
+    seg = r.segmentation
+    assert len(seg.static) == len(s.static_segments) == 25
+    for (a, b), (ta, tb) in zip(seg.static, s.static_segments):
+        assert ta <= a < b <= tb and (b - a) >= 0.8 * (tb - ta) - 2 * 0.3 * FS
+    for (a, b), (_, tb), (ta1, _) in zip(seg.rotations, s.static_segments[:-1], s.static_segments[1:]):
+        assert a <= tb and b >= ta1  # each rotation is integrated from rest to rest
+
+
+def test_drift_from_the_return_to_position_1():
+    from app.calibration.cube.drift import estimate_drift
+
+    fs = 10.0
+    rng = np.random.default_rng(0)
+    raw = rng.normal(0, 1e-3, (1000, 3)) + np.arange(1000)[:, None] / fs * np.array([1e-3, 0, -2e-3])
+    d = estimate_drift(raw, (0, 50), (950, 1000), sampling_rate_hz=fs)
+    np.testing.assert_allclose(d.rate, [1e-3, 0, -2e-3], atol=5e-6)
+    assert d.significant
+    fixed = d.remove(raw, fs)
+    assert abs(fixed[950:].mean(0) - fixed[:50].mean(0)).max() < 1e-12
