@@ -119,7 +119,11 @@ def test_fit_recovers_exact_parameters_without_noise():
     np.testing.assert_allclose(r.S, S, rtol=1e-9)
     np.testing.assert_allclose(r.b, b, rtol=1e-9)
     assert abs(r.alpha_deg - 15) < 1e-7 and abs(r.beta_deg - 10) < 1e-7
-    np.testing.assert_allclose(r.apply(m), np.einsum("pkj,k->pj", p.attitudes, [0, 0, 0]) + r.apply(m), atol=0)
+    # Calibrated means are the field in the sensor frame, R_pᵀ C_l^c B (003 eq. (7)).
+    from app.calibration.cube.accmag import reference_direction
+
+    expected = np.einsum("pkj,k->pj", p.attitudes, reference_direction(np.radians(15), np.radians(10)) * FIELD_UT)
+    np.testing.assert_allclose(r.apply(m), expected, atol=1e-6)
     back = FieldSensorCalibration.from_dict(r.to_dict())
     np.testing.assert_allclose(back.S, r.S)
     assert back.uncertainty() == r.uncertainty()
