@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 from fastapi import APIRouter, Depends, Query
 from fastapi.responses import Response
 
@@ -13,10 +14,10 @@ from app.api.schemas import (
     CalibrationIn,
     CalibrationList,
     CalibrationOut,
+    CubeIn,
     KnownOrientationIn,
     UnknownOrientationIn,
 )
-from app.calibration.registry import result_from_dict
 from app.io.exporters import EXPORTERS, export_calibration
 from app.store import OwnedStore
 
@@ -75,11 +76,24 @@ def _unknown_orientation_body(request: UnknownOrientationIn, store: OwnedStore) 
                                      label=request.label, **source)
 
 
+def _cube_body(request: CubeIn, store: OwnedStore) -> dict:
+    recording, path = store.get_recording(request.recording_id)
+    log = workflow.load_log(path, sampling_rate_hz=recording["sampling_rate_hz"], units=recording["units"],
+                            name=recording.get("filename") or "the recording")
+    unit = log.units["acc"]
+    gravity, notes = workflow.reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
+    result = workflow.calibrate_cube_log(log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut)
+    return workflow.calibration_body(result, {}, unit=unit, notes=notes, device_id=request.device_id,
+                                     label=request.label, recording_id=request.recording_id, units=log.units)
+
+
 @router.post("", status_code=201, response_model=CalibrationOut, summary="Compute and store a calibration")
 def create_calibration(request: CalibrationIn, store: OwnedStore = Depends(get_store)):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     if isinstance(request, KnownOrientationIn):
         body = _known_orientation_body(request, store)
+    elif isinstance(request, CubeIn):
+        body = _cube_body(request, store)
     else:
         body = _unknown_orientation_body(request, store)
     return store.add_calibration(body)
@@ -112,5 +126,5 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
 def apply(calibration_id: str, request: ApplyIn, store: OwnedStore = Depends(get_store)):
     """Samples calibrated with a stored calibration."""
     body = store.get_calibration(calibration_id)
-    calibrated = result_from_dict(body).apply(request.samples)
-    return {"samples": calibrated.tolist(), "unit": body.get("output_unit")}
+    calibrated = workflow.apply_calibration(body, request.samples, request.sensor)
+    return {"samples": np.asarray(calibrated).tolist(), "unit": body.get("output_unit")}

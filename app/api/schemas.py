@@ -94,11 +94,29 @@ class TriangularIn(UnknownOrientationIn):
     )
 
 
-METHODS = ("six_position", "orientations", "nonorthogonal", "triangular")
+class CubeIn(Strict):
+    """A multi-position recording of a cube (acc, gyr, optional mag): 003's method."""
+
+    method: Literal["cube"]
+    recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
+    protocol: Literal["cube24", "ferraris"] | dict[str, Any] = Field(
+        "cube24", description="`cube24`, `ferraris`, or {\"rotations\": [...], \"ups\": [...]}."
+    )
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    field_ut: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
+        None, description="Magnitude of the local magnetic field in µT; needed when the recording has a magnetometer."
+    )
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
+METHODS = ("six_position", "orientations", "nonorthogonal", "triangular", "cube")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
 CalibrationIn = Annotated[
-    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn], Field(discriminator="method")
+    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn], Field(discriminator="method")
 ]
 
 
@@ -126,6 +144,7 @@ class CalibrationList(BaseModel):
 
 class ApplyIn(Strict):
     samples: Annotated[list[Vec3], Field(min_length=1, max_length=1_000_000)]
+    sensor: Literal["acc", "gyr", "mag"] = Field("acc", description="Which sensor's model to apply (cube).")
 
 
 class ApplyOut(BaseModel):
