@@ -6,7 +6,7 @@ PORT ?= 8000
 BIN := $(VENV)/bin
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: run test install install-test browser bench clean
+.PHONY: run test install install-test system-deps bench clean
 
 # The service: a virtual environment, the package, and the server on $(HOST):$(PORT) with SQLite under ./var.
 run: $(VENV)/.installed
@@ -14,7 +14,7 @@ run: $(VENV)/.installed
 	HOST=$(HOST) PORT=$(PORT) $(BIN)/trical serve --host $(HOST) --port $(PORT)
 
 # The whole suite, with the test extras and the browser the end-to-end tests drive.
-test: $(VENV)/.installed-test browser
+test: $(VENV)/.installed-test system-deps
 	$(BIN)/python -m pytest
 
 install: $(VENV)/.installed
@@ -32,14 +32,19 @@ $(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
 	$(BIN)/python -m pip install -e '.[test]'
 	touch $@ $(VENV)/.installed
 
-# Debian's Chromium for the end-to-end tests (no browser download: the package registry only).
-browser:
-	@if [ ! -x "$(CHROMIUM)" ]; then \
-		echo "installing Debian's chromium for the end-to-end tests"; \
+# Debian's packages the tests drive for real: Chromium (end-to-end tests) and PostgreSQL (storage
+# tests). Installed from the package registry when missing; no browser or server downloads.
+system-deps:
+	@missing=""; \
+	[ -x "$(CHROMIUM)" ] || missing="$$missing chromium"; \
+	ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || missing="$$missing postgresql"; \
+	if [ -n "$$missing" ]; then \
+		echo "installing Debian's$$missing for the tests"; \
 		SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
-		$$SUDO apt-get update -q && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q chromium; \
+		$$SUDO apt-get update -q && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -q $$missing; \
 	fi
 	@test -x "$(CHROMIUM)" || { echo "chromium is missing at $(CHROMIUM) and could not be installed" >&2; exit 1; }
+	@ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || { echo "postgresql could not be installed" >&2; exit 1; }
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python bench/api_latency.py

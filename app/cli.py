@@ -19,10 +19,11 @@ from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import EXPORTERS, export_calibration
 from app.io.formats import FORMATS
-from app.store import NotFoundError, SQLiteStore
+from app.store import NotFoundError, open_store
 
 KNOWN_METHODS = ("six_position", "orientations")
 UNKNOWN_METHODS = ("nonorthogonal", "triangular")
+CUBE_METHODS = ("cube",)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -36,7 +37,11 @@ def _parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument("log", type=Path, help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
-    c.add_argument("--method", choices=KNOWN_METHODS + UNKNOWN_METHODS, default="six_position")
+    c.add_argument("--method", choices=KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS, default="six_position")
+    c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help="cube only")
+    c.add_argument("--field-ut", type=float, default=None, help="cube only: local magnetic field magnitude in µT")
+    c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
+    c.add_argument("--mag-unit", choices=("uT", "nT", "raw"), default=None)
     c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
                    help="triangular only: lm, or 002's descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=float, default=None, help="needed when the log has no time column")
@@ -62,29 +67,33 @@ def _serve(args, settings: Settings) -> int:
 
     host = args.host or settings.host
     port = args.port or settings.port
-    settings.database_path.parent.mkdir(parents=True, exist_ok=True)
-    print(f"trical {__version__} on http://{host}:{port}  (database {settings.database_path})", flush=True)
+    print(f"trical {__version__} on http://{host}:{port}  (database {settings.database_label})", flush=True)
     uvicorn.run("app.main:app", host=host, port=port, log_level="info")
     return 0
 
 
 def _calibrate(args, settings: Settings) -> int:
-    units = {"acc": args.unit} if args.unit else {}
+    units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
     log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, units=units, name=str(args.log),
                             format=args.log_format, lsb_per_g=args.lsb_per_g)
     recording = workflow.describe_log(log)
     unit = log.units["acc"]
     gravity, notes = workflow.reference_gravity(unit, args.gravity, args.latitude_deg, args.height_m)
-    if args.method in KNOWN_METHODS:
-        readings, used = workflow.readings_from_segments(recording, args.method, None)
+    extra: dict = {}
+    source: dict = {}
+    if args.method in CUBE_METHODS:
+        result = workflow.calibrate_cube_log(log, protocol=args.protocol, gravity=gravity, field_ut=args.field_ut)
+        source = {"units": log.units}
+    elif args.method in KNOWN_METHODS:
+        readings, source["segments_used"] = workflow.readings_from_segments(recording, args.method, None)
         result, extra = workflow.calibrate_known(args.method, readings, unit=unit, gravity=gravity)
     else:
-        means, used = workflow.means_from_segments(recording, None)
+        means, source["segments_used"] = workflow.means_from_segments(recording, None)
         result, extra = workflow.calibrate_unknown(args.method, means, unit=unit, gravity=gravity, solver=args.solver)
     body = workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=args.device_id,
-                                     label=str(args.log.name), segments_used=used)
+                                     label=str(args.log.name), **source)
     if not args.no_store:
-        body = SQLiteStore(settings.database_path).add_calibration(body)
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -94,11 +103,13 @@ def _calibrate(args, settings: Settings) -> int:
 
 def _print_summary(body: dict, recording: dict) -> None:
     print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples "
-          f"at {recording['sampling_rate_hz']:g} Hz; used {body['segments_used']}")
+          f"at {recording['sampling_rate_hz']:g} Hz; used {body.get('segments_used', 'all')}")
     if body.get("id"):
         print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
     for name, value in body["model"].items():
-        if name == "type":
+        if name == "type" or isinstance(value, dict) or value is None:
+            if isinstance(value, dict):
+                print(f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}")
             continue
         arr = np.atleast_2d(np.asarray(value, dtype=float))
         print(f"{name} =" if arr.shape[0] > 1 else f"{name} = " + "  ".join(f"{v: .6f}" for v in arr[0]))
@@ -108,13 +119,14 @@ def _print_summary(body: dict, recording: dict) -> None:
     m = body["metrics"]
     if "fit_error_max" in m:
         print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f})")
-    print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
+    if "norm_error_max" in m:
+        print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
     for w in body["warnings"]:
         print(f"warning: {w}")
 
 
 def _export(args, settings: Settings) -> int:
-    body = SQLiteStore(settings.database_path).get_calibration(args.id)
+    body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id)
     out = export_calibration(body, args.format)
     if args.output:
         args.output.write_text(out.content)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -21,9 +22,12 @@ class Settings:
     Attributes
     ----------
     database_url : str
-        ``sqlite:///relative/or/absolute/path.db`` (TRICAL_DATABASE_URL).
+        ``sqlite:///relative/or/absolute/path.db`` or ``postgresql://user:password@host/db``
+        (TRICAL_DATABASE_URL).
     max_upload_mb : float
         Largest accepted upload in MiB (TRICAL_MAX_UPLOAD_MB).
+    rate_limit_per_minute : float
+        Requests per minute one client may make to /api/ (TRICAL_RATE_LIMIT_PER_MINUTE; 0 = off).
     api_keys : tuple of str
         When non-empty, every API call needs ``Authorization: Bearer <key>`` (TRICAL_API_KEYS).
     host, port : str, int
@@ -34,6 +38,7 @@ class Settings:
 
     database_url: str = "sqlite:///./var/trical.db"
     max_upload_mb: float = 512.0
+    rate_limit_per_minute: float = 0.0
     api_keys: tuple[str, ...] = ()
     host: str = "127.0.0.1"
     port: int = 8000
@@ -42,20 +47,34 @@ class Settings:
     templates_dir: Path = field(default=PROJECT_ROOT / "templates")
 
     @property
-    def database_path(self) -> Path:
-        """Filesystem path of the SQLite database named by ``database_url``."""
-        prefix = "sqlite:///"
-        if not self.database_url.startswith(prefix):
-            raise SettingsError(
-                f"TRICAL_DATABASE_URL must look like sqlite:///path/to/trical.db; got {self.database_url!r}"
-            )
-        return Path(self.database_url[len(prefix):])
+    def is_sqlite(self) -> bool:
+        return self.database_url.startswith("sqlite:///")
+
+    @property
+    def database_path(self) -> Path | None:
+        """Filesystem path of the SQLite database, or None for PostgreSQL."""
+        if self.is_sqlite:
+            return Path(self.database_url[len("sqlite:///"):])
+        if self.database_url.startswith(("postgresql://", "postgres://")):
+            return None
+        raise SettingsError(
+            "TRICAL_DATABASE_URL must be sqlite:///path/to/trical.db or postgresql://user:password@host/db; "
+            f"got {self.database_url!r}"
+        )
 
     @property
     def recordings_dir(self) -> Path:
-        """Directory of uploaded recordings."""
-        base = self.data_dir if self.data_dir is not None else self.database_path.parent
-        return Path(base) / "recordings"
+        """Directory of uploaded recordings (with PostgreSQL, this replica's cache of them)."""
+        if self.data_dir is not None:
+            base = Path(self.data_dir)
+        else:
+            base = self.database_path.parent if self.is_sqlite else Path("var")
+        return base / "recordings"
+
+    @property
+    def database_label(self) -> str:
+        """The database for messages, without its password."""
+        return str(self.database_path) if self.is_sqlite else re.sub(r"//([^:@/]+):[^@]*@", r"//\1:***@", self.database_url)
 
     @property
     def max_upload_bytes(self) -> int:
@@ -75,6 +94,13 @@ class Settings:
                 raise SettingsError(f"TRICAL_MAX_UPLOAD_MB must be a number of MiB; got {env['TRICAL_MAX_UPLOAD_MB']!r}") from None
             if not kwargs["max_upload_mb"] > 0:
                 raise SettingsError("TRICAL_MAX_UPLOAD_MB must be positive")
+        if env.get("TRICAL_RATE_LIMIT_PER_MINUTE"):
+            try:
+                kwargs["rate_limit_per_minute"] = float(env["TRICAL_RATE_LIMIT_PER_MINUTE"])
+            except ValueError:
+                raise SettingsError("TRICAL_RATE_LIMIT_PER_MINUTE must be a number of requests per minute") from None
+            if kwargs["rate_limit_per_minute"] < 0:
+                raise SettingsError("TRICAL_RATE_LIMIT_PER_MINUTE must be 0 (off) or positive")
         if env.get("TRICAL_API_KEYS"):
             kwargs["api_keys"] = tuple(k.strip() for k in env["TRICAL_API_KEYS"].split(",") if k.strip())
         if env.get("TRICAL_DATA_DIR"):

@@ -13,14 +13,30 @@ from fastapi.staticfiles import StaticFiles
 
 from app import __version__
 from app.api import router as api_router
+from app.api.deps import bearer_token
 from app.api.errors import PayloadTooLarge, install_error_handlers
+from app.api.ratelimit import RateLimiter, retry_after
 from app.config import Settings
-from app.store import SQLiteStore
+from app.store import open_store
 from app.web import router as web_router
 
 
+SECURITY_HEADERS = {
+    "X-Content-Type-Options": "nosniff",
+    "X-Frame-Options": "DENY",
+    "Referrer-Policy": "no-referrer",
+    # The wizard reads the motion sensors of its own origin only.
+    "Permissions-Policy": "accelerometer=(self), gyroscope=(self), magnetometer=(self), camera=(), microphone=()",
+}
+CONTENT_SECURITY_POLICY = (
+    "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
+    "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
+)
+"""No CORS middleware: cross-origin browser calls are refused by default (DESIGN.md, issue 7)."""
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
-    """Build the FastAPI application; the SQLite database is created and migrated here."""
+    """Build the FastAPI application; the database is created and migrated here."""
     settings = settings or Settings.from_env()
     app = FastAPI(
         title="trical",
@@ -28,8 +44,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         summary="Calibration of accelerometers (and gyroscopes and magnetometers) of phones and IMU boards.",
     )
     app.state.settings = settings
-    app.state.store = SQLiteStore(settings.database_path)
-    settings.recordings_dir.mkdir(parents=True, exist_ok=True)
+    app.state.store = open_store(settings.database_url, settings.recordings_dir)
 
     @app.middleware("http")
     async def refuse_oversized_uploads(request: Request, call_next):
@@ -39,6 +54,30 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if length and length.isdigit() and int(length) > settings.max_upload_bytes + 64 * 1024:
             return JSONResponse({"detail": str(PayloadTooLarge(settings.max_upload_mb))}, status_code=413)
         return await call_next(request)
+
+    @app.middleware("http")
+    async def security_headers(request: Request, call_next):
+        response = await call_next(request)
+        for name, value in SECURITY_HEADERS.items():
+            response.headers.setdefault(name, value)
+        if not request.url.path.startswith(("/docs", "/redoc")):  # Swagger UI loads its own assets
+            response.headers.setdefault("Content-Security-Policy", CONTENT_SECURITY_POLICY)
+        return response
+
+    if settings.rate_limit_per_minute > 0:
+        limiter = RateLimiter(settings.rate_limit_per_minute)
+
+        @app.middleware("http")
+        async def rate_limit(request: Request, call_next):
+            if request.url.path.startswith("/api/"):
+                client = bearer_token(request) or (request.client.host if request.client else "unknown")
+                wait = limiter.acquire(client)
+                if wait > 0:
+                    return JSONResponse(
+                        {"detail": f"too many requests: at most {settings.rate_limit_per_minute:g} a minute "
+                                   f"(TRICAL_RATE_LIMIT_PER_MINUTE); retry in {retry_after(wait)} s"},
+                        status_code=429, headers={"Retry-After": retry_after(wait)})
+            return await call_next(request)
 
     install_error_handlers(app)
     app.include_router(api_router)

@@ -14,8 +14,10 @@ from pathlib import Path
 import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
+from app.calibration.cube import calibrate_cube
 from app.calibration.errors import InsufficientDataError
 from app.calibration.nonorthogonal import fit_nonorthogonal
+from app.calibration.registry import result_from_dict
 from app.calibration.triangular import fit_triangular
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
@@ -191,6 +193,39 @@ def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: 
     else:  # pragma: no cover - the schemas only route these two here
         raise CalibrationError(f"unknown magnitude method {method!r}")
     return result, holdout_metrics(result, holdout)
+
+
+GYR_TO_RAD_S = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "raw": 1.0}
+MAG_TO_UT = {"uT": 1.0, "nT": 1e-3, "raw": 1.0}
+
+
+def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None):
+    """003's multi-position calibration of a recording's acc, gyr and optional mag.
+
+    Gyroscope samples in deg/s are converted to rad/s and magnetometer samples in nT to µT first, so
+    that the gyroscope model maps rad/s (and the magnetometer µT) to the recorded values.
+    """
+    if log.gyr is None:
+        raise CalibrationError(
+            f"the recording has no gyroscope columns (found {', '.join(log.columns)}): the cube method needs "
+            "gyr_x, gyr_y, gyr_z beside the accelerometer"
+        )
+    gyr = log.gyr * GYR_TO_RAD_S[log.units["gyr"]]
+    mag = None if log.mag is None else log.mag * MAG_TO_UT[log.units["mag"]]
+    if mag is not None and field_ut is None:
+        raise CalibrationError("the recording has a magnetometer: give field_ut, the local field magnitude in µT")
+    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=log.sampling_rate_hz, protocol=protocol,
+                          gravity=gravity, field_ut=field_ut)
+
+
+def apply_calibration(body: dict, samples, sensor: str = "acc"):
+    """Calibrate samples of one sensor with a stored calibration."""
+    result = result_from_dict(body)
+    if body["model"]["type"] == "cube":
+        return result.apply(**{sensor: samples})[sensor]
+    if sensor != "acc":
+        raise CalibrationError(f"a {body['model']['type']} calibration has only an accelerometer model; drop `sensor`")
+    return result.apply(samples)
 
 
 def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:

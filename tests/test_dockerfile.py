@@ -61,3 +61,19 @@ def test_entry_command_and_health_check(tmp_path):
         assert (tmp_path / "data" / "trical.db").exists()
     finally:
         server.stop()
+
+
+def test_compose_runs_two_replicas_on_postgresql():
+    import yaml
+
+    compose = yaml.safe_load((ROOT / "docker-compose.yml").read_text())
+    services = compose["services"]
+    assert services["trical"]["deploy"]["replicas"] == 2
+    assert services["trical"]["build"] == "."
+    assert services["trical"]["environment"]["TRICAL_DATABASE_URL"].startswith("postgresql://")
+    assert "volumes" not in services["trical"]  # the replicas share nothing but the database
+    assert services["trical"]["depends_on"]["db"]["condition"] == "service_healthy"
+    assert services["db"]["image"].startswith("postgres:")
+    proxy = services["proxy"]
+    conf = proxy["volumes"][0].split(":")[0]
+    assert "proxy_pass http://trical" in (ROOT / conf).read_text()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 from fastapi import APIRouter, Depends, Query
 from fastapi.responses import Response
 
@@ -13,17 +14,17 @@ from app.api.schemas import (
     CalibrationIn,
     CalibrationList,
     CalibrationOut,
+    CubeIn,
     KnownOrientationIn,
     UnknownOrientationIn,
 )
-from app.calibration.registry import result_from_dict
 from app.io.exporters import EXPORTERS, export_calibration
-from app.store import SQLiteStore
+from app.store import OwnedStore
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
 
-def _source(request, store: SQLiteStore) -> tuple[dict | None, str, float, list[str]]:
+def _source(request, store: OwnedStore) -> tuple[dict | None, str, float, list[str]]:
     """The recording (if any), the unit, the reference magnitude and notes for a request."""
     recording = None
     unit = request.unit
@@ -45,7 +46,7 @@ def _source(request, store: SQLiteStore) -> tuple[dict | None, str, float, list[
     return recording, unit, gravity, notes + more
 
 
-def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> dict:
+def _known_orientation_body(request: KnownOrientationIn, store: OwnedStore) -> dict:
     recording, unit, gravity, notes = _source(request, store)
     source: dict = {}
     if recording is not None:
@@ -62,7 +63,7 @@ def _known_orientation_body(request: KnownOrientationIn, store: SQLiteStore) -> 
                                      label=request.label, **source)
 
 
-def _unknown_orientation_body(request: UnknownOrientationIn, store: SQLiteStore) -> dict:
+def _unknown_orientation_body(request: UnknownOrientationIn, store: OwnedStore) -> dict:
     recording, unit, gravity, notes = _source(request, store)
     source: dict = {}
     means = request.means
@@ -75,11 +76,24 @@ def _unknown_orientation_body(request: UnknownOrientationIn, store: SQLiteStore)
                                      label=request.label, **source)
 
 
+def _cube_body(request: CubeIn, store: OwnedStore) -> dict:
+    recording, path = store.get_recording(request.recording_id)
+    log = workflow.load_log(path, sampling_rate_hz=recording["sampling_rate_hz"], units=recording["units"],
+                            name=recording.get("filename") or "the recording")
+    unit = log.units["acc"]
+    gravity, notes = workflow.reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
+    result = workflow.calibrate_cube_log(log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut)
+    return workflow.calibration_body(result, {}, unit=unit, notes=notes, device_id=request.device_id,
+                                     label=request.label, recording_id=request.recording_id, units=log.units)
+
+
 @router.post("", status_code=201, response_model=CalibrationOut, summary="Compute and store a calibration")
-def create_calibration(request: CalibrationIn, store: SQLiteStore = Depends(get_store)):
+def create_calibration(request: CalibrationIn, store: OwnedStore = Depends(get_store)):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     if isinstance(request, KnownOrientationIn):
         body = _known_orientation_body(request, store)
+    elif isinstance(request, CubeIn):
+        body = _cube_body(request, store)
     else:
         body = _unknown_orientation_body(request, store)
     return store.add_calibration(body)
@@ -87,13 +101,13 @@ def create_calibration(request: CalibrationIn, store: SQLiteStore = Depends(get_
 
 @router.get("", response_model=CalibrationList, summary="List calibrations")
 def list_calibrations(device_id: str | None = Query(None, max_length=200),
-                      limit: int = Query(100, ge=1, le=1000), store: SQLiteStore = Depends(get_store)):
+                      limit: int = Query(100, ge=1, le=1000), store: OwnedStore = Depends(get_store)):
     """Calibrations, newest first, optionally of one device."""
     return {"items": store.list_calibrations(device_id=device_id, limit=limit)}
 
 
 @router.get("/{calibration_id}", response_model=CalibrationOut, summary="Read a calibration")
-def get_calibration(calibration_id: str, store: SQLiteStore = Depends(get_store)):
+def get_calibration(calibration_id: str, store: OwnedStore = Depends(get_store)):
     """One stored calibration."""
     return store.get_calibration(calibration_id)
 
@@ -102,7 +116,7 @@ def get_calibration(calibration_id: str, store: SQLiteStore = Depends(get_store)
             responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
                                          "application/yaml": {}, "text/csv": {}}}})
 def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(EXPORTERS)}"),
-           store: SQLiteStore = Depends(get_store)):
+           store: OwnedStore = Depends(get_store)):
     """The calibration as a file for firmware or analysis code.
 
     ``json`` (versioned schema), ``c`` (C99 header), ``yaml`` and ``csv`` carry the full correction
@@ -116,8 +130,8 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")
-def apply(calibration_id: str, request: ApplyIn, store: SQLiteStore = Depends(get_store)):
+def apply(calibration_id: str, request: ApplyIn, store: OwnedStore = Depends(get_store)):
     """Samples calibrated with a stored calibration."""
     body = store.get_calibration(calibration_id)
-    calibrated = result_from_dict(body).apply(request.samples)
-    return {"samples": calibrated.tolist(), "unit": body.get("output_unit")}
+    calibrated = workflow.apply_calibration(body, request.samples, request.sensor)
+    return {"samples": np.asarray(calibrated).tolist(), "unit": body.get("output_unit")}

@@ -1,14 +1,48 @@
-"""Dependencies shared by the routers: settings and the store, held on the application."""
+"""Dependencies shared by the routers: settings, the caller's identity and the store."""
+
+from __future__ import annotations
+
+import hashlib
+import hmac
 
 from fastapi import Request
 
 from app.config import Settings
-from app.store import SQLiteStore
+from app.store import OwnedStore, Store
+
+
+class Unauthorized(Exception):
+    """No valid API key was sent while TRICAL_API_KEYS is set (mapped to 401 in app.api.errors)."""
 
 
 def get_settings(request: Request) -> Settings:
     return request.app.state.settings
 
 
-def get_store(request: Request) -> SQLiteStore:
-    return request.app.state.store
+def bearer_token(request: Request) -> str | None:
+    """The token of an ``Authorization: Bearer <token>`` header, if any."""
+    scheme, _, token = request.headers.get("authorization", "").partition(" ")
+    return token.strip() if scheme.lower() == "bearer" and token.strip() else None
+
+
+def get_owner(request: Request) -> str | None:
+    """Who is calling: None when API keys are off, else a stable id derived from the key.
+
+    With TRICAL_API_KEYS set every API call needs one of the keys; each key sees only what it
+    created (the store filters by owner, so another key's resource is a 404).
+    """
+    keys = request.app.state.settings.api_keys
+    if not keys:
+        return None
+    token = bearer_token(request)
+    if token is None:
+        raise Unauthorized("this server needs an API key: send `Authorization: Bearer <key>`")
+    if not any(hmac.compare_digest(token.encode(), key.encode()) for key in keys):
+        raise Unauthorized("the API key is not valid for this server")
+    return "key:" + hashlib.sha256(token.encode()).hexdigest()[:32]
+
+
+def get_store(request: Request) -> OwnedStore:
+    """The store, seen as the calling owner: reads and writes are confined to its objects."""
+    store: Store = request.app.state.store
+    return OwnedStore(store, get_owner(request))

@@ -12,8 +12,8 @@ from app.api.deps import get_settings, get_store
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import RecordingOut
 from app.config import Settings
-from app.store import SQLiteStore
-from app.store.sqlite import new_id
+from app.store import OwnedStore
+from app.store.base import new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
@@ -48,7 +48,7 @@ def upload_recording(
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
     columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down"),
     settings: Settings = Depends(get_settings),
-    store: SQLiteStore = Depends(get_store),
+    store: OwnedStore = Depends(get_store),
 ):
     """Store a log and return its static segments with their orientation."""
     recording_id = new_id("rec")
@@ -69,7 +69,7 @@ def upload_recording(
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
-def get_recording(recording_id: str, store: SQLiteStore = Depends(get_store)):
+def get_recording(recording_id: str, store: OwnedStore = Depends(get_store)):
     """A recording's metadata and static segments."""
     body, _ = store.get_recording(recording_id)
     return body

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, ClassVar, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
@@ -45,18 +45,25 @@ class CommonIn(Strict):
     )
 
 
-class KnownOrientationIn(CommonIn):
-    readings: Annotated[list[ReadingIn], Field(min_length=1, max_length=10_000)] | None = None
+class FromRecordingIn(CommonIn):
+    """Readings given inline (the field named by ``INLINE``) or taken from a recording."""
+
+    INLINE: ClassVar[str]
     recording_id: str | None = Field(None, description="Use the static segments of an uploaded recording.")
     segments: list[int] | None = Field(None, description="Segment indices to use from the recording.")
 
     @model_validator(mode="after")
     def _one_source(self):
-        if (self.readings is None) == (self.recording_id is None):
-            raise ValueError("give either `readings` or `recording_id` (exactly one of them)")
+        if (getattr(self, self.INLINE) is None) == (self.recording_id is None):
+            raise ValueError(f"give either `{self.INLINE}` or `recording_id` (exactly one of them)")
         if self.segments is not None and self.recording_id is None:
             raise ValueError("`segments` selects segments of a recording: give `recording_id` too")
         return self
+
+
+class KnownOrientationIn(FromRecordingIn):
+    INLINE: ClassVar[str] = "readings"
+    readings: Annotated[list[ReadingIn], Field(min_length=1, max_length=10_000)] | None = None
 
 
 class SixPositionIn(KnownOrientationIn):
@@ -67,22 +74,13 @@ class OrientationsIn(KnownOrientationIn):
     method: Literal["orientations"]
 
 
-class UnknownOrientationIn(CommonIn):
+class UnknownOrientationIn(FromRecordingIn):
     """Still readings whose orientations are unknown: only the magnitude of gravity is known."""
 
+    INLINE: ClassVar[str] = "means"
     means: Annotated[list[Vec3], Field(min_length=1, max_length=100_000)] | None = Field(
         None, description="N×3 still readings in `unit`, in arbitrary orientations (N ≥ 9)."
     )
-    recording_id: str | None = Field(None, description="Use the static segments of an uploaded recording.")
-    segments: list[int] | None = Field(None, description="Segment indices to use (default: all).")
-
-    @model_validator(mode="after")
-    def _one_source(self):
-        if (self.means is None) == (self.recording_id is None):
-            raise ValueError("give either `means` or `recording_id` (exactly one of them)")
-        if self.segments is not None and self.recording_id is None:
-            raise ValueError("`segments` selects segments of a recording: give `recording_id` too")
-        return self
 
 
 class NonOrthogonalIn(UnknownOrientationIn):
@@ -96,11 +94,29 @@ class TriangularIn(UnknownOrientationIn):
     )
 
 
-METHODS = ("six_position", "orientations", "nonorthogonal", "triangular")
+class CubeIn(Strict):
+    """A multi-position recording of a cube (acc, gyr, optional mag): 003's method."""
+
+    method: Literal["cube"]
+    recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
+    protocol: Literal["cube24", "ferraris"] | dict[str, Any] = Field(
+        "cube24", description="`cube24`, `ferraris`, or {\"rotations\": [...], \"ups\": [...]}."
+    )
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    field_ut: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
+        None, description="Magnitude of the local magnetic field in µT; needed when the recording has a magnetometer."
+    )
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
+METHODS = ("six_position", "orientations", "nonorthogonal", "triangular", "cube")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
 CalibrationIn = Annotated[
-    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn], Field(discriminator="method")
+    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn], Field(discriminator="method")
 ]
 
 
@@ -128,6 +144,7 @@ class CalibrationList(BaseModel):
 
 class ApplyIn(Strict):
     samples: Annotated[list[Vec3], Field(min_length=1, max_length=1_000_000)]
+    sensor: Literal["acc", "gyr", "mag"] = Field("acc", description="Which sensor's model to apply (cube).")
 
 
 class ApplyOut(BaseModel):

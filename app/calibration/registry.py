@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .affine import MODEL_TYPE as AFFINE, AffineCalibration
+from .cube.calibrate import MODEL_TYPE as CUBE, CubeCalibration
 from .errors import CalibrationError
 from .nonorthogonal import NonOrthogonalCalibration
 from .triangular import TriangularCalibration
@@ -13,6 +14,7 @@ RESULT_TYPES: dict[str, type] = {
     AFFINE: AffineCalibration,
     "nonorthogonal": NonOrthogonalCalibration,
     "triangular": TriangularCalibration,
+    CUBE: CubeCalibration,
 }
 
 

@@ -22,6 +22,7 @@ from .errors import LogFormatError
 from .log import UNITS, LogData
 
 SNIFF_BYTES = 64 * 1024
+MAX_LISTED_COLUMNS = 20
 DELIMITERS = (",", ";", "\t")
 
 _AXIS = r"[ _.\-]?(?:\(?)(?P<axis>[xyz])(?:\)?)"
@@ -123,7 +124,9 @@ def _map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict
         )
     acc = channels.get("acc", {})
     if set(acc) != {"x", "y", "z"}:
-        listed = ", ".join(repr(n) for n in names)
+        listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
+        if len(names) > MAX_LISTED_COLUMNS:
+            listed += f" and {len(names) - MAX_LISTED_COLUMNS} more"
         raise LogFormatError(
             f"no accelerometer x, y and z columns among the header's columns {listed}: name them "
             "acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), optionally with a time column "
@@ -155,6 +158,13 @@ def _renamed(names: list[str], column_map: dict | None) -> list[str]:
 
 def _first_bad_line(path: Path, header_line: int, delimiter: str, columns: list[int], names: list[str]) -> str:
     """Describe the first line whose used columns are not all numbers (slow path, errors only)."""
+    try:
+        return _scan_for_bad_line(path, header_line, delimiter, columns, names)
+    except csv.Error as exc:
+        return f"a line after the header could not be read as delimited text ({exc}; lines are limited to {csv.field_size_limit()} characters per field)"
+
+
+def _scan_for_bad_line(path: Path, header_line: int, delimiter: str, columns: list[int], names: list[str]) -> str:
     with open(path, encoding="utf-8-sig", errors="replace", newline="") as f:
         for number, row in enumerate(csv.reader(f, delimiter=delimiter), start=1):
             if number <= header_line or not row or (len(row) == 1 and not row[0].strip()):

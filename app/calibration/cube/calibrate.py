@@ -1,0 +1,446 @@
+"""The cube method of 003_17911d0910b68c7e.txt end to end: one recording in, three sensors out.
+
+:func:`calibrate_cube` segments the recording into still positions and rotations, matches them
+to the protocol, removes the drift when the device returned to position 1 (section II), checks
+the sequence (section VII-A-1), and calibrates the accelerometer and the magnetometer
+(sections III-C, IV-B) and the gyroscope (sections III-B, IV-A) from the positions and rotations
+before the first mistake.  Every sensor follows ``raw = S f + b`` (003 eq. (1)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import CalibrationError, InsufficientDataError
+from ..uncertainty import CONFIDENCE
+from ..validation import as_vectors, check_gravity
+from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
+from .drift import Drift, estimate_drift
+from .gyro import GyroCalibration, fit_gyroscope, fit_gyroscope_full_turns
+from .protocols import Protocol, get_protocol
+from .segmentation import Segmentation, segment_recording
+from .sequence import check_sequence, saturated_samples
+
+MODEL_TYPE = "cube"
+
+RETURN_TOLERANCE = 0.05
+"""The return position must read within 5 % of the accelerometer's span of position 1."""
+
+
+@dataclass(frozen=True)
+class CubeCalibration:
+    """Result of :func:`calibrate_cube`.
+
+    Attributes
+    ----------
+    acc, mag : FieldSensorCalibration or None
+        Accelerometer and magnetometer (None when not given or not possible).
+    gyr : GyroCalibration or None
+        Gyroscope (None when too few usable rotations).
+    protocol : Protocol
+    sequence : tuple of dict
+        The check of every transition (003 section VII-A-1).
+    first_wrong_rotation : int or None
+        1-based number of the first rotation that did not match the protocol.
+    segmentation : Segmentation
+    drift : dict
+        Sensor → :class:`Drift` removed (empty without a return to position 1).
+    sampling_rate_hz, gravity, field_ut : float
+    metrics, warnings, reasons
+        ``ok`` is true when ``reasons`` is empty (every sensor's own reasons included).
+    """
+
+    acc: FieldSensorCalibration | None
+    gyr: GyroCalibration | None
+    mag: FieldSensorCalibration | None
+    protocol: Protocol
+    sequence: tuple
+    first_wrong_rotation: int | None
+    segmentation: Segmentation | None
+    drift: dict
+    sampling_rate_hz: float
+    gravity: float
+    field_ut: float | None = None
+    metrics: dict = field(default_factory=dict)
+    warnings: tuple = ()
+    reasons: tuple = ()
+
+    @property
+    def ok(self) -> bool:
+        """True when no quality gate failed."""
+        return not self.reasons
+
+    def apply(self, acc=None, gyr=None, mag=None) -> dict:
+        """Calibrate samples of each sensor given: ``f = S⁻¹ (raw − b)``.
+
+        Returns
+        -------
+        dict
+            ``{"acc": ..., "gyr": ..., "mag": ...}`` for the sensors given and calibrated.
+        """
+        out = {}
+        for name, raw in (("acc", acc), ("gyr", gyr), ("mag", mag)):
+            if raw is None:
+                continue
+            res = getattr(self, name)
+            if res is None:
+                raise CalibrationError(f"this calibration has no {name} model")
+            out[name] = res.apply(raw)
+        return out
+
+    def model(self) -> dict:
+        """``{"type": "cube", "acc": {...}, "gyr": {...}, "mag": {...}}`` (DESIGN.md §3)."""
+        return {
+            "type": MODEL_TYPE,
+            "acc": None if self.acc is None else self.acc.model(),
+            "gyr": None if self.gyr is None else self.gyr.model(),
+            "mag": None if self.mag is None else self.mag.model(),
+        }
+
+    def uncertainty(self) -> dict:
+        """95 % half-widths mirroring :meth:`model` (003 Appendices A and B)."""
+        return {
+            "confidence": CONFIDENCE,
+            "acc": None if self.acc is None else self.acc.uncertainty(),
+            "gyr": None if self.gyr is None else self.gyr.uncertainty(),
+            "mag": None if self.mag is None else self.mag.uncertainty(),
+        }
+
+    def to_dict(self) -> dict:
+        """Plain-JSON form: model, uncertainty, metrics, ok, warnings, reasons, sequence, details."""
+        return {
+            "method": "cube",
+            "model": self.model(),
+            "uncertainty": self.uncertainty(),
+            "metrics": dict(self.metrics),
+            "ok": self.ok,
+            "warnings": list(self.warnings),
+            "reasons": list(self.reasons),
+            "sequence": [dict(s) for s in self.sequence],
+            "first_wrong_rotation": self.first_wrong_rotation,
+            "protocol": self.protocol.to_dict(),
+            "segments": None if self.segmentation is None else self.segmentation.to_dict(),
+            "drift": {k: v.to_dict() for k, v in self.drift.items()},
+            "sampling_rate_hz": self.sampling_rate_hz,
+            "gravity": self.gravity,
+            "field_ut": self.field_ut,
+            "details": {
+                "acc": None if self.acc is None else self.acc.to_dict(),
+                "gyr": None if self.gyr is None else self.gyr.to_dict(),
+                "mag": None if self.mag is None else self.mag.to_dict(),
+            },
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "CubeCalibration":
+        """Rebuild a result from :meth:`to_dict` output (the segmentation is not kept)."""
+        if data.get("model", {}).get("type") != MODEL_TYPE:
+            raise CalibrationError(f"not a cube model: type {data.get('model', {}).get('type')!r}")
+        det = data["details"]
+        p = data["protocol"]
+        from . import quaternion as quat
+        from .protocols import parse_rotation
+
+        rotations = tuple(None if r is None else parse_rotation(r) for r in p["rotations"])
+        attitudes = np.asarray(p["attitudes"], dtype=float)
+        protocol = Protocol(
+            name=p["name"], attitudes=attitudes,
+            quaternions=np.array([quat.from_matrix(R) for R in attitudes]),
+            rotations=rotations, ups=tuple(p["ups"]), heading_known=bool(p["heading_known"]),
+        )
+        drift = {
+            k: Drift(rate=np.asarray(v["rate_per_s"]), t0_s=float(v["t0_s"]), change=np.asarray(v["change"]),
+                     z=None if v.get("z") is None else np.asarray(v["z"]))
+            for k, v in (data.get("drift") or {}).items()
+        }
+        return cls(
+            acc=None if det.get("acc") is None else FieldSensorCalibration.from_dict(det["acc"]),
+            gyr=None if det.get("gyr") is None else GyroCalibration.from_dict(det["gyr"]),
+            mag=None if det.get("mag") is None else FieldSensorCalibration.from_dict(det["mag"]),
+            protocol=protocol,
+            sequence=tuple(data.get("sequence", ())),
+            first_wrong_rotation=data.get("first_wrong_rotation"),
+            segmentation=None,
+            drift=drift,
+            sampling_rate_hz=float(data["sampling_rate_hz"]),
+            gravity=float(data["gravity"]),
+            field_ut=data.get("field_ut"),
+            metrics=dict(data.get("metrics", {})),
+            warnings=tuple(data.get("warnings", ())),
+            reasons=tuple(data.get("reasons", ())),
+        )
+
+
+def _position_stats(raw: np.ndarray, static) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mean, sample covariance and count of each still interval (003 Appendix A)."""
+    means, covs, counts = [], [], []
+    for a, b in static:
+        seg = raw[a:b]
+        means.append(seg.mean(axis=0))
+        covs.append(np.cov(seg.T) if len(seg) > 1 else np.zeros((3, 3)))
+        counts.append(len(seg))
+    return np.array(means), np.array(covs), np.array(counts)
+
+
+def calibrate_cube(
+    acc,
+    gyr,
+    mag=None,
+    *,
+    sampling_rate_hz: float,
+    protocol="cube24",
+    gravity: float,
+    field_ut: float | None = None,
+    gyro_range: float | None = None,
+    lam: float | None = None,
+    static_threshold: float | None = None,
+    min_static_s: float = 1.0,
+) -> CubeCalibration:
+    """Calibrate accelerometer, gyroscope and magnetometer from one cube recording (003).
+
+    Parameters
+    ----------
+    acc : array_like, shape (N, 3)
+        Raw accelerometer samples (any unit; S maps m/s² — or g — to it).
+    gyr : array_like, shape (N, 3)
+        Raw gyroscope samples in pre-adjusted rad/s (datasheet scale), required: the rotations
+        are found and checked with it.
+    mag : array_like, shape (N, 3), optional
+        Raw magnetometer samples.
+    sampling_rate_hz : float
+        Common sampling rate of the three sensors.
+    protocol : str, Protocol or dict
+        ``cube24`` (DESIGN.md §4), ``ferraris``, or ``{"rotations": [...], "ups": [...]}``.
+    gravity : float
+        Magnitude of gravity in the accelerometer's output unit (m/s², or 1 for g).
+    field_ut : float, optional
+        Magnitude of the Earth's field in µT; required with ``mag``.
+    gyro_range : float, optional
+        Gyroscope full scale in rad/s, to flag rotations that exceed it (otherwise clipping is
+        detected from flat tops).
+    lam : float, optional
+        Fixed λ of 003 eq. (9); by default the saturation rule of section IV-A-1.
+    static_threshold, min_static_s : float
+        Segmentation settings (see :func:`segment_recording`).
+
+    Returns
+    -------
+    CubeCalibration
+
+    Raises
+    ------
+    CalibrationError
+        Missing gyroscope, mismatched lengths, non-finite samples, a magnetometer without
+        ``field_ut``, or a recording whose still positions do not match the protocol.
+    InsufficientDataError
+        Too few still positions or rotations for the models.
+    """
+    if gyr is None:
+        raise CalibrationError(
+            "the cube method needs the gyroscope: the rotations between positions are found, checked "
+            "and calibrated with it (003 section III-B); record the gyroscope together with the accelerometer"
+        )
+    a = as_vectors(acc, "acc samples", min_rows=2)
+    w = as_vectors(gyr, "gyr samples", min_rows=2)
+    m = None if mag is None else as_vectors(mag, "mag samples", min_rows=2)
+    if len(w) != len(a) or (m is not None and len(m) != len(a)):
+        raise CalibrationError(
+            f"the sensors must be sampled together: acc has {len(a)} samples, gyr {len(w)}"
+            + ("" if m is None else f", mag {len(m)}") + "; resample them to one clock first"
+        )
+    g = check_gravity(gravity)
+    fs = float(sampling_rate_hz)
+    if not (np.isfinite(fs) and fs > 0):
+        raise CalibrationError(f"sampling_rate_hz must be a positive number; got {sampling_rate_hz!r}")
+    if m is not None and (field_ut is None or not np.isfinite(field_ut) or field_ut <= 0):
+        raise CalibrationError(
+            "a magnetometer needs the magnitude of the local field: give field_ut in µT "
+            "(e.g. from a geomagnetic model for the place and date)"
+        )
+    proto = get_protocol(protocol)
+    P = proto.n_positions
+
+    seg = segment_recording(w, sampling_rate_hz=fs, threshold=static_threshold, min_static_s=min_static_s)
+    n_found = len(seg.static)
+    if n_found not in (P, P + 1):
+        raise CalibrationError(
+            f"found {n_found} still positions in the recording, but protocol {proto.name} has {P} "
+            f"({P + 1} with the return to position 1): check the protocol, or hold the device still for "
+            f"at least {min_static_s:g} s in each position and do not pause during a rotation"
+        )
+    has_return = n_found == P + 1
+    w_raw = w
+    warnings: list[str] = []
+    reasons: list[str] = []
+
+    # 003 section II: affine drift from the return to position 1.
+    drift: dict = {}
+    if has_return:
+        a_first = a[seg.static[0][0]:seg.static[0][1]].mean(axis=0)
+        a_last = a[seg.static[-1][0]:seg.static[-1][1]].mean(axis=0)
+        span = np.ptp(np.array([a[s0:s1].mean(axis=0) for s0, s1 in seg.static]), axis=0).max()
+        if np.linalg.norm(a_last - a_first) > RETURN_TOLERANCE * span:
+            warnings.append(
+                "the last position does not read like position 1, so it is not the return of 003 section II: "
+                "no drift was removed"
+            )
+        else:
+            removed = []
+            for name, raw in (("acc", a), ("gyr", w), ("mag", m)):
+                if raw is None:
+                    continue
+                d = estimate_drift(raw, seg.static[0], seg.static[-1], sampling_rate_hz=fs)
+                drift[name] = d
+                if d.significant:
+                    removed.append(name)
+            # Only a significant drift is removed: removing noise would only add error.
+            if "acc" in removed:
+                a = drift["acc"].remove(a, fs)
+            if "gyr" in removed:
+                w = drift["gyr"].remove(w, fs)
+            if "mag" in removed:
+                m = drift["mag"].remove(m, fs)
+            if removed:
+                warnings.append(
+                    f"drift removed from {', '.join(removed)} (003 section II); the intervals do not include "
+                    "the uncertainty of the drift estimate"
+                )
+
+    acc_means, acc_covs, acc_counts = _position_stats(a, seg.static)
+    still_gyr = np.vstack([w[s0:s1] for s0, s1 in seg.static])
+    gyro_bias = still_gyr.mean(axis=0)
+    sat = saturated_samples(w_raw, gyro_range)
+    seq = check_sequence(
+        w, acc_means, seg.rotations, proto, sampling_rate_hz=fs, gyro_bias=gyro_bias, gravity=g, saturated=sat,
+    )
+    n_valid = min(seq.valid_positions, P)
+    if seq.first_wrong is not None:
+        reasons.append(seq.reason())
+    for entry in seq.rotations:
+        if entry["saturated"] and entry["rotation"] <= len(proto.rotations) and (
+            seq.first_wrong is None or entry["rotation"] < seq.first_wrong
+        ):
+            reasons.append(entry["message"])
+
+    static_valid = seg.static[:n_valid]
+    positions = tuple(range(1, n_valid + 1))
+
+    centres_s = np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static])
+
+    def field_fit(raw, means, covs, counts, ref, name):
+        extra = None
+        if name in drift and drift[name].significant:
+            idx = list(range(n_valid)) + [len(seg.static) - 1]
+            extra = drift_covariance(centres_s[idx], covs[idx], counts[idx])
+        try:
+            return fit_field_sensor(
+                means[:n_valid], covs[:n_valid], counts[:n_valid], proto.attitudes[:n_valid], reference=ref,
+                sensor=name, estimate_angles=proto.heading_known, positions=positions,
+                mean_covariance_extra=extra,
+            )
+        except InsufficientDataError as exc:
+            if seq.first_wrong is None:
+                raise
+            reasons.append(f"{name} not calibrated: {exc}")
+            return None
+
+    acc_res = field_fit(a, acc_means, acc_covs, acc_counts, g, "acc")
+    mag_res = None
+    if m is not None:
+        if not proto.heading_known:
+            warnings.append(
+                f"mag not calibrated: protocol {proto.name} leaves the headings unknown, so the field's "
+                "direction changes between positions in an unknown way; use cube24 or a protocol of known rotations"
+            )
+        else:
+            mag_means, mag_covs, mag_counts = _position_stats(m, seg.static)
+            mag_res = field_fit(m, mag_means, mag_covs, mag_counts, float(field_ut), "mag")
+
+    # Gyroscope: the known rotations before the mistake that did not saturate.
+    used = [
+        k for k, rot in enumerate(proto.rotations)
+        if rot is not None and k + 1 < n_valid and not seq.rotations[k]["saturated"]
+    ]
+    gyr_res = None
+    still_covs = np.array([np.cov(w[s0:s1].T) for s0, s1 in static_valid])
+    still_counts = np.array([s1 - s0 for s0, s1 in static_valid])
+    noise_cov = np.average(still_covs, axis=0, weights=still_counts - 1)
+    bias0 = np.vstack([w[s0:s1] for s0, s1 in static_valid]).mean(axis=0)
+    estimate_bias = len(used) >= 4
+    full_turns = bool(used) and all(abs(proto.rotations[k].angle_deg) >= 360.0 for k in used)
+    if full_turns and len(used) == 3:
+        gyr_res = fit_gyroscope_full_turns(
+            [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used],
+            [proto.attitudes[k].T @ proto.rotations[k].axis for k in used],
+            [proto.rotations[k].angle_deg for k in used],
+            sampling_rate_hz=fs, noise_cov=noise_cov, bias=bias0,
+            bias_covariance=noise_cov / still_counts.sum(), rotation_numbers=[k + 1 for k in used],
+        )
+    elif 3 * len(used) < (12 if estimate_bias else 9):
+        msg = (
+            f"gyr not calibrated: {len(used)} usable known rotation(s) before the mistake; at least 3 "
+            "(4 to estimate the bias) are needed"
+        )
+        if seq.first_wrong is None and not any(r["saturated"] for r in seq.rotations):
+            raise InsufficientDataError(
+                f"protocol {proto.name} has {len(used)} known rotation(s); the gyroscope needs at least 3"
+            )
+        reasons.append(msg)
+    else:
+        gyro_drift = {}
+        if "gyr" in drift and drift["gyr"].significant:
+            # The removed drift's error e = error of (m_E − m_1) enters sample i as τ_i e.
+            (f0, f1), (e0, e1) = seg.static[0], seg.static[-1]
+            v0 = np.cov(w[f0:f1].T) / (f1 - f0)
+            v1 = np.cov(w[e0:e1].T) / (e1 - e0)
+            span = centres_s[-1] - centres_s[0]
+            gyro_drift = {
+                "rate_error_weights": [
+                    (np.arange(*seg.rotations[k]) / fs - centres_s[0]) / span for k in used
+                ],
+                "rate_error_covariance": v0 + v1,
+            }
+        gyr_res = fit_gyroscope(
+            [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used],
+            proto.quaternions[[k for k in used]],
+            proto.quaternions[[k + 1 for k in used]],
+            sampling_rate_hz=fs,
+            noise_cov=noise_cov,
+            bias0=bias0,
+            lam=lam,
+            estimate_bias=estimate_bias,
+            bias_covariance=noise_cov / still_counts.sum(),
+            rotation_numbers=[k + 1 for k in used],
+            **gyro_drift,
+        )
+
+    for res in (acc_res, gyr_res, mag_res):
+        if res is not None:
+            reasons.extend(r for r in res.reasons if r not in reasons)
+            warnings.extend(x for x in res.warnings if x not in res.reasons)
+    metrics = {
+        "n_samples": int(len(a)),
+        "n_positions_found": n_found,
+        "n_positions_used": n_valid,
+        "rotations_used": [k + 1 for k in used],
+        "returned_to_start": has_return,
+        "duration_s": len(a) / fs,
+    }
+    return CubeCalibration(
+        acc=acc_res,
+        gyr=gyr_res,
+        mag=mag_res,
+        protocol=proto,
+        sequence=seq.rotations,
+        first_wrong_rotation=seq.first_wrong,
+        segmentation=seg,
+        drift=drift,
+        sampling_rate_hz=fs,
+        gravity=g,
+        field_ut=None if field_ut is None else float(field_ut),
+        metrics=metrics,
+        warnings=tuple(reasons + warnings),
+        reasons=tuple(reasons),
+    )
