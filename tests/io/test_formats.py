@@ -193,3 +193,8 @@ def test_the_samples_are_the_generator_output(tmp_path):
     assert written == sorted(p.name for p in SAMPLES.iterdir() if p.suffix in (".csv", ".txt", ".zip", ".json"))
     for name in written:
         assert (tmp_path / name).read_bytes() == (SAMPLES / name).read_bytes(), name
+
+
+def test_g_readings_declared_in_m_s2_get_the_unit_hint():
+    with pytest.raises(LogFormatError, match="about 1 g, but their unit is m/s\\^2: if they are in g, give acc_unit=g"):
+        read_log(SAMPLES / "generic_g.csv", units={"acc": "m/s^2"})

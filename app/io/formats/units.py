@@ -40,6 +40,11 @@ def refuse_linear_acceleration(acc: np.ndarray, unit: str, name: str, hint: str 
     g = 1.0 if unit == "g" else STANDARD_GRAVITY
     norm = median_norm(acc)
     if norm < LINEAR_FRACTION * g:
+        if unit == "m/s^2" and 0.6 <= norm <= 1.6:
+            raise LogFormatError(
+                f"the readings of {name} have a median norm of {norm:.3g}, about 1 g, but their unit is m/s^2: "
+                "if they are in g, give acc_unit=g (or name the unit in the header, e.g. acc_x (g))"
+            )
         raise LogFormatError(
             f"{name} holds linear acceleration (gravity removed): its median norm is {norm:.3g} {unit}, "
             f"not about {g:g} {unit}. Calibration needs the raw accelerometer including gravity"
