@@ -131,7 +131,9 @@ def test_gnss_logger_bad_line_is_named(tmp_path):
 
 def test_gnss_logger_gyroscope_is_interpolated_at_the_accelerometer_times():
     log = read_log(SAMPLES / "gnss_logger.txt")
-    assert log.gyr.shape == log.acc.shape and log.units == {"acc": "m/s^2", "gyr": "rad/s"}
+    assert log.gyr.shape == log.mag.shape == log.acc.shape
+    assert log.units == {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
+    np.testing.assert_allclose(np.median(log.mag, axis=0), [18.0, -6.0, -42.0], atol=0.2)
 
 
 def test_gnss_logger_without_uncal_accel(tmp_path):

@@ -86,6 +86,8 @@ def main(out: Path = HERE) -> None:
     t = np.arange(n) / RATE
     gyr = rng.normal(0.0, 0.003, (n, 3)) + [0.002, -0.001, 0.0015]
     linear = rng.normal(0.0, 0.03, (n, 3))
+    # A constant field plus noise (µT), not turned with the device: it only exercises the UncalMag lines.
+    mag = rng.normal(0.0, 0.4, (n, 3)) + [18.0, -6.0, -42.0]
 
     # phyphox "Acceleration with g": the three CSV flavours and the zip export.
     header, rows = phyphox(t, acc)
@@ -147,14 +149,19 @@ def main(out: Path = HERE) -> None:
         "# UncalGyro,utcTimeMillis,elapsedRealtimeNanos,UncalGyroXRadPerSec,UncalGyroYRadPerSec,"
         "UncalGyroZRadPerSec,DriftXRadPerSec,DriftYRadPerSec,DriftZRadPerSec",
         "#",
+        "# UncalMag,utcTimeMillis,elapsedRealtimeNanos,UncalMagXMicroT,UncalMagYMicroT,UncalMagZMicroT,"
+        "BiasXMicroT,BiasYMicroT,BiasZMicroT",
+        "#",
     ]
     boot_ns = 5_000_000_000_000
     utc_ms = EPOCH_NS // 1_000_000
-    for i, (ti, a, w) in enumerate(zip(t, acc, gyr)):
+    for i, (ti, a, w, b) in enumerate(zip(t, acc, gyr, mag)):
         ns = boot_ns + int(round(ti * 1e9))
         ms = utc_ms + int(round(ti * 1e3))
         lines.append(f"UncalAccel,{ms},{ns},{a[0]:.7g},{a[1]:.7g},{a[2]:.7g},0.0,0.0,0.0")
         lines.append(f"UncalGyro,{ms + 7},{ns + 7_000_000},{w[0]:.7g},{w[1]:.7g},{w[2]:.7g},0.0,0.0,0.0")
+        if i % 2 == 0:  # the magnetometer at half the rate
+            lines.append(f"UncalMag,{ms + 3},{ns + 3_000_000},{b[0]:.6g},{b[1]:.6g},{b[2]:.6g},0.0,0.0,0.0")
         if i % 50 == 0:
             lines.append(f"Fix,GPS,51.5,-0.12,45.0,0.0,4.0,0.0,{ms},0.1,0.0,{ns},2.0")
     _write("gnss_logger.txt", "\n".join(lines) + "\n")
