@@ -34,6 +34,9 @@ ARDUPILOT_SCALE_RANGE = (0.8, 1.2)
 ARDUPILOT_SOURCE = "libraries/AP_InertialSensor/AP_InertialSensor_Backend.cpp (_rotate_and_correct_accel)"
 ARDUPILOT_RANGE_SOURCE = "libraries/AP_InertialSensor/AP_InertialSensor_Params.cpp (@Range)"
 PX4_SOURCE = "src/lib/sensor_calibration/Accelerometer.hpp (Accelerometer::Correct)"
+PX4_SCALE_RANGE = (0.1, 3.0)
+"""min/max of CAL_ACCn_xSCALE in PX4's parameter reference (offsets have none); read from a table
+generated from PX4's parameter metadata, not from PX4's source itself."""
 
 
 def offset_scale(body: dict, target: str) -> dict:
@@ -137,9 +140,15 @@ def to_ardupilot(body: dict) -> Export:
 def to_px4(body: dict) -> Export:
     """PX4 parameters ``CAL_ACC0_XOFF``… (m/s²) and ``CAL_ACC0_XSCALE``…, as ``param set`` lines."""
     p = offset_scale(body, "PX4")
-    if not (np.all(np.isfinite(p["scale"])) and np.all(p["scale"] > 0)):
-        raise ExportError(f"the scales {p['scale'].tolist()} are not all positive: an axis of the log is inverted "
-                          "relative to the sensor; PX4's CAL_ACC0_*SCALE cannot express it: use the json export")
+    lo, hi = PX4_SCALE_RANGE
+    bad = [f"CAL_ACC0_{a}SCALE = {v:.4g}" for a, v in zip("XYZ", p["scale"]) if not lo <= v <= hi]
+    if bad:
+        raise ExportError(
+            f"PX4 would not accept this calibration: {', '.join(bad)} outside its parameter range {lo:g}…{hi:g}"
+            + (" (a negative scale means an axis of the log is inverted relative to the sensor)"
+               if np.any(p["scale"] < 0) else "")
+            + ": check the log's unit and axes, or use the json export"
+        )
     comments = describe(body) + [
         f"PX4 applies, per axis in the sensor frame ({PX4_SOURCE}):",
         "  a_i = CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF), m and CAL_ACC0_iOFF in m/s^2",
