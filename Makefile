@@ -32,12 +32,13 @@ $(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
 	$(BIN)/python -m pip install -e '.[test]'
 	touch $@ $(VENV)/.installed
 
-# Debian's packages the tests drive for real: Chromium (end-to-end tests) and PostgreSQL (storage
-# tests). Installed from the package registry when missing; no browser or server downloads.
+# Debian's packages the tests drive for real: Chromium (end-to-end tests), PostgreSQL (storage
+# tests) and a Java runtime (actipy's wearable readers). Installed from the package registry when missing; no browser or server downloads.
 system-deps:
 	@missing=""; \
 	[ -x "$(CHROMIUM)" ] || missing="$$missing chromium"; \
 	ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || missing="$$missing postgresql"; \
+	command -v java >/dev/null 2>&1 || missing="$$missing default-jre-headless"; \
 	if [ -n "$$missing" ]; then \
 		echo "installing Debian's$$missing for the tests"; \
 		SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
@@ -45,6 +46,7 @@ system-deps:
 	fi
 	@test -x "$(CHROMIUM)" || { echo "chromium is missing at $(CHROMIUM) and could not be installed" >&2; exit 1; }
 	@ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || { echo "postgresql could not be installed" >&2; exit 1; }
+	@command -v java >/dev/null 2>&1 || { echo "java could not be installed" >&2; exit 1; }
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python bench/api_latency.py

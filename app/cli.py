@@ -1,4 +1,4 @@
-"""The ``trical`` command: serve, calibrate, export.
+"""The ``trical`` command: serve, calibrate, autocal, export.
 
 ``--json`` prints the same JSON as the API.  Errors are one line on stderr and exit status 2
 (bad input) or 1 (anything else); never a traceback.
@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
@@ -54,6 +55,21 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--device-id", default=None)
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
+
+    a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), 002 pipeline")
+    a.add_argument("path", type=Path, help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
+    a.add_argument("--sampling-rate-hz", type=float, default=None, help="needed when the file has no time column")
+    a.add_argument("--unit", choices=workflow.AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
+    a.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm")
+    a.add_argument("--gravity", type=float, default=None, help="reference gravity in m/s^2")
+    a.add_argument("--latitude-deg", type=float, default=None, help="local normal gravity from latitude")
+    a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (002: one is enough)")
+    a.add_argument("--workers", type=int, default=None, help="parallel processes for a folder (default: CPU count)")
+    a.add_argument("--dask-scheduler", default=None, metavar="ADDRESS",
+                   help="run a folder on a Dask cluster (needs dask.distributed), e.g. tcp://host:8786")
+    a.add_argument("--device-id", default=None)
+    a.add_argument("--store", action="store_true", help="store the calibration(s) in the database")
+    a.add_argument("--json", action="store_true", help="print the API's JSON (a list for a folder)")
 
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", help="calibration id (cal_...)")
@@ -125,6 +141,140 @@ def _print_summary(body: dict, recording: dict) -> None:
         print(f"warning: {w}")
 
 
+class _ProgressBar:
+    """A one-line progress bar on stderr, drawn only on a terminal."""
+
+    def __init__(self, label: str, stream=None):
+        self.stream = stream or sys.stderr
+        self.label = label
+        self.last = -1
+
+    def __call__(self, done: int, total: int) -> None:
+        pct = int(100 * done / total) if total else 100
+        if pct == self.last:
+            return
+        self.last = pct
+        filled = pct * 30 // 100
+        self.stream.write(f"\r{self.label} [{'#' * filled}{'.' * (30 - filled)}] {pct:3d}% "
+                          f"{done / 1e6:.1f}/{total / 1e6:.1f} M samples")
+        if done >= total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def _autocal_options(args) -> dict:
+    return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
+                latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
+                device_id=args.device_id)
+
+
+def _autocal_job(path: str, options: dict) -> dict:
+    """One file of a folder run (top level, so that worker processes can pickle it)."""
+    try:
+        return workflow.autocalibrate_file(path, **options)
+    except (CalibrationError, LogFormatError) as exc:
+        return {"label": Path(path).name, "ok": False, "error": str(exc)}
+    except Exception as exc:  # a worker must report, never take the run down
+        return {"label": Path(path).name, "ok": False, "error": f"{type(exc).__name__}: {exc}"}
+
+
+def _autocal(args, settings: Settings) -> int:
+    options = _autocal_options(args)
+    if args.path.is_dir():
+        return _autocal_folder(args, settings, options)
+    progress = _ProgressBar(args.path.name) if sys.stderr.isatty() else None
+    body = workflow.autocalibrate_file(args.path, progress=progress, **options)
+    if args.store:
+        body = SQLiteStore(settings.database_path).add_calibration(body)
+    if args.json:
+        print(json.dumps(body, indent=2))
+    else:
+        _print_autocal(body)
+    return 0 if body["ok"] else 3
+
+
+def _print_autocal(body: dict) -> None:
+    det, m = body["detection"], body["metrics"]
+    print(f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
+          f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}")
+    print("points per subset C_ij: " + ", ".join(f"{k} {v}" for k, v in body["selection"].items()))
+    model = body["model"]
+    print("K =")
+    for row in model["K"]:
+        print("   " + "  ".join(f"{v: .6f}" for v in row))
+    print("o = " + "  ".join(f"{v: .6f}" for v in model["o"]))
+    if body["comparison"]:
+        print(f"{'method':<22}{'before mg':>10}{'after mg':>10}{'R %':>9}  points")
+        for name, row in body["comparison"].items():
+            if row.get("error_after_mg") is None:
+                print(f"{name:<22}{'-':>10}{'-':>10}{'-':>9}  {row.get('count')}")
+                continue
+            print(f"{name:<22}{row['error_before_mg']:>10.2f}{row['error_after_mg']:>10.2f}"
+                  f"{row['improvement_pct'] or 0:>9.0f}  {row.get('count')}")
+    for w in body["warnings"]:
+        print(f"warning: {w}")
+
+
+def _folder_files(folder: Path) -> list[Path]:
+    from app.io.arrays import SUFFIXES
+
+    files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in SUFFIXES)
+    if not files:
+        raise LogFormatError(f"{folder} holds no .npy, .parquet or .csv recordings")
+    return files
+
+
+def _autocal_folder(args, settings: Settings, options: dict) -> int:
+    files = _folder_files(args.path)
+    paths = [str(p) for p in files]
+    if args.dask_scheduler:
+        try:
+            from dask.distributed import Client
+        except ImportError:
+            raise CalibrationError(
+                "--dask-scheduler needs dask.distributed, which is not installed: pip install 'dask[distributed]' "
+                "(or leave --dask-scheduler out to use local processes)"
+            ) from None
+        with Client(args.dask_scheduler) as client:
+            futures = client.map(_autocal_job, paths, options=options, pure=False)
+            bodies = client.gather(futures)
+    else:
+        from concurrent.futures import ProcessPoolExecutor
+
+        workers = args.workers or min(len(paths), os.cpu_count() or 1)
+        if workers <= 1:
+            bodies = [_autocal_job(p, options) for p in paths]
+        else:
+            with ProcessPoolExecutor(max_workers=workers) as pool:
+                bodies = list(pool.map(_autocal_job, paths, [options] * len(paths)))
+    if args.store:
+        store = SQLiteStore(settings.database_path)
+        bodies = [store.add_calibration(b) if "error" not in b else b for b in bodies]
+    if args.json:
+        print(json.dumps(bodies, indent=2))
+    else:
+        _print_folder_table(bodies)
+    return 0 if all(b.get("ok") for b in bodies) else 3
+
+
+def _print_folder_table(bodies: list[dict]) -> None:
+    name_w = max(8, *(len(b.get("label") or "") for b in bodies))
+    print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'before mg':>10}{'after mg':>10}{'R %':>8}  note")
+    for b in bodies:
+        if "error" in b:
+            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>10}{'':>10}{'':>8}  {b['error']}")
+            continue
+        m = b["metrics"]
+        before = "-" if m.get("error_before_mg") is None else f"{m['error_before_mg']:.2f}"
+        after = "-" if m.get("error_after_mg") is None else f"{m['error_after_mg']:.2f}"
+        r = "-" if not m.get("improvement_pct") else f"{m['improvement_pct']:.0f}"
+        note = b["reasons"][0] if b["reasons"] else ""
+        print(f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}"
+              f"{before:>10}{after:>10}{r:>8}  {note[:100]}")
+    n_ok = sum(1 for b in bodies if b.get("ok"))
+    print(f"{n_ok} of {len(bodies)} recordings calibrated")
+
+
 def _export(args, settings: Settings) -> int:
     body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id)
     out = export_calibration(body, args.format)
@@ -140,7 +290,7 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
         settings = Settings.from_env()
-        command = {"serve": _serve, "calibrate": _calibrate, "export": _export}[args.command]
+        command = {"serve": _serve, "calibrate": _calibrate, "autocal": _autocal, "export": _export}[args.command]
         return command(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError) as exc:
         print(f"trical: error: {exc}", file=sys.stderr)

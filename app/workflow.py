@@ -14,11 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
-from app.calibration.cube import calibrate_cube
 from app.calibration.errors import InsufficientDataError
-from app.calibration.nonorthogonal import fit_nonorthogonal
-from app.calibration.registry import result_from_dict
-from app.calibration.triangular import fit_triangular
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
@@ -184,6 +180,11 @@ def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[lis
 
 
 def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: str = "lm", holdout=None):
+    # Imported here, not at the top: the models need scipy.optimize, which the CLI's autocal
+    # imports on the other core while detection runs (tests/test_cli_autocal.py).
+    from app.calibration.nonorthogonal import fit_nonorthogonal
+    from app.calibration.triangular import fit_triangular
+
     """Run ``nonorthogonal`` (000 Approach 1) or ``triangular`` (002) on still readings."""
     gates = dict(plausible_scale=None, max_offset=math.inf) if unit == "raw" else {}
     if method == "nonorthogonal":
@@ -200,6 +201,8 @@ MAG_TO_UT = {"uT": 1.0, "nT": 1e-3, "raw": 1.0}
 
 
 def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None):
+    from app.calibration.cube import calibrate_cube  # scipy.stats: see calibrate_unknown
+
     """003's multi-position calibration of a recording's acc, gyr and optional mag.
 
     Gyroscope samples in deg/s are converted to rad/s and magnetometer samples in nT to µT first, so
@@ -220,6 +223,8 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
 
 def apply_calibration(body: dict, samples, sensor: str = "acc"):
     """Calibrate samples of one sensor with a stored calibration."""
+    from app.calibration.registry import result_from_dict  # the registry imports every model
+
     result = result_from_dict(body)
     if body["model"]["type"] == "cube":
         return result.apply(**{sensor: samples})[sensor]
@@ -235,3 +240,74 @@ def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str]
     body["warnings"] = list(body["warnings"]) + notes
     body.update(unit=unit, output_unit=OUTPUT_UNIT[unit], **fields)
     return body
+
+
+AUTOCAL_UNITS = ("g", "m/s^2")
+
+
+def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,
+                       solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
+                       height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
+                       **fields) -> dict:
+    """Auto-calibrate a long recording by the pipeline of 002 and return the calibration body.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        ``.npy`` (N×3, or N×4 with time first; memory-mapped), Parquet or CSV.
+    sampling_rate_hz : float, optional
+        Needed when the file has no time column.
+    unit : {"g", "m/s^2"}, optional
+        The accelerometer unit; the file's (header) unit, else m/s², when omitted.
+    progress : callable, optional
+        ``progress(done_samples, total_samples)``.
+    solver : str
+        Solver of the 9-parameter fit (``lm``, ``gradient``, ``fixed16``, ``fixed32``).
+    gravity, latitude_deg, height_m : float, optional
+        Reference gravity for m/s² input (see :func:`reference_gravity`).
+    detection, selection : dict, optional
+        Options of :class:`app.calibration.stationary_002.RestAccumulator` and
+        :func:`app.calibration.autocal.autocalibrate`.
+    **fields
+        Added to the body (``device_id``, ``label``...).
+
+    Returns
+    -------
+    dict
+        The body of :func:`calibration_body`: ``method: "autocal"``, ``model`` (triangular K, o),
+        ``metrics`` (``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set),
+        ``comparison``, ``selection``, ``detection``, ``ok``, ``warnings``, ``reasons``.
+    """
+    import importlib
+    import sys
+    import threading
+
+    from app.calibration.stationary_002 import detect_rest_segments
+
+    # The fit needs scipy.optimize (~0.5 s to import): import it on the other core while this one
+    # reads the recording (numpy releases the GIL in its loops).
+    preload = None
+    if "app.calibration.autocal" not in sys.modules:
+        preload = threading.Thread(
+            target=lambda: [importlib.import_module(m) for m in ("app.calibration.autocal", "scipy.special")],
+            daemon=True)
+        preload.start()
+    path = Path(path)
+    log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path))
+    unit = log.units["acc"]
+    if unit not in AUTOCAL_UNITS:
+        raise CalibrationError(
+            f"auto-calibration needs samples in g or m/s^2 (its thresholds are fractions of g); {path.name} is in "
+            f"{unit!r}: convert the counts to g first, or give --unit g / unit: g if they already are"
+        )
+    g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
+    rest = detect_rest_segments(log.acc, log.sampling_rate_hz, gravity=g, progress=progress, **(detection or {}))
+    if preload is not None:
+        preload.join()
+    from app.calibration.autocal import autocalibrate
+
+    result = autocalibrate(rest, solver=solver, **(selection or {}))
+    fields.setdefault("label", path.name)
+    return calibration_body(result, {}, unit=unit, notes=notes, recording={
+        "format": log.format, "n_samples": log.n_samples, "sampling_rate_hz": log.sampling_rate_hz,
+        "duration_s": log.n_samples / log.sampling_rate_hz}, **fields)

@@ -11,6 +11,7 @@ from app.api.deps import get_store
 from app.api.schemas import (
     ApplyIn,
     ApplyOut,
+    AutocalIn,
     CalibrationIn,
     CalibrationList,
     CalibrationOut,
@@ -94,9 +95,21 @@ def create_calibration(request: CalibrationIn, store: OwnedStore = Depends(get_s
         body = _known_orientation_body(request, store)
     elif isinstance(request, CubeIn):
         body = _cube_body(request, store)
+    elif isinstance(request, AutocalIn):
+        body = _autocal_body(request, store)
     else:
         body = _unknown_orientation_body(request, store)
     return store.add_calibration(body)
+
+
+def _autocal_body(request: AutocalIn, store: OwnedStore) -> dict:
+    recording, path = store.get_recording(request.recording_id)
+    return workflow.autocalibrate_file(
+        path, sampling_rate_hz=recording["sampling_rate_hz"], unit=request.unit or recording["units"]["acc"],
+        solver=request.solver, gravity=request.gravity, latitude_deg=request.latitude_deg,
+        height_m=request.height_m, detection={"all_axes": True} if request.all_axes else None,
+        device_id=request.device_id, label=request.label or recording.get("filename"),
+        recording_id=request.recording_id)
 
 
 @router.get("", response_model=CalibrationList, summary="List calibrations")

@@ -17,6 +17,8 @@ from app.store.base import new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
+KEPT_SUFFIXES = (".zip", ".npy", ".parquet", ".pq", ".cwa", ".gt3x", ".bin")
+"""Uploads whose suffix names their format keep it; anything else is read as text (CSV-like)."""
 
 
 def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
@@ -38,7 +40,7 @@ def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
 
 @router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log")
 def upload_recording(
-    file: UploadFile = File(..., description="A log: CSV with a header row, or a phyphox / Sensor Logger zip."),
+    file: UploadFile = File(..., description="A log: CSV with a header row, a phyphox / Sensor Logger zip, or .npy / .parquet samples."),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
@@ -52,8 +54,8 @@ def upload_recording(
 ):
     """Store a log and return its static segments with their orientation."""
     recording_id = new_id("rec")
-    suffix = ".zip" if (file.filename or "").lower().endswith(".zip") else ".csv"
-    dest = settings.recordings_dir / f"{recording_id}{suffix}"
+    suffix = Path(file.filename or "").suffix.lower()
+    dest = settings.recordings_dir / f"{recording_id}{suffix if suffix in KEPT_SUFFIXES else '.csv'}"
     save_upload(file.file, dest, settings.max_upload_bytes, settings.max_upload_mb)
     try:
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}

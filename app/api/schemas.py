@@ -112,11 +112,27 @@ class CubeIn(Strict):
     label: Annotated[str, Field(max_length=500)] | None = None
 
 
-METHODS = ("six_position", "orientations", "nonorthogonal", "triangular", "cube")
+class AutocalIn(Strict):
+    """Auto-calibration of an uploaded long recording by the pipeline of 002 (issue 4)."""
+
+    method: Literal["autocal"]
+    recording_id: str = Field(description="An uploaded recording (POST /api/v1/recordings).")
+    unit: Literal["m/s^2", "g"] | None = Field(None, description="Overrides the recording's accelerometer unit.")
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = "lm"
+    all_axes: bool = Field(False, description="Every axis must pass the max − min test (002: one axis).")
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
+METHODS = ("six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
 CalibrationIn = Annotated[
-    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn], Field(discriminator="method")
+    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn],
+    Field(discriminator="method"),
 ]
 
 

@@ -3,7 +3,6 @@
 import math
 
 import numpy as np
-from scipy.optimize import linprog
 
 from .errors import CalibrationError, InsufficientDataError
 
@@ -84,6 +83,8 @@ def one_hemisphere_axis(vectors: np.ndarray) -> np.ndarray | None:
     lie in one open hemisphere exactly when the optimum t is positive.  A fit of a sphere or an
     ellipsoid to such readings cannot separate the offset from the scale along w.
     """
+    from scipy.optimize import linprog  # here, not at the top: scipy.optimize takes ~0.5 s to import
+
     d = sphere_directions(np.asarray(vectors, dtype=float))
     n = len(d)
     res = linprog(

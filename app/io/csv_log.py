@@ -15,8 +15,6 @@ import re
 from pathlib import Path
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.csv as pacsv
 
 from .errors import LogFormatError
 from .log import UNITS, LogData
@@ -206,6 +204,9 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks, text in a numeric column
         (with its line number), a missing sampling rate.
     """
+    import pyarrow as pa  # here, not at the top: .npy logs need no pyarrow
+    import pyarrow.csv as pacsv
+
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
     text = _decode_head(head, name)

@@ -6,8 +6,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.calibration.registry import affine_correction, result_from_dict
-
 from .errors import ExportError
 
 CORRECTION_SOURCE = {
@@ -41,6 +39,8 @@ def _affine_correction(body: dict) -> tuple[np.ndarray, np.ndarray]:
     if kind == "affine":
         X = np.asarray(body["model"]["X"], dtype=float)
         return np.linalg.inv(X), np.asarray(body["model"]["y"], dtype=float)
+    from app.calibration.registry import affine_correction, result_from_dict  # every model: see app/workflow.py
+
     return affine_correction(result_from_dict(body))
 
 

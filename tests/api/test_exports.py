@@ -79,7 +79,7 @@ def test_yaml_reproduces_the_calibration(client):
 
 
 def test_yaml_is_read_alike_by_a_yaml_parser(client):
-    yaml = pytest.importorskip("yaml")
+    import yaml
     cal = calibrate(client, seed_table(1) / G0, unit="g")
     text = export(client, cal, "yaml").text
     assert yaml.safe_load(text) == tiny_yaml(text)

@@ -30,7 +30,9 @@ def test_paste_six_readings(page, server):
     np.testing.assert_allclose(read_matrix(page, "#result-y").ravel(), expected.y, atol=1e-6)
     assert "passed its checks" in page.text_content("#result-ok")
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href])")
-    assert [name for name, _ in links] == ["JSON", "C header"]
+    assert [name for name, _ in links] == ["JSON", "C header", "ArduPilot", "PX4", "YAML", "CSV"]
+    for name, href in links:  # every link is a real export of this calibration
+        assert page.request.get(href).status == 200, name
     assert page.errors == []
 
 

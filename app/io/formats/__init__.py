@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
+from ..arrays import is_array_file, read_array_log
 from ..errors import LogFormatError
 from ..log import LogData
 from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger
@@ -142,6 +143,8 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     """
     if format not in FORMATS:
         raise LogFormatError(f"unknown format {format!r}: use one of {', '.join(FORMATS)}")
+    if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
+        return read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
     column_map = parse_column_map(columns)
     s = sniff(path, name)
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):

@@ -1,0 +1,65 @@
+"""Wearable device files (.cwa Axivity, .gt3x ActiGraph, .bin GENEActiv) through actipy — optional.
+
+The decoding is actipy's (``actipy.read_device``; its Java parsers need a Java runtime, which
+Debian's ``default-jre-headless`` provides).  It is an optional extra, never a run-time dependency:
+``pip install 'trical[wearables]'`` enables it; without it these files are refused with a 415 that
+says so.  trical asks actipy for the raw samples only — no low-pass filter, no gravity calibration,
+no non-wear flags and no resampling — so that the auto-calibration of 002 sees what the device
+recorded, in g.  Compressed files (``.gz``, ``.zip``) are decompressed by actipy.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .errors import LogFormatError
+from .log import LogData
+
+WEARABLE_SUFFIXES = (".cwa", ".gt3x", ".bin")
+
+
+def is_wearable(path: Path) -> bool:
+    """True for ``.cwa``, ``.gt3x``, ``.bin`` (optionally ``.gz``/``.zip`` compressed)."""
+    suffixes = [s.lower() for s in Path(path).suffixes]
+    if suffixes and suffixes[-1] in (".gz", ".zip"):
+        suffixes = suffixes[:-1]
+    return bool(suffixes) and suffixes[-1] in WEARABLE_SUFFIXES
+
+
+def read_wearable_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
+                      name: str = "the file") -> LogData:
+    """Read a wearable device file with actipy into samples in g.
+
+    Raises
+    ------
+    LogFormatError
+        actipy is not installed (415, with the command that enables it), or it cannot read the file.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(2, "No such file", str(path))
+    try:
+        import actipy
+    except ImportError:
+        raise LogFormatError(
+            f"{name} is a wearable device file ({''.join(path.suffixes)}); reading it needs the optional "
+            "actipy package and a Java runtime: pip install 'trical[wearables]' (and apt-get install "
+            "default-jre-headless), or export the samples to .npy, Parquet or CSV",
+            status=415,
+        ) from None
+    if (units or {}).get("acc") not in (None, "g"):
+        raise LogFormatError(f"{name}: wearable files are read in g; leave the unit out or give g")
+    try:
+        data, info = actipy.read_device(str(path), lowpass_hz=None, calibrate_gravity=False,
+                                        detect_nonwear=False, resample_hz=None, verbose=False)
+    except Exception as exc:  # actipy raises many kinds of errors on a bad file
+        raise LogFormatError(f"{name} could not be read as a wearable device file: {exc}", status=415) from None
+    acc = data[["x", "y", "z"]].to_numpy(dtype=np.float32)
+    rate = float(sampling_rate_hz or info.get("SampleRate") or 0)
+    if not rate > 0:
+        raise LogFormatError(f"{name}: the device file gives no sampling rate; give sampling_rate_hz")
+    time_s = np.asarray((data.index - data.index[0]).total_seconds(), dtype=float) if len(data) else None
+    return LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=rate, units={"acc": "g"},
+                   format=f"wearable:{info.get('Device', path.suffix.lstrip('.'))}", columns=["x", "y", "z"])

@@ -1,0 +1,188 @@
+"""`trical autocal FILE` and `trical autocal FOLDER` (issue 4)."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+
+import numpy as np
+import pytest
+
+from app import cli
+from app.calibration.simulate_autocal import simulate_recording
+
+FS = 25.0
+
+
+@pytest.fixture(scope="module")
+def recording():
+    return simulate_recording(np.random.default_rng(11), duration_s=86400, sampling_rate_hz=FS)
+
+
+def _run(argv, capsys):
+    code = cli.main(argv)
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_autocal_file_json(tmp_path, capsys, recording, monkeypatch):
+    monkeypatch.setenv("TRICAL_DATABASE_URL", f"sqlite:///{tmp_path / 'db.sqlite'}")
+    x, truth = recording
+    f = tmp_path / "week.npy"
+    np.save(f, x)
+    code, out, err = _run(["autocal", str(f), "--sampling-rate-hz", str(FS), "--unit", "g", "--json"], capsys)
+    assert code == 0, err
+    assert err == ""  # no progress bar when stderr is not a terminal
+    body = json.loads(out)
+    assert body["method"] == "autocal" and body["ok"] is True
+    assert body["model"]["type"] == "triangular" and body["unit"] == "g" and body["output_unit"] == "g"
+    assert body["metrics"]["error_after_mg"] < 1.0 < 10.0 < body["metrics"]["error_before_mg"]
+    assert set(body["comparison"]) >= {"ellipsoid_axes", "sphere_van_hees"}
+    assert body["recording"]["n_samples"] == len(x) and body["label"] == "week.npy"
+    K = np.array(body["model"]["K"])
+    assert abs(K[1, 0] - truth.p[3]) < 3e-3
+
+
+def test_autocal_text_summary_and_progress_bar(tmp_path, capsys, recording, monkeypatch):
+    x, _ = recording
+    f = tmp_path / "rec.npy"
+    np.save(f, np.column_stack([np.arange(len(x)) / FS, x]))  # N×4, time first: no rate needed
+    code, out, _ = _run(["autocal", str(f), "--unit", "g"], capsys)
+    assert code == 0
+    assert "triangular_002" in out and "sphere_van_hees" in out and "C_xn 2" in out
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    tty = Tty()
+    monkeypatch.setattr("sys.stderr", tty)
+    assert cli.main(["autocal", str(f), "--unit", "g", "--json"]) == 0
+    assert "100%" in tty.getvalue() and "M samples" in tty.getvalue()
+
+
+def test_autocal_unreadable_file_is_one_line_error(tmp_path, capsys):
+    f = tmp_path / "broken.npy"
+    f.write_bytes(b"not numpy at all")
+    code, out, err = _run(["autocal", str(f), "--sampling-rate-hz", "100", "--unit", "g"], capsys)
+    assert code == 2 and out == ""
+    assert err.startswith("trical: error:") and "not a readable .npy" in err and "Traceback" not in err
+    code, _, err = _run(["autocal", str(tmp_path / "missing.npy")], capsys)
+    assert code == 2 and "no such file" in err
+
+
+def test_autocal_no_rest_exits_3_with_reason(tmp_path, capsys):
+    x, _ = simulate_recording(np.random.default_rng(2), duration_s=3600, sampling_rate_hz=FS, rest_median_s=0)
+    f = tmp_path / "moving.npy"
+    np.save(f, x)
+    code, out, _ = _run(["autocal", str(f), "--sampling-rate-hz", str(FS), "--unit", "g", "--json"], capsys)
+    assert code == 3
+    body = json.loads(out)
+    assert body["ok"] is False and "no rest segment" in body["reasons"][0]
+
+
+def test_autocal_folder_in_parallel(tmp_path, capsys, recording):
+    x, _ = recording
+    np.save(tmp_path / "a.npy", x[: len(x) // 2])
+    np.save(tmp_path / "b.npy", x[len(x) // 2:])
+    (tmp_path / "c.npy").write_bytes(b"garbage")
+    (tmp_path / "notes.md").write_text("ignored")
+    code, out, err = _run(["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--unit", "g",
+                           "--workers", "2"], capsys)
+    assert code == 3, err  # c.npy failed
+    lines = out.splitlines()
+    assert lines[0].split()[:3] == ["file", "ok", "rest"]
+    rows = {line.split()[0]: line for line in lines[1:4]}
+    assert set(rows) == {"a.npy", "b.npy", "c.npy"}
+    assert "True" in rows["a.npy"] and "True" in rows["b.npy"]
+    assert "error" in rows["c.npy"] and "not a readable .npy" in rows["c.npy"]
+    assert lines[-1] == "2 of 3 recordings calibrated"
+
+
+def test_autocal_dask_missing_is_a_clear_error(tmp_path, capsys, recording, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "dask", None)  # as on a machine without the dask extra
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    np.save(tmp_path / "a.npy", recording[0][:100_000])
+    code, _, err = _run(["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--dask-scheduler",
+                         "tcp://127.0.0.1:8786"], capsys)
+    assert code == 2 and "dask" in err and "pip install" in err
+
+
+def test_autocal_folder_on_a_dask_scheduler(tmp_path, capsys, recording, monkeypatch):
+    """The Dask path maps the same job over the files through a Client (a local stand-in here)."""
+    import sys
+    import types
+
+    seen = {}
+
+    class Client:
+        def __init__(self, address):
+            seen["address"] = address
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def map(self, fn, paths, **kw):
+            seen["pure"] = kw.pop("pure")
+            return [fn(p, **kw) for p in paths]
+
+        def gather(self, futures):
+            return futures
+
+    dask = types.ModuleType("dask")
+    distributed = types.ModuleType("dask.distributed")
+    distributed.Client = Client
+    dask.distributed = distributed
+    monkeypatch.setitem(sys.modules, "dask", dask)
+    monkeypatch.setitem(sys.modules, "dask.distributed", distributed)
+    x, _ = recording
+    np.save(tmp_path / "a.npy", x)
+    code, out, err = _run(["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--unit", "g",
+                           "--dask-scheduler", "tcp://10.0.0.1:8786", "--json"], capsys)
+    assert code == 0, err
+    assert seen == {"address": "tcp://10.0.0.1:8786", "pure": False}
+    bodies = json.loads(out)
+    assert len(bodies) == 1 and bodies[0]["ok"] is True
+
+
+@pytest.mark.parametrize("n", [0, 10, 300])
+def test_autocal_tiny_or_empty_recordings_never_crash(tmp_path, capsys, n):
+    f = tmp_path / "tiny.npy"
+    np.save(f, np.tile([0.0, 0.0, 1.0], (n, 1)))
+    code, out, err = _run(["autocal", str(f), "--sampling-rate-hz", "50", "--unit", "g", "--json"], capsys)
+    assert code in (2, 3) and "Traceback" not in err
+    if code == 3:
+        body = json.loads(out)
+        assert body["ok"] is False and body["reasons"]
+    else:
+        assert err.startswith("trical: error:")
+
+
+def test_autocal_raw_unit_is_refused_with_advice(tmp_path):
+    from app import workflow
+    from app.calibration import CalibrationError
+
+    f = tmp_path / "raw.csv"
+    f.write_text("acc_x,acc_y,acc_z\n" + "\n".join("0,0,1000" for _ in range(100)))
+    with pytest.raises(CalibrationError, match="g or m/s\\^2"):
+        workflow.autocalibrate_file(f, sampling_rate_hz=50.0, unit="raw")
+
+
+def test_cli_start_does_not_import_scipy_optimize_or_stats():
+    """`trical autocal` on a week stays under 3 s because scipy.optimize (~0.5 s) is imported on the
+    other core while detection runs, and scipy.stats (~0.7 s) never: keep them out of app.cli's imports.
+    (pyarrow, ~20 ms, is imported: it reads the CSV.)"""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = "import sys, app.cli; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], cwd=Path(__file__).resolve().parents[1],
+                         capture_output=True, text=True, check=True, env={**os.environ, "PYTHONPATH": "."})
+    assert out.stdout.strip() == "[]"
