@@ -238,7 +238,7 @@ def _autocal(args, settings: Settings) -> int:
     progress = _ProgressBar(args.path.name) if sys.stderr.isatty() else None
     body = workflow.autocalibrate_file(args.path, progress=progress, **options)
     if args.store:
-        body = SQLiteStore(settings.database_path).add_calibration(body)
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -301,7 +301,7 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
             with ProcessPoolExecutor(max_workers=workers) as pool:
                 bodies = list(pool.map(_autocal_job, paths, [options] * len(paths)))
     if args.store:
-        store = SQLiteStore(settings.database_path)
+        store = open_store(settings.database_url, settings.recordings_dir)
         bodies = [store.add_calibration(b) if "error" not in b else b for b in bodies]
     if args.json:
         print(json.dumps(bodies, indent=2))

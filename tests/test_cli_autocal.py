@@ -72,6 +72,21 @@ def test_autocal_unreadable_file_is_one_line_error(tmp_path, capsys):
     assert code == 2 and "no such file" in err
 
 
+def test_autocal_store_then_export(tmp_path, capsys, recording, monkeypatch):
+    """`--store` keeps the calibration in the configured database; `trical export` reads it back."""
+    monkeypatch.setenv("TRICAL_DATABASE_URL", f"sqlite:///{tmp_path / 'db.sqlite'}")
+    f = tmp_path / "day.npy"
+    np.save(f, recording[0][: int(FS * 6 * 3600)])
+    code, out, err = _run(["autocal", str(f), "--sampling-rate-hz", str(FS), "--unit", "g", "--store", "--json"],
+                          capsys)
+    assert code in (0, 3), err
+    stored = json.loads(out)
+    assert stored["id"].startswith("cal_")
+    code, out, err = _run(["export", stored["id"], "--format", "json"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["model"] == stored["model"]
+
+
 def test_autocal_no_rest_exits_3_with_reason(tmp_path, capsys):
     x, _ = simulate_recording(np.random.default_rng(2), duration_s=3600, sampling_rate_hz=FS, rest_median_s=0)
     f = tmp_path / "moving.npy"
