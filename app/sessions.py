@@ -2,8 +2,14 @@
 
 A session belongs to whoever holds its token.  Each capture holds the raw samples of one pose
 (kept in the store); the server checks them itself (app.calibration.capture) rather than trusting
-the page.  Solving runs the six-position closed form (000_cb2cbc1c5eaccf1a.txt, section 3.3.1)
-on the capture means, with the warnings a phone's browser calls for.
+the page.
+
+- ``six``: poses in any order; solving runs the six-position closed form
+  (000_cb2cbc1c5eaccf1a.txt, section 3.3.1) on the capture means.
+- ``cube24``: positions 1–24 in order (DESIGN.md section 4); each capture after the first brings
+  the rates of the move that led to it, and the turn is checked at once against the protocol
+  (003_17911d0910b68c7e.txt, VII-A-1, app.calibration.cube.turns); solving joins the moves and
+  the still positions into one recording and runs 003's method on it.
 """
 
 from __future__ import annotations
@@ -15,10 +21,18 @@ import numpy as np
 from app import workflow
 from app.calibration import CANONICAL_SIX, CalibrationError, InsufficientDataError
 from app.calibration.capture import check_still_capture
+from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.store import ConflictError
 
-PROTOCOL_POSITIONS: dict[str, tuple[str, ...]] = {"six": CANONICAL_SIX}
+PROTOCOL_POSITIONS: dict[str, tuple[str, ...]] = {
+    "six": CANONICAL_SIX,
+    "cube24": tuple(str(k) for k in range(1, len(CUBE24_UPS) + 1)),
+}
 """The positions of each protocol the server can guide."""
+
+CUBE_FACE_MAX_ANGLE_DEG = 45.0
+"""The cube may stand on an inclined plane: its up face is the nearest axis within 45° (as 003's
+sequence check, app.calibration.cube.sequence)."""
 
 MAX_ROTATION_DEG_S = 5.0
 """A still capture whose mean rotation rate exceeds this (°/s) was turning, whatever the
@@ -35,11 +49,6 @@ OS_CALIBRATION_WARNING = (
 def new_session(fields: dict) -> dict:
     """The stored body of a new session, from the request's fields (app.api.schemas.SessionIn)."""
     protocol = fields["protocol"]
-    if protocol not in PROTOCOL_POSITIONS:
-        raise CalibrationError(
-            f"the guided {protocol} flow is not available on this server yet: record the cube sequence "
-            "(DESIGN.md section 4) and upload it to POST /api/v1/recordings, then use method `cube`"
-        )
     gravity, notes = workflow.reference_gravity(fields["unit"], fields.get("gravity"), fields.get("latitude_deg"),
                                                 fields.get("height_m"))
     return {
@@ -71,39 +80,103 @@ def add_capture(store, session: dict, capture: dict) -> tuple[dict, dict]:
     Raises
     ------
     CalibrationError
-        The samples are not a still pose of this protocol, or not in the session's unit.
+        The samples are not a still pose of this protocol (or, in the cube flow, the turn that led
+        to it was not the protocol's), or not in the session's unit.
     ConflictError
         The pose is captured already and ``redo`` is false (the message names what remains).
     """
     if capture.get("unit") not in (None, session["unit"]):
         raise CalibrationError(f"this session takes samples in {session['unit']}; got {capture['unit']}")
-    checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
-                                  expected=capture.get("position"))
-    if capture.get("gyr") is not None:
-        rate = np.linalg.norm(np.mean(np.asarray(capture["gyr"], dtype=float), axis=0))
-        rate *= GYR_TO_DEG_S[capture.get("gyr_unit", "deg/s")]
-        if rate > MAX_ROTATION_DEG_S:
-            raise CalibrationError(f"the device was turning during the capture ({rate:.3g} °/s): "
-                                   "leave it resting until the capture ends")
-    summary = checked.to_dict()
+    if session["protocol"] == "cube24":
+        summary = _cube_capture(store, session, capture)
+    else:
+        summary = _six_capture(session, capture)
     acc = np.asarray(capture["acc"], dtype=float)
     summary["quantization_step"] = workflow.quantization_step(acc) if session["unit"] == "m/s^2" else None
     summary["sign"] = capture.get("sign") or {"convention": "w3c", "detected_from": "default"}
-    if checked.position not in session["positions"]:  # pragma: no cover - six covers every axis
-        raise CalibrationError(f"{checked.position} is not a position of the {session['protocol']} protocol")
+    samples = {k: capture.get(k) for k in ("t_ms", "acc", "gyr", "gyr_unit", "motion")}
     try:
-        summary = store.add_capture(session["id"], summary, {k: capture.get(k) for k in ("t_ms", "acc", "gyr", "gyr_unit")},
-                                    replace=bool(capture.get("redo")))
+        summary = store.add_capture(session["id"], summary, samples, replace=bool(capture.get("redo")))
     except ConflictError:
         raise ConflictError(
-            f"{checked.position} is already captured; remaining: {_remaining_text(session)}. "
+            f"{summary['position']} is already captured; remaining: {_remaining_text(session)}. "
             "Turn the device to a remaining pose, or send redo=true to capture it again"
         ) from None
     return summary, view(store.get_session(session["id"]))
 
 
-def solve(session: dict) -> dict:
-    """The six-position calibration of a complete session (000 section 3.3.1), as a calibration body.
+def _gyr_mean_deg_s(capture: dict) -> float:
+    rate = np.linalg.norm(np.mean(np.asarray(capture["gyr"], dtype=float), axis=0))
+    return float(rate * GYR_TO_DEG_S[capture.get("gyr_unit", "deg/s")])
+
+
+def _six_capture(session: dict, capture: dict) -> dict:
+    """A pose of the six-position flow: any order, recognised from the data."""
+    if capture.get("position") not in (None, *CANONICAL_SIX):
+        raise CalibrationError(f"a six-position pose is one of {', '.join(CANONICAL_SIX)}; got {capture['position']!r}")
+    checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
+                                  expected=capture.get("position"))
+    if capture.get("gyr") is not None:
+        rate = _gyr_mean_deg_s(capture)
+        if rate > MAX_ROTATION_DEG_S:
+            raise CalibrationError(f"the device was turning during the capture ({rate:.3g} °/s): "
+                                   "leave it resting until the capture ends")
+    return checked.to_dict()
+
+
+def _cube_capture(store, session: dict, capture: dict) -> dict:
+    """A position of the cube flow: the next one in order, reached by the protocol's turn."""
+    from app.calibration.cube.turns import check_turn
+
+    protocol = cube24()
+    done = [c["position"] for c in session["captures"]]
+    position = str(len(done) + 1)
+    if capture.get("redo") and done and capture.get("position") in (None, done[-1]):
+        position = done[-1]  # the last position again, reached by the same turn
+    elif capture.get("position") not in (None, position):
+        raise CalibrationError(f"the cube sequence goes in order: this capture is position {position}"
+                               + (", the last one captured can be redone with redo=true" if done else ""))
+    if int(position) > len(session["positions"]):
+        raise ConflictError(position)
+    k = int(position)
+    if capture.get("gyr") is None:
+        raise CalibrationError("the cube flow needs the gyroscope: send gyr (rotationRate) with every capture")
+    checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
+                                  max_angle_deg=CUBE_FACE_MAX_ANGLE_DEG)
+    rate = _gyr_mean_deg_s(capture)
+    if rate > MAX_ROTATION_DEG_S:
+        raise CalibrationError(f"the cube was turning during the capture ({rate:.3g} °/s): "
+                               "leave it resting until the capture ends")
+    summary = dict(checked.to_dict(), position=position, up=checked.position, expected_up=CUBE24_UPS[k - 1],
+                   gyr_mean=np.mean(np.asarray(capture["gyr"], dtype=float), axis=0).tolist(),
+                   gyr_unit=capture.get("gyr_unit", "deg/s"))
+    declared = GYR_TO_DEG_S[summary["gyr_unit"]] * np.pi / 180.0  # to rad/s
+    summary["gyr_to_rad_s"] = declared
+    if k > 1:
+        motion = capture.get("motion")
+        if not motion or not motion.get("gyr"):
+            raise CalibrationError(f"position {k} needs the move from position {k - 1}: send motion "
+                                   "{t_ms, gyr} with the rates recorded since the last capture ended")
+        previous = next(c for c in session["captures"] if c["position"] == str(k - 1))
+        turn = check_turn(motion["gyr"], motion["t_ms"], protocol, k - 2, bias=previous["gyr_mean"],
+                          gyr_scale=declared)
+        if not turn.ok:
+            raise CalibrationError(turn.message)
+        summary["turn"] = turn.to_dict()
+        summary["gyr_to_rad_s"] = turn.gyr_scale
+    if checked.position != CUBE24_UPS[k - 1]:
+        raise CalibrationError(
+            f"position {k} should have {CUBE24_UPS[k - 1]} up on a level plane; the accelerometer sees "
+            f"{checked.position} up: turn the cube as the picture shows"
+        )
+    return summary
+
+
+def solve(store, session: dict) -> dict:
+    """The calibration of a complete session, as a calibration body.
+
+    ``six``: the six-position closed form (000 section 3.3.1) of the capture means; ``cube24``:
+    003's method on the moves and positions joined into one recording.
 
     Raises
     ------
@@ -114,21 +187,14 @@ def solve(session: dict) -> dict:
     if remaining:
         raise InsufficientDataError(f"capture {', '.join(remaining)} first: the session has "
                                     f"{len(session['captures'])} of {len(session['positions'])} positions")
+    if session["protocol"] == "cube24":
+        return _solve_cube(store, session)
     captures = {c["position"]: c for c in session["captures"]}
     readings = [workflow.Reading(mean=tuple(captures[p]["mean"]), up=p, std=tuple(captures[p]["std"]),
                                  count=captures[p]["count"]) for p in session["positions"]]
     result, extra = workflow.calibrate_known("six_position", readings, unit=session["unit"],
                                              gravity=session["gravity"])
-    notes = list(session.get("notes", ()))
-    steps = {c.get("quantization_step") for c in captures.values()} - {None}
-    if steps:
-        notes.append(f"the browser rounds its sensor values to {max(steps):g} m/s²: each position's mean "
-                     "averages many samples, so it is still finer than the rounding")
-    notes.append(OS_CALIBRATION_WARNING)
-    ios = sorted({c["sign"]["detected_from"] for c in captures.values() if c.get("sign", {}).get("convention") == "ios"})
-    if ios:
-        notes.append(f"the browser reported the iOS sign convention (detected from {', '.join(ios)}); "
-                     "the samples were flipped to the W3C convention before fitting")
+    notes = _browser_notes(session)
     rates = [c["sampling_rate_hz"] for c in captures.values()]
     extra = dict(extra, sampling_rate_hz_min=min(rates), sampling_rate_hz_max=max(rates))
     return workflow.calibration_body(
@@ -136,4 +202,63 @@ def solve(session: dict) -> dict:
         label=session.get("label"), session_id=session["id"],
         captures=[{k: captures[p][k] for k in ("position", "mean", "std", "count", "sampling_rate_hz")}
                   for p in session["positions"]],
+    )
+
+
+def _browser_notes(session: dict) -> list[str]:
+    """The warnings a phone's browser calls for: rounding, the system's own calibration, the sign."""
+    captures = session["captures"]
+    notes = list(session.get("notes", ()))
+    steps = {c.get("quantization_step") for c in captures} - {None}
+    if steps:
+        notes.append(f"the browser rounds its sensor values to {max(steps):g} m/s²: each position's mean "
+                     "averages many samples, so it is still finer than the rounding")
+    notes.append(OS_CALIBRATION_WARNING)
+    ios = sorted({c["sign"]["detected_from"] for c in captures if c.get("sign", {}).get("convention") == "ios"})
+    if ios:
+        notes.append(f"the browser reported the iOS sign convention (detected from {', '.join(ios)}); "
+                     "the samples were flipped to the W3C convention before fitting")
+    return notes
+
+
+def joined_recording(store, session: dict) -> tuple[np.ndarray, np.ndarray, float]:
+    """The cube session as one recording: each move, then its still position, on a uniform grid.
+
+    Returns accelerometer samples (session unit), gyroscope samples in rad/s and the rate in Hz
+    (the median event interval's).
+    """
+    t, acc, gyr = [], [], []
+    for c in session["captures"]:
+        samples = store.get_capture_samples(session["id"], c["position"])
+        parts = [samples["motion"]] if samples.get("motion") else []
+        for part in parts + [samples]:
+            if not part.get("acc") or len(part["acc"]) != len(part["t_ms"]):
+                continue  # a move sent without accelerometer samples: the still parts bound it
+            t.append(np.asarray(part["t_ms"], dtype=float))
+            acc.append(np.asarray(part["acc"], dtype=float))
+            gyr.append(np.asarray(part["gyr"], dtype=float) * c["gyr_to_rad_s"])
+    t_all = np.concatenate(t)
+    order = np.argsort(t_all, kind="stable")
+    t_all, acc_all, gyr_all = t_all[order], np.vstack(acc)[order], np.vstack(gyr)[order]
+    steps = np.diff(t_all)
+    h = float(np.median(steps[steps > 0]))
+    grid = np.arange(t_all[0], t_all[-1] + 0.5 * h, h)
+
+    def resample(x):
+        return np.column_stack([np.interp(grid, t_all, x[:, k]) for k in range(3)])
+
+    return resample(acc_all), resample(gyr_all), 1000.0 / h
+
+
+def _solve_cube(store, session: dict) -> dict:
+    """003's method on the joined cube session."""
+    from app.calibration.cube import calibrate_cube  # scipy.stats: imported when needed
+
+    acc, gyr, rate = joined_recording(store, session)
+    result = calibrate_cube(acc, gyr, None, sampling_rate_hz=rate, protocol="cube24", gravity=session["gravity"])
+    return workflow.calibration_body(
+        result, {}, unit=session["unit"], notes=_browser_notes(session), device_id=session.get("device_id"),
+        label=session.get("label"), session_id=session["id"], units={"acc": session["unit"], "gyr": "rad/s"},
+        captures=[{k: c[k] for k in ("position", "up", "mean", "std", "count", "sampling_rate_hz")}
+                  for c in session["captures"]],
     )

@@ -201,13 +201,13 @@ MAG_TO_UT = {"uT": 1.0, "nT": 1e-3, "raw": 1.0}
 
 
 def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None):
-    from app.calibration.cube import calibrate_cube  # scipy.stats: see calibrate_unknown
-
     """003's multi-position calibration of a recording's acc, gyr and optional mag.
 
     Gyroscope samples in deg/s are converted to rad/s and magnetometer samples in nT to µT first, so
     that the gyroscope model maps rad/s (and the magnetometer µT) to the recorded values.
     """
+    from app.calibration.cube import calibrate_cube  # scipy.stats: see calibrate_unknown
+
     if log.gyr is None:
         raise CalibrationError(
             f"the recording has no gyroscope columns (found {', '.join(log.columns)}): the cube method needs "

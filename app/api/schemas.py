@@ -212,6 +212,26 @@ class SignIn(Strict):
     detected_from: Literal["orientation", "platform", "default"] = "default"
 
 
+CubePosition = Literal["1", "2", "3", "4", "5", "6", "7", "8", "9", "10", "11", "12",
+                       "13", "14", "15", "16", "17", "18", "19", "20", "21", "22", "23", "24"]
+
+
+class MotionIn(Strict):
+    """The samples of the move that led to a cube position, since the previous capture ended."""
+
+    t_ms: Annotated[list[FiniteFloat], Field(min_length=2, max_length=200_000)]
+    gyr: Annotated[list[Vec3], Field(min_length=2, max_length=200_000)]
+    acc: Annotated[list[Vec3], Field(max_length=200_000)] | None = None
+
+    @model_validator(mode="after")
+    def _same_lengths(self):
+        for name in ("gyr", "acc"):
+            values = getattr(self, name)
+            if values is not None and len(values) != len(self.t_ms):
+                raise ValueError(f"motion.{name} has {len(values)} samples for {len(self.t_ms)} timestamps")
+        return self
+
+
 class CaptureIn(Strict):
     """The raw samples of one still pose, already in the W3C sign convention."""
 
@@ -224,8 +244,10 @@ class CaptureIn(Strict):
     gyr_unit: Literal["deg/s", "rad/s"] = "deg/s"
     unit: Literal["m/s^2", "g"] | None = Field(None, description="Must be the session's unit when given.")
     sign: SignIn = Field(default_factory=SignIn)
-    position: Label | None = Field(None, description="The pose the page recognised; checked against the data.")
-    redo: bool = Field(False, description="Replace an earlier capture of the same pose.")
+    position: Label | CubePosition | None = Field(
+        None, description="six: the pose the page recognised (checked against the data); cube24: the position number.")
+    redo: bool = Field(False, description="Replace an earlier capture of the same pose (cube24: the last one).")
+    motion: MotionIn | None = Field(None, description="cube24: the rates of the turn into this position.")
 
     @model_validator(mode="after")
     def _same_lengths(self):
@@ -235,6 +257,10 @@ class CaptureIn(Strict):
 
 
 class CaptureSummary(BaseModel):
+    """One stored capture; the cube flow adds `up`, `expected_up`, `turn` and `gyr_to_rad_s`."""
+
+    model_config = ConfigDict(extra="allow")
+
     position: str
     mean: list[float]
     std: list[float]

@@ -56,6 +56,6 @@ def add_capture(body: CaptureIn, request: Request, session: dict = Depends(sessi
 def solve_session(request: Request, session: dict = Depends(session_of)):
     """Compute and store the calibration of a complete session; its token reads it."""
     store = _store(request)
-    body = store.add_calibration(sessions.solve(session), owner=session_owner(session["id"]))
+    body = store.add_calibration(sessions.solve(store, session), owner=session_owner(session["id"]))
     store.set_session_calibration(session["id"], body["id"])
     return body

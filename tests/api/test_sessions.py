@@ -150,10 +150,93 @@ def test_two_people_calibrating_at_once_never_see_each_others_data(client):
         assert [c["id"] for c in listed] == [cals[mine]["id"]]
 
 
-def test_the_cube24_flow_is_refused_with_the_upload_path(client):
-    r = client.post("/api/v1/sessions", json={"protocol": "cube24"})
+def _cube_session(client):
+    s = start(client, protocol="cube24")
+    assert s["positions"] == [str(k) for k in range(1, 25)]
+    return s, f"/api/v1/sessions/{s['id']}/captures", auth(s["token"])
+
+
+def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client):
+    """24 positions in order, each turn checked at once (003 VII-A-1); the solution is 003's method on
+    the joined recording, and recovers the phone's accelerometer and gyroscope."""
+    from app.calibration.cube import calibrate_cube
+    from tests.cube_phone import B_GYR_DEG_S, S_GYR, X_ACC, Y_ACC, phone_cube
+
+    phone = phone_cube(1)
+    s, url, h = _cube_session(client)
+    for k in range(1, 25):
+        r = client.post(url, json=phone.capture(k), headers=h)
+        assert r.status_code == 201, (k, r.text)
+        capture = r.json()["capture"]
+        assert capture["position"] == str(k)
+    assert r.json()["session"]["remaining"] == []
+    r = client.post(f"/api/v1/sessions/{s['id']}/solve", headers=h)
+    assert r.status_code == 201, r.text
+    cal = r.json()
+    assert cal["method"] == "cube" and cal["model"]["type"] == "cube" and cal["session_id"] == s["id"]
+    assert cal["first_wrong_rotation"] is None, cal["sequence"]
+    # The same as 003's method on the recording the captures join into (the still parts and the moves).
+    a, b = phone.static_segments[0][0] + 6, phone.static_segments[-1][1] - 6
+    direct = calibrate_cube(phone.acc[a:b], np.radians(phone.gyr[a:b]), None, sampling_rate_hz=60.0,
+                            protocol="cube24", gravity=G)
+    np.testing.assert_allclose(cal["model"]["acc"]["S"], direct.acc.S, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(cal["model"]["gyr"]["S"], direct.gyr.S, rtol=1e-6, atol=1e-9)
+    # And the phone's parameters: raw = S f + b (003 eq. (1)).
+    np.testing.assert_allclose(cal["model"]["acc"]["S"], X_ACC, atol=0.01)
+    np.testing.assert_allclose(cal["model"]["acc"]["b"], Y_ACC, atol=0.05)
+    np.testing.assert_allclose(cal["model"]["gyr"]["S"], S_GYR, atol=0.01)
+    np.testing.assert_allclose(cal["model"]["gyr"]["b"], np.radians(B_GYR_DEG_S), atol=np.radians(0.05))
+    assert any("may already calibrate" in w for w in cal["warnings"])
+
+
+def test_a_wrong_cube_turn_is_named_at_once_and_the_right_one_is_then_accepted(client):
+    from tests.cube_phone import phone_cube
+
+    wrong = phone_cube(2, wrong_rotations={3: "z-"})  # position 3 → 4 turned clockwise
+    right = phone_cube(2)
+    s, url, h = _cube_session(client)
+    for k in (1, 2, 3):
+        assert client.post(url, json=wrong.capture(k), headers=h).status_code == 201
+    r = client.post(url, json=wrong.capture(4), headers=h)
     assert r.status_code == 422
-    assert "POST /api/v1/recordings" in r.json()["detail"] and "method `cube`" in r.json()["detail"]
+    detail = r.json()["detail"]
+    assert detail.startswith("wrong turn into position 4: the cube made a quarter turn clockwise (seen from above)")
+    assert "Put it back in position 3, then turn the cube a quarter counter-clockwise" in detail
+    assert client.get(f"/api/v1/sessions/{s['id']}", headers=h).json()["remaining"][0] == "4"
+    assert client.post(url, json=right.capture(4), headers=h).status_code == 201
+
+
+def test_cube_positions_go_in_order_and_need_the_gyroscope(client):
+    from tests.cube_phone import phone_cube
+
+    phone = phone_cube(3)
+    s, url, h = _cube_session(client)
+    r = client.post(url, json={**phone.capture(1), "position": "2"}, headers=h)
+    assert r.status_code == 422 and "goes in order: this capture is position 1" in r.json()["detail"]
+    r = client.post(url, json={**phone.capture(1), "gyr": None}, headers=h)
+    assert r.status_code == 422 and "needs the gyroscope" in r.json()["detail"]
+    r = client.post(url, json=phone.capture(5), headers=h)  # −x up where position 1 wants +z
+    assert r.status_code == 422 and "position 1 should have +z up" in r.json()["detail"]
+    assert client.post(url, json=phone.capture(1), headers=h).status_code == 201
+    r = client.post(url, json={k: v for k, v in phone.capture(2).items() if k != "motion"}, headers=h)
+    assert r.status_code == 422 and "needs the move from position 1" in r.json()["detail"]
+    r = client.post(url, json={**phone.capture(1), "redo": True}, headers=h)
+    assert r.status_code == 201 and r.json()["capture"]["position"] == "1"
+
+
+def test_a_gyroscope_reporting_rad_s_is_recognised_from_the_turn(client):
+    from tests.cube_phone import phone_cube
+
+    phone = phone_cube(4)
+    s, url, h = _cube_session(client)
+    for k in (1, 2):
+        body = phone.capture(k)
+        body["gyr"] = np.radians(body["gyr"]).tolist()  # an old browser: rad/s though it says deg/s
+        if "motion" in body:
+            body["motion"]["gyr"] = np.radians(body["motion"]["gyr"]).tolist()
+        r = client.post(url, json=body, headers=h)
+        assert r.status_code == 201, r.text
+    assert r.json()["capture"]["gyr_to_rad_s"] == 1.0
 
 
 def test_with_api_keys_a_key_starts_a_session_and_its_token_carries_it(tmp_path):
