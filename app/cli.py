@@ -21,6 +21,7 @@ from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import EXPORTERS, export_calibration
 from app.io.formats import FORMATS
 from app.store import NotFoundError, open_store
+from app.tls import CertificateError
 
 KNOWN_METHODS = ("six_position", "orientations")
 UNKNOWN_METHODS = ("nonorthogonal", "triangular")
@@ -33,8 +34,14 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("serve", help="serve the API and the pages")
-    s.add_argument("--host", default=None, help="address to listen on (default: HOST or 127.0.0.1)")
+    s.add_argument("--host", default=None,
+                   help="address to listen on (default: HOST, else 127.0.0.1, or 0.0.0.0 with --https)")
     s.add_argument("--port", type=int, default=None, help="port (default: PORT or 8000)")
+    s.add_argument("--https", action="store_true",
+                   help="serve over TLS so that a phone on the LAN can use its motion sensors "
+                        "(a self-signed certificate unless --cert and --key)")
+    s.add_argument("--cert", type=Path, default=None, metavar="FILE", help="PEM certificate to serve (implies --https)")
+    s.add_argument("--key", type=Path, default=None, metavar="FILE", help="PEM private key of --cert")
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument("log", type=Path, help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
@@ -81,11 +88,57 @@ def _parser() -> argparse.ArgumentParser:
 def _serve(args, settings: Settings) -> int:
     import uvicorn
 
-    host = args.host or settings.host
     port = args.port or settings.port
+    if args.https or args.cert or args.key:
+        return _serve_https(args, settings, port)
+    host = args.host or settings.host or "127.0.0.1"
     print(f"trical {__version__} on http://{host}:{port}  (database {settings.database_label})", flush=True)
     uvicorn.run("app.main:app", host=host, port=port, log_level="info")
     return 0
+
+
+def _serve_https(args, settings: Settings, port: int) -> int:
+    import uvicorn
+
+    from app import tls
+    from app.qr import qr_terminal
+
+    if bool(args.cert) != bool(args.key):
+        raise tls.CertificateError("--cert and --key go together: give both, or neither for a self-signed certificate")
+    host = args.host or settings.host or "0.0.0.0"
+    everywhere = host in ("0.0.0.0", "::")
+    lan_ip = tls.lan_addresses()[0]
+    url_host = lan_ip if everywhere else (f"[{host}]" if ":" in host else host)
+    url = f"https://{url_host}:{port}/wizard?protocol=six"
+    print(f"trical {__version__} on https://{host}:{port}  (database {settings.database_label})")
+    if everywhere:
+        print(f"listening on every interface ({host}) so that a phone on this network can connect; "
+              "--host 127.0.0.1 keeps it to this machine")
+    if args.cert:
+        tls.check_certificate_files(args.cert, args.key)
+        cert, key = args.cert, args.key
+        print(f"certificate {cert} (SHA-256 {tls.fingerprint(cert)})")
+    else:
+        hosts = tls.certificate_hosts([] if everywhere else [host])
+        cert, key, made = tls.self_signed_certificate(settings.tls_dir, hosts)
+        print(f"{'made a' if made else 'reusing the'} self-signed certificate {cert} for {', '.join(hosts)}")
+        print("The browser will warn that this certificate is not trusted (it signed itself). Proceed when its\n"
+              "SHA-256 fingerprint is the one below (Chrome: Advanced → Proceed; Safari: Show Details → visit):\n"
+              f"  {tls.fingerprint(cert)}")
+    if not settings.public_url:
+        os.environ["TRICAL_PUBLIC_URL"] = url  # app.main builds its settings from the environment
+    print(f"Open {url} on your phone")
+    _print_qr(qr_terminal(url))
+    uvicorn.run("app.main:app", host=host, port=port, log_level="info", ssl_certfile=str(cert), ssl_keyfile=str(key))
+    return 0
+
+
+def _print_qr(drawing: str) -> None:
+    try:
+        sys.stdout.write(drawing)
+    except UnicodeEncodeError:  # a terminal that cannot show block characters
+        print("(this terminal cannot draw the QR code: type the address above)")
+    sys.stdout.flush()
 
 
 def _calibrate(args, settings: Settings) -> int:
@@ -292,7 +345,7 @@ def main(argv: list[str] | None = None) -> int:
         settings = Settings.from_env()
         command = {"serve": _serve, "calibrate": _calibrate, "autocal": _autocal, "export": _export}[args.command]
         return command(args, settings)
-    except (CalibrationError, LogFormatError, ExportError, SettingsError) as exc:
+    except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
         print(f"trical: error: {exc}", file=sys.stderr)
         return 2
     except NotFoundError as exc:

@@ -30,19 +30,25 @@ class Settings:
         Requests per minute one client may make to /api/ (TRICAL_RATE_LIMIT_PER_MINUTE; 0 = off).
     api_keys : tuple of str
         When non-empty, every API call needs ``Authorization: Bearer <key>`` (TRICAL_API_KEYS).
-    host, port : str, int
-        Where ``trical serve`` and ``make run`` listen (HOST, PORT).
+    host, port : str or None, int
+        Where ``trical serve`` and ``make run`` listen (HOST, PORT).  Without HOST, ``trical serve``
+        listens on 127.0.0.1, and ``trical serve --https`` on 0.0.0.0 (a phone on the LAN must reach it).
     data_dir : pathlib.Path
-        Where uploaded recordings are kept (TRICAL_DATA_DIR; default: beside the database).
+        Where uploaded recordings and the generated TLS certificate are kept (TRICAL_DATA_DIR;
+        default: beside the database).
+    public_url : str or None
+        The address the start page shows as a QR code for a phone (TRICAL_PUBLIC_URL); ``trical serve
+        --https`` sets it to its LAN wizard address when unset.
     """
 
     database_url: str = "sqlite:///./var/trical.db"
     max_upload_mb: float = 512.0
     rate_limit_per_minute: float = 0.0
     api_keys: tuple[str, ...] = ()
-    host: str = "127.0.0.1"
+    host: str | None = None
     port: int = 8000
     data_dir: Path | None = None
+    public_url: str | None = None
     static_dir: Path = field(default=PROJECT_ROOT / "static")
     templates_dir: Path = field(default=PROJECT_ROOT / "templates")
 
@@ -63,13 +69,21 @@ class Settings:
         )
 
     @property
+    def data_base(self) -> Path:
+        """TRICAL_DATA_DIR, else the SQLite file's directory, else ``./var``."""
+        if self.data_dir is not None:
+            return Path(self.data_dir)
+        return self.database_path.parent if self.is_sqlite else Path("var")
+
+    @property
     def recordings_dir(self) -> Path:
         """Directory of uploaded recordings (with PostgreSQL, this replica's cache of them)."""
-        if self.data_dir is not None:
-            base = Path(self.data_dir)
-        else:
-            base = self.database_path.parent if self.is_sqlite else Path("var")
-        return base / "recordings"
+        return self.data_base / "recordings"
+
+    @property
+    def tls_dir(self) -> Path:
+        """Directory of the self-signed certificate and key that ``trical serve --https`` makes."""
+        return self.data_base / "tls"
 
     @property
     def database_label(self) -> str:
@@ -105,6 +119,11 @@ class Settings:
             kwargs["api_keys"] = tuple(k.strip() for k in env["TRICAL_API_KEYS"].split(",") if k.strip())
         if env.get("TRICAL_DATA_DIR"):
             kwargs["data_dir"] = Path(env["TRICAL_DATA_DIR"])
+        if env.get("TRICAL_PUBLIC_URL"):
+            kwargs["public_url"] = env["TRICAL_PUBLIC_URL"].strip()
+            if not re.match(r"https?://[^\s/]+", kwargs["public_url"]):
+                raise SettingsError(f"TRICAL_PUBLIC_URL must be an http:// or https:// address; "
+                                    f"got {env['TRICAL_PUBLIC_URL']!r}")
         if env.get("HOST"):
             kwargs["host"] = env["HOST"]
         if env.get("PORT"):

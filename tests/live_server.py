@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import signal
 import socket
+import ssl
 import subprocess
 import sys
 import tempfile
@@ -24,11 +25,17 @@ def free_port() -> int:
 
 
 class LiveServer:
-    """``trical serve`` as a child process; ``kill()`` sends SIGKILL, ``start()`` starts it again."""
+    """``trical serve`` as a child process; ``kill()`` sends SIGKILL, ``start()`` starts it again.
 
-    def __init__(self, env: dict, port: int | None = None, command: list[str] | None = None):
+    With ``https_ca`` (the PEM certificate the server will present, possibly written only once it runs)
+    the server is polled over HTTPS and verified against that certificate.
+    """
+
+    def __init__(self, env: dict, port: int | None = None, command: list[str] | None = None,
+                 https_ca: Path | None = None):
         self.port = port or free_port()
-        self.url = f"http://127.0.0.1:{self.port}"
+        self.https_ca = https_ca
+        self.url = f"{'https' if https_ca else 'http'}://127.0.0.1:{self.port}"
         self.env = {**os.environ, **env}
         self.command = command or [sys.executable, "-m", "app.cli", "serve", "--host", "127.0.0.1",
                                    "--port", str(self.port)]
@@ -42,13 +49,20 @@ class LiveServer:
         while time.monotonic() < deadline:
             if self.process.poll() is not None:
                 raise RuntimeError(f"the server exited with status {self.process.returncode}:\n{self.output()}")
+            if self.https_ca and not Path(self.https_ca).exists():
+                time.sleep(0.1)
+                continue
             try:
-                if httpx.get(f"{self.url}/healthz", timeout=1.0).status_code == 200:
+                if httpx.get(f"{self.url}/healthz", timeout=1.0, verify=self.verify()).status_code == 200:
                     return self
-            except httpx.HTTPError:
+            except (httpx.HTTPError, ssl.SSLError):  # not listening yet, or the certificate half written
                 time.sleep(0.1)
         self.stop()
         raise RuntimeError(f"the server did not answer /healthz within {timeout_s} s:\n{self.output()}")
+
+    def verify(self) -> ssl.SSLContext | bool:
+        """What httpx should verify the server with: its certificate for HTTPS."""
+        return ssl.create_default_context(cafile=str(self.https_ca)) if self.https_ca else True
 
     def output(self) -> str:
         """The tail of what the server printed."""

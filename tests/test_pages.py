@@ -25,3 +25,25 @@ def test_security_headers_and_no_cors(client):
     pre = client.options("/api/v1/calibrations", headers={"Origin": "https://evil.example",
                                                            "Access-Control-Request-Method": "POST"})
     assert "access-control-allow-origin" not in pre.headers
+
+
+def test_start_page_shows_the_phone_address_as_a_qr_code(tmp_path):
+    from html import escape
+
+    from fastapi.testclient import TestClient
+
+    from app.main import create_app
+    from app.qr import qr_svg_data_uri
+    from tests.api.conftest import make_settings
+
+    url = "https://192.168.1.23:8443/wizard?protocol=six"
+    with TestClient(create_app(make_settings(tmp_path, public_url=url))) as c:
+        html = c.get("/").text
+    assert f'<img id="phone-qr" src="{escape(qr_svg_data_uri(url))}" alt="QR code of {escape(url)}">' in html
+    assert f">{escape(url)}</a>" in html and 'id="https-hint"' not in html
+
+
+def test_start_page_without_a_public_address_hints_at_https(client):
+    html = client.get("/").text
+    assert 'id="phone-qr"' not in html
+    assert "motion sensors need HTTPS" in html and "<code>trical serve --https</code>" in html

@@ -2,8 +2,8 @@
 
 from fastapi import APIRouter
 
-from . import calibrations, health, recordings
+from . import calibrations, health, recordings, sessions
 
 router = APIRouter()
-for module in (health, calibrations, recordings):
+for module in (health, calibrations, recordings, sessions):
     router.include_router(module.router)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import hmac
+import secrets
 
 from fastapi import Request
 
@@ -25,21 +26,47 @@ def bearer_token(request: Request) -> str | None:
     return token.strip() if scheme.lower() == "bearer" and token.strip() else None
 
 
+SESSION_TOKEN_PREFIX = "tks_"
+"""Wizard session tokens start with this, so they are never mistaken for API keys."""
+
+
+def new_session_token() -> tuple[str, str]:
+    """A session token (192 random bits) and the hash the store keeps instead of it."""
+    token = SESSION_TOKEN_PREFIX + secrets.token_urlsafe(24)
+    return token, token_hash(token)
+
+
+def token_hash(token: str) -> str:
+    return hashlib.sha256(token.encode()).hexdigest()
+
+
+def session_owner(session_id: str) -> str:
+    """The owner of what a wizard session creates: only its token reads it."""
+    return f"session:{session_id}"
+
+
 def get_owner(request: Request) -> str | None:
     """Who is calling: None when API keys are off, else a stable id derived from the key.
 
     With TRICAL_API_KEYS set every API call needs one of the keys; each key sees only what it
-    created (the store filters by owner, so another key's resource is a 404).
+    created (the store filters by owner, so another key's resource is a 404). A wizard session's
+    token (``tks_…``) is an identity of its own, whether or not keys are set: it reads what its
+    session created and nothing else (DESIGN.md section 3, sessions).
     """
+    token = bearer_token(request)
+    if token is not None and token.startswith(SESSION_TOKEN_PREFIX):
+        session_id = request.app.state.store.session_id_for_token(token_hash(token))
+        if session_id is None:
+            raise Unauthorized("the session token is not valid: start a new session with POST /api/v1/sessions")
+        return session_owner(session_id)
     keys = request.app.state.settings.api_keys
     if not keys:
         return None
-    token = bearer_token(request)
     if token is None:
         raise Unauthorized("this server needs an API key: send `Authorization: Bearer <key>`")
     if not any(hmac.compare_digest(token.encode(), key.encode()) for key in keys):
         raise Unauthorized("the API key is not valid for this server")
-    return "key:" + hashlib.sha256(token.encode()).hexdigest()[:32]
+    return "key:" + token_hash(token)[:32]
 
 
 def get_store(request: Request) -> OwnedStore:

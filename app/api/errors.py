@@ -17,7 +17,7 @@ from app.api.deps import Unauthorized
 from app.api.schemas import METHODS
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
-from app.store import NotFoundError
+from app.store import ConflictError, NotFoundError
 
 log = logging.getLogger("trical")
 
@@ -91,6 +91,10 @@ def install_error_handlers(app: FastAPI) -> None:
     @app.exception_handler(NotFoundError)
     async def _not_found(request: Request, exc: NotFoundError):
         return _json(404, str(exc.args[0]) if exc.args else "not found")
+
+    @app.exception_handler(ConflictError)
+    async def _conflict(request: Request, exc: ConflictError):
+        return _json(409, str(exc))
 
     @app.exception_handler(Unauthorized)
     async def _unauthorized(request: Request, exc: Unauthorized):

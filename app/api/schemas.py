@@ -191,5 +191,81 @@ class RecordingOut(BaseModel):
     segments: list[SegmentOut]
 
 
+class SessionIn(Strict):
+    """A guided wizard session (issue 6): the page captures each pose into it, then solves it."""
+
+    protocol: Literal["six", "cube24"] = Field("six", description="`six` (any order) or `cube24` (fixed order).")
+    capture_s: Annotated[float, Field(ge=0.5, le=30, allow_inf_nan=False)] = Field(
+        5.0, description="Seconds captured per position.")
+    unit: Literal["m/s^2", "g"] = Field("m/s^2", description="Unit of the samples the page sends.")
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
+class SignIn(Strict):
+    """How the page brought the samples to the W3C sign (at rest the up axis reads +g)."""
+
+    convention: Literal["w3c", "ios"] = Field("w3c", description="The sign the browser reported in.")
+    detected_from: Literal["orientation", "platform", "default"] = "default"
+
+
+class CaptureIn(Strict):
+    """The raw samples of one still pose, already in the W3C sign convention."""
+
+    acc: Annotated[list[Vec3], Field(min_length=1, max_length=100_000)] = Field(
+        description="accelerationIncludingGravity samples [x, y, z] in the session's unit.")
+    t_ms: Annotated[list[FiniteFloat], Field(min_length=1, max_length=100_000)] = Field(
+        description="Each sample's event timestamp in ms (DeviceMotionEvent.timeStamp).")
+    gyr: Annotated[list[Vec3], Field(max_length=100_000)] | None = Field(
+        None, description="rotationRate samples [x, y, z], one per acc sample.")
+    gyr_unit: Literal["deg/s", "rad/s"] = "deg/s"
+    unit: Literal["m/s^2", "g"] | None = Field(None, description="Must be the session's unit when given.")
+    sign: SignIn = Field(default_factory=SignIn)
+    position: Label | None = Field(None, description="The pose the page recognised; checked against the data.")
+    redo: bool = Field(False, description="Replace an earlier capture of the same pose.")
+
+    @model_validator(mode="after")
+    def _same_lengths(self):
+        if self.gyr is not None and len(self.gyr) != len(self.acc):
+            raise ValueError(f"gyr has {len(self.gyr)} samples for {len(self.acc)} acc samples: send one per event")
+        return self
+
+
+class CaptureSummary(BaseModel):
+    position: str
+    mean: list[float]
+    std: list[float]
+    count: int
+    sampling_rate_hz: float
+    duration_s: float
+    created_at: str
+
+
+class SessionOut(BaseModel):
+    model_config = ConfigDict(extra="allow")
+
+    id: str
+    protocol: str
+    capture_s: float
+    unit: str
+    positions: list[str]
+    captures: list[CaptureSummary]
+    remaining: list[str]
+    calibration_id: str | None
+    created_at: str
+
+
+class SessionCreated(SessionOut):
+    token: str = Field(description="Send it as `Authorization: Bearer <token>` on every call of this session.")
+
+
+class CaptureOut(BaseModel):
+    capture: CaptureSummary
+    session: SessionOut
+
+
 class Health(BaseModel):
     status: Literal["ok"]

@@ -1,10 +1,10 @@
-"""Persistence of recordings and calibrations: SQLite on one machine, PostgreSQL for replicas."""
+"""Persistence of recordings, calibrations and wizard sessions: SQLite on one machine, PostgreSQL for replicas."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from .base import NotFoundError, OwnedStore, Store
+from .base import ConflictError, NotFoundError, OwnedStore, Store
 from .sqlite import SQLiteStore
 
 
@@ -22,4 +22,4 @@ def open_store(database_url: str, files_dir: Path) -> Store:
     return SQLiteStore(Path(database_url[len(prefix):]), files_dir)
 
 
-__all__ = ["NotFoundError", "OwnedStore", "SQLiteStore", "Store", "open_store"]
+__all__ = ["ConflictError", "NotFoundError", "OwnedStore", "SQLiteStore", "Store", "open_store"]

@@ -1,4 +1,5 @@
-"""What every store does, whatever the database: versioned migrations, calibrations, recordings.
+"""What every store does, whatever the database: versioned migrations, calibrations, recordings,
+wizard sessions.
 
 The SQL here is written once, with ``?`` parameters and ``owner IS ?``; each backend's connection
 runs it in its own dialect (app.store.sqlite, app.store.postgres). Every write commits before the
@@ -48,11 +49,35 @@ MIGRATIONS: tuple[str, ...] = (
         content BLOB NOT NULL
     );
     """,
+    # 3: wizard sessions and the raw samples of each capture (issue 6)
+    """
+    CREATE TABLE sessions (
+        id TEXT PRIMARY KEY,
+        token_hash TEXT NOT NULL UNIQUE,
+        owner TEXT,
+        protocol TEXT NOT NULL,
+        created_at TEXT NOT NULL,
+        calibration_id TEXT,
+        body TEXT NOT NULL
+    );
+    CREATE TABLE session_captures (
+        session_id TEXT NOT NULL REFERENCES sessions (id),
+        position TEXT NOT NULL,
+        created_at TEXT NOT NULL,
+        summary TEXT NOT NULL,
+        samples TEXT NOT NULL,
+        PRIMARY KEY (session_id, position)
+    );
+    """,
 )
 
 
 class NotFoundError(LookupError):
     """No stored object has that id (or it belongs to someone else)."""
+
+
+class ConflictError(Exception):
+    """The write would replace something that exists (a pose already captured)."""
 
 
 def new_id(prefix: str) -> str:
@@ -65,7 +90,7 @@ def utc_now() -> str:
 
 
 class Store:
-    """Recordings and calibrations; a backend defines ``_open()`` and ``_begin(db)``.
+    """Recordings, calibrations and sessions; a backend defines ``_open()`` and ``_begin(db)``.
 
     Parameters
     ----------
@@ -195,6 +220,70 @@ class Store:
                 tmp.write_bytes(bytes(content[0]))
                 tmp.replace(path)
         return json.loads(row[0]), path
+
+
+    # -- wizard sessions ----------------------------------------------------------------------
+    # A session is reached by its token alone (the owner column records who created it, for the
+    # API-key case); its calibrations are owned by ``session:<id>`` (app.api.deps).
+
+    def add_session(self, body: dict, token_hash: str, *, owner: str | None = None) -> dict:
+        """Store a new session; ``id`` and ``created_at`` are assigned here."""
+        body = dict(body, id=new_id("ses"), created_at=utc_now())
+        with self._tx() as db:
+            db.execute(
+                "INSERT INTO sessions (id, token_hash, owner, protocol, created_at, calibration_id, body)"
+                " VALUES (?, ?, ?, ?, ?, NULL, ?)",
+                (body["id"], token_hash, owner, body["protocol"], body["created_at"], json.dumps(body, allow_nan=False)),
+            )
+        return body
+
+    def session_id_for_token(self, token_hash: str) -> str | None:
+        row = self._connect().execute("SELECT id FROM sessions WHERE token_hash = ?", (token_hash,)).fetchone()
+        return None if row is None else row[0]
+
+    def get_session(self, session_id: str) -> dict:
+        """The session with its captures' summaries (in the order they were taken) and calibration id."""
+        db = self._connect()
+        row = db.execute("SELECT body, calibration_id FROM sessions WHERE id = ?", (session_id,)).fetchone()
+        if row is None:
+            raise NotFoundError(f"no session with id {session_id!r}; start one with POST /api/v1/sessions")
+        captures = db.execute(
+            "SELECT summary FROM session_captures WHERE session_id = ? ORDER BY created_at, position", (session_id,)
+        ).fetchall()
+        return dict(json.loads(row[0]), calibration_id=row[1], captures=[json.loads(c[0]) for c in captures])
+
+    def add_capture(self, session_id: str, summary: dict, samples: dict, *, replace: bool = False) -> dict:
+        """Store one capture of a pose; a second one of the same pose needs ``replace``.
+
+        Raises
+        ------
+        ConflictError
+            The pose is captured already and ``replace`` is false.
+        """
+        summary = dict(summary, created_at=utc_now())
+        args = (session_id, summary["position"], summary["created_at"], json.dumps(summary, allow_nan=False),
+                json.dumps(samples, allow_nan=False))
+        sql = ("INSERT INTO session_captures (session_id, position, created_at, summary, samples)"
+               " VALUES (?, ?, ?, ?, ?) ON CONFLICT (session_id, position) DO ")
+        with self._tx() as db:
+            if replace:
+                db.execute(sql + "UPDATE SET created_at = excluded.created_at, summary = excluded.summary,"
+                                 " samples = excluded.samples", args)
+            elif db.execute(sql + "NOTHING", args).rowcount == 0:
+                raise ConflictError(summary["position"])
+        return summary
+
+    def get_capture_samples(self, session_id: str, position: str) -> dict:
+        row = self._connect().execute(
+            "SELECT samples FROM session_captures WHERE session_id = ? AND position = ?", (session_id, position)
+        ).fetchone()
+        if row is None:
+            raise NotFoundError(f"session {session_id!r} has no capture of {position}")
+        return json.loads(row[0])
+
+    def set_session_calibration(self, session_id: str, calibration_id: str) -> None:
+        with self._tx() as db:
+            db.execute("UPDATE sessions SET calibration_id = ? WHERE id = ?", (calibration_id, session_id))
 
 
 class OwnedStore:

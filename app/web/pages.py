@@ -9,6 +9,7 @@ from fastapi.responses import HTMLResponse
 from fastapi.templating import Jinja2Templates
 
 from app.io.exporters import FORMAT_NAMES
+from app.qr import qr_svg_data_uri
 
 router = APIRouter(include_in_schema=False)
 
@@ -35,10 +36,15 @@ def _templates(request: Request) -> Jinja2Templates:
 
 @router.get("/", response_class=HTMLResponse)
 def index(request: Request):
-    """Start page."""
-    return _templates(request).TemplateResponse(
-        request, "index.html", {"labels": SIX, "formats": list(FORMAT_NAMES.items())}
-    )
+    """Start page; with TRICAL_PUBLIC_URL set, a QR code of it for a phone."""
+    public_url = request.app.state.settings.public_url
+    return _templates(request).TemplateResponse(request, "index.html", {
+        "labels": SIX,
+        "formats": list(FORMAT_NAMES.items()),
+        "public_url": public_url,
+        "public_qr": qr_svg_data_uri(public_url) if public_url else None,
+        "https_hint": not public_url and request.url.scheme != "https",
+    })
 
 
 def _capture_s(text: str | None) -> tuple[float | None, str | None]:

@@ -68,3 +68,25 @@ def test_acknowledged_writes_survive_kill_9_on_postgresql(pg, tmp_path):
                 assert http.get(f"/api/v1/calibrations/{b['id']}").json() == b
     finally:
         server.stop()
+
+
+def test_sessions_and_their_captures(store):
+    """Migration 3 on both databases: a capture per pose, a second one only as a redo."""
+    from app.store import ConflictError
+
+    s = store.add_session({"protocol": "six", "positions": ["+z", "-z"]}, "hash-a", owner="key:a")
+    assert store.session_id_for_token("hash-a") == s["id"] and store.session_id_for_token("hash-b") is None
+    first = store.add_capture(s["id"], {"position": "+z", "mean": [0, 0, 9.8]}, {"acc": [[0, 0, 9.8]], "t_ms": [0.0]})
+    with pytest.raises(ConflictError):
+        store.add_capture(s["id"], {"position": "+z", "mean": [0, 0, 9.7]}, {"acc": [], "t_ms": []})
+    store.add_capture(s["id"], {"position": "-z", "mean": [0, 0, -9.8]}, {"acc": [], "t_ms": []})
+    store.add_capture(s["id"], {"position": "+z", "mean": [0, 0, 9.9]}, {"acc": [[0, 0, 9.9]], "t_ms": [1.0]},
+                      replace=True)
+    got = store.get_session(s["id"])
+    assert {c["position"]: c["mean"] for c in got["captures"]} == {"+z": [0, 0, 9.9], "-z": [0, 0, -9.8]}
+    assert got["calibration_id"] is None and first["created_at"]
+    assert store.get_capture_samples(s["id"], "+z") == {"acc": [[0, 0, 9.9]], "t_ms": [1.0]}
+    store.set_session_calibration(s["id"], "cal_x")
+    assert store.get_session(s["id"])["calibration_id"] == "cal_x"
+    with pytest.raises(NotFoundError):
+        store.get_session("ses_missing")

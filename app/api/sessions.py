@@ -1,0 +1,61 @@
+"""Routes of /api/v1/sessions: the guided wizard's server side (issue 6, DESIGN.md section 3)."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter, Depends, Request
+
+from app import sessions
+from app.api.deps import Unauthorized, bearer_token, get_owner, new_session_token, session_owner, token_hash
+from app.api.schemas import CalibrationOut, CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
+from app.store import NotFoundError, Store
+
+router = APIRouter(prefix="/api/v1/sessions", tags=["sessions"])
+
+
+def _store(request: Request) -> Store:
+    return request.app.state.store
+
+
+def session_of(session_id: str, request: Request) -> dict:
+    """The session the bearer token opens; 401 without a valid token, 404 for another session's id."""
+    token = bearer_token(request)
+    if token is None:
+        raise Unauthorized("a session call needs its token: send `Authorization: Bearer <token>` "
+                           "(the token POST /api/v1/sessions returned)")
+    owner_id = _store(request).session_id_for_token(token_hash(token))
+    if owner_id is None:
+        raise Unauthorized("the session token is not valid: start a new session with POST /api/v1/sessions")
+    if owner_id != session_id:
+        raise NotFoundError(f"no session with id {session_id!r} for this token")
+    return _store(request).get_session(session_id)
+
+
+@router.post("", status_code=201, response_model=SessionCreated)
+def create_session(body: SessionIn, request: Request):
+    """Start a wizard session; the token in the answer opens it."""
+    owner = get_owner(request)  # with TRICAL_API_KEYS set, a key is needed to start one
+    token, digest = new_session_token()
+    stored = _store(request).add_session(sessions.new_session(body.model_dump()), digest, owner=owner)
+    return dict(sessions.view(dict(stored, calibration_id=None, captures=[])), token=token)
+
+
+@router.get("/{session_id}", response_model=SessionOut)
+def get_session(session: dict = Depends(session_of)):
+    """A session: its captures, the positions that remain, its calibration once solved."""
+    return sessions.view(session)
+
+
+@router.post("/{session_id}/captures", status_code=201, response_model=CaptureOut)
+def add_capture(body: CaptureIn, request: Request, session: dict = Depends(session_of)):
+    """Check the raw samples of one still pose and store them (409 when that pose is done)."""
+    capture, view = sessions.add_capture(_store(request), session, body.model_dump())
+    return {"capture": capture, "session": view}
+
+
+@router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut)
+def solve_session(request: Request, session: dict = Depends(session_of)):
+    """Compute and store the calibration of a complete session; its token reads it."""
+    store = _store(request)
+    body = store.add_calibration(sessions.solve(session), owner=session_owner(session["id"]))
+    store.set_session_calibration(session["id"], body["id"])
+    return body
