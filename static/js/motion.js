@@ -112,8 +112,8 @@ export const DEFAULTS = {
   holdMs: 1500, // still in a valid pose this long before a capture starts
   spreadLow: 0.1, // m/s²: enter "still" below (largest per-axis std over the window)
   spreadHigh: 0.25, // m/s²: leave "still" above
-  gyrLow: 5, // deg/s: enter "still" below (mean |rotation rate| over the window)
-  gyrHigh: 10, // deg/s: leave "still" above
+  gyrLow: 3, // deg/s: enter "still" below (mean |rotation rate| over the window)
+  gyrHigh: 5, // deg/s: leave "still" above (the server refuses captures turning faster)
   maxAngleDeg: 20, // the closest axis must be within this angle of the measured direction
 };
 
