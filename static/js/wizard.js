@@ -205,7 +205,7 @@ function onMotion(event) {
   if (lastT !== null && raw.t <= lastT) return; // t_ms must increase
   lastT = raw.t;
   const sample = { t: raw.t, acc: toW3C(raw.acc, convention.convention), gyr: raw.gyr };
-  if (!session) { renderLive(sample.acc, null, true); return; }
+  if (!session) { renderLive(sample.acc, null, false); return; }
   const out = machine.push(sample);
   renderLive(sample.acc, out, out.event !== null);
   show(out);
