@@ -47,3 +47,42 @@ def test_start_page_without_a_public_address_hints_at_https(client):
     html = client.get("/").text
     assert 'id="phone-qr"' not in html
     assert "motion sensors need HTTPS" in html and "<code>trical serve --https</code>" in html
+
+
+def test_start_page_links_the_wizard(client):
+    html = client.get("/").text
+    assert '<a class="cta" href="/wizard?protocol=six">Calibrate with this phone' in html
+
+
+def test_wizard_page(client):
+    r = client.get("/wizard")
+    assert r.status_code == 200
+    html = r.text
+    for needle in ('data-protocol="six"', 'data-capture-s="5.0"', 'type="module" src="/static/js/wizard.js"',
+                   'id="start-btn"', "flat, steady table", "about 2 minutes", '"C header"',
+                   'aria-label="Redo +z (flat, screen up)"', 'aria-label="Capture progress"'):
+        assert needle in html, needle
+    for label in ("-x", "+x", "-y", "+y", "-z", "+z"):
+        assert f'data-pose="{label}"' in html
+    assert 'data-capture-s="1.5"' in client.get("/wizard?protocol=six&capture_s=1.5").text
+    for path in ("/static/js/wizard.js", "/static/js/motion.js", "/static/js/poses.js", "/static/js/result.js"):
+        assert client.get(path).status_code == 200, path
+
+
+def test_wizard_refuses_an_unknown_protocol_or_capture_time_with_links(client):
+    r = client.get("/wizard?protocol=cube12")
+    assert r.status_code == 400
+    assert "The protocol “cube12” is unknown" in r.text
+    assert 'href="/wizard?protocol=six"' in r.text and 'href="/wizard?protocol=cube24"' in r.text and 'href="/"' in r.text
+    assert "wizard.js" not in r.text
+    for bad in ("0.1", "31", "nan", "five"):
+        r = client.get(f"/wizard?capture_s={bad}")
+        assert r.status_code == 400 and f"capture_s={bad} is not a number of seconds between 0.5 and 30" in r.text
+
+
+def test_cube24_explains_the_upload_for_now(client):
+    r = client.get("/wizard?protocol=cube24")
+    assert r.status_code == 200
+    assert "The guided cube flow is coming" in r.text and "POST /api/v1/recordings" in r.text
+    assert '"method": "cube"' in r.text or "&#34;method&#34;: &#34;cube&#34;" in r.text
+    assert "wizard.js" not in r.text

@@ -1,6 +1,8 @@
-"""The pages: the start page (upload a log or paste six readings, see the result)."""
+"""The pages: the start page (upload a log or paste six readings, see the result) and the wizard."""
 
 from __future__ import annotations
+
+import math
 
 from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
@@ -10,6 +12,19 @@ from app.io.exporters import FORMAT_NAMES
 from app.qr import qr_svg_data_uri
 
 router = APIRouter(include_in_schema=False)
+
+SIX = ["-x", "+x", "-y", "+y", "-z", "+z"]
+PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube"}
+CAPTURE_S_DEFAULT = 5.0
+CAPTURE_S_RANGE = (0.5, 30.0)
+POSE_NAMES = {
+    "+z": "flat, screen up",
+    "-z": "flat, screen down",
+    "+y": "standing upright, top edge up",
+    "-y": "upside down, top edge down",
+    "+x": "on its left edge, right edge up",
+    "-x": "on its right edge, left edge up",
+}
 
 
 def _templates(request: Request) -> Jinja2Templates:
@@ -24,9 +39,37 @@ def index(request: Request):
     """Start page; with TRICAL_PUBLIC_URL set, a QR code of it for a phone."""
     public_url = request.app.state.settings.public_url
     return _templates(request).TemplateResponse(request, "index.html", {
-        "labels": ["-x", "+x", "-y", "+y", "-z", "+z"],
+        "labels": SIX,
         "formats": list(FORMAT_NAMES.items()),
         "public_url": public_url,
         "public_qr": qr_svg_data_uri(public_url) if public_url else None,
         "https_hint": not public_url and request.url.scheme != "https",
     })
+
+
+def _capture_s(text: str | None) -> tuple[float | None, str | None]:
+    """The seconds captured per position, or the reason the query value is refused."""
+    if text is None or text == "":
+        return CAPTURE_S_DEFAULT, None
+    low, high = CAPTURE_S_RANGE
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or not low <= value <= high:
+        return None, f"capture_s={text} is not a number of seconds between {low:g} and {high:g}"
+    return value, None
+
+
+@router.get("/wizard", response_class=HTMLResponse)
+def wizard(request: Request, protocol: str = "six", capture_s: str | None = None):
+    """The guided calibration with the phone's own motion sensors."""
+    seconds, problem = _capture_s(capture_s)
+    if protocol not in PROTOCOLS:
+        problem = f"The protocol “{protocol}” is unknown: choose one below."
+    context = {
+        "protocol": protocol, "capture_s": seconds, "problem": problem, "protocols": PROTOCOLS,
+        "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
+        "poses": [(label, POSE_NAMES[label]) for label in SIX], "formats": list(FORMAT_NAMES.items()),
+    }
+    return _templates(request).TemplateResponse(request, "wizard.html", context, status_code=400 if problem else 200)

@@ -1,20 +1,42 @@
-// REST calls of the pages (no DOM here). Every failure becomes an Error whose message is the API's detail.
+// REST calls of the pages (no DOM here). Every failure becomes an ApiError whose message is the
+// API's detail and whose status is the HTTP status (0 when the server could not be reached).
+
+export class ApiError extends Error {
+  constructor(message, status) {
+    super(message);
+    this.status = status;
+  }
+}
+
+function bearer(token) { return token ? { Authorization: `Bearer ${token}` } : {}; }
+
+async function send(path, { method = "GET", headers = {}, body } = {}) {
+  try {
+    return await fetch(path, { method, headers, body });
+  } catch (err) {
+    throw new ApiError(`the server could not be reached (${err.message})`, 0);
+  }
+}
+
+async function failure(response) {
+  let detail = `HTTP ${response.status}`;
+  try {
+    const body = await response.json();
+    if (body && typeof body.detail === "string") detail = body.detail;
+    else if (body && Array.isArray(body.detail)) detail = body.detail.map((d) => d.msg || JSON.stringify(d)).join("; ");
+  } catch { /* not JSON: keep the status */ }
+  return new ApiError(detail, response.status);
+}
 
 async function request(path, options = {}) {
-  let response;
-  try {
-    response = await fetch(path, options);
-  } catch (err) {
-    throw new Error(`the server could not be reached (${err.message})`);
-  }
+  const response = await send(path, options);
+  if (!response.ok) throw await failure(response);
   const text = await response.text();
-  let body = null;
-  try { body = text ? JSON.parse(text) : null; } catch { body = null; }
-  if (!response.ok) {
-    const detail = body && typeof body.detail === "string" ? body.detail : `HTTP ${response.status}`;
-    throw new Error(detail);
-  }
-  return body;
+  try { return text ? JSON.parse(text) : null; } catch { return null; }
+}
+
+function json(method, payload, headers = {}) {
+  return { method, headers: { "Content-Type": "application/json", ...headers }, body: JSON.stringify(payload) };
 }
 
 export function uploadRecording(formData) {
@@ -22,13 +44,41 @@ export function uploadRecording(formData) {
 }
 
 export function createCalibration(payload) {
-  return request("/api/v1/calibrations", {
-    method: "POST",
-    headers: { "Content-Type": "application/json" },
-    body: JSON.stringify(payload),
-  });
+  return request("/api/v1/calibrations", json("POST", payload));
 }
 
 export function exportUrl(id, format) {
   return `/api/v1/calibrations/${encodeURIComponent(id)}/export?format=${encodeURIComponent(format)}`;
+}
+
+// A wizard session; `apiKey` only when the server has API keys (401 otherwise).
+export function createSession(payload, apiKey = null) {
+  return request("/api/v1/sessions", json("POST", payload, bearer(apiKey)));
+}
+
+const sessionPath = (id) => `/api/v1/sessions/${encodeURIComponent(id)}`;
+
+export function getSession(id, token) {
+  return request(sessionPath(id), { headers: bearer(token) });
+}
+
+export function postCapture(id, token, capture) {
+  return request(`${sessionPath(id)}/captures`, json("POST", capture, bearer(token)));
+}
+
+export function solveSession(id, token) {
+  return request(`${sessionPath(id)}/solve`, { method: "POST", headers: bearer(token) });
+}
+
+export function getCalibration(id, token) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}`, { headers: bearer(token) });
+}
+
+// One export as {blob, filename}: fetched with the token, since a plain link cannot send it.
+export async function fetchExport(id, format, token) {
+  const response = await send(exportUrl(id, format), { headers: bearer(token) });
+  if (!response.ok) throw await failure(response);
+  const disposition = response.headers.get("Content-Disposition") || "";
+  const match = /filename="([^"]+)"/.exec(disposition);
+  return { blob: await response.blob(), filename: match ? match[1] : `${id}.${format}` };
 }

@@ -1,0 +1,67 @@
+// The result of a wizard session: calibrated norms and their chart (pure, no DOM).
+
+import { norm } from "./motion.js";
+
+export function invert3(m) {
+  const [[a, b, c], [d, e, f], [g, h, i]] = m;
+  const A = e * i - f * h;
+  const B = -(d * i - f * g);
+  const C = d * h - e * g;
+  const det = a * A + b * B + c * C;
+  if (!Number.isFinite(det) || det === 0) throw new Error("X is singular");
+  return [
+    [A / det, -(b * i - c * h) / det, (b * f - c * e) / det],
+    [B / det, (a * i - c * g) / det, -(a * f - c * d) / det],
+    [C / det, -(a * h - b * g) / det, (a * e - b * d) / det],
+  ];
+}
+
+// Affine model (000, Approach 2): m = X a + y, so a = X⁻¹ (m − y).
+export function calibrate(model, m) {
+  const Xi = invert3(model.X);
+  const d = [m[0] - model.y[0], m[1] - model.y[1], m[2] - model.y[2]];
+  return Xi.map((row) => row[0] * d[0] + row[1] * d[1] + row[2] * d[2]);
+}
+
+// One row per captured position: {position, raw: |m|, calibrated: |X⁻¹(m − y)|}.
+export function normRows(model, captures) {
+  return captures.map((c) => ({ position: c.position, raw: norm(c.mean), calibrated: norm(calibrate(model, c.mean)) }));
+}
+
+// A dot chart of |m| − g (hollow, raw) and |a| − g (filled, calibrated) per position, in % of g.
+export function normChartSvg(rows, gravity) {
+  const rowH = 26;
+  const left = 40;
+  const right = 12;
+  const width = 320;
+  const top = 22;
+  const height = top + rows.length * rowH + 26;
+  const dev = (v) => (100 * (v - gravity)) / gravity;
+  const extent = Math.max(0.5, ...rows.flatMap((r) => [Math.abs(dev(r.raw)), Math.abs(dev(r.calibrated))])) * 1.15;
+  const x = (pct) => left + ((pct + extent) / (2 * extent)) * (width - left - right);
+  const parts = [
+    `<line x1="${x(0)}" y1="${top - 6}" x2="${x(0)}" y2="${height - 22}" stroke="#111" stroke-width="1.5" />`,
+    `<text x="${x(0)}" y="${top - 9}" font-size="11" text-anchor="middle">g = ${gravity}</text>`,
+    `<text x="${left}" y="${height - 6}" font-size="11">−${extent.toFixed(2)} %</text>`,
+    `<text x="${width - right}" y="${height - 6}" font-size="11" text-anchor="end">+${extent.toFixed(2)} %</text>`,
+  ];
+  rows.forEach((r, k) => {
+    const cy = top + k * rowH + rowH / 2;
+    parts.push(
+      `<text x="4" y="${cy + 4}" font-size="12" font-weight="700">${r.position}</text>`,
+      `<line x1="${left}" y1="${cy}" x2="${width - right}" y2="${cy}" stroke="#c8c8c8" />`,
+      `<line x1="${x(dev(r.raw))}" y1="${cy}" x2="${x(dev(r.calibrated))}" y2="${cy}" stroke="#0b4f9c" stroke-width="2" />`,
+      `<circle cx="${x(dev(r.raw))}" cy="${cy}" r="5.5" fill="#fff" stroke="#a00000" stroke-width="2.5" />`,
+      `<circle cx="${x(dev(r.calibrated))}" cy="${cy}" r="5" fill="#0b4f9c" />`,
+    );
+  });
+  const worst = (key) => Math.max(...rows.map((r) => Math.abs(dev(r[key])))).toFixed(3);
+  const label = `Norm minus g per position: raw up to ${worst("raw")} % of g (hollow red), `
+    + `calibrated up to ${worst("calibrated")} % (filled blue)`;
+  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${width} ${height}" width="100%" `
+    + `role="img" aria-label="${label}">${parts.join("")}</svg>`;
+}
+
+export function withInterval(value, halfWidth, format) {
+  return halfWidth === undefined || halfWidth === null ? format(value) : `${format(value)} ± ${format(halfWidth)}`;
+}

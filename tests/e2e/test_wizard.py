@@ -1,0 +1,345 @@
+"""The guided wizard in real headless Chromium, with the phone's motion fed through the DevTools
+protocol's sensor overrides (Chromium derives DeviceMotionEvent from them and rounds to 0.1 m/s²),
+against a real trical server."""
+
+from __future__ import annotations
+
+import json
+import time
+
+import numpy as np
+import pytest
+from playwright.sync_api import expect
+
+from app.calibration import fit_six_position
+from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, shot
+from tests.live_server import LiveServer
+
+G = 9.80665  # the session's default gravity
+POSES = ["-x", "+x", "-y", "+y", "-z", "+z"]
+IPHONE_UA = ("Mozilla/5.0 (iPhone; CPU iPhone OS 17_5 like Mac OS X) AppleWebKit/605.1.15 "
+             "(KHTML, like Gecko) Version/17.5 Mobile/15E148 Safari/604.1")
+# A phone's accelerometer as the test knows it: m = X a + y, X off the identity, y off zero.
+X_TRUE = np.array([[1.012, 0.011, -0.018], [-0.014, 0.991, 0.023], [0.016, -0.021, 1.006]])
+Y_TRUE = np.array([0.137, -0.211, 0.284])
+CAPTURED = '#poses li[data-pose="{}"][data-state="done"]'
+
+
+def up(label: str) -> np.ndarray:
+    v = np.zeros(3)
+    v["xyz".index(label[1])] = 1.0 if label[0] == "+" else -1.0
+    return v
+
+
+def chromium_round(v) -> np.ndarray:
+    """What Chromium hands the page: each component rounded to a multiple of 0.1 m/s²."""
+    return np.round(np.asarray(v, dtype=float) / 0.1) * 0.1
+
+
+def reading(label: str) -> np.ndarray:
+    return X_TRUE @ (G * up(label)) + Y_TRUE
+
+
+class Motion:
+    """The device's sensors, overridden through the DevTools protocol."""
+
+    def __init__(self, page):
+        self.cdp = page.context.new_cdp_session(page)
+        for sensor in ("accelerometer", "linear-acceleration", "gyroscope"):
+            self.cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": sensor})
+            self.send(sensor, (0.0, 0.0, 0.0))
+
+    def send(self, sensor, xyz):
+        x, y, z = (float(v) for v in xyz)
+        self.cdp.send("Emulation.setSensorOverrideReadings", {"type": sensor, "reading": {"xyz": {"x": x, "y": y, "z": z}}})
+
+    def acc(self, xyz):
+        self.send("accelerometer", xyz)
+
+    def orientation(self, beta, gamma):
+        self.cdp.send("DeviceOrientation.setDeviceOrientationOverride", {"alpha": 0, "beta": beta, "gamma": gamma})
+
+
+def captures_sent(page) -> list[dict]:
+    """The capture requests the page really sends (observed, not altered)."""
+    sent: list[dict] = []
+    page.on("request", lambda r: sent.append(r.post_data_json) if r.url.endswith("/captures") else None)
+    return sent
+
+
+def stored_session(page, server) -> dict:
+    saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six')"))
+    r = page.request.get(f"{server.url}/api/v1/sessions/{saved['id']}", headers={"Authorization": f"Bearer {saved['token']}"})
+    assert r.status == 200, r.text()
+    return r.json()
+
+
+def wait_captured(page, label, timeout=20_000):
+    # attached: after the last pose the list hides behind the result
+    page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=timeout)
+
+
+def hold(page, motion, label, name):
+    motion.acc(reading(label))
+    wait_captured(page, label)
+    shot(page, name)
+
+
+def grant_on_tap(page):
+    """Stand-in for iOS's DeviceMotionEvent.requestPermission, which Chromium lacks: records whether
+    it was called during a user activation (a tap) and grants."""
+    page.add_init_script("""
+      window.__permissionCalls = [];
+      DeviceMotionEvent.requestPermission = () => {
+        window.__permissionCalls.push(navigator.userActivation.isActive);
+        return Promise.resolve('granted');
+      };""")
+
+
+def test_six_poses_hands_free_match_the_closed_form(page, server):
+    grant_on_tap(page)
+    sent = captures_sent(page)
+    motion = Motion(page)
+    page.goto(server.url + "/wizard?protocol=six&capture_s=1")
+    shot(page, "wizard_start")
+    assert "flat, steady table" in page.text_content("#start")
+    order = ["+z", "-y", "+x", "-z", "-x", "+y"]  # shuffled
+    motion.acc(reading(order[0]))
+    t0 = time.monotonic()
+    page.click("#start-btn")
+    assert page.evaluate("window.__permissionCalls") == [True]  # asked once, from the tap
+    for k, label in enumerate(order):
+        if k:
+            motion.acc(reading(label))
+        if k == 0:
+            page.wait_for_selector("#progress:not([value='0'])", timeout=10_000)
+            shot(page, "wizard_capturing_first_pose")
+        wait_captured(page, label)
+        shot(page, f"wizard_captured_{k + 1}_{label}")
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
+    elapsed = time.monotonic() - t0
+    shot(page, "wizard_result")
+
+    # The closed form of 000 section 3.3.1 on what Chromium handed the page.
+    fed = np.array([chromium_round(reading(label)) for label in POSES])
+    expected = fit_six_position(fed, POSES, gravity=G)
+    with page.expect_download() as info:
+        page.click("#downloads a[data-format=json]")
+    download = info.value
+    doc = json.loads(open(download.path()).read())
+    np.testing.assert_allclose(np.array(doc["model"]["X"]), expected.X, rtol=1e-9, atol=0)
+    np.testing.assert_allclose(np.array(doc["model"]["y"]), expected.y, rtol=1e-9, atol=0)
+    assert download.suggested_filename == f"{doc['id']}.json"
+    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href, a.download])")
+    assert [name for name, _, _ in links] == ["JSON", "C header", "ArduPilot", "PX4", "YAML", "CSV"]
+    assert all(href.startswith("blob:") and filename for _, href, filename in links)
+
+    # What the page showed: X with intervals, the server's warnings, the norm chart per pose.
+    assert "passed its checks" in page.text_content("#result-ok")
+    first = page.text_content("#result-X tr:first-child td:first-child")
+    assert first.startswith(f"{expected.X[0, 0]:.6f} ± ")
+    warnings = page.text_content("#result-warnings")
+    assert "rounds its sensor values to 0.1 m/s²" in warnings and "may already calibrate" in warnings
+    rows = page.eval_on_selector_all("#norm-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
+    assert [r[0] for r in rows] == POSES
+    for (label, raw, calibrated), m in zip(rows, fed):
+        assert float(raw) == pytest.approx(np.linalg.norm(m), abs=1e-4)
+        assert float(calibrated) == pytest.approx(np.linalg.norm(expected.apply(m[None])[0]), abs=1e-4)
+    assert page.locator("#norm-chart svg circle").count() == 12
+
+    # What the page sent: raw samples in order, W3C by default off Apple devices, the gyroscope too.
+    assert [c["position"] for c in sent] == order
+    for c in sent:
+        assert c["sign"] == {"convention": "w3c", "detected_from": "default"}
+        assert c["redo"] is False and c["unit"] == "m/s^2" and c["gyr_unit"] == "deg/s"
+        assert len(c["acc"]) >= 10 and np.all(np.diff(c["t_ms"]) > 0) and len(c["gyr"]) == len(c["acc"])
+        assert c["t_ms"][-1] - c["t_ms"][0] >= 1000
+    assert page.errors == []
+
+    per_pose = elapsed / 6
+    estimate = elapsed + 6 * (5 - 1)  # each pose captures 4 s longer with capture_s=5
+    note = (f"six-pose wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
+            f"({per_pose:.1f} s a pose, the phone moved instantly); capture_s=5: {estimate:.1f} s of "
+            f"waiting, {estimate + 6 * 8:.0f} s with 8 s for a person to turn the phone each time")
+    print("\n" + note)
+    ARTIFACTS.mkdir(exist_ok=True)
+    (ARTIFACTS / "wizard_timing.txt").write_text(note + "\n")
+    assert estimate + 6 * 8 < 120
+
+
+def test_a_repeated_pose_is_refused_and_redo_replaces_it(page, server):
+    sent = captures_sent(page)
+    motion = Motion(page)
+    page.goto(server.url + "/wizard?capture_s=1")
+    motion.acc(reading("+z"))
+    page.click("#start-btn")
+    wait_captured(page, "+z")
+    first = stored_session(page, server)["captures"][0]
+    motion.acc((3.0, 3.0, 8.8))  # picked up and tilted...
+    expect(page.locator("#still-text")).to_have_text("Moving")
+    motion.acc(reading("+z"))  # ...and put down screen up again
+    expect(page.locator("#instruction")).to_contain_text("+z is already captured", timeout=10_000)
+    text = page.text_content("#instruction")
+    assert "Remaining: -x, +x, -y, +y, -z." in text and "Redo" in text
+    assert "+z is already captured" in page.text_content("#status")  # announced
+    shot(page, "wizard_repeat_refused")
+    page.wait_for_timeout(2500)  # longer than hold + capture: nothing is sent for a done pose
+    assert len(sent) == 1
+
+    page.click('#poses button[data-redo="+z"]')
+    expect(page.locator('#poses li[data-pose="+z"]')).to_have_attribute("data-state", "redo")
+    shot(page, "wizard_redo_pressed")
+    wait_captured(page, "+z")
+    assert [c["redo"] for c in sent] == [False, True]
+    session = stored_session(page, server)
+    assert len(session["captures"]) == 1 and session["captures"][0]["created_at"] != first["created_at"]
+    assert session["remaining"] == ["-x", "+x", "-y", "+y", "-z"]
+    assert page.errors == []
+
+
+def test_a_reload_resumes_with_the_done_poses(page, server):
+    motion = Motion(page)
+    page.goto(server.url + "/wizard?capture_s=1")
+    motion.acc(reading("-x"))
+    page.click("#start-btn")
+    wait_captured(page, "-x")
+    hold(page, motion, "+y", "wizard_before_reload")
+    page.reload()
+    page.wait_for_selector("#resume:not([hidden])")
+    shot(page, "wizard_resumed")
+    states = page.eval_on_selector_all("#poses li", "ls => ls.map(l => [l.dataset.pose, l.dataset.state])")
+    assert dict(states) == {"-x": "done", "+x": "todo", "-y": "todo", "+y": "done", "-z": "todo", "+z": "todo"}
+    assert "2 of 6 positions captured (-x, +y)" in page.text_content("#resume")
+    assert page.text_content("#start-btn") == "Continue"
+    page.click("#start-btn")
+    for label in ["-z", "+x", "+z", "-y"]:
+        hold(page, motion, label, f"wizard_resumed_{label}")
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
+    assert "passed its checks" in page.text_content("#result-ok")
+    page.reload()  # a finished session reloads into its result
+    page.wait_for_selector("#downloads[data-ready=true]")
+    page.click("#start-over")
+    page.wait_for_selector("#start-btn")
+    assert page.text_content("#start-btn") == "Start" and page.evaluate("localStorage.length") == 0
+    assert page.errors == []
+
+
+def test_denied_permission_shows_how_to_allow_it(page, server):
+    page.add_init_script("DeviceMotionEvent.requestPermission = () => Promise.resolve('denied');")
+    page.goto(server.url + "/wizard")
+    page.click("#start-btn")
+    problem = page.locator("#problem")
+    expect(problem).to_be_visible()
+    text = problem.text_content()
+    assert "Motion access was not allowed (denied)" in text
+    assert "reload this page" in text and "Settings › Safari" in text
+    assert page.get_attribute("#problem a", "href") == "/"
+    assert "not allowed" in page.text_content("#status")
+    assert page.evaluate("localStorage.length") == 0  # no session was started
+    shot(page, "wizard_permission_denied")
+
+
+def test_no_motion_events_suggest_an_upload(page, server):
+    # Headless Chromium without overrides fires one devicemotion event whose values are all null.
+    page.goto(server.url + "/wizard")
+    page.click("#start-btn")
+    problem = page.locator("#problem")
+    expect(problem).to_contain_text("This browser sends no motion data", timeout=5000)
+    assert "upload a log instead" in problem.text_content()
+    assert page.get_attribute("#problem a", "href") == "/"
+    assert page.evaluate("localStorage.length") == 0
+    shot(page, "wizard_no_motion")
+
+
+@pytest.mark.parametrize("user_agent, orientation, negate, sign", [
+    (IPHONE_UA, None, True, {"convention": "ios", "detected_from": "platform"}),
+    (None, (0.0, 0.0), True, {"convention": "ios", "detected_from": "orientation"}),
+    (IPHONE_UA, (0.0, 0.0), False, {"convention": "w3c", "detected_from": "orientation"}),
+], ids=["iphone-platform", "orientation-says-ios", "orientation-beats-platform"])
+def test_ios_sign_convention(browser, server, user_agent, orientation, negate, sign):
+    context = browser.new_context(viewport={"width": 360, "height": 640}, user_agent=user_agent)
+    try:
+        page = context.new_page()
+        sent = captures_sent(page)
+        motion = Motion(page)
+        if orientation:
+            motion.orientation(*orientation)  # flat, screen up: beta = gamma = 0
+        page.goto(server.url + "/wizard?capture_s=1")
+        m = reading("+z")
+        motion.acc(-m if negate else m)  # iOS Safari: the up axis reads −g
+        page.click("#start-btn")
+        wait_captured(page, "+z")
+        shot(page, f"wizard_sign_{sign['convention']}_{sign['detected_from']}")
+        assert sent[0]["sign"] == sign and sent[0]["position"] == "+z"
+        np.testing.assert_allclose(np.mean(sent[0]["acc"], axis=0), chromium_round(m), atol=1e-9)
+        capture = stored_session(page, server)["captures"][0]
+        assert capture["position"] == "+z" and capture["mean"][2] == pytest.approx(chromium_round(m)[2])
+    finally:
+        context.close()
+
+
+def test_keyboard_reaches_start_and_redo_with_names(page, server):
+    motion = Motion(page)
+    page.goto(server.url + "/wizard?capture_s=1")
+
+    def tab_to(selector, limit=40):
+        for _ in range(limit):
+            page.keyboard.press("Tab")
+            if page.evaluate("(s) => document.activeElement === document.querySelector(s)", selector):
+                return
+        raise AssertionError(f"Tab never reached {selector}")
+
+    tab_to("#start-btn")
+    expect(page.locator("#start-btn")).to_have_accessible_name("Start")
+    motion.acc(reading("-y"))
+    page.keyboard.press("Enter")
+    wait_captured(page, "-y")
+    tab_to('#poses button[data-redo="-y"]')
+    redo = page.locator('#poses button[data-redo="-y"]')
+    expect(redo).to_have_accessible_name("Redo -y (upside down, top edge down)")
+    shot(page, "wizard_keyboard_redo_focused")
+    page.keyboard.press("Enter")
+    expect(page.locator('#poses li[data-pose="-y"]')).to_have_attribute("data-state", "redo")
+    for button in page.locator("button:visible").all():  # every visible control has a name
+        assert button.evaluate("b => b.textContent.trim() || b.getAttribute('aria-label')")
+    tab_to("#start-over")
+    expect(page.locator("#start-over")).to_have_accessible_name("Start over")
+    assert page.evaluate("document.documentElement.scrollWidth") <= 360  # no sideways scrolling on a phone
+
+
+def test_insecure_context_asks_for_https(browser, server):
+    # A name other than localhost over plain HTTP is not a secure context: a phone on the LAN sees
+    # http://<computer>:8000 that way. A second Chromium resolves trical.test to the test server.
+    b = browser.browser_type.launch(executable_path=CHROMIUM,
+                                    args=CHROMIUM_ARGS + ["--host-resolver-rules=MAP trical.test 127.0.0.1"])
+    try:
+        page = b.new_page(viewport={"width": 360, "height": 640})
+        page.goto(f"http://trical.test:{server.port}/wizard")
+        assert page.evaluate("window.isSecureContext") is False
+        problem = page.locator("#problem")
+        expect(problem).to_contain_text("Motion sensors need HTTPS: run trical serve --https and open the https address")
+        assert page.get_attribute("#problem a", "href") == "/"
+        assert page.locator("#start-btn").is_hidden()
+        shot(page, "wizard_insecure_context")
+    finally:
+        b.close()
+
+
+def test_api_key_is_asked_for(browser, tmp_path):
+    server = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "TRICAL_API_KEYS": "k-123"}).start()
+    context = browser.new_context(viewport={"width": 360, "height": 640})
+    try:
+        page = context.new_page()
+        motion = Motion(page)
+        page.goto(server.url + "/wizard?capture_s=1")
+        motion.acc(reading("+x"))
+        page.click("#start-btn")
+        page.wait_for_selector("#key-box:not([hidden])")
+        shot(page, "wizard_api_key")
+        assert "API key" in page.text_content("#status")
+        page.fill("#api-key", "k-123")
+        page.click("#key-submit")
+        wait_captured(page, "+x")
+    finally:
+        context.close()
+        server.stop()
