@@ -33,7 +33,8 @@ def test_acknowledged_captures_survive_kill_9_and_the_session_resumes(tmp_path):
     """A reload after a crash finds every pose the server acknowledged (issue 6: nothing acknowledged is lost)."""
     import numpy as np
 
-    from tests.api.test_sessions import auth, pose_samples
+    from tests.api.test_sessions import auth
+    from tests.phone_poses import pose_samples
 
     server = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}).start()
     try:
