@@ -73,9 +73,10 @@ const CX = 60;
 const CY = 66;
 const AXIS_COLOURS = ["#b00000", "#0a5a14", "#0b4f9c"];
 
-// Isometric view: calibration x to the lower right, y to the lower left, z up.
+// Isometric view from (1, 1, 1), right-handed: calibration x to the lower left, y to the lower
+// right, z up.
 function project([x, y, z]) {
-  return [CX + (x - y) * COS30 * SCALE, CY + ((x + y) * 0.5 - z) * SCALE];
+  return [CX + (y - x) * COS30 * SCALE, CY + ((x + y) * 0.5 - z) * SCALE];
 }
 
 const pt = (p) => project(p).map((v) => v.toFixed(1)).join(",");

@@ -1,0 +1,330 @@
+"""The guided cube24 flow of the wizard in real headless Chromium against a real trical server.
+
+The phone in its cube is played through the DevTools protocol's sensor overrides: the accelerometer
+reads m = X f + y in each position (f = g times the up axis on a level plane; Chromium rounds to
+0.1 m/s²), and each turn is a constant rate about the rotation's axis in the sensor frame for a
+measured time (the override is in rad/s; Chromium hands the page deg/s)."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+
+import numpy as np
+import pytest
+from playwright.sync_api import expect
+
+from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
+from tests.cube_phone import X_ACC, Y_ACC
+from tests.e2e.conftest import ARTIFACTS, shot
+from tests.e2e.test_wizard import G, Motion, captures_sent, chromium_round
+
+ATTITUDES = cube24().attitudes  # R_k: sensor → calibration frame
+PEAK_DEG_S = 200.0  # a quarter turn in about 0.7 s
+URL = "/wizard?protocol=cube24&capture_s=1"
+COUNT = '#cube-count[data-captured="{}"]'
+
+
+def up_vector(label: str) -> np.ndarray:
+    v = np.zeros(3)
+    v["xyz".index(label[1])] = 1.0 if label[0] == "+" else -1.0
+    return v
+
+
+def reading(k: int) -> np.ndarray:
+    """The accelerometer in position k (1-based) on a level plane: m = X f + y, f = g · up."""
+    return X_ACC @ (G * up_vector(CUBE24_UPS[k - 1])) + Y_ACC
+
+
+class Cube:
+    """The phone in the cube: its accelerometer, and turns of its gyroscope."""
+
+    def __init__(self, page, gyroscope=True):
+        if gyroscope:
+            self.motion = Motion(page)
+        else:  # what a browser without a gyroscope gives: accelerometers only
+            self.motion = Motion.__new__(Motion)
+            self.motion.cdp = page.context.new_cdp_session(page)
+            for sensor in ("accelerometer", "linear-acceleration"):
+                self.motion.cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": sensor})
+                self.motion.send(sensor, (0.0, 0.0, 0.0))
+        self.turns: list[dict] = []  # what the test did: label and measured duration
+
+    def place(self, k: int):
+        self.motion.acc(reading(k))
+
+    def turn(self, k_from: int, label: str):
+        """Turn the cube by a quarter `label` (calibration frame) from the attitude of position
+        k_from: the rate about the rotation's axis in the sensor frame, R_kᵀ a, rises and falls as a
+        half sine (a constant rate would read as a clipped gyroscope: a flat top), its peak a little
+        different each turn. The angle fed is the integral of the overrides sent, at their measured
+        times."""
+        axis = np.zeros(3)
+        axis["xyz".index(label[0])] = 1.0 if label[1] == "+" else -1.0
+        direction = ATTITUDES[k_from - 1].T @ axis  # the axis in the sensor frame
+        peak = PEAK_DEG_S + 3.0 * (len(self.turns) % 11)
+        duration = 90.0 * math.pi / (2.0 * peak)  # ∫ peak sin(π t / T) dt = 2 peak T / π = 90°
+        sent = []
+        t0 = time.monotonic()
+        while (elapsed := time.monotonic() - t0) < duration:
+            rate = peak * math.sin(math.pi * elapsed / duration)
+            self.motion.send("gyroscope", math.radians(rate) * direction)
+            sent.append((time.monotonic(), rate))
+            time.sleep(0.008)
+        self.motion.send("gyroscope", (0.0, 0.0, 0.0))
+        sent.append((time.monotonic(), 0.0))
+        angle = sum(r * (t1 - t) for (t, r), (t1, _) in zip(sent, sent[1:]))
+        self.turns.append({"label": label, "seconds": sent[-1][0] - sent[0][0], "angle_deg": angle})
+
+    def move_into(self, page, k: int, label: str | None = None):
+        """The turn of the protocol from position k − 1 into k (or `label` instead), then rest."""
+        self.turn(k - 1, label or CUBE24_ROTATIONS[k - 2])
+        self.place(k)
+
+
+def wait_captured(page, n: int, timeout=20_000):
+    page.wait_for_selector(COUNT.format(n), state="attached", timeout=timeout)
+
+
+def saved_session(page, server) -> dict:
+    saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.cube24')"))
+    r = page.request.get(f"{server.url}/api/v1/sessions/{saved['id']}",
+                         headers={"Authorization": f"Bearer {saved['token']}"})
+    assert r.status == 200, r.text()
+    return r.json()
+
+
+def check_moves(sent: list[dict]):
+    """Each move runs from the end of the capture accepted before it to the start of its own still
+    window, without a gap: exactly the samples in between."""
+    for prev, cap in zip(sent, sent[1:]):
+        motion = cap["motion"]
+        t = np.array(motion["t_ms"])
+        assert len(t) >= 20 and len(motion["gyr"]) == len(t) == len(motion["acc"])
+        assert t[0] > prev["t_ms"][-1] and t[-1] < cap["t_ms"][0]
+        assert t[0] - prev["t_ms"][-1] < 40 and cap["t_ms"][0] - t[-1] < 40  # the next event, 60 Hz
+        assert np.all(np.diff(t) > 0)
+
+
+def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
+    sent = captures_sent(page)
+    cube = Cube(page)
+    page.goto(server.url + URL)
+    start = " ".join(page.text_content("#start").split())
+    assert "in a fixed order" in start and "jig" in start and "about 4 minutes" in start
+    assert "uploaded through the API" in start  # the recorded-sequence route, kept as one line
+    shot(page, "cube_start")
+    cube.place(1)
+    t0 = time.monotonic()
+    page.click("#start-btn")
+    expect(page.locator("#capture-h")).to_have_text("Position 1 of 24")
+    page.wait_for_selector("#progress:not([value='0'])", timeout=10_000)
+    shot(page, "cube_capturing_1")
+    wait_captured(page, 1)
+    for k in range(2, 25):
+        if k in (2, 5):  # between positions: the turn to make, with an arrow and words
+            turn = page.locator("#cube-turn svg")
+            assert turn.get_attribute("data-position") == str(k - 1)
+            assert turn.get_attribute("data-turn") == CUBE24_ROTATIONS[k - 2]
+            assert page.locator("#cube-target svg").get_attribute("data-position") == str(k)
+            words = {"z+": "turn the cube a quarter counter-clockwise (seen from above) on the plane",
+                     "x+": "tip the cube 90° over the jig edge (about x, its top moving towards −y)"}
+            assert words[CUBE24_ROTATIONS[k - 2]] in page.text_content("#instruction")
+            shot(page, f"cube_turn_into_{k}")
+        cube.move_into(page, k)
+        wait_captured(page, k)
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=30_000)
+    elapsed = time.monotonic() - t0
+    shot(page, "cube_result")
+
+    # The server checked every turn by integrating the page's gyroscope samples (003 eq. (2)).
+    session = saved_session(page, server)
+    turns = [c["turn"] for c in session["captures"][1:]]
+    assert [t["expected"] for t in turns] == list(CUBE24_ROTATIONS) and all(t["ok"] for t in turns)
+    fed = np.array([t["angle_deg"] for t in cube.turns])
+    seen = np.array([t["angle_deg"] for t in turns])
+    errors = np.array([t["end_error_deg"] for t in turns])
+    # Chromium samples the override at 60 Hz, the server interpolates between events.
+    assert np.all(np.abs(seen - fed) < 6.0), list(zip(fed, seen))
+    assert np.all(errors < 6.0)
+    check_moves(sent)
+    assert [c["position"] for c in sent] == [str(k) for k in range(1, 25)] and not any(c["redo"] for c in sent)
+
+    # What the page shows: 003's model with its half-widths, checks, warnings, downloads.
+    with page.expect_download() as info:
+        page.click("#downloads a[data-format=json]")
+    doc = json.loads(open(info.value.path()).read())
+    print(json.dumps({k: doc.get(k) for k in ("ok", "warnings")})[:3000])
+    print([round(t["end_error_deg"], 2) for t in turns], [round(x, 2) for x in seen - fed], gyr["S"], gyr["b"])
+    acc, gyr = doc["model"]["acc"], doc["model"]["gyr"]
+    # Six distinct readings, each rounded by Chromium to 0.1 m/s² (±0.05): S within 0.006 of X
+    # (0.05 / g ≈ 0.005), b within 0.06 m/s² of y.
+    np.testing.assert_allclose(acc["S"], X_ACC, atol=0.006)
+    np.testing.assert_allclose(acc["b"], Y_ACC, atol=0.06)
+    fed_readings = np.array([chromium_round(reading(k)) for k in range(1, 25)])
+    assert np.allclose([c["mean"] for c in session["captures"]], fed_readings, atol=1e-9)
+    note = (f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
+            f"({elapsed / 24:.1f} s a position, turns of about 0.6 s peaking at 200-230 °/s); turn angle "
+            f"seen by the server minus the angle fed: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
+            f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°); end attitude error up to "
+            f"{errors.max():.2f}°; acc S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.4f}, "
+            f"b − y up to {np.abs(np.array(acc['b']) - Y_ACC).max():.4f} m/s²; "
+            f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}")
+    print("\n" + note)
+    ARTIFACTS.mkdir(exist_ok=True)
+    (ARTIFACTS / "wizard_cube_timing.txt").write_text(note + "\n")
+    # The gyroscope was ideal (no bias); its scale comes from turns timed by a test process, so
+    # it is only as good as that timing: within 2 %.
+    np.testing.assert_allclose(gyr["S"], np.eye(3), atol=0.02)
+    np.testing.assert_allclose(gyr["b"], 0.0, atol=np.radians(0.2))
+    cell = page.text_content("#cube-acc-S tr:first-child td:first-child")
+    assert cell.startswith(f"{acc['S'][0][0]:.6f} ± ")
+    assert page.text_content("#cube-acc-b tr:nth-child(2) td").startswith(f"{acc['b'][1]:.6f} ± ")
+    assert page.locator("#cube-acc-D tr").count() == 3 and page.locator("#cube-acc-misalignment tr").count() == 3
+    assert page.text_content("#cube-gyr-S tr:nth-child(3) td:nth-child(3)").startswith(f"{gyr['S'][2][2]:.6f} ± ")
+    assert "b (rad/s)" in page.text_content("#cube-model") and "b (m/s^2)" in page.text_content("#cube-model")
+    assert ("passed its checks" in page.text_content("#result-ok")) == doc["ok"]
+    assert "may already calibrate" in page.text_content("#result-warnings")
+    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")
+    refused = page.eval_on_selector_all("#downloads li span", "ss => ss.map(s => s.textContent)")
+    assert links == ["json"]  # the cube model: the other formats hold one affine correction
+    assert len(refused) == 5 and all("a 'cube' calibration does not fit it: use the json export" in r for r in refused)
+    assert refused[0].startswith("C header: ")
+    assert page.errors == []
+
+
+
+
+def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, server):
+    sent = captures_sent(page)
+    cube = Cube(page)
+    page.goto(server.url + URL)
+    cube.place(1)
+    page.click("#start-btn")
+    wait_captured(page, 1)
+    for k in (2, 3):
+        cube.move_into(page, k)
+        wait_captured(page, k)
+    cube.move_into(page, 4, label="z-")  # clockwise instead of counter-clockwise
+    alert = page.locator("#turn-alert")
+    expect(alert).to_be_visible(timeout=10_000)
+    assert alert.get_attribute("role") == "alert"
+    text = alert.text_content()
+    assert ("wrong turn into position 4: the cube made a quarter turn clockwise (seen from above). Put it back "
+            "in position 3, then turn the cube a quarter counter-clockwise (seen from above) on the plane") in text
+    pic = page.locator("#turn-alert svg")
+    assert pic.get_attribute("data-position") == "3" and pic.get_attribute("data-turn") == "z+"
+    assert "counter-clockwise" in pic.get_attribute("aria-label")
+    assert "Wrong turn into position 4" in page.text_content("#instruction")
+    assert page.get_attribute(COUNT.format(3), "data-captured") == "3"
+    shot(page, "cube_wrong_turn")
+
+    cube.turn(4, "z+")  # back into position 3...
+    cube.move_into(page, 4)  # ...and the right turn
+    wait_captured(page, 4)
+    expect(alert).to_be_hidden()
+    cube.move_into(page, 5)  # and on: the tip over the jig edge
+    wait_captured(page, 5)
+    shot(page, "cube_after_correction")
+    assert [c["position"] for c in sent] == ["1", "2", "3", "4", "4", "5"]
+    # Both attempts at 4 carry the move from the end of 3: the second includes the wrong turn and
+    # the way back, whose net rotation is the protocol's.
+    assert sent[3]["motion"]["t_ms"][0] == sent[4]["motion"]["t_ms"][0]
+    check_moves([sent[2], sent[4], sent[5]])
+    captures = saved_session(page, server)["captures"]
+    assert [c["position"] for c in captures] == ["1", "2", "3", "4", "5"]
+    assert captures[3]["turn"]["made"] == "z+90"
+    # Chromium logs the refused request itself; nothing else went wrong.
+    assert page.errors == ["Failed to load resource: the server responded with a status of 422 (Unprocessable Entity)"]
+
+
+def test_without_a_gyroscope_the_page_says_the_cube_flow_needs_it(page, server):
+    cube = Cube(page, gyroscope=False)
+    cube.place(1)
+    page.goto(server.url + URL)
+    # What Chromium does with accelerometers but no gyroscope: rotationRate with null rates.
+    page.evaluate("""window.__rates = [];
+      window.addEventListener('devicemotion', (e) => { const r = e.rotationRate;
+        window.__rates.push(r === null ? 'null' : [r.alpha, r.beta, r.gamma]); });""")
+    page.click("#start-btn")
+    problem = page.locator("#problem")
+    expect(problem).to_contain_text("This browser gives no gyroscope readings", timeout=5000)
+    assert "the cube flow needs them" in problem.text_content()
+    assert page.get_attribute("#problem a", "href") == "/wizard?protocol=six"
+    assert "No gyroscope" in page.text_content("#status")
+    assert page.evaluate("localStorage.length") == 0  # no session was started
+    rates = page.evaluate("window.__rates")
+    assert len(rates) >= 10 and all(r == "null" or r == [None, None, None] for r in rates), rates[:3]
+    print(f"\nChromium without a gyroscope override: rotationRate = {rates[0]!r}")
+    shot(page, "cube_no_gyroscope")
+    assert page.errors == []
+
+
+def test_a_reload_resumes_at_the_right_position_and_redo_replaces_the_last(page, server):
+    sent = captures_sent(page)
+    cube = Cube(page)
+    page.goto(server.url + URL)
+    cube.place(1)
+    page.click("#start-btn")
+    wait_captured(page, 1)
+    for k in (2, 3):
+        cube.move_into(page, k)
+        wait_captured(page, k)
+    page.reload()
+    page.wait_for_selector("#resume:not([hidden])")
+    resume = page.text_content("#resume")
+    assert "3 of 24 positions captured" in resume and "Put the cube back in position 3" in resume
+    assert "the recording of the next turn starts there" in resume
+    assert page.get_attribute("#resume-pic svg", "data-position") == "3"
+    assert page.text_content("#start-btn") == "Continue"
+    shot(page, "cube_resumed")
+
+    def tab_to(selector, limit=40):
+        for _ in range(limit):
+            page.keyboard.press("Tab")
+            if page.evaluate("(s) => document.activeElement === document.querySelector(s)", selector):
+                return
+        raise AssertionError(f"Tab never reached {selector}")
+
+    tab_to("#start-btn")
+    page.keyboard.press("Enter")  # Continue, from the keyboard
+    expect(page.locator("#capture-h")).to_have_text("Position 4 of 24")
+    page.wait_for_timeout(2500)  # still in position 3: longer than hold + capture, nothing is sent
+    assert len(sent) == 3
+    cube.move_into(page, 4)
+    wait_captured(page, 4)
+    cube.move_into(page, 5)
+    wait_captured(page, 5)
+    assert sent[3]["motion"]["t_ms"][0] > sent[2]["t_ms"][-1]  # the log restarted at Continue
+    check_moves(sent[3:])
+
+    redo = page.locator("#redo-last")
+    expect(redo).to_have_accessible_name("Redo position 5")
+    tab_to("#redo-last")
+    shot(page, "cube_redo_focused")
+    page.keyboard.press("Enter")
+    expect(page.locator("#capture-h")).to_have_text("Redo position 5 of 24")
+    assert "Redo position 5" in page.text_content("#status")
+    wait_captured(page, 5)  # the count stays at 5 ...
+    page.wait_for_function("() => !document.querySelector('#redo-last').hidden")  # ... and the redo is done
+    expect(page.locator("#capture-h")).to_have_text("Position 6 of 24")
+    assert sent[-1]["redo"] is True and sent[-1]["position"] == "5"
+    assert sent[-1]["motion"]["t_ms"][0] == sent[4]["motion"]["t_ms"][0]  # again from the end of 4
+    captures = saved_session(page, server)["captures"]
+    assert [c["position"] for c in captures] == ["1", "2", "3", "4", "5"]
+    for button in page.locator("button:visible").all():  # every visible control has a name
+        assert button.evaluate("b => b.textContent.trim() || b.getAttribute('aria-label')")
+    assert page.evaluate("document.documentElement.scrollWidth") <= 360  # readable at 360 × 640
+    shot(page, "cube_redone")
+    assert page.errors == []
+
+
+@pytest.mark.parametrize("k", [1, 4, 5, 12, 24])
+def test_the_page_s_cube_positions_are_the_server_s(page, server, k):
+    """cube.js chains the 23 rotations itself: its attitudes and up faces match protocols.cube24()."""
+    page.goto(server.url + URL)
+    got = page.evaluate(f"""async () => {{ const m = await import('/static/js/cube.js');
+      return [m.CUBE24_ATTITUDES[{k - 1}], m.upOf({k}), m.CUBE24_ROTATIONS]; }}""")
+    np.testing.assert_array_equal(np.array(got[0]), np.round(ATTITUDES[k - 1]))
+    assert got[1] == CUBE24_UPS[k - 1] and got[2] == list(CUBE24_ROTATIONS)
