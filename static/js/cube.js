@@ -179,10 +179,11 @@ export class MotionLog {
 
   push(sample) {
     this.samples.push(sample);
-    if (this.samples.length > this.maxSamples) { // keep what a move or a redo can still need
-      const keep = Math.min(this.from, ...this.ends.values());
+    if (this.samples.length > this.maxSamples) { // drop what neither the next move nor a redo needs
+      const last = Math.max(0, ...this.ends.keys());
+      const keep = Math.min(this.from, this.ends.get(last - 1) ?? this.from);
       const cut = this.samples.findIndex((s) => s.t > keep);
-      this.samples.splice(0, Math.max(cut, this.samples.length - this.maxSamples));
+      this.samples.splice(0, cut < 0 ? this.samples.length - 1 : cut);
     }
   }
 

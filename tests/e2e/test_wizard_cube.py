@@ -12,7 +12,6 @@ import math
 import time
 
 import numpy as np
-import pytest
 from playwright.sync_api import expect
 
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
@@ -58,24 +57,29 @@ class Cube:
         """Turn the cube by a quarter `label` (calibration frame) from the attitude of position
         k_from: the rate about the rotation's axis in the sensor frame, R_kᵀ a, rises and falls as a
         half sine (a constant rate would read as a clipped gyroscope: a flat top), its peak a little
-        different each turn. The angle fed is the integral of the overrides sent, at their measured
-        times."""
+        different each turn. The angle fed is the integral of the overrides sent at their measured
+        times; the turn ends when it reaches 90°, so that a stall of this process (the last rate
+        holds meanwhile) is made up for."""
         axis = np.zeros(3)
         axis["xyz".index(label[0])] = 1.0 if label[1] == "+" else -1.0
         direction = ATTITUDES[k_from - 1].T @ axis  # the axis in the sensor frame
         peak = PEAK_DEG_S + 3.0 * (len(self.turns) % 11)
         duration = 90.0 * math.pi / (2.0 * peak)  # ∫ peak sin(π t / T) dt = 2 peak T / π = 90°
-        sent = []
-        t0 = time.monotonic()
-        while (elapsed := time.monotonic() - t0) < duration:
-            rate = peak * math.sin(math.pi * elapsed / duration)
+        angle, rate, step = 0.0, 0.0, 0.008
+        t0 = last = time.monotonic()
+        while True:
+            now = time.monotonic()
+            angle += rate * (now - last)
+            last = now
+            if angle >= 90.0 - rate * step / 2:
+                break
+            rate = max(peak * math.sin(math.pi * min(now - t0, duration) / duration), 20.0)
+            rate = min(rate, (90.0 - angle) / step)  # no overshoot at the end
             self.motion.send("gyroscope", math.radians(rate) * direction)
-            sent.append((time.monotonic(), rate))
-            time.sleep(0.008)
+            time.sleep(step)
         self.motion.send("gyroscope", (0.0, 0.0, 0.0))
-        sent.append((time.monotonic(), 0.0))
-        angle = sum(r * (t1 - t) for (t, r), (t1, _) in zip(sent, sent[1:]))
-        self.turns.append({"label": label, "seconds": sent[-1][0] - sent[0][0], "angle_deg": angle})
+        angle += rate * (time.monotonic() - last)
+        self.turns.append({"label": label, "seconds": time.monotonic() - t0, "angle_deg": angle})
 
     def move_into(self, page, k: int, label: str | None = None):
         """The turn of the protocol from position k − 1 into k (or `label` instead), then rest."""
@@ -145,9 +149,6 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     fed = np.array([t["angle_deg"] for t in cube.turns])
     seen = np.array([t["angle_deg"] for t in turns])
     errors = np.array([t["end_error_deg"] for t in turns])
-    # Chromium samples the override at 60 Hz, the server interpolates between events.
-    assert np.all(np.abs(seen - fed) < 6.0), list(zip(fed, seen))
-    assert np.all(errors < 6.0)
     check_moves(sent)
     assert [c["position"] for c in sent] == [str(k) for k in range(1, 25)] and not any(c["redo"] for c in sent)
 
@@ -155,29 +156,35 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
     doc = json.loads(open(info.value.path()).read())
-    print(json.dumps({k: doc.get(k) for k in ("ok", "warnings")})[:3000])
-    print([round(t["end_error_deg"], 2) for t in turns], [round(x, 2) for x in seen - fed], gyr["S"], gyr["b"])
     acc, gyr = doc["model"]["acc"], doc["model"]["gyr"]
-    # Six distinct readings, each rounded by Chromium to 0.1 m/s² (±0.05): S within 0.006 of X
-    # (0.05 / g ≈ 0.005), b within 0.06 m/s² of y.
-    np.testing.assert_allclose(acc["S"], X_ACC, atol=0.006)
-    np.testing.assert_allclose(acc["b"], Y_ACC, atol=0.06)
-    fed_readings = np.array([chromium_round(reading(k)) for k in range(1, 25)])
-    assert np.allclose([c["mean"] for c in session["captures"]], fed_readings, atol=1e-9)
     note = (f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
             f"({elapsed / 24:.1f} s a position, turns of about 0.6 s peaking at 200-230 °/s); turn angle "
             f"seen by the server minus the angle fed: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
             f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°); end attitude error up to "
             f"{errors.max():.2f}°; acc S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.4f}, "
             f"b − y up to {np.abs(np.array(acc['b']) - Y_ACC).max():.4f} m/s²; "
-            f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}")
+            f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}, b up to "
+            f"{np.degrees(np.abs(gyr['b']).max()):.3f} °/s; ok={doc['ok']} {[w for w in doc['warnings'] if 'rotation' in w]}")
     print("\n" + note)
     ARTIFACTS.mkdir(exist_ok=True)
-    (ARTIFACTS / "wizard_cube_timing.txt").write_text(note + "\n")
-    # The gyroscope was ideal (no bias); its scale comes from turns timed by a test process, so
-    # it is only as good as that timing: within 2 %.
+    per_turn = [{"turn": k + 2, "fed": round(f, 3), "seen": round(v, 3), "end_error": round(e, 3)}
+                for k, (f, v, e) in enumerate(zip(fed, seen, errors))]
+    (ARTIFACTS / "wizard_cube_timing.txt").write_text(note + "\n" + json.dumps(per_turn) + "\n")
+    # Chromium samples the overrides at 60 Hz and the server interpolates between the events: the
+    # angle it integrates is the angle fed within a few tenths of a degree (measured: ±0.3°), far
+    # inside its tolerance (0.1 per quaternion element, about 11°).
+    assert np.all(np.abs(fed - 90.0) < 1.0), fed  # the test's own turns
+    assert np.all(np.abs(seen - fed) < 2.0), list(zip(fed, seen))
+    assert np.all(errors < 2.0), errors
+    # Six distinct readings, each rounded by Chromium to 0.1 m/s² (±0.05): S within 0.006 of X
+    # (0.05 / g ≈ 0.005), b within 0.06 m/s² of y.
+    np.testing.assert_allclose(acc["S"], X_ACC, atol=0.006)
+    np.testing.assert_allclose(acc["b"], Y_ACC, atol=0.06)
+    fed_readings = np.array([chromium_round(reading(k)) for k in range(1, 25)])
+    assert np.allclose([c["mean"] for c in session["captures"]], fed_readings, atol=1e-9)
+    # The gyroscope was ideal (no bias); its estimate is only as good as the turns' timing.
     np.testing.assert_allclose(gyr["S"], np.eye(3), atol=0.02)
-    np.testing.assert_allclose(gyr["b"], 0.0, atol=np.radians(0.2))
+    np.testing.assert_allclose(gyr["b"], 0.0, atol=np.radians(0.5))
     cell = page.text_content("#cube-acc-S tr:first-child td:first-child")
     assert cell.startswith(f"{acc['S'][0][0]:.6f} ± ")
     assert page.text_content("#cube-acc-b tr:nth-child(2) td").startswith(f"{acc['b'][1]:.6f} ± ")
@@ -191,9 +198,8 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     assert links == ["json"]  # the cube model: the other formats hold one affine correction
     assert len(refused) == 5 and all("a 'cube' calibration does not fit it: use the json export" in r for r in refused)
     assert refused[0].startswith("C header: ")
-    assert page.errors == []
-
-
+    # Chromium logs each refused export request itself; nothing else went wrong.
+    assert page.errors == ["Failed to load resource: the server responded with a status of 422 (Unprocessable Entity)"] * 5
 
 
 def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, server):
@@ -320,11 +326,42 @@ def test_a_reload_resumes_at_the_right_position_and_redo_replaces_the_last(page,
     assert page.errors == []
 
 
-@pytest.mark.parametrize("k", [1, 4, 5, 12, 24])
-def test_the_page_s_cube_positions_are_the_server_s(page, server, k):
-    """cube.js chains the 23 rotations itself: its attitudes and up faces match protocols.cube24()."""
+def test_the_page_s_cube_positions_are_the_server_s(page, server):
+    """cube.js chains the 23 rotations itself: its attitudes and up faces match protocols.cube24(),
+    and each position's picture names its up face."""
     page.goto(server.url + URL)
-    got = page.evaluate(f"""async () => {{ const m = await import('/static/js/cube.js');
-      return [m.CUBE24_ATTITUDES[{k - 1}], m.upOf({k}), m.CUBE24_ROTATIONS]; }}""")
-    np.testing.assert_array_equal(np.array(got[0]), np.round(ATTITUDES[k - 1]))
-    assert got[1] == CUBE24_UPS[k - 1] and got[2] == list(CUBE24_ROTATIONS)
+    got = page.evaluate("""async () => { const m = await import('/static/js/cube.js');
+      const ks = Array.from({length: 24}, (_, i) => i + 1);
+      return [m.CUBE24_ATTITUDES, ks.map(m.upOf), m.CUBE24_ROTATIONS, ks.map((k) => m.cubeSvg(k))]; }""")
+    np.testing.assert_array_equal(np.array(got[0]), np.round(ATTITUDES))
+    assert got[1] == list(CUBE24_UPS) and got[2] == list(CUBE24_ROTATIONS)
+    for k, svg in enumerate(got[3], start=1):
+        assert f'aria-label="Position {k}: the cube with sensor {CUBE24_UPS[k - 1]} up' in svg
+
+
+def test_the_motion_log_gives_each_capture_its_move(page, server):
+    """MotionLog (cube.js) in Chromium: the move runs from the end of the last accepted capture; a
+    redo runs from the end of the capture before it, or from now when that end is not in the log;
+    past its size the log drops only what no move or redo needs."""
+    page.goto(server.url + URL)
+    got = page.evaluate("""async () => { const m = await import('/static/js/cube.js');
+      const log = new m.MotionLog({maxSamples: 50});
+      const feed = (a, b) => { for (let t = a; t < b; t += 10) log.push({t, acc: [0, 0, 9.8], gyr: [t, 0, 0]}); };
+      const span = (mv) => [mv.t_ms[0], mv.t_ms[mv.t_ms.length - 1], mv.t_ms.length, mv.gyr[0][0]];
+      const out = {};
+      feed(0, 300); out.first = span(log.motion(200));            // resumed: from the log's start
+      log.accept(1, 290); feed(300, 600); out.second = span(log.motion(500));
+      log.accept(2, 590); feed(600, 900);
+      out.redoKnown = [log.redo(2, 890), span(log.motion(800))];  // from the end of 1 again
+      out.length = log.samples.length;                             // dropped up to the end of 1 only
+      const fresh = new m.MotionLog(); fresh.accept(5, 100);
+      for (let t = 110; t < 200; t += 10) fresh.push({t, acc: [0, 0, 0], gyr: [0, 0, 0]});
+      out.redoUnknown = [fresh.redo(5, 150), span(fresh.motion(190))];  // from now
+      out.redoFirst = new m.MotionLog().redo(1, 0);
+      return out; }""")
+    assert got["first"] == [0, 190, 20, 0]
+    assert got["second"] == [300, 490, 20, 300]
+    assert got["redoKnown"] == [True, [300, 790, 50, 300]]
+    assert got["length"] == 60  # 300 … 890: the samples after the end of position 1
+    assert got["redoUnknown"] == [False, [160, 180, 3, 0]]
+    assert got["redoFirst"] is True
