@@ -80,9 +80,14 @@ def test_wizard_refuses_an_unknown_protocol_or_capture_time_with_links(client):
         assert r.status_code == 400 and f"capture_s={bad} is not a number of seconds between 0.5 and 30" in r.text
 
 
-def test_cube24_explains_the_upload_for_now(client):
-    r = client.get("/wizard?protocol=cube24")
+def test_cube24_wizard_page(client):
+    r = client.get("/wizard?protocol=cube24&capture_s=2")
     assert r.status_code == 200
-    assert "The guided cube flow is coming" in r.text and "POST /api/v1/recordings" in r.text
-    assert '"method": "cube"' in r.text or "&#34;method&#34;: &#34;cube&#34;" in r.text
-    assert "wizard.js" not in r.text
+    html = " ".join(r.text.split())
+    for needle in ('data-protocol="cube24"', 'data-capture-s="2.0"', 'type="module" src="/static/js/wizard.js"',
+                   "in a fixed order", "a jig", "about 4 minutes", 'id="turn-alert" class="problem" role="alert"',
+                   'id="redo-last"', "Position 1 of 24", 'aria-label="Positions captured"'):
+        assert needle in html, needle
+    assert "coming" not in html and 'id="poses"' not in html  # no upload-instead notice, no six-pose list
+    assert "can still be uploaded through the API" in html and "POST /api/v1/recordings" in html
+    assert client.get("/static/js/cube.js").status_code == 200

@@ -164,6 +164,13 @@ export class CaptureMachine {
     }
   }
 
+  // Wait for the device to move before the next capture (on: after a cube position was accepted,
+  // whose next position may have the same face up), or capture as soon as it is still (off).
+  requireMove(on = true) {
+    this.needMove = on;
+    if (!on) this.justCaptured = null;
+  }
+
   reset() {
     this.window = [];
     this.still = false;

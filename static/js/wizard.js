@@ -2,6 +2,7 @@
 import { createSession, fetchExport, getCalibration, getSession, postCapture, solveSession } from "./api.js";
 import { CaptureMachine, POSES, SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C }
   from "./motion.js";
+import { CUBE_POSITIONS, MotionLog, cubeSvg, expectPosition, turnInto, upOf } from "./cube.js";
 import { describePose, poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
 import { normChartSvg, normRows, withInterval } from "./result.js";
@@ -12,6 +13,8 @@ const protocol = root.dataset.protocol;
 const formats = JSON.parse(root.dataset.formats);
 const storeKey = `trical.wizard.${protocol}`;
 const NO_MOTION_MS = 2000;
+const cube = protocol === "cube24";
+const NO_GYRO_SAMPLES = 10; // motion events without rotationRate before the cube flow gives up
 
 let captureS = Number(root.dataset.captureS);
 let session = null; // the server's session object
@@ -27,6 +30,13 @@ let lastT = null;
 let lastLive = 0;
 let lastAnnounced = "";
 let blobUrls = [];
+// The cube flow.
+let log = null; // MotionLog: every sample since the page started reading the sensors
+let gyroSeen = false;
+let noGyro = 0;
+let redoing = false; // the next capture replaces the last position
+let awaitingTurn = false; // a position was accepted: the cube must turn before the next capture
+let resumed = false; // the session was resumed after a reload: the motion log starts at Continue
 
 const status = $("#status");
 function say(text) { status.textContent = text; }
@@ -83,14 +93,29 @@ function showNoMotion() {
   "This browser sends no motion data: upload a log instead.");
 }
 
+function showNoGyro() {
+  stop();
+  $("#capture").hidden = true;
+  $("#start").hidden = false;
+  $("#start-btn").disabled = false;
+  const p1 = el("p", "This browser gives no gyroscope readings (its motion events have no rotationRate), and "
+    + "the cube flow needs them: the page checks every turn with the gyroscope.");
+  const p2 = el("p", "Try another browser on this phone (Chrome or Safari), or ");
+  p2.append(el("a", "calibrate the accelerometer with six positions", { href: "/wizard?protocol=six" }),
+    ", or record the cube sequence with a sensor app and upload it through the API (",
+    el("a", "API documentation", { href: "/docs" }), ").");
+  showProblem([p1, p2], "No gyroscope: the cube flow cannot run in this browser.");
+}
+
 // --- the pose list ---------------------------------------------------------------------------
 
 function donePoses() {
-  if (!session) return [];
+  if (!session || cube) return [];
   return POSES.filter((p) => !session.remaining.includes(p));
 }
 
 function renderPoses(current = null) {
+  if (cube) { renderCube(); return; }
   const done = new Set(donePoses());
   for (const li of document.querySelectorAll("#poses li")) {
     const pose = li.dataset.pose;
@@ -110,7 +135,7 @@ function remember() { localStorage.setItem(storeKey, JSON.stringify({ id: sessio
 function adopt(s) {
   session = s;
   if (s.capture_s) captureS = s.capture_s;
-  if (machine) machine.setDone(donePoses());
+  if (machine && !cube) machine.setDone(donePoses());
   renderPoses();
 }
 
@@ -124,7 +149,8 @@ async function ensureSession() {
     remember();
     $("#key-box").hidden = true;
     $("#start-over").hidden = false;
-    instruct(`Put the phone down on one of its sides: ${list(session.remaining)}.`);
+    instruct(cube ? "Stand the cube in position 1 against the jig and let go."
+      : `Put the phone down on one of its sides: ${list(session.remaining)}.`);
   } catch (err) {
     if (err.status === 401) {
       $("#key-box").hidden = false;
@@ -163,8 +189,9 @@ async function resume() {
       say(`The saved result could not be read (${err.message}).`);
     }
   }
-  $("#capture").hidden = false;
   $("#start-btn").textContent = "Continue";
+  if (cube) { resumeCube(); return; }
+  $("#capture").hidden = false;
   const text = `You have a calibration in progress: ${done.length} of 6 positions captured (${list(done)}); `
     + `remaining: ${list(session.remaining)}. Tap Continue to go on, or Start over.`;
   $("#resume").textContent = text;
@@ -195,29 +222,53 @@ function onMotion(event) {
     gotMotion = true;
     clearTimeout(noMotionTimer);
     $("#problem").hidden = true;
-    ensureSession();
+    if (!cube) ensureSession();
+  }
+  if (cube && !gyroSeen) { // the cube flow needs rotationRate: wait for it before starting a session
+    if (raw.gyr) {
+      gyroSeen = true;
+      ensureSession();
+    } else {
+      noGyro += 1;
+      if (noGyro >= NO_GYRO_SAMPLES) showNoGyro();
+      return;
+    }
   }
   const convention = sign.motion(raw.t, raw.acc);
   if (!convention) {
     instruct("Reading the sensors…");
     return;
   }
-  if (lastT !== null && raw.t <= lastT) return; // t_ms must increase
-  lastT = raw.t;
-  const sample = { t: raw.t, acc: toW3C(raw.acc, convention.convention), gyr: raw.gyr };
+  // The cube's captures are joined into one recording by time, across reloads too: epoch ms
+  // (event.timeStamp restarts with each page load).
+  const t = cube ? performance.timeOrigin + raw.t : raw.t;
+  if (lastT !== null && t <= lastT) return; // t_ms must increase
+  lastT = t;
+  const sample = { t, acc: toW3C(raw.acc, convention.convention), gyr: raw.gyr };
+  if (cube) log.push(sample);
   if (!session) { renderLive(sample.acc, null, false); return; }
   const out = machine.push(sample);
   renderLive(sample.acc, out, out.event !== null);
-  show(out);
-  if (out.capture) sendCapture(out.capture);
+  if (cube) showCube(out);
+  else show(out);
+  if (out.capture) (cube ? sendCubeCapture : sendCapture)(out.capture);
 }
 
 function listen() {
   if (listening) return;
   listening = true;
   sign = new SignDetector({ apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints) });
-  machine = new CaptureMachine(captureS * 1000);
-  machine.setDone(donePoses());
+  if (cube) {
+    // A cube may stand on an inclined plane: its up face is the nearest axis within 40° (the server: 45°).
+    machine = new CaptureMachine(captureS * 1000, { maxAngleDeg: 40 });
+    log = new MotionLog();
+    expectPosition(machine, nextPosition());
+    // Resumed: the cube stands in the last captured position and must turn before the next capture.
+    if (capturedCount() > 0 && !redoing) { machine.requireMove(true); awaitingTurn = true; }
+  } else {
+    machine = new CaptureMachine(captureS * 1000);
+    machine.setDone(donePoses());
+  }
   window.addEventListener("deviceorientation", onOrientation);
   window.addEventListener("devicemotion", onMotion);
 }
@@ -232,6 +283,7 @@ async function onStart() {
   listen();
   $("#start").hidden = true;
   $("#capture").hidden = false;
+  $("#resume-pic").hidden = true;
   renderPoses();
   say("Reading the motion sensors…");
   instruct("Waiting for motion data…");
@@ -297,6 +349,168 @@ function show(out) {
   lastAnnounced = key;
 }
 
+// --- the cube flow ---------------------------------------------------------------------------
+
+const capturedCount = () => (session ? session.captures.length : 0);
+// The position the next capture is for: the last one again while redoing it.
+const nextPosition = () => (redoing ? capturedCount() : Math.min(capturedCount() + 1, CUBE_POSITIONS));
+
+function figure(box, k, turn, caption) {
+  box.querySelector(".cube-pic").innerHTML = cubeSvg(k, { turn });
+  box.querySelector("figcaption").textContent = caption;
+}
+
+function renderCube() {
+  const n = capturedCount();
+  const k = nextPosition();
+  $("#capture-h").textContent = redoing ? `Redo position ${k} of ${CUBE_POSITIONS}` : `Position ${k} of ${CUBE_POSITIONS}`;
+  if (k >= 2) {
+    const { label, words } = turnInto(k);
+    figure($("#cube-turn"), k - 1, label, `From position ${k - 1}: ${words}.`);
+  } else {
+    figure($("#cube-turn"), 1, null, "Start: screen (sensor z) up, the phone's x axis along the jig.");
+  }
+  figure($("#cube-target"), k, null, `Position ${k}: sensor ${upOf(k)} up.`);
+  $("#cube-count").textContent = `${n} of ${CUBE_POSITIONS} positions captured`;
+  $("#cube-count").dataset.captured = String(n);
+  $("#cube-progress").value = n;
+  const redo = $("#redo-last");
+  redo.hidden = n === 0 || redoing;
+  redo.textContent = `Redo position ${n}`;
+  const hint = $("#redo-hint");
+  hint.hidden = !(resumed && n >= 2 && !log?.ends.has(n - 1) && !redoing);
+  hint.textContent = `After a reload, the page no longer has the turn into position ${n}: to redo it, put the `
+    + `cube back in position ${n - 1} first, then press Redo and turn it into position ${n} again.`;
+}
+
+function showCube(out) {
+  const k = nextPosition();
+  const { state, pose } = out;
+  const up = upOf(k);
+  const turn = k >= 2 ? turnInto(k).words : null;
+  let text;
+  switch (state) {
+    case "waiting": text = "Reading the sensors…"; break;
+    case "moving": text = k >= 2 ? `Turning into position ${k}: ${turn}, then let go.` : "Stand the cube in position 1 and let go."; break;
+    case "tilted": text = `The cube is tilted ${Math.round(out.angleDeg)}° away from ${pose} up: stand it on a face.`; break;
+    case "refused": text = `Position ${k} needs sensor ${up} up; the cube has ${pose} up.`
+      + (turn ? ` From position ${k - 1}: ${turn}.` : ""); break;
+    case "settling": text = `Position ${k} recognised: keep still…`; break;
+    case "capturing": text = `Capturing position ${k}: keep still.`; break;
+    case "sending": text = `Checking position ${k} and the turn into it…`; break;
+    case "retry": text = awaitingTurn && turn ? `Position ${k - 1} captured. Now ${turn}.` : null; break;
+    default: text = null;
+  }
+  if (text !== null) instruct(text);
+  if (out.event === "restarted") say("Moved during the capture: it restarts once the cube is still again.");
+  const key = `${state} ${pose} ${k}`;
+  if (key !== lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(state)) say(text);
+  lastAnnounced = key;
+}
+
+function clearTurnAlert() {
+  $("#turn-alert").hidden = true;
+  $("#turn-alert").replaceChildren();
+}
+
+// The server refused the turn: its words, and the picture of the position to go back to with the
+// turn to make from there. Recording goes on; the next move again runs from the last accepted end.
+function showWrongTurn(message, k) {
+  const { label } = turnInto(k);
+  const box = $("#turn-alert");
+  const pic = el("div", null, { class: "cube-pic" });
+  pic.innerHTML = cubeSvg(k - 1, { turn: label });
+  box.replaceChildren(el("p", message), el("p", `Put the cube back in position ${k - 1} as pictured, then make this turn:`), pic);
+  box.hidden = false;
+  say(""); // the alert announces itself (role=alert); nothing stale in the status line
+  instruct(`Wrong turn into position ${k}: back to position ${k - 1}, then ${turnInto(k).words}.`);
+}
+
+async function sendCubeCapture(capture) {
+  const k = nextPosition();
+  const payload = {
+    acc: capture.acc, t_ms: capture.t_ms, gyr: capture.gyr, unit: "m/s^2", gyr_unit: "deg/s",
+    sign: sign.result, position: String(k), redo: redoing,
+  };
+  if (k >= 2) payload.motion = log.motion(capture.t_ms[0]);
+  try {
+    const answer = await postCapture(session.id, token, payload);
+    log.accept(k, capture.t_ms[capture.t_ms.length - 1]);
+    redoing = false;
+    machine.resolve(true, capture.position);
+    adopt(answer.session);
+    clearTurnAlert();
+    const n = capturedCount();
+    if (n < CUBE_POSITIONS) {
+      expectPosition(machine, n + 1);
+      machine.requireMove(true); // the next position may have the same face up: wait for the turn
+      awaitingTurn = true;
+      renderCube();
+      const text = `Position ${k} captured. Now ${turnInto(n + 1).words}.`;
+      instruct(text);
+      say(text);
+    } else {
+      instruct("All 24 positions captured: computing the calibration…");
+      say("All 24 positions captured: computing the calibration…");
+      await solve();
+    }
+  } catch (err) {
+    machine.resolve(false, capture.position);
+    awaitingTurn = false;
+    if (err.status === 409) {
+      try { adopt(await getSession(session.id, token)); } catch { /* keep the old view */ }
+    }
+    if (err.status === 422 && err.message.startsWith("wrong turn")) {
+      showWrongTurn(err.message, k);
+    } else {
+      const text = `The capture of position ${k} was refused: ${err.message}. Move the cube and put it down again.`;
+      instruct(text);
+      say(text);
+    }
+  }
+}
+
+function resumeCube() {
+  resumed = true;
+  const n = capturedCount();
+  if (n >= CUBE_POSITIONS) { // complete but not solved (the solve failed): try again on Continue
+    $("#resume").textContent = "All 24 positions are captured. Tap Continue to compute the calibration.";
+    $("#resume").hidden = false;
+    $("#start-btn").addEventListener("click", solve, { once: true });
+    return;
+  }
+  const text = n === 0 ? "You have a cube calibration in progress with no position captured yet. "
+    + "Stand the cube in position 1 and tap Continue."
+    : `You have a cube calibration in progress: ${n} of ${CUBE_POSITIONS} positions captured. Put the cube back `
+      + `in position ${n} (pictured), against the jig, then tap Continue: the recording of the next turn starts there.`;
+  $("#resume").textContent = text;
+  $("#resume").hidden = false;
+  if (n) {
+    $("#resume-pic").innerHTML = cubeSvg(n);
+    $("#resume-pic").hidden = false;
+  }
+  renderCube();
+  say(text);
+}
+
+function startRedoLast() {
+  const n = capturedCount();
+  if (!n) return;
+  const last = log.samples.length ? log.samples[log.samples.length - 1].t : -Infinity;
+  const known = log.redo(n, last);
+  redoing = true;
+  awaitingTurn = false;
+  expectPosition(machine, n);
+  machine.requireMove(!known && n >= 2); // from position n − 1 the cube must turn again
+  clearTurnAlert();
+  renderCube();
+  const text = known || n === 1
+    ? `Redo position ${n}: leave the cube in position ${n} (or put it back there); the new capture replaces the old one.`
+    : `Redo position ${n}: the cube should now stand in position ${n - 1}; ${turnInto(n).words} into position ${n}.`;
+  instruct(text);
+  say(text);
+}
+
 // --- captures, solving -----------------------------------------------------------------------
 
 async function sendCapture(capture) {
@@ -356,14 +570,25 @@ async function showResult(cal) {
   $("#result-reasons").replaceChildren(...(cal.reasons || []).map((r) => el("li", r)));
   const warnings = cal.warnings || [];
   $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
+  if (cal.model.type === "cube") fillCubeModel(cal, cal.uncertainty || {});
+  else fillSixModel(cal);
+  $("#result-metrics").replaceChildren(...Object.entries(cal.metrics || {})
+    .filter(([, v]) => v === null || typeof v !== "object") // the cube's lists stay in the JSON export
+    .map(([k, v]) => {
+      const tr = el("tr");
+      tr.append(el("th", k, { scope: "row" }), el("td", formatNumber(v)));
+      return tr;
+    }));
+  result.focus();
+  say(cal.ok ? "Calibration done: it passed its checks. Downloads below." : "Calibration done, but it failed its checks.");
+  await renderDownloads(cal.id);
+}
+
+// The affine model m = X a + y, and |m| before and after per pose.
+function fillSixModel(cal) {
   const unc = cal.uncertainty || {};
   fillMatrix($("#result-X"), cal.model.X, unc.X);
   fillMatrix($("#result-y"), cal.model.y.map((v) => [v]), unc.y && unc.y.map((v) => [v]));
-  $("#result-metrics").replaceChildren(...Object.entries(cal.metrics || {}).map(([k, v]) => {
-    const tr = el("tr");
-    tr.append(el("th", k, { scope: "row" }), el("td", formatNumber(v)));
-    return tr;
-  }));
   const gravity = cal.gravity || STANDARD_GRAVITY;
   const means = (cal.readings && cal.readings.length ? cal.readings.map((r) => ({ position: r.up, mean: r.mean }))
     : (session?.captures || [])).filter((c) => c.position);
@@ -374,9 +599,32 @@ async function showResult(cal) {
     tr.append(el("th", r.position, { scope: "row" }), el("td", r.raw.toFixed(4)), el("td", r.calibrated.toFixed(4)));
     return tr;
   }));
-  result.focus();
-  say(cal.ok ? "Calibration done: it passed its checks. Downloads below." : "Calibration done, but it failed its checks.");
-  await renderDownloads(cal.id);
+}
+
+// 003's model per sensor: S (with D and the misalignment when given) and b, each ± its 95 % half-width.
+function fillCubeModel(cal, unc) {
+  const units = { acc: cal.unit || "m/s²", gyr: (cal.units && cal.units.gyr) || "rad/s" };
+  const parts = [];
+  for (const [key, name] of [["acc", "Accelerometer"], ["gyr", "Gyroscope"]]) {
+    const model = cal.model[key];
+    if (!model) continue;
+    const half = unc[key] || {};
+    parts.push(el("h4", name));
+    const row = el("div", null, { class: "row" });
+    const items = [["S", "S (scale and cross-axis)", model.S, half.S]];
+    if (key === "acc" && model.D) items.push(["D", "D (scale factors)", model.D.map((v) => [v]), half.D && half.D.map((v) => [v])]);
+    if (key === "acc" && model.misalignment) items.push(["misalignment", "Misalignment", model.misalignment, half.misalignment]);
+    items.push(["b", `b (${units[key]})`, model.b.map((v) => [v]), half.b && half.b.map((v) => [v])]);
+    for (const [id, title, rows, halfRows] of items) {
+      const table = el("table", null, { class: "matrix", id: `cube-${key}-${id}` });
+      fillMatrix(table, rows, halfRows);
+      const box = el("div");
+      box.append(el("h5", title), table);
+      row.append(box);
+    }
+    parts.push(row);
+  }
+  $("#cube-model").replaceChildren(...parts);
 }
 
 async function renderDownloads(id) {
@@ -420,7 +668,13 @@ $("#start-over").addEventListener("click", () => {
   blobUrls.forEach((u) => URL.revokeObjectURL(u));
   location.reload();
 });
-$("#poses").addEventListener("click", (event) => {
+if (cube) {
+  $("#redo-last").addEventListener("click", () => {
+    // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
+    if (!listening) onStart().then(() => { if (machine) startRedoLast(); });
+    else startRedoLast();
+  });
+} else $("#poses").addEventListener("click", (event) => {
   const button = event.target.closest("button[data-redo]");
   if (!button) return;
   const pose = button.dataset.redo;
