@@ -14,7 +14,7 @@ import json
 import math
 
 from .errors import ExportError
-from .export_common import CORRECTION_SOURCE, FRAME, JSON_SCHEMA, Export, _affine_correction, describe
+from .export_common import CORRECTION_SOURCE, FRAME, JSON_SCHEMA, SENSORS, Export, describe, sensor_corrections
 
 
 def yaml_number(v: float) -> str:
@@ -40,9 +40,15 @@ def _yaml_value(v) -> str:
     return json.dumps(str(v), ensure_ascii=False)
 
 
+def _prefix(sensor: str) -> str:
+    """Keys of the accelerometer stay unprefixed (``offset``, ``matrix``); the cube's other sensors
+    carry theirs (``gyr_offset``, ``mag_matrix``)."""
+    return "" if sensor == "acc" else f"{sensor}_"
+
+
 def to_yaml(body: dict) -> Export:
-    """A flat YAML document: identity, units, frame, gravity and the correction ``M``, ``o``."""
-    M, o = _affine_correction(body)
+    """A flat YAML document: identity, units, frame, gravity and each sensor's correction ``M``, ``o``."""
+    corrections = sensor_corrections(body)
     fields = {
         "schema": JSON_SCHEMA,
         "schema_version": 1,
@@ -50,32 +56,40 @@ def to_yaml(body: dict) -> Export:
         "method": body["method"],
         "created_at": body["created_at"],
         "device_id": body.get("device_id"),
-        "sensor": "accelerometer",
+        "sensor": ", ".join(SENSORS[c.sensor] for c in corrections),
         "frame": FRAME,
         "input_unit": body.get("unit"),
         "output_unit": body.get("output_unit"),
         "gravity": None if body.get("gravity") is None else float(body["gravity"]),
         "formula": "a = M (m - o)",
         "source": CORRECTION_SOURCE[body["model"]["type"]],
-        "offset": [float(v) for v in o],
-        "matrix": [[float(v) for v in row] for row in M],
     }
+    for c in corrections:
+        p = _prefix(c.sensor)
+        if p:
+            fields[p + "input_unit"], fields[p + "output_unit"] = c.input_unit, c.output_unit
+        fields[p + "offset"] = [float(v) for v in c.o]
+        fields[p + "matrix"] = [[float(v) for v in row] for row in c.M]
     lines = [f"# {c}" for c in describe(body)]
     lines += [f"{k}: {_yaml_value(v)}" for k, v in fields.items()]
     return Export("\n".join(lines) + "\n", "application/yaml", f"trical_{body['id']}.yaml")
 
 
 def to_csv(body: dict) -> Export:
-    """A CSV table: the row ``offset`` holds ``o``, rows ``M_x``, ``M_y``, ``M_z`` the rows of ``M``."""
-    M, o = _affine_correction(body)
-    for v in [*o, *M.ravel()]:
-        yaml_number(float(v))  # refuses non-finite numbers
+    """A CSV table: the row ``offset`` holds ``o``, rows ``M_x``, ``M_y``, ``M_z`` the rows of ``M``
+    (a cube calibration's gyroscope and magnetometer rows are prefixed ``gyr_``, ``mag_``)."""
+    corrections = sensor_corrections(body)
+    for c in corrections:
+        for v in [*c.o, *c.M.ravel()]:
+            yaml_number(float(v))  # refuses non-finite numbers
     out = io.StringIO()
-    for c in describe(body) + ["a = M (m - o): row offset is o, rows M_x, M_y, M_z are the rows of M"]:
-        out.write(f"# {c}\n")
+    for line in describe(body) + ["a = M (m - o): row offset is o, rows M_x, M_y, M_z are the rows of M"]:
+        out.write(f"# {line}\n")
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(["quantity", "x", "y", "z"])
-    writer.writerow(["offset", *(repr(float(v)) for v in o)])
-    for axis, row in zip("xyz", M):
-        writer.writerow([f"M_{axis}", *(repr(float(v)) for v in row)])
+    for c in corrections:
+        p = _prefix(c.sensor)
+        writer.writerow([p + "offset", *(repr(float(v)) for v in c.o)])
+        for axis, row in zip("xyz", c.M):
+            writer.writerow([f"{p}M_{axis}", *(repr(float(v)) for v in row)])
     return Export(out.getvalue(), "text/csv", f"trical_{body['id']}.csv")

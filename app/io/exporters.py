@@ -10,7 +10,9 @@ import json
 import re
 
 from .errors import ExportError
-from .export_common import AFFINE_MODELS, CORRECTION_SOURCE, FRAME, JSON_SCHEMA, Export, _affine_correction
+from .export_common import (
+    AFFINE_MODELS, CORRECTION_SOURCE, FRAME, JSON_SCHEMA, SENSORS, Export, _affine_correction, sensor_corrections,
+)
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
 
@@ -45,6 +47,14 @@ def to_json(body: dict) -> Export:
             "o": o.tolist(),
             "source": CORRECTION_SOURCE[body["model"]["type"]],
         }
+    elif body["model"].get("type") == "cube":
+        corrections = sensor_corrections(body)
+        doc["sensor"] = ", ".join(SENSORS[c.sensor] for c in corrections)
+        doc["corrections"] = {
+            c.sensor: {"formula": "f = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
+                       "output_unit": c.output_unit, "source": CORRECTION_SOURCE["cube"]}
+            for c in corrections
+        }
     return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
 
 
@@ -56,34 +66,41 @@ def _c_number(v: float) -> str:
     return text + "f"
 
 
+def _c_sensor(c) -> str:
+    rows = ",\n".join("    {" + ", ".join(_c_number(v) for v in row) + "}" for row in c.M)
+    name = f"trical_{c.sensor}"
+    return f"""/* {SENSORS[c.sensor]}: {c.input_unit} in, {c.output_unit} out */
+static const float {name}_offset[3] = {{{", ".join(_c_number(v) for v in c.o)}}};
+
+static const float {name}_matrix[3][3] = {{
+{rows}
+}};
+
+/* Calibrate one raw reading m into f = M (m - o). */
+static inline void {name}_apply(const float m[3], float f[3])
+{{
+    float d[3];
+    for (int i = 0; i < 3; ++i) d[i] = m[i] - {name}_offset[i];
+    for (int i = 0; i < 3; ++i)
+        f[i] = {name}_matrix[i][0] * d[0] + {name}_matrix[i][1] * d[1] + {name}_matrix[i][2] * d[2];
+}}
+"""
+
+
 def to_c_header(body: dict) -> Export:
-    """A C99 header with the correction matrix, the offset and an inline apply function."""
-    M, o = _affine_correction(body)
+    """A C99 header with each sensor's correction matrix, offset and an inline apply function."""
+    corrections = sensor_corrections(body)
     guard = "TRICAL_" + re.sub(r"[^A-Za-z0-9]", "_", body["id"]).upper() + "_H"
-    rows = ",\n".join("    {" + ", ".join(_c_number(v) for v in row) + "}" for row in M)
+    sensors = "\n".join(_c_sensor(c) for c in corrections)
     text = f"""/* trical calibration {body['id']}
  * method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}
  * input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}
- * calibrated a = M (m - o): {CORRECTION_SOURCE[body['model']['type']]}
+ * calibrated f = M (m - o): {CORRECTION_SOURCE[body['model']['type']]}
  */
 #ifndef {guard}
 #define {guard}
 
-static const float trical_acc_offset[3] = {{{", ".join(_c_number(v) for v in o)}}};
-
-static const float trical_acc_matrix[3][3] = {{
-{rows}
-}};
-
-/* Calibrate one raw reading m into a. */
-static inline void trical_acc_apply(const float m[3], float a[3])
-{{
-    float d[3];
-    for (int i = 0; i < 3; ++i) d[i] = m[i] - trical_acc_offset[i];
-    for (int i = 0; i < 3; ++i)
-        a[i] = trical_acc_matrix[i][0] * d[0] + trical_acc_matrix[i][1] * d[1] + trical_acc_matrix[i][2] * d[2];
-}}
-
+{sensors}
 #endif /* {guard} */
 """
     return Export(text, "text/x-c", f"trical_{body['id']}.h")

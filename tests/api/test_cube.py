@@ -32,7 +32,7 @@ def good_session():
     return simulate_session(np.random.default_rng(21), sampling_rate_hz=FS)
 
 
-def test_cube24_session_through_the_api(client, good_session):
+def test_cube24_session_through_the_api(client, good_session, tmp_path):
     rec = upload_session(client, good_session)
     assert rec["channels"] == ["acc", "gyr", "mag"]
     r = client.post("/api/v1/calibrations", json={"method": "cube", "recording_id": rec["id"], "protocol": "cube24",
@@ -53,9 +53,73 @@ def test_cube24_session_through_the_api(client, good_session):
     raw = f @ S.T + b
     out = client.post(f"/api/v1/calibrations/{body['id']}/apply", json={"samples": raw.tolist(), "sensor": "gyr"})
     np.testing.assert_allclose(out.json()["samples"], f, atol=1e-9)
-    assert client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "json"}).status_code == 200
-    c = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "c"})
-    assert c.status_code == 422 and "json export" in c.json()["detail"]
+    check_cube_exports(client, body, tmp_path)
+
+
+def check_cube_exports(client, body, tmp_path, headers=None):
+    """Every full-matrix export of a cube calibration holds each sensor's f = S⁻¹ (raw − b) (003 eq. (1)),
+    applied here with the target's own means (a C compiler, a YAML parser, a CSV reader), and gives
+    what trical's apply gives; offset/scale targets refuse raw units with the reason."""
+    import csv
+    import shutil
+    import subprocess
+
+    import yaml
+
+    def export(fmt):
+        r = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": fmt}, headers=headers)
+        assert r.status_code == 200, (fmt, r.text)
+        return r
+
+    rng = np.random.default_rng(5)
+    sensors = [s for s in ("acc", "gyr", "mag") if body["model"].get(s)]
+    raw = {s: np.array(body["model"][s]["b"]) + rng.normal(0, 0.3, (7, 3)) * np.abs(np.diag(body["model"][s]["S"]))
+           for s in sensors}
+    expected = {s: np.array(client.post(f"/api/v1/calibrations/{body['id']}/apply",
+                                        json={"samples": raw[s].tolist(), "sensor": s}, headers=headers).json()["samples"])
+                for s in sensors}
+
+    corrections = export("json").json()["corrections"]
+    assert list(corrections) == sensors
+    for s in sensors:
+        M, o = np.array(corrections[s]["M"]), np.array(corrections[s]["o"])
+        np.testing.assert_allclose((raw[s] - o) @ M.T, expected[s], rtol=1e-12, atol=1e-12)
+
+    doc = yaml.safe_load(export("yaml").text)
+    table = {row[0]: [float(v) for v in row[1:]] for row in csv.reader(
+        line for line in export("csv").text.splitlines() if not line.startswith(("#", "quantity")))}
+    for s in sensors:
+        p = "" if s == "acc" else f"{s}_"
+        for M, o in ((doc[p + "matrix"], doc[p + "offset"]),
+                     ([table[f"{p}M_{a}"] for a in "xyz"], table[p + "offset"])):
+            np.testing.assert_allclose((raw[s] - np.array(o)) @ np.array(M).T, expected[s], rtol=1e-12, atol=1e-12)
+
+    cc = shutil.which("cc") or shutil.which("gcc")
+    assert cc, "a C compiler (gcc) is needed to test the C header export"
+    (tmp_path / "cal.h").write_text(export("c").text)
+    calls = "".join(
+        f"for(int i=0;i<7;++i){{trical_{s}_apply(raw_{s}[i],f);printf(\"%.9g %.9g %.9g\\n\",f[0],f[1],f[2]);}}"
+        for s in sensors)
+    arrays = "".join(f"static const float raw_{s}[7][3] = {{" + ",".join("{%r,%r,%r}" % tuple(r) for r in raw[s].tolist())
+                     + "};\n" for s in sensors)
+    (tmp_path / "main.c").write_text('#include <stdio.h>\n#include "cal.h"\n' + arrays
+                                     + "int main(void){float f[3];" + calls + "return 0;}\n")
+    subprocess.run([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
+                   check=True, cwd=tmp_path)
+    out = np.loadtxt(subprocess.run([str(tmp_path / "apply")], capture_output=True, text=True, check=True)
+                     .stdout.splitlines())
+    for k, s in enumerate(sensors):
+        # Single precision on the device: each float32 rounding (2⁻²⁴ relative) of m, o and M carried
+        # through f = M (m − o), with a margin of 4.
+        M, o = np.array(corrections[s]["M"]), np.array(corrections[s]["o"])
+        bound = 4 * 2.0 ** -24 * (np.abs(raw[s]) + np.abs(o) + np.abs(raw[s] - o)) @ np.abs(M).T * 3
+        assert np.all(np.abs(out[7 * k:7 * (k + 1)] - expected[s]) <= bound), s
+    for fmt in ("ardupilot", "px4"):
+        r = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": fmt}, headers=headers)
+        if body["unit"] == "raw":
+            assert r.status_code == 422 and "counts" in r.json()["detail"]
+        else:
+            assert r.status_code == 200 and "acc" in r.text.lower()
 
 
 def test_wrong_rotation_is_named(client):

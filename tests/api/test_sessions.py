@@ -145,7 +145,7 @@ def _cube_session(client):
     return s, f"/api/v1/sessions/{s['id']}/captures", auth(s["token"])
 
 
-def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client):
+def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client, tmp_path):
     """24 positions in order, each turn checked at once (003 VII-A-1); the solution is 003's method on
     the joined recording, and recovers the phone's accelerometer and gyroscope."""
     from app.calibration.cube import calibrate_cube
@@ -176,6 +176,9 @@ def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client):
     np.testing.assert_allclose(cal["model"]["gyr"]["S"], S_GYR, atol=0.01)
     np.testing.assert_allclose(cal["model"]["gyr"]["b"], np.radians(B_GYR_DEG_S), atol=np.radians(0.05))
     assert any("may already calibrate" in w for w in cal["warnings"])
+    from tests.api.test_cube import check_cube_exports
+
+    check_cube_exports(client, cal, tmp_path, headers=h)  # exports read with the session's token
 
 
 def test_a_wrong_cube_turn_is_named_at_once_and_the_right_one_is_then_accepted(client):

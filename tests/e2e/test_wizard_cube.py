@@ -193,13 +193,12 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     assert "b (rad/s)" in page.text_content("#cube-model") and "b (m/s^2)" in page.text_content("#cube-model")
     assert ("passed its checks" in page.text_content("#result-ok")) == doc["ok"]
     assert "may already calibrate" in page.text_content("#result-warnings")
-    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")
-    refused = page.eval_on_selector_all("#downloads li span", "ss => ss.map(s => s.textContent)")
-    assert links == ["json"]  # the cube model: the other formats hold one affine correction
-    assert len(refused) == 5 and all("a 'cube' calibration does not fit it: use the json export" in r for r in refused)
-    assert refused[0].startswith("C header: ")
-    # Chromium logs each refused export request itself; nothing else went wrong.
-    assert page.errors == ["Failed to load resource: the server responded with a status of 422 (Unprocessable Entity)"] * 5
+    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.dataset.format, a.textContent])")
+    # Every format: JSON, C and the tables hold each sensor's correction; ArduPilot and PX4 the accelerometer's.
+    assert links == [["json", "JSON"], ["c", "C header"], ["ardupilot", "ArduPilot"], ["px4", "PX4"],
+                     ["yaml", "YAML"], ["csv", "CSV"]]
+    assert page.eval_on_selector_all("#downloads li span", "ss => ss.length") == 0
+    assert page.errors == []
 
 
 def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, server):
