@@ -589,10 +589,14 @@ function fillSixModel(cal) {
   const unc = cal.uncertainty || {};
   fillMatrix($("#result-X"), cal.model.X, unc.X);
   fillMatrix($("#result-y"), cal.model.y.map((v) => [v]), unc.y && unc.y.map((v) => [v]));
-  const gravity = cal.gravity || STANDARD_GRAVITY;
   const means = (cal.readings && cal.readings.length ? cal.readings.map((r) => ({ position: r.up, mean: r.mean }))
     : (session?.captures || [])).filter((c) => c.position);
-  const rows = normRows(cal.model, means);
+  fillNorms(cal.model, means, cal.gravity || STANDARD_GRAVITY);
+}
+
+// |m| before and |a| after per position against g; `model` is {X, y} of m = X a + y.
+function fillNorms(model, means, gravity) {
+  const rows = normRows(model, means);
   $("#norm-chart").innerHTML = rows.length ? normChartSvg(rows, gravity) : "";
   $("#norm-table tbody").replaceChildren(...rows.map((r) => {
     const tr = el("tr");
@@ -625,6 +629,9 @@ function fillCubeModel(cal, unc) {
     parts.push(row);
   }
   $("#cube-model").replaceChildren(...parts);
+  // The accelerometer's raw = S f + b has the form of m = X a + y (003 eq. (1)).
+  const acc = cal.model.acc;
+  if (acc) fillNorms({ X: acc.S, y: acc.b }, cal.captures || [], cal.gravity || STANDARD_GRAVITY);
 }
 
 async function renderDownloads(id) {

@@ -173,9 +173,11 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     # Chromium samples the overrides at 60 Hz and the server interpolates between the events: the
     # angle it integrates is the angle fed within a few tenths of a degree (measured: ±0.3°), far
     # inside its tolerance (0.1 per quaternion element, about 11°).
-    assert np.all(np.abs(fed - 90.0) < 1.0), fed  # the test's own turns
+    # The test's own turns end when their measured integral reaches 90°, but a stall of this process
+    # (the machine's two cores are shared) can overshoot one by a few degrees: seen 2.7°.
+    assert np.all(np.abs(fed - 90.0) < 5.0), fed
     assert np.all(np.abs(seen - fed) < 2.0), list(zip(fed, seen))
-    assert np.all(errors < 2.0), errors
+    assert np.all(errors < np.abs(fed - 90.0) + 2.0), list(zip(fed, errors))  # off by what was fed, no more
     # Six distinct readings, each rounded by Chromium to 0.1 m/s² (±0.05): S within 0.006 of X
     # (0.05 / g ≈ 0.005), b within 0.06 m/s² of y.
     np.testing.assert_allclose(acc["S"], X_ACC, atol=0.006)
@@ -193,6 +195,17 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     assert "b (rad/s)" in page.text_content("#cube-model") and "b (m/s^2)" in page.text_content("#cube-model")
     assert ("passed its checks" in page.text_content("#result-ok")) == doc["ok"]
     assert "may already calibrate" in page.text_content("#result-warnings")
+    # The accelerometer's norm per position before and after, |m| and |S⁻¹(m − b)| (003 eq. (1)):
+    # 24 rows and the chart's 48 dots. (How close to g they come is the API tests' business: here
+    # the fed readings carry no noise, which leaves the fit's weights degenerate.)
+    norms = page.eval_on_selector_all("#norm-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
+    assert [r[0] for r in norms] == [str(k) for k in range(1, 25)]
+    means = np.array([c["mean"] for c in session["captures"]])
+    S, b = np.array(acc["S"]), np.array(acc["b"])
+    np.testing.assert_allclose([float(r[1]) for r in norms], np.linalg.norm(means, axis=1), atol=6e-5)
+    np.testing.assert_allclose([float(r[2]) for r in norms],
+                               np.linalg.norm(np.linalg.solve(S, (means - b).T).T, axis=1), atol=6e-5)
+    assert page.locator("#norm-chart svg circle").count() == 48
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.dataset.format, a.textContent])")
     # Every format: JSON, C and the tables hold each sensor's correction; ArduPilot and PX4 the accelerometer's.
     assert links == [["json", "JSON"], ["c", "C header"], ["ardupilot", "ArduPilot"], ["px4", "PX4"],
