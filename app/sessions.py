@@ -20,7 +20,7 @@ import numpy as np
 
 from app import workflow
 from app.calibration import CANONICAL_SIX, CalibrationError, InsufficientDataError
-from app.calibration.capture import check_still_capture
+from app.calibration.capture import check_still_capture, on_uniform_grid
 from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.store import ConflictError
 
@@ -239,15 +239,8 @@ def joined_recording(store, session: dict) -> tuple[np.ndarray, np.ndarray, floa
             gyr.append(np.asarray(part["gyr"], dtype=float) * c["gyr_to_rad_s"])
     t_all = np.concatenate(t)
     order = np.argsort(t_all, kind="stable")
-    t_all, acc_all, gyr_all = t_all[order], np.vstack(acc)[order], np.vstack(gyr)[order]
-    steps = np.diff(t_all)
-    h = float(np.median(steps[steps > 0]))
-    grid = np.arange(t_all[0], t_all[-1] + 0.5 * h, h)
-
-    def resample(x):
-        return np.column_stack([np.interp(grid, t_all, x[:, k]) for k in range(3)])
-
-    return resample(acc_all), resample(gyr_all), 1000.0 / h
+    (acc_grid, gyr_grid), h_ms = on_uniform_grid(t_all[order], np.vstack(acc)[order], np.vstack(gyr)[order])
+    return acc_grid, gyr_grid, 1000.0 / h_ms
 
 
 def _solve_cube(store, session: dict) -> dict:

@@ -45,6 +45,17 @@ def session_owner(session_id: str) -> str:
     return f"session:{session_id}"
 
 
+def session_of_token(request: Request, token: str | None) -> str | None:
+    """The session a ``tks_…`` token opens; None for any other token. A session token that opens
+    no session is a 401."""
+    if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
+        return None
+    session_id = request.app.state.store.session_id_for_token(token_hash(token))
+    if session_id is None:
+        raise Unauthorized("the session token is not valid: start a new session with POST /api/v1/sessions")
+    return session_id
+
+
 def get_owner(request: Request) -> str | None:
     """Who is calling: None when API keys are off, else a stable id derived from the key.
 
@@ -54,10 +65,8 @@ def get_owner(request: Request) -> str | None:
     session created and nothing else (DESIGN.md section 3, sessions).
     """
     token = bearer_token(request)
-    if token is not None and token.startswith(SESSION_TOKEN_PREFIX):
-        session_id = request.app.state.store.session_id_for_token(token_hash(token))
-        if session_id is None:
-            raise Unauthorized("the session token is not valid: start a new session with POST /api/v1/sessions")
+    session_id = session_of_token(request, token)
+    if session_id is not None:
         return session_owner(session_id)
     keys = request.app.state.settings.api_keys
     if not keys:

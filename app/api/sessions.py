@@ -5,7 +5,9 @@ from __future__ import annotations
 from fastapi import APIRouter, Depends, Request
 
 from app import sessions
-from app.api.deps import Unauthorized, bearer_token, get_owner, new_session_token, session_owner, token_hash
+from app.api.deps import (
+    SESSION_TOKEN_PREFIX, Unauthorized, bearer_token, get_owner, new_session_token, session_of_token, session_owner,
+)
 from app.api.schemas import CalibrationOut, CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
 from app.store import NotFoundError, Store
 
@@ -19,13 +21,10 @@ def _store(request: Request) -> Store:
 def session_of(session_id: str, request: Request) -> dict:
     """The session the bearer token opens; 401 without a valid token, 404 for another session's id."""
     token = bearer_token(request)
-    if token is None:
+    if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
         raise Unauthorized("a session call needs its token: send `Authorization: Bearer <token>` "
                            "(the token POST /api/v1/sessions returned)")
-    owner_id = _store(request).session_id_for_token(token_hash(token))
-    if owner_id is None:
-        raise Unauthorized("the session token is not valid: start a new session with POST /api/v1/sessions")
-    if owner_id != session_id:
+    if session_of_token(request, token) != session_id:
         raise NotFoundError(f"no session with id {session_id!r} for this token")
     return _store(request).get_session(session_id)
 

@@ -33,6 +33,27 @@ accelerates, a tighter one would refuse the badly calibrated sensors the wizard 
 MIN_SAMPLES = 10
 
 
+def median_interval_ms(t_ms: np.ndarray) -> float:
+    """The median of the positive intervals between non-decreasing event timestamps, in ms.
+
+    Browser events arrive unevenly (and some share a timestamp), so the median interval, not a
+    nominal ``interval``, gives the rate.
+    """
+    steps = np.diff(t_ms)
+    positive = steps[steps > 0]
+    if len(positive) == 0:
+        raise CalibrationError("all timestamps are equal: send each event's own timeStamp")
+    return float(np.median(positive))
+
+
+def on_uniform_grid(t_ms: np.ndarray, *signals: np.ndarray) -> tuple[list[np.ndarray], float]:
+    """Signals (N×3) interpolated linearly onto a grid at the median event interval from the first
+    timestamp to the last, and that interval in ms."""
+    h = median_interval_ms(t_ms)
+    grid = np.arange(t_ms[0], t_ms[-1] + 0.5 * h, h)
+    return [np.column_stack([np.interp(grid, t_ms, x[:, k]) for k in range(x.shape[1])]) for x in signals], h
+
+
 @dataclass(frozen=True)
 class StillCapture:
     """A checked still capture.
@@ -105,10 +126,7 @@ def check_still_capture(acc, t_ms, *, gravity: float, expected: str | None = Non
         raise CalibrationError(f"t_ms goes back in time at sample {int(np.argmax(steps < 0)) + 1}: "
                                "send the event timestamps in the order they arrived")
     duration_s = float(t[-1] - t[0]) / 1000.0
-    positive = steps[steps > 0]
-    if duration_s <= 0 or len(positive) == 0:
-        raise CalibrationError("all timestamps are equal: send each event's own timeStamp")
-    rate = 1000.0 / float(np.median(positive))
+    rate = 1000.0 / median_interval_ms(t)
 
     mean = a.mean(axis=0)
     std = a.std(axis=0, ddof=1)

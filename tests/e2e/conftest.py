@@ -59,3 +59,12 @@ def shot(page, name: str, request=None) -> Path:
     path = ARTIFACTS / (re.sub(r"[^A-Za-z0-9_.-]", "_", name) + ".png")
     page.screenshot(path=str(path), full_page=True)
     return path
+
+
+def tab_to(page, selector: str, limit: int = 40) -> None:
+    """Press Tab until the element ``selector`` has the focus (keyboard reachability)."""
+    for _ in range(limit):
+        page.keyboard.press("Tab")
+        if page.evaluate("(s) => document.activeElement === document.querySelector(s)", selector):
+            return
+    raise AssertionError(f"Tab never reached {selector}")

@@ -12,7 +12,7 @@ import pytest
 from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
-from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, shot
+from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, shot, tab_to
 from tests.live_server import LiveServer
 
 G = 9.80665  # the session's default gravity
@@ -282,19 +282,12 @@ def test_keyboard_reaches_start_and_redo_with_names(page, server):
     motion = Motion(page)
     page.goto(server.url + "/wizard?capture_s=1")
 
-    def tab_to(selector, limit=40):
-        for _ in range(limit):
-            page.keyboard.press("Tab")
-            if page.evaluate("(s) => document.activeElement === document.querySelector(s)", selector):
-                return
-        raise AssertionError(f"Tab never reached {selector}")
-
-    tab_to("#start-btn")
+    tab_to(page, "#start-btn")
     expect(page.locator("#start-btn")).to_have_accessible_name("Start")
     motion.acc(reading("-y"))
     page.keyboard.press("Enter")
     wait_captured(page, "-y")
-    tab_to('#poses button[data-redo="-y"]')
+    tab_to(page, '#poses button[data-redo="-y"]')
     redo = page.locator('#poses button[data-redo="-y"]')
     expect(redo).to_have_accessible_name("Redo -y (upside down, top edge down)")
     shot(page, "wizard_keyboard_redo_focused")
@@ -302,7 +295,7 @@ def test_keyboard_reaches_start_and_redo_with_names(page, server):
     expect(page.locator('#poses li[data-pose="-y"]')).to_have_attribute("data-state", "redo")
     for button in page.locator("button:visible").all():  # every visible control has a name
         assert button.evaluate("b => b.textContent.trim() || b.getAttribute('aria-label')")
-    tab_to("#start-over")
+    tab_to(page, "#start-over")
     expect(page.locator("#start-over")).to_have_accessible_name("Start over")
     assert page.evaluate("document.documentElement.scrollWidth") <= 360  # no sideways scrolling on a phone
 

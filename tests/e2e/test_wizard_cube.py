@@ -16,7 +16,7 @@ from playwright.sync_api import expect
 
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
 from tests.cube_phone import X_ACC, Y_ACC
-from tests.e2e.conftest import ARTIFACTS, shot
+from tests.e2e.conftest import ARTIFACTS, shot, tab_to
 from tests.e2e.test_wizard import G, Motion, captures_sent, chromium_round
 
 ATTITUDES = cube24().attitudes  # R_k: sensor → calibration frame
@@ -214,7 +214,8 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     assert page.errors == []
 
 
-def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, server):
+def start_and_capture_three(page, server):
+    """Open the cube flow, tap Start and capture positions 1–3 hands-free; the sent captures and the cube."""
     sent = captures_sent(page)
     cube = Cube(page)
     page.goto(server.url + URL)
@@ -224,6 +225,11 @@ def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, serve
     for k in (2, 3):
         cube.move_into(page, k)
         wait_captured(page, k)
+    return sent, cube
+
+
+def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, server):
+    sent, cube = start_and_capture_three(page, server)
     cube.move_into(page, 4, label="z-")  # clockwise instead of counter-clockwise
     alert = page.locator("#turn-alert")
     expect(alert).to_be_visible(timeout=10_000)
@@ -280,15 +286,7 @@ def test_without_a_gyroscope_the_page_says_the_cube_flow_needs_it(page, server):
 
 
 def test_a_reload_resumes_at_the_right_position_and_redo_replaces_the_last(page, server):
-    sent = captures_sent(page)
-    cube = Cube(page)
-    page.goto(server.url + URL)
-    cube.place(1)
-    page.click("#start-btn")
-    wait_captured(page, 1)
-    for k in (2, 3):
-        cube.move_into(page, k)
-        wait_captured(page, k)
+    sent, cube = start_and_capture_three(page, server)
     page.reload()
     page.wait_for_selector("#resume:not([hidden])")
     resume = page.text_content("#resume")
@@ -298,14 +296,7 @@ def test_a_reload_resumes_at_the_right_position_and_redo_replaces_the_last(page,
     assert page.text_content("#start-btn") == "Continue"
     shot(page, "cube_resumed")
 
-    def tab_to(selector, limit=40):
-        for _ in range(limit):
-            page.keyboard.press("Tab")
-            if page.evaluate("(s) => document.activeElement === document.querySelector(s)", selector):
-                return
-        raise AssertionError(f"Tab never reached {selector}")
-
-    tab_to("#start-btn")
+    tab_to(page, "#start-btn")
     page.keyboard.press("Enter")  # Continue, from the keyboard
     expect(page.locator("#capture-h")).to_have_text("Position 4 of 24")
     page.wait_for_timeout(2500)  # still in position 3: longer than hold + capture, nothing is sent
@@ -319,7 +310,7 @@ def test_a_reload_resumes_at_the_right_position_and_redo_replaces_the_last(page,
 
     redo = page.locator("#redo-last")
     expect(redo).to_have_accessible_name("Redo position 5")
-    tab_to("#redo-last")
+    tab_to(page, "#redo-last")
     shot(page, "cube_redo_focused")
     # What the live region announces, kept as it changes: the cube is still, so the capture starts at
     # once and replaces the redo announcement within a moment.

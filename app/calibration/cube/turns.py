@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..capture import on_uniform_grid
 from ..errors import CalibrationError
 from . import quaternion as quat
 from .protocols import Protocol
@@ -87,18 +88,13 @@ class TurnCheck:
 def uniform_rates(gyr, t_ms) -> tuple[np.ndarray, float]:
     """Rates on a uniform grid at the median event interval, and that interval in seconds."""
     w = np.asarray(gyr, dtype=float)
-    t = np.asarray(t_ms, dtype=float) / 1000.0
+    t = np.asarray(t_ms, dtype=float)
     if w.ndim != 2 or w.shape[1] != 3 or len(w) != len(t) or len(w) < 2:
         raise CalibrationError("a turn needs gyr (N×3) and t_ms (N), N ≥ 2, one timestamp per sample")
-    steps = np.diff(t)
-    if np.any(steps < 0) or not np.all(np.isfinite(w)) or not np.all(np.isfinite(t)):
+    if np.any(np.diff(t) < 0) or not np.all(np.isfinite(w)) or not np.all(np.isfinite(t)):
         raise CalibrationError("the turn's timestamps must increase and its rates be finite numbers")
-    positive = steps[steps > 0]
-    if len(positive) == 0:
-        raise CalibrationError("the turn's timestamps are all equal: send each event's own timeStamp")
-    h = float(np.median(positive))
-    grid = np.arange(t[0], t[-1] + 0.5 * h, h)
-    return np.column_stack([np.interp(grid, t, w[:, k]) for k in range(3)]), h
+    (rates,), h_ms = on_uniform_grid(t, w)
+    return rates, h_ms / 1000.0
 
 
 def _net_rotation(q_from: np.ndarray, q_to: np.ndarray) -> tuple[str, float]:
