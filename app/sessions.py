@@ -14,8 +14,6 @@ the page.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from app import workflow
@@ -38,7 +36,6 @@ MAX_ROTATION_DEG_S = 5.0
 """A still capture whose mean rotation rate exceeds this (°/s) was turning, whatever the
 accelerometer says; a phone gyroscope's bias is well below it."""
 
-GYR_TO_DEG_S = {"deg/s": 1.0, "rad/s": 180.0 / math.pi}
 
 OS_CALIBRATION_WARNING = (
     "the phone's system may already calibrate what the browser reports (Android and iOS apply their "
@@ -107,7 +104,7 @@ def add_capture(store, session: dict, capture: dict) -> tuple[dict, dict]:
 
 def _gyr_mean_deg_s(capture: dict) -> float:
     rate = np.linalg.norm(np.mean(np.asarray(capture["gyr"], dtype=float), axis=0))
-    return float(rate * GYR_TO_DEG_S[capture.get("gyr_unit", "deg/s")])
+    return float(np.degrees(rate * workflow.GYR_TO_RAD_S[capture.get("gyr_unit", "deg/s")]))
 
 
 def _six_capture(session: dict, capture: dict) -> dict:
@@ -150,7 +147,7 @@ def _cube_capture(store, session: dict, capture: dict) -> dict:
     summary = dict(checked.to_dict(), position=position, up=checked.position, expected_up=CUBE24_UPS[k - 1],
                    gyr_mean=np.mean(np.asarray(capture["gyr"], dtype=float), axis=0).tolist(),
                    gyr_unit=capture.get("gyr_unit", "deg/s"))
-    declared = GYR_TO_DEG_S[summary["gyr_unit"]] * np.pi / 180.0  # to rad/s
+    declared = workflow.GYR_TO_RAD_S[summary["gyr_unit"]]
     summary["gyr_to_rad_s"] = declared
     if k > 1:
         motion = capture.get("motion")
