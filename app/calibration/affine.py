@@ -15,9 +15,10 @@ import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
-from .result import SerialisableResult
+from .correction import AffineCorrection
+from .result import StillReadingsResult
 from .uncertainty import CONFIDENCE, half_widths
-from .validation import as_vectors, check_gravity, near_duplicate_pairs
+from .validation import as_samples, as_vectors, check_gravity, near_duplicate_pairs
 
 MODEL_TYPE = "affine"
 
@@ -35,7 +36,7 @@ MAX_CONDITION_NUMBER = 10.0
 
 
 @dataclass(frozen=True)
-class AffineCalibration(SerialisableResult):
+class AffineCalibration(StillReadingsResult):
     """Result of an affine (12-parameter) calibration, 000 Approach 2.
 
     Attributes
@@ -61,6 +62,8 @@ class AffineCalibration(SerialisableResult):
         The gate failures; ``ok`` is true exactly when there are none.
     method : str
         ``six_position`` or ``orientations``.
+    unit : str
+        Unit of the readings: ``m/s^2``, ``g`` or ``raw``.
     """
 
     X: np.ndarray
@@ -75,6 +78,12 @@ class AffineCalibration(SerialisableResult):
     warnings: tuple = ()
     reasons: tuple = ()
     method: str = "orientations"
+    unit: str = "m/s^2"
+
+    RESULT_TYPE = MODEL_TYPE
+    MODEL_TYPE = MODEL_TYPE
+    N_PARAMS = 12
+    CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (20): M = X^-1, o = y"
 
     @property
     def correction_matrix(self) -> np.ndarray:
@@ -92,9 +101,7 @@ class AffineCalibration(SerialisableResult):
         -------
         numpy.ndarray of the same shape as ``raw``.
         """
-        m = np.asarray(raw, dtype=float)
-        if m.shape[-1:] != (3,) or m.ndim > 2:
-            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        m = as_samples(raw)
         return np.linalg.solve(self.X, (m - self.y).reshape(-1, 3).T).T.reshape(m.shape)
 
     @property
@@ -167,15 +174,17 @@ class AffineCalibration(SerialisableResult):
             )
         return rows
 
-    MODEL_TYPE = MODEL_TYPE
-    N_PARAMS = 12
+    @property
+    def correction(self) -> AffineCorrection:
+        """``a = X⁻¹ (m − y)`` (Georgieva et al., ESGI'95, eq. (20)): M = X⁻¹, o = y."""
+        return AffineCorrection(self.correction_matrix, np.asarray(self.y, dtype=float), self.unit,
+                                self.output_unit, self.CORRECTION_SOURCE)
 
     def model_dict(self) -> dict:
         return {"X": self.X.tolist(), "y": self.y.tolist()}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "AffineCalibration":
-        """Rebuild a result from :meth:`to_dict` output."""
+    def _from_body(cls, data: dict) -> "AffineCalibration":
         model, readings, common = cls.common_from_dict(data)
         common["dof"] = int((data.get("uncertainty") or {}).get("dof", max(len(readings) - 4, 0)))
         return cls(

@@ -38,8 +38,10 @@ import numpy as np
 
 from .comparison import fit_ellipsoid_axes, fit_sphere_van_hees, norm_errors
 from .errors import CalibrationError
+from .result import CalibrationResult
 from .stationary_002 import RestSegments, detect_rest_segments
 from .triangular import SOLVERS, TriangularCalibration, fit_triangular
+from .validation import as_samples
 
 MODEL_TYPE = "triangular"
 METHOD = "autocal"
@@ -161,7 +163,7 @@ def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN
 
 
 @dataclass(frozen=True)
-class AutoCalibration:
+class AutoCalibration(CalibrationResult):
     """Result of the 002 auto-calibration of a recording.
 
     Attributes
@@ -183,6 +185,8 @@ class AutoCalibration:
         ``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set, and the fit's.
     warnings, reasons : tuple of str
     solver : str
+    unit : str
+        ``g`` or ``m/s^2``.
     """
 
     calibration: TriangularCalibration | None
@@ -200,6 +204,11 @@ class AutoCalibration:
     warnings: tuple = ()
     reasons: tuple = ()
     method: str = METHOD
+    unit: str = "g"
+
+    RESULT_TYPE = METHOD
+    MODEL_TYPE = MODEL_TYPE
+    CORRECTION_SOURCE = TriangularCalibration.CORRECTION_SOURCE
 
     @property
     def ok(self) -> bool:
@@ -222,9 +231,7 @@ class AutoCalibration:
 
     def apply(self, raw) -> np.ndarray:
         """Calibrate samples: ``a = K (v + o)`` (002 eqs. (7)–(9)); the identity without a fit."""
-        m = np.asarray(raw, dtype=float)
-        if m.shape[-1:] != (3,) or m.ndim > 2:
-            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        m = as_samples(raw)
         return ((m.reshape(-1, 3) + self.o) @ self.K.T).reshape(m.shape)
 
     def uncertainty(self) -> dict:
@@ -236,21 +243,16 @@ class AutoCalibration:
         """Held-out norm errors of further still readings (002 Table 3, eq. (21))."""
         return norm_errors(means, self.apply, self.gravity)
 
-    def to_dict(self) -> dict:
-        """Plain JSON: the triangular model, metrics, comparison table, selection and detection."""
-        if self.calibration is not None:
-            body = self.calibration.to_dict()
-        else:
-            body = {"model": None, "covariance": None, "readings": [], "uncertainty": self.uncertainty()}
-        body.update(
-            method=self.method,
+    def model_dict(self) -> dict:
+        return {"K": self.K.tolist(), "o": self.o.tolist()}
+
+    def body_dict(self) -> dict:
+        """The fit's covariance and readings, the comparison table (002 Table 3), the points
+        selected per subset and the rest detection."""
+        fit = self.calibration.body_dict() if self.calibration is not None else {"covariance": None, "readings": []}
+        return dict(
+            fit,
             solver=self.solver,
-            model={"type": MODEL_TYPE, "K": self.K.tolist(), "o": self.o.tolist()},
-            metrics=dict(self.metrics),
-            gravity=self.gravity,
-            ok=self.ok,
-            warnings=list(self.warnings),
-            reasons=list(self.reasons),
             comparison=self.comparison,
             selection=self.selection,
             control_selection=self.control_selection,
@@ -260,14 +262,13 @@ class AutoCalibration:
             point_starts=self.point_starts.tolist(),
             control_starts=self.control_starts.tolist(),
         )
-        return body
 
     @classmethod
-    def from_dict(cls, data: dict) -> "AutoCalibration":
+    def _from_body(cls, data: dict) -> "AutoCalibration":
         """Rebuild from :meth:`to_dict` output."""
         cal = None
         if data.get("readings"):
-            cal = TriangularCalibration.from_dict({**data, "method": "triangular", "reasons": []})
+            cal = TriangularCalibration._from_body({**data, "method": "triangular", "reasons": []})
         return cls(
             calibration=cal, gravity=float(data["gravity"]),
             points=np.asarray(data.get("points", []), dtype=float).reshape(-1, 3),
@@ -278,6 +279,7 @@ class AutoCalibration:
             detection=dict(data.get("detection", {})), comparison=dict(data.get("comparison", {})),
             solver=data.get("solver", "lm"), metrics=dict(data.get("metrics", {})),
             warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
+            unit=data.get("unit", "g"),
         )
 
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
-from .validation import as_vectors, check_gravity
+from .validation import as_samples, as_vectors, check_gravity
 
 VAN_HEES_TOL = 1e-10
 VAN_HEES_MAX_ITER = 1000
@@ -80,10 +80,7 @@ class AxisCalibration:
 
     def apply(self, raw) -> np.ndarray:
         """Calibrate readings, shape (3,) or (N, 3)."""
-        m = np.asarray(raw, dtype=float)
-        if m.shape[-1:] != (3,):
-            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
-        return (m + self.offset) * self.scale
+        return (as_samples(raw) + self.offset) * self.scale
 
     def evaluate(self, means) -> dict:
         """Mean | |r| − 1 g | in mg before and after on further still readings (002 Table 3, eq. (21))."""

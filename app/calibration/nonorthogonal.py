@@ -27,9 +27,10 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .errors import CalibrationError
-from .result import SerialisableResult
+from .result import StillReadingsResult
 from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
 from .validation import (
+    as_samples,
     as_vectors,
     check_gravity,
     check_sphere_points,
@@ -155,7 +156,7 @@ def _jacobian_17(p: np.ndarray, m: np.ndarray, g: float) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class NonOrthogonalCalibration(SerialisableResult):
+class NonOrthogonalCalibration(StillReadingsResult):
     """Result of the non-orthogonal-axes (9-parameter) calibration, 000 Approach 1.
 
     Attributes
@@ -191,6 +192,12 @@ class NonOrthogonalCalibration(SerialisableResult):
     warnings: tuple = ()
     reasons: tuple = ()
     method: str = MODEL_TYPE
+    unit: str = "m/s^2"
+
+    RESULT_TYPE = MODEL_TYPE
+    MODEL_TYPE = MODEL_TYPE
+    N_PARAMS = N_PARAMS
+    CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (16): M = T_orth T_bar T, o = s / b"
 
     @property
     def params(self) -> np.ndarray:
@@ -216,9 +223,7 @@ class NonOrthogonalCalibration(SerialisableResult):
         -------
         numpy.ndarray of the same shape as ``raw``.
         """
-        m = np.asarray(raw, dtype=float)
-        if m.shape[-1:] != (3,) or m.ndim > 2:
-            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        m = as_samples(raw)
         # 000 eq. (16): T̄_orth T̄ T â − T̄_orth T̄ s with the vector s = T (s₁, s₂, s₃) of eq. (2),
         # i.e. T̄_orth T̄ T (â − s).
         out = (m.reshape(-1, 3) - self.s) @ self.matrix.T
@@ -281,9 +286,6 @@ class NonOrthogonalCalibration(SerialisableResult):
             for i, (m, c) in enumerate(zip(self.means, cal))
         ]
 
-    MODEL_TYPE = MODEL_TYPE
-    N_PARAMS = N_PARAMS
-
     def model_dict(self) -> dict:
         return {
             "s": self.s.tolist(),
@@ -294,8 +296,7 @@ class NonOrthogonalCalibration(SerialisableResult):
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "NonOrthogonalCalibration":
-        """Rebuild a result from :meth:`to_dict` output."""
+    def _from_body(cls, data: dict) -> "NonOrthogonalCalibration":
         model, _, common = cls.common_from_dict(data)
         return cls(
             s=np.asarray(model["s"], dtype=float),

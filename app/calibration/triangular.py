@@ -43,9 +43,10 @@ from scipy.optimize import least_squares
 
 from .errors import CalibrationError
 from .fixed_point import fixed_point_descent
-from .result import SerialisableResult
+from .result import StillReadingsResult
 from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
 from .validation import (
+    as_samples,
     as_vectors,
     check_gravity,
     check_sphere_points,
@@ -182,7 +183,7 @@ def gradient_descent(
 
 
 @dataclass(frozen=True)
-class TriangularCalibration(SerialisableResult):
+class TriangularCalibration(StillReadingsResult):
     """Result of the 9-parameter lower-triangular calibration of 002.
 
     Attributes
@@ -216,6 +217,12 @@ class TriangularCalibration(SerialisableResult):
     warnings: tuple = ()
     reasons: tuple = ()
     method: str = MODEL_TYPE
+    unit: str = "m/s^2"
+
+    RESULT_TYPE = MODEL_TYPE
+    MODEL_TYPE = MODEL_TYPE
+    N_PARAMS = N_PARAMS
+    CORRECTION_SOURCE = "Farago, Maczak and Gingl, IEEE Access, eq. (6): M = K, o = -o_model"
 
     @property
     def p(self) -> np.ndarray:
@@ -234,9 +241,7 @@ class TriangularCalibration(SerialisableResult):
         -------
         numpy.ndarray of the same shape as ``raw``.
         """
-        m = np.asarray(raw, dtype=float)
-        if m.shape[-1:] != (3,) or m.ndim > 2:
-            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        m = as_samples(raw)
         return ((m.reshape(-1, 3) + self.o) @ self.K.T).reshape(m.shape)
 
     def uncertainty(self) -> dict:
@@ -292,18 +297,14 @@ class TriangularCalibration(SerialisableResult):
             for i, (m, c) in enumerate(zip(self.means, cal))
         ]
 
-    MODEL_TYPE = MODEL_TYPE
-    N_PARAMS = N_PARAMS
-
     def model_dict(self) -> dict:
         return {"K": self.K.tolist(), "o": self.o.tolist()}
 
-    def extra_dict(self) -> dict:
-        return {"solver": self.solver}
+    def body_dict(self) -> dict:
+        return {"solver": self.solver, **super().body_dict()}
 
     @classmethod
-    def from_dict(cls, data: dict) -> "TriangularCalibration":
-        """Rebuild a result from :meth:`to_dict` output."""
+    def _from_body(cls, data: dict) -> "TriangularCalibration":
         model, _, common = cls.common_from_dict(data)
         return cls(
             K=np.asarray(model["K"], dtype=float),

@@ -48,6 +48,20 @@ def as_vectors(values, name: str, *, min_rows: int = 1) -> np.ndarray:
     return arr
 
 
+def as_samples(raw) -> np.ndarray:
+    """``raw`` as a float array of shape (3,) or (N, 3), the shapes every ``apply`` takes, or raise.
+
+    Raises
+    ------
+    CalibrationError
+        Any other shape.
+    """
+    m = np.asarray(raw, dtype=float)
+    if m.shape[-1:] != (3,) or m.ndim > 2:
+        raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+    return m
+
+
 def check_gravity(gravity: float) -> float:
     """Return the reference magnitude as a float, or raise when it is not positive and finite."""
     try:

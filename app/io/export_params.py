@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ExportError
-from .export_common import Export, _affine_correction, describe
+from .export_common import Export, accelerometer_correction, describe
 
 STANDARD_GRAVITY = 9.80665
 """ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G, m/s²."""
@@ -61,7 +61,8 @@ def offset_scale(body: dict, target: str) -> dict:
     ExportError
         Calibrations of readings in counts (the firmware applies its parameters to m/s²).
     """
-    M, o = _affine_correction(body)
+    correction = accelerometer_correction(body)
+    M, o = correction.M, correction.o
     unit = body.get("unit")
     if unit not in ("m/s^2", "g"):
         raise ExportError(

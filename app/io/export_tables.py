@@ -14,7 +14,7 @@ import json
 import math
 
 from .errors import ExportError
-from .export_common import CORRECTION_SOURCE, FRAME, JSON_SCHEMA, SENSORS, Export, describe, sensor_corrections
+from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, describe, sensor_corrections
 
 
 def yaml_number(v: float) -> str:
@@ -62,7 +62,7 @@ def to_yaml(body: dict) -> Export:
         "output_unit": body.get("output_unit"),
         "gravity": None if body.get("gravity") is None else float(body["gravity"]),
         "formula": "a = M (m - o)",
-        "source": CORRECTION_SOURCE[body["model"]["type"]],
+        "source": corrections[0].source,
     }
     for c in corrections:
         p = _prefix(c.sensor)

@@ -1,7 +1,7 @@
 """Exports of a stored calibration for firmware and analysis code.
 
 Every export of an affine calibration carries the correction in the form firmware applies,
-``a = M (m − o)`` with ``M = X⁻¹`` and ``o = y`` (000_cb2cbc1c5eaccf1a.txt eq. (20)).
+``a = M (m − o)`` with ``M = X⁻¹`` and ``o = y`` (Georgieva et al., ESGI'95, eq. (20)).
 """
 
 from __future__ import annotations
@@ -10,9 +10,7 @@ import json
 import re
 
 from .errors import ExportError
-from .export_common import (
-    AFFINE_MODELS, CORRECTION_SOURCE, FRAME, JSON_SCHEMA, SENSORS, Export, _affine_correction, sensor_corrections,
-)
+from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, sensor_corrections
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
 
@@ -39,22 +37,17 @@ def to_json(body: dict) -> Export:
         "ok": body.get("ok"),
         "warnings": body.get("warnings", []),
     }
-    if body["model"].get("type") in AFFINE_MODELS:
-        M, o = _affine_correction(body)
-        doc["correction"] = {
-            "formula": "a = M (m - o)",
-            "M": M.tolist(),
-            "o": o.tolist(),
-            "source": CORRECTION_SOURCE[body["model"]["type"]],
-        }
-    elif body["model"].get("type") == "cube":
-        corrections = sensor_corrections(body)
+    corrections = sensor_corrections(body)
+    if body["model"].get("type") == "cube":  # one correction per sensor (Särkkä et al., eq. (1))
         doc["sensor"] = ", ".join(SENSORS[c.sensor] for c in corrections)
         doc["corrections"] = {
             c.sensor: {"formula": "f = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
-                       "output_unit": c.output_unit, "source": CORRECTION_SOURCE["cube"]}
+                       "output_unit": c.output_unit, "source": c.source}
             for c in corrections
         }
+    else:
+        c = corrections[0]
+        doc["correction"] = {"formula": "a = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "source": c.source}
     return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
 
 
@@ -95,7 +88,7 @@ def to_c_header(body: dict) -> Export:
     text = f"""/* trical calibration {body['id']}
  * method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}
  * input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}
- * calibrated f = M (m - o): {CORRECTION_SOURCE[body['model']['type']]}
+ * calibrated f = M (m - o): {corrections[0].source}
  */
 #ifndef {guard}
 #define {guard}
@@ -112,7 +105,7 @@ EXPORTERS = {"json": to_json, "c": to_c_header, "ardupilot": to_ardupilot, "px4"
 
 FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4": "PX4", "yaml": "YAML", "csv": "CSV"}
 
-__all__ = ["AFFINE_MODELS", "CORRECTION_SOURCE", "EXPORTERS", "FORMAT_NAMES", "FRAME", "JSON_SCHEMA", "Export",
+__all__ = ["EXPORTERS", "FORMAT_NAMES", "FRAME", "JSON_SCHEMA", "Export",
            "export_calibration"]
 
 

@@ -22,7 +22,7 @@ from scipy import stats
 
 from ..errors import CalibrationError, InsufficientDataError
 from ..uncertainty import CONFIDENCE
-from ..validation import as_vectors
+from ..validation import as_samples, as_vectors
 
 MAX_FIT_ERROR = 0.05
 """A calibrated position mean further than 5 % of the reference from its model fails the fit."""
@@ -133,9 +133,7 @@ class FieldSensorCalibration:
 
     def apply(self, raw) -> np.ndarray:
         """Calibrate readings: ``f = S⁻¹ (raw − b)`` (003 eq. (1) without noise)."""
-        m = np.asarray(raw, dtype=float)
-        if m.shape[-1:] != (3,) or m.ndim > 2:
-            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        m = as_samples(raw)
         return np.linalg.solve(self.S, (m - self.b).reshape(-1, 3).T).T.reshape(m.shape)
 
     def predicted(self) -> np.ndarray:

@@ -13,7 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..correction import AffineCorrection
 from ..errors import CalibrationError, InsufficientDataError
+from ..result import OUTPUT_UNIT, CalibrationResult
 from ..uncertainty import CONFIDENCE
 from ..validation import as_vectors, check_gravity
 from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
@@ -30,7 +32,7 @@ RETURN_TOLERANCE = 0.05
 
 
 @dataclass(frozen=True)
-class CubeCalibration:
+class CubeCalibration(CalibrationResult):
     """Result of :func:`calibrate_cube`.
 
     Attributes
@@ -50,6 +52,10 @@ class CubeCalibration:
     sampling_rate_hz, gravity, field_ut : float
     metrics, warnings, reasons
         ``ok`` is true when ``reasons`` is empty (every sensor's own reasons included).
+    units : dict
+        Unit of each sensor's recorded values (``acc``: m/s², g or raw; ``gyr``: rad/s, deg/s or
+        raw; ``mag``: uT, nT or raw); gyroscope and magnetometer samples were converted to rad/s
+        and µT before the fit unless raw.
     """
 
     acc: FieldSensorCalibration | None
@@ -66,11 +72,43 @@ class CubeCalibration:
     metrics: dict = field(default_factory=dict)
     warnings: tuple = ()
     reasons: tuple = ()
+    units: dict = field(default_factory=dict)
+
+    RESULT_TYPE = MODEL_TYPE
+    MODEL_TYPE = MODEL_TYPE
+    CORRECTION_SOURCE = "Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1): raw = S f + b, so M = S^-1, o = b"
+    method = MODEL_TYPE
+    CALIBRATED_UNITS = {"gyr": "rad/s", "mag": "uT"}
+    """What the gyroscope and magnetometer corrections calibrate into."""
 
     @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
+    def unit(self) -> str:
+        """The accelerometer's unit."""
+        return self.units.get("acc", "m/s^2")
+
+    @property
+    def correction(self) -> AffineCorrection:
+        """The accelerometer's correction (003 eq. (1)); raises when there is no accelerometer model."""
+        try:
+            return self.corrections()["acc"]
+        except KeyError:
+            raise CalibrationError("this cube calibration has no accelerometer model") from None
+
+    def corrections(self) -> dict[str, AffineCorrection]:
+        """Each calibrated sensor's ``f = S⁻¹ (m − b)`` (Särkkä et al., eq. (1)), acc, gyr, mag in order."""
+        out = {}
+        for sensor in ("acc", "gyr", "mag"):
+            res = getattr(self, sensor)
+            if res is None or getattr(res, "S", None) is None:
+                continue
+            if sensor == "acc":
+                units = (self.unit, OUTPUT_UNIT.get(self.unit, self.unit))
+            else:
+                out_unit = self.CALIBRATED_UNITS[sensor]
+                units = ("raw" if self.units.get(sensor) == "raw" else out_unit, out_unit)
+            out[sensor] = AffineCorrection(np.linalg.inv(res.S), np.asarray(res.b, dtype=float), *units,
+                                           self.CORRECTION_SOURCE, sensor)
+        return out
 
     def apply(self, acc=None, gyr=None, mag=None) -> dict:
         """Calibrate samples of each sensor given: ``f = S⁻¹ (raw − b)``.
@@ -90,10 +128,9 @@ class CubeCalibration:
             out[name] = res.apply(raw)
         return out
 
-    def model(self) -> dict:
-        """``{"type": "cube", "acc": {...}, "gyr": {...}, "mag": {...}}`` (DESIGN.md §3)."""
+    def model_dict(self) -> dict:
+        """``{"acc": {...}, "gyr": {...}, "mag": {...}}``, each sensor's S, b and their parts."""
         return {
-            "type": MODEL_TYPE,
             "acc": None if self.acc is None else self.acc.model(),
             "gyr": None if self.gyr is None else self.gyr.model(),
             "mag": None if self.mag is None else self.mag.model(),
@@ -108,23 +145,16 @@ class CubeCalibration:
             "mag": None if self.mag is None else self.mag.uncertainty(),
         }
 
-    def to_dict(self) -> dict:
-        """Plain-JSON form: model, uncertainty, metrics, ok, warnings, reasons, sequence, details."""
+    def body_dict(self) -> dict:
+        """The sequence check, protocol, segments, drift, field and each sensor's details."""
         return {
-            "method": "cube",
-            "model": self.model(),
-            "uncertainty": self.uncertainty(),
-            "metrics": dict(self.metrics),
-            "ok": self.ok,
-            "warnings": list(self.warnings),
-            "reasons": list(self.reasons),
+            "units": dict(self.units),
             "sequence": [dict(s) for s in self.sequence],
             "first_wrong_rotation": self.first_wrong_rotation,
             "protocol": self.protocol.to_dict(),
             "segments": None if self.segmentation is None else self.segmentation.to_dict(),
             "drift": {k: v.to_dict() for k, v in self.drift.items()},
             "sampling_rate_hz": self.sampling_rate_hz,
-            "gravity": self.gravity,
             "field_ut": self.field_ut,
             "details": {
                 "acc": None if self.acc is None else self.acc.to_dict(),
@@ -134,10 +164,8 @@ class CubeCalibration:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "CubeCalibration":
+    def _from_body(cls, data: dict) -> "CubeCalibration":
         """Rebuild a result from :meth:`to_dict` output (the segmentation is not kept)."""
-        if data.get("model", {}).get("type") != MODEL_TYPE:
-            raise CalibrationError(f"not a cube model: type {data.get('model', {}).get('type')!r}")
         det = data["details"]
         p = data["protocol"]
         from . import quaternion as quat
@@ -170,6 +198,7 @@ class CubeCalibration:
             metrics=dict(data.get("metrics", {})),
             warnings=tuple(data.get("warnings", ())),
             reasons=tuple(data.get("reasons", ())),
+            units=dict(data.get("units") or {"acc": data.get("unit", "m/s^2")}),
         )
 
 

@@ -20,6 +20,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from ..validation import as_samples
 import scipy.sparse as sp
 from scipy import stats
 from scipy.linalg import cho_solve_banded, cholesky_banded
@@ -108,9 +110,7 @@ class GyroCalibration:
 
     def apply(self, raw) -> np.ndarray:
         """Calibrate rates: ``ω = S_ω⁻¹ (raw − b)``."""
-        m = np.asarray(raw, dtype=float)
-        if m.shape[-1:] != (3,) or m.ndim > 2:
-            raise CalibrationError(f"samples must have shape N×3; got shape {tuple(m.shape)}")
+        m = as_samples(raw)
         return (m - self.b) @ self.S_inv.T
 
     def _S_jacobian(self) -> np.ndarray:
