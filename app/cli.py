@@ -20,6 +20,7 @@ from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import EXPORTERS, export_calibration
 from app.io.formats import FORMATS
+from app.requests import ValidationError, describe_errors, parse_calibration_request
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
 
@@ -146,21 +147,8 @@ def _calibrate(args, settings: Settings) -> int:
     log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, units=units, name=str(args.log),
                             format=args.log_format, lsb_per_g=args.lsb_per_g)
     recording = workflow.describe_log(log)
-    unit = log.units["acc"]
-    gravity, notes = workflow.reference_gravity(unit, args.gravity, args.latitude_deg, args.height_m)
-    extra: dict = {}
-    source: dict = {}
-    if args.method in CUBE_METHODS:
-        result = workflow.calibrate_cube_log(log, protocol=args.protocol, gravity=gravity, field_ut=args.field_ut)
-        source = {"units": log.units}
-    elif args.method in KNOWN_METHODS:
-        readings, source["segments_used"] = workflow.readings_from_segments(recording, args.method, None)
-        result, extra = workflow.calibrate_known(args.method, readings, unit=unit, gravity=gravity)
-    else:
-        means, source["segments_used"] = workflow.means_from_segments(recording, None)
-        result, extra = workflow.calibrate_unknown(args.method, means, unit=unit, gravity=gravity, solver=args.solver)
-    body = workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=args.device_id,
-                                     label=str(args.log.name), **source)
+    request = parse_calibration_request(_calibration_request(args, unit=log.units["acc"]))
+    body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=args.log, log=log))
     if not args.no_store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
     if args.json:
@@ -168,6 +156,21 @@ def _calibrate(args, settings: Settings) -> int:
     else:
         _print_summary(body, recording)
     return 0 if body["ok"] else 3
+
+
+def _calibration_request(args, *, unit: str) -> dict:
+    """The request of POST /api/v1/calibrations that ``trical calibrate`` makes of its options; the
+    log file stands in for the stored recording."""
+    request = {"method": args.method, "recording_id": str(args.log), "gravity": args.gravity,
+               "latitude_deg": args.latitude_deg, "height_m": args.height_m, "device_id": args.device_id,
+               "label": str(args.log.name)}
+    if args.method in CUBE_METHODS:
+        request.update(protocol=args.protocol, field_ut=args.field_ut)
+    else:
+        request["unit"] = unit
+    if args.method == "triangular":
+        request["solver"] = args.solver
+    return request
 
 
 def _print_summary(body: dict, recording: dict) -> None:
@@ -347,6 +350,9 @@ def main(argv: list[str] | None = None) -> int:
         return command(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
         print(f"trical: error: {exc}", file=sys.stderr)
+        return 2
+    except ValidationError as exc:
+        print(f"trical: error: {describe_errors(exc.errors())}", file=sys.stderr)
         return 2
     except NotFoundError as exc:
         print(f"trical: error: {exc.args[0]}", file=sys.stderr)

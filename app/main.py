@@ -14,7 +14,7 @@ from fastapi.staticfiles import StaticFiles
 from app import __version__
 from app.api import router as api_router
 from app.api.deps import bearer_token
-from app.api.errors import PayloadTooLarge, install_error_handlers
+from app.api.errors import PayloadTooLarge, error_response, install_error_handlers
 from app.api.ratelimit import RateLimiter, retry_after
 from app.config import Settings
 from app.store import open_store
@@ -52,7 +52,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         # chunked uploads are counted while they are copied (app.api.recordings.save_upload).
         length = request.headers.get("content-length")
         if length and length.isdigit() and int(length) > settings.max_upload_bytes + 64 * 1024:
-            return JSONResponse({"detail": str(PayloadTooLarge(settings.max_upload_mb))}, status_code=413)
+            return error_response(413, str(PayloadTooLarge(settings.max_upload_mb)), "payload_too_large")
         return await call_next(request)
 
     @app.middleware("http")
@@ -73,10 +73,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                 client = bearer_token(request) or (request.client.host if request.client else "unknown")
                 wait = limiter.acquire(client)
                 if wait > 0:
-                    return JSONResponse(
-                        {"detail": f"too many requests: at most {settings.rate_limit_per_minute:g} a minute "
-                                   f"(TRICAL_RATE_LIMIT_PER_MINUTE); retry in {retry_after(wait)} s"},
-                        status_code=429, headers={"Retry-After": retry_after(wait)})
+                    return error_response(
+                        429, f"too many requests: at most {settings.rate_limit_per_minute:g} a minute "
+                             f"(TRICAL_RATE_LIMIT_PER_MINUTE); retry in {retry_after(wait)} s",
+                        "rate_limited", {"Retry-After": retry_after(wait)})
             return await call_next(request)
 
     install_error_handlers(app)

@@ -18,6 +18,7 @@ import numpy as np
 
 from app import workflow
 from app.calibration import CANONICAL_SIX, CalibrationError, InsufficientDataError
+from app.calibration.errors import NotStillError
 from app.calibration.capture import check_still_capture, on_uniform_grid
 from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.store import ConflictError
@@ -116,7 +117,7 @@ def _six_capture(session: dict, capture: dict) -> dict:
     if capture.get("gyr") is not None:
         rate = _gyr_mean_deg_s(capture)
         if rate > MAX_ROTATION_DEG_S:
-            raise CalibrationError(f"the device was turning during the capture ({rate:.3g} °/s): "
+            raise NotStillError(f"the device was turning during the capture ({rate:.3g} °/s): "
                                    "leave it resting until the capture ends")
     return checked.to_dict()
 
@@ -142,7 +143,7 @@ def _cube_capture(store, session: dict, capture: dict) -> dict:
                                   max_angle_deg=CUBE_FACE_MAX_ANGLE_DEG)
     rate = _gyr_mean_deg_s(capture)
     if rate > MAX_ROTATION_DEG_S:
-        raise CalibrationError(f"the cube was turning during the capture ({rate:.3g} °/s): "
+        raise NotStillError(f"the cube was turning during the capture ({rate:.3g} °/s): "
                                "leave it resting until the capture ends")
     summary = dict(checked.to_dict(), position=position, up=checked.position, expected_up=CUBE24_UPS[k - 1],
                    gyr_mean=np.mean(np.asarray(capture["gyr"], dtype=float), axis=0).tolist(),
@@ -158,7 +159,7 @@ def _cube_capture(store, session: dict, capture: dict) -> dict:
         turn = check_turn(motion["gyr"], motion["t_ms"], protocol, k - 2, bias=previous["gyr_mean"],
                           gyr_scale=declared)
         if not turn.ok:
-            raise CalibrationError(turn.message)
+            raise CalibrationError(turn.message, code="wrong_turn")
         summary["turn"] = turn.to_dict()
         summary["gyr_to_rad_s"] = turn.gyr_scale
     if checked.position != CUBE24_UPS[k - 1]:

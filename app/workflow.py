@@ -1,12 +1,14 @@
-"""The steps the API and the CLI share: logs into recordings, readings into calibrations.
+"""The steps the API and the CLI share: logs into recordings, requests into calibrations.
 
-Data flows one way (DESIGN.md section 1): the callers parse and validate, this module calls ``io``
-to turn files into arrays and one function of ``calibration``, and returns plain dicts that the
-callers store, export and serialise.  Nothing here knows HTTP.
+Data flows one way (docs/architecture.md): the callers parse a request into the models of
+:mod:`app.requests` and find its recording, :func:`calibrate` calls ``io`` to turn files into
+arrays and one function of ``calibration``, and returns the plain form that the callers store,
+export and serialise.  Nothing here knows HTTP or the database.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,11 +17,11 @@ import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
 from app.calibration.errors import InsufficientDataError
+from app.calibration.result import OUTPUT_UNIT
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
 
-OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
 
@@ -234,12 +236,146 @@ def apply_calibration(body: dict, samples, sensor: str = "acc"):
 
 
 def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:
-    """The stored and returned form of a calibration (DESIGN.md section 3 response)."""
+    """The stored and returned form of a calibration: the result's plain form with the metrics and
+    notes of the request and the caller's fields (device_id, label, the recording's id…)."""
+    if getattr(result, "unit", unit) != unit and "unit" in {f.name for f in dataclasses.fields(result)}:
+        result = dataclasses.replace(result, unit=unit)
     body = result.to_dict()
     body["metrics"].update(extra_metrics)
     body["warnings"] = list(body["warnings"]) + notes
     body.update(unit=unit, output_unit=OUTPUT_UNIT[unit], **fields)
     return body
+
+
+# -- the one entry point -------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class RecordingSource:
+    """A recording a request calibrates from.
+
+    Attributes
+    ----------
+    meta : dict
+        Its description (:func:`describe_log`, as stored by POST /api/v1/recordings).
+    path : pathlib.Path
+        Its file.
+    id : str or None
+        Its id when stored (the CLI calibrates files that are not): copied into the result.
+    log : LogData or None
+        The file already read, when the caller has it.
+    """
+
+    meta: dict
+    path: Path
+    id: str | None = None
+    log: LogData | None = None
+
+    def read(self) -> LogData:
+        if self.log is not None:
+            return self.log
+        return load_log(self.path, sampling_rate_hz=self.meta["sampling_rate_hz"], units=self.meta["units"],
+                        name=self.meta.get("filename") or "the recording")
+
+    @property
+    def source_fields(self) -> dict:
+        return {} if self.id is None else {"recording_id": self.id}
+
+
+def calibrate(request, recording: RecordingSource | None = None) -> dict:
+    """Compute the calibration a request asks for, and return its stored form (unstored).
+
+    Parameters
+    ----------
+    request : app.requests.CalibrationIn
+        One of the request models; its ``method`` picks the method.
+    recording : RecordingSource, optional
+        The recording ``request.recording_id`` names, found by the caller (the API in the store
+        of the calling owner, the CLI on disk).
+
+    Returns
+    -------
+    dict
+        The calibration's plain form with ``device_id``, ``label`` and the recording's fields.
+
+    Raises
+    ------
+    CalibrationError
+        Input that cannot be calibrated (InsufficientDataError: too little of it).
+    LogFormatError
+        A recording that cannot be read.
+    """
+    if getattr(request, "recording_id", None) is not None and recording is None:
+        raise CalibrationError(f"recording {request.recording_id!r} was not given to the workflow")
+    return _METHODS[request.method](request, recording)
+
+
+def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
+    """The unit, the reference magnitude and notes for a request on inline readings or a recording."""
+    unit = request.unit
+    notes: list[str] = []
+    if recording is not None:
+        meta = recording.meta
+        if request.unit != meta["units"]["acc"]:
+            notes.append(
+                f"the recording's accelerometer unit is {meta['units']['acc']}; the request's unit "
+                f"{request.unit} was replaced by it"
+            )
+        unit = meta["units"]["acc"]
+        if meta.get("quantization_step"):
+            notes.append(
+                f"the recording's values are rounded to {meta['quantization_step']} m/s² (as browsers "
+                "round motion sensor data): each reading's mean is still precise when averaged over many samples"
+            )
+    gravity, more = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
+    return unit, gravity, notes + more
+
+
+def _known(request, recording: RecordingSource | None) -> dict:
+    unit, gravity, notes = _unit_gravity(request, recording)
+    source: dict = {}
+    if recording is not None:
+        readings, used = readings_from_segments(recording.meta, request.method, request.segments)
+        source = {**recording.source_fields, "segments_used": used}
+    else:
+        readings = [Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
+                            std=None if r.std is None else tuple(r.std), count=r.count)
+                    for r in request.readings]
+    result, extra = calibrate_known(request.method, readings, unit=unit, gravity=gravity, holdout=request.holdout)
+    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                            label=request.label, **source)
+
+
+def _magnitude(request, recording: RecordingSource | None) -> dict:
+    unit, gravity, notes = _unit_gravity(request, recording)
+    source: dict = {}
+    means = request.means
+    if recording is not None:
+        means, used = means_from_segments(recording.meta, request.segments)
+        source = {**recording.source_fields, "segments_used": used}
+    result, extra = calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
+                                      solver=getattr(request, "solver", "lm"), holdout=request.holdout)
+    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                            label=request.label, **source)
+
+
+def _cube(request, recording: RecordingSource) -> dict:
+    log = recording.read()
+    unit = log.units["acc"]
+    gravity, notes = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
+    result = calibrate_cube_log(log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut)
+    result = dataclasses.replace(result, units=dict(log.units))
+    return calibration_body(result, {}, unit=unit, notes=notes, device_id=request.device_id,
+                            label=request.label, **recording.source_fields)
+
+
+def _autocal(request, recording: RecordingSource) -> dict:
+    return autocalibrate_file(
+        recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
+        unit=request.unit or recording.meta["units"]["acc"], solver=request.solver, gravity=request.gravity,
+        latitude_deg=request.latitude_deg, height_m=request.height_m,
+        detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
+        label=request.label or recording.meta.get("filename"), **recording.source_fields)
 
 
 AUTOCAL_UNITS = ("g", "m/s^2")
@@ -311,3 +447,7 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
     return calibration_body(result, {}, unit=unit, notes=notes, recording={
         "format": log.format, "n_samples": log.n_samples, "sampling_rate_hz": log.sampling_rate_hz,
         "duration_s": log.n_samples / log.sampling_rate_hz}, **fields)
+
+
+_METHODS = {"six_position": _known, "orientations": _known, "nonorthogonal": _magnitude, "triangular": _magnitude,
+            "cube": _cube, "autocal": _autocal}

@@ -8,118 +8,36 @@ from fastapi.responses import Response
 
 from app import workflow
 from app.api.deps import get_store
-from app.api.schemas import (
-    ApplyIn,
-    ApplyOut,
-    AutocalIn,
-    CalibrationIn,
-    CalibrationList,
-    CalibrationOut,
-    CubeIn,
-    KnownOrientationIn,
-    UnknownOrientationIn,
-)
+from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut
 from app.io.exporters import EXPORTERS, export_calibration
 from app.store import OwnedStore
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
 
-def _source(request, store: OwnedStore) -> tuple[dict | None, str, float, list[str]]:
-    """The recording (if any), the unit, the reference magnitude and notes for a request."""
-    recording = None
-    unit = request.unit
-    notes: list[str] = []
-    if request.recording_id is not None:
-        recording, _ = store.get_recording(request.recording_id)
-        if request.unit != recording["units"]["acc"]:
-            notes.append(
-                f"the recording's accelerometer unit is {recording['units']['acc']}; the request's unit "
-                f"{request.unit} was replaced by it"
-            )
-        unit = recording["units"]["acc"]
-        if recording.get("quantization_step"):
-            notes.append(
-                f"the recording's values are rounded to {recording['quantization_step']} m/s² (as browsers "
-                "round motion sensor data): each reading's mean is still precise when averaged over many samples"
-            )
-    gravity, more = workflow.reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
-    return recording, unit, gravity, notes + more
+def recording_source(store: OwnedStore, recording_id: str | None) -> workflow.RecordingSource | None:
+    """The caller's stored recording a request names (404 when it is not theirs)."""
+    if recording_id is None:
+        return None
+    meta, path = store.get_recording(recording_id)
+    return workflow.RecordingSource(meta=meta, path=path, id=recording_id)
 
 
-def _known_orientation_body(request: KnownOrientationIn, store: OwnedStore) -> dict:
-    recording, unit, gravity, notes = _source(request, store)
-    source: dict = {}
-    if recording is not None:
-        readings, used = workflow.readings_from_segments(recording, request.method, request.segments)
-        source = {"recording_id": request.recording_id, "segments_used": used}
-    else:
-        readings = [workflow.Reading(mean=tuple(r.mean), up=r.up,
-                                     expected=None if r.expected is None else tuple(r.expected),
-                                     std=None if r.std is None else tuple(r.std), count=r.count)
-                    for r in request.readings]
-    result, extra = workflow.calibrate_known(request.method, readings, unit=unit, gravity=gravity,
-                                             holdout=request.holdout)
-    return workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                                     label=request.label, **source)
-
-
-def _unknown_orientation_body(request: UnknownOrientationIn, store: OwnedStore) -> dict:
-    recording, unit, gravity, notes = _source(request, store)
-    source: dict = {}
-    means = request.means
-    if recording is not None:
-        means, used = workflow.means_from_segments(recording, request.segments)
-        source = {"recording_id": request.recording_id, "segments_used": used}
-    result, extra = workflow.calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
-                                               solver=getattr(request, "solver", "lm"), holdout=request.holdout)
-    return workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                                     label=request.label, **source)
-
-
-def _cube_body(request: CubeIn, store: OwnedStore) -> dict:
-    recording, path = store.get_recording(request.recording_id)
-    log = workflow.load_log(path, sampling_rate_hz=recording["sampling_rate_hz"], units=recording["units"],
-                            name=recording.get("filename") or "the recording")
-    unit = log.units["acc"]
-    gravity, notes = workflow.reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
-    result = workflow.calibrate_cube_log(log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut)
-    return workflow.calibration_body(result, {}, unit=unit, notes=notes, device_id=request.device_id,
-                                     label=request.label, recording_id=request.recording_id, units=log.units)
-
-
-@router.post("", status_code=201, response_model=CalibrationOut, summary="Compute and store a calibration")
+@router.post("", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True, summary="Compute and store a calibration")
 def create_calibration(request: CalibrationIn, store: OwnedStore = Depends(get_store)):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
-    if isinstance(request, KnownOrientationIn):
-        body = _known_orientation_body(request, store)
-    elif isinstance(request, CubeIn):
-        body = _cube_body(request, store)
-    elif isinstance(request, AutocalIn):
-        body = _autocal_body(request, store)
-    else:
-        body = _unknown_orientation_body(request, store)
+    body = workflow.calibrate(request, recording_source(store, getattr(request, "recording_id", None)))
     return store.add_calibration(body)
 
 
-def _autocal_body(request: AutocalIn, store: OwnedStore) -> dict:
-    recording, path = store.get_recording(request.recording_id)
-    return workflow.autocalibrate_file(
-        path, sampling_rate_hz=recording["sampling_rate_hz"], unit=request.unit or recording["units"]["acc"],
-        solver=request.solver, gravity=request.gravity, latitude_deg=request.latitude_deg,
-        height_m=request.height_m, detection={"all_axes": True} if request.all_axes else None,
-        device_id=request.device_id, label=request.label or recording.get("filename"),
-        recording_id=request.recording_id)
-
-
-@router.get("", response_model=CalibrationList, summary="List calibrations")
+@router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")
 def list_calibrations(device_id: str | None = Query(None, max_length=200),
                       limit: int = Query(100, ge=1, le=1000), store: OwnedStore = Depends(get_store)):
     """Calibrations, newest first, optionally of one device."""
     return {"items": store.list_calibrations(device_id=device_id, limit=limit)}
 
 
-@router.get("/{calibration_id}", response_model=CalibrationOut, summary="Read a calibration")
+@router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True, summary="Read a calibration")
 def get_calibration(calibration_id: str, store: OwnedStore = Depends(get_store)):
     """One stored calibration."""
     return store.get_calibration(calibration_id)

@@ -1,7 +1,28 @@
-"""The one place that maps errors to HTTP responses: ``{"detail": "..."}`` with a 4xx status.
+"""The one place that maps errors to HTTP responses: ``{"detail": "...", "code": "..."}``.
 
-Bad input never yields a 500; an unexpected failure is logged with its traceback and answered
-with a 500 whose message holds no internals.
+``detail`` says in words what is wrong and how to fix it; ``code`` is stable, for programs (the
+pages decide on it, never on the words). Bad input never yields a 500; an unexpected failure is
+logged with its traceback and answered with a 500 whose message holds no internals.
+
+=====================  ======  ==========================================================
+code                   status  when
+=====================  ======  ==========================================================
+invalid_request        422     the body or a parameter fails validation
+insufficient_data      422     well-formed input that holds too little to determine the model
+calibration_refused    422     other input that cannot be calibrated as given
+wrong_turn             422     a cube wizard capture whose turn does not match the protocol
+not_still              422     a wizard capture during which the device moved
+unreadable_log         422     a log that cannot be read (format, columns, units)
+unsupported_media      415     an upload that is not a log trical reads
+payload_too_large      413     an upload or JSON body over its limit
+export_refused         422     an export format that does not fit the calibration
+not_found              404     no such resource for this caller
+already_captured       409     a wizard pose captured already (send redo)
+unauthorized           401     a missing or invalid API key or session token
+rate_limited           429     too many requests (with Retry-After)
+http_error             4xx     any other HTTP error (unknown route, method not allowed)
+internal_error         500     a failure of trical itself; nothing was stored
+=====================  ======  ==========================================================
 """
 
 from __future__ import annotations
@@ -14,16 +35,21 @@ from fastapi.responses import JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from app.api.deps import Unauthorized
-from app.api.schemas import METHODS
 from app.calibration import CalibrationError
+from app.calibration.errors import InsufficientDataError
 from app.io.errors import ExportError, LogFormatError
+from app.requests import describe_errors
 from app.store import ConflictError, NotFoundError
 
 log = logging.getLogger("trical")
 
+LOG_FORMAT_CODES = {413: "payload_too_large", 415: "unsupported_media"}
+
 
 class PayloadTooLarge(Exception):
     """An upload exceeds TRICAL_MAX_UPLOAD_MB."""
+
+    code = "payload_too_large"
 
     def __init__(self, limit_mb: float):
         super().__init__(
@@ -32,83 +58,64 @@ class PayloadTooLarge(Exception):
         )
 
 
-def _location(loc) -> str:
-    parts: list[str] = []
-    for item in loc:
-        if item in ("body", "query", "path", "form") and not parts:
-            continue
-        if item in METHODS and len(parts) == 0:
-            continue  # the discriminator's branch, not a field
-        if isinstance(item, int):
-            parts.append(f"[{item}]")
-        else:
-            parts.append(("." if parts else "") + str(item))
-    return "".join(parts) or "body"
-
-
 def describe_validation(exc: RequestValidationError) -> str:
     """One readable sentence per problem, e.g. ``readings[2].up: Input should be '+x', ...``."""
-    messages = []
-    for err in exc.errors():
-        if err.get("type") == "json_invalid":
-            messages.append(f"the body is not valid JSON ({err.get('ctx', {}).get('error', 'parse error')})")
-            continue
-        if err.get("type") == "missing" and tuple(err.get("loc", ())) == ("body",):
-            messages.append("the request needs a JSON body")
-            continue
-        if err.get("type") == "union_tag_not_found":
-            messages.append(f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
-                            f"required: one of {', '.join(METHODS)}")
-            continue
-        msg = err.get("msg", "invalid").removeprefix("Value error, ")
-        messages.append(f"{_location(err.get('loc', ()))}: {msg}")
-    return "; ".join(dict.fromkeys(messages)) or "invalid request"
+    return describe_errors(exc.errors())
 
 
-def _json(status: int, detail: str) -> JSONResponse:
-    return JSONResponse({"detail": detail}, status_code=status)
+def error_response(status: int, detail: str, code: str, headers: dict | None = None) -> JSONResponse:
+    """The error body every failure of the API answers with."""
+    return JSONResponse({"detail": detail, "code": code}, status_code=status, headers=headers)
+
+
+def calibration_code(exc: CalibrationError) -> str:
+    """A calibration error's code: its own, else ``insufficient_data`` or ``calibration_refused``."""
+    own = getattr(exc, "code", None)
+    if own:
+        return own
+    return "insufficient_data" if isinstance(exc, InsufficientDataError) else "calibration_refused"
 
 
 def install_error_handlers(app: FastAPI) -> None:
-    """Register the mapping of every error class to its HTTP status."""
+    """Register the mapping of every error class to its HTTP status and code."""
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError):
-        return _json(422, describe_validation(exc))
+        return error_response(422, describe_validation(exc), "invalid_request")
 
     @app.exception_handler(CalibrationError)
     async def _calibration(request: Request, exc: CalibrationError):
-        return _json(422, str(exc))
+        return error_response(422, str(exc), calibration_code(exc))
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):
-        return _json(exc.status, str(exc))
+        return error_response(exc.status, str(exc), LOG_FORMAT_CODES.get(exc.status, "unreadable_log"))
 
     @app.exception_handler(ExportError)
     async def _export(request: Request, exc: ExportError):
-        return _json(422, str(exc))
+        return error_response(422, str(exc), "export_refused")
 
     @app.exception_handler(NotFoundError)
     async def _not_found(request: Request, exc: NotFoundError):
-        return _json(404, str(exc.args[0]) if exc.args else "not found")
+        return error_response(404, str(exc.args[0]) if exc.args else "not found", "not_found")
 
     @app.exception_handler(ConflictError)
     async def _conflict(request: Request, exc: ConflictError):
-        return _json(409, str(exc))
+        return error_response(409, str(exc), "already_captured")
 
     @app.exception_handler(Unauthorized)
     async def _unauthorized(request: Request, exc: Unauthorized):
-        return JSONResponse({"detail": str(exc)}, status_code=401, headers={"WWW-Authenticate": "Bearer"})
+        return error_response(401, str(exc), "unauthorized", {"WWW-Authenticate": "Bearer"})
 
     @app.exception_handler(PayloadTooLarge)
     async def _too_large(request: Request, exc: PayloadTooLarge):
-        return _json(413, str(exc))
+        return error_response(413, str(exc), "payload_too_large")
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException):
-        return JSONResponse({"detail": exc.detail}, status_code=exc.status_code, headers=exc.headers)
+        return error_response(exc.status_code, exc.detail, "http_error", exc.headers)
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception):
         log.exception("unexpected error on %s %s", request.method, request.url.path)
-        return _json(500, "internal error: the request was not completed; nothing was stored")
+        return error_response(500, "internal error: the request was not completed; nothing was stored", "internal_error")

@@ -1,157 +1,363 @@
-"""Request and response models of the REST API (v1). Pydantic lives here and nowhere else."""
+"""Response models of the REST API (v1), and the request models of its other resources.
+
+The calibration request models live in :mod:`app.requests` (the CLI builds them too); the
+responses here describe every field each method returns, so that ``/openapi.json`` documents them.
+"""
 
 from __future__ import annotations
 
-from typing import Annotated, Any, ClassVar, Literal, Union
+from typing import Annotated, Any, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
-Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
-Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
-AccUnit = Literal["m/s^2", "g", "raw"]
+from app.requests import (  # noqa: F401  (re-exported: the routes and tests name them here)
+    METHODS,
+    AccUnit,
+    AutocalIn,
+    CalibrationIn,
+    CubeIn,
+    KnownOrientationIn,
+    Label,
+    OrientationsIn,
+    ReadingIn,
+    SixPositionIn,
+    Strict,
+    TriangularIn,
+    NonOrthogonalIn,
+    UnknownOrientationIn,
+    Vec3,
+)
 
 
-class Strict(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+# -- calibration responses -----------------------------------------------------------------------
+# One model per method, in a union discriminated by `method` (OpenAPI's discriminator must be a
+# top-level property). `method` fixes `model.type` one to one: six_position and orientations give
+# `affine`, nonorthogonal and triangular their own type, cube `cube`, and autocal a `triangular`
+# model with the fields of its pipeline.
+
+Vec3Out = list[float]
+Mat3Out = list[list[float]]
 
 
-class ReadingIn(Strict):
-    """An averaged still reading in a known orientation."""
-
-    mean: Vec3 = Field(description="Mean specific force [x, y, z] in `unit`.")
-    up: Label | None = Field(None, description="The device axis that points up (`+x` reads +g on x).")
-    expected: Vec3 | None = Field(None, description="Explicit true specific force, instead of `up`.")
-    std: Annotated[list[Annotated[float, Field(ge=0, allow_inf_nan=False)]], Field(min_length=3, max_length=3)] | None = None
-    count: int | None = Field(None, ge=1)
-
-    @model_validator(mode="after")
-    def _orientation_given(self):
-        if self.up is None and self.expected is None:
-            raise ValueError("each reading needs `up` (e.g. \"+z\") or an explicit `expected` vector")
-        return self
-
-
-class CommonIn(Strict):
-    unit: AccUnit = Field("m/s^2", description="Unit of the readings; `g` calibrates into g.")
-    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = Field(
-        None, description="Reference gravity in m/s² (default 9.80665, or local gravity from latitude_deg)."
-    )
-    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
-    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
-    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
-    label: Annotated[str, Field(max_length=500)] | None = None
-    holdout: Annotated[list[Vec3], Field(max_length=100_000)] | None = Field(
-        None, description="Further still readings of unknown orientation, used only to report norm errors."
-    )
-
-
-class FromRecordingIn(CommonIn):
-    """Readings given inline (the field named by ``INLINE``) or taken from a recording."""
-
-    INLINE: ClassVar[str]
-    recording_id: str | None = Field(None, description="Use the static segments of an uploaded recording.")
-    segments: list[int] | None = Field(None, description="Segment indices to use from the recording.")
-
-    @model_validator(mode="after")
-    def _one_source(self):
-        if (getattr(self, self.INLINE) is None) == (self.recording_id is None):
-            raise ValueError(f"give either `{self.INLINE}` or `recording_id` (exactly one of them)")
-        if self.segments is not None and self.recording_id is None:
-            raise ValueError("`segments` selects segments of a recording: give `recording_id` too")
-        return self
-
-
-class KnownOrientationIn(FromRecordingIn):
-    INLINE: ClassVar[str] = "readings"
-    readings: Annotated[list[ReadingIn], Field(min_length=1, max_length=10_000)] | None = None
-
-
-class SixPositionIn(KnownOrientationIn):
-    method: Literal["six_position"]
-
-
-class OrientationsIn(KnownOrientationIn):
-    method: Literal["orientations"]
-
-
-class UnknownOrientationIn(FromRecordingIn):
-    """Still readings whose orientations are unknown: only the magnitude of gravity is known."""
-
-    INLINE: ClassVar[str] = "means"
-    means: Annotated[list[Vec3], Field(min_length=1, max_length=100_000)] | None = Field(
-        None, description="N×3 still readings in `unit`, in arbitrary orientations (N ≥ 9)."
-    )
-
-
-class NonOrthogonalIn(UnknownOrientationIn):
-    method: Literal["nonorthogonal"]
-
-
-class TriangularIn(UnknownOrientationIn):
-    method: Literal["triangular"]
-    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = Field(
-        "lm", description="lm (optimal), or 002's finite-difference descent in float, 16- or 32-bit fixed point."
-    )
-
-
-class CubeIn(Strict):
-    """A multi-position recording of a cube (acc, gyr, optional mag): 003's method."""
-
-    method: Literal["cube"]
-    recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
-    protocol: Literal["cube24", "ferraris"] | dict[str, Any] = Field(
-        "cube24", description="`cube24`, `ferraris`, or {\"rotations\": [...], \"ups\": [...]}."
-    )
-    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
-    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
-    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
-    field_ut: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
-        None, description="Magnitude of the local magnetic field in µT; needed when the recording has a magnetometer."
-    )
-    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
-    label: Annotated[str, Field(max_length=500)] | None = None
-
-
-class AutocalIn(Strict):
-    """Auto-calibration of an uploaded long recording by the pipeline of 002 (issue 4)."""
-
-    method: Literal["autocal"]
-    recording_id: str = Field(description="An uploaded recording (POST /api/v1/recordings).")
-    unit: Literal["m/s^2", "g"] | None = Field(None, description="Overrides the recording's accelerometer unit.")
-    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
-    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
-    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
-    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = "lm"
-    all_axes: bool = Field(False, description="Every axis must pass the max − min test (002: one axis).")
-    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
-    label: Annotated[str, Field(max_length=500)] | None = None
-
-
-METHODS = ("six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal")
-"""The values of `method` that POST /api/v1/calibrations accepts."""
-
-CalibrationIn = Annotated[
-    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn],
-    Field(discriminator="method"),
-]
-
-
-class CalibrationOut(BaseModel):
-    """A stored calibration. `model`, `metrics` and `uncertainty` depend on the method."""
+class Out(BaseModel):
+    """Response models are tolerant at run time; the tests check that no field goes undescribed."""
 
     model_config = ConfigDict(extra="allow")
 
+
+class HoldoutMetrics(Out):
+    holdout_count: int | None = Field(None, description="Held-out readings (`holdout` of the request).")
+    holdout_norm_error_max: float | None = Field(None, description="Largest relative norm error of the held-out readings, calibrated.")
+    holdout_norm_error_max_raw: float | None = Field(None, description="The same, raw.")
+    holdout_error_before_mg: float | None = Field(None, description="Mean | |m| − g | of the held-out readings, raw, in mg of g.")
+    holdout_error_after_mg: float | None = Field(None, description="The same, calibrated.")
+    holdout_improvement: float | None = Field(None, description="before / after (triangular only).")
+
+
+class AffineModel(Out):
+    type: Literal["affine"]
+    X: Mat3Out = Field(description="m = X a + y (Georgieva et al., ESGI'95, section 3.2), in the readings' unit per unit of the reference.")
+    y: Vec3Out = Field(description="Offset, in the readings' unit.")
+
+
+class AffineUncertainty(Out):
+    confidence: float = Field(description="0.95.")
+    dof: int = Field(description="Residual degrees of freedom per axis, N − 4.")
+    X: Mat3Out | None = Field(description="95 % half-width of each element of X; null without degrees of freedom.")
+    y: Vec3Out | None
+    note: str | None = None
+
+
+class AffineMetrics(HoldoutMetrics):
+    count: int
+    dof: int
+    condition_number: float = Field(description="Of the normalised design (rows (a/g, 1)).")
+    fit_error_max: float = Field(description="max ‖X⁻¹(m − y) − a‖ / ‖a‖ over the readings (ESGI'95 section 3.5).")
+    fit_error_max_raw: float = Field(description="max ‖m − a‖ / ‖a‖.")
+    fit_improvement: float | None
+    norm_error_max: float = Field(description="max | |a_cal| − g | / g.")
+    norm_error_max_raw: float
+    norm_improvement: float | None
+    rms_residual: float
+
+
+class AffineReading(Out):
+    index: int
+    up: Label | None
+    mean: Vec3Out
+    expected: Vec3Out
+    residual: Vec3Out
+    fit_error: float
+    fit_error_raw: float
+    norm_error: float
+    norm_error_raw: float
+
+
+class MagnitudeReading(Out):
+    index: int
+    mean: Vec3Out
+    calibrated: Vec3Out
+    norm_error: float
+    norm_error_raw: float
+
+
+class CalibrationCommon(Out):
     id: str
-    method: str
-    created_at: str
-    model: dict[str, Any]
-    metrics: dict[str, Any]
-    uncertainty: dict[str, Any]
-    ok: bool
+    created_at: str = Field(description="UTC, ISO 8601 with milliseconds.")
+    schema_version: int = Field(1, description="Version of this stored form.")
+    gravity: float = Field(description="Reference magnitude in the output unit (1 for g).")
+    unit: str = Field(description="Unit of the readings: m/s^2, g or raw.")
+    output_unit: str = Field(description="What the calibration calibrates into.")
+    ok: bool = Field(description="False when a quality gate failed; `reasons` says which.")
     warnings: list[str]
     reasons: list[str] = []
     device_id: str | None = None
     label: str | None = None
+    recording_id: str | None = Field(None, description="The recording the readings came from.")
+
+
+class StillReadingsCommon(CalibrationCommon):
+    covariance: list[list[float]] | None = Field(description="Covariance of the parameters (least squares).")
+    segments_used: list[int] | None = Field(None, description="Still segments of the recording that were used.")
+
+
+class AffineOut(StillReadingsCommon):
+    model: AffineModel
+    uncertainty: AffineUncertainty
+    metrics: AffineMetrics
+    readings: list[AffineReading]
+
+
+class SixPositionOut(AffineOut):
+    method: Literal["six_position"]
+
+
+class OrientationsOut(AffineOut):
+    method: Literal["orientations"]
+
+
+class NonOrthogonalModel(Out):
+    type: Literal["nonorthogonal"]
+    s: Vec3Out = Field(description="Shifts (ESGI'95 eq. (1)), in the readings' unit.")
+    b: Vec3Out = Field(description="Scales (positive).")
+    phi: float = Field(description="Angles between the sensor axes, radians (ESGI'95 section 2.1).")
+    psi: float
+    theta: float
+
+
+class NonOrthogonalUncertainty(Out):
+    confidence: float
+    dof: int
+    s: Vec3Out | None
+    b: Vec3Out | None
+    phi: float | None
+    psi: float | None
+    theta: float | None
+    note: str | None = None
+
+
+class MagnitudeMetrics(HoldoutMetrics):
+    count: int
+    dof: int
+    condition_number: float | None
+    converged: bool
+    error_before_mg: float = Field(description="Mean | |m| − g | of the fitted readings, raw, in mg of g (in-sample).")
+    error_after_mg: float = Field(description="The same, calibrated (in-sample).")
+    norm_error_max: float
+    norm_error_max_raw: float
+
+
+class NonOrthogonalMetrics(MagnitudeMetrics):
+    angle_deviation_max_deg: float
+    cost_17: float = Field(description="The cost of ESGI'95 eq. (17) at the solution.")
+    norm_improvement: float | None
+    rms_norm_residual: float
+    rough_s: Vec3Out = Field(description="Shifts of the rough orthogonal fit (step 2 of section 2.2).")
+    rough_b: Vec3Out
+
+
+class NonOrthogonalOut(StillReadingsCommon):
+    method: Literal["nonorthogonal"]
+    model: NonOrthogonalModel
+    uncertainty: NonOrthogonalUncertainty
+    metrics: NonOrthogonalMetrics
+    readings: list[MagnitudeReading]
+
+
+Solver = Literal["lm", "gradient", "fixed16", "fixed32"]
+
+
+class TriangularModel(Out):
+    type: Literal["triangular"]
+    K: Mat3Out = Field(description="Lower-triangular, a = K (v + o) (Farago, Maczak and Gingl, IEEE Access, eq. (6)).")
+    o: Vec3Out = Field(description="Offsets, in the readings' unit.")
+
+
+class TriangularUncertainty(Out):
+    confidence: float | None = None
+    dof: int | None = None
+    K: Mat3Out | None
+    o: Vec3Out | None
+    note: str | None = None
+
+
+class TriangularMetrics(MagnitudeMetrics):
+    solver: Solver
+    cost_12: float = Field(description="The cost of IEEE Access eq. (12) at the solution.")
+    improvement: float | None = Field(description="error_before_mg / error_after_mg (eq. (21)).")
+    iterations: int
+    noise_estimate: float
+    h: float | None = Field(None, description="Finite-difference step of the descent solvers.")
+    distance_to_lm: float | None = Field(None, description="Descent solvers: distance of p to the lm solution.")
+    p_raw: list[int] | None = Field(None, description="fixed16/fixed32: the parameters as the integers the MCU holds.")
+    q_format: str | None = None
+    saturated: bool | None = None
+
+
+class TriangularOut(StillReadingsCommon):
+    method: Literal["triangular"]
+    solver: Solver
+    model: TriangularModel
+    uncertainty: TriangularUncertainty
+    metrics: TriangularMetrics
+    readings: list[MagnitudeReading]
+
+
+class AutocalMetrics(Out):
+    count: int = Field(description="Calibration points selected.")
+    count_control: int = Field(description="Control points held out.")
+    error_before_mg: float | None = Field(description="On the control points, raw (Farago et al., Table 3).")
+    error_after_mg: float | None = Field(description="On the control points, calibrated.")
+    improvement_pct: float | None
+    fit_condition_number: float | None = None
+    fit_converged: bool | None = None
+    fit_error_before_mg: float | None = None
+    fit_error_after_mg: float | None = None
+    fit_iterations: int | None = None
+    fit_noise_estimate: float | None = None
+    fit_norm_error_max: float | None = None
+
+
+class ComparisonRow(Out):
+    K: Mat3Out
+    o: Vec3Out
+    ok: bool
+    count: int
+    count_control: int
+    reasons: list[str]
+    error_before_mg: float | None
+    error_after_mg: float | None
+    improvement_pct: float | None
+
+
+class RecordingSummary(Out):
+    format: str
+    n_samples: int
+    sampling_rate_hz: float
+    duration_s: float
+
+
+class AutocalOut(CalibrationCommon):
+    method: Literal["autocal"]
+    solver: Solver
+    model: TriangularModel
+    uncertainty: TriangularUncertainty
+    metrics: AutocalMetrics
+    covariance: list[list[float]] | None
+    readings: list[MagnitudeReading]
+    comparison: dict[str, ComparisonRow] = Field(description="Method → its errors on the control points (Table 3).")
+    selection: dict[str, int] = Field(description="Calibration points per subset C_ij (eq. (10)).")
+    control_selection: dict[str, int]
+    detection: dict[str, Any] = Field(description="Counts of the rest detection (segments, rest, moving, NaN, idle).")
+    points: list[Vec3Out]
+    control: list[Vec3Out]
+    point_starts: list[int]
+    control_starts: list[int]
+    recording: RecordingSummary
+
+
+class FieldSensorModel(Out):
+    S: Mat3Out = Field(description="raw = S f + b (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)).")
+    b: Vec3Out
+    D: Vec3Out = Field(description="Scale factors, S = D (D⁻¹S).")
+    misalignment: Mat3Out = Field(description="D⁻¹S.")
+    alpha_deg: float | None = Field(None, description="Reference direction angle α (eqs. (6)–(8)).")
+    beta_deg: float | None = None
+
+
+class GyroModel(Out):
+    S: Mat3Out
+    S_inv: Mat3Out
+    b: Vec3Out = Field(description="Bias, in the recorded unit.")
+    D: Vec3Out
+    misalignment: Mat3Out
+    lambda_: float | None = Field(None, alias="lambda", description="Tikhonov weight λ (section IV-A).")
+
+
+class CubeModel(Out):
+    type: Literal["cube"]
+    acc: FieldSensorModel | None
+    gyr: GyroModel | None
+    mag: FieldSensorModel | None
+
+
+class CubeUncertainty(Out):
+    confidence: float
+    acc: dict[str, Any] | None = Field(description="95 % half-widths mirroring model.acc (Appendix A).")
+    gyr: dict[str, Any] | None = Field(description="Mirroring model.gyr (Appendix B).")
+    mag: dict[str, Any] | None
+
+
+class CubeMetrics(Out):
+    duration_s: float | None = None
+    n_samples: int | None = None
+    n_positions_found: int | None = None
+    n_positions_used: int | None = None
+    returned_to_start: bool | None = None
+    rotations_used: list[int] | None = None
+
+
+class RotationCheck(Out):
+    rotation: int
+    label: str | None
+    from_position: int
+    to_position: int
+    ok: bool
+    message: str
+    expected_up: str | None = None
+    observed_up: str | None = None
+    end_error_deg: float | None = None
+    end_quaternion: list[float] | None = None
+    expected_quaternion: list[float] | None = None
+    max_element_difference: float | None = None
+    tolerance: float | None = None
+    saturated: bool | None = None
+
+
+class CubeOut(CalibrationCommon):
+    method: Literal["cube"]
+    model: CubeModel
+    uncertainty: CubeUncertainty
+    metrics: CubeMetrics
+    units: dict[str, str] = Field(description="Each sensor's recorded unit.")
+    sequence: list[RotationCheck] = Field(description="The check of every rotation (section VII-A-1).")
+    first_wrong_rotation: int | None
+    protocol: dict[str, Any] = Field(description="name, rotations, ups, attitudes, heading_known.")
+    segments: dict[str, Any] | None = Field(description="Still intervals and rotations found (sample indices).")
+    drift: dict[str, Any] = Field(description="Sensor → drift removed (return to position 1).")
+    sampling_rate_hz: float
+    field_ut: float | None
+    details: dict[str, Any] = Field(description="Each sensor's full fit: covariance, positions, metrics.")
+
+
+CalibrationOut = Annotated[
+    Union[SixPositionOut, OrientationsOut, NonOrthogonalOut, TriangularOut, CubeOut, AutocalOut],
+    Field(discriminator="method"),
+]
+"""A stored calibration, by method."""
+
+RESPONSE_MODELS = {"six_position": SixPositionOut, "orientations": OrientationsOut, "nonorthogonal": NonOrthogonalOut,
+                   "triangular": TriangularOut, "cube": CubeOut, "autocal": AutocalOut}
 
 
 class CalibrationList(BaseModel):

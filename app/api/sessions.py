@@ -51,7 +51,7 @@ def add_capture(body: CaptureIn, request: Request, session: dict = Depends(sessi
     return {"capture": capture, "session": view}
 
 
-@router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut)
+@router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
 def solve_session(request: Request, session: dict = Depends(session_of)):
     """Compute and store the calibration of a complete session; its token reads it."""
     store = _store(request)

@@ -482,7 +482,8 @@ def fit_six_position(
     m = as_vectors(means, "means")
     labels = list(ups)
     if len(m) != 6 or len(labels) != 6:
-        raise CalibrationError(
+        error = InsufficientDataError if min(len(m), len(labels)) < 6 else CalibrationError
+        raise error(
             f"six_position needs exactly 6 readings, one per orientation {', '.join(CANONICAL_SIX)}; "
             f"got {len(m)} readings and {len(labels)} labels (use method `orientations` for other sets)"
         )

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import CalibrationError
+from .errors import CalibrationError, InsufficientDataError, NotStillError
 from .orientations import LABEL_MAX_ANGLE_DEG, nearest_orientation
 from .validation import as_vectors
 
@@ -116,7 +116,7 @@ def check_still_capture(acc, t_ms, *, gravity: float, expected: str | None = Non
     a = as_vectors(acc, "acc")
     t = np.asarray(t_ms, dtype=float).reshape(-1)
     if len(a) < MIN_SAMPLES:
-        raise CalibrationError(f"a capture needs at least {MIN_SAMPLES} samples; got {len(a)}")
+        raise InsufficientDataError(f"a capture needs at least {MIN_SAMPLES} samples; got {len(a)}")
     if len(t) != len(a):
         raise CalibrationError(f"t_ms has {len(t)} timestamps for {len(a)} samples: give one per sample")
     if not np.all(np.isfinite(t)):
@@ -133,14 +133,14 @@ def check_still_capture(acc, t_ms, *, gravity: float, expected: str | None = Non
     limit = STILL_MAX_STD_G * gravity
     if np.any(std > limit):
         axis = "xyz"[int(np.argmax(std))]
-        raise CalibrationError(
+        raise NotStillError(
             f"the device moved during the capture (spread {std.max():.3g} on {axis}, at most {limit:.3g} "
             "allowed): rest it on a steady surface and keep your hands off until the capture ends"
         )
     half = len(a) // 2
     drift = float(np.linalg.norm(a[half:].mean(axis=0) - a[:half].mean(axis=0)))
     if drift > STILL_MAX_DRIFT_G * gravity:
-        raise CalibrationError(
+        raise NotStillError(
             f"the device slid or tilted during the capture (its mean moved by {drift:.3g}): "
             "rest it on a steady surface and capture again"
         )

@@ -1,0 +1,191 @@
+"""What a calibration is asked to do: the request models the API, the CLI and the workflow share.
+
+POST /api/v1/calibrations validates its body against :data:`CalibrationIn`, and ``trical calibrate``
+builds the same models from its options, so both refuse the same input with the same words.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, ClassVar, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, TypeAdapter, ValidationError, model_validator
+
+Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
+Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
+AccUnit = Literal["m/s^2", "g", "raw"]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class ReadingIn(Strict):
+    """An averaged still reading in a known orientation."""
+
+    mean: Vec3 = Field(description="Mean specific force [x, y, z] in `unit`.")
+    up: Label | None = Field(None, description="The device axis that points up (`+x` reads +g on x).")
+    expected: Vec3 | None = Field(None, description="Explicit true specific force, instead of `up`.")
+    std: Annotated[list[Annotated[float, Field(ge=0, allow_inf_nan=False)]], Field(min_length=3, max_length=3)] | None = None
+    count: int | None = Field(None, ge=1)
+
+    @model_validator(mode="after")
+    def _orientation_given(self):
+        if self.up is None and self.expected is None:
+            raise ValueError("each reading needs `up` (e.g. \"+z\") or an explicit `expected` vector")
+        return self
+
+
+class CommonIn(Strict):
+    unit: AccUnit = Field("m/s^2", description="Unit of the readings; `g` calibrates into g.")
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = Field(
+        None, description="Reference gravity in m/s² (default 9.80665, or local gravity from latitude_deg)."
+    )
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+    holdout: Annotated[list[Vec3], Field(max_length=100_000)] | None = Field(
+        None, description="Further still readings of unknown orientation, used only to report norm errors."
+    )
+
+
+class FromRecordingIn(CommonIn):
+    """Readings given inline (the field named by ``INLINE``) or taken from a recording."""
+
+    INLINE: ClassVar[str]
+    recording_id: str | None = Field(None, description="Use the static segments of an uploaded recording.")
+    segments: list[int] | None = Field(None, description="Segment indices to use from the recording.")
+
+    @model_validator(mode="after")
+    def _one_source(self):
+        if (getattr(self, self.INLINE) is None) == (self.recording_id is None):
+            raise ValueError(f"give either `{self.INLINE}` or `recording_id` (exactly one of them)")
+        if self.segments is not None and self.recording_id is None:
+            raise ValueError("`segments` selects segments of a recording: give `recording_id` too")
+        return self
+
+
+class KnownOrientationIn(FromRecordingIn):
+    INLINE: ClassVar[str] = "readings"
+    readings: Annotated[list[ReadingIn], Field(min_length=1, max_length=10_000)] | None = None
+
+
+class SixPositionIn(KnownOrientationIn):
+    method: Literal["six_position"]
+
+
+class OrientationsIn(KnownOrientationIn):
+    method: Literal["orientations"]
+
+
+class UnknownOrientationIn(FromRecordingIn):
+    """Still readings whose orientations are unknown: only the magnitude of gravity is known."""
+
+    INLINE: ClassVar[str] = "means"
+    means: Annotated[list[Vec3], Field(min_length=1, max_length=100_000)] | None = Field(
+        None, description="N×3 still readings in `unit`, in arbitrary orientations (N ≥ 9)."
+    )
+
+
+class NonOrthogonalIn(UnknownOrientationIn):
+    method: Literal["nonorthogonal"]
+
+
+class TriangularIn(UnknownOrientationIn):
+    method: Literal["triangular"]
+    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = Field(
+        "lm", description="lm (optimal), or 002's finite-difference descent in float, 16- or 32-bit fixed point."
+    )
+
+
+class CubeIn(Strict):
+    """A multi-position recording of a cube (acc, gyr, optional mag): 003's method."""
+
+    method: Literal["cube"]
+    recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
+    protocol: Literal["cube24", "ferraris"] | dict[str, Any] = Field(
+        "cube24", description="`cube24`, `ferraris`, or {\"rotations\": [...], \"ups\": [...]}."
+    )
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    field_ut: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
+        None, description="Magnitude of the local magnetic field in µT; needed when the recording has a magnetometer."
+    )
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
+class AutocalIn(Strict):
+    """Auto-calibration of an uploaded long recording by the pipeline of 002 (issue 4)."""
+
+    method: Literal["autocal"]
+    recording_id: str = Field(description="An uploaded recording (POST /api/v1/recordings).")
+    unit: Literal["m/s^2", "g"] | None = Field(None, description="Overrides the recording's accelerometer unit.")
+    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
+    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = "lm"
+    all_axes: bool = Field(False, description="Every axis must pass the max − min test (002: one axis).")
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
+METHODS = ("six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal")
+"""The values of `method` that POST /api/v1/calibrations accepts."""
+
+CalibrationIn = Annotated[
+    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn],
+    Field(discriminator="method"),
+]
+
+
+
+CALIBRATION_REQUEST = TypeAdapter(CalibrationIn)
+
+
+def parse_calibration_request(data: dict):
+    """The request model for ``data`` (its ``method`` picks the model).
+
+    Raises
+    ------
+    pydantic.ValidationError
+        Described in words by :func:`describe_errors`.
+    """
+    return CALIBRATION_REQUEST.validate_python(data)
+
+
+def _location(loc) -> str:
+    parts: list[str] = []
+    for item in loc:
+        if item in ("body", "query", "path", "form") and not parts:
+            continue
+        if item in METHODS and len(parts) == 0:
+            continue  # the discriminator's branch, not a field
+        if isinstance(item, int):
+            parts.append(f"[{item}]")
+        else:
+            parts.append(("." if parts else "") + str(item))
+    return "".join(parts) or "body"
+
+
+def describe_errors(errors: list[dict]) -> str:
+    """One readable sentence per problem, e.g. ``readings[2].up: Input should be '+x', ...``."""
+    messages = []
+    for err in errors:
+        if err.get("type") == "json_invalid":
+            messages.append(f"the body is not valid JSON ({err.get('ctx', {}).get('error', 'parse error')})")
+            continue
+        if err.get("type") == "missing" and tuple(err.get("loc", ())) == ("body",):
+            messages.append("the request needs a JSON body")
+            continue
+        if err.get("type") == "union_tag_not_found":
+            messages.append(f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
+                            f"required: one of {', '.join(METHODS)}")
+            continue
+        msg = err.get("msg", "invalid").removeprefix("Value error, ")
+        messages.append(f"{_location(err.get('loc', ()))}: {msg}")
+    return "; ".join(dict.fromkeys(messages)) or "invalid request"
+
+
+__all__ = ["CalibrationIn", "METHODS", "ValidationError", "describe_errors", "parse_calibration_request"]

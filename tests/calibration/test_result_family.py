@@ -1,0 +1,68 @@
+"""One result family: every method's result rebuilds from its versioned plain form by its type,
+carries its units, and gives the correction f = M (m − o) that its own apply computes."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from app.calibration import CalibrationError, fit_six_position
+from app.calibration.cube.calibrate import calibrate_cube
+from app.calibration.cube.simulate import FIELD_UT, simulate_session
+from app.calibration.nonorthogonal import fit_nonorthogonal
+from app.calibration.registry import registered_types, result_from_dict
+from app.calibration.result import SCHEMA_VERSION, CalibrationResult
+from app.calibration.triangular import fit_triangular
+from tests.conftest import seed_table
+
+G = 9.81
+SIX = {"+x": [G + 0.1, 0.05, -0.02], "-x": [-G + 0.12, 0.03, 0.01], "+y": [0.02, G - 0.05, 0.1],
+       "-y": [0.01, -G - 0.02, 0.08], "+z": [0.05, 0.02, G + 0.2], "-z": [0.04, 0.01, -G + 0.15]}
+
+
+def _results():
+    yield fit_six_position(list(SIX.values()), list(SIX), gravity=G)
+    yield fit_nonorthogonal(seed_table(1)[:20], gravity=9.806)
+    yield fit_triangular(seed_table(2)[:20], gravity=9.806)
+    s = simulate_session(np.random.default_rng(21), sampling_rate_hz=100.0)
+    cube = calibrate_cube(s.acc, s.gyr, s.mag, sampling_rate_hz=100.0, protocol="cube24", gravity=9.80665,
+                          field_ut=FIELD_UT)
+    yield dataclasses.replace(cube, units={"acc": "raw", "gyr": "raw", "mag": "raw"})
+
+
+def test_registry_knows_every_type():
+    assert set(registered_types()) == {"affine", "nonorthogonal", "triangular", "cube", "autocal"}
+
+
+@pytest.mark.parametrize("result", list(_results()), ids=lambda r: r.MODEL_TYPE)
+def test_round_trip_units_and_correction(result):
+    body = result.to_dict()
+    assert body["schema_version"] == SCHEMA_VERSION and body["model"]["type"] == result.MODEL_TYPE
+    assert body["ok"] is result.ok and body["unit"] == result.unit and body["output_unit"] == result.output_unit
+    again = CalibrationResult.from_dict(body)
+    kept = lambda d: {k: v for k, v in d.items() if k != "segments"}  # noqa: E731  (the cube's segmentation is not kept)
+    assert type(again) is type(result) and kept(again.to_dict()) == kept(body)
+    assert type(result_from_dict(body)) is type(result)
+    rng = np.random.default_rng(3)
+    for sensor, c in result.corrections().items():
+        assert c.sensor == sensor and c.source
+        raw = rng.normal(size=(20, 3)) * 5
+        expected = result.apply(**{sensor: raw})[sensor] if result.MODEL_TYPE == "cube" else result.apply(raw)
+        np.testing.assert_allclose(c.apply(raw), expected, rtol=1e-10, atol=1e-9)
+
+
+def test_a_subclass_refuses_another_type_and_newer_versions_are_refused():
+    six = fit_six_position(list(SIX.values()), list(SIX), gravity=G).to_dict()
+    from app.calibration.triangular import TriangularCalibration
+
+    with pytest.raises(CalibrationError, match="not a triangular model"):
+        TriangularCalibration.from_dict(six)
+    with pytest.raises(CalibrationError, match="newer than this trical reads"):
+        CalibrationResult.from_dict({**six, "schema_version": SCHEMA_VERSION + 1})
+    with pytest.raises(CalibrationError, match="unknown model type"):
+        CalibrationResult.from_dict({**six, "model": {"type": "quartic"}, "method": "quartic"})
+    # Bodies stored before the version field are read as version 1.
+    legacy = {k: v for k, v in six.items() if k != "schema_version"}
+    assert CalibrationResult.from_dict(legacy).to_dict() == six
