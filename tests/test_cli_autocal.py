@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from app import cli
-from app.calibration.simulate_autocal import simulate_recording
+from app.calibration.simulations.autocal import simulate_recording
 
 FS = 25.0
 

@@ -14,11 +14,20 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
+from .gates import (
+    Gates,
+    exact_fit_gate,
+    limit_gate,
+    near_duplicate_gate,
+    offset_gate,
+    residual_gate,
+    scale_gate,
+)
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
 from .correction import AffineCorrection
 from .result import StillReadingsResult
 from .uncertainty import CONFIDENCE, half_widths
-from .validation import as_samples, as_vectors, check_gravity, near_duplicate_pairs
+from .validation import as_samples, as_vectors, check_gravity
 
 MODEL_TYPE = "affine"
 
@@ -244,6 +253,86 @@ def _covariance(design: np.ndarray, residuals: np.ndarray, gravity: float) -> tu
     return cov, dof
 
 
+def _calibrated(X: np.ndarray, y: np.ndarray, means: np.ndarray) -> np.ndarray:
+    """``a = X⁻¹ (m − y)`` of every reading (Georgieva et al., ESGI'95, eq. (20)), or raise when X is singular."""
+    det = float(np.linalg.det(X))
+    if not np.isfinite(det) or abs(det) < 1e-12:
+        raise CalibrationError(
+            "the fitted matrix X is singular: the readings do not change with orientation; "
+            "check that the readings are from the accelerometer and that the device was turned"
+        )
+    return np.linalg.solve(X, (means - y).T).T
+
+
+def _metrics(cal: np.ndarray, means: np.ndarray, expected: np.ndarray, gravity: float, cond: float,
+             dof: int) -> tuple[dict, np.ndarray]:
+    """The figures of Georgieva et al., ESGI'95, section 3.5, and the relative fitting errors."""
+    norm_a = np.linalg.norm(expected, axis=1)
+    fit = np.linalg.norm(cal - expected, axis=1) / norm_a
+    fit_raw = np.linalg.norm(means - expected, axis=1) / norm_a
+    norm_err = np.abs(np.linalg.norm(cal, axis=1) - gravity) / gravity
+    norm_err_raw = np.abs(np.linalg.norm(means, axis=1) - gravity) / gravity
+    metrics = {
+        # Georgieva et al., ESGI'95, section 3.5: relative fitting error, calibrated and raw.
+        "fit_error_max": float(fit.max()),
+        "fit_error_max_raw": float(fit_raw.max()),
+        # Georgieva et al., ESGI'95, section 3.5: relative error of the norms.
+        "norm_error_max": float(norm_err.max()),
+        "norm_error_max_raw": float(norm_err_raw.max()),
+        "fit_improvement": float(fit_raw.max() / fit.max()) if fit.max() > 0 else None,
+        "norm_improvement": float(norm_err_raw.max() / norm_err.max()) if norm_err.max() > 0 else None,
+        "rms_residual": float(np.sqrt(np.mean((cal - expected) ** 2))),
+        "condition_number": cond,
+        "dof": dof,
+        "count": int(len(means)),
+    }
+    return metrics, fit
+
+
+def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scale, max_offset) -> Gates:
+    """Quality gates of the affine fit (DESIGN.md §5): fit error, scales, offsets, spread, duplicates."""
+    gates = Gates()
+    gates.fail(residual_gate(
+        fit, MAX_FIT_ERROR,
+        lambda index, percent, gate_percent, **_: (
+            f"reading {index} ({labels[index] or f'reading {index}'}) is {percent:.1f} % of g from its "
+            f"orientation after calibration (gate {gate_percent:.0f} %): it may be mislabelled or not still"
+        ),
+    ))
+    gates.fail(scale_gate(
+        np.diag(X), plausible_scale,
+        "scale of the {axis} axis is {value:.4f}, outside the plausible {lo}–{hi}: "
+        "check the unit and the orientation labels",
+    ))
+    gates.fail(offset_gate(
+        y, max_offset,
+        "offset of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit and the orientation labels",
+    ))
+    gates.warn(limit_gate(
+        cond, MAX_CONDITION_NUMBER,
+        "the orientations are poorly spread (condition number {value:.1f}): the parameters "
+        "are sensitive to noise; add opposite orientations",
+    ))
+    gates.warn(near_duplicate_gate(
+        means, NEAR_DUPLICATE_FRACTION * gravity,
+        "readings {i} and {j} are within 1 % of g of each other (near-duplicate positions, "
+        "000 Dataset 3): they weigh one orientation twice",
+    ))
+    if stds is not None:
+        for i, s in enumerate(stds):
+            if s is not None and np.all(np.isfinite(s)) and np.linalg.norm(s) > 0.05 * gravity:
+                gates.warn(
+                    f"reading {i} has a spread of {np.linalg.norm(s):.3g} (above 5 % of g): "
+                    "the device may have moved during the capture"
+                )
+    gates.warn(exact_fit_gate(
+        dof,
+        "4 readings fit the 12 parameters exactly: there are no residual degrees of freedom, "
+        "so no intervals and no check of the fit; use six or more orientations",
+    ))
+    return gates
+
+
 def _finish(
     X: np.ndarray,
     y: np.ndarray,
@@ -257,86 +346,15 @@ def _finish(
     plausible_scale: tuple[float, float] | None,
     max_offset: float | None,
 ) -> AffineCalibration:
-    """Metrics, uncertainty, warnings and gates shared by both solvers."""
+    """Covariance, metrics and gates shared by both solvers (Georgieva et al., ESGI'95, sections 3.3–3.5)."""
     design = _design(expected, gravity)
     fitted = expected @ X.T + y
     cov, dof = _covariance(design, means - fitted, gravity)
-
-    warnings: list[str] = []
-    reasons: list[str] = []
     cond = float(np.linalg.cond(design))
-
-    det = float(np.linalg.det(X))
-    if not np.isfinite(det) or abs(det) < 1e-12:
-        raise CalibrationError(
-            "the fitted matrix X is singular: the readings do not change with orientation; "
-            "check that the readings are from the accelerometer and that the device was turned"
-        )
-    cal = np.linalg.solve(X, (means - y).T).T
-    norm_a = np.linalg.norm(expected, axis=1)
-    fit = np.linalg.norm(cal - expected, axis=1) / norm_a
-    fit_raw = np.linalg.norm(means - expected, axis=1) / norm_a
-    norm_err = np.abs(np.linalg.norm(cal, axis=1) - gravity) / gravity
-    norm_err_raw = np.abs(np.linalg.norm(means, axis=1) - gravity) / gravity
-    metrics = {
-        # 000 section 3.5: relative fitting error, calibrated and raw, over the fitted readings.
-        "fit_error_max": float(fit.max()),
-        "fit_error_max_raw": float(fit_raw.max()),
-        # 000 section 3.5: relative error of the norms.
-        "norm_error_max": float(norm_err.max()),
-        "norm_error_max_raw": float(norm_err_raw.max()),
-        "fit_improvement": float(fit_raw.max() / fit.max()) if fit.max() > 0 else None,
-        "norm_improvement": float(norm_err_raw.max() / norm_err.max()) if norm_err.max() > 0 else None,
-        "rms_residual": float(np.sqrt(np.mean((cal - expected) ** 2))),
-        "condition_number": cond,
-        "dof": dof,
-        "count": int(len(means)),
-    }
-
-    if fit.max() > MAX_FIT_ERROR:
-        worst = int(np.argmax(fit))
-        name = labels[worst] or f"reading {worst}"
-        reasons.append(
-            f"reading {worst} ({name}) is {100 * fit[worst]:.1f} % of g from its orientation after "
-            f"calibration (gate {100 * MAX_FIT_ERROR:.0f} %): it may be mislabelled or not still"
-        )
-    if plausible_scale is not None:
-        lo, hi = plausible_scale
-        for k, s in enumerate(np.diag(X)):
-            if not lo <= s <= hi:
-                reasons.append(
-                    f"scale of the {'xyz'[k]} axis is {s:.4f}, outside the plausible {lo}–{hi}: "
-                    "check the unit and the orientation labels"
-                )
-    if max_offset is not None:
-        for k, o in enumerate(y):
-            if abs(o) > max_offset:
-                reasons.append(
-                    f"offset of the {'xyz'[k]} axis is {o:.4g}, above 1 g in magnitude: "
-                    "check the unit and the orientation labels"
-                )
-    if cond > MAX_CONDITION_NUMBER:
-        warnings.append(
-            f"the orientations are poorly spread (condition number {cond:.1f}): the parameters "
-            "are sensitive to noise; add opposite orientations"
-        )
-    for i, j in near_duplicate_pairs(means, NEAR_DUPLICATE_FRACTION * gravity):
-        warnings.append(
-            f"readings {i} and {j} are within 1 % of g of each other (near-duplicate positions, "
-            "000 Dataset 3): they weigh one orientation twice"
-        )
-    if stds is not None:
-        for i, s in enumerate(stds):
-            if s is not None and np.all(np.isfinite(s)) and np.linalg.norm(s) > 0.05 * gravity:
-                warnings.append(
-                    f"reading {i} has a spread of {np.linalg.norm(s):.3g} (above 5 % of g): "
-                    "the device may have moved during the capture"
-                )
-    if dof == 0:
-        warnings.append(
-            "4 readings fit the 12 parameters exactly: there are no residual degrees of freedom, "
-            "so no intervals and no check of the fit; use six or more orientations"
-        )
+    cal = _calibrated(X, y, means)
+    metrics, fit = _metrics(cal, means, expected, gravity, cond, dof)
+    gates = _gates(X, y, means, labels, gravity, fit, cond, dof, stds=stds,
+                   plausible_scale=plausible_scale, max_offset=max_offset)
     return AffineCalibration(
         X=X,
         y=y,
@@ -347,9 +365,8 @@ def _finish(
         covariance=cov,
         dof=dof,
         metrics=metrics,
-        warnings=tuple(reasons + warnings),
-        reasons=tuple(reasons),
         method=method,
+        **gates.fields(),
     )
 
 

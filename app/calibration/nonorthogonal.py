@@ -29,15 +29,19 @@ from scipy.optimize import least_squares
 from .errors import CalibrationError
 from .result import StillReadingsResult
 from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
-from .validation import (
-    as_samples,
-    as_vectors,
-    check_gravity,
-    check_sphere_points,
-    near_duplicate_pairs,
-    one_hemisphere_axis,
-    uncovered_directions,
+from .gates import (
+    Gates,
+    coverage_gate,
+    deviation_gate,
+    exact_fit_gate,
+    hemisphere_gate,
+    limit_gate,
+    near_duplicate_gate,
+    offset_gate,
+    residual_gate,
+    scale_gate,
 )
+from .validation import as_samples, as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "nonorthogonal"
 
@@ -343,6 +347,127 @@ def _rough_orthogonal_fit(m: np.ndarray, g: float) -> least_squares:
     return least_squares(res, np.r_[centre, scale], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
 
 
+def _sign_bounds(rough, s0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sign restrictions of step 3 of Georgieva et al., ESGI'95, section 2.2.
+
+    Each shift keeps the sign of the rough fit unless the rough fit cannot tell it from zero
+    (|s| below 3 standard errors); b > 0 (module docstring); the angles in (0, π).
+    """
+    cov0, _, _ = covariance_from_jacobian(rough.jac, rough.fun)
+    se0 = np.full(3, np.inf) if cov0 is None else np.sqrt(np.clip(np.diag(cov0)[:3], 0, None))
+    lower = np.r_[np.full(3, -np.inf), np.full(3, 1e-9), np.full(3, 1e-6)]
+    upper = np.r_[np.full(3, np.inf), np.full(3, np.inf), np.full(3, np.pi - 1e-6)]
+    for k in range(3):
+        if abs(s0[k]) > 3.0 * se0[k]:
+            if s0[k] > 0:
+                lower[k] = 0.0
+            else:
+                upper[k] = 0.0
+    return lower, upper
+
+
+def _fit_17(m: np.ndarray, g: float, rough, s0: np.ndarray, b0: np.ndarray):
+    """Minimise Georgieva et al., ESGI'95, eq. (17) over the nine parameters, from the rough fit,
+    under the sign restrictions of :func:`_sign_bounds`."""
+    lower, upper = _sign_bounds(rough, s0)
+    p0 = np.r_[s0, b0, np.full(3, np.pi / 2)]
+    p0 = np.clip(p0, lower + 1e-12, upper - 1e-12)
+    return least_squares(
+        _residuals_17, p0, jac=_jacobian_17, args=(m, g), bounds=(lower, upper),
+        method="trf", x_scale="jac", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000,
+    )
+
+
+def _covariance(p: np.ndarray, m: np.ndarray, g: float):
+    """Covariance and dof of the parameters from the Jacobian of the terms of (17), the terms
+    themselves, and the condition number of the column-scaled Jacobian."""
+    J = _jacobian_17(p, m, g)
+    r = _residuals_17(p, m, g)
+    cov, dof, _ = covariance_from_jacobian(J, r)
+    col = np.linalg.norm(J, axis=0)
+    cond = float(np.linalg.cond(J / np.where(col > 0, col, 1.0)))
+    return cov, dof, r, cond
+
+
+def _metrics(m, g, p, s, b, r, cond, s0, b0, sol, dof) -> tuple[dict, np.ndarray]:
+    """Relative norm errors of Georgieva et al., ESGI'95, section 2.4, after eq. (16)."""
+    norms = np.linalg.norm((m - s) @ calibration_matrix(b, *(float(v) for v in p[6:9])).T, axis=1)
+    norm_err = np.abs(norms - g) / g
+    norm_err_raw = np.abs(np.linalg.norm(m, axis=1) - g) / g
+    metrics = {
+        # Georgieva et al., ESGI'95, section 2.4: relative error |(a − g)/g|, fitted positions.
+        "norm_error_max": float(norm_err.max()),
+        "norm_error_max_raw": float(norm_err_raw.max()),
+        "error_before_mg": float(1000.0 * norm_err_raw.mean()),
+        "error_after_mg": float(1000.0 * norm_err.mean()),
+        "norm_improvement": float(norm_err_raw.max() / norm_err.max()) if norm_err.max() > 0 else None,
+        "rms_norm_residual": float(np.sqrt(np.mean((norms - g) ** 2))),
+        "cost_17": float(np.sum(r**2)),
+        "condition_number": cond,
+        "angle_deviation_max_deg": float(np.degrees(np.max(np.abs(p[6:9] - np.pi / 2)))),
+        "rough_s": s0.tolist(),
+        "rough_b": b0.tolist(),
+        "converged": bool(sol.success),
+        "dof": dof,
+        "count": int(len(m)),
+    }
+    return metrics, norm_err
+
+
+def _gates(m, g, s, b, angles, norm_err, cond, dof, hemisphere, sol, plausible_scale, max_offset) -> Gates:
+    """Quality gates: hemisphere, convergence, norm error, scales, shifts (reasons); angles,
+    conditioning, coverage, near duplicates, an exact fit (warnings)."""
+    gates = Gates()
+    gates.fail(hemisphere_gate(
+        hemisphere,
+        "all positions lie in one hemisphere (around the direction {direction}): the shifts cannot be "
+        "told from the scales; add positions with the device turned the other way up",
+    ))
+    if not sol.success:
+        gates.fail(f"the least-squares fit of (17) did not converge ({sol.message}); add positions")
+    gates.fail(residual_gate(
+        norm_err, MAX_NORM_ERROR,
+        "reading {index} has a calibrated norm {percent:.1f} % from g after "
+        "calibration (gate {gate_percent:.0f} %): it may not have been still",
+    ))
+    gates.fail(scale_gate(
+        b, plausible_scale,
+        "scale b{n} of the {axis} axis is {value:.4f}, outside the plausible {lo}–{hi}: "
+        "check the unit and the gravity value",
+    ))
+    gates.fail(offset_gate(
+        s, g if max_offset is None else max_offset,
+        "shift s{n} of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit",
+    ))
+    gates.warn(deviation_gate(
+        zip(("phi", "psi", "theta"), angles), np.pi / 2, MAX_ANGLE_DEVIATION,
+        lambda name, value, **_: (
+            f"the angle {name} between the axes is {np.degrees(value):.2f}°, more than 5 % from 90° "
+            "(000 section 2 assumes 90° ± 2 %): check the positions"
+        ),
+    ))
+    gates.warn(limit_gate(
+        cond, MAX_CONDITION_NUMBER,
+        "the positions determine the parameters poorly (condition number {value:.3g}): "
+        "spread the positions over the whole sphere",
+    ))
+    gates.warn(coverage_gate(
+        m, "poor coverage of the sphere: no position has the {missing} axis within 60° of up; add such positions",
+        hemisphere=hemisphere,
+    ))
+    gates.warn(near_duplicate_gate(
+        m, NEAR_DUPLICATE_FRACTION * g,
+        "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
+        "of each other (near-duplicate positions, 000 Dataset 3): they weigh one orientation twice",
+    ))
+    gates.warn(exact_fit_gate(
+        dof,
+        "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
+        "so no intervals and no check of the fit; use about 20 positions",
+    ))
+    return gates
+
+
 def fit_nonorthogonal(
     means,
     *,
@@ -381,119 +506,17 @@ def fit_nonorthogonal(
     g = check_gravity(gravity)
     m = check_sphere_points(means, g, min_points=N_PARAMS, method="nonorthogonal", n_params=N_PARAMS)
     hemisphere = one_hemisphere_axis(m)
-
     rough = _rough_orthogonal_fit(m, g)
     s0, b0 = rough.x[:3], np.abs(rough.x[3:])
-    # Sign restrictions of step 3: each shift keeps the sign of the rough fit unless the rough
-    # fit cannot tell it from zero (|s| below 3 standard errors), b > 0, angles in (0, π).
-    cov0, _, _ = covariance_from_jacobian(rough.jac, rough.fun)
-    se0 = np.full(3, np.inf) if cov0 is None else np.sqrt(np.clip(np.diag(cov0)[:3], 0, None))
-    lower = np.r_[np.full(3, -np.inf), np.full(3, 1e-9), np.full(3, 1e-6)]
-    upper = np.r_[np.full(3, np.inf), np.full(3, np.inf), np.full(3, np.pi - 1e-6)]
-    for k in range(3):
-        if abs(s0[k]) > 3.0 * se0[k]:
-            if s0[k] > 0:
-                lower[k] = 0.0
-            else:
-                upper[k] = 0.0
-    p0 = np.r_[s0, b0, np.full(3, np.pi / 2)]
-    p0 = np.clip(p0, lower + 1e-12, upper - 1e-12)
-    # 000 eq. (17)
-    sol = least_squares(
-        _residuals_17, p0, jac=_jacobian_17, args=(m, g), bounds=(lower, upper),
-        method="trf", x_scale="jac", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000,
-    )
+    sol = _fit_17(m, g, rough, s0, b0)
     p = sol.x
     s, b = p[:3].copy(), p[3:6].copy()
     phi, psi, theta = (float(v) for v in p[6:9])
-
-    warnings: list[str] = []
-    reasons: list[str] = []
-    J = _jacobian_17(p, m, g)
-    r = _residuals_17(p, m, g)
-    cov, dof, _ = covariance_from_jacobian(J, r)
-    col = np.linalg.norm(J, axis=0)
-    cond = float(np.linalg.cond(J / np.where(col > 0, col, 1.0)))
-
-    # 000 eq. (16)
-    norms = np.linalg.norm((m - s) @ calibration_matrix(b, phi, psi, theta).T, axis=1)
-    norm_err = np.abs(norms - g) / g
-    norm_err_raw = np.abs(np.linalg.norm(m, axis=1) - g) / g
-    metrics = {
-        # 000 section 2.4: relative error |(a − g)/g| of the calibrated norms, fitted positions.
-        "norm_error_max": float(norm_err.max()),
-        "norm_error_max_raw": float(norm_err_raw.max()),
-        "error_before_mg": float(1000.0 * norm_err_raw.mean()),
-        "error_after_mg": float(1000.0 * norm_err.mean()),
-        "norm_improvement": float(norm_err_raw.max() / norm_err.max()) if norm_err.max() > 0 else None,
-        "rms_norm_residual": float(np.sqrt(np.mean((norms - g) ** 2))),
-        "cost_17": float(np.sum(r**2)),
-        "condition_number": cond,
-        "angle_deviation_max_deg": float(np.degrees(np.max(np.abs(p[6:9] - np.pi / 2)))),
-        "rough_s": s0.tolist(),
-        "rough_b": b0.tolist(),
-        "converged": bool(sol.success),
-        "dof": dof,
-        "count": int(len(m)),
-    }
-
-    if hemisphere is not None:
-        reasons.append(
-            "all positions lie in one hemisphere (around the direction "
-            f"{np.array2string(hemisphere, precision=2)}): the shifts cannot be told from the scales; "
-            "add positions with the device turned the other way up"
-        )
-    if not sol.success:
-        reasons.append(f"the least-squares fit of (17) did not converge ({sol.message}); add positions")
-    if norm_err.max() > MAX_NORM_ERROR:
-        worst = int(np.argmax(norm_err))
-        reasons.append(
-            f"reading {worst} has a calibrated norm {100 * norm_err[worst]:.1f} % from g after "
-            f"calibration (gate {100 * MAX_NORM_ERROR:.0f} %): it may not have been still"
-        )
-    if plausible_scale is not None:
-        lo, hi = plausible_scale
-        for k, bk in enumerate(b):
-            if not lo <= bk <= hi:
-                reasons.append(
-                    f"scale b{k + 1} of the {'xyz'[k]} axis is {bk:.4f}, outside the plausible {lo}–{hi}: "
-                    "check the unit and the gravity value"
-                )
-    limit = g if max_offset is None else max_offset
-    for k, sk in enumerate(s):
-        if abs(sk) > limit:
-            reasons.append(
-                f"shift s{k + 1} of the {'xyz'[k]} axis is {sk:.4g}, above 1 g in magnitude: check the unit"
-            )
-    for name, ang in (("phi", phi), ("psi", psi), ("theta", theta)):
-        if abs(ang - np.pi / 2) > MAX_ANGLE_DEVIATION:
-            warnings.append(
-                f"the angle {name} between the axes is {np.degrees(ang):.2f}°, more than 5 % from 90° "
-                "(000 section 2 assumes 90° ± 2 %): check the positions"
-            )
-    if cond > MAX_CONDITION_NUMBER:
-        warnings.append(
-            f"the positions determine the parameters poorly (condition number {cond:.3g}): "
-            "spread the positions over the whole sphere"
-        )
-    missing = uncovered_directions(m)
-    if missing and hemisphere is None:
-        warnings.append(
-            "poor coverage of the sphere: no position has the "
-            + ", ".join(missing)
-            + " axis within 60° of up; add such positions"
-        )
-    for i, j in near_duplicate_pairs(m, NEAR_DUPLICATE_FRACTION * g):
-        warnings.append(
-            f"readings {i} and {j} (positions {i + 1} and {j + 1}, counting from 1) are within 1 % of g "
-            "of each other (near-duplicate positions, 000 Dataset 3): they weigh one orientation twice"
-        )
-    if dof == 0:
-        warnings.append(
-            "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
-            "so no intervals and no check of the fit; use about 20 positions"
-        )
+    cov, dof, r, cond = _covariance(p, m, g)
+    metrics, norm_err = _metrics(m, g, p, s, b, r, cond, s0, b0, sol, dof)
+    gates = _gates(m, g, s, b, (phi, psi, theta), norm_err, cond, dof, hemisphere, sol,
+                   plausible_scale, max_offset)
     return NonOrthogonalCalibration(
         s=s, b=b, phi=phi, psi=psi, theta=theta, gravity=g, means=m, covariance=cov, dof=dof,
-        metrics=metrics, warnings=tuple(reasons + warnings), reasons=tuple(reasons),
+        metrics=metrics, **gates.fields(),
     )

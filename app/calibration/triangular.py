@@ -45,15 +45,19 @@ from .errors import CalibrationError
 from .fixed_point import fixed_point_descent
 from .result import StillReadingsResult
 from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
-from .validation import (
-    as_samples,
-    as_vectors,
-    check_gravity,
-    check_sphere_points,
-    near_duplicate_pairs,
-    one_hemisphere_axis,
-    uncovered_directions,
+from .gates import (
+    Gates,
+    coverage_gate,
+    deviation_gate,
+    exact_fit_gate,
+    hemisphere_gate,
+    limit_gate,
+    near_duplicate_gate,
+    offset_gate,
+    residual_gate,
+    scale_gate,
 )
+from .validation import as_samples, as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "triangular"
 N_PARAMS = 9
@@ -313,6 +317,172 @@ class TriangularCalibration(StillReadingsResult):
             **common,
         )
 
+def _validated(means, gravity, solver: str, max_iter) -> tuple[float, np.ndarray]:
+    """Checked gravity and readings (Farago, Maczak and Gingl, IEEE Access, section II: N ≥ 9)."""
+    if solver not in SOLVERS:
+        raise CalibrationError(f"unknown solver {solver!r}: use one of {', '.join(SOLVERS)}")
+    g = check_gravity(gravity)
+    m = check_sphere_points(means, g, min_points=N_PARAMS, method="triangular", n_params=N_PARAMS)
+    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
+        raise CalibrationError(f"max_iter must be a positive integer; got {max_iter!r}")
+    return g, m
+
+
+def _least_squares_lm(v: np.ndarray):
+    """Levenberg–Marquardt on the residuals of :func:`_residuals_lm` from p₀ (module docstring)."""
+    return least_squares(_residuals_lm, P0.copy(), jac=_jacobian_lm, args=(v,), method="lm",
+                         xtol=1e-15, ftol=1e-15, gtol=1e-15)
+
+
+def _solve(v: np.ndarray, solver: str, *, max_iter, h, learning_rates, metrics: dict,
+           gates: Gates) -> tuple[np.ndarray, bool]:
+    """Parameters p (in g) by the chosen solver: ``lm``, or the descent of Farago, Maczak and Gingl,
+    IEEE Access, eqs. (12)–(16) in floating or fixed point; raise when it diverged."""
+    if solver == "lm":
+        sol = _least_squares_lm(v)
+        p_g, converged = sol.x, bool(sol.success)
+        metrics["iterations"] = int(sol.nfev)
+        if not converged:
+            gates.fail(f"the Levenberg–Marquardt fit did not converge ({sol.message}); add positions")
+    elif solver == "gradient":
+        hh = H_FLOAT if h is None else float(h)
+        p_g, its = gradient_descent(v, h=hh, alphas=learning_rates, max_iter=int(max_iter))
+        metrics.update(iterations=its, h=hh)
+        converged = bool(np.all(np.isfinite(p_g)))
+    else:
+        bits = 16 if solver == "fixed16" else 32
+        hh = (H_FIXED16 if bits == 16 else H_FIXED32) if h is None else float(h)
+        run = fixed_point_descent(v, bits=bits, h=hh, alphas=alpha_vector(learning_rates), max_iter=int(max_iter))
+        p_g, converged = run.p, True
+        metrics.update(iterations=run.iterations, h=run.h, q_format=run.q_format, p_raw=run.p_raw.tolist(),
+                       saturated=run.saturated)
+        if run.saturated:
+            gates.warn(
+                f"the {bits}-bit fixed-point descent saturated ({run.q_format}): the readings or the "
+                "parameters left the number range; check the unit"
+            )
+    if not np.all(np.isfinite(p_g)):
+        raise CalibrationError(
+            f"the {solver} descent diverged to non-finite parameters: the readings are too far from "
+            "a sphere of radius gravity for its fixed learning rates; check the unit and gravity, "
+            "or use solver 'lm'"
+        )
+    return p_g, converged
+
+
+def _distance_to_lm(v: np.ndarray, p_g: np.ndarray, solver: str, metrics: dict, gates: Gates) -> None:
+    """How far a descent stopped from the least-squares optimum, in that optimum's 95 % intervals."""
+    ref = _least_squares_lm(v)
+    J_ref = _jacobian_lm(ref.x, v, central=True)
+    cov_ref, dof_ref, _ = covariance_from_jacobian(J_ref, ref.fun)
+    if cov_ref is None:
+        return
+    dist = float(np.max(np.abs(p_g - ref.x) / half_widths(cov_ref, dof_ref)))
+    metrics["distance_to_lm"] = dist
+    gates.warn(limit_gate(
+        dist, 1.0,
+        "the {solver} solver stopped {value:.1f} times the 95 % interval from the "
+        "least-squares optimum (iteration cap, finite-difference step or number format); "
+        "use solver 'lm' for the best estimate",
+        solver=solver,
+    ))
+
+
+def _covariance(p_g: np.ndarray, v: np.ndarray, g: float) -> tuple[np.ndarray | None, int, float, float]:
+    """Covariance of p by Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (22) with
+    V(ε) = σ² I, σ² from the residuals (in g); the offsets scaled back to the readings' unit.
+
+    Returns the covariance, the residual dof, σ² and the condition number of the column-scaled
+    Jacobian.
+    """
+    J = _jacobian_lm(p_g, v, central=True)
+    r = _residuals_lm(p_g, v)
+    cov, dof, sigma2 = covariance_from_jacobian(J, r)
+    if cov is not None:
+        scale = np.r_[np.ones(6), np.full(3, g)]  # offsets back to the readings' unit
+        cov = cov * np.outer(scale, scale)
+    col = np.linalg.norm(J, axis=0)
+    cond = float(np.linalg.cond(J / np.where(col > 0, col, 1.0)))
+    return cov, dof, sigma2, cond
+
+
+def _metrics(m, K, o, g, sigma2, cond, converged, dof, metrics: dict) -> np.ndarray:
+    """Norm errors of Farago, Maczak and Gingl, IEEE Access, Table 3 and the cost of eq. (12), added
+    to ``metrics``; returns the relative calibrated norm error of each reading."""
+    cal = (m + o) @ K.T
+    norm_err = np.abs(np.linalg.norm(cal, axis=1) - g) / g
+    norm_err_raw = np.abs(np.linalg.norm(m, axis=1) - g) / g
+    metrics.update(
+        {
+            "norm_error_max": float(norm_err.max()),
+            "norm_error_max_raw": float(norm_err_raw.max()),
+            # Farago, Maczak and Gingl, IEEE Access, Table 3: mean | |r| − 1 g | in mg, fitted points.
+            "error_before_mg": float(1000.0 * norm_err_raw.mean()),
+            "error_after_mg": float(1000.0 * norm_err.mean()),
+            "improvement": float(norm_err_raw.mean() / norm_err.mean()) if norm_err.mean() > 0 else None,
+            # Eq. (12) with and without the square root, in g², mean over the points.
+            "cost_12": float(np.mean((np.linalg.norm(cal, axis=1) / g - 1.0) ** 2)),
+            "noise_estimate": float(np.sqrt(sigma2) * g) if np.isfinite(sigma2) else None,
+            "condition_number": cond,
+            "converged": converged,
+            "dof": dof,
+            "count": int(len(m)),
+        }
+    )
+    return norm_err
+
+
+def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale, max_offset,
+           gates: Gates) -> None:
+    """Quality gates: hemisphere, norm error, scales, offsets (reasons); misalignments,
+    conditioning, coverage of Farago, Maczak and Gingl, IEEE Access, eq. (10), near duplicates,
+    an exact fit (warnings)."""
+    gates.fail(hemisphere_gate(
+        hemisphere,
+        "all positions lie in one hemisphere (around the direction {direction}): the offsets cannot be "
+        "told from the scales; add positions with the device turned the other way up",
+    ))
+    gates.fail(residual_gate(
+        norm_err, MAX_NORM_ERROR,
+        "reading {index} has a calibrated norm {percent:.1f} % from g (gate {gate_percent:.0f} %): it may "
+        "not have been still, or the {solver} solver did not reach the minimum",
+        solver=solver,
+    ))
+    gates.fail(scale_gate(
+        np.diag(K), plausible_scale,
+        "scale k_{axis}{axis} is {value:.4f}, outside the plausible {lo}–{hi}: check the unit and the gravity value",
+    ))
+    gates.fail(offset_gate(
+        o, g if max_offset is None else max_offset,
+        "offset o_{axis} is {value:.4g}, above 1 g in magnitude: check the unit",
+    ))
+    gates.warn(deviation_gate(
+        (("k_xy", K[1, 0]), ("k_xz", K[2, 0]), ("k_yz", K[2, 1])), 0.0, MAX_MISALIGNMENT,
+        "misalignment {name} = {value:.3f} is implausibly large (above {limit})",
+    ))
+    gates.warn(limit_gate(
+        cond, MAX_CONDITION_NUMBER,
+        "the positions determine the parameters poorly (condition number {value:.3g}): "
+        "spread the positions over the whole sphere",
+    ))
+    gates.warn(coverage_gate(
+        m,
+        "poor coverage of the sphere: no position has the {missing} axis within 60° of up; add such "
+        "positions (002 eq. (10): two per bin)",
+        hemisphere=hemisphere,
+    ))
+    gates.warn(near_duplicate_gate(
+        m, NEAR_DUPLICATE_FRACTION * g,
+        "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
+        "of each other (near-duplicate positions, 000 Dataset 3): they weigh one orientation twice",
+    ))
+    gates.warn(exact_fit_gate(
+        dof,
+        "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
+        "so no intervals and no check of the fit; use 18 positions (002)",
+    ))
+
+
 def fit_triangular(
     means,
     *,
@@ -358,150 +528,21 @@ def fit_triangular(
     InsufficientDataError
         Fewer than 9 positions, or fewer than 9 distinct ones.
     """
-    if solver not in SOLVERS:
-        raise CalibrationError(f"unknown solver {solver!r}: use one of {', '.join(SOLVERS)}")
-    g = check_gravity(gravity)
-    m = check_sphere_points(means, g, min_points=N_PARAMS, method="triangular", n_params=N_PARAMS)
-    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
-        raise CalibrationError(f"max_iter must be a positive integer; got {max_iter!r}")
+    g, m = _validated(means, gravity, solver, max_iter)
     hemisphere = one_hemisphere_axis(m)
     v = m / g  # the paper works in g
-
-    warnings: list[str] = []
-    reasons: list[str] = []
+    gates = Gates()
     metrics: dict = {"solver": solver}
-    if solver == "lm":
-        sol = least_squares(_residuals_lm, P0.copy(), jac=_jacobian_lm, args=(v,), method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
-        p_g = sol.x
-        converged = bool(sol.success)
-        metrics["iterations"] = int(sol.nfev)
-        if not converged:
-            reasons.append(f"the Levenberg–Marquardt fit did not converge ({sol.message}); add positions")
-    elif solver == "gradient":
-        hh = H_FLOAT if h is None else float(h)
-        p_g, its = gradient_descent(v, h=hh, alphas=learning_rates, max_iter=int(max_iter))
-        metrics.update(iterations=its, h=hh)
-        converged = bool(np.all(np.isfinite(p_g)))
-    else:
-        bits = 16 if solver == "fixed16" else 32
-        hh = (H_FIXED16 if bits == 16 else H_FIXED32) if h is None else float(h)
-        run = fixed_point_descent(v, bits=bits, h=hh, alphas=alpha_vector(learning_rates), max_iter=int(max_iter))
-        p_g = run.p
-        converged = True
-        metrics.update(iterations=run.iterations, h=run.h, q_format=run.q_format, p_raw=run.p_raw.tolist(),
-                       saturated=run.saturated)
-        if run.saturated:
-            warnings.append(
-                f"the {bits}-bit fixed-point descent saturated ({run.q_format}): the readings or the "
-                "parameters left the number range; check the unit"
-            )
-    if not np.all(np.isfinite(p_g)):
-        raise CalibrationError(
-            f"the {solver} descent diverged to non-finite parameters: the readings are too far from "
-            "a sphere of radius gravity for its fixed learning rates; check the unit and gravity, "
-            "or use solver 'lm'"
-        )
-
+    p_g, converged = _solve(v, solver, max_iter=max_iter, h=h, learning_rates=learning_rates,
+                            metrics=metrics, gates=gates)
     if solver != "lm":
-        # How far the descent stopped from the least-squares optimum, in its own 95 % intervals.
-        ref = least_squares(_residuals_lm, P0.copy(), jac=_jacobian_lm, args=(v,), method="lm",
-                            xtol=1e-15, ftol=1e-15, gtol=1e-15)
-        J_ref = _jacobian_lm(ref.x, v, central=True)
-        cov_ref, dof_ref, _ = covariance_from_jacobian(J_ref, ref.fun)
-        if cov_ref is not None:
-            dist = float(np.max(np.abs(p_g - ref.x) / half_widths(cov_ref, dof_ref)))
-            metrics["distance_to_lm"] = dist
-            if dist > 1.0:
-                warnings.append(
-                    f"the {solver} solver stopped {dist:.1f} times the 95 % interval from the "
-                    "least-squares optimum (iteration cap, finite-difference step or number format); "
-                    "use solver 'lm' for the best estimate"
-                )
-
+        _distance_to_lm(v, p_g, solver, metrics, gates)
     K = k_matrix(p_g)
     o = p_g[6:9] * g
-    # Covariance: 003 Appendix A eq. (22) with V(ε) = σ² I, σ² from the residuals (in g).
-    J = _jacobian_lm(p_g, v, central=True)
-    r = _residuals_lm(p_g, v)
-    cov, dof, sigma2 = covariance_from_jacobian(J, r)
-    if cov is not None:
-        scale = np.r_[np.ones(6), np.full(3, g)]  # offsets back to the readings' unit
-        cov = cov * np.outer(scale, scale)
-    col = np.linalg.norm(J, axis=0)
-    cond = float(np.linalg.cond(J / np.where(col > 0, col, 1.0)))
-
-    cal = (m + o) @ K.T
-    norm_err = np.abs(np.linalg.norm(cal, axis=1) - g) / g
-    norm_err_raw = np.abs(np.linalg.norm(m, axis=1) - g) / g
-    metrics.update(
-        {
-            "norm_error_max": float(norm_err.max()),
-            "norm_error_max_raw": float(norm_err_raw.max()),
-            # 002 Table 3: mean | |r| − 1 g | in mg, here over the fitted points.
-            "error_before_mg": float(1000.0 * norm_err_raw.mean()),
-            "error_after_mg": float(1000.0 * norm_err.mean()),
-            "improvement": float(norm_err_raw.mean() / norm_err.mean()) if norm_err.mean() > 0 else None,
-            # Eq. (12) with and without the square root, in g², mean over the points.
-            "cost_12": float(np.mean((np.linalg.norm(cal, axis=1) / g - 1.0) ** 2)),
-            "noise_estimate": float(np.sqrt(sigma2) * g) if np.isfinite(sigma2) else None,
-            "condition_number": cond,
-            "converged": converged,
-            "dof": dof,
-            "count": int(len(m)),
-        }
-    )
-
-    if hemisphere is not None:
-        reasons.append(
-            "all positions lie in one hemisphere (around the direction "
-            f"{np.array2string(hemisphere, precision=2)}): the offsets cannot be told from the scales; "
-            "add positions with the device turned the other way up"
-        )
-    if norm_err.max() > MAX_NORM_ERROR:
-        worst = int(np.argmax(norm_err))
-        reasons.append(
-            f"reading {worst} has a calibrated norm {100 * norm_err[worst]:.1f} % from g "
-            f"(gate {100 * MAX_NORM_ERROR:.0f} %): it may not have been still, or the {solver} "
-            "solver did not reach the minimum"
-        )
-    if plausible_scale is not None:
-        lo, hi = plausible_scale
-        for k in range(3):
-            if not lo <= K[k, k] <= hi:
-                reasons.append(
-                    f"scale k_{'xyz'[k] * 2} is {K[k, k]:.4f}, outside the plausible {lo}–{hi}: "
-                    "check the unit and the gravity value"
-                )
-    limit = g if max_offset is None else max_offset
-    for k in range(3):
-        if abs(o[k]) > limit:
-            reasons.append(f"offset o_{'xyz'[k]} is {o[k]:.4g}, above 1 g in magnitude: check the unit")
-    for name, val in (("k_xy", K[1, 0]), ("k_xz", K[2, 0]), ("k_yz", K[2, 1])):
-        if abs(val) > MAX_MISALIGNMENT:
-            warnings.append(f"misalignment {name} = {val:.3f} is implausibly large (above {MAX_MISALIGNMENT})")
-    if cond > MAX_CONDITION_NUMBER:
-        warnings.append(
-            f"the positions determine the parameters poorly (condition number {cond:.3g}): "
-            "spread the positions over the whole sphere"
-        )
-    missing = uncovered_directions(m)
-    if missing and hemisphere is None:
-        warnings.append(
-            "poor coverage of the sphere: no position has the "
-            + ", ".join(missing)
-            + " axis within 60° of up; add such positions (002 eq. (10): two per bin)"
-        )
-    for i, j in near_duplicate_pairs(m, NEAR_DUPLICATE_FRACTION * g):
-        warnings.append(
-            f"readings {i} and {j} (positions {i + 1} and {j + 1}, counting from 1) are within 1 % of g "
-            "of each other (near-duplicate positions, 000 Dataset 3): they weigh one orientation twice"
-        )
-    if dof == 0:
-        warnings.append(
-            "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
-            "so no intervals and no check of the fit; use 18 positions (002)"
-        )
+    cov, dof, sigma2, cond = _covariance(p_g, v, g)
+    norm_err = _metrics(m, K, o, g, sigma2, cond, converged, dof, metrics)
+    _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale, max_offset, gates)
     return TriangularCalibration(
         K=K, o=o, gravity=g, means=m, solver=solver, covariance=cov, dof=dof,
-        metrics=metrics, warnings=tuple(reasons + warnings), reasons=tuple(reasons),
+        metrics=metrics, **gates.fields(),
     )

@@ -7,7 +7,7 @@ import io
 import numpy as np
 import pytest
 
-from app.calibration.cube.simulate import FIELD_UT, simulate_session, true_parameters
+from app.calibration.simulations.cube import FIELD_UT, simulate_session, true_parameters
 
 FS = 100.0
 

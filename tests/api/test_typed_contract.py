@@ -10,8 +10,8 @@ import pytest
 from pydantic import BaseModel, TypeAdapter
 
 from app.api.schemas import RESPONSE_MODELS, CalibrationOut
-from app.calibration.cube.simulate import FIELD_UT, simulate_session
-from app.calibration.simulate_autocal import simulate_recording
+from app.calibration.simulations.cube import FIELD_UT, simulate_session
+from app.calibration.simulations.autocal import simulate_recording
 from tests.conftest import seed_table
 
 G = 9.81

@@ -21,6 +21,7 @@ import numpy as np
 from scipy import stats
 
 from ..errors import CalibrationError, InsufficientDataError
+from ..gates import Gates, limit_gate, residual_gate
 from ..uncertainty import CONFIDENCE
 from ..validation import as_samples, as_vectors
 
@@ -309,6 +310,126 @@ def _initial_guess(means: np.ndarray, attitudes: np.ndarray, ref: float, estimat
     return np.concatenate([W[:3].T.reshape(-1), W[3], [alpha, beta]])
 
 
+def _validated(means, covariances, counts, attitudes, reference, sensor: str, estimate_angles: bool):
+    """Checked means, covariances, counts, attitudes and the number of free parameters
+    (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section III-C: three equations per position)."""
+    m = as_vectors(means, f"{sensor} means")
+    P = len(m)
+    C = np.asarray(covariances, dtype=float)
+    n = np.asarray(counts, dtype=float).reshape(-1)
+    Rs = np.asarray(attitudes, dtype=float)
+    if C.shape != (P, 3, 3) or n.shape != (P,) or Rs.shape != (P, 3, 3):
+        raise CalibrationError(
+            f"{sensor}: give one 3×3 covariance, one count and one 3×3 attitude per mean "
+            f"({P} means; got {C.shape}, {n.shape}, {Rs.shape})"
+        )
+    if not (np.isfinite(reference) and reference > 0):
+        raise CalibrationError(f"{sensor}: the reference magnitude must be positive and finite; got {reference!r}")
+    if not np.all(np.isfinite(C)) or np.any(n < 1):
+        raise CalibrationError(f"{sensor}: covariances must be finite and counts at least 1")
+    n_par = N_PARAMETERS if estimate_angles else 12
+    if 3 * P <= n_par:
+        raise InsufficientDataError(
+            f"{sensor}: {P} still positions give {3 * P} equations for {n_par} parameters (003 section "
+            f"III-C); at least {n_par // 3 + 1} positions are needed, 24 in the cube protocol"
+        )
+    return m, C, n, Rs, n_par
+
+
+def _gauss_newton(x, free, m, Rs, ref: float, L, sensor: str, max_iterations: int, tolerance: float):
+    """The iteration of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (13), in whitened
+    least-squares form; returns the parameters, the iterations and whether it converged."""
+    y = m.reshape(-1)
+    converged = False
+    it = 0
+    for it in range(1, max_iterations + 1):
+        h, J = _model_and_jacobian(x, Rs, ref)
+        p = h - y  # Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (12)
+        # Eq. (13), step 3: (Jᵀ W J) Δx = Jᵀ W p, solved in whitened least-squares form.
+        Jw = L @ J[:, free]
+        pw = L @ p
+        scale = np.linalg.norm(Jw, axis=0)
+        if np.any(scale == 0) or not np.all(np.isfinite(Jw)):
+            raise CalibrationError(
+                f"{sensor}: the readings do not change between positions, so S cannot be determined; "
+                "check that the sensor was sampled and the device turned"
+            )
+        dx, *_ = np.linalg.lstsq(Jw / scale, pw, rcond=None)
+        dx = dx / scale
+        x[free] -= dx
+        if np.linalg.norm(dx * scale) <= tolerance * max(1.0, np.linalg.norm(pw)) or np.max(
+            np.abs(dx) / np.maximum(np.abs(x[free]), 1e-12)
+        ) < tolerance:
+            converged = True
+            break
+    return x, it, converged
+
+
+def _covariance(x, free, m, Rs, ref: float, L, sensor: str):
+    """(Jᵀ V(ε)⁻¹ J)⁻¹ of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (22), embedded in
+    14 × 14 (zeros for held angles), with the condition number, the model h and the whitened misfit."""
+    h, J = _model_and_jacobian(x, Rs, ref)
+    Jw = L @ J[:, free]
+    pw = L @ (h - m.reshape(-1))
+    info = Jw.T @ Jw
+    cond = float(np.linalg.cond(info))
+    if not np.isfinite(cond) or cond > 1e15:
+        raise InsufficientDataError(
+            f"{sensor}: the positions do not determine the model (information matrix singular); "
+            "use positions that point every axis both up and down"
+        )
+    cov = np.zeros((N_PARAMETERS, N_PARAMETERS))
+    cov[np.ix_(free, free)] = np.linalg.inv(info)  # eq. (22)
+    return cov, cond, h, pw
+
+
+def _metrics(m, h, S, pw, reference, n_par: int, it: int, converged: bool, cond: float):
+    """χ², misfit in the reference's unit (S⁻¹ applied to the residual means) and the relative
+    misfit of each position."""
+    P = len(m)
+    chi2 = float(pw @ pw)
+    dof = 3 * P - n_par
+    resid = (m - h.reshape(P, 3))
+    resid_ref = np.linalg.solve(S, resid.T).T
+    rel = np.linalg.norm(resid_ref, axis=1) / reference
+    metrics = {
+        "iterations": it,
+        "converged": converged,
+        "chi2": chi2,
+        "dof": dof,
+        "reduced_chi2": chi2 / dof,
+        "rms_residual": float(np.sqrt(np.mean(resid_ref**2))),
+        "max_relative_error": float(rel.max()),
+        "condition_number": cond,
+        "n_positions": P,
+    }
+    return metrics, rel
+
+
+def _gates(metrics: dict, rel, positions, sensor: str, max_iterations: int, gates: Gates) -> None:
+    """Convergence and misfit per position (reasons); χ²/dof beyond the sample noise (warning,
+    Särkkä et al., IEEE Sensors Journal 17(11) 2017, section VII-A-2)."""
+    if not metrics["converged"]:
+        gates.fail(
+            f"{sensor}: the generalised least squares did not converge in {max_iterations} iterations; "
+            "check the positions and the protocol"
+        )
+    gates.fail(residual_gate(
+        rel, MAX_FIT_ERROR,
+        lambda index, percent, gate_percent, **_: (
+            f"{sensor}: position {positions[index]} is {percent:.1f} % of the reference away from "
+            f"the model after calibration (gate {gate_percent:.0f} %): the position is not the one "
+            "the protocol expects, or the sensor moved"
+        ),
+    ))
+    gates.warn(limit_gate(
+        metrics["reduced_chi2"], MAX_REDUCED_CHI2,
+        "{sensor}: χ²/dof = {value:.3g}: the misfit is larger than the sample noise explains "
+        "(unmodelled errors or drift, 003 section VII-A-2), so the intervals are too narrow",
+        sensor=sensor,
+    ))
+
+
 def fit_field_sensor(
     means,
     covariances,
@@ -360,108 +481,22 @@ def fit_field_sensor(
     InsufficientDataError
         Fewer positions than the 14 (or 12) parameters need (3 equations per position).
     """
-    m = as_vectors(means, f"{sensor} means")
+    m, C, n, Rs, n_par = _validated(means, covariances, counts, attitudes, reference, sensor, estimate_angles)
     P = len(m)
-    C = np.asarray(covariances, dtype=float)
-    n = np.asarray(counts, dtype=float).reshape(-1)
-    Rs = np.asarray(attitudes, dtype=float)
-    if C.shape != (P, 3, 3) or n.shape != (P,) or Rs.shape != (P, 3, 3):
-        raise CalibrationError(
-            f"{sensor}: give one 3×3 covariance, one count and one 3×3 attitude per mean "
-            f"({P} means; got {C.shape}, {n.shape}, {Rs.shape})"
-        )
-    if not (np.isfinite(reference) and reference > 0):
-        raise CalibrationError(f"{sensor}: the reference magnitude must be positive and finite; got {reference!r}")
-    if not np.all(np.isfinite(C)) or np.any(n < 1):
-        raise CalibrationError(f"{sensor}: covariances must be finite and counts at least 1")
-    n_par = N_PARAMETERS if estimate_angles else 12
-    if 3 * P <= n_par:
-        raise InsufficientDataError(
-            f"{sensor}: {P} still positions give {3 * P} equations for {n_par} parameters (003 section "
-            f"III-C); at least {n_par // 3 + 1} positions are needed, 24 in the cube protocol"
-        )
     positions = tuple(range(1, P + 1)) if positions is None else tuple(int(p) for p in positions)
-    warnings: list[str] = []
-    reasons: list[str] = []
-    L = _whitener(C, n, warnings, extra=mean_covariance_extra)
-
+    gates = Gates()
+    L = _whitener(C, n, gates.warnings, extra=mean_covariance_extra)
     x = _initial_guess(m, Rs, float(reference), estimate_angles)
     free = np.arange(n_par)
-    y = m.reshape(-1)
-    converged = False
-    it = 0
-    for it in range(1, max_iterations + 1):
-        h, J = _model_and_jacobian(x, Rs, float(reference))
-        p = h - y  # 003 eq. (12)
-        # 003 eq. (13), step 3: (Jᵀ W J) Δx = Jᵀ W p, solved in whitened least-squares form.
-        Jw = L @ J[:, free]
-        pw = L @ p
-        scale = np.linalg.norm(Jw, axis=0)
-        if np.any(scale == 0) or not np.all(np.isfinite(Jw)):
-            raise CalibrationError(
-                f"{sensor}: the readings do not change between positions, so S cannot be determined; "
-                "check that the sensor was sampled and the device turned"
-            )
-        dx, *_ = np.linalg.lstsq(Jw / scale, pw, rcond=None)
-        dx = dx / scale
-        x[free] -= dx
-        if np.linalg.norm(dx * scale) <= tolerance * max(1.0, np.linalg.norm(pw)) or np.max(
-            np.abs(dx) / np.maximum(np.abs(x[free]), 1e-12)
-        ) < tolerance:
-            converged = True
-            break
-    h, J = _model_and_jacobian(x, Rs, float(reference))
-    Jw = L @ J[:, free]
-    pw = L @ (h - y)
-    info = Jw.T @ Jw
-    cond = float(np.linalg.cond(info))
-    if not np.isfinite(cond) or cond > 1e15:
-        raise InsufficientDataError(
-            f"{sensor}: the positions do not determine the model (information matrix singular); "
-            "use positions that point every axis both up and down"
-        )
-    cov = np.zeros((N_PARAMETERS, N_PARAMETERS))
-    cov[np.ix_(free, free)] = np.linalg.inv(info)  # 003 eq. (22)
+    x, it, converged = _gauss_newton(x, free, m, Rs, float(reference), L, sensor, max_iterations, tolerance)
+    cov, cond, h, pw = _covariance(x, free, m, Rs, float(reference), L, sensor)
     S = x[:9].reshape(3, 3)
     b = x[9:12]
     # Keep α in (−180°, 180°] for the report.
     alpha = float(np.degrees(np.arctan2(np.sin(x[12]), np.cos(x[12]))))
     beta = float(np.degrees(x[13]))
-
-    chi2 = float(pw @ pw)
-    dof = 3 * P - n_par
-    resid = (m - h.reshape(P, 3))
-    # Misfit in the reference's unit: S⁻¹ applied to the residual means.
-    resid_ref = np.linalg.solve(S, resid.T).T
-    rel = np.linalg.norm(resid_ref, axis=1) / reference
-    metrics = {
-        "iterations": it,
-        "converged": converged,
-        "chi2": chi2,
-        "dof": dof,
-        "reduced_chi2": chi2 / dof,
-        "rms_residual": float(np.sqrt(np.mean(resid_ref**2))),
-        "max_relative_error": float(rel.max()),
-        "condition_number": cond,
-        "n_positions": P,
-    }
-    if not converged:
-        reasons.append(
-            f"{sensor}: the generalised least squares did not converge in {max_iterations} iterations; "
-            "check the positions and the protocol"
-        )
-    if rel.max() > MAX_FIT_ERROR:
-        worst = int(np.argmax(rel))
-        reasons.append(
-            f"{sensor}: position {positions[worst]} is {100 * rel[worst]:.1f} % of the reference away from "
-            f"the model after calibration (gate {100 * MAX_FIT_ERROR:.0f} %): the position is not the one "
-            "the protocol expects, or the sensor moved"
-        )
-    if chi2 / dof > MAX_REDUCED_CHI2:
-        warnings.append(
-            f"{sensor}: χ²/dof = {chi2 / dof:.3g}: the misfit is larger than the sample noise explains "
-            "(unmodelled errors or drift, 003 section VII-A-2), so the intervals are too narrow"
-        )
+    metrics, rel = _metrics(m, h, S, pw, reference, n_par, it, converged, cond)
+    _gates(metrics, rel, positions, sensor, max_iterations, gates)
     return FieldSensorCalibration(
         sensor=sensor,
         S=S,
@@ -477,8 +512,7 @@ def fit_field_sensor(
         positions=positions,
         angles_estimated=estimate_angles,
         metrics=metrics,
-        warnings=tuple(reasons + warnings),
-        reasons=tuple(reasons),
+        **gates.fields(),
     )
 
 

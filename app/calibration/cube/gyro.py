@@ -27,6 +27,7 @@ from scipy import stats
 from scipy.linalg import cho_solve_banded, cholesky_banded
 
 from ..errors import CalibrationError, InsufficientDataError
+from ..gates import Gates, residual_gate
 from ..uncertainty import CONFIDENCE
 from . import quaternion as quat
 from .accmag import decompose, decomposition_jacobian
@@ -375,6 +376,145 @@ def _gauss_newton(prob: _Problem, x, lam, max_iterations, tolerance):
     return x, it
 
 
+def _validated(rotations, q_start, q_end, sampling_rate_hz, noise_cov, bias0, S_inv0, estimate_bias: bool,
+               rotation_numbers):
+    """Checked rotations, their numbers, start and end attitudes, rate, noise covariance and the
+    initial bias and S_ω⁻¹ (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section III-B:
+    three attitude equations per rotation)."""
+    rots = [np.asarray(r, dtype=float) for r in rotations]
+    K = len(rots)
+    for k, r in enumerate(rots):
+        if r.ndim != 2 or r.shape[1] != 3 or len(r) < 3:
+            raise CalibrationError(f"rotation {k + 1}: rates must be N×3 with N ≥ 3; got shape {r.shape}")
+        if not np.all(np.isfinite(r)):
+            raise CalibrationError(f"rotation {k + 1}: NaN or infinite rates; drop those samples")
+    numbers = tuple(range(1, K + 1)) if rotation_numbers is None else tuple(int(n) for n in rotation_numbers)
+    n_theta = 12 if estimate_bias else 9
+    if 3 * K < n_theta:
+        raise InsufficientDataError(
+            f"{K} rotations give {3 * K} attitude equations for {n_theta} gyroscope parameters "
+            f"(003 section III-B): at least {-(-n_theta // 3)} rotations about different axes are needed"
+        )
+    qs = np.asarray(q_start, float).reshape(K, 4)
+    qe = np.asarray(q_end, float).reshape(K, 4)
+    fs = float(sampling_rate_hz)
+    if not (np.isfinite(fs) and fs > 0):
+        raise CalibrationError(f"sampling_rate_hz must be positive; got {sampling_rate_hz!r}")
+    Sigma = np.asarray(noise_cov, float)
+    Sigma = np.diag(Sigma) if Sigma.shape == (3,) else Sigma.reshape(3, 3)
+    b0 = np.zeros(3) if bias0 is None else np.asarray(bias0, float).reshape(3)
+    M0 = np.eye(3) if S_inv0 is None else np.asarray(S_inv0, float).reshape(3, 3)
+    return rots, numbers, qs, qe, fs, Sigma, b0, M0
+
+
+def _initial_state(rots, qs, h: float, b0, M0, estimate_bias: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Initial guess of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section IV-A: the forward
+    solution of eq. (2) over each rotation from its known start, with the pre-adjusted rates.
+
+    Returns the stacked unknowns x and the end attitude of each rotation before calibration.
+    """
+    q_init = [quat.integrate((r - b0) @ M0.T, h, q0) for r, q0 in zip(rots, qs)]
+    pre_end = np.array([q[-1] for q in q_init])
+    theta0 = np.concatenate([M0.T.ravel(), b0 if estimate_bias else []])
+    return np.concatenate([np.vstack(q_init).ravel(), theta0]), pre_end
+
+
+def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance: float, gates: Gates):
+    """λ by the saturation rule of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section IV-A-1.
+
+    λ is raised until the calibration parameters saturate, and the greater saturation point is
+    taken: a plateau is accepted only if the largest λ agrees with it.  Returns x, the chosen λ,
+    the path of changes and the total Gauss–Newton iterations.
+    """
+    path = []
+    total_it = 0
+    prev = None
+    chosen = None
+    grid = list(lambdas)
+    i = 0
+    while i < len(grid):
+        value = grid[i]
+        x, it = _gauss_newton(prob, x, value, max_iterations, tolerance)
+        total_it += it
+        theta = x[prob.n_q:].copy()
+        change = None if prev is None else float(np.max(np.abs(theta - prev)))
+        path.append({"lambda": value, "max_change": change})
+        if change is not None and change < SATURATION:
+            if value == grid[-1]:
+                chosen = value
+                break
+            # Probe the top of the range: if it agrees, this plateau is the greater one.
+            x_top, it = _gauss_newton(prob, x.copy(), grid[-1], max_iterations, tolerance)
+            total_it += it
+            top_change = float(np.max(np.abs(x_top[prob.n_q:] - theta)))
+            path.append({"lambda": grid[-1], "max_change": top_change, "probe": True})
+            if top_change < SATURATION:
+                chosen = value
+                break
+        prev = theta
+        i += 1
+    if chosen is None:
+        chosen = float(grid[-1])
+        gates.warn(
+            f"gyr: the parameters did not saturate for λ up to {chosen:g} (003 section IV-A-1); "
+            "the last value was used"
+        )
+    return x, chosen, path, total_it
+
+
+def _covariance(prob: _Problem, lin: "_Linearisation", Sigma, estimate_bias: bool, bias_covariance,
+                rate_error_weights, rate_error_covariance) -> np.ndarray:
+    """Covariance (12, 12) of [columns of S_ω⁻¹, b] by Särkkä et al., IEEE Sensors Journal 17(11)
+    2017, Appendix B, eq. (28): V(θ) = [H⁻¹ Jᵀ J_y Σ J_yᵀ J H⁻¹]_θθ (Gauss–Newton C ≈ 2H,
+    D = 2JᵀJ_y), plus a removed drift's error and a held bias's covariance."""
+    h, n_theta = prob.h, prob.n_theta
+    Z = _NormalSolver(lin).theta_columns()
+    J = lin.jacobian()
+    T = (J[: prob.n_r1] @ Z).reshape(-1, 4, n_theta)
+    Uy = np.zeros((prob.N, 3, n_theta))
+    ka = 0.25 * h * quat.xi_matrix(lin.Qa) @ lin.M  # ∂r_j/∂ω̃_a
+    kc = 0.25 * h * quat.xi_matrix(lin.Qc) @ lin.M  # ∂r_j/∂ω̃_c
+    Uy[prob.a] += _tmm(ka, T)
+    Uy[prob.c] += _tmm(kc, T)
+    cov_t = np.tensordot(Uy, Sigma @ Uy, axes=([0, 1], [0, 1]))
+    if rate_error_weights is not None and rate_error_covariance is not None:
+        tau = np.concatenate([np.asarray(t, float).reshape(-1) for t in rate_error_weights])
+        G = np.tensordot(tau, Uy, axes=(0, 0))  # (3, n_θ): δθ = Gᵀ e
+        cov_t = cov_t + G.T @ np.asarray(rate_error_covariance, float).reshape(3, 3) @ G
+    cov = np.zeros((12, 12))
+    cov[:n_theta, :n_theta] = cov_t
+    if not estimate_bias and bias_covariance is not None:
+        cov[9:12, 9:12] = np.asarray(bias_covariance, float).reshape(3, 3)
+    return cov
+
+
+def _metrics(prob: _Problem, lin: "_Linearisation", x, rots, qs, qe, pre_end, M_hat, b_hat, chosen: float,
+             path: list, total_it: int) -> tuple[dict, np.ndarray]:
+    """Residual sizes and the check of every rotation: the forward solution with the calibrated
+    rates against the protocol's end attitudes, before and after (degrees)."""
+    h = prob.h
+    cal_end = np.array([quat.integrate((rr - b_hat) @ M_hat.T, h, q0)[-1] for rr, q0 in zip(rots, qs)])
+    err_after = _angle_deg(cal_end, qe)
+    err_before = _angle_deg(pre_end, qe)
+    r = lin.r
+    r1 = r[: prob.n_r1]
+    metrics = {
+        "lambda": chosen,
+        "lambda_path": path,
+        "iterations": total_it,
+        "n_rotations": len(rots),
+        "n_samples": prob.N,
+        "n_unknowns": prob.n_x,
+        "rms_r1": float(np.sqrt(np.mean(r1**2))),
+        "rms_r2": float(np.sqrt(np.mean(r[prob.n_r1:] ** 2) / chosen)),
+        "end_error_deg_before": err_before.tolist(),
+        "end_error_deg_after": err_after.tolist(),
+        "max_end_error_deg": float(err_after.max()),
+        "quaternion_norm_max_deviation": float(np.max(np.abs(np.linalg.norm(x[: prob.n_q].reshape(-1, 4), axis=1) - 1))),
+    }
+    return metrics, err_after
+
+
 def fit_gyroscope(
     rotations,
     q_start,
@@ -443,131 +583,32 @@ def fit_gyroscope(
     InsufficientDataError
         Too few rotations for the parameters (3 attitude equations per rotation).
     """
-    rots = [np.asarray(r, dtype=float) for r in rotations]
-    K = len(rots)
-    for k, r in enumerate(rots):
-        if r.ndim != 2 or r.shape[1] != 3 or len(r) < 3:
-            raise CalibrationError(f"rotation {k + 1}: rates must be N×3 with N ≥ 3; got shape {r.shape}")
-        if not np.all(np.isfinite(r)):
-            raise CalibrationError(f"rotation {k + 1}: NaN or infinite rates; drop those samples")
-    numbers = tuple(range(1, K + 1)) if rotation_numbers is None else tuple(int(n) for n in rotation_numbers)
-    n_theta = 12 if estimate_bias else 9
-    if 3 * K < n_theta:
-        raise InsufficientDataError(
-            f"{K} rotations give {3 * K} attitude equations for {n_theta} gyroscope parameters "
-            f"(003 section III-B): at least {-(-n_theta // 3)} rotations about different axes are needed"
-        )
-    qs = np.asarray(q_start, float).reshape(K, 4)
-    qe = np.asarray(q_end, float).reshape(K, 4)
-    fs = float(sampling_rate_hz)
-    if not (np.isfinite(fs) and fs > 0):
-        raise CalibrationError(f"sampling_rate_hz must be positive; got {sampling_rate_hz!r}")
+    rots, numbers, qs, qe, fs, Sigma, b0, M0 = _validated(
+        rotations, q_start, q_end, sampling_rate_hz, noise_cov, bias0, S_inv0, estimate_bias, rotation_numbers,
+    )
     h = 1.0 / fs
-    Sigma = np.asarray(noise_cov, float)
-    Sigma = np.diag(Sigma) if Sigma.shape == (3,) else Sigma.reshape(3, 3)
-    b0 = np.zeros(3) if bias0 is None else np.asarray(bias0, float).reshape(3)
-    M0 = np.eye(3) if S_inv0 is None else np.asarray(S_inv0, float).reshape(3, 3)
-
     prob = _Problem(rots, qs, qe, h, estimate_bias, b0)
-    # Initial guess (003 section IV-A): forward solution of eq. (2) over each rotation from its
-    # known start, with the pre-adjusted rates.
-    q_init = [quat.integrate((r - b0) @ M0.T, h, q0) for r, q0 in zip(rots, qs)]
-    pre_end = np.array([q[-1] for q in q_init])
-    theta0 = np.concatenate([M0.T.ravel(), b0 if estimate_bias else []])
-    x = np.concatenate([np.vstack(q_init).ravel(), theta0])
-
-    warnings: list[str] = []
-    reasons: list[str] = []
-    path = []
-    total_it = 0
+    x, pre_end = _initial_state(rots, qs, h, b0, M0, estimate_bias)
+    gates = Gates()
     if lam is not None:
-        x, it = _gauss_newton(prob, x, float(lam), max_iterations, tolerance)
-        total_it += it
-        chosen = float(lam)
+        x, total_it = _gauss_newton(prob, x, float(lam), max_iterations, tolerance)
+        chosen, path = float(lam), []
     else:
-        # 003 section IV-A-1: raise λ until the calibration parameters saturate, and take the
-        # greater saturation point: a plateau is accepted only if the largest λ agrees with it.
-        prev = None
-        chosen = None
-        grid = list(lambdas)
-        i = 0
-        while i < len(grid):
-            value = grid[i]
-            x, it = _gauss_newton(prob, x, value, max_iterations, tolerance)
-            total_it += it
-            theta = x[prob.n_q:].copy()
-            change = None if prev is None else float(np.max(np.abs(theta - prev)))
-            path.append({"lambda": value, "max_change": change})
-            if change is not None and change < SATURATION:
-                if value == grid[-1]:
-                    chosen = value
-                    break
-                # Probe the top of the range: if it agrees, this plateau is the greater one.
-                x_top, it = _gauss_newton(prob, x.copy(), grid[-1], max_iterations, tolerance)
-                total_it += it
-                top_change = float(np.max(np.abs(x_top[prob.n_q:] - theta)))
-                path.append({"lambda": grid[-1], "max_change": top_change, "probe": True})
-                if top_change < SATURATION:
-                    chosen = value
-                    break
-            prev = theta
-            i += 1
-        if chosen is None:
-            chosen = float(grid[-1])
-            warnings.append(
-                f"gyr: the parameters did not saturate for λ up to {chosen:g} (003 section IV-A-1); "
-                "the last value was used"
-            )
+        x, chosen, path, total_it = _saturated_lambda(prob, x, lambdas, max_iterations, tolerance, gates)
     lin = prob.evaluate(x, chosen)
-    r, Qa, Qc, M = lin.r, lin.Qa, lin.Qc, lin.M
-    # Appendix B, eq. (28): V(θ) = [H⁻¹ Jᵀ J_y Σ J_yᵀ J H⁻¹]_θθ (Gauss–Newton C ≈ 2H, D = 2JᵀJ_y).
-    Z = _NormalSolver(lin).theta_columns()
-    J = lin.jacobian()
-    T = (J[: prob.n_r1] @ Z).reshape(-1, 4, prob.n_theta)
-    Uy = np.zeros((prob.N, 3, prob.n_theta))
-    ka = 0.25 * h * quat.xi_matrix(Qa) @ M  # ∂r_j/∂ω̃_a
-    kc = 0.25 * h * quat.xi_matrix(Qc) @ M  # ∂r_j/∂ω̃_c
-    Uy[prob.a] += _tmm(ka, T)
-    Uy[prob.c] += _tmm(kc, T)
-    cov_t = np.tensordot(Uy, Sigma @ Uy, axes=([0, 1], [0, 1]))
-    if rate_error_weights is not None and rate_error_covariance is not None:
-        tau = np.concatenate([np.asarray(t, float).reshape(-1) for t in rate_error_weights])
-        G = np.tensordot(tau, Uy, axes=(0, 0))  # (3, n_θ): δθ = Gᵀ e
-        cov_t = cov_t + G.T @ np.asarray(rate_error_covariance, float).reshape(3, 3) @ G
-    cov = np.zeros((12, 12))
-    cov[:n_theta, :n_theta] = cov_t
-    if not estimate_bias and bias_covariance is not None:
-        cov[9:12, 9:12] = np.asarray(bias_covariance, float).reshape(3, 3)
-
+    cov = _covariance(prob, lin, Sigma, estimate_bias, bias_covariance, rate_error_weights, rate_error_covariance)
     M_hat, b_hat = prob.theta_parts(x[prob.n_q:])
-    # Check: forward solution with the calibrated rates against the protocol's end attitudes.
-    cal_end = np.array([quat.integrate((rr - b_hat) @ M_hat.T, h, q0)[-1] for rr, q0 in zip(rots, qs)])
-    err_after = _angle_deg(cal_end, qe)
-    err_before = _angle_deg(pre_end, qe)
-    r1 = r[: prob.n_r1]
-    metrics = {
-        "lambda": chosen,
-        "lambda_path": path,
-        "iterations": total_it,
-        "n_rotations": K,
-        "n_samples": prob.N,
-        "n_unknowns": prob.n_x,
-        "rms_r1": float(np.sqrt(np.mean(r1**2))),
-        "rms_r2": float(np.sqrt(np.mean(r[prob.n_r1:] ** 2) / chosen)),
-        "end_error_deg_before": err_before.tolist(),
-        "end_error_deg_after": err_after.tolist(),
-        "max_end_error_deg": float(err_after.max()),
-        "quaternion_norm_max_deviation": float(np.max(np.abs(np.linalg.norm(x[: prob.n_q].reshape(-1, 4), axis=1) - 1))),
-    }
-    worst = int(np.argmax(err_after))
-    if err_after[worst] > MAX_END_ERROR_DEG:
-        reasons.append(
-            f"gyr: rotation {numbers[worst]} still ends {err_after[worst]:.1f}° from the protocol's attitude "
-            f"after calibration (gate {MAX_END_ERROR_DEG}°): it was not the rotation the protocol expects, "
+    metrics, err_after = _metrics(prob, lin, x, rots, qs, qe, pre_end, M_hat, b_hat, chosen, path, total_it)
+    gates.fail(residual_gate(
+        err_after, MAX_END_ERROR_DEG,
+        lambda index, value, limit, **_: (
+            f"gyr: rotation {numbers[index]} still ends {value:.1f}° from the protocol's attitude "
+            f"after calibration (gate {limit}°): it was not the rotation the protocol expects, "
             "or the gyroscope saturated"
-        )
+        ),
+    ))
     if not estimate_bias:
-        warnings.append("gyr: the bias was held at the mean rate of the still positions (too few rotations)")
+        gates.warn("gyr: the bias was held at the mean rate of the still positions (too few rotations)")
     return GyroCalibration(
         S_inv=M_hat,
         b=np.asarray(b_hat, float).copy(),
@@ -576,8 +617,7 @@ def fit_gyroscope(
         rotations=numbers,
         sampling_rate_hz=fs,
         metrics=metrics,
-        warnings=tuple(reasons + warnings),
-        reasons=tuple(reasons),
+        **gates.fields(),
     )
 
 

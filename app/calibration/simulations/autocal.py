@@ -6,7 +6,7 @@ an arm hanging, a forearm on a table...) jittered by a few degrees, otherwise a 
 the sphere.  A movement bout turns from one direction to another with an oscillating body
 acceleration of a few tenths of g on each axis.  The true specific force ``a`` (in g) becomes the
 reading ``v = K⁻¹ a − o`` by the 9-parameter model of 002 with the parameters of eq. (17)
-(:func:`app.calibration.simulate_002.draw_parameters`, :func:`~app.calibration.simulate_002.uncalibrate`)
+(:func:`app.calibration.simulations.triangular.draw_parameters`, :func:`~app.calibration.simulations.triangular.uncalibrate`)
 plus white noise.  Optionally some rest bouts are replaced by idle-sleep runs (the first sample
 repeated) or NaN gaps.
 
@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .simulate_002 import draw_parameters, random_unit_vectors, uncalibrate
+from .triangular import draw_parameters, random_unit_vectors, uncalibrate
 
 POSTURES = np.array([
     [0.0, 0.0, 1.0],     # wrist face up (lying, hand on a table)

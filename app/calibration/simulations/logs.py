@@ -17,10 +17,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import CalibrationError
-from .gravity import STANDARD_GRAVITY
-from .orientations import CANONICAL_SIX, UP_VECTORS, nearest_orientation
-from .validation import check_gravity
+from ..errors import CalibrationError
+from ..gravity import STANDARD_GRAVITY
+from ..orientations import CANONICAL_SIX, UP_VECTORS, nearest_orientation
+from ..validation import check_gravity
 
 
 @dataclass(frozen=True)

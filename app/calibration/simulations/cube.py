@@ -15,9 +15,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import quaternion as quat
-from .accmag import direction_matrix, reference_direction
-from .protocols import Protocol, get_protocol, parse_rotation
+from ..cube import quaternion as quat
+from ..cube.accmag import direction_matrix, reference_direction
+from ..cube.protocols import Protocol, get_protocol, parse_rotation
 
 # 003 Table VI, in the table's units: D (diag), D⁻¹S, b.
 TABLE_VI = {
