@@ -13,6 +13,7 @@ from fastapi.staticfiles import StaticFiles
 
 from app import __version__
 from app.api import router as api_router
+from app.api.body_limit import JsonBodyLimit
 from app.api.deps import bearer_token
 from app.api.errors import PayloadTooLarge, install_error_handlers
 from app.api.ratelimit import RateLimiter, retry_after
@@ -79,6 +80,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                         status_code=429, headers={"Retry-After": retry_after(wait)})
             return await call_next(request)
 
+    # Outermost, so that an oversized JSON body is refused before any other layer touches it.
+    app.add_middleware(JsonBodyLimit, limit_bytes=settings.max_json_bytes, limit_mb=settings.max_json_mb)
     install_error_handlers(app)
     app.include_router(api_router)
     app.include_router(web_router)
