@@ -1,7 +1,9 @@
 """The ``trical`` command: serve, calibrate, autocal, export.
 
 ``--json`` prints the same JSON as the API.  Errors are one line on stderr and exit status 2
-(bad input) or 1 (anything else); never a traceback.
+(bad input, including an option's value out of range: app.cli_options checks them while parsing) or
+1 (anything else; TRICAL_DEBUG=1 adds the traceback); never a traceback otherwise.  Output into a pipe
+closed early (``trical ... | head``) ends quietly with status 141, as a command killed by SIGPIPE does.
 """
 
 from __future__ import annotations
@@ -10,11 +12,13 @@ import argparse
 import json
 import os
 import sys
+import traceback
 from pathlib import Path
 
 import numpy as np
 
 from app import __version__, workflow
+from app import cli_options as opt
 from app.calibration import CalibrationError
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
@@ -29,60 +33,67 @@ UNKNOWN_METHODS = ("nonorthogonal", "triangular")
 CUBE_METHODS = ("cube",)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line: ``trical calibrate: error: argument ...``."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="trical", description="Calibrate accelerometers of phones and IMU boards.")
+    p = _Parser(prog="trical", description="Calibrate accelerometers of phones and IMU boards.")
     p.add_argument("--version", action="version", version=f"trical {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("serve", help="serve the API and the pages")
-    s.add_argument("--host", default=None,
+    s.add_argument("--host", type=opt.text("an address to listen on"), default=None,
                    help="address to listen on (default: HOST, else 127.0.0.1, or 0.0.0.0 with --https)")
-    s.add_argument("--port", type=int, default=None, help="port (default: PORT or 8000)")
+    s.add_argument("--port", type=opt.PORT, default=None, help="port (default: PORT or 8000)")
     s.add_argument("--https", action="store_true",
                    help="serve over TLS so that a phone on the LAN can use its motion sensors "
                         "(a self-signed certificate unless --cert and --key)")
-    s.add_argument("--cert", type=Path, default=None, metavar="FILE", help="PEM certificate to serve (implies --https)")
-    s.add_argument("--key", type=Path, default=None, metavar="FILE", help="PEM private key of --cert")
+    s.add_argument("--cert", type=opt.input_path("a PEM certificate"), default=None, metavar="FILE", help="PEM certificate to serve (implies --https)")
+    s.add_argument("--key", type=opt.input_path("the PEM private key of --cert"), default=None, metavar="FILE", help="PEM private key of --cert")
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
-    c.add_argument("log", type=Path, help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
+    c.add_argument("log", type=opt.input_path("a log file"), help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
     c.add_argument("--method", choices=KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS, default="six_position")
     c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help="cube only")
-    c.add_argument("--field-ut", type=float, default=None, help="cube only: local magnetic field magnitude in µT")
+    c.add_argument("--field-ut", type=opt.FIELD_UT, default=None, help="cube only: local magnetic field magnitude in µT")
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
     c.add_argument("--mag-unit", choices=("uT", "nT", "raw"), default=None)
     c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
                    help="triangular only: lm, or 002's descent in float, 16- or 32-bit fixed point")
-    c.add_argument("--sampling-rate-hz", type=float, default=None, help="needed when the log has no time column")
+    c.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column")
     c.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
-    c.add_argument("--lsb-per-g", type=float, default=None, help="counts per g of a raw (LSB) accelerometer")
-    c.add_argument("--gravity", type=float, default=None, help="reference gravity in m/s^2")
-    c.add_argument("--latitude-deg", type=float, default=None, help="local normal gravity from latitude")
-    c.add_argument("--height-m", type=float, default=None, help="height above the ellipsoid, with --latitude-deg")
-    c.add_argument("--device-id", default=None)
+    c.add_argument("--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer")
+    c.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
+    c.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
+    c.add_argument("--height-m", type=opt.HEIGHT, default=None, help="height above the ellipsoid, with --latitude-deg")
+    c.add_argument("--device-id", type=opt.text("a device id"), default=None)
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
 
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), 002 pipeline")
-    a.add_argument("path", type=Path, help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
-    a.add_argument("--sampling-rate-hz", type=float, default=None, help="needed when the file has no time column")
+    a.add_argument("path", type=opt.input_path("a recording or a folder of them"), help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
+    a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
     a.add_argument("--unit", choices=workflow.AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
     a.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm")
-    a.add_argument("--gravity", type=float, default=None, help="reference gravity in m/s^2")
-    a.add_argument("--latitude-deg", type=float, default=None, help="local normal gravity from latitude")
+    a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
+    a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
     a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (002: one is enough)")
-    a.add_argument("--workers", type=int, default=None, help="parallel processes for a folder (default: CPU count)")
-    a.add_argument("--dask-scheduler", default=None, metavar="ADDRESS",
+    a.add_argument("--workers", type=opt.WORKERS, default=None, help="parallel processes for a folder (default: CPU count)")
+    a.add_argument("--dask-scheduler", type=opt.text("a scheduler address"), default=None, metavar="ADDRESS",
                    help="run a folder on a Dask cluster (needs dask.distributed), e.g. tcp://host:8786")
-    a.add_argument("--device-id", default=None)
+    a.add_argument("--device-id", type=opt.text("a device id"), default=None)
     a.add_argument("--store", action="store_true", help="store the calibration(s) in the database")
     a.add_argument("--json", action="store_true", help="print the API's JSON (a list for a folder)")
 
     e = sub.add_parser("export", help="export a stored calibration")
-    e.add_argument("id", help="calibration id (cal_...)")
+    e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
     e.add_argument("--format", choices=tuple(EXPORTERS), default="json")
-    e.add_argument("--output", "-o", type=Path, default=None, help="file to write (default: stdout)")
+    e.add_argument("--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)")
     return p
 
 
@@ -343,6 +354,26 @@ def _export(args, settings: Settings) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the command; bad input is one line and status 2, a closed pipe 141, anything else one line and 1."""
+    try:
+        status = _run(argv)
+        sys.stdout.flush()  # a closed pipe shows here, not as a message at interpreter exit
+        return status
+    except BrokenPipeError:
+        # The reader went away (`trical ... | head`): say nothing, and let the interpreter's last flush
+        # of stdout go to /dev/null. 141 = 128 + SIGPIPE, what a shell reports for `cat` in that case.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141
+    except Exception as exc:
+        if os.environ.get("TRICAL_DEBUG") == "1":
+            traceback.print_exc()
+        reason = str(exc).splitlines()[0] if str(exc) else "no message"
+        print(f"trical: error: {type(exc).__name__}: {reason} (TRICAL_DEBUG=1 shows the traceback)", file=sys.stderr)
+        return 1
+
+
+def _run(argv: list[str] | None) -> int:
     args = _parser().parse_args(argv)
     try:
         settings = Settings.from_env()
@@ -360,6 +391,11 @@ def main(argv: list[str] | None = None) -> int:
     except FileNotFoundError as exc:
         print(f"trical: error: no such file: {exc.filename}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        raise  # main() ends quietly
+    except OSError as exc:  # a file that cannot be read or written, a port in use
+        print(f"trical: error: {exc.strerror or exc}{f': {exc.filename}' if exc.filename else ''}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         return 130
 

@@ -10,10 +10,12 @@ import logging
 from fastapi import FastAPI, Request
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
+from starlette.concurrency import run_in_threadpool
 
 from app import __version__
 from app.api import router as api_router
-from app.api.deps import bearer_token
+from app.api.body_limit import JsonBodyLimit
+from app.api.deps import bearer_token, verified_identity
 from app.api.errors import PayloadTooLarge, error_response, install_error_handlers
 from app.api.ratelimit import RateLimiter, retry_after
 from app.config import Settings
@@ -70,7 +72,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         @app.middleware("http")
         async def rate_limit(request: Request, call_next):
             if request.url.path.startswith("/api/"):
-                client = bearer_token(request) or (request.client.host if request.client else "unknown")
+                # The bucket of the verified caller (a valid key or session token); any other token,
+                # made up or expired, counts against the client's address like no token at all.
+                identity = await run_in_threadpool(verified_identity, request) if bearer_token(request) else None
+                client = identity or "addr:" + (request.client.host if request.client else "unknown")
                 wait = limiter.acquire(client)
                 if wait > 0:
                     return error_response(
@@ -79,6 +84,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                         "rate_limited", {"Retry-After": retry_after(wait)})
             return await call_next(request)
 
+    # Outermost, so that an oversized JSON body is refused before any other layer touches it.
+    app.add_middleware(JsonBodyLimit, limit_bytes=settings.max_json_bytes, limit_mb=settings.max_json_mb)
     install_error_handlers(app)
     app.include_router(api_router)
     app.include_router(web_router)

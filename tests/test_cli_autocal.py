@@ -126,46 +126,6 @@ def test_autocal_dask_missing_is_a_clear_error(tmp_path, capsys, recording, monk
     assert code == 2 and "dask" in err and "pip install" in err
 
 
-def test_autocal_folder_on_a_dask_scheduler(tmp_path, capsys, recording, monkeypatch):
-    """The Dask path maps the same job over the files through a Client (a local stand-in here)."""
-    import sys
-    import types
-
-    seen = {}
-
-    class Client:
-        def __init__(self, address):
-            seen["address"] = address
-
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            return False
-
-        def map(self, fn, paths, **kw):
-            seen["pure"] = kw.pop("pure")
-            return [fn(p, **kw) for p in paths]
-
-        def gather(self, futures):
-            return futures
-
-    dask = types.ModuleType("dask")
-    distributed = types.ModuleType("dask.distributed")
-    distributed.Client = Client
-    dask.distributed = distributed
-    monkeypatch.setitem(sys.modules, "dask", dask)
-    monkeypatch.setitem(sys.modules, "dask.distributed", distributed)
-    x, _ = recording
-    np.save(tmp_path / "a.npy", x)
-    code, out, err = _run(["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--unit", "g",
-                           "--dask-scheduler", "tcp://10.0.0.1:8786", "--json"], capsys)
-    assert code == 0, err
-    assert seen == {"address": "tcp://10.0.0.1:8786", "pure": False}
-    bodies = json.loads(out)
-    assert len(bodies) == 1 and bodies[0]["ok"] is True
-
-
 @pytest.mark.parametrize("n", [0, 10, 300])
 def test_autocal_tiny_or_empty_recordings_never_crash(tmp_path, capsys, n):
     f = tmp_path / "tiny.npy"

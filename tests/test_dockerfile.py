@@ -77,3 +77,23 @@ def test_compose_runs_two_replicas_on_postgresql():
     proxy = services["proxy"]
     conf = proxy["volumes"][0].split(":")[0]
     assert "proxy_pass http://trical" in (ROOT / conf).read_text()
+
+
+def test_nginx_limits_api_requests_per_address():
+    conf = (ROOT / "deploy" / "nginx.conf").read_text()
+    conf = "\n".join(line.split("#", 1)[0] for line in conf.splitlines())
+    zone = re.search(r"limit_req_zone\s+\$binary_remote_addr\s+zone=(\w+):(\d+)m\s+rate=(\d+)r/s;", conf)
+    assert zone, "nginx.conf needs a limit_req_zone keyed on $binary_remote_addr"
+    name = zone.group(1)
+    api = re.search(r"location\s+/api/\s*\{(.*?)\}", conf, re.S)
+    assert api, "nginx.conf needs a location /api/ that applies the limit"
+    block = api.group(1)
+    burst = re.search(rf"limit_req\s+zone={name}\s+burst=(\d+)(\s+nodelay)?;", block)
+    assert burst and int(burst.group(1)) >= int(zone.group(3)), "limit_req needs a burst of at least a second's rate"
+    assert re.search(r"limit_req_status\s+429;", block)
+    assert "proxy_pass http://trical;" in block
+    # Every header the catch-all location forwards is forwarded for /api/ too.
+    root = re.search(r"location\s+/\s*\{(.*?)\}", conf, re.S).group(1)
+    for line in root.splitlines():
+        if line.strip().startswith(("proxy_set_header", "proxy_read_timeout")):
+            assert line.strip() in block, line.strip()

@@ -73,9 +73,37 @@ def get_owner(request: Request) -> str | None:
         return None
     if token is None:
         raise Unauthorized("this server needs an API key: send `Authorization: Bearer <key>`")
-    if not any(hmac.compare_digest(token.encode(), key.encode()) for key in keys):
+    owner = key_owner(token, keys)
+    if owner is None:
         raise Unauthorized("the API key is not valid for this server")
+    return owner
+
+
+def key_owner(token: str, keys: tuple[str, ...]) -> str | None:
+    """The owner id of an API key among ``keys`` (compared in constant time), else None."""
+    if not any(hmac.compare_digest(token.encode(), key.encode()) for key in keys):
+        return None
     return "key:" + token_hash(token)[:32]
+
+
+def verified_identity(request: Request) -> str | None:
+    """The caller's identity when its bearer token proves one, else None; never raises.
+
+    A valid API key or a ``tks_…`` token that opens a session gives the same id as
+    :func:`get_owner`; no token, a made-up one or an expired session gives None, so that the
+    rate limit counts such calls against the client's address (app.main).
+    """
+    token = bearer_token(request)
+    if token is None:
+        return None
+    try:
+        session_id = session_of_token(request, token)
+    except Unauthorized:
+        return None
+    if session_id is not None:
+        return session_owner(session_id)
+    keys = request.app.state.settings.api_keys
+    return key_owner(token, keys) if keys else None
 
 
 def get_store(request: Request) -> OwnedStore:

@@ -58,6 +58,18 @@ class PayloadTooLarge(Exception):
         )
 
 
+class JsonTooLarge(Exception):
+    """A JSON request body exceeds TRICAL_MAX_JSON_MB (refused by app.api.body_limit before parsing)."""
+
+    code = "payload_too_large"
+
+    def __init__(self, limit_mb: float):
+        super().__init__(
+            f"the JSON body is larger than the limit of {limit_mb:g} MiB (TRICAL_MAX_JSON_MB): send fewer "
+            "samples per request (e.g. upload long recordings with POST /api/v1/recordings) or raise the limit"
+        )
+
+
 def describe_validation(exc: RequestValidationError) -> str:
     """One readable sentence per problem, e.g. ``readings[2].up: Input should be '+x', ...``."""
     return describe_errors(exc.errors())

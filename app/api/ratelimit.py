@@ -1,7 +1,9 @@
 """A per-client request rate limit on /api/ (TRICAL_RATE_LIMIT_PER_MINUTE; off when 0).
 
-A token bucket per client — its API key when it sends one, else its address — holding a minute's
-worth of requests and refilled continuously. Each replica keeps its own buckets.
+A token bucket per client — its verified identity (a valid API key or wizard session token, see
+app.api.deps.verified_identity), else its address — holding a minute's worth of requests and refilled
+continuously. Each replica keeps its own buckets; nginx's limit_req (deploy/nginx.conf) caps each
+address in front of them.
 """
 
 from __future__ import annotations

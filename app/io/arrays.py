@@ -6,7 +6,7 @@ it is read.  An N×4 array holds the time in its first column (seconds, or milli
 inferred from the step, as for CSV logs).
 
 Parquet files are read with pyarrow; the columns are recognised by the same names as CSV headers
-(:mod:`app.io.csv_log`: ``acc_x``/``ax``/``x``…, an optional time column ``time``/``time_s``/
+(:mod:`app.io.formats.generic_csv`: ``acc_x``/``ax``/``x``…, an optional time column ``time``/``time_s``/
 ``timestamp``…).  A timestamp column of Arrow type ``timestamp`` is converted to seconds.
 
 :func:`read_array_log` picks the reader from the file name (``.npy``, ``.parquet``/``.pq``, the wearable
@@ -19,8 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .csv_log import _infer_scale, _map_columns, _sampling_rate, read_csv_log
 from .errors import LogFormatError
+from .formats.generic_csv import map_columns, read_csv_log
+from .formats.table import sampling_rate, seconds_per_unit
 from .log import UNITS, LogData
 
 NPY_SUFFIXES = (".npy",)
@@ -89,12 +90,12 @@ def read_npy_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         time = np.asarray(arr[:, 0], dtype=float)
         acc = arr[:, 1:4]
     if time is not None and sampling_rate_hz is None:
-        rate = _sampling_rate(time[:100_000], None, None)
+        rate = sampling_rate(time[:100_000], None, name=name)
     else:
-        rate = _sampling_rate(None if time is None else time[:2], None, sampling_rate_hz)
+        rate = sampling_rate(None if time is None else time[:2], sampling_rate_hz, name=name)
     time_s = None
     if time is not None:
-        time_s = (time - time[0]) * _infer_scale(time[:100_000])
+        time_s = (time - time[0]) * seconds_per_unit(time[:100_000])
     return LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=rate, units={"acc": _unit(units)},
                    format="npy", columns=["time", "x", "y", "z"][4 - arr.shape[1]:])
 
@@ -119,7 +120,7 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
     except (pa.ArrowInvalid, OSError) as exc:
         raise LogFormatError(f"{name} is not a readable Parquet file ({exc})", status=415) from None
     names = list(pf.schema_arrow.names)
-    channels, time_col, time_scale, header_units = _map_columns(names)
+    channels, time_col, time_scale, header_units = map_columns(names)
     cols = [names[channels["acc"][a]] for a in "xyz"]
     wanted = cols + ([names[time_col]] if time_col is not None else [])
     try:
@@ -140,11 +141,11 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
             time, time_scale = (ns - ns[0]).astype(float), 1e-9  # relative first: float64 of epoch ns loses µs
         else:
             time = col.to_numpy(zero_copy_only=False).astype(float)
-    rate = _sampling_rate(time, time_scale, sampling_rate_hz)
+    rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
     unit = (units or {}).get("acc") or header_units.get("acc") or UNITS["acc"][0]
     return LogData(
         acc=acc, gyr=None, mag=None,
-        time_s=None if time is None else (time - time[0]) * (time_scale or _infer_scale(time)),
+        time_s=None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time)),
         sampling_rate_hz=rate, units={"acc": _unit({"acc": unit})}, format="parquet", columns=names,
     )
 

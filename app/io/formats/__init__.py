@@ -14,7 +14,7 @@ format                    recognised by
 ``gnss_logger``           lines ``UncalAccel,…`` (or the ``# UncalAccel,…`` header)
 ``physics_toolbox``       header naming ``gFx, gFy, gFz``
 ``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
-``csv``                   any other header row (:mod:`app.io.csv_log`)
+``csv``                   any other header row (:mod:`app.io.formats.generic_csv`)
 ========================  =====================================================================
 """
 
@@ -23,7 +23,6 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from ..arrays import is_array_file, read_array_log
 from ..errors import LogFormatError
 from ..log import LogData
 from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger
@@ -143,6 +142,8 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     """
     if format not in FORMATS:
         raise LogFormatError(f"unknown format {format!r}: use one of {', '.join(FORMATS)}")
+    from ..arrays import is_array_file, read_array_log  # here: app.io.arrays reads CSV through this package
+
     if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
         return read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
     column_map = parse_column_map(columns)

@@ -1,9 +1,17 @@
 """Generic and Arduino CSV logs: a header row naming the columns, readings in g, m/s² or LSB.
 
-The columns are those :mod:`app.io.csv_log` recognises.  The unit comes from the caller, else the
-header (``acc_x (g)``), else the data (:func:`~app.io.formats.units.infer_acc_unit`).  Readings in
-counts (LSB) become g with the sensor's sensitivity, given as ``lsb_per_g`` by the caller or in a
-comment line of the file such as ``# MPU-6050 ±2 g, lsb_per_g=16384``.
+Accelerometer columns are recognised by names such as ``acc_x``, ``ax``, ``x`` or
+``Acceleration x (m/s^2)``; gyroscope (``gyr_x``, ``gx``, ``Gyroscope x (rad/s)``) and magnetometer
+(``mag_x``, ``mx``, ``Magnetic field x (µT)``) columns are optional.  An optional leading index or
+time column (seconds, milliseconds, microseconds or nanoseconds) gives the sampling rate; without
+one, the caller gives ``sampling_rate_hz``.  Error messages name lines 1-based, the header being
+line 1 (comment lines starting with ``#`` before the header count too).  Parquet files name their
+columns the same way (:mod:`app.io.arrays` uses :func:`map_columns`).
+
+The unit comes from the caller, else the header (``acc_x (g)``), else the data
+(:func:`~app.io.formats.units.infer_acc_unit`).  Readings in counts (LSB) become g with the
+sensor's sensitivity, given as ``lsb_per_g`` by the caller or in a comment line of the file such as
+``# MPU-6050 ±2 g, lsb_per_g=16384``.
 
 The *arduino* format adds the Arduino IDE Serial Plotter's ``label:value`` lines
 (``ax:-112 ay:35 az:16490``, separated by spaces, tabs or commas) to the CSV layout.
@@ -11,17 +19,185 @@ The *arduino* format adds the Arduino IDE Serial Plotter's ``label:value`` lines
 
 from __future__ import annotations
 
+import csv
 import dataclasses
 import re
 from pathlib import Path
 
 import numpy as np
 
-from ..csv_log import _PATTERNS, _map_columns, _normalise, _split_header, read_csv_log
 from ..errors import LogFormatError
-from ..log import LogData
-from .table import Sniff, rate_from_time
+from ..log import UNITS, LogData
+from .table import SNIFF_BYTES, Sniff, decode_head, guess_delimiter, rate_from_time, read_columns, sampling_rate, seconds_per_unit
 from .units import infer_acc_unit
+
+MAX_LISTED_COLUMNS = 20
+
+_AXIS = r"[ _.\-]?(?:\(?)(?P<axis>[xyz])(?:\)?)"
+_UNIT = r"(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?"
+PATTERNS = {
+    "acc": re.compile(rf"^(?:acc|accel|accelerometer|acceleration|a)?{_AXIS}(?:[ _]?axis)?{_UNIT}$"),
+    "gyr": re.compile(rf"^(?:gyr|gyro|gyroscope|g|angular[ _]velocity|rotation[ _]rate|w){_AXIS}(?:[ _]?axis)?{_UNIT}$"),
+    "mag": re.compile(rf"^(?:mag|magn|magnetometer|magnetic[ _]field|m|b){_AXIS}(?:[ _]?axis)?{_UNIT}$"),
+}
+_TIME = re.compile(
+    r"^(?:t|time|timestamp|times|elapsed|seconds_elapsed|time_elapsed)"
+    r"(?:[ _]?(?P<suffix>s|sec|ms|us|ns))?(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?$"
+)
+_INDEX = re.compile(r"^(?:index|idx|i|n|sample|sample_index|#)$")
+_LINEAR = re.compile(r"linear|user[ _]?acc|without[ _]g|gravity[ _]removed")
+
+_UNIT_ALIASES = {
+    "m/s^2": "m/s^2", "m/s2": "m/s^2", "m/s²": "m/s^2", "ms^-2": "m/s^2", "m s^-2": "m/s^2",
+    "g": "g", "rad/s": "rad/s", "deg/s": "deg/s", "°/s": "deg/s", "dps": "deg/s",
+    "ut": "uT", "µt": "uT", "μt": "uT", "nt": "nT", "raw": "raw", "lsb": "raw", "counts": "raw",
+}
+_TIME_SCALE = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9}
+
+
+def normalise(name: str) -> str:
+    return re.sub(r"\s+", " ", name.strip().strip('"').strip().lower())
+
+
+def _header_unit(text: str | None) -> str | None:
+    if not text:
+        return None
+    return _UNIT_ALIASES.get(text.strip().lower().replace(" ", ""), None)
+
+
+def split_header(text: str) -> tuple[int, str, list[str]]:
+    """Line number (1-based) of the header, the delimiter and the column names."""
+    lines = text.splitlines()
+    for number, line in enumerate(lines, start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        delimiter = guess_delimiter(line)
+        if line.count(delimiter) == 0:
+            raise LogFormatError(
+                f"line {number} {line[:80]!r} is not a header of comma-, semicolon- or tab-separated "
+                "columns: the first line must name the columns, e.g. acc_x,acc_y,acc_z"
+            )
+        names = next(csv.reader([line], delimiter=delimiter))
+        return number, delimiter, names
+    raise LogFormatError("the file holds no header row: the first line must name the columns, e.g. acc_x,acc_y,acc_z")
+
+
+def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]:
+    """Find the sensor, time and index columns; returns (channels, time column, time scale, units)."""
+    channels: dict[str, dict[str, int]] = {}
+    units: dict[str, str] = {}
+    time_col = time_scale = None
+    for col, raw in enumerate(names):
+        name = normalise(raw)
+        m = _TIME.match(name)
+        if m and time_col is None:
+            time_col = col
+            unit = (m.group("unit") or m.group("suffix") or "").strip().lower()
+            time_scale = _TIME_SCALE.get(unit)
+            continue
+        if _INDEX.match(name):
+            continue
+        for sensor, pattern in PATTERNS.items():
+            m = pattern.match(name)
+            if m:
+                channels.setdefault(sensor, {}).setdefault(m.group("axis"), col)
+                unit = _header_unit(m.group("unit"))
+                if unit:
+                    units.setdefault(sensor, unit)
+                break
+    if any(_LINEAR.search(normalise(n)) for n in names) and "acc" not in channels:
+        raise LogFormatError(
+            "the accelerometer columns hold linear acceleration (gravity removed); calibration needs "
+            "the raw accelerometer including gravity: export 'acceleration including gravity' instead"
+        )
+    acc = channels.get("acc", {})
+    if set(acc) != {"x", "y", "z"}:
+        listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
+        if len(names) > MAX_LISTED_COLUMNS:
+            listed += f" and {len(names) - MAX_LISTED_COLUMNS} more"
+        raise LogFormatError(
+            f"no accelerometer x, y and z columns among the header's columns {listed}: name them "
+            "acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), optionally with a time column "
+            "time_s / time_ms / time_ns, or map them without editing the file with the upload field "
+            "columns, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
+            "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
+            "recognised as they are"
+        )
+    partial = [s for s, axes in channels.items() if s != "acc" and set(axes) != {"x", "y", "z"}]
+    for sensor in partial:
+        del channels[sensor]
+    return channels, time_col, time_scale, units
+
+
+def renamed(names: list[str], column_map: dict | None) -> list[str]:
+    """The header with the columns of ``column_map`` (canonical name → file column) renamed."""
+    if not column_map:
+        return names
+    stripped = [n.strip().strip('"').strip() for n in names]
+    out = list(names)
+    for canonical, column in column_map.items():
+        if column not in stripped:
+            listed = ", ".join(repr(n) for n in stripped)
+            raise LogFormatError(f"columns maps {canonical} to {column!r}, which is not a column of the header "
+                                 f"({listed}): use one of those names")
+        out[stripped.index(column)] = canonical
+    return out
+
+
+
+def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
+                 name: str = "the file", column_map: dict | None = None) -> LogData:
+    """Read a generic CSV log into arrays, its units as the caller or the header name them.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The CSV file.
+    sampling_rate_hz : float, optional
+        Required when the file has no time column; overrides the rate the time column gives.
+    units : dict, optional
+        Units per sensor (``{"acc": "g"}``); override those named in the header.
+    name : str
+        How to call the file in messages.
+    column_map : dict, optional
+        Canonical names for the file's columns, ``{"acc_x": "north", ...}``: the named columns are
+        read as if the header called them so.
+
+    Raises
+    ------
+    LogFormatError
+        Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks,
+        text in a numeric column (with its line number), a missing sampling rate.
+    """
+    with open(path, "rb") as f:
+        head = f.read(SNIFF_BYTES)
+    header_line, delimiter, names = split_header(decode_head(head, name))
+    channels, time_col, time_scale, header_units = map_columns(renamed(names, column_map))
+    used = [time_col] if time_col is not None else []
+    for sensor in ("acc", "gyr", "mag"):
+        if sensor in channels:
+            used += [channels[sensor][a] for a in "xyz"]
+    values = dict(zip(used, read_columns(Path(path), skip_lines=header_line, n_columns=len(names), columns=used,
+                                         delimiter=delimiter, name=name, column_names=names,
+                                         first_line=header_line + 1)))
+    arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
+    time = values[time_col] if time_col is not None else None
+    rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
+    final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
+    for sensor, unit in final_units.items():
+        if unit not in UNITS[sensor]:
+            raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(UNITS[sensor])}")
+    return LogData(
+        acc=arrays["acc"],
+        gyr=arrays.get("gyr"),
+        mag=arrays.get("mag"),
+        time_s=None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time)),
+        sampling_rate_hz=rate,
+        units=final_units,
+        format="csv",
+        columns=names,
+    )
+
 
 CSV = "csv"
 ARDUINO = "arduino"
@@ -58,8 +234,8 @@ def detect_csv(s: Sniff) -> bool:
 
 def _header_acc_unit(text: str) -> str | None:
     try:
-        _, _, names = _split_header(text)
-        return _map_columns(names)[3].get("acc")
+        _, _, names = split_header(text)
+        return map_columns(names)[3].get("acc")
     except LogFormatError:
         return None
 
@@ -101,8 +277,8 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     labels = list(first)
     channels: dict[str, dict[str, str]] = {}
     for label in labels:
-        for sensor, pattern in _PATTERNS.items():
-            m = pattern.match(_normalise(label))
+        for sensor, pattern in PATTERNS.items():
+            m = pattern.match(normalise(label))
             if m:
                 channels.setdefault(sensor, {}).setdefault(m.group("axis"), label)
                 break

@@ -1,14 +1,17 @@
 """Shared pieces of the format readers: the sniffed head of an upload, zip members, numeric columns.
 
-The readers of :mod:`app.io.formats` see an upload through :class:`Sniff` (its first bytes as
-text, or the member names of a zip) and read their numeric columns with :func:`read_columns`,
-which takes the delimiter and the decimal mark (phyphox writes ``1,5`` with ``;`` separators).
+The one CSV stack of :mod:`app.io`: the readers of :mod:`app.io.formats` (and the array readers'
+CSV fallback, :mod:`app.io.arrays`) see an upload through :class:`Sniff` (its first bytes as text, or
+the member names of a zip), read their numeric columns with :func:`read_columns` (pyarrow's CSV
+reader, from a file or from bytes, with the delimiter and the decimal mark: phyphox writes ``1,5``
+with ``;`` separators), and take the sampling rate from a time column with :func:`sampling_rate`.
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import itertools
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -104,15 +107,16 @@ def guess_delimiter(line: str) -> str:
     return max((",", ";", "\t"), key=line.count)
 
 
-def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[int], delimiter: str,
+def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns: list[int], delimiter: str,
                  decimal: str = ".", name: str = "the file", column_names: list[str] | None = None,
                  first_line: int | None = None, integer_columns: tuple[int, ...] = ()) -> list[np.ndarray]:
     """Numeric columns of a delimited table, as float arrays.
 
     Parameters
     ----------
-    data : bytes
-        The table's text; the first ``skip_lines`` lines (header, comments) are skipped.
+    data : bytes or pathlib.Path
+        The table's text, or the file holding it (read by pyarrow in blocks, never whole); the first
+        ``skip_lines`` lines (header, comments) are skipped.
     n_columns : int
         Columns per row (the header's count).
     columns : list of int
@@ -134,9 +138,10 @@ def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[
         A non-numeric value (naming its line and column), or no data rows.
     """
     names = [f"c{i}" for i in range(n_columns)]
+    first_line = first_line or skip_lines + 1
     try:
         table = pacsv.read_csv(
-            io.BytesIO(data),
+            io.BytesIO(data) if isinstance(data, bytes) else str(data),
             read_options=pacsv.ReadOptions(skip_rows=skip_lines, column_names=names, block_size=1 << 22),
             parse_options=pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True),
             convert_options=pacsv.ConvertOptions(
@@ -146,18 +151,18 @@ def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[
             ),
         )
     except (pa.ArrowInvalid, pa.ArrowTypeError, UnicodeDecodeError):
-        detail = first_bad_line(data, skip_lines, delimiter, decimal, columns, column_names or names,
-                                first_line or skip_lines + 1)
+        detail = first_bad_line(data, skip_lines, delimiter, decimal, columns, column_names or names, first_line)
         raise LogFormatError(f"{name}: {detail}: every used column must hold numbers") from None
     if table.num_rows == 0:
-        raise LogFormatError(f"{name} has a header but no data rows: add the samples below it")
+        raise LogFormatError(f"{name} has a header (line {first_line - 1}) but no data rows: add the samples below it")
     out = []
     for c in columns:
         arr = table.column(names[c])
         if arr.null_count:
             row = int(np.flatnonzero(arr.is_null().to_numpy(zero_copy_only=False))[0])
-            raise LogFormatError(f"{name}: data row {row + 1} has an empty value in column "
-                                 f"{(column_names or names)[c]!r}: fill or remove that line")
+            raise LogFormatError(f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank "
+                                 f"lines) has an empty value in column {(column_names or names)[c]!r}: fill or "
+                                 "remove that line")
         arr = arr.to_numpy(zero_copy_only=False)
         out.append(arr if c in integer_columns else arr.astype(float, copy=False))
     for c, arr in zip(columns, out):
@@ -166,19 +171,35 @@ def read_columns(data: bytes, *, skip_lines: int, n_columns: int, columns: list[
             row = int(np.flatnonzero(bad)[0])
             label = (column_names or names)[c]
             raise LogFormatError(
-                f"{name}: data row {row + 1} has an empty or non-finite value in column {label!r}: fill or "
-                "remove that line"
+                f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank lines) has an "
+                f"empty or non-finite value in column {label!r}: fill or remove that line"
             )
     return out
 
 
-def first_bad_line(data: bytes, skip_lines: int, delimiter: str, decimal: str, columns: list[int],
+def _text_lines(data: bytes | Path):
+    if isinstance(data, bytes):
+        yield from data.decode("utf-8-sig", errors="replace").splitlines()
+        return
+    with open(data, encoding="utf-8-sig", errors="replace", newline="") as f:
+        for line in f:
+            yield line.rstrip("\r\n")
+
+
+def first_bad_line(data: bytes | Path, skip_lines: int, delimiter: str, decimal: str, columns: list[int],
                    names: list[str], first_line: int) -> str:
     """Describe the first data line whose used columns are not all numbers (slow path, errors only)."""
-    lines = data.decode("utf-8-sig", errors="replace").splitlines()
-    for offset, line in enumerate(lines[skip_lines:]):
+    try:
+        return _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, first_line)
+    except csv.Error as exc:
+        return (f"a line after the header could not be read as delimited text ({exc}; lines are limited to "
+                f"{csv.field_size_limit()} characters per field)")
+
+
+def _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, first_line) -> str:
+    for offset, line in enumerate(itertools.islice(_text_lines(data), skip_lines, None)):
         number = first_line + offset
-        if not line.strip():
+        if not line.strip() or line.lstrip().startswith("#"):
             continue
         row = split_row(line, delimiter)
         if len(row) < len(names):
@@ -192,19 +213,66 @@ def first_bad_line(data: bytes, skip_lines: int, delimiter: str, decimal: str, c
     return "a line could not be read as numbers"
 
 
-def rate_from_time(time_s: np.ndarray | None, sampling_rate_hz: float | None, name: str) -> float:
-    """The sampling rate: the caller's, else the median step of the time in seconds."""
+def sampling_rate(time: np.ndarray | None, sampling_rate_hz: float | None, *, time_scale: float | None = None,
+                  name: str = "the file") -> float:
+    """The sampling rate: the caller's, else one over the median step of a time column.
+
+    Parameters
+    ----------
+    time : numpy.ndarray or None
+        The time column as read, in units of ``time_scale`` seconds; None when the file has none.
+    sampling_rate_hz : float, optional
+        The caller's rate, which wins when given.
+    time_scale : float, optional
+        Seconds per unit of ``time``; inferred from its median step when None (:func:`seconds_per_unit`).
+    name : str
+        How to call the file in messages.
+
+    Raises
+    ------
+    LogFormatError
+        A rate that is not positive, no time column (or one sample) and no rate given, a time
+        column that does not increase or whose unit cannot be inferred.
+    """
     if sampling_rate_hz is not None:
         if not (np.isfinite(sampling_rate_hz) and sampling_rate_hz > 0):
             raise LogFormatError(f"sampling_rate_hz must be a positive number; got {sampling_rate_hz}")
         return float(sampling_rate_hz)
-    if time_s is None or len(time_s) < 2:
-        raise LogFormatError(f"{name} gives no sampling rate (no time column or one sample): give sampling_rate_hz")
-    steps = np.diff(time_s)
+    if time is None:
+        raise LogFormatError(
+            f"{name} has no time column, so its sampling rate is unknown: give sampling_rate_hz "
+            "(a form field of the upload, --sampling-rate-hz on the command line)"
+        )
+    if len(time) < 2:
+        raise LogFormatError("one sample has no sampling rate: give sampling_rate_hz")
+    scale = time_scale or seconds_per_unit(time)
+    steps = np.diff(time) * scale
     steps = steps[steps > 0]
     if len(steps) == 0:
-        raise LogFormatError(f"the time column of {name} does not increase: give sampling_rate_hz or fix it")
+        raise LogFormatError(f"the time column of {name} does not increase: give sampling_rate_hz or fix the time column")
     return float(1.0 / np.median(steps))
+
+
+def rate_from_time(time_s: np.ndarray | None, sampling_rate_hz: float | None, name: str) -> float:
+    """The sampling rate: the caller's, else the median step of a time in seconds."""
+    return sampling_rate(time_s, sampling_rate_hz, time_scale=1.0, name=name)
+
+
+def seconds_per_unit(time: np.ndarray) -> float:
+    """Seconds per unit of a time column, inferred from its median step when the header does not say."""
+    steps = np.diff(time)
+    steps = steps[np.isfinite(steps) & (steps > 0)]
+    if len(steps) == 0:
+        raise LogFormatError("the time column does not increase: give sampling_rate_hz or fix the time column")
+    dt = float(np.median(steps))
+    # Plausible sampling rates are 1 Hz to 10 kHz: pick the unit that puts the step in that range.
+    for scale in (1.0, 1e-3, 1e-6, 1e-9):
+        if 1e-4 <= dt * scale <= 1.0:
+            return scale
+    raise LogFormatError(
+        f"the time column's median step {dt:g} fits no unit (s, ms, µs, ns) for a rate between 1 Hz and "
+        "10 kHz: name its unit in the header (time_s, time_ms, time_ns) or give sampling_rate_hz"
+    )
 
 
 def resample_to(time_s: np.ndarray, other_time_s: np.ndarray, values: np.ndarray) -> np.ndarray:

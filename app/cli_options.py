@@ -1,0 +1,106 @@
+"""Value checks of the ``trical`` command's options, run by argparse while it parses.
+
+Each factory returns a ``type=`` function that refuses a bad value with a one-line reason
+(argparse then exits with status 2) and lists in ``refuses`` a few values it refuses, so that
+tests can feed every option of the parser a bad value without a hand-kept list.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+
+def number(what: str, *, low: float | None = None, high: float | None = None, low_open: bool = False,
+           integer: bool = False):
+    """A finite number (an integer with ``integer``) within ``[low, high]`` (``(low, high]`` with ``low_open``).
+
+    Parameters
+    ----------
+    what : str
+        How the message names the value, e.g. ``"a latitude in degrees"``.
+    low, high : float, optional
+        The bounds; None for none.
+    low_open : bool
+        Exclude ``low`` itself (e.g. ``> 0``).
+    integer : bool
+        Accept integers only.
+    """
+    if low is not None and high is not None:
+        bounds = f"{'above' if low_open else 'from'} {low:g} {'up to' if low_open else 'to'} {high:g}"
+    elif low is not None:
+        bounds = f"{'above' if low_open else 'at least'} {low:g}"
+    else:
+        bounds = f"at most {high:g}" if high is not None else "finite"
+
+    def parse(text: str):
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not {'an integer' if integer else 'a number'}: "
+                                             f"give {what}, {bounds}") from None
+        if not math.isfinite(value) or (low is not None and (value < low or (low_open and value == low))) \
+                or (high is not None and value > high):
+            raise argparse.ArgumentTypeError(f"{text} is out of range: give {what}, {bounds}")
+        return value
+
+    refused = ["abc", "nan"] + (["1.5"] if integer else [])
+    if low is not None:
+        refused.append(f"{low:g}" if low_open else f"{low - 1:g}")
+    if high is not None:
+        refused.append(f"{high + 1:g}")
+    parse.refuses = tuple(refused)
+    parse.__name__ = what
+    return parse
+
+
+def text(what: str):
+    """A non-blank string."""
+
+    def parse(value: str) -> str:
+        if not value.strip():
+            raise argparse.ArgumentTypeError(f"an empty value: give {what}")
+        return value
+
+    parse.refuses = ("", "  ")
+    parse.__name__ = what
+    return parse
+
+
+def output_file(what: str):
+    """A file to write, in a directory that exists."""
+
+    def parse(value: str) -> Path:
+        path = Path(value)
+        if not value.strip() or path.is_dir() or not path.parent.is_dir():
+            raise argparse.ArgumentTypeError(f"cannot write {value!r}: give {what} in a directory that exists")
+        return path
+
+    parse.refuses = ("/nonexistent-dir/calibration.json", "", "/")
+    parse.__name__ = what
+    return parse
+
+
+def input_path(what: str):
+    """A file or folder to read; a missing one is reported when the command runs, before anything
+    starts ("trical: error: no such file: ...")."""
+
+    def parse(value: str) -> Path:
+        if not value.strip():
+            raise argparse.ArgumentTypeError(f"an empty path: give {what}")
+        return Path(value)
+
+    parse.refuses = ("/nonexistent/trical-input", "")
+    parse.__name__ = what
+    return parse
+
+
+PORT = number("a TCP port", low=1, high=65535, integer=True)
+LATITUDE = number("a latitude in degrees", low=-90, high=90)
+HEIGHT = number("a height above the ellipsoid in m", low=-12000, high=100000)
+GRAVITY = number("a gravity in m/s^2", low=0, high=100, low_open=True)
+SAMPLING_RATE = number("a sampling rate in Hz", low=0, high=100000, low_open=True)
+LSB_PER_G = number("counts per g", low=0, low_open=True)
+FIELD_UT = number("a magnetic field magnitude in µT", low=0, high=1000, low_open=True)
+WORKERS = number("a number of worker processes", low=1, integer=True)
