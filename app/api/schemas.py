@@ -6,6 +6,8 @@ from typing import Annotated, Any, ClassVar, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
+from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+
 Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
 Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
 AccUnit = Literal["m/s^2", "g", "raw"]
@@ -195,8 +197,8 @@ class SessionIn(Strict):
     """A guided wizard session (issue 6): the page captures each pose into it, then solves it."""
 
     protocol: Literal["six", "cube24"] = Field("six", description="`six` (any order) or `cube24` (fixed order).")
-    capture_s: Annotated[float, Field(ge=0.5, le=30, allow_inf_nan=False)] = Field(
-        5.0, description="Seconds captured per position.")
+    capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
+        CAPTURE_S_DEFAULT, description="Seconds captured per position.")
     unit: Literal["m/s^2", "g"] = Field("m/s^2", description="Unit of the samples the page sends.")
     gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None

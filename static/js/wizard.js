@@ -5,6 +5,7 @@ import { CaptureMachine, POSES, SignDetector, STANDARD_GRAVITY, isApplePlatform,
 import { CUBE_POSITIONS, MotionLog, cubeSvg, expectPosition, turnInto, upOf } from "./cube.js";
 import { describePose, poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
+import { TABLES } from "./tables.js";
 import { normChartSvg, normRows, withInterval } from "./result.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -259,8 +260,9 @@ function listen() {
   listening = true;
   sign = new SignDetector({ apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints) });
   if (cube) {
-    // A cube may stand on an inclined plane: its up face is the nearest axis within 40° (the server: 45°).
-    machine = new CaptureMachine(captureS * 1000, { maxAngleDeg: 40 });
+    // A cube may stand on an inclined plane: its up face is the nearest axis within the page's angle
+    // (inside the server's).
+    machine = new CaptureMachine(captureS * 1000, { maxAngleDeg: TABLES.cube.maxAngleDeg });
     log = new MotionLog();
     expectPosition(machine, nextPosition());
     // Resumed: the cube stands in the last captured position and must turn before the next capture.
