@@ -179,7 +179,9 @@ def _cube_capture(store, session: dict, capture: dict) -> dict:
         turn = check_turn(motion["gyr"], motion["t_ms"], protocol, k - 2, bias=previous["gyr_mean"],
                           gyr_scale=declared)
         if not turn.ok:
-            raise CalibrationError(turn.message)
+            wrong = CalibrationError(turn.message)
+            wrong.code = "wrong_turn"
+            raise wrong
         summary["turn"] = turn.to_dict()
         summary["gyr_to_rad_s"] = turn.gyr_scale
     if checked.position != CUBE24_UPS[k - 1]:

@@ -1,4 +1,6 @@
-"""The one place that maps errors to HTTP responses: ``{"detail": "..."}`` with a 4xx status.
+"""The one place that maps errors to HTTP responses: ``{"detail": "...", "code": "..."}`` with a 4xx status.
+
+``detail`` is for a person; ``code`` is what a client decides on (``wrong_turn``, ``already_captured`` …).
 
 Bad input never yields a 500; an unexpected failure is logged with its traceback and answered
 with a 500 whose message holds no internals.
@@ -15,7 +17,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from app.api.deps import Unauthorized
 from app.api.schemas import METHODS
-from app.calibration import CalibrationError
+from app.calibration import CalibrationError, InsufficientDataError
 from app.io.errors import ExportError, LogFormatError
 from app.store import ConflictError, NotFoundError
 
@@ -65,8 +67,11 @@ def describe_validation(exc: RequestValidationError) -> str:
     return "; ".join(dict.fromkeys(messages)) or "invalid request"
 
 
-def _json(status: int, detail: str) -> JSONResponse:
-    return JSONResponse({"detail": detail}, status_code=status)
+def _json(status: int, detail, code: str, headers=None) -> JSONResponse:
+    return JSONResponse({"detail": detail, "code": code}, status_code=status, headers=headers)
+
+
+_LOG_FORMAT_CODES = {415: "unsupported_media", 413: "payload_too_large"}
 
 
 def install_error_handlers(app: FastAPI) -> None:
@@ -74,41 +79,43 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError):
-        return _json(422, describe_validation(exc))
+        return _json(422, describe_validation(exc), "invalid_request")
 
     @app.exception_handler(CalibrationError)
     async def _calibration(request: Request, exc: CalibrationError):
-        return _json(422, str(exc))
+        if isinstance(exc, InsufficientDataError):
+            return _json(422, str(exc), "insufficient_data")
+        return _json(422, str(exc), getattr(exc, "code", "calibration_refused"))
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):
-        return _json(exc.status, str(exc))
+        return _json(exc.status, str(exc), _LOG_FORMAT_CODES.get(exc.status, "unreadable_log"))
 
     @app.exception_handler(ExportError)
     async def _export(request: Request, exc: ExportError):
-        return _json(422, str(exc))
+        return _json(422, str(exc), "export_refused")
 
     @app.exception_handler(NotFoundError)
     async def _not_found(request: Request, exc: NotFoundError):
-        return _json(404, str(exc.args[0]) if exc.args else "not found")
+        return _json(404, str(exc.args[0]) if exc.args else "not found", "not_found")
 
     @app.exception_handler(ConflictError)
     async def _conflict(request: Request, exc: ConflictError):
-        return _json(409, str(exc))
+        return _json(409, str(exc), "already_captured")
 
     @app.exception_handler(Unauthorized)
     async def _unauthorized(request: Request, exc: Unauthorized):
-        return JSONResponse({"detail": str(exc)}, status_code=401, headers={"WWW-Authenticate": "Bearer"})
+        return _json(401, str(exc), "unauthorized", headers={"WWW-Authenticate": "Bearer"})
 
     @app.exception_handler(PayloadTooLarge)
     async def _too_large(request: Request, exc: PayloadTooLarge):
-        return _json(413, str(exc))
+        return _json(413, str(exc), "payload_too_large")
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException):
-        return JSONResponse({"detail": exc.detail}, status_code=exc.status_code, headers=exc.headers)
+        return _json(exc.status_code, exc.detail, "http_error", headers=exc.headers)
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception):
         log.exception("unexpected error on %s %s", request.method, request.url.path)
-        return _json(500, "internal error: the request was not completed; nothing was stored")
+        return _json(500, "internal error: the request was not completed; nothing was stored", "internal_error")

@@ -153,7 +153,7 @@ async function ensureSession() {
     instruct(cube ? "Stand the cube in position 1 against the jig and let go."
       : `Put the phone down on one of its sides: ${list(session.remaining)}.`);
   } catch (err) {
-    if (err.status === 401) {
+    if (err.code === "unauthorized") {
       $("#key-box").hidden = false;
       $("#api-key").focus();
       instruct("This server needs an API key before it starts a session.");
@@ -176,7 +176,7 @@ async function resume() {
     adopt(await getSession(saved.id, saved.token));
   } catch (err) {
     token = null;
-    if (err.status === 401 || err.status === 404) localStorage.removeItem(storeKey);
+    if (err.code === "unauthorized" || err.code === "not_found") localStorage.removeItem(storeKey);
     say(`The saved calibration could not be resumed (${err.message}); starting a new one.`);
     return;
   }
@@ -459,10 +459,10 @@ async function sendCubeCapture(capture) {
   } catch (err) {
     machine.resolve(false, capture.position);
     awaitingTurn = false;
-    if (err.status === 409) {
+    if (err.code === "already_captured") {
       try { adopt(await getSession(session.id, token)); } catch { /* keep the old view */ }
     }
-    if (err.status === 422 && err.message.startsWith("wrong turn")) {
+    if (err.code === "wrong_turn") {
       showWrongTurn(err.message, k);
     } else {
       const text = `The capture of position ${k} was refused: ${err.message}. Move the cube and put it down again.`;
@@ -532,7 +532,7 @@ async function sendCapture(capture) {
     if (!remaining.length) await solve();
   } catch (err) {
     machine.resolve(false, capture.position);
-    if (err.status === 409) {
+    if (err.code === "already_captured") {
       try { adopt(await getSession(session.id, token)); } catch { /* keep the old view */ }
     }
     const text = `The capture of ${capture.position} was refused: ${err.message}. Move the phone and put it down again.`;
