@@ -29,13 +29,34 @@ PROTOCOL_POSITIONS: dict[str, tuple[str, ...]] = {
 }
 """The positions of each protocol the server can guide."""
 
+CAPTURE_S_DEFAULT = 5.0
+"""Seconds captured per position unless the session asks for another duration."""
+
+CAPTURE_S_RANGE = (0.5, 30.0)
+"""The seconds per position a session accepts (the API's and the wizard page's bounds)."""
+
 CUBE_FACE_MAX_ANGLE_DEG = 45.0
 """The cube may stand on an inclined plane: its up face is the nearest axis within 45° (as 003's
 sequence check, app.calibration.cube.sequence)."""
 
+PAGE_CUBE_FACE_MAX_ANGLE_DEG = 40.0
+"""The wizard page captures a cube position only within 40° of a face, inside the server's 45°,
+so that what it sends is not refused for the angle."""
+
 MAX_ROTATION_DEG_S = 5.0
 """A still capture whose mean rotation rate exceeds this (°/s) was turning, whatever the
 accelerometer says; a phone gyroscope's bias is well below it."""
+
+PAGE_STILL_ENTER_DEG_S = 3.0
+PAGE_STILL_LEAVE_DEG_S = MAX_ROTATION_DEG_S
+"""The wizard page calls the device still when the mean rotation rate over its window falls below
+3 °/s and moving again above the server's 5 °/s (hysteresis, static/js/motion.js)."""
+
+PAGE_STILL_ENTER_STD = 0.1
+PAGE_STILL_LEAVE_STD = 0.25
+"""The same for the accelerometer, in m/s²: the largest per-axis standard deviation over the
+window; the page leaves "still" below the server's limit (app.calibration.capture.STILL_MAX_STD_G,
+0.03 g = 0.29 m/s²), so that a capture it completes is still for the server too."""
 
 
 OS_CALIBRATION_WARNING = (

@@ -27,6 +27,7 @@ from app.requests import (  # noqa: F401  (re-exported: the routes and tests nam
     UnknownOrientationIn,
     Vec3,
 )
+from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 
 
 # -- calibration responses -----------------------------------------------------------------------
@@ -401,8 +402,8 @@ class SessionIn(Strict):
     """A guided wizard session (issue 6): the page captures each pose into it, then solves it."""
 
     protocol: Literal["six", "cube24"] = Field("six", description="`six` (any order) or `cube24` (fixed order).")
-    capture_s: Annotated[float, Field(ge=0.5, le=30, allow_inf_nan=False)] = Field(
-        5.0, description="Seconds captured per position.")
+    capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
+        CAPTURE_S_DEFAULT, description="Seconds captured per position.")
     unit: Literal["m/s^2", "g"] = Field("m/s^2", description="Unit of the samples the page sends.")
     gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None

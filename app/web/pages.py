@@ -8,23 +8,16 @@ from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
 from fastapi.templating import Jinja2Templates
 
+from app.calibration import CANONICAL_SIX
 from app.io.exporters import FORMAT_NAMES
 from app.qr import qr_svg_data_uri
+from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+
+from .tables import POSE_NAMES, page_tables
 
 router = APIRouter(include_in_schema=False)
 
-SIX = ["-x", "+x", "-y", "+y", "-z", "+z"]
 PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube"}
-CAPTURE_S_DEFAULT = 5.0
-CAPTURE_S_RANGE = (0.5, 30.0)
-POSE_NAMES = {
-    "+z": "flat, screen up",
-    "-z": "flat, screen down",
-    "+y": "standing upright, top edge up",
-    "-y": "upside down, top edge down",
-    "+x": "on its left edge, right edge up",
-    "-x": "on its right edge, left edge up",
-}
 
 
 def _templates(request: Request) -> Jinja2Templates:
@@ -39,7 +32,8 @@ def index(request: Request):
     """Start page; with TRICAL_PUBLIC_URL set, a QR code of it for a phone."""
     public_url = request.app.state.settings.public_url
     return _templates(request).TemplateResponse(request, "index.html", {
-        "labels": SIX,
+        "labels": list(CANONICAL_SIX),
+        "tables": page_tables(),
         "formats": list(FORMAT_NAMES.items()),
         "public_url": public_url,
         "public_qr": qr_svg_data_uri(public_url) if public_url else None,
@@ -70,6 +64,7 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
     context = {
         "protocol": protocol, "capture_s": seconds, "problem": problem, "protocols": PROTOCOLS,
         "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
-        "poses": [(label, POSE_NAMES[label]) for label in SIX], "formats": list(FORMAT_NAMES.items()),
+        "poses": [(label, POSE_NAMES[label]) for label in CANONICAL_SIX], "formats": list(FORMAT_NAMES.items()),
+        "tables": None if problem else page_tables(),
     }
     return _templates(request).TemplateResponse(request, "wizard.html", context, status_code=400 if problem else 200)

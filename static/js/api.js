@@ -1,10 +1,13 @@
 // REST calls of the pages (no DOM here). Every failure becomes an ApiError whose message is the
-// API's detail and whose status is the HTTP status (0 when the server could not be reached).
+// API's detail, whose code is the API's error code (`wrong_turn`, `already_captured` …; null when
+// the answer has none) and whose status is the HTTP status (0 when the server could not be reached).
+// Pages decide on the code, never on the message.
 
 export class ApiError extends Error {
-  constructor(message, status) {
+  constructor(message, status, code = null) {
     super(message);
     this.status = status;
+    this.code = code;
   }
 }
 
@@ -20,12 +23,14 @@ async function send(path, { method = "GET", headers = {}, body } = {}) {
 
 async function failure(response) {
   let detail = `HTTP ${response.status}`;
+  let code = null;
   try {
     const body = await response.json();
     if (body && typeof body.detail === "string") detail = body.detail;
     else if (body && Array.isArray(body.detail)) detail = body.detail.map((d) => d.msg || JSON.stringify(d)).join("; ");
+    if (body && typeof body.code === "string") code = body.code;
   } catch { /* not JSON: keep the status */ }
-  return new ApiError(detail, response.status);
+  return new ApiError(detail, response.status, code);
 }
 
 async function request(path, options = {}) {

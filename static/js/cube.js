@@ -4,54 +4,27 @@
 // Calibration frame: position 1 is the sensor frame (z up, x along the jig). A rotation is a
 // right-hand quarter turn about a calibration axis fixed in space: z+ turns the cube
 // counter-clockwise seen from above; x± tips it over the jig edge, its top moving towards ∓y.
+// The protocol itself comes from the server's tables (tables.js: protocols.cube24()).
 
 import { POSES } from "./motion.js";
+import { TABLES } from "./tables.js";
 
-export const CUBE24_ROTATIONS = [
-  "z+", "z+", "z+", "x+",
-  "z+", "z+", "z+", "x+",
-  "z+", "z+", "z+", "x-",
-  "z+", "z+", "z+", "x-",
-  "z+", "z+", "z+", "x+",
-  "z+", "z+", "z+",
-];
+const PROTOCOL = TABLES.cube24;
+
+export const CUBE24_ROTATIONS = PROTOCOL.rotations;
 export const CUBE_POSITIONS = CUBE24_ROTATIONS.length + 1;
 
 // The server's words for each turn (app/calibration/cube/turns.py TURN_WORDS), so that the page and
 // the server's refusals say the same thing.
-export const TURN_WORDS = {
-  "z+": "turn the cube a quarter counter-clockwise (seen from above) on the plane",
-  "z-": "a quarter clockwise turn (seen from above) on the plane",
-  "x+": "tip the cube 90° over the jig edge (about x, its top moving towards −y)",
-  "x-": "tip the cube 90° over the jig edge (about x, its top moving towards +y)",
-  "y+": "tip the cube 90° about y (its top moving towards +x)",
-  "y-": "tip the cube 90° about y (its top moving towards −x)",
-};
+export const TURN_WORDS = PROTOCOL.turnWords;
 
-// A right-hand quarter turn about a calibration axis as an integer matrix.
-function quarterTurn(label) {
-  const s = label[1] === "+" ? 1 : -1;
-  if (label[0] === "x") return [[1, 0, 0], [0, 0, -s], [0, s, 0]];
-  if (label[0] === "y") return [[0, 0, s], [0, 1, 0], [-s, 0, 0]];
-  return [[0, -s, 0], [s, 0, 0], [0, 0, 1]];
-}
+// R_k (sensor → calibration frame) of each position, R_1 = I, R_{k+1} = Rot_k R_k (003 Fig. 1), as
+// protocols.cube24() chains them.
+export const CUBE24_ATTITUDES = PROTOCOL.attitudes;
 
-function matmul(a, b) {
-  return a.map((row) => [0, 1, 2].map((j) => row[0] * b[0][j] + row[1] * b[1][j] + row[2] * b[2][j]));
-}
-
-// R_k (sensor → calibration frame) of each position, R_1 = I, R_{k+1} = Rot_k R_k (003 Fig. 1).
-export const CUBE24_ATTITUDES = CUBE24_ROTATIONS.reduce((acc, label) => {
-  acc.push(matmul(quarterTurn(label), acc[acc.length - 1]));
-  return acc;
-}, [[[1, 0, 0], [0, 1, 0], [0, 0, 1]]]);
-
-// The sensor axis pointing up in position k (1-based): the third row of R_k, i.e. R_kᵀ e_z.
-export function upOf(k) {
-  const row = CUBE24_ATTITUDES[k - 1][2];
-  const i = row.findIndex((v) => v !== 0);
-  return (row[i] > 0 ? "+" : "-") + "xyz"[i];
-}
+// The sensor axis pointing up in position k (1-based): the third row of R_k, i.e. R_kᵀ e_z, as the
+// server gives it.
+export function upOf(k) { return PROTOCOL.ups[k - 1]; }
 
 // The turn that leads into position k (k ≥ 2), as {label, words}.
 export function turnInto(k) {

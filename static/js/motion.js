@@ -4,9 +4,12 @@
 // specific force: at rest the axis pointing up reads +g. iOS Safari reports
 // accelerationIncludingGravity with the opposite sign; SignDetector finds out which one a device
 // follows and everything after it works in the W3C convention.
+// The poses and thresholds come from the server's tables (tables.js).
 
-export const POSES = ["-x", "+x", "-y", "+y", "-z", "+z"];
-export const STANDARD_GRAVITY = 9.80665;
+import { TABLES } from "./tables.js";
+
+export const POSES = TABLES.poses.order;
+export const STANDARD_GRAVITY = TABLES.gravity;
 const DEG = Math.PI / 180;
 
 export function norm(v) { return Math.hypot(v[0], v[1], v[2]); }
@@ -14,11 +17,7 @@ export function norm(v) { return Math.hypot(v[0], v[1], v[2]); }
 export function dot(a, b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // The unit vector of a pose label: "+x" → [1, 0, 0].
-export function poseVector(label) {
-  const v = [0, 0, 0];
-  v["xyz".indexOf(label[1])] = label[0] === "+" ? 1 : -1;
-  return v;
-}
+export function poseVector(label) { return [...TABLES.poses.up[label]]; }
 
 // The pose whose axis is closest to the direction of `acc`, and the angle between them (degrees).
 export function nearestPose(acc) {
@@ -107,15 +106,12 @@ export function windowStats(samples) {
   return { mean, spread, gyr };
 }
 
-export const DEFAULTS = {
-  windowMs: 500, // moving window of the mean and spread
-  holdMs: 1500, // still in a valid pose this long before a capture starts
-  spreadLow: 0.1, // m/s²: enter "still" below (largest per-axis std over the window)
-  spreadHigh: 0.25, // m/s²: leave "still" above
-  gyrLow: 3, // deg/s: enter "still" below (mean |rotation rate| over the window)
-  gyrHigh: 5, // deg/s: leave "still" above (the server refuses captures turning faster)
-  maxAngleDeg: 20, // the closest axis must be within this angle of the measured direction
-};
+// windowMs: moving window of the mean and spread; holdMs: still in a valid pose this long before a
+// capture starts; spreadLow/spreadHigh (m/s²): enter/leave "still" below/above (largest per-axis std
+// over the window); gyrLow/gyrHigh (deg/s): the same for the mean |rotation rate| (the server refuses
+// captures turning faster than gyrHigh); maxAngleDeg: the closest axis must be within this angle of
+// the measured direction. Values: app/web/tables.py, from the server checks they stay inside.
+export const DEFAULTS = { ...TABLES.capture };
 
 // The capture state machine. push() takes W3C samples {t (ms), acc [m/s²], gyr [deg/s] | null}
 // and returns what the page should show: {state, pose, angleDeg, mean, spread, still, stillMs,

@@ -1,7 +1,10 @@
 // Pictures of the phone in each of the six poses, as SVG strings (pure, no DOM).
 // The label names the device axis pointing up, away from the Earth (x right, y up along the
 // screen, z out of the screen). Standing poses are drawn from the front, lying ones from above
-// at an angle; a table line and an "up" arrow give the direction.
+// at an angle; a table line and an "up" arrow give the direction. The poses' names come from the
+// server's tables (tables.js).
+
+import { TABLES } from "./tables.js";
 
 const W = 120;
 const H = 120;
@@ -39,14 +42,7 @@ function flatPhone(screenUp) {
 // Rotation (degrees, clockwise on screen) of the front view that puts the label's axis up.
 const STANDING = { "+y": 0, "-y": 180, "+x": -90, "-x": 90 };
 
-const DESCRIPTIONS = {
-  "+z": "flat, screen up",
-  "-z": "flat, screen down",
-  "+y": "standing upright, top edge up",
-  "-y": "upside down, top edge down",
-  "+x": "on its left edge, right edge up",
-  "-x": "on its right edge, left edge up",
-};
+const DESCRIPTIONS = TABLES.poses.names;
 
 export function describePose(label) { return DESCRIPTIONS[label] || label; }
 

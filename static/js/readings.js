@@ -1,6 +1,8 @@
-// Parsing of pasted readings (pure functions, no DOM).
+// Parsing of pasted readings (pure functions, no DOM; the canonical order from tables.js).
 
-export const CANONICAL = ["-x", "+x", "-y", "+y", "-z", "+z"];
+import { TABLES } from "./tables.js";
+
+export const CANONICAL = TABLES.poses.order;
 const LABEL = /^[+-][xyz]$/;
 
 // Lines "label x y z" or "x y z" (canonical order); separators: spaces, tabs, commas, semicolons.

@@ -1,45 +1,31 @@
-// The wizard page: the only module here that touches the DOM.
-import { createSession, fetchExport, getCalibration, getSession, postCapture, solveSession } from "./api.js";
-import { CaptureMachine, POSES, SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C }
-  from "./motion.js";
-import { CUBE_POSITIONS, MotionLog, cubeSvg, expectPosition, turnInto, upOf } from "./cube.js";
-import { describePose, poseSvg } from "./poses.js";
+// The wizard page: reads the server's tables, picks the flow by protocol (flow_six.js, flow_cube.js),
+// owns the one state object (wizard_state.js) and the one render(state) that writes the DOM. The
+// flows change the state and call the server; only this module touches the page.
+import { createSession, fetchExport, getCalibration, getSession, solveSession } from "./api.js";
+import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
+import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
+import { poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
 import { normChartSvg, normRows, withInterval } from "./result.js";
+import { announce, instruct, newState } from "./wizard_state.js";
+import { donePoses, sixFlow } from "./flow_six.js";
+import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
 
 const $ = (sel) => document.querySelector(sel);
 const root = $("#wizard");
-const protocol = root.dataset.protocol;
-const formats = JSON.parse(root.dataset.formats);
-const storeKey = `trical.wizard.${protocol}`;
 const NO_MOTION_MS = 2000;
-const cube = protocol === "cube24";
-const NO_GYRO_SAMPLES = 10; // motion events without rotationRate before the cube flow gives up
 
-let captureS = Number(root.dataset.captureS);
-let session = null; // the server's session object
-let token = null;
-let apiKey = null;
-let machine = null;
-let sign = null;
-let listening = false;
-let gotMotion = false;
-let creating = false;
+const state = newState({
+  protocol: root.dataset.protocol,
+  captureS: Number(root.dataset.captureS),
+  formats: JSON.parse(root.dataset.formats),
+});
+const cube = state.protocol === "cube24";
+const flow = cube ? cubeFlow : sixFlow;
+flow.init(state);
 let noMotionTimer = null;
-let lastT = null;
-let lastLive = 0;
-let lastAnnounced = "";
-let blobUrls = [];
-// The cube flow.
-let log = null; // MotionLog: every sample since the page started reading the sensors
-let gyroSeen = false;
-let noGyro = 0;
-let redoing = false; // the next capture replaces the last position
-let awaitingTurn = false; // a position was accepted: the cube must turn before the next capture
-let resumed = false; // the session was resumed after a reload: the motion log starts at Continue
 
-const status = $("#status");
-function say(text) { status.textContent = text; }
+// --- rendering: the state onto the page --------------------------------------------------------
 
 function el(tag, text, attrs = {}) {
   const e = document.createElement(tag);
@@ -48,257 +34,168 @@ function el(tag, text, attrs = {}) {
   return e;
 }
 
-const list = (poses) => (poses.length ? poses.join(", ") : "none");
-
-// --- problems with recovery text -------------------------------------------------------------
-
-function showProblem(parts, announce) {
-  const box = $("#problem");
-  box.replaceChildren(...parts.map((p) => (typeof p === "string" ? document.createTextNode(p) : p)));
-  box.hidden = false;
-  say(announce);
-  box.focus();
-}
+function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
 
 const uploadLink = (text = "upload a log instead") => el("a", text, { href: "/" });
 
-function notSecure() {
-  return !window.isSecureContext && !["localhost", "127.0.0.1", "[::1]"].includes(location.hostname);
+// Each problem with its recovery text: what the box shows, what the live region says, and what
+// else on the page changes.
+const PROBLEMS = {
+  insecure: {
+    parts: () => ["Motion sensors need HTTPS: run ", el("code", "trical serve --https"),
+      " and open the https address it prints. Or ", uploadLink(), " (a log recorded with a sensor app)."],
+    say: () => "Motion sensors need HTTPS.",
+    apply: (v) => { v.startHidden = true; },
+  },
+  denied: {
+    parts: (detail) => {
+      const p3 = el("p", "Or ");
+      p3.append(uploadLink(), ".");
+      return [el("p", `Motion access was not allowed (${detail}), so the page cannot read the sensors.`),
+        el("p", "To allow it: reload this page (or close the tab and open it again), tap Start and "
+          + "choose Allow. On iOS 12, turn on Settings › Safari › Motion & Orientation Access. If Safari no "
+          + "longer asks, clear this site's data in Settings › Safari › Advanced › Website Data and reload."), p3];
+    },
+    say: () => "Motion access was not allowed: see how to allow it.",
+    apply: (v) => { v.startDisabled = false; },
+  },
+  noMotion: {
+    parts: () => ["This browser sends no motion data (a desktop or a laptop has no motion sensors): ",
+      uploadLink("upload a log instead"), ", recorded with a sensor app on the phone."],
+    say: () => "This browser sends no motion data: upload a log instead.",
+    apply: (v) => { v.capture = false; v.start = true; v.startDisabled = false; },
+  },
+  noGyro: {
+    parts: () => {
+      const p2 = el("p", "Try another browser on this phone (Chrome or Safari), or ");
+      p2.append(el("a", "calibrate the accelerometer with six positions", { href: "/wizard?protocol=six" }),
+        ", or record the cube sequence with a sensor app and upload it through the API (",
+        el("a", "API documentation", { href: "/docs" }), ").");
+      return [el("p", "This browser gives no gyroscope readings (its motion events have no rotationRate), and "
+        + "the cube flow needs them: the page checks every turn with the gyroscope."), p2];
+    },
+    say: () => "No gyroscope: the cube flow cannot run in this browser.",
+    apply: (v) => { v.capture = false; v.start = true; v.startDisabled = false; },
+  },
+};
+
+const rendered = { seq: 0, problem: null, turnAlert: null, calibration: null, downloads: null, resumePic: null,
+  figures: {}, lastLive: 0 };
+
+function render(s) {
+  const v = s.view;
+  $("#start").hidden = !v.start;
+  $("#start-btn").hidden = v.startHidden;
+  $("#start-btn").disabled = v.startDisabled;
+  setText($("#start-btn"), v.startLabel);
+  if (v.resume !== null) setText($("#resume"), v.resume);
+  $("#resume").hidden = v.resume === null;
+  if (v.resumePic !== rendered.resumePic && v.resumePic !== null) $("#resume-pic").innerHTML = cubeSvg(v.resumePic);
+  rendered.resumePic = v.resumePic;
+  $("#resume-pic").hidden = v.resumePic === null;
+  renderProblem(v);
+  $("#key-box").hidden = !v.keyBox;
+  $("#capture").hidden = !v.capture;
+  if (cube) renderCube(s);
+  else renderPoses(s);
+  setText($("#instruction"), v.instruction);
+  renderLive(s);
+  $("#result").hidden = !v.result;
+  renderResult(s);
+  renderDownloads(v);
+  $("#start-over").hidden = !v.startOver;
+  if (v.announcement.seq !== rendered.seq) {
+    rendered.seq = v.announcement.seq;
+    $("#status").textContent = v.announcement.text;
+  }
+  if (v.focus) {
+    $(v.focus).focus();
+    v.focus = null;
+  }
 }
 
-function showInsecure() {
-  $("#start-btn").hidden = true;
-  const code = el("code", "trical serve --https");
-  showProblem(["Motion sensors need HTTPS: run ", code, " and open the https address it prints. Or ",
-    uploadLink(), " (a log recorded with a sensor app)."], "Motion sensors need HTTPS.");
+function renderProblem(v) {
+  const box = $("#problem");
+  if (v.problem && v.problem !== rendered.problem) {
+    const parts = PROBLEMS[v.problem.kind].parts(v.problem.detail);
+    box.replaceChildren(...parts.map((p) => (typeof p === "string" ? document.createTextNode(p) : p)));
+  }
+  rendered.problem = v.problem;
+  box.hidden = !v.problem;
 }
 
-function showDenied(state) {
-  $("#start-btn").disabled = false;
-  const p1 = el("p", `Motion access was not allowed (${state}), so the page cannot read the sensors.`);
-  const p2 = el("p", "To allow it: reload this page (or close the tab and open it again), tap Start and "
-    + "choose Allow. On iOS 12, turn on Settings › Safari › Motion & Orientation Access. If Safari no "
-    + "longer asks, clear this site's data in Settings › Safari › Advanced › Website Data and reload.");
-  const p3 = el("p", "Or ");
-  p3.append(uploadLink(), ".");
-  showProblem([p1, p2, p3], "Motion access was not allowed: see how to allow it.");
-}
-
-function showNoMotion() {
-  $("#capture").hidden = true;
-  $("#start").hidden = false;
-  $("#start-btn").disabled = false;
-  showProblem(["This browser sends no motion data (a desktop or a laptop has no motion sensors): ",
-    uploadLink("upload a log instead"), ", recorded with a sensor app on the phone."],
-  "This browser sends no motion data: upload a log instead.");
-}
-
-function showNoGyro() {
-  stop();
-  $("#capture").hidden = true;
-  $("#start").hidden = false;
-  $("#start-btn").disabled = false;
-  const p1 = el("p", "This browser gives no gyroscope readings (its motion events have no rotationRate), and "
-    + "the cube flow needs them: the page checks every turn with the gyroscope.");
-  const p2 = el("p", "Try another browser on this phone (Chrome or Safari), or ");
-  p2.append(el("a", "calibrate the accelerometer with six positions", { href: "/wizard?protocol=six" }),
-    ", or record the cube sequence with a sensor app and upload it through the API (",
-    el("a", "API documentation", { href: "/docs" }), ").");
-  showProblem([p1, p2], "No gyroscope: the cube flow cannot run in this browser.");
-}
-
-// --- the pose list ---------------------------------------------------------------------------
-
-function donePoses() {
-  if (!session || cube) return [];
-  return POSES.filter((p) => !session.remaining.includes(p));
-}
-
-function renderPoses(current = null) {
-  if (cube) { renderCube(); return; }
-  const done = new Set(donePoses());
+function renderPoses(s) {
+  const done = new Set(donePoses(s));
   for (const li of document.querySelectorAll("#poses li")) {
     const pose = li.dataset.pose;
-    let state = done.has(pose) ? "done" : "todo";
-    if (machine && machine.redo.has(pose)) state = "redo";
-    li.dataset.state = state;
-    li.classList.toggle("current", pose === current);
-    li.querySelector(".pose-state").textContent = { done: "captured ✓", todo: "to do", redo: "to redo" }[state];
-    li.querySelector(".redo").hidden = state !== "done";
+    let shown = done.has(pose) ? "done" : "todo";
+    if (s.machine && s.machine.redo.has(pose)) shown = "redo";
+    if (li.dataset.state !== shown) li.dataset.state = shown;
+    li.classList.toggle("current", pose === s.view.current);
+    setText(li.querySelector(".pose-state"), { done: "captured ✓", todo: "to do", redo: "to redo" }[shown]);
+    li.querySelector(".redo").hidden = shown !== "done";
   }
 }
 
-// --- session ---------------------------------------------------------------------------------
-
-function remember() { localStorage.setItem(storeKey, JSON.stringify({ id: session.id, token })); }
-
-function adopt(s) {
-  session = s;
-  if (s.capture_s) captureS = s.capture_s;
-  if (machine && !cube) machine.setDone(donePoses());
-  renderPoses();
+function figure(box, k, turn, caption) {
+  const key = `${k} ${turn}`;
+  if (rendered.figures[box.id] !== key) {
+    box.querySelector(".cube-pic").innerHTML = cubeSvg(k, { turn });
+    rendered.figures[box.id] = key;
+  }
+  setText(box.querySelector("figcaption"), caption);
 }
 
-async function ensureSession() {
-  if (session || creating) return;
-  creating = true;
-  try {
-    const s = await createSession({ protocol, capture_s: captureS, device_id: null, label: null }, apiKey);
-    token = s.token;
-    adopt(s);
-    remember();
-    $("#key-box").hidden = true;
-    $("#start-over").hidden = false;
-    instruct(cube ? "Stand the cube in position 1 against the jig and let go."
-      : `Put the phone down on one of its sides: ${list(session.remaining)}.`);
-  } catch (err) {
-    if (err.status === 401) {
-      $("#key-box").hidden = false;
-      $("#api-key").focus();
-      instruct("This server needs an API key before it starts a session.");
-      say(`An API key is needed: ${err.message}`);
-    } else {
-      instruct(`The session could not start: ${err.message}`);
-      say(`The session could not start: ${err.message}`);
-    }
-  } finally {
-    creating = false;
-  }
-}
-
-async function resume() {
-  let saved;
-  try { saved = JSON.parse(localStorage.getItem(storeKey) || "null"); } catch { saved = null; }
-  if (!saved || !saved.id || !saved.token) return;
-  try {
-    token = saved.token;
-    adopt(await getSession(saved.id, saved.token));
-  } catch (err) {
-    token = null;
-    if (err.status === 401 || err.status === 404) localStorage.removeItem(storeKey);
-    say(`The saved calibration could not be resumed (${err.message}); starting a new one.`);
-    return;
-  }
-  $("#start-over").hidden = false;
-  const done = donePoses();
-  if (session.calibration_id) {
-    try {
-      await showResult(await getCalibration(session.calibration_id, token));
-      return;
-    } catch (err) {
-      say(`The saved result could not be read (${err.message}).`);
-    }
-  }
-  $("#start-btn").textContent = "Continue";
-  if (cube) { resumeCube(); return; }
-  $("#capture").hidden = false;
-  const text = `You have a calibration in progress: ${done.length} of 6 positions captured (${list(done)}); `
-    + `remaining: ${list(session.remaining)}. Tap Continue to go on, or Start over.`;
-  $("#resume").textContent = text;
-  $("#resume").hidden = false;
-  instruct("Tap Continue to read the motion sensors again.");
-  say(text);
-}
-
-// --- motion ----------------------------------------------------------------------------------
-
-// Must run straight from the tap: iOS grants motion access only to a user gesture.
-function requestPermissions() {
-  const DME = window.DeviceMotionEvent;
-  if (!DME || typeof DME.requestPermission !== "function") return Promise.resolve("granted");
-  const motion = DME.requestPermission();
-  const DOE = window.DeviceOrientationEvent;
-  const orientation = DOE && typeof DOE.requestPermission === "function"
-    ? DOE.requestPermission().catch(() => "denied") : Promise.resolve("granted");
-  return Promise.all([motion, orientation]).then(([m]) => m, (err) => `an error: ${err.message}`);
-}
-
-function onOrientation(event) { if (sign) sign.orientation(event.beta, event.gamma); }
-
-function onMotion(event) {
-  const raw = sampleFromMotionEvent(event);
-  if (!raw) return;
-  if (!gotMotion) {
-    gotMotion = true;
-    clearTimeout(noMotionTimer);
-    $("#problem").hidden = true;
-    if (!cube) ensureSession();
-  }
-  if (cube && !gyroSeen) { // the cube flow needs rotationRate: wait for it before starting a session
-    if (raw.gyr) {
-      gyroSeen = true;
-      ensureSession();
-    } else {
-      noGyro += 1;
-      if (noGyro >= NO_GYRO_SAMPLES) showNoGyro();
-      return;
-    }
-  }
-  const convention = sign.motion(raw.t, raw.acc);
-  if (!convention) {
-    instruct("Reading the sensors…");
-    return;
-  }
-  // The cube's captures are joined into one recording by time, across reloads too: epoch ms
-  // (event.timeStamp restarts with each page load).
-  const t = cube ? performance.timeOrigin + raw.t : raw.t;
-  if (lastT !== null && t <= lastT) return; // t_ms must increase
-  lastT = t;
-  const sample = { t, acc: toW3C(raw.acc, convention.convention), gyr: raw.gyr };
-  if (cube) log.push(sample);
-  if (!session) { renderLive(sample.acc, null, false); return; }
-  const out = machine.push(sample);
-  renderLive(sample.acc, out, out.event !== null);
-  if (cube) showCube(out);
-  else show(out);
-  if (out.capture) (cube ? sendCubeCapture : sendCapture)(out.capture);
-}
-
-function listen() {
-  if (listening) return;
-  listening = true;
-  sign = new SignDetector({ apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints) });
-  if (cube) {
-    // A cube may stand on an inclined plane: its up face is the nearest axis within 40° (the server: 45°).
-    machine = new CaptureMachine(captureS * 1000, { maxAngleDeg: 40 });
-    log = new MotionLog();
-    expectPosition(machine, nextPosition());
-    // Resumed: the cube stands in the last captured position and must turn before the next capture.
-    if (capturedCount() > 0 && !redoing) { machine.requireMove(true); awaitingTurn = true; }
+function renderCube(s) {
+  const { redoing, resumed, log } = s.cube;
+  const n = capturedCount(s);
+  const k = nextPosition(s);
+  setText($("#capture-h"), redoing ? `Redo position ${k} of ${CUBE_POSITIONS}` : `Position ${k} of ${CUBE_POSITIONS}`);
+  if (k >= 2) {
+    const { label, words } = turnInto(k);
+    figure($("#cube-turn"), k - 1, label, `From position ${k - 1}: ${words}.`);
   } else {
-    machine = new CaptureMachine(captureS * 1000);
-    machine.setDone(donePoses());
+    figure($("#cube-turn"), 1, null, "Start: screen (sensor z) up, the phone's x axis along the jig.");
   }
-  window.addEventListener("deviceorientation", onOrientation);
-  window.addEventListener("devicemotion", onMotion);
+  figure($("#cube-target"), k, null, `Position ${k}: sensor ${upOf(k)} up.`);
+  setText($("#cube-count"), `${n} of ${CUBE_POSITIONS} positions captured`);
+  if ($("#cube-count").dataset.captured !== String(n)) $("#cube-count").dataset.captured = String(n);
+  $("#cube-progress").value = n;
+  const redo = $("#redo-last");
+  redo.hidden = n === 0 || redoing;
+  setText(redo, `Redo position ${n}`);
+  const hint = $("#redo-hint");
+  hint.hidden = !(resumed && n >= 2 && !log?.ends.has(n - 1) && !redoing);
+  setText(hint, `After a reload, the page no longer has the turn into position ${n}: to redo it, put the `
+    + `cube back in position ${n - 1} first, then press Redo and turn it into position ${n} again.`);
+  renderTurnAlert(s.view);
 }
 
-async function onStart() {
-  const asked = requestPermissions(); // first, while the tap's user activation lasts
-  $("#start-btn").disabled = true;
-  $("#problem").hidden = true;
-  if (!window.DeviceMotionEvent) { showNoMotion(); return; }
-  const state = await asked;
-  if (state !== "granted") { showDenied(state); return; }
-  listen();
-  $("#start").hidden = true;
-  $("#capture").hidden = false;
-  $("#resume-pic").hidden = true;
-  renderPoses();
-  say("Reading the motion sensors…");
-  instruct("Waiting for motion data…");
-  if (!gotMotion) noMotionTimer = setTimeout(() => { if (!gotMotion) showNoMotion(); }, NO_MOTION_MS);
-  $("#capture-h").focus();
+function renderTurnAlert(v) {
+  const box = $("#turn-alert");
+  if (v.turnAlert !== rendered.turnAlert) {
+    rendered.turnAlert = v.turnAlert;
+    if (v.turnAlert) {
+      const { message, k } = v.turnAlert;
+      const pic = el("div", null, { class: "cube-pic" });
+      pic.innerHTML = cubeSvg(k - 1, { turn: turnInto(k).label });
+      box.replaceChildren(el("p", message), el("p", `Put the cube back in position ${k - 1} as pictured, then make this turn:`), pic);
+    } else {
+      box.replaceChildren();
+    }
+  }
+  box.hidden = !v.turnAlert;
 }
 
-// --- live view -------------------------------------------------------------------------------
-
-function instruct(text) { $("#instruction").textContent = text; }
-
-function renderLive(acc, out, force) {
+// The live view: the gravity bars, the stillness and the pose seen, at most every 100 ms.
+function renderLive(s) {
+  const live = s.view.live;
+  s.view.live = null;
+  if (!live) return;
+  const { acc, out, force } = live;
   const now = performance.now();
-  if (!force && now - lastLive < 100) return;
-  lastLive = now;
+  if (!force && now - rendered.lastLive < 100) return;
+  rendered.lastLive = now;
   "xyz".split("").forEach((axis, i) => {
     const v = acc[i];
     $(`#num-${axis}`).textContent = `${v >= 0 ? "+" : "−"}${Math.abs(v).toFixed(2)}`;
@@ -315,237 +212,10 @@ function renderLive(acc, out, force) {
   $("#still-text").textContent = text;
   $("#progress").value = out.state === "capturing" ? out.progress : 0;
   const pic = $("#live-pose");
-  const shown = out.still && out.angleDeg <= machine.o.maxAngleDeg ? out.pose : "";
+  const shown = out.still && out.angleDeg <= s.machine.o.maxAngleDeg ? out.pose : "";
   if (pic.dataset.pose !== shown) {
     pic.dataset.pose = shown;
     pic.innerHTML = shown ? poseSvg(shown, 72) : "";
-  }
-}
-
-function show(out) {
-  const { pose, state } = out;
-  const remaining = machine.remaining();
-  const name = pose ? `${pose} (${describePose(pose)})` : "";
-  let text;
-  switch (state) {
-    case "waiting": text = "Reading the sensors…"; break;
-    case "moving": text = `Put the phone down on one of its sides still to do: ${list(remaining)}.`; break;
-    case "tilted": text = `The phone is tilted ${Math.round(out.angleDeg)}° away from ${pose}: rest it flat on one side.`; break;
-    case "settling": text = `${name} recognised: keep still…`; break;
-    case "capturing": text = `Capturing ${name}: keep still.`; break;
-    case "sending": text = `Checking the capture of ${pose}…`; break;
-    case "done": text = remaining.length ? `${pose} captured. Now turn the phone to: ${list(remaining)}.`
-      : "All six positions captured."; break;
-    case "refused": text = `${pose} is already captured. Remaining: ${list(remaining)}. `
-      + `To capture ${pose} again, press its Redo button.`; break;
-    case "retry": text = null; break; // the server's refusal stays on screen until the phone moves
-    default: text = null;
-  }
-  if (text !== null) instruct(text);
-  renderPoses(state === "moving" ? null : pose);
-  if (out.event === "restarted") say("Moved during the capture: it restarts once the phone is still again.");
-  const key = `${state} ${pose}`;
-  if (key !== lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(state)) say(text);
-  lastAnnounced = key;
-}
-
-// --- the cube flow ---------------------------------------------------------------------------
-
-const capturedCount = () => (session ? session.captures.length : 0);
-// The position the next capture is for: the last one again while redoing it.
-const nextPosition = () => (redoing ? capturedCount() : Math.min(capturedCount() + 1, CUBE_POSITIONS));
-
-function figure(box, k, turn, caption) {
-  box.querySelector(".cube-pic").innerHTML = cubeSvg(k, { turn });
-  box.querySelector("figcaption").textContent = caption;
-}
-
-function renderCube() {
-  const n = capturedCount();
-  const k = nextPosition();
-  $("#capture-h").textContent = redoing ? `Redo position ${k} of ${CUBE_POSITIONS}` : `Position ${k} of ${CUBE_POSITIONS}`;
-  if (k >= 2) {
-    const { label, words } = turnInto(k);
-    figure($("#cube-turn"), k - 1, label, `From position ${k - 1}: ${words}.`);
-  } else {
-    figure($("#cube-turn"), 1, null, "Start: screen (sensor z) up, the phone's x axis along the jig.");
-  }
-  figure($("#cube-target"), k, null, `Position ${k}: sensor ${upOf(k)} up.`);
-  $("#cube-count").textContent = `${n} of ${CUBE_POSITIONS} positions captured`;
-  $("#cube-count").dataset.captured = String(n);
-  $("#cube-progress").value = n;
-  const redo = $("#redo-last");
-  redo.hidden = n === 0 || redoing;
-  redo.textContent = `Redo position ${n}`;
-  const hint = $("#redo-hint");
-  hint.hidden = !(resumed && n >= 2 && !log?.ends.has(n - 1) && !redoing);
-  hint.textContent = `After a reload, the page no longer has the turn into position ${n}: to redo it, put the `
-    + `cube back in position ${n - 1} first, then press Redo and turn it into position ${n} again.`;
-}
-
-function showCube(out) {
-  const k = nextPosition();
-  const { state, pose } = out;
-  const up = upOf(k);
-  const turn = k >= 2 ? turnInto(k).words : null;
-  let text;
-  switch (state) {
-    case "waiting": text = "Reading the sensors…"; break;
-    case "moving": text = k >= 2 ? `Turning into position ${k}: ${turn}, then let go.` : "Stand the cube in position 1 and let go."; break;
-    case "tilted": text = `The cube is tilted ${Math.round(out.angleDeg)}° away from ${pose} up: stand it on a face.`; break;
-    case "refused": text = `Position ${k} needs sensor ${up} up; the cube has ${pose} up.`
-      + (turn ? ` From position ${k - 1}: ${turn}.` : ""); break;
-    case "settling": text = `Position ${k} recognised: keep still…`; break;
-    case "capturing": text = `Capturing position ${k}: keep still.`; break;
-    case "sending": text = `Checking position ${k} and the turn into it…`; break;
-    case "retry": text = awaitingTurn && turn ? `Position ${k - 1} captured. Now ${turn}.` : null; break;
-    default: text = null;
-  }
-  if (text !== null) instruct(text);
-  if (out.event === "restarted") say("Moved during the capture: it restarts once the cube is still again.");
-  const key = `${state} ${pose} ${k}`;
-  if (key !== lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(state)) say(text);
-  lastAnnounced = key;
-}
-
-function clearTurnAlert() {
-  $("#turn-alert").hidden = true;
-  $("#turn-alert").replaceChildren();
-}
-
-// The server refused the turn: its words, and the picture of the position to go back to with the
-// turn to make from there. Recording goes on; the next move again runs from the last accepted end.
-function showWrongTurn(message, k) {
-  const { label } = turnInto(k);
-  const box = $("#turn-alert");
-  const pic = el("div", null, { class: "cube-pic" });
-  pic.innerHTML = cubeSvg(k - 1, { turn: label });
-  box.replaceChildren(el("p", message), el("p", `Put the cube back in position ${k - 1} as pictured, then make this turn:`), pic);
-  box.hidden = false;
-  say(""); // the alert announces itself (role=alert); nothing stale in the status line
-  instruct(`Wrong turn into position ${k}: back to position ${k - 1}, then ${turnInto(k).words}.`);
-}
-
-async function sendCubeCapture(capture) {
-  const k = nextPosition();
-  const payload = {
-    acc: capture.acc, t_ms: capture.t_ms, gyr: capture.gyr, unit: "m/s^2", gyr_unit: "deg/s",
-    sign: sign.result, position: String(k), redo: redoing,
-  };
-  if (k >= 2) payload.motion = log.motion(capture.t_ms[0]);
-  try {
-    const answer = await postCapture(session.id, token, payload);
-    log.accept(k, capture.t_ms[capture.t_ms.length - 1]);
-    redoing = false;
-    machine.resolve(true, capture.position);
-    adopt(answer.session);
-    clearTurnAlert();
-    const n = capturedCount();
-    if (n < CUBE_POSITIONS) {
-      expectPosition(machine, n + 1);
-      machine.requireMove(true); // the next position may have the same face up: wait for the turn
-      awaitingTurn = true;
-      renderCube();
-      const text = `Position ${k} captured. Now ${turnInto(n + 1).words}.`;
-      instruct(text);
-      say(text);
-    } else {
-      instruct("All 24 positions captured: computing the calibration…");
-      say("All 24 positions captured: computing the calibration…");
-      await solve();
-    }
-  } catch (err) {
-    machine.resolve(false, capture.position);
-    awaitingTurn = false;
-    if (err.status === 409) {
-      try { adopt(await getSession(session.id, token)); } catch { /* keep the old view */ }
-    }
-    if (err.status === 422 && err.message.startsWith("wrong turn")) {
-      showWrongTurn(err.message, k);
-    } else {
-      const text = `The capture of position ${k} was refused: ${err.message}. Move the cube and put it down again.`;
-      instruct(text);
-      say(text);
-    }
-  }
-}
-
-function resumeCube() {
-  resumed = true;
-  const n = capturedCount();
-  if (n >= CUBE_POSITIONS) { // complete but not solved (the solve failed): try again on Continue
-    $("#resume").textContent = "All 24 positions are captured. Tap Continue to compute the calibration.";
-    $("#resume").hidden = false;
-    $("#start-btn").addEventListener("click", solve, { once: true });
-    return;
-  }
-  const text = n === 0 ? "You have a cube calibration in progress with no position captured yet. "
-    + "Stand the cube in position 1 and tap Continue."
-    : `You have a cube calibration in progress: ${n} of ${CUBE_POSITIONS} positions captured. Put the cube back `
-      + `in position ${n} (pictured), against the jig, then tap Continue: the recording of the next turn starts there.`;
-  $("#resume").textContent = text;
-  $("#resume").hidden = false;
-  if (n) {
-    $("#resume-pic").innerHTML = cubeSvg(n);
-    $("#resume-pic").hidden = false;
-  }
-  renderCube();
-  say(text);
-}
-
-function startRedoLast() {
-  const n = capturedCount();
-  if (!n) return;
-  const last = log.samples.length ? log.samples[log.samples.length - 1].t : -Infinity;
-  const known = log.redo(n, last);
-  redoing = true;
-  awaitingTurn = false;
-  expectPosition(machine, n);
-  machine.requireMove(!known && n >= 2); // from position n − 1 the cube must turn again
-  clearTurnAlert();
-  renderCube();
-  const text = known || n === 1
-    ? `Redo position ${n}: leave the cube in position ${n} (or put it back there); the new capture replaces the old one.`
-    : `Redo position ${n}: the cube should now stand in position ${n - 1}; ${turnInto(n).words} into position ${n}.`;
-  instruct(text);
-  say(text);
-}
-
-// --- captures, solving -----------------------------------------------------------------------
-
-async function sendCapture(capture) {
-  const payload = {
-    acc: capture.acc, t_ms: capture.t_ms, gyr: capture.gyr, unit: "m/s^2", gyr_unit: "deg/s",
-    sign: sign.result, position: capture.position, redo: capture.redo,
-  };
-  try {
-    const answer = await postCapture(session.id, token, payload);
-    machine.resolve(true, capture.position);
-    adopt(answer.session);
-    const remaining = session.remaining;
-    const text = remaining.length ? `${capture.position} captured. Remaining: ${list(remaining)}.`
-      : "All six positions captured: computing the calibration…";
-    instruct(text);
-    say(text);
-    if (!remaining.length) await solve();
-  } catch (err) {
-    machine.resolve(false, capture.position);
-    if (err.status === 409) {
-      try { adopt(await getSession(session.id, token)); } catch { /* keep the old view */ }
-    }
-    const text = `The capture of ${capture.position} was refused: ${err.message}. Move the phone and put it down again.`;
-    instruct(text);
-    say(text);
-  }
-}
-
-async function solve() {
-  try {
-    await showResult(await solveSession(session.id, token));
-  } catch (err) {
-    const text = `The calibration could not be computed: ${err.message}. Redo a position or start over.`;
-    instruct(text);
-    say(text);
   }
 }
 
@@ -557,13 +227,10 @@ function fillMatrix(table, rows, halfWidths) {
   }));
 }
 
-async function showResult(cal) {
-  stop();
-  $("#start").hidden = true;
-  $("#capture").hidden = true;
-  $("#start-over").hidden = false;
-  const result = $("#result");
-  result.hidden = false;
+function renderResult(s) {
+  const cal = s.view.calibration;
+  if (!cal || cal === rendered.calibration) return;
+  rendered.calibration = cal;
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
   ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks:`;
@@ -571,7 +238,7 @@ async function showResult(cal) {
   const warnings = cal.warnings || [];
   $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
   if (cal.model.type === "cube") fillCubeModel(cal, cal.uncertainty || {});
-  else fillSixModel(cal);
+  else fillSixModel(cal, s.session);
   $("#result-metrics").replaceChildren(...Object.entries(cal.metrics || {})
     .filter(([, v]) => v === null || typeof v !== "object") // the cube's lists stay in the JSON export
     .map(([k, v]) => {
@@ -579,13 +246,10 @@ async function showResult(cal) {
       tr.append(el("th", k, { scope: "row" }), el("td", formatNumber(v)));
       return tr;
     }));
-  result.focus();
-  say(cal.ok ? "Calibration done: it passed its checks. Downloads below." : "Calibration done, but it failed its checks.");
-  await renderDownloads(cal.id);
 }
 
 // The affine model m = X a + y, and |m| before and after per pose.
-function fillSixModel(cal) {
+function fillSixModel(cal, session) {
   const unc = cal.uncertainty || {};
   fillMatrix($("#result-X"), cal.model.X, unc.X);
   fillMatrix($("#result-y"), cal.model.y.map((v) => [v]), unc.y && unc.y.map((v) => [v]));
@@ -634,70 +298,263 @@ function fillCubeModel(cal, unc) {
   if (acc) fillNorms({ X: acc.S, y: acc.b }, cal.captures || [], cal.gravity || STANDARD_GRAVITY);
 }
 
-async function renderDownloads(id) {
-  blobUrls.forEach((u) => URL.revokeObjectURL(u));
-  blobUrls = [];
-  const items = await Promise.all(formats.map(async ([key, name]) => {
+function renderDownloads(v) {
+  if (!v.downloads || v.downloads === rendered.downloads) return;
+  rendered.downloads = v.downloads;
+  $("#downloads").replaceChildren(...v.downloads.map((d) => {
     const li = el("li");
-    try {
-      const { blob, filename } = await fetchExport(id, key, token);
-      const url = URL.createObjectURL(blob);
-      blobUrls.push(url);
-      li.append(el("a", name, { href: url, download: filename, "data-format": key }));
-    } catch (err) {
-      li.append(el("span", `${name}: ${err.message}`));
-    }
+    if (d.url) li.append(el("a", d.name, { href: d.url, download: d.filename, "data-format": d.key }));
+    else li.append(el("span", `${d.name}: ${d.error}`));
     return li;
   }));
-  $("#downloads").replaceChildren(...items);
   $("#downloads").dataset.ready = "true";
+}
+
+// --- transitions shared by the flows -----------------------------------------------------------
+
+function showProblem(kind, detail = null) {
+  const v = state.view;
+  PROBLEMS[kind].apply(v);
+  v.problem = { kind, detail };
+  announce(state, PROBLEMS[kind].say(detail));
+  v.focus = "#problem";
+}
+
+function remember() { localStorage.setItem(state.storeKey, JSON.stringify({ id: state.session.id, token: state.token })); }
+
+function adopt(session) {
+  state.session = session;
+  if (session.capture_s) state.captureS = session.capture_s;
+  flow.adopted(state);
+  state.view.current = null;
+}
+
+async function ensureSession() {
+  if (state.session || state.creating) return;
+  state.creating = true;
+  const v = state.view;
+  try {
+    const created = await createSession({ protocol: state.protocol, capture_s: state.captureS, device_id: null,
+      label: null }, state.apiKey);
+    state.token = created.token;
+    adopt(created);
+    remember();
+    v.keyBox = false;
+    v.startOver = true;
+    instruct(state, flow.firstInstruction(state));
+  } catch (err) {
+    if (err.code === "unauthorized") {
+      v.keyBox = true;
+      v.focus = "#api-key";
+      instruct(state, "This server needs an API key before it starts a session.");
+      announce(state, `An API key is needed: ${err.message}`);
+    } else {
+      instruct(state, `The session could not start: ${err.message}`);
+      announce(state, `The session could not start: ${err.message}`);
+    }
+  } finally {
+    state.creating = false;
+  }
+  render(state);
+}
+
+async function resume() {
+  let saved;
+  try { saved = JSON.parse(localStorage.getItem(state.storeKey) || "null"); } catch { saved = null; }
+  if (!saved || !saved.id || !saved.token) return;
+  try {
+    state.token = saved.token;
+    adopt(await getSession(saved.id, saved.token));
+  } catch (err) {
+    state.token = null;
+    if (err.code === "unauthorized" || err.code === "not_found") localStorage.removeItem(state.storeKey);
+    announce(state, `The saved calibration could not be resumed (${err.message}); starting a new one.`);
+    render(state);
+    return;
+  }
+  state.view.startOver = true;
+  if (state.session.calibration_id) {
+    try {
+      await finish(await getCalibration(state.session.calibration_id, state.token));
+      return;
+    } catch (err) {
+      announce(state, `The saved result could not be read (${err.message}).`);
+    }
+  }
+  state.view.startLabel = "Continue";
+  flow.resume(state);
+  render(state);
+}
+
+async function solve() {
+  try {
+    await finish(await solveSession(state.session.id, state.token));
+  } catch (err) {
+    const text = `The calibration could not be computed: ${err.message}. Redo a position or start over.`;
+    instruct(state, text);
+    announce(state, text);
+    render(state);
+  }
+}
+
+// The result of the session, then its downloads (fetched with the token: a plain link cannot send it).
+async function finish(cal) {
+  stop();
+  const v = state.view;
+  v.start = false;
+  v.capture = false;
+  v.startOver = true;
+  v.result = true;
+  v.calibration = cal;
+  v.focus = "#result";
+  announce(state, cal.ok ? "Calibration done: it passed its checks. Downloads below."
+    : "Calibration done, but it failed its checks.");
+  render(state);
+  state.blobUrls.forEach((u) => URL.revokeObjectURL(u));
+  state.blobUrls = [];
+  v.downloads = await Promise.all(state.formats.map(async ([key, name]) => {
+    try {
+      const { blob, filename } = await fetchExport(cal.id, key, state.token);
+      const url = URL.createObjectURL(blob);
+      state.blobUrls.push(url);
+      return { key, name, url, filename };
+    } catch (err) {
+      return { key, name, error: err.message };
+    }
+  }));
+  render(state);
+}
+
+// --- motion ------------------------------------------------------------------------------------
+
+// Must run straight from the tap: iOS grants motion access only to a user gesture.
+function requestPermissions() {
+  const DME = window.DeviceMotionEvent;
+  if (!DME || typeof DME.requestPermission !== "function") return Promise.resolve("granted");
+  const motion = DME.requestPermission();
+  const DOE = window.DeviceOrientationEvent;
+  const orientation = DOE && typeof DOE.requestPermission === "function"
+    ? DOE.requestPermission().catch(() => "denied") : Promise.resolve("granted");
+  return Promise.all([motion, orientation]).then(([m]) => m, (err) => `an error: ${err.message}`);
+}
+
+function onOrientation(event) { if (state.sign) state.sign.orientation(event.beta, event.gamma); }
+
+function onMotion(event) {
+  const raw = sampleFromMotionEvent(event);
+  if (!raw) return;
+  const v = state.view;
+  if (!state.gotMotion) {
+    state.gotMotion = true;
+    clearTimeout(noMotionTimer);
+    v.problem = null;
+    flow.firstMotion(state, ctx);
+  }
+  if (!flow.gate(state, raw, ctx)) { render(state); return; }
+  const convention = state.sign.motion(raw.t, raw.acc);
+  if (!convention) {
+    instruct(state, "Reading the sensors…");
+    render(state);
+    return;
+  }
+  const t = flow.sampleTime(raw);
+  if (state.lastT !== null && t <= state.lastT) return; // t_ms must increase
+  state.lastT = t;
+  const sample = { t, acc: toW3C(raw.acc, convention.convention), gyr: raw.gyr };
+  flow.record(state, sample);
+  if (!state.session) {
+    v.live = { acc: sample.acc, out: null, force: false };
+    render(state);
+    return;
+  }
+  const out = state.machine.push(sample);
+  v.live = { acc: sample.acc, out, force: out.event !== null };
+  flow.show(state, out);
+  render(state);
+  if (out.capture) flow.send(state, out.capture, ctx);
+}
+
+function listen() {
+  if (state.listening) return;
+  state.listening = true;
+  state.sign = new SignDetector({ apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints) });
+  state.machine = flow.makeMachine(state);
+  window.addEventListener("deviceorientation", onOrientation);
+  window.addEventListener("devicemotion", onMotion);
 }
 
 function stop() {
   window.removeEventListener("devicemotion", onMotion);
   window.removeEventListener("deviceorientation", onOrientation);
   clearTimeout(noMotionTimer);
-  listening = false;
+  state.listening = false;
 }
 
-// --- controls --------------------------------------------------------------------------------
+async function onStart() {
+  const asked = requestPermissions(); // first, while the tap's user activation lasts
+  const v = state.view;
+  v.startDisabled = true;
+  v.problem = null;
+  render(state);
+  if (!window.DeviceMotionEvent) { showProblem("noMotion"); render(state); return; }
+  const answer = await asked;
+  if (answer !== "granted") { showProblem("denied", answer); render(state); return; }
+  listen();
+  v.start = false;
+  v.capture = true;
+  v.resumePic = null;
+  v.current = null;
+  announce(state, "Reading the motion sensors…");
+  instruct(state, "Waiting for motion data…");
+  if (!state.gotMotion) {
+    noMotionTimer = setTimeout(() => {
+      if (!state.gotMotion) { showProblem("noMotion"); render(state); }
+    }, NO_MOTION_MS);
+  }
+  v.focus = "#capture-h";
+  render(state);
+}
 
-$("#start-btn").addEventListener("click", onStart);
+// What the flows may do besides changing the state.
+const ctx = { render: () => render(state), solve, stop, adopt, ensureSession, problem: (kind) => showProblem(kind) };
+
+// --- controls ----------------------------------------------------------------------------------
+
+function redo(arg) {
+  // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
+  const go = () => { if (state.machine) { flow.redo(state, arg); render(state); } };
+  if (!state.listening) onStart().then(go);
+  else go();
+}
+
+$("#start-btn").addEventListener("click", () => {
+  onStart();
+  if (state.solveOnContinue) { // a complete session whose solve failed: Continue solves again
+    state.solveOnContinue = false;
+    solve();
+  }
+});
 $("#key-box").addEventListener("submit", (event) => {
   event.preventDefault();
-  apiKey = $("#api-key").value.trim() || null;
-  $("#key-box").hidden = true;
-  say("Trying again with the API key…");
+  state.apiKey = $("#api-key").value.trim() || null;
+  state.view.keyBox = false;
+  announce(state, "Trying again with the API key…");
+  render(state);
   ensureSession();
 });
 $("#start-over").addEventListener("click", () => {
-  localStorage.removeItem(storeKey);
-  blobUrls.forEach((u) => URL.revokeObjectURL(u));
+  localStorage.removeItem(state.storeKey);
+  state.blobUrls.forEach((u) => URL.revokeObjectURL(u));
   location.reload();
 });
-if (cube) {
-  $("#redo-last").addEventListener("click", () => {
-    // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
-    if (!listening) onStart().then(() => { if (machine) startRedoLast(); });
-    else startRedoLast();
-  });
-} else $("#poses").addEventListener("click", (event) => {
-  const button = event.target.closest("button[data-redo]");
-  if (!button) return;
-  const pose = button.dataset.redo;
-  // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
-  if (!listening) onStart().then(() => { if (machine) markRedo(pose); });
-  else markRedo(pose);
+$("#capture").addEventListener("click", (event) => {
+  const button = event.target.closest("#redo-last, button[data-redo]");
+  if (button) redo(button.dataset.redo);
 });
 
-function markRedo(pose) {
-  machine.requestRedo(pose);
-  renderPoses();
-  const text = `Redo ${pose}: put the phone ${describePose(pose)}; the new capture replaces the old one.`;
-  instruct(text);
-  say(text);
-}
-
 for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic);
-if (notSecure()) showInsecure();
-else resume();
+const local = ["localhost", "127.0.0.1", "[::1]"].includes(location.hostname);
+if (!window.isSecureContext && !local) {
+  showProblem("insecure");
+  render(state);
+} else resume();

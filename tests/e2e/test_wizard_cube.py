@@ -14,7 +14,11 @@ import time
 import numpy as np
 from playwright.sync_api import expect
 
+from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
+from app.calibration.cube.turns import TURN_WORDS
+from app.sessions import MAX_ROTATION_DEG_S
+from app.web.tables import page_tables
 from tests.cube_phone import X_ACC, Y_ACC
 from tests.e2e.conftest import ARTIFACTS, shot, tab_to
 from tests.e2e.test_wizard import G, Motion, captures_sent, chromium_round
@@ -334,17 +338,24 @@ def test_a_reload_resumes_at_the_right_position_and_redo_replaces_the_last(page,
     assert page.errors == []
 
 
-def test_the_page_s_cube_positions_are_the_server_s(page, server):
-    """cube.js chains the 23 rotations itself: its attitudes and up faces match protocols.cube24(),
-    and each position's picture names its up face."""
+def test_the_page_s_tables_are_the_server_s(page, server):
+    """The page renders the server's tables (app.web.tables.page_tables()) and the scripts read them:
+    cube.js has the attitudes, up faces, rotations and turn words of protocols.cube24(), motion.js the
+    poses and thresholds; each position's picture names its up face."""
     page.goto(server.url + URL)
+    rendered = json.loads(page.text_content("#trical-tables"))
+    assert rendered == json.loads(json.dumps(page_tables()))
     got = page.evaluate("""async () => { const m = await import('/static/js/cube.js');
+      const motion = await import('/static/js/motion.js'), t = await import('/static/js/tables.js');
       const ks = Array.from({length: 24}, (_, i) => i + 1);
-      return [m.CUBE24_ATTITUDES, ks.map(m.upOf), m.CUBE24_ROTATIONS, ks.map((k) => m.cubeSvg(k))]; }""")
+      return [m.CUBE24_ATTITUDES, ks.map(m.upOf), m.CUBE24_ROTATIONS, ks.map((k) => m.cubeSvg(k)), m.TURN_WORDS,
+              motion.DEFAULTS, motion.POSES, motion.STANDARD_GRAVITY, t.TABLES]; }""")
     np.testing.assert_array_equal(np.array(got[0]), np.round(ATTITUDES))
-    assert got[1] == list(CUBE24_UPS) and got[2] == list(CUBE24_ROTATIONS)
+    assert got[1] == list(CUBE24_UPS) and got[2] == list(CUBE24_ROTATIONS) and got[4] == TURN_WORDS
     for k, svg in enumerate(got[3], start=1):
         assert f'aria-label="Position {k}: the cube with sensor {CUBE24_UPS[k - 1]} up' in svg
+    assert got[5] == rendered["capture"] and got[5]["gyrHigh"] == MAX_ROTATION_DEG_S
+    assert got[6] == list(CANONICAL_SIX) and got[7] == STANDARD_GRAVITY and got[8] == rendered
 
 
 def test_the_motion_log_gives_each_capture_its_move(page, server):

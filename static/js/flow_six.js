@@ -1,0 +1,114 @@
+// The six-position flow of the wizard (no DOM): poses in any order, recognised from the data; its
+// steps as transitions on the wizard's state, and its server calls.
+import { getSession, postCapture } from "./api.js";
+import { CaptureMachine, POSES } from "./motion.js";
+import { describePose } from "./poses.js";
+import { announce, instruct, list } from "./wizard_state.js";
+
+export function donePoses(state) {
+  if (!state.session) return [];
+  return POSES.filter((p) => !state.session.remaining.includes(p));
+}
+
+function makeMachine(state) {
+  const machine = new CaptureMachine(state.captureS * 1000);
+  machine.setDone(donePoses(state));
+  return machine;
+}
+
+function adopted(state) {
+  if (state.machine) state.machine.setDone(donePoses(state));
+}
+
+const firstInstruction = (state) => `Put the phone down on one of its sides: ${list(state.session.remaining)}.`;
+
+function firstMotion(state, ctx) { ctx.ensureSession(); }
+
+// What the machine's output means to the person, in the instruction and the live region.
+function show(state, out) {
+  const { pose, state: step } = out;
+  const remaining = state.machine.remaining();
+  const name = pose ? `${pose} (${describePose(pose)})` : "";
+  let text;
+  switch (step) {
+    case "waiting": text = "Reading the sensors…"; break;
+    case "moving": text = `Put the phone down on one of its sides still to do: ${list(remaining)}.`; break;
+    case "tilted": text = `The phone is tilted ${Math.round(out.angleDeg)}° away from ${pose}: rest it flat on one side.`; break;
+    case "settling": text = `${name} recognised: keep still…`; break;
+    case "capturing": text = `Capturing ${name}: keep still.`; break;
+    case "sending": text = `Checking the capture of ${pose}…`; break;
+    case "done": text = remaining.length ? `${pose} captured. Now turn the phone to: ${list(remaining)}.`
+      : "All six positions captured."; break;
+    case "refused": text = `${pose} is already captured. Remaining: ${list(remaining)}. `
+      + `To capture ${pose} again, press its Redo button.`; break;
+    case "retry": text = null; break; // the server's refusal stays on screen until the phone moves
+    default: text = null;
+  }
+  if (text !== null) instruct(state, text);
+  state.view.current = step === "moving" ? null : pose;
+  if (out.event === "restarted") announce(state, "Moved during the capture: it restarts once the phone is still again.");
+  const key = `${step} ${pose}`;
+  if (key !== state.lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(step)) announce(state, text);
+  state.lastAnnounced = key;
+}
+
+async function send(state, capture, ctx) {
+  const payload = {
+    acc: capture.acc, t_ms: capture.t_ms, gyr: capture.gyr, unit: "m/s^2", gyr_unit: "deg/s",
+    sign: state.sign.result, position: capture.position, redo: capture.redo,
+  };
+  try {
+    const answer = await postCapture(state.session.id, state.token, payload);
+    state.machine.resolve(true, capture.position);
+    ctx.adopt(answer.session);
+    const remaining = state.session.remaining;
+    const text = remaining.length ? `${capture.position} captured. Remaining: ${list(remaining)}.`
+      : "All six positions captured: computing the calibration…";
+    instruct(state, text);
+    announce(state, text);
+    ctx.render();
+    if (!remaining.length) await ctx.solve();
+  } catch (err) {
+    state.machine.resolve(false, capture.position);
+    if (err.code === "already_captured") {
+      try { ctx.adopt(await getSession(state.session.id, state.token)); } catch { /* keep the old view */ }
+    }
+    const text = `The capture of ${capture.position} was refused: ${err.message}. Move the phone and put it down again.`;
+    instruct(state, text);
+    announce(state, text);
+    ctx.render();
+  }
+}
+
+function resume(state) {
+  const done = donePoses(state);
+  state.view.capture = true;
+  const text = `You have a calibration in progress: ${done.length} of 6 positions captured (${list(done)}); `
+    + `remaining: ${list(state.session.remaining)}. Tap Continue to go on, or Start over.`;
+  state.view.resume = text;
+  instruct(state, "Tap Continue to read the motion sensors again.");
+  announce(state, text);
+}
+
+function redo(state, pose) {
+  state.machine.requestRedo(pose);
+  state.view.current = null;
+  const text = `Redo ${pose}: put the phone ${describePose(pose)}; the new capture replaces the old one.`;
+  instruct(state, text);
+  announce(state, text);
+}
+
+export const sixFlow = {
+  init() {},
+  makeMachine,
+  adopted,
+  firstInstruction,
+  firstMotion,
+  gate: () => true,
+  sampleTime: (raw) => raw.t,
+  record() {},
+  show,
+  send,
+  resume,
+  redo,
+};

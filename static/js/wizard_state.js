@@ -1,0 +1,53 @@
+// The wizard's one state object (no DOM): what the session and the sensors are doing, and `view`,
+// what the page shows. The flows change it; wizard.js's render(state) writes it to the page.
+
+export function newState({ protocol, captureS, formats }) {
+  return {
+    protocol,
+    captureS,
+    formats,
+    storeKey: `trical.wizard.${protocol}`,
+    session: null, // the server's session object
+    token: null,
+    apiKey: null,
+    machine: null, // CaptureMachine (motion.js)
+    sign: null, // SignDetector (motion.js)
+    listening: false,
+    gotMotion: false,
+    creating: false,
+    lastT: null,
+    lastAnnounced: "",
+    solveOnContinue: false, // a complete session whose solve failed: Continue solves again
+    blobUrls: [],
+    view: {
+      start: true, // the "Before you start" card
+      startLabel: "Start",
+      startDisabled: false,
+      startHidden: false,
+      capture: false, // the capture card
+      keyBox: false,
+      startOver: false,
+      resume: null, // the resume text, or null
+      resumePic: null, // the cube position pictured with the resume text, or null
+      problem: null, // {kind, detail}: a new object each time a problem is shown
+      instruction: "Waiting for motion data…",
+      announcement: { text: "", seq: 0 }, // the live region; seq counts what was said
+      focus: null, // a selector to focus once, at the next render
+      live: null, // {acc, out, force}: the last sample for the live view
+      current: null, // the six flow's pose in view
+      turnAlert: null, // the cube flow's refused turn: {message, k}
+      result: false,
+      calibration: null, // the calibration shown
+      downloads: null, // [{key, name, url, filename} | {name, error}]
+    },
+  };
+}
+
+// Say `text` in the live region (again, even when it is the same words).
+export function announce(state, text) {
+  state.view.announcement = { text, seq: state.view.announcement.seq + 1 };
+}
+
+export function instruct(state, text) { state.view.instruction = text; }
+
+export const list = (poses) => (poses.length ? poses.join(", ") : "none");

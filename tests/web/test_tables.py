@@ -1,0 +1,108 @@
+"""The pages take their constants from Python: app.web.tables.page_tables() is built from the core's
+and the sessions' own constants, rendered into the page as JSON, and not copied into the scripts."""
+
+from __future__ import annotations
+
+import json
+import re
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+
+from app import sessions
+from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
+from app.calibration.capture import STILL_MAX_STD_G
+from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
+from app.calibration.cube.turns import TURN_WORDS
+from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
+from app.web.tables import POSE_NAMES, page_tables
+from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
+
+JS = Path(__file__).resolve().parents[2] / "static" / "js"
+
+
+class _Scripts(HTMLParser):
+    """The <script> elements of a page: their attributes and text."""
+
+    def __init__(self):
+        super().__init__()
+        self.scripts: list[tuple[dict, str]] = []
+        self._open: dict | None = None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "script":
+            self._open = dict(attrs)
+            self.scripts.append((self._open, ""))
+
+    def handle_data(self, data):
+        if self._open is not None:
+            attrs, text = self.scripts[-1]
+            self.scripts[-1] = (attrs, text + data)
+
+    def handle_endtag(self, tag):
+        if tag == "script":
+            self._open = None
+
+
+def rendered_tables(html: str) -> tuple[dict, dict]:
+    parser = _Scripts()
+    parser.feed(html)
+    found = [(attrs, text) for attrs, text in parser.scripts if attrs.get("id") == "trical-tables"]
+    assert len(found) == 1, parser.scripts
+    return found[0][0], json.loads(found[0][1])
+
+
+def test_the_tables_are_the_core_s_constants():
+    t = page_tables()
+    assert t["gravity"] == STANDARD_GRAVITY
+    assert t["poses"]["order"] == list(CANONICAL_SIX)
+    assert {k: tuple(float(x) for x in v) for k, v in t["poses"]["up"].items()} == UP_VECTORS
+    assert t["poses"]["names"] == {label: POSE_NAMES[label] for label in CANONICAL_SIX}
+    protocol = cube24()
+    assert t["cube24"]["rotations"] == list(CUBE24_ROTATIONS) and t["cube24"]["ups"] == list(CUBE24_UPS)
+    np.testing.assert_array_equal(t["cube24"]["attitudes"], protocol.attitudes.round())
+    np.testing.assert_allclose(t["cube24"]["attitudes"], protocol.attitudes, atol=1e-12)
+    assert t["cube24"]["turnWords"] == TURN_WORDS
+
+
+def test_the_page_s_thresholds_stay_inside_the_server_s_checks():
+    capture = page_tables()["capture"]
+    # Still for the page means still for the server: the page leaves "still" before the server's limits.
+    assert capture["spreadLow"] < capture["spreadHigh"] < STILL_MAX_STD_G * STANDARD_GRAVITY
+    assert capture["gyrLow"] < capture["gyrHigh"] == sessions.MAX_ROTATION_DEG_S
+    assert capture["maxAngleDeg"] == LABEL_MAX_ANGLE_DEG  # the six flow's pose angle is the server's
+    assert page_tables()["cube"]["maxAngleDeg"] < sessions.CUBE_FACE_MAX_ANGLE_DEG
+
+
+def test_the_pages_render_the_tables_as_data_the_csp_never_runs(client):
+    for path in ("/wizard", "/wizard?protocol=cube24", "/"):
+        r = client.get(path)
+        assert r.status_code == 200 and "script-src 'self'" in r.headers["content-security-policy"]
+        attrs, tables = rendered_tables(r.text)
+        assert attrs == {"type": "application/json", "id": "trical-tables"}, path
+        assert tables == json.loads(json.dumps(page_tables())), path
+    assert "trical-tables" not in client.get("/wizard?protocol=cube12").text  # no script on a refused address
+
+
+def test_the_scripts_hold_no_copy_of_the_tables():
+    sources = {p.name: p.read_text() for p in JS.glob("*.js")}
+    assert "tables.js" in sources
+    for name, text in sources.items():
+        for words in TURN_WORDS.values():
+            assert words not in text, (name, words)
+        for pose_name in POSE_NAMES.values():
+            assert f'"{pose_name}"' not in text, (name, pose_name)
+        assert "9.80665" not in text, name
+        assert not re.search(r'"z\+",\s*"z\+",\s*"z\+"', text), name  # the cube24 rotations
+        assert not re.search(r'\["-x",\s*"\+x",\s*"-y"', text), name  # the six poses
+        assert not re.search(r"gyrHigh:\s*\d|spreadLow:\s*\d|maxAngleDeg:\s*\d", text), name
+
+
+def test_the_capture_duration_bounds_are_the_sessions_(client):
+    low, high = sessions.CAPTURE_S_RANGE
+    assert client.post("/api/v1/sessions", json={"capture_s": high + 0.1}).status_code == 422
+    assert client.post("/api/v1/sessions", json={"capture_s": low}).status_code == 201
+    assert client.post("/api/v1/sessions", json={}).json()["capture_s"] == sessions.CAPTURE_S_DEFAULT
+    assert client.get(f"/wizard?capture_s={high + 0.1}").status_code == 400
+    assert client.get(f"/wizard?capture_s={low}").status_code == 200
