@@ -24,7 +24,7 @@ def test_the_wizard_s_codes(client):
     assert missing.status_code == 422 and missing.json()["code"] == "insufficient_data"
     turning = dict(pose_samples("-z", np.random.default_rng(2)), gyr=[[20.0, 0.0, 0.0]] * 300)
     refused = client.post(f"{url}/captures", json=turning, headers=h)
-    assert refused.status_code == 422 and refused.json()["code"] == "calibration_refused"
+    assert refused.status_code == 422 and refused.json()["code"] == "not_still"
     bad = client.post(f"{url}/captures", json={"acc": "nope"}, headers=h)
     assert bad.status_code == 422 and bad.json()["code"] == "invalid_request"
     stale = client.get(url, headers={"Authorization": "Bearer tks_not-this-one"})  # a reload with a stale token
