@@ -162,7 +162,7 @@ def _calibrate(args, settings: Settings) -> int:
     body = workflow.calibration_body(result, extra, unit=unit, notes=notes, device_id=args.device_id,
                                      label=str(args.log.name), **source)
     if not args.no_store:
-        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -238,7 +238,7 @@ def _autocal(args, settings: Settings) -> int:
     progress = _ProgressBar(args.path.name) if sys.stderr.isatty() else None
     body = workflow.autocalibrate_file(args.path, progress=progress, **options)
     if args.store:
-        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -302,7 +302,7 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
                 bodies = list(pool.map(_autocal_job, paths, [options] * len(paths)))
     if args.store:
         store = open_store(settings.database_url, settings.recordings_dir)
-        bodies = [store.add_calibration(b) if "error" not in b else b for b in bodies]
+        bodies = [store.add_calibration(b, owner=None) if "error" not in b else b for b in bodies]
     if args.json:
         print(json.dumps(bodies, indent=2))
     else:
@@ -329,7 +329,7 @@ def _print_folder_table(bodies: list[dict]) -> None:
 
 
 def _export(args, settings: Settings) -> int:
-    body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id)
+    body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
     out = export_calibration(body, args.format)
     if args.output:
         args.output.write_text(out.content)
