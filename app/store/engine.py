@@ -17,6 +17,9 @@ from app.config import database_url_problem, sqlite_path
 
 WRITE = "trical_write"
 """Execution option of the connections that write (``BEGIN IMMEDIATE`` on SQLite)."""
+POOL = {"pool_size": 5, "max_overflow": 35}
+"""Up to 40 connections: one for each thread of the server's pool (AnyIO's default), so that no
+request waits for a connection."""
 
 
 def make_engine(database_url: str) -> Engine:
@@ -28,12 +31,13 @@ def make_engine(database_url: str) -> Engine:
     if path is not None:
         return _sqlite_engine(path)
     url = make_url(database_url).set(drivername="postgresql+psycopg")
-    return create_engine(url, pool_pre_ping=True)
+    return create_engine(url, pool_pre_ping=True, **POOL)
 
 
 def _sqlite_engine(path: Path) -> Engine:
     path.parent.mkdir(parents=True, exist_ok=True)
-    engine = create_engine(f"sqlite:///{path}", connect_args={"timeout": 30.0, "check_same_thread": False})
+    engine = create_engine(f"sqlite:///{path}", connect_args={"timeout": 30.0, "check_same_thread": False},
+                           **POOL)
 
     @event.listens_for(engine, "connect")
     def _configure(dbapi_connection, _record):
