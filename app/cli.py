@@ -161,7 +161,7 @@ def _calibrate(args, settings: Settings) -> int:
     request = parse_calibration_request(_calibration_request(args, unit=log.units["acc"]))
     body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=args.log, log=log))
     if not args.no_store:
-        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -252,7 +252,7 @@ def _autocal(args, settings: Settings) -> int:
     progress = _ProgressBar(args.path.name) if sys.stderr.isatty() else None
     body = workflow.autocalibrate_file(args.path, progress=progress, **options)
     if args.store:
-        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body)
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -316,7 +316,7 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
                 bodies = list(pool.map(_autocal_job, paths, [options] * len(paths)))
     if args.store:
         store = open_store(settings.database_url, settings.recordings_dir)
-        bodies = [store.add_calibration(b) if "error" not in b else b for b in bodies]
+        bodies = [store.add_calibration(b, owner=None) if "error" not in b else b for b in bodies]
     if args.json:
         print(json.dumps(bodies, indent=2))
     else:
@@ -343,7 +343,7 @@ def _print_folder_table(bodies: list[dict]) -> None:
 
 
 def _export(args, settings: Settings) -> int:
-    body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id)
+    body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
     out = export_calibration(body, args.format)
     if args.output:
         args.output.write_text(out.content)

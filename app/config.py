@@ -4,20 +4,54 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass, field
+from collections.abc import Mapping
 from pathlib import Path
+
+from pydantic import Field, ValidationError, field_validator
+from pydantic_settings import BaseSettings, EnvSettingsSource, SettingsConfigDict
+from pydantic_settings import SettingsError as SourceError
 
 PROJECT_ROOT = Path(__file__).resolve().parent.parent
 """The checkout (or image) root holding static/ and templates/."""
+
+SQLITE_PREFIX = "sqlite:///"
+POSTGRES_PREFIXES = ("postgresql://", "postgres://", "postgresql+psycopg://")
+"""The TRICAL_DATABASE_URL forms trical opens (app.store.engine)."""
+
+
+def database_url_problem(database_url: str) -> str | None:
+    """Why ``database_url`` cannot be used, or None when it can."""
+    if database_url.startswith(POSTGRES_PREFIXES) or (
+            database_url.startswith(SQLITE_PREFIX) and len(database_url) > len(SQLITE_PREFIX)):
+        return None
+    return "must be sqlite:///path/to/trical.db or postgresql://user:password@host/db"
+
+
+def sqlite_path(database_url: str) -> Path | None:
+    """The file of a ``sqlite:///path`` URL, or None for PostgreSQL."""
+    return Path(database_url[len(SQLITE_PREFIX):]) if database_url.startswith(SQLITE_PREFIX) else None
 
 
 class SettingsError(ValueError):
     """An environment variable holds a value that cannot be used."""
 
 
-@dataclass(frozen=True)
-class Settings:
+HINTS = {
+    "database_url": database_url_problem(""),
+    "max_upload_mb": "must be a positive number of MiB",
+    "max_json_mb": "must be a positive number of MiB",
+    "rate_limit_per_minute": "must be 0 (off) or a positive number of requests per minute",
+    "port": "must be an integer",
+    "public_url": "must be an http:// or https:// address",
+}
+"""What each setting must be, for the one-line message of a bad value."""
+
+
+class Settings(BaseSettings):
     """trical's configuration.
+
+    ``Settings.from_env()`` reads it from the environment (empty variables count as unset);
+    ``Settings(field=value, …)`` builds it from the values given and the defaults only.
 
     Attributes
     ----------
@@ -31,7 +65,8 @@ class Settings:
     rate_limit_per_minute : float
         Requests per minute one client may make to /api/ (TRICAL_RATE_LIMIT_PER_MINUTE; 0 = off).
     api_keys : tuple of str
-        When non-empty, every API call needs ``Authorization: Bearer <key>`` (TRICAL_API_KEYS).
+        When non-empty, every API call needs ``Authorization: Bearer <key>`` (TRICAL_API_KEYS,
+        comma-separated).
     host, port : str or None, int
         Where ``trical serve`` and ``make run`` listen (HOST, PORT).  Without HOST, ``trical serve``
         listens on 127.0.0.1, and ``trical serve --https`` on 0.0.0.0 (a phone on the LAN must reach it).
@@ -43,37 +78,56 @@ class Settings:
         --https`` sets it to its LAN wizard address when unset.
     """
 
+    model_config = SettingsConfigDict(env_prefix="TRICAL_", env_ignore_empty=True, frozen=True,
+                                      populate_by_name=True, extra="forbid")
+
     database_url: str = "sqlite:///./var/trical.db"
-    max_upload_mb: float = 512.0
+    max_upload_mb: float = Field(512.0, gt=0)
     # The largest legitimate JSON bodies, measured with full-precision doubles as browsers send them:
     # a cube24 capture whose motion log spans a 4-minute session at 100 Hz, 3.2 MiB; six_position with
     # 10 000 readings and a holdout of 100 000, 6.7 MiB; triangular with 100 000 means and a holdout of
     # 100 000 (both at the schema's caps), 11.2 MiB. 16 MiB leaves room above all of them.
-    max_json_mb: float = 16.0
-    rate_limit_per_minute: float = 0.0
+    max_json_mb: float = Field(16.0, gt=0, allow_inf_nan=False)
+    rate_limit_per_minute: float = Field(0.0, ge=0)
     api_keys: tuple[str, ...] = ()
-    host: str | None = None
-    port: int = 8000
+    host: str | None = Field(None, validation_alias="HOST")
+    port: int = Field(8000, validation_alias="PORT")
     data_dir: Path | None = None
     public_url: str | None = None
-    static_dir: Path = field(default=PROJECT_ROOT / "static")
-    templates_dir: Path = field(default=PROJECT_ROOT / "templates")
+    static_dir: Path = PROJECT_ROOT / "static"
+    templates_dir: Path = PROJECT_ROOT / "templates"
+
+    @classmethod
+    def settings_customise_sources(cls, settings_cls, init_settings, env_settings, dotenv_settings,
+                                   file_secret_settings):
+        # The environment is read by from_env alone, so that Settings(...) is what it says.
+        return (init_settings,)
+
+    @field_validator("database_url")
+    @classmethod
+    def _known_database(cls, value: str) -> str:
+        problem = database_url_problem(value)
+        if problem is not None:
+            raise ValueError(problem)
+        return value
+
+    @field_validator("public_url")
+    @classmethod
+    def _web_address(cls, value: str | None) -> str | None:
+        if value is not None:
+            value = value.strip()
+            if not re.match(r"https?://[^\s/]+", value):
+                raise ValueError(HINTS["public_url"])
+        return value
 
     @property
     def is_sqlite(self) -> bool:
-        return self.database_url.startswith("sqlite:///")
+        return sqlite_path(self.database_url) is not None
 
     @property
     def database_path(self) -> Path | None:
         """Filesystem path of the SQLite database, or None for PostgreSQL."""
-        if self.is_sqlite:
-            return Path(self.database_url[len("sqlite:///"):])
-        if self.database_url.startswith(("postgresql://", "postgres://")):
-            return None
-        raise SettingsError(
-            "TRICAL_DATABASE_URL must be sqlite:///path/to/trical.db or postgresql://user:password@host/db; "
-            f"got {self.database_url!r}"
-        )
+        return sqlite_path(self.database_url)
 
     @property
     def data_base(self) -> Path:
@@ -106,49 +160,47 @@ class Settings:
         return int(self.max_json_mb * 1024 * 1024)
 
     @classmethod
-    def from_env(cls, environ=None) -> "Settings":
-        """Build the settings from the environment (``os.environ`` by default)."""
-        env = os.environ if environ is None else environ
-        kwargs: dict = {}
-        if env.get("TRICAL_DATABASE_URL"):
-            kwargs["database_url"] = env["TRICAL_DATABASE_URL"]
-        if env.get("TRICAL_MAX_UPLOAD_MB"):
-            try:
-                kwargs["max_upload_mb"] = float(env["TRICAL_MAX_UPLOAD_MB"])
-            except ValueError:
-                raise SettingsError(f"TRICAL_MAX_UPLOAD_MB must be a number of MiB; got {env['TRICAL_MAX_UPLOAD_MB']!r}") from None
-            if not kwargs["max_upload_mb"] > 0:
-                raise SettingsError("TRICAL_MAX_UPLOAD_MB must be positive")
-        if env.get("TRICAL_MAX_JSON_MB"):
-            try:
-                kwargs["max_json_mb"] = float(env["TRICAL_MAX_JSON_MB"])
-            except ValueError:
-                raise SettingsError(f"TRICAL_MAX_JSON_MB must be a number of MiB; got {env['TRICAL_MAX_JSON_MB']!r}") from None
-            if not 0 < kwargs["max_json_mb"] < float("inf"):
-                raise SettingsError("TRICAL_MAX_JSON_MB must be a positive, finite number of MiB")
-        if env.get("TRICAL_RATE_LIMIT_PER_MINUTE"):
-            try:
-                kwargs["rate_limit_per_minute"] = float(env["TRICAL_RATE_LIMIT_PER_MINUTE"])
-            except ValueError:
-                raise SettingsError("TRICAL_RATE_LIMIT_PER_MINUTE must be a number of requests per minute") from None
-            if kwargs["rate_limit_per_minute"] < 0:
-                raise SettingsError("TRICAL_RATE_LIMIT_PER_MINUTE must be 0 (off) or positive")
-        if env.get("TRICAL_API_KEYS"):
-            kwargs["api_keys"] = tuple(k.strip() for k in env["TRICAL_API_KEYS"].split(",") if k.strip())
-        if env.get("TRICAL_DATA_DIR"):
-            kwargs["data_dir"] = Path(env["TRICAL_DATA_DIR"])
-        if env.get("TRICAL_PUBLIC_URL"):
-            kwargs["public_url"] = env["TRICAL_PUBLIC_URL"].strip()
-            if not re.match(r"https?://[^\s/]+", kwargs["public_url"]):
-                raise SettingsError(f"TRICAL_PUBLIC_URL must be an http:// or https:// address; "
-                                    f"got {env['TRICAL_PUBLIC_URL']!r}")
-        if env.get("HOST"):
-            kwargs["host"] = env["HOST"]
-        if env.get("PORT"):
-            try:
-                kwargs["port"] = int(env["PORT"])
-            except ValueError:
-                raise SettingsError(f"PORT must be an integer; got {env['PORT']!r}") from None
-        settings = cls(**kwargs)
-        settings.database_path  # validate the URL early
-        return settings
+    def from_env(cls, environ: Mapping[str, str] | None = None) -> "Settings":
+        """Build the settings from the environment (``os.environ`` by default).
+
+        Raises
+        ------
+        SettingsError
+            A variable holds a value that cannot be used; the message is one line naming it.
+        """
+        try:
+            return cls(**_Environment(cls, os.environ if environ is None else environ)())
+        except ValidationError as exc:
+            raise SettingsError(_one_line(exc)) from None
+        except SourceError as exc:
+            raise SettingsError(str(exc)) from None
+
+
+class _Environment(EnvSettingsSource):
+    """pydantic-settings' reading of TRICAL_* (and HOST, PORT) from a given mapping; TRICAL_API_KEYS
+    is comma-separated rather than JSON."""
+
+    def __init__(self, settings_cls: type[Settings], environ: Mapping[str, str]):
+        super().__init__(settings_cls)
+        self.env_vars = {(k if self.case_sensitive else k.lower()): v for k, v in environ.items() if v != ""}
+
+    def prepare_field_value(self, field_name, field, value, value_is_complex):
+        if field_name == "api_keys" and isinstance(value, str):
+            return tuple(k.strip() for k in value.split(",") if k.strip())
+        return super().prepare_field_value(field_name, field, value, value_is_complex)
+
+
+def _variable(field: str) -> str:
+    alias = Settings.model_fields[field].validation_alias if field in Settings.model_fields else None
+    return alias if isinstance(alias, str) else f"TRICAL_{field.upper()}"
+
+
+def _one_line(exc: ValidationError) -> str:
+    """The first problem of a ValidationError as ``VARIABLE must be …; got '…'``."""
+    problems = []
+    for error in exc.errors():
+        field = str(error["loc"][0]) if error["loc"] else ""
+        field = next((name for name, info in Settings.model_fields.items() if info.validation_alias == field), field)
+        hint = HINTS.get(field, error["msg"].lower())
+        problems.append(f"{_variable(field)} {hint}; got {error.get('input')!r}")
+    return "; ".join(problems)

@@ -7,47 +7,51 @@ from fastapi import APIRouter, Depends, Query
 from fastapi.responses import Response
 
 from app import workflow
-from app.api.deps import get_store
+from app.api.deps import get_owner, get_store
 from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut
 from app.io.exporters import EXPORTERS, export_calibration
-from app.store import OwnedStore
+from app.store import Store
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
 
-def recording_source(store: OwnedStore, recording_id: str | None) -> workflow.RecordingSource | None:
+def recording_source(store: Store, recording_id: str | None, owner: str | None) -> workflow.RecordingSource | None:
     """The caller's stored recording a request names (404 when it is not theirs)."""
     if recording_id is None:
         return None
-    meta, path = store.get_recording(recording_id)
+    meta, path = store.get_recording(recording_id, owner=owner)
     return workflow.RecordingSource(meta=meta, path=path, id=recording_id)
 
 
-@router.post("", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True, summary="Compute and store a calibration")
-def create_calibration(request: CalibrationIn, store: OwnedStore = Depends(get_store)):
+@router.post("", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True,
+             summary="Compute and store a calibration")
+def create_calibration(request: CalibrationIn, store: Store = Depends(get_store),
+                       owner: str | None = Depends(get_owner)):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
-    body = workflow.calibrate(request, recording_source(store, getattr(request, "recording_id", None)))
-    return store.add_calibration(body)
+    body = workflow.calibrate(request, recording_source(store, getattr(request, "recording_id", None), owner))
+    return store.add_calibration(body, owner=owner)
 
 
 @router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")
 def list_calibrations(device_id: str | None = Query(None, max_length=200),
-                      limit: int = Query(100, ge=1, le=1000), store: OwnedStore = Depends(get_store)):
+                      limit: int = Query(100, ge=1, le=1000), store: Store = Depends(get_store),
+                      owner: str | None = Depends(get_owner)):
     """Calibrations, newest first, optionally of one device."""
-    return {"items": store.list_calibrations(device_id=device_id, limit=limit)}
+    return {"items": store.list_calibrations(owner=owner, device_id=device_id, limit=limit)}
 
 
-@router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True, summary="Read a calibration")
-def get_calibration(calibration_id: str, store: OwnedStore = Depends(get_store)):
+@router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True,
+            summary="Read a calibration")
+def get_calibration(calibration_id: str, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
     """One stored calibration."""
-    return store.get_calibration(calibration_id)
+    return store.get_calibration(calibration_id, owner=owner)
 
 
 @router.get("/{calibration_id}/export", summary="Export a calibration",
             responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
                                          "application/yaml": {}, "text/csv": {}}}})
 def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(EXPORTERS)}"),
-           store: OwnedStore = Depends(get_store)):
+           store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
     """The calibration as a file for firmware or analysis code.
 
     ``json`` (versioned schema), ``c`` (C99 header), ``yaml`` and ``csv`` carry the full correction
@@ -55,14 +59,15 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
     (``CAL_ACC0_*OFF``, ``CAL_ACC0_*SCALE``) carry offsets and per-axis scales only, their comment
     header reporting the residual of the dropped cross-axis terms; ArduPilot's ranges are enforced.
     """
-    out = export_calibration(store.get_calibration(calibration_id), format)
+    out = export_calibration(store.get_calibration(calibration_id, owner=owner), format)
     return Response(out.content, media_type=out.media_type,
                     headers={"Content-Disposition": f'attachment; filename="{out.filename}"'})
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")
-def apply(calibration_id: str, request: ApplyIn, store: OwnedStore = Depends(get_store)):
+def apply(calibration_id: str, request: ApplyIn, store: Store = Depends(get_store),
+          owner: str | None = Depends(get_owner)):
     """Samples calibrated with a stored calibration."""
-    body = store.get_calibration(calibration_id)
+    body = store.get_calibration(calibration_id, owner=owner)
     calibrated = workflow.apply_calibration(body, request.samples, request.sensor)
     return {"samples": np.asarray(calibrated).tolist(), "unit": body.get("output_unit")}

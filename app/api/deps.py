@@ -9,7 +9,7 @@ import secrets
 from fastapi import Request
 
 from app.config import Settings
-from app.store import OwnedStore, Store
+from app.store import Store
 
 
 class Unauthorized(Exception):
@@ -50,7 +50,7 @@ def session_of_token(request: Request, token: str | None) -> str | None:
     no session is a 401."""
     if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
         return None
-    session_id = request.app.state.store.session_id_for_token(token_hash(token))
+    session_id = get_store(request).session_id_for_token(token_hash(token))
     if session_id is None:
         raise Unauthorized("the session token is not valid: start a new session with POST /api/v1/sessions")
     return session_id
@@ -106,7 +106,6 @@ def verified_identity(request: Request) -> str | None:
     return key_owner(token, keys) if keys else None
 
 
-def get_store(request: Request) -> OwnedStore:
-    """The store, seen as the calling owner: reads and writes are confined to its objects."""
-    store: Store = request.app.state.store
-    return OwnedStore(store, get_owner(request))
+def get_store(request: Request) -> Store:
+    """The application's store; routes pass the caller's owner (get_owner) to each of its methods."""
+    return request.app.state.store

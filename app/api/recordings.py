@@ -8,12 +8,11 @@ from typing import Literal
 from fastapi import APIRouter, Depends, File, Form, UploadFile
 
 from app import workflow
-from app.api.deps import get_settings, get_store
+from app.api.deps import get_owner, get_settings, get_store
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import RecordingOut
 from app.config import Settings
-from app.store import OwnedStore
-from app.store.base import new_id
+from app.store import Store, new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
@@ -50,7 +49,8 @@ def upload_recording(
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
     columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down"),
     settings: Settings = Depends(get_settings),
-    store: OwnedStore = Depends(get_store),
+    store: Store = Depends(get_store),
+    owner: str | None = Depends(get_owner),
 ):
     """Store a log and return its static segments with their orientation."""
     recording_id = new_id("rec")
@@ -64,14 +64,15 @@ def upload_recording(
                                 columns=columns)
         body = workflow.describe_log(log)
         body["filename"] = file.filename
-        return store.add_recording(recording_id, body, dest)
+        return store.add_recording(recording_id, body, dest, owner=owner)
     except BaseException:
         dest.unlink(missing_ok=True)
         raise
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
-def get_recording(recording_id: str, store: OwnedStore = Depends(get_store)):
+def get_recording(recording_id: str, store: Store = Depends(get_store),
+                  owner: str | None = Depends(get_owner)):
     """A recording's metadata and static segments."""
-    body, _ = store.get_recording(recording_id)
+    body, _ = store.get_recording(recording_id, owner=owner)
     return body

@@ -6,7 +6,8 @@ from fastapi import APIRouter, Depends, Request
 
 from app import sessions
 from app.api.deps import (
-    SESSION_TOKEN_PREFIX, Unauthorized, bearer_token, get_owner, new_session_token, session_of_token, session_owner,
+    SESSION_TOKEN_PREFIX, Unauthorized, bearer_token, get_owner, get_store, new_session_token, session_of_token,
+    session_owner,
 )
 from app.api.schemas import CalibrationOut, CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
 from app.store import NotFoundError, Store
@@ -14,11 +15,7 @@ from app.store import NotFoundError, Store
 router = APIRouter(prefix="/api/v1/sessions", tags=["sessions"])
 
 
-def _store(request: Request) -> Store:
-    return request.app.state.store
-
-
-def session_of(session_id: str, request: Request) -> dict:
+def session_of(session_id: str, request: Request, store: Store = Depends(get_store)) -> dict:
     """The session the bearer token opens; 401 without a valid token, 404 for another session's id."""
     token = bearer_token(request)
     if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
@@ -26,15 +23,15 @@ def session_of(session_id: str, request: Request) -> dict:
                            "(the token POST /api/v1/sessions returned)")
     if session_of_token(request, token) != session_id:
         raise NotFoundError(f"no session with id {session_id!r} for this token")
-    return _store(request).get_session(session_id)
+    return store.get_session(session_id)
 
 
 @router.post("", status_code=201, response_model=SessionCreated)
-def create_session(body: SessionIn, request: Request):
-    """Start a wizard session; the token in the answer opens it."""
-    owner = get_owner(request)  # with TRICAL_API_KEYS set, a key is needed to start one
+def create_session(body: SessionIn, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
+    """Start a wizard session; the token in the answer opens it (with TRICAL_API_KEYS set, starting
+    one needs a key)."""
     token, digest = new_session_token()
-    stored = _store(request).add_session(sessions.new_session(body.model_dump()), digest, owner=owner)
+    stored = store.add_session(sessions.new_session(body.model_dump()), digest, owner=owner)
     return dict(sessions.view(dict(stored, calibration_id=None, captures=[])), token=token)
 
 
@@ -45,16 +42,15 @@ def get_session(session: dict = Depends(session_of)):
 
 
 @router.post("/{session_id}/captures", status_code=201, response_model=CaptureOut)
-def add_capture(body: CaptureIn, request: Request, session: dict = Depends(session_of)):
+def add_capture(body: CaptureIn, session: dict = Depends(session_of), store: Store = Depends(get_store)):
     """Check the raw samples of one still pose and store them (409 when that pose is done)."""
-    capture, view = sessions.add_capture(_store(request), session, body.model_dump())
+    capture, view = sessions.add_capture(store, session, body.model_dump())
     return {"capture": capture, "session": view}
 
 
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
-def solve_session(request: Request, session: dict = Depends(session_of)):
+def solve_session(session: dict = Depends(session_of), store: Store = Depends(get_store)):
     """Compute and store the calibration of a complete session; its token reads it."""
-    store = _store(request)
     body = store.add_calibration(sessions.solve(store, session), owner=session_owner(session["id"]))
     store.set_session_calibration(session["id"], body["id"])
     return body

@@ -1,25 +1,22 @@
-"""Persistence of recordings, calibrations and wizard sessions: SQLite on one machine, PostgreSQL for replicas."""
+"""Persistence of recordings, calibrations and wizard sessions: SQLite on one machine, PostgreSQL for
+replicas (SQLAlchemy Core, Alembic migrations)."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from .base import ConflictError, NotFoundError, OwnedStore, Store
-from .sqlite import SQLiteStore
+from .engine import make_engine
+from .migrate import SchemaError
+from .repository import ConflictError, NotFoundError, Store, new_id
 
 
 def open_store(database_url: str, files_dir: Path) -> Store:
-    """The store a ``TRICAL_DATABASE_URL`` names (``sqlite:///path`` or ``postgresql://…``)."""
-    if database_url.startswith(("postgresql://", "postgres://")):
-        from .postgres import PostgresStore
+    """The store a ``TRICAL_DATABASE_URL`` names (``sqlite:///path`` or ``postgresql://…``), migrated.
 
-        return PostgresStore(database_url, files_dir)
-    prefix = "sqlite:///"
-    if not database_url.startswith(prefix):
-        raise ValueError(
-            f"TRICAL_DATABASE_URL must be sqlite:///path/to/trical.db or postgresql://user@host/db; got {database_url!r}"
-        )
-    return SQLiteStore(Path(database_url[len(prefix):]), files_dir)
+    With PostgreSQL the replicas share nothing but the database, so uploaded files are kept in it too.
+    """
+    engine = make_engine(database_url)
+    return Store(engine, files_dir, keep_files_in_database=engine.dialect.name == "postgresql")
 
 
-__all__ = ["ConflictError", "NotFoundError", "OwnedStore", "SQLiteStore", "Store", "open_store"]
+__all__ = ["ConflictError", "NotFoundError", "SchemaError", "Store", "new_id", "open_store"]

@@ -9,7 +9,7 @@ from fastapi.testclient import TestClient
 from app.config import Settings
 from app.main import create_app
 from app.store import NotFoundError, open_store
-from app.store.base import MIGRATIONS
+from app.store.migrate import head_revision
 from tests.api.test_calibrations import CANONICAL, six_request
 from tests.api.test_recordings import LOG
 from tests.conftest import seed_table
@@ -21,22 +21,22 @@ def body(**kw):
 
 
 def test_migrations_are_versioned_and_idempotent(store, database_url, tmp_path):
-    assert store.schema_version == len(MIGRATIONS)
+    assert store.schema_revision == head_revision() == "0003"
     again = open_store(database_url, tmp_path / "files")  # a restart, or a second replica
-    assert again.schema_version == len(MIGRATIONS)
+    assert again.schema_revision == head_revision()
 
 
 def test_calibrations_by_owner_and_device(store):
     a = store.add_calibration(body(device_id="d1"), owner="key:a")
     b = store.add_calibration(body(device_id="d1"), owner="key:b")
-    c = store.add_calibration(body(device_id="d2"))
+    c = store.add_calibration(body(device_id="d2"), owner=None)
     assert store.get_calibration(a["id"], owner="key:a") == a
     with pytest.raises(NotFoundError):
         store.get_calibration(a["id"], owner="key:b")
     with pytest.raises(NotFoundError):
-        store.get_calibration(a["id"])  # keyless callers see only keyless objects
+        store.get_calibration(a["id"], owner=None)  # keyless callers see only keyless objects
     assert [x["id"] for x in store.list_calibrations(device_id="d1", owner="key:b")] == [b["id"]]
-    assert [x["id"] for x in store.list_calibrations()] == [c["id"]]
+    assert [x["id"] for x in store.list_calibrations(owner=None)] == [c["id"]]
 
 
 def test_two_replicas_share_only_the_database(pg, tmp_path):
@@ -90,3 +90,36 @@ def test_sessions_and_their_captures(store):
     assert store.get_session(s["id"])["calibration_id"] == "cal_x"
     with pytest.raises(NotFoundError):
         store.get_session("ses_missing")
+
+
+def test_replicas_starting_together_migrate_one_after_the_other(pg, tmp_path):
+    """Four processes open one fresh PostgreSQL database at once: the advisory lock serialises their
+    migrations, so none fails on a table another is creating."""
+    import subprocess
+    import sys
+
+    from tests.live_server import ROOT
+
+    url = pg.new_database()
+    code = "import sys; from app.store import open_store; print(open_store(sys.argv[1], sys.argv[2]).schema_revision)"
+    replicas = [subprocess.Popen([sys.executable, "-c", code, url, str(tmp_path / f"replica{i}")], cwd=ROOT,
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for i in range(4)]
+    outcomes = [r.communicate(timeout=120) for r in replicas]
+    assert [(r.returncode, out.strip()) for r, (out, _) in zip(replicas, outcomes)] == [(0, head_revision())] * 4, \
+        [err for _, err in outcomes]
+    store = open_store(url, tmp_path / "files")
+    made = store.add_calibration(body(), owner=None)
+    assert store.get_calibration(made["id"], owner=None) == made
+
+
+def test_sqlite_is_durable_and_enforces_foreign_keys(tmp_path):
+    """WAL journal, synchronous=FULL and foreign keys on every connection of the pool."""
+    import sqlalchemy
+
+    store = open_store(f"sqlite:///{tmp_path / 'trical.db'}", tmp_path / "files")
+    with store.engine.connect() as db:
+        assert db.exec_driver_sql("PRAGMA journal_mode").scalar() == "wal"
+        assert db.exec_driver_sql("PRAGMA synchronous").scalar() == 2  # FULL
+        assert db.exec_driver_sql("PRAGMA foreign_keys").scalar() == 1
+    with pytest.raises(sqlalchemy.exc.IntegrityError):
+        store.add_capture("ses_missing", {"position": "+z"}, {"acc": []})
