@@ -1,6 +1,7 @@
-"""Auto-calibration of a long recording by the pipeline of 002 (section II.B, evaluation III.B).
+"""Auto-calibration of a long recording by the pipeline of Farago, Maczak and Gingl, IEEE Access
+(section II.B, evaluation III.B).
 
-002_7135f13639ec18ce.txt:
+Farago, Maczak and Gingl, IEEE Access:
 
 1. **Rest segments** (section II.B.1): fixed 5 s segments whose max − min on one axis stays below
    0.12 g; NaN gaps and idle-sleep runs are refused (:mod:`app.calibration.stationary_002`).
@@ -21,7 +22,8 @@
 5. **Held-out evaluation** (section III.B, Table 3): the mean of | |r| − 1 g | over the control
    points before and after, in mg, and the improvement R of eq. (21) in per cent.
 6. **Comparison** on the same points and control set, like Table 3: the non-iterative ellipsoid fit
-   (002 ref. [34]) and the van Hees / GGIR sphere fit, the latter also on its own 10 s windows
+   (Farago, Maczak and Gingl, IEEE Access, ref. [34]) and the van Hees / GGIR sphere fit, the latter
+   also on its own 10 s windows
    (:mod:`app.calibration.comparison`).
 
 A recording that cannot be calibrated (no rest, rest in only one orientation, subsets left empty)
@@ -46,9 +48,9 @@ MODEL_TYPE = "triangular"
 METHOD = "autocal"
 
 BIN_EDGES_G = ((-1.25, -0.75), (-0.25, 0.25), (0.75, 1.25))
-"""The three intervals of each axis, in g (002 eq. (10))."""
+"""The three intervals of each axis, in g (Farago, Maczak and Gingl, IEEE Access, eq. (10))."""
 BIN_NAMES = tuple(f"C_{a}{j}" for a in "xyz" for j in "n0p")
-"""C_xn, C_x0, C_xp, C_yn, ... (002 eq. (10)); bin b = 3·axis + interval."""
+"""C_xn, C_x0, C_xp, C_yn, ... (Farago, Maczak and Gingl, IEEE Access, eq. (10)); bin b = 3·axis + interval."""
 
 MIN_PER_BIN = 2
 MAX_PER_BIN = 2
@@ -59,7 +61,7 @@ ONE_ORIENTATION_DEG = 20.0
 
 @dataclass(frozen=True)
 class Selection:
-    """Points chosen into the nine subsets of 002 eq. (10).
+    """Points chosen into the nine subsets of Farago, Maczak and Gingl, IEEE Access, eq. (10).
 
     Attributes
     ----------
@@ -101,7 +103,8 @@ def bin_of(points_g: np.ndarray) -> np.ndarray:
 
 def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN, max_per_bin: int = MAX_PER_BIN,
                   min_distance_g: float = MIN_DISTANCE_G, exclude=None) -> Selection:
-    """Choose calibration points into the nine subsets of 002 eq. (10) (module docstring, step 2).
+    """Choose calibration points into the nine subsets of Farago, Maczak and Gingl, IEEE Access, eq.
+    (10) (module docstring, step 2).
 
     Parameters
     ----------
@@ -110,7 +113,7 @@ def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN
     gravity : float
         Reference magnitude; the subsets and the distance are in g.
     min_per_bin, max_per_bin : int
-        Bounds per subset (2 and 2 in 002).
+        Bounds per subset (2 and 2 in Farago, Maczak and Gingl, IEEE Access).
     min_distance_g : float
         Smallest distance of a new point from those already chosen, in g (Figure 6 is not in the
         text; 0.1 g by default).
@@ -283,7 +286,8 @@ class AutoCalibration:
 
 
 def _comparison_entry(result, control, count: int) -> dict:
-    """One row of the comparison table (002 Table 3): errors on the control points and the model."""
+    """One row of the comparison table (Farago, Maczak and Gingl, IEEE Access, Table 3): errors on the
+    control points and the model."""
     entry = {"K": result.K.tolist(), "o": np.asarray(result.o).tolist(), "ok": bool(result.ok), "count": int(count),
              "reasons": list(result.reasons), "error_before_mg": None, "error_after_mg": None,
              "improvement_pct": None, "count_control": int(len(control))}
@@ -408,7 +412,8 @@ def _comparison(rest: RestSegments, cal: TriangularCalibration, points: np.ndarr
 def autocalibrate(rest: RestSegments, *, solver: str = "lm", min_per_bin: int = MIN_PER_BIN,
                   max_per_bin: int = MAX_PER_BIN, min_distance_g: float = MIN_DISTANCE_G,
                   compare: bool = True) -> AutoCalibration:
-    """Select, fit and evaluate the 002 auto-calibration from detected rest segments.
+    """Select, fit and evaluate the Farago, Maczak and Gingl, IEEE Access auto-calibration from
+    detected rest segments.
 
     Parameters
     ----------
@@ -465,7 +470,7 @@ def autocalibrate(rest: RestSegments, *, solver: str = "lm", min_per_bin: int = 
 
 def autocalibrate_samples(samples, sampling_rate_hz: float, *, gravity: float = 1.0, solver: str = "lm",
                           progress=None, detection: dict | None = None, **selection) -> AutoCalibration:
-    """Detect, select, fit and evaluate in one call (002 section II.B).
+    """Detect, select, fit and evaluate in one call (Farago, Maczak and Gingl, IEEE Access, section II.B).
 
     Parameters
     ----------

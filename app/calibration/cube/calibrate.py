@@ -1,10 +1,12 @@
-"""The cube method of 003_17911d0910b68c7e.txt end to end: one recording in, three sensors out.
+"""The cube method of Särkkä et al., IEEE Sensors Journal 17(11) 2017 end to end: one recording in,
+three sensors out.
 
 :func:`calibrate_cube` segments the recording into still positions and rotations, matches them
 to the protocol, removes the drift when the device returned to position 1 (section II), checks
 the sequence (section VII-A-1), and calibrates the accelerometer and the magnetometer
 (sections III-C, IV-B) and the gyroscope (sections III-B, IV-A) from the positions and rotations
-before the first mistake.  Every sensor follows ``raw = S f + b`` (003 eq. (1)).
+before the first mistake.  Every sensor follows ``raw = S f + b`` (Särkkä et al., IEEE Sensors Journal
+17(11) 2017, eq. (1)).
 """
 
 from __future__ import annotations
@@ -175,7 +177,8 @@ class CubeCalibration:
 
 
 def _position_stats(raw: np.ndarray, static) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Mean, sample covariance and count of each still interval (003 Appendix A)."""
+    """Mean, sample covariance and count of each still interval (Särkkä et al., IEEE Sensors Journal
+    17(11) 2017, Appendix A)."""
     means, covs, counts = [], [], []
     for a, b in static:
         seg = raw[a:b]
@@ -391,7 +394,8 @@ def calibrate_cube(
     static_threshold: float | None = None,
     min_static_s: float = 1.0,
 ) -> CubeCalibration:
-    """Calibrate accelerometer, gyroscope and magnetometer from one cube recording (003).
+    """Calibrate accelerometer, gyroscope and magnetometer from one cube recording (Särkkä et al., IEEE
+    Sensors Journal 17(11) 2017).
 
     Parameters
     ----------
@@ -414,7 +418,8 @@ def calibrate_cube(
         Gyroscope full scale in rad/s, to flag rotations that exceed it (otherwise clipping is
         detected from flat tops).
     lam : float, optional
-        Fixed λ of 003 eq. (9); by default the saturation rule of section IV-A-1.
+        Fixed λ of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (9); by default the saturation
+        rule of section IV-A-1.
     static_threshold, min_static_s : float
         Segmentation settings (see :func:`segment_recording`).
 

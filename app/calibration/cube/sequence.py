@@ -1,4 +1,4 @@
-"""Sequence checks (003_17911d0910b68c7e.txt, section VII-A-1).
+"""Sequence checks (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section VII-A-1).
 
 The end attitude of every rotation is known from the protocol; the forward solution of eq. (2)
 with the pre-adjusted rates approximates it.  If any element of the integrated end quaternion
@@ -19,7 +19,8 @@ from . import quaternion as quat
 from .protocols import Protocol
 
 MAX_ELEMENT_DIFFERENCE = 0.1
-"""003 section VII-A-1: a larger difference in any quaternion element flags a wrong rotation.
+"""Särkkä et al., IEEE Sensors Journal 17(11) 2017, section VII-A-1: a larger difference in any
+quaternion element flags a wrong rotation.
 
 The paper's rotations are 90°; a scale error of the pre-adjusted gyroscope grows with the angle,
 so for larger rotations the tolerance grows in proportion (0.1 per 90°, e.g. 0.4 for a 360° turn
@@ -170,7 +171,8 @@ def check_sequence(
     gravity: float,
     saturated: np.ndarray | None = None,
 ) -> SequenceCheck:
-    """Check every transition of a recording against its protocol (003 section VII-A-1).
+    """Check every transition of a recording against its protocol (Särkkä et al., IEEE Sensors Journal
+    17(11) 2017, section VII-A-1).
 
     Parameters
     ----------
