@@ -1,6 +1,6 @@
-"""Known-orientation calibration: the 12-parameter affine model of 000, Approach 2.
+"""Known-orientation calibration: the 12-parameter affine model of Georgieva et al., ESGI'95, Approach 2.
 
-000_cb2cbc1c5eaccf1a.txt, section 3: the measurement m of a true specific force a is modelled as
+Georgieva et al., ESGI'95, section 3: the measurement m of a true specific force a is modelled as
 ``m = X a + y`` (section 3.2); the calibrated value is ``a = X⁻¹ (m − y)`` (eq. (20)).  With N ≥ 4
 readings in known orientations the parameters z (eq. (21)) solve ``K z = m̄`` in the least-squares
 sense (section 3.3), provided condition (22) holds; for the six canonical orientations the solution
@@ -205,12 +205,14 @@ class AffineCalibration(StillReadingsResult):
         )
 
 def _design(expected: np.ndarray, gravity: float) -> np.ndarray:
-    """Rows (a⁽ⁱ⁾/g, 1) of 000 condition (22), normalised so that the design is unit-free."""
+    """Rows (a⁽ⁱ⁾/g, 1) of Georgieva et al., ESGI'95, condition (22), normalised so that the design is
+    unit-free."""
     return np.hstack([expected / gravity, np.ones((len(expected), 1))])
 
 
 def _check_condition_22(expected: np.ndarray, gravity: float, labels: tuple) -> None:
-    """Raise unless the rows (a⁽ⁱ⁾, 1) have rank 4 (000 condition (22), read as in DESIGN.md §3)."""
+    """Raise unless the rows (a⁽ⁱ⁾, 1) have rank 4 (Georgieva et al., ESGI'95, condition (22), read as
+    in DESIGN.md §3)."""
     design = _design(expected, gravity)
     sv = np.linalg.svd(design, compute_uv=False)
     rank = int(np.sum(sv > 1e-9 * sv[0]))
@@ -233,7 +235,8 @@ def _check_condition_22(expected: np.ndarray, gravity: float, labels: tuple) -> 
 
 
 def _covariance(design: np.ndarray, residuals: np.ndarray, gravity: float) -> tuple[np.ndarray | None, int]:
-    """Least-squares covariance of z (000 eq. (21) order) from the residual variance per axis.
+    """Least-squares covariance of z (Georgieva et al., ESGI'95, eq. (21) order) from the residual
+    variance per axis.
 
     Each output axis j is its own linear model ``m_j = [a, 1] · [X_j, y_j]``; its parameters
     have covariance σ_j² (AᵀA)⁻¹ with σ_j² = RSS_j / (N − 4).  Axes are taken as independent.
@@ -254,7 +257,8 @@ def _covariance(design: np.ndarray, residuals: np.ndarray, gravity: float) -> tu
 
 
 def _calibrated(X: np.ndarray, y: np.ndarray, means: np.ndarray) -> np.ndarray:
-    """``a = X⁻¹ (m − y)`` of every reading (Georgieva et al., ESGI'95, eq. (20)), or raise when X is singular."""
+    """``a = X⁻¹ (m − y)`` of every reading (Georgieva et al., ESGI'95, eq. (20)), or raise when X is
+    singular."""
     det = float(np.linalg.det(X))
     if not np.isfinite(det) or abs(det) < 1e-12:
         raise CalibrationError(
@@ -407,9 +411,11 @@ def fit_orientations(
     plausible_scale: tuple[float, float] | None = PLAUSIBLE_SCALE,
     max_offset: float | None = None,
 ) -> AffineCalibration:
-    """Least-squares affine calibration from readings in known orientations (000 section 3.3).
+    """Least-squares affine calibration from readings in known orientations (Georgieva et al., ESGI'95,
+    section 3.3).
 
-    Solves ``K z = m̄`` for z = (x11, …, x33, y1, y2, y3) (000 eq. (21)) in the least-squares
+    Solves ``K z = m̄`` for z = (x11, …, x33, y1, y2, y3) (Georgieva et al., ESGI'95, eq. (21)) in the
+    least-squares
     sense, after checking condition (22).
 
     Parameters
@@ -450,7 +456,7 @@ def fit_orientations(
             "orientations that do not lie on one plane are needed (000 condition (22))"
         )
     _check_condition_22(a, g, labels)
-    # 000 section 3.3: K z = m̄ decouples into A W = M with A = [a, 1] and W = [Xᵀ; yᵀ].
+    # Georgieva et al., ESGI'95, section 3.3: K z = m̄ decouples into A W = M with A = [a, 1] and W = [Xᵀ; yᵀ].
     design = np.hstack([a, np.ones((len(a), 1))])
     W, *_ = np.linalg.lstsq(design, m, rcond=None)
     X, y = W[:3].T.copy(), W[3].copy()
@@ -471,7 +477,8 @@ def fit_six_position(
     plausible_scale: tuple[float, float] | None = PLAUSIBLE_SCALE,
     max_offset: float | None = None,
 ) -> AffineCalibration:
-    """Closed-form affine calibration from the six canonical orientations (000 section 3.3.1).
+    """Closed-form affine calibration from the six canonical orientations (Georgieva et al., ESGI'95,
+    section 3.3.1).
 
     ``X = (1/2g) [m⁽⁺ˣ⁾ − m⁽⁻ˣ⁾, m⁽⁺ʸ⁾ − m⁽⁻ʸ⁾, m⁽⁺ᶻ⁾ − m⁽⁻ᶻ⁾]`` and ``y = (1/6) Σ m⁽ⁱ⁾``; it
     equals the least-squares solution of section 3.3 on the same readings.
@@ -482,7 +489,7 @@ def fit_six_position(
         Averaged still readings, one per canonical orientation, in any order.
     ups : sequence of str
         The label of each reading; each of ``-x, +x, -y, +y, -z, +z`` exactly once.
-        Defaults to the canonical order of 000 section 3.3.1.
+        Defaults to the canonical order of Georgieva et al., ESGI'95, section 3.3.1.
     gravity, stds, plausible_scale, max_offset
         As in :func:`fit_orientations`.
 
@@ -514,7 +521,8 @@ def fit_six_position(
             "is missing: six_position needs each of the six orientations exactly once"
         )
     by_label = {lab: m[i] for i, lab in enumerate(labels)}
-    # 000 section 3.3.1: closed form of the least-squares solution for the canonical orientations.
+    # Georgieva et al., ESGI'95, section 3.3.1: closed form of the least-squares solution for the
+    # canonical orientations.
     X = np.column_stack([by_label["+" + ax] - by_label["-" + ax] for ax in "xyz"]) / (2.0 * g)
     y = m.mean(axis=0)
     a = np.array([up_vector(lab) * g for lab in labels])

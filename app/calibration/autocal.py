@@ -1,6 +1,7 @@
-"""Auto-calibration of a long recording by the pipeline of 002 (section II.B, evaluation III.B).
+"""Auto-calibration of a long recording by the pipeline of Farago, Maczak and Gingl, IEEE Access
+(section II.B, evaluation III.B).
 
-002_7135f13639ec18ce.txt:
+Farago, Maczak and Gingl, IEEE Access:
 
 1. **Rest segments** (section II.B.1): fixed 5 s segments whose max − min on one axis stays below
    0.12 g; NaN gaps and idle-sleep runs are refused (:mod:`app.calibration.stationary_002`).
@@ -21,7 +22,8 @@
 5. **Held-out evaluation** (section III.B, Table 3): the mean of | |r| − 1 g | over the control
    points before and after, in mg, and the improvement R of eq. (21) in per cent.
 6. **Comparison** on the same points and control set, like Table 3: the non-iterative ellipsoid fit
-   (002 ref. [34]) and the van Hees / GGIR sphere fit, the latter also on its own 10 s windows
+   (Farago, Maczak and Gingl, IEEE Access, ref. [34]) and the van Hees / GGIR sphere fit, the latter
+   also on its own 10 s windows
    (:mod:`app.calibration.comparison`).
 
 A recording that cannot be calibrated (no rest, rest in only one orientation, subsets left empty)
@@ -38,6 +40,7 @@ import numpy as np
 
 from .comparison import fit_ellipsoid_axes, fit_sphere_van_hees, norm_errors
 from .errors import CalibrationError
+from .gates import Gates
 from .result import CalibrationResult
 from .stationary_002 import RestSegments, detect_rest_segments
 from .triangular import SOLVERS, TriangularCalibration, fit_triangular
@@ -47,9 +50,9 @@ MODEL_TYPE = "triangular"
 METHOD = "autocal"
 
 BIN_EDGES_G = ((-1.25, -0.75), (-0.25, 0.25), (0.75, 1.25))
-"""The three intervals of each axis, in g (002 eq. (10))."""
+"""The three intervals of each axis, in g (Farago, Maczak and Gingl, IEEE Access, eq. (10))."""
 BIN_NAMES = tuple(f"C_{a}{j}" for a in "xyz" for j in "n0p")
-"""C_xn, C_x0, C_xp, C_yn, ... (002 eq. (10)); bin b = 3·axis + interval."""
+"""C_xn, C_x0, C_xp, C_yn, ... (Farago, Maczak and Gingl, IEEE Access, eq. (10)); bin b = 3·axis + interval."""
 
 MIN_PER_BIN = 2
 MAX_PER_BIN = 2
@@ -60,7 +63,7 @@ ONE_ORIENTATION_DEG = 20.0
 
 @dataclass(frozen=True)
 class Selection:
-    """Points chosen into the nine subsets of 002 eq. (10).
+    """Points chosen into the nine subsets of Farago, Maczak and Gingl, IEEE Access, eq. (10).
 
     Attributes
     ----------
@@ -102,7 +105,8 @@ def bin_of(points_g: np.ndarray) -> np.ndarray:
 
 def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN, max_per_bin: int = MAX_PER_BIN,
                   min_distance_g: float = MIN_DISTANCE_G, exclude=None) -> Selection:
-    """Choose calibration points into the nine subsets of 002 eq. (10) (module docstring, step 2).
+    """Choose calibration points into the nine subsets of Farago, Maczak and Gingl, IEEE Access, eq.
+    (10) (module docstring, step 2).
 
     Parameters
     ----------
@@ -111,7 +115,7 @@ def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN
     gravity : float
         Reference magnitude; the subsets and the distance are in g.
     min_per_bin, max_per_bin : int
-        Bounds per subset (2 and 2 in 002).
+        Bounds per subset (2 and 2 in Farago, Maczak and Gingl, IEEE Access).
     min_distance_g : float
         Smallest distance of a new point from those already chosen, in g (Figure 6 is not in the
         text; 0.1 g by default).
@@ -284,7 +288,8 @@ class AutoCalibration(CalibrationResult):
 
 
 def _comparison_entry(result, control, count: int) -> dict:
-    """One row of the comparison table (002 Table 3): errors on the control points and the model."""
+    """One row of the comparison table (Farago, Maczak and Gingl, IEEE Access, Table 3): errors on the
+    control points and the model."""
     entry = {"K": result.K.tolist(), "o": np.asarray(result.o).tolist(), "ok": bool(result.ok), "count": int(count),
              "reasons": list(result.reasons), "error_before_mg": None, "error_after_mg": None,
              "improvement_pct": None, "count_control": int(len(control))}
@@ -311,10 +316,106 @@ def _one_orientation(means: np.ndarray) -> np.ndarray | None:
     return None
 
 
+FIT_METRICS = ("error_before_mg", "error_after_mg", "norm_error_max", "noise_estimate", "condition_number",
+               "converged", "iterations", "distance_to_lm")
+"""Metrics of the fit repeated in the auto-calibration's metrics, prefixed ``fit_``."""
+
+
+def _rest_gates(rest: RestSegments, sel: Selection, ctl: Selection, seg_s: float, min_per_bin: int,
+                gates: Gates) -> None:
+    """Reasons when the recording has no rest, rest in one orientation, or subsets of Farago,
+    Maczak and Gingl, IEEE Access, eq. (10) left short; a warning for an incomplete control set."""
+    if rest.n_rest == 0:
+        why = []
+        if rest.n_moving:
+            why.append(f"{rest.n_moving} moving (max − min above {rest.threshold:g})")
+        if rest.n_nan:
+            why.append(f"{rest.n_nan} with NaN gaps")
+        if rest.n_idle:
+            why.append(f"{rest.n_idle} idle-sleep (identical repeated samples)")
+        gates.fail(
+            f"no rest segment found among the {rest.n_segments} segments of {seg_s:g} s"
+            + (f" ({', '.join(why)})" if why else "")
+            + ": auto-calibration needs still stretches of at least one segment in many orientations; "
+            "give a longer recording, or check the unit and the sampling rate"
+        )
+    else:
+        one = _one_orientation(rest.mean)
+        if one is not None:
+            gates.fail(
+                f"rest in only one orientation: all {rest.n_rest} rest segments point within "
+                f"{ONE_ORIENTATION_DEG:g}° of {np.array2string(one, precision=2)}; the 9 parameters need rest in "
+                "many orientations (two per subset of 002 eq. (10)): give a recording in which the device "
+                "rests in different positions"
+            )
+        if sel.short_bins:
+            gates.fail(
+                f"subsets {', '.join(sel.short_bins)} of 002 eq. (10) hold fewer than {min_per_bin} points "
+                f"(counts {sel.to_dict()}): the recording has no rest in those orientations; give a "
+                "longer recording or lower min_per_bin"
+            )
+        if (rest.n_idle or rest.n_nan) and sel.short_bins:
+            gates.warn(f"{rest.n_idle} idle-sleep and {rest.n_nan} NaN segments were refused as rest")
+    if ctl.short_bins and rest.n_rest:
+        gates.warn(
+            f"the control set is incomplete (subsets {', '.join(ctl.short_bins)} below {min_per_bin}): "
+            "the held-out errors cover fewer orientations"
+        )
+
+
+def _fit(rest: RestSegments, points: np.ndarray, g: float, solver: str, gates: Gates) -> TriangularCalibration | None:
+    """The 9-parameter fit of Farago, Maczak and Gingl, IEEE Access, eqs. (6)–(9) on the selected
+    points, or None with a reason."""
+    if len(points) >= 9:
+        try:
+            return fit_triangular(points, gravity=g, solver=solver)
+        except CalibrationError as exc:  # InsufficientDataError: too few distinct orientations
+            gates.fail(f"the 9-parameter fit was not possible: {exc}")
+    elif rest.n_rest:
+        gates.fail(f"only {len(points)} calibration points could be selected; the 9-parameter model needs "
+                   "at least 9 (002 recommends 18)")
+    return None
+
+
+def _held_out(cal: TriangularCalibration, control: np.ndarray, g: float, metrics: dict, gates: Gates) -> None:
+    """Held-out evaluation of Farago, Maczak and Gingl, IEEE Access, section III.B (Table 3,
+    eq. (21)) on the control points; a reason when the calibration makes them worse."""
+    if not len(control):
+        metrics.update(error_before_mg=None, error_after_mg=None, improvement_pct=None)
+        gates.warn("no control points remain for the held-out evaluation (002 section III.B): "
+                   "a longer recording gives one")
+        return
+    ev = norm_errors(control, cal.apply, g)
+    metrics.update(error_before_mg=ev["error_before_mg"], error_after_mg=ev["error_after_mg"],
+                   improvement_pct=ev["improvement_pct"])
+    if ev["error_after_mg"] > ev["error_before_mg"]:
+        gates.fail(
+            f"the calibration makes the control points worse ({ev['error_before_mg']:.2f} mg before, "
+            f"{ev['error_after_mg']:.2f} mg after): the rest segments are probably not all still"
+        )
+
+
+def _comparison(rest: RestSegments, cal: TriangularCalibration, points: np.ndarray, control: np.ndarray,
+                g: float) -> dict:
+    """The comparison table of Farago, Maczak and Gingl, IEEE Access, Table 3: the triangular fit,
+    the axis-aligned ellipsoid fit and the van Hees sphere fit (also on its own 10 s windows)."""
+    comparison = {"triangular_002": _comparison_entry(cal, control, len(points))}
+    for name, fn, pts in (("ellipsoid_axes", fit_ellipsoid_axes, points),
+                          ("sphere_van_hees", fit_sphere_van_hees, points),
+                          ("sphere_van_hees_10s", fit_sphere_van_hees, rest.ggir_mean)):
+        try:
+            comparison[name] = _comparison_entry(fn(pts, gravity=g), control, len(pts))
+        except CalibrationError as exc:
+            comparison[name] = {"ok": False, "reasons": [str(exc)], "error_before_mg": None,
+                                "error_after_mg": None, "improvement_pct": None, "count": int(len(pts))}
+    return comparison
+
+
 def autocalibrate(rest: RestSegments, *, solver: str = "lm", min_per_bin: int = MIN_PER_BIN,
                   max_per_bin: int = MAX_PER_BIN, min_distance_g: float = MIN_DISTANCE_G,
                   compare: bool = True) -> AutoCalibration:
-    """Select, fit and evaluate the 002 auto-calibration from detected rest segments.
+    """Select, fit and evaluate the Farago, Maczak and Gingl, IEEE Access auto-calibration from
+    detected rest segments.
 
     Parameters
     ----------
@@ -344,107 +445,34 @@ def autocalibrate(rest: RestSegments, *, solver: str = "lm", min_per_bin: int = 
         raise CalibrationError(f"unknown solver {solver!r}: use one of {', '.join(SOLVERS)}")
     g = rest.gravity
     det = rest.summary()
-    reasons: list[str] = []
-    warnings: list[str] = []
+    gates = Gates()
     sel = select_points(rest.mean, gravity=g, min_per_bin=min_per_bin, max_per_bin=max_per_bin,
                         min_distance_g=min_distance_g)
     ctl = select_points(rest.mean, gravity=g, min_per_bin=min_per_bin, max_per_bin=max_per_bin,
                         min_distance_g=min_distance_g, exclude=sel.indices)
     points = rest.mean[sel.indices]
     control = rest.mean[ctl.indices]
-    seg_s = det["segment_s"]
-
-    if rest.n_rest == 0:
-        why = []
-        if rest.n_moving:
-            why.append(f"{rest.n_moving} moving (max − min above {rest.threshold:g})")
-        if rest.n_nan:
-            why.append(f"{rest.n_nan} with NaN gaps")
-        if rest.n_idle:
-            why.append(f"{rest.n_idle} idle-sleep (identical repeated samples)")
-        reasons.append(
-            f"no rest segment found among the {rest.n_segments} segments of {seg_s:g} s"
-            + (f" ({', '.join(why)})" if why else "")
-            + ": auto-calibration needs still stretches of at least one segment in many orientations; "
-            "give a longer recording, or check the unit and the sampling rate"
-        )
-    else:
-        one = _one_orientation(rest.mean)
-        if one is not None:
-            reasons.append(
-                f"rest in only one orientation: all {rest.n_rest} rest segments point within "
-                f"{ONE_ORIENTATION_DEG:g}° of {np.array2string(one, precision=2)}; the 9 parameters need rest in "
-                "many orientations (two per subset of 002 eq. (10)): give a recording in which the device "
-                "rests in different positions"
-            )
-        if sel.short_bins:
-            reasons.append(
-                f"subsets {', '.join(sel.short_bins)} of 002 eq. (10) hold fewer than {min_per_bin} points "
-                f"(counts {sel.to_dict()}): the recording has no rest in those orientations; give a "
-                "longer recording or lower min_per_bin"
-            )
-        if (rest.n_idle or rest.n_nan) and sel.short_bins:
-            warnings.append(f"{rest.n_idle} idle-sleep and {rest.n_nan} NaN segments were refused as rest")
-    if ctl.short_bins and rest.n_rest:
-        warnings.append(
-            f"the control set is incomplete (subsets {', '.join(ctl.short_bins)} below {min_per_bin}): "
-            "the held-out errors cover fewer orientations"
-        )
-
-    cal = None
+    _rest_gates(rest, sel, ctl, det["segment_s"], min_per_bin, gates)
     metrics: dict = {"count": int(len(points)), "count_control": int(len(control))}
-    if len(points) >= 9:
-        try:
-            cal = fit_triangular(points, gravity=g, solver=solver)
-        except CalibrationError as exc:  # InsufficientDataError: too few distinct orientations
-            reasons.append(f"the 9-parameter fit was not possible: {exc}")
-    elif rest.n_rest:
-        reasons.append(f"only {len(points)} calibration points could be selected; the 9-parameter model needs "
-                       "at least 9 (002 recommends 18)")
+    cal = _fit(rest, points, g, solver, gates)
     if cal is not None:
-        reasons.extend(cal.reasons)
-        warnings.extend(w for w in cal.warnings if w not in cal.reasons)
-        metrics.update({f"fit_{k}": v for k, v in cal.metrics.items()
-                        if k in ("error_before_mg", "error_after_mg", "norm_error_max", "noise_estimate",
-                                 "condition_number", "converged", "iterations", "distance_to_lm")})
-        if len(control):
-            ev = norm_errors(control, cal.apply, g)
-            metrics.update(error_before_mg=ev["error_before_mg"], error_after_mg=ev["error_after_mg"],
-                           improvement_pct=ev["improvement_pct"])
-            if ev["error_after_mg"] > ev["error_before_mg"]:
-                reasons.append(
-                    f"the calibration makes the control points worse ({ev['error_before_mg']:.2f} mg before, "
-                    f"{ev['error_after_mg']:.2f} mg after): the rest segments are probably not all still"
-                )
-        else:
-            metrics.update(error_before_mg=None, error_after_mg=None, improvement_pct=None)
-            warnings.append("no control points remain for the held-out evaluation (002 section III.B): "
-                            "a longer recording gives one")
+        gates.merge(cal)
+        metrics.update({f"fit_{k}": v for k, v in cal.metrics.items() if k in FIT_METRICS})
+        _held_out(cal, control, g, metrics, gates)
     else:
         metrics.update(error_before_mg=None, error_after_mg=None, improvement_pct=None)
-
-    comparison: dict = {}
-    if compare and cal is not None:
-        comparison["triangular_002"] = _comparison_entry(cal, control, len(points))
-        for name, fn, pts in (("ellipsoid_axes", fit_ellipsoid_axes, points),
-                              ("sphere_van_hees", fit_sphere_van_hees, points),
-                              ("sphere_van_hees_10s", fit_sphere_van_hees, rest.ggir_mean)):
-            try:
-                comparison[name] = _comparison_entry(fn(pts, gravity=g), control, len(pts))
-            except CalibrationError as exc:
-                comparison[name] = {"ok": False, "reasons": [str(exc)], "error_before_mg": None,
-                                    "error_after_mg": None, "improvement_pct": None, "count": int(len(pts))}
+    comparison = _comparison(rest, cal, points, control, g) if compare and cal is not None else {}
     return AutoCalibration(
         calibration=cal, gravity=g, points=points, control=control,
         point_starts=rest.start[sel.indices], control_starts=rest.start[ctl.indices],
         selection=sel.to_dict(), control_selection=ctl.to_dict(), detection=det, comparison=comparison,
-        solver=solver, metrics=metrics, warnings=tuple(reasons + warnings), reasons=tuple(reasons),
+        solver=solver, metrics=metrics, **gates.fields(),
     )
 
 
 def autocalibrate_samples(samples, sampling_rate_hz: float, *, gravity: float = 1.0, solver: str = "lm",
                           progress=None, detection: dict | None = None, **selection) -> AutoCalibration:
-    """Detect, select, fit and evaluate in one call (002 section II.B).
+    """Detect, select, fit and evaluate in one call (Farago, Maczak and Gingl, IEEE Access, section II.B).
 
     Parameters
     ----------

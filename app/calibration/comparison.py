@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
+from .gates import Gates, limit_gate
 from .validation import as_samples, as_vectors, check_gravity
 
 VAN_HEES_TOL = 1e-10
@@ -167,10 +168,10 @@ def fit_ellipsoid_axes(means, *, gravity: float) -> AxisCalibration:
     D = np.column_stack([v * v, v])
     beta, *_ = np.linalg.lstsq(D, np.ones(len(v)), rcond=None)
     A, L = beta[:3], beta[3:]
-    reasons: list[str] = []
+    gates = Gates()
     if np.any(A <= 0):
-        reasons.append("the fitted quadric is not an ellipsoid (a non-positive square term): "
-                       "the points do not cover the sphere")
+        gates.fail("the fitted quadric is not an ellipsoid (a non-positive square term): "
+                   "the points do not cover the sphere")
         A = np.where(A > 0, A, np.nan)
     centre = -L / (2 * A)
     G = 1.0 + np.sum(L * L / (4 * A))
@@ -179,10 +180,10 @@ def fit_ellipsoid_axes(means, *, gravity: float) -> AxisCalibration:
     offset = -centre * g
     if not np.all(np.isfinite(scale)):
         scale, offset = np.ones(3), np.zeros(3)
-    reasons += _coverage_reasons(v)
+    gates.fail(_coverage_reasons(v))
     fit = norm_errors(m, lambda x: (x + offset) * scale, g)
     return AxisCalibration(scale=scale, offset=offset, gravity=g, method="ellipsoid_axes", count=len(m),
-                           metrics={"fit": fit}, warnings=tuple(reasons), reasons=tuple(reasons))
+                           metrics={"fit": fit}, **gates.fields())
 
 
 def fit_sphere_van_hees(means, *, gravity: float, tol: float = VAN_HEES_TOL,
@@ -239,14 +240,15 @@ def fit_sphere_van_hees(means, *, gravity: float, tol: float = VAN_HEES_TOL,
         if abs(res - res_prev) < tol:
             break
         res_prev = res
-    reasons = _coverage_reasons(v)
+    gates = Gates().fail(_coverage_reasons(v))
     if not (np.all(np.isfinite(scale)) and np.all(np.isfinite(offset))):
-        reasons.append("the sphere fit diverged")
+        gates.fail("the sphere fit diverged")
         scale, offset = np.ones(3), np.zeros(3)
     out = AxisCalibration(scale=scale, offset=offset * g, gravity=g, method="sphere_van_hees", count=len(m))
     fit = norm_errors(m, out.apply, g)
-    if fit["error_after_mg"] > 1000 * MAX_ERROR_AFTER_G:
-        reasons.append(f"mean distance from the sphere after calibration is {fit['error_after_mg']:.1f} mg, "
-                       "above GGIR's 10 mg acceptance")
+    gates.fail(limit_gate(
+        fit["error_after_mg"], 1000 * MAX_ERROR_AFTER_G,
+        "mean distance from the sphere after calibration is {value:.1f} mg, above GGIR's 10 mg acceptance",
+    ))
     return AxisCalibration(scale=scale, offset=offset * g, gravity=g, method="sphere_van_hees", count=len(m),
-                           metrics={"iterations": it, "fit": fit}, warnings=tuple(reasons), reasons=tuple(reasons))
+                           metrics={"iterations": it, "fit": fit}, **gates.fields())

@@ -1,6 +1,6 @@
-"""Unknown-orientation calibration with non-orthogonal axes: 000, Approach 1.
+"""Unknown-orientation calibration with non-orthogonal axes: Georgieva et al., ESGI'95, Approach 1.
 
-000_cb2cbc1c5eaccf1a.txt, section 2.  Each accelerometer reading â is shifted and scaled,
+Georgieva et al., ESGI'95, section 2.  Each accelerometer reading â is shifted and scaled,
 ``a = (â − s) / b`` component-wise (eq. (1)); a = (a_x, a_y, a_z) are the projections of the
 acceleration onto the three sensing axes, which make the angles φ = ∠(Ox, Oy), ψ = ∠(Ox, Oz) and
 θ = ∠(Oy, Oz) (eq. (3)).  The affine coordinates are ``ā = T̄ a`` (eq. (5), T̄ the inverse of the
@@ -15,7 +15,8 @@ sign restrictions.
 Sign convention.  The norm in (17) is unchanged when all three scales b change sign (the angles
 then stay the same), so the sign of b is not determined by the data.  trical fixes b > 0, which keeps
 the calibrated values in the device frame of the readings (the axis that points up reads +g).  The
-paper prints negative scales (000 section 2.4); their magnitudes, the shifts and the angles are the
+paper prints negative scales (Georgieva et al., ESGI'95, section 2.4); their magnitudes, the shifts and
+the angles are the
 same as ours.  The signs of the shifts s come from the rough orthogonal fit, as in the paper.
 """
 
@@ -54,7 +55,7 @@ PLAUSIBLE_SCALE = (0.8, 1.2)
 """|b| outside this range is implausible for a MEMS accelerometer read in its own unit (DESIGN.md §5)."""
 
 MAX_ANGLE_DEVIATION = 0.05 * np.pi / 2
-"""Angles further than 5 % from π/2 are flagged; 000 section 2 assumes 90° ± 2 %."""
+"""Angles further than 5 % from π/2 are flagged; Georgieva et al., ESGI'95, section 2 assumes 90° ± 2 %."""
 
 MAX_NORM_ERROR = 0.05
 """A fitted position whose calibrated norm is further than 5 % from g fails the fit (ok = false)."""
@@ -74,14 +75,15 @@ MAX_CONDITION_NUMBER = 30.0
 def gram_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
     """Matrix of system (8): the Gram matrix of the unit vectors e₁, e₂, e₃ along the axes."""
     cf, cp, ct = np.cos(phi), np.cos(psi), np.cos(theta)
-    # 000 eq. (8)
+    # Georgieva et al., ESGI'95, eq. (8)
     return np.array([[1.0, cf, cp], [cf, 1.0, ct], [cp, ct, 1.0]])
 
 
 def affine_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
-    """T̄ of Remark 2: affine coordinates ā from the projections a, ā = T̄ a (000 eq. (5))."""
+    """T̄ of Remark 2: affine coordinates ā from the projections a, ā = T̄ a (Georgieva et al.,
+    ESGI'95, eq. (5))."""
     cf, cp, ct = np.cos(phi), np.cos(psi), np.cos(theta)
-    # 000 eq. (5) / Remark 2: den = −1 + cos²φ + cos²ψ + cos²θ − 2 cosφ cosψ cosθ.
+    # Georgieva et al., ESGI'95, eq. (5) / Remark 2: den = −1 + cos²φ + cos²ψ + cos²θ − 2 cosφ cosψ cosθ.
     den = -1.0 + cf**2 + cp**2 + ct**2 - 2.0 * cf * cp * ct
     return (
         np.array(
@@ -96,7 +98,8 @@ def affine_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
 
 
 def orthonormal_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
-    """T̄_orth of Proposition 3: coordinates in the orthonormal frame f from ā (000 eq. (12)).
+    """T̄_orth of Proposition 3: coordinates in the orthonormal frame f from ā (Georgieva et al.,
+    ESGI'95, eq. (12)).
 
     Its columns are e₁, e₂, e₃ in the frame f₁ = e₁, f₂ in the e₁e₂ plane (eq. (15) uses it as
     ``ā_orth = T̄_orth ā``).
@@ -108,7 +111,7 @@ def orthonormal_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
         raise CalibrationError(
             f"angles φ={phi}, ψ={psi}, θ={theta} do not describe three independent axes"
         )
-    # 000 eq. (12)
+    # Georgieva et al., ESGI'95, eq. (12)
     return np.array(
         [
             [1.0, cf, cp],
@@ -120,7 +123,7 @@ def orthonormal_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
 
 def calibration_matrix(b, phi: float, psi: float, theta: float) -> np.ndarray:
     """M = T̄_orth T̄ T of eq. (16), so that ā_orth = M (â − s)."""
-    T = np.diag(1.0 / np.asarray(b, dtype=float))  # 000 eq. (1)–(2)
+    T = np.diag(1.0 / np.asarray(b, dtype=float))  # Georgieva et al., ESGI'95, eq. (1)–(2)
     return orthonormal_matrix(phi, psi, theta) @ affine_matrix(phi, psi, theta) @ T
 
 
@@ -339,7 +342,8 @@ def _rough_orthogonal_fit(m: np.ndarray, g: float) -> least_squares:
     centre, scale = _ellipsoid_start(m, g)
 
     def res(q):
-        # 000 section 2.2, step 2 (eq. (2) with orthogonal axes), parametrised by the shifts s_i
+        # Georgieva et al., ESGI'95, section 2.2, step 2 (eq. (2) with orthogonal axes), parametrised
+        # by the shifts s_i
         # and scales b_i of eq. (1).
         a = (m - q[:3]) / q[3:]
         return np.sum(a * a, axis=1) - g * g
@@ -475,9 +479,11 @@ def fit_nonorthogonal(
     plausible_scale: tuple[float, float] | None = PLAUSIBLE_SCALE,
     max_offset: float | None = None,
 ) -> NonOrthogonalCalibration:
-    """Fit the non-orthogonal-axes model of 000 Approach 1 to still readings of unknown orientation.
+    """Fit the non-orthogonal-axes model of Georgieva et al., ESGI'95, Approach 1 to still readings of
+    unknown orientation.
 
-    Two steps (000 section 2.2): a rough fit of the orthogonal model (angles π/2) fixes the signs
+    Two steps (Georgieva et al., ESGI'95, section 2.2): a rough fit of the orthogonal model (angles
+    π/2) fixes the signs
     of the shifts; the nine parameters then minimise (17), ``Σ (|ā_orth⁽ⁱ⁾|² − g²)²``, under those
     sign restrictions, with b > 0 (module docstring) and the angles in (0, π).
 

@@ -251,6 +251,110 @@ def still_threshold(
     return g_ref, thr
 
 
+def _still_runs(x: np.ndarray, w: int, **threshold) -> tuple[float, float, np.ndarray, np.ndarray]:
+    """Steps 1–2 of :func:`detect_static_segments`: the reference magnitude, the threshold and the
+    runs of still windows as sample ranges [a, b) (a run of windows [i, j) covers [i, j − 1 + w))."""
+    spread, norm = window_stats(x, w)
+    g_ref, thr = still_threshold(spread, norm, **threshold)
+    still = spread <= thr
+    del spread, norm
+    edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
+    del still
+    run_a = np.flatnonzero(edges == 1)
+    run_b = np.flatnonzero(edges == -1) - 1 + w
+    return g_ref, thr, run_a, run_b
+
+
+@dataclass(frozen=True)
+class _Runs:
+    """Still runs [a, b) after trimming, with the centred cumulative sums of the stream.
+
+    The sums are centred on the stream's median so that the sums of any range, taken in O(1),
+    do not lose the noise to cancellation.
+    """
+
+    x: np.ndarray
+    centre: np.ndarray
+    csum: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    sums: np.ndarray
+    counts: np.ndarray
+
+    @classmethod
+    def trimmed(cls, x, run_a, run_b, *, w: int, half: int, thr: float, min_length: int) -> "_Runs":
+        """Step 3: the runs with their transition edges cut (:func:`_trim`), too short ones dropped."""
+        n = len(x)
+        centre = np.median(x[:: max(1, n // 100_000)], axis=0)
+        xc = x - centre
+        csum = np.zeros((n + 1, 3))
+        np.cumsum(xc, axis=0, out=csum[1:])
+        run_a, run_b = _trim(xc, csum, run_a, run_b, w, half, thr)
+        keep = (run_b - run_a) >= min_length
+        run_a, run_b = run_a[keep], run_b[keep]
+        return cls(x=x, centre=centre, csum=csum, a=run_a, b=run_b, sums=csum[run_b] - csum[run_a],
+                   counts=run_b - run_a)
+
+    def merged(self, max_gap: int, thr: float) -> list[list[int]]:
+        """Step 4: groups of runs split by a knock (short gap, same mean: a bump is not an orientation)."""
+        means = self.sums / self.counts[:, None]
+        groups: list[list[int]] = []
+        g_sum = g_cnt = None
+        for i in range(len(self.a)):
+            if groups and self.a[i] - self.b[groups[-1][-1]] <= max_gap:
+                if np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr:
+                    groups[-1].append(i)
+                    g_sum = g_sum + self.sums[i]
+                    g_cnt += self.counts[i]
+                    continue
+            groups.append([i])
+            g_sum, g_cnt = self.sums[i], self.counts[i]
+        return groups
+
+    def _thirds(self, grp: list[int], count: int, fs: float):
+        """Means of the first and last thirds of a group, their time apart and its samples."""
+        csum, centre = self.csum, self.centre
+        k = max(1, count // 3)
+        if len(grp) == 1:
+            a, b = int(self.a[grp[0]]), int(self.b[grp[0]])
+            m1 = (csum[a + k] - csum[a]) / k + centre
+            m3 = (csum[b] - csum[b - k]) / k + centre
+            return m1, m3, (count - k) / fs, self.x[a:b], k
+        t = np.concatenate([np.arange(self.a[i], self.b[i]) for i in grp])
+        xs = self.x[t]
+        m1, m3 = xs[:k].mean(axis=0), xs[-k:].mean(axis=0)
+        return m1, m3, (t[-k:].mean() - t[:k].mean()) / fs, xs, k
+
+    def segment(self, grp: list[int], fs: float, *, min_samples: int, norm_range: tuple[float, float],
+                max_drift_deg_per_s: float, label_max_angle_deg: float) -> StaticSegment | None:
+        """Step 5: the rest of a group, or None when it is too short, its norm implausible, or its
+        direction drifts (a slow turn, not a rest)."""
+        count = int(self.counts[grp].sum())
+        if count < min_samples:
+            return None
+        mean = self.sums[grp].sum(axis=0) / count + self.centre
+        if not norm_range[0] <= float(np.linalg.norm(mean)) <= norm_range[1]:
+            return None
+        m1, m3, dt, xs, k = self._thirds(grp, count, fs)
+        cosang = float(m1 @ m3 / (np.linalg.norm(m1) * np.linalg.norm(m3)))
+        rate = math.degrees(math.acos(min(1.0, max(-1.0, cosang)))) / dt if dt > 0 else 0.0
+        std = xs.std(axis=0)
+        # The angle between two means of k noisy samples has a spread of about σ √(2 / k) / |g|.
+        noise_rate = math.degrees(float(np.sqrt(np.mean(std**2))) * math.sqrt(2.0 / k) / float(np.linalg.norm(mean))) / dt if dt > 0 else 0.0
+        if rate > max_drift_deg_per_s + 4.0 * noise_rate:
+            return None
+        return StaticSegment(
+            start=int(self.a[grp[0]]),
+            end=int(self.b[grp[-1]]),
+            mean=mean,
+            std=std,
+            count=count,
+            up=nearest_orientation(mean, label_max_angle_deg),
+            gaps=tuple((int(self.b[i]), int(self.a[j])) for i, j in zip(grp[:-1], grp[1:])),
+            drift_deg_per_s=float(rate),
+        )
+
+
 def detect_static_segments(
     samples,
     sampling_rate_hz: float,
@@ -334,94 +438,23 @@ def detect_static_segments(
             f"{fs:g} Hz): record at least {min_duration_s:g} s still in each orientation, and check "
             "sampling_rate_hz"
         )
-
-    spread, norm = window_stats(x, w)
-    g_ref, thr = still_threshold(
-        spread, norm, gravity=g_given, noise_percentile=noise_percentile,
-        noise_factor=noise_factor, floor_g=floor_g, cap_g=cap_g,
+    g_ref, thr, run_a, run_b = _still_runs(
+        x, w, gravity=g_given, noise_percentile=noise_percentile, noise_factor=noise_factor,
+        floor_g=floor_g, cap_g=cap_g,
     )
-    still = spread <= thr
-    del spread, norm
-
-    # Runs of still windows [i, j) cover samples [i, j - 1 + w).
-    edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
-    del still
-    run_a = np.flatnonzero(edges == 1)
-    run_b = np.flatnonzero(edges == -1) - 1 + w
     min_samples = max(1, int(round(min_duration_s * fs)))
     min_piece = max(w, min_samples // 4)
     keep = (run_b - run_a) >= min_piece
     run_a, run_b = run_a[keep], run_b[keep]
     if len(run_a) == 0:
         return []
-
-    # Centred cumulative sums: O(1) sums of any range, without losing the noise to cancellation.
-    centre = np.median(x[:: max(1, n // 100_000)], axis=0)
-    xc = x - centre
-    csum = np.zeros((n + 1, 3))
-    np.cumsum(xc, axis=0, out=csum[1:])
-
-    half = max(1, int(round(EDGE_SMOOTH_S * fs / 2)))
-    run_a, run_b = _trim(xc, csum, run_a, run_b, w, half, thr)
-    keep = (run_b - run_a) >= min(min_piece, w)
-    run_a, run_b = run_a[keep], run_b[keep]
-    sums = csum[run_b] - csum[run_a]
-    counts = run_b - run_a
-    means = sums / counts[:, None]
-
-    # Merge runs split by a knock: short gap, same mean (a bump is not an orientation).
-    max_gap = int(round(max_gap_s * fs))
-    groups: list[list[int]] = []
-    g_sum = g_cnt = None
-    for i in range(len(run_a)):
-        if groups and run_a[i] - run_b[groups[-1][-1]] <= max_gap:
-            if np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr:
-                groups[-1].append(i)
-                g_sum = g_sum + sums[i]
-                g_cnt += counts[i]
-                continue
-        groups.append([i])
-        g_sum, g_cnt = sums[i], counts[i]
-
+    runs = _Runs.trimmed(x, run_a, run_b, w=w, half=max(1, int(round(EDGE_SMOOTH_S * fs / 2))), thr=thr,
+                         min_length=min(min_piece, w))
     lo_norm, hi_norm = norm_range_g[0] * g_ref, norm_range_g[1] * g_ref
     out: list[StaticSegment] = []
-    for grp in groups:
-        count = int(counts[grp].sum())
-        if count < min_samples:
-            continue
-        mean = sums[grp].sum(axis=0) / count + centre
-        if not lo_norm <= float(np.linalg.norm(mean)) <= hi_norm:
-            continue
-        # Direction drift between the first and last thirds (a slow turn, not a rest).
-        k = max(1, count // 3)
-        if len(grp) == 1:
-            a, b = int(run_a[grp[0]]), int(run_b[grp[0]])
-            m1 = (csum[a + k] - csum[a]) / k + centre
-            m3 = (csum[b] - csum[b - k]) / k + centre
-            dt = (count - k) / fs
-            xs = x[a:b]
-        else:
-            t = np.concatenate([np.arange(run_a[i], run_b[i]) for i in grp])
-            xs = x[t]
-            m1, m3 = xs[:k].mean(axis=0), xs[-k:].mean(axis=0)
-            dt = (t[-k:].mean() - t[:k].mean()) / fs
-        cosang = float(m1 @ m3 / (np.linalg.norm(m1) * np.linalg.norm(m3)))
-        rate = math.degrees(math.acos(min(1.0, max(-1.0, cosang)))) / dt if dt > 0 else 0.0
-        std = xs.std(axis=0)
-        # The angle between two means of k noisy samples has a spread of about σ √(2 / k) / |g|.
-        noise_rate = math.degrees(float(np.sqrt(np.mean(std**2))) * math.sqrt(2.0 / k) / float(np.linalg.norm(mean))) / dt if dt > 0 else 0.0
-        if rate > max_drift_deg_per_s + 4.0 * noise_rate:
-            continue
-        out.append(
-            StaticSegment(
-                start=int(run_a[grp[0]]),
-                end=int(run_b[grp[-1]]),
-                mean=mean,
-                std=std,
-                count=count,
-                up=nearest_orientation(mean, label_max_angle_deg),
-                gaps=tuple((int(run_b[i]), int(run_a[j])) for i, j in zip(grp[:-1], grp[1:])),
-                drift_deg_per_s=float(rate),
-            )
-        )
+    for grp in runs.merged(int(round(max_gap_s * fs)), thr):
+        seg = runs.segment(grp, fs, min_samples=min_samples, norm_range=(lo_norm, hi_norm),
+                           max_drift_deg_per_s=max_drift_deg_per_s, label_max_angle_deg=label_max_angle_deg)
+        if seg is not None:
+            out.append(seg)
     return out

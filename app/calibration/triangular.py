@@ -1,6 +1,7 @@
-"""The 9-parameter lower-triangular model of 002 fitted to still readings of unknown orientation.
+"""The 9-parameter lower-triangular model of Farago, Maczak and Gingl, IEEE Access fitted to still
+readings of unknown orientation.
 
-002_7135f13639ec18ce.txt, section II: the actual acceleration is ``a = K (v + o)`` (eq. (2)) with
+Farago, Maczak and Gingl, IEEE Access, section II: the actual acceleration is ``a = K (v + o)`` (eq. (2)) with
 K = S·T lower triangular (eqs. (3)–(4)) and o the offsets (eq. (5)); the parameters are
 p = [k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, o_x, o_y, o_z] (eq. (6)) and the correction is written out
 in eqs. (7)–(9).  At rest |a| = 1 g (eq. (11)); the objective is eq. (12).
@@ -29,7 +30,8 @@ descent, ``metrics["distance_to_lm"]`` is the largest distance of a parameter fr
 Levenberg–Marquardt optimum in units of its 95 % half-width, with a warning above 1.
 
 Every solver's result gets the same metrics, covariance and gates; the covariance
-(003_17911d0910b68c7e.txt Appendix A, eq. (22) with V(ε) = σ² I) is taken from the Jacobian of the
+(Särkkä et al., IEEE Sensors Journal 17(11) 2017, Appendix A, eq. (22) with V(ε) = σ² I) is taken from
+the Jacobian of the
 ``lm`` residuals at the returned parameters and the residual variance, so for the descents it
 describes the noise around the least-squares optimum, not their own convergence error.
 """
@@ -65,18 +67,19 @@ PARAM_NAMES = ("k_xx", "k_yy", "k_zz", "k_xy", "k_xz", "k_yz", "o_x", "o_y", "o_
 SOLVERS = ("lm", "gradient", "fixed16", "fixed32")
 
 P0 = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
-"""Start of the descent: the ideal accelerometer (002 section II.C)."""
+"""Start of the descent: the ideal accelerometer (Farago, Maczak and Gingl, IEEE Access, section II.C)."""
 
 LEARNING_RATES = (0.3, 0.8, 0.2)
-"""α_s, α_m, α_o of 002 eq. (16), for the cost without the square root."""
+"""α_s, α_m, α_o of Farago, Maczak and Gingl, IEEE Access, eq. (16), for the cost without the square root."""
 
 H_FLOAT = 1e-5
 H_FIXED16 = 0.01
 H_FIXED32 = 1e-5
-"""Finite-difference spacing h of 002 eq. (15) per number representation (section II.C)."""
+"""Finite-difference spacing h of Farago, Maczak and Gingl, IEEE Access, eq. (15) per number
+representation (section II.C)."""
 
 MAX_ITER = 50
-"""Iteration cap of the descents (002 section III)."""
+"""Iteration cap of the descents (Farago, Maczak and Gingl, IEEE Access, section III)."""
 
 PLAUSIBLE_SCALE = (0.8, 1.2)
 MAX_MISALIGNMENT = 0.2
@@ -86,19 +89,20 @@ MAX_CONDITION_NUMBER = 30.0
 
 
 def k_matrix(p) -> np.ndarray:
-    """Lower-triangular K from p = [k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, …] (002 eqs. (6)–(9))."""
+    """Lower-triangular K from p = [k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, …] (Farago, Maczak and Gingl,
+    IEEE Access, eqs. (6)–(9))."""
     p = np.asarray(p, dtype=float)
     return np.array([[p[0], 0.0, 0.0], [p[3], p[1], 0.0], [p[4], p[5], p[2]]])
 
 
 def alpha_vector(alphas=LEARNING_RATES) -> np.ndarray:
-    """The vectorised learning rate of 002 eq. (16) from (α_s, α_m, α_o)."""
+    """The vectorised learning rate of Farago, Maczak and Gingl, IEEE Access, eq. (16) from (α_s, α_m, α_o)."""
     a_s, a_m, a_o = alphas
     return np.array([a_s] * 3 + [a_m] * 3 + [a_o] * 3, dtype=float)
 
 
 def _calibrate(p: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """002 eqs. (7)–(9): a = K (v + o), rows of v."""
+    """Farago, Maczak and Gingl, IEEE Access, eqs. (7)–(9): a = K (v + o), rows of v."""
     return (v + p[6:9]) @ k_matrix(p).T
 
 
@@ -144,7 +148,8 @@ def gradient_descent(
     max_iter: int = MAX_ITER,
     p0=P0,
 ) -> tuple[np.ndarray, int]:
-    """The finite-difference gradient descent of 002 eqs. (12)–(16) in floating point.
+    """The finite-difference gradient descent of Farago, Maczak and Gingl, IEEE Access, eqs. (12)–(16)
+    in floating point.
 
     Parameters
     ----------
@@ -494,12 +499,14 @@ def fit_triangular(
     plausible_scale: tuple[float, float] | None = PLAUSIBLE_SCALE,
     max_offset: float | None = None,
 ) -> TriangularCalibration:
-    """Fit the 9-parameter lower-triangular model ``a = K (v + o)`` of 002 to still readings.
+    """Fit the 9-parameter lower-triangular model ``a = K (v + o)`` of Farago, Maczak and Gingl, IEEE
+    Access to still readings.
 
     Parameters
     ----------
     means : array_like, shape (N, 3)
-        Averaged still readings in N ≥ 9 different orientations (002 recommends 18, two per bin of
+        Averaged still readings in N ≥ 9 different orientations (Farago, Maczak and Gingl, IEEE Access
+        recommends 18, two per bin of
         eq. (10)), in the unit of ``gravity``.
     gravity : float
         Reference magnitude (1 for readings in g, 9.80665 for m/s²…).
@@ -509,7 +516,7 @@ def fit_triangular(
         Iteration cap of the descents (50 in the paper); ignored by ``lm``.
     h : float, optional
         Finite-difference spacing of the descents; defaults to 1e-5 (``gradient``, ``fixed32``)
-        and 0.01 (``fixed16``), as 002 section II.C recommends.
+        and 0.01 (``fixed16``), as Farago, Maczak and Gingl, IEEE Access, section II.C recommends.
     learning_rates : (float, float, float)
         α_s, α_m, α_o of eq. (16) for the descents.
     plausible_scale : (float, float) or None

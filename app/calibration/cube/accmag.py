@@ -1,8 +1,9 @@
-"""Accelerometer and magnetometer of the cube method (003_17911d0910b68c7e.txt, III-C and IV-B).
+"""Accelerometer and magnetometer of the cube method (Särkkä et al., IEEE Sensors Journal 17(11) 2017,
+III-C and IV-B).
 
 At each still position p the mean reading is modelled as
 
-    ỹ_p = S R_pᵀ C_l^c(α, β) r + b          (003 eqs. (6), (7))
+    ỹ_p = S R_pᵀ C_l^c(α, β) r + b          (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eqs. (6), (7))
 
 with R_p the known attitude of the position (sensor → calibration frame, ``C_c^s = R_pᵀ``),
 ``C_l^c`` the two-angle matrix of eq. (8), and r = (0, 0, |r|) the reference in the local frame:
@@ -35,19 +36,21 @@ N_PARAMETERS = 14
 
 
 def reference_direction(alpha: float, beta: float) -> np.ndarray:
-    """``C_l^c e_z`` of 003 eq. (8): the reference direction in the calibration frame."""
+    """``C_l^c e_z`` of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (8): the reference
+    direction in the calibration frame."""
     return np.array([-np.sin(beta), np.sin(alpha) * np.cos(beta), np.cos(alpha) * np.cos(beta)])
 
 
 def direction_matrix(alpha: float, beta: float) -> np.ndarray:
-    """``C_l^c`` of 003 eq. (8) (local → calibration frame)."""
+    """``C_l^c`` of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (8) (local → calibration frame)."""
     ca, sa, cb, sb = np.cos(alpha), np.sin(alpha), np.cos(beta), np.sin(beta)
-    # 003 eq. (8)
+    # Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (8)
     return np.array([[cb, 0.0, -sb], [sa * sb, ca, sa * cb], [ca * sb, -sa, ca * cb]])
 
 
 def decompose(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``S = D (D⁻¹S)``: D the column norms of S (003 section III-A), returned as a vector."""
+    """``S = D (D⁻¹S)``: D the column norms of S (Särkkä et al., IEEE Sensors Journal 17(11) 2017,
+    section III-A), returned as a vector."""
     D = np.linalg.norm(S, axis=0)
     return D, S / D[:, None]
 
@@ -222,7 +225,8 @@ class FieldSensorCalibration:
 
 
 def _model_and_jacobian(x: np.ndarray, attitudes: np.ndarray, ref: float):
-    """h(x) of 003 eqs. (6)–(7) stacked over positions, and its Jacobian (3P, 14)."""
+    """h(x) of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eqs. (6)–(7) stacked over positions,
+    and its Jacobian (3P, 14)."""
     S = x[:9].reshape(3, 3)
     alpha, beta = x[12], x[13]
     u = reference_direction(alpha, beta) * ref
@@ -242,7 +246,8 @@ def _model_and_jacobian(x: np.ndarray, attitudes: np.ndarray, ref: float):
 
 
 def _whitener(covariances: np.ndarray, counts: np.ndarray, warnings: list, extra=None) -> np.ndarray:
-    """W with WᵀW = V(ε)⁻¹, V(ε) = diag(Σ_p / n_p) (003 eq. (23)) plus ``extra`` (3P × 3P).
+    """W with WᵀW = V(ε)⁻¹, V(ε) = diag(Σ_p / n_p) (Särkkä et al., IEEE Sensors Journal 17(11) 2017,
+    eq. (23)) plus ``extra`` (3P × 3P).
 
     ``extra`` carries errors shared between positions, e.g. those of a removed drift.  Singular
     blocks (rounded or constant readings) are floored, with a warning.
@@ -271,7 +276,8 @@ def _whitener(covariances: np.ndarray, counts: np.ndarray, warnings: list, extra
 
 
 def drift_covariance(times_s, covariances, counts) -> np.ndarray:
-    """Covariance (3P × 3P) added to the position means by removing an affine drift (003 §II).
+    """Covariance (3P × 3P) added to the position means by removing an affine drift (Särkkä et al.,
+    IEEE Sensors Journal 17(11) 2017, §II).
 
     The drift is the difference of the last mean (the return to position 1, not fitted) and
     the first over their time apart; position p is corrected by τ_p (m_E − m_1), τ_p = (t_p −
@@ -292,7 +298,8 @@ def drift_covariance(times_s, covariances, counts) -> np.ndarray:
 
 
 def _initial_guess(means: np.ndarray, attitudes: np.ndarray, ref: float, estimate_angles: bool) -> np.ndarray:
-    """Start of the iteration (003 section IV-B): a linear fit of S and b with the field direction
+    """Start of the iteration (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section IV-B): a linear
+    fit of S and b with the field direction
     guessed from the data, so that a far-from-vertical field (the magnetometer) converges too."""
     if estimate_angles:
         b0 = means.mean(axis=0)
@@ -444,7 +451,8 @@ def fit_field_sensor(
     max_iterations: int = 50,
     tolerance: float = 1e-10,
 ) -> FieldSensorCalibration:
-    """Generalised least-squares fit of 003 eqs. (6)–(8) and (13) with 95 % intervals.
+    """Generalised least-squares fit of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eqs. (6)–(8)
+    and (13) with 95 % intervals.
 
     Parameters
     ----------
@@ -453,7 +461,8 @@ def fit_field_sensor(
     covariances : array_like, shape (P, 3, 3)
         Sample covariance of the readings in each position.
     counts : array_like, shape (P,)
-        Number of samples behind each mean; V(ε) = diag(Σ_p / n_p) (003 eq. (23)).
+        Number of samples behind each mean; V(ε) = diag(Σ_p / n_p) (Särkkä et al., IEEE Sensors Journal
+        17(11) 2017, eq. (23)).
     attitudes : array_like, shape (P, 3, 3)
         Attitude R_p (sensor → calibration frame) of each position.
     reference : float
@@ -461,14 +470,16 @@ def fit_field_sensor(
     sensor : str
         ``acc`` or ``mag``, for messages.
     estimate_angles : bool
-        Estimate α and β (003 eq. (8)); False holds them at 0 (positions known only by their up
+        Estimate α and β (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (8)); False holds them
+        at 0 (positions known only by their up
         axis, so the reference is vertical in the calibration frame).
     positions : sequence of int, optional
         1-based protocol number of each position, for messages.
     mean_covariance_extra : array_like, shape (3P, 3P), optional
         Covariance added to V(ε), e.g. :func:`drift_covariance` after a drift was removed.
     max_iterations, tolerance
-        Stopping rule of the iteration of 003 section IV-B (relative step size).
+        Stopping rule of the iteration of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section IV-B
+        (relative step size).
 
     Returns
     -------
@@ -517,10 +528,12 @@ def fit_field_sensor(
 
 
 def expected_covariance(S, b, alpha_deg, beta_deg, attitudes, noise_cov, count, *, reference) -> np.ndarray:
-    """Covariance (14, 14) of the estimates at the true parameters (003 eq. (22)).
+    """Covariance (14, 14) of the estimates at the true parameters (Särkkä et al., IEEE Sensors Journal
+    17(11) 2017, eq. (22)).
 
     For a design (attitudes, samples per position, noise covariance) this is what the intervals
-    of a fit converge to; it reproduces the half-widths of 003 Table VII without simulation.
+    of a fit converge to; it reproduces the half-widths of Särkkä et al., IEEE Sensors Journal 17(11)
+    2017, Table VII without simulation.
     """
     x = np.concatenate([np.asarray(S, float).reshape(-1), np.asarray(b, float),
                         [np.radians(alpha_deg), np.radians(beta_deg)]])

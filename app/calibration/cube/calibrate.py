@@ -1,10 +1,12 @@
-"""The cube method of 003_17911d0910b68c7e.txt end to end: one recording in, three sensors out.
+"""The cube method of Särkkä et al., IEEE Sensors Journal 17(11) 2017 end to end: one recording in,
+three sensors out.
 
 :func:`calibrate_cube` segments the recording into still positions and rotations, matches them
 to the protocol, removes the drift when the device returned to position 1 (section II), checks
 the sequence (section VII-A-1), and calibrates the accelerometer and the magnetometer
 (sections III-C, IV-B) and the gyroscope (sections III-B, IV-A) from the positions and rotations
-before the first mistake.  Every sensor follows ``raw = S f + b`` (003 eq. (1)).
+before the first mistake.  Every sensor follows ``raw = S f + b`` (Särkkä et al., IEEE Sensors Journal
+17(11) 2017, eq. (1)).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import numpy as np
 
 from ..correction import AffineCorrection
 from ..errors import CalibrationError, InsufficientDataError
+from ..gates import Gates
 from ..result import OUTPUT_UNIT, CalibrationResult
 from ..uncertainty import CONFIDENCE
 from ..validation import as_vectors, check_gravity
@@ -23,7 +26,7 @@ from .drift import Drift, estimate_drift
 from .gyro import GyroCalibration, fit_gyroscope, fit_gyroscope_full_turns
 from .protocols import Protocol, get_protocol
 from .segmentation import Segmentation, segment_recording
-from .sequence import check_sequence, saturated_samples
+from .sequence import SequenceCheck, check_sequence, saturated_samples
 
 MODEL_TYPE = "cube"
 
@@ -203,7 +206,8 @@ class CubeCalibration(CalibrationResult):
 
 
 def _position_stats(raw: np.ndarray, static) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Mean, sample covariance and count of each still interval (003 Appendix A)."""
+    """Mean, sample covariance and count of each still interval (Särkkä et al., IEEE Sensors Journal
+    17(11) 2017, Appendix A)."""
     means, covs, counts = [], [], []
     for a, b in static:
         seg = raw[a:b]
@@ -213,59 +217,25 @@ def _position_stats(raw: np.ndarray, static) -> tuple[np.ndarray, np.ndarray, np
     return np.array(means), np.array(covs), np.array(counts)
 
 
-def calibrate_cube(
-    acc,
-    gyr,
-    mag=None,
-    *,
-    sampling_rate_hz: float,
-    protocol="cube24",
-    gravity: float,
-    field_ut: float | None = None,
-    gyro_range: float | None = None,
-    lam: float | None = None,
-    static_threshold: float | None = None,
-    min_static_s: float = 1.0,
-) -> CubeCalibration:
-    """Calibrate accelerometer, gyroscope and magnetometer from one cube recording (003).
+@dataclass(frozen=True)
+class _Stages:
+    """What the per-sensor stages of :func:`calibrate_cube` share: the recording's segmentation,
+    the protocol, the sequence check and the drift removed."""
 
-    Parameters
-    ----------
-    acc : array_like, shape (N, 3)
-        Raw accelerometer samples (any unit; S maps m/s² — or g — to it).
-    gyr : array_like, shape (N, 3)
-        Raw gyroscope samples in pre-adjusted rad/s (datasheet scale), required: the rotations
-        are found and checked with it.
-    mag : array_like, shape (N, 3), optional
-        Raw magnetometer samples.
-    sampling_rate_hz : float
-        Common sampling rate of the three sensors.
-    protocol : str, Protocol or dict
-        ``cube24`` (DESIGN.md §4), ``ferraris``, or ``{"rotations": [...], "ups": [...]}``.
-    gravity : float
-        Magnitude of gravity in the accelerometer's output unit (m/s², or 1 for g).
-    field_ut : float, optional
-        Magnitude of the Earth's field in µT; required with ``mag``.
-    gyro_range : float, optional
-        Gyroscope full scale in rad/s, to flag rotations that exceed it (otherwise clipping is
-        detected from flat tops).
-    lam : float, optional
-        Fixed λ of 003 eq. (9); by default the saturation rule of section IV-A-1.
-    static_threshold, min_static_s : float
-        Segmentation settings (see :func:`segment_recording`).
+    seg: Segmentation
+    proto: Protocol
+    fs: float
+    seq: SequenceCheck
+    n_valid: int
+    drift: dict
+    centres_s: np.ndarray
 
-    Returns
-    -------
-    CubeCalibration
+    def significant_drift(self, name: str) -> bool:
+        return name in self.drift and self.drift[name].significant
 
-    Raises
-    ------
-    CalibrationError
-        Missing gyroscope, mismatched lengths, non-finite samples, a magnetometer without
-        ``field_ut``, or a recording whose still positions do not match the protocol.
-    InsufficientDataError
-        Too few still positions or rotations for the models.
-    """
+
+def _validated(acc, gyr, mag, *, gravity, sampling_rate_hz, field_ut):
+    """Checked samples of the three sensors (one clock), gravity and rate."""
     if gyr is None:
         raise CalibrationError(
             "the cube method needs the gyroscope: the rotations between positions are found, checked "
@@ -288,9 +258,13 @@ def calibrate_cube(
             "a magnetometer needs the magnitude of the local field: give field_ut in µT "
             "(e.g. from a geomagnetic model for the place and date)"
         )
-    proto = get_protocol(protocol)
-    P = proto.n_positions
+    return a, w, m, g, fs
 
+
+def _segment(w, fs: float, proto: Protocol, static_threshold, min_static_s: float) -> tuple[Segmentation, bool]:
+    """Still positions and rotations, matched in number to the protocol (with or without the
+    return to position 1)."""
+    P = proto.n_positions
     seg = segment_recording(w, sampling_rate_hz=fs, threshold=static_threshold, min_static_s=min_static_s)
     n_found = len(seg.static)
     if n_found not in (P, P + 1):
@@ -299,159 +273,225 @@ def calibrate_cube(
             f"({P + 1} with the return to position 1): check the protocol, or hold the device still for "
             f"at least {min_static_s:g} s in each position and do not pause during a rotation"
         )
-    has_return = n_found == P + 1
-    w_raw = w
-    warnings: list[str] = []
-    reasons: list[str] = []
+    return seg, n_found == P + 1
 
-    # 003 section II: affine drift from the return to position 1.
+
+def _remove_drift(a, w, m, seg: Segmentation, fs: float, gates: Gates):
+    """The affine drift of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section II, from the
+    return to position 1; only a significant drift is removed (removing noise only adds error)."""
     drift: dict = {}
-    if has_return:
-        a_first = a[seg.static[0][0]:seg.static[0][1]].mean(axis=0)
-        a_last = a[seg.static[-1][0]:seg.static[-1][1]].mean(axis=0)
-        span = np.ptp(np.array([a[s0:s1].mean(axis=0) for s0, s1 in seg.static]), axis=0).max()
-        if np.linalg.norm(a_last - a_first) > RETURN_TOLERANCE * span:
-            warnings.append(
-                "the last position does not read like position 1, so it is not the return of 003 section II: "
-                "no drift was removed"
-            )
-        else:
-            removed = []
-            for name, raw in (("acc", a), ("gyr", w), ("mag", m)):
-                if raw is None:
-                    continue
-                d = estimate_drift(raw, seg.static[0], seg.static[-1], sampling_rate_hz=fs)
-                drift[name] = d
-                if d.significant:
-                    removed.append(name)
-            # Only a significant drift is removed: removing noise would only add error.
-            if "acc" in removed:
-                a = drift["acc"].remove(a, fs)
-            if "gyr" in removed:
-                w = drift["gyr"].remove(w, fs)
-            if "mag" in removed:
-                m = drift["mag"].remove(m, fs)
-            if removed:
-                warnings.append(
-                    f"drift removed from {', '.join(removed)} (003 section II); the intervals do not include "
-                    "the uncertainty of the drift estimate"
-                )
+    a_first = a[seg.static[0][0]:seg.static[0][1]].mean(axis=0)
+    a_last = a[seg.static[-1][0]:seg.static[-1][1]].mean(axis=0)
+    span = np.ptp(np.array([a[s0:s1].mean(axis=0) for s0, s1 in seg.static]), axis=0).max()
+    if np.linalg.norm(a_last - a_first) > RETURN_TOLERANCE * span:
+        gates.warn(
+            "the last position does not read like position 1, so it is not the return of 003 section II: "
+            "no drift was removed"
+        )
+        return a, w, m, drift
+    removed = []
+    for name, raw in (("acc", a), ("gyr", w), ("mag", m)):
+        if raw is None:
+            continue
+        d = estimate_drift(raw, seg.static[0], seg.static[-1], sampling_rate_hz=fs)
+        drift[name] = d
+        if d.significant:
+            removed.append(name)
+    if "acc" in removed:
+        a = drift["acc"].remove(a, fs)
+    if "gyr" in removed:
+        w = drift["gyr"].remove(w, fs)
+    if "mag" in removed:
+        m = drift["mag"].remove(m, fs)
+    if removed:
+        gates.warn(
+            f"drift removed from {', '.join(removed)} (003 section II); the intervals do not include "
+            "the uncertainty of the drift estimate"
+        )
+    return a, w, m, drift
 
-    acc_means, acc_covs, acc_counts = _position_stats(a, seg.static)
-    still_gyr = np.vstack([w[s0:s1] for s0, s1 in seg.static])
-    gyro_bias = still_gyr.mean(axis=0)
+
+def _check_sequence(a, w, w_raw, seg: Segmentation, proto: Protocol, fs: float, g: float, gyro_range, gates: Gates):
+    """The check of every transition (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section
+    VII-A-1): the first mistake and the saturated rotations before it are reasons.  Returns the
+    check and the number of positions before the first mistake."""
+    acc_means = _position_stats(a, seg.static)[0]
+    gyro_bias = np.vstack([w[s0:s1] for s0, s1 in seg.static]).mean(axis=0)
     sat = saturated_samples(w_raw, gyro_range)
     seq = check_sequence(
         w, acc_means, seg.rotations, proto, sampling_rate_hz=fs, gyro_bias=gyro_bias, gravity=g, saturated=sat,
     )
-    n_valid = min(seq.valid_positions, P)
     if seq.first_wrong is not None:
-        reasons.append(seq.reason())
+        gates.fail(seq.reason())
     for entry in seq.rotations:
         if entry["saturated"] and entry["rotation"] <= len(proto.rotations) and (
             seq.first_wrong is None or entry["rotation"] < seq.first_wrong
         ):
-            reasons.append(entry["message"])
+            gates.fail(entry["message"])
+    return seq, min(seq.valid_positions, proto.n_positions)
 
-    static_valid = seg.static[:n_valid]
-    positions = tuple(range(1, n_valid + 1))
 
-    centres_s = np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static])
+def _fit_field(rec: _Stages, raw, ref: float, name: str, gates: Gates) -> FieldSensorCalibration | None:
+    """Accelerometer or magnetometer from the positions before the first mistake (Särkkä et al.,
+    IEEE Sensors Journal 17(11) 2017, sections III-C, IV-B), with a removed drift's covariance."""
+    means, covs, counts = _position_stats(raw, rec.seg.static)
+    n_valid = rec.n_valid
+    extra = None
+    if rec.significant_drift(name):
+        idx = list(range(n_valid)) + [len(rec.seg.static) - 1]
+        extra = drift_covariance(rec.centres_s[idx], covs[idx], counts[idx])
+    try:
+        return fit_field_sensor(
+            means[:n_valid], covs[:n_valid], counts[:n_valid], rec.proto.attitudes[:n_valid], reference=ref,
+            sensor=name, estimate_angles=rec.proto.heading_known, positions=tuple(range(1, n_valid + 1)),
+            mean_covariance_extra=extra,
+        )
+    except InsufficientDataError as exc:
+        if rec.seq.first_wrong is None:
+            raise
+        gates.fail(f"{name} not calibrated: {exc}")
+        return None
 
-    def field_fit(raw, means, covs, counts, ref, name):
-        extra = None
-        if name in drift and drift[name].significant:
-            idx = list(range(n_valid)) + [len(seg.static) - 1]
-            extra = drift_covariance(centres_s[idx], covs[idx], counts[idx])
-        try:
-            return fit_field_sensor(
-                means[:n_valid], covs[:n_valid], counts[:n_valid], proto.attitudes[:n_valid], reference=ref,
-                sensor=name, estimate_angles=proto.heading_known, positions=positions,
-                mean_covariance_extra=extra,
-            )
-        except InsufficientDataError as exc:
-            if seq.first_wrong is None:
-                raise
-            reasons.append(f"{name} not calibrated: {exc}")
-            return None
 
-    acc_res = field_fit(a, acc_means, acc_covs, acc_counts, g, "acc")
-    mag_res = None
-    if m is not None:
-        if not proto.heading_known:
-            warnings.append(
-                f"mag not calibrated: protocol {proto.name} leaves the headings unknown, so the field's "
-                "direction changes between positions in an unknown way; use cube24 or a protocol of known rotations"
-            )
-        else:
-            mag_means, mag_covs, mag_counts = _position_stats(m, seg.static)
-            mag_res = field_fit(m, mag_means, mag_covs, mag_counts, float(field_ut), "mag")
+def _gyro_drift(rec: _Stages, w, used: list[int]) -> dict:
+    """The removed drift's error e = error of (m_E − m_1), entering sample i as τ_i e."""
+    if not rec.significant_drift("gyr"):
+        return {}
+    seg, fs, centres_s = rec.seg, rec.fs, rec.centres_s
+    (f0, f1), (e0, e1) = seg.static[0], seg.static[-1]
+    v0 = np.cov(w[f0:f1].T) / (f1 - f0)
+    v1 = np.cov(w[e0:e1].T) / (e1 - e0)
+    span = centres_s[-1] - centres_s[0]
+    return {
+        "rate_error_weights": [(np.arange(*seg.rotations[k]) / fs - centres_s[0]) / span for k in used],
+        "rate_error_covariance": v0 + v1,
+    }
 
-    # Gyroscope: the known rotations before the mistake that did not saturate.
+
+def _fit_gyro(rec: _Stages, w, lam, gates: Gates) -> tuple[GyroCalibration | None, list[int]]:
+    """Gyroscope from the known rotations before the mistake that did not saturate (Särkkä et al.,
+    IEEE Sensors Journal 17(11) 2017, sections III-B, IV-A), or from full turns (ferraris)."""
+    seg, proto, seq, n_valid, fs = rec.seg, rec.proto, rec.seq, rec.n_valid, rec.fs
     used = [
         k for k, rot in enumerate(proto.rotations)
         if rot is not None and k + 1 < n_valid and not seq.rotations[k]["saturated"]
     ]
-    gyr_res = None
+    static_valid = seg.static[:n_valid]
     still_covs = np.array([np.cov(w[s0:s1].T) for s0, s1 in static_valid])
     still_counts = np.array([s1 - s0 for s0, s1 in static_valid])
     noise_cov = np.average(still_covs, axis=0, weights=still_counts - 1)
     bias0 = np.vstack([w[s0:s1] for s0, s1 in static_valid]).mean(axis=0)
     estimate_bias = len(used) >= 4
     full_turns = bool(used) and all(abs(proto.rotations[k].angle_deg) >= 360.0 for k in used)
+    rates = [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used]
+    common = dict(sampling_rate_hz=fs, noise_cov=noise_cov, bias_covariance=noise_cov / still_counts.sum(),
+                  rotation_numbers=[k + 1 for k in used])
     if full_turns and len(used) == 3:
-        gyr_res = fit_gyroscope_full_turns(
-            [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used],
-            [proto.attitudes[k].T @ proto.rotations[k].axis for k in used],
-            [proto.rotations[k].angle_deg for k in used],
-            sampling_rate_hz=fs, noise_cov=noise_cov, bias=bias0,
-            bias_covariance=noise_cov / still_counts.sum(), rotation_numbers=[k + 1 for k in used],
+        res = fit_gyroscope_full_turns(
+            rates, [proto.attitudes[k].T @ proto.rotations[k].axis for k in used],
+            [proto.rotations[k].angle_deg for k in used], bias=bias0, **common,
         )
-    elif 3 * len(used) < (12 if estimate_bias else 9):
-        msg = (
-            f"gyr not calibrated: {len(used)} usable known rotation(s) before the mistake; at least 3 "
-            "(4 to estimate the bias) are needed"
-        )
+        return res, used
+    if 3 * len(used) < (12 if estimate_bias else 9):
         if seq.first_wrong is None and not any(r["saturated"] for r in seq.rotations):
             raise InsufficientDataError(
                 f"protocol {proto.name} has {len(used)} known rotation(s); the gyroscope needs at least 3"
             )
-        reasons.append(msg)
-    else:
-        gyro_drift = {}
-        if "gyr" in drift and drift["gyr"].significant:
-            # The removed drift's error e = error of (m_E − m_1) enters sample i as τ_i e.
-            (f0, f1), (e0, e1) = seg.static[0], seg.static[-1]
-            v0 = np.cov(w[f0:f1].T) / (f1 - f0)
-            v1 = np.cov(w[e0:e1].T) / (e1 - e0)
-            span = centres_s[-1] - centres_s[0]
-            gyro_drift = {
-                "rate_error_weights": [
-                    (np.arange(*seg.rotations[k]) / fs - centres_s[0]) / span for k in used
-                ],
-                "rate_error_covariance": v0 + v1,
-            }
-        gyr_res = fit_gyroscope(
-            [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used],
-            proto.quaternions[[k for k in used]],
-            proto.quaternions[[k + 1 for k in used]],
-            sampling_rate_hz=fs,
-            noise_cov=noise_cov,
-            bias0=bias0,
-            lam=lam,
-            estimate_bias=estimate_bias,
-            bias_covariance=noise_cov / still_counts.sum(),
-            rotation_numbers=[k + 1 for k in used],
-            **gyro_drift,
+        gates.fail(
+            f"gyr not calibrated: {len(used)} usable known rotation(s) before the mistake; at least 3 "
+            "(4 to estimate the bias) are needed"
         )
+        return None, used
+    res = fit_gyroscope(
+        rates, proto.quaternions[[k for k in used]], proto.quaternions[[k + 1 for k in used]],
+        bias0=bias0, lam=lam, estimate_bias=estimate_bias, **common, **_gyro_drift(rec, w, used),
+    )
+    return res, used
 
+
+def calibrate_cube(
+    acc,
+    gyr,
+    mag=None,
+    *,
+    sampling_rate_hz: float,
+    protocol="cube24",
+    gravity: float,
+    field_ut: float | None = None,
+    gyro_range: float | None = None,
+    lam: float | None = None,
+    static_threshold: float | None = None,
+    min_static_s: float = 1.0,
+) -> CubeCalibration:
+    """Calibrate accelerometer, gyroscope and magnetometer from one cube recording (Särkkä et al., IEEE
+    Sensors Journal 17(11) 2017).
+
+    Parameters
+    ----------
+    acc : array_like, shape (N, 3)
+        Raw accelerometer samples (any unit; S maps m/s² — or g — to it).
+    gyr : array_like, shape (N, 3)
+        Raw gyroscope samples in pre-adjusted rad/s (datasheet scale), required: the rotations
+        are found and checked with it.
+    mag : array_like, shape (N, 3), optional
+        Raw magnetometer samples.
+    sampling_rate_hz : float
+        Common sampling rate of the three sensors.
+    protocol : str, Protocol or dict
+        ``cube24`` (DESIGN.md §4), ``ferraris``, or ``{"rotations": [...], "ups": [...]}``.
+    gravity : float
+        Magnitude of gravity in the accelerometer's output unit (m/s², or 1 for g).
+    field_ut : float, optional
+        Magnitude of the Earth's field in µT; required with ``mag``.
+    gyro_range : float, optional
+        Gyroscope full scale in rad/s, to flag rotations that exceed it (otherwise clipping is
+        detected from flat tops).
+    lam : float, optional
+        Fixed λ of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (9); by default the saturation
+        rule of section IV-A-1.
+    static_threshold, min_static_s : float
+        Segmentation settings (see :func:`segment_recording`).
+
+    Returns
+    -------
+    CubeCalibration
+
+    Raises
+    ------
+    CalibrationError
+        Missing gyroscope, mismatched lengths, non-finite samples, a magnetometer without
+        ``field_ut``, or a recording whose still positions do not match the protocol.
+    InsufficientDataError
+        Too few still positions or rotations for the models.
+    """
+    a, w, m, g, fs = _validated(acc, gyr, mag, gravity=gravity, sampling_rate_hz=sampling_rate_hz, field_ut=field_ut)
+    proto = get_protocol(protocol)
+    seg, has_return = _segment(w, fs, proto, static_threshold, min_static_s)
+    gates = Gates()
+    w_raw = w
+    drift: dict = {}
+    if has_return:
+        a, w, m, drift = _remove_drift(a, w, m, seg, fs, gates)
+    seq, n_valid = _check_sequence(a, w, w_raw, seg, proto, fs, g, gyro_range, gates)
+    rec = _Stages(seg=seg, proto=proto, fs=fs, seq=seq, n_valid=n_valid, drift=drift,
+                  centres_s=np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static]))
+    acc_res = _fit_field(rec, a, g, "acc", gates)
+    mag_res = None
+    if m is not None:
+        if not proto.heading_known:
+            gates.warn(
+                f"mag not calibrated: protocol {proto.name} leaves the headings unknown, so the field's "
+                "direction changes between positions in an unknown way; use cube24 or a protocol of known rotations"
+            )
+        else:
+            mag_res = _fit_field(rec, m, float(field_ut), "mag", gates)
+    gyr_res, used = _fit_gyro(rec, w, lam, gates)
     for res in (acc_res, gyr_res, mag_res):
         if res is not None:
-            reasons.extend(r for r in res.reasons if r not in reasons)
-            warnings.extend(x for x in res.warnings if x not in res.reasons)
+            gates.merge(res, unique=True)
     metrics = {
         "n_samples": int(len(a)),
-        "n_positions_found": n_found,
+        "n_positions_found": len(seg.static),
         "n_positions_used": n_valid,
         "rotations_used": [k + 1 for k in used],
         "returned_to_start": has_return,
@@ -470,6 +510,5 @@ def calibrate_cube(
         gravity=g,
         field_ut=None if field_ut is None else float(field_ut),
         metrics=metrics,
-        warnings=tuple(reasons + warnings),
-        reasons=tuple(reasons),
+        **gates.fields(),
     )

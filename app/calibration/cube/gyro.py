@@ -1,7 +1,9 @@
-"""Gyroscope of the cube method (003_17911d0910b68c7e.txt, sections III-B, IV-A, Appendix B).
+"""Gyroscope of the cube method (Särkkä et al., IEEE Sensors Journal 17(11) 2017, sections III-B, IV-A,
+Appendix B).
 
 The unknowns are the attitude quaternion at every sample of every rotation and the calibration
-θ = [s_ω, b_ω], s_ω the columns of S_ω⁻¹ (003 eq. (4)); the adjusted rate is
+θ = [s_ω, b_ω], s_ω the columns of S_ω⁻¹ (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (4));
+the adjusted rate is
 ω = S_ω⁻¹ (ω̃ − b_ω).  Two residuals:
 
 - r1, the trapezoidal rule of q̇ = ½ W(ω) q between consecutive samples (eq. (4)),
@@ -33,7 +35,8 @@ from . import quaternion as quat
 from .accmag import decompose, decomposition_jacobian
 
 LAMBDAS = tuple(10.0 ** k for k in range(-3, 7))
-"""λ values tried in turn, upwards, until the parameters saturate (003 section IV-A-1)."""
+"""λ values tried in turn, upwards, until the parameters saturate (Särkkä et al., IEEE Sensors Journal
+17(11) 2017, section IV-A-1)."""
 
 SATURATION = 1e-7
 """Largest change of any element of S⁻¹ (and of b in rad/s) that counts as saturated."""
@@ -186,7 +189,8 @@ class GyroCalibration:
 
 
 class _Problem:
-    """The stacked rotations and the residual/Jacobian of 003 eqs. (4), (5), (10), (11)."""
+    """The stacked rotations and the residual/Jacobian of Särkkä et al., IEEE Sensors Journal 17(11)
+    2017, eqs. (4), (5), (10), (11)."""
 
     def __init__(self, rotations, q_start, q_end, h, estimate_bias, bias):
         self.h = h
@@ -235,12 +239,14 @@ class _Problem:
         return self._pattern
 
     def theta_parts(self, theta):
-        M = theta[:9].reshape(3, 3).T  # columns of S⁻¹ (003 eq. (4))
+        M = theta[:9].reshape(3, 3).T  # columns of S⁻¹ (Särkkä et al., IEEE Sensors Journal 17(11)
+                                       # 2017, eq. (4))
         b = theta[9:12] if self.estimate_bias else self.fixed_bias
         return M, b
 
     def evaluate(self, x, lam):
-        """Residual (r1, √λ r2) and sparse Jacobian at x (003 eqs. (10)–(11))."""
+        """Residual (r1, √λ r2) and sparse Jacobian at x (Särkkä et al., IEEE Sensors Journal 17(11)
+        2017, eqs. (10)–(11))."""
         h = self.h
         Q = x[: self.n_q].reshape(self.N, 4)
         M, b = self.theta_parts(x[self.n_q:])
@@ -251,7 +257,7 @@ class _Problem:
         A = I4 + 0.25 * h * Wm[self.a]
         C = 0.25 * h * Wm[self.c] - I4
         Qa, Qc = Q[self.a], Q[self.c]
-        # 003 eq. (4)
+        # Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (4)
         r1 = (A @ Qa[:, :, None] + C @ Qc[:, :, None])[:, :, 0]
         # dω/dθ: [uᵀ ⊗ I3, −M]
         nt = self.n_theta
@@ -264,7 +270,7 @@ class _Problem:
         Th = 0.25 * h * (quat.xi_matrix(Qa) @ dom[self.a]
                          + quat.xi_matrix(Qc) @ dom[self.c])
         sl = np.sqrt(lam)
-        # 003 eq. (5), weighted as in eq. (10)
+        # Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (5), weighted as in eq. (10)
         r2 = sl * np.concatenate([Q[self.first] - self.qs, Q[self.last] - self.qe], axis=1)
         return _Linearisation(self, A, C, Th, r1, r2, sl, Qa, Qc, M)
 
@@ -289,7 +295,8 @@ class _Linearisation:
         return np.concatenate([self.r1.reshape(-1), self.r2.reshape(-1)])
 
     def jacobian(self) -> sp.csr_matrix:
-        """The sparse Jacobian J of 003 eq. (11) (r1 rows, then the √λ G rows)."""
+        """The sparse Jacobian J of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (11) (r1 rows,
+        then the √λ G rows)."""
         p = self.prob
         vals1 = np.concatenate([self.A, self.C, self.Th], axis=2)
         vals2 = np.full(8 * len(p.first), self.sl)
@@ -534,13 +541,14 @@ def fit_gyroscope(
     max_iterations: int = 20,
     tolerance: float = 1e-9,
 ) -> GyroCalibration:
-    """Calibrate a gyroscope from rotations between known attitudes (003 sections III-B, IV-A).
+    """Calibrate a gyroscope from rotations between known attitudes (Särkkä et al., IEEE Sensors
+    Journal 17(11) 2017, sections III-B, IV-A).
 
     Parameters
     ----------
     rotations : sequence of numpy.ndarray, each (N_k, 3)
         Raw rates over each rotation, starting and ending at rest, in pre-adjusted rad/s
-        (datasheet scale, 003 section IV-A).
+        (datasheet scale, Särkkä et al., IEEE Sensors Journal 17(11) 2017, section IV-A).
     q_start, q_end : array_like, shape (K, 4)
         Known attitude at the start and at the end of each rotation, on the branch the rotation
         reaches (a 360° turn ends at −q_start).
@@ -551,16 +559,19 @@ def fit_gyroscope(
     bias0 : array_like, shape (3,), optional
         Initial bias: the mean rate of the still positions (pre-adjustment).
     S_inv0 : array_like, shape (3, 3), optional
-        Initial S_ω⁻¹; identity by default (off-diagonals zero, 003 section IV-A).
+        Initial S_ω⁻¹; identity by default (off-diagonals zero, Särkkä et al., IEEE Sensors Journal
+        17(11) 2017, section IV-A).
     lam : float, optional
-        Fixed λ; by default it is chosen by the saturation rule of 003 section IV-A-1.
+        Fixed λ; by default it is chosen by the saturation rule of Särkkä et al., IEEE Sensors Journal
+        17(11) 2017, section IV-A-1.
     lambdas : sequence of float
         The λ values tried upwards.
     estimate_bias : bool
         False holds b at ``bias0`` (for protocols with fewer than four rotations).
     bias_covariance : array_like, shape (3, 3), optional
         Covariance of ``bias0`` when it is held (the still positions' covariance over their
-        sample count, 003 eq. (23)); it fills the bias block of the covariance.
+        sample count, Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (23)); it fills the bias
+        block of the covariance.
     rate_error_weights : sequence of numpy.ndarray, optional
         Per rotation, per sample, the factor τ by which an error e common to all samples enters
         the rates (a removed drift: τ = (t − t_1)/(t_E − t_1)); with ``rate_error_covariance``
@@ -634,7 +645,8 @@ def fit_gyroscope_full_turns(
 ) -> GyroCalibration:
     """S_ω⁻¹ from full turns about three sensor axes (the ferraris protocol), bias from rest.
 
-    A 360° turn ends where it started whatever the axis, so the attitude residual (5) of 003
+    A 360° turn ends where it started whatever the axis, so the attitude residual (5) of Särkkä et al.,
+    IEEE Sensors Journal 17(11) 2017
     constrains only the turn's magnitude, not its axis.  Here, as in Ferraris' method, the
     integrated rate of each turn must equal the turn's rotation vector:
     ``S_ω⁻¹ ∫(ω̃ − b) dt = θ_k a_k`` (trapezoidal rule), three columns for the nine elements.
@@ -652,7 +664,8 @@ def fit_gyroscope_full_turns(
     sampling_rate_hz, noise_cov
         As in :func:`fit_gyroscope`.
     bias, bias_covariance : array_like
-        Bias from the still positions and its covariance (noise / count, 003 eq. (23)).
+        Bias from the still positions and its covariance (noise / count, Särkkä et al., IEEE Sensors
+        Journal 17(11) 2017, eq. (23)).
 
     Returns
     -------

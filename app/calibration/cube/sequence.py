@@ -1,4 +1,4 @@
-"""Sequence checks (003_17911d0910b68c7e.txt, section VII-A-1).
+"""Sequence checks (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section VII-A-1).
 
 The end attitude of every rotation is known from the protocol; the forward solution of eq. (2)
 with the pre-adjusted rates approximates it.  If any element of the integrated end quaternion
@@ -19,7 +19,8 @@ from . import quaternion as quat
 from .protocols import Protocol
 
 MAX_ELEMENT_DIFFERENCE = 0.1
-"""003 section VII-A-1: a larger difference in any quaternion element flags a wrong rotation.
+"""Särkkä et al., IEEE Sensors Journal 17(11) 2017, section VII-A-1: a larger difference in any
+quaternion element flags a wrong rotation.
 
 The paper's rotations are 90°; a scale error of the pre-adjusted gyroscope grows with the angle,
 so for larger rotations the tolerance grows in proportion (0.1 per 90°, e.g. 0.4 for a 360° turn
@@ -99,6 +100,66 @@ def saturated_samples(gyr: np.ndarray, gyro_range: float | None) -> np.ndarray:
     return mask
 
 
+def _transition(rates, k: int, protocol: Protocol, observed_up, h: float, gyro_bias, saturated: bool):
+    """The record of transition k (0-based): the face that came up and, for a known rotation, the
+    integrated attitude against the protocol's.  Returns the entry, whether the face matched and
+    whether the gyroscope agreed."""
+    rot = protocol.rotations[k] if k < len(protocol.rotations) else None
+    expected_up = protocol.ups[k + 1] if k + 1 < protocol.n_positions else protocol.ups[0]
+    entry = {
+        "rotation": k + 1,
+        "label": "return to position 1" if k >= len(protocol.rotations) else (rot.label if rot else "free"),
+        "from_position": k + 1,
+        "to_position": k + 2,
+        "expected_up": expected_up,
+        "observed_up": observed_up,
+        "max_element_difference": None,
+        "end_error_deg": None,
+        "saturated": saturated,
+    }
+    gyro_ok = True
+    if rot is not None:
+        q0 = protocol.quaternions[k]
+        q_exp = protocol.quaternions[k + 1]
+        q_end = quat.integrate(rates - gyro_bias, h, q0)[-1]
+        diff = float(np.max(np.abs(q_end - q_exp)))
+        entry["max_element_difference"] = diff
+        entry["end_error_deg"] = float(np.degrees(2 * np.arccos(min(1.0, abs(float(q_end @ q_exp))))))
+        entry["end_quaternion"] = q_end.tolist()
+        entry["expected_quaternion"] = q_exp.tolist()
+        entry["tolerance"] = element_tolerance(rot.angle_deg)
+        gyro_ok = diff <= entry["tolerance"]
+    return entry, observed_up == expected_up, gyro_ok
+
+
+def _transition_message(entry: dict, k: int, wrong: bool, face_ok: bool, gyro_ok: bool) -> str:
+    """What the check of one transition tells: the mistake, the range reached, or ok."""
+    to_pos = k + 2
+    name = f"rotation {k + 1} ({entry['label']}, from position {k + 1} into position {to_pos})"
+    if wrong:
+        parts = []
+        if not gyro_ok:
+            parts.append(
+                f"the gyroscope ends {entry['end_error_deg']:.0f}° from the protocol's attitude (largest "
+                f"quaternion element difference {entry['max_element_difference']:.2f} > {entry['tolerance']:.2g})"
+            )
+        if not face_ok:
+            parts.append(
+                f"position {to_pos} has {entry['observed_up'] or 'no axis'} up instead of {entry['expected_up']}"
+            )
+        return (
+            f"{name} is not the protocol's rotation: " + " and ".join(parts)
+            + f"; it led into position {to_pos}. The calibration uses positions 1–{k + 1} and the "
+            f"rotations before it; redo the sequence from position {k + 1} to use all of them"
+        )
+    if entry["saturated"]:
+        return (
+            f"{name} reached the gyroscope's range (clipped samples): it is left out of the gyroscope "
+            "calibration; turn more slowly"
+        )
+    return f"{name} ok"
+
+
 def check_sequence(
     gyr: np.ndarray,
     acc_means: np.ndarray,
@@ -110,7 +171,8 @@ def check_sequence(
     gravity: float,
     saturated: np.ndarray | None = None,
 ) -> SequenceCheck:
-    """Check every transition of a recording against its protocol (003 section VII-A-1).
+    """Check every transition of a recording against its protocol (Särkkä et al., IEEE Sensors Journal
+    17(11) 2017, section VII-A-1).
 
     Parameters
     ----------
@@ -139,61 +201,13 @@ def check_sequence(
     out = []
     first_wrong = None
     for k, (a, b) in enumerate(rotations):
-        rot = protocol.rotations[k] if k < len(protocol.rotations) else None
-        to_pos = k + 2
-        expected_up = protocol.ups[k + 1] if k + 1 < protocol.n_positions else protocol.ups[0]
-        entry = {
-            "rotation": k + 1,
-            "label": "return to position 1" if k >= len(protocol.rotations) else (rot.label if rot else "free"),
-            "from_position": k + 1,
-            "to_position": to_pos,
-            "expected_up": expected_up,
-            "observed_up": observed[k + 1],
-            "max_element_difference": None,
-            "end_error_deg": None,
-            "saturated": bool(saturated is not None and saturated[a:b].any()),
-        }
-        face_ok = observed[k + 1] == expected_up
-        gyro_ok = True
-        if rot is not None:
-            q0 = protocol.quaternions[k]
-            q_exp = protocol.quaternions[k + 1]
-            q_end = quat.integrate(gyr[a:b] - gyro_bias, h, q0)[-1]
-            diff = float(np.max(np.abs(q_end - q_exp)))
-            entry["max_element_difference"] = diff
-            entry["end_error_deg"] = float(np.degrees(2 * np.arccos(min(1.0, abs(float(q_end @ q_exp))))))
-            entry["end_quaternion"] = q_end.tolist()
-            entry["expected_quaternion"] = q_exp.tolist()
-            entry["tolerance"] = element_tolerance(rot.angle_deg)
-            gyro_ok = diff <= entry["tolerance"]
+        entry, face_ok, gyro_ok = _transition(gyr[a:b], k, protocol, observed[k + 1], h, gyro_bias,
+                                              bool(saturated is not None and saturated[a:b].any()))
         # A saturated rotation that lands on the right face is a range problem, not a mistake.
         wrong = (not face_ok) or (not gyro_ok and not (entry["saturated"] and face_ok))
         entry["ok"] = not wrong and not entry["saturated"]
-        name = f"rotation {k + 1} ({entry['label']}, from position {k + 1} into position {to_pos})"
-        if wrong:
-            parts = []
-            if not gyro_ok:
-                parts.append(
-                    f"the gyroscope ends {entry['end_error_deg']:.0f}° from the protocol's attitude (largest "
-                    f"quaternion element difference {entry['max_element_difference']:.2f} > {entry['tolerance']:.2g})"
-                )
-            if not face_ok:
-                parts.append(
-                    f"position {to_pos} has {observed[k + 1] or 'no axis'} up instead of {expected_up}"
-                )
-            entry["message"] = (
-                f"{name} is not the protocol's rotation: " + " and ".join(parts)
-                + f"; it led into position {to_pos}. The calibration uses positions 1–{k + 1} and the "
-                f"rotations before it; redo the sequence from position {k + 1} to use all of them"
-            )
-            if first_wrong is None:
-                first_wrong = k + 1
-        elif entry["saturated"]:
-            entry["message"] = (
-                f"{name} reached the gyroscope's range (clipped samples): it is left out of the gyroscope "
-                "calibration; turn more slowly"
-            )
-        else:
-            entry["message"] = f"{name} ok"
+        entry["message"] = _transition_message(entry, k, wrong, face_ok, gyro_ok)
+        if wrong and first_wrong is None:
+            first_wrong = k + 1
         out.append(entry)
     return SequenceCheck(rotations=tuple(out), first_wrong=first_wrong)

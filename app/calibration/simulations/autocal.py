@@ -1,11 +1,13 @@
-"""Synthetic long recordings for auto-calibration: rest and movement bouts through the errors of 002.
+"""Synthetic long recordings for auto-calibration: rest and movement bouts through the errors of
+Farago, Maczak and Gingl, IEEE Access.
 
 A recording alternates rest bouts and movement bouts.  A rest bout holds one orientation: with
 probability ``posture_fraction`` one of a few posture-like directions (a wrist lying face up or down,
 an arm hanging, a forearm on a table...) jittered by a few degrees, otherwise a direction uniform on
 the sphere.  A movement bout turns from one direction to another with an oscillating body
 acceleration of a few tenths of g on each axis.  The true specific force ``a`` (in g) becomes the
-reading ``v = K⁻¹ a − o`` by the 9-parameter model of 002 with the parameters of eq. (17)
+reading ``v = K⁻¹ a − o`` by the 9-parameter model of Farago, Maczak and Gingl, IEEE Access with the
+parameters of eq. (17)
 (:func:`app.calibration.simulations.triangular.draw_parameters`, :func:`~app.calibration.simulations.triangular.uncalibrate`)
 plus white noise.  Optionally some rest bouts are replaced by idle-sleep runs (the first sample
 repeated) or NaN gaps.
@@ -40,7 +42,7 @@ class SimulatedRecording:
     Attributes
     ----------
     p : numpy.ndarray, shape (9,)
-        True parameters (002 eq. (18)); offsets in g.
+        True parameters (Farago, Maczak and Gingl, IEEE Access, eq. (18)); offsets in g.
     n_samples : int
     sampling_rate_hz : float
     rest_bouts : numpy.ndarray, shape (B, 2)
@@ -77,7 +79,7 @@ def simulate_recording(rng: np.random.Generator, *, duration_s: float, sampling_
     rng : numpy.random.Generator
     duration_s, sampling_rate_hz : float
     p : array_like, shape (9,), optional
-        True parameters; drawn by 002 eq. (17) when omitted.
+        True parameters; drawn by Farago, Maczak and Gingl, IEEE Access, eq. (17) when omitted.
     noise_g : float
         White noise per sample and axis, in g.
     posture_fraction : float

@@ -1,4 +1,4 @@
-"""Simulations of 003_17911d0910b68c7e.txt section V (true parameters of Table VI).
+"""Simulations of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section V (true parameters of Table VI).
 
 Raw units as in the paper: the accelerometer and the magnetometer read volts (S in V per m/s²
 and V per µT, b in V), the gyroscope reads *pre-adjusted* rad/s (S dimensionless, b in rad/s).
@@ -19,7 +19,7 @@ from ..cube import quaternion as quat
 from ..cube.accmag import direction_matrix, reference_direction
 from ..cube.protocols import Protocol, get_protocol, parse_rotation
 
-# 003 Table VI, in the table's units: D (diag), D⁻¹S, b.
+# Särkkä et al., IEEE Sensors Journal 17(11) 2017, Table VI, in the table's units: D (diag), D⁻¹S, b.
 TABLE_VI = {
     "gyr": {
         "D": [0.9581, 0.9539, 0.9765],
@@ -46,7 +46,7 @@ _UNIT = {
 }
 
 NOISE_VAR = {"gyr": 4e-4, "acc": 2e-8, "mag": 6e-8}
-"""Per-axis noise variances of 003 section V: (rad/s)², V², V²."""
+"""Per-axis noise variances of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section V: (rad/s)², V², V²."""
 
 ALPHA_DEG = 15.0
 BETA_DEG = 10.0
@@ -55,7 +55,8 @@ FIELD_UT = 51.0
 
 
 def true_parameters(sensor: str) -> tuple[np.ndarray, np.ndarray]:
-    """(S, b) of 003 Table VI in the simulation's raw units, S = D (D⁻¹S)."""
+    """(S, b) of Särkkä et al., IEEE Sensors Journal 17(11) 2017, Table VI in the simulation's raw
+    units, S = D (D⁻¹S)."""
     t = TABLE_VI[sensor]
     ks, kb = _UNIT[sensor]
     S = (np.asarray(t["D"]) * ks)[:, None] * np.asarray(t["misalignment"])
@@ -84,7 +85,8 @@ def simulate_position_means(
     S=None,
     b=None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Sample means, sample covariances and counts in each position (003 section V-B).
+    """Sample means, sample covariances and counts in each position (Särkkä et al., IEEE Sensors
+    Journal 17(11) 2017, section V-B).
 
     The mean of n Gaussian samples is drawn as N(μ, Σ/n) and their sample covariance from the
     Wishart distribution W(Σ, n − 1)/(n − 1): the same joint law as averaging n raw samples, at a
@@ -172,7 +174,8 @@ def simulate_session(
     gyro_range: float | None = None,
     with_mag: bool = True,
 ) -> SimulatedSession:
-    """A full raw recording of a protocol (003 section V): still positions and rotations.
+    """A full raw recording of a protocol (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section V):
+    still positions and rotations.
 
     Parameters
     ----------
@@ -183,11 +186,13 @@ def simulate_session(
     static_s, rotation_s : float
         Duration of each still position and of each rotation.
     alpha_deg, beta_deg : float
-        Direction of gravity and of the field in the calibration frame (003 eq. (8)).
+        Direction of gravity and of the field in the calibration frame (Särkkä et al., IEEE Sensors
+        Journal 17(11) 2017, eq. (8)).
     noise_var : dict, optional
         Per-sensor noise variance (scalar, per-axis 3-vector or 3×3), default :data:`NOISE_VAR`.
     wander_deg : float
-        Peak deviation of the rotation from a constant axis (003 section V-A).
+        Peak deviation of the rotation from a constant axis (Särkkä et al., IEEE Sensors Journal 17(11)
+        2017, section V-A).
     return_to_start : bool
         Rotate back to position 1 after the last position (for the drift of section II).
     drift_per_s : dict, optional
@@ -250,7 +255,8 @@ def simulate_session(
         qs = attitude(s)
         d = 1e-6
         dq_ds = (attitude(s + d) - attitude(s - d)) / (2 * d)
-        # Body rate from q̇ = ½ q ⊗ [0, ω] (003 eq. (2)); s runs 0 → 1 over (n_rot − 1) steps.
+        # Body rate from q̇ = ½ q ⊗ [0, ω] (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (2));
+        # s runs 0 → 1 over (n_rot − 1) steps.
         om = 2.0 * quat.multiply(quat.conjugate(qs), dq_ds)[:, 1:] / ((n_rot - 1) * h)
         attitudes_q.append(qs)
         omegas.append(om)

@@ -2,7 +2,8 @@
 
 The device rests in a sequence of orientations; between two rests a hand turns it (a smooth,
 slerp-like turn of 1–3 s with hand tremor and a little linear acceleration of the hand).  The sensor
-has a true affine error of 000 Approach 2, ``m = X a + y`` (000_cb2cbc1c5eaccf1a.txt section 3.2),
+has a true affine error of Georgieva et al., ESGI'95, Approach 2, ``m = X a + y`` (Georgieva et al.,
+ESGI'95, section 3.2),
 white noise, and optionally a slow offset drift (temperature), short bumps (knocks on the table) and
 quantisation to a step (browsers round to 0.1 m/s²).  Everything is returned as arrays: the core
 never touches files.
@@ -35,7 +36,7 @@ class SimulatedLog:
     gravity : float
         Magnitude of the true specific force at rest, in the unit of ``samples``.
     X, y : numpy.ndarray
-        The true affine error (000 Approach 2), shapes (3, 3) and (3,).
+        The true affine error (Georgieva et al., ESGI'95, Approach 2), shapes (3, 3) and (3,).
     segments : tuple of (int, int, str or None)
         True rests as ``(start, end, up)``, sample indices with ``end`` exclusive; ``up`` is the
         label of the rest's direction (None for a direction more than 20° from every axis).
@@ -187,7 +188,8 @@ def simulate_static_log(
         ``smooth``: a cosine ease, the angle's rate rising from and falling back to zero (a hand
         turn); ``constant``: a constant rate (a slow sweep).  One value or one per turn.
     X, y : array_like, optional
-        True affine error ``m = X a + y`` (000 Approach 2); default drawn from ``rng``: diagonal
+        True affine error ``m = X a + y`` (Georgieva et al., ESGI'95, Approach 2); default drawn from
+        ``rng``: diagonal
         1 ± 2 %, cross terms ± 1 %, offsets ± 0.1 m/s² (standard deviations).
     noise_std : float
         White noise per axis (data unit before quantisation).

@@ -1,6 +1,7 @@
-"""The simulation of 002 (eqs. (17)–(20)) and the Cramér–Rao bound of its 9-parameter model.
+"""The simulation of Farago, Maczak and Gingl, IEEE Access (eqs. (17)–(20)) and the Cramér–Rao bound of
+its 9-parameter model.
 
-002_7135f13639ec18ce.txt, section III.A: true parameters are drawn uniformly — scales in
+Farago, Maczak and Gingl, IEEE Access, section III.A: true parameters are drawn uniformly — scales in
 (0.9, 1.1), misalignments in (−0.05, 0.05), offsets in (−0.1 g, 0.1 g) (eq. (17)) — and combined
 into p = [k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, o_x, o_y, o_z] (eq. (18)); random unit vectors a are
 "uncalibrated" by the inverse of the model a = K (v + o) (eq. (19)) and given Gaussian noise
@@ -10,7 +11,8 @@ real data.  Everything is in units of g.
 Eq. (19) as printed has ``(c_ix − o_x) k_xy`` in the y line; the inverse of eq. (8) needs
 ``(c_ix + o_x) k_xy`` (the z line has the + sign).  The generator uses the exact inverse.
 
-Selection (002 section II.B.1, eq. (10)): each axis is split into [−1.25, −0.75], [−0.25, 0.25] and
+Selection (Farago, Maczak and Gingl, IEEE Access, section II.B.1, eq. (10)): each axis is split into
+[−1.25, −0.75], [−0.25, 0.25] and
 [0.75, 1.25] g, giving the nine subsets C_xn … C_zp.  Figure 6, which gives the exact rule, is not
 in the text; trical's reading: candidates are taken in the order they are drawn, and a candidate
 joins the first subset (order x, y, z) that it falls in and that holds fewer than ``per_bin``
@@ -31,17 +33,17 @@ from ..errors import CalibrationError
 PARAM_NAMES = ("k_xx", "k_yy", "k_zz", "k_xy", "k_xz", "k_yz", "o_x", "o_y", "o_z")
 
 BIN_EDGES = ((-1.25, -0.75), (-0.25, 0.25), (0.75, 1.25))
-"""The three intervals of each axis, in g (002 section II.B.1)."""
+"""The three intervals of each axis, in g (Farago, Maczak and Gingl, IEEE Access, section II.B.1)."""
 
 
 def k_matrix(p) -> np.ndarray:
-    """Lower-triangular K of a = K (v + o) from p (002 eqs. (6)–(9))."""
+    """Lower-triangular K of a = K (v + o) from p (Farago, Maczak and Gingl, IEEE Access, eqs. (6)–(9))."""
     p = np.asarray(p, dtype=float)
     return np.array([[p[0], 0.0, 0.0], [p[3], p[1], 0.0], [p[4], p[5], p[2]]])
 
 
 def draw_parameters(rng: np.random.Generator) -> np.ndarray:
-    """True parameters of one scenario, 002 eqs. (17)–(18).
+    """True parameters of one scenario, Farago, Maczak and Gingl, IEEE Access, eqs. (17)–(18).
 
     Parameters
     ----------
@@ -53,15 +55,16 @@ def draw_parameters(rng: np.random.Generator) -> np.ndarray:
         p = [k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, o_x, o_y, o_z], offsets in g.
     """
     delta = rng.random(9)  # δ for S_x, S_y, S_z, T_xy, T_xz, T_yz, O_x, O_y, O_z
-    S = 2.0 * (delta[0:3] - 0.5) * 0.1 + 1.0  # 002 eq. (17)
+    S = 2.0 * (delta[0:3] - 0.5) * 0.1 + 1.0  # Farago, Maczak and Gingl, IEEE Access, eq. (17)
     T = 2.0 * (delta[3:6] - 0.5) * 0.05
     O = 2.0 * (delta[6:9] - 0.5) * 0.1
-    # 002 eq. (18)
+    # Farago, Maczak and Gingl, IEEE Access, eq. (18)
     return np.array([S[0], S[1], S[2], S[1] * T[0], S[2] * T[1], S[2] * T[2], O[0], O[1], O[2]])
 
 
 def uncalibrate(p, a) -> np.ndarray:
-    """Readings c that the model maps onto the accelerations a, 002 eq. (19) (sign corrected).
+    """Readings c that the model maps onto the accelerations a, Farago, Maczak and Gingl, IEEE Access,
+    eq. (19) (sign corrected).
 
     Parameters
     ----------
@@ -75,7 +78,8 @@ def uncalibrate(p, a) -> np.ndarray:
     kxx, kyy, kzz, kxy, kxz, kyz, ox, oy, oz = np.asarray(p, dtype=float)
     a = np.asarray(a, dtype=float).reshape(-1, 3)
     cx = a[:, 0] / kxx - ox
-    cy = (a[:, 1] - (cx + ox) * kxy) / kyy - oy  # 002 eq. (19), + o_x: the inverse of eq. (8)
+    cy = (a[:, 1] - (cx + ox) * kxy) / kyy - oy  # Farago, Maczak and Gingl, IEEE Access, eq. (19), +
+                                                 # o_x: the inverse of eq. (8)
     cz = (a[:, 2] - (cx + ox) * kxz - (cy + oy) * kyz) / kzz - oz
     return np.column_stack([cx, cy, cz])
 
@@ -120,7 +124,7 @@ def select_points(points, per_bin: int = 2) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Scenario:
-    """One simulated scenario of 002 section III.A.
+    """One simulated scenario of Farago, Maczak and Gingl, IEEE Access, section III.A.
 
     Attributes
     ----------
@@ -149,13 +153,14 @@ def random_unit_vectors(rng: np.random.Generator, n: int) -> np.ndarray:
 def simulate_scenario(
     rng: np.random.Generator, *, noise_g: float, per_bin: int = 2, batch: int = 64, max_candidates: int = 100_000
 ) -> Scenario:
-    """Draw one scenario of the 002 simulation: parameters, points, noise and selection.
+    """Draw one scenario of the Farago, Maczak and Gingl, IEEE Access simulation: parameters, points,
+    noise and selection.
 
     Parameters
     ----------
     rng : numpy.random.Generator
     noise_g : float
-        Noise standard deviation in g (0.001 and 0.005 in 002 Table 2).
+        Noise standard deviation in g (0.001 and 0.005 in Farago, Maczak and Gingl, IEEE Access, Table 2).
     per_bin : int
         Points per subset of eq. (10); N = 9·per_bin.
     batch : int
@@ -174,7 +179,8 @@ def simulate_scenario(
     drawn = 0
     while drawn < max_candidates:
         a = random_unit_vectors(rng, batch)
-        u = uncalibrate(p, a) + noise_g * rng.standard_normal((batch, 3))  # 002 eqs. (19)–(20)
+        u = uncalibrate(p, a) + noise_g * rng.standard_normal((batch, 3))  # Farago, Maczak and Gingl,
+                                                                           # IEEE Access, eqs. (19)–(20)
         dirs.append(a)
         pts.append(u)
         drawn += batch
@@ -209,7 +215,8 @@ def _point_jacobians(p: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray,
 
 
 def cramer_rao_bound(p, directions, noise_g: float) -> np.ndarray:
-    """Cramér–Rao bound on the covariance of p for the 9-parameter model of 002.
+    """Cramér–Rao bound on the covariance of p for the 9-parameter model of Farago, Maczak and Gingl,
+    IEEE Access.
 
     The readings are u = K⁻¹ a − o + ε with ε ~ N(0, σ² I) (eqs. (19)–(20)); the unit vectors a are
     unknown (two nuisance angles each).  The Fisher information of (p, angles) is JᵀJ / σ²; the
