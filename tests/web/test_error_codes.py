@@ -37,7 +37,7 @@ def test_the_wizard_s_codes(client):
 
 
 def test_a_server_with_api_keys_answers_unauthorized(tmp_path):
-    with TestClient(create_app(make_settings(tmp_path, api_keys="k-123"))) as c:
+    with TestClient(create_app(make_settings(tmp_path, api_keys=("k-123",)))) as c:
         r = c.post("/api/v1/sessions", json={"protocol": "six"})
     assert r.status_code == 401 and r.json()["code"] == "unauthorized"
     assert r.headers["www-authenticate"] == "Bearer"
