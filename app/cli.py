@@ -63,7 +63,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
     c.add_argument("--mag-unit", choices=("uT", "nT", "raw"), default=None)
     c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
-                   help="triangular only: lm, or 002's descent in float, 16- or 32-bit fixed point")
+                   help="triangular only: lm, or Farago et al.'s descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column")
     c.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
@@ -75,14 +75,14 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
 
-    a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), 002 pipeline")
+    a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
     a.add_argument("path", type=opt.input_path("a recording or a folder of them"), help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
     a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
     a.add_argument("--unit", choices=workflow.AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
     a.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm")
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
     a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
-    a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (002: one is enough)")
+    a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (Farago et al.: one is enough)")
     a.add_argument("--workers", type=opt.WORKERS, default=None, help="parallel processes for a folder (default: CPU count)")
     a.add_argument("--dask-scheduler", type=opt.text("a scheduler address"), default=None, metavar="ADDRESS",
                    help="run a folder on a Dask cluster (needs dask.distributed), e.g. tcp://host:8786")

@@ -1,4 +1,4 @@
-"""All settings in one place, read from TRICAL_* environment variables (DESIGN.md section 3)."""
+"""All settings in one place, read from TRICAL_* environment variables (docs/rest.md)."""
 
 from __future__ import annotations
 

@@ -34,7 +34,7 @@ CONTENT_SECURITY_POLICY = (
     "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
     "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
 )
-"""No CORS middleware: cross-origin browser calls are refused by default (DESIGN.md, issue 7)."""
+"""No CORS middleware: cross-origin browser calls are refused by default (docs/architecture.md, issue 7)."""
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:

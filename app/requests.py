@@ -94,12 +94,12 @@ class NonOrthogonalIn(UnknownOrientationIn):
 class TriangularIn(UnknownOrientationIn):
     method: Literal["triangular"]
     solver: Literal["lm", "gradient", "fixed16", "fixed32"] = Field(
-        "lm", description="lm (optimal), or 002's finite-difference descent in float, 16- or 32-bit fixed point."
+        "lm", description="lm (optimal), or Farago et al.'s finite-difference descent in float, 16- or 32-bit fixed point."
     )
 
 
 class CubeIn(Strict):
-    """A multi-position recording of a cube (acc, gyr, optional mag): 003's method."""
+    """A multi-position recording of a cube (acc, gyr, optional mag): Särkkä et al.'s method."""
 
     method: Literal["cube"]
     recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
@@ -117,7 +117,7 @@ class CubeIn(Strict):
 
 
 class AutocalIn(Strict):
-    """Auto-calibration of an uploaded long recording by the pipeline of 002 (issue 4)."""
+    """Auto-calibration of an uploaded long recording by the pipeline of Farago et al. (issue 4)."""
 
     method: Literal["autocal"]
     recording_id: str = Field(description="An uploaded recording (POST /api/v1/recordings).")
@@ -126,7 +126,7 @@ class AutocalIn(Strict):
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
     solver: Literal["lm", "gradient", "fixed16", "fixed32"] = "lm"
-    all_axes: bool = Field(False, description="Every axis must pass the max − min test (002: one axis).")
+    all_axes: bool = Field(False, description="Every axis must pass the max − min test (Farago et al.: one axis).")
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
 

@@ -5,11 +5,11 @@ A session belongs to whoever holds its token.  Each capture holds the raw sample
 the page.
 
 - ``six``: poses in any order; solving runs the six-position closed form
-  (000_cb2cbc1c5eaccf1a.txt, section 3.3.1) on the capture means.
-- ``cube24``: positions 1–24 in order (DESIGN.md section 4); each capture after the first brings
+  (Georgieva et al. (ESGI'95), section 3.3.1) on the capture means.
+- ``cube24``: positions 1–24 in order (docs/methods.md); each capture after the first brings
   the rates of the move that led to it, and the turn is checked at once against the protocol
-  (003_17911d0910b68c7e.txt, VII-A-1, app.calibration.cube.turns); solving joins the moves and
-  the still positions into one recording and runs 003's method on it.
+  (Särkkä et al. (IEEE Sensors J. 2017), VII-A-1, app.calibration.cube.turns); solving joins the moves and
+  the still positions into one recording and runs Särkkä et al.'s method on it.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ CAPTURE_S_RANGE = (0.5, 30.0)
 """The seconds per position a session accepts (the API's and the wizard page's bounds)."""
 
 CUBE_FACE_MAX_ANGLE_DEG = 45.0
-"""The cube may stand on an inclined plane: its up face is the nearest axis within 45° (as 003's
+"""The cube may stand on an inclined plane: its up face is the nearest axis within 45° (as Särkkä et al.'s
 sequence check, app.calibration.cube.sequence)."""
 
 PAGE_CUBE_FACE_MAX_ANGLE_DEG = 40.0
@@ -194,8 +194,8 @@ def _cube_capture(store, session: dict, capture: dict) -> dict:
 def solve(store, session: dict) -> dict:
     """The calibration of a complete session, as a calibration body.
 
-    ``six``: the six-position closed form (000 section 3.3.1) of the capture means; ``cube24``:
-    003's method on the moves and positions joined into one recording.
+    ``six``: the six-position closed form (Georgieva et al. section 3.3.1) of the capture means; ``cube24``:
+    Särkkä et al.'s method on the moves and positions joined into one recording.
 
     Raises
     ------
@@ -263,7 +263,7 @@ def joined_recording(store, session: dict) -> tuple[np.ndarray, np.ndarray, floa
 
 
 def _solve_cube(store, session: dict) -> dict:
-    """003's method on the joined cube session."""
+    """Särkkä et al.'s method on the joined cube session."""
     from app.calibration.cube import calibrate_cube  # scipy.stats: imported when needed
 
     acc, gyr, rate = joined_recording(store, session)

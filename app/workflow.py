@@ -77,7 +77,7 @@ def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float 
 
 
 def describe_log(log: LogData) -> dict:
-    """Recording metadata and its static segments (DESIGN.md section 3, POST /recordings)."""
+    """Recording metadata and its static segments (docs/rest.md, POST /recordings)."""
     unit = log.units["acc"]
     gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
     segments = detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
@@ -139,7 +139,7 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
 
 
 def holdout_metrics(result, holdout) -> dict:
-    """Norm errors of further still readings, prefixed ``holdout_`` (000 section 3.5, 002 Table 3)."""
+    """Norm errors of further still readings, prefixed ``holdout_`` (Georgieva et al. section 3.5, Farago et al. Table 3)."""
     if not holdout:
         return {}
     return {f"holdout_{k}": v for k, v in result.evaluate(holdout).items()}
@@ -187,7 +187,7 @@ def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: 
     from app.calibration.nonorthogonal import fit_nonorthogonal
     from app.calibration.triangular import fit_triangular
 
-    """Run ``nonorthogonal`` (000 Approach 1) or ``triangular`` (002) on still readings."""
+    """Run ``nonorthogonal`` (Georgieva et al. Approach 1) or ``triangular`` (Farago et al.) on still readings."""
     gates = dict(plausible_scale=None, max_offset=math.inf) if unit == "raw" else {}
     if method == "nonorthogonal":
         result = fit_nonorthogonal(means, gravity=gravity, **gates)
@@ -203,7 +203,7 @@ MAG_TO_UT = {"uT": 1.0, "nT": 1e-3, "raw": 1.0}
 
 
 def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None):
-    """003's multi-position calibration of a recording's acc, gyr and optional mag.
+    """Särkkä et al.'s multi-position calibration of a recording's acc, gyr and optional mag.
 
     Gyroscope samples in deg/s are converted to rad/s and magnetometer samples in nT to µT first, so
     that the gyroscope model maps rad/s (and the magnetometer µT) to the recorded values.
@@ -385,7 +385,7 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
                        solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
                        height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
                        **fields) -> dict:
-    """Auto-calibrate a long recording by the pipeline of 002 and return the calibration body.
+    """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
     ----------

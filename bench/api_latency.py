@@ -4,7 +4,7 @@
 
 Starts `trical serve` on a free loopback port with a temporary SQLite database, then times
 sequential requests over one keep-alive connection: POST /api/v1/calibrations (six_position with
-Table 1 of 000_cb2cbc1c5eaccf1a.txt, computed and stored) and GET /healthz. Prints p50 and p99 of
+Table 1 of Georgieva et al. (ESGI'95), computed and stored) and GET /healthz. Prints p50 and p99 of
 each and their ratio. Figures, not a pass/fail.
 """
 

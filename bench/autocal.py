@@ -4,7 +4,7 @@
 
 1. Generates (once, cached in ``--dir``) a week at 100 Hz — 60 480 000 samples, float32 .npy,
    726 MB — of rest bouts (posture-like and random orientations) and movement bouts through the
-   sensor errors of 002 eq. (17) with 3 mg noise (:mod:`app.calibration.simulations.autocal`), and the
+   sensor errors of Farago et al. eq. (17) with 3 mg noise (:mod:`app.calibration.simulations.autocal`), and the
    true parameters beside it (``.json``).
 2. Runs ``trical autocal FILE --sampling-rate-hz 100 --unit g --json`` as a subprocess (``python -m
    app.cli``), ``--runs`` times, timing the wall clock; peak memory is the child's ``ru_maxrss``

@@ -1,4 +1,4 @@
-"""Benchmark of the cube method (003_17911d0910b68c7e.txt): speed, memory, accuracy, Table VII.
+"""Benchmark of the cube method (Särkkä et al. (IEEE Sensors J. 2017)): speed, memory, accuracy, Table VII.
 
     PYTHONPATH=. python bench/cube.py                    # 100 Hz and 1 kHz sessions: time, memory, accuracy
     PYTHONPATH=. python bench/cube.py --study 1000       # Table VII: 1000 acc/mag runs, 100 gyro runs
@@ -31,7 +31,7 @@ from app.calibration.simulations.cube import (
     true_parameters,
 )
 
-# Table VII means and half-widths, in the table's units (003 section VII-C).
+# Table VII means and half-widths, in the table's units (Särkkä et al. section VII-C).
 TABLE_VII = {
     "gyr": {"D": [0.9581, 0.9539, 0.9765], "D_hw": [0.018, 0.016, 0.015], "b": [-0.9890, 2.0011, 5.0073],
             "b_hw": [4.0, 3.8, 9.1]},
@@ -165,7 +165,7 @@ def study_gyro(runs: int, seed: int, rate_hz: float) -> None:
         est.append(e)
         hws.append(h)
     print(f"\n== gyr: {runs} simulated cube24 sessions at {rate_hz:g} Hz, noise {NOISE_VAR['gyr']} (rad/s)², "
-          f"rotations of 2 s with a wandering axis (003 section V-A) ==")
+          f"rotations of 2 s with a wandering axis (Särkkä et al. section V-A) ==")
     print("   (Table VII's gyroscope half-widths come from a separate 5 s sine/cosine test with two reference "
           "attitudes, so they are wider by design)")
     _report("gyr", truth, np.array(est), np.array(hws),

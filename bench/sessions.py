@@ -5,7 +5,7 @@
 Starts `trical serve` on a free loopback port with a temporary SQLite database and runs wizard
 sessions as the page does: create, one capture per position (the raw samples of capture_s = 5 s
 at 60 Hz, 300 samples, JSON), solve. The six flow's poses come from m = X a + y rounded to the
-browser's 0.1 m/s²; the cube24 flow is the phone-in-cube simulation of tests/cube_phone.py (003's
+browser's 0.1 m/s²; the cube24 flow is the phone-in-cube simulation of tests/cube_phone.py (Särkkä et al.'s
 motion). Prints p50/p99 of each call and the server's time per session, beside the time a person
 spends (capture_s per position). Figures, not a pass/fail.
 """

@@ -1,9 +1,9 @@
-"""002 Table 2 recomputed: 500 simulated scenarios at 1 mg and 5 mg, every solver, against the CRB.
+"""Farago et al. Table 2 recomputed: 500 simulated scenarios at 1 mg and 5 mg, every solver, against the CRB.
 
-002_7135f13639ec18ce.txt section III.A: parameters drawn by eqs. (17)–(18), points by eqs.
+Farago et al. (IEEE Access) section III.A: parameters drawn by eqs. (17)–(18), points by eqs.
 (19)–(20) and the nine-bin selection (app/calibration/simulations/triangular.py).  Every solver of
 ``fit_triangular`` runs on the same scenarios.  For each parameter the table gives the mean and the
-SD of the absolute error (the columns of 002 Table 2), the Cramér–Rao bound sqrt(mean CRB) and the
+SD of the absolute error (the columns of Farago et al. Table 2), the Cramér–Rao bound sqrt(mean CRB) and the
 solver's RMS error divided by it; ``z`` is the per-scenario normalised RMS sqrt(mean(err²/CRB)).
 
 Usage: ``PYTHONPATH=. python bench/sim_002.py [--scenarios 500] [--seed 2002]``.  Prints figures,
@@ -20,7 +20,7 @@ import numpy as np
 from app.calibration.simulations.triangular import PARAM_NAMES, cramer_rao_bound, simulate_scenario
 from app.calibration.triangular import SOLVERS, fit_triangular
 
-# 002 Table 2 as printed: mean and SD of |error| at 1 mg and 5 mg.
+# Farago et al. Table 2 as printed: mean and SD of |error| at 1 mg and 5 mg.
 PAPER = {
     "k_xx": (2.98e-4, 1.39e-3, 2.37e-4, 1.07e-3),
     "k_yy": (3.18e-4, 1.64e-3, 2.27e-4, 1.22e-3),
@@ -61,7 +61,7 @@ def main() -> None:
     t0 = time.perf_counter()
     res = run(args.scenarios, args.seed)
     n = args.scenarios
-    print(f"002 Table 2 recomputed: {n} scenarios per noise level, seed {args.seed}, N = 18 points (2 per bin)")
+    print(f"Farago et al. Table 2 recomputed: {n} scenarios per noise level, seed {args.seed}, N = 18 points (2 per bin)")
     print("offsets in g; CRB = sqrt(mean over scenarios of the Cramér–Rao variance); ratio = RMS error / CRB;")
     print("z = sqrt(mean(err² / CRB)) per scenario.\n")
     for s in SOLVERS:
@@ -82,7 +82,7 @@ def main() -> None:
             print(f"{name:6} {cells[0][0]:11.2e} {cells[1][0]:9.2e} {cells[0][1]:10.2e} {cells[1][1]:9.2e} | "
                   + " | ".join(right))
         print()
-    print("002 Table 2 as printed (mean|e| 1 mg, 5 mg; SD|e| 1 mg, 5 mg):")
+    print("Farago et al. Table 2 as printed (mean|e| 1 mg, 5 mg; SD|e| 1 mg, 5 mg):")
     for name in PARAM_NAMES:
         print(f"{name:6} " + " ".join(f"{v:9.2e}" for v in PAPER[name]))
     print(f"\ntotal {time.perf_counter() - t0:.0f} s")

@@ -11,7 +11,7 @@ DATA = Path(__file__).parent / "data"
 
 
 def seed_table(number: int) -> np.ndarray:
-    """Rows of 000_cb2cbc1c5eaccf1a.txt Table ``number`` (x, y, z in m/s²), as copied in tests/data."""
+    """Rows of Georgieva et al. (ESGI'95) Table ``number`` (x, y, z in m/s²), as copied in tests/data."""
     return np.loadtxt(DATA / f"000_table{number}.csv", delimiter=",", skiprows=2)[:, 1:]
 
 

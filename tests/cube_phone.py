@@ -1,7 +1,7 @@
 """A phone (or IMU board) in the 24-position cube, as its browser would report it.
 
-The motion is 003's simulation (app.calibration.simulations.cube: the protocol's rotations with a
-wandering axis, 003 section V-A); the sensors are a phone's: m = X f + y in m/s² rounded to the
+The motion is Särkkä et al.'s simulation (app.calibration.simulations.cube: the protocol's rotations with a
+wandering axis, Särkkä et al. section V-A); the sensors are a phone's: m = X f + y in m/s² rounded to the
 browser's 0.1 m/s², the gyroscope S ω + b in deg/s rounded to 0.1 °/s, events at 60 Hz.
 """
 

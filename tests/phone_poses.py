@@ -1,6 +1,6 @@
 """A phone resting in the six poses, as its browser reports it (the wizard's six flow).
 
-m = X a + y (000_cb2cbc1c5eaccf1a.txt, eq. (3)) with a = g × the up axis, plus noise, rounded to
+m = X a + y (Georgieva et al. (ESGI'95), eq. (3)) with a = g × the up axis, plus noise, rounded to
 the browser's 0.1 m/s², with event timestamps in ms at 60 Hz and a gyroscope at rest in deg/s.
 """
 
@@ -16,7 +16,7 @@ Y_TRUE = np.array([0.15, -0.22, 0.31])
 
 
 def pose_samples(label: str, rng, n: int = 300, rate_hz: float = 60.0, noise: float = 0.03, step: float = 0.1):
-    """What a phone's browser reports resting with ``label`` up: m = X a + y (000 eq. (3)) plus noise,
+    """What a phone's browser reports resting with ``label`` up: m = X a + y (Georgieva et al. eq. (3)) plus noise,
     rounded to the browser's 0.1 m/s², with event timestamps in ms."""
     m = X_TRUE @ (G * up_vector(label)) + Y_TRUE
     acc = m + rng.normal(0.0, noise, (n, 3))

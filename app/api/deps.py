@@ -62,7 +62,7 @@ def get_owner(request: Request) -> str | None:
     With TRICAL_API_KEYS set every API call needs one of the keys; each key sees only what it
     created (the store filters by owner, so another key's resource is a 404). A wizard session's
     token (``tks_…``) is an identity of its own, whether or not keys are set: it reads what its
-    session created and nothing else (DESIGN.md section 3, sessions).
+    session created and nothing else (docs/rest.md, sessions).
     """
     token = bearer_token(request)
     session_id = session_of_token(request, token)

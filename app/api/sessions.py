@@ -1,4 +1,4 @@
-"""Routes of /api/v1/sessions: the guided wizard's server side (issue 6, DESIGN.md section 3)."""
+"""Routes of /api/v1/sessions: the guided wizard's server side (issue 6, docs/rest.md)."""
 
 from __future__ import annotations
 

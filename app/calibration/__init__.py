@@ -1,6 +1,6 @@
 """The numerical core of trical: numpy and scipy only, nothing of HTTP, JSON or files.
 
-One method = one function = one frozen result dataclass (DESIGN.md section 1).
+One method = one function = one frozen result dataclass (docs/architecture.md).
 """
 
 from .affine import AffineCalibration, fit_orientations, fit_six_position

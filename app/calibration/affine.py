@@ -32,13 +32,13 @@ from .validation import as_samples, as_vectors, check_gravity
 MODEL_TYPE = "affine"
 
 PLAUSIBLE_SCALE = (0.8, 1.2)
-"""Diagonal of X outside this range is implausible for a MEMS accelerometer (DESIGN.md §5)."""
+"""Diagonal of X outside this range is implausible for a MEMS accelerometer (docs/methods.md)."""
 
 MAX_FIT_ERROR = 0.05
 """A calibrated reading further than 5 % of g from its orientation fails the fit (ok = false)."""
 
 NEAR_DUPLICATE_FRACTION = 0.01
-"""Readings closer than 1 % of g to each other are named as near duplicates (DESIGN.md §3)."""
+"""Readings closer than 1 % of g to each other are named as near duplicates (docs/rest.md)."""
 
 MAX_CONDITION_NUMBER = 10.0
 """Above this condition number of the normalised design, the orientations are poorly spread."""
@@ -46,12 +46,12 @@ MAX_CONDITION_NUMBER = 10.0
 
 @dataclass(frozen=True)
 class AffineCalibration(StillReadingsResult):
-    """Result of an affine (12-parameter) calibration, 000 Approach 2.
+    """Result of an affine (12-parameter) calibration, Georgieva et al. Approach 2.
 
     Attributes
     ----------
     X, y : numpy.ndarray
-        Model ``m = X a + y`` (000 section 3.2), X of shape (3, 3), y of shape (3,), in the unit of
+        Model ``m = X a + y`` (Georgieva et al. section 3.2), X of shape (3, 3), y of shape (3,), in the unit of
         the readings (X maps the reference unit to it).
     gravity : float
         Reference magnitude g the expected readings were built with.
@@ -60,11 +60,11 @@ class AffineCalibration(StillReadingsResult):
     labels : tuple
         Orientation label of each reading, or None where an explicit vector was given.
     covariance : numpy.ndarray or None
-        Covariance (12, 12) of z in the order of 000 eq. (21); None without degrees of freedom.
+        Covariance (12, 12) of z in the order of Georgieva et al. eq. (21); None without degrees of freedom.
     dof : int
         Residual degrees of freedom per axis, N − 4.
     metrics : dict
-        The figures of 000 section 3.5 and the design's condition number.
+        The figures of Georgieva et al. section 3.5 and the design's condition number.
     warnings : tuple of str
         Everything worth telling, gate failures first.
     reasons : tuple of str
@@ -96,11 +96,11 @@ class AffineCalibration(StillReadingsResult):
 
     @property
     def correction_matrix(self) -> np.ndarray:
-        """X⁻¹, the matrix firmware multiplies by after subtracting y (000 eq. (20))."""
+        """X⁻¹, the matrix firmware multiplies by after subtracting y (Georgieva et al. eq. (20))."""
         return np.linalg.inv(self.X)
 
     def apply(self, raw) -> np.ndarray:
-        """Calibrate readings: ``a = X⁻¹ (m − y)`` (000 eq. (20)).
+        """Calibrate readings: ``a = X⁻¹ (m − y)`` (Georgieva et al. eq. (20)).
 
         Parameters
         ----------
@@ -136,7 +136,7 @@ class AffineCalibration(StillReadingsResult):
         return out
 
     def evaluate(self, means) -> dict:
-        """Norm errors of further still readings of unknown orientation (000 section 3.5).
+        """Norm errors of further still readings of unknown orientation (Georgieva et al. section 3.5).
 
         Parameters
         ----------
@@ -146,7 +146,7 @@ class AffineCalibration(StillReadingsResult):
         Returns
         -------
         dict
-            ``norm_error_max`` and ``norm_error_max_raw`` (relative, 000 section 3.5),
+            ``norm_error_max`` and ``norm_error_max_raw`` (relative, Georgieva et al. section 3.5),
             ``error_before_mg`` and ``error_after_mg`` (mean | |a| − g | in thousandths of g)
             and ``count``.
         """
@@ -212,7 +212,7 @@ def _design(expected: np.ndarray, gravity: float) -> np.ndarray:
 
 def _check_condition_22(expected: np.ndarray, gravity: float, labels: tuple) -> None:
     """Raise unless the rows (a⁽ⁱ⁾, 1) have rank 4 (Georgieva et al., ESGI'95, condition (22), read as
-    in DESIGN.md §3)."""
+    in docs/rest.md)."""
     design = _design(expected, gravity)
     sv = np.linalg.svd(design, compute_uv=False)
     rank = int(np.sum(sv > 1e-9 * sv[0]))
@@ -228,7 +228,7 @@ def _check_condition_22(expected: np.ndarray, gravity: float, labels: tuple) -> 
         if axis:
             hint = f"; add a reading with the {axis[1]} axis up or down"
     raise InsufficientDataError(
-        f"the orientations {names} do not satisfy condition (22) of 000 section 3.3: the rows "
+        f"the orientations {names} do not satisfy condition (22) of Georgieva et al. section 3.3: the rows "
         f"(a, 1) have rank {rank}, not 4, so X and y are not determined. At least four "
         f"orientations that do not lie on one plane are needed{hint}"
     )
@@ -294,7 +294,7 @@ def _metrics(cal: np.ndarray, means: np.ndarray, expected: np.ndarray, gravity: 
 
 
 def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scale, max_offset) -> Gates:
-    """Quality gates of the affine fit (DESIGN.md §5): fit error, scales, offsets, spread, duplicates."""
+    """Quality gates of the affine fit (docs/methods.md): fit error, scales, offsets, spread, duplicates."""
     gates = Gates()
     gates.fail(residual_gate(
         fit, MAX_FIT_ERROR,
@@ -320,7 +320,7 @@ def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scal
     gates.warn(near_duplicate_gate(
         means, NEAR_DUPLICATE_FRACTION * gravity,
         "readings {i} and {j} are within 1 % of g of each other (near-duplicate positions, "
-        "000 Dataset 3): they weigh one orientation twice",
+        "Georgieva et al. Dataset 3): they weigh one orientation twice",
     ))
     if stds is not None:
         for i, s in enumerate(stds):
@@ -453,7 +453,7 @@ def fit_orientations(
     if len(m) < 4:
         raise InsufficientDataError(
             f"{len(m)} readings cannot determine the 12 parameters of X and y: at least 4 "
-            "orientations that do not lie on one plane are needed (000 condition (22))"
+            "orientations that do not lie on one plane are needed (Georgieva et al. condition (22))"
         )
     _check_condition_22(a, g, labels)
     # Georgieva et al., ESGI'95, section 3.3: K z = m̄ decouples into A W = M with A = [a, 1] and W = [Xᵀ; yᵀ].

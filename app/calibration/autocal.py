@@ -168,7 +168,7 @@ def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN
 
 @dataclass(frozen=True)
 class AutoCalibration(CalibrationResult):
-    """Result of the 002 auto-calibration of a recording.
+    """Result of the Farago et al. auto-calibration of a recording.
 
     Attributes
     ----------
@@ -184,7 +184,7 @@ class AutoCalibration(CalibrationResult):
     detection : dict
         :meth:`RestSegments.summary`.
     comparison : dict
-        Method → ``{error_before_mg, error_after_mg, improvement_pct, K, o, ok, count}`` (002 Table 3).
+        Method → ``{error_before_mg, error_after_mg, improvement_pct, K, o, ok, count}`` (Farago et al. Table 3).
     metrics : dict
         ``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set, and the fit's.
     warnings, reasons : tuple of str
@@ -229,12 +229,12 @@ class AutoCalibration(CalibrationResult):
 
     @property
     def p(self) -> np.ndarray:
-        """[k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, o_x, o_y, o_z] (002 eq. (6))."""
+        """[k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, o_x, o_y, o_z] (Farago et al. eq. (6))."""
         K = self.K
         return np.array([K[0, 0], K[1, 1], K[2, 2], K[1, 0], K[2, 0], K[2, 1], *self.o])
 
     def apply(self, raw) -> np.ndarray:
-        """Calibrate samples: ``a = K (v + o)`` (002 eqs. (7)–(9)); the identity without a fit."""
+        """Calibrate samples: ``a = K (v + o)`` (Farago et al. eqs. (7)–(9)); the identity without a fit."""
         m = as_samples(raw)
         return ((m.reshape(-1, 3) + self.o) @ self.K.T).reshape(m.shape)
 
@@ -244,14 +244,14 @@ class AutoCalibration(CalibrationResult):
         return self.calibration.uncertainty()
 
     def evaluate(self, means) -> dict:
-        """Held-out norm errors of further still readings (002 Table 3, eq. (21))."""
+        """Held-out norm errors of further still readings (Farago et al. Table 3, eq. (21))."""
         return norm_errors(means, self.apply, self.gravity)
 
     def model_dict(self) -> dict:
         return {"K": self.K.tolist(), "o": self.o.tolist()}
 
     def body_dict(self) -> dict:
-        """The fit's covariance and readings, the comparison table (002 Table 3), the points
+        """The fit's covariance and readings, the comparison table (Farago et al. Table 3), the points
         selected per subset and the rest detection."""
         fit = self.calibration.body_dict() if self.calibration is not None else {"covariance": None, "readings": []}
         return dict(
@@ -345,12 +345,12 @@ def _rest_gates(rest: RestSegments, sel: Selection, ctl: Selection, seg_s: float
             gates.fail(
                 f"rest in only one orientation: all {rest.n_rest} rest segments point within "
                 f"{ONE_ORIENTATION_DEG:g}° of {np.array2string(one, precision=2)}; the 9 parameters need rest in "
-                "many orientations (two per subset of 002 eq. (10)): give a recording in which the device "
+                "many orientations (two per subset of Farago et al. eq. (10)): give a recording in which the device "
                 "rests in different positions"
             )
         if sel.short_bins:
             gates.fail(
-                f"subsets {', '.join(sel.short_bins)} of 002 eq. (10) hold fewer than {min_per_bin} points "
+                f"subsets {', '.join(sel.short_bins)} of Farago et al. eq. (10) hold fewer than {min_per_bin} points "
                 f"(counts {sel.to_dict()}): the recording has no rest in those orientations; give a "
                 "longer recording or lower min_per_bin"
             )
@@ -373,7 +373,7 @@ def _fit(rest: RestSegments, points: np.ndarray, g: float, solver: str, gates: G
             gates.fail(f"the 9-parameter fit was not possible: {exc}")
     elif rest.n_rest:
         gates.fail(f"only {len(points)} calibration points could be selected; the 9-parameter model needs "
-                   "at least 9 (002 recommends 18)")
+                   "at least 9 (Farago et al. recommends 18)")
     return None
 
 
@@ -382,7 +382,7 @@ def _held_out(cal: TriangularCalibration, control: np.ndarray, g: float, metrics
     eq. (21)) on the control points; a reason when the calibration makes them worse."""
     if not len(control):
         metrics.update(error_before_mg=None, error_after_mg=None, improvement_pct=None)
-        gates.warn("no control points remain for the held-out evaluation (002 section III.B): "
+        gates.warn("no control points remain for the held-out evaluation (Farago et al. section III.B): "
                    "a longer recording gives one")
         return
     ev = norm_errors(control, cal.apply, g)

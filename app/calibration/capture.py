@@ -1,9 +1,9 @@
 """One still capture of the guided wizard: is it still, in which pose, at what rate?
 
 The wizard sends the raw samples of each pose (not only their mean), so the server checks what
-the page saw: the device was still, an axis pointed up (within 20°, DESIGN.md section 3), the
+the page saw: the device was still, an axis pointed up (within 20°, docs/rest.md), the
 magnitude was that of gravity, and the rate follows from the event timestamps.  The mean then
-enters the six-position solution (000_cb2cbc1c5eaccf1a.txt, section 3.3.1) as one reading m̄.
+enters the six-position solution (Georgieva et al. (ESGI'95), section 3.3.1) as one reading m̄.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
-"""Scale-and-offset calibrations that 002 and the actigraphy field compare against (002 Table 3).
+"""Scale-and-offset calibrations that Farago et al. and the actigraphy field compare against (Farago et al. Table 3).
 
 Both fit ``a = s ∘ (v + o)`` (a scale and an offset per axis, no cross-axis terms) to still
 readings of unknown orientation:
 
-- :func:`fit_ellipsoid_axes` — the non-iterative ellipsoid fit of Gietzelt et al. (002 ref. [34],
+- :func:`fit_ellipsoid_axes` — the non-iterative ellipsoid fit of Gietzelt et al. (Farago et al. ref. [34],
   the "Non-iterative method" row of Table 3): one linear least-squares solve of
   ``A x² + B y² + C z² + D x + E y + F z = 1`` for an axis-aligned ellipsoid, whose centre gives
   the offsets and whose semi-axes give the scales.
@@ -12,11 +12,11 @@ readings of unknown orientation:
   closest points on the unit sphere; the weights are ``min(1/distance, 100)``; it stops when the
   weighted mean squared distance changes by less than 1e-10 g², at most 1000 iterations.  GGIR
   feeds it the means of 10 s windows with a standard deviation below 0.013 g on every axis
-  (:class:`~app.calibration.stationary_002.RestSegments.ggir_mean`); here it also runs on the 002
-  points so that all methods are compared on the same points, as 002 section III does.
+  (:class:`~app.calibration.stationary_002.RestSegments.ggir_mean`); here it also runs on the Farago et al.
+  points so that all methods are compared on the same points, as Farago et al. section III does.
 
 The results are :class:`AxisCalibration`; ``to_dict`` gives the model as the lower-triangular model
-of 002 with a diagonal K (``{"type": "triangular", "K": diag(s), "o": o}``), so any of them can be
+of Farago et al. with a diagonal K (``{"type": "triangular", "K": diag(s), "o": o}``), so any of them can be
 applied and exported like the main result.
 """
 
@@ -84,7 +84,7 @@ class AxisCalibration:
         return (as_samples(raw) + self.offset) * self.scale
 
     def evaluate(self, means) -> dict:
-        """Mean | |r| − 1 g | in mg before and after on further still readings (002 Table 3, eq. (21))."""
+        """Mean | |r| − 1 g | in mg before and after on further still readings (Farago et al. Table 3, eq. (21))."""
         return norm_errors(means, self.apply, self.gravity)
 
     def uncertainty(self) -> dict:
@@ -120,7 +120,7 @@ def norm_errors(means, apply, gravity: float) -> dict:
     g = float(gravity)
     before = float(1000.0 * np.mean(np.abs(np.linalg.norm(m, axis=1) / g - 1.0)))
     after = float(1000.0 * np.mean(np.abs(np.linalg.norm(apply(m), axis=1) / g - 1.0)))
-    # 002 eq. (21): R = |r − 1| / |r̂ − 1| · 100 %
+    # Farago et al. eq. (21): R = |r − 1| / |r̂ − 1| · 100 %
     return {
         "count": int(len(m)),
         "error_before_mg": before,
@@ -146,7 +146,7 @@ def _still_readings(means, gravity: float, fit: str) -> tuple[float, np.ndarray,
     return g, m, m / g
 
 def fit_ellipsoid_axes(means, *, gravity: float) -> AxisCalibration:
-    """Non-iterative axis-aligned ellipsoid fit for scale and offset (Gietzelt et al., 002 ref. [34]).
+    """Non-iterative axis-aligned ellipsoid fit for scale and offset (Gietzelt et al., Farago et al. ref. [34]).
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
-"""Fixed-point emulation of the gradient descent of 002 (eqs. (12)–(16)), as a microcontroller runs it.
+"""Fixed-point emulation of the gradient descent of Farago et al. (eqs. (12)–(16)), as a microcontroller runs it.
 
-002_7135f13639ec18ce.txt, section II.C: the method "can be easily implemented using only fixed-point
+Farago et al. (IEEE Access), section II.C: the method "can be easily implemented using only fixed-point
 arithmetic"; h = 10⁻⁵ suits 32-bit fixed point and h = 0.01 the 16-bit version.  The paper gives
 no bit-level detail, so trical defines the scheme below and emulates it bit-exactly with integers
 (numpy int64 for products, Python integers for the double-width accumulator).
@@ -23,7 +23,7 @@ Scheme (W = 16 or 32 bits, F fraction bits):
 - Calibration, eqs. (7)–(9): ``w = sat(v + o)``; ``a_x = mul(k_xx, w_x)``;
   ``a_y = sat(mul(k_xy, w_x) + mul(k_yy, w_y))``;
   ``a_z = sat(sat(mul(k_xz, w_x) + mul(k_yz, w_y)) + mul(k_zz, w_z))``.
-- Residual without the square root (002 section II.C): ``r = sat(sat(sat(mul(a_x, a_x) +
+- Residual without the square root (Farago et al. section II.C): ``r = sat(sat(sat(mul(a_x, a_x) +
   mul(a_y, a_y)) + mul(a_z, a_z)) − 2^F)``.
 - Cost, eq. (12) as a mean over the N points: ``acc`` = saturating 2W-bit sum of the exact products
   r·r (Q.2F) in point order, then ``f = div(acc, N)`` (Q.2F, 2W bits).
@@ -111,7 +111,7 @@ def _sat2(fmt: FixedFormat, x: int) -> int:
 def _calibrated(fmt: FixedFormat, P: np.ndarray, v: np.ndarray) -> np.ndarray:
     """a = K (v + o) for each row of P (M, 9) and each point of v (N, 3): shape (M, N, 3)."""
     kxx, kyy, kzz, kxy, kxz, kyz = (P[:, [i]] for i in range(6))
-    w = fmt.sat(v[None, :, :] + P[:, None, 6:9])  # 002 eqs. (7)–(9): v + o
+    w = fmt.sat(v[None, :, :] + P[:, None, 6:9])  # Farago et al. eqs. (7)–(9): v + o
     wx, wy, wz = w[..., 0], w[..., 1], w[..., 2]
     ax = fmt.mul(kxx, wx)
     ay = fmt.sat(fmt.mul(kxy, wx) + fmt.mul(kyy, wy))
@@ -176,7 +176,7 @@ def fixed_point_descent(
     max_iter: int = 50,
     p0=(1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
 ) -> FixedPointRun:
-    """Run the finite-difference gradient descent of 002 eqs. (12)–(16) in W-bit fixed point.
+    """Run the finite-difference gradient descent of Farago et al. eqs. (12)–(16) in W-bit fixed point.
 
     Parameters
     ----------
@@ -191,7 +191,7 @@ def fixed_point_descent(
     max_iter : int
         Iteration cap.
     p0 : array_like, shape (9,)
-        Start, the ideal sensor by default (002 section II.C).
+        Start, the ideal sensor by default (Farago et al. section II.C).
 
     Returns
     -------

@@ -52,7 +52,7 @@ N_PARAMS = 9
 PARAM_NAMES = ("s1", "s2", "s3", "b1", "b2", "b3", "phi", "psi", "theta")
 
 PLAUSIBLE_SCALE = (0.8, 1.2)
-"""|b| outside this range is implausible for a MEMS accelerometer read in its own unit (DESIGN.md §5)."""
+"""|b| outside this range is implausible for a MEMS accelerometer read in its own unit (docs/methods.md)."""
 
 MAX_ANGLE_DEVIATION = 0.05 * np.pi / 2
 """Angles further than 5 % from π/2 are flagged; Georgieva et al., ESGI'95, section 2 assumes 90° ± 2 %."""
@@ -61,7 +61,7 @@ MAX_NORM_ERROR = 0.05
 """A fitted position whose calibrated norm is further than 5 % from g fails the fit (ok = false)."""
 
 NEAR_DUPLICATE_FRACTION = 0.01
-"""Positions closer than 1 % of g to each other are named as near duplicates (DESIGN.md §3)."""
+"""Positions closer than 1 % of g to each other are named as near duplicates (docs/rest.md)."""
 
 MAX_CONDITION_NUMBER = 30.0
 """Above this condition number of the column-scaled Jacobian the parameters are poorly determined."""
@@ -164,7 +164,7 @@ def _jacobian_17(p: np.ndarray, m: np.ndarray, g: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class NonOrthogonalCalibration(StillReadingsResult):
-    """Result of the non-orthogonal-axes (9-parameter) calibration, 000 Approach 1.
+    """Result of the non-orthogonal-axes (9-parameter) calibration, Georgieva et al. Approach 1.
 
     Attributes
     ----------
@@ -231,7 +231,7 @@ class NonOrthogonalCalibration(StillReadingsResult):
         numpy.ndarray of the same shape as ``raw``.
         """
         m = as_samples(raw)
-        # 000 eq. (16): T̄_orth T̄ T â − T̄_orth T̄ s with the vector s = T (s₁, s₂, s₃) of eq. (2),
+        # Georgieva et al. eq. (16): T̄_orth T̄ T â − T̄_orth T̄ s with the vector s = T (s₁, s₂, s₃) of eq. (2),
         # i.e. T̄_orth T̄ T (â − s).
         out = (m.reshape(-1, 3) - self.s) @ self.matrix.T
         return out.reshape(m.shape)
@@ -253,7 +253,7 @@ class NonOrthogonalCalibration(StillReadingsResult):
         return out
 
     def evaluate(self, means) -> dict:
-        """Relative norm errors |(|a| − g)/g| of still readings (000 section 2.4).
+        """Relative norm errors |(|a| − g)/g| of still readings (Georgieva et al. section 2.4).
 
         Parameters
         ----------
@@ -447,7 +447,7 @@ def _gates(m, g, s, b, angles, norm_err, cond, dof, hemisphere, sol, plausible_s
         zip(("phi", "psi", "theta"), angles), np.pi / 2, MAX_ANGLE_DEVIATION,
         lambda name, value, **_: (
             f"the angle {name} between the axes is {np.degrees(value):.2f}°, more than 5 % from 90° "
-            "(000 section 2 assumes 90° ± 2 %): check the positions"
+            "(Georgieva et al. section 2 assumes 90° ± 2 %): check the positions"
         ),
     ))
     gates.warn(limit_gate(
@@ -462,7 +462,7 @@ def _gates(m, g, s, b, angles, norm_err, cond, dof, hemisphere, sol, plausible_s
     gates.warn(near_duplicate_gate(
         m, NEAR_DUPLICATE_FRACTION * g,
         "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
-        "of each other (near-duplicate positions, 000 Dataset 3): they weigh one orientation twice",
+        "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
     ))
     gates.warn(exact_fit_gate(
         dof,

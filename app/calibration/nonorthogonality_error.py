@@ -1,7 +1,7 @@
-"""The error of ignoring non-orthogonal axes: 000_cb2cbc1c5eaccf1a.txt, section 2.3.
+"""The error of ignoring non-orthogonal axes: Georgieva et al. (ESGI'95), section 2.3.
 
 With a = (a_x, a_y, a_z) the readings along three sensing axes that make the angles φ, ψ, θ
-(000 eq. (3)), the true magnitude is ``a_nonorth`` of eq. (10) while an orthogonal model takes
+(Georgieva et al. eq. (3)), the true magnitude is ``a_nonorth`` of eq. (10) while an orthogonal model takes
 ``a_orth = sqrt(a_x² + a_y² + a_z²)`` (Proposition 1).  Section 2.3 defines
 ``err = |a_nonorth − a_orth|`` and solves two extremal problems numerically:
 
@@ -34,7 +34,7 @@ from .gravity import STANDARD_GRAVITY
 from .validation import check_gravity
 
 NONORTHOGONALITY = 0.02
-"""Up to 2 % non-orthogonality of the axes (000 section 2, [5])."""
+"""Up to 2 % non-orthogonality of the axes (Georgieva et al. section 2, [5])."""
 
 
 def a_orth(a) -> np.ndarray:
@@ -53,12 +53,12 @@ def a_orth(a) -> np.ndarray:
 
 
 def a_nonorth(a, phi, psi, theta) -> np.ndarray:
-    """Magnitude of the acceleration with readings a along non-orthogonal axes, 000 eq. (10).
+    """Magnitude of the acceleration with readings a along non-orthogonal axes, Georgieva et al. eq. (10).
 
     Parameters
     ----------
     a : array_like, shape (..., 3)
-        Readings a_x, a_y, a_z along the three axes (projections, 000 eq. (4)).
+        Readings a_x, a_y, a_z along the three axes (projections, Georgieva et al. eq. (4)).
     phi, psi, theta : float or array_like broadcasting with a[..., 0]
         Angles ∠(Ox, Oy), ∠(Ox, Oz), ∠(Oy, Oz) in radians.
 
@@ -69,7 +69,7 @@ def a_nonorth(a, phi, psi, theta) -> np.ndarray:
     a = np.asarray(a, dtype=float)
     ax, ay, az = a[..., 0], a[..., 1], a[..., 2]
     cf, cp, ct = np.cos(phi), np.cos(psi), np.cos(theta)
-    # 000 eq. (10)
+    # Georgieva et al. eq. (10)
     numerator = (
         2 * (-1 + np.cos(2 * theta)) * ax**2
         + 2 * (-1 + np.cos(2 * psi)) * ay**2
@@ -83,19 +83,19 @@ def a_nonorth(a, phi, psi, theta) -> np.ndarray:
 
 
 def nonorthogonality_error(a, phi, psi, theta) -> np.ndarray:
-    """err(a_x, a_y, a_z, φ, ψ, θ) = |a_nonorth − a_orth| of 000 section 2.3."""
+    """err(a_x, a_y, a_z, φ, ψ, θ) = |a_nonorth − a_orth| of Georgieva et al. section 2.3."""
     return np.abs(a_nonorth(a, phi, psi, theta) - a_orth(a))
 
 
 def relative_nonorthogonality_error(a, phi, psi, theta) -> np.ndarray:
-    """|(a_nonorth − a_orth) / a_nonorth|, the objective of 000 Problem 2 (eq. (19))."""
+    """|(a_nonorth − a_orth) / a_nonorth|, the objective of Georgieva et al. Problem 2 (eq. (19))."""
     n = a_nonorth(a, phi, psi, theta)
     return np.abs((n - a_orth(a)) / n)
 
 
 @dataclass(frozen=True)
 class NonOrthogonalityErrorBound:
-    """Solution of an extremal problem of 000 section 2.3.
+    """Solution of an extremal problem of Georgieva et al. section 2.3.
 
     Attributes
     ----------
@@ -177,7 +177,7 @@ def _maximise(objective, starts, bounds, constraints=()) -> tuple[float, np.ndar
 def max_error_at_gravity(
     gravity: float = STANDARD_GRAVITY, *, nonorthogonality: float = NONORTHOGONALITY
 ) -> NonOrthogonalityErrorBound:
-    """Solve 000 Problem 1 (eq. (18)): the largest |a_nonorth − a_orth| for a_nonorth = g.
+    """Solve Georgieva et al. Problem 1 (eq. (18)): the largest |a_nonorth − a_orth| for a_nonorth = g.
 
     Parameters
     ----------
@@ -211,7 +211,7 @@ def max_error_at_gravity(
 def max_relative_error(
     *, range_g: float = 16.0, gravity: float = STANDARD_GRAVITY, nonorthogonality: float = NONORTHOGONALITY
 ) -> NonOrthogonalityErrorBound:
-    """Solve 000 Problem 2 (eq. (19)): the largest |(a_nonorth − a_orth)/a_nonorth|.
+    """Solve Georgieva et al. Problem 2 (eq. (19)): the largest |(a_nonorth − a_orth)/a_nonorth|.
 
     Parameters
     ----------

@@ -1,7 +1,7 @@
 """Orientation labels: which device axis points up, away from the Earth.
 
 ``+x`` means the x axis points up, so a perfect accelerometer at rest reads ``(+g, 0, 0)``
-(readings are specific force, DESIGN.md section 2).
+(readings are specific force, docs/methods.md).
 """
 
 import numpy as np
@@ -18,10 +18,10 @@ UP_VECTORS: dict[str, tuple[float, float, float]] = {
 }
 
 CANONICAL_SIX: tuple[str, ...] = ("-x", "+x", "-y", "+y", "-z", "+z")
-"""The six canonical orientations in the order of 000_cb2cbc1c5eaccf1a.txt, section 3.3.1."""
+"""The six canonical orientations in the order of Georgieva et al. (ESGI'95), section 3.3.1."""
 
 LABEL_MAX_ANGLE_DEG = 20.0
-"""A direction is labelled with its nearest axis only when within this angle (DESIGN.md §3)."""
+"""A direction is labelled with its nearest axis only when within this angle (docs/rest.md)."""
 
 
 def up_vector(label: str) -> np.ndarray:

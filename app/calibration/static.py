@@ -6,7 +6,7 @@ floor.  Runs of still windows are trimmed at their transition edges, halves of a
 short knock are merged (the knock's samples are left out), and a run is kept only when it lasts
 long enough, its mean norm is plausible for gravity, and its direction does not drift (a slow turn
 through a pose is not a rest).  Each rest is labelled with the axis that points up
-(:func:`~app.calibration.orientations.nearest_orientation`, the 20° rule of DESIGN.md §3).
+(:func:`~app.calibration.orientations.nearest_orientation`, the 20° rule of docs/rest.md).
 
 Everything is O(N): the moving windows use cumulative sums and the edge trimming is vectorised over
 all runs; 10⁷ samples with ~10⁴ rests take ~4.5 s on a shared 2-core machine (bench/static_segments.py).
@@ -96,7 +96,7 @@ class StaticSegment:
         return (self.end - self.start) / float(sampling_rate_hz)
 
     def to_dict(self) -> dict:
-        """Plain-JSON form of DESIGN.md §3: ``start``, ``end``, ``acc_mean``, ``acc_std``, ``up``."""
+        """Plain-JSON form of docs/rest.md: ``start``, ``end``, ``acc_mean``, ``acc_std``, ``up``."""
         return {
             "start": int(self.start),
             "end": int(self.end),

@@ -1,6 +1,6 @@
-"""Stationary (rest) segments of a long recording, as 002 section II.B.1 detects them.
+"""Stationary (rest) segments of a long recording, as Farago et al. section II.B.1 detects them.
 
-002_7135f13639ec18ce.txt, section II.B.1: the recording is cut into fixed segments (5 s in the
+Farago et al. (IEEE Access), section II.B.1: the recording is cut into fixed segments (5 s in the
 paper, independent of the sampling rate); a segment is at rest when the difference between the
 maximum and the minimum of *one* axis stays below a threshold (0.12 g), and its calibration point is
 the mean of the three axes over the segment.  Optionally every axis must pass (``all_axes=True``).
@@ -41,10 +41,10 @@ from .errors import CalibrationError
 from .validation import check_gravity
 
 SEGMENT_S = 5.0
-"""Segment length (002 section II.B.1)."""
+"""Segment length (Farago et al. section II.B.1)."""
 
 THRESHOLD_G = 0.12
-"""Largest max − min of the tested axis in a rest segment, in g (002 section II.B.1)."""
+"""Largest max − min of the tested axis in a rest segment, in g (Farago et al. section II.B.1)."""
 
 IDLE_MIN_RUN_S = 1.0
 """Identical consecutive samples lasting this long mark a segment as idle sleep, not rest."""
@@ -119,7 +119,7 @@ class RestSegments:
 
 
 class RestAccumulator:
-    """Streaming detector of 002 rest segments: feed chunks of samples, then take :meth:`result`.
+    """Streaming detector of Farago et al. rest segments: feed chunks of samples, then take :meth:`result`.
 
     Parameters
     ----------
@@ -128,11 +128,11 @@ class RestAccumulator:
         Reference magnitude in the samples' unit (1 for g, 9.80665 for m/s²); thresholds in g
         are multiplied by it.
     segment_s : float
-        Segment length, 5 s (002 section II.B.1).
+        Segment length, 5 s (Farago et al. section II.B.1).
     threshold_g : float
-        Largest max − min of a tested axis, 0.12 g (002 section II.B.1).
+        Largest max − min of a tested axis, 0.12 g (Farago et al. section II.B.1).
     axis : int
-        The axis tested when ``all_axes`` is False (0 = x; 002: one axis is enough for a worn device).
+        The axis tested when ``all_axes`` is False (0 = x; Farago et al.: one axis is enough for a worn device).
     all_axes : bool
         Test every axis.
     idle_min_run_s : float or None
@@ -223,7 +223,7 @@ class RestAccumulator:
         c = x.reshape(n, seg, 3)
         base = self._n_segments
         self._n_segments += n
-        # 002 II.B.1: max − min of the tested axis (or axes) over the segment
+        # Farago et al. section II.B.1: max − min of the tested axis (or axes) over the segment
         rng = None
         for a in self.axes:
             ax = c[:, :, a]
@@ -239,7 +239,7 @@ class RestAccumulator:
         self._n_moving += int(n - still.sum() - nan_range.sum())
         if len(idx) == 0:
             return
-        # The mean of each segment (accumulated sums, 002 II.B.1), as one matrix–vector product over
+        # The mean of each segment (accumulated sums, Farago et al. section II.B.1), as one matrix–vector product over
         # the whole chunk: cheaper than gathering the still segments first.
         sums = np.matmul(self._ones, c)[idx].astype(np.float64)
         means = sums / seg
@@ -360,7 +360,7 @@ class _PageReleaser:
 
 def detect_rest_segments(samples, sampling_rate_hz: float, *, gravity: float = 1.0,
                          chunk_segments: int = CHUNK_SEGMENTS, progress=None, **options) -> RestSegments:
-    """Rest segments of a whole recording, processed in chunks (002 section II.B.1).
+    """Rest segments of a whole recording, processed in chunks (Farago et al. section II.B.1).
 
     Parameters
     ----------

@@ -193,12 +193,12 @@ def gradient_descent(
 
 @dataclass(frozen=True)
 class TriangularCalibration(StillReadingsResult):
-    """Result of the 9-parameter lower-triangular calibration of 002.
+    """Result of the 9-parameter lower-triangular calibration of Farago et al..
 
     Attributes
     ----------
     K : numpy.ndarray, shape (3, 3)
-        Lower-triangular, dimensionless (002 eq. (2)).
+        Lower-triangular, dimensionless (Farago et al. eq. (2)).
     o : numpy.ndarray, shape (3,)
         Offsets o of ``a = K (v + o)``, in the unit of the readings.
     gravity : float
@@ -235,12 +235,12 @@ class TriangularCalibration(StillReadingsResult):
 
     @property
     def p(self) -> np.ndarray:
-        """[k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, o_x, o_y, o_z] (002 eq. (6)), o in the readings' unit."""
+        """[k_xx, k_yy, k_zz, k_xy, k_xz, k_yz, o_x, o_y, o_z] (Farago et al. eq. (6)), o in the readings' unit."""
         K = self.K
         return np.array([K[0, 0], K[1, 1], K[2, 2], K[1, 0], K[2, 0], K[2, 1], *self.o])
 
     def apply(self, raw) -> np.ndarray:
-        """Calibrate readings: ``a = K (v + o)`` (002 eqs. (7)–(9)).
+        """Calibrate readings: ``a = K (v + o)`` (Farago et al. eqs. (7)–(9)).
 
         Parameters
         ----------
@@ -270,12 +270,12 @@ class TriangularCalibration(StillReadingsResult):
         return out
 
     def evaluate(self, means) -> dict:
-        """Norm errors of further still readings, e.g. held-out control points (002 Table 3).
+        """Norm errors of further still readings, e.g. held-out control points (Farago et al. Table 3).
 
         Returns
         -------
         dict
-            ``error_before_mg`` and ``error_after_mg`` (mean | |r| − 1 g | in mg, 002 Table 3),
+            ``error_before_mg`` and ``error_after_mg`` (mean | |r| − 1 g | in mg, Farago et al. Table 3),
             ``improvement`` (eq. (21), a fraction), ``norm_error_max``, ``norm_error_max_raw``, ``count``.
         """
         m = as_vectors(means, "means")
@@ -473,18 +473,18 @@ def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale,
     gates.warn(coverage_gate(
         m,
         "poor coverage of the sphere: no position has the {missing} axis within 60° of up; add such "
-        "positions (002 eq. (10): two per bin)",
+        "positions (Farago et al. eq. (10): two per bin)",
         hemisphere=hemisphere,
     ))
     gates.warn(near_duplicate_gate(
         m, NEAR_DUPLICATE_FRACTION * g,
         "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
-        "of each other (near-duplicate positions, 000 Dataset 3): they weigh one orientation twice",
+        "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
     ))
     gates.warn(exact_fit_gate(
         dof,
         "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
-        "so no intervals and no check of the fit; use 18 positions (002)",
+        "so no intervals and no check of the fit; use 18 positions (Farago et al.)",
     ))
 
 

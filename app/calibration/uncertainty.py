@@ -45,7 +45,7 @@ def half_widths(covariance: np.ndarray, dof: float, confidence: float = CONFIDEN
 def covariance_from_jacobian(jacobian: np.ndarray, residuals: np.ndarray) -> tuple[np.ndarray | None, int, float]:
     """Parameter covariance of a (non-linear) least-squares fit from its Jacobian at the solution.
 
-    003_17911d0910b68c7e.txt, Appendix A: to first order ``V(ξ) = (Jᵀ V(ε)⁻¹ J)⁻¹`` (eq. (22));
+    Särkkä et al. (IEEE Sensors J. 2017), Appendix A: to first order ``V(ξ) = (Jᵀ V(ε)⁻¹ J)⁻¹`` (eq. (22));
     with independent residuals of one unknown variance σ², ``V(ε) = σ² I`` and σ² is estimated
     by ``RSS / (N − p)``, so ``V(ξ) = σ² (Jᵀ J)⁻¹``.
 

@@ -74,7 +74,7 @@ def check_gravity(gravity: float) -> float:
 
 
 def near_duplicate_pairs(vectors: np.ndarray, tolerance: float) -> list[tuple[int, int]]:
-    """Index pairs (i < j) of rows closer to each other than ``tolerance`` (000, Dataset 3)."""
+    """Index pairs (i < j) of rows closer to each other than ``tolerance`` (Georgieva et al., Dataset 3)."""
     d = np.linalg.norm(vectors[:, None, :] - vectors[None, :, :], axis=-1)
     i, j = np.nonzero(np.triu(d < tolerance, k=1))
     return list(zip(i.tolist(), j.tolist()))
@@ -157,7 +157,7 @@ def check_sphere_points(means, gravity: float, *, min_points: int, method: str, 
         raise InsufficientDataError(
             f"{len(m)} positions cannot determine the {n_params} parameters of the {method} model: "
             f"hold the device still in at least {min_points} different positions (about 20 spread over "
-            "the sphere are recommended, 000 section 2.2)"
+            "the sphere are recommended, Georgieva et al. section 2.2)"
         )
     # Count distinct positions: greedy clustering at 1 % of g.
     tol = 0.01 * gravity

@@ -4,7 +4,7 @@ The decoding is actipy's (``actipy.read_device``; its Java parsers need a Java r
 Debian's ``default-jre-headless`` provides).  It is an optional extra, never a run-time dependency:
 ``pip install 'trical[wearables]'`` enables it; without it these files are refused with a 415 that
 says so.  trical asks actipy for the raw samples only — no low-pass filter, no gravity calibration,
-no non-wear flags and no resampling — so that the auto-calibration of 002 sees what the device
+no non-wear flags and no resampling — so that the auto-calibration of Farago et al. sees what the device
 recorded, in g.  Compressed files (``.gz``, ``.zip``) are decompressed by actipy.
 """
 

@@ -1,4 +1,4 @@
-// The cube24 protocol on the page (pure logic, no DOM): the positions and turns of DESIGN.md
+// The cube24 protocol on the page (pure logic, no DOM): the positions and turns of docs/architecture.md
 // section 4, their pictures as SVG strings, and the motion log that gives each capture its move.
 //
 // Calibration frame: position 1 is the sensor frame (z up, x along the jig). A rotation is a
@@ -18,7 +18,7 @@ export const CUBE_POSITIONS = CUBE24_ROTATIONS.length + 1;
 // the server's refusals say the same thing.
 export const TURN_WORDS = PROTOCOL.turnWords;
 
-// R_k (sensor → calibration frame) of each position, R_1 = I, R_{k+1} = Rot_k R_k (003 Fig. 1), as
+// R_k (sensor → calibration frame) of each position, R_1 = I, R_{k+1} = Rot_k R_k (Särkkä et al. Fig. 1), as
 // protocols.cube24() chains them.
 export const CUBE24_ATTITUDES = PROTOCOL.attitudes;
 

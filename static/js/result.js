@@ -16,7 +16,7 @@ export function invert3(m) {
   ];
 }
 
-// Affine model (000, Approach 2): m = X a + y, so a = X⁻¹ (m − y).
+// Affine model (Georgieva et al., Approach 2): m = X a + y, so a = X⁻¹ (m − y).
 export function calibrate(model, m) {
   const Xi = invert3(model.X);
   const d = [m[0] - model.y[0], m[1] - model.y[1], m[2] - model.y[2]];

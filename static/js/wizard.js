@@ -269,7 +269,7 @@ function fillNorms(model, means, gravity) {
   }));
 }
 
-// 003's model per sensor: S (with D and the misalignment when given) and b, each ± its 95 % half-width.
+// Särkkä et al.'s model per sensor: S (with D and the misalignment when given) and b, each ± its 95 % half-width.
 function fillCubeModel(cal, unc) {
   const units = { acc: cal.unit || "m/s²", gyr: (cal.units && cal.units.gyr) || "rad/s" };
   const parts = [];
@@ -293,7 +293,7 @@ function fillCubeModel(cal, unc) {
     parts.push(row);
   }
   $("#cube-model").replaceChildren(...parts);
-  // The accelerometer's raw = S f + b has the form of m = X a + y (003 eq. (1)).
+  // The accelerometer's raw = S f + b has the form of m = X a + y (Särkkä et al. eq. (1)).
   const acc = cal.model.acc;
   if (acc) fillNorms({ X: acc.S, y: acc.b }, cal.captures || [], cal.gravity || STANDARD_GRAVITY);
 }

@@ -1,4 +1,4 @@
-"""Method `cube` (003) through the API: a simulated 24-position session uploaded as a CSV log."""
+"""Method `cube` (Särkkä et al.) through the API: a simulated 24-position session uploaded as a CSV log."""
 
 from __future__ import annotations
 
@@ -57,7 +57,7 @@ def test_cube24_session_through_the_api(client, good_session, tmp_path):
 
 
 def check_cube_exports(client, body, tmp_path, headers=None):
-    """Every full-matrix export of a cube calibration holds each sensor's f = S⁻¹ (raw − b) (003 eq. (1)),
+    """Every full-matrix export of a cube calibration holds each sensor's f = S⁻¹ (raw − b) (Särkkä et al. eq. (1)),
     applied here with the target's own means (a C compiler, a YAML parser, a CSV reader), and gives
     what trical's apply gives; offset/scale targets refuse raw units with the reason."""
     import csv

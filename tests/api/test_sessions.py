@@ -1,4 +1,4 @@
-"""The wizard's server side: /api/v1/sessions (issue 6, DESIGN.md section 3), through real HTTP calls."""
+"""The wizard's server side: /api/v1/sessions (issue 6, docs/rest.md), through real HTTP calls."""
 
 from __future__ import annotations
 
@@ -41,7 +41,7 @@ def test_six_poses_in_any_order_give_the_closed_form_of_the_captures(client):
     assert r.status_code == 201, r.text
     cal = r.json()
     means = [np.mean(sent[label]["acc"], axis=0) for label in CANONICAL_SIX]
-    expected = fit_six_position(means, list(CANONICAL_SIX), gravity=G)  # 000 section 3.3.1
+    expected = fit_six_position(means, list(CANONICAL_SIX), gravity=G)  # Georgieva et al. section 3.3.1
     np.testing.assert_allclose(cal["model"]["X"], expected.X, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(cal["model"]["y"], expected.y, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(cal["model"]["X"], X_TRUE, atol=0.01)  # and near the truth
@@ -146,7 +146,7 @@ def _cube_session(client):
 
 
 def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client, tmp_path):
-    """24 positions in order, each turn checked at once (003 VII-A-1); the solution is 003's method on
+    """24 positions in order, each turn checked at once (Särkkä et al. section VII-A-1); the solution is Särkkä et al.'s method on
     the joined recording, and recovers the phone's accelerometer and gyroscope."""
     from app.calibration.cube import calibrate_cube
     from tests.cube_phone import B_GYR_DEG_S, S_GYR, X_ACC, Y_ACC, phone_cube
@@ -164,13 +164,13 @@ def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client, tmp_path):
     cal = r.json()
     assert cal["method"] == "cube" and cal["model"]["type"] == "cube" and cal["session_id"] == s["id"]
     assert cal["first_wrong_rotation"] is None, cal["sequence"]
-    # The same as 003's method on the recording the captures join into (the still parts and the moves).
+    # The same as Särkkä et al.'s method on the recording the captures join into (the still parts and the moves).
     a, b = phone.static_segments[0][0] + 6, phone.static_segments[-1][1] - 6
     direct = calibrate_cube(phone.acc[a:b], np.radians(phone.gyr[a:b]), None, sampling_rate_hz=60.0,
                             protocol="cube24", gravity=G)
     np.testing.assert_allclose(cal["model"]["acc"]["S"], direct.acc.S, rtol=1e-6, atol=1e-9)
     np.testing.assert_allclose(cal["model"]["gyr"]["S"], direct.gyr.S, rtol=1e-6, atol=1e-9)
-    # And the phone's parameters: raw = S f + b (003 eq. (1)).
+    # And the phone's parameters: raw = S f + b (Särkkä et al. eq. (1)).
     np.testing.assert_allclose(cal["model"]["acc"]["S"], X_ACC, atol=0.01)
     np.testing.assert_allclose(cal["model"]["acc"]["b"], Y_ACC, atol=0.05)
     np.testing.assert_allclose(cal["model"]["gyr"]["S"], S_GYR, atol=0.01)

@@ -1,4 +1,4 @@
-"""Methods `nonorthogonal` (000 Approach 1) and `triangular` (002) through the API."""
+"""Methods `nonorthogonal` (Georgieva et al. Approach 1) and `triangular` (Farago et al.) through the API."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from tests.conftest import seed_table
 
 
 def test_dataset1_positions_1_20_through_the_api(client):
-    # 000 section 2.4, Dataset 1, positions 1–20 (the paper's scales correspond to g = 9.806).
+    # Georgieva et al. section 2.4, Dataset 1, positions 1–20 (the paper's scales correspond to g = 9.806).
     r = client.post("/api/v1/calibrations", json={"method": "nonorthogonal", "means": seed_table(1)[:20].tolist(),
                                                   "gravity": 9.806, "holdout": seed_table(1).tolist()})
     assert r.status_code == 201, r.text
@@ -34,7 +34,7 @@ def test_triangular_solvers_and_c_export(client, solver):
     K, o = np.array(body["model"]["K"]), np.array(body["model"]["o"])
     assert np.allclose(np.triu(K, 1), 0)
     applied = client.post(f"/api/v1/calibrations/{body['id']}/apply", json={"samples": t2.tolist()}).json()
-    np.testing.assert_allclose(applied["samples"], (t2 + o) @ K.T, atol=1e-12)  # 002 eq. (6)
+    np.testing.assert_allclose(applied["samples"], (t2 + o) @ K.T, atol=1e-12)  # Farago et al. eq. (6)
     doc = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "json"}).json()
     M, off = np.array(doc["correction"]["M"]), np.array(doc["correction"]["o"])
     np.testing.assert_allclose((t2 - off) @ M.T, applied["samples"], atol=1e-9)

@@ -1,4 +1,4 @@
-"""000_cb2cbc1c5eaccf1a.txt, Approach 2: least squares (section 3.3), closed form (3.3.1), metrics (3.5)."""
+"""Georgieva et al. (ESGI'95), Approach 2: least squares (section 3.3), closed form (3.3.1), metrics (3.5)."""
 
 import numpy as np
 import pytest
@@ -20,7 +20,7 @@ GT_ORDER = ["+y", "-y", "+x", "-x", "+z", "-z"]  # seeds/README: Table 3's first
 
 
 def test_huawei_section_3_5_1(table1):
-    # 000 section 3.5.1: Table 1, first six rows, g = 9.81.
+    # Georgieva et al. section 3.5.1: Table 1, first six rows, g = 9.81.
     cal = fit_six_position(table1[:6], gravity=9.81)
     # The paper prints X to 6 significant digits; its y differs from the table's rows by < 1e-5
     # (the paper's own inputs carried more digits than Table 1 prints).
@@ -161,7 +161,7 @@ def test_round_trip_and_apply(table1):
     np.testing.assert_array_equal(again.X, cal.X)
     np.testing.assert_array_equal(again.apply(table1), cal.apply(table1))
     np.testing.assert_allclose(cal.apply(table1[0]), np.linalg.solve(cal.X, table1[0] - cal.y))
-    # a = X⁻¹ (m − y) inverts m = X a + y (000 eqs. (20)).
+    # a = X⁻¹ (m − y) inverts m = X a + y (Georgieva et al. eqs. (20)).
     a = np.array([[1.0, -2.0, 9.0]])
     np.testing.assert_allclose(cal.apply(a @ cal.X.T + cal.y), a, atol=1e-12)
     assert cal.to_dict()["readings"][0]["up"] == "-x"

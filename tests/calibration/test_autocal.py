@@ -1,4 +1,4 @@
-"""Auto-calibration of long recordings (002 section II.B, III.B; issue 4)."""
+"""Auto-calibration of long recordings (Farago et al. section II.B, III.B; issue 4)."""
 
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ from app.calibration.stationary_002 import RestAccumulator, detect_rest_segments
 
 FS = 25.0  # a low rate keeps the recordings small; the segments stay 5 s long
 
-# 002 Table 2, 1 mg noise: mean and SD of |p̂ − p| over 500 scenarios.
+# Farago et al. Table 2, 1 mg noise: mean and SD of |p̂ − p| over 500 scenarios.
 TABLE2_MEAN = np.array([2.98e-4, 3.18e-4, 2.47e-4, 1.49e-3, 1.42e-3, 1.45e-3, 2.39e-4, 2.54e-4, 2.04e-4])
 TABLE2_SD = np.array([2.37e-4, 2.27e-4, 1.68e-4, 1.22e-3, 1.23e-3, 1.26e-3, 1.88e-4, 1.91e-4, 1.5e-4])
 
@@ -115,7 +115,7 @@ def test_streaming_in_odd_chunks_equals_one_pass():
 
 
 def test_detection_threshold_and_all_axes():
-    # x still, y and z swinging: one-axis detection (002) calls it rest, all_axes does not.
+    # x still, y and z swinging: one-axis detection (Farago et al.) calls it rest, all_axes does not.
     t = np.arange(int(60 * FS)) / FS
     x = np.column_stack([np.full_like(t, 0.0), np.cos(t), np.sin(t)]).astype(np.float32)
     assert detect_rest_segments(x, FS).n_rest == 12

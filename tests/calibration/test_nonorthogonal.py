@@ -1,4 +1,4 @@
-"""000_cb2cbc1c5eaccf1a.txt, Approach 1: non-orthogonal axes model, fit of section 2.2, section 2.4."""
+"""Georgieva et al. (ESGI'95), Approach 1: non-orthogonal axes model, fit of section 2.2, section 2.4."""
 
 from pathlib import Path
 
@@ -17,7 +17,7 @@ from app.calibration.nonorthogonal import (
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 
-# 000 section 2.4: the paper's scales are recovered with g = 9.806 (see test_paper_gravity_is_9_806).
+# Georgieva et al. section 2.4: the paper's scales are recovered with g = 9.806 (see test_paper_gravity_is_9_806).
 G_PAPER = 9.806
 
 
@@ -58,7 +58,7 @@ def test_paper_gravity_is_9_806():
 
 
 def test_dataset_3_max_relative_error_and_near_duplicate():
-    """000 section 2.4, Dataset 3: 0.26 % (positions 1–20) and 0.98 % (3–23) over all positions.
+    """Georgieva et al. section 2.4, Dataset 3: 0.26 % (positions 1–20) and 0.98 % (3–23) over all positions.
 
     The paper's figures are the maxima 0.2694 % and 0.9888 % cut (not rounded) to two decimals;
     they do not depend on g (the scales absorb it).
@@ -81,7 +81,7 @@ def test_dataset_3_max_relative_error_and_near_duplicate():
 
 
 def test_dataset_1_and_2_error_figures():
-    """Recomputed error figures of 000 section 2.4 for Datasets 1 and 2.
+    """Recomputed error figures of Georgieva et al. section 2.4 for Datasets 1 and 2.
 
     The paper says "less than 0.21 %" (Dataset 1) and "below 0.45 %" (Dataset 2).  That holds over
     the fitted positions (0.197 %, 0.170 %; 0.296 %, 0.236 %), not over all 27/29 positions, where

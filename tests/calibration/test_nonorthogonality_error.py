@@ -1,4 +1,4 @@
-"""000_cb2cbc1c5eaccf1a.txt section 2.3: the error of ignoring non-orthogonal axes (Problems 1, 2)."""
+"""Georgieva et al. (ESGI'95) section 2.3: the error of ignoring non-orthogonal axes (Problems 1, 2)."""
 
 import numpy as np
 import pytest

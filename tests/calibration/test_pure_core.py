@@ -1,4 +1,4 @@
-"""The core is importable without the web stack (DESIGN.md section 1)."""
+"""The core is importable without the web stack (docs/architecture.md)."""
 
 import subprocess
 import sys

@@ -1,4 +1,4 @@
-"""002_7135f13639ec18ce.txt section III.A: the simulation generator and the Cramér–Rao bound."""
+"""Farago et al. (IEEE Access) section III.A: the simulation generator and the Cramér–Rao bound."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""002_7135f13639ec18ce.txt: the 9-parameter lower-triangular model and its solvers."""
+"""Farago et al. (IEEE Access): the 9-parameter lower-triangular model and its solvers."""
 
 from pathlib import Path
 

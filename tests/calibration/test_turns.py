@@ -1,4 +1,4 @@
-"""Each cube turn checked as it is made (app/calibration/cube/turns.py, 003 VII-A-1)."""
+"""Each cube turn checked as it is made (app/calibration/cube/turns.py, Särkkä et al. section VII-A-1)."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Write the upload fixture six_orientations_150hz.csv and its ground truth (.json).
 
 A phone resting in the six canonical orientations in a non-canonical order, hand turns of 1–3 s
-between them, a true affine error (000 Approach 2), white noise, one knock and a slow drift;
+between them, a true affine error (Georgieva et al. Approach 2), white noise, one knock and a slow drift;
 150 Hz, m/s², columns acc_x,acc_y,acc_z (no time column), 5 significant decimals.
 
 Run from the repository root:  PYTHONPATH=. python tests/data/make_six_orientation_log.py

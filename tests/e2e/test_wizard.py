@@ -120,7 +120,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     elapsed = time.monotonic() - t0
     shot(page, "wizard_result")
 
-    # The closed form of 000 section 3.3.1 on what Chromium handed the page.
+    # The closed form of Georgieva et al. section 3.3.1 on what Chromium handed the page.
     fed = np.array([chromium_round(reading(label)) for label in POSES])
     expected = fit_six_position(fed, POSES, gravity=G)
     with page.expect_download() as info:

@@ -146,7 +146,7 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     elapsed = time.monotonic() - t0
     shot(page, "cube_result")
 
-    # The server checked every turn by integrating the page's gyroscope samples (003 eq. (2)).
+    # The server checked every turn by integrating the page's gyroscope samples (Särkkä et al. eq. (2)).
     session = saved_session(page, server)
     turns = [c["turn"] for c in session["captures"][1:]]
     assert [t["expected"] for t in turns] == list(CUBE24_ROTATIONS) and all(t["ok"] for t in turns)
@@ -156,7 +156,7 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     check_moves(sent)
     assert [c["position"] for c in sent] == [str(k) for k in range(1, 25)] and not any(c["redo"] for c in sent)
 
-    # What the page shows: 003's model with its half-widths, checks, warnings, downloads.
+    # What the page shows: Särkkä et al.'s model with its half-widths, checks, warnings, downloads.
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
     doc = json.loads(open(info.value.path()).read())
@@ -199,7 +199,7 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     assert "b (rad/s)" in page.text_content("#cube-model") and "b (m/s^2)" in page.text_content("#cube-model")
     assert ("passed its checks" in page.text_content("#result-ok")) == doc["ok"]
     assert "may already calibrate" in page.text_content("#result-warnings")
-    # The accelerometer's norm per position before and after, |m| and |S⁻¹(m − b)| (003 eq. (1)):
+    # The accelerometer's norm per position before and after, |m| and |S⁻¹(m − b)| (Särkkä et al. eq. (1)):
     # 24 rows and the chart's 48 dots. (How close to g they come is the API tests' business: here
     # the fed readings carry no noise, which leaves the fit's weights degenerate.)
     norms = page.eval_on_selector_all("#norm-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")

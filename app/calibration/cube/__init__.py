@@ -1,5 +1,5 @@
-"""The cube method of 003_17911d0910b68c7e.txt: accelerometer, gyroscope and magnetometer from
-one recording of still positions joined by known rotations (DESIGN.md §4, protocols cube24 and
+"""The cube method of Särkkä et al. (IEEE Sensors J. 2017): accelerometer, gyroscope and magnetometer from
+one recording of still positions joined by known rotations (docs/methods.md, protocols cube24 and
 ferraris)."""
 
 from .accmag import FieldSensorCalibration, fit_field_sensor

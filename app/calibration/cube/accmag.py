@@ -7,7 +7,7 @@ At each still position p the mean reading is modelled as
 
 with R_p the known attitude of the position (sensor → calibration frame, ``C_c^s = R_pᵀ``),
 ``C_l^c`` the two-angle matrix of eq. (8), and r = (0, 0, |r|) the reference in the local frame:
-the specific force of gravity (reading +g on the axis that points up, DESIGN.md §2) or the Earth's
+the specific force of gravity (reading +g on the axis that points up, docs/methods.md) or the Earth's
 field.  S, b, α and β are estimated together by non-linear generalised least squares (eq. (13))
 with the weight W = V(ε)⁻¹, V(ε) = diag(Σ_p / n_p) (Appendix A, eq. (23)); their covariance is
 (Jᵀ V(ε)⁻¹ J)⁻¹ (eq. (22)) and the 95 % half-widths are 1.96 σ (Appendix A).  S = D (D⁻¹S) with D
@@ -77,20 +77,20 @@ def _quantile(confidence: float) -> float:
 
 @dataclass(frozen=True)
 class FieldSensorCalibration:
-    """Result of the accelerometer or magnetometer fit of 003 (eqs. (6)–(8), (13)).
+    """Result of the accelerometer or magnetometer fit of Särkkä et al. (eqs. (6)–(8), (13)).
 
     Attributes
     ----------
     sensor : str
         ``acc`` or ``mag``.
     S, b : numpy.ndarray
-        Model ``raw = S f + b`` (003 eq. (1)), S (3, 3) in raw units per reference unit, b (3,).
+        Model ``raw = S f + b`` (Särkkä et al. eq. (1)), S (3, 3) in raw units per reference unit, b (3,).
     alpha_deg, beta_deg : float
-        Direction of the reference in the calibration frame (003 eq. (8)).
+        Direction of the reference in the calibration frame (Särkkä et al. eq. (8)).
     reference : float
         Magnitude |r| of the reference (gravity, or the field in µT).
     covariance : numpy.ndarray, shape (14, 14)
-        Covariance of [S (row-major), b, α, β] in radians for the angles (003 eq. (22)).
+        Covariance of [S (row-major), b, α, β] in radians for the angles (Särkkä et al. eq. (22)).
     means, covariances, counts : numpy.ndarray
         Position means (P, 3), their sample covariances (P, 3, 3) and sample counts (P,).
     attitudes : numpy.ndarray, shape (P, 3, 3)
@@ -127,7 +127,7 @@ class FieldSensorCalibration:
 
     @property
     def D(self) -> np.ndarray:
-        """Scale factors: the column norms of S (003 section III-A), shape (3,)."""
+        """Scale factors: the column norms of S (Särkkä et al. section III-A), shape (3,)."""
         return decompose(self.S)[0]
 
     @property
@@ -136,7 +136,7 @@ class FieldSensorCalibration:
         return decompose(self.S)[1]
 
     def apply(self, raw) -> np.ndarray:
-        """Calibrate readings: ``f = S⁻¹ (raw − b)`` (003 eq. (1) without noise)."""
+        """Calibrate readings: ``f = S⁻¹ (raw − b)`` (Särkkä et al. eq. (1) without noise)."""
         m = as_samples(raw)
         return np.linalg.solve(self.S, (m - self.b).reshape(-1, 3).T).T.reshape(m.shape)
 
@@ -146,7 +146,7 @@ class FieldSensorCalibration:
         return np.einsum("ij,pkj,k->pi", self.S, self.attitudes, u) + self.b
 
     def uncertainty(self, confidence: float = CONFIDENCE) -> dict:
-        """95 % half-widths of S, b, D, D⁻¹S, α and β in the shapes of the model (003 App. A).
+        """95 % half-widths of S, b, D, D⁻¹S, α and β in the shapes of the model (Särkkä et al. App. A).
 
         D and D⁻¹S are propagated from the covariance of S to first order (the paper neglects
         the error of D for D⁻¹S; here it is included).
@@ -337,7 +337,7 @@ def _validated(means, covariances, counts, attitudes, reference, sensor: str, es
     n_par = N_PARAMETERS if estimate_angles else 12
     if 3 * P <= n_par:
         raise InsufficientDataError(
-            f"{sensor}: {P} still positions give {3 * P} equations for {n_par} parameters (003 section "
+            f"{sensor}: {P} still positions give {3 * P} equations for {n_par} parameters (Särkkä et al. section "
             f"III-C); at least {n_par // 3 + 1} positions are needed, 24 in the cube protocol"
         )
     return m, C, n, Rs, n_par
@@ -432,7 +432,7 @@ def _gates(metrics: dict, rel, positions, sensor: str, max_iterations: int, gate
     gates.warn(limit_gate(
         metrics["reduced_chi2"], MAX_REDUCED_CHI2,
         "{sensor}: χ²/dof = {value:.3g}: the misfit is larger than the sample noise explains "
-        "(unmodelled errors or drift, 003 section VII-A-2), so the intervals are too narrow",
+        "(unmodelled errors or drift, Särkkä et al. section VII-A-2), so the intervals are too narrow",
         sensor=sensor,
     ))
 

@@ -46,7 +46,7 @@ class CubeCalibration(CalibrationResult):
         Gyroscope (None when too few usable rotations).
     protocol : Protocol
     sequence : tuple of dict
-        The check of every transition (003 section VII-A-1).
+        The check of every transition (Särkkä et al. section VII-A-1).
     first_wrong_rotation : int or None
         1-based number of the first rotation that did not match the protocol.
     segmentation : Segmentation
@@ -91,7 +91,7 @@ class CubeCalibration(CalibrationResult):
 
     @property
     def correction(self) -> AffineCorrection:
-        """The accelerometer's correction (003 eq. (1)); raises when there is no accelerometer model."""
+        """The accelerometer's correction (Särkkä et al. eq. (1)); raises when there is no accelerometer model."""
         try:
             return self.corrections()["acc"]
         except KeyError:
@@ -140,7 +140,7 @@ class CubeCalibration(CalibrationResult):
         }
 
     def uncertainty(self) -> dict:
-        """95 % half-widths mirroring :meth:`model` (003 Appendices A and B)."""
+        """95 % half-widths mirroring :meth:`model` (Särkkä et al. Appendices A and B)."""
         return {
             "confidence": CONFIDENCE,
             "acc": None if self.acc is None else self.acc.uncertainty(),
@@ -239,7 +239,7 @@ def _validated(acc, gyr, mag, *, gravity, sampling_rate_hz, field_ut):
     if gyr is None:
         raise CalibrationError(
             "the cube method needs the gyroscope: the rotations between positions are found, checked "
-            "and calibrated with it (003 section III-B); record the gyroscope together with the accelerometer"
+            "and calibrated with it (Särkkä et al. section III-B); record the gyroscope together with the accelerometer"
         )
     a = as_vectors(acc, "acc samples", min_rows=2)
     w = as_vectors(gyr, "gyr samples", min_rows=2)
@@ -285,7 +285,7 @@ def _remove_drift(a, w, m, seg: Segmentation, fs: float, gates: Gates):
     span = np.ptp(np.array([a[s0:s1].mean(axis=0) for s0, s1 in seg.static]), axis=0).max()
     if np.linalg.norm(a_last - a_first) > RETURN_TOLERANCE * span:
         gates.warn(
-            "the last position does not read like position 1, so it is not the return of 003 section II: "
+            "the last position does not read like position 1, so it is not the return of Särkkä et al. section II: "
             "no drift was removed"
         )
         return a, w, m, drift
@@ -305,7 +305,7 @@ def _remove_drift(a, w, m, seg: Segmentation, fs: float, gates: Gates):
         m = drift["mag"].remove(m, fs)
     if removed:
         gates.warn(
-            f"drift removed from {', '.join(removed)} (003 section II); the intervals do not include "
+            f"drift removed from {', '.join(removed)} (Särkkä et al. section II); the intervals do not include "
             "the uncertainty of the drift estimate"
         )
     return a, w, m, drift
@@ -438,7 +438,7 @@ def calibrate_cube(
     sampling_rate_hz : float
         Common sampling rate of the three sensors.
     protocol : str, Protocol or dict
-        ``cube24`` (DESIGN.md §4), ``ferraris``, or ``{"rotations": [...], "ups": [...]}``.
+        ``cube24`` (docs/methods.md), ``ferraris``, or ``{"rotations": [...], "ups": [...]}``.
     gravity : float
         Magnitude of gravity in the accelerometer's output unit (m/s², or 1 for g).
     field_ut : float, optional

@@ -1,4 +1,4 @@
-"""Drift during the session (003_17911d0910b68c7e.txt, section II).
+"""Drift during the session (Särkkä et al. (IEEE Sensors J. 2017), section II).
 
 After the last position the device returns to position 1; in the absence of drift a sensor then
 reads what it read at the start.  With two observations the drift is modelled as an affine
@@ -43,7 +43,7 @@ class Drift:
         return self.z is None or bool(np.max(np.abs(self.z)) > SIGNIFICANCE)
 
     def remove(self, raw: np.ndarray, sampling_rate_hz: float) -> np.ndarray:
-        """Raw samples with the drift removed (003 section II: the adjustment is on raw data)."""
+        """Raw samples with the drift removed (Särkkä et al. section II: the adjustment is on raw data)."""
         t = np.arange(len(raw)) / float(sampling_rate_hz)
         return raw - (t - self.t0_s)[:, None] * self.rate
 
@@ -58,7 +58,7 @@ class Drift:
 
 
 def estimate_drift(raw, first: tuple[int, int], last: tuple[int, int], *, sampling_rate_hz: float) -> Drift:
-    """Affine drift from the same position observed at the start and at the end (003 section II).
+    """Affine drift from the same position observed at the start and at the end (Särkkä et al. section II).
 
     Parameters
     ----------

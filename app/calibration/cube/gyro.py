@@ -63,18 +63,18 @@ def _angle_deg(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class GyroCalibration:
-    """Result of the gyroscope calibration of 003 (eqs. (4), (5), (9)–(11), Appendix B).
+    """Result of the gyroscope calibration of Särkkä et al. (eqs. (4), (5), (9)–(11), Appendix B).
 
     Attributes
     ----------
     S_inv : numpy.ndarray, shape (3, 3)
-        The estimate S_ω⁻¹ (DESIGN.md §2): ``ω = S_inv (raw − b)``.
+        The estimate S_ω⁻¹ (docs/methods.md): ``ω = S_inv (raw − b)``.
     b : numpy.ndarray, shape (3,)
         Bias, in the unit of the raw rates.
     lam : float
         Regularisation parameter λ of eq. (9) that was used (NaN for the full-turn method).
     covariance : numpy.ndarray, shape (12, 12)
-        Covariance of [columns of S_ω⁻¹, b] (003 eq. (28)).
+        Covariance of [columns of S_ω⁻¹, b] (Särkkä et al. eq. (28)).
     rotations : tuple of int
         1-based numbers of the protocol rotations used.
     sampling_rate_hz : float
@@ -99,12 +99,12 @@ class GyroCalibration:
 
     @property
     def S(self) -> np.ndarray:
-        """S_ω of 003 eq. (1): raw = S ω + b."""
+        """S_ω of Särkkä et al. eq. (1): raw = S ω + b."""
         return np.linalg.inv(self.S_inv)
 
     @property
     def D(self) -> np.ndarray:
-        """Scale factors, the column norms of S_ω (003 section VII-A)."""
+        """Scale factors, the column norms of S_ω (Särkkä et al. section VII-A)."""
         return decompose(self.S)[0]
 
     @property
@@ -129,7 +129,7 @@ class GyroCalibration:
         return J
 
     def uncertainty(self, confidence: float = CONFIDENCE) -> dict:
-        """95 % half-widths of S, b, D, D⁻¹S and S⁻¹ in the shapes of the model (003 App. B)."""
+        """95 % half-widths of S, b, D, D⁻¹S and S⁻¹ in the shapes of the model (Särkkä et al. App. B)."""
         z = float(stats.norm.ppf(0.5 + confidence / 2.0))
         cov = self.covariance
         sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
@@ -400,7 +400,7 @@ def _validated(rotations, q_start, q_end, sampling_rate_hz, noise_cov, bias0, S_
     if 3 * K < n_theta:
         raise InsufficientDataError(
             f"{K} rotations give {3 * K} attitude equations for {n_theta} gyroscope parameters "
-            f"(003 section III-B): at least {-(-n_theta // 3)} rotations about different axes are needed"
+            f"(Särkkä et al. section III-B): at least {-(-n_theta // 3)} rotations about different axes are needed"
         )
     qs = np.asarray(q_start, float).reshape(K, 4)
     qe = np.asarray(q_end, float).reshape(K, 4)
@@ -463,7 +463,7 @@ def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance
     if chosen is None:
         chosen = float(grid[-1])
         gates.warn(
-            f"gyr: the parameters did not saturate for λ up to {chosen:g} (003 section IV-A-1); "
+            f"gyr: the parameters did not saturate for λ up to {chosen:g} (Särkkä et al. section IV-A-1); "
             "the last value was used"
         )
     return x, chosen, path, total_it

@@ -1,12 +1,12 @@
 """Calibration protocols: the static positions of a recording and the rotations between them.
 
 A protocol lists P positions, each with the attitude of the sensor in the calibration frame
-(003_17911d0910b68c7e.txt, section III-C: position 1 *is* the calibration frame), and the P − 1
+(Särkkä et al. (IEEE Sensors J. 2017), section III-C: position 1 *is* the calibration frame), and the P − 1
 transitions between them.  A transition is a known rotation (a right-hand rotation by an angle
-about an axis fixed in the calibration frame, 003 Fig. 1) or *free* (None): the device was moved
+about an axis fixed in the calibration frame, Särkkä et al. Fig. 1) or *free* (None): the device was moved
 but the rotation is not used for the gyroscope.
 
-- ``cube24``: DESIGN.md section 4, the 24 positions of 003 Fig. 1.
+- ``cube24``: docs/methods.md, the 24 positions of Särkkä et al. Fig. 1.
 - ``ferraris``: six static positions and one 360° rotation about each sensor axis (the protocol of
   the imucal library), with free moves between the six positions.
 - :func:`explicit_protocol`: any list of positions and rotations.
@@ -31,10 +31,10 @@ CUBE24_ROTATIONS: tuple[str, ...] = (
     "z+", "z+", "z+", "x+",
     "z+", "z+", "z+",
 )
-"""The 23 body rotations of cube24 in the calibration frame (DESIGN.md section 4)."""
+"""The 23 body rotations of cube24 in the calibration frame (docs/methods.md)."""
 
 CUBE24_UPS: tuple[str, ...] = ("+z",) * 4 + ("-x",) * 4 + ("-y",) * 4 + ("-z",) * 4 + ("+x",) * 4 + ("+y",) * 4
-"""The sensor axis that points up in each of the 24 positions on a level plane (DESIGN.md §4)."""
+"""The sensor axis that points up in each of the 24 positions on a level plane (docs/methods.md)."""
 
 _AXES = {"x": np.array([1.0, 0.0, 0.0]), "y": np.array([0.0, 1.0, 0.0]), "z": np.array([0.0, 0.0, 1.0])}
 _ROTATION_RE = re.compile(r"^\s*([xyz])\s*([+-])\s*(\d+(?:\.\d*)?)?\s*$")
@@ -112,9 +112,9 @@ class Protocol:
     ----------
     name : str
     attitudes : numpy.ndarray, shape (P, 3, 3)
-        R_p, sensor → calibration frame, in each position; ``C_c^s(t_p) = R_pᵀ`` of 003 eq. (6).
+        R_p, sensor → calibration frame, in each position; ``C_c^s(t_p) = R_pᵀ`` of Särkkä et al. eq. (6).
     quaternions : numpy.ndarray, shape (P, 4)
-        The same attitudes as quaternions, on the branch reached by the rotations (003 section
+        The same attitudes as quaternions, on the branch reached by the rotations (Särkkä et al. section
         III-B, footnote 2): after a 360° turn the quaternion is the negative of the one before.
     rotations : tuple of Rotation or None
         P − 1 transitions; None marks a free move.
@@ -122,7 +122,7 @@ class Protocol:
         The sensor axis that points up in each position when the plane is level.
     heading_known : bool
         True when every attitude is known about the vertical too (a jig), so that the direction
-        of the reference field (α, β of 003 eq. (8)) can be estimated.
+        of the reference field (α, β of Särkkä et al. eq. (8)) can be estimated.
     """
 
     name: str
@@ -187,7 +187,7 @@ def explicit_protocol(rotations, *, ups=None, name: str = "explicit", first_up: 
     name : str
     first_up : str
         Up axis of position 1 when ``ups`` is not given; position 1 defines the calibration
-        frame (003 section III-C), so only +z (R = I) keeps the sensor and calibration frames equal.
+        frame (Särkkä et al. section III-C), so only +z (R = I) keeps the sensor and calibration frames equal.
 
     Returns
     -------
@@ -224,7 +224,7 @@ def explicit_protocol(rotations, *, ups=None, name: str = "explicit", first_up: 
             R.append(_attitude_for_up(lab))
             q.append(quat.from_matrix(R[-1]))
         else:
-            # 003 Fig. 1: a rotation about an axis fixed in the calibration frame, R ← Rot R.
+            # Särkkä et al. Fig. 1: a rotation about an axis fixed in the calibration frame, R ← Rot R.
             dq = rot.quaternion()
             q.append(quat.multiply(dq, q[-1]))
             R.append(quat.to_matrix(q[-1]))
@@ -245,7 +245,7 @@ def explicit_protocol(rotations, *, ups=None, name: str = "explicit", first_up: 
 
 
 def cube24() -> Protocol:
-    """The 24-position cube protocol of DESIGN.md section 4 (003 Fig. 1)."""
+    """The 24-position cube protocol of docs/methods.md (Särkkä et al. Fig. 1)."""
     return explicit_protocol(CUBE24_ROTATIONS, ups=CUBE24_UPS, name="cube24")
 
 

@@ -1,9 +1,9 @@
-"""Quaternions for the cube method (003_17911d0910b68c7e.txt, section III-B).
+"""Quaternions for the cube method (Särkkä et al. (IEEE Sensors J. 2017), section III-B).
 
 Hamilton convention, scalar first: ``q = [w, x, y, z]``.  A quaternion q is the attitude of the
 sensor in the calibration frame: ``v_cal = q ⊗ v_sensor ⊗ q*``, i.e. ``R(q)`` maps sensor
 coordinates to calibration coordinates.  With the body angular velocity ω (what a gyroscope
-measures) the attitude obeys ``q̇ = ½ W(ω) q`` (003 eq. (2)), which is ``q̇ = ½ q ⊗ [0, ω]``.
+measures) the attitude obeys ``q̇ = ½ W(ω) q`` (Särkkä et al. eq. (2)), which is ``q̇ = ½ q ⊗ [0, ω]``.
 Everything here is vectorised over leading axes.
 """
 
@@ -38,7 +38,7 @@ def from_axis_angle(axis, angle_rad) -> np.ndarray:
     """Unit quaternion of a right-hand rotation by ``angle_rad`` about ``axis``.
 
     The branch follows the angle: a 360° rotation gives ``[-1, 0, 0, 0]``, not the identity,
-    which is how 003 section III-B tells a full turn from no turn (footnote 2).
+    which is how Särkkä et al. section III-B tells a full turn from no turn (footnote 2).
     """
     axis = np.asarray(axis, dtype=float)
     axis = axis / np.linalg.norm(axis, axis=-1, keepdims=True)
@@ -82,7 +82,7 @@ def from_matrix(R: np.ndarray) -> np.ndarray:
 
 
 def omega_matrix(omega: np.ndarray) -> np.ndarray:
-    """W(ω) of 003 eq. (2), shape (..., 4, 4)."""
+    """W(ω) of Särkkä et al. eq. (2), shape (..., 4, 4)."""
     wx, wy, wz = np.moveaxis(np.asarray(omega, dtype=float), -1, 0)
     o = np.zeros_like(wx)
     return np.stack(
@@ -97,7 +97,7 @@ def omega_matrix(omega: np.ndarray) -> np.ndarray:
 
 
 def xi_matrix(q: np.ndarray) -> np.ndarray:
-    """Ξ(q), shape (..., 4, 3), with ``W(ω) q = Ξ(q) ω`` (W of 003 eq. (2))."""
+    """Ξ(q), shape (..., 4, 3), with ``W(ω) q = Ξ(q) ω`` (W of Särkkä et al. eq. (2))."""
     w, x, y, z = np.moveaxis(np.asarray(q, dtype=float), -1, 0)
     return np.stack(
         [
@@ -122,7 +122,7 @@ def cumulative_product(steps: np.ndarray) -> np.ndarray:
 
 
 def integrate(omega: np.ndarray, step_s: float, q0) -> np.ndarray:
-    """Forward solution of 003 eq. (2) from ``q0`` over samples of body angular velocity.
+    """Forward solution of Särkkä et al. eq. (2) from ``q0`` over samples of body angular velocity.
 
     Each step rotates by the trapezoidal mean ``(ω_j + ω_{j+1}) / 2`` over ``step_s`` (exact
     exponential of that mean, so the quaternion stays on the unit sphere).

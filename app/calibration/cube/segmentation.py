@@ -1,11 +1,11 @@
 """Segmentation of one recording into still positions and the rotations between them.
 
-003_17911d0910b68c7e.txt section II: the device rests about 5 s in each position and is turned
+Särkkä et al. (IEEE Sensors J. 2017) section II: the device rests about 5 s in each position and is turned
 in about 2 s between positions.  A sample is *still* when the gyroscope rate, averaged over a
 short window after removing the bias, stays below a threshold; still runs of at least
 ``min_static_s`` are the positions.  Their means are taken after trimming ``trim_s`` from both
 ends; each rotation is integrated from ``pad_s`` before it starts to ``pad_s`` after it ends, so
-that it begins and ends at rest (003 eq. (5) anchors both ends).
+that it begins and ends at rest (Särkkä et al. eq. (5) anchors both ends).
 """
 
 from __future__ import annotations

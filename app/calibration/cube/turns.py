@@ -1,8 +1,8 @@
-"""One turn of a guided cube sequence, checked as it happens (003_17911d0910b68c7e.txt, VII-A-1).
+"""One turn of a guided cube sequence, checked as it happens (Särkkä et al. (IEEE Sensors J. 2017), VII-A-1).
 
 The wizard checks each rotation right after it is made, so that a wrong turn is named at once
 instead of spoiling the rest of the sequence: the gyroscope's rates over the move are integrated
-by 003 eq. (2) from the protocol's attitude of the position left, and the end quaternion must
+by Särkkä et al. eq. (2) from the protocol's attitude of the position left, and the end quaternion must
 match the protocol's next attitude within 0.1 per element (the paper's test).  When it does not,
 the rotation actually made is named in words, from the integrated net rotation.
 
@@ -33,7 +33,7 @@ TURN_WORDS = {
     "y+": "tip the cube 90° about y (its top moving towards +x)",
     "y-": "tip the cube 90° about y (its top moving towards −x)",
 }
-"""What each body rotation (calibration frame, right-hand rule, DESIGN.md section 4) means to a person."""
+"""What each body rotation (calibration frame, right-hand rule, docs/methods.md) means to a person."""
 
 MADE_WORDS = {
     "z+": "a quarter turn counter-clockwise (seen from above)",
@@ -53,7 +53,7 @@ class TurnCheck:
     Attributes
     ----------
     ok : bool
-        The end attitude matches the protocol's within 003's tolerance.
+        The end attitude matches the protocol's within Särkkä et al.'s tolerance.
     expected : str
         The protocol's rotation label (``z+``, ``x-`` …).
     made : str
@@ -64,7 +64,7 @@ class TurnCheck:
     end_error_deg : float
         Angle between the integrated and the protocol's end attitudes.
     max_element_difference : float
-        Largest difference of a quaternion element (003 VII-A-1).
+        Largest difference of a quaternion element (Särkkä et al. section VII-A-1).
     gyr_scale : float
         Factor that brought the rates to rad/s (π/180 for deg/s); the other unit's when it fitted.
     message : str
@@ -154,7 +154,7 @@ def check_turn(gyr, t_ms, protocol: Protocol, k: int, *, bias, gyr_scale: float)
     other = 1.0 if gyr_scale != 1.0 else DEG
 
     def attempt(scale):
-        q_end = quat.integrate(rates * scale, h, q0)[-1]  # 003 eq. (2)
+        q_end = quat.integrate(rates * scale, h, q0)[-1]  # Särkkä et al. eq. (2)
         diff = float(np.max(np.abs(q_end - q_exp)))
         return q_end, diff
 

@@ -9,7 +9,7 @@ Which accelerometer file holds gravity (awesome-sensor-logger UNITS.md, CROSSPLA
 * ``Accelerometer.csv``: user acceleration *without* gravity on both platforms — refused.
 
 iOS and Android differ by a sign on all three acceleration axes; with "Standardise Units & Frames"
-on, iOS follows Android (+g on the up axis, DESIGN.md section 2).  The zip's ``Metadata.csv`` gives
+on, iOS follows Android (+g on the up axis, docs/methods.md).  The zip's ``Metadata.csv`` gives
 ``platform`` and the standardisation flag (a column whose name contains ``standardi``, e.g.
 ``standardisation``; absent in exports older than the option, meaning off).  The sign is flipped
 only when the data confirm the platform: a raw iOS stream is the only one in g, so readings in g

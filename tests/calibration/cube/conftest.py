@@ -9,7 +9,7 @@ DATA = Path(__file__).resolve().parents[2] / "data"
 
 @pytest.fixture(scope="session")
 def table7():
-    """003 Table VII as {sensor: {column: array}} (rows x, y, z)."""
+    """Särkkä et al. Table VII as {sensor: {column: array}} (rows x, y, z)."""
     with open(DATA / "003_table7.csv") as fh:
         rows = [r for r in csv.DictReader(line for line in fh if not line.startswith("#"))]
     out = {}

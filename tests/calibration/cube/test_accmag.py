@@ -1,4 +1,4 @@
-"""Accelerometer and magnetometer GLS of 003 (eqs. (6)-(8), (13), Appendix A, Tables VI-VII)."""
+"""Accelerometer and magnetometer GLS of Särkkä et al. (eqs. (6)-(8), (13), Appendix A, Tables VI-VII)."""
 
 import numpy as np
 import pytest
@@ -69,7 +69,7 @@ def test_table_vii_half_widths_are_reproduced_from_the_design(sensor, table7):
     for j, col in enumerate(("M1_hw", "M2_hw", "M3_hw")):
         np.testing.assert_allclose(hw_M_paper[:, j], table7[sensor][col], rtol=0.08)
     hw_angles = np.degrees(hw[12:])
-    expected = {"acc": [0.0011, 0.0011], "mag": [8.2e-4, 8.1e-4]}[sensor]  # 003 section VII-C
+    expected = {"acc": [0.0011, 0.0011], "mag": [8.2e-4, 8.1e-4]}[sensor]  # Särkkä et al. section VII-C
     np.testing.assert_allclose(hw_angles, expected, rtol=0.05)
 
 
@@ -94,7 +94,7 @@ def _study(sensor, runs, seed):
 def test_simulation_unbiased_and_intervals_cover_at_95_percent(sensor, seed):
     runs = 150
     truth, est, hws = _study(sensor, runs, seed)
-    # Unbiased (003 section VII-C): every mean within 4 standard errors of the truth.
+    # Unbiased (Särkkä et al. section VII-C): every mean within 4 standard errors of the truth.
     z = (est.mean(axis=0) - truth) / (est.std(axis=0, ddof=1) / np.sqrt(runs))
     assert np.all(np.abs(z) < 4.0), z
     # α and β recovered (Table VII: 15.0000 and 10.0000).
@@ -119,7 +119,7 @@ def test_fit_recovers_exact_parameters_without_noise():
     np.testing.assert_allclose(r.S, S, rtol=1e-9)
     np.testing.assert_allclose(r.b, b, rtol=1e-9)
     assert abs(r.alpha_deg - 15) < 1e-7 and abs(r.beta_deg - 10) < 1e-7
-    # Calibrated means are the field in the sensor frame, R_pᵀ C_l^c B (003 eq. (7)).
+    # Calibrated means are the field in the sensor frame, R_pᵀ C_l^c B (Särkkä et al. eq. (7)).
     from app.calibration.cube.accmag import reference_direction
 
     expected = np.einsum("pkj,k->pj", p.attitudes, reference_direction(np.radians(15), np.radians(10)) * FIELD_UT)
@@ -161,11 +161,11 @@ def test_eq8_matrix_is_the_product_of_the_two_inclinations_and_dof_is_72_minus_1
     a, b = np.radians(15.0), np.radians(10.0)
     Rx = np.array([[1, 0, 0], [0, np.cos(a), np.sin(a)], [0, -np.sin(a), np.cos(a)]])
     Ry = np.array([[np.cos(b), 0, -np.sin(b)], [0, 1, 0], [np.sin(b), 0, np.cos(b)]])
-    np.testing.assert_allclose(direction_matrix(a, b), Rx @ Ry, atol=1e-15)  # 003 eq. (8)
+    np.testing.assert_allclose(direction_matrix(a, b), Rx @ Ry, atol=1e-15)  # Särkkä et al. eq. (8)
     np.testing.assert_allclose(reference_direction(a, b), (Rx @ Ry)[:, 2], atol=1e-15)
     np.testing.assert_allclose(direction_matrix(0.0, 0.0), np.eye(3))
     p = cube24()
     m, c, n = simulate_position_means(np.random.default_rng(8), p, sensor="acc")
     r = fit_field_sensor(m, c, n, p.attitudes, reference=GRAVITY)
-    assert r.metrics["dof"] == 3 * 24 - 14  # 003 section III-C: 72 equations, 14 unknowns
+    assert r.metrics["dof"] == 3 * 24 - 14  # Särkkä et al. section III-C: 72 equations, 14 unknowns
     assert r.metrics["iterations"] < 8  # section VII-A: converged in less than 8 iterations

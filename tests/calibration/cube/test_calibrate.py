@@ -1,4 +1,4 @@
-"""calibrate_cube end to end: segmentation, drift, sequence checks and the three sensors (003)."""
+"""calibrate_cube end to end: segmentation, drift, sequence checks and the three sensors (Särkkä et al.)."""
 
 import json
 import subprocess
@@ -33,7 +33,7 @@ def test_cube24_session_recovers_all_three_sensors(good):
     assert r.first_wrong_rotation is None and len(r.sequence) == 24  # 23 rotations + the return
     assert all(e["ok"] for e in r.sequence)
     assert r.metrics["n_positions_found"] == 25 and r.metrics["rotations_used"] == list(range(1, 24))
-    assert r.drift["acc"].significant  # 003 section II
+    assert r.drift["acc"].significant  # Särkkä et al. section II
     for name in ("acc", "gyr", "mag"):
         res = getattr(r, name)
         S, b = true_parameters(name)

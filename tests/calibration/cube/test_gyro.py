@@ -1,4 +1,4 @@
-"""Gyroscope of 003 (eqs. (4)-(5), (9)-(11), Appendix B) on simulated rotations (section V-A)."""
+"""Gyroscope of Särkkä et al. (eqs. (4)-(5), (9)-(11), Appendix B) on simulated rotations (section V-A)."""
 
 import numpy as np
 import pytest
@@ -26,7 +26,7 @@ def test_quaternion_helpers_agree():
     q = rng.normal(size=(5, 4))
     q /= np.linalg.norm(q, axis=1, keepdims=True)
     w = rng.normal(size=(5, 3))
-    # W(ω) q = Ξ(q) ω = q ⊗ [0, ω]  (003 eq. (2))
+    # W(ω) q = Ξ(q) ω = q ⊗ [0, ω]  (Särkkä et al. eq. (2))
     np.testing.assert_allclose(quat.omega_matrix(w) @ q[:, :, None], quat.xi_matrix(q) @ w[:, :, None])
     np.testing.assert_allclose((quat.omega_matrix(w) @ q[:, :, None])[:, :, 0],
                                quat.multiply(q, np.c_[np.zeros(5), w]), atol=1e-12)
@@ -61,7 +61,7 @@ def test_lambda_saturation_rule_and_fixed_lambda_agree():
     rots, qs, qe, still = _rotations(s)
     auto = fit_gyroscope(rots, qs, qe, sampling_rate_hz=50.0, noise_cov=np.cov(still.T), bias0=still.mean(0))
     path = auto.metrics["lambda_path"]
-    assert path[-1]["max_change"] < 1e-7  # saturated (003 section IV-A-1)
+    assert path[-1]["max_change"] < 1e-7  # saturated (Särkkä et al. section IV-A-1)
     fixed = fit_gyroscope(rots, qs, qe, sampling_rate_hz=50.0, noise_cov=np.cov(still.T), bias0=still.mean(0), lam=1e4)
     np.testing.assert_allclose(auto.S_inv, fixed.S_inv, atol=1e-6)
     np.testing.assert_allclose(auto.b, fixed.b, atol=1e-6)

@@ -1,4 +1,4 @@
-"""Protocols: cube24 of DESIGN.md section 4, ferraris, explicit lists."""
+"""Protocols: cube24 of docs/methods.md, ferraris, explicit lists."""
 
 import numpy as np
 import pytest
