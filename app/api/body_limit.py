@@ -14,7 +14,7 @@ import json
 from starlette.datastructures import Headers
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from app.api.errors import JsonTooLarge
+from app.api.errors import PayloadTooLarge
 
 
 class JsonBodyLimit:
@@ -69,7 +69,7 @@ class JsonBodyLimit:
         await self.app(scope, counting_receive, guarded_send)
 
     async def _refuse(self, send: Send) -> None:
-        exc = JsonTooLarge(self.limit_mb)
+        exc = PayloadTooLarge(self.limit_mb, "json")
         body = json.dumps({"detail": str(exc), "code": exc.code}).encode()
         await send({"type": "http.response.start", "status": 413,
                     "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),

@@ -47,27 +47,19 @@ LOG_FORMAT_CODES = {413: "payload_too_large", 415: "unsupported_media"}
 
 
 class PayloadTooLarge(Exception):
-    """An upload exceeds TRICAL_MAX_UPLOAD_MB."""
+    """An upload above TRICAL_MAX_UPLOAD_MB, or a JSON body above TRICAL_MAX_JSON_MB (the latter refused
+    by app.api.body_limit before it is parsed)."""
 
     code = "payload_too_large"
+    LIMITS = {
+        "upload": ("the upload", "TRICAL_MAX_UPLOAD_MB", "split the recording or raise the limit"),
+        "json": ("the JSON body", "TRICAL_MAX_JSON_MB", "send fewer samples per request (e.g. upload long "
+                 "recordings with POST /api/v1/recordings) or raise the limit"),
+    }
 
-    def __init__(self, limit_mb: float):
-        super().__init__(
-            f"the upload is larger than the limit of {limit_mb:g} MiB (TRICAL_MAX_UPLOAD_MB): "
-            "split the recording or raise the limit"
-        )
-
-
-class JsonTooLarge(Exception):
-    """A JSON request body exceeds TRICAL_MAX_JSON_MB (refused by app.api.body_limit before parsing)."""
-
-    code = "payload_too_large"
-
-    def __init__(self, limit_mb: float):
-        super().__init__(
-            f"the JSON body is larger than the limit of {limit_mb:g} MiB (TRICAL_MAX_JSON_MB): send fewer "
-            "samples per request (e.g. upload long recordings with POST /api/v1/recordings) or raise the limit"
-        )
+    def __init__(self, limit_mb: float, kind: str = "upload"):
+        what, variable, fix = self.LIMITS[kind]
+        super().__init__(f"{what} is larger than the limit of {limit_mb:g} MiB ({variable}): {fix}")
 
 
 def describe_validation(exc: RequestValidationError) -> str:
