@@ -34,7 +34,9 @@ function el(tag, text, attrs = {}) {
   return e;
 }
 
+// Writes only what changed: render runs on every motion sample.
 function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
+function setHidden(node, hidden) { if (node.hidden !== hidden) node.hidden = hidden; }
 
 const uploadLink = (text = "upload a log instead") => el("a", text, { href: "/" });
 
@@ -84,26 +86,26 @@ const rendered = { seq: 0, problem: null, turnAlert: null, calibration: null, do
 
 function render(s) {
   const v = s.view;
-  $("#start").hidden = !v.start;
-  $("#start-btn").hidden = v.startHidden;
-  $("#start-btn").disabled = v.startDisabled;
+  setHidden($("#start"), !v.start);
+  setHidden($("#start-btn"), v.startHidden);
+  if ($("#start-btn").disabled !== v.startDisabled) $("#start-btn").disabled = v.startDisabled;
   setText($("#start-btn"), v.startLabel);
   if (v.resume !== null) setText($("#resume"), v.resume);
-  $("#resume").hidden = v.resume === null;
+  setHidden($("#resume"), v.resume === null);
   if (v.resumePic !== rendered.resumePic && v.resumePic !== null) $("#resume-pic").innerHTML = cubeSvg(v.resumePic);
   rendered.resumePic = v.resumePic;
-  $("#resume-pic").hidden = v.resumePic === null;
+  setHidden($("#resume-pic"), v.resumePic === null);
   renderProblem(v);
-  $("#key-box").hidden = !v.keyBox;
-  $("#capture").hidden = !v.capture;
+  setHidden($("#key-box"), !v.keyBox);
+  setHidden($("#capture"), !v.capture);
   if (cube) renderCube(s);
   else renderPoses(s);
   setText($("#instruction"), v.instruction);
   renderLive(s);
-  $("#result").hidden = !v.result;
+  setHidden($("#result"), !v.result);
   renderResult(s);
   renderDownloads(v);
-  $("#start-over").hidden = !v.startOver;
+  setHidden($("#start-over"), !v.startOver);
   if (v.announcement.seq !== rendered.seq) {
     rendered.seq = v.announcement.seq;
     $("#status").textContent = v.announcement.text;
@@ -121,7 +123,7 @@ function renderProblem(v) {
     box.replaceChildren(...parts.map((p) => (typeof p === "string" ? document.createTextNode(p) : p)));
   }
   rendered.problem = v.problem;
-  box.hidden = !v.problem;
+  setHidden(box, !v.problem);
 }
 
 function renderPoses(s) {
@@ -133,7 +135,7 @@ function renderPoses(s) {
     if (li.dataset.state !== shown) li.dataset.state = shown;
     li.classList.toggle("current", pose === s.view.current);
     setText(li.querySelector(".pose-state"), { done: "captured ✓", todo: "to do", redo: "to redo" }[shown]);
-    li.querySelector(".redo").hidden = shown !== "done";
+    setHidden(li.querySelector(".redo"), shown !== "done");
   }
 }
 
@@ -160,12 +162,12 @@ function renderCube(s) {
   figure($("#cube-target"), k, null, `Position ${k}: sensor ${upOf(k)} up.`);
   setText($("#cube-count"), `${n} of ${CUBE_POSITIONS} positions captured`);
   if ($("#cube-count").dataset.captured !== String(n)) $("#cube-count").dataset.captured = String(n);
-  $("#cube-progress").value = n;
+  if ($("#cube-progress").value !== n) $("#cube-progress").value = n;
   const redo = $("#redo-last");
-  redo.hidden = n === 0 || redoing;
+  setHidden(redo, n === 0 || redoing);
   setText(redo, `Redo position ${n}`);
   const hint = $("#redo-hint");
-  hint.hidden = !(resumed && n >= 2 && !log?.ends.has(n - 1) && !redoing);
+  setHidden(hint, !(resumed && n >= 2 && !log?.ends.has(n - 1) && !redoing));
   setText(hint, `After a reload, the page no longer has the turn into position ${n}: to redo it, put the `
     + `cube back in position ${n - 1} first, then press Redo and turn it into position ${n} again.`);
   renderTurnAlert(s.view);
@@ -184,7 +186,7 @@ function renderTurnAlert(v) {
       box.replaceChildren();
     }
   }
-  box.hidden = !v.turnAlert;
+  setHidden(box, !v.turnAlert);
 }
 
 // The live view: the gravity bars, the stillness and the pose seen, at most every 100 ms.
