@@ -47,6 +47,12 @@ class Out(BaseModel):
 
 
 class HoldoutMetrics(Out):
+    cv_error_mg: float | None = Field(None, description=(
+        "What to expect on new orientations: mean | |a_i| − g | in mg of g, each reading calibrated by the fit "
+        "made without it (cv_scheme); null with cv_note where the fit has no redundancy."))
+    cv_error_max_mg: float | None = Field(None, description="The largest of those errors.")
+    cv_scheme: Literal["leave-one-out", "10-fold"] | None = None
+    cv_note: str | None = None
     holdout_count: int | None = Field(None, description="Held-out readings (`holdout` of the request).")
     holdout_norm_error_max: float | None = Field(None, description="Largest relative norm error of the held-out readings, calibrated.")
     holdout_norm_error_max_raw: float | None = Field(None, description="The same, raw.")
@@ -70,16 +76,18 @@ class AffineUncertainty(Out):
 
 
 class AffineMetrics(HoldoutMetrics):
-    count: int
-    dof: int
-    condition_number: float = Field(description="Of the normalised design (rows (a/g, 1)).")
-    fit_error_max: float = Field(description="max ‖X⁻¹(m − y) − a‖ / ‖a‖ over the readings (ESGI'95 section 3.5).")
-    fit_error_max_raw: float = Field(description="max ‖m − a‖ / ‖a‖.")
-    fit_improvement: float | None
-    norm_error_max: float = Field(description="max | |a_cal| − g | / g.")
-    norm_error_max_raw: float
-    norm_improvement: float | None
-    rms_residual: float
+    """Every figure may be null where it cannot be computed (e.g. a ratio over a zero error)."""
+
+    count: int | None = None
+    dof: int | None = None
+    condition_number: float | None = Field(None, description="Of the normalised design (rows (a/g, 1)).")
+    fit_error_max: float | None = Field(None, description="max ‖X⁻¹(m − y) − a‖ / ‖a‖ over the readings (ESGI'95 section 3.5).")
+    fit_error_max_raw: float | None = Field(None, description="max ‖m − a‖ / ‖a‖.")
+    fit_improvement: float | None = None
+    norm_error_max: float | None = Field(None, description="max | |a_cal| − g | / g.")
+    norm_error_max_raw: float | None = None
+    norm_improvement: float | None = None
+    rms_residual: float | None = None
 
 
 class AffineReading(Out):
@@ -158,23 +166,23 @@ class NonOrthogonalUncertainty(Out):
 
 
 class MagnitudeMetrics(HoldoutMetrics):
-    count: int
-    dof: int
-    condition_number: float | None
-    converged: bool
-    error_before_mg: float = Field(description="Mean | |m| − g | of the fitted readings, raw, in mg of g (in-sample).")
-    error_after_mg: float = Field(description="The same, calibrated (in-sample).")
-    norm_error_max: float
-    norm_error_max_raw: float
+    count: int | None = None
+    dof: int | None = None
+    condition_number: float | None = None
+    converged: bool | None = None
+    error_before_mg: float | None = Field(None, description="Mean | |m| − g | of the fitted readings, raw, in mg of g (in-sample).")
+    error_after_mg: float | None = Field(None, description="The same, calibrated (in-sample).")
+    norm_error_max: float | None = None
+    norm_error_max_raw: float | None = None
 
 
 class NonOrthogonalMetrics(MagnitudeMetrics):
-    angle_deviation_max_deg: float
-    cost_17: float = Field(description="The cost of ESGI'95 eq. (17) at the solution.")
-    norm_improvement: float | None
-    rms_norm_residual: float
-    rough_s: Vec3Out = Field(description="Shifts of the rough orthogonal fit (step 2 of section 2.2).")
-    rough_b: Vec3Out
+    angle_deviation_max_deg: float | None = None
+    cost_17: float | None = Field(None, description="The cost of ESGI'95 eq. (17) at the solution.")
+    norm_improvement: float | None = None
+    rms_norm_residual: float | None = None
+    rough_s: Vec3Out | None = Field(None, description="Shifts of the rough orthogonal fit (step 2 of section 2.2).")
+    rough_b: Vec3Out | None = None
 
 
 class NonOrthogonalOut(StillReadingsCommon):
@@ -204,10 +212,10 @@ class TriangularUncertainty(Out):
 
 class TriangularMetrics(MagnitudeMetrics):
     solver: Solver
-    cost_12: float = Field(description="The cost of IEEE Access eq. (12) at the solution.")
-    improvement: float | None = Field(description="error_before_mg / error_after_mg (eq. (21)).")
-    iterations: int
-    noise_estimate: float
+    cost_12: float | None = Field(None, description="The cost of IEEE Access eq. (12) at the solution.")
+    improvement: float | None = Field(None, description="error_before_mg / error_after_mg (eq. (21)).")
+    iterations: int | None = None
+    noise_estimate: float | None = None
     h: float | None = Field(None, description="Finite-difference step of the descent solvers.")
     distance_to_lm: float | None = Field(None, description="Descent solvers: distance of p to the lm solution.")
     p_raw: list[int] | None = Field(None, description="fixed16/fixed32: the parameters as the integers the MCU holds.")
@@ -225,11 +233,11 @@ class TriangularOut(StillReadingsCommon):
 
 
 class AutocalMetrics(Out):
-    count: int = Field(description="Calibration points selected.")
-    count_control: int = Field(description="Control points held out.")
-    error_before_mg: float | None = Field(description="On the control points, raw (Farago et al., Table 3).")
-    error_after_mg: float | None = Field(description="On the control points, calibrated.")
-    improvement_pct: float | None
+    count: int | None = Field(None, description="Calibration points selected.")
+    count_control: int | None = Field(None, description="Control points held out.")
+    error_before_mg: float | None = Field(None, description="On the control points, raw (Farago et al., Table 3).")
+    error_after_mg: float | None = Field(None, description="On the control points, calibrated.")
+    improvement_pct: float | None = None
     fit_condition_number: float | None = None
     fit_converged: bool | None = None
     fit_error_before_mg: float | None = None
@@ -240,11 +248,11 @@ class AutocalMetrics(Out):
 
 
 class ComparisonRow(Out):
-    K: Mat3Out
-    o: Vec3Out
-    ok: bool
-    count: int
-    count_control: int
+    K: Mat3Out | None
+    o: Vec3Out | None
+    ok: bool | None
+    count: int | None
+    count_control: int | None
     reasons: list[str]
     error_before_mg: float | None
     error_after_mg: float | None
@@ -252,10 +260,10 @@ class ComparisonRow(Out):
 
 
 class RecordingSummary(Out):
-    format: str
-    n_samples: int
-    sampling_rate_hz: float
-    duration_s: float
+    format: str | None
+    n_samples: int | None
+    sampling_rate_hz: float | None
+    duration_s: float | None
 
 
 class AutocalOut(CalibrationCommon):
