@@ -17,7 +17,9 @@ import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
 from app.calibration.errors import InsufficientDataError
+from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
 from app.calibration.result import OUTPUT_UNIT
+from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
@@ -159,14 +161,19 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
         if any(r.up is None for r in readings):
             raise CalibrationError("six_position readings each need an `up` label (+x, -x, +y, -y, +z, -z)")
         result = fit_six_position(means, [r.up for r in readings], gravity=gravity, stds=stds, **gates)
+        cv = {"cv_error_mg": None, "cv_error_max_mg": None, "cv_note": SIX_POSITION_NOTE}
     elif method == "orientations":
-        result = fit_orientations(
-            means, [r.up for r in readings], expected=[r.expected for r in readings],
-            gravity=gravity, stds=stds, **gates,
-        )
+        def fit(idx):
+            return fit_orientations(
+                [means[i] for i in idx], [readings[i].up for i in idx], expected=[readings[i].expected for i in idx],
+                gravity=gravity, stds=None if stds is None else [stds[i] for i in idx], **gates,
+            )
+
+        result = fit(range(len(readings)))
+        cv = cross_validated_error(fit, means, gravity)
     else:  # pragma: no cover - the schemas only route these two here
         raise CalibrationError(f"unknown known-orientation method {method!r}")
-    return result, holdout_metrics(result, holdout)
+    return result, {**cv, **holdout_metrics(result, holdout)}
 
 
 def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
@@ -182,20 +189,25 @@ def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[lis
 
 
 def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: str = "lm", holdout=None):
+    """Run ``nonorthogonal`` (Georgieva et al. Approach 1) or ``triangular`` (Farago et al.) on still readings;
+    the extra metrics hold the cross-validated error (app.calibration.cross_validation) and the holdout's."""
     # Imported here, not at the top: the models need scipy.optimize, which the CLI's autocal
     # imports on the other core while detection runs (tests/test_cli_autocal.py).
     from app.calibration.nonorthogonal import fit_nonorthogonal
     from app.calibration.triangular import fit_triangular
 
-    """Run ``nonorthogonal`` (Georgieva et al. Approach 1) or ``triangular`` (Farago et al.) on still readings."""
+    m = as_vectors(means, "means")
     gates = dict(plausible_scale=None, max_offset=math.inf) if unit == "raw" else {}
     if method == "nonorthogonal":
-        result = fit_nonorthogonal(means, gravity=gravity, **gates)
+        def fit(idx):
+            return fit_nonorthogonal(m[idx], gravity=gravity, **gates)
     elif method == "triangular":
-        result = fit_triangular(means, gravity=gravity, solver=solver, **gates)
+        def fit(idx):
+            return fit_triangular(m[idx], gravity=gravity, solver=solver, **gates)
     else:  # pragma: no cover - the schemas only route these two here
         raise CalibrationError(f"unknown magnitude method {method!r}")
-    return result, holdout_metrics(result, holdout)
+    result = fit(np.arange(len(m)))
+    return result, {**cross_validated_error(fit, m, gravity), **holdout_metrics(result, holdout)}
 
 
 GYR_TO_RAD_S = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "raw": 1.0}
