@@ -18,7 +18,6 @@ import numpy as np
 from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
 from app.calibration.errors import InsufficientDataError
 from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
-from app.calibration.result import OUTPUT_UNIT
 from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
@@ -250,12 +249,12 @@ def apply_calibration(body: dict, samples, sensor: str = "acc"):
 def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:
     """The stored and returned form of a calibration: the result's plain form with the metrics and
     notes of the request and the caller's fields (device_id, label, the recording's id…)."""
-    if getattr(result, "unit", unit) != unit and "unit" in {f.name for f in dataclasses.fields(result)}:
+    if result.unit != unit:  # the core fits numbers; the caller knows their unit (the cube's is in its units)
         result = dataclasses.replace(result, unit=unit)
     body = result.to_dict()
     body["metrics"].update(extra_metrics)
     body["warnings"] = list(body["warnings"]) + notes
-    body.update(unit=unit, output_unit=OUTPUT_UNIT[unit], **fields)
+    body.update(fields)
     return body
 
 

@@ -36,7 +36,6 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
-from app.calibration.errors import InsufficientDataError
 from app.io.errors import ExportError, LogFormatError
 from app.requests import describe_errors
 from app.store import ConflictError, NotFoundError
@@ -72,14 +71,6 @@ def error_response(status: int, detail: str, code: str, headers: dict | None = N
     return JSONResponse({"detail": detail, "code": code}, status_code=status, headers=headers)
 
 
-def calibration_code(exc: CalibrationError) -> str:
-    """A calibration error's code: its own, else ``insufficient_data`` or ``calibration_refused``."""
-    own = getattr(exc, "code", None)
-    if own:
-        return own
-    return "insufficient_data" if isinstance(exc, InsufficientDataError) else "calibration_refused"
-
-
 def install_error_handlers(app: FastAPI) -> None:
     """Register the mapping of every error class to its HTTP status and code."""
 
@@ -89,7 +80,7 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(CalibrationError)
     async def _calibration(request: Request, exc: CalibrationError):
-        return error_response(422, str(exc), calibration_code(exc))
+        return error_response(422, str(exc), exc.code)  # calibration_refused, insufficient_data, not_still…
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):

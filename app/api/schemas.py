@@ -46,7 +46,9 @@ class Out(BaseModel):
     model_config = ConfigDict(extra="allow")
 
 
-class HoldoutMetrics(Out):
+class OutOfSampleMetrics(Out):
+    """Figures of readings the fit did not see: each left out in turn (cv_*), and the request's `holdout`."""
+
     cv_error_mg: float | None = Field(None, description=(
         "What to expect on new orientations: mean | |a_i| − g | in mg of g, each reading calibrated by the fit "
         "made without it (cv_scheme); null with cv_note where the fit has no redundancy."))
@@ -75,7 +77,7 @@ class AffineUncertainty(Out):
     note: str | None = None
 
 
-class AffineMetrics(HoldoutMetrics):
+class AffineMetrics(OutOfSampleMetrics):
     """Every figure may be null where it cannot be computed (e.g. a ratio over a zero error)."""
 
     count: int | None = None
@@ -165,7 +167,7 @@ class NonOrthogonalUncertainty(Out):
     note: str | None = None
 
 
-class MagnitudeMetrics(HoldoutMetrics):
+class MagnitudeMetrics(OutOfSampleMetrics):
     count: int | None = None
     dof: int | None = None
     condition_number: float | None = None

@@ -49,17 +49,13 @@ def accelerometer_correction(body: dict) -> AffineCorrection:
     return acc[0]
 
 
-def correction_source(body: dict) -> str:
-    """Where the calibration's correction comes from (paper and equation)."""
-    return type(_result(body)).CORRECTION_SOURCE
-
-
-def describe(body: dict) -> list[str]:
-    """Lines naming the calibration, for the comment header of a text export."""
+def describe(body: dict, source: str) -> list[str]:
+    """Lines naming the calibration, for the comment header of a text export; ``source`` is its
+    correction's (:attr:`AffineCorrection.source`)."""
     return [
         f"trical calibration {body['id']}",
         f"method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}",
         f"input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}",
-        f"calibrated a = M (m - o): {correction_source(body)}",
+        f"calibrated a = M (m - o): {source}",
     ]
 

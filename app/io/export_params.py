@@ -83,6 +83,7 @@ def offset_scale(body: dict, target: str) -> dict:
         "residual_max_mps2": residual_max * to_mps2,
         "output_unit": body.get("output_unit"),
         "matrix": M,
+        "source": correction.source,
     }
 
 
@@ -128,7 +129,7 @@ def to_ardupilot(body: dict) -> Export:
             + f" (ArduPilot's ranges, {ARDUPILOT_RANGE_SOURCE}). Check the log's unit (g read as m/s² or the "
             "reverse gives such values) and that the axes are the IMU's; otherwise use the json or c export"
         )
-    comments = describe(body) + [
+    comments = describe(body, p["source"]) + [
         f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_SOURCE}):",
         "  a_i = INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i), m and INS_ACCOFFS in m/s/s",
     ] + _residual_lines(p, "ArduPilot")
@@ -150,7 +151,7 @@ def to_px4(body: dict) -> Export:
                if np.any(p["scale"] < 0) else "")
             + ": check the log's unit and axes, or use the json export"
         )
-    comments = describe(body) + [
+    comments = describe(body, p["source"]) + [
         f"PX4 applies, per axis in the sensor frame ({PX4_SOURCE}):",
         "  a_i = CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF), m and CAL_ACC0_iOFF in m/s^2",
         "Set CAL_ACC0_ID to the accelerometer's device id: PX4 uses the calibration slot whose id matches.",

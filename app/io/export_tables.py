@@ -70,7 +70,7 @@ def to_yaml(body: dict) -> Export:
             fields[p + "input_unit"], fields[p + "output_unit"] = c.input_unit, c.output_unit
         fields[p + "offset"] = [float(v) for v in c.o]
         fields[p + "matrix"] = [[float(v) for v in row] for row in c.M]
-    lines = [f"# {c}" for c in describe(body)]
+    lines = [f"# {c}" for c in describe(body, corrections[0].source)]
     lines += [f"{k}: {_yaml_value(v)}" for k, v in fields.items()]
     return Export("\n".join(lines) + "\n", "application/yaml", f"trical_{body['id']}.yaml")
 
@@ -83,7 +83,7 @@ def to_csv(body: dict) -> Export:
         for v in [*c.o, *c.M.ravel()]:
             yaml_number(float(v))  # refuses non-finite numbers
     out = io.StringIO()
-    for line in describe(body) + ["a = M (m - o): row offset is o, rows M_x, M_y, M_z are the rows of M"]:
+    for line in describe(body, corrections[0].source) + ["a = M (m - o): row offset is o, rows M_x, M_y, M_z are the rows of M"]:
         out.write(f"# {line}\n")
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(["quantity", "x", "y", "z"])

@@ -18,7 +18,7 @@ import numpy as np
 from ..correction import AffineCorrection
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates
-from ..result import OUTPUT_UNIT, CalibrationResult
+from ..result import CalibrationResult
 from ..uncertainty import CONFIDENCE
 from ..validation import as_vectors, check_gravity
 from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
@@ -105,7 +105,7 @@ class CubeCalibration(CalibrationResult):
             if res is None or getattr(res, "S", None) is None:
                 continue
             if sensor == "acc":
-                units = (self.unit, OUTPUT_UNIT.get(self.unit, self.unit))
+                units = (self.unit, self.output_unit)
             else:
                 out_unit = self.CALIBRATED_UNITS[sensor]
                 units = ("raw" if self.units.get(sensor) == "raw" else out_unit, out_unit)
