@@ -103,6 +103,13 @@ def saved_session(page, server) -> dict:
     return r.json()
 
 
+def turn_integral_deg(motion: dict) -> float:
+    """The angle of a turn about a fixed axis from the page's samples: the trapezoid of |ω| (deg/s)."""
+    t = np.asarray(motion["t_ms"], dtype=float) / 1000.0
+    rate = np.linalg.norm(np.asarray(motion["gyr"], dtype=float), axis=1)
+    return float(np.sum(np.diff(t) * (rate[1:] + rate[:-1]) / 2.0))
+
+
 def check_moves(sent: list[dict]):
     """Each move runs from the end of the capture accepted before it to the start of its own still
     window, without a gap: exactly the samples in between."""
@@ -156,6 +163,7 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     seen = np.array([t["angle_deg"] for t in turns])
     errors = np.array([t["end_error_deg"] for t in turns])
     check_moves(sent)
+    sent_angle = np.array([turn_integral_deg(c["motion"]) for c in sent[1:]])
     assert [c["position"] for c in sent] == [str(k) for k in range(1, 25)] and not any(c["redo"] for c in sent)
 
     # What the page shows: Särkkä et al.'s model with its half-widths, checks, warnings, downloads.
@@ -166,7 +174,8 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     note = (f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
             f"({elapsed / 24:.1f} s a position, turns of about 0.6 s peaking at 200-230 °/s); turn angle "
             f"seen by the server minus the angle fed: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
-            f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°); end attitude error up to "
+            f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°), minus the trapezoid of the samples "
+            f"the page sent: up to {np.abs(seen - sent_angle).max():.2f}°; end attitude error up to "
             f"{errors.max():.2f}°; acc S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.4f}, "
             f"b − y up to {np.abs(np.array(acc['b']) - Y_ACC).max():.4f} m/s²; "
             f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}, b up to "
@@ -176,14 +185,19 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     per_turn = [{"turn": k + 2, "fed": round(f, 3), "seen": round(v, 3), "end_error": round(e, 3)}
                 for k, (f, v, e) in enumerate(zip(fed, seen, errors))]
     (ARTIFACTS / "wizard_cube_timing.txt").write_text(note + "\n" + json.dumps(per_turn) + "\n")
-    # Chromium samples the overrides at 60 Hz and the server interpolates between the events: the
-    # angle it integrates is the angle fed within a few tenths of a degree (measured: ±0.3°), far
-    # inside its tolerance (0.1 per quaternion element, about 11°).
     # The test's own turns end when their measured integral reaches 90°, but a stall of this process
     # (the machine's two cores are shared) can overshoot one by a few degrees: seen 2.7°.
     assert np.all(np.abs(fed - 90.0) < 5.0), fed
-    assert np.all(np.abs(seen - fed) < 2.0), list(zip(fed, seen))
-    assert np.all(errors < np.abs(fed - 90.0) + 2.0), list(zip(fed, errors))  # off by what was fed, no more
+    # The server's angle is the integral of the samples the page sent (the axis is fixed in a turn, so
+    # the angle is ∫|ω| dt): within a few tenths of a degree, the difference between its interpolation
+    # and the trapezoid here.
+    assert np.all(np.abs(seen - sent_angle) < 0.5), list(zip(sent_angle, seen))
+    # Chromium samples the overrides at 60 Hz: the page sees the angle fed within a few tenths of a
+    # degree on a quiet machine (±0.3°), but a stall of the browser on a loaded one drops a sample of
+    # the turn's peak (seen −2.3° in CI). Either way far inside the server's tolerance (0.1 per
+    # quaternion element, about 11°).
+    assert np.all(np.abs(seen - fed) < 4.0), list(zip(fed, seen))
+    assert np.all(errors < np.abs(seen - 90.0) + 1.0), list(zip(seen, errors))  # off by what it saw, no more
     # Six distinct readings, each rounded by Chromium to 0.1 m/s² (±0.05): S within 0.006 of X
     # (0.05 / g ≈ 0.005), b within 0.06 m/s² of y.
     np.testing.assert_allclose(acc["S"], X_ACC, atol=0.006)
