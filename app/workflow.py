@@ -18,6 +18,7 @@ import numpy as np
 from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
 from app.calibration.errors import InsufficientDataError
 from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
+from app.calibration.trust import review
 from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
@@ -148,7 +149,8 @@ def holdout_metrics(result, holdout) -> dict:
 
 def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity: float,
                     holdout=None):
-    """Run ``six_position`` or ``orientations`` on readings; returns the core result and extra metrics."""
+    """Run ``six_position`` or ``orientations`` on readings, reviewed (app.calibration.trust); returns the
+    result and the holdout's metrics."""
     means = [r.mean for r in readings]
     stds = None
     if readings and all(r.std is not None for r in readings):
@@ -172,7 +174,8 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
         cv = cross_validated_error(fit, means, gravity)
     else:  # pragma: no cover - the schemas only route these two here
         raise CalibrationError(f"unknown known-orientation method {method!r}")
-    return result, {**cv, **holdout_metrics(result, holdout)}
+    result = review(result, cv, raw_unit=raw)
+    return result, holdout_metrics(result, holdout)
 
 
 def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
@@ -188,8 +191,8 @@ def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[lis
 
 
 def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: str = "lm", holdout=None):
-    """Run ``nonorthogonal`` (Georgieva et al. Approach 1) or ``triangular`` (Farago et al.) on still readings;
-    the extra metrics hold the cross-validated error (app.calibration.cross_validation) and the holdout's."""
+    """Run ``nonorthogonal`` (Georgieva et al. Approach 1) or ``triangular`` (Farago et al.) on still readings,
+    reviewed with their cross-validated error (app.calibration.trust); the extra metrics are the holdout's."""
     # Imported here, not at the top: the models need scipy.optimize, which the CLI's autocal
     # imports on the other core while detection runs (tests/test_cli_autocal.py).
     from app.calibration.nonorthogonal import fit_nonorthogonal
@@ -205,8 +208,8 @@ def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: 
             return fit_triangular(m[idx], gravity=gravity, solver=solver, **gates)
     else:  # pragma: no cover - the schemas only route these two here
         raise CalibrationError(f"unknown magnitude method {method!r}")
-    result = fit(np.arange(len(m)))
-    return result, {**cross_validated_error(fit, m, gravity), **holdout_metrics(result, holdout)}
+    result = review(fit(np.arange(len(m))), cross_validated_error(fit, m, gravity), raw_unit=unit == "raw")
+    return result, holdout_metrics(result, holdout)
 
 
 GYR_TO_RAD_S = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "raw": 1.0}

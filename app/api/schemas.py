@@ -46,8 +46,8 @@ class Out(BaseModel):
     model_config = ConfigDict(extra="allow")
 
 
-class OutOfSampleMetrics(Out):
-    """Figures of readings the fit did not see: each left out in turn (cv_*), and the request's `holdout`."""
+class CrossValidatedMetrics(Out):
+    """What to expect on new orientations: each reading calibrated by the fit made without it."""
 
     cv_error_mg: float | None = Field(None, description=(
         "What to expect on new orientations: mean | |a_i| − g | in mg of g, each reading calibrated by the fit "
@@ -55,6 +55,11 @@ class OutOfSampleMetrics(Out):
     cv_error_max_mg: float | None = Field(None, description="The largest of those errors.")
     cv_scheme: Literal["leave-one-out", "10-fold"] | None = None
     cv_note: str | None = None
+
+
+class OutOfSampleMetrics(CrossValidatedMetrics):
+    """Figures of readings the fit did not see: each left out in turn (cv_*), and the request's `holdout`."""
+
     holdout_count: int | None = Field(None, description="Held-out readings (`holdout` of the request).")
     holdout_norm_error_max: float | None = Field(None, description="Largest relative norm error of the held-out readings, calibrated.")
     holdout_norm_error_max_raw: float | None = Field(None, description="The same, raw.")
@@ -77,17 +82,24 @@ class AffineUncertainty(Out):
     note: str | None = None
 
 
-class AffineMetrics(OutOfSampleMetrics):
-    """Every figure may be null where it cannot be computed (e.g. a ratio over a zero error)."""
+class StillReadingsMetrics(OutOfSampleMetrics):
+    """What every fit of still readings reports: the error on poses left out (above) and on its own
+    readings (in-sample). Every figure may be null where it cannot be computed (a ratio over a zero error)."""
 
     count: int | None = None
     dof: int | None = None
+    condition_number: float | None = None
+    error_before_mg: float | None = Field(None, description="Mean | |m| − g | of the fitted readings, raw, in mg of g (in-sample).")
+    error_after_mg: float | None = Field(None, description="The same, calibrated (in-sample).")
+    norm_error_max: float | None = Field(None, description="max | |a_cal| − g | / g over the fitted readings.")
+    norm_error_max_raw: float | None = None
+
+
+class AffineMetrics(StillReadingsMetrics):
     condition_number: float | None = Field(None, description="Of the normalised design (rows (a/g, 1)).")
     fit_error_max: float | None = Field(None, description="max ‖X⁻¹(m − y) − a‖ / ‖a‖ over the readings (ESGI'95 section 3.5).")
     fit_error_max_raw: float | None = Field(None, description="max ‖m − a‖ / ‖a‖.")
     fit_improvement: float | None = None
-    norm_error_max: float | None = Field(None, description="max | |a_cal| − g | / g.")
-    norm_error_max_raw: float | None = None
     norm_improvement: float | None = None
     rms_residual: float | None = None
 
@@ -167,15 +179,8 @@ class NonOrthogonalUncertainty(Out):
     note: str | None = None
 
 
-class MagnitudeMetrics(OutOfSampleMetrics):
-    count: int | None = None
-    dof: int | None = None
-    condition_number: float | None = None
+class MagnitudeMetrics(StillReadingsMetrics):
     converged: bool | None = None
-    error_before_mg: float | None = Field(None, description="Mean | |m| − g | of the fitted readings, raw, in mg of g (in-sample).")
-    error_after_mg: float | None = Field(None, description="The same, calibrated (in-sample).")
-    norm_error_max: float | None = None
-    norm_error_max_raw: float | None = None
 
 
 class NonOrthogonalMetrics(MagnitudeMetrics):
@@ -234,7 +239,9 @@ class TriangularOut(StillReadingsCommon):
     readings: list[MagnitudeReading]
 
 
-class AutocalMetrics(Out):
+class AutocalMetrics(CrossValidatedMetrics):
+    """cv_* over the calibration points; error_*_mg over the control points, held out of the fit."""
+
     count: int | None = Field(None, description="Calibration points selected.")
     count_control: int | None = Field(None, description="Control points held out.")
     error_before_mg: float | None = Field(None, description="On the control points, raw (Farago et al., Table 3).")

@@ -93,6 +93,11 @@ class AffineCalibration(StillReadingsResult):
     MODEL_TYPE = MODEL_TYPE
     N_PARAMS = 12
     CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (20): M = X^-1, o = y"
+    PARAMETERS = tuple(
+        (f"x{i + 1}{j + 1}", "scale" if i == j else "cross", "xyz"[i] if i == j else "xyz"[min(i, j)] + "xyz"[max(i, j)])
+        for i in range(3) for j in range(3)
+    ) + (("y1", "offset", "x"), ("y2", "offset", "y"), ("y3", "offset", "z"))
+    """Name, kind and axes of each parameter in the covariance's order (z of eq. (21))."""
 
     @property
     def correction_matrix(self) -> np.ndarray:
@@ -329,7 +334,7 @@ def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scal
                     f"reading {i} has a spread of {np.linalg.norm(s):.3g} (above 5 % of g): "
                     "the device may have moved during the capture"
                 )
-    gates.warn(exact_fit_gate(
+    gates.fail(exact_fit_gate(
         dof,
         "4 readings fit the 12 parameters exactly: there are no residual degrees of freedom, "
         "so no intervals and no check of the fit; use six or more orientations",

@@ -205,6 +205,10 @@ class NonOrthogonalCalibration(StillReadingsResult):
     MODEL_TYPE = MODEL_TYPE
     N_PARAMS = N_PARAMS
     CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (16): M = T_orth T_bar T, o = s / b"
+    PARAMETERS = (("s1", "offset", "x"), ("s2", "offset", "y"), ("s3", "offset", "z"),
+                  ("b1", "scale", "x"), ("b2", "scale", "y"), ("b3", "scale", "z"),
+                  ("phi", "cross", "xy"), ("psi", "cross", "xz"), ("theta", "cross", "yz"))
+    """Name, kind and axes of each parameter in the covariance's order (eqs. (1), (3))."""
 
     @property
     def params(self) -> np.ndarray:
@@ -464,7 +468,7 @@ def _gates(m, g, s, b, angles, norm_err, cond, dof, hemisphere, sol, plausible_s
         "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
         "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
     ))
-    gates.warn(exact_fit_gate(
+    gates.fail(exact_fit_gate(
         dof,
         "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
         "so no intervals and no check of the fit; use about 20 positions",

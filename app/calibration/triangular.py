@@ -232,6 +232,10 @@ class TriangularCalibration(StillReadingsResult):
     MODEL_TYPE = MODEL_TYPE
     N_PARAMS = N_PARAMS
     CORRECTION_SOURCE = "Farago, Maczak and Gingl, IEEE Access, eq. (6): M = K, o = -o_model"
+    PARAMETERS = (("k_xx", "scale", "x"), ("k_yy", "scale", "y"), ("k_zz", "scale", "z"),
+                  ("k_xy", "cross", "xy"), ("k_xz", "cross", "xz"), ("k_yz", "cross", "yz"),
+                  ("o_x", "offset", "x"), ("o_y", "offset", "y"), ("o_z", "offset", "z"))
+    """Name, kind and axes of each parameter in the covariance's order (p of eq. (6))."""
 
     @property
     def p(self) -> np.ndarray:
@@ -481,7 +485,7 @@ def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale,
         "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
         "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
     ))
-    gates.warn(exact_fit_gate(
+    gates.fail(exact_fit_gate(
         dof,
         "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
         "so no intervals and no check of the fit; use 18 positions (Farago et al.)",

@@ -12,22 +12,22 @@ from tests.conftest import seed_table
 
 def test_triangular_cv_error_on_seed_table_2_exceeds_the_in_sample_error():
     # Farago et al. Table 2-like readings: 20 positions; leave-one-out refits 20 times.
-    result, extra = workflow.calibrate_unknown("triangular", seed_table(2)[:20], unit="m/s^2", gravity=9.806)
-    assert extra["cv_scheme"] == "leave-one-out"
-    assert extra["cv_error_mg"] > result.metrics["error_after_mg"]  # in-sample flatters
-    assert extra["cv_error_max_mg"] >= extra["cv_error_mg"]
+    result, _ = workflow.calibrate_unknown("triangular", seed_table(2)[:20], unit="m/s^2", gravity=9.806)
+    assert result.metrics["cv_scheme"] == "leave-one-out"
+    assert result.metrics["cv_error_mg"] > result.metrics["error_after_mg"]  # in-sample flatters
+    assert result.metrics["cv_error_max_mg"] >= result.metrics["cv_error_mg"]
     # Reading 0 calibrated by the fit on the other 19, by hand.
     from app.calibration.triangular import fit_triangular
 
     m = seed_table(2)[:20]
     errors = [abs(np.linalg.norm(fit_triangular(np.delete(m, i, 0), gravity=9.806).apply(m[i])) - 9.806) / 9.806
               for i in range(20)]
-    assert abs(extra["cv_error_mg"] - 1000 * np.mean(errors)) < 1e-9
+    assert abs(result.metrics["cv_error_mg"] - 1000 * np.mean(errors)) < 1e-9
 
 
 def test_nine_positions_have_no_figure_and_say_how_to_get_one():
-    _, extra = workflow.calibrate_unknown("triangular", seed_table(2)[:9], unit="m/s^2", gravity=9.806)
-    assert extra["cv_error_mg"] is None and "add poses" in extra["cv_note"]
+    result, _ = workflow.calibrate_unknown("triangular", seed_table(2)[:9], unit="m/s^2", gravity=9.806)
+    assert result.metrics["cv_error_mg"] is None and "add poses" in result.metrics["cv_note"]
 
 
 def test_six_position_has_no_redundancy():
@@ -35,8 +35,8 @@ def test_six_position_has_no_redundancy():
     readings = [workflow.Reading(mean=tuple(v), up=u) for u, v in
                 (("+x", (g, 0, 0)), ("-x", (-g, 0, 0)), ("+y", (0, g, 0)), ("-y", (0, -g, 0)),
                  ("+z", (0, 0, g)), ("-z", (0, 0, -g)))]
-    _, extra = workflow.calibrate_known("six_position", readings, unit="m/s^2", gravity=g)
-    assert extra["cv_error_mg"] is None and "add poses" in extra["cv_note"]
+    result, _ = workflow.calibrate_known("six_position", readings, unit="m/s^2", gravity=g)
+    assert result.metrics["cv_error_mg"] is None and "add poses" in result.metrics["cv_note"]
 
 
 def _session(rng, n, noise_g):
@@ -58,10 +58,10 @@ def test_cv_error_tracks_the_error_on_fresh_poses(n, scheme):
     cv, fresh, inside = [], [], []
     for _ in range(20):
         p, means = _session(rng, n, 0.003)
-        result, extra = workflow.calibrate_unknown("triangular", means, unit="g", gravity=1.0)
-        assert extra["cv_scheme"] == scheme
+        result, _ = workflow.calibrate_unknown("triangular", means, unit="g", gravity=1.0)
+        assert result.metrics["cv_scheme"] == scheme
         # The readings' own noise is in every cv figure: compare with fresh poses read with that noise.
-        cv.append(extra["cv_error_mg"])
+        cv.append(result.metrics["cv_error_mg"])
         fresh.append(_fresh_error_mg(result, p, rng))
         inside.append(result.metrics["error_after_mg"])
     noise_floor = np.mean(np.abs(np.linalg.norm(rng.normal(scale=0.003, size=(20000, 3)) + [0, 0, 1], axis=1) - 1)) * 1000
