@@ -28,6 +28,7 @@ from app.requests import ValidationError, describe_errors, parse_calibration_req
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
 
+AUTO_METHODS = ("auto",)
 KNOWN_METHODS = ("six_position", "orientations")
 UNKNOWN_METHODS = ("nonorthogonal", "triangular")
 CUBE_METHODS = ("cube",)
@@ -57,7 +58,8 @@ def _parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument("log", type=opt.input_path("a log file"), help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
-    c.add_argument("--method", choices=KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS, default="six_position")
+    c.add_argument("--method", choices=AUTO_METHODS + KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS, default="auto",
+                   help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones")
     c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help="cube only")
     c.add_argument("--field-ut", type=opt.FIELD_UT, default=None, help="cube only: local magnetic field magnitude in µT")
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
@@ -200,6 +202,10 @@ def _print_summary(body: dict, recording: dict) -> None:
             for row in arr:
                 print("   " + "  ".join(f"{v: .6f}" for v in row))
     m = body["metrics"]
+    if body.get("choice"):
+        print(f"method auto chose {body['choice']['method']}: {body['choice']['why']}")
+    if body.get("headline"):
+        print(body["headline"])
     if "fit_error_max" in m:
         print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f})")
     if "norm_error_max" in m:

@@ -98,6 +98,12 @@ class TriangularIn(UnknownOrientationIn):
     )
 
 
+class AutoIn(UnknownOrientationIn):
+    """Still readings, axis-aligned or free: the workflow picks the model (app.workflow, ``auto``)."""
+
+    method: Literal["auto"]
+
+
 class CubeIn(Strict):
     """A multi-position recording of a cube (acc, gyr, optional mag): Särkkä et al.'s method."""
 
@@ -131,11 +137,11 @@ class AutocalIn(Strict):
     label: Annotated[str, Field(max_length=500)] | None = None
 
 
-METHODS = ("six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal")
+METHODS = ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
 CalibrationIn = Annotated[
-    Union[SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn],
+    Union[AutoIn, SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn],
     Field(discriminator="method"),
 ]
 

@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.calibration import STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position, normal_gravity
+from app.calibration import (CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, fit_orientations, fit_six_position,
+                             nearest_orientation, normal_gravity)
 from app.calibration.errors import InsufficientDataError
 from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
 from app.calibration.trust import review
@@ -23,6 +24,7 @@ from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
+from app.summary import headline
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -256,6 +258,8 @@ def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str]
         result = dataclasses.replace(result, unit=unit)
     body = result.to_dict()
     body["metrics"].update(extra_metrics)
+    if "cv_error_mg" in body["metrics"]:  # every fit of still readings: the line a person reads first
+        body["headline"] = headline(body["metrics"])
     body["warnings"] = list(body["warnings"]) + notes
     body.update(fields)
     return body
@@ -373,6 +377,87 @@ def _magnitude(request, recording: RecordingSource | None) -> dict:
                             label=request.label, **source)
 
 
+def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdout=None) -> tuple:
+    """The ``auto`` method: the model these still readings support, fitted, and why it was chosen.
+
+    Readings each within 20° of an axis, covering all six, are known orientations: ``six_position``
+    for exactly six, else ``orientations`` (Georgieva et al., ESGI'95, section 3.3). Nine or more
+    readings also support the magnitude model ``triangular`` (Farago et al.). Where both apply,
+    a calibration that passes its gates beats one that does not, then the lower error on readings
+    left out of the fit wins (a tilted "axis" pose shows there).
+
+    Returns
+    -------
+    result, extra, choice
+        The chosen fit, its extra metrics, and ``{"method", "why", "candidates"}``.
+
+    Raises
+    ------
+    InsufficientDataError
+        Fewer than 9 readings that are not six axis-aligned ones.
+    """
+    m = as_vectors(means, "means")
+    labels = [nearest_orientation(v) for v in m]
+    aligned = None not in labels and set(labels) == set(CANONICAL_SIX)
+    candidates = {}
+    if aligned:
+        known = "six_position" if len(m) == 6 else "orientations"
+        readings = [Reading(mean=tuple(v), up=lab) for v, lab in zip(m, labels)]
+        candidates[known] = calibrate_known(known, readings, unit=unit, gravity=gravity, holdout=holdout)
+    if len(m) >= 9:
+        try:
+            candidates["triangular"] = calibrate_unknown("triangular", m, unit=unit, gravity=gravity, solver=solver,
+                                                         holdout=holdout)
+        except InsufficientDataError:
+            if not candidates:  # nothing else applies: say what the magnitude model lacks
+                raise
+    if not candidates:
+        raise InsufficientDataError(
+            f"{len(m)} still readings are not the six axis-aligned poses (each within 20° of one of ±x, ±y, ±z) "
+            f"and a magnitude model needs at least 9 free poses (12 or more recommended): add "
+            f"{9 - len(m)} or more poses in other directions"
+        )
+
+    def rank(name):
+        result = candidates[name][0]
+        cv = result.metrics.get("cv_error_mg")
+        return (not result.ok, math.inf if cv is None else cv)
+
+    chosen = min(candidates, key=rank)
+    summary = {name: {"ok": r.ok, "cv_error_mg": r.metrics.get("cv_error_mg")} for name, (r, _) in candidates.items()}
+    why = _why(chosen, summary, aligned, len(m))
+    result, extra = candidates[chosen]
+    return result, extra, {"method": chosen, "why": why, "candidates": summary}
+
+
+def _why(chosen: str, summary: dict, aligned: bool, n: int) -> str:
+    if not aligned:
+        return (f"the {n} poses are free (not all within 20° of an axis, or not all six axes): the magnitude model "
+                "triangular (Farago et al.) needs no orientation")
+    if len(summary) == 1:
+        return (f"the {n} poses are the six axis orientations (each within 20° of ±x, ±y, ±z): {chosen} "
+                "(Georgieva et al.); nine or more distinct poses would also allow a magnitude model to check it")
+
+    def figure(name):
+        cv = summary[name]["cv_error_mg"]
+        return f"{name} {'n/a' if cv is None else f'{cv:.2f} mg'}{'' if summary[name]['ok'] else ' (not ok)'}"
+
+    return (f"the {n} poses cover the six axes, so both a known-orientation and a magnitude model apply; "
+            f"on poses left out: {', '.join(figure(k) for k in summary)}; {chosen} was chosen")
+
+
+def _auto(request, recording: RecordingSource | None) -> dict:
+    unit, gravity, notes = _unit_gravity(request, recording)
+    source: dict = {}
+    means = request.means
+    if recording is not None:
+        means, used = means_from_segments(recording.meta, request.segments)
+        source = {**recording.source_fields, "segments_used": used}
+    result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                            label=request.label, choice=choice, **source)
+
+
 def _cube(request, recording: RecordingSource) -> dict:
     log = recording.read()
     unit = log.units["acc"]
@@ -463,5 +548,5 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         "duration_s": log.n_samples / log.sampling_rate_hz}, **fields)
 
 
-_METHODS = {"six_position": _known, "orientations": _known, "nonorthogonal": _magnitude, "triangular": _magnitude,
+_METHODS = {"auto": _auto, "six_position": _known, "orientations": _known, "nonorthogonal": _magnitude, "triangular": _magnitude,
             "cube": _cube, "autocal": _autocal}

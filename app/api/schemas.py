@@ -132,6 +132,9 @@ class CalibrationCommon(Out):
     unit: str = Field(description="Unit of the readings: m/s^2, g or raw.")
     output_unit: str = Field(description="What the calibration calibrates into.")
     ok: bool = Field(description="False when a quality gate failed; `reasons` says which.")
+    headline: str | None = Field(None, description=(
+        "What to expect on new orientations (the cross-validated error), then the in-sample figure, "
+        "labelled; every fit of still readings has one."))
     warnings: list[str]
     reasons: list[str] = []
     device_id: str | None = None
@@ -139,7 +142,21 @@ class CalibrationCommon(Out):
     recording_id: str | None = Field(None, description="The recording the readings came from.")
 
 
+class CandidateOut(Out):
+    ok: bool
+    cv_error_mg: float | None
+
+
+class ChoiceOut(Out):
+    """What `method: auto` chose (app.workflow.choose_model)."""
+
+    method: Literal["six_position", "orientations", "triangular"]
+    why: str
+    candidates: dict[str, CandidateOut] = Field(description="Every model that applied: its ok and error on poses left out.")
+
+
 class StillReadingsCommon(CalibrationCommon):
+    choice: ChoiceOut | None = Field(None, description="Present when the request's method was `auto`.")
     covariance: list[list[float]] | None = Field(description="Covariance of the parameters (least squares).")
     segments_used: list[int] | None = Field(None, description="Still segments of the recording that were used.")
 

@@ -18,14 +18,31 @@ function fillMatrix(table, rows) {
   }));
 }
 
+// Each parameter of the model (X and y, K and o, s, b and the angles…) as a small table #result-<name>.
+function showModel(model) {
+  $("#result-model").replaceChildren(...Object.entries(model).filter(([name]) => name !== "type").map(([name, value]) => {
+    const box = document.createElement("div");
+    const table = document.createElement("table");
+    table.className = "matrix";
+    table.id = `result-${name}`;
+    const rows = !Array.isArray(value) ? [[value]] : Array.isArray(value[0]) ? value : value.map((v) => [v]);
+    fillMatrix(table, rows);
+    box.append(cell("h3", name), table);
+    return box;
+  }));
+}
+
 function showResult(cal) {
   $("#result").hidden = false;
+  $("#result-headline").textContent = cal.headline || "";
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
   ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
+  const choice = $("#result-choice");
+  choice.hidden = !cal.choice;
+  choice.textContent = cal.choice ? `Method ${cal.choice.method}: ${cal.choice.why}.` : "";
   $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
-  fillMatrix($("#result-X"), cal.model.X);
-  fillMatrix($("#result-y"), cal.model.y.map((v) => [v]));
+  showModel(cal.model);
   const metrics = $("#result-metrics");
   metrics.replaceChildren(...Object.entries(cal.metrics).map(([k, v]) => {
     const tr = document.createElement("tr");
@@ -35,8 +52,7 @@ function showResult(cal) {
   }));
   $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
     const tr = document.createElement("tr");
-    tr.append(cell("td", r.up ?? "—"), ...r.residual.map((v) => cell("td", formatNumber(v, 4))),
-      cell("td", formatNumber(r.fit_error)), cell("td", formatNumber(r.fit_error_raw)));
+    tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
     return tr;
   }));
   const list = $("#downloads");
@@ -77,7 +93,7 @@ $("#upload-form").addEventListener("submit", async (event) => {
 $("#calibrate-recording").addEventListener("click", async () => {
   say("Calibrating…");
   try {
-    showResult(await createCalibration({ method: "six_position", recording_id: recordingId }));
+    showResult(await createCalibration({ method: "auto", recording_id: recordingId }));
   } catch (err) {
     say(`Calibration refused: ${err.message}`);
   }

@@ -233,6 +233,7 @@ function renderResult(s) {
   const cal = s.view.calibration;
   if (!cal || cal === rendered.calibration) return;
   rendered.calibration = cal;
+  $("#result-headline").textContent = cal.headline || "";
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
   ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks:`;

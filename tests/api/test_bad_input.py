@@ -30,7 +30,7 @@ GOOD = seed_table(1)[:6].tolist()
                                                   zip(["+x", "-x", "+y", "-y"], GOOD[:4])]}, 422, "condition (22)"),
         ({"method": "orientations", "readings": [{"up": "+x", "mean": GOOD[0]}]}, 422, "at least 4"),
         ({"method": "magic", "readings": []}, 422, "magic"),
-        ({"readings": GOOD}, 422, "the field `method` is required: one of six_position"),
+        ({"readings": GOOD}, 422, "the field `method` is required: one of auto, six_position"),
         ({"method": "six_position"}, 422, "either `readings` or `recording_id`"),
         ({"method": "six_position", "recording_id": "rec_nope"}, 404, "no recording with id 'rec_nope'"),
         ({**readings(GOOD), "gravity": -1}, 422, "gravity"),

@@ -56,6 +56,8 @@ def _requests(client, cube_csv):
     yield {"method": "six_position", "readings": [{"mean": m, "up": u} for m, u in SIX], "gravity": G}
     yield {"method": "orientations", "readings": [{"mean": m, "up": u} for m, u in SIX] * 2, "gravity": G,
            "holdout": t1.tolist()}
+    yield {"method": "auto", "means": [m for m, _ in SIX], "gravity": G}  # → six_position, with its choice
+    yield {"method": "auto", "means": t2[:20].tolist(), "gravity": 9.806}  # free poses → triangular
     yield {"method": "nonorthogonal", "means": t1[:20].tolist(), "gravity": 9.806, "holdout": t1.tolist()}
     yield {"method": "triangular", "means": t2[:9].tolist(), "gravity": 9.806}  # no residual dof: nulls
     for solver in ("lm", "gradient", "fixed16", "fixed32"):
@@ -79,15 +81,16 @@ def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
         assert r.status_code == 201, r.text
         body = r.json()
         validated = adapter.validate_python(body)
-        assert type(validated) is RESPONSE_MODELS[request["method"]]
+        assert type(validated) is RESPONSE_MODELS[body["method"]]
         assert undescribed(validated) == [], request["method"]
+        assert (body.get("choice") is not None) == (request["method"] == "auto")
         # What is read back is what was returned, and it validates the same way.
         again = client.get(f"/api/v1/calibrations/{body['id']}").json()
         assert again == body
-        seen.add(request["method"])
+        seen.add(body["method"])
     assert seen == set(RESPONSE_MODELS)
     listed = client.get("/api/v1/calibrations").json()["items"]
-    assert len(listed) == 10 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
+    assert len(listed) == 12 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
 
 
 def test_openapi_documents_each_method_s_response(client):
@@ -109,6 +112,7 @@ def test_openapi_documents_each_method_s_response(client):
     ({"method": "six_position", "readings": [{"mean": [0, 0, 9.8], "up": "+q"}]}, 422, "invalid_request"),
     ({"method": "six_position", "readings": [{"mean": m, "up": u} for m, u in SIX[:5]]}, 422, "insufficient_data"),
     ({"method": "triangular", "means": [[0, 0, 9.8]] * 5}, 422, "insufficient_data"),
+    ({"method": "auto", "means": [[0, 0, 9.8], [9.8, 0, 0], [0, 7, 7]]}, 422, "insufficient_data"),
     ({"method": "nonorthogonal", "means": [[0, 0, 9.8]] * 5}, 422, "insufficient_data"),
     ({"method": "orientations", "readings": [{"mean": [0, 0, 9.8], "up": "+z"}] * 3}, 422, "insufficient_data"),
     ({"method": "six_position", "readings": [{"mean": m, "up": "+x"} for m, _ in SIX]}, 422, "calibration_refused"),

@@ -49,6 +49,12 @@ def test_upload_a_log(page, server):
     page.wait_for_selector("#result:not([hidden])")
     shot(page, "upload_result")
     assert "passed its checks" in page.text_content("#result-ok")
+    # method auto: six axis poses → six_position, said in words; the headline comes first and says
+    # that six poses give no figure for new orientations, and how to get one.
+    assert page.text_content("#result-choice").startswith("Method six_position: the 6 poses are the six axis")
+    headline = page.text_content("#result-headline")
+    assert headline.startswith("no figure for new orientations") and "add poses" in headline
+    assert "on the poses fitted (in-sample)" in headline
     assert page.errors == []
 
 

@@ -1,0 +1,31 @@
+"""The line a person reads first about a calibration: what to expect on new orientations.
+
+The cross-validated error (each reading calibrated by the fit made without it) comes first, labelled
+as what to expect; the in-sample error of the fitted readings beside it, labelled as such, since it
+flatters every fit (zero for an exact one).
+"""
+
+from __future__ import annotations
+
+
+def _mg(value) -> str:
+    return "n/a" if value is None else f"{value:.2f} mg"
+
+
+def headline(metrics: dict) -> str:
+    """``metrics`` of a calibration in one line: new orientations first, in-sample and raw beside.
+
+    Autocal's ``error_*_mg`` are its control points, held out of the fit; every other method's are
+    its fitted readings.
+    """
+    scheme = metrics.get("cv_scheme")
+    if metrics.get("cv_error_mg") is not None:
+        first = (f"on new orientations expect {_mg(metrics['cv_error_mg'])} of g "
+                 f"(up to {_mg(metrics.get('cv_error_max_mg'))}; {scheme})")
+    else:
+        first = metrics.get("cv_note") or "no figure for new orientations"
+    held_out = "count_control" in metrics
+    if metrics.get("error_after_mg") is None:
+        return first
+    which = "on the control points (held out)" if held_out else "on the poses fitted (in-sample)"
+    return f"{first}; {which} {_mg(metrics['error_after_mg'])}, raw {_mg(metrics.get('error_before_mg'))}"
