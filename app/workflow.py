@@ -364,13 +364,17 @@ def _known(request, recording: RecordingSource | None) -> dict:
                             label=request.label, **source)
 
 
+def _means_and_source(request, recording: RecordingSource | None) -> tuple[list, dict]:
+    """The still readings of a request on means: inline, or the recording's segments (and their fields)."""
+    if recording is None:
+        return request.means, {}
+    means, used = means_from_segments(recording.meta, request.segments)
+    return means, {**recording.source_fields, "segments_used": used}
+
+
 def _magnitude(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
-    source: dict = {}
-    means = request.means
-    if recording is not None:
-        means, used = means_from_segments(recording.meta, request.segments)
-        source = {**recording.source_fields, "segments_used": used}
+    means, source = _means_and_source(request, recording)
     result, extra = calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
                                       solver=getattr(request, "solver", "lm"), holdout=request.holdout)
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
@@ -448,11 +452,7 @@ def _why(chosen: str, summary: dict, aligned: bool, n: int) -> str:
 
 def _auto(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
-    source: dict = {}
-    means = request.means
-    if recording is not None:
-        means, used = means_from_segments(recording.meta, request.segments)
-        source = {**recording.source_fields, "segments_used": used}
+    means, source = _means_and_source(request, recording)
     result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label, choice=choice, **source)
