@@ -270,6 +270,8 @@ def _print_autocal(body: dict) -> None:
     det, m = body["detection"], body["metrics"]
     print(f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
           f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}")
+    if body.get("headline"):
+        print(body["headline"])
     print("points per subset C_ij: " + ", ".join(f"{k} {v}" for k, v in body["selection"].items()))
     model = body["model"]
     print("K =")
@@ -332,17 +334,18 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
 
 def _print_folder_table(bodies: list[dict]) -> None:
     name_w = max(8, *(len(b.get("label") or "") for b in bodies))
-    print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'before mg':>10}{'after mg':>10}{'R %':>8}  note")
+    print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'before mg':>10}{'after mg':>10}{'R %':>8}  note")
     for b in bodies:
         if "error" in b:
-            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>10}{'':>10}{'':>8}  {b['error']}")
+            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>10}{'':>10}{'':>8}  {b['error']}")
             continue
         m = b["metrics"]
+        cv = "-" if m.get("cv_error_mg") is None else f"{m['cv_error_mg']:.2f}"
         before = "-" if m.get("error_before_mg") is None else f"{m['error_before_mg']:.2f}"
         after = "-" if m.get("error_after_mg") is None else f"{m['error_after_mg']:.2f}"
         r = "-" if not m.get("improvement_pct") else f"{m['improvement_pct']:.0f}"
         note = b["reasons"][0] if b["reasons"] else ""
-        print(f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}"
+        print(f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}"
               f"{before:>10}{after:>10}{r:>8}  {note[:100]}")
     n_ok = sum(1 for b in bodies if b.get("ok"))
     print(f"{n_ok} of {len(bodies)} recordings calibrated")

@@ -34,6 +34,12 @@ def test_calibrate_json_then_export(tmp_path):
     assert header.returncode == 0 and "trical_acc_apply" in header.stdout
     human = trical("calibrate", str(log), "--sampling-rate-hz", "150", "--no-store", tmp_path=tmp_path)
     assert human.returncode == 0 and "X =" in human.stdout and "fit error max" in human.stdout
+    # The default method is auto: it says what it chose, then what to expect on new orientations
+    # (six poses: no figure, and how to get one) before the in-sample figure.
+    lines = human.stdout.splitlines()
+    chose = next(i for i, line in enumerate(lines) if line.startswith("method auto chose six_position: "))
+    assert lines[chose + 1].startswith("no figure for new orientations") and "add poses" in lines[chose + 1]
+    assert "on the poses fitted (in-sample)" in lines[chose + 1]
     tri = trical("calibrate", str(log), "--sampling-rate-hz", "150", "--method", "orientations", "--no-store",
                  tmp_path=tmp_path)
     assert tri.returncode == 0 and "norm error max" in tri.stdout
