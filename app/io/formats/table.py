@@ -155,22 +155,27 @@ def numeric_layout(lines: list[str]) -> tuple[str, str, int] | None:
     """The delimiter, decimal mark and column count of a table without a header row, or None.
 
     ``lines`` are the first lines of the file; ``#`` comments and blank lines are skipped. The first
-    of :data:`DELIMITERS` that splits every sampled line (up to 20) into the same number (two or more)
-    of numbers wins, with a decimal point, or with a decimal comma when the separator is not a comma.
-    None when the first data line is not all numbers (it is then a header row).
+    data line decides whether there is a header row: None unless it splits into two or more numbers.
+    Of the :data:`DELIMITERS` that split it so, the first that gives the same count on the next lines
+    (up to 20) wins (else the first: the reader then names the line that differs); the decimal mark
+    is a comma when the separator is not one and the numbers carry commas.
     """
     data = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")][:20]
     if not data:
         return None
+    found = []
     for delimiter in DELIMITERS:
-        rows = [split_row(ln, delimiter) for ln in data]
-        width = len(rows[0])
-        if width < 2 or any(len(r) != width for r in rows):
+        fields = split_row(data[0], delimiter)
+        marks = [d for d in ((".", ",") if delimiter != "," else (".",)) if all(is_number(f, d) for f in fields)]
+        if len(fields) < 2 or not marks:
             continue
-        for decimal in (".", ",") if delimiter != "," else (".",):
-            if all(is_number(f, decimal) for r in rows for f in r):
-                return delimiter, decimal, width
-    return None
+        rows = [split_row(ln, delimiter) for ln in data]
+        commas = "." not in marks or any("," in f for r in rows for f in r)
+        layout = (delimiter, "," if "," in marks and commas else ".", len(fields))
+        if all(len(r) == len(fields) for r in rows):
+            return layout
+        found.append(layout)
+    return found[0] if found else None
 
 
 class _SingleSpaced(io.RawIOBase):
