@@ -70,6 +70,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
     c.add_argument("--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer")
+    _read_options(c)
     c.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
     c.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
     c.add_argument("--height-m", type=opt.HEIGHT, default=None, help="height above the ellipsoid, with --latitude-deg")
@@ -82,6 +83,7 @@ def _parser() -> argparse.ArgumentParser:
     a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
     a.add_argument("--unit", choices=workflow.AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
     a.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm")
+    _read_options(a)
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
     a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
     a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (Farago et al.: one is enough)")
@@ -97,6 +99,16 @@ def _parser() -> argparse.ArgumentParser:
     e.add_argument("--format", choices=tuple(EXPORTERS), default="json")
     e.add_argument("--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)")
     return p
+
+
+def _read_options(parser: argparse.ArgumentParser) -> None:
+    """The options that say how to read a log, as the upload's form fields do."""
+    parser.add_argument("--columns", type=opt.text("column names or a mapping"), default=None, metavar="NAMES",
+                        help="name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips "
+                             "one; for logs without a header row), or map unrecognised ones, e.g. acc_x:north,…")
+    parser.add_argument("--sign", type=int, choices=(1, -1), default=None,
+                        help="factor on the log's accelerations: -1 for iOS Core Motion's sign (-g up), 1 to keep "
+                             "them (default: detected from the header)")
 
 
 def _serve(args, settings: Settings) -> int:
@@ -157,9 +169,10 @@ def _print_qr(drawing: str) -> None:
 
 def _calibrate(args, settings: Settings) -> int:
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
-    log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, units=units, name=str(args.log),
-                            format=args.log_format, lsb_per_g=args.lsb_per_g)
-    recording = workflow.describe_log(log)
+    read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
+                     sign=args.sign)
+    log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, name=str(args.log), **read_with)
+    recording = workflow.describe_log(log, read_with)
     request = parse_calibration_request(_calibration_request(args, unit=log.units["acc"]))
     body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=args.log, log=log))
     if not args.no_store:
@@ -238,7 +251,7 @@ class _ProgressBar:
 def _autocal_options(args) -> dict:
     return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
                 latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
-                device_id=args.device_id)
+                device_id=args.device_id, columns=args.columns, sign=args.sign)
 
 
 def _autocal_job(path: str, options: dict) -> dict:

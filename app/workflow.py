@@ -65,10 +65,10 @@ def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: flo
 
 
 def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
-             lsb_per_g: float | None = None, columns: str | None = None) -> LogData:
+             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None) -> LogData:
     """Read an uploaded log file into arrays, its format given or detected (app.io.formats)."""
     return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                    lsb_per_g=lsb_per_g, columns=columns)
+                    lsb_per_g=lsb_per_g, columns=columns, sign=sign)
 
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
@@ -80,8 +80,12 @@ def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float 
     return None
 
 
-def describe_log(log: LogData) -> dict:
-    """Recording metadata and its static segments (docs/rest.md, POST /recordings)."""
+def describe_log(log: LogData, read_with: dict | None = None) -> dict:
+    """Recording metadata and its static segments (docs/rest.md, POST /recordings).
+
+    ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
+    it is kept with the sign applied, so that the stored file is read again the same way.
+    """
     unit = log.units["acc"]
     gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
     segments = detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
@@ -94,6 +98,9 @@ def describe_log(log: LogData) -> dict:
         "units": log.units,
         "columns": log.columns,
         "notes": list(log.notes),
+        "sign": log.sign,
+        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, **(read_with or {}),
+                      "sign": log.sign},
         "quantization_step": quantization_step(log.acc) if unit == "m/s^2" else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
     }
@@ -292,8 +299,10 @@ class RecordingSource:
     def read(self) -> LogData:
         if self.log is not None:
             return self.log
-        return load_log(self.path, sampling_rate_hz=self.meta["sampling_rate_hz"], units=self.meta["units"],
-                        name=self.meta.get("filename") or "the recording")
+        # As it was read when stored; bodies stored before read_with give only their units.
+        read_with = self.meta.get("read_with") or {"units": self.meta["units"]}
+        return load_log(self.path, sampling_rate_hz=self.meta["sampling_rate_hz"],
+                        name=self.meta.get("filename") or "the recording", **read_with)
 
     @property
     def source_fields(self) -> dict:
@@ -483,7 +492,7 @@ AUTOCAL_UNITS = ("g", "m/s^2")
 def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,
                        solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
                        height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
-                       **fields) -> dict:
+                       columns: str | None = None, sign: int | None = None, **fields) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
@@ -503,6 +512,10 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
     detection, selection : dict, optional
         Options of :class:`app.calibration.stationary_002.RestAccumulator` and
         :func:`app.calibration.autocal.autocalibrate`.
+    columns : str, optional
+        The columns of a CSV (:func:`app.io.formats.parse_columns`).
+    sign : {1, -1}, optional
+        Factor on the file's accelerations; detected from the header when None.
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -528,7 +541,8 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
             daemon=True)
         preload.start()
     path = Path(path)
-    log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path))
+    log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
+                   columns=columns, sign=sign)
     unit = log.units["acc"]
     if unit not in AUTOCAL_UNITS:
         raise CalibrationError(

@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, File, Form, UploadFile
+from pydantic import AfterValidator
 
 from app import workflow
 from app.api.deps import get_owner, get_settings, get_store
@@ -18,6 +19,12 @@ router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
 KEPT_SUFFIXES = (".zip", ".npy", ".parquet", ".pq", ".cwa", ".gt3x", ".bin")
 """Uploads whose suffix names their format keep it; anything else is read as text (CSV-like)."""
+
+
+def _plus_or_minus_one(value: int) -> int:
+    if value not in (1, -1):
+        raise ValueError("give 1 (keep the file's accelerations) or -1 (negate them: iOS Core Motion's sign)")
+    return value
 
 
 def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
@@ -39,15 +46,18 @@ def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
 
 @router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log")
 def upload_recording(
-    file: UploadFile = File(..., description="A log: CSV with a header row, a phyphox / Sensor Logger zip, or .npy / .parquet samples."),
+    file: UploadFile = File(..., description="A log: CSV with or without a header row, a phyphox / Sensor Logger zip, or .npy / .parquet samples."),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
     mag_unit: Literal["uT", "nT", "raw"] | None = Form(None),
-    format: Literal["auto", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "arduino"] = Form(
-        "auto", description="Log format; auto detects it from the header (app.io.formats)."),
+    format: Literal["auto", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",
+                    "arduino"] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
-    columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down"),
+    columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
+                               "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)"),
+    sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Form(None, description="Factor on the file's accelerations: -1 for iOS Core Motion's "
+                                       "sign (-g up), 1 to keep them; detected from the header when omitted."),
     settings: Settings = Depends(get_settings),
     store: Store = Depends(get_store),
     owner: str | None = Depends(get_owner),
@@ -59,10 +69,9 @@ def upload_recording(
     save_upload(file.file, dest, settings.max_upload_bytes, settings.max_upload_mb)
     try:
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-        log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, units=units,
-                                name=file.filename or "the file", format=format, lsb_per_g=lsb_per_g,
-                                columns=columns)
-        body = workflow.describe_log(log)
+        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign)
+        log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, name=file.filename or "the file", **read_with)
+        body = workflow.describe_log(log, read_with)
         body["filename"] = file.filename
         return store.add_recording(recording_id, body, dest, owner=owner)
     except BaseException:

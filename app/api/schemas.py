@@ -419,16 +419,33 @@ class SegmentOut(BaseModel):
     count: int
 
 
+class ReadWithOut(BaseModel):
+    """What the upload told the reader, kept so that the stored file is read again the same way."""
+
+    format: str
+    units: dict[str, str]
+    lsb_per_g: float | None
+    columns: str | None
+    sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
+
+
 class RecordingOut(BaseModel):
     model_config = ConfigDict(extra="allow")
 
     id: str
     created_at: str
     format: str
+    filename: str | None = None
     n_samples: int
     sampling_rate_hz: float
+    duration_s: float | None = None
     channels: list[str]
     units: dict[str, str]
+    columns: list[str] = Field([], description="The file's column names (or those `columns` gave).")
+    notes: list[str] = Field([], description="What the reader decided: sign negated, unit inferred, no header row.")
+    quantization_step: float | None = None
+    sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
+    read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")
     segments: list[SegmentOut]
 
 

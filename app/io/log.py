@@ -35,6 +35,9 @@ class LogData:
         The file's column names, for messages.
     notes : tuple of str
         What the reader decided on the way (sign flipped, unit inferred, file chosen in a zip).
+    sign : int
+        The factor the file's accelerations were multiplied by on reading: −1 when they came on the
+        iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
     """
 
     acc: np.ndarray
@@ -46,6 +49,7 @@ class LogData:
     format: str
     columns: list
     notes: tuple = ()
+    sign: int = 1
 
     @property
     def n_samples(self) -> int:

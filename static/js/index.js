@@ -72,7 +72,7 @@ function showResult(cal) {
 $("#upload-form").addEventListener("submit", async (event) => {
   event.preventDefault();
   const data = new FormData(event.target);
-  for (const key of ["sampling_rate_hz", "acc_unit"]) if (!data.get(key)) data.delete(key);
+  for (const key of ["sampling_rate_hz", "acc_unit", "columns", "sign"]) if (!data.get(key)) data.delete(key);
   say("Uploading…");
   try {
     const rec = await uploadRecording(data);

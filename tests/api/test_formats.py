@@ -43,6 +43,11 @@ def upload(client, path, **form):
         ("arduino_serial_plotter.txt", "arduino", "g", {"sampling_rate_hz": 50}),
         ("arduino_lsb.csv", "arduino", "g", {}),
         ("generic_g.csv", "csv", "g", {}),
+        ("headerless_spaces_ms.txt", "csv", "m/s^2", {}),
+        ("headerless_semicolon_decimal_comma.csv", "csv", "m/s^2", {}),
+        ("headerless_tab_xyz_g.txt", "csv", "g", {"sampling_rate_hz": 50}),
+        ("headerless_imu_comma.csv", "csv", "g", {"columns": "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"}),
+        ("sensorlog_ios.csv", "sensorlog", "g", {}),
     ],
 )
 def test_each_format_finds_the_six_rests(client, filename, fmt, unit, form):

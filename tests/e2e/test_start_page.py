@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 
 from app.calibration import fit_six_position
@@ -56,6 +58,24 @@ def test_upload_a_log(page, server):
     assert headline.startswith("no figure for new orientations") and "add poses" in headline
     assert "on the poses fitted (in-sample)" in headline
     assert page.errors == []
+
+
+def test_upload_a_headerless_log_with_its_columns(page, server):
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(DATA / "formats" / "headerless_imu_comma.csv"))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#status:has-text('Upload refused')")
+    assert "no header row and 7 columns" in page.text_content("#status")
+    refused = list(page.errors)
+    assert len(refused) == 1 and "422" in refused[0]  # the browser logs the refused upload
+    page.fill("#log-columns", "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    page.select_option("#log-sign", "-1")
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#segments:not([hidden])")
+    ups = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => r.cells[2].textContent)")
+    truth = json.loads((DATA / "formats" / "format_samples.json").read_text())["labels"]
+    assert ups == [{"+": "-", "-": "+"}[u[0]] + u[1] for u in truth]  # negated: every rest upside down
+    assert page.errors == refused
 
 
 def test_bad_paste_is_explained(page, server):

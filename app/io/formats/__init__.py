@@ -13,9 +13,14 @@ format                    recognised by
 ``sensor_logger``         zip holding ``Metadata.csv``; header ``time,seconds_elapsed,z,y,x``
 ``gnss_logger``           lines ``UncalAccel,…`` (or the ``# UncalAccel,…`` header)
 ``physics_toolbox``       header naming ``gFx, gFy, gFz``
+``sensorlog``             header naming ``accelerometerAccelerationX(G)`` … (SensorLog, iOS)
 ``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
-``csv``                   any other header row (:mod:`app.io.formats.generic_csv`)
+``csv``                   any other header row, or none (:mod:`app.io.formats.generic_csv`)
 ========================  =====================================================================
+
+Then the sign (:mod:`.ios_sign`): the caller's ``sign`` (+1 keeps, −1 negates the accelerations),
+else −1 for a log whose header names Core Motion's columns in g (a note says so), else what the
+reader decided (+1, or Sensor Logger's iOS flip).
 """
 
 from __future__ import annotations
@@ -25,7 +30,8 @@ from pathlib import Path
 
 from ..errors import LogFormatError
 from ..log import LogData
-from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger
+from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger, sensorlog
+from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
 from .units import apply_lsb_per_g, refuse_linear_acceleration
 
@@ -34,6 +40,7 @@ READERS = {
     sensor_logger.NAME: sensor_logger.read,
     gnss_logger.NAME: gnss_logger.read,
     physics_toolbox.NAME: physics_toolbox.read,
+    sensorlog.NAME: sensorlog.read,
     generic_csv.ARDUINO: generic_csv.read_arduino,
     generic_csv.CSV: generic_csv.read_csv,
 }
@@ -44,6 +51,7 @@ DETECTORS = (
     (sensor_logger.NAME, sensor_logger.detect),
     (gnss_logger.NAME, gnss_logger.detect),
     (physics_toolbox.NAME, physics_toolbox.detect),
+    (sensorlog.NAME, sensorlog.detect),
     (generic_csv.ARDUINO, generic_csv.detect_arduino),
     (generic_csv.CSV, generic_csv.detect_csv),
 )
@@ -55,31 +63,74 @@ FORMATS = ("auto", *READERS)
 CANONICAL_COLUMNS = (*(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
                      "time_s", "time_ms", "time_us", "time_ns")
 """Names a column can be mapped to with ``columns``."""
+TIME_NAMES = ("t", "time")
+"""Names of a time column whose unit is inferred from its step (a list of ``columns``)."""
+SKIP = "-"
+"""The name of a column to leave out (a list of ``columns``)."""
 
 
-def parse_column_map(columns: str | dict | None) -> dict | None:
-    """``"acc_x:north,acc_y:east"`` (or a dict) as ``{"acc_x": "north", ...}``, its names checked.
+def parse_columns(columns: str | dict | list | None) -> dict | list | None:
+    """``columns`` as a mapping ``{"acc_x": "north", ...}`` or as a list of names, one per column.
+
+    ``"acc_x:north,acc_y:east"`` (or a dict) maps canonical names to the file's header names;
+    ``"t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"`` (or a list) names every column in order — a table
+    without a header row, or one whose header row is replaced — with the canonical names, ``t`` or
+    ``time`` (time, unit inferred) and ``-`` (a column left out).
 
     Raises
     ------
     LogFormatError
-        An entry without ``:``, or a canonical name trical does not know.
+        An entry without ``:`` among mapped ones, a canonical name trical does not know, a name
+        given twice, no accelerometer x, y, z, or part of a gyroscope or magnetometer triple.
     """
     if not columns:
         return None
     if isinstance(columns, str):
+        entries = [e.strip() for e in columns.split(",")]
+        mapped = [":" in e for e in entries]
+        if not any(mapped):
+            return parse_column_names(entries)
         pairs = {}
-        for entry in columns.split(","):
+        for entry in entries:
             canonical, sep, column = entry.partition(":")
             if not sep or not canonical.strip() or not column.strip():
-                raise LogFormatError(f"columns entry {entry!r} is not canonical:column, e.g. acc_x:north")
+                raise LogFormatError(
+                    f"columns entry {entry!r} is not canonical:column, e.g. acc_x:north: give either a mapping "
+                    "(acc_x:north,acc_y:east,acc_z:down) or one name per column (t,acc_x,acc_y,acc_z)")
             pairs[canonical.strip().lower()] = column.strip()
         columns = pairs
+    if isinstance(columns, (list, tuple)):
+        return parse_column_names(list(columns))
     unknown = [k for k in columns if k not in CANONICAL_COLUMNS]
     if unknown:
         raise LogFormatError(f"columns maps {', '.join(unknown)}, which trical does not know: map to "
                              f"{', '.join(CANONICAL_COLUMNS)}")
     return dict(columns)
+
+
+def parse_column_names(names: list[str]) -> list[str]:
+    """One name per column, checked (see :func:`parse_columns`)."""
+    names = [str(n).strip().lower() for n in names]
+    known = (*CANONICAL_COLUMNS, *TIME_NAMES, SKIP)
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        raise LogFormatError(
+            f"columns names {', '.join(repr(n) for n in unknown)}, which trical does not know: name each column, "
+            f"in order, with one of {', '.join(known)} ({SKIP} leaves a column out), e.g. "
+            "columns=t,acc_x,acc_y,acc_z")
+    twice = sorted({n for n in names if n != SKIP and names.count(n) > 1})
+    times = [n for n in names if n in TIME_NAMES or n.startswith("time_")]
+    if twice or len(times) > 1:
+        raise LogFormatError(f"columns names {', '.join(twice or times)} more than once: give each name (and one "
+                             f"time column) once, {SKIP} for a column to leave out")
+    for sensor in ("acc", "gyr", "mag"):
+        axes = [f"{sensor}_{a}" for a in "xyz"]
+        given = [a for a in axes if a in names]
+        if (sensor == "acc" or given) and len(given) != 3:
+            missing = ", ".join(a for a in axes if a not in names)
+            raise LogFormatError(f"columns names {'no accelerometer' if not given else ', '.join(given)} but not "
+                                 f"{missing}: name all three axes of each sensor, e.g. columns=t,acc_x,acc_y,acc_z")
+    return names
 
 
 def detect_format(s: Sniff) -> str:
@@ -105,8 +156,8 @@ def detect_format(s: Sniff) -> str:
 
 
 def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None = None,
-             units: dict | None = None, lsb_per_g: float | None = None, columns: str | dict | None = None,
-             name: str = "the file") -> LogData:
+             units: dict | None = None, lsb_per_g: float | None = None,
+             columns: str | dict | list | None = None, sign: int | None = None, name: str = "the file") -> LogData:
     """Read a log in any supported format into arrays.
 
     Parameters
@@ -122,17 +173,23 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     lsb_per_g : float, optional
         Sensitivity of an accelerometer read in counts: readings are divided by it into g.  A
         comment ``# lsb_per_g=16384`` in the file gives it too.
-    columns : str or dict, optional
+    columns : str, dict or list, optional
         Column mapping of a CSV whose header trical does not recognise, ``"acc_x:north,acc_y:east,
-        acc_z:down,time_ms:t"``; the file is then read as a generic (or Arduino) CSV.
+        acc_z:down,time_ms:t"``, or one name per column, ``"t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"``
+        (a table without a header row, or instead of its header row; :func:`parse_columns`); the
+        file is then read as a generic (or Arduino) CSV.
+    sign : {1, -1}, optional
+        Factor on the file's accelerations (−1 for Core Motion's sign); detected when None
+        (:mod:`.ios_sign`).
     name : str
         How to call the file in messages.
 
     Returns
     -------
     LogData
-        Readings as specific force with +g on the up axis (iOS signs flipped where the format says
-        so), ``format`` naming the reader and ``notes`` what it decided.
+        Readings as specific force with +g on the up axis (iOS signs flipped where the format or the
+        header says so, or as ``sign`` asks), ``format`` naming the reader, ``sign`` the factor
+        applied and ``notes`` what it decided.
 
     Raises
     ------
@@ -145,11 +202,13 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     from ..arrays import is_array_file, read_array_log  # here: app.io.arrays reads CSV through this package
 
     if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
-        return read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
-    column_map = parse_column_map(columns)
+        check_sign(sign)
+        return settle_sign(read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name), sign)
+    check_sign(sign)
+    column_map = parse_columns(columns)
     s = sniff(path, name)
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
-        raise LogFormatError(f"columns maps the columns of a generic CSV; the {format} format has fixed columns: "
+        raise LogFormatError(f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
                              "leave columns out, or use format=csv")
     fmt = detect_format(s) if format == "auto" else format
     if column_map and fmt not in (generic_csv.CSV, generic_csv.ARDUINO):
@@ -157,13 +216,15 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     if s.is_zip and fmt not in (phyphox.NAME, sensor_logger.NAME):
         raise LogFormatError(f"{name} is a zip archive, which the {fmt} format does not read: use format=auto, "
                              "phyphox or sensor_logger, or upload the CSV itself", status=415)
-    if not s.is_zip and fmt in (phyphox.NAME, sensor_logger.NAME, gnss_logger.NAME, physics_toolbox.NAME) \
+    if not s.is_zip and fmt in (phyphox.NAME, sensor_logger.NAME, gnss_logger.NAME, physics_toolbox.NAME, sensorlog.NAME) \
             and not dict(DETECTORS)[fmt](s):
         raise LogFormatError(f"{name} does not look like a {fmt} file (its header does not match): use "
                              "format=auto, or map its columns as acc_x, acc_y, acc_z with format=csv")
     comment_lsb = None if s.is_zip else generic_csv.lsb_from_comments(s.lines)
     lsb = lsb_per_g if lsb_per_g is not None else comment_lsb
-    extra = {"column_map": column_map} if column_map else {}
+    extra = {}
+    if column_map:
+        extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
     log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
                        lsb_per_g=lsb, **extra)
     acc, unit, notes = apply_lsb_per_g(log.acc, log.units["acc"], lsb)
@@ -172,5 +233,6 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     refuse_linear_acceleration(acc, unit, name)
     if fmt != log.format:
         notes.append(f"read as {fmt}")
-    return dataclasses.replace(log, acc=acc, units={**log.units, "acc": unit}, format=fmt,
-                               notes=tuple(log.notes) + tuple(notes))
+    log = dataclasses.replace(log, acc=acc, units={**log.units, "acc": unit}, format=fmt,
+                              notes=tuple(log.notes) + tuple(notes))
+    return settle_sign(log, sign)

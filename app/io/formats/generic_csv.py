@@ -1,4 +1,4 @@
-"""Generic and Arduino CSV logs: a header row naming the columns, readings in g, m/s² or LSB.
+"""Generic and Arduino CSV logs: a header row naming the columns (or none), readings in g, m/s² or LSB.
 
 Accelerometer columns are recognised by names such as ``acc_x``, ``ax``, ``x`` or
 ``Acceleration x (m/s^2)``; gyroscope (``gyr_x``, ``gx``, ``Gyroscope x (rad/s)``) and magnetometer
@@ -7,6 +7,14 @@ time column (seconds, milliseconds, microseconds or nanoseconds) gives the sampl
 one, the caller gives ``sampling_rate_hz``.  Error messages name lines 1-based, the header being
 line 1 (comment lines starting with ``#`` before the header count too).  Parquet files name their
 columns the same way (:mod:`app.io.arrays` uses :func:`map_columns`).
+
+Loggers often write no header row: numbers from the first line, separated by commas, semicolons,
+tabs or spaces (runs of blanks, as in aligned tables), with a decimal point or — with any separator
+but a comma — a decimal comma (``0,25;9,81``).  Three columns are read as accelerometer x, y, z
+(the caller gives ``sampling_rate_hz``), four as time, x, y, z (the time unit inferred from the
+step, as for a ``time`` column); other counts are named with ``columns`` — one name per column in
+order, ``t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z`` (:func:`table_layout`).  Numbers with decimal
+commas between comma separators cannot be told apart and are refused by their column count.
 
 The unit comes from the caller, else the header (``acc_x (g)``), else the data
 (:func:`~app.io.formats.units.infer_acc_unit`).  Readings in counts (LSB) become g with the
@@ -19,16 +27,17 @@ The *arduino* format adds the Arduino IDE Serial Plotter's ``label:value`` lines
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
-from .table import SNIFF_BYTES, Sniff, decode_head, guess_delimiter, rate_from_time, read_columns, sampling_rate, seconds_per_unit
+from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
+                    rate_from_time, read_columns, sampling_rate, seconds_per_unit, split_row)
 from .units import infer_acc_unit
 
 MAX_LISTED_COLUMNS = 20
@@ -73,13 +82,89 @@ def split_header(text: str) -> tuple[int, str, list[str]]:
             continue
         delimiter = guess_delimiter(line)
         if line.count(delimiter) == 0:
-            raise LogFormatError(
-                f"line {number} {line[:80]!r} is not a header of comma-, semicolon- or tab-separated "
-                "columns: the first line must name the columns, e.g. acc_x,acc_y,acc_z"
-            )
-        names = next(csv.reader([line], delimiter=delimiter))
-        return number, delimiter, names
+            if len(line.split()) < 2:
+                raise LogFormatError(
+                    f"line {number} {line[:80]!r} is not a header of comma-, semicolon-, tab- or space-separated "
+                    "columns: the first line must name the columns, e.g. acc_x,acc_y,acc_z, or be the "
+                    "first row of numbers"
+                )
+            delimiter = WHITESPACE
+        return number, delimiter, split_row(line, delimiter)
     raise LogFormatError("the file holds no header row: the first line must name the columns, e.g. acc_x,acc_y,acc_z")
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Where a table's numbers start and how they are written, with the names of its columns."""
+
+    skip_lines: int
+    delimiter: str
+    decimal: str
+    names: list[str]
+    headerless: bool
+    notes: tuple[str, ...] = ()
+
+
+HEADERLESS_NAMES = {3: ["acc_x", "acc_y", "acc_z"], 4: ["time", "acc_x", "acc_y", "acc_z"]}
+"""The columns of a table without a header row, by their count (more need ``columns``)."""
+_DELIMITER_WORDS = {",": "commas", ";": "semicolons", "\t": "tabs", WHITESPACE: "spaces"}
+
+
+def table_layout(text: str, name: str = "the file", column_names: list[str] | None = None) -> Layout:
+    """The layout of a CSV-like table: a header row naming its columns, or numbers from the first line.
+
+    Parameters
+    ----------
+    text : str
+        The head of the file.
+    name : str
+        How to call the file in messages.
+    column_names : list of str, optional
+        One name per column, in order (the upload field ``columns=t,acc_x,acc_y,acc_z``): they name
+        the columns of a table without a header row, or replace the header row of one that has it.
+
+    Raises
+    ------
+    LogFormatError
+        A table without a header row whose column count is neither 3 (x, y, z) nor 4 (time, x, y, z)
+        and no ``column_names``, or ``column_names`` whose count is not the file's.
+    """
+    lines = text.splitlines()
+    numeric = numeric_layout(lines)
+    if numeric is not None:
+        delimiter, decimal, width = numeric
+        skip = next(i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#"))
+        names = column_names or HEADERLESS_NAMES.get(width)
+        if names is None:
+            raise LogFormatError(
+                f"{name} has no header row and {width} columns: without names trical reads 3 columns as "
+                "x, y, z (accelerometer) or 4 as time, x, y, z; name yours, one per column in order, with "
+                "the upload field columns (--columns), e.g. columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z "
+                "(- skips a column)"
+            )
+        how = "named by columns" if column_names else "read as"
+        notes = [f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, {how} "
+                 f"{', '.join(names)}"]
+        layout = Layout(skip, delimiter, decimal, list(names), True, tuple(notes))
+    else:
+        header_line, delimiter, names = split_header(text)
+        decimal = guess_decimal(lines[header_line:], delimiter)
+        notes = [f"header row replaced by columns {', '.join(column_names)}"] if column_names else []
+        layout = Layout(header_line, delimiter, decimal, column_names or names, False, tuple(notes))
+        width = len(names)
+    if column_names and len(column_names) != width:
+        hint = ""
+        if layout.delimiter == ",":
+            hint = (". Numbers with decimal commas (0,5) cannot be told from a comma separator: save the "
+                    "log with semicolons or tabs between the columns")
+        raise LogFormatError(
+            f"columns names {len(column_names)} columns ({', '.join(column_names)}) but {name} has {width} "
+            f"per line, separated by {_DELIMITER_WORDS[layout.delimiter]}: give one name per column, in "
+            f"order (- skips a column){hint}"
+        )
+    if layout.decimal == ",":
+        layout = dataclasses.replace(layout, notes=layout.notes + ("decimal comma",))
+    return layout
 
 
 def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]:
@@ -146,7 +231,8 @@ def renamed(names: list[str], column_map: dict | None) -> list[str]:
 
 
 def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
-                 name: str = "the file", column_map: dict | None = None) -> LogData:
+                 name: str = "the file", column_map: dict | None = None,
+                 column_names: list[str] | None = None) -> LogData:
     """Read a generic CSV log into arrays, its units as the caller or the header name them.
 
     Parameters
@@ -162,27 +248,41 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     column_map : dict, optional
         Canonical names for the file's columns, ``{"acc_x": "north", ...}``: the named columns are
         read as if the header called them so.
+    column_names : list of str, optional
+        One name per column, in order, for a table without a header row (or instead of its header row);
+        see :func:`table_layout`.
 
     Raises
     ------
     LogFormatError
         Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks,
-        text in a numeric column (with its line number), a missing sampling rate.
+        a table without a header row of other than 3 or 4 columns and no ``column_names``, a count of
+        ``column_names`` that is not the file's, text in a numeric column (with its line number), a
+        missing sampling rate.
     """
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
-    header_line, delimiter, names = split_header(decode_head(head, name))
+    layout = table_layout(decode_head(head, name), name, column_names)
+    names = layout.names
     channels, time_col, time_scale, header_units = map_columns(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
     for sensor in ("acc", "gyr", "mag"):
         if sensor in channels:
             used += [channels[sensor][a] for a in "xyz"]
-    values = dict(zip(used, read_columns(Path(path), skip_lines=header_line, n_columns=len(names), columns=used,
-                                         delimiter=delimiter, name=name, column_names=names,
-                                         first_line=header_line + 1)))
+    values = dict(zip(used, read_columns(Path(path), skip_lines=layout.skip_lines, n_columns=len(names),
+                                         columns=used, delimiter=layout.delimiter, decimal=layout.decimal,
+                                         name=name, column_names=names, first_line=layout.skip_lines + 1)))
     arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
     time = values[time_col] if time_col is not None else None
-    rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
+    try:
+        rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
+        time_s = None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time))
+    except LogFormatError as exc:
+        if not (layout.headerless and column_names is None and time is not None):
+            raise
+        raise LogFormatError(f"{exc}. {name} has no header row, so its 4 columns were read as time, x, y, z: "
+                             "if the first is not a time, name the columns with columns (--columns), e.g. "
+                             "columns=acc_x,acc_y,acc_z,- ") from None
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
         if unit not in UNITS[sensor]:
@@ -191,11 +291,12 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         acc=arrays["acc"],
         gyr=arrays.get("gyr"),
         mag=arrays.get("mag"),
-        time_s=None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time)),
+        time_s=time_s,
         sampling_rate_hz=rate,
         units=final_units,
         format="csv",
         columns=names,
+        notes=layout.notes,
     )
 
 
@@ -253,15 +354,18 @@ def _settle_units(log: LogData, caller_acc: str | None, header_acc: str | None, 
             notes.append(f"accelerometer unit {unit} inferred from the data (median norm)")
     if lsb_per_g is not None and unit != "raw" and caller_acc is None and header_acc is None:
         unit = "raw"  # lsb_per_g says the readings are counts
-    return dataclasses.replace(log, units={**log.units, "acc": unit}, format=fmt, notes=tuple(notes))
+    return dataclasses.replace(log, units={**log.units, "acc": unit}, format=fmt,
+                               notes=tuple(log.notes) + tuple(notes))
 
 
 def read_csv(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
-             fmt: str = CSV, column_map: dict | None = None, **_) -> LogData:
+             fmt: str = CSV, column_map: dict | None = None, column_names: list[str] | None = None, **_) -> LogData:
     """Read a generic CSV log, settling the accelerometer unit (caller, header, data)."""
     units = units or {}
-    log = read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name, column_map=column_map)
-    return _settle_units(log, units.get("acc"), _header_acc_unit(s.text), lsb_per_g, fmt, [])
+    log = read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name, column_map=column_map,
+                       column_names=column_names)
+    header_acc = None if column_names else _header_acc_unit(s.text)
+    return _settle_units(log, units.get("acc"), header_acc, lsb_per_g, fmt, [])
 
 
 def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
@@ -270,7 +374,8 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     data = _data_lines(s.lines)
     if not (data and _PLOTTER_LINE.match(data[0])):
         return read_csv(path, s, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                        lsb_per_g=lsb_per_g, fmt=ARDUINO, column_map=kw.get("column_map"))
+                        lsb_per_g=lsb_per_g, fmt=ARDUINO, column_map=kw.get("column_map"),
+                        column_names=kw.get("column_names"))
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
     first = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(data[0]))

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, find_member, guess_delimiter, rate_from_time, read_columns, read_member, split_row
+from .table import Sniff, find_member, first_row, guess_decimal, rate_from_time, read_columns, read_member
 
 NAME = "phyphox"
 RAW_DATA = "Raw Data.csv"
@@ -32,14 +32,6 @@ _SENSOR = {"acceleration": "acc", "gyroscope": "gyr", "magnetic field": "mag"}
 _UNIT = {"m/s^2": "m/s^2", "rad/s": "rad/s", "µt": "uT", "μt": "uT", "ut": "uT"}
 
 
-def _header(lines: list[str]) -> tuple[int, str, list[str]] | None:
-    for index, line in enumerate(lines):
-        if line.strip():
-            delimiter = guess_delimiter(line)
-            return index, delimiter, split_row(line, delimiter)
-    return None
-
-
 def _is_phyphox_header(names: list[str]) -> bool:
     lowered = [n.lower() for n in names]
     return bool(lowered) and bool(_TIME.match(lowered[0])) and any(_COLUMN.match(n) for n in lowered)
@@ -49,18 +41,8 @@ def detect(s: Sniff) -> bool:
     """A zip holding ``Raw Data.csv``, or a header ``Time (s)`` followed by phyphox sensor columns."""
     if s.is_zip:
         return find_member(s.members, RAW_DATA) is not None
-    found = _header(s.lines)
+    found = first_row(s.lines)
     return found is not None and _is_phyphox_header(found[2])
-
-
-def _decimal(lines: list[str], start: int, delimiter: str) -> str:
-    """``,`` when the data fields carry a decimal comma (only possible with tab or ``;`` separators)."""
-    if delimiter == ",":
-        return "."
-    for line in lines[start:start + 20]:
-        if line.strip():
-            return "," if any("," in f for f in split_row(line, delimiter)) else "."
-    return "."
 
 
 def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
@@ -74,12 +56,12 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     else:
         data, label = path.read_bytes(), name
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
-    found = _header(lines)
+    found = first_row(lines)
     if found is None or not _is_phyphox_header(found[2]):
         raise LogFormatError(f"{label} is not a phyphox table: its first line must be \"Time (s)\", then the "
                              "sensor columns")
     index, delimiter, names = found
-    decimal = _decimal(lines, index + 1, delimiter)
+    decimal = guess_decimal(lines[index + 1:], delimiter)
     channels: dict[str, dict[str, int]] = {}
     found_units: dict[str, str] = {}
     linear = False

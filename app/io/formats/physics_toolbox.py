@@ -16,26 +16,18 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, guess_delimiter, rate_from_time, read_columns, split_row
+from .table import Sniff, first_row, guess_decimal, rate_from_time, read_columns, split_row
 
 NAME = "physics_toolbox"
 _GF = ("gfx", "gfy", "gfz")
 _CLOCK = re.compile(r"^(?:(\d+):)?(\d+):(\d+)(?:[:.,](\d+))?$")
 
 
-def _header(lines: list[str]) -> tuple[int, str, list[str]] | None:
-    for index, line in enumerate(lines):
-        if line.strip():
-            delimiter = guess_delimiter(line)
-            return index, delimiter, split_row(line, delimiter)
-    return None
-
-
 def detect(s: Sniff) -> bool:
     """A header naming ``gFx``, ``gFy`` and ``gFz``."""
     if s.is_zip:
         return False
-    found = _header(s.lines)
+    found = first_row(s.lines)
     return found is not None and set(_GF) <= {n.lower() for n in found[2]}
 
 
@@ -52,14 +44,9 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     """Read a Physics Toolbox CSV: the g-force columns, and gyroscope/magnetometer when present."""
     data = path.read_bytes()
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
-    index, delimiter, names = _header(lines)
+    index, delimiter, names = first_row(lines)
     lowered = [n.lower() for n in names]
-    decimal = "."
-    if delimiter != ",":
-        first = next((ln for ln in lines[index + 1:] if ln.strip()), "")
-        fields = split_row(first, delimiter)
-        if any("," in f for f in fields[1:]):
-            decimal = ","
+    decimal = guess_decimal(lines[index + 1:], delimiter, first_column=1)  # a clock may read 00:01,500
     sensors = {"acc": _GF, "gyr": ("wx", "wy", "wz"), "mag": ("bx", "by", "bz")}
     present = {k: [lowered.index(c) for c in cols] for k, cols in sensors.items() if set(cols) <= set(lowered)}
     order = [c for cols in present.values() for c in cols]

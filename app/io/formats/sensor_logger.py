@@ -152,7 +152,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     time_s = (time_ns - time_ns[0]).astype(float) * 1e-9
     aligned = {k: resample_to(time_s, (t - time_ns[0]).astype(float) * 1e-9, v) for k, (t, v) in extra.items()}
     return LogData(
-        acc=sign * acc, gyr=aligned.get("gyr"), mag=aligned.get("mag"), time_s=time_s,
+        acc=sign * acc, sign=int(sign), gyr=aligned.get("gyr"), mag=aligned.get("mag"), time_s=time_s,
         sampling_rate_hz=rate_from_time(time_s, sampling_rate_hz, label),
         units={"acc": unit, **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k] for k in aligned}},
         format=NAME, columns=names, notes=tuple(notes),

@@ -9,6 +9,7 @@ with ``;`` separators), and take the sampling rate from a time column with :func
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import itertools
@@ -99,12 +100,133 @@ def read_member(path: Path, member: str, name: str) -> bytes:
         return zf.read(member)
 
 
+WHITESPACE = " "
+"""The delimiter of columns separated by runs of spaces or tabs (``time x y z`` loggers, aligned tables)."""
+DELIMITERS = ("\t", ";", ",", WHITESPACE)
+"""Separators of a table without a header row, tried in this order: a tab or a semicolon is never
+part of a number, a comma may be a decimal mark (``0,5;9,81``), so it is tried after them."""
+_TAB_TO_SPACE = bytes.maketrans(b"\t", b" ")
+
+
 def split_row(line: str, delimiter: str) -> list[str]:
+    if delimiter == WHITESPACE:
+        return line.split()
     return [c.strip() for c in next(csv.reader([line], delimiter=delimiter))]
 
 
 def guess_delimiter(line: str) -> str:
     return max((",", ";", "\t"), key=line.count)
+
+
+def first_row(lines: list[str]) -> tuple[int, str, list[str]] | None:
+    """The 0-based index, delimiter (comma, semicolon or tab) and fields of the first non-blank line."""
+    for index, line in enumerate(lines):
+        if line.strip():
+            delimiter = guess_delimiter(line)
+            return index, delimiter, split_row(line, delimiter)
+    return None
+
+
+def guess_decimal(lines: list[str], delimiter: str, first_column: int = 0) -> str:
+    """``,`` when the data fields carry a decimal comma (only possible when the separator is not a
+    comma), else ``.``; looks at the first 20 non-blank data lines, from column ``first_column``."""
+    if delimiter == ",":
+        return "."
+    data = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")][:20]
+    return "," if any("," in f for ln in data for f in split_row(ln, delimiter)[first_column:]) else "."
+
+
+def is_number(text: str, decimal: str = ".") -> bool:
+    """True for a decimal number written with ``decimal`` as its mark (``1.5e-3``, ``-0,25``)."""
+    if decimal != ".":
+        if "." in text:
+            return False
+        text = text.replace(decimal, ".")
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return text.strip().lower() not in ("nan", "inf", "-inf", "+inf", "infinity")
+
+
+def numeric_layout(lines: list[str]) -> tuple[str, str, int] | None:
+    """The delimiter, decimal mark and column count of a table without a header row, or None.
+
+    ``lines`` are the first lines of the file; ``#`` comments and blank lines are skipped. The first
+    data line decides whether there is a header row: None unless it splits into two or more numbers.
+    Of the :data:`DELIMITERS` that split it so, the first that gives the same count on the next lines
+    (up to 20) wins (else the first: the reader then names the line that differs); the decimal mark
+    is a comma when the separator is not one and the numbers carry commas.
+    """
+    data = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")][:20]
+    if not data:
+        return None
+    found = []
+    for delimiter in DELIMITERS:
+        fields = split_row(data[0], delimiter)
+        marks = [d for d in ((".", ",") if delimiter != "," else (".",)) if all(is_number(f, d) for f in fields)]
+        if len(fields) < 2 or not marks:
+            continue
+        rows = [split_row(ln, delimiter) for ln in data]
+        commas = "." not in marks or any("," in f for r in rows for f in r)
+        layout = (delimiter, "," if "," in marks and commas else ".", len(fields))
+        if all(len(r) == len(fields) for r in rows):
+            return layout
+        found.append(layout)
+    return found[0] if found else None
+
+
+class _SingleSpaced(io.RawIOBase):
+    """A text file whose runs of blanks become one space, with none at a line's ends: what pyarrow's
+    one-character delimiter needs to read whitespace-separated columns. Read in blocks, never whole."""
+
+    def __init__(self, source, block_size: int = 1 << 22):
+        self._source = source
+        self._block_size = block_size
+        self._pending = b""
+        self._out = memoryview(b"")
+        self._eof = False
+
+    def readable(self) -> bool:
+        return True
+
+    def _fill(self) -> None:
+        chunk = self._source.read(self._block_size)
+        if not chunk:
+            self._eof = True
+            text, self._pending = self._pending, b""
+        else:
+            text = self._pending + chunk
+            cut = text.rfind(b"\n") + 1  # whole lines only: a run of blanks is never split
+            text, self._pending = text[:cut], text[cut:]
+        text = text.translate(_TAB_TO_SPACE)
+        while b"  " in text:  # bytes.replace is C: a few passes beat one regex by far
+            text = text.replace(b"    ", b" ").replace(b"  ", b" ")
+        text = text.replace(b"\n ", b"\n").replace(b" \n", b"\n").replace(b" \r", b"\r")
+        if text.startswith(b" "):  # the chunk starts at a line's start
+            text = text[1:]
+        if self._eof and text.endswith(b" "):
+            text = text[:-1]
+        self._out = memoryview(text)
+
+    def readinto(self, buffer) -> int:
+        while not self._out and not self._eof:
+            self._fill()
+        n = min(len(buffer), len(self._out))
+        buffer[:n] = self._out[:n]
+        self._out = self._out[n:]
+        return n
+
+    def close(self) -> None:
+        self._source.close()
+        super().close()
+
+
+def _csv_source(data: bytes | Path, delimiter: str):
+    """What pyarrow reads: the bytes, the file's path (its own reader), or the single-spaced stream."""
+    if delimiter == WHITESPACE:
+        return io.BufferedReader(_SingleSpaced(io.BytesIO(data) if isinstance(data, bytes) else open(data, "rb")))
+    return contextlib.nullcontext(io.BytesIO(data) if isinstance(data, bytes) else str(data))
 
 
 def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns: list[int], delimiter: str,
@@ -122,7 +244,7 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
     columns : list of int
         Which columns to return, in that order.
     delimiter, decimal : str
-        Field separator and decimal mark.
+        Field separator (:data:`WHITESPACE` for runs of spaces or tabs) and decimal mark.
     name : str
         How to call the file in messages.
     column_names : list of str, optional
@@ -140,16 +262,17 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
     names = [f"c{i}" for i in range(n_columns)]
     first_line = first_line or skip_lines + 1
     try:
-        table = pacsv.read_csv(
-            io.BytesIO(data) if isinstance(data, bytes) else str(data),
-            read_options=pacsv.ReadOptions(skip_rows=skip_lines, column_names=names, block_size=1 << 22),
-            parse_options=pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True),
-            convert_options=pacsv.ConvertOptions(
-                include_columns=[names[c] for c in columns],
-                column_types={names[c]: pa.int64() if c in integer_columns else pa.float64() for c in columns},
-                null_values=["", "nan", "NaN", "NA"], strings_can_be_null=False, decimal_point=decimal,
-            ),
-        )
+        with _csv_source(data, delimiter) as source:
+            table = pacsv.read_csv(
+                source,
+                read_options=pacsv.ReadOptions(skip_rows=skip_lines, column_names=names, block_size=1 << 22),
+                parse_options=pacsv.ParseOptions(delimiter=delimiter, ignore_empty_lines=True),
+                convert_options=pacsv.ConvertOptions(
+                    include_columns=[names[c] for c in columns],
+                    column_types={names[c]: pa.int64() if c in integer_columns else pa.float64() for c in columns},
+                    null_values=["", "nan", "NaN", "NA"], strings_can_be_null=False, decimal_point=decimal,
+                ),
+            )
     except (pa.ArrowInvalid, pa.ArrowTypeError, UnicodeDecodeError):
         detail = first_bad_line(data, skip_lines, delimiter, decimal, columns, column_names or names, first_line)
         raise LogFormatError(f"{name}: {detail}: every used column must hold numbers") from None

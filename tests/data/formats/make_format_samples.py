@@ -178,6 +178,29 @@ def main(out: Path = HERE) -> None:
     _write("generic_g.csv", f"# {GENERATED}\n" + _table(
         ["time_ms", "acc_x", "acc_y", "acc_z"], [[f"{ti * 1e3:.1f}", *a] for ti, a in zip(t, gf)], fmt="{:.6f}"))
 
+    # Loggers' own files, without a header row (the numbers from the first line).
+    _write("headerless_spaces_ms.txt", "".join(  # aligned columns: runs of spaces
+        f"{int(round(ti * 1e3)):8d} {a[0]:10.5f} {a[1]:10.5f} {a[2]:10.5f}\n" for ti, a in zip(t, acc)))
+    _write("headerless_semicolon_decimal_comma.csv", "".join(
+        f"{ti:.3f};{a[0]:.5f};{a[1]:.5f};{a[2]:.5f}\n".replace(".", ",") for ti, a in zip(t, acc)))
+    _write("headerless_tab_xyz_g.txt", "".join(f"{a[0]:.6f}\t{a[1]:.6f}\t{a[2]:.6f}\n" for a in gf))
+    _write("headerless_imu_comma.csv", "".join(  # t (s), acc (g), gyr (rad/s): named with columns
+        f"{ti:.3f},{a[0]:.6f},{a[1]:.6f},{a[2]:.6f},{w[0]:.6f},{w[1]:.6f},{w[2]:.6f}\n"
+        for ti, a, w in zip(t, gf, gyr)))
+
+    # SensorLog (iOS): Core Motion's values in g with its sign (-1 g on the up axis), one row per sample.
+    boot_s = 61_234.5
+    core = -gf  # Core Motion's sign
+    gravity = core / np.linalg.norm(core, axis=1, keepdims=True)
+    header = (["loggingTime(txt)", "loggingSample(N)", "accelerometerTimestamp_sinceReboot(s)"]
+              + [f"accelerometerAcceleration{a}(G)" for a in "XYZ"] + ["motionTimestamp_sinceReboot(s)"]
+              + [f"motionUserAcceleration{a}(G)" for a in "XYZ"] + [f"motionGravity{a}(G)" for a in "XYZ"]
+              + ["gyroTimestamp_sinceReboot(s)"] + [f"gyroRotation{a}(rad/s)" for a in "XYZ"])
+    rows = [[f"2025-11-23 00:00:{ti:06.3f} +0000", str(i), f"{boot_s + ti:.6f}", *a, f"{boot_s + ti + 0.002:.6f}",
+             *(a - gv), *gv, f"{boot_s + ti + 0.001:.6f}", *w]
+            for i, (ti, a, gv, w) in enumerate(zip(t, core, gravity, gyr))]
+    _write("sensorlog_ios.csv", _table(header, rows, fmt="{:.6f}"))
+
     truth = log.to_dict()
     truth.update(seed=SEED, params=PARAMS, unit="m/s^2", note=GENERATED,
                  labels=[s["up"] for s in truth["segments"]])
