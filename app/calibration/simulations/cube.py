@@ -157,6 +157,27 @@ def _rotation_path(q_start, rot, n, wander_deg, rng):
     return s, attitude
 
 
+def _shortest_rotation(q, target, label: str):
+    """The shortest rotation (calibration frame) from attitude q to attitude target."""
+    dq = quat.multiply(target, quat.conjugate(q))
+    if dq[0] < 0:
+        dq = -dq
+    ang = 2 * np.arctan2(np.linalg.norm(dq[1:]), dq[0])
+    axis = dq[1:] / max(np.linalg.norm(dq[1:]), 1e-12) if ang > 1e-9 else np.array([0, 0, 1.0])
+    return parse_rotation({"axis": axis.tolist(), "angle_deg": float(np.degrees(ang)), "label": label})
+
+
+def _move(q, rot, n: int, h: float, wander_deg: float, rng):
+    """Attitudes and body rates of one rotation of n samples from attitude q."""
+    s, attitude = _rotation_path(q, rot, n, wander_deg, rng)
+    qs = attitude(s)
+    d = 1e-6
+    dq_ds = (attitude(s + d) - attitude(s - d)) / (2 * d)
+    # Body rate from q̇ = ½ q ⊗ [0, ω] (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (2));
+    # s runs 0 → 1 over (n − 1) steps.
+    return qs, 2.0 * quat.multiply(quat.conjugate(qs), dq_ds)[:, 1:] / ((n - 1) * h)
+
+
 def simulate_session(
     rng: np.random.Generator,
     protocol="cube24",
@@ -234,30 +255,10 @@ def simulate_session(
         if k < len(rots):
             rot = wrong.get(k + 1, rots[k])
             if rot is None:
-                # A free move: go straight to the protocol's next attitude.
-                target = proto.quaternions[k + 1]
-                dq = quat.multiply(target, quat.conjugate(q))
-                if dq[0] < 0:
-                    dq = -dq
-                ang = 2 * np.arctan2(np.linalg.norm(dq[1:]), dq[0])
-                axis = dq[1:] / max(np.linalg.norm(dq[1:]), 1e-12) if ang > 1e-9 else np.array([0, 0, 1.0])
-                rot = parse_rotation({"axis": axis.tolist(), "angle_deg": float(np.degrees(ang)), "label": "free"})
+                rot = _shortest_rotation(q, proto.quaternions[k + 1], "free")  # straight to the next attitude
         else:
-            # Back to position 1 (section II): the shortest rotation.
-            target = proto.quaternions[0]
-            dq = quat.multiply(target, quat.conjugate(q))
-            if dq[0] < 0:
-                dq = -dq
-            ang = 2 * np.arctan2(np.linalg.norm(dq[1:]), dq[0])
-            axis = dq[1:] / max(np.linalg.norm(dq[1:]), 1e-12) if ang > 1e-9 else np.array([0, 0, 1.0])
-            rot = parse_rotation({"axis": axis.tolist(), "angle_deg": float(np.degrees(ang)), "label": "return"})
-        s, attitude = _rotation_path(q, rot, n_rot, wander_deg, rng)
-        qs = attitude(s)
-        d = 1e-6
-        dq_ds = (attitude(s + d) - attitude(s - d)) / (2 * d)
-        # Body rate from q̇ = ½ q ⊗ [0, ω] (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (2));
-        # s runs 0 → 1 over (n_rot − 1) steps.
-        om = 2.0 * quat.multiply(quat.conjugate(qs), dq_ds)[:, 1:] / ((n_rot - 1) * h)
+            rot = _shortest_rotation(q, proto.quaternions[0], "return")  # back to position 1 (section II)
+        qs, om = _move(q, rot, n_rot, h, wander_deg, rng)
         attitudes_q.append(qs)
         omegas.append(om)
         pos += n_rot
