@@ -21,6 +21,9 @@ rad/s, bias from the rests):
 - a still moment with no axis up (held in the hand) is handling too, and the move integrated
   across it.
 
+A recording of an ordered protocol with exactly P rests (P + 1 with the return to position 1) is
+taken one rest per position, as recorded: only extra rests are looked at as handling.
+
 cube24 and other ordered protocols are walked in order: a move that is neither the next rotation
 nor handling is taken as that rotation anyway, so that the sequence check (Särkkä et al., section
 VII-A-1) names it as the first wrong rotation.  Ferraris' protocol (full turns) is matched in any
@@ -164,9 +167,10 @@ def _walk_ordered(walk: _Walk, proto: Protocol) -> Match:
     faces = walk.faces
     n = len(faces)
     start = next((i for i in range(n) if faces[i] is not None), None)
-    # Without a face to go by (raw units seen in one orientation only), or after a wrong rotation
-    # (the attitudes are unknown from there), one rest per position, as recorded.
-    lost = start is None
+    # One rest per position, as recorded: when the count already fits (P, or P + 1 with the return),
+    # without a face to go by (raw units seen in one orientation only), and after a wrong rotation
+    # (the attitudes are unknown from there).
+    lost = start is None or n in (P, P + 1)
     start = start or 0
     for i in range(start):
         walk.tilted(i)
