@@ -62,6 +62,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones")
     c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help="cube only")
     c.add_argument("--field-ut", type=opt.FIELD_UT, default=None, help="cube only: local magnetic field magnitude in µT")
+    c.add_argument("--sections", type=opt.input_path("a section list (JSON)"), default=None, metavar="FILE.json",
+                   help="cube with --protocol ferraris: imucal's annotated section list (x_p … z_rot, sample indices)")
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
     c.add_argument("--mag-unit", choices=("uT", "nT", "raw"), default=None)
     c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
@@ -192,11 +194,22 @@ def _calibration_request(args, *, unit: str) -> dict:
                "label": str(args.log.name)}
     if args.method in CUBE_METHODS:
         request.update(protocol=args.protocol, field_ut=args.field_ut)
+        if args.sections is not None:
+            request["sections"] = _read_sections(args.sections)
     else:
         request["unit"] = unit
     if args.method == "triangular":
         request["solver"] = args.solver
     return request
+
+
+def _read_sections(path) -> object:
+    """The JSON of ``--sections``; the request model validates its keys and regions."""
+    try:
+        return json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise CalibrationError(f"--sections {path}: not a readable JSON section list ({exc}); write it as imucal "
+                               "does: {\"x_p\": {\"start\": 540, \"end\": 1271}, …}") from None
 
 
 def _print_summary(body: dict, recording: dict) -> None:

@@ -104,6 +104,16 @@ class AutoIn(UnknownOrientationIn):
     method: Literal["auto"]
 
 
+SectionKey = Literal["x_p", "x_a", "y_p", "y_a", "z_p", "z_a", "x_rot", "y_rot", "z_rot"]
+
+
+class SectionIn(Strict):
+    """One annotated region of a Ferraris recording (imucal's section list)."""
+
+    start: int = Field(ge=0, description="First sample of the region.")
+    end: int = Field(ge=1, description="The sample after the last one (imucal slices data.iloc[start:end]).")
+
+
 class CubeIn(Strict):
     """A multi-position recording of a cube (acc, gyr, optional mag): Särkkä et al.'s method."""
 
@@ -117,6 +127,10 @@ class CubeIn(Strict):
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
     field_ut: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
         None, description="Magnitude of the local magnetic field in µT; needed when the recording has a magnetometer."
+    )
+    sections: dict[SectionKey, SectionIn] | None = Field(
+        None, description="protocol ferraris: imucal's annotated section list, {\"x_p\": {\"start\", \"end\"}, …, "
+                          "\"z_rot\"} in sample indices (end exclusive), instead of the detected rests and turns.",
     )
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None

@@ -225,7 +225,7 @@ GYR_TO_RAD_S = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "raw": 1.0}
 MAG_TO_UT = {"uT": 1.0, "nT": 1e-3, "raw": 1.0}
 
 
-def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None):
+def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None, sections=None):
     """Särkkä et al.'s multi-position calibration of a recording's acc, gyr and optional mag.
 
     Gyroscope samples in deg/s are converted to rad/s and magnetometer samples in nT to µT first, so
@@ -243,7 +243,7 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
     if mag is not None and field_ut is None:
         raise CalibrationError("the recording has a magnetometer: give field_ut, the local field magnitude in µT")
     return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=log.sampling_rate_hz, protocol=protocol,
-                          gravity=gravity, field_ut=field_ut)
+                          gravity=gravity, field_ut=field_ut, sections=sections)
 
 
 def apply_calibration(body: dict, samples, sensor: str = "acc"):
@@ -471,7 +471,9 @@ def _cube(request, recording: RecordingSource) -> dict:
     log = recording.read()
     unit = log.units["acc"]
     gravity, notes = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
-    result = calibrate_cube_log(log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut)
+    sections = None if request.sections is None else {k: v.model_dump() for k, v in request.sections.items()}
+    result = calibrate_cube_log(log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut,
+                                sections=sections)
     result = dataclasses.replace(result, units=dict(log.units))
     return calibration_body(result, {}, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label, **recording.source_fields)

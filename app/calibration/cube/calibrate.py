@@ -24,7 +24,9 @@ from ..validation import as_vectors, check_gravity
 from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
 from .drift import Drift, estimate_drift
 from .gyro import GyroCalibration, fit_gyroscope, fit_gyroscope_full_turns
+from .matching import Match, match_protocol
 from .protocols import Protocol, get_protocol
+from .sections import from_sections
 from .segmentation import Segmentation, segment_recording
 from .sequence import SequenceCheck, check_sequence, saturated_samples
 
@@ -261,19 +263,24 @@ def _validated(acc, gyr, mag, *, gravity, sampling_rate_hz, field_ut):
     return a, w, m, g, fs
 
 
-def _segment(w, fs: float, proto: Protocol, static_threshold, min_static_s: float) -> tuple[Segmentation, bool]:
-    """Still positions and rotations, matched in number to the protocol (with or without the
-    return to position 1)."""
-    P = proto.n_positions
+def _segment(a, w, fs: float, proto: Protocol, g: float, sections, static_threshold, min_static_s: float) -> Match:
+    """Still positions and rotations matched to the protocol (:mod:`.matching`), or the regions of an
+    annotated section list (:mod:`.sections`)."""
+    if sections is not None:
+        if not (proto.full_turns and not proto.heading_known):
+            raise CalibrationError(
+                f"sections (an annotated Ferraris section list: x_p … z_rot) go with protocol ferraris, not "
+                f"{proto.name}: drop sections, or use protocol ferraris"
+            )
+        seg, built = from_sections(sections, a, w, sampling_rate_hz=fs, gravity=g)
+        return Match(seg, built, False)
     seg = segment_recording(w, sampling_rate_hz=fs, threshold=static_threshold, min_static_s=min_static_s)
-    n_found = len(seg.static)
-    if n_found not in (P, P + 1):
-        raise CalibrationError(
-            f"found {n_found} still positions in the recording, but protocol {proto.name} has {P} "
-            f"({P + 1} with the return to position 1): check the protocol, or hold the device still for "
-            f"at least {min_static_s:g} s in each position and do not pause during a rotation"
-        )
-    return seg, n_found == P + 1
+    return match_protocol(a, w, seg, proto, sampling_rate_hz=fs, gravity=g)
+
+
+def _readings(proto: Protocol, static, n: int | None = None) -> list[int]:
+    """Positions (0-based, the first n) whose rests are readings of the field sensors and the gyroscope bias."""
+    return [k for k in range(len(static) if n is None else n) if proto.uses_reading(k)]
 
 
 def _remove_drift(a, w, m, seg: Segmentation, fs: float, gates: Gates):
@@ -316,7 +323,7 @@ def _check_sequence(a, w, w_raw, seg: Segmentation, proto: Protocol, fs: float, 
     VII-A-1): the first mistake and the saturated rotations before it are reasons.  Returns the
     check and the number of positions before the first mistake."""
     acc_means = _position_stats(a, seg.static)[0]
-    gyro_bias = np.vstack([w[s0:s1] for s0, s1 in seg.static]).mean(axis=0)
+    gyro_bias = np.vstack([w[seg.static[k][0]:seg.static[k][1]] for k in _readings(proto, seg.static)]).mean(axis=0)
     sat = saturated_samples(w_raw, gyro_range)
     seq = check_sequence(
         w, acc_means, seg.rotations, proto, sampling_rate_hz=fs, gyro_bias=gyro_bias, gravity=g, saturated=sat,
@@ -336,14 +343,15 @@ def _fit_field(rec: _Stages, raw, ref: float, name: str, gates: Gates) -> FieldS
     IEEE Sensors Journal 17(11) 2017, sections III-C, IV-B), with a removed drift's covariance."""
     means, covs, counts = _position_stats(raw, rec.seg.static)
     n_valid = rec.n_valid
+    use = _readings(rec.proto, rec.seg.static, n_valid)
     extra = None
     if rec.significant_drift(name):
-        idx = list(range(n_valid)) + [len(rec.seg.static) - 1]
+        idx = use + [len(rec.seg.static) - 1]
         extra = drift_covariance(rec.centres_s[idx], covs[idx], counts[idx])
     try:
         return fit_field_sensor(
-            means[:n_valid], covs[:n_valid], counts[:n_valid], rec.proto.attitudes[:n_valid], reference=ref,
-            sensor=name, estimate_angles=rec.proto.heading_known, positions=tuple(range(1, n_valid + 1)),
+            means[use], covs[use], counts[use], rec.proto.attitudes[use], reference=ref,
+            sensor=name, estimate_angles=rec.proto.heading_known, positions=tuple(k + 1 for k in use),
             mean_covariance_extra=extra,
         )
     except InsufficientDataError as exc:
@@ -376,7 +384,7 @@ def _fit_gyro(rec: _Stages, w, lam, gates: Gates) -> tuple[GyroCalibration | Non
         k for k, rot in enumerate(proto.rotations)
         if rot is not None and k + 1 < n_valid and not seq.rotations[k]["saturated"]
     ]
-    static_valid = seg.static[:n_valid]
+    static_valid = [seg.static[k] for k in _readings(proto, seg.static, n_valid)]
     still_covs = np.array([np.cov(w[s0:s1].T) for s0, s1 in static_valid])
     still_counts = np.array([s1 - s0 for s0, s1 in static_valid])
     noise_cov = np.average(still_covs, axis=0, weights=still_counts - 1)
@@ -422,6 +430,7 @@ def calibrate_cube(
     lam: float | None = None,
     static_threshold: float | None = None,
     min_static_s: float = 1.0,
+    sections: dict | None = None,
 ) -> CubeCalibration:
     """Calibrate accelerometer, gyroscope and magnetometer from one cube recording (Särkkä et al., IEEE
     Sensors Journal 17(11) 2017).
@@ -451,6 +460,10 @@ def calibrate_cube(
         rule of section IV-A-1.
     static_threshold, min_static_s : float
         Segmentation settings (see :func:`segment_recording`).
+    sections : dict, optional
+        An annotated Ferraris section list (imucal's ``{"x_p": {"start", "end"}, …, "z_rot"}``,
+        sample indices, :mod:`.sections`) instead of the detected rests and turns; protocol
+        ferraris only.
 
     Returns
     -------
@@ -460,14 +473,16 @@ def calibrate_cube(
     ------
     CalibrationError
         Missing gyroscope, mismatched lengths, non-finite samples, a magnetometer without
-        ``field_ut``, or a recording whose still positions do not match the protocol.
+        ``field_ut``, a recording whose still positions do not match the protocol, or invalid
+        ``sections``.
     InsufficientDataError
         Too few still positions or rotations for the models.
     """
     a, w, m, g, fs = _validated(acc, gyr, mag, gravity=gravity, sampling_rate_hz=sampling_rate_hz, field_ut=field_ut)
-    proto = get_protocol(protocol)
-    seg, has_return = _segment(w, fs, proto, static_threshold, min_static_s)
+    match = _segment(a, w, fs, get_protocol(protocol), g, sections, static_threshold, min_static_s)
+    seg, proto, has_return = match.segmentation, match.protocol, match.has_return
     gates = Gates()
+    gates.warn(match.warnings)
     w_raw = w
     drift: dict = {}
     if has_return:
@@ -492,6 +507,9 @@ def calibrate_cube(
     metrics = {
         "n_samples": int(len(a)),
         "n_positions_found": len(seg.static),
+        "n_still_found": seg.n_still_found,
+        "n_handling": len(seg.handling),
+        "positions_from": seg.source,
         "n_positions_used": n_valid,
         "rotations_used": [k + 1 for k in used],
         "returned_to_start": has_return,

@@ -8,7 +8,9 @@ but the rotation is not used for the gyroscope.
 
 - ``cube24``: docs/methods.md, the 24 positions of Särkkä et al. Fig. 1.
 - ``ferraris``: six static positions and one 360° rotation about each sensor axis (the protocol of
-  the imucal library), with free moves between the six positions.
+  the imucal library), with free moves between the positions.  Recorded by hand, its rests and
+  turns are matched by orientation and integrated angle (:mod:`.matching`), or taken from an
+  annotated section list (:mod:`.sections`).
 - :func:`explicit_protocol`: any list of positions and rotations.
 """
 
@@ -123,6 +125,10 @@ class Protocol:
     heading_known : bool
         True when every attitude is known about the vertical too (a jig), so that the direction
         of the reference field (α, β of Särkkä et al. eq. (8)) can be estimated.
+    reading_positions : tuple of int or None
+        0-based positions whose still readings enter the accelerometer and magnetometer fits and
+        the gyroscope bias; None for all.  An annotated Ferraris section list names six rests, and
+        its turns' end points only anchor the turns.
     """
 
     name: str
@@ -131,6 +137,7 @@ class Protocol:
     rotations: tuple
     ups: tuple
     heading_known: bool
+    reading_positions: tuple | None = None
 
     @property
     def n_positions(self) -> int:
@@ -154,7 +161,24 @@ class Protocol:
             ],
             "attitudes": self.attitudes.tolist(),
             "heading_known": self.heading_known,
+            "reading_positions": None if self.reading_positions is None else list(self.reading_positions),
         }
+
+    def uses_reading(self, k: int) -> bool:
+        """Whether position k (0-based) is a reading of the field sensors and of the gyroscope's bias."""
+        return self.reading_positions is None or k in self.reading_positions
+
+    @property
+    def full_turns(self) -> bool:
+        """True when every known rotation is a full turn (ferraris): matched by angle, in any order."""
+        known = [r for r in self.rotations if r is not None]
+        return bool(known) and all(abs(r.angle_deg) >= 360.0 for r in known)
+
+
+def attitude_for_up(label: str, *, first: bool = False) -> np.ndarray:
+    """The attitude given to a position with ``label`` up: the identity for position 1 with +z up
+    (position 1 is the calibration frame, Särkkä et al. section III-C), else a representative."""
+    return np.eye(3) if first and label == "+z" else _attitude_for_up(label)
 
 
 def _attitude_for_up(label: str) -> np.ndarray:
@@ -209,7 +233,7 @@ def explicit_protocol(rotations, *, ups=None, name: str = "explicit", first_up: 
             if lab is not None:
                 up_vector(lab)
     first = (ups[0] if ups is not None and ups[0] is not None else first_up)
-    R = [np.eye(3) if first == "+z" else _attitude_for_up(first)]
+    R = [attitude_for_up(first, first=True)]
     q = [quat.from_matrix(R[0])]
     heading_known = True
     for k, rot in enumerate(rots):
@@ -249,22 +273,39 @@ def cube24() -> Protocol:
     return explicit_protocol(CUBE24_ROTATIONS, ups=CUBE24_UPS, name="cube24")
 
 
+FERRARIS_SIX: tuple[str, ...] = ("+x", "-x", "+y", "-y", "+z", "-z")
+"""The six static positions of imucal's ``x_p, x_a, y_p, y_a, z_p, z_a`` (x_p: +x up, reads +g)."""
+
+FERRARIS_TURN_DEG = -360.0
+"""imucal's turn: clockwise seen from above, so the gyroscope reads negative about the up axis.
+Recordings may turn either way; the sense is taken from the data."""
+
+
+def turn_spec(up: str, axis: int, angle_deg: float, *, first: bool = False) -> dict:
+    """A full turn about the sensor axis ``axis`` (0, 1, 2) in a position with ``up`` up, as a
+    rotation of the calibration frame for :func:`explicit_protocol`."""
+    R = attitude_for_up(up, first=first)
+    sense = "+" if angle_deg > 0 else "-"
+    return {"axis": R[:, axis].tolist(), "angle_deg": float(angle_deg), "label": f"{'xyz'[axis]}{sense}{abs(angle_deg):g}"}
+
+
 def ferraris() -> Protocol:
     """Six static positions, then one 360° turn about each sensor axis (imucal's protocol).
 
-    Positions +x, −x, +y, −y, +z, −z joined by free moves (the order of imucal's ``x_p, x_a,
-    y_p, y_a, z_p, z_a``); then, from the −z position, a 360° turn about the sensor's x, y and z
-    axes, each ending where it started, with a short rest between them (9 still positions).
-    The headings are unknown, so the field direction is not estimated (α = β = 0) and the
-    magnetometer cannot be calibrated with this protocol.
+    Positions +x, −x, +y, −y, +z, −z joined by free moves (imucal's ``x_p, x_a, y_p, y_a, z_p,
+    z_a``); then, as imucal's documentation has it, each turn about the sensor axis that points up
+    (``x_rot`` in the x_p position, ``y_rot`` in y_p, ``z_rot`` in z_p), clockwise seen from
+    above, from a rest to a rest in the same place: 12 still positions.  This is the order the
+    simulation records; a recording is matched in any order (:mod:`.matching`).  The headings are
+    unknown, so the field direction is not estimated (α = β = 0) and the magnetometer cannot be
+    calibrated with this protocol.
     """
-    six = ["+x", "-x", "+y", "-y", "+z", "-z"]
-    R_last = _attitude_for_up("-z")
     rotations: list = [None] * 5
-    for k in range(3):
-        # A turn about the sensor axis k is a turn about R e_k in the calibration frame.
-        rotations.append({"axis": R_last[:, k].tolist(), "angle_deg": 360.0, "label": f"{'xyz'[k]}+360"})
-    return explicit_protocol(rotations, ups=six + ["-z"] * 3, name="ferraris")
+    ups = list(FERRARIS_SIX)
+    for k, up in enumerate(("+x", "+y", "+z")):
+        rotations += [None, turn_spec(up, k, FERRARIS_TURN_DEG)]
+        ups += [up, up]
+    return explicit_protocol(rotations, ups=ups, name="ferraris")
 
 
 PROTOCOLS = {"cube24": cube24, "ferraris": ferraris}

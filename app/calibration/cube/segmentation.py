@@ -34,15 +34,28 @@ class Segmentation:
         Between consecutive still intervals, padded into both.
     gyro_bias : numpy.ndarray
         Mean gyroscope rate over the still intervals.
-    threshold : float
-        The threshold used (rate units).
+    threshold : float or None
+        The threshold used (rate units); None for annotated sections.
+    pad : int
+        Samples each rotation reaches into the rests on either side.
+    source : str
+        ``detected`` (from the gyroscope) or ``sections`` (an annotated section list).
+    n_still_found : int or None
+        Still segments detected before they were matched to the protocol (:mod:`.matching`).
+    handling : tuple of dict
+        The rests and moves left out as handling: ``kind`` (``pause``, ``move``, ``tilted``),
+        ``start``, ``end`` (samples), ``text``.
     """
 
     static: tuple
     still: tuple
     rotations: tuple
     gyro_bias: np.ndarray
-    threshold: float
+    threshold: float | None
+    pad: int = 0
+    source: str = "detected"
+    n_still_found: int | None = None
+    handling: tuple = ()
 
     def to_dict(self) -> dict:
         """Plain form with ``static`` and ``rotations`` as ``[start, end]`` pairs."""
@@ -51,6 +64,9 @@ class Segmentation:
             "rotations": [list(r) for r in self.rotations],
             "gyro_bias": self.gyro_bias.tolist(),
             "threshold": self.threshold,
+            "source": self.source,
+            "n_still_found": self.n_still_found,
+            "handling": [dict(h) for h in self.handling],
         }
 
 
@@ -136,4 +152,6 @@ def segment_recording(
         rotations=tuple(rotations),
         gyro_bias=bias,
         threshold=float(threshold),
+        pad=pad,
+        n_still_found=len(runs),
     )

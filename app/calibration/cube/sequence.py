@@ -82,11 +82,32 @@ def normalised_directions(means: np.ndarray, gravity: float) -> np.ndarray:
     return (means - 0.5 * (hi + lo)) / half
 
 
+FLAT_TOP_STEP = 4
+"""A flat top is clipping when it is entered or left by a step of more than this many quantisation
+steps: a natural peak of quantised rates (16-bit gyroscopes repeat their peak value too) is
+reached by steps of one or two."""
+
+
+def _flat_tops(x: np.ndarray, v: float) -> np.ndarray:
+    """Samples of the runs of at least three at the value v that start or end with a steep step."""
+    hit = x == v
+    mask = np.zeros(len(x), dtype=bool)
+    d = np.abs(np.diff(x))
+    step = d[d > 0].min() if np.any(d > 0) else 0.0
+    edges = np.diff(np.concatenate([[0], hit.astype(np.int8), [0]]))
+    for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
+        steep = (a > 0 and abs(x[a] - x[a - 1]) > FLAT_TOP_STEP * step) or \
+                (b < len(x) and abs(x[b] - x[b - 1]) > FLAT_TOP_STEP * step)
+        if b - a >= 3 and steep:
+            mask[a:b] = True
+    return mask
+
+
 def saturated_samples(gyr: np.ndarray, gyro_range: float | None) -> np.ndarray:
     """Boolean mask of samples at the gyroscope's range (clipped).
 
-    With ``gyro_range`` given: any axis at or beyond 99.9 % of it.  Otherwise: samples equal to
-    the extreme value of an axis when that value occurs at least three times (a flat top).
+    With ``gyro_range`` given: any axis at or beyond 99.9 % of it.  Otherwise: runs of at least
+    three samples at the extreme value of an axis, entered or left by a steep step (a flat top).
     """
     g = np.asarray(gyr, dtype=float)
     if gyro_range is not None:
@@ -94,9 +115,8 @@ def saturated_samples(gyr: np.ndarray, gyro_range: float | None) -> np.ndarray:
     mask = np.zeros(len(g), dtype=bool)
     for k in range(3):
         for v in (g[:, k].max(), g[:, k].min()):
-            hit = g[:, k] == v
-            if hit.sum() >= 3 and abs(v) > 0:
-                mask |= hit
+            if abs(v) > 0:
+                mask |= _flat_tops(g[:, k], v)
     return mask
 
 

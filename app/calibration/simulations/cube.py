@@ -157,6 +157,27 @@ def _rotation_path(q_start, rot, n, wander_deg, rng):
     return s, attitude
 
 
+def _shortest_rotation(q, target, label: str):
+    """The shortest rotation (calibration frame) from attitude q to attitude target."""
+    dq = quat.multiply(target, quat.conjugate(q))
+    if dq[0] < 0:
+        dq = -dq
+    ang = 2 * np.arctan2(np.linalg.norm(dq[1:]), dq[0])
+    axis = dq[1:] / max(np.linalg.norm(dq[1:]), 1e-12) if ang > 1e-9 else np.array([0, 0, 1.0])
+    return parse_rotation({"axis": axis.tolist(), "angle_deg": float(np.degrees(ang)), "label": label})
+
+
+def _move(q, rot, n: int, h: float, wander_deg: float, rng):
+    """Attitudes and body rates of one rotation of n samples from attitude q."""
+    s, attitude = _rotation_path(q, rot, n, wander_deg, rng)
+    qs = attitude(s)
+    d = 1e-6
+    dq_ds = (attitude(s + d) - attitude(s - d)) / (2 * d)
+    # Body rate from q̇ = ½ q ⊗ [0, ω] (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (2));
+    # s runs 0 → 1 over (n − 1) steps.
+    return qs, 2.0 * quat.multiply(quat.conjugate(qs), dq_ds)[:, 1:] / ((n - 1) * h)
+
+
 def simulate_session(
     rng: np.random.Generator,
     protocol="cube24",
@@ -234,30 +255,10 @@ def simulate_session(
         if k < len(rots):
             rot = wrong.get(k + 1, rots[k])
             if rot is None:
-                # A free move: go straight to the protocol's next attitude.
-                target = proto.quaternions[k + 1]
-                dq = quat.multiply(target, quat.conjugate(q))
-                if dq[0] < 0:
-                    dq = -dq
-                ang = 2 * np.arctan2(np.linalg.norm(dq[1:]), dq[0])
-                axis = dq[1:] / max(np.linalg.norm(dq[1:]), 1e-12) if ang > 1e-9 else np.array([0, 0, 1.0])
-                rot = parse_rotation({"axis": axis.tolist(), "angle_deg": float(np.degrees(ang)), "label": "free"})
+                rot = _shortest_rotation(q, proto.quaternions[k + 1], "free")  # straight to the next attitude
         else:
-            # Back to position 1 (section II): the shortest rotation.
-            target = proto.quaternions[0]
-            dq = quat.multiply(target, quat.conjugate(q))
-            if dq[0] < 0:
-                dq = -dq
-            ang = 2 * np.arctan2(np.linalg.norm(dq[1:]), dq[0])
-            axis = dq[1:] / max(np.linalg.norm(dq[1:]), 1e-12) if ang > 1e-9 else np.array([0, 0, 1.0])
-            rot = parse_rotation({"axis": axis.tolist(), "angle_deg": float(np.degrees(ang)), "label": "return"})
-        s, attitude = _rotation_path(q, rot, n_rot, wander_deg, rng)
-        qs = attitude(s)
-        d = 1e-6
-        dq_ds = (attitude(s + d) - attitude(s - d)) / (2 * d)
-        # Body rate from q̇ = ½ q ⊗ [0, ω] (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (2));
-        # s runs 0 → 1 over (n_rot − 1) steps.
-        om = 2.0 * quat.multiply(quat.conjugate(qs), dq_ds)[:, 1:] / ((n_rot - 1) * h)
+            rot = _shortest_rotation(q, proto.quaternions[0], "return")  # back to position 1 (section II)
+        qs, om = _move(q, rot, n_rot, h, wander_deg, rng)
         attitudes_q.append(qs)
         omegas.append(om)
         pos += n_rot
@@ -296,3 +297,93 @@ def simulate_session(
         static_segments=tuple(segments),
         extra={"omega": W, "attitudes": Q},
     )
+
+
+# A Ferraris session as a person records it by hand (imucal's protocol, docs/methods.md): an IMU at
+# 102.4 Hz reading m/s² and deg/s in 16-bit steps of ±16 g and ±2000 °/s, laid down in each position,
+# picked up and re-placed, turned once about each axis.  The rests are placed so that imucal's own
+# example section list (tests/data/imucal_example_ferraris_session_list.json) marks them.
+HAND_FS = 102.4
+ACC_LSB = 16 * 9.81 / 32768  # m/s² per count
+GYR_LSB = 2000.0 / 32768  # deg/s per count
+HAND_SENSORS = {
+    "acc": {"S": [[1.0175, 0.0061, -0.0112], [-0.0048, 1.0043, 0.0087], [0.0093, -0.0035, 0.9912]],
+            "b": [0.312, -0.556, 0.493], "std": 0.018, "lsb": ACC_LSB},
+    "gyr": {"S": [[1.0121, 0.0042, -0.0067], [-0.0031, 0.9874, 0.0055], [0.0078, -0.0024, 1.0046]],
+            "b": [-0.592, -0.361, 0.058], "std": 0.05, "lsb": GYR_LSB},
+}
+"""raw = S f + b of each sensor (acc in m/s², gyr in deg/s), white noise std and quantisation step."""
+
+HAND_TIMELINE = (
+    ("rest", 290), ("adjust", 100, 6.0), ("rest", 950),  # x_p, after a re-placement
+    ("to", "-x", 220), ("rest", 860), ("to", "+y", 320), ("rest", 620), ("to", "-y", 330), ("rest", 520),
+    ("to", "+z", 260), ("rest", 570), ("to", "-z", 280), ("rest", 720),
+    ("to", "+x", 290), ("rest", 460), ("turn", 285), ("rest", 385), ("adjust", 100, 10.0), ("rest", 300),
+    ("to", "+y", 90), ("rest", 145), ("turn", 295), ("rest", 410),
+    ("to", "+z", 200), ("rest", 215), ("turn", 285), ("rest", 500),
+)
+"""Steps in samples: rests, free moves to an orientation, handling adjustments (degrees), and
+turns of −360° about the vertical (imucal: clockwise seen from above)."""
+
+
+def simulate_hand_ferraris(rng: np.random.Generator, *, timeline=HAND_TIMELINE, sensors=None,
+                           tilt_deg: float = 0.5, wander_deg: float = 3.0) -> SimulatedSession:
+    """A Ferraris session recorded by hand, with pauses and re-placements (module constants).
+
+    Each placement has a random heading and a tilt of about ``tilt_deg`` from its nominal up axis;
+    each turn is about the vertical with its axis wandering by ``wander_deg``; the outputs are
+    quantised.  ``truth`` holds each sensor's S and b (raw = S f + b, f in m/s² and deg/s), and
+    ``extra["rests"]`` the still intervals.
+
+    Returns
+    -------
+    SimulatedSession
+        ``acc`` in m/s², ``gyr`` in deg/s (not rad/s), ``mag`` None.
+    """
+    from ..cube.protocols import attitude_for_up
+
+    cfg = HAND_SENSORS if sensors is None else sensors
+    h = 1.0 / HAND_FS
+    vertical = np.array([0.0, 0.0, 1.0])
+
+    def placed(up, heading_rad):
+        """Laid down with ``up`` up at a heading, tilted by about tilt_deg (an uneven table, a case)."""
+        axis = np.array([*rng.normal(size=2), 0.0])
+        tilt = quat.from_axis_angle(axis / np.linalg.norm(axis), np.radians(tilt_deg) * abs(rng.normal()))
+        heading = quat.from_axis_angle(vertical, heading_rad)
+        return quat.multiply(tilt, quat.multiply(heading, quat.from_matrix(attitude_for_up(up))))
+
+    up, heading = "+x", rng.uniform(0, 2 * np.pi)
+    q = placed(up, heading)
+    qs_all, w_all, rests, pos = [], [], [], 0
+    for step in timeline:
+        kind, n = step[0], step[1] if step[0] != "to" else step[2]
+        if kind == "rest":
+            qs, om = np.broadcast_to(q, (n, 4)), np.zeros((n, 3))
+            rests.append((pos, pos + n))
+        else:
+            if kind == "to":
+                up, heading = step[1], rng.uniform(0, 2 * np.pi)
+                rot = _shortest_rotation(q, placed(up, heading), "free")
+            elif kind == "adjust":  # picked up and laid down again, turned by a few degrees
+                heading += np.radians(step[2])
+                rot = _shortest_rotation(q, placed(up, heading), "adjust")
+            else:
+                rot = parse_rotation({"axis": vertical.tolist(), "angle_deg": -360.0, "label": "turn"})
+            qs, om = _move(q, rot, n, h, wander_deg, rng)
+            q = qs[-1]
+        qs_all.append(qs)
+        w_all.append(om)
+        pos += n
+    Q = np.vstack(qs_all)
+    Rt = np.transpose(quat.to_matrix(Q), (0, 2, 1))
+    f = {"acc": Rt @ np.array([0.0, 0.0, 9.81]), "gyr": np.degrees(np.vstack(w_all))}
+    out, truth = {}, {}
+    for name in ("acc", "gyr"):
+        S, b = np.asarray(cfg[name]["S"], float), np.asarray(cfg[name]["b"], float)
+        raw = f[name] @ S.T + b + cfg[name]["std"] * rng.standard_normal(f[name].shape)
+        out[name] = np.round(raw / cfg[name]["lsb"]) * cfg[name]["lsb"]
+        truth[name] = {"S": S, "b": b}
+    return SimulatedSession(acc=out["acc"], gyr=out["gyr"], mag=None, sampling_rate_hz=HAND_FS,
+                            protocol=get_protocol("ferraris"), truth=truth, static_segments=tuple(rests),
+                            gravity=9.81, extra={"attitudes": Q})

@@ -131,7 +131,7 @@ def test_invalid_input_and_mismatched_protocols():
     s = simulate_session(np.random.default_rng(16), sampling_rate_hz=FS, with_mag=False)
     with pytest.raises(CalibrationError, match="needs the gyroscope"):
         calibrate_cube(s.acc, None, sampling_rate_hz=FS, protocol="cube24", gravity=GRAVITY)
-    with pytest.raises(CalibrationError, match="protocol ferraris has 9"):
+    with pytest.raises(InsufficientDataError, match="no full turn about x, y, z was found"):
         calibrate_cube(s.acc, s.gyr, sampling_rate_hz=FS, protocol="ferraris", gravity=GRAVITY)
     n = s.static_segments[3][1]  # only the first four positions were recorded
     with pytest.raises(CalibrationError, match="found 4 still positions"):
@@ -171,3 +171,24 @@ def test_drift_from_the_return_to_position_1():
     assert d.significant
     fixed = d.remove(raw, fs)
     assert abs(fixed[950:].mean(0) - fixed[:50].mean(0)).max() < 1e-12
+
+
+def test_cube24_pauses_and_hand_moves_that_are_not_a_quarter_turn_are_handling():
+    # A hand nudges the cube in positions 3 and 10: 8° there and back, 1 s, splitting each rest in two.
+    s = simulate_session(np.random.default_rng(17), sampling_rate_hz=FS, with_mag=False)
+    gyr = s.gyr.copy()
+    t = np.arange(int(FS)) / FS
+    nudge = np.radians(8.0) * np.pi * np.sin(2 * np.pi * t)  # ∫ over the second = 0: back where it was
+    for k in (2, 9):
+        a, b = s.static_segments[k]
+        mid = (a + b) // 2 - len(t) // 2
+        gyr[mid:mid + len(t), 0] += nudge
+    r = calibrate_cube(s.acc, gyr, sampling_rate_hz=FS, protocol="cube24", gravity=GRAVITY)
+    assert r.ok, r.reasons
+    assert (r.metrics["n_still_found"], r.metrics["n_positions_found"]) == (26, 24)
+    assert sorted(h["kind"] for h in r.segmentation.handling) == ["move", "move", "pause", "pause"]
+    assert r.metrics["rotations_used"] == list(range(1, 24))
+    assert any(w.startswith("treated as handling") and "+z stayed up" in w for w in r.warnings)
+    S, b = true_parameters("gyr")
+    u = r.gyr.uncertainty()
+    assert np.all(np.abs(r.gyr.S - S) <= 3 * np.array(u["S"]))

@@ -54,18 +54,18 @@ def test_cube24_protocol_attitudes_and_quaternions():
 
 
 def test_ferraris_full_turns_are_on_the_negative_branch():
+    # imucal's order: the six rests, then each turn about the axis that points up, rest to rest.
     p = ferraris()
-    assert p.ups == ("+x", "-x", "+y", "-y", "+z", "-z", "-z", "-z", "-z")
-    assert not p.heading_known
-    assert p.rotations[:5] == (None,) * 5
-    for k in (5, 6, 7):
-        assert p.rotations[k].angle_deg == 360.0
+    assert p.ups == ("+x", "-x", "+y", "-y", "+z", "-z", "+x", "+x", "+y", "+y", "+z", "+z")
+    assert not p.heading_known and p.full_turns and p.reading_positions is None
+    assert p.rotations[:6] == (None,) * 6 and p.rotations[7] is None and p.rotations[9] is None
+    for axis, k in enumerate((6, 8, 10)):
+        assert p.rotations[k].angle_deg == -360.0  # clockwise seen from above, as imucal's x_rot
         np.testing.assert_allclose(p.quaternions[k + 1], -p.quaternions[k], atol=1e-12)
         np.testing.assert_allclose(p.attitudes[k + 1], p.attitudes[k], atol=1e-12)
-    # The three turns are about the sensor's x, y and z axes.
-    R = p.attitudes[5]
-    for k in range(3):
-        np.testing.assert_allclose(R.T @ p.rotations[5 + k].axis, np.eye(3)[k], atol=1e-12)
+        # About the sensor axis that points up: the vertical of the calibration frame.
+        np.testing.assert_allclose(p.attitudes[k].T @ p.rotations[k].axis, np.eye(3)[axis], atol=1e-12)
+        np.testing.assert_allclose(p.rotations[k].axis, [0, 0, 1], atol=1e-12)
 
 
 def test_explicit_protocols_and_their_errors():
