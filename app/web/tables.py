@@ -17,17 +17,7 @@ from app import sessions
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
-from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
-
-POSE_NAMES = {
-    "+z": "flat, screen up",
-    "-z": "flat, screen down",
-    "+y": "standing upright, top edge up",
-    "-y": "upside down, top edge down",
-    "+x": "on its left edge, right edge up",
-    "-x": "on its right edge, left edge up",
-}
-"""Each of the six poses in words for a person holding a phone."""
+from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
 
 CAPTURE_WINDOW_MS = 500
 """The page's moving window of the mean and spread (ms)."""
