@@ -187,12 +187,27 @@ class NonOrthogonalMetrics(MagnitudeMetrics):
     rough_b: Vec3Out | None = None
 
 
+class PoseAdviceOut(Out):
+    """One pose to add next (app.calibration.advice): D-optimal for the model's parameters."""
+
+    up: Vec3Out = Field(description="Unit vector in the sensor frame that should point up (reads +g at rest).")
+    words: str = Field(description="The pose in words, e.g. “+x up (on its left edge, right edge up), tilted 30° towards −z”.")
+    gain: float | None = Field(description=(
+        "Fraction by which adding this pose (after the advised ones before it) shrinks the generalized variance "
+        "det C of the parameters; null when no model is fitted yet (a free wizard session before 10 poses)."))
+
+
+ADVICE_DESCRIPTION = ("The three poses that would most shrink the parameters' uncertainty (D-optimal), best first; "
+                      "null on calibrations stored before advice existed.")
+
+
 class NonOrthogonalOut(StillReadingsCommon):
     method: Literal["nonorthogonal"]
     model: NonOrthogonalModel
     uncertainty: NonOrthogonalUncertainty
     metrics: NonOrthogonalMetrics
     readings: list[MagnitudeReading]
+    advice: list[PoseAdviceOut] | None = Field(None, description=ADVICE_DESCRIPTION)
 
 
 Solver = Literal["lm", "gradient", "fixed16", "fixed32"]
@@ -232,6 +247,7 @@ class TriangularOut(StillReadingsCommon):
     uncertainty: TriangularUncertainty
     metrics: TriangularMetrics
     readings: list[MagnitudeReading]
+    advice: list[PoseAdviceOut] | None = Field(None, description=ADVICE_DESCRIPTION)
 
 
 class AutocalMetrics(Out):
