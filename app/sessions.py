@@ -44,6 +44,9 @@ that every fit without one pose (the cross-validation) is still determined."""
 FREE_TARGET_MIN_POSES = 12
 """The free flow reaches its target only with at least this many poses."""
 
+FREE_MAX_ANGLE_DEG = 180.0
+"""A free pose need not be near an axis: any direction is a pose (its label is the nearest axis)."""
+
 FREE_MIN_ANGLE_DEG = MIN_SEPARATION_DEG
 """A free pose must point at least this far from every earlier one (the advice keeps to it too)."""
 
@@ -186,7 +189,8 @@ def _free_capture(session: dict, capture: dict) -> dict:
     if capture.get("position") not in (None, position):
         raise CalibrationError(f"free poses are numbered in order: this capture is pose {position}; "
                                "leave `position` out")
-    checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"], max_angle_deg=180.0)
+    checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
+                                  max_angle_deg=FREE_MAX_ANGLE_DEG)
     _check_not_turning(capture)
     check_new_direction(checked.mean, [c["mean"] for c in session["captures"]], min_angle_deg=FREE_MIN_ANGLE_DEG)
     return dict(checked.to_dict(), position=position, up=checked.position)
