@@ -236,6 +236,8 @@ def _print_summary(body: dict, recording: dict) -> None:
         print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f})")
     if "norm_error_max" in m:
         print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
+    for a in body.get("advice") or []:
+        print(f"next pose: {a['words']} (shrinks the parameters' generalized variance by {100 * a['gain']:.0f} %)")
     for w in body["warnings"]:
         print(f"warning: {w}")
 

@@ -76,6 +76,9 @@ class Settings(BaseSettings):
     public_url : str or None
         The address the start page shows as a QR code for a phone (TRICAL_PUBLIC_URL); ``trical serve
         --https`` sets it to its LAN wizard address when unset.
+    free_target_mg : float
+        The cross-validated error (mg of g) that ends a free wizard session (TRICAL_FREE_TARGET_MG),
+        unless the session sets its own ``target_mg``.
     """
 
     model_config = SettingsConfigDict(env_prefix="TRICAL_", env_ignore_empty=True, frozen=True,
@@ -94,6 +97,7 @@ class Settings(BaseSettings):
     port: int = Field(8000, validation_alias="PORT")
     data_dir: Path | None = None
     public_url: str | None = None
+    free_target_mg: float = Field(2.0, gt=0, le=1000, allow_inf_nan=False)
     static_dir: Path = PROJECT_ROOT / "static"
     templates_dir: Path = PROJECT_ROOT / "templates"
 

@@ -6,6 +6,12 @@ the page.
 
 - ``six``: poses in any order; solving runs the six-position closed form
   (Georgieva et al. (ESGI'95), section 3.3.1) on the capture means.
+- ``free``: still poses in any direction, no jig (issue 11): each must point at least
+  :data:`FREE_MIN_ANGLE_DEG` from every earlier one; from :data:`FREE_FIT_FROM` poses on, the
+  triangular model of Farago, Maczak and Gingl, IEEE Access is fitted to the capture means after each
+  capture, and the session reports its cross-validated error (app.calibration.cross_validation) and
+  the D-optimal next poses (app.calibration.advice); the target is reached when that error is below
+  the session's ``target_mg`` with at least :data:`FREE_TARGET_MIN_POSES` poses.
 - ``cube24``: positions 1–24 in order (docs/methods.md); each capture after the first brings
   the rates of the move that led to it, and the turn is checked at once against the protocol
   (Särkkä et al. (IEEE Sensors J. 2017), VII-A-1, app.calibration.cube.turns); solving joins the moves and
@@ -19,15 +25,30 @@ import numpy as np
 from app import workflow
 from app.calibration import CANONICAL_SIX, CalibrationError, InsufficientDataError
 from app.calibration.errors import NotStillError
-from app.calibration.capture import check_still_capture, on_uniform_grid
+from app.calibration.advice import MIN_SEPARATION_DEG, farthest_directions
+from app.calibration.capture import check_new_direction, check_still_capture, on_uniform_grid
 from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.store import ConflictError
 
 PROTOCOL_POSITIONS: dict[str, tuple[str, ...]] = {
     "six": CANONICAL_SIX,
+    "free": (),  # any number of poses, numbered as they come
     "cube24": tuple(str(k) for k in range(1, len(CUBE24_UPS) + 1)),
 }
 """The positions of each protocol the server can guide."""
+
+FREE_FIT_FROM = 10
+"""The free flow fits the triangular model from this many poses on: nine parameters, and one more so
+that every fit without one pose (the cross-validation) is still determined."""
+
+FREE_TARGET_MIN_POSES = 12
+"""The free flow reaches its target only with at least this many poses."""
+
+FREE_MAX_ANGLE_DEG = 180.0
+"""A free pose need not be near an axis: any direction is a pose (its label is the nearest axis)."""
+
+FREE_MIN_ANGLE_DEG = MIN_SEPARATION_DEG
+"""A free pose must point at least this far from every earlier one (the advice keeps to it too)."""
 
 CAPTURE_S_DEFAULT = 5.0
 """Seconds captured per position unless the session asks for another duration."""
@@ -79,17 +100,27 @@ def new_session(fields: dict) -> dict:
         "notes": notes,
         "device_id": fields.get("device_id"),
         "label": fields.get("label"),
+        # free: the cross-validated error that ends it (the API fills in TRICAL_FREE_TARGET_MG)
+        **({"target_mg": fields["target_mg"]} if protocol == "free" else {}),
     }
 
 
 def view(session: dict) -> dict:
-    """A session as the API shows it: with the positions that remain, in protocol order."""
+    """A session as the API shows it: with the positions that remain, in protocol order, and for
+    the free flow its ``progress``."""
+    shown = dict(session, remaining=_remaining(session))
+    if session["protocol"] == "free":
+        shown["progress"] = free_progress(session)[0]
+    return shown
+
+
+def _remaining(session: dict) -> list[str]:
     done = {c["position"] for c in session["captures"]}
-    return dict(session, remaining=[p for p in session["positions"] if p not in done])
+    return [p for p in session["positions"] if p not in done]
 
 
 def _remaining_text(session: dict) -> str:
-    remaining = view(session)["remaining"]
+    remaining = _remaining(session)
     return ", ".join(remaining) if remaining else "none"
 
 
@@ -108,6 +139,8 @@ def add_capture(store, session: dict, capture: dict) -> tuple[dict, dict]:
         raise CalibrationError(f"this session takes samples in {session['unit']}; got {capture['unit']}")
     if session["protocol"] == "cube24":
         summary = _cube_capture(store, session, capture)
+    elif session["protocol"] == "free":
+        summary = _free_capture(session, capture)
     else:
         summary = _six_capture(session, capture)
     acc = np.asarray(capture["acc"], dtype=float)
@@ -129,18 +162,38 @@ def _gyr_mean_deg_s(capture: dict) -> float:
     return float(np.degrees(rate * workflow.GYR_TO_RAD_S[capture.get("gyr_unit", "deg/s")]))
 
 
+def _check_not_turning(capture: dict, what: str = "device") -> None:
+    """Refuse a capture whose gyroscope, when sent, shows the device turning."""
+    if capture.get("gyr") is None:
+        return
+    rate = _gyr_mean_deg_s(capture)
+    if rate > MAX_ROTATION_DEG_S:
+        raise NotStillError(f"the {what} was turning during the capture ({rate:.3g} °/s): "
+                            "leave it resting until the capture ends")
+
+
 def _six_capture(session: dict, capture: dict) -> dict:
     """A pose of the six-position flow: any order, recognised from the data."""
     if capture.get("position") not in (None, *CANONICAL_SIX):
         raise CalibrationError(f"a six-position pose is one of {', '.join(CANONICAL_SIX)}; got {capture['position']!r}")
     checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
                                   expected=capture.get("position"))
-    if capture.get("gyr") is not None:
-        rate = _gyr_mean_deg_s(capture)
-        if rate > MAX_ROTATION_DEG_S:
-            raise NotStillError(f"the device was turning during the capture ({rate:.3g} °/s): "
-                                   "leave it resting until the capture ends")
+    _check_not_turning(capture)
     return checked.to_dict()
+
+
+def _free_capture(session: dict, capture: dict) -> dict:
+    """A pose of the free flow: any direction at least FREE_MIN_ANGLE_DEG from the earlier ones,
+    numbered in order (``position`` "1", "2", …, ``up`` its nearest axis)."""
+    position = str(len(session["captures"]) + 1)
+    if capture.get("position") not in (None, position):
+        raise CalibrationError(f"free poses are numbered in order: this capture is pose {position}; "
+                               "leave `position` out")
+    checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
+                                  max_angle_deg=FREE_MAX_ANGLE_DEG)
+    _check_not_turning(capture)
+    check_new_direction(checked.mean, [c["mean"] for c in session["captures"]], min_angle_deg=FREE_MIN_ANGLE_DEG)
+    return dict(checked.to_dict(), position=position, up=checked.position)
 
 
 def _cube_capture(store, session: dict, capture: dict) -> dict:
@@ -162,10 +215,7 @@ def _cube_capture(store, session: dict, capture: dict) -> dict:
         raise CalibrationError("the cube flow needs the gyroscope: send gyr (rotationRate) with every capture")
     checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
                                   max_angle_deg=CUBE_FACE_MAX_ANGLE_DEG)
-    rate = _gyr_mean_deg_s(capture)
-    if rate > MAX_ROTATION_DEG_S:
-        raise NotStillError(f"the cube was turning during the capture ({rate:.3g} °/s): "
-                               "leave it resting until the capture ends")
+    _check_not_turning(capture, "cube")
     summary = dict(checked.to_dict(), position=position, up=checked.position, expected_up=CUBE24_UPS[k - 1],
                    gyr_mean=np.mean(np.asarray(capture["gyr"], dtype=float), axis=0).tolist(),
                    gyr_unit=capture.get("gyr_unit", "deg/s"))
@@ -191,18 +241,95 @@ def _cube_capture(store, session: dict, capture: dict) -> dict:
     return summary
 
 
+def free_progress(session: dict) -> tuple[dict, tuple | None]:
+    """Where a free session stands: its cross-validated error, the advice and whether the target is
+    reached; and the triangular fit with its extra metrics (None before FREE_FIT_FROM poses).
+
+    Returns
+    -------
+    progress : dict
+        ``count``, ``fit_from``, ``target_poses``, ``target_mg``, ``cv_error_mg``, ``cv_error_max_mg``,
+        ``target_reached``, ``advice`` (app.calibration.advice: D-optimal once fitted, else the
+        directions farthest from the poses taken) and ``message``.
+    fit : (TriangularCalibration, dict) or None
+    """
+    means = [c["mean"] for c in session["captures"]]
+    n, target = len(means), session["target_mg"]
+    fit, cv, cv_max = None, None, None
+    if n >= FREE_FIT_FROM:
+        try:
+            fit = workflow.calibrate_unknown("triangular", means, unit=session["unit"], gravity=session["gravity"])
+        except CalibrationError:
+            fit = None  # poses that do not determine the model yet: the advice spreads them out
+        else:
+            cv, cv_max = fit[1].get("cv_error_mg"), fit[1].get("cv_error_max_mg")
+    reached = cv is not None and n >= FREE_TARGET_MIN_POSES and cv < target
+    if fit is not None:
+        advice = workflow.pose_advice(fit[0])
+    else:
+        advice = [a.to_dict() for a in farthest_directions(np.asarray(means, dtype=float).reshape(-1, 3))]
+    if reached:
+        message = f"target reached: {cv:.1f} mg on new orientations with {n} poses"
+    elif cv is None:
+        more = FREE_FIT_FROM - n
+        message = (f"{n} poses captured: {more} more before the first estimate" if more > 0
+                   else f"{n} poses captured: no estimate for new orientations yet; add poses in other directions")
+    else:
+        need = f", at least {FREE_TARGET_MIN_POSES} poses" if n < FREE_TARGET_MIN_POSES else ""
+        message = f"{n} poses: {cv:.1f} mg expected on new orientations (target {target:g} mg{need})"
+    progress = {"count": n, "fit_from": FREE_FIT_FROM, "target_poses": FREE_TARGET_MIN_POSES, "target_mg": target,
+                "cv_error_mg": cv, "cv_error_max_mg": cv_max, "target_reached": reached, "advice": advice,
+                "message": message}
+    return progress, fit
+
+
+def _solve_free(session: dict) -> dict:
+    """The triangular fit of a free session's capture means, with how the session ended."""
+    progress, fit = free_progress(session)
+    n = progress["count"]
+    if fit is None and n >= FREE_FIT_FROM:  # the fit itself refuses: its error says why
+        workflow.calibrate_unknown("triangular", [c["mean"] for c in session["captures"]], unit=session["unit"],
+                                   gravity=session["gravity"])
+    if fit is None:
+        raise InsufficientDataError(f"capture {FREE_FIT_FROM - n} more poses first: a free session solves from "
+                                    f"{FREE_FIT_FROM} poses (it has {n}); the target needs {FREE_TARGET_MIN_POSES}")
+    result, extra = fit
+    cv, target = progress["cv_error_mg"], progress["target_mg"]
+    if progress["target_reached"]:
+        reason, text = "target", f"target reached: {cv:.1f} mg on new orientations"
+    else:
+        expected = "no figure for new orientations" if cv is None else f"{cv:.1f} mg expected on new orientations"
+        reason, text = "stopped", f"stopped at {n} poses: {expected}, target {target:g} mg"
+    finish = {"reason": reason, "text": text, "poses": n, "cv_error_mg": cv, "target_mg": target}
+    return _session_body(session, result, extra, advice=progress["advice"], finish=finish,
+                         captures=[{k: c[k] for k in ("position", "up", "mean", "std", "count", "sampling_rate_hz")}
+                                   for c in session["captures"]])
+
+
+def _session_body(session: dict, result, extra: dict, **fields) -> dict:
+    """The calibration body of a solved session: the browser's notes, the capture rates, its owner's fields."""
+    rates = [c["sampling_rate_hz"] for c in session["captures"]]
+    extra = dict(extra, sampling_rate_hz_min=min(rates), sampling_rate_hz_max=max(rates))
+    return workflow.calibration_body(
+        result, extra, unit=session["unit"], notes=_browser_notes(session), device_id=session.get("device_id"),
+        label=session.get("label"), session_id=session["id"], **fields)
+
+
 def solve(store, session: dict) -> dict:
     """The calibration of a complete session, as a calibration body.
 
     ``six``: the six-position closed form (Georgieva et al. section 3.3.1) of the capture means; ``cube24``:
-    Särkkä et al.'s method on the moves and positions joined into one recording.
+    Särkkä et al.'s method on the moves and positions joined into one recording; ``free``: the triangular
+    model of Farago et al. on the capture means, with ``finish`` saying whether the target was reached.
 
     Raises
     ------
     InsufficientDataError
-        Poses remain to be captured.
+        Poses remain to be captured (free: fewer than FREE_FIT_FROM).
     """
-    remaining = view(session)["remaining"]
+    if session["protocol"] == "free":
+        return _solve_free(session)
+    remaining = _remaining(session)
     if remaining:
         raise InsufficientDataError(f"capture {', '.join(remaining)} first: the session has "
                                     f"{len(session['captures'])} of {len(session['positions'])} positions")
@@ -213,12 +340,8 @@ def solve(store, session: dict) -> dict:
                                  count=captures[p]["count"]) for p in session["positions"]]
     result, extra = workflow.calibrate_known("six_position", readings, unit=session["unit"],
                                              gravity=session["gravity"])
-    notes = _browser_notes(session)
-    rates = [c["sampling_rate_hz"] for c in captures.values()]
-    extra = dict(extra, sampling_rate_hz_min=min(rates), sampling_rate_hz_max=max(rates))
-    return workflow.calibration_body(
-        result, extra, unit=session["unit"], notes=notes, device_id=session.get("device_id"),
-        label=session.get("label"), session_id=session["id"],
+    return _session_body(
+        session, result, extra,
         captures=[{k: captures[p][k] for k in ("position", "mean", "std", "count", "sampling_rate_hz")}
                   for p in session["positions"]],
     )

@@ -221,6 +221,13 @@ def calibrate_unknown(method: str, means, *, unit: str, gravity: float, solver: 
     return result, holdout_metrics(result, holdout)
 
 
+def pose_advice(result) -> list[dict]:
+    """The next poses a magnitude model's fit is advised (app.calibration.advice, D-optimal), plain."""
+    from app.calibration.advice import next_poses
+
+    return [a.to_dict() for a in next_poses(result)]
+
+
 GYR_TO_RAD_S = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "raw": 1.0}
 MAG_TO_UT = {"uT": 1.0, "nT": 1e-3, "raw": 1.0}
 
@@ -387,7 +394,7 @@ def _magnitude(request, recording: RecordingSource | None) -> dict:
     result, extra = calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
                                       solver=getattr(request, "solver", "lm"), holdout=request.holdout)
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, **source)
+                            label=request.label, advice=pose_advice(result), **source)
 
 
 def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdout=None) -> tuple:

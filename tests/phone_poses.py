@@ -18,7 +18,12 @@ Y_TRUE = np.array([0.15, -0.22, 0.31])
 def pose_samples(label: str, rng, n: int = 300, rate_hz: float = 60.0, noise: float = 0.03, step: float = 0.1):
     """What a phone's browser reports resting with ``label`` up: m = X a + y (Georgieva et al. eq. (3)) plus noise,
     rounded to the browser's 0.1 m/s², with event timestamps in ms."""
-    m = X_TRUE @ (G * up_vector(label)) + Y_TRUE
+    return direction_samples(up_vector(label), rng, n=n, rate_hz=rate_hz, noise=noise, step=step)
+
+
+def direction_samples(up, rng, n: int = 300, rate_hz: float = 60.0, noise: float = 0.03, step: float = 0.1):
+    """The same resting with any unit direction ``up`` up (the free flow)."""
+    m = X_TRUE @ (G * np.asarray(up, dtype=float)) + Y_TRUE
     acc = m + rng.normal(0.0, noise, (n, 3))
     acc = np.round(acc / step) * step
     t_ms = 1000.0 * np.arange(n) / rate_hz

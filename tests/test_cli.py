@@ -54,3 +54,25 @@ def test_errors_are_one_line_without_traceback(tmp_path):
     assert unknown.returncode == 2 and "no calibration with id" in unknown.stderr
     for result in (missing, no_rate, unknown):
         assert "Traceback" not in result.stderr and result.stderr.count("\n") == 1
+
+
+def test_calibrate_triangular_prints_the_next_pose(tmp_path):
+    # A log of 12 still poses in random directions (3 s each at 50 Hz) joined by 1 s turns.
+    rng = np.random.default_rng(4)
+    ups = rng.normal(size=(12, 3))
+    ups /= np.linalg.norm(ups, axis=1, keepdims=True)
+    X, y, g = np.diag([1.01, 0.99, 1.02]), np.array([0.1, -0.2, 0.15]), 9.80665
+    rows = []
+    for k, u in enumerate(ups):
+        if k:
+            for s in np.linspace(0, 1, 50, endpoint=False):
+                v = (1 - s) * ups[k - 1] + s * u
+                rows.append(X @ (g * v / np.linalg.norm(v)) + y + rng.normal(0, 0.3, 3))
+        rows += list(X @ (g * u) + y + rng.normal(0, 0.01, (150, 3)))
+    log = tmp_path / "poses.csv"
+    np.savetxt(log, np.array(rows), delimiter=",", header="acc_x,acc_y,acc_z", comments="", fmt="%.5f")
+    out = trical("calibrate", str(log), "--sampling-rate-hz", "50", "--method", "triangular", "--no-store",
+                 tmp_path=tmp_path)
+    assert out.returncode in (0, 3), out.stderr
+    lines = [line for line in out.stdout.splitlines() if line.startswith("next pose: ")]
+    assert len(lines) == 3 and " up (" in lines[0] and "generalized variance by" in lines[0]

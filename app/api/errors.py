@@ -12,6 +12,7 @@ insufficient_data      422     well-formed input that holds too little to determ
 calibration_refused    422     other input that cannot be calibrated as given
 wrong_turn             422     a cube wizard capture whose turn does not match the protocol
 not_still              422     a wizard capture during which the device moved
+pose_too_close         422     a free wizard pose within 10° of one already captured
 unreadable_log         422     a log that cannot be read (format, columns, units)
 unsupported_media      415     an upload that is not a log trical reads
 payload_too_large      413     an upload or JSON body over its limit

@@ -27,7 +27,7 @@ from app.requests import (  # noqa: F401  (re-exported: the routes and tests nam
     UnknownOrientationIn,
     Vec3,
 )
-from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
 
 
 # -- calibration responses -----------------------------------------------------------------------
@@ -68,6 +68,13 @@ class OutOfSampleMetrics(CrossValidatedMetrics):
     holdout_improvement: float | None = Field(None, description="before / after (triangular only).")
 
 
+class SessionRates(Out):
+    """Figures of a wizard session's captures."""
+
+    sampling_rate_hz_min: float | None = Field(None, description="A wizard session's slowest capture rate.")
+    sampling_rate_hz_max: float | None = Field(None, description="Its fastest.")
+
+
 class AffineModel(Out):
     type: Literal["affine"]
     X: Mat3Out = Field(description="m = X a + y (Georgieva et al., ESGI'95, section 3.2), in the readings' unit per unit of the reference.")
@@ -82,7 +89,7 @@ class AffineUncertainty(Out):
     note: str | None = None
 
 
-class StillReadingsMetrics(OutOfSampleMetrics):
+class StillReadingsMetrics(OutOfSampleMetrics, SessionRates):
     """What every fit of still readings reports: the error on poses left out (above) and on its own
     readings (in-sample). Every figure may be null where it cannot be computed (a ratio over a zero error)."""
 
@@ -140,6 +147,9 @@ class CalibrationCommon(Out):
     device_id: str | None = None
     label: str | None = None
     recording_id: str | None = Field(None, description="The recording the readings came from.")
+    session_id: str | None = Field(None, description="The wizard session that solved it.")
+    captures: list[dict[str, Any]] | None = Field(None, description=(
+        "A wizard session's captures: position, mean, std, count, sampling_rate_hz (and up for cube24 and free)."))
 
 
 class CandidateOut(Out):
@@ -209,12 +219,27 @@ class NonOrthogonalMetrics(MagnitudeMetrics):
     rough_b: Vec3Out | None = None
 
 
+class PoseAdviceOut(Out):
+    """One pose to add next (app.calibration.advice): D-optimal for the model's parameters."""
+
+    up: Vec3Out = Field(description="Unit vector in the sensor frame that should point up (reads +g at rest).")
+    words: str = Field(description="The pose in words, e.g. “+x up (on its left edge, right edge up), tilted 30° towards −z”.")
+    gain: float | None = Field(description=(
+        "Fraction by which adding this pose (after the advised ones before it) shrinks the generalized variance "
+        "det C of the parameters; null when no model is fitted yet (a free wizard session before 10 poses)."))
+
+
+ADVICE_DESCRIPTION = ("The three poses that would most shrink the parameters' uncertainty (D-optimal), best first; "
+                      "null on calibrations stored before advice existed.")
+
+
 class NonOrthogonalOut(StillReadingsCommon):
     method: Literal["nonorthogonal"]
     model: NonOrthogonalModel
     uncertainty: NonOrthogonalUncertainty
     metrics: NonOrthogonalMetrics
     readings: list[MagnitudeReading]
+    advice: list[PoseAdviceOut] | None = Field(None, description=ADVICE_DESCRIPTION)
 
 
 Solver = Literal["lm", "gradient", "fixed16", "fixed32"]
@@ -247,6 +272,17 @@ class TriangularMetrics(MagnitudeMetrics):
     saturated: bool | None = None
 
 
+class FreeFinish(Out):
+    """How a free wizard session ended."""
+
+    reason: Literal["target", "stopped"] = Field(description=(
+        "`target`: the cross-validated error fell below the target with enough poses; `stopped`: the person finished first."))
+    text: str = Field(description="E.g. “target reached: 1.4 mg on new orientations”.")
+    poses: int
+    cv_error_mg: float | None = Field(description="metrics.cv_error_mg when the session ended.")
+    target_mg: float
+
+
 class TriangularOut(StillReadingsCommon):
     method: Literal["triangular"]
     solver: Solver
@@ -254,6 +290,8 @@ class TriangularOut(StillReadingsCommon):
     uncertainty: TriangularUncertainty
     metrics: TriangularMetrics
     readings: list[MagnitudeReading]
+    advice: list[PoseAdviceOut] | None = Field(None, description=ADVICE_DESCRIPTION)
+    finish: FreeFinish | None = Field(None, description="A free wizard session's calibration: how it ended.")
 
 
 class AutocalMetrics(CrossValidatedMetrics):
@@ -458,7 +496,8 @@ class RecordingOut(BaseModel):
 class SessionIn(Strict):
     """A guided wizard session (issue 6): the page captures each pose into it, then solves it."""
 
-    protocol: Literal["six", "cube24"] = Field("six", description="`six` (any order) or `cube24` (fixed order).")
+    protocol: Literal["six", "cube24", "free"] = Field("six", description=(
+        "`six` (any order), `cube24` (fixed order) or `free` (still poses in any direction, 12 or more)."))
     capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
         CAPTURE_S_DEFAULT, description="Seconds captured per position.")
     unit: Literal["m/s^2", "g"] = Field("m/s^2", description="Unit of the samples the page sends.")
@@ -467,6 +506,8 @@ class SessionIn(Strict):
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
+    target_mg: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(None, description=(
+        "free: the cross-validated error in mg of g below which the session is done; default TRICAL_FREE_TARGET_MG."))
 
 
 class SignIn(Strict):
@@ -509,7 +550,8 @@ class CaptureIn(Strict):
     unit: Literal["m/s^2", "g"] | None = Field(None, description="Must be the session's unit when given.")
     sign: SignIn = Field(default_factory=SignIn)
     position: Label | CubePosition | None = Field(
-        None, description="six: the pose the page recognised (checked against the data); cube24: the position number.")
+        None, description=("six: the pose the page recognised (checked against the data); cube24: the position number; "
+                           "free: leave it out (poses are numbered in order)."))
     redo: bool = Field(False, description="Replace an earlier capture of the same pose (cube24: the last one).")
     motion: MotionIn | None = Field(None, description="cube24: the rates of the turn into this position.")
 
@@ -534,6 +576,21 @@ class CaptureSummary(BaseModel):
     created_at: str
 
 
+class FreeProgress(BaseModel):
+    """Where a free session stands, recomputed after each capture."""
+
+    count: int = Field(description="Poses captured.")
+    fit_from: int = Field(description=f"The triangular model is fitted from this many poses on ({FREE_FIT_FROM}).")
+    target_poses: int = Field(description=f"The target counts only with at least this many poses ({FREE_TARGET_MIN_POSES}).")
+    target_mg: float
+    cv_error_mg: float | None = Field(description="Cross-validated error on new orientations (null before the fit).")
+    cv_error_max_mg: float | None
+    target_reached: bool
+    advice: list[PoseAdviceOut] = Field(description=(
+        "The next poses: D-optimal once fitted, before that the directions farthest from the poses taken (gain null)."))
+    message: str = Field(description="The state in words, e.g. “11 poses: 3.2 mg expected on new orientations (target 2 mg, at least 12 poses)”.")
+
+
 class SessionOut(BaseModel):
     model_config = ConfigDict(extra="allow")
 
@@ -546,6 +603,8 @@ class SessionOut(BaseModel):
     remaining: list[str]
     calibration_id: str | None
     created_at: str
+    target_mg: float | None = Field(None, description="free: the target of the cross-validated error, mg.")
+    progress: FreeProgress | None = Field(None, description="free: the fit so far, the advice, the target.")
 
 
 class SessionCreated(SessionOut):

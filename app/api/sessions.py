@@ -6,10 +6,11 @@ from fastapi import APIRouter, Depends, Request
 
 from app import sessions
 from app.api.deps import (
-    SESSION_TOKEN_PREFIX, Unauthorized, bearer_token, get_owner, get_store, new_session_token, session_of_token,
-    session_owner,
+    SESSION_TOKEN_PREFIX, Unauthorized, bearer_token, get_owner, get_settings, get_store, new_session_token,
+    session_of_token, session_owner,
 )
 from app.api.schemas import CalibrationOut, CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
+from app.config import Settings
 from app.store import NotFoundError, Store
 
 router = APIRouter(prefix="/api/v1/sessions", tags=["sessions"])
@@ -27,11 +28,14 @@ def session_of(session_id: str, request: Request, store: Store = Depends(get_sto
 
 
 @router.post("", status_code=201, response_model=SessionCreated)
-def create_session(body: SessionIn, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
+def create_session(body: SessionIn, store: Store = Depends(get_store), owner: str | None = Depends(get_owner),
+                   settings: Settings = Depends(get_settings)):
     """Start a wizard session; the token in the answer opens it (with TRICAL_API_KEYS set, starting
     one needs a key)."""
     token, digest = new_session_token()
-    stored = store.add_session(sessions.new_session(body.model_dump()), digest, owner=owner)
+    fields = body.model_dump()
+    fields["target_mg"] = fields["target_mg"] or settings.free_target_mg
+    stored = store.add_session(sessions.new_session(fields), digest, owner=owner)
     return dict(sessions.view(dict(stored, calibration_id=None, captures=[])), token=token)
 
 

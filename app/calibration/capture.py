@@ -161,3 +161,42 @@ def check_still_capture(acc, t_ms, *, gravity: float, expected: str | None = Non
                                f"{expected} points up, or capture {position}")
     return StillCapture(position=position, mean=mean, std=std, count=len(a), sampling_rate_hz=rate,
                         duration_s=duration_s)
+
+
+class PoseTooCloseError(CalibrationError):
+    """A free-pose capture that points within the minimum angle of one already taken."""
+
+    code = "pose_too_close"
+
+
+def check_new_direction(mean, previous, *, min_angle_deg: float) -> None:
+    """Refuse a still reading whose direction is within ``min_angle_deg`` of an earlier one.
+
+    A magnitude model learns from orientations, not from repeats: two poses a few degrees apart
+    weigh one orientation twice (near duplicates, Georgieva et al. Dataset 3).
+
+    Parameters
+    ----------
+    mean : array_like, shape (3,)
+        The new capture's mean reading.
+    previous : array_like, shape (N, 3)
+        The mean readings already taken (N may be 0).
+    min_angle_deg : float
+
+    Raises
+    ------
+    PoseTooCloseError
+        Naming the nearest earlier pose (counting from 1) and the angle to it.
+    """
+    prev = np.asarray(previous, dtype=float).reshape(-1, 3)
+    if len(prev) == 0:
+        return
+    u = np.asarray(mean, dtype=float) / np.linalg.norm(mean)
+    cos = (prev / np.linalg.norm(prev, axis=1, keepdims=True)) @ u
+    nearest = int(np.argmax(cos))
+    angle = float(np.degrees(np.arccos(np.clip(cos[nearest], -1.0, 1.0))))
+    if angle < min_angle_deg:
+        raise PoseTooCloseError(
+            f"this pose is only {angle:.0f}° from pose {nearest + 1}, already captured: turn the device "
+            f"at least {min_angle_deg:g}° further (another face or edge up, or tilted) and let it rest again"
+        )

@@ -240,6 +240,12 @@ class NonOrthogonalCalibration(StillReadingsResult):
         out = (m.reshape(-1, 3) - self.s) @ self.matrix.T
         return out.reshape(m.shape)
 
+    def jacobian(self, means) -> np.ndarray:
+        """Jacobian (N, 9) of the terms of (17) for readings ``means`` (N, 3) with respect to
+        (s, b, φ, ψ, θ) at the fitted parameters: what each reading adds to the information JᵀJ
+        behind :attr:`covariance` (app.calibration.advice)."""
+        return _jacobian_17(self.params, as_vectors(means, "means"), self.gravity)
+
     def uncertainty(self) -> dict:
         """95 % half-widths of s, b and the three angles, or nulls with the reason."""
         out: dict = {"confidence": CONFIDENCE, "dof": self.dof}

@@ -20,6 +20,17 @@ UP_VECTORS: dict[str, tuple[float, float, float]] = {
 CANONICAL_SIX: tuple[str, ...] = ("-x", "+x", "-y", "+y", "-z", "+z")
 """The six canonical orientations in the order of Georgieva et al. (ESGI'95), section 3.3.1."""
 
+POSE_NAMES = {
+    "+z": "flat, screen up",
+    "-z": "flat, screen down",
+    "+y": "standing upright, top edge up",
+    "-y": "upside down, top edge down",
+    "+x": "on its left edge, right edge up",
+    "-x": "on its right edge, left edge up",
+}
+"""Each of the six poses in words for a person holding a phone (W3C frame: x right, y up along the
+screen, z out of the screen); the pages and the pose advice (:mod:`app.calibration.advice`) use them."""
+
 LABEL_MAX_ANGLE_DEG = 20.0
 """A direction is labelled with its nearest axis only when within this angle (docs/rest.md)."""
 

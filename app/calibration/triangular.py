@@ -257,6 +257,14 @@ class TriangularCalibration(StillReadingsResult):
         m = as_samples(raw)
         return ((m.reshape(-1, 3) + self.o) @ self.K.T).reshape(m.shape)
 
+    def jacobian(self, means) -> np.ndarray:
+        """Jacobian (N, 9) of the ``lm`` residuals (module docstring) of readings ``means`` (N, 3) with
+        respect to p at the fitted parameters, offsets in g as the fit works: what each reading adds
+        to the information JᵀJ behind :attr:`covariance` (app.calibration.advice)."""
+        g = self.gravity
+        p_g = np.r_[self.p[:6], self.o / g]  # Farago et al. eq. (6), offsets in g
+        return _jacobian_lm(p_g, as_vectors(means, "means") / g, central=True)
+
     def uncertainty(self) -> dict:
         """95 % half-widths of K (lower triangle, zeros above) and o, or nulls with the reason."""
         out: dict = {"confidence": CONFIDENCE, "dof": self.dof}

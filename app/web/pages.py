@@ -17,7 +17,7 @@ from .tables import POSE_NAMES, page_tables
 
 router = APIRouter(include_in_schema=False)
 
-PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube"}
+PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube", "free": "free poses, no jig"}
 
 
 def _templates(request: Request) -> Jinja2Templates:

@@ -17,17 +17,7 @@ from app import sessions
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
-from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
-
-POSE_NAMES = {
-    "+z": "flat, screen up",
-    "-z": "flat, screen down",
-    "+y": "standing upright, top edge up",
-    "-y": "upside down, top edge down",
-    "+x": "on its left edge, right edge up",
-    "-x": "on its right edge, left edge up",
-}
-"""Each of the six poses in words for a person holding a phone."""
+from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
 
 CAPTURE_WINDOW_MS = 500
 """The page's moving window of the mean and spread (ms)."""
@@ -58,7 +48,8 @@ def page_tables() -> dict:
     -------
     dict
         ``gravity`` (m/s²); ``poses`` (``order``, ``up`` vectors, ``names``); ``capture`` (the
-        capture machine's options); ``cube`` (the cube flow's face angle); ``cube24`` (the 23
+        capture machine's options); ``cube`` (the cube flow's face angle); ``free`` (the free flow's
+        angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs); ``cube24`` (the 23
         ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
         and the ``turnWords`` the server's refusals use).
     """
@@ -73,6 +64,9 @@ def page_tables() -> dict:
         },
         "capture": capture_thresholds(),
         "cube": {"maxAngleDeg": sessions.PAGE_CUBE_FACE_MAX_ANGLE_DEG},
+        "free": {"maxAngleDeg": sessions.FREE_MAX_ANGLE_DEG, "minAngleDeg": sessions.FREE_MIN_ANGLE_DEG,
+                 "fitFrom": sessions.FREE_FIT_FROM,
+                 "targetPoses": sessions.FREE_TARGET_MIN_POSES},
         "cube24": {
             "rotations": list(CUBE24_ROTATIONS),
             "ups": list(protocol.ups),

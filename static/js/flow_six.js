@@ -3,7 +3,7 @@
 import { getSession, postCapture } from "./api.js";
 import { CaptureMachine, POSES } from "./motion.js";
 import { describePose } from "./poses.js";
-import { announce, instruct, list } from "./wizard_state.js";
+import { FLOW_DEFAULTS, announce, instruct, list } from "./wizard_state.js";
 
 export function donePoses(state) {
   if (!state.session) return [];
@@ -98,17 +98,4 @@ function redo(state, pose) {
   announce(state, text);
 }
 
-export const sixFlow = {
-  init() {},
-  makeMachine,
-  adopted,
-  firstInstruction,
-  firstMotion,
-  gate: () => true,
-  sampleTime: (raw) => raw.t,
-  record() {},
-  show,
-  send,
-  resume,
-  redo,
-};
+export const sixFlow = { ...FLOW_DEFAULTS, makeMachine, adopted, firstInstruction, firstMotion, show, send, resume, redo };

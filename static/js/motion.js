@@ -111,6 +111,7 @@ export function windowStats(samples) {
 // over the window); gyrLow/gyrHigh (deg/s): the same for the mean |rotation rate| (the server refuses
 // captures turning faster than gyrHigh); maxAngleDeg: the closest axis must be within this angle of
 // the measured direction. Values: app/web/tables.py, from the server checks they stay inside.
+// Optional isDone(mean): the free flow's test of a direction already captured (instead of the labels).
 export const DEFAULTS = { ...TABLES.capture };
 
 // The capture state machine. push() takes W3C samples {t (ms), acc [m/s²], gyr [deg/s] | null}
@@ -216,7 +217,9 @@ export class CaptureMachine {
       return this.emit(out, "tilted");
     }
     if (this.needMove) return this.emit(out, "retry");
-    if (this.done.has(pose) && !this.redo.has(pose)) {
+    // A pose counts as done by its label, or (the free flow) when o.isDone(mean) says its direction is taken.
+    const done = o.isDone ? o.isDone(stats.mean) : this.done.has(pose) && !this.redo.has(pose);
+    if (done) {
       if (this.justCaptured === pose) return this.emit(out, "done");
       return this.emit(out, "refused");
     }

@@ -23,6 +23,17 @@ export function calibrate(model, m) {
   return Xi.map((row) => row[0] * d[0] + row[1] * d[1] + row[2] * d[2]);
 }
 
+// Farago et al.'s a = K (m + o) in the form m = X a + y: X = K⁻¹, y = −o.
+export function triangularAsAffine(model) {
+  return { X: invert3(model.K), y: model.o.map((v) => -v) };
+}
+
+// One advised pose in words, with what it would gain.
+export function adviceText(a) {
+  return a.gain === null || a.gain === undefined ? a.words
+    : `${a.words} — shrinks the parameters' uncertainty (generalized variance) by ${Math.round(100 * a.gain)} %`;
+}
+
 // One row per captured position: {position, raw: |m|, calibrated: |X⁻¹(m − y)|}.
 export function normRows(model, captures) {
   return captures.map((c) => ({ position: c.position, raw: norm(c.mean), calibrated: norm(calibrate(model, c.mean)) }));

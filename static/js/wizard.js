@@ -6,10 +6,13 @@ import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent,
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
 import { poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
-import { normChartSvg, normRows, withInterval } from "./result.js";
+import { adviceText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
+import { sphereSvg } from "./sphere.js";
+import { unlockCues } from "./cues.js";
 import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
 import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
+import { canFinish, coveredDirections, freeFlow, poseCount, progressOf } from "./flow_free.js";
 
 const $ = (sel) => document.querySelector(sel);
 const root = $("#wizard");
@@ -21,7 +24,8 @@ const state = newState({
   formats: JSON.parse(root.dataset.formats),
 });
 const cube = state.protocol === "cube24";
-const flow = cube ? cubeFlow : sixFlow;
+const free = state.protocol === "free";
+const flow = cube ? cubeFlow : free ? freeFlow : sixFlow;
 flow.init(state);
 let noMotionTimer = null;
 
@@ -82,7 +86,7 @@ const PROBLEMS = {
 };
 
 const rendered = { seq: 0, problem: null, turnAlert: null, calibration: null, downloads: null, resumePic: null,
-  figures: {}, lastLive: 0 };
+  figures: {}, lastLive: 0, sphere: null };
 
 function render(s) {
   const v = s.view;
@@ -99,6 +103,7 @@ function render(s) {
   setHidden($("#key-box"), !v.keyBox);
   setHidden($("#capture"), !v.capture);
   if (cube) renderCube(s);
+  else if (free) renderFree(s);
   else renderPoses(s);
   setText($("#instruction"), v.instruction);
   renderLive(s);
@@ -137,6 +142,37 @@ function renderPoses(s) {
     setText(li.querySelector(".pose-state"), { done: "captured ✓", todo: "to do", redo: "to redo" }[shown]);
     setHidden(li.querySelector(".redo"), shown !== "done");
   }
+}
+
+// The free flow: the sphere of directions covered and advised, the count, the advice in words, Finish.
+function renderFree(s) {
+  const progress = progressOf(s);
+  const covered = coveredDirections(s);
+  const advice = progress ? progress.advice : [];
+  const current = s.free.current;
+  const key = JSON.stringify([covered.length, advice.map((a) => a.up),
+    current && current.map((v) => Math.round(v * 20))]); // redraw when the live direction moves ~3°
+  if (rendered.sphere !== key) {
+    rendered.sphere = key;
+    $("#sphere").innerHTML = sphereSvg({ covered, advice: advice.map((a) => a.up), current });
+  }
+  const n = poseCount(s);
+  const count = $("#free-count");
+  setText(count, progress ? progress.message : "No pose captured yet.");
+  if (count.dataset.count !== String(n)) count.dataset.count = String(n);
+  const bar = $("#free-progress");
+  bar.max = progress ? progress.target_poses : 12;
+  if (bar.value !== Math.min(n, bar.max)) bar.value = Math.min(n, bar.max);
+  const list = $("#free-advice");
+  const words = advice.map((a) => a.words).join("|");
+  if (list.dataset.words !== words) {
+    list.dataset.words = words;
+    list.replaceChildren(...advice.map((a) => el("li", a.words)));
+  }
+  const finish = $("#free-finish");
+  const fitFrom = progress ? progress.fit_from : 10;
+  if (finish.disabled !== !canFinish(s)) finish.disabled = !canFinish(s);
+  setText(finish, canFinish(s) ? "Finish now" : `Finish (from ${fitFrom} poses)`);
 }
 
 function figure(box, k, turn, caption) {
@@ -241,7 +277,16 @@ function renderResult(s) {
   const warnings = cal.warnings || [];
   $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
   if (cal.model.type === "cube") fillCubeModel(cal, cal.uncertainty || {});
+  else if (cal.model.type === "triangular") fillTriangularModel(cal);
   else fillSixModel(cal, s.session);
+  const finishLine = $("#result-finish");
+  setHidden(finishLine, !cal.finish);
+  if (cal.finish) {
+    finishLine.textContent = `${cal.finish.text[0].toUpperCase()}${cal.finish.text.slice(1)}.`;
+    finishLine.dataset.reason = cal.finish.reason;
+  }
+  setHidden($("#result-advice-box"), !(cal.advice && cal.advice.length));
+  $("#result-advice").replaceChildren(...(cal.advice || []).map((a) => el("li", adviceText(a))));
   $("#result-metrics").replaceChildren(...Object.entries(cal.metrics || {})
     .filter(([, v]) => v === null || typeof v !== "object") // the cube's lists stay in the JSON export
     .map(([k, v]) => {
@@ -270,6 +315,15 @@ function fillNorms(model, means, gravity) {
     tr.append(el("th", r.position, { scope: "row" }), el("td", r.raw.toFixed(4)), el("td", r.calibrated.toFixed(4)));
     return tr;
   }));
+}
+
+// Farago et al.'s triangular model a = K (m + o), each ± its 95 % half-width, and the norms per pose.
+function fillTriangularModel(cal) {
+  const unc = cal.uncertainty || {};
+  // K is lower triangular: the zeros above its diagonal are exact, shown without an interval.
+  fillMatrix($("#result-K"), cal.model.K, unc.K && unc.K.map((row, i) => row.map((v, j) => (j > i ? null : v))));
+  fillMatrix($("#result-o"), cal.model.o.map((v) => [v]), unc.o && unc.o.map((v) => [v]));
+  fillNorms(triangularAsAffine(cal.model), cal.captures || [], cal.gravity || STANDARD_GRAVITY);
 }
 
 // Särkkä et al.'s model per sensor: S (with D and the misalignment when given) and b, each ± its 95 % half-width.
@@ -495,6 +549,7 @@ function stop() {
 
 async function onStart() {
   const asked = requestPermissions(); // first, while the tap's user activation lasts
+  unlockCues(); // sound needs a tap too
   const v = state.view;
   v.startDisabled = true;
   v.problem = null;
@@ -550,6 +605,7 @@ $("#start-over").addEventListener("click", () => {
   state.blobUrls.forEach((u) => URL.revokeObjectURL(u));
   location.reload();
 });
+if (free) $("#free-finish").addEventListener("click", () => { if (canFinish(state)) solve(); });
 $("#capture").addEventListener("click", (event) => {
   const button = event.target.closest("#redo-last, button[data-redo]");
   if (button) redo(button.dataset.redo);

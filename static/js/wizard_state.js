@@ -51,3 +51,14 @@ export function announce(state, text) {
 export function instruct(state, text) { state.view.instruction = text; }
 
 export const list = (poses) => (poses.length ? poses.join(", ") : "none");
+
+// What a flow (flow_six.js, flow_cube.js, flow_free.js) does at a step it has nothing of its own for.
+export const FLOW_DEFAULTS = {
+  init() {},
+  adopted() {},
+  firstMotion() {},
+  gate: () => true,
+  sampleTime: (raw) => raw.t, // ms of this page load
+  record() {},
+  redo() {},
+};

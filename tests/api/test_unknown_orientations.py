@@ -68,3 +68,23 @@ def test_bad_input(client, method):
         assert not r.json()["ok"] and any("hemisphere" in x for x in r.json()["reasons"])
     else:
         assert "hemisphere" in r.json()["detail"]
+
+
+@pytest.mark.parametrize("method", ["nonorthogonal", "triangular"])
+def test_the_response_advises_the_next_poses_typed(client, method):
+    from pydantic import TypeAdapter
+
+    from app.api.schemas import CalibrationOut, PoseAdviceOut
+
+    r = client.post("/api/v1/calibrations", json={"method": method, "means": seed_table(1)[:14].tolist(), "gravity": 9.806})
+    assert r.status_code == 201, r.text
+    body = r.json()
+    advice = body["advice"]
+    assert len(advice) == 3
+    for a in advice:
+        PoseAdviceOut.model_validate(a)
+        assert np.linalg.norm(a["up"]) == pytest.approx(1.0) and 0 < a["gain"] < 1 and " up (" in a["words"]
+    assert [a["gain"] for a in advice] == sorted((a["gain"] for a in advice), reverse=True)
+    typed = TypeAdapter(CalibrationOut).validate_python(body)
+    assert [a.words for a in typed.advice] == [a["words"] for a in advice]
+    assert client.get(f"/api/v1/calibrations/{body['id']}").json()["advice"] == advice

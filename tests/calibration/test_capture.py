@@ -33,3 +33,17 @@ def test_the_stillness_gate_is_a_fraction_of_gravity_in_either_unit(gravity):
     shaky = np.array([0.0, 0.0, gravity]) + 1.1 * STILL_MAX_STD_G * gravity * base
     with pytest.raises(CalibrationError, match="moved during the capture"):
         check_still_capture(shaky, t, gravity=gravity)
+
+
+def test_a_new_direction_must_be_ten_degrees_from_the_ones_taken():
+    from app.calibration.capture import PoseTooCloseError, check_new_direction
+
+    check_new_direction([0, 0, 9.8], np.zeros((0, 3)), min_angle_deg=10)
+    taken = [[9.8, 0, 0], [0, 0, 9.8]]
+    tilt = np.radians(12)
+    check_new_direction([0, 9.8 * np.sin(tilt), 9.8 * np.cos(tilt)], taken, min_angle_deg=10)
+    tilt = np.radians(6)
+    with pytest.raises(PoseTooCloseError) as err:
+        check_new_direction([0, 9.8 * np.sin(tilt), 9.8 * np.cos(tilt)], taken, min_angle_deg=10)
+    assert err.value.code == "pose_too_close"
+    assert "only 6° from pose 2" in str(err.value) and "at least 10° further" in str(err.value)
