@@ -262,8 +262,9 @@ def free_progress(session: dict) -> tuple[dict, tuple | None]:
         except CalibrationError:
             fit = None  # poses that do not determine the model yet: the advice spreads them out
         else:
-            cv, cv_max = fit[1].get("cv_error_mg"), fit[1].get("cv_error_max_mg")
-    reached = cv is not None and n >= FREE_TARGET_MIN_POSES and cv < target
+            cv, cv_max = fit[0].metrics.get("cv_error_mg"), fit[0].metrics.get("cv_error_max_mg")
+    # The target is an error on new orientations below target_mg from a fit that passes every gate.
+    reached = cv is not None and n >= FREE_TARGET_MIN_POSES and cv < target and fit[0].ok
     if fit is not None:
         advice = workflow.pose_advice(fit[0])
     else:

@@ -470,6 +470,8 @@ def _auto(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
     result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    if choice["method"] == "triangular":  # a magnitude model: which poses to add next
+        source["advice"] = pose_advice(result)
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label, choice=choice, **source)
 
