@@ -99,7 +99,7 @@ def input_path(what: str):
 PORT = number("a TCP port", low=1, high=65535, integer=True)
 LATITUDE = number("a latitude in degrees", low=-90, high=90)
 HEIGHT = number("a height above the ellipsoid in m", low=-12000, high=100000)
-GRAVITY = number("a gravity in m/s^2", low=0, high=100, low_open=True)
+GRAVITY = number("a gravity in m/s^2", low=0.1, high=100)
 SAMPLING_RATE = number("a sampling rate in Hz", low=0, high=100000, low_open=True)
 LSB_PER_G = number("counts per g", low=0, low_open=True)
 FIELD_UT = number("a magnetic field magnitude in µT", low=0, high=1000, low_open=True)

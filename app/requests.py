@@ -13,6 +13,8 @@ from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, TypeAdapter, Val
 Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
 Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
 AccUnit = Literal["m/s^2", "g", "raw"]
+Gravity = Annotated[float, Field(ge=0.1, le=100, allow_inf_nan=False)]
+"""A reference gravity in m/s²: from the Moon's 1.6 to well above the Earth's 9.8."""
 
 
 class Strict(BaseModel):
@@ -37,7 +39,7 @@ class ReadingIn(Strict):
 
 class CommonIn(Strict):
     unit: AccUnit = Field("m/s^2", description="Unit of the readings; `g` calibrates into g.")
-    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = Field(
+    gravity: Gravity | None = Field(
         None, description="Reference gravity in m/s² (default 9.80665, or local gravity from latitude_deg)."
     )
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
@@ -122,7 +124,7 @@ class CubeIn(Strict):
     protocol: Literal["cube24", "ferraris"] | dict[str, Any] = Field(
         "cube24", description="`cube24`, `ferraris`, or {\"rotations\": [...], \"ups\": [...]}."
     )
-    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
     field_ut: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
@@ -142,7 +144,7 @@ class AutocalIn(Strict):
     method: Literal["autocal"]
     recording_id: str = Field(description="An uploaded recording (POST /api/v1/recordings).")
     unit: Literal["m/s^2", "g"] | None = Field(None, description="Overrides the recording's accelerometer unit.")
-    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
     solver: Literal["lm", "gradient", "fixed16", "fixed32"] = "lm"

@@ -91,7 +91,7 @@ def test_the_message_names_the_option_and_its_range(env):
     assert out.stderr == ("trical calibrate: error: argument --latitude-deg: 100 is out of range: give a latitude "
                           "in degrees, from -90 to 90 (see trical calibrate --help)\n")
     assert "argument --port" in run(["serve", "--port", "70000"], env).stderr
-    assert "above 0" in run(["autocal", str(DATA), "--gravity", "0"], env).stderr
+    assert "from 0.1 to 100" in run(["autocal", str(DATA), "--gravity", "0"], env).stderr
 
 
 @pytest.mark.parametrize("extra", [["--json"], []], ids=["json", "summary"])

@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 from app.requests import (  # noqa: F401  (re-exported: the routes and tests name them here)
     METHODS,
     AccUnit,
+    Gravity,
     AutocalIn,
     CalibrationIn,
     CubeIn,
@@ -501,7 +502,7 @@ class SessionIn(Strict):
     capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
         CAPTURE_S_DEFAULT, description="Seconds captured per position.")
     unit: Literal["m/s^2", "g"] = Field("m/s^2", description="Unit of the samples the page sends.")
-    gravity: Annotated[float, Field(gt=0, le=100, allow_inf_nan=False)] | None = None
+    gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None

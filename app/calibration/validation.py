@@ -62,14 +62,20 @@ def as_samples(raw) -> np.ndarray:
     return m
 
 
+MIN_GRAVITY = 1e-6
+"""Below this a reference magnitude is no unit of acceleration anyone reads (1 µg in g): refused
+rather than divided by."""
+
+
 def check_gravity(gravity: float) -> float:
     """Return the reference magnitude as a float, or raise when it is not positive and finite."""
     try:
         g = float(gravity)
     except (TypeError, ValueError):
         raise CalibrationError(f"gravity must be a number; got {gravity!r}") from None
-    if not (math.isfinite(g) and g > 0.0):
-        raise CalibrationError(f"gravity must be a positive finite number; got {gravity!r}")
+    if not (math.isfinite(g) and g >= MIN_GRAVITY):
+        raise CalibrationError(f"gravity must be a finite number of at least {MIN_GRAVITY:g} (the readings' unit); "
+                               f"got {gravity!r}")
     return g
 
 

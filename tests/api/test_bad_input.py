@@ -34,6 +34,9 @@ GOOD = seed_table(1)[:6].tolist()
         ({"method": "six_position"}, 422, "either `readings` or `recording_id`"),
         ({"method": "six_position", "recording_id": "rec_nope"}, 404, "no recording with id 'rec_nope'"),
         ({**readings(GOOD), "gravity": -1}, 422, "gravity"),
+        # Found by the schema fuzzer: a subnormal gravity overflowed the magnitude models' division.
+        ({"method": "auto", "gravity": 5e-324, "means": [[0.0, 0.0, 1.0]] * 9}, 422,
+         "gravity: Input should be greater than or equal to 0.1"),
         ({**readings(GOOD), "unit": "furlong"}, 422, "unit"),
         ({**readings(GOOD), "unexpected": 1}, 422, "unexpected"),
     ],
