@@ -148,13 +148,13 @@ def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, 
     which = f"{sensor} {'/'.join(axes)}"
     n2 = max(r.theta[0] for r in readings)
     if name == "random_walk":
-        k2 = float(np.max(3.0 * avar_hi[-1] / tau_max))
+        k2 = float(np.max(np.min(3.0 * avar_hi / tau[:, None], axis=0)))  # the curve's upper end bounds K at every τ
         b2 = max(r.theta[1] for r in readings)
         need = (FLICKER_VARIANCE * b2 + math.sqrt((FLICKER_VARIANCE * b2) ** 2 + 4.0 * k2 * n2 / 3.0)) / (2.0 * k2 / 3.0)
         return (f"{which}: random_walk is null — the Allan deviation does not turn up to τ = {tau_max:.3g} s "
                 f"(the longest this still recording supports); a random walk of at most {math.sqrt(k2):.3g} "
                 f"{term_units(unit)['random_walk_unit']} would show from τ ≈ {need:.3g} s: record the device still for "
-                f"at least {_duration(RECORD_FACTOR * need)}")
+                f"at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}")
     if name == "bias_instability":
         b2 = float(np.min(avar_hi)) / FLICKER_VARIANCE
         if any(r.values["random_walk"] is not None for r in readings):
@@ -163,7 +163,7 @@ def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, 
         need = n2 / (FLICKER_VARIANCE * b2) if b2 > 0 else math.inf
         return (f"{which}: bias_instability is null — the Allan deviation still falls as white noise at "
                 f"τ = {tau_max:.3g} s; a floor of B ≤ {math.sqrt(b2):.3g} {unit} would show from τ ≈ {need:.3g} s: "
-                f"record the device still for at least {_duration(RECORD_FACTOR * need)}")
+                f"record the device still for at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}")
     return (f"{which}: noise_density is null — white noise dominates no τ from {FIT_MIN_M} samples on: sample "
             "faster, or check that the samples are not filtered or rounded to a few steps")
 
