@@ -43,28 +43,22 @@ def _header(body: dict) -> str:
             "# continuous-time units: m/s^2/sqrt(Hz), m/s^3/sqrt(Hz), rad/s/sqrt(Hz), rad/s^2/sqrt(Hz)\n")
 
 
-def to_kalibr(body: dict) -> Export:
+def _kalibr_lines(body: dict, indent: str = "") -> str:
+    """Kalibr's IMU keys, one a line."""
     f = _filter_figures(body)
-    text = _header(body) + (
-        "rostopic: /imu0\n"
-        f"update_rate: {body['sampling_rate_hz']:.6g}\n"
-        f"accelerometer_noise_density: {f['acc', 'noise_density']:.6e}\n"
-        f"accelerometer_random_walk: {f['acc', 'random_walk']:.6e}\n"
-        f"gyroscope_noise_density: {f['gyr', 'noise_density']:.6e}\n"
-        f"gyroscope_random_walk: {f['gyr', 'random_walk']:.6e}\n")
-    return Export(text, "application/yaml", "imu.yaml")
+    keys = {"rostopic": "/imu0", "update_rate": f"{body['sampling_rate_hz']:.6g}"}
+    for sensor, word in (("acc", "accelerometer"), ("gyr", "gyroscope")):
+        for term in ("noise_density", "random_walk"):
+            keys[f"{word}_{term}"] = f"{f[sensor, term]:.6e}"
+    return "".join(f"{indent}{k}: {v}\n" for k, v in keys.items())
+
+
+def to_kalibr(body: dict) -> Export:
+    return Export(_header(body) + _kalibr_lines(body), "application/yaml", "imu.yaml")
 
 
 def to_openvins(body: dict) -> Export:
-    f = _filter_figures(body)
-    text = "%YAML:1.0\n" + _header(body) + (
-        "imu0:\n"
-        f"  accelerometer_noise_density: {f['acc', 'noise_density']:.6e}\n"
-        f"  accelerometer_random_walk: {f['acc', 'random_walk']:.6e}\n"
-        f"  gyroscope_noise_density: {f['gyr', 'noise_density']:.6e}\n"
-        f"  gyroscope_random_walk: {f['gyr', 'random_walk']:.6e}\n"
-        "  rostopic: /imu0\n"
-        f"  update_rate: {body['sampling_rate_hz']:.6g}\n")
+    text = "%YAML:1.0\n" + _header(body) + "imu0:\n" + _kalibr_lines(body, "  ")
     return Export(text, "application/yaml", "kalibr_imu_chain.yaml")
 
 
