@@ -102,7 +102,7 @@ def _parser() -> argparse.ArgumentParser:
     n.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
     n.add_argument("--sensor", choices=("acc", "gyr", "mag"), default=None,
                    help="the sensor a three-column array holds (default acc); with a log: characterise only this one")
-    n.add_argument("--unit", default=None, help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)")
+    n.add_argument("--unit", choices=("m/s^2", "g", "rad/s", "deg/s", "uT", "nT"), default=None, help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)")
     _read_options(n)
     n.add_argument("--plot", type=opt.output_file("an SVG file to write"), default=None, metavar="FILE.svg",
                    help="write the log-log Allan plot with the fitted slopes")
