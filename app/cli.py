@@ -1,4 +1,4 @@
-"""The ``trical`` command: serve, calibrate, autocal, export.
+"""The ``trical`` command: serve, calibrate, autocal, noise, export.
 
 ``--json`` prints the same JSON as the API.  Errors are one line on stderr and exit status 2
 (bad input, including an option's value out of range: app.cli_options checks them while parsing) or
@@ -22,7 +22,7 @@ from app import cli_options as opt
 from app.calibration import CalibrationError
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
-from app.io.exporters import EXPORTERS, export_calibration
+from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.formats import FORMATS
 from app.requests import ValidationError, describe_errors, parse_calibration_request
 from app.store import NotFoundError, open_store
@@ -96,9 +96,23 @@ def _parser() -> argparse.ArgumentParser:
     a.add_argument("--store", action="store_true", help="store the calibration(s) in the database")
     a.add_argument("--json", action="store_true", help="print the API's JSON (a list for a folder)")
 
+    n = sub.add_parser("noise", help="noise density, random walk and bias instability of a still recording (Allan deviation)")
+    n.add_argument("path", type=opt.input_path("a still recording"), help=".npy (N×3 with --sensor, or N×4 with time first), "
+                   "Parquet, CSV or any log format trical reads")
+    n.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
+    n.add_argument("--sensor", choices=("acc", "gyr", "mag"), default=None,
+                   help="the sensor a three-column array holds (default acc); with a log: characterise only this one")
+    n.add_argument("--unit", choices=("m/s^2", "g", "rad/s", "deg/s", "uT", "nT"), default=None, help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)")
+    _read_options(n)
+    n.add_argument("--plot", type=opt.output_file("an SVG file to write"), default=None, metavar="FILE.svg",
+                   help="write the log-log Allan plot with the fitted slopes")
+    n.add_argument("--device-id", type=opt.text("a device id"), default=None)
+    n.add_argument("--store", action="store_true", help="store the characterisation in the database")
+    n.add_argument("--json", action="store_true", help="print the API's JSON")
+
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
-    e.add_argument("--format", choices=tuple(EXPORTERS), default="json")
+    e.add_argument("--format", choices=ALL_FORMATS, default="json")
     e.add_argument("--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)")
     return p
 
@@ -379,6 +393,72 @@ def _print_folder_table(bodies: list[dict]) -> None:
     print(f"{n_ok} of {len(bodies)} recordings calibrated")
 
 
+def _noise(args, settings: Settings) -> int:
+    from app.io.log import UNITS
+
+    array = args.path.suffix.lower() in (".npy", ".parquet", ".pq")
+    sensor = args.sensor or "acc"
+    units = {}
+    if args.unit:
+        if args.unit not in UNITS[sensor]:
+            raise CalibrationError(f"--unit {args.unit} is not a {sensor} unit: use one of {', '.join(UNITS[sensor])}")
+        units = {sensor: args.unit}
+    read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
+    log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=str(args.path),
+                            columns=args.columns, sign=args.sign)
+    if array and sensor != "acc" and units:
+        log = _relabel_units(log, units[sensor])
+    body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
+                                     array_sensor=sensor if array else None, device_id=args.device_id,
+                                     label=args.path.name)
+    if args.store:
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
+    if args.plot:
+        from app.io.allan_plot import allan_svg
+
+        args.plot.write_text(allan_svg(body), encoding="utf-8")
+        print(f"wrote {args.plot}", file=sys.stderr)
+    if args.json:
+        print(json.dumps(body, indent=2))
+    else:
+        _print_noise(body)
+    return 0 if body["ok"] else 3
+
+
+def _relabel_units(log, unit: str):
+    """An array of gyroscope or magnetometer samples in deg/s or nT: read as acc, converted by the workflow."""
+    import dataclasses
+
+    factor = {"deg/s": workflow.GYR_TO_RAD_S["deg/s"], "nT": workflow.MAG_TO_UT["nT"]}.get(unit)
+    if factor is None:
+        return log
+    return dataclasses.replace(log, acc=np.asarray(log.acc, dtype=float) * factor)
+
+
+def _print_noise(body: dict) -> None:
+    still = body.get("still") or {}
+    print(f"{body.get('label') or ''}: {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz "
+          f"({100 * still.get('fraction', 1):.0f} % of the recording); ok = {body['ok']}")
+    names = {"noise_density": "noise density N", "random_walk": "random walk K", "bias_instability": "bias instability B"}
+    for sensor in ("gyr", "acc", "mag"):
+        model = body["model"].get(sensor)
+        if not model:
+            continue
+        unc = body["uncertainty"][sensor]
+        print(f"{sensor} ({model['unit']}):")
+        for term, label in names.items():
+            unit = model[f"{term}_unit"]
+            cells = []
+            for v, iv in zip(model[term], unc[term]):
+                cells.append("null" if v is None else f"{v:.4g} [{iv[0]:.3g}, {iv[1]:.3g}]")
+            print(f"  {label:<20} {unit:<12} x {cells[0]}  y {cells[1]}  z {cells[2]}")
+        print(f"  {'bias':<20} {model['unit']:<12} " + "  ".join(f"{a} {v:.6g}" for a, v in zip("xyz", model["bias"])))
+    for r in body["reasons"]:
+        print(f"reason: {r}")
+    for w in body["warnings"]:
+        print(f"warning: {w}")
+
+
 def _export(args, settings: Settings) -> int:
     body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
     out = export_calibration(body, args.format)
@@ -414,7 +494,8 @@ def _run(argv: list[str] | None) -> int:
     args = _parser().parse_args(argv)
     try:
         settings = Settings.from_env()
-        command = {"serve": _serve, "calibrate": _calibrate, "autocal": _autocal, "export": _export}[args.command]
+        command = {"serve": _serve, "calibrate": _calibrate, "autocal": _autocal, "noise": _noise,
+                   "export": _export}[args.command]
         return command(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
         print(f"trical: error: {exc}", file=sys.stderr)

@@ -153,11 +153,24 @@ class AutocalIn(Strict):
     label: Annotated[str, Field(max_length=500)] | None = None
 
 
-METHODS = ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal")
+class NoiseIn(Strict):
+    """Noise characterisation of a still recording by the Allan deviation (issue 13)."""
+
+    method: Literal["noise"]
+    recording_id: str = Field(description="An uploaded still recording (POST /api/v1/recordings), any length.")
+    sensors: Annotated[list[Literal["acc", "gyr", "mag"]], Field(min_length=1, max_length=3)] | None = Field(
+        None, description="Sensors to characterise (default: every sensor the recording has).")
+    sensor: Literal["acc", "gyr", "mag"] | None = Field(
+        None, description="The sensor a three-column array (.npy N×3 or N×4, Parquet) holds; default acc.")
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
+METHODS = ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal", "noise")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
 CalibrationIn = Annotated[
-    Union[AutoIn, SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn],
+    Union[AutoIn, SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn, NoiseIn],
     Field(discriminator="method"),
 ]
 

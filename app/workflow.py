@@ -258,6 +258,8 @@ def apply_calibration(body: dict, samples, sensor: str = "acc"):
     from app.calibration.registry import result_from_dict  # the registry imports every model
 
     result = result_from_dict(body)
+    if body["model"]["type"] == "noise":
+        result.apply(samples)  # refuses: a noise characterisation corrects nothing
     if body["model"]["type"] == "cube":
         return result.apply(**{sensor: samples})[sensor]
     if sensor != "acc":
@@ -573,5 +575,84 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         "duration_s": log.n_samples / log.sampling_rate_hz}, **fields)
 
 
+# -- noise: the Allan deviation of a still recording -----------------------------------------------
+
+NOISE_SENSORS = ("acc", "gyr", "mag")
+ACC_TO_M_S2 = {"m/s^2": 1.0, "g": STANDARD_GRAVITY, "raw": 1.0}
+
+
+def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = None, **fields) -> dict:
+    """Noise characterisation (app.calibration.noise) of every chosen sensor of a still recording.
+
+    ``array_sensor`` names the sensor a three-column array (``.npy``, Parquet) holds, which the readers
+    return as ``acc``. Gyroscopes in deg/s become rad/s, magnetometers in nT µT, accelerometers in g
+    m/s² (Kalibr's units). The still part is the longest still stretch: when some of the recording
+    moved, a warning says what was used; when less than half of it is still, ``ok`` is false.
+    """
+    from app.calibration.noise import NoiseResult, characterise_noise
+    from app.calibration.noise_still import MIN_STILL_FRACTION, longest_still
+
+    arrays = {name: getattr(log, name) for name in log.channels}
+    units = dict(log.units)
+    if array_sensor not in (None, "acc"):
+        if log.channels != ["acc"]:
+            raise CalibrationError(f"the sensor of an array is given for files with one sensor; this one has "
+                                   f"{', '.join(log.channels)}: leave it out")
+        arrays = {array_sensor: log.acc}
+        units = {array_sensor: {"gyr": "rad/s", "mag": "uT"}[array_sensor]}
+    wanted = list(sensors) if sensors else [s for s in NOISE_SENSORS if s in arrays]
+    missing = [s for s in wanted if s not in arrays]
+    if missing:
+        raise CalibrationError(f"the recording has no {', '.join(missing)} samples (it has {', '.join(arrays)}): "
+                               "ask for those it has")
+    factor = {"acc": ACC_TO_M_S2, "gyr": GYR_TO_RAD_S, "mag": MAG_TO_UT}
+    si = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
+    fs, n = log.sampling_rate_hz, len(next(iter(arrays.values())))
+    notes: list[str] = list(log.notes)
+    if "acc" in arrays:
+        gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(units["acc"])
+        span = longest_still(arrays["acc"], fs, accelerometer=True, gravity=gravity)
+        detected_from = "acc"
+    else:
+        detected_from = wanted[0]
+        span = longest_still(arrays[detected_from], fs, accelerometer=False)
+    reasons: list[str] = []
+    if span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
+        still_s = 0.0 if span is None else (span[1] - span[0]) / fs
+        reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
+                       "is characterised on a still recording — leave the device resting on a firm surface, "
+                       "untouched, for the whole recording")
+        span = span or (0, n)
+    elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
+        notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
+                     f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
+    a, b = span
+    parts = {}
+    for name in wanted:
+        unit = units[name]
+        samples = arrays[name][a:b]
+        scale = factor[name].get(unit, 1.0)
+        if scale != 1.0:
+            samples = np.asarray(samples, dtype=float) * scale
+            unit = si[name]
+        part = characterise_noise(samples, fs, unit=unit, sensor=name)
+        notes.extend(part.pop("warnings"))
+        parts[name] = part
+    duration = (b - a) / fs
+    result = NoiseResult(sensors={k: {x: p[x] for x in ("model", "adev", "uncertainty", "metrics")}
+                                  for k, p in parts.items()},
+                         sampling_rate_hz=fs, duration_s=duration,
+                         still={"start": a, "end": b, "n_samples": b - a, "fraction": (b - a) / n,
+                                "detected_from": detected_from},
+                         reasons=tuple(reasons), unit=parts[wanted[0]]["model"]["unit"])
+    return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
+
+
+def _noise(request, recording: RecordingSource) -> dict:
+    return characterise_log(recording.read(), sensors=request.sensors, array_sensor=request.sensor,
+                            device_id=request.device_id, label=request.label or recording.meta.get("filename"),
+                            **recording.source_fields)
+
+
 _METHODS = {"auto": _auto, "six_position": _known, "orientations": _known, "nonorthogonal": _magnitude, "triangular": _magnitude,
-            "cube": _cube, "autocal": _autocal}
+            "cube": _cube, "autocal": _autocal, "noise": _noise}

@@ -9,7 +9,7 @@ from fastapi.responses import Response
 from app import workflow
 from app.api.deps import get_owner, get_store
 from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut
-from app.io.exporters import EXPORTERS, export_calibration
+from app.io.exporters import ALL_FORMATS, export_calibration
 from app.store import Store
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
@@ -50,7 +50,7 @@ def get_calibration(calibration_id: str, store: Store = Depends(get_store), owne
 @router.get("/{calibration_id}/export", summary="Export a calibration",
             responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
                                          "application/yaml": {}, "text/csv": {}}}})
-def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(EXPORTERS)}"),
+def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(ALL_FORMATS)} (a noise characterisation: kalibr, openvins, vins, json, csv)"),
            store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
     """The calibration as a file for firmware or analysis code.
 

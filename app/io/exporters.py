@@ -11,6 +11,7 @@ import re
 
 from .errors import ExportError
 from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, sensor_corrections
+from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
 
@@ -105,7 +106,10 @@ EXPORTERS = {"json": to_json, "c": to_c_header, "ardupilot": to_ardupilot, "px4"
 
 FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4": "PX4", "yaml": "YAML", "csv": "CSV"}
 
-__all__ = ["EXPORTERS", "FORMAT_NAMES", "FRAME", "JSON_SCHEMA", "Export",
+ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS]))
+"""Every format name of any calibration (the CLI's choices)."""
+
+__all__ = ["ALL_FORMATS", "EXPORTERS", "FORMAT_NAMES", "NOISE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
            "export_calibration"]
 
 
@@ -117,8 +121,12 @@ def export_calibration(body: dict, fmt: str) -> Export:
     ExportError
         Unknown format, or a format that does not fit this calibration's model.
     """
-    try:
-        exporter = EXPORTERS[fmt]
-    except KeyError:
-        raise ExportError(f"unknown export format {fmt!r}: use one of {', '.join(EXPORTERS)}") from None
-    return exporter(body)
+    noise = body.get("method") == "noise"
+    table, other = (NOISE_EXPORTERS, EXPORTERS) if noise else (EXPORTERS, NOISE_EXPORTERS)
+    if fmt not in table:
+        if fmt in other:
+            kind = ("a noise characterisation holds no correction to write" if noise
+                    else f"{fmt} writes a noise characterisation (method noise)")
+            raise ExportError(f"format {fmt!r} does not fit this calibration: {kind}; use one of {', '.join(table)}")
+        raise ExportError(f"unknown export format {fmt!r}: use one of {', '.join(table)}")
+    return table[fmt](body)

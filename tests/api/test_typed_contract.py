@@ -71,6 +71,20 @@ def _requests(client, cube_csv):
     np.save(buf, x)
     rec = _upload(client, "wrist.npy", buf.getvalue(), sampling_rate_hz=10, acc_unit="g")
     yield {"method": "autocal", "recording_id": rec}
+    yield {"method": "noise", "recording_id": _upload(client, "still.csv", _still_csv(), sampling_rate_hz=100)}
+
+
+def _still_csv() -> bytes:
+    """Two minutes of a still IMU (accelerometer and gyroscope) at 100 Hz."""
+    from app.calibration.simulations.noise import simulate_still
+
+    rng = np.random.default_rng(13)
+    acc = simulate_still(rng, n_samples=12_000, sampling_rate_hz=100.0, N=2e-3, B=3e-4, K=1e-4, bias=[0.1, -0.2, G])
+    gyr = simulate_still(rng, n_samples=12_000, sampling_rate_hz=100.0, N=1e-3, B=1e-4, K=1e-5)
+    buf = io.StringIO()
+    np.savetxt(buf, np.hstack([acc, gyr]), delimiter=",", comments="", fmt="%.9g",
+               header="acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    return buf.getvalue().encode()
 
 
 def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
@@ -90,7 +104,7 @@ def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
         seen.add(body["method"])
     assert seen == set(RESPONSE_MODELS)
     listed = client.get("/api/v1/calibrations").json()["items"]
-    assert len(listed) == 12 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
+    assert len(listed) == 13 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
 
 
 def test_openapi_documents_each_method_s_response(client):

@@ -1,0 +1,176 @@
+"""The overlapping Allan deviation of long sample streams, in bounded memory.
+
+The Allan variance of a rate ``y`` sampled at ``fs`` (IEEE Std 952-1997, Annex C; IEEE Std
+1554-2005, section 6.2; El-Sheimy, Hou and Niu, IEEE Trans. Instrum. Meas. 57(1) 2008, eq. (2)) at
+τ = m / fs, in its fully overlapping form, is computed from the phase ``x`` (the cumulative sum of
+``y / fs``, with ``x_0 = 0``)::
+
+    σ²(τ) = 1 / (2 τ² (L − 2m)) · Σ_{i=0}^{L−2m−1} (x_{i+2m} − 2 x_{i+m} + x_i)²
+
+with L = N + 1 phase points (NIST SP 1065, W. J. Riley, *Handbook of Frequency Stability
+Analysis*, 2008, eq. (14)).  The sum runs in chunks of :data:`CHUNK` terms, so each τ costs one pass
+over the phase with buffers that stay in the processor's cache; one axis is in memory at a time
+(its phase, float64), whatever the length of the (memory-mapped) input.
+
+The confidence of each point comes from its equivalent degrees of freedom for the dominant power-law
+noise (Howe, Allan and Barnes, *Properties of signal sources and measurement methods*, 35th Annual
+Frequency Control Symposium, 1981; the simple formulae of NIST SP 1065, Table 5, which allantools'
+``edf_simple`` also implements) and the chi-squared distribution (NIST SP 1065, eq. (45)).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.stats import chi2
+
+from .errors import CalibrationError, InsufficientDataError
+
+CHUNK = 1 << 15
+"""Second differences summed per block (256 kB of float64): small enough for the cache. They are
+squared and summed by numpy itself, not a BLAS dot product, whose threads cost more than they gain here."""
+
+PER_DECADE = 10
+"""Points of the τ grid per decade of m (every integer m up to 10)."""
+
+WHITE, FLICKER, RANDOM_WALK = 0, -1, -2
+"""Exponents α of the frequency power spectrum S_y(f) ∝ f^α of the three noise terms: white rate
+noise (angle random walk, slope −½), flicker (bias instability, flat) and random walk of the rate
+(rate random walk, slope +½) — IEEE Std 952-1997, Annex C, Table C.1."""
+
+MIN_SAMPLES = 16
+"""Fewest samples with an Allan deviation worth computing (m = 1 … 7)."""
+
+
+def tau_grid(n_samples: int, sampling_rate_hz: float, per_decade: int = PER_DECADE) -> np.ndarray:
+    """Averaging factors m of the τ grid τ = m / fs: every m from 1 to 10, then ``per_decade``
+    log-spaced integers per decade up to the largest m the overlapping estimator supports,
+    ⌊(N − 1) / 2⌋ (N samples, N + 1 phase points), which is always included.
+
+    Raises
+    ------
+    InsufficientDataError
+        Fewer than :data:`MIN_SAMPLES` samples.
+    """
+    if n_samples < MIN_SAMPLES:
+        raise InsufficientDataError(
+            f"{n_samples} still samples are too few for an Allan deviation: record the device resting for at "
+            f"least {MIN_SAMPLES} samples (minutes for the noise density, hours for the random walk)")
+    m_max = (n_samples - 1) // 2
+    small = np.arange(1, min(10, m_max) + 1)
+    if m_max <= 10:
+        return small
+    n = max(2, int(math.ceil(per_decade * math.log10(m_max / 10.0))) + 1)
+    large = np.round(np.logspace(1.0, math.log10(m_max), n)).astype(np.int64)
+    return np.unique(np.concatenate([small, large, [m_max]]))
+
+
+def phase_of(column, sampling_rate_hz: float) -> tuple[np.ndarray, float]:
+    """The phase x (N + 1 points, x_0 = 0) of one axis and the axis's mean.
+
+    The mean is removed before the cumulative sum (it does not change the second differences, and
+    keeps the phase small so that they do not cancel in floating point); it is summed in chunks of a
+    memory-mapped column, so only the float64 phase is held.
+    """
+    n = len(column)
+    total = 0.0
+    for a in range(0, n, 1 << 20):
+        total += float(np.sum(np.asarray(column[a:a + (1 << 20)], dtype=np.float64)))
+    mean = total / n
+    x = np.empty(n + 1)
+    x[0] = 0.0
+    carry = 0.0
+    for a in range(0, n, 1 << 20):
+        block = np.asarray(column[a:a + (1 << 20)], dtype=np.float64) - mean
+        out = x[1 + a:1 + a + len(block)]
+        np.cumsum(block, out=out)
+        out += carry
+        carry = float(out[-1])
+    x /= sampling_rate_hz
+    return x, mean
+
+
+def second_difference_sums(x: np.ndarray, ms: np.ndarray) -> np.ndarray:
+    """Σ (x_{i+2m} − 2 x_{i+m} + x_i)² over every i, for each m (NIST SP 1065, eq. (14)), in chunks."""
+    out = np.empty(len(ms))
+    buf = np.empty(CHUNK)
+    for j, m in enumerate(ms):
+        m = int(m)
+        count = len(x) - 2 * m
+        s = 0.0
+        for a in range(0, count, CHUNK):
+            k = min(CHUNK, count - a)
+            d = buf[:k]
+            np.multiply(x[a + m:a + m + k], -2.0, out=d)
+            np.add(d, x[a + 2 * m:a + 2 * m + k], out=d)
+            np.add(d, x[a:a + k], out=d)
+            np.square(d, out=d)
+            s += float(d.sum())
+        out[j] = s
+    return out
+
+
+def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = None):
+    """The overlapping Allan deviation of every column of ``samples`` at τ = m / fs.
+
+    Parameters
+    ----------
+    samples : array_like, shape (N, k)
+        Rates (any unit); may be a memory map: one column is read at a time.
+    sampling_rate_hz : float
+        Positive.
+    ms : numpy.ndarray of int, optional
+        Averaging factors (default :func:`tau_grid`); each 1 ≤ m ≤ (N − 1) / 2.
+
+    Returns
+    -------
+    tau_s : numpy.ndarray, shape (n,)
+    adev : numpy.ndarray, shape (n, k)
+        In the unit of ``samples``.
+    n_terms : numpy.ndarray of int, shape (n,)
+        Second differences summed at each τ (N + 1 − 2m).
+    mean : numpy.ndarray, shape (k,)
+        Each column's mean.
+    """
+    if not sampling_rate_hz > 0:
+        raise CalibrationError(f"the sampling rate must be positive, not {sampling_rate_hz}")
+    n, k = samples.shape
+    ms = tau_grid(n, sampling_rate_hz) if ms is None else np.asarray(ms, dtype=np.int64)
+    if len(ms) == 0 or ms.min() < 1 or 2 * ms.max() > n:
+        raise CalibrationError(f"averaging factors must lie in 1 … {(n - 1) // 2} for {n} samples")
+    tau = ms / sampling_rate_hz
+    n_terms = n + 1 - 2 * ms
+    adev = np.empty((len(ms), k))
+    mean = np.empty(k)
+    for axis in range(k):
+        x, mean[axis] = phase_of(samples[:, axis], sampling_rate_hz)
+        if not np.isfinite(x[-1]):
+            raise CalibrationError("the samples hold NaN or infinite values: drop those rows first")
+        sums = second_difference_sums(x, ms)
+        del x
+        adev[:, axis] = np.sqrt(sums / (2.0 * tau * tau * n_terms))
+    return tau, adev, n_terms, mean
+
+
+def edf_simple(n_phase: int, m, alpha) -> np.ndarray:
+    """Equivalent degrees of freedom of the overlapping Allan variance (Howe, Allan and Barnes
+    1981; NIST SP 1065, Table 5) for ``n_phase`` phase points, factor ``m`` and the power-law
+    exponent ``alpha`` of the dominant noise (:data:`WHITE`, :data:`FLICKER`, :data:`RANDOM_WALK`).
+    """
+    big = float(n_phase)
+    m = np.asarray(m, dtype=float)
+    alpha = np.broadcast_to(np.asarray(alpha), m.shape)
+    white = (3.0 * (big - 1.0) / (2.0 * m) - 2.0 * (big - 2.0) / big) * (4.0 * m * m) / (4.0 * m * m + 5.0)
+    flicker = np.where(m == 1, 2.0 * (big - 2.0) / (2.3 * big - 4.9), 5.0 * big * big / (4.0 * m * (big + 3.0 * m)))
+    walk = (big - 2.0) / (m * (big - 3.0) ** 2) * ((big - 1.0) ** 2 - 3.0 * m * (big - 1.0) + 4.0 * m * m)
+    edf = np.select([alpha == WHITE, alpha == FLICKER, alpha == RANDOM_WALK], [white, flicker, walk], big - 1.0)
+    return np.maximum(edf, 1.0)
+
+
+def chi2_interval(edf, confidence: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
+    """Factors (lo, hi) on an estimated variance for its two-sided ``confidence`` interval:
+    edf / χ²_{(1+c)/2}(edf) and edf / χ²_{(1−c)/2}(edf) (NIST SP 1065, eq. (45))."""
+    edf = np.asarray(edf, dtype=float)
+    tail = (1.0 - confidence) / 2.0
+    return edf / chi2.ppf(1.0 - tail, edf), edf / chi2.ppf(tail, edf)

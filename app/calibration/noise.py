@@ -1,0 +1,299 @@
+"""Noise characterisation of a still sensor by the Allan deviation: white noise, bias instability,
+random walk — what navigation filters (Kalibr, OpenVINS, VINS-Fusion) take as the random errors.
+
+The Allan variance of a sum of independent noise terms is the sum of their Allan variances (IEEE
+Std 952-1997, Annex C, Table C.1; IEEE Std 1554-2005; El-Sheimy, Hou and Niu, IEEE Trans. Instrum.
+Meas. 57(1) 2008, eqs. (10), (12), (14))::
+
+    σ²(τ) = N² / τ  +  (2 ln 2 / π) B²  +  K² τ / 3
+
+- N, the white-noise (angle / velocity random walk) coefficient: the −½ line σ = N / √τ, read at
+  τ = 1 s. Unit: [u]/√Hz (= [u]·√s), Kalibr's ``*_noise_density``.
+- B, the bias instability: the flat floor σ = √(2 ln 2 / π) B ≈ 0.664 B. Unit: [u].
+- K, the rate (acceleration) random walk: the +½ line σ = K √(τ / 3), read at τ = 3 s.
+  Unit: [u]/s/√Hz (= [u]/√s), Kalibr's ``*_random_walk``.
+
+[u] is the sensor's unit (rad/s, m/s², µT). How a term is read: the three-term model is fitted to
+the Allan variance by weighted non-negative least squares (each point weighted by its equivalent
+degrees of freedom), which says at each τ which term dominates; each term is then read on its own
+line at the single τ where its reading is most precise — the χ² interval of σ²(τ) at its
+equivalent degrees of freedom (Howe, Allan and Barnes 1981; NIST SP 1065, Table 5 and eq. (45))
+divided by the term's share of σ²(τ) — with the other two terms' fitted parts subtracted. The
+interval of the term is that χ² interval, mapped the same way. A term whose share never reaches
+:data:`SHARE_MIN` is not seen: its value is None, with a warning saying how long to record.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+from scipy.optimize import nnls
+
+from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev
+from .errors import CalibrationError
+from .result import CalibrationResult
+
+CONFIDENCE = 0.95
+FLICKER_VARIANCE = 2.0 * math.log(2.0) / math.pi
+"""σ²(τ) of bias instability B is (2 ln 2 / π) B² on its floor: σ = 0.664 B (IEEE Std 952-1997, C.2)."""
+
+FIT_MIN_M = 10
+"""τ below 10 sample periods are shown but not fitted: a sensor's digital low-pass filter bends the
+curve below the white-noise line there."""
+
+SHARE_MIN = 0.5
+"""A term is seen where it is at least half of the Allan variance at some fitted τ."""
+
+RECORD_FACTOR = 10.0
+"""A term that would show from τ needs a recording of about 10 τ to be read with a few degrees of
+freedom (the overlapping estimator reaches τ = T / 2, with one or two)."""
+
+TERMS = ("noise_density", "bias_instability", "random_walk")
+_ALPHAS = (WHITE, FLICKER, RANDOM_WALK)
+
+TERM_UNITS = {"rad/s": ("rad/s/√Hz", "rad/s²/√Hz"), "m/s^2": ("m/s²/√Hz", "m/s³/√Hz"),
+              "uT": ("uT/√Hz", "uT/s/√Hz")}
+
+
+def term_units(unit: str) -> dict:
+    """The units of N, K and B for a sensor in ``unit`` (Kalibr's continuous-time units)."""
+    n, k = TERM_UNITS.get(unit, (f"{unit}/√Hz", f"{unit}/s/√Hz"))
+    return {"noise_density_unit": n, "random_walk_unit": k, "bias_instability_unit": unit}
+
+
+def _basis(tau: np.ndarray) -> np.ndarray:
+    """Columns of the three-term model in (N², B², K²): 1/τ, 2 ln 2/π, τ/3 (IEEE Std 952, Table C.1)."""
+    return np.column_stack([1.0 / tau, np.full_like(tau, FLICKER_VARIANCE), tau / 3.0])
+
+
+def _fit_terms(tau, avar, n_phase, ms) -> np.ndarray:
+    """(N², B², K²) by non-negative least squares on the relative residuals, each point weighted by its
+    equivalent degrees of freedom (var σ̂² ≈ 2 σ⁴ / edf), the dominant term choosing the edf."""
+    a = _basis(tau)
+    scale = avar * np.sqrt(2.0 / edf_simple(n_phase, ms, WHITE))
+    theta = np.zeros(3)
+    for _ in range(3):
+        theta, _ = nnls(a / scale[:, None], avar / scale)
+        model = a @ theta
+        if not np.all(model > 0):
+            break
+        scale = model * np.sqrt(2.0 / edf_simple(n_phase, ms, _dominant(a, theta)))
+    return theta
+
+
+def _dominant(a: np.ndarray, theta: np.ndarray) -> np.ndarray:
+    """The power-law exponent α of the largest term at each τ."""
+    return np.asarray(_ALPHAS)[np.argmax(a * theta, axis=1)]
+
+
+@dataclass(frozen=True)
+class AxisNoise:
+    """One axis's terms: values (None where not seen), intervals, the τ each was read at, the fit."""
+
+    values: dict
+    intervals: dict
+    taus: dict
+    theta: np.ndarray
+    edf: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+
+
+def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
+    fit = ms >= FIT_MIN_M
+    if fit.sum() < 3:
+        fit = np.ones_like(ms, dtype=bool)
+    theta = _fit_terms(tau[fit], avar[fit], n_phase, ms[fit])
+    a = _basis(tau)
+    parts = a * theta
+    edf = edf_simple(n_phase, ms, _dominant(a, theta))
+    lo_f, hi_f = chi2_interval(edf, CONFIDENCE)
+    total = parts.sum(axis=1)
+    best = {}
+    for j, name in enumerate(TERMS):
+        share = np.where(total > 0, parts[:, j] / np.where(total > 0, total, 1.0), 0.0)
+        share[~fit] = 0.0
+        if theta[j] > 0 and share.max() >= SHARE_MIN:
+            with np.errstate(divide="ignore"):
+                score = np.where(share >= SHARE_MIN, np.sqrt(2.0 / edf) / share, np.inf)
+            i = int(np.argmin(score))
+            best[j] = (i, float(score[i]))  # the τ it is read at, and its relative standard error there
+    values, intervals, taus = {}, {}, {}
+    for j, name in enumerate(TERMS):
+        if j not in best:
+            values[name] = intervals[name] = taus[name] = None
+            continue
+        i = best[j][0]
+        others = total[i] - parts[i, j]
+        # The other terms' fitted parts are subtracted with their own errors (each read where it is
+        # most precise): their variances add to σ̂²'s, giving the effective degrees of freedom
+        # (Satterthwaite's approximation) of the χ² interval.
+        var = 2.0 * avar[i] ** 2 / edf[i] + sum((parts[i, l] * best[l][1]) ** 2 for l in best if l != j)
+        edf_i = max(2.0 * avar[i] ** 2 / var, 1.0) if var > 0 else edf[i]
+        lo_i, hi_i = chi2_interval(edf_i, CONFIDENCE)
+        read = [(avar[i] * f - others) / a[i, j] for f in (1.0, float(lo_i), float(hi_i))]
+        values[name] = math.sqrt(max(read[0], 0.0))
+        intervals[name] = [math.sqrt(max(read[1], 0.0)), math.sqrt(max(read[2], 0.0))]
+        taus[name] = float(tau[i])
+    return AxisNoise(values, intervals, taus, theta, edf, lo_f, hi_f)
+
+
+def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, avar_hi, sensor: str,
+                    unit: str) -> str:
+    """Why a term is null on some axes, and how long a recording would show it."""
+    tau_max = float(tau[-1])
+    which = f"{sensor} {'/'.join(axes)}"
+    n2 = max(r.theta[0] for r in readings)
+    if name == "random_walk":
+        k2 = float(np.max(np.min(3.0 * avar_hi / tau[:, None], axis=0)))  # the curve's upper end bounds K at every τ
+        b2 = max(r.theta[1] for r in readings)
+        need = (FLICKER_VARIANCE * b2 + math.sqrt((FLICKER_VARIANCE * b2) ** 2 + 4.0 * k2 * n2 / 3.0)) / (2.0 * k2 / 3.0)
+        return (f"{which}: random_walk is null — the Allan deviation does not turn up to τ = {tau_max:.3g} s "
+                f"(the longest this still recording supports); a random walk of at most {math.sqrt(k2):.3g} "
+                f"{term_units(unit)['random_walk_unit']} would show from τ ≈ {need:.3g} s: record the device still for "
+                f"at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}")
+    if name == "bias_instability":
+        b2 = float(np.min(avar_hi)) / FLICKER_VARIANCE
+        if any(r.values["random_walk"] is not None for r in readings):
+            return (f"{which}: bias_instability is null — the floor is hidden where white noise gives way to the "
+                    f"random walk (B ≤ {math.sqrt(b2):.3g} {unit}); a longer recording does not reveal it")
+        need = n2 / (FLICKER_VARIANCE * b2) if b2 > 0 else math.inf
+        return (f"{which}: bias_instability is null — the Allan deviation still falls as white noise at "
+                f"τ = {tau_max:.3g} s; a floor of B ≤ {math.sqrt(b2):.3g} {unit} would show from τ ≈ {need:.3g} s: "
+                f"record the device still for at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}")
+    return (f"{which}: noise_density is null — white noise dominates no τ from {FIT_MIN_M} samples on: sample "
+            "faster, or check that the samples are not filtered or rounded to a few steps")
+
+
+def _duration(seconds: float) -> str:
+    if not math.isfinite(seconds):
+        return "much longer"
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: str = "gyr") -> dict:
+    """The noise terms of one still three-axis sensor from its overlapping Allan deviation.
+
+    Parameters
+    ----------
+    samples : array_like, shape (N, 3)
+        Still samples in ``unit``; may be a memory map (read one column at a time).
+    sampling_rate_hz : float
+        Positive.
+    unit : str
+        The samples' unit (``rad/s``, ``m/s^2``, ``uT``...): the terms' units follow from it.
+    sensor : str
+        Its name, for the warnings.
+
+    Returns
+    -------
+    dict
+        Plain parts ``model`` (unit, bias, noise_density, random_walk, bias_instability and their
+        units; None entries where a term is not seen), ``adev`` (tau_s, value, lo, hi, edf, n_terms),
+        ``uncertainty`` (``[lo, hi]`` per axis and term, 95 %), ``metrics`` (the τ each term was
+        read at, the curve's minimum) and ``warnings``.
+
+    Raises
+    ------
+    InsufficientDataError
+        Fewer samples than an Allan deviation needs.
+    CalibrationError
+        Not N×3, or non-finite samples.
+    """
+    if getattr(samples, "ndim", 0) != 2 or samples.shape[1] != 3:
+        raise CalibrationError(f"{sensor}: expected N×3 samples, got shape {getattr(samples, 'shape', None)}")
+    tau, adev, n_terms, mean = overlapping_adev(samples, sampling_rate_hz)
+    n = samples.shape[0]
+    ms = np.round(tau * sampling_rate_hz).astype(np.int64)
+    avar = adev ** 2
+    readings = [_read_axis(tau, avar[:, k], ms, n + 1) for k in range(3)]
+    lo = np.column_stack([adev[:, k] * np.sqrt(r.lo) for k, r in enumerate(readings)])
+    hi = np.column_stack([adev[:, k] * np.sqrt(r.hi) for k, r in enumerate(readings)])
+    duration = n / sampling_rate_hz
+    # The bias: the mean of the still part; its standard error is the fitted model's Allan deviation
+    # extrapolated to the whole duration (σ/√n for white noise alone).
+    se = np.array([math.sqrt(max(float(_basis(np.array([duration]))[0] @ r.theta), 0.0)) for r in readings])
+    z = 1.959963984540054
+    model = {"unit": unit, "bias": mean.tolist(), **{name: [r.values[name] for r in readings] for name in TERMS},
+             **term_units(unit)}
+    uncertainty = {name: [r.intervals[name] for r in readings] for name in TERMS}
+    uncertainty["bias"] = [[float(m - z * s), float(m + z * s)] for m, s in zip(mean, se)]
+    warnings = []
+    for name in ("noise_density", "random_walk", "bias_instability"):
+        axes = [ax for ax, r in zip("xyz", readings) if r.values[name] is None]
+        if axes:
+            warnings.append(_unseen_warning(name, axes, readings, tau, hi ** 2, sensor, unit))
+    imin = np.argmin(adev, axis=0)
+    metrics = {**{f"tau_{name}_s": [r.taus[name] for r in readings] for name in TERMS},
+               "adev_min": [float(adev[imin[k], k]) for k in range(3)],
+               "tau_adev_min_s": [float(tau[imin[k]]) for k in range(3)],
+               "bias_standard_error": se.tolist()}
+    adev_plain = {"tau_s": tau.tolist(), "value": adev.tolist(), "lo": lo.tolist(), "hi": hi.tolist(),
+                  "edf": np.column_stack([r.edf for r in readings]).tolist(), "n_terms": n_terms.tolist()}
+    return {"model": model, "adev": adev_plain, "uncertainty": uncertainty, "metrics": metrics,
+            "warnings": warnings, "duration_s": duration}
+
+
+@dataclass(frozen=True)
+class NoiseResult(CalibrationResult):
+    """The noise characterisation of a still recording: one entry per sensor (``acc``, ``gyr``, ``mag``).
+
+    It corrects nothing: :meth:`corrections` is empty and :meth:`apply` refuses, so exporters that
+    write a correction refuse it too; the noise exporters (Kalibr, OpenVINS, VINS-Fusion, JSON, CSV)
+    read its figures.
+    """
+
+    RESULT_TYPE: ClassVar[str] = "noise"
+    MODEL_TYPE: ClassVar[str] = "noise"
+
+    sensors: dict
+    sampling_rate_hz: float
+    duration_s: float
+    still: dict | None = None
+    warnings: tuple = ()
+    reasons: tuple = ()
+    gravity: float | None = None
+    method: str = "noise"
+    unit: str = field(default="")
+
+    @property
+    def metrics(self) -> dict:
+        return {name: part["metrics"] for name, part in self.sensors.items()}
+
+    @property
+    def correction(self):
+        raise CalibrationError("a noise characterisation has no correction: it measures the random errors only")
+
+    def corrections(self) -> dict:
+        return {}
+
+    def apply(self, raw):
+        raise CalibrationError("a noise characterisation corrects nothing: apply a calibration of another method")
+
+    def model_dict(self) -> dict:
+        return {name: part["model"] for name, part in self.sensors.items()}
+
+    def uncertainty(self) -> dict:
+        return {"confidence": CONFIDENCE, **{name: part["uncertainty"] for name, part in self.sensors.items()}}
+
+    def body_dict(self) -> dict:
+        return {"adev": {name: part["adev"] for name, part in self.sensors.items()},
+                "sampling_rate_hz": self.sampling_rate_hz, "duration_s": self.duration_s, "still": self.still}
+
+    @classmethod
+    def _from_body(cls, data: dict) -> "NoiseResult":
+        names = [k for k in data["model"] if k != "type"]
+        sensors = {name: {"model": data["model"][name], "adev": data["adev"][name],
+                          "uncertainty": data["uncertainty"][name], "metrics": data["metrics"].get(name, {})}
+                   for name in names}
+        return cls(sensors=sensors, sampling_rate_hz=float(data["sampling_rate_hz"]),
+                   duration_s=float(data["duration_s"]), still=data.get("still"),
+                   warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
+                   unit=data.get("unit", ""))

@@ -1,0 +1,71 @@
+"""method noise end to end over HTTP: a real upload, the calibration resource, its exports, a moved recording."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import yaml
+
+from app.calibration.simulations.noise import simulate_still
+
+FS = 100.0
+
+
+def _csv(moved: bool = False) -> bytes:
+    rng = np.random.default_rng(21)
+    n = 18_000
+    acc = simulate_still(rng, n_samples=n, sampling_rate_hz=FS, N=2e-3, B=3e-4, K=1e-3, bias=[0.1, -0.2, 9.81])
+    gyr = simulate_still(rng, n_samples=n, sampling_rate_hz=FS, N=1e-3, B=1e-4, K=3e-4)
+    if moved:  # picked up and turned for 20 s after the first minute
+        t = np.arange(2_000) / FS
+        acc[6_000:8_000] = np.column_stack([9.81 * np.sin(t), 0.5 * np.sin(3 * t), 9.81 * np.cos(t)])
+        gyr[6_000:8_000] += 1.0
+    buf = io.StringIO()
+    np.savetxt(buf, np.column_stack([np.arange(n) / FS, acc, gyr]), delimiter=",", comments="", fmt="%.9g",
+               header="time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    return buf.getvalue().encode()
+
+
+def _noise(client, content: bytes) -> dict:
+    r = client.post("/api/v1/recordings", files={"file": ("still.csv", content, "text/csv")})
+    assert r.status_code == 201, r.text
+    r = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": r.json()["id"]})
+    assert r.status_code == 201, r.text
+    return r.json()
+
+
+def test_noise_of_an_upload_and_its_exports(client):
+    body = _noise(client, _csv())
+    assert body["method"] == "noise" and body["model"]["type"] == "noise" and body["ok"]
+    gyr = body["model"]["gyr"]
+    assert gyr["unit"] == "rad/s" and gyr["noise_density_unit"] == "rad/s/√Hz"
+    np.testing.assert_allclose(gyr["noise_density"], 1e-3, rtol=0.1)
+    assert len(body["adev"]["acc"]["tau_s"]) == len(body["adev"]["acc"]["value"])
+    assert body["still"]["fraction"] > 0.99
+    cal = body["id"]
+    kalibr = yaml.safe_load(client.get(f"/api/v1/calibrations/{cal}/export?format=kalibr").text)
+    assert kalibr["update_rate"] == FS
+    assert abs(kalibr["gyroscope_noise_density"] / max(gyr["noise_density"]) - 1) < 1e-6
+    vins = yaml.safe_load(client.get(f"/api/v1/calibrations/{cal}/export?format=vins").text)
+    assert set(vins) == {"acc_n", "gyr_n", "acc_w", "gyr_w"}
+    ov = client.get(f"/api/v1/calibrations/{cal}/export?format=openvins").text
+    assert ov.startswith("%YAML:1.0") and "gyroscope_random_walk" in yaml.safe_load(ov.split("\n", 1)[1])["imu0"]
+    table = client.get(f"/api/v1/calibrations/{cal}/export?format=csv").text.splitlines()
+    assert table[0] == "tau_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z" and len(table) == len(body["adev"]["acc"]["tau_s"]) + 1
+    r = client.get(f"/api/v1/calibrations/{cal}/export?format=c")
+    assert r.status_code == 422 and r.json()["code"] == "export_refused" and "kalibr" in r.json()["detail"]
+    r = client.post(f"/api/v1/calibrations/{cal}/apply", json={"samples": [[0, 0, 9.8]]})
+    assert r.status_code == 422 and "corrects nothing" in r.json()["detail"]
+
+
+def test_a_recording_that_moved_uses_its_still_part_with_a_warning(client):
+    body = _noise(client, _csv(moved=True))
+    assert body["still"]["fraction"] < 0.95
+    assert any("the device moved" in w for w in body["warnings"])
+
+
+def test_a_sensor_the_recording_lacks_is_refused(client):
+    r = client.post("/api/v1/recordings", files={"file": ("still.csv", _csv(), "text/csv")})
+    r = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": r.json()["id"], "sensors": ["mag"]})
+    assert r.status_code == 422 and "no mag samples" in r.json()["detail"]

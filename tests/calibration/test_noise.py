@@ -1,0 +1,93 @@
+"""Noise characterisation by the overlapping Allan deviation (app/calibration/allan.py, noise.py):
+equality with allantools, the τ grid, recovery and coverage of simulated N, B, K, nulls when too short."""
+
+from __future__ import annotations
+
+import allantools
+import numpy as np
+import pytest
+
+from app.calibration.allan import overlapping_adev, tau_grid
+from app.calibration.errors import InsufficientDataError
+from app.calibration.noise import NoiseResult, characterise_noise
+from app.calibration.registry import result_from_dict
+from app.calibration.simulations.noise import simulate_still
+
+FS = 100.0
+TRUTH = {"noise_density": 0.01, "bias_instability": 0.015, "random_walk": 0.00224}
+"""White noise meets the floor at τ ≈ 1 s, the floor meets the random walk at τ ≈ 60 s."""
+
+
+def _simulate(seed, n=120_000, **kw):
+    terms = dict(N=TRUTH["noise_density"], B=TRUTH["bias_instability"], K=TRUTH["random_walk"])
+    terms.update(kw)
+    return simulate_still(np.random.default_rng(seed), n_samples=n, sampling_rate_hz=FS, **terms)
+
+
+def test_equals_allantools_oadev_on_the_same_taus():
+    rng = np.random.default_rng(3)
+    y = rng.normal(0.0, 0.02, (200_000, 3)) + np.cumsum(rng.normal(0.0, 1e-4, (200_000, 3)), axis=0) + [0.3, -9.8, 1.0]
+    tau, adev, n_terms, mean = overlapping_adev(y, 200.0)
+    assert np.allclose(mean, y.mean(axis=0))
+    for k in range(3):
+        taus, dev, _, ns = allantools.oadev(y[:, k], rate=200.0, data_type="freq", taus=tau)
+        np.testing.assert_allclose(taus, tau, rtol=1e-12)
+        np.testing.assert_allclose(adev[:, k], dev, rtol=1e-6)
+        np.testing.assert_array_equal(n_terms, ns)
+
+
+def test_tau_grid_has_ten_points_per_decade_up_to_the_longest_tau():
+    ms = tau_grid(2_160_000, 200.0)
+    assert list(ms[:10]) == list(range(1, 11))
+    assert ms[-1] == (2_160_000 - 1) // 2
+    for k in range(1, 6):  # every full decade of m holds at least 10 points (m = 1 … 10 the first)
+        assert np.count_nonzero((ms >= 10 ** k) & (ms < 10 ** (k + 1))) >= 10, k
+    with pytest.raises(InsufficientDataError, match="too few"):
+        tau_grid(10, 100.0)
+
+
+def test_recovers_the_simulated_terms_in_their_units():
+    r = characterise_noise(_simulate(1, n=360_000), FS, unit="rad/s")
+    assert r["model"]["noise_density_unit"] == "rad/s/√Hz" and r["model"]["random_walk_unit"] == "rad/s²/√Hz"
+    for name, truth in TRUTH.items():
+        np.testing.assert_allclose(r["model"][name], truth, rtol=0.35, err_msg=name)
+    assert r["warnings"] == []
+
+
+def test_the_95_percent_intervals_cover_the_truth():
+    # 40 simulations × 3 axes here; bench/noise_coverage.py runs the 200.
+    hits = {k: 0 for k in TRUTH}
+    seen = {k: 0 for k in TRUTH}
+    for seed in range(40):
+        r = characterise_noise(_simulate(100 + seed), FS, unit="rad/s")
+        for name, truth in TRUTH.items():
+            for interval in r["uncertainty"][name]:
+                if interval is not None:
+                    seen[name] += 1
+                    hits[name] += interval[0] <= truth <= interval[1]
+    for name in TRUTH:
+        assert seen[name] >= 100, name
+        assert 0.88 <= hits[name] / seen[name] <= 1.0, (name, hits[name] / seen[name])
+
+
+def test_too_short_a_recording_gives_nulls_and_says_how_long_to_record():
+    r = characterise_noise(_simulate(5, n=3_000), FS, unit="m/s^2", sensor="acc")  # 30 s
+    assert r["model"]["random_walk"] == [None, None, None]
+    assert r["uncertainty"]["random_walk"] == [None, None, None]
+    assert all(v is not None for v in r["model"]["noise_density"])
+    text = " ".join(r["warnings"])
+    assert "acc x/y/z: random_walk is null" in text and "record the device still for at least" in text
+    assert r["model"]["noise_density_unit"] == "m/s²/√Hz"
+
+
+def test_result_round_trips_and_corrects_nothing():
+    part = characterise_noise(_simulate(7, n=20_000), FS, unit="rad/s")
+    result = NoiseResult(sensors={"gyr": {k: part[k] for k in ("model", "adev", "uncertainty", "metrics")}},
+                         sampling_rate_hz=FS, duration_s=part["duration_s"], unit="rad/s")
+    body = result.to_dict()
+    assert body["model"]["type"] == "noise" and body["method"] == "noise"
+    again = result_from_dict(body)
+    assert isinstance(again, NoiseResult) and again.to_dict() == body
+    assert again.corrections() == {}
+    with pytest.raises(ValueError, match="corrects nothing"):
+        again.apply(np.zeros((1, 3)))
