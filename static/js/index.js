@@ -32,6 +32,30 @@ function showModel(model) {
   }));
 }
 
+// A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's).
+const NOISE_TERMS = [["noise_density", "noise density"], ["random_walk", "random walk"],
+  ["bias_instability", "bias instability"], ["bias", "bias"]];
+
+function showNoise(cal) {
+  $("#result-model").replaceChildren(...Object.entries(cal.model).filter(([name]) => name !== "type").map(([sensor, m]) => {
+    const box = document.createElement("div");
+    const table = document.createElement("table");
+    table.id = `result-noise-${sensor}`;
+    const head = document.createElement("tr");
+    head.append(cell("th", ""), ...["x", "y", "z"].map((a) => cell("th", a)), cell("th", "unit"));
+    table.append(head);
+    for (const [key, label] of NOISE_TERMS) {
+      const tr = document.createElement("tr");
+      tr.dataset.term = key;
+      tr.append(cell("th", label), ...(m[key] || [null, null, null]).map((v) => cell("td", formatNumber(v, 8))),
+        cell("td", m[`${key}_unit`] || m.unit || ""));
+      table.append(tr);
+    }
+    box.append(cell("h3", sensor), table);
+    return box;
+  }));
+}
+
 function showResult(cal) {
   $("#result").hidden = false;
   $("#result-headline").textContent = cal.headline || "";
@@ -42,14 +66,22 @@ function showResult(cal) {
   choice.hidden = !cal.choice;
   choice.textContent = cal.choice ? `Method ${cal.choice.method}: ${cal.choice.why}.` : "";
   $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
-  showModel(cal.model);
+  if (cal.method === "noise") showNoise(cal);
+  else showModel(cal.model);
   const metrics = $("#result-metrics");
-  metrics.replaceChildren(...Object.entries(cal.metrics).map(([k, v]) => {
+  // A noise result's metrics are per sensor: one level is flattened (gyr.adev_min …).
+  const flat = Object.entries(cal.metrics).flatMap(([k, v]) => (v && typeof v === "object" && !Array.isArray(v)
+    ? Object.entries(v).map(([k2, v2]) => [`${k}.${k2}`, v2]) : [[k, v]]));
+  metrics.replaceChildren(...flat.map(([k, v]) => {
     const tr = document.createElement("tr");
-    tr.append(cell("th", k), cell("td", formatNumber(v)));
+    const shown = Array.isArray(v) ? v.map((x) => formatNumber(x, 4)).join(", ") : formatNumber(v);
+    tr.append(cell("th", k), cell("td", shown));
     tr.firstChild.scope = "row";
     return tr;
   }));
+  const perReading = Boolean(cal.readings && cal.readings.length);
+  $("#result-readings").hidden = !perReading;
+  $("#result-readings-h").hidden = !perReading;
   $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
     const tr = document.createElement("tr");
     tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
@@ -96,6 +128,15 @@ $("#calibrate-recording").addEventListener("click", async () => {
     showResult(await createCalibration({ method: "auto", recording_id: recordingId }));
   } catch (err) {
     say(`Calibration refused: ${err.message}`);
+  }
+});
+
+$("#noise-recording").addEventListener("click", async () => {
+  say("Computing the Allan deviation…");
+  try {
+    showResult(await createCalibration({ method: "noise", recording_id: recordingId }));
+  } catch (err) {
+    say(`Noise characterisation refused: ${err.message}`);
   }
 });
 

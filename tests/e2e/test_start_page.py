@@ -83,3 +83,34 @@ def test_bad_paste_is_explained(page, server):
     page.fill("#paste", "1 2 3\n4 5")
     page.click("#fill")
     assert "expected 6 lines" in page.text_content("#status")
+
+
+def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
+    # Ten minutes of a still board at 100 Hz with known white noise, flicker and random walk
+    # (app.calibration.simulations.noise): the page shows each term per axis with its unit, and the
+    # Allan plot the server draws.
+    from app.calibration.simulations.noise import simulate_still
+
+    rng = np.random.default_rng(5)
+    n, fs = 60_000, 100.0
+    gyr = simulate_still(rng, n_samples=n, sampling_rate_hz=fs, N=1e-3, B=1e-4, K=3e-4)
+    acc = simulate_still(rng, n_samples=n, sampling_rate_hz=fs, N=2e-3, B=3e-4, K=1e-3, bias=[0.1, -0.2, 9.81])
+    path = tmp_path / "still.csv"
+    np.savetxt(path, np.column_stack([np.arange(n) / fs, acc, gyr]), delimiter=",", comments="", fmt="%.9g",
+               header="time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(path))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#segments:not([hidden])")
+    page.click("#noise-recording")
+    page.wait_for_selector("#result:not([hidden])")
+    page.wait_for_function("document.querySelector('#result-allan img').naturalWidth > 0")
+    for width in (320, 390, 1280):
+        page.set_viewport_size({"width": width, "height": 900})
+        shot(page, f"start_page_noise_{width}")
+    row = page.locator('#result-noise-gyr tr[data-term="noise_density"] td')
+    assert row.last.text_content() == "rad/s/√Hz"
+    density = [float(row.nth(i).text_content()) for i in range(3)]
+    assert all(0.8e-3 < d < 1.25e-3 for d in density), density  # N = 1e-3 rad/s/√Hz, within its interval
+    assert page.locator("#result-readings").is_hidden()
+    assert page.errors == []
