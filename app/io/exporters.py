@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import re
 
+from .allan_plot import to_allan_svg
 from .errors import ExportError
 from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, sensor_corrections
 from .export_params import to_ardupilot, to_px4
@@ -100,7 +101,7 @@ def to_c_header(body: dict) -> Export:
 
 
 EXPORTERS = {"json": to_json, "c": to_c_header, "ardupilot": to_ardupilot, "px4": to_px4, "yaml": to_yaml,
-             "csv": to_csv}
+             "csv": to_csv, "allan_svg": to_allan_svg}
 """Export formats by their query name; FORMAT_NAMES gives the names the page shows."""
 
 FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4": "PX4", "yaml": "YAML", "csv": "CSV"}
