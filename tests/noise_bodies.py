@@ -58,3 +58,14 @@ def noise_body(sensors=("gyr",), seed: int = 13, fs: float = 200.0, seconds: flo
         adev[sensor] = {"tau_s": tau.tolist(), "value": value.tolist(), "lo": lo.tolist(), "hi": hi.tolist()}
     return {"id": "cal_noise_fixture", "method": "noise", "created_at": "2025-01-31T12:34:56.789Z",
             "model": model, "adev": adev, "ok": True, "reasons": [], "warnings": [], "metrics": {}}
+
+
+def three_sensors_body() -> dict:
+    """Accelerometer, gyroscope and magnetometer, 10 min each, every term present."""
+    return noise_body(("acc", "gyr", "mag"), seconds=600)
+
+
+def short_gyr_body() -> dict:
+    """A gyroscope too short for its random walk (null on every axis) and with y's noise density null."""
+    null = [("gyr", "random_walk", i) for i in range(3)] + [("gyr", "noise_density", 1)]
+    return noise_body(("gyr",), seconds=300, null=null)
