@@ -5,11 +5,13 @@
 
 Generates once, cached under ``--dir`` (seeded ``np.random.default_rng``):
 
-* ``noise_gyr_3h_200hz.npy``: 3 h at 200 Hz of a gyroscope, N×4 (time in s first, then x, y, z in
+* ``noise_gyr_3h_200hz_….npy``: 3 h at 200 Hz of a gyroscope, N×4 (time in s first, then x, y, z in
   rad/s): white noise of density N, a rate random walk K, and flicker noise (the bias instability
   B) as a sum of first-order Gauss–Markov processes with correlation times 1 s … 1000 s, four per
-  decade, whose power spectral density approximates B² / (2π f) (IEEE Std 952-1997, Annex C);
-* ``noise_night_8h_200hz.csv``: 8 h at 200 Hz of six axes (accelerometer and gyroscope, with a
+  decade, whose power spectral density approximates B² / (2π f) (IEEE Std 952-1997, Annex C); B is
+  large enough that its floor (0.664 B) lies above the crossing of the white noise and the random
+  walk, so that a flat part shows;
+* ``noise_night_8h_200hz_….csv``: 8 h at 200 Hz of six axes (accelerometer and gyroscope, with a
   header row ``time_s,acc_x,…,gyr_z``), for the peak memory of a night's recording (the issue's
   bound is 2 GB).
 
@@ -41,7 +43,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 FS = 200.0
-TRUTH = {"noise_density": 2.0e-3, "random_walk": 4.0e-5, "bias_instability": 3.0e-4}  # rad/s/√Hz, rad/s·√Hz, rad/s
+TRUTH = {"noise_density": 2.0e-3, "random_walk": 4.0e-5, "bias_instability": 1.0e-3}  # rad/s/√Hz, rad/s·√Hz, rad/s
 SEED = 20250131
 
 ALLANTOOLS_CHILD = """
@@ -80,7 +82,7 @@ def gyro(rng: np.random.Generator, n: int, fs: float, axes: int = 3) -> np.ndarr
 
 
 def make_gyr_file(folder: Path, hours: float) -> Path:
-    path = folder / f"noise_gyr_{hours:g}h_{FS:g}hz.npy"
+    path = folder / f"noise_gyr_{hours:g}h_{FS:g}hz_seed{SEED}_b{TRUTH['bias_instability']:g}.npy"
     if not path.exists():
         n = int(hours * 3600 * FS)
         data = np.column_stack([np.arange(n) / FS, gyro(np.random.default_rng(SEED), n, FS)])
@@ -93,7 +95,7 @@ def make_night_file(folder: Path, hours: float) -> Path:
     import pyarrow as pa
     import pyarrow.csv as pacsv
 
-    path = folder / f"noise_night_{hours:g}h_{FS:g}hz.csv"
+    path = folder / f"noise_night_{hours:g}h_{FS:g}hz_seed{SEED}_b{TRUTH['bias_instability']:g}.csv"
     if not path.exists():
         rng = np.random.default_rng(SEED + 1)
         n = int(hours * 3600 * FS)
