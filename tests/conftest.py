@@ -23,3 +23,19 @@ def table1() -> np.ndarray:
 @pytest.fixture
 def table3() -> np.ndarray:
     return seed_table(3)
+
+
+@pytest.fixture(scope="session")
+def noise_three():
+    """A noise calibration body of three sensors (tests/noise_bodies.py)."""
+    from tests.noise_bodies import three_sensors_body
+
+    return three_sensors_body()
+
+
+@pytest.fixture(scope="session")
+def noise_short():
+    """A gyroscope noise body with null terms (tests/noise_bodies.py)."""
+    from tests.noise_bodies import short_gyr_body
+
+    return short_gyr_body()

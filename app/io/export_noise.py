@@ -16,6 +16,7 @@ import io
 import json
 
 from .errors import ExportError
+from .allan_plot import to_allan_svg
 from .export_common import JSON_SCHEMA, Export
 
 NOISE_FORMATS = {"kalibr": "Kalibr imu.yaml", "openvins": "OpenVINS", "vins": "VINS-Fusion", "json": "JSON",
@@ -93,4 +94,4 @@ def to_allan_csv(body: dict) -> Export:
 
 
 NOISE_EXPORTERS = {"kalibr": to_kalibr, "openvins": to_openvins, "vins": to_vins, "json": to_noise_json,
-                   "csv": to_allan_csv}
+                   "csv": to_allan_csv, "allan_svg": to_allan_svg}

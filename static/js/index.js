@@ -87,6 +87,11 @@ function showResult(cal) {
     tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
     return tr;
   }));
+  // A noise characterisation's Allan deviation: the server draws it (the allan_svg export), one source.
+  const allan = $("#result-allan");
+  allan.hidden = cal.method !== "noise";
+  if (cal.method === "noise") $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
+  else $("#result-allan img").removeAttribute("src");
   const list = $("#downloads");
   const formats = JSON.parse(list.dataset.formats);
   list.replaceChildren(...formats.map(([key, name]) => {

@@ -1,0 +1,203 @@
+"""Benchmark of the noise characterisation (the Allan deviation, ``trical noise``) against allantools.
+
+    PYTHONPATH=. python bench/noise.py [--dir var] [--runs 3]
+    PYTHONPATH=. python bench/noise.py --no-night          # skip the 8 h six-axis night
+
+Generates once, cached under ``--dir`` (seeded ``np.random.default_rng``):
+
+* ``noise_gyr_3h_200hz_….npy``: 3 h at 200 Hz of a gyroscope, N×4 (time in s first, then x, y, z in
+  rad/s): white noise of density N, a rate random walk K, and flicker noise (the bias instability
+  B) as a sum of first-order Gauss–Markov processes with correlation times 1 s … 1000 s, four per
+  decade, whose power spectral density approximates B² / (2π f) (IEEE Std 952-1997, Annex C); B is
+  large enough that its floor (0.664 B) lies above the crossing of the white noise and the random
+  walk, so that a flat part shows;
+* ``noise_night_8h_200hz_….csv``: 8 h at 200 Hz of six axes (accelerometer and gyroscope, with a
+  header row ``time_s,acc_x,…,gyr_z``), for the peak memory of a night's recording (the issue's
+  bound is 2 GB).
+
+Then, in one run, times side by side, ``--runs`` times each (min and median of the wall time, the
+peak resident memory of the child from ``os.wait4``):
+
+(a) ``python -m app.cli noise FILE --sampling-rate-hz 200 --sensor gyr --json``, end to end;
+(b) what a user would run instead: a Python child that loads the same file with numpy and runs
+    allantools' ``oadev`` on the three axes at the same τ (read from trical's JSON, ``adev.gyr.tau_s``,
+    as m = τ·fs; octave-spaced m when trical gave none).
+
+Prints figures only; nothing passes or fails. allantools comes with the ``bench`` extra
+(``pip install -e '.[bench]'``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.signal import lfilter
+
+FS = 200.0
+TRUTH = {"noise_density": 2.0e-3, "random_walk": 4.0e-5, "bias_instability": 1.0e-3}  # rad/s/√Hz, rad/s·√Hz, rad/s
+SEED = 20250131
+
+ALLANTOOLS_CHILD = """
+import json, sys
+import numpy as np
+import allantools
+path, fs, ms = sys.argv[1], float(sys.argv[2]), json.loads(sys.argv[3])
+data = np.load(path)
+taus = [m / fs for m in ms]
+out = [allantools.oadev(np.ascontiguousarray(data[:, 1 + i]), rate=fs, data_type="freq", taus=taus)[1].tolist()
+       for i in range(3)]
+json.dump(out, sys.stdout)
+"""
+
+
+def flicker(rng: np.random.Generator, n: int, fs: float, b: float, axes: int) -> np.ndarray:
+    """Flicker rate noise of bias instability ``b``: Gauss–Markov processes x_k = φ x_{k−1} + q √(1−φ²) w_k
+    with τ_c log-spaced over 1 s … 1000 s, d = 4 per decade; their summed spectrum
+    Σ 2 q² τ_c / (1 + (2π f τ_c)²) ≈ q² d / (2 ln 10 · f), set equal to b² / (2π f): q² = b² ln 10 / (π d)."""
+    d = 4
+    taus = np.logspace(0, 3, 3 * d + 1)
+    q = b * np.sqrt(np.log(10) / (np.pi * d))
+    out = np.zeros((n, axes))
+    for tau_c in taus:
+        phi = np.exp(-1.0 / (fs * tau_c))
+        w = rng.standard_normal((n, axes))
+        out += lfilter([q * np.sqrt(1 - phi ** 2)], [1.0, -phi], w, axis=0)
+    return out
+
+
+def gyro(rng: np.random.Generator, n: int, fs: float, axes: int = 3) -> np.ndarray:
+    """White noise N √fs per sample, a rate random walk of K / √fs per sample, and the flicker."""
+    white = rng.standard_normal((n, axes)) * TRUTH["noise_density"] * np.sqrt(fs)
+    walk = np.cumsum(rng.standard_normal((n, axes)) * TRUTH["random_walk"] / np.sqrt(fs), axis=0)
+    return 0.002 + white + walk + flicker(rng, n, fs, TRUTH["bias_instability"], axes)
+
+
+def make_gyr_file(folder: Path, hours: float) -> Path:
+    path = folder / f"noise_gyr_{hours:g}h_{FS:g}hz_seed{SEED}_b{TRUTH['bias_instability']:g}.npy"
+    if not path.exists():
+        n = int(hours * 3600 * FS)
+        data = np.column_stack([np.arange(n) / FS, gyro(np.random.default_rng(SEED), n, FS)])
+        np.save(path, data)
+    return path
+
+
+def make_night_file(folder: Path, hours: float) -> Path:
+    """Six axes as a CSV log with a header row (the .npy reader holds one sensor only)."""
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
+    path = folder / f"noise_night_{hours:g}h_{FS:g}hz_seed{SEED}_b{TRUTH['bias_instability']:g}.csv"
+    if not path.exists():
+        rng = np.random.default_rng(SEED + 1)
+        n = int(hours * 3600 * FS)
+        acc = np.array([0.0, 0.0, 9.80665]) + 10 * gyro(rng, n, FS)  # m/s², same noise shape scaled
+        gyr = gyro(rng, n, FS)
+        cols = {"time_s": np.arange(n) / FS}
+        cols |= {f"acc_{a}": acc[:, i] for i, a in enumerate("xyz")}
+        cols |= {f"gyr_{a}": gyr[:, i] for i, a in enumerate("xyz")}
+        del acc, gyr
+        pacsv.write_csv(pa.table(cols), path)
+    return path
+
+
+def run(cmd: list[str]) -> tuple[float, float, int, str, str]:
+    """Wall time (s), peak RSS of the child (MiB), exit status, stdout, stderr."""
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        start = time.perf_counter()
+        child = subprocess.Popen(cmd, stdout=out, stderr=err, cwd=Path(__file__).resolve().parent.parent,
+                                 env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parent.parent)})
+        _, status, usage = os.wait4(child.pid, 0)
+        wall = time.perf_counter() - start
+        child.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        return wall, usage.ru_maxrss / 1024, child.returncode, out.read(), err.read()
+
+
+def trical_cmd(path: Path, sensor: str | None) -> list[str]:
+    cmd = [sys.executable, "-m", "app.cli", "noise", str(path), "--sampling-rate-hz", f"{FS:g}", "--json"]
+    return cmd + (["--sensor", sensor] if sensor else [])
+
+
+def summary(name: str, runs: list[tuple[float, float]]) -> tuple[float, float]:
+    walls, rss = [r[0] for r in runs], [r[1] for r in runs]
+    print(f"{name:<34} wall min {min(walls):7.2f} s  median {statistics.median(walls):7.2f} s   "
+          f"peak RSS max {max(rss):7.0f} MiB")
+    return min(walls), statistics.median(walls)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--dir", type=Path, default=Path("var"), help="where the generated recordings are cached")
+    ap.add_argument("--runs", type=int, default=3)
+    ap.add_argument("--hours", type=float, default=3.0, help="length of the gyroscope recording")
+    ap.add_argument("--night-hours", type=float, default=8.0)
+    ap.add_argument("--no-night", action="store_true", help="skip the six-axis night")
+    args = ap.parse_args()
+    args.dir.mkdir(parents=True, exist_ok=True)
+
+    t0 = time.perf_counter()
+    path = make_gyr_file(args.dir, args.hours)
+    print(f"gyroscope: {path} ({path.stat().st_size / 2**20:.0f} MiB, {args.hours:g} h at {FS:g} Hz; "
+          f"ready in {time.perf_counter() - t0:.1f} s)")
+    print("truth: " + ", ".join(f"{k} {v:.3g}" for k, v in TRUTH.items()))
+
+    trical_runs, ms, estimate = [], None, None
+    for _ in range(args.runs):
+        wall, rss, status, out, err = run(trical_cmd(path, "gyr"))
+        if status not in (0, 3):
+            print(f"trical noise failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
+            break
+        trical_runs.append((wall, rss))
+        body = json.loads(out)
+        ms = sorted({max(1, round(t * FS)) for t in body["adev"]["gyr"]["tau_s"]})
+        estimate = body["model"]["gyr"]
+    if estimate:
+        print("trical: " + ", ".join(f"{k} {estimate[k]}" for k in TRUTH))
+    if ms is None:
+        n = int(args.hours * 3600 * FS)
+        ms = [2 ** k for k in range(int(np.log2(n // 4)) + 1)]
+        print(f"(no τ from trical: allantools runs on {len(ms)} octave-spaced m instead)")
+
+    allan_runs = []
+    for _ in range(args.runs):
+        wall, rss, status, out, err = run([sys.executable, "-c", ALLANTOOLS_CHILD, str(path), f"{FS:g}", json.dumps(ms)])
+        if status != 0:
+            print(f"allantools failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
+            break
+        allan_runs.append((wall, rss))
+
+    print(f"\n{len(ms)} τ values, 3 axes, {args.runs} runs each")
+    best = {}
+    if trical_runs:
+        best["trical"] = summary("(a) trical noise --sensor gyr", trical_runs)
+    if allan_runs:
+        best["allantools"] = summary("(b) numpy.load + allantools.oadev", allan_runs)
+    if len(best) == 2:
+        print(f"ratio trical / allantools: min {best['trical'][0] / best['allantools'][0]:.2f}, "
+              f"median {best['trical'][1] / best['allantools'][1]:.2f}")
+
+    if not args.no_night:
+        t0 = time.perf_counter()
+        night = make_night_file(args.dir, args.night_hours)
+        print(f"\nnight: {night} ({night.stat().st_size / 2**20:.0f} MiB, {args.night_hours:g} h at {FS:g} Hz, "
+              f"acc + gyr; ready in {time.perf_counter() - t0:.1f} s)")
+        wall, rss, status, _, err = run(trical_cmd(night, None))
+        if status in (0, 3):
+            print(f"trical noise (six axes): wall {wall:.1f} s, peak RSS {rss:.0f} MiB (bound 2048 MiB)")
+        else:
+            print(f"trical noise failed on the night (exit {status}): "
+                  f"{err.strip().splitlines()[-1] if err.strip() else '-'}")
+
+
+if __name__ == "__main__":
+    main()
