@@ -20,7 +20,7 @@ from .allan_plot import to_allan_svg
 from .export_common import JSON_SCHEMA, Export
 
 NOISE_FORMATS = {"kalibr": "Kalibr imu.yaml", "openvins": "OpenVINS", "vins": "VINS-Fusion", "json": "JSON",
-                 "csv": "CSV (Allan table)"}
+                 "csv": "CSV (Allan table)", "allan_svg": "Allan plot (SVG)"}
 
 
 def _figure(body: dict, sensor: str, term: str) -> float:

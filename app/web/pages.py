@@ -9,7 +9,7 @@ from fastapi.responses import HTMLResponse
 from fastapi.templating import Jinja2Templates
 
 from app.calibration import CANONICAL_SIX
-from app.io.exporters import FORMAT_NAMES
+from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS
 from app.qr import qr_svg_data_uri
 from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 
@@ -35,6 +35,7 @@ def index(request: Request):
         "labels": list(CANONICAL_SIX),
         "tables": page_tables(),
         "formats": list(FORMAT_NAMES.items()),
+        "noise_formats": list(NOISE_FORMATS.items()),
         "public_url": public_url,
         "public_qr": qr_svg_data_uri(public_url) if public_url else None,
         "https_hint": not public_url and request.url.scheme != "https",

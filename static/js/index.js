@@ -93,7 +93,7 @@ function showResult(cal) {
   if (cal.method === "noise") $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
   else $("#result-allan img").removeAttribute("src");
   const list = $("#downloads");
-  const formats = JSON.parse(list.dataset.formats);
+  const formats = JSON.parse(cal.method === "noise" ? list.dataset.noiseFormats : list.dataset.formats);
   list.replaceChildren(...formats.map(([key, name]) => {
     const li = document.createElement("li");
     const a = cell("a", name);

@@ -45,4 +45,4 @@ def test_allan_svg_of_another_method_is_refused_with_a_reason(server):
     r = httpx.get(f"{s.url}/api/v1/calibrations/{cal.json()['id']}/export", params={"format": "allan_svg"})
     assert r.status_code == 422
     assert r.json()["code"] == "export_refused"
-    assert "noise characterisation" in r.json()["detail"] and "six_position" in r.json()["detail"]
+    assert "noise characterisation" in r.json()["detail"] and "use one of json" in r.json()["detail"]

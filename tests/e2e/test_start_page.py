@@ -104,7 +104,7 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
     page.wait_for_selector("#segments:not([hidden])")
     page.click("#noise-recording")
     page.wait_for_selector("#result:not([hidden])")
-    page.wait_for_function("document.querySelector('#result-allan img').naturalWidth > 0")
+    page.wait_for_function("() => document.querySelector('#result-allan img').naturalWidth > 0")
     for width in (320, 390, 1280):
         page.set_viewport_size({"width": width, "height": 900})
         shot(page, f"start_page_noise_{width}")
@@ -113,4 +113,9 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
     density = [float(row.nth(i).text_content()) for i in range(3)]
     assert all(0.8e-3 < d < 1.25e-3 for d in density), density  # N = 1e-3 rad/s/√Hz, within its interval
     assert page.locator("#result-readings").is_hidden()
+    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href])")
+    assert [name for name, _ in links] == ["Kalibr imu.yaml", "OpenVINS", "VINS-Fusion", "JSON", "CSV (Allan table)",
+                                           "Allan plot (SVG)"]
+    for name, href in links:  # every link is a real export of this characterisation
+        assert page.request.get(href).status == 200, name
     assert page.errors == []
