@@ -609,13 +609,8 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     si = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
     fs, n = log.sampling_rate_hz, len(next(iter(arrays.values())))
     notes: list[str] = list(log.notes)
-    if "acc" in arrays:
-        gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(units["acc"])
-        span = longest_still(arrays["acc"], fs, accelerometer=True, gravity=gravity)
-        detected_from = "acc"
-    else:
-        detected_from = wanted[0]
-        span = longest_still(arrays[detected_from], fs, accelerometer=False)
+    detected_from = "acc" if "acc" in arrays else wanted[0]
+    span = longest_still(arrays[detected_from], fs)
     reasons: list[str] = []
     if span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
         still_s = 0.0 if span is None else (span[1] - span[0]) / fs

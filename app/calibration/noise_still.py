@@ -1,39 +1,33 @@
 """The still part of a noise recording: the longest stretch in which the device rested.
 
-With an accelerometer, its still segments (:func:`app.calibration.static.detect_static_segments`);
-without one, the windows whose spread stays below four times the stream's own noise floor (the same
-rule, :func:`app.calibration.static.window_stats`), knocks of up to a second merged.
+The windows whose spread stays below four times the stream's own noise floor (the rule of
+:func:`app.calibration.static.window_stats`), knocks of up to a second merged.  The still segments of
+an upload (:func:`app.calibration.static.detect_static_segments`) are not used: they end where the
+mean leaves the segment's by more than a threshold, which is how they tell orientations apart — and a
+still recording's slow bias drift is what the noise characterisation measures (a night of a phone
+accelerometer with 1 mg of bias instability broke into stretches of seconds).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .static import MAX_GAP_S, NOISE_FACTOR, NOISE_PERCENTILE, WINDOW_S, detect_static_segments, window_stats
+from .static import MAX_GAP_S, NOISE_FACTOR, NOISE_PERCENTILE, WINDOW_S, window_stats
 
 MIN_STILL_FRACTION = 0.5
 """Below half of the recording still, the recording is not a still one: ok is false."""
 
 
-def longest_still(samples, sampling_rate_hz: float, *, accelerometer: bool, gravity: float | None = None):
+def longest_still(samples, sampling_rate_hz: float):
     """``(start, end)`` sample indices (end exclusive) of the longest still stretch, or None.
 
     Parameters
     ----------
     samples : array_like, shape (N, 3)
+        One sensor's samples (the accelerometer where there is one: it sees every handling).
     sampling_rate_hz : float
-    accelerometer : bool
-        The samples are specific force (the rest detection of uploads applies).
-    gravity : float, optional
-        Their reference magnitude, for an accelerometer.
     """
     n = len(samples)
-    if accelerometer:
-        segments = detect_static_segments(samples, sampling_rate_hz, gravity=gravity)
-        if not segments:
-            return None
-        best = max(segments, key=lambda s: s.end - s.start)
-        return int(best.start), int(best.end)
     w = max(2, int(round(WINDOW_S * sampling_rate_hz)))
     if n < 2 * w:
         return 0, n

@@ -91,3 +91,18 @@ def test_result_round_trips_and_corrects_nothing():
     assert again.corrections() == {}
     with pytest.raises(ValueError, match="corrects nothing"):
         again.apply(np.zeros((1, 3)))
+
+
+def test_a_still_recording_that_drifts_is_still_from_end_to_end():
+    # An accelerometer with 1 mg of bias instability and a strong random walk over 20 minutes: its
+    # mean wanders by more than the orientation segments tolerate, yet it never moved.
+    from app.calibration.noise_still import longest_still
+
+    rng = np.random.default_rng(8)
+    n = 120_000
+    acc = np.array([0.0, 0.0, 9.80665]) + simulate_still(rng, n_samples=n, sampling_rate_hz=FS, N=0.02, B=0.01, K=4e-3)
+    assert longest_still(acc, FS) == (0, n)
+    # Handling for 3 s splits it (knocks up to a second are merged): the longer side is kept.
+    acc[70_000:70_300] += rng.normal(scale=3.0, size=(300, 3))
+    a, b = longest_still(acc, FS)
+    assert a == 0 and 69_900 < b < 70_100  # to within a window (0.5 s)
