@@ -20,16 +20,9 @@ from sqlalchemy import Engine, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 
 from . import migrate
+from .errors import ConflictError, NotFoundError  # noqa: F401  (raised here, named by the callers)
 from .engine import WRITE
 from .schema import calibrations, recording_files, recordings, session_captures, sessions
-
-
-class NotFoundError(LookupError):
-    """No stored object has that id (or it belongs to someone else)."""
-
-
-class ConflictError(Exception):
-    """The write would replace something that exists (a pose already captured)."""
 
 
 def new_id(prefix: str) -> str:
