@@ -20,10 +20,13 @@ Frequency Control Symposium, 1981; the simple formulae of NIST SP 1065, Table 5,
 
 from __future__ import annotations
 
+import importlib
 import math
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-from scipy.stats import chi2
 
 from .errors import CalibrationError, InsufficientDataError
 
@@ -141,15 +144,20 @@ def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = N
         raise CalibrationError(f"averaging factors must lie in 1 … {(n - 1) // 2} for {n} samples")
     tau = ms / sampling_rate_hz
     n_terms = n + 1 - 2 * ms
-    adev = np.empty((len(ms), k))
-    mean = np.empty(k)
-    for axis in range(k):
-        x, mean[axis] = phase_of(samples[:, axis], sampling_rate_hz)
+    def one_axis(axis: int) -> tuple[np.ndarray, float]:
+        x, mean = phase_of(samples[:, axis], sampling_rate_hz)
         if not np.isfinite(x[-1]):
             raise CalibrationError("the samples hold NaN or infinite values: drop those rows first")
-        sums = second_difference_sums(x, ms)
-        del x
-        adev[:, axis] = np.sqrt(sums / (2.0 * tau * tau * n_terms))
+        return second_difference_sums(x, ms), mean
+
+    # The axes are independent and numpy releases the GIL in its loops: one thread per core, each
+    # holding one axis's phase (8 bytes a sample).
+    workers = max(1, min(k, os.cpu_count() or 1))
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        results = list(pool.map(one_axis, range(k)))
+    sums = np.column_stack([r[0] for r in results])
+    mean = np.array([r[1] for r in results])
+    adev = np.sqrt(sums / (2.0 * tau * tau * n_terms)[:, None])
     return tau, adev, n_terms, mean
 
 
@@ -168,9 +176,22 @@ def edf_simple(n_phase: int, m, alpha) -> np.ndarray:
     return np.maximum(edf, 1.0)
 
 
+def preload_quantiles() -> threading.Thread:
+    """Start importing scipy.special (a quarter of a second) on another thread; the caller computes
+    meanwhile and :func:`chi2_interval` finds it loaded."""
+    thread = threading.Thread(target=importlib.import_module, args=("scipy.special",), daemon=True)
+    thread.start()
+    return thread
+
+
 def chi2_interval(edf, confidence: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
     """Factors (lo, hi) on an estimated variance for its two-sided ``confidence`` interval:
     edf / χ²_{(1+c)/2}(edf) and edf / χ²_{(1−c)/2}(edf) (NIST SP 1065, eq. (45))."""
     edf = np.asarray(edf, dtype=float)
     tail = (1.0 - confidence) / 2.0
-    return edf / chi2.ppf(1.0 - tail, edf), edf / chi2.ppf(tail, edf)
+    # chdtri(ν, p) is the χ²_ν value exceeded with probability p (scipy.stats.chi2.isf, without the
+    # 0.4 s import of scipy.stats); scipy.special itself is imported here, where it is needed, so that
+    # :func:`overlapping_adev` can run while it loads (:func:`preload_quantiles`).
+    from scipy.special import chdtri
+
+    return edf / chdtri(edf, tail), edf / chdtri(edf, 1.0 - tail)

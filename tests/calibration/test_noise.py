@@ -106,3 +106,14 @@ def test_a_still_recording_that_drifts_is_still_from_end_to_end():
     acc[70_000:70_300] += rng.normal(scale=3.0, size=(300, 3))
     a, b = longest_still(acc, FS)
     assert a == 0 and 69_900 < b < 70_100  # to within a window (0.5 s)
+
+
+def test_the_three_term_nnls_equals_scipy_s():
+    from scipy.optimize import nnls
+
+    from app.calibration.noise import _nnls
+
+    rng = np.random.default_rng(3)
+    for _ in range(500):
+        a, b = rng.random((25, 3)), rng.normal(size=25)
+        np.testing.assert_allclose(_nnls(a, b), nnls(a, b)[0], atol=1e-12)
