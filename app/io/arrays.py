@@ -122,17 +122,23 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
     names = list(pf.schema_arrow.names)
     channels, time_col, time_scale, header_units = map_columns(names)
     cols = [names[channels["acc"][a]] for a in "xyz"]
-    wanted = cols + ([names[time_col]] if time_col is not None else [])
+    # Gyroscope and magnetometer columns beside it, when all three axes are there (noise, cube).
+    others = {s: [names[channels[s][a]] for a in "xyz"] for s in ("gyr", "mag") if set(channels.get(s, {})) >= set("xyz")}
+    wanted = cols + [c for group in others.values() for c in group] + ([names[time_col]] if time_col is not None else [])
     try:
         table = pf.read(columns=wanted)
     except (pa.ArrowInvalid, OSError) as exc:
         raise LogFormatError(f"{name}: the columns cannot be read ({exc})") from None
     if table.num_rows == 0:
         raise LogFormatError(f"{name} has no rows")
-    try:
-        acc = np.column_stack([table.column(c).to_numpy(zero_copy_only=False).astype(float) for c in cols])
-    except (ValueError, TypeError, pa.ArrowInvalid):
-        raise LogFormatError(f"{name}: the accelerometer columns {cols} must hold numbers") from None
+    def numbers(group: list[str], what: str) -> np.ndarray:
+        try:
+            return np.column_stack([table.column(c).to_numpy(zero_copy_only=False).astype(float) for c in group])
+        except (ValueError, TypeError, pa.ArrowInvalid):
+            raise LogFormatError(f"{name}: the {what} columns {group} must hold numbers") from None
+
+    acc = numbers(cols, "accelerometer")
+    extra = {s: numbers(group, {"gyr": "gyroscope", "mag": "magnetometer"}[s]) for s, group in others.items()}
     time = None
     if time_col is not None:
         col = table.column(names[time_col])
@@ -143,10 +149,15 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
             time = col.to_numpy(zero_copy_only=False).astype(float)
     rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
     unit = (units or {}).get("acc") or header_units.get("acc") or UNITS["acc"][0]
+    sensor_units = {"acc": _unit({"acc": unit})}
+    for s in extra:
+        sensor_units[s] = (units or {}).get(s) or header_units.get(s) or UNITS[s][0]
+        if sensor_units[s] not in UNITS[s]:
+            raise LogFormatError(f"{s} unit {sensor_units[s]!r} is not one of {', '.join(UNITS[s])}")
     return LogData(
-        acc=acc, gyr=None, mag=None,
+        acc=acc, gyr=extra.get("gyr"), mag=extra.get("mag"),
         time_s=None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time)),
-        sampling_rate_hz=rate, units={"acc": _unit({"acc": unit})}, format="parquet", columns=names,
+        sampling_rate_hz=rate, units=sensor_units, format="parquet", columns=names,
     )
 
 

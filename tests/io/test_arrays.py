@@ -90,6 +90,17 @@ def test_parquet_with_time_and_named_columns(tmp_path):
     assert log.time_s[-1] == pytest.approx(399 * 0.02)
 
 
+def test_parquet_reads_the_gyroscope_and_magnetometer_beside_the_accelerometer(tmp_path):
+    x, w, b = _samples(400), _samples(400) * 0.01, _samples(400) * 5
+    f = tmp_path / "imu.parquet"
+    pq.write_table(pa.table({"time_s": np.arange(400) / 100.0, **{f"acc_{a}": x[:, i] for i, a in enumerate("xyz")},
+                             **{f"gyr_{a} (deg/s)": w[:, i] for i, a in enumerate("xyz")},
+                             **{f"mag_{a}": b[:, i] for i, a in enumerate("xyz")}}), f)
+    log = read_parquet_log(f)
+    assert np.allclose(log.gyr, w) and np.allclose(log.mag, b) and log.channels == ["acc", "gyr", "mag"]
+    assert log.units == {"acc": "m/s^2", "gyr": "deg/s", "mag": "uT"}
+
+
 def test_parquet_timestamp_column(tmp_path):
     x = _samples(300)
     ts = np.datetime64("2026-01-01T00:00:00") + np.arange(300) * np.timedelta64(10, "ms")
