@@ -33,7 +33,7 @@ def _results():
 
 
 def test_registry_knows_every_type():
-    assert set(registered_types()) == {"affine", "nonorthogonal", "triangular", "cube", "autocal"}
+    assert set(registered_types()) == {"affine", "nonorthogonal", "triangular", "cube", "autocal", "noise"}
 
 
 @pytest.mark.parametrize("result", list(_results()), ids=lambda r: r.MODEL_TYPE)

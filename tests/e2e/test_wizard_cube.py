@@ -91,8 +91,12 @@ class Cube:
         self.place(k)
 
 
-def wait_captured(page, n: int, timeout=20_000):
-    page.wait_for_selector(COUNT.format(n), state="attached", timeout=timeout)
+def wait_captured(page, n: int, timeout=30_000):
+    try:
+        page.wait_for_selector(COUNT.format(n), state="attached", timeout=timeout)
+    except Exception as exc:  # say what the page said instead
+        said = {sel: page.text_content(sel) for sel in ("#instruction", "#status", "#cube-count")}
+        raise AssertionError(f"position {n} was not captured within {timeout / 1000:g} s; the page says {said}") from exc
 
 
 def saved_session(page, server) -> dict:
