@@ -309,7 +309,7 @@ def _autocal(args, settings: Settings) -> int:
 
 
 def _print_autocal(body: dict) -> None:
-    det, m = body["detection"], body["metrics"]
+    det = body["detection"]
     print(f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
           f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}")
     if body.get("headline"):

@@ -26,12 +26,9 @@ from __future__ import annotations
 
 import dataclasses
 
-import numpy as np
-
+from .comparison import norm_errors
 from .gates import Gates
 from .uncertainty import half_widths
-
-AXES = "xyz"
 
 NORM_GROWTH_TOLERANCE_MG = 0.1
 """The in-sample norm error may exceed the raw one by this much (mg of g) before it counts as grown:
@@ -44,11 +41,6 @@ An interval wider than that says the poses told nothing the datasheet did not.""
 
 RATIO_METRICS = ("improvement", "norm_improvement", "fit_improvement")
 """Ratios of raw to calibrated errors: undefined (null) when the fit has no residual freedom."""
-
-
-def norm_errors_mg(vectors, gravity: float) -> np.ndarray:
-    """| |v_i| − g | of each vector, in thousandths of g."""
-    return 1000.0 * np.abs(np.linalg.norm(np.asarray(vectors, dtype=float), axis=1) - gravity) / gravity
 
 
 def review(result, cv: dict, *, raw_unit: bool = False):
@@ -72,13 +64,12 @@ def review(result, cv: dict, *, raw_unit: bool = False):
         whose ratios are null without residual degrees of freedom, and whose reasons end with the
         failed trust gates.
     """
-    g = result.gravity
-    before = norm_errors_mg(result.means, g)
-    after = norm_errors_mg(result.apply(result.means), g)
-    metrics = {**result.metrics, **cv, "error_before_mg": float(before.mean()), "error_after_mg": float(after.mean())}
-    gates = Gates()
+    inside = norm_errors(result.means, result.apply, result.gravity)
+    metrics = {**result.metrics, **cv, "error_before_mg": inside["error_before_mg"],
+               "error_after_mg": inside["error_after_mg"]}
+    gates = Gates().merge(result)  # the fit's own reasons first
     if not raw_unit:
-        gates.fail(worse_than_raw(metrics.get("cv_error_mg"), metrics["error_before_mg"], len(before),
+        gates.fail(worse_than_raw(metrics.get("cv_error_mg"), metrics["error_before_mg"], inside["count"],
                                   metrics.get("cv_scheme", "cross-validated")))
         gates.fail(_norm_grows(metrics, labelled=hasattr(result, "labels")))
     gates.fail(_no_figure(result, cv))
@@ -88,9 +79,7 @@ def review(result, cv: dict, *, raw_unit: bool = False):
                 metrics[key] = None
     else:
         gates.fail(_undetermined(result))
-    reasons = tuple(result.reasons) + tuple(r for r in gates.reasons if r not in result.reasons)
-    warnings = reasons + tuple(w for w in result.warnings if w not in result.reasons)
-    return dataclasses.replace(result, metrics=metrics, reasons=reasons, warnings=warnings)
+    return dataclasses.replace(result, metrics=metrics, **gates.fields())
 
 
 def worse_than_raw(cv_mg: float | None, raw_mg: float, count: int, scheme: str) -> list[str]:
@@ -120,7 +109,7 @@ def _no_figure(result, cv: dict) -> list[str]:
     if result.dof == 0:  # the fit's own exact-fit gate says so
         return []
     if cv.get("cv_error_mg") is None and "cv_scheme" in cv:
-        return [f"no reading can be left out without the model becoming undetermined, so its error on new "
+        return ["no reading can be left out without the model becoming undetermined, so its error on new "
                 "orientations is unknown; add poses in other directions"]
     return []
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..comparison import norm_errors
 from .triangular import draw_parameters, random_unit_vectors, uncalibrate
 
 NOISE_G = 0.0005
@@ -43,7 +44,5 @@ def free_pose_session(rng: np.random.Generator, n: int, **reading) -> tuple[np.n
 def fresh_error_mg(rng: np.random.Generator, p, apply, *, count: int = 1000, **reading) -> tuple[float, float]:
     """Mean | |a| − 1 g | in mg over ``count`` fresh poses read the same way, calibrated by ``apply``
     and raw: what a person gets on new orientations, with and without the calibration."""
-    m = read_poses(rng, p, random_unit_vectors(rng, count), **reading)
-    after = np.abs(np.linalg.norm(apply(m), axis=1) - 1.0).mean()
-    before = np.abs(np.linalg.norm(m, axis=1) - 1.0).mean()
-    return 1000.0 * float(after), 1000.0 * float(before)
+    errors = norm_errors(read_poses(rng, p, random_unit_vectors(rng, count), **reading), apply, 1.0)
+    return errors["error_after_mg"], errors["error_before_mg"]
