@@ -6,6 +6,7 @@ builds the same models from its options, so both refuse the same input with the 
 
 from __future__ import annotations
 
+import datetime
 from typing import Annotated, Any, ClassVar, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, TypeAdapter, ValidationError, model_validator
@@ -166,11 +167,46 @@ class NoiseIn(Strict):
     label: Annotated[str, Field(max_length=500)] | None = None
 
 
-METHODS = ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal", "noise")
+Latitude = Annotated[float, Field(ge=-90, le=90)]
+Longitude = Annotated[float, Field(ge=-180, le=180)]
+FieldMagnitude = Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)]
+
+
+class MagnetometerIn(Strict):
+    """A compass calibration from readings of a device turned through all directions (issue 12)."""
+
+    method: Literal["magnetometer"]
+    mag: Annotated[list[Vec3], Field(min_length=1, max_length=200_000)] | None = Field(
+        None, description="N×3 magnetometer readings in µT, in recording order (N ≥ 50, spread over all directions).")
+    recording_id: str | None = Field(None, description="An uploaded recording with magnetometer columns instead.")
+    date: datetime.date | None = Field(None, description="Day of the recording (default today, UTC), for the model.")
+    latitude_deg: Latitude | None = Field(None, description="Geodetic latitude: with longitude_deg, the Earth's "
+                                                            "field there from IGRF.")
+    longitude_deg: Longitude | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = Field(
+        None, description="Height above the WGS84 ellipsoid (default 0).")
+    field_ut: FieldMagnitude | None = Field(
+        None, description="The local field's magnitude in µT; overrides the model's. Without it or a place, "
+                          "the magnitude is estimated from the readings.")
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+    @model_validator(mode="after")
+    def _sources(self):
+        if (self.mag is None) == (self.recording_id is None):
+            raise ValueError("give either `mag` or `recording_id` (exactly one of them)")
+        if (self.latitude_deg is None) != (self.longitude_deg is None):
+            raise ValueError("give both `latitude_deg` and `longitude_deg` for the Earth's field there, or neither")
+        return self
+
+
+METHODS = ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal", "noise",
+           "magnetometer")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
 CalibrationIn = Annotated[
-    Union[AutoIn, SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn, NoiseIn],
+    Union[AutoIn, SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn, NoiseIn,
+          MagnetometerIn],
     Field(discriminator="method"),
 ]
 

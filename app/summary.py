@@ -29,3 +29,17 @@ def headline(metrics: dict) -> str:
         return first
     which = "on the control points (held out)" if held_out else "on the poses fitted (in-sample)"
     return f"{first}; {which} {_mg(metrics['error_after_mg'])}, raw {_mg(metrics.get('error_before_mg'))}"
+
+
+def compass_headline(metrics: dict) -> str:
+    """A compass calibration's line: the error of |h| on directions left out, then in-sample and raw."""
+    def ut(value) -> str:
+        return "n/a" if value is None else f"{value:.2f} µT"
+
+    if metrics.get("cv_error_ut") is not None:
+        first = (f"on new directions expect {ut(metrics['cv_error_ut'])} of the {metrics['field_ut']:.1f} µT field "
+                 f"(up to {ut(metrics.get('cv_error_max_ut'))}; {metrics.get('cv_scheme')})")
+    else:
+        first = metrics.get("cv_note") or "no figure for new directions"
+    raw = "" if metrics.get("raw_error_ut") is None else f", raw {ut(metrics['raw_error_ut'])}"
+    return f"{first}; on the readings fitted (in-sample) {ut(metrics.get('fit_error_ut'))}{raw}"

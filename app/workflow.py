@@ -9,6 +9,7 @@ export and serialise.  Nothing here knows HTTP or the database.
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +25,7 @@ from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
-from app.summary import headline
+from app.summary import compass_headline, headline
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -262,6 +263,10 @@ def apply_calibration(body: dict, samples, sensor: str = "acc"):
         result.apply(samples)  # refuses: a noise characterisation corrects nothing
     if body["model"]["type"] == "cube":
         return result.apply(**{sensor: samples})[sensor]
+    if body["model"]["type"] == "magnetometer":
+        if sensor != "mag":
+            raise CalibrationError('a magnetometer calibration has only a magnetometer model: send `sensor: "mag"`')
+        return result.apply(samples)
     if sensor != "acc":
         raise CalibrationError(f"a {body['model']['type']} calibration has only an accelerometer model; drop `sensor`")
     return result.apply(samples)
@@ -276,6 +281,8 @@ def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str]
     body["metrics"].update(extra_metrics)
     if "cv_error_mg" in body["metrics"]:  # every fit of still readings: the line a person reads first
         body["headline"] = headline(body["metrics"])
+    elif "cv_error_ut" in body["metrics"]:  # the compass
+        body["headline"] = compass_headline(body["metrics"])
     body["warnings"] = list(body["warnings"]) + notes
     body.update(fields)
     return body
@@ -649,5 +656,78 @@ def _noise(request, recording: RecordingSource) -> dict:
                             **recording.source_fields)
 
 
+# -- the compass: a magnetometer turned through all directions --------------------------------------
+
+
+def magnetometer_reference(request, notes: list[str]) -> dict:
+    """The field the calibration is referenced to: ``field_ut`` given, else the geomagnetic model's at
+    the place and day, else none (estimated by the fit); with a place, the model's dip and
+    declination too. Returns the keyword arguments of :func:`~app.calibration.magnetometer.fit_magnetometer`
+    and the model's name and day."""
+    reference: dict = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
+    if request.latitude_deg is None:
+        if request.date is not None or request.height_m is not None:
+            notes.append("date and height_m without latitude_deg and longitude_deg are not used: give the place too "
+                         "for the Earth's field there")
+        return reference
+    from app.geomag import GeomagneticRangeError, reference_field  # the model's package loads only here
+
+    day = request.date or datetime.datetime.now(datetime.timezone.utc).date()
+    try:
+        earth = reference_field(day, request.latitude_deg, request.longitude_deg,
+                                0.0 if request.height_m is None else request.height_m)
+    except GeomagneticRangeError as exc:
+        raise CalibrationError(str(exc)) from None
+    reference.update(inclination_deg=earth.inclination_deg, declination_deg=earth.declination_deg,
+                     model={"name": earth.model, "date": day.isoformat(), "field_ut": earth.field_ut,
+                            "inclination_deg": earth.inclination_deg, "declination_deg": earth.declination_deg})
+    if request.field_ut is None:
+        reference.update(field_ut=earth.field_ut, field_source="model")
+    elif abs(request.field_ut / earth.field_ut - 1.0) > 0.1:
+        notes.append(f"field_ut {request.field_ut:g} µT is more than 10 % from the {earth.model} field here "
+                     f"({earth.field_ut:.1f} µT): the given value is used")
+    return reference
+
+
+def compass_rests(log: LogData, segments: list[dict]) -> list[tuple]:
+    """The accelerometer's still segments of a recording with their mean magnetometer reading."""
+    if log.mag is None or log.acc is None:
+        return []
+    mag = log.mag * MAG_TO_UT[log.units["mag"]]
+    return [(seg["acc_mean"], mag[seg["start"]:seg["end"]].mean(axis=0)) for seg in segments
+            if seg["end"] > seg["start"]]
+
+
+def _magnetometer(request, recording: RecordingSource | None) -> dict:
+    from app.calibration.magnetometer import fit_magnetometer  # scipy.optimize: see calibrate_unknown
+
+    notes: list[str] = []
+    rests: list = []
+    unit = "uT"
+    if recording is None:
+        mag = np.asarray(request.mag, dtype=float)
+        source = {}
+    else:
+        log = recording.read()
+        if log.mag is None:
+            raise CalibrationError(
+                f"the recording has no magnetometer columns (it has {', '.join(log.channels)}): the magnetometer "
+                "method needs mag_x, mag_y, mag_z — record the magnetometer (uncalibrated) while turning the device")
+        unit = log.units["mag"]
+        mag = log.mag * MAG_TO_UT.get(unit, 1.0)
+        unit = "raw" if unit == "raw" else "uT"
+        rests = compass_rests(log, recording.meta.get("segments") or [])
+        source = recording.source_fields
+    reference = magnetometer_reference(request, notes)
+    model = reference.pop("model", None)
+    if unit == "raw" and reference["field_ut"] is None:
+        notes.append("the magnetometer's readings are raw counts and no field was given: M maps them to the "
+                     "readings' own scale, not to µT — give a place and date, or field_ut")
+    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", **reference)
+    extra = {} if model is None else {"field_model": model["name"], "field_date": model["date"]}
+    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                            label=request.label or (recording.meta.get("filename") if recording else None), **source)
+
+
 _METHODS = {"auto": _auto, "six_position": _known, "orientations": _known, "nonorthogonal": _magnitude, "triangular": _magnitude,
-            "cube": _cube, "autocal": _autocal, "noise": _noise}
+            "cube": _cube, "autocal": _autocal, "noise": _noise, "magnetometer": _magnetometer}

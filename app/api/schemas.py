@@ -513,14 +513,71 @@ class NoiseOut(CalibrationCommon):
     still: StillPart | None
 
 
+class MagnetometerModel(Out):
+    type: Literal["magnetometer"]
+    M: Mat3Out = Field(description="Soft iron: symmetric 3×3, calibrated h = M (m − b).")
+    b: Vec3Out = Field(description="Hard iron in the readings' unit (µT).")
+
+
+class MagnetometerUncertainty(Out):
+    confidence: float
+    dof: int = Field(description="Residual degrees of freedom (readings − 9).")
+    M: Mat3Out | None = Field(description="95 % half-widths of M's entries (symmetric); null when undetermined.")
+    b: Vec3Out | None = Field(description="95 % half-widths of b.")
+
+
+class MagnetometerMetrics(Out):
+    field_ut: float = Field(description="The field's magnitude F the calibrated readings take.")
+    field_source: Literal["given", "model", "estimated"] = Field(
+        description="field_ut as given, from the geomagnetic model at the place and date, or estimated (det M = 1).")
+    field_model: str | None = Field(None, description="The geomagnetic model used, e.g. IGRF-14.")
+    field_date: str | None = Field(None, description="The day the model was evaluated for.")
+    inclination_deg: float | None = Field(description="The model's dip below the horizontal (null without a place).")
+    declination_deg: float | None = Field(description="The model's declination, east positive.")
+    norm_spread_ut: float = Field(description="5–95 % range of |h| over the recording, calibrated.")
+    norm_spread_raw_ut: float = Field(description="The same of the raw readings' magnitude.")
+    coverage: float = Field(description="Share of the 20 icosahedron faces the calibrated directions reach.")
+    missing_directions: list[str] = Field(description="Faces not reached, e.g. +z+y (mostly +z, towards +y).")
+    count: int
+    fit_error_ut: float = Field(description="RMS of |h| − F on the readings fitted (in-sample).")
+    raw_error_ut: float | None = Field(description="RMS of |m| − F of the readings as they are (null for raw counts).")
+    cv_error_ut: float | None = Field(description=(
+        "What to expect on new directions: RMS of |h| − F, each face's readings calibrated by the fit made "
+        "without that face; null with cv_note when such a fit is undetermined."))
+    cv_error_max_ut: float | None = Field(description="RMS of the worst face.")
+    cv_scheme: str
+    cv_note: str | None = None
+    noise_ut: float = Field(description="Residual standard deviation.")
+    correlation_inflation: float = Field(description="Factor on the covariance for residuals correlated in time.")
+    measured_inclination_deg: float | None = Field(description=(
+        "The calibrated field's dip measured against gravity at the accelerometer's rests; null without them."))
+    rests: int = Field(description="Accelerometer rests used for measured_inclination_deg.")
+
+
+class MagnetometerSamples(Out):
+    raw_ut: list[Vec3Out] = Field(description="Up to 600 raw readings, evenly spaced in time, for drawing.")
+
+
+class MagnetometerOut(CalibrationCommon):
+    method: Literal["magnetometer"]
+    gravity: float | None = Field(None, description="Not used by a compass calibration.")
+    model: MagnetometerModel
+    uncertainty: MagnetometerUncertainty
+    metrics: MagnetometerMetrics
+    covariance: list[list[float]] | None = Field(description="9×9, of (M_xx, M_yy, M_zz, M_xy, M_xz, M_yz, b).")
+    samples: MagnetometerSamples
+
+
 CalibrationOut = Annotated[
-    Union[SixPositionOut, OrientationsOut, NonOrthogonalOut, TriangularOut, CubeOut, AutocalOut, NoiseOut],
+    Union[SixPositionOut, OrientationsOut, NonOrthogonalOut, TriangularOut, CubeOut, AutocalOut, NoiseOut,
+          MagnetometerOut],
     Field(discriminator="method"),
 ]
 """A stored calibration, by method."""
 
 RESPONSE_MODELS = {"six_position": SixPositionOut, "orientations": OrientationsOut, "nonorthogonal": NonOrthogonalOut,
-                   "triangular": TriangularOut, "cube": CubeOut, "autocal": AutocalOut, "noise": NoiseOut}
+                   "triangular": TriangularOut, "cube": CubeOut, "autocal": AutocalOut, "noise": NoiseOut,
+                   "magnetometer": MagnetometerOut}
 
 
 class CalibrationList(BaseModel):

@@ -12,6 +12,7 @@ from pydantic import BaseModel, TypeAdapter
 from app.api.schemas import RESPONSE_MODELS, CalibrationOut
 from app.calibration.simulations.cube import FIELD_UT, simulate_session
 from app.calibration.simulations.autocal import simulate_recording
+from app.calibration.simulations.magnetometer import simulate_session as simulate_turn_session
 from tests.conftest import seed_table
 
 G = 9.81
@@ -72,6 +73,8 @@ def _requests(client, cube_csv):
     rec = _upload(client, "wrist.npy", buf.getvalue(), sampling_rate_hz=10, acc_unit="g")
     yield {"method": "autocal", "recording_id": rec}
     yield {"method": "noise", "recording_id": _upload(client, "still.csv", _still_csv(), sampling_rate_hz=100)}
+    mag, _, _ = simulate_turn_session(5, n=120)
+    yield {"method": "magnetometer", "mag": mag.tolist(), "field_ut": 48.0}
 
 
 def _still_csv() -> bytes:
@@ -104,7 +107,7 @@ def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
         seen.add(body["method"])
     assert seen == set(RESPONSE_MODELS)
     listed = client.get("/api/v1/calibrations").json()["items"]
-    assert len(listed) == 13 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
+    assert len(listed) == 14 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
 
 
 def test_openapi_documents_each_method_s_response(client):

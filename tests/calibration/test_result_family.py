@@ -33,7 +33,8 @@ def _results():
 
 
 def test_registry_knows_every_type():
-    assert set(registered_types()) == {"affine", "nonorthogonal", "triangular", "cube", "autocal", "noise"}
+    assert set(registered_types()) == {"affine", "nonorthogonal", "triangular", "cube", "autocal", "noise",
+                                     "magnetometer"}
 
 
 @pytest.mark.parametrize("result", list(_results()), ids=lambda r: r.MODEL_TYPE)

@@ -1,0 +1,139 @@
+"""The geometric refinement of a compass calibration and the covariance of its nine parameters.
+
+The calibrated field ``h_i = M (m_i − b)`` of a device turned in a uniform field has the magnitude
+F of that field, so ``M`` (symmetric: six numbers) and ``b`` minimise the sum of squared
+magnitude residuals
+
+    r_i = |M (m_i − b)| − F,
+
+the maximum-likelihood criterion for readings with isotropic noise on a sphere (Vasconcelos et al.,
+IEEE Trans. Aerospace and Electronic Systems 47(2) 2011, section IV), by Levenberg–Marquardt from
+the algebraic ellipsoid of :mod:`.ellipsoid`.  The covariance at the solution is
+``σ² (Jᵀ J)⁻¹`` (Särkkä et al., IEEE Sensors Journal 17(11) 2017, Appendix A, eq. (22), with
+V(ε) = σ² I), inflated for the correlation of the residuals in time (see
+:func:`correlation_inflation`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..uncertainty import covariance_from_jacobian
+
+SYMMETRIC_INDEX = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+"""Where the six free numbers of the symmetric M sit: the diagonal, then xy, xz, yz."""
+
+N_PARAMETERS = 9
+
+
+def pack(M: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The parameter vector ``(M_xx, M_yy, M_zz, M_xy, M_xz, M_yz, b_x, b_y, b_z)``."""
+    return np.array([M[i, j] for i, j in SYMMETRIC_INDEX] + list(b), dtype=float)
+
+
+def unpack(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``M`` (symmetric) and ``b`` of a parameter vector (:func:`pack`)."""
+    M = np.empty((3, 3))
+    for value, (i, j) in zip(x[:6], SYMMETRIC_INDEX):
+        M[i, j] = M[j, i] = value
+    return M, np.asarray(x[6:9], dtype=float)
+
+
+def residuals(x: np.ndarray, m: np.ndarray, field: float) -> np.ndarray:
+    """``|M (m_i − b)| − F`` for every reading."""
+    M, b = unpack(x)
+    return np.linalg.norm((m - b) @ M.T, axis=1) - field
+
+
+def jacobian(x: np.ndarray, m: np.ndarray, field: float) -> np.ndarray:
+    """Derivatives of :func:`residuals` in the nine parameters.
+
+    With ``u = m − b``, ``w = M u`` and ``n = w / |w|``: ``∂r/∂M_ij = n_i u_j`` (both entries of an
+    off-diagonal pair: ``n_i u_j + n_j u_i``) and ``∂r/∂b = −Mᵀ n``.
+    """
+    M, b = unpack(x)
+    u = m - b
+    w = u @ M.T
+    n = w / np.linalg.norm(w, axis=1, keepdims=True)
+    J = np.empty((len(m), N_PARAMETERS))
+    for k, (i, j) in enumerate(SYMMETRIC_INDEX):
+        J[:, k] = n[:, i] * u[:, j] if i == j else n[:, i] * u[:, j] + n[:, j] * u[:, i]
+    J[:, 6:] = -n @ M
+    return J
+
+
+@dataclass(frozen=True)
+class Refined:
+    """A refined compass calibration: ``M``, ``b``, the residuals and the parameters' covariance.
+
+    ``covariance`` is None when the fit is undetermined (no residual degrees of freedom, or a
+    singular ``Jᵀ J``); ``inflation`` is the factor the white-noise covariance was multiplied by.
+    """
+
+    M: np.ndarray
+    b: np.ndarray
+    residuals: np.ndarray
+    covariance: np.ndarray | None
+    dof: int
+    sigma_ut: float
+    inflation: float
+    converged: bool
+
+
+def correlation_inflation(r: np.ndarray) -> float:
+    """Variance factor for residuals correlated in time: ``(1 + ρ) / (1 − ρ)``, at least 1.
+
+    A device turned slowly by hand sees the same disturbance (a nearby steel part, the misfit of
+    the model in one direction) on many consecutive readings, so N readings carry the information
+    of fewer independent ones.  For an AR(1) sequence with lag-one autocorrelation ρ the variance
+    of a mean grows by ``(1 + ρ) / (1 − ρ)`` (Bayley and Hammersley, "The 'effective' number of
+    independent observations in an autocorrelated time series", J. R. Stat. Soc. Suppl. 8(2)
+    1946); the same factor scales the least-squares covariance.  White noise (ρ ≈ 0) keeps it.
+    """
+    r = np.asarray(r, dtype=float) - np.mean(r)
+    denominator = float(r @ r)
+    if len(r) < 3 or denominator == 0.0:
+        return 1.0
+    rho = float(r[1:] @ r[:-1]) / denominator
+    rho = min(rho, 0.99)
+    return max(1.0, (1.0 + rho) / (1.0 - rho))
+
+
+def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations: int = 200) -> Refined:
+    """Levenberg–Marquardt on ``|M (m − b)| − F`` from ``(M0, b0)``, and the covariance there.
+
+    Parameters
+    ----------
+    mag : array_like, shape (N, 3)
+        Raw readings in recording order (the order matters for the covariance's inflation).
+    M0, b0 : numpy.ndarray
+        The start (the algebraic ellipsoid or the sphere).
+    field : float
+        The field's magnitude F, in the unit the calibrated readings take.
+
+    Returns
+    -------
+    Refined
+    """
+    m = np.asarray(mag, dtype=float).reshape(-1, 3)
+    sol = least_squares(residuals, pack(0.5 * (M0 + M0.T), b0), jac=jacobian, args=(m, field), method="lm",
+                        x_scale="jac", max_nfev=max_evaluations)
+    M, b = unpack(sol.x)
+    if np.linalg.det(M) < 0:  # −M fits as well: keep the orientation of the readings
+        M = -M
+    r = sol.fun
+    covariance, dof, sigma2 = covariance_from_jacobian(sol.jac, r)
+    inflation = correlation_inflation(r)
+    if covariance is not None:
+        covariance = covariance * inflation
+    return Refined(M=M, b=b, residuals=r, covariance=covariance, dof=dof,
+                   sigma_ut=float(np.sqrt(sigma2)) if dof else float("nan"), inflation=inflation,
+                   converged=bool(sol.status > 0))
+
+
+def matrix_half_widths(half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Half-widths of the nine parameters laid out as M (3×3, symmetric) and b (3)."""
+    return unpack(half)
