@@ -42,3 +42,30 @@ def simulate_session(seed: int, *, n: int = 400, noise_ut: float = 0.3, max_pola
     M = random_soft_iron(rng)
     b = rng.uniform(-hard_iron_ut, hard_iron_ut, 3)
     return simulate_turn(rng, M, b, field_ut=field_ut, noise_ut=noise_ut, n=n, max_polar_deg=max_polar_deg), M, b
+
+
+def random_rotation(rng: np.random.Generator) -> np.ndarray:
+    """A rotation matrix uniform over SO(3) (the QR of a Gaussian matrix, signs fixed)."""
+    Q, R = np.linalg.qr(rng.normal(size=(3, 3)))
+    Q = Q * np.sign(np.diag(R))
+    return Q if np.linalg.det(Q) > 0 else -Q
+
+
+def simulate_rests(rng: np.random.Generator, M: np.ndarray, b, *, field_ut: float = EARTH_FIELD_UT,
+                   inclination_deg: float = 64.0, gravity: float = 9.81, n: int = 6, noise_ut: float = 0.0):
+    """Still moments of the device in random attitudes: ``(acc_mean, mag_mean)`` pairs.
+
+    In the local north-east-down frame the field is ``F (cos I, 0, sin I)`` and the specific force
+    at rest ``(0, 0, −g)`` (it points up); the device in attitude R (device → local) reads
+    ``Rᵀ f`` on its accelerometer and ``M⁻¹ Rᵀ h + b`` on its magnetometer.
+    """
+    inc = np.radians(inclination_deg)
+    h_local = field_ut * np.array([np.cos(inc), 0.0, np.sin(inc)])
+    f_local = np.array([0.0, 0.0, -gravity])
+    Minv = np.linalg.inv(M)
+    rests = []
+    for _ in range(n):
+        R = random_rotation(rng)
+        mag = Minv @ (R.T @ h_local) + np.asarray(b, dtype=float) + rng.normal(0.0, noise_ut, 3)
+        rests.append((R.T @ f_local, mag))
+    return rests
