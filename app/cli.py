@@ -32,6 +32,7 @@ AUTO_METHODS = ("auto",)
 KNOWN_METHODS = ("six_position", "orientations")
 UNKNOWN_METHODS = ("nonorthogonal", "triangular")
 CUBE_METHODS = ("cube",)
+FIELD_METHODS = ("magnetometer",)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -58,10 +59,11 @@ def _parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument("log", type=opt.input_path("a log file"), help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
-    c.add_argument("--method", choices=AUTO_METHODS + KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS, default="auto",
+    c.add_argument("--method", choices=AUTO_METHODS + KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS + FIELD_METHODS, default="auto",
                    help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones")
     c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help="cube only")
-    c.add_argument("--field-ut", type=opt.FIELD_UT, default=None, help="cube only: local magnetic field magnitude in µT")
+    c.add_argument("--field-ut", type=opt.FIELD_UT, default=None,
+                   help="cube and magnetometer: local magnetic field magnitude in µT (magnetometer: overrides the model's)")
     c.add_argument("--sections", type=opt.input_path("a section list (JSON)"), default=None, metavar="FILE.json",
                    help="cube with --protocol ferraris: imucal's annotated section list (x_p … z_rot, sample indices)")
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
@@ -74,8 +76,11 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer")
     _read_options(c)
     c.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
-    c.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
+    c.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude (magnetometer: with --longitude-deg, the Earth's field there)")
     c.add_argument("--height-m", type=opt.HEIGHT, default=None, help="height above the ellipsoid, with --latitude-deg")
+    c.add_argument("--longitude-deg", type=opt.LONGITUDE, default=None,
+                   help="magnetometer: with --latitude-deg, the Earth's field there from IGRF")
+    c.add_argument("--date", type=opt.DAY, default=None, help="magnetometer: day of the recording (default today)")
     c.add_argument("--device-id", type=opt.text("a device id"), default=None)
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
@@ -87,7 +92,7 @@ def _parser() -> argparse.ArgumentParser:
     a.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm")
     _read_options(a)
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
-    a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
+    a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude (magnetometer: with --longitude-deg, the Earth's field there)")
     a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (Farago et al.: one is enough)")
     a.add_argument("--workers", type=opt.WORKERS, default=None, help="parallel processes for a folder (default: CPU count)")
     a.add_argument("--dask-scheduler", type=opt.text("a scheduler address"), default=None, metavar="ADDRESS",
@@ -189,7 +194,7 @@ def _calibrate(args, settings: Settings) -> int:
                      sign=args.sign)
     log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, name=str(args.log), **read_with)
     recording = workflow.describe_log(log, read_with)
-    request = parse_calibration_request(_calibration_request(args, unit=log.units["acc"]))
+    request = parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
     body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=args.log, log=log))
     if not args.no_store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
@@ -210,6 +215,9 @@ def _calibration_request(args, *, unit: str) -> dict:
         request.update(protocol=args.protocol, field_ut=args.field_ut)
         if args.sections is not None:
             request["sections"] = _read_sections(args.sections)
+    elif args.method in FIELD_METHODS:
+        del request["gravity"]
+        request.update(field_ut=args.field_ut, longitude_deg=args.longitude_deg, date=args.date)
     else:
         request["unit"] = unit
     if args.method == "triangular":

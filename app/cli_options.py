@@ -8,6 +8,7 @@ tests can feed every option of the parser a bad value without a hand-kept list.
 from __future__ import annotations
 
 import argparse
+import datetime
 import math
 from pathlib import Path
 
@@ -96,8 +97,24 @@ def input_path(what: str):
     return parse
 
 
+def day(what: str):
+    """A calendar day, ISO 8601 (``2026-12-02``)."""
+
+    def parse(value: str) -> datetime.date:
+        try:
+            return datetime.date.fromisoformat(value.strip())
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{value!r} is not a day: give {what} as YYYY-MM-DD") from None
+
+    parse.refuses = ("2026-13-01", "yesterday", "")
+    parse.__name__ = what
+    return parse
+
+
 PORT = number("a TCP port", low=1, high=65535, integer=True)
 LATITUDE = number("a latitude in degrees", low=-90, high=90)
+LONGITUDE = number("a longitude in degrees, east positive", low=-180, high=180)
+DAY = day("the day of the recording")
 HEIGHT = number("a height above the ellipsoid in m", low=-12000, high=100000)
 GRAVITY = number("a gravity in m/s^2", low=0.1, high=100)
 SAMPLING_RATE = number("a sampling rate in Hz", low=0, high=100000, low_open=True)

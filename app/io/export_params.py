@@ -1,4 +1,5 @@
-"""Flight-controller parameter exports: ArduPilot ``INS_ACCOFFS_*``/``INS_ACCSCAL_*``, PX4 ``CAL_ACC0_*``.
+"""Flight-controller parameter exports: ArduPilot ``INS_ACCOFFS_*``/``INS_ACCSCAL_*``, PX4 ``CAL_ACC0_*``
+(a compass calibration's ``COMPASS_*`` and ``CAL_MAG0_*``: app.io.export_compass).
 
 Both firmwares correct each accelerometer axis with an offset and a scale only, in the sensor
 frame, readings in m/s², before rotating into the body frame:
@@ -25,6 +26,7 @@ import numpy as np
 
 from .errors import ExportError
 from .export_common import Export, accelerometer_correction, describe
+from .export_compass import to_ardupilot_compass, to_px4_compass
 
 STANDARD_GRAVITY = 9.80665
 """ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G, m/s²."""
@@ -113,6 +115,8 @@ def to_ardupilot(body: dict) -> Export:
     ExportError
         Counts calibrations, and values outside ArduPilot's accepted ranges (the reason named).
     """
+    if body["model"].get("type") == "magnetometer":
+        return to_ardupilot_compass(body)
     p = offset_scale(body, "ArduPilot")
     problems = []
     lo, hi = ARDUPILOT_OFFSET_RANGE
@@ -141,6 +145,8 @@ def to_ardupilot(body: dict) -> Export:
 
 def to_px4(body: dict) -> Export:
     """PX4 parameters ``CAL_ACC0_XOFF``… (m/s²) and ``CAL_ACC0_XSCALE``…, as ``param set`` lines."""
+    if body["model"].get("type") == "magnetometer":
+        return to_px4_compass(body)
     p = offset_scale(body, "PX4")
     lo, hi = PX4_SCALE_RANGE
     bad = [f"CAL_ACC0_{a}SCALE = {v:.4g}" for a, v in zip("XYZ", p["scale"]) if not lo <= v <= hi]

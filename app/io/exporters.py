@@ -46,6 +46,11 @@ def to_json(body: dict) -> Export:
                        "output_unit": c.output_unit, "source": c.source}
             for c in corrections
         }
+    elif corrections[0].sensor == "mag":  # the compass: h = M (m − b), o = b the hard iron
+        c = corrections[0]
+        doc["sensor"] = SENSORS["mag"]
+        doc["correction"] = {"formula": "h = M (m - o), o = b (hard iron)", "M": c.M.tolist(), "o": c.o.tolist(),
+                             "source": c.source}
     else:
         c = corrections[0]
         doc["correction"] = {"formula": "a = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "source": c.source}
