@@ -197,3 +197,23 @@ def test_c_header_json_yaml_and_csv_carry_the_compass(client, cal, turn, tmp_pat
                    check=True, cwd=tmp_path)
     out = subprocess.run([str(tmp_path / "apply")], capture_output=True, text=True, check=True).stdout
     np.testing.assert_allclose(np.loadtxt(out.splitlines()), expected, atol=2e-4)  # float32 of ~100 µT values
+
+
+def test_a_place_and_day_reference_the_earth_s_field(client):
+    from app.geomag import reference_field
+
+    earth = reference_field("2026-12-02", 60.17, 24.94, 20.0)  # Helsinki
+    m, M, b = simulate_session(24, n=400, field_ut=earth.field_ut)
+    r = _post(client, mag=m.tolist(), date="2026-12-02", latitude_deg=60.17, longitude_deg=24.94, height_m=20.0)
+    assert r.status_code == 201, r.text
+    metrics = r.json()["metrics"]
+    assert metrics["field_source"] == "model" and metrics["field_model"] == "IGRF-14"
+    assert metrics["field_date"] == "2026-12-02"
+    assert metrics["field_ut"] == pytest.approx(earth.field_ut, rel=1e-12)
+    assert metrics["inclination_deg"] == pytest.approx(earth.inclination_deg, rel=1e-12)
+    assert metrics["declination_deg"] == pytest.approx(earth.declination_deg, rel=1e-12)
+    np.testing.assert_allclose(r.json()["model"]["M"], M, atol=0.006)
+    given = _post(client, mag=m.tolist(), field_ut=30.0, latitude_deg=60.17, longitude_deg=24.94).json()
+    assert given["metrics"]["field_source"] == "given" and any("more than 10 %" in w for w in given["warnings"])
+    old = _post(client, mag=m.tolist(), date="1890-01-01", latitude_deg=60.17, longitude_deg=24.94)
+    assert old.status_code == 422 and "1900–2030" in old.json()["detail"]
