@@ -87,9 +87,10 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
     ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
     it is kept with the sign applied, so that the stored file is read again the same way.
     """
-    unit = log.units["acc"]
+    unit = log.units.get("acc")
     gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
-    segments = detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
+    # The still segments are the accelerometer's: a log of the magnetometer alone has none.
+    segments = [] if log.acc is None else detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
     return {
         "format": log.format,
         "n_samples": log.n_samples,
@@ -102,7 +103,7 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "sign": log.sign,
         "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, **(read_with or {}),
                       "sign": log.sign},
-        "quantization_step": quantization_step(log.acc) if unit == "m/s^2" else None,
+        "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
     }
 
@@ -353,12 +354,21 @@ def calibrate(request, recording: RecordingSource | None = None) -> dict:
     return _METHODS[request.method](request, recording)
 
 
+def require_accelerometer(channels, method: str) -> None:
+    """Refuse a recording without accelerometer columns for an accelerometer method, naming the fix."""
+    if "acc" not in channels:
+        raise CalibrationError(
+            f"the recording has no accelerometer columns (it has {', '.join(channels)}): method {method} needs "
+            "acc_x, acc_y, acc_z; for a magnetometer recorded alone use method magnetometer")
+
+
 def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
     """The unit, the reference magnitude and notes for a request on inline readings or a recording."""
     unit = request.unit
     notes: list[str] = []
     if recording is not None:
         meta = recording.meta
+        require_accelerometer(meta["units"], request.method)
         if request.unit != meta["units"]["acc"]:
             notes.append(
                 f"the recording's accelerometer unit is {meta['units']['acc']}; the request's unit "
@@ -487,6 +497,7 @@ def _auto(request, recording: RecordingSource | None) -> dict:
 
 def _cube(request, recording: RecordingSource) -> dict:
     log = recording.read()
+    require_accelerometer(log.channels, "cube")
     unit = log.units["acc"]
     gravity, notes = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
     sections = None if request.sections is None else {k: v.model_dump() for k, v in request.sections.items()}
@@ -498,6 +509,7 @@ def _cube(request, recording: RecordingSource) -> dict:
 
 
 def _autocal(request, recording: RecordingSource) -> dict:
+    require_accelerometer(recording.meta["units"], "autocal")
     return autocalibrate_file(
         recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
         unit=request.unit or recording.meta["units"]["acc"], solver=request.solver, gravity=request.gravity,
@@ -563,6 +575,7 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
     path = Path(path)
     log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
                    columns=columns, sign=sign)
+    require_accelerometer(log.channels, "autocal")
     unit = log.units["acc"]
     if unit not in AUTOCAL_UNITS:
         raise CalibrationError(

@@ -20,8 +20,9 @@ class LogData:
 
     Attributes
     ----------
-    acc : numpy.ndarray, shape (N, 3)
-        Accelerometer specific force in ``units["acc"]``.
+    acc : numpy.ndarray of shape (N, 3), or None
+        Accelerometer specific force in ``units["acc"]``; None in a log of other sensors only (a
+        magnetometer turned for a compass calibration).
     gyr, mag : numpy.ndarray or None
         Gyroscope and magnetometer samples, when present.
     time_s : numpy.ndarray or None
@@ -40,7 +41,7 @@ class LogData:
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
     """
 
-    acc: np.ndarray
+    acc: np.ndarray | None
     gyr: np.ndarray | None
     mag: np.ndarray | None
     time_s: np.ndarray | None
@@ -53,7 +54,7 @@ class LogData:
 
     @property
     def n_samples(self) -> int:
-        return int(self.acc.shape[0])
+        return int(getattr(self, self.channels[0]).shape[0])
 
     @property
     def channels(self) -> list[str]:

@@ -217,3 +217,21 @@ def test_a_place_and_day_reference_the_earth_s_field(client):
     assert given["metrics"]["field_source"] == "given" and any("more than 10 %" in w for w in given["warnings"])
     old = _post(client, mag=m.tolist(), date="1890-01-01", latitude_deg=60.17, longitude_deg=24.94)
     assert old.status_code == 422 and "1900–2030" in old.json()["detail"]
+
+
+def test_over_http_a_magnetometer_log_calibrates_and_the_accelerometer_methods_refuse_it(client):
+    from tests.io.test_magnetometer_only_logs import CASES
+
+    filename, content, _, _ = CASES["Sensor Logger CSV"]
+    up = client.post("/api/v1/recordings", files={"file": (filename, content.encode(), "text/csv")})
+    assert up.status_code == 201, up.text
+    rec = up.json()
+    assert rec["channels"] == ["mag"] and rec["segments"] == [] and rec["units"] == {"mag": "uT"}
+    ok = client.post("/api/v1/calibrations", json={"method": "magnetometer", "recording_id": rec["id"], "field_ut": 48})
+    assert ok.status_code == 201 and ok.json()["ok"], ok.text
+    for method in ("auto", "six_position", "triangular", "cube", "autocal"):
+        r = client.post("/api/v1/calibrations", json={"method": method, "recording_id": rec["id"]})
+        assert r.status_code == 422, (method, r.text)
+        assert "no accelerometer columns" in r.json()["detail"] and "method magnetometer" in r.json()["detail"]
+    noise = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"]})
+    assert noise.status_code == 201 and list(noise.json()["model"]) == ["type", "mag"]

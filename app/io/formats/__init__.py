@@ -126,10 +126,13 @@ def parse_column_names(names: list[str]) -> list[str]:
     for sensor in ("acc", "gyr", "mag"):
         axes = [f"{sensor}_{a}" for a in "xyz"]
         given = [a for a in axes if a in names]
-        if (sensor == "acc" or given) and len(given) != 3:
+        if given and len(given) != 3:
             missing = ", ".join(a for a in axes if a not in names)
-            raise LogFormatError(f"columns names {'no accelerometer' if not given else ', '.join(given)} but not "
-                                 f"{missing}: name all three axes of each sensor, e.g. columns=t,acc_x,acc_y,acc_z")
+            raise LogFormatError(f"columns names {', '.join(given)} but not {missing}: name all three axes of "
+                                 "each sensor, e.g. columns=t,acc_x,acc_y,acc_z")
+    if not any(f"{sensor}_x" in names for sensor in ("acc", "gyr", "mag")):
+        raise LogFormatError("columns names no sensor: name the three axes of at least one, e.g. "
+                             "columns=t,acc_x,acc_y,acc_z (or t,mag_x,mag_y,mag_z for a magnetometer alone)")
     return names
 
 
@@ -227,6 +230,10 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
         extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
     log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
                        lsb_per_g=lsb, **extra)
+    if log.acc is None:  # a magnetometer (or gyroscope) alone
+        if fmt != log.format:
+            log = dataclasses.replace(log, format=fmt, notes=tuple(log.notes) + (f"read as {fmt}",))
+        return log
     acc, unit, notes = apply_lsb_per_g(log.acc, log.units["acc"], lsb)
     if notes and lsb_per_g is None:
         notes = [n + " (from the file's comment)" for n in notes]

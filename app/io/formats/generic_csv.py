@@ -195,20 +195,21 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
             "the accelerometer columns hold linear acceleration (gravity removed); calibration needs "
             "the raw accelerometer including gravity: export 'acceleration including gravity' instead"
         )
-    acc = channels.get("acc", {})
-    if set(acc) != {"x", "y", "z"}:
+    complete = [s for s, axes in channels.items() if set(axes) == {"x", "y", "z"}]
+    if not complete:
         listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
         if len(names) > MAX_LISTED_COLUMNS:
             listed += f" and {len(names) - MAX_LISTED_COLUMNS} more"
         raise LogFormatError(
             f"no accelerometer x, y and z columns among the header's columns {listed}: name them "
             "acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), optionally with a time column "
-            "time_s / time_ms / time_ns, or map them without editing the file with the upload field "
+            "time_s / time_ms / time_ns (a magnetometer alone: mag_x, mag_y, mag_z), or map them without "
+            "editing the file with the upload field "
             "columns, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
             "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
             "recognised as they are"
         )
-    partial = [s for s, axes in channels.items() if s != "acc" and set(axes) != {"x", "y", "z"}]
+    partial = [s for s, axes in channels.items() if set(axes) != {"x", "y", "z"}]
     for sensor in partial:
         del channels[sensor]
     return channels, time_col, time_scale, units
@@ -288,7 +289,7 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         if unit not in UNITS[sensor]:
             raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(UNITS[sensor])}")
     return LogData(
-        acc=arrays["acc"],
+        acc=arrays.get("acc"),
         gyr=arrays.get("gyr"),
         mag=arrays.get("mag"),
         time_s=time_s,
@@ -343,6 +344,8 @@ def _header_acc_unit(text: str) -> str | None:
 
 def _settle_units(log: LogData, caller_acc: str | None, header_acc: str | None, lsb_per_g, fmt: str,
                   notes: list[str]) -> LogData:
+    if log.acc is None:  # another sensor alone: nothing of the accelerometer to settle
+        return log
     unit = caller_acc or header_acc
     if unit is None:
         unit = infer_acc_unit(log.acc)

@@ -5,7 +5,8 @@ Every line starts with its record type; the file's ``#`` header describes each t
 BiasXMps2,BiasYMps2,BiasZMps2``.  The uncalibrated readings (Android sensor frame, m/s², +g on the
 up axis) are what trical calibrates; the platform's bias estimate is left out, since trical fits the
 offset itself.  Gyroscope (rad/s) and magnetometer (µT) lines are interpolated at the accelerometer's
-``elapsedRealtimeNanos``.
+``elapsedRealtimeNanos``; a log of ``UncalMag`` lines alone (the magnetometer's hard-iron estimate
+``BiasX/Y/ZMicroT`` left out too) is a magnetometer-only log, for the compass.
 """
 
 from __future__ import annotations
@@ -28,10 +29,10 @@ TIME = "elapsedRealtimeNanos"
 
 
 def detect(s: Sniff) -> bool:
-    """A line starting with ``UncalAccel,`` or its header ``# UncalAccel,`` in the first 64 KiB."""
+    """A line starting with ``UncalAccel,`` or ``UncalMag,`` (or their ``#`` headers) in the first 64 KiB."""
     if s.is_zip:
         return False
-    return any(line.lstrip("# ").startswith("UncalAccel,") for line in s.text.splitlines())
+    return any(line.lstrip("# ").startswith(("UncalAccel,", "UncalMag,")) for line in s.text.splitlines())
 
 
 def _layouts(lines: list[str]) -> dict[str, list[str]]:
@@ -82,20 +83,22 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
             raise LogFormatError(f"the {record} header of {name} lacks {', '.join(missing)}: it names "
                                  f"{', '.join(layout[1:])}")
         streams[sensor] = _records(by_type[record], record, layout, columns, name)
-    if "acc" not in streams:
+    if "acc" not in streams and "mag" not in streams:
         raise LogFormatError(
-            f"{name} holds no UncalAccel lines: in GnssLogger, enable the sensor logging of the "
-            "uncalibrated accelerometer and record again"
+            f"{name} holds no UncalAccel (or UncalMag) lines: in GnssLogger, enable the sensor logging of the "
+            "uncalibrated accelerometer (or magnetometer) and record again"
         )
-    t_acc, acc = streams.pop("acc")
+    base = "acc" if "acc" in streams else "mag"  # the magnetometer alone: a compass calibration's turn
+    t_acc, acc = streams.pop(base)
     t0 = t_acc[0]
     time_s = (t_acc - t0) * 1e-9
     aligned = {k: resample_to(time_s, (t - t0) * 1e-9, v) for k, (t, v) in streams.items()}
     units = units or {}
+    arrays = {base: acc, **aligned}
     return LogData(
-        acc=acc, gyr=aligned.get("gyr"), mag=aligned.get("mag"), time_s=time_s,
+        acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=time_s,
         sampling_rate_hz=rate_from_time(time_s, sampling_rate_hz, name),
-        units={k: units.get(k) or RECORDS[k][2] for k in ("acc", *aligned)},
-        format=NAME, columns=list(layouts.get("UncalAccel") or []),
-        notes=("UncalAccel readings without the platform's bias estimate",),
+        units={k: units.get(k) or RECORDS[k][2] for k in arrays},
+        format=NAME, columns=list(layouts.get(RECORDS[base][0]) or []),
+        notes=(f"{RECORDS[base][0]} readings without the platform's bias estimate",),
     )

@@ -75,15 +75,16 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         sensor = _SENSOR[m.group("sensor")]
         channels.setdefault(sensor, {})[m.group("axis")] = col
         found_units[sensor] = _UNIT.get(m.group("unit").lower(), m.group("unit"))
-    if "acc" not in channels:
+    if not any(set(axes) == {"x", "y", "z"} for axes in channels.values()):
         if linear:
             raise LogFormatError(
                 f"{label} holds linear acceleration (gravity removed; phyphox 'Acceleration without g'): "
                 "calibration needs gravity in the readings: record with phyphox 'Acceleration with g' instead"
             )
         listed = ", ".join(repr(n) for n in names)
-        raise LogFormatError(f"{label} has no phyphox accelerometer columns among {listed}: record with "
-                             "'Acceleration with g', or map the columns as acc_x, acc_y, acc_z (format=csv)")
+        raise LogFormatError(f"{label} has no phyphox accelerometer or magnetometer columns among {listed}: record "
+                             "with 'Acceleration with g' (or 'Magnetometer' for a compass calibration), or map "
+                             "the columns as acc_x, acc_y, acc_z (format=csv)")
     channels = {k: v for k, v in channels.items() if set(v) == {"x", "y", "z"}}
     order = [0] + [channels[s_][a] for s_ in channels for a in "xyz"]
     arrays = read_columns(data, skip_lines=index + 1, n_columns=len(names), columns=order, delimiter=delimiter,
@@ -94,7 +95,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     if decimal == ",":
         notes.append("decimal comma")
     return LogData(
-        acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"), time_s=time - time[0],
+        acc=stacked.get("acc"), gyr=stacked.get("gyr"), mag=stacked.get("mag"), time_s=time - time[0],
         sampling_rate_hz=rate_from_time(time, sampling_rate_hz, label), units=final_units, format=NAME,
         columns=names, notes=tuple(notes),
     )

@@ -8,6 +8,9 @@ Which accelerometer file holds gravity (awesome-sensor-logger UNITS.md, CROSSPLA
   is on, m/s² otherwise.
 * ``Accelerometer.csv``: user acceleration *without* gravity on both platforms — refused.
 
+A magnetometer recorded alone (``MagnetometerUncalibrated.csv`` or ``Magnetometer.csv``, µT, on its
+own or in a zip without an accelerometer file) is read as a magnetometer-only log, for the compass.
+
 iOS and Android differ by a sign on all three acceleration axes; with "Standardise Units & Frames"
 on, iOS follows Android (+g on the up axis, docs/methods.md).  The zip's ``Metadata.csv`` gives
 ``platform`` and the standardisation flag (a column whose name contains ``standardi``, e.g.
@@ -48,7 +51,7 @@ def detect(s: Sniff) -> bool:
     """A zip with ``Metadata.csv`` and an accelerometer CSV, or a header ``time,seconds_elapsed,z,y,x``."""
     if s.is_zip:
         return find_member(s.members, METADATA) is not None and \
-            find_member(s.members, *ACC_FILES, LINEAR_FILE) is not None
+            find_member(s.members, *ACC_FILES, LINEAR_FILE, *MAG_FILES) is not None
     first = next((line for line in s.lines if line.strip()), "")
     return _is_sensor_header(first)
 
@@ -121,6 +124,21 @@ def _sign_and_unit(acc: np.ndarray, meta: dict | None, acc_file: str | None, cal
     return sign, unit, notes
 
 
+def _is_magnetometer_file(name: str) -> bool:
+    """Sensor Logger names each sensor's CSV after the sensor (``MagnetometerUncalibrated.csv``)."""
+    return Path(name).name.lower().startswith("magnetometer")
+
+
+def _magnetometer_only(time_ns: np.ndarray, mag: np.ndarray, names: list[str], label: str, units: dict,
+                       sampling_rate_hz, notes: list[str]) -> LogData:
+    """A recording of the magnetometer alone (a compass calibration's turn), in µT."""
+    time_s = (time_ns - time_ns[0]).astype(float) * 1e-9
+    return LogData(acc=None, gyr=None, mag=mag, time_s=time_s, sampling_rate_hz=rate_from_time(time_s, sampling_rate_hz,
+                                                                                                label),
+                   units={"mag": units.get("mag") or "uT"}, format=NAME, columns=names,
+                   notes=tuple(notes + ["the magnetometer alone (no accelerometer file)"]))
+
+
 def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
     """Read a Sensor Logger per-sensor CSV or the zip of a recording."""
     units = units or {}
@@ -128,6 +146,12 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     if s.is_zip:
         meta = read_metadata(read_member(path, find_member(s.members, METADATA), name))
         member = find_member(s.members, *ACC_FILES)
+        mag_member = find_member(s.members, *MAG_FILES)
+        if member is None and mag_member is not None and find_member(s.members, LINEAR_FILE) is None:
+            label = f"{mag_member} in {name}"
+            time_ns, mag, names = _read_sensor(read_member(path, mag_member, name), label)
+            return _magnetometer_only(time_ns, mag, names, label, units, sampling_rate_hz,
+                                      [f"read {mag_member} from the Sensor Logger zip"])
         if member is None:
             raise LogFormatError(
                 f"{name} holds only {LINEAR_FILE}, Sensor Logger's acceleration without gravity (linear "
@@ -145,6 +169,8 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     else:
         meta, member, label = None, None, name
         time_ns, acc, names = _read_sensor(path.read_bytes(), label)
+        if _is_magnetometer_file(name):
+            return _magnetometer_only(time_ns, acc, names, label, units, sampling_rate_hz, [])
         notes = []
     sign, unit, sign_notes = _sign_and_unit(acc, meta, member, units.get("acc"), label)
     notes += sign_notes
