@@ -6,6 +6,9 @@ the page.
 
 - ``six``: poses in any order; solving runs the six-position closed form
   (Georgieva et al. (ESGI'95), section 3.3.1) on the capture means.
+
+The six and free flows keep each capture's gyroscope mean, std and count when it was sent; their calibration
+carries the gyroscope's bias over the still captures (``gyroscope_bias``, app.calibration.gyro_bias).
 - ``free``: still poses in any direction, no jig (issue 11): each must point at least
   :data:`FREE_MIN_ANGLE_DEG` from every earlier one; from :data:`FREE_FIT_FROM` poses on, the
   triangular model of Farago, Maczak and Gingl, IEEE Access is fitted to the capture means after each
@@ -28,6 +31,7 @@ from app.calibration.errors import NotStillError
 from app.calibration.advice import MIN_SEPARATION_DEG, farthest_directions
 from app.calibration.capture import check_new_direction, check_still_capture, on_uniform_grid
 from app.calibration.cube.protocols import CUBE24_UPS, cube24
+from app.calibration.gyro_bias import gyroscope_bias
 from app.store import ConflictError
 
 PROTOCOL_POSITIONS: dict[str, tuple[str, ...]] = {
@@ -172,6 +176,27 @@ def _check_not_turning(capture: dict, what: str = "device") -> None:
                             "leave it resting until the capture ends")
 
 
+def _gyr_summary(capture: dict) -> dict:
+    """A still capture's gyroscope, as the session keeps it for the bias (app.calibration.gyro_bias): the mean,
+    the standard deviation (ddof 1) and the count of its samples, in the unit they came in; empty without them."""
+    if capture.get("gyr") is None:
+        return {}
+    gyr = np.asarray(capture["gyr"], dtype=float).reshape(-1, 3)
+    return {"gyr_mean": gyr.mean(axis=0).tolist(), "gyr_std": gyr.std(axis=0, ddof=1).tolist(),
+            "gyr_count": len(gyr), "gyr_unit": capture.get("gyr_unit", "deg/s")}
+
+
+def session_gyroscope_bias(session: dict) -> dict | None:
+    """The gyroscope bias over a session's still captures that carried gyroscope samples, in rad/s with its 95 %
+    interval (app.calibration.gyro_bias); None when none did (or they were stored before captures kept it)."""
+    captures = [c for c in session["captures"] if c.get("gyr_std") is not None]
+    if not captures:
+        return None
+    scale = np.array([workflow.GYR_TO_RAD_S[c["gyr_unit"]] for c in captures])[:, None]
+    return gyroscope_bias(np.array([c["gyr_mean"] for c in captures]) * scale,
+                          np.array([c["gyr_std"] for c in captures]) * scale, [c["gyr_count"] for c in captures])
+
+
 def _six_capture(session: dict, capture: dict) -> dict:
     """A pose of the six-position flow: any order, recognised from the data."""
     if capture.get("position") not in (None, *CANONICAL_SIX):
@@ -179,7 +204,7 @@ def _six_capture(session: dict, capture: dict) -> dict:
     checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session["gravity"],
                                   expected=capture.get("position"))
     _check_not_turning(capture)
-    return checked.to_dict()
+    return dict(checked.to_dict(), **_gyr_summary(capture))
 
 
 def _free_capture(session: dict, capture: dict) -> dict:
@@ -193,7 +218,7 @@ def _free_capture(session: dict, capture: dict) -> dict:
                                   max_angle_deg=FREE_MAX_ANGLE_DEG)
     _check_not_turning(capture)
     check_new_direction(checked.mean, [c["mean"] for c in session["captures"]], min_angle_deg=FREE_MIN_ANGLE_DEG)
-    return dict(checked.to_dict(), position=position, up=checked.position)
+    return dict(checked.to_dict(), position=position, up=checked.position, **_gyr_summary(capture))
 
 
 def _cube_capture(store, session: dict, capture: dict) -> dict:
@@ -311,6 +336,9 @@ def _session_body(session: dict, result, extra: dict, **fields) -> dict:
     """The calibration body of a solved session: the browser's notes, the capture rates, its owner's fields."""
     rates = [c["sampling_rate_hz"] for c in session["captures"]]
     extra = dict(extra, sampling_rate_hz_min=min(rates), sampling_rate_hz_max=max(rates))
+    bias = session_gyroscope_bias(session)
+    if bias is not None:
+        fields["gyroscope_bias"] = bias
     return workflow.calibration_body(
         result, extra, unit=session["unit"], notes=_browser_notes(session), device_id=session.get("device_id"),
         label=session.get("label"), session_id=session["id"], **fields)

@@ -166,8 +166,26 @@ class ChoiceOut(Out):
     candidates: dict[str, CandidateOut] = Field(description="Every model that applied: its ok and error on poses left out.")
 
 
+class GyroscopeBiasOut(Out):
+    """The gyroscope's bias over a wizard session's still captures (app.calibration.gyro_bias)."""
+
+    rad_s: Vec3Out = Field(description="Mean of the captures' gyroscope means, per axis, rad/s.")
+    half_width_rad_s: Vec3Out = Field(description="Half-width of its 95 % interval, rad/s.")
+    deg_s: Vec3Out = Field(description="The bias in °/s.")
+    half_width_deg_s: Vec3Out = Field(description="The half-width in °/s.")
+    count: int = Field(description="Captures that carried gyroscope samples (K).")
+    confidence: float = Field(description="0.95.")
+    interval_from: Literal["captures", "samples"] = Field(description=(
+        "`captures`: Student-t with K − 1 degrees of freedom on the spread of the capture means, which holds the "
+        "bias's wander between captures; `samples`: a single capture, t with n − 1 on its standard error."))
+    formula: str = Field(description="The interval's formula in words.")
+
+
 class StillReadingsCommon(CalibrationCommon):
     choice: ChoiceOut | None = Field(None, description="Present when the request's method was `auto`.")
+    gyroscope_bias: GyroscopeBiasOut | None = Field(None, description=(
+        "A six or free wizard session whose captures carried gyroscope samples: the gyroscope's bias at rest; "
+        "absent otherwise."))
     covariance: list[list[float]] | None = Field(description="Covariance of the parameters (least squares).")
     segments_used: list[int] | None = Field(None, description="Still segments of the recording that were used.")
 
@@ -715,6 +733,10 @@ class CaptureSummary(BaseModel):
     sampling_rate_hz: float
     duration_s: float
     created_at: str
+    gyr_mean: list[float] | None = Field(None, description="Mean of the capture's gyroscope samples, in gyr_unit.")
+    gyr_std: list[float] | None = Field(None, description="six, free: their standard deviation (ddof 1), in gyr_unit.")
+    gyr_count: int | None = Field(None, description="six, free: how many gyroscope samples.")
+    gyr_unit: Literal["deg/s", "rad/s"] | None = Field(None, description="The unit the gyroscope samples came in.")
 
 
 class FreeProgress(BaseModel):

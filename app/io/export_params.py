@@ -14,6 +14,10 @@ frame, readings in m/s², before rotating into the body frame:
   ``_rotation * ((data - _thermal_offset - _offset).emult(_scale))`` —
   ``a_i = CAL_ACC0_iSCALE · (m_i − CAL_ACC0_iOFF)`` (thermal offset zero without thermal calibration).
 
+A wizard session's calibration with a ``gyroscope_bias`` adds ArduPilot's ``INS_GYROFFS_X/Y/Z`` in rad/s
+(``@Units: rad/s`` in ``AP_InertialSensor_Params.cpp``): ``_rotate_and_correct_gyro`` in the same backend
+file does ``gyro -= _gyro_offset`` in the sensor frame, so ``w_i = m_i − INS_GYROFFS_i``.
+
 trical's correction is ``a = M (m − o)``; the export keeps ``o`` and the diagonal ``D`` of ``M``.  The
 dropped off-diagonal terms leave a residual ``(M − D)(m − o) = (I − D M⁻¹) a``, whose largest value
 over readings of magnitude g is ``‖I − D M⁻¹‖₂ · g``: the export's comment header reports it, overall
@@ -34,6 +38,7 @@ STANDARD_GRAVITY = 9.80665
 ARDUPILOT_OFFSET_RANGE = (-3.5, 3.5)
 ARDUPILOT_SCALE_RANGE = (0.8, 1.2)
 ARDUPILOT_SOURCE = "libraries/AP_InertialSensor/AP_InertialSensor_Backend.cpp (_rotate_and_correct_accel)"
+ARDUPILOT_GYRO_SOURCE = "libraries/AP_InertialSensor/AP_InertialSensor_Backend.cpp (_rotate_and_correct_gyro)"
 ARDUPILOT_RANGE_SOURCE = "libraries/AP_InertialSensor/AP_InertialSensor_Params.cpp (@Range)"
 PX4_SOURCE = "src/lib/sensor_calibration/Accelerometer.hpp (Accelerometer::Correct)"
 PX4_SCALE_RANGE = (0.1, 3.0)
@@ -108,7 +113,8 @@ def _residual_lines(p: dict, target: str) -> list[str]:
 
 
 def to_ardupilot(body: dict) -> Export:
-    """ArduPilot parameter file: ``INS_ACCOFFS_X/Y/Z`` (m/s²) and ``INS_ACCSCAL_X/Y/Z``.
+    """ArduPilot parameter file: ``INS_ACCOFFS_X/Y/Z`` (m/s²) and ``INS_ACCSCAL_X/Y/Z``, and ``INS_GYROFFS_X/Y/Z``
+    (rad/s) when the calibration has a ``gyroscope_bias``.
 
     Raises
     ------
@@ -137,9 +143,21 @@ def to_ardupilot(body: dict) -> Export:
         f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_SOURCE}):",
         "  a_i = INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i), m and INS_ACCOFFS in m/s/s",
     ] + _residual_lines(p, "ArduPilot")
+    gyro = body.get("gyroscope_bias")
+    if gyro:
+        half = ", ".join(f"{a} {v:.3g}" for a, v in zip("XYZ", gyro["half_width_rad_s"]))
+        comments += [
+            f"Gyroscope bias over {gyro['count']} still captures, 95 % half-widths {half} rad/s "
+            f"(interval from the {gyro['interval_from']}).",
+            f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_GYRO_SOURCE}):",
+            "  w_i = m_i - INS_GYROFFS_i, m and INS_GYROFFS in rad/s",
+            "ArduPilot measures INS_GYROFFS again at each boot unless INS_GYR_CAL is 0 (Never).",
+        ]
     lines = [f"# {c}" for c in comments]
     lines += [f"INS_ACCOFFS_{a} {_number(v)}" for a, v in zip("XYZ", p["offset_mps2"])]
     lines += [f"INS_ACCSCAL_{a} {_number(v)}" for a, v in zip("XYZ", p["scale"])]
+    if gyro:
+        lines += [f"INS_GYROFFS_{a} {_number(v)}" for a, v in zip("XYZ", gyro["rad_s"])]
     return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body['id']}_ardupilot.parm")
 
 

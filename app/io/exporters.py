@@ -17,7 +17,8 @@ from .export_tables import to_csv, to_yaml
 
 
 def to_json(body: dict) -> Export:
-    """Versioned JSON: units, frame, gravity, counts, intervals, method, created_at, device_id."""
+    """Versioned JSON: units, frame, gravity, counts, intervals, method, created_at, device_id; a ``gyroscope``
+    block (bias and its 95 % half-width, rad/s) when the calibration has a ``gyroscope_bias``."""
     doc = {
         "$schema": JSON_SCHEMA,
         "schema_version": 1,
@@ -54,6 +55,11 @@ def to_json(body: dict) -> Export:
     else:
         c = corrections[0]
         doc["correction"] = {"formula": "a = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "source": c.source}
+    gyro = body.get("gyroscope_bias")
+    if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
+        doc["gyroscope"] = {"formula": "w = m - b", "unit": "rad/s", "bias": gyro["rad_s"],
+                            "half_width": gyro["half_width_rad_s"], "confidence": gyro["confidence"],
+                            "count": gyro["count"], "interval_from": gyro["interval_from"]}
     return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
 
 
@@ -87,10 +93,17 @@ static inline void {name}_apply(const float m[3], float f[3])
 
 
 def to_c_header(body: dict) -> Export:
-    """A C99 header with each sensor's correction matrix, offset and an inline apply function."""
+    """A C99 header with each sensor's correction matrix, offset and an inline apply function, and
+    ``TRICAL_GYRO_BIAS_RAD_S`` when the calibration has a ``gyroscope_bias``."""
     corrections = sensor_corrections(body)
     guard = "TRICAL_" + re.sub(r"[^A-Za-z0-9]", "_", body["id"]).upper() + "_H"
     sensors = "\n".join(_c_sensor(c) for c in corrections)
+    gyro = body.get("gyroscope_bias")
+    if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
+        half = ", ".join(f"{v:.3g}" for v in gyro["half_width_rad_s"])
+        sensors += (f"\n/* gyroscope bias at rest, rad/s, over {gyro['count']} still captures (95 % half-widths "
+                    f"{half}): w = m - TRICAL_GYRO_BIAS_RAD_S */\n"
+                    f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n")
     text = f"""/* trical calibration {body['id']}
  * method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}
  * input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}

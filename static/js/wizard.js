@@ -6,7 +6,7 @@ import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent,
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
 import { poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
-import { adviceText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
+import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
 import { unlockCues } from "./cues.js";
 import { announce, instruct, newState } from "./wizard_state.js";
@@ -285,6 +285,9 @@ function renderResult(s) {
     finishLine.textContent = `${cal.finish.text[0].toUpperCase()}${cal.finish.text.slice(1)}.`;
     finishLine.dataset.reason = cal.finish.reason;
   }
+  const gyroLine = $("#result-gyro");
+  setHidden(gyroLine, !cal.gyroscope_bias);
+  gyroLine.textContent = cal.gyroscope_bias ? gyroBiasText(cal.gyroscope_bias) : "";
   setHidden($("#result-advice-box"), !(cal.advice && cal.advice.length));
   $("#result-advice").replaceChildren(...(cal.advice || []).map((a) => el("li", adviceText(a))));
   $("#result-metrics").replaceChildren(...Object.entries(cal.metrics || {})

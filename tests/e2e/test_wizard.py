@@ -100,6 +100,8 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     grant_on_tap(page)
     sent = captures_sent(page)
     motion = Motion(page)
+    gyro_deg_s = np.array([0.3, -0.2, 0.1])  # a gyroscope bias at rest, multiples of Chromium's 0.1 °/s rounding
+    motion.send("gyroscope", np.radians(gyro_deg_s))  # the sensor in rad/s, rotationRate in °/s
     page.goto(server.url + "/wizard?protocol=six&capture_s=1")
     shot(page, "wizard_start")
     assert "flat, steady table" in page.text_content("#start")
@@ -146,6 +148,10 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
         assert float(raw) == pytest.approx(np.linalg.norm(m), abs=1e-4)
         assert float(calibrated) == pytest.approx(np.linalg.norm(expected.apply(m[None])[0]), abs=1e-4)
     assert page.locator("#norm-chart svg circle").count() == 12
+    # The gyroscope's bias over the still captures (app.calibration.gyro_bias), and its export.
+    assert page.text_content("#result-gyro") == ("Gyroscope bias: 0.300, -0.200, 0.100 °/s ± 0.000, 0.000, 0.000 °/s "
+                                                 "(95 %, 6 still captures)")
+    np.testing.assert_allclose(doc["gyroscope"]["bias"], np.radians(gyro_deg_s), rtol=1e-6)
 
     # What the page sent: raw samples in order, W3C by default off Apple devices, the gyroscope too.
     assert [c["position"] for c in sent] == order

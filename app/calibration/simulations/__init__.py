@@ -8,4 +8,6 @@ Nothing the service runs imports this package (``tests/calibration/test_import_p
 - :mod:`.logs`: raw accelerometer logs of a device rested in several orientations
   (the affine error of Georgieva et al., ESGI'95, section 3.2);
 - :mod:`.cube`: the cube sessions of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section V.
+- :mod:`.gyro_captures`: still gyroscope captures with a known bias, white noise and a wander of the
+  bias between captures.
 """
