@@ -126,7 +126,7 @@ def _sign_and_unit(acc: np.ndarray, meta: dict | None, acc_file: str | None, cal
 
 def _is_magnetometer_file(name: str) -> bool:
     """Sensor Logger names each sensor's CSV after the sensor (``MagnetometerUncalibrated.csv``)."""
-    return Path(name).name.lower().startswith("magnetometer")
+    return "magnetometer" in Path(name).name.lower()
 
 
 def _magnetometer_only(time_ns: np.ndarray, mag: np.ndarray, names: list[str], label: str, units: dict,
