@@ -171,8 +171,7 @@ $("#noise-recording").addEventListener("click", async () => {
 $("#compass-recording").addEventListener("click", async () => {
   say("Calibrating the compass…");
   try {
-    showResult(await createCalibration({ method: "magnetometer", recording_id: recordingId,
-      date: new Date().toISOString().slice(0, 10) }));
+    showResult(await createCalibration({ method: "magnetometer", recording_id: recordingId }));
   } catch (err) {
     say(`Compass calibration refused: ${err.message}`);
   }

@@ -124,11 +124,11 @@ function start() {
   say("Reading the magnetometer: turn the phone slowly through all directions.");
 }
 
-// Today's date always; the place only when the person allowed it (never waited for).
+// The place only when the person allowed it (never waited for), with today's date for the field
+// model; without a place the server uses no date (it would only warn that it went unused).
 function payload() {
-  const body = { method: "magnetometer", mag: state.coverage.readings, date: new Date().toISOString().slice(0, 10),
-    label: "compass wizard" };
-  if (state.place) Object.assign(body, state.place);
+  const body = { method: "magnetometer", mag: state.coverage.readings, label: "compass wizard" };
+  if (state.place) Object.assign(body, state.place, { date: new Date().toISOString().slice(0, 10) });
   return body;
 }
 
@@ -184,7 +184,8 @@ function showResult(cal) {
   $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
   $("#result-metrics").replaceChildren(...Object.entries(m).map(([k, v]) => {
     const tr = el("tr");
-    tr.append(el("th", k, { scope: "row" }), el("td", Array.isArray(v) ? v.join(", ") || "—" : formatNumber(v)));
+    const shown = Array.isArray(v) ? v.join(", ") || "—" : Number.isInteger(v) ? String(v) : formatNumber(v);
+    tr.append(el("th", k, { scope: "row" }), el("td", shown));
     return tr;
   }));
   $("#downloads").replaceChildren(...formats.map(([key, name]) => {

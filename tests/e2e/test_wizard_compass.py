@@ -17,6 +17,8 @@ from app.geomag import reference_field
 from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, shot
 
 WIDTHS = (320, 390, 1280)
+WIDEST = ("() => [...document.querySelectorAll('body *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 0.5)"
+          ".slice(-3).map((e) => `${e.tagName}#${e.id}.${e.className} ${e.textContent.slice(0, 40)}`).join(' | ')")
 MAG_FLAGS = ["--enable-features=GenericSensorExtraClasses", "--enable-generic-sensor-extra-classes"]
 HELSINKI = {"latitude": 60.17, "longitude": 24.94}
 B_TRUE = np.array([23.5, -41.2, 12.8])
@@ -46,7 +48,8 @@ def shots(page, name: str) -> None:
     for width in WIDTHS:
         page.set_viewport_size({"width": width, "height": 720})
         shot(page, f"wizard_compass_{name}_{width}")
-        assert page.evaluate("() => document.documentElement.scrollWidth <= innerWidth"), f"{name} scrolls sideways at {width} px"
+        assert page.evaluate("() => document.documentElement.scrollWidth <= innerWidth"), \
+            f"{name} scrolls sideways at {width} px: {page.evaluate(WIDEST)}"
     page.set_viewport_size({"width": 390, "height": 720})
 
 
