@@ -57,9 +57,10 @@ const OUTLINES = C.faces.map((_, k) => faceOutline(k));
 
 const AXES = [["x", [1, 0, 0]], ["y", [0, 1, 0]], ["z", [0, 0, 1]]];
 
-// One disc: the faces near the camera, the near half of the points, the current reading, the axes.
-// points and current are in units of the sphere's radius (1: on the sphere).
-function disc(view, k, { covered, points, current, radius }) {
+// One disc: the faces near the camera, the near half of the points (near of the plane through
+// their own centre, so that a cloud off the sphere still shows as a cloud), the current reading, the
+// axes. points, centre and current are in units of the sphere's radius (1: on the sphere).
+function disc(view, k, { covered, points, centre, current, radius }) {
   const { cam } = view;
   const cx = k * (SIZE + GAP) + PAD + R;
   const cy = PAD + R;
@@ -74,7 +75,7 @@ function disc(view, k, { covered, points, current, radius }) {
       + `fill="${on ? "#8fd19a" : "#ffffff"}" stroke="#8a8a8a" stroke-width="0.8" />`);
   });
   for (const p of points) {
-    if (dot(p, cam.d) < 0) continue;
+    if (dot([p[0] - centre[0], p[1] - centre[1], p[2] - centre[2]], cam.d) < 0) continue;
     const [x, y] = at(p);
     parts.push(`<circle cx="${fmt(x)}" cy="${fmt(y)}" r="1.8" fill="#0b4f9c" />`);
   }
@@ -98,12 +99,14 @@ function disc(view, k, { covered, points, current, radius }) {
 
 // covered: 20 booleans in the order of the tables' faces; points: [x, y, z] in units of the sphere's
 // radius; current: the latest reading, or null; scale: the picture's radius in those units (above 1
-// when points lie outside the sphere); label: the picture's accessible name.
-export function magSphereSvg({ covered, points = [], current = null, scale = 1.15, label, className = "" }) {
+// when points lie outside the sphere); centre: the points' own centre (default the sphere's);
+// label: the picture's accessible name.
+export function magSphereSvg({ covered, points = [], centre = [0, 0, 0], current = null, scale = 1.15, label, className = "" }) {
   const radius = 1 / scale;
   const shown = points.map((p) => p.map((v) => v * radius));
   const now = current ? current.map((v) => v * radius) : null;
-  const discs = VIEWS.map((view, k) => disc(view, k, { covered, points: shown, current: now, radius }));
+  const middle = centre.map((v) => v * radius);
+  const discs = VIEWS.map((view, k) => disc(view, k, { covered, points: shown, centre: middle, current: now, radius }));
   const width = 2 * SIZE + GAP;
   const height = SIZE + 16;
   const nCovered = covered.filter(Boolean).length;
@@ -135,8 +138,9 @@ export function magResultSvgs(cal) {
   const reach = (pts) => Math.max(1.15, ...pts.map((p) => 1.05 * Math.hypot(p[0], p[1], p[2])));
   const before = inUnits(raw);
   const calibrated = inUnits(after);
+  const mean = (pts) => [0, 1, 2].map((i) => pts.reduce((sum, p) => sum + p[i], 0) / Math.max(1, pts.length));
   return {
-    before: magSphereSvg({ covered, points: before, scale: reach(before), className: "before",
+    before: magSphereSvg({ covered, points: before, centre: mean(before), scale: reach(before), className: "before",
       label: `Raw readings m around zero, the sphere of radius F = ${field.toFixed(1)} µT` }),
     after: magSphereSvg({ covered, points: calibrated, scale: reach(calibrated), className: "after",
       label: `Calibrated h = M (m − b), the sphere of radius F = ${field.toFixed(1)} µT` }),
