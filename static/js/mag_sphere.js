@@ -102,11 +102,8 @@ function disc(view, k, { covered, points, centre, current, radius }) {
 // when points lie outside the sphere); centre: the points' own centre (default the sphere's);
 // label: the picture's accessible name.
 export function magSphereSvg({ covered, points = [], centre = [0, 0, 0], current = null, scale = 1.15, label, className = "" }) {
-  const radius = 1 / scale;
-  const shown = points.map((p) => p.map((v) => v * radius));
-  const now = current ? current.map((v) => v * radius) : null;
-  const middle = centre.map((v) => v * radius);
-  const discs = VIEWS.map((view, k) => disc(view, k, { covered, points: shown, centre: middle, current: now, radius }));
+  const radius = 1 / scale; // the sphere's radius in the picture, its disc R
+  const discs = VIEWS.map((view, k) => disc(view, k, { covered, points, centre, current, radius }));
   const width = 2 * SIZE + GAP;
   const height = SIZE + 16;
   const nCovered = covered.filter(Boolean).length;
