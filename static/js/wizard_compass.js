@@ -48,6 +48,14 @@ const WHY = {
 };
 
 function refused(err) {
+  if (state.coverage.count > 0) { // it stopped mid-turn: the readings so far are kept
+    stopSensor();
+    const text = `The magnetometer stopped (${err && (err.message || err.name)}): tap Calibrate now to use the `
+      + `${state.coverage.count} readings so far, or Start over.`;
+    $("#compass-missing").textContent = text;
+    say(text);
+    return;
+  }
   const why = WHY[err && err.name] || `the sensor failed (${err && (err.message || err.name)})`;
   noMagnetometer(`The Generic Sensor API's Magnetometer is present, but ${why}.`);
 }
