@@ -486,6 +486,8 @@ def _why(chosen: str, summary: dict, aligned: bool, n: int) -> str:
 
 
 def _auto(request, recording: RecordingSource | None) -> dict:
+    if recording is not None and "acc" not in recording.meta["units"] and "mag" in recording.meta["units"]:
+        return _auto_compass(request, recording)
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
     result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
@@ -740,6 +742,21 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
     extra = {} if model is None else {"field_model": model["name"], "field_date": model["date"]}
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label or (recording.meta.get("filename") if recording else None), **source)
+
+
+def _auto_compass(request, recording: RecordingSource) -> dict:
+    """``auto`` on a recording of the magnetometer alone: the compass, its field estimated (``auto``
+    takes no place; method magnetometer with a place references the Earth's field there)."""
+    from app.requests import MagnetometerIn
+
+    compass = MagnetometerIn(method="magnetometer", recording_id=request.recording_id, device_id=request.device_id,
+                             label=request.label)
+    body = _magnetometer(compass, recording)
+    body["choice"] = {"method": "magnetometer", "candidates": {},
+                      "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
+                             "calibration; for the Earth's field at your place use method magnetometer with "
+                             "latitude_deg, longitude_deg and date"}
+    return body
 
 
 _METHODS = {"auto": _auto, "six_position": _known, "orientations": _known, "nonorthogonal": _magnitude, "triangular": _magnitude,

@@ -161,7 +161,7 @@ class CandidateOut(Out):
 class ChoiceOut(Out):
     """What `method: auto` chose (app.workflow.choose_model)."""
 
-    method: Literal["six_position", "orientations", "triangular"]
+    method: Literal["six_position", "orientations", "triangular", "magnetometer"]
     why: str
     candidates: dict[str, CandidateOut] = Field(description="Every model that applied: its ok and error on poses left out.")
 
@@ -584,6 +584,8 @@ class MagnetometerOut(CalibrationCommon):
     metrics: MagnetometerMetrics
     covariance: list[list[float]] | None = Field(description="9×9, of (M_xx, M_yy, M_zz, M_xy, M_xz, M_yz, b).")
     samples: MagnetometerSamples
+    choice: ChoiceOut | None = Field(None, description=(
+        "Present when the request's method was `auto` on a recording of the magnetometer alone."))
 
 
 CalibrationOut = Annotated[

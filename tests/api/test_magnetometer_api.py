@@ -229,7 +229,10 @@ def test_over_http_a_magnetometer_log_calibrates_and_the_accelerometer_methods_r
     assert rec["channels"] == ["mag"] and rec["segments"] == [] and rec["units"] == {"mag": "uT"}
     ok = client.post("/api/v1/calibrations", json={"method": "magnetometer", "recording_id": rec["id"], "field_ut": 48})
     assert ok.status_code == 201 and ok.json()["ok"], ok.text
-    for method in ("auto", "six_position", "triangular", "cube", "autocal"):
+    auto = client.post("/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]})
+    assert auto.status_code == 201 and auto.json()["method"] == "magnetometer", auto.text
+    assert auto.json()["choice"]["method"] == "magnetometer" and auto.json()["metrics"]["field_source"] == "estimated"
+    for method in ("six_position", "triangular", "cube", "autocal"):
         r = client.post("/api/v1/calibrations", json={"method": method, "recording_id": rec["id"]})
         assert r.status_code == 422, (method, r.text)
         assert "no accelerometer columns" in r.json()["detail"] and "method magnetometer" in r.json()["detail"]
