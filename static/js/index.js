@@ -136,7 +136,9 @@ $("#upload-form").addEventListener("submit", async (event) => {
   try {
     const rec = await uploadRecording(data);
     recordingId = rec.id;
+    // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
     $("#compass-recording").hidden = !rec.channels.includes("mag");
+    $("#calibrate-recording").hidden = !rec.channels.includes("acc");
     $("#segments").hidden = false;
     $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
       const tr = document.createElement("tr");
@@ -144,7 +146,12 @@ $("#upload-form").addEventListener("submit", async (event) => {
         cell("td", s.acc_mean.map((v) => formatNumber(v, 3)).join(", ")));
       return tr;
     }));
-    say(`Found ${rec.segments.length} still segments in ${rec.n_samples} samples at ${formatNumber(rec.sampling_rate_hz, 1)} Hz.`);
+    const still = rec.channels.includes("acc");
+    $("#segments-h").hidden = !still;
+    $("#segments-table").hidden = !still;
+    const rate = `${rec.n_samples} samples at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`;
+    say(still ? `Found ${rec.segments.length} still segments in ${rate}.`
+      : `Read the magnetometer alone: ${rate}. Calibrate the compass below.`);
   } catch (err) {
     say(`Upload refused: ${err.message}`);
   }

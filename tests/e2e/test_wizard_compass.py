@@ -164,6 +164,7 @@ def test_a_phyphox_upload_shows_the_sphere_before_and_after(page, server, tmp_pa
     page.set_input_files("#log-file", str(path))
     page.click("#upload-form button[type=submit]")
     expect(page.locator("#compass-recording")).to_be_visible()
+    assert page.is_hidden("#calibrate-recording")  # no accelerometer: nothing still to calibrate from
     page.click("#compass-recording")
     expect(page.locator("#result")).to_be_visible()
     expect(page.locator("#result-mag-box")).to_be_visible()
