@@ -17,7 +17,8 @@ from .tables import POSE_NAMES, page_tables
 
 router = APIRouter(include_in_schema=False)
 
-PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube", "free": "free poses, no jig"}
+PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube", "free": "free poses, no jig",
+             "compass": "the compass: turn the phone through all directions"}
 
 
 def _templates(request: Request) -> Jinja2Templates:
@@ -68,4 +69,5 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
         "poses": [(label, POSE_NAMES[label]) for label in CANONICAL_SIX], "formats": list(FORMAT_NAMES.items()),
         "tables": None if problem else page_tables(),
     }
-    return _templates(request).TemplateResponse(request, "wizard.html", context, status_code=400 if problem else 200)
+    page = "wizard_compass.html" if protocol == "compass" and not problem else "wizard.html"
+    return _templates(request).TemplateResponse(request, page, context, status_code=400 if problem else 200)

@@ -17,6 +17,8 @@ from app import sessions
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
+from app.calibration.magnetometer import coverage as compass
+from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
 
 CAPTURE_WINDOW_MS = 500
@@ -24,6 +26,50 @@ CAPTURE_WINDOW_MS = 500
 
 CAPTURE_HOLD_MS = 1500
 """Still in a valid pose this long before the page starts a capture (ms)."""
+
+
+COVERAGE_TO_SOLVE = 0.9
+"""Share of the 20 icosahedron faces the compass page waits for before it solves by itself; the
+server's own gate (``MIN_COVERAGE`` in app/calibration/magnetometer/fit.py) is lower, so a turn the
+page accepts is never refused for coverage alone."""
+
+COMPASS_FREQUENCY_HZ = 10
+"""The rate the compass page asks of the browser's Magnetometer (Hz): a slow turn puts several
+readings in each face."""
+
+_SIDE = {"x": ("right edge", "left edge"), "y": ("top edge", "bottom edge"), "z": ("screen", "back")}
+_TOWARDS = {"x": ("right", "left"), "y": ("top", "bottom"), "z": ("screen", "back")}
+
+
+def face_words(name: str) -> str:
+    """A compass face in plain words: the side of the phone the field comes out of.
+
+    ``+z+y`` → ``screen, towards the top``; ``+x+y+z`` → ``screen, top-right corner``.
+    """
+    signs = [(name[i + 1], name[i] == "+") for i in range(0, len(name), 2)]
+    word = {axis: pos for axis, pos in signs}
+
+    def pick(table, axis):
+        return table[axis][0 if word[axis] else 1]
+
+    if len(signs) == 3:
+        return f"{pick(_SIDE, 'z')}, {pick(_TOWARDS, 'y')}-{pick(_TOWARDS, 'x')} corner"
+    (main, _), (towards, _) = signs
+    return f"{pick(_SIDE, main)}, towards the {pick(_TOWARDS, towards)}"
+
+
+def compass_tables() -> dict:
+    """The compass page's faces (app/calibration/magnetometer/coverage.py) and thresholds."""
+    return {
+        "faceCentres": compass.FACE_CENTRES.round(12).tolist(),
+        "faceNames": list(compass.FACE_NAMES),
+        "faceWords": [face_words(n) for n in compass.FACE_NAMES],
+        "vertices": compass.ICOSAHEDRON_VERTICES.round(12).tolist(),
+        "faces": compass.ICOSAHEDRON_FACES.tolist(),
+        "coverageToSolve": COVERAGE_TO_SOLVE,
+        "minReadings": COMPASS_MIN_READINGS,
+        "frequencyHz": COMPASS_FREQUENCY_HZ,
+    }
 
 
 def capture_thresholds() -> dict:
@@ -51,7 +97,7 @@ def page_tables() -> dict:
         capture machine's options); ``cube`` (the cube flow's face angle); ``free`` (the free flow's
         angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs); ``cube24`` (the 23
         ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
-        and the ``turnWords`` the server's refusals use).
+        and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -73,4 +119,5 @@ def page_tables() -> dict:
             "attitudes": attitudes.tolist(),
             "turnWords": dict(TURN_WORDS),
         },
+        "compass": compass_tables(),
     }

@@ -1,5 +1,6 @@
 // The start page: the only module here that touches the DOM.
 import { createCalibration, exportUrl, uploadRecording } from "./api.js";
+import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber, parseReadings } from "./readings.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -79,6 +80,7 @@ function showResult(cal) {
     tr.firstChild.scope = "row";
     return tr;
   }));
+  showMagSpheres(cal);
   const perReading = Boolean(cal.readings && cal.readings.length);
   $("#result-readings").hidden = !perReading;
   $("#result-readings-h").hidden = !perReading;
@@ -106,6 +108,26 @@ function showResult(cal) {
   say(cal.ok ? "Calibration done." : "Calibration done, but it failed its checks.");
 }
 
+// A compass calibration: the raw readings and the calibrated ones on the same sphere (mag_sphere.js).
+function showMagSpheres(cal) {
+  const mag = cal.model.type === "magnetometer";
+  $("#result-mag-box").hidden = !mag;
+  if (!mag) { $("#result-mag").replaceChildren(); return; }
+  const svgs = magResultSvgs(cal);
+  const fig = (svg, caption) => {
+    const f = document.createElement("figure");
+    f.className = "mag-fig";
+    const pic = document.createElement("div");
+    pic.innerHTML = svg;
+    f.append(pic, cell("figcaption", caption));
+    return f;
+  };
+  const legend = cell("p", "The sphere has the field's radius F; green faces: directions covered. Raw readings sit off it "
+    + "(the hard iron b moves them, soft iron stretches them); calibrated ones lie on it.");
+  legend.className = "hint legend";
+  $("#result-mag").replaceChildren(fig(svgs.before, "Before: the raw readings m"), fig(svgs.after, "After: h = M (m − b)"), legend);
+}
+
 $("#upload-form").addEventListener("submit", async (event) => {
   event.preventDefault();
   const data = new FormData(event.target);
@@ -114,6 +136,9 @@ $("#upload-form").addEventListener("submit", async (event) => {
   try {
     const rec = await uploadRecording(data);
     recordingId = rec.id;
+    // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
+    $("#compass-recording").hidden = !rec.channels.includes("mag");
+    $("#calibrate-recording").hidden = !rec.channels.includes("acc");
     $("#segments").hidden = false;
     $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
       const tr = document.createElement("tr");
@@ -121,7 +146,12 @@ $("#upload-form").addEventListener("submit", async (event) => {
         cell("td", s.acc_mean.map((v) => formatNumber(v, 3)).join(", ")));
       return tr;
     }));
-    say(`Found ${rec.segments.length} still segments in ${rec.n_samples} samples at ${formatNumber(rec.sampling_rate_hz, 1)} Hz.`);
+    const still = rec.channels.includes("acc");
+    $("#segments-h").hidden = !still;
+    $("#segments-table").hidden = !still;
+    const rate = `${rec.n_samples} samples at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`;
+    say(still ? `Found ${rec.segments.length} still segments in ${rate}.`
+      : `Read the magnetometer alone: ${rate}. Calibrate the compass below.`);
   } catch (err) {
     say(`Upload refused: ${err.message}`);
   }
@@ -142,6 +172,15 @@ $("#noise-recording").addEventListener("click", async () => {
     showResult(await createCalibration({ method: "noise", recording_id: recordingId }));
   } catch (err) {
     say(`Noise characterisation refused: ${err.message}`);
+  }
+});
+
+$("#compass-recording").addEventListener("click", async () => {
+  say("Calibrating the compass…");
+  try {
+    showResult(await createCalibration({ method: "magnetometer", recording_id: recordingId }));
+  } catch (err) {
+    say(`Compass calibration refused: ${err.message}`);
   }
 });
 

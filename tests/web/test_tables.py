@@ -15,8 +15,10 @@ from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.capture import STILL_MAX_STD_G
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
 from app.calibration.cube.turns import TURN_WORDS
+from app.calibration.magnetometer import coverage
+from app.calibration.magnetometer.fit import MIN_COVERAGE, MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
-from app.web.tables import POSE_NAMES, page_tables
+from app.web.tables import COVERAGE_TO_SOLVE, POSE_NAMES, face_words, page_tables
 from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
 
 JS = Path(__file__).resolve().parents[2] / "static" / "js"
@@ -66,6 +68,24 @@ def test_the_tables_are_the_core_s_constants():
     assert t["cube24"]["turnWords"] == TURN_WORDS
 
 
+def test_the_compass_faces_are_coverage_py_s():
+    t = page_tables()["compass"]
+    np.testing.assert_allclose(t["faceCentres"], coverage.FACE_CENTRES, atol=1e-12)
+    np.testing.assert_allclose(t["vertices"], coverage.ICOSAHEDRON_VERTICES, atol=1e-12)
+    assert t["faces"] == coverage.ICOSAHEDRON_FACES.tolist() and t["faceNames"] == list(coverage.FACE_NAMES)
+    assert t["minReadings"] == MIN_READINGS and t["coverageToSolve"] == COVERAGE_TO_SOLVE
+    assert MIN_COVERAGE < COVERAGE_TO_SOLVE < 1.0  # a turn the page solves is not refused for coverage alone
+    assert len(set(t["faceWords"])) == 20
+
+
+def test_the_compass_faces_in_words():
+    assert face_words("+z+y") == "screen, towards the top"
+    assert face_words("-x-y-z") == "back, bottom-left corner"
+    assert face_words("+x+y+z") == "screen, top-right corner"
+    assert face_words("-z+x") == "back, towards the right"
+    assert face_words("+x-y") == "right edge, towards the bottom"
+
+
 def test_the_page_s_thresholds_stay_inside_the_server_s_checks():
     capture = page_tables()["capture"]
     # Still for the page means still for the server: the page leaves "still" before the server's limits.
@@ -76,7 +96,7 @@ def test_the_page_s_thresholds_stay_inside_the_server_s_checks():
 
 
 def test_the_pages_render_the_tables_as_data_the_csp_never_runs(client):
-    for path in ("/wizard", "/wizard?protocol=cube24", "/"):
+    for path in ("/wizard", "/wizard?protocol=cube24", "/wizard?protocol=compass", "/"):
         r = client.get(path)
         assert r.status_code == 200 and "script-src 'self'" in r.headers["content-security-policy"]
         attrs, tables = rendered_tables(r.text)

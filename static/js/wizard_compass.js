@@ -1,0 +1,245 @@
+// The compass wizard (/wizard?protocol=compass): reads the browser's Magnetometer (the Generic
+// Sensor API), fills the sphere of directions as the phone turns, and posts the readings to
+// POST /api/v1/calibrations (method magnetometer) once the faces are covered. Where the browser has
+// no magnetometer, it says so and points to a recording app and the upload on the start page.
+import { createCalibration, exportUrl } from "./api.js";
+import { cue, unlockCues } from "./cues.js";
+import { CompassCoverage, COVERAGE_TO_SOLVE, MIN_READINGS, missingWords } from "./compass_flow.js";
+import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
+import { formatNumber } from "./readings.js";
+import { withInterval } from "./result.js";
+import { TABLES } from "./tables.js";
+
+const $ = (sel) => document.querySelector(sel);
+const root = $("#compass");
+const formats = JSON.parse(root.dataset.formats);
+const NO_READING_MS = 3000;
+const DRAW_MS = 150; // the sphere is redrawn at most this often
+const DRAWN_POINTS = 600; // the latest readings drawn
+
+const state = { sensor: null, coverage: new CompassCoverage(), place: null, solving: false, autoSolved: false,
+  drawnAt: 0, timer: null, drawTimer: null };
+
+function say(text) { $("#status").textContent = text; }
+function el(tag, text, attrs = {}) {
+  const e = document.createElement(tag);
+  if (text !== undefined && text !== null) e.textContent = text;
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  return e;
+}
+const pct = (v) => `${Math.round(100 * v)} %`;
+
+// --- no magnetometer -------------------------------------------------------------------------
+
+function noMagnetometer(why) {
+  stopSensor();
+  $("#compass-start").hidden = true;
+  $("#compass-capture").hidden = true;
+  $("#compass-none-why").textContent = why;
+  $("#compass-none").hidden = false;
+  $("#compass-none").focus();
+  say("This browser gives no magnetometer readings: record with a sensor app and upload the log.");
+}
+
+const WHY = {
+  SecurityError: "the browser refused the sensor on this page (it needs HTTPS and the magnetometer permission)",
+  NotAllowedError: "access to the magnetometer was not allowed",
+  NotReadableError: "the browser has the interface but could not read a magnetometer on this device",
+};
+
+function refused(err) {
+  if (state.coverage.count > 0) { // it stopped mid-turn: the readings so far are kept
+    stopSensor();
+    const text = `The magnetometer stopped (${err && (err.message || err.name)}): tap Calibrate now to use the `
+      + `${state.coverage.count} readings so far, or Start over.`;
+    $("#compass-missing").textContent = text;
+    say(text);
+    return;
+  }
+  const why = WHY[err && err.name] || `the sensor failed (${err && (err.message || err.name)})`;
+  noMagnetometer(`The Generic Sensor API's Magnetometer is present, but ${why}.`);
+}
+
+function stopSensor() {
+  clearTimeout(state.timer);
+  if (state.sensor) {
+    try { state.sensor.stop(); } catch { /* already stopped */ }
+    state.sensor.removeEventListener("reading", onReading);
+  }
+  state.sensor = null;
+}
+
+// --- the turn --------------------------------------------------------------------------------
+
+function onReading() {
+  const s = state.sensor;
+  if (!s) return;
+  clearTimeout(state.timer);
+  if (!state.coverage.push([s.x, s.y, s.z])) return;
+  const now = performance.now();
+  if (now - state.drawnAt >= DRAW_MS) show();
+  else if (!state.drawTimer) state.drawTimer = setTimeout(show, DRAW_MS);
+}
+
+function show() {
+  clearTimeout(state.drawTimer);
+  state.drawTimer = null;
+  state.drawnAt = performance.now();
+  const st = state.coverage.status();
+  const box = $("#compass-coverage");
+  box.dataset.count = String(st.count);
+  box.dataset.coverage = st.coverage.toFixed(2);
+  const covered = st.covered.filter(Boolean).length;
+  box.textContent = st.centre
+    ? `Coverage ${pct(st.coverage)} (${covered} of ${st.covered.length} directions), ${st.count} readings.`
+    : `${st.count} readings: keep turning, the sphere fills once the phone has turned a little.`;
+  $("#compass-progress").value = st.coverage;
+  const words = missingWords(st.missing);
+  $("#compass-missing").textContent = !st.centre ? ""
+    : words.length ? `Still missing: ${words.join("; ")}.` : "All directions covered.";
+  $("#compass-sphere").innerHTML = magSphereSvg({ covered: st.covered, points: st.directions.slice(-DRAWN_POINTS),
+    current: st.current, label: "Field directions reached" });
+  $("#compass-solve").disabled = st.count < MIN_READINGS || state.solving;
+  if (!state.autoSolved && state.coverage.ready(st)) {
+    state.autoSolved = true;
+    cue("finished");
+    say(`Coverage ${pct(st.coverage)}: calibrating.`);
+    solve();
+  }
+}
+
+function start() {
+  unlockCues(); // sound needs a tap
+  let sensor;
+  try {
+    // eslint-disable-next-line no-undef
+    sensor = new Magnetometer({ frequency: TABLES.compass.frequencyHz });
+  } catch (err) {
+    refused(err);
+    return;
+  }
+  state.sensor = sensor;
+  sensor.addEventListener("reading", onReading);
+  sensor.addEventListener("error", (event) => refused(event.error));
+  sensor.start();
+  state.timer = setTimeout(() => {
+    if (state.coverage.count === 0) noMagnetometer("The Generic Sensor API's Magnetometer is present, but it sent no reading.");
+  }, NO_READING_MS);
+  $("#compass-start").hidden = true;
+  $("#compass-capture").hidden = false;
+  $("#start-over").hidden = false;
+  $("#compass-capture-h").focus();
+  say("Reading the magnetometer: turn the phone slowly through all directions.");
+}
+
+// The place only when the person allowed it (never waited for), with today's date for the field
+// model; without a place the server uses no date (it would only warn that it went unused).
+function payload() {
+  const body = { method: "magnetometer", mag: state.coverage.readings, label: "compass wizard" };
+  if (state.place) Object.assign(body, state.place, { date: new Date().toISOString().slice(0, 10) });
+  return body;
+}
+
+async function solve() {
+  if (state.solving) return;
+  state.solving = true;
+  $("#compass-solve").disabled = true;
+  try {
+    const cal = await createCalibration(payload());
+    stopSensor();
+    showResult(cal);
+  } catch (err) {
+    say(`The calibration could not be computed: ${err.message}`);
+    $("#compass-missing").textContent = `The server refused: ${err.message}. Keep turning, then tap Calibrate now.`;
+  } finally {
+    state.solving = false;
+    $("#compass-solve").disabled = state.coverage.count < MIN_READINGS;
+  }
+}
+
+// --- the result ------------------------------------------------------------------------------
+
+function fillMatrix(table, rows, half) {
+  table.replaceChildren(...rows.map((row, i) => {
+    const tr = el("tr");
+    row.forEach((v, j) => tr.append(el("td", withInterval(v, half?.[i]?.[j], (x) => formatNumber(x, 4)))));
+    return tr;
+  }));
+}
+
+function showResult(cal) {
+  const m = cal.metrics;
+  $("#compass-capture").hidden = true;
+  const box = $("#result");
+  box.hidden = false;
+  $("#result-headline").textContent = cal.headline || "";
+  const ok = $("#result-ok");
+  ok.className = cal.ok ? "ok" : "bad";
+  ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks:`;
+  $("#result-reasons").replaceChildren(...(cal.reasons || []).map((r) => el("li", r)));
+  const source = { given: "given", model: "IGRF model at your place", estimated: "estimated" }[m.field_source] || m.field_source;
+  $("#result-summary").textContent = `Field ${formatNumber(m.field_ut, 1)} µT (${source}); spread of |h| `
+    + `${formatNumber(m.norm_spread_raw_ut, 2)} µT before → ${formatNumber(m.norm_spread_ut, 2)} µT after; `
+    + `error on new directions ${formatNumber(m.cv_error_ut, 2)} µT (raw ${formatNumber(m.raw_error_ut, 2)} µT); `
+    + `coverage ${pct(m.coverage)} of ${m.count} readings.`;
+  const svgs = magResultSvgs(cal);
+  $("#result-mag").replaceChildren(figure(svgs.before, "Before: the raw readings m"), figure(svgs.after, "After: h = M (m − b)"),
+    el("p", "The sphere has the field's radius F; green faces: directions covered. Raw readings sit off it (the hard "
+      + "iron b moves them, soft iron stretches them); calibrated ones lie on it.", { class: "hint legend" }));
+  const unc = cal.uncertainty || {};
+  fillMatrix($("#result-M"), cal.model.M, unc.M);
+  fillMatrix($("#result-b"), cal.model.b.map((v) => [v]), unc.b && unc.b.map((v) => [v]));
+  $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
+  $("#result-metrics").replaceChildren(...Object.entries(m).map(([k, v]) => {
+    const tr = el("tr");
+    const shown = Array.isArray(v) ? v.join(", ") || "—" : Number.isInteger(v) ? String(v) : formatNumber(v);
+    tr.append(el("th", k, { scope: "row" }), el("td", shown));
+    return tr;
+  }));
+  $("#downloads").replaceChildren(...formats.map(([key, name]) => {
+    const li = el("li");
+    li.append(el("a", name, { href: exportUrl(cal.id, key), download: "", "data-format": key }));
+    return li;
+  }));
+  box.focus();
+  cue(cal.ok ? "captured" : "refused");
+  say(cal.ok ? "Calibration done: it passed its checks." : "Calibration done, but it failed its checks.");
+}
+
+function figure(svg, caption) {
+  const f = el("figure", null, { class: "mag-fig" });
+  const pic = el("div");
+  pic.innerHTML = svg;
+  f.append(pic, el("figcaption", caption));
+  return f;
+}
+
+// --- controls --------------------------------------------------------------------------------
+
+$("#compass-start-btn").addEventListener("click", start);
+$("#compass-solve").addEventListener("click", solve);
+$("#compass-more").addEventListener("click", () => {
+  $("#result").hidden = true;
+  $("#compass-capture").hidden = false;
+  start();
+});
+$("#start-over").addEventListener("click", () => location.reload());
+$("#compass-where").addEventListener("click", () => {
+  const text = $("#compass-where-text");
+  if (!navigator.geolocation) { text.textContent = "This browser gives no location: the strength will be estimated."; return; }
+  text.textContent = "Asking for the location… (you can start meanwhile)";
+  navigator.geolocation.getCurrentPosition((pos) => {
+    state.place = { latitude_deg: pos.coords.latitude, longitude_deg: pos.coords.longitude };
+    text.textContent = `Location ${pos.coords.latitude.toFixed(2)}°, ${pos.coords.longitude.toFixed(2)}°: the reference field comes from the IGRF model.`;
+  }, (err) => {
+    text.textContent = `No location (${err.message || "refused"}): the field's strength will be estimated.`;
+  }, { maximumAge: 600000, timeout: 20000 });
+});
+
+$("#compass-coverage").dataset.solveAt = String(COVERAGE_TO_SOLVE);
+if (!("Magnetometer" in window)) {
+  noMagnetometer(window.isSecureContext
+    ? "This browser has no Magnetometer (the Generic Sensor API's): Chrome on Android has it behind a flag "
+      + "(chrome://flags, “Generic Sensor Extra Classes”); Safari and Firefox do not have it."
+    : "The magnetometer needs HTTPS: run trical serve --https and open the https address it prints.");
+}
