@@ -9,6 +9,7 @@ import logging
 
 from fastapi import FastAPI, Request
 from fastapi.responses import JSONResponse
+from fastapi.middleware.gzip import GZipMiddleware
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
@@ -84,6 +85,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                         "rate_limited", {"Retry-After": retry_after(wait)})
             return await call_next(request)
 
+    # Responses of 1 KiB or more compressed for clients that accept gzip (the pages, their scripts,
+    # calibration bodies and exports); inside the JSON cap, which stays the outermost layer.
+    app.add_middleware(GZipMiddleware, minimum_size=1024)
     # Outermost, so that an oversized JSON body is refused before any other layer touches it.
     app.add_middleware(JsonBodyLimit, limit_bytes=settings.max_json_bytes, limit_mb=settings.max_json_mb)
     install_error_handlers(app)

@@ -1,0 +1,38 @@
+"""Responses are gzip-compressed for clients that accept it (issue 14, item 6), over real HTTP."""
+
+from __future__ import annotations
+
+import gzip
+
+import httpx
+
+from tests.live_server import live_server
+
+SIX = {"-x": [-9.7, 0.1, 0.2], "+x": [9.9, 0.1, 0.2], "-y": [0.1, -9.7, 0.2],
+       "+y": [0.1, 9.9, 0.2], "-z": [0.1, 0.1, -9.6], "+z": [0.1, 0.1, 10.0]}
+
+
+def _raw_get(url: str, encoding: str | None) -> httpx.Response:
+    """A GET whose body is left as it came over the wire (httpx would decode it)."""
+    headers = {"Accept-Encoding": encoding} if encoding else {"Accept-Encoding": "identity"}
+    with httpx.stream("GET", url, headers=headers, timeout=10) as r:
+        r.wire = b"".join(r.iter_raw())
+        return r
+
+
+def test_pages_scripts_and_calibrations_come_compressed_when_asked(tmp_path):
+    with live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 't.db'}"}) as s:
+        cal = httpx.post(f"{s.url}/api/v1/calibrations",
+                         json={"method": "six_position", "readings": [{"up": k, "mean": v} for k, v in SIX.items()]})
+        assert cal.status_code == 201, cal.text
+        for path in ("/", "/wizard?protocol=compass", "/static/js/wizard.js", f"/api/v1/calibrations/{cal.json()['id']}",
+                     f"/api/v1/calibrations/{cal.json()['id']}/export?format=json"):
+            plain = _raw_get(s.url + path, None)
+            packed = _raw_get(s.url + path, "gzip")
+            assert plain.status_code == packed.status_code == 200, path
+            assert "content-encoding" not in plain.headers, path
+            assert packed.headers["content-encoding"] == "gzip", path
+            assert gzip.decompress(packed.wire) == plain.wire, path
+            assert len(packed.wire) < 0.6 * len(plain.wire), (path, len(packed.wire), len(plain.wire))
+            # the security headers survive the compression
+            assert packed.headers.get("x-content-type-options") == plain.headers.get("x-content-type-options")
