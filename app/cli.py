@@ -92,7 +92,7 @@ def _parser() -> argparse.ArgumentParser:
     a.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm")
     _read_options(a)
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
-    a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude (magnetometer: with --longitude-deg, the Earth's field there)")
+    a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
     a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (Farago et al.: one is enough)")
     a.add_argument("--workers", type=opt.WORKERS, default=None, help="parallel processes for a folder (default: CPU count)")
     a.add_argument("--dask-scheduler", type=opt.text("a scheduler address"), default=None, metavar="ADDRESS",

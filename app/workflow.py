@@ -674,17 +674,17 @@ def _noise(request, recording: RecordingSource) -> dict:
 # -- the compass: a magnetometer turned through all directions --------------------------------------
 
 
-def magnetometer_reference(request, notes: list[str]) -> dict:
+def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
     """The field the calibration is referenced to: ``field_ut`` given, else the geomagnetic model's at
     the place and day, else none (estimated by the fit); with a place, the model's dip and
     declination too. Returns the keyword arguments of :func:`~app.calibration.magnetometer.fit_magnetometer`
-    and the model's name and day."""
+    and the metrics naming the model and its day (none without a place)."""
     reference: dict = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
     if request.latitude_deg is None:
         if request.date is not None or request.height_m is not None:
             notes.append("date and height_m without latitude_deg and longitude_deg are not used: give the place too "
                          "for the Earth's field there")
-        return reference
+        return reference, {}
     from app.geomag import GeomagneticRangeError, reference_field  # the model's package loads only here
 
     day = request.date or datetime.datetime.now(datetime.timezone.utc).date()
@@ -693,15 +693,13 @@ def magnetometer_reference(request, notes: list[str]) -> dict:
                                 0.0 if request.height_m is None else request.height_m)
     except GeomagneticRangeError as exc:
         raise CalibrationError(str(exc)) from None
-    reference.update(inclination_deg=earth.inclination_deg, declination_deg=earth.declination_deg,
-                     model={"name": earth.model, "date": day.isoformat(), "field_ut": earth.field_ut,
-                            "inclination_deg": earth.inclination_deg, "declination_deg": earth.declination_deg})
+    reference.update(inclination_deg=earth.inclination_deg, declination_deg=earth.declination_deg)
     if request.field_ut is None:
         reference.update(field_ut=earth.field_ut, field_source="model")
     elif abs(request.field_ut / earth.field_ut - 1.0) > 0.1:
         notes.append(f"field_ut {request.field_ut:g} µT is more than 10 % from the {earth.model} field here "
                      f"({earth.field_ut:.1f} µT): the given value is used")
-    return reference
+    return reference, {"field_model": earth.model, "field_date": day.isoformat()}
 
 
 def compass_rests(log: LogData, segments: list[dict]) -> list[tuple]:
@@ -733,13 +731,11 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
         unit = "raw" if unit == "raw" else "uT"
         rests = compass_rests(log, recording.meta.get("segments") or [])
         source = recording.source_fields
-    reference = magnetometer_reference(request, notes)
-    model = reference.pop("model", None)
+    reference, extra = magnetometer_reference(request, notes)
     if unit == "raw" and reference["field_ut"] is None:
         notes.append("the magnetometer's readings are raw counts and no field was given: M maps them to the "
                      "readings' own scale, not to µT — give a place and date, or field_ut")
     result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", **reference)
-    extra = {} if model is None else {"field_model": model["name"], "field_date": model["date"]}
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label or (recording.meta.get("filename") if recording else None), **source)
 

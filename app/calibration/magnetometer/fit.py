@@ -15,7 +15,7 @@ import numpy as np
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates
 from ..uncertainty import CONFIDENCE, half_widths
-from .coverage import FACE_NAMES, coverage, face_of
+from .coverage import coverage, face_of
 from .ellipsoid import fit_ellipsoid, fit_sphere
 from .refine import Refined, refine, unpack
 from .result import MagnetometerResult
@@ -267,4 +267,4 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
         samples=shown, **gates.fields())
 
 
-__all__ = ["FACE_NAMES", "fit_magnetometer", "cross_validated_field_error", "measured_inclination"]
+__all__ = ["fit_magnetometer", "cross_validated_field_error", "measured_inclination"]

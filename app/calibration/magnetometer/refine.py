@@ -133,7 +133,3 @@ def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations
                    sigma_ut=float(np.sqrt(sigma2)) if dof else float("nan"), inflation=inflation,
                    converged=bool(sol.status > 0))
 
-
-def matrix_half_widths(half: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Half-widths of the nine parameters laid out as M (3×3, symmetric) and b (3)."""
-    return unpack(half)
