@@ -24,7 +24,9 @@ from tests.e2e.conftest import ARTIFACTS, shot, tab_to
 from tests.e2e.test_wizard import G, Motion, captures_sent, chromium_round
 
 ATTITUDES = cube24().attitudes  # R_k: sensor → calibration frame
-PEAK_DEG_S = 200.0  # a quarter turn in about 0.7 s
+# A quarter turn in about 1.4 s, as a person makes it. Faster turns (0.7 s at 200 °/s) were lost whole
+# when the browser stalled for half a second on a loaded machine: the page then saw rest, then rest.
+PEAK_DEG_S = 100.0
 URL = "/wizard?protocol=cube24&capture_s=1"
 COUNT = '#cube-count[data-captured="{}"]'
 
@@ -95,7 +97,7 @@ def wait_captured(page, n: int, timeout=30_000):
     try:
         page.wait_for_selector(COUNT.format(n), state="attached", timeout=timeout)
     except Exception as exc:  # say what the page said instead
-        said = {sel: page.text_content(sel) for sel in ("#instruction", "#status", "#cube-count")}
+        said = {sel: page.text_content(sel) for sel in ("#instruction", "#status", "#cube-count", "#turn-alert")}
         raise AssertionError(f"position {n} was not captured within {timeout / 1000:g} s; the page says {said}") from exc
 
 
@@ -176,7 +178,7 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     doc = json.loads(open(info.value.path()).read())
     acc, gyr = doc["model"]["acc"], doc["model"]["gyr"]
     note = (f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
-            f"({elapsed / 24:.1f} s a position, turns of about 0.6 s peaking at 200-230 °/s); turn angle "
+            f"({elapsed / 24:.1f} s a position, turns of about 1.3 s peaking at 100-130 °/s); turn angle "
             f"seen by the server minus the angle fed: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
             f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°), minus the trapezoid of the samples "
             f"the page sent: up to {np.abs(seen - sent_angle).max():.2f}°; end attitude error up to "
