@@ -239,6 +239,7 @@ def _print_summary(body: dict, recording: dict) -> None:
           f"at {recording['sampling_rate_hz']:g} Hz; used {body.get('segments_used', 'all')}")
     if body.get("id"):
         print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
+    _print_verdict(body)
     for name, value in body["model"].items():
         if name == "type" or isinstance(value, dict) or value is None:
             if isinstance(value, dict):
@@ -262,6 +263,15 @@ def _print_summary(body: dict, recording: dict) -> None:
         print(f"next pose: {a['words']} (shrinks the parameters' generalized variance by {100 * a['gain']:.0f} %)")
     for w in body["warnings"]:
         print(f"warning: {w}")
+
+
+def _print_verdict(body: dict) -> None:
+    """The verdict first (app.verdict): whether to apply the calibration, and why."""
+    v = body.get("verdict")
+    if v:
+        print(v["words"])
+        if v["why"]:
+            print(f"  {v['why']}")
 
 
 class _ProgressBar:
@@ -320,6 +330,7 @@ def _print_autocal(body: dict) -> None:
     det = body["detection"]
     print(f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
           f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}")
+    _print_verdict(body)
     if body.get("headline"):
         print(body["headline"])
     print("points per subset C_ij: " + ", ".join(f"{k} {v}" for k, v in body["selection"].items()))
@@ -447,6 +458,7 @@ def _print_noise(body: dict) -> None:
     still = body.get("still") or {}
     print(f"{body.get('label') or ''}: {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz "
           f"({100 * still.get('fraction', 1):.0f} % of the recording); ok = {body['ok']}")
+    _print_verdict(body)
     names = {"noise_density": "noise density N", "random_walk": "random walk K", "bias_instability": "bias instability B"}
     for sensor in ("gyr", "acc", "mag"):
         model = body["model"].get(sensor)

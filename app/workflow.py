@@ -26,6 +26,7 @@ from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
 from app.summary import compass_headline, headline
+from app.verdict import verdict
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -286,6 +287,7 @@ def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str]
         body["headline"] = compass_headline(body["metrics"])
     body["warnings"] = list(body["warnings"]) + notes
     body.update(fields)
+    body["verdict"] = verdict(body)
     return body
 
 

@@ -37,6 +37,8 @@ def test_calibrate_json_then_export(tmp_path):
     # The default method is auto: it says what it chose, then what to expect on new orientations
     # (six poses: no figure, and how to get one) before the in-sample figure.
     lines = human.stdout.splitlines()
+    # The verdict first: apply it, on the six poses' own figure (raw → calibrated), saying why it is in-sample.
+    assert lines[1].startswith("Apply it: error on the 6 poses fitted ") and "Six poses leave none out" in lines[2]
     chose = next(i for i, line in enumerate(lines) if line.startswith("method auto chose six_position: "))
     assert lines[chose + 1].startswith("no figure for new orientations") and "add poses" in lines[chose + 1]
     assert "on the poses fitted (in-sample)" in lines[chose + 1]

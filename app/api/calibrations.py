@@ -11,6 +11,7 @@ from app.api.deps import get_owner, get_store
 from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut
 from app.io.exporters import ALL_FORMATS, export_calibration
 from app.store import Store
+from app.verdict import with_verdict
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
@@ -37,14 +38,15 @@ def list_calibrations(device_id: str | None = Query(None, max_length=200),
                       limit: int = Query(100, ge=1, le=1000), store: Store = Depends(get_store),
                       owner: str | None = Depends(get_owner)):
     """Calibrations, newest first, optionally of one device."""
-    return {"items": store.list_calibrations(owner=owner, device_id=device_id, limit=limit)}
+    return {"items": [with_verdict(body) for body in store.list_calibrations(owner=owner, device_id=device_id,
+                                                                             limit=limit)]}
 
 
 @router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True,
             summary="Read a calibration")
 def get_calibration(calibration_id: str, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
     """One stored calibration."""
-    return store.get_calibration(calibration_id, owner=owner)
+    return with_verdict(store.get_calibration(calibration_id, owner=owner))
 
 
 @router.get("/{calibration_id}/export", summary="Export a calibration",

@@ -132,6 +132,21 @@ class MagnitudeReading(Out):
     norm_error_raw: float
 
 
+class VerdictOut(Out):
+    """Whether to apply the calibration, in words (app.verdict): what a person reads first."""
+
+    apply: bool = Field(description="Offer its files to a device: false for a calibration that must not be applied.")
+    kind: Literal["apply", "no_gain", "worse", "failed", "figures"] = Field(description=(
+        "`apply`; `no_gain`: passed but changes too little to matter; `worse`: its error grew; `failed`: a check "
+        "failed; `figures`: a noise characterisation, which corrects nothing."))
+    words: str = Field(description="E.g. “Apply it: error on new orientations 36.0 mg → 1.40 mg.”")
+    why: str = Field(description="One line more: the reason, or what the figure is.")
+    before: float | None = Field(description="The figure's raw error (null where the readings are counts).")
+    after: float | None = Field(description="The same, calibrated.")
+    unit: Literal["mg", "µT"] | None = Field(description="mg of g, or µT for a compass.")
+    basis: str | None = Field(description="Which readings the figure is on, in words.")
+
+
 class CalibrationCommon(Out):
     id: str
     created_at: str = Field(description="UTC, ISO 8601 with milliseconds.")
@@ -140,6 +155,7 @@ class CalibrationCommon(Out):
     unit: str = Field(description="Unit of the readings: m/s^2, g or raw.")
     output_unit: str = Field(description="What the calibration calibrates into.")
     ok: bool = Field(description="False when a quality gate failed; `reasons` says which.")
+    verdict: VerdictOut = Field(description="Whether to apply it, in words, and the figure it stands on.")
     headline: str | None = Field(None, description=(
         "What to expect on new orientations (the cross-validated error), then the in-sample figure, "
         "labelled; every fit of still readings has one."))
