@@ -106,7 +106,26 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
                       "sign": log.sign},
         "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
+        "overview": overview(log),
     }
+
+
+OVERVIEW_POINTS = 300
+"""Bins of a log's overview: enough for a plot the width of a phone."""
+
+
+def overview(log: LogData) -> dict:
+    """The norm of the accelerometer (else the magnetometer) in at most :data:`OVERVIEW_POINTS` bins: the
+    smallest and largest of each bin, so that a short move still shows, for the page's plot of the log."""
+    sensor = "acc" if log.acc is not None else "mag"
+    values = np.linalg.norm(np.asarray(getattr(log, sensor), dtype=float), axis=1)
+    edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
+    bins = [values[a:b] for a, b in zip(edges[:-1], edges[1:]) if b > a]
+    finite = [b[np.isfinite(b)] for b in bins]
+    return {"sensor": sensor, "unit": log.units.get(sensor),
+            "t_s": [float(a / log.sampling_rate_hz) for a, b in zip(edges[:-1], edges[1:]) if b > a],
+            "low": [float(f.min()) if f.size else None for f in finite],
+            "high": [float(f.max()) if f.size else None for f in finite]}
 
 
 def readings_from_segments(recording: dict, method: str, indices: list[int] | None) -> tuple[list[Reading], list[int]]:

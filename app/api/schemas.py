@@ -650,6 +650,16 @@ class ReadWithOut(BaseModel):
     sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
 
 
+class LogOverview(BaseModel):
+    """The log's norm in at most 300 bins (app.workflow.overview), for a plot with the still segments."""
+
+    sensor: Literal["acc", "mag"] = Field(description="The accelerometer's norm, or the magnetometer's in a log of it alone.")
+    unit: str | None
+    t_s: list[float] = Field(description="Start of each bin, seconds from the first sample.")
+    low: list[float | None] = Field(description="Smallest norm in the bin (null: no finite sample).")
+    high: list[float | None] = Field(description="Largest.")
+
+
 class RecordingOut(BaseModel):
     model_config = ConfigDict(extra="allow")
 
@@ -668,6 +678,8 @@ class RecordingOut(BaseModel):
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
     read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")
     segments: list[SegmentOut]
+    overview: LogOverview | None = Field(None, description="For a plot of the log; absent from recordings stored "
+                                                           "before it existed.")
 
 
 class SessionIn(Strict):

@@ -35,8 +35,6 @@ def index(request: Request):
     return _templates(request).TemplateResponse(request, "index.html", {
         "labels": list(CANONICAL_SIX),
         "tables": page_tables(),
-        "formats": list(FORMAT_NAMES.items()),
-        "noise_formats": list(NOISE_FORMATS.items()),
         "public_url": public_url,
         "public_qr": qr_svg_data_uri(public_url) if public_url else None,
         "https_hint": not public_url and request.url.scheme != "https",
@@ -66,7 +64,7 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
     context = {
         "protocol": protocol, "capture_s": seconds, "problem": problem, "protocols": PROTOCOLS,
         "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
-        "poses": [(label, POSE_NAMES[label]) for label in CANONICAL_SIX], "formats": list(FORMAT_NAMES.items()),
+        "poses": [(label, POSE_NAMES[label]) for label in CANONICAL_SIX],
         "tables": None if problem else page_tables(),
     }
     page = "wizard_compass.html" if protocol == "compass" and not problem else "wizard.html"

@@ -20,6 +20,7 @@ from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
+from app.web.uses import uses_table
 
 CAPTURE_WINDOW_MS = 500
 """The page's moving window of the mean and spread (ms)."""
@@ -97,7 +98,8 @@ def page_tables() -> dict:
         capture machine's options); ``cube`` (the cube flow's face angle); ``free`` (the free flow's
         angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs); ``cube24`` (the 23
         ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
-        and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`).
+        and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`);
+        ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -120,4 +122,5 @@ def page_tables() -> dict:
             "turnWords": dict(TURN_WORDS),
         },
         "compass": compass_tables(),
+        "uses": uses_table(),
     }

@@ -1,11 +1,14 @@
 // The start page: the only module here that touches the DOM.
 import { createCalibration, exportUrl, uploadRecording } from "./api.js";
+import { columnsField, headerColumns, logPlotSvg } from "./log_plot.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber, parseReadings } from "./readings.js";
+import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
 const status = $("#status");
 let recordingId = null;
+let shown = null; // the calibration on show
 
 function say(text) { status.textContent = text; }
 
@@ -59,6 +62,7 @@ function showNoise(cal) {
 
 function showResult(cal) {
   $("#result").hidden = false;
+  showVerdict(cal);
   $("#result-headline").textContent = cal.headline || "";
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
@@ -94,18 +98,12 @@ function showResult(cal) {
   allan.hidden = cal.method !== "noise";
   if (cal.method === "noise") $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
   else $("#result-allan img").removeAttribute("src");
-  const list = $("#downloads");
-  const formats = JSON.parse(cal.method === "noise" ? list.dataset.noiseFormats : list.dataset.formats);
-  list.replaceChildren(...formats.map(([key, name]) => {
-    const li = document.createElement("li");
-    const a = cell("a", name);
-    a.href = exportUrl(cal.id, key);
-    a.setAttribute("download", "");
-    li.append(a);
-    return li;
-  }));
-  $("#result").focus();
-  say(cal.ok ? "Calibration done." : "Calibration done, but it failed its checks.");
+  shown = cal;
+  resetUse(); // the files follow as they are fetched
+  fetchDownloads(cal).then((downloads) => { if (shown === cal) showUse(cal, downloads); });
+  $("#result").focus({ preventScroll: true });
+  $("#result").scrollIntoView({ block: "start" }); // the verdict at the top of the screen
+  say(`Calibration done. ${cal.verdict.words}`);
 }
 
 // A compass calibration: the raw readings and the calibrated ones on the same sphere (mag_sphere.js).
@@ -128,61 +126,138 @@ function showMagSpheres(cal) {
   $("#result-mag").replaceChildren(fig(svgs.before, "Before: the raw readings m"), fig(svgs.after, "After: h = M (m − b)"), legend);
 }
 
-$("#upload-form").addEventListener("submit", async (event) => {
-  event.preventDefault();
-  const data = new FormData(event.target);
+// --- upload: the log, its plot and still segments, then the calibration at once (method auto) ---
+
+const ROLES = [["", "not used"], ["time_s", "time (s)"], ["time_ms", "time (ms)"], ["acc_x", "accelerometer x"],
+  ["acc_y", "accelerometer y"], ["acc_z", "accelerometer z"], ["gyr_x", "gyroscope x"], ["gyr_y", "gyroscope y"],
+  ["gyr_z", "gyroscope z"], ["mag_x", "magnetometer x"], ["mag_y", "magnetometer y"], ["mag_z", "magnetometer z"]];
+let action = 0; // the latest action: an older answer is never shown over a newer one
+
+// A message next to the control it is about (and heard through the status region).
+function note(sel, text, bad = false) {
+  const p = $(sel);
+  p.hidden = !text;
+  p.textContent = text || "";
+  p.classList.toggle("bad", bad);
+  if (text) say(text);
+}
+
+// Nothing of an earlier upload or calibration stays on show.
+function clearOutput() {
+  shown = null;
+  recordingId = null;
+  $("#segments").hidden = true;
+  $("#segments-table tbody").replaceChildren();
+  $("#log-plot").replaceChildren();
+  $("#result").hidden = true;
+  $("#columns-map").hidden = true;
+  resetUse();
+  note("#upload-msg", "");
+  note("#segments-msg", "");
+}
+
+async function calibrate(payload, doing, refused, where) {
+  const mine = ++action;
+  note(where, doing);
+  try {
+    const cal = await createCalibration(payload);
+    if (mine !== action) return;
+    note(where, "");
+    showResult(cal);
+  } catch (err) {
+    if (mine !== action) return;
+    const still = err.code === "insufficient_data" && payload.method === "auto" && where === "#segments-msg"
+      ? " A still recording? Characterise its noise below." : "";
+    note(where, `${refused}: ${err.message.replace(/\.$/, "")}.${still}`, true);
+  }
+}
+
+function showSegments(rec) {
+  // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
+  const still = rec.channels.includes("acc");
+  $("#compass-recording").hidden = !rec.channels.includes("mag");
+  $("#calibrate-recording").hidden = !still;
+  $("#segments").hidden = false;
+  $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
+  const sec = (i) => formatNumber(i / rec.sampling_rate_hz, 1);
+  $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
+    const tr = document.createElement("tr");
+    tr.append(cell("td", String(s.index + 1)), cell("td", `${sec(s.start)}–${sec(s.end)}`), cell("td", s.up ?? "—"),
+      cell("td", s.acc_mean.map((v) => formatNumber(v, 3)).join(", ")));
+    return tr;
+  }));
+  $("#segments-table").hidden = !still;
+  const rate = `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`;
+  note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}: calibrating…`
+    : `The magnetometer alone, ${rate}: calibrating the compass…`);
+}
+
+// The file's header was not recognised: a control per column to say what it holds.
+async function offerColumnMap(file) {
+  const names = headerColumns((await file.slice(0, 4096).text()).split(/\r?\n/)[0] || "");
+  if (names.length < 2 || names.every((n) => Number.isFinite(Number(n)))) return false; // no header to map
+  $("#columns-map-list").replaceChildren(...names.map((name, i) => {
+    const label = cell("label", name);
+    label.htmlFor = `map-${i}`;
+    const select = document.createElement("select");
+    select.id = `map-${i}`;
+    select.dataset.column = name;
+    select.append(...ROLES.map(([role, words]) => { const o = cell("option", words); o.value = role; return o; }));
+    label.append(select);
+    return label;
+  }));
+  $("#columns-map").hidden = false;
+  return true;
+}
+
+async function upload(data) {
+  clearOutput();
+  const mine = ++action;
+  note("#upload-msg", "Uploading…");
+  let rec;
+  try {
+    rec = await uploadRecording(data);
+  } catch (err) {
+    if (mine !== action) return;
+    const mapped = err.code === "unreadable_log" && !data.get("columns") && await offerColumnMap(data.get("file"));
+    note("#upload-msg", mapped ? "Say which column is which, below." : `Upload refused: ${err.message}`, true);
+    return;
+  }
+  if (mine !== action) return;
+  note("#upload-msg", "");
+  recordingId = rec.id;
+  showSegments(rec);
+  await calibrate({ method: "auto", recording_id: rec.id }, $("#segments-msg").textContent,
+    "Not calibrated", "#segments-msg");
+}
+
+function uploadData() {
+  const data = new FormData($("#upload-form"));
   for (const key of ["sampling_rate_hz", "acc_unit", "columns", "sign"]) if (!data.get(key)) data.delete(key);
-  say("Uploading…");
-  try {
-    const rec = await uploadRecording(data);
-    recordingId = rec.id;
-    // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
-    $("#compass-recording").hidden = !rec.channels.includes("mag");
-    $("#calibrate-recording").hidden = !rec.channels.includes("acc");
-    $("#segments").hidden = false;
-    $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
-      const tr = document.createElement("tr");
-      tr.append(cell("td", String(s.index)), cell("td", `${s.start}–${s.end}`), cell("td", s.up ?? "—"),
-        cell("td", s.acc_mean.map((v) => formatNumber(v, 3)).join(", ")));
-      return tr;
-    }));
-    const still = rec.channels.includes("acc");
-    $("#segments-h").hidden = !still;
-    $("#segments-table").hidden = !still;
-    const rate = `${rec.n_samples} samples at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`;
-    say(still ? `Found ${rec.segments.length} still segments in ${rate}.`
-      : `Read the magnetometer alone: ${rate}. Calibrate the compass below.`);
-  } catch (err) {
-    say(`Upload refused: ${err.message}`);
-  }
+  return data;
+}
+
+$("#upload-form").addEventListener("submit", (event) => {
+  event.preventDefault();
+  upload(uploadData());
 });
 
-$("#calibrate-recording").addEventListener("click", async () => {
-  say("Calibrating…");
-  try {
-    showResult(await createCalibration({ method: "auto", recording_id: recordingId }));
-  } catch (err) {
-    say(`Calibration refused: ${err.message}`);
-  }
+$("#columns-map-go").addEventListener("click", () => {
+  const mapping = Object.fromEntries([...document.querySelectorAll("#columns-map-list select")]
+    .map((s) => [s.dataset.column, s.value]));
+  const data = uploadData();
+  data.set("columns", columnsField(mapping));
+  upload(data);
 });
 
-$("#noise-recording").addEventListener("click", async () => {
-  say("Computing the Allan deviation…");
-  try {
-    showResult(await createCalibration({ method: "noise", recording_id: recordingId }));
-  } catch (err) {
-    say(`Noise characterisation refused: ${err.message}`);
-  }
-});
+$("#calibrate-recording").addEventListener("click", () => calibrate({ method: "auto", recording_id: recordingId },
+  "Calibrating…", "Calibration refused", "#segments-msg"));
 
-$("#compass-recording").addEventListener("click", async () => {
-  say("Calibrating the compass…");
-  try {
-    showResult(await createCalibration({ method: "magnetometer", recording_id: recordingId }));
-  } catch (err) {
-    say(`Compass calibration refused: ${err.message}`);
-  }
-});
+$("#noise-recording").addEventListener("click", () => calibrate({ method: "noise", recording_id: recordingId },
+  "Computing the Allan deviation…", "Noise characterisation refused", "#segments-msg"));
+
+$("#compass-recording").addEventListener("click", () => calibrate({ method: "magnetometer", recording_id: recordingId },
+  "Calibrating the compass…", "Compass calibration refused", "#segments-msg"));
 
 $("#fill").addEventListener("click", () => {
   try {
@@ -190,13 +265,13 @@ $("#fill").addEventListener("click", () => {
       const row = document.querySelector(`#readings-table tr[data-up="${up}"]`);
       row.querySelectorAll("input").forEach((input, i) => { input.value = String(mean[i]); });
     }
-    say("Table filled from the pasted lines.");
+    note("#fill-msg", "Table filled from the pasted lines.");
   } catch (err) {
-    say(`Could not read the pasted lines: ${err.message}`);
+    note("#fill-msg", `Could not read the pasted lines: ${err.message}`, true);
   }
 });
 
-$("#readings-form").addEventListener("submit", async (event) => {
+$("#readings-form").addEventListener("submit", (event) => {
   event.preventDefault();
   const readings = [...document.querySelectorAll("#readings-table tbody tr")].map((tr) => ({
     up: tr.dataset.up,
@@ -205,10 +280,6 @@ $("#readings-form").addEventListener("submit", async (event) => {
   const payload = { method: "six_position", readings, unit: $("#r-unit").value };
   const g = $("#r-gravity").value;
   if (g) payload.gravity = Number(g);
-  say("Calibrating…");
-  try {
-    showResult(await createCalibration(payload));
-  } catch (err) {
-    say(`Calibration refused: ${err.message}`);
-  }
+  $("#result").hidden = true;
+  calibrate(payload, "Calibrating…", "Calibration refused", "#paste-msg");
 });

@@ -1,7 +1,7 @@
 // The wizard page: reads the server's tables, picks the flow by protocol (flow_six.js, flow_cube.js),
 // owns the one state object (wizard_state.js) and the one render(state) that writes the DOM. The
 // flows change the state and call the server; only this module touches the page.
-import { createSession, fetchExport, getCalibration, getSession, solveSession } from "./api.js";
+import { createSession, getCalibration, getSession, solveSession } from "./api.js";
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
 import { poseSvg } from "./poses.js";
@@ -9,6 +9,7 @@ import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
 import { unlockCues } from "./cues.js";
+import { fetchDownloads, showUse, showVerdict } from "./use_calibration.js";
 import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
 import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
@@ -21,7 +22,6 @@ const NO_MOTION_MS = 2000;
 const state = newState({
   protocol: root.dataset.protocol,
   captureS: Number(root.dataset.captureS),
-  formats: JSON.parse(root.dataset.formats),
 });
 const cube = state.protocol === "cube24";
 const free = state.protocol === "free";
@@ -269,6 +269,7 @@ function renderResult(s) {
   const cal = s.view.calibration;
   if (!cal || cal === rendered.calibration) return;
   rendered.calibration = cal;
+  showVerdict(cal);
   $("#result-headline").textContent = cal.headline || "";
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
@@ -361,13 +362,7 @@ function fillCubeModel(cal, unc) {
 function renderDownloads(v) {
   if (!v.downloads || v.downloads === rendered.downloads) return;
   rendered.downloads = v.downloads;
-  $("#downloads").replaceChildren(...v.downloads.map((d) => {
-    const li = el("li");
-    if (d.url) li.append(el("a", d.name, { href: d.url, download: d.filename, "data-format": d.key }));
-    else li.append(el("span", `${d.name}: ${d.error}`));
-    return li;
-  }));
-  $("#downloads").dataset.ready = "true";
+  showUse(v.calibration, v.downloads);
 }
 
 // --- transitions shared by the flows -----------------------------------------------------------
@@ -467,21 +462,9 @@ async function finish(cal) {
   v.result = true;
   v.calibration = cal;
   v.focus = "#result";
-  announce(state, cal.ok ? "Calibration done: it passed its checks. Downloads below."
-    : "Calibration done, but it failed its checks.");
+  announce(state, `Calibration done. ${cal.verdict.words}`);
   render(state);
-  state.blobUrls.forEach((u) => URL.revokeObjectURL(u));
-  state.blobUrls = [];
-  v.downloads = await Promise.all(state.formats.map(async ([key, name]) => {
-    try {
-      const { blob, filename } = await fetchExport(cal.id, key, state.token);
-      const url = URL.createObjectURL(blob);
-      state.blobUrls.push(url);
-      return { key, name, url, filename };
-    } catch (err) {
-      return { key, name, error: err.message };
-    }
-  }));
+  v.downloads = await fetchDownloads(cal, state.token);
   render(state);
 }
 
@@ -605,7 +588,6 @@ $("#key-box").addEventListener("submit", (event) => {
 });
 $("#start-over").addEventListener("click", () => {
   localStorage.removeItem(state.storeKey);
-  state.blobUrls.forEach((u) => URL.revokeObjectURL(u));
   location.reload();
 });
 if (free) $("#free-finish").addEventListener("click", () => { if (canFinish(state)) solve(); });

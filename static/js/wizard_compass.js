@@ -2,22 +2,21 @@
 // Sensor API), fills the sphere of directions as the phone turns, and posts the readings to
 // POST /api/v1/calibrations (method magnetometer) once the faces are covered. Where the browser has
 // no magnetometer, it says so and points to a recording app and the upload on the start page.
-import { createCalibration, exportUrl } from "./api.js";
+import { createCalibration } from "./api.js";
 import { cue, unlockCues } from "./cues.js";
 import { CompassCoverage, COVERAGE_TO_SOLVE, MIN_READINGS, missingWords } from "./compass_flow.js";
 import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
 import { withInterval } from "./result.js";
 import { TABLES } from "./tables.js";
+import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
-const root = $("#compass");
-const formats = JSON.parse(root.dataset.formats);
 const NO_READING_MS = 3000;
 const DRAW_MS = 150; // the sphere is redrawn at most this often
 const DRAWN_POINTS = 600; // the latest readings drawn
 
-const state = { sensor: null, coverage: new CompassCoverage(), place: null, solving: false, autoSolved: false,
+const state = { shown: null, sensor: null, coverage: new CompassCoverage(), place: null, solving: false, autoSolved: false,
   drawnAt: 0, timer: null, drawTimer: null };
 
 function say(text) { $("#status").textContent = text; }
@@ -169,6 +168,8 @@ function fillMatrix(table, rows, half) {
 
 function showResult(cal) {
   const m = cal.metrics;
+  state.shown = cal;
+  showVerdict(cal);
   $("#compass-capture").hidden = true;
   const box = $("#result");
   box.hidden = false;
@@ -196,14 +197,11 @@ function showResult(cal) {
     tr.append(el("th", k, { scope: "row" }), el("td", shown));
     return tr;
   }));
-  $("#downloads").replaceChildren(...formats.map(([key, name]) => {
-    const li = el("li");
-    li.append(el("a", name, { href: exportUrl(cal.id, key), download: "", "data-format": key }));
-    return li;
-  }));
+  resetUse();
+  fetchDownloads(cal).then((downloads) => { if (state.shown === cal) showUse(cal, downloads); });
   box.focus();
-  cue(cal.ok ? "captured" : "refused");
-  say(cal.ok ? "Calibration done: it passed its checks." : "Calibration done, but it failed its checks.");
+  cue(cal.verdict.apply ? "captured" : "refused");
+  say(`Calibration done. ${cal.verdict.words}`);
 }
 
 function figure(svg, caption) {

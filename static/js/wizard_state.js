@@ -1,11 +1,10 @@
 // The wizard's one state object (no DOM): what the session and the sensors are doing, and `view`,
 // what the page shows. The flows change it; wizard.js's render(state) writes it to the page.
 
-export function newState({ protocol, captureS, formats }) {
+export function newState({ protocol, captureS }) {
   return {
     protocol,
     captureS,
-    formats,
     storeKey: `trical.wizard.${protocol}`,
     session: null, // the server's session object
     token: null,
@@ -18,7 +17,6 @@ export function newState({ protocol, captureS, formats }) {
     lastT: null,
     lastAnnounced: "",
     solveOnContinue: false, // a complete session whose solve failed: Continue solves again
-    blobUrls: [],
     view: {
       start: true, // the "Before you start" card
       startLabel: "Start",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 
@@ -31,28 +32,52 @@ def test_paste_six_readings(page, server):
     np.testing.assert_allclose(read_matrix(page, "#result-X"), expected.X, atol=1e-6)
     np.testing.assert_allclose(read_matrix(page, "#result-y").ravel(), expected.y, atol=1e-6)
     assert "passed its checks" in page.text_content("#result-ok")
+    # The verdict first, then the one file for the use chosen (a phone app by default), then every format.
+    page.wait_for_selector("#downloads[data-ready=true]")
+    words = page.text_content("#verdict-words")
+    assert words.startswith("Apply it: error on the 6 poses fitted ") and page.get_attribute("#verdict", "data-kind") == "apply"
+    assert page.get_attribute("#use-file", "data-format") == "json" and "M · (reading − o)" in page.text_content("#use-how")
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href])")
     assert [name for name, _ in links] == ["JSON", "C header", "ArduPilot", "PX4", "YAML", "CSV"]
-    for name, href in links:  # every link is a real export of this calibration
-        assert page.request.get(href).status == 200, name
+    for name, href in links:  # every link is a real export of this calibration, fetched by the page
+        assert href.startswith("blob:"), name
+        with page.expect_download() as info:
+            page.click(f"#downloads a:text-is('{name}')")
+        assert info.value.suggested_filename.startswith(("cal_", "trical_cal_")), name
+    page.select_option("#use-with", "ardupilot")
+    assert page.get_attribute("#use-file", "data-format") == "ardupilot"
+    assert "Mission Planner" in page.text_content("#use-how")
+    assert page.evaluate("() => localStorage.getItem('trical.use.calibration')") == "ardupilot"
+    shot(page, "start_page_result_ardupilot")
     assert page.errors == []
 
 
-def test_upload_a_log(page, server):
+def upload_six_orientations(page, server):
+    """Open the start page and upload the six-orientation log at 150 Hz (its rate under Options)."""
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(DATA / "six_orientations_150hz.csv"))
+    page.click("#options-summary")
     page.fill("#log-rate", "150")
     page.click("#upload-form button[type=submit]")
+
+
+def test_upload_a_log(page, server):
+    upload_six_orientations(page, server)
     page.wait_for_selector("#segments:not([hidden])")
-    shot(page, "upload_segments")
     ups = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => r.cells[2].textContent)")
     assert {"-x", "+x", "-y", "+y", "-z", "+z"} <= set(ups)
-    page.click("#calibrate-recording")
+    # Times in seconds, not sample indices; the plot shades each still segment.
+    first = page.eval_on_selector_all("#segments-table tbody tr:first-child td", "cs => cs.map(c => c.textContent)")
+    assert first[0] == "1" and re.fullmatch(r"\d+\.\d–\d+\.\d", first[1]), first
+    assert page.locator("#log-plot svg rect.still").count() == len(ups)
+    # method auto at once: no second click; the verdict first.
     page.wait_for_selector("#result:not([hidden])")
+    page.wait_for_selector("#downloads[data-ready=true]")
     shot(page, "upload_result")
+    assert page.text_content("#verdict-words").startswith("Apply it: error on the 6 poses fitted ")
     assert "passed its checks" in page.text_content("#result-ok")
-    # method auto: six axis poses → six_position, said in words; the headline comes first and says
-    # that six poses give no figure for new orientations, and how to get one.
+    # method auto: six axis poses → six_position, said in words; the headline says that six poses give
+    # no figure for new orientations, and how to get one.
     assert page.text_content("#result-choice").startswith("Method six_position: the 6 poses are the six axis")
     headline = page.text_content("#result-headline")
     assert headline.startswith("no figure for new orientations") and "add poses" in headline
@@ -60,14 +85,40 @@ def test_upload_a_log(page, server):
     assert page.errors == []
 
 
+def test_an_unrecognised_header_is_mapped_by_hand_and_stale_output_is_cleared(page, server, tmp_path):
+    upload_six_orientations(page, server)
+    page.wait_for_selector("#downloads[data-ready=true]")
+    # The same log with a header trical does not know: a control per column, and nothing stale on show.
+    renamed = tmp_path / "north_east_down.csv"
+    lines = (DATA / "six_orientations_150hz.csv").read_text().splitlines()
+    renamed.write_text("\n".join(["north,east,down"] + lines[1:]) + "\n")
+    page.set_input_files("#log-file", str(renamed))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#columns-map:not([hidden])")
+    assert page.locator("#result").is_hidden() and page.locator("#segments").is_hidden()
+    assert page.text_content("#upload-msg") == "Say which column is which, below."
+    shot(page, "upload_column_map")
+    columns = page.eval_on_selector_all("#columns-map-list select", "ss => ss.map(s => s.dataset.column)")
+    assert columns == ["north", "east", "down"]
+    for name, role in zip(columns, ("acc_x", "acc_y", "acc_z")):
+        page.select_option(f"#columns-map-list select[data-column={name}]", role)
+    page.click("#columns-map-go")
+    page.wait_for_selector("#downloads[data-ready=true]")
+    assert page.locator("#columns-map").is_hidden()
+    assert page.text_content("#verdict-words").startswith("Apply it: ")
+    assert len(page.errors) == 1 and "422" in page.errors[0]  # the browser logs the refused upload
+
+
 def test_upload_a_headerless_log_with_its_columns(page, server):
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(DATA / "formats" / "headerless_imu_comma.csv"))
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#status:has-text('Upload refused')")
-    assert "no header row and 7 columns" in page.text_content("#status")
+    assert "no header row and 7 columns" in page.text_content("#upload-msg")
     refused = list(page.errors)
     assert len(refused) == 1 and "422" in refused[0]  # the browser logs the refused upload
+    assert page.locator("#columns-map").is_hidden()  # no header row to map: the options say how
+    page.click("#options-summary")
     page.fill("#log-columns", "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
     page.select_option("#log-sign", "-1")
     page.click("#upload-form button[type=submit]")
@@ -82,7 +133,7 @@ def test_bad_paste_is_explained(page, server):
     page.goto(server.url + "/")
     page.fill("#paste", "1 2 3\n4 5")
     page.click("#fill")
-    assert "expected 6 lines" in page.text_content("#status")
+    assert "expected 6 lines" in page.text_content("#fill-msg") and page.locator("#fill-msg").is_visible()
 
 
 def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
@@ -102,6 +153,10 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
     page.set_input_files("#log-file", str(path))
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#segments:not([hidden])")
+    # The calibration tried at once finds one still pose: refused next to the buttons, which say what else to do.
+    page.wait_for_selector("#segments-msg.bad")
+    assert page.text_content("#segments-msg").startswith("Not calibrated: ")
+    assert "A still recording? Characterise its noise below." in page.text_content("#segments-msg")
     page.click("#noise-recording")
     page.wait_for_selector("#result:not([hidden])")
     page.wait_for_function("() => document.querySelector('#result-allan img').naturalWidth > 0")
@@ -113,9 +168,15 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
     density = [float(row.nth(i).text_content()) for i in range(3)]
     assert all(0.8e-3 < d < 1.25e-3 for d in density), density  # N = 1e-3 rad/s/√Hz, within its interval
     assert page.locator("#result-readings").is_hidden()
+    page.wait_for_selector("#downloads[data-ready=true]")
+    assert page.get_attribute("#verdict", "data-kind") == "figures"
+    assert page.text_content("#verdict-words").startswith("Use these figures in your filter")
+    assert page.get_attribute("#use-file", "data-format") == "kalibr" and "--imu imu.yaml" in page.text_content("#use-how")
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href])")
     assert [name for name, _ in links] == ["Kalibr imu.yaml", "OpenVINS", "VINS-Fusion", "JSON", "CSV (Allan table)",
                                            "Allan plot (SVG)"]
-    for name, href in links:  # every link is a real export of this characterisation
-        assert page.request.get(href).status == 200, name
-    assert page.errors == []
+    for name, href in links:  # every link is a real export of this characterisation, fetched by the page
+        with page.expect_download() as info:
+            page.click(f"#downloads a:text-is('{name}')")
+        assert info.value.suggested_filename, name
+    assert len(page.errors) == 1 and "422" in page.errors[0]  # the browser logs the refused calibration

@@ -6,6 +6,8 @@ phone; and a phyphox magnetometer export uploaded on the start page shows the sp
 
 from __future__ import annotations
 
+import json
+
 import datetime
 
 import numpy as np
@@ -137,8 +139,14 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     assert 50 <= n <= N_TURN
     # the readings as Chromium handed them to the page: each component rounded to 0.01 µT
     np.testing.assert_allclose(body["mag"], np.round(readings[:n], 2), atol=1e-9)
-    href = page.get_attribute("#downloads a[data-format='json']", "href")
-    full = page.request.get(server.url + href.split("/export")[0]).json()
+    page.wait_for_selector("#downloads[data-ready=true]")
+    with page.expect_download() as info:
+        page.click("#downloads a[data-format='json']")
+    full = page.request.get(f"{server.url}/api/v1/calibrations/{json.loads(open(info.value.path()).read())['id']}").json()
+    # The verdict first, in µT on new directions; the file for the use chosen (a phone app: JSON) under it.
+    assert page.text_content("#verdict-words") == full["verdict"]["words"]
+    assert full["verdict"]["words"].startswith("Apply it: error of the field strength on new directions ")
+    assert page.get_attribute("#use-file", "data-format") == "json"
     assert full["model"]["type"] == "magnetometer" and full["metrics"]["field_source"] == "model"
     assert full["metrics"]["field_ut"] == pytest.approx(field, rel=1e-9)
     assert full["metrics"]["coverage"] >= 0.9

@@ -1,0 +1,46 @@
+"""What a person uses a calibration with, the one file that fits it, and how to apply that file.
+
+The result's "Use this calibration" offers the file of the use the person picks (remembered by the
+page), with one line on how to apply it; the other formats are listed under it. The keys are the
+export formats of app.io (FORMAT_NAMES, NOISE_FORMATS).
+"""
+
+from __future__ import annotations
+
+from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS
+
+CALIBRATION_USES = (
+    {"key": "app", "name": "a phone app", "format": "json",
+     "how": "Read correction (M and o) from the JSON in your app and calibrate every reading as "
+            "M · (reading − o)."},
+    {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
+     "how": "In Mission Planner: Config → Full Parameter List → Load from file, then Write Params and reboot the "
+            "board."},
+    {"key": "px4", "name": "PX4", "format": "px4",
+     "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save "
+            "and reboot."},
+    {"key": "firmware", "name": "my own firmware", "format": "c",
+     "how": "#include the header and pass each raw reading through its trical_…_apply(m, f): f = M (m − o)."},
+)
+"""A correction of a sensor (every method but noise)."""
+
+NOISE_USES = (
+    {"key": "kalibr", "name": "Kalibr", "format": "kalibr",
+     "how": "Pass it to Kalibr's camera–IMU calibration as --imu imu.yaml (set rostopic to your IMU's topic)."},
+    {"key": "openvins", "name": "OpenVINS", "format": "openvins",
+     "how": "Replace imu0's noise values in your OpenVINS configuration's kalibr_imu_chain.yaml with these."},
+    {"key": "vins", "name": "VINS-Fusion", "format": "vins",
+     "how": "Copy acc_n, gyr_n, acc_w and gyr_w into your VINS-Fusion configuration file."},
+    {"key": "filter", "name": "my own filter", "format": "json",
+     "how": "Read each sensor's noise density N, random walk K and bias instability B from the JSON into your "
+            "filter's noise model."},
+)
+"""A noise characterisation: figures for a filter, not a correction."""
+
+
+def uses_table() -> dict:
+    """The page's table of uses: ``calibration`` and ``noise``, each a list of key, name, format, how;
+    ``formats`` and ``noiseFormats``, every export as ``[key, name]`` in the order the page lists them
+    (pairs, since the template's JSON sorts an object's keys)."""
+    return {"calibration": [dict(u) for u in CALIBRATION_USES], "noise": [dict(u) for u in NOISE_USES],
+            "formats": [list(f) for f in FORMAT_NAMES.items()], "noiseFormats": [list(f) for f in NOISE_FORMATS.items()]}

@@ -1,0 +1,68 @@
+// A small plot of an uploaded log (pure, no DOM): the norm of its accelerometer (or magnetometer)
+// over time, each bin's smallest to largest value as a band, the still segments shaded and
+// labelled with the face up. The server sends the overview (app.workflow.overview) and segments.
+
+const W = 320;
+const H = 120;
+const LEFT = 34;
+const RIGHT = 6;
+const TOP = 18;
+const BOTTOM = 22;
+
+function esc(text) {
+  return String(text).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" }[c]));
+}
+
+// The column-name options of a file's first line: "time,ax,ay,az" → ["time", "ax", "ay", "az"].
+export function headerColumns(firstLine) {
+  const line = firstLine.replace(/^\uFEFF/, "").trim();
+  const sep = [",", ";", "\t"].find((d) => line.includes(d));
+  return (sep ? line.split(sep) : line.split(/\s+/)).map((c) => c.trim().replace(/^"(.*)"$/, "$1")).filter(Boolean);
+}
+
+// `columns` for the upload from a mapping {fileColumn: role} (roles acc_x … time_s; "" skips one).
+export function columnsField(mapping) {
+  return Object.entries(mapping).filter(([, role]) => role).map(([name, role]) => `${role}:${name}`).join(",");
+}
+
+export function logPlotSvg(overview, segments, samplingRateHz) {
+  const t = overview.t_s;
+  const lows = overview.low.filter((v) => v !== null);
+  const highs = overview.high.filter((v) => v !== null);
+  if (!t.length || !lows.length) return "";
+  const end = Math.max(t[t.length - 1], ...segments.map((s) => s.end / samplingRateHz));
+  const lo = Math.min(...lows);
+  const hi = Math.max(...highs);
+  const pad = (hi - lo) * 0.08 || Math.abs(hi) * 0.05 || 1;
+  const x = (sec) => LEFT + (sec / (end || 1)) * (W - LEFT - RIGHT);
+  const y = (v) => TOP + (1 - (v - (lo - pad)) / (hi - lo + 2 * pad)) * (H - TOP - BOTTOM);
+  const parts = [];
+  segments.forEach((s) => {
+    const x0 = x(s.start / samplingRateHz);
+    const x1 = Math.max(x(s.end / samplingRateHz), x0 + 1.5);
+    parts.push(`<rect class="still" x="${x0.toFixed(1)}" y="${TOP}" width="${(x1 - x0).toFixed(1)}" `
+      + `height="${H - TOP - BOTTOM}" fill="#cfe8d2" />`);
+    if (x1 - x0 >= 14 && s.up) {
+      parts.push(`<text x="${((x0 + x1) / 2).toFixed(1)}" y="${TOP - 5}" font-size="10" text-anchor="middle">${esc(s.up)}</text>`);
+    }
+  });
+  const band = [];
+  t.forEach((ti, i) => { if (overview.high[i] !== null) band.push(`${x(ti).toFixed(1)},${y(overview.high[i]).toFixed(1)}`); });
+  for (let i = t.length - 1; i >= 0; i -= 1) {
+    if (overview.low[i] !== null) band.push(`${x(t[i]).toFixed(1)},${y(overview.low[i]).toFixed(1)}`);
+  }
+  parts.push(`<polygon points="${band.join(" ")}" fill="#0b4f9c" stroke="#0b4f9c" stroke-width="1" />`);
+  const unit = overview.unit ? ` (${esc(overview.unit)})` : "";
+  parts.push(
+    `<line x1="${LEFT}" y1="${H - BOTTOM}" x2="${W - RIGHT}" y2="${H - BOTTOM}" stroke="#111" />`,
+    `<text x="${LEFT}" y="${H - 6}" font-size="10">0 s</text>`,
+    `<text x="${W - RIGHT}" y="${H - 6}" font-size="10" text-anchor="end">${end.toFixed(1)} s</text>`,
+    `<text x="2" y="${(y(hi) + 4).toFixed(1)}" font-size="10">${hi.toPrecision(3)}</text>`,
+    `<text x="2" y="${(y(lo) + 4).toFixed(1)}" font-size="10">${lo.toPrecision(3)}</text>`,
+  );
+  const what = overview.sensor === "mag" ? "magnetometer" : "accelerometer";
+  const label = `The ${what}'s norm${unit} over the ${end.toFixed(1)} s of the log; ${segments.length} still `
+    + `segments shaded green, labelled with the face up`;
+  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" width="100%" role="img" `
+    + `aria-label="${esc(label)}">${parts.join("")}</svg>`;
+}

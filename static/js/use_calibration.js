@@ -1,0 +1,112 @@
+// The top of every result page: the verdict in words (app/verdict.py), then "Use this calibration":
+// the one file for what the person uses it with (app/web/uses.py; the choice is remembered), one line
+// on how to apply it, and every format under it. A calibration that must not be applied offers none.
+// Shared by the start page, the wizard and the compass page (templates/_use.html).
+
+import { fetchExport } from "./api.js";
+import { TABLES } from "./tables.js";
+
+const $ = (sel) => document.querySelector(sel);
+const REMEMBER = "trical.use";
+let blobUrls = [];
+
+function el(tag, text, attrs = {}) {
+  const e = document.createElement(tag);
+  if (text !== undefined && text !== null) e.textContent = text;
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  return e;
+}
+
+function group(cal) { return cal.method === "noise" ? "noise" : "calibration"; }
+
+// The verdict card; returns the verdict (every calibration the server returns carries one).
+export function showVerdict(cal) {
+  const v = cal.verdict;
+  const box = $("#verdict");
+  box.dataset.kind = v.kind;
+  box.dataset.apply = String(v.apply);
+  $("#verdict-words").textContent = v.words;
+  $("#verdict-why").textContent = v.why || "";
+  $("#verdict-why").hidden = !v.why;
+  return v;
+}
+
+// Every format of the calibration fetched once, as {key, name, url, filename} or {key, name, error}:
+// an export the server refuses shows its reason instead of a link that answers 422. None for a
+// calibration that must not be applied.
+export async function fetchDownloads(cal, token = null) {
+  blobUrls.forEach((u) => URL.revokeObjectURL(u));
+  blobUrls = [];
+  if (!cal.verdict.apply) return [];
+  const names = group(cal) === "noise" ? TABLES.uses.noiseFormats : TABLES.uses.formats;
+  return Promise.all(names.map(async ([key, name]) => {
+    try {
+      const { blob, filename } = await fetchExport(cal.id, key, token);
+      const url = URL.createObjectURL(blob);
+      blobUrls.push(url);
+      return { key, name, url, filename };
+    } catch (err) {
+      return { key, name, error: err.message };
+    }
+  }));
+}
+
+function chosenUse(uses, kind) {
+  let saved = null;
+  try { saved = localStorage.getItem(`${REMEMBER}.${kind}`); } catch { /* private mode: no memory */ }
+  return uses.find((u) => u.key === saved) || uses[0];
+}
+
+// Before a new calibration's files are fetched: nothing stale on show.
+export function resetUse() {
+  $("#use").hidden = true;
+  $("#downloads").replaceChildren();
+  delete $("#downloads").dataset.ready;
+}
+
+// "Use this calibration" from the fetched downloads; hidden for a calibration that must not be applied.
+export function showUse(cal, downloads) {
+  const box = $("#use");
+  const list = $("#downloads");
+  box.hidden = !cal.verdict.apply;
+  list.dataset.ready = "true";
+  if (!cal.verdict.apply) {
+    list.replaceChildren();
+    return;
+  }
+  const kind = group(cal);
+  const uses = TABLES.uses[kind];
+  const select = $("#use-with");
+  if (select.dataset.kind !== kind) {
+    select.dataset.kind = kind;
+    select.replaceChildren(...uses.map((u) => el("option", u.name, { value: u.key })));
+    select.onchange = () => {
+      try { localStorage.setItem(`${REMEMBER}.${kind}`, select.value); } catch { /* no memory */ }
+      showUse(cal, downloads);
+    };
+  }
+  const use = chosenUse(uses, kind);
+  select.value = use.key;
+  const file = downloads.find((d) => d.key === use.format);
+  const link = $("#use-file");
+  const problem = $("#use-problem");
+  link.hidden = !file?.url;
+  problem.hidden = Boolean(file?.url);
+  if (file?.url) {
+    link.href = file.url;
+    link.download = file.filename;
+    link.dataset.format = file.key;
+    link.textContent = `Download the ${file.name} file`;
+    link.title = file.filename;
+    $("#use-how").textContent = use.how;
+  } else {
+    $("#use-how").textContent = "";
+    problem.textContent = `${use.name}: ${file ? file.error : "no file for it"}. Pick another use, or a format below.`;
+  }
+  list.replaceChildren(...downloads.map((d) => {
+    const li = el("li");
+    if (d.url) li.append(el("a", d.name, { href: d.url, download: d.filename, "data-format": d.key }));
+    else li.append(el("span", `${d.name}: ${d.error}`));
+    return li;
+  }));
+}
