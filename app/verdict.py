@@ -76,7 +76,9 @@ def _cube_figure(body: dict) -> tuple[float | None, float | None, str, str]:
 
 
 def _amount(value: float, unit: str) -> str:
-    return f"{value:.1f} {unit}" if value >= 10 else f"{value:.2f} {unit}"
+    """``36.0 mg``, ``1.40 mg``: three significant figures or so, the unit after a no-break space (a
+    figure never wraps away from its unit)."""
+    return f"{value:.1f}\u00a0{unit}" if value >= 10 else f"{value:.2f}\u00a0{unit}"
 
 
 def _short_reason(reasons: list[str]) -> str:

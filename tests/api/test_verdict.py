@@ -43,7 +43,7 @@ def _raw_error_mg(means, gravity) -> float:
 
 
 def _figures(words: str) -> tuple[float, float]:
-    before, after = re.search(r"([\d.]+) (?:mg|µT) → ([\d.]+) (?:mg|µT)", words).groups()
+    before, after = re.search(r"([\d.]+)\u00a0(?:mg|µT) → ([\d.]+)\u00a0(?:mg|µT)", words).groups()
     return float(before), float(after)
 
 
@@ -52,7 +52,7 @@ def test_a_good_calibration_says_apply_it_with_the_error_on_new_orientations(cli
     body = _post(client, rec.means, unit=rec.unit, gravity=rec.gravity)
     v = body["verdict"]
     assert body["ok"] and v["apply"] is True and v["kind"] == "apply"
-    assert v["words"] == "Apply it: error on new orientations 74.0 mg → 1.20 mg."
+    assert v["words"] == "Apply it: error on new orientations 74.0\u00a0mg → 1.20\u00a0mg."  # no-break spaces
     raw = _raw_error_mg(rec.means, rec.gravity)
     cv, _ = leave_one_out_mg(lambda keep: fit_triangular(rec.means[keep], gravity=rec.gravity), rec.means,
                              rec.gravity)
