@@ -6,6 +6,11 @@ import { formatNumber, parseReadings } from "./readings.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
+
+// A phone with motion sensors sees Start; a desktop sees the phone page's QR code and address and the
+// upload (a desktop browser has DeviceMotionEvent too, but no touch screen and no motion).
+const phone = "DeviceMotionEvent" in window && matchMedia("(pointer: coarse)").matches;
+document.documentElement.dataset.device = phone ? "phone" : "desktop";
 const status = $("#status");
 let recordingId = null;
 let shown = null; // the calibration on show

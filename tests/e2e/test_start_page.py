@@ -180,3 +180,29 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
             page.click(f"#downloads a:text-is('{name}')")
         assert info.value.suggested_filename, name
     assert len(page.errors) == 1 and "422" in page.errors[0]  # the browser logs the refused calibration
+
+
+def test_the_start_page_by_capability(browser, server):
+    # A desktop (no touch screen): the phone page's QR code and address, the upload, no Start.
+    desktop = browser.new_context(viewport={"width": 1280, "height": 800})
+    page = desktop.new_page()
+    page.goto(server.url + "/")
+    assert page.evaluate("() => document.documentElement.dataset.device") == "desktop"
+    assert page.locator("#on-phone").is_visible() and page.locator("#phone-start").is_hidden()
+    url = page.text_content("#phone-url")
+    port = server.url.rsplit(":", 1)[1]
+    assert url.startswith("http://") and url.endswith(f":{port}/") and "127.0.0.1" not in url  # the LAN address
+    assert page.get_attribute("#phone-qr", "alt") == f"QR code of {url}"
+    assert page.locator("#upload-form").is_visible()
+    assert "serve --https" not in page.text_content("main")  # operator hints are in the README
+    shot(page, "start_page_desktop_1280")
+    desktop.close()
+    # A phone (touch screen, motion events): Start first, no QR code of itself.
+    phone = browser.new_context(viewport={"width": 390, "height": 844}, is_mobile=True, has_touch=True)
+    page = phone.new_page()
+    page.goto(server.url + "/")
+    assert page.evaluate("() => document.documentElement.dataset.device") == "phone"
+    assert page.locator("#phone-start .cta").first.is_visible() and page.locator("#on-phone").is_hidden()
+    assert page.get_attribute("#phone-start .cta >> nth=0", "href") == "/wizard?protocol=six"
+    shot(page, "start_page_phone_390")
+    phone.close()
