@@ -59,11 +59,19 @@ def swagger_ui_page(openapi_url: str, title: str) -> tuple[bytes, str]:
     page = get_swagger_ui_html(
         openapi_url=openapi_url, title=title,
         swagger_js_url=f"{SWAGGER_UI_ASSETS}/swagger-ui-bundle.js",
-        swagger_css_url=f"{SWAGGER_UI_ASSETS}/swagger-ui.css",
+        # Swagger UI's stylesheet, imported by trical's, which adds contrast and touch target sizes.
+        swagger_css_url="/static/css/docs.css",
         swagger_favicon_url=f"{SWAGGER_UI_ASSETS}/favicon-32x32.png",
-        # No badge that would ask an outside validator about the description.
-        swagger_ui_parameters={"validatorUrl": None},
+        # No badge that would ask an outside validator about the description; no link inside each
+        # operation's expand button (a control nested in a control, which screen readers cannot reach).
+        swagger_ui_parameters={"validatorUrl": None, "deepLinking": False},
     ).body
+    # The page's language, and its content in a main landmark (the element Swagger UI fills).
+    for old, new in ((b"<html>", b'<html lang="en">'),
+                     (b'<div id="swagger-ui">\n    </div>', b'<main id="swagger-ui"></main>')):
+        if page.count(old) != 1:
+            raise RuntimeError(f"FastAPI's Swagger UI page no longer holds {old!r} once")
+        page = page.replace(old, new)
     inline = re.findall(rb"<script>(.*?)</script>", page, flags=re.DOTALL)
     if len(inline) != 1:
         raise RuntimeError(f"expected one inline script in FastAPI's Swagger UI page, found {len(inline)}")
