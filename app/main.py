@@ -5,13 +5,18 @@
 
 from __future__ import annotations
 
+import base64
+import hashlib
 import logging
+import re
 
 from fastapi import FastAPI, Request
-from fastapi.responses import JSONResponse
+from fastapi.openapi.docs import get_swagger_ui_html
+from fastapi.responses import HTMLResponse
 from fastapi.middleware.gzip import GZipMiddleware
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
+from swagger_ui_bundle import swagger_ui_path
 
 from app import __version__
 from app.api import router as api_router
@@ -37,6 +42,43 @@ CONTENT_SECURITY_POLICY = (
 )
 """No CORS middleware: cross-origin browser calls are refused by default (docs/architecture.md, issue 7)."""
 
+SWAGGER_UI_ASSETS = "/static/swagger-ui"
+"""Swagger UI's script, stylesheet and icon, served by trical from the swagger-ui-bundle-v2 package: /docs
+needs no network beyond this server."""
+
+
+def swagger_ui_page(openapi_url: str, title: str) -> tuple[bytes, str]:
+    """The /docs page and its Content-Security-Policy.
+
+    Swagger UI starts from one inline script that FastAPI writes into the page. Rather than loosen
+    ``script-src`` for that page ('unsafe-inline') or rewrite FastAPI's page to add a per-request
+    nonce, the policy of /docs is the site's policy plus the SHA-256 of that one script: the page is
+    the same for every request, so its hash is computed once here, and a script injected into the
+    page by any other means is still refused.
+    """
+    page = get_swagger_ui_html(
+        openapi_url=openapi_url, title=title,
+        swagger_js_url=f"{SWAGGER_UI_ASSETS}/swagger-ui-bundle.js",
+        # Swagger UI's stylesheet, imported by trical's, which adds contrast and touch target sizes.
+        swagger_css_url="/static/css/docs.css",
+        swagger_favicon_url=f"{SWAGGER_UI_ASSETS}/favicon-32x32.png",
+        # No badge that would ask an outside validator about the description; no link inside each
+        # operation's expand button (a control nested in a control, which screen readers cannot reach).
+        swagger_ui_parameters={"validatorUrl": None, "deepLinking": False},
+    ).body
+    # The page's language, and its content in a main landmark (the element Swagger UI fills).
+    for old, new in ((b"<html>", b'<html lang="en">'),
+                     (b'<div id="swagger-ui">\n    </div>', b'<main id="swagger-ui"></main>')):
+        if page.count(old) != 1:
+            raise RuntimeError(f"FastAPI's Swagger UI page no longer holds {old!r} once")
+        page = page.replace(old, new)
+    inline = re.findall(rb"<script>(.*?)</script>", page, flags=re.DOTALL)
+    if len(inline) != 1:
+        raise RuntimeError(f"expected one inline script in FastAPI's Swagger UI page, found {len(inline)}")
+    digest = base64.b64encode(hashlib.sha256(inline[0]).digest()).decode()
+    policy = CONTENT_SECURITY_POLICY.replace("script-src 'self'", f"script-src 'self' 'sha256-{digest}'")
+    return page, policy
+
 
 def create_app(settings: Settings | None = None) -> FastAPI:
     """Build the FastAPI application; the database is created and migrated here."""
@@ -44,6 +86,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(
         title="trical",
         version=__version__,
+        # /docs is served below from local assets; /redoc stays FastAPI's own page (it loads its script
+        # from a CDN, so it works only online and is left out of the site's policy).
+        docs_url=None,
         summary="Calibration of accelerometers (and gyroscopes and magnetometers) of phones and IMU boards.",
     )
     app.state.settings = settings
@@ -63,7 +108,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         response = await call_next(request)
         for name, value in SECURITY_HEADERS.items():
             response.headers.setdefault(name, value)
-        if not request.url.path.startswith(("/docs", "/redoc")):  # Swagger UI loads its own assets
+        if not request.url.path.startswith("/redoc"):  # /docs sets its own policy (swagger_ui_page)
             response.headers.setdefault("Content-Security-Policy", CONTENT_SECURITY_POLICY)
         return response
 
@@ -93,6 +138,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     install_error_handlers(app)
     app.include_router(api_router)
     app.include_router(web_router)
+    docs_page, docs_policy = swagger_ui_page(app.openapi_url, f"{app.title} - Swagger UI")
+
+    @app.get("/docs", include_in_schema=False)
+    def swagger_ui() -> HTMLResponse:
+        return HTMLResponse(docs_page, headers={"Content-Security-Policy": docs_policy})
+
+    # Before /static, which would otherwise take these paths.
+    app.mount(SWAGGER_UI_ASSETS, StaticFiles(directory=swagger_ui_path), name="swagger-ui")
     app.mount("/static", StaticFiles(directory=settings.static_dir), name="static")
     logging.getLogger("trical").setLevel(logging.INFO)
     return app
