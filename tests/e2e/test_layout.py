@@ -80,7 +80,7 @@ def paste_refused_result(page, url):
     page.click("#fill")
     page.click("#readings-form button[type=submit]")
     page.wait_for_selector("#result:not([hidden])")
-    page.wait_for_selector("#downloads[data-ready=true]")
+    page.wait_for_selector("#downloads[data-ready=true]", state="attached")
     assert page.get_attribute("#verdict", "data-apply") == "false" and page.locator("#use").is_hidden()
 
 
