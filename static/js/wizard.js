@@ -9,6 +9,7 @@ import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
 import { unlockCues } from "./cues.js";
+import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
 import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
@@ -374,6 +375,7 @@ function renderDownloads(v) {
 
 function showProblem(kind, detail = null) {
   const v = state.view;
+  letScreenSleep(); // every problem stops the capture
   PROBLEMS[kind].apply(v);
   v.problem = { kind, detail };
   announce(state, PROBLEMS[kind].say(detail));
@@ -460,6 +462,7 @@ async function solve() {
 // The result of the session, then its downloads (fetched with the token: a plain link cannot send it).
 async function finish(cal) {
   stop();
+  letScreenSleep();
   const v = state.view;
   v.start = false;
   v.capture = false;
@@ -553,6 +556,7 @@ function stop() {
 async function onStart() {
   const asked = requestPermissions(); // first, while the tap's user activation lasts
   unlockCues(); // sound needs a tap too
+  keepScreenOn(); // the phone lies untouched for minutes
   const v = state.view;
   v.startDisabled = true;
   v.problem = null;
@@ -604,6 +608,7 @@ $("#key-box").addEventListener("submit", (event) => {
   ensureSession();
 });
 $("#start-over").addEventListener("click", () => {
+  letScreenSleep();
   localStorage.removeItem(state.storeKey);
   state.blobUrls.forEach((u) => URL.revokeObjectURL(u));
   location.reload();

@@ -4,6 +4,7 @@
 // no magnetometer, it says so and points to a recording app and the upload on the start page.
 import { createCalibration, exportUrl } from "./api.js";
 import { cue, unlockCues } from "./cues.js";
+import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { CompassCoverage, COVERAGE_TO_SOLVE, MIN_READINGS, missingWords } from "./compass_flow.js";
 import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
@@ -33,6 +34,7 @@ const pct = (v) => `${Math.round(100 * v)} %`;
 
 function noMagnetometer(why) {
   stopSensor();
+  letScreenSleep();
   $("#compass-start").hidden = true;
   $("#compass-capture").hidden = true;
   $("#compass-none-why").textContent = why;
@@ -110,6 +112,7 @@ function show() {
 
 function start() {
   unlockCues(); // sound needs a tap
+  keepScreenOn(); // the turn takes a minute without a tap
   let sensor;
   try {
     // eslint-disable-next-line no-undef
@@ -168,6 +171,7 @@ function fillMatrix(table, rows, half) {
 }
 
 function showResult(cal) {
+  letScreenSleep();
   const m = cal.metrics;
   $("#compass-capture").hidden = true;
   const box = $("#result");
@@ -223,7 +227,7 @@ $("#compass-more").addEventListener("click", () => {
   $("#compass-capture").hidden = false;
   start();
 });
-$("#start-over").addEventListener("click", () => location.reload());
+$("#start-over").addEventListener("click", () => { letScreenSleep(); location.reload(); });
 $("#compass-where").addEventListener("click", () => {
   const text = $("#compass-where-text");
   if (!navigator.geolocation) { text.textContent = "This browser gives no location: the strength will be estimated."; return; }
