@@ -8,7 +8,7 @@ import { poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
-import { unlockCues } from "./cues.js";
+import { cue, unlockCues } from "./cues.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
@@ -533,6 +533,11 @@ function onMotion(event) {
   const out = state.machine.push(sample);
   v.live = { acc: sample.acc, out, force: out.event !== null };
   flow.show(state, out);
+  // The machine's own events as cues, the same in every flow: a capture has begun (again, after a
+  // move); a pose is refused before anything is sent (six: already captured; cube24: the wrong face
+  // up; free: too near a direction captured). The flows cue what the server answers (send).
+  if (out.event === "started") cue("start");
+  else if (out.event === "refused") cue("refused");
   render(state);
   if (out.capture) flow.send(state, out.capture, ctx);
 }

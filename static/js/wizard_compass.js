@@ -19,7 +19,14 @@ const DRAW_MS = 150; // the sphere is redrawn at most this often
 const DRAWN_POINTS = 600; // the latest readings drawn
 
 const state = { sensor: null, coverage: new CompassCoverage(), place: null, solving: false, autoSolved: false,
-  drawnAt: 0, timer: null, drawTimer: null };
+  drawnAt: 0, timer: null, drawTimer: null, reading: false };
+
+// The cues of the other flows, for a turn that has no poses: "start" when the first reading after
+// a Start (or "Keep turning") tap arrives, so the person hears that the magnetometer really reads
+// and the turn can begin; "finished" when the coverage is complete (stop turning: the page
+// calibrates by itself); "refused" when the turn cannot go on as it is: the server refused the
+// readings sent (keep turning, then Calibrate now) or the magnetometer stopped in the middle of it.
+// A done cue per pose has no equivalent: the faces fill continuously and the sphere shows them.
 
 function say(text) { $("#status").textContent = text; }
 function el(tag, text, attrs = {}) {
@@ -52,6 +59,7 @@ const WHY = {
 function refused(err) {
   if (state.coverage.count > 0) { // it stopped mid-turn: the readings so far are kept
     stopSensor();
+    cue("refused");
     const text = `The magnetometer stopped (${err && (err.message || err.name)}): tap Calibrate now to use the `
       + `${state.coverage.count} readings so far, or Start over.`;
     $("#compass-missing").textContent = text;
@@ -78,6 +86,7 @@ function onReading() {
   if (!s) return;
   clearTimeout(state.timer);
   if (!state.coverage.push([s.x, s.y, s.z])) return;
+  if (!state.reading) { state.reading = true; cue("start"); }
   const now = performance.now();
   if (now - state.drawnAt >= DRAW_MS) show();
   else if (!state.drawTimer) state.drawTimer = setTimeout(show, DRAW_MS);
@@ -122,6 +131,7 @@ function start() {
     return;
   }
   state.sensor = sensor;
+  state.reading = false; // the start cue waits for this turn's first reading
   sensor.addEventListener("reading", onReading);
   sensor.addEventListener("error", (event) => refused(event.error));
   sensor.start();
@@ -153,6 +163,7 @@ async function solve() {
     showResult(cal);
   } catch (err) {
     say(`The calibration could not be computed: ${err.message}`);
+    cue("refused");
     $("#compass-missing").textContent = `The server refused: ${err.message}. Keep turning, then tap Calibrate now.`;
   } finally {
     state.solving = false;
