@@ -111,7 +111,8 @@ function render(s) {
   setHidden($("#result"), !v.result);
   renderResult(s);
   renderDownloads(v);
-  setHidden($("#start-over"), !v.startOver);
+  setHidden($("#start-over"), !v.startOver || v.askStartOver);
+  setHidden($("#start-over-ask"), !(v.startOver && v.askStartOver));
   if (v.announcement.seq !== rendered.seq) {
     rendered.seq = v.announcement.seq;
     $("#status").textContent = v.announcement.text;
@@ -612,7 +613,16 @@ $("#key-box").addEventListener("submit", (event) => {
   render(state);
   ensureSession();
 });
-$("#start-over").addEventListener("click", () => {
+// Start over in two taps (the session is lost): the first asks in place, where the thumb already is;
+// the capture goes on meanwhile, and Keep it goes back to it.
+function askStartOver(ask) {
+  state.view.askStartOver = ask;
+  state.view.focus = ask ? "#start-over-no" : "#start-over";
+  render(state);
+}
+$("#start-over").addEventListener("click", () => askStartOver(true));
+$("#start-over-no").addEventListener("click", () => askStartOver(false));
+$("#start-over-yes").addEventListener("click", () => {
   letScreenSleep();
   localStorage.removeItem(state.storeKey);
   state.blobUrls.forEach((u) => URL.revokeObjectURL(u));

@@ -140,7 +140,7 @@ function start() {
   }, NO_READING_MS);
   $("#compass-start").hidden = true;
   $("#compass-capture").hidden = false;
-  $("#start-over").hidden = false;
+  if ($("#start-over-ask").hidden) $("#start-over").hidden = false; // not while it asks
   $("#compass-capture-h").focus();
   say("Reading the magnetometer: turn the phone slowly through all directions.");
 }
@@ -238,7 +238,15 @@ $("#compass-more").addEventListener("click", () => {
   $("#compass-capture").hidden = false;
   start();
 });
-$("#start-over").addEventListener("click", () => { letScreenSleep(); location.reload(); });
+// Start over in two taps (the readings are lost): the first asks in place, Keep it goes back.
+function askStartOver(ask) {
+  $("#start-over").hidden = ask;
+  $("#start-over-ask").hidden = !ask;
+  $(ask ? "#start-over-no" : "#start-over").focus();
+}
+$("#start-over").addEventListener("click", () => askStartOver(true));
+$("#start-over-no").addEventListener("click", () => askStartOver(false));
+$("#start-over-yes").addEventListener("click", () => { letScreenSleep(); location.reload(); });
 $("#compass-where").addEventListener("click", () => {
   const text = $("#compass-where-text");
   if (!navigator.geolocation) { text.textContent = "This browser gives no location: the strength will be estimated."; return; }
