@@ -1,6 +1,7 @@
 // The cube24 flow of the wizard (no DOM): the 24 positions in order, each turn checked by the server
 // as it happens; its steps as transitions on the wizard's state, and its server calls.
 import { getSession, postCapture } from "./api.js";
+import { cue } from "./cues.js";
 import { CaptureMachine } from "./motion.js";
 import { CUBE_POSITIONS, MotionLog, expectPosition, turnInto, upOf } from "./cube.js";
 import { TABLES } from "./tables.js";
@@ -110,6 +111,7 @@ async function send(state, capture, ctx) {
     ctx.adopt(answer.session);
     state.view.turnAlert = null;
     const n = capturedCount(state);
+    cue(n < CUBE_POSITIONS ? "captured" : "finished"); // turn the cube now, or nothing more to do
     if (n < CUBE_POSITIONS) {
       expectPosition(state.machine, n + 1);
       state.machine.requireMove(true); // the next position may have the same face up: wait for the turn
@@ -126,6 +128,7 @@ async function send(state, capture, ctx) {
     }
   } catch (err) {
     state.machine.resolve(false, capture.position);
+    cue("refused"); // a wrong turn too: the alert says which
     cube.awaitingTurn = false;
     if (err.code === "already_captured") {
       try { ctx.adopt(await getSession(state.session.id, state.token)); } catch { /* keep the old view */ }

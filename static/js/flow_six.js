@@ -1,6 +1,7 @@
 // The six-position flow of the wizard (no DOM): poses in any order, recognised from the data; its
 // steps as transitions on the wizard's state, and its server calls.
 import { getSession, postCapture } from "./api.js";
+import { cue } from "./cues.js";
 import { CaptureMachine, POSES } from "./motion.js";
 import { describePose } from "./poses.js";
 import { FLOW_DEFAULTS, announce, instruct, list } from "./wizard_state.js";
@@ -62,6 +63,7 @@ async function send(state, capture, ctx) {
     state.machine.resolve(true, capture.position);
     ctx.adopt(answer.session);
     const remaining = state.session.remaining;
+    cue(remaining.length ? "captured" : "finished"); // turn the phone now, or nothing more to do
     const text = remaining.length ? `${capture.position} captured. Remaining: ${list(remaining)}.`
       : "All six positions captured: computing the calibration…";
     instruct(state, text);
@@ -70,6 +72,7 @@ async function send(state, capture, ctx) {
     if (!remaining.length) await ctx.solve();
   } catch (err) {
     state.machine.resolve(false, capture.position);
+    cue("refused");
     if (err.code === "already_captured") {
       try { ctx.adopt(await getSession(state.session.id, state.token)); } catch { /* keep the old view */ }
     }

@@ -254,7 +254,9 @@ export class CaptureMachine {
   emit(out, state) {
     out.state = state;
     if (state === "refused" && this.lastState !== "refused") out.event = out.event || "refused";
-    this.lastState = state;
+    // A gap in the data ("waiting": too few samples in the window) is no new put-down: a pose refused
+    // before it is not refused again after it (its cue would sound twice for the one pose).
+    if (state !== "waiting") this.lastState = state;
     return out;
   }
 }

@@ -8,8 +8,9 @@ import { poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
-import { unlockCues } from "./cues.js";
+import { cue, unlockCues } from "./cues.js";
 import { fetchDownloads, showUse, showVerdict } from "./use_calibration.js";
+import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
 import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
@@ -110,7 +111,8 @@ function render(s) {
   setHidden($("#result"), !v.result);
   renderResult(s);
   renderDownloads(v);
-  setHidden($("#start-over"), !v.startOver);
+  setHidden($("#start-over"), !v.startOver || v.askStartOver);
+  setHidden($("#start-over-ask"), !(v.startOver && v.askStartOver));
   if (v.announcement.seq !== rendered.seq) {
     rendered.seq = v.announcement.seq;
     $("#status").textContent = v.announcement.text;
@@ -369,6 +371,7 @@ function renderDownloads(v) {
 
 function showProblem(kind, detail = null) {
   const v = state.view;
+  letScreenSleep(); // every problem stops the capture
   PROBLEMS[kind].apply(v);
   v.problem = { kind, detail };
   announce(state, PROBLEMS[kind].say(detail));
@@ -455,6 +458,7 @@ async function solve() {
 // The result of the session, then its downloads (fetched with the token: a plain link cannot send it).
 async function finish(cal) {
   stop();
+  letScreenSleep();
   const v = state.view;
   v.start = false;
   v.capture = false;
@@ -513,6 +517,11 @@ function onMotion(event) {
   const out = state.machine.push(sample);
   v.live = { acc: sample.acc, out, force: out.event !== null };
   flow.show(state, out);
+  // The machine's own events as cues, the same in every flow: a capture has begun (again, after a
+  // move); a pose is refused before anything is sent (six: already captured; cube24: the wrong face
+  // up; free: too near a direction captured). The flows cue what the server answers (send).
+  if (out.event === "started") cue("start");
+  else if (out.event === "refused") cue("refused");
   render(state);
   if (out.capture) flow.send(state, out.capture, ctx);
 }
@@ -536,6 +545,7 @@ function stop() {
 async function onStart() {
   const asked = requestPermissions(); // first, while the tap's user activation lasts
   unlockCues(); // sound needs a tap too
+  keepScreenOn(); // the phone lies untouched for minutes
   const v = state.view;
   v.startDisabled = true;
   v.problem = null;
@@ -586,7 +596,17 @@ $("#key-box").addEventListener("submit", (event) => {
   render(state);
   ensureSession();
 });
-$("#start-over").addEventListener("click", () => {
+// Start over in two taps (the session is lost): the first asks in place, where the thumb already is;
+// the capture goes on meanwhile, and Keep it goes back to it.
+function askStartOver(ask) {
+  state.view.askStartOver = ask;
+  state.view.focus = ask ? "#start-over-no" : "#start-over";
+  render(state);
+}
+$("#start-over").addEventListener("click", () => askStartOver(true));
+$("#start-over-no").addEventListener("click", () => askStartOver(false));
+$("#start-over-yes").addEventListener("click", () => {
+  letScreenSleep();
   localStorage.removeItem(state.storeKey);
   location.reload();
 });

@@ -4,6 +4,7 @@
 // no magnetometer, it says so and points to a recording app and the upload on the start page.
 import { createCalibration } from "./api.js";
 import { cue, unlockCues } from "./cues.js";
+import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { CompassCoverage, COVERAGE_TO_SOLVE, MIN_READINGS, missingWords } from "./compass_flow.js";
 import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
@@ -17,7 +18,14 @@ const DRAW_MS = 150; // the sphere is redrawn at most this often
 const DRAWN_POINTS = 600; // the latest readings drawn
 
 const state = { shown: null, sensor: null, coverage: new CompassCoverage(), place: null, solving: false, autoSolved: false,
-  drawnAt: 0, timer: null, drawTimer: null };
+  drawnAt: 0, timer: null, drawTimer: null, reading: false };
+
+// The cues of the other flows, for a turn that has no poses: "start" when the first reading after
+// a Start (or "Keep turning") tap arrives, so the person hears that the magnetometer really reads
+// and the turn can begin; "finished" when the coverage is complete (stop turning: the page
+// calibrates by itself); "refused" when the turn cannot go on as it is: the server refused the
+// readings sent (keep turning, then Calibrate now) or the magnetometer stopped in the middle of it.
+// A done cue per pose has no equivalent: the faces fill continuously and the sphere shows them.
 
 function say(text) { $("#status").textContent = text; }
 function el(tag, text, attrs = {}) {
@@ -32,6 +40,7 @@ const pct = (v) => `${Math.round(100 * v)} %`;
 
 function noMagnetometer(why) {
   stopSensor();
+  letScreenSleep();
   $("#compass-start").hidden = true;
   $("#compass-capture").hidden = true;
   $("#compass-none-why").textContent = why;
@@ -49,6 +58,7 @@ const WHY = {
 function refused(err) {
   if (state.coverage.count > 0) { // it stopped mid-turn: the readings so far are kept
     stopSensor();
+    cue("refused");
     const text = `The magnetometer stopped (${err && (err.message || err.name)}): tap Calibrate now to use the `
       + `${state.coverage.count} readings so far, or Start over.`;
     $("#compass-missing").textContent = text;
@@ -75,6 +85,7 @@ function onReading() {
   if (!s) return;
   clearTimeout(state.timer);
   if (!state.coverage.push([s.x, s.y, s.z])) return;
+  if (!state.reading) { state.reading = true; cue("start"); }
   const now = performance.now();
   if (now - state.drawnAt >= DRAW_MS) show();
   else if (!state.drawTimer) state.drawTimer = setTimeout(show, DRAW_MS);
@@ -109,6 +120,7 @@ function show() {
 
 function start() {
   unlockCues(); // sound needs a tap
+  keepScreenOn(); // the turn takes a minute without a tap
   let sensor;
   try {
     // eslint-disable-next-line no-undef
@@ -118,6 +130,7 @@ function start() {
     return;
   }
   state.sensor = sensor;
+  state.reading = false; // the start cue waits for this turn's first reading
   sensor.addEventListener("reading", onReading);
   sensor.addEventListener("error", (event) => refused(event.error));
   sensor.start();
@@ -126,7 +139,7 @@ function start() {
   }, NO_READING_MS);
   $("#compass-start").hidden = true;
   $("#compass-capture").hidden = false;
-  $("#start-over").hidden = false;
+  if ($("#start-over-ask").hidden) $("#start-over").hidden = false; // not while it asks
   $("#compass-capture-h").focus();
   say("Reading the magnetometer: turn the phone slowly through all directions.");
 }
@@ -149,6 +162,7 @@ async function solve() {
     showResult(cal);
   } catch (err) {
     say(`The calibration could not be computed: ${err.message}`);
+    cue("refused");
     $("#compass-missing").textContent = `The server refused: ${err.message}. Keep turning, then tap Calibrate now.`;
   } finally {
     state.solving = false;
@@ -167,6 +181,7 @@ function fillMatrix(table, rows, half) {
 }
 
 function showResult(cal) {
+  letScreenSleep();
   const m = cal.metrics;
   state.shown = cal;
   showVerdict(cal);
@@ -221,7 +236,15 @@ $("#compass-more").addEventListener("click", () => {
   $("#compass-capture").hidden = false;
   start();
 });
-$("#start-over").addEventListener("click", () => location.reload());
+// Start over in two taps (the readings are lost): the first asks in place, Keep it goes back.
+function askStartOver(ask) {
+  $("#start-over").hidden = ask;
+  $("#start-over-ask").hidden = !ask;
+  $(ask ? "#start-over-no" : "#start-over").focus();
+}
+$("#start-over").addEventListener("click", () => askStartOver(true));
+$("#start-over-no").addEventListener("click", () => askStartOver(false));
+$("#start-over-yes").addEventListener("click", () => { letScreenSleep(); location.reload(); });
 $("#compass-where").addEventListener("click", () => {
   const text = $("#compass-where-text");
   if (!navigator.geolocation) { text.textContent = "This browser gives no location: the strength will be estimated."; return; }

@@ -25,6 +25,7 @@ export function newState({ protocol, captureS }) {
       capture: false, // the capture card
       keyBox: false,
       startOver: false,
+      askStartOver: false, // Start over was tapped once: the page asks before it discards the session
       resume: null, // the resume text, or null
       resumePic: null, // the cube position pictured with the resume text, or null
       problem: null, // {kind, detail}: a new object each time a problem is shown

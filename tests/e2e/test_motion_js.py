@@ -105,3 +105,13 @@ def test_tilted_and_already_captured_poses(js):
       for (let t = 3000; t < 6000; t += 16) r.push(c.push({t, acc: [0, 0, 9.8], gyr: null}));
       return [r.map((o) => o.event).filter(Boolean), r.find((o) => o.capture).capture.redo, c.remaining()];""")
     assert outs == [["refused", "started", "captured"], True, ["-x", "+x", "-y", "+y", "-z", "+z"]]
+
+
+def test_a_gap_in_the_data_does_not_refuse_the_same_pose_again(js):
+    # Refused, then no sample for a second (the window empties: "waiting"), then the same pose again:
+    # one refusal, one cue, for the one put-down.
+    outs = js("""const c = new m.CaptureMachine(1000); c.setDone(['+z']);
+      const r = []; for (let t = 0; t < 2000; t += 16) r.push(c.push({t, acc: [0, 0, 9.8], gyr: null}));
+      for (let t = 3000; t < 5000; t += 16) r.push(c.push({t, acc: [0, 0, 9.8], gyr: null}));
+      return [r.map((o) => o.event).filter(Boolean), [...new Set(r.map((o) => o.state))]];""")
+    assert outs == [["refused"], ["waiting", "refused"]]

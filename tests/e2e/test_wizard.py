@@ -225,6 +225,7 @@ def test_a_reload_resumes_with_the_done_poses(page, server):
     page.reload()  # a finished session reloads into its result
     page.wait_for_selector("#downloads[data-ready=true]")
     page.click("#start-over")
+    page.click("#start-over-yes")  # the second step: discard
     page.wait_for_selector("#start-btn")
     assert page.text_content("#start-btn") == "Start" and page.evaluate("localStorage.length") == 0
     assert page.errors == []
