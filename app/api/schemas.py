@@ -258,7 +258,7 @@ class PoseAdviceOut(Out):
     """One pose to add next (app.calibration.advice): D-optimal for the model's parameters."""
 
     up: Vec3Out = Field(description="Unit vector in the sensor frame that should point up (reads +g at rest).")
-    words: str = Field(description="The pose in words, e.g. “+x up (on its left edge, right edge up), tilted 30° towards −z”.")
+    words: str = Field(description="The pose in words, e.g. “+x up (on its left edge as you face the screen, right edge up), tilted 30° towards −z”.")
     gain: float | None = Field(description=(
         "Fraction by which adding this pose (after the advised ones before it) shrinks the generalized variance "
         "det C of the parameters; null when no model is fitted yet (a free wizard session before 10 poses)."))

@@ -115,8 +115,8 @@ def describe_up(up) -> str:
     Returns
     -------
     str
-        E.g. ``"+z up (flat, screen up)"`` or ``"+x up (on its left edge, right edge up), tilted
-        30° towards −z"``; the tilt in multiples of 5°, towards two axes (``"towards −z and +y"``)
+        E.g. ``"+z up (flat, screen up)"`` or ``"+x up (on its left edge as you face the screen, right
+        edge up), tilted 30° towards −z"``; the tilt in multiples of 5°, towards two axes (``"towards −z and +y"``)
         when its direction is more than 22.5° from the nearer one.  The phone words in brackets
         name the pose of the nearest axis (W3C frame: x right, y up the screen, z out of it).
     """

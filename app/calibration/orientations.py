@@ -23,13 +23,15 @@ CANONICAL_SIX: tuple[str, ...] = ("-x", "+x", "-y", "+y", "-z", "+z")
 POSE_NAMES = {
     "+z": "flat, screen up",
     "-z": "flat, screen down",
-    "+y": "standing upright, top edge up",
-    "-y": "upside down, top edge down",
-    "+x": "on its left edge, right edge up",
-    "-x": "on its right edge, left edge up",
+    "+y": "upright on its bottom edge (the charging port)",
+    "-y": "upside down on its top edge (the earpiece)",
+    "+x": "on its left edge as you face the screen, right edge up",
+    "-x": "on its right edge as you face the screen, left edge up",
 }
 """Each of the six poses in words for a person holding a phone (W3C frame: x right, y up along the
-screen, z out of the screen); the pages and the pose advice (:mod:`app.calibration.advice`) use them."""
+screen, z out of the screen), by what every phone has: the screen, the earpiece at the top edge, the
+charging port at the bottom (the side buttons differ between makers); left and right as seen facing
+the screen. The pages and the pose advice (:mod:`app.calibration.advice`) use them."""
 
 LABEL_MAX_ANGLE_DEG = 20.0
 """A direction is labelled with its nearest axis only when within this angle (docs/rest.md)."""

@@ -184,7 +184,7 @@ function showSegments(rec) {
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
-  const sec = (i) => formatNumber(i / rec.sampling_rate_hz, 1);
+  const sec = (i) => (i / rec.sampling_rate_hz).toFixed(1); // seconds, one decimal, always
   $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
     const tr = document.createElement("tr");
     tr.append(cell("td", String(s.index + 1)), cell("td", `${sec(s.start)}–${sec(s.end)}`), cell("td", s.up ?? "—"),

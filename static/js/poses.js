@@ -1,66 +1,83 @@
 // Pictures of the phone in each of the six poses, as SVG strings (pure, no DOM).
 // The label names the device axis pointing up, away from the Earth (x right, y up along the
-// screen, z out of the screen). Standing poses are drawn from the front, lying ones from above
-// at an angle; a table line and an "up" arrow give the direction. The poses' names come from the
-// server's tables (tables.js).
+// screen, z out of the screen). Standing poses are drawn from the front, lying ones from above at
+// an angle. What a person recognises carries the picture: the screen, the earpiece and front
+// camera at the top edge, the charging port at the bottom, the back camera; the edge or face that
+// touches the table is drawn in orange on the table line, and an arrow leaves the side that points
+// up. The axis code is a small grey note in the corner. The poses' words come from the server's
+// tables (tables.js).
 
 import { TABLES } from "./tables.js";
 
 const W = 120;
 const H = 120;
-const TABLE_Y = 108;
+const TABLE_Y = 110;
+const TOUCH = "#e07000"; // the edge or face on the table
+const UP = "#111";
 
-// A phone seen from the front, portrait, centred on (0, 0): body, screen, earpiece, axis arrows.
-function frontPhone() {
+// A phone seen from the front, portrait, centred on (0, 0): body, screen, earpiece and front camera
+// at the top, charging port at the bottom; `down` names the edge on the table (coloured) and `up`
+// the one an arrow leaves from.
+function frontPhone(down, up) {
+  const edges = { bottom: "M-19 38 H19", top: "M-19 -38 H19", left: "M-21 -36 V36", right: "M21 -36 V36" };
+  const arrows = { top: "M0 -40 V-56 M-5 -50 L0 -56 L5 -50", bottom: "M0 40 V56 M-5 50 L0 56 L5 50",
+    left: "M-23 0 H-39 M-33 -5 L-39 0 L-33 5", right: "M23 0 H39 M33 -5 L39 0 L33 5" };
   return `
     <rect x="-21" y="-38" width="42" height="76" rx="6" fill="#222" />
-    <rect x="-17" y="-31" width="34" height="60" rx="2" fill="#8fc3ff" />
-    <rect x="-6" y="-35.5" width="12" height="2" rx="1" fill="#777" />
-    <path d="M0 0 H13 M10 -3 L13 0 L10 3" stroke="#b00000" stroke-width="2" fill="none" />
-    <text x="5" y="-3" font-size="8" fill="#b00000">x</text>
-    <path d="M0 0 V-18 M-3 -15 L0 -18 L3 -15" stroke="#0a5a14" stroke-width="2" fill="none" />
-    <text x="-8" y="-10" font-size="8" fill="#0a5a14">y</text>`;
+    <rect x="-17" y="-30" width="34" height="58" rx="2" fill="#8fc3ff" />
+    <rect x="-7" y="-35" width="12" height="2.4" rx="1.2" fill="#888" />
+    <circle cx="9" cy="-33.8" r="2" fill="#555" stroke="#aaa" stroke-width=".8" />
+    <rect x="-5" y="34" width="10" height="2.4" rx="1.2" fill="#888" />
+    <path d="${edges[down]}" stroke="${TOUCH}" stroke-width="5" stroke-linecap="round" />
+    <path d="${arrows[up]}" stroke="${UP}" stroke-width="3" fill="none" />`;
 }
 
-// A phone lying on the table, drawn as a slanted slab; screen up or down.
+// A phone lying on the table, drawn as a slanted slab: its upper face (screen or back) and, under
+// it, the face on the table as an orange band; an arrow up from the upper face.
 function flatPhone(screenUp) {
-  const top = "30,80 82,80 98,62 46,62";
+  const top = "14,84 80,84 102,60 36,60";
   const face = screenUp
-    ? `<polygon points="36,77 80,77 92,65 48,65" fill="#8fc3ff" />
-       <circle cx="64" cy="71" r="2.5" fill="#b00000" />
-       <text x="58" y="58" font-size="9" fill="#b00000">z</text>
-       <path d="M64 71 V52 M61 55 L64 52 L67 55" stroke="#b00000" stroke-width="2" fill="none" />`
-    : `<circle cx="84" cy="66" r="3.5" fill="#555" stroke="#999" />
-       <text x="36" y="76" font-size="8" fill="#ddd">back</text>`;
+    ? `<polygon points="22,81 78,81 94,63 38,63" fill="#8fc3ff" />
+       <path d="M88 63 L92 61" stroke="#888" stroke-width="2.4" stroke-linecap="round" />`
+    : `<circle cx="88" cy="65" r="5" fill="#444" stroke="#aaa" stroke-width="1.2" />
+       <circle cx="88" cy="65" r="2" fill="#8fc3ff" />`;
   return `
-    <polygon points="30,80 82,80 82,85 30,85" fill="#111" />
-    <polygon points="82,80 98,62 98,67 82,85" fill="#333" />
+    <polygon points="14,84 80,84 80,91 14,91" fill="${TOUCH}" />
+    <polygon points="80,84 102,60 102,67 80,91" fill="#b35a00" />
     <polygon points="${top}" fill="#222" />
-    ${face}`;
+    ${face}
+    <path d="M58 72 V38 M53 44 L58 38 L63 44" stroke="${UP}" stroke-width="3" fill="none" />`;
 }
 
-// Rotation (degrees, clockwise on screen) of the front view that puts the label's axis up.
-const STANDING = { "+y": 0, "-y": 180, "+x": -90, "-x": 90 };
+// Rotation (degrees, clockwise on screen) of the front view that puts the label's axis up, with the
+// edge on the table and the one pointing up in the phone's own terms.
+const STANDING = {
+  "+y": { angle: 0, down: "bottom", up: "top" },
+  "-y": { angle: 180, down: "top", up: "bottom" },
+  "+x": { angle: -90, down: "left", up: "right" },
+  "-x": { angle: 90, down: "right", up: "left" },
+};
 
 const DESCRIPTIONS = TABLES.poses.names;
 
 export function describePose(label) { return DESCRIPTIONS[label] || label; }
 
-// An SVG picture of the phone with `label`'s axis pointing up. `size` in CSS pixels.
-export function poseSvg(label, size = 96) {
+// An SVG picture of the phone with `label`'s axis pointing up. `size` in CSS pixels (null: fill the
+// width of its box).
+export function poseSvg(label, size = 160) {
   if (!(label in DESCRIPTIONS)) throw new Error(`unknown pose ${label}`);
   let body;
   if (label in STANDING) {
-    const angle = STANDING[label];
+    const { angle, down, up } = STANDING[label];
     const halfHeight = angle % 180 === 0 ? 38 : 21; // the phone stands on the table line
-    body = `<g transform="translate(56 ${TABLE_Y - halfHeight}) rotate(${angle})">${frontPhone()}</g>`;
+    body = `<g transform="translate(60 ${TABLE_Y - halfHeight - 2}) rotate(${angle})">${frontPhone(down, up)}</g>`;
   } else {
-    body = `<g transform="translate(-4 ${TABLE_Y - 86})">${flatPhone(label === "+z")}</g>`;
+    body = `<g transform="translate(0 ${TABLE_Y - 92})">${flatPhone(label === "+z")}</g>`;
   }
-  const arrow = `<path d="M108 60 V14 M103 20 L108 14 L113 20" stroke="#111" stroke-width="3" fill="none" />
-    <text x="98" y="72" font-size="10" font-weight="700" fill="#111">up</text>`;
-  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" width="${size}" height="${size}" `
+  const dims = size ? `width="${size}" height="${size}"` : `width="100%"`;
+  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" ${dims} `
     + `role="img" aria-label="Phone ${describePose(label)} (${label} up)">`
-    + `<line x1="2" y1="${TABLE_Y}" x2="${W - 2}" y2="${TABLE_Y}" stroke="#7a3e00" stroke-width="3" />`
-    + body + arrow + `</svg>`;
+    + `<line x1="2" y1="${TABLE_Y}" x2="${W - 2}" y2="${TABLE_Y}" stroke="#7a5a3a" stroke-width="3" />`
+    + body
+    + `<text x="${W - 3}" y="11" font-size="10" fill="#666" text-anchor="end">${label} up</text></svg>`;
 }

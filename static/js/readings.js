@@ -23,5 +23,6 @@ export function parseReadings(text) {
 export function formatNumber(v, digits = 6) {
   if (v === null || v === undefined) return "—";
   if (typeof v !== "number") return String(v);
+  if (Number.isInteger(v) && Math.abs(v) < 1e9) return String(v); // a count is a count: 6, not 6.000000
   return Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-3 && v !== 0) ? v.toExponential(4) : v.toFixed(digits);
 }

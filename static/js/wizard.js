@@ -4,7 +4,7 @@
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
-import { poseSvg } from "./poses.js";
+import { describePose, poseSvg } from "./poses.js";
 import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
@@ -141,7 +141,7 @@ function renderPoses(s) {
     if (s.machine && s.machine.redo.has(pose)) shown = "redo";
     if (li.dataset.state !== shown) li.dataset.state = shown;
     li.classList.toggle("current", pose === s.view.current);
-    setText(li.querySelector(".pose-state"), { done: "captured ✓", todo: "to do", redo: "to redo" }[shown]);
+    setText(li.querySelector(".pose-state"), { done: "done ✓", todo: "to do", redo: "redo" }[shown]);
     setHidden(li.querySelector(".redo"), shown !== "done");
   }
 }
@@ -201,6 +201,10 @@ function renderCube(s) {
   setText($("#cube-count"), `${n} of ${CUBE_POSITIONS} positions captured`);
   if ($("#cube-count").dataset.captured !== String(n)) $("#cube-count").dataset.captured = String(n);
   if ($("#cube-progress").value !== n) $("#cube-progress").value = n;
+  $("#cube-row").querySelectorAll("li").forEach((li, i) => {
+    const state = i < n ? "done" : i === n ? "current" : "todo";
+    if (li.dataset.state !== state) li.dataset.state = state;
+  });
   const redo = $("#redo-last");
   setHidden(redo, n === 0 || redoing);
   setText(redo, `Redo position ${n}`);
@@ -255,7 +259,8 @@ function renderLive(s) {
   const shown = out.still && out.angleDeg <= s.machine.o.maxAngleDeg ? out.pose : "";
   if (pic.dataset.pose !== shown) {
     pic.dataset.pose = shown;
-    pic.innerHTML = shown ? poseSvg(shown, 72) : "";
+    pic.innerHTML = shown ? poseSvg(shown, 176) : "";
+    $("#live-pose-words").textContent = shown ? `Now: ${describePose(shown)}` : "";
   }
 }
 
@@ -616,7 +621,7 @@ $("#capture").addEventListener("click", (event) => {
   if (button) redo(button.dataset.redo);
 });
 
-for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic);
+for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic, null);
 const local = ["localhost", "127.0.0.1", "[::1]"].includes(location.hostname);
 if (!window.isSecureContext && !local) {
   showProblem("insecure");

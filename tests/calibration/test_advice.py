@@ -111,9 +111,9 @@ def test_nine_poses_without_covariance_still_get_advice():
 @pytest.mark.parametrize("up, words", [
     ((0, 0, 1), "+z up (flat, screen up)"),
     ((0, 0, -1), "−z up (flat, screen down)"),
-    ((0.02, 0.99, 0.03), "+y up (standing upright, top edge up)"),
-    ((np.cos(np.radians(30)), 0, -np.sin(np.radians(30))), "+x up (on its left edge, right edge up), tilted 30° towards −z"),
-    ((-0.2, -1.0, 0.03), "−y up (upside down, top edge down), tilted 10° towards −x"),
+    ((0.02, 0.99, 0.03), "+y up (upright on its bottom edge (the charging port))"),
+    ((np.cos(np.radians(30)), 0, -np.sin(np.radians(30))), "+x up (on its left edge as you face the screen, right edge up), tilted 30° towards −z"),
+    ((-0.2, -1.0, 0.03), "−y up (upside down on its top edge (the earpiece)), tilted 10° towards −x"),
     ((0.5, 0.5, -0.8), "−z up (flat, screen down), tilted 40° towards +x and +y"),
 ])
 def test_words(up, words):

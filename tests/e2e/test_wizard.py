@@ -296,7 +296,7 @@ def test_keyboard_reaches_start_and_redo_with_names(page, server):
     wait_captured(page, "-y")
     tab_to(page, '#poses button[data-redo="-y"]')
     redo = page.locator('#poses button[data-redo="-y"]')
-    expect(redo).to_have_accessible_name("Redo -y (upside down, top edge down)")
+    expect(redo).to_have_accessible_name("Redo -y (upside down on its top edge (the earpiece))")
     shot(page, "wizard_keyboard_redo_focused")
     page.keyboard.press("Enter")
     expect(page.locator('#poses li[data-pose="-y"]')).to_have_attribute("data-state", "redo")
