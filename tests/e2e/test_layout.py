@@ -170,6 +170,24 @@ SMALL_TARGETS = """(minPx) => {
 }"""
 
 
+def layout_problems(page, state: str, width: int) -> list[str]:
+    """What is wrong with the page as it stands: sideways scrolling, axe violations, small targets."""
+    shot(page, f"layout_{state}_{width}")
+    problems = []
+    fit = page.evaluate(OVERFLOW)
+    if fit["scrollWidth"] > fit["innerWidth"]:
+        worst = "\n".join(f"  {o['path']} reaches {o['right']} px ({o['text']!r})" for o in fit["offenders"])
+        problems.append(f"the page scrolls sideways: scrollWidth {fit['scrollWidth']} > {fit['innerWidth']} px;"
+                        f" furthest right:\n{worst or '  (no element outside a scrolling box)'}")
+    found = violations(page, AXE_OPTIONS.get(state))
+    if found:
+        problems.append("axe: " + describe(found))
+    small = page.evaluate(SMALL_TARGETS, MIN_TARGET_PX)
+    if small:
+        problems.append(f"{len(small)} touch targets under {MIN_TARGET_PX} px tall:\n  " + "\n  ".join(small[:15]))
+    return [f"{state} at {width} px: {p}" for p in problems]
+
+
 @pytest.mark.e2e
 @pytest.mark.parametrize("width", WIDTHS)
 @pytest.mark.parametrize("state", list(STATES))
@@ -178,23 +196,48 @@ def test_layout(browser, layout_server, state, width):
     try:
         page = context.new_page()
         STATES[state](page, layout_server.url)
-        shot(page, f"layout_{state}_{width}")
-        problems = []
-
-        fit = page.evaluate(OVERFLOW)
-        if fit["scrollWidth"] > fit["innerWidth"]:
-            worst = "\n".join(f"  {o['path']} reaches {o['right']} px ({o['text']!r})" for o in fit["offenders"])
-            problems.append(f"the page scrolls sideways: scrollWidth {fit['scrollWidth']} > {fit['innerWidth']} px;"
-                            f" furthest right:\n{worst or '  (no element outside a scrolling box)'}")
-
-        found = violations(page, AXE_OPTIONS.get(state))
-        if found:
-            problems.append("axe: " + describe(found))
-
-        small = page.evaluate(SMALL_TARGETS, MIN_TARGET_PX)
-        if small:
-            problems.append(f"{len(small)} touch targets under {MIN_TARGET_PX} px tall:\n  " + "\n  ".join(small[:15]))
-
-        assert not problems, f"{state} at {width} px:\n" + "\n".join(problems)
+        problems = layout_problems(page, state, width)
+        assert not problems, "\n".join(problems)
     finally:
         context.close()
+
+
+@pytest.mark.e2e
+def test_the_six_flow_while_capturing_and_at_its_result(browser, layout_server):
+    # The six flow run once with the sensors emulated (tests/e2e/test_wizard.py), each state measured
+    # at every width by resizing the one page: capturing (a refused repeat, the longest instruction),
+    # then the result with its details open.
+    from tests.e2e.test_wizard import Motion, grant_on_tap, reading, wait_captured
+
+    context = axe_context(browser, viewport={"width": 390, "height": 800}, device_scale_factor=1)
+    problems: list[str] = []
+
+    def measure(state):
+        for width in WIDTHS:
+            page.set_viewport_size({"width": width, "height": 800})
+            problems.extend(layout_problems(page, state, width))
+        page.set_viewport_size({"width": 390, "height": 800})
+
+    try:
+        page = context.new_page()
+        grant_on_tap(page)
+        motion = Motion(page)
+        page.goto(layout_server.url + "/wizard?protocol=six&capture_s=1")
+        motion.acc(reading("+z"))
+        page.click("#start-btn")
+        wait_captured(page, "+z")
+        motion.acc((3.0, 3.0, 8.8))  # picked up and tilted…
+        page.wait_for_function("() => document.querySelector('#still-text').textContent === 'Moving'")
+        motion.acc(reading("+z"))  # …and put down screen up again: refused, with the longest instruction
+        page.wait_for_function("() => document.querySelector('#instruction').textContent.includes('already captured')",
+                               timeout=10_000)
+        measure("wizard_six_repeat_refused")
+        for label in ("-z", "+x", "-x", "+y", "-y"):
+            motion.acc(reading(label))
+            wait_captured(page, label)
+        page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
+        page.click("#result-details summary")
+        measure("wizard_six_result")
+    finally:
+        context.close()
+    assert not problems, "\n".join(problems)
