@@ -207,7 +207,7 @@ def test_the_six_flow_while_capturing_and_at_its_result(browser, layout_server):
     # The six flow run once with the sensors emulated (tests/e2e/test_wizard.py), each state measured
     # at every width by resizing the one page: capturing (a refused repeat, the longest instruction),
     # then the result with its details open.
-    from tests.e2e.test_wizard import Motion, grant_on_tap, reading, wait_captured
+    from tests.e2e.test_wizard import Motion, grant_on_tap, reading, repeat_the_first_pose, wait_captured
 
     context = axe_context(browser, viewport={"width": 390, "height": 800}, device_scale_factor=1)
     problems: list[str] = []
@@ -222,15 +222,7 @@ def test_the_six_flow_while_capturing_and_at_its_result(browser, layout_server):
         page = context.new_page()
         grant_on_tap(page)
         motion = Motion(page)
-        page.goto(layout_server.url + "/wizard?protocol=six&capture_s=1")
-        motion.acc(reading("+z"))
-        page.click("#start-btn")
-        wait_captured(page, "+z")
-        motion.acc((3.0, 3.0, 8.8))  # picked up and tilted…
-        page.wait_for_function("() => document.querySelector('#still-text').textContent === 'Moving'")
-        motion.acc(reading("+z"))  # …and put down screen up again: refused, with the longest instruction
-        page.wait_for_function("() => document.querySelector('#instruction').textContent.includes('already captured')",
-                               timeout=10_000)
+        repeat_the_first_pose(page, motion, layout_server.url)
         measure("wizard_six_repeat_refused")
         for label in ("-z", "+x", "-x", "+y", "-y"):
             motion.acc(reading(label))

@@ -79,6 +79,19 @@ def wait_captured(page, label, timeout=20_000):
     page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=timeout)
 
 
+def repeat_the_first_pose(page, motion, url):
+    """Open the six flow, capture +z, then pick the phone up and put it down screen up again: the
+    repeat is refused (the page's longest instruction)."""
+    page.goto(url + "/wizard?capture_s=1")
+    motion.acc(reading("+z"))
+    page.click("#start-btn")
+    wait_captured(page, "+z")
+    motion.acc((3.0, 3.0, 8.8))  # picked up and tilted...
+    expect(page.locator("#still-text")).to_have_text("Moving")
+    motion.acc(reading("+z"))  # ...and put down screen up again
+    expect(page.locator("#instruction")).to_contain_text("+z is already captured", timeout=10_000)
+
+
 def hold(page, motion, label, name):
     motion.acc(reading(label))
     wait_captured(page, label)

@@ -15,7 +15,7 @@ import numpy as np
 from playwright.sync_api import expect
 
 from tests.e2e.conftest import shot
-from tests.e2e.test_wizard import Motion, reading, wait_captured
+from tests.e2e.test_wizard import Motion, reading, repeat_the_first_pose, wait_captured
 from tests.e2e.test_wizard_compass import mag_browser, mag_page, turn  # noqa: F401 (fixtures)
 from tests.e2e.test_wizard_free import UPS, reading as free_reading
 
@@ -145,14 +145,7 @@ def test_six_flow_keeps_the_screen_on_and_cues_every_capture(page, server):
 def test_a_refused_pose_cues_and_start_over_asks_first(page, server):
     spy(page)
     motion = Motion(page)
-    page.goto(server.url + "/wizard?capture_s=1")
-    motion.acc(reading("+z"))
-    page.click("#start-btn")
-    wait_captured(page, "+z")
-    motion.acc((3.0, 3.0, 8.8))  # picked up and tilted...
-    expect(page.locator("#still-text")).to_have_text("Moving")
-    motion.acc(reading("+z"))  # ...and put down screen up again: refused, nothing captured
-    expect(page.locator("#instruction")).to_contain_text("+z is already captured", timeout=10_000)
+    repeat_the_first_pose(page, motion, server.url)  # refused, nothing captured
     page.wait_for_function("() => window.__spy.log.filter((e) => e[0] === 'tone').length >= 3")
     page.wait_for_timeout(2500)  # longer than hold + capture: no capture starts on a done pose
     assert_cues(page, ["start", "captured", "refused"])
