@@ -160,6 +160,11 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     page.wait_for_selector("#downloads[data-ready=true]", timeout=30_000)
     elapsed = time.monotonic() - t0
     shot(page, "cube_result")
+    for width in (320, 390, 1280):  # no sideways scroll of the result at any width (its tables scroll in their box)
+        page.set_viewport_size({"width": width, "height": 800})
+        shot(page, f"cube_result_{width}")
+        assert page.evaluate("() => document.documentElement.scrollWidth <= innerWidth"), f"the result scrolls at {width} px"
+    page.set_viewport_size({"width": 360, "height": 640})
 
     # The server checked every turn by integrating the page's gyroscope samples (Särkkä et al. eq. (2)).
     session = saved_session(page, server)
