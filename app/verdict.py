@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from app.calibration.comparison import norm_errors
+
 MIN_GAIN_FRACTION = 0.2
 """The calibrated error must be at most 80 % of the raw one."""
 
@@ -48,9 +50,8 @@ def _figure(body: dict) -> tuple[float | None, float | None, str, str]:
     if m.get("cv_error_mg") is not None:
         return m.get("error_before_mg"), m["cv_error_mg"], "mg", "error on new orientations"
     if m.get("error_after_mg") is not None:
-        n = m.get("count")
-        return (m.get("error_before_mg"), m["error_after_mg"], "mg",
-                f"error on the {n or ''} poses fitted".replace("  ", " "))
+        poses = f"{m['count']} poses" if m.get("count") else "poses"
+        return m.get("error_before_mg"), m["error_after_mg"], "mg", f"error on the {poses} fitted"
     if (body.get("model") or {}).get("type") == "cube":
         return _cube_figure(body)
     return None, None, "", ""
@@ -67,12 +68,9 @@ def _cube_figure(body: dict) -> tuple[float | None, float | None, str, str]:
     means = np.array([p["mean"] for p in positions], dtype=float)
     S, b = np.asarray(model["S"], dtype=float), np.asarray(model["b"], dtype=float)
     g = float(body.get("gravity") or np.mean(np.linalg.norm(means, axis=1)))
-    calibrated = np.linalg.solve(S, (means - b).T).T
-
-    def error(v):
-        return float(1000.0 * np.mean(np.abs(np.linalg.norm(v, axis=1) / g - 1.0)))
-
-    return error(means), error(calibrated), "mg", f"accelerometer error on the {len(means)} positions fitted"
+    errors = norm_errors(means, lambda m: np.linalg.solve(S, (m - b).T).T, g)
+    return (errors["error_before_mg"], errors["error_after_mg"], "mg",
+            f"accelerometer error on the {len(means)} positions fitted")
 
 
 def _amount(value: float, unit: str) -> str:

@@ -119,11 +119,11 @@ def overview(log: LogData) -> dict:
     smallest and largest of each bin, so that a short move still shows, for the page's plot of the log."""
     sensor = "acc" if log.acc is not None else "mag"
     values = np.linalg.norm(np.asarray(getattr(log, sensor), dtype=float), axis=1)
+    # At most one bin per sample, so that every bin holds at least one.
     edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
-    bins = [values[a:b] for a, b in zip(edges[:-1], edges[1:]) if b > a]
-    finite = [b[np.isfinite(b)] for b in bins]
+    finite = [b[np.isfinite(b)] for b in np.split(values, edges[1:-1])]
     return {"sensor": sensor, "unit": log.units.get(sensor),
-            "t_s": [float(a / log.sampling_rate_hz) for a, b in zip(edges[:-1], edges[1:]) if b > a],
+            "t_s": (edges[:-1] / log.sampling_rate_hz).tolist(),
             "low": [float(f.min()) if f.size else None for f in finite],
             "high": [float(f.max()) if f.size else None for f in finite]}
 

@@ -75,6 +75,18 @@ def mag_page(mag_browser, server):
     context.close()
 
 
+def magnetometer(page):
+    """Chromium's magnetometer overridden through the DevTools protocol: a function that sets its
+    reading (µT)."""
+    cdp = page.context.new_cdp_session(page)
+    cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": "magnetometer"})
+
+    def feed(m):
+        x, y, z = (float(v) for v in m)
+        cdp.send("Emulation.setSensorOverrideReadings", {"type": "magnetometer", "reading": {"xyz": {"x": x, "y": y, "z": z}}})
+    return feed
+
+
 def coverage_of(page) -> float:
     return float(page.get_attribute("#compass-coverage", "data-coverage"))
 
@@ -98,12 +110,7 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     readings, M_true = turn(11, field)
     sent: list[dict] = []
     page.on("request", lambda r: sent.append(r.post_data_json) if r.url.endswith("/api/v1/calibrations") else None)
-    cdp = page.context.new_cdp_session(page)
-    cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": "magnetometer"})
-
-    def feed(m):
-        x, y, z = (float(v) for v in m)
-        cdp.send("Emulation.setSensorOverrideReadings", {"type": "magnetometer", "reading": {"xyz": {"x": x, "y": y, "z": z}}})
+    feed = magnetometer(page)
 
     page.goto(server.url + "/wizard?protocol=compass")
     expect(page.locator("#compass-start-btn")).to_be_visible()

@@ -16,7 +16,7 @@ from playwright.sync_api import expect
 
 from tests.e2e.conftest import shot
 from tests.e2e.test_wizard import Motion, reading, repeat_the_first_pose, wait_captured
-from tests.e2e.test_wizard_compass import mag_browser, mag_page, turn  # noqa: F401 (fixtures)
+from tests.e2e.test_wizard_compass import mag_browser, mag_page, magnetometer, turn  # noqa: F401 (fixtures)
 from tests.e2e.test_wizard_free import UPS, reading as free_reading
 
 # What each cue sounds and feels like (static/js/cues.js): every kind is told apart by both.
@@ -245,12 +245,7 @@ def test_compass_start_asks_for_the_wake_lock_and_cues_the_first_reading(mag_pag
     page = mag_page
     spy(page)
     readings, _ = turn(5, 50.0, n=40)
-    cdp = page.context.new_cdp_session(page)
-    cdp.send("Emulation.setSensorOverrideEnabled", {"enabled": True, "type": "magnetometer"})
-
-    def feed(m):
-        x, y, z = (float(v) for v in m)
-        cdp.send("Emulation.setSensorOverrideReadings", {"type": "magnetometer", "reading": {"xyz": {"x": x, "y": y, "z": z}}})
+    feed = magnetometer(page)
 
     page.goto(server.url + "/wizard?protocol=compass")
     expect(page.locator("#compass-start-btn")).to_be_visible()
