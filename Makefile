@@ -5,6 +5,8 @@ HOST ?= 127.0.0.1
 PORT ?= 8000
 BIN := $(VENV)/bin
 CHROMIUM ?= /usr/bin/chromium
+WEBKIT_DRIVER ?= /usr/bin/WebKitWebDriver
+XVFB ?= /usr/bin/Xvfb
 
 .PHONY: run test install install-test system-deps bench clean
 
@@ -32,13 +34,17 @@ $(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
 	$(BIN)/python -m pip install -e '.[test]'
 	touch $@ $(VENV)/.installed
 
-# Debian's packages the tests drive for real: Chromium (end-to-end tests), PostgreSQL (storage
-# tests) and a Java runtime (actipy's wearable readers). Installed from the package registry when missing; no browser or server downloads.
+# Debian's packages the tests drive for real: Chromium and WebKitGTK's WebKitWebDriver with its
+# MiniBrowser under Xvfb (end-to-end tests in the two engines), PostgreSQL (storage tests) and a Java
+# runtime (actipy's wearable readers). Installed from the package registry when missing; no browser
+# or server downloads.
 system-deps:
 	@missing=""; \
 	[ -x "$(CHROMIUM)" ] || missing="$$missing chromium"; \
 	ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || missing="$$missing postgresql"; \
 	command -v java >/dev/null 2>&1 || missing="$$missing default-jre-headless"; \
+	[ -x "$(WEBKIT_DRIVER)" ] || missing="$$missing webkit2gtk-driver"; \
+	[ -x "$(XVFB)" ] || missing="$$missing xvfb"; \
 	if [ -n "$$missing" ]; then \
 		echo "installing Debian's$$missing for the tests"; \
 		SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
@@ -47,6 +53,8 @@ system-deps:
 	@test -x "$(CHROMIUM)" || { echo "chromium is missing at $(CHROMIUM) and could not be installed" >&2; exit 1; }
 	@ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || { echo "postgresql could not be installed" >&2; exit 1; }
 	@command -v java >/dev/null 2>&1 || { echo "java could not be installed" >&2; exit 1; }
+	@test -x "$(WEBKIT_DRIVER)" || { echo "WebKitWebDriver is missing at $(WEBKIT_DRIVER) and could not be installed" >&2; exit 1; }
+	@test -x "$(XVFB)" || { echo "Xvfb is missing at $(XVFB) and could not be installed" >&2; exit 1; }
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python bench/api_latency.py

@@ -1,0 +1,159 @@
+"""The page in WebKit, the engine of every iPhone browser: WebKitGTK's MiniBrowser (Debian's
+webkit2gtk-driver, as recent a WebKit as Safari's) driven through WebKitWebDriver (W3C WebDriver,
+via Selenium) on an Xvfb display, against a real trical server.
+
+WebKitGTK has no DeviceMotionEvent: `phone_shim.js` defines one, dispatches the events itself at
+60 Hz in iOS's sign, stubs iOS's `DeviceMotionEvent.requestPermission`, and observes the capture
+requests the page sends. `make test` installs webkit2gtk-driver and xvfb when they are missing;
+without them these tests fail loudly. Screenshots go to test-artifacts/webkit_*.png.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+from tests.e2e.conftest import ARTIFACTS
+from tests.e2e.test_wizard import IPHONE_UA
+
+WEBKIT_DRIVER = os.environ.get("TRICAL_WEBKIT_DRIVER", "/usr/bin/WebKitWebDriver")
+XVFB = os.environ.get("TRICAL_XVFB", "/usr/bin/Xvfb")
+MINIBROWSERS = [Path(f"/usr/lib/x86_64-linux-gnu/webkit2gtk-{v}/MiniBrowser") for v in ("4.1", "4.0", "6.0")]
+SHIM = (Path(__file__).parent / "phone_shim.js").read_text()
+PHONE = (390, 844)  # an iPhone's viewport in CSS px; WebKitGTK's window is at least 334 px wide
+
+
+def minibrowser() -> Path:
+    for path in MINIBROWSERS:
+        if path.exists():
+            return path
+    pytest.fail(f"WebKitGTK's MiniBrowser is not installed ({', '.join(map(str, MINIBROWSERS))}): "
+                "run `make test` (it installs Debian's webkit2gtk-driver)")
+
+
+@pytest.fixture(scope="session")
+def xvfb_display():
+    """A virtual X display for the MiniBrowser: Xvfb picks a free number and writes it to a pipe."""
+    for path in (WEBKIT_DRIVER, XVFB):
+        if not Path(path).exists():
+            pytest.fail(f"{path} is missing: run `make test` (it installs Debian's webkit2gtk-driver and xvfb)")
+    read, write = os.pipe()
+    xvfb = subprocess.Popen([XVFB, "-displayfd", str(write), "-screen", "0", "1400x6000x24", "-nolisten", "tcp"],
+                            pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    number = os.read(read, 16).decode().strip()
+    os.close(read)
+    if not number:
+        xvfb.kill()
+        pytest.fail("Xvfb did not start (no display number written)")
+    yield f":{number}"
+    xvfb.terminate()
+    xvfb.wait(timeout=10)
+
+
+class WebKitPhone:
+    """An iPhone's browser as far as the page can tell: WebKit, an iPhone's user agent and viewport,
+    and the motion of `phone_shim.js`."""
+
+    def __init__(self, driver):
+        self.driver = driver
+
+    def open(self, url: str, size=PHONE) -> None:
+        self.resize(*size)
+        self.driver.get(url)
+        self.js("document.readyState === 'complete'")
+
+    def with_motion(self) -> None:
+        """Give the open page the shim's motion sensors (before Start is tapped, as iOS has them from load)."""
+        self.driver.execute_script(SHIM)
+
+    def resize(self, width: int, height: int) -> None:
+        self.driver.set_window_rect(0, 0, width, height)
+        for _ in range(50):
+            if self.driver.execute_script("return innerWidth") == width:
+                return
+            time.sleep(0.05)
+        raise AssertionError(f"the MiniBrowser's viewport did not become {width} px wide")
+
+    def js(self, expression: str, *args):
+        return self.driver.execute_script(f"return ({expression});", *args)
+
+    def set(self, acc, gyr=None) -> None:
+        """The readings from now on, in the W3C sign (m/s², deg/s); the shim reports them as iOS does."""
+        self.driver.execute_script("window.__phone.set(arguments[0], arguments[1]);",
+                                   [float(v) for v in acc], None if gyr is None else [float(v) for v in gyr])
+
+    def wait(self, expression: str, timeout: float = 20.0, what: str = "") -> None:
+        """Wait until the JavaScript `expression` is true; on timeout say what the page shows."""
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            if self.js(expression):
+                return
+            time.sleep(0.05)
+        said = self.js("[...document.querySelectorAll('#instruction, #status, #problem')].map(e => e.id + ': ' + e.textContent.trim())")
+        raise AssertionError(f"{what or expression} not within {timeout:g} s; the page says {said}; "
+                             f"errors {self.errors()}")
+
+    def wait_for(self, selector: str, timeout: float = 20.0) -> None:
+        self.wait(f"document.querySelector({json.dumps(selector)}) !== null", timeout, selector)
+
+    def text(self, selector: str) -> str:
+        return self.js("document.querySelector(arguments[0]).textContent", selector)
+
+    def click(self, selector: str) -> None:
+        self.driver.find_element("css selector", selector).click()
+
+    def captures(self) -> list[dict]:
+        return self.js("window.__phone.captures")
+
+    def errors(self) -> list[str]:
+        return self.js("window.__phone ? window.__phone.errors : []")
+
+    def download(self, fmt: str) -> str:
+        """The file behind the page's download link for `fmt`: the Blob its blob: URL was made from."""
+        return self.driver.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "window.__phone.blobText(document.querySelector(`#downloads a[data-format=${arguments[0]}]`).href)"
+            ".then(done, e => done('failed: ' + e));", fmt)
+
+    def saved(self, protocol: str) -> dict:
+        return json.loads(self.js(f"localStorage.getItem('trical.wizard.{protocol}')"))
+
+    def scrolls_sideways(self) -> bool:
+        return self.js("document.documentElement.scrollWidth > innerWidth")
+
+    def shot(self, name: str) -> Path:
+        """The whole page (the window made as tall as the page for the picture) under test-artifacts/."""
+        ARTIFACTS.mkdir(exist_ok=True)
+        path = ARTIFACTS / ("webkit_" + re.sub(r"[^A-Za-z0-9_.-]", "_", name) + ".png")
+        width, height = self.js("[innerWidth, innerHeight]")
+        self.driver.set_window_rect(0, 0, width, min(self.js("document.documentElement.scrollHeight"), 6000))
+        self.driver.save_screenshot(str(path))
+        self.driver.set_window_rect(0, 0, width, height)
+        return path
+
+
+@pytest.fixture
+def webkit(xvfb_display):
+    """A fresh MiniBrowser (its own storage) through WebKitWebDriver, as an iPhone."""
+    from selenium import webdriver
+    from selenium.webdriver.webkitgtk.service import Service
+
+    options = webdriver.WebKitGTKOptions()
+    options.binary_location = str(minibrowser())
+    options.add_argument("--automation")
+    options.add_argument("--full-screen")  # no toolbar: the window is the viewport, as narrow as 334 px
+    options.add_argument(f"--user-agent={IPHONE_UA}")
+    service = Service(executable_path=WEBKIT_DRIVER, env={**os.environ, "DISPLAY": xvfb_display})
+    driver = webdriver.WebKitGTK(options=options, service=service)
+    driver.set_script_timeout(30)
+    try:
+        yield WebKitPhone(driver)
+    finally:
+        driver.quit()

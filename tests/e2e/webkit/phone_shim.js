@@ -1,0 +1,95 @@
+// The phone's motion sensors for a WebKit that has none (WebKitGTK's MiniBrowser), injected by the
+// test before it taps Start. It plays what iOS Safari gives a page, and observes what the page does:
+//
+// - window.DeviceMotionEvent, a subclass of Event with accelerationIncludingGravity (m/s², in iOS's
+//   sign: at rest the axis pointing up reads -g), rotationRate (deg/s: alpha, beta, gamma about
+//   x, y, z) and interval (s), as the W3C Device Orientation and Motion draft and Apple describe it;
+// - DeviceMotionEvent.requestPermission, iOS 13's: it records whether it was called during a user
+//   activation (a tap) and grants;
+// - a "devicemotion" event every 16 ms from a timer in the page (60 Hz, as an iPhone delivers), with
+//   the readings the test sets through window.__phone.set(acc, gyr); a turn through
+//   window.__phone.turn(axis, peakDegS, thenAcc) is played by the timer itself: a half sine of the
+//   rate about `axis` (sensor frame) sampled at each event's time, 90° in all, so that a stall of the
+//   test process cannot stretch or cut it;
+// - the capture requests the page sends (fetch observed, not altered), the files it offers for
+//   download (URL.createObjectURL observed: the page's CSP rightly keeps blob: out of connect-src, so
+//   the test reads the Blob itself) and any error it raises.
+(() => {
+  if (window.__phone) return;
+  const phone = {
+    acc: [0, 0, 9.80665], gyr: [0, 0, 0], permissionCalls: [], captures: [], errors: [], events: 0, turns: [],
+    turning: null,
+  };
+  window.__phone = phone;
+
+  class DeviceMotionEvent extends Event {
+    constructor(type, init = {}) {
+      super(type, init);
+      this.acceleration = init.acceleration ?? null;
+      this.accelerationIncludingGravity = init.accelerationIncludingGravity ?? null;
+      this.rotationRate = init.rotationRate ?? null;
+      this.interval = init.interval ?? 0.016;
+    }
+  }
+  DeviceMotionEvent.requestPermission = () => {
+    phone.permissionCalls.push(navigator.userActivation ? navigator.userActivation.isActive : null);
+    return Promise.resolve("granted");
+  };
+  window.DeviceMotionEvent = DeviceMotionEvent;
+
+  // The test's readings are in the W3C sign (up reads +g); iOS reports the opposite.
+  phone.set = (acc, gyr) => {
+    phone.acc = acc.map((v) => -v);
+    if (gyr) phone.gyr = gyr.slice();
+  };
+  phone.turn = (axis, peakDegS, thenAcc) => {
+    const seconds = (90 * Math.PI) / (2 * peakDegS); // ∫ peak sin(π t / T) dt = 2 peak T / π = 90°
+    phone.turning = { axis, peakDegS, ms: seconds * 1000, t0: performance.now(), thenAcc, angle: 0, last: null };
+  };
+
+  function rates(now) {
+    const turn = phone.turning;
+    if (!turn) return phone.gyr;
+    const t = now - turn.t0;
+    if (t >= turn.ms) { // done: at rest in the new position
+      phone.turns.push({ ms: t, angle: turn.angle });
+      phone.turning = null;
+      phone.gyr = [0, 0, 0];
+      phone.set(turn.thenAcc);
+      return phone.gyr;
+    }
+    const rate = turn.peakDegS * Math.sin((Math.PI * t) / turn.ms);
+    if (turn.last) turn.angle += ((now - turn.last.t) / 1000) * (rate + turn.last.rate) / 2;
+    turn.last = { t: now, rate };
+    return turn.axis.map((a) => a * rate);
+  }
+
+  setInterval(() => {
+    const event = new DeviceMotionEvent("devicemotion", {});
+    const w = rates(event.timeStamp);
+    event.accelerationIncludingGravity = { x: phone.acc[0], y: phone.acc[1], z: phone.acc[2] };
+    event.acceleration = { x: 0, y: 0, z: 0 };
+    event.rotationRate = { alpha: w[0], beta: w[1], gamma: w[2] };
+    phone.events += 1;
+    window.dispatchEvent(event);
+  }, 16);
+
+  const fetchOriginal = window.fetch.bind(window);
+  window.fetch = (input, init = {}) => {
+    const url = typeof input === "string" ? input : input.url;
+    if (url.endsWith("/captures") && typeof init.body === "string") phone.captures.push(JSON.parse(init.body));
+    return fetchOriginal(input, init);
+  };
+  const blobs = new Map();
+  const createObjectURL = URL.createObjectURL.bind(URL);
+  URL.createObjectURL = (blob) => {
+    const url = createObjectURL(blob);
+    blobs.set(url, blob);
+    return url;
+  };
+  phone.blobText = (url) => (blobs.has(url) ? blobs.get(url).text() : Promise.resolve(`no Blob behind ${url}`));
+  window.addEventListener("error", (event) => phone.errors.push(String(event.message)));
+  window.addEventListener("unhandledrejection", (event) => phone.errors.push(`unhandled: ${event.reason}`));
+  const consoleError = console.error.bind(console);
+  console.error = (...args) => { phone.errors.push(args.map(String).join(" ")); consoleError(...args); };
+})();
