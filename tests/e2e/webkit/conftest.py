@@ -89,6 +89,16 @@ class WebKitPhone:
         self.driver.execute_script("window.__phone.set(arguments[0], arguments[1]);",
                                    [float(v) for v in acc], None if gyr is None else [float(v) for v in gyr])
 
+    def turn(self, axis, peak_deg_s: float, then_acc) -> None:
+        """A quarter turn about `axis` (sensor frame), played by the page's timer; then at rest reading `then_acc`."""
+        self.driver.execute_script("window.__phone.turn(arguments[0], arguments[1], arguments[2]);",
+                                   [float(v) for v in axis], float(peak_deg_s), [float(v) for v in then_acc])
+
+    def noise(self, acc_sd: float, gyr_sd: float, seed: int) -> None:
+        """White noise on every sample from now on (m/s², deg/s), from a generator seeded with `seed`."""
+        self.driver.execute_script("window.__phone.noise(arguments[0], arguments[1], arguments[2]);",
+                                   float(acc_sd), float(gyr_sd), int(seed))
+
     def wait(self, expression: str, timeout: float = 20.0, what: str = "") -> None:
         """Wait until the JavaScript `expression` is true; on timeout say what the page shows."""
         end = time.monotonic() + timeout

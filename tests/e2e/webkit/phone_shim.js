@@ -10,15 +10,19 @@
 //   the readings the test sets through window.__phone.set(acc, gyr); a turn through
 //   window.__phone.turn(axis, peakDegS, thenAcc) is played by the timer itself: a half sine of the
 //   rate about `axis` (sensor frame) sampled at each event's time, 90° in all, so that a stall of the
-//   test process cannot stretch or cut it;
+//   test process cannot stretch or cut it; window.__phone.noise(accSd, gyrSd, seed) adds white noise
+//   to every sample (m/s², deg/s) from a seeded generator (mulberry32 with Box–Muller), so that a
+//   run is repeatable;
 // - the capture requests the page sends (fetch observed, not altered), the files it offers for
 //   download (URL.createObjectURL observed: the page's CSP rightly keeps blob: out of connect-src, so
-//   the test reads the Blob itself) and any error it raises.
+//   the test reads the Blob itself), the tones it starts (AudioContext.prototype.createOscillator
+//   wrapped, the real oscillator still made and played), its wake-lock requests (passed on to the
+//   browser's own navigator.wakeLock when it has one) and any error it raises.
 (() => {
   if (window.__phone) return;
   const phone = {
     acc: [0, 0, 9.80665], gyr: [0, 0, 0], permissionCalls: [], captures: [], errors: [], events: 0, turns: [],
-    turning: null,
+    tones: [], wakeLocks: [], audioStates: [], turning: null, accSd: 0, gyrSd: 0, random: null,
   };
   window.__phone = phone;
 
@@ -47,6 +51,21 @@
     phone.turning = { axis, peakDegS, ms: seconds * 1000, t0: performance.now(), thenAcc, angle: 0, last: null };
   };
 
+  phone.noise = (accSd, gyrSd, seed) => {
+    let a = seed >>> 0;
+    const uniform = () => { // mulberry32
+      a = (a + 0x6d2b79f5) >>> 0;
+      let t = a;
+      t = Math.imul(t ^ (t >>> 15), t | 1);
+      t ^= t + Math.imul(t ^ (t >>> 7), t | 61);
+      return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+    };
+    phone.random = () => Math.sqrt(-2 * Math.log(1 - uniform())) * Math.cos(2 * Math.PI * uniform());
+    phone.accSd = accSd;
+    phone.gyrSd = gyrSd;
+  };
+  const noisy = (v, sd) => (sd > 0 ? v.map((x) => x + sd * phone.random()) : v);
+
   function rates(now) {
     const turn = phone.turning;
     if (!turn) return phone.gyr;
@@ -66,8 +85,9 @@
 
   setInterval(() => {
     const event = new DeviceMotionEvent("devicemotion", {});
-    const w = rates(event.timeStamp);
-    event.accelerationIncludingGravity = { x: phone.acc[0], y: phone.acc[1], z: phone.acc[2] };
+    const w = noisy(rates(event.timeStamp), phone.gyrSd);
+    const f = noisy(phone.acc, phone.accSd);
+    event.accelerationIncludingGravity = { x: f[0], y: f[1], z: f[2] };
     event.acceleration = { x: 0, y: 0, z: 0 };
     event.rotationRate = { alpha: w[0], beta: w[1], gamma: w[2] };
     phone.events += 1;
@@ -88,6 +108,23 @@
     return url;
   };
   phone.blobText = (url) => (blobs.has(url) ? blobs.get(url).text() : Promise.resolve(`no Blob behind ${url}`));
+  const Audio = window.AudioContext || window.webkitAudioContext;
+  if (Audio) {
+    const createOscillator = Audio.prototype.createOscillator;
+    Audio.prototype.createOscillator = function () {
+      const osc = createOscillator.call(this);
+      const start = osc.start;
+      osc.start = function (...args) { phone.tones.push(osc.frequency.value); return start.apply(this, args); };
+      return osc;
+    };
+  }
+  if (navigator.wakeLock && typeof navigator.wakeLock.request === "function") {
+    const request = navigator.wakeLock.request.bind(navigator.wakeLock);
+    navigator.wakeLock.request = (type) => request(type).then(
+      (sentinel) => { phone.wakeLocks.push(`${type}: granted`); return sentinel; },
+      (err) => { phone.wakeLocks.push(`${type}: ${err.name}`); throw err; });
+  }
+  phone.hasWakeLock = Boolean(navigator.wakeLock);
   window.addEventListener("error", (event) => phone.errors.push(String(event.message)));
   window.addEventListener("unhandledrejection", (event) => phone.errors.push(`unhandled: ${event.reason}`));
   const consoleError = console.error.bind(console);

@@ -70,6 +70,12 @@ def test_six_poses_in_webkit_as_on_an_iphone(webkit, server):
     assert rows == POSES
     assert webkit.js("document.querySelectorAll('#norm-chart svg circle').length") == 12
     assert webkit.errors() == []
+    # Hands-free in WebKit as on iOS 16.4+: the browser's own wake lock, granted from the Start tap, and
+    # a tone for each capture's start and end (the last one the long "finished"); no navigator.vibrate
+    # (as on iOS), and nothing breaks for it.
+    assert webkit.js("window.__phone.wakeLocks") == ["screen: granted"]
+    assert webkit.js("window.__phone.tones") == [523, 880] * 5 + [523, 660]
+    assert webkit.js("navigator.vibrate === undefined")
 
     for width in (1280,):  # the phone's 390 px is checked above; WebKitGTK's window is at least 334 px
         webkit.resize(width, 800)
