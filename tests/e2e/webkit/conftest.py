@@ -67,7 +67,12 @@ class WebKitPhone:
     def open(self, url: str, size=PHONE) -> None:
         self.resize(*size)
         self.driver.get(url)
-        self.js("document.readyState === 'complete'")
+        # Laid out and painted before the first tap: a WebDriver click is a pointer event at the
+        # element's position, and one sent while the page still lays out can land beside it.
+        self.wait("document.readyState === 'complete'", 10, "the page's load")
+        self.driver.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "requestAnimationFrame(() => requestAnimationFrame(() => done()));")
 
     def with_motion(self) -> None:
         """Give the open page the shim's motion sensors (before Start is tapped, as iOS has them from load)."""
@@ -117,7 +122,20 @@ class WebKitPhone:
         return self.js("document.querySelector(arguments[0]).textContent", selector)
 
     def click(self, selector: str) -> None:
-        self.driver.find_element("css selector", selector).click()
+        """A tap: WebDriver's pointer click at the element's centre, once it is in view and still."""
+        element = self.driver.find_element("css selector", selector)
+        self.driver.execute_async_script(
+            "const done = arguments[arguments.length - 1];"
+            "arguments[0].scrollIntoView({block: 'center', behavior: 'instant'});"
+            "requestAnimationFrame(() => requestAnimationFrame(() => done()));", element)
+        element.click()
+
+    def tap_start(self) -> None:
+        """Tap Start, and see that the page asked for motion access from that tap (as iOS requires)."""
+        self.click("#start-btn")
+        self.wait("window.__phone.permissionCalls.length > 0", 5, "the permission request from the Start tap")
+        calls = self.js("window.__phone.permissionCalls")
+        assert calls == [True], f"motion access asked {len(calls)} times, within a user activation: {calls}"
 
     def captures(self) -> list[dict]:
         return self.js("window.__phone.captures")

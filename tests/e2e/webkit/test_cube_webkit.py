@@ -31,7 +31,7 @@ def test_the_24_positions_in_webkit_recover_the_accelerometer(webkit, server):
     webkit.with_motion()
     webkit.noise(ACC_SD, GYR_SD, seed=24)
     webkit.set(reading(1), (0.0, 0.0, 0.0))
-    webkit.click("#start-btn")
+    webkit.tap_start()
     webkit.wait_for(COUNT.format(1), 30)
     for k in range(2, 25):
         label = CUBE24_ROTATIONS[k - 2]

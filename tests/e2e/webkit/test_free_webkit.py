@@ -22,7 +22,7 @@ def test_free_poses_in_webkit_until_the_target(webkit, server):
     assert "12 or more still poses" in webkit.text("#start")
     webkit.with_motion()
     webkit.set(reading(UPS[0]), (0.0, 0.0, 0.0))
-    webkit.click("#start-btn")
+    webkit.tap_start()
     webkit.wait_for('#free-count[data-count="1"]')
     put_down(webkit, 1)
     # Back at pose 2, after a move: refused in the page, nothing sent.

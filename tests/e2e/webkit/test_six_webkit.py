@@ -23,9 +23,7 @@ def test_six_poses_in_webkit_as_on_an_iphone(webkit, server):
     webkit.shot("six_start")
     webkit.with_motion()
     webkit.set(reading(ORDER[0]), GYRO_DEG_S)
-    webkit.click("#start-btn")
-    webkit.wait("window.__phone.permissionCalls.length > 0", 5, "the permission prompt")
-    assert webkit.js("window.__phone.permissionCalls") in ([True], [None])  # once, from the tap
+    webkit.tap_start()  # motion access asked once, from the tap
     for k, label in enumerate(ORDER):
         if k:
             webkit.set(reading(label))
@@ -81,3 +79,25 @@ def test_six_poses_in_webkit_as_on_an_iphone(webkit, server):
         webkit.resize(width, 800)
         assert not webkit.scrolls_sideways(), f"the result scrolls sideways at {width} px"
         webkit.shot(f"six_result_{width}")
+
+
+def test_a_repeated_pose_is_refused_aloud_and_redo_replaces_it_in_webkit(webkit, server):
+    webkit.open(server.url + "/wizard?capture_s=1")
+    webkit.with_motion()
+    webkit.set(reading("+z"), (0.0, 0.0, 0.0))
+    webkit.tap_start()
+    webkit.wait_for(CAPTURED.format("+z"))
+    webkit.set((3.0, 3.0, 8.8))  # picked up and tilted...
+    webkit.wait("document.querySelector('#still-text').textContent === 'Moving'", 5, "the move")
+    webkit.set(reading("+z"))  # ...and put down screen up again
+    webkit.wait("document.querySelector('#instruction').textContent.includes('+z is already captured')", 10,
+                "the refusal of the repeat")
+    assert "+z is already captured" in webkit.text("#status")  # announced to a screen reader
+    webkit.shot("six_repeat_refused")
+    assert webkit.js("window.__phone.tones") == [523, 880, 220]  # start, captured, refused
+    assert len(webkit.captures()) == 1
+    webkit.click('#poses button[data-redo="+z"]')
+    webkit.wait("document.querySelectorAll('#poses li[data-state=done]').length === 1 && window.__phone.captures.length === 2",
+                20, "the redo of +z")
+    assert [c["redo"] for c in webkit.captures()] == [False, True]
+    assert webkit.errors() == []
