@@ -42,6 +42,14 @@ def reading(k: int) -> np.ndarray:
     return X_ACC @ (G * up_vector(CUBE24_UPS[k - 1])) + Y_ACC
 
 
+def turn_axis_in_sensor_frame(k_from: int, label: str) -> np.ndarray:
+    """The axis of the quarter turn `label` (calibration frame, e.g. "z+") as the sensor in position
+    k_from sees it: R_kᵀ a."""
+    axis = np.zeros(3)
+    axis["xyz".index(label[0])] = 1.0 if label[1] == "+" else -1.0
+    return ATTITUDES[k_from - 1].T @ axis
+
+
 class Cube:
     """The phone in the cube: its accelerometer, and turns of its gyroscope."""
 
@@ -66,9 +74,7 @@ class Cube:
         different each turn. The angle fed is the integral of the overrides sent at their measured
         times; the turn ends when it reaches 90°, so that a stall of this process (the last rate
         holds meanwhile) is made up for."""
-        axis = np.zeros(3)
-        axis["xyz".index(label[0])] = 1.0 if label[1] == "+" else -1.0
-        direction = ATTITUDES[k_from - 1].T @ axis  # the axis in the sensor frame
+        direction = turn_axis_in_sensor_frame(k_from, label)
         peak = PEAK_DEG_S + 3.0 * (len(self.turns) % 11)
         duration = 90.0 * math.pi / (2.0 * peak)  # ∫ peak sin(π t / T) dt = 2 peak T / π = 90°
         angle, rate, step = 0.0, 0.0, 0.008

@@ -17,6 +17,7 @@ import subprocess
 import time
 from pathlib import Path
 
+import httpx
 import pytest
 
 from tests.e2e.conftest import ARTIFACTS
@@ -152,6 +153,14 @@ class WebKitPhone:
 
     def saved(self, protocol: str) -> dict:
         return json.loads(self.js(f"localStorage.getItem('trical.wizard.{protocol}')"))
+
+    def stored(self, server, protocol: str, path: str = "") -> dict:
+        """GET `path` of the API (default: the flow's session) with the session token the page saved."""
+        saved = self.saved(protocol)
+        r = httpx.get(f"{server.url}/api/v1{path or '/sessions/' + saved['id']}",
+                      headers={"Authorization": f"Bearer {saved['token']}"})
+        assert r.status_code == 200, r.text
+        return r.json()
 
     def scrolls_sideways(self) -> bool:
         return self.js("document.documentElement.scrollWidth > innerWidth")

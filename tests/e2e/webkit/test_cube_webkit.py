@@ -6,22 +6,14 @@ from __future__ import annotations
 
 import json
 
-import httpx
 import numpy as np
 
 from app.calibration.cube.protocols import CUBE24_ROTATIONS
 from tests.cube_phone import X_ACC, Y_ACC
-from tests.e2e.test_wizard_cube import ATTITUDES, COUNT, URL, reading
+from tests.e2e.test_wizard_cube import COUNT, URL, reading, turn_axis_in_sensor_frame
 
 ACC_SD = 0.01  # m/s², about 1 mg: an iPhone's accelerometer at rest
 GYR_SD = 0.05  # deg/s
-
-
-def axis_in_sensor_frame(k_from: int, label: str) -> np.ndarray:
-    """The axis of the protocol's quarter turn `label` (calibration frame) seen by the sensor in position k_from."""
-    axis = np.zeros(3)
-    axis["xyz".index(label[0])] = 1.0 if label[1] == "+" else -1.0
-    return ATTITUDES[k_from - 1].T @ axis
 
 
 def test_the_24_positions_in_webkit_recover_the_accelerometer(webkit, server):
@@ -38,7 +30,7 @@ def test_the_24_positions_in_webkit_recover_the_accelerometer(webkit, server):
         if k == 2:
             assert webkit.js("document.querySelector('#cube-turn svg').dataset.turn") == label
             webkit.shot("cube_turn_into_2")
-        webkit.turn(axis_in_sensor_frame(k - 1, label), 100.0 + 3.0 * (k % 11), reading(k))
+        webkit.turn(turn_axis_in_sensor_frame(k - 1, label), 100.0 + 3.0 * (k % 11), reading(k))
         webkit.wait_for(COUNT.format(k), 30)
     webkit.wait_for("#downloads[data-ready=true]", 30)
     assert not webkit.scrolls_sideways()
@@ -51,9 +43,7 @@ def test_the_24_positions_in_webkit_recover_the_accelerometer(webkit, server):
     assert len(played) == 23 and all(abs(t["angle"] - 90.0) < 0.5 for t in played), played
 
     doc = json.loads(webkit.download("json"))
-    saved = webkit.saved("cube24")
-    auth = {"Authorization": f"Bearer {saved['token']}"}
-    session = httpx.get(f"{server.url}/api/v1/sessions/{saved['id']}", headers=auth).json()
+    session = webkit.stored(server, "cube24")
     turns = [c["turn"] for c in session["captures"][1:]]
     assert [t["expected"] for t in turns] == list(CUBE24_ROTATIONS) and all(t["ok"] for t in turns)
     # The server integrates the page's gyroscope samples (Särkkä et al. eq. (2)): the 90° played, within
@@ -68,7 +58,7 @@ def test_the_24_positions_in_webkit_recover_the_accelerometer(webkit, server):
     # S and b within a few times that noise over g (seen 3e-5 and 3e-4 m/s²)
     np.testing.assert_allclose(acc["S"], X_ACC, atol=5e-4)
     np.testing.assert_allclose(acc["b"], Y_ACC, atol=3e-3)
-    full = httpx.get(f"{server.url}/api/v1/calibrations/{doc['id']}", headers=auth).json()
+    full = webkit.stored(server, "cube24", f"/calibrations/{doc['id']}")
     assert webkit.text("#verdict-words") == full["verdict"]["words"]
     assert webkit.js("document.querySelectorAll('#norm-chart svg circle').length") == 48
     assert webkit.errors() == []

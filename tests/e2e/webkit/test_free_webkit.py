@@ -3,7 +3,6 @@ at its target, and Farago et al.'s model equal to the fit of what the page was g
 
 from __future__ import annotations
 
-import httpx
 import numpy as np
 import pytest
 
@@ -43,10 +42,8 @@ def test_free_poses_in_webkit_until_the_target(webkit, server):
     assert not webkit.scrolls_sideways()
     webkit.shot("free_result")
 
-    saved = webkit.saved("free")
-    auth = {"Authorization": f"Bearer {saved['token']}"}
-    session = httpx.get(f"{server.url}/api/v1/sessions/{saved['id']}", headers=auth).json()
-    cal = httpx.get(f"{server.url}/api/v1/calibrations/{session['calibration_id']}", headers=auth).json()
+    session = webkit.stored(server, "free")
+    cal = webkit.stored(server, "free", f"/calibrations/{session['calibration_id']}")
     assert cal["finish"]["reason"] == "target" and cal["finish"]["poses"] == 12
     result, _ = workflow.calibrate_unknown("triangular", np.array([reading(u) for u in UPS[:12]]), unit="m/s^2", gravity=G)
     np.testing.assert_allclose(cal["model"]["K"], result.K, rtol=1e-9, atol=1e-12)

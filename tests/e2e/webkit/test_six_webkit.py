@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 
-import httpx
 import numpy as np
 
 from app.calibration import fit_six_position
@@ -56,8 +55,7 @@ def test_six_poses_in_webkit_as_on_an_iphone(webkit, server):
     assert webkit.text("#result-gyro").startswith("Gyroscope bias: 0.300, -0.200, 0.100 °/s")
 
     # The verdict first, the file for a phone app under it, every format below.
-    saved = webkit.saved("six")
-    full = httpx.get(f"{server.url}/api/v1/calibrations/{doc['id']}", headers={"Authorization": f"Bearer {saved['token']}"}).json()
+    full = webkit.stored(server, "six", f"/calibrations/{doc['id']}")
     assert webkit.text("#verdict-words") == full["verdict"]["words"]
     # six poses, twelve unknowns: no pose is left to test on, and the verdict says on what it stands
     assert full["verdict"]["words"].startswith("Apply it: error on the 6 poses fitted ")
