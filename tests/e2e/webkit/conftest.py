@@ -2,7 +2,7 @@
 webkit2gtk-driver, as recent a WebKit as Safari's) driven through WebKitWebDriver (W3C WebDriver,
 via Selenium) on an Xvfb display, against a real trical server.
 
-WebKitGTK has no DeviceMotionEvent: `phone_shim.js` defines one, dispatches the events itself at
+WebKitGTK has no DeviceMotionEvent: `tests/e2e/phone_shim.js` defines one, dispatches the events itself at
 60 Hz in iOS's sign, stubs iOS's `DeviceMotionEvent.requestPermission`, and observes the capture
 requests the page sends. `make test` installs webkit2gtk-driver and xvfb when they are missing;
 without them these tests fail loudly. Screenshots go to test-artifacts/webkit_*.png.
@@ -13,20 +13,23 @@ from __future__ import annotations
 import json
 import os
 import re
-import subprocess
+import tempfile
 import time
 from pathlib import Path
 
 import httpx
 import pytest
 
-from tests.e2e.conftest import ARTIFACTS
+from tests.e2e.conftest import ARTIFACTS, phone_shim
 from tests.e2e.test_wizard import IPHONE_UA
+from tests.processes import ProcessFailed, check_alive, failure, start_xvfb, stop
 
 WEBKIT_DRIVER = os.environ.get("TRICAL_WEBKIT_DRIVER", "/usr/bin/WebKitWebDriver")
 XVFB = os.environ.get("TRICAL_XVFB", "/usr/bin/Xvfb")
 MINIBROWSERS = [Path(f"/usr/lib/x86_64-linux-gnu/webkit2gtk-{v}/MiniBrowser") for v in ("4.1", "4.0", "6.0")]
-SHIM = (Path(__file__).parent / "phone_shim.js").read_text()
+SHIM = phone_shim("ios")
+START_TIMEOUT_S = 20.0  # Xvfb writes its display number well within a second, even on a loaded machine
+COMMAND_TIMEOUT_S = 90  # a MiniBrowser session's start, and every WebDriver command (scripts time out at 30 s)
 PHONE = (390, 844)  # an iPhone's viewport in CSS px; WebKitGTK's window is at least 334 px wide
 
 
@@ -38,24 +41,31 @@ def minibrowser() -> Path:
                 "run `make test` (it installs Debian's webkit2gtk-driver)")
 
 
+class Display:
+    """A running Xvfb: its display name, the process and its log, checked before each use."""
+
+    def __init__(self):
+        self.process, self.name, self.log = start_xvfb(XVFB, timeout_s=START_TIMEOUT_S)
+
+    def check_alive(self, when: str) -> None:
+        check_alive("Xvfb", self.process, self.log, when)
+
+    def close(self) -> None:
+        stop(self.process)
+
+
 @pytest.fixture(scope="session")
 def xvfb_display():
     """A virtual X display for the MiniBrowser: Xvfb picks a free number and writes it to a pipe."""
     for path in (WEBKIT_DRIVER, XVFB):
         if not Path(path).exists():
             pytest.fail(f"{path} is missing: run `make test` (it installs Debian's webkit2gtk-driver and xvfb)")
-    read, write = os.pipe()
-    xvfb = subprocess.Popen([XVFB, "-displayfd", str(write), "-screen", "0", "1400x6000x24", "-nolisten", "tcp"],
-                            pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    os.close(write)
-    number = os.read(read, 16).decode().strip()
-    os.close(read)
-    if not number:
-        xvfb.kill()
-        pytest.fail("Xvfb did not start (no display number written)")
-    yield f":{number}"
-    xvfb.terminate()
-    xvfb.wait(timeout=10)
+    try:
+        display = Display()
+    except ProcessFailed as exc:
+        pytest.fail(str(exc))
+    yield display
+    display.close()
 
 
 class WebKitPhone:
@@ -176,21 +186,56 @@ class WebKitPhone:
         return path
 
 
-@pytest.fixture
-def webkit(xvfb_display):
-    """A fresh MiniBrowser (its own storage) through WebKitWebDriver, as an iPhone."""
+def start_driver(display: Display, browser: Path | None = None, timeout_s: float = COMMAND_TIMEOUT_S):
+    """WebKitWebDriver on `display` and a MiniBrowser session through it, each within a time bound.
+
+    Selenium waits for the driver's port a bounded time, but by default waits for the new session (the
+    MiniBrowser's start) and for every command with no bound at all: a MiniBrowser that cannot start
+    (no display, a flag it does not parse) would hang the suite. The connection here has a timeout.
+    """
     from selenium import webdriver
+    from selenium.common.exceptions import WebDriverException
+    from selenium.webdriver.remote.client_config import ClientConfig
+    from selenium.webdriver.remote.remote_connection import RemoteConnection
     from selenium.webdriver.webkitgtk.service import Service
 
+    display.check_alive("before the MiniBrowser started")
     options = webdriver.WebKitGTKOptions()
-    options.binary_location = str(minibrowser())
+    options.binary_location = str(browser or minibrowser())
     options.add_argument("--automation")
     options.add_argument("--full-screen")  # no toolbar: the window is the viewport, as narrow as 334 px
     options.add_argument(f"--user-agent={IPHONE_UA}")
-    service = Service(executable_path=WEBKIT_DRIVER, env={**os.environ, "DISPLAY": xvfb_display})
-    driver = webdriver.WebKitGTK(options=options, service=service)
+    log = Path(tempfile.mkstemp(prefix="trical-webkitwebdriver-", suffix=".log")[1])
+    service = Service(executable_path=WEBKIT_DRIVER, env={**os.environ, "DISPLAY": display.name},
+                      log_output=str(log))
+    try:
+        service.start()
+    except WebDriverException as exc:
+        service.stop()
+        raise failure("WebKitWebDriver", f"did not start ({exc.msg})", log) from None
+    config = ClientConfig(remote_server_addr=service.service_url, timeout=timeout_s)
+    try:
+        driver = webdriver.Remote(command_executor=RemoteConnection(client_config=config), options=options)
+    except Exception as exc:  # the session's start timed out or was refused: say why, with both logs
+        service.stop()
+        display.check_alive("while the MiniBrowser started")
+        raise failure("WebKitWebDriver", f"started no MiniBrowser session within {timeout_s:g} s "
+                      f"({type(exc).__name__}: {exc})", log) from None
     driver.set_script_timeout(30)
+    return driver, service
+
+
+@pytest.fixture
+def webkit(xvfb_display):
+    """A fresh MiniBrowser (its own storage) through WebKitWebDriver, as an iPhone."""
+    try:
+        driver, service = start_driver(xvfb_display)
+    except ProcessFailed as exc:
+        pytest.fail(str(exc))
     try:
         yield WebKitPhone(driver)
     finally:
-        driver.quit()
+        try:
+            driver.quit()
+        finally:
+            service.stop()
