@@ -16,10 +16,19 @@ from tests.live_server import ROOT, LiveServer
 
 CHROMIUM = os.environ.get("TRICAL_CHROMIUM", "/usr/bin/chromium")
 ARTIFACTS = ROOT / "test-artifacts"
+LAUNCH_TIMEOUT_MS = 60_000  # Playwright's launch fails with Chromium's own output past this
 CHROMIUM_ARGS = [
     "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
     "--disable-component-update", "--disable-sync",
 ]
+
+
+def phone_shim(sign: str) -> str:
+    """The script of `phone_shim.js` (motion played by the page's timer), reporting in iOS's sign
+    (up reads −g) or the W3C sign (up reads +g)."""
+    assert sign in ("ios", "w3c"), sign
+    prefix = "window.__phoneSign = 1;\n" if sign == "w3c" else ""
+    return prefix + (Path(__file__).parent / "phone_shim.js").read_text()
 
 
 @pytest.fixture(scope="session")

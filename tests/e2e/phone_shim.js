@@ -1,8 +1,12 @@
-// The phone's motion sensors for a WebKit that has none (WebKitGTK's MiniBrowser), injected by the
-// test before it taps Start. It plays what iOS Safari gives a page, and observes what the page does:
+// The phone's motion sensors played by the page's own timer, injected by the test before it taps
+// Start: for a WebKit that has none (WebKitGTK's MiniBrowser), and in Chromium for the flows whose
+// turns must not depend on the test process keeping time (a stall of a loaded machine would stretch
+// or cut a turn fed from outside). It plays what a phone's browser gives a page, and observes what
+// the page does:
 //
 // - window.DeviceMotionEvent, a subclass of Event with accelerationIncludingGravity (m/s², in iOS's
-//   sign: at rest the axis pointing up reads -g), rotationRate (deg/s: alpha, beta, gamma about
+//   sign by default: at rest the axis pointing up reads -g; in the W3C sign, up reads +g, when
+//   window.__phoneSign is 1 before the shim runs), rotationRate (deg/s: alpha, beta, gamma about
 //   x, y, z) and interval (s), as the W3C Device Orientation and Motion draft and Apple describe it;
 // - DeviceMotionEvent.requestPermission, iOS 13's: it records whether it was called during a user
 //   activation (a tap) and grants;
@@ -42,8 +46,9 @@
   window.DeviceMotionEvent = DeviceMotionEvent;
 
   // The test's readings are in the W3C sign (up reads +g); iOS reports the opposite.
+  const sign = window.__phoneSign === 1 ? 1 : -1;
   phone.set = (acc, gyr) => {
-    phone.acc = acc.map((v) => -v);
+    phone.acc = acc.map((v) => sign * v);
     if (gyr) phone.gyr = gyr.slice();
   };
   phone.turn = (axis, peakDegS, thenAcc) => {
