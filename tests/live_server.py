@@ -15,6 +15,8 @@ from pathlib import Path
 
 import httpx
 
+from tests.processes import ProcessFailed
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -42,7 +44,7 @@ class LiveServer:
         self.process: subprocess.Popen | None = None
         self.log = Path(tempfile.mkstemp(prefix="trical-server-", suffix=".log")[1])
 
-    def start(self, timeout_s: float = 30.0) -> "LiveServer":
+    def start(self, timeout_s: float = 60.0) -> "LiveServer":
         with open(self.log, "ab") as out:
             self.process = subprocess.Popen(self.command, cwd=ROOT, env=self.env, stdout=out, stderr=subprocess.STDOUT)
         deadline = time.monotonic() + timeout_s
@@ -67,6 +69,12 @@ class LiveServer:
     def output(self) -> str:
         """The tail of what the server printed."""
         return self.log.read_text(errors="replace")[-4000:]
+
+    def check_alive(self, when: str) -> None:
+        """Fail loudly, with the end of the server's log, when it is no longer running."""
+        if self.process is None or self.process.poll() is not None:
+            status = "never started" if self.process is None else f"exited with status {self.process.returncode}"
+            raise ProcessFailed(f"the trical server on port {self.port} {status} {when}:\n{self.output()}")
 
     def kill(self) -> None:
         """SIGKILL, as a crash or power loss would end it."""

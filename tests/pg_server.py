@@ -18,6 +18,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from tests.live_server import free_port
+from tests.processes import ProcessFailed, failure, run_ok
 
 
 def pg_bin() -> Path:
@@ -32,11 +33,16 @@ def _as_server_user(cmd: list[str]) -> list[str]:
     return ["runuser", "-u", "postgres", "--", *cmd] if os.geteuid() == 0 else cmd
 
 
+START_TIMEOUT_S = 60  # initdb, and pg_ctl's wait for the server to accept connections
+CONNECT_TIMEOUT_S = 10
+
+
 class PostgresServer:
     """A running temporary server; ``new_database()`` gives the URL of a fresh, empty database."""
 
-    def __init__(self, base_url: str):
+    def __init__(self, base_url: str, log: Path):
         self.base_url = base_url
+        self.log = log
         self._count = 0
 
     def new_database(self) -> str:
@@ -44,8 +50,11 @@ class PostgresServer:
 
         self._count += 1
         name = f"trical_{self._count}"
-        with psycopg.connect(f"{self.base_url}/postgres", autocommit=True) as db:
-            db.execute(f"CREATE DATABASE {name}")
+        try:
+            with psycopg.connect(f"{self.base_url}/postgres", autocommit=True, connect_timeout=CONNECT_TIMEOUT_S) as db:
+                db.execute(f"CREATE DATABASE {name}")
+        except psycopg.OperationalError as exc:  # the server is gone or does not answer: say what it logged
+            raise failure("PostgreSQL", f"refused a new database ({exc})", self.log) from None
         return f"{self.base_url}/{name}"
 
 
@@ -60,19 +69,25 @@ def postgres_server():
         shutil.chown(root, "postgres")
         shutil.chown(sock, "postgres")
     port = free_port()
-    run = lambda cmd: subprocess.run(_as_server_user(cmd), check=True, capture_output=True, text=True)  # noqa: E731
+    log = root / "server.log"
     try:
-        run([str(bindir / "initdb"), "-D", str(data), "-A", "trust", "-U", "postgres", "-E", "UTF8"])
-        run([str(bindir / "pg_ctl"), "-D", str(data), "-l", str(root / "server.log"), "-w", "-o",
-             f"-p {port} -k {sock} -h 127.0.0.1 -c fsync=on -c synchronous_commit=on", "start"])
-        deadline = time.monotonic() + 30
+        run_ok(_as_server_user([str(bindir / "initdb"), "-D", str(data), "-A", "trust", "-U", "postgres", "-E", "UTF8"]),
+               timeout_s=START_TIMEOUT_S)
+        try:
+            run_ok(_as_server_user([str(bindir / "pg_ctl"), "-D", str(data), "-l", str(log), "-w",
+                                    "-t", str(START_TIMEOUT_S), "-o",
+                                    f"-p {port} -k {sock} -h 127.0.0.1 -c fsync=on -c synchronous_commit=on", "start"]),
+                   timeout_s=START_TIMEOUT_S + 10)
+        except ProcessFailed as exc:
+            raise failure("PostgreSQL", f"did not start ({exc})", log) from None
+        deadline = time.monotonic() + START_TIMEOUT_S
         while subprocess.run([str(bindir / "pg_isready"), "-h", "127.0.0.1", "-p", str(port)],
-                             capture_output=True).returncode != 0:
+                             capture_output=True, timeout=CONNECT_TIMEOUT_S + 5).returncode != 0:
             if time.monotonic() > deadline:
-                raise RuntimeError("PostgreSQL did not start: " + (root / "server.log").read_text()[-2000:])
+                raise failure("PostgreSQL", f"did not accept connections within {START_TIMEOUT_S} s", log)
             time.sleep(0.2)
-        yield PostgresServer(f"postgresql://postgres@127.0.0.1:{port}")
+        yield PostgresServer(f"postgresql://postgres@127.0.0.1:{port}", log)
     finally:
         subprocess.run(_as_server_user([str(bindir / "pg_ctl"), "-D", str(data), "-m", "immediate", "stop"]),
-                       capture_output=True)
+                       capture_output=True, timeout=60)
         shutil.rmtree(root, ignore_errors=True)

@@ -11,6 +11,7 @@ import pytest
 
 from app import cli
 from app.calibration.simulations.autocal import simulate_recording
+from tests.processes import run_ok
 
 FS = 25.0
 
@@ -153,11 +154,10 @@ def test_cli_start_does_not_import_scipy_optimize_or_stats():
     """`trical autocal` on a week stays under 3 s because scipy.optimize (~0.5 s) is imported on the
     other core while detection runs, and scipy.stats (~0.7 s) never: keep them out of app.cli's imports.
     (pyarrow, ~20 ms, is imported: it reads the CSV.)"""
-    import subprocess
     import sys
     from pathlib import Path
 
     code = "import sys, app.cli; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
-    out = subprocess.run([sys.executable, "-c", code], cwd=Path(__file__).resolve().parents[1],
-                         capture_output=True, text=True, check=True, env={**os.environ, "PYTHONPATH": "."})
+    out = run_ok([sys.executable, "-c", code], timeout_s=120, cwd=Path(__file__).resolve().parents[1],
+                 env={**os.environ, "PYTHONPATH": "."})
     assert out.stdout.strip() == "[]"

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from dask.distributed import LocalCluster
+import dask
+from dask.distributed import Client, LocalCluster
 
 from app.calibration.simulations.autocal import simulate_recording
 from tests.live_server import ROOT
@@ -34,10 +35,21 @@ def folder(tmp_path_factory):
     return path
 
 
+START_TIMEOUT_S = 60
+
+
 @pytest.fixture(scope="module")
 def cluster():
-    with LocalCluster(n_workers=2, processes=True, threads_per_worker=1, host="127.0.0.1",
-                      dashboard_address=None) as c:
+    """Two worker processes, each bound to end itself when its scheduler is gone for a minute; the
+    test waits a bounded time for both before it uses them, and fails naming the cluster otherwise."""
+    with dask.config.set({"distributed.comm.timeouts.connect": f"{START_TIMEOUT_S}s"}), \
+            LocalCluster(n_workers=2, processes=True, threads_per_worker=1, host="127.0.0.1",
+                         dashboard_address=None, death_timeout=START_TIMEOUT_S) as c, Client(c) as client:
+        try:
+            client.wait_for_workers(2, timeout=START_TIMEOUT_S)
+        except TimeoutError:
+            pytest.fail(f"the LocalCluster had {len(c.scheduler.workers)} of 2 workers after {START_TIMEOUT_S} s: "
+                        f"{c.get_logs()}")
         yield c
 
 
@@ -53,6 +65,7 @@ def autocal(folder: Path, tmp_path: Path, *extra: str) -> list[dict]:
 
 def test_a_folder_on_a_local_cluster_matches_local_processes(folder, cluster, tmp_path):
     local = autocal(folder, tmp_path, "--workers", "2")
+    assert len(cluster.scheduler.workers) == 2, f"the cluster lost a worker: {cluster.get_logs()}"
     dask = autocal(folder, tmp_path, "--dask-scheduler", cluster.scheduler_address)
     assert [b["label"] for b in dask] == [b["label"] for b in local] == [
         "broken.npy", "short.npy", "wrist_1.npy", "wrist_2.npy", "wrist_3.npy"]

@@ -2,7 +2,6 @@
 
 import datetime as dt
 import math
-import subprocess
 import sys
 from pathlib import Path
 
@@ -10,6 +9,7 @@ import numpy as np
 import pytest
 
 from app.geomag import GeomagneticField, GeomagneticRangeError, decimal_year, reference_field
+from tests.processes import run_ok
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -216,5 +216,5 @@ def test_the_igrf_package_is_imported_only_when_asked_for():
         "import sys, app.calibration, app.geomag\n"
         "print(','.join(sorted(n for n in sys.modules if n.split('.')[0] in ('ppigrf', 'pandas'))))\n"
     )
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
+    out = run_ok([sys.executable, "-c", code], timeout_s=120, cwd=ROOT)
     assert out.stdout.strip() == "", f"importing app.calibration and app.geomag pulled in: {out.stdout}"

@@ -4,12 +4,12 @@ from __future__ import annotations
 
 import json
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
 from tests.conftest import seed_table
+from tests.processes import run_ok
 
 CANONICAL = ["-x", "+x", "-y", "+y", "-z", "+z"]
 GT_ORDER = ["+y", "-y", "+x", "-x", "+z", "-z"]
@@ -105,9 +105,9 @@ def test_apply_and_exports(client, tmp_path):
         "int main(void){float a[3];for(int i=0;i<%d;++i){trical_acc_apply(raw[i],a);"
         'printf("%%.9g %%.9g %%.9g\\n",a[0],a[1],a[2]);}return 0;}\n' % len(t1)
     )
-    subprocess.run([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
-                   check=True, cwd=tmp_path)
-    out = subprocess.run([str(tmp_path / "apply")], capture_output=True, text=True, check=True).stdout
+    run_ok([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
+           timeout_s=120, cwd=tmp_path)
+    out = run_ok([str(tmp_path / "apply")], timeout_s=30).stdout
     firmware = np.loadtxt(out.splitlines())
     # Single precision on the device: agreement to float32 rounding of m/s² values.
     np.testing.assert_allclose(firmware, expected, atol=2e-5)

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from app.calibration.simulations.cube import FIELD_UT, simulate_session, true_parameters
+from tests.processes import run_ok
 
 FS = 100.0
 
@@ -62,7 +63,6 @@ def check_cube_exports(client, body, tmp_path, headers=None):
     what trical's apply gives; offset/scale targets refuse raw units with the reason."""
     import csv
     import shutil
-    import subprocess
 
     import yaml
 
@@ -104,10 +104,9 @@ def check_cube_exports(client, body, tmp_path, headers=None):
                      + "};\n" for s in sensors)
     (tmp_path / "main.c").write_text('#include <stdio.h>\n#include "cal.h"\n' + arrays
                                      + "int main(void){float f[3];" + calls + "return 0;}\n")
-    subprocess.run([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
-                   check=True, cwd=tmp_path)
-    out = np.loadtxt(subprocess.run([str(tmp_path / "apply")], capture_output=True, text=True, check=True)
-                     .stdout.splitlines())
+    run_ok([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
+           timeout_s=120, cwd=tmp_path)
+    out = np.loadtxt(run_ok([str(tmp_path / "apply")], timeout_s=30).stdout.splitlines())
     for k, s in enumerate(sensors):
         # Single precision on the device: each float32 rounding (2⁻²⁴ relative) of m, o and M carried
         # through f = M (m − o), with a margin of 4.

@@ -15,12 +15,12 @@ import io
 import json
 import re
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
 
 from app.calibration.simulations.magnetometer import simulate_rests, simulate_session
+from tests.processes import run_ok
 
 F = 48.0
 
@@ -193,9 +193,9 @@ def test_c_header_json_yaml_and_csv_carry_the_compass(client, cal, turn, tmp_pat
         f"static const float raw[{len(m)}][3] = {{{raw}}};\n"
         "int main(void){float h[3];for(int i=0;i<%d;++i){trical_mag_apply(raw[i],h);"
         'printf("%%.7g %%.7g %%.7g\\n",h[0],h[1],h[2]);}return 0;}\n' % len(m))
-    subprocess.run([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
-                   check=True, cwd=tmp_path)
-    out = subprocess.run([str(tmp_path / "apply")], capture_output=True, text=True, check=True).stdout
+    run_ok([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
+           timeout_s=120, cwd=tmp_path)
+    out = run_ok([str(tmp_path / "apply")], timeout_s=30).stdout
     np.testing.assert_allclose(np.loadtxt(out.splitlines()), expected, atol=2e-4)  # float32 of ~100 µT values
 
 

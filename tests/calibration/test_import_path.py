@@ -1,9 +1,9 @@
 """The simulations stay out of the service's import path (app/calibration/simulations/__init__.py)."""
 
 import ast
-import subprocess
 import sys
 from pathlib import Path
+from tests.processes import run_ok
 
 ROOT = Path(__file__).resolve().parents[2]
 SIMULATIONS = "app.calibration.simulations"
@@ -19,8 +19,7 @@ def test_the_service_loads_no_simulation():
         "        importlib.import_module(m.name)\n"
         f"print(','.join(sorted(n for n in sys.modules if n.startswith({SIMULATIONS!r}))))\n"
     )
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True)
-    assert out.returncode == 0, out.stderr
+    out = run_ok([sys.executable, "-c", code], timeout_s=120, cwd=ROOT)
     assert out.stdout.strip() == "", f"the service imported {out.stdout.strip()}"
 
 

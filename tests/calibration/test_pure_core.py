@@ -1,8 +1,8 @@
 """The core is importable without the web stack (docs/architecture.md)."""
 
-import subprocess
 import sys
 from pathlib import Path
+from tests.processes import run_ok
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -18,5 +18,5 @@ def test_core_imports_without_web_stack():
         "or n.startswith(('app.api', 'app.store', 'app.io', 'app.web')))\n"
         "print(','.join(bad))\n"
     )
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, check=True)
+    out = run_ok([sys.executable, "-c", code], timeout_s=120, cwd=ROOT)
     assert out.stdout.strip() == "", f"app.calibration pulled in: {out.stdout}"

@@ -38,16 +38,23 @@ def browser():
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, timeout=LAUNCH_TIMEOUT_MS)
         yield b
         b.close()
 
 
-@pytest.fixture
-def server(tmp_path):
-    s = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}).start()
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    """One real server (its own SQLite file) for the tests of a module: each test has its own browser
+    context, so its own sessions and storage, and no test reads what another wrote. Starting a server
+    costs a process and the application's imports; one a test cost minutes of the suite."""
+    db = tmp_path_factory.mktemp("server") / "trical.db"
+    s = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{db}"}).start()
     yield s
-    s.stop()
+    try:
+        s.check_alive("during the test")
+    finally:
+        s.stop()
 
 
 @pytest.fixture

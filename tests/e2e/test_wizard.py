@@ -12,7 +12,7 @@ import pytest
 from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
-from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, shot, tab_to
+from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot, tab_to
 from tests.live_server import LiveServer
 
 G = 9.80665  # the session's default gravity
@@ -324,7 +324,8 @@ def test_insecure_context_asks_for_https(browser, server):
     # A name other than localhost over plain HTTP is not a secure context: a phone on the LAN sees
     # http://<computer>:8000 that way. A second Chromium resolves trical.test to the test server.
     b = browser.browser_type.launch(executable_path=CHROMIUM,
-                                    args=CHROMIUM_ARGS + ["--host-resolver-rules=MAP trical.test 127.0.0.1"])
+                                    args=CHROMIUM_ARGS + ["--host-resolver-rules=MAP trical.test 127.0.0.1"],
+                                    timeout=LAUNCH_TIMEOUT_MS)
     try:
         page = b.new_page(viewport={"width": 360, "height": 640})
         page.goto(f"http://trical.test:{server.port}/wizard")

@@ -16,7 +16,7 @@ from playwright.sync_api import expect
 
 from app.calibration.simulations.magnetometer import random_soft_iron
 from app.geomag import reference_field
-from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, shot
+from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot
 
 WIDTHS = (320, 390, 1280)
 WIDEST = ("() => [...document.querySelectorAll('body *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 0.5)"
@@ -58,7 +58,7 @@ def shots(page, name: str) -> None:
 @pytest.fixture(scope="module")
 def mag_browser(browser):
     """A second Chromium, from the same Playwright, with the Generic Sensor API's extra classes on."""
-    b = browser.browser_type.launch(executable_path=CHROMIUM, args=[*CHROMIUM_ARGS, *MAG_FLAGS])
+    b = browser.browser_type.launch(executable_path=CHROMIUM, args=[*CHROMIUM_ARGS, *MAG_FLAGS], timeout=LAUNCH_TIMEOUT_MS)
     yield b
     b.close()
 

@@ -1,7 +1,6 @@
 """calibrate_cube end to end: segmentation, drift, sequence checks and the three sensors (Särkkä et al.)."""
 
 import json
-import subprocess
 import sys
 
 import numpy as np
@@ -10,6 +9,7 @@ import pytest
 from app.calibration import CalibrationError, InsufficientDataError
 from app.calibration.cube import CubeCalibration, calibrate_cube, check_sequence, explicit_protocol
 from app.calibration.simulations.cube import FIELD_UT, GRAVITY, simulate_session, true_parameters
+from tests.processes import run_ok
 
 FS = 50.0
 
@@ -146,7 +146,7 @@ def test_invalid_input_and_mismatched_protocols():
 
 def test_core_does_not_import_the_web_stack():
     code = "import sys, app.calibration.cube as c; print(any(m.split('.')[0] in ('fastapi', 'pydantic') for m in sys.modules))"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    out = run_ok([sys.executable, "-c", code], timeout_s=120)
     assert out.stdout.strip() == "False"
 
 
