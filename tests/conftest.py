@@ -8,6 +8,15 @@ import numpy as np
 import pytest
 
 DATA = Path(__file__).parent / "data"
+E2E = Path(__file__).parent / "e2e"
+
+
+def pytest_collection_modifyitems(config, items):
+    """Every test under tests/e2e drives a real browser: marked `e2e` by its folder, so that
+    `pytest -m "not e2e"` is the quick loop while developing."""
+    for item in items:
+        if E2E in Path(item.path).parents:
+            item.add_marker(pytest.mark.e2e)
 
 
 def seed_table(number: int) -> np.ndarray:

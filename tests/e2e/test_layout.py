@@ -188,7 +188,6 @@ def layout_problems(page, state: str, width: int) -> list[str]:
     return [f"{state} at {width} px: {p}" for p in problems]
 
 
-@pytest.mark.e2e
 @pytest.mark.parametrize("width", WIDTHS)
 @pytest.mark.parametrize("state", list(STATES))
 def test_layout(browser, layout_server, state, width):
@@ -202,7 +201,6 @@ def test_layout(browser, layout_server, state, width):
         context.close()
 
 
-@pytest.mark.e2e
 def test_the_six_flow_while_capturing_and_at_its_result(browser, layout_server):
     # The six flow run once with the sensors emulated (tests/e2e/test_wizard.py), each state measured
     # at every width by resizing the one page: capturing (a refused repeat, the longest instruction),
