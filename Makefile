@@ -15,9 +15,12 @@ run: $(VENV)/.installed
 	mkdir -p var
 	HOST=$(HOST) PORT=$(PORT) $(BIN)/trical serve --host $(HOST) --port $(PORT)
 
-# The whole suite, with the test extras and the browser the end-to-end tests drive.
+# The whole suite, with the test extras and the browser the end-to-end tests drive, on $(TEST_WORKERS)
+# workers (pytest-xdist): many tests wait on real time (captures, servers, browsers), so two workers
+# pay even on two cores. Every test is bounded (pytest-timeout, pyproject.toml).
+TEST_WORKERS ?= 2
 test: $(VENV)/.installed-test system-deps
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n $(TEST_WORKERS)
 
 install: $(VENV)/.installed
 install-test: $(VENV)/.installed-test
