@@ -26,7 +26,7 @@ from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
 from app.summary import compass_headline, headline
-from app.verdict import verdict
+from app.verdict import figure_unit, verdict
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -67,10 +67,11 @@ def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: flo
 
 
 def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
-             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None) -> LogData:
+             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None,
+             chip: str | None = None) -> LogData:
     """Read an uploaded log file into arrays, its format given or detected (app.io.formats)."""
     return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                    lsb_per_g=lsb_per_g, columns=columns, sign=sign)
+                    lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
 
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
@@ -101,8 +102,10 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "units": log.units,
         "columns": log.columns,
         "notes": list(log.notes),
+        "warnings": list(log.warnings),
         "sign": log.sign,
-        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, **(read_with or {}),
+        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
+                      **(read_with or {}),
                       "sign": log.sign},
         "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
@@ -303,7 +306,7 @@ def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str]
     if "cv_error_mg" in body["metrics"]:  # every fit of still readings: the line a person reads first
         body["headline"] = headline(body["metrics"])
     elif "cv_error_ut" in body["metrics"]:  # the compass
-        body["headline"] = compass_headline(body["metrics"])
+        body["headline"] = compass_headline(body["metrics"], figure_unit(body))
     body["warnings"] = list(body["warnings"]) + notes
     body.update(fields)
     body["verdict"] = verdict(body)
@@ -372,7 +375,11 @@ def calibrate(request, recording: RecordingSource | None = None) -> dict:
     """
     if getattr(request, "recording_id", None) is not None and recording is None:
         raise CalibrationError(f"recording {request.recording_id!r} was not given to the workflow")
-    return _METHODS[request.method](request, recording)
+    body = _METHODS[request.method](request, recording)
+    if recording is not None:  # what the reader decided against the header or the caller (units) comes first
+        said = [w for w in recording.meta.get("warnings") or [] if w not in body["warnings"]]
+        body["warnings"] = said + list(body["warnings"])
+    return body
 
 
 def require_accelerometer(channels, method: str) -> None:
@@ -651,7 +658,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     factor = {"acc": ACC_TO_M_S2, "gyr": GYR_TO_RAD_S, "mag": MAG_TO_UT}
     si = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
     fs, n = log.sampling_rate_hz, len(next(iter(arrays.values())))
-    notes: list[str] = list(log.notes)
+    notes: list[str] = list(log.warnings) + list(log.notes)
     detected_from = "acc" if "acc" in arrays else wanted[0]
     span = longest_still(arrays[detected_from], fs)
     reasons: list[str] = []
@@ -753,10 +760,13 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
         rests = compass_rests(log, recording.meta.get("segments") or [])
         source = recording.source_fields
     reference, extra = magnetometer_reference(request, notes)
-    if unit == "raw" and reference["field_ut"] is None:
-        notes.append("the magnetometer's readings are raw counts and no field was given: M maps them to the "
-                     "readings' own scale, not to µT — give a place and date, or field_ut")
-    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", **reference)
+    counts = unit == "raw" and reference["field_ut"] is None
+    if counts:
+        notes.append("the magnetometer's readings are counts and no field was given: M maps them to the "
+                     "readings' own scale, not to µT, and every figure is in counts — give chip (the part and "
+                     "its range), or a place and date, or field_ut")
+    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", label="counts" if counts else "µT",
+                              **reference)
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label or (recording.meta.get("filename") if recording else None), **source)
 
