@@ -131,12 +131,24 @@ def overview(log: LogData) -> dict:
             "high": [float(f.max()) if f.size else None for f in finite]}
 
 
+def require_segments(recording: dict) -> None:
+    """Refuse a recording in which no still segment was found, naming what to check (the unit first:
+    readings in a unit other than the one read find no rest near the expected gravity)."""
+    if not recording.get("segments"):
+        unit = (recording.get("units") or {}).get("acc")
+        raise InsufficientDataError(
+            f"the recording has no still segments (its accelerometer read in {unit}): these methods calibrate "
+            "from the device resting a few seconds in each pose. Record the poses with the device still in each; "
+            "if it did rest, check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)")
+
+
 def readings_from_segments(recording: dict, method: str, indices: list[int] | None) -> tuple[list[Reading], list[int]]:
     """Readings from a recording's static segments, and the indices of the segments used.
 
     ``six_position`` takes the first segment of each orientation unless ``indices`` lists them;
     ``orientations`` takes every labelled segment (or the listed ones).
     """
+    require_segments(recording)
     segments = recording["segments"]
     if indices is not None:
         chosen = []
@@ -166,6 +178,11 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
         chosen = sorted(first.values())
     else:
         chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
+        if not chosen:
+            raise InsufficientDataError(
+                f"none of the recording's {len(segments)} still segments lies within 20° of an axis: method "
+                "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
+                "for free poses")
     readings = [
         Reading(mean=tuple(segments[i]["acc_mean"]), up=segments[i]["up"], std=tuple(segments[i]["acc_std"]),
                 count=segments[i].get("count"))
@@ -214,6 +231,7 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
 
 def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
     """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+    require_segments(recording)
     segments = recording["segments"]
     chosen = list(range(len(segments))) if indices is None else list(indices)
     for i in chosen:
