@@ -302,7 +302,7 @@ class _ProgressBar:
 def _autocal_options(args) -> dict:
     return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
                 latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
-                device_id=args.device_id, columns=args.columns, sign=args.sign)
+                device_id=args.device_id, columns=args.columns, sign=args.sign, chip=args.chip)
 
 
 def _autocal_job(path: str, options: dict) -> dict:

@@ -558,9 +558,12 @@ def _cube(request, recording: RecordingSource) -> dict:
 
 def _autocal(request, recording: RecordingSource) -> dict:
     require_accelerometer(recording.meta["units"], "autocal")
+    # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
+    read_with = recording.meta.get("read_with") or {"units": recording.meta["units"]}
     return autocalibrate_file(
         recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
-        unit=request.unit or recording.meta["units"]["acc"], solver=request.solver, gravity=request.gravity,
+        unit=request.unit or (read_with.get("units") or {}).get("acc"), chip=read_with.get("chip"),
+        lsb_per_g=read_with.get("lsb_per_g"), solver=request.solver, gravity=request.gravity,
         latitude_deg=request.latitude_deg, height_m=request.height_m,
         detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
         label=request.label or recording.meta.get("filename"), **recording.source_fields)
@@ -572,7 +575,8 @@ AUTOCAL_UNITS = ("g", "m/s^2")
 def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,
                        solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
                        height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
-                       columns: str | None = None, sign: int | None = None, **fields) -> dict:
+                       columns: str | None = None, sign: int | None = None, chip: str | None = None,
+                       lsb_per_g: float | None = None, **fields) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
@@ -596,6 +600,9 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         The columns of a CSV (:func:`app.io.formats.parse_columns`).
     sign : {1, -1}, optional
         Factor on the file's accelerations; detected from the header when None.
+    chip, lsb_per_g : str or float, optional
+        The accelerometer's part and range, or its counts per g, for a CSV in counts
+        (:func:`app.io.formats.read_log`).
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -622,13 +629,14 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         preload.start()
     path = Path(path)
     log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
-                   columns=columns, sign=sign)
+                   columns=columns, sign=sign, chip=chip, lsb_per_g=lsb_per_g)
     require_accelerometer(log.channels, "autocal")
     unit = log.units["acc"]
     if unit not in AUTOCAL_UNITS:
         raise CalibrationError(
             f"auto-calibration needs samples in g or m/s^2 (its thresholds are fractions of g); {path.name} is in "
-            f"{unit!r}: convert the counts to g first, or give --unit g / unit: g if they already are"
+            f"counts whose scale is unknown: give chip (--chip, e.g. mpu6050-2g) for a CSV, or convert the counts "
+            f"to g first"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
     rest = detect_rest_segments(log.acc, log.sampling_rate_hz, gravity=g, progress=progress, **(detection or {}))

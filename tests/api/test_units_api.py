@@ -140,6 +140,7 @@ UPLOADS = {
     "linear acceleration": (_csv("t,ax,ay,az", [T, SIX.samples * 0.01]), {}),
     "an npy of one row": (_npy((5,)), {"sampling_rate_hz": 100, "filename": "x.npy"}),
     "an npy of five columns": (_npy((10, 5)), {"sampling_rate_hz": 100, "filename": "x.npy"}),
+    "a chip for an npy": (_npy((10, 3)), {"sampling_rate_hz": 100, "filename": "x.npy", "chip": "mpu6050-2g"}),
 }
 SHAPE = re.compile(r"shape|\(\d+,\s*\d*\)|\bN×\d|\d+×\d+", re.IGNORECASE)
 
