@@ -197,3 +197,18 @@ def test_a_gyroscope_chip_turns_counts_into_degrees_per_second(tmp_path):
     np.testing.assert_allclose(log.gyr, counts / 65.5, rtol=1e-12)
     left = _read(path, units={"gyr": "raw"})
     assert left.units["gyr"] == "raw" and any("gyroscope's readings are counts" in w for w in left.warnings)
+
+
+def test_a_gyroscope_in_whole_numbers_is_counts_unless_a_unit_in_degrees_says_otherwise(tmp_path):
+    counts = np.round(np.random.default_rng(4).normal(0.0, 300.0, (len(T), 3)))  # an MPU-6050 at rest: bias, noise
+    unnamed = _read(_write(tmp_path, "t,ax,ay,az,gx,gy,gz", [T, ACC, counts], name="a.csv"))
+    assert unnamed.units["gyr"] == "raw"
+    assert any(w.startswith("the gyroscope's readings are counts") for w in unnamed.warnings)
+    radians = _read(_write(tmp_path, "t,ax,ay,az,gx (rad/s),gy (rad/s),gz (rad/s)", [T, ACC, counts], name="b.csv"))
+    assert radians.units["gyr"] == "raw"
+    assert radians.warnings[0].startswith("the header said rad/s for the gyroscope, but its readings are whole numbers")
+    degrees = _read(_write(tmp_path, "t,ax,ay,az,gx (deg/s),gy (deg/s),gz (deg/s)", [T, ACC, np.round(counts / 100)],
+                           name="c.csv"))
+    assert degrees.units["gyr"] == "deg/s" and degrees.warnings == ()
+    floats = _read(_write(tmp_path, "t,ax,ay,az,gx,gy,gz", [T, ACC, counts / 1000 + 0.0001], name="d.csv"))
+    assert floats.units["gyr"] == "rad/s" and floats.warnings == ()

@@ -259,6 +259,15 @@ def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns):
         _refuse_scale_and_unit("gyr", claim, f"chip {chip.name}")
         notes.append(f"gyroscope counts times {chip.scale:.6g} °/s per count (chip {chip.name}) into deg/s")
         return gyr * chip.scale, "deg/s"
+    # A still gyroscope reads near zero in any unit, so its magnitude tells nothing; but whole numbers
+    # are counts, and beyond 35 rad/s (2000 °/s) no rate sensor reads in rad/s.
+    whole = len(gyr) > 0 and _whole(gyr) and bool(np.any(gyr != 0))
+    peak = float(np.max(np.abs(gyr[:200_000]))) if len(gyr) else 0.0
+    if (claim.unit is None and whole) or (claim.unit == "rad/s" and whole and peak > 35.0):
+        if claim.unit is not None:
+            warns.append(f"{claim.words()} for the gyroscope, but its readings are whole numbers up to {peak:.0f}: "
+                         "read as counts")
+        unit = "raw"
     if unit == "raw":
         warns.append("the gyroscope's readings are counts: its figures are in counts; give chip (e.g. "
                      "mpu6050-250dps) or gyr_unit to have them in °/s")
