@@ -212,3 +212,11 @@ def test_a_gyroscope_in_whole_numbers_is_counts_unless_a_unit_in_degrees_says_ot
     assert degrees.units["gyr"] == "deg/s" and degrees.warnings == ()
     floats = _read(_write(tmp_path, "t,ax,ay,az,gx,gy,gz", [T, ACC, counts / 1000 + 0.0001], name="d.csv"))
     assert floats.units["gyr"] == "rad/s" and floats.warnings == ()
+
+
+def test_a_magnetometer_field_no_unit_explains_is_labelled_counts(tmp_path):
+    # Milligauss floats (a 480 mG field): neither µT, gauss nor nT, and not whole numbers.
+    log = _read(_write(tmp_path, "mag_x (uT),mag_y (uT),mag_z (uT)", [MAG * 10 + 0.05]), sampling_rate_hz=50)
+    assert log.units["mag"] == "raw"
+    assert log.warnings[0].startswith("the magnetometer's readings show a field of 4")
+    assert "(the header said uT), which fits no unit" in log.warnings[0] and "labelled counts" in log.warnings[0]

@@ -11,11 +11,12 @@ sensitivity (typical value), cited by part and document:
   scales for each sensor.
 - Asahi Kasei AK8963 datasheet (in the MPU-9250): 0.15 µT/LSB at 16-bit output, 0.6 µT/LSB at 14-bit.
 - Asahi Kasei AK09916 datasheet (in the ICM-20948): 0.15 µT/LSB.
-- QST QMC5883L datasheet, magnetic sensor characteristics (sensitivity): 12000 LSB/G at the ±2 G range, 3000 LSB/G at ±8 G.
+- QST QMC5883L datasheet, magnetic sensor characteristics (sensitivity): 12000 LSB/G at the ±2 G
+  range, 3000 LSB/G at ±8 G.
 - Honeywell HMC5883L datasheet, table 9 (gain settings): 1370, 1090 (default), 820, 660, 440, 390,
   330, 230 LSB/gauss for ±0.88, ±1.3, ±1.9, ±2.5, ±4.0, ±4.7, ±5.6, ±8.1 G.
-- ST LIS3MDL datasheet (DocID024204), sensor characteristics (magnetic sensitivity GN): 6842, 3421, 2281, 1711 LSB/gauss at ±4, ±8, ±12,
-  ±16 gauss.
+- ST LIS3MDL datasheet (DocID024204), sensor characteristics (magnetic sensitivity GN): 6842, 3421,
+  2281, 1711 LSB/gauss at ±4, ±8, ±12, ±16 gauss.
 - MEMSIC MMC5983MA datasheet, electrical characteristics: 16384 counts/G at 18-bit output, 4096
   counts/G at 16-bit. Its output is unsigned with the zero field at mid-scale (131072 or 32768
   counts): that constant is part of the offset the compass fit estimates.

@@ -164,8 +164,8 @@ def settle_units(log: LogData, *, given: dict | None = None, stated: dict | None
         if getattr(log, sensor) is None:
             notes.append(f"chip {chip.name} is for the {SENSOR_WORDS[sensor]}, which the file does not have: not used")
     if log.acc is not None:
-        arrays["acc"], units["acc"] = _settle_acc(log.acc, units["acc"], _claim("acc", given, stated, stated_by), lsb_per_g,
-                                                  lsb_source, chips.get("acc"), notes, warns, name)
+        arrays["acc"], units["acc"] = _settle_acc(log.acc, units["acc"], _claim("acc", given, stated, stated_by),
+                                                  lsb_per_g, lsb_source, chips.get("acc"), notes, warns, name)
     if log.gyr is not None:
         arrays["gyr"], units["gyr"] = _settle_gyr(log.gyr, units["gyr"], _claim("gyr", given, stated, stated_by),
                                                   chips.get("gyr"), notes, warns)
@@ -196,8 +196,9 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
             raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb}")
         _refuse_scale_and_unit("acc", claim, what)
         if inferred in ("g", "m/s^2"):
-            raise LogFormatError(f"{what} converts counts (LSB) into g, but the accelerometer's readings are already "
-                                 f"in {inferred} (they rest at a median norm of {norm:.3g}): leave {what.split('=')[0]} "
+            raise LogFormatError(f"{what} converts counts (LSB) into g, but the accelerometer's readings are "
+                                 f"already in {inferred} (they rest at a median norm of {norm:.3g}): leave "
+                                 f"{what.split('=')[0]} "
                                  "out")
         in_g = norm / lsb
         if not 0.6 <= in_g <= 1.6:
@@ -219,7 +220,7 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
         return acc, inferred
     if norm > 50:  # counts of an ADC
         if claim.by == "acc_unit" and claim.unit == "raw":
-            warns.append(f"the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give "
+            warns.append("the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give "
                          "chip or lsb_per_g to calibrate in g")
             return acc, "raw"
         fit = common_sensitivity(norm)
@@ -298,8 +299,8 @@ def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, 
         if claim.unit in ("uT", "nT") or claim.unit is None:
             warns.append(f"the magnetometer's readings show a field of {field:.4g}"
                          + (f" ({claim.words()})" if claim.unit else "")
-                         + ", which fits no unit (µT 15–100, gauss 0.15–1, nT 15000–100000): its figures are left in "
-                         "the readings' own unit, labelled counts; give mag_unit, or chip for a known part")
+                         + ", which fits no unit (µT 15–100, gauss 0.15–1, nT 15000–100000): its figures are left "
+                         "in the readings' own unit, labelled counts; give mag_unit, or chip for a known part")
             return mag, "raw"
         return mag, unit
     if said:
@@ -307,8 +308,9 @@ def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, 
                      + ("which is counts" if inferred == "raw" else f"the Earth's field in {inferred}")
                      + f": read as {'counts' if inferred == 'raw' else inferred}")
     if inferred == "raw":
-        warns.append(f"the magnetometer's readings are counts (a field of {field:.0f} counts): its figures are in "
-                     "counts; give chip (e.g. ak8963-16bit, qmc5883l-2g, hmc5883l-1090) or mag_unit to have them in µT")
+        warns.append(f"the magnetometer's readings are counts (a field of {field:.0f} counts): its figures are "
+                     "in counts; give chip (e.g. ak8963-16bit, qmc5883l-2g, hmc5883l-1090) or mag_unit to have "
+                     "them in µT")
         return mag, "raw"
     if inferred == "gauss":
         notes.append("magnetometer readings in gauss multiplied by 100 into µT")
