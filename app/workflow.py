@@ -426,8 +426,30 @@ def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, floa
                 f"the recording's values are rounded to {meta['quantization_step']} m/s² (as browsers "
                 "round motion sensor data): each reading's mean is still precise when averaged over many samples"
             )
+    else:
+        unit = inline_unit(request, notes)
     gravity, more = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
     return unit, gravity, notes + more
+
+
+def inline_unit(request, notes: list[str]) -> str:
+    """The unit of a request's inline readings, checked against their magnitude as an upload's is
+    (app.io.formats.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
+    request's unit (given, or the default) says otherwise the data win, and a note says both."""
+    from app.io.formats.units import infer_acc_unit
+
+    unit = request.unit
+    means = [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
+    if unit not in ("g", "m/s^2") or not means:
+        return unit
+    inferred = infer_acc_unit(np.asarray(means, dtype=float))
+    if inferred in ("g", "m/s^2") and inferred != unit:
+        norm = float(np.median(np.linalg.norm(np.asarray(means, dtype=float), axis=1)))
+        said = "the request's unit said" if "unit" in request.model_fields_set else "the request gave no unit, so"
+        notes.append(f"{said} {unit}, but its readings' median norm is {norm:.3g}, about 1 g in {inferred}: "
+                     f"calibrated in {inferred}")
+        return inferred
+    return unit
 
 
 def _known(request, recording: RecordingSource | None) -> dict:

@@ -202,3 +202,19 @@ def test_no_refused_request_names_an_array_shape(client, case):
     assert 400 <= r.status_code < 500, r.text
     detail = r.json()["detail"]
     assert not SHAPE.search(detail), detail
+
+
+def test_inline_readings_in_g_without_their_unit_calibrate_in_g_and_say_so(client):
+    # The API alike: six averaged readings typed in g, the request's unit left at its default m/s².
+    means = [np.mean(SIX.samples[a:b], axis=0) / G for a, b, _ in SIX.segments]
+    ups = [up for _, _, up in SIX.segments]
+    readings = [{"mean": m.tolist(), "up": up} for m, up in zip(means, ups)]
+    r = _calibrate(client, method="six_position", readings=readings)
+    assert r.status_code == 201, r.text
+    body = r.json()
+    assert body["ok"] and body["unit"] == "g" and body["gravity"] == 1.0
+    assert any(w.startswith("the request gave no unit, so m/s^2, but its readings' median norm is 0.9")
+               and w.endswith("about 1 g in g: calibrated in g") for w in body["warnings"])
+    np.testing.assert_allclose(body["model"]["X"], SIX.X, atol=2e-3)
+    said = _calibrate(client, method="six_position", readings=readings, unit="m/s^2").json()
+    assert any(w.startswith("the request's unit said m/s^2, but") for w in said["warnings"])
