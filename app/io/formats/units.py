@@ -164,13 +164,13 @@ def settle_units(log: LogData, *, given: dict | None = None, stated: dict | None
         if getattr(log, sensor) is None:
             notes.append(f"chip {chip.name} is for the {SENSOR_WORDS[sensor]}, which the file does not have: not used")
     if log.acc is not None:
-        arrays["acc"], units["acc"] = _settle_acc(log.acc, units["acc"], _claim("acc", given, stated, stated_by),
+        arrays["acc"], units["acc"] = _settle_acc(log.acc, units.get("acc"), _claim("acc", given, stated, stated_by),
                                                   lsb_per_g, lsb_source, chips.get("acc"), notes, warns, name)
     if log.gyr is not None:
-        arrays["gyr"], units["gyr"] = _settle_gyr(log.gyr, units["gyr"], _claim("gyr", given, stated, stated_by),
+        arrays["gyr"], units["gyr"] = _settle_gyr(log.gyr, units.get("gyr"), _claim("gyr", given, stated, stated_by),
                                                   chips.get("gyr"), notes, warns)
     if log.mag is not None:
-        arrays["mag"], units["mag"] = _settle_mag(log.mag, units["mag"], _claim("mag", given, stated, stated_by),
+        arrays["mag"], units["mag"] = _settle_mag(log.mag, units.get("mag"), _claim("mag", given, stated, stated_by),
                                                   chips.get("mag"), check_mag, notes, warns)
     return dataclasses.replace(log, **arrays, units=units, notes=tuple(log.notes) + tuple(notes),
                                warnings=tuple(log.warnings) + tuple(warns))
