@@ -67,7 +67,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--sections", type=opt.input_path("a section list (JSON)"), default=None, metavar="FILE.json",
                    help="cube with --protocol ferraris: imucal's annotated section list (x_p … z_rot, sample indices)")
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
-    c.add_argument("--mag-unit", choices=("uT", "nT", "raw"), default=None)
+    c.add_argument("--mag-unit", choices=("uT", "nT", "gauss", "raw"), default=None)
     c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
                    help="triangular only: lm, or Farago et al.'s descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column")
@@ -127,6 +127,10 @@ def _read_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--columns", type=opt.text("column names or a mapping"), default=None, metavar="NAMES",
                         help="name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips "
                              "one; for logs without a header row), or map unrecognised ones, e.g. acc_x:north,…")
+    parser.add_argument("--chip", type=opt.CHIP, default=None, metavar="PARTS",
+                        help="the parts (and ranges) of sensors logged in counts, separated by commas, e.g. "
+                             "mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s and uT "
+                             "(the list: README, Units)")
     parser.add_argument("--sign", type=int, choices=(1, -1), default=None,
                         help="factor on the log's accelerations: -1 for iOS Core Motion's sign (-g up), 1 to keep "
                              "them (default: detected from the header)")
@@ -191,7 +195,7 @@ def _print_qr(drawing: str) -> None:
 def _calibrate(args, settings: Settings) -> int:
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
     read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
-                     sign=args.sign)
+                     sign=args.sign, chip=args.chip)
     log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, name=str(args.log), **read_with)
     recording = workflow.describe_log(log, read_with)
     request = parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
@@ -298,7 +302,7 @@ class _ProgressBar:
 def _autocal_options(args) -> dict:
     return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
                 latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
-                device_id=args.device_id, columns=args.columns, sign=args.sign)
+                device_id=args.device_id, columns=args.columns, sign=args.sign, chip=args.chip)
 
 
 def _autocal_job(path: str, options: dict) -> dict:
@@ -424,7 +428,7 @@ def _noise(args, settings: Settings) -> int:
         units = {sensor: args.unit}
     read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
     log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=str(args.path),
-                            columns=args.columns, sign=args.sign)
+                            columns=args.columns, sign=args.sign, chip=args.chip)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
     body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],

@@ -26,7 +26,7 @@ from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
 from app.summary import compass_headline, headline
-from app.verdict import verdict
+from app.verdict import figure_unit, verdict
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -67,10 +67,11 @@ def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: flo
 
 
 def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
-             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None) -> LogData:
+             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None,
+             chip: str | None = None) -> LogData:
     """Read an uploaded log file into arrays, its format given or detected (app.io.formats)."""
     return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                    lsb_per_g=lsb_per_g, columns=columns, sign=sign)
+                    lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
 
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
@@ -101,8 +102,10 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "units": log.units,
         "columns": log.columns,
         "notes": list(log.notes),
+        "warnings": list(log.warnings),
         "sign": log.sign,
-        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, **(read_with or {}),
+        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
+                      **(read_with or {}),
                       "sign": log.sign},
         "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
@@ -128,12 +131,24 @@ def overview(log: LogData) -> dict:
             "high": [float(f.max()) if f.size else None for f in finite]}
 
 
+def require_segments(recording: dict) -> None:
+    """Refuse a recording in which no still segment was found, naming what to check (the unit first:
+    readings in a unit other than the one read find no rest near the expected gravity)."""
+    if not recording.get("segments"):
+        unit = (recording.get("units") or {}).get("acc")
+        raise InsufficientDataError(
+            f"the recording has no still segments (its accelerometer read in {unit}): these methods calibrate "
+            "from the device resting a few seconds in each pose. Record the poses with the device still in each; "
+            "if it did rest, check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)")
+
+
 def readings_from_segments(recording: dict, method: str, indices: list[int] | None) -> tuple[list[Reading], list[int]]:
     """Readings from a recording's static segments, and the indices of the segments used.
 
     ``six_position`` takes the first segment of each orientation unless ``indices`` lists them;
     ``orientations`` takes every labelled segment (or the listed ones).
     """
+    require_segments(recording)
     segments = recording["segments"]
     if indices is not None:
         chosen = []
@@ -163,6 +178,11 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
         chosen = sorted(first.values())
     else:
         chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
+        if not chosen:
+            raise InsufficientDataError(
+                f"none of the recording's {len(segments)} still segments lies within 20° of an axis: method "
+                "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
+                "for free poses")
     readings = [
         Reading(mean=tuple(segments[i]["acc_mean"]), up=segments[i]["up"], std=tuple(segments[i]["acc_std"]),
                 count=segments[i].get("count"))
@@ -211,6 +231,7 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
 
 def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
     """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+    require_segments(recording)
     segments = recording["segments"]
     chosen = list(range(len(segments))) if indices is None else list(indices)
     for i in chosen:
@@ -303,7 +324,7 @@ def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str]
     if "cv_error_mg" in body["metrics"]:  # every fit of still readings: the line a person reads first
         body["headline"] = headline(body["metrics"])
     elif "cv_error_ut" in body["metrics"]:  # the compass
-        body["headline"] = compass_headline(body["metrics"])
+        body["headline"] = compass_headline(body["metrics"], figure_unit(body))
     body["warnings"] = list(body["warnings"]) + notes
     body.update(fields)
     body["verdict"] = verdict(body)
@@ -372,7 +393,11 @@ def calibrate(request, recording: RecordingSource | None = None) -> dict:
     """
     if getattr(request, "recording_id", None) is not None and recording is None:
         raise CalibrationError(f"recording {request.recording_id!r} was not given to the workflow")
-    return _METHODS[request.method](request, recording)
+    body = _METHODS[request.method](request, recording)
+    if recording is not None:  # what the reader decided against the header or the caller (units) comes first
+        said = [w for w in recording.meta.get("warnings") or [] if w not in body["warnings"]]
+        body["warnings"] = said + list(body["warnings"])
+    return body
 
 
 def require_accelerometer(channels, method: str) -> None:
@@ -401,8 +426,30 @@ def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, floa
                 f"the recording's values are rounded to {meta['quantization_step']} m/s² (as browsers "
                 "round motion sensor data): each reading's mean is still precise when averaged over many samples"
             )
+    else:
+        unit = inline_unit(request, notes)
     gravity, more = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
     return unit, gravity, notes + more
+
+
+def inline_unit(request, notes: list[str]) -> str:
+    """The unit of a request's inline readings, checked against their magnitude as an upload's is
+    (app.io.formats.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
+    request's unit (given, or the default) says otherwise the data win, and a note says both."""
+    from app.io.formats.units import infer_acc_unit
+
+    unit = request.unit
+    means = [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
+    if unit not in ("g", "m/s^2") or not means:
+        return unit
+    inferred = infer_acc_unit(np.asarray(means, dtype=float))
+    if inferred in ("g", "m/s^2") and inferred != unit:
+        norm = float(np.median(np.linalg.norm(np.asarray(means, dtype=float), axis=1)))
+        said = "the request's unit said" if "unit" in request.model_fields_set else "the request gave no unit, so"
+        notes.append(f"{said} {unit}, but its readings' median norm is {norm:.3g}, about 1 g in {inferred}: "
+                     f"calibrated in {inferred}")
+        return inferred
+    return unit
 
 
 def _known(request, recording: RecordingSource | None) -> dict:
@@ -533,9 +580,12 @@ def _cube(request, recording: RecordingSource) -> dict:
 
 def _autocal(request, recording: RecordingSource) -> dict:
     require_accelerometer(recording.meta["units"], "autocal")
+    # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
+    read_with = recording.meta.get("read_with") or {"units": recording.meta["units"]}
     return autocalibrate_file(
         recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
-        unit=request.unit or recording.meta["units"]["acc"], solver=request.solver, gravity=request.gravity,
+        unit=request.unit or (read_with.get("units") or {}).get("acc"), chip=read_with.get("chip"),
+        lsb_per_g=read_with.get("lsb_per_g"), solver=request.solver, gravity=request.gravity,
         latitude_deg=request.latitude_deg, height_m=request.height_m,
         detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
         label=request.label or recording.meta.get("filename"), **recording.source_fields)
@@ -547,7 +597,8 @@ AUTOCAL_UNITS = ("g", "m/s^2")
 def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,
                        solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
                        height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
-                       columns: str | None = None, sign: int | None = None, **fields) -> dict:
+                       columns: str | None = None, sign: int | None = None, chip: str | None = None,
+                       lsb_per_g: float | None = None, **fields) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
@@ -571,6 +622,9 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         The columns of a CSV (:func:`app.io.formats.parse_columns`).
     sign : {1, -1}, optional
         Factor on the file's accelerations; detected from the header when None.
+    chip, lsb_per_g : str or float, optional
+        The accelerometer's part and range, or its counts per g, for a CSV in counts
+        (:func:`app.io.formats.read_log`).
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -597,13 +651,14 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         preload.start()
     path = Path(path)
     log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
-                   columns=columns, sign=sign)
+                   columns=columns, sign=sign, chip=chip, lsb_per_g=lsb_per_g)
     require_accelerometer(log.channels, "autocal")
     unit = log.units["acc"]
     if unit not in AUTOCAL_UNITS:
         raise CalibrationError(
             f"auto-calibration needs samples in g or m/s^2 (its thresholds are fractions of g); {path.name} is in "
-            f"{unit!r}: convert the counts to g first, or give --unit g / unit: g if they already are"
+            f"counts whose scale is unknown: give chip (--chip, e.g. mpu6050-2g) for a CSV, or convert the counts "
+            f"to g first"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
     rest = detect_rest_segments(log.acc, log.sampling_rate_hz, gravity=g, progress=progress, **(detection or {}))
@@ -651,7 +706,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     factor = {"acc": ACC_TO_M_S2, "gyr": GYR_TO_RAD_S, "mag": MAG_TO_UT}
     si = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
     fs, n = log.sampling_rate_hz, len(next(iter(arrays.values())))
-    notes: list[str] = list(log.notes)
+    notes: list[str] = list(log.warnings) + list(log.notes)
     detected_from = "acc" if "acc" in arrays else wanted[0]
     span = longest_still(arrays[detected_from], fs)
     reasons: list[str] = []
@@ -753,10 +808,13 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
         rests = compass_rests(log, recording.meta.get("segments") or [])
         source = recording.source_fields
     reference, extra = magnetometer_reference(request, notes)
-    if unit == "raw" and reference["field_ut"] is None:
-        notes.append("the magnetometer's readings are raw counts and no field was given: M maps them to the "
-                     "readings' own scale, not to µT — give a place and date, or field_ut")
-    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", **reference)
+    counts = unit == "raw" and reference["field_ut"] is None
+    if counts:
+        notes.append("the magnetometer's readings are counts and no field was given: M maps them to the "
+                     "readings' own scale, not to µT, and every figure is in counts — give chip (the part and "
+                     "its range), or a place and date, or field_ut")
+    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", label="counts" if counts else "µT",
+                              **reference)
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label or (recording.meta.get("filename") if recording else None), **source)
 

@@ -50,10 +50,13 @@ def upload_recording(
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
-    mag_unit: Literal["uT", "nT", "raw"] | None = Form(None),
+    mag_unit: Literal["uT", "nT", "gauss", "raw"] | None = Form(None),
     format: Literal["auto", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",
                     "arduino"] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
+    chip: str | None = Form(None, description="The parts (and ranges) of sensors logged in counts, separated by "
+                            "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "
+                            "(app.io.formats.chips)."),
     columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
                                "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)"),
     sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Form(None, description="Factor on the file's accelerations: -1 for iOS Core Motion's "
@@ -69,7 +72,7 @@ def upload_recording(
     save_upload(file.file, dest, settings.max_upload_bytes, settings.max_upload_mb)
     try:
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign)
+        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
         log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, name=file.filename or "the file", **read_with)
         body = workflow.describe_log(log, read_with)
         body["filename"] = file.filename

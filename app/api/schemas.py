@@ -143,7 +143,8 @@ class VerdictOut(Out):
     why: str = Field(description="One line more: the reason, or what the figure is.")
     before: float | None = Field(description="The figure's raw error (null where the readings are counts).")
     after: float | None = Field(description="The same, calibrated.")
-    unit: Literal["mg", "µT"] | None = Field(description="mg of g, or µT for a compass.")
+    unit: Literal["mg", "µT", "counts"] | None = Field(description="mg of g, or µT for a compass (counts for a "
+                                                                  "magnetometer left in counts).")
     basis: str | None = Field(description="Which readings the figure is on, in words.")
 
 
@@ -647,6 +648,7 @@ class ReadWithOut(BaseModel):
     units: dict[str, str]
     lsb_per_g: float | None
     columns: str | None
+    chip: str | None = Field(None, description="The parts the upload named (app.io.formats.chips).")
     sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
 
 
@@ -674,6 +676,9 @@ class RecordingOut(BaseModel):
     units: dict[str, str]
     columns: list[str] = Field([], description="The file's column names (or those `columns` gave).")
     notes: list[str] = Field([], description="What the reader decided: sign negated, unit inferred, no header row.")
+    warnings: list[str] = Field([], description="What the reader decided against the header or the upload's fields "
+                                                "(a unit the data contradict), and sensors left in counts; every "
+                                                "calibration of the recording repeats them.")
     quantization_step: float | None = None
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
     read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")

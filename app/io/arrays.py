@@ -78,8 +78,11 @@ def read_npy_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     if not isinstance(arr, np.ndarray):
         raise LogFormatError(f"{name} holds several arrays (.npz?): save one N×3 or N×4 array with numpy.save", status=415)
     if arr.ndim != 2 or arr.shape[1] not in (3, 4):
+        held = (f"{arr.size} numbers in a single row" if arr.ndim <= 1 else
+                f"rows of {arr.shape[1]} numbers" if arr.ndim == 2 else f"a {arr.ndim}-dimensional block of numbers")
         raise LogFormatError(
-            f"{name} holds an array of shape {tuple(arr.shape)}: expected N×3 (x, y, z) or N×4 (time, x, y, z)")
+            f"{name} holds {held}: save one row per sample with 3 numbers (x, y, z) or 4 (time, x, y, z), "
+            "e.g. numpy.save(path, samples) with samples of 3 or 4 columns")
     if arr.dtype.kind not in "fiu":
         raise LogFormatError(f"{name} holds {arr.dtype} values: expected numbers (float32 or float64)")
     if arr.shape[0] == 0:

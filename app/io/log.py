@@ -36,6 +36,9 @@ class LogData:
         The file's column names, for messages.
     notes : tuple of str
         What the reader decided on the way (sign flipped, unit inferred, file chosen in a zip).
+    warnings : tuple of str
+        What the reader decided against what the caller or the file said (a unit the data
+        contradict), and sensors left in counts: every calibration of the log repeats them.
     sign : int
         The factor the file's accelerations were multiplied by on reading: −1 when they came on the
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
@@ -51,6 +54,7 @@ class LogData:
     columns: list
     notes: tuple = ()
     sign: int = 1
+    warnings: tuple = ()
 
     @property
     def n_samples(self) -> int:

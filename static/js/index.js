@@ -3,6 +3,7 @@ import { createCalibration, exportUrl, uploadRecording } from "./api.js";
 import { columnsField, headerColumns, logPlotSvg } from "./log_plot.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber, parseReadings } from "./readings.js";
+import { TABLES } from "./tables.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -13,6 +14,7 @@ const phone = "DeviceMotionEvent" in window && matchMedia("(pointer: coarse)").m
 document.documentElement.dataset.device = phone ? "phone" : "desktop";
 const status = $("#status");
 let recordingId = null;
+let lastUpload = null; // the form data of the upload on show, to read the file again with other units
 let shown = null; // the calibration on show
 
 function say(text) { status.textContent = text; }
@@ -156,6 +158,7 @@ function clearOutput() {
   $("#log-plot").replaceChildren();
   $("#result").hidden = true;
   $("#columns-map").hidden = true;
+  $("#units").hidden = true;
   resetUse();
   note("#upload-msg", "");
   note("#segments-msg", "");
@@ -175,6 +178,37 @@ async function calibrate(payload, doing, refused, where) {
       ? " A still recording? Characterise its noise below." : "";
     note(where, `${refused}: ${err.message.replace(/\.$/, "")}.${still}`, true);
   }
+}
+
+// One unit menu per sensor the file has, set to the unit trical read from the data, and the parts
+// (app.io.formats.chips) that turn that sensor's counts into g, °/s or µT; the reader's warnings above.
+function showUnits(rec) {
+  const chips = (rec.read_with && rec.read_with.chip ? rec.read_with.chip.split(",") : []).map((c) => c.trim());
+  const { sensors, units, chips: parts } = TABLES.units;
+  $("#units-warnings").replaceChildren(...(rec.warnings || []).map((w) => cell("li", w)));
+  $("#units-list").replaceChildren(...rec.channels.filter((s) => units[s]).flatMap((sensor) => {
+    const unit = cell("label", `${sensors[sensor]} unit`);
+    unit.htmlFor = `unit-${sensor}`;
+    const menu = document.createElement("select");
+    menu.id = `unit-${sensor}`;
+    menu.dataset.sensor = sensor;
+    menu.append(...units[sensor].map(([value, words]) => { const o = cell("option", words); o.value = value; return o; }));
+    menu.value = rec.units[sensor];
+    unit.append(menu);
+    const part = cell("label", `${sensors[sensor]} part, for counts`);
+    part.htmlFor = `chip-${sensor}`;
+    const chip = document.createElement("select");
+    chip.id = `chip-${sensor}`;
+    chip.dataset.sensor = sensor;
+    const none = cell("option", "none");
+    none.value = "";
+    chip.append(none, ...parts[sensor].map(([name, words]) => { const o = cell("option", words); o.value = name; return o; }));
+    chip.value = chips.find((c) => parts[sensor].some(([name]) => name === c)) || "";
+    chip.addEventListener("change", () => { if (chip.value) menu.value = "raw"; });
+    part.append(chip);
+    return [unit, part];
+  }));
+  $("#units").hidden = false;
 }
 
 function showSegments(rec) {
@@ -231,6 +265,8 @@ async function upload(data) {
   if (mine !== action) return;
   note("#upload-msg", "");
   recordingId = rec.id;
+  lastUpload = data;
+  showUnits(rec);
   showSegments(rec);
   await calibrate({ method: "auto", recording_id: rec.id }, $("#segments-msg").textContent,
     "Not calibrated", "#segments-msg");
@@ -238,7 +274,7 @@ async function upload(data) {
 
 function uploadData() {
   const data = new FormData($("#upload-form"));
-  for (const key of ["sampling_rate_hz", "acc_unit", "columns", "sign"]) if (!data.get(key)) data.delete(key);
+  for (const key of ["sampling_rate_hz", "columns", "sign"]) if (!data.get(key)) data.delete(key);
   return data;
 }
 
@@ -252,6 +288,24 @@ $("#columns-map-go").addEventListener("click", () => {
     .map((s) => [s.dataset.column, s.value]));
   const data = uploadData();
   data.set("columns", columnsField(mapping));
+  upload(data);
+});
+
+// The same file (and columns) again, with the unit or the part chosen for each sensor: a part sends
+// its chip and no unit (the chip says the readings are counts).
+$("#units-go").addEventListener("click", () => {
+  if (!lastUpload) return;
+  const data = new FormData();
+  for (const [key, value] of lastUpload.entries()) {
+    if (!["acc_unit", "gyr_unit", "mag_unit", "chip"].includes(key)) data.append(key, value);
+  }
+  const chips = [];
+  for (const menu of document.querySelectorAll("#units-list select[id^=unit-]")) {
+    const chip = $(`#chip-${menu.dataset.sensor}`).value;
+    if (chip) chips.push(chip);
+    else data.set(`${menu.dataset.sensor}_unit`, menu.value);
+  }
+  if (chips.length) data.set("chip", chips.join(","));
   upload(data);
 });
 

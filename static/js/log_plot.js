@@ -52,7 +52,7 @@ export function logPlotSvg(overview, segments, samplingRateHz) {
     if (overview.low[i] !== null) band.push(`${x(t[i]).toFixed(1)},${y(overview.low[i]).toFixed(1)}`);
   }
   parts.push(`<polygon points="${band.join(" ")}" fill="#0b4f9c" stroke="#0b4f9c" stroke-width="1" />`);
-  const unit = overview.unit ? ` (${esc(overview.unit)})` : "";
+  const unit = overview.unit ? ` (${esc(overview.unit === "raw" ? "counts" : overview.unit)})` : "";
   parts.push(
     `<line x1="${LEFT}" y1="${H - BOTTOM}" x2="${W - RIGHT}" y2="${H - BOTTOM}" stroke="#111" />`,
     `<text x="${LEFT}" y="${H - 6}" font-size="10">0 s</text>`,

@@ -206,3 +206,55 @@ def test_the_start_page_by_capability(browser, server):
     assert page.get_attribute("#phone-start .cta >> nth=0", "href") == "/wizard?protocol=six"
     shot(page, "start_page_phone_390")
     phone.close()
+
+
+def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_path):
+    # A six-pose log whose header says g over m/s², beside a magnetometer in the AK8963's raw counts
+    # (0.15 µT per count at 16 bits), as a maker's sketch prints them.
+    from app.calibration.simulations.logs import simulate_static_log
+    from app.calibration.simulations.magnetometer import simulate_session
+
+    six = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=50.0, rest_s=(3.0, 3.5), turn_s=(1.0, 1.2))
+    n = len(six.samples)
+    mag, _, _ = simulate_session(7, n=n)
+    path = tmp_path / "board.csv"
+    rows = [f"{i / 50:.2f}," + ",".join(f"{v:.5f}" for v in a) + "," + ",".join(f"{round(v / 0.15)}" for v in m)
+            for i, (a, m) in enumerate(zip(six.samples, mag))]
+    path.write_text("\n".join(["t,aX (g),aY (g),aZ (g),mx,my,mz"] + rows) + "\n")
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(path))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#units:not([hidden])")
+    # One menu per sensor the file has, set to what the data show; the reader's warnings above them.
+    menus = page.eval_on_selector_all("#units-list select[id^=unit-]", "ss => ss.map(s => [s.id, s.value])")
+    assert menus == [["unit-acc", "m/s^2"], ["unit-mag", "raw"]]
+    warnings = page.eval_on_selector_all("#units-warnings li", "ls => ls.map(l => l.textContent)")
+    assert warnings[0].startswith("the header said g for the accelerometer") and "calibrated in m/s^2" in warnings[0]
+    assert any("the magnetometer's readings are counts" in w for w in warnings)
+    mag_units = page.eval_on_selector_all("#unit-mag option", "os => os.map(o => o.textContent)")
+    assert mag_units == ["µT", "nT", "gauss", "counts"]
+    page.wait_for_selector("#downloads[data-ready=true]")
+    page.click("#compass-recording")  # the compass in counts: its figures say counts, never µT
+    page.wait_for_function("() => /counts/.test(document.querySelector('#verdict-words').textContent)")
+    assert "µT" not in page.text_content("#verdict-words")
+    page.wait_for_selector("#downloads[data-ready=true]")
+    refused = page.eval_on_selector_all("#downloads li span", "ss => ss.map(s => s.textContent)")
+    assert [r.split(":")[0] for r in refused] == ["ArduPilot", "PX4"]  # firmware needs µT: they name the chip
+    assert all("upload the log again with chip" in r for r in refused)
+    assert len(page.errors) == 2 and all("422" in e for e in page.errors)  # the browser logs the two refusals
+    page.errors.clear()
+    shot(page, "upload_units_counts")
+    # The magnetometer's part: its counts become µT once the file is read again.
+    page.select_option("#chip-mag", "ak8963-16bit")
+    assert page.input_value("#unit-mag") == "raw"
+    page.click("#units-go")
+    page.wait_for_function("() => document.querySelector('#unit-mag') && "
+                           "document.querySelector('#unit-mag').value === 'uT'")
+    assert page.input_value("#chip-mag") == "ak8963-16bit" and page.input_value("#unit-acc") == "m/s^2"
+    warnings = page.eval_on_selector_all("#units-warnings li", "ls => ls.map(l => l.textContent)")
+    assert not any("magnetometer" in w for w in warnings)
+    page.wait_for_selector("#downloads[data-ready=true]")
+    page.click("#compass-recording")
+    page.wait_for_function("() => /µT/.test(document.querySelector('#verdict-words').textContent)")
+    assert "counts" not in page.text_content("#verdict-words")
+    assert page.errors == []

@@ -61,7 +61,7 @@ def test_unreadable_npy_is_a_clear_415(tmp_path, content, match):
 def test_npy_wrong_shapes_and_missing_rate(tmp_path):
     f = tmp_path / "rec.npy"
     np.save(f, np.zeros((10, 5)))
-    with pytest.raises(LogFormatError, match=r"N×3 \(x, y, z\) or N×4"):
+    with pytest.raises(LogFormatError, match=r"holds rows of 5 numbers: save one row per sample with 3 numbers"):
         read_npy_log(f, sampling_rate_hz=1.0)
     np.save(f, np.array(["a", "b", "c"]).reshape(1, 3))
     with pytest.raises(LogFormatError, match="expected numbers"):

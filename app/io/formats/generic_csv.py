@@ -16,10 +16,10 @@ step, as for a ``time`` column); other counts are named with ``columns`` — one
 order, ``t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z`` (:func:`table_layout`).  Numbers with decimal
 commas between comma separators cannot be told apart and are refused by their column count.
 
-The unit comes from the caller, else the header (``acc_x (g)``), else the data
-(:func:`~app.io.formats.units.infer_acc_unit`).  Readings in counts (LSB) become g with the
-sensor's sensitivity, given as ``lsb_per_g`` by the caller or in a comment line of the file such as
-``# MPU-6050 ±2 g, lsb_per_g=16384``.
+The unit comes from the caller, else the header (``acc_x (g)``, ``mag_x (G)`` for gauss); the
+data then have the last word (:func:`app.io.formats.units.settle_units`).  Readings in counts (LSB)
+become g with the sensor's sensitivity, given as ``lsb_per_g`` or ``chip`` by the caller or in a
+comment line of the file such as ``# MPU-6050 ±2 g, lsb_per_g=16384``.
 
 The *arduino* format adds the Arduino IDE Serial Plotter's ``label:value`` lines
 (``ax:-112 ay:35 az:16490``, separated by spaces, tabs or commas) to the CSV layout.
@@ -38,7 +38,7 @@ from ..errors import LogFormatError
 from ..log import UNITS, LogData
 from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
                     rate_from_time, read_columns, sampling_rate, seconds_per_unit, split_row)
-from .units import infer_acc_unit
+from .units import MAG_UNITS_IN
 
 MAX_LISTED_COLUMNS = 20
 
@@ -68,10 +68,17 @@ def normalise(name: str) -> str:
     return re.sub(r"\s+", " ", name.strip().strip('"').strip().lower())
 
 
-def _header_unit(text: str | None) -> str | None:
+_MAG_ALIASES = {"g": "gauss", "gauss": "gauss", "ga": "gauss"}
+"""A magnetometer's ``(G)`` is gauss, not the accelerometer's g."""
+
+
+def _header_unit(text: str | None, sensor: str = "acc") -> str | None:
     if not text:
         return None
-    return _UNIT_ALIASES.get(text.strip().lower().replace(" ", ""), None)
+    key = text.strip().lower().replace(" ", "")
+    if sensor == "mag" and key in _MAG_ALIASES:
+        return _MAG_ALIASES[key]
+    return _UNIT_ALIASES.get(key, None)
 
 
 def split_header(text: str) -> tuple[int, str, list[str]]:
@@ -186,7 +193,7 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
             m = pattern.match(name)
             if m:
                 channels.setdefault(sensor, {}).setdefault(m.group("axis"), col)
-                unit = _header_unit(m.group("unit"))
+                unit = _header_unit(m.group("unit"), sensor)
                 if unit:
                     units.setdefault(sensor, unit)
                 break
@@ -286,8 +293,9 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
                              "columns=acc_x,acc_y,acc_z,- ") from None
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
-        if unit not in UNITS[sensor]:
-            raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(UNITS[sensor])}")
+        accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
+        if unit not in accepted:
+            raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(accepted)}")
     return LogData(
         acc=arrays.get("acc"),
         gyr=arrays.get("gyr"),
@@ -334,41 +342,23 @@ def detect_csv(s: Sniff) -> bool:
     return not s.is_zip
 
 
-def _header_acc_unit(text: str) -> str | None:
+def header_units(text: str) -> dict:
+    """The units a header row names per sensor (``acc_x (g)`` …); empty when it names none."""
     try:
         _, _, names = split_header(text)
-        return map_columns(names)[3].get("acc")
+        return map_columns(names)[3]
     except LogFormatError:
-        return None
-
-
-def _settle_units(log: LogData, caller_acc: str | None, header_acc: str | None, lsb_per_g, fmt: str,
-                  notes: list[str]) -> LogData:
-    if log.acc is None:  # another sensor alone: nothing of the accelerometer to settle
-        return log
-    unit = caller_acc or header_acc
-    if unit is None:
-        unit = infer_acc_unit(log.acc)
-        if unit is None:
-            unit = "m/s^2"
-            notes.append("accelerometer unit not named and not evident from the data: m/s² assumed "
-                         "(give acc_unit to change it)")
-        else:
-            notes.append(f"accelerometer unit {unit} inferred from the data (median norm)")
-    if lsb_per_g is not None and unit != "raw" and caller_acc is None and header_acc is None:
-        unit = "raw"  # lsb_per_g says the readings are counts
-    return dataclasses.replace(log, units={**log.units, "acc": unit}, format=fmt,
-                               notes=tuple(log.notes) + tuple(notes))
+        return {}
 
 
 def read_csv(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
              fmt: str = CSV, column_map: dict | None = None, column_names: list[str] | None = None, **_) -> LogData:
-    """Read a generic CSV log, settling the accelerometer unit (caller, header, data)."""
+    """Read a generic CSV log, its units as the caller or the header name them (settled from the data
+    by :func:`app.io.formats.units.settle_units`)."""
     units = units or {}
     log = read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name, column_map=column_map,
                        column_names=column_names)
-    header_acc = None if column_names else _header_acc_unit(s.text)
-    return _settle_units(log, units.get("acc"), header_acc, lsb_per_g, fmt, [])
+    return dataclasses.replace(log, format=fmt)
 
 
 def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
@@ -415,4 +405,4 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
         units={k: units.get(k) or {"acc": "m/s^2", "gyr": "raw", "mag": "raw"}[k] for k in arrays},
         format=ARDUINO, columns=labels,
     )
-    return _settle_units(log, units.get("acc"), None, lsb_per_g, ARDUINO, [])
+    return log
