@@ -88,26 +88,57 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
     ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
     it is kept with the sign applied, so that the stored file is read again the same way.
     """
-    unit = log.units.get("acc")
-    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
-    # The still segments are the accelerometer's: a log of the magnetometer alone has none.
-    segments = [] if log.acc is None else detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
+    segments = still_segments(log)
+    rate = log.sampling_rate_hz
+    notes = list(log.notes)
+    if log.acc is not None and log.sampling_rate_hz is None:
+        notes.append(f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
+                     "their start and end are sample indices")
     return {
         "format": log.format,
         "n_samples": log.n_samples,
-        "sampling_rate_hz": log.sampling_rate_hz,
-        "duration_s": log.n_samples / log.sampling_rate_hz,
+        "sampling_rate_hz": rate,
+        "duration_s": None if rate is None else log.n_samples / rate,
         "channels": log.channels,
         "units": log.units,
         "columns": log.columns,
-        "notes": list(log.notes),
+        "notes": notes,
         "sign": log.sign,
-        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, **(read_with or {}),
-                      "sign": log.sign},
-        "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
+        "timing": None if log.timing is None else log.timing.to_dict(),
+        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "sampling_rate_hz": None,
+                      **(read_with or {}), "sign": log.sign},
+        "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
         "overview": overview(log),
     }
+
+
+NOMINAL_RATE_HZ = 100.0
+"""The rate still segments are looked for at in a log that has none (no time column, none given): their
+windows and least length are counted in samples as at 100 Hz; a note says so."""
+
+
+def still_segments(log: LogData) -> list:
+    """The accelerometer's still segments (app.calibration.static), none spanning a gap of the time column.
+
+    A log of other sensors alone has none. Each stretch between gaps is searched on its own, so that a
+    segment's samples are contiguous in time; a stretch shorter than one window holds none.
+    """
+    if log.acc is None:
+        return []
+    unit = log.units.get("acc")
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
+    bounds = [0, *(g.index for g in log.gaps), len(log.acc)]
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        try:
+            found = detect_static_segments(log.acc[a:b], rate, gravity=gravity)
+        except InsufficientDataError:  # shorter than one window: no rest in it
+            continue
+        out += [dataclasses.replace(seg, start=seg.start + a, end=seg.end + a,
+                                    gaps=tuple((p + a, q + a) for p, q in seg.gaps)) for seg in found]
+    return out
 
 
 OVERVIEW_POINTS = 300
@@ -115,15 +146,17 @@ OVERVIEW_POINTS = 300
 
 
 def overview(log: LogData) -> dict:
-    """The norm of the accelerometer (else the magnetometer) in at most :data:`OVERVIEW_POINTS` bins: the
-    smallest and largest of each bin, so that a short move still shows, for the page's plot of the log."""
-    sensor = "acc" if log.acc is not None else "mag"
+    """The norm of the accelerometer (else the magnetometer, else the gyroscope) in at most
+    :data:`OVERVIEW_POINTS` bins: the smallest and largest of each bin, so that a short move still shows,
+    for the page's plot of the log. ``t_s`` is null in a log without a rate; ``start`` counts samples."""
+    sensor = log.channels[0] if log.acc is None and log.mag is None else ("acc" if log.acc is not None else "mag")
     values = np.linalg.norm(np.asarray(getattr(log, sensor), dtype=float), axis=1)
     # At most one bin per sample, so that every bin holds at least one.
     edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
     finite = [b[np.isfinite(b)] for b in np.split(values, edges[1:-1])]
+    rate = log.sampling_rate_hz
     return {"sensor": sensor, "unit": log.units.get(sensor),
-            "t_s": (edges[:-1] / log.sampling_rate_hz).tolist(),
+            "t_s": None if rate is None else (edges[:-1] / rate).tolist(), "start": edges[:-1].tolist(),
             "low": [float(f.min()) if f.size else None for f in finite],
             "high": [float(f.max()) if f.size else None for f in finite]}
 
@@ -267,11 +300,12 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
             f"the recording has no gyroscope columns (found {', '.join(log.columns)}): the cube method needs "
             "gyr_x, gyr_y, gyr_z beside the accelerometer"
         )
+    rate = require_rate(log.sampling_rate_hz, "cube")
     gyr = log.gyr * GYR_TO_RAD_S[log.units["gyr"]]
     mag = None if log.mag is None else log.mag * MAG_TO_UT[log.units["mag"]]
     if mag is not None and field_ut is None:
         raise CalibrationError("the recording has a magnetometer: give field_ut, the local field magnitude in µT")
-    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=log.sampling_rate_hz, protocol=protocol,
+    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=rate, protocol=protocol,
                           gravity=gravity, field_ut=field_ut, sections=sections)
 
 
@@ -338,9 +372,12 @@ class RecordingSource:
         if self.log is not None:
             return self.log
         # As it was read when stored; bodies stored before read_with give only their units.
-        read_with = self.meta.get("read_with") or {"units": self.meta["units"]}
-        return load_log(self.path, sampling_rate_hz=self.meta["sampling_rate_hz"],
-                        name=self.meta.get("filename") or "the recording", **read_with)
+        read_with = dict(self.meta.get("read_with") or {"units": self.meta["units"]})
+        # The caller's rate as given at the upload, so that the time column is judged again the same
+        # way (its gaps); recordings stored before read_with kept it are read at their stored rate.
+        rate = read_with.pop("sampling_rate_hz") if "sampling_rate_hz" in read_with else self.meta["sampling_rate_hz"]
+        return load_log(self.path, sampling_rate_hz=rate, name=self.meta.get("filename") or "the recording",
+                        **read_with)
 
     @property
     def source_fields(self) -> dict:
@@ -373,6 +410,16 @@ def calibrate(request, recording: RecordingSource | None = None) -> dict:
     if getattr(request, "recording_id", None) is not None and recording is None:
         raise CalibrationError(f"recording {request.recording_id!r} was not given to the workflow")
     return _METHODS[request.method](request, recording)
+
+
+def require_rate(rate: float | None, method: str) -> float:
+    """The recording's sampling rate, or a refusal naming what to give: methods over time need one."""
+    if rate is None:
+        raise CalibrationError(
+            f"method {method} needs the sensor's sampling rate, and this recording has none (no time column, and "
+            "no sampling_rate_hz was given): upload it again with sampling_rate_hz (--sampling-rate-hz), the "
+            "sensor's output data rate, or log a time column")
+    return rate
 
 
 def require_accelerometer(channels, method: str) -> None:
@@ -606,7 +653,8 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
             f"{unit!r}: convert the counts to g first, or give --unit g / unit: g if they already are"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
-    rest = detect_rest_segments(log.acc, log.sampling_rate_hz, gravity=g, progress=progress, **(detection or {}))
+    rest = detect_rest_segments(log.acc, require_rate(log.sampling_rate_hz, "autocal"), gravity=g, progress=progress,
+                                **(detection or {}))
     if preload is not None:
         preload.join()
     from app.calibration.autocal import autocalibrate

@@ -27,7 +27,9 @@ class LogData:
         Gyroscope and magnetometer samples, when present.
     time_s : numpy.ndarray or None
         Seconds since the first sample, when the file had a time column.
-    sampling_rate_hz : float
+    sampling_rate_hz : float or None
+        The sensor's rate (:mod:`app.io.formats.timing`); None when neither the caller nor the file
+        gives one (a file of still poses or a compass turn without a time column).
     units : dict
         Unit per present sensor.
     format : str
@@ -36,6 +38,8 @@ class LogData:
         The file's column names, for messages.
     notes : tuple of str
         What the reader decided on the way (sign flipped, unit inferred, file chosen in a zip).
+    timing : Timing or None
+        How the rate was decided: its source, the time column's jitter and gaps.
     sign : int
         The factor the file's accelerations were multiplied by on reading: −1 when they came on the
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
@@ -45,12 +49,18 @@ class LogData:
     gyr: np.ndarray | None
     mag: np.ndarray | None
     time_s: np.ndarray | None
-    sampling_rate_hz: float
+    sampling_rate_hz: float | None
     units: dict
     format: str
     columns: list
     notes: tuple = ()
     sign: int = 1
+    timing: object = None
+
+    @property
+    def gaps(self) -> tuple:
+        """Where samples were lost (:class:`app.io.formats.timing.Gap`), from the time column."""
+        return () if self.timing is None else self.timing.gaps
 
     @property
     def n_samples(self) -> int:

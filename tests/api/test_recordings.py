@@ -72,7 +72,6 @@ def test_segments_must_cover_six_orientations(client):
         (b"acc_x,acc_y,acc_z\n", {"sampling_rate_hz": 100}, 422, "header (line 1) but no data rows"),
         (b"acc_x,acc_y,acc_z\n1,2,3\n1,2,3\n1,oops,3\n", {"sampling_rate_hz": 100}, 422,
          "line 4, column 'acc_y': 'oops' is not a number"),
-        (b"acc_x,acc_y,acc_z\n1,2,3\n", {}, 422, "give sampling_rate_hz"),
         (b"temperature,pressure\n1,2\n", {"sampling_rate_hz": 100}, 422, "'temperature', 'pressure'"),
         (b"lin_acc_x,linear acceleration y,linear acceleration z\n1,2,3\n", {"sampling_rate_hz": 100}, 422,
          "gravity removed"),

@@ -33,6 +33,7 @@ from ..log import LogData
 from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger, sensorlog
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
+from .timing import with_timing
 from .units import apply_lsb_per_g, refuse_linear_acceleration
 
 READERS = {
@@ -206,7 +207,8 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
 
     if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
         check_sign(sign)
-        return settle_sign(read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name), sign)
+        log = read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
+        return settle_sign(with_timing(log, sampling_rate_hz, name), sign)
     check_sign(sign)
     column_map = parse_columns(columns)
     s = sniff(path, name)
@@ -230,6 +232,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
         extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
     log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
                        lsb_per_g=lsb, **extra)
+    log = with_timing(log, sampling_rate_hz, name)  # the one decision of the rate (.timing)
     if log.acc is None:  # a magnetometer (or gyroscope) alone
         if fmt != log.format:
             log = dataclasses.replace(log, format=fmt, notes=tuple(log.notes) + (f"read as {fmt}",))

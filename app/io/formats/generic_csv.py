@@ -37,7 +37,9 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
 from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
-                    rate_from_time, read_columns, sampling_rate, seconds_per_unit, split_row)
+                    read_columns, split_row)
+from .timing import time_scale as infer_time_scale
+from .timing import with_timing
 from .units import infer_acc_unit
 
 MAX_LISTED_COLUMNS = 20
@@ -275,9 +277,21 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
                                          name=name, column_names=names, first_line=layout.skip_lines + 1)))
     arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
     time = values[time_col] if time_col is not None else None
+    notes = list(layout.notes)
     try:
-        rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
-        time_s = None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time))
+        time_s = None
+        if time is not None and len(time) >= 2:
+            if time_scale is None:
+                try:
+                    time_scale, time_unit = infer_time_scale(time)
+                    notes.append(f"time column {names[time_col]!r} read in {time_unit} (from its step)")
+                except LogFormatError:
+                    if sampling_rate_hz is None:
+                        raise
+                    notes.append(f"time column {names[time_col]!r} not used: its unit is unclear and "
+                                 "sampling_rate_hz was given")
+            if time_scale is not None:
+                time_s = (time - time[0]) * time_scale
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
@@ -288,17 +302,17 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     for sensor, unit in final_units.items():
         if unit not in UNITS[sensor]:
             raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(UNITS[sensor])}")
-    return LogData(
+    return with_timing(LogData(
         acc=arrays.get("acc"),
         gyr=arrays.get("gyr"),
         mag=arrays.get("mag"),
         time_s=time_s,
-        sampling_rate_hz=rate,
+        sampling_rate_hz=None,
         units=final_units,
         format="csv",
         columns=names,
-        notes=layout.notes,
-    )
+        notes=tuple(notes),
+    ), sampling_rate_hz, name)
 
 
 CSV = "csv"
@@ -411,7 +425,7 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     units = units or {}
     log = LogData(
         acc=arrays["acc"], gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=None,
-        sampling_rate_hz=rate_from_time(None, sampling_rate_hz, name),
+        sampling_rate_hz=None,
         units={k: units.get(k) or {"acc": "m/s^2", "gyr": "raw", "mag": "raw"}[k] for k in arrays},
         format=ARDUINO, columns=labels,
     )

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, first_row, guess_decimal, rate_from_time, read_columns, split_row
+from .table import Sniff, first_row, guess_decimal, read_columns, split_row
 
 NAME = "physics_toolbox"
 _GF = ("gfx", "gfy", "gfz")
@@ -76,7 +76,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     return LogData(
         acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"),
         time_s=None if time is None else time - time[0],
-        sampling_rate_hz=rate_from_time(time, sampling_rate_hz, name),
+        sampling_rate_hz=None,
         units={"acc": units.get("acc") or "g", **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k]
                                                    for k in stacked if k != "acc"}},
         format=NAME, columns=names, notes=("g-force columns gFx, gFy, gFz (g); linear ax, ay, az not used",),
