@@ -669,6 +669,13 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
 # -- noise: the Allan deviation of a still recording -----------------------------------------------
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
+NOISE_REST_S = 5.0
+"""A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
+and only the longest is characterised."""
+NOISE_GAPS_MAX = 0.01
+"""Gaps losing more than this fraction of the still part's time make its Allan deviation unreliable
+(``ok`` false): the estimator takes the samples as evenly spaced, and a lost stretch joins two
+stretches as if they were adjacent."""
 ACC_TO_M_S2 = {"m/s^2": 1.0, "g": STANDARD_GRAVITY, "raw": 1.0}
 
 
@@ -681,7 +688,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     moved, a warning says what was used; when less than half of it is still, ``ok`` is false.
     """
     from app.calibration.noise import NoiseResult, characterise_noise
-    from app.calibration.noise_still import MIN_STILL_FRACTION, longest_still
+    from app.calibration.noise_still import MIN_STILL_FRACTION, still_runs
 
     arrays = {name: getattr(log, name) for name in log.channels}
     units = dict(log.units)
@@ -698,12 +705,24 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
                                "ask for those it has")
     factor = {"acc": ACC_TO_M_S2, "gyr": GYR_TO_RAD_S, "mag": MAG_TO_UT}
     si = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
-    fs, n = log.sampling_rate_hz, len(next(iter(arrays.values())))
+    fs, n = require_rate(log.sampling_rate_hz, "noise"), len(next(iter(arrays.values())))
     notes: list[str] = list(log.notes)
     detected_from = "acc" if "acc" in arrays else wanted[0]
-    span = longest_still(arrays[detected_from], fs)
+    runs = still_runs(arrays[detected_from], fs)
+    span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
+    rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
     reasons: list[str] = []
-    if span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
+    if span is not None and len(rests) >= 2:
+        a, b = span
+        said = (f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
+                f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
+                "recording), was characterised — no term is fitted across a move")
+        if b - a < MIN_STILL_FRACTION * n:
+            reasons.append(said + "; for the noise, record the device resting in one orientation, untouched, for "
+                                  "the whole recording")
+        else:
+            notes.append(said)
+    elif span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
         still_s = 0.0 if span is None else (span[1] - span[0]) / fs
         reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
                        "is characterised on a still recording — leave the device resting on a firm surface, "
@@ -712,6 +731,18 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
         notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
                      f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
+    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    if inside:
+        lost = sum(g.missing_s for g in inside)
+        still_s = (span[1] - span[0]) / fs
+        said = (f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
+                f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)")
+        if lost > NOISE_GAPS_MAX * still_s:
+            reasons.append(said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
+                                  "the sensor's — record again without losing samples (a faster serial baud rate, "
+                                  "fewer columns printed, a larger host buffer)")
+        else:
+            notes.append(said + ": few enough for the Allan deviation")
     a, b = span
     parts = {}
     for name in wanted:
