@@ -167,7 +167,7 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
     ``six_position`` takes the first segment of each orientation unless ``indices`` lists them;
     ``orientations`` takes every labelled segment (or the listed ones).
     """
-    segments = recording["segments"]
+    segments = require_segments(recording, method)
     if indices is not None:
         chosen = []
         for i in indices:
@@ -242,9 +242,21 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
     return result, holdout_metrics(result, holdout)
 
 
-def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
-    """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+def require_segments(recording: dict, method: str) -> list[dict]:
+    """A recording's still segments, or a refusal saying what to record: a method of still poses has
+    nothing to fit without them."""
     segments = recording["segments"]
+    if not segments:
+        raise InsufficientDataError(
+            f"the recording has no still segments ({recording['n_samples']} samples; a rest lasts at least 1.5 s "
+            f"with the accelerometer reading about 1 g): method {method} needs the device resting still in several "
+            "orientations — record it a few seconds in each, or check the accelerometer unit (acc_unit)")
+    return segments
+
+
+def means_from_segments(recording: dict, indices: list[int] | None, method: str = "the method") -> tuple[list, list[int]]:
+    """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+    segments = require_segments(recording, method)
     chosen = list(range(len(segments))) if indices is None else list(indices)
     for i in chosen:
         if not 0 <= i < len(segments):
@@ -425,9 +437,12 @@ def require_rate(rate: float | None, method: str) -> float:
 def require_accelerometer(channels, method: str) -> None:
     """Refuse a recording without accelerometer columns for an accelerometer method, naming the fix."""
     if "acc" not in channels:
+        other = {"mag": "method magnetometer calibrates a magnetometer turned through all directions",
+                 "gyr": "method noise characterises a still gyroscope"}
         raise CalibrationError(
             f"the recording has no accelerometer columns (it has {', '.join(channels)}): method {method} needs "
-            "acc_x, acc_y, acc_z; for a magnetometer recorded alone use method magnetometer")
+            "acc_x, acc_y, acc_z — record the accelerometer too; "
+            + "; ".join(other[c] for c in channels if c in other))
 
 
 def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
@@ -471,7 +486,7 @@ def _means_and_source(request, recording: RecordingSource | None) -> tuple[list,
     """The still readings of a request on means: inline, or the recording's segments (and their fields)."""
     if recording is None:
         return request.means, {}
-    means, used = means_from_segments(recording.meta, request.segments)
+    means, used = means_from_segments(recording.meta, request.segments, request.method)
     return means, {**recording.source_fields, "segments_used": used}
 
 

@@ -202,10 +202,13 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
         listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
         if len(names) > MAX_LISTED_COLUMNS:
             listed += f" and {len(names) - MAX_LISTED_COLUMNS} more"
+        partial = ", ".join(f"{s}_{a}" for s, axes in channels.items() for a in "xyz" if a in axes)
         raise LogFormatError(
-            f"no accelerometer x, y and z columns among the header's columns {listed}: name them "
-            "acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), optionally with a time column "
-            "time_s / time_ms / time_ns (a magnetometer alone: mag_x, mag_y, mag_z), or map them without "
+            f"no accelerometer, gyroscope or magnetometer x, y and z columns among the header's columns {listed}"
+            + (f" (only {partial}: trical needs all three axes of a sensor)" if partial else "")
+            + ": name them acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), gyr_x, gyr_y, gyr_z or mag_x, mag_y, "
+            "mag_z, any of the three sensors, optionally with a time column "
+            "time_s / time_ms / time_ns, or map them without "
             "editing the file with the upload field "
             "columns, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
             "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
