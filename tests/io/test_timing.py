@@ -24,6 +24,9 @@ def test_bursts_of_a_serial_host_give_the_sensor_s_rate_and_a_jitter_note():
     note = " ".join(timing.notes)
     assert f"{100 * timing.jitter:.0f} % of the interval" in note and "from the span" in note
     assert f"not {1 / np.median(steps[steps > 0]):.4g} Hz from the median step" in note
+    # Stamped in whole milliseconds, the bursts are still bursts.
+    whole_ms = decide_timing(np.round(t, 3))
+    assert whole_ms.jitter > 1.0 and whole_ms.sampling_rate_hz == pytest.approx(FS, rel=2e-3)
 
 
 def test_a_sensor_clock_has_no_jitter_note():
@@ -50,7 +53,10 @@ def test_the_unit_of_a_time_column_from_its_step(values, unit, rate):
 def test_whole_milliseconds_at_400_hz_are_400_hz_not_the_median_step():
     # millis() at 400 Hz: steps of 2 and 3 ms; one over the median step would say 500 or 333 Hz.
     t = np.floor(np.arange(4_000) * 2.5) * 1e-3
-    assert decide_timing(t).sampling_rate_hz == pytest.approx(400.0, rel=1e-3)
+    timing = decide_timing(t)
+    assert timing.sampling_rate_hz == pytest.approx(400.0, rel=1e-3)
+    # Their 20 % scatter is the rounding to whole milliseconds, not a host's bursts: no note.
+    assert timing.jitter == pytest.approx(np.sqrt(0.25 - 1 / 6) / 2.5, rel=0.01) and timing.notes == ()
 
 
 def test_a_gap_is_found_with_its_place_and_length_and_the_rate_leaves_it_out():

@@ -35,7 +35,8 @@ from ..errors import LogFormatError
 
 JITTER_MAX = 0.2
 """Steps that scatter by more than this fraction of the interval (their standard deviation over
-the mean) are host arrival times, not a sensor's clock: a note says so, with the figure."""
+the mean, less the timestamps' rounding) are host arrival times, not a sensor's clock: a note says
+so, with the figure."""
 
 GAP_INTERVALS = 5.0
 """A lag that grows by more than this many intervals at one step is a gap (samples lost)."""
@@ -193,6 +194,24 @@ def _rate_of(time_s: np.ndarray) -> tuple[float, tuple[Gap, ...]]:
     return 1.0 / interval, gaps
 
 
+def _jitter(time_s: np.ndarray, steps: np.ndarray, interval: float) -> float:
+    """The steps' standard deviation over the interval, less what the timestamps' rounding explains:
+    times rounded to a resolution q (``millis()``: 1 ms) scatter each step by q²/6 in variance even on a
+    perfect clock (two independent roundings, uniform errors of variance q²/12 each). q is the largest
+    power of ten, down to a hundredth of the interval, that every time is a whole multiple of."""
+    if len(steps) == 0:
+        return 0.0
+    var = float(np.var(steps))
+    head = time_s[:10_000] - time_s[0]
+    q = 10.0 ** math.floor(math.log10(interval))
+    while q >= interval / 100.0:
+        if np.allclose(head / q, np.round(head / q), rtol=0.0, atol=1e-6):
+            var = max(var - q * q / 6.0, 0.0)
+            break
+        q /= 10.0
+    return math.sqrt(var) / interval
+
+
 def _ms(seconds: float) -> str:
     return f"{seconds * 1e3:.3g} ms"
 
@@ -270,7 +289,7 @@ def decide_timing(time_s: np.ndarray | None, sampling_rate_hz: float | None = No
     median = float(np.median(steps))
     positive = steps[steps > 0]
     median_rate = 1.0 / float(np.median(positive)) if len(positive) else math.inf
-    jitter = float(np.std(kept) / interval) if len(kept) else 0.0
+    jitter = _jitter(time_s, kept, interval)
     if jitter > JITTER_MAX:
         notes.append(
             f"the timestamps of {name} are irregular: their steps scatter by {100 * jitter:.0f} % of the interval "
