@@ -78,6 +78,13 @@ def test_gaps_in_the_still_part_make_the_noise_not_ok_naming_the_timing(client):
 
 def _six_poses(seed: int, *, time: bool) -> bytes:
     """Six rests of about 30 s in the six orientations, joined by 3 s turns at a steady rate."""
+    acc, gyr = _six_poses_arrays(seed)
+    if time:
+        return _csv("time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", np.arange(len(acc)) / FS, acc, gyr)
+    return _csv("acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", acc, gyr)
+
+
+def _six_poses_arrays(seed: int) -> tuple[np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
     ups = np.array([(0, 0, 1), (1, 0, 0), (0, 0, -1), (-1, 0, 0), (0, 1, 0), (0, -1, 0)], dtype=float)
     acc, gyr = [], []
@@ -90,10 +97,23 @@ def _six_poses(seed: int, *, time: bool) -> bytes:
         m = int(rest_s * FS)
         acc.append(9.81 * up + simulate_still(rng, n_samples=m, sampling_rate_hz=FS, N=2e-3, B=0, K=0))
         gyr.append(simulate_still(rng, n_samples=m, sampling_rate_hz=FS, N=N_DEG, B=0, K=0, bias=[0.3, -0.2, 0.1]))
-    acc, gyr = np.vstack(acc), np.vstack(gyr)
-    if time:
-        return _csv("time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", np.arange(len(acc)) / FS, acc, gyr)
-    return _csv("acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", acc, gyr)
+    return np.vstack(acc), np.vstack(gyr)
+
+
+def test_no_still_segment_spans_a_gap(client):
+    acc, gyr = _six_poses_arrays(18)
+    t = np.arange(len(acc)) / FS
+    keep = np.ones(len(acc), dtype=bool)
+    keep[1_500:1_700] = False  # 2 s lost in the middle of the first rest (0–30 s)
+    rec = _upload(client, _csv("time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", t[keep], acc[keep], gyr[keep]))
+    [gap] = rec["timing"]["gaps"]
+    assert gap["index"] == 1_500 and gap["missing_s"] == pytest.approx(2.0)
+    assert any("1 gap in the time column" in n for n in rec["notes"])
+    assert not any(s["start"] < gap["index"] < s["end"] for s in rec["segments"])
+    first = [s for s in rec["segments"] if s["up"] == "+z"]
+    assert len(first) == 2 and first[0]["end"] <= gap["index"] <= first[1]["start"]
+    r = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]})
+    assert r.status_code == 201 and r.json()["ok"], r.text
 
 
 @pytest.mark.parametrize("columns", [None, "t,-,-,-,gyr_x,gyr_y,gyr_z"])
