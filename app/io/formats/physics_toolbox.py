@@ -14,7 +14,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import LogFormatError
 from ..log import LogData
 from .table import Sniff, first_row, guess_decimal, read_columns, split_row
 
@@ -69,9 +68,9 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
             if back.any():
                 period = 86400.0 if ":" in rows[0][col] and rows[0][col].count(":") >= 2 else 3600.0
                 time = time + period * np.concatenate([[0], np.cumsum(back)])
-    if time is None and sampling_rate_hz is None:
-        raise LogFormatError(f"the time column of {name} could not be read as seconds or a clock: "
-                             "give sampling_rate_hz")
+    notes = ["g-force columns gFx, gFy, gFz (g); linear ax, ay, az not used"]
+    if time is None and "time" in lowered:
+        notes.append(f"the time column of {name} could not be read as seconds or a clock: it is not used")
     units = units or {}
     return LogData(
         acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"),
@@ -79,5 +78,5 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         sampling_rate_hz=None,
         units={"acc": units.get("acc") or "g", **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k]
                                                    for k in stacked if k != "acc"}},
-        format=NAME, columns=names, notes=("g-force columns gFx, gFy, gFz (g); linear ax, ay, az not used",),
+        format=NAME, columns=names, notes=tuple(notes),
     )
