@@ -294,9 +294,12 @@ def decide_timing(time_s: np.ndarray | None, sampling_rate_hz: float | None = No
         notes.append(
             f"the timestamps of {name} are irregular: their steps scatter by {100 * jitter:.0f} % of the interval "
             f"(from {_ms(float(kept.min()))} to {_ms(float(kept.max()))}, median {_ms(median)}), as when a host stamps "
-            f"a serial stream's bursts on arrival; the rate is {rate:.4g} Hz from the span, (N − 1)/(t_last − "
-            f"t_first){' without the gaps' if gaps else ''}, not {median_rate:.4g} Hz from the median step"
-            + ("" if given else ": give sampling_rate_hz if you know the sensor's output data rate"))
+            f"a serial stream's bursts on arrival; "
+            + (f"the rate is {rate:.4g} Hz from the span, (N − 1)/(t_last − t_first)"
+               f"{' without the gaps' if gaps else ''}, not {median_rate:.4g} Hz from the median step: give "
+               "sampling_rate_hz if you know the sensor's output data rate" if source == "time column" else
+               f"the {'given' if given else 'file’s'} rate {rate:.4g} Hz is used, not {median_rate:.4g} Hz from the "
+               "median step"))
     if gaps:
         notes.append(_gap_note(gaps, name))
     return Timing(rate, source, jitter=jitter, median_step_s=median, gaps=gaps, notes=tuple(notes))
