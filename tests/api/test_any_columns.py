@@ -11,7 +11,6 @@ from __future__ import annotations
 import io
 
 import numpy as np
-import pytest
 from fastapi.testclient import TestClient
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -112,15 +111,6 @@ def _csv(case: dict) -> bytes:
     return buf.getvalue().encode()
 
 
-@pytest.fixture(scope="module")
-def client(tmp_path_factory):
-    with TestClient(create_app(make_settings(tmp_path_factory.mktemp("any"))), raise_server_exceptions=False) as c:
-        yield c
-
-
-SEEN = {"cases": 0, "uploaded": 0, "calibrated": 0, "refused": 0}
-
-
 def _refusal_is_plain(r) -> str:
     assert r.status_code < 500, f"{r.status_code}: {r.text}"
     body = r.json()
@@ -131,11 +121,9 @@ def _refusal_is_plain(r) -> str:
     return body.get("detail", "")
 
 
-@settings(max_examples=EXAMPLES, deadline=None, derandomize=True, database=None,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(case=recordings())
-def test_any_columns_upload_and_every_method_answers_without_a_500(client, case):
-    SEEN["cases"] += 1
+def _check(client, case: dict, seen: dict) -> None:
+    """One drawn log through the upload, then every method on it."""
+    seen["cases"] += 1
     r = client.post("/api/v1/recordings", files={"file": ("board.csv", _csv(case), "text/csv")})
     detail = _refusal_is_plain(r)
     complete = {s for s in SPELLINGS if all(f"{s}_{a}" in case["axes"] for a in AXES)}
@@ -144,14 +132,14 @@ def test_any_columns_upload_and_every_method_answers_without_a_500(client, case)
             assert "acc_x" in detail, detail
         return
     rec = r.json()
-    SEEN["uploaded"] += 1
+    seen["uploaded"] += 1
     assert set(rec["channels"]) <= complete and rec["channels"], (rec["channels"], complete)
     assert rec["overview"]["sensor"] in rec["channels"]
     assert (rec["sampling_rate_hz"] is None) == (case["time"] is None or case["n"] < 2)
     for request in METHODS:
         r = client.post("/api/v1/calibrations", json={**request, "recording_id": rec["id"]})
         detail = _refusal_is_plain(r)
-        SEEN["calibrated" if r.status_code == 201 else "refused"] += 1
+        seen["calibrated" if r.status_code == 201 else "refused"] += 1
         needs = NEEDS.get(request["method"])
         if needs and needs not in rec["channels"]:  # refused by the name of the sensor it lacks
             assert r.status_code == 422 and WORDS[needs] in detail, (request, detail)
@@ -159,9 +147,17 @@ def test_any_columns_upload_and_every_method_answers_without_a_500(client, case)
             assert r.status_code == 422 and "sampling rate" in detail, (request, detail)
 
 
-def test_the_property_test_drew_its_cases():
-    # Runs after the property test (file order): every drawn case was tried, and the draws reached
-    # both outcomes of the upload and of the methods.
-    assert SEEN["cases"] >= EXAMPLES
-    assert SEEN["uploaded"] > EXAMPLES // 3 and SEEN["calibrated"] > 0 and SEEN["refused"] > 0, SEEN
-    print(f"\nproperty test: {SEEN}")
+def test_any_columns_upload_and_every_method_answers_without_a_500(tmp_path):
+    seen = {"cases": 0, "uploaded": 0, "calibrated": 0, "refused": 0}
+    with TestClient(create_app(make_settings(tmp_path)), raise_server_exceptions=False) as client:
+        @settings(max_examples=EXAMPLES, deadline=None, derandomize=True, database=None,
+                  suppress_health_check=[HealthCheck.too_slow])
+        @given(case=recordings())
+        def check(case):
+            _check(client, case, seen)
+
+        check()
+    # Every drawn case was tried, and the draws reached both outcomes of the upload and of the methods.
+    assert seen["cases"] >= EXAMPLES
+    assert seen["uploaded"] > EXAMPLES // 3 and seen["calibrated"] > 0 and seen["refused"] > 0, seen
+    print(f"\nproperty test: {seen}")
