@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # the readers' package imports this module
+    from .formats.timing import Timing
 
 UNITS: dict[str, tuple[str, ...]] = {
     "acc": ("m/s^2", "g", "raw"),
@@ -55,7 +59,7 @@ class LogData:
     columns: list
     notes: tuple = ()
     sign: int = 1
-    timing: object = None
+    timing: Timing | None = None
 
     @property
     def gaps(self) -> tuple:
