@@ -197,7 +197,7 @@ def _calibrate(args, settings: Settings) -> int:
     read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
                      sign=args.sign, chip=args.chip)
     log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, name=str(args.log), **read_with)
-    recording = workflow.describe_log(log, read_with)
+    recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
     request = parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
     body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=args.log, log=log))
     if not args.no_store:
@@ -239,8 +239,9 @@ def _read_sections(path) -> object:
 
 
 def _print_summary(body: dict, recording: dict) -> None:
+    rate = recording["sampling_rate_hz"]
     print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples "
-          f"at {recording['sampling_rate_hz']:g} Hz; used {body.get('segments_used', 'all')}")
+          f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; used {body.get('segments_used', 'all')}")
     if body.get("id"):
         print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
     _print_verdict(body)

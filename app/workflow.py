@@ -89,28 +89,58 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
     ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
     it is kept with the sign applied, so that the stored file is read again the same way.
     """
-    unit = log.units.get("acc")
-    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
-    # The still segments are the accelerometer's: a log of the magnetometer alone has none.
-    segments = [] if log.acc is None else detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
+    segments = still_segments(log)
+    rate = log.sampling_rate_hz
+    notes = list(log.notes)
+    if log.acc is not None and log.sampling_rate_hz is None:
+        notes.append(f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
+                     "their start and end are sample indices")
     return {
         "format": log.format,
         "n_samples": log.n_samples,
-        "sampling_rate_hz": log.sampling_rate_hz,
-        "duration_s": log.n_samples / log.sampling_rate_hz,
+        "sampling_rate_hz": rate,
+        "duration_s": None if rate is None else log.n_samples / rate,
         "channels": log.channels,
         "units": log.units,
         "columns": log.columns,
-        "notes": list(log.notes),
+        "notes": notes,
         "warnings": list(log.warnings),
         "sign": log.sign,
+        "timing": None if log.timing is None else log.timing.to_dict(),
         "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
-                      **(read_with or {}),
-                      "sign": log.sign},
-        "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
+                      "sampling_rate_hz": None, **(read_with or {}), "sign": log.sign},
+        "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
         "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
         "overview": overview(log),
     }
+
+
+NOMINAL_RATE_HZ = 100.0
+"""The rate still segments are looked for at in a log that has none (no time column, none given): their
+windows and least length are counted in samples as at 100 Hz; a note says so."""
+
+
+def still_segments(log: LogData) -> list:
+    """The accelerometer's still segments (app.calibration.static), none spanning a gap of the time column.
+
+    A log of other sensors alone has none. Each stretch between gaps is searched on its own, so that a
+    segment's samples are contiguous in time; a stretch shorter than one window holds none.
+    """
+    if log.acc is None:
+        return []
+    unit = log.units.get("acc")
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
+    bounds = [0, *(g.index for g in log.gaps), len(log.acc)]
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        try:
+            found = detect_static_segments(log.acc[a:b], rate, gravity=gravity)
+        except InsufficientDataError:  # shorter than one window: no rest in it
+            continue
+        out += [dataclasses.replace(seg, start=seg.start + a, end=seg.end + a,
+                                    gaps=tuple((p + a, q + a) for p, q in seg.gaps)) for seg in found]
+    return out
 
 
 OVERVIEW_POINTS = 300
@@ -118,28 +148,19 @@ OVERVIEW_POINTS = 300
 
 
 def overview(log: LogData) -> dict:
-    """The norm of the accelerometer (else the magnetometer) in at most :data:`OVERVIEW_POINTS` bins: the
-    smallest and largest of each bin, so that a short move still shows, for the page's plot of the log."""
-    sensor = "acc" if log.acc is not None else "mag"
+    """The norm of the accelerometer (else the magnetometer, else the gyroscope) in at most
+    :data:`OVERVIEW_POINTS` bins: the smallest and largest of each bin, so that a short move still shows,
+    for the page's plot of the log. ``t_s`` is null in a log without a rate; ``start`` counts samples."""
+    sensor = log.channels[0] if log.acc is None and log.mag is None else ("acc" if log.acc is not None else "mag")
     values = np.linalg.norm(np.asarray(getattr(log, sensor), dtype=float), axis=1)
     # At most one bin per sample, so that every bin holds at least one.
     edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
     finite = [b[np.isfinite(b)] for b in np.split(values, edges[1:-1])]
+    rate = log.sampling_rate_hz
     return {"sensor": sensor, "unit": log.units.get(sensor),
-            "t_s": (edges[:-1] / log.sampling_rate_hz).tolist(),
+            "t_s": None if rate is None else (edges[:-1] / rate).tolist(), "start": edges[:-1].tolist(),
             "low": [float(f.min()) if f.size else None for f in finite],
             "high": [float(f.max()) if f.size else None for f in finite]}
-
-
-def require_segments(recording: dict) -> None:
-    """Refuse a recording in which no still segment was found, naming what to check (the unit first:
-    readings in a unit other than the one read find no rest near the expected gravity)."""
-    if not recording.get("segments"):
-        unit = (recording.get("units") or {}).get("acc")
-        raise InsufficientDataError(
-            f"the recording has no still segments (its accelerometer read in {unit}): these methods calibrate "
-            "from the device resting a few seconds in each pose. Record the poses with the device still in each; "
-            "if it did rest, check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)")
 
 
 def readings_from_segments(recording: dict, method: str, indices: list[int] | None) -> tuple[list[Reading], list[int]]:
@@ -148,8 +169,7 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
     ``six_position`` takes the first segment of each orientation unless ``indices`` lists them;
     ``orientations`` takes every labelled segment (or the listed ones).
     """
-    require_segments(recording)
-    segments = recording["segments"]
+    segments = require_segments(recording, method)
     if indices is not None:
         chosen = []
         for i in indices:
@@ -229,10 +249,24 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
     return result, holdout_metrics(result, holdout)
 
 
-def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
-    """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
-    require_segments(recording)
+def require_segments(recording: dict, method: str) -> list[dict]:
+    """A recording's still segments, or a refusal saying what to record and what to check: a method of
+    still poses has nothing to fit without them (the unit first: readings in a unit other than the one
+    read find no rest near the expected gravity)."""
     segments = recording["segments"]
+    if not segments:
+        unit = (recording.get("units") or {}).get("acc")
+        raise InsufficientDataError(
+            f"the recording has no still segments ({recording['n_samples']} samples, its accelerometer read in "
+            f"{unit}; a rest lasts at least 1.5 s with the accelerometer reading about 1 g): method {method} needs "
+            "the device resting still in several orientations — record it a few seconds in each; if it did rest, "
+            "check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)")
+    return segments
+
+
+def means_from_segments(recording: dict, indices: list[int] | None, method: str = "the method") -> tuple[list, list[int]]:
+    """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+    segments = require_segments(recording, method)
     chosen = list(range(len(segments))) if indices is None else list(indices)
     for i in chosen:
         if not 0 <= i < len(segments):
@@ -288,11 +322,12 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
             f"the recording has no gyroscope columns (found {', '.join(log.columns)}): the cube method needs "
             "gyr_x, gyr_y, gyr_z beside the accelerometer"
         )
+    rate = require_rate(log.sampling_rate_hz, "cube")
     gyr = log.gyr * GYR_TO_RAD_S[log.units["gyr"]]
     mag = None if log.mag is None else log.mag * MAG_TO_UT[log.units["mag"]]
     if mag is not None and field_ut is None:
         raise CalibrationError("the recording has a magnetometer: give field_ut, the local field magnitude in µT")
-    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=log.sampling_rate_hz, protocol=protocol,
+    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=rate, protocol=protocol,
                           gravity=gravity, field_ut=field_ut, sections=sections)
 
 
@@ -359,9 +394,12 @@ class RecordingSource:
         if self.log is not None:
             return self.log
         # As it was read when stored; bodies stored before read_with give only their units.
-        read_with = self.meta.get("read_with") or {"units": self.meta["units"]}
-        return load_log(self.path, sampling_rate_hz=self.meta["sampling_rate_hz"],
-                        name=self.meta.get("filename") or "the recording", **read_with)
+        read_with = dict(self.meta.get("read_with") or {"units": self.meta["units"]})
+        # The caller's rate as given at the upload, so that the time column is judged again the same
+        # way (its gaps); recordings stored before read_with kept it are read at their stored rate.
+        rate = read_with.pop("sampling_rate_hz") if "sampling_rate_hz" in read_with else self.meta["sampling_rate_hz"]
+        return load_log(self.path, sampling_rate_hz=rate, name=self.meta.get("filename") or "the recording",
+                        **read_with)
 
     @property
     def source_fields(self) -> dict:
@@ -400,12 +438,25 @@ def calibrate(request, recording: RecordingSource | None = None) -> dict:
     return body
 
 
+def require_rate(rate: float | None, method: str) -> float:
+    """The recording's sampling rate, or a refusal naming what to give: methods over time need one."""
+    if rate is None:
+        raise CalibrationError(
+            f"method {method} needs the sensor's sampling rate, and this recording has none (no time column, and "
+            "no sampling_rate_hz was given): upload it again with sampling_rate_hz (--sampling-rate-hz), the "
+            "sensor's output data rate, or log a time column")
+    return rate
+
+
 def require_accelerometer(channels, method: str) -> None:
     """Refuse a recording without accelerometer columns for an accelerometer method, naming the fix."""
     if "acc" not in channels:
+        other = {"mag": "method magnetometer calibrates a magnetometer turned through all directions",
+                 "gyr": "method noise characterises a still gyroscope"}
         raise CalibrationError(
             f"the recording has no accelerometer columns (it has {', '.join(channels)}): method {method} needs "
-            "acc_x, acc_y, acc_z; for a magnetometer recorded alone use method magnetometer")
+            "acc_x, acc_y, acc_z — record the accelerometer too; "
+            + "; ".join(other[c] for c in channels if c in other))
 
 
 def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
@@ -471,7 +522,7 @@ def _means_and_source(request, recording: RecordingSource | None) -> tuple[list,
     """The still readings of a request on means: inline, or the recording's segments (and their fields)."""
     if recording is None:
         return request.means, {}
-    means, used = means_from_segments(recording.meta, request.segments)
+    means, used = means_from_segments(recording.meta, request.segments, request.method)
     return means, {**recording.source_fields, "segments_used": used}
 
 
@@ -661,7 +712,8 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
             f"to g first"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
-    rest = detect_rest_segments(log.acc, log.sampling_rate_hz, gravity=g, progress=progress, **(detection or {}))
+    rest = detect_rest_segments(log.acc, require_rate(log.sampling_rate_hz, "autocal"), gravity=g, progress=progress,
+                                **(detection or {}))
     if preload is not None:
         preload.join()
     from app.calibration.autocal import autocalibrate
@@ -676,6 +728,13 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
 # -- noise: the Allan deviation of a still recording -----------------------------------------------
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
+NOISE_REST_S = 5.0
+"""A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
+and only the longest is characterised."""
+NOISE_GAPS_MAX = 0.01
+"""Gaps losing more than this fraction of the still part's time make its Allan deviation unreliable
+(``ok`` false): the estimator takes the samples as evenly spaced, and a lost stretch joins two
+stretches as if they were adjacent."""
 ACC_TO_M_S2 = {"m/s^2": 1.0, "g": STANDARD_GRAVITY, "raw": 1.0}
 
 
@@ -688,7 +747,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     moved, a warning says what was used; when less than half of it is still, ``ok`` is false.
     """
     from app.calibration.noise import NoiseResult, characterise_noise
-    from app.calibration.noise_still import MIN_STILL_FRACTION, longest_still
+    from app.calibration.noise_still import MIN_STILL_FRACTION, still_runs
 
     arrays = {name: getattr(log, name) for name in log.channels}
     units = dict(log.units)
@@ -705,12 +764,24 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
                                "ask for those it has")
     factor = {"acc": ACC_TO_M_S2, "gyr": GYR_TO_RAD_S, "mag": MAG_TO_UT}
     si = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
-    fs, n = log.sampling_rate_hz, len(next(iter(arrays.values())))
+    fs, n = require_rate(log.sampling_rate_hz, "noise"), len(next(iter(arrays.values())))
     notes: list[str] = list(log.warnings) + list(log.notes)
     detected_from = "acc" if "acc" in arrays else wanted[0]
-    span = longest_still(arrays[detected_from], fs)
+    runs = still_runs(arrays[detected_from], fs)
+    span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
+    rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
     reasons: list[str] = []
-    if span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
+    if span is not None and len(rests) >= 2:
+        a, b = span
+        said = (f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
+                f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
+                "recording), was characterised — no term is fitted across a move")
+        if b - a < MIN_STILL_FRACTION * n:
+            reasons.append(said + "; for the noise, record the device resting in one orientation, untouched, for "
+                                  "the whole recording")
+        else:
+            notes.append(said)
+    elif span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
         still_s = 0.0 if span is None else (span[1] - span[0]) / fs
         reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
                        "is characterised on a still recording — leave the device resting on a firm surface, "
@@ -719,6 +790,18 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
         notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
                      f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
+    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    if inside:
+        lost = sum(g.missing_s for g in inside)
+        still_s = (span[1] - span[0]) / fs
+        said = (f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
+                f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)")
+        if lost > NOISE_GAPS_MAX * still_s:
+            reasons.append(said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
+                                  "the sensor's — record again without losing samples (a faster serial baud rate, "
+                                  "fewer columns printed, a larger host buffer)")
+        else:
+            notes.append(said + ": few enough for the Allan deviation")
     a, b = span
     parts = {}
     for name in wanted:

@@ -74,7 +74,7 @@ def upload_recording(
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
         read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
         log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, name=file.filename or "the file", **read_with)
-        body = workflow.describe_log(log, read_with)
+        body = workflow.describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
         body["filename"] = file.filename
         return store.add_recording(recording_id, body, dest, owner=owner)
     except BaseException:

@@ -649,15 +649,39 @@ class ReadWithOut(BaseModel):
     lsb_per_g: float | None
     columns: str | None
     chip: str | None = Field(None, description="The parts the upload named (app.io.formats.chips).")
+    sampling_rate_hz: float | None = Field(None, description="The rate the upload gave (null: the file's own).")
     sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
+
+
+class GapOut(BaseModel):
+    index: int = Field(description="The first sample after the gap.")
+    t_s: float = Field(description="Where the gap starts, seconds from the first sample.")
+    missing_s: float = Field(description="Time lost: the step less one sampling interval.")
+
+
+class TimingOut(BaseModel):
+    """How the sampling rate was decided (app.io.formats.timing), and what the time column showed."""
+
+    source: Literal["sampling_rate_hz", "file", "time column", "none"] = Field(description=(
+        "The upload's sampling_rate_hz, the file's metadata, the time column's span, or none (no rate)."))
+    sampling_rate_hz: float | None
+    jitter: float | None = Field(None, description=(
+        "Standard deviation of the time column's steps (gaps left out) over the sampling interval; above 0.2 "
+        "the timestamps are a host's arrival times and a note says so."))
+    median_step_s: float | None = None
+    gaps: list[GapOut] = Field([], description="Where samples were lost; still segments do not span them.")
+    missing_s: float = Field(0.0, description="Time lost in all gaps.")
 
 
 class LogOverview(BaseModel):
     """The log's norm in at most 300 bins (app.workflow.overview), for a plot with the still segments."""
 
-    sensor: Literal["acc", "mag"] = Field(description="The accelerometer's norm, or the magnetometer's in a log of it alone.")
+    sensor: Literal["acc", "mag", "gyr"] = Field(description=(
+        "The accelerometer's norm; in a log without it the magnetometer's, else the gyroscope's."))
     unit: str | None
-    t_s: list[float] = Field(description="Start of each bin, seconds from the first sample.")
+    t_s: list[float] | None = Field(description="Start of each bin, seconds from the first sample; null in a log "
+                                                "without a sampling rate.")
+    start: list[int] | None = Field(None, description="Start of each bin, in samples.")
     low: list[float | None] = Field(description="Smallest norm in the bin (null: no finite sample).")
     high: list[float | None] = Field(description="Largest.")
 
@@ -670,8 +694,11 @@ class RecordingOut(BaseModel):
     format: str
     filename: str | None = None
     n_samples: int
-    sampling_rate_hz: float
+    sampling_rate_hz: float | None = Field(description=(
+        "The sensor's rate (timing says how it was decided); null when the file has no time column and none was "
+        "given: the still poses and the compass need none, noise, cube and autocal ask for it."))
     duration_s: float | None = None
+    timing: TimingOut | None = Field(None, description="Absent from recordings stored before it existed.")
     channels: list[str]
     units: dict[str, str]
     columns: list[str] = Field([], description="The file's column names (or those `columns` gave).")

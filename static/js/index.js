@@ -218,7 +218,8 @@ function showSegments(rec) {
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
-  const sec = (i) => (i / rec.sampling_rate_hz).toFixed(1); // seconds, one decimal, always
+  // Seconds, one decimal, always; a log without a sampling rate counts samples.
+  const sec = (i) => (rec.sampling_rate_hz ? (i / rec.sampling_rate_hz).toFixed(1) : String(i));
   $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
     const tr = document.createElement("tr");
     tr.append(cell("td", String(s.index + 1)), cell("td", `${sec(s.start)}–${sec(s.end)}`), cell("td", s.up ?? "—"),
@@ -226,9 +227,11 @@ function showSegments(rec) {
     return tr;
   }));
   $("#segments-table").hidden = !still;
-  const rate = `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`;
+  const rate = rec.sampling_rate_hz ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
+    : `${rec.n_samples} samples (no time column)`;
   note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}: calibrating…`
-    : `The magnetometer alone, ${rate}: calibrating the compass…`);
+    : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}: calibrating the compass…`
+      : `The ${rec.channels.join(" and ")} alone, ${rate}: nothing to calibrate from its poses…`);
 }
 
 // The file's header was not recognised: a control per column to say what it holds.

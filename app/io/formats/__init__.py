@@ -34,6 +34,7 @@ from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger,
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
 from .chips import parse_chips
+from .timing import with_timing
 from .units import refuse_linear_acceleration, settle_units
 
 READERS = {
@@ -215,7 +216,8 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
                                  "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
                                  "by the sensitivity before saving the array, or upload them as CSV")
         check_sign(sign)
-        return settle_sign(read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name), sign)
+        log = read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
+        return settle_sign(with_timing(log, sampling_rate_hz, name), sign)
     check_sign(sign)
     column_map = parse_columns(columns)
     s = sniff(path, name)
@@ -240,6 +242,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
         extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
     log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
                        lsb_per_g=lsb, **extra)
+    log = with_timing(log, sampling_rate_hz, name)  # the one decision of the rate (.timing)
     maker = fmt in (generic_csv.CSV, generic_csv.ARDUINO)
     if maker:  # a header row names the units, or nothing does
         stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text)

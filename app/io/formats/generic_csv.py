@@ -37,7 +37,9 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
 from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
-                    rate_from_time, read_columns, sampling_rate, seconds_per_unit, split_row)
+                    read_columns, split_row)
+from .timing import time_scale as infer_time_scale
+from .timing import with_timing
 from .units import MAG_UNITS_IN
 
 MAX_LISTED_COLUMNS = 20
@@ -207,10 +209,13 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
         listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
         if len(names) > MAX_LISTED_COLUMNS:
             listed += f" and {len(names) - MAX_LISTED_COLUMNS} more"
+        partial = ", ".join(f"{s}_{a}" for s, axes in channels.items() for a in "xyz" if a in axes)
         raise LogFormatError(
-            f"no accelerometer x, y and z columns among the header's columns {listed}: name them "
-            "acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), optionally with a time column "
-            "time_s / time_ms / time_ns (a magnetometer alone: mag_x, mag_y, mag_z), or map them without "
+            f"no accelerometer, gyroscope or magnetometer x, y and z columns among the header's columns {listed}"
+            + (f" (only {partial}: trical needs all three axes of a sensor)" if partial else "")
+            + ": name them acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), gyr_x, gyr_y, gyr_z or mag_x, mag_y, "
+            "mag_z, any of the three sensors, optionally with a time column "
+            "time_s / time_ms / time_ns, or map them without "
             "editing the file with the upload field "
             "columns, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
             "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
@@ -282,9 +287,21 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
                                          name=name, column_names=names, first_line=layout.skip_lines + 1)))
     arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
     time = values[time_col] if time_col is not None else None
+    notes = list(layout.notes)
     try:
-        rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
-        time_s = None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time))
+        time_s = None
+        if time is not None and len(time) >= 2:
+            if time_scale is None:
+                try:
+                    time_scale, time_unit = infer_time_scale(time)
+                    notes.append(f"time column {names[time_col]!r} read in {time_unit} (from its step)")
+                except LogFormatError:
+                    if sampling_rate_hz is None:
+                        raise
+                    notes.append(f"time column {names[time_col]!r} not used: its unit is unclear and "
+                                 "sampling_rate_hz was given")
+            if time_scale is not None:
+                time_s = (time - time[0]) * time_scale
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
@@ -296,17 +313,17 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
         if unit not in accepted:
             raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(accepted)}")
-    return LogData(
+    return with_timing(LogData(
         acc=arrays.get("acc"),
         gyr=arrays.get("gyr"),
         mag=arrays.get("mag"),
         time_s=time_s,
-        sampling_rate_hz=rate,
+        sampling_rate_hz=None,
         units=final_units,
         format="csv",
         columns=names,
-        notes=layout.notes,
-    )
+        notes=tuple(notes),
+    ), sampling_rate_hz, name)
 
 
 CSV = "csv"
@@ -401,7 +418,7 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     units = units or {}
     log = LogData(
         acc=arrays["acc"], gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=None,
-        sampling_rate_hz=rate_from_time(None, sampling_rate_hz, name),
+        sampling_rate_hz=None,
         units={k: units.get(k) or {"acc": "m/s^2", "gyr": "raw", "mag": "raw"}[k] for k in arrays},
         format=ARDUINO, columns=labels,
     )
