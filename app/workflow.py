@@ -25,6 +25,7 @@ from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
+from app.io.parts import pose_from_name
 from app.summary import compass_headline, headline
 from app.verdict import verdict
 
@@ -89,10 +90,8 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
     it is kept with the sign applied, so that the stored file is read again the same way.
     """
     unit = log.units.get("acc")
-    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
-    # The still segments are the accelerometer's: a log of the magnetometer alone has none.
-    segments = [] if log.acc is None else detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
-    return {
+    segments, notes = still_segments(log)
+    body = {
         "format": log.format,
         "n_samples": log.n_samples,
         "sampling_rate_hz": log.sampling_rate_hz,
@@ -100,14 +99,56 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "channels": log.channels,
         "units": log.units,
         "columns": log.columns,
-        "notes": list(log.notes),
+        "notes": list(log.notes) + notes,
         "sign": log.sign,
         "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, **(read_with or {}),
                       "sign": log.sign},
         "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
-        "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
+        "segments": segments,
         "overview": overview(log),
     }
+    if log.parts:
+        body["parts"] = [{"index": i, "filename": p.filename, "start": p.start, "end": p.end,
+                          "n_samples": p.n_samples, "sampling_rate_hz": p.sampling_rate_hz,
+                          "pose_from_name": pose_from_name(p.filename)} for i, p in enumerate(log.parts)]
+    return body
+
+
+def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
+    """A log's still segments in their plain form (docs/rest.md), and notes on a recording in parts.
+
+    The segments are the accelerometer's (a log of the magnetometer alone has none). A recording
+    made of several files (one per pose, :mod:`app.io.parts`) is searched file by file, so that no
+    segment joins two files; each segment then names its file (``source``, ``part``), and a file
+    whose name names a pose (``x_axis_pos``) that its still readings contradict gets a note.
+    """
+    if log.acc is None:
+        return [], []
+    unit = log.units.get("acc")
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    if not log.parts:
+        found = detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
+        return [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(found)], []
+    segments: list[dict] = []
+    notes: list[str] = []
+    for k, part in enumerate(log.parts):
+        found = detect_static_segments(log.acc[part.start:part.end], part.sampling_rate_hz, gravity=gravity)
+        named = pose_from_name(part.filename)
+        for seg in found:
+            plain = seg.to_dict()
+            plain.update(start=plain["start"] + part.start, end=plain["end"] + part.start)
+            segments.append(dict(index=len(segments), **plain, count=seg.count, source=part.filename, part=k,
+                                 **({"pose_from_name": named} if named else {})))
+        if not found:
+            notes.append(f"{part.filename}: no still stretch found in its {part.n_samples} samples, so it gives no "
+                         "reading: record the board resting, untouched, for a few seconds in that pose")
+        elif named:
+            ups = [seg.up for seg in found]
+            if any(up != named for up in ups):
+                seen = ", ".join(sorted({up or "no axis within 20°" for up in ups if up != named}))
+                notes.append(f"{part.filename}: its name says {named} up, but its still readings point {seen} "
+                             f"up: the data's label is used — check the file's name, or how the board lay")
+    return segments, notes
 
 
 OVERVIEW_POINTS = 300
@@ -416,8 +457,8 @@ def _known(request, recording: RecordingSource | None) -> dict:
                             std=None if r.std is None else tuple(r.std), count=r.count)
                     for r in request.readings]
     result, extra = calibrate_known(request.method, readings, unit=unit, gravity=gravity, holdout=request.holdout)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, **source), recording)
 
 
 def _means_and_source(request, recording: RecordingSource | None) -> tuple[list, dict]:
@@ -428,13 +469,31 @@ def _means_and_source(request, recording: RecordingSource | None) -> tuple[list,
     return means, {**recording.source_fields, "segments_used": used}
 
 
+def name_sources(body: dict, recording: RecordingSource | None) -> dict:
+    """On a recording made of several files (one per pose), each reading of the calibration names its
+    file (``source``), and a warning names each file whose name gives a pose its reading contradicts."""
+    if recording is None or not recording.meta.get("parts"):
+        return body
+    segments = recording.meta["segments"]
+    for reading, i in zip(body.get("readings") or [], body.get("segments_used") or []):
+        seg = segments[i]
+        reading["source"] = seg.get("source")
+        named = seg.get("pose_from_name")
+        if named and seg["up"] != named:
+            body["warnings"].append(
+                f"{seg.get('source')} names {named} up, but its still reading points "
+                f"{seg['up'] or 'to no axis within 20°'}{' up' if seg['up'] else ''}: the data's pose was used — check "
+                "the file's name, or how the board lay")
+    return body
+
+
 def _magnitude(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
     result, extra = calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
                                       solver=getattr(request, "solver", "lm"), holdout=request.holdout)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, advice=pose_advice(result), **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, advice=pose_advice(result), **source), recording)
 
 
 def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdout=None) -> tuple:
@@ -514,8 +573,8 @@ def _auto(request, recording: RecordingSource | None) -> dict:
     result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
     if choice["method"] == "triangular":  # a magnitude model: which poses to add next
         source["advice"] = pose_advice(result)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, choice=choice, **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, choice=choice, **source), recording)
 
 
 def _cube(request, recording: RecordingSource) -> dict:

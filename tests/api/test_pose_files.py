@@ -1,0 +1,181 @@
+"""One file per pose (issue 22, point 4), through the API: several files, or a zip of them, are one recording.
+
+The files are a maker's real ones (tests/data/real/README.md): an MPU-6050 logged over a serial port,
+one file per pose (`x_axis_pos.csv`, …), header ``aX (g)`` over values in m/s² — so every upload here
+gives ``acc_unit=m/s^2``. The maker's own fit (imucal's Ferraris calibration) stands beside trical's.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import zipfile
+
+import numpy as np
+import pytest
+from pydantic import TypeAdapter
+
+from app.api.schemas import CalibrationOut, RecordingOut
+from tests.api.conftest import make_settings
+from tests.api.test_typed_contract import undescribed
+from tests.conftest import DATA
+
+POSES = DATA / "real" / "mpu6050_pose_files"
+ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
+UP = {"x_axis_pos": "+x", "x_axis_neg": "-x", "y_axis_pos": "+y", "y_axis_neg": "-y", "z_axis_pos": "+z",
+      "z_axis_neg": "-z"}
+PEER = json.loads((DATA / "real" / "mpu6050_pose_files_peer.json").read_text())
+UNIT = {"acc_unit": "m/s^2"}
+
+
+def pose_bytes(stem: str, rows: int | None = None) -> bytes:
+    data = (POSES / f"{stem}.csv").read_bytes()
+    if rows is None:
+        return data
+    return b"".join(data.splitlines(keepends=True)[: rows + 1])
+
+
+def upload_files(client, files: list[tuple[str, bytes]], **form):
+    return client.post("/api/v1/recordings", files=[("file", (name, content, "text/csv")) for name, content in files],
+                       data={**UNIT, **form})
+
+
+def six(rows: int | None = None, names=None) -> list[tuple[str, bytes]]:
+    names = names or {s: f"{s}.csv" for s in ORDER}
+    return [(names[s], pose_bytes(s, rows)) for s in ORDER]
+
+
+def test_six_pose_files_are_one_recording_each_segment_naming_its_file(client, settings):
+    r = upload_files(client, six())
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    assert undescribed(TypeAdapter(RecordingOut).validate_python(rec)) == []
+    assert [p["filename"] for p in rec["parts"]] == [f"{s}.csv" for s in ORDER]  # the order given
+    assert [p["pose_from_name"] for p in rec["parts"]] == [UP[s] for s in ORDER]
+    assert [(p["start"], p["end"]) for p in rec["parts"]] == [(200 * i, 200 * (i + 1)) for i in range(6)]
+    assert rec["n_samples"] == 1200 and rec["sampling_rate_hz"] == pytest.approx(62.5, abs=0.5)
+    # One still segment per file, inside it, labelled by the data as the file's name says.
+    assert [(s["source"], s["up"], s["part"]) for s in rec["segments"]] == [(f"{s}.csv", UP[s], i)
+                                                                         for i, s in enumerate(ORDER)]
+    assert all(p["start"] <= s["start"] < s["end"] <= p["end"] for s, p in zip(rec["segments"], rec["parts"]))
+    assert rec["notes"] == []
+    # Nothing acknowledged is lost: the stored recording holds every file, byte for byte, under its name.
+    stored = next(settings.recordings_dir.glob(f"{rec['id']}*"))
+    with zipfile.ZipFile(stored) as zf:
+        assert zf.namelist() == [f"{s}.csv" for s in ORDER]
+        assert all(zf.read(f"{s}.csv") == pose_bytes(s) for s in ORDER)
+    assert client.get(f"/api/v1/recordings/{rec['id']}").json() == rec
+
+
+def test_the_calibration_names_each_reading_s_file(client):
+    rec = upload_files(client, six()).json()
+    r = client.post("/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]})
+    assert r.status_code == 201, r.text
+    body = r.json()
+    assert undescribed(TypeAdapter(CalibrationOut).validate_python(body)) == []
+    assert body["method"] == "six_position" and body["ok"] and body["verdict"]["apply"]
+    assert sorted((x["source"], x["up"]) for x in body["readings"]) == sorted((f"{s}.csv", UP[s]) for s in ORDER)
+    assert not any("names" in w for w in body["warnings"])
+    # Read back from the store (the zip read again, file by file), the same calibration.
+    again = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    np.testing.assert_allclose(again["model"]["X"], body["model"]["X"], rtol=0, atol=1e-12)
+    assert [x["source"] for x in again["readings"]] == [x["source"] for x in body["readings"]]
+
+
+def test_a_zip_of_the_pose_files_is_the_same_recording(client):
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        zf.writestr("__MACOSX/._x_axis_pos.csv", b"\x00\x05\x16\x07")
+        for s in ORDER:
+            zf.writestr(f"poses/{s}.csv", pose_bytes(s))
+        zf.writestr("poses/photo_of_the_jig.jpg", b"\xff\xd8\xff")
+    r = client.post("/api/v1/recordings", files={"file": ("poses.zip", buf.getvalue(), "application/zip")}, data=UNIT)
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    files = upload_files(client, six()).json()
+    assert [p["filename"] for p in rec["parts"]] == [p["filename"] for p in files["parts"]]
+    assert [s["acc_mean"] for s in rec["segments"]] == [s["acc_mean"] for s in files["segments"]]
+    assert rec["notes"] == ["poses.zip: poses/photo_of_the_jig.jpg left out (not a log file)"]
+
+
+def test_a_file_whose_name_contradicts_its_data_is_labelled_by_the_data_with_a_warning(client):
+    # The maker swapped two names: x_axis_pos.csv holds the -x pose and x_axis_neg.csv the +x pose.
+    swapped = {**{s: f"{s}.csv" for s in ORDER}, "x_axis_pos": "x_axis_neg.csv", "x_axis_neg": "x_axis_pos.csv"}
+    rec = upload_files(client, six(names=swapped)).json()
+    segs = {s["source"]: s for s in rec["segments"]}
+    assert (segs["x_axis_neg.csv"]["up"], segs["x_axis_neg.csv"]["pose_from_name"]) == ("+x", "-x")
+    assert (segs["x_axis_pos.csv"]["up"], segs["x_axis_pos.csv"]["pose_from_name"]) == ("-x", "+x")
+    assert rec["notes"] == [
+        "x_axis_neg.csv: its name says -x up, but its still readings point +x up: the data's label is used — "
+        "check the file's name, or how the board lay",
+        "x_axis_pos.csv: its name says +x up, but its still readings point -x up: the data's label is used — "
+        "check the file's name, or how the board lay"]
+    body = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    assert body["ok"]
+    named = [w for w in body["warnings"] if "names" in w]
+    assert named == [
+        "x_axis_neg.csv names -x up, but its still reading points +x up: the data's pose was used — check the "
+        "file's name, or how the board lay",
+        "x_axis_pos.csv names +x up, but its still reading points -x up: the data's pose was used — check the "
+        "file's name, or how the board lay"]
+    # The data decide: the same calibration as with the right names.
+    right = client.post("/api/v1/calibrations", json={
+        "method": "six_position", "recording_id": upload_files(client, six()).json()["id"]}).json()
+    np.testing.assert_allclose(body["model"]["X"], right["model"]["X"], rtol=0, atol=1e-12)
+
+
+def test_trical_s_figures_beside_the_maker_s_ferraris_fit(client):
+    """The maker fitted imucal's Ferraris calibration on the first 100 samples of each file with g = 9.81."""
+    rec = upload_files(client, six(rows=PEER["samples_per_pose"])).json()
+    assert [s["count"] for s in rec["segments"]] == [100] * 6
+    body = client.post("/api/v1/calibrations", json={
+        "method": "six_position", "recording_id": rec["id"], "gravity": PEER["gravity"]}).json()
+    K, R, b = np.diag(PEER["K"]), np.asarray(PEER["R"]), np.asarray(PEER["b"])
+    # The same matrix (both take each axis's column from its two poses) ...
+    np.testing.assert_allclose(body["model"]["X"], K @ R, rtol=0, atol=5e-5)
+    # ... and an offset within 0.011 m/s² (about 1 mg): Ferraris takes each axis's offset from its own two poses,
+    # the closed form of Georgieva et al. (ESGI'95, section 3.3.1) the mean of the three pairs.
+    offset = np.asarray(body["model"]["y"]) - b
+    np.testing.assert_allclose(offset, [-0.0008, -0.0101, -0.0068], rtol=0, atol=2e-4)
+    means = np.array([x["mean"] for x in body["readings"]])
+    g = PEER["gravity"]
+
+    def error_mg(a):
+        return 1000 * np.mean(np.abs(np.linalg.norm(a, axis=1) - g) / g)
+
+    peer = (np.linalg.inv(R) @ np.linalg.inv(K) @ (means - b).T).T
+    ours = (np.linalg.inv(np.asarray(body["model"]["X"])) @ (means - body["model"]["y"]).T).T
+    assert error_mg(means) == pytest.approx(32.13, abs=0.01)
+    assert body["metrics"]["error_before_mg"] == pytest.approx(32.13, abs=0.01)
+    assert error_mg(ours) == pytest.approx(0.62, abs=0.01) == body["metrics"]["error_after_mg"]
+    assert error_mg(peer) == pytest.approx(0.03, abs=0.01)
+
+
+@pytest.mark.parametrize("files, status, words", [
+    ([("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,9.8,0,0\n1,9.8,0,0\n"),
+      ("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,-9.8,0,0\n1,-9.8,0,0\n")], 422,
+     "x_axis_pos.csv is uploaded more than once"),
+    ([("x_axis_pos.csv", pose_bytes("x_axis_pos")),
+      ("x_axis_neg.csv", b"t,acc_x,acc_y,acc_z\n" + b"".join(
+          f"{16 * i},-9.4,-0.3,0.9\n".encode() for i in range(200)))], 422,
+     "x_axis_neg.csv holds acc but x_axis_pos.csv holds acc, gyr: every file of one calibration needs the same "
+     "sensors"),
+    ([("a.csv", pose_bytes("x_axis_pos")), ("b.zip", b"PK\x03\x04")], 422, "b.zip is a zip inside a recording"),
+])
+def test_files_that_cannot_be_one_recording_are_refused_by_name(client, files, status, words):
+    r = upload_files(client, files)
+    assert r.status_code == status and r.json()["code"] == "unreadable_log", r.text
+    assert words in r.json()["detail"] and "shape" not in r.json()["detail"]
+
+
+def test_the_size_limit_counts_every_file(tmp_path):
+    from fastapi.testclient import TestClient
+
+    from app.main import create_app
+
+    settings = make_settings(tmp_path, max_upload_mb=0.04)  # 41 943 bytes: four pose files are ~35 kB, six ~52 kB
+    with TestClient(create_app(settings), raise_server_exceptions=False) as c:
+        assert upload_files(c, six()[:4]).status_code == 201
+        r = upload_files(c, six())
+        assert r.status_code == 413 and r.json()["code"] == "payload_too_large"
+    assert sorted(p.suffix for p in settings.recordings_dir.iterdir()) == [".zip"]  # the refused one left nothing
