@@ -746,9 +746,31 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
 
 
 def _noise(request, recording: RecordingSource) -> dict:
-    return characterise_log(recording.read(), sensors=request.sensors, array_sensor=request.sensor,
-                            device_id=request.device_id, label=request.label or recording.meta.get("filename"),
-                            **recording.source_fields)
+    log, notes = recording.read(), []
+    if log.parts:  # one file per pose: the noise of one file, never across two
+        log, notes = one_still_file(log)
+    body = characterise_log(log, sensors=request.sensors, array_sensor=request.sensor, device_id=request.device_id,
+                            label=request.label or recording.meta.get("filename"), **recording.source_fields)
+    body["warnings"] = notes + body["warnings"]
+    return body
+
+
+def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
+    """The file of a recording in parts with the longest still stretch, as a log of its own, and a note
+    naming it: the Allan deviation of a sequence joined from several files would see their seams."""
+    from app.calibration.noise_still import longest_still
+    from app.io.parts import part_log
+
+    def still_samples(i):
+        one = part_log(log, i)
+        span = longest_still(getattr(one, one.channels[0]), one.sampling_rate_hz)
+        return 0 if span is None else span[1] - span[0]
+
+    lengths = [still_samples(i) for i in range(len(log.parts))]
+    best = int(np.argmax(lengths))
+    note = (f"the recording is made of {len(log.parts)} files: the noise is characterised on one, "
+            f"{log.parts[best].filename} (the longest still stretch), not across files")
+    return part_log(log, best), [note]
 
 
 # -- the compass: a magnetometer turned through all directions --------------------------------------

@@ -233,3 +233,15 @@ def read_parts_zip(path: Path, members, read, *, name: str) -> LogData:
         note = f"{name}: {', '.join(left)} left out (not a log file)"
         log = dataclasses.replace(log, notes=tuple(log.notes) + (note,))
     return log
+
+
+def part_log(log: LogData, index: int) -> LogData:
+    """One file of a recording in parts, as a log of its own (its samples, its rate, its notes)."""
+    part = log.parts[index]
+
+    def cut(a):
+        return None if a is None else a[part.start:part.end]
+
+    time_s = None if log.time_s is None else log.time_s[part.start:part.end] - log.time_s[part.start]
+    return dataclasses.replace(log, acc=cut(log.acc), gyr=cut(log.gyr), mag=cut(log.mag), time_s=time_s,
+                               sampling_rate_hz=part.sampling_rate_hz, notes=part.notes, parts=())

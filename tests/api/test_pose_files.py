@@ -179,3 +179,20 @@ def test_the_size_limit_counts_every_file(tmp_path):
         r = upload_files(c, six())
         assert r.status_code == 413 and r.json()["code"] == "payload_too_large"
     assert sorted(p.suffix for p in settings.recordings_dir.iterdir()) == [".zip"]  # the refused one left nothing
+
+
+def test_the_noise_of_pose_files_is_one_file_s_never_across_files(client):
+    rec = upload_files(client, six()).json()
+    r = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"], "sensors": ["acc"]})
+    assert r.status_code == 201, r.text
+    body = r.json()
+    assert body["warnings"][0].startswith("the recording is made of 6 files: the noise is characterised on one, ")
+    chosen = body["warnings"][0].split("one, ")[1].split(" (")[0]
+    assert chosen in {f"{s}.csv" for s in ORDER}
+    # The figures are the chosen file's alone, uploaded by itself.
+    alone = upload_files(client, [(chosen, pose_bytes(chosen.removesuffix(".csv")))]).json()
+    single = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": alone["id"],
+                                                      "sensors": ["acc"]}).json()
+    np.testing.assert_allclose(body["model"]["acc"]["noise_density"], single["model"]["acc"]["noise_density"],
+                               rtol=1e-12)
+    assert body["model"]["acc"]["noise_density"][0] < 2e-3  # m/s²/√Hz: a still file's, not a pose change's
