@@ -114,6 +114,30 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
     return body
 
 
+def _short_still_file(acc, part, gravity: float | None, everything) -> tuple[list[dict], str] | None:
+    """A pose file too short for a still segment (under MIN_DURATION_S) that is still all through: the
+    whole file is its pose's reading, as the person who saved it meant (one file, one pose).
+
+    Still means the spread (root of the summed per-axis variances) within CAP_G of gravity and a mean
+    norm within NORM_RANGE_G, the bounds of the still-segment detector (docs/methods.md)."""
+    from app.calibration.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
+
+    if part.n_samples < 2 or part.n_samples / part.sampling_rate_hz >= MIN_DURATION_S:
+        return None
+    a = np.asarray(acc, dtype=float)
+    g = gravity or float(np.median(np.linalg.norm(np.asarray(everything, dtype=float), axis=1)))
+    mean, std = a.mean(axis=0), a.std(axis=0)
+    spread = float(np.sqrt(np.sum(std ** 2)))
+    norm = float(np.linalg.norm(mean))
+    if not (np.all(np.isfinite(mean)) and spread <= CAP_G * g and NORM_RANGE_G[0] * g <= norm <= NORM_RANGE_G[1] * g):
+        return None
+    seg = {"start": 0, "end": part.n_samples, "acc_mean": mean.tolist(), "acc_std": std.tolist(),
+           "up": nearest_orientation(mean), "count": part.n_samples}
+    duration = part.n_samples / part.sampling_rate_hz
+    return [seg], (f"{part.filename}: {duration:.1f} s, shorter than the {MIN_DURATION_S:g} s a still segment needs, "
+                   f"but still all through (spread {spread / g * 1000:.1f} mg): the whole file is its pose's reading")
+
+
 def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
     """A log's still segments in their plain form (docs/rest.md), and notes on a recording in parts.
 
@@ -132,18 +156,21 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
     segments: list[dict] = []
     notes: list[str] = []
     for k, part in enumerate(log.parts):
-        found = detect_static_segments(log.acc[part.start:part.end], part.sampling_rate_hz, gravity=gravity)
+        found = [seg.to_dict() | {"count": seg.count} for seg in
+                 detect_static_segments(log.acc[part.start:part.end], part.sampling_rate_hz, gravity=gravity)]
         named = pose_from_name(part.filename)
-        for seg in found:
-            plain = seg.to_dict()
+        if not found and (short := _short_still_file(log.acc[part.start:part.end], part, gravity, log.acc)):
+            found, note = short
+            notes.append(note)
+        for plain in found:
             plain.update(start=plain["start"] + part.start, end=plain["end"] + part.start)
-            segments.append(dict(index=len(segments), **plain, count=seg.count, source=part.filename, part=k,
+            segments.append(dict(index=len(segments), **plain, source=part.filename, part=k,
                                  **({"pose_from_name": named} if named else {})))
         if not found:
             notes.append(f"{part.filename}: no still stretch found in its {part.n_samples} samples, so it gives no "
                          "reading: record the board resting, untouched, for a few seconds in that pose")
         elif named:
-            ups = [seg.up for seg in found]
+            ups = [seg["up"] for seg in found]
             if any(up != named for up in ups):
                 seen = ", ".join(sorted({up or "no axis within 20°" for up in ups if up != named}))
                 notes.append(f"{part.filename}: its name says {named} up, but its still readings point {seen} "

@@ -196,3 +196,27 @@ def test_the_noise_of_pose_files_is_one_file_s_never_across_files(client):
     np.testing.assert_allclose(body["model"]["acc"]["noise_density"], single["model"]["acc"]["noise_density"],
                                rtol=1e-12)
     assert body["model"]["acc"]["noise_density"][0] < 2e-3  # m/s²/√Hz: a still file's, not a pose change's
+
+
+def test_pose_files_too_short_for_a_still_segment_are_each_one_reading(client):
+    # 60 samples (0.96 s) per pose, under the 1.5 s a still segment needs: each file, still all through, is its
+    # pose's reading, and the calibration is the one its means give.
+    rec = upload_files(client, six(rows=60)).json()
+    assert [(s["source"], s["up"], s["count"], s["end"] - s["start"]) for s in rec["segments"]] == [
+        (f"{s}.csv", UP[s], 60, 60) for s in ORDER]
+    assert len(rec["notes"]) == 6 and rec["notes"][0].startswith(
+        "x_axis_pos.csv: 1.0 s, shorter than the 1.5 s a still segment needs, but still all through (spread ")
+    body = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    assert body["ok"]
+    means = [np.loadtxt(io.BytesIO(pose_bytes(s, 60)), delimiter=",", skiprows=1)[:, 1:4].mean(axis=0) for s in ORDER]
+    np.testing.assert_allclose([r["mean"] for r in body["readings"]], means, rtol=0, atol=1e-12)
+
+
+def test_a_short_file_that_moved_gives_no_reading(client):
+    moving = b"Timestamp,aX (g),aY (g),aZ (g),Temp (C),gX,gY,gZ\n" + b"".join(
+        f"{16 * i},{9.8 * np.cos(i / 10):.3f},{9.8 * np.sin(i / 10):.3f},0.1,26.9,0.0,0.0,1.6\n".encode()
+        for i in range(60))
+    rec = upload_files(client, [("x_axis_pos.csv", pose_bytes("x_axis_pos")), ("x_up_again.csv", moving)]).json()
+    assert [s["source"] for s in rec["segments"]] == ["x_axis_pos.csv"]
+    assert rec["notes"] == ["x_up_again.csv: no still stretch found in its 60 samples, so it gives no reading: record "
+                            "the board resting, untouched, for a few seconds in that pose"]
