@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import re
 import tempfile
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 
@@ -206,7 +207,7 @@ def read_parts_zip(path: Path, members, read, *, name: str) -> LogData:
     Each member is read by ``read(path, member name)`` in the zip's order; the parts are named by
     the members' names without their folders.
     """
-    from .formats.table import read_member
+    from .formats.table import MAX_UNZIPPED_BYTES, read_member
 
     files = log_members(members)
     nested = [m for m in files if m.lower().endswith(".zip")]
@@ -221,6 +222,11 @@ def read_parts_zip(path: Path, members, read, *, name: str) -> LogData:
             f"{name} is a zip holding {listed}: trical reads phyphox exports (Raw Data.csv), Sensor Logger "
             "exports (Metadata.csv with TotalAcceleration.csv or AccelerometerUncalibrated.csv) and zips of log "
             "files (CSV or text, one per pose); upload the CSV itself otherwise", status=415)
+    with zipfile.ZipFile(path) as zf:
+        total = sum(zf.getinfo(m).file_size for m in kept)
+    if total > MAX_UNZIPPED_BYTES:
+        raise LogFormatError(f"the files in {name} expand to {total} bytes together, more than "
+                             f"{MAX_UNZIPPED_BYTES >> 20} MiB: give the files of one calibration only", status=413)
     with tempfile.TemporaryDirectory(prefix="trical-parts-") as tmp:
         sources = []
         for i, member in enumerate(kept):

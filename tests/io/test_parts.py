@@ -72,3 +72,17 @@ def test_files_in_different_units_are_refused_naming_both(tmp_path):
         zf.writestr("x_down.csv", _csv([[0, -1, 0, 0], [10, -1, 0, 0]], "t_ms,acc_x (g),acc_y (g),acc_z (g)"))
     with pytest.raises(LogFormatError, match=r"x_down.csv reads the acc in g but x_up.csv in m/s\^2: give the unit"):
         read_log(p, name="poses.zip")
+
+
+def test_a_zip_whose_files_expand_past_the_limit_together_is_refused(tmp_path, monkeypatch):
+    from app.io.formats import table
+
+    p = tmp_path / "poses.zip"
+    with zipfile.ZipFile(p, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        for name in ("x_up.csv", "x_down.csv"):
+            zf.writestr(name, _csv([[i, 9.81, 0, 0] for i in range(400)]))
+    size = sum(i.file_size for i in zipfile.ZipFile(p).infolist())
+    monkeypatch.setattr(table, "MAX_UNZIPPED_BYTES", size - 1)  # each file alone passes, together they do not
+    with pytest.raises(LogFormatError, match=rf"the files in poses.zip expand to {size} bytes together") as err:
+        read_log(p, name="poses.zip")
+    assert err.value.status == 413
