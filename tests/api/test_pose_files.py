@@ -131,8 +131,8 @@ def test_trical_s_figures_beside_the_maker_s_ferraris_fit(client):
     body = client.post("/api/v1/calibrations", json={
         "method": "six_position", "recording_id": rec["id"], "gravity": PEER["gravity"]}).json()
     K, R, b = np.diag(PEER["K"]), np.asarray(PEER["R"]), np.asarray(PEER["b"])
-    # The same matrix (both take each axis's column from its two poses) ...
-    np.testing.assert_allclose(body["model"]["X"], K @ R, rtol=0, atol=5e-5)
+    # The same matrix (both take each axis's column from its two poses: (m₊ − m₋) / 2g) ...
+    np.testing.assert_allclose(body["model"]["X"], K @ R, rtol=0, atol=1e-7)
     # ... and an offset within 0.011 m/s² (about 1 mg): Ferraris takes each axis's offset from its own two poses,
     # the closed form of Georgieva et al. (ESGI'95, section 3.3.1) the mean of the three pairs.
     offset = np.asarray(body["model"]["y"]) - b
