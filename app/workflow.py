@@ -477,7 +477,13 @@ def _known(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     source: dict = {}
     if recording is not None:
-        readings, used = readings_from_segments(recording.meta, request.method, request.segments)
+        try:
+            readings, used = readings_from_segments(recording.meta, request.method, request.segments)
+        except InsufficientDataError as exc:
+            hint = missing_named_poses(recording.meta)
+            if not hint:
+                raise
+            raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
         source = {**recording.source_fields, "segments_used": used}
     else:
         readings = [Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
@@ -494,6 +500,22 @@ def _means_and_source(request, recording: RecordingSource | None) -> tuple[list,
         return request.means, {}
     means, used = means_from_segments(recording.meta, request.segments)
     return means, {**recording.source_fields, "segments_used": used}
+
+
+def missing_named_poses(meta: dict) -> str:
+    """On a recording of pose files, the poses their names promise that no still reading shows, and the
+    files whose readings point elsewhere ("" when the names and the data agree, or name no pose)."""
+    parts = meta.get("parts") or []
+    named = {p["pose_from_name"] for p in parts if p.get("pose_from_name")}
+    seen = {seg["up"] for seg in meta.get("segments") or []}
+    missing = sorted(named - seen)
+    if not missing:
+        return ""
+    wrong = sorted({f"{seg['source']} holds {seg['up'] or 'no axis'} up" for seg in meta["segments"]
+                    if seg.get("pose_from_name") in missing and seg["up"] != seg["pose_from_name"]})
+    return (f"The files' names promise {', '.join(missing)} up, but no still reading shows it"
+            + (f" ({'; '.join(wrong)})" if wrong else "")
+            + ": record that pose again, or check which file holds which pose")
 
 
 def name_sources(body: dict, recording: RecordingSource | None) -> dict:
@@ -597,7 +619,13 @@ def _auto(request, recording: RecordingSource | None) -> dict:
         return _auto_compass(request, recording)
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
-    result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    try:
+        result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    except InsufficientDataError as exc:
+        hint = missing_named_poses(recording.meta) if recording is not None else ""
+        if not hint:
+            raise
+        raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
     if choice["method"] == "triangular":  # a magnitude model: which poses to add next
         source["advice"] = pose_advice(result)
     return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,

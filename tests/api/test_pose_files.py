@@ -220,3 +220,37 @@ def test_a_short_file_that_moved_gives_no_reading(client):
     assert [s["source"] for s in rec["segments"]] == ["x_axis_pos.csv"]
     assert rec["notes"] == ["x_up_again.csv: no still stretch found in its 60 samples, so it gives no reading: record "
                             "the board resting, untouched, for a few seconds in that pose"]
+
+
+ESP32 = DATA / "real" / "mpu6050_esp32_pose_files"
+ESP32_PEER = json.loads((DATA / "real" / "mpu6050_esp32_pose_files_peer.json").read_text())["raw_avg_accel_lsb"]
+ESP32_ORDER = ("posX", "negX", "posY", "negY", "posZ", "negZ")
+
+
+def test_a_maker_s_pose_file_that_holds_another_pose_is_found_and_named(client):
+    """The ESP32 board's six files: imu_data_posZ.csv holds the -z pose again (tests/data/real/README.md)."""
+    files = [(f"imu_data_{s}.csv", (ESP32 / f"imu_data_{s}.csv").read_bytes()) for s in ESP32_ORDER]
+    rec = upload_files(client, files, acc_unit="raw", lsb_per_g="16384")
+    assert rec.status_code == 201, rec.text
+    rec = rec.json()
+    assert rec["sampling_rate_hz"] == pytest.approx(175.7, abs=0.1)  # every fifth sample of ~878 Hz
+    assert [(s["source"], s["pose_from_name"], s["up"]) for s in rec["segments"]] == [
+        ("imu_data_posX.csv", "+x", "+x"), ("imu_data_negX.csv", "-x", "-x"), ("imu_data_posY.csv", "+y", "+y"),
+        ("imu_data_negY.csv", "-y", "-y"), ("imu_data_posZ.csv", "+z", "-z"), ("imu_data_negZ.csv", "-z", "-z")]
+    assert rec["notes"][-1] == ("imu_data_posZ.csv: its name says +z up, but its still readings point -z up: the "
+                                "data's label is used — check the file's name, or how the board lay")
+    # Each still reading beside the maker's printed average of the file, in counts: within 10 (0.6 mg) for the
+    # five files that are what was printed; the posZ file is 33 000 counts from its printout on z.
+    for seg in rec["segments"]:
+        counts = np.asarray(seg["acc_mean"]) * 16384
+        gap = np.abs(counts - ESP32_PEER[seg["source"]]).max()
+        assert (gap > 33_000) if seg["source"] == "imu_data_posZ.csv" else (gap < 10), (seg["source"], gap)
+    hint = ("The files' names promise +z up, but no still reading shows it (imu_data_posZ.csv holds -z up): record "
+            "that pose again, or check which file holds which pose")
+    for method in ("auto", "six_position"):
+        r = client.post("/api/v1/calibrations", json={"method": method, "recording_id": rec["id"]})
+        assert r.status_code == 422 and r.json()["code"] == "insufficient_data", r.text
+        assert r.json()["detail"].endswith(hint)
+    six = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    assert six["detail"].startswith("the recording has no still segment with +z up; found +x (segment 0), -x "
+                                    "(segment 1), +y (segment 2), -y (segment 3), -z (segment 4).")
