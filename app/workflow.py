@@ -633,6 +633,11 @@ def _auto(request, recording: RecordingSource | None) -> dict:
 
 
 def _cube(request, recording: RecordingSource) -> dict:
+    if recording.meta.get("parts"):
+        raise CalibrationError(
+            f"the cube method follows the turns between its positions in one recording; this one is made of "
+            f"{len(recording.meta['parts'])} files (one per pose), which hold no turns: calibrate the accelerometer "
+            "from them with method six_position or orientations, or record the cube session in one file")
     log = recording.read()
     require_accelerometer(log.channels, "cube")
     unit = log.units["acc"]

@@ -254,3 +254,14 @@ def test_a_maker_s_pose_file_that_holds_another_pose_is_found_and_named(client):
     six = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
     assert six["detail"].startswith("the recording has no still segment with +z up; found +x (segment 0), -x "
                                     "(segment 1), +y (segment 2), -y (segment 3), -z (segment 4).")
+
+
+@pytest.mark.parametrize("protocol", ["cube24", "ferraris"])
+def test_the_cube_method_refuses_pose_files_naming_what_to_do(client, protocol):
+    rec = upload_files(client, six()).json()
+    r = client.post("/api/v1/calibrations", json={"method": "cube", "recording_id": rec["id"], "protocol": protocol})
+    assert r.status_code == 422 and r.json()["code"] == "calibration_refused"
+    assert r.json()["detail"] == (
+        "the cube method follows the turns between its positions in one recording; this one is made of 6 files "
+        "(one per pose), which hold no turns: calibrate the accelerometer from them with method six_position or "
+        "orientations, or record the cube session in one file")
