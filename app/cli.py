@@ -26,6 +26,7 @@ from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.formats import FORMATS
+from app.io.parts import refuse_repeated_names
 from app.requests import ValidationError, describe_errors, parse_calibration_request
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
@@ -202,11 +203,7 @@ def _one_recording(paths: list[Path], tmp: Path) -> Path:
     is read as one recording in parts (app.io.parts), as the API stores several uploaded files."""
     if len(paths) == 1:
         return paths[0]
-    names = [p.name for p in paths]
-    twice = sorted({n for n in names if names.count(n) > 1})
-    if twice:
-        raise LogFormatError(f"{', '.join(twice)} is given more than once (two files of one name): give each "
-                             "pose's file once, each with its own name")
+    refuse_repeated_names([p.name for p in paths])
     joined = tmp / "poses.zip"
     with zipfile.ZipFile(joined, "w", compression=zipfile.ZIP_STORED) as zf:
         for p in paths:

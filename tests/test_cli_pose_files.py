@@ -55,8 +55,8 @@ def test_two_files_of_one_name_and_a_missing_file_are_one_line_errors(tmp_path):
     out = trical("calibrate", str(POSES / "x_axis_pos.csv"), str(tmp_path / "a" / "x_axis_pos.csv"), "--unit",
                  "m/s^2", "--no-store", tmp_path=tmp_path)
     assert out.returncode == 2 and out.stdout == ""
-    assert out.stderr == ("trical: error: x_axis_pos.csv is given more than once (two files of one name): give each "
-                          "pose's file once, each with its own name\n")
+    assert out.stderr == ("trical: error: x_axis_pos.csv is given more than once: give each pose's file once, each "
+                          "with its own name\n")
     missing = trical("calibrate", str(POSES / "x_axis_pos.csv"), str(tmp_path / "x_axis_neg.csv"), "--no-store",
                      tmp_path=tmp_path)
     assert missing.returncode == 2 and missing.stderr == f"trical: error: no such file: {tmp_path / 'x_axis_neg.csv'}\n"

@@ -14,7 +14,7 @@ from app.api.deps import get_owner, get_settings, get_store
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import RecordingOut
 from app.config import Settings
-from app.io.errors import LogFormatError
+from app.io.parts import refuse_repeated_names
 from app.store import Store, new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
@@ -48,11 +48,7 @@ def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
 
 def save_uploads_as_zip(uploads: list[tuple[str, object]], dest: Path, limit_bytes: int, limit_mb: float) -> None:
     """Store several uploaded files as one zip, each under its own name, refusing them past the size limit."""
-    names = [name for name, _ in uploads]
-    twice = sorted({n for n in names if names.count(n) > 1})
-    if twice:
-        raise LogFormatError(f"{', '.join(twice)} is uploaded more than once: give each pose's file once, each with "
-                             "its own name")
+    refuse_repeated_names([name for name, _ in uploads])
     dest.parent.mkdir(parents=True, exist_ok=True)
     size = 0
     try:

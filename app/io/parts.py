@@ -109,6 +109,14 @@ def log_members(members) -> list[str]:
     return kept
 
 
+def refuse_repeated_names(names) -> None:
+    """Refuse two files of one name in one recording: each file's name is what its readings are called by."""
+    twice = sorted({n for n in names if list(names).count(n) > 1})
+    if twice:
+        raise LogFormatError(f"{', '.join(twice)} is given more than once: give each pose's file once, each "
+                             "with its own name")
+
+
 def read_parts(sources: list[tuple[str, Path]], read, *, name: str) -> LogData:
     """Read every file of a recording in parts with ``read`` and join them end to end.
 
@@ -137,11 +145,7 @@ def read_parts(sources: list[tuple[str, Path]], read, *, name: str) -> LogData:
     if len(sources) > MAX_PARTS:
         raise LogFormatError(f"{name} holds {len(sources)} files; at most {MAX_PARTS} are read as one recording: "
                              "give the files of one calibration only")
-    names = [n for n, _ in sources]
-    twice = sorted({n for n in names if names.count(n) > 1})
-    if twice:
-        raise LogFormatError(f"{', '.join(twice)} is given more than once: give each pose's file once, each "
-                             "with its own name")
+    refuse_repeated_names([n for n, _ in sources])
     logs = []
     for part_name, path in sources:
         if part_name.lower().endswith(".zip"):

@@ -154,7 +154,7 @@ def test_trical_s_figures_beside_the_maker_s_ferraris_fit(client):
 @pytest.mark.parametrize("files, status, words", [
     ([("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,9.8,0,0\n1,9.8,0,0\n"),
       ("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,-9.8,0,0\n1,-9.8,0,0\n")], 422,
-     "x_axis_pos.csv is uploaded more than once"),
+     "x_axis_pos.csv is given more than once: give each pose's file once"),
     ([("x_axis_pos.csv", pose_bytes("x_axis_pos")),
       ("x_axis_neg.csv", b"t,acc_x,acc_y,acc_z\n" + b"".join(
           f"{16 * i},-9.4,-0.3,0.9\n".encode() for i in range(200)))], 422,
