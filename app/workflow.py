@@ -25,6 +25,7 @@ from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
+from app.io.parts import pose_from_name
 from app.summary import compass_headline, headline
 from app.verdict import figure_unit, verdict
 
@@ -89,13 +90,13 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
     ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
     it is kept with the sign applied, so that the stored file is read again the same way.
     """
-    segments = still_segments(log)
+    segments, part_notes = still_segments(log)
     rate = log.sampling_rate_hz
-    notes = list(log.notes)
+    notes = list(log.notes) + part_notes
     if log.acc is not None and log.sampling_rate_hz is None:
         notes.append(f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
                      "their start and end are sample indices")
-    return {
+    body = {
         "format": log.format,
         "n_samples": log.n_samples,
         "sampling_rate_hz": rate,
@@ -110,9 +111,39 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
                       "sampling_rate_hz": None, **(read_with or {}), "sign": log.sign},
         "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
-        "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
+        "segments": segments,
         "overview": overview(log),
     }
+    if log.parts:
+        body["parts"] = [{"index": i, "filename": p.filename, "start": p.start, "end": p.end,
+                          "n_samples": p.n_samples, "sampling_rate_hz": p.sampling_rate_hz,
+                          "pose_from_name": pose_from_name(p.filename)} for i, p in enumerate(log.parts)]
+    return body
+
+
+def _short_still_file(acc, part, gravity: float | None, everything) -> tuple[list[dict], str] | None:
+    """A pose file too short for a still segment (under MIN_DURATION_S) that is still all through: the
+    whole file is its pose's reading, as the person who saved it meant (one file, one pose).
+
+    Still means the spread (root of the summed per-axis variances) within CAP_G of gravity and a mean
+    norm within NORM_RANGE_G, the bounds of the still-segment detector (docs/methods.md)."""
+    from app.calibration.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
+
+    rate = part.sampling_rate_hz or NOMINAL_RATE_HZ
+    if part.n_samples < 2 or part.n_samples / rate >= MIN_DURATION_S:
+        return None
+    a = np.asarray(acc, dtype=float)
+    g = gravity or float(np.median(np.linalg.norm(np.asarray(everything, dtype=float), axis=1)))
+    mean, std = a.mean(axis=0), a.std(axis=0)
+    spread = float(np.sqrt(np.sum(std ** 2)))
+    norm = float(np.linalg.norm(mean))
+    if not (np.all(np.isfinite(mean)) and spread <= CAP_G * g and NORM_RANGE_G[0] * g <= norm <= NORM_RANGE_G[1] * g):
+        return None
+    seg = {"start": 0, "end": part.n_samples, "acc_mean": mean.tolist(), "acc_std": std.tolist(),
+           "up": nearest_orientation(mean), "count": part.n_samples}
+    duration = part.n_samples / rate
+    return [seg], (f"{part.filename}: {duration:.1f} s, shorter than the {MIN_DURATION_S:g} s a still segment needs, "
+                   f"but still all through (spread {spread / g * 1000:.1f} mg): the whole file is its pose's reading")
 
 
 NOMINAL_RATE_HZ = 100.0
@@ -120,27 +151,63 @@ NOMINAL_RATE_HZ = 100.0
 windows and least length are counted in samples as at 100 Hz; a note says so."""
 
 
-def still_segments(log: LogData) -> list:
-    """The accelerometer's still segments (app.calibration.static), none spanning a gap of the time column.
-
-    A log of other sensors alone has none. Each stretch between gaps is searched on its own, so that a
-    segment's samples are contiguous in time; a stretch shorter than one window holds none.
-    """
-    if log.acc is None:
-        return []
-    unit = log.units.get("acc")
-    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
-    rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
-    bounds = [0, *(g.index for g in log.gaps), len(log.acc)]
+def _still_between_gaps(acc, rate: float, gravity: float | None, cuts) -> list:
+    """Still segments (app.calibration.static) of ``acc``, each stretch between the sample indices
+    ``cuts`` (gaps of the time column) searched on its own, so that a segment's samples are contiguous
+    in time; a stretch shorter than one window holds none."""
+    bounds = [0, *cuts, len(acc)]
     out = []
     for a, b in zip(bounds[:-1], bounds[1:]):
         try:
-            found = detect_static_segments(log.acc[a:b], rate, gravity=gravity)
+            found = detect_static_segments(acc[a:b], rate, gravity=gravity)
         except InsufficientDataError:  # shorter than one window: no rest in it
             continue
         out += [dataclasses.replace(seg, start=seg.start + a, end=seg.end + a,
                                     gaps=tuple((p + a, q + a) for p, q in seg.gaps)) for seg in found]
     return out
+
+
+def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
+    """A log's still segments in their plain form (docs/rest.md), and notes on a recording in parts.
+
+    The segments are the accelerometer's (a log of other sensors alone has none), none spanning a gap
+    of the time column. A recording made of several files (one per pose, :mod:`app.io.parts`) is
+    searched file by file, so that no segment joins two files; each segment then names its file
+    (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
+    readings contradict gets a note.
+    """
+    if log.acc is None:
+        return [], []
+    unit = log.units.get("acc")
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
+    if not log.parts:
+        found = _still_between_gaps(log.acc, rate, gravity, [g.index for g in log.gaps])
+        return [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(found)], []
+    segments: list[dict] = []
+    notes: list[str] = []
+    for k, part in enumerate(log.parts):
+        cuts = [g.index - part.start for g in log.gaps if part.start < g.index < part.end]
+        found = [seg.to_dict() | {"count": seg.count} for seg in
+                 _still_between_gaps(log.acc[part.start:part.end], part.sampling_rate_hz or rate, gravity, cuts)]
+        named = pose_from_name(part.filename)
+        if not found and (short := _short_still_file(log.acc[part.start:part.end], part, gravity, log.acc)):
+            found, note = short
+            notes.append(note)
+        for plain in found:
+            plain.update(start=plain["start"] + part.start, end=plain["end"] + part.start)
+            segments.append(dict(index=len(segments), **plain, source=part.filename, part=k,
+                                 **({"pose_from_name": named} if named else {})))
+        if not found:
+            notes.append(f"{part.filename}: no still stretch found in its {part.n_samples} samples, so it gives no "
+                         "reading: record the board resting, untouched, for a few seconds in that pose")
+        elif named:
+            ups = [seg["up"] for seg in found]
+            if any(up != named for up in ups):
+                seen = ", ".join(sorted({up or "no axis within 20°" for up in ups if up != named}))
+                notes.append(f"{part.filename}: its name says {named} up, but its still readings point {seen} "
+                             f"up: the data's label is used — check the file's name, or how the board lay")
+    return segments, notes
 
 
 OVERVIEW_POINTS = 300
@@ -507,15 +574,21 @@ def _known(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     source: dict = {}
     if recording is not None:
-        readings, used = readings_from_segments(recording.meta, request.method, request.segments)
+        try:
+            readings, used = readings_from_segments(recording.meta, request.method, request.segments)
+        except InsufficientDataError as exc:
+            hint = missing_named_poses(recording.meta)
+            if not hint:
+                raise
+            raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
         source = {**recording.source_fields, "segments_used": used}
     else:
         readings = [Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
                             std=None if r.std is None else tuple(r.std), count=r.count)
                     for r in request.readings]
     result, extra = calibrate_known(request.method, readings, unit=unit, gravity=gravity, holdout=request.holdout)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, **source), recording)
 
 
 def _means_and_source(request, recording: RecordingSource | None) -> tuple[list, dict]:
@@ -526,13 +599,47 @@ def _means_and_source(request, recording: RecordingSource | None) -> tuple[list,
     return means, {**recording.source_fields, "segments_used": used}
 
 
+def missing_named_poses(meta: dict) -> str:
+    """On a recording of pose files, the poses their names promise that no still reading shows, and the
+    files whose readings point elsewhere ("" when the names and the data agree, or name no pose)."""
+    parts = meta.get("parts") or []
+    named = {p["pose_from_name"] for p in parts if p.get("pose_from_name")}
+    seen = {seg["up"] for seg in meta.get("segments") or []}
+    missing = sorted(named - seen)
+    if not missing:
+        return ""
+    wrong = sorted({f"{seg['source']} holds {seg['up'] or 'no axis'} up" for seg in meta["segments"]
+                    if seg.get("pose_from_name") in missing and seg["up"] != seg["pose_from_name"]})
+    return (f"The files' names promise {', '.join(missing)} up, but no still reading shows it"
+            + (f" ({'; '.join(wrong)})" if wrong else "")
+            + ": record that pose again, or check which file holds which pose")
+
+
+def name_sources(body: dict, recording: RecordingSource | None) -> dict:
+    """On a recording made of several files (one per pose), each reading of the calibration names its
+    file (``source``), and a warning names each file whose name gives a pose its reading contradicts."""
+    if recording is None or not recording.meta.get("parts"):
+        return body
+    segments = recording.meta["segments"]
+    for reading, i in zip(body.get("readings") or [], body.get("segments_used") or []):
+        seg = segments[i]
+        reading["source"] = seg.get("source")
+        named = seg.get("pose_from_name")
+        if named and seg["up"] != named:
+            body["warnings"].append(
+                f"{seg.get('source')} names {named} up, but its still reading points "
+                f"{seg['up'] or 'to no axis within 20°'}{' up' if seg['up'] else ''}: the data's pose was used — check "
+                "the file's name, or how the board lay")
+    return body
+
+
 def _magnitude(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
     result, extra = calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
                                       solver=getattr(request, "solver", "lm"), holdout=request.holdout)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, advice=pose_advice(result), **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, advice=pose_advice(result), **source), recording)
 
 
 def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdout=None) -> tuple:
@@ -609,14 +716,25 @@ def _auto(request, recording: RecordingSource | None) -> dict:
         return _auto_compass(request, recording)
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
-    result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    try:
+        result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    except InsufficientDataError as exc:
+        hint = missing_named_poses(recording.meta) if recording is not None else ""
+        if not hint:
+            raise
+        raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
     if choice["method"] == "triangular":  # a magnitude model: which poses to add next
         source["advice"] = pose_advice(result)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, choice=choice, **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, choice=choice, **source), recording)
 
 
 def _cube(request, recording: RecordingSource) -> dict:
+    if recording.meta.get("parts"):
+        raise CalibrationError(
+            f"the cube method follows the turns between its positions in one recording; this one is made of "
+            f"{len(recording.meta['parts'])} files (one per pose), which hold no turns: calibrate the accelerometer "
+            "from them with method six_position or orientations, or record the cube session in one file")
     log = recording.read()
     require_accelerometer(log.channels, "cube")
     unit = log.units["acc"]
@@ -825,9 +943,31 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
 
 
 def _noise(request, recording: RecordingSource) -> dict:
-    return characterise_log(recording.read(), sensors=request.sensors, array_sensor=request.sensor,
-                            device_id=request.device_id, label=request.label or recording.meta.get("filename"),
-                            **recording.source_fields)
+    log, notes = recording.read(), []
+    if log.parts:  # one file per pose: the noise of one file, never across two
+        log, notes = one_still_file(log)
+    body = characterise_log(log, sensors=request.sensors, array_sensor=request.sensor, device_id=request.device_id,
+                            label=request.label or recording.meta.get("filename"), **recording.source_fields)
+    body["warnings"] = notes + body["warnings"]
+    return body
+
+
+def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
+    """The file of a recording in parts with the longest still stretch, as a log of its own, and a note
+    naming it: the Allan deviation of a sequence joined from several files would see their seams."""
+    from app.calibration.noise_still import longest_still
+    from app.io.parts import part_log
+
+    def still_samples(i):
+        one = part_log(log, i)
+        span = longest_still(getattr(one, one.channels[0]), one.sampling_rate_hz)
+        return 0 if span is None else span[1] - span[0]
+
+    lengths = [still_samples(i) for i in range(len(log.parts))]
+    best = int(np.argmax(lengths))
+    note = (f"the recording is made of {len(log.parts)} files: the noise is characterised on one, "
+            f"{log.parts[best].filename} (the longest still stretch), not across files")
+    return part_log(log, best), [note]
 
 
 # -- the compass: a magnetometer turned through all directions --------------------------------------

@@ -122,6 +122,8 @@ class AffineReading(Out):
     fit_error_raw: float
     norm_error: float
     norm_error_raw: float
+    source: str | None = Field(None, description=(
+        "A recording made of several files (one per pose): the file this reading came from."))
 
 
 class MagnitudeReading(Out):
@@ -130,6 +132,8 @@ class MagnitudeReading(Out):
     calibrated: Vec3Out
     norm_error: float
     norm_error_raw: float
+    source: str | None = Field(None, description=(
+        "A recording made of several files (one per pose): the file this reading came from."))
 
 
 class VerdictOut(Out):
@@ -639,6 +643,23 @@ class SegmentOut(BaseModel):
     acc_std: list[float]
     up: str | None
     count: int
+    source: str | None = Field(None, description="A recording made of several files: the file the segment is in.")
+    part: int | None = Field(None, description="The index of that file in `parts`.")
+    pose_from_name: str | None = Field(None, description=(
+        "The up axis the file's name gives (x_axis_pos → +x, z_down → -z), when it gives one; the data decide `up`, "
+        "and a note names a file whose name they contradict."))
+
+
+class PartOut(BaseModel):
+    """One file of a recording made of several files (one per pose), in the order given."""
+
+    index: int
+    filename: str = Field(description="The file's name as uploaded (in a zip: its name without folders).")
+    start: int = Field(description="Its first sample in the recording.")
+    end: int = Field(description="The sample after its last.")
+    n_samples: int
+    sampling_rate_hz: float
+    pose_from_name: str | None = Field(None, description="The up axis its name gives, if any.")
 
 
 class ReadWithOut(BaseModel):
@@ -710,6 +731,9 @@ class RecordingOut(BaseModel):
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
     read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")
     segments: list[SegmentOut]
+    parts: list[PartOut] | None = Field(None, description=(
+        "A recording made of several files (several `file` parts, or a zip of log files): each file, in order; "
+        "absent for one file."))
     overview: LogOverview | None = Field(None, description="For a plot of the log; absent from recordings stored "
                                                            "before it existed.")
 

@@ -50,6 +50,9 @@ class LogData:
     sign : int
         The factor the file's accelerations were multiplied by on reading: −1 when they came on the
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
+    parts : tuple of app.io.parts.Part
+        A recording made of several files (one per pose): each file's name and its samples; empty
+        for a recording of one file.
     """
 
     acc: np.ndarray | None
@@ -63,6 +66,7 @@ class LogData:
     notes: tuple = ()
     sign: int = 1
     warnings: tuple = ()
+    parts: tuple = ()
     timing: Timing | None = None
 
     @property

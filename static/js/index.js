@@ -95,9 +95,13 @@ function showResult(cal) {
   const perReading = Boolean(cal.readings && cal.readings.length);
   $("#result-readings").hidden = !perReading;
   $("#result-readings-h").hidden = !perReading;
+  // One file per pose: each reading names its file.
+  const fromFiles = (cal.readings || []).some((r) => r.source);
+  $("#result-readings .file-col").hidden = !fromFiles;
   $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
     const tr = document.createElement("tr");
     tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
+    if (fromFiles) tr.append(cell("td", r.source ?? "—"));
     return tr;
   }));
   // A noise characterisation's Allan deviation: the server draws it (the allan_svg export), one source.
@@ -162,6 +166,7 @@ function clearOutput() {
   resetUse();
   note("#upload-msg", "");
   note("#segments-msg", "");
+  $("#segments-notes").hidden = true;
 }
 
 async function calibrate(payload, doing, refused, where) {
@@ -220,18 +225,26 @@ function showSegments(rec) {
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
   // Seconds, one decimal, always; a log without a sampling rate counts samples.
   const sec = (i) => (rec.sampling_rate_hz ? (i / rec.sampling_rate_hz).toFixed(1) : String(i));
+  // A recording made of several files (one per pose): each segment names its file.
+  const parts = rec.parts || [];
+  $("#segments-table .file-col").hidden = !parts.length;
   $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
     const tr = document.createElement("tr");
     tr.append(cell("td", String(s.index + 1)), cell("td", `${sec(s.start)}–${sec(s.end)}`), cell("td", s.up ?? "—"),
       cell("td", s.acc_mean.map((v) => formatNumber(v, 3)).join(", ")));
+    if (parts.length) tr.append(cell("td", s.source ?? "—"));
     return tr;
   }));
   $("#segments-table").hidden = !still;
   const rate = rec.sampling_rate_hz ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
     : `${rec.n_samples} samples (no time column)`;
-  note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}: calibrating…`
-    : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}: calibrating the compass…`
-      : `The ${rec.channels.join(" and ")} alone, ${rate}: nothing to calibrate from its poses…`);
+  const files = parts.length ? ` of ${parts.length} files` : "";
+  note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}${files}: calibrating…`
+    : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
+      : `The ${rec.channels.join(" and ")} alone, ${rate}${files}: nothing to calibrate from its poses…`);
+  // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest).
+  $("#segments-notes").hidden = !(parts.length && rec.notes.length);
+  $("#segments-notes").textContent = parts.length ? rec.notes.join(" ") : "";
 }
 
 // The file's header was not recognised: a control per column to say what it holds.

@@ -129,6 +129,60 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     assert page.errors == refused
 
 
+POSE_FILES = DATA / "real" / "mpu6050_pose_files"
+POSE_ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
+
+
+def upload_pose_files(page, server, paths):
+    """A maker's six pose files (an MPU-6050's, in m/s² under an "aX (g)" header): chosen at once, unit m/s²."""
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", [str(p) for p in paths])
+    page.click("#options-summary")
+    page.select_option("#log-unit", "m/s^2")
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#segments:not([hidden])")
+
+
+def test_one_file_per_pose_chosen_at_once_is_one_calibration(page, server):
+    upload_pose_files(page, server, [POSE_FILES / f"{s}.csv" for s in POSE_ORDER])
+    rows = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))")
+    assert [(r[2], r[4]) for r in rows] == [("+x", "x_axis_pos.csv"), ("-x", "x_axis_neg.csv"), ("+y", "y_axis_pos.csv"),
+                                            ("-y", "y_axis_neg.csv"), ("+z", "z_axis_pos.csv"), ("-z", "z_axis_neg.csv")]
+    assert page.locator("#segments-table th.file-col").is_visible()
+    page.wait_for_selector("#result:not([hidden])")
+    page.wait_for_selector("#downloads[data-ready=true]")
+    shot(page, "start_page_pose_files")
+    assert page.get_attribute("#verdict", "data-kind") == "apply"
+    assert page.text_content("#result-choice").startswith("Method six_position: the 6 poses are the six axis")
+    readings = page.eval_on_selector_all("#result-readings tbody tr", "rows => rows.map(r => [r.cells[0].textContent, r.cells[3].textContent])")
+    assert sorted(map(tuple, readings)) == sorted([("+x", "x_axis_pos.csv"), ("-x", "x_axis_neg.csv"), ("+y", "y_axis_pos.csv"),
+                                       ("-y", "y_axis_neg.csv"), ("+z", "z_axis_pos.csv"), ("-z", "z_axis_neg.csv")])
+    assert page.locator("#segments-notes").is_hidden()
+    assert page.errors == []
+
+
+def test_a_zip_of_pose_files_with_a_misnamed_one_is_labelled_by_the_data(page, server, tmp_path):
+    import zipfile
+
+    names = {s: f"{s}.csv" for s in POSE_ORDER}
+    names.update(z_axis_pos="z_axis_neg.csv", z_axis_neg="z_axis_pos.csv")  # two names swapped by hand
+    path = tmp_path / "poses.zip"
+    with zipfile.ZipFile(path, "w") as zf:
+        for s in POSE_ORDER:
+            zf.write(POSE_FILES / f"{s}.csv", f"poses/{names[s]}")
+    upload_pose_files(page, server, [path])
+    rows = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => [r.cells[2].textContent, r.cells[4].textContent])")
+    assert rows[4:] == [["+z", "z_axis_neg.csv"], ["-z", "z_axis_pos.csv"]]
+    notes = page.text_content("#segments-notes")
+    assert "z_axis_neg.csv: its name says -z up, but its still readings point +z up" in notes
+    assert "z_axis_pos.csv: its name says +z up, but its still readings point -z up" in notes
+    page.wait_for_selector("#result:not([hidden])")
+    warnings = page.eval_on_selector_all("#result-warnings li", "lis => lis.map(l => l.textContent)")
+    assert any(w.startswith("z_axis_neg.csv names -z up, but its still reading points +z up") for w in warnings)
+    assert page.get_attribute("#verdict", "data-kind") == "apply"
+    assert page.errors == []
+
+
 def test_bad_paste_is_explained(page, server):
     page.goto(server.url + "/")
     page.fill("#paste", "1 2 3\n4 5")

@@ -16,6 +16,8 @@ format                    recognised by
 ``sensorlog``             header naming ``accelerometerAccelerationX(G)`` … (SensorLog, iOS)
 ``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
 ``csv``                   any other header row, or none (:mod:`app.io.formats.generic_csv`)
+(parts)                   any other zip: its log files, one per pose, read each as above and
+                          joined as one recording in parts (:mod:`app.io.parts`)
 ========================  =====================================================================
 
 Then the sign (:mod:`.ios_sign`): the caller's ``sign`` (+1 keeps, −1 negates the accelerations),
@@ -221,6 +223,16 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     check_sign(sign)
     column_map = parse_columns(columns)
     s = sniff(path, name)
+    if s.is_zip and format not in (phyphox.NAME, sensor_logger.NAME) and not (phyphox.detect(s) or sensor_logger.detect(s)) \
+            and not any(m.startswith("xl/") for m in s.members):
+        # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
+        from ..parts import read_parts_zip
+
+        def read_part(part_path, part_name):
+            return read_log(part_path, format=format, sampling_rate_hz=sampling_rate_hz, units=units,
+                            lsb_per_g=lsb_per_g, columns=columns, sign=sign, name=part_name)
+
+        return read_parts_zip(path, s.members, read_part, name=name)
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
         raise LogFormatError(f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
                              "leave columns out, or use format=csv")
