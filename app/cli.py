@@ -12,7 +12,9 @@ import argparse
 import json
 import os
 import sys
+import tempfile
 import traceback
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +26,7 @@ from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.formats import FORMATS
+from app.io.parts import refuse_repeated_names
 from app.requests import ValidationError, describe_errors, parse_calibration_request
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
@@ -58,7 +61,9 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--key", type=opt.input_path("the PEM private key of --cert"), default=None, metavar="FILE", help="PEM private key of --cert")
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
-    c.add_argument("log", type=opt.input_path("a log file"), help="log: CSV with a header row, or a phyphox / Sensor Logger zip")
+    c.add_argument("log", type=opt.input_path("a log file"), nargs="+",
+                   help="log: CSV with a header row, a phyphox / Sensor Logger zip, or several files (one per pose, "
+                        "or a zip of them): one calibration, each reading naming its file")
     c.add_argument("--method", choices=AUTO_METHODS + KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS + FIELD_METHODS, default="auto",
                    help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones")
     c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help="cube only")
@@ -67,7 +72,7 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--sections", type=opt.input_path("a section list (JSON)"), default=None, metavar="FILE.json",
                    help="cube with --protocol ferraris: imucal's annotated section list (x_p … z_rot, sample indices)")
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
-    c.add_argument("--mag-unit", choices=("uT", "nT", "raw"), default=None)
+    c.add_argument("--mag-unit", choices=("uT", "nT", "gauss", "raw"), default=None)
     c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
                    help="triangular only: lm, or Farago et al.'s descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column")
@@ -127,6 +132,10 @@ def _read_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--columns", type=opt.text("column names or a mapping"), default=None, metavar="NAMES",
                         help="name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips "
                              "one; for logs without a header row), or map unrecognised ones, e.g. acc_x:north,…")
+    parser.add_argument("--chip", type=opt.CHIP, default=None, metavar="PARTS",
+                        help="the parts (and ranges) of sensors logged in counts, separated by commas, e.g. "
+                             "mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s and uT "
+                             "(the list: README, Units)")
     parser.add_argument("--sign", type=int, choices=(1, -1), default=None,
                         help="factor on the log's accelerations: -1 for iOS Core Motion's sign (-g up), 1 to keep "
                              "them (default: detected from the header)")
@@ -189,13 +198,34 @@ def _print_qr(drawing: str) -> None:
 
 
 def _calibrate(args, settings: Settings) -> int:
+    with tempfile.TemporaryDirectory(prefix="trical-") as tmp:
+        return _calibrate_files(args, settings, _one_recording(args.log, Path(tmp)))
+
+
+def _one_recording(paths: list[Path], tmp: Path) -> Path:
+    """The log to read: the one path, or the pose files put together, each under its name, in a zip that
+    is read as one recording in parts (app.io.parts), as the API stores several uploaded files."""
+    if len(paths) == 1:
+        return paths[0]
+    refuse_repeated_names([p.name for p in paths])
+    joined = tmp / "poses.zip"
+    with zipfile.ZipFile(joined, "w", compression=zipfile.ZIP_STORED) as zf:
+        for p in paths:
+            if not p.is_file():
+                raise FileNotFoundError(2, "No such file", str(p))
+            zf.write(p, p.name)
+    return joined
+
+
+def _calibrate_files(args, settings: Settings, path: Path) -> int:
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
     read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
-                     sign=args.sign)
-    log = workflow.load_log(args.log, sampling_rate_hz=args.sampling_rate_hz, name=str(args.log), **read_with)
-    recording = workflow.describe_log(log, read_with)
+                     sign=args.sign, chip=args.chip)
+    name = ", ".join(str(p) for p in args.log)
+    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
+    recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
     request = parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
-    body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=args.log, log=log))
+    body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
     if not args.no_store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:
@@ -208,9 +238,9 @@ def _calibrate(args, settings: Settings) -> int:
 def _calibration_request(args, *, unit: str) -> dict:
     """The request of POST /api/v1/calibrations that ``trical calibrate`` makes of its options; the
     log file stands in for the stored recording."""
-    request = {"method": args.method, "recording_id": str(args.log), "gravity": args.gravity,
+    request = {"method": args.method, "recording_id": ", ".join(str(p) for p in args.log), "gravity": args.gravity,
                "latitude_deg": args.latitude_deg, "height_m": args.height_m, "device_id": args.device_id,
-               "label": str(args.log.name)}
+               "label": ", ".join(p.name for p in args.log)}
     if args.method in CUBE_METHODS:
         request.update(protocol=args.protocol, field_ut=args.field_ut)
         if args.sections is not None:
@@ -235,11 +265,19 @@ def _read_sections(path) -> object:
 
 
 def _print_summary(body: dict, recording: dict) -> None:
-    print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples "
-          f"at {recording['sampling_rate_hz']:g} Hz; used {body.get('segments_used', 'all')}")
+    rate = recording["sampling_rate_hz"]
+    files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
+    print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples{files} "
+          f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; used {body.get('segments_used', 'all')}")
     if body.get("id"):
         print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
     _print_verdict(body)
+    if recording.get("parts"):  # one file per pose: what each file gave
+        used = body.get("segments_used") or []
+        for r, i in zip(body.get("readings") or [], used):
+            up = recording["segments"][i]["up"]
+            print(f"{r.get('source')}: {up + ' up' if up else 'no axis within 20°'}, mean "
+                  + "  ".join(f"{v:.4f}" for v in r["mean"]))
     for name, value in body["model"].items():
         if name == "type" or isinstance(value, dict) or value is None:
             if isinstance(value, dict):
@@ -298,7 +336,7 @@ class _ProgressBar:
 def _autocal_options(args) -> dict:
     return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
                 latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
-                device_id=args.device_id, columns=args.columns, sign=args.sign)
+                device_id=args.device_id, columns=args.columns, sign=args.sign, chip=args.chip)
 
 
 def _autocal_job(path: str, options: dict) -> dict:
@@ -424,7 +462,7 @@ def _noise(args, settings: Settings) -> int:
         units = {sensor: args.unit}
     read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
     log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=str(args.path),
-                            columns=args.columns, sign=args.sign)
+                            columns=args.columns, sign=args.sign, chip=args.chip)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
     body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],

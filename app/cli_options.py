@@ -111,6 +111,26 @@ def day(what: str):
     return parse
 
 
+def chips(what: str):
+    """One or more part names separated by commas, each one trical knows (app.io.formats.chips)."""
+
+    def parse(value: str) -> str:
+        from app.io.errors import LogFormatError
+        from app.io.formats.chips import parse_chips
+
+        if not value.strip():
+            raise argparse.ArgumentTypeError(f"an empty value: give {what}")
+        try:
+            parse_chips(value)
+        except LogFormatError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+        return value
+
+    parse.refuses = ("", "mpu9999", "mpu6050-2g,mpu6050-4g")
+    parse.__name__ = what
+    return parse
+
+
 PORT = number("a TCP port", low=1, high=65535, integer=True)
 LATITUDE = number("a latitude in degrees", low=-90, high=90)
 LONGITUDE = number("a longitude in degrees, east positive", low=-180, high=180)
@@ -120,4 +140,5 @@ GRAVITY = number("a gravity in m/s^2", low=0.1, high=100)
 SAMPLING_RATE = number("a sampling rate in Hz", low=0, high=100000, low_open=True)
 LSB_PER_G = number("counts per g", low=0, low_open=True)
 FIELD_UT = number("a magnetic field magnitude in µT", low=0, high=1000, low_open=True)
+CHIP = chips("the parts of the log's sensors, e.g. mpu6050-4g,ak8963-16bit")
 WORKERS = number("a number of worker processes", low=1, integer=True)

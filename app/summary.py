@@ -31,13 +31,14 @@ def headline(metrics: dict) -> str:
     return f"{first}; {which} {_mg(metrics['error_after_mg'])}, raw {_mg(metrics.get('error_before_mg'))}"
 
 
-def compass_headline(metrics: dict) -> str:
-    """A compass calibration's line: the error of |h| on directions left out, then in-sample and raw."""
+def compass_headline(metrics: dict, label: str = "µT") -> str:
+    """A compass calibration's line: the error of |h| on directions left out, then in-sample and raw;
+    ``label`` is ``counts`` for a magnetometer left in counts (its ``_ut`` figures are then counts)."""
     def ut(value) -> str:
-        return "n/a" if value is None else f"{value:.2f} µT"
+        return "n/a" if value is None else f"{value:.2f} {label}"
 
     if metrics.get("cv_error_ut") is not None:
-        first = (f"on new directions expect {ut(metrics['cv_error_ut'])} of the {metrics['field_ut']:.1f} µT field "
+        first = (f"on new directions expect {ut(metrics['cv_error_ut'])} of the {metrics['field_ut']:.1f} {label} field "
                  f"(up to {ut(metrics.get('cv_error_max_ut'))}; {metrics.get('cv_scheme')})")
     else:
         first = metrics.get("cv_note") or "no figure for new directions"

@@ -36,13 +36,20 @@ MIN_GAIN_UT = 0.5
 """The compass's: 0.5 µT, about 1 % of the Earth's field and a quarter of a degree of heading at most."""
 
 
+def figure_unit(body: dict) -> str:
+    """The unit of a compass calibration's figures: µT, or counts for a magnetometer left in counts
+    (no chip, no field given: its ``_ut`` metrics are then in counts)."""
+    return "counts" if body.get("output_unit") == "raw" else "µT"
+
+
 def _figure(body: dict) -> tuple[float | None, float | None, str, str]:
     """``(before, after, unit, basis)`` of a calibration: its most honest error figure."""
     m = body.get("metrics") or {}
     if "cv_error_ut" in m:  # the compass: |h| against the field on directions left out
+        unit = figure_unit(body)
         if m.get("cv_error_ut") is not None:
-            return m.get("raw_error_ut"), m["cv_error_ut"], "µT", "error of the field strength on new directions"
-        return m.get("raw_error_ut"), m.get("fit_error_ut"), "µT", "error of the field strength on the readings fitted"
+            return m.get("raw_error_ut"), m["cv_error_ut"], unit, "error of the field strength on new directions"
+        return m.get("raw_error_ut"), m.get("fit_error_ut"), unit, "error of the field strength on the readings fitted"
     if m.get("holdout_error_after_mg") is not None:
         return m.get("holdout_error_before_mg"), m["holdout_error_after_mg"], "mg", "error on the readings you held out"
     if "count_control" in m and m.get("error_after_mg") is not None:

@@ -25,8 +25,9 @@ from app.calibration.validation import as_vectors
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
+from app.io.parts import pose_from_name
 from app.summary import compass_headline, headline
-from app.verdict import verdict
+from app.verdict import figure_unit, verdict
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -67,10 +68,11 @@ def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: flo
 
 
 def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
-             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None) -> LogData:
+             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None,
+             chip: str | None = None) -> LogData:
     """Read an uploaded log file into arrays, its format given or detected (app.io.formats)."""
     return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                    lsb_per_g=lsb_per_g, columns=columns, sign=sign)
+                    lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
 
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
@@ -88,26 +90,124 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
     ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
     it is kept with the sign applied, so that the stored file is read again the same way.
     """
-    unit = log.units.get("acc")
-    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
-    # The still segments are the accelerometer's: a log of the magnetometer alone has none.
-    segments = [] if log.acc is None else detect_static_segments(log.acc, log.sampling_rate_hz, gravity=gravity)
-    return {
+    segments, part_notes = still_segments(log)
+    rate = log.sampling_rate_hz
+    notes = list(log.notes) + part_notes
+    if log.acc is not None and log.sampling_rate_hz is None:
+        notes.append(f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
+                     "their start and end are sample indices")
+    body = {
         "format": log.format,
         "n_samples": log.n_samples,
-        "sampling_rate_hz": log.sampling_rate_hz,
-        "duration_s": log.n_samples / log.sampling_rate_hz,
+        "sampling_rate_hz": rate,
+        "duration_s": None if rate is None else log.n_samples / rate,
         "channels": log.channels,
         "units": log.units,
         "columns": log.columns,
-        "notes": list(log.notes),
+        "notes": notes,
+        "warnings": list(log.warnings),
         "sign": log.sign,
-        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, **(read_with or {}),
-                      "sign": log.sign},
-        "quantization_step": quantization_step(log.acc) if unit == "m/s^2" and log.acc is not None else None,
-        "segments": [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(segments)],
+        "timing": None if log.timing is None else log.timing.to_dict(),
+        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
+                      "sampling_rate_hz": None, **(read_with or {}), "sign": log.sign},
+        "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
+        "segments": segments,
         "overview": overview(log),
     }
+    if log.parts:
+        body["parts"] = [{"index": i, "filename": p.filename, "start": p.start, "end": p.end,
+                          "n_samples": p.n_samples, "sampling_rate_hz": p.sampling_rate_hz,
+                          "pose_from_name": pose_from_name(p.filename)} for i, p in enumerate(log.parts)]
+    return body
+
+
+def _short_still_file(acc, part, gravity: float | None, everything) -> tuple[list[dict], str] | None:
+    """A pose file too short for a still segment (under MIN_DURATION_S) that is still all through: the
+    whole file is its pose's reading, as the person who saved it meant (one file, one pose).
+
+    Still means the spread (root of the summed per-axis variances) within CAP_G of gravity and a mean
+    norm within NORM_RANGE_G, the bounds of the still-segment detector (docs/methods.md)."""
+    from app.calibration.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
+
+    rate = part.sampling_rate_hz or NOMINAL_RATE_HZ
+    if part.n_samples < 2 or part.n_samples / rate >= MIN_DURATION_S:
+        return None
+    a = np.asarray(acc, dtype=float)
+    g = gravity or float(np.median(np.linalg.norm(np.asarray(everything, dtype=float), axis=1)))
+    mean, std = a.mean(axis=0), a.std(axis=0)
+    spread = float(np.sqrt(np.sum(std ** 2)))
+    norm = float(np.linalg.norm(mean))
+    if not (np.all(np.isfinite(mean)) and spread <= CAP_G * g and NORM_RANGE_G[0] * g <= norm <= NORM_RANGE_G[1] * g):
+        return None
+    seg = {"start": 0, "end": part.n_samples, "acc_mean": mean.tolist(), "acc_std": std.tolist(),
+           "up": nearest_orientation(mean), "count": part.n_samples}
+    duration = part.n_samples / rate
+    return [seg], (f"{part.filename}: {duration:.1f} s, shorter than the {MIN_DURATION_S:g} s a still segment needs, "
+                   f"but still all through (spread {spread / g * 1000:.1f} mg): the whole file is its pose's reading")
+
+
+NOMINAL_RATE_HZ = 100.0
+"""The rate still segments are looked for at in a log that has none (no time column, none given): their
+windows and least length are counted in samples as at 100 Hz; a note says so."""
+
+
+def _still_between_gaps(acc, rate: float, gravity: float | None, cuts) -> list:
+    """Still segments (app.calibration.static) of ``acc``, each stretch between the sample indices
+    ``cuts`` (gaps of the time column) searched on its own, so that a segment's samples are contiguous
+    in time; a stretch shorter than one window holds none."""
+    bounds = [0, *cuts, len(acc)]
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        try:
+            found = detect_static_segments(acc[a:b], rate, gravity=gravity)
+        except InsufficientDataError:  # shorter than one window: no rest in it
+            continue
+        out += [dataclasses.replace(seg, start=seg.start + a, end=seg.end + a,
+                                    gaps=tuple((p + a, q + a) for p, q in seg.gaps)) for seg in found]
+    return out
+
+
+def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
+    """A log's still segments in their plain form (docs/rest.md), and notes on a recording in parts.
+
+    The segments are the accelerometer's (a log of other sensors alone has none), none spanning a gap
+    of the time column. A recording made of several files (one per pose, :mod:`app.io.parts`) is
+    searched file by file, so that no segment joins two files; each segment then names its file
+    (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
+    readings contradict gets a note.
+    """
+    if log.acc is None:
+        return [], []
+    unit = log.units.get("acc")
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
+    if not log.parts:
+        found = _still_between_gaps(log.acc, rate, gravity, [g.index for g in log.gaps])
+        return [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(found)], []
+    segments: list[dict] = []
+    notes: list[str] = []
+    for k, part in enumerate(log.parts):
+        cuts = [g.index - part.start for g in log.gaps if part.start < g.index < part.end]
+        found = [seg.to_dict() | {"count": seg.count} for seg in
+                 _still_between_gaps(log.acc[part.start:part.end], part.sampling_rate_hz or rate, gravity, cuts)]
+        named = pose_from_name(part.filename)
+        if not found and (short := _short_still_file(log.acc[part.start:part.end], part, gravity, log.acc)):
+            found, note = short
+            notes.append(note)
+        for plain in found:
+            plain.update(start=plain["start"] + part.start, end=plain["end"] + part.start)
+            segments.append(dict(index=len(segments), **plain, source=part.filename, part=k,
+                                 **({"pose_from_name": named} if named else {})))
+        if not found:
+            notes.append(f"{part.filename}: no still stretch found in its {part.n_samples} samples, so it gives no "
+                         "reading: record the board resting, untouched, for a few seconds in that pose")
+        elif named:
+            ups = [seg["up"] for seg in found]
+            if any(up != named for up in ups):
+                seen = ", ".join(sorted({up or "no axis within 20°" for up in ups if up != named}))
+                notes.append(f"{part.filename}: its name says {named} up, but its still readings point {seen} "
+                             f"up: the data's label is used — check the file's name, or how the board lay")
+    return segments, notes
 
 
 OVERVIEW_POINTS = 300
@@ -115,15 +215,17 @@ OVERVIEW_POINTS = 300
 
 
 def overview(log: LogData) -> dict:
-    """The norm of the accelerometer (else the magnetometer) in at most :data:`OVERVIEW_POINTS` bins: the
-    smallest and largest of each bin, so that a short move still shows, for the page's plot of the log."""
-    sensor = "acc" if log.acc is not None else "mag"
+    """The norm of the accelerometer (else the magnetometer, else the gyroscope) in at most
+    :data:`OVERVIEW_POINTS` bins: the smallest and largest of each bin, so that a short move still shows,
+    for the page's plot of the log. ``t_s`` is null in a log without a rate; ``start`` counts samples."""
+    sensor = log.channels[0] if log.acc is None and log.mag is None else ("acc" if log.acc is not None else "mag")
     values = np.linalg.norm(np.asarray(getattr(log, sensor), dtype=float), axis=1)
     # At most one bin per sample, so that every bin holds at least one.
     edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
     finite = [b[np.isfinite(b)] for b in np.split(values, edges[1:-1])]
+    rate = log.sampling_rate_hz
     return {"sensor": sensor, "unit": log.units.get(sensor),
-            "t_s": (edges[:-1] / log.sampling_rate_hz).tolist(),
+            "t_s": None if rate is None else (edges[:-1] / rate).tolist(), "start": edges[:-1].tolist(),
             "low": [float(f.min()) if f.size else None for f in finite],
             "high": [float(f.max()) if f.size else None for f in finite]}
 
@@ -134,7 +236,7 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
     ``six_position`` takes the first segment of each orientation unless ``indices`` lists them;
     ``orientations`` takes every labelled segment (or the listed ones).
     """
-    segments = recording["segments"]
+    segments = require_segments(recording, method)
     if indices is not None:
         chosen = []
         for i in indices:
@@ -163,6 +265,11 @@ def readings_from_segments(recording: dict, method: str, indices: list[int] | No
         chosen = sorted(first.values())
     else:
         chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
+        if not chosen:
+            raise InsufficientDataError(
+                f"none of the recording's {len(segments)} still segments lies within 20° of an axis: method "
+                "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
+                "for free poses")
     readings = [
         Reading(mean=tuple(segments[i]["acc_mean"]), up=segments[i]["up"], std=tuple(segments[i]["acc_std"]),
                 count=segments[i].get("count"))
@@ -209,9 +316,24 @@ def calibrate_known(method: str, readings: list[Reading], *, unit: str, gravity:
     return result, holdout_metrics(result, holdout)
 
 
-def means_from_segments(recording: dict, indices: list[int] | None) -> tuple[list, list[int]]:
-    """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+def require_segments(recording: dict, method: str) -> list[dict]:
+    """A recording's still segments, or a refusal saying what to record and what to check: a method of
+    still poses has nothing to fit without them (the unit first: readings in a unit other than the one
+    read find no rest near the expected gravity)."""
     segments = recording["segments"]
+    if not segments:
+        unit = (recording.get("units") or {}).get("acc")
+        raise InsufficientDataError(
+            f"the recording has no still segments ({recording['n_samples']} samples, its accelerometer read in "
+            f"{unit}; a rest lasts at least 1.5 s with the accelerometer reading about 1 g): method {method} needs "
+            "the device resting still in several orientations — record it a few seconds in each; if it did rest, "
+            "check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)")
+    return segments
+
+
+def means_from_segments(recording: dict, indices: list[int] | None, method: str = "the method") -> tuple[list, list[int]]:
+    """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
+    segments = require_segments(recording, method)
     chosen = list(range(len(segments))) if indices is None else list(indices)
     for i in chosen:
         if not 0 <= i < len(segments):
@@ -267,11 +389,12 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
             f"the recording has no gyroscope columns (found {', '.join(log.columns)}): the cube method needs "
             "gyr_x, gyr_y, gyr_z beside the accelerometer"
         )
+    rate = require_rate(log.sampling_rate_hz, "cube")
     gyr = log.gyr * GYR_TO_RAD_S[log.units["gyr"]]
     mag = None if log.mag is None else log.mag * MAG_TO_UT[log.units["mag"]]
     if mag is not None and field_ut is None:
         raise CalibrationError("the recording has a magnetometer: give field_ut, the local field magnitude in µT")
-    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=log.sampling_rate_hz, protocol=protocol,
+    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=rate, protocol=protocol,
                           gravity=gravity, field_ut=field_ut, sections=sections)
 
 
@@ -303,7 +426,7 @@ def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str]
     if "cv_error_mg" in body["metrics"]:  # every fit of still readings: the line a person reads first
         body["headline"] = headline(body["metrics"])
     elif "cv_error_ut" in body["metrics"]:  # the compass
-        body["headline"] = compass_headline(body["metrics"])
+        body["headline"] = compass_headline(body["metrics"], figure_unit(body))
     body["warnings"] = list(body["warnings"]) + notes
     body.update(fields)
     body["verdict"] = verdict(body)
@@ -338,9 +461,12 @@ class RecordingSource:
         if self.log is not None:
             return self.log
         # As it was read when stored; bodies stored before read_with give only their units.
-        read_with = self.meta.get("read_with") or {"units": self.meta["units"]}
-        return load_log(self.path, sampling_rate_hz=self.meta["sampling_rate_hz"],
-                        name=self.meta.get("filename") or "the recording", **read_with)
+        read_with = dict(self.meta.get("read_with") or {"units": self.meta["units"]})
+        # The caller's rate as given at the upload, so that the time column is judged again the same
+        # way (its gaps); recordings stored before read_with kept it are read at their stored rate.
+        rate = read_with.pop("sampling_rate_hz") if "sampling_rate_hz" in read_with else self.meta["sampling_rate_hz"]
+        return load_log(self.path, sampling_rate_hz=rate, name=self.meta.get("filename") or "the recording",
+                        **read_with)
 
     @property
     def source_fields(self) -> dict:
@@ -372,15 +498,32 @@ def calibrate(request, recording: RecordingSource | None = None) -> dict:
     """
     if getattr(request, "recording_id", None) is not None and recording is None:
         raise CalibrationError(f"recording {request.recording_id!r} was not given to the workflow")
-    return _METHODS[request.method](request, recording)
+    body = _METHODS[request.method](request, recording)
+    if recording is not None:  # what the reader decided against the header or the caller (units) comes first
+        said = [w for w in recording.meta.get("warnings") or [] if w not in body["warnings"]]
+        body["warnings"] = said + list(body["warnings"])
+    return body
+
+
+def require_rate(rate: float | None, method: str) -> float:
+    """The recording's sampling rate, or a refusal naming what to give: methods over time need one."""
+    if rate is None:
+        raise CalibrationError(
+            f"method {method} needs the sensor's sampling rate, and this recording has none (no time column, and "
+            "no sampling_rate_hz was given): upload it again with sampling_rate_hz (--sampling-rate-hz), the "
+            "sensor's output data rate, or log a time column")
+    return rate
 
 
 def require_accelerometer(channels, method: str) -> None:
     """Refuse a recording without accelerometer columns for an accelerometer method, naming the fix."""
     if "acc" not in channels:
+        other = {"mag": "method magnetometer calibrates a magnetometer turned through all directions",
+                 "gyr": "method noise characterises a still gyroscope"}
         raise CalibrationError(
             f"the recording has no accelerometer columns (it has {', '.join(channels)}): method {method} needs "
-            "acc_x, acc_y, acc_z; for a magnetometer recorded alone use method magnetometer")
+            "acc_x, acc_y, acc_z — record the accelerometer too; "
+            + "; ".join(other[c] for c in channels if c in other))
 
 
 def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
@@ -401,31 +544,93 @@ def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, floa
                 f"the recording's values are rounded to {meta['quantization_step']} m/s² (as browsers "
                 "round motion sensor data): each reading's mean is still precise when averaged over many samples"
             )
+    else:
+        unit = inline_unit(request, notes)
     gravity, more = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
     return unit, gravity, notes + more
+
+
+def inline_unit(request, notes: list[str]) -> str:
+    """The unit of a request's inline readings, checked against their magnitude as an upload's is
+    (app.io.formats.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
+    request's unit (given, or the default) says otherwise the data win, and a note says both."""
+    from app.io.formats.units import infer_acc_unit
+
+    unit = request.unit
+    means = [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
+    if unit not in ("g", "m/s^2") or not means:
+        return unit
+    inferred = infer_acc_unit(np.asarray(means, dtype=float))
+    if inferred in ("g", "m/s^2") and inferred != unit:
+        norm = float(np.median(np.linalg.norm(np.asarray(means, dtype=float), axis=1)))
+        said = "the request's unit said" if "unit" in request.model_fields_set else "the request gave no unit, so"
+        notes.append(f"{said} {unit}, but its readings' median norm is {norm:.3g}, about 1 g in {inferred}: "
+                     f"calibrated in {inferred}")
+        return inferred
+    return unit
 
 
 def _known(request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     source: dict = {}
     if recording is not None:
-        readings, used = readings_from_segments(recording.meta, request.method, request.segments)
+        try:
+            readings, used = readings_from_segments(recording.meta, request.method, request.segments)
+        except InsufficientDataError as exc:
+            hint = missing_named_poses(recording.meta)
+            if not hint:
+                raise
+            raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
         source = {**recording.source_fields, "segments_used": used}
     else:
         readings = [Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
                             std=None if r.std is None else tuple(r.std), count=r.count)
                     for r in request.readings]
     result, extra = calibrate_known(request.method, readings, unit=unit, gravity=gravity, holdout=request.holdout)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, **source), recording)
 
 
 def _means_and_source(request, recording: RecordingSource | None) -> tuple[list, dict]:
     """The still readings of a request on means: inline, or the recording's segments (and their fields)."""
     if recording is None:
         return request.means, {}
-    means, used = means_from_segments(recording.meta, request.segments)
+    means, used = means_from_segments(recording.meta, request.segments, request.method)
     return means, {**recording.source_fields, "segments_used": used}
+
+
+def missing_named_poses(meta: dict) -> str:
+    """On a recording of pose files, the poses their names promise that no still reading shows, and the
+    files whose readings point elsewhere ("" when the names and the data agree, or name no pose)."""
+    parts = meta.get("parts") or []
+    named = {p["pose_from_name"] for p in parts if p.get("pose_from_name")}
+    seen = {seg["up"] for seg in meta.get("segments") or []}
+    missing = sorted(named - seen)
+    if not missing:
+        return ""
+    wrong = sorted({f"{seg['source']} holds {seg['up'] or 'no axis'} up" for seg in meta["segments"]
+                    if seg.get("pose_from_name") in missing and seg["up"] != seg["pose_from_name"]})
+    return (f"The files' names promise {', '.join(missing)} up, but no still reading shows it"
+            + (f" ({'; '.join(wrong)})" if wrong else "")
+            + ": record that pose again, or check which file holds which pose")
+
+
+def name_sources(body: dict, recording: RecordingSource | None) -> dict:
+    """On a recording made of several files (one per pose), each reading of the calibration names its
+    file (``source``), and a warning names each file whose name gives a pose its reading contradicts."""
+    if recording is None or not recording.meta.get("parts"):
+        return body
+    segments = recording.meta["segments"]
+    for reading, i in zip(body.get("readings") or [], body.get("segments_used") or []):
+        seg = segments[i]
+        reading["source"] = seg.get("source")
+        named = seg.get("pose_from_name")
+        if named and seg["up"] != named:
+            body["warnings"].append(
+                f"{seg.get('source')} names {named} up, but its still reading points "
+                f"{seg['up'] or 'to no axis within 20°'}{' up' if seg['up'] else ''}: the data's pose was used — check "
+                "the file's name, or how the board lay")
+    return body
 
 
 def _magnitude(request, recording: RecordingSource | None) -> dict:
@@ -433,8 +638,8 @@ def _magnitude(request, recording: RecordingSource | None) -> dict:
     means, source = _means_and_source(request, recording)
     result, extra = calibrate_unknown(request.method, means, unit=unit, gravity=gravity,
                                       solver=getattr(request, "solver", "lm"), holdout=request.holdout)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, advice=pose_advice(result), **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, advice=pose_advice(result), **source), recording)
 
 
 def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdout=None) -> tuple:
@@ -511,14 +716,25 @@ def _auto(request, recording: RecordingSource | None) -> dict:
         return _auto_compass(request, recording)
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
-    result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    try:
+        result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
+    except InsufficientDataError as exc:
+        hint = missing_named_poses(recording.meta) if recording is not None else ""
+        if not hint:
+            raise
+        raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
     if choice["method"] == "triangular":  # a magnitude model: which poses to add next
         source["advice"] = pose_advice(result)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, choice=choice, **source)
+    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                                         label=request.label, choice=choice, **source), recording)
 
 
 def _cube(request, recording: RecordingSource) -> dict:
+    if recording.meta.get("parts"):
+        raise CalibrationError(
+            f"the cube method follows the turns between its positions in one recording; this one is made of "
+            f"{len(recording.meta['parts'])} files (one per pose), which hold no turns: calibrate the accelerometer "
+            "from them with method six_position or orientations, or record the cube session in one file")
     log = recording.read()
     require_accelerometer(log.channels, "cube")
     unit = log.units["acc"]
@@ -533,9 +749,12 @@ def _cube(request, recording: RecordingSource) -> dict:
 
 def _autocal(request, recording: RecordingSource) -> dict:
     require_accelerometer(recording.meta["units"], "autocal")
+    # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
+    read_with = recording.meta.get("read_with") or {"units": recording.meta["units"]}
     return autocalibrate_file(
         recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
-        unit=request.unit or recording.meta["units"]["acc"], solver=request.solver, gravity=request.gravity,
+        unit=request.unit or (read_with.get("units") or {}).get("acc"), chip=read_with.get("chip"),
+        lsb_per_g=read_with.get("lsb_per_g"), solver=request.solver, gravity=request.gravity,
         latitude_deg=request.latitude_deg, height_m=request.height_m,
         detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
         label=request.label or recording.meta.get("filename"), **recording.source_fields)
@@ -547,7 +766,8 @@ AUTOCAL_UNITS = ("g", "m/s^2")
 def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,
                        solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
                        height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
-                       columns: str | None = None, sign: int | None = None, **fields) -> dict:
+                       columns: str | None = None, sign: int | None = None, chip: str | None = None,
+                       lsb_per_g: float | None = None, **fields) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
@@ -571,6 +791,9 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         The columns of a CSV (:func:`app.io.formats.parse_columns`).
     sign : {1, -1}, optional
         Factor on the file's accelerations; detected from the header when None.
+    chip, lsb_per_g : str or float, optional
+        The accelerometer's part and range, or its counts per g, for a CSV in counts
+        (:func:`app.io.formats.read_log`).
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -597,16 +820,18 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         preload.start()
     path = Path(path)
     log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
-                   columns=columns, sign=sign)
+                   columns=columns, sign=sign, chip=chip, lsb_per_g=lsb_per_g)
     require_accelerometer(log.channels, "autocal")
     unit = log.units["acc"]
     if unit not in AUTOCAL_UNITS:
         raise CalibrationError(
             f"auto-calibration needs samples in g or m/s^2 (its thresholds are fractions of g); {path.name} is in "
-            f"{unit!r}: convert the counts to g first, or give --unit g / unit: g if they already are"
+            f"counts whose scale is unknown: give chip (--chip, e.g. mpu6050-2g) for a CSV, or convert the counts "
+            f"to g first"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
-    rest = detect_rest_segments(log.acc, log.sampling_rate_hz, gravity=g, progress=progress, **(detection or {}))
+    rest = detect_rest_segments(log.acc, require_rate(log.sampling_rate_hz, "autocal"), gravity=g, progress=progress,
+                                **(detection or {}))
     if preload is not None:
         preload.join()
     from app.calibration.autocal import autocalibrate
@@ -621,6 +846,13 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
 # -- noise: the Allan deviation of a still recording -----------------------------------------------
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
+NOISE_REST_S = 5.0
+"""A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
+and only the longest is characterised."""
+NOISE_GAPS_MAX = 0.01
+"""Gaps losing more than this fraction of the still part's time make its Allan deviation unreliable
+(``ok`` false): the estimator takes the samples as evenly spaced, and a lost stretch joins two
+stretches as if they were adjacent."""
 ACC_TO_M_S2 = {"m/s^2": 1.0, "g": STANDARD_GRAVITY, "raw": 1.0}
 
 
@@ -633,7 +865,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     moved, a warning says what was used; when less than half of it is still, ``ok`` is false.
     """
     from app.calibration.noise import NoiseResult, characterise_noise
-    from app.calibration.noise_still import MIN_STILL_FRACTION, longest_still
+    from app.calibration.noise_still import MIN_STILL_FRACTION, still_runs
 
     arrays = {name: getattr(log, name) for name in log.channels}
     units = dict(log.units)
@@ -650,12 +882,24 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
                                "ask for those it has")
     factor = {"acc": ACC_TO_M_S2, "gyr": GYR_TO_RAD_S, "mag": MAG_TO_UT}
     si = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
-    fs, n = log.sampling_rate_hz, len(next(iter(arrays.values())))
-    notes: list[str] = list(log.notes)
+    fs, n = require_rate(log.sampling_rate_hz, "noise"), len(next(iter(arrays.values())))
+    notes: list[str] = list(log.warnings) + list(log.notes)
     detected_from = "acc" if "acc" in arrays else wanted[0]
-    span = longest_still(arrays[detected_from], fs)
+    runs = still_runs(arrays[detected_from], fs)
+    span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
+    rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
     reasons: list[str] = []
-    if span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
+    if span is not None and len(rests) >= 2:
+        a, b = span
+        said = (f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
+                f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
+                "recording), was characterised — no term is fitted across a move")
+        if b - a < MIN_STILL_FRACTION * n:
+            reasons.append(said + "; for the noise, record the device resting in one orientation, untouched, for "
+                                  "the whole recording")
+        else:
+            notes.append(said)
+    elif span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
         still_s = 0.0 if span is None else (span[1] - span[0]) / fs
         reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
                        "is characterised on a still recording — leave the device resting on a firm surface, "
@@ -664,6 +908,18 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
         notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
                      f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
+    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    if inside:
+        lost = sum(g.missing_s for g in inside)
+        still_s = (span[1] - span[0]) / fs
+        said = (f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
+                f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)")
+        if lost > NOISE_GAPS_MAX * still_s:
+            reasons.append(said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
+                                  "the sensor's — record again without losing samples (a faster serial baud rate, "
+                                  "fewer columns printed, a larger host buffer)")
+        else:
+            notes.append(said + ": few enough for the Allan deviation")
     a, b = span
     parts = {}
     for name in wanted:
@@ -687,9 +943,31 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
 
 
 def _noise(request, recording: RecordingSource) -> dict:
-    return characterise_log(recording.read(), sensors=request.sensors, array_sensor=request.sensor,
-                            device_id=request.device_id, label=request.label or recording.meta.get("filename"),
-                            **recording.source_fields)
+    log, notes = recording.read(), []
+    if log.parts:  # one file per pose: the noise of one file, never across two
+        log, notes = one_still_file(log)
+    body = characterise_log(log, sensors=request.sensors, array_sensor=request.sensor, device_id=request.device_id,
+                            label=request.label or recording.meta.get("filename"), **recording.source_fields)
+    body["warnings"] = notes + body["warnings"]
+    return body
+
+
+def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
+    """The file of a recording in parts with the longest still stretch, as a log of its own, and a note
+    naming it: the Allan deviation of a sequence joined from several files would see their seams."""
+    from app.calibration.noise_still import longest_still
+    from app.io.parts import part_log
+
+    def still_samples(i):
+        one = part_log(log, i)
+        span = longest_still(getattr(one, one.channels[0]), one.sampling_rate_hz)
+        return 0 if span is None else span[1] - span[0]
+
+    lengths = [still_samples(i) for i in range(len(log.parts))]
+    best = int(np.argmax(lengths))
+    note = (f"the recording is made of {len(log.parts)} files: the noise is characterised on one, "
+            f"{log.parts[best].filename} (the longest still stretch), not across files")
+    return part_log(log, best), [note]
 
 
 # -- the compass: a magnetometer turned through all directions --------------------------------------
@@ -753,10 +1031,13 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
         rests = compass_rests(log, recording.meta.get("segments") or [])
         source = recording.source_fields
     reference, extra = magnetometer_reference(request, notes)
-    if unit == "raw" and reference["field_ut"] is None:
-        notes.append("the magnetometer's readings are raw counts and no field was given: M maps them to the "
-                     "readings' own scale, not to µT — give a place and date, or field_ut")
-    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", **reference)
+    counts = unit == "raw" and reference["field_ut"] is None
+    if counts:
+        notes.append("the magnetometer's readings are counts and no field was given: M maps them to the "
+                     "readings' own scale, not to µT, and every figure is in counts — give chip (the part and "
+                     "its range), or a place and date, or field_ut")
+    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", label="counts" if counts else "µT",
+                              **reference)
     return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
                             label=request.label or (recording.meta.get("filename") if recording else None), **source)
 

@@ -50,8 +50,11 @@ def test_calibrate_json_then_export(tmp_path):
 def test_errors_are_one_line_without_traceback(tmp_path):
     missing = trical("calibrate", str(tmp_path / "nope.csv"), "--sampling-rate-hz", "100", tmp_path=tmp_path)
     assert missing.returncode == 2 and missing.stderr.startswith("trical: error: no such file")
-    no_rate = trical("calibrate", str(DATA / "six_orientations_150hz.csv"), tmp_path=tmp_path)
-    assert no_rate.returncode == 2 and "sampling_rate_hz" in no_rate.stderr
+    # Still poses need no rate; the noise does, and says which option gives it.
+    poses = trical("calibrate", str(DATA / "six_orientations_150hz.csv"), "--no-store", tmp_path=tmp_path)
+    assert poses.returncode == 0 and "without a sampling rate" in poses.stdout, poses.stderr
+    no_rate = trical("noise", str(DATA / "six_orientations_150hz.csv"), tmp_path=tmp_path)
+    assert no_rate.returncode == 2 and "--sampling-rate-hz" in no_rate.stderr
     unknown = trical("export", "cal_missing", tmp_path=tmp_path)
     assert unknown.returncode == 2 and "no calibration with id" in unknown.stderr
     for result in (missing, no_rate, unknown):

@@ -40,3 +40,24 @@ def test_plot_writes_the_allan_svg(tmp_path):
     r = _run(path, "--sensor", "gyr", "--sampling-rate-hz", 100, "--plot", tmp_path / "allan.svg", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "allan.svg").read_text().lstrip().startswith("<")
+
+
+def test_noise_of_a_serial_log_stamped_by_the_host_and_the_rate_option(tmp_path):
+    # The case: t in host milliseconds, arriving in bursts; a 100 Hz gyroscope in deg/s.
+    from app.calibration.simulations.serial import host_arrival_times
+
+    n = 20_000
+    t_ms = host_arrival_times(np.random.default_rng(6), n_samples=n, sampling_rate_hz=100.0) * 1e3 + 8_000.0
+    gyr = simulate_still(np.random.default_rng(7), n_samples=n, sampling_rate_hz=100.0, N=0.01, B=0.0, K=0.0)
+    path = tmp_path / "still.csv"
+    np.savetxt(path, np.column_stack([np.round(t_ms, 3), gyr]), delimiter=",", header="t,gyr_x,gyr_y,gyr_z",
+               comments="", fmt="%.7g")
+    r = _run(path, "--sensor", "gyr", "--unit", "deg/s", "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    body = json.loads(r.stdout)
+    assert abs(body["sampling_rate_hz"] / 100.0 - 1) < 3e-3
+    np.testing.assert_allclose(body["model"]["gyr"]["noise_density"], np.deg2rad(0.01), rtol=0.05)
+    assert any("irregular" in w and "from the span" in w for w in body["warnings"])
+    r = _run(path, "--sensor", "gyr", "--unit", "deg/s", "--sampling-rate-hz", 100, "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert json.loads(r.stdout)["sampling_rate_hz"] == 100.0

@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from pathlib import Path
+import zipfile
+from pathlib import Path, PurePath
 from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, File, Form, UploadFile
@@ -13,6 +14,7 @@ from app.api.deps import get_owner, get_settings, get_store
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import RecordingOut
 from app.config import Settings
+from app.io.parts import refuse_repeated_names
 from app.store import Store, new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
@@ -44,16 +46,44 @@ def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
     return size
 
 
-@router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log")
+def save_uploads_as_zip(uploads: list[tuple[str, object]], dest: Path, limit_bytes: int, limit_mb: float) -> None:
+    """Store several uploaded files as one zip, each under its own name, refusing them past the size limit."""
+    refuse_repeated_names([name for name, _ in uploads])
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    size = 0
+    try:
+        with zipfile.ZipFile(dest, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+            for name, source in uploads:
+                with zf.open(name, "w", force_zip64=True) as out:
+                    while chunk := source.read(CHUNK):
+                        size += len(chunk)
+                        if size > limit_bytes:
+                            raise PayloadTooLarge(limit_mb)
+                        out.write(chunk)
+    except BaseException:
+        dest.unlink(missing_ok=True)
+        raise
+
+
+def _part_name(upload: UploadFile, i: int) -> str:
+    return PurePath((upload.filename or "").replace("\\", "/")).name or f"file{i + 1}.csv"
+
+
+@router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log, or one file per pose")
 def upload_recording(
-    file: UploadFile = File(..., description="A log: CSV with or without a header row, a phyphox / Sensor Logger zip, or .npy / .parquet samples."),
+    file: list[UploadFile] = File(..., description=(
+        "A log: CSV with or without a header row, a phyphox / Sensor Logger zip, .npy / .parquet samples, or a zip "
+        "of log files. Several `file` parts (one file per pose) are one recording in parts, in the order given.")),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
-    mag_unit: Literal["uT", "nT", "raw"] | None = Form(None),
+    mag_unit: Literal["uT", "nT", "gauss", "raw"] | None = Form(None),
     format: Literal["auto", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",
                     "arduino"] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
+    chip: str | None = Form(None, description="The parts (and ranges) of sensors logged in counts, separated by "
+                            "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "
+                            "(app.io.formats.chips)."),
     columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
                                "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)"),
     sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Form(None, description="Factor on the file's accelerations: -1 for iOS Core Motion's "
@@ -62,17 +92,25 @@ def upload_recording(
     store: Store = Depends(get_store),
     owner: str | None = Depends(get_owner),
 ):
-    """Store a log and return its static segments with their orientation."""
+    """Store a log (or one file per pose, as one recording) and return its static segments with their orientation."""
     recording_id = new_id("rec")
-    suffix = Path(file.filename or "").suffix.lower()
-    dest = settings.recordings_dir / f"{recording_id}{suffix if suffix in KEPT_SUFFIXES else '.csv'}"
-    save_upload(file.file, dest, settings.max_upload_bytes, settings.max_upload_mb)
+    if len(file) == 1:
+        filename = file[0].filename
+        suffix = Path(filename or "").suffix.lower()
+        dest = settings.recordings_dir / f"{recording_id}{suffix if suffix in KEPT_SUFFIXES else '.csv'}"
+        save_upload(file[0].file, dest, settings.max_upload_bytes, settings.max_upload_mb)
+    else:  # one file per pose: kept together, each under its name, and read as a zip of them (app.io.parts)
+        names = [_part_name(f, i) for i, f in enumerate(file)]
+        filename = ", ".join(names)
+        dest = settings.recordings_dir / f"{recording_id}.zip"
+        save_uploads_as_zip([(n, f.file) for n, f in zip(names, file)], dest, settings.max_upload_bytes,
+                            settings.max_upload_mb)
     try:
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign)
-        log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, name=file.filename or "the file", **read_with)
-        body = workflow.describe_log(log, read_with)
-        body["filename"] = file.filename
+        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
+        log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, name=filename or "the file", **read_with)
+        body = workflow.describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
+        body["filename"] = filename
         return store.add_recording(recording_id, body, dest, owner=owner)
     except BaseException:
         dest.unlink(missing_ok=True)

@@ -122,6 +122,8 @@ class AffineReading(Out):
     fit_error_raw: float
     norm_error: float
     norm_error_raw: float
+    source: str | None = Field(None, description=(
+        "A recording made of several files (one per pose): the file this reading came from."))
 
 
 class MagnitudeReading(Out):
@@ -130,6 +132,8 @@ class MagnitudeReading(Out):
     calibrated: Vec3Out
     norm_error: float
     norm_error_raw: float
+    source: str | None = Field(None, description=(
+        "A recording made of several files (one per pose): the file this reading came from."))
 
 
 class VerdictOut(Out):
@@ -143,7 +147,8 @@ class VerdictOut(Out):
     why: str = Field(description="One line more: the reason, or what the figure is.")
     before: float | None = Field(description="The figure's raw error (null where the readings are counts).")
     after: float | None = Field(description="The same, calibrated.")
-    unit: Literal["mg", "µT"] | None = Field(description="mg of g, or µT for a compass.")
+    unit: Literal["mg", "µT", "counts"] | None = Field(description="mg of g, or µT for a compass (counts for a "
+                                                                  "magnetometer left in counts).")
     basis: str | None = Field(description="Which readings the figure is on, in words.")
 
 
@@ -638,6 +643,23 @@ class SegmentOut(BaseModel):
     acc_std: list[float]
     up: str | None
     count: int
+    source: str | None = Field(None, description="A recording made of several files: the file the segment is in.")
+    part: int | None = Field(None, description="The index of that file in `parts`.")
+    pose_from_name: str | None = Field(None, description=(
+        "The up axis the file's name gives (x_axis_pos → +x, z_down → -z), when it gives one; the data decide `up`, "
+        "and a note names a file whose name they contradict."))
+
+
+class PartOut(BaseModel):
+    """One file of a recording made of several files (one per pose), in the order given."""
+
+    index: int
+    filename: str = Field(description="The file's name as uploaded (in a zip: its name without folders).")
+    start: int = Field(description="Its first sample in the recording.")
+    end: int = Field(description="The sample after its last.")
+    n_samples: int
+    sampling_rate_hz: float
+    pose_from_name: str | None = Field(None, description="The up axis its name gives, if any.")
 
 
 class ReadWithOut(BaseModel):
@@ -647,15 +669,40 @@ class ReadWithOut(BaseModel):
     units: dict[str, str]
     lsb_per_g: float | None
     columns: str | None
+    chip: str | None = Field(None, description="The parts the upload named (app.io.formats.chips).")
+    sampling_rate_hz: float | None = Field(None, description="The rate the upload gave (null: the file's own).")
     sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
+
+
+class GapOut(BaseModel):
+    index: int = Field(description="The first sample after the gap.")
+    t_s: float = Field(description="Where the gap starts, seconds from the first sample.")
+    missing_s: float = Field(description="Time lost: the step less one sampling interval.")
+
+
+class TimingOut(BaseModel):
+    """How the sampling rate was decided (app.io.formats.timing), and what the time column showed."""
+
+    source: Literal["sampling_rate_hz", "file", "time column", "none"] = Field(description=(
+        "The upload's sampling_rate_hz, the file's metadata, the time column's span, or none (no rate)."))
+    sampling_rate_hz: float | None
+    jitter: float | None = Field(None, description=(
+        "Standard deviation of the time column's steps (gaps left out) over the sampling interval; above 0.2 "
+        "the timestamps are a host's arrival times and a note says so."))
+    median_step_s: float | None = None
+    gaps: list[GapOut] = Field([], description="Where samples were lost; still segments do not span them.")
+    missing_s: float = Field(0.0, description="Time lost in all gaps.")
 
 
 class LogOverview(BaseModel):
     """The log's norm in at most 300 bins (app.workflow.overview), for a plot with the still segments."""
 
-    sensor: Literal["acc", "mag"] = Field(description="The accelerometer's norm, or the magnetometer's in a log of it alone.")
+    sensor: Literal["acc", "mag", "gyr"] = Field(description=(
+        "The accelerometer's norm; in a log without it the magnetometer's, else the gyroscope's."))
     unit: str | None
-    t_s: list[float] = Field(description="Start of each bin, seconds from the first sample.")
+    t_s: list[float] | None = Field(description="Start of each bin, seconds from the first sample; null in a log "
+                                                "without a sampling rate.")
+    start: list[int] | None = Field(None, description="Start of each bin, in samples.")
     low: list[float | None] = Field(description="Smallest norm in the bin (null: no finite sample).")
     high: list[float | None] = Field(description="Largest.")
 
@@ -668,16 +715,25 @@ class RecordingOut(BaseModel):
     format: str
     filename: str | None = None
     n_samples: int
-    sampling_rate_hz: float
+    sampling_rate_hz: float | None = Field(description=(
+        "The sensor's rate (timing says how it was decided); null when the file has no time column and none was "
+        "given: the still poses and the compass need none, noise, cube and autocal ask for it."))
     duration_s: float | None = None
+    timing: TimingOut | None = Field(None, description="Absent from recordings stored before it existed.")
     channels: list[str]
     units: dict[str, str]
     columns: list[str] = Field([], description="The file's column names (or those `columns` gave).")
     notes: list[str] = Field([], description="What the reader decided: sign negated, unit inferred, no header row.")
+    warnings: list[str] = Field([], description="What the reader decided against the header or the upload's fields "
+                                                "(a unit the data contradict), and sensors left in counts; every "
+                                                "calibration of the recording repeats them.")
     quantization_step: float | None = None
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
     read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")
     segments: list[SegmentOut]
+    parts: list[PartOut] | None = Field(None, description=(
+        "A recording made of several files (several `file` parts, or a zip of log files): each file, in order; "
+        "absent for one file."))
     overview: LogOverview | None = Field(None, description="For a plot of the log; absent from recordings stored "
                                                            "before it existed.")
 

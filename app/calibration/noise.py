@@ -54,13 +54,14 @@ TERMS = ("noise_density", "bias_instability", "random_walk")
 _ALPHAS = (WHITE, FLICKER, RANDOM_WALK)
 
 TERM_UNITS = {"rad/s": ("rad/s/√Hz", "rad/s²/√Hz"), "m/s^2": ("m/s²/√Hz", "m/s³/√Hz"),
-              "uT": ("uT/√Hz", "uT/s/√Hz")}
+              "uT": ("uT/√Hz", "uT/s/√Hz"), "raw": ("counts/√Hz", "counts/s/√Hz")}
 
 
 def term_units(unit: str) -> dict:
-    """The units of N, K and B for a sensor in ``unit`` (Kalibr's continuous-time units)."""
+    """The units of N, K and B for a sensor in ``unit`` (Kalibr's continuous-time units); readings of
+    unknown scale (``raw``) are counts."""
     n, k = TERM_UNITS.get(unit, (f"{unit}/√Hz", f"{unit}/s/√Hz"))
-    return {"noise_density_unit": n, "random_walk_unit": k, "bias_instability_unit": unit}
+    return {"noise_density_unit": n, "random_walk_unit": k, "bias_instability_unit": "counts" if unit == "raw" else unit}
 
 
 def _basis(tau: np.ndarray) -> np.ndarray:

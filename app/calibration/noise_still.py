@@ -20,8 +20,62 @@ MIN_STILL_FRACTION = 0.5
 """Below half of the recording still, the recording is not a still one: ok is false."""
 
 
+def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
+    """``(start, end)`` sample indices (end exclusive) of every still stretch, in order.
+
+    A stretch is a run of still half-second blocks (knocks of up to a second merged) whose mean stays
+    at one level: where the means of two consecutive still blocks differ by more than four times the
+    noise floor the run is cut there — the device rests in another orientation (an accelerometer's
+    or a magnetometer's level), or was turned at a steady rate between rests (a gyroscope's: its
+    spread stays small while it turns, its mean does not). A drifting bias moves the mean by far less
+    from one half second to the next.
+
+    Parameters
+    ----------
+    samples : array_like, shape (N, 3)
+        One sensor's samples.
+    sampling_rate_hz : float
+    """
+    n = len(samples)
+    w = max(2, int(round(WINDOW_S * sampling_rate_hz)))
+    if n < 2 * w:
+        return [(0, n)]
+    # Consecutive blocks of one window, not every window: a half-second resolution is plenty for the
+    # still part of a long recording, and one pass over it (a night at 200 Hz in a tenth of a second).
+    blocks = n // w
+    spread = np.empty(blocks)
+    means = np.empty((blocks, np.shape(samples)[1]))
+    for start in range(0, blocks, 1 << 14):
+        stop = min(blocks, start + (1 << 14))
+        part = np.asarray(samples[start * w:stop * w], dtype=float).reshape(stop - start, w, -1)
+        spread[start:stop] = np.sqrt(part.var(axis=1).sum(axis=1))
+        means[start:stop] = part.mean(axis=1)
+    floor = np.percentile(spread, NOISE_PERCENTILE)
+    still = spread <= NOISE_FACTOR * floor
+    gap = int(math.ceil(MAX_GAP_S * sampling_rate_hz / w))
+    edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    if len(starts) == 0:
+        return []
+    runs = [[int(starts[0]), int(ends[0])]]
+    for a, b in zip(starts[1:], ends[1:]):
+        if a - runs[-1][1] <= gap:
+            runs[-1][1] = int(b)
+        else:
+            runs.append([int(a), int(b)])
+    level = NOISE_FACTOR * max(floor, np.finfo(float).tiny)
+    cut: list[tuple[int, int]] = []
+    for a, b in runs:
+        idx = a + np.flatnonzero(still[a:b])
+        jumps = np.flatnonzero(np.linalg.norm(np.diff(means[idx], axis=0), axis=1) > level)
+        cut += [(int(g[0]), int(g[-1]) + 1) for g in np.split(idx, jumps + 1)]
+    # The samples after the last whole block go with it.
+    return [(p * w, n if q == blocks else q * w) for p, q in cut]
+
+
 def longest_still(samples, sampling_rate_hz: float):
-    """``(start, end)`` sample indices (end exclusive) of the longest still stretch, or None.
+    """``(start, end)`` sample indices (end exclusive) of the longest still stretch (:func:`still_runs`),
+    or None.
 
     Parameters
     ----------
@@ -29,29 +83,5 @@ def longest_still(samples, sampling_rate_hz: float):
         One sensor's samples (the accelerometer where there is one: it sees every handling).
     sampling_rate_hz : float
     """
-    n = len(samples)
-    w = max(2, int(round(WINDOW_S * sampling_rate_hz)))
-    if n < 2 * w:
-        return 0, n
-    # Consecutive blocks of one window, not every window: a half-second resolution is plenty for the
-    # still part of a long recording, and one pass over it (a night at 200 Hz in a tenth of a second).
-    blocks = n // w
-    spread = np.empty(blocks)
-    for start in range(0, blocks, 1 << 14):
-        stop = min(blocks, start + (1 << 14))
-        part = np.asarray(samples[start * w:stop * w], dtype=float).reshape(stop - start, w, -1)
-        spread[start:stop] = np.sqrt(part.var(axis=1).sum(axis=1))
-    still = spread <= NOISE_FACTOR * np.percentile(spread, NOISE_PERCENTILE)
-    gap = int(math.ceil(MAX_GAP_S * sampling_rate_hz / w))
-    edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    if len(starts) == 0:
-        return None
-    runs = [[int(starts[0]), int(ends[0])]]
-    for a, b in zip(starts[1:], ends[1:]):
-        if a - runs[-1][1] <= gap:
-            runs[-1][1] = int(b)
-        else:
-            runs.append([int(a), int(b)])
-    a, b = max(runs, key=lambda r: r[1] - r[0])
-    return a * w, (n if b == blocks else b * w)  # the samples after the last whole block go with it
+    runs = still_runs(samples, sampling_rate_hz)
+    return max(runs, key=lambda r: r[1] - r[0]) if runs else None

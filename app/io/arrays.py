@@ -21,7 +21,8 @@ import numpy as np
 
 from .errors import LogFormatError
 from .formats.generic_csv import map_columns, read_csv_log
-from .formats.table import sampling_rate, seconds_per_unit
+from .formats.timing import time_scale as infer_time_scale
+from .formats.timing import with_timing
 from .log import UNITS, LogData
 
 NPY_SUFFIXES = (".npy",)
@@ -78,8 +79,11 @@ def read_npy_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     if not isinstance(arr, np.ndarray):
         raise LogFormatError(f"{name} holds several arrays (.npz?): save one N×3 or N×4 array with numpy.save", status=415)
     if arr.ndim != 2 or arr.shape[1] not in (3, 4):
+        held = (f"{arr.size} numbers in a single row" if arr.ndim <= 1 else
+                f"rows of {arr.shape[1]} numbers" if arr.ndim == 2 else f"a {arr.ndim}-dimensional block of numbers")
         raise LogFormatError(
-            f"{name} holds an array of shape {tuple(arr.shape)}: expected N×3 (x, y, z) or N×4 (time, x, y, z)")
+            f"{name} holds {held}: save one row per sample with 3 numbers (x, y, z) or 4 (time, x, y, z), "
+            "e.g. numpy.save(path, samples) with samples of 3 or 4 columns")
     if arr.dtype.kind not in "fiu":
         raise LogFormatError(f"{name} holds {arr.dtype} values: expected numbers (float32 or float64)")
     if arr.shape[0] == 0:
@@ -89,15 +93,12 @@ def read_npy_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     if arr.shape[1] == 4:
         time = np.asarray(arr[:, 0], dtype=float)
         acc = arr[:, 1:4]
-    if time is not None and sampling_rate_hz is None:
-        rate = sampling_rate(time[:100_000], None, name=name)
-    else:
-        rate = sampling_rate(None if time is None else time[:2], sampling_rate_hz, name=name)
     time_s = None
-    if time is not None:
-        time_s = (time - time[0]) * seconds_per_unit(time[:100_000])
-    return LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=rate, units={"acc": _unit(units)},
-                   format="npy", columns=["time", "x", "y", "z"][4 - arr.shape[1]:])
+    if time is not None and len(time) >= 2:
+        time_s = (time - time[0]) * infer_time_scale(time)[0]
+    return with_timing(LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=None,
+                               units={"acc": _unit(units)}, format="npy",
+                               columns=["time", "x", "y", "z"][4 - arr.shape[1]:]), sampling_rate_hz, name)
 
 
 def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
@@ -121,8 +122,8 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
         raise LogFormatError(f"{name} is not a readable Parquet file ({exc})", status=415) from None
     names = list(pf.schema_arrow.names)
     channels, time_col, time_scale, header_units = map_columns(names)
-    cols = [names[channels["acc"][a]] for a in "xyz"]
-    # Gyroscope and magnetometer columns beside it, when all three axes are there (noise, cube).
+    cols = [names[channels["acc"][a]] for a in "xyz"] if "acc" in channels else []
+    # Gyroscope and magnetometer columns beside it (or alone), when all three axes are there (noise, cube).
     others = {s: [names[channels[s][a]] for a in "xyz"] for s in ("gyr", "mag") if set(channels.get(s, {})) >= set("xyz")}
     wanted = cols + [c for group in others.values() for c in group] + ([names[time_col]] if time_col is not None else [])
     try:
@@ -137,7 +138,7 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
         except (ValueError, TypeError, pa.ArrowInvalid):
             raise LogFormatError(f"{name}: the {what} columns {group} must hold numbers") from None
 
-    acc = numbers(cols, "accelerometer")
+    acc = numbers(cols, "accelerometer") if cols else None
     extra = {s: numbers(group, {"gyr": "gyroscope", "mag": "magnetometer"}[s]) for s, group in others.items()}
     time = None
     if time_col is not None:
@@ -147,18 +148,17 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
             time, time_scale = (ns - ns[0]).astype(float), 1e-9  # relative first: float64 of epoch ns loses µs
         else:
             time = col.to_numpy(zero_copy_only=False).astype(float)
-    rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
     unit = (units or {}).get("acc") or header_units.get("acc") or UNITS["acc"][0]
-    sensor_units = {"acc": _unit({"acc": unit})}
+    sensor_units = {"acc": _unit({"acc": unit})} if acc is not None else {}
     for s in extra:
         sensor_units[s] = (units or {}).get(s) or header_units.get(s) or UNITS[s][0]
         if sensor_units[s] not in UNITS[s]:
             raise LogFormatError(f"{s} unit {sensor_units[s]!r} is not one of {', '.join(UNITS[s])}")
-    return LogData(
+    return with_timing(LogData(
         acc=acc, gyr=extra.get("gyr"), mag=extra.get("mag"),
-        time_s=None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time)),
-        sampling_rate_hz=rate, units=sensor_units, format="parquet", columns=names,
-    )
+        time_s=None if time is None or len(time) < 2 else (time - time[0]) * (time_scale or infer_time_scale(time)[0]),
+        sampling_rate_hz=None, units=sensor_units, format="parquet", columns=names,
+    ), sampling_rate_hz, name)
 
 
 def is_array_file(path: Path) -> bool:

@@ -49,13 +49,19 @@ def accelerometer_correction(body: dict) -> AffineCorrection:
     return acc[0]
 
 
+def unit_label(unit: str | None) -> str:
+    """How a text export names a unit: readings whose scale is unknown (``raw``) are counts."""
+    return "counts" if unit == "raw" else str(unit)
+
+
 def describe(body: dict, source: str) -> list[str]:
     """Lines naming the calibration, for the comment header of a text export; ``source`` is its
     correction's (:attr:`AffineCorrection.source`)."""
     return [
         f"trical calibration {body['id']}",
         f"method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}",
-        f"input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}",
+        f"input unit: {unit_label(body.get('unit'))}, output unit: {unit_label(body.get('output_unit'))}, "
+        f"gravity: {body.get('gravity')}",
         f"calibrated a = M (m - o): {source}",
     ]
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ExportError
-from .export_common import Export, describe, sensor_corrections
+from .export_common import Export, describe, sensor_corrections, unit_label
 
 MGAUSS_PER_UT = 10.0
 GAUSS_PER_UT = 0.01
@@ -57,7 +57,9 @@ def compass_parameters(body: dict, target: str) -> dict:
     c = mag[0]
     if body.get("unit") != "uT":
         raise ExportError(f"{target} applies its compass parameters to readings its drivers give in physical units; "
-                          f"this calibration maps readings in {body.get('unit')!r}: calibrate a log in µT or nT")
+                          f"this calibration maps readings in {unit_label(body.get('unit'))}, whose scale is unknown: "
+                          "upload the log again with chip (the magnetometer's part and range, e.g. ak8963-16bit, "
+                          "qmc5883l-2g, hmc5883l-1090, lis3mdl-4g) or mag_unit (uT, nT, gauss), and calibrate that")
     if not body.get("ok", False):
         raise ExportError(f"this calibration failed its checks ({'; '.join(body.get('reasons') or [])}): it must not "
                           f"be written to {target}; fix what the reasons say and calibrate again")

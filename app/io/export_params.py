@@ -74,8 +74,9 @@ def offset_scale(body: dict, target: str) -> dict:
     if unit not in ("m/s^2", "g"):
         raise ExportError(
             f"{target} applies its offsets and scales to readings its drivers already give in m/s², but this "
-            f"calibration maps readings in {unit!r} (counts): calibrate a log in m/s^2 or g (upload it with "
-            f"lsb_per_g to convert counts to g) to export it for {target}"
+            f"calibration maps readings in counts, whose scale is unknown: upload the log again with chip (the "
+            f"accelerometer's part and range, e.g. mpu6050-2g) or lsb_per_g (counts per g, e.g. 16384), and "
+            f"calibrate that to export it for {target}"
         )
     to_mps2 = 1.0 if unit == "m/s^2" else STANDARD_GRAVITY
     D = np.diag(np.diag(M))

@@ -10,7 +10,7 @@ import json
 import re
 
 from .errors import ExportError
-from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, sensor_corrections
+from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, sensor_corrections, unit_label
 from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
@@ -74,7 +74,7 @@ def _c_number(v: float) -> str:
 def _c_sensor(c) -> str:
     rows = ",\n".join("    {" + ", ".join(_c_number(v) for v in row) + "}" for row in c.M)
     name = f"trical_{c.sensor}"
-    return f"""/* {SENSORS[c.sensor]}: {c.input_unit} in, {c.output_unit} out */
+    return f"""/* {SENSORS[c.sensor]}: {unit_label(c.input_unit)} in, {unit_label(c.output_unit)} out */
 static const float {name}_offset[3] = {{{", ".join(_c_number(v) for v in c.o)}}};
 
 static const float {name}_matrix[3][3] = {{
@@ -106,7 +106,7 @@ def to_c_header(body: dict) -> Export:
                     f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n")
     text = f"""/* trical calibration {body['id']}
  * method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}
- * input unit: {body.get('unit')}, output unit: {body.get('output_unit')}, gravity: {body.get('gravity')}
+ * input unit: {unit_label(body.get('unit'))}, output unit: {unit_label(body.get('output_unit'))}, gravity: {body.get('gravity')}
  * calibrated f = M (m - o): {corrections[0].source}
  */
 #ifndef {guard}

@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # the readers' package imports this module
+    from .formats.timing import Timing
 
 UNITS: dict[str, tuple[str, ...]] = {
     "acc": ("m/s^2", "g", "raw"),
@@ -27,7 +31,9 @@ class LogData:
         Gyroscope and magnetometer samples, when present.
     time_s : numpy.ndarray or None
         Seconds since the first sample, when the file had a time column.
-    sampling_rate_hz : float
+    sampling_rate_hz : float or None
+        The sensor's rate (:mod:`app.io.formats.timing`); None when neither the caller nor the file
+        gives one (a file of still poses or a compass turn without a time column).
     units : dict
         Unit per present sensor.
     format : str
@@ -36,21 +42,37 @@ class LogData:
         The file's column names, for messages.
     notes : tuple of str
         What the reader decided on the way (sign flipped, unit inferred, file chosen in a zip).
+    warnings : tuple of str
+        What the reader decided against what the caller or the file said (a unit the data
+        contradict), and sensors left in counts: every calibration of the log repeats them.
+    timing : Timing or None
+        How the rate was decided: its source, the time column's jitter and gaps.
     sign : int
         The factor the file's accelerations were multiplied by on reading: −1 when they came on the
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
+    parts : tuple of app.io.parts.Part
+        A recording made of several files (one per pose): each file's name and its samples; empty
+        for a recording of one file.
     """
 
     acc: np.ndarray | None
     gyr: np.ndarray | None
     mag: np.ndarray | None
     time_s: np.ndarray | None
-    sampling_rate_hz: float
+    sampling_rate_hz: float | None
     units: dict
     format: str
     columns: list
     notes: tuple = ()
     sign: int = 1
+    warnings: tuple = ()
+    parts: tuple = ()
+    timing: Timing | None = None
+
+    @property
+    def gaps(self) -> tuple:
+        """Where samples were lost (:class:`app.io.formats.timing.Gap`), from the time column."""
+        return () if self.timing is None else self.timing.gaps
 
     @property
     def n_samples(self) -> int:

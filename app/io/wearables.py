@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import LogFormatError
+from .formats.timing import with_timing
 from .log import LogData
 
 WEARABLE_SUFFIXES = (".cwa", ".gt3x", ".bin")
@@ -57,9 +58,8 @@ def read_wearable_log(path: Path, *, sampling_rate_hz: float | None = None, unit
     except Exception as exc:  # actipy raises many kinds of errors on a bad file
         raise LogFormatError(f"{name} could not be read as a wearable device file: {exc}", status=415) from None
     acc = data[["x", "y", "z"]].to_numpy(dtype=np.float32)
-    rate = float(sampling_rate_hz or info.get("SampleRate") or 0)
-    if not rate > 0:
-        raise LogFormatError(f"{name}: the device file gives no sampling rate; give sampling_rate_hz")
+    rate = float(info.get("SampleRate") or 0) or None  # the device's stated rate; the caller's wins
     time_s = np.asarray((data.index - data.index[0]).total_seconds(), dtype=float) if len(data) else None
-    return LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=rate, units={"acc": "g"},
-                   format=f"wearable:{info.get('Device', path.suffix.lstrip('.'))}", columns=["x", "y", "z"])
+    return with_timing(LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=rate, units={"acc": "g"},
+                               format=f"wearable:{info.get('Device', path.suffix.lstrip('.'))}",
+                               columns=["x", "y", "z"]), sampling_rate_hz, name)

@@ -113,7 +113,9 @@ class Store:
                 db.execute(recording_files.insert().values(id=recording_id, content=Path(path).read_bytes()))
             db.execute(recordings.insert().values(
                 id=recording_id, owner=owner, created_at=body["created_at"], format=body["format"],
-                n_samples=body["n_samples"], sampling_rate_hz=body["sampling_rate_hz"], path=Path(path).name,
+                n_samples=body["n_samples"], path=Path(path).name,
+                # The column is informative (the body holds the rate): 0 for a log without one.
+                sampling_rate_hz=body["sampling_rate_hz"] or 0.0,
                 body=_json(body)))
         return body
 

@@ -32,7 +32,7 @@ recordings = Table(
     Column("created_at", Text, nullable=False),
     Column("format", Text, nullable=False),
     Column("n_samples", Integer, nullable=False),
-    Column("sampling_rate_hz", REAL, nullable=False),  # informative: the body holds the exact rate
+    Column("sampling_rate_hz", REAL, nullable=False),  # informative: the body holds the exact rate (0: none)
     Column("path", Text, nullable=False),  # the file's name inside the store's files_dir
     Column("body", Text, nullable=False),
 )

@@ -20,6 +20,7 @@ from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
+from app.io.formats.chips import CHIPS
 from app.web.uses import uses_table
 
 CAPTURE_WINDOW_MS = 500
@@ -87,6 +88,22 @@ def capture_thresholds() -> dict:
     }
 
 
+UNIT_WORDS = {"m/s^2": "m/s²", "g": "g", "rad/s": "rad/s", "deg/s": "°/s", "uT": "µT", "nT": "nT", "gauss": "gauss",
+              "raw": "counts"}
+SENSOR_UNITS = {"acc": ("m/s^2", "g", "raw"), "gyr": ("rad/s", "deg/s", "raw"), "mag": ("uT", "nT", "gauss", "raw")}
+"""The units the upload's ``acc_unit``, ``gyr_unit`` and ``mag_unit`` take (app/api/recordings.py)."""
+
+
+def unit_tables() -> dict:
+    """The start page's unit menus: each sensor's units in words, and the chips (app.io.formats.chips)
+    that turn its counts into a physical unit, by sensor, with their datasheet scale in words."""
+    return {
+        "sensors": {"acc": "Accelerometer", "gyr": "Gyroscope", "mag": "Magnetometer"},
+        "units": {s: [[u, UNIT_WORDS[u]] for u in units] for s, units in SENSOR_UNITS.items()},
+        "chips": {s: [[c.name, c.label] for c in CHIPS.values() if c.sensor == s] for s in SENSOR_UNITS},
+    }
+
+
 @lru_cache(maxsize=1)
 def page_tables() -> dict:
     """Everything the pages take from the server's constants, as plain JSON-ready data.
@@ -99,7 +116,8 @@ def page_tables() -> dict:
         angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs); ``cube24`` (the 23
         ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
         and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`);
-        ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it).
+        ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
+        ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -123,4 +141,5 @@ def page_tables() -> dict:
         },
         "compass": compass_tables(),
         "uses": uses_table(),
+        "units": unit_tables(),
     }

@@ -3,6 +3,7 @@ import { createCalibration, exportUrl, uploadRecording } from "./api.js";
 import { columnsField, headerColumns, logPlotSvg } from "./log_plot.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber, parseReadings } from "./readings.js";
+import { TABLES } from "./tables.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -13,6 +14,7 @@ const phone = "DeviceMotionEvent" in window && matchMedia("(pointer: coarse)").m
 document.documentElement.dataset.device = phone ? "phone" : "desktop";
 const status = $("#status");
 let recordingId = null;
+let lastUpload = null; // the form data of the upload on show, to read the file again with other units
 let shown = null; // the calibration on show
 
 function say(text) { status.textContent = text; }
@@ -93,9 +95,13 @@ function showResult(cal) {
   const perReading = Boolean(cal.readings && cal.readings.length);
   $("#result-readings").hidden = !perReading;
   $("#result-readings-h").hidden = !perReading;
+  // One file per pose: each reading names its file.
+  const fromFiles = (cal.readings || []).some((r) => r.source);
+  $("#result-readings .file-col").hidden = !fromFiles;
   $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
     const tr = document.createElement("tr");
     tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
+    if (fromFiles) tr.append(cell("td", r.source ?? "—"));
     return tr;
   }));
   // A noise characterisation's Allan deviation: the server draws it (the allan_svg export), one source.
@@ -156,9 +162,11 @@ function clearOutput() {
   $("#log-plot").replaceChildren();
   $("#result").hidden = true;
   $("#columns-map").hidden = true;
+  $("#units").hidden = true;
   resetUse();
   note("#upload-msg", "");
   note("#segments-msg", "");
+  $("#segments-notes").hidden = true;
 }
 
 async function calibrate(payload, doing, refused, where) {
@@ -177,6 +185,37 @@ async function calibrate(payload, doing, refused, where) {
   }
 }
 
+// One unit menu per sensor the file has, set to the unit trical read from the data, and the parts
+// (app.io.formats.chips) that turn that sensor's counts into g, °/s or µT; the reader's warnings above.
+function showUnits(rec) {
+  const chips = (rec.read_with && rec.read_with.chip ? rec.read_with.chip.split(",") : []).map((c) => c.trim());
+  const { sensors, units, chips: parts } = TABLES.units;
+  $("#units-warnings").replaceChildren(...(rec.warnings || []).map((w) => cell("li", w)));
+  $("#units-list").replaceChildren(...rec.channels.filter((s) => units[s]).flatMap((sensor) => {
+    const unit = cell("label", `${sensors[sensor]} unit`);
+    unit.htmlFor = `unit-${sensor}`;
+    const menu = document.createElement("select");
+    menu.id = `unit-${sensor}`;
+    menu.dataset.sensor = sensor;
+    menu.append(...units[sensor].map(([value, words]) => { const o = cell("option", words); o.value = value; return o; }));
+    menu.value = rec.units[sensor];
+    unit.append(menu);
+    const part = cell("label", `${sensors[sensor]} part, for counts`);
+    part.htmlFor = `chip-${sensor}`;
+    const chip = document.createElement("select");
+    chip.id = `chip-${sensor}`;
+    chip.dataset.sensor = sensor;
+    const none = cell("option", "none");
+    none.value = "";
+    chip.append(none, ...parts[sensor].map(([name, words]) => { const o = cell("option", words); o.value = name; return o; }));
+    chip.value = chips.find((c) => parts[sensor].some(([name]) => name === c)) || "";
+    chip.addEventListener("change", () => { if (chip.value) menu.value = "raw"; });
+    part.append(chip);
+    return [unit, part];
+  }));
+  $("#units").hidden = false;
+}
+
 function showSegments(rec) {
   // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
   const still = rec.channels.includes("acc");
@@ -184,17 +223,28 @@ function showSegments(rec) {
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
-  const sec = (i) => (i / rec.sampling_rate_hz).toFixed(1); // seconds, one decimal, always
+  // Seconds, one decimal, always; a log without a sampling rate counts samples.
+  const sec = (i) => (rec.sampling_rate_hz ? (i / rec.sampling_rate_hz).toFixed(1) : String(i));
+  // A recording made of several files (one per pose): each segment names its file.
+  const parts = rec.parts || [];
+  $("#segments-table .file-col").hidden = !parts.length;
   $("#segments-table tbody").replaceChildren(...rec.segments.map((s) => {
     const tr = document.createElement("tr");
     tr.append(cell("td", String(s.index + 1)), cell("td", `${sec(s.start)}–${sec(s.end)}`), cell("td", s.up ?? "—"),
       cell("td", s.acc_mean.map((v) => formatNumber(v, 3)).join(", ")));
+    if (parts.length) tr.append(cell("td", s.source ?? "—"));
     return tr;
   }));
   $("#segments-table").hidden = !still;
-  const rate = `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`;
-  note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}: calibrating…`
-    : `The magnetometer alone, ${rate}: calibrating the compass…`);
+  const rate = rec.sampling_rate_hz ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
+    : `${rec.n_samples} samples (no time column)`;
+  const files = parts.length ? ` of ${parts.length} files` : "";
+  note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}${files}: calibrating…`
+    : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
+      : `The ${rec.channels.join(" and ")} alone, ${rate}${files}: nothing to calibrate from its poses…`);
+  // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest).
+  $("#segments-notes").hidden = !(parts.length && rec.notes.length);
+  $("#segments-notes").textContent = parts.length ? rec.notes.join(" ") : "";
 }
 
 // The file's header was not recognised: a control per column to say what it holds.
@@ -231,6 +281,8 @@ async function upload(data) {
   if (mine !== action) return;
   note("#upload-msg", "");
   recordingId = rec.id;
+  lastUpload = data;
+  showUnits(rec);
   showSegments(rec);
   await calibrate({ method: "auto", recording_id: rec.id }, $("#segments-msg").textContent,
     "Not calibrated", "#segments-msg");
@@ -238,7 +290,7 @@ async function upload(data) {
 
 function uploadData() {
   const data = new FormData($("#upload-form"));
-  for (const key of ["sampling_rate_hz", "acc_unit", "columns", "sign"]) if (!data.get(key)) data.delete(key);
+  for (const key of ["sampling_rate_hz", "columns", "sign"]) if (!data.get(key)) data.delete(key);
   return data;
 }
 
@@ -252,6 +304,24 @@ $("#columns-map-go").addEventListener("click", () => {
     .map((s) => [s.dataset.column, s.value]));
   const data = uploadData();
   data.set("columns", columnsField(mapping));
+  upload(data);
+});
+
+// The same file (and columns) again, with the unit or the part chosen for each sensor: a part sends
+// its chip and no unit (the chip says the readings are counts).
+$("#units-go").addEventListener("click", () => {
+  if (!lastUpload) return;
+  const data = new FormData();
+  for (const [key, value] of lastUpload.entries()) {
+    if (!["acc_unit", "gyr_unit", "mag_unit", "chip"].includes(key)) data.append(key, value);
+  }
+  const chips = [];
+  for (const menu of document.querySelectorAll("#units-list select[id^=unit-]")) {
+    const chip = $(`#chip-${menu.dataset.sensor}`).value;
+    if (chip) chips.push(chip);
+    else data.set(`${menu.dataset.sensor}_unit`, menu.value);
+  }
+  if (chips.length) data.set("chip", chips.join(","));
   upload(data);
 });
 

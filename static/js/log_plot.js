@@ -25,12 +25,15 @@ export function columnsField(mapping) {
   return Object.entries(mapping).filter(([, role]) => role).map(([name, role]) => `${role}:${name}`).join(",");
 }
 
+// A log without a sampling rate (no time column, none given) is drawn over its samples.
 export function logPlotSvg(overview, segments, samplingRateHz) {
-  const t = overview.t_s;
+  const perSample = samplingRateHz ? 1 / samplingRateHz : 1;
+  const axis = samplingRateHz ? "s" : "samples";
+  const t = overview.t_s ?? (overview.start || []);
   const lows = overview.low.filter((v) => v !== null);
   const highs = overview.high.filter((v) => v !== null);
   if (!t.length || !lows.length) return "";
-  const end = Math.max(t[t.length - 1], ...segments.map((s) => s.end / samplingRateHz));
+  const end = Math.max(t[t.length - 1], ...segments.map((s) => s.end * perSample));
   const lo = Math.min(...lows);
   const hi = Math.max(...highs);
   const pad = (hi - lo) * 0.08 || Math.abs(hi) * 0.05 || 1;
@@ -38,8 +41,8 @@ export function logPlotSvg(overview, segments, samplingRateHz) {
   const y = (v) => TOP + (1 - (v - (lo - pad)) / (hi - lo + 2 * pad)) * (H - TOP - BOTTOM);
   const parts = [];
   segments.forEach((s) => {
-    const x0 = x(s.start / samplingRateHz);
-    const x1 = Math.max(x(s.end / samplingRateHz), x0 + 1.5);
+    const x0 = x(s.start * perSample);
+    const x1 = Math.max(x(s.end * perSample), x0 + 1.5);
     parts.push(`<rect class="still" x="${x0.toFixed(1)}" y="${TOP}" width="${(x1 - x0).toFixed(1)}" `
       + `height="${H - TOP - BOTTOM}" fill="#cfe8d2" />`);
     if (x1 - x0 >= 14 && s.up) {
@@ -52,16 +55,16 @@ export function logPlotSvg(overview, segments, samplingRateHz) {
     if (overview.low[i] !== null) band.push(`${x(t[i]).toFixed(1)},${y(overview.low[i]).toFixed(1)}`);
   }
   parts.push(`<polygon points="${band.join(" ")}" fill="#0b4f9c" stroke="#0b4f9c" stroke-width="1" />`);
-  const unit = overview.unit ? ` (${esc(overview.unit)})` : "";
+  const unit = overview.unit ? ` (${esc(overview.unit === "raw" ? "counts" : overview.unit)})` : "";
   parts.push(
     `<line x1="${LEFT}" y1="${H - BOTTOM}" x2="${W - RIGHT}" y2="${H - BOTTOM}" stroke="#111" />`,
-    `<text x="${LEFT}" y="${H - 6}" font-size="10">0 s</text>`,
-    `<text x="${W - RIGHT}" y="${H - 6}" font-size="10" text-anchor="end">${end.toFixed(1)} s</text>`,
+    `<text x="${LEFT}" y="${H - 6}" font-size="10">0 ${axis}</text>`,
+    `<text x="${W - RIGHT}" y="${H - 6}" font-size="10" text-anchor="end">${end.toFixed(samplingRateHz ? 1 : 0)} ${axis}</text>`,
     `<text x="2" y="${(y(hi) + 4).toFixed(1)}" font-size="10">${hi.toPrecision(3)}</text>`,
     `<text x="2" y="${(y(lo) + 4).toFixed(1)}" font-size="10">${lo.toPrecision(3)}</text>`,
   );
-  const what = overview.sensor === "mag" ? "magnetometer" : "accelerometer";
-  const label = `The ${what}'s norm${unit} over the ${end.toFixed(1)} s of the log; ${segments.length} still `
+  const what = { mag: "magnetometer", gyr: "gyroscope" }[overview.sensor] || "accelerometer";
+  const label = `The ${what}'s norm${unit} over the ${end.toFixed(samplingRateHz ? 1 : 0)} ${axis} of the log; ${segments.length} still `
     + `segments shaded green, labelled with the face up`;
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" width="100%" role="img" `
     + `aria-label="${esc(label)}">${parts.join("")}</svg>`;

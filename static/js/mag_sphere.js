@@ -129,6 +129,7 @@ function apply(M, b, m) {
 export function magResultSvgs(cal) {
   const raw = (cal.samples && cal.samples.raw_ut) || [];
   const field = cal.metrics.field_ut;
+  const unit = cal.output_unit === "raw" ? "counts" : "µT"; // a magnetometer left in counts: its figures are counts
   const covered = coveredFromMissing(cal.metrics.missing_directions);
   const after = raw.map((m) => apply(cal.model.M, cal.model.b, m));
   const inUnits = (pts) => pts.map((p) => p.map((v) => v / field));
@@ -138,8 +139,8 @@ export function magResultSvgs(cal) {
   const mean = (pts) => [0, 1, 2].map((i) => pts.reduce((sum, p) => sum + p[i], 0) / Math.max(1, pts.length));
   return {
     before: magSphereSvg({ covered, points: before, centre: mean(before), scale: reach(before), className: "before",
-      label: `Raw readings m around zero, the sphere of radius F = ${field.toFixed(1)} µT` }),
+      label: `Raw readings m around zero, the sphere of radius F = ${field.toFixed(1)} ${unit}` }),
     after: magSphereSvg({ covered, points: calibrated, scale: reach(calibrated), className: "after",
-      label: `Calibrated h = M (m − b), the sphere of radius F = ${field.toFixed(1)} µT` }),
+      label: `Calibrated h = M (m − b), the sphere of radius F = ${field.toFixed(1)} ${unit}` }),
   };
 }

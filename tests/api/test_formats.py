@@ -150,7 +150,7 @@ def test_lsb_per_g_form_field(client):
     r = upload(client, SAMPLES / "arduino_lsb.csv", lsb_per_g=4096)
     assert r.status_code == 201 and r.json()["units"]["acc"] == "g"
     r = upload(client, SAMPLES / "generic_g.csv", lsb_per_g=4096, acc_unit="g")
-    assert r.status_code == 422 and "converts counts (LSB) to g" in r.json()["detail"]
+    assert r.status_code == 422 and "converts counts of the accelerometer, but acc_unit says" in r.json()["detail"]
 
 
 def test_the_upload_field_offers_every_format():

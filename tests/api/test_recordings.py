@@ -72,12 +72,11 @@ def test_segments_must_cover_six_orientations(client):
         (b"acc_x,acc_y,acc_z\n", {"sampling_rate_hz": 100}, 422, "header (line 1) but no data rows"),
         (b"acc_x,acc_y,acc_z\n1,2,3\n1,2,3\n1,oops,3\n", {"sampling_rate_hz": 100}, 422,
          "line 4, column 'acc_y': 'oops' is not a number"),
-        (b"acc_x,acc_y,acc_z\n1,2,3\n", {}, 422, "give sampling_rate_hz"),
         (b"temperature,pressure\n1,2\n", {"sampling_rate_hz": 100}, 422, "'temperature', 'pressure'"),
         (b"lin_acc_x,linear acceleration y,linear acceleration z\n1,2,3\n", {"sampling_rate_hz": 100}, 422,
          "gravity removed"),
         (b"just one line of text without separators\n", {}, 422,
-         "no accelerometer x, y and z columns among the header's columns 'just', 'one'"),  # split at its spaces
+         "no accelerometer, gyroscope or magnetometer x, y and z columns among the header's columns 'just', 'one'"),  # split at its spaces
         (b"oneword\n", {}, 422, "is not a header"),
         (b"x,y,z\n1,2,3\n", {"sampling_rate_hz": -5}, 422, "sampling_rate_hz"),
         (b"x,y,z\n1,2,3\n", {"acc_unit": "parsec"}, 422, "acc_unit"),

@@ -108,6 +108,27 @@ def test_a_still_recording_that_drifts_is_still_from_end_to_end():
     assert a == 0 and 69_900 < b < 70_100  # to within a window (0.5 s)
 
 
+def test_a_gyroscope_turned_at_a_steady_rate_between_rests_is_not_still():
+    # Six rests of 20 s joined by 2 s turns at 45 °/s: the spread of a turn is as small as a rest's,
+    # its level is not — six rests, and no stretch across a turn (the turns are stretches of their own).
+    from app.calibration.noise_still import still_runs
+
+    rng = np.random.default_rng(9)
+    parts, starts = [], []
+    for k in range(6):
+        if k:
+            parts.append(np.array([0.785, 0.0, 0.0]) + rng.normal(scale=0.01, size=(200, 3)))
+        starts.append(sum(len(p) for p in parts))
+        parts.append(simulate_still(rng, n_samples=2_000, sampling_rate_hz=FS, N=1e-3, B=0, K=0))
+    runs = still_runs(np.vstack(parts), FS)
+    rests = [r for r in runs if r[1] - r[0] > 1_000]
+    assert len(rests) == 6
+    for (a, b), start in zip(rests, starts):
+        assert start - 50 <= a and b <= start + 2_000 + 50 and b - a > 1_900
+    edges = [e for start in starts for e in (start, start + 2_000)][1:-1]
+    assert not any(a + 50 < e < b - 50 for a, b in runs for e in edges)
+
+
 def test_the_three_term_nnls_equals_scipy_s():
     from scipy.optimize import nnls
 

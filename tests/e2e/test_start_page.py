@@ -129,6 +129,60 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     assert page.errors == refused
 
 
+POSE_FILES = DATA / "real" / "mpu6050_pose_files"
+POSE_ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
+
+
+def upload_pose_files(page, server, paths):
+    """A maker's six pose files (an MPU-6050's, in m/s² under an "aX (g)" header): chosen at once, unit m/s²."""
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", [str(p) for p in paths])
+    page.click("#options-summary")
+    page.select_option("#log-unit", "m/s^2")
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#segments:not([hidden])")
+
+
+def test_one_file_per_pose_chosen_at_once_is_one_calibration(page, server):
+    upload_pose_files(page, server, [POSE_FILES / f"{s}.csv" for s in POSE_ORDER])
+    rows = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))")
+    assert [(r[2], r[4]) for r in rows] == [("+x", "x_axis_pos.csv"), ("-x", "x_axis_neg.csv"), ("+y", "y_axis_pos.csv"),
+                                            ("-y", "y_axis_neg.csv"), ("+z", "z_axis_pos.csv"), ("-z", "z_axis_neg.csv")]
+    assert page.locator("#segments-table th.file-col").is_visible()
+    page.wait_for_selector("#result:not([hidden])")
+    page.wait_for_selector("#downloads[data-ready=true]")
+    shot(page, "start_page_pose_files")
+    assert page.get_attribute("#verdict", "data-kind") == "apply"
+    assert page.text_content("#result-choice").startswith("Method six_position: the 6 poses are the six axis")
+    readings = page.eval_on_selector_all("#result-readings tbody tr", "rows => rows.map(r => [r.cells[0].textContent, r.cells[3].textContent])")
+    assert sorted(map(tuple, readings)) == sorted([("+x", "x_axis_pos.csv"), ("-x", "x_axis_neg.csv"), ("+y", "y_axis_pos.csv"),
+                                       ("-y", "y_axis_neg.csv"), ("+z", "z_axis_pos.csv"), ("-z", "z_axis_neg.csv")])
+    assert page.locator("#segments-notes").is_hidden()
+    assert page.errors == []
+
+
+def test_a_zip_of_pose_files_with_a_misnamed_one_is_labelled_by_the_data(page, server, tmp_path):
+    import zipfile
+
+    names = {s: f"{s}.csv" for s in POSE_ORDER}
+    names.update(z_axis_pos="z_axis_neg.csv", z_axis_neg="z_axis_pos.csv")  # two names swapped by hand
+    path = tmp_path / "poses.zip"
+    with zipfile.ZipFile(path, "w") as zf:
+        for s in POSE_ORDER:
+            zf.write(POSE_FILES / f"{s}.csv", f"poses/{names[s]}")
+    upload_pose_files(page, server, [path])
+    rows = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => [r.cells[2].textContent, r.cells[4].textContent])")
+    assert rows[4:] == [["+z", "z_axis_neg.csv"], ["-z", "z_axis_pos.csv"]]
+    notes = page.text_content("#segments-notes")
+    assert "z_axis_neg.csv: its name says -z up, but its still readings point +z up" in notes
+    assert "z_axis_pos.csv: its name says +z up, but its still readings point -z up" in notes
+    page.wait_for_selector("#result:not([hidden])")
+    warnings = page.eval_on_selector_all("#result-warnings li", "lis => lis.map(l => l.textContent)")
+    assert any(w.startswith("z_axis_neg.csv names -z up, but its still reading points +z up") for w in warnings)
+    assert page.get_attribute("#verdict", "data-kind") == "apply"
+    assert page.errors == []
+
+
 def test_bad_paste_is_explained(page, server):
     page.goto(server.url + "/")
     page.fill("#paste", "1 2 3\n4 5")
@@ -206,3 +260,55 @@ def test_the_start_page_by_capability(browser, server):
     assert page.get_attribute("#phone-start .cta >> nth=0", "href") == "/wizard?protocol=six"
     shot(page, "start_page_phone_390")
     phone.close()
+
+
+def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_path):
+    # A six-pose log whose header says g over m/s², beside a magnetometer in the AK8963's raw counts
+    # (0.15 µT per count at 16 bits), as a maker's sketch prints them.
+    from app.calibration.simulations.logs import simulate_static_log
+    from app.calibration.simulations.magnetometer import simulate_session
+
+    six = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=50.0, rest_s=(3.0, 3.5), turn_s=(1.0, 1.2))
+    n = len(six.samples)
+    mag, _, _ = simulate_session(7, n=n)
+    path = tmp_path / "board.csv"
+    rows = [f"{i / 50:.2f}," + ",".join(f"{v:.5f}" for v in a) + "," + ",".join(f"{round(v / 0.15)}" for v in m)
+            for i, (a, m) in enumerate(zip(six.samples, mag))]
+    path.write_text("\n".join(["t,aX (g),aY (g),aZ (g),mx,my,mz"] + rows) + "\n")
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(path))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#units:not([hidden])")
+    # One menu per sensor the file has, set to what the data show; the reader's warnings above them.
+    menus = page.eval_on_selector_all("#units-list select[id^=unit-]", "ss => ss.map(s => [s.id, s.value])")
+    assert menus == [["unit-acc", "m/s^2"], ["unit-mag", "raw"]]
+    warnings = page.eval_on_selector_all("#units-warnings li", "ls => ls.map(l => l.textContent)")
+    assert warnings[0].startswith("the header said g for the accelerometer") and "calibrated in m/s^2" in warnings[0]
+    assert any("the magnetometer's readings are counts" in w for w in warnings)
+    mag_units = page.eval_on_selector_all("#unit-mag option", "os => os.map(o => o.textContent)")
+    assert mag_units == ["µT", "nT", "gauss", "counts"]
+    page.wait_for_selector("#downloads[data-ready=true]")
+    page.click("#compass-recording")  # the compass in counts: its figures say counts, never µT
+    page.wait_for_function("() => /counts/.test(document.querySelector('#verdict-words').textContent)")
+    assert "µT" not in page.text_content("#verdict-words")
+    page.wait_for_selector("#downloads[data-ready=true]")
+    refused = page.eval_on_selector_all("#downloads li span", "ss => ss.map(s => s.textContent)")
+    assert [r.split(":")[0] for r in refused] == ["ArduPilot", "PX4"]  # firmware needs µT: they name the chip
+    assert all("upload the log again with chip" in r for r in refused)
+    assert len(page.errors) == 2 and all("422" in e for e in page.errors)  # the browser logs the two refusals
+    page.errors.clear()
+    shot(page, "upload_units_counts")
+    # The magnetometer's part: its counts become µT once the file is read again.
+    page.select_option("#chip-mag", "ak8963-16bit")
+    assert page.input_value("#unit-mag") == "raw"
+    page.click("#units-go")
+    page.wait_for_function("() => document.querySelector('#unit-mag') && "
+                           "document.querySelector('#unit-mag').value === 'uT'")
+    assert page.input_value("#chip-mag") == "ak8963-16bit" and page.input_value("#unit-acc") == "m/s^2"
+    warnings = page.eval_on_selector_all("#units-warnings li", "ls => ls.map(l => l.textContent)")
+    assert not any("magnetometer" in w for w in warnings)
+    page.wait_for_selector("#downloads[data-ready=true]")
+    page.click("#compass-recording")
+    page.wait_for_function("() => /µT/.test(document.querySelector('#verdict-words').textContent)")
+    assert "counts" not in page.text_content("#verdict-words")
+    assert page.errors == []

@@ -58,10 +58,10 @@ def test_unreadable_npy_is_a_clear_415(tmp_path, content, match):
     assert err.value.status == 415
 
 
-def test_npy_wrong_shapes_and_missing_rate(tmp_path):
+def test_npy_wrong_shapes_and_no_rate(tmp_path):
     f = tmp_path / "rec.npy"
     np.save(f, np.zeros((10, 5)))
-    with pytest.raises(LogFormatError, match=r"N×3 \(x, y, z\) or N×4"):
+    with pytest.raises(LogFormatError, match=r"holds rows of 5 numbers: save one row per sample with 3 numbers"):
         read_npy_log(f, sampling_rate_hz=1.0)
     np.save(f, np.array(["a", "b", "c"]).reshape(1, 3))
     with pytest.raises(LogFormatError, match="expected numbers"):
@@ -70,8 +70,10 @@ def test_npy_wrong_shapes_and_missing_rate(tmp_path):
     with pytest.raises(LogFormatError, match="no samples"):
         read_npy_log(f, sampling_rate_hz=1.0)
     np.save(f, np.zeros((10, 3)))
-    with pytest.raises(LogFormatError, match="sampling_rate_hz"):
-        read_npy_log(f)
+    # No time column and no rate: read, without a rate (the methods that need one ask for it).
+    log = read_npy_log(f)
+    assert log.sampling_rate_hz is None and log.timing.source == "none"
+    assert any("no time column" in n for n in log.notes)
     with pytest.raises(LogFormatError, match="unit"):
         read_npy_log(f, sampling_rate_hz=1.0, units={"acc": "furlongs"})
     with pytest.raises(FileNotFoundError):
@@ -121,8 +123,10 @@ def test_parquet_errors(tmp_path):
     with pytest.raises(LogFormatError, match="no accelerometer"):
         read_parquet_log(f, sampling_rate_hz=1.0)
     pq.write_table(pa.table({"x": [1.0, 2.0], "y": [1.0, 2.0], "z": [1.0, 2.0]}), f)
-    with pytest.raises(LogFormatError, match="sampling_rate_hz"):
-        read_parquet_log(f)
+    assert read_parquet_log(f).sampling_rate_hz is None  # no time column, none given: no rate
+    pq.write_table(pa.table({"gyr_x": [1.0, 2.0], "gyr_y": [1.0, 2.0], "gyr_z": [1.0, 2.0]}), f)
+    log = read_parquet_log(f, sampling_rate_hz=10.0)  # a gyroscope alone
+    assert log.acc is None and log.channels == ["gyr"] and log.sampling_rate_hz == 10.0
 
 
 def test_read_log_dispatches_by_suffix(tmp_path):

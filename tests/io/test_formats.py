@@ -197,6 +197,8 @@ def test_the_samples_are_the_generator_output(tmp_path):
         assert (tmp_path / name).read_bytes() == (SAMPLES / name).read_bytes(), name
 
 
-def test_g_readings_declared_in_m_s2_get_the_unit_hint():
-    with pytest.raises(LogFormatError, match="about 1 g, but their unit is m/s\\^2: if they are in g, give acc_unit=g"):
-        read_log(SAMPLES / "generic_g.csv", units={"acc": "m/s^2"})
+def test_g_readings_declared_in_m_s2_are_read_in_g_with_a_warning():
+    log = read_log(SAMPLES / "generic_g.csv", units={"acc": "m/s^2"})
+    assert log.units["acc"] == "g"
+    assert any(n.startswith("acc_unit said m/s^2 for the accelerometer, but its readings rest at a median norm of")
+               and n.endswith("about 1 g in g: calibrated in g") for n in log.warnings)

@@ -157,30 +157,30 @@ def measured_inclination(rests, M: np.ndarray, b: np.ndarray) -> float | None:
 
 
 def _gates(metrics: dict, fitted: Refined, half_M: np.ndarray | None, half_b: np.ndarray | None,
-           raw_comparable: bool, gates: Gates) -> None:
+           raw_comparable: bool, gates: Gates, label: str = "µT") -> None:
     field = metrics["field_ut"]
     if metrics["coverage"] < MIN_COVERAGE:
         gates.fail(f"the turn covered {100 * metrics['coverage']:.0f} % of the directions (at least "
                    f"{100 * MIN_COVERAGE:.0f} % needed): still missing {', '.join(metrics['missing_directions'])} — "
                    "turn the device so that each of these points at the ground in turn")
     if metrics["norm_spread_ut"] > MAX_SPREAD * field:
-        gates.fail(f"the calibrated field's magnitude spreads over {metrics['norm_spread_ut']:.1f} µT (5–95 %), more "
-                   f"than {100 * MAX_SPREAD:.0f} % of {field:.1f} µT: the field changed while the device turned (steel, "
+        gates.fail(f"the calibrated field's magnitude spreads over {metrics['norm_spread_ut']:.1f} {label} (5–95 %), more "
+                   f"than {100 * MAX_SPREAD:.0f} % of {field:.1f} {label}: the field changed while the device turned (steel, "
                    "magnets, a laptop or a phone case nearby) — move away from them and turn it again")
     if half_b is None:
         gates.fail("the fit is not determined (no intervals): turn the device through all directions")
     else:
         if np.max(half_b) > MAX_OFFSET_HALF_WIDTH * field:
-            gates.fail(f"the hard iron b is not determined: its 95 % interval is ±{np.max(half_b):.1f} µT (limit "
-                       f"{MAX_OFFSET_HALF_WIDTH * field:.1f} µT) — turn the device through more directions")
+            gates.fail(f"the hard iron b is not determined: its 95 % interval is ±{np.max(half_b):.1f} {label} (limit "
+                       f"{MAX_OFFSET_HALF_WIDTH * field:.1f} {label}) — turn the device through more directions")
         scale = float(np.mean(np.diag(fitted.M)))
         if np.max(half_M) > MAX_MATRIX_HALF_WIDTH * scale:
             gates.fail(f"the soft iron M is not determined: an entry's 95 % interval is ±{np.max(half_M):.3f} "
                        f"(limit {MAX_MATRIX_HALF_WIDTH * scale:.3f}) — turn the device through more directions")
     cv, raw = metrics["cv_error_ut"], metrics["raw_error_ut"]
     if raw_comparable and cv is not None and raw is not None and cv >= raw:
-        gates.fail(f"the calibration would not help: on directions left out of the fit its error is {cv:.2f} µT, "
-                   f"the readings as they are err by {raw:.2f} µT — the sensor is already calibrated (use its readings "
+        gates.fail(f"the calibration would not help: on directions left out of the fit its error is {cv:.2f} {label}, "
+                   f"the readings as they are err by {raw:.2f} {label} — the sensor is already calibrated (use its readings "
                    "as they are)")
     measured, model = metrics["measured_inclination_deg"], metrics["inclination_deg"]
     if measured is not None and model is not None and abs(measured - model) > MAX_INCLINATION_ERROR_DEG:
@@ -191,7 +191,7 @@ def _gates(metrics: dict, fitted: Refined, half_M: np.ndarray | None, half_b: np
 
 def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | None = None,
                      inclination_deg: float | None = None, declination_deg: float | None = None,
-                     rests=None, raw_comparable: bool = True) -> MagnetometerResult:
+                     rests=None, raw_comparable: bool = True, label: str = "µT") -> MagnetometerResult:
     """Calibrate a magnetometer from readings taken while the device turned through all directions.
 
     Parameters
@@ -210,6 +210,9 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
     raw_comparable : bool
         Whether the raw readings are in the unit of F (µT): then the calibration must beat them on
         directions it did not see, else ``ok`` is false.
+    label : str
+        The unit the messages name: ``µT``, or ``counts`` for readings in counts whose field is
+        estimated (the fit's figures are then in counts).
 
     Returns
     -------
@@ -230,7 +233,7 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
         raise CalibrationError(f"field_source must be one of {', '.join(FIELD_SOURCES)}; got {source!r}")
     fitted, field = _fit(m, field_ut, gates)
     if field_ut is None:
-        gates.warn(f"no place and date, so the field's magnitude is estimated from the readings ({field:.1f} µT, M "
+        gates.warn(f"no place and date, so the field's magnitude is estimated from the readings ({field:.1f} {label}, M "
                    "scaled to change no volume): give date, latitude_deg and longitude_deg (or field_ut) for the "
                    "Earth's field there")
     M, b = fitted.M, fitted.b
@@ -256,11 +259,11 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
     if field_ut is not None:
         own = float(np.linalg.det(M)) ** (-1.0 / 3.0) * field
         if abs(own / field - 1.0) > MAX_SCALE_DEVIATION:
-            gates.warn(f"the readings' own field is about {own:.1f} µT where {field:.1f} µT was asked for: check the "
+            gates.warn(f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: check the "
                        "magnetometer's unit, or the place and date")
     if not fitted.converged:
         gates.fail("the fit did not converge: turn the device slowly through all directions and try again")
-    _gates(metrics, fitted, half_M, half_b, raw_comparable, gates)
+    _gates(metrics, fitted, half_M, half_b, raw_comparable, gates, label)
     shown = m[:: max(1, int(np.ceil(len(m) / SAMPLES_SHOWN)))]
     return MagnetometerResult(
         M=M, b=b, covariance=fitted.covariance, dof=fitted.dof, metrics=metrics,

@@ -51,6 +51,10 @@ class MagnetometerResult(CalibrationResult):
 
     @property
     def output_unit(self) -> str:
+        """µT, or ``raw`` for readings in counts whose field was estimated: M then maps counts to
+        counts, and every figure is in counts."""
+        if self.unit == "raw" and self.metrics.get("field_source") == "estimated":
+            return "raw"
         return "uT"
 
     def apply(self, raw) -> np.ndarray:

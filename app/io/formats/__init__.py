@@ -16,6 +16,8 @@ format                    recognised by
 ``sensorlog``             header naming ``accelerometerAccelerationX(G)`` … (SensorLog, iOS)
 ``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
 ``csv``                   any other header row, or none (:mod:`app.io.formats.generic_csv`)
+(parts)                   any other zip: its log files, one per pose, read each as above and
+                          joined as one recording in parts (:mod:`app.io.parts`)
 ========================  =====================================================================
 
 Then the sign (:mod:`.ios_sign`): the caller's ``sign`` (+1 keeps, −1 negates the accelerations),
@@ -33,7 +35,9 @@ from ..log import LogData
 from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger, sensorlog
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
-from .units import apply_lsb_per_g, refuse_linear_acceleration
+from .chips import parse_chips
+from .timing import with_timing
+from .units import refuse_linear_acceleration, settle_units
 
 READERS = {
     phyphox.NAME: phyphox.read,
@@ -160,7 +164,8 @@ def detect_format(s: Sniff) -> str:
 
 def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None = None,
              units: dict | None = None, lsb_per_g: float | None = None,
-             columns: str | dict | list | None = None, sign: int | None = None, name: str = "the file") -> LogData:
+             columns: str | dict | list | None = None, sign: int | None = None, chip: str | list | None = None,
+             name: str = "the file") -> LogData:
     """Read a log in any supported format into arrays.
 
     Parameters
@@ -184,6 +189,9 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     sign : {1, -1}, optional
         Factor on the file's accelerations (−1 for Core Motion's sign); detected when None
         (:mod:`.ios_sign`).
+    chip : str, optional
+        The parts and ranges of the file's sensors in counts, separated by commas (``mpu6050-4g,
+        ak8963-16bit``; :data:`app.io.formats.chips.CHIPS`): their counts become g, °/s and µT.
     name : str
         How to call the file in messages.
 
@@ -205,11 +213,26 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     from ..arrays import is_array_file, read_array_log  # here: app.io.arrays reads CSV through this package
 
     if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
+        if chip or lsb_per_g is not None:
+            raise LogFormatError(f"{name} is an array file, whose samples trical takes in the unit given (unit, "
+                                 "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
+                                 "by the sensitivity before saving the array, or upload them as CSV")
         check_sign(sign)
-        return settle_sign(read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name), sign)
+        log = read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
+        return settle_sign(with_timing(log, sampling_rate_hz, name), sign)
     check_sign(sign)
     column_map = parse_columns(columns)
     s = sniff(path, name)
+    if s.is_zip and format not in (phyphox.NAME, sensor_logger.NAME) and not (phyphox.detect(s) or sensor_logger.detect(s)) \
+            and not any(m.startswith("xl/") for m in s.members):
+        # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
+        from ..parts import read_parts_zip
+
+        def read_part(part_path, part_name):
+            return read_log(part_path, format=format, sampling_rate_hz=sampling_rate_hz, units=units,
+                            lsb_per_g=lsb_per_g, columns=columns, sign=sign, name=part_name)
+
+        return read_parts_zip(path, s.members, read_part, name=name)
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
         raise LogFormatError(f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
                              "leave columns out, or use format=csv")
@@ -223,6 +246,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
             and not dict(DETECTORS)[fmt](s):
         raise LogFormatError(f"{name} does not look like a {fmt} file (its header does not match): use "
                              "format=auto, or map its columns as acc_x, acc_y, acc_z with format=csv")
+    chips = parse_chips(chip)
     comment_lsb = None if s.is_zip else generic_csv.lsb_from_comments(s.lines)
     lsb = lsb_per_g if lsb_per_g is not None else comment_lsb
     extra = {}
@@ -230,16 +254,19 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
         extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
     log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
                        lsb_per_g=lsb, **extra)
+    log = with_timing(log, sampling_rate_hz, name)  # the one decision of the rate (.timing)
+    maker = fmt in (generic_csv.CSV, generic_csv.ARDUINO)
+    if maker:  # a header row names the units, or nothing does
+        stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text)
+    else:  # a phone app's format states its units
+        stated = {k: v for k, v in log.units.items() if k not in (units or {})}
+    log = settle_units(log, given=units, stated=stated, lsb_per_g=lsb,
+                       lsb_source="lsb_per_g" if lsb_per_g is not None else "the file's comment lsb_per_g",
+                       chips=chips, stated_by="the header" if maker else f"the {fmt} format", check_mag=maker,
+                       name=name)
+    notes = [] if fmt == log.format else [f"read as {fmt}"]
+    log = dataclasses.replace(log, format=fmt, notes=tuple(log.notes) + tuple(notes))
     if log.acc is None:  # a magnetometer (or gyroscope) alone
-        if fmt != log.format:
-            log = dataclasses.replace(log, format=fmt, notes=tuple(log.notes) + (f"read as {fmt}",))
         return log
-    acc, unit, notes = apply_lsb_per_g(log.acc, log.units["acc"], lsb)
-    if notes and lsb_per_g is None:
-        notes = [n + " (from the file's comment)" for n in notes]
-    refuse_linear_acceleration(acc, unit, name)
-    if fmt != log.format:
-        notes.append(f"read as {fmt}")
-    log = dataclasses.replace(log, acc=acc, units={**log.units, "acc": unit}, format=fmt,
-                              notes=tuple(log.notes) + tuple(notes))
+    refuse_linear_acceleration(log.acc, log.units["acc"], name)
     return settle_sign(log, sign)

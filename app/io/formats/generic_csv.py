@@ -16,10 +16,10 @@ step, as for a ``time`` column); other counts are named with ``columns`` — one
 order, ``t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z`` (:func:`table_layout`).  Numbers with decimal
 commas between comma separators cannot be told apart and are refused by their column count.
 
-The unit comes from the caller, else the header (``acc_x (g)``), else the data
-(:func:`~app.io.formats.units.infer_acc_unit`).  Readings in counts (LSB) become g with the
-sensor's sensitivity, given as ``lsb_per_g`` by the caller or in a comment line of the file such as
-``# MPU-6050 ±2 g, lsb_per_g=16384``.
+The unit comes from the caller, else the header (``acc_x (g)``, ``mag_x (G)`` for gauss); the
+data then have the last word (:func:`app.io.formats.units.settle_units`).  Readings in counts (LSB)
+become g with the sensor's sensitivity, given as ``lsb_per_g`` or ``chip`` by the caller or in a
+comment line of the file such as ``# MPU-6050 ±2 g, lsb_per_g=16384``.
 
 The *arduino* format adds the Arduino IDE Serial Plotter's ``label:value`` lines
 (``ax:-112 ay:35 az:16490``, separated by spaces, tabs or commas) to the CSV layout.
@@ -37,8 +37,10 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
 from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
-                    rate_from_time, read_columns, sampling_rate, seconds_per_unit, split_row)
-from .units import infer_acc_unit
+                    read_columns, split_row)
+from .timing import time_scale as infer_time_scale
+from .timing import with_timing
+from .units import MAG_UNITS_IN
 
 MAX_LISTED_COLUMNS = 20
 
@@ -68,10 +70,17 @@ def normalise(name: str) -> str:
     return re.sub(r"\s+", " ", name.strip().strip('"').strip().lower())
 
 
-def _header_unit(text: str | None) -> str | None:
+_MAG_ALIASES = {"g": "gauss", "gauss": "gauss", "ga": "gauss"}
+"""A magnetometer's ``(G)`` is gauss, not the accelerometer's g."""
+
+
+def _header_unit(text: str | None, sensor: str = "acc") -> str | None:
     if not text:
         return None
-    return _UNIT_ALIASES.get(text.strip().lower().replace(" ", ""), None)
+    key = text.strip().lower().replace(" ", "")
+    if sensor == "mag" and key in _MAG_ALIASES:
+        return _MAG_ALIASES[key]
+    return _UNIT_ALIASES.get(key, None)
 
 
 def split_header(text: str) -> tuple[int, str, list[str]]:
@@ -186,7 +195,7 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
             m = pattern.match(name)
             if m:
                 channels.setdefault(sensor, {}).setdefault(m.group("axis"), col)
-                unit = _header_unit(m.group("unit"))
+                unit = _header_unit(m.group("unit"), sensor)
                 if unit:
                     units.setdefault(sensor, unit)
                 break
@@ -200,10 +209,13 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
         listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
         if len(names) > MAX_LISTED_COLUMNS:
             listed += f" and {len(names) - MAX_LISTED_COLUMNS} more"
+        partial = ", ".join(f"{s}_{a}" for s, axes in channels.items() for a in "xyz" if a in axes)
         raise LogFormatError(
-            f"no accelerometer x, y and z columns among the header's columns {listed}: name them "
-            "acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), optionally with a time column "
-            "time_s / time_ms / time_ns (a magnetometer alone: mag_x, mag_y, mag_z), or map them without "
+            f"no accelerometer, gyroscope or magnetometer x, y and z columns among the header's columns {listed}"
+            + (f" (only {partial}: trical needs all three axes of a sensor)" if partial else "")
+            + ": name them acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), gyr_x, gyr_y, gyr_z or mag_x, mag_y, "
+            "mag_z, any of the three sensors, optionally with a time column "
+            "time_s / time_ms / time_ns, or map them without "
             "editing the file with the upload field "
             "columns, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
             "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
@@ -275,9 +287,21 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
                                          name=name, column_names=names, first_line=layout.skip_lines + 1)))
     arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
     time = values[time_col] if time_col is not None else None
+    notes = list(layout.notes)
     try:
-        rate = sampling_rate(time, sampling_rate_hz, time_scale=time_scale, name=name)
-        time_s = None if time is None else (time - time[0]) * (time_scale or seconds_per_unit(time))
+        time_s = None
+        if time is not None and len(time) >= 2:
+            if time_scale is None:
+                try:
+                    time_scale, time_unit = infer_time_scale(time)
+                    notes.append(f"time column {names[time_col]!r} read in {time_unit} (from its step)")
+                except LogFormatError:
+                    if sampling_rate_hz is None:
+                        raise
+                    notes.append(f"time column {names[time_col]!r} not used: its unit is unclear and "
+                                 "sampling_rate_hz was given")
+            if time_scale is not None:
+                time_s = (time - time[0]) * time_scale
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
@@ -286,19 +310,20 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
                              "columns=acc_x,acc_y,acc_z,- ") from None
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
-        if unit not in UNITS[sensor]:
-            raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(UNITS[sensor])}")
-    return LogData(
+        accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
+        if unit not in accepted:
+            raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(accepted)}")
+    return with_timing(LogData(
         acc=arrays.get("acc"),
         gyr=arrays.get("gyr"),
         mag=arrays.get("mag"),
         time_s=time_s,
-        sampling_rate_hz=rate,
+        sampling_rate_hz=None,
         units=final_units,
         format="csv",
         columns=names,
-        notes=layout.notes,
-    )
+        notes=tuple(notes),
+    ), sampling_rate_hz, name)
 
 
 CSV = "csv"
@@ -334,41 +359,23 @@ def detect_csv(s: Sniff) -> bool:
     return not s.is_zip
 
 
-def _header_acc_unit(text: str) -> str | None:
+def header_units(text: str) -> dict:
+    """The units a header row names per sensor (``acc_x (g)`` …); empty when it names none."""
     try:
         _, _, names = split_header(text)
-        return map_columns(names)[3].get("acc")
+        return map_columns(names)[3]
     except LogFormatError:
-        return None
-
-
-def _settle_units(log: LogData, caller_acc: str | None, header_acc: str | None, lsb_per_g, fmt: str,
-                  notes: list[str]) -> LogData:
-    if log.acc is None:  # another sensor alone: nothing of the accelerometer to settle
-        return log
-    unit = caller_acc or header_acc
-    if unit is None:
-        unit = infer_acc_unit(log.acc)
-        if unit is None:
-            unit = "m/s^2"
-            notes.append("accelerometer unit not named and not evident from the data: m/s² assumed "
-                         "(give acc_unit to change it)")
-        else:
-            notes.append(f"accelerometer unit {unit} inferred from the data (median norm)")
-    if lsb_per_g is not None and unit != "raw" and caller_acc is None and header_acc is None:
-        unit = "raw"  # lsb_per_g says the readings are counts
-    return dataclasses.replace(log, units={**log.units, "acc": unit}, format=fmt,
-                               notes=tuple(log.notes) + tuple(notes))
+        return {}
 
 
 def read_csv(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
              fmt: str = CSV, column_map: dict | None = None, column_names: list[str] | None = None, **_) -> LogData:
-    """Read a generic CSV log, settling the accelerometer unit (caller, header, data)."""
+    """Read a generic CSV log, its units as the caller or the header name them (settled from the data
+    by :func:`app.io.formats.units.settle_units`)."""
     units = units or {}
     log = read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name, column_map=column_map,
                        column_names=column_names)
-    header_acc = None if column_names else _header_acc_unit(s.text)
-    return _settle_units(log, units.get("acc"), header_acc, lsb_per_g, fmt, [])
+    return dataclasses.replace(log, format=fmt)
 
 
 def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
@@ -411,8 +418,8 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     units = units or {}
     log = LogData(
         acc=arrays["acc"], gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=None,
-        sampling_rate_hz=rate_from_time(None, sampling_rate_hz, name),
+        sampling_rate_hz=None,
         units={k: units.get(k) or {"acc": "m/s^2", "gyr": "raw", "mag": "raw"}[k] for k in arrays},
         format=ARDUINO, columns=labels,
     )
-    return _settle_units(log, units.get("acc"), None, lsb_per_g, ARDUINO, [])
+    return log

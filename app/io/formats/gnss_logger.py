@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, rate_from_time, resample_to
+from .table import Sniff, resample_to
 
 NAME = "gnss_logger"
 RECORDS = {
@@ -97,7 +97,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     arrays = {base: acc, **aligned}
     return LogData(
         acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=time_s,
-        sampling_rate_hz=rate_from_time(time_s, sampling_rate_hz, name),
+        sampling_rate_hz=None,
         units={k: units.get(k) or RECORDS[k][2] for k in arrays},
         format=NAME, columns=list(layouts.get(RECORDS[base][0]) or []),
         notes=(f"{RECORDS[base][0]} readings without the platform's bias estimate",),

@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, find_member, first_row, guess_decimal, rate_from_time, read_columns, read_member
+from .table import Sniff, find_member, first_row, guess_decimal, read_columns, read_member
 
 NAME = "phyphox"
 RAW_DATA = "Raw Data.csv"
@@ -96,6 +96,6 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         notes.append("decimal comma")
     return LogData(
         acc=stacked.get("acc"), gyr=stacked.get("gyr"), mag=stacked.get("mag"), time_s=time - time[0],
-        sampling_rate_hz=rate_from_time(time, sampling_rate_hz, label), units=final_units, format=NAME,
+        sampling_rate_hz=None, units=final_units, format=NAME,
         columns=names, notes=tuple(notes),
     )

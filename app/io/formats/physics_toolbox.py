@@ -14,9 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, first_row, guess_decimal, rate_from_time, read_columns, split_row
+from .table import Sniff, first_row, guess_decimal, read_columns, split_row
 
 NAME = "physics_toolbox"
 _GF = ("gfx", "gfy", "gfz")
@@ -69,15 +68,15 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
             if back.any():
                 period = 86400.0 if ":" in rows[0][col] and rows[0][col].count(":") >= 2 else 3600.0
                 time = time + period * np.concatenate([[0], np.cumsum(back)])
-    if time is None and sampling_rate_hz is None:
-        raise LogFormatError(f"the time column of {name} could not be read as seconds or a clock: "
-                             "give sampling_rate_hz")
+    notes = ["g-force columns gFx, gFy, gFz (g); linear ax, ay, az not used"]
+    if time is None and "time" in lowered:
+        notes.append(f"the time column of {name} could not be read as seconds or a clock: it is not used")
     units = units or {}
     return LogData(
         acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"),
         time_s=None if time is None else time - time[0],
-        sampling_rate_hz=rate_from_time(time, sampling_rate_hz, name),
+        sampling_rate_hz=None,
         units={"acc": units.get("acc") or "g", **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k]
                                                    for k in stacked if k != "acc"}},
-        format=NAME, columns=names, notes=("g-force columns gFx, gFy, gFz (g); linear ax, ay, az not used",),
+        format=NAME, columns=names, notes=tuple(notes),
     )

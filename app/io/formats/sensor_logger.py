@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, find_member, rate_from_time, read_columns, read_member, resample_to, split_row
+from .table import Sniff, find_member, read_columns, read_member, resample_to, split_row
 from .units import infer_acc_unit, median_norm, refuse_linear_acceleration
 
 NAME = "sensor_logger"
@@ -133,8 +133,7 @@ def _magnetometer_only(time_ns: np.ndarray, mag: np.ndarray, names: list[str], l
                        sampling_rate_hz, notes: list[str]) -> LogData:
     """A recording of the magnetometer alone (a compass calibration's turn), in µT."""
     time_s = (time_ns - time_ns[0]).astype(float) * 1e-9
-    return LogData(acc=None, gyr=None, mag=mag, time_s=time_s, sampling_rate_hz=rate_from_time(time_s, sampling_rate_hz,
-                                                                                                label),
+    return LogData(acc=None, gyr=None, mag=mag, time_s=time_s, sampling_rate_hz=None,
                    units={"mag": units.get("mag") or "uT"}, format=NAME, columns=names,
                    notes=tuple(notes + ["the magnetometer alone (no accelerometer file)"]))
 
@@ -179,7 +178,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     aligned = {k: resample_to(time_s, (t - time_ns[0]).astype(float) * 1e-9, v) for k, (t, v) in extra.items()}
     return LogData(
         acc=sign * acc, sign=int(sign), gyr=aligned.get("gyr"), mag=aligned.get("mag"), time_s=time_s,
-        sampling_rate_hz=rate_from_time(time_s, sampling_rate_hz, label),
+        sampling_rate_hz=None,
         units={"acc": unit, **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k] for k in aligned}},
         format=NAME, columns=names, notes=tuple(notes),
     )

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, first_row, guess_decimal, rate_from_time, read_columns
+from .table import Sniff, first_row, guess_decimal, read_columns
 
 NAME = "sensorlog"
 TIME = "accelerometertimestamp_sincereboot(s)"
@@ -56,7 +56,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     return LogData(
         acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"),
         time_s=None if time is None else time - time[0],
-        sampling_rate_hz=rate_from_time(None if time is None else time - time[0], sampling_rate_hz, name),
+        sampling_rate_hz=None,
         units={k: units.get(k) or STREAMS[k][1] for k in stacked}, format=NAME, columns=names,
         notes=("SensorLog's raw accelerometer, gyroscope and magnetometer columns; its motion* (fused) "
                "values are not used",),

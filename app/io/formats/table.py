@@ -4,7 +4,7 @@ The one CSV stack of :mod:`app.io`: the readers of :mod:`app.io.formats` (and th
 CSV fallback, :mod:`app.io.arrays`) see an upload through :class:`Sniff` (its first bytes as text, or
 the member names of a zip), read their numeric columns with :func:`read_columns` (pyarrow's CSV
 reader, from a file or from bytes, with the delimiter and the decimal mark: phyphox writes ``1,5``
-with ``;`` separators), and take the sampling rate from a time column with :func:`sampling_rate`.
+with ``;`` separators); the sampling rate is decided in :mod:`.timing`.
 """
 
 from __future__ import annotations
@@ -338,68 +338,6 @@ def _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, fir
             except ValueError:
                 return f"line {number}, column {names[c]!r}: {value[:40]!r} is not a number"
     return "a line could not be read as numbers"
-
-
-def sampling_rate(time: np.ndarray | None, sampling_rate_hz: float | None, *, time_scale: float | None = None,
-                  name: str = "the file") -> float:
-    """The sampling rate: the caller's, else one over the median step of a time column.
-
-    Parameters
-    ----------
-    time : numpy.ndarray or None
-        The time column as read, in units of ``time_scale`` seconds; None when the file has none.
-    sampling_rate_hz : float, optional
-        The caller's rate, which wins when given.
-    time_scale : float, optional
-        Seconds per unit of ``time``; inferred from its median step when None (:func:`seconds_per_unit`).
-    name : str
-        How to call the file in messages.
-
-    Raises
-    ------
-    LogFormatError
-        A rate that is not positive, no time column (or one sample) and no rate given, a time
-        column that does not increase or whose unit cannot be inferred.
-    """
-    if sampling_rate_hz is not None:
-        if not (np.isfinite(sampling_rate_hz) and sampling_rate_hz > 0):
-            raise LogFormatError(f"sampling_rate_hz must be a positive number; got {sampling_rate_hz}")
-        return float(sampling_rate_hz)
-    if time is None:
-        raise LogFormatError(
-            f"{name} has no time column, so its sampling rate is unknown: give sampling_rate_hz "
-            "(a form field of the upload, --sampling-rate-hz on the command line)"
-        )
-    if len(time) < 2:
-        raise LogFormatError("one sample has no sampling rate: give sampling_rate_hz")
-    scale = time_scale or seconds_per_unit(time)
-    steps = np.diff(time) * scale
-    steps = steps[steps > 0]
-    if len(steps) == 0:
-        raise LogFormatError(f"the time column of {name} does not increase: give sampling_rate_hz or fix the time column")
-    return float(1.0 / np.median(steps))
-
-
-def rate_from_time(time_s: np.ndarray | None, sampling_rate_hz: float | None, name: str) -> float:
-    """The sampling rate: the caller's, else the median step of a time in seconds."""
-    return sampling_rate(time_s, sampling_rate_hz, time_scale=1.0, name=name)
-
-
-def seconds_per_unit(time: np.ndarray) -> float:
-    """Seconds per unit of a time column, inferred from its median step when the header does not say."""
-    steps = np.diff(time)
-    steps = steps[np.isfinite(steps) & (steps > 0)]
-    if len(steps) == 0:
-        raise LogFormatError("the time column does not increase: give sampling_rate_hz or fix the time column")
-    dt = float(np.median(steps))
-    # Plausible sampling rates are 1 Hz to 10 kHz: pick the unit that puts the step in that range.
-    for scale in (1.0, 1e-3, 1e-6, 1e-9):
-        if 1e-4 <= dt * scale <= 1.0:
-            return scale
-    raise LogFormatError(
-        f"the time column's median step {dt:g} fits no unit (s, ms, µs, ns) for a rate between 1 Hz and "
-        "10 kHz: name its unit in the header (time_s, time_ms, time_ns) or give sampling_rate_hz"
-    )
 
 
 def resample_to(time_s: np.ndarray, other_time_s: np.ndarray, values: np.ndarray) -> np.ndarray:

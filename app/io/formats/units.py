@@ -1,19 +1,44 @@
-"""Unit and gravity checks that look at the data: inferring g vs m/s² vs LSB, refusing linear acceleration."""
+"""Units decided from the data: the resting magnitude says whether readings are in g, m/s², counts,
+µT, gauss or nT, whatever the header or the caller said; chips and ``lsb_per_g`` turn counts into
+physical units. The one place where a log's units are settled (:func:`settle_units`), for every
+format, before any method sees the arrays.
+
+A still or slowly turned accelerometer reads about 1 g: a median norm of 0.6–1.6 is in g, 6–14 in
+m/s², and numbers above 50 are counts of an ADC (LSB) — near 16384, 8192, 4096 or 2048 per g for
+the common 16-bit parts (:data:`~app.io.formats.chips.ACC_LSB_PER_G`). A magnetometer turned
+through all directions reads the Earth's field, 22–67 µT anywhere on the Earth (IGRF): 15–100 µT,
+0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are counts.
+"""
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 
 from ..errors import LogFormatError
+from ..log import LogData
+from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, SENSOR_WORDS, Chip
 
 STANDARD_GRAVITY = 9.80665
 LINEAR_FRACTION = 0.25
 """A log whose median norm is below this fraction of g holds no gravity (linear acceleration)."""
+COUNTS_TOLERANCE = 0.15
+"""Counts resting within this fraction of a common sensitivity are read with it."""
+FIELD_RANGES = {"uT": (15.0, 100.0), "gauss": (0.15, 1.0), "nT": (15_000.0, 100_000.0)}
+"""The Earth's field (22–67 µT, IGRF) with room for a disturbed room, in each unit a log may use."""
+MAG_UNITS_IN = ("uT", "nT", "gauss", "raw")
+"""Magnetometer units a caller or a header may name; gauss becomes µT on reading."""
 
 
 def median_norm(acc: np.ndarray) -> float:
     sub = acc[: 200_000]
     return float(np.median(np.linalg.norm(sub, axis=1)))
+
+
+def _whole(values: np.ndarray) -> bool:
+    sub = values[: 10_000]
+    return bool(np.allclose(sub, np.round(sub)))
 
 
 def infer_acc_unit(acc: np.ndarray) -> str | None:
@@ -27,10 +52,270 @@ def infer_acc_unit(acc: np.ndarray) -> str | None:
         return "g"
     if 6.0 <= norm <= 14.0:
         return "m/s^2"
-    sub = acc[: 10_000]
-    if norm > 50 and np.allclose(sub, np.round(sub)):
+    if norm > 50 and _whole(acc):
         return "raw"
     return None
+
+
+def common_sensitivity(norm_counts: float) -> float | None:
+    """The common accelerometer sensitivity (LSB per g) a resting magnitude in counts sits near, if any."""
+    for lsb in ACC_LSB_PER_G:
+        if abs(norm_counts / lsb - 1.0) <= COUNTS_TOLERANCE:
+            return lsb
+    return None
+
+
+def _sensitivity_hint(lsb: float) -> str:
+    chip = {16384.0: "2g", 8192.0: "4g", 4096.0: "8g", 2048.0: "16g"}[lsb]
+    return f"lsb_per_g={lsb:g} or chip=mpu6050-{chip}"
+
+
+def field_magnitude(mag: np.ndarray) -> float:
+    """The field a magnetometer reads: half the 1–99 % range per axis when it turned through all
+    directions (free of the hard-iron offset), else the median norm."""
+    sub = np.asarray(mag[: 200_000], dtype=float)
+    lo, hi = np.percentile(sub, [1.0, 99.0], axis=0)
+    half = (hi - lo) / 2.0
+    norm = median_norm(sub)
+    # Turned: every axis spans a like range, far beyond a still sensor's noise (a few thousandths of
+    # its norm), even under a hard iron many times the field (an MMC5983MA's mid-scale zero: 4 %).
+    if half.min() > 0.3 * half.max() and half.mean() > 0.025 * norm:
+        return float(half.mean())
+    return norm
+
+
+def infer_mag_unit(mag: np.ndarray) -> str | None:
+    """``uT``, ``gauss``, ``nT`` or ``raw`` (counts) from the field the readings show; None when no
+    unit fits (:data:`FIELD_RANGES`)."""
+    field = field_magnitude(mag)
+    whole = _whole(mag)
+    for unit in ("uT", "gauss", "nT"):
+        low, high = FIELD_RANGES[unit]
+        if low <= field <= high and not (whole and unit != "uT"):
+            return unit
+    if whole and field > 1.0:
+        return "raw"
+    return None
+
+
+@dataclasses.dataclass(frozen=True)
+class Claim:
+    """What was said of a sensor's unit, and who said it (for the messages)."""
+
+    unit: str | None
+    by: str | None
+
+    def words(self) -> str:
+        return f"{self.by} said {self.unit}"
+
+
+def _claim(sensor: str, given: dict, stated: dict, stated_by: str) -> Claim:
+    if given.get(sensor):
+        return Claim(given[sensor], f"{sensor}_unit")
+    if stated.get(sensor):
+        return Claim(stated[sensor], stated_by)
+    return Claim(None, None)
+
+
+def settle_units(log: LogData, *, given: dict | None = None, stated: dict | None = None,
+                 lsb_per_g: float | None = None, lsb_source: str = "lsb_per_g", chips: dict | None = None,
+                 stated_by: str = "the header", check_mag: bool = True, name: str = "the file") -> LogData:
+    """Each sensor's unit as its data show it, counts turned into physical units where a scale is known.
+
+    Parameters
+    ----------
+    log : LogData
+        As a reader made it: ``units`` what the caller, the header or the format said (or a default).
+    given : dict, optional
+        The caller's units per sensor (``acc_unit`` …); ``gauss`` for a magnetometer in gauss.
+    stated : dict, optional
+        The units the file's header (or its format) names per sensor; ``stated_by`` says which, for
+        the messages.
+    lsb_per_g : float, optional
+        Counts per g of the accelerometer (the caller's, or a comment of the file: ``lsb_source``).
+    chips : dict, optional
+        :class:`~app.io.formats.chips.Chip` per sensor (:func:`~app.io.formats.chips.parse_chips`).
+    check_mag : bool
+        Whether the magnetometer's unit is checked against its field (a phone format that states µT
+        keeps it: a phone's hard iron can exceed the Earth's field on a still recording).
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Arrays in ``g``, ``m/s^2``, ``deg/s``, ``rad/s``, ``uT``, ``nT`` or ``raw`` (counts whose scale
+        is unknown); a note for every conversion, and in ``warnings`` every decision against what the
+        caller or the header said (naming both) and every sensor left in counts.
+
+    Raises
+    ------
+    LogFormatError
+        A scale given for readings that are not counts, a scale that makes the accelerometer rest far
+        from 1 g, a unit given twice (a chip and a unit), an accelerometer that rests at a magnitude
+        no unit explains.
+    """
+    given, stated, chips = dict(given or {}), dict(stated or {}), dict(chips or {})
+    notes: list[str] = []
+    warns: list[str] = []
+    units = dict(log.units)
+    arrays = {}
+    for sensor, chip in chips.items():
+        if getattr(log, sensor) is None:
+            notes.append(f"chip {chip.name} is for the {SENSOR_WORDS[sensor]}, which the file does not have: not used")
+    if log.acc is not None:
+        arrays["acc"], units["acc"] = _settle_acc(log.acc, units.get("acc"), _claim("acc", given, stated, stated_by),
+                                                  lsb_per_g, lsb_source, chips.get("acc"), notes, warns, name)
+    if log.gyr is not None:
+        arrays["gyr"], units["gyr"] = _settle_gyr(log.gyr, units.get("gyr"), _claim("gyr", given, stated, stated_by),
+                                                  chips.get("gyr"), notes, warns)
+    if log.mag is not None:
+        arrays["mag"], units["mag"] = _settle_mag(log.mag, units.get("mag"), _claim("mag", given, stated, stated_by),
+                                                  chips.get("mag"), check_mag, notes, warns)
+    return dataclasses.replace(log, **arrays, units=units, notes=tuple(log.notes) + tuple(notes),
+                               warnings=tuple(log.warnings) + tuple(warns))
+
+
+def _refuse_scale_and_unit(sensor: str, claim: Claim, scale: str) -> None:
+    if claim.by == f"{sensor}_unit" and claim.unit != "raw":
+        raise LogFormatError(f"{scale} converts counts of the {SENSOR_WORDS[sensor]}, but {sensor}_unit says its "
+                             f"readings are in {claim.unit}: give one of them ({sensor}_unit=raw with the scale, "
+                             f"or the unit alone)")
+
+
+def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | None, notes, warns, name):
+    norm = median_norm(acc) if len(acc) else 0.0
+    inferred = infer_acc_unit(acc) if len(acc) else None
+    if chip is not None and lsb_per_g is not None and abs(lsb_per_g * chip.scale - 1.0) > 1e-9:
+        raise LogFormatError(f"chip {chip.name} ({1 / chip.scale:g} LSB/g) and lsb_per_g={lsb_per_g:g} disagree: "
+                             "give one of them")
+    if chip is not None or lsb_per_g is not None:
+        lsb = lsb_per_g if lsb_per_g is not None else 1.0 / chip.scale
+        what = f"chip {chip.name}" if chip is not None else f"{lsb_source}={lsb:g}"
+        if not (np.isfinite(lsb) and lsb > 0):
+            raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb}")
+        _refuse_scale_and_unit("acc", claim, what)
+        if inferred in ("g", "m/s^2"):
+            raise LogFormatError(f"{what} converts counts (LSB) into g, but the accelerometer's readings are "
+                                 f"already in {inferred} (they rest at a median norm of {norm:.3g}): leave "
+                                 f"{what.split('=')[0]} "
+                                 "out")
+        in_g = norm / lsb
+        if not 0.6 <= in_g <= 1.6:
+            fit = common_sensitivity(norm)
+            raise LogFormatError(
+                f"with {what} the accelerometer rests at {in_g:.3g} g, not about 1 g: "
+                + (f"its counts rest at {norm:.0f}, which fits {fit:g} LSB/g ({ACC_RANGE[fit]}): give "
+                   f"{_sensitivity_hint(fit)}" if fit else
+                   f"its counts rest at {norm:.0f}; give the sensitivity of the range the sensor was set to "
+                   "(its datasheet's LSB per g)"))
+        notes.append(f"accelerometer counts divided by {lsb:g} LSB per g ({what}) into g")
+        return acc / lsb, "g"
+    if inferred in ("g", "m/s^2"):
+        if claim.unit is not None and claim.unit != inferred:
+            warns.append(f"{claim.words()} for the accelerometer, but its readings rest at a median norm of "
+                         f"{norm:.3g}, about 1 g in {inferred}: calibrated in {inferred}")
+        elif claim.unit is None:
+            notes.append(f"accelerometer unit {inferred} inferred from the data (median norm {norm:.3g})")
+        return acc, inferred
+    if norm > 50:  # counts of an ADC
+        if claim.by == "acc_unit" and claim.unit == "raw":
+            warns.append("the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give "
+                         "chip or lsb_per_g to calibrate in g")
+            return acc, "raw"
+        fit = common_sensitivity(norm)
+        said = f" ({claim.words()})" if claim.unit not in (None, "raw") else ""
+        if fit is not None:
+            warns.append(f"the accelerometer's readings are counts{said}: they rest at a median norm of {norm:.0f}, "
+                         f"about {fit:g} LSB per g (the {ACC_RANGE[fit]} range of the MPU-6050 family and the "
+                         f"ICM-20948), so they were divided by {fit:g} into g; give chip or lsb_per_g for another "
+                         "scale, or acc_unit=raw to calibrate in counts")
+            return acc / fit, "g"
+        warns.append(f"the accelerometer's readings are counts{said} resting at a median norm of {norm:.0f}, near "
+                     "none of the common sensitivities (16384, 8192, 4096, 2048 LSB per g): calibrated in counts, "
+                     "and its figures are in counts; give lsb_per_g (or chip) to calibrate in g")
+        return acc, "raw"
+    if (1.6 < norm < 6.0 or 14.0 < norm <= 50) and claim.unit in (None, "raw"):
+        warns.append(f"the accelerometer rests at a median norm of {norm:.3g}, neither about 1 (g) nor about 9.8 "
+                     "(m/s²): it is calibrated in the readings' own unit (an analogue sensor's volts, or counts), "
+                     "and its figures are labelled counts; give acc_unit, or lsb_per_g / chip for counts")
+        return acc, "raw"
+    if 1.6 < norm < 6.0 or 14.0 < norm <= 50:
+        raise LogFormatError(
+            f"the accelerometer of {name} rests at a median norm of {norm:.3g}"
+            + (f" ({claim.words()})" if claim.unit else "")
+            + ", which is neither about 1 (g) nor about 9.8 (m/s²) nor counts of a 16-bit sensor: check that "
+            "acc_x, acc_y, acc_z are the accelerometer's columns, and give acc_unit (g, m/s^2), or lsb_per_g / "
+            "chip for counts")
+    if claim.unit is None and unit not in ("g", "m/s^2", "raw"):
+        unit = "m/s^2"
+    if claim.unit is None and norm >= LINEAR_FRACTION:
+        notes.append("accelerometer unit not named and not evident from the data: m/s² assumed "
+                     "(give acc_unit to change it)")
+    return acc, unit
+
+
+def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns):
+    if chip is not None:
+        _refuse_scale_and_unit("gyr", claim, f"chip {chip.name}")
+        notes.append(f"gyroscope counts times {chip.scale:.6g} °/s per count (chip {chip.name}) into deg/s")
+        return gyr * chip.scale, "deg/s"
+    # A still gyroscope reads near zero in any unit, so its magnitude tells nothing; but whole numbers
+    # are counts, and beyond 35 rad/s (2000 °/s) no rate sensor reads in rad/s.
+    whole = len(gyr) > 0 and _whole(gyr) and bool(np.any(gyr != 0))
+    peak = float(np.max(np.abs(gyr[:200_000]))) if len(gyr) else 0.0
+    if (claim.unit is None and whole) or (claim.unit == "rad/s" and whole and peak > 35.0):
+        if claim.unit is not None:
+            warns.append(f"{claim.words()} for the gyroscope, but its readings are whole numbers up to {peak:.0f}: "
+                         "read as counts")
+        unit = "raw"
+    if unit == "raw":
+        warns.append("the gyroscope's readings are counts: its figures are in counts; give chip (e.g. "
+                     "mpu6050-250dps) or gyr_unit to have them in °/s")
+    return gyr, unit
+
+
+def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, warns):
+    if chip is not None:
+        _refuse_scale_and_unit("mag", claim, f"chip {chip.name}")
+        out = mag * chip.scale
+        field = field_magnitude(out)
+        low, high = FIELD_RANGES["uT"]
+        notes.append(f"magnetometer counts times {chip.scale:.6g} µT per count (chip {chip.name}) into µT")
+        if not low <= field <= high:
+            warns.append(f"with chip {chip.name} the magnetometer shows a field of {field:.1f} µT, outside the "
+                         f"Earth's {low:g}–{high:g} µT: check the chip's range (or a magnet near the sensor)")
+        return out, "uT"
+    if unit == "gauss" and not check:
+        return mag * GAUSS_UT, "uT"
+    if not check or len(mag) == 0:
+        return mag, unit
+    inferred = infer_mag_unit(mag)
+    field = field_magnitude(mag)
+    said = claim.unit is not None and claim.unit != inferred
+    if inferred is None:
+        if unit == "gauss":
+            return mag * GAUSS_UT, "uT"
+        if claim.unit in ("uT", "nT") or claim.unit is None:
+            warns.append(f"the magnetometer's readings show a field of {field:.4g}"
+                         + (f" ({claim.words()})" if claim.unit else "")
+                         + ", which fits no unit (µT 15–100, gauss 0.15–1, nT 15000–100000): its figures are left "
+                         "in the readings' own unit, labelled counts; give mag_unit, or chip for a known part")
+            return mag, "raw"
+        return mag, unit
+    if said:
+        warns.append(f"{claim.words()} for the magnetometer, but its readings show a field of {field:.4g}, "
+                     + ("which is counts" if inferred == "raw" else f"the Earth's field in {inferred}")
+                     + f": read as {'counts' if inferred == 'raw' else inferred}")
+    if inferred == "raw":
+        warns.append(f"the magnetometer's readings are counts (a field of {field:.0f} counts): its figures are "
+                     "in counts; give chip (e.g. ak8963-16bit, qmc5883l-2g, hmc5883l-1090) or mag_unit to have "
+                     "them in µT")
+        return mag, "raw"
+    if inferred == "gauss":
+        notes.append("magnetometer readings in gauss multiplied by 100 into µT")
+        return mag * GAUSS_UT, "uT"
+    return mag, inferred
 
 
 def refuse_linear_acceleration(acc: np.ndarray, unit: str, name: str, hint: str = "") -> None:
@@ -50,17 +335,3 @@ def refuse_linear_acceleration(acc: np.ndarray, unit: str, name: str, hint: str 
             f"not about {g:g} {unit}. Calibration needs the raw accelerometer including gravity"
             + (f": {hint}" if hint else ": export 'acceleration including gravity' instead")
         )
-
-
-def apply_lsb_per_g(acc: np.ndarray, unit: str, lsb_per_g: float | None) -> tuple[np.ndarray, str, list[str]]:
-    """Convert counts to g with the sensor's sensitivity (LSB per g, e.g. 16384 for ±2 g on 16 bits)."""
-    if lsb_per_g is None:
-        return acc, unit, []
-    if not (np.isfinite(lsb_per_g) and lsb_per_g > 0):
-        raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb_per_g}")
-    if unit != "raw":
-        raise LogFormatError(
-            f"lsb_per_g={lsb_per_g:g} converts counts (LSB) to g, but the accelerometer unit is {unit}: "
-            "leave lsb_per_g out, or give acc_unit=raw for readings in counts"
-        )
-    return acc / lsb_per_g, "g", [f"readings in LSB divided by {lsb_per_g:g} LSB per g"]
