@@ -58,7 +58,8 @@ def test_six_pose_files_are_one_recording_each_segment_naming_its_file(client, s
     assert [(s["source"], s["up"], s["part"]) for s in rec["segments"]] == [(f"{s}.csv", UP[s], i)
                                                                          for i, s in enumerate(ORDER)]
     assert all(p["start"] <= s["start"] < s["end"] <= p["end"] for s, p in zip(rec["segments"], rec["parts"]))
-    assert rec["notes"] == []
+    # The files' time column says no unit: read in ms from its step, said once for the six files.
+    assert rec["notes"] == ["time column 'Timestamp' read in ms (from its step)"]
     # Nothing acknowledged is lost: the stored recording holds every file, byte for byte, under its name.
     stored = next(settings.recordings_dir.glob(f"{rec['id']}*"))
     with zipfile.ZipFile(stored) as zf:
