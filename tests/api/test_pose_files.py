@@ -35,6 +35,11 @@ def pose_bytes(stem: str, rows: int | None = None) -> bytes:
     return b"".join(data.splitlines(keepends=True)[: rows + 1])
 
 
+def file_notes(rec: dict) -> list[str]:
+    """The recording's notes on its files, without the time column's unit (said once for all files)."""
+    return [n for n in rec["notes"] if not n.startswith("time column ")]
+
+
 def upload_files(client, files: list[tuple[str, bytes]], **form):
     return client.post("/api/v1/recordings", files=[("file", (name, content, "text/csv")) for name, content in files],
                        data={**UNIT, **form})
@@ -96,7 +101,7 @@ def test_a_zip_of_the_pose_files_is_the_same_recording(client):
     files = upload_files(client, six()).json()
     assert [p["filename"] for p in rec["parts"]] == [p["filename"] for p in files["parts"]]
     assert [s["acc_mean"] for s in rec["segments"]] == [s["acc_mean"] for s in files["segments"]]
-    assert rec["notes"] == ["poses.zip: poses/photo_of_the_jig.jpg left out (not a log file)"]
+    assert file_notes(rec) == ["poses.zip: poses/photo_of_the_jig.jpg left out (not a log file)"]
 
 
 def test_a_file_whose_name_contradicts_its_data_is_labelled_by_the_data_with_a_warning(client):
@@ -106,7 +111,7 @@ def test_a_file_whose_name_contradicts_its_data_is_labelled_by_the_data_with_a_w
     segs = {s["source"]: s for s in rec["segments"]}
     assert (segs["x_axis_neg.csv"]["up"], segs["x_axis_neg.csv"]["pose_from_name"]) == ("+x", "-x")
     assert (segs["x_axis_pos.csv"]["up"], segs["x_axis_pos.csv"]["pose_from_name"]) == ("-x", "+x")
-    assert rec["notes"] == [
+    assert file_notes(rec) == [
         "x_axis_neg.csv: its name says -x up, but its still readings point +x up: the data's label is used — "
         "check the file's name, or how the board lay",
         "x_axis_pos.csv: its name says +x up, but its still readings point -x up: the data's label is used — "
@@ -205,7 +210,7 @@ def test_pose_files_too_short_for_a_still_segment_are_each_one_reading(client):
     rec = upload_files(client, six(rows=60)).json()
     assert [(s["source"], s["up"], s["count"], s["end"] - s["start"]) for s in rec["segments"]] == [
         (f"{s}.csv", UP[s], 60, 60) for s in ORDER]
-    assert len(rec["notes"]) == 6 and rec["notes"][0].startswith(
+    assert len(file_notes(rec)) == 6 and file_notes(rec)[0].startswith(
         "x_axis_pos.csv: 1.0 s, shorter than the 1.5 s a still segment needs, but still all through (spread ")
     body = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
     assert body["ok"]
@@ -219,7 +224,7 @@ def test_a_short_file_that_moved_gives_no_reading(client):
         for i in range(60))
     rec = upload_files(client, [("x_axis_pos.csv", pose_bytes("x_axis_pos")), ("x_up_again.csv", moving)]).json()
     assert [s["source"] for s in rec["segments"]] == ["x_axis_pos.csv"]
-    assert rec["notes"] == ["x_up_again.csv: no still stretch found in its 60 samples, so it gives no reading: record "
+    assert file_notes(rec) == ["x_up_again.csv: no still stretch found in its 60 samples, so it gives no reading: record "
                             "the board resting, untouched, for a few seconds in that pose"]
 
 
@@ -238,7 +243,7 @@ def test_a_maker_s_pose_file_that_holds_another_pose_is_found_and_named(client):
     assert [(s["source"], s["pose_from_name"], s["up"]) for s in rec["segments"]] == [
         ("imu_data_posX.csv", "+x", "+x"), ("imu_data_negX.csv", "-x", "-x"), ("imu_data_posY.csv", "+y", "+y"),
         ("imu_data_negY.csv", "-y", "-y"), ("imu_data_posZ.csv", "+z", "-z"), ("imu_data_negZ.csv", "-z", "-z")]
-    assert rec["notes"][-1] == ("imu_data_posZ.csv: its name says +z up, but its still readings point -z up: the "
+    assert file_notes(rec)[-1] == ("imu_data_posZ.csv: its name says +z up, but its still readings point -z up: the "
                                 "data's label is used — check the file's name, or how the board lay")
     # Each still reading beside the maker's printed average of the file, in counts: within 10 (0.6 mg) for the
     # five files that are what was printed; the posZ file is 33 000 counts from its printout on z.
