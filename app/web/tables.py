@@ -20,6 +20,7 @@ from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
+from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
 from app.web.uses import uses_table
 
@@ -117,7 +118,8 @@ def page_tables() -> dict:
         ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
         and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
-        ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor).
+        ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
+        (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -142,4 +144,5 @@ def page_tables() -> dict:
         "compass": compass_tables(),
         "uses": uses_table(),
         "units": unit_tables(),
+        "board": board_tables(),
     }

@@ -1,0 +1,60 @@
+"""The lines boards print over a serial port or a Bluetooth UART, as trical reads them live.
+
+One place for the constants of the board connection, read by the terminal (``trical capture``) and,
+through :func:`app.web.tables.page_tables`, by the page (the Web Serial and Web Bluetooth sources):
+
+- MotionCal's and Adafruit SensorLab's ``Raw:`` lines: nine int16 counts, accelerometer, gyroscope,
+  magnetometer x, y, z, at MotionCal's fixed scales (1/8192 g, 1/16 °/s and 0.1 µT a count: the
+  constants ``G_PER_COUNT``, ``DEG_PER_SEC_PER_COUNT`` and ``UT_PER_COUNT`` of MotionCal's
+  ``imuread.h``, PJRC's MotionCal, and the scaling Adafruit's calibration sketches print with);
+- their ``Uni:`` lines: nine numbers in m/s², rad/s and µT (Adafruit's Unified Sensor units);
+- CSV with a header line (the column names trical's log readers know), and bare numbers in 3, 6 or 9
+  columns, optionally after a leading time.
+
+Nothing here talks to a port: the browser uses the Web Serial API, the terminal pyserial.
+"""
+
+from __future__ import annotations
+
+MOTIONCAL_RAW = {
+    "prefix": "Raw:",
+    "fields": 9,
+    "acc_g_per_count": 1.0 / 8192.0,
+    "gyr_dps_per_count": 1.0 / 16.0,
+    "mag_ut_per_count": 0.1,
+}
+"""MotionCal's ``Raw:`` line: ax, ay, az, gx, gy, gz, mx, my, mz as integers, and their scales."""
+
+ADAFRUIT_UNI = {"prefix": "Uni:", "fields": 9, "units": {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}}
+"""Adafruit SensorLab's ``Uni:`` line: the same nine values in the Unified Sensor units."""
+
+BAUD_RATES = (9600, 19200, 38400, 57600, 115200, 230400, 250000, 460800, 500000, 921600, 1000000)
+"""The rates a board's serial port is commonly opened at (the Arduino IDE's monitor offers these)."""
+
+DEFAULT_BAUD = 115200
+
+SILENCE_S = 3.0
+"""Nothing for this long after the port opened: the rate or the sketch is wrong, and the page says so."""
+
+NORDIC_UART = {
+    "service": "6e400001-b5a3-f393-e0a9-e50e24dcca9e",
+    "rx": "6e400002-b5a3-f393-e0a9-e50e24dcca9e",  # the board receives: trical writes here
+    "tx": "6e400003-b5a3-f393-e0a9-e50e24dcca9e",  # the board sends: trical is notified here
+}
+"""The Nordic UART Service's UUIDs (nRF52 and ESP32 BLE UART examples use them)."""
+
+MOTIONCAL_PACKET_BYTES = 68
+MOTIONCAL_SIGNATURE = (117, 84)
+
+
+def board_tables() -> dict:
+    """The board connection's constants as plain JSON-ready data (for the page)."""
+    return {
+        "raw": dict(MOTIONCAL_RAW),
+        "uni": {**ADAFRUIT_UNI, "units": dict(ADAFRUIT_UNI["units"])},
+        "baudRates": list(BAUD_RATES),
+        "defaultBaud": DEFAULT_BAUD,
+        "silenceS": SILENCE_S,
+        "nordicUart": dict(NORDIC_UART),
+        "packet": {"bytes": MOTIONCAL_PACKET_BYTES, "signature": list(MOTIONCAL_SIGNATURE)},
+    }
