@@ -238,13 +238,15 @@ def _calibrate_files(args, settings: Settings, path: Path) -> int:
 def _calibration_request(args, *, unit: str) -> dict:
     """The request of POST /api/v1/calibrations that ``trical calibrate`` makes of its options; the
     log file stands in for the stored recording."""
+    # Read whatever the method: a section list that cannot be read is an error, not an option ignored.
+    sections = None if args.sections is None else _read_sections(args.sections)
     request = {"method": args.method, "recording_id": ", ".join(str(p) for p in args.log), "gravity": args.gravity,
                "latitude_deg": args.latitude_deg, "height_m": args.height_m, "device_id": args.device_id,
                "label": ", ".join(p.name for p in args.log)}
     if args.method in CUBE_METHODS:
         request.update(protocol=args.protocol, field_ut=args.field_ut)
-        if args.sections is not None:
-            request["sections"] = _read_sections(args.sections)
+        if sections is not None:
+            request["sections"] = sections
     elif args.method in FIELD_METHODS:
         del request["gravity"]
         request.update(field_ut=args.field_ut, longitude_deg=args.longitude_deg, date=args.date)
