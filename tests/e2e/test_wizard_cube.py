@@ -133,9 +133,10 @@ def check_moves(sent: list[dict]):
         t = np.array(motion["t_ms"])
         assert len(t) >= 20 and len(motion["gyr"]) == len(t) == len(motion["acc"])
         assert t[0] > prev["t_ms"][-1] and t[-1] < cap["t_ms"][0]
-        # The next event (60 Hz) on either side. A stall of the test process that feeds the events can
-        # delay one by tens of ms on a loaded machine; a lost still window or capture would be ≥ 1.5 s.
-        assert t[0] - prev["t_ms"][-1] < 250 and cap["t_ms"][0] - t[-1] < 250
+        # The next event (60 Hz) on either side. A stall of the page's timer on a loaded machine delays
+        # one (seen 448 ms with two busy loops on the two cores); a lost still window or capture would
+        # be 1.5 s or more.
+        assert t[0] - prev["t_ms"][-1] < 1000 and cap["t_ms"][0] - t[-1] < 1000
         assert np.all(np.diff(t) > 0)
 
 
