@@ -10,7 +10,8 @@
 //   x, y, z) and interval (s), as the W3C Device Orientation and Motion draft and Apple describe it;
 // - DeviceMotionEvent.requestPermission, iOS 13's: it records whether it was called during a user
 //   activation (a tap) and grants;
-// - a "devicemotion" event every 16 ms from a timer in the page (60 Hz, as an iPhone delivers), with
+// - a "devicemotion" event every 16 ms of the page's clock (60 Hz, as an iPhone delivers; a timer
+//   that fires late dispatches the samples it owes, each with its own timeStamp), with
 //   the readings the test sets through window.__phone.set(acc, gyr); a turn through
 //   window.__phone.turn(axis, peakDegS, thenAcc) is played by the timer itself: a half sine of the
 //   rate about `axis` (sensor frame) sampled at each event's time, 90° in all, so that a stall of the
@@ -53,7 +54,7 @@
   };
   phone.turn = (axis, peakDegS, thenAcc) => {
     const seconds = (90 * Math.PI) / (2 * peakDegS); // ∫ peak sin(π t / T) dt = 2 peak T / π = 90°
-    phone.turning = { axis, peakDegS, ms: seconds * 1000, t0: performance.now(), thenAcc, angle: 0, last: null };
+    phone.turning = { axis, peakDegS, ms: seconds * 1000, t0: phone.clock, thenAcc, angle: 0, last: null };
   };
 
   phone.noise = (accSd, gyrSd, seed) => {
@@ -88,16 +89,35 @@
     return turn.axis.map((a) => a * rate);
   }
 
-  setInterval(() => {
+  // The sensor's clock: a sample every 16 ms of the page's time, each event stamped with its own time.
+  // The timer that dispatches them fires late when a loaded machine stalls the page; it then
+  // dispatches every sample it owes at once, as a browser delivers the samples queued while its page
+  // was busy, so that a turn is sampled alike however late the timer runs (at most 4.8 s are owed).
+  const PERIOD_MS = 16;
+  const MAX_OWED = 300;
+  phone.clock = performance.now();
+  function sample(t) {
     const event = new DeviceMotionEvent("devicemotion", {});
-    const w = noisy(rates(event.timeStamp), phone.gyrSd);
+    Object.defineProperty(event, "timeStamp", { value: t });
+    const w = noisy(rates(t), phone.gyrSd);
     const f = noisy(phone.acc, phone.accSd);
     event.accelerationIncludingGravity = { x: f[0], y: f[1], z: f[2] };
     event.acceleration = { x: 0, y: 0, z: 0 };
     event.rotationRate = { alpha: w[0], beta: w[1], gamma: w[2] };
     phone.events += 1;
     window.dispatchEvent(event);
-  }, 16);
+  }
+  setInterval(() => {
+    let owed = Math.floor((performance.now() - phone.clock) / PERIOD_MS);
+    if (owed > MAX_OWED) {
+      phone.clock += (owed - MAX_OWED) * PERIOD_MS;
+      owed = MAX_OWED;
+    }
+    for (let i = 0; i < owed; i += 1) {
+      phone.clock += PERIOD_MS;
+      sample(phone.clock);
+    }
+  }, PERIOD_MS);
 
   const fetchOriginal = window.fetch.bind(window);
   window.fetch = (input, init = {}) => {

@@ -133,10 +133,9 @@ def check_moves(sent: list[dict]):
         t = np.array(motion["t_ms"])
         assert len(t) >= 20 and len(motion["gyr"]) == len(t) == len(motion["acc"])
         assert t[0] > prev["t_ms"][-1] and t[-1] < cap["t_ms"][0]
-        # The next event (60 Hz) on either side. A stall of the page's timer on a loaded machine delays
-        # one (seen 448 ms with two busy loops on the two cores); a lost still window or capture would
-        # be 1.5 s or more.
-        assert t[0] - prev["t_ms"][-1] < 1000 and cap["t_ms"][0] - t[-1] < 1000
+        # The next sample (every 16 ms of the page's clock) on either side; a lost still window or
+        # capture would be 1.5 s or more.
+        assert t[0] - prev["t_ms"][-1] < 250 and cap["t_ms"][0] - t[-1] < 250
         assert np.all(np.diff(t) > 0)
 
 
@@ -206,18 +205,17 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     per_turn = [{"turn": k + 2, "fed": round(f, 3), "seen": round(v, 3), "end_error": round(e, 3)}
                 for k, (f, v, e) in enumerate(zip(fed, seen, errors))]
     (ARTIFACTS / "wizard_cube_timing.txt").write_text(note + "\n" + json.dumps(per_turn) + "\n")
-    # The page played each turn as a half sine of 90° sampled at its events: the trapezoid of those
-    # samples is 90° within a few hundredths on a quiet machine; a stall of the page's own timer on a
-    # loaded one leaves a long step at the turn's peak (seen 89.52° at a load average of 7).
-    assert np.all(np.abs(fed - 90.0) < 1.5), fed
+    # The page played each turn as a half sine of 90° sampled every 16 ms of its own clock (a late timer
+    # dispatches the samples it owes, each with its time): the trapezoid of those samples is 90° within
+    # a few hundredths, however loaded the machine.
+    assert np.all(np.abs(fed - 90.0) < 0.5), fed
     # The server's angle is the integral of the samples the page sent (the axis is fixed in a turn, so
     # the angle is ∫|ω| dt): within a few tenths of a degree, the difference between its interpolation
     # and the trapezoid here.
     assert np.all(np.abs(seen - sent_angle) < 0.5), list(zip(sent_angle, seen))
     # The server sees the angle played: the same samples, integrated by the server's interpolation
-    # rather than the trapezoid, which differ across such a long step (seen 0.66°); far inside the
-    # server's tolerance of 0.1 per quaternion element, about 11°.
-    assert np.all(np.abs(seen - fed) < 1.5), list(zip(fed, seen))
+    # (far inside its tolerance of 0.1 per quaternion element, about 11°).
+    assert np.all(np.abs(seen - fed) < 0.5), list(zip(fed, seen))
     assert np.all(errors < np.abs(seen - 90.0) + 1.0), list(zip(seen, errors))  # off by what it saw, no more
     # Each position's mean carries the noise over about a second at 60 Hz (0.01 / √60 ≈ 0.0013 m/s²);
     # S and b within a few times that over g.
@@ -272,7 +270,7 @@ def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, serve
     sent, cube = start_and_capture_three(page, server)
     cube.move_into(page, 4, label="z-")  # clockwise instead of counter-clockwise
     alert = page.locator("#turn-alert")
-    expect(alert).to_be_visible(timeout=10_000)
+    expect(alert).to_be_visible(timeout=30_000)
     assert alert.get_attribute("role") == "alert"
     text = alert.text_content()
     assert ("wrong turn into position 4: the cube made a quarter turn clockwise (seen from above). Put it back "
