@@ -56,6 +56,24 @@ def upload_calibrated(page, url):
     page.click("#result-details summary")  # the details open too
 
 
+def upload_pose_files(page, url):
+    """A maker's six pose files chosen at once: the segments' File column and the files' notes."""
+    page.goto(url + "/")
+    page.set_input_files("#log-file", [str(DATA / "real" / "mpu6050_pose_files" / f"{axis}_axis_{sign}.csv")
+                                       for axis in "xyz" for sign in ("pos", "neg")])
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#result:not([hidden])")
+    page.wait_for_selector("#downloads[data-ready=true]")
+
+
+def upload_counts_compass(page, url):
+    """A magnetometer turned by hand, logged in counts: the unit menus say counts and offer the parts."""
+    page.goto(url + "/")
+    page.set_input_files("#log-file", str(DATA / "real" / "magnetometer" / "tomisuarez2_qmc5883l_turn_every10.csv"))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#result:not([hidden])")
+
+
 def upload_column_map(page, url):
     page.goto(url + "/")
     page.set_input_files("#log-file", {"name": "north_east_down.csv", "mimeType": "text/csv",
@@ -106,6 +124,8 @@ STATES = {
     "upload_refused": upload_refused,
     "upload_result": upload_calibrated,
     "upload_column_map": upload_column_map,
+    "upload_pose_files": upload_pose_files,
+    "upload_counts_compass": upload_counts_compass,
     "paste_refused_result": paste_refused_result,
     "wizard_six": wizard(),
     "wizard_cube24": wizard("?protocol=cube24"),
