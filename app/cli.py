@@ -520,11 +520,20 @@ def _print_noise(body: dict) -> None:
 def _export(args, settings: Settings) -> int:
     body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
     out = export_calibration(body, args.format)
+    binary = isinstance(out.content, bytes)
     if args.output:
-        args.output.write_text(out.content)
+        if binary:
+            args.output.write_bytes(out.content)
+        else:
+            args.output.write_text(out.content)
         print(f"wrote {args.output}", file=sys.stderr)
+    elif binary:
+        sys.stdout.flush()
+        sys.stdout.buffer.write(out.content)
     else:
         sys.stdout.write(out.content)
+    for note in out.notes:  # what the format does not carry (motioncal: the accelerometer's scales)
+        print(f"note: {note}", file=sys.stderr)
     return 0
 
 
