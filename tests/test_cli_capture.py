@@ -217,3 +217,26 @@ def test_silence_is_said(tmp_path, pty_board):
     stdout, stderr = finish(proc, 60)
     assert proc.returncode == 2, stderr
     assert "Nothing arrives at 9600 baud: check the rate and that the board prints readings" in stdout
+
+
+def test_noise_records_the_minutes_asked_at_rest(tmp_path, pty_board):
+    rng = np.random.default_rng(8)
+    still = []
+    for _ in range(int(12 * RATE_HZ)):
+        f = Y_TRUE + [0.0, 0.0, G0] + rng.normal(0, 0.02, 3)
+        w = GYR_BIAS + rng.normal(0, 0.002, 3)
+        m = np.array([22.0, -5.0, 41.0]) + rng.normal(0, 0.3, 3)
+        still.append("Uni:" + ",".join(f"{v:.5f}" for v in [*f, *w, *m]))
+    port, make = pty_board
+    board = make(still)
+    log = tmp_path / "still.csv"
+    proc, _ = start_capture(tmp_path, port, "--protocol", "noise", "--minutes", "0.1", "--out", str(log), "--json",
+                            "--no-store", steps_on="stderr")
+    board.start()
+    stdout, steps = finish(proc, 60)
+    assert proc.returncode in (0, 3), steps
+    assert "recording 6 s: leave the board resting, untouched" in steps and "recorded 6 s" in steps
+    body = json.loads(stdout)
+    assert body["method"] == "noise"
+    rows = log.read_text().splitlines()
+    assert 650 <= len(rows) - 1 <= 760  # the first second (the unit check) and the 6 s asked, at 100 Hz
