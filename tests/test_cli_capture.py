@@ -240,3 +240,36 @@ def test_noise_records_the_minutes_asked_at_rest(tmp_path, pty_board):
     assert body["method"] == "noise"
     rows = log.read_text().splitlines()
     assert 650 <= len(rows) - 1 <= 760  # the first second (the unit check) and the 6 s asked, at 100 Hz
+
+
+def test_compass_records_a_turn_and_fits_the_hard_iron(tmp_path, pty_board):
+    """The board turned through every direction for the minutes asked (its z axis along a spiral over the
+    sphere, at a random angle about it each sample): the log calibrated with method magnetometer finds
+    the hard iron the board adds."""
+    rng = np.random.default_rng(9)
+    n = int(14 * RATE_HZ)
+    field = np.array([20.0, 0.0, -44.0])  # the Earth's field in the room, µT
+    hard = np.array([35.0, -12.0, 8.0])
+    lines = []
+    for i in range(n):
+        z = 1.0 - 2.0 * ((i * 7) % n) / n  # a spiral, seven times over the sphere
+        phi = i * 2.399963  # the golden angle
+        r = np.sqrt(1 - z * z)
+        up = np.array([r * np.cos(phi), r * np.sin(phi), z])
+        # the board's axes (a rotation whose first column is up), and the field and gravity as it sees them
+        basis = np.linalg.qr(np.column_stack([up, rng.normal(size=3), rng.normal(size=3)]))[0]
+        mag = basis.T @ field + hard + rng.normal(0, 0.2, 3)
+        acc = basis.T @ np.array([0.0, 0.0, G0]) + rng.normal(0, 0.05, 3)
+        lines.append("Uni:" + ",".join(f"{v:.4f}" for v in [*acc, *(GYR_BIAS + rng.normal(0, 0.2, 3)), *mag]))
+    port, make = pty_board
+    board = make(lines)
+    log = tmp_path / "turn.csv"
+    proc, _ = start_capture(tmp_path, port, "--protocol", "compass", "--minutes", "0.2", "--out", str(log), "--json",
+                            "--no-store", steps_on="stderr")
+    board.start()
+    stdout, steps = finish(proc, 60)
+    assert proc.returncode in (0, 3), steps
+    assert "recording 12 s: turn the board slowly through every direction" in steps
+    body = json.loads(stdout)
+    assert body["method"] == "magnetometer"
+    np.testing.assert_allclose(body["model"]["b"], hard, atol=0.5)
