@@ -23,6 +23,8 @@ from app import __version__, workflow
 from app import cli_options as opt
 from app.calibration import CalibrationError
 from app.config import Settings, SettingsError
+from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
+from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.formats import FORMATS
@@ -119,6 +121,28 @@ def _parser() -> argparse.ArgumentParser:
     n.add_argument("--device-id", type=opt.text("a device id"), default=None)
     n.add_argument("--store", action="store_true", help="store the characterisation in the database")
     n.add_argument("--json", action="store_true", help="print the API's JSON")
+
+    b = sub.add_parser("capture", help="the guided calibration of a board on a serial port (pyserial): capture, "
+                                       "log, calibrate, verdict")
+    b.add_argument("port", type=opt.text("a serial port"), help="the board's serial port, e.g. /dev/ttyACM0 or COM3")
+    b.add_argument("--baud", type=opt.BAUD, default=DEFAULT_BAUD, help=f"the port's rate (default {DEFAULT_BAUD})")
+    b.add_argument("--protocol", choices=CAPTURE_PROTOCOLS, default="six",
+                   help="six (default), free poses, cube24, compass (turn it) or noise (leave it still)")
+    b.add_argument("--minutes", type=opt.MINUTES, default=None,
+                   help="compass and noise: the length recorded (default 1); poses: the time allowed (default 10)")
+    b.add_argument("--capture-s", type=opt.CAPTURE_S, default=None,
+                   help="seconds captured per pose (default: the wizard's; within the range a session accepts)")
+    b.add_argument("--format", choices=BOARD_LINE_FORMATS, default="auto",
+                   help="the board's lines: auto (default), raw (MotionCal Raw:), uni (Uni:), csv, numbers")
+    b.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None,
+                   help="the accelerometer's unit (checked against the data at rest)")
+    b.add_argument("--out", type=opt.output_file("a log file to write"), default=None, metavar="LOG.csv",
+                   help="the log written as received (default trical-capture-DATE-TIME.csv)")
+    b.add_argument("--send", action="store_true",
+                   help="write MotionCal's 68-byte calibration packet to the board (Adafruit Sensor Calibration)")
+    b.add_argument("--device-id", type=opt.text("a device id"), default=None)
+    b.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
+    b.add_argument("--json", action="store_true", help="print the API's JSON (the steps go to stderr)")
 
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
@@ -218,6 +242,17 @@ def _one_recording(paths: list[Path], tmp: Path) -> Path:
 
 
 def _calibrate_files(args, settings: Settings, path: Path) -> int:
+    body, recording = _calibrated(args, settings, path)
+    if args.json:
+        print(json.dumps(body, indent=2))
+    else:
+        _print_summary(body, recording)
+    return 0 if body["ok"] else 3
+
+
+def _calibrated(args, settings: Settings, path: Path) -> tuple[dict, dict]:
+    """The calibration of the log at ``path`` as ``trical calibrate``'s options ask (stored unless
+    ``--no-store``), and the recording's description."""
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
     read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
                      sign=args.sign, chip=args.chip)
@@ -228,11 +263,7 @@ def _calibrate_files(args, settings: Settings, path: Path) -> int:
     body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
     if not args.no_store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
-    if args.json:
-        print(json.dumps(body, indent=2))
-    else:
-        _print_summary(body, recording)
-    return 0 if body["ok"] else 3
+    return body, recording
 
 
 def _calibration_request(args, *, unit: str) -> dict:
@@ -522,12 +553,102 @@ def _print_noise(body: dict) -> None:
 def _export(args, settings: Settings) -> int:
     body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
     out = export_calibration(body, args.format)
+    binary = isinstance(out.content, bytes)
     if args.output:
-        args.output.write_text(out.content)
+        if binary:
+            args.output.write_bytes(out.content)
+        else:
+            args.output.write_text(out.content)
         print(f"wrote {args.output}", file=sys.stderr)
+    elif binary:
+        sys.stdout.flush()
+        sys.stdout.buffer.write(out.content)
     else:
         sys.stdout.write(out.content)
+    for note in out.notes:  # what the format does not carry (motioncal: the accelerometer's scales)
+        print(f"note: {note}", file=sys.stderr)
     return 0
+
+
+def _capture(args, settings: Settings) -> int:
+    """``trical capture PORT``: the board's lines captured hands-free into a log, then calibrated (app.board_capture)."""
+    import time
+
+    import serial  # pyserial
+
+    from app.board_capture import METHODS, Capture
+    from app.io.motioncal_packet import packet_of
+    from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+
+    capture_s = CAPTURE_S_DEFAULT if args.capture_s is None else args.capture_s
+    low, high = CAPTURE_S_RANGE
+    if not low <= capture_s <= high:
+        raise CalibrationError(f"--capture-s {capture_s:g} is out of range: give the seconds captured per pose, from "
+                               f"{low:g} to {high:g} (the wizard's default is {CAPTURE_S_DEFAULT:g})")
+
+    steps = sys.stderr if args.json else sys.stdout
+    tty = steps.isatty()
+
+    def say(text: str) -> None:
+        print(("\r\033[K" if tty else "") + text, file=steps, flush=True)
+
+    def bell() -> None:
+        steps.write("\a")
+
+    def live(text: str) -> None:
+        steps.write("\r\033[K" + text[:110])
+        steps.flush()
+
+    out = args.out or Path(time.strftime("trical-capture-%Y%m%d-%H%M%S.csv"))
+    try:
+        port = serial.Serial(args.port, args.baud, timeout=0.1)
+    except (serial.SerialException, ValueError) as exc:
+        raise LogFormatError(f"cannot open {args.port} at {args.baud} baud ({exc}): check the port's name (ls /dev/tty* "
+                             "on Linux, COM3 on Windows) and that no other program (a serial monitor) holds it") from None
+    with port:
+        say(f"{args.port} open at {args.baud} baud; waiting for the board's lines")
+        capture = Capture(port, protocol=args.protocol, out_path=out, fmt=args.format,
+                          units={"acc": args.unit} if args.unit else None, minutes=args.minutes,
+                          capture_s=capture_s, baud=args.baud, say=say, bell=bell, live=live if tty else None)
+        outcome = capture.run()
+        finish = f"trical {'noise' if args.protocol == 'noise' else 'calibrate'} {out}"
+        if outcome.status == "interrupted":
+            bell()
+            say(f"stopped: {out} keeps the {outcome.readings} readings received; finish it with: {finish}"
+                if outcome.log_path else "stopped before any reading arrived: nothing was written")
+            return 130
+        if outcome.status != "finished":
+            if outcome.log_path:
+                say(f"{out} keeps the {outcome.readings} readings received; calibrate what it holds with: {finish}")
+            return 2
+        rate = f" at {outcome.rate_hz:.4g} Hz" if outcome.rate_hz else ""
+        say(f"wrote {out}: {outcome.readings} readings{rate}")
+        if args.protocol == "noise":
+            return _run(["noise", str(out), *(["--json"] if args.json else []), *(["--store"] if not args.no_store else [])])
+        method = METHODS[args.protocol]
+        argv = ["calibrate", str(out), "--method", method]
+        argv += ["--unit", args.unit] if args.unit else []
+        argv += ["--device-id", args.device_id] if args.device_id else []
+        argv += ["--no-store"] if args.no_store else []
+        cal_args = _parser().parse_args(argv)
+        say(f"calibrating {out} ({method})")
+        body, recording = _calibrated(cal_args, settings, out)
+        if args.json:
+            print(json.dumps(body, indent=2))
+        else:
+            _print_summary(body, recording)
+        bell()
+        if args.send:
+            if not body["ok"]:
+                say("not sent to the board: the calibration is not ok (see the reasons)")
+                return 3
+            packet, notes = packet_of(body)
+            port.write(packet)
+            port.flush()
+            say(f"sent MotionCal's {len(packet)}-byte calibration packet to the board")
+            for note in notes:
+                say(f"note: {note}")
+        return 0 if body["ok"] else 3
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -555,7 +676,7 @@ def _run(argv: list[str] | None) -> int:
     try:
         settings = Settings.from_env()
         command = {"serve": _serve, "calibrate": _calibrate, "autocal": _autocal, "noise": _noise,
-                   "export": _export}[args.command]
+                   "export": _export, "capture": _capture}[args.command]
         return command(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
         print(f"trical: error: {exc}", file=sys.stderr)

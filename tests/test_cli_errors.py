@@ -21,7 +21,7 @@ from tests.live_server import ROOT
 
 TRICAL = Path(sys.executable).parent / "trical"
 LOG = DATA / "six_orientations_150hz.csv"
-VALID_POSITIONALS = {"log": str(LOG), "path": str(LOG), "id": "cal_missing"}
+VALID_POSITIONALS = {"log": str(LOG), "path": str(LOG), "id": "cal_missing", "port": "/dev/ttyACM0"}
 
 
 @pytest.fixture(scope="module")
@@ -74,7 +74,7 @@ def bad_invocations() -> list[list[str]]:
 
 def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
     cases = bad_invocations()
-    assert len(cases) > 50 and {c[0] for c in cases} == {"serve", "calibrate", "autocal", "noise", "export"}
+    assert len(cases) > 50 and {c[0] for c in cases} == {"serve", "calibrate", "autocal", "noise", "export", "capture"}
     with ThreadPoolExecutor(max_workers=4) as pool:
         results = list(pool.map(lambda args: run(args, env), cases))
     failures = []

@@ -18,9 +18,13 @@ FRAME = "device frame of the data: x right, y up along the screen, z out of the 
 
 @dataclass(frozen=True)
 class Export:
-    content: str
+    """An export's file: text, or bytes for a binary format (``motioncal``); ``notes`` say what the
+    format does not carry of the calibration."""
+
+    content: str | bytes
     media_type: str
     filename: str
+    notes: tuple = ()
 
 
 def _result(body: dict):

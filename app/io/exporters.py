@@ -118,11 +118,23 @@ def to_c_header(body: dict) -> Export:
     return Export(text, "text/x-c", f"trical_{body['id']}.h")
 
 
+def to_motioncal(body: dict) -> Export:
+    """MotionCal's 68-byte calibration packet (app.io.motioncal_packet), for a board running Adafruit's
+    Sensor Calibration library: the offsets, and the compass's hard iron, field and soft iron; the
+    notes say what it does not carry (the accelerometer's scales and cross terms)."""
+    from .motioncal_packet import packet_of
+
+    packet, notes = packet_of(body)
+    return Export(packet, "application/octet-stream", f"trical_{body['id']}.motioncal", notes)
+
+
 EXPORTERS = {"json": to_json, "c": to_c_header, "ardupilot": to_ardupilot, "px4": to_px4, "yaml": to_yaml,
-             "csv": to_csv}
-"""Export formats by their query name; FORMAT_NAMES gives the names the page shows."""
+             "csv": to_csv, "motioncal": to_motioncal}
+"""Export formats by their query name."""
 
 FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4": "PX4", "yaml": "YAML", "csv": "CSV"}
+"""The page's download links; ``motioncal`` (bytes for a board, not a file to keep) is left out: the page
+writes it to the board with *Send to the board*, and the API and ``trical export`` give it."""
 
 ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS]))
 """Every format name of any calibration (the CLI's choices)."""

@@ -1,0 +1,300 @@
+"""``trical capture PORT``: the guided calibration of a board in the terminal.
+
+The board's lines are read as they arrive (:mod:`app.io.board_lines`), written to a CSV log as received
+and watched by the hands-free capture engine the page uses: the device is still when the per-axis
+spread of the accelerometer over a moving window (and the mean rotation rate, when the lines carry a
+gyroscope) falls below the page's thresholds, and moving again above their higher limits (hysteresis);
+held still for the page's hold time in a new pose, a capture starts, and it is done after the capture
+length unless the board moves (refused). The thresholds are the page's own, the Python constants
+:func:`app.web.tables.capture_thresholds` renders for it. Then the log is calibrated as
+``trical calibrate LOG.csv`` would (``auto``, or the protocol's method) and the verdict printed.
+
+Nothing here opens a port: the caller gives an object with ``read(n)`` (pyserial's ``Serial``, or a
+pseudo-terminal in the tests).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from app.calibration.orientations import nearest_orientation
+from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD, SILENCE_S
+from app.io.board_lines import BoardLineReader, LogWriter, board_rate, to_log
+from app.io.errors import LogFormatError
+from app.io.formats.timing import time_scale
+from app.io.formats.units import STANDARD_GRAVITY
+from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_MIN_ANGLE_DEG
+from app.web.tables import capture_thresholds
+
+PROTOCOLS = CAPTURE_PROTOCOLS
+POSES = {"six": 6, "free": FREE_FIT_FROM, "cube24": 24}
+"""Still captures each posed protocol asks for (free: as many as the free flow fits from)."""
+METHODS = {"six": "auto", "free": "auto", "cube24": "cube", "compass": "magnetometer", "noise": "noise"}
+"""How the log is calibrated at the end (``noise``: ``trical noise``)."""
+DEFAULT_MINUTES = {"six": 10.0, "free": 10.0, "cube24": 15.0, "compass": 1.0, "noise": 1.0}
+"""A posed protocol stops (refused) after this long; the compass and noise record this long."""
+CHECK_S = 1.0
+"""Seconds of readings the unit is checked on, at rest, before any capture."""
+BELL = "\a"
+
+
+@dataclass
+class Event:
+    kind: str  # "start", "done", "refused"
+    label: str | None = None
+    text: str = ""
+
+
+@dataclass
+class StillEngine:
+    """The page's capture machine for still poses, on the board's time (seconds) and readings normalised
+    so that the accelerometer rests at g (m/s²) and the gyroscope in °/s (None when the lines have none)."""
+
+    protocol: str
+    capture_s: float
+    thresholds: dict = field(default_factory=capture_thresholds)
+    window: deque = field(default_factory=deque)
+    still: bool = False
+    moved: bool = True
+    hold_since: float | None = None
+    capture_since: float | None = None
+    label: str | None = None
+    done: list = field(default_factory=list)  # (label, mean direction)
+
+    def _valid(self, mean: np.ndarray) -> str | None:
+        n = mean / np.linalg.norm(mean)
+        if self.protocol == "six":
+            label = nearest_orientation(mean, self.thresholds["maxAngleDeg"])
+            return label if label and label not in [d[0] for d in self.done] else None
+        if self.protocol == "free":
+            far = all(math.degrees(math.acos(np.clip(n @ d, -1, 1))) >= FREE_MIN_ANGLE_DEG for _, d in self.done)
+            return f"pose {len(self.done) + 1}" if far else None
+        return f"position {len(self.done) + 1}"  # cube24: a turn between positions (the gyroscope sees it)
+
+    def update(self, t: float, acc: np.ndarray, gyr: np.ndarray | None) -> list[Event]:
+        th = self.thresholds
+        self.window.append((t, acc, gyr))
+        while self.window and self.window[0][0] < t - th["windowMs"] / 1000.0:
+            self.window.popleft()
+        if len(self.window) < 5 or t - self.window[0][0] < 0.8 * th["windowMs"] / 1000.0:
+            return []
+        a = np.array([w[1] for w in self.window])
+        spread = float(a.std(axis=0).max())
+        rate = None if gyr is None else float(np.linalg.norm(np.mean([w[2] for w in self.window], axis=0)))
+        if self.still:
+            self.still = not (spread > th["spreadHigh"] or (rate is not None and rate > th["gyrHigh"]))
+        else:
+            self.still = spread < th["spreadLow"] and (rate is None or rate < th["gyrLow"])
+        events: list[Event] = []
+        if not self.still:
+            self.moved = True
+            self.hold_since = None
+            if self.capture_since is not None:
+                events.append(Event("refused", self.label, f"{self.label}: the board moved during the capture; "
+                                                           "hold it still and it starts again"))
+                self.capture_since = None
+            return events
+        mean = a.mean(axis=0)
+        if self.capture_since is not None:
+            if t - self.capture_since >= self.capture_s:
+                self.done.append((self.label, mean / np.linalg.norm(mean)))
+                events.append(Event("done", self.label, f"{self.label} captured ({len(self.done)} of "
+                                                        f"{POSES[self.protocol]})"))
+                self.capture_since = None
+                self.moved = False
+            return events
+        label = self._valid(mean) if self.moved else None
+        if label is None:
+            self.hold_since = None
+            return events
+        if self.hold_since is None:
+            self.hold_since = t
+        if t - self.hold_since >= th["holdMs"] / 1000.0:
+            self.capture_since, self.label = t, label
+            events.append(Event("start", label, f"{label}: capturing {self.capture_s:g} s, hold still"))
+        return events
+
+    @property
+    def finished(self) -> bool:
+        return len(self.done) >= POSES[self.protocol]
+
+
+def pose_words(protocol: str) -> str:
+    if protocol == "six":
+        return ("rest the board on each of its six sides in turn (+x, -x, +y, -y, +z, -z up: the axis printed on "
+                "the board pointing up; +z up is the component side up), still, until the bell")
+    if protocol == "free":
+        return f"rest the board still in {POSES['free']} different poses, at least {FREE_MIN_ANGLE_DEG:g}° apart"
+    if protocol == "cube24":
+        return "turn the board (in its cube) through the 24 positions, resting each until the bell"
+    if protocol == "compass":
+        return "turn the board slowly through every direction, away from steel and magnets"
+    return "leave the board resting, untouched"
+
+
+@dataclass
+class CaptureOutcome:
+    status: str  # "finished", "interrupted", "refused", "timeout"
+    log_path: Path | None
+    readings: int
+    format: object = None
+    rate_hz: float | None = None
+    message: str = ""
+
+
+class Capture:
+    """Read a board's lines from ``port`` until the protocol is done, writing the log as received.
+
+    Parameters
+    ----------
+    port
+        An object with ``read(n) -> bytes`` returning what has arrived (pyserial with a timeout).
+    protocol : str
+        One of :data:`PROTOCOLS`.
+    out_path : Path
+        The CSV log to write.
+    say : callable
+        Prints one line per step.
+    live : callable or None
+        Shows the current reading (one line rewritten), or None.
+    """
+
+    def __init__(self, port, *, protocol: str, out_path: Path, fmt: str = "auto", units: dict | None = None,
+                 minutes: float | None = None, capture_s: float | None = None, baud: int = DEFAULT_BAUD,
+                 say=print, bell=None, live=None, clock=time.monotonic):
+        self.port, self.protocol, self.out_path = port, protocol, Path(out_path)
+        self.reader = BoardLineReader(fmt, clock)
+        self.units = units or {}
+        self.seconds = 60.0 * (minutes if minutes is not None else DEFAULT_MINUTES[protocol])
+        self.capture_s = CAPTURE_S_DEFAULT if capture_s is None else max(CAPTURE_S_RANGE[0], capture_s)
+        self.baud, self.say, self.bell, self.live, self.clock = baud, say, bell or (lambda: None), live, clock
+        self.readings: list = []
+        self.writer: LogWriter | None = None
+        self.engine = StillEngine(protocol, self.capture_s) if protocol in POSES else None
+        self.checked = False
+        self.acc_scale = self.gyr_scale = None
+        self.time_scale = None
+        self.record_from: float | None = None
+
+    def _step(self, text: str, bell: bool = False) -> None:
+        if bell:
+            self.bell()
+        self.say(text)
+
+    def _check_units(self) -> None:
+        """The units at rest (the rules of every log) and the factors that put the readings in m/s² and °/s
+        for the still detection."""
+        fmt = self.reader.format
+        log = to_log(self.readings, fmt, units=self.units, name="the board's first second")
+        words = ", ".join(f"{s} {u}" for s, u in log.units.items())
+        rate = log.sampling_rate_hz
+        self._step(f"units checked at rest: {words}; rate {rate:.4g} Hz "
+                   f"({'the board' + chr(39) + 's time column' if fmt.time_col is not None else 'the arrivals'})")
+        for w in log.warnings:
+            self._step(f"warning: {w}")
+        if "acc" in fmt.sensors:
+            raw = np.array([r.values["acc"] for r in self.readings], dtype=float)
+            self.acc_scale = STANDARD_GRAVITY / float(np.median(np.linalg.norm(raw, axis=1)))
+        gyr_unit = log.units.get("gyr")
+        if "gyr" in fmt.sensors and gyr_unit in ("rad/s", "deg/s"):
+            self.gyr_scale = 180.0 / math.pi if gyr_unit == "rad/s" else 1.0
+        if fmt.time_col is not None:  # the board's clock, in the unit the header names or its step shows
+            t = np.array([r.board_time for r in self.readings], dtype=float)
+            self.time_scale = fmt.time_scale or time_scale(t)[0]
+        self.checked = True
+
+    def _time(self, r) -> float:
+        if self.time_scale is not None:
+            return float(r.board_time) * self.time_scale
+        return float(r.arrival_s)
+
+    def _feed_engine(self, new) -> None:
+        for r in new:
+            if self.engine is None or "acc" not in r.values:
+                continue
+            acc = np.asarray(r.values["acc"], dtype=float) * self.acc_scale
+            gyr = None if self.gyr_scale is None else np.asarray(r.values["gyr"], dtype=float) * self.gyr_scale
+            for e in self.engine.update(self._time(r), acc, gyr):
+                self._step(e.text, bell=True)
+
+    def run(self) -> CaptureOutcome:
+        opened = self.clock()
+        silence_said = False
+        last_live = 0.0
+        try:
+            while True:
+                now = self.clock()
+                data = self.port.read(4096)
+                new = self.reader.feed(data, now) if data else []
+                if self.reader.format is not None and self.writer is None:
+                    self.writer = LogWriter(self.out_path, self.reader.format)
+                    self._step(f"lines read as {self.reader.format.words()}"
+                               + (f"; {self.reader.skipped} lines that are not readings skipped"
+                                  if self.reader.skipped else ""))
+                if new:
+                    self.writer.write(new)
+                    self.readings += new
+                elif not self.readings and not silence_said and now - opened > SILENCE_S:
+                    silence_said = True
+                    if self.reader.lines:
+                        self._step(f"lines arrive but none is a reading; the last: {self.reader.last_unreadable!r}: "
+                                   "choose the format with --format, or check the sketch", bell=True)
+                    else:
+                        self._step(f"Nothing arrives at {self.baud} baud: check the rate and that the board prints "
+                                   "readings", bell=True)
+                if not self.checked and len(self.readings) >= 2 and self._span() >= CHECK_S:
+                    try:
+                        self._check_units()
+                    except LogFormatError as exc:
+                        self._step(f"refused: {exc}", bell=True)
+                        return self._outcome("refused", str(exc))
+                    self.record_from = now
+                    if self.engine is None:
+                        self._step(f"recording {self.seconds:g} s: {pose_words(self.protocol)}", bell=True)
+                    else:
+                        self._step(pose_words(self.protocol))
+                if self.checked:
+                    self._feed_engine(new)
+                    if self.live and new and now - last_live > 0.1:
+                        last_live = now
+                        self.live(_live_words(new[-1]))
+                    if self.engine is not None and self.engine.finished:
+                        self._step(f"all {POSES[self.protocol]} poses captured", bell=True)
+                        return self._outcome("finished")
+                    if self.engine is None and now - self.record_from >= self.seconds:
+                        self._step(f"recorded {self.seconds:g} s", bell=True)
+                        return self._outcome("finished")
+                if now - opened > self.seconds + (60.0 if self.engine is None else 0.0):
+                    self._step(f"refused: {self.seconds / 60:g} min passed before the protocol was done", bell=True)
+                    return self._outcome("timeout")
+        except KeyboardInterrupt:
+            return self._outcome("interrupted")
+        finally:
+            if self.writer is not None:
+                self.writer.close()
+
+    def _span(self) -> float:
+        return float(self.readings[-1].arrival_s - self.readings[0].arrival_s)
+
+    def _outcome(self, status: str, message: str = "") -> CaptureOutcome:
+        rate = None
+        if len(self.readings) >= 2:
+            try:
+                rate = board_rate(self.readings, self.reader.format).sampling_rate_hz
+            except LogFormatError:
+                rate = None
+        return CaptureOutcome(status, self.out_path if self.writer is not None else None, len(self.readings),
+                              self.reader.format, rate, message)
+
+
+def _live_words(r) -> str:
+    parts = []
+    for s, v in r.values.items():
+        parts.append(f"{s} " + " ".join(f"{x:9.4g}" for x in v))
+    return "  ".join(parts)

@@ -1,0 +1,193 @@
+"""The lines boards print, read live (app/io/board_lines.py): real board recordings of tests/data/real
+replayed as the bytes a serial port delivers, in chunks, with boot text and every line end."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from app.io.board_formats import MOTIONCAL_RAW
+from app.io.board_lines import (BoardLineReader, LogWriter, board_rate, numbers_format, read_lines, to_log)
+from app.io.errors import LogFormatError
+from app.io.formats import read_log
+from app.io.formats.units import STANDARD_GRAVITY
+
+REAL = Path(__file__).parents[1] / "data" / "real"
+POSE = REAL / "mpu6050_pose_files" / "x_axis_pos.csv"  # Arduino, ms timestamps, m/s² under a "(g)" header
+ESP32 = REAL / "mpu6050_esp32_pose_files" / "imu_data_negZ.csv"  # ESP32, µs timestamps, counts, CRLF
+STILL = REAL / "mpu6050_session2_still_30s.csv"  # UNO, counts, no time column, two comment lines
+COMPASS = REAL / "magnetometer" / "tomisuarez2_qmc5883l_turn_every10.csv"  # QMC5883L counts
+BOOT = ["", "ets Jun  8 2016 00:22:57", "rst:0x1 (POWERON_RESET),boot:0x13", "MPU6050 Found!"]
+
+
+def data_lines(path: Path) -> list[str]:
+    return [ln for ln in path.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
+
+
+def play(text: str, *, chunk: int, fmt: str = "auto", rate_hz: float = 100.0, burst: int = 1):
+    """Feed ``text`` in chunks of ``chunk`` bytes; the lines arrive at ``rate_hz`` in bursts of ``burst``."""
+    reader = BoardLineReader(fmt)
+    data = text.encode()
+    out = []
+    lines_before = 0
+    for i in range(0, len(data), chunk):
+        piece = data[i:i + chunk]
+        # the arrival of a line: the burst its number falls in
+        arrival = (lines_before // burst) * burst / rate_hz
+        out += reader.feed(piece, arrival_s=arrival)
+        lines_before += piece.count(b"\n") + piece.count(b"\r") - piece.count(b"\r\n")
+    out += reader.finish(arrival_s=lines_before / rate_hz)
+    return out, reader
+
+
+@pytest.mark.parametrize("end", ["\n", "\r\n", "\r"])
+@pytest.mark.parametrize("chunk", [1, 7, 64, 4096])
+def test_arduino_csv_with_boot_text_in_any_chunks_and_line_ends(end, chunk):
+    lines = data_lines(POSE)
+    out, reader = play(end.join(BOOT + lines) + end, chunk=chunk)
+    assert reader.format.name == "csv" and reader.format.sensors == ("acc", "gyr")
+    assert len(out) == len(lines) - 1 == 200
+    assert reader.skipped == 3 and reader.last_unreadable == "MPU6050 Found!"
+    first = [float(v) for v in lines[1].split(",")]
+    assert out[0].board_time == first[0] and out[0].values["acc"] == tuple(first[1:4])
+    assert out[0].values["gyr"] == tuple(first[5:8])
+
+
+def test_the_same_lines_as_an_uploaded_log():
+    """The board's lines give the arrays, units and rate the same file gives uploaded."""
+    out, reader = play("\n".join(data_lines(POSE)) + "\n", chunk=50, burst=8)
+    live = to_log(out, reader.format)
+    uploaded = read_log(POSE)
+    np.testing.assert_array_equal(live.acc, uploaded.acc)
+    np.testing.assert_array_equal(live.gyr, uploaded.gyr)
+    assert live.units == uploaded.units == {"acc": "m/s^2", "gyr": "rad/s"}
+    assert live.sampling_rate_hz == pytest.approx(uploaded.sampling_rate_hz, rel=1e-12)
+    assert live.sampling_rate_hz == pytest.approx(62.8157, abs=1e-4)  # the board's millis(), not the arrivals
+    assert any("header said g" in w for w in live.warnings)  # the unit checked at rest, as for an upload
+
+
+def test_esp32_crlf_counts_in_microseconds():
+    out, reader = play(ESP32.read_bytes().decode(), chunk=33, rate_hz=50.0, burst=10)
+    log = to_log(out, reader.format)
+    uploaded = read_log(ESP32)
+    np.testing.assert_allclose(log.acc, uploaded.acc, rtol=0, atol=0)
+    assert log.units["acc"] == "g" and any("16384" in w for w in log.warnings)
+    assert log.sampling_rate_hz == pytest.approx(uploaded.sampling_rate_hz, rel=1e-12)
+    assert 170 < log.sampling_rate_hz < 180  # every fifth row of ≈ 875 Hz: the board's clock, not 50 Hz of arrivals
+
+
+def test_bursts_of_arrival_do_not_change_the_rate():
+    """Lines without a time column: the span of the arrivals gives the rate, bursts of 10 do not move it."""
+    lines = data_lines(STILL)[1:]  # bare numbers: the header dropped
+    out, reader = play("\n".join(lines) + "\n", chunk=64, rate_hz=100.0, burst=10)
+    assert reader.format == numbers_format(3) and len(out) == 3000 and reader.skipped == 0
+    timing = board_rate(out, reader.format)
+    arrivals = np.array([r.arrival_s for r in out])
+    assert np.median(np.diff(arrivals)) == 0.0  # a burst's lines arrive together
+    assert timing.sampling_rate_hz == pytest.approx(100.0, rel=0.005)
+    log = to_log(out, reader.format)
+    assert log.units == {"acc": "g"} and np.median(np.linalg.norm(log.acc, axis=1)) == pytest.approx(0.912, abs=0.01)
+
+
+def test_bare_numbers_with_a_leading_time_and_six_columns():
+    lines = data_lines(POSE)[1:]
+    six = [",".join(ln.split(",")[:4] + ln.split(",")[5:]) for ln in lines]  # time, acc, gyr: 7 columns
+    out, reader = read_lines(BOOT + six)
+    assert reader.format.name == "numbers" and reader.format.time_col == 0
+    assert reader.format.sensors == ("acc", "gyr") and len(out) == 200
+    assert reader.skipped == 3
+    log = to_log(out, reader.format)
+    assert log.sampling_rate_hz == pytest.approx(62.8157, abs=1e-4)
+    assert any("ms" in n for n in log.notes)
+
+
+def test_compass_csv_is_counts():
+    out, reader = read_lines(data_lines(COMPASS))
+    log = to_log(out, reader.format)
+    assert reader.format.sensors == ("mag",) and log.units == {"mag": "raw"}
+    assert log.mag.shape == (2275, 3)
+
+
+def _raw_lines(acc_ms2, gyr_dps, mag_ut):
+    a = np.round(np.asarray(acc_ms2) / STANDARD_GRAVITY / MOTIONCAL_RAW["acc_g_per_count"]).astype(int)
+    g = np.round(np.asarray(gyr_dps) / MOTIONCAL_RAW["gyr_dps_per_count"]).astype(int)
+    m = np.round(np.asarray(mag_ut) / MOTIONCAL_RAW["mag_ut_per_count"]).astype(int)
+    return [f"Raw:{','.join(str(v) for v in [*ai, *gi, *mi])}" for ai, gi, mi in zip(a, g, m)]
+
+
+def test_motioncal_raw_and_uni_lines():
+    """The real board's accelerometer printed as MotionCal's Raw: counts and as Uni: values (gyroscope
+    and magnetometer columns: the board's gyroscope and a fixed field), as Adafruit's sketches print them."""
+    rows = np.array([[float(v) for v in ln.split(",")] for ln in data_lines(POSE)[1:]])
+    acc, gyr = rows[:, 1:4], rows[:, 5:8]  # gyroscope in rad/s
+    mag = np.tile([20.0, -5.0, 40.0], (len(rows), 1))
+    raw = _raw_lines(acc, np.degrees(gyr), mag)
+    out, reader = read_lines(["Adafruit AHRS - IMU Calibration!", "Calibration filesys test", *raw, "Cal1:0,0,0"])
+    assert reader.format.name == "raw" and len(out) == 200 and reader.skipped == 3
+    assert reader.last_unreadable == "Cal1:0,0,0"
+    log = to_log(out, reader.format)
+    assert log.units == {"acc": "m/s^2", "gyr": "deg/s", "mag": "uT"} and not log.warnings
+    step = MOTIONCAL_RAW["acc_g_per_count"] * STANDARD_GRAVITY
+    assert np.abs(log.acc - acc).max() <= step / 2 + 1e-12
+    np.testing.assert_allclose(log.mag, mag, atol=1e-12)
+    uni = [f"Uni:{','.join(f'{v:.4f}' for v in [*a, *g, *m])}" for a, g, m in zip(acc, gyr, mag)]
+    out, reader = read_lines(uni)
+    assert reader.format.name == "uni" and reader.skipped == 0
+    log = to_log(out, reader.format)
+    np.testing.assert_allclose(log.acc, acc, atol=5e-5)
+    assert log.units == {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
+
+
+def test_a_chosen_format_skips_what_is_not_it():
+    lines = data_lines(POSE)
+    out, reader = read_lines(lines, "numbers")  # the header is not a reading of bare numbers
+    assert reader.format is None
+    assert len(out) == 0 and reader.skipped == len(lines)  # 8 columns are no bare-number layout
+    out, reader = read_lines(lines, "raw")
+    assert out == [] and reader.skipped == len(lines) and reader.last_unreadable == lines[-1]
+    with pytest.raises(LogFormatError, match="use one of auto, raw, uni, csv, numbers"):
+        BoardLineReader("motioncal")
+
+
+def test_a_sensor_printed_as_zeros_is_left_out():
+    """An MPU-6050 has no magnetometer: its Uni: lines print zeros there (examples/arduino/mpu6050_uni)."""
+    lines = [f"Uni:{a:.4f},0.1000,9.8000,0.01000,-0.00200,0.00300,0,0,0" for a in np.linspace(-0.1, 0.1, 30)]
+    out, reader = read_lines(lines)
+    assert reader.format.sensors == ("acc", "gyr") and set(out[0].values) == {"acc", "gyr"}
+    assert to_log(out, reader.format).mag is None
+
+
+def test_nothing_but_boot_text():
+    out, reader = read_lines(BOOT * 10)
+    assert out == [] and reader.format is None and reader.skipped == 30
+    with pytest.raises(LogFormatError, match="check the baud rate"):
+        to_log(out, numbers_format(3))
+
+
+def test_log_written_as_received_reads_back_with_the_board_rate(tmp_path):
+    lines = data_lines(ESP32)
+    out, reader = read_lines(lines)
+    path = tmp_path / "board.csv"
+    writer = LogWriter(path, reader.format)
+    writer.write(out[:100])
+    writer.write(out[100:])
+    writer.close()
+    back = read_log(path)
+    live = to_log(out, reader.format)
+    np.testing.assert_array_equal(back.acc, live.acc)
+    assert back.sampling_rate_hz == pytest.approx(live.sampling_rate_hz, rel=1e-12)
+    with open(path) as f:
+        header = next(csv.reader(f))
+    assert header[0] == "timestamp_us" and header[1] == "acc_x"
+    # lines without a time column: the arrival times in seconds
+    out, reader = read_lines(_raw_lines([[0, 0, 9.8]] * 50, [[1, 2, 3]] * 50, [[30, 0, 20]] * 50),
+                             arrivals=np.arange(50) / 100.0)
+    writer = LogWriter(tmp_path / "raw.csv", reader.format)
+    writer.write(out)
+    writer.close()
+    back = read_log(tmp_path / "raw.csv")
+    assert back.units == {"acc": "m/s^2", "gyr": "deg/s", "mag": "uT"}
+    assert back.sampling_rate_hz == pytest.approx(100.0, rel=1e-6)
