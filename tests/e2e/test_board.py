@@ -127,6 +127,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     np.testing.assert_allclose(np.array(model["X"]), expected.X, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(np.array(model["y"]), expected.y, rtol=1e-9, atol=1e-12)
 
+    assert page.input_value("#use-with") == "firmware"  # a board's calibration: the C header first
     # Send to the board: the bytes written to the port are the API's MotionCal packet, as it answered
     # (until the server has the motioncal export, its refusal is said beside the button and nothing is
     # written); the note says what the packet cannot carry.
