@@ -206,6 +206,7 @@ export class BoardPanel {
     }
     $("#board-numbers tbody").replaceChildren(...rows);
     $("#board-plot").innerHTML = plotSvg(this.recent);
+    $(".board-plot-fig").hidden = !this.recent.length; // a board without an accelerometer: no plot
     const skipped = s.lines.skipped;
     $("#board-counts").textContent = `${s.lines.readings} readings`
       + (skipped ? `; ${skipped} lines that are not readings skipped (the last: “${s.lines.lastSkipped}”).` : ".");

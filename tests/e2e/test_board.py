@@ -224,6 +224,8 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     page.click("#board-usb")
     expect(page.locator("#compass-capture")).to_be_visible()
     assert page.text_content("#compass-capture-h") == "Turn the board slowly through all directions"
+    expect(page.locator("#board-live")).to_have_attribute("data-format", "csv")
+    expect(page.locator(".board-plot-fig")).to_be_hidden()  # no accelerometer to plot
     shot(page, "board_compass_turning_1280")
     page.wait_for_selector("#result:not([hidden])", timeout=40_000)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
