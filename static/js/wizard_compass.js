@@ -107,7 +107,7 @@ function show() {
   const covered = st.covered.filter(Boolean).length;
   box.textContent = st.centre
     ? `Coverage ${pct(st.coverage)} (${covered} of ${st.covered.length} directions), ${st.count} readings.`
-    : `${st.count} readings: keep turning, the sphere fills once the phone has turned a little.`;
+    : `${st.count} readings: keep turning, the sphere fills once the ${state.board ? "board" : "phone"} has turned a little.`;
   $("#compass-progress").value = st.coverage;
   const words = missingWords(st.missing);
   $("#compass-missing").textContent = !st.centre ? ""
