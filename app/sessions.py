@@ -104,6 +104,7 @@ def new_session(fields: dict) -> dict:
         "notes": notes,
         "device_id": fields.get("device_id"),
         "label": fields.get("label"),
+        "source": fields.get("source", "phone"),
         # free: the cross-validated error that ends it (the API fills in TRICAL_FREE_TARGET_MG)
         **({"target_mg": fields["target_mg"]} if protocol == "free" else {}),
     }
@@ -377,9 +378,12 @@ def solve(store, session: dict) -> dict:
 
 
 def _browser_notes(session: dict) -> list[str]:
-    """The warnings a phone's browser calls for: rounding, the system's own calibration, the sign."""
+    """The warnings a phone's browser calls for: rounding, the system's own calibration, the sign; a
+    board's printed lines (``source`` ``board``) call for none of them."""
     captures = session["captures"]
     notes = list(session.get("notes", ()))
+    if session.get("source") == "board":
+        return notes
     steps = {c.get("quantization_step") for c in captures} - {None}
     if steps:
         notes.append(f"the browser rounds its sensor values to {max(steps):g} m/s²: each position's mean "

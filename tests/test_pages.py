@@ -41,13 +41,16 @@ def test_start_page_shows_the_phone_address_as_a_qr_code(tmp_path):
         html = c.get("/").text
     assert f'<img id="phone-qr" src="{escape(qr_svg_data_uri(url))}" alt="QR code of {escape(url)}">' in html
     assert f'<a id="phone-url" href="{escape(url)}">{escape(url)}</a>' in html
+    assert 'id="phone-https"' not in html  # an https address needs no word on HTTPS
 
 
 def test_start_page_without_a_public_address_shows_the_address_it_was_opened_at(client):
-    # The test client's host is "testserver": that address, as the QR code too; no operator hints.
+    # The test client's host is "testserver": that address, as the QR code too; no operator commands, but
+    # what a phone needs at an http:// address: HTTPS, without which its browser gives no motion data.
     html = client.get("/").text
     assert 'id="phone-qr"' in html and 'alt="QR code of http://testserver/"' in html
-    assert "trical serve --https" not in html and "HTTPS" not in html
+    assert "trical serve --https" not in html
+    assert "gives a page its motion\n    sensors only over HTTPS" in html
 
 
 def test_start_page_links_the_wizard(client):

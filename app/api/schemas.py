@@ -753,6 +753,9 @@ class SessionIn(Strict):
     label: Annotated[str, Field(max_length=500)] | None = None
     target_mg: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(None, description=(
         "free: the cross-validated error in mg of g below which the session is done; default TRICAL_FREE_TARGET_MG."))
+    source: Literal["phone", "board"] = Field("phone", description=(
+        "What the page reads: the phone's motion events (`phone`: the result notes the browser's rounding and the "
+        "system's own calibration) or a board's printed lines (`board`: neither applies)."))
 
 
 class SignIn(Strict):

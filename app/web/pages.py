@@ -18,7 +18,12 @@ from .tables import POSE_NAMES, page_tables
 router = APIRouter(include_in_schema=False)
 
 PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube", "free": "free poses, no jig",
-             "compass": "the compass: turn the phone through all directions"}
+             "compass": "the compass: turn the phone through all directions",
+             "noise": "a board's noise: a still recording of a chosen length"}
+
+NOISE_LENGTHS_S = (10, 30, 60, 120, 300, 600, 1800, 3600, 7200)
+"""The lengths of the noise page's still recording (s); a short one shows the white noise only."""
+NOISE_DEFAULT_S = 300
 
 
 def _templates(request: Request) -> Jinja2Templates:
@@ -83,5 +88,9 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
         "poses": [(label, POSE_NAMES[label]) for label in CANONICAL_SIX],
         "tables": None if problem else page_tables(),
     }
-    page = "wizard_compass.html" if protocol == "compass" and not problem else "wizard.html"
+    if problem:
+        page = "wizard.html"
+    else:
+        page = {"compass": "wizard_compass.html", "noise": "wizard_noise.html"}.get(protocol, "wizard.html")
+        context.update(noise_lengths=NOISE_LENGTHS_S, noise_default=NOISE_DEFAULT_S)
     return _templates(request).TemplateResponse(request, page, context, status_code=400 if problem else 200)

@@ -12,6 +12,10 @@ const $ = (sel) => document.querySelector(sel);
 // upload (a desktop browser has DeviceMotionEvent too, but no touch screen and no motion).
 const phone = "DeviceMotionEvent" in window && matchMedia("(pointer: coarse)").matches;
 document.documentElement.dataset.device = phone ? "phone" : "desktop";
+// A board needs the Web Serial API (or Web Bluetooth): elsewhere the card says which browsers have it.
+const boardReach = "serial" in navigator || "bluetooth" in navigator;
+$("#board-flows").hidden = !boardReach;
+$("#board-no-serial").hidden = boardReach;
 const status = $("#status");
 let recordingId = null;
 let lastUpload = null; // the form data of the upload on show, to read the file again with other units
@@ -293,6 +297,38 @@ function uploadData() {
   for (const key of ["sampling_rate_hz", "columns", "sign"]) if (!data.get(key)) data.delete(key);
   return data;
 }
+
+// The upload's options, each only when it applies to the file chosen (its first line read here): the rate
+// when no column names a time, the column names when the file has no header row, the sign when the
+// header is iOS Core Motion's (its sign is read from it, app/io/formats/ios_sign.py) or absent.
+const TIME_NAME = /^(?:t|time|timestamp|times|elapsed|seconds_elapsed|time_elapsed|millis|micros)(?:[ _]?(?:s|sec|ms|us|ns))?(?:\s*[([].*[)\]])?$/i;
+const CORE_MOTION = /acceleration[xyz]\(g\)|useracceleration|gravity[ _]?[xyz]/i;
+function optionsFor(firstLine) {
+  const names = headerColumns(firstLine);
+  const header = names.length > 0 && !names.every((n) => /^[+-]?(\d+\.?\d*|\.\d+)(e[+-]?\d+)?$/i.test(n));
+  return { rate: !header || !names.some((n) => TIME_NAME.test(n.trim())), columns: !header,
+    sign: !header || names.some((n) => CORE_MOTION.test(n)) };
+}
+
+async function showOptions() {
+  const file = $("#log-file").files[0];
+  let apply = { rate: false, columns: false, sign: false };
+  if (file && !/\.zip$/i.test(file.name)) {
+    const head = await file.slice(0, 4096).text();
+    const first = head.split(/\r\n|\r|\n/).find((line) => line.trim() && !line.trim().startsWith("#")) || "";
+    apply = optionsFor(first);
+  } else if (file) apply = { rate: true, columns: false, sign: false };
+  $("#opt-rate").hidden = !apply.rate;
+  $("#opt-columns").hidden = !apply.columns;
+  $("#opt-sign").hidden = !apply.sign;
+  const words = [apply.rate && "sampling rate", apply.columns && "column names", apply.sign && "sign"].filter(Boolean);
+  $("#options-summary").textContent = `Options: ${words.join(", ")}`;
+  $("#options").hidden = !words.length;
+  for (const [key, input] of [["rate", "#log-rate"], ["columns", "#log-columns"], ["sign", "#log-sign"]]) {
+    if (!apply[key]) $(input).value = ""; // an option that does not apply is not sent
+  }
+}
+$("#log-file").addEventListener("change", showOptions);
 
 $("#upload-form").addEventListener("submit", (event) => {
   event.preventDefault();

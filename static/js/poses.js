@@ -60,23 +60,77 @@ const STANDING = {
 
 const DESCRIPTIONS = TABLES.poses.names;
 
-export function describePose(label) { return DESCRIPTIONS[label] || label; }
+// A board: its printed X and Y arrows (the sensor's axes, as breakout boards mark them) and its
+// component side (z out of it). The page switches to these when a board is the source.
+const BOARD_DESCRIPTIONS = {
+  "+z": "flat, component side up",
+  "-z": "flat, component side down",
+  "+y": "on an edge, its Y arrow pointing up",
+  "-y": "on an edge, its Y arrow pointing down",
+  "+x": "on an edge, its X arrow pointing up",
+  "-x": "on an edge, its X arrow pointing down",
+};
+let device = "phone";
+
+// "phone" or "board": which pictures and words describePose and poseSvg give.
+export function setDevice(kind) { device = kind === "board" ? "board" : "phone"; }
+export function currentDevice() { return device; }
+
+export function describePose(label) { return (device === "board" ? BOARD_DESCRIPTIONS : DESCRIPTIONS)[label] || label; }
+
+// A board seen from its component side, centred on (0, 0), with its X arrow to the right and its Y
+// arrow up (as printed on it), the chip in the middle and a row of header pins at the bottom; `down`
+// names the edge on the table, `up` the one an arrow leaves from.
+function frontBoard(down, up) {
+  const edges = { bottom: "M-27 25 H27", top: "M-27 -25 H27", left: "M-29 -23 V23", right: "M29 -23 V23" };
+  const arrows = { top: "M0 -27 V-45 M-5 -39 L0 -45 L5 -39", bottom: "M0 27 V45 M-5 39 L0 45 L5 39",
+    left: "M-31 0 H-49 M-43 -5 L-49 0 L-43 5", right: "M31 0 H49 M43 -5 L49 0 L43 5" };
+  const pins = [-20, -12, -4, 4, 12, 20].map((x) => `<rect x="${x - 2.5}" y="16" width="5" height="5" fill="#d9b44a" />`).join("");
+  return `
+    <rect x="-29" y="-25" width="58" height="50" rx="3" fill="#1f6f43" />
+    <rect x="-8" y="-8" width="16" height="16" fill="#222" />
+    <path d="M-22 2 H-4 M-8 -2 L-4 2 L-8 6" stroke="#fff" stroke-width="1.6" fill="none" />
+    <text x="-24" y="-3" font-size="7" fill="#fff">X</text>
+    <path d="M-18 8 V-12 M-22 -8 L-18 -12 L-14 -8" stroke="#fff" stroke-width="1.6" fill="none" />
+    <text x="-16" y="-14" font-size="7" fill="#fff">Y</text>
+    ${pins}
+    <path d="${edges[down]}" stroke="${TOUCH}" stroke-width="5" stroke-linecap="round" />
+    <path d="${arrows[up]}" stroke="${UP}" stroke-width="3" fill="none" />`;
+}
+
+// A board lying on the table as a slanted slab: its component side (the chip, the printed arrows)
+// or its bare back up, the face on the table as an orange band, an arrow up from the upper face.
+function flatBoard(componentsUp) {
+  const face = componentsUp
+    ? `<polygon points="50,77 62,77 68,70 56,70" fill="#222" />
+       <path d="M26 80 L44 80 M40 77 L44 80 L40 83" stroke="#fff" stroke-width="1.4" fill="none" />`
+    : `<path d="M30 79 H70 M40 70 H80" stroke="#3c8a5e" stroke-width="1.2" />`;
+  return `
+    <polygon points="14,84 80,84 80,89 14,89" fill="${TOUCH}" />
+    <polygon points="80,84 102,60 102,65 80,89" fill="#b35a00" />
+    <polygon points="14,84 80,84 102,60 36,60" fill="#1f6f43" />
+    ${face}
+    <path d="M58 72 V38 M53 44 L58 38 L63 44" stroke="${UP}" stroke-width="3" fill="none" />`;
+}
 
 // An SVG picture of the phone with `label`'s axis pointing up. `size` in CSS pixels (null: fill the
 // width of its box).
 export function poseSvg(label, size = 160) {
   if (!(label in DESCRIPTIONS)) throw new Error(`unknown pose ${label}`);
   let body;
+  const board = device === "board";
   if (label in STANDING) {
     const { angle, down, up } = STANDING[label];
-    const halfHeight = angle % 180 === 0 ? 38 : 21; // the phone stands on the table line
-    body = `<g transform="translate(60 ${TABLE_Y - halfHeight - 2}) rotate(${angle})">${frontPhone(down, up)}</g>`;
+    // the phone (the board) stands on the table line
+    const halfHeight = board ? (angle % 180 === 0 ? 25 : 29) : (angle % 180 === 0 ? 38 : 21);
+    body = `<g transform="translate(60 ${TABLE_Y - halfHeight - 2}) rotate(${angle})">`
+      + `${board ? frontBoard(down, up) : frontPhone(down, up)}</g>`;
   } else {
-    body = `<g transform="translate(0 ${TABLE_Y - 92})">${flatPhone(label === "+z")}</g>`;
+    body = `<g transform="translate(0 ${TABLE_Y - 92})">${board ? flatBoard(label === "+z") : flatPhone(label === "+z")}</g>`;
   }
   const dims = size ? `width="${size}" height="${size}"` : `width="100%"`;
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" ${dims} `
-    + `role="img" aria-label="Phone ${describePose(label)} (${label} up)">`
+    + `role="img" aria-label="${board ? "Board" : "Phone"} ${describePose(label)} (${label} up)">`
     + `<line x1="2" y1="${TABLE_Y}" x2="${W - 2}" y2="${TABLE_Y}" stroke="#7a5a3a" stroke-width="3" />`
     + body
     + `<text x="${W - 3}" y="11" font-size="10" fill="#666" text-anchor="end">${label} up</text></svg>`;

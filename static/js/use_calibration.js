@@ -51,10 +51,15 @@ export async function fetchDownloads(cal, token = null) {
   }));
 }
 
+let preferred = null;
+
+// The use offered first when the person has chosen none yet (a board: "my own firmware").
+export function preferUse(key) { preferred = key; }
+
 function chosenUse(uses, kind) {
   let saved = null;
   try { saved = localStorage.getItem(`${REMEMBER}.${kind}`); } catch { /* private mode: no memory */ }
-  return uses.find((u) => u.key === saved) || uses[0];
+  return uses.find((u) => u.key === saved) || uses.find((u) => u.key === preferred) || uses[0];
 }
 
 // Before a new calibration's files are fetched: nothing stale on show.

@@ -4,7 +4,8 @@
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
-import { describePose, poseSvg } from "./poses.js";
+import { describePose, poseSvg, setDevice } from "./poses.js";
+import { BoardPanel } from "./board_panel.js";
 import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
@@ -398,7 +399,7 @@ async function ensureSession() {
   const v = state.view;
   try {
     const created = await createSession({ protocol: state.protocol, capture_s: state.captureS, device_id: null,
-      label: null }, state.apiKey);
+      label: null, source: state.device }, state.apiKey);
     state.token = created.token;
     adopt(created);
     remember();
@@ -473,6 +474,7 @@ async function finish(cal) {
   v.focus = "#result";
   announce(state, `Calibration done. ${cal.verdict.words}`);
   render(state);
+  board.offer(cal, state.token);
   v.downloads = await fetchDownloads(cal, state.token);
   render(state);
 }
@@ -494,7 +496,12 @@ function onOrientation(event) { if (state.sign) state.sign.orientation(event.bet
 
 function onMotion(event) {
   const raw = sampleFromMotionEvent(event);
-  if (!raw) return;
+  if (raw) onSample(raw);
+}
+
+// The seam of the two sources: a raw sample {t (ms, the page's clock), acc (m/s²), gyr (°/s) | null}
+// from the phone's devicemotion events or from a board's lines (board.js), into the one capture engine.
+function onSample(raw) {
   const v = state.view;
   if (!state.gotMotion) {
     state.gotMotion = true;
@@ -533,6 +540,7 @@ function onMotion(event) {
 
 function listen() {
   if (state.listening) return;
+  if (state.device === "board") { listenBoard(); return; }
   state.listening = true;
   state.sign = new SignDetector({ apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints) });
   state.machine = flow.makeMachine(state);
@@ -574,6 +582,64 @@ async function onStart() {
   render(state);
 }
 
+// --- a board ------------------------------------------------------------------------------------
+
+// The board's samples go where the phone's go (onSample), read while the flow listens.
+function listenBoard() {
+  state.listening = true;
+  state.sign = new SignDetector({ waitMs: 0 }); // a board reads +g on the axis pointing up: the W3C sign
+  state.machine = flow.makeMachine(state);
+}
+
+// Connected: the board is the source from now on; the flow starts (or goes on) at once.
+function startBoard() {
+  if (state.device !== "board") {
+    state.device = "board";
+    setDevice("board");
+    for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic, null);
+    for (const li of document.querySelectorAll("#poses li")) { // the words a screen reader says, a board's
+      const pose = li.dataset.pose;
+      li.querySelector(".pose-text .sr-only").textContent = ` ${describePose(pose)}`;
+      li.querySelector(".redo").setAttribute("aria-label", `Redo ${pose} (${describePose(pose)})`);
+    }
+    $("#live-pose").dataset.pose = ""; // redrawn as a board at the next sample
+    if (!cube) setText($("#capture-h"), free ? "Rest the board in any pose" : "Rest the board on one side");
+    setText($("h1"), "Calibrate this board");
+    document.title = "Calibrate this board — trical";
+  }
+  if (state.listening && !state.board) stop(); // the phone's events (none come on a computer) make way
+  state.board = board;
+  unlockCues();
+  const v = state.view;
+  v.problem = null;
+  if (!state.listening) listenBoard();
+  if (v.result) { render(state); return; } // a finished session: the board stays connected for Send
+  v.start = false;
+  v.capture = true;
+  v.resumePic = null;
+  v.current = null;
+  instruct(state, state.session ? flow.firstInstruction(state) : "Waiting for the board's readings…");
+  announce(state, "The board is connected: its readings are the sensor now.");
+  v.focus = "#capture-h";
+  render(state);
+}
+
+function boardSample(sample) {
+  if (state.device !== "board" || !state.listening || !sample.acc) return;
+  onSample({ t: sample.t, acc: sample.acc, gyr: sample.gyr });
+}
+
+function boardClosed(why) {
+  if (state.device !== "board" || state.view.result) return;
+  state.listening = false;
+  state.board = null;
+  instruct(state, `${why} Connect it again to go on.`);
+  announce(state, why);
+  render(state);
+}
+
+const board = new BoardPanel({ needAcc: true, onConnect: startBoard, onSample: boardSample, onClose: boardClosed });
+
 // What the flows may do besides changing the state.
 const ctx = { render: () => render(state), solve, stop, adopt, ensureSession, problem: (kind) => showProblem(kind) };
 
@@ -582,7 +648,8 @@ const ctx = { render: () => render(state), solve, stop, adopt, ensureSession, pr
 function redo(arg) {
   // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
   const go = () => { if (state.machine) { flow.redo(state, arg); render(state); } };
-  if (!state.listening) onStart().then(go);
+  if (!state.listening && state.device === "board" && board.connected) { startBoard(); go(); }
+  else if (!state.listening) onStart().then(go);
   else go();
 }
 

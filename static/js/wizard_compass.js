@@ -10,6 +10,7 @@ import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
 import { withInterval } from "./result.js";
 import { TABLES } from "./tables.js";
+import { BoardPanel } from "./board_panel.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -82,9 +83,13 @@ function stopSensor() {
 
 function onReading() {
   const s = state.sensor;
-  if (!s) return;
+  if (s) take([s.x, s.y, s.z]);
+}
+
+// One reading of the magnetometer, the phone's (the Generic Sensor API's) or a board's (its lines).
+function take(m) {
   clearTimeout(state.timer);
-  if (!state.coverage.push([s.x, s.y, s.z])) return;
+  if (!state.coverage.push(m)) return;
   if (!state.reading) { state.reading = true; cue("start"); }
   const now = performance.now();
   if (now - state.drawnAt >= DRAW_MS) show();
@@ -102,7 +107,7 @@ function show() {
   const covered = st.covered.filter(Boolean).length;
   box.textContent = st.centre
     ? `Coverage ${pct(st.coverage)} (${covered} of ${st.covered.length} directions), ${st.count} readings.`
-    : `${st.count} readings: keep turning, the sphere fills once the phone has turned a little.`;
+    : `${st.count} readings: keep turning, the sphere fills once the ${state.board ? "board" : "phone"} has turned a little.`;
   $("#compass-progress").value = st.coverage;
   const words = missingWords(st.missing);
   $("#compass-missing").textContent = !st.centre ? ""
@@ -159,6 +164,7 @@ async function solve() {
   try {
     const cal = await createCalibration(payload());
     stopSensor();
+    state.boardOn = false;
     showResult(cal);
   } catch (err) {
     say(`The calibration could not be computed: ${err.message}`);
@@ -213,6 +219,7 @@ function showResult(cal) {
     return tr;
   }));
   resetUse();
+  board.offer(cal);
   fetchDownloads(cal).then((downloads) => { if (state.shown === cal) showUse(cal, downloads); });
   box.focus();
   cue(cal.verdict.apply ? "captured" : "refused");
@@ -227,6 +234,32 @@ function figure(svg, caption) {
   return f;
 }
 
+// --- a board --------------------------------------------------------------------------------
+
+// A board's magnetometer, from its lines (board.js): the same turn, the same sphere, in its own unit
+// (µT from Raw: and Uni: lines; counts or whatever a CSV prints: the fit keeps that unit).
+function startBoard() {
+  state.board = true;
+  state.boardOn = true;
+  state.reading = false;
+  unlockCues();
+  stopSensor();
+  $("#compass-none").hidden = true;
+  $("#compass-start").hidden = true;
+  $("#compass-capture").hidden = false;
+  $("#compass-capture-h").textContent = "Turn the board slowly through all directions";
+  if ($("#start-over-ask").hidden) $("#start-over").hidden = false;
+  $("#compass-capture-h").focus();
+  say("The board is connected: turn it slowly through all directions.");
+}
+
+const board = new BoardPanel({
+  needAcc: false,
+  onConnect: startBoard,
+  onSample: (sample) => { if (state.boardOn && sample.mag) take(sample.mag); },
+  onClose: (why) => { state.boardOn = false; if (!$("#compass-capture").hidden) $("#compass-missing").textContent = why; },
+});
+
 // --- controls --------------------------------------------------------------------------------
 
 $("#compass-start-btn").addEventListener("click", start);
@@ -234,7 +267,7 @@ $("#compass-solve").addEventListener("click", solve);
 $("#compass-more").addEventListener("click", () => {
   $("#result").hidden = true;
   $("#compass-capture").hidden = false;
-  start();
+  if (state.board) { state.autoSolved = false; startBoard(); } else start();
 });
 // Start over in two taps (the readings are lost): the first asks in place, Keep it goes back.
 function askStartOver(ask) {

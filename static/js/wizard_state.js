@@ -5,6 +5,8 @@ export function newState({ protocol, captureS }) {
   return {
     protocol,
     captureS,
+    device: "phone", // "board" once a board is the source: the flows' words say "board"
+    board: null, // the board panel (board_panel.js) when a board is the source
     storeKey: `trical.wizard.${protocol}`,
     session: null, // the server's session object
     token: null,
@@ -42,12 +44,18 @@ export function newState({ protocol, captureS }) {
   };
 }
 
-// Say `text` in the live region (again, even when it is the same words).
-export function announce(state, text) {
-  state.view.announcement = { text, seq: state.view.announcement.seq + 1 };
+// The flows speak of the phone; with a board as the source, of the board.
+export function deviceWords(state, text) {
+  if (state.device !== "board" || typeof text !== "string") return text;
+  return text.replace(/\bphone's\b/g, "board's").replace(/\bphone\b/g, "board").replace(/\bPhone\b/g, "Board");
 }
 
-export function instruct(state, text) { state.view.instruction = text; }
+// Say `text` in the live region (again, even when it is the same words).
+export function announce(state, text) {
+  state.view.announcement = { text: deviceWords(state, text), seq: state.view.announcement.seq + 1 };
+}
+
+export function instruct(state, text) { state.view.instruction = deviceWords(state, text); }
 
 export const list = (poses) => (poses.length ? poses.join(", ") : "none");
 

@@ -57,6 +57,25 @@ def test_six_poses_in_any_order_give_the_closed_form_of_the_captures(client):
     assert client.get(f"/api/v1/calibrations/{cal['id']}").status_code == 404
 
 
+def test_a_board_s_session_has_no_notes_of_a_phone_s_browser(client):
+    # The same captures from a board's lines (source board): the same fit, and neither the browser's
+    # rounding nor the phone system's own calibration is said.
+    rng = np.random.default_rng(6)
+    s = start(client, capture_s=5, source="board")
+    assert s["source"] == "board" and start(client)["source"] == "phone"
+    sent = {label: pose_samples(label, rng) for label in ("+z", "-x", "+y", "-z", "+x", "-y")}
+    for label, capture in sent.items():
+        r = client.post(f"/api/v1/sessions/{s['id']}/captures", json=capture, headers=auth(s["token"]))
+        assert r.status_code == 201, r.text
+    cal = client.post(f"/api/v1/sessions/{s['id']}/solve", headers=auth(s["token"])).json()
+    expected = fit_six_position([np.mean(sent[label]["acc"], axis=0) for label in CANONICAL_SIX], list(CANONICAL_SIX),
+                                gravity=G)
+    np.testing.assert_allclose(cal["model"]["X"], expected.X, rtol=1e-12, atol=1e-14)
+    assert not any("rounds its sensor values" in w or "may already calibrate" in w for w in cal["warnings"])
+    r = client.post("/api/v1/sessions", json={"protocol": "six", "source": "arduino"})
+    assert r.status_code == 422 and "source" in r.text
+
+
 def test_a_pose_already_captured_is_refused_naming_what_remains_and_redo_replaces_it(client):
     rng = np.random.default_rng(7)
     s = start(client)

@@ -114,6 +114,40 @@ def docs(page, url):
     page.wait_for_selector(".opblock", timeout=20_000)
 
 
+def board(query: str = "?protocol=six", lines: tuple[str, ...] = (), baud: str | None = None, serial: bool = True):
+    """A wizard page with a board (tests/e2e/board_shim.js, the stand-in for the Web Serial API)
+    printing `lines` at 100 a second, connected at `baud`; without `serial`, a browser lacking the API."""
+    def open_board(page, url):
+        from tests.e2e.test_board import SHIM
+
+        if serial:
+            page.add_init_script(SHIM)
+        else:
+            page.add_init_script("delete Navigator.prototype.serial; delete Navigator.prototype.bluetooth;")
+        page.goto(url + "/wizard" + query)
+        page.wait_for_load_state("networkidle")
+        if not serial:
+            return
+        page.evaluate("(lines) => window.__board.play(lines, 100)", list(lines))
+        if baud:
+            page.select_option("#board-baud", baud)
+        page.click("#board-usb")
+        if lines and not baud:
+            page.wait_for_selector("#board-live[data-acc-unit='m/s^2']")
+            page.wait_for_timeout(300)  # a redraw of the live view with its plot
+        else:
+            page.wait_for_selector("#board-msg:not([hidden])", timeout=6_000)
+    return open_board
+
+
+UNI = tuple(f"Uni:{0.12 + 0.01 * (k % 3):.2f},-0.05,9.79,0.001,-0.002,0.000,21.5,-3.2,40.1" for k in range(600))
+
+
+def start_no_serial(page, url):
+    page.add_init_script("delete Navigator.prototype.serial; delete Navigator.prototype.bluetooth;")
+    page.goto(url + "/")
+
+
 # axe's options per state. On /docs one rule is off: Swagger UI writes the API's title as an h1 and
 # each tag as an h3 with no h2 between (heading-order, a best practice, not a WCAG criterion), in
 # markup that its script builds and that trical could change only by patching Swagger UI.
@@ -131,6 +165,13 @@ STATES = {
     "wizard_cube24": wizard("?protocol=cube24"),
     "wizard_free": wizard("?protocol=free"),
     "wizard_compass": wizard("?protocol=compass"),
+    "wizard_noise": wizard("?protocol=noise"),
+    "board_live": board(lines=UNI),
+    "board_silent": board(),
+    "board_unreadable": board(lines=UNI, baud="9600"),
+    "board_no_serial": board(serial=False),
+    "board_compass_live": board("?protocol=compass", lines=UNI),
+    "start_no_serial": start_no_serial,
     "docs": docs,
 }
 

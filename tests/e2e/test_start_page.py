@@ -312,3 +312,48 @@ def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_pat
     page.wait_for_function("() => /µT/.test(document.querySelector('#verdict-words').textContent)")
     assert "counts" not in page.text_content("#verdict-words")
     assert page.errors == []
+
+
+def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_beside_them(browser, server):
+    desktop = browser.new_context(viewport={"width": 1280, "height": 900})
+    page = desktop.new_page()
+    errors: list[str] = []
+    page.on("console", lambda msg: errors.append(msg.text) if msg.type == "error" else None)
+    page.goto(server.url + "/")
+    assert page.locator("h1 .for-desktop").is_visible() and page.locator("h1 .for-phone").is_hidden()
+    assert page.inner_text("h1") == "Calibrate a board's or a phone's motion sensors"  # what is shown
+    # Chromium has the Web Serial API: the board's flows lead, the upload under them, the QR code beside.
+    board = page.locator("#on-board").bounding_box()
+    upload = page.locator("#upload-form").bounding_box()
+    phone = page.locator("#on-phone").bounding_box()
+    assert board["y"] < upload["y"] and phone["x"] > board["x"] + board["width"] - 1 and phone["y"] < upload["y"]
+    assert page.get_attribute("#board-flows .cta", "href") == "/wizard?protocol=six"
+    assert page.locator("#board-no-serial").is_hidden()
+    # The phone's address is http:// on the LAN: the page says a phone needs HTTPS for its motion data.
+    assert page.text_content("#phone-url").startswith("http://")
+    assert "only over HTTPS" in page.text_content("#phone-https")
+    # The upload's options show once a file is chosen, each only when it applies to it.
+    assert page.locator("#options").is_hidden()
+    page.set_input_files("#log-file", [str(DATA / "real" / "mpu6050_pose_files" / f) for f in ("x_axis_pos.csv", "z_axis_neg.csv")])
+    page.wait_for_timeout(300)
+    assert page.locator("#options").is_hidden()  # a time column, a header, no Core Motion names: nothing to choose
+    page.set_input_files("#log-file", str(DATA / "six_orientations_150hz.csv"))
+    page.click("#options-summary")
+    assert page.text_content("#options-summary") == "Options: sampling rate"
+    assert page.locator("#log-rate").is_visible() and page.locator("#log-columns").is_hidden() and page.locator("#log-sign").is_hidden()
+    page.set_input_files("#log-file", str(DATA / "formats" / "headerless_imu_comma.csv"))
+    expect_text = "Options: sampling rate, column names, sign"
+    page.wait_for_function("(t) => document.querySelector('#options-summary').textContent === t", arg=expect_text)
+    shot(page, "start_page_desktop_board_1280")
+    desktop.close()
+    # A browser without Web Serial (Safari, Firefox): which browsers have it, and the upload and `trical capture`.
+    other = browser.new_context(viewport={"width": 1280, "height": 900})
+    page = other.new_page()
+    page.add_init_script("delete Navigator.prototype.serial; delete Navigator.prototype.bluetooth;")
+    page.goto(server.url + "/")
+    assert page.locator("#board-flows").is_hidden()
+    words = page.text_content("#board-no-serial")
+    assert "Chrome, Edge and Opera" in words and "not in Safari or Firefox" in words and "trical capture PORT" in words
+    shot(page, "start_page_desktop_no_serial_1280")
+    other.close()
+    assert errors == []

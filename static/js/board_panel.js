@@ -1,0 +1,278 @@
+// The board card of the wizard pages (templates/_board.html, _board_send.html): connect a board over
+// USB or Bluetooth, see its readings arrive, and send a calibration back to it. The samples go to the
+// page's own capture engine through onSample; this module only shows the board.
+import { ApiError, exportUrl } from "./api.js";
+import { BAUD_RATES, BoardPort, BoardSource, DEFAULT_BAUD, SILENCE_MS, hasBluetooth, hasSerial } from "./board.js";
+import { FORMAT_WORDS, UNIT_WORDS } from "./board_lines.js";
+import { formatNumber } from "./readings.js";
+import { TABLES } from "./tables.js";
+import { preferUse } from "./use_calibration.js";
+
+const $ = (sel) => document.querySelector(sel);
+const PLOT_MS = 5000;
+const DRAW_MS = 200;
+const PACKET = TABLES.board.packet;
+
+function el(tag, text, attrs = {}) {
+  const e = document.createElement(tag);
+  if (text !== undefined && text !== null) e.textContent = text;
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  return e;
+}
+
+// A computer rather than a phone: a fine pointer, or the Web Serial API (only desktop browsers have it).
+export function onComputer() {
+  if (hasSerial()) return true;
+  return !(window.matchMedia && window.matchMedia("(pointer: coarse)").matches);
+}
+
+// The accelerometer's last seconds as three lines (x red, y green, z blue), an SVG string.
+export function plotSvg(samples, gravity = TABLES.gravity) {
+  const W = 300;
+  const H = 100;
+  if (samples.length < 2) return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" role="img" aria-label="No readings yet"></svg>`;
+  const t1 = samples[samples.length - 1].t;
+  const t0 = t1 - PLOT_MS;
+  let top = gravity * 1.2;
+  for (const s of samples) for (const v of s.acc) top = Math.max(top, Math.abs(v) * 1.05);
+  const x = (t) => (((t - t0) / PLOT_MS) * W).toFixed(1);
+  const y = (v) => ((H / 2) * (1 - v / top)).toFixed(1);
+  const lines = ["#c62828", "#2e7d32", "#1565c0"].map((colour, i) => {
+    const points = samples.map((s) => `${x(s.t)},${y(s.acc[i])}`).join(" ");
+    return `<polyline points="${points}" fill="none" stroke="${colour}" stroke-width="1.5" />`;
+  });
+  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" role="img" `
+    + `aria-label="The accelerometer's x, y and z over the last 5 seconds">`
+    + `<line x1="0" y1="${H / 2}" x2="${W}" y2="${H / 2}" stroke="#bbb" />${lines.join("")}</svg>`;
+}
+
+export class BoardPanel {
+  // needAcc: the flow needs the accelerometer (its unit is checked at rest before samples flow);
+  // onConnect(kind): the board is connected (from the click's promise); onSample(sample): a sample in
+  // the wizard's units; onClose(reason): the port closed or failed.
+  constructor({ needAcc = true, onConnect = () => {}, onSample = () => {}, onClose = () => {} } = {}) {
+    this.needAcc = needAcc;
+    this.onConnect = onConnect;
+    this.onSample = onSample;
+    this.onClose = onClose;
+    this.port = null;
+    this.source = null;
+    this.recent = [];
+    this.latest = null;
+    this.drawnAt = 0;
+    this.watch = null;
+    this.openedAt = null;
+    this.setup();
+  }
+
+  get connected() { return Boolean(this.port); }
+
+  setup() {
+    const card = $("#board");
+    if (!card || !onComputer()) return;
+    card.hidden = false;
+    const usb = hasSerial();
+    const ble = hasBluetooth();
+    $("#board-usb").hidden = !usb;
+    $("#board-ble").hidden = !ble;
+    $("#board-none").hidden = usb || ble;
+    $("#board-connect").hidden = !(usb || ble);
+    const baud = $("#board-baud");
+    if (!baud.options.length) {
+      for (const rate of BAUD_RATES) baud.append(el("option", String(rate), { value: String(rate) }));
+      baud.value = String(DEFAULT_BAUD);
+    }
+    $("#board-usb").addEventListener("click", () => this.connect("usb"));
+    $("#board-ble").addEventListener("click", () => this.connect("bluetooth"));
+    $("#board-close").addEventListener("click", () => this.close("You disconnected the board."));
+    const send = $("#board-send");
+    if (send) send.addEventListener("click", () => this.send());
+  }
+
+  message(text) {
+    const box = $("#board-msg");
+    if (box.textContent !== (text || "")) box.textContent = text || "";
+    box.hidden = !text;
+  }
+
+  // From the click: the browser's chooser first (it needs the gesture), then the port.
+  async connect(kind) {
+    if (this.port) return;
+    const baud = Number($("#board-baud").value);
+    const port = new BoardPort({ onText: (chunk, now) => this.text(chunk, now), onError: (err) => this.close(`The board stopped: ${err.message}.`) });
+    this.message(null);
+    // The source first: a port may hand over bytes it buffered as soon as it opens.
+    this.source = new BoardSource({ format: $("#board-format").value, needAcc: this.needAcc,
+      onLive: (sample) => this.live(sample), onSample: (sample) => this.onSample(sample) });
+    this.recent = [];
+    this.openedAt = performance.now();
+    try {
+      if (kind === "usb") await port.openSerial(baud);
+      else await port.openBluetooth();
+    } catch (err) {
+      const chosen = err && err.name === "NotFoundError";
+      this.message(chosen ? "No board was chosen: connect it, then choose it in the browser's list."
+        : `The ${kind === "usb" ? "port" : "board"} could not be opened: ${err.message}. Close the serial monitor or any other program using it, and try again.`);
+      this.source = null;
+      return;
+    }
+    this.port = port;
+    this.baud = baud;
+    preferUse("firmware"); // a board's calibration goes into its sketch: the C header first
+    this.openedAt = performance.now();
+    $("#board-baud").disabled = true;
+    $("#board-format").disabled = true;
+    $("#board-usb").disabled = true;
+    $("#board-ble").disabled = true;
+    $("#board-live").hidden = false;
+    $("#board-live").dataset.kind = kind;
+    $("#board-what").textContent = kind === "usb" ? `Connected at ${baud} baud: waiting for lines…` : "Connected over Bluetooth: waiting for lines…";
+    this.watch = setInterval(() => this.check(), 250);
+    this.showSend();
+    this.onConnect(kind);
+  }
+
+  text(chunk, now) {
+    if (!this.source) return;
+    this.source.text(chunk, now);
+    if (this.port) this.check();
+  }
+
+  // The problems said next to the control: nothing arrives, lines that are not readings, a unit at rest
+  // that is neither g nor m/s².
+  check() {
+    const s = this.source;
+    if (!s) return;
+    const now = performance.now();
+    const quiet = now - (s.lastChunk ?? this.openedAt);
+    const where = this.port.kind === "usb" ? `at ${this.baud} baud` : "over Bluetooth";
+    if (quiet >= SILENCE_MS) {
+      this.message(`Nothing arrives ${where}: check the rate and that the board prints readings.`);
+    } else if (s.lines.readings === 0 && s.lines.skipped > 0 && now - this.openedAt >= SILENCE_MS) {
+      this.message(`The lines arriving are not readings: the last one is “${s.lines.lastSkipped}”. Check the baud rate, `
+        + "and that the board prints Raw: or Uni: lines, CSV with a header line, or 3, 6 or 9 numbers a line.");
+    } else if (s.unitProblem !== null && !s.units) {
+      this.message(`At rest the accelerometer reads ${formatNumber(s.unitProblem, 4)}: neither g (about 1) nor m/s² `
+        + "(about 9.8). Print the readings in g or m/s² (Uni: lines, or divide counts by the chip's counts per g).");
+    } else {
+      this.message(null);
+    }
+    this.draw(now);
+  }
+
+  live(sample) {
+    this.latest = sample;
+    if (sample.acc) {
+      this.recent.push(sample);
+      while (this.recent.length && this.recent[0].t < sample.t - PLOT_MS) this.recent.shift();
+    }
+  }
+
+  draw(now) {
+    const s = this.source;
+    if (!s || now - this.drawnAt < DRAW_MS) return;
+    this.drawnAt = now;
+    const box = $("#board-live");
+    const rate = s.rate();
+    box.dataset.format = s.format || "";
+    box.dataset.readings = String(s.lines.readings);
+    box.dataset.skipped = String(s.lines.skipped);
+    box.dataset.rate = rate === null ? "" : rate.toFixed(2);
+    box.dataset.accUnit = s.units ? s.units.acc || "" : "";
+    if (!s.format) return;
+    const units = s.units || s.lines.units;
+    const said = [FORMAT_WORDS[s.format]];
+    const accUnit = s.units ? s.units.acc : s.lines.units.acc;
+    if (this.latest && this.latest.acc) {
+      said.push(accUnit ? `accelerometer in ${UNIT_WORDS[accUnit]}${s.lines.units.acc ? "" : " (from its reading at rest)"}`
+        : "accelerometer: keep the board still to check its unit");
+    }
+    if (this.latest && this.latest.gyr) said.push(`gyroscope in ${UNIT_WORDS[units.gyr || "deg/s"]}${s.lines.units.gyr ? "" : " (assumed)"}`);
+    if (this.latest && this.latest.mag) {
+      said.push(units.mag && units.mag !== "unknown" ? `magnetometer in ${UNIT_WORDS[units.mag]}`
+        : "magnetometer in the unit it prints (no unit named)");
+    }
+    said.push(rate === null ? "measuring the rate" : `${rate.toFixed(1)} readings/s`);
+    $("#board-what").textContent = `${said.join("; ")}.`;
+    const rows = [];
+    const shown = { acc: ["acc", "m/s²"], gyr: ["gyr", "°/s"], mag: ["mag", UNIT_WORDS[units.mag] || ""] };
+    for (const [key, [name, unit]] of Object.entries(shown)) {
+      const v = this.latest && this.latest[key];
+      if (!v) continue;
+      const tr = el("tr");
+      tr.append(el("th", `${name}${unit && unit !== "unknown" ? ` (${unit})` : ""}`, { scope: "row" }),
+        ...v.map((x) => el("td", formatNumber(x, 4))));
+      rows.push(tr);
+    }
+    $("#board-numbers tbody").replaceChildren(...rows);
+    $("#board-plot").innerHTML = plotSvg(this.recent);
+    $(".board-plot-fig").hidden = !this.recent.length; // a board without an accelerometer: no plot
+    const skipped = s.lines.skipped;
+    $("#board-counts").textContent = `${s.lines.readings} readings`
+      + (skipped ? `; ${skipped} lines that are not readings skipped (the last: “${s.lines.lastSkipped}”).` : ".");
+  }
+
+  async close(why) {
+    const port = this.port;
+    if (!port) return;
+    this.port = null;
+    clearInterval(this.watch);
+    await port.close();
+    this.source = null;
+    $("#board-live").hidden = true;
+    for (const id of ["#board-baud", "#board-format", "#board-usb", "#board-ble"]) $(id).disabled = false;
+    this.message(why);
+    this.showSend();
+    this.onClose(why);
+  }
+
+  // --- send a calibration back ----------------------------------------------------------------
+
+  // The calibration a Send would write, with the token that reads its export.
+  offer(calibration, token = null) {
+    this.calibration = calibration;
+    this.token = token;
+    this.showSend();
+  }
+
+  showSend() {
+    const box = $("#board-send-box");
+    if (!box) return;
+    box.hidden = !(this.port && this.calibration);
+    $("#board-send").disabled = !this.port;
+  }
+
+  // MotionCal's packet from the API (GET …/export?format=motioncal), written to the port as it came.
+  async send() {
+    const msg = $("#board-send-msg");
+    if (!this.port || !this.calibration) return;
+    msg.textContent = "Sending…";
+    let bytes;
+    try {
+      const headers = this.token ? { Authorization: `Bearer ${this.token}` } : {};
+      const response = await fetch(exportUrl(this.calibration.id, "motioncal"), { headers });
+      if (!response.ok) {
+        let detail = `HTTP ${response.status}`;
+        try { detail = (await response.json()).detail || detail; } catch { /* keep the status */ }
+        throw new ApiError(detail, response.status);
+      }
+      bytes = new Uint8Array(await response.arrayBuffer());
+    } catch (err) {
+      msg.textContent = `The packet could not be made: ${err.message}.`;
+      return;
+    }
+    if (bytes.length !== PACKET.bytes || bytes[0] !== PACKET.signature[0] || bytes[1] !== PACKET.signature[1]) {
+      msg.textContent = `The server's answer is not MotionCal's ${PACKET.bytes}-byte packet (${bytes.length} bytes): nothing was sent.`;
+      return;
+    }
+    try {
+      await this.port.write(bytes);
+    } catch (err) {
+      msg.textContent = `The board could not be written to: ${err.message}.`;
+      return;
+    }
+    msg.dataset.sent = String(bytes.length);
+    msg.textContent = `Sent MotionCal's ${bytes.length}-byte packet to the board: a board running Adafruit's Sensor `
+      + "Calibration library checks its CRC, stores it and uses it from now on.";
+  }
+}

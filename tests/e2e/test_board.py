@@ -1,0 +1,306 @@
+"""A board as the wizard's sensor, in real headless Chromium against a real trical server: real board
+recordings (tests/data/real) played as the lines a sketch prints, through a stand-in for the Web Serial
+API (board_shim.js) that the page's own timer drives in real time, into the same flows as the phone's.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from playwright.sync_api import expect
+
+from app.calibration import fit_six_position
+from tests.conftest import DATA
+from tests.e2e.axe import axe_context
+from tests.e2e.conftest import shot
+
+SHIM = (Path(__file__).parent / "board_shim.js").read_text()
+POSE_FILES = DATA / "real" / "mpu6050_pose_files"
+FILES = {"+x": "x_axis_pos.csv", "-x": "x_axis_neg.csv", "+y": "y_axis_pos.csv", "-y": "y_axis_neg.csv",
+         "+z": "z_axis_pos.csv", "-z": "z_axis_neg.csv"}
+ORDER = ["+z", "-y", "+x", "-z", "-x", "+y"]
+BOOT = ["", "ets Jun  8 2016 00:22:57", "MPU6050 Found!"]  # what a sketch prints before its readings
+CAPTURED = '#poses li[data-pose="{}"][data-state="done"]'
+G = 9.80665
+NOISE_S = 10  # the shortest still recording the noise page offers
+
+
+def pose_rows(label: str) -> tuple[str, list[list[str]]]:
+    """The header and the rows of one pose file, as the board printed them (numbers kept as text)."""
+    lines = (POSE_FILES / FILES[label]).read_text().splitlines()
+    return lines[0], [line.split(",") for line in lines[1:]]
+
+
+def six_lines() -> tuple[list[str], dict[str, list[list[float]]]]:
+    """The six files as one board's output: its boot text, the header once, then the poses in ORDER,
+    the board's millis() going on from file to file (each file restarts at 410 ms: the files were
+    recorded one by one). The first pose is printed twice (the board rests in it while the person
+    connects). Returns the lines and, per pose, the accelerometer rows printed."""
+    header, _ = pose_rows("+z")
+    lines = BOOT + [header]
+    printed: dict[str, list[list[float]]] = {}
+    t_end = 0
+    for label in [ORDER[0]] + ORDER:
+        _, rows = pose_rows(label)
+        t0 = int(rows[0][0])
+        shift = t_end + 16 - t0
+        for row in rows:
+            t = int(row[0]) + shift
+            lines.append(",".join([str(t)] + row[1:]))
+            printed.setdefault(label, []).append([float(v) for v in row[1:4]])
+        t_end = int(rows[-1][0]) + shift
+    return lines, printed
+
+
+@pytest.fixture
+def desk(browser, request):
+    """A computer's browser with the board stand-in; `axe` in the test's name: CSP bypassed for axe."""
+    options = {"viewport": {"width": 1280, "height": 900}, "device_scale_factor": 1}
+    axe = "layout" in request.node.name
+    context = axe_context(browser, **options) if axe else browser.new_context(**options)
+    page = context.new_page()
+    errors: list[str] = []
+    page.on("pageerror", lambda exc: errors.append(str(exc)))
+    page.on("console", lambda msg: errors.append(msg.text) if msg.type == "error" else None)
+    page.errors = errors
+    page.add_init_script(SHIM)
+    yield page
+    context.close()
+
+
+def play(page, lines: list[str], hz: float, eol: str = "\r\n") -> None:
+    page.evaluate("([lines, hz, eol]) => window.__board.play(lines, hz, eol)", [lines, hz, eol])
+
+
+def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, server):
+    page = desk
+    sent: list[dict] = []
+    page.on("request", lambda r: sent.append(r.post_data_json) if r.url.endswith("/captures") else None)
+    page.goto(server.url + "/wizard?protocol=six&capture_s=0.5")
+    expect(page.locator("#board")).to_be_visible()
+    assert page.input_value("#board-baud") == "115200"
+    lines, printed = six_lines()
+    play(page, lines, 62.5)  # the board's own rate: ≈ 62.5 lines a second of its millis()
+    t0 = time.monotonic()
+    page.click("#board-usb")
+    assert page.evaluate("window.__board.requests") == [True]  # the chooser, from the click
+    assert page.evaluate("window.__board.opened") == [115200]
+    expect(page.locator("#board-live")).to_have_attribute("data-format", "csv", timeout=5_000)
+    expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=5_000)
+    shot(page, "board_six_live_1280")
+    what = page.text_content("#board-what")
+    assert "CSV with a header line" in what and "accelerometer in m/s² (from its reading at rest)" in what
+    assert "gyroscope in °/s (assumed)" in what
+    # The pictures and words are a board's.
+    assert page.text_content("h1") == "Calibrate this board"
+    assert page.get_attribute("#poses li[data-pose='+x'] svg", "aria-label") == "Board on an edge, its X arrow pointing up (+x up)"
+    for k, label in enumerate(ORDER):
+        page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=15_000)
+        if k == 1:
+            shot(page, "board_six_second_pose_1280")
+            assert "phone" not in page.text_content("#instruction")
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
+    elapsed = time.monotonic() - t0
+    shot(page, "board_six_result_1280")
+
+    # The captures are the board's rows, verbatim and in order, on the board's clock.
+    assert [c["position"] for c in sent] == ORDER
+    for c in sent:
+        rows = np.array(printed[c["position"]])
+        acc = np.array(c["acc"])
+        start = next(i for i in range(len(rows)) if np.array_equal(rows[i], acc[0]) and np.array_equal(rows[i:i + len(acc)], acc))
+        assert np.array_equal(rows[start:start + len(acc)], acc)
+        assert np.all(np.diff(c["t_ms"]) > 0) and c["t_ms"][-1] - c["t_ms"][0] >= 500
+        assert c["sign"] == {"convention": "w3c", "detected_from": "default"} and c["unit"] == "m/s^2"
+    # The result is the closed form of Georgieva et al. on the means of what the board printed.
+    means = np.array([np.mean(c["acc"], axis=0) for c in sent])
+    expected = fit_six_position(means, [c["position"] for c in sent], gravity=G)
+    saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six')"))
+    cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
+    r = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}", headers={"Authorization": f"Bearer {saved['token']}"})
+    assert r.status == 200, r.text()
+    model = r.json()["model"]
+    np.testing.assert_allclose(np.array(model["X"]), expected.X, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(np.array(model["y"]), expected.y, rtol=1e-9, atol=1e-12)
+
+    assert page.input_value("#use-with") == "firmware"  # a board's calibration: the C header first
+    # Send to the board: the bytes written to the port are the API's MotionCal packet, as it answered
+    # (until the server has the motioncal export, its refusal is said beside the button and nothing is
+    # written); the note says what the packet cannot carry.
+    expect(page.locator("#board-send-box")).to_be_visible()
+    note = page.text_content("#board-send-box")
+    assert "cannot carry the accelerometer's scales and cross terms" in note and "C header" in note
+    api = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}/export?format=motioncal",
+                           headers={"Authorization": f"Bearer {saved['token']}"})
+    page.click("#board-send")
+    if api.ok:
+        expect(page.locator("#board-send-msg")).to_have_attribute("data-sent", "68")
+        assert bytes(page.evaluate("window.__board.written")) == api.body()
+    else:
+        detail = api.json()["detail"]
+        expect(page.locator("#board-send-msg")).to_have_text(f"The packet could not be made: {detail}.")
+        assert page.evaluate("window.__board.written") == []
+    shot(page, "board_six_sent_1280")
+    from tests.e2e.test_layout import layout_problems
+
+    problems = []
+    for width in (1280, 390):
+        page.set_viewport_size({"width": width, "height": 900})
+        problems += layout_problems(page, "board_six_result", width)
+    page.set_viewport_size({"width": 1280, "height": 900})
+    assert not problems, "\n".join(problems)
+
+    refused_export = [] if api.ok else [e for e in page.errors if f"status of {api.status}" in e]
+    assert len(refused_export) == (0 if api.ok else 1)  # the browser logs the refused export
+    page.errors[:] = [e for e in page.errors if e not in refused_export]
+
+    # The live view: the boot lines skipped and counted, the board's rate from its own clock.
+    page.wait_for_function("window.__board.pending() === 0", timeout=30_000)
+    page.wait_for_timeout(600)  # the live view's last redraw
+    live = page.locator("#board-live")
+    assert live.get_attribute("data-skipped") == "2"  # the two boot lines (a blank line is no line)
+    times = [int(line.split(",")[0]) for line in lines[len(BOOT) + 1:]]
+    n = int(live.get_attribute("data-readings"))
+    assert n == len(times)
+    # The time column's unit (ms) is read from its first steps: the first four rows have no time yet.
+    rate = float(live.get_attribute("data-rate"))
+    assert rate == pytest.approx((n - 5) / ((times[-1] - times[4]) / 1000), abs=0.006)
+    assert page.errors == []
+    # From Connect to the verdict with 5 s a pose: each capture 4.5 s longer, and 8 s for a person to
+    # turn the board each time (the played lines turn it at once).
+    estimate = elapsed + 6 * (5 - 0.5) + 6 * 8
+    print(f"\nboard six flow, capture_s=0.5: {elapsed:.1f} s from Connect to the downloads; with 5 s a pose and "
+          f"8 s a turn: {estimate:.0f} s")
+    assert estimate < 120
+
+
+def test_nothing_arrives_then_lines_that_are_not_readings(desk, server):
+    page = desk
+    page.goto(server.url + "/wizard?protocol=six")
+    page.click("#board-usb")  # a board that prints nothing
+    msg = page.locator("#board-msg")
+    expect(msg).to_have_text("Nothing arrives at 115200 baud: check the rate and that the board prints readings.",
+                             timeout=6_000)
+    shot(page, "board_silent_1280")
+    page.click("#board-close")
+    expect(page.locator("#board-live")).to_be_hidden()
+    # The same board printing Uni: lines at 115200, opened at 9600: scrambled bytes, no reading.
+    page.select_option("#board-baud", "9600")
+    play(page, ["Uni:0.12,-0.05,9.79,0.001,-0.002,0.000,21.5,-3.2,40.1"] * 400, 100)
+    page.click("#board-usb")
+    expect(msg).to_contain_text("The lines arriving are not readings: the last one is “", timeout=6_000)
+    assert page.evaluate("window.__board.opened") == [115200, 9600]
+    shot(page, "board_unreadable_1280")
+    assert page.errors == []
+
+
+def test_the_chooser_closed_says_so(desk, server):
+    page = desk
+    page.goto(server.url + "/wizard?protocol=six")
+    page.evaluate("window.__board.refuse = true")
+    page.click("#board-usb")
+    expect(page.locator("#board-msg")).to_have_text("No board was chosen: connect it, then choose it in the browser's list.")
+    assert page.evaluate("window.__board.opened") == []
+
+
+def test_compass_from_a_board_turned_by_hand(desk, server):
+    """The QMC5883L turned by hand (raw counts, every tenth row of a 50 Hz log), its lines after the
+    60 s at rest played at 100 lines a second: the sphere fills, the page calibrates by itself, and the
+    offset lands within a few counts of the maker's own fit."""
+    page = desk
+    sent: list[dict] = []
+    page.on("request", lambda r: sent.append(r.post_data_json) if r.url.endswith("/calibrations") and r.method == "POST" else None)
+    refused: list[str] = []
+    page.on("response", lambda r: refused.append(r.url.split("?")[-1]) if r.status == 422 else None)
+    text = (DATA / "real" / "magnetometer" / "tomisuarez2_qmc5883l_turn_every10.csv").read_text().splitlines()
+    header_at = next(i for i, line in enumerate(text) if line.startswith("mx"))
+    rows = text[header_at + 1:][300:]  # after the 60 s at rest (5 rows a second here)
+    page.goto(server.url + "/wizard?protocol=compass")
+    play(page, [text[header_at]] + rows, 100, "\n")
+    page.click("#board-usb")
+    expect(page.locator("#compass-capture")).to_be_visible()
+    assert page.text_content("#compass-capture-h") == "Turn the board slowly through all directions"
+    expect(page.locator("#board-live")).to_have_attribute("data-format", "csv")
+    expect(page.locator(".board-plot-fig")).to_be_hidden()  # no accelerometer to plot
+    shot(page, "board_compass_turning_1280")
+    page.wait_for_selector("#result:not([hidden])", timeout=40_000)
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
+    shot(page, "board_compass_result_1280")
+    assert len(sent) == 1
+    mag = np.array(sent[0]["mag"])
+    played = np.array([[float(v) for v in r.split(",")] for r in rows])
+    assert np.array_equal(mag[0], played[0]) and len(mag) >= 50
+    assert all(any(np.array_equal(m, p) for p in played[:len(mag) + 50]) for m in mag[:20])
+    peer = json.loads((DATA / "real" / "magnetometer" / "tomisuarez2_qmc5883l_peer.json").read_text())
+    offset = -np.linalg.solve(np.array(peer["A"]), np.array(peer["B"]))
+    cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
+    b = np.array(page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}").json()["model"]["b"])
+    assert np.max(np.abs(b - offset)) < 15, (b, offset)
+    # The board prints counts, not µT: ArduPilot refuses offsets beyond its range, and the page says so
+    # in the list of formats (the browser logs the refused export).
+    assert refused == ["format=ardupilot"] and "ArduPilot would not accept this compass calibration" in page.text_content("#downloads")
+    assert len(page.errors) == 1 and "422" in page.errors[0]
+
+
+def test_noise_of_a_still_board(desk, server):
+    """The MPU-6050 resting still (100 Hz, raw counts), printed as a sketch prints g (counts / 16384, five
+    decimals, no time column): the page times the lines by their arrival, records the length chosen,
+    uploads it and characterises its noise; the white noise lands near the maker's own figure from a
+    6-hour recording (tests/data/real/README.md)."""
+    page = desk
+    refused: list[str] = []
+    page.on("response", lambda r: refused.append(r.url.split("?")[-1]) if r.status == 422 else None)
+    text = (DATA / "real" / "mpu6050_session2_still_30s.csv").read_text().splitlines()
+    rows = [line for line in text if line and not line.startswith("#")][1:]
+    lines = [",".join(f"{int(v) / 16384:.5f}" for v in row.split(",")) for row in rows]
+    page.goto(server.url + "/wizard?protocol=noise")
+    shot(page, "board_noise_start_1280")
+    page.select_option("#noise-length", str(NOISE_S))
+    play(page, lines, 100)
+    page.click("#board-usb")
+    expect(page.locator("#noise-record")).to_be_enabled(timeout=5_000)
+    expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "g")
+    page.click("#noise-record")
+    shot(page, "board_noise_recording_1280")
+    page.wait_for_selector("#result:not([hidden])", timeout=(NOISE_S + 30) * 1000)
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
+    shot(page, "board_noise_result_1280")
+    cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
+    cal = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}").json()
+    density = np.array(cal["model"]["acc"]["noise_density"], dtype=float)
+    peer = json.loads((DATA / "real" / "mpu6050_noise_peer.json").read_text())
+    expected = np.sqrt(np.array(peer["R"]) / peer["sampling_rate_hz"])  # 3.30, 3.05, 4.63 mm/s²/√Hz
+    print(f"\nnoise density over {NOISE_S} s from the board's lines: {density} m/s²/√Hz; the maker's: {expected}")
+    assert np.all(np.abs(density / expected - 1) < 0.10)
+    # 10 s show no random walk: the filters' formats that need it are refused with the reason, the JSON,
+    # the CSV and the plot offered (the browser logs the three refused exports).
+    assert sorted(refused) == ["format=kalibr", "format=openvins", "format=vins"]
+    assert "random_walk is null on some axes (the recording is too short to see it" in page.text_content("#downloads")
+    assert len(page.errors) == 3 and all("422" in e for e in page.errors)
+
+
+def test_a_board_over_bluetooth_prints_raw_lines(desk, server):
+    """The +z pose file printed as MotionCal's Raw: lines (its m/s² as counts of 1/8192 g, gyroscope and
+    magnetometer zero), over the Nordic UART: the same live view, the pose recognised as a board's."""
+    page = desk
+    _, rows = pose_rows("+z")
+    lines = ["Raw:" + ",".join(str(round(float(v) / G * 8192)) for v in r[1:4]) + ",0,0,0,0,0,0" for r in rows]
+    page.goto(server.url + "/wizard?protocol=six")
+    expect(page.locator("#board-ble")).to_be_visible()
+    play(page, lines, 62.5, "\n")
+    page.click("#board-ble")
+    requests = page.evaluate("window.__board.bleRequests")
+    assert requests == [{"options": {"filters": [{"services": ["6e400001-b5a3-f393-e0a9-e50e24dcca9e"]}]}, "click": True}]
+    live = page.locator("#board-live")
+    expect(live).to_have_attribute("data-format", "raw", timeout=5_000)
+    expect(page.locator("#live-pose")).to_have_attribute("data-pose", "+z", timeout=8_000)
+    assert page.text_content("#live-pose-words") == "Now: flat, component side up"
+    assert page.text_content("#board-what").startswith("MotionCal Raw: lines (counts at MotionCal's scales); accelerometer in m/s²;")
+    row = page.eval_on_selector_all("#board-numbers tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
+    assert [r[0] for r in row] == ["acc (m/s²)", "gyr (°/s)", "mag (µT)"]
+    shot(page, "board_bluetooth_raw_1280")
+    assert page.errors == []
