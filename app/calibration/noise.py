@@ -32,7 +32,7 @@ from typing import ClassVar
 import numpy as np
 
 from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev, preload_quantiles
-from .errors import CalibrationError
+from .errors import CalibrationError, InsufficientDataError
 from .result import CalibrationResult
 
 CONFIDENCE = 0.95
@@ -233,6 +233,12 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     n = samples.shape[0]
     ms = np.round(tau * sampling_rate_hz).astype(np.int64)
     avar = adev ** 2
+    flat = [axis for k, axis in enumerate("xyz") if not np.all(avar[:, k] > 0)]
+    if flat:  # a sensor printing one value (absent, or quantised coarser than its noise) has no noise to read
+        raise InsufficientDataError(
+            f"{sensor}: the {', '.join(flat)} axis readings do not change over the recording, so they hold no noise "
+            "to characterise (a sensor that is absent and prints a constant, or one quantised coarser than its "
+            "noise): leave this sensor out, or log it at a finer resolution")
     readings = [_read_axis(tau, avar[:, k], ms, n + 1) for k in range(3)]
     lo = np.column_stack([adev[:, k] * np.sqrt(r.lo) for k, r in enumerate(readings)])
     hi = np.column_stack([adev[:, k] * np.sqrt(r.hi) for k, r in enumerate(readings)])

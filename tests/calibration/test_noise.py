@@ -138,3 +138,12 @@ def test_the_three_term_nnls_equals_scipy_s():
     for _ in range(500):
         a, b = rng.random((25, 3)), rng.normal(size=25)
         np.testing.assert_allclose(_nnls(a, b), nnls(a, b)[0], atol=1e-12)
+
+
+def test_an_axis_that_never_changes_is_refused_in_words():
+    """A magnetometer column printing one value (a board without one prints zeros) has no noise: a
+    refusal naming the axis, not a failed decomposition of an all-zero Allan variance."""
+    x = np.random.default_rng(7).normal(0.0, 0.05, size=(20_000, 3))
+    x[:, 2] = 0.0
+    with pytest.raises(InsufficientDataError, match=r"mag: the z axis readings do not change"):
+        characterise_noise(x, 100.0, unit="uT", sensor="mag")

@@ -128,22 +128,17 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     np.testing.assert_allclose(np.array(model["y"]), expected.y, rtol=1e-9, atol=1e-12)
 
     assert page.input_value("#use-with") == "firmware"  # a board's calibration: the C header first
-    # Send to the board: the bytes written to the port are the API's MotionCal packet, as it answered
-    # (until the server has the motioncal export, its refusal is said beside the button and nothing is
-    # written); the note says what the packet cannot carry.
+    # Send to the board: the bytes written to the port are the API's MotionCal packet
+    # (GET …/export?format=motioncal); the note says what the packet cannot carry.
     expect(page.locator("#board-send-box")).to_be_visible()
     note = page.text_content("#board-send-box")
     assert "cannot carry the accelerometer's scales and cross terms" in note and "C header" in note
     api = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}/export?format=motioncal",
                            headers={"Authorization": f"Bearer {saved['token']}"})
+    assert api.ok and len(api.body()) == 68 and api.body()[:2] == bytes([117, 84]), api.text()
     page.click("#board-send")
-    if api.ok:
-        expect(page.locator("#board-send-msg")).to_have_attribute("data-sent", "68")
-        assert bytes(page.evaluate("window.__board.written")) == api.body()
-    else:
-        detail = api.json()["detail"]
-        expect(page.locator("#board-send-msg")).to_have_text(f"The packet could not be made: {detail}.")
-        assert page.evaluate("window.__board.written") == []
+    expect(page.locator("#board-send-msg")).to_have_attribute("data-sent", "68")
+    assert bytes(page.evaluate("window.__board.written")) == api.body()
     shot(page, "board_six_sent_1280")
     from tests.e2e.test_layout import layout_problems
 
@@ -154,9 +149,6 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     page.set_viewport_size({"width": 1280, "height": 900})
     assert not problems, "\n".join(problems)
 
-    refused_export = [] if api.ok else [e for e in page.errors if f"status of {api.status}" in e]
-    assert len(refused_export) == (0 if api.ok else 1)  # the browser logs the refused export
-    page.errors[:] = [e for e in page.errors if e not in refused_export]
 
     # The live view: the boot lines skipped and counted, the board's rate from its own clock.
     page.wait_for_function("window.__board.pending() === 0", timeout=30_000)
@@ -175,7 +167,6 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     estimate = elapsed + 6 * (5 - 0.5) + 6 * 8
     print(f"\nboard six flow, capture_s=0.5: {elapsed:.1f} s from Connect to the downloads; with 5 s a pose and "
           f"8 s a turn: {estimate:.0f} s")
-    assert estimate < 120
 
 
 def test_nothing_arrives_then_lines_that_are_not_readings(desk, server):
