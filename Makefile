@@ -16,9 +16,9 @@ run: $(VENV)/.installed
 	HOST=$(HOST) PORT=$(PORT) $(BIN)/trical serve --host $(HOST) --port $(PORT)
 
 # The whole suite, with the test extras and the browser the end-to-end tests drive, on $(TEST_WORKERS)
-# workers (pytest-xdist): many tests wait on real time (captures, servers, browsers), so two workers
-# pay even on two cores. Every test is bounded (pytest-timeout, pyproject.toml).
-TEST_WORKERS ?= 2
+# workers (pytest-xdist): the browser tests mostly wait on real time (captures, servers, browsers), so
+# three workers pay even on two cores. Every test is bounded (pytest-timeout, pyproject.toml).
+TEST_WORKERS ?= 3
 test: $(VENV)/.installed-test system-deps
 	$(BIN)/python -m pytest -n $(TEST_WORKERS)
 

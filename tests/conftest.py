@@ -9,6 +9,7 @@ import pytest
 
 DATA = Path(__file__).parent / "data"
 E2E = Path(__file__).parent / "e2e"
+WEBKIT = E2E / "webkit"
 
 
 def pytest_collection_modifyitems(config, items):
@@ -17,6 +18,10 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if E2E in Path(item.path).parents:
             item.add_marker(pytest.mark.e2e)
+    # The browser tests first, WebKit's before Chromium's: they are the longest (real-time flows), and
+    # the workers of `make test` take tests in this order, so that none is left alone with a long one
+    # at the end.
+    items.sort(key=lambda item: 0 if WEBKIT in Path(item.path).parents else 1 if E2E in Path(item.path).parents else 2)
 
 
 def seed_table(number: int) -> np.ndarray:
