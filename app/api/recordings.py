@@ -29,25 +29,30 @@ def _plus_or_minus_one(value: int) -> int:
     return value
 
 
-def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
-    """Copy an upload to ``dest`` in chunks, refusing it past the size limit; returns its size."""
-    dest.parent.mkdir(parents=True, exist_ok=True)
-    size = 0
-    try:
-        with open(dest, "wb") as out:
-            while chunk := source.read(CHUNK):
-                size += len(chunk)
-                if size > limit_bytes:
-                    raise PayloadTooLarge(limit_mb)
-                out.write(chunk)
-    except BaseException:
-        dest.unlink(missing_ok=True)
-        raise
+def _copy_limited(source, out, size: int, limit_bytes: int, limit_mb: float) -> int:
+    """Copy ``source`` into ``out`` in chunks; ``size`` counts what came before. Refuses past the limit."""
+    while chunk := source.read(CHUNK):
+        size += len(chunk)
+        if size > limit_bytes:
+            raise PayloadTooLarge(limit_mb)
+        out.write(chunk)
     return size
 
 
+def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
+    """Copy an upload to ``dest`` in chunks, refusing it past the size limit; returns its size."""
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        with open(dest, "wb") as out:
+            return _copy_limited(source, out, 0, limit_bytes, limit_mb)
+    except BaseException:
+        dest.unlink(missing_ok=True)
+        raise
+
+
 def save_uploads_as_zip(uploads: list[tuple[str, object]], dest: Path, limit_bytes: int, limit_mb: float) -> None:
-    """Store several uploaded files as one zip, each under its own name, refusing them past the size limit."""
+    """Store several uploaded files as one zip, each under its own name, refusing them past the size limit
+    (counted over all of them)."""
     refuse_repeated_names([name for name, _ in uploads])
     dest.parent.mkdir(parents=True, exist_ok=True)
     size = 0
@@ -55,11 +60,7 @@ def save_uploads_as_zip(uploads: list[tuple[str, object]], dest: Path, limit_byt
         with zipfile.ZipFile(dest, "w", compression=zipfile.ZIP_DEFLATED) as zf:
             for name, source in uploads:
                 with zf.open(name, "w", force_zip64=True) as out:
-                    while chunk := source.read(CHUNK):
-                        size += len(chunk)
-                        if size > limit_bytes:
-                            raise PayloadTooLarge(limit_mb)
-                        out.write(chunk)
+                    size = _copy_limited(source, out, size, limit_bytes, limit_mb)
     except BaseException:
         dest.unlink(missing_ok=True)
         raise
