@@ -47,6 +47,9 @@ class LogData:
         contradict), and sensors left in counts: every calibration of the log repeats them.
     timing : Timing or None
         How the rate was decided: its source, the time column's jitter and gaps.
+    temperature_c : numpy.ndarray of shape (N,), or None
+        The sensor's own temperature in °C at each sample, when the log records it (a flight
+        controller's IMU, a ``temp_c`` column): what a temperature calibration fits against.
     sign : int
         The factor the file's accelerations were multiplied by on reading: −1 when they came on the
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
@@ -68,6 +71,7 @@ class LogData:
     warnings: tuple = ()
     parts: tuple = ()
     timing: Timing | None = None
+    temperature_c: np.ndarray | None = None
 
     @property
     def gaps(self) -> tuple:
