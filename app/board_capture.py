@@ -6,8 +6,13 @@ spread of the accelerometer over a moving window (and the mean rotation rate, wh
 gyroscope) falls below the page's thresholds, and moving again above their higher limits (hysteresis);
 held still for the page's hold time in a new pose, a capture starts, and it is done after the capture
 length unless the board moves (refused). The thresholds are the page's own, the Python constants
-:func:`app.web.tables.capture_thresholds` renders for it. Then the log is calibrated as
-``trical calibrate LOG.csv`` would (``auto``, or the protocol's method) and the verdict printed.
+:func:`app.web.tables.capture_thresholds` renders for it.
+
+Then the log is calibrated (``auto``, or the protocol's method) and the verdict printed. The six and free
+flows calibrate from their own captures, as a wizard session does: the log's rows of each capture are its
+still segment (:func:`capture_segments`), not stretches found again in the log — a capture is as long as
+the person was asked to hold still (``--capture-s``), which may be shorter than the stretch the log's
+segment detector asks for. The cube flow's method finds its rests and turns in the log itself.
 
 Nothing here opens a port: the caller gives an object with ``read(n)`` (pyserial's ``Serial``, or a
 pseudo-terminal in the tests).
@@ -29,11 +34,11 @@ from app.io.board_lines import BoardLineReader, LogWriter, board_rate, to_log
 from app.io.errors import LogFormatError
 from app.io.formats.timing import time_scale
 from app.io.formats.units import STANDARD_GRAVITY
-from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_MIN_ANGLE_DEG
+from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
 from app.web.tables import capture_thresholds
 
 PROTOCOLS = CAPTURE_PROTOCOLS
-POSES = {"six": 6, "free": FREE_FIT_FROM, "cube24": 24}
+POSES = {"six": 6, "free": FREE_TARGET_MIN_POSES, "cube24": 24}
 """Still captures each posed protocol asks for (free: as many as the free flow fits from)."""
 METHODS = {"six": "auto", "free": "auto", "cube24": "cube", "compass": "magnetometer", "noise": "noise"}
 """How the log is calibrated at the end (``noise``: ``trical noise``)."""
@@ -65,7 +70,9 @@ class StillEngine:
     hold_since: float | None = None
     capture_since: float | None = None
     label: str | None = None
+    capture_from: int | None = None
     done: list = field(default_factory=list)  # (label, mean direction)
+    rows: list = field(default_factory=list)  # (label, first row, row after the last) of each capture
 
     def _valid(self, mean: np.ndarray) -> str | None:
         n = mean / np.linalg.norm(mean)
@@ -77,7 +84,8 @@ class StillEngine:
             return f"pose {len(self.done) + 1}" if far else None
         return f"position {len(self.done) + 1}"  # cube24: a turn between positions (the gyroscope sees it)
 
-    def update(self, t: float, acc: np.ndarray, gyr: np.ndarray | None) -> list[Event]:
+    def update(self, t: float, acc: np.ndarray, gyr: np.ndarray | None, row: int = 0) -> list[Event]:
+        """Take one reading (time ``t`` in s, the log's ``row``) and return what happened."""
         th = self.thresholds
         self.window.append((t, acc, gyr))
         while self.window and self.window[0][0] < t - th["windowMs"] / 1000.0:
@@ -104,6 +112,7 @@ class StillEngine:
         if self.capture_since is not None:
             if t - self.capture_since >= self.capture_s:
                 self.done.append((self.label, mean / np.linalg.norm(mean)))
+                self.rows.append((self.label, self.capture_from, row + 1))
                 events.append(Event("done", self.label, f"{self.label} captured ({len(self.done)} of "
                                                         f"{POSES[self.protocol]})"))
                 self.capture_since = None
@@ -116,7 +125,7 @@ class StillEngine:
         if self.hold_since is None:
             self.hold_since = t
         if t - self.hold_since >= th["holdMs"] / 1000.0:
-            self.capture_since, self.label = t, label
+            self.capture_since, self.capture_from, self.label = t, row, label
             events.append(Event("start", label, f"{label}: capturing {self.capture_s:g} s, hold still"))
         return events
 
@@ -138,6 +147,37 @@ def pose_words(protocol: str) -> str:
     return "leave the board resting, untouched"
 
 
+CAPTURED_PROTOCOLS = ("six", "free")
+"""The flows calibrated from their own captures (:func:`capture_segments`)."""
+
+
+def capture_segments(acc: np.ndarray, rows: list) -> list[dict]:
+    """The still segments of a captured log: one per capture, its rows as the engine captured them.
+
+    Parameters
+    ----------
+    acc : numpy.ndarray, shape (N, 3)
+        The log's accelerometer as read back (its unit settled as for any log), one row per reading received.
+    rows : list of (label, start, end)
+        Each capture's label and rows ``start:end`` (:attr:`StillEngine.rows`).
+
+    Returns
+    -------
+    list of dict
+        Segments in the plain form of ``POST /api/v1/recordings`` (``index``, ``start``, ``end``,
+        ``acc_mean``, ``acc_std``, ``up``, ``count``), ``capture`` naming the engine's label; ``up`` is the
+        axis within 20° of the mean, as for the segments found in a log.
+    """
+    segments = []
+    for label, start, end in rows:
+        window = np.asarray(acc[start:end], dtype=float)
+        mean = window.mean(axis=0)
+        segments.append({"index": len(segments), "start": int(start), "end": int(end),
+                         "acc_mean": [float(v) for v in mean], "acc_std": [float(v) for v in window.std(axis=0)],
+                         "up": nearest_orientation(mean), "count": int(end - start), "capture": label})
+    return segments
+
+
 @dataclass
 class CaptureOutcome:
     status: str  # "finished", "interrupted", "refused", "timeout"
@@ -146,6 +186,7 @@ class CaptureOutcome:
     format: object = None
     rate_hz: float | None = None
     message: str = ""
+    rows: list = field(default_factory=list)  # (label, start, end) of each capture
 
 
 class Capture:
@@ -215,12 +256,13 @@ class Capture:
         return float(r.arrival_s)
 
     def _feed_engine(self, new) -> None:
-        for r in new:
+        first_row = len(self.readings) - len(new)
+        for k, r in enumerate(new):
             if self.engine is None or "acc" not in r.values:
                 continue
             acc = np.asarray(r.values["acc"], dtype=float) * self.acc_scale
             gyr = None if self.gyr_scale is None else np.asarray(r.values["gyr"], dtype=float) * self.gyr_scale
-            for e in self.engine.update(self._time(r), acc, gyr):
+            for e in self.engine.update(self._time(r), acc, gyr, first_row + k):
                 self._step(e.text, bell=True)
 
     def run(self) -> CaptureOutcome:
@@ -290,7 +332,7 @@ class Capture:
             except LogFormatError:
                 rate = None
         return CaptureOutcome(status, self.out_path if self.writer is not None else None, len(self.readings),
-                              self.reader.format, rate, message)
+                              self.reader.format, rate, message, [] if self.engine is None else list(self.engine.rows))
 
 
 def _live_words(r) -> str:

@@ -250,17 +250,28 @@ def _calibrate_files(args, settings: Settings, path: Path) -> int:
     return 0 if body["ok"] else 3
 
 
-def _calibrated(args, settings: Settings, path: Path) -> tuple[dict, dict]:
+def _calibrated(args, settings: Settings, path: Path, captures: list | None = None) -> tuple[dict, dict]:
     """The calibration of the log at ``path`` as ``trical calibrate``'s options ask (stored unless
-    ``--no-store``), and the recording's description."""
+    ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
+    capture) stand for the still segments the log's detector would find."""
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
     read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
                      sign=args.sign, chip=args.chip)
     name = ", ".join(str(p) for p in args.log)
     log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
     recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
+    if captures:
+        from app.board_capture import capture_segments
+
+        recording["segments"] = capture_segments(log.acc, captures)
+        recording["notes"].append(f"the still segments are the {len(captures)} captures, rows "
+                                  + ", ".join(f"{a}–{b - 1}" for _, a, b in captures))
     request = parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
     body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
+    if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
+        body["captures"] = [{"position": seg["capture"], "rows": [seg["start"], seg["end"]], "up": seg["up"],
+                             "mean": seg["acc_mean"], "std": seg["acc_std"], "count": seg["count"]}
+                            for seg in recording["segments"]]
     if not args.no_store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     return body, recording
@@ -572,12 +583,8 @@ def _export(args, settings: Settings) -> int:
 
 def _capture(args, settings: Settings) -> int:
     """``trical capture PORT``: the board's lines captured hands-free into a log, then calibrated (app.board_capture)."""
-    import time
-
     import serial  # pyserial
 
-    from app.board_capture import METHODS, Capture
-    from app.io.motioncal_packet import packet_of
     from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 
     capture_s = CAPTURE_S_DEFAULT if args.capture_s is None else args.capture_s
@@ -585,6 +592,22 @@ def _capture(args, settings: Settings) -> int:
     if not low <= capture_s <= high:
         raise CalibrationError(f"--capture-s {capture_s:g} is out of range: give the seconds captured per pose, from "
                                f"{low:g} to {high:g} (the wizard's default is {CAPTURE_S_DEFAULT:g})")
+    try:
+        port = serial.Serial(args.port, args.baud, timeout=0.1)
+    except (serial.SerialException, ValueError) as exc:
+        raise LogFormatError(f"cannot open {args.port} at {args.baud} baud ({exc}): check the port's name (ls /dev/tty* "
+                             "on Linux, COM3 on Windows) and that no other program (a serial monitor) holds it") from None
+    with port:
+        return capture_on_port(port, args, settings, capture_s=capture_s)
+
+
+def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=None) -> int:
+    """The steps of ``trical capture`` on an open port (``read(n)``, ``write``, ``flush``: pyserial's
+    ``Serial``), on ``clock`` (``time.monotonic`` unless given)."""
+    import time
+
+    from app.board_capture import CAPTURED_PROTOCOLS, METHODS, Capture
+    from app.io.motioncal_packet import packet_of
 
     steps = sys.stderr if args.json else sys.stdout
     tty = steps.isatty()
@@ -600,55 +623,51 @@ def _capture(args, settings: Settings) -> int:
         steps.flush()
 
     out = args.out or Path(time.strftime("trical-capture-%Y%m%d-%H%M%S.csv"))
-    try:
-        port = serial.Serial(args.port, args.baud, timeout=0.1)
-    except (serial.SerialException, ValueError) as exc:
-        raise LogFormatError(f"cannot open {args.port} at {args.baud} baud ({exc}): check the port's name (ls /dev/tty* "
-                             "on Linux, COM3 on Windows) and that no other program (a serial monitor) holds it") from None
-    with port:
-        say(f"{args.port} open at {args.baud} baud; waiting for the board's lines")
-        capture = Capture(port, protocol=args.protocol, out_path=out, fmt=args.format,
-                          units={"acc": args.unit} if args.unit else None, minutes=args.minutes,
-                          capture_s=capture_s, baud=args.baud, say=say, bell=bell, live=live if tty else None)
-        outcome = capture.run()
-        finish = f"trical {'noise' if args.protocol == 'noise' else 'calibrate'} {out}"
-        if outcome.status == "interrupted":
-            bell()
-            say(f"stopped: {out} keeps the {outcome.readings} readings received; finish it with: {finish}"
-                if outcome.log_path else "stopped before any reading arrived: nothing was written")
-            return 130
-        if outcome.status != "finished":
-            if outcome.log_path:
-                say(f"{out} keeps the {outcome.readings} readings received; calibrate what it holds with: {finish}")
-            return 2
-        rate = f" at {outcome.rate_hz:.4g} Hz" if outcome.rate_hz else ""
-        say(f"wrote {out}: {outcome.readings} readings{rate}")
-        if args.protocol == "noise":
-            return _run(["noise", str(out), *(["--json"] if args.json else []), *(["--store"] if not args.no_store else [])])
-        method = METHODS[args.protocol]
-        argv = ["calibrate", str(out), "--method", method]
-        argv += ["--unit", args.unit] if args.unit else []
-        argv += ["--device-id", args.device_id] if args.device_id else []
-        argv += ["--no-store"] if args.no_store else []
-        cal_args = _parser().parse_args(argv)
-        say(f"calibrating {out} ({method})")
-        body, recording = _calibrated(cal_args, settings, out)
-        if args.json:
-            print(json.dumps(body, indent=2))
-        else:
-            _print_summary(body, recording)
+    say(f"{args.port} open at {args.baud} baud; waiting for the board's lines")
+    capture = Capture(port, protocol=args.protocol, out_path=out, fmt=args.format,
+                      units={"acc": args.unit} if args.unit else None, minutes=args.minutes,
+                      capture_s=capture_s, baud=args.baud, say=say, bell=bell, live=live if tty else None,
+                      clock=clock or time.monotonic)
+    outcome = capture.run()
+    finish = f"trical {'noise' if args.protocol == 'noise' else 'calibrate'} {out}"
+    if outcome.status == "interrupted":
         bell()
-        if args.send:
-            if not body["ok"]:
-                say("not sent to the board: the calibration is not ok (see the reasons)")
-                return 3
-            packet, notes = packet_of(body)
-            port.write(packet)
-            port.flush()
-            say(f"sent MotionCal's {len(packet)}-byte calibration packet to the board")
-            for note in notes:
-                say(f"note: {note}")
-        return 0 if body["ok"] else 3
+        say(f"stopped: {out} keeps the {outcome.readings} readings received; finish it with: {finish}"
+            if outcome.log_path else "stopped before any reading arrived: nothing was written")
+        return 130
+    if outcome.status != "finished":
+        if outcome.log_path:
+            say(f"{out} keeps the {outcome.readings} readings received; calibrate what it holds with: {finish}")
+        return 2
+    rate = f" at {outcome.rate_hz:.4g} Hz" if outcome.rate_hz else ""
+    say(f"wrote {out}: {outcome.readings} readings{rate}")
+    if args.protocol == "noise":
+        return _run(["noise", str(out), *(["--json"] if args.json else []), *(["--store"] if not args.no_store else [])])
+    method = METHODS[args.protocol]
+    argv = ["calibrate", str(out), "--method", method]
+    argv += ["--unit", args.unit] if args.unit else []
+    argv += ["--device-id", args.device_id] if args.device_id else []
+    argv += ["--no-store"] if args.no_store else []
+    cal_args = _parser().parse_args(argv)
+    captures = outcome.rows if args.protocol in CAPTURED_PROTOCOLS else None
+    say(f"calibrating {out} ({method}{f' on its {len(captures)} captures' if captures else ''})")
+    body, recording = _calibrated(cal_args, settings, out, captures)
+    if args.json:
+        print(json.dumps(body, indent=2))
+    else:
+        _print_summary(body, recording)
+    bell()
+    if args.send:
+        if not body["ok"]:
+            say("not sent to the board: the calibration is not ok (see the reasons)")
+            return 3
+        packet, notes = packet_of(body)
+        port.write(packet)
+        port.flush()
+        say(f"sent MotionCal's {len(packet)}-byte calibration packet to the board")
+        for note in notes:
+            say(f"note: {note}")
+    return 0 if body["ok"] else 3
 
 
 def main(argv: list[str] | None = None) -> int:

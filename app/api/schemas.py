@@ -171,7 +171,8 @@ class CalibrationCommon(Out):
     recording_id: str | None = Field(None, description="The recording the readings came from.")
     session_id: str | None = Field(None, description="The wizard session that solved it.")
     captures: list[dict[str, Any]] | None = Field(None, description=(
-        "A wizard session's captures: position, mean, std, count, sampling_rate_hz (and up for cube24 and free)."))
+        "A wizard session's captures: position, mean, std, count, sampling_rate_hz (and up for cube24 and free); "
+        "`trical capture`'s: position, rows (first, after last) of its log, up, mean, std, count."))
 
 
 class CandidateOut(Out):
