@@ -128,7 +128,8 @@ def pty_board():
 
 
 def trical_env(tmp_path):
-    return {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "PATH": "/usr/bin:/bin"}
+    return {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "PATH": "/usr/bin:/bin",
+            "PYTHONFAULTHANDLER": "1"}
 
 
 def start_capture(tmp_path, port, *args, steps_on="stdout"):
@@ -146,8 +147,19 @@ def start_capture(tmp_path, port, *args, steps_on="stdout"):
 
 
 def finish(proc, timeout_s: float):
+    """The command's output once it exits; past ``timeout_s`` it is aborted, and the failure shows where it
+    stood (Python's fault handler prints every thread's stack on SIGABRT) and what it had printed."""
     try:
         return proc.communicate(timeout=timeout_s)
+    except subprocess.TimeoutExpired:
+        proc.send_signal(signal.SIGABRT)
+        try:
+            out, err = proc.communicate(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, err = proc.communicate(timeout=10)
+        raise AssertionError(f"trical capture did not exit within {timeout_s:g} s; it printed:\n{out}\n"
+                             f"and on stderr (its stacks):\n{err}") from None
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -187,7 +199,8 @@ def test_six_poses_captured_calibrated_and_sent(tmp_path, pty_board):
     assert [c["position"] for c in captures] == [c["up"] for c in captures] and len(captures) == 6
     for c, reading in zip(captures, body["readings"]):
         start, end = c["rows"]
-        assert 0.4 * 100 <= end - start <= 0.7 * 100  # 0.5 s at 100 Hz, give or take the engine's window
+        # 0.5 s of the lines' arrival (Uni: lines carry no time), 50 rows at 100 Hz when they arrive evenly
+        assert end - start >= 20, c
         np.testing.assert_allclose(table[start:end].mean(axis=0), c["mean"], rtol=0, atol=1e-12)
         np.testing.assert_allclose(reading["mean"], c["mean"], rtol=0, atol=1e-12)
     # --send: MotionCal's packet arrived at the board, the accelerometer's offsets in it
@@ -210,7 +223,7 @@ def test_ctrl_c_keeps_the_log_and_says_how_to_finish_it(tmp_path, pty_board):
     while time.monotonic() < deadline and not (log.exists() and log.stat().st_size > 5000):
         time.sleep(0.1)
     proc.send_signal(signal.SIGINT)
-    stdout, stderr = finish(proc, 20)
+    stdout, stderr = finish(proc, 40)
     assert proc.returncode == 130, stderr
     assert "keeps the" in stdout and f"finish it with: trical calibrate {log}" in stdout
     rows = log.read_text().splitlines()

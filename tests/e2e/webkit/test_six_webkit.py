@@ -22,13 +22,18 @@ def test_six_poses_in_webkit_as_on_an_iphone(webkit, server):
     webkit.shot("six_start")
     webkit.with_motion()
     webkit.set(reading(ORDER[0]), GYRO_DEG_S)
+    # The page's own frames note that the capture's progress showed: a 1 s capture can be over between two
+    # of the test's polls through WebDriver on a loaded machine.
+    webkit.js("(() => { window.__sawProgress = false; const watch = () => { if (document.querySelector('#progress')"
+              ".value > 0) window.__sawProgress = true; else requestAnimationFrame(watch); }; watch(); })()")
     webkit.tap_start()  # motion access asked once, from the tap
     for k, label in enumerate(ORDER):
         if k:
             webkit.set(reading(label))
         if k == 0:
-            webkit.wait("document.querySelector('#progress').value > 0", 10, "the first capture's progress")
-            webkit.shot("six_capturing_first_pose")
+            webkit.wait("window.__sawProgress", 10, "the first capture's progress")
+            if webkit.js("document.querySelector('#progress').value > 0"):
+                webkit.shot("six_capturing_first_pose")
         webkit.wait_for(CAPTURED.format(label))
         webkit.shot(f"six_captured_{k + 1}_{label}")
     webkit.wait_for("#downloads[data-ready=true]")
