@@ -315,12 +315,14 @@ def read_flight_log(path: Path, *, format: str, instance: int | None, mag_instan
                     sign: int | None, chip, name: str) -> LogData:
     """A PX4 ULog or ArduPilot DataFlash log (:mod:`.ulog`, :mod:`.dataflash`): its units and frame are the
     format's, so the options of text logs (columns, chip, lsb_per_g, units, sign) are refused."""
-    given = [k for k, v in (("columns", columns), ("chip", chip), ("lsb_per_g", lsb_per_g), ("units", units),
-                            ("sign", sign)) if v]
+    own = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
+    other_units = {k: v for k, v in (units or {}).items() if own.get(k) != v}
+    given = [k for k, v in (("columns", columns), ("chip", chip), ("lsb_per_g", lsb_per_g), ("units", other_units),
+                            ("sign", sign if sign != 1 else None)) if v]
     if given:
         raise LogFormatError(f"{name} is a flight controller's log, whose units and frame the format states: "
                              f"{', '.join(given)} {'is' if len(given) == 1 else 'are'} for text logs — leave "
-                             f"{'it' if len(given) == 1 else 'them'} out")
+                             f"{'it' if len(given) == 1 else 'them'} out (its units: m/s^2, rad/s, uT)")
     for what, value in (("instance", instance), ("mag_instance", mag_instance)):
         if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
             raise LogFormatError(f"{what} {value!r} is not an instance number: give a whole number from 0")
