@@ -160,3 +160,94 @@ def ardupilot_mag(instance: int, time_us, milligauss, *, numbered: bool = False)
                 "columns": ["TimeUS", "MagX", "MagY", "MagZ", "Health"], "data": data}
     return {"name": "MAG", "type": 150, "format": "QBhhhB", "columns": ["TimeUS", "I", "MagX", "MagY", "MagZ", "Health"],
             "data": {**data, "I": np.full(n, instance)}}
+
+
+# -- boards with known content -------------------------------------------------------------------------
+
+TRUTH = (
+    (np.diag([1.01, 0.99, 1.0]), np.array([0.10, -0.05, 0.20])),
+    (np.array([[0.98, 0.0, 0.0], [0.01, 1.02, 0.0], [0.005, -0.01, 1.0]]), np.array([-0.20, 0.15, -0.10])),
+)
+"""Each IMU instance's true error m = X a + y (m/s²); instance 1's X is lower triangular, so that the
+triangular model (K = X⁻¹, o = −y) holds it exactly too."""
+GYR_BIAS = (np.array([0.010, -0.020, 0.005]), np.array([-0.004, 0.012, -0.030]))
+"""Each instance's gyroscope bias, rad/s."""
+HARD_IRON_UT = (np.array([12.0, -8.0, 30.0]), np.array([-25.0, 40.0, 5.0]))
+"""Each compass instance's hard iron, µT."""
+
+
+def imu_instances(seed: int, *, rate_hz: float = 200.0, orientations=None, rest_s=(4.0, 5.0)) -> list[dict]:
+    """Two IMU instances of one board rested in the poses asked (default the six, shuffled): the same motion
+    and noise, each instance its own error :data:`TRUTH`, gyroscope bias, and a temperature warming 30 → 34 °C
+    (instance 1 a degree warmer)."""
+    from app.calibration.simulations.logs import simulate_static_log
+
+    out = []
+    for k, (X, y) in enumerate(TRUTH):
+        sim = simulate_static_log(np.random.default_rng(seed), orientations=orientations, sampling_rate_hz=rate_hz,
+                                  X=X, y=y, noise_std=0.02, rest_s=rest_s)
+        n = len(sim.samples)
+        time_us = (1_000_000 + np.round(np.arange(n) * 1e6 / rate_hz)).astype(np.uint64)
+        gyr = np.random.default_rng(seed + 100 + k).normal(GYR_BIAS[k], 0.002, (n, 3))
+        out.append({"time_us": time_us, "acc": sim.samples, "gyr": gyr,
+                    "temperature": 30.0 + k + 4.0 * np.arange(n) / n, "segments": sim.segments})
+    return out
+
+
+def compass_tumble(seed: int, *, rate_hz: float = 50.0, duration_s: float = 20.0, imu_rate_hz: float = 200.0):
+    """A board turned through all directions: two compass instances (µT, hard iron :data:`HARD_IRON_UT`, a
+    little soft iron) at ``rate_hz``, and the IMU moving at ``imu_rate_hz``. Returns ``(imus, mags, Ms)``."""
+    from app.calibration.simulations.magnetometer import random_soft_iron, simulate_turn
+
+    rng = np.random.default_rng(seed)
+    n = int(duration_s * rate_hz)
+    mags, Ms = [], []
+    for k in range(2):
+        M = random_soft_iron(rng, 0.04)
+        Ms.append(M)
+        mags.append({"time_us": (1_000_000 + np.round(np.arange(n) * 1e6 / rate_hz)).astype(np.uint64),
+                     "mag": simulate_turn(rng, M, HARD_IRON_UT[k], field_ut=48.0, noise_ut=0.2, n=n)})
+    m = int(duration_s * imu_rate_hz) + 1
+    t = np.arange(m) / imu_rate_hz
+    up = np.column_stack([np.sin(0.7 * t) * np.cos(0.3 * t), np.sin(0.7 * t) * np.sin(0.3 * t), np.cos(0.7 * t)])
+    imus = [{"time_us": (1_000_000 + np.round(t * 1e6)).astype(np.uint64),
+             "acc": 9.80665 * up + rng.normal(0, 0.3, (m, 3)), "gyr": rng.normal(0, 0.5, (m, 3)),
+             "temperature": np.full(m, 31.0 + k)} for k in range(2)]
+    return imus, mags, Ms
+
+
+def still_board(seed: int, *, rate_hz: float = 400.0, duration_s: float = 60.0) -> list[dict]:
+    """Two IMU instances resting flat (z down, FRD: −g on z), their gyroscopes with :data:`GYR_BIAS` and white
+    noise of 2e-3 rad/s/√Hz, the accelerometers' of 3e-3 m/s²/√Hz."""
+    from app.calibration.simulations.noise import simulate_still
+
+    rng = np.random.default_rng(seed)
+    n = int(duration_s * rate_hz)
+    time_us = (1_000_000 + np.round(np.arange(n) * 1e6 / rate_hz)).astype(np.uint64)
+    return [{"time_us": time_us,
+             "acc": simulate_still(rng, n_samples=n, sampling_rate_hz=rate_hz, N=3e-3, B=0.0, K=0.0,
+                                   bias=[0.05, -0.03, -9.80665]),
+             "gyr": simulate_still(rng, n_samples=n, sampling_rate_hz=rate_hz, N=2e-3, B=0.0, K=0.0, bias=GYR_BIAS[k]),
+             "temperature": np.full(n, 40.0 + k)} for k in range(2)]
+
+
+def px4_file(path: Path, imus: list[dict], mags: list[dict] = (), *, gyro_lag_us: int = 150) -> Path:
+    """A ULog of the IMU instances (sensor_accel, sensor_gyro ``gyro_lag_us`` later) and compasses (sensor_mag
+    in gauss)."""
+    topics = []
+    for k, imu in enumerate(imus):
+        topics.append(px4_sensor("sensor_accel", k, imu["time_us"], imu["acc"], imu["temperature"], 2424842 + k))
+        topics.append(px4_sensor("sensor_gyro", k, imu["time_us"] + gyro_lag_us, imu["gyr"], imu["temperature"],
+                                 2424842 + k))
+    for k, mag in enumerate(mags):
+        topics.append(px4_sensor("sensor_mag", k, mag["time_us"], mag["mag"] / 100.0, None, 592905 + k))
+    return write_ulog(path, topics)
+
+
+def ardupilot_file(path: Path, imus: list[dict], mags: list[dict] = (), *, numbered_mags: bool = False) -> Path:
+    """A DataFlash log of the IMU instances (``IMU`` with ``I``) and compasses (``MAG`` in milligauss)."""
+    messages = [ardupilot_imu(k, imu["time_us"], imu["acc"], imu["gyr"], imu["temperature"])
+                for k, imu in enumerate(imus)]
+    messages += [ardupilot_mag(k, mag["time_us"], mag["mag"] * 10.0, numbered=numbered_mags)
+                 for k, mag in enumerate(mags)]
+    return write_dataflash(path, messages)
