@@ -165,8 +165,8 @@ def test_a_ulog_cut_before_its_data_is_refused_naming_the_problem(tmp_path, cut)
 
 def test_a_damaged_ulog_header_is_refused(tmp_path):
     data = bytearray(ULOG.read_bytes()[:5000])
-    data[7] = 0xFF  # version byte kept? the flag bits message is next: make it something else
-    data[16:19] = b"\xff\xff\x42"  # a first message of 65535 bytes of an unknown type
+    data[7] = 0xFF  # a version pyulog does not know
+    data[16:19] = b"\xff\xff\x42"  # the flag-bits message ("B") claiming 65535 bytes, past the file's end
     path = tmp_path / "bad.ulg"
     path.write_bytes(bytes(data))
     with pytest.raises(LogFormatError, match="PX4 ULog"):
@@ -244,7 +244,6 @@ def test_the_two_imu_instances_are_their_own(tmp_path):
 
 
 def test_device_id_decodes_as_the_firmwares_pack_it():
-    # bus type 2 (SPI), bus 1, address 0, device type 0x25: PX4's ICM-20689 id on a Pixhawk 4
-    assert decode_device_id(0x250A) is not None
+    # 2424842 = 0x25000A: bus type 2 (SPI), bus 1, address 0, device type 0x25 (the sample log's instance 0)
     assert decode_device_id(2424842) == {"bus_type": "spi", "bus": 1, "address": 0, "devtype": 37}
     assert decode_device_id(0) is None
