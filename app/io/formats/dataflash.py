@@ -47,6 +47,8 @@ MAGIC = b"\xa3\x95\x80"
 """The message header of DataFlash (0xA3 0x95) and the type of its first message, FMT (0x80)."""
 MILLIGAUSS_TO_UT = 0.1
 """MAG's MagX… are in milligauss (libraries/AP_Compass/LogStructure.h: unit G, multiplier C = 1e-3)."""
+GATHER_ROWS = 65_536
+"""Messages copied out of the file per numpy gather."""
 STRUCT_TO_NUMPY = {"b": "i1", "B": "u1", "h": "<i2", "H": "<u2", "i": "<i4", "I": "<u4", "q": "<i8", "Q": "<u8",
                    "f": "<f4", "d": "<f8", "s": "S"}
 DEVICE_PARAMS = {"acc": ("INS_ACC_ID", "INS_ACC2_ID", "INS_ACC3_ID"),
@@ -80,7 +82,12 @@ def _table(reader, buf: np.ndarray, name: str) -> dict | None:
         return None
     offsets = np.asarray(reader.offsets[type_id], dtype=np.int64) + 3
     offsets = offsets[offsets + dtype.itemsize <= len(buf)]  # a last message cut short is left out
-    rows = buf[offsets[:, None] + np.arange(dtype.itemsize)].view(dtype).ravel()
+    rows = np.empty(len(offsets), dtype=dtype)
+    raw = rows.view(np.uint8).reshape(len(offsets), dtype.itemsize)
+    span = np.arange(dtype.itemsize)
+    for start in range(0, len(offsets), GATHER_ROWS):  # in blocks: the byte indices of all rows at once are large
+        block = offsets[start:start + GATHER_ROWS]
+        raw[start:start + len(block)] = buf[block[:, None] + span]
     out = {}
     for i, column in enumerate(fmt.columns):
         values = rows[column]
@@ -147,6 +154,19 @@ def _streams(reader, buf) -> list[Stream]:
     return [s for s in streams if s.n_samples]
 
 
+def _indexed_reader(DFReader):
+    """pymavlink's binary reader for its FMT parsing and its index of where every message is, without working
+    out the log's wall clock: that parses every message of a log without GPS time (a bench log), and trical
+    reads each message's own TimeUS."""
+
+    class IndexedReader(DFReader.DFReader_binary):
+        def init_clock(self):
+            self._rewind(keep_messages=True)
+            self.init_clock_usec()
+
+    return IndexedReader
+
+
 def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
          name: str = "the file", **_) -> LogData:
     """Read the IMU instance ``instance`` (and compass ``mag_instance``) of an ArduPilot DataFlash log.
@@ -161,7 +181,7 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
     said = io.StringIO()
     try:
         with contextlib.redirect_stdout(said):  # DFReader prints what it skips; the note carries it
-            reader = DFReader.DFReader_binary(str(path), zero_time_base=False)
+            reader = _indexed_reader(DFReader)(str(path), zero_time_base=True)
             buf = np.frombuffer(reader.data_map, dtype=np.uint8)
             streams = _streams(reader, buf)
     except LogFormatError:
