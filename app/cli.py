@@ -27,7 +27,7 @@ from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import ALL_FORMATS, export_calibration
-from app.io.formats import FORMATS
+from app.io.formats import FORMATS, starts_like_flight_log
 from app.io.parts import refuse_repeated_names
 from app.requests import ValidationError, describe_errors, parse_calibration_request
 from app.store import NotFoundError, open_store
@@ -163,6 +163,12 @@ def _read_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sign", type=int, choices=(1, -1), default=None,
                         help="factor on the log's accelerations: -1 for iOS Core Motion's sign (-g up), 1 to keep "
                              "them (default: detected from the header)")
+    parser.add_argument("--instance", type=opt.INSTANCE, default=None, metavar="N",
+                        help="a flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance to read (PX4 "
+                             "multi_id, ArduPilot I; default: PX4 the source with the most samples, ArduPilot 0)")
+    parser.add_argument("--mag-instance", type=opt.INSTANCE, default=None, metavar="N",
+                        help="a flight controller's log: the compass instance the compass methods read (default: "
+                             "the first)")
 
 
 def _serve(args, settings: Settings) -> int:
@@ -256,7 +262,7 @@ def _calibrated(args, settings: Settings, path: Path, captures: list | None = No
     capture) stand for the still segments the log's detector would find."""
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
     read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
-                     sign=args.sign, chip=args.chip)
+                     sign=args.sign, chip=args.chip, instance=args.instance, mag_instance=args.mag_instance)
     name = ", ".join(str(p) for p in args.log)
     log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
     recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
@@ -380,7 +386,7 @@ class _ProgressBar:
 def _autocal_options(args) -> dict:
     return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
                 latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
-                device_id=args.device_id, columns=args.columns, sign=args.sign, chip=args.chip)
+                device_id=args.device_id, columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
 
 
 def _autocal_job(path: str, options: dict) -> dict:
@@ -505,8 +511,11 @@ def _noise(args, settings: Settings) -> int:
             raise CalibrationError(f"--unit {args.unit} is not a {sensor} unit: use one of {', '.join(UNITS[sensor])}")
         units = {sensor: args.unit}
     read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
+    # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
+    clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(args.path) else "imu"
     log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=str(args.path),
-                            columns=args.columns, sign=args.sign, chip=args.chip)
+                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance,
+                            mag_instance=args.mag_instance, clock=clock)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
     body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],

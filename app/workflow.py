@@ -69,10 +69,13 @@ def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: flo
 
 def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
              lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None,
-             chip: str | None = None) -> LogData:
-    """Read an uploaded log file into arrays, its format given or detected (app.io.formats)."""
+             chip: str | None = None, instance: int | None = None, mag_instance: int | None = None,
+             clock: str = "imu") -> LogData:
+    """Read an uploaded log file into arrays, its format given or detected (app.io.formats); ``instance``,
+    ``mag_instance`` and ``clock`` choose the sensors of a flight controller's log (app.io.formats.flight_log)."""
     return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                    lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
+                    lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip, instance=instance,
+                    mag_instance=mag_instance, clock=clock)
 
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
@@ -109,16 +112,29 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "sign": log.sign,
         "timing": None if log.timing is None else log.timing.to_dict(),
         "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
-                      "sampling_rate_hz": None, **(read_with or {}), "sign": log.sign},
+                      "sampling_rate_hz": None, "instance": None, "mag_instance": None, **(read_with or {}),
+                      "sign": log.sign},
         "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
         "segments": segments,
         "overview": overview(log),
     }
+    if log.flight is not None:  # a flight controller's log: every instance, and those read
+        body["flight"] = log.flight.to_dict()
+        body["temperature_c"] = temperature_range(log.temperature_c)
     if log.parts:
         body["parts"] = [{"index": i, "filename": p.filename, "start": p.start, "end": p.end,
                           "n_samples": p.n_samples, "sampling_rate_hz": p.sampling_rate_hz,
                           "pose_from_name": pose_from_name(p.filename)} for i, p in enumerate(log.parts)]
     return body
+
+
+def temperature_range(temperature) -> dict | None:
+    """The smallest and largest of a log's sensor temperature (°C), or None without one."""
+    if temperature is None:
+        return None
+    finite = np.asarray(temperature, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    return {"min": float(finite.min()), "max": float(finite.max())} if finite.size else None
 
 
 def _short_still_file(acc, part, gravity: float | None, everything) -> tuple[list[dict], str] | None:
@@ -457,11 +473,18 @@ class RecordingSource:
     id: str | None = None
     log: LogData | None = None
 
-    def read(self) -> LogData:
-        if self.log is not None:
+    def read(self, clock: str | None = None) -> LogData:
+        """The recording's samples as stored; ``clock="mag"`` reads a flight controller's log on its compass's
+        clock (app.io.formats.flight_log), which the compass methods ask for (other logs are read as stored)."""
+        flight = self.meta.get("flight")
+        if clock is not None and (flight is None or flight.get("clock", "imu") == clock):
+            clock = None
+        if self.log is not None and (clock is None or (self.log.flight and self.log.flight.clock == clock)):
             return self.log
         # As it was read when stored; bodies stored before read_with give only their units.
         read_with = dict(self.meta.get("read_with") or {"units": self.meta["units"]})
+        if clock is not None:
+            read_with["clock"] = clock
         # The caller's rate as given at the upload, so that the time column is judged again the same
         # way (its gaps); recordings stored before read_with kept it are read at their stored rate.
         rate = read_with.pop("sampling_rate_hz") if "sampling_rate_hz" in read_with else self.meta["sampling_rate_hz"]
@@ -754,6 +777,7 @@ def _autocal(request, recording: RecordingSource) -> dict:
     return autocalibrate_file(
         recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
         unit=request.unit or (read_with.get("units") or {}).get("acc"), chip=read_with.get("chip"),
+        instance=read_with.get("instance"),
         lsb_per_g=read_with.get("lsb_per_g"), solver=request.solver, gravity=request.gravity,
         latitude_deg=request.latitude_deg, height_m=request.height_m,
         detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
@@ -767,7 +791,7 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
                        solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
                        height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
                        columns: str | None = None, sign: int | None = None, chip: str | None = None,
-                       lsb_per_g: float | None = None, **fields) -> dict:
+                       lsb_per_g: float | None = None, instance: int | None = None, **fields) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
@@ -794,6 +818,8 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
     chip, lsb_per_g : str or float, optional
         The accelerometer's part and range, or its counts per g, for a CSV in counts
         (:func:`app.io.formats.read_log`).
+    instance : int, optional
+        The IMU instance of a flight controller's log (PX4 ULog, ArduPilot DataFlash).
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -820,7 +846,7 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
         preload.start()
     path = Path(path)
     log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
-                   columns=columns, sign=sign, chip=chip, lsb_per_g=lsb_per_g)
+                   columns=columns, sign=sign, chip=chip, lsb_per_g=lsb_per_g, instance=instance)
     require_accelerometer(log.channels, "autocal")
     unit = log.units["acc"]
     if unit not in AUTOCAL_UNITS:
@@ -943,7 +969,13 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
 
 
 def _noise(request, recording: RecordingSource) -> dict:
-    log, notes = recording.read(), []
+    clock = None
+    if recording.meta.get("flight") is not None and request.sensors and "mag" in request.sensors:
+        if list(request.sensors) != ["mag"]:
+            raise CalibrationError("a flight controller's compass is read on its own clock, slower than the IMU's: "
+                                   "ask for sensors [\"mag\"] alone, and for the IMU's (acc, gyr) in another request")
+        clock = "mag"
+    log, notes = recording.read(clock=clock), []
     if log.parts:  # one file per pose: the noise of one file, never across two
         log, notes = one_still_file(log)
     body = characterise_log(log, sensors=request.sensors, array_sensor=request.sensor, device_id=request.device_id,
@@ -1020,7 +1052,7 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
         mag = np.asarray(request.mag, dtype=float)
         source = {}
     else:
-        log = recording.read()
+        log = recording.read(clock="mag")  # a flight controller's compass on its own clock
         if log.mag is None:
             raise CalibrationError(
                 f"the recording has no magnetometer columns (it has {', '.join(log.channels)}): the magnetometer "
@@ -1028,7 +1060,9 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
         unit = log.units["mag"]
         mag = log.mag * MAG_TO_UT.get(unit, 1.0)
         unit = "raw" if unit == "raw" else "uT"
-        rests = compass_rests(log, recording.meta.get("segments") or [])
+        # The stored segments are on the IMU's clock in a flight log: its compass's rests are found on its own.
+        segments = still_segments(log)[0] if log.flight is not None else recording.meta.get("segments") or []
+        rests = compass_rests(log, segments)
         source = recording.source_fields
     reference, extra = magnetometer_reference(request, notes)
     counts = unit == "raw" and reference["field_ut"] is None

@@ -19,7 +19,7 @@ from app.store import Store, new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
-KEPT_SUFFIXES = (".zip", ".npy", ".parquet", ".pq", ".cwa", ".gt3x", ".bin")
+KEPT_SUFFIXES = (".zip", ".npy", ".parquet", ".pq", ".cwa", ".gt3x", ".bin", ".ulg")
 """Uploads whose suffix names their format keep it; anything else is read as text (CSV-like)."""
 
 
@@ -73,13 +73,13 @@ def _part_name(upload: UploadFile, i: int) -> str:
 @router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log, or one file per pose")
 def upload_recording(
     file: list[UploadFile] = File(..., description=(
-        "A log: CSV with or without a header row, a phyphox / Sensor Logger zip, .npy / .parquet samples, or a zip "
-        "of log files. Several `file` parts (one file per pose) are one recording in parts, in the order given.")),
+        "A log: CSV with or without a header row, a phyphox / Sensor Logger zip, .npy / .parquet samples, a PX4 "
+        "ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several `file` parts (one file per pose) are one recording in parts, in the order given.")),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
     mag_unit: Literal["uT", "nT", "gauss", "raw"] | None = Form(None),
-    format: Literal["auto", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",
+    format: Literal["auto", "ulog", "dataflash", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",
                     "arduino"] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
     chip: str | None = Form(None, description="The parts (and ranges) of sensors logged in counts, separated by "
@@ -89,6 +89,11 @@ def upload_recording(
                                "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)"),
     sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Form(None, description="Factor on the file's accelerations: -1 for iOS Core Motion's "
                                        "sign (-g up), 1 to keep them; detected from the header when omitted."),
+    instance: int | None = Form(None, ge=0, le=255, description=(
+        "A flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance read (PX4 multi_id, ArduPilot I); "
+        "default: PX4 the source with the most samples, ArduPilot 0. `flight.instances` of the answer lists them.")),
+    mag_instance: int | None = Form(None, ge=0, le=255, description=(
+        "A flight controller's log: the compass instance the compass methods read (default: the first).")),
     settings: Settings = Depends(get_settings),
     store: Store = Depends(get_store),
     owner: str | None = Depends(get_owner),
@@ -108,7 +113,8 @@ def upload_recording(
                             settings.max_upload_mb)
     try:
         units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip)
+        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip,
+                         instance=instance, mag_instance=mag_instance)
         log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, name=filename or "the file", **read_with)
         body = workflow.describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
         body["filename"] = filename

@@ -673,6 +673,47 @@ class ReadWithOut(BaseModel):
     chip: str | None = Field(None, description="The parts the upload named (app.io.formats.chips).")
     sampling_rate_hz: float | None = Field(None, description="The rate the upload gave (null: the file's own).")
     sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
+    instance: int | None = Field(None, description="A flight controller's log: the IMU instance asked (null: the default).")
+    mag_instance: int | None = Field(None, description="A flight controller's log: the compass instance asked.")
+
+
+class DeviceOut(BaseModel):
+    """A flight controller's device id decoded (PX4 and ArduPilot pack it alike)."""
+
+    bus_type: str
+    bus: int
+    address: int
+    devtype: int
+
+
+class InstanceOut(BaseModel):
+    """One sensor instance of a flight controller's log."""
+
+    sensor: Literal["acc", "gyr", "mag"]
+    instance: int = Field(description="PX4's multi_id, ArduPilot's I (or the 2 of IMU2, less one).")
+    source: str = Field(description="The message: sensor_accel, sensor_gyro, sensor_mag, sensor_combined; IMU, ACC, "
+                                    "GYR, MAG.")
+    device_id: int | None = Field(None, description="The firmware's device id (ArduPilot: from INS_ACC_ID … parameters).")
+    device: DeviceOut | None = None
+    n_samples: int
+    sampling_rate_hz: float | None = Field(None, description="From the span: (N − 1)/(t_last − t_first).")
+    temperature_min_c: float | None = None
+    temperature_max_c: float | None = None
+
+
+class FlightOut(BaseModel):
+    """What a flight controller's log holds, and what was read of it (app.io.formats.flight_log)."""
+
+    instances: list[InstanceOut]
+    imu: dict = Field(description="The IMU read: instance, source, gyr_source.")
+    mag: dict | None = Field(None, description="The compass the compass methods read: instance, source.")
+    clock: Literal["imu", "mag"] = Field("imu", description="The samples are on the IMU's times; the compass methods "
+                                                            "read the log again on the compass's.")
+
+
+class TemperatureRangeOut(BaseModel):
+    min: float
+    max: float
 
 
 class GapOut(BaseModel):
@@ -737,6 +778,10 @@ class RecordingOut(BaseModel):
         "absent for one file."))
     overview: LogOverview | None = Field(None, description="For a plot of the log; absent from recordings stored "
                                                            "before it existed.")
+    flight: FlightOut | None = Field(None, description="A flight controller's log (PX4 ULog, ArduPilot DataFlash): "
+                                                       "its sensor instances; absent for other logs.")
+    temperature_c: TemperatureRangeOut | None = Field(None, description=(
+        "The read IMU's temperature range in °C, when the log records it."))
 
 
 class SessionIn(Strict):

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:  # the readers' package imports this module
+    from .formats.flight_log import FlightInfo
     from .formats.timing import Timing
 
 UNITS: dict[str, tuple[str, ...]] = {
@@ -50,6 +51,9 @@ class LogData:
     temperature_c : numpy.ndarray of shape (N,), or None
         The sensor's own temperature in °C at each sample, when the log records it (a flight
         controller's IMU, a ``temp_c`` column): what a temperature calibration fits against.
+    flight : app.io.formats.flight_log.FlightInfo or None
+        A flight controller's log (PX4 ULog, ArduPilot DataFlash): every sensor instance it holds, the
+        IMU and compass read, and the clock the samples are on; None for other logs.
     sign : int
         The factor the file's accelerations were multiplied by on reading: −1 when they came on the
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
@@ -72,6 +76,7 @@ class LogData:
     parts: tuple = ()
     timing: Timing | None = None
     temperature_c: np.ndarray | None = None
+    flight: FlightInfo | None = None
 
     @property
     def gaps(self) -> tuple:

@@ -9,6 +9,9 @@ without gravity (linear acceleration) is refused with that reason.
 ========================  =====================================================================
 format                    recognised by
 ========================  =====================================================================
+``ulog``                  PX4's ULog: the file header ``ULog`` 0x01 0x12 0x35 (:mod:`.ulog`, pyulog)
+``dataflash``             ArduPilot's DataFlash ``.bin``: a first message 0xA3 0x95 0x80, FMT (:mod:`.dataflash`,
+                          pymavlink)
 ``phyphox``               zip holding ``Raw Data.csv``; header ``"Time (s)","Acceleration x (m/s^2)"…``
 ``sensor_logger``         zip holding ``Metadata.csv``; header ``time,seconds_elapsed,z,y,x``
 ``gnss_logger``           lines ``UncalAccel,…`` (or the ``# UncalAccel,…`` header)
@@ -19,6 +22,9 @@ format                    recognised by
 (parts)                   any other zip: its log files, one per pose, read each as above and
                           joined as one recording in parts (:mod:`app.io.parts`)
 ========================  =====================================================================
+
+A flight controller's log holds several IMU and compass instances: ``instance`` and ``mag_instance``
+choose them, and ``clock`` which sensor's times the samples are on (:mod:`.flight_log`).
 
 Then the sign (:mod:`.ios_sign`): the caller's ``sign`` (+1 keeps, −1 negates the accelerations),
 else −1 for a log whose header names Core Motion's columns in g (a note says so), else what the
@@ -32,7 +38,8 @@ from pathlib import Path
 
 from ..errors import LogFormatError
 from ..log import LogData
-from . import generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger, sensorlog
+from . import dataflash, generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger, sensorlog, ulog
+from .flight_log import CLOCKS
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
 from .chips import parse_chips
@@ -40,6 +47,8 @@ from .timing import with_timing
 from .units import refuse_linear_acceleration, settle_units
 
 READERS = {
+    ulog.NAME: ulog.read,
+    dataflash.NAME: dataflash.read,
     phyphox.NAME: phyphox.read,
     sensor_logger.NAME: sensor_logger.read,
     gnss_logger.NAME: gnss_logger.read,
@@ -51,6 +60,8 @@ READERS = {
 """Readers by format name."""
 
 DETECTORS = (
+    (ulog.NAME, ulog.detect),
+    (dataflash.NAME, dataflash.detect),
     (phyphox.NAME, phyphox.detect),
     (sensor_logger.NAME, sensor_logger.detect),
     (gnss_logger.NAME, gnss_logger.detect),
@@ -63,6 +74,8 @@ DETECTORS = (
 
 FORMATS = ("auto", *READERS)
 """Values of the upload's ``format`` field."""
+FLIGHT_FORMATS = (ulog.NAME, dataflash.NAME)
+"""Flight controllers' logs: several IMU and compass instances, chosen by ``instance`` and ``mag_instance``."""
 
 CANONICAL_COLUMNS = (*(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
                      "time_s", "time_ms", "time_us", "time_ns")
@@ -165,6 +178,7 @@ def detect_format(s: Sniff) -> str:
 def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None = None,
              units: dict | None = None, lsb_per_g: float | None = None,
              columns: str | dict | list | None = None, sign: int | None = None, chip: str | list | None = None,
+             instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
              name: str = "the file") -> LogData:
     """Read a log in any supported format into arrays.
 
@@ -192,6 +206,13 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     chip : str, optional
         The parts and ranges of the file's sensors in counts, separated by commas (``mpu6050-4g,
         ak8963-16bit``; :data:`app.io.formats.chips.CHIPS`): their counts become g, °/s and µT.
+    instance, mag_instance : int, optional
+        A flight controller's log (:data:`FLIGHT_FORMATS`): the IMU instance read (default: PX4 the
+        source with the most samples, ArduPilot the first) and the compass instance (default the
+        first); an instance the log lacks is refused naming those it has.
+    clock : {"imu", "mag"}
+        A flight controller's log: the samples on the IMU's times (no compass), or on the compass's
+        with the IMU interpolated onto them (what the compass methods read; :mod:`.flight_log`).
     name : str
         How to call the file in messages.
 
@@ -212,6 +233,15 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
         raise LogFormatError(f"unknown format {format!r}: use one of {', '.join(FORMATS)}")
     from ..arrays import is_array_file, read_array_log  # here: app.io.arrays reads CSV through this package
 
+    if clock not in CLOCKS:
+        raise LogFormatError(f"unknown clock {clock!r}: use one of {', '.join(CLOCKS)}")
+    if format in FLIGHT_FORMATS or (format == "auto" and starts_like_flight_log(path)):
+        return read_flight_log(path, format=format, instance=instance, mag_instance=mag_instance, clock=clock,
+                               sampling_rate_hz=sampling_rate_hz, units=units, lsb_per_g=lsb_per_g, columns=columns,
+                               sign=sign, chip=chip, name=name)
+    if instance is not None or mag_instance is not None:
+        raise LogFormatError(f"instance and mag_instance choose a sensor of a flight controller's log (PX4 .ulg, "
+                             f"ArduPilot .bin); {name} is not one: leave them out")
     if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
         if chip or lsb_per_g is not None:
             raise LogFormatError(f"{name} is an array file, whose samples trical takes in the unit given (unit, "
@@ -270,3 +300,40 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
         return log
     refuse_linear_acceleration(log.acc, log.units["acc"], name)
     return settle_sign(log, sign)
+
+
+def starts_like_flight_log(path: Path) -> bool:
+    """True for a file whose first bytes are a ULog header or a DataFlash FMT message."""
+    from .table import BINARY_LOG_MAGICS
+
+    with open(path, "rb") as f:
+        return f.read(8).startswith(BINARY_LOG_MAGICS)
+
+
+def read_flight_log(path: Path, *, format: str, instance: int | None, mag_instance: int | None, clock: str,
+                    sampling_rate_hz: float | None, units: dict | None, lsb_per_g: float | None, columns,
+                    sign: int | None, chip, name: str) -> LogData:
+    """A PX4 ULog or ArduPilot DataFlash log (:mod:`.ulog`, :mod:`.dataflash`): its units and frame are the
+    format's, so the options of text logs (columns, chip, lsb_per_g, units, sign) are refused."""
+    own = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
+    other_units = {k: v for k, v in (units or {}).items() if own.get(k) != v}
+    given = [k for k, v in (("columns", columns), ("chip", chip), ("lsb_per_g", lsb_per_g), ("units", other_units),
+                            ("sign", sign if sign != 1 else None)) if v]
+    if given:
+        raise LogFormatError(f"{name} is a flight controller's log, whose units and frame the format states: "
+                             f"{', '.join(given)} {'is' if len(given) == 1 else 'are'} for text logs — leave "
+                             f"{'it' if len(given) == 1 else 'them'} out (its units: m/s^2, rad/s, uT)")
+    for what, value in (("instance", instance), ("mag_instance", mag_instance)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
+            raise LogFormatError(f"{what} {value!r} is not an instance number: give a whole number from 0")
+    s = sniff(path, name)
+    fmt = detect_format(s) if format == "auto" else format
+    if not dict(DETECTORS)[fmt](s):
+        raise LogFormatError(f"{name} does not start as a {fmt} log (its first bytes are not the format's magic): "
+                             "use format=auto, or upload the .ulg / .bin file the vehicle wrote")
+    log = READERS[fmt](path, s, instance=instance, mag_instance=mag_instance, clock=clock, name=name)
+    log = with_timing(log, sampling_rate_hz, name)
+    log = settle_units(log, given=None, stated=dict(log.units), lsb_per_g=None, lsb_source="lsb_per_g", chips=None,
+                       stated_by=f"the {fmt} format", check_mag=False, name=name)
+    refuse_linear_acceleration(log.acc, log.units["acc"], name)
+    return settle_sign(log, None)

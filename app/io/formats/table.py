@@ -25,18 +25,23 @@ from ..errors import LogFormatError
 
 SNIFF_BYTES = 64 * 1024
 ZIP_MAGIC = b"PK\x03\x04"
+BINARY_LOG_MAGICS = (b"ULog\x01\x12\x35", b"\xa3\x95\x80")
+"""The first bytes of the binary logs read (PX4 ULog's file header; an ArduPilot DataFlash log's first
+message, the FMT message, type 0x80, after the 0xA3 0x95 message header)."""
 MAX_UNZIPPED_BYTES = 512 << 20
 """A zip member above this size (uncompressed) is refused rather than expanded in memory."""
 
 
 @dataclass(frozen=True)
 class Sniff:
-    """What format detection looks at: the head of a text file, or the member names of a zip."""
+    """What format detection looks at: the head of a text file, the member names of a zip, or the first
+    bytes of a binary log (``head``: a flight controller's, recognised by its magic)."""
 
     name: str
     text: str = ""
     members: tuple[str, ...] | None = None
     lines: list[str] = field(default_factory=list)
+    head: bytes = b""
 
     @property
     def is_zip(self) -> bool:
@@ -55,6 +60,8 @@ def sniff(path: Path, name: str) -> Sniff:
             raise LogFormatError(f"{name} starts like a zip archive but cannot be opened: upload the "
                                  "export again (the zip may be cut short)", status=415) from None
         return Sniff(name=name, members=members)
+    if head.startswith(BINARY_LOG_MAGICS):
+        return Sniff(name=name, head=head[:16])
     text = decode_head(head, name)
     return Sniff(name=name, text=text, lines=text.splitlines()[:200])
 

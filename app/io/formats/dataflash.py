@@ -1,0 +1,204 @@
+"""ArduPilot's DataFlash logs (``.bin``), read through pymavlink's DFReader: IMU and compass instances.
+
+Recognised by the first message: the message header ``0xA3 0x95`` and the type of FMT, ``0x80``
+(ArduPilot's DataFlash format: every message starts with those two bytes and its type, and the
+log starts by describing its messages with FMT).  pymavlink's ``DFReader_binary`` parses the FMT
+messages and indexes where every message is; trical then takes the columns of the few messages it
+needs at once with numpy (the formats' struct codes), rather than message by message.
+
+Messages and units, as ArduPilot's message definitions give them
+(libraries/AP_InertialSensor/LogStructure.h, libraries/AP_Compass/LogStructure.h, and
+libraries/AP_Logger/LogStructure.h for logs before the ``I`` field):
+
+=========================  ===========================  ======================  ==============
+message                    fields                       unit                    trical's unit
+=========================  ===========================  ======================  ==============
+``IMU`` (``IMU2``, …)      I; AccX…Z; GyrX…Z; T         m/s², rad/s, °C         m/s², rad/s
+``ACC``, ``GYR``           I; SampleUS; AccX… / GyrX…   m/s², rad/s             m/s², rad/s
+(``ACC1``…, ``GYR1``…)
+``MAG`` (``MAG2``, …)      I; MagX, MagY, MagZ          milligauss              µT (× 0.1)
+=========================  ===========================  ======================  ==============
+
+``ACC``/``GYR`` are the batch sampler's (``INS_LOG_BAT_MASK``) samples at the sensor's full rate;
+when the log has them for the instance they are read in place of ``IMU`` (whose ``T`` is then
+interpolated onto their times).  Frame: ArduPilot's body frame (x forward, y right, z down) after
+``AHRS_ORIENTATION``; ``IMU`` and ``MAG`` are logged after ArduPilot's own calibration (the
+accelerometer's offsets and scales, the compass's offsets ``OfsX…`` and scale factors), so a
+calibration from them is what is left over ArduPilot's; a note says so.  At rest the axis pointing up
+reads +g (specific force), as trical's convention has it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import LogFormatError
+from ..log import LogData
+from .flight_log import Stream, choose
+from .table import Sniff
+
+NAME = "dataflash"
+MAGIC = b"\xa3\x95\x80"
+"""The message header of DataFlash (0xA3 0x95) and the type of its first message, FMT (0x80)."""
+MILLIGAUSS_TO_UT = 0.1
+"""MAG's MagX… are in milligauss (libraries/AP_Compass/LogStructure.h: unit G, multiplier C = 1e-3)."""
+GATHER_ROWS = 65_536
+"""Messages copied out of the file per numpy gather."""
+STRUCT_TO_NUMPY = {"b": "i1", "B": "u1", "h": "<i2", "H": "<u2", "i": "<i4", "I": "<u4", "q": "<i8", "Q": "<u8",
+                   "f": "<f4", "d": "<f8", "s": "S"}
+DEVICE_PARAMS = {"acc": ("INS_ACC_ID", "INS_ACC2_ID", "INS_ACC3_ID"),
+                 "gyr": ("INS_GYR_ID", "INS_GYR2_ID", "INS_GYR3_ID"),
+                 "mag": ("COMPASS_DEV_ID", "COMPASS_DEV_ID2", "COMPASS_DEV_ID3")}
+"""The parameters naming each instance's device id (bus, address, type packed as in flight_log.decode_device_id)."""
+
+
+def detect(s: Sniff) -> bool:
+    """A file whose first message is DataFlash's FMT."""
+    return s.head.startswith(MAGIC)
+
+
+def _dtype(fmt) -> np.dtype:
+    """The numpy record of a message's body, from pymavlink's struct string (``<QffffffIIfBBHH``)."""
+    fields = []
+    for (count, code), column in zip(re.findall(r"(\d*)([a-zA-Z])", fmt.msg_struct), fmt.columns):
+        base = STRUCT_TO_NUMPY[code]
+        fields.append((column, f"S{count}" if code == "s" else base, () if code == "s" or not count else int(count)))
+    return np.dtype([(n, t) if not shape else (n, t, shape) for n, t, shape in fields])
+
+
+def _table(reader, buf: np.ndarray, name: str) -> dict | None:
+    """The columns of every message ``name`` in the log (multipliers applied), or None when it has none."""
+    type_id = reader.name_to_id.get(name)
+    if type_id is None or not reader.offsets[type_id]:
+        return None
+    fmt = reader.formats[type_id]
+    dtype = _dtype(fmt)
+    if dtype.itemsize != fmt.len - 3:
+        return None
+    offsets = np.asarray(reader.offsets[type_id], dtype=np.int64) + 3
+    offsets = offsets[offsets + dtype.itemsize <= len(buf)]  # a last message cut short is left out
+    rows = np.empty(len(offsets), dtype=dtype)
+    raw = rows.view(np.uint8).reshape(len(offsets), dtype.itemsize)
+    span = np.arange(dtype.itemsize)
+    for start in range(0, len(offsets), GATHER_ROWS):  # in blocks: the byte indices of all rows at once are large
+        block = offsets[start:start + GATHER_ROWS]
+        raw[start:start + len(block)] = buf[block[:, None] + span]
+    out = {}
+    for i, column in enumerate(fmt.columns):
+        values = rows[column]
+        mult = fmt.msg_mults[i] if i < len(fmt.msg_mults) else None
+        out[column] = values.astype(float) * mult if mult is not None and values.dtype.kind in "iuf" else values
+    return out
+
+
+def _params(reader, buf) -> dict:
+    table = _table(reader, buf, "PARM")
+    if table is None:
+        return {}
+    return {n.split(b"\0")[0].decode("ascii", "replace"): float(v) for n, v in zip(table["Name"], table["Value"])}
+
+
+def _instances(reader, buf, names: dict[str, int]) -> list[tuple[int, dict]]:
+    """``(instance, columns)`` of a message with an ``I`` field, or of its numbered names (``IMU2`` is
+    instance 1 in logs before the field): ``names`` maps each name to its instance when it has no ``I``."""
+    out = []
+    for name, number in names.items():
+        table = _table(reader, buf, name)
+        if table is None:
+            continue
+        if "I" in table:
+            for i in np.unique(table["I"]):
+                out.append((int(i), {c: v[table["I"] == i] for c, v in table.items()}))
+        else:
+            out.append((number, table))
+    return out
+
+
+def _streams(reader, buf) -> list[Stream]:
+    params = _params(reader, buf)
+
+    def device(sensor, instance):
+        names = DEVICE_PARAMS[sensor]
+        value = params.get(names[instance]) if instance < len(names) else None
+        return int(value) if value else None
+
+    def xyz(t, prefix):
+        return np.column_stack([t[f"{prefix}{a}"] for a in "XYZ"]).astype(float)
+
+    streams: list[Stream] = []
+    imu_temps = {}
+    for instance, t in _instances(reader, buf, {"IMU": 0, "IMU2": 1, "IMU3": 2}):
+        time = t["TimeUS"].astype(np.int64)
+        temperature = t["T"].astype(float) if "T" in t else None
+        imu_temps[instance] = (time, temperature)
+        streams.append(Stream("acc", instance, "IMU", time, xyz(t, "Acc"), temperature, device("acc", instance)))
+        streams.append(Stream("gyr", instance, "IMU", time, xyz(t, "Gyr"), temperature, device("gyr", instance)))
+    for sensor, source, prefix in (("acc", "ACC", "Acc"), ("gyr", "GYR", "Gyr")):
+        # Older logs name the batch sampler's instances ACC1, ACC2, ACC3 (instances 0, 1, 2).
+        for instance, t in _instances(reader, buf, {source: 0, f"{source}1": 0, f"{source}2": 1, f"{source}3": 2}):
+            time = (t["SampleUS"] if "SampleUS" in t else t["TimeUS"]).astype(np.int64)
+            temperature = None
+            it, temp = imu_temps.get(instance, (None, None))
+            if temp is not None and len(it) >= 2:  # the IMU's T (logged slower) at the batch's times
+                temperature = np.interp(time.astype(float), it.astype(float), temp)
+            streams.append(Stream(sensor, instance, source, time, xyz(t, prefix), temperature,
+                                  device(sensor, instance)))
+    for instance, t in _instances(reader, buf, {"MAG": 0, "MAG2": 1, "MAG3": 2}):
+        streams.append(Stream("mag", instance, "MAG", t["TimeUS"].astype(np.int64),
+                              xyz(t, "Mag") * MILLIGAUSS_TO_UT, None, device("mag", instance)))
+    return [s for s in streams if s.n_samples]
+
+
+def _indexed_reader(DFReader):
+    """pymavlink's binary reader for its FMT parsing and its index of where every message is, without working
+    out the log's wall clock: that parses every message of a log without GPS time (a bench log), and trical
+    reads each message's own TimeUS."""
+
+    class IndexedReader(DFReader.DFReader_binary):
+        def init_clock(self):
+            self._rewind(keep_messages=True)
+            self.init_clock_usec()
+
+    return IndexedReader
+
+
+def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
+         name: str = "the file", **_) -> LogData:
+    """Read the IMU instance ``instance`` (and compass ``mag_instance``) of an ArduPilot DataFlash log.
+
+    Raises
+    ------
+    LogFormatError
+        A file DFReader cannot index, one without IMU samples, or an instance the log does not have.
+    """
+    from pymavlink import DFReader  # here: only DataFlash uploads load it
+
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(said):  # DFReader prints what it skips; the note carries it
+            reader = _indexed_reader(DFReader)(str(path), zero_time_base=True)
+            buf = np.frombuffer(reader.data_map, dtype=np.uint8)
+            streams = _streams(reader, buf)
+    except LogFormatError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - DFReader raises many kinds on a damaged file
+        raise LogFormatError(f"{name} starts as an ArduPilot DataFlash log but cannot be read ({type(exc).__name__}: "
+                             f"{exc}): the file is damaged; download the log again (Mission Planner, DataFlash "
+                             "Logs > Download)") from None
+    if not streams:
+        raise LogFormatError(f"{name} is an ArduPilot DataFlash log without IMU samples (no IMU, ACC, GYR or MAG "
+                             "messages; the file may be cut short): log the IMU (LOG_BITMASK with IMU, or "
+                             "INS_LOG_BAT_MASK for the batch sampler)")
+    notes = ["ArduPilot IMU/ACC/GYR/MAG: the body frame (x forward, y right, z down) after AHRS_ORIENTATION and after "
+             "ArduPilot's own calibration (accelerometer offsets and scales, compass offsets OfsX… and scales): a "
+             "calibration from them is what is left over ArduPilot's"]
+    if said.getvalue().strip():
+        notes.append(f"{name}: pymavlink reported: {said.getvalue().strip()[:200]}")
+    return choose(streams, fmt=NAME, imu_sources=("ACC", "IMU"), gyr_for={"ACC": "GYR", "IMU": "IMU"},
+                  mag_sources=("MAG",), instance=instance, mag_instance=mag_instance, clock=clock,
+                  default_imu=None, notes=notes, name=name)

@@ -1,0 +1,133 @@
+"""PX4's ULog (``.ulg``), read through pyulog: every IMU and compass instance, with its temperature.
+
+Recognised by the file header's magic, ``ULog`` then ``0x01 0x12 0x35`` (PX4 "ULog File Format",
+the file header section).  The topics read (their fields as PX4's message definitions give them,
+msg/SensorAccel.msg, msg/SensorGyro.msg, msg/SensorMag.msg, msg/SensorCombined.msg):
+
+===================  ================================  ===============  ==========================
+topic                fields                            unit             trical's unit
+===================  ================================  ===============  ==========================
+``sensor_accel``     x, y, z; temperature; device_id   m/s², °C         m/s²
+``sensor_gyro``      x, y, z; temperature; device_id   rad/s, °C        rad/s
+``sensor_mag``       x, y, z; temperature; device_id   gauss, °C        µT (× 100)
+``sensor_combined``  accelerometer_m_s2, gyro_rad      m/s², rad/s      m/s², rad/s
+===================  ================================  ===============  ==========================
+
+Each ``multi_id`` of ``sensor_accel`` (and ``sensor_gyro``, ``sensor_mag``) is an instance.  Their
+frame is the *board's* FRD frame (x forward, y right, z down): the driver has turned the chip's axes
+onto the board's, and nothing else — no calibration (offsets, scales), no thermal correction, no
+``SENS_BOARD_ROT`` — is applied, which is what a calibration wants.  ``sensor_combined`` is what PX4's
+estimator uses: the selected IMU already calibrated and turned into the vehicle's FRD body frame;
+trical reads it (without temperature) when it has more samples than every ``sensor_accel`` instance
+(PX4's default logging profile logs ``sensor_accel`` at a low rate) and nothing else is asked, and
+says so in a note: its calibration is the residual left by PX4's own.  At rest the axis pointing up
+reads +g in both (specific force), as trical's convention has it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import LogFormatError
+from ..log import LogData
+from .flight_log import Stream, choose
+from .table import Sniff
+
+NAME = "ulog"
+MAGIC = b"ULog\x01\x12\x35"
+"""The first seven bytes of every ULog file (PX4's ULog file format, "File Header")."""
+GAUSS_TO_UT = 100.0
+"""1 gauss = 100 µT; PX4's sensor_mag is in gauss (msg/SensorMag.msg)."""
+TOPICS = ("sensor_accel", "sensor_gyro", "sensor_mag", "sensor_combined")
+SENSOR_OF = {"sensor_accel": ("acc", 1.0), "sensor_gyro": ("gyr", 1.0), "sensor_mag": ("mag", GAUSS_TO_UT)}
+
+
+def detect(s: Sniff) -> bool:
+    """A file that starts with ULog's magic bytes."""
+    return s.head.startswith(MAGIC)
+
+
+def _streams(ulog) -> list[Stream]:
+    streams = []
+    for d in ulog.data_list:
+        data = d.data
+        if d.name in SENSOR_OF:
+            sensor, scale = SENSOR_OF[d.name]
+            if not {"x", "y", "z"} <= set(data):
+                continue
+            time = data.get("timestamp_sample", data["timestamp"])
+            temperature = data.get("temperature")
+            device = data.get("device_id")
+            streams.append(Stream(
+                sensor=sensor, instance=int(d.multi_id), source=d.name, time_us=np.asarray(time, dtype=np.int64),
+                xyz=np.column_stack([data[a] for a in "xyz"]).astype(float) * scale,
+                temperature_c=None if temperature is None else np.asarray(temperature, dtype=float),
+                device_id=None if device is None or not len(device) else int(device[-1])))
+        elif d.name == "sensor_combined":
+            time = np.asarray(data["timestamp"], dtype=np.int64)
+            acc = [f"accelerometer_m_s2[{k}]" for k in range(3)]
+            gyr = [f"gyro_rad[{k}]" for k in range(3)]
+            if set(acc) <= set(data):
+                # The accelerometer's own time is the message's plus accelerometer_timestamp_relative
+                # (msg/SensorCombined.msg); the gyroscope's is the message's.
+                rel = np.asarray(data.get("accelerometer_timestamp_relative", np.zeros(len(time))), dtype=np.int64)
+                # A relative time of RELATIVE_TIMESTAMP_INVALID (0x7fffffff) marks no accelerometer sample.
+                ok = rel != 0x7FFFFFFF
+                streams.append(Stream("acc", int(d.multi_id), d.name, time[ok] + rel[ok],
+                                      np.column_stack([data[a] for a in acc])[ok].astype(float)))
+            if set(gyr) <= set(data):
+                streams.append(Stream("gyr", int(d.multi_id), d.name, time,
+                                      np.column_stack([data[a] for a in gyr]).astype(float)))
+    return [s for s in streams if s.n_samples]
+
+
+def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
+         name: str = "the file", **_) -> LogData:
+    """Read the IMU instance ``instance`` (and compass ``mag_instance``) of a ULog file.
+
+    Raises
+    ------
+    LogFormatError
+        A file pyulog cannot parse, one without IMU samples, or an instance the log does not have.
+    """
+    from pyulog import ULog  # here: only ULog uploads load it
+
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(said):  # pyulog prints its warnings; the note carries them
+            ulog = ULog(str(path), message_name_filter_list=list(TOPICS), disable_str_exceptions=True)
+    except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
+        raise LogFormatError(f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
+                             "file is damaged or cut short in its definitions; download the log again from the "
+                             "vehicle (QGroundControl, Analyze Tools > Log Download)") from None
+    notes = []
+    if ulog.file_corruption or "corrupt" in said.getvalue().lower():
+        notes.append(f"{name}: pyulog found damaged data in the file and skipped it; the samples read are those "
+                     "it could parse")
+    streams = _streams(ulog)
+    if not streams:
+        raise LogFormatError(f"{name} is a PX4 ULog without IMU samples (no sensor_accel, sensor_gyro, sensor_mag or "
+                             "sensor_combined data; the file may be cut short): log the sensors (SDLOG_PROFILE with "
+                             "'Sensor comparison' or 'High rate', or the topics in etc/logging/logger_topics.txt)")
+    default = None
+    if instance is None:  # the source with the most samples: PX4's default profile logs sensor_accel slowly
+        accs = [x for x in streams if x.sensor == "acc"]
+        default = max(accs, key=lambda x: (x.n_samples, x.source == "sensor_accel", -x.instance)) if accs else None
+    if default is not None and default.source == "sensor_combined":
+        raw = [x for x in streams if x.source == "sensor_accel"]
+        notes.append("read sensor_combined, the IMU PX4's estimator uses, already calibrated by PX4 and turned into "
+                     "the vehicle's body frame (FRD)" + (f": it has more samples ({default.n_samples}) than any "
+                     f"sensor_accel instance ({max(x.n_samples for x in raw)}); give instance for one of those"
+                     if raw else "; the log has no sensor_accel") + ". Its calibration is what is left over PX4's own")
+    else:
+        notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag: the board's FRD frame (x forward, y right, z down), "
+                     "before PX4's calibration and SENS_BOARD_ROT")
+    log = choose(streams, fmt=NAME, imu_sources=("sensor_accel", "sensor_combined"),
+                 gyr_for={"sensor_accel": "sensor_gyro", "sensor_combined": "sensor_combined"},
+                 mag_sources=("sensor_mag",), instance=instance, mag_instance=mag_instance, clock=clock,
+                 default_imu=default, notes=notes, name=name)
+    return log

@@ -1,0 +1,46 @@
+"""`trical calibrate/noise LOG --instance N` on flight controllers' logs, as a user runs it (a subprocess)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from tests.flight_logs import (GYR_BIAS, HARD_IRON_UT, TRUTH, ardupilot_file, compass_tumble, imu_instances,
+                               px4_file, still_board)
+from tests.test_cli import trical
+
+
+def test_calibrate_six_poses_of_an_instance(tmp_path):
+    path = ardupilot_file(tmp_path / "00000007.BIN", imu_instances(3))
+    out = trical("calibrate", str(path), "--method", "six_position", "--instance", "1", "--json", "--no-store",
+                 tmp_path=tmp_path)
+    assert out.returncode == 0, out.stderr
+    body = json.loads(out.stdout)
+    np.testing.assert_allclose(body["model"]["X"], TRUTH[1][0], atol=3e-4)
+    np.testing.assert_allclose(body["model"]["y"], TRUTH[1][1], atol=3e-3)
+    out = trical("calibrate", str(path), "--instance", "2", "--no-store", tmp_path=tmp_path)
+    assert out.returncode == 2 and "has no IMU instance 2: its IMU instances are 0, 1" in out.stderr
+    out = trical("calibrate", str(path), "--instance", "x", "--no-store", tmp_path=tmp_path)
+    assert out.returncode == 2 and "not an integer" in out.stderr
+
+
+def test_compass_of_an_instance_on_its_own_clock(tmp_path):
+    imus, mags, _ = compass_tumble(5)
+    path = px4_file(tmp_path / "tumble.ulg", imus, mags)
+    out = trical("calibrate", str(path), "--method", "magnetometer", "--mag-instance", "1", "--field-ut", "48",
+                 "--json", "--no-store", tmp_path=tmp_path)
+    assert out.returncode == 0, out.stderr
+    np.testing.assert_allclose(json.loads(out.stdout)["model"]["b"], HARD_IRON_UT[1], atol=0.1)
+
+
+def test_noise_and_gyroscope_bias_of_an_instance(tmp_path):
+    path = px4_file(tmp_path / "still.ulg", still_board(9, duration_s=40.0))
+    out = trical("noise", str(path), "--instance", "1", "--sensor", "gyr", "--json", tmp_path=tmp_path)
+    assert out.returncode == 0, out.stderr
+    body = json.loads(out.stdout)
+    assert list(body["model"]) == ["type", "gyr"]
+    # within four standard errors of the mean (white noise of 2e-3 rad/s/√Hz at 400 Hz over 40 s: 3.2e-4 rad/s)
+    se = np.asarray(body["metrics"]["gyr"]["bias_standard_error"])
+    assert np.all(np.abs(np.asarray(body["model"]["gyr"]["bias"]) - GYR_BIAS[1]) <= 4 * se), (body["model"], se)
+    assert np.all(se < 1.5e-3)
