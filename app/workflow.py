@@ -233,17 +233,22 @@ OVERVIEW_POINTS = 300
 def overview(log: LogData) -> dict:
     """The norm of the accelerometer (else the magnetometer, else the gyroscope) in at most
     :data:`OVERVIEW_POINTS` bins: the smallest and largest of each bin, so that a short move still shows,
-    for the page's plot of the log. ``t_s`` is null in a log without a rate; ``start`` counts samples."""
+    for the page's plot of the log. ``t_s`` is null in a log without a rate; ``start`` counts samples;
+    ``temperature_c``, in a log that records the sensor's temperature, is each bin's mean temperature."""
     sensor = log.channels[0] if log.acc is None and log.mag is None else ("acc" if log.acc is not None else "mag")
     values = np.linalg.norm(np.asarray(getattr(log, sensor), dtype=float), axis=1)
     # At most one bin per sample, so that every bin holds at least one.
     edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
     finite = [b[np.isfinite(b)] for b in np.split(values, edges[1:-1])]
     rate = log.sampling_rate_hz
-    return {"sensor": sensor, "unit": log.units.get(sensor),
-            "t_s": None if rate is None else (edges[:-1] / rate).tolist(), "start": edges[:-1].tolist(),
-            "low": [float(f.min()) if f.size else None for f in finite],
-            "high": [float(f.max()) if f.size else None for f in finite]}
+    plain = {"sensor": sensor, "unit": log.units.get(sensor),
+             "t_s": None if rate is None else (edges[:-1] / rate).tolist(), "start": edges[:-1].tolist(),
+             "low": [float(f.min()) if f.size else None for f in finite],
+             "high": [float(f.max()) if f.size else None for f in finite]}
+    if log.temperature_c is not None:  # the sensor's temperature over the same bins: the page's warm-up curve
+        temps = [b[np.isfinite(b)] for b in np.split(np.asarray(log.temperature_c, dtype=float), edges[1:-1])]
+        plain["temperature_c"] = [float(b.mean()) if b.size else None for b in temps]
+    return plain
 
 
 def readings_from_segments(recording: dict, method: str, indices: list[int] | None) -> tuple[list[Reading], list[int]]:

@@ -747,6 +747,9 @@ class LogOverview(BaseModel):
     start: list[int] | None = Field(None, description="Start of each bin, in samples.")
     low: list[float | None] = Field(description="Smallest norm in the bin (null: no finite sample).")
     high: list[float | None] = Field(description="Largest.")
+    temperature_c: list[float | None] | None = Field(None, description=(
+        "A log that records the sensor's temperature (a flight controller's IMU, a temp_c column): each bin's "
+        "mean temperature, °C."))
 
 
 class RecordingOut(BaseModel):

@@ -1,6 +1,7 @@
 // The start page: the only module here that touches the DOM.
 import { createCalibration, exportUrl, uploadRecording } from "./api.js";
 import { columnsField, headerColumns, logPlotSvg } from "./log_plot.js";
+import { flightFields, showFlightLog } from "./flight_log.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber, parseReadings } from "./readings.js";
 import { TABLES } from "./tables.js";
@@ -286,7 +287,8 @@ async function upload(data) {
   note("#upload-msg", "");
   recordingId = rec.id;
   lastUpload = data;
-  showUnits(rec);
+  // A flight controller's log states its units (the menus would be refused): its sensors instead.
+  if (!showFlightLog(rec)) showUnits(rec);
   showSegments(rec);
   await calibrate({ method: "auto", recording_id: rec.id }, $("#segments-msg").textContent,
     "Not calibrated", "#segments-msg");
@@ -313,7 +315,9 @@ function optionsFor(firstLine) {
 async function showOptions() {
   const file = $("#log-file").files[0];
   let apply = { rate: false, columns: false, sign: false };
-  if (file && !/\.zip$/i.test(file.name)) {
+  if (file && /\.(ulg|bin)$/i.test(file.name)) {
+    // a flight controller's log states its rate, units and columns: nothing to give
+  } else if (file && !/\.zip$/i.test(file.name)) {
     const head = await file.slice(0, 4096).text();
     const first = head.split(/\r\n|\r|\n/).find((line) => line.trim() && !line.trim().startsWith("#")) || "";
     apply = optionsFor(first);
@@ -366,6 +370,18 @@ $("#calibrate-recording").addEventListener("click", () => calibrate({ method: "a
 
 $("#noise-recording").addEventListener("click", () => calibrate({ method: "noise", recording_id: recordingId },
   "Computing the Allan deviation…", "Noise characterisation refused", "#segments-msg"));
+
+// The same flight log again, reading the IMU and the compass chosen.
+$("#flight-go").addEventListener("click", () => {
+  if (!lastUpload) return;
+  const data = new FormData();
+  for (const [key, value] of lastUpload.entries()) if (!["instance", "mag_instance"].includes(key)) data.append(key, value);
+  for (const [key, value] of Object.entries(flightFields())) data.set(key, value);
+  upload(data);
+});
+
+$("#temperature-recording").addEventListener("click", () => calibrate({ method: "temperature", recording_id: recordingId },
+  "Fitting the offsets against temperature…", "Temperature calibration refused", "#segments-msg"));
 
 $("#compass-recording").addEventListener("click", () => calibrate({ method: "magnetometer", recording_id: recordingId },
   "Calibrating the compass…", "Compass calibration refused", "#segments-msg"));

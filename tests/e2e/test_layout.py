@@ -74,6 +74,22 @@ def upload_counts_compass(page, url):
     page.wait_for_selector("#result:not([hidden])")
 
 
+def upload_flight_log(page, url):
+    """A PX4 log of a board warming up: its sensors' table, the IMU menu, the temperature curve."""
+    import tempfile
+    from pathlib import Path
+
+    from tests.e2e.test_flight_log_page import warming_px4_log
+
+    with tempfile.TemporaryDirectory() as tmp:
+        log = warming_px4_log(Path(tmp) / "warm_up.ulg")
+        page.goto(url + "/")
+        page.set_input_files("#log-file", str(log))
+        page.click("#upload-form button[type=submit]")
+        page.wait_for_selector("#flight:not([hidden])")
+        page.wait_for_selector("#segments-msg.bad")  # auto on a still board: refused in words
+
+
 def upload_column_map(page, url):
     page.goto(url + "/")
     page.set_input_files("#log-file", {"name": "north_east_down.csv", "mimeType": "text/csv",
@@ -160,6 +176,7 @@ STATES = {
     "upload_column_map": upload_column_map,
     "upload_pose_files": upload_pose_files,
     "upload_counts_compass": upload_counts_compass,
+    "upload_flight_log": upload_flight_log,
     "paste_refused_result": paste_refused_result,
     "wizard_six": wizard(),
     "wizard_cube24": wizard("?protocol=cube24"),

@@ -1,0 +1,93 @@
+// A flight controller's log on the upload page (PX4 ULog, ArduPilot DataFlash): fills its section with the sensor instances it
+// holds (app.io.formats.flight_log, the recording's `flight`), the IMU and compass read, the temperature
+// over the log, and whether the range allows a temperature calibration; the plot itself is a pure function.
+
+import { formatNumber } from "./readings.js";
+
+const $ = (sel) => document.querySelector(sel);
+const SENSORS = { acc: "accelerometer", gyr: "gyroscope", mag: "compass" };
+export const TEMPERATURE_SPAN_C = 10; // the temperature method's least span (issue's gate), °C
+
+const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot
+
+function cell(tag, text) { const el = document.createElement(tag); el.textContent = text; return el; }
+
+function esc(text) {
+  return String(text).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" }[c]));
+}
+
+// The temperature over the log as a small SVG line (each overview bin's mean), or "" without one.
+export function temperaturePlotSvg(overview) {
+  const temps = overview && overview.temperature_c;
+  const t = overview && (overview.t_s ?? overview.start);
+  if (!temps || !t || !temps.some((v) => v !== null)) return "";
+  const W = 320, H = 90, LEFT = 34, RIGHT = 6, TOP = 10, BOTTOM = 20;
+  const values = temps.filter((v) => v !== null);
+  const lo = Math.min(...values), hi = Math.max(...values);
+  const pad = (hi - lo) * 0.1 || 0.5;
+  const end = t[t.length - 1] || 1;
+  const x = (sec) => LEFT + (sec / end) * (W - LEFT - RIGHT);
+  const y = (v) => TOP + (1 - (v - (lo - pad)) / (hi - lo + 2 * pad)) * (H - TOP - BOTTOM);
+  const points = temps.map((v, i) => (v === null ? null : `${x(t[i]).toFixed(1)},${y(v).toFixed(1)}`)).filter(Boolean);
+  const unit = overview.t_s ? "s" : "samples";
+  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" role="img" `
+    + `aria-label="${esc(`The sensor's temperature over the log, ${celsius(lo)} to ${celsius(hi)} °C`)}">`
+    + `<polyline points="${points.join(" ")}" fill="none" stroke="#c62828" stroke-width="1.5" />`
+    + `<text x="2" y="${y(hi) + 4}" font-size="10">${esc(celsius(hi))}</text>`
+    + `<text x="2" y="${y(lo) + 4}" font-size="10">${esc(celsius(lo))}</text>`
+    + `<text x="${W - RIGHT}" y="${H - 4}" font-size="10" text-anchor="end">${esc(`${formatNumber(end, 0)} ${unit}`)}</text>`
+    + `<text x="${LEFT}" y="${H - 4}" font-size="10">°C</text></svg>`;
+}
+
+function option(value, words, chosen) {
+  const o = cell("option", words);
+  o.value = String(value);
+  o.selected = chosen;
+  return o;
+}
+
+// Fill the flight section from a recording; hidden for any other log. Returns whether it is one.
+export function showFlightLog(rec) {
+  const box = $("#flight");
+  const flight = rec.flight;
+  box.hidden = !flight;
+  if (!flight) return false;
+  const rows = flight.instances.map((i) => {
+    const tr = document.createElement("tr");
+    const range = i.temperature_min_c === null || i.temperature_min_c === undefined ? "—"
+      : `${celsius(i.temperature_min_c)}–${celsius(i.temperature_max_c)}`;
+    const device = i.device ? `${i.device.bus_type} ${i.device.bus}, address ${i.device.address}` : "—";
+    tr.append(cell("td", SENSORS[i.sensor] || i.sensor), cell("td", String(i.instance)), cell("td", i.source),
+      cell("td", String(i.n_samples)), cell("td", i.sampling_rate_hz ? formatNumber(i.sampling_rate_hz, 1) : "—"),
+      cell("td", range), cell("td", device));
+    return tr;
+  });
+  $("#flight-table tbody").replaceChildren(...rows);
+  const imus = flight.instances.filter((i) => i.sensor === "acc");
+  const mags = flight.instances.filter((i) => i.sensor === "mag");
+  const chosenImu = flight.imu || {};
+  $("#flight-imu").replaceChildren(...imus.map((i) => option(i.source === "sensor_combined" ? "" : i.instance,
+    `${i.source} ${i.instance}`, i.instance === chosenImu.instance && i.source === chosenImu.source)));
+  $("#flight-mag").replaceChildren(...mags.map((i) => option(i.instance, `${i.source} ${i.instance}`,
+    flight.mag && i.instance === flight.mag.instance)));
+  $("#flight-mag-label").hidden = !mags.length;
+  $("#flight-temp-plot").innerHTML = temperaturePlotSvg(rec.overview);
+  const temp = rec.temperature_c;
+  const span = temp && temp.min !== null ? temp.max - temp.min : null;
+  $("#flight-temp").textContent = span === null
+    ? "The IMU read logs no temperature."
+    : `The IMU read went from ${celsius(temp.min)} to ${celsius(temp.max)} °C`
+      + (span >= TEMPERATURE_SPAN_C ? ": enough for a temperature calibration."
+        : ` (${celsius(span)} °C): a temperature calibration needs ${TEMPERATURE_SPAN_C} °C or more — log a cold start, the board left still while it warms up.`);
+  $("#temperature-recording").hidden = !(span !== null && span >= TEMPERATURE_SPAN_C);
+  return true;
+}
+
+// The upload's form fields for the sensors chosen in the flight section.
+export function flightFields() {
+  const fields = {};
+  const imu = $("#flight-imu").value;
+  if (imu !== "") fields.instance = imu;
+  if (!$("#flight-mag-label").hidden && $("#flight-mag").value !== "") fields.mag_instance = $("#flight-mag").value;
+  return fields;
+}

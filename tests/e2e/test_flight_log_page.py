@@ -1,0 +1,64 @@
+"""A flight controller's log on the start page in real Chromium: its sensor instances, the IMU and compass read
+chosen and read again, the temperature over the log, and the temperature calibration where its range allows."""
+
+from __future__ import annotations
+
+import numpy as np
+from playwright.sync_api import expect
+
+from tests.e2e.conftest import shot
+from tests.flight_logs import px4_file, still_board
+
+
+def warming_px4_log(path, *, rise_c: float = 20.0):
+    """Two IMU instances resting flat while the board warms from 25 °C by ``rise_c`` (a cold start)."""
+    imus = still_board(3, rate_hz=200.0, duration_s=30.0)
+    for k, imu in enumerate(imus):
+        n = len(imu["time_us"])
+        imu["temperature"] = 25.0 + k + rise_c * (1 - np.exp(-5 * np.arange(n) / n))
+    return px4_file(path, imus)
+
+
+def test_a_flight_log_shows_its_sensors_and_reads_the_imu_chosen(page, server, tmp_path):
+    log = warming_px4_log(tmp_path / "warm_up.ulg")
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(log))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    # Every instance of the log, a row each, with its source, rate and temperature range.
+    rows = page.eval_on_selector_all("#flight-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
+    assert [(r[0], r[1], r[2]) for r in rows] == [("accelerometer", "0", "sensor_accel"), ("accelerometer", "1", "sensor_accel"),
+                                                 ("gyroscope", "0", "sensor_gyro"), ("gyroscope", "1", "sensor_gyro")], rows
+    assert all(r[4] == "200" for r in rows), rows
+    assert rows[0][5] == "25.0–44.9" and rows[1][5] == "26.0–45.9", rows
+    # The units menus of text logs are not offered: the format states its units.
+    assert page.is_hidden("#units") and page.is_hidden("#flight-mag-label")
+    caption = page.text_content("#flight-temp")
+    assert caption.startswith("The IMU read went from 25.0 to 44.9 °C") and "enough for a temperature calibration" in caption
+    assert page.get_attribute("#flight-temp-plot svg", "aria-label") == \
+        "The sensor's temperature over the log, 25.2 to 44.9 °C"  # the bins' means
+    assert page.is_visible("#temperature-recording")
+    assert page.is_hidden("#options")  # the format states its rate, units and columns
+    shot(page, "flight_log_sensors")
+    # The second IMU, read again: the upload sends its instance, and the recording reads it.
+    page.select_option("#flight-imu", "1")
+    with page.expect_response(lambda r: r.url.endswith("/api/v1/recordings")) as answer:
+        page.click("#flight-go")
+    rec = answer.value.json()
+    assert rec["read_with"]["instance"] == 1 and rec["flight"]["imu"]["instance"] == 1, rec["read_with"]
+    expect(page.locator("#flight-temp")).to_contain_text("went from 26.0 to 45.9 °C")
+    assert page.input_value("#flight-imu") == "1"
+    # a still board has no poses: the calibration tried at once (auto) is refused in words, nothing else fails
+    assert [e for e in page.errors if "status of 422" not in e] == []
+
+
+def test_a_log_too_short_a_warm_up_says_what_the_temperature_calibration_needs(page, server, tmp_path):
+    log = warming_px4_log(tmp_path / "short.ulg", rise_c=4.0)
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(log))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    caption = page.text_content("#flight-temp")
+    assert "a temperature calibration needs 10 °C or more" in caption and "cold start" in caption, caption
+    assert page.is_hidden("#temperature-recording")
+    assert [e for e in page.errors if "status of 422" not in e] == []
