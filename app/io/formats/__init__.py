@@ -65,7 +65,7 @@ FORMATS = ("auto", *READERS)
 """Values of the upload's ``format`` field."""
 
 CANONICAL_COLUMNS = (*(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
-                     "time_s", "time_ms", "time_us", "time_ns")
+                     "time_s", "time_ms", "time_us", "time_ns", "temp_c")
 """Names a column can be mapped to with ``columns``."""
 TIME_NAMES = ("t", "time")
 """Names of a time column whose unit is inferred from its step (a list of ``columns``)."""
