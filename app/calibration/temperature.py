@@ -44,6 +44,7 @@ Decisions (no paper makes them; docs/methods.md says the same):
 from __future__ import annotations
 
 import math
+from math import comb
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -315,6 +316,30 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
 def fit_level(u, y, order) -> float:
     """The fitted reading at T_ref (u = 0): what the accelerometer's relative offsets are taken from."""
     return float(_lstsq(u, y, order)[1][0])
+
+
+def shift_polynomial(coefficients, from_c: float, to_c: float) -> np.ndarray:
+    """Coefficients of the same polynomials written about ``to_c`` instead of ``from_c``.
+
+    Parameters
+    ----------
+    coefficients : array_like, shape (axes, order + 1)
+        Increasing powers of (T − from_c).
+    from_c, to_c : float
+
+    Returns
+    -------
+    numpy.ndarray
+        Increasing powers of (T − to_c), by the binomial expansion of ((T − to_c) + d)^k, d = to_c − from_c.
+    """
+    c = np.atleast_2d(np.asarray(coefficients, dtype=float))
+    d = to_c - from_c
+    out = np.zeros_like(c)
+    # (x + d)^k = Σ_j C(k, j) d^(k − j) x^j with x = T − to_c
+    for k in range(c.shape[1]):
+        for j in range(k + 1):
+            out[:, j] += c[:, k] * comb(k, j) * d ** (k - j)
+    return out
 
 
 def offset_at(model: dict, temperature_c) -> np.ndarray:

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..temperature import shift_polynomial  # noqa: F401  (the bench and tests name it here)
+
 T_POLY_REF_C = 35.0
 """The temperature the true polynomials are written about."""
 
@@ -22,23 +24,6 @@ ACC_TRUTH = np.array([[0.0, 2.0e-3, -6.0e-5, 1.5e-6],   # m/s² about 35 °C: X0
 GYR_TRUTH = np.array([[1.0e-3, 8.0e-5, -2.0e-6, 5.0e-8],  # rad/s
                       [-2.0e-3, -5.0e-5, 1.0e-6, 0.0],
                       [5.0e-4, 1.2e-4, 0.0, -4.0e-8]])
-
-
-def shift_polynomial(coefficients, from_c: float, to_c: float) -> np.ndarray:
-    """Coefficients of the same polynomials written about ``to_c`` instead of ``from_c``.
-
-    ``coefficients`` is (axes, order + 1), increasing powers of (T − from_c).
-    """
-    c = np.atleast_2d(np.asarray(coefficients, dtype=float))
-    d = to_c - from_c
-    out = np.zeros_like(c)
-    from math import comb
-
-    # (x + d)^k = Σ_j C(k, j) d^(k − j) x^j with x = T − to_c
-    for k in range(c.shape[1]):
-        for j in range(k + 1):
-            out[:, j] += c[:, k] * comb(k, j) * d ** (k - j)
-    return out
 
 
 @dataclass(frozen=True)
