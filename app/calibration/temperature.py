@@ -69,6 +69,8 @@ MIN_BAND_BINS = 2
 """…in at least this many bins, for its left-out figure to mean something."""
 MAX_ORDER = 3
 MAX_RHO = 0.9
+MIN_REST_S = 5.0
+"""Rests shorter than this (a turn at a steady rate reads as one) are left out of the gyroscope's fit."""
 STILL_FRACTION = 0.9
 """A recording whose longest rest is shorter than this fraction of it moved."""
 G0 = 9.80665
@@ -349,20 +351,28 @@ def offset_at(model: dict, temperature_c) -> np.ndarray:
     return (_design(np.atleast_1d(t), MAX_ORDER) @ c.T)
 
 
-def movement(reference, sampling_rate_hz: float) -> tuple[np.ndarray, str | None]:
-    """The samples of the longest rest (a boolean mask) and, when the device moved, what was seen."""
+def movement(sensors: list, sampling_rate_hz: float) -> tuple[np.ndarray, str | None]:
+    """The samples inside a rest of every sensor (a boolean mask) and, when the device moved (its longest
+    rest, by any sensor, under :data:`STILL_FRACTION` of the recording), what was seen."""
     from .noise_still import still_runs
 
-    n = len(reference)
-    runs = still_runs(reference, sampling_rate_hz)
-    mask = np.zeros(n, dtype=bool)
-    for a, b in runs:
-        mask[a:b] = True
-    longest = max((b - a for a, b in runs), default=0)
-    if longest >= STILL_FRACTION * n:
+    n = len(sensors[0])
+    mask = np.ones(n, dtype=bool)
+    worst = None
+    for samples in sensors:
+        runs = still_runs(samples, sampling_rate_hz)
+        inside = np.zeros(n, dtype=bool)
+        for a, b in runs:
+            if b - a >= MIN_REST_S * sampling_rate_hz:  # a turn at a steady rate is a short "rest" of its own
+                inside[a:b] = True
+        mask &= inside
+        longest = max((b - a for a, b in runs), default=0)
+        if longest < STILL_FRACTION * n and (worst is None or longest < worst[0]):
+            worst = (longest, len(runs))
+    if worst is None:
         return mask, None
-    return mask, (f"the device moved: its longest rest is {longest / sampling_rate_hz:.0f} s of "
-                  f"{n / sampling_rate_hz:.0f} s ({len(runs)} rests)")
+    return mask, (f"the device moved: its longest rest is {worst[0] / sampling_rate_hz:.0f} s of "
+                  f"{n / sampling_rate_hz:.0f} s ({worst[1]} rests)")
 
 
 @dataclass(frozen=True)
@@ -473,8 +483,7 @@ def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz
                                    "one temperature per reading")
     if not np.any(np.isfinite(t)):
         raise CalibrationError("the temperature column holds no number: give the sensor's temperature in °C")
-    reference = given.get("acc", given.get("gyr"))
-    still, moved = movement(reference, sampling_rate_hz)
+    still, moved = movement(list(given.values()), sampling_rate_hz)
     reasons: list[str] = []
     warnings: list[str] = []
     sensors = {}
