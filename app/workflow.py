@@ -1094,7 +1094,7 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
     if rate is None:
         rate = NOMINAL_RATE_HZ
         notes.append(f"the rests were looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate)")
-    result = calibrate_temperature(log.temperature_c, sampling_rate_hz=rate, **arrays)
+    result = calibrate_temperature(log.temperature_c, sampling_rate_hz=rate, time_s=log.time_s, **arrays)
     return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
 
 

@@ -81,8 +81,10 @@ def main() -> None:
         gyr = w.gyr
         if args.walk:
             gyr = gyr + np.cumsum(rng.normal(0.0, args.walk / np.sqrt(args.rate), gyr.shape), axis=0)
-        fixed = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate, order=3)
-        chosen = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate)
+        fixed = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate,
+                                      time_s=w.time_s, order=3)
+        chosen = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate,
+                                       time_s=w.time_s)
         ok += chosen.ok
         for s in TRUTH:
             model, unc = fixed.sensors[s]["model"], fixed.sensors[s]["uncertainty"]

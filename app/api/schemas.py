@@ -634,6 +634,8 @@ class SensorTemperatureUncertainty(Out):
     autocorrelation: list[float] = Field(description="Per axis, the lag-1 autocorrelation of the bins' residuals "
                                                      "the covariance was inflated by (0 when negative).")
     covariance: list[list[list[float]]] = Field(description="Per axis, the 4×4 covariance of X0…X3.")
+    random_walk: list[float] = Field(description="Per axis, the bias's random walk in time estimated beside the bins' "
+                                                 "scatter (REML), in the unit per √s: 0 when none is seen.")
 
 
 class TemperatureUncertainty(Out):

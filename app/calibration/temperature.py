@@ -10,17 +10,22 @@ the form PX4's ``TemperatureCompensation`` applies (``src/modules/sensors/temper
 subtracted from the reading: ``corrected = m − o(T)``. The steps:
 
 1. **Bins of temperature** (as PX4's ``process_sensor_caldata.py``, ``resampleWithDeltaX``): the
-   range is cut into :data:`N_BINS` equal bins; each bin's samples are averaged (temperature and
-   reading). The samples of a still recording are strongly correlated in time, and a bin's mean
+   range is cut into :data:`N_BINS` equal bins, each also cut every 1/:data:`N_BINS` of the
+   recording's duration (the board resting at its final temperature fills many bins, not one); each
+   bin's samples are averaged (temperature and reading). The samples of a still recording are strongly correlated in time, and a bin's mean
    stands for a stretch of time: the fit sees bin means, not samples, so its degrees of freedom are
    the bins', not the millions of samples'.
-2. **Least squares on the bin means**, per axis, in dT scaled to [−1, 1] for conditioning. The
-   coefficients' covariance is the residual variance times (XᵀX)⁻¹, with Student-t quantiles on the
-   bins' residual degrees of freedom. Adjacent bins are neighbours in time, so their errors may be
-   correlated (a bias wandering slowly): the covariance is inflated by (1 + ρ)/(1 − ρ), ρ the lag-1
-   autocorrelation of the residuals in temperature order when positive — the AR(1) effective sample
-   size n' = n (1 − ρ)/(1 + ρ) (Wilks, *Statistical Methods in the Atmospheric Sciences*, 3rd ed.,
-   2011, section 5.2.4, eq. (5.12)), with the dof reduced to match.
+2. **Generalised least squares on the bin means**, per axis, in dT scaled to [−1, 1] for
+   conditioning. Over a warm-up the temperature rises with time, so a bias that wanders in time (a
+   random walk, the rate random walk of IEEE Std 952-1997, Annex C) looks like drift and moves every
+   bin after it together: the bins' covariance is modelled as σ² (I + λ W), the white scatter of each
+   bin's mean plus W, the covariance of the bins' means under a unit random walk in time (computed from
+   the samples' times), and σ², λ are estimated by restricted maximum likelihood (Patterson and
+   Thompson, Biometrika 58(3) 1971). The coefficients' covariance is σ² (Xᵀ V⁻¹ X)⁻¹, with Student-t
+   quantiles on the bins' residual degrees of freedom. What correlation is left (the whitened
+   residuals' lag-1 autocorrelation ρ, when positive) inflates it by (1 + ρ)/(1 − ρ) — the AR(1)
+   effective sample size n' = n (1 − ρ)/(1 + ρ) (Wilks, *Statistical Methods in the Atmospheric
+   Sciences*, 3rd ed., 2011, section 5.2.4, eq. (5.12)), the dof reduced to match.
 3. **Order 1–3 by bands left out**: the range is cut into :data:`N_BANDS` equal bands of temperature;
    each band in turn is predicted by the fit on the others (the end bands are extrapolations, as the
    firmware's clamp is beyond the calibrated range). The order with the least RMS error on left-out
@@ -88,34 +93,72 @@ def _t_quantile(dof: float) -> float:
     return float(t.ppf(0.5 + CONFIDENCE / 2.0, dof))
 
 
-def bin_by_temperature(values, temperature_c, n_bins: int = N_BINS) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Average the samples falling in equal bins of temperature (PX4's ``resampleWithDeltaX``).
+def bin_by_temperature(values, temperature_c, time_s=None, n_bins: int = N_BINS):
+    """Average the samples falling in equal bins of temperature (PX4's ``resampleWithDeltaX``), each bin
+    also cut every 1/``n_bins`` of the recording's duration when ``time_s`` is given — a board resting at
+    its final temperature fills many bins of time, not one, so that a bias wandering in time shows.
 
     Parameters
     ----------
     values : array_like, shape (N, 3)
     temperature_c : array_like, shape (N,)
+    time_s : array_like, shape (N,), optional
     n_bins : int
 
     Returns
     -------
     t_c : ndarray (B,)
-        Mean temperature of each kept bin.
+        Mean temperature of each kept bin, the bins in the order of their mean time.
     means : ndarray (B, 3)
         Mean reading of each kept bin.
     counts : ndarray (B,)
         Samples in each kept bin (bins under :data:`MIN_BIN_SAMPLES` are left out).
+    index : ndarray (N,)
+        The kept bin of each sample, −1 for a left-out one.
     """
     v = np.asarray(values, dtype=float)
     t = np.asarray(temperature_c, dtype=float)
     lo, hi = float(t.min()), float(t.max())
     width = (hi - lo) / n_bins if hi > lo else 1.0
-    idx = np.clip(((t - lo) / width).astype(int), 0, n_bins - 1)
-    counts = np.bincount(idx, minlength=n_bins)
-    t_sum = np.bincount(idx, weights=t, minlength=n_bins)
-    sums = np.column_stack([np.bincount(idx, weights=v[:, k], minlength=n_bins) for k in range(v.shape[1])])
+    key = np.clip(((t - lo) / width).astype(np.int64), 0, n_bins - 1)
+    clock = np.arange(len(t), dtype=float) if time_s is None else np.asarray(time_s, dtype=float)
+    if time_s is not None:
+        span = float(clock.max() - clock.min()) or 1.0
+        key = key * (n_bins + 1) + np.clip(((clock - clock.min()) / span * n_bins).astype(np.int64), 0, n_bins)
+    _, inverse = np.unique(key, return_inverse=True)
+    counts = np.bincount(inverse)
     keep = counts >= MIN_BIN_SAMPLES
-    return t_sum[keep] / counts[keep], sums[keep] / counts[keep, None], counts[keep]
+    when = np.bincount(inverse, weights=clock)[keep] / counts[keep]
+    order = np.argsort(when, kind="stable")
+    number = np.full(len(counts), -1)
+    number[np.flatnonzero(keep)[order]] = np.arange(int(keep.sum()))
+    index = number[inverse]
+    counts = counts[keep][order]
+    t_c = np.bincount(inverse, weights=t)[keep][order] / counts
+    means = np.column_stack([np.bincount(inverse, weights=v[:, k])[keep][order] for k in range(v.shape[1])])
+    return t_c, means / counts[:, None], counts, index
+
+
+def walk_covariance(time_s, bins: np.ndarray, n_bins: int, blocks: int = 1000) -> np.ndarray:
+    """Covariance of the bins' means of a unit random walk started at the first sample (Cov(w(s), w(t)) =
+    min(s, t) − t₀): C[a, b] = ∫ n_a(s) n_b(s) ds / (N_a N_b), n_a(s) the samples of bin a later than s,
+    summed over blocks of time (the samples within a block taken at its start)."""
+    t = np.asarray(time_s, dtype=float)
+    order = np.argsort(t, kind="stable")
+    t, b = t[order], bins[order]
+    kept = b >= 0
+    t, b = t[kept], b[kept]
+    n = len(t)
+    blocks = max(2, min(blocks, n))
+    edges = np.linspace(0, n, blocks + 1).astype(int)
+    block_of = np.repeat(np.arange(blocks), np.diff(edges))
+    counts = np.bincount(block_of * n_bins + b, minlength=blocks * n_bins).reshape(blocks, n_bins).astype(float)
+    later = np.cumsum(counts[::-1], axis=0)[::-1]  # samples in this block or after
+    start = t[edges[:-1]]
+    dt = np.diff(start)  # s from one block's start to the next: the samples of blocks ≥ k are later
+    C = (later[1:] * dt[:, None]).T @ later[1:]
+    total = counts.sum(axis=0)
+    return C / np.outer(total, total)
 
 
 def _design(u: np.ndarray, order: int) -> np.ndarray:
@@ -136,11 +179,35 @@ class AxisFit:
     beta: np.ndarray      # (order + 1,) coefficients of u^k
     cov: np.ndarray       # their covariance, inflated for correlated bins
     dof: float            # effective residual degrees of freedom
-    rho: float            # lag-1 autocorrelation of the residuals (0 when negative)
+    rho: float            # lag-1 autocorrelation of the (whitened) residuals (0 when negative)
+    walk: float = 0.0     # the random walk's variance per second, in the readings' unit² / s (REML)
 
 
-def fit_axis(u: np.ndarray, y: np.ndarray, order: int) -> AxisFit:
+WALK_GRID = np.concatenate(([0.0], np.logspace(-4, 4, 33)))
+"""Ratios λ of the walk's share to the bins' white share searched by REML (W scaled to a unit mean diagonal)."""
+
+
+def walk_decomposition(walk: np.ndarray) -> tuple:
+    """``(Λ, Q, scale)`` of W / scale = Q Λ Qᵀ, scale its mean diagonal: V = Q (I + λ Λ) Qᵀ, so that each λ
+    is a weighted least squares in the rotated bins (one decomposition serves the three axes)."""
+    scale = float(np.mean(np.diag(walk))) or 1.0
+    eig, Q = np.linalg.eigh(walk / scale)
+    return np.clip(eig, 0.0, None), Q, scale
+
+
+def fit_axis(u: np.ndarray, y: np.ndarray, order: int, walk=None) -> AxisFit:
     """Least squares of one axis's bin means on u^0…u^order, with its honest covariance (module docstring, step 2).
+
+    Parameters
+    ----------
+    u, y : ndarray (B,)
+        Scaled temperature and mean reading of each bin.
+    order : int
+    walk : ndarray (B, B) or tuple, optional
+        The bins' covariance under a unit random walk in time (:func:`walk_covariance`), or its
+        :func:`walk_decomposition`. With it, the bins'
+        covariance is σ² (I + λ W) and (σ², λ) are estimated by restricted maximum likelihood (Patterson and
+        Thompson, Biometrika 58(3) 1971, eq. (9)); β by generalised least squares, Cov β = σ² (Xᵀ V⁻¹ X)⁻¹.
 
     Raises
     ------
@@ -151,16 +218,36 @@ def fit_axis(u: np.ndarray, y: np.ndarray, order: int) -> AxisFit:
     if n <= p + 1:
         raise InsufficientDataError(f"{n} temperature bins cannot fit an order-{order} polynomial with an interval: "
                                     "record over a wider range of temperature")
-    X, beta = _lstsq(u, y, order)
-    r = y - X @ beta
+    X = _design(u, order)
+    lam, scale = 0.0, 1.0
+    if walk is None:
+        beta, *_ = np.linalg.lstsq(X, y, rcond=None)
+        r = y - X @ beta
+        xtvx = X.T @ X
+    else:
+        eig, Q, scale = walk if isinstance(walk, tuple) else walk_decomposition(walk)
+        Xr, yr = Q.T @ X, Q.T @ y
+        best = None
+        for candidate in WALK_GRID:
+            d = 1.0 / (1.0 + candidate * eig)
+            xtvx_c = Xr.T @ (Xr * d[:, None])
+            beta_c = np.linalg.solve(xtvx_c, Xr.T @ (d * yr))
+            res = yr - Xr @ beta_c
+            s2_c = max(float(res @ (d * res)) / (n - p), np.finfo(float).tiny)
+            # REML: −2 l = (n − p) log σ̂² + log|V| + log|Xᵀ V⁻¹ X| (σ² profiled out)
+            loss = (n - p) * np.log(s2_c) - float(np.sum(np.log(d))) + np.linalg.slogdet(xtvx_c)[1]
+            if best is None or loss < best[0] - 1e-12:
+                best = (loss, candidate, beta_c, res, d, xtvx_c)
+        _, lam, beta, res, d, xtvx = best
+        r = Q @ (np.sqrt(d) * res)  # the whitened residuals V^(−1/2) r, in temperature order
     s2 = float(r @ r) / (n - p)
     rho = 0.0
     if n > p + 2 and float(r @ r) > 0:
         rho = float(np.clip(np.sum(r[1:] * r[:-1]) / float(r @ r), 0.0, MAX_RHO))
     inflate = (1.0 + rho) / (1.0 - rho)  # Wilks, 3rd ed., eq. (5.12): n' = n (1 − ρ)/(1 + ρ)
     dof = max(n / inflate - p, 1.0)
-    cov = s2 * inflate * np.linalg.inv(X.T @ X)
-    return AxisFit(order, beta, cov, dof, rho)
+    cov = s2 * inflate * np.linalg.inv(xtvx)
+    return AxisFit(order, beta, cov, dof, rho, s2 * lam / scale)
 
 
 def band_of(t_c: np.ndarray, lo: float, hi: float, n_bands: int = N_BANDS) -> np.ndarray:
@@ -169,16 +256,19 @@ def band_of(t_c: np.ndarray, lo: float, hi: float, n_bands: int = N_BANDS) -> np
     return np.clip(((t_c - lo) / width).astype(int), 0, n_bands - 1)
 
 
-def left_out_residuals(u: np.ndarray, y: np.ndarray, bands: np.ndarray, order: int) -> np.ndarray:
+def left_out_residuals(u: np.ndarray, y: np.ndarray, bands: np.ndarray, order: int,
+                       at: tuple | None = None) -> np.ndarray:
     """Each bin's residual from the fit made without its band (order 0: a constant, the raw figure);
-    NaN where the other bands hold too few bins."""
-    out = np.full(len(u), np.nan)
+    NaN where the other bands hold too few bins. ``at = (u, y, bands)`` of other bins (the temperature-only
+    bins of the drift figures) are predicted instead, by the same fits."""
+    eu, ey, eb = at if at is not None else (u, y, bands)
+    out = np.full(len(eu), np.nan)
     for k in np.unique(bands):
         train = bands != k
         if train.sum() < order + 2:
             continue
         _, beta = _lstsq(u[train], y[train], order)
-        out[~train] = y[~train] - _design(u[~train], order) @ beta
+        out[eb == k] = ey[eb == k] - _design(eu[eb == k], order) @ beta
     return out
 
 
@@ -192,7 +282,8 @@ def _ptp(r: np.ndarray) -> float:
     return float(np.ptp(r)) if r.size else math.nan
 
 
-def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) -> tuple[dict, list[str]]:
+def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
+               time_s=None) -> tuple[dict, list[str]]:
     """The temperature model of one sensor (``acc`` in m/s², ``gyr`` in rad/s) and the reasons it fails.
 
     Parameters
@@ -205,6 +296,9 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
     order : int, optional
         Force the polynomial's order (1–3) instead of choosing it on bands left out (the benchmark's
         coverage of a known order).
+    time_s : array_like, shape (N,), optional
+        Each reading's time: with it, a random walk of the bias in time is estimated beside the bins' white
+        scatter (:func:`fit_axis`), since over a warm-up a bias wandering in time looks like drift.
 
     Returns
     -------
@@ -217,6 +311,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
     t = np.asarray(temperature_c, dtype=float)
     finite = np.all(np.isfinite(v), axis=1) & np.isfinite(t)
     v, t = v[finite], t[finite]
+    times = None if time_s is None else np.asarray(time_s, dtype=float)[finite]
     if len(t) < MIN_BAND_SAMPLES:
         raise InsufficientDataError(f"{len(t)} readings with a temperature: a temperature calibration needs a "
                                     "recording of minutes to hours while the sensor warms up")
@@ -230,12 +325,16 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
         reasons.append(f"the {name}'s temperature spans {span:.1f} °C ({t_min:.1f}–{t_max:.1f} °C), under the "
                        f"{MIN_SPAN_C:g} °C a temperature calibration needs: start from a cold board (cooled for half "
                        "an hour) and record while it warms up")
-    t_c, means, counts = bin_by_temperature(v, t)
+    t_c, means, counts, index = bin_by_temperature(v, t, times)
     if len(t_c) < MAX_ORDER + 3:
         raise InsufficientDataError(f"the {name}'s readings fill only {len(t_c)} bins of temperature: record over "
                                     "a wider range of temperature, the device still all the while")
     u = (t_c - t_ref) / h
+    walk_cov = None if times is None else walk_decomposition(walk_covariance(times, index, len(t_c)))
     bands = band_of(t_c, t_min, t_max)
+    # The drift figures on PX4's bins, of temperature alone: the same bins however long the recording.
+    dt_c, dmeans, _, _ = bin_by_temperature(v, t)
+    du, dbands = (dt_c - t_ref) / h, band_of(dt_c, t_min, t_max)
     band_samples = [int(counts[bands == k].sum()) for k in range(N_BANDS)]
     band_bins = [int((bands == k).sum()) for k in range(N_BANDS)]
     thin = [k for k in range(N_BANDS) if band_samples[k] < MIN_BAND_SAMPLES or band_bins[k] < MIN_BAND_BINS]
@@ -247,7 +346,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
                        "slowly, or record longer at those temperatures")
     scale = FIGURE_SCALE[sensor]
     relative = sensor == "acc"
-    coefficients, half, orders, dofs, rhos, covs = [], [], [], [], [], []
+    coefficients, half, orders, dofs, rhos, covs, walks = [], [], [], [], [], [], []
     cv, cv_raw, drift_raw, drift_after, drift_cv, cv_by_order = [], [], [], [], [], []
     grid = np.linspace(t_min, t_max, CURVE_POINTS)
     ug = (grid - t_ref) / h
@@ -256,8 +355,9 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
         y = means[:, axis]
         by_order = {q: _rms(left_out_residuals(u, y, bands, q)) for q in range(0, MAX_ORDER + 1)}
         chosen = order or min(range(1, MAX_ORDER + 1), key=lambda q: (by_order[q], q))
-        fit = fit_axis(u, y, chosen)
-        held = left_out_residuals(u, y, bands, chosen)
+        fit = fit_axis(u, y, chosen, walk_cov)
+        dy = dmeans[:, axis]
+        held = left_out_residuals(u, y, bands, chosen, at=(du, dy, dbands))
         level = fit.beta[0] if relative else 0.0  # the accelerometer: drift relative to T_ref
         q = _t_quantile(fit.dof)
         beta = np.zeros(MAX_ORDER + 1)
@@ -284,11 +384,12 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
         orders.append(chosen)
         dofs.append(fit.dof)
         rhos.append(fit.rho)
+        walks.append(math.sqrt(fit.walk))
         cv.append(by_order[chosen] * scale)
         cv_raw.append(by_order[0] * scale)
         cv_by_order.append([by_order[k] * scale for k in range(1, MAX_ORDER + 1)])
-        drift_raw.append(_ptp(y) * scale)
-        drift_after.append(_ptp(y - _design(u, chosen) @ fit.beta) * scale)
+        drift_raw.append(_ptp(dy) * scale)
+        drift_after.append(_ptp(dy - _design(du, chosen) @ fit.beta) * scale)
         drift_cv.append(_ptp(held) * scale)
     unit = FIGURE_UNITS[sensor]
     worse = float(np.sqrt(np.mean(np.square(cv)))) >= float(np.sqrt(np.mean(np.square(cv_raw))))
@@ -302,7 +403,8 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None) 
     part = {
         "model": {"unit": SI_UNITS[sensor], "t_ref_c": t_ref, "t_min_c": t_min, "t_max_c": t_max,
                   "relative": relative, "order": orders, "coefficients": coefficients},
-        "uncertainty": {"coefficients": half, "dof": dofs, "autocorrelation": rhos, "covariance": covs},
+        "uncertainty": {"coefficients": half, "dof": dofs, "autocorrelation": rhos, "covariance": covs,
+                        "random_walk": walks},
         "metrics": {"unit": unit, "span_c": span, "drift_raw": drift_raw, "drift_after": drift_after,
                     "drift_cv": drift_cv, "cv_error": cv, "cv_error_raw": cv_raw, "cv_error_by_order": cv_by_order,
                     "drift_raw_max": max(drift_raw), "drift_cv_max": max(drift_cv),
@@ -447,7 +549,7 @@ class TemperatureResult(CalibrationResult):
 
 
 def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz: float = 100.0,
-                          order: int | None = None) -> TemperatureResult:
+                          time_s=None, order: int | None = None) -> TemperatureResult:
     """Temperature calibration of the accelerometer and/or gyroscope of a still recording.
 
     Parameters
@@ -460,6 +562,8 @@ def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz
         Gyroscope, rad/s.
     sampling_rate_hz : float
         For finding the rests (:func:`app.calibration.noise_still.still_runs`).
+    time_s : array_like, shape (N,), optional
+        Each sample's time (default: sample index / rate), for the bias's random walk in time.
     order : int, optional
         Force the order (1–3) instead of choosing it on bands left out.
 
@@ -483,6 +587,10 @@ def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz
                                    "one temperature per reading")
     if not np.any(np.isfinite(t)):
         raise CalibrationError("the temperature column holds no number: give the sensor's temperature in °C")
+    times = (np.arange(len(t)) / sampling_rate_hz if time_s is None
+             else np.asarray(time_s, dtype=float).reshape(-1))
+    if len(times) != len(t):
+        raise CalibrationError("the times and the temperatures do not line up: give one time per sample")
     still, moved = movement(list(given.values()), sampling_rate_hz)
     reasons: list[str] = []
     warnings: list[str] = []
@@ -497,7 +605,7 @@ def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz
             else:
                 use = still
                 warnings.append(moved + f": the gyroscope was fitted on its {int(still.sum())} still samples only")
-        part, why = fit_sensor(values[use], t[use], name, order=order)
+        part, why = fit_sensor(values[use], t[use], name, order=order, time_s=times[use])
         sensors[name] = part
         reasons += why
     return TemperatureResult(sensors=sensors, warnings=tuple(reasons + warnings), reasons=tuple(reasons),
