@@ -333,7 +333,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
     walk_cov = None if times is None else walk_decomposition(walk_covariance(times, index, len(t_c)))
     bands = band_of(t_c, t_min, t_max)
     # The drift figures on PX4's bins, of temperature alone: the same bins however long the recording.
-    dt_c, dmeans, _, _ = bin_by_temperature(v, t)
+    dt_c, dmeans, dcounts, _ = bin_by_temperature(v, t)
     du, dbands = (dt_c - t_ref) / h, band_of(dt_c, t_min, t_max)
     band_samples = [int(counts[bands == k].sum()) for k in range(N_BANDS)]
     band_bins = [int((bands == k).sum()) for k in range(N_BANDS)]
@@ -346,7 +346,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
                        "slowly, or record longer at those temperatures")
     scale = FIGURE_SCALE[sensor]
     relative = sensor == "acc"
-    coefficients, half, orders, dofs, rhos, covs, walks = [], [], [], [], [], [], []
+    coefficients, half, orders, dofs, rhos, covs, walks, levels = [], [], [], [], [], [], [], []
     cv, cv_raw, drift_raw, drift_after, drift_cv, cv_by_order = [], [], [], [], [], []
     grid = np.linspace(t_min, t_max, CURVE_POINTS)
     ug = (grid - t_ref) / h
@@ -359,6 +359,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
         dy = dmeans[:, axis]
         held = left_out_residuals(u, y, bands, chosen, at=(du, dy, dbands))
         level = fit.beta[0] if relative else 0.0  # the accelerometer: drift relative to T_ref
+        levels.append(level)
         q = _t_quantile(fit.dof)
         beta = np.zeros(MAX_ORDER + 1)
         beta[: chosen + 1] = fit.beta
@@ -398,8 +399,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
                        f"(RMS {np.sqrt(np.mean(np.square(cv))):.3g} {unit} against {np.sqrt(np.mean(np.square(cv_raw))):.3g} "
                        f"{unit} raw): its offset does not follow the temperature here — leave its temperature "
                        "calibration off")
-    levels = [fit_level(u, means[:, a], orders[a]) if relative else 0.0 for a in range(v.shape[1])]
-    offsets = means - np.asarray(levels)
+    offsets = dmeans - np.asarray(levels)
     part = {
         "model": {"unit": SI_UNITS[sensor], "t_ref_c": t_ref, "t_min_c": t_min, "t_max_c": t_max,
                   "relative": relative, "order": orders, "coefficients": coefficients},
@@ -410,16 +410,11 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
                     "drift_raw_max": max(drift_raw), "drift_cv_max": max(drift_cv),
                     "n_samples": int(len(t)), "n_bins": int(len(t_c)), "samples_per_band": band_samples,
                     "bins_per_band": band_bins},
-        "bins": {"t_c": t_c.tolist(), "offset": offsets.tolist(), "count": counts.tolist()},
+        "bins": {"t_c": dt_c.tolist(), "offset": offsets.tolist(), "count": dcounts.tolist()},
         "curve": {"t_c": grid.tolist(), "offset": np.array(curve_offset).T.tolist(),
                   "half_width": np.array(curve_half).T.tolist()},
     }
     return part, reasons
-
-
-def fit_level(u, y, order) -> float:
-    """The fitted reading at T_ref (u = 0): what the accelerometer's relative offsets are taken from."""
-    return float(_lstsq(u, y, order)[1][0])
 
 
 def shift_polynomial(coefficients, from_c: float, to_c: float) -> np.ndarray:
