@@ -353,11 +353,13 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
     curve_offset, curve_half = [], []
     for axis in range(v.shape[1]):
         y = means[:, axis]
-        by_order = {q: _rms(left_out_residuals(u, y, bands, q)) for q in range(0, MAX_ORDER + 1)}
+        dy = dmeans[:, axis]
+        # The order on PX4's bins of temperature alone: each part of the range weighs the same in the
+        # fits of the other bands (bins cut in time would weigh the final temperature the most).
+        by_order = {q: _rms(left_out_residuals(du, dy, dbands, q)) for q in range(0, MAX_ORDER + 1)}
         chosen = order or min(range(1, MAX_ORDER + 1), key=lambda q: (by_order[q], q))
         fit = fit_axis(u, y, chosen, walk_cov)
-        dy = dmeans[:, axis]
-        held = left_out_residuals(u, y, bands, chosen, at=(du, dy, dbands))
+        held = left_out_residuals(du, dy, dbands, chosen)
         level = fit.beta[0] if relative else 0.0  # the accelerometer: drift relative to T_ref
         levels.append(level)
         q = _t_quantile(fit.dof)
