@@ -1,4 +1,4 @@
-"""The ``trical`` command: serve, calibrate, autocal, noise, export.
+"""The ``trical`` command: serve, calibrate, autocal, noise, temperature, export.
 
 ``--json`` prints the same JSON as the API.  Errors are one line on stderr and exit status 2
 (bad input, including an option's value out of range: app.cli_options checks them while parsing) or
@@ -121,6 +121,22 @@ def _parser() -> argparse.ArgumentParser:
     n.add_argument("--device-id", type=opt.text("a device id"), default=None)
     n.add_argument("--store", action="store_true", help="store the characterisation in the database")
     n.add_argument("--json", action="store_true", help="print the API's JSON")
+
+    t = sub.add_parser("temperature", help="each axis's offset as a polynomial of temperature, from a still recording "
+                                           "while the board warms up (a temp_c column, or a flight log)")
+    t.add_argument("path", type=opt.input_path("a still recording with the sensor's temperature"),
+                   help="a CSV with a temp_c (temp, temperature, T (°C)) column beside the readings, or any log "
+                        "format trical reads that records the temperature")
+    t.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
+    t.add_argument("--sensor", choices=("acc", "gyr"), default=None,
+                   help="calibrate only this sensor (default: the accelerometer and the gyroscope the log has)")
+    _read_options(t)
+    t.add_argument("--plot", type=opt.output_file("an SVG file to write"), default=None, metavar="FILE.svg",
+                   help="write the plot of offset against temperature (binned readings, fit, 95 %% band)")
+    t.add_argument("--device-id", type=opt.text("a device id"), default=None)
+    t.add_argument("--store", action="store_true", help="store the calibration in the database (then trical export "
+                                                        "ID --format px4 or ardupilot)")
+    t.add_argument("--json", action="store_true", help="print the API's JSON")
 
     b = sub.add_parser("capture", help="the guided calibration of a board on a serial port (pyserial): capture, "
                                        "log, calibrate, verdict")
@@ -535,6 +551,45 @@ def _noise(args, settings: Settings) -> int:
     return 0 if body["ok"] else 3
 
 
+def _temperature(args, settings: Settings) -> int:
+    log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units={}, name=str(args.path),
+                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
+    body = workflow.temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
+                                    label=args.path.name)
+    if args.store:
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
+    if args.plot:
+        from app.io.export_temperature import temperature_svg
+
+        args.plot.write_text(temperature_svg(body), encoding="utf-8")
+        print(f"wrote {args.plot}", file=sys.stderr)
+    if args.json:
+        print(json.dumps(body, indent=2))
+    else:
+        _print_temperature(body)
+    return 0 if body["ok"] else 3
+
+
+def _print_temperature(body: dict) -> None:
+    stored = f", id {body['id']}" if body.get("id") else ""
+    print(f"{body.get('label') or ''}: ok = {body['ok']}{stored}")
+    _print_verdict(body)
+    for reason in body.get("reasons") or []:
+        print(f"  reason: {reason}")
+    for sensor, model in body["model"].items():
+        if sensor == "type":
+            continue
+        m, unc = body["metrics"][sensor], body["uncertainty"][sensor]
+        print(f"{sensor} ({model['unit']}), {model['t_min_c']:.1f}–{model['t_max_c']:.1f} °C, T_ref "
+              f"{model['t_ref_c']:.2f} °C, offset = X0 + X1 dT + X2 dT^2 + X3 dT^3:")
+        for i, axis in enumerate("xyz"):
+            cells = "  ".join(f"X{k} {c:.4g} ± {h:.2g}" for k, (c, h) in
+                              enumerate(zip(model["coefficients"][i], unc["coefficients"][i])))
+            print(f"  {axis}: order {model['order'][i]}  {cells}  drift {m['drift_raw'][i]:.3g} → {m['drift_cv'][i]:.3g} "
+                  f"{m['unit']} (bands left out)")
+        print(f"  samples per band: {', '.join(str(n) for n in m['samples_per_band'])}")
+
+
 def _relabel_units(log, unit: str):
     """An array of gyroscope or magnetometer samples in deg/s or nT: read as acc, converted by the workflow."""
     import dataclasses
@@ -704,7 +759,7 @@ def _run(argv: list[str] | None) -> int:
     try:
         settings = Settings.from_env()
         command = {"serve": _serve, "calibrate": _calibrate, "autocal": _autocal, "noise": _noise,
-                   "export": _export, "capture": _capture}[args.command]
+                   "temperature": _temperature, "export": _export, "capture": _capture}[args.command]
         return command(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
         print(f"trical: error: {exc}", file=sys.stderr)

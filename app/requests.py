@@ -167,6 +167,18 @@ class NoiseIn(Strict):
     label: Annotated[str, Field(max_length=500)] | None = None
 
 
+class TemperatureIn(Strict):
+    """Temperature calibration of a still recording across a range of temperature (issue 26)."""
+
+    method: Literal["temperature"]
+    recording_id: str = Field(description="An uploaded recording with the sensor's temperature (a temp_c column, "
+                                          "or a flight log), the device still while it warms up.")
+    sensors: Annotated[list[Literal["acc", "gyr"]], Field(min_length=1, max_length=2)] | None = Field(
+        None, description="Sensors to calibrate (default: the accelerometer and the gyroscope the recording has).")
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+
 Latitude = Annotated[float, Field(ge=-90, le=90)]
 Longitude = Annotated[float, Field(ge=-180, le=180)]
 FieldMagnitude = Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)]
@@ -201,12 +213,12 @@ class MagnetometerIn(Strict):
 
 
 METHODS = ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal", "noise",
-           "magnetometer")
+           "magnetometer", "temperature")
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
 CalibrationIn = Annotated[
     Union[AutoIn, SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn, NoiseIn,
-          MagnetometerIn],
+          MagnetometerIn, TemperatureIn],
     Field(discriminator="method"),
 ]
 

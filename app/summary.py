@@ -44,3 +44,29 @@ def compass_headline(metrics: dict, label: str = "µT") -> str:
         first = metrics.get("cv_note") or "no figure for new directions"
     raw = "" if metrics.get("raw_error_ut") is None else f", raw {ut(metrics['raw_error_ut'])}"
     return f"{first}; on the readings fitted (in-sample) {ut(metrics.get('fit_error_ut'))}{raw}"
+
+
+SENSOR_WORDS = {"acc": "accelerometer", "gyr": "gyroscope"}
+FIGURE_WORDS = {"mg": "mg", "deg/s": "°/s"}
+
+
+def amount(value: float, unit: str) -> str:
+    """A drift in mg or °/s with three significant figures, the unit after a no-break space."""
+    return f"{value:.3g}\u00a0{FIGURE_WORDS.get(unit, unit)}"
+
+
+def temperature_headline(model: dict, metrics: dict) -> str:
+    """A temperature calibration's line: the offset drift over the range raw, then on bands left out.
+
+    ``offset drift over 15–55 °C: accelerometer 13.7 mg → 0.83 mg, gyroscope 0.226 °/s → 0.0175 °/s
+    on bands of temperature left out (largest axis)``.
+    """
+    sensors = [s for s in ("acc", "gyr") if s in metrics]
+    if not sensors:
+        return "no temperature model"
+    lo = min(model[s]["t_min_c"] for s in sensors)
+    hi = max(model[s]["t_max_c"] for s in sensors)
+    parts = [f"{SENSOR_WORDS[s]} {amount(metrics[s]['drift_raw_max'], metrics[s]['unit'])} → "
+             f"{amount(metrics[s]['drift_cv_max'], metrics[s]['unit'])}" for s in sensors]
+    return (f"offset drift over {lo:.0f}–{hi:.0f} °C: {', '.join(parts)} on bands of temperature left out "
+            "(largest axis, peak to peak)")

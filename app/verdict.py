@@ -117,6 +117,8 @@ def verdict(body: dict) -> dict:
                         "filter's noise model.")
         return _out(False, "failed", "Don't use these figures: the noise could not be characterised.",
                     _short_reason(reasons))
+    if body.get("method") == "temperature":
+        return _temperature_verdict(body, ok, reasons)
     before, after, unit, basis = _figure(body)
     change = ("" if after is None else f"{basis} {_amount(before, unit)} → {_amount(after, unit)}"
               if before is not None else f"{basis} {_amount(after, unit)}")
@@ -139,6 +141,36 @@ def verdict(body: dict) -> dict:
            "measures the error on new orientations." if body.get("method") == "six_position" and before is not None
            else "It passed every check." if change else "")
     return _out(True, "apply", words, why, **figures)
+
+
+def _temperature_verdict(body: dict, ok: bool, reasons: list[str]) -> dict:
+    """A temperature calibration: its offset drift over the range, raw against bands of temperature left out
+    (each predicted by the fit made without it), the accelerometer's in mg first, else the gyroscope's in °/s."""
+    from app.summary import temperature_headline
+
+    metrics, model = body.get("metrics") or {}, body.get("model") or {}
+    sensors = [s for s in ("acc", "gyr") if s in metrics]
+    if not sensors:
+        return _out(False, "failed", "Don't apply it: the calibration has no temperature model.", _short_reason(reasons))
+    first = metrics[sensors[0]]
+    unit = {"mg": "mg", "deg/s": "°/s"}[first["unit"]]
+    change = temperature_headline(model, metrics)
+    figures = dict(before=first["drift_raw_max"], after=first["drift_cv_max"], unit=unit,
+                   basis="offset drift over the temperature range, on bands of temperature left out")
+    grew = [s for s in sensors if metrics[s]["drift_cv_max"] > metrics[s]["drift_raw_max"]]
+    if grew:
+        return _out(False, "worse", f"Don't apply it: the drift would grow ({change}).",
+                    ("It would make your sensor worse; keep its temperature calibration off. "
+                     + (_short_reason(reasons) if reasons else "")).strip(), **figures)
+    if not ok:
+        return _out(False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons),
+                    **figures)
+    if all(metrics[s]["drift_cv_max"] > (1.0 - MIN_GAIN_FRACTION) * metrics[s]["drift_raw_max"] for s in sensors):
+        return _out(False, "no_gain", f"No need to apply it: it changes too little to matter ({change}).",
+                    "Your sensor drifts about as little without it; keep it as it is.", **figures)
+    return _out(True, "apply", f"Apply it: {change}.",
+                "Each band of temperature was predicted by the fit made without it: the figure is what to expect "
+                "between the temperatures recorded.", **figures)
 
 
 def with_verdict(body: dict) -> dict:

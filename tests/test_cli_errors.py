@@ -74,7 +74,8 @@ def bad_invocations() -> list[list[str]]:
 
 def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
     cases = bad_invocations()
-    assert len(cases) > 50 and {c[0] for c in cases} == {"serve", "calibrate", "autocal", "noise", "export", "capture"}
+    assert len(cases) > 50 and {c[0] for c in cases} == {"serve", "calibrate", "autocal", "noise",
+                                                         "temperature", "export", "capture"}
     with ThreadPoolExecutor(max_workers=4) as pool:
         results = list(pool.map(lambda args: run(args, env), cases))
     failures = []

@@ -52,7 +52,7 @@ def get_calibration(calibration_id: str, store: Store = Depends(get_store), owne
 @router.get("/{calibration_id}/export", summary="Export a calibration",
             responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
                                          "application/yaml": {}, "text/csv": {}, "image/svg+xml": {}}}})
-def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(ALL_FORMATS)} (a noise characterisation: kalibr, openvins, vins, allan_svg, json, csv)"),
+def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(ALL_FORMATS)} (a noise characterisation: kalibr, openvins, vins, allan_svg, json, csv; a temperature calibration: px4, ardupilot, json, temperature_svg)"),
            store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
     """The calibration as a file for firmware or analysis code.
 
@@ -60,7 +60,9 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
     ``a = M (m - o)``; ``ardupilot`` (``INS_ACCOFFS_*``, ``INS_ACCSCAL_*``) and ``px4``
     (``CAL_ACC0_*OFF``, ``CAL_ACC0_*SCALE``) carry offsets and per-axis scales only, their comment
     header reporting the residual of the dropped cross-axis terms; ArduPilot's ranges are enforced.
-    ``allan_svg`` draws a noise characterisation's Allan deviation (an SVG image).
+    ``allan_svg`` draws a noise characterisation's Allan deviation (an SVG image). A temperature calibration
+    exports its own ``px4`` (QGroundControl ``.params``, ``TC_A*``/``TC_G*``), ``ardupilot`` (``INS_TCAL1_*``),
+    ``json`` and ``temperature_svg`` (offset against temperature).
     """
     out = export_calibration(store.get_calibration(calibration_id, owner=owner), format)
     return Response(out.content, media_type=out.media_type,

@@ -36,7 +36,7 @@ def registered_types() -> tuple[str, ...]:
 
 def _load_all() -> None:
     # The models register on import; the core's package imports only the light ones.
-    from . import affine, autocal, magnetometer, noise, nonorthogonal, triangular  # noqa: F401
+    from . import affine, autocal, magnetometer, noise, nonorthogonal, temperature, triangular  # noqa: F401
     from .cube import calibrate  # noqa: F401
 
 

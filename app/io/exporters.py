@@ -14,6 +14,7 @@ from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, sensor_correctio
 from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
+from .export_temperature import TEMPERATURE_EXPORTERS, TEMPERATURE_FORMATS
 
 
 def to_json(body: dict) -> Export:
@@ -136,10 +137,10 @@ FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4"
 """The page's download links; ``motioncal`` (bytes for a board, not a file to keep) is left out: the page
 writes it to the board with *Send to the board*, and the API and ``trical export`` give it."""
 
-ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS]))
+ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS, *TEMPERATURE_EXPORTERS]))
 """Every format name of any calibration (the CLI's choices)."""
 
-__all__ = ["ALL_FORMATS", "EXPORTERS", "FORMAT_NAMES", "NOISE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
+__all__ = ["ALL_FORMATS", "EXPORTERS", "FORMAT_NAMES", "NOISE_FORMATS", "TEMPERATURE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
            "export_calibration"]
 
 
@@ -152,8 +153,16 @@ def export_calibration(body: dict, fmt: str) -> Export:
         Unknown format, or a format that does not fit this calibration's model.
     """
     noise = body.get("method") == "noise"
+    if body.get("method") == "temperature":  # its own px4, ardupilot, json: the firmwares' thermal parameters
+        if fmt not in TEMPERATURE_EXPORTERS:
+            raise ExportError(f"format {fmt!r} does not fit this calibration: a temperature calibration's offsets "
+                              f"depend on the temperature; use one of {', '.join(TEMPERATURE_EXPORTERS)}")
+        return TEMPERATURE_EXPORTERS[fmt](body)
     table, other = (NOISE_EXPORTERS, EXPORTERS) if noise else (EXPORTERS, NOISE_EXPORTERS)
     if fmt not in table:
+        if fmt == "temperature_svg":
+            raise ExportError(f"format {fmt!r} draws a temperature calibration (method temperature); use one of "
+                              f"{', '.join(table)}")
         if fmt in other:
             kind = ("a noise characterisation holds no correction to write" if noise
                     else f"{fmt} writes a noise characterisation (method noise)")

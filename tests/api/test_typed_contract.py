@@ -75,6 +75,10 @@ def _requests(client, cube_csv):
     yield {"method": "noise", "recording_id": _upload(client, "still.csv", _still_csv(), sampling_rate_hz=100)}
     mag, _, _ = simulate_turn_session(5, n=120)
     yield {"method": "magnetometer", "mag": mag.tolist(), "field_ut": 48.0}
+    from tests.temperature_logs import warm_up_csv
+
+    yield {"method": "temperature",
+           "recording_id": _upload(client, "warm.csv", warm_up_csv(duration_s=600, sampling_rate_hz=20))}
 
 
 def _still_csv() -> bytes:
@@ -107,7 +111,7 @@ def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
         seen.add(body["method"])
     assert seen == set(RESPONSE_MODELS)
     listed = client.get("/api/v1/calibrations").json()["items"]
-    assert len(listed) == 14 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
+    assert len(listed) == 15 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
 
 
 def test_openapi_documents_each_method_s_response(client):

@@ -78,7 +78,7 @@ FLIGHT_FORMATS = (ulog.NAME, dataflash.NAME)
 """Flight controllers' logs: several IMU and compass instances, chosen by ``instance`` and ``mag_instance``."""
 
 CANONICAL_COLUMNS = (*(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
-                     "time_s", "time_ms", "time_us", "time_ns")
+                     "time_s", "time_ms", "time_us", "time_ns", "temp_c")
 """Names a column can be mapped to with ``columns``."""
 TIME_NAMES = ("t", "time")
 """Names of a time column whose unit is inferred from its step (a list of ``columns``)."""

@@ -55,6 +55,8 @@ _TIME = re.compile(
     r"^(?:t|time|timestamp|times|elapsed|seconds_elapsed|time_elapsed)"
     r"(?:[ _]?(?P<suffix>s|sec|ms|us|ns))?(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?$"
 )
+_TEMPERATURE = re.compile(r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature_c)(?:\s*[\(\[](?:°\s*c|deg\s*c|degc|c)[\)\]])?$|^t\s*[\(\[](?:°\s*c|deg\s*c|degc)[\)\]]$")
+"""A column of the sensor's temperature in °C (``temp_c``, ``temp``, ``temperature``, ``T (°C)``)."""
 _INDEX = re.compile(r"^(?:index|idx|i|n|sample|sample_index|#)$")
 _LINEAR = re.compile(r"linear|user[ _]?acc|without[ _]g|gravity[ _]removed")
 
@@ -183,6 +185,8 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
     time_col = time_scale = None
     for col, raw in enumerate(names):
         name = normalise(raw)
+        if _TEMPERATURE.match(name):
+            continue
         m = _TIME.match(name)
         if m and time_col is None:
             time_col = col
@@ -225,6 +229,11 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
     for sensor in partial:
         del channels[sensor]
     return channels, time_col, time_scale, units
+
+
+def temperature_column(names: list[str]) -> int | None:
+    """The index of the column holding the sensor's temperature in °C, if any (:data:`_TEMPERATURE`)."""
+    return next((col for col, raw in enumerate(names) if _TEMPERATURE.match(normalise(raw))), None)
 
 
 def renamed(names: list[str], column_map: dict | None) -> list[str]:
@@ -278,7 +287,10 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     layout = table_layout(decode_head(head, name), name, column_names)
     names = layout.names
     channels, time_col, time_scale, header_units = map_columns(renamed(names, column_map))
+    temp_col = temperature_column(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
+    if temp_col is not None:
+        used.append(temp_col)
     for sensor in ("acc", "gyr", "mag"):
         if sensor in channels:
             used += [channels[sensor][a] for a in "xyz"]
@@ -323,6 +335,7 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         format="csv",
         columns=names,
         notes=tuple(notes),
+        temperature_c=values[temp_col] if temp_col is not None else None,
     ), sampling_rate_hz, name)
 
 
