@@ -326,14 +326,18 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
                        f"{MIN_SPAN_C:g} °C a temperature calibration needs: start from a cold board (cooled for half "
                        "an hour) and record while it warms up")
     t_c, means, counts, index = bin_by_temperature(v, t, times)
-    if len(t_c) < MAX_ORDER + 3:
-        raise InsufficientDataError(f"the {name}'s readings fill only {len(t_c)} bins of temperature: record over "
-                                    "a wider range of temperature, the device still all the while")
+    # The bins cut in time (for the random walk) can be many at one temperature; a polynomial of temperature
+    # needs distinct temperatures: as many bins of temperature alone as a cubic has coefficients, and two more.
+    dt_c, dmeans, dcounts, _ = bin_by_temperature(v, t)
+    if len(dt_c) < MAX_ORDER + 3:
+        raise InsufficientDataError(
+            f"the {name}'s readings fill only {len(dt_c)} bins of temperature ({t_min:.1f}–{t_max:.1f} °C): a "
+            f"temperature calibration needs the sensor to warm through {MIN_SPAN_C:g} °C or more — start from a "
+            "cold board (cooled for half an hour) and record while it warms up, still all the while")
     u = (t_c - t_ref) / h
     walk_cov = None if times is None else walk_decomposition(walk_covariance(times, index, len(t_c)))
     bands = band_of(t_c, t_min, t_max)
-    # The drift figures on PX4's bins, of temperature alone: the same bins however long the recording.
-    dt_c, dmeans, dcounts, _ = bin_by_temperature(v, t)
+    # The drift figures on PX4's bins, of temperature alone (dt_c above): the same bins however long the recording.
     du, dbands = (dt_c - t_ref) / h, band_of(dt_c, t_min, t_max)
     band_samples = [int(counts[bands == k].sum()) for k in range(N_BANDS)]
     band_bins = [int((bands == k).sum()) for k in range(N_BANDS)]
