@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from app.calibration.comparison import norm_errors
+from app.calibration.norm_metrics import norm_errors
 
 MIN_GAIN_FRACTION = 0.2
 """The calibrated error must be at most 80 % of the raw one."""

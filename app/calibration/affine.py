@@ -140,53 +140,14 @@ class AffineCalibration(StillReadingsResult):
         out.update(X=hw[:9].reshape(3, 3).tolist(), y=hw[9:].tolist())
         return out
 
-    def evaluate(self, means) -> dict:
-        """Norm errors of further still readings of unknown orientation (Georgieva et al. section 3.5).
-
-        Parameters
-        ----------
-        means : array_like, shape (M, 3)
-            Still readings; their true norm is ``gravity``.
-
-        Returns
-        -------
-        dict
-            ``norm_error_max`` and ``norm_error_max_raw`` (relative, Georgieva et al. section 3.5),
-            ``error_before_mg`` and ``error_after_mg`` (mean | |a| − g | in thousandths of g)
-            and ``count``.
-        """
-        m = as_vectors(means, "holdout means")
-        g = self.gravity
-        before = np.abs(np.linalg.norm(m, axis=1) - g) / g
-        after = np.abs(np.linalg.norm(self.apply(m), axis=1) - g) / g
-        return {
-            "count": int(len(m)),
-            "norm_error_max": float(after.max()),
-            "norm_error_max_raw": float(before.max()),
-            "error_before_mg": float(1000.0 * before.mean()),
-            "error_after_mg": float(1000.0 * after.mean()),
-        }
-
-    def readings(self) -> list[dict]:
-        """Per-reading detail: label, mean, expected, calibrated residual and relative errors."""
-        cal = self.apply(self.means)
-        g = self.gravity
-        rows = []
-        for i, (label, m, a, c) in enumerate(zip(self.labels, self.means, self.expected, cal)):
-            rows.append(
-                {
-                    "index": i,
-                    "up": label,
-                    "mean": m.tolist(),
-                    "expected": a.tolist(),
-                    "residual": (c - a).tolist(),
-                    "fit_error": float(np.linalg.norm(c - a) / np.linalg.norm(a)),
-                    "fit_error_raw": float(np.linalg.norm(m - a) / np.linalg.norm(a)),
-                    "norm_error": float(abs(np.linalg.norm(c) - g) / g),
-                    "norm_error_raw": float(abs(np.linalg.norm(m) - g) / g),
-                }
-            )
-        return rows
+    def reading_detail(self, index: int, mean: np.ndarray, calibrated: np.ndarray) -> dict:
+        """A known orientation's reading: its label, mean, expected vector, calibrated residual and the
+        relative fit errors after and before (Georgieva et al., ESGI'95, section 3.5)."""
+        a = self.expected[index]
+        return {"up": self.labels[index], "mean": mean.tolist(), "expected": a.tolist(),
+                "residual": (calibrated - a).tolist(),
+                "fit_error": float(np.linalg.norm(calibrated - a) / np.linalg.norm(a)),
+                "fit_error_raw": float(np.linalg.norm(mean - a) / np.linalg.norm(a))}
 
     @property
     def correction(self) -> AffineCorrection:

@@ -38,7 +38,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .comparison import fit_ellipsoid_axes, fit_sphere_van_hees, norm_errors
+from .comparison import fit_ellipsoid_axes, fit_sphere_van_hees
+from .norm_metrics import norm_errors
 from .cross_validation import cross_validated_error
 from .errors import CalibrationError
 from .gates import Gates

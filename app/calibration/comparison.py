@@ -26,8 +26,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import CalibrationError, InsufficientDataError
+from .errors import InsufficientDataError
 from .gates import Gates, limit_gate
+from .norm_metrics import norm_errors
 from .validation import as_samples, as_vectors, check_gravity
 
 VAN_HEES_TOL = 1e-10
@@ -112,21 +113,6 @@ class AxisCalibration:
             metrics=dict(data.get("metrics", {})), warnings=tuple(data.get("warnings", ())),
             reasons=tuple(data.get("reasons", ())),
         )
-
-
-def norm_errors(means, apply, gravity: float) -> dict:
-    """``error_before_mg``, ``error_after_mg`` (mean | |r| − 1 g |, mg), ``improvement_pct`` (eq. (21))."""
-    m = as_vectors(means, "means")
-    g = float(gravity)
-    before = float(1000.0 * np.mean(np.abs(np.linalg.norm(m, axis=1) / g - 1.0)))
-    after = float(1000.0 * np.mean(np.abs(np.linalg.norm(apply(m), axis=1) / g - 1.0)))
-    # Farago et al. eq. (21): R = |r − 1| / |r̂ − 1| · 100 %
-    return {
-        "count": int(len(m)),
-        "error_before_mg": before,
-        "error_after_mg": after,
-        "improvement_pct": 100.0 * before / after if after > 0 else None,
-    }
 
 
 def _coverage_reasons(v: np.ndarray) -> list[str]:

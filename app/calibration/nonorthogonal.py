@@ -262,47 +262,6 @@ class NonOrthogonalCalibration(StillReadingsResult):
         out.update(s=hw[0:3].tolist(), b=hw[3:6].tolist(), phi=float(hw[6]), psi=float(hw[7]), theta=float(hw[8]))
         return out
 
-    def evaluate(self, means) -> dict:
-        """Relative norm errors |(|a| − g)/g| of still readings (Georgieva et al. section 2.4).
-
-        Parameters
-        ----------
-        means : array_like, shape (M, 3)
-            Still readings, e.g. held-out positions; their true norm is ``gravity``.
-
-        Returns
-        -------
-        dict
-            ``norm_error_max`` and ``norm_error_max_raw`` (relative), ``error_before_mg`` and
-            ``error_after_mg`` (mean | |a| − g | in thousandths of g), ``count``.
-        """
-        m = as_vectors(means, "means")
-        g = self.gravity
-        before = np.abs(np.linalg.norm(m, axis=1) - g) / g
-        after = np.abs(np.linalg.norm(self.apply(m), axis=1) - g) / g
-        return {
-            "count": int(len(m)),
-            "norm_error_max": float(after.max()),
-            "norm_error_max_raw": float(before.max()),
-            "error_before_mg": float(1000.0 * before.mean()),
-            "error_after_mg": float(1000.0 * after.mean()),
-        }
-
-    def readings(self) -> list[dict]:
-        """Per-reading detail: mean, calibrated vector and relative norm errors before and after."""
-        cal = self.apply(self.means)
-        g = self.gravity
-        return [
-            {
-                "index": i,
-                "mean": m.tolist(),
-                "calibrated": c.tolist(),
-                "norm_error": float(abs(np.linalg.norm(c) - g) / g),
-                "norm_error_raw": float(abs(np.linalg.norm(m) - g) / g),
-            }
-            for i, (m, c) in enumerate(zip(self.means, cal))
-        ]
-
     def model_dict(self) -> dict:
         return {
             "s": self.s.tolist(),

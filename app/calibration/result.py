@@ -16,6 +16,7 @@ import numpy as np
 
 from .correction import AffineCorrection, correction_of
 from .errors import CalibrationError
+from .norm_metrics import evaluate_still, relative_norm_errors
 
 SCHEMA_VERSION = 1
 """Version of the plain-dict form; :meth:`CalibrationResult.from_dict` reads this version and the
@@ -160,9 +161,43 @@ class StillReadingsResult(CalibrationResult):
     plain form, and rebuilds the fields they share."""
 
     N_PARAMS: ClassVar[int] = 0
+    REPORTS_IMPROVEMENT: ClassVar[bool] = False
+    """Whether :meth:`evaluate` reports Farago et al.'s improvement ratio (eq. (21)), as their model's does."""
 
-    def readings(self) -> list[dict]:  # pragma: no cover - every subclass defines it
-        raise NotImplementedError
+    def evaluate(self, means) -> dict:
+        """Norm errors of further still readings of unknown orientation, e.g. held-out positions or control
+        points (Georgieva et al., ESGI'95, sections 2.4 and 3.5; Farago et al., IEEE Access, Table 3).
+
+        Parameters
+        ----------
+        means : array_like, shape (M, 3)
+            Still readings; their true norm is ``gravity``.
+
+        Returns
+        -------
+        dict
+            ``count``, ``norm_error_max`` and ``norm_error_max_raw`` (relative), ``error_before_mg`` and
+            ``error_after_mg`` (mean | |a| − g | in thousandths of g), and for the models that report it
+            ``improvement`` (eq. (21) of Farago et al., a fraction): :func:`app.calibration.norm_metrics.evaluate_still`.
+        """
+        out = evaluate_still(means, self.apply, self.gravity)
+        if not self.REPORTS_IMPROVEMENT:
+            del out["improvement"]
+        return out
+
+    def readings(self) -> list[dict]:
+        """Per-reading detail: the model's own fields (:meth:`reading_detail`) and the relative norm errors
+        after and before the calibration."""
+        means = np.asarray(self.means, dtype=float)
+        calibrated = self.apply(means)
+        after = relative_norm_errors(calibrated, self.gravity)
+        before = relative_norm_errors(means, self.gravity)
+        return [{"index": i, **self.reading_detail(i, m, c), "norm_error": float(after[i]),
+                 "norm_error_raw": float(before[i])} for i, (m, c) in enumerate(zip(means, calibrated))]
+
+    def reading_detail(self, index: int, mean: np.ndarray, calibrated: np.ndarray) -> dict:
+        """What a reading's plain form holds besides its index and norm errors: its mean and calibrated vector."""
+        return {"mean": mean.tolist(), "calibrated": calibrated.tolist()}
 
     def body_dict(self) -> dict:
         return {

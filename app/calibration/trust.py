@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from .comparison import norm_errors
+from .norm_metrics import norm_errors
 from .gates import Gates
 from .uncertainty import half_widths
 
