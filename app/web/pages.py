@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
@@ -94,3 +95,33 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
         page = {"compass": "wizard_compass.html", "noise": "wizard_noise.html"}.get(protocol, "wizard.html")
         context.update(noise_lengths=NOISE_LENGTHS_S, noise_default=NOISE_DEFAULT_S)
     return _templates(request).TemplateResponse(request, page, context, status_code=400 if problem else 200)
+
+
+CALIBRATION_ID = re.compile(r"^cal_[0-9a-f]{32}$")
+"""A calibration's id as the store makes it (app/store/repository.py new_id)."""
+
+
+@router.get("/c/{calibration_id}", response_class=HTMLResponse)
+def calibration_page(request: Request, calibration_id: str, device: str | None = None):
+    """A stored calibration's own page (``/c/latest?device=NAME``: that device's latest one). The
+    page reads it through the API with the token the browser keeps for it, so the owner's scope is
+    the API's; an id of another form is a 404 that says where to look."""
+    latest = calibration_id == "latest"
+    problem = None
+    if latest and not device:
+        problem = "/c/latest needs the device: /c/latest?device=NAME (the names are in your calibrations)."
+    elif not latest and not CALIBRATION_ID.match(calibration_id):
+        problem = (f"“{calibration_id[:80]}” is not a calibration's id: an id is cal_ and 32 hexadecimal digits. "
+                   "Your calibrations are listed in the history.")
+    return _templates(request).TemplateResponse(request, "calibration.html", {
+        "calibration_id": None if latest else calibration_id, "device": device if latest else None,
+        "problem": problem, "tables": None if problem else page_tables(),
+    }, status_code=404 if problem else 200)
+
+
+@router.get("/history", response_class=HTMLResponse)
+def history_page(request: Request, device: str | None = None):
+    """The owner's calibrations, newest first (device, method, verdict, date), filtered by device."""
+    return _templates(request).TemplateResponse(request, "history.html", {
+        "device": device or "", "tables": page_tables(),
+    })

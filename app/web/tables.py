@@ -105,6 +105,19 @@ def unit_tables() -> dict:
     }
 
 
+METHOD_NAMES = {
+    "six_position": "six positions (accelerometer)",
+    "orientations": "known orientations (accelerometer)",
+    "nonorthogonal": "non-orthogonal axes (accelerometer)",
+    "triangular": "free poses (accelerometer)",
+    "autocal": "free-living log (accelerometer)",
+    "cube": "24 positions of a cube (accelerometer and gyroscope)",
+    "magnetometer": "the compass (magnetometer)",
+    "noise": "noise (Allan deviation)",
+}
+"""Each stored method in words, for the history of calibrations (an unknown method shows its key)."""
+
+
 @lru_cache(maxsize=1)
 def page_tables() -> dict:
     """Everything the pages take from the server's constants, as plain JSON-ready data.
@@ -119,7 +132,8 @@ def page_tables() -> dict:
         and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
-        (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART).
+        (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
+        ``methods`` (:data:`METHOD_NAMES`: each method in words).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -145,4 +159,5 @@ def page_tables() -> dict:
         "uses": uses_table(),
         "units": unit_tables(),
         "board": board_tables(),
+        "methods": dict(METHOD_NAMES),
     }

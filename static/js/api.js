@@ -87,3 +87,10 @@ export async function fetchExport(id, format, token) {
   const match = /filename="([^"]+)"/.exec(disposition);
   return { blob: await response.blob(), filename: match ? match[1] : `${id}.${format}` };
 }
+
+// The calibrations the token (or no token) may read, newest first; `device` filters by device_id.
+export function listCalibrations(token = null, device = null, limit = 100) {
+  const query = new URLSearchParams({ limit: String(limit) });
+  if (device) query.set("device_id", device);
+  return request(`/api/v1/calibrations?${query}`, { headers: bearer(token) });
+}

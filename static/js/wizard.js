@@ -11,12 +11,14 @@ import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, w
 import { sphereSvg } from "./sphere.js";
 import { cue, unlockCues } from "./cues.js";
 import { fetchDownloads, showUse, showVerdict } from "./use_calibration.js";
+import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
 import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
 import { canFinish, coveredDirections, freeFlow, poseCount, progressOf } from "./flow_free.js";
 
+const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
 const $ = (sel) => document.querySelector(sel);
 const root = $("#wizard");
 const NO_MOTION_MS = 2000;
@@ -474,6 +476,10 @@ async function finish(cal) {
   v.focus = "#result";
   announce(state, `Calibration done. ${cal.verdict.words}`);
   render(state);
+  // Its own address (/c/{id}): a reload, a bookmark or the history finds it again, with the session's
+  // token kept for it (only that token reads it). The page stays: a board stays connected for Send.
+  rememberToken(cal.id, state.token);
+  history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   board.offer(cal, state.token);
   v.downloads = await fetchDownloads(cal, state.token);
   render(state);
@@ -680,7 +686,7 @@ $("#start-over-no").addEventListener("click", () => askStartOver(false));
 $("#start-over-yes").addEventListener("click", () => {
   letScreenSleep();
   localStorage.removeItem(state.storeKey);
-  location.reload();
+  location.assign(WIZARD_URL); // the wizard afresh, not the result's own address (/c/{id})
 });
 if (free) $("#free-finish").addEventListener("click", () => { if (canFinish(state)) solve(); });
 $("#capture").addEventListener("click", (event) => {

@@ -13,6 +13,7 @@ import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
+const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
 const $ = (sel) => document.querySelector(sel);
 const NO_READING_MS = 3000;
 const DRAW_MS = 150; // the sphere is redrawn at most this often
@@ -219,6 +220,8 @@ function showResult(cal) {
     return tr;
   }));
   resetUse();
+  // Its own address (/c/{id}): a reload, a bookmark or the history finds it again.
+  history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   board.offer(cal);
   fetchDownloads(cal).then((downloads) => { if (state.shown === cal) showUse(cal, downloads); });
   box.focus();
@@ -265,6 +268,7 @@ const board = new BoardPanel({
 $("#compass-start-btn").addEventListener("click", start);
 $("#compass-solve").addEventListener("click", solve);
 $("#compass-more").addEventListener("click", () => {
+  history.replaceState(null, "", WIZARD_URL); // turning again: the wizard's address until the next result
   $("#result").hidden = true;
   $("#compass-capture").hidden = false;
   if (state.board) { state.autoSolved = false; startBoard(); } else start();
@@ -277,7 +281,7 @@ function askStartOver(ask) {
 }
 $("#start-over").addEventListener("click", () => askStartOver(true));
 $("#start-over-no").addEventListener("click", () => askStartOver(false));
-$("#start-over-yes").addEventListener("click", () => { letScreenSleep(); location.reload(); });
+$("#start-over-yes").addEventListener("click", () => { letScreenSleep(); location.assign(WIZARD_URL); });
 $("#compass-where").addEventListener("click", () => {
   const text = $("#compass-where-text");
   if (!navigator.geolocation) { text.textContent = "This browser gives no location: the strength will be estimated."; return; }

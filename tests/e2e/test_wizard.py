@@ -4,6 +4,8 @@ against a real trical server."""
 
 from __future__ import annotations
 
+import re
+
 import json
 import time
 
@@ -235,12 +237,19 @@ def test_a_reload_resumes_with_the_done_poses(page, server):
         hold(page, motion, label, f"wizard_resumed_{label}")
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
     assert "passed its checks" in page.text_content("#result-ok")
-    page.reload()  # a finished session reloads into its result
+    # The result has its own address, /c/{id}: a reload reads it back with the session's token kept for it.
+    cal_path = page.evaluate("location.pathname")
+    assert re.fullmatch(r"/c/cal_[0-9a-f]{32}", cal_path)
+    page.reload()
+    page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+    assert page.evaluate("location.pathname") == cal_path and cal_path[3:] in page.text_content("#cal-meta")
+    page.goto(server.url + "/wizard?capture_s=1")  # the wizard itself resumes into its result
     page.wait_for_selector("#downloads[data-ready=true]")
     page.click("#start-over")
-    page.click("#start-over-yes")  # the second step: discard
+    page.click("#start-over-yes")  # the second step: discard the session; the calibration stays findable
     page.wait_for_selector("#start-btn")
-    assert page.text_content("#start-btn") == "Start" and page.evaluate("localStorage.length") == 0
+    assert page.text_content("#start-btn") == "Start" and page.evaluate("localStorage.getItem('trical.wizard.six')") is None
+    assert page.evaluate("Object.keys(JSON.parse(localStorage.getItem('trical.calibrations')))") == [cal_path[3:]]
     assert page.errors == []
 
 

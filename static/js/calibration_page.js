@@ -1,0 +1,71 @@
+// A stored calibration's own page, /c/{id} (or /c/latest?device=NAME): read through the API with
+// the token this browser keeps for it (tokens.js), then shown by the one result view (result_view.js).
+import { ApiError, getCalibration, listCalibrations } from "./api.js";
+import { showCalibration } from "./result_view.js";
+import { TABLES } from "./tables.js";
+import { candidates, rememberApiKey } from "./tokens.js";
+
+const $ = (sel) => document.querySelector(sel);
+const root = $("#calibration-page");
+const id = root.dataset.id;
+const device = root.dataset.device;
+
+// The first token that opens it: 401 (a server with keys) and 404 (another owner's) try the next;
+// when none does, the answer to the most specific one (a key refused says so) is the one shown.
+async function read() {
+  let last = null;
+  for (const token of candidates(id || null)) {
+    try {
+      if (id) return { cal: await getCalibration(id, token), token };
+      const { items } = await listCalibrations(token, device, 1);
+      if (items.length) return { cal: items[0], token };
+      last ??= new ApiError(`no calibration of the device “${device}” is readable here`, 404, "not_found");
+    } catch (err) {
+      if (err.status !== 401 && err.status !== 404) throw err;
+      last ??= err;
+    }
+  }
+  throw last;
+}
+
+function when(iso) { return iso ? iso.replace("T", " ").replace(/\.\d+Z$/, " UTC") : ""; }
+
+async function load() {
+  $("#cal-loading").hidden = false;
+  $("#cal-access").hidden = true;
+  try {
+    const { cal, token } = await read();
+    $("#cal-loading").hidden = true;
+    const meta = $("#cal-meta");
+    const method = TABLES.methods[cal.method] || cal.method;
+    meta.textContent = [cal.device_id && `Device ${cal.device_id}`, `Method: ${method}`, `made ${when(cal.created_at)}`,
+      `id ${cal.id}`].filter(Boolean).join(" · ");
+    meta.hidden = false;
+    document.title = `${cal.device_id ? `${cal.device_id}: ` : ""}calibration ${cal.id} — trical`;
+    showCalibration(cal, token);
+    $("#status").textContent = `Calibration ${cal.id}. ${cal.verdict.words}`;
+  } catch (err) {
+    $("#cal-loading").hidden = true;
+    const box = $("#cal-access");
+    const why = err.status === 401
+      ? `This server needs an API key to read its calibrations (${err.message}).`
+      : err.status === 404
+        ? (id ? `No calibration ${id} is readable with what this browser keeps: a phone calibration opens only in `
+          + "the browser that made it (or with the link it sends), an upload only with the API key that made it."
+          : `${err.message}.`)
+        : `The calibration could not be read: ${err.message}.`;
+    $("#cal-access-why").textContent = why;
+    $("#cal-key-form").hidden = err.status !== 401 && err.status !== 404;
+    box.hidden = false;
+    box.focus();
+    $("#status").textContent = why;
+  }
+}
+
+$("#cal-key-form").addEventListener("submit", (event) => {
+  event.preventDefault();
+  rememberApiKey($("#cal-key").value.trim());
+  load();
+});
+
+load();

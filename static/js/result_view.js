@@ -1,0 +1,148 @@
+// One result view, the same wherever a calibration is shown: the start page after an upload or a
+// paste, and a stored calibration's own page /c/{id} (templates/_result.html). The verdict and "Use
+// this calibration" (use_calibration.js), the plots (the compass's spheres, the noise's Allan
+// deviation, the accelerometer's norms per reading), then the details: the model, the figures, the
+// readings and the notes.
+import { exportUrl } from "./api.js";
+import { magResultSvgs } from "./mag_sphere.js";
+import { formatNumber } from "./readings.js";
+import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
+
+const $ = (sel) => document.querySelector(sel);
+let shown = null; // the calibration on show: an older one's files never land on a newer one
+
+function cell(tag, text) { const e = document.createElement(tag); e.textContent = text; return e; }
+
+function fillMatrix(table, rows) {
+  table.replaceChildren(...rows.map((row) => {
+    const tr = document.createElement("tr");
+    row.forEach((v) => tr.append(cell("td", formatNumber(v))));
+    return tr;
+  }));
+}
+
+// Each parameter of the model (X and y, K and o, s, b and the angles…) as a small table #result-<name>.
+function showModel(model) {
+  $("#result-model").replaceChildren(...Object.entries(model).filter(([name]) => name !== "type").map(([name, value]) => {
+    const box = document.createElement("div");
+    if (value && typeof value === "object" && !Array.isArray(value)) { // a cube's sensors: one level down
+      box.append(cell("h3", name));
+      for (const [part, v] of Object.entries(value)) {
+        if (!Array.isArray(v)) continue;
+        const table = document.createElement("table");
+        table.className = "matrix";
+        table.id = `result-${name}-${part}`;
+        fillMatrix(table, Array.isArray(v[0]) ? v : v.map((x) => [x]));
+        box.append(cell("h4", part), table);
+      }
+      return box;
+    }
+    const table = document.createElement("table");
+    table.className = "matrix";
+    table.id = `result-${name}`;
+    const rows = !Array.isArray(value) ? [[value]] : Array.isArray(value[0]) ? value : value.map((v) => [v]);
+    fillMatrix(table, rows);
+    box.append(cell("h3", name), table);
+    return box;
+  }));
+}
+
+// A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's).
+const NOISE_TERMS = [["noise_density", "noise density"], ["random_walk", "random walk"],
+  ["bias_instability", "bias instability"], ["bias", "bias"]];
+
+function showNoise(cal) {
+  $("#result-model").replaceChildren(...Object.entries(cal.model).filter(([name]) => name !== "type").map(([sensor, m]) => {
+    const box = document.createElement("div");
+    const table = document.createElement("table");
+    table.id = `result-noise-${sensor}`;
+    const head = document.createElement("tr");
+    head.append(cell("th", ""), ...["x", "y", "z"].map((a) => cell("th", a)), cell("th", "unit"));
+    table.append(head);
+    for (const [key, label] of NOISE_TERMS) {
+      const tr = document.createElement("tr");
+      tr.dataset.term = key;
+      tr.append(cell("th", label), ...(m[key] || [null, null, null]).map((v) => cell("td", formatNumber(v, 8))),
+        cell("td", m[`${key}_unit`] || m.unit || ""));
+      table.append(tr);
+    }
+    box.append(cell("h3", sensor), table);
+    return box;
+  }));
+}
+
+// A compass calibration: the raw readings and the calibrated ones on the same sphere (mag_sphere.js).
+function showMagSpheres(cal) {
+  const mag = cal.model.type === "magnetometer";
+  $("#result-mag-box").hidden = !mag;
+  if (!mag) { $("#result-mag").replaceChildren(); return; }
+  const svgs = magResultSvgs(cal);
+  const fig = (svg, caption) => {
+    const f = document.createElement("figure");
+    f.className = "mag-fig";
+    const pic = document.createElement("div");
+    pic.innerHTML = svg;
+    f.append(pic, cell("figcaption", caption));
+    return f;
+  };
+  const legend = cell("p", "The sphere has the field's radius F; green faces: directions covered. Raw readings sit off it "
+    + "(the hard iron b moves them, soft iron stretches them); calibrated ones lie on it.");
+  legend.className = "hint legend";
+  $("#result-mag").replaceChildren(fig(svgs.before, "Before: the raw readings m"), fig(svgs.after, "After: h = M (m − b)"), legend);
+}
+
+// The calibration `cal` (the API's body, with its verdict) on the page; its files are fetched with
+// `token` (a wizard session's, or an API key; none on a server without keys).
+export function showCalibration(cal, token = null) {
+  $("#result").hidden = false;
+  showVerdict(cal);
+  $("#result-headline").textContent = cal.headline || "";
+  const ok = $("#result-ok");
+  ok.className = cal.ok ? "ok" : "bad";
+  ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
+  const choice = $("#result-choice");
+  choice.hidden = !cal.choice;
+  choice.textContent = cal.choice ? `Method ${cal.choice.method}: ${cal.choice.why}.` : "";
+  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
+  if (cal.method === "noise") showNoise(cal);
+  else showModel(cal.model);
+  const metrics = $("#result-metrics");
+  // A noise result's metrics are per sensor: one level is flattened (gyr.adev_min …).
+  const flat = Object.entries(cal.metrics).flatMap(([k, v]) => (v && typeof v === "object" && !Array.isArray(v)
+    ? Object.entries(v).map(([k2, v2]) => [`${k}.${k2}`, v2]) : [[k, v]]));
+  metrics.replaceChildren(...flat.map(([k, v]) => {
+    const tr = document.createElement("tr");
+    const text = Array.isArray(v) ? v.map((x) => formatNumber(x, 4)).join(", ") : formatNumber(v);
+    tr.append(cell("th", k), cell("td", text));
+    tr.firstChild.scope = "row";
+    return tr;
+  }));
+  showMagSpheres(cal);
+  const perReading = Boolean(cal.readings && cal.readings.length);
+  $("#result-readings").hidden = !perReading;
+  $("#result-readings-h").hidden = !perReading;
+  // One file per pose: each reading names its file.
+  const fromFiles = (cal.readings || []).some((r) => r.source);
+  $("#result-readings .file-col").hidden = !fromFiles;
+  $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
+    const tr = document.createElement("tr");
+    tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
+    if (fromFiles) tr.append(cell("td", r.source ?? "—"));
+    return tr;
+  }));
+  // A noise characterisation's Allan deviation: the server draws it (the allan_svg export), one source.
+  const allan = $("#result-allan");
+  allan.hidden = cal.method !== "noise";
+  if (cal.method === "noise") $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
+  else $("#result-allan img").removeAttribute("src");
+  shown = cal;
+  resetUse(); // the files follow as they are fetched
+  fetchDownloads(cal, token).then((downloads) => { if (shown === cal) showUse(cal, downloads); });
+}
+
+// Nothing of an earlier calibration stays on show.
+export function hideCalibration() {
+  shown = null;
+  $("#result").hidden = true;
+  resetUse();
+}

@@ -1,0 +1,151 @@
+"""A calibration a person can keep and find again, in real Chromium against a real server: the upload
+moves to the calibration's own page /c/{id} (the address changes, a reload keeps the result), the
+history lists the calibrations (device, method, verdict, date) and filters by device, a device's latest
+calibration is one link, and a wizard session's calibration opens with the token this browser kept.
+Each page is measured at 390 and 1280 px (no sideways scrolling, axe, 44 px targets)."""
+
+from __future__ import annotations
+
+import re
+
+import httpx
+import numpy as np
+import pytest
+
+from app.calibration import CANONICAL_SIX
+from tests.conftest import DATA
+from tests.e2e.axe import axe_context
+from tests.e2e.test_layout import layout_problems
+from tests.phone_poses import pose_samples
+
+CAL_PATH = re.compile(r"/c/(cal_[0-9a-f]{32})$")
+
+
+def upload(page, url: str, device: str) -> str:
+    """Upload the six-pose log of tests/data as `device`; the id of the calibration it made."""
+    page.goto(url + "/")
+    page.set_input_files("#log-file", str(DATA / "six_orientations_150hz.csv"))
+    page.fill("#log-device", device)
+    page.click("#options-summary")
+    page.fill("#log-rate", "150")
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+    page.wait_for_function("/^\\/c\\/cal_/.test(location.pathname)")
+    return CAL_PATH.search(page.url).group(1)
+
+
+def session_calibration(url: str) -> tuple[str, str]:
+    """A phone's six-pose session calibrated through the API: (calibration id, session token)."""
+    with httpx.Client(base_url=url, timeout=60) as http:
+        s = http.post("/api/v1/sessions", json={"protocol": "six"}).json()
+        auth = {"Authorization": f"Bearer {s['token']}"}
+        rng = np.random.default_rng(24)
+        for label in CANONICAL_SIX:
+            r = http.post(f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng), headers=auth)
+            assert r.status_code == 201, r.text
+        r = http.post(f"/api/v1/sessions/{s['id']}/solve", headers=auth)
+        assert r.status_code == 201, r.text
+        return r.json()["id"], s["token"]
+
+
+@pytest.mark.parametrize("width", [390, 1280])
+def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(browser, server, width):
+    context = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1)
+    try:
+        page = context.new_page()
+        errors: list[str] = []
+        page.on("pageerror", lambda exc: errors.append(str(exc)))
+        cal_id = upload(page, server.url, f"bench-imu-{width}")
+        words = page.text_content("#verdict-words")
+        assert words and page.is_visible("#use")
+        page.reload()  # the address keeps the result: the calibration's own page reads it back
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.text_content("#verdict-words") == words
+        assert f"Device bench-imu-{width}" in page.text_content("#cal-meta") and cal_id in page.text_content("#cal-meta")
+        assert page.get_attribute("#use-file", "download").endswith(".json") or page.is_visible("#use-file")
+        assert page.locator("#downloads a").count() >= 4  # every format, fetched
+        page.click("#result-details summary")
+        problems = layout_problems(page, "calibration_page", width)
+
+        # A second device, then the history: both, newest first; the filter keeps one; its latest is a link.
+        other = upload(page, server.url, f"other-board-{width}")
+        page.goto(server.url + "/history")
+        page.wait_for_selector("#history-table:not([hidden])")
+        ids = page.eval_on_selector_all("#history-table tbody tr", "(rows) => rows.map((r) => r.dataset.id)")
+        assert ids.index(other) < ids.index(cal_id)
+        row = page.locator(f"#history-table tr[data-id='{cal_id}']")
+        cells = row.locator("td").all_text_contents()
+        assert cells[0] == f"bench-imu-{width}" and "accelerometer" in cells[1] and cells[2] == words
+        assert re.fullmatch(r"\d{4}-\d\d-\d\d \d\d:\d\d", row.locator("th a").text_content())
+        page.select_option("#history-device", f"bench-imu-{width}")
+        page.wait_for_function("document.querySelectorAll('#history-table tbody tr').length === 1")
+        assert page.url.endswith(f"/history?device=bench-imu-{width}")
+        problems += layout_problems(page, "history", width)
+        page.click("#history-latest-link")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.url.endswith(f"/c/latest?device=bench-imu-{width}") and cal_id in page.text_content("#cal-meta")
+        page.go_back()  # the history as it was left: filtered by that device
+        page.wait_for_selector("#history-table:not([hidden])")
+        assert page.input_value("#history-device") == f"bench-imu-{width}"
+        page.select_option("#history-device", "")
+        page.click(f"#history-table tr[data-id='{other}'] th a")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.url.endswith(f"/c/{other}")
+        assert not problems, "\n".join(problems)
+        assert errors == []
+    finally:
+        context.close()
+
+
+def test_a_session_s_calibration_opens_with_the_token_this_browser_kept_and_nowhere_else(browser, server):
+    cal_id, token = session_calibration(server.url)
+    context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
+    try:
+        page = context.new_page()
+        page.goto(f"{server.url}/c/{cal_id}")  # a browser that does not keep the token: the API's 404
+        page.wait_for_selector("#cal-access:not([hidden])")
+        assert "opens only in the browser that made it" in page.text_content("#cal-access-why")
+        assert page.is_hidden("#result")
+        problems = layout_problems(page, "calibration_not_readable", 390)
+        # The wizard keeps each calibration's session token (static/js/tokens.js): the same page opens it.
+        page.evaluate("([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))",
+                      [cal_id, token])
+        page.reload()
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.is_hidden("#cal-access") and "six positions" in page.text_content("#cal-meta")
+        assert page.locator("#result-X td").count() == 9  # the model of the session, read with its token
+        page.goto(server.url + "/history")
+        page.wait_for_selector(f"#history-table tr[data-id='{cal_id}']")
+        assert not problems, "\n".join(problems)
+    finally:
+        context.close()
+
+
+def test_with_api_keys_the_page_asks_for_the_key_and_reads_with_it(browser, tmp_path):
+    from tests.live_server import LiveServer
+
+    key = "k-result-page-24"
+    s = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'keys.db'}", "TRICAL_API_KEYS": key}).start()
+    context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
+    try:
+        readings = [{"up": up, "mean": [9.80665 * v for v in vec]} for up, vec in
+                    zip(CANONICAL_SIX, ([-1, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1]))]
+        r = httpx.post(s.url + "/api/v1/calibrations", json={"method": "six_position", "readings": readings},
+                       headers={"Authorization": f"Bearer {key}"}, timeout=60)
+        assert r.status_code == 201, r.text
+        page = context.new_page()
+        page.goto(f"{s.url}/c/{r.json()['id']}")
+        page.wait_for_selector("#cal-access:not([hidden])")
+        assert "needs an API key" in page.text_content("#cal-access-why")
+        page.fill("#cal-key", "not-the-key")
+        page.click("#cal-key-form button")
+        page.wait_for_function("document.querySelector('#cal-access-why').textContent.includes('not valid')")
+        page.fill("#cal-key", key)
+        page.click("#cal-key-form button")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.is_hidden("#cal-access")
+        page.goto(s.url + "/history")
+        page.wait_for_selector(f"#history-table tr[data-id='{r.json()['id']}']")  # the key, kept
+    finally:
+        context.close()
+        s.stop()
