@@ -626,6 +626,24 @@ class CalibrationList(BaseModel):
     items: list[CalibrationOut]
 
 
+class ScaleOut(BaseModel):
+    op: Literal["/", "*"] = Field(description="Counts `op` value gives the calibration's input unit.")
+    value: float
+    words: str = Field(description="What the figure is, and where it comes from.")
+    known: bool = Field(description="True when the upload named the part (chip, lsb_per_g); false for a common "
+                                    "part's figure the person should check against the datasheet.")
+
+
+class SnippetsOut(BaseModel):
+    c: str = Field(description="Lines over the C header: a reading scaled to the header's unit and passed through "
+                               "trical_<sensor>_apply.")
+    python: str = Field(description="numpy over the JSON export.")
+    javascript: str = Field(description="JavaScript over the JSON export, for a phone app.")
+    functions: dict[str, str] = Field(description="The C header's apply function of each sensor.")
+    scales: dict[str, ScaleOut | None] = Field(description="How a sensor's int16 counts become the input unit; "
+                                                           "null when the calibration takes them as they are.")
+
+
 class ApplyIn(Strict):
     samples: Annotated[list[Vec3], Field(min_length=1, max_length=1_000_000)]
     sensor: Literal["acc", "gyr", "mag"] = Field("acc", description="Which sensor's model to apply (cube).")
