@@ -94,3 +94,8 @@ export function listCalibrations(token = null, device = null, limit = 100) {
   if (device) query.set("device_id", device);
   return request(`/api/v1/calibrations?${query}`, { headers: bearer(token) });
 }
+
+// Paste-ready lines applying a calibration: {c, python, javascript, functions, scales}.
+export function getSnippets(id, token = null) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/snippets`, { headers: bearer(token) });
+}

@@ -149,3 +149,50 @@ def test_with_api_keys_the_page_asks_for_the_key_and_reads_with_it(browser, tmp_
     finally:
         context.close()
         s.stop()
+
+
+def test_the_firmware_use_shows_the_lines_to_paste_which_gcc_builds_and_runs(browser, server, tmp_path):
+    """The page's snippet under the C header, as a person copies it, compiled over the header the page
+    downloads and run on its reading: the same numbers as the API's apply."""
+    from tests.io.test_snippets import counts_log
+    from tests.processes import run_ok
+    import shutil
+
+    rec = httpx.post(server.url + "/api/v1/recordings", files={"file": ("board.csv", counts_log(8192, 7), "text/csv")},
+                     data={"chip": "mpu6050-4g"}, timeout=60).json()
+    cal = httpx.post(server.url + "/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"],
+                                                                 "device_id": "bench-board"}, timeout=60).json()
+    context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
+    try:
+        page = context.new_page()
+        page.goto(f"{server.url}/c/{cal['id']}")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        page.select_option("#use-with", "firmware")
+        page.wait_for_selector("#use-snippet-box:not([hidden])")
+        snippet = page.text_content("#use-snippet code")
+        assert "trical_acc_apply(m, f);" in snippet and "raw[0] / 8192.0f" in snippet and "±4 g" in snippet
+        assert page.is_hidden("#use-snippet-note")  # the part was named: nothing to check
+        with page.expect_download() as download:
+            page.click("#use-file")
+        header = tmp_path / download.value.suggested_filename
+        download.value.save_as(header)
+        include, *body = snippet.splitlines()
+        assert include.startswith(f'#include "{header.name}"')
+        (tmp_path / "paste.c").write_text("\n".join(["#include <stdint.h>", "#include <stdio.h>", include,
+                                                    "int main(void) {", *body,
+                                                    'printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);', "return 0; }", ""]))
+        run_ok([shutil.which("gcc"), "-std=c99", "-Wall", "-Wextra", "-Werror", "-I", str(tmp_path), "-o",
+                str(tmp_path / "paste"), str(tmp_path / "paste.c")], timeout_s=60)
+        f = [float(v) for v in run_ok([str(tmp_path / "paste")], timeout_s=10).stdout.split()]
+        raw = [int(v) for v in body[0].split("{")[1].split("}")[0].split(",")]
+        want = httpx.post(f"{server.url}/api/v1/calibrations/{cal['id']}/apply",
+                          json={"samples": [[v / 8192 for v in raw]]}, timeout=60).json()["samples"][0]
+        np.testing.assert_allclose(f, want, atol=2e-6)
+        page.select_option("#use-with", "python")
+        page.wait_for_function("document.querySelector('#use-snippet code').textContent.includes('np.array')")
+        problems = layout_problems(page, "calibration_snippet", 390)
+        page.set_viewport_size({"width": 1280, "height": 900})
+        problems += layout_problems(page, "calibration_snippet", 1280)
+        assert not problems, "\n".join(problems)
+    finally:
+        context.close()
