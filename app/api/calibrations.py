@@ -68,7 +68,7 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
                     headers={"Content-Disposition": f'attachment; filename="{out.filename}"'})
 
 
-@router.get("/{calibration_id}/snippets", response_model=SnippetsOut, summary="Examples of applying it")
+@router.get("/{calibration_id}/use", response_model=SnippetsOut, summary="How to apply it: the corrections and paste-ready lines")
 def snippets(calibration_id: str, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
     """Paste-ready lines that apply the calibration: C over its header, Python and JavaScript over its JSON;
     a board's counts scaled into the calibration's unit by the part its recording was read with."""

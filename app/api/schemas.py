@@ -634,7 +634,16 @@ class ScaleOut(BaseModel):
                                     "part's figure the person should check against the datasheet.")
 
 
+class CorrectionOut(BaseModel):
+    M: Mat3Out = Field(description="f = M (m − o): what a reading is multiplied by after the offset is taken off.")
+    o: Vec3Out = Field(description="The offset taken off each reading, in the input unit.")
+    input_unit: str | None
+    output_unit: str | None
+    source: str = Field(description="How M and o come from the model's own parameters (e.g. M = X⁻¹, o = y).")
+
+
 class SnippetsOut(BaseModel):
+    corrections: dict[str, CorrectionOut] = Field(description="Each sensor's correction, by acc, gyr, mag.")
     c: str = Field(description="Lines over the C header: a reading scaled to the header's unit and passed through "
                                "trical_<sensor>_apply.")
     python: str = Field(description="numpy over the JSON export.")

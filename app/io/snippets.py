@@ -98,8 +98,9 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
     dict
         ``c`` (lines over the C header, each sensor's ``trical_<sensor>_apply``), ``python`` (numpy
         over the JSON export), ``javascript`` (over the JSON export, for a phone app), ``functions``
-        (the C functions by sensor) and ``scales`` (how counts become each sensor's input unit; None
-        where none applies).
+        (the C functions by sensor), ``scales`` (how counts become each sensor's input unit; None
+        where none applies) and ``corrections`` (each sensor's ``M``, ``o``, units and the source of
+        the correction ``f = M (m − o)``: what the lines apply, as the page shows it).
     """
     corrections = sensor_corrections(body)
     header = f"trical_{body['id']}.h"
@@ -134,5 +135,7 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         arg = f"s{suffix}" if scale is not None else f"m{suffix}"
         js_lines.append(f"const f{suffix} = M{suffix}.map((row) => row.reduce((sum, k, j) => sum + k * ({arg}[j] - "
                         f"o{suffix}[j]), 0));  // calibrated, in {unit_label(c.output_unit)}")
-    return {"c": "\n".join(c_lines), "python": "\n".join(py_lines), "javascript": "\n".join(js_lines),
+    corrections_out = {c.sensor: {"M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
+                                  "output_unit": c.output_unit, "source": c.source} for c in corrections}
+    return {"corrections": corrections_out, "c": "\n".join(c_lines), "python": "\n".join(py_lines), "javascript": "\n".join(js_lines),
             "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections}, "scales": scales}

@@ -26,7 +26,7 @@ CALIBRATION_USES = (
             "lines (a loop of your own around them):"},
 )
 """A correction of a sensor (every method but noise). ``snippet`` names the lines of
-``GET /api/v1/calibrations/{id}/snippets`` (app/io/snippets.py) shown under the file."""
+``GET /api/v1/calibrations/{id}/use`` (app/io/use.py) shown under the file."""
 
 NOISE_USES = (
     {"key": "kalibr", "name": "Kalibr", "format": "kalibr",

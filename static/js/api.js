@@ -96,6 +96,6 @@ export function listCalibrations(token = null, device = null, limit = 100) {
 }
 
 // Paste-ready lines applying a calibration: {c, python, javascript, functions, scales}.
-export function getSnippets(id, token = null) {
-  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/snippets`, { headers: bearer(token) });
+export function getUse(id, token = null) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/use`, { headers: bearer(token) });
 }

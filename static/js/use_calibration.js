@@ -3,7 +3,7 @@
 // on how to apply it, and every format under it. A calibration that must not be applied offers none.
 // Shared by the start page, the wizard and the compass page (templates/_use.html).
 
-import { fetchExport, getSnippets } from "./api.js";
+import { fetchExport, getUse } from "./api.js";
 import { TABLES } from "./tables.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -40,7 +40,7 @@ export async function fetchDownloads(cal, token = null) {
   if (!cal.verdict.apply) return [];
   const names = group(cal) === "noise" ? TABLES.uses.noiseFormats : TABLES.uses.formats;
   // The paste-ready lines of each use (app/io/snippets.py); none for a noise characterisation.
-  const snippets = group(cal) === "noise" ? Promise.resolve(null) : getSnippets(cal.id, token).catch(() => null);
+  const snippets = group(cal) === "noise" ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
   const downloads = await Promise.all(names.map(async ([key, name]) => {
     try {
       const { blob, filename } = await fetchExport(cal.id, key, token);

@@ -1,4 +1,4 @@
-"""The paste-ready examples of /api/v1/calibrations/{id}/snippets, run for real: the C lines compiled by
+"""The paste-ready examples of /api/v1/calibrations/{id}/use, run for real: the C lines compiled by
 gcc over the calibration's own C header and run on a reading, the Python lines run over its JSON export,
 the JavaScript lines run by node over the same JSON; each must give what the API's apply gives."""
 
@@ -73,7 +73,7 @@ def json_export(client, cal, tmp_path):
 def test_counts_of_a_named_part_are_scaled_into_g_and_the_c_lines_compile_and_run(client, tmp_path):
     cal = calibrate(client, counts_log(8192, seed=24), chip="mpu6050-4g")
     assert cal["unit"] == "g"
-    s = client.get(f"/api/v1/calibrations/{cal['id']}/snippets").json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["functions"] == {"acc": "trical_acc_apply"}
     assert s["scales"]["acc"] == {"op": "/", "value": 8192.0, "known": True,
                                   "words": "the MPU-6050/6500/9250, ICM-20948 accelerometer ±4 g (8192 LSB/g)"}
@@ -100,7 +100,7 @@ def test_counts_of_a_named_part_are_scaled_into_g_and_the_c_lines_compile_and_ru
 
 def test_counts_of_an_unnamed_part_say_which_figure_to_set(client, tmp_path):
     cal = calibrate(client, counts_log(16384, seed=25))  # the data say counts of 16384 per g: into g
-    s = client.get(f"/api/v1/calibrations/{cal['id']}/snippets").json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["scales"]["acc"]["known"] is False and "set your part's figure" in s["scales"]["acc"]["words"]
     raw = [int(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].split(",")]
     np.testing.assert_allclose(run_c(client, cal, s["c"], tmp_path), applied(client, cal, np.array(raw) / 16384.0),
@@ -110,7 +110,7 @@ def test_counts_of_an_unnamed_part_say_which_figure_to_set(client, tmp_path):
 def test_counts_kept_as_counts_go_in_as_they_are(client, tmp_path):
     cal = calibrate(client, counts_log(16384, seed=26), acc_unit="raw")
     assert cal["unit"] == "raw"
-    s = client.get(f"/api/v1/calibrations/{cal['id']}/snippets").json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["scales"]["acc"] is None and "float m[3] = {raw[0], raw[1], raw[2]};" in s["c"]
     raw = [int(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].split(",")]
     f = run_c(client, cal, s["c"], tmp_path)
@@ -122,7 +122,7 @@ def test_a_phone_s_readings_in_m_s2_need_no_scale(client, tmp_path):
     readings = [{"up": up, "mean": (G * (X_TRUE @ np.array(v, float) + Y_TRUE)).tolist()} for up, v in UPS.items()]
     r = client.post("/api/v1/calibrations", json={"method": "six_position", "readings": readings})
     cal = r.json()
-    s = client.get(f"/api/v1/calibrations/{cal['id']}/snippets").json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["scales"]["acc"] is None and "int16_t" not in s["c"] and len(s["c"].splitlines()) == 4
     f = run_c(client, cal, s["c"], tmp_path)
     m = [float(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].replace("f", "").split(",")]
@@ -140,7 +140,7 @@ def test_a_compass_in_counts_of_a_named_part_is_scaled_into_ut(client, tmp_path,
     r = client.post("/api/v1/calibrations", json={"method": "magnetometer", "recording_id": r.json()["id"]})
     assert r.status_code == 201, r.text
     cal = r.json()
-    s = client.get(f"/api/v1/calibrations/{cal['id']}/snippets").json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["functions"] == {"mag": "trical_mag_apply"} and s["scales"]["mag"]["op"] == "*"
     assert s["scales"]["mag"]["value"] == pytest.approx(100 / 3000)
     raw = [int(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].split(",")]
@@ -156,5 +156,5 @@ def applied_mag(client, cal, reading):
 
 
 def test_a_noise_characterisation_has_no_example_to_apply(client):
-    r = client.get("/api/v1/calibrations/cal_0123456789abcdef0123456789abcdef/snippets")
+    r = client.get("/api/v1/calibrations/cal_0123456789abcdef0123456789abcdef/use")
     assert r.status_code == 404 and json.loads(r.text)["code"] == "not_found"
