@@ -22,6 +22,7 @@ from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READING
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
+from app.web.metric_words import METRICS, SENSOR_WORDS
 from app.web.uses import uses_table
 
 CAPTURE_WINDOW_MS = 500
@@ -133,7 +134,8 @@ def page_tables() -> dict:
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
         (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
-        ``methods`` (:data:`METHOD_NAMES`: each method in words).
+        ``methods`` (:data:`METHOD_NAMES`: each method in words); ``metrics`` (app.web.metric_words:
+        each figure's name, unit and meaning) and ``sensorWords``.
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -160,4 +162,6 @@ def page_tables() -> dict:
         "units": unit_tables(),
         "board": board_tables(),
         "methods": dict(METHOD_NAMES),
+        "metrics": {key: list(words) for key, words in METRICS.items()},
+        "sensorWords": dict(SENSOR_WORDS),
     }

@@ -21,7 +21,7 @@ async function read() {
       if (items.length) return { cal: items[0], token };
       last ??= new ApiError(`no calibration of the device “${device}” is readable here`, 404, "not_found");
     } catch (err) {
-      if (err.status !== 401 && err.status !== 404) throw err;
+      if (err.code !== "unauthorized" && err.code !== "not_found") throw err;
       last ??= err;
     }
   }
@@ -47,15 +47,15 @@ async function load() {
   } catch (err) {
     $("#cal-loading").hidden = true;
     const box = $("#cal-access");
-    const why = err.status === 401
+    const why = err.code === "unauthorized"
       ? `This server needs an API key to read its calibrations (${err.message}).`
-      : err.status === 404
+      : err.code === "not_found"
         ? (id ? `No calibration ${id} is readable with what this browser keeps: a phone calibration opens only in `
           + "the browser that made it (or with the link it sends), an upload only with the API key that made it."
           : `${err.message}.`)
         : `The calibration could not be read: ${err.message}.`;
     $("#cal-access-why").textContent = why;
-    $("#cal-key-form").hidden = err.status !== 401 && err.status !== 404;
+    $("#cal-key-form").hidden = err.code !== "unauthorized" && err.code !== "not_found";
     box.hidden = false;
     box.focus();
     $("#status").textContent = why;

@@ -20,7 +20,7 @@ async function readAll() {
   let needKey = null;
   const lists = await Promise.all(owners.map(async (token) => {
     try { return (await listCalibrations(token)).items; } catch (err) {
-      if (err.status === 401 && (token === null || token === apiKey())) needKey = err;
+      if (err.code === "unauthorized" && (token === null || token === apiKey())) needKey = err;
       return [];
     }
   }));

@@ -4,8 +4,11 @@
 // deviation, the accelerometer's norms per reading), then the details: the model, the figures, the
 // readings and the notes.
 import { exportUrl } from "./api.js";
+import { showCorrection } from "./correction_view.js";
+import { fillFigures } from "./figures.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
+import { TABLES } from "./tables.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -21,19 +24,26 @@ function fillMatrix(table, rows) {
   }));
 }
 
-// Each parameter of the model (X and y, K and o, s, b and the angles…) as a small table #result-<name>.
-function showModel(model) {
+const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", g: "g" };
+const IN_INPUT_UNIT = new Set(["y", "o", "b", "s"]); // offsets and shifts: in the readings' unit
+const ANGLES = new Set(["phi", "psi", "theta"]);
+
+// Each parameter of the model as fitted (X and y, K and o, s, b and the angles…) as a small table
+// #result-<name>, named with its unit.
+function showModel(model, unit) {
+  const title = (name) => (IN_INPUT_UNIT.has(name) && unit ? `${name} (${UNIT_WORDS[unit] || unit})`
+    : ANGLES.has(name) ? `${name} (rad)` : name);
   $("#result-model").replaceChildren(...Object.entries(model).filter(([name]) => name !== "type").map(([name, value]) => {
     const box = document.createElement("div");
     if (value && typeof value === "object" && !Array.isArray(value)) { // a cube's sensors: one level down
-      box.append(cell("h3", name));
+      box.append(cell("h4", name));
       for (const [part, v] of Object.entries(value)) {
         if (!Array.isArray(v)) continue;
         const table = document.createElement("table");
         table.className = "matrix";
         table.id = `result-${name}-${part}`;
         fillMatrix(table, Array.isArray(v[0]) ? v : v.map((x) => [x]));
-        box.append(cell("h4", part), table);
+        box.append(cell("h5", part), table);
       }
       return box;
     }
@@ -42,7 +52,7 @@ function showModel(model) {
     table.id = `result-${name}`;
     const rows = !Array.isArray(value) ? [[value]] : Array.isArray(value[0]) ? value : value.map((v) => [v]);
     fillMatrix(table, rows);
-    box.append(cell("h3", name), table);
+    box.append(cell("h4", title(name)), table);
     return box;
   }));
 }
@@ -66,7 +76,7 @@ function showNoise(cal) {
         cell("td", m[`${key}_unit`] || m.unit || ""));
       table.append(tr);
     }
-    box.append(cell("h3", sensor), table);
+    box.append(cell("h4", TABLES.sensorWords[sensor] || sensor), table);
     return box;
   }));
 }
@@ -102,21 +112,16 @@ export function showCalibration(cal, token = null) {
   ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
   const choice = $("#result-choice");
   choice.hidden = !cal.choice;
-  choice.textContent = cal.choice ? `Method ${cal.choice.method}: ${cal.choice.why}.` : "";
+  // The server's words name methods by key: each in words here.
+  const words = (text) => text.replace(/\b[a-z]+(?:_[a-z]+)+\b|\b(?:triangular|nonorthogonal|autocal|orientations)\b/g,
+    (key) => TABLES.methods[key] || key);
+  choice.textContent = cal.choice ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, ${words(cal.choice.why)}.` : "";
   $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
   if (cal.method === "noise") showNoise(cal);
-  else showModel(cal.model);
-  const metrics = $("#result-metrics");
-  // A noise result's metrics are per sensor: one level is flattened (gyr.adev_min …).
-  const flat = Object.entries(cal.metrics).flatMap(([k, v]) => (v && typeof v === "object" && !Array.isArray(v)
-    ? Object.entries(v).map(([k2, v2]) => [`${k}.${k2}`, v2]) : [[k, v]]));
-  metrics.replaceChildren(...flat.map(([k, v]) => {
-    const tr = document.createElement("tr");
-    const text = Array.isArray(v) ? v.map((x) => formatNumber(x, 4)).join(", ") : formatNumber(v);
-    tr.append(cell("th", k), cell("td", text));
-    tr.firstChild.scope = "row";
-    return tr;
-  }));
+  else showModel(cal.model, cal.unit);
+  $("#result-model-h").textContent = cal.method === "noise" ? "The noise terms" : "The model as fitted";
+  showCorrection($("#result-correction"), cal, token, $("#result-fitted-note"));
+  fillFigures($("#result-metrics"), cal);
   showMagSpheres(cal);
   const perReading = Boolean(cal.readings && cal.readings.length);
   $("#result-readings").hidden = !perReading;

@@ -6,6 +6,8 @@ import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent,
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
 import { describePose, poseSvg, setDevice } from "./poses.js";
 import { BoardPanel } from "./board_panel.js";
+import { showCorrection } from "./correction_view.js";
+import { fillFigures } from "./figures.js";
 import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
@@ -287,6 +289,7 @@ function renderResult(s) {
   $("#result-reasons").replaceChildren(...(cal.reasons || []).map((r) => el("li", r)));
   const warnings = cal.warnings || [];
   $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
+  showCorrection($("#result-correction"), cal, s.token, $("#result-fitted-note"));
   if (cal.model.type === "cube") fillCubeModel(cal, cal.uncertainty || {});
   else if (cal.model.type === "triangular") fillTriangularModel(cal);
   else fillSixModel(cal, s.session);
@@ -301,13 +304,8 @@ function renderResult(s) {
   gyroLine.textContent = cal.gyroscope_bias ? gyroBiasText(cal.gyroscope_bias) : "";
   setHidden($("#result-advice-box"), !(cal.advice && cal.advice.length));
   $("#result-advice").replaceChildren(...(cal.advice || []).map((a) => el("li", adviceText(a))));
-  $("#result-metrics").replaceChildren(...Object.entries(cal.metrics || {})
-    .filter(([, v]) => v === null || typeof v !== "object") // the cube's lists stay in the JSON export
-    .map(([k, v]) => {
-      const tr = el("tr");
-      tr.append(el("th", k, { scope: "row" }), el("td", formatNumber(v)));
-      return tr;
-    }));
+  fillFigures($("#result-metrics"), { ...cal, metrics: Object.fromEntries(Object.entries(cal.metrics || {})
+    .filter(([, v]) => v === null || typeof v !== "object")) }); // the cube's lists stay in the JSON export
 }
 
 // The affine model m = X a + y, and |m| before and after per pose.

@@ -8,6 +8,8 @@ import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { CompassCoverage, COVERAGE_TO_SOLVE, MIN_READINGS, missingWords } from "./compass_flow.js";
 import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
+import { showCorrection } from "./correction_view.js";
+import { fillFigures } from "./figures.js";
 import { withInterval } from "./result.js";
 import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
@@ -213,12 +215,8 @@ function showResult(cal) {
   fillMatrix($("#result-M"), cal.model.M, unc.M);
   fillMatrix($("#result-b"), cal.model.b.map((v) => [v]), unc.b && unc.b.map((v) => [v]));
   $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
-  $("#result-metrics").replaceChildren(...Object.entries(m).map(([k, v]) => {
-    const tr = el("tr");
-    const shown = Array.isArray(v) ? v.join(", ") || "—" : Number.isInteger(v) ? String(v) : formatNumber(v);
-    tr.append(el("th", k, { scope: "row" }), el("td", shown));
-    return tr;
-  }));
+  fillFigures($("#result-metrics"), cal);
+  showCorrection($("#result-correction"), cal, null, $("#result-fitted-note"));
   resetUse();
   // Its own address (/c/{id}): a reload, a bookmark or the history finds it again.
   history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);

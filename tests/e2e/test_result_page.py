@@ -65,6 +65,23 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
         assert page.get_attribute("#use-file", "download").endswith(".json") or page.is_visible("#use-file")
         assert page.locator("#downloads a").count() >= 4  # every format, fetched
         page.click("#result-details summary")
+        # One naming: the correction the person applies, M = X⁻¹ and o = y, then the model as fitted.
+        page.wait_for_selector("#correction-acc-M td")
+        body = httpx.get(f"{server.url}/api/v1/calibrations/{cal_id}", timeout=60).json()
+        shown_m = np.array([float(v) for v in page.locator("#correction-acc-M td").all_text_contents()]).reshape(3, 3)
+        np.testing.assert_allclose(shown_m, np.linalg.inv(body["model"]["X"]), atol=5e-7)
+        shown_o = [float(v) for v in page.locator("#correction-acc-o td").all_text_contents()]
+        np.testing.assert_allclose(shown_o, body["model"]["y"], atol=5e-7)
+        assert "X = M⁻¹ and y = o" in page.text_content("#result-fitted-note")
+        # Every figure named in words with its unit and a line on what it is; no stored key on the page.
+        names = page.locator("#result-metrics th").all_text_contents()
+        assert names and not [n for n in names if re.search(r"\b[a-z]+_[a-z_]+\b", n)], names
+        assert page.locator("#result-metrics th .meaning").count() == len(names)
+        assert page.text_content("#result-metrics tr[data-key=error_after_mg] td").endswith(" mg")
+        assert "Readings to spare" in page.text_content("#result-metrics tr[data-key=dof] th")
+        visible = page.text_content("#result")
+        for key in ("fit_error_max", "cv_error_mg", "norm_error_max_raw", "six_position"):
+            assert key not in visible, key
         problems = layout_problems(page, "calibration_page", width)
 
         # A second device, then the history: both, newest first; the filter keeps one; its latest is a link.

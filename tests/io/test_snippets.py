@@ -158,3 +158,24 @@ def applied_mag(client, cal, reading):
 def test_a_noise_characterisation_has_no_example_to_apply(client):
     r = client.get("/api/v1/calibrations/cal_0123456789abcdef0123456789abcdef/use")
     assert r.status_code == 404 and json.loads(r.text)["code"] == "not_found"
+
+
+def test_the_triangular_model_s_o_is_applied_with_its_sign_turned(client, tmp_path):
+    """Farago et al. write a = K (v + o): the correction the person applies is f = M (m − o) with M = K and
+    o = −o_model, and the C lines, the JSON's correction and /use all carry that o."""
+    from app.calibration.advice import fibonacci_sphere
+
+    ups = fibonacci_sphere(14)
+    means = [(G * (X_TRUE @ u) + G * Y_TRUE).tolist() for u in ups]
+    r = client.post("/api/v1/calibrations", json={"method": "triangular", "means": means})
+    assert r.status_code == 201, r.text
+    cal = r.json()
+    use = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
+    c = use["corrections"]["acc"]
+    np.testing.assert_allclose(c["M"], cal["model"]["K"], rtol=1e-12, atol=1e-15)  # K through correction_of
+    np.testing.assert_allclose(c["o"], -np.array(cal["model"]["o"]), rtol=1e-12, atol=1e-12)
+    doc = client.get(f"/api/v1/calibrations/{cal['id']}/export", params={"format": "json"}).json()
+    assert doc["correction"]["o"] == c["o"] and doc["correction"]["M"] == c["M"]
+    m = [float(v) for v in use["c"].splitlines()[1].split("{")[1].split("}")[0].replace("f", "").split(",")]
+    f = run_c(client, cal, use["c"], tmp_path)
+    np.testing.assert_allclose(f, np.array(cal["model"]["K"]) @ (np.array(m) + np.array(cal["model"]["o"])), atol=2e-5)
