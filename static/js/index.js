@@ -123,6 +123,8 @@ function showSegments(rec) {
   // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
   const still = rec.channels.includes("acc");
   $("#compass-recording").hidden = !rec.channels.includes("mag");
+  $("#compass-place").hidden = !rec.channels.includes("mag");
+  if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
@@ -266,8 +268,52 @@ $("#calibrate-recording").addEventListener("click", () => calibrate({ method: "a
 $("#noise-recording").addEventListener("click", () => calibrate({ method: "noise", recording_id: recordingId },
   "Computing the Allan deviation…", "Noise characterisation refused", "#segments-msg"));
 
-$("#compass-recording").addEventListener("click", () => calibrate({ method: "magnetometer", recording_id: recordingId },
-  "Calibrating the compass…", "Compass calibration refused", "#segments-msg"));
+// The compass's place and date (the IGRF field there, app/geomag.py) or the field's strength, as the
+// request's latitude_deg, longitude_deg, date and field_ut; a half-given place is named, not sent.
+function compassPlace() {
+  const number = (sel) => ($(sel).value.trim() === "" ? null : Number($(sel).value));
+  const lat = number("#place-lat");
+  const lon = number("#place-lon");
+  const field = number("#place-field");
+  const out = {};
+  if ((lat === null) !== (lon === null)) throw new Error("give both the latitude and the longitude, or neither");
+  if (lat !== null) {
+    if (!(Math.abs(lat) <= 90)) throw new Error("the latitude is from −90° (south pole) to 90° (north pole)");
+    if (!(Math.abs(lon) <= 180)) throw new Error("the longitude is from −180° to 180°, east positive");
+    Object.assign(out, { latitude_deg: lat, longitude_deg: lon });
+    if ($("#place-date").value) out.date = $("#place-date").value;
+  }
+  if (field !== null) {
+    if (!(field > 0 && field <= 1000)) throw new Error("the field's strength is in µT, between 0 and 1000 (the Earth's: 22–67 µT)");
+    out.field_ut = field;
+  }
+  return out;
+}
+
+$("#compass-recording").addEventListener("click", () => {
+  let place;
+  try { place = compassPlace(); } catch (err) {
+    note("#place-msg", `Not calibrated: ${err.message}.`, true);
+    return;
+  }
+  note("#place-msg", "");
+  calibrate({ method: "magnetometer", recording_id: recordingId, ...place },
+    "Calibrating the compass…", "Compass calibration refused", "#segments-msg");
+});
+
+// Use my location: the Geolocation API, where the browser has it and the person allows it.
+$("#place-here").addEventListener("click", () => {
+  if (!navigator.geolocation) { note("#place-msg", "This browser gives no location: type the latitude and longitude.", true); return; }
+  note("#place-msg", "Asking this browser for its location…");
+  navigator.geolocation.getCurrentPosition((pos) => {
+    $("#place-lat").value = pos.coords.latitude.toFixed(4);
+    $("#place-lon").value = pos.coords.longitude.toFixed(4);
+    if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
+    note("#place-msg", `Location ${pos.coords.latitude.toFixed(2)}°, ${pos.coords.longitude.toFixed(2)}°: `
+      + "if the turn was made elsewhere, type its place instead.");
+  }, (err) => note("#place-msg", `No location (${err.message || "refused"}): type the latitude and longitude.`, true),
+  { timeout: 15000, maximumAge: 600000 });
+});
 
 $("#fill").addEventListener("click", () => {
   try {

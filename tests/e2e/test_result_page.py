@@ -213,3 +213,73 @@ def test_the_firmware_use_shows_the_lines_to_paste_which_gcc_builds_and_runs(bro
         assert not problems, "\n".join(problems)
     finally:
         context.close()
+
+
+def compass_log(tmp_path):
+    """A phyphox magnetometer log of a slow turn (tests/e2e/test_wizard_compass.py's spiral), in µT."""
+    from tests.e2e.test_wizard_compass import turn
+
+    readings, _ = turn(24, 48.0, n=400)
+    t = np.arange(len(readings)) / 10.0
+    path = tmp_path / "Raw Data.csv"
+    header = '"Time (s)","Magnetic field x (µT)","Magnetic field y (µT)","Magnetic field z (µT)"'
+    path.write_text(header + "\n" + "\n".join(",".join(f"{v:.6f}" for v in row)
+                                              for row in np.column_stack([t, readings])) + "\n", encoding="utf-8")
+    return path
+
+
+def test_the_compass_upload_takes_its_place_and_date_and_they_reach_the_model_s_field(browser, server, tmp_path):
+    """Use my location (the Geolocation API, here Chromium's override of Helsinki) and a date fill the
+    request's latitude_deg, longitude_deg and date; the calibrated strength is IGRF's there and then. A
+    strength typed instead is the field the model takes; half a place is named, not sent."""
+    from app.geomag import reference_field
+
+    context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1,
+                          geolocation={"latitude": 60.1699, "longitude": 24.9384}, permissions=["geolocation"])
+    try:
+        page = context.new_page()
+        sent = []
+        page.on("request", lambda r: sent.append(r.post_data_json)
+                if r.url.endswith("/api/v1/calibrations") and r.method == "POST" else None)
+        page.goto(server.url + "/")
+        page.set_input_files("#log-file", str(compass_log(tmp_path)))
+        page.click("#upload-form button[type=submit]")
+        page.wait_for_selector("#compass-place:not([hidden])")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")  # the estimated field, at once
+        page.click("#place-here")
+        page.wait_for_function("document.querySelector('#place-lat').value !== ''")
+        assert (page.input_value("#place-lat"), page.input_value("#place-lon")) == ("60.1699", "24.9384")
+        page.fill("#place-date", "2025-06-01")
+        problems = layout_problems(page, "compass_place", 390)
+        page.set_viewport_size({"width": 1280, "height": 900})
+        problems += layout_problems(page, "compass_place", 1280)
+        assert not problems, "\n".join(problems)
+        page.click("#compass-recording")
+        page.wait_for_function("document.querySelector('#result-metrics tr[data-key=field_source] td')"
+                               " && document.querySelector('#result-metrics tr[data-key=field_source] td').textContent === 'model'")
+        body = sent[-1]
+        assert (body["latitude_deg"], body["longitude_deg"], body["date"]) == (60.1699, 24.9384, "2025-06-01")
+        cal_id = CAL_PATH.search(page.url).group(1)
+        stored = httpx.get(f"{server.url}/api/v1/calibrations/{cal_id}", timeout=60).json()
+        want = reference_field("2025-06-01", 60.1699, 24.9384).field_ut
+        assert stored["metrics"]["field_ut"] == pytest.approx(want, rel=1e-9)
+        assert stored["metrics"]["field_date"] == "2025-06-01"
+
+        # A strength instead of a place: the field the model takes, as given.
+        page.fill("#place-lat", "")
+        page.fill("#place-lon", "")
+        page.fill("#place-field", "51.25")
+        page.click("#compass-recording")
+        page.wait_for_function("document.querySelector('#result-metrics tr[data-key=field_source] td').textContent === 'given'")
+        assert "latitude_deg" not in sent[-1] and sent[-1]["field_ut"] == 51.25
+        cal_id = CAL_PATH.search(page.url).group(1)
+        assert httpx.get(f"{server.url}/api/v1/calibrations/{cal_id}", timeout=60).json()["metrics"]["field_ut"] == 51.25
+        # Half a place is named and nothing is sent.
+        n = len(sent)
+        page.fill("#place-field", "")
+        page.fill("#place-lat", "45")
+        page.click("#compass-recording")
+        page.wait_for_selector("#place-msg.bad")
+        assert "both the latitude and the longitude" in page.text_content("#place-msg") and len(sent) == n
+    finally:
+        context.close()
