@@ -653,6 +653,23 @@ class SnippetsOut(BaseModel):
                                                            "null when the calibration takes them as they are.")
 
 
+class LinkOut(BaseModel):
+    code: str = Field(description="Ten letters and digits, typed or scanned on the other device.")
+    calibration_id: str
+    created_at: str
+    expires_at: str = Field(description="After this (TRICAL_LINK_TTL_MIN from its making) the link reads nothing.")
+    url: str = Field(description="The link's page, /s/CODE, on this server.")
+    qr: str = Field(description="The QR code of url, an SVG data: URI.")
+
+
+class LinkOpened(BaseModel):
+    code: str
+    calibration_id: str
+    expires_at: str
+    token: str = Field(description="`Authorization: Bearer` value that reads this calibration (and no other) "
+                                   "until expires_at.")
+
+
 class ApplyIn(Strict):
     samples: Annotated[list[Vec3], Field(min_length=1, max_length=1_000_000)]
     sensor: Literal["acc", "gyr", "mag"] = Field("acc", description="Which sensor's model to apply (cube).")

@@ -119,6 +119,21 @@ def calibration_page(request: Request, calibration_id: str, device: str | None =
     }, status_code=404 if problem else 200)
 
 
+LINK_CODE = re.compile(r"^[2-9A-HJKMNP-Za-hjkmnp-z]{10}$")
+"""A short link's code (app/store/repository.py LINK_ALPHABET, either case)."""
+
+
+@router.get("/s/{code}", response_class=HTMLResponse)
+def link_page(request: Request, code: str):
+    """A short link sent from the phone: the calibration it opens, read with the link until it expires."""
+    problem = None if LINK_CODE.match(code) else (
+        f"“{code[:40]}” is not a link's code: a code is ten letters and digits, as the phone showed it.")
+    return _templates(request).TemplateResponse(request, "calibration.html", {
+        "calibration_id": None, "device": None, "link": None if problem else code.upper(),
+        "problem": problem, "tables": None if problem else page_tables(),
+    }, status_code=404 if problem else 200)
+
+
 @router.get("/history", response_class=HTMLResponse)
 def history_page(request: Request, device: str | None = None):
     """The owner's calibrations, newest first (device, method, verdict, date), filtered by device."""

@@ -99,3 +99,13 @@ export function listCalibrations(token = null, device = null, limit = 100) {
 export function getUse(id, token = null) {
   return request(`/api/v1/calibrations/${encodeURIComponent(id)}/use`, { headers: bearer(token) });
 }
+
+// A short link that reads the calibration for a while: {code, url, qr, expires_at}.
+export function createLink(id, token = null) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/links`, { method: "POST", headers: bearer(token) });
+}
+
+// What a link's code opens: {calibration_id, expires_at, token}.
+export function openLink(code) {
+  return request(`/api/v1/links/${encodeURIComponent(code)}`);
+}

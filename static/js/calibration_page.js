@@ -1,13 +1,14 @@
 // A stored calibration's own page, /c/{id} (or /c/latest?device=NAME): read through the API with
 // the token this browser keeps for it (tokens.js), then shown by the one result view (result_view.js).
-import { ApiError, getCalibration, listCalibrations } from "./api.js";
+import { ApiError, getCalibration, listCalibrations, openLink } from "./api.js";
 import { showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
-import { candidates, rememberApiKey } from "./tokens.js";
+import { candidates, rememberApiKey, rememberToken } from "./tokens.js";
 
 const $ = (sel) => document.querySelector(sel);
 const root = $("#calibration-page");
-const id = root.dataset.id;
+let id = root.dataset.id;
+const link = root.dataset.link;
 const device = root.dataset.device;
 
 // The first token that opens it: 401 (a server with keys) and 404 (another owner's) try the next;
@@ -30,10 +31,20 @@ async function read() {
 
 function when(iso) { return iso ? iso.replace("T", " ").replace(/\.\d+Z$/, " UTC") : ""; }
 
+// A short link sent from the phone (/s/CODE): the calibration it opens, its token kept for the
+// calibration's own address, which replaces the link's in the address bar.
+async function follow() {
+  const opened = await openLink(link);
+  id = opened.calibration_id;
+  rememberToken(id, opened.token);
+  history.replaceState(null, "", `/c/${encodeURIComponent(id)}`);
+}
+
 async function load() {
   $("#cal-loading").hidden = false;
   $("#cal-access").hidden = true;
   try {
+    if (link && !id) await follow();
     const { cal, token } = await read();
     $("#cal-loading").hidden = true;
     const meta = $("#cal-meta");
@@ -48,14 +59,14 @@ async function load() {
     $("#cal-loading").hidden = true;
     const box = $("#cal-access");
     const why = err.code === "unauthorized"
-      ? `This server needs an API key to read its calibrations (${err.message}).`
+      ? `Not readable here: ${err.message}.`
       : err.code === "not_found"
         ? (id ? `No calibration ${id} is readable with what this browser keeps: a phone calibration opens only in `
           + "the browser that made it (or with the link it sends), an upload only with the API key that made it."
           : `${err.message}.`)
         : `The calibration could not be read: ${err.message}.`;
     $("#cal-access-why").textContent = why;
-    $("#cal-key-form").hidden = err.code !== "unauthorized" && err.code !== "not_found";
+    $("#cal-key-form").hidden = Boolean(link) || (err.code !== "unauthorized" && err.code !== "not_found");
     box.hidden = false;
     box.focus();
     $("#status").textContent = why;

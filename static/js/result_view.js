@@ -8,6 +8,7 @@ import { showCorrection } from "./correction_view.js";
 import { fillFigures } from "./figures.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
+import { offerSend } from "./send.js";
 import { TABLES } from "./tables.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
@@ -141,6 +142,7 @@ export function showCalibration(cal, token = null) {
   if (cal.method === "noise") $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
   else $("#result-allan img").removeAttribute("src");
   shown = cal;
+  offerSend(cal, token);
   resetUse(); // the files follow as they are fetched
   fetchDownloads(cal, token).then((downloads) => { if (shown === cal) showUse(cal, downloads); });
 }

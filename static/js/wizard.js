@@ -13,6 +13,7 @@ import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, w
 import { sphereSvg } from "./sphere.js";
 import { cue, unlockCues } from "./cues.js";
 import { fetchDownloads, showUse, showVerdict } from "./use_calibration.js";
+import { offerSend } from "./send.js";
 import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, instruct, newState } from "./wizard_state.js";
@@ -477,6 +478,7 @@ async function finish(cal) {
   // Its own address (/c/{id}): a reload, a bookmark or the history finds it again, with the session's
   // token kept for it (only that token reads it). The page stays: a board stays connected for Send.
   rememberToken(cal.id, state.token);
+  offerSend(cal, state.token);
   history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   board.offer(cal, state.token);
   v.downloads = await fetchDownloads(cal, state.token);

@@ -10,6 +10,7 @@ import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
 import { showCorrection } from "./correction_view.js";
 import { fillFigures } from "./figures.js";
+import { offerSend } from "./send.js";
 import { withInterval } from "./result.js";
 import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
@@ -221,6 +222,7 @@ function showResult(cal) {
   // Its own address (/c/{id}): a reload, a bookmark or the history finds it again.
   history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   board.offer(cal);
+  offerSend(cal);
   fetchDownloads(cal).then((downloads) => { if (state.shown === cal) showUse(cal, downloads); });
   box.focus();
   cue(cal.verdict.apply ? "captured" : "refused");

@@ -153,7 +153,7 @@ def test_with_api_keys_the_page_asks_for_the_key_and_reads_with_it(browser, tmp_
         page = context.new_page()
         page.goto(f"{s.url}/c/{r.json()['id']}")
         page.wait_for_selector("#cal-access:not([hidden])")
-        assert "needs an API key" in page.text_content("#cal-access-why")
+        assert "needs an API key" in page.text_content("#cal-access-why")  # the server's words
         page.fill("#cal-key", "not-the-key")
         page.click("#cal-key-form button")
         page.wait_for_function("document.querySelector('#cal-access-why').textContent.includes('not valid')")
@@ -281,5 +281,75 @@ def test_the_compass_upload_takes_its_place_and_date_and_they_reach_the_model_s_
         page.click("#compass-recording")
         page.wait_for_selector("#place-msg.bad")
         assert "both the latitude and the longitude" in page.text_content("#place-msg") and len(sent) == n
+    finally:
+        context.close()
+
+
+def decode_qr(png: bytes) -> str:
+    """The text of the one QR code in a screenshot (zxing-cpp)."""
+    import io
+
+    import zxingcpp
+    from PIL import Image
+
+    found = zxingcpp.read_barcodes(Image.open(io.BytesIO(png)).convert("L"))
+    assert len(found) == 1, f"{len(found)} codes found"
+    return found[0].text
+
+
+@pytest.mark.parametrize("width", [390, 1280])
+def test_send_to_my_computer_without_web_share_shows_a_qr_of_a_short_link_the_computer_opens(browser, server, width):
+    """The phone (no Web Share API) shows a QR code and a short link; the QR decodes to the link, which a
+    second browser (the computer, keeping nothing) opens into the calibration's page with its files."""
+    cal_id, token = session_calibration(server.url)
+    phone = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1)
+    computer = axe_context(browser, viewport={"width": 1280, "height": 900}, device_scale_factor=1)
+    try:
+        page = phone.new_page()
+        page.add_init_script("delete Navigator.prototype.share; delete Navigator.prototype.canShare;")
+        page.goto(server.url + "/")
+        page.evaluate("([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))", [cal_id, token])
+        page.goto(f"{server.url}/c/{cal_id}")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        page.click("#send-btn")
+        page.wait_for_selector("#send-box:not([hidden])")
+        page.wait_for_function("document.querySelector('#send-qr').complete && document.querySelector('#send-qr').naturalWidth > 0")
+        url = page.text_content("#send-url")
+        assert re.fullmatch(re.escape(server.url) + r"/s/[2-9A-HJKMNP-Z]{10}", url), url
+        assert decode_qr(page.locator("#send-qr").screenshot()) == url  # the QR read back is the link
+        assert "opens this calibration until" in page.text_content("#send-expires")
+        problems = layout_problems(page, "send_fallback", width)
+        assert not problems, "\n".join(problems)
+
+        other = computer.new_page()
+        other.goto(url)
+        other.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert other.url == f"{server.url}/c/{cal_id}"  # the calibration's own address, the link's token kept for it
+        assert other.locator("#downloads a").count() >= 4 and cal_id in other.text_content("#cal-meta")
+        other.reload()
+        other.wait_for_selector("#downloads[data-ready=true]", state="attached")
+    finally:
+        phone.close()
+        computer.close()
+
+
+def test_send_to_my_computer_hands_the_link_to_the_web_share_api(browser, server):
+    cal_id, token = session_calibration(server.url)
+    context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
+    try:
+        page = context.new_page()
+        # A phone's share sheet, as the page calls it (navigator.share resolves once the person picked a target).
+        page.add_init_script("navigator.share = async (data) => { window.__shared = data; };"
+                             "navigator.canShare = () => true;")
+        page.goto(server.url + "/")
+        page.evaluate("([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))", [cal_id, token])
+        page.goto(f"{server.url}/c/{cal_id}")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        page.click("#send-btn")
+        page.wait_for_function("window.__shared !== undefined")
+        shared = page.evaluate("window.__shared")
+        assert re.fullmatch(re.escape(server.url) + r"/s/[2-9A-HJKMNP-Z]{10}", shared["url"])
+        assert shared["text"] == page.text_content("#verdict-words")
+        assert page.is_hidden("#send-box") and "Sent: the link opens it until" in page.text_content("#send-msg")
     finally:
         context.close()
