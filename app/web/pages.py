@@ -14,7 +14,7 @@ from app.qr import qr_svg_data_uri
 from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 from app.tls import lan_addresses
 
-from .tables import POSE_NAMES, page_tables
+from .tables import POSE_NAMES, POSE_SHORT, page_tables
 
 router = APIRouter(include_in_schema=False)
 
@@ -86,7 +86,7 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
     context = {
         "protocol": protocol, "capture_s": seconds, "problem": problem, "protocols": PROTOCOLS,
         "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
-        "poses": [(label, POSE_NAMES[label]) for label in CANONICAL_SIX],
+        "poses": [(label, POSE_NAMES[label], POSE_SHORT[label]) for label in CANONICAL_SIX],
         "tables": None if problem else page_tables(),
     }
     if problem:

@@ -106,6 +106,10 @@ def unit_tables() -> dict:
     }
 
 
+POSE_SHORT = {"+z": "screen up", "-z": "screen down", "+y": "standing", "-y": "upside down",
+              "+x": "left edge down", "-x": "right edge down"}
+"""Each of the six poses in two or three words, under its thumbnail (the axis code is a grey note)."""
+
 METHOD_NAMES = {
     "six_position": "six positions (accelerometer)",
     "orientations": "known orientations (accelerometer)",
@@ -145,6 +149,7 @@ def page_tables() -> dict:
             "order": list(CANONICAL_SIX),
             "up": {label: [int(v) for v in UP_VECTORS[label]] for label in CANONICAL_SIX},
             "names": {label: POSE_NAMES[label] for label in CANONICAL_SIX},
+            "short": {label: POSE_SHORT[label] for label in CANONICAL_SIX},
         },
         "capture": capture_thresholds(),
         "cube": {"maxAngleDeg": sessions.PAGE_CUBE_FACE_MAX_ANGLE_DEG},

@@ -4,7 +4,7 @@
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
-import { describePose, poseSvg, setDevice } from "./poses.js";
+import { describePose, nextPose, poseSvg, setDevice, shortPose } from "./poses.js";
 import { BoardPanel } from "./board_panel.js";
 import { showCorrection } from "./correction_view.js";
 import { fillFigures } from "./figures.js";
@@ -113,6 +113,8 @@ function render(s) {
   else if (free) renderFree(s);
   else renderPoses(s);
   setText($("#instruction"), v.instruction);
+  setText($("#instruction-code"), v.instructionCode || "");
+  setHidden($("#instruction-code"), !v.instructionCode);
   renderLive(s);
   setHidden($("#result"), !v.result);
   renderResult(s);
@@ -262,11 +264,15 @@ function renderLive(s) {
   $("#still-text").textContent = text;
   $("#progress").value = out.state === "capturing" ? out.progress : 0;
   const pic = $("#live-pose");
-  const shown = out.still && out.angleDeg <= s.machine.o.maxAngleDeg ? out.pose : "";
+  const seen = out.still && out.angleDeg <= s.machine.o.maxAngleDeg ? out.pose : "";
+  // Before the phone is in a pose, the six flow's next pose, large, in words: the person sees where to
+  // turn it before turning it (flow_six.js names the same pose in the instruction).
+  const next = !seen && !cube && !free && s.session ? nextPose(s.machine.remaining()) : null;
+  const shown = seen || (next ? `next ${next}` : "");
   if (pic.dataset.pose !== shown) {
     pic.dataset.pose = shown;
-    pic.innerHTML = shown ? poseSvg(shown, 176) : "";
-    $("#live-pose-words").textContent = shown ? `Now: ${describePose(shown)}` : "";
+    pic.innerHTML = seen ? poseSvg(seen, 176) : next ? poseSvg(next, 176) : "";
+    $("#live-pose-words").textContent = seen ? `Now: ${describePose(seen)}` : next ? `Next: ${describePose(next)}` : "";
   }
 }
 
@@ -406,7 +412,7 @@ async function ensureSession() {
     remember();
     v.keyBox = false;
     v.startOver = true;
-    instruct(state, flow.firstInstruction(state));
+    instruct(state, flow.firstInstruction(state), flow.firstCode ? flow.firstCode(state) : null);
   } catch (err) {
     if (err.code === "unauthorized") {
       v.keyBox = true;
@@ -603,6 +609,7 @@ function startBoard() {
     state.device = "board";
     setDevice("board");
     for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic, null);
+    for (const words of document.querySelectorAll("[data-words]")) words.textContent = shortPose(words.dataset.words);
     for (const li of document.querySelectorAll("#poses li")) { // the words a screen reader says, a board's
       const pose = li.dataset.pose;
       li.querySelector(".pose-text .sr-only").textContent = ` ${describePose(pose)}`;
@@ -624,7 +631,8 @@ function startBoard() {
   v.capture = true;
   v.resumePic = null;
   v.current = null;
-  instruct(state, state.session ? flow.firstInstruction(state) : "Waiting for the board's readings…");
+  instruct(state, state.session ? flow.firstInstruction(state) : "Waiting for the board's readings…",
+    state.session && flow.firstCode ? flow.firstCode(state) : null);
   announce(state, "The board is connected: its readings are the sensor now.");
   v.focus = "#capture-h";
   render(state);
