@@ -8,6 +8,7 @@ import { showCorrection } from "./correction_view.js";
 import { fillFigures } from "./figures.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
+import { normChartSvg, normRows, triangularAsAffine } from "./result.js";
 import { offerSend } from "./send.js";
 import { TABLES } from "./tables.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
@@ -102,6 +103,27 @@ function showMagSpheres(cal) {
   $("#result-mag").replaceChildren(fig(svgs.before, "Before: the raw readings m"), fig(svgs.after, "After: h = M (m − b)"), legend);
 }
 
+// |m| before and |a| after per position against g, as the wizard draws it: an affine model's readings
+// (six positions, known orientations) or a session's captures (free poses: the triangular model as
+// m = X a + y; a cube's accelerometer, raw = S f + b).
+function showNorms(cal) {
+  let model = null;
+  let means = [];
+  if (cal.model.type === "affine") {
+    model = cal.model;
+    means = (cal.readings || []).filter((r) => r.up && r.mean).map((r) => ({ position: r.up, mean: r.mean }));
+  } else if (cal.model.type === "triangular" && cal.captures) {
+    model = triangularAsAffine(cal.model);
+    means = cal.captures;
+  } else if (cal.model.type === "cube" && cal.model.acc && cal.captures) {
+    model = { X: cal.model.acc.S, y: cal.model.acc.b };
+    means = cal.captures;
+  }
+  means = means.filter((c) => c.position && c.mean);
+  $("#result-norms").hidden = !(model && means.length);
+  $("#norm-chart").innerHTML = model && means.length ? normChartSvg(normRows(model, means), cal.gravity || 9.80665) : "";
+}
+
 // The calibration `cal` (the API's body, with its verdict) on the page; its files are fetched with
 // `token` (a wizard session's, or an API key; none on a server without keys).
 export function showCalibration(cal, token = null) {
@@ -124,6 +146,7 @@ export function showCalibration(cal, token = null) {
   showCorrection($("#result-correction"), cal, token, $("#result-fitted-note"));
   fillFigures($("#result-metrics"), cal);
   showMagSpheres(cal);
+  showNorms(cal);
   const perReading = Boolean(cal.readings && cal.readings.length);
   $("#result-readings").hidden = !perReading;
   $("#result-readings-h").hidden = !perReading;

@@ -64,6 +64,7 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
         assert f"Device bench-imu-{width}" in page.text_content("#cal-meta") and cal_id in page.text_content("#cal-meta")
         assert page.get_attribute("#use-file", "download").endswith(".json") or page.is_visible("#use-file")
         assert page.locator("#downloads a").count() >= 4  # every format, fetched
+        assert page.is_visible("#result-norms") and page.locator("#norm-chart svg circle").count() == 12  # as the wizard draws it
         page.click("#result-details summary")
         # One naming: the correction the person applies, M = X⁻¹ and o = y, then the model as fitted.
         page.wait_for_selector("#correction-acc-M td")
