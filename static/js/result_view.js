@@ -5,7 +5,7 @@
 // readings and the notes.
 import { exportUrl } from "./api.js";
 import { showCorrection } from "./correction_view.js";
-import { fillFigures } from "./figures.js";
+import { fillFigures, pageWords } from "./figures.js";
 import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
 import { normChartSvg, normRows, triangularAsAffine } from "./result.js";
@@ -139,7 +139,7 @@ export function showCalibration(cal, token = null) {
   const words = (text) => text.replace(/\b[a-z]+(?:_[a-z]+)+\b|\b(?:triangular|nonorthogonal|autocal|orientations)\b/g,
     (key) => TABLES.methods[key] || key);
   choice.textContent = cal.choice ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, ${words(cal.choice.why)}.` : "";
-  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
+  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", pageWords(w))));
   if (cal.method === "noise") showNoise(cal);
   else showModel(cal.model, cal.unit);
   $("#result-model-h").textContent = cal.method === "noise" ? "The noise terms" : "The model as fitted";

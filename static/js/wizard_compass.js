@@ -9,7 +9,7 @@ import { CompassCoverage, COVERAGE_TO_SOLVE, MIN_READINGS, missingWords } from "
 import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
 import { showCorrection } from "./correction_view.js";
-import { fillFigures } from "./figures.js";
+import { fillFigures, pageWords } from "./figures.js";
 import { offerSend } from "./send.js";
 import { withInterval } from "./result.js";
 import { TABLES } from "./tables.js";
@@ -215,7 +215,7 @@ function showResult(cal) {
   const unc = cal.uncertainty || {};
   fillMatrix($("#result-M"), cal.model.M, unc.M);
   fillMatrix($("#result-b"), cal.model.b.map((v) => [v]), unc.b && unc.b.map((v) => [v]));
-  $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
+  $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", pageWords(w))));
   fillFigures($("#result-metrics"), cal);
   showCorrection($("#result-correction"), cal, null, $("#result-fitted-note"));
   resetUse();
