@@ -1,9 +1,9 @@
 // The history: every calibration this browser can read (no token or the API key it was given, and
 // each wizard session's token kept in tokens.js), newest first, filtered by device; a device's
 // latest calibration is one link, /c/latest?device=NAME.
-import { listCalibrations } from "./api.js";
+import { getCalibration, listCalibrations } from "./api.js";
 import { TABLES } from "./tables.js";
-import { apiKey, rememberApiKey, sessionTokens } from "./tokens.js";
+import { apiKey, linkedCalibrations, rememberApiKey, sessionTokens } from "./tokens.js";
 
 const $ = (sel) => document.querySelector(sel);
 const root = $("#history");
@@ -24,8 +24,10 @@ async function readAll() {
       return [];
     }
   }));
+  // Those a link sent here opened: one each, while the link holds.
+  const linked = await Promise.all(linkedCalibrations().map(([id, token]) => getCalibration(id, token).catch(() => null)));
   const seen = new Map();
-  for (const cal of lists.flat()) seen.set(cal.id, cal);
+  for (const cal of [...lists.flat(), ...linked.filter(Boolean)]) seen.set(cal.id, cal);
   return { cals: [...seen.values()].sort((a, b) => (a.created_at < b.created_at ? 1 : -1)), needKey };
 }
 

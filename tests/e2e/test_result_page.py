@@ -331,6 +331,8 @@ def test_send_to_my_computer_without_web_share_shows_a_qr_of_a_short_link_the_co
         assert other.locator("#downloads a").count() >= 4 and cal_id in other.text_content("#cal-meta")
         other.reload()
         other.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        other.goto(server.url + "/history")  # the computer's history lists it while the link holds
+        other.wait_for_selector(f"#history-table tr[data-id='{cal_id}']")
     finally:
         phone.close()
         computer.close()
