@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from app.calibration import STANDARD_GRAVITY
+
 from .export_common import SENSORS, sensor_corrections, unit_label
 from .formats.chips import CHIPS
 
@@ -52,7 +54,7 @@ def input_scale(sensor: str, unit: str | None, read_with: dict | None) -> dict |
 def _sample(c, scale: dict | None, field_ut: float | None) -> list[float]:
     """What the sensor reads at rest with its z axis up, as the driver gives it (counts when a scale
     applies): the reading that calibrates to (0, 0, g), or (0, 0, F) for the compass."""
-    up = {"g": 1.0, "m/s^2": 9.80665}.get(c.output_unit, 0.0)
+    up = {"g": 1.0, "m/s^2": STANDARD_GRAVITY}.get(c.output_unit, 0.0)
     if c.sensor == "mag":
         up = field_ut or 50.0
     elif c.sensor == "gyr":

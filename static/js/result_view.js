@@ -121,7 +121,7 @@ function showNorms(cal) {
   }
   means = means.filter((c) => c.position && c.mean);
   $("#result-norms").hidden = !(model && means.length);
-  $("#norm-chart").innerHTML = model && means.length ? normChartSvg(normRows(model, means), cal.gravity || 9.80665) : "";
+  $("#norm-chart").innerHTML = model && means.length ? normChartSvg(normRows(model, means), cal.gravity || TABLES.gravity) : "";
 }
 
 // The calibration `cal` (the API's body, with its verdict) on the page; its files are fetched with

@@ -29,6 +29,9 @@ def test_a_calibration_s_page_and_the_history_read_in_webkit(webkit, server, wid
     assert webkit.text("#verdict-words") == cal["verdict"]["words"]
     assert f"wk-board-{width}" in webkit.text("#cal-meta")
     assert webkit.js("document.querySelectorAll('#downloads a').length") >= 4
+    webkit.wait("!!document.querySelector('#correction-acc-M td')", 20, "the correction M, o in the details")
+    assert not webkit.js("document.querySelector('#send').hidden")  # Send to my computer, offered
+    assert webkit.js("document.querySelectorAll('#norm-chart svg circle').length") == 12
     assert not webkit.scrolls_sideways(), f"/c/{{id}} scrolls sideways at {width} px"
     webkit.shot(f"calibration_page_{width}")
 
