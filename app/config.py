@@ -79,6 +79,9 @@ class Settings(BaseSettings):
     free_target_mg : float
         The cross-validated error (mg of g) that ends a free wizard session (TRICAL_FREE_TARGET_MG),
         unless the session sets its own ``target_mg``.
+    link_ttl_min : float
+        How long a calibration's short link, sent from the phone to a computer, reads it
+        (TRICAL_LINK_TTL_MIN).
     """
 
     model_config = SettingsConfigDict(env_prefix="TRICAL_", env_ignore_empty=True, frozen=True,
@@ -98,6 +101,7 @@ class Settings(BaseSettings):
     data_dir: Path | None = None
     public_url: str | None = None
     free_target_mg: float = Field(2.0, gt=0, le=1000, allow_inf_nan=False)
+    link_ttl_min: float = Field(60.0, gt=0, le=7 * 24 * 60, allow_inf_nan=False)
     static_dir: Path = PROJECT_ROOT / "static"
     templates_dir: Path = PROJECT_ROOT / "templates"
 

@@ -2,8 +2,8 @@
 
 from fastapi import APIRouter
 
-from . import calibrations, health, recordings, sessions
+from . import calibrations, health, links, recordings, sessions
 
 router = APIRouter()
-for module in (health, calibrations, recordings, sessions):
+for module in (health, calibrations, links, recordings, sessions):
     router.include_router(module.router)

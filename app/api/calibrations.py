@@ -8,9 +8,10 @@ from fastapi.responses import Response
 
 from app import workflow
 from app.api.deps import get_owner, get_store
-from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut
+from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, SnippetsOut
 from app.io.exporters import ALL_FORMATS, export_calibration
-from app.store import Store
+from app.io.snippets import usage_snippets
+from app.store import NotFoundError, Store
 from app.verdict import with_verdict
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
@@ -67,6 +68,20 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
     out = export_calibration(store.get_calibration(calibration_id, owner=owner), format)
     return Response(out.content, media_type=out.media_type,
                     headers={"Content-Disposition": f'attachment; filename="{out.filename}"'})
+
+
+@router.get("/{calibration_id}/use", response_model=SnippetsOut, summary="How to apply it: the corrections and paste-ready lines")
+def snippets(calibration_id: str, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
+    """Paste-ready lines that apply the calibration: C over its header, Python and JavaScript over its JSON;
+    a board's counts scaled into the calibration's unit by the part its recording was read with."""
+    body = store.get_calibration(calibration_id, owner=owner)
+    read_with = None
+    if body.get("recording_id"):
+        try:
+            read_with = store.get_recording(body["recording_id"], owner=owner)[0].get("read_with")
+        except NotFoundError:
+            read_with = None  # a recording deleted since: the examples name a common part's figure instead
+    return usage_snippets(body, read_with)
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")

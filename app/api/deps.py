@@ -9,7 +9,7 @@ import secrets
 from fastapi import Request
 
 from app.config import Settings
-from app.store import Store
+from app.store import NotFoundError, Store
 
 
 class Unauthorized(Exception):
@@ -56,6 +56,24 @@ def session_of_token(request: Request, token: str | None) -> str | None:
     return session_id
 
 
+LINK_TOKEN_PREFIX = "lnk_"
+"""A short link's code as a bearer token (``lnk_<code>``): it reads its one calibration as its owner."""
+
+
+def link_owner(request: Request, token: str | None) -> tuple[bool, str | None]:
+    """(True, the owner) when ``token`` is a link's that holds for the calibration this request names;
+    (False, None) for any other token. An expired link, or one used for another calibration, is a 401."""
+    if token is None or not token.startswith(LINK_TOKEN_PREFIX):
+        return False, None
+    try:
+        link = get_store(request).open_link(token[len(LINK_TOKEN_PREFIX):])
+    except NotFoundError as exc:
+        raise Unauthorized(str(exc)) from None
+    if request.path_params.get("calibration_id") != link["calibration_id"]:
+        raise Unauthorized("a link reads its own calibration only: open the address it came with")
+    return True, link["owner"]
+
+
 def get_owner(request: Request) -> str | None:
     """Who is calling: None when API keys are off, else a stable id derived from the key.
 
@@ -65,6 +83,9 @@ def get_owner(request: Request) -> str | None:
     session created and nothing else (docs/rest.md, sessions).
     """
     token = bearer_token(request)
+    is_link, owner = link_owner(request, token)
+    if is_link:
+        return owner
     session_id = session_of_token(request, token)
     if session_id is not None:
         return session_owner(session_id)

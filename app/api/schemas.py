@@ -705,6 +705,50 @@ class CalibrationList(BaseModel):
     items: list[CalibrationOut]
 
 
+class ScaleOut(BaseModel):
+    op: Literal["/", "*"] = Field(description="Counts `op` value gives the calibration's input unit.")
+    value: float
+    words: str = Field(description="What the figure is, and where it comes from.")
+    known: bool = Field(description="True when the upload named the part (chip, lsb_per_g); false for a common "
+                                    "part's figure the person should check against the datasheet.")
+
+
+class CorrectionOut(BaseModel):
+    M: Mat3Out = Field(description="f = M (m − o): what a reading is multiplied by after the offset is taken off.")
+    o: Vec3Out = Field(description="The offset taken off each reading, in the input unit.")
+    input_unit: str | None
+    output_unit: str | None
+    source: str = Field(description="How M and o come from the model's own parameters (e.g. M = X⁻¹, o = y).")
+
+
+class SnippetsOut(BaseModel):
+    corrections: dict[str, CorrectionOut] = Field(description="Each sensor's correction, by acc, gyr, mag.")
+    c: str = Field(description="Lines over the C header: a reading scaled to the header's unit and passed through "
+                               "trical_<sensor>_apply.")
+    python: str = Field(description="numpy over the JSON export.")
+    javascript: str = Field(description="JavaScript over the JSON export, for a phone app.")
+    functions: dict[str, str] = Field(description="The C header's apply function of each sensor.")
+    scales: dict[str, ScaleOut | None] = Field(description="How a sensor's int16 counts become the input unit; "
+                                                           "null when the calibration takes them as they are.")
+
+
+class LinkOut(BaseModel):
+    code: str = Field(description="Ten letters and digits, typed or scanned on the other device.")
+    calibration_id: str
+    created_at: str
+    expires_at: str = Field(description="After this (TRICAL_LINK_TTL_MIN from its making) the link reads nothing.")
+    url: str = Field(description="The link's page, /s/CODE, on this server.")
+    qr: str = Field(description="The QR code of url, an SVG data: URI.")
+
+
+class LinkOpened(BaseModel):
+    code: str
+    calibration_id: str
+    expires_at: str
+    token: str = Field(description="`Authorization: Bearer` value that reads this calibration (and no other) "
+                                   "until expires_at.")
+
+
 class ApplyIn(Strict):
     samples: Annotated[list[Vec3], Field(min_length=1, max_length=1_000_000)]
     sensor: Literal["acc", "gyr", "mag"] = Field("acc", description="Which sensor's model to apply (cube).")

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import json
 import secrets
-from datetime import datetime, timezone
+from datetime import datetime, timedelta, timezone
 from pathlib import Path
 
 from sqlalchemy import Engine, select, update
@@ -22,7 +22,7 @@ from sqlalchemy.dialects import postgresql, sqlite
 from . import migrate
 from .errors import ConflictError, NotFoundError  # noqa: F401  (raised here, named by the callers)
 from .engine import WRITE
-from .schema import calibrations, recording_files, recordings, session_captures, sessions
+from .schema import calibrations, links, recording_files, recordings, session_captures, sessions
 
 
 def new_id(prefix: str) -> str:
@@ -30,8 +30,15 @@ def new_id(prefix: str) -> str:
     return f"{prefix}_{secrets.token_hex(16)}"
 
 
-def utc_now() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="milliseconds").replace("+00:00", "Z")
+def utc_now(after_s: float = 0.0) -> str:
+    when = datetime.now(timezone.utc) + timedelta(seconds=after_s)
+    return when.isoformat(timespec="milliseconds").replace("+00:00", "Z")
+
+
+LINK_ALPHABET = "23456789ABCDEFGHJKMNPQRSTUVWXYZ"
+"""A link's code is typed from a phone's screen: no 0/O, 1/I/L."""
+LINK_LENGTH = 10
+"""31**10, about 2**49 codes: not guessed within a link's hour under the rate limit."""
 
 
 def _json(value) -> str:
@@ -102,6 +109,32 @@ class Store:
             query = query.where(calibrations.c.device_id == device_id)
         query = query.order_by(calibrations.c.created_at.desc(), calibrations.c.id).limit(limit)
         return [json.loads(row.body) for row in self._read(query)]
+
+    # -- links ----------------------------------------------------------------------------
+
+    def add_link(self, calibration_id: str, *, owner: str | None, ttl_s: float) -> dict:
+        """A short link to the owner's calibration that reads it for ``ttl_s`` seconds: ``code``,
+        ``calibration_id``, ``created_at``, ``expires_at``. Another owner's calibration is not found."""
+        self.get_calibration(calibration_id, owner=owner)
+        row = {"code": "".join(secrets.choice(LINK_ALPHABET) for _ in range(LINK_LENGTH)),
+               "calibration_id": calibration_id, "owner": owner, "created_at": utc_now(),
+               "expires_at": utc_now(ttl_s)}
+        with self._writer.begin() as db:
+            db.execute(links.insert().values(**row))
+        return {k: v for k, v in row.items() if k != "owner"}
+
+    def open_link(self, code: str) -> dict:
+        """The link ``code`` while it holds: ``calibration_id``, ``owner``, ``expires_at``. An unknown
+        code, or one past its time, is not found, with a message saying to send it again."""
+        rows = self._read(select(links).where(links.c.code == code.upper()))
+        if not rows:
+            raise NotFoundError(f"no link {code!r}: check the address, or send it again from the device that made "
+                                "the calibration")
+        row = rows[0]._asdict()
+        if row["expires_at"] <= utc_now():
+            raise NotFoundError(f"the link {code!r} expired at {row['expires_at']}: send it again from the device "
+                                "that made the calibration")
+        return row
 
     # -- recordings -----------------------------------------------------------------------
 

@@ -64,3 +64,13 @@ session_captures = Table(
     Column("samples", Text, nullable=False),  # the raw samples of the pose (and of the move to it), JSON
     PrimaryKeyConstraint("session_id", "position"),
 )
+
+links = Table(
+    "links", metadata,
+    Column("code", Text, primary_key=True),  # short and random: what the link carries
+    Column("calibration_id", Text, nullable=False),
+    Column("owner", Text),  # the calibration's owner: the link reads as it, that one calibration only
+    Column("created_at", Text, nullable=False),
+    Column("expires_at", Text, nullable=False),
+)
+"""Short links that let another device read one calibration until they expire."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
@@ -13,7 +14,7 @@ from app.qr import qr_svg_data_uri
 from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 from app.tls import lan_addresses
 
-from .tables import POSE_NAMES, page_tables
+from .tables import POSE_NAMES, POSE_SHORT, page_tables
 
 router = APIRouter(include_in_schema=False)
 
@@ -85,7 +86,7 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
     context = {
         "protocol": protocol, "capture_s": seconds, "problem": problem, "protocols": PROTOCOLS,
         "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
-        "poses": [(label, POSE_NAMES[label]) for label in CANONICAL_SIX],
+        "poses": [(label, POSE_NAMES[label], POSE_SHORT[label]) for label in CANONICAL_SIX],
         "tables": None if problem else page_tables(),
     }
     if problem:
@@ -94,3 +95,48 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
         page = {"compass": "wizard_compass.html", "noise": "wizard_noise.html"}.get(protocol, "wizard.html")
         context.update(noise_lengths=NOISE_LENGTHS_S, noise_default=NOISE_DEFAULT_S)
     return _templates(request).TemplateResponse(request, page, context, status_code=400 if problem else 200)
+
+
+CALIBRATION_ID = re.compile(r"^cal_[0-9a-f]{32}$")
+"""A calibration's id as the store makes it (app/store/repository.py new_id)."""
+
+
+@router.get("/c/{calibration_id}", response_class=HTMLResponse)
+def calibration_page(request: Request, calibration_id: str, device: str | None = None):
+    """A stored calibration's own page (``/c/latest?device=NAME``: that device's latest one). The
+    page reads it through the API with the token the browser keeps for it, so the owner's scope is
+    the API's; an id of another form is a 404 that says where to look."""
+    latest = calibration_id == "latest"
+    problem = None
+    if latest and not device:
+        problem = "/c/latest needs the device: /c/latest?device=NAME (the names are in your calibrations)."
+    elif not latest and not CALIBRATION_ID.match(calibration_id):
+        problem = (f"“{calibration_id[:80]}” is not a calibration's id: an id is cal_ and 32 hexadecimal digits. "
+                   "Your calibrations are listed in the history.")
+    return _templates(request).TemplateResponse(request, "calibration.html", {
+        "calibration_id": None if latest else calibration_id, "device": device if latest else None,
+        "problem": problem, "tables": None if problem else page_tables(),
+    }, status_code=404 if problem else 200)
+
+
+LINK_CODE = re.compile(r"^[2-9A-HJKMNP-Za-hjkmnp-z]{10}$")
+"""A short link's code (app/store/repository.py LINK_ALPHABET, either case)."""
+
+
+@router.get("/s/{code}", response_class=HTMLResponse)
+def link_page(request: Request, code: str):
+    """A short link sent from the phone: the calibration it opens, read with the link until it expires."""
+    problem = None if LINK_CODE.match(code) else (
+        f"“{code[:40]}” is not a link's code: a code is ten letters and digits, as the phone showed it.")
+    return _templates(request).TemplateResponse(request, "calibration.html", {
+        "calibration_id": None, "device": None, "link": None if problem else code.upper(),
+        "problem": problem, "tables": None if problem else page_tables(),
+    }, status_code=404 if problem else 200)
+
+
+@router.get("/history", response_class=HTMLResponse)
+def history_page(request: Request, device: str | None = None):
+    """The owner's calibrations, newest first (device, method, verdict, date), filtered by device."""
+    return _templates(request).TemplateResponse(request, "history.html", {
+        "device": device or "", "tables": page_tables(),
+    })

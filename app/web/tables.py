@@ -22,6 +22,7 @@ from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READING
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
+from app.web.metric_words import METRICS, SENSOR_WORDS
 from app.web.uses import uses_table
 
 CAPTURE_WINDOW_MS = 500
@@ -105,6 +106,23 @@ def unit_tables() -> dict:
     }
 
 
+POSE_SHORT = {"+z": "screen up", "-z": "screen down", "+y": "standing", "-y": "upside down",
+              "+x": "left edge down", "-x": "right edge down"}
+"""Each of the six poses in two or three words, under its thumbnail (the axis code is a grey note)."""
+
+METHOD_NAMES = {
+    "six_position": "six positions (accelerometer)",
+    "orientations": "known orientations (accelerometer)",
+    "nonorthogonal": "non-orthogonal axes (accelerometer)",
+    "triangular": "free poses (accelerometer)",
+    "autocal": "free-living log (accelerometer)",
+    "cube": "24 positions of a cube (accelerometer and gyroscope)",
+    "magnetometer": "the compass (magnetometer)",
+    "noise": "noise (Allan deviation)",
+}
+"""Each stored method in words, for the history of calibrations (an unknown method shows its key)."""
+
+
 @lru_cache(maxsize=1)
 def page_tables() -> dict:
     """Everything the pages take from the server's constants, as plain JSON-ready data.
@@ -119,7 +137,9 @@ def page_tables() -> dict:
         and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
-        (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART).
+        (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
+        ``methods`` (:data:`METHOD_NAMES`: each method in words); ``metrics`` (app.web.metric_words:
+        each figure's name, unit and meaning) and ``sensorWords``.
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -129,6 +149,7 @@ def page_tables() -> dict:
             "order": list(CANONICAL_SIX),
             "up": {label: [int(v) for v in UP_VECTORS[label]] for label in CANONICAL_SIX},
             "names": {label: POSE_NAMES[label] for label in CANONICAL_SIX},
+            "short": {label: POSE_SHORT[label] for label in CANONICAL_SIX},
         },
         "capture": capture_thresholds(),
         "cube": {"maxAngleDeg": sessions.PAGE_CUBE_FACE_MAX_ANGLE_DEG},
@@ -145,4 +166,7 @@ def page_tables() -> dict:
         "uses": uses_table(),
         "units": unit_tables(),
         "board": board_tables(),
+        "methods": dict(METHOD_NAMES),
+        "metrics": {key: list(words) for key, words in METRICS.items()},
+        "sensorWords": dict(SENSOR_WORDS),
     }

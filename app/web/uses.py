@@ -10,19 +10,23 @@ from __future__ import annotations
 from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS
 
 CALIBRATION_USES = (
-    {"key": "app", "name": "a phone app", "format": "json",
+    {"key": "app", "name": "a phone app", "format": "json", "snippet": "javascript",
      "how": "Read correction (M and o) from the JSON in your app and calibrate every reading as "
-            "M · (reading − o)."},
+            "M · (reading − o), as in these lines:"},
+    {"key": "python", "name": "my own Python code", "format": "json", "snippet": "python",
+     "how": "Load the JSON with numpy and calibrate every reading as M @ (reading − o), as in these lines:"},
     {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
      "how": "In Mission Planner: Config → Full Parameter List → Load from file, then Write Params and reboot the "
             "board."},
     {"key": "px4", "name": "PX4", "format": "px4",
      "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save "
             "and reboot."},
-    {"key": "firmware", "name": "my own firmware", "format": "c",
-     "how": "#include the header and pass each raw reading through its trical_…_apply(m, f): f = M (m − o)."},
+    {"key": "firmware", "name": "my own firmware", "format": "c", "snippet": "c",
+     "how": "#include the header and pass each reading through its apply function, f = M (m − o), as in these "
+            "lines (a loop of your own around them):"},
 )
-"""A correction of a sensor (every method but noise)."""
+"""A correction of a sensor (every method but noise). ``snippet`` names the lines of
+``GET /api/v1/calibrations/{id}/use`` (app/io/use.py) shown under the file."""
 
 NOISE_USES = (
     {"key": "kalibr", "name": "Kalibr", "format": "kalibr",
@@ -39,7 +43,8 @@ NOISE_USES = (
 
 
 def uses_table() -> dict:
-    """The page's table of uses: ``calibration`` and ``noise``, each a list of key, name, format, how;
+    """The page's table of uses: ``calibration`` and ``noise``, each a list of key, name, format, how (and
+    for a calibration the ``snippet`` shown);
     ``formats`` and ``noiseFormats``, every export as ``[key, name]`` in the order the page lists them
     (pairs, since the template's JSON sorts an object's keys)."""
     return {"calibration": [dict(u) for u in CALIBRATION_USES], "noise": [dict(u) for u in NOISE_USES],

@@ -87,3 +87,25 @@ export async function fetchExport(id, format, token) {
   const match = /filename="([^"]+)"/.exec(disposition);
   return { blob: await response.blob(), filename: match ? match[1] : `${id}.${format}` };
 }
+
+// The calibrations the token (or no token) may read, newest first; `device` filters by device_id.
+export function listCalibrations(token = null, device = null, limit = 100) {
+  const query = new URLSearchParams({ limit: String(limit) });
+  if (device) query.set("device_id", device);
+  return request(`/api/v1/calibrations?${query}`, { headers: bearer(token) });
+}
+
+// Paste-ready lines applying a calibration: {c, python, javascript, functions, scales}.
+export function getUse(id, token = null) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/use`, { headers: bearer(token) });
+}
+
+// A short link that reads the calibration for a while: {code, url, qr, expires_at}.
+export function createLink(id, token = null) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/links`, { method: "POST", headers: bearer(token) });
+}
+
+// What a link's code opens: {calibration_id, expires_at, token}.
+export function openLink(code) {
+  return request(`/api/v1/links/${encodeURIComponent(code)}`);
+}

@@ -1,11 +1,10 @@
 // The start page: the only module here that touches the DOM.
-import { createCalibration, exportUrl, uploadRecording } from "./api.js";
+import { createCalibration, uploadRecording } from "./api.js";
 import { columnsField, headerColumns, logPlotSvg } from "./log_plot.js";
 import { flightFields, showFlightLog } from "./flight_log.js";
-import { magResultSvgs } from "./mag_sphere.js";
 import { formatNumber, parseReadings } from "./readings.js";
+import { hideCalibration, showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
-import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
 const $ = (sel) => document.querySelector(sel);
 
@@ -26,120 +25,14 @@ function say(text) { status.textContent = text; }
 
 function cell(tag, text) { const el = document.createElement(tag); el.textContent = text; return el; }
 
-function fillMatrix(table, rows) {
-  table.replaceChildren(...rows.map((row) => {
-    const tr = document.createElement("tr");
-    row.forEach((v) => tr.append(cell("td", formatNumber(v))));
-    return tr;
-  }));
-}
-
-// Each parameter of the model (X and y, K and o, s, b and the angles…) as a small table #result-<name>.
-function showModel(model) {
-  $("#result-model").replaceChildren(...Object.entries(model).filter(([name]) => name !== "type").map(([name, value]) => {
-    const box = document.createElement("div");
-    const table = document.createElement("table");
-    table.className = "matrix";
-    table.id = `result-${name}`;
-    const rows = !Array.isArray(value) ? [[value]] : Array.isArray(value[0]) ? value : value.map((v) => [v]);
-    fillMatrix(table, rows);
-    box.append(cell("h3", name), table);
-    return box;
-  }));
-}
-
-// A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's).
-const NOISE_TERMS = [["noise_density", "noise density"], ["random_walk", "random walk"],
-  ["bias_instability", "bias instability"], ["bias", "bias"]];
-
-function showNoise(cal) {
-  $("#result-model").replaceChildren(...Object.entries(cal.model).filter(([name]) => name !== "type").map(([sensor, m]) => {
-    const box = document.createElement("div");
-    const table = document.createElement("table");
-    table.id = `result-noise-${sensor}`;
-    const head = document.createElement("tr");
-    head.append(cell("th", ""), ...["x", "y", "z"].map((a) => cell("th", a)), cell("th", "unit"));
-    table.append(head);
-    for (const [key, label] of NOISE_TERMS) {
-      const tr = document.createElement("tr");
-      tr.dataset.term = key;
-      tr.append(cell("th", label), ...(m[key] || [null, null, null]).map((v) => cell("td", formatNumber(v, 8))),
-        cell("td", m[`${key}_unit`] || m.unit || ""));
-      table.append(tr);
-    }
-    box.append(cell("h3", sensor), table);
-    return box;
-  }));
-}
-
 function showResult(cal) {
-  $("#result").hidden = false;
-  showVerdict(cal);
-  $("#result-headline").textContent = cal.headline || "";
-  const ok = $("#result-ok");
-  ok.className = cal.ok ? "ok" : "bad";
-  ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
-  const choice = $("#result-choice");
-  choice.hidden = !cal.choice;
-  choice.textContent = cal.choice ? `Method ${cal.choice.method}: ${cal.choice.why}.` : "";
-  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
-  if (cal.method === "noise") showNoise(cal);
-  else showModel(cal.model);
-  const metrics = $("#result-metrics");
-  // A noise result's metrics are per sensor: one level is flattened (gyr.adev_min …).
-  const flat = Object.entries(cal.metrics).flatMap(([k, v]) => (v && typeof v === "object" && !Array.isArray(v)
-    ? Object.entries(v).map(([k2, v2]) => [`${k}.${k2}`, v2]) : [[k, v]]));
-  metrics.replaceChildren(...flat.map(([k, v]) => {
-    const tr = document.createElement("tr");
-    const shown = Array.isArray(v) ? v.map((x) => formatNumber(x, 4)).join(", ") : formatNumber(v);
-    tr.append(cell("th", k), cell("td", shown));
-    tr.firstChild.scope = "row";
-    return tr;
-  }));
-  showMagSpheres(cal);
-  const perReading = Boolean(cal.readings && cal.readings.length);
-  $("#result-readings").hidden = !perReading;
-  $("#result-readings-h").hidden = !perReading;
-  // One file per pose: each reading names its file.
-  const fromFiles = (cal.readings || []).some((r) => r.source);
-  $("#result-readings .file-col").hidden = !fromFiles;
-  $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
-    const tr = document.createElement("tr");
-    tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
-    if (fromFiles) tr.append(cell("td", r.source ?? "—"));
-    return tr;
-  }));
-  // A noise characterisation's Allan deviation: the server draws it (the allan_svg export), one source.
-  const allan = $("#result-allan");
-  allan.hidden = cal.method !== "noise";
-  if (cal.method === "noise") $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
-  else $("#result-allan img").removeAttribute("src");
+  showCalibration(cal);
+  // The calibration's own address: a reload, a bookmark or the history finds it again (/c/{id}).
+  history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   shown = cal;
-  resetUse(); // the files follow as they are fetched
-  fetchDownloads(cal).then((downloads) => { if (shown === cal) showUse(cal, downloads); });
   $("#result").focus({ preventScroll: true });
   $("#result").scrollIntoView({ block: "start" }); // the verdict at the top of the screen
   say(`Calibration done. ${cal.verdict.words}`);
-}
-
-// A compass calibration: the raw readings and the calibrated ones on the same sphere (mag_sphere.js).
-function showMagSpheres(cal) {
-  const mag = cal.model.type === "magnetometer";
-  $("#result-mag-box").hidden = !mag;
-  if (!mag) { $("#result-mag").replaceChildren(); return; }
-  const svgs = magResultSvgs(cal);
-  const fig = (svg, caption) => {
-    const f = document.createElement("figure");
-    f.className = "mag-fig";
-    const pic = document.createElement("div");
-    pic.innerHTML = svg;
-    f.append(pic, cell("figcaption", caption));
-    return f;
-  };
-  const legend = cell("p", "The sphere has the field's radius F; green faces: directions covered. Raw readings sit off it "
-    + "(the hard iron b moves them, soft iron stretches them); calibrated ones lie on it.");
-  legend.className = "hint legend";
-  $("#result-mag").replaceChildren(fig(svgs.before, "Before: the raw readings m"), fig(svgs.after, "After: h = M (m − b)"), legend);
 }
 
 // --- upload: the log, its plot and still segments, then the calibration at once (method auto) ---
@@ -165,20 +58,26 @@ function clearOutput() {
   $("#segments").hidden = true;
   $("#segments-table tbody").replaceChildren();
   $("#log-plot").replaceChildren();
-  $("#result").hidden = true;
+  hideCalibration();
+  if (location.pathname !== "/") history.replaceState(null, "", "/");
   $("#columns-map").hidden = true;
   $("#units").hidden = true;
-  resetUse();
   note("#upload-msg", "");
   note("#segments-msg", "");
   $("#segments-notes").hidden = true;
+}
+
+// The device the person named, so that the history lists its calibrations together.
+function withDevice(payload) {
+  const device = $("#log-device").value.trim();
+  return device ? { ...payload, device_id: device } : payload;
 }
 
 async function calibrate(payload, doing, refused, where) {
   const mine = ++action;
   note(where, doing);
   try {
-    const cal = await createCalibration(payload);
+    const cal = await createCalibration(withDevice(payload));
     if (mine !== action) return;
     note(where, "");
     showResult(cal);
@@ -225,6 +124,8 @@ function showSegments(rec) {
   // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
   const still = rec.channels.includes("acc");
   $("#compass-recording").hidden = !rec.channels.includes("mag");
+  $("#compass-place").hidden = !rec.channels.includes("mag");
+  if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
@@ -383,8 +284,52 @@ $("#flight-go").addEventListener("click", () => {
 $("#temperature-recording").addEventListener("click", () => calibrate({ method: "temperature", recording_id: recordingId },
   "Fitting the offsets against temperature…", "Temperature calibration refused", "#segments-msg"));
 
-$("#compass-recording").addEventListener("click", () => calibrate({ method: "magnetometer", recording_id: recordingId },
-  "Calibrating the compass…", "Compass calibration refused", "#segments-msg"));
+// The compass's place and date (the IGRF field there, app/geomag.py) or the field's strength, as the
+// request's latitude_deg, longitude_deg, date and field_ut; a half-given place is named, not sent.
+function compassPlace() {
+  const number = (sel) => ($(sel).value.trim() === "" ? null : Number($(sel).value));
+  const lat = number("#place-lat");
+  const lon = number("#place-lon");
+  const field = number("#place-field");
+  const out = {};
+  if ((lat === null) !== (lon === null)) throw new Error("give both the latitude and the longitude, or neither");
+  if (lat !== null) {
+    if (!(Math.abs(lat) <= 90)) throw new Error("the latitude is from −90° (south pole) to 90° (north pole)");
+    if (!(Math.abs(lon) <= 180)) throw new Error("the longitude is from −180° to 180°, east positive");
+    Object.assign(out, { latitude_deg: lat, longitude_deg: lon });
+    if ($("#place-date").value) out.date = $("#place-date").value;
+  }
+  if (field !== null) {
+    if (!(field > 0 && field <= 1000)) throw new Error("the field's strength is in µT, between 0 and 1000 (the Earth's: 22–67 µT)");
+    out.field_ut = field;
+  }
+  return out;
+}
+
+$("#compass-recording").addEventListener("click", () => {
+  let place;
+  try { place = compassPlace(); } catch (err) {
+    note("#place-msg", `Not calibrated: ${err.message}.`, true);
+    return;
+  }
+  note("#place-msg", "");
+  calibrate({ method: "magnetometer", recording_id: recordingId, ...place },
+    "Calibrating the compass…", "Compass calibration refused", "#segments-msg");
+});
+
+// Use my location: the Geolocation API, where the browser has it and the person allows it.
+$("#place-here").addEventListener("click", () => {
+  if (!navigator.geolocation) { note("#place-msg", "This browser gives no location: type the latitude and longitude.", true); return; }
+  note("#place-msg", "Asking this browser for its location…");
+  navigator.geolocation.getCurrentPosition((pos) => {
+    $("#place-lat").value = pos.coords.latitude.toFixed(4);
+    $("#place-lon").value = pos.coords.longitude.toFixed(4);
+    if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
+    note("#place-msg", `Location ${pos.coords.latitude.toFixed(2)}°, ${pos.coords.longitude.toFixed(2)}°: `
+      + "if the turn was made elsewhere, type its place instead.");
+  }, (err) => note("#place-msg", `No location (${err.message || "refused"}): type the latitude and longitude.`, true),
+  { timeout: 15000, maximumAge: 600000 });
+});
 
 $("#fill").addEventListener("click", () => {
   try {

@@ -76,6 +76,17 @@ let device = "phone";
 export function setDevice(kind) { device = kind === "board" ? "board" : "phone"; }
 export function currentDevice() { return device; }
 
+const BOARD_SHORT = { "+z": "components up", "-z": "components down", "+y": "Y arrow up", "-y": "Y arrow down",
+  "+x": "X arrow up", "-x": "X arrow down" };
+
+// Two or three words under a thumbnail: "screen up", "left edge down" (a board: "X arrow up").
+export function shortPose(label) { return (device === "board" ? BOARD_SHORT : TABLES.poses.short)[label] || label; }
+
+// The pose the wizard names next among those still to do: flat ones first (the easiest to place),
+// then standing, then on the side edges.
+export const NEXT_ORDER = ["+z", "-z", "+y", "-y", "+x", "-x"];
+export function nextPose(remaining) { return NEXT_ORDER.find((p) => remaining.includes(p)) || null; }
+
 export function describePose(label) { return (device === "board" ? BOARD_DESCRIPTIONS : DESCRIPTIONS)[label] || label; }
 
 // A board seen from its component side, centred on (0, 0), with its X arrow to the right and its Y

@@ -3,7 +3,7 @@
 // on how to apply it, and every format under it. A calibration that must not be applied offers none.
 // Shared by the start page, the wizard and the compass page (templates/_use.html).
 
-import { fetchExport } from "./api.js";
+import { fetchExport, getUse } from "./api.js";
 import { TABLES } from "./tables.js";
 
 const $ = (sel) => document.querySelector(sel);
@@ -39,7 +39,9 @@ export async function fetchDownloads(cal, token = null) {
   blobUrls = [];
   if (!cal.verdict.apply) return [];
   const names = group(cal) === "noise" ? TABLES.uses.noiseFormats : TABLES.uses.formats;
-  return Promise.all(names.map(async ([key, name]) => {
+  // The paste-ready lines of each use (app/io/snippets.py); none for a noise characterisation.
+  const snippets = group(cal) === "noise" ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
+  const downloads = await Promise.all(names.map(async ([key, name]) => {
     try {
       const { blob, filename } = await fetchExport(cal.id, key, token);
       const url = URL.createObjectURL(blob);
@@ -49,6 +51,8 @@ export async function fetchDownloads(cal, token = null) {
       return { key, name, error: err.message };
     }
   }));
+  downloads.snippets = await snippets;
+  return downloads;
 }
 
 let preferred = null;
@@ -108,10 +112,39 @@ export function showUse(cal, downloads) {
     $("#use-how").textContent = "";
     problem.textContent = `${use.name}: ${file ? file.error : "no file for it"}. Pick another use, or a format below.`;
   }
+  showSnippet(use, file?.url ? downloads.snippets : null);
   list.replaceChildren(...downloads.map((d) => {
     const li = el("li");
     if (d.url) li.append(el("a", d.name, { href: d.url, download: d.filename, "data-format": d.key }));
     else li.append(el("span", `${d.name}: ${d.error}`));
     return li;
   }));
+}
+
+// The lines of the chosen use under its file, with what to check: a scale from counts that is a
+// common part's figure, not the person's.
+function showSnippet(use, snippets) {
+  const text = use.snippet && snippets ? snippets[use.snippet] : null;
+  $("#use-snippet-box").hidden = !text;
+  $("#use-snippet code").textContent = text || "";
+  $("#use-copy").textContent = "Copy these lines";
+  const guessed = Object.entries(snippets?.scales || {}).filter(([, s]) => s && !s.known);
+  $("#use-snippet-note").textContent = guessed.map(([sensor, s]) => `The ${TABLES.units.sensors[sensor].toLowerCase()}'s `
+    + `counts are scaled by ${s.words.replace(/: set your part's figure$/, "")}: set your part's figure from its datasheet.`).join(" ");
+  $("#use-snippet-note").hidden = !guessed.length;
+}
+
+// Copy the lines: the Clipboard API where the page may use it, else the text selected for the person to copy.
+const copy = document.querySelector("#use-copy");
+if (copy) {
+  copy.addEventListener("click", async () => {
+    const code = $("#use-snippet code");
+    try {
+      await navigator.clipboard.writeText(code.textContent);
+      copy.textContent = "Copied";
+    } catch {
+      getSelection().selectAllChildren(code);
+      copy.textContent = "Selected: copy with Ctrl+C or ⌘C";
+    }
+  });
 }

@@ -4,19 +4,24 @@
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
-import { describePose, poseSvg, setDevice } from "./poses.js";
+import { describePose, nextPose, poseSvg, setDevice, shortPose } from "./poses.js";
 import { BoardPanel } from "./board_panel.js";
+import { showCorrection } from "./correction_view.js";
+import { fillFigures } from "./figures.js";
 import { formatNumber } from "./readings.js";
 import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
 import { sphereSvg } from "./sphere.js";
 import { cue, unlockCues } from "./cues.js";
 import { fetchDownloads, showUse, showVerdict } from "./use_calibration.js";
+import { offerSend } from "./send.js";
+import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
 import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
 import { canFinish, coveredDirections, freeFlow, poseCount, progressOf } from "./flow_free.js";
 
+const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
 const $ = (sel) => document.querySelector(sel);
 const root = $("#wizard");
 const NO_MOTION_MS = 2000;
@@ -108,6 +113,8 @@ function render(s) {
   else if (free) renderFree(s);
   else renderPoses(s);
   setText($("#instruction"), v.instruction);
+  setText($("#instruction-code"), v.instructionCode || "");
+  setHidden($("#instruction-code"), !v.instructionCode);
   renderLive(s);
   setHidden($("#result"), !v.result);
   renderResult(s);
@@ -257,11 +264,15 @@ function renderLive(s) {
   $("#still-text").textContent = text;
   $("#progress").value = out.state === "capturing" ? out.progress : 0;
   const pic = $("#live-pose");
-  const shown = out.still && out.angleDeg <= s.machine.o.maxAngleDeg ? out.pose : "";
+  const seen = out.still && out.angleDeg <= s.machine.o.maxAngleDeg ? out.pose : "";
+  // Before the phone is in a pose, the six flow's next pose, large, in words: the person sees where to
+  // turn it before turning it (flow_six.js names the same pose in the instruction).
+  const next = !seen && !cube && !free && s.session ? nextPose(s.machine.remaining()) : null;
+  const shown = seen || (next ? `next ${next}` : "");
   if (pic.dataset.pose !== shown) {
     pic.dataset.pose = shown;
-    pic.innerHTML = shown ? poseSvg(shown, 176) : "";
-    $("#live-pose-words").textContent = shown ? `Now: ${describePose(shown)}` : "";
+    pic.innerHTML = seen ? poseSvg(seen, 176) : next ? poseSvg(next, 176) : "";
+    $("#live-pose-words").textContent = seen ? `Now: ${describePose(seen)}` : next ? `Next: ${describePose(next)}` : "";
   }
 }
 
@@ -285,6 +296,7 @@ function renderResult(s) {
   $("#result-reasons").replaceChildren(...(cal.reasons || []).map((r) => el("li", r)));
   const warnings = cal.warnings || [];
   $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
+  showCorrection($("#result-correction"), cal, s.token, $("#result-fitted-note"));
   if (cal.model.type === "cube") fillCubeModel(cal, cal.uncertainty || {});
   else if (cal.model.type === "triangular") fillTriangularModel(cal);
   else fillSixModel(cal, s.session);
@@ -299,13 +311,8 @@ function renderResult(s) {
   gyroLine.textContent = cal.gyroscope_bias ? gyroBiasText(cal.gyroscope_bias) : "";
   setHidden($("#result-advice-box"), !(cal.advice && cal.advice.length));
   $("#result-advice").replaceChildren(...(cal.advice || []).map((a) => el("li", adviceText(a))));
-  $("#result-metrics").replaceChildren(...Object.entries(cal.metrics || {})
-    .filter(([, v]) => v === null || typeof v !== "object") // the cube's lists stay in the JSON export
-    .map(([k, v]) => {
-      const tr = el("tr");
-      tr.append(el("th", k, { scope: "row" }), el("td", formatNumber(v)));
-      return tr;
-    }));
+  fillFigures($("#result-metrics"), { ...cal, metrics: Object.fromEntries(Object.entries(cal.metrics || {})
+    .filter(([, v]) => v === null || typeof v !== "object")) }); // the cube's lists stay in the JSON export
 }
 
 // The affine model m = X a + y, and |m| before and after per pose.
@@ -405,7 +412,7 @@ async function ensureSession() {
     remember();
     v.keyBox = false;
     v.startOver = true;
-    instruct(state, flow.firstInstruction(state));
+    instruct(state, flow.firstInstruction(state), flow.firstCode ? flow.firstCode(state) : null);
   } catch (err) {
     if (err.code === "unauthorized") {
       v.keyBox = true;
@@ -474,6 +481,11 @@ async function finish(cal) {
   v.focus = "#result";
   announce(state, `Calibration done. ${cal.verdict.words}`);
   render(state);
+  // Its own address (/c/{id}): a reload, a bookmark or the history finds it again, with the session's
+  // token kept for it (only that token reads it). The page stays: a board stays connected for Send.
+  rememberToken(cal.id, state.token);
+  offerSend(cal, state.token);
+  history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   board.offer(cal, state.token);
   v.downloads = await fetchDownloads(cal, state.token);
   render(state);
@@ -597,6 +609,7 @@ function startBoard() {
     state.device = "board";
     setDevice("board");
     for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic, null);
+    for (const words of document.querySelectorAll("[data-words]")) words.textContent = shortPose(words.dataset.words);
     for (const li of document.querySelectorAll("#poses li")) { // the words a screen reader says, a board's
       const pose = li.dataset.pose;
       li.querySelector(".pose-text .sr-only").textContent = ` ${describePose(pose)}`;
@@ -618,7 +631,8 @@ function startBoard() {
   v.capture = true;
   v.resumePic = null;
   v.current = null;
-  instruct(state, state.session ? flow.firstInstruction(state) : "Waiting for the board's readings…");
+  instruct(state, state.session ? flow.firstInstruction(state) : "Waiting for the board's readings…",
+    state.session && flow.firstCode ? flow.firstCode(state) : null);
   announce(state, "The board is connected: its readings are the sensor now.");
   v.focus = "#capture-h";
   render(state);
@@ -680,7 +694,7 @@ $("#start-over-no").addEventListener("click", () => askStartOver(false));
 $("#start-over-yes").addEventListener("click", () => {
   letScreenSleep();
   localStorage.removeItem(state.storeKey);
-  location.reload();
+  location.assign(WIZARD_URL); // the wizard afresh, not the result's own address (/c/{id})
 });
 if (free) $("#free-finish").addEventListener("click", () => { if (canFinish(state)) solve(); });
 $("#capture").addEventListener("click", (event) => {

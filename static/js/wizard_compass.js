@@ -8,11 +8,15 @@ import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { CompassCoverage, COVERAGE_TO_SOLVE, MIN_READINGS, missingWords } from "./compass_flow.js";
 import { magResultSvgs, magSphereSvg } from "./mag_sphere.js";
 import { formatNumber } from "./readings.js";
+import { showCorrection } from "./correction_view.js";
+import { fillFigures, pageWords } from "./figures.js";
+import { offerSend } from "./send.js";
 import { withInterval } from "./result.js";
 import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
 
+const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
 const $ = (sel) => document.querySelector(sel);
 const NO_READING_MS = 3000;
 const DRAW_MS = 150; // the sphere is redrawn at most this often
@@ -211,15 +215,14 @@ function showResult(cal) {
   const unc = cal.uncertainty || {};
   fillMatrix($("#result-M"), cal.model.M, unc.M);
   fillMatrix($("#result-b"), cal.model.b.map((v) => [v]), unc.b && unc.b.map((v) => [v]));
-  $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
-  $("#result-metrics").replaceChildren(...Object.entries(m).map(([k, v]) => {
-    const tr = el("tr");
-    const shown = Array.isArray(v) ? v.join(", ") || "—" : Number.isInteger(v) ? String(v) : formatNumber(v);
-    tr.append(el("th", k, { scope: "row" }), el("td", shown));
-    return tr;
-  }));
+  $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", pageWords(w))));
+  fillFigures($("#result-metrics"), cal);
+  showCorrection($("#result-correction"), cal, null, $("#result-fitted-note"));
   resetUse();
+  // Its own address (/c/{id}): a reload, a bookmark or the history finds it again.
+  history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   board.offer(cal);
+  offerSend(cal);
   fetchDownloads(cal).then((downloads) => { if (state.shown === cal) showUse(cal, downloads); });
   box.focus();
   cue(cal.verdict.apply ? "captured" : "refused");
@@ -265,6 +268,7 @@ const board = new BoardPanel({
 $("#compass-start-btn").addEventListener("click", start);
 $("#compass-solve").addEventListener("click", solve);
 $("#compass-more").addEventListener("click", () => {
+  history.replaceState(null, "", WIZARD_URL); // turning again: the wizard's address until the next result
   $("#result").hidden = true;
   $("#compass-capture").hidden = false;
   if (state.board) { state.autoSolved = false; startBoard(); } else start();
@@ -277,7 +281,7 @@ function askStartOver(ask) {
 }
 $("#start-over").addEventListener("click", () => askStartOver(true));
 $("#start-over-no").addEventListener("click", () => askStartOver(false));
-$("#start-over-yes").addEventListener("click", () => { letScreenSleep(); location.reload(); });
+$("#start-over-yes").addEventListener("click", () => { letScreenSleep(); location.assign(WIZARD_URL); });
 $("#compass-where").addEventListener("click", () => {
   const text = $("#compass-where-text");
   if (!navigator.geolocation) { text.textContent = "This browser gives no location: the strength will be estimated."; return; }

@@ -32,6 +32,7 @@ export function newState({ protocol, captureS }) {
       resumePic: null, // the cube position pictured with the resume text, or null
       problem: null, // {kind, detail}: a new object each time a problem is shown
       instruction: "Waiting for motion data…",
+      instructionCode: null, // the axis codes of the instruction, a grey note
       announcement: { text: "", seq: 0 }, // the live region; seq counts what was said
       focus: null, // a selector to focus once, at the next render
       live: null, // {acc, out, force}: the last sample for the live view
@@ -55,7 +56,11 @@ export function announce(state, text) {
   state.view.announcement = { text: deviceWords(state, text), seq: state.view.announcement.seq + 1 };
 }
 
-export function instruct(state, text) { state.view.instruction = deviceWords(state, text); }
+// The instruction in words; `code`, the axis codes it is about, only as a grey note under it.
+export function instruct(state, text, code = null) {
+  state.view.instruction = deviceWords(state, text);
+  state.view.instructionCode = code;
+}
 
 export const list = (poses) => (poses.length ? poses.join(", ") : "none");
 

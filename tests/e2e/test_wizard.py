@@ -4,6 +4,8 @@ against a real trical server."""
 
 from __future__ import annotations
 
+import re
+
 import json
 import time
 
@@ -89,7 +91,7 @@ def repeat_the_first_pose(page, motion, url):
     motion.acc((3.0, 3.0, 8.8))  # picked up and tilted...
     expect(page.locator("#still-text")).to_have_text("Moving")
     motion.acc(reading("+z"))  # ...and put down screen up again
-    expect(page.locator("#instruction")).to_contain_text("+z is already captured", timeout=10_000)
+    expect(page.locator("#instruction")).to_contain_text("Flat, screen up is already captured", timeout=10_000)
 
 
 def hold(page, motion, label, name):
@@ -197,10 +199,12 @@ def test_a_repeated_pose_is_refused_and_redo_replaces_it(page, server):
     motion.acc((3.0, 3.0, 8.8))  # picked up and tilted...
     expect(page.locator("#still-text")).to_have_text("Moving")
     motion.acc(reading("+z"))  # ...and put down screen up again
-    expect(page.locator("#instruction")).to_contain_text("+z is already captured", timeout=10_000)
+    expect(page.locator("#instruction")).to_contain_text("Flat, screen up is already captured", timeout=10_000)
     text = page.text_content("#instruction")
-    assert "Remaining: -x, +x, -y, +y, -z." in text and "Redo" in text
-    assert "+z is already captured" in page.text_content("#status")  # announced
+    # The next pose in words; the axis codes only in the grey note under it.
+    assert "Next: put the phone flat, screen down" in text and "Redo" in text and not re.search(r"[+-][xyz]\b", text)
+    assert "Still to do: -x, +x, -y, +y, -z" in page.text_content("#instruction-code")
+    assert "Flat, screen up is already captured" in page.text_content("#status")  # announced
     shot(page, "wizard_repeat_refused")
     page.wait_for_timeout(2500)  # longer than hold + capture: nothing is sent for a done pose
     assert len(sent) == 1
@@ -228,19 +232,26 @@ def test_a_reload_resumes_with_the_done_poses(page, server):
     shot(page, "wizard_resumed")
     states = page.eval_on_selector_all("#poses li", "ls => ls.map(l => [l.dataset.pose, l.dataset.state])")
     assert dict(states) == {"-x": "done", "+x": "todo", "-y": "todo", "+y": "done", "-z": "todo", "+z": "todo"}
-    assert "2 of 6 positions captured (-x, +y)" in page.text_content("#resume")
+    assert "2 of 6 positions captured (right edge down, standing)" in page.text_content("#resume")
     assert page.text_content("#start-btn") == "Continue"
     page.click("#start-btn")
     for label in ["-z", "+x", "+z", "-y"]:
         hold(page, motion, label, f"wizard_resumed_{label}")
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
     assert "passed its checks" in page.text_content("#result-ok")
-    page.reload()  # a finished session reloads into its result
+    # The result has its own address, /c/{id}: a reload reads it back with the session's token kept for it.
+    cal_path = page.evaluate("location.pathname")
+    assert re.fullmatch(r"/c/cal_[0-9a-f]{32}", cal_path)
+    page.reload()
+    page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+    assert page.evaluate("location.pathname") == cal_path and cal_path[3:] in page.text_content("#cal-meta")
+    page.goto(server.url + "/wizard?capture_s=1")  # the wizard itself resumes into its result
     page.wait_for_selector("#downloads[data-ready=true]")
     page.click("#start-over")
-    page.click("#start-over-yes")  # the second step: discard
+    page.click("#start-over-yes")  # the second step: discard the session; the calibration stays findable
     page.wait_for_selector("#start-btn")
-    assert page.text_content("#start-btn") == "Start" and page.evaluate("localStorage.length") == 0
+    assert page.text_content("#start-btn") == "Start" and page.evaluate("localStorage.getItem('trical.wizard.six')") is None
+    assert page.evaluate("Object.keys(JSON.parse(localStorage.getItem('trical.calibrations')))") == [cal_path[3:]]
     assert page.errors == []
 
 
@@ -357,3 +368,49 @@ def test_api_key_is_asked_for(browser, tmp_path):
     finally:
         context.close()
         server.stop()
+
+
+def test_the_next_pose_is_named_in_words_with_its_large_picture_before_the_phone_turns(browser, server):
+    """At a phone's width: before the phone is placed, the instruction names the next pose in words and the
+    large picture shows it (the axis codes only in the grey note); once a pose is captured, the next one
+    is named and pictured while the phone is moving; the six thumbnails are two rows of three, each
+    named in words and no two alike."""
+    from tests.e2e.axe import axe_context
+    from tests.e2e.test_layout import layout_problems
+
+    context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
+    try:
+        page = context.new_page()
+        motion = Motion(page)
+        page.goto(server.url + "/wizard?capture_s=1")
+        motion.acc((3.0, 3.0, 8.8))  # in the hand, tilted: no pose yet
+        page.click("#start-btn")
+        # Held tilted: the instruction says so in words, and the large picture shows the pose to put it in.
+        expect(page.locator("#instruction")).to_contain_text("away from flat, screen up: rest it flat on that side")
+        expect(page.locator("#live-pose")).to_have_attribute("data-pose", "next +z")
+        assert page.text_content("#live-pose-words") == "Next: flat, screen up"
+        assert page.locator("#live-pose svg").bounding_box()["width"] >= 170  # the large picture, not a thumbnail
+        note = page.text_content("#instruction-code")
+        assert note == "+z up. Still to do: -x, +x, -y, +y, -z, +z (the axis pointing up)."
+        assert page.evaluate("getComputedStyle(document.querySelector('#instruction-code')).color") == "rgb(85, 85, 85)"
+        shot(page, "wizard_next_pose_before_the_move_390")
+        # Thumbnails: words under each, a grey code, two rows of three, pictures that differ.
+        words = page.locator("#poses .pose-words").all_text_contents()
+        assert words == ["right edge down", "left edge down", "upside down", "standing", "screen down", "screen up"]
+        boxes = [page.locator(f"#poses li[data-pose='{p}'] .pic svg").bounding_box() for p in ("-x", "+x", "-y")]
+        assert all(b["width"] >= 90 for b in boxes) and len({round(b["y"]) for b in boxes}) == 1
+        assert page.locator("#poses li[data-pose='-z']").bounding_box()["y"] > boxes[0]["y"] + 50  # the second row
+        pics = page.eval_on_selector_all("#poses .pic", "(ps) => ps.map((p) => p.innerHTML)")
+        assert len(set(pics)) == 6
+        motion.acc(reading("+z"))
+        wait_captured(page, "+z")
+        expect(page.locator("#instruction")).to_contain_text(
+            "Flat, screen up: captured. Next: put the phone flat, screen down (or on any side still to do).")
+        motion.acc((3.0, 3.0, 8.8))  # picked up: the next pose is pictured before it is turned
+        expect(page.locator("#live-pose")).to_have_attribute("data-pose", "next -z")
+        assert page.text_content("#live-pose-words") == "Next: flat, screen down"
+        assert not re.search(r"[+-][xyz]\b", page.text_content("#instruction"))
+        problems = layout_problems(page, "wizard_next_pose", 390)
+        assert not problems, "\n".join(problems)
+    finally:
+        context.close()

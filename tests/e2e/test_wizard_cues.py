@@ -199,7 +199,7 @@ def test_the_instruction_is_the_largest_text_during_capture(page, server):
             page.reload()
         motion.acc(reading("+x"))
         page.click("#start-btn")
-        expect(page.locator("#instruction")).to_contain_text("Capturing +x", timeout=10_000)
+        expect(page.locator("#instruction")).to_contain_text("Capturing on its left edge as you face the screen", timeout=10_000)
         sizes = page.evaluate("""() => ({
           instruction: parseFloat(getComputedStyle(document.querySelector('#instruction')).fontSize),
           headings: [...document.querySelectorAll('h1, h2')].map((h) => parseFloat(getComputedStyle(h).fontSize)),
@@ -212,7 +212,7 @@ def test_the_instruction_is_the_largest_text_during_capture(page, server):
         motion.acc((3.0, 3.0, 8.8))
         expect(page.locator("#still-text")).to_have_text("Moving")
         motion.acc(reading("+x"))  # the longest instruction: a refused pose with all that remains
-        expect(page.locator("#instruction")).to_contain_text("+x is already captured", timeout=10_000)
+        expect(page.locator("#instruction")).to_contain_text("On its left edge as you face the screen, right edge up is already captured", timeout=10_000)
         assert page.evaluate("() => document.documentElement.scrollWidth") <= width
         box = page.locator("#instruction").bounding_box()
         assert box["x"] >= 0 and box["x"] + box["width"] <= width
@@ -292,5 +292,5 @@ def test_without_wake_lock_vibration_or_audio_nothing_breaks(page, server):
     motion.acc((3.0, 3.0, 8.8))
     expect(page.locator("#still-text")).to_have_text("Moving")
     motion.acc(reading("-x"))
-    expect(page.locator("#instruction")).to_contain_text("-x is already captured", timeout=10_000)
+    expect(page.locator("#instruction")).to_contain_text("On its right edge as you face the screen, left edge up is already captured", timeout=10_000)
     assert page.errors == []

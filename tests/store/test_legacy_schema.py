@@ -182,4 +182,4 @@ def test_the_package_carries_every_migration():
     files = {p for p in (package / "migrations").rglob("*") if p.is_file() and "__pycache__" not in p.parts}
     assert files and files <= shipped, sorted(map(str, files - shipped))
     assert {p.name for p in (package / "migrations" / "versions").glob("*.py")} >= {
-        "0001_calibrations_and_recordings.py", "0002_recording_files.py", "0003_sessions.py"}
+        "0001_calibrations_and_recordings.py", "0002_recording_files.py", "0003_sessions.py", "0004_links.py"}

@@ -21,7 +21,7 @@ def body(**kw):
 
 
 def test_migrations_are_versioned_and_idempotent(store, database_url, tmp_path):
-    assert store.schema_revision == head_revision() == "0003"
+    assert store.schema_revision == head_revision() == "0004"
     again = open_store(database_url, tmp_path / "files")  # a restart, or a second replica
     assert again.schema_revision == head_revision()
 
@@ -37,6 +37,27 @@ def test_calibrations_by_owner_and_device(store):
         store.get_calibration(a["id"], owner=None)  # keyless callers see only keyless objects
     assert [x["id"] for x in store.list_calibrations(device_id="d1", owner="key:b")] == [b["id"]]
     assert [x["id"] for x in store.list_calibrations(owner=None)] == [c["id"]]
+
+
+def test_a_link_opens_its_owner_s_calibration_until_it_expires(store):
+    import time
+
+    from app.store.repository import LINK_ALPHABET, LINK_LENGTH
+
+    a = store.add_calibration(body(), owner="session:ses_1")
+    with pytest.raises(NotFoundError):
+        store.add_link(a["id"], owner="key:b", ttl_s=60)  # another owner's calibration: no link
+    link = store.add_link(a["id"], owner="session:ses_1", ttl_s=60)
+    assert len(link["code"]) == LINK_LENGTH and set(link["code"]) <= set(LINK_ALPHABET)
+    opened = store.open_link(link["code"].lower())  # typed in lower case: the same link
+    assert (opened["calibration_id"], opened["owner"], opened["expires_at"]) == (a["id"], "session:ses_1",
+                                                                                link["expires_at"])
+    short = store.add_link(a["id"], owner="session:ses_1", ttl_s=0.05)
+    time.sleep(0.1)
+    with pytest.raises(NotFoundError, match="expired at .*: send it again"):
+        store.open_link(short["code"])
+    with pytest.raises(NotFoundError, match="no link"):
+        store.open_link("ABCDEFGHJK")
 
 
 def test_two_replicas_share_only_the_database(pg, tmp_path):

@@ -93,9 +93,9 @@ def test_a_repeated_pose_is_refused_aloud_and_redo_replaces_it_in_webkit(webkit,
     webkit.set((3.0, 3.0, 8.8))  # picked up and tilted...
     webkit.wait("document.querySelector('#still-text').textContent === 'Moving'", 5, "the move")
     webkit.set(reading("+z"))  # ...and put down screen up again
-    webkit.wait("document.querySelector('#instruction').textContent.includes('+z is already captured')", 10,
+    webkit.wait("document.querySelector('#instruction').textContent.includes('Flat, screen up is already captured')", 10,
                 "the refusal of the repeat")
-    assert "+z is already captured" in webkit.text("#status")  # announced to a screen reader
+    assert "Flat, screen up is already captured" in webkit.text("#status")  # announced to a screen reader
     webkit.shot("six_repeat_refused")
     assert webkit.js("window.__phone.tones") == [523, 880, 220]  # start, captured, refused
     assert len(webkit.captures()) == 1

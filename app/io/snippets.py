@@ -1,0 +1,143 @@
+"""Paste-ready examples of applying a stored calibration: a few lines of C over the C header
+(``trical_<sensor>_apply``), of Python over the JSON export, of JavaScript for a phone app over the
+JSON export, each for the calibration's own sensor and unit.
+
+A board's driver gives int16 counts; the C header maps the unit the calibration was made in (g, µT,
+or counts when no scale was known). Where the calibration was not made in counts, the example first
+scales the counts into that unit: by the part the upload named (``chip``, ``lsb_per_g``), else by
+a constant the person sets from the datasheet, its line saying so.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.calibration import STANDARD_GRAVITY
+
+from .export_common import SENSORS, sensor_corrections, unit_label
+from .formats.chips import CHIPS
+
+_EXAMPLE_SCALE = {"acc": (16384.0, "16384 counts per g of an MPU-6050 at ±2 g (its datasheet, section 6.2)", "g"),
+                  "mag": (0.15, "0.15 µT per count of an AK8963 at 16 bit (its datasheet)", "uT"),
+                  "gyr": (131.0, "131 counts per °/s of an MPU-6050 at ±250 °/s (its datasheet, section 6.1)", "deg/s")}
+"""A common part's sensitivity, offered when the calibration does not say which part it is."""
+
+
+def _c_float(v: float) -> str:
+    text = f"{v:.9g}"
+    return (text if "e" in text or "." in text else text + ".0") + "f"
+
+
+def input_scale(sensor: str, unit: str | None, read_with: dict | None) -> dict | None:
+    """How the counts of ``sensor`` become the calibration's input ``unit``: ``{"op": "/" or "*",
+    "value", "words", "known"}``; None when the input is already counts (``raw``) or is not a
+    physical unit a board's counts scale into (m/s², as a phone reports)."""
+    if unit in (None, "raw"):
+        return None
+    read_with = read_with or {}
+    for name in str(read_with.get("chip") or "").split(","):
+        chip = CHIPS.get(name.strip())
+        if chip is not None and chip.sensor == sensor and chip.unit == unit:
+            if sensor == "mag":
+                return {"op": "*", "value": chip.scale, "words": f"the {chip.label}", "known": True}
+            return {"op": "/", "value": 1.0 / chip.scale, "words": f"the {chip.label}", "known": True}
+    if sensor == "acc" and unit == "g" and read_with.get("lsb_per_g"):
+        return {"op": "/", "value": float(read_with["lsb_per_g"]), "words": "the counts per g the upload gave",
+                "known": True}
+    value, words, example_unit = _EXAMPLE_SCALE.get(sensor, (None, None, None))
+    if value is None or unit != example_unit:
+        return None
+    return {"op": "*" if sensor == "mag" else "/", "value": value, "known": False,
+            "words": f"{words}: set your part's figure"}
+
+
+def _sample(c, scale: dict | None, field_ut: float | None) -> list[float]:
+    """What the sensor reads at rest with its z axis up, as the driver gives it (counts when a scale
+    applies): the reading that calibrates to (0, 0, g), or (0, 0, F) for the compass."""
+    up = {"g": 1.0, "m/s^2": STANDARD_GRAVITY}.get(c.output_unit, 0.0)
+    if c.sensor == "mag":
+        up = field_ut or 50.0
+    elif c.sensor == "gyr":
+        up = 0.0
+    rest = c.o + np.linalg.solve(c.M, np.array([0.0, 0.0, up]))
+    if scale is not None:
+        rest = rest * scale["value"] if scale["op"] == "/" else rest / scale["value"]
+    if scale is not None or c.input_unit == "raw":
+        return [float(v) for v in np.round(rest)]
+    return [float(f"{v:.6g}") for v in rest]
+
+
+def _c_lines(c, scale: dict | None, header: str, sample: list[float]) -> list[str]:
+    name = f"trical_{c.sensor}"
+    out = unit_label(c.output_unit)
+    if scale is None and c.input_unit != "raw":
+        read = (f"float m[3] = {{{', '.join(_c_float(v) for v in sample)}}};  "
+                f"/* one reading in {unit_label(c.input_unit)}, as the header takes it */")
+        return [f'#include "{header}"', read, "float f[3];", f"{name}_apply(m, f);  /* f: calibrated, in {out} */"]
+    raw = f"int16_t raw[3] = {{{', '.join(str(int(v)) for v in sample)}}};  /* one reading from your driver, in counts */"
+    if scale is None:
+        m = "float m[3] = {raw[0], raw[1], raw[2]};  /* the header takes counts, as calibrated */"
+    else:
+        k = _c_float(scale["value"])
+        op = scale["op"]
+        m = (f"float m[3] = {{raw[0] {op} {k}, raw[1] {op} {k}, raw[2] {op} {k}}};  "
+             f"/* counts to {unit_label(c.input_unit)}: {scale['words']} */")
+    return [f'#include "{header}"  /* and <stdint.h>, for int16_t */', raw, m, "float f[3];", f"{name}_apply(m, f);  /* f: calibrated, in {out} */"]
+
+
+def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
+    """The examples of one calibration.
+
+    Parameters
+    ----------
+    body : dict
+        The stored calibration (``id``, ``model``, ``unit``, ``output_unit``).
+    read_with : dict, optional
+        What its recording was read with (``chip``, ``lsb_per_g``), to scale counts exactly.
+
+    Returns
+    -------
+    dict
+        ``c`` (lines over the C header, each sensor's ``trical_<sensor>_apply``), ``python`` (numpy
+        over the JSON export), ``javascript`` (over the JSON export, for a phone app), ``functions``
+        (the C functions by sensor), ``scales`` (how counts become each sensor's input unit; None
+        where none applies) and ``corrections`` (each sensor's ``M``, ``o``, units and the source of
+        the correction ``f = M (m − o)``: what the lines apply, as the page shows it).
+    """
+    corrections = sensor_corrections(body)
+    header = f"trical_{body['id']}.h"
+    json_name = f"{body['id']}.json"
+    cube = body["model"].get("type") == "cube"
+    c_lines, py_lines, js_lines, scales = [], [], [], {}
+    py_lines += ["import json", "import numpy as np", f'cal = json.load(open("{json_name}"))']
+    js_lines += [f'const cal = await (await fetch("{json_name}")).json();  // the JSON file, served with your app']
+    for c in corrections:
+        scale = input_scale(c.sensor, c.input_unit, read_with)
+        scales[c.sensor] = scale
+        sample = _sample(c, scale, (body.get("metrics") or {}).get("field_ut"))
+        lines = _c_lines(c, scale, header, sample)
+        c_lines += lines if not c_lines else lines[1:]  # one #include
+        where = f'cal["corrections"]["{c.sensor}"]' if cube else 'cal["correction"]'
+        numbers = ", ".join(f"{v:g}" for v in sample)
+        to_unit = ""
+        if scale is not None:
+            to_unit = f" {scale['op']} {scale['value']:g}  # counts to {unit_label(c.input_unit)}: {scale['words']}"
+        suffix = "" if len(corrections) == 1 else f"_{c.sensor}"
+        py_lines += [f"M{suffix}, o{suffix} = np.array({where}['M']), np.array({where}['o'])".replace("'", '"'),
+                     f"m{suffix} = np.array([{numbers}]){to_unit or f'  # one reading in {unit_label(c.input_unit)}'}",
+                     f"f{suffix} = M{suffix} @ (m{suffix} - o{suffix})  # calibrated, in {unit_label(c.output_unit)}"]
+        js_where = f"cal.corrections.{c.sensor}" if cube else "cal.correction"
+        names = f"M: M{suffix}, o: o{suffix}" if suffix else "M, o"
+        js_lines += [f"const {{ {names} }} = {js_where};",
+                     f"const m{suffix} = [{numbers}];  // one reading from the {SENSORS[c.sensor]}, in "
+                     f"{unit_label(c.input_unit) if scale is None else 'counts: scale it as below'}"]
+        if scale is not None:
+            js_lines.append(f"const s{suffix} = m{suffix}.map((v) => v {scale['op']} {scale['value']:g});  "
+                            f"// counts to {unit_label(c.input_unit)}: {scale['words']}")
+        arg = f"s{suffix}" if scale is not None else f"m{suffix}"
+        js_lines.append(f"const f{suffix} = M{suffix}.map((row) => row.reduce((sum, k, j) => sum + k * ({arg}[j] - "
+                        f"o{suffix}[j]), 0));  // calibrated, in {unit_label(c.output_unit)}")
+    corrections_out = {c.sensor: {"M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
+                                  "output_unit": c.output_unit, "source": c.source} for c in corrections}
+    return {"corrections": corrections_out, "c": "\n".join(c_lines), "python": "\n".join(py_lines), "javascript": "\n".join(js_lines),
+            "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections}, "scales": scales}

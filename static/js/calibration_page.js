@@ -1,0 +1,82 @@
+// A stored calibration's own page, /c/{id} (or /c/latest?device=NAME): read through the API with
+// the token this browser keeps for it (tokens.js), then shown by the one result view (result_view.js).
+import { ApiError, getCalibration, listCalibrations, openLink } from "./api.js";
+import { showCalibration } from "./result_view.js";
+import { TABLES } from "./tables.js";
+import { candidates, rememberApiKey, rememberToken } from "./tokens.js";
+
+const $ = (sel) => document.querySelector(sel);
+const root = $("#calibration-page");
+let id = root.dataset.id;
+const link = root.dataset.link;
+const device = root.dataset.device;
+
+// The first token that opens it: 401 (a server with keys) and 404 (another owner's) try the next;
+// when none does, the answer to the most specific one (a key refused says so) is the one shown.
+async function read() {
+  let last = null;
+  for (const token of candidates(id || null)) {
+    try {
+      if (id) return { cal: await getCalibration(id, token), token };
+      const { items } = await listCalibrations(token, device, 1);
+      if (items.length) return { cal: items[0], token };
+      last ??= new ApiError(`no calibration of the device “${device}” is readable here`, 404, "not_found");
+    } catch (err) {
+      if (err.code !== "unauthorized" && err.code !== "not_found") throw err;
+      last ??= err;
+    }
+  }
+  throw last;
+}
+
+function when(iso) { return iso ? iso.replace("T", " ").replace(/\.\d+Z$/, " UTC") : ""; }
+
+// A short link sent from the phone (/s/CODE): the calibration it opens, its token kept for the
+// calibration's own address, which replaces the link's in the address bar.
+async function follow() {
+  const opened = await openLink(link);
+  id = opened.calibration_id;
+  rememberToken(id, opened.token);
+  history.replaceState(null, "", `/c/${encodeURIComponent(id)}`);
+}
+
+async function load() {
+  $("#cal-loading").hidden = false;
+  $("#cal-access").hidden = true;
+  try {
+    if (link && !id) await follow();
+    const { cal, token } = await read();
+    $("#cal-loading").hidden = true;
+    const meta = $("#cal-meta");
+    const method = TABLES.methods[cal.method] || cal.method;
+    meta.textContent = [cal.device_id && `Device ${cal.device_id}`, `Method: ${method}`, `made ${when(cal.created_at)}`,
+      `id ${cal.id}`].filter(Boolean).join(" · ");
+    meta.hidden = false;
+    document.title = `${cal.device_id ? `${cal.device_id}: ` : ""}calibration ${cal.id} — trical`;
+    showCalibration(cal, token);
+    $("#status").textContent = `Calibration ${cal.id}. ${cal.verdict.words}`;
+  } catch (err) {
+    $("#cal-loading").hidden = true;
+    const box = $("#cal-access");
+    const why = err.code === "unauthorized"
+      ? `Not readable here: ${err.message}.`
+      : err.code === "not_found"
+        ? (id ? `No calibration ${id} is readable with what this browser keeps: a phone calibration opens only in `
+          + "the browser that made it (or with the link it sends), an upload only with the API key that made it."
+          : `${err.message}.`)
+        : `The calibration could not be read: ${err.message}.`;
+    $("#cal-access-why").textContent = why;
+    $("#cal-key-form").hidden = Boolean(link) || (err.code !== "unauthorized" && err.code !== "not_found");
+    box.hidden = false;
+    box.focus();
+    $("#status").textContent = why;
+  }
+}
+
+$("#cal-key-form").addEventListener("submit", (event) => {
+  event.preventDefault();
+  rememberApiKey($("#cal-key").value.trim());
+  load();
+});
+
+load();

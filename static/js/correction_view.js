@@ -1,0 +1,64 @@
+// The model in the form the person applies, f = M (m − o), per sensor (GET …/{id}/use, the server's
+// correction: the exporters' M and o), then how the model as fitted relates to it, so that the
+// numbers of the details, the JSON and the C header are the same numbers.
+import { getUse } from "./api.js";
+import { formatNumber } from "./readings.js";
+import { TABLES } from "./tables.js";
+
+const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", "deg/s": "°/s", "rad/s": "rad/s", g: "g" };
+
+const AS_FITTED = {
+  affine: "As fitted (Georgieva et al., ESGI'95, section 3.2): m = X a + y, so X = M⁻¹ and y = o.",
+  triangular: "As fitted (Farago, Maczak and Gingl, IEEE Access, eq. (6)): a = K (v + o), so K = M and the paper's o "
+    + "is minus the o above: the paper adds its o to the reading, the correction takes its o off.",
+  magnetometer: "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (6)): h = M (m − b), so b = o.",
+  nonorthogonal: "As fitted (Georgieva et al., ESGI'95, eq. (16)): shifts s, scales b and the angles φ, ψ, θ between "
+    + "the axes; M and o are what they come to.",
+  cube: "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)): raw = S f + b per sensor, so S = M⁻¹ "
+    + "and b = o.",
+};
+
+function el(tag, text, attrs = {}) {
+  const e = document.createElement(tag);
+  if (text !== undefined && text !== null) e.textContent = text;
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  return e;
+}
+
+function matrix(id, rows) {
+  const table = el("table", null, { class: "matrix", id });
+  table.append(...rows.map((row) => {
+    const tr = el("tr");
+    row.forEach((v) => tr.append(el("td", formatNumber(v))));
+    return tr;
+  }));
+  return table;
+}
+
+// The correction of `cal` into `box` (read with `token`); the relation line into `fittedNote` when given.
+export async function showCorrection(box, cal, token = null, fittedNote = null) {
+  if (fittedNote) fittedNote.textContent = AS_FITTED[cal.model.type] || "";
+  if (cal.method === "noise") { box.replaceChildren(); box.hidden = true; return; }
+  let use;
+  try { use = await getUse(cal.id, token); } catch (err) {
+    box.replaceChildren(el("p", `The correction could not be read: ${err.message}`, { class: "bad" }));
+    return;
+  }
+  const parts = [el("h3", "The correction you apply: f = M (m − o)")];
+  for (const [sensor, c] of Object.entries(use.corrections)) {
+    const unitIn = UNIT_WORDS[c.input_unit] || c.input_unit || "";
+    const unitOut = UNIT_WORDS[c.output_unit] || c.output_unit || "";
+    const row = el("div", null, { class: "row" });
+    const mBox = el("div", null, { class: "scroll", tabindex: "0", role: "region", "aria-label": `M of the ${sensor}` });
+    mBox.append(el("h4", `M (${unitOut} per ${unitIn})`), matrix(`correction-${sensor}-M`, c.M));
+    const oBox = el("div", null, { class: "scroll", tabindex: "0", role: "region", "aria-label": `o of the ${sensor}` });
+    oBox.append(el("h4", `o (${unitIn})`), matrix(`correction-${sensor}-o`, c.o.map((v) => [v])));
+    row.append(mBox, oBox);
+    if (Object.keys(use.corrections).length > 1) parts.push(el("h4", TABLES.sensorWords[sensor] || sensor));
+    parts.push(row);
+  }
+  parts.push(el("p", `The JSON file's correction and the C header's ${Object.values(use.functions).join(", ")} hold `
+    + "these numbers.", { class: "hint" }));
+  box.replaceChildren(...parts);
+  box.hidden = false;
+}

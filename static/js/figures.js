@@ -1,0 +1,67 @@
+// Every figure of a calibration in words (app/web/metric_words.py through the page's tables): its name,
+// value with its unit, and one line saying what it is; never the stored key. Shared by every result.
+import { formatNumber } from "./readings.js";
+import { TABLES } from "./tables.js";
+
+const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", "deg/s": "°/s", "rad/s": "rad/s", g: "g" };
+const SUFFIX_UNITS = [["_mg", "mg"], ["_ut", "µT"], ["_deg", "°"], ["_hz", "Hz"], ["_s", "s"], ["_pct", "%"]];
+
+// A name made from a key the table does not list: its words, its unit from its suffix.
+function fallback(key) {
+  let unit = "";
+  let words = key;
+  for (const [suffix, u] of SUFFIX_UNITS) {
+    if (key.endsWith(suffix)) { unit = u; words = key.slice(0, -suffix.length); break; }
+  }
+  const name = words.replace(/_/g, " ");
+  return [name.charAt(0).toUpperCase() + name.slice(1), unit, ""];
+}
+
+function valueText(v) {
+  if (typeof v === "boolean") return v ? "yes" : "no";
+  if (Array.isArray(v)) return v.length ? v.map((x) => (typeof x === "number" ? formatNumber(x, 4) : String(x))).join(", ") : "none";
+  return formatNumber(v);
+}
+
+// [{name, value, unit, meaning}] of the calibration's metrics; a sensor's block (noise) is named by its sensor.
+export function figureRows(cal) {
+  const inputUnit = UNIT_WORDS[cal.unit] || cal.unit || "";
+  const row = (key, v, sensor = null) => {
+    const [name, unit, meaning] = TABLES.metrics[key] || fallback(key);
+    const shownUnit = unit === "input unit" ? inputUnit : unit === "sensor unit" ? "" : unit;
+    return { key, name: sensor ? `${TABLES.sensorWords[sensor] || sensor}: ${name.charAt(0).toLowerCase()}${name.slice(1)}` : name,
+      value: valueText(v), unit: v === null || v === undefined ? "" : shownUnit, meaning };
+  };
+  return Object.entries(cal.metrics || {}).flatMap(([k, v]) => (v && typeof v === "object" && !Array.isArray(v)
+    ? Object.entries(v).map(([k2, v2]) => row(k2, v2, k)) : [row(k, v)]));
+}
+
+// The figures into a table: the name with its line in a row header, the value with its unit.
+export function fillFigures(table, cal) {
+  table.replaceChildren(...figureRows(cal).map((r) => {
+    const tr = document.createElement("tr");
+    tr.dataset.key = r.key;
+    const th = document.createElement("th");
+    th.scope = "row";
+    th.textContent = r.name;
+    if (r.meaning) {
+      const small = document.createElement("span");
+      small.className = "meaning";
+      small.textContent = r.meaning;
+      th.append(small);
+    }
+    const td = document.createElement("td");
+    td.textContent = r.unit && r.value !== "—" ? `${r.value} ${r.unit}` : r.value;
+    tr.append(th, td);
+    return tr;
+  }));
+}
+
+// The server's notes name request fields (latitude_deg …): on a page each is said in words.
+const FIELD_WORDS = { latitude_deg: "the latitude", longitude_deg: "the longitude", field_ut: "the field's strength (µT)",
+  height_m: "the height", sampling_rate_hz: "the sampling rate", lsb_per_g: "the counts per g", acc_unit: "the "
+  + "accelerometer's unit", gyr_unit: "the gyroscope's unit", mag_unit: "the magnetometer's unit" };
+export function pageWords(text) {
+  return String(text).replace(/\b(latitude_deg|longitude_deg|field_ut|height_m|sampling_rate_hz|lsb_per_g|acc_unit|gyr_unit|mag_unit)\b/g,
+    (key) => FIELD_WORDS[key]);
+}

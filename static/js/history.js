@@ -1,0 +1,88 @@
+// The history: every calibration this browser can read (no token or the API key it was given, and
+// each wizard session's token kept in tokens.js), newest first, filtered by device; a device's
+// latest calibration is one link, /c/latest?device=NAME.
+import { getCalibration, listCalibrations } from "./api.js";
+import { TABLES } from "./tables.js";
+import { apiKey, linkedCalibrations, rememberApiKey, sessionTokens } from "./tokens.js";
+
+const $ = (sel) => document.querySelector(sel);
+const root = $("#history");
+let items = [];
+
+function cell(tag, text) { const e = document.createElement(tag); e.textContent = text; return e; }
+
+function when(iso) { return iso ? iso.slice(0, 16).replace("T", " ") : "—"; }
+
+// Each owner's list, merged (one calibration once), newest first. A server with keys answers 401
+// without one: the person is asked for it.
+async function readAll() {
+  const owners = [apiKey(), ...sessionTokens()]; // no key: null, the keyless owner
+  let needKey = null;
+  const lists = await Promise.all(owners.map(async (token) => {
+    try { return (await listCalibrations(token)).items; } catch (err) {
+      if (err.code === "unauthorized" && (token === null || token === apiKey())) needKey = err;
+      return [];
+    }
+  }));
+  // Those a link sent here opened: one each, while the link holds.
+  const linked = await Promise.all(linkedCalibrations().map(([id, token]) => getCalibration(id, token).catch(() => null)));
+  const seen = new Map();
+  for (const cal of [...lists.flat(), ...linked.filter(Boolean)]) seen.set(cal.id, cal);
+  return { cals: [...seen.values()].sort((a, b) => (a.created_at < b.created_at ? 1 : -1)), needKey };
+}
+
+function render() {
+  const device = $("#history-device").value;
+  const shown = items.filter((c) => !device || c.device_id === device);
+  $("#history-table tbody").replaceChildren(...shown.map((cal) => {
+    const tr = document.createElement("tr");
+    tr.dataset.id = cal.id;
+    const date = cell("th", "");
+    date.scope = "row";
+    date.append(Object.assign(cell("a", when(cal.created_at)), { href: `/c/${encodeURIComponent(cal.id)}` }));
+    const verdict = cell("td", cal.verdict.words);
+    verdict.dataset.kind = cal.verdict.kind;
+    const named = (label, text) => { const td = cell("td", text); td.dataset.label = label; return td; };
+    const device = named("Device", cal.device_id || "—");
+    const method = named("Method", TABLES.methods[cal.method] || cal.method);
+    verdict.dataset.label = "Verdict";
+    tr.append(date, device, method, verdict);
+    return tr;
+  }));
+  $("#history-table").hidden = !shown.length;
+  $("#history-msg").textContent = shown.length ? `${shown.length} calibration${shown.length === 1 ? "" : "s"}.`
+    : device ? `No calibration of ${device} here.` : "No calibration readable in this browser yet: upload a log or "
+      + "run the wizard on the start page.";
+  const latest = $("#history-latest");
+  latest.hidden = !device || !shown.length;
+  if (device) {
+    $("#history-latest-link").href = `/c/latest?device=${encodeURIComponent(device)}`;
+    $("#history-latest-link").textContent = `The latest calibration of ${device}`;
+  }
+  const url = device ? `/history?device=${encodeURIComponent(device)}` : "/history";
+  if (location.pathname + location.search !== url) history.replaceState(null, "", url);
+}
+
+async function load() {
+  const { cals, needKey } = await readAll();
+  items = cals;
+  const devices = [...new Set(items.map((c) => c.device_id).filter(Boolean))].sort();
+  const select = $("#history-device");
+  const wanted = select.value || root.dataset.device;
+  select.replaceChildren(Object.assign(cell("option", "every device"), { value: "" }),
+    ...devices.map((d) => Object.assign(cell("option", d), { value: d })));
+  if (wanted && !devices.includes(wanted)) select.append(Object.assign(cell("option", wanted), { value: wanted }));
+  select.value = wanted || "";
+  $("#cal-access").hidden = !needKey;
+  if (needKey) $("#cal-access-why").textContent = `The server answered: ${needKey.message}.`;
+  render();
+}
+
+$("#history-device").addEventListener("change", render);
+$("#cal-key-form").addEventListener("submit", (event) => {
+  event.preventDefault();
+  rememberApiKey($("#cal-key").value.trim());
+  load();
+});
+
+load();
