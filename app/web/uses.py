@@ -2,12 +2,12 @@
 
 The result's "Use this calibration" offers the file of the use the person picks (remembered by the
 page), with one line on how to apply it; the other formats are listed under it. The keys are the
-export formats of app.io (FORMAT_NAMES, NOISE_FORMATS).
+export formats of app.io (FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS).
 """
 
 from __future__ import annotations
 
-from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS
+from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
 
 CALIBRATION_USES = (
     {"key": "app", "name": "a phone app", "format": "json", "snippet": "javascript",
@@ -42,10 +42,26 @@ NOISE_USES = (
 """A noise characterisation: figures for a filter, not a correction."""
 
 
+TEMPERATURE_USES = (
+    {"key": "px4", "name": "PX4", "format": "px4",
+     "how": "In QGroundControl: Vehicle Setup → Parameters → Tools → Load from file, then reboot; set TC_A0_ID and "
+            "TC_G0_ID to the sensors' device ids (CAL_ACC0_ID, CAL_GYRO0_ID) first."},
+    {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
+     "how": "In Mission Planner: Config → Full Parameter List → Load from file, Write Params, reboot; ArduPilot "
+            "corrects relative to INS_ACC1_CALTEMP and INS_GYR1_CALTEMP, the temperature of its last calibration."},
+    {"key": "filter", "name": "my own firmware", "format": "json",
+     "how": "Each axis's offset is X0 + X1·dT + X2·dT² + X3·dT³ with dT = T − T_ref (T clamped to the range): "
+            "subtract it from the reading at that temperature (the JSON's model)."},
+)
+"""A temperature calibration: the firmwares' thermal compensation parameters, or the polynomials."""
+
+
 def uses_table() -> dict:
-    """The page's table of uses: ``calibration`` and ``noise``, each a list of key, name, format, how (and
-    for a calibration the ``snippet`` shown);
-    ``formats`` and ``noiseFormats``, every export as ``[key, name]`` in the order the page lists them
+    """The page's table of uses: ``calibration``, ``noise`` and ``temperature``, each a list of key, name,
+    format, how (and for a calibration the ``snippet`` shown);
+    ``formats``, ``noiseFormats`` and ``temperatureFormats``, every export as ``[key, name]`` in the order the page lists them
     (pairs, since the template's JSON sorts an object's keys)."""
     return {"calibration": [dict(u) for u in CALIBRATION_USES], "noise": [dict(u) for u in NOISE_USES],
-            "formats": [list(f) for f in FORMAT_NAMES.items()], "noiseFormats": [list(f) for f in NOISE_FORMATS.items()]}
+            "temperature": [dict(u) for u in TEMPERATURE_USES],
+            "formats": [list(f) for f in FORMAT_NAMES.items()], "noiseFormats": [list(f) for f in NOISE_FORMATS.items()],
+            "temperatureFormats": [list(f) for f in TEMPERATURE_FORMATS.items()]}

@@ -142,7 +142,8 @@ export function showCalibration(cal, token = null) {
   $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", pageWords(w))));
   if (cal.method === "noise") showNoise(cal);
   else showModel(cal.model, cal.unit);
-  $("#result-model-h").textContent = cal.method === "noise" ? "The noise terms" : "The model as fitted";
+  $("#result-model-h").textContent = { noise: "The noise terms", temperature: "Each axis's offset polynomial" }[cal.method]
+    || "The model as fitted";
   showCorrection($("#result-correction"), cal, token, $("#result-fitted-note"));
   fillFigures($("#result-metrics"), cal);
   showMagSpheres(cal);
@@ -164,6 +165,11 @@ export function showCalibration(cal, token = null) {
   allan.hidden = cal.method !== "noise";
   if (cal.method === "noise") $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
   else $("#result-allan img").removeAttribute("src");
+  // A temperature calibration's offset against temperature: the server draws it too (temperature_svg).
+  const drift = $("#result-temperature");
+  drift.hidden = cal.method !== "temperature";
+  if (cal.method === "temperature") $("#result-temperature img").src = exportUrl(cal.id, "temperature_svg");
+  else $("#result-temperature img").removeAttribute("src");
   shown = cal;
   offerSend(cal, token);
   resetUse(); // the files follow as they are fetched

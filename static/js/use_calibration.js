@@ -17,7 +17,9 @@ function el(tag, text, attrs = {}) {
   return e;
 }
 
-function group(cal) { return cal.method === "noise" ? "noise" : "calibration"; }
+// The kind of result: a correction of a sensor, a noise characterisation, or a temperature calibration.
+function group(cal) { return cal.method === "noise" || cal.method === "temperature" ? cal.method : "calibration"; }
+const FORMATS = { calibration: "formats", noise: "noiseFormats", temperature: "temperatureFormats" };
 
 // The verdict card; returns the verdict (every calibration the server returns carries one).
 export function showVerdict(cal) {
@@ -38,9 +40,9 @@ export async function fetchDownloads(cal, token = null) {
   blobUrls.forEach((u) => URL.revokeObjectURL(u));
   blobUrls = [];
   if (!cal.verdict.apply) return [];
-  const names = group(cal) === "noise" ? TABLES.uses.noiseFormats : TABLES.uses.formats;
-  // The paste-ready lines of each use (app/io/snippets.py); none for a noise characterisation.
-  const snippets = group(cal) === "noise" ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
+  const names = TABLES.uses[FORMATS[group(cal)]];
+  // The paste-ready lines of each use (app/io/snippets.py): a correction's only.
+  const snippets = group(cal) !== "calibration" ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
   const downloads = await Promise.all(names.map(async ([key, name]) => {
     try {
       const { blob, filename } = await fetchExport(cal.id, key, token);

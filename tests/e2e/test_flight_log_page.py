@@ -4,8 +4,10 @@ chosen and read again, the temperature over the log, and the temperature calibra
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from playwright.sync_api import expect
 
+from tests.e2e.axe import axe_context
 from tests.e2e.conftest import shot
 from tests.flight_logs import px4_file, still_board
 
@@ -61,4 +63,57 @@ def test_a_log_too_short_a_warm_up_says_what_the_temperature_calibration_needs(p
     caption = page.text_content("#flight-temp")
     assert "a temperature calibration needs 10 °C or more" in caption and "cold start" in caption, caption
     assert page.is_hidden("#temperature-recording")
+    assert [e for e in page.errors if "status of 422" not in e] == []
+
+
+@pytest.fixture
+def axe_page(browser):
+    """A phone-width page whose CSP lets axe in (the layout checks), with its errors collected."""
+    context = axe_context(browser, viewport={"width": 390, "height": 900}, device_scale_factor=1)
+    page = context.new_page()
+    errors: list[str] = []
+    page.on("pageerror", lambda exc: errors.append(str(exc)))
+    page.on("console", lambda msg: errors.append(msg.text) if msg.type == "error" else None)
+    page.errors = errors
+    yield page
+    context.close()
+
+
+def test_a_warm_up_is_calibrated_for_temperature_from_the_page(axe_page, server, tmp_path):
+    """A PX4 log whose IMU 1 warms from 15 °C (the seeded warm-up of the temperature tests, a known cubic and a
+    real MPU-6050's noise): IMU 1 chosen, *Calibrate the temperature drift*, then the verdict, the plot of offset
+    against temperature, and the firmware's file under *Use this calibration*."""
+    from tests.api.test_flight_log_temperature import warm_instances
+    from tests.e2e.test_layout import layout_problems
+
+    page = axe_page
+    log = px4_file(tmp_path / "warm_up.ulg", warm_instances(44))
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(log))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    if page.input_value("#flight-imu") != "1":  # the default IMU rests at 40 °C: nothing to calibrate on it
+        assert page.is_hidden("#temperature-recording")
+        page.select_option("#flight-imu", "1")
+        page.click("#flight-go")
+    expect(page.locator("#temperature-recording")).to_be_visible()
+    page.click("#temperature-recording")
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=60_000)
+    assert page.url.endswith("/c/" + page.text_content("#result-ok").split(" ")[1])
+    assert page.text_content("#verdict-words").startswith("Apply it: offset drift over 15")
+    expect(page.locator("#result-temperature")).to_be_visible()
+    loaded = page.evaluate("() => new Promise((done) => { const img = document.querySelector('#result-temperature img');"
+                           " if (img.complete) done(img.naturalWidth); else img.onload = () => done(img.naturalWidth); })")
+    assert loaded > 0
+    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == \
+        ["px4", "ardupilot", "filter"]
+    assert page.get_attribute("#use-file", "data-format") == "px4" and "TC_A0_ID" in page.text_content("#use-how")
+    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")
+    assert links == ["px4", "ardupilot", "json", "temperature_svg"], links
+    shot(page, "flight_log_temperature_result")
+    problems = []
+    for width in (390, 1280):
+        page.set_viewport_size({"width": width, "height": 900})
+        problems += layout_problems(page, "flight_log_temperature_result", width)
+    assert not problems, "\n".join(problems)
     assert [e for e in page.errors if "status of 422" not in e] == []
