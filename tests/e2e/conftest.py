@@ -57,15 +57,20 @@ def server(tmp_path_factory):
         s.stop()
 
 
-@pytest.fixture
-def page(browser, request):
-    context = browser.new_context(viewport={"width": 360, "height": 640}, device_scale_factor=1)
+def watched_page(context):
+    """A new page of ``context`` whose script errors and console errors collect in ``page.errors``."""
     pg = context.new_page()
     errors: list[str] = []
     pg.on("pageerror", lambda exc: errors.append(str(exc)))
     pg.on("console", lambda msg: errors.append(msg.text) if msg.type == "error" else None)
     pg.errors = errors
-    yield pg
+    return pg
+
+
+@pytest.fixture
+def page(browser, request):
+    context = browser.new_context(viewport={"width": 360, "height": 640}, device_scale_factor=1)
+    yield watched_page(context)
     context.close()
 
 

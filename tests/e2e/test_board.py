@@ -16,7 +16,7 @@ from playwright.sync_api import expect
 from app.calibration import fit_six_position
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
-from tests.e2e.conftest import shot
+from tests.e2e.conftest import shot, watched_page
 
 SHIM = (Path(__file__).parent / "board_shim.js").read_text()
 POSE_FILES = DATA / "real" / "mpu6050_pose_files"
@@ -62,11 +62,7 @@ def desk(browser, request):
     options = {"viewport": {"width": 1280, "height": 900}, "device_scale_factor": 1}
     axe = "layout" in request.node.name
     context = axe_context(browser, **options) if axe else browser.new_context(**options)
-    page = context.new_page()
-    errors: list[str] = []
-    page.on("pageerror", lambda exc: errors.append(str(exc)))
-    page.on("console", lambda msg: errors.append(msg.text) if msg.type == "error" else None)
-    page.errors = errors
+    page = watched_page(context)
     page.add_init_script(SHIM)
     yield page
     context.close()

@@ -8,7 +8,7 @@ import pytest
 from playwright.sync_api import expect
 
 from tests.e2e.axe import axe_context
-from tests.e2e.conftest import shot
+from tests.e2e.conftest import shot, watched_page
 from tests.flight_logs import px4_file, still_board
 
 
@@ -70,12 +70,7 @@ def test_a_log_too_short_a_warm_up_says_what_the_temperature_calibration_needs(p
 def axe_page(browser):
     """A phone-width page whose CSP lets axe in (the layout checks), with its errors collected."""
     context = axe_context(browser, viewport={"width": 390, "height": 900}, device_scale_factor=1)
-    page = context.new_page()
-    errors: list[str] = []
-    page.on("pageerror", lambda exc: errors.append(str(exc)))
-    page.on("console", lambda msg: errors.append(msg.text) if msg.type == "error" else None)
-    page.errors = errors
-    yield page
+    yield watched_page(context)
     context.close()
 
 
