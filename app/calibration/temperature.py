@@ -56,6 +56,7 @@ from typing import ClassVar
 import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
+from .gravity import STANDARD_GRAVITY
 from .result import CalibrationResult
 
 CONFIDENCE = 0.95
@@ -78,7 +79,7 @@ MIN_REST_S = 5.0
 """Rests shorter than this (a turn at a steady rate reads as one) are left out of the gyroscope's fit."""
 STILL_FRACTION = 0.9
 """A recording whose longest rest is shorter than this fraction of it moved."""
-G0 = 9.80665
+G0 = STANDARD_GRAVITY
 SENSOR_NAMES = {"acc": "accelerometer", "gyr": "gyroscope"}
 SI_UNITS = {"acc": "m/s^2", "gyr": "rad/s"}
 FIGURE_UNITS = {"acc": "mg", "gyr": "deg/s"}

@@ -36,7 +36,8 @@ from .errors import LogFormatError
 from .formats.generic_csv import map_columns
 from .formats.table import WHITESPACE, guess_delimiter, split_row
 from .formats.timing import decide_timing, time_scale
-from .formats.units import STANDARD_GRAVITY, settle_units
+from ..calibration.gravity import STANDARD_GRAVITY
+from .formats.units import settle_units
 from .log import LogData
 
 FORMATS = ("auto", "raw", "uni", "csv", "numbers")

@@ -30,10 +30,10 @@ import numpy as np
 
 from .errors import ExportError
 from .export_common import Export, accelerometer_correction, describe
+from ..calibration.gravity import STANDARD_GRAVITY
 from .export_compass import to_ardupilot_compass, to_px4_compass
 
-STANDARD_GRAVITY = 9.80665
-"""ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G, m/s²."""
+# The standard gravity is also ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G (9.80665 m/s²).
 
 ARDUPILOT_OFFSET_RANGE = (-3.5, 3.5)
 ARDUPILOT_SCALE_RANGE = (0.8, 1.2)

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from app.calibration.gravity import STANDARD_GRAVITY
+
 from .board_formats import MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from .errors import ExportError
 from .export_common import sensor_corrections
@@ -34,8 +36,7 @@ CRC_POLYNOMIAL = 0xA001
 CRC_START = 0xFFFF
 SOFT_IRON_ORDER = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 """The packet's six soft-iron entries, in order."""
-STANDARD_GRAVITY = 9.80665
-"""m/s² per g (Adafruit's Unified Sensor units are m/s²)."""
+# Adafruit's Unified Sensor units are m/s²: STANDARD_GRAVITY of them a g.
 DEFAULT_FIELD_UT = 50.0
 """The field Adafruit_Sensor_Calibration starts with (µT), sent when the calibration has no magnetometer."""
 SYMMETRY_TOLERANCE = 1e-6

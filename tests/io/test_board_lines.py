@@ -13,7 +13,7 @@ from app.io.board_formats import MOTIONCAL_RAW
 from app.io.board_lines import (BoardLineReader, LogWriter, board_rate, numbers_format, read_lines, to_log)
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
-from app.io.formats.units import STANDARD_GRAVITY
+from app.calibration import STANDARD_GRAVITY
 
 REAL = Path(__file__).parents[1] / "data" / "real"
 POSE = REAL / "mpu6050_pose_files" / "x_axis_pos.csv"  # Arduino, ms timestamps, m/s² under a "(g)" header

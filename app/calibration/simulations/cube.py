@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..cube import quaternion as quat
+from ..gravity import STANDARD_GRAVITY
 from ..cube.accmag import direction_matrix, reference_direction
 from ..cube.protocols import Protocol, get_protocol, parse_rotation
 
@@ -50,7 +51,7 @@ NOISE_VAR = {"gyr": 4e-4, "acc": 2e-8, "mag": 6e-8}
 
 ALPHA_DEG = 15.0
 BETA_DEG = 10.0
-GRAVITY = 9.80665
+GRAVITY = STANDARD_GRAVITY
 FIELD_UT = 51.0
 
 

@@ -18,9 +18,9 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
+from ...calibration.gravity import STANDARD_GRAVITY
 from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, SENSOR_WORDS, Chip
 
-STANDARD_GRAVITY = 9.80665
 LINEAR_FRACTION = 0.25
 """A log whose median norm is below this fraction of g holds no gravity (linear acceleration)."""
 COUNTS_TOLERANCE = 0.15
