@@ -132,9 +132,18 @@ def trical_env(tmp_path):
             "PYTHONFAULTHANDLER": "1"}
 
 
+# What a terminal gives the command it runs: Ctrl-C (SIGINT) delivered and handled by default. A test worker
+# that ran other tests before may have left SIGINT ignored or blocked, and a child inherits both across exec
+# (seen in full runs: a SIGINT that never arrived). The launcher puts SIGINT back before the command starts.
+AS_FROM_A_TERMINAL = ("import runpy, signal, sys; signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT]); "
+                      "signal.signal(signal.SIGINT, signal.default_int_handler); sys.argv[0] = 'trical'; "
+                      "runpy.run_module('app.cli', run_name='__main__', alter_sys=True)")
+
+
 def start_capture(tmp_path, port, *args, steps_on="stdout"):
-    """trical capture as a subprocess; returns it once it said the port is open, and that first line."""
-    proc = subprocess.Popen([sys.executable, "-m", "app.cli", "capture", port, *args], cwd=ROOT,
+    """trical capture as a subprocess, as a terminal starts it; returns it once it said the port is open, and
+    that first line."""
+    proc = subprocess.Popen([sys.executable, "-c", AS_FROM_A_TERMINAL, "capture", port, *args], cwd=ROOT,
                             env=trical_env(tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     stream = proc.stdout if steps_on == "stdout" else proc.stderr
     ready, _, _ = select.select([stream], [], [], 30)
@@ -222,8 +231,12 @@ def test_ctrl_c_keeps_the_log_and_says_how_to_finish_it(tmp_path, pty_board):
     deadline = time.monotonic() + 30
     while time.monotonic() < deadline and not (log.exists() and log.stat().st_size > 5000):
         time.sleep(0.1)
+    inherited = (signal.getsignal(signal.SIGINT), signal.pthread_sigmask(signal.SIG_BLOCK, []))
     proc.send_signal(signal.SIGINT)
-    stdout, stderr = finish(proc, 40)
+    try:
+        stdout, stderr = finish(proc, 40)
+    except AssertionError as exc:  # say what this worker would have passed on, for the next reader
+        raise AssertionError(f"{exc}\n(this test process: SIGINT handler {inherited[0]!r}, blocked {inherited[1]!r})") from None
     assert proc.returncode == 130, stderr
     assert "keeps the" in stdout and f"finish it with: trical calibrate {log}" in stdout
     rows = log.read_text().splitlines()
