@@ -34,7 +34,7 @@ from app.io.board_lines import BoardLineReader, LogWriter, board_rate, to_log
 from app.io.errors import LogFormatError
 from app.io.formats.timing import time_scale
 from app.calibration.gravity import STANDARD_GRAVITY
-from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
+from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
 from app.web.tables import capture_thresholds
 
 PROTOCOLS = CAPTURE_PROTOCOLS

@@ -649,7 +649,7 @@ def _capture(args, settings: Settings) -> int:
     """``trical capture PORT``: the board's lines captured hands-free into a log, then calibrated (app.board_capture)."""
     import serial  # pyserial
 
-    from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+    from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 
     capture_s = CAPTURE_S_DEFAULT if args.capture_s is None else args.capture_s
     low, high = CAPTURE_S_RANGE

@@ -28,10 +28,12 @@ import numpy as np
 from app import workflow
 from app.calibration import CANONICAL_SIX, CalibrationError, InsufficientDataError
 from app.calibration.errors import NotStillError
-from app.calibration.advice import MIN_SEPARATION_DEG, farthest_directions
+from app.calibration.advice import farthest_directions
 from app.calibration.capture import check_new_direction, check_still_capture, on_uniform_grid
 from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.calibration.gyro_bias import gyroscope_bias
+from app.capture_rules import (CUBE_FACE_MAX_ANGLE_DEG, FREE_FIT_FROM, FREE_MAX_ANGLE_DEG, FREE_MIN_ANGLE_DEG, MAX_ROTATION_DEG_S,
+                               FREE_TARGET_MIN_POSES)
 from app.store import ConflictError
 
 PROTOCOL_POSITIONS: dict[str, tuple[str, ...]] = {
@@ -40,48 +42,6 @@ PROTOCOL_POSITIONS: dict[str, tuple[str, ...]] = {
     "cube24": tuple(str(k) for k in range(1, len(CUBE24_UPS) + 1)),
 }
 """The positions of each protocol the server can guide."""
-
-FREE_FIT_FROM = 10
-"""The free flow fits the triangular model from this many poses on: nine parameters, and one more so
-that every fit without one pose (the cross-validation) is still determined."""
-
-FREE_TARGET_MIN_POSES = 12
-"""The free flow reaches its target only with at least this many poses."""
-
-FREE_MAX_ANGLE_DEG = 180.0
-"""A free pose need not be near an axis: any direction is a pose (its label is the nearest axis)."""
-
-FREE_MIN_ANGLE_DEG = MIN_SEPARATION_DEG
-"""A free pose must point at least this far from every earlier one (the advice keeps to it too)."""
-
-CAPTURE_S_DEFAULT = 5.0
-"""Seconds captured per position unless the session asks for another duration."""
-
-CAPTURE_S_RANGE = (0.5, 30.0)
-"""The seconds per position a session accepts (the API's and the wizard page's bounds)."""
-
-CUBE_FACE_MAX_ANGLE_DEG = 45.0
-"""The cube may stand on an inclined plane: its up face is the nearest axis within 45° (as Särkkä et al.'s
-sequence check, app.calibration.cube.sequence)."""
-
-PAGE_CUBE_FACE_MAX_ANGLE_DEG = 40.0
-"""The wizard page captures a cube position only within 40° of a face, inside the server's 45°,
-so that what it sends is not refused for the angle."""
-
-MAX_ROTATION_DEG_S = 5.0
-"""A still capture whose mean rotation rate exceeds this (°/s) was turning, whatever the
-accelerometer says; a phone gyroscope's bias is well below it."""
-
-PAGE_STILL_ENTER_DEG_S = 3.0
-PAGE_STILL_LEAVE_DEG_S = MAX_ROTATION_DEG_S
-"""The wizard page calls the device still when the mean rotation rate over its window falls below
-3 °/s and moving again above the server's 5 °/s (hysteresis, static/js/motion.js)."""
-
-PAGE_STILL_ENTER_STD = 0.1
-PAGE_STILL_LEAVE_STD = 0.25
-"""The same for the accelerometer, in m/s²: the largest per-axis standard deviation over the
-window; the page leaves "still" below the server's limit (app.calibration.capture.STILL_MAX_STD_G,
-0.03 g = 0.29 m/s²), so that a capture it completes is still for the server too."""
 
 
 OS_CALIBRATION_WARNING = (

@@ -28,7 +28,7 @@ from app.requests import (  # noqa: F401  (re-exported: the routes and tests nam
     UnknownOrientationIn,
     Vec3,
 )
-from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
+from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
 
 
 # -- calibration responses -----------------------------------------------------------------------

@@ -11,7 +11,7 @@ from fastapi.templating import Jinja2Templates
 
 from app.calibration import CANONICAL_SIX
 from app.qr import qr_svg_data_uri
-from app.sessions import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 from app.tls import lan_addresses
 
 from .tables import POSE_NAMES, POSE_SHORT, page_tables

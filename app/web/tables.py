@@ -13,7 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from app import sessions
+from app import capture_rules
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
@@ -82,10 +82,10 @@ def capture_thresholds() -> dict:
     return {
         "windowMs": CAPTURE_WINDOW_MS,
         "holdMs": CAPTURE_HOLD_MS,
-        "spreadLow": sessions.PAGE_STILL_ENTER_STD,
-        "spreadHigh": sessions.PAGE_STILL_LEAVE_STD,
-        "gyrLow": sessions.PAGE_STILL_ENTER_DEG_S,
-        "gyrHigh": sessions.PAGE_STILL_LEAVE_DEG_S,
+        "spreadLow": capture_rules.PAGE_STILL_ENTER_STD,
+        "spreadHigh": capture_rules.PAGE_STILL_LEAVE_STD,
+        "gyrLow": capture_rules.PAGE_STILL_ENTER_DEG_S,
+        "gyrHigh": capture_rules.PAGE_STILL_LEAVE_DEG_S,
         "maxAngleDeg": LABEL_MAX_ANGLE_DEG,
     }
 
@@ -152,10 +152,10 @@ def page_tables() -> dict:
             "short": {label: POSE_SHORT[label] for label in CANONICAL_SIX},
         },
         "capture": capture_thresholds(),
-        "cube": {"maxAngleDeg": sessions.PAGE_CUBE_FACE_MAX_ANGLE_DEG},
-        "free": {"maxAngleDeg": sessions.FREE_MAX_ANGLE_DEG, "minAngleDeg": sessions.FREE_MIN_ANGLE_DEG,
-                 "fitFrom": sessions.FREE_FIT_FROM,
-                 "targetPoses": sessions.FREE_TARGET_MIN_POSES},
+        "cube": {"maxAngleDeg": capture_rules.PAGE_CUBE_FACE_MAX_ANGLE_DEG},
+        "free": {"maxAngleDeg": capture_rules.FREE_MAX_ANGLE_DEG, "minAngleDeg": capture_rules.FREE_MIN_ANGLE_DEG,
+                 "fitFrom": capture_rules.FREE_FIT_FROM,
+                 "targetPoses": capture_rules.FREE_TARGET_MIN_POSES},
         "cube24": {
             "rotations": list(CUBE24_ROTATIONS),
             "ups": list(protocol.ups),

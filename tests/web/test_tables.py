@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app import sessions
+from app import capture_rules
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.capture import STILL_MAX_STD_G
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
@@ -90,9 +90,9 @@ def test_the_page_s_thresholds_stay_inside_the_server_s_checks():
     capture = page_tables()["capture"]
     # Still for the page means still for the server: the page leaves "still" before the server's limits.
     assert capture["spreadLow"] < capture["spreadHigh"] < STILL_MAX_STD_G * STANDARD_GRAVITY
-    assert capture["gyrLow"] < capture["gyrHigh"] == sessions.MAX_ROTATION_DEG_S
+    assert capture["gyrLow"] < capture["gyrHigh"] == capture_rules.MAX_ROTATION_DEG_S
     assert capture["maxAngleDeg"] == LABEL_MAX_ANGLE_DEG  # the six flow's pose angle is the server's
-    assert page_tables()["cube"]["maxAngleDeg"] < sessions.CUBE_FACE_MAX_ANGLE_DEG
+    assert page_tables()["cube"]["maxAngleDeg"] < capture_rules.CUBE_FACE_MAX_ANGLE_DEG
 
 
 def test_the_pages_render_the_tables_as_data_the_csp_never_runs(client):
@@ -120,9 +120,9 @@ def test_the_scripts_hold_no_copy_of_the_tables():
 
 
 def test_the_capture_duration_bounds_are_the_sessions_(client):
-    low, high = sessions.CAPTURE_S_RANGE
+    low, high = capture_rules.CAPTURE_S_RANGE
     assert client.post("/api/v1/sessions", json={"capture_s": high + 0.1}).status_code == 422
     assert client.post("/api/v1/sessions", json={"capture_s": low}).status_code == 201
-    assert client.post("/api/v1/sessions", json={}).json()["capture_s"] == sessions.CAPTURE_S_DEFAULT
+    assert client.post("/api/v1/sessions", json={}).json()["capture_s"] == capture_rules.CAPTURE_S_DEFAULT
     assert client.get(f"/wizard?capture_s={high + 0.1}").status_code == 400
     assert client.get(f"/wizard?capture_s={low}").status_code == 200

@@ -1,0 +1,51 @@
+"""The rules of the guided capture flows: how long a pose is captured, when a device is still, how far a free
+pose must point from the others and how many the free flow fits from — shared by the server's sessions
+(app.sessions), the pages' tables (app.web.tables) and the terminal's capture (app.board_capture), so that
+what the page or the terminal captures the server accepts.
+"""
+
+from __future__ import annotations
+
+from app.calibration.advice import MIN_SEPARATION_DEG
+
+FREE_FIT_FROM = 10
+"""The free flow fits the triangular model from this many poses on: nine parameters, and one more so
+that every fit without one pose (the cross-validation) is still determined."""
+
+FREE_TARGET_MIN_POSES = 12
+"""The free flow reaches its target only with at least this many poses."""
+
+FREE_MAX_ANGLE_DEG = 180.0
+"""A free pose need not be near an axis: any direction is a pose (its label is the nearest axis)."""
+
+FREE_MIN_ANGLE_DEG = MIN_SEPARATION_DEG
+"""A free pose must point at least this far from every earlier one (the advice keeps to it too)."""
+
+CAPTURE_S_DEFAULT = 5.0
+"""Seconds captured per position unless the session asks for another duration."""
+
+CAPTURE_S_RANGE = (0.5, 30.0)
+"""The seconds per position a session accepts (the API's and the wizard page's bounds)."""
+
+CUBE_FACE_MAX_ANGLE_DEG = 45.0
+"""The cube may stand on an inclined plane: its up face is the nearest axis within 45° (as Särkkä et al.'s
+sequence check, app.calibration.cube.sequence)."""
+
+PAGE_CUBE_FACE_MAX_ANGLE_DEG = 40.0
+"""The wizard page captures a cube position only within 40° of a face, inside the server's 45°,
+so that what it sends is not refused for the angle."""
+
+MAX_ROTATION_DEG_S = 5.0
+"""A still capture whose mean rotation rate exceeds this (°/s) was turning, whatever the
+accelerometer says; a phone gyroscope's bias is well below it."""
+
+PAGE_STILL_ENTER_DEG_S = 3.0
+PAGE_STILL_LEAVE_DEG_S = MAX_ROTATION_DEG_S
+"""The wizard page calls the device still when the mean rotation rate over its window falls below
+3 °/s and moving again above the server's 5 °/s (hysteresis, static/js/motion.js)."""
+
+PAGE_STILL_ENTER_STD = 0.1
+PAGE_STILL_LEAVE_STD = 0.25
+"""The same for the accelerometer, in m/s²: the largest per-axis standard deviation over the
+window; the page leaves "still" below the server's limit (app.calibration.capture.STILL_MAX_STD_G,
+0.03 g = 0.29 m/s²), so that a capture it completes is still for the server too."""
