@@ -1083,13 +1083,27 @@ def _magnetometer(request, recording: RecordingSource | None) -> dict:
                             label=request.label or (recording.meta.get("filename") if recording else None), **source)
 
 
+@dataclass(frozen=True)
+class CompassAsk:
+    """What the compass calibration reads of a request (:func:`_magnetometer`): ``auto`` on a recording of the
+    magnetometer alone asks with no place, date or field, so that the field is estimated."""
+
+    recording_id: str | None
+    device_id: str | None = None
+    label: str | None = None
+    mag: list | None = None
+    date: datetime.date | None = None
+    latitude_deg: float | None = None
+    longitude_deg: float | None = None
+    height_m: float | None = None
+    field_ut: float | None = None
+    method: str = "magnetometer"
+
+
 def _auto_compass(request, recording: RecordingSource) -> dict:
     """``auto`` on a recording of the magnetometer alone: the compass, its field estimated (``auto``
     takes no place; method magnetometer with a place references the Earth's field there)."""
-    from app.requests import MagnetometerIn
-
-    compass = MagnetometerIn(method="magnetometer", recording_id=request.recording_id, device_id=request.device_id,
-                             label=request.label)
+    compass = CompassAsk(recording_id=request.recording_id, device_id=request.device_id, label=request.label)
     body = _magnetometer(compass, recording)
     body["choice"] = {"method": "magnetometer", "candidates": {},
                       "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
