@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
-from fastapi import APIRouter, Depends, Query
+from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
 from app import workflow
-from app.api.deps import get_owner, get_store
+from app.api.deps import OwnerDep, StoreDep
 from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, SnippetsOut
 from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.snippets import usage_snippets
@@ -27,17 +27,17 @@ def recording_source(store: Store, recording_id: str | None, owner: str | None) 
 
 @router.post("", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True,
              summary="Compute and store a calibration")
-def create_calibration(request: CalibrationIn, store: Store = Depends(get_store),
-                       owner: str | None = Depends(get_owner)):
+def create_calibration(request: CalibrationIn, store: StoreDep,
+                       owner: OwnerDep):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     body = workflow.calibrate(request, recording_source(store, getattr(request, "recording_id", None), owner))
     return store.add_calibration(body, owner=owner)
 
 
 @router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")
-def list_calibrations(device_id: str | None = Query(None, max_length=200),
-                      limit: int = Query(100, ge=1, le=1000), store: Store = Depends(get_store),
-                      owner: str | None = Depends(get_owner)):
+def list_calibrations(*, device_id: str | None = Query(None, max_length=200),
+                      limit: int = Query(100, ge=1, le=1000), store: StoreDep,
+                      owner: OwnerDep):
     """Calibrations, newest first, optionally of one device."""
     return {"items": [with_verdict(body) for body in store.list_calibrations(owner=owner, device_id=device_id,
                                                                              limit=limit)]}
@@ -45,7 +45,7 @@ def list_calibrations(device_id: str | None = Query(None, max_length=200),
 
 @router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True,
             summary="Read a calibration")
-def get_calibration(calibration_id: str, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
+def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep):
     """One stored calibration."""
     return with_verdict(store.get_calibration(calibration_id, owner=owner))
 
@@ -53,8 +53,8 @@ def get_calibration(calibration_id: str, store: Store = Depends(get_store), owne
 @router.get("/{calibration_id}/export", summary="Export a calibration",
             responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
                                          "application/yaml": {}, "text/csv": {}, "image/svg+xml": {}}}})
-def export(calibration_id: str, format: str = Query("json", description=f"One of {', '.join(ALL_FORMATS)} (a noise characterisation: kalibr, openvins, vins, allan_svg, json, csv; a temperature calibration: px4, ardupilot, json, temperature_svg)"),
-           store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
+def export(*, calibration_id: str, format: str = Query("json", description=f"One of {', '.join(ALL_FORMATS)} (a noise characterisation: kalibr, openvins, vins, allan_svg, json, csv; a temperature calibration: px4, ardupilot, json, temperature_svg)"),
+           store: StoreDep, owner: OwnerDep):
     """The calibration as a file for firmware or analysis code.
 
     ``json`` (versioned schema), ``c`` (C99 header), ``yaml`` and ``csv`` carry the full correction
@@ -71,7 +71,7 @@ def export(calibration_id: str, format: str = Query("json", description=f"One of
 
 
 @router.get("/{calibration_id}/use", response_model=SnippetsOut, summary="How to apply it: the corrections and paste-ready lines")
-def snippets(calibration_id: str, store: Store = Depends(get_store), owner: str | None = Depends(get_owner)):
+def snippets(calibration_id: str, store: StoreDep, owner: OwnerDep):
     """Paste-ready lines that apply the calibration: C over its header, Python and JavaScript over its JSON;
     a board's counts scaled into the calibration's unit by the part its recording was read with."""
     body = store.get_calibration(calibration_id, owner=owner)
@@ -85,8 +85,8 @@ def snippets(calibration_id: str, store: Store = Depends(get_store), owner: str 
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")
-def apply(calibration_id: str, request: ApplyIn, store: Store = Depends(get_store),
-          owner: str | None = Depends(get_owner)):
+def apply(calibration_id: str, request: ApplyIn, store: StoreDep,
+          owner: OwnerDep):
     """Samples calibrated with a stored calibration."""
     body = store.get_calibration(calibration_id, owner=owner)
     calibrated = workflow.apply_calibration(body, request.samples, request.sensor)

@@ -6,7 +6,9 @@ import hashlib
 import hmac
 import secrets
 
-from fastapi import Request
+from typing import Annotated
+
+from fastapi import Depends, Request
 
 from app.config import Settings
 from app.store import NotFoundError, Store
@@ -130,3 +132,11 @@ def verified_identity(request: Request) -> str | None:
 def get_store(request: Request) -> Store:
     """The application's store; routes pass the caller's owner (get_owner) to each of its methods."""
     return request.app.state.store
+
+
+StoreDep = Annotated[Store, Depends(get_store)]
+"""A route's store (``store: StoreDep``)."""
+OwnerDep = Annotated[str | None, Depends(get_owner)]
+"""Who calls the route (``owner: OwnerDep``): None when API keys are off."""
+SettingsDep = Annotated[Settings, Depends(get_settings)]
+"""The service's settings (``settings: SettingsDep``)."""

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Depends, Request
+from fastapi import APIRouter, Request
 
-from app.api.deps import LINK_TOKEN_PREFIX, Unauthorized, bearer_token, get_owner, get_settings, get_store
+from app.api.deps import LINK_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token
 from app.api.schemas import LinkOpened, LinkOut
 from app.config import Settings
 from app.qr import qr_svg_data_uri
-from app.store import Store
 
 router = APIRouter(tags=["links"])
 
@@ -22,8 +21,8 @@ def link_address(request: Request, settings: Settings, code: str) -> str:
 
 @router.post("/api/v1/calibrations/{calibration_id}/links", status_code=201, response_model=LinkOut,
              summary="A short link that reads the calibration for a while")
-def create_link(calibration_id: str, request: Request, store: Store = Depends(get_store),
-                owner: str | None = Depends(get_owner), settings: Settings = Depends(get_settings)):
+def create_link(calibration_id: str, request: Request, store: StoreDep,
+                owner: OwnerDep, settings: SettingsDep):
     """A short link to the calibration, for another device to open until it expires (TRICAL_LINK_TTL_MIN)."""
     if (bearer_token(request) or "").startswith(LINK_TOKEN_PREFIX):
         raise Unauthorized("a link cannot make another link: send it from the device that made the calibration")
@@ -33,7 +32,7 @@ def create_link(calibration_id: str, request: Request, store: Store = Depends(ge
 
 
 @router.get("/api/v1/links/{code}", response_model=LinkOpened, summary="The calibration a link opens")
-def open_link(code: str, store: Store = Depends(get_store)):
+def open_link(code: str, store: StoreDep):
     """The calibration a link's code opens and until when; the code, as ``Bearer lnk_<code>``, then reads it."""
     link = store.open_link(code)
     return {"code": code.upper(), "calibration_id": link["calibration_id"], "expires_at": link["expires_at"],

@@ -6,16 +6,15 @@ import zipfile
 from pathlib import Path, PurePath
 from typing import Annotated, Literal
 
-from fastapi import APIRouter, Depends, File, Form, UploadFile
+from fastapi import APIRouter, File, Form, UploadFile
 from pydantic import AfterValidator
 
 from app import workflow
-from app.api.deps import get_owner, get_settings, get_store
+from app.api.deps import OwnerDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import RecordingOut
-from app.config import Settings
 from app.io.parts import refuse_repeated_names
-from app.store import Store, new_id
+from app.store import new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
@@ -72,6 +71,7 @@ def _part_name(upload: UploadFile, i: int) -> str:
 
 @router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log, or one file per pose")
 def upload_recording(
+    *,
     file: list[UploadFile] = File(..., description=(
         "A log: CSV with or without a header row, a phyphox / Sensor Logger zip, .npy / .parquet samples, a PX4 "
         "ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several `file` parts (one file per pose) are one recording in parts, in the order given.")),
@@ -94,9 +94,9 @@ def upload_recording(
         "default: PX4 the source with the most samples, ArduPilot 0. `flight.instances` of the answer lists them.")),
     mag_instance: int | None = Form(None, ge=0, le=255, description=(
         "A flight controller's log: the compass instance the compass methods read (default: the first).")),
-    settings: Settings = Depends(get_settings),
-    store: Store = Depends(get_store),
-    owner: str | None = Depends(get_owner),
+    settings: SettingsDep,
+    store: StoreDep,
+    owner: OwnerDep,
 ):
     """Store a log (or one file per pose, as one recording) and return its static segments with their orientation."""
     recording_id = new_id("rec")
@@ -125,8 +125,8 @@ def upload_recording(
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
-def get_recording(recording_id: str, store: Store = Depends(get_store),
-                  owner: str | None = Depends(get_owner)):
+def get_recording(recording_id: str, store: StoreDep,
+                  owner: OwnerDep):
     """A recording's metadata and static segments."""
     body, _ = store.get_recording(recording_id, owner=owner)
     return body

@@ -6,17 +6,16 @@ from fastapi import APIRouter, Depends, Request
 
 from app import sessions
 from app.api.deps import (
-    SESSION_TOKEN_PREFIX, Unauthorized, bearer_token, get_owner, get_settings, get_store, new_session_token,
+    SESSION_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token, new_session_token,
     session_of_token, session_owner,
 )
 from app.api.schemas import CalibrationOut, CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
-from app.config import Settings
-from app.store import NotFoundError, Store
+from app.store import NotFoundError
 
 router = APIRouter(prefix="/api/v1/sessions", tags=["sessions"])
 
 
-def session_of(session_id: str, request: Request, store: Store = Depends(get_store)) -> dict:
+def session_of(session_id: str, request: Request, store: StoreDep) -> dict:
     """The session the bearer token opens; 401 without a valid token, 404 for another session's id."""
     token = bearer_token(request)
     if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
@@ -28,8 +27,8 @@ def session_of(session_id: str, request: Request, store: Store = Depends(get_sto
 
 
 @router.post("", status_code=201, response_model=SessionCreated)
-def create_session(body: SessionIn, store: Store = Depends(get_store), owner: str | None = Depends(get_owner),
-                   settings: Settings = Depends(get_settings)):
+def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep,
+                   settings: SettingsDep):
     """Start a wizard session; the token in the answer opens it (with TRICAL_API_KEYS set, starting
     one needs a key)."""
     token, digest = new_session_token()
@@ -46,14 +45,14 @@ def get_session(session: dict = Depends(session_of)):
 
 
 @router.post("/{session_id}/captures", status_code=201, response_model=CaptureOut)
-def add_capture(body: CaptureIn, session: dict = Depends(session_of), store: Store = Depends(get_store)):
+def add_capture(*, body: CaptureIn, session: dict = Depends(session_of), store: StoreDep):
     """Check the raw samples of one still pose and store them (409 when that pose is done)."""
     capture, view = sessions.add_capture(store, session, body.model_dump())
     return {"capture": capture, "session": view}
 
 
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
-def solve_session(session: dict = Depends(session_of), store: Store = Depends(get_store)):
+def solve_session(*, session: dict = Depends(session_of), store: StoreDep):
     """Compute and store the calibration of a complete session; its token reads it."""
     body = store.add_calibration(sessions.solve(store, session), owner=session_owner(session["id"]))
     store.set_session_calibration(session["id"], body["id"])
