@@ -78,6 +78,41 @@ def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: s
                     mag_instance=mag_instance, clock=clock)
 
 
+def add_recording(store, recording_id: str, path: Path, *, filename: str | None, sampling_rate_hz: float | None,
+                  read_with: dict, owner: str | None) -> dict:
+    """Read a saved upload, describe it and store it as a recording; the file is removed if any step fails,
+    so that nothing is kept that no recording names.
+
+    Parameters
+    ----------
+    store : app.store.Store
+    recording_id : str
+        The id the file was saved under.
+    path : pathlib.Path
+        The saved upload (one file, or a zip of several files, one per pose).
+    filename : str or None
+        The name (or names) it came with, for messages and the recording.
+    sampling_rate_hz : float or None
+        The caller's rate.
+    read_with : dict
+        How to read it (:func:`load_log`'s options), kept with the recording.
+    owner : str or None
+
+    Returns
+    -------
+    dict
+        The stored recording (:func:`describe_log` with its id, filename and creation time).
+    """
+    try:
+        log = load_log(path, sampling_rate_hz=sampling_rate_hz, name=filename or "the file", **read_with)
+        body = describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
+        body["filename"] = filename
+        return store.add_recording(recording_id, body, path, owner=owner)
+    except BaseException:
+        path.unlink(missing_ok=True)
+        raise
+
+
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
     """``step`` when every sample is a multiple of it (browser rounding), else None."""
     sub = samples[: 10_000]

@@ -111,17 +111,11 @@ def upload_recording(
         dest = settings.recordings_dir / f"{recording_id}.zip"
         save_uploads_as_zip([(n, f.file) for n, f in zip(names, file)], dest, settings.max_upload_bytes,
                             settings.max_upload_mb)
-    try:
-        units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-        read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip,
-                         instance=instance, mag_instance=mag_instance)
-        log = workflow.load_log(dest, sampling_rate_hz=sampling_rate_hz, name=filename or "the file", **read_with)
-        body = workflow.describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
-        body["filename"] = filename
-        return store.add_recording(recording_id, body, dest, owner=owner)
-    except BaseException:
-        dest.unlink(missing_ok=True)
-        raise
+    units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
+    read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip,
+                     instance=instance, mag_instance=mag_instance)
+    return workflow.add_recording(store, recording_id, dest, filename=filename, sampling_rate_hz=sampling_rate_hz,
+                                  read_with=read_with, owner=owner)
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
