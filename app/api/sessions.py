@@ -54,6 +54,5 @@ def add_capture(*, body: CaptureIn, session: dict = Depends(session_of), store: 
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
 def solve_session(*, session: dict = Depends(session_of), store: StoreDep):
     """Compute and store the calibration of a complete session; its token reads it."""
-    body = store.add_calibration(sessions.solve(store, session), owner=session_owner(session["id"]))
-    store.set_session_calibration(session["id"], body["id"])
-    return body
+    return store.add_calibration(sessions.solve(store, session), owner=session_owner(session["id"]),
+                                 session_id=session["id"])

@@ -86,13 +86,17 @@ class Store:
 
     # -- calibrations ---------------------------------------------------------------------
 
-    def add_calibration(self, body: dict, *, owner: str | None) -> dict:
-        """Store a calibration; ``id`` and ``created_at`` are assigned here and returned in it."""
+    def add_calibration(self, body: dict, *, owner: str | None, session_id: str | None = None) -> dict:
+        """Store a calibration; ``id`` and ``created_at`` are assigned here and returned in it. With
+        ``session_id``, the session names it as its calibration in the same transaction: a solved session
+        and its calibration are stored together or not at all."""
         body = dict(body, id=new_id("cal"), created_at=utc_now())
         with self._writer.begin() as db:
             db.execute(calibrations.insert().values(
                 id=body["id"], method=body["method"], device_id=body.get("device_id"), label=body.get("label"),
                 owner=owner, created_at=body["created_at"], ok=int(bool(body.get("ok"))), body=_json(body)))
+            if session_id is not None:
+                db.execute(update(sessions).where(sessions.c.id == session_id).values(calibration_id=body["id"]))
         return body
 
     def get_calibration(self, calibration_id: str, *, owner: str | None) -> dict:
@@ -226,7 +230,3 @@ class Store:
         if not rows:
             raise NotFoundError(f"session {session_id!r} has no capture of {position}")
         return json.loads(rows[0].samples)
-
-    def set_session_calibration(self, session_id: str, calibration_id: str) -> None:
-        with self._writer.begin() as db:
-            db.execute(update(sessions).where(sessions.c.id == session_id).values(calibration_id=calibration_id))

@@ -107,8 +107,9 @@ def test_sessions_and_their_captures(store):
     assert {c["position"]: c["mean"] for c in got["captures"]} == {"+z": [0, 0, 9.9], "-z": [0, 0, -9.8]}
     assert got["calibration_id"] is None and first["created_at"]
     assert store.get_capture_samples(s["id"], "+z") == {"acc": [[0, 0, 9.9]], "t_ms": [1.0]}
-    store.set_session_calibration(s["id"], "cal_x")
-    assert store.get_session(s["id"])["calibration_id"] == "cal_x"
+    cal = store.add_calibration({"method": "six_position", "ok": True}, owner="key:a", session_id=s["id"])
+    assert store.get_session(s["id"])["calibration_id"] == cal["id"]  # stored with its session, in one transaction
+    assert store.get_calibration(cal["id"], owner="key:a")["id"] == cal["id"]
     with pytest.raises(NotFoundError):
         store.get_session("ses_missing")
 
