@@ -22,12 +22,14 @@ import numpy as np
 from app import __version__, workflow
 from app import cli_options as opt
 from app.calibration import CalibrationError
+from app.calibration.solvers import SOLVERS
 from app.config import Settings, SettingsError
 from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.errors import ExportError, LogFormatError
 from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.formats import FORMATS, starts_like_flight_log
+from app.io.log import UNITS
 from app.io.parts import refuse_repeated_names
 from app.requests import ValidationError, describe_errors, parse_calibration_request
 from app.store import NotFoundError, open_store
@@ -75,10 +77,10 @@ def _parser() -> argparse.ArgumentParser:
                    help="cube with --protocol ferraris: imucal's annotated section list (x_p … z_rot, sample indices)")
     c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
     c.add_argument("--mag-unit", choices=("uT", "nT", "gauss", "raw"), default=None)
-    c.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm",
+    c.add_argument("--solver", choices=SOLVERS, default="lm",
                    help="triangular only: lm, or Farago et al.'s descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column")
-    c.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None, help="accelerometer unit of the log")
+    c.add_argument("--unit", choices=UNITS["acc"], default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
     c.add_argument("--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer")
     _read_options(c)
@@ -96,7 +98,7 @@ def _parser() -> argparse.ArgumentParser:
     a.add_argument("path", type=opt.input_path("a recording or a folder of them"), help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
     a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
     a.add_argument("--unit", choices=workflow.AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
-    a.add_argument("--solver", choices=("lm", "gradient", "fixed16", "fixed32"), default="lm")
+    a.add_argument("--solver", choices=SOLVERS, default="lm")
     _read_options(a)
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
     a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
@@ -150,7 +152,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="seconds captured per pose (default: the wizard's; within the range a session accepts)")
     b.add_argument("--format", choices=BOARD_LINE_FORMATS, default="auto",
                    help="the board's lines: auto (default), raw (MotionCal Raw:), uni (Uni:), csv, numbers")
-    b.add_argument("--unit", choices=("m/s^2", "g", "raw"), default=None,
+    b.add_argument("--unit", choices=UNITS["acc"], default=None,
                    help="the accelerometer's unit (checked against the data at rest)")
     b.add_argument("--out", type=opt.output_file("a log file to write"), default=None, metavar="LOG.csv",
                    help="the log written as received (default trical-capture-DATE-TIME.csv)")
@@ -517,8 +519,6 @@ def _print_folder_table(bodies: list[dict]) -> None:
 
 
 def _noise(args, settings: Settings) -> int:
-    from app.io.log import UNITS
-
     array = args.path.suffix.lower() in (".npy", ".parquet", ".pq")
     sensor = args.sensor or "acc"
     units = {}

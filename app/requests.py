@@ -11,9 +11,13 @@ from typing import Annotated, Any, ClassVar, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, TypeAdapter, ValidationError, model_validator
 
+from app.calibration.solvers import SOLVERS
+from app.io.log import UNITS
+
 Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
 Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
-AccUnit = Literal["m/s^2", "g", "raw"]
+AccUnit = Literal[UNITS["acc"]]
+Solver = Literal[SOLVERS]
 Gravity = Annotated[float, Field(ge=0.1, le=100, allow_inf_nan=False)]
 """A reference gravity in m/s²: from the Moon's 1.6 to well above the Earth's 9.8."""
 
@@ -96,7 +100,7 @@ class NonOrthogonalIn(UnknownOrientationIn):
 
 class TriangularIn(UnknownOrientationIn):
     method: Literal["triangular"]
-    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = Field(
+    solver: Solver = Field(
         "lm", description="lm (optimal), or Farago et al.'s finite-difference descent in float, 16- or 32-bit fixed point."
     )
 
@@ -148,7 +152,7 @@ class AutocalIn(Strict):
     gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
-    solver: Literal["lm", "gradient", "fixed16", "fixed32"] = "lm"
+    solver: Solver = "lm"
     all_axes: bool = Field(False, description="Every axis must pass the max − min test (Farago et al.: one axis).")
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None

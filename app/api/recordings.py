@@ -12,7 +12,7 @@ from pydantic import AfterValidator
 from app import workflow
 from app.api.deps import OwnerDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
-from app.api.schemas import RecordingOut
+from app.api.schemas import AccUnit, RecordingOut
 from app.io.parts import refuse_repeated_names
 from app.store import new_id
 
@@ -76,7 +76,7 @@ def upload_recording(
         "A log: CSV with or without a header row, a phyphox / Sensor Logger zip, .npy / .parquet samples, a PX4 "
         "ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several `file` parts (one file per pose) are one recording in parts, in the order given.")),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
-    acc_unit: Literal["m/s^2", "g", "raw"] | None = Form(None),
+    acc_unit: AccUnit | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
     mag_unit: Literal["uT", "nT", "gauss", "raw"] | None = Form(None),
     format: Literal["auto", "ulog", "dataflash", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",

@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 from app.requests import (  # noqa: F401  (re-exported: the routes and tests name them here)
     METHODS,
     AccUnit,
+    Solver,
     Gravity,
     AutocalIn,
     CalibrationIn,
@@ -282,9 +283,6 @@ class NonOrthogonalOut(StillReadingsCommon):
     metrics: NonOrthogonalMetrics
     readings: list[MagnitudeReading]
     advice: list[PoseAdviceOut] | None = Field(None, description=ADVICE_DESCRIPTION)
-
-
-Solver = Literal["lm", "gradient", "fixed16", "fixed32"]
 
 
 class TriangularModel(Out):

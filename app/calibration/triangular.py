@@ -59,12 +59,12 @@ from .gates import (
     residual_gate,
     scale_gate,
 )
+from .solvers import SOLVERS
 from .validation import as_samples, as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "triangular"
 N_PARAMS = 9
 PARAM_NAMES = ("k_xx", "k_yy", "k_zz", "k_xy", "k_xz", "k_yz", "o_x", "o_y", "o_z")
-SOLVERS = ("lm", "gradient", "fixed16", "fixed32")
 
 P0 = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])
 """Start of the descent: the ideal accelerometer (Farago, Maczak and Gingl, IEEE Access, section II.C)."""
