@@ -7,18 +7,12 @@ import { FORMAT_WORDS, UNIT_WORDS } from "./board_lines.js";
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { preferUse } from "./use_calibration.js";
+import { $, el } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 const PLOT_MS = 5000;
 const DRAW_MS = 200;
 const PACKET = TABLES.board.packet;
 
-function el(tag, text, attrs = {}) {
-  const e = document.createElement(tag);
-  if (text !== undefined && text !== null) e.textContent = text;
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  return e;
-}
 
 // A computer rather than a phone: a fine pointer, or the Web Serial API (only desktop browsers have it).
 export function onComputer() {

@@ -4,8 +4,8 @@ import { ApiError, getCalibration, listCalibrations, openLink } from "./api.js";
 import { showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
 import { candidates, rememberApiKey, rememberToken } from "./tokens.js";
+import { $ } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 const root = $("#calibration-page");
 let id = root.dataset.id;
 const link = root.dataset.link;

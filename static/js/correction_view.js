@@ -4,6 +4,7 @@
 import { getUse } from "./api.js";
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
+import { el } from "./dom.js";
 
 const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", "deg/s": "°/s", "rad/s": "rad/s", g: "g" };
 
@@ -18,12 +19,6 @@ const AS_FITTED = {
     + "and b = o.",
 };
 
-function el(tag, text, attrs = {}) {
-  const e = document.createElement(tag);
-  if (text !== undefined && text !== null) e.textContent = text;
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  return e;
-}
 
 function matrix(id, rows) {
   const table = el("table", null, { class: "matrix", id });

@@ -3,14 +3,13 @@
 // over the log, and whether the range allows a temperature calibration; the plot itself is a pure function.
 
 import { formatNumber } from "./readings.js";
+import { $, cell } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 const SENSORS = { acc: "accelerometer", gyr: "gyroscope", mag: "compass" };
 export const TEMPERATURE_SPAN_C = 10; // the temperature method's least span (issue's gate), °C
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot
 
-function cell(tag, text) { const el = document.createElement(tag); el.textContent = text; return el; }
 
 function esc(text) {
   return String(text).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" }[c]));

@@ -4,12 +4,11 @@
 import { getCalibration, listCalibrations } from "./api.js";
 import { TABLES } from "./tables.js";
 import { apiKey, linkedCalibrations, rememberApiKey, sessionTokens } from "./tokens.js";
+import { $, cell } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 const root = $("#history");
 let items = [];
 
-function cell(tag, text) { const e = document.createElement(tag); e.textContent = text; return e; }
 
 function when(iso) { return iso ? iso.slice(0, 16).replace("T", " ") : "—"; }
 

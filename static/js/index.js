@@ -5,8 +5,8 @@ import { flightFields, showFlightLog } from "./flight_log.js";
 import { formatNumber, parseReadings } from "./readings.js";
 import { hideCalibration, showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
+import { $, cell } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 
 // A phone with motion sensors sees Start; a desktop sees the phone page's QR code and address and the
 // upload (a desktop browser has DeviceMotionEvent too, but no touch screen and no motion).
@@ -23,7 +23,6 @@ let shown = null; // the calibration on show
 
 function say(text) { status.textContent = text; }
 
-function cell(tag, text) { const el = document.createElement(tag); el.textContent = text; return el; }
 
 function showResult(cal) {
   showCalibration(cal);

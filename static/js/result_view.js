@@ -12,11 +12,10 @@ import { normChartSvg, normRows, triangularAsAffine } from "./result.js";
 import { offerSend } from "./send.js";
 import { TABLES } from "./tables.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
+import { $, cell } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 let shown = null; // the calibration on show: an older one's files never land on a newer one
 
-function cell(tag, text) { const e = document.createElement(tag); e.textContent = text; return e; }
 
 function fillMatrix(table, rows) {
   table.replaceChildren(...rows.map((row) => {

@@ -2,8 +2,8 @@
 // token this page holds; it expires), handed to the Web Share API where the browser has it (a phone's
 // share sheet: mail, a messenger, AirDrop), else shown as a QR code and an address to type.
 import { createLink } from "./api.js";
+import { $ } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 let current = null; // {cal, token}: what the button sends
 
 function hhmm(iso) { return new Date(iso).toLocaleTimeString([], { hour: "2-digit", minute: "2-digit" }); }

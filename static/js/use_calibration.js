@@ -5,17 +5,11 @@
 
 import { fetchExport, getUse } from "./api.js";
 import { TABLES } from "./tables.js";
+import { $, el } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 const REMEMBER = "trical.use";
 let blobUrls = [];
 
-function el(tag, text, attrs = {}) {
-  const e = document.createElement(tag);
-  if (text !== undefined && text !== null) e.textContent = text;
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  return e;
-}
 
 // The kind of result: a correction of a sensor, a noise characterisation, or a temperature calibration.
 function group(cal) { return cal.method === "noise" || cal.method === "temperature" ? cal.method : "calibration"; }

@@ -20,9 +20,9 @@ import { announce, instruct, newState } from "./wizard_state.js";
 import { donePoses, sixFlow } from "./flow_six.js";
 import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
 import { canFinish, coveredDirections, freeFlow, poseCount, progressOf } from "./flow_free.js";
+import { $, el } from "./dom.js";
 
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
-const $ = (sel) => document.querySelector(sel);
 const root = $("#wizard");
 const NO_MOTION_MS = 2000;
 
@@ -38,12 +38,6 @@ let noMotionTimer = null;
 
 // --- rendering: the state onto the page --------------------------------------------------------
 
-function el(tag, text, attrs = {}) {
-  const e = document.createElement(tag);
-  if (text !== undefined && text !== null) e.textContent = text;
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  return e;
-}
 
 // Writes only what changed: render runs on every motion sample.
 function setText(node, text) { if (node.textContent !== text) node.textContent = text; }

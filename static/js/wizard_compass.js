@@ -15,9 +15,9 @@ import { withInterval } from "./result.js";
 import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
+import { $, el } from "./dom.js";
 
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
-const $ = (sel) => document.querySelector(sel);
 const NO_READING_MS = 3000;
 const DRAW_MS = 150; // the sphere is redrawn at most this often
 const DRAWN_POINTS = 600; // the latest readings drawn
@@ -33,12 +33,6 @@ const state = { shown: null, sensor: null, coverage: new CompassCoverage(), plac
 // A done cue per pose has no equivalent: the faces fill continuously and the sphere shows them.
 
 function say(text) { $("#status").textContent = text; }
-function el(tag, text, attrs = {}) {
-  const e = document.createElement(tag);
-  if (text !== undefined && text !== null) e.textContent = text;
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  return e;
-}
 const pct = (v) => `${Math.round(100 * v)} %`;
 
 // --- no magnetometer -------------------------------------------------------------------------

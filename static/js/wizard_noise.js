@@ -7,17 +7,11 @@ import { BoardPanel } from "./board_panel.js";
 import { cue, unlockCues } from "./cues.js";
 import { formatNumber } from "./readings.js";
 import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
+import { $, el } from "./dom.js";
 
-const $ = (sel) => document.querySelector(sel);
 const state = { recording: null, lengthS: 0, busy: false, ready: false };
 
 function say(text) { $("#status").textContent = text; }
-function el(tag, text, attrs = {}) {
-  const e = document.createElement(tag);
-  if (text !== undefined && text !== null) e.textContent = text;
-  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
-  return e;
-}
 
 function message(text) { $("#noise-msg").textContent = text; }
 

@@ -1,0 +1,14 @@
+// The page's small DOM helpers, one copy for every module: a selector and an element with its text and
+// attributes (text is set as text, never parsed as HTML).
+
+export const $ = (sel) => document.querySelector(sel);
+
+export function el(tag, text, attrs = {}) {
+  const e = document.createElement(tag);
+  if (text !== undefined && text !== null) e.textContent = text;
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, v);
+  return e;
+}
+
+// An element with its text only (a table cell, a list item).
+export function cell(tag, text) { return el(tag, text); }
