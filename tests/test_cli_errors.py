@@ -7,10 +7,11 @@ so an option added later is checked without editing this file.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import os
 import subprocess
 import sys
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -72,12 +73,33 @@ def bad_invocations() -> list[list[str]]:
     return cases
 
 
+def run_in_process(args: list[str], env: dict) -> subprocess.CompletedProcess:
+    """``trical ARGS`` as the console script runs it (``sys.exit(cli.main())``), in this process: the same
+    parser, messages and exit status, without a new interpreter's imports for each of the many cases. The
+    installed script itself runs in the tests below."""
+    out, err = io.StringIO(), io.StringIO()
+    saved = {k: os.environ.get(k) for k in env if k != "PATH"}
+    os.environ.update({k: v for k, v in env.items() if k != "PATH"})
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            try:
+                status = cli.main(args)
+            except SystemExit as exc:  # argparse's refusals exit 2 from the parser
+                status = exc.code
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+    return subprocess.CompletedProcess(args, status, out.getvalue(), err.getvalue())
+
+
 def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
     cases = bad_invocations()
     assert len(cases) > 50 and {c[0] for c in cases} == {"serve", "calibrate", "autocal", "noise",
                                                          "temperature", "export", "capture"}
-    with ThreadPoolExecutor(max_workers=4) as pool:
-        results = list(pool.map(lambda args: run(args, env), cases))
+    results = [run_in_process(args, env) for args in cases]
     failures = []
     for args, out in zip(cases, results):
         lines = out.stderr.splitlines()
