@@ -537,17 +537,23 @@ def _noise(args, settings: Settings) -> int:
     body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
                                      array_sensor=sensor if array else None, device_id=args.device_id,
                                      label=args.path.name)
+    from app.io.allan_plot import allan_svg
+
+    return _finish(args, settings, body, plot=allan_svg, summary=_print_noise)
+
+
+def _finish(args, settings: Settings, body: dict, *, plot, summary) -> int:
+    """The end of ``trical noise`` and ``trical temperature``: the body stored (``--store``), its plot written
+    (``--plot``, by ``plot(body)``), the JSON or the summary printed; status 0, or 3 when ``ok`` is false."""
     if args.store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.plot:
-        from app.io.allan_plot import allan_svg
-
-        args.plot.write_text(allan_svg(body), encoding="utf-8")
+        args.plot.write_text(plot(body), encoding="utf-8")
         print(f"wrote {args.plot}", file=sys.stderr)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
-        _print_noise(body)
+        summary(body)
     return 0 if body["ok"] else 3
 
 
@@ -556,18 +562,9 @@ def _temperature(args, settings: Settings) -> int:
                             columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
     body = workflow.temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
                                     label=args.path.name)
-    if args.store:
-        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
-    if args.plot:
-        from app.io.export_temperature import temperature_svg
+    from app.io.export_temperature import temperature_svg
 
-        args.plot.write_text(temperature_svg(body), encoding="utf-8")
-        print(f"wrote {args.plot}", file=sys.stderr)
-    if args.json:
-        print(json.dumps(body, indent=2))
-    else:
-        _print_temperature(body)
-    return 0 if body["ok"] else 3
+    return _finish(args, settings, body, plot=temperature_svg, summary=_print_temperature)
 
 
 def _print_temperature(body: dict) -> None:

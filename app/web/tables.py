@@ -19,6 +19,7 @@ from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
+from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
@@ -153,6 +154,7 @@ def page_tables() -> dict:
         },
         "capture": capture_thresholds(),
         "cube": {"maxAngleDeg": capture_rules.PAGE_CUBE_FACE_MAX_ANGLE_DEG},
+        "temperature": {"minSpanC": TEMPERATURE_MIN_SPAN_C},
         "free": {"maxAngleDeg": capture_rules.FREE_MAX_ANGLE_DEG, "minAngleDeg": capture_rules.FREE_MIN_ANGLE_DEG,
                  "fitFrom": capture_rules.FREE_FIT_FROM,
                  "targetPoses": capture_rules.FREE_TARGET_MIN_POSES},

@@ -3,10 +3,11 @@
 // over the log, and whether the range allows a temperature calibration; the plot itself is a pure function.
 
 import { formatNumber } from "./readings.js";
+import { TABLES } from "./tables.js";
 import { $, cell } from "./dom.js";
 
 const SENSORS = { acc: "accelerometer", gyr: "gyroscope", mag: "compass" };
-export const TEMPERATURE_SPAN_C = 10; // the temperature method's least span (issue's gate), °C
+const TEMPERATURE_SPAN_C = TABLES.temperature.minSpanC; // the temperature method's least span (its gate), °C
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot
 
