@@ -27,11 +27,15 @@ MAGNITUDE_METHODS = ("triangular", "nonorthogonal")
 
 
 def calibrate(rec, method: str, means, holdout=None):
-    """The core result and the workflow's extra metrics for one method on still means."""
+    """The core result and its metrics with the workflow's held-out ones, for one method on still means."""
     if method in MAGNITUDE_METHODS:
-        return workflow.calibrate_unknown(method, means, unit=rec.unit, gravity=rec.gravity, holdout=holdout)
-    readings = [workflow.Reading(mean=tuple(m), up=u) for m, u in zip(means, rec.ups)]
-    return workflow.calibrate_known(method, readings, unit=rec.unit, gravity=rec.gravity, holdout=holdout)
+        result, held_out = workflow.calibrate_unknown(method, means, unit=rec.unit, gravity=rec.gravity,
+                                                      holdout=holdout)
+    else:
+        readings = [workflow.Reading(mean=tuple(m), up=u) for m, u in zip(means, rec.ups)]
+        result, held_out = workflow.calibrate_known(method, readings, unit=rec.unit, gravity=rec.gravity,
+                                                    holdout=holdout)
+    return result, {**result.metrics, **held_out}
 
 
 def in_sample_mg(result, means, gravity: float) -> float:
