@@ -28,22 +28,16 @@ from pathlib import Path
 
 import numpy as np
 
+from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.orientations import nearest_orientation
-from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD, SILENCE_S
+from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.io.board_formats import DEFAULT_BAUD, SILENCE_S
 from app.io.board_lines import BoardLineReader, LogWriter, board_rate, to_log
 from app.io.errors import LogFormatError
 from app.io.formats.timing import time_scale
-from app.calibration.gravity import STANDARD_GRAVITY
-from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
+from app.protocols import BOARD_PROTOCOLS, Protocol
 from app.web.tables import capture_thresholds
 
-PROTOCOLS = CAPTURE_PROTOCOLS
-POSES = {"six": 6, "free": FREE_TARGET_MIN_POSES, "cube24": 24}
-"""Still captures each posed protocol asks for (free: as many as the free flow fits from)."""
-METHODS = {"six": "auto", "free": "auto", "cube24": "cube", "compass": "magnetometer", "noise": "noise"}
-"""How the log is calibrated at the end (``noise``: ``trical noise``)."""
-DEFAULT_MINUTES = {"six": 10.0, "free": 10.0, "cube24": 15.0, "compass": 1.0, "noise": 1.0}
-"""A posed protocol stops (refused) after this long; the compass and noise record this long."""
 CHECK_S = 1.0
 """Seconds of readings the unit is checked on, at rest, before any capture."""
 BELL = "\a"
@@ -61,7 +55,7 @@ class StillEngine:
     """The page's capture machine for still poses, on the board's time (seconds) and readings normalised
     so that the accelerometer rests at g (m/s²) and the gyroscope in °/s (None when the lines have none)."""
 
-    protocol: str
+    protocol: Protocol  # a posed one (``poses`` set): app.protocols
     capture_s: float
     thresholds: dict = field(default_factory=capture_thresholds)
     window: deque = field(default_factory=deque)
@@ -73,16 +67,6 @@ class StillEngine:
     capture_from: int | None = None
     done: list = field(default_factory=list)  # (label, mean direction)
     rows: list = field(default_factory=list)  # (label, first row, row after the last) of each capture
-
-    def _valid(self, mean: np.ndarray) -> str | None:
-        n = mean / np.linalg.norm(mean)
-        if self.protocol == "six":
-            label = nearest_orientation(mean, self.thresholds["maxAngleDeg"])
-            return label if label and label not in [d[0] for d in self.done] else None
-        if self.protocol == "free":
-            far = all(math.degrees(math.acos(np.clip(n @ d, -1, 1))) >= FREE_MIN_ANGLE_DEG for _, d in self.done)
-            return f"pose {len(self.done) + 1}" if far else None
-        return f"position {len(self.done) + 1}"  # cube24: a turn between positions (the gyroscope sees it)
 
     def update(self, t: float, acc: np.ndarray, gyr: np.ndarray | None, row: int = 0) -> list[Event]:
         """Take one reading (time ``t`` in s, the log's ``row``) and return what happened."""
@@ -114,11 +98,11 @@ class StillEngine:
                 self.done.append((self.label, mean / np.linalg.norm(mean)))
                 self.rows.append((self.label, self.capture_from, row + 1))
                 events.append(Event("done", self.label, f"{self.label} captured ({len(self.done)} of "
-                                                        f"{POSES[self.protocol]})"))
+                                                        f"{self.protocol.poses})"))
                 self.capture_since = None
                 self.moved = False
             return events
-        label = self._valid(mean) if self.moved else None
+        label = self.protocol.label(mean, self.done, th["maxAngleDeg"]) if self.moved else None
         if label is None:
             self.hold_since = None
             return events
@@ -131,24 +115,7 @@ class StillEngine:
 
     @property
     def finished(self) -> bool:
-        return len(self.done) >= POSES[self.protocol]
-
-
-def pose_words(protocol: str) -> str:
-    if protocol == "six":
-        return ("rest the board on each of its six sides in turn (+x, -x, +y, -y, +z, -z up: the axis printed on "
-                "the board pointing up; +z up is the component side up), still, until the bell")
-    if protocol == "free":
-        return f"rest the board still in {POSES['free']} different poses, at least {FREE_MIN_ANGLE_DEG:g}° apart"
-    if protocol == "cube24":
-        return "turn the board (in its cube) through the 24 positions, resting each until the bell"
-    if protocol == "compass":
-        return "turn the board slowly through every direction, away from steel and magnets"
-    return "leave the board resting, untouched"
-
-
-CAPTURED_PROTOCOLS = ("six", "free")
-"""The flows calibrated from their own captures (:func:`capture_segments`)."""
+        return len(self.done) >= self.protocol.poses
 
 
 def capture_segments(acc: np.ndarray, rows: list) -> list[dict]:
@@ -197,7 +164,7 @@ class Capture:
     port
         An object with ``read(n) -> bytes`` returning what has arrived (pyserial with a timeout).
     protocol : str
-        One of :data:`PROTOCOLS`.
+        One of app.protocols.BOARD_PROTOCOLS.
     out_path : Path
         The CSV log to write.
     say : callable
@@ -209,15 +176,15 @@ class Capture:
     def __init__(self, port, *, protocol: str, out_path: Path, fmt: str = "auto", units: dict | None = None,
                  minutes: float | None = None, capture_s: float | None = None, baud: int = DEFAULT_BAUD,
                  say=print, bell=None, live=None, clock=time.monotonic):
-        self.port, self.protocol, self.out_path = port, protocol, Path(out_path)
+        self.port, self.protocol, self.out_path = port, BOARD_PROTOCOLS[protocol], Path(out_path)
         self.reader = BoardLineReader(fmt, clock)
         self.units = units or {}
-        self.seconds = 60.0 * (minutes if minutes is not None else DEFAULT_MINUTES[protocol])
+        self.seconds = 60.0 * (minutes if minutes is not None else self.protocol.minutes)
         self.capture_s = CAPTURE_S_DEFAULT if capture_s is None else max(CAPTURE_S_RANGE[0], capture_s)
         self.baud, self.say, self.bell, self.live, self.clock = baud, say, bell or (lambda: None), live, clock
         self.readings: list = []
         self.writer: LogWriter | None = None
-        self.engine = StillEngine(protocol, self.capture_s) if protocol in POSES else None
+        self.engine = StillEngine(self.protocol, self.capture_s) if self.protocol.poses else None
         self.checked = False
         self.acc_scale = self.gyr_scale = None
         self.time_scale = None
@@ -298,16 +265,16 @@ class Capture:
                         return self._outcome("refused", str(exc))
                     self.record_from = now
                     if self.engine is None:
-                        self._step(f"recording {self.seconds:g} s: {pose_words(self.protocol)}", bell=True)
+                        self._step(f"recording {self.seconds:g} s: {self.protocol.words}", bell=True)
                     else:
-                        self._step(pose_words(self.protocol))
+                        self._step(self.protocol.words)
                 if self.checked:
                     self._feed_engine(new)
                     if self.live and new and now - last_live > 0.1:
                         last_live = now
                         self.live(_live_words(new[-1]))
                     if self.engine is not None and self.engine.finished:
-                        self._step(f"all {POSES[self.protocol]} poses captured", bell=True)
+                        self._step(f"all {self.protocol.poses} poses captured", bell=True)
                         return self._outcome("finished")
                     if self.engine is None and now - self.record_from >= self.seconds:
                         self._step(f"recorded {self.seconds:g} s", bell=True)

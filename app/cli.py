@@ -667,8 +667,7 @@ def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=N
     ``Serial``), on ``clock`` (``time.monotonic`` unless given)."""
     import time
 
-    from app.board_capture import CAPTURED_PROTOCOLS, METHODS, Capture
-    from app.io.motioncal_packet import packet_of
+    from app.board_capture import Capture
 
     steps = sys.stderr if args.json else sys.stdout
     tty = steps.isatty()
@@ -690,7 +689,7 @@ def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=N
                       capture_s=capture_s, baud=args.baud, say=say, bell=bell, live=live if tty else None,
                       clock=clock or time.monotonic)
     outcome = capture.run()
-    finish = f"trical {'noise' if args.protocol == 'noise' else 'calibrate'} {out}"
+    finish = f"trical {capture.protocol.command} {out}"
     if outcome.status == "interrupted":
         bell()
         say(f"stopped: {out} keeps the {outcome.readings} readings received; finish it with: {finish}"
@@ -702,16 +701,28 @@ def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=N
         return 2
     rate = f" at {outcome.rate_hz:.4g} Hz" if outcome.rate_hz else ""
     say(f"wrote {out}: {outcome.readings} readings{rate}")
-    if args.protocol == "noise":
-        return _run(["noise", str(out), *(["--json"] if args.json else []), *(["--store"] if not args.no_store else [])])
-    method = METHODS[args.protocol]
-    argv = ["calibrate", str(out), "--method", method]
+    return _CAPTURE_FINISH[capture.protocol.command](capture, outcome, args, settings)
+
+
+def _capture_noise(capture, outcome, args, settings: Settings) -> int:
+    """``trical capture --protocol noise``'s end: the log characterised as ``trical noise LOG`` does."""
+    return _run([capture.protocol.command, str(capture.out_path), *(["--json"] if args.json else []),
+                 *(["--store"] if not args.no_store else [])])
+
+
+def _capture_calibration(capture, outcome, args, settings: Settings) -> int:
+    """The end of ``trical capture``'s other protocols: the log calibrated with the protocol's method (from its
+    captures' rows where the protocol says so), printed, and sent to the board with ``--send``."""
+    from app.io.motioncal_packet import packet_of
+
+    protocol, out, port, say, bell = capture.protocol, capture.out_path, capture.port, capture.say, capture.bell
+    argv = [protocol.command, str(out), "--method", protocol.method]
     argv += ["--unit", args.unit] if args.unit else []
     argv += ["--device-id", args.device_id] if args.device_id else []
     argv += ["--no-store"] if args.no_store else []
     cal_args = _parser().parse_args(argv)
-    captures = outcome.rows if args.protocol in CAPTURED_PROTOCOLS else None
-    say(f"calibrating {out} ({method}{f' on its {len(captures)} captures' if captures else ''})")
+    captures = outcome.rows if protocol.from_captures else None
+    say(f"calibrating {out} ({protocol.method}{f' on its {len(captures)} captures' if captures else ''})")
     body, recording = _calibrated(cal_args, settings, out, captures)
     if args.json:
         print(json.dumps(body, indent=2))
@@ -729,6 +740,10 @@ def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=N
         for note in notes:
             say(f"note: {note}")
     return 0 if body["ok"] else 3
+
+
+_CAPTURE_FINISH = {"noise": _capture_noise, "calibrate": _capture_calibration}
+"""How ``trical capture`` ends, by the command its protocol finishes with (app.protocols)."""
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -15,7 +15,7 @@ from app.store import NotFoundError
 router = APIRouter(prefix="/api/v1/sessions", tags=["sessions"])
 
 
-def session_of(session_id: str, request: Request, store: StoreDep) -> dict:
+def session_of(session_id: str, request: Request, store: StoreDep) -> sessions.Session:
     """The session the bearer token opens; 401 without a valid token, 404 for another session's id."""
     token = bearer_token(request)
     if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
@@ -23,7 +23,7 @@ def session_of(session_id: str, request: Request, store: StoreDep) -> dict:
                            "(the token POST /api/v1/sessions returned)")
     if session_of_token(request, token) != session_id:
         raise NotFoundError(f"no session with id {session_id!r} for this token")
-    return store.get_session(session_id)
+    return sessions.load(store, session_id)
 
 
 @router.post("", status_code=201, response_model=SessionCreated)
@@ -34,25 +34,24 @@ def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep,
     token, digest = new_session_token()
     fields = body.model_dump()
     fields["target_mg"] = fields["target_mg"] or settings.free_target_mg
-    stored = store.add_session(sessions.new_session(fields), digest, owner=owner)
-    return dict(sessions.view(dict(stored, calibration_id=None, captures=[])), token=token)
+    return dict(sessions.view(sessions.create(store, fields, digest, owner=owner)), token=token)
 
 
 @router.get("/{session_id}", response_model=SessionOut)
-def get_session(session: dict = Depends(session_of)):
+def get_session(session: sessions.Session = Depends(session_of)):
     """A session: its captures, the positions that remain, its calibration once solved."""
     return sessions.view(session)
 
 
 @router.post("/{session_id}/captures", status_code=201, response_model=CaptureOut)
-def add_capture(*, body: CaptureIn, session: dict = Depends(session_of), store: StoreDep):
+def add_capture(*, body: CaptureIn, session: sessions.Session = Depends(session_of), store: StoreDep):
     """Check the raw samples of one still pose and store them (409 when that pose is done)."""
     capture, view = sessions.add_capture(store, session, body.model_dump())
     return {"capture": capture, "session": view}
 
 
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
-def solve_session(*, session: dict = Depends(session_of), store: StoreDep):
+def solve_session(*, session: sessions.Session = Depends(session_of), store: StoreDep):
     """Compute and store the calibration of a complete session; its token reads it."""
-    return store.add_calibration(sessions.solve(store, session), owner=session_owner(session["id"]),
-                                 session_id=session["id"])
+    return store.add_calibration(sessions.solve(store, session), owner=session_owner(session.id),
+                                 session_id=session.id)
