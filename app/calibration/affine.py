@@ -27,7 +27,7 @@ from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
 from .correction import AffineCorrection
 from .result import StillReadingsResult
 from .uncertainty import CONFIDENCE, half_widths
-from .validation import as_samples, as_vectors, check_gravity
+from .validation import as_vectors, check_gravity
 
 MODEL_TYPE = "affine"
 
@@ -99,24 +99,22 @@ class AffineCalibration(StillReadingsResult):
     ) + (("y1", "offset", "x"), ("y2", "offset", "y"), ("y3", "offset", "z"))
     """Name, kind and axes of each parameter in the covariance's order (z of eq. (21))."""
 
+    @classmethod
+    def verdict_note(cls, method: str | None, figure) -> str:
+        """Six poses' figure is in-sample: say so, and how to measure the error on new orientations."""
+        if method == "six_position" and figure.before is not None:
+            return ("Six poses leave none out to test on: the figure is on the poses fitted. A free session "
+                    "measures the error on new orientations.")
+        return ""
+
     @property
     def correction_matrix(self) -> np.ndarray:
         """X⁻¹, the matrix firmware multiplies by after subtracting y (Georgieva et al. eq. (20))."""
         return np.linalg.inv(self.X)
 
-    def apply(self, raw) -> np.ndarray:
-        """Calibrate readings: ``a = X⁻¹ (m − y)`` (Georgieva et al. eq. (20)).
-
-        Parameters
-        ----------
-        raw : array_like, shape (3,) or (N, 3)
-
-        Returns
-        -------
-        numpy.ndarray of the same shape as ``raw``.
-        """
-        m = as_samples(raw)
-        return np.linalg.solve(self.X, (m - self.y).reshape(-1, 3).T).T.reshape(m.shape)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
+        # Georgieva et al. eq. (20): a = X⁻¹ (m − y), solved rather than multiplied by the inverse.
+        return np.linalg.solve(self.X, (rows - self.y).T).T
 
     @property
     def residuals(self) -> np.ndarray:

@@ -33,7 +33,7 @@ import numpy as np
 
 from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev, preload_quantiles
 from .errors import CalibrationError, InsufficientDataError
-from .result import CalibrationResult
+from .result import FIGURES, CalibrationResult
 
 CONFIDENCE = 0.95
 FLICKER_VARIANCE = 2.0 * math.log(2.0) / math.pi
@@ -278,6 +278,7 @@ class NoiseResult(CalibrationResult):
 
     RESULT_TYPE: ClassVar[str] = "noise"
     MODEL_TYPE: ClassVar[str] = "noise"
+    KIND: ClassVar[str] = FIGURES
 
     sensors: dict
     sampling_rate_hz: float
@@ -300,7 +301,7 @@ class NoiseResult(CalibrationResult):
     def corrections(self) -> dict:
         return {}
 
-    def apply(self, raw):
+    def apply(self, samples, sensor: str | None = None):
         raise CalibrationError("a noise characterisation corrects nothing: apply a calibration of another method")
 
     def model_dict(self) -> dict:

@@ -42,7 +42,7 @@ from .gates import (
     residual_gate,
     scale_gate,
 )
-from .validation import as_samples, as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
+from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "nonorthogonal"
 
@@ -220,25 +220,11 @@ class NonOrthogonalCalibration(StillReadingsResult):
         """T̄_orth T̄ T of eq. (16): calibrated = matrix @ (raw − s)."""
         return calibration_matrix(self.b, self.phi, self.psi, self.theta)
 
-    def apply(self, raw) -> np.ndarray:
-        """Calibrate readings by eq. (16): ``ā_orth = T̄_orth T̄ T â − T̄_orth T̄ s``.
-
-        The output is in the orthonormal frame of Proposition 3: f₁ along the sensor's x axis,
-        f₂ in the plane of its x and y axes.
-
-        Parameters
-        ----------
-        raw : array_like, shape (3,) or (N, 3)
-
-        Returns
-        -------
-        numpy.ndarray of the same shape as ``raw``.
-        """
-        m = as_samples(raw)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
         # Georgieva et al. eq. (16): T̄_orth T̄ T â − T̄_orth T̄ s with the vector s = T (s₁, s₂, s₃) of eq. (2),
-        # i.e. T̄_orth T̄ T (â − s).
-        out = (m.reshape(-1, 3) - self.s) @ self.matrix.T
-        return out.reshape(m.shape)
+        # i.e. T̄_orth T̄ T (â − s), in the orthonormal frame of Proposition 3: f₁ along the sensor's x axis,
+        # f₂ in the plane of its x and y axes.
+        return (rows - self.s) @ self.matrix.T
 
     def jacobian(self, means) -> np.ndarray:
         """Jacobian (N, 9) of the terms of (17) for readings ``means`` (N, 3) with respect to

@@ -10,13 +10,16 @@ by :meth:`CalibrationResult.from_dict` whatever its method.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
 from .correction import AffineCorrection, correction_of
 from .errors import CalibrationError
+from .headlines import SENSOR_WORDS, accelerometer_headline
 from .norm_metrics import evaluate_still, relative_norm_errors
+from .validation import as_samples
 
 SCHEMA_VERSION = 1
 """Version of the plain-dict form; :meth:`CalibrationResult.from_dict` reads this version and the
@@ -27,6 +30,70 @@ OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
 into m/s² (the reference of raw readings stays in m/s² and the model maps it to counts)."""
 
 _REGISTRY: dict[str, type["CalibrationResult"]] = {}
+
+CORRECTION, FIGURES, DRIFT = "correction", "figures", "drift"
+"""What a result is, for the verdict and the exports (:attr:`CalibrationResult.KIND`): a correction
+``f = M (m − o)`` to apply; figures that correct nothing (a noise characterisation); offsets that drift
+with temperature, applied with each reading's temperature."""
+
+
+@dataclass(frozen=True)
+class Figure:
+    """The figure a calibration stands on: its error ``before`` and ``after`` (None where it has none),
+    their ``unit`` (``mg``, ``µT``, ``counts``, ``°/s``; empty without a figure) and the ``basis`` in words
+    (``error on new orientations``, …)."""
+
+    before: float | None = None
+    after: float | None = None
+    unit: str = ""
+    basis: str = ""
+
+    @property
+    def grew(self) -> bool:
+        """True when the calibrated error is larger than the raw one."""
+        return self.before is not None and self.after is not None and self.after > self.before
+
+
+NO_FIGURE = Figure()
+
+FIGURE_METRICS = ("holdout_error_before_mg", "holdout_error_after_mg", "count_control", "cv_error_mg",
+                  "cv_error_max_mg", "cv_note", "error_before_mg", "error_after_mg", "cv_error_ut", "cv_error_max_ut",
+                  "fit_error_ut", "raw_error_ut", "drift_raw_max", "drift_cv_max")
+"""The metrics a result chooses its figure and its headline by: only the result classes read them to decide
+(tests/test_result_decides.py)."""
+
+
+def holdout_figure(m: dict) -> Figure | None:
+    """Readings the request held out (``holdout_*``): the most honest figure, when given."""
+    if m.get("holdout_error_after_mg") is None:
+        return None
+    return Figure(m.get("holdout_error_before_mg"), m["holdout_error_after_mg"], "mg",
+                  "error on the readings you held out")
+
+
+def cv_figure(m: dict) -> Figure | None:
+    """The cross-validated error (each reading calibrated by the fit made without it) against the same
+    readings raw: a reading's raw error does not depend on the fit."""
+    if m.get("cv_error_mg") is None:
+        return None
+    return Figure(m.get("error_before_mg"), m["cv_error_mg"], "mg", "error on new orientations")
+
+
+def in_sample_figure(m: dict) -> Figure | None:
+    """The in-sample error of the fitted readings, named as such."""
+    if m.get("error_after_mg") is None:
+        return None
+    poses = f"{m['count']} poses" if m.get("count") else "poses"
+    return Figure(m.get("error_before_mg"), m["error_after_mg"], "mg", f"error on the {poses} fitted")
+
+
+def first_figure(metrics: dict, sources) -> Figure:
+    """The first figure ``sources`` (functions of the metrics, most honest first) find, else :data:`NO_FIGURE`."""
+    for source in sources:
+        found = source(metrics)
+        if found is not None:
+            return found
+    return NO_FIGURE
 
 
 def registered_types() -> tuple[str, ...]:
@@ -56,6 +123,11 @@ class CalibrationResult:
     MODEL_TYPE: ClassVar[str] = ""
     CORRECTION_SOURCE: ClassVar[str] = ""
     """Where the correction ``f = M (m − o)`` of this model comes from (paper and equation)."""
+    KIND: ClassVar[str] = CORRECTION
+    """:data:`CORRECTION`, :data:`FIGURES` or :data:`DRIFT`: which verdict and which exports fit it. A class
+    answer, so that a body cut short (no model) is still told apart."""
+    PER_SENSOR: ClassVar[bool] = False
+    """Whether its corrections are named by sensor in the exports (the cube: one per sensor)."""
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -74,7 +146,84 @@ class CalibrationResult:
         """The unit the accelerometer correction calibrates into (:data:`OUTPUT_UNIT`)."""
         return OUTPUT_UNIT.get(self.unit, self.unit)
 
+    @property
+    def corrects(self) -> bool:
+        """Whether it corrects anything (a noise characterisation only measures)."""
+        return self.KIND != FIGURES
+
+    # -- what a person reads first -----------------------------------------------------------
+
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        """The figures a result of this class stands on, from its metrics: one, most honest first (each
+        class its own order); one per sensor for a temperature calibration. Read from the class, so that a
+        stored body cut short still has its figure."""
+        return (NO_FIGURE,)
+
+    def figures(self) -> tuple[Figure, ...]:
+        """Every figure the verdict weighs (:meth:`figures_from` of its own metrics)."""
+        return self.figures_from(self.metrics, self.output_unit)
+
+    def figure(self) -> Figure:
+        """The figure it stands on: ``before``, ``after``, ``unit``, ``basis``."""
+        return (self.figures() or (NO_FIGURE,))[0]
+
+    def headline(self) -> str | None:
+        """The line a person reads first about its figures, or None where it has none."""
+        return None
+
+    @classmethod
+    def verdict_note(cls, method: str | None, figure: Figure) -> str:
+        """One line more under an "apply it" verdict on ``figure``, where the figure needs it."""
+        return ""
+
     # -- corrections -------------------------------------------------------------------------
+
+    def apply(self, samples, sensor: str | None = None) -> np.ndarray:
+        """Calibrate raw samples of one sensor with its correction.
+
+        Parameters
+        ----------
+        samples : array_like, shape (3,) or (N, 3)
+        sensor : {"acc", "gyr", "mag"}, optional
+            The sensor whose correction to apply (:meth:`corrections`); by default the result's first
+            (the accelerometer's, the compass's magnetometer).
+
+        Returns
+        -------
+        numpy.ndarray of the same shape as ``samples``.
+
+        Raises
+        ------
+        CalibrationError
+            When the result has no correction of that sensor.
+        """
+        self.require_sensor(sensor)
+        m = as_samples(samples)
+        return self._calibrate(m.reshape(-1, 3)).reshape(m.shape)
+
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:  # pragma: no cover - every correcting subclass defines it
+        """The model's own formula on readings (N, 3): exactly its correction ``M (m − o)``."""
+        raise NotImplementedError
+
+    def require_sensor(self, sensor: str | None) -> None:
+        """Refuse a sensor the result has no correction of, saying which it has."""
+        if sensor is None:
+            return
+        have = self.corrected_sensors()
+        if sensor in have:
+            return
+        if len(have) != 1:
+            raise CalibrationError(f"this calibration has no {sensor} model")
+        word = SENSOR_WORDS[have[0]]
+        fix = "; drop `sensor`" if have[0] == "acc" else f': send `sensor: "{have[0]}"`'
+        raise CalibrationError(f"a {self.MODEL_TYPE} calibration has only {'an' if word[0] in 'aeiou' else 'a'} "
+                               f"{word} model{fix}")
+
+    def corrected_sensors(self) -> tuple[str, ...]:
+        """The sensors it has a correction of (the keys of :meth:`corrections`, without computing them)."""
+        return ("acc",)
+
 
     @property
     def correction(self) -> AffineCorrection:
@@ -134,14 +283,28 @@ class CalibrationResult:
                 f"calibration schema_version {version!r} is newer than this trical reads ({SCHEMA_VERSION}): "
                 "upgrade trical"
             )
+        target = CalibrationResult.class_of(data)
+        if cls is not CalibrationResult and not issubclass(target, cls):
+            raise CalibrationError(f"not a {cls.MODEL_TYPE} model: type {result_type_of(data)!r}")
+        return target._from_body(data)
+
+    @staticmethod
+    def class_of(data: dict) -> type["CalibrationResult"]:
+        """The result class a plain form names (its method where that names a result kind of its own, else
+        its model type), without rebuilding it: enough for the class answers (:attr:`KIND`,
+        :meth:`figures_from`) of a body cut short.
+
+        Raises
+        ------
+        CalibrationError
+            If the type is unknown.
+        """
         _load_all()
         kind = result_type_of(data)
         target = _REGISTRY.get(kind)
         if target is None:
             raise CalibrationError(f"unknown model type {kind!r}; known: {', '.join(_REGISTRY)}")
-        if cls is not CalibrationResult and not issubclass(target, cls):
-            raise CalibrationError(f"not a {cls.MODEL_TYPE} model: type {kind!r}")
-        return target._from_body(data)
+        return target
 
     @classmethod
     def _from_body(cls, data: dict) -> "CalibrationResult":  # pragma: no cover - every subclass defines it
@@ -161,6 +324,9 @@ class StillReadingsResult(CalibrationResult):
     plain form, and rebuilds the fields they share."""
 
     N_PARAMS: ClassVar[int] = 0
+    FIGURE_SOURCES: ClassVar[tuple] = (holdout_figure, cv_figure, in_sample_figure)
+    """Where its figure comes from, most honest first: readings the request held out, the cross-validated
+    error, the in-sample error of the fitted readings."""
     REPORTS_IMPROVEMENT: ClassVar[bool] = False
     """Whether :meth:`evaluate` reports Farago et al.'s improvement ratio (eq. (21)), as their model's does."""
 
@@ -184,6 +350,17 @@ class StillReadingsResult(CalibrationResult):
         if not self.REPORTS_IMPROVEMENT:
             del out["improvement"]
         return out
+
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        return (first_figure(metrics, cls.FIGURE_SOURCES),)
+
+    def headline(self) -> str | None:
+        """Its error on new orientations, then in-sample and raw (every fit of still readings reports a
+        cross-validated error, ``cv_error_mg``, or says why it has none)."""
+        if "cv_error_mg" not in self.metrics:
+            return None
+        return accelerometer_headline(self.metrics, held_out=False)
 
     def readings(self) -> list[dict]:
         """Per-reading detail: the model's own fields (:meth:`reading_detail`) and the relative norm errors

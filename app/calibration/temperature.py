@@ -57,7 +57,8 @@ import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
 from .gravity import STANDARD_GRAVITY
-from .result import CalibrationResult
+from .headlines import FIGURE_WORDS, TEMPERATURE_SENSORS, temperature_headline
+from .result import DRIFT, Figure, CalibrationResult
 
 CONFIDENCE = 0.95
 N_BINS = 60
@@ -489,6 +490,7 @@ class TemperatureResult(CalibrationResult):
 
     RESULT_TYPE: ClassVar[str] = "temperature"
     MODEL_TYPE: ClassVar[str] = "temperature"
+    KIND: ClassVar[str] = DRIFT
 
     sensors: dict
     warnings: tuple = ()
@@ -513,7 +515,20 @@ class TemperatureResult(CalibrationResult):
     def corrections(self) -> dict:
         return {}
 
-    def apply(self, raw):
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        """Per sensor (the accelerometer's in mg first, then the gyroscope's in °/s): its offset drift over
+        the range raw, against bands of temperature left out (each predicted by the fit made without it);
+        none without a temperature model."""
+        return tuple(Figure(metrics[s]["drift_raw_max"], metrics[s]["drift_cv_max"], FIGURE_WORDS[metrics[s]["unit"]],
+                            "offset drift over the temperature range, on bands of temperature left out")
+                     for s in TEMPERATURE_SENSORS if s in metrics)
+
+    def headline(self) -> str | None:
+        """The offset drift over the range raw, then on bands left out, per sensor."""
+        return temperature_headline(self.model_dict(), self.metrics)
+
+    def apply(self, samples, sensor: str | None = None):
         raise CalibrationError("a temperature calibration needs each sample's temperature: export it for the "
                                "firmware (px4, ardupilot), or correct readings with their temperatures")
 

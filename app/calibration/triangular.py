@@ -60,7 +60,7 @@ from .gates import (
     scale_gate,
 )
 from .solvers import SOLVERS
-from .validation import as_samples, as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
+from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "triangular"
 N_PARAMS = 9
@@ -244,19 +244,8 @@ class TriangularCalibration(StillReadingsResult):
         K = self.K
         return np.array([K[0, 0], K[1, 1], K[2, 2], K[1, 0], K[2, 0], K[2, 1], *self.o])
 
-    def apply(self, raw) -> np.ndarray:
-        """Calibrate readings: ``a = K (v + o)`` (Farago et al. eqs. (7)–(9)).
-
-        Parameters
-        ----------
-        raw : array_like, shape (3,) or (N, 3)
-
-        Returns
-        -------
-        numpy.ndarray of the same shape as ``raw``.
-        """
-        m = as_samples(raw)
-        return ((m.reshape(-1, 3) + self.o) @ self.K.T).reshape(m.shape)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
+        return (rows + self.o) @ self.K.T  # Farago et al. eqs. (7)–(9): a = K (v + o)
 
     def jacobian(self, means) -> np.ndarray:
         """Jacobian (N, 9) of the ``lm`` residuals (module docstring) of readings ``means`` (N, 3) with

@@ -8,13 +8,19 @@ from typing import ClassVar
 import numpy as np
 
 from ..correction import AffineCorrection
-from ..result import CalibrationResult
+from ..headlines import compass_headline
+from ..result import NO_FIGURE, CalibrationResult, Figure
 from ..uncertainty import CONFIDENCE, half_widths
-from ..validation import as_samples
 from .refine import unpack
 
 SOURCE = ("h = M (m − b), M symmetric: the magnetometer model ỹ = S h + b of Särkkä et al., IEEE Sensors "
           "Journal 17(11) 2017, eq. (6), with S = M⁻¹, fitted on the field's magnitude")
+
+
+def figure_unit(output_unit: str | None) -> str:
+    """The unit of a compass calibration's figures: µT, or counts for a magnetometer left in counts (its
+    ``_ut`` metrics are then in counts)."""
+    return "counts" if output_unit == "raw" else "µT"
 
 
 @dataclass(frozen=True)
@@ -57,10 +63,30 @@ class MagnetometerResult(CalibrationResult):
             return "raw"
         return "uT"
 
-    def apply(self, raw) -> np.ndarray:
-        """``h = M (m − b)`` for readings of shape (3,) or (N, 3)."""
-        m = as_samples(raw)
-        return ((m.reshape(-1, 3) - self.b) @ self.M.T).reshape(m.shape)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
+        return (rows - self.b) @ self.M.T  # h = M (m − b)
+
+    def corrected_sensors(self) -> tuple[str, ...]:
+        return ("mag",)
+
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        """The error of the field strength |h| against F on directions left out (cross-validated), else on
+        the readings fitted; in µT, or counts for a magnetometer left in counts (no chip, no field given)."""
+        if "cv_error_ut" not in metrics:
+            return (NO_FIGURE,)
+        unit = figure_unit(output_unit)
+        if metrics.get("cv_error_ut") is not None:
+            return (Figure(metrics.get("raw_error_ut"), metrics["cv_error_ut"], unit,
+                           "error of the field strength on new directions"),)
+        return (Figure(metrics.get("raw_error_ut"), metrics.get("fit_error_ut"), unit,
+                       "error of the field strength on the readings fitted"),)
+
+    def headline(self) -> str | None:
+        """The error of |h| on directions left out, then in-sample and raw."""
+        if "cv_error_ut" not in self.metrics:
+            return None
+        return compass_headline(self.metrics, figure_unit(self.output_unit))
 
     @property
     def correction(self) -> AffineCorrection:
