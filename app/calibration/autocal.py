@@ -44,7 +44,7 @@ from .cross_validation import cross_validated_error
 from .errors import CalibrationError
 from .gates import Gates
 from .headlines import accelerometer_headline
-from .result import CalibrationResult, Figure, cv_figure, first_figure, holdout_figure, in_sample_figure
+from .result import CalibrationResult, Figure, cv_figure, first_figure, gate_fields, holdout_figure, in_sample_figure
 from .stationary_002 import RestSegments, detect_rest_segments
 from .triangular import SOLVERS, TriangularCalibration, fit_triangular
 from .trust import worse_than_raw
@@ -301,9 +301,7 @@ class AutoCalibration(CalibrationResult):
             control_starts=np.asarray(data.get("control_starts", []), dtype=np.int64),
             selection=dict(data.get("selection", {})), control_selection=dict(data.get("control_selection", {})),
             detection=dict(data.get("detection", {})), comparison=dict(data.get("comparison", {})),
-            solver=data.get("solver", "lm"), metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
-            unit=data.get("unit", "g"),
+            solver=data.get("solver", "lm"), **gate_fields(data), unit=data.get("unit", "g"),
         )
 
 

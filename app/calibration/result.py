@@ -10,7 +10,8 @@ by :meth:`CalibrationResult.from_dict` whatever its method.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import dataclasses
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -19,6 +20,7 @@ from .correction import AffineCorrection, correction_of
 from .errors import CalibrationError
 from .headlines import SENSOR_WORDS, accelerometer_headline
 from .norm_metrics import evaluate_still, relative_norm_errors
+from .uncertainty import CONFIDENCE, half_widths
 from .validation import as_samples
 
 SCHEMA_VERSION = 1
@@ -108,7 +110,54 @@ def _load_all() -> None:
     from .cube import calibrate  # noqa: F401
 
 
-class CalibrationResult:
+PARAMETER = {"parameter": True}
+"""The metadata of a result's fields that are its model's parameters (``X: np.ndarray = parameter()``):
+:meth:`CalibrationResult.model_dict` and :meth:`CalibrationResult.parameters_from` are built from them."""
+
+
+def parameter():
+    """A dataclass field that is one of the model's parameters (no default: every fit gives it)."""
+    return field(metadata=PARAMETER)
+
+
+def _plain(value):
+    """A parameter as JSON has it: an array as nested lists, a number as a float."""
+    a = np.asarray(value, dtype=float)
+    return a.tolist() if a.ndim else float(a)
+
+
+class Gated:
+    """What every fit with quality gates shares: ``metrics``, ``warnings`` and ``reasons`` (gate failures,
+    each one sentence), and ``ok``, exactly when no gate gave a reason (docs/conventions.md)."""
+
+    @property
+    def ok(self) -> bool:
+        """True when no quality gate failed."""
+        return not self.reasons
+
+
+@dataclass(frozen=True)
+class GatedFit(Gated):
+    """A part of a result with its own gates (a cube's sensor): its metrics, warnings and reasons as keyword
+    fields after its own."""
+
+    metrics: dict = field(default_factory=dict, kw_only=True)
+    warnings: tuple = field(default=(), kw_only=True)
+    reasons: tuple = field(default=(), kw_only=True)
+
+    def gate_dict(self) -> dict:
+        """The plain form of its metrics, ``ok``, warnings and reasons."""
+        return {"metrics": dict(self.metrics), "ok": self.ok, "warnings": list(self.warnings),
+                "reasons": list(self.reasons)}
+
+
+def gate_fields(data: dict) -> dict:
+    """``metrics``, ``warnings`` and ``reasons`` of a plain form, as a result's constructor takes them."""
+    return dict(metrics=dict(data.get("metrics", {})), warnings=tuple(data.get("warnings", ())),
+                reasons=tuple(data.get("reasons", ())))
+
+
+class CalibrationResult(Gated):
     """Base of every frozen result dataclass of the core.
 
     A subclass is a frozen dataclass with at least the fields ``gravity``, ``metrics``,
@@ -133,13 +182,6 @@ class CalibrationResult:
         super().__init_subclass__(**kwargs)
         if cls.__dict__.get("RESULT_TYPE"):
             _REGISTRY[cls.RESULT_TYPE] = cls
-
-    # -- the shared verdict ------------------------------------------------------------------
-
-    @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
 
     @property
     def output_unit(self) -> str:
@@ -242,8 +284,16 @@ class CalibrationResult:
 
     # -- plain form --------------------------------------------------------------------------
 
-    def model_dict(self) -> dict:  # pragma: no cover - every subclass defines it
-        raise NotImplementedError
+    def model_dict(self) -> dict:
+        """Its model's parameters (the fields marked :func:`parameter`, in their order) as plain lists and
+        floats; a result whose model is not its fields says its own."""
+        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self) if f.metadata == PARAMETER}
+
+    @classmethod
+    def parameters_from(cls, model: dict) -> dict:
+        """The parameter fields of a plain form's ``model`` (the reverse of :meth:`model_dict`): arrays and floats."""
+        return {f.name: np.asarray(model[f.name], dtype=float) if isinstance(model[f.name], list) else float(model[f.name])
+                for f in dataclasses.fields(cls) if f.metadata == PARAMETER}
 
     def body_dict(self) -> dict:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
@@ -318,10 +368,24 @@ def result_type_of(data: dict) -> str | None:
     return method if method in _REGISTRY else (data.get("model") or {}).get("type")
 
 
-class StillReadingsResult(CalibrationResult):
+@dataclass(frozen=True)
+class StillReadingsResult(CalibrationResult, GatedFit):
     """A result fitted on averaged still readings (``means``) with a parameter covariance:
     the known-orientation and magnitude models. Adds the readings and the covariance to the
-    plain form, and rebuilds the fields they share."""
+    plain form, and rebuilds the fields they share.
+
+    The fields they share are keyword fields after each model's own: ``gravity`` (the reference
+    magnitude, in the unit of the readings), ``means`` (the fitted readings, (N, 3)), ``covariance`` (of
+    the parameters in the model's order; None without degrees of freedom), ``dof`` (residual degrees of
+    freedom), ``unit`` (of the readings: ``m/s^2``, ``g`` or ``raw``), and :class:`GatedFit`'s metrics,
+    warnings and reasons.
+    """
+
+    gravity: float = field(kw_only=True)
+    means: np.ndarray = field(kw_only=True)
+    covariance: np.ndarray | None = field(kw_only=True)
+    dof: int = field(kw_only=True)
+    unit: str = field(default="m/s^2", kw_only=True)
 
     N_PARAMS: ClassVar[int] = 0
     FIGURE_SOURCES: ClassVar[tuple] = (holdout_figure, cv_figure, in_sample_figure)
@@ -362,6 +426,24 @@ class StillReadingsResult(CalibrationResult):
             return None
         return accelerometer_headline(self.metrics, held_out=False)
 
+    NO_INTERVALS: ClassVar[str] = ("no intervals: {n} positions fit the 9 parameters exactly (0 residual degrees "
+                                   "of freedom) or the fit is degenerate; add positions")
+    """Why there are no intervals without a covariance (``{n}``: the readings fitted)."""
+
+    def uncertainty(self) -> dict:
+        """95 % half-widths of the parameters, shaped as the model (:meth:`interval_dict`), or nulls with the
+        reason when there is no covariance (no residual degrees of freedom, or a degenerate fit)."""
+        out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
+        if self.covariance is None:
+            out.update({name: None for name in self.model_dict()}, note=self.NO_INTERVALS.format(n=len(self.means)))
+        else:
+            out.update(self.interval_dict(half_widths(self.covariance, self.dof)))
+        return out
+
+    def interval_dict(self, hw: np.ndarray) -> dict:  # pragma: no cover - every subclass defines it
+        """The half-widths ``hw`` (in the covariance's order) as the model's parameters."""
+        raise NotImplementedError
+
     def readings(self) -> list[dict]:
         """Per-reading detail: the model's own fields (:meth:`reading_detail`) and the relative norm errors
         after and before the calibration."""
@@ -393,10 +475,44 @@ class StillReadingsResult(CalibrationResult):
             means=np.asarray([r["mean"] for r in readings], dtype=float).reshape(-1, 3),
             covariance=None if cov is None else np.asarray(cov, dtype=float),
             dof=int((data.get("uncertainty") or {}).get("dof", max(len(readings) - cls.N_PARAMS, 0))),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
+            **gate_fields(data),
             method=data.get("method", cls.MODEL_TYPE),
             unit=data.get("unit", "m/s^2"),
         )
         return model, readings, common
+
+
+@dataclass(frozen=True)
+class PerSensorResult(CalibrationResult):
+    """A result made of one part per sensor, ``sensors``: name → its ``model``, ``uncertainty``, ``metrics``
+    and the method's own pieces (the noise characterisation, the temperature calibration). Its model,
+    uncertainty and metrics are its sensors'; it holds no affine correction. Its warnings, reasons,
+    gravity and unit are keyword fields after the method's own."""
+
+    sensors: dict
+    warnings: tuple = field(default=(), kw_only=True)
+    reasons: tuple = field(default=(), kw_only=True)
+    gravity: float | None = field(default=None, kw_only=True)
+    unit: str = field(default="", kw_only=True)
+
+    @property
+    def metrics(self) -> dict:
+        return {name: part["metrics"] for name, part in self.sensors.items()}
+
+    def corrections(self) -> dict:
+        return {}
+
+    def model_dict(self) -> dict:
+        return {name: part["model"] for name, part in self.sensors.items()}
+
+    def uncertainty(self) -> dict:
+        return {"confidence": CONFIDENCE, **{name: part["uncertainty"] for name, part in self.sensors.items()}}
+
+    @staticmethod
+    def parts_from(data: dict, *pieces: str) -> dict:
+        """Each sensor's part of a plain form: its model, uncertainty and metrics, and ``pieces`` (the
+        method's own, each stored by sensor at the top of the form)."""
+        names = [k for k in data["model"] if k != "type"]
+        return {name: {"model": data["model"][name], "uncertainty": data["uncertainty"][name],
+                       "metrics": data["metrics"].get(name, {}), **{p: data[p][name] for p in pieces}}
+                for name in names}

@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 from math import comb
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
@@ -58,7 +58,7 @@ import numpy as np
 from .errors import CalibrationError, InsufficientDataError
 from .gravity import STANDARD_GRAVITY
 from .headlines import FIGURE_WORDS, TEMPERATURE_SENSORS, temperature_headline
-from .result import DRIFT, Figure, CalibrationResult
+from .result import DRIFT, Figure, PerSensorResult
 
 CONFIDENCE = 0.95
 N_BINS = 60
@@ -481,7 +481,7 @@ def movement(sensors: list, sampling_rate_hz: float) -> tuple[np.ndarray, str | 
 
 
 @dataclass(frozen=True)
-class TemperatureResult(CalibrationResult):
+class TemperatureResult(PerSensorResult):
     """Per-sensor offset polynomials of temperature (``acc``, ``gyr``), PX4's form.
 
     Corrects with the temperature of each reading (:meth:`correct`); it holds no affine correction,
@@ -492,16 +492,7 @@ class TemperatureResult(CalibrationResult):
     MODEL_TYPE: ClassVar[str] = "temperature"
     KIND: ClassVar[str] = DRIFT
 
-    sensors: dict
-    warnings: tuple = ()
-    reasons: tuple = ()
-    gravity: float | None = None
     method: str = "temperature"
-    unit: str = field(default="")
-
-    @property
-    def metrics(self) -> dict:
-        return {name: part["metrics"] for name, part in self.sensors.items()}
 
     @property
     def correction(self):
@@ -511,9 +502,6 @@ class TemperatureResult(CalibrationResult):
     @property
     def output_unit(self) -> str:
         return self.unit
-
-    def corrections(self) -> dict:
-        return {}
 
     @classmethod
     def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
@@ -545,24 +533,14 @@ class TemperatureResult(CalibrationResult):
                                    f"{', '.join(self.sensors)})")
         return np.asarray(readings, dtype=float) - offset_at(self.sensors[sensor]["model"], temperature_c)
 
-    def model_dict(self) -> dict:
-        return {name: part["model"] for name, part in self.sensors.items()}
-
-    def uncertainty(self) -> dict:
-        return {"confidence": CONFIDENCE, **{name: part["uncertainty"] for name, part in self.sensors.items()}}
-
     def body_dict(self) -> dict:
         return {"bins": {n: p["bins"] for n, p in self.sensors.items()},
                 "curve": {n: p["curve"] for n, p in self.sensors.items()}}
 
     @classmethod
     def _from_body(cls, data: dict) -> "TemperatureResult":
-        names = [k for k in data["model"] if k != "type"]
-        sensors = {n: {"model": data["model"][n], "uncertainty": data["uncertainty"][n],
-                       "metrics": data["metrics"].get(n, {}), "bins": data["bins"][n], "curve": data["curve"][n]}
-                   for n in names}
-        return cls(sensors=sensors, warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
-                   unit=data.get("unit", ""))
+        return cls(sensors=cls.parts_from(data, "bins", "curve"), warnings=tuple(data.get("warnings", ())),
+                   reasons=tuple(data.get("reasons", ())), unit=data.get("unit", ""))
 
 
 def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz: float = 100.0,

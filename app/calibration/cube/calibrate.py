@@ -19,7 +19,7 @@ from ..correction import AffineCorrection
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates
 from ..norm_metrics import norm_errors
-from ..result import NO_FIGURE, CalibrationResult, Figure
+from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields
 from ..uncertainty import CONFIDENCE
 from ..validation import as_vectors, check_gravity
 from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
@@ -223,9 +223,7 @@ class CubeCalibration(CalibrationResult):
             sampling_rate_hz=float(data["sampling_rate_hz"]),
             gravity=float(data["gravity"]),
             field_ut=data.get("field_ut"),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
+            **gate_fields(data),
             units=dict(data.get("units") or {"acc": data.get("unit", "m/s^2")}),
         )
 

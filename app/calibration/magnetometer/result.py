@@ -9,7 +9,7 @@ import numpy as np
 
 from ..correction import AffineCorrection
 from ..headlines import compass_headline
-from ..result import NO_FIGURE, CalibrationResult, Figure
+from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 from ..uncertainty import CONFIDENCE, half_widths
 from .refine import unpack
 
@@ -43,8 +43,8 @@ class MagnetometerResult(CalibrationResult):
     MODEL_TYPE: ClassVar[str] = "magnetometer"
     CORRECTION_SOURCE: ClassVar[str] = SOURCE
 
-    M: np.ndarray
-    b: np.ndarray
+    M: np.ndarray = parameter()
+    b: np.ndarray = parameter()
     covariance: np.ndarray | None
     dof: int
     metrics: dict = field(default_factory=dict)
@@ -96,9 +96,6 @@ class MagnetometerResult(CalibrationResult):
     def corrections(self) -> dict[str, AffineCorrection]:
         return {"mag": self.correction}
 
-    def model_dict(self) -> dict:
-        return {"M": np.asarray(self.M).tolist(), "b": np.asarray(self.b).tolist()}
-
     def uncertainty(self) -> dict:
         if self.covariance is None:
             return {"confidence": CONFIDENCE, "dof": self.dof, "M": None, "b": None}
@@ -112,10 +109,9 @@ class MagnetometerResult(CalibrationResult):
     @classmethod
     def _from_body(cls, data: dict) -> "MagnetometerResult":
         cov = data.get("covariance")
-        return cls(M=np.asarray(data["model"]["M"], dtype=float), b=np.asarray(data["model"]["b"], dtype=float),
+        return cls(**cls.parameters_from(data["model"]),
                    covariance=None if cov is None else np.asarray(cov, dtype=float),
-                   dof=int((data.get("uncertainty") or {}).get("dof", 0)), metrics=dict(data.get("metrics", {})),
+                   dof=int((data.get("uncertainty") or {}).get("dof", 0)),
                    samples=np.asarray((data.get("samples") or {}).get("raw_ut") or np.empty((0, 3)),
                                       dtype=float).reshape(-1, 3),
-                   warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
-                   method=data.get("method", "magnetometer"), unit=data.get("unit", "uT"))
+                   **gate_fields(data), method=data.get("method", "magnetometer"), unit=data.get("unit", "uT"))
