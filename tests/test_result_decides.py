@@ -46,7 +46,6 @@ groups): (file, literal) pairs allowed until that work lands, then emptied."""
 
 def decided_names() -> dict[str, str]:
     """Every literal that must not decide outside the results, with what it is."""
-    _ = CalibrationResult  # the registry loads every model before it lists them
     names = {name: "metric key" for name in FIGURE_METRICS}
     names.update({name: "method" for name in METHODS if name not in NOT_A_RESULT})
     for kind in registered_types():

@@ -69,6 +69,20 @@ def test_a_still_readings_fit_stands_on_held_out_readings_then_new_orientations_
     assert dataclasses.replace(triangular, metrics={}).headline() is None  # no cross-validated figure asked for
 
 
+def test_a_stored_body_rebuilds_with_its_metrics_as_stored_so_the_request_s_holdout_decides(triangular):
+    body = triangular.to_dict()
+    holdout = triangular.evaluate(seed_table(2)[20:])
+    body["metrics"].update({f"holdout_{k}": v for k, v in holdout.items()})  # as workflow.holdout_metrics adds them
+    legacy = {k: v for k, v in body.items() if k != "schema_version"}  # stored before the version field
+    for stored in (body, legacy):
+        again = CalibrationResult.from_dict(stored)
+        assert again.metrics == body["metrics"]
+        assert again.figure() == Figure(holdout["error_before_mg"], holdout["error_after_mg"], "mg",
+                                        "error on the readings you held out")
+    rest = seed_table(2)[20:]
+    assert holdout["error_after_mg"] == pytest.approx(_raw_mg(triangular.apply(rest), G), rel=1e-12)
+
+
 def test_the_figure_of_a_fit_is_its_own_metrics_recomputed_from_the_readings(triangular):
     means = seed_table(2)[:20]
     f = triangular.figure()  # the fit alone reports its in-sample error
