@@ -6,7 +6,8 @@ error on new orientations 36.0 mg → 1.4 mg``), or says why not. It never says 
 figure grew, whatever the gates said: ``ok`` true on a calibration that makes the sensor worse would
 be a bug elsewhere, and the verdict does not pass it on.
 
-The figure is the most honest one the calibration has, in this order:
+The figure is the most honest one the calibration has; the result decides which
+(:meth:`app.calibration.result.CalibrationResult.figure`, each class in its own order):
 
 1. readings the request held out (``holdout_*``), or autocal's control points, held out of its fit;
 2. the cross-validated error (each reading calibrated by the fit made without it), against the same
@@ -21,9 +22,8 @@ applying; below that it is "no need": the sensor is already as good as the calib
 
 from __future__ import annotations
 
-import numpy as np
-
-from app.calibration.norm_metrics import norm_errors
+from app.calibration.errors import CalibrationError
+from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult
 
 MIN_GAIN_FRACTION = 0.2
 """The calibrated error must be at most 80 % of the raw one."""
@@ -35,49 +35,8 @@ MIN_GAIN_MG = 0.5
 MIN_GAIN_UT = 0.5
 """The compass's: 0.5 µT, about 1 % of the Earth's field and a quarter of a degree of heading at most."""
 
-
-def figure_unit(body: dict) -> str:
-    """The unit of a compass calibration's figures: µT, or counts for a magnetometer left in counts
-    (no chip, no field given: its ``_ut`` metrics are then in counts)."""
-    return "counts" if body.get("output_unit") == "raw" else "µT"
-
-
-def _figure(body: dict) -> tuple[float | None, float | None, str, str]:
-    """``(before, after, unit, basis)`` of a calibration: its most honest error figure."""
-    m = body.get("metrics") or {}
-    if "cv_error_ut" in m:  # the compass: |h| against the field on directions left out
-        unit = figure_unit(body)
-        if m.get("cv_error_ut") is not None:
-            return m.get("raw_error_ut"), m["cv_error_ut"], unit, "error of the field strength on new directions"
-        return m.get("raw_error_ut"), m.get("fit_error_ut"), unit, "error of the field strength on the readings fitted"
-    if m.get("holdout_error_after_mg") is not None:
-        return m.get("holdout_error_before_mg"), m["holdout_error_after_mg"], "mg", "error on the readings you held out"
-    if "count_control" in m and m.get("error_after_mg") is not None:
-        return m.get("error_before_mg"), m["error_after_mg"], "mg", "error on control points held out of the fit"
-    if m.get("cv_error_mg") is not None:
-        return m.get("error_before_mg"), m["cv_error_mg"], "mg", "error on new orientations"
-    if m.get("error_after_mg") is not None:
-        poses = f"{m['count']} poses" if m.get("count") else "poses"
-        return m.get("error_before_mg"), m["error_after_mg"], "mg", f"error on the {poses} fitted"
-    if (body.get("model") or {}).get("type") == "cube":
-        return _cube_figure(body)
-    return None, None, "", ""
-
-
-def _cube_figure(body: dict) -> tuple[float | None, float | None, str, str]:
-    """The cube's accelerometer: mean | |m| − g | of its positions raw, and of S⁻¹ (m − b) (Särkkä et al.,
-    IEEE Sensors Journal 17(11) 2017, eq. (1)), in mg of g: in-sample, the positions are fitted."""
-    acc = (body.get("details") or {}).get("acc") or {}
-    model = (body.get("model") or {}).get("acc")
-    positions = acc.get("positions") or []
-    if not model or not positions:
-        return None, None, "", ""
-    means = np.array([p["mean"] for p in positions], dtype=float)
-    S, b = np.asarray(model["S"], dtype=float), np.asarray(model["b"], dtype=float)
-    g = float(body.get("gravity") or np.mean(np.linalg.norm(means, axis=1)))
-    errors = norm_errors(means, lambda m: np.linalg.solve(S, (m - b).T).T, g)
-    return (errors["error_before_mg"], errors["error_after_mg"], "mg",
-            f"accelerometer error on the {len(means)} positions fitted")
+MIN_GAIN = {"µT": MIN_GAIN_UT}
+"""The least gain worth applying by the figure's unit where it is not :data:`MIN_GAIN_MG` (mg, and counts)."""
 
 
 def _amount(value: float, unit: str) -> str:
@@ -92,13 +51,24 @@ def _short_reason(reasons: list[str]) -> str:
     return first[0].upper() + first[1:]
 
 
-def verdict(body: dict) -> dict:
+def rebuilt(body: dict) -> CalibrationResult | None:
+    """The result a stored body rebuilds (:meth:`CalibrationResult.from_dict`, the body's metrics as stored),
+    or None for a body cut short (no model: written by hand, or by a client), whose class still answers."""
+    try:
+        return CalibrationResult.from_dict(body)
+    except (CalibrationError, LookupError, TypeError, ValueError):
+        return None
+
+
+def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
     """The verdict on a calibration: whether to apply it, in words, and the figure it stands on.
 
     Parameters
     ----------
     body : dict
         A stored calibration (``ok``, ``reasons``, ``metrics``, ``model``, ``method``).
+    result : CalibrationResult, optional
+        The result ``body`` rebuilds, where the caller has it; rebuilt here otherwise.
 
     Returns
     -------
@@ -107,70 +77,85 @@ def verdict(body: dict) -> dict:
         or ``figures`` for a noise characterisation, which corrects nothing), ``words`` (the sentence),
         ``why`` (one line more), and ``before``, ``after``, ``unit``, ``basis`` of its figure (null
         where it has none).
+
+    The result decides what it stands on: its kind (:attr:`CalibrationResult.KIND`), its figures
+    (:meth:`CalibrationResult.figures`), its headline and the note under its figure. A body cut short
+    (no model) is judged by its class on its metrics.
     """
-    ok = bool(body.get("ok"))
-    reasons = list(body.get("reasons") or [])
-    if body.get("method") == "noise":
-        if ok:
-            return _out(True, "figures", "Use these figures in your filter: the sensors' noise is characterised.",
-                        "White noise, random walk and bias instability per axis (IEEE Std 952), for a Kalman "
-                        "filter's noise model.")
-        return _out(False, "failed", "Don't use these figures: the noise could not be characterised.",
-                    _short_reason(reasons))
-    if body.get("method") == "temperature":
-        return _temperature_verdict(body, ok, reasons)
-    before, after, unit, basis = _figure(body)
+    result = rebuilt(body) if result is None else result
+    if result is not None:
+        cls, figures, line = type(result), result.figures(), result.headline()
+        ok, reasons = result.ok, list(result.reasons)
+    else:
+        try:
+            cls = CalibrationResult.class_of(body)
+        except CalibrationError:
+            cls = CalibrationResult
+        figures, line = cls.figures_from(body.get("metrics") or {}, body.get("output_unit")), body.get("headline")
+        ok, reasons = bool(body.get("ok")), list(body.get("reasons") or [])
+    return _VERDICTS[cls.KIND](cls, body.get("method"), figures, line, ok, reasons)
+
+
+def _figures_verdict(cls, method, figures, line, ok: bool, reasons: list[str]) -> dict:
+    """A noise characterisation corrects nothing: its figures are for a filter."""
+    if ok:
+        return _out(True, "figures", "Use these figures in your filter: the sensors' noise is characterised.",
+                    "White noise, random walk and bias instability per axis (IEEE Std 952), for a Kalman "
+                    "filter's noise model.")
+    return _out(False, "failed", "Don't use these figures: the noise could not be characterised.",
+                _short_reason(reasons))
+
+
+def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str]) -> dict:
+    """A correction: its one figure, the most honest it has (the result's order)."""
+    figure = figures[0] if figures else NO_FIGURE
+    before, after, unit, basis = figure.before, figure.after, figure.unit, figure.basis
     change = ("" if after is None else f"{basis} {_amount(before, unit)} → {_amount(after, unit)}"
               if before is not None else f"{basis} {_amount(after, unit)}")
-    figures = dict(before=before, after=after, unit=unit or None, basis=basis or None)
-    if before is not None and after is not None and after > before:
+    figures_out = dict(before=before, after=after, unit=unit or None, basis=basis or None)
+    if figure.grew:
         return _out(False, "worse", f"Don't apply it: your sensor is already better than this ({change}).",
                     ("It would make your sensor worse; keep it as it is. "
                      + (_short_reason(reasons) if reasons else "")).strip(),
-                    **figures)
+                    **figures_out)
     if not ok:
         return _out(False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons),
-                    **figures)
+                    **figures_out)
     if before is not None and after is not None:
-        floor = MIN_GAIN_UT if unit == "µT" else MIN_GAIN_MG
-        if after > (1.0 - MIN_GAIN_FRACTION) * before or before - after < floor:
+        if after > (1.0 - MIN_GAIN_FRACTION) * before or before - after < MIN_GAIN.get(unit, MIN_GAIN_MG):
             return _out(False, "no_gain", f"No need to apply it: it changes too little to matter ({change}).",
-                        "Your sensor is about as good without it; keep it as it is.", **figures)
+                        "Your sensor is about as good without it; keep it as it is.", **figures_out)
     words = f"Apply it: {change}." if change else "Apply it: it passed every check."
-    why = ("Six poses leave none out to test on: the figure is on the poses fitted. A free session "
-           "measures the error on new orientations." if body.get("method") == "six_position" and before is not None
-           else "It passed every check." if change else "")
-    return _out(True, "apply", words, why, **figures)
+    why = cls.verdict_note(method, figure) or ("It passed every check." if change else "")
+    return _out(True, "apply", words, why, **figures_out)
 
 
-def _temperature_verdict(body: dict, ok: bool, reasons: list[str]) -> dict:
+def _drift_verdict(cls, method, figures, line, ok: bool, reasons: list[str]) -> dict:
     """A temperature calibration: its offset drift over the range, raw against bands of temperature left out
-    (each predicted by the fit made without it), the accelerometer's in mg first, else the gyroscope's in °/s."""
-    from app.summary import temperature_headline
-
-    metrics, model = body.get("metrics") or {}, body.get("model") or {}
-    sensors = [s for s in ("acc", "gyr") if s in metrics]
-    if not sensors:
+    (each predicted by the fit made without it), the accelerometer's in mg first, else the gyroscope's in °/s;
+    worse when any sensor's drift grew, no gain when none shrank enough."""
+    if not figures:
         return _out(False, "failed", "Don't apply it: the calibration has no temperature model.", _short_reason(reasons))
-    first = metrics[sensors[0]]
-    unit = {"mg": "mg", "deg/s": "°/s"}[first["unit"]]
-    change = temperature_headline(model, metrics)
-    figures = dict(before=first["drift_raw_max"], after=first["drift_cv_max"], unit=unit,
-                   basis="offset drift over the temperature range, on bands of temperature left out")
-    grew = [s for s in sensors if metrics[s]["drift_cv_max"] > metrics[s]["drift_raw_max"]]
-    if grew:
+    first = figures[0]
+    change = line or ""
+    figures_out = dict(before=first.before, after=first.after, unit=first.unit, basis=first.basis)
+    if any(f.grew for f in figures):
         return _out(False, "worse", f"Don't apply it: the drift would grow ({change}).",
                     ("It would make your sensor worse; keep its temperature calibration off. "
-                     + (_short_reason(reasons) if reasons else "")).strip(), **figures)
+                     + (_short_reason(reasons) if reasons else "")).strip(), **figures_out)
     if not ok:
         return _out(False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons),
-                    **figures)
-    if all(metrics[s]["drift_cv_max"] > (1.0 - MIN_GAIN_FRACTION) * metrics[s]["drift_raw_max"] for s in sensors):
+                    **figures_out)
+    if all(f.after > (1.0 - MIN_GAIN_FRACTION) * f.before for f in figures):
         return _out(False, "no_gain", f"No need to apply it: it changes too little to matter ({change}).",
-                    "Your sensor drifts about as little without it; keep it as it is.", **figures)
+                    "Your sensor drifts about as little without it; keep it as it is.", **figures_out)
     return _out(True, "apply", f"Apply it: {change}.",
                 "Each band of temperature was predicted by the fit made without it: the figure is what to expect "
-                "between the temperatures recorded.", **figures)
+                "between the temperatures recorded.", **figures_out)
+
+
+_VERDICTS = {CORRECTION: _correction_verdict, FIGURES: _figures_verdict, DRIFT: _drift_verdict}
+"""The verdict of each kind of result (:attr:`CalibrationResult.KIND`)."""
 
 
 def with_verdict(body: dict) -> dict:

@@ -26,8 +26,7 @@ from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
 from app.io.parts import pose_from_name
-from app.summary import compass_headline, headline, temperature_headline
-from app.verdict import figure_unit, verdict
+from app.verdict import verdict
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -455,39 +454,28 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
 
 
 def apply_calibration(body: dict, samples, sensor: str = "acc"):
-    """Calibrate samples of one sensor with a stored calibration."""
+    """Calibrate samples of one sensor with a stored calibration: the result it rebuilds applies its
+    correction of that sensor, or says which sensors it has (a noise characterisation corrects nothing)."""
     from app.calibration.registry import result_from_dict  # the registry imports every model
 
-    result = result_from_dict(body)
-    if body["model"]["type"] == "noise":
-        result.apply(samples)  # refuses: a noise characterisation corrects nothing
-    if body["model"]["type"] == "cube":
-        return result.apply(**{sensor: samples})[sensor]
-    if body["model"]["type"] == "magnetometer":
-        if sensor != "mag":
-            raise CalibrationError('a magnetometer calibration has only a magnetometer model: send `sensor: "mag"`')
-        return result.apply(samples)
-    if sensor != "acc":
-        raise CalibrationError(f"a {body['model']['type']} calibration has only an accelerometer model; drop `sensor`")
-    return result.apply(samples)
+    return result_from_dict(body).apply(samples, sensor)
 
 
 def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:
     """The stored and returned form of a calibration: the result's plain form with the metrics and
-    notes of the request and the caller's fields (device_id, label, the recording's id…)."""
+    notes of the request and the caller's fields (device_id, label, the recording's id…); its headline
+    and verdict come from the result the body rebuilds, which sees the request's metrics too."""
     if result.unit != unit:  # the core fits numbers; the caller knows their unit (the cube's is in its units)
         result = dataclasses.replace(result, unit=unit)
     body = result.to_dict()
     body["metrics"].update(extra_metrics)
-    if "cv_error_mg" in body["metrics"]:  # every fit of still readings: the line a person reads first
-        body["headline"] = headline(body["metrics"])
-    elif "cv_error_ut" in body["metrics"]:  # the compass
-        body["headline"] = compass_headline(body["metrics"], figure_unit(body))
-    elif body.get("method") == "temperature":
-        body["headline"] = temperature_headline(body["model"], body["metrics"])
+    stored = type(result).from_dict(body)
+    line = stored.headline()  # the line a person reads first
+    if line is not None:
+        body["headline"] = line
     body["warnings"] = list(body["warnings"]) + notes
     body.update(fields)
-    body["verdict"] = verdict(body)
+    body["verdict"] = verdict(body, stored)
     return body
 
 

@@ -9,7 +9,7 @@ has a closed form (section 3.3.1).  The metrics are those of section 3.5.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -25,9 +25,8 @@ from .gates import (
 )
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
 from .correction import AffineCorrection
-from .result import StillReadingsResult
-from .uncertainty import CONFIDENCE, half_widths
-from .validation import as_samples, as_vectors, check_gravity
+from .result import StillReadingsResult, parameter
+from .validation import as_vectors, check_gravity
 
 MODEL_TYPE = "affine"
 
@@ -75,19 +74,11 @@ class AffineCalibration(StillReadingsResult):
         Unit of the readings: ``m/s^2``, ``g`` or ``raw``.
     """
 
-    X: np.ndarray
-    y: np.ndarray
-    gravity: float
-    means: np.ndarray
+    X: np.ndarray = parameter()
+    y: np.ndarray = parameter()
     expected: np.ndarray
     labels: tuple
-    covariance: np.ndarray | None
-    dof: int
-    metrics: dict = field(default_factory=dict)
-    warnings: tuple = ()
-    reasons: tuple = ()
     method: str = "orientations"
-    unit: str = "m/s^2"
 
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
@@ -99,46 +90,33 @@ class AffineCalibration(StillReadingsResult):
     ) + (("y1", "offset", "x"), ("y2", "offset", "y"), ("y3", "offset", "z"))
     """Name, kind and axes of each parameter in the covariance's order (z of eq. (21))."""
 
+    @classmethod
+    def verdict_note(cls, method: str | None, figure) -> str:
+        """Six poses' figure is in-sample: say so, and how to measure the error on new orientations."""
+        if method == "six_position" and figure.before is not None:
+            return ("Six poses leave none out to test on: the figure is on the poses fitted. A free session "
+                    "measures the error on new orientations.")
+        return ""
+
     @property
     def correction_matrix(self) -> np.ndarray:
         """X⁻¹, the matrix firmware multiplies by after subtracting y (Georgieva et al. eq. (20))."""
         return np.linalg.inv(self.X)
 
-    def apply(self, raw) -> np.ndarray:
-        """Calibrate readings: ``a = X⁻¹ (m − y)`` (Georgieva et al. eq. (20)).
-
-        Parameters
-        ----------
-        raw : array_like, shape (3,) or (N, 3)
-
-        Returns
-        -------
-        numpy.ndarray of the same shape as ``raw``.
-        """
-        m = as_samples(raw)
-        return np.linalg.solve(self.X, (m - self.y).reshape(-1, 3).T).T.reshape(m.shape)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
+        # Georgieva et al. eq. (20): a = X⁻¹ (m − y), solved rather than multiplied by the inverse.
+        return np.linalg.solve(self.X, (rows - self.y).T).T
 
     @property
     def residuals(self) -> np.ndarray:
         """Calibrated readings minus their expected specific force, shape (N, 3)."""
         return self.apply(self.means) - self.expected
 
-    def uncertainty(self) -> dict:
-        """95 % half-widths of X and y, or nulls with the reason when there is no residual dof."""
-        out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
-        if self.covariance is None:
-            out.update(
-                X=None,
-                y=None,
-                note=(
-                    f"no intervals: {len(self.means)} readings fit 4 parameters per axis exactly "
-                    "(0 residual degrees of freedom); add orientations to estimate the uncertainty"
-                ),
-            )
-            return out
-        hw = half_widths(self.covariance, self.dof)
-        out.update(X=hw[:9].reshape(3, 3).tolist(), y=hw[9:].tolist())
-        return out
+    NO_INTERVALS = ("no intervals: {n} readings fit 4 parameters per axis exactly (0 residual degrees of freedom); "
+                    "add orientations to estimate the uncertainty")
+
+    def interval_dict(self, hw: np.ndarray) -> dict:
+        return {"X": hw[:9].reshape(3, 3).tolist(), "y": hw[9:].tolist()}
 
     def reading_detail(self, index: int, mean: np.ndarray, calibrated: np.ndarray) -> dict:
         """A known orientation's reading: its label, mean, expected vector, calibrated residual and the
@@ -155,16 +133,12 @@ class AffineCalibration(StillReadingsResult):
         return AffineCorrection(self.correction_matrix, np.asarray(self.y, dtype=float), self.unit,
                                 self.output_unit, self.CORRECTION_SOURCE)
 
-    def model_dict(self) -> dict:
-        return {"X": self.X.tolist(), "y": self.y.tolist()}
-
     @classmethod
     def _from_body(cls, data: dict) -> "AffineCalibration":
         model, readings, common = cls.common_from_dict(data)
         common["dof"] = int((data.get("uncertainty") or {}).get("dof", max(len(readings) - 4, 0)))
         return cls(
-            X=np.asarray(model["X"], dtype=float),
-            y=np.asarray(model["y"], dtype=float),
+            **cls.parameters_from(model),
             expected=np.asarray([r["expected"] for r in readings], dtype=float).reshape(-1, 3),
             labels=tuple(r.get("up") for r in readings),
             **common,
@@ -316,7 +290,10 @@ def _finish(
     plausible_scale: tuple[float, float] | None,
     max_offset: float | None,
 ) -> AffineCalibration:
-    """Covariance, metrics and gates shared by both solvers (Georgieva et al., ESGI'95, sections 3.3–3.5)."""
+    """Covariance, metrics and gates shared by both solvers (Georgieva et al., ESGI'95, sections 3.3–3.5);
+    ``max_offset`` defaults to ``gravity`` (1 g)."""
+    stds = None if stds is None else np.asarray(stds, dtype=float)
+    max_offset = gravity if max_offset is None else max_offset
     design = _design(expected, gravity)
     fitted = expected @ X.T + y
     cov, dof = _covariance(design, means - fitted, gravity)
@@ -426,12 +403,8 @@ def fit_orientations(
     design = np.hstack([a, np.ones((len(a), 1))])
     W, *_ = np.linalg.lstsq(design, m, rcond=None)
     X, y = W[:3].T.copy(), W[3].copy()
-    return _finish(
-        X, y, m, a, labels, g, "orientations",
-        stds=None if stds is None else np.asarray(stds, dtype=float),
-        plausible_scale=plausible_scale,
-        max_offset=g if max_offset is None else max_offset,
-    )
+    return _finish(X, y, m, a, labels, g, "orientations", stds=stds, plausible_scale=plausible_scale,
+                   max_offset=max_offset)
 
 
 def fit_six_position(
@@ -492,9 +465,5 @@ def fit_six_position(
     X = np.column_stack([by_label["+" + ax] - by_label["-" + ax] for ax in "xyz"]) / (2.0 * g)
     y = m.mean(axis=0)
     a = np.array([up_vector(lab) * g for lab in labels])
-    return _finish(
-        X, y, m, a, tuple(labels), g, "six_position",
-        stds=None if stds is None else np.asarray(stds, dtype=float),
-        plausible_scale=plausible_scale,
-        max_offset=g if max_offset is None else max_offset,
-    )
+    return _finish(X, y, m, a, tuple(labels), g, "six_position", stds=stds, plausible_scale=plausible_scale,
+                   max_offset=max_offset)

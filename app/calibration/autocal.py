@@ -43,11 +43,11 @@ from .norm_metrics import norm_errors
 from .cross_validation import cross_validated_error
 from .errors import CalibrationError
 from .gates import Gates
-from .result import CalibrationResult
+from .headlines import accelerometer_headline
+from .result import CalibrationResult, Figure, cv_figure, first_figure, gate_fields, holdout_figure, in_sample_figure
 from .stationary_002 import RestSegments, detect_rest_segments
 from .triangular import SOLVERS, TriangularCalibration, fit_triangular
 from .trust import worse_than_raw
-from .validation import as_samples
 
 MODEL_TYPE = "triangular"
 METHOD = "autocal"
@@ -169,6 +169,13 @@ def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN
                      min_per_bin=int(min_per_bin), max_per_bin=int(max_per_bin))
 
 
+def control_figure(m: dict) -> Figure | None:
+    """The error on the control points, held out of the fit (Farago, Maczak and Gingl, IEEE Access, Table 3)."""
+    if "count_control" not in m or m.get("error_after_mg") is None:
+        return None
+    return Figure(m.get("error_before_mg"), m["error_after_mg"], "mg", "error on control points held out of the fit")
+
+
 @dataclass(frozen=True)
 class AutoCalibration(CalibrationResult):
     """Result of the Farago et al. auto-calibration of a recording.
@@ -236,10 +243,20 @@ class AutoCalibration(CalibrationResult):
         K = self.K
         return np.array([K[0, 0], K[1, 1], K[2, 2], K[1, 0], K[2, 0], K[2, 1], *self.o])
 
-    def apply(self, raw) -> np.ndarray:
-        """Calibrate samples: ``a = K (v + o)`` (Farago et al. eqs. (7)–(9)); the identity without a fit."""
-        m = as_samples(raw)
-        return ((m.reshape(-1, 3) + self.o) @ self.K.T).reshape(m.shape)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
+        return (rows + self.o) @ self.K.T  # Farago et al. eqs. (7)–(9): a = K (v + o); the identity without a fit
+
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        """Readings the request held out, else its control points (held out of its fit, Farago et al.
+        Table 3), else its cross-validated error, else the in-sample error."""
+        return (first_figure(metrics, (holdout_figure, control_figure, cv_figure, in_sample_figure)),)
+
+    def headline(self) -> str | None:
+        """Its error on new orientations, then on its control points (held out) and raw."""
+        if "cv_error_mg" not in self.metrics:
+            return None
+        return accelerometer_headline(self.metrics, held_out=True)
 
     def uncertainty(self) -> dict:
         if self.calibration is None:
@@ -284,9 +301,7 @@ class AutoCalibration(CalibrationResult):
             control_starts=np.asarray(data.get("control_starts", []), dtype=np.int64),
             selection=dict(data.get("selection", {})), control_selection=dict(data.get("control_selection", {})),
             detection=dict(data.get("detection", {})), comparison=dict(data.get("comparison", {})),
-            solver=data.get("solver", "lm"), metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
-            unit=data.get("unit", "g"),
+            solver=data.get("solver", "lm"), **gate_fields(data), unit=data.get("unit", "g"),
         )
 
 

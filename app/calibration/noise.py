@@ -26,14 +26,14 @@ interval of the term is that χ² interval, mapped the same way. A term whose sh
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
 from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev, preload_quantiles
 from .errors import CalibrationError, InsufficientDataError
-from .result import CalibrationResult
+from .result import FIGURES, PerSensorResult
 
 CONFIDENCE = 0.95
 FLICKER_VARIANCE = 2.0 * math.log(2.0) / math.pi
@@ -268,7 +268,7 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
 
 
 @dataclass(frozen=True)
-class NoiseResult(CalibrationResult):
+class NoiseResult(PerSensorResult):
     """The noise characterisation of a still recording: one entry per sensor (``acc``, ``gyr``, ``mag``).
 
     It corrects nothing: :meth:`corrections` is empty and :meth:`apply` refuses, so exporters that
@@ -278,36 +278,19 @@ class NoiseResult(CalibrationResult):
 
     RESULT_TYPE: ClassVar[str] = "noise"
     MODEL_TYPE: ClassVar[str] = "noise"
+    KIND: ClassVar[str] = FIGURES
 
-    sensors: dict
     sampling_rate_hz: float
     duration_s: float
     still: dict | None = None
-    warnings: tuple = ()
-    reasons: tuple = ()
-    gravity: float | None = None
     method: str = "noise"
-    unit: str = field(default="")
-
-    @property
-    def metrics(self) -> dict:
-        return {name: part["metrics"] for name, part in self.sensors.items()}
 
     @property
     def correction(self):
         raise CalibrationError("a noise characterisation has no correction: it measures the random errors only")
 
-    def corrections(self) -> dict:
-        return {}
-
-    def apply(self, raw):
+    def apply(self, samples, sensor: str | None = None):
         raise CalibrationError("a noise characterisation corrects nothing: apply a calibration of another method")
-
-    def model_dict(self) -> dict:
-        return {name: part["model"] for name, part in self.sensors.items()}
-
-    def uncertainty(self) -> dict:
-        return {"confidence": CONFIDENCE, **{name: part["uncertainty"] for name, part in self.sensors.items()}}
 
     def body_dict(self) -> dict:
         return {"adev": {name: part["adev"] for name, part in self.sensors.items()},
@@ -315,11 +298,7 @@ class NoiseResult(CalibrationResult):
 
     @classmethod
     def _from_body(cls, data: dict) -> "NoiseResult":
-        names = [k for k in data["model"] if k != "type"]
-        sensors = {name: {"model": data["model"][name], "adev": data["adev"][name],
-                          "uncertainty": data["uncertainty"][name], "metrics": data["metrics"].get(name, {})}
-                   for name in names}
-        return cls(sensors=sensors, sampling_rate_hz=float(data["sampling_rate_hz"]),
+        return cls(sensors=cls.parts_from(data, "adev"), sampling_rate_hz=float(data["sampling_rate_hz"]),
                    duration_s=float(data["duration_s"]), still=data.get("still"),
                    warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
                    unit=data.get("unit", ""))

@@ -22,27 +22,24 @@ same as ours.  The signs of the shifts s come from the rough orthogonal fit, as 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
 
 from .errors import CalibrationError
-from .result import StillReadingsResult
-from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
+from .result import StillReadingsResult, parameter
+from .uncertainty import covariance_from_jacobian
 from .gates import (
     Gates,
-    coverage_gate,
     deviation_gate,
-    exact_fit_gate,
     hemisphere_gate,
-    limit_gate,
-    near_duplicate_gate,
     offset_gate,
     residual_gate,
     scale_gate,
+    unknown_orientation_gates,
 )
-from .validation import as_samples, as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
+from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "nonorthogonal"
 
@@ -186,20 +183,12 @@ class NonOrthogonalCalibration(StillReadingsResult):
         As in :class:`~app.calibration.affine.AffineCalibration`.
     """
 
-    s: np.ndarray
-    b: np.ndarray
-    phi: float
-    psi: float
-    theta: float
-    gravity: float
-    means: np.ndarray
-    covariance: np.ndarray | None
-    dof: int
-    metrics: dict = field(default_factory=dict)
-    warnings: tuple = ()
-    reasons: tuple = ()
+    s: np.ndarray = parameter()
+    b: np.ndarray = parameter()
+    phi: float = parameter()
+    psi: float = parameter()
+    theta: float = parameter()
     method: str = MODEL_TYPE
-    unit: str = "m/s^2"
 
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
@@ -220,25 +209,11 @@ class NonOrthogonalCalibration(StillReadingsResult):
         """T̄_orth T̄ T of eq. (16): calibrated = matrix @ (raw − s)."""
         return calibration_matrix(self.b, self.phi, self.psi, self.theta)
 
-    def apply(self, raw) -> np.ndarray:
-        """Calibrate readings by eq. (16): ``ā_orth = T̄_orth T̄ T â − T̄_orth T̄ s``.
-
-        The output is in the orthonormal frame of Proposition 3: f₁ along the sensor's x axis,
-        f₂ in the plane of its x and y axes.
-
-        Parameters
-        ----------
-        raw : array_like, shape (3,) or (N, 3)
-
-        Returns
-        -------
-        numpy.ndarray of the same shape as ``raw``.
-        """
-        m = as_samples(raw)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
         # Georgieva et al. eq. (16): T̄_orth T̄ T â − T̄_orth T̄ s with the vector s = T (s₁, s₂, s₃) of eq. (2),
-        # i.e. T̄_orth T̄ T (â − s).
-        out = (m.reshape(-1, 3) - self.s) @ self.matrix.T
-        return out.reshape(m.shape)
+        # i.e. T̄_orth T̄ T (â − s), in the orthonormal frame of Proposition 3: f₁ along the sensor's x axis,
+        # f₂ in the plane of its x and y axes.
+        return (rows - self.s) @ self.matrix.T
 
     def jacobian(self, means) -> np.ndarray:
         """Jacobian (N, 9) of the terms of (17) for readings ``means`` (N, 3) with respect to
@@ -246,42 +221,14 @@ class NonOrthogonalCalibration(StillReadingsResult):
         behind :attr:`covariance` (app.calibration.advice)."""
         return _jacobian_17(self.params, as_vectors(means, "means"), self.gravity)
 
-    def uncertainty(self) -> dict:
-        """95 % half-widths of s, b and the three angles, or nulls with the reason."""
-        out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
-        if self.covariance is None:
-            out.update(
-                s=None, b=None, phi=None, psi=None, theta=None,
-                note=(
-                    f"no intervals: {len(self.means)} positions fit the 9 parameters exactly "
-                    "(0 residual degrees of freedom) or the fit is degenerate; add positions"
-                ),
-            )
-            return out
-        hw = half_widths(self.covariance, self.dof)
-        out.update(s=hw[0:3].tolist(), b=hw[3:6].tolist(), phi=float(hw[6]), psi=float(hw[7]), theta=float(hw[8]))
-        return out
-
-    def model_dict(self) -> dict:
-        return {
-            "s": self.s.tolist(),
-            "b": self.b.tolist(),
-            "phi": float(self.phi),
-            "psi": float(self.psi),
-            "theta": float(self.theta),
-        }
+    def interval_dict(self, hw: np.ndarray) -> dict:
+        return {"s": hw[0:3].tolist(), "b": hw[3:6].tolist(), "phi": float(hw[6]), "psi": float(hw[7]),
+                "theta": float(hw[8])}
 
     @classmethod
     def _from_body(cls, data: dict) -> "NonOrthogonalCalibration":
         model, _, common = cls.common_from_dict(data)
-        return cls(
-            s=np.asarray(model["s"], dtype=float),
-            b=np.asarray(model["b"], dtype=float),
-            phi=float(model["phi"]),
-            psi=float(model["psi"]),
-            theta=float(model["theta"]),
-            **common,
-        )
+        return cls(**cls.parameters_from(model), **common)
 
 # ---------------------------------------------------------------------------------------------
 # Fit, section 2.2
@@ -419,25 +366,9 @@ def _gates(m, g, s, b, angles, norm_err, cond, dof, hemisphere, sol, plausible_s
             "(Georgieva et al. section 2 assumes 90° ± 2 %): check the positions"
         ),
     ))
-    gates.warn(limit_gate(
-        cond, MAX_CONDITION_NUMBER,
-        "the positions determine the parameters poorly (condition number {value:.3g}): "
-        "spread the positions over the whole sphere",
-    ))
-    gates.warn(coverage_gate(
-        m, "poor coverage of the sphere: no position has the {missing} axis within 60° of up; add such positions",
-        hemisphere=hemisphere,
-    ))
-    gates.warn(near_duplicate_gate(
-        m, NEAR_DUPLICATE_FRACTION * g,
-        "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
-        "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
-    ))
-    gates.fail(exact_fit_gate(
-        dof,
-        "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
-        "so no intervals and no check of the fit; use about 20 positions",
-    ))
+    unknown_orientation_gates(gates, m, g, condition=cond, max_condition=MAX_CONDITION_NUMBER, dof=dof,
+                              hemisphere=hemisphere, near_fraction=NEAR_DUPLICATE_FRACTION,
+                              positions_hint="use about 20 positions")
     return gates
 
 

@@ -10,13 +10,18 @@ by :meth:`CalibrationResult.from_dict` whatever its method.
 
 from __future__ import annotations
 
+import dataclasses
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
 
 from .correction import AffineCorrection, correction_of
 from .errors import CalibrationError
+from .headlines import SENSOR_WORDS, accelerometer_headline
 from .norm_metrics import evaluate_still, relative_norm_errors
+from .uncertainty import CONFIDENCE, half_widths
+from .validation import as_samples
 
 SCHEMA_VERSION = 1
 """Version of the plain-dict form; :meth:`CalibrationResult.from_dict` reads this version and the
@@ -27,6 +32,70 @@ OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
 into m/s² (the reference of raw readings stays in m/s² and the model maps it to counts)."""
 
 _REGISTRY: dict[str, type["CalibrationResult"]] = {}
+
+CORRECTION, FIGURES, DRIFT = "correction", "figures", "drift"
+"""What a result is, for the verdict and the exports (:attr:`CalibrationResult.KIND`): a correction
+``f = M (m − o)`` to apply; figures that correct nothing (a noise characterisation); offsets that drift
+with temperature, applied with each reading's temperature."""
+
+
+@dataclass(frozen=True)
+class Figure:
+    """The figure a calibration stands on: its error ``before`` and ``after`` (None where it has none),
+    their ``unit`` (``mg``, ``µT``, ``counts``, ``°/s``; empty without a figure) and the ``basis`` in words
+    (``error on new orientations``, …)."""
+
+    before: float | None = None
+    after: float | None = None
+    unit: str = ""
+    basis: str = ""
+
+    @property
+    def grew(self) -> bool:
+        """True when the calibrated error is larger than the raw one."""
+        return self.before is not None and self.after is not None and self.after > self.before
+
+
+NO_FIGURE = Figure()
+
+FIGURE_METRICS = ("holdout_error_before_mg", "holdout_error_after_mg", "count_control", "cv_error_mg",
+                  "cv_error_max_mg", "cv_note", "error_before_mg", "error_after_mg", "cv_error_ut", "cv_error_max_ut",
+                  "fit_error_ut", "raw_error_ut", "drift_raw_max", "drift_cv_max")
+"""The metrics a result chooses its figure and its headline by: only the result classes read them to decide
+(tests/test_result_decides.py)."""
+
+
+def holdout_figure(m: dict) -> Figure | None:
+    """Readings the request held out (``holdout_*``): the most honest figure, when given."""
+    if m.get("holdout_error_after_mg") is None:
+        return None
+    return Figure(m.get("holdout_error_before_mg"), m["holdout_error_after_mg"], "mg",
+                  "error on the readings you held out")
+
+
+def cv_figure(m: dict) -> Figure | None:
+    """The cross-validated error (each reading calibrated by the fit made without it) against the same
+    readings raw: a reading's raw error does not depend on the fit."""
+    if m.get("cv_error_mg") is None:
+        return None
+    return Figure(m.get("error_before_mg"), m["cv_error_mg"], "mg", "error on new orientations")
+
+
+def in_sample_figure(m: dict) -> Figure | None:
+    """The in-sample error of the fitted readings, named as such."""
+    if m.get("error_after_mg") is None:
+        return None
+    poses = f"{m['count']} poses" if m.get("count") else "poses"
+    return Figure(m.get("error_before_mg"), m["error_after_mg"], "mg", f"error on the {poses} fitted")
+
+
+def first_figure(metrics: dict, sources) -> Figure:
+    """The first figure ``sources`` (functions of the metrics, most honest first) find, else :data:`NO_FIGURE`."""
+    for source in sources:
+        found = source(metrics)
+        if found is not None:
+            return found
+    return NO_FIGURE
 
 
 def registered_types() -> tuple[str, ...]:
@@ -41,7 +110,54 @@ def _load_all() -> None:
     from .cube import calibrate  # noqa: F401
 
 
-class CalibrationResult:
+PARAMETER = {"parameter": True}
+"""The metadata of a result's fields that are its model's parameters (``X: np.ndarray = parameter()``):
+:meth:`CalibrationResult.model_dict` and :meth:`CalibrationResult.parameters_from` are built from them."""
+
+
+def parameter():
+    """A dataclass field that is one of the model's parameters (no default: every fit gives it)."""
+    return field(metadata=PARAMETER)
+
+
+def _plain(value):
+    """A parameter as JSON has it: an array as nested lists, a number as a float."""
+    a = np.asarray(value, dtype=float)
+    return a.tolist() if a.ndim else float(a)
+
+
+class Gated:
+    """What every fit with quality gates shares: ``metrics``, ``warnings`` and ``reasons`` (gate failures,
+    each one sentence), and ``ok``, exactly when no gate gave a reason (docs/conventions.md)."""
+
+    @property
+    def ok(self) -> bool:
+        """True when no quality gate failed."""
+        return not self.reasons
+
+
+@dataclass(frozen=True)
+class GatedFit(Gated):
+    """A part of a result with its own gates (a cube's sensor): its metrics, warnings and reasons as keyword
+    fields after its own."""
+
+    metrics: dict = field(default_factory=dict, kw_only=True)
+    warnings: tuple = field(default=(), kw_only=True)
+    reasons: tuple = field(default=(), kw_only=True)
+
+    def gate_dict(self) -> dict:
+        """The plain form of its metrics, ``ok``, warnings and reasons."""
+        return {"metrics": dict(self.metrics), "ok": self.ok, "warnings": list(self.warnings),
+                "reasons": list(self.reasons)}
+
+
+def gate_fields(data: dict) -> dict:
+    """``metrics``, ``warnings`` and ``reasons`` of a plain form, as a result's constructor takes them."""
+    return dict(metrics=dict(data.get("metrics", {})), warnings=tuple(data.get("warnings", ())),
+                reasons=tuple(data.get("reasons", ())))
+
+
+class CalibrationResult(Gated):
     """Base of every frozen result dataclass of the core.
 
     A subclass is a frozen dataclass with at least the fields ``gravity``, ``metrics``,
@@ -56,25 +172,100 @@ class CalibrationResult:
     MODEL_TYPE: ClassVar[str] = ""
     CORRECTION_SOURCE: ClassVar[str] = ""
     """Where the correction ``f = M (m − o)`` of this model comes from (paper and equation)."""
+    KIND: ClassVar[str] = CORRECTION
+    """:data:`CORRECTION`, :data:`FIGURES` or :data:`DRIFT`: which verdict and which exports fit it. A class
+    answer, so that a body cut short (no model) is still told apart."""
+    PER_SENSOR: ClassVar[bool] = False
+    """Whether its corrections are named by sensor in the exports (the cube: one per sensor)."""
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         if cls.__dict__.get("RESULT_TYPE"):
             _REGISTRY[cls.RESULT_TYPE] = cls
 
-    # -- the shared verdict ------------------------------------------------------------------
-
-    @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
-
     @property
     def output_unit(self) -> str:
         """The unit the accelerometer correction calibrates into (:data:`OUTPUT_UNIT`)."""
         return OUTPUT_UNIT.get(self.unit, self.unit)
 
+    @property
+    def corrects(self) -> bool:
+        """Whether it corrects anything (a noise characterisation only measures)."""
+        return self.KIND != FIGURES
+
+    # -- what a person reads first -----------------------------------------------------------
+
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        """The figures a result of this class stands on, from its metrics: one, most honest first (each
+        class its own order); one per sensor for a temperature calibration. Read from the class, so that a
+        stored body cut short still has its figure."""
+        return (NO_FIGURE,)
+
+    def figures(self) -> tuple[Figure, ...]:
+        """Every figure the verdict weighs (:meth:`figures_from` of its own metrics)."""
+        return self.figures_from(self.metrics, self.output_unit)
+
+    def figure(self) -> Figure:
+        """The figure it stands on: ``before``, ``after``, ``unit``, ``basis``."""
+        return (self.figures() or (NO_FIGURE,))[0]
+
+    def headline(self) -> str | None:
+        """The line a person reads first about its figures, or None where it has none."""
+        return None
+
+    @classmethod
+    def verdict_note(cls, method: str | None, figure: Figure) -> str:
+        """One line more under an "apply it" verdict on ``figure``, where the figure needs it."""
+        return ""
+
     # -- corrections -------------------------------------------------------------------------
+
+    def apply(self, samples, sensor: str | None = None) -> np.ndarray:
+        """Calibrate raw samples of one sensor with its correction.
+
+        Parameters
+        ----------
+        samples : array_like, shape (3,) or (N, 3)
+        sensor : {"acc", "gyr", "mag"}, optional
+            The sensor whose correction to apply (:meth:`corrections`); by default the result's first
+            (the accelerometer's, the compass's magnetometer).
+
+        Returns
+        -------
+        numpy.ndarray of the same shape as ``samples``.
+
+        Raises
+        ------
+        CalibrationError
+            When the result has no correction of that sensor.
+        """
+        self.require_sensor(sensor)
+        m = as_samples(samples)
+        return self._calibrate(m.reshape(-1, 3)).reshape(m.shape)
+
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:  # pragma: no cover - every correcting subclass defines it
+        """The model's own formula on readings (N, 3): exactly its correction ``M (m − o)``."""
+        raise NotImplementedError
+
+    def require_sensor(self, sensor: str | None) -> None:
+        """Refuse a sensor the result has no correction of, saying which it has."""
+        if sensor is None:
+            return
+        have = self.corrected_sensors()
+        if sensor in have:
+            return
+        if len(have) != 1:
+            raise CalibrationError(f"this calibration has no {sensor} model")
+        word = SENSOR_WORDS[have[0]]
+        fix = "; drop `sensor`" if have[0] == "acc" else f': send `sensor: "{have[0]}"`'
+        raise CalibrationError(f"a {self.MODEL_TYPE} calibration has only {'an' if word[0] in 'aeiou' else 'a'} "
+                               f"{word} model{fix}")
+
+    def corrected_sensors(self) -> tuple[str, ...]:
+        """The sensors it has a correction of (the keys of :meth:`corrections`, without computing them)."""
+        return ("acc",)
+
 
     @property
     def correction(self) -> AffineCorrection:
@@ -93,8 +284,16 @@ class CalibrationResult:
 
     # -- plain form --------------------------------------------------------------------------
 
-    def model_dict(self) -> dict:  # pragma: no cover - every subclass defines it
-        raise NotImplementedError
+    def model_dict(self) -> dict:
+        """Its model's parameters (the fields marked :func:`parameter`, in their order) as plain lists and
+        floats; a result whose model is not its fields says its own."""
+        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self) if f.metadata == PARAMETER}
+
+    @classmethod
+    def parameters_from(cls, model: dict) -> dict:
+        """The parameter fields of a plain form's ``model`` (the reverse of :meth:`model_dict`): arrays and floats."""
+        return {f.name: np.asarray(model[f.name], dtype=float) if isinstance(model[f.name], list) else float(model[f.name])
+                for f in dataclasses.fields(cls) if f.metadata == PARAMETER}
 
     def body_dict(self) -> dict:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
@@ -134,14 +333,28 @@ class CalibrationResult:
                 f"calibration schema_version {version!r} is newer than this trical reads ({SCHEMA_VERSION}): "
                 "upgrade trical"
             )
+        target = CalibrationResult.class_of(data)
+        if cls is not CalibrationResult and not issubclass(target, cls):
+            raise CalibrationError(f"not a {cls.MODEL_TYPE} model: type {result_type_of(data)!r}")
+        return target._from_body(data)
+
+    @staticmethod
+    def class_of(data: dict) -> type["CalibrationResult"]:
+        """The result class a plain form names (its method where that names a result kind of its own, else
+        its model type), without rebuilding it: enough for the class answers (:attr:`KIND`,
+        :meth:`figures_from`) of a body cut short.
+
+        Raises
+        ------
+        CalibrationError
+            If the type is unknown.
+        """
         _load_all()
         kind = result_type_of(data)
         target = _REGISTRY.get(kind)
         if target is None:
             raise CalibrationError(f"unknown model type {kind!r}; known: {', '.join(_REGISTRY)}")
-        if cls is not CalibrationResult and not issubclass(target, cls):
-            raise CalibrationError(f"not a {cls.MODEL_TYPE} model: type {kind!r}")
-        return target._from_body(data)
+        return target
 
     @classmethod
     def _from_body(cls, data: dict) -> "CalibrationResult":  # pragma: no cover - every subclass defines it
@@ -155,12 +368,29 @@ def result_type_of(data: dict) -> str | None:
     return method if method in _REGISTRY else (data.get("model") or {}).get("type")
 
 
-class StillReadingsResult(CalibrationResult):
+@dataclass(frozen=True)
+class StillReadingsResult(CalibrationResult, GatedFit):
     """A result fitted on averaged still readings (``means``) with a parameter covariance:
     the known-orientation and magnitude models. Adds the readings and the covariance to the
-    plain form, and rebuilds the fields they share."""
+    plain form, and rebuilds the fields they share.
+
+    The fields they share are keyword fields after each model's own: ``gravity`` (the reference
+    magnitude, in the unit of the readings), ``means`` (the fitted readings, (N, 3)), ``covariance`` (of
+    the parameters in the model's order; None without degrees of freedom), ``dof`` (residual degrees of
+    freedom), ``unit`` (of the readings: ``m/s^2``, ``g`` or ``raw``), and :class:`GatedFit`'s metrics,
+    warnings and reasons.
+    """
+
+    gravity: float = field(kw_only=True)
+    means: np.ndarray = field(kw_only=True)
+    covariance: np.ndarray | None = field(kw_only=True)
+    dof: int = field(kw_only=True)
+    unit: str = field(default="m/s^2", kw_only=True)
 
     N_PARAMS: ClassVar[int] = 0
+    FIGURE_SOURCES: ClassVar[tuple] = (holdout_figure, cv_figure, in_sample_figure)
+    """Where its figure comes from, most honest first: readings the request held out, the cross-validated
+    error, the in-sample error of the fitted readings."""
     REPORTS_IMPROVEMENT: ClassVar[bool] = False
     """Whether :meth:`evaluate` reports Farago et al.'s improvement ratio (eq. (21)), as their model's does."""
 
@@ -184,6 +414,35 @@ class StillReadingsResult(CalibrationResult):
         if not self.REPORTS_IMPROVEMENT:
             del out["improvement"]
         return out
+
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        return (first_figure(metrics, cls.FIGURE_SOURCES),)
+
+    def headline(self) -> str | None:
+        """Its error on new orientations, then in-sample and raw (every fit of still readings reports a
+        cross-validated error, ``cv_error_mg``, or says why it has none)."""
+        if "cv_error_mg" not in self.metrics:
+            return None
+        return accelerometer_headline(self.metrics, held_out=False)
+
+    NO_INTERVALS: ClassVar[str] = ("no intervals: {n} positions fit the 9 parameters exactly (0 residual degrees "
+                                   "of freedom) or the fit is degenerate; add positions")
+    """Why there are no intervals without a covariance (``{n}``: the readings fitted)."""
+
+    def uncertainty(self) -> dict:
+        """95 % half-widths of the parameters, shaped as the model (:meth:`interval_dict`), or nulls with the
+        reason when there is no covariance (no residual degrees of freedom, or a degenerate fit)."""
+        out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
+        if self.covariance is None:
+            out.update({name: None for name in self.model_dict()}, note=self.NO_INTERVALS.format(n=len(self.means)))
+        else:
+            out.update(self.interval_dict(half_widths(self.covariance, self.dof)))
+        return out
+
+    def interval_dict(self, hw: np.ndarray) -> dict:  # pragma: no cover - every subclass defines it
+        """The half-widths ``hw`` (in the covariance's order) as the model's parameters."""
+        raise NotImplementedError
 
     def readings(self) -> list[dict]:
         """Per-reading detail: the model's own fields (:meth:`reading_detail`) and the relative norm errors
@@ -216,10 +475,44 @@ class StillReadingsResult(CalibrationResult):
             means=np.asarray([r["mean"] for r in readings], dtype=float).reshape(-1, 3),
             covariance=None if cov is None else np.asarray(cov, dtype=float),
             dof=int((data.get("uncertainty") or {}).get("dof", max(len(readings) - cls.N_PARAMS, 0))),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
+            **gate_fields(data),
             method=data.get("method", cls.MODEL_TYPE),
             unit=data.get("unit", "m/s^2"),
         )
         return model, readings, common
+
+
+@dataclass(frozen=True)
+class PerSensorResult(CalibrationResult):
+    """A result made of one part per sensor, ``sensors``: name → its ``model``, ``uncertainty``, ``metrics``
+    and the method's own pieces (the noise characterisation, the temperature calibration). Its model,
+    uncertainty and metrics are its sensors'; it holds no affine correction. Its warnings, reasons,
+    gravity and unit are keyword fields after the method's own."""
+
+    sensors: dict
+    warnings: tuple = field(default=(), kw_only=True)
+    reasons: tuple = field(default=(), kw_only=True)
+    gravity: float | None = field(default=None, kw_only=True)
+    unit: str = field(default="", kw_only=True)
+
+    @property
+    def metrics(self) -> dict:
+        return {name: part["metrics"] for name, part in self.sensors.items()}
+
+    def corrections(self) -> dict:
+        return {}
+
+    def model_dict(self) -> dict:
+        return {name: part["model"] for name, part in self.sensors.items()}
+
+    def uncertainty(self) -> dict:
+        return {"confidence": CONFIDENCE, **{name: part["uncertainty"] for name, part in self.sensors.items()}}
+
+    @staticmethod
+    def parts_from(data: dict, *pieces: str) -> dict:
+        """Each sensor's part of a plain form: its model, uncertainty and metrics, and ``pieces`` (the
+        method's own, each stored by sensor at the top of the form)."""
+        names = [k for k in data["model"] if k != "type"]
+        return {name: {"model": data["model"][name], "uncertainty": data["uncertainty"][name],
+                       "metrics": data["metrics"].get(name, {}), **{p: data[p][name] for p in pieces}}
+                for name in names}

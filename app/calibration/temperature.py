@@ -50,14 +50,15 @@ from __future__ import annotations
 
 import math
 from math import comb
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
 from .gravity import STANDARD_GRAVITY
-from .result import CalibrationResult
+from .headlines import FIGURE_WORDS, TEMPERATURE_SENSORS, temperature_headline
+from .result import DRIFT, Figure, PerSensorResult
 
 CONFIDENCE = 0.95
 N_BINS = 60
@@ -480,7 +481,7 @@ def movement(sensors: list, sampling_rate_hz: float) -> tuple[np.ndarray, str | 
 
 
 @dataclass(frozen=True)
-class TemperatureResult(CalibrationResult):
+class TemperatureResult(PerSensorResult):
     """Per-sensor offset polynomials of temperature (``acc``, ``gyr``), PX4's form.
 
     Corrects with the temperature of each reading (:meth:`correct`); it holds no affine correction,
@@ -489,17 +490,9 @@ class TemperatureResult(CalibrationResult):
 
     RESULT_TYPE: ClassVar[str] = "temperature"
     MODEL_TYPE: ClassVar[str] = "temperature"
+    KIND: ClassVar[str] = DRIFT
 
-    sensors: dict
-    warnings: tuple = ()
-    reasons: tuple = ()
-    gravity: float | None = None
     method: str = "temperature"
-    unit: str = field(default="")
-
-    @property
-    def metrics(self) -> dict:
-        return {name: part["metrics"] for name, part in self.sensors.items()}
 
     @property
     def correction(self):
@@ -510,10 +503,20 @@ class TemperatureResult(CalibrationResult):
     def output_unit(self) -> str:
         return self.unit
 
-    def corrections(self) -> dict:
-        return {}
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        """Per sensor (the accelerometer's in mg first, then the gyroscope's in °/s): its offset drift over
+        the range raw, against bands of temperature left out (each predicted by the fit made without it);
+        none without a temperature model."""
+        return tuple(Figure(metrics[s]["drift_raw_max"], metrics[s]["drift_cv_max"], FIGURE_WORDS[metrics[s]["unit"]],
+                            "offset drift over the temperature range, on bands of temperature left out")
+                     for s in TEMPERATURE_SENSORS if s in metrics)
 
-    def apply(self, raw):
+    def headline(self) -> str | None:
+        """The offset drift over the range raw, then on bands left out, per sensor."""
+        return temperature_headline(self.model_dict(), self.metrics)
+
+    def apply(self, samples, sensor: str | None = None):
         raise CalibrationError("a temperature calibration needs each sample's temperature: export it for the "
                                "firmware (px4, ardupilot), or correct readings with their temperatures")
 
@@ -530,24 +533,14 @@ class TemperatureResult(CalibrationResult):
                                    f"{', '.join(self.sensors)})")
         return np.asarray(readings, dtype=float) - offset_at(self.sensors[sensor]["model"], temperature_c)
 
-    def model_dict(self) -> dict:
-        return {name: part["model"] for name, part in self.sensors.items()}
-
-    def uncertainty(self) -> dict:
-        return {"confidence": CONFIDENCE, **{name: part["uncertainty"] for name, part in self.sensors.items()}}
-
     def body_dict(self) -> dict:
         return {"bins": {n: p["bins"] for n, p in self.sensors.items()},
                 "curve": {n: p["curve"] for n, p in self.sensors.items()}}
 
     @classmethod
     def _from_body(cls, data: dict) -> "TemperatureResult":
-        names = [k for k in data["model"] if k != "type"]
-        sensors = {n: {"model": data["model"][n], "uncertainty": data["uncertainty"][n],
-                       "metrics": data["metrics"].get(n, {}), "bins": data["bins"][n], "curve": data["curve"][n]}
-                   for n in names}
-        return cls(sensors=sensors, warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
-                   unit=data.get("unit", ""))
+        return cls(sensors=cls.parts_from(data, "bins", "curve"), warnings=tuple(data.get("warnings", ())),
+                   reasons=tuple(data.get("reasons", ())), unit=data.get("unit", ""))
 
 
 def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz: float = 100.0,

@@ -38,29 +38,27 @@ describes the noise around the least-squares optimum, not their own convergence 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
 
 from .errors import CalibrationError
 from .fixed_point import fixed_point_descent
-from .result import StillReadingsResult
-from .uncertainty import CONFIDENCE, covariance_from_jacobian, half_widths
+from .result import StillReadingsResult, parameter
+from .uncertainty import covariance_from_jacobian, half_widths
 from .gates import (
     Gates,
-    coverage_gate,
     deviation_gate,
-    exact_fit_gate,
     hemisphere_gate,
     limit_gate,
-    near_duplicate_gate,
     offset_gate,
     residual_gate,
     scale_gate,
+    unknown_orientation_gates,
 )
 from .solvers import SOLVERS
-from .validation import as_samples, as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
+from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "triangular"
 N_PARAMS = 9
@@ -215,18 +213,10 @@ class TriangularCalibration(StillReadingsResult):
         As in :class:`~app.calibration.affine.AffineCalibration`.
     """
 
-    K: np.ndarray
-    o: np.ndarray
-    gravity: float
-    means: np.ndarray
+    K: np.ndarray = parameter()
+    o: np.ndarray = parameter()
     solver: str
-    covariance: np.ndarray | None
-    dof: int
-    metrics: dict = field(default_factory=dict)
-    warnings: tuple = ()
-    reasons: tuple = ()
     method: str = MODEL_TYPE
-    unit: str = "m/s^2"
 
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
@@ -244,19 +234,8 @@ class TriangularCalibration(StillReadingsResult):
         K = self.K
         return np.array([K[0, 0], K[1, 1], K[2, 2], K[1, 0], K[2, 0], K[2, 1], *self.o])
 
-    def apply(self, raw) -> np.ndarray:
-        """Calibrate readings: ``a = K (v + o)`` (Farago et al. eqs. (7)–(9)).
-
-        Parameters
-        ----------
-        raw : array_like, shape (3,) or (N, 3)
-
-        Returns
-        -------
-        numpy.ndarray of the same shape as ``raw``.
-        """
-        m = as_samples(raw)
-        return ((m.reshape(-1, 3) + self.o) @ self.K.T).reshape(m.shape)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
+        return (rows + self.o) @ self.K.T  # Farago et al. eqs. (7)–(9): a = K (v + o)
 
     def jacobian(self, means) -> np.ndarray:
         """Jacobian (N, 9) of the ``lm`` residuals (module docstring) of readings ``means`` (N, 3) with
@@ -266,24 +245,8 @@ class TriangularCalibration(StillReadingsResult):
         p_g = np.r_[self.p[:6], self.o / g]  # Farago et al. eq. (6), offsets in g
         return _jacobian_lm(p_g, as_vectors(means, "means") / g, central=True)
 
-    def uncertainty(self) -> dict:
-        """95 % half-widths of K (lower triangle, zeros above) and o, or nulls with the reason."""
-        out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
-        if self.covariance is None:
-            out.update(
-                K=None, o=None,
-                note=(
-                    f"no intervals: {len(self.means)} positions fit the 9 parameters exactly "
-                    "(0 residual degrees of freedom) or the fit is degenerate; add positions"
-                ),
-            )
-            return out
-        hw = half_widths(self.covariance, self.dof)
-        out.update(K=k_matrix(hw).tolist(), o=hw[6:9].tolist())
-        return out
-
-    def model_dict(self) -> dict:
-        return {"K": self.K.tolist(), "o": self.o.tolist()}
+    def interval_dict(self, hw: np.ndarray) -> dict:
+        return {"K": k_matrix(hw).tolist(), "o": hw[6:9].tolist()}
 
     def body_dict(self) -> dict:
         return {"solver": self.solver, **super().body_dict()}
@@ -292,8 +255,7 @@ class TriangularCalibration(StillReadingsResult):
     def _from_body(cls, data: dict) -> "TriangularCalibration":
         model, _, common = cls.common_from_dict(data)
         return cls(
-            K=np.asarray(model["K"], dtype=float),
-            o=np.asarray(model["o"], dtype=float),
+            **cls.parameters_from(model),
             solver=data.get("solver", "lm"),
             **common,
         )
@@ -441,27 +403,10 @@ def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale,
         (("k_xy", K[1, 0]), ("k_xz", K[2, 0]), ("k_yz", K[2, 1])), 0.0, MAX_MISALIGNMENT,
         "misalignment {name} = {value:.3f} is implausibly large (above {limit})",
     ))
-    gates.warn(limit_gate(
-        cond, MAX_CONDITION_NUMBER,
-        "the positions determine the parameters poorly (condition number {value:.3g}): "
-        "spread the positions over the whole sphere",
-    ))
-    gates.warn(coverage_gate(
-        m,
-        "poor coverage of the sphere: no position has the {missing} axis within 60° of up; add such "
-        "positions (Farago et al. eq. (10): two per bin)",
-        hemisphere=hemisphere,
-    ))
-    gates.warn(near_duplicate_gate(
-        m, NEAR_DUPLICATE_FRACTION * g,
-        "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
-        "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
-    ))
-    gates.fail(exact_fit_gate(
-        dof,
-        "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
-        "so no intervals and no check of the fit; use 18 positions (Farago et al.)",
-    ))
+    unknown_orientation_gates(gates, m, g, condition=cond, max_condition=MAX_CONDITION_NUMBER, dof=dof,
+                              hemisphere=hemisphere, near_fraction=NEAR_DUPLICATE_FRACTION,
+                              coverage_hint=" (Farago et al. eq. (10): two per bin)",
+                              positions_hint="use 18 positions (Farago et al.)")
 
 
 def fit_triangular(

@@ -23,8 +23,10 @@ from html import escape
 
 import numpy as np
 
+from app.calibration.result import FIGURES
+
 from .errors import ExportError
-from .export_common import SENSORS, Export
+from .export_common import SENSORS, Export, result_class
 
 AXES = ("x", "y", "z")
 SENSOR_ORDER = ("acc", "gyr", "mag")
@@ -480,7 +482,7 @@ def _describe(s: _Sensor, marks: dict, missing: str) -> str:
 
 def _sensors(body: dict, sensor: str | None) -> list[str]:
     model = body.get("model") or {}
-    if body.get("method") != "noise" or model.get("type") != "noise":
+    if result_class(body).KIND != FIGURES:
         raise ExportError(f"the allan_svg export draws a noise characterisation (method noise); "
                           f"this calibration is {body.get('method')!r}: export it as json, c, yaml or csv")
     present = [k for k in SENSOR_ORDER if isinstance(model.get(k), dict)]

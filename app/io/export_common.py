@@ -36,6 +36,22 @@ def _result(body: dict):
         raise ExportError(f"{exc}: this calibration cannot be exported") from None
 
 
+def result_class(body: dict):
+    """The result class a stored calibration names (app.calibration.result): its class answers (``KIND``,
+    ``PER_SENSOR``) say which exports fit it, even for a body cut short."""
+    from app.calibration.registry import CalibrationResult  # every model: see app/workflow.py
+
+    try:
+        return CalibrationResult.class_of(body)
+    except CalibrationError as exc:
+        raise ExportError(f"{exc}: this calibration cannot be exported") from None
+
+
+def only_compass(body: dict) -> bool:
+    """Whether the calibration corrects the magnetometer alone (the compass's own firmware parameters)."""
+    return [c.sensor for c in sensor_corrections(body)] == ["mag"]
+
+
 def sensor_corrections(body: dict) -> list[AffineCorrection]:
     """Every sensor correction a calibration holds: the accelerometer's, and for the cube method
     (Särkkä et al., IEEE Sensors Journal 17(11) 2017) the gyroscope's and magnetometer's too."""

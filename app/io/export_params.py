@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ExportError
-from .export_common import Export, accelerometer_correction, describe
+from .export_common import Export, accelerometer_correction, describe, only_compass
 from ..calibration.gravity import STANDARD_GRAVITY
 from .export_compass import to_ardupilot_compass, to_px4_compass
 
@@ -122,7 +122,7 @@ def to_ardupilot(body: dict) -> Export:
     ExportError
         Counts calibrations, and values outside ArduPilot's accepted ranges (the reason named).
     """
-    if body["model"].get("type") == "magnetometer":
+    if only_compass(body):
         return to_ardupilot_compass(body)
     p = offset_scale(body, "ArduPilot")
     problems = []
@@ -164,7 +164,7 @@ def to_ardupilot(body: dict) -> Export:
 
 def to_px4(body: dict) -> Export:
     """PX4 parameters ``CAL_ACC0_XOFF``… (m/s²) and ``CAL_ACC0_XSCALE``…, as ``param set`` lines."""
-    if body["model"].get("type") == "magnetometer":
+    if only_compass(body):
         return to_px4_compass(body)
     p = offset_scale(body, "PX4")
     lo, hi = PX4_SCALE_RANGE

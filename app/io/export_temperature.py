@@ -30,11 +30,12 @@ from html import escape
 
 import numpy as np
 
+from app.calibration.result import DRIFT
 from app.calibration.temperature import shift_polynomial
 
 from .allan_plot import COLOURS, DASHES, FONT, GLYPHS
 from .errors import ExportError
-from .export_common import JSON_SCHEMA, Export
+from .export_common import JSON_SCHEMA, Export, result_class
 
 PX4_SOURCE = ("src/modules/sensors/temperature_compensation/TemperatureCompensation.cpp "
               "(TemperatureCompensation::calc_thermal_offsets_1D)")
@@ -232,7 +233,7 @@ def temperature_svg(body: dict) -> str:
     """The offset of each axis against temperature, one panel per sensor: the binned readings (dots), the
     fit (line) and its 95 % band (shaded), with a ``<title>`` and a ``<desc>`` stating the figures."""
     sensors = [s for s in ("acc", "gyr") if s in (body.get("bins") or {})]
-    if body.get("method") != "temperature" or not sensors:
+    if result_class(body).KIND != DRIFT or not sensors:
         raise ExportError("temperature_svg draws a temperature calibration (method temperature)")
     parts, said = [], []
     for k, sensor in enumerate(sensors):

@@ -9,8 +9,10 @@ from __future__ import annotations
 import json
 import re
 
+from app.calibration.result import DRIFT, FIGURES
+
 from .errors import ExportError
-from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, sensor_corrections, unit_label
+from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, result_class, sensor_corrections, unit_label
 from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
@@ -41,7 +43,7 @@ def to_json(body: dict) -> Export:
         "warnings": body.get("warnings", []),
     }
     corrections = sensor_corrections(body)
-    if body["model"].get("type") == "cube":  # one correction per sensor (Särkkä et al., eq. (1))
+    if result_class(body).PER_SENSOR:  # the cube: one correction per sensor (Särkkä et al., eq. (1))
         doc["sensor"] = ", ".join(SENSORS[c.sensor] for c in corrections)
         doc["corrections"] = {
             c.sensor: {"formula": "f = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
@@ -152,12 +154,13 @@ def export_calibration(body: dict, fmt: str) -> Export:
     ExportError
         Unknown format, or a format that does not fit this calibration's model.
     """
-    noise = body.get("method") == "noise"
-    if body.get("method") == "temperature":  # its own px4, ardupilot, json: the firmwares' thermal parameters
+    kind = result_class(body).KIND
+    if kind == DRIFT:  # its own px4, ardupilot, json: the firmwares' thermal parameters
         if fmt not in TEMPERATURE_EXPORTERS:
             raise ExportError(f"format {fmt!r} does not fit this calibration: a temperature calibration's offsets "
                               f"depend on the temperature; use one of {', '.join(TEMPERATURE_EXPORTERS)}")
         return TEMPERATURE_EXPORTERS[fmt](body)
+    noise = kind == FIGURES
     table, other = (NOISE_EXPORTERS, EXPORTERS) if noise else (EXPORTERS, NOISE_EXPORTERS)
     if fmt not in table:
         if fmt == "temperature_svg":

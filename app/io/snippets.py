@@ -14,7 +14,7 @@ import numpy as np
 
 from app.calibration import STANDARD_GRAVITY
 
-from .export_common import SENSORS, sensor_corrections, unit_label
+from .export_common import SENSORS, result_class, sensor_corrections, unit_label
 from .formats.chips import CHIPS
 
 _EXAMPLE_SCALE = {"acc": (16384.0, "16384 counts per g of an MPU-6050 at ±2 g (its datasheet, section 6.2)", "g"),
@@ -107,7 +107,7 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
     corrections = sensor_corrections(body)
     header = f"trical_{body['id']}.h"
     json_name = f"{body['id']}.json"
-    cube = body["model"].get("type") == "cube"
+    cube = result_class(body).PER_SENSOR
     c_lines, py_lines, js_lines, scales = [], [], [], {}
     py_lines += ["import json", "import numpy as np", f'cal = json.load(open("{json_name}"))']
     js_lines += [f'const cal = await (await fetch("{json_name}")).json();  // the JSON file, served with your app']

@@ -16,13 +16,14 @@ the column norms of S (section III-A).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
 
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates, limit_gate, residual_gate
+from ..result import GatedFit, gate_fields
 from ..uncertainty import CONFIDENCE
 from ..validation import as_samples, as_vectors
 
@@ -76,7 +77,31 @@ def _quantile(confidence: float) -> float:
 
 
 @dataclass(frozen=True)
-class FieldSensorCalibration:
+class SensorFit(GatedFit):
+    """A cube sensor's fit, ``raw = S f + b`` (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)), with
+    its own gates: the scale factors and misalignments of its S."""
+
+    @property
+    def D(self) -> np.ndarray:
+        """Scale factors: the column norms of S (Särkkä et al. section III-A), shape (3,)."""
+        return decompose(self.S)[0]
+
+    @property
+    def misalignment(self) -> np.ndarray:
+        """D⁻¹S: misalignments and cross-coupling (soft iron for the magnetometer, the gyroscope's D_ω⁻¹ S_ω), (3, 3)."""
+        return decompose(self.S)[1]
+
+    def model(self) -> dict:
+        """S, b, D and the misalignment as plain lists, then the sensor's own parameters (:meth:`own_model`)."""
+        return {"S": self.S.tolist(), "b": self.b.tolist(), "D": self.D.tolist(),
+                "misalignment": self.misalignment.tolist(), **self.own_model()}
+
+    def own_model(self) -> dict:  # pragma: no cover - every sensor defines it
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class FieldSensorCalibration(SensorFit):
     """Result of the accelerometer or magnetometer fit of Särkkä et al. (eqs. (6)–(8), (13)).
 
     Attributes
@@ -116,24 +141,6 @@ class FieldSensorCalibration:
     attitudes: np.ndarray
     positions: tuple = ()
     angles_estimated: bool = True
-    metrics: dict = field(default_factory=dict)
-    warnings: tuple = ()
-    reasons: tuple = ()
-
-    @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
-
-    @property
-    def D(self) -> np.ndarray:
-        """Scale factors: the column norms of S (Särkkä et al. section III-A), shape (3,)."""
-        return decompose(self.S)[0]
-
-    @property
-    def misalignment(self) -> np.ndarray:
-        """D⁻¹S: misalignments and cross-coupling (soft iron for the magnetometer), (3, 3)."""
-        return decompose(self.S)[1]
 
     def apply(self, raw) -> np.ndarray:
         """Calibrate readings: ``f = S⁻¹ (raw − b)`` (Särkkä et al. eq. (1) without noise)."""
@@ -168,16 +175,9 @@ class FieldSensorCalibration:
             "beta_deg": float(np.degrees(z * sd[13])) if self.angles_estimated else None,
         }
 
-    def model(self) -> dict:
-        """``{"S", "b", "D", "misalignment", "alpha_deg", "beta_deg"}`` as plain lists."""
-        return {
-            "S": self.S.tolist(),
-            "b": self.b.tolist(),
-            "D": self.D.tolist(),
-            "misalignment": self.misalignment.tolist(),
-            "alpha_deg": self.alpha_deg,
-            "beta_deg": self.beta_deg,
-        }
+    def own_model(self) -> dict:
+        """The angles α and β of the reference direction C_l^c(α, β) (Särkkä et al. eq. (8)), in degrees."""
+        return {"alpha_deg": self.alpha_deg, "beta_deg": self.beta_deg}
 
     def to_dict(self) -> dict:
         """Plain-JSON form: model, uncertainty, covariance, fitted positions, metrics, gates."""
@@ -193,10 +193,7 @@ class FieldSensorCalibration:
                  "attitude": R.tolist()}
                 for p, m, c, n, R in zip(self.positions, self.means, self.covariances, self.counts, self.attitudes)
             ],
-            "metrics": dict(self.metrics),
-            "ok": self.ok,
-            "warnings": list(self.warnings),
-            "reasons": list(self.reasons),
+            **self.gate_dict(),
         }
 
     @classmethod
@@ -218,9 +215,7 @@ class FieldSensorCalibration:
             attitudes=np.asarray([r["attitude"] for r in rows], dtype=float).reshape(-1, 3, 3),
             positions=tuple(int(r["position"]) for r in rows),
             angles_estimated=bool(data.get("angles_estimated", True)),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
+            **gate_fields(data),
         )
 
 

@@ -18,7 +18,8 @@ import numpy as np
 from ..correction import AffineCorrection
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates
-from ..result import CalibrationResult
+from ..norm_metrics import norm_errors
+from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields
 from ..uncertainty import CONFIDENCE
 from ..validation import as_vectors, check_gravity
 from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
@@ -83,6 +84,8 @@ class CubeCalibration(CalibrationResult):
     MODEL_TYPE = MODEL_TYPE
     CORRECTION_SOURCE = "Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1): raw = S f + b, so M = S^-1, o = b"
     method = MODEL_TYPE
+    PER_SENSOR = True
+    CUBE_SENSORS = ("acc", "gyr", "mag")
     CALIBRATED_UNITS = {"gyr": "rad/s", "mag": "uT"}
     """What the gyroscope and magnetometer corrections calibrate into."""
 
@@ -102,7 +105,7 @@ class CubeCalibration(CalibrationResult):
     def corrections(self) -> dict[str, AffineCorrection]:
         """Each calibrated sensor's ``f = S⁻¹ (m − b)`` (Särkkä et al., eq. (1)), acc, gyr, mag in order."""
         out = {}
-        for sensor in ("acc", "gyr", "mag"):
+        for sensor in self.CUBE_SENSORS:
             res = getattr(self, sensor)
             if res is None or getattr(res, "S", None) is None:
                 continue
@@ -115,23 +118,43 @@ class CubeCalibration(CalibrationResult):
                                            self.CORRECTION_SOURCE, sensor)
         return out
 
-    def apply(self, acc=None, gyr=None, mag=None) -> dict:
-        """Calibrate samples of each sensor given: ``f = S⁻¹ (raw − b)``.
+    def apply(self, samples=None, sensor: str | None = None, *, acc=None, gyr=None, mag=None):
+        """Calibrate samples: ``f = S⁻¹ (raw − b)`` (Särkkä et al. eq. (1)).
 
-        Returns
-        -------
-        dict
-            ``{"acc": ..., "gyr": ..., "mag": ...}`` for the sensors given and calibrated.
+        ``apply(samples, sensor)`` calibrates one sensor's samples (the accelerometer's by default) and
+        returns the array; ``apply(acc=…, gyr=…, mag=…)`` calibrates each sensor given and returns
+        ``{"acc": ..., "gyr": ..., "mag": ...}``.
+
+        Raises
+        ------
+        CalibrationError
+            A sensor this calibration has no model of.
         """
-        out = {}
-        for name, raw in (("acc", acc), ("gyr", gyr), ("mag", mag)):
-            if raw is None:
-                continue
-            res = getattr(self, name)
-            if res is None:
-                raise CalibrationError(f"this calibration has no {name} model")
-            out[name] = res.apply(raw)
-        return out
+        if samples is not None:
+            return self._sensor(sensor or "acc").apply(samples)
+        return {name: self._sensor(name).apply(raw) for name, raw in (("acc", acc), ("gyr", gyr), ("mag", mag))
+                if raw is not None}
+
+    def _sensor(self, name: str):
+        res = getattr(self, name) if name in self.CUBE_SENSORS else None
+        if res is None:
+            raise CalibrationError(f"this calibration has no {name} model")
+        return res
+
+    def corrected_sensors(self) -> tuple[str, ...]:
+        return tuple(name for name in self.CUBE_SENSORS if getattr(self, name) is not None)
+
+    def figures(self) -> tuple[Figure, ...]:
+        """The accelerometer's mean | |m| − g | of its positions raw, and of S⁻¹ (m − b) (Särkkä et al., IEEE
+        Sensors Journal 17(11) 2017, eq. (1)), in mg of g: in-sample, the positions are fitted with their
+        known attitudes."""
+        if self.acc is None or not len(self.acc.means):
+            return (NO_FIGURE,)
+        means = self.acc.means
+        g = float(self.gravity or np.mean(np.linalg.norm(means, axis=1)))
+        errors = norm_errors(means, self.acc.apply, g)
+        return (Figure(errors["error_before_mg"], errors["error_after_mg"], "mg",
+                       f"accelerometer error on the {len(means)} positions fitted"),)
 
     def model_dict(self) -> dict:
         """``{"acc": {...}, "gyr": {...}, "mag": {...}}``, each sensor's S, b and their parts."""
@@ -200,9 +223,7 @@ class CubeCalibration(CalibrationResult):
             sampling_rate_hz=float(data["sampling_rate_hz"]),
             gravity=float(data["gravity"]),
             field_ut=data.get("field_ut"),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
+            **gate_fields(data),
             units=dict(data.get("units") or {"acc": data.get("unit", "m/s^2")}),
         )
 

@@ -19,7 +19,7 @@ with sparse matrices it is not).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -32,7 +32,8 @@ from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates, residual_gate
 from ..uncertainty import CONFIDENCE
 from . import quaternion as quat
-from .accmag import decompose, decomposition_jacobian
+from ..result import gate_fields
+from .accmag import SensorFit, decomposition_jacobian
 
 LAMBDAS = tuple(10.0 ** k for k in range(-3, 7))
 """λ values tried in turn, upwards, until the parameters saturate (Särkkä et al., IEEE Sensors Journal
@@ -62,7 +63,7 @@ def _angle_deg(q1: np.ndarray, q2: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class GyroCalibration:
+class GyroCalibration(SensorFit):
     """Result of the gyroscope calibration of Särkkä et al. (eqs. (4), (5), (9)–(11), Appendix B).
 
     Attributes
@@ -88,29 +89,11 @@ class GyroCalibration:
     covariance: np.ndarray
     rotations: tuple
     sampling_rate_hz: float
-    metrics: dict = field(default_factory=dict)
-    warnings: tuple = ()
-    reasons: tuple = ()
-
-    @property
-    def ok(self) -> bool:
-        """True when no quality gate failed."""
-        return not self.reasons
 
     @property
     def S(self) -> np.ndarray:
         """S_ω of Särkkä et al. eq. (1): raw = S ω + b."""
         return np.linalg.inv(self.S_inv)
-
-    @property
-    def D(self) -> np.ndarray:
-        """Scale factors, the column norms of S_ω (Särkkä et al. section VII-A)."""
-        return decompose(self.S)[0]
-
-    @property
-    def misalignment(self) -> np.ndarray:
-        """D_ω⁻¹ S_ω."""
-        return decompose(self.S)[1]
 
     def apply(self, raw) -> np.ndarray:
         """Calibrate rates: ``ω = S_ω⁻¹ (raw − b)``."""
@@ -145,16 +128,9 @@ class GyroCalibration:
             "S_inv": (z * sd[:9]).reshape(3, 3).T.tolist(),
         }
 
-    def model(self) -> dict:
-        """``{"S", "b", "D", "misalignment", "S_inv", "lambda"}`` as plain lists."""
-        return {
-            "S": self.S.tolist(),
-            "b": self.b.tolist(),
-            "D": self.D.tolist(),
-            "misalignment": self.misalignment.tolist(),
-            "S_inv": self.S_inv.tolist(),
-            "lambda": None if np.isnan(self.lam) else self.lam,
-        }
+    def own_model(self) -> dict:
+        """S_ω⁻¹ as estimated, and the regularisation λ of eq. (9) (null for full turns)."""
+        return {"S_inv": self.S_inv.tolist(), "lambda": None if np.isnan(self.lam) else self.lam}
 
     def to_dict(self) -> dict:
         """Plain-JSON form."""
@@ -165,10 +141,7 @@ class GyroCalibration:
             "covariance": self.covariance.tolist(),
             "rotations": list(self.rotations),
             "sampling_rate_hz": self.sampling_rate_hz,
-            "metrics": dict(self.metrics),
-            "ok": self.ok,
-            "warnings": list(self.warnings),
-            "reasons": list(self.reasons),
+            **self.gate_dict(),
         }
 
     @classmethod
@@ -182,9 +155,7 @@ class GyroCalibration:
             covariance=np.asarray(data["covariance"], dtype=float),
             rotations=tuple(data.get("rotations", ())),
             sampling_rate_hz=float(data["sampling_rate_hz"]),
-            metrics=dict(data.get("metrics", {})),
-            warnings=tuple(data.get("warnings", ())),
-            reasons=tuple(data.get("reasons", ())),
+            **gate_fields(data),
         )
 
 

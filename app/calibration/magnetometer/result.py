@@ -8,13 +8,19 @@ from typing import ClassVar
 import numpy as np
 
 from ..correction import AffineCorrection
-from ..result import CalibrationResult
+from ..headlines import compass_headline
+from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 from ..uncertainty import CONFIDENCE, half_widths
-from ..validation import as_samples
 from .refine import unpack
 
 SOURCE = ("h = M (m − b), M symmetric: the magnetometer model ỹ = S h + b of Särkkä et al., IEEE Sensors "
           "Journal 17(11) 2017, eq. (6), with S = M⁻¹, fitted on the field's magnitude")
+
+
+def figure_unit(output_unit: str | None) -> str:
+    """The unit of a compass calibration's figures: µT, or counts for a magnetometer left in counts (its
+    ``_ut`` metrics are then in counts)."""
+    return "counts" if output_unit == "raw" else "µT"
 
 
 @dataclass(frozen=True)
@@ -37,8 +43,8 @@ class MagnetometerResult(CalibrationResult):
     MODEL_TYPE: ClassVar[str] = "magnetometer"
     CORRECTION_SOURCE: ClassVar[str] = SOURCE
 
-    M: np.ndarray
-    b: np.ndarray
+    M: np.ndarray = parameter()
+    b: np.ndarray = parameter()
     covariance: np.ndarray | None
     dof: int
     metrics: dict = field(default_factory=dict)
@@ -57,10 +63,30 @@ class MagnetometerResult(CalibrationResult):
             return "raw"
         return "uT"
 
-    def apply(self, raw) -> np.ndarray:
-        """``h = M (m − b)`` for readings of shape (3,) or (N, 3)."""
-        m = as_samples(raw)
-        return ((m.reshape(-1, 3) - self.b) @ self.M.T).reshape(m.shape)
+    def _calibrate(self, rows: np.ndarray) -> np.ndarray:
+        return (rows - self.b) @ self.M.T  # h = M (m − b)
+
+    def corrected_sensors(self) -> tuple[str, ...]:
+        return ("mag",)
+
+    @classmethod
+    def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
+        """The error of the field strength |h| against F on directions left out (cross-validated), else on
+        the readings fitted; in µT, or counts for a magnetometer left in counts (no chip, no field given)."""
+        if "cv_error_ut" not in metrics:
+            return (NO_FIGURE,)
+        unit = figure_unit(output_unit)
+        if metrics.get("cv_error_ut") is not None:
+            return (Figure(metrics.get("raw_error_ut"), metrics["cv_error_ut"], unit,
+                           "error of the field strength on new directions"),)
+        return (Figure(metrics.get("raw_error_ut"), metrics.get("fit_error_ut"), unit,
+                       "error of the field strength on the readings fitted"),)
+
+    def headline(self) -> str | None:
+        """The error of |h| on directions left out, then in-sample and raw."""
+        if "cv_error_ut" not in self.metrics:
+            return None
+        return compass_headline(self.metrics, figure_unit(self.output_unit))
 
     @property
     def correction(self) -> AffineCorrection:
@@ -69,9 +95,6 @@ class MagnetometerResult(CalibrationResult):
 
     def corrections(self) -> dict[str, AffineCorrection]:
         return {"mag": self.correction}
-
-    def model_dict(self) -> dict:
-        return {"M": np.asarray(self.M).tolist(), "b": np.asarray(self.b).tolist()}
 
     def uncertainty(self) -> dict:
         if self.covariance is None:
@@ -86,10 +109,9 @@ class MagnetometerResult(CalibrationResult):
     @classmethod
     def _from_body(cls, data: dict) -> "MagnetometerResult":
         cov = data.get("covariance")
-        return cls(M=np.asarray(data["model"]["M"], dtype=float), b=np.asarray(data["model"]["b"], dtype=float),
+        return cls(**cls.parameters_from(data["model"]),
                    covariance=None if cov is None else np.asarray(cov, dtype=float),
-                   dof=int((data.get("uncertainty") or {}).get("dof", 0)), metrics=dict(data.get("metrics", {})),
+                   dof=int((data.get("uncertainty") or {}).get("dof", 0)),
                    samples=np.asarray((data.get("samples") or {}).get("raw_ut") or np.empty((0, 3)),
                                       dtype=float).reshape(-1, 3),
-                   warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
-                   method=data.get("method", "magnetometer"), unit=data.get("unit", "uT"))
+                   **gate_fields(data), method=data.get("method", "magnetometer"), unit=data.get("unit", "uT"))

@@ -2,7 +2,8 @@
 
 The cross-validated error (each reading calibrated by the fit made without it) comes first, labelled
 as what to expect; the in-sample error of the fitted readings beside it, labelled as such, since it
-flatters every fit (zero for an exact one).
+flatters every fit (zero for an exact one). Each result class chooses its line
+(:meth:`app.calibration.result.CalibrationResult.headline`); these functions write it.
 """
 
 from __future__ import annotations
@@ -12,11 +13,12 @@ def _mg(value) -> str:
     return "n/a" if value is None else f"{value:.2f} mg"
 
 
-def headline(metrics: dict) -> str:
-    """``metrics`` of a calibration in one line: new orientations first, in-sample and raw beside.
+def accelerometer_headline(metrics: dict, *, held_out: bool) -> str:
+    """``metrics`` of an accelerometer calibration in one line: new orientations first, in-sample and raw
+    beside.
 
-    Autocal's ``error_*_mg`` are its control points, held out of the fit; every other method's are
-    its fitted readings.
+    ``held_out``: its ``error_*_mg`` are control points held out of the fit (autocal's), not the fitted
+    readings.
     """
     scheme = metrics.get("cv_scheme")
     if metrics.get("cv_error_mg") is not None:
@@ -24,7 +26,6 @@ def headline(metrics: dict) -> str:
                  f"(up to {_mg(metrics.get('cv_error_max_mg'))}; {scheme})")
     else:
         first = metrics.get("cv_note") or "no figure for new orientations"
-    held_out = "count_control" in metrics
     if metrics.get("error_after_mg") is None:
         return first
     which = "on the control points (held out)" if held_out else "on the poses fitted (in-sample)"
@@ -46,7 +47,9 @@ def compass_headline(metrics: dict, label: str = "µT") -> str:
     return f"{first}; on the readings fitted (in-sample) {ut(metrics.get('fit_error_ut'))}{raw}"
 
 
-SENSOR_WORDS = {"acc": "accelerometer", "gyr": "gyroscope"}
+SENSOR_WORDS = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}
+TEMPERATURE_SENSORS = ("acc", "gyr")
+"""The sensors a temperature calibration models, in the order its figures are told."""
 FIGURE_WORDS = {"mg": "mg", "deg/s": "°/s"}
 
 
@@ -61,7 +64,7 @@ def temperature_headline(model: dict, metrics: dict) -> str:
     ``offset drift over 15–55 °C: accelerometer 13.7 mg → 0.83 mg, gyroscope 0.226 °/s → 0.0175 °/s
     on bands of temperature left out (largest axis)``.
     """
-    sensors = [s for s in ("acc", "gyr") if s in metrics]
+    sensors = [s for s in TEMPERATURE_SENSORS if s in metrics]
     if not sensors:
         return "no temperature model"
     lo = min(model[s]["t_min_c"] for s in sensors)
