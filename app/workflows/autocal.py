@@ -11,6 +11,7 @@ from app.workflows.recordings import RecordingSource, load_log, require_accelero
 
 
 def autocal(request, recording: RecordingSource) -> dict:
+    """Method ``autocal``: an uploaded long recording, read as it was uploaded (:func:`autocalibrate_file`)."""
     require_accelerometer(recording.meta["units"], "autocal")
     # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
     read_with = recording.meta.get("read_with") or {"units": recording.meta["units"]}

@@ -51,7 +51,9 @@ def compass_rests(log: LogData, segments: list[dict]) -> list[tuple]:
 
 
 def magnetometer(request, recording: RecordingSource | None) -> dict:
-    from app.calibration.magnetometer import fit_magnetometer  # scipy.optimize: see app.workflows.still.calibrate_unknown
+    """Method ``magnetometer``: inline readings or a recording, referenced to the field given, the Earth's at
+    a place, or estimated."""
+    from app.calibration.magnetometer import fit_magnetometer  # scipy.optimize: see still.calibrate_unknown
 
     notes: list[str] = []
     rests: list = []

@@ -18,7 +18,7 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
     Gyroscope samples in deg/s are converted to rad/s and magnetometer samples in nT to µT first, so
     that the gyroscope model maps rad/s (and the magnetometer µT) to the recorded values.
     """
-    from app.calibration.cube import calibrate_cube  # scipy.stats: see app.workflows.still.calibrate_unknown
+    from app.calibration.cube import calibrate_cube  # scipy.stats: see still.calibrate_unknown
 
     if log.gyr is None:
         raise CalibrationError(
@@ -35,6 +35,7 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
 
 
 def cube(request, recording: RecordingSource) -> dict:
+    """Method ``cube``: a recording of the cube's positions and the turns between them, in one file."""
     if recording.meta.get("parts"):
         raise CalibrationError(
             f"the cube method follows the turns between its positions in one recording; this one is made of "

@@ -105,6 +105,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
 
 
 def noise(request, recording: RecordingSource) -> dict:
+    """Method ``noise``: the chosen sensors of a still recording (a flight log's compass on its own clock)."""
     clock = None
     if recording.meta.get("flight") is not None and request.sensors and "mag" in request.sensors:
         if list(request.sensors) != ["mag"]:

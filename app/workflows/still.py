@@ -77,13 +77,13 @@ def _fit_orientations(readings: list[Reading], *, gravity: float, stds, gates: d
 
 
 def _fit_nonorthogonal(m, *, gravity: float, solver: str, gates: dict):
-    from app.calibration.nonorthogonal import fit_nonorthogonal  # scipy.optimize: see calibrate_unknown
+    from app.calibration.nonorthogonal import fit_nonorthogonal  # scipy.optimize when it runs: see calibrate_unknown
 
     return fit_nonorthogonal(m, gravity=gravity, **gates)
 
 
 def _fit_triangular(m, *, gravity: float, solver: str, gates: dict):
-    from app.calibration.triangular import fit_triangular  # scipy.optimize: see calibrate_unknown
+    from app.calibration.triangular import fit_triangular  # scipy.optimize when it runs: see calibrate_unknown
 
     return fit_triangular(m, gravity=gravity, solver=solver, **gates)
 

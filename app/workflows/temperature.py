@@ -48,6 +48,7 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
 
 
 def temperature(request, recording: RecordingSource) -> dict:
+    """Method ``temperature``: a still recording that carries the sensor's temperature (:func:`temperature_log`)."""
     log = recording.read()
     return temperature_log(log, sensors=request.sensors, device_id=request.device_id,
                            label=request.label or recording.meta.get("filename"), **recording.source_fields)
