@@ -31,10 +31,10 @@ from app.workflows import autocal, compass, cube, noise, still, temperature
 from app.workflows.entry import calibrate as run_handler
 from app.workflows.recordings import RecordingSource
 
-CORRECTION_FORMATS = tuple(EXPORTERS)
+CORRECTION_EXPORTS = tuple(EXPORTERS)
 """The formats of a calibration that corrects readings (``f = M (m − o)``): JSON, C, ArduPilot, PX4, …"""
-NOISE_FORMATS = tuple(NOISE_EXPORTERS)
-TEMPERATURE_FORMATS = tuple(TEMPERATURE_EXPORTERS)
+NOISE_EXPORTS = tuple(NOISE_EXPORTERS)
+TEMPERATURE_EXPORTS = tuple(TEMPERATURE_EXPORTERS)
 ACCELEROMETER = "an accelerometer calibration"
 
 
@@ -87,23 +87,28 @@ class Method:
 
 
 TABLE: tuple[Method, ...] = (
-    Method("auto", rq.AutoIn, still.auto, None, "calibrate", CORRECTION_FORMATS, ACCELEROMETER),
-    Method("six_position", rq.SixPositionIn, still.six_position, "SixPositionOut", "calibrate", CORRECTION_FORMATS,
-           ACCELEROMETER),
-    Method("orientations", rq.OrientationsIn, still.orientations, "OrientationsOut", "calibrate", CORRECTION_FORMATS,
-           ACCELEROMETER),
-    Method("nonorthogonal", rq.NonOrthogonalIn, still.nonorthogonal, "NonOrthogonalOut", "calibrate",
-           CORRECTION_FORMATS, ACCELEROMETER),
-    Method("triangular", rq.TriangularIn, still.triangular, "TriangularOut", "calibrate", CORRECTION_FORMATS,
-           ACCELEROMETER),
-    Method("cube", rq.CubeIn, cube.cube, "CubeOut", "calibrate", CORRECTION_FORMATS,
-           "a cube calibration (accelerometer, gyroscope, magnetometer)"),
-    Method("autocal", rq.AutocalIn, autocal.autocal, "AutocalOut", "autocal", CORRECTION_FORMATS, ACCELEROMETER),
-    Method("noise", rq.NoiseIn, noise.noise, "NoiseOut", "noise", NOISE_FORMATS, "a noise characterisation"),
-    Method("magnetometer", rq.MagnetometerIn, compass.magnetometer, "MagnetometerOut", "calibrate",
-           CORRECTION_FORMATS, "a compass calibration"),
-    Method("temperature", rq.TemperatureIn, temperature.temperature, "TemperatureOut", "temperature",
-           TEMPERATURE_FORMATS, "a temperature calibration (offsets against temperature)"),
+    Method("auto", request=rq.AutoIn, handler=still.auto, response=None,
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("six_position", request=rq.SixPositionIn, handler=still.six_position, response="SixPositionOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("orientations", request=rq.OrientationsIn, handler=still.orientations, response="OrientationsOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("nonorthogonal", request=rq.NonOrthogonalIn, handler=still.nonorthogonal, response="NonOrthogonalOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("triangular", request=rq.TriangularIn, handler=still.triangular, response="TriangularOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("cube", request=rq.CubeIn, handler=cube.cube, response="CubeOut",
+           command="calibrate", formats=CORRECTION_EXPORTS,
+           kind="a cube calibration (accelerometer, gyroscope, magnetometer)"),
+    Method("autocal", request=rq.AutocalIn, handler=autocal.autocal, response="AutocalOut",
+           command="autocal", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("noise", request=rq.NoiseIn, handler=noise.noise, response="NoiseOut",
+           command="noise", formats=NOISE_EXPORTS, kind="a noise characterisation"),
+    Method("magnetometer", request=rq.MagnetometerIn, handler=compass.magnetometer, response="MagnetometerOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind="a compass calibration"),
+    Method("temperature", request=rq.TemperatureIn, handler=temperature.temperature, response="TemperatureOut",
+           command="temperature", formats=TEMPERATURE_EXPORTS,
+           kind="a temperature calibration (offsets against temperature)"),
 )
 """Every method. ``auto`` on a recording of the magnetometer alone is the compass (its handler calls
 :func:`app.workflows.compass.auto_compass`), answered as method ``magnetometer``: not a method of its own."""
