@@ -8,6 +8,7 @@ takes, whether it is cross-validated, whether it advises poses); the steps aroun
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Callable
 
@@ -284,13 +285,8 @@ def _known(spec: StillFit, request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     source: dict = {}
     if recording is not None:
-        try:
+        with _naming_missing_poses(recording):
             readings, used = readings_from_segments(recording.meta, spec, request.segments)
-        except InsufficientDataError as exc:
-            hint = missing_named_poses(recording.meta)
-            if not hint:
-                raise
-            raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
         source = {**recording.source_fields, "segments_used": used}
     else:
         readings = [Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
@@ -323,6 +319,19 @@ def missing_named_poses(meta: dict) -> str:
     return (f"The files' names promise {', '.join(missing)} up, but no still reading shows it"
             + (f" ({'; '.join(wrong)})" if wrong else "")
             + ": record that pose again, or check which file holds which pose")
+
+
+@contextmanager
+def _naming_missing_poses(recording: RecordingSource | None):
+    """Too few still readings of a recording of pose files: the refusal also names the poses the files'
+    names promise that no still reading shows (:func:`missing_named_poses`)."""
+    try:
+        yield
+    except InsufficientDataError as exc:
+        hint = missing_named_poses(recording.meta) if recording is not None else ""
+        if not hint:
+            raise
+        raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
 
 
 def name_sources(body: dict, recording: RecordingSource | None) -> dict:
@@ -449,13 +458,8 @@ def auto(request, recording: RecordingSource | None) -> dict:
         return auto_compass(request, recording)
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
-    try:
+    with _naming_missing_poses(recording):
         result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
-    except InsufficientDataError as exc:
-        hint = missing_named_poses(recording.meta) if recording is not None else ""
-        if not hint:
-            raise
-        raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
     if STILL_FITS[choice["method"]].advises:  # a magnitude model: which poses to add next
         source["advice"] = pose_advice(result)
     return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
