@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app import __version__, workflow
+from app import __version__, methods, workflow
 from app import cli_options as opt
 from app.calibration import CalibrationError
 from app.calibration.solvers import SOLVERS
@@ -27,19 +27,28 @@ from app.config import Settings, SettingsError
 from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.errors import ExportError, LogFormatError
-from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.formats import FORMATS, starts_like_flight_log
-from app.io.log import UNITS
+from app.io.formats.units import MAG_UNITS_IN
+from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.parts import refuse_repeated_names
-from app.requests import ValidationError, describe_errors, parse_calibration_request
+from app.requests import ValidationError, describe_errors
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
+from app.workflows.temperature import TEMPERATURE_SENSORS
 
-AUTO_METHODS = ("auto",)
-KNOWN_METHODS = ("six_position", "orientations")
-UNKNOWN_METHODS = ("nonorthogonal", "triangular")
-CUBE_METHODS = ("cube",)
-FIELD_METHODS = ("magnetometer",)
+CALIBRATE_METHODS = methods.commanded_by("calibrate")
+"""The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
+commands of their own)."""
+
+
+def _takers(field: str) -> str:
+    """The methods of ``trical calibrate`` whose request takes ``field``, for an option's help: "cube and
+    magnetometer"."""
+    return " and ".join(m for m in CALIBRATE_METHODS if field in methods.BY_NAME[m].options)
+
+
+SCALED_UNITS = tuple(unit for units in UNITS.values() for unit in units if unit != "raw")
+"""The units of ``trical noise --unit``: each sensor's, counts left out."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -68,17 +77,20 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("log", type=opt.input_path("a log file"), nargs="+",
                    help="log: CSV with a header row, a phyphox / Sensor Logger zip, or several files (one per pose, "
                         "or a zip of them): one calibration, each reading naming its file")
-    c.add_argument("--method", choices=AUTO_METHODS + KNOWN_METHODS + UNKNOWN_METHODS + CUBE_METHODS + FIELD_METHODS, default="auto",
+    c.add_argument("--method", choices=CALIBRATE_METHODS, default="auto",
                    help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones")
-    c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help="cube only")
+    c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help=f"{_takers('protocol')} only")
     c.add_argument("--field-ut", type=opt.FIELD_UT, default=None,
-                   help="cube and magnetometer: local magnetic field magnitude in µT (magnetometer: overrides the model's)")
+                   help=f"{_takers('field_ut')}: local magnetic field magnitude in µT (magnetometer: overrides the "
+                        "model's)")
     c.add_argument("--sections", type=opt.input_path("a section list (JSON)"), default=None, metavar="FILE.json",
-                   help="cube with --protocol ferraris: imucal's annotated section list (x_p … z_rot, sample indices)")
-    c.add_argument("--gyr-unit", choices=("rad/s", "deg/s", "raw"), default=None)
-    c.add_argument("--mag-unit", choices=("uT", "nT", "gauss", "raw"), default=None)
+                   help=f"{_takers('sections')} with --protocol ferraris: imucal's annotated section list (x_p … z_rot, "
+                        "sample indices)")
+    c.add_argument("--gyr-unit", choices=UNITS["gyr"], default=None)
+    c.add_argument("--mag-unit", choices=MAG_UNITS_IN, default=None)
     c.add_argument("--solver", choices=SOLVERS, default="lm",
-                   help="triangular only: lm, or Farago et al.'s descent in float, 16- or 32-bit fixed point")
+                   help=f"{_takers('solver')} only: lm, or "
+                        "Farago et al.'s descent in float, 16- or 32-bit fixed point")
     c.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column")
     c.add_argument("--unit", choices=UNITS["acc"], default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
@@ -88,8 +100,8 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude (magnetometer: with --longitude-deg, the Earth's field there)")
     c.add_argument("--height-m", type=opt.HEIGHT, default=None, help="height above the ellipsoid, with --latitude-deg")
     c.add_argument("--longitude-deg", type=opt.LONGITUDE, default=None,
-                   help="magnetometer: with --latitude-deg, the Earth's field there from IGRF")
-    c.add_argument("--date", type=opt.DAY, default=None, help="magnetometer: day of the recording (default today)")
+                   help=f"{_takers('longitude_deg')}: with --latitude-deg, the Earth's field there from IGRF")
+    c.add_argument("--date", type=opt.DAY, default=None, help=f"{_takers('date')}: day of the recording (default today)")
     c.add_argument("--device-id", type=opt.text("a device id"), default=None)
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
@@ -114,9 +126,9 @@ def _parser() -> argparse.ArgumentParser:
     n.add_argument("path", type=opt.input_path("a still recording"), help=".npy (N×3 with --sensor, or N×4 with time first), "
                    "Parquet, CSV or any log format trical reads")
     n.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
-    n.add_argument("--sensor", choices=("acc", "gyr", "mag"), default=None,
+    n.add_argument("--sensor", choices=tuple(UNITS), default=None,
                    help="the sensor a three-column array holds (default acc); with a log: characterise only this one")
-    n.add_argument("--unit", choices=("m/s^2", "g", "rad/s", "deg/s", "uT", "nT"), default=None, help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)")
+    n.add_argument("--unit", choices=SCALED_UNITS, default=None, help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)")
     _read_options(n)
     n.add_argument("--plot", type=opt.output_file("an SVG file to write"), default=None, metavar="FILE.svg",
                    help="write the log-log Allan plot with the fitted slopes")
@@ -130,7 +142,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="a CSV with a temp_c (temp, temperature, T (°C)) column beside the readings, or any log "
                         "format trical reads that records the temperature")
     t.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
-    t.add_argument("--sensor", choices=("acc", "gyr"), default=None,
+    t.add_argument("--sensor", choices=TEMPERATURE_SENSORS, default=None,
                    help="calibrate only this sensor (default: the accelerometer and the gyroscope the log has)")
     _read_options(t)
     t.add_argument("--plot", type=opt.output_file("an SVG file to write"), default=None, metavar="FILE.svg",
@@ -164,7 +176,7 @@ def _parser() -> argparse.ArgumentParser:
 
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
-    e.add_argument("--format", choices=ALL_FORMATS, default="json")
+    e.add_argument("--format", choices=methods.ALL_FORMATS, default="json")
     e.add_argument("--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)")
     return p
 
@@ -290,8 +302,8 @@ def _calibrated(args, settings: Settings, path: Path, captures: list | None = No
         recording["segments"] = capture_segments(log.acc, captures)
         recording["notes"].append(f"the still segments are the {len(captures)} captures, rows "
                                   + ", ".join(f"{a}–{b - 1}" for _, a, b in captures))
-    request = parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
-    body = workflow.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
+    request = methods.parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
+    body = methods.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
         body["captures"] = [{"position": seg["capture"], "rows": [seg["start"], seg["end"]], "up": seg["up"],
                              "mean": seg["acc_mean"], "std": seg["acc_std"], "count": seg["count"]}
@@ -302,25 +314,15 @@ def _calibrated(args, settings: Settings, path: Path, captures: list | None = No
 
 
 def _calibration_request(args, *, unit: str) -> dict:
-    """The request of POST /api/v1/calibrations that ``trical calibrate`` makes of its options; the
-    log file stands in for the stored recording."""
+    """The request of POST /api/v1/calibrations that ``trical calibrate`` makes of its options: each field the
+    method's request model takes (app.methods) from the option of its name (``--field-ut``: ``field_ut``); the
+    log file stands in for the stored recording, and ``unit`` is the log's accelerometer unit."""
     # Read whatever the method: a section list that cannot be read is an error, not an option ignored.
     sections = None if args.sections is None else _read_sections(args.sections)
-    request = {"method": args.method, "recording_id": ", ".join(str(p) for p in args.log), "gravity": args.gravity,
-               "latitude_deg": args.latitude_deg, "height_m": args.height_m, "device_id": args.device_id,
-               "label": ", ".join(p.name for p in args.log)}
-    if args.method in CUBE_METHODS:
-        request.update(protocol=args.protocol, field_ut=args.field_ut)
-        if sections is not None:
-            request["sections"] = sections
-    elif args.method in FIELD_METHODS:
-        del request["gravity"]
-        request.update(field_ut=args.field_ut, longitude_deg=args.longitude_deg, date=args.date)
-    else:
-        request["unit"] = unit
-    if args.method == "triangular":
-        request["solver"] = args.solver
-    return request
+    given = {**vars(args), "recording_id": ", ".join(str(p) for p in args.log),
+             "label": ", ".join(p.name for p in args.log), "unit": unit, "sections": sections}
+    return {"method": args.method, **{name: given[name] for name in methods.BY_NAME[args.method].options
+                                      if given.get(name) is not None}}
 
 
 def _read_sections(path) -> object:
@@ -591,7 +593,7 @@ def _relabel_units(log, unit: str):
     """An array of gyroscope or magnetometer samples in deg/s or nT: read as acc, converted by the workflow."""
     import dataclasses
 
-    factor = {"deg/s": workflow.GYR_TO_RAD_S["deg/s"], "nT": workflow.MAG_TO_UT["nT"]}.get(unit)
+    factor = {"deg/s": GYR_TO_RAD_S["deg/s"], "nT": MAG_TO_UT["nT"]}.get(unit)
     if factor is None:
         return log
     return dataclasses.replace(log, acc=np.asarray(log.acc, dtype=float) * factor)
@@ -624,7 +626,7 @@ def _print_noise(body: dict) -> None:
 
 def _export(args, settings: Settings) -> int:
     body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
-    out = export_calibration(body, args.format)
+    out = methods.export(body, args.format)
     binary = isinstance(out.content, bytes)
     if args.output:
         if binary:

@@ -1,15 +1,16 @@
 """What a calibration is asked to do: the request models the API, the CLI and the workflow share.
 
-POST /api/v1/calibrations validates its body against :data:`CalibrationIn`, and ``trical calibrate``
-builds the same models from its options, so both refuse the same input with the same words.
+POST /api/v1/calibrations validates its body against their union, :data:`app.methods.CalibrationIn` (made
+from the method table), and ``trical calibrate`` builds the same models from its options, so both refuse
+the same input with the same words.
 """
 
 from __future__ import annotations
 
 import datetime
-from typing import Annotated, Any, ClassVar, Literal, Union
+from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, TypeAdapter, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, ValidationError, model_validator
 
 from app.calibration.solvers import SOLVERS
 from app.io.log import UNITS
@@ -216,33 +217,9 @@ class MagnetometerIn(Strict):
         return self
 
 
-METHODS = ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal", "noise",
-           "magnetometer", "temperature")
-"""The values of `method` that POST /api/v1/calibrations accepts."""
-
-CalibrationIn = Annotated[
-    Union[AutoIn, SixPositionIn, OrientationsIn, NonOrthogonalIn, TriangularIn, CubeIn, AutocalIn, NoiseIn,
-          MagnetometerIn, TemperatureIn],
-    Field(discriminator="method"),
-]
-
-
-
-CALIBRATION_REQUEST = TypeAdapter(CalibrationIn)
-
-
-def parse_calibration_request(data: dict):
-    """The request model for ``data`` (its ``method`` picks the model).
-
-    Raises
-    ------
-    pydantic.ValidationError
-        Described in words by :func:`describe_errors`.
-    """
-    return CALIBRATION_REQUEST.validate_python(data)
-
-
 def _location(loc) -> str:
+    from app.methods import METHODS  # the table imports these models
+
     parts: list[str] = []
     for item in loc:
         if item in ("body", "query", "path", "form") and not parts:
@@ -267,6 +244,8 @@ def describe_errors(errors: list[dict]) -> str:
             messages.append("the request needs a JSON body")
             continue
         if err.get("type") == "union_tag_not_found":
+            from app.methods import METHODS  # the table imports these models
+
             messages.append(f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
                             f"required: one of {', '.join(METHODS)}")
             continue
@@ -275,4 +254,4 @@ def describe_errors(errors: list[dict]) -> str:
     return "; ".join(dict.fromkeys(messages)) or "invalid request"
 
 
-__all__ = ["CalibrationIn", "METHODS", "ValidationError", "describe_errors", "parse_calibration_request"]
+__all__ = ["ValidationError", "describe_errors"]

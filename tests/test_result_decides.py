@@ -15,7 +15,7 @@ from pathlib import Path
 
 from app.calibration.registry import CalibrationResult, registered_types
 from app.calibration.result import FIGURE_METRICS
-from app.requests import METHODS
+from app.methods import METHODS
 
 ROOT = Path(__file__).resolve().parent.parent
 APP = ROOT / "app"
@@ -29,19 +29,8 @@ is also the value of every option read from the data (format, unit, sign, column
 
 NOT_DECISIONS = {
     ("app/io/formats/sensor_logger.py", "magnetometer"): "a Sensor Logger file's name (MagnetometerUncalibrated.csv)",
-    ("app/cli.py", "noise"): "trical capture's protocol noise (a board held still), a protocol, not a method",
 }
 """(file, literal) pairs whose comparison is about something else that bears the same word."""
-
-OWNED_BY_METHOD_TABLE_WORK = {
-    ("app/workflow.py", "six_position"),
-    ("app/workflow.py", "orientations"),
-    ("app/workflow.py", "nonorthogonal"),
-    ("app/workflow.py", "triangular"),
-    ("app/cli.py", "triangular"),
-}
-"""Method branches in files the method table's work rewrites (workflow's dispatch by method family, the CLI's
-groups): (file, literal) pairs allowed until that work lands, then emptied."""
 
 
 def decided_names() -> dict[str, str]:
@@ -95,19 +84,14 @@ def test_the_names_come_from_the_code():
 
 def test_no_module_outside_the_results_decides_by_a_method_a_model_type_or_a_metric_key():
     names = decided_names()
-    found, allowed = [], set()
+    found = []
     for path in scanned_files():
         rel = str(path.relative_to(ROOT))
         for line, literal, what in deciding_comparisons(path.read_text(encoding="utf-8"), names):
             if (rel, literal) in NOT_DECISIONS:
                 continue
-            if (rel, literal) in OWNED_BY_METHOD_TABLE_WORK:
-                allowed.add((rel, literal))
-                continue
             found.append(f"{rel}:{line}: compares with the {what} {literal!r}")
     assert not found, "the result (or the method table) decides, not these:\n" + "\n".join(found)
-    stale = OWNED_BY_METHOD_TABLE_WORK - allowed
-    assert not stale, f"no longer compared, drop from OWNED_BY_METHOD_TABLE_WORK: {sorted(stale)}"
 
 
 def test_the_checker_catches_each_kind_of_comparison_it_looks_for():

@@ -6,10 +6,9 @@ import numpy as np
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
-from app import workflow
+from app import methods, workflow
 from app.api.deps import OwnerDep, StoreDep
 from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, SnippetsOut
-from app.io.exporters import ALL_FORMATS, export_calibration
 from app.io.snippets import usage_snippets
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict
@@ -30,7 +29,7 @@ def recording_source(store: Store, recording_id: str | None, owner: str | None) 
 def create_calibration(request: CalibrationIn, store: StoreDep,
                        owner: OwnerDep):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
-    body = workflow.calibrate(request, recording_source(store, getattr(request, "recording_id", None), owner))
+    body = methods.calibrate(request, recording_source(store, getattr(request, "recording_id", None), owner))
     return store.add_calibration(body, owner=owner)
 
 
@@ -53,7 +52,7 @@ def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep):
 @router.get("/{calibration_id}/export", summary="Export a calibration",
             responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
                                          "application/yaml": {}, "text/csv": {}, "image/svg+xml": {}}}})
-def export(*, calibration_id: str, format: str = Query("json", description=f"One of {', '.join(ALL_FORMATS)} (a noise characterisation: kalibr, openvins, vins, allan_svg, json, csv; a temperature calibration: px4, ardupilot, json, temperature_svg)"),
+def export(*, calibration_id: str, format: str = Query("json", description=f"By the calibration's method: {methods.formats_in_words()}"),
            store: StoreDep, owner: OwnerDep):
     """The calibration as a file for firmware or analysis code.
 
@@ -65,7 +64,7 @@ def export(*, calibration_id: str, format: str = Query("json", description=f"One
     exports its own ``px4`` (QGroundControl ``.params``, ``TC_A*``/``TC_G*``), ``ardupilot`` (``INS_TCAL1_*``),
     ``json`` and ``temperature_svg`` (offset against temperature).
     """
-    out = export_calibration(store.get_calibration(calibration_id, owner=owner), format)
+    out = methods.export(store.get_calibration(calibration_id, owner=owner), format)
     return Response(out.content, media_type=out.media_type,
                     headers={"Content-Disposition": f'attachment; filename="{out.filename}"'})
 

@@ -10,13 +10,12 @@ from typing import Annotated, Any, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
+from app.methods import METHODS, TABLE, CalibrationIn  # noqa: F401  (re-exported: the routes name them here)
 from app.requests import (  # noqa: F401  (re-exported: the routes and tests name them here)
-    METHODS,
     AccUnit,
     Solver,
     Gravity,
     AutocalIn,
-    CalibrationIn,
     CubeIn,
     KnownOrientationIn,
     Label,
@@ -687,16 +686,11 @@ class TemperatureOut(CalibrationCommon):
     curve: dict[str, TemperatureCurve] = Field(description="Sensor → the fit and its band over the range.")
 
 
-CalibrationOut = Annotated[
-    Union[SixPositionOut, OrientationsOut, NonOrthogonalOut, TriangularOut, CubeOut, AutocalOut, NoiseOut,
-          MagnetometerOut, TemperatureOut],
-    Field(discriminator="method"),
-]
-"""A stored calibration, by method."""
+RESPONSE_MODELS = {method.name: globals()[method.response] for method in TABLE if method.response is not None}
+"""Each method's response model, named by the method table (app.methods); ``auto`` answers as the method it chose."""
 
-RESPONSE_MODELS = {"six_position": SixPositionOut, "orientations": OrientationsOut, "nonorthogonal": NonOrthogonalOut,
-                   "triangular": TriangularOut, "cube": CubeOut, "autocal": AutocalOut, "noise": NoiseOut,
-                   "magnetometer": MagnetometerOut, "temperature": TemperatureOut}
+CalibrationOut = Annotated[Union[tuple(RESPONSE_MODELS.values())], Field(discriminator="method")]
+"""A stored calibration, by method."""
 
 
 class CalibrationList(BaseModel):

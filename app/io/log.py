@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from app.calibration.gravity import STANDARD_GRAVITY
 
 if TYPE_CHECKING:  # the readers' package imports this module
     from .formats.flight_log import FlightInfo
@@ -17,6 +20,15 @@ UNITS: dict[str, tuple[str, ...]] = {
     "mag": ("uT", "nT", "raw"),
 }
 """Accepted units per sensor; the first is the default when neither header nor caller names one."""
+
+SI_UNITS = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
+"""The unit each sensor is calibrated or characterised in when its log's unit is converted (Kalibr's, the
+firmwares'); µT for the magnetometer."""
+ACC_TO_M_S2 = {"m/s^2": 1.0, "g": STANDARD_GRAVITY, "raw": 1.0}
+GYR_TO_RAD_S = {"rad/s": 1.0, "deg/s": math.pi / 180.0, "raw": 1.0}
+MAG_TO_UT = {"uT": 1.0, "nT": 1e-3, "raw": 1.0}
+TO_SI = {"acc": ACC_TO_M_S2, "gyr": GYR_TO_RAD_S, "mag": MAG_TO_UT}
+"""The factor from each unit of :data:`UNITS` to :data:`SI_UNITS` (counts, ``raw``, stay counts: 1)."""
 
 
 @dataclass(frozen=True)

@@ -26,17 +26,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from app.calibration.gravity import STANDARD_GRAVITY
-
 from .board_formats import MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from .errors import ExportError
 from .export_common import sensor_corrections
+from .log import TO_SI
 
 CRC_POLYNOMIAL = 0xA001
 CRC_START = 0xFFFF
 SOFT_IRON_ORDER = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 """The packet's six soft-iron entries, in order."""
-# Adafruit's Unified Sensor units are m/s²: STANDARD_GRAVITY of them a g.
+# Adafruit's Unified Sensor units are m/s² (a g is STANDARD_GRAVITY of them), rad/s and µT.
 DEFAULT_FIELD_UT = 50.0
 """The field Adafruit_Sensor_Calibration starts with (µT), sent when the calibration has no magnetometer."""
 SYMMETRY_TOLERANCE = 1e-6
@@ -131,12 +130,13 @@ def decode(packet: bytes) -> MotionCalCalibration:
     return MotionCalCalibration(np.array(v[0:3]), np.array(v[3:6]), np.array(v[6:9]), float(v[9]), M)
 
 
-ACC_TO_MS2 = {"m/s^2": 1.0, "g": STANDARD_GRAVITY}
-GYR_TO_RAD_S = {"rad/s": 1.0, "deg/s": np.pi / 180.0}
-MAG_TO_UT = {"uT": 1.0, "nT": 1e-3}
+UNIFIED_SCALES = {sensor: {unit: f for unit, f in table.items() if unit != "raw"} for sensor, table in TO_SI.items()}
+"""The factors into Adafruit's Unified Sensor units (m/s², rad/s, µT) of the units the packet can take: the
+log's unit tables (app.io.log) without counts, whose scale is unknown."""
 
 
-def _refuse_counts(sensor: str, unit: str | None, table: dict) -> float:
+def _refuse_counts(sensor: str, unit: str | None) -> float:
+    table = UNIFIED_SCALES[sensor]
     if unit not in table:
         words = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}[sensor]
         raise ExportError(
@@ -165,7 +165,7 @@ def from_calibration(body: dict) -> MotionCalCalibration:
     corrections = {c.sensor: c for c in sensor_corrections(body)}
     if "acc" in corrections:
         c = corrections["acc"]
-        scale = _refuse_counts("acc", c.input_unit, ACC_TO_MS2)
+        scale = _refuse_counts("acc", c.input_unit)
         cal["accel_zerog"] = scale * np.asarray(c.o, dtype=float)
         M = np.asarray(c.M, dtype=float)
         off = float(np.abs(M - np.eye(3)).max())
@@ -177,7 +177,7 @@ def from_calibration(body: dict) -> MotionCalCalibration:
     gyro = body.get("gyroscope_bias")
     if "gyr" in corrections:
         c = corrections["gyr"]
-        cal["gyro_zerorate"] = _refuse_counts("gyr", c.input_unit, GYR_TO_RAD_S) * np.asarray(c.o, dtype=float)
+        cal["gyro_zerorate"] = _refuse_counts("gyr", c.input_unit) * np.asarray(c.o, dtype=float)
         notes.append("gyroscope: only the offsets are carried, not its scales and cross terms")
     elif gyro:
         cal["gyro_zerorate"] = np.asarray(gyro["rad_s"], dtype=float)
@@ -187,8 +187,8 @@ def from_calibration(body: dict) -> MotionCalCalibration:
     if "mag" in corrections:
         c = corrections["mag"]
         if c.output_unit == "raw":
-            _refuse_counts("mag", "raw", MAG_TO_UT)
-        scale = _refuse_counts("mag", c.input_unit, MAG_TO_UT)
+            _refuse_counts("mag", "raw")
+        scale = _refuse_counts("mag", c.input_unit)
         M = np.asarray(c.M, dtype=float)
         if float(np.abs(M - M.T).max()) > SYMMETRY_TOLERANCE * float(np.abs(M).max()):
             raise ExportError("the magnetometer's correction matrix is not symmetric, and MotionCal's packet holds "

@@ -1,0 +1,174 @@
+"""The method table: one declaration per calibration method, from which the rest is derived.
+
+Each :class:`Method` names its request model (:mod:`app.requests`), its handler (a function of
+:mod:`app.workflows`), its response model (by its class name in :mod:`app.api.schemas`, which builds its
+union from this table: the CLI, which imports this module, never loads the API), the ``trical`` command
+that runs it and the export formats its calibrations offer. From it come the request union that
+POST /api/v1/calibrations and ``trical calibrate`` validate, the response union of the API, the dispatch
+of a request to its handler, the CLI's ``--method`` choices and the formats the export route accepts.
+
+Adding a method: write its handler, its request and response models, and add one entry here.
+
+The table names pydantic models, so the workflow, which imports none (docs/architecture.md), never imports
+it: the API and the CLI look a request's method up here and call :func:`app.workflows.entry.calibrate`
+with its handler.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Annotated, Callable, Union
+
+from pydantic import Field, TypeAdapter
+
+from app import requests as rq
+from app.calibration.solvers import SOLVERS
+from app.io.errors import ExportError
+from app.io.export_noise import NOISE_EXPORTERS
+from app.io.export_temperature import TEMPERATURE_EXPORTERS
+from app.io.exporters import EXPORTERS, Export, export_calibration
+from app.workflows import autocal, compass, cube, noise, still, temperature
+from app.workflows.entry import calibrate as run_handler
+from app.workflows.recordings import RecordingSource
+
+CORRECTION_EXPORTS = tuple(EXPORTERS)
+"""The formats of a calibration that corrects readings (``f = M (m − o)``): JSON, C, ArduPilot, PX4, …"""
+NOISE_EXPORTS = tuple(NOISE_EXPORTERS)
+TEMPERATURE_EXPORTS = tuple(TEMPERATURE_EXPORTERS)
+ACCELEROMETER = "an accelerometer calibration"
+
+
+@dataclass(frozen=True)
+class Method:
+    """One calibration method.
+
+    Attributes
+    ----------
+    name : str
+        The request's ``method``.
+    request : type
+        Its request model (a member of :data:`CalibrationIn`).
+    handler : callable
+        ``handler(request, recording)``: the workflow's function that computes its calibration's plain form.
+    response : str or None
+        The class name of its response model in :mod:`app.api.schemas`; None for ``auto``, which answers as
+        the method it chose.
+    command : str
+        The ``trical`` command that runs it: ``calibrate`` (a choice of ``--method``) or its own command.
+    formats : tuple of str
+        The export formats of its calibrations (GET /api/v1/calibrations/{id}/export, ``trical export``).
+    kind : str
+        What its calibrations are, in words, for the export's refusals.
+    """
+
+    name: str
+    request: type
+    handler: Callable[..., dict]
+    response: str | None
+    command: str
+    formats: tuple[str, ...]
+    kind: str
+
+    @property
+    def needs_recording(self) -> bool:
+        """Whether it calibrates an uploaded recording only (no inline readings)."""
+        field = self.request.model_fields.get("recording_id")
+        return field is not None and field.is_required()
+
+    @property
+    def solvers(self) -> tuple[str, ...]:
+        """The solvers of its fit it lets the caller choose (``solver``), or none."""
+        return SOLVERS if "solver" in self.request.model_fields else ()
+
+    @property
+    def options(self) -> tuple[str, ...]:
+        """The fields its request takes besides ``method``."""
+        return tuple(name for name in self.request.model_fields if name != "method")
+
+
+TABLE: tuple[Method, ...] = (
+    Method("auto", request=rq.AutoIn, handler=still.auto, response=None,
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("six_position", request=rq.SixPositionIn, handler=still.six_position, response="SixPositionOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("orientations", request=rq.OrientationsIn, handler=still.orientations, response="OrientationsOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("nonorthogonal", request=rq.NonOrthogonalIn, handler=still.nonorthogonal, response="NonOrthogonalOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("triangular", request=rq.TriangularIn, handler=still.triangular, response="TriangularOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("cube", request=rq.CubeIn, handler=cube.cube, response="CubeOut",
+           command="calibrate", formats=CORRECTION_EXPORTS,
+           kind="a cube calibration (accelerometer, gyroscope, magnetometer)"),
+    Method("autocal", request=rq.AutocalIn, handler=autocal.autocal, response="AutocalOut",
+           command="autocal", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER),
+    Method("noise", request=rq.NoiseIn, handler=noise.noise, response="NoiseOut",
+           command="noise", formats=NOISE_EXPORTS, kind="a noise characterisation"),
+    Method("magnetometer", request=rq.MagnetometerIn, handler=compass.magnetometer, response="MagnetometerOut",
+           command="calibrate", formats=CORRECTION_EXPORTS, kind="a compass calibration"),
+    Method("temperature", request=rq.TemperatureIn, handler=temperature.temperature, response="TemperatureOut",
+           command="temperature", formats=TEMPERATURE_EXPORTS,
+           kind="a temperature calibration (offsets against temperature)"),
+)
+"""Every method. ``auto`` on a recording of the magnetometer alone is the compass (its handler calls
+:func:`app.workflows.compass.auto_compass`), answered as method ``magnetometer``: not a method of its own."""
+
+BY_NAME = {method.name: method for method in TABLE}
+
+METHODS = tuple(BY_NAME)
+"""The values of `method` that POST /api/v1/calibrations accepts."""
+
+CalibrationIn = Annotated[Union[tuple(method.request for method in TABLE)], Field(discriminator="method")]
+"""A calibration request: the request model its ``method`` names."""
+
+CALIBRATION_REQUEST = TypeAdapter(CalibrationIn)
+
+ALL_FORMATS = tuple(dict.fromkeys(fmt for method in TABLE for fmt in method.formats))
+"""Every export format of any calibration (``trical export --format``)."""
+
+
+def parse_calibration_request(data: dict):
+    """The request model for ``data`` (its ``method`` picks the model).
+
+    Raises
+    ------
+    pydantic.ValidationError
+        Described in words by :func:`app.requests.describe_errors`.
+    """
+    return CALIBRATION_REQUEST.validate_python(data)
+
+
+def calibrate(request, recording: RecordingSource | None = None) -> dict:
+    """The calibration a request asks for, computed by its method's handler (unstored); see
+    :func:`app.workflows.entry.calibrate`."""
+    return run_handler(BY_NAME[request.method].handler, request, recording)
+
+
+def commanded_by(command: str) -> tuple[str, ...]:
+    """The methods a ``trical`` command runs (``calibrate``: the choices of its ``--method``)."""
+    return tuple(method.name for method in TABLE if method.command == command)
+
+
+def formats_in_words() -> str:
+    """The export formats and the methods whose calibrations offer them, in a line for the API's docs."""
+    groups: dict[tuple[str, ...], list[str]] = {}
+    for method in TABLE:
+        groups.setdefault(method.formats, []).append(method.name)
+    return "; ".join(f"method {', '.join(names)}: {', '.join(formats)}" for formats, names in groups.items())
+
+
+def export(body: dict, fmt: str) -> Export:
+    """A stored calibration in ``fmt``, which its method must offer (:attr:`Method.formats`).
+
+    Raises
+    ------
+    ExportError
+        A format its method does not offer (naming those it does), or one that does not fit this
+        calibration's model (:func:`app.io.exporters.export_calibration`).
+    """
+    method = BY_NAME.get(body.get("method"))
+    if method is not None and fmt not in method.formats and fmt in ALL_FORMATS:
+        kinds = dict.fromkeys(m.kind for m in TABLE if fmt in m.formats)
+        raise ExportError(f"format {fmt!r} does not fit this calibration, {method.kind} (method {method.name}): "
+                          f"{fmt} writes {' or '.join(kinds)}; use one of {', '.join(method.formats)}")
+    return export_calibration(body, fmt)

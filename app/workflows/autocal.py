@@ -1,0 +1,110 @@
+"""Auto-calibration of a long recording by the pipeline of Farago et al. (IEEE Access)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from app.calibration import CalibrationError
+from app.workflow import calibration_body
+from app.workflows.gravity import reference_gravity
+from app.workflows.recordings import RecordingSource, load_log, require_accelerometer, require_rate
+
+
+def autocal(request, recording: RecordingSource) -> dict:
+    """Method ``autocal``: an uploaded long recording, read as it was uploaded (:func:`autocalibrate_file`)."""
+    require_accelerometer(recording.meta["units"], "autocal")
+    # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
+    read_with = recording.meta.get("read_with") or {"units": recording.meta["units"]}
+    return autocalibrate_file(
+        recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
+        unit=request.unit or (read_with.get("units") or {}).get("acc"), chip=read_with.get("chip"),
+        instance=read_with.get("instance"),
+        lsb_per_g=read_with.get("lsb_per_g"), solver=request.solver, gravity=request.gravity,
+        latitude_deg=request.latitude_deg, height_m=request.height_m,
+        detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
+        label=request.label or recording.meta.get("filename"), **recording.source_fields)
+
+
+AUTOCAL_UNITS = ("g", "m/s^2")
+
+
+def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,
+                       solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
+                       height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
+                       columns: str | None = None, sign: int | None = None, chip: str | None = None,
+                       lsb_per_g: float | None = None, instance: int | None = None, **fields) -> dict:
+    """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        ``.npy`` (N×3, or N×4 with time first; memory-mapped), Parquet or CSV.
+    sampling_rate_hz : float, optional
+        Needed when the file has no time column.
+    unit : {"g", "m/s^2"}, optional
+        The accelerometer unit; the file's (header) unit, else m/s², when omitted.
+    progress : callable, optional
+        ``progress(done_samples, total_samples)``.
+    solver : str
+        Solver of the 9-parameter fit (``lm``, ``gradient``, ``fixed16``, ``fixed32``).
+    gravity, latitude_deg, height_m : float, optional
+        Reference gravity for m/s² input (see :func:`reference_gravity`).
+    detection, selection : dict, optional
+        Options of :class:`app.calibration.stationary_002.RestAccumulator` and
+        :func:`app.calibration.autocal.autocalibrate`.
+    columns : str, optional
+        The columns of a CSV (:func:`app.io.formats.parse_columns`).
+    sign : {1, -1}, optional
+        Factor on the file's accelerations; detected from the header when None.
+    chip, lsb_per_g : str or float, optional
+        The accelerometer's part and range, or its counts per g, for a CSV in counts
+        (:func:`app.io.formats.read_log`).
+    instance : int, optional
+        The IMU instance of a flight controller's log (PX4 ULog, ArduPilot DataFlash).
+    **fields
+        Added to the body (``device_id``, ``label``...).
+
+    Returns
+    -------
+    dict
+        The body of :func:`calibration_body`: ``method: "autocal"``, ``model`` (triangular K, o),
+        ``metrics`` (``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set),
+        ``comparison``, ``selection``, ``detection``, ``ok``, ``warnings``, ``reasons``.
+    """
+    import importlib
+    import sys
+    import threading
+
+    from app.calibration.stationary_002 import detect_rest_segments
+
+    # The fit needs scipy.optimize (~0.5 s to import): import it on the other core while this one
+    # reads the recording (numpy releases the GIL in its loops).
+    preload = None
+    if "app.calibration.autocal" not in sys.modules:
+        preload = threading.Thread(
+            target=lambda: [importlib.import_module(m) for m in ("app.calibration.autocal", "scipy.special")],
+            daemon=True)
+        preload.start()
+    path = Path(path)
+    log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
+                   columns=columns, sign=sign, chip=chip, lsb_per_g=lsb_per_g, instance=instance)
+    require_accelerometer(log.channels, "autocal")
+    unit = log.units["acc"]
+    if unit not in AUTOCAL_UNITS:
+        raise CalibrationError(
+            f"auto-calibration needs samples in g or m/s^2 (its thresholds are fractions of g); {path.name} is in "
+            f"counts whose scale is unknown: give chip (--chip, e.g. mpu6050-2g) for a CSV, or convert the counts "
+            f"to g first"
+        )
+    g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
+    rest = detect_rest_segments(log.acc, require_rate(log.sampling_rate_hz, "autocal"), gravity=g, progress=progress,
+                                **(detection or {}))
+    if preload is not None:
+        preload.join()
+    from app.calibration.autocal import autocalibrate
+
+    result = autocalibrate(rest, solver=solver, **(selection or {}))
+    fields.setdefault("label", path.name)
+    return calibration_body(result, {}, unit=unit, notes=notes, recording={
+        "format": log.format, "n_samples": log.n_samples, "sampling_rate_hz": log.sampling_rate_hz,
+        "duration_s": log.n_samples / log.sampling_rate_hz}, **fields)

@@ -1,0 +1,115 @@
+"""The compass: a magnetometer turned through all directions."""
+
+from __future__ import annotations
+
+import datetime
+from dataclasses import dataclass
+
+import numpy as np
+
+from app.calibration import CalibrationError
+from app.io.log import MAG_TO_UT, LogData
+from app.workflow import calibration_body
+from app.workflows.recordings import RecordingSource, still_segments
+
+
+def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
+    """The field the calibration is referenced to: ``field_ut`` given, else the geomagnetic model's at
+    the place and day, else none (estimated by the fit); with a place, the model's dip and
+    declination too. Returns the keyword arguments of :func:`~app.calibration.magnetometer.fit_magnetometer`
+    and the metrics naming the model and its day (none without a place)."""
+    reference: dict = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
+    if request.latitude_deg is None:
+        if request.date is not None or request.height_m is not None:
+            notes.append("date and height_m without latitude_deg and longitude_deg are not used: give the place too "
+                         "for the Earth's field there")
+        return reference, {}
+    from app.geomag import GeomagneticRangeError, reference_field  # the model's package loads only here
+
+    day = request.date or datetime.datetime.now(datetime.timezone.utc).date()
+    try:
+        earth = reference_field(day, request.latitude_deg, request.longitude_deg,
+                                0.0 if request.height_m is None else request.height_m)
+    except GeomagneticRangeError as exc:
+        raise CalibrationError(str(exc)) from None
+    reference.update(inclination_deg=earth.inclination_deg, declination_deg=earth.declination_deg)
+    if request.field_ut is None:
+        reference.update(field_ut=earth.field_ut, field_source="model")
+    elif abs(request.field_ut / earth.field_ut - 1.0) > 0.1:
+        notes.append(f"field_ut {request.field_ut:g} µT is more than 10 % from the {earth.model} field here "
+                     f"({earth.field_ut:.1f} µT): the given value is used")
+    return reference, {"field_model": earth.model, "field_date": day.isoformat()}
+
+
+def compass_rests(log: LogData, segments: list[dict]) -> list[tuple]:
+    """The accelerometer's still segments of a recording with their mean magnetometer reading."""
+    if log.mag is None or log.acc is None:
+        return []
+    mag = log.mag * MAG_TO_UT[log.units["mag"]]
+    return [(seg["acc_mean"], mag[seg["start"]:seg["end"]].mean(axis=0)) for seg in segments
+            if seg["end"] > seg["start"]]
+
+
+def magnetometer(request, recording: RecordingSource | None) -> dict:
+    """Method ``magnetometer``: inline readings or a recording, referenced to the field given, the Earth's at
+    a place, or estimated."""
+    from app.calibration.magnetometer import fit_magnetometer  # scipy.optimize: see still.calibrate_unknown
+
+    notes: list[str] = []
+    rests: list = []
+    unit = "uT"
+    if recording is None:
+        mag = np.asarray(request.mag, dtype=float)
+        source = {}
+    else:
+        log = recording.read(clock="mag")  # a flight controller's compass on its own clock
+        if log.mag is None:
+            raise CalibrationError(
+                f"the recording has no magnetometer columns (it has {', '.join(log.channels)}): the magnetometer "
+                "method needs mag_x, mag_y, mag_z — record the magnetometer (uncalibrated) while turning the device")
+        unit = log.units["mag"]
+        mag = log.mag * MAG_TO_UT.get(unit, 1.0)
+        unit = "raw" if unit == "raw" else "uT"
+        # The stored segments are on the IMU's clock in a flight log: its compass's rests are found on its own.
+        segments = still_segments(log)[0] if log.flight is not None else recording.meta.get("segments") or []
+        rests = compass_rests(log, segments)
+        source = recording.source_fields
+    reference, extra = magnetometer_reference(request, notes)
+    counts = unit == "raw" and reference["field_ut"] is None
+    if counts:
+        notes.append("the magnetometer's readings are counts and no field was given: M maps them to the "
+                     "readings' own scale, not to µT, and every figure is in counts — give chip (the part and "
+                     "its range), or a place and date, or field_ut")
+    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", label="counts" if counts else "µT",
+                              **reference)
+    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
+                            label=request.label or (recording.meta.get("filename") if recording else None), **source)
+
+
+@dataclass(frozen=True)
+class CompassAsk:
+    """What the compass calibration reads of a request (:func:`magnetometer`): ``auto`` on a recording of the
+    magnetometer alone asks with no place, date or field, so that the field is estimated."""
+
+    recording_id: str | None
+    device_id: str | None = None
+    label: str | None = None
+    mag: list | None = None
+    date: datetime.date | None = None
+    latitude_deg: float | None = None
+    longitude_deg: float | None = None
+    height_m: float | None = None
+    field_ut: float | None = None
+    method: str = "magnetometer"
+
+
+def auto_compass(request, recording: RecordingSource) -> dict:
+    """``auto`` on a recording of the magnetometer alone: the compass, its field estimated (``auto``
+    takes no place; method magnetometer with a place references the Earth's field there)."""
+    compass = CompassAsk(recording_id=request.recording_id, device_id=request.device_id, label=request.label)
+    body = magnetometer(compass, recording)
+    body["choice"] = {"method": "magnetometer", "candidates": {},
+                      "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
+                             "calibration; for the Earth's field at your place use method magnetometer with "
+                             "latitude_deg, longitude_deg and date"}
+    return body

@@ -1,0 +1,139 @@
+"""Noise: the Allan deviation of a still recording."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.calibration import CalibrationError
+from app.io.log import SI_UNITS, TO_SI, LogData
+from app.workflow import calibration_body
+from app.workflows.recordings import RecordingSource, require_rate
+
+
+NOISE_SENSORS = ("acc", "gyr", "mag")
+NOISE_REST_S = 5.0
+"""A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
+and only the longest is characterised."""
+NOISE_GAPS_MAX = 0.01
+"""Gaps losing more than this fraction of the still part's time make its Allan deviation unreliable
+(``ok`` false): the estimator takes the samples as evenly spaced, and a lost stretch joins two
+stretches as if they were adjacent."""
+
+
+def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = None, **fields) -> dict:
+    """Noise characterisation (app.calibration.noise) of every chosen sensor of a still recording.
+
+    ``array_sensor`` names the sensor a three-column array (``.npy``, Parquet) holds, which the readers
+    return as ``acc``. Gyroscopes in deg/s become rad/s, magnetometers in nT µT, accelerometers in g
+    m/s² (Kalibr's units). The still part is the longest still stretch: when some of the recording
+    moved, a warning says what was used; when less than half of it is still, ``ok`` is false.
+    """
+    from app.calibration.noise import NoiseResult, characterise_noise
+    from app.calibration.noise_still import MIN_STILL_FRACTION, still_runs
+
+    arrays = {name: getattr(log, name) for name in log.channels}
+    units = dict(log.units)
+    if array_sensor not in (None, "acc"):
+        if log.channels != ["acc"]:
+            raise CalibrationError(f"the sensor of an array is given for files with one sensor; this one has "
+                                   f"{', '.join(log.channels)}: leave it out")
+        arrays = {array_sensor: log.acc}
+        units = {array_sensor: SI_UNITS[array_sensor]}
+    wanted = list(sensors) if sensors else [s for s in NOISE_SENSORS if s in arrays]
+    missing = [s for s in wanted if s not in arrays]
+    if missing:
+        raise CalibrationError(f"the recording has no {', '.join(missing)} samples (it has {', '.join(arrays)}): "
+                               "ask for those it has")
+    fs, n = require_rate(log.sampling_rate_hz, "noise"), len(next(iter(arrays.values())))
+    notes: list[str] = list(log.warnings) + list(log.notes)
+    detected_from = "acc" if "acc" in arrays else wanted[0]
+    runs = still_runs(arrays[detected_from], fs)
+    span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
+    rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
+    reasons: list[str] = []
+    if span is not None and len(rests) >= 2:
+        a, b = span
+        said = (f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
+                f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
+                "recording), was characterised — no term is fitted across a move")
+        if b - a < MIN_STILL_FRACTION * n:
+            reasons.append(said + "; for the noise, record the device resting in one orientation, untouched, for "
+                                  "the whole recording")
+        else:
+            notes.append(said)
+    elif span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
+        still_s = 0.0 if span is None else (span[1] - span[0]) / fs
+        reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
+                       "is characterised on a still recording — leave the device resting on a firm surface, "
+                       "untouched, for the whole recording")
+        span = span or (0, n)
+    elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
+        notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
+                     f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
+    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    if inside:
+        lost = sum(g.missing_s for g in inside)
+        still_s = (span[1] - span[0]) / fs
+        said = (f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
+                f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)")
+        if lost > NOISE_GAPS_MAX * still_s:
+            reasons.append(said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
+                                  "the sensor's — record again without losing samples (a faster serial baud rate, "
+                                  "fewer columns printed, a larger host buffer)")
+        else:
+            notes.append(said + ": few enough for the Allan deviation")
+    a, b = span
+    parts = {}
+    for name in wanted:
+        unit = units[name]
+        samples = arrays[name][a:b]
+        scale = TO_SI[name].get(unit, 1.0)
+        if scale != 1.0:
+            samples = np.asarray(samples, dtype=float) * scale
+            unit = SI_UNITS[name]
+        part = characterise_noise(samples, fs, unit=unit, sensor=name)
+        notes.extend(part.pop("warnings"))
+        parts[name] = part
+    duration = (b - a) / fs
+    result = NoiseResult(sensors={k: {x: p[x] for x in ("model", "adev", "uncertainty", "metrics")}
+                                  for k, p in parts.items()},
+                         sampling_rate_hz=fs, duration_s=duration,
+                         still={"start": a, "end": b, "n_samples": b - a, "fraction": (b - a) / n,
+                                "detected_from": detected_from},
+                         reasons=tuple(reasons), unit=parts[wanted[0]]["model"]["unit"])
+    return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
+
+
+def noise(request, recording: RecordingSource) -> dict:
+    """Method ``noise``: the chosen sensors of a still recording (a flight log's compass on its own clock)."""
+    clock = None
+    if recording.meta.get("flight") is not None and request.sensors and "mag" in request.sensors:
+        if list(request.sensors) != ["mag"]:
+            raise CalibrationError("a flight controller's compass is read on its own clock, slower than the IMU's: "
+                                   "ask for sensors [\"mag\"] alone, and for the IMU's (acc, gyr) in another request")
+        clock = "mag"
+    log, notes = recording.read(clock=clock), []
+    if log.parts:  # one file per pose: the noise of one file, never across two
+        log, notes = one_still_file(log)
+    body = characterise_log(log, sensors=request.sensors, array_sensor=request.sensor, device_id=request.device_id,
+                            label=request.label or recording.meta.get("filename"), **recording.source_fields)
+    body["warnings"] = notes + body["warnings"]
+    return body
+
+
+def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
+    """The file of a recording in parts with the longest still stretch, as a log of its own, and a note
+    naming it: the Allan deviation of a sequence joined from several files would see their seams."""
+    from app.calibration.noise_still import longest_still
+    from app.io.parts import part_log
+
+    def still_samples(i):
+        one = part_log(log, i)
+        span = longest_still(getattr(one, one.channels[0]), one.sampling_rate_hz)
+        return 0 if span is None else span[1] - span[0]
+
+    lengths = [still_samples(i) for i in range(len(log.parts))]
+    best = int(np.argmax(lengths))
+    note = (f"the recording is made of {len(log.parts)} files: the noise is characterised on one, "
+            f"{log.parts[best].filename} (the longest still stretch), not across files")
+    return part_log(log, best), [note]

@@ -1,0 +1,305 @@
+"""Logs into recordings: read a file, describe it (its still segments, its overview), store it; and the
+recording a request calibrates from (:class:`RecordingSource`) with the checks every method makes of it."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientation
+from app.calibration.errors import InsufficientDataError
+from app.calibration.static import detect_static_segments
+from app.io.formats import read_log
+from app.io.log import LogData
+from app.io.parts import pose_from_name
+
+
+BROWSER_STEP = 0.1
+"""Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
+
+
+def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
+             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None,
+             chip: str | None = None, instance: int | None = None, mag_instance: int | None = None,
+             clock: str = "imu") -> LogData:
+    """Read an uploaded log file into arrays, its format given or detected (app.io.formats); ``instance``,
+    ``mag_instance`` and ``clock`` choose the sensors of a flight controller's log (app.io.formats.flight_log)."""
+    return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
+                    lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip, instance=instance,
+                    mag_instance=mag_instance, clock=clock)
+
+
+def add_recording(store, recording_id: str, path: Path, *, filename: str | None, sampling_rate_hz: float | None,
+                  read_with: dict, owner: str | None) -> dict:
+    """Read a saved upload, describe it and store it as a recording; the file is removed if any step fails,
+    so that nothing is kept that no recording names.
+
+    Parameters
+    ----------
+    store : app.store.Store
+    recording_id : str
+        The id the file was saved under.
+    path : pathlib.Path
+        The saved upload (one file, or a zip of several files, one per pose).
+    filename : str or None
+        The name (or names) it came with, for messages and the recording.
+    sampling_rate_hz : float or None
+        The caller's rate.
+    read_with : dict
+        How to read it (:func:`load_log`'s options), kept with the recording.
+    owner : str or None
+
+    Returns
+    -------
+    dict
+        The stored recording (:func:`describe_log` with its id, filename and creation time).
+    """
+    try:
+        log = load_log(path, sampling_rate_hz=sampling_rate_hz, name=filename or "the file", **read_with)
+        body = describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
+        body["filename"] = filename
+        return store.add_recording(recording_id, body, path, owner=owner)
+    except BaseException:
+        path.unlink(missing_ok=True)
+        raise
+
+
+def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
+    """``step`` when every sample is a multiple of it (browser rounding), else None."""
+    sub = samples[: 10_000]
+    scaled = sub / step
+    if len(sub) > 10 and np.allclose(scaled, np.round(scaled), atol=1e-6):
+        return step
+    return None
+
+
+def describe_log(log: LogData, read_with: dict | None = None) -> dict:
+    """Recording metadata and its static segments (docs/rest.md, POST /recordings).
+
+    ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
+    it is kept with the sign applied, so that the stored file is read again the same way.
+    """
+    segments, part_notes = still_segments(log)
+    rate = log.sampling_rate_hz
+    notes = list(log.notes) + part_notes
+    if log.acc is not None and log.sampling_rate_hz is None:
+        notes.append(f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
+                     "their start and end are sample indices")
+    body = {
+        "format": log.format,
+        "n_samples": log.n_samples,
+        "sampling_rate_hz": rate,
+        "duration_s": None if rate is None else log.n_samples / rate,
+        "channels": log.channels,
+        "units": log.units,
+        "columns": log.columns,
+        "notes": notes,
+        "warnings": list(log.warnings),
+        "sign": log.sign,
+        "timing": None if log.timing is None else log.timing.to_dict(),
+        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
+                      "sampling_rate_hz": None, "instance": None, "mag_instance": None, **(read_with or {}),
+                      "sign": log.sign},
+        "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
+        "segments": segments,
+        "overview": overview(log),
+    }
+    if log.flight is not None:  # a flight controller's log: every instance, and those read
+        body["flight"] = log.flight.to_dict()
+        body["temperature_c"] = temperature_range(log.temperature_c)
+    if log.parts:
+        body["parts"] = [{"index": i, "filename": p.filename, "start": p.start, "end": p.end,
+                          "n_samples": p.n_samples, "sampling_rate_hz": p.sampling_rate_hz,
+                          "pose_from_name": pose_from_name(p.filename)} for i, p in enumerate(log.parts)]
+    return body
+
+
+def temperature_range(temperature) -> dict | None:
+    """The smallest and largest of a log's sensor temperature (°C), or None without one."""
+    if temperature is None:
+        return None
+    finite = np.asarray(temperature, dtype=float)
+    finite = finite[np.isfinite(finite)]
+    return {"min": float(finite.min()), "max": float(finite.max())} if finite.size else None
+
+
+def _short_still_file(acc, part, gravity: float | None, everything) -> tuple[list[dict], str] | None:
+    """A pose file too short for a still segment (under MIN_DURATION_S) that is still all through: the
+    whole file is its pose's reading, as the person who saved it meant (one file, one pose).
+
+    Still means the spread (root of the summed per-axis variances) within CAP_G of gravity and a mean
+    norm within NORM_RANGE_G, the bounds of the still-segment detector (docs/methods.md)."""
+    from app.calibration.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
+
+    rate = part.sampling_rate_hz or NOMINAL_RATE_HZ
+    if part.n_samples < 2 or part.n_samples / rate >= MIN_DURATION_S:
+        return None
+    a = np.asarray(acc, dtype=float)
+    g = gravity or float(np.median(np.linalg.norm(np.asarray(everything, dtype=float), axis=1)))
+    mean, std = a.mean(axis=0), a.std(axis=0)
+    spread = float(np.sqrt(np.sum(std ** 2)))
+    norm = float(np.linalg.norm(mean))
+    if not (np.all(np.isfinite(mean)) and spread <= CAP_G * g and NORM_RANGE_G[0] * g <= norm <= NORM_RANGE_G[1] * g):
+        return None
+    seg = {"start": 0, "end": part.n_samples, "acc_mean": mean.tolist(), "acc_std": std.tolist(),
+           "up": nearest_orientation(mean), "count": part.n_samples}
+    duration = part.n_samples / rate
+    return [seg], (f"{part.filename}: {duration:.1f} s, shorter than the {MIN_DURATION_S:g} s a still segment needs, "
+                   f"but still all through (spread {spread / g * 1000:.1f} mg): the whole file is its pose's reading")
+
+
+NOMINAL_RATE_HZ = 100.0
+"""The rate still segments are looked for at in a log that has none (no time column, none given): their
+windows and least length are counted in samples as at 100 Hz; a note says so."""
+
+
+def _still_between_gaps(acc, rate: float, gravity: float | None, cuts) -> list:
+    """Still segments (app.calibration.static) of ``acc``, each stretch between the sample indices
+    ``cuts`` (gaps of the time column) searched on its own, so that a segment's samples are contiguous
+    in time; a stretch shorter than one window holds none."""
+    bounds = [0, *cuts, len(acc)]
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        try:
+            found = detect_static_segments(acc[a:b], rate, gravity=gravity)
+        except InsufficientDataError:  # shorter than one window: no rest in it
+            continue
+        out += [dataclasses.replace(seg, start=seg.start + a, end=seg.end + a,
+                                    gaps=tuple((p + a, q + a) for p, q in seg.gaps)) for seg in found]
+    return out
+
+
+def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
+    """A log's still segments in their plain form (docs/rest.md), and notes on a recording in parts.
+
+    The segments are the accelerometer's (a log of other sensors alone has none), none spanning a gap
+    of the time column. A recording made of several files (one per pose, :mod:`app.io.parts`) is
+    searched file by file, so that no segment joins two files; each segment then names its file
+    (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
+    readings contradict gets a note.
+    """
+    if log.acc is None:
+        return [], []
+    unit = log.units.get("acc")
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
+    if not log.parts:
+        found = _still_between_gaps(log.acc, rate, gravity, [g.index for g in log.gaps])
+        return [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(found)], []
+    segments: list[dict] = []
+    notes: list[str] = []
+    for k, part in enumerate(log.parts):
+        cuts = [g.index - part.start for g in log.gaps if part.start < g.index < part.end]
+        found = [seg.to_dict() | {"count": seg.count} for seg in
+                 _still_between_gaps(log.acc[part.start:part.end], part.sampling_rate_hz or rate, gravity, cuts)]
+        named = pose_from_name(part.filename)
+        if not found and (short := _short_still_file(log.acc[part.start:part.end], part, gravity, log.acc)):
+            found, note = short
+            notes.append(note)
+        for plain in found:
+            plain.update(start=plain["start"] + part.start, end=plain["end"] + part.start)
+            segments.append(dict(index=len(segments), **plain, source=part.filename, part=k,
+                                 **({"pose_from_name": named} if named else {})))
+        if not found:
+            notes.append(f"{part.filename}: no still stretch found in its {part.n_samples} samples, so it gives no "
+                         "reading: record the board resting, untouched, for a few seconds in that pose")
+        elif named:
+            ups = [seg["up"] for seg in found]
+            if any(up != named for up in ups):
+                seen = ", ".join(sorted({up or "no axis within 20°" for up in ups if up != named}))
+                notes.append(f"{part.filename}: its name says {named} up, but its still readings point {seen} "
+                             f"up: the data's label is used — check the file's name, or how the board lay")
+    return segments, notes
+
+
+OVERVIEW_POINTS = 300
+"""Bins of a log's overview: enough for a plot the width of a phone."""
+
+
+def overview(log: LogData) -> dict:
+    """The norm of the accelerometer (else the magnetometer, else the gyroscope) in at most
+    :data:`OVERVIEW_POINTS` bins: the smallest and largest of each bin, so that a short move still shows,
+    for the page's plot of the log. ``t_s`` is null in a log without a rate; ``start`` counts samples;
+    ``temperature_c``, in a log that records the sensor's temperature, is each bin's mean temperature."""
+    sensor = log.channels[0] if log.acc is None and log.mag is None else ("acc" if log.acc is not None else "mag")
+    values = np.linalg.norm(np.asarray(getattr(log, sensor), dtype=float), axis=1)
+    # At most one bin per sample, so that every bin holds at least one.
+    edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
+    finite = [b[np.isfinite(b)] for b in np.split(values, edges[1:-1])]
+    rate = log.sampling_rate_hz
+    plain = {"sensor": sensor, "unit": log.units.get(sensor),
+             "t_s": None if rate is None else (edges[:-1] / rate).tolist(), "start": edges[:-1].tolist(),
+             "low": [float(f.min()) if f.size else None for f in finite],
+             "high": [float(f.max()) if f.size else None for f in finite]}
+    if log.temperature_c is not None:  # the sensor's temperature over the same bins: the page's warm-up curve
+        temps = [b[np.isfinite(b)] for b in np.split(np.asarray(log.temperature_c, dtype=float), edges[1:-1])]
+        plain["temperature_c"] = [float(b.mean()) if b.size else None for b in temps]
+    return plain
+
+
+@dataclass(frozen=True)
+class RecordingSource:
+    """A recording a request calibrates from.
+
+    Attributes
+    ----------
+    meta : dict
+        Its description (:func:`describe_log`, as stored by POST /api/v1/recordings).
+    path : pathlib.Path
+        Its file.
+    id : str or None
+        Its id when stored (the CLI calibrates files that are not): copied into the result.
+    log : LogData or None
+        The file already read, when the caller has it.
+    """
+
+    meta: dict
+    path: Path
+    id: str | None = None
+    log: LogData | None = None
+
+    def read(self, clock: str | None = None) -> LogData:
+        """The recording's samples as stored; ``clock="mag"`` reads a flight controller's log on its compass's
+        clock (app.io.formats.flight_log), which the compass methods ask for (other logs are read as stored)."""
+        flight = self.meta.get("flight")
+        if clock is not None and (flight is None or flight.get("clock", "imu") == clock):
+            clock = None
+        if self.log is not None and (clock is None or (self.log.flight and self.log.flight.clock == clock)):
+            return self.log
+        # As it was read when stored; bodies stored before read_with give only their units.
+        read_with = dict(self.meta.get("read_with") or {"units": self.meta["units"]})
+        if clock is not None:
+            read_with["clock"] = clock
+        # The caller's rate as given at the upload, so that the time column is judged again the same
+        # way (its gaps); recordings stored before read_with kept it are read at their stored rate.
+        rate = read_with.pop("sampling_rate_hz") if "sampling_rate_hz" in read_with else self.meta["sampling_rate_hz"]
+        return load_log(self.path, sampling_rate_hz=rate, name=self.meta.get("filename") or "the recording",
+                        **read_with)
+
+    @property
+    def source_fields(self) -> dict:
+        return {} if self.id is None else {"recording_id": self.id}
+
+
+def require_rate(rate: float | None, method: str) -> float:
+    """The recording's sampling rate, or a refusal naming what to give: methods over time need one."""
+    if rate is None:
+        raise CalibrationError(
+            f"method {method} needs the sensor's sampling rate, and this recording has none (no time column, and "
+            "no sampling_rate_hz was given): upload it again with sampling_rate_hz (--sampling-rate-hz), the "
+            "sensor's output data rate, or log a time column")
+    return rate
+
+
+def require_accelerometer(channels, method: str) -> None:
+    """Refuse a recording without accelerometer columns for an accelerometer method, naming the fix."""
+    if "acc" not in channels:
+        other = {"mag": "method magnetometer calibrates a magnetometer turned through all directions",
+                 "gyr": "method noise characterises a still gyroscope"}
+        raise CalibrationError(
+            f"the recording has no accelerometer columns (it has {', '.join(channels)}): method {method} needs "
+            "acc_x, acc_y, acc_z — record the accelerometer too; "
+            + "; ".join(other[c] for c in channels if c in other))

@@ -1,0 +1,54 @@
+"""Temperature: each axis's offset as a polynomial of the sensor's temperature."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from app.calibration import CalibrationError
+from app.io.log import TO_SI, LogData
+from app.workflow import calibration_body
+from app.workflows.recordings import NOMINAL_RATE_HZ, RecordingSource
+
+
+TEMPERATURE_SENSORS = ("acc", "gyr")
+
+
+def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
+    """Temperature calibration (app.calibration.temperature) of a still recording that carries the sensor's
+    temperature; accelerometers in g become m/s², gyroscopes in deg/s rad/s (the firmwares' units)."""
+    from app.calibration.temperature import calibrate_temperature
+
+    if log.temperature_c is None:
+        raise CalibrationError(
+            "the recording has no temperature: method temperature fits each axis's offset against the sensor's "
+            "temperature — give a CSV with a temp_c column (°C, one per sample, beside the readings), or a flight "
+            "controller's log (PX4 .ulg, ArduPilot .bin) that records its IMU's temperature")
+    wanted = list(sensors) if sensors else [s for s in TEMPERATURE_SENSORS if getattr(log, s) is not None]
+    missing = [s for s in wanted if getattr(log, s) is None]
+    if not wanted or missing:
+        raise CalibrationError(
+            f"the recording has no {', '.join(missing or TEMPERATURE_SENSORS)} samples (it has "
+            f"{', '.join(log.channels)}): method temperature calibrates the accelerometer and the gyroscope")
+    notes = list(log.warnings) + list(log.notes)
+    arrays = {}
+    for name in wanted:
+        unit = log.units[name]
+        if unit == "raw":
+            raise CalibrationError(
+                f"the {name} readings are counts whose scale is unknown: the firmwares' temperature parameters are "
+                "in m/s² and rad/s — give chip (--chip, e.g. mpu6050-2g,mpu6050-250dps), or the unit")
+        scale = TO_SI[name][unit]
+        arrays[name] = np.asarray(getattr(log, name), dtype=float) * scale
+    rate = log.sampling_rate_hz
+    if rate is None:
+        rate = NOMINAL_RATE_HZ
+        notes.append(f"the rests were looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate)")
+    result = calibrate_temperature(log.temperature_c, sampling_rate_hz=rate, time_s=log.time_s, **arrays)
+    return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
+
+
+def temperature(request, recording: RecordingSource) -> dict:
+    """Method ``temperature``: a still recording that carries the sensor's temperature (:func:`temperature_log`)."""
+    log = recording.read()
+    return temperature_log(log, sensors=request.sensors, device_id=request.device_id,
+                           label=request.label or recording.meta.get("filename"), **recording.source_fields)
