@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from app.calibration import CalibrationError
-from app.workflow import calibration_body
+from app.workflows.results import calibration_body
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, load_log, require_accelerometer, require_rate
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from app.calibration import CalibrationError
 from app.io.log import MAG_TO_UT, LogData
-from app.workflow import calibration_body
+from app.workflows.results import calibration_body
 from app.workflows.recordings import RecordingSource, still_segments
 
 

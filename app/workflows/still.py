@@ -20,7 +20,7 @@ from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_
 from app.calibration.errors import InsufficientDataError
 from app.calibration.trust import review
 from app.calibration.validation import as_vectors
-from app.workflow import calibration_body, holdout_metrics, pose_advice
+from app.workflows.results import calibration_body, holdout_metrics, pose_advice
 from app.workflows.compass import auto_compass
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer
