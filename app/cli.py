@@ -31,7 +31,7 @@ from app.io.formats import FORMATS, starts_like_flight_log
 from app.io.formats.units import MAG_UNITS_IN
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.parts import refuse_repeated_names
-from app.requests import ValidationError, describe_errors
+from app.requests import CUBE_PROTOCOLS, ValidationError, describe_errors
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
 from app.workflows.temperature import TEMPERATURE_SENSORS
@@ -79,7 +79,7 @@ def _parser() -> argparse.ArgumentParser:
                         "or a zip of them): one calibration, each reading naming its file")
     c.add_argument("--method", choices=CALIBRATE_METHODS, default="auto",
                    help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones")
-    c.add_argument("--protocol", choices=("cube24", "ferraris"), default="cube24", help=f"{_takers('protocol')} only")
+    c.add_argument("--protocol", choices=CUBE_PROTOCOLS, default=CUBE_PROTOCOLS[0], help=f"{_takers('protocol')} only")
     c.add_argument("--field-ut", type=opt.FIELD_UT, default=None,
                    help=f"{_takers('field_ut')}: local magnetic field magnitude in µT (magnetometer: overrides the "
                         "model's)")

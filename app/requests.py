@@ -13,7 +13,7 @@ from typing import Annotated, Any, ClassVar, Literal
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, ValidationError, model_validator
 
 from app.calibration.solvers import SOLVERS
-from app.io.log import UNITS
+from app.io.log import ACC_PHYSICAL_UNITS, UNITS
 
 Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
 Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
@@ -122,12 +122,17 @@ class SectionIn(Strict):
     end: int = Field(ge=1, description="The sample after the last one (imucal slices data.iloc[start:end]).")
 
 
+CUBE_PROTOCOLS = ("cube24", "ferraris")
+"""The cube's named protocols: Särkkä et al.'s 24 positions, and imucal's Ferraris sections (a recording's
+protocol may also be given as its rotations and ups)."""
+
+
 class CubeIn(Strict):
     """A multi-position recording of a cube (acc, gyr, optional mag): Särkkä et al.'s method."""
 
     method: Literal["cube"]
     recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
-    protocol: Literal["cube24", "ferraris"] | dict[str, Any] = Field(
+    protocol: Literal[CUBE_PROTOCOLS] | dict[str, Any] = Field(
         "cube24", description="`cube24`, `ferraris`, or {\"rotations\": [...], \"ups\": [...]}."
     )
     gravity: Gravity | None = None
@@ -149,7 +154,7 @@ class AutocalIn(Strict):
 
     method: Literal["autocal"]
     recording_id: str = Field(description="An uploaded recording (POST /api/v1/recordings).")
-    unit: Literal["m/s^2", "g"] | None = Field(None, description="Overrides the recording's accelerometer unit.")
+    unit: Literal[ACC_PHYSICAL_UNITS] | None = Field(None, description="Overrides the recording's accelerometer unit.")
     gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None

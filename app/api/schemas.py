@@ -29,6 +29,7 @@ from app.requests import (  # noqa: F401  (re-exported: the routes and tests nam
     Vec3,
 )
 from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
+from app.io.log import ACC_PHYSICAL_UNITS
 
 
 # -- calibration responses -----------------------------------------------------------------------
@@ -909,7 +910,7 @@ class SessionIn(Strict):
         "`six` (any order), `cube24` (fixed order) or `free` (still poses in any direction, 12 or more)."))
     capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
         CAPTURE_S_DEFAULT, description="Seconds captured per position.")
-    unit: Literal["m/s^2", "g"] = Field("m/s^2", description="Unit of the samples the page sends.")
+    unit: Literal[ACC_PHYSICAL_UNITS] = Field("m/s^2", description="Unit of the samples the page sends.")
     gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
@@ -959,7 +960,7 @@ class CaptureIn(Strict):
     gyr: Annotated[list[Vec3], Field(max_length=100_000)] | None = Field(
         None, description="rotationRate samples [x, y, z], one per acc sample.")
     gyr_unit: Literal["deg/s", "rad/s"] = "deg/s"
-    unit: Literal["m/s^2", "g"] | None = Field(None, description="Must be the session's unit when given.")
+    unit: Literal[ACC_PHYSICAL_UNITS] | None = Field(None, description="Must be the session's unit when given.")
     sign: SignIn = Field(default_factory=SignIn)
     position: Label | CubePosition | None = Field(
         None, description=("six: the pose the page recognised (checked against the data); cube24: the position number; "

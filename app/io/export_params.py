@@ -29,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import ExportError
+from .log import ACC_PHYSICAL_UNITS
 from .export_common import Export, accelerometer_correction, describe, only_compass
 from ..calibration.gravity import STANDARD_GRAVITY
 from .export_compass import to_ardupilot_compass, to_px4_compass
@@ -71,7 +72,7 @@ def offset_scale(body: dict, target: str) -> dict:
     correction = accelerometer_correction(body)
     M, o = correction.M, correction.o
     unit = body.get("unit")
-    if unit not in ("m/s^2", "g"):
+    if unit not in ACC_PHYSICAL_UNITS:
         raise ExportError(
             f"{target} applies its offsets and scales to readings its drivers already give in m/s², but this "
             f"calibration maps readings in counts, whose scale is unknown: upload the log again with chip (the "

@@ -21,6 +21,10 @@ UNITS: dict[str, tuple[str, ...]] = {
 }
 """Accepted units per sensor; the first is the default when neither header nor caller names one."""
 
+ACC_PHYSICAL_UNITS = ("m/s^2", "g")
+"""The accelerometer's units of a physical scale (counts, ``raw``, are not): what gravity is told in, what a
+firmware's driver gives, what a wearable's recording is auto-calibrated in."""
+
 SI_UNITS = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
 """The unit each sensor is calibrated or characterised in when its log's unit is converted (Kalibr's, the
 firmwares'); µT for the magnetometer."""

@@ -5,9 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 from app.calibration import CalibrationError
-from app.workflows.results import calibration_body
+from app.io.log import ACC_PHYSICAL_UNITS
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, load_log, require_accelerometer, require_rate
+from app.workflows.results import calibration_body
 
 
 def autocal(request, recording: RecordingSource) -> dict:
@@ -25,7 +26,7 @@ def autocal(request, recording: RecordingSource) -> dict:
         label=request.label or recording.meta.get("filename"), **recording.source_fields)
 
 
-AUTOCAL_UNITS = ("g", "m/s^2")
+AUTOCAL_UNITS = ACC_PHYSICAL_UNITS
 
 
 def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,

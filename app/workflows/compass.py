@@ -9,8 +9,8 @@ import numpy as np
 
 from app.calibration import CalibrationError
 from app.io.log import MAG_TO_UT, LogData
-from app.workflows.results import calibration_body
 from app.workflows.recordings import RecordingSource, still_segments
+from app.workflows.results import calibration_body
 
 
 def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:

@@ -7,9 +7,9 @@ import dataclasses
 
 from app.calibration import CalibrationError
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, LogData
-from app.workflows.results import calibration_body
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
+from app.workflows.results import calibration_body
 
 
 def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None, sections=None):

@@ -6,8 +6,8 @@ import numpy as np
 
 from app.calibration import CalibrationError
 from app.io.log import SI_UNITS, TO_SI, LogData
-from app.workflows.results import calibration_body
 from app.workflows.recordings import RecordingSource, require_rate
+from app.workflows.results import calibration_body
 
 
 NOISE_SENSORS = ("acc", "gyr", "mag")

@@ -20,10 +20,11 @@ from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_
 from app.calibration.errors import InsufficientDataError
 from app.calibration.trust import review
 from app.calibration.validation import as_vectors
-from app.workflows.results import calibration_body, holdout_metrics, pose_advice
+from app.io.log import ACC_PHYSICAL_UNITS
 from app.workflows.compass import auto_compass
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer
+from app.workflows.results import calibration_body, holdout_metrics, pose_advice
 
 
 @dataclass(frozen=True)
@@ -269,10 +270,10 @@ def inline_unit(request, notes: list[str]) -> str:
 
     unit = request.unit
     means = [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
-    if unit not in ("g", "m/s^2") or not means:
+    if unit not in ACC_PHYSICAL_UNITS or not means:
         return unit
     inferred = infer_acc_unit(np.asarray(means, dtype=float))
-    if inferred in ("g", "m/s^2") and inferred != unit:
+    if inferred in ACC_PHYSICAL_UNITS and inferred != unit:
         norm = float(np.median(np.linalg.norm(np.asarray(means, dtype=float), axis=1)))
         said = "the request's unit said" if "unit" in request.model_fields_set else "the request gave no unit, so"
         notes.append(f"{said} {unit}, but its readings' median norm is {norm:.3g}, about 1 g in {inferred}: "

@@ -6,8 +6,8 @@ import numpy as np
 
 from app.calibration import CalibrationError
 from app.io.log import TO_SI, LogData
-from app.workflows.results import calibration_body
 from app.workflows.recordings import NOMINAL_RATE_HZ, RecordingSource
+from app.workflows.results import calibration_body
 
 
 TEMPERATURE_SENSORS = ("acc", "gyr")

@@ -17,7 +17,7 @@ import dataclasses
 import numpy as np
 
 from ..errors import LogFormatError
-from ..log import LogData
+from ..log import ACC_PHYSICAL_UNITS, LogData
 from ...calibration.gravity import STANDARD_GRAVITY
 from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, SENSOR_WORDS, Chip
 
@@ -195,7 +195,7 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
         if not (np.isfinite(lsb) and lsb > 0):
             raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb}")
         _refuse_scale_and_unit("acc", claim, what)
-        if inferred in ("g", "m/s^2"):
+        if inferred in ACC_PHYSICAL_UNITS:
             raise LogFormatError(f"{what} converts counts (LSB) into g, but the accelerometer's readings are "
                                  f"already in {inferred} (they rest at a median norm of {norm:.3g}): leave "
                                  f"{what.split('=')[0]} "
@@ -211,7 +211,7 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
                    "(its datasheet's LSB per g)"))
         notes.append(f"accelerometer counts divided by {lsb:g} LSB per g ({what}) into g")
         return acc / lsb, "g"
-    if inferred in ("g", "m/s^2"):
+    if inferred in ACC_PHYSICAL_UNITS:
         if claim.unit is not None and claim.unit != inferred:
             warns.append(f"{claim.words()} for the accelerometer, but its readings rest at a median norm of "
                          f"{norm:.3g}, about 1 g in {inferred}: calibrated in {inferred}")
@@ -320,7 +320,7 @@ def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, 
 
 def refuse_linear_acceleration(acc: np.ndarray, unit: str, name: str, hint: str = "") -> None:
     """Refuse a log whose readings hold no gravity (a linear-acceleration / user-acceleration export)."""
-    if unit not in ("g", "m/s^2") or len(acc) == 0:
+    if unit not in ACC_PHYSICAL_UNITS or len(acc) == 0:
         return
     g = 1.0 if unit == "g" else STANDARD_GRAVITY
     norm = median_norm(acc)
