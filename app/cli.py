@@ -31,7 +31,7 @@ from app.io.formats import FORMATS, starts_like_flight_log
 from app.io.formats.units import MAG_UNITS_IN
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.parts import refuse_repeated_names
-from app.requests import CUBE_PROTOCOLS, ValidationError, describe_errors
+from app.requests import CUBE_PROTOCOLS, ValidationError
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
 from app.workflows.temperature import TEMPERATURE_SENSORS
@@ -779,7 +779,7 @@ def _run(argv: list[str] | None) -> int:
         print(f"trical: error: {exc}", file=sys.stderr)
         return 2
     except ValidationError as exc:
-        print(f"trical: error: {describe_errors(exc.errors())}", file=sys.stderr)
+        print(f"trical: error: {methods.describe_errors(exc.errors())}", file=sys.stderr)
         return 2
     except NotFoundError as exc:
         print(f"trical: error: {exc.args[0]}", file=sys.stderr)

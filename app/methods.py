@@ -133,7 +133,7 @@ def parse_calibration_request(data: dict):
     Raises
     ------
     pydantic.ValidationError
-        Described in words by :func:`app.requests.describe_errors`.
+        Described in words by :func:`describe_errors`.
     """
     return CALIBRATION_REQUEST.validate_python(data)
 
@@ -172,3 +172,39 @@ def export(body: dict, fmt: str) -> Export:
         raise ExportError(f"format {fmt!r} does not fit this calibration, {method.kind} (method {method.name}): "
                           f"{fmt} writes {' or '.join(kinds)}; use one of {', '.join(method.formats)}")
     return export_calibration(body, fmt)
+
+
+# -- a request that fails validation, in words (the API's 422s and the CLI's errors) ---------------------------
+
+
+def _location(loc) -> str:
+    parts: list[str] = []
+    for item in loc:
+        if item in ("body", "query", "path", "form") and not parts:
+            continue
+        if item in METHODS and len(parts) == 0:
+            continue  # the discriminator's branch, not a field
+        if isinstance(item, int):
+            parts.append(f"[{item}]")
+        else:
+            parts.append(("." if parts else "") + str(item))
+    return "".join(parts) or "body"
+
+
+def describe_errors(errors: list[dict]) -> str:
+    """One readable sentence per problem, e.g. ``readings[2].up: Input should be '+x', ...``."""
+    messages = []
+    for err in errors:
+        if err.get("type") == "json_invalid":
+            messages.append(f"the body is not valid JSON ({err.get('ctx', {}).get('error', 'parse error')})")
+            continue
+        if err.get("type") == "missing" and tuple(err.get("loc", ())) == ("body",):
+            messages.append("the request needs a JSON body")
+            continue
+        if err.get("type") == "union_tag_not_found":
+            messages.append(f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
+                            f"required: one of {', '.join(METHODS)}")
+            continue
+        msg = err.get("msg", "invalid").removeprefix("Value error, ")
+        messages.append(f"{_location(err.get('loc', ()))}: {msg}")
+    return "; ".join(dict.fromkeys(messages)) or "invalid request"

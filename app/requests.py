@@ -222,41 +222,4 @@ class MagnetometerIn(Strict):
         return self
 
 
-def _location(loc) -> str:
-    from app.methods import METHODS  # the table imports these models
-
-    parts: list[str] = []
-    for item in loc:
-        if item in ("body", "query", "path", "form") and not parts:
-            continue
-        if item in METHODS and len(parts) == 0:
-            continue  # the discriminator's branch, not a field
-        if isinstance(item, int):
-            parts.append(f"[{item}]")
-        else:
-            parts.append(("." if parts else "") + str(item))
-    return "".join(parts) or "body"
-
-
-def describe_errors(errors: list[dict]) -> str:
-    """One readable sentence per problem, e.g. ``readings[2].up: Input should be '+x', ...``."""
-    messages = []
-    for err in errors:
-        if err.get("type") == "json_invalid":
-            messages.append(f"the body is not valid JSON ({err.get('ctx', {}).get('error', 'parse error')})")
-            continue
-        if err.get("type") == "missing" and tuple(err.get("loc", ())) == ("body",):
-            messages.append("the request needs a JSON body")
-            continue
-        if err.get("type") == "union_tag_not_found":
-            from app.methods import METHODS  # the table imports these models
-
-            messages.append(f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
-                            f"required: one of {', '.join(METHODS)}")
-            continue
-        msg = err.get("msg", "invalid").removeprefix("Value error, ")
-        messages.append(f"{_location(err.get('loc', ()))}: {msg}")
-    return "; ".join(dict.fromkeys(messages)) or "invalid request"
-
-
-__all__ = ["ValidationError", "describe_errors"]
+__all__ = ["ValidationError"]

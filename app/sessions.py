@@ -21,6 +21,7 @@ from app.calibration import CalibrationError
 from app.protocols import SESSION_PROTOCOLS, SessionProtocol
 from app.store import ConflictError
 
+
 @dataclass(frozen=True)
 class Session:
     """A wizard session: its protocol (the strategy), the positions it asks for, its captures' summaries in the

@@ -38,7 +38,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
-from app.requests import describe_errors
+from app.methods import describe_errors
 from app.store import ConflictError, NotFoundError
 
 log = logging.getLogger("trical")
