@@ -62,7 +62,18 @@ def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="trical", description="Calibrate accelerometers of phones and IMU boards.")
     p.add_argument("--version", action="version", version=f"trical {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
+    _add_serve(sub)
+    _add_calibrate(sub)
+    _add_autocal(sub)
+    _add_noise(sub)
+    _add_temperature(sub)
+    _add_capture(sub)
+    _add_export(sub)
+    return p
 
+
+def _add_serve(sub) -> None:
+    """``trical serve``: the API and the pages."""
     s = sub.add_parser("serve", help="serve the API and the pages")
     s.add_argument("--host", type=opt.text("an address to listen on"), default=None,
                    help="address to listen on (default: HOST, else 127.0.0.1, or 0.0.0.0 with --https)")
@@ -73,6 +84,9 @@ def _parser() -> argparse.ArgumentParser:
     s.add_argument("--cert", type=opt.input_path("a PEM certificate"), default=None, metavar="FILE", help="PEM certificate to serve (implies --https)")
     s.add_argument("--key", type=opt.input_path("the PEM private key of --cert"), default=None, metavar="FILE", help="PEM private key of --cert")
 
+
+def _add_calibrate(sub) -> None:
+    """``trical calibrate``: a log of still orientations (or a cube, a compass turn), by the method table's methods."""
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument("log", type=opt.input_path("a log file"), nargs="+",
                    help="log: CSV with a header row, a phyphox / Sensor Logger zip, or several files (one per pose, "
@@ -106,6 +120,9 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
 
+
+def _add_autocal(sub) -> None:
+    """``trical autocal``: a long recording, or a folder of them."""
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
     a.add_argument("path", type=opt.input_path("a recording or a folder of them"), help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
     a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
@@ -122,6 +139,9 @@ def _parser() -> argparse.ArgumentParser:
     a.add_argument("--store", action="store_true", help="store the calibration(s) in the database")
     a.add_argument("--json", action="store_true", help="print the API's JSON (a list for a folder)")
 
+
+def _add_noise(sub) -> None:
+    """``trical noise``: a still recording's Allan deviation."""
     n = sub.add_parser("noise", help="noise density, random walk and bias instability of a still recording (Allan deviation)")
     n.add_argument("path", type=opt.input_path("a still recording"), help=".npy (N×3 with --sensor, or N×4 with time first), "
                    "Parquet, CSV or any log format trical reads")
@@ -136,6 +156,9 @@ def _parser() -> argparse.ArgumentParser:
     n.add_argument("--store", action="store_true", help="store the characterisation in the database")
     n.add_argument("--json", action="store_true", help="print the API's JSON")
 
+
+def _add_temperature(sub) -> None:
+    """``trical temperature``: the offsets' drift with temperature."""
     t = sub.add_parser("temperature", help="each axis's offset as a polynomial of temperature, from a still recording "
                                            "while the board warms up (a temp_c column, or a flight log)")
     t.add_argument("path", type=opt.input_path("a still recording with the sensor's temperature"),
@@ -152,6 +175,9 @@ def _parser() -> argparse.ArgumentParser:
                                                         "ID --format px4 or ardupilot)")
     t.add_argument("--json", action="store_true", help="print the API's JSON")
 
+
+def _add_capture(sub) -> None:
+    """``trical capture``: the guided calibration of a board on a serial port."""
     b = sub.add_parser("capture", help="the guided calibration of a board on a serial port (pyserial): capture, "
                                        "log, calibrate, verdict")
     b.add_argument("port", type=opt.text("a serial port"), help="the board's serial port, e.g. /dev/ttyACM0 or COM3")
@@ -174,11 +200,13 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     b.add_argument("--json", action="store_true", help="print the API's JSON (the steps go to stderr)")
 
+
+def _add_export(sub) -> None:
+    """``trical export``: a stored calibration, in one of the formats."""
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
     e.add_argument("--format", choices=methods.ALL_FORMATS, default="json")
     e.add_argument("--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)")
-    return p
 
 
 def _read_options(parser: argparse.ArgumentParser) -> None:
