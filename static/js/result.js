@@ -1,4 +1,4 @@
-// The result of a wizard session: calibrated norms and their chart (pure, no DOM).
+// The result of a calibration: its norms per position and their chart, advice and intervals in words (pure, no DOM).
 
 import { norm } from "./motion.js";
 
@@ -32,6 +32,12 @@ export function triangularAsAffine(model) {
 export function adviceText(a) {
   return a.gain === null || a.gain === undefined ? a.words
     : `${a.words} — shrinks the parameters' uncertainty (generalized variance) by ${Math.round(100 * a.gain)} %`;
+}
+
+// One row of the norm chart: a reading's position, |m| raw and |a| calibrated, both vectors as the
+// server gives them (the reading's mean and its correction, M (m − o)): the page does no model maths.
+export function normRow(position, mean, calibrated) {
+  return { position, raw: norm(mean), calibrated: norm(calibrated) };
 }
 
 // One row per captured position: {position, raw: |m|, calibrated: |X⁻¹(m − y)|}.
