@@ -45,7 +45,7 @@ function modelTables(cal) {
 }
 
 // A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's).
-const NOISE_TERMS = [["noise_density", "noise density"], ["random_walk", "random walk"],
+export const NOISE_TERMS = [["noise_density", "noise density"], ["random_walk", "random walk"],
   ["bias_instability", "bias instability"], ["bias", "bias"]];
 
 function noiseTables(cal) {

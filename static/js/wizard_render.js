@@ -1,4 +1,5 @@
-// The render loop the wizard pages share (wizard.js: six, cube24, free; wizard_compass.js: the compass):
+// The render loop the wizard pages share (wizard.js: six, cube24, free; wizard_compass.js: the compass;
+// the noise page, wizard_noise.js, its files and live region):
 // the state's view (wizard_state.js) onto what every wizard page has — the result's shell (verdict,
 // headline, checks, notes, the correction, the figures), its norms per position, its files, Start over,
 // the live region and the focus. What a flow draws of its own comes from its view's hooks (`view`:
@@ -47,7 +48,8 @@ function renderNorms(s, rendered) {
   }));
 }
 
-function renderDownloads(v, rendered) {
+// The result's files once fetched ("Use this calibration" and every format).
+export function renderDownloads(v, rendered) {
   if (!v.downloads || v.downloads === rendered.downloads) return;
   rendered.downloads = v.downloads;
   showUse(v.calibration, v.downloads);
@@ -62,6 +64,11 @@ export function renderShared(s, rendered, view) {
   renderDownloads(v, rendered);
   setHidden($("#start-over"), !v.startOver || v.askStartOver);
   setHidden($("#start-over-ask"), !(v.startOver && v.askStartOver));
+  renderVoice(v, rendered);
+}
+
+// What the live region says (again, when the same words are said again), then the focus, once.
+export function renderVoice(v, rendered) {
   if (v.announcement.seq !== rendered.seq) {
     rendered.seq = v.announcement.seq;
     $("#status").textContent = v.announcement.text;

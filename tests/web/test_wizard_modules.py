@@ -25,6 +25,8 @@ def test_only_the_render_loops_and_the_views_touch_the_page():
     for name in ("wizard.js", "wizard_compass.js"):
         text = (JS / name).read_text()
         assert "renderShared(" in text and "newState(" in text, name
+    noise = (JS / "wizard_noise.js").read_text()  # its own cards, the same state, files and live region
+    assert "newState(" in noise and "renderDownloads(" in noise and "renderVoice(" in noise
 
 
 # The branch sites of bench/code_shape.py: a flow flag, or a method, model type, protocol or flow compared
@@ -33,7 +35,7 @@ BRANCH = re.compile(r"if \((cube|free)\)|(type|method|protocol|flow) !?==+ [\"']
 
 
 def test_no_page_module_branches_on_a_flow_or_a_kind_of_result():
-    for name in ("wizard.js", "wizard_render.js", "wizard_compass.js", "result_view.js", "correction_view.js",
+    for name in ("wizard.js", "wizard_render.js", "wizard_compass.js", "wizard_noise.js", "result_view.js", "correction_view.js",
                  "use_calibration.js", "result_kinds.js", "result.js"):
         text = (JS / name).read_text()
         assert not BRANCH.findall(text), (name, BRANCH.findall(text))
