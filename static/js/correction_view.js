@@ -2,7 +2,8 @@
 // correction: the exporters' M and o), then how the model as fitted relates to it, so that the
 // numbers of the details, the JSON and the C header are the same numbers.
 import { getUse } from "./api.js";
-import { formatNumber } from "./readings.js";
+import { fillMatrix, column } from "./figures.js";
+import { kindOf } from "./result_kinds.js";
 import { TABLES } from "./tables.js";
 import { el } from "./dom.js";
 
@@ -22,18 +23,14 @@ const AS_FITTED = {
 
 function matrix(id, rows) {
   const table = el("table", null, { class: "matrix", id });
-  table.append(...rows.map((row) => {
-    const tr = el("tr");
-    row.forEach((v) => tr.append(el("td", formatNumber(v))));
-    return tr;
-  }));
+  fillMatrix(table, rows);
   return table;
 }
 
 // The correction of `cal` into `box` (read with `token`); the relation line into `fittedNote` when given.
 export async function showCorrection(box, cal, token = null, fittedNote = null) {
   if (fittedNote) fittedNote.textContent = AS_FITTED[cal.model.type] || "";
-  if (cal.method === "noise") { box.replaceChildren(); box.hidden = true; return; }
+  if (!kindOf(cal).correction) { box.replaceChildren(); box.hidden = true; return; }
   let use;
   try { use = await getUse(cal.id, token); } catch (err) {
     box.replaceChildren(el("p", `The correction could not be read: ${err.message}`, { class: "bad" }));
@@ -47,7 +44,7 @@ export async function showCorrection(box, cal, token = null, fittedNote = null) 
     const mBox = el("div", null, { class: "scroll", tabindex: "0", role: "region", "aria-label": `M of the ${sensor}` });
     mBox.append(el("h4", `M (${unitOut} per ${unitIn})`), matrix(`correction-${sensor}-M`, c.M));
     const oBox = el("div", null, { class: "scroll", tabindex: "0", role: "region", "aria-label": `o of the ${sensor}` });
-    oBox.append(el("h4", `o (${unitIn})`), matrix(`correction-${sensor}-o`, c.o.map((v) => [v])));
+    oBox.append(el("h4", `o (${unitIn})`), matrix(`correction-${sensor}-o`, column(c.o)));
     row.append(mBox, oBox);
     if (Object.keys(use.corrections).length > 1) parts.push(el("h4", TABLES.sensorWords[sensor] || sensor));
     parts.push(row);

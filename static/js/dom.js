@@ -1,5 +1,6 @@
 // The page's small DOM helpers, one copy for every module: a selector and an element with its text and
-// attributes (text is set as text, never parsed as HTML).
+// attributes (text is set as text, never parsed as HTML), and the writes a render loop makes on every
+// frame, which touch the page only when the value changed.
 
 export const $ = (sel) => document.querySelector(sel);
 
@@ -12,3 +13,6 @@ export function el(tag, text, attrs = {}) {
 
 // An element with its text only (a table cell, a list item).
 export function cell(tag, text) { return el(tag, text); }
+
+export function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
+export function setHidden(node, hidden) { if (node.hidden !== hidden) node.hidden = hidden; }

@@ -2,6 +2,8 @@
 // value with its unit, and one line saying what it is; never the stored key. Shared by every result.
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
+import { withInterval } from "./result.js";
+import { el } from "./dom.js";
 
 const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", "deg/s": "°/s", "rad/s": "rad/s", g: "g" };
 const SUFFIX_UNITS = [["_mg", "mg"], ["_ut", "µT"], ["_deg", "°"], ["_hz", "Hz"], ["_s", "s"], ["_pct", "%"]];
@@ -65,3 +67,15 @@ export function pageWords(text) {
   return String(text).replace(/\b(latitude_deg|longitude_deg|field_ut|height_m|sampling_rate_hz|lsb_per_g|acc_unit|gyr_unit|mag_unit)\b/g,
     (key) => FIELD_WORDS[key]);
 }
+
+// A matrix (rows of numbers) into a table, each number with its 95 % half-width when given.
+export function fillMatrix(table, rows, halfWidths = null, digits = 6) {
+  table.replaceChildren(...rows.map((row, i) => {
+    const tr = el("tr");
+    row.forEach((v, j) => tr.append(el("td", withInterval(v, halfWidths?.[i]?.[j], (x) => formatNumber(x, digits)))));
+    return tr;
+  }));
+}
+
+// A vector as the one-column rows of a matrix.
+export const column = (v) => (v ? v.map((x) => [x]) : null);

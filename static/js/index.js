@@ -72,7 +72,9 @@ function withDevice(payload) {
   return device ? { ...payload, device_id: device } : payload;
 }
 
-async function calibrate(payload, doing, refused, where) {
+// `stillHint`: a refusal for too few poses points to the noise characterisation (an automatic choice of
+// the model, which a still recording cannot feed).
+async function calibrate(payload, doing, refused, where, stillHint = false) {
   const mine = ++action;
   note(where, doing);
   try {
@@ -82,8 +84,7 @@ async function calibrate(payload, doing, refused, where) {
     showResult(cal);
   } catch (err) {
     if (mine !== action) return;
-    const still = err.code === "insufficient_data" && payload.method === "auto" && where === "#segments-msg"
-      ? " A still recording? Characterise its noise below." : "";
+    const still = err.code === "insufficient_data" && stillHint ? " A still recording? Characterise its noise below." : "";
     note(where, `${refused}: ${err.message.replace(/\.$/, "")}.${still}`, true);
   }
 }
@@ -191,7 +192,7 @@ async function upload(data) {
   if (!showFlightLog(rec)) showUnits(rec);
   showSegments(rec);
   await calibrate({ method: "auto", recording_id: rec.id }, $("#segments-msg").textContent,
-    "Not calibrated", "#segments-msg");
+    "Not calibrated", "#segments-msg", true);
 }
 
 function uploadData() {
@@ -266,7 +267,7 @@ $("#units-go").addEventListener("click", () => {
 });
 
 $("#calibrate-recording").addEventListener("click", () => calibrate({ method: "auto", recording_id: recordingId },
-  "Calibrating…", "Calibration refused", "#segments-msg"));
+  "Calibrating…", "Calibration refused", "#segments-msg", true));
 
 $("#noise-recording").addEventListener("click", () => calibrate({ method: "noise", recording_id: recordingId },
   "Computing the Allan deviation…", "Noise characterisation refused", "#segments-msg"));

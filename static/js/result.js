@@ -1,32 +1,6 @@
-// The result of a wizard session: calibrated norms and their chart (pure, no DOM).
+// The result of a calibration: its norms per position and their chart, advice and intervals in words (pure, no DOM).
 
 import { norm } from "./motion.js";
-
-export function invert3(m) {
-  const [[a, b, c], [d, e, f], [g, h, i]] = m;
-  const A = e * i - f * h;
-  const B = -(d * i - f * g);
-  const C = d * h - e * g;
-  const det = a * A + b * B + c * C;
-  if (!Number.isFinite(det) || det === 0) throw new Error("X is singular");
-  return [
-    [A / det, -(b * i - c * h) / det, (b * f - c * e) / det],
-    [B / det, (a * i - c * g) / det, -(a * f - c * d) / det],
-    [C / det, -(a * h - b * g) / det, (a * e - b * d) / det],
-  ];
-}
-
-// Affine model (Georgieva et al., Approach 2): m = X a + y, so a = X⁻¹ (m − y).
-export function calibrate(model, m) {
-  const Xi = invert3(model.X);
-  const d = [m[0] - model.y[0], m[1] - model.y[1], m[2] - model.y[2]];
-  return Xi.map((row) => row[0] * d[0] + row[1] * d[1] + row[2] * d[2]);
-}
-
-// Farago et al.'s a = K (m + o) in the form m = X a + y: X = K⁻¹, y = −o.
-export function triangularAsAffine(model) {
-  return { X: invert3(model.K), y: model.o.map((v) => -v) };
-}
 
 // One advised pose in words, with what it would gain.
 export function adviceText(a) {
@@ -34,9 +8,10 @@ export function adviceText(a) {
     : `${a.words} — shrinks the parameters' uncertainty (generalized variance) by ${Math.round(100 * a.gain)} %`;
 }
 
-// One row per captured position: {position, raw: |m|, calibrated: |X⁻¹(m − y)|}.
-export function normRows(model, captures) {
-  return captures.map((c) => ({ position: c.position, raw: norm(c.mean), calibrated: norm(calibrate(model, c.mean)) }));
+// One row of the norm chart: a reading's position, |m| raw and |a| calibrated, both vectors as the
+// server gives them (the reading's mean and its correction, M (m − o)): the page does no model maths.
+export function normRow(position, mean, calibrated) {
+  return { position, raw: norm(mean), calibrated: norm(calibrated) };
 }
 
 // A dot chart of |m| − g (hollow, raw) and |a| − g (filled, calibrated) per position, in % of g.

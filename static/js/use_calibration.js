@@ -4,6 +4,7 @@
 // Shared by the start page, the wizard and the compass page (templates/_use.html).
 
 import { fetchExport, getUse } from "./api.js";
+import { kindOf } from "./result_kinds.js";
 import { TABLES } from "./tables.js";
 import { $, el } from "./dom.js";
 
@@ -11,9 +12,6 @@ const REMEMBER = "trical.use";
 let blobUrls = [];
 
 
-// The kind of result: a correction of a sensor, a noise characterisation, or a temperature calibration.
-function group(cal) { return cal.method === "noise" || cal.method === "temperature" ? cal.method : "calibration"; }
-const FORMATS = { calibration: "formats", noise: "noiseFormats", temperature: "temperatureFormats" };
 
 // The verdict card; returns the verdict (every calibration the server returns carries one).
 export function showVerdict(cal) {
@@ -34,9 +32,10 @@ export async function fetchDownloads(cal, token = null) {
   blobUrls.forEach((u) => URL.revokeObjectURL(u));
   blobUrls = [];
   if (!cal.verdict.apply) return [];
-  const names = TABLES.uses[FORMATS[group(cal)]];
+  const kind = kindOf(cal);
+  const names = TABLES.uses[kind.formats];
   // The paste-ready lines of each use (app/io/snippets.py): a correction's only.
-  const snippets = group(cal) !== "calibration" ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
+  const snippets = !kind.snippets ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
   const downloads = await Promise.all(names.map(async ([key, name]) => {
     try {
       const { blob, filename } = await fetchExport(cal.id, key, token);
@@ -79,7 +78,7 @@ export function showUse(cal, downloads) {
     list.replaceChildren();
     return;
   }
-  const kind = group(cal);
+  const kind = kindOf(cal).uses;
   const uses = TABLES.uses[kind];
   const select = $("#use-with");
   if (select.dataset.kind !== kind) {

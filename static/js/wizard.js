@@ -1,26 +1,27 @@
-// The wizard page: reads the server's tables, picks the flow by protocol (flow_six.js, flow_cube.js),
-// owns the one state object (wizard_state.js) and the one render(state) that writes the DOM. The
-// flows change the state and call the server; only this module touches the page.
+// The wizard page: reads the server's tables, looks the flow up once by protocol (FLOWS: flow_six.js,
+// flow_cube.js, flow_free.js, each with its view's render hooks), owns the one state object
+// (wizard_state.js) and the one render(state) that writes the DOM. The flows change the state and call
+// the server; only render and the views' hooks it calls touch the page.
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
-import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
-import { describePose, nextPose, poseSvg, setDevice, shortPose } from "./poses.js";
+import { describePose, poseSvg, setDevice, shortPose } from "./poses.js";
 import { BoardPanel } from "./board_panel.js";
-import { showCorrection } from "./correction_view.js";
-import { fillFigures } from "./figures.js";
-import { formatNumber } from "./readings.js";
-import { adviceText, gyroBiasText, normChartSvg, normRows, triangularAsAffine, withInterval } from "./result.js";
-import { sphereSvg } from "./sphere.js";
+import { adviceText, gyroBiasText } from "./result.js";
+import { kindOf } from "./result_kinds.js";
 import { cue, unlockCues } from "./cues.js";
-import { fetchDownloads, showUse, showVerdict } from "./use_calibration.js";
+import { fetchDownloads } from "./use_calibration.js";
 import { offerSend } from "./send.js";
 import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
-import { announce, instruct, newState } from "./wizard_state.js";
-import { donePoses, sixFlow } from "./flow_six.js";
-import { capturedCount, cubeFlow, nextPosition } from "./flow_cube.js";
-import { canFinish, coveredDirections, freeFlow, poseCount, progressOf } from "./flow_free.js";
-import { $, el } from "./dom.js";
+import { announce, instruct, newState, showResult } from "./wizard_state.js";
+import { newRendered, renderShared } from "./wizard_render.js";
+import { sixFlow } from "./flow_six.js";
+import { cubeFlow } from "./flow_cube.js";
+import { freeFlow } from "./flow_free.js";
+import { sixView } from "./flow_six_view.js";
+import { cubeView } from "./flow_cube_view.js";
+import { freeView } from "./flow_free_view.js";
+import { $, el, setHidden, setText } from "./dom.js";
 
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
 const root = $("#wizard");
@@ -30,18 +31,15 @@ const state = newState({
   protocol: root.dataset.protocol,
   captureS: Number(root.dataset.captureS),
 });
-const cube = state.protocol === "cube24";
-const free = state.protocol === "free";
-const flow = cube ? cubeFlow : free ? freeFlow : sixFlow;
+// Each protocol's flow (its steps on the state and its server calls) and its view (its render hooks).
+const FLOWS = { six: [sixFlow, sixView], cube24: [cubeFlow, cubeView], free: [freeFlow, freeView] };
+const [flow, view] = FLOWS[state.protocol];
 flow.init(state);
 let noMotionTimer = null;
 
 // --- rendering: the state onto the page --------------------------------------------------------
 
-
-// Writes only what changed: render runs on every motion sample.
-function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
-function setHidden(node, hidden) { if (node.hidden !== hidden) node.hidden = hidden; }
+// render runs on every motion sample: it writes only what changed (dom.js's setText, setHidden).
 
 const uploadLink = (text = "upload a log instead") => el("a", text, { href: "/" });
 
@@ -86,8 +84,7 @@ const PROBLEMS = {
   },
 };
 
-const rendered = { seq: 0, problem: null, turnAlert: null, calibration: null, downloads: null, resumePic: null,
-  figures: {}, lastLive: 0, sphere: null };
+const rendered = { ...newRendered(), problem: null, lastLive: 0 };
 
 function render(s) {
   const v = s.view;
@@ -97,32 +94,17 @@ function render(s) {
   setText($("#start-btn"), v.startLabel);
   if (v.resume !== null) setText($("#resume"), v.resume);
   setHidden($("#resume"), v.resume === null);
-  if (v.resumePic !== rendered.resumePic && v.resumePic !== null) $("#resume-pic").innerHTML = cubeSvg(v.resumePic);
-  rendered.resumePic = v.resumePic;
+  view.start(s);
   setHidden($("#resume-pic"), v.resumePic === null);
   renderProblem(v);
   setHidden($("#key-box"), !v.keyBox);
   setHidden($("#capture"), !v.capture);
-  if (cube) renderCube(s);
-  else if (free) renderFree(s);
-  else renderPoses(s);
+  view.capture(s);
   setText($("#instruction"), v.instruction);
   setText($("#instruction-code"), v.instructionCode || "");
   setHidden($("#instruction-code"), !v.instructionCode);
   renderLive(s);
-  setHidden($("#result"), !v.result);
-  renderResult(s);
-  renderDownloads(v);
-  setHidden($("#start-over"), !v.startOver || v.askStartOver);
-  setHidden($("#start-over-ask"), !(v.startOver && v.askStartOver));
-  if (v.announcement.seq !== rendered.seq) {
-    rendered.seq = v.announcement.seq;
-    $("#status").textContent = v.announcement.text;
-  }
-  if (v.focus) {
-    $(v.focus).focus();
-    v.focus = null;
-  }
+  renderShared(s, rendered, hooks);
 }
 
 function renderProblem(v) {
@@ -133,104 +115,6 @@ function renderProblem(v) {
   }
   rendered.problem = v.problem;
   setHidden(box, !v.problem);
-}
-
-function renderPoses(s) {
-  const done = new Set(donePoses(s));
-  for (const li of document.querySelectorAll("#poses li")) {
-    const pose = li.dataset.pose;
-    let shown = done.has(pose) ? "done" : "todo";
-    if (s.machine && s.machine.redo.has(pose)) shown = "redo";
-    if (li.dataset.state !== shown) li.dataset.state = shown;
-    li.classList.toggle("current", pose === s.view.current);
-    setText(li.querySelector(".pose-state"), { done: "done ✓", todo: "to do", redo: "redo" }[shown]);
-    setHidden(li.querySelector(".redo"), shown !== "done");
-  }
-}
-
-// The free flow: the sphere of directions covered and advised, the count, the advice in words, Finish.
-function renderFree(s) {
-  const progress = progressOf(s);
-  const covered = coveredDirections(s);
-  const advice = progress ? progress.advice : [];
-  const current = s.free.current;
-  const key = JSON.stringify([covered.length, advice.map((a) => a.up),
-    current && current.map((v) => Math.round(v * 20))]); // redraw when the live direction moves ~3°
-  if (rendered.sphere !== key) {
-    rendered.sphere = key;
-    $("#sphere").innerHTML = sphereSvg({ covered, advice: advice.map((a) => a.up), current });
-  }
-  const n = poseCount(s);
-  const count = $("#free-count");
-  setText(count, progress ? progress.message : "No pose captured yet.");
-  if (count.dataset.count !== String(n)) count.dataset.count = String(n);
-  const bar = $("#free-progress");
-  bar.max = progress ? progress.target_poses : 12;
-  if (bar.value !== Math.min(n, bar.max)) bar.value = Math.min(n, bar.max);
-  const list = $("#free-advice");
-  const words = advice.map((a) => a.words).join("|");
-  if (list.dataset.words !== words) {
-    list.dataset.words = words;
-    list.replaceChildren(...advice.map((a) => el("li", a.words)));
-  }
-  const finish = $("#free-finish");
-  const fitFrom = progress ? progress.fit_from : 10;
-  if (finish.disabled !== !canFinish(s)) finish.disabled = !canFinish(s);
-  setText(finish, canFinish(s) ? "Finish now" : `Finish (from ${fitFrom} poses)`);
-}
-
-function figure(box, k, turn, caption) {
-  const key = `${k} ${turn}`;
-  if (rendered.figures[box.id] !== key) {
-    box.querySelector(".cube-pic").innerHTML = cubeSvg(k, { turn });
-    rendered.figures[box.id] = key;
-  }
-  setText(box.querySelector("figcaption"), caption);
-}
-
-function renderCube(s) {
-  const { redoing, resumed, log } = s.cube;
-  const n = capturedCount(s);
-  const k = nextPosition(s);
-  setText($("#capture-h"), redoing ? `Redo position ${k} of ${CUBE_POSITIONS}` : `Position ${k} of ${CUBE_POSITIONS}`);
-  if (k >= 2) {
-    const { label, words } = turnInto(k);
-    figure($("#cube-turn"), k - 1, label, `From position ${k - 1}: ${words}.`);
-  } else {
-    figure($("#cube-turn"), 1, null, "Start: screen (sensor z) up, the phone's x axis along the jig.");
-  }
-  figure($("#cube-target"), k, null, `Position ${k}: sensor ${upOf(k)} up.`);
-  setText($("#cube-count"), `${n} of ${CUBE_POSITIONS} positions captured`);
-  if ($("#cube-count").dataset.captured !== String(n)) $("#cube-count").dataset.captured = String(n);
-  if ($("#cube-progress").value !== n) $("#cube-progress").value = n;
-  $("#cube-row").querySelectorAll("li").forEach((li, i) => {
-    const state = i < n ? "done" : i === n ? "current" : "todo";
-    if (li.dataset.state !== state) li.dataset.state = state;
-  });
-  const redo = $("#redo-last");
-  setHidden(redo, n === 0 || redoing);
-  setText(redo, `Redo position ${n}`);
-  const hint = $("#redo-hint");
-  setHidden(hint, !(resumed && n >= 2 && !log?.ends.has(n - 1) && !redoing));
-  setText(hint, `After a reload, the page no longer has the turn into position ${n}: to redo it, put the `
-    + `cube back in position ${n - 1} first, then press Redo and turn it into position ${n} again.`);
-  renderTurnAlert(s.view);
-}
-
-function renderTurnAlert(v) {
-  const box = $("#turn-alert");
-  if (v.turnAlert !== rendered.turnAlert) {
-    rendered.turnAlert = v.turnAlert;
-    if (v.turnAlert) {
-      const { message, k } = v.turnAlert;
-      const pic = el("div", null, { class: "cube-pic" });
-      pic.innerHTML = cubeSvg(k - 1, { turn: turnInto(k).label });
-      box.replaceChildren(el("p", message), el("p", `Put the cube back in position ${k - 1} as pictured, then make this turn:`), pic);
-    } else {
-      box.replaceChildren();
-    }
-  }
-  setHidden(box, !v.turnAlert);
 }
 
 // The live view: the gravity bars, the stillness and the pose seen, at most every 100 ms.
@@ -259,9 +143,8 @@ function renderLive(s) {
   $("#progress").value = out.state === "capturing" ? out.progress : 0;
   const pic = $("#live-pose");
   const seen = out.still && out.angleDeg <= s.machine.o.maxAngleDeg ? out.pose : "";
-  // Before the phone is in a pose, the six flow's next pose, large, in words: the person sees where to
-  // turn it before turning it (flow_six.js names the same pose in the instruction).
-  const next = !seen && !cube && !free && s.session ? nextPose(s.machine.remaining()) : null;
+  // Before the phone is in a pose, the flow's next pose (six: the next side), large, in words.
+  const next = seen ? null : view.next(s);
   const shown = seen || (next ? `next ${next}` : "");
   if (pic.dataset.pose !== shown) {
     pic.dataset.pose = shown;
@@ -270,30 +153,9 @@ function renderLive(s) {
   }
 }
 
-function fillMatrix(table, rows, halfWidths) {
-  table.replaceChildren(...rows.map((row, i) => {
-    const tr = el("tr");
-    row.forEach((v, j) => tr.append(el("td", withInterval(v, halfWidths?.[i]?.[j], (x) => formatNumber(x)))));
-    return tr;
-  }));
-}
-
-function renderResult(s) {
-  const cal = s.view.calibration;
-  if (!cal || cal === rendered.calibration) return;
-  rendered.calibration = cal;
-  showVerdict(cal);
-  $("#result-headline").textContent = cal.headline || "";
-  const ok = $("#result-ok");
-  ok.className = cal.ok ? "ok" : "bad";
-  ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks:`;
-  $("#result-reasons").replaceChildren(...(cal.reasons || []).map((r) => el("li", r)));
-  const warnings = cal.warnings || [];
-  $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
-  showCorrection($("#result-correction"), cal, s.token, $("#result-fitted-note"));
-  if (cal.model.type === "cube") fillCubeModel(cal, cal.uncertainty || {});
-  else if (cal.model.type === "triangular") fillTriangularModel(cal);
-  else fillSixModel(cal, s.session);
+// How a session ended, beside the flow's own parts of the result: the free flow's finish and advice, the
+// gyroscope's bias over the still captures (each hidden where the body has none).
+function sessionEnd(cal) {
   const finishLine = $("#result-finish");
   setHidden(finishLine, !cal.finish);
   if (cal.finish) {
@@ -305,74 +167,9 @@ function renderResult(s) {
   gyroLine.textContent = cal.gyroscope_bias ? gyroBiasText(cal.gyroscope_bias) : "";
   setHidden($("#result-advice-box"), !(cal.advice && cal.advice.length));
   $("#result-advice").replaceChildren(...(cal.advice || []).map((a) => el("li", adviceText(a))));
-  fillFigures($("#result-metrics"), { ...cal, metrics: Object.fromEntries(Object.entries(cal.metrics || {})
-    .filter(([, v]) => v === null || typeof v !== "object")) }); // the cube's lists stay in the JSON export
 }
 
-// The affine model m = X a + y, and |m| before and after per pose.
-function fillSixModel(cal, session) {
-  const unc = cal.uncertainty || {};
-  fillMatrix($("#result-X"), cal.model.X, unc.X);
-  fillMatrix($("#result-y"), cal.model.y.map((v) => [v]), unc.y && unc.y.map((v) => [v]));
-  const means = (cal.readings && cal.readings.length ? cal.readings.map((r) => ({ position: r.up, mean: r.mean }))
-    : (session?.captures || [])).filter((c) => c.position);
-  fillNorms(cal.model, means, cal.gravity || STANDARD_GRAVITY);
-}
-
-// |m| before and |a| after per position against g; `model` is {X, y} of m = X a + y.
-function fillNorms(model, means, gravity) {
-  const rows = normRows(model, means);
-  $("#norm-chart").innerHTML = rows.length ? normChartSvg(rows, gravity) : "";
-  $("#norm-table tbody").replaceChildren(...rows.map((r) => {
-    const tr = el("tr");
-    tr.append(el("th", r.position, { scope: "row" }), el("td", r.raw.toFixed(4)), el("td", r.calibrated.toFixed(4)));
-    return tr;
-  }));
-}
-
-// Farago et al.'s triangular model a = K (m + o), each ± its 95 % half-width, and the norms per pose.
-function fillTriangularModel(cal) {
-  const unc = cal.uncertainty || {};
-  // K is lower triangular: the zeros above its diagonal are exact, shown without an interval.
-  fillMatrix($("#result-K"), cal.model.K, unc.K && unc.K.map((row, i) => row.map((v, j) => (j > i ? null : v))));
-  fillMatrix($("#result-o"), cal.model.o.map((v) => [v]), unc.o && unc.o.map((v) => [v]));
-  fillNorms(triangularAsAffine(cal.model), cal.captures || [], cal.gravity || STANDARD_GRAVITY);
-}
-
-// Särkkä et al.'s model per sensor: S (with D and the misalignment when given) and b, each ± its 95 % half-width.
-function fillCubeModel(cal, unc) {
-  const units = { acc: cal.unit || "m/s²", gyr: (cal.units && cal.units.gyr) || "rad/s" };
-  const parts = [];
-  for (const [key, name] of [["acc", "Accelerometer"], ["gyr", "Gyroscope"]]) {
-    const model = cal.model[key];
-    if (!model) continue;
-    const half = unc[key] || {};
-    parts.push(el("h4", name));
-    const row = el("div", null, { class: "row" });
-    const items = [["S", "S (scale and cross-axis)", model.S, half.S]];
-    if (key === "acc" && model.D) items.push(["D", "D (scale factors)", model.D.map((v) => [v]), half.D && half.D.map((v) => [v])]);
-    if (key === "acc" && model.misalignment) items.push(["misalignment", "Misalignment", model.misalignment, half.misalignment]);
-    items.push(["b", `b (${units[key]})`, model.b.map((v) => [v]), half.b && half.b.map((v) => [v])]);
-    for (const [id, title, rows, halfRows] of items) {
-      const table = el("table", null, { class: "matrix", id: `cube-${key}-${id}` });
-      fillMatrix(table, rows, halfRows);
-      const box = el("div");
-      box.append(el("h5", title), table);
-      row.append(box);
-    }
-    parts.push(row);
-  }
-  $("#cube-model").replaceChildren(...parts);
-  // The accelerometer's raw = S f + b has the form of m = X a + y (Särkkä et al. eq. (1)).
-  const acc = cal.model.acc;
-  if (acc) fillNorms({ X: acc.S, y: acc.b }, cal.captures || [], cal.gravity || STANDARD_GRAVITY);
-}
-
-function renderDownloads(v) {
-  if (!v.downloads || v.downloads === rendered.downloads) return;
-  rendered.downloads = v.downloads;
-  showUse(v.calibration, v.downloads);
-}
+const hooks = { ...view, result(cal, s) { sessionEnd(cal); view.result(cal, s); } };
 
 // --- transitions shared by the flows -----------------------------------------------------------
 
@@ -467,13 +264,7 @@ async function finish(cal) {
   stop();
   letScreenSleep();
   const v = state.view;
-  v.start = false;
-  v.capture = false;
-  v.startOver = true;
-  v.result = true;
-  v.calibration = cal;
-  v.focus = "#result";
-  announce(state, `Calibration done. ${cal.verdict.words}`);
+  showResult(state, cal);
   render(state);
   // Its own address (/c/{id}): a reload, a bookmark or the history finds it again, with the session's
   // token kept for it (only that token reads it). The page stays: a board stays connected for Send.
@@ -481,7 +272,11 @@ async function finish(cal) {
   offerSend(cal, state.token);
   history.pushState({ calibration: cal.id }, "", `/c/${encodeURIComponent(cal.id)}`);
   board.offer(cal, state.token);
-  v.downloads = await fetchDownloads(cal, state.token);
+  // The norms per position as soon as the server's figures are in (a cube's: …/apply), the files after
+  // them: #downloads[data-ready] means the whole result is on show.
+  const norms = kindOf(cal).norms(cal, state.token).catch(() => []).then((rows) => { v.norms = rows; render(state); });
+  const [downloads] = await Promise.all([fetchDownloads(cal, state.token), norms]);
+  v.downloads = downloads;
   render(state);
 }
 
@@ -610,7 +405,7 @@ function startBoard() {
       li.querySelector(".redo").setAttribute("aria-label", `Redo ${pose} (${describePose(pose)})`);
     }
     $("#live-pose").dataset.pose = ""; // redrawn as a board at the next sample
-    if (!cube) setText($("#capture-h"), free ? "Rest the board in any pose" : "Rest the board on one side");
+    if (view.boardHeading) setText($("#capture-h"), view.boardHeading);
     setText($("h1"), "Calibrate this board");
     document.title = "Calibrate this board — trical";
   }
@@ -650,6 +445,7 @@ const board = new BoardPanel({ needAcc: true, onConnect: startBoard, onSample: b
 
 // What the flows may do besides changing the state.
 const ctx = { render: () => render(state), solve, stop, adopt, ensureSession, problem: (kind) => showProblem(kind) };
+view.bind(state, ctx);
 
 // --- controls ----------------------------------------------------------------------------------
 
@@ -690,7 +486,6 @@ $("#start-over-yes").addEventListener("click", () => {
   localStorage.removeItem(state.storeKey);
   location.assign(WIZARD_URL); // the wizard afresh, not the result's own address (/c/{id})
 });
-if (free) $("#free-finish").addEventListener("click", () => { if (canFinish(state)) solve(); });
 $("#capture").addEventListener("click", (event) => {
   const button = event.target.closest("#redo-last, button[data-redo]");
   if (button) redo(button.dataset.redo);

@@ -1,21 +1,33 @@
 // The noise page (/wizard?protocol=noise): a board's still recording of a chosen length, uploaded as a
 // log (POST /api/v1/recordings, its time column the board's) and characterised by the Allan deviation
 // (POST /api/v1/calibrations, method noise). The board's samples come from board_panel.js, the same
-// source as the wizard's flows.
+// source as the wizard's flows. On the wizard's state (wizard_state.js) and dom.js: the steps change the
+// state, render alone writes the page, with the noise's render hook for its result (noiseView) and the
+// wizard's render loop for the files and the live region (wizard_render.js).
 import { createCalibration, exportUrl, uploadRecording } from "./api.js";
 import { BoardPanel } from "./board_panel.js";
 import { cue, unlockCues } from "./cues.js";
 import { formatNumber } from "./readings.js";
-import { fetchDownloads, resetUse, showUse, showVerdict } from "./use_calibration.js";
-import { $, el } from "./dom.js";
+import { NOISE_TERMS } from "./result_kinds.js";
+import { fetchDownloads, resetUse, showVerdict } from "./use_calibration.js";
+import { VIEW_DEFAULTS, announce, newState, showResult } from "./wizard_state.js";
+import { newRendered, renderDownloads, renderVoice } from "./wizard_render.js";
+import { $, el, setHidden, setText } from "./dom.js";
 
-const state = { recording: null, lengthS: 0, busy: false, ready: false };
+const state = newState({ protocol: "noise", captureS: null });
+state.noise = {
+  recording: null, // the samples so far while recording
+  lengthS: 0,
+  busy: false, // recording, uploading or characterising
+  ready: false, // the board reads and its unit is known
+  message: null, // the line under Record (the template's until the first)
+  progress: null, // the recording's share done, or null: no progress bar
+};
+const n = state.noise;
 
-function say(text) { $("#status").textContent = text; }
+function say(text) { announce(state, text); }
 
-function message(text) { $("#noise-msg").textContent = text; }
-
-function canRecord() { $("#noise-record").disabled = !(board.connected && state.ready) || state.busy; }
+function message(text) { n.message = text; }
 
 // The recording as the CSV trical's log readers know: the board's time in s, then m/s² and °/s.
 export function recordingCsv(samples) {
@@ -29,58 +41,89 @@ export function recordingCsv(samples) {
 }
 
 function onSample(sample) {
-  if (!state.ready) { state.ready = true; canRecord(); message("The board reads: put it down still, choose the length and press Record."); }
-  const rec = state.recording;
+  if (!n.ready) {
+    n.ready = true;
+    message("The board reads: put it down still, choose the length and press Record.");
+    render(state);
+  }
+  const rec = n.recording;
   if (!rec || !sample.acc) return;
   rec.push(sample);
   const span = (sample.t - rec[0].t) / 1000;
-  $("#noise-progress").value = Math.min(1, span / state.lengthS);
-  if (rec.length % 25 === 0) message(`Recording: ${Math.floor(span)} of ${state.lengthS} s. Leave the board alone.`);
-  if (span >= state.lengthS) finish(rec);
+  n.progress = Math.min(1, span / n.lengthS);
+  if (rec.length % 25 === 0) message(`Recording: ${Math.floor(span)} of ${n.lengthS} s. Leave the board alone.`);
+  render(state);
+  if (span >= n.lengthS) finish(rec);
 }
 
 function record() {
   unlockCues();
-  state.lengthS = Number($("#noise-length").value);
-  state.recording = [];
-  state.busy = true;
-  canRecord();
-  $("#noise-progress").hidden = false;
-  $("#noise-progress").value = 0;
-  $("#result").hidden = true;
+  n.lengthS = Number($("#noise-length").value);
+  n.recording = [];
+  n.busy = true;
+  n.progress = 0;
+  state.view.result = false;
   cue("start");
   message(`Recording ${$("#noise-length").selectedOptions[0].textContent}: leave the board alone.`);
   say("Recording: leave the board alone.");
+  render(state);
 }
 
 async function finish(samples) {
-  state.recording = null;
+  n.recording = null;
   cue("captured");
   message(`Recorded ${samples.length} readings: uploading and computing the Allan deviation…`);
+  render(state);
   try {
     const data = new FormData();
     data.append("file", new Blob([recordingCsv(samples)], { type: "text/csv" }), "board_still.csv");
     const rec = await uploadRecording(data);
     const cal = await createCalibration({ method: "noise", recording_id: rec.id });
-    showResult(cal, rec);
+    showResult(state, cal);
+    say(`Done. ${cal.verdict.words}`);
     message(`Recorded ${samples.length} readings at ${formatNumber(rec.sampling_rate_hz, 4)} Hz.`);
+    fetchDownloads(cal).then((downloads) => {
+      if (state.view.calibration !== cal) return;
+      state.view.downloads = downloads;
+      render(state);
+    });
   } catch (err) {
     cue("refused");
     message(`The recording could not be characterised: ${err.message}. Record again (longer, or stiller).`);
     say(`Refused: ${err.message}`);
   } finally {
-    state.busy = false;
-    $("#noise-progress").hidden = true;
-    canRecord();
+    n.busy = false;
+    n.progress = null;
+    render(state);
   }
 }
 
-const TERMS = [["noise_density", "noise density"], ["random_walk", "random walk"],
-  ["bias_instability", "bias instability"], ["bias", "bias"]];
+// --- rendering: the state onto the page --------------------------------------------------------
 
-function showResult(cal) {
+const rendered = newRendered();
+
+function render(s) {
+  const v = s.view;
+  if (n.message !== null) setText($("#noise-msg"), n.message);
+  const bar = $("#noise-progress");
+  setHidden(bar, n.progress === null);
+  if (n.progress !== null && bar.value !== n.progress) bar.value = n.progress;
+  const disabled = !(board.connected && n.ready) || n.busy;
+  if ($("#noise-record").disabled !== disabled) $("#noise-record").disabled = disabled;
+  setHidden($("#result"), !v.result);
+  if (v.calibration && v.calibration !== rendered.calibration) {
+    rendered.calibration = v.calibration;
+    resetUse(); // an earlier result's files go; this one's follow as they are fetched
+    noiseView.result(v.calibration);
+  }
+  renderDownloads(v, rendered);
+  renderVoice(v, rendered);
+}
+
+// The noise's render hook: the verdict, the Allan plot the server draws, and per sensor its noise terms
+// per axis with their units (Kalibr's).
+function result(cal) {
   showVerdict(cal);
-  $("#result").hidden = false;
   $("#result-headline").textContent = cal.headline || "";
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
@@ -92,7 +135,7 @@ function showResult(cal) {
     const head = el("tr");
     head.append(el("th", sensor, { scope: "col" }), ...["x", "y", "z"].map((a) => el("th", a, { scope: "col" })), el("th", "unit", { scope: "col" }));
     table.append(head);
-    for (const [key, words] of TERMS) {
+    for (const [key, words] of NOISE_TERMS) {
       const tr = el("tr");
       tr.dataset.term = key;
       tr.append(el("th", words, { scope: "row" }), ...(m[key] || [null, null, null]).map((v) => el("td", formatNumber(v, 6))),
@@ -103,25 +146,28 @@ function showResult(cal) {
     return box;
   }));
   $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
-  resetUse();
-  fetchDownloads(cal).then((downloads) => showUse(cal, downloads));
-  $("#result").focus();
-  say(`Done. ${cal.verdict.words}`);
 }
+
+const noiseView = { ...VIEW_DEFAULTS, result };
 
 const board = new BoardPanel({
   needAcc: true,
-  onConnect: () => { state.ready = false; message("Connected: keep the board still while the page checks its unit…"); canRecord(); },
+  onConnect: () => {
+    n.ready = false;
+    message("Connected: keep the board still while the page checks its unit…");
+    render(state);
+  },
   onSample,
   onClose: (why) => {
-    state.ready = false;
-    if (state.recording) { state.recording = null; state.busy = false; $("#noise-progress").hidden = true; }
+    n.ready = false;
+    if (n.recording) { n.recording = null; n.busy = false; n.progress = null; }
     message(`${why} Connect it again to record.`);
-    canRecord();
+    render(state);
   },
 });
 $("#noise-record").addEventListener("click", record);
 if ($("#board").hidden || $("#board-connect").hidden) {
   message("This page reads a board over USB or Bluetooth, in Chrome, Edge or Opera on a computer. Elsewhere, record "
     + "the board still with its serial monitor and upload the log on the start page (Characterise the noise).");
+  render(state);
 }

@@ -40,6 +40,7 @@ export function newState({ protocol, captureS }) {
       turnAlert: null, // the cube flow's refused turn: {message, k}
       result: false,
       calibration: null, // the calibration shown
+      norms: null, // [{position, raw, calibrated}]: its norms per position (result_kinds.js), once known
       downloads: null, // [{key, name, url, filename} | {name, error}]
     },
   };
@@ -62,6 +63,20 @@ export function instruct(state, text, code = null) {
   state.view.instructionCode = code;
 }
 
+// A calibration to show: the result card in place of the others, its files and norms to follow.
+export function showResult(state, cal) {
+  const v = state.view;
+  v.start = false;
+  v.capture = false;
+  v.startOver = true;
+  v.result = true;
+  v.calibration = cal;
+  v.norms = null;
+  v.downloads = null;
+  v.focus = "#result";
+  announce(state, `Calibration done. ${cal.verdict.words}`);
+}
+
 export const list = (poses) => (poses.length ? poses.join(", ") : "none");
 
 // What a flow (flow_six.js, flow_cube.js, flow_free.js) does at a step it has nothing of its own for.
@@ -73,4 +88,19 @@ export const FLOW_DEFAULTS = {
   sampleTime: (raw) => raw.t, // ms of this page load
   record() {},
   redo() {},
+};
+
+// The render hooks a flow's view (flow_six_view.js, flow_cube_view.js, flow_free_view.js, the compass's)
+// has nothing of its own for. wizard.js's render calls them; only they and render write the page.
+export const VIEW_DEFAULTS = {
+  start() {}, // the flow's part of the start card
+  capture() {}, // the flow's part of the capture card
+  next: () => null, // the pose to picture before the phone is in one
+  model() {}, // the model as fitted, in the result's details
+  result() {}, // the flow's own parts of the result
+  // The figures listed: the scalar metrics (a cube's lists stay in the JSON export).
+  figures: (cal) => ({ ...cal, metrics: Object.fromEntries(Object.entries(cal.metrics || {})
+    .filter(([, v]) => v === null || typeof v !== "object")) }),
+  bind() {}, // the flow's own controls: (state, ctx)
+  boardHeading: null, // the capture card's heading once a board is the source
 };
