@@ -14,7 +14,7 @@ import { offerSend } from "./send.js";
 import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, instruct, newState, showResult } from "./wizard_state.js";
-import { newRendered, renderShared } from "./wizard_render.js";
+import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
 import { sixFlow } from "./flow_six.js";
 import { cubeFlow } from "./flow_cube.js";
 import { freeFlow } from "./flow_free.js";
@@ -472,16 +472,8 @@ $("#key-box").addEventListener("submit", (event) => {
   render(state);
   ensureSession();
 });
-// Start over in two taps (the session is lost): the first asks in place, where the thumb already is;
-// the capture goes on meanwhile, and Keep it goes back to it.
-function askStartOver(ask) {
-  state.view.askStartOver = ask;
-  state.view.focus = ask ? "#start-over-no" : "#start-over";
-  render(state);
-}
-$("#start-over").addEventListener("click", () => askStartOver(true));
-$("#start-over-no").addEventListener("click", () => askStartOver(false));
-$("#start-over-yes").addEventListener("click", () => {
+// Start over (the session is lost; the capture goes on while the page asks).
+bindStartOver(state, render, () => {
   letScreenSleep();
   localStorage.removeItem(state.storeKey);
   location.assign(WIZARD_URL); // the wizard afresh, not the result's own address (/c/{id})

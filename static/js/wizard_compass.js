@@ -14,7 +14,7 @@ import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
 import { fetchDownloads } from "./use_calibration.js";
 import { announce, newState, showResult } from "./wizard_state.js";
-import { newRendered, renderShared } from "./wizard_render.js";
+import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
 import { $, setHidden, setText } from "./dom.js";
 
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
@@ -251,15 +251,8 @@ $("#compass-more").addEventListener("click", () => {
   state.view.capture = true;
   if (state.board) { c.autoSolved = false; startBoard(); } else start();
 });
-// Start over in two taps (the readings are lost): the first asks in place, Keep it goes back.
-function askStartOver(ask) {
-  state.view.askStartOver = ask;
-  state.view.focus = ask ? "#start-over-no" : "#start-over";
-  render(state);
-}
-$("#start-over").addEventListener("click", () => askStartOver(true));
-$("#start-over-no").addEventListener("click", () => askStartOver(false));
-$("#start-over-yes").addEventListener("click", () => { letScreenSleep(); location.assign(WIZARD_URL); });
+// Start over (the readings are lost).
+bindStartOver(state, render, () => { letScreenSleep(); location.assign(WIZARD_URL); });
 $("#compass-where").addEventListener("click", () => {
   const where = (text) => { c.whereText = text; render(state); };
   if (!navigator.geolocation) { where("This browser gives no location: the strength will be estimated."); return; }

@@ -78,3 +78,16 @@ export function renderVoice(v, rendered) {
     v.focus = null;
   }
 }
+
+// Start over in two taps: the first asks in place, where the thumb already is, and Keep it goes back;
+// the second (Yes) calls startAfresh. The page's render shows the question (state.view.askStartOver).
+export function bindStartOver(state, render, startAfresh) {
+  const ask = (yes) => {
+    state.view.askStartOver = yes;
+    state.view.focus = yes ? "#start-over-no" : "#start-over";
+    render(state);
+  };
+  $("#start-over").addEventListener("click", () => ask(true));
+  $("#start-over-no").addEventListener("click", () => ask(false));
+  $("#start-over-yes").addEventListener("click", startAfresh);
+}

@@ -165,6 +165,16 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     assert page.locator("#result-mag svg.mag-sphere").count() == 2
     assert page.locator("#downloads a[data-format='json']").count() == 1
     shots(page, "result")
+    # Start over asks first, in place (the compass page binds the wizard's two taps), then turns afresh.
+    page.click("#start-over")
+    expect(page.locator("#start-over-ask")).to_be_visible()
+    expect(page.locator("#start-over-no")).to_be_focused()
+    page.click("#start-over-no")
+    expect(page.locator("#start-over")).to_be_focused()
+    page.click("#start-over")
+    page.click("#start-over-yes")
+    page.wait_for_url("**/wizard?protocol=compass")
+    expect(page.locator("#compass-start-btn")).to_be_visible()
     assert page.errors == []
 
 
