@@ -78,6 +78,9 @@ def shot(page, name: str, request=None) -> Path:
     """Save a full-page screenshot as a test artifact."""
     ARTIFACTS.mkdir(exist_ok=True)
     path = ARTIFACTS / (re.sub(r"[^A-Za-z0-9_.-]", "_", name) + ".png")
+    # Two frames first: after a change of the viewport's width, Chromium may not yet have repainted a scrolled
+    # box (the paste-ready lines came out blank at 390 px although their text was there).
+    page.evaluate("() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
     page.screenshot(path=str(path), full_page=True)
     return path
 
