@@ -685,6 +685,9 @@ class TemperatureOut(CalibrationCommon):
     metrics: TemperatureMetrics
     bins: dict[str, TemperatureBins] = Field(description="Sensor → the binned readings the fit saw.")
     curve: dict[str, TemperatureCurve] = Field(description="Sensor → the fit and its band over the range.")
+    sensor_ids: dict[str, int] | None = Field(
+        None, description="Sensor → the firmware's device id of the sensor a flight log's IMU was read from (PX4's "
+                          "TC_A0_ID, TC_G0_ID in the px4 export); absent for other recordings.")
 
 
 RESPONSE_MODELS = {method.name: globals()[method.response] for method in TABLE if method.response is not None}

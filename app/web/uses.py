@@ -44,8 +44,9 @@ NOISE_USES = (
 
 TEMPERATURE_USES = (
     {"key": "px4", "name": "PX4", "format": "px4",
-     "how": "In QGroundControl: Vehicle Setup → Parameters → Tools → Load from file, then reboot; set TC_A0_ID and "
-            "TC_G0_ID to the sensors' device ids (CAL_ACC0_ID, CAL_GYRO0_ID) first."},
+     "how": "In QGroundControl: Vehicle Setup → Parameters → Tools → Load from file, then reboot. A PX4 log gives "
+            "the sensors' device ids in TC_A0_ID and TC_G0_ID; where they are 0, set them to CAL_ACC0_ID and "
+            "CAL_GYRO0_ID first."},
     {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
      "how": "In Mission Planner: Config → Full Parameter List → Load from file, Write Params, reboot; ArduPilot "
             "corrects relative to INS_ACC1_CALTEMP and INS_GYR1_CALTEMP, the temperature of its last calibration."},

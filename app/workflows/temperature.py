@@ -44,7 +44,27 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
         rate = NOMINAL_RATE_HZ
         notes.append(f"the rests were looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate)")
     result = calibrate_temperature(log.temperature_c, sampling_rate_hz=rate, time_s=log.time_s, **arrays)
-    return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
+    ids = sensor_ids(log, wanted)
+    return calibration_body(result, {}, unit=result.unit, notes=notes, **({"sensor_ids": ids} if ids else {}),
+                            **fields)
+
+
+def sensor_ids(log: LogData, sensors) -> dict:
+    """The firmware's device id of each sensor a flight log's IMU was read from (``LogData.flight``: the
+    instance and source read, and the log's list of instances), for the parameters that name the sensor a
+    calibration belongs to (PX4's ``TC_A0_ID``, ``TC_G0_ID``); empty for other recordings, or a source without
+    ids (PX4's ``sensor_combined``)."""
+    if log.flight is None:
+        return {}
+    imu = log.flight.imu
+    source = {"acc": imu.get("source"), "gyr": imu.get("gyr_source") or imu.get("source")}
+    ids = {}
+    for row in log.flight.instances:
+        sensor = row["sensor"]
+        if (sensor in sensors and row["instance"] == imu.get("instance") and row["source"] == source[sensor]
+                and row.get("device_id")):
+            ids[sensor] = int(row["device_id"])
+    return ids
 
 
 def temperature(request, recording: RecordingSource) -> dict:

@@ -63,6 +63,12 @@ def test_a_flight_log_warm_up_is_calibrated_for_temperature_on_its_instance(clie
     np.testing.assert_allclose(drift - drift[12], expected - expected[12], atol=0.01)  # m/s²; ~0.1 over the range
     params = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "px4"}).text
     assert "TC_G_ENABLE" in params and "TC_A0_X1_0" in params
+    # PX4 applies a slot only to the sensor whose device id it names: instance 1's, as the log recorded it
+    # (the test writer's sensor_accel and sensor_gyro device_id 2424843); ArduPilot's IMU messages carry none.
+    ids = {"TC_A0_ID": 2424843, "TC_G0_ID": 2424843} if writer is px4_file else {"TC_A0_ID": 0, "TC_G0_ID": 0}
+    for name, value in ids.items():
+        assert f"\t{name}\t{value}\t6" in params, params
+    assert body.get("sensor_ids") == ({"acc": 2424843, "gyr": 2424843} if writer is px4_file else None)
     parm = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "ardupilot"}).text
     assert "INS_TCAL1_ENABLE" in parm
 
