@@ -159,8 +159,11 @@ def to_temperature_json(body: dict) -> Export:
 
 # -- the plot ---------------------------------------------------------------------------------------
 
-WIDTH, PANEL_H = 440, 230
-LEFT, RIGHT, TOP, BOTTOM = 64, 12, 34, 40
+WIDTH, PANEL_H = 440, 275
+LEFT, RIGHT, TOP, BOTTOM = 64, 12, 34, 85
+LEGEND_LINE = 13
+"""The legend's three lines (one per axis) stand under the axis's title, outside the plot, so that they never
+cover a curve; BOTTOM holds the ticks, the title and the legend."""
 
 
 def _f(v: float) -> str:
@@ -220,7 +223,7 @@ def _panel(body: dict, sensor: str, top: float) -> tuple[list[str], str]:
         dash = f' stroke-dasharray="{DASHES[axis]}"' if DASHES[axis] else ""
         line = " ".join(f"{float(X(t)):.1f},{float(Y(v)):.1f}" for t, v in zip(t_c, y_c[:, i]))
         out.append(f'<polyline class="fit" points="{line}" fill="none" stroke="{colour}" stroke-width="1.8"{dash}/>')
-        out.append(f'<text x="{LEFT + w - 4}" y="{_f(top + TOP + 14 + 13 * i)}" font-size="10" text-anchor="end" '
+        out.append(f'<text class="legend" x="{LEFT}" y="{_f(top + TOP + h + 48 + LEGEND_LINE * i)}" font-size="10" '
                    f'fill="{colour}" {FONT}>{GLYPHS[axis]} {axis}: order {body["model"][sensor]["order"][i]}, drift '
                    f'{metrics["drift_raw"][i]:.3g} → {metrics["drift_cv"][i]:.3g} {unit}</text>')
     said = (f"{name}: offset against temperature {x0:.1f}–{x1:.1f} °C, binned readings, the fitted polynomial and its "

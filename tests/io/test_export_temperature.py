@@ -132,5 +132,11 @@ def test_the_plot_draws_the_bins_the_fit_and_its_band_per_axis_and_sensor(body):
     n_bins = sum(len(body["bins"][s]["t_c"]) for s in ("acc", "gyr"))
     assert text.count('class="bin"') == 3 * n_bins
     assert "<desc>Accelerometer: offset against temperature" in text
+    # The legend stands under each panel's plot, never over its curves: every legend line below the plot's frame.
+    frames = [float(y) + float(h) for y, h in re.findall(r'<rect x="\d+" y="([\d.]+)" width="\d+" height="([\d.]+)" '
+                                                           r'fill="none"', text)]
+    legends = [float(y) for y in re.findall(r'<text class="legend" x="\d+" y="([\d.]+)"', text)]
+    assert len(frames) == 2 and len(legends) == 6
+    assert all(frames[0] < y < frames[0] + 85 for y in legends[:3]) and all(y > frames[1] for y in legends[3:])
     desc = re.search(r"<desc>(.*)</desc>", text).group(1)
     assert f"{body['metrics']['acc']['drift_raw'][2]:.3g}" in desc
