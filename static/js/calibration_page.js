@@ -3,7 +3,7 @@
 import { ApiError, getCalibration, listCalibrations, openLink } from "./api.js";
 import { showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
-import { candidates, rememberApiKey, rememberToken } from "./tokens.js";
+import { candidates, rememberApiKey, rememberToken, sessionTokens } from "./tokens.js";
 import { $ } from "./dom.js";
 
 const root = $("#calibration-page");
@@ -14,19 +14,35 @@ const device = root.dataset.device;
 // The first token that opens it: 401 (a server with keys) and 404 (another owner's) try the next;
 // when none does, the answer to the most specific one (a key refused says so) is the one shown.
 async function read() {
+  if (!id) return latest();
   let last = null;
-  for (const token of candidates(id || null)) {
+  for (const token of candidates(id)) {
     try {
-      if (id) return { cal: await getCalibration(id, token), token };
-      const { items } = await listCalibrations(token, device, 1);
-      if (items.length) return { cal: items[0], token };
-      last ??= new ApiError(`no calibration of the device “${device}” is readable here`, 404, "not_found");
+      return { cal: await getCalibration(id, token), token };
     } catch (err) {
       if (err.code !== "unauthorized" && err.code !== "not_found") throw err;
       last ??= err;
     }
   }
   throw last;
+}
+
+// A device's latest (/c/latest?device=NAME): the newest of what each token this browser keeps reads of it —
+// its wizard sessions' (each reads its own calibration), the API key's, and none (a server without keys).
+async function latest() {
+  const found = [];
+  let last = null;
+  for (const token of [...sessionTokens(), ...candidates(null)]) {
+    try {
+      const { items } = await listCalibrations(token, device, 1);
+      if (items.length) found.push({ cal: items[0], token });
+    } catch (err) {
+      if (err.code !== "unauthorized" && err.code !== "not_found") throw err;
+      last ??= err;
+    }
+  }
+  if (!found.length) throw last ?? new ApiError(`no calibration of the device “${device}” is readable here`, 404, "not_found");
+  return found.sort((a, b) => b.cal.created_at.localeCompare(a.cal.created_at))[0];
 }
 
 function when(iso) { return iso ? iso.replace("T", " ").replace(/\.\d+Z$/, " UTC") : ""; }

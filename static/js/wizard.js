@@ -96,6 +96,7 @@ function render(s) {
   setHidden($("#resume"), v.resume === null);
   view.start(s);
   setHidden($("#resume-pic"), v.resumePic === null);
+  setHidden($("#device-name-box"), Boolean(s.session)); // named once, when the session starts
   renderProblem(v);
   setHidden($("#key-box"), !v.keyBox);
   setHidden($("#capture"), !v.capture);
@@ -196,8 +197,8 @@ async function ensureSession() {
   state.creating = true;
   const v = state.view;
   try {
-    const created = await createSession({ protocol: state.protocol, capture_s: state.captureS, device_id: null,
-      label: null, source: state.device }, state.apiKey);
+    const created = await createSession({ protocol: state.protocol, capture_s: state.captureS,
+      device_id: $("#device-name").value.trim() || null, label: null, source: state.device }, state.apiKey);
     state.token = created.token;
     adopt(created);
     remember();

@@ -122,9 +122,11 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     assert "flat, steady table" in page.text_content("#start")
     order = ["+z", "-y", "+x", "-z", "-x", "+y"]  # shuffled
     motion.acc(reading(order[0]))
+    page.fill("#device-name", "bench phone")  # named before Start: the session, and so its calibration, carry it
     t0 = time.monotonic()
     page.click("#start-btn")
     assert page.evaluate("window.__permissionCalls") == [True]  # asked once, from the tap
+    expect(page.locator("#device-name")).to_be_hidden()
     for k, label in enumerate(order):
         if k:
             motion.acc(reading(label))
@@ -147,6 +149,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     np.testing.assert_allclose(np.array(doc["model"]["X"]), expected.X, rtol=1e-9, atol=0)
     np.testing.assert_allclose(np.array(doc["model"]["y"]), expected.y, rtol=1e-9, atol=0)
     assert download.suggested_filename == f"{doc['id']}.json"
+    assert doc["device_id"] == "bench phone"
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href, a.download])")
     assert [name for name, _, _ in links] == ["JSON", "C header", "ArduPilot", "PX4", "YAML", "CSV"]
     assert all(href.startswith("blob:") and filename for _, href, filename in links)
@@ -176,6 +179,9 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
         assert len(c["acc"]) >= 10 and np.all(np.diff(c["t_ms"]) > 0) and len(c["gyr"]) == len(c["acc"])
         assert c["t_ms"][-1] - c["t_ms"][0] >= 1000
     assert page.errors == []
+    # The device's latest calibration, read in this browser (with the session's token it keeps), is this one.
+    page.goto(server.url + "/c/latest?device=bench%20phone")
+    expect(page.locator("#cal-meta")).to_contain_text(doc["id"])
 
     per_pose = elapsed / 6
     estimate = elapsed + 6 * (5 - 1)  # each pose captures 4 s longer with capture_s=5
