@@ -78,7 +78,8 @@ async function finish(samples) {
     const data = new FormData();
     data.append("file", new Blob([recordingCsv(samples)], { type: "text/csv" }), "board_still.csv");
     const rec = await uploadRecording(data);
-    const cal = await createCalibration({ method: "noise", recording_id: rec.id });
+    const cal = await createCalibration({ method: "noise", recording_id: rec.id,
+      device_id: $("#device-name").value.trim() || null });
     showResult(state, cal);
     say(`Done. ${cal.verdict.words}`);
     message(`Recorded ${samples.length} readings at ${formatNumber(rec.sampling_rate_hz, 4)} Hz.`);

@@ -250,6 +250,7 @@ def test_noise_of_a_still_board(desk, server):
     page.goto(server.url + "/wizard?protocol=noise")
     shot(page, "board_noise_start_1280")
     page.select_option("#noise-length", str(NOISE_S))
+    page.fill("#device-name", "mpu6050 bench")
     play(page, lines, 100)
     page.click("#board-usb")
     expect(page.locator("#noise-record")).to_be_enabled(timeout=5_000)
@@ -261,6 +262,7 @@ def test_noise_of_a_still_board(desk, server):
     shot(page, "board_noise_result_1280")
     cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
     cal = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}").json()
+    assert cal["device_id"] == "mpu6050 bench"
     density = np.array(cal["model"]["acc"]["noise_density"], dtype=float)
     peer = json.loads((DATA / "real" / "mpu6050_noise_peer.json").read_text())
     expected = np.sqrt(np.array(peer["R"]) / peer["sampling_rate_hz"])  # 3.30, 3.05, 4.63 mm/s²/√Hz

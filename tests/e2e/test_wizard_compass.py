@@ -117,6 +117,7 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     assert page.is_hidden("#compass-none")
     page.click("#compass-where")
     expect(page.locator("#compass-where-text")).to_contain_text("60.17°, 24.94°")
+    page.fill("#device-name", "phone compass")
     shots(page, "start")
     feed(readings[0])
     page.click("#compass-start-btn")
@@ -141,6 +142,7 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     assert len(sent) == 1
     body = sent[0]
     assert body["method"] == "magnetometer" and body["latitude_deg"] == HELSINKI["latitude"]
+    assert body["device_id"] == "phone compass"
     assert body["longitude_deg"] == HELSINKI["longitude"] and body["date"] == today.isoformat()
     n = len(body["mag"])
     assert 50 <= n <= N_TURN
