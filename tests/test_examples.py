@@ -6,10 +6,11 @@ simulated board on a pseudo-terminal. The sketches themselves need the Arduino t
 
 from __future__ import annotations
 
+import os
+import select
 import shutil
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -62,12 +63,18 @@ def test_the_python_example_reads_a_board_and_calibrates_over_the_api(tmp_path, 
     env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}
     with live_server(env) as server:
         proc = subprocess.Popen([sys.executable, str(ROOT / "examples" / "python" / "board_to_api.py"), port,
-                                 "--seconds", "17", "--api", server.url], cwd=tmp_path, stdout=subprocess.PIPE,
+                                 "--seconds", "19", "--api", server.url], cwd=tmp_path, stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, text=True)
-        time.sleep(0.5)  # the script opens the port (flushing it) before the board starts
-        board.start()
         try:
+            # The board starts once the script has opened the port (opening flushes what arrived before): its
+            # first count of readings is printed after the port's first read. A fixed pause lost the first rest
+            # on a loaded machine (the script's start-up took longer), and the log then held 5 rests.
+            ready, _, _ = select.select([proc.stdout], [], [], 30)
+            assert ready, "the example printed nothing within 30 s of its start"
+            first = os.read(proc.stdout.fileno(), 256).decode()
+            board.start()
             stdout, stderr = proc.communicate(timeout=60)
+            stdout = first + stdout
         finally:
             if proc.poll() is None:
                 proc.kill()
