@@ -1,0 +1,55 @@
+"""Every real recording of the corpus (tests/data/real/corpus), sent through the upload exactly as the page
+sends it, answers what its case says: the peer's or the firmware's figure, or the right question or
+refusal (issue 31). The cases and their sources: tests/real_corpus.py, ``python -m tests.real_corpus``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.real_corpus import at, cases, problems
+
+CASES = cases()
+
+
+def test_the_corpus_holds_real_cases_each_with_its_source_and_expectation():
+    assert len(CASES) >= 1
+    bad = {c.name: problems(c) for c in CASES if problems(c)}
+    assert not bad, bad
+
+
+def _contains_all(texts: list[str], wanted: list[str], what: str) -> None:
+    joined = "\n".join(texts)
+    missing = [w for w in wanted if w.lower() not in joined.lower()]
+    assert not missing, f"{what} lack {missing}: {texts}"
+
+
+def _check(body: dict, status: int, want: dict, what: str) -> None:
+    assert status == want.get("status", status), f"{what}: {status} {body}"
+    if "code" in want:
+        assert body.get("code") == want["code"], f"{what}: {body}"
+    if "units" in want:
+        assert body["units"] == want["units"], f"{what}: {body.get('units')} {body.get('warnings')}"
+    if "ok" in want:
+        assert body["ok"] is want["ok"], f"{what}: ok={body['ok']} reasons={body.get('reasons')}"
+    _contains_all([body.get("detail", "")], want.get("detail_contains", []), f"{what} detail")
+    _contains_all(body.get("warnings", []), want.get("warnings_contain", []), f"{what} warnings")
+    _contains_all(body.get("reasons", []), want.get("reasons_contain", []), f"{what} reasons")
+    for v in want.get("values", []):
+        np.testing.assert_allclose(at(body, v["path"]), v["value"], rtol=v.get("rtol", 0), atol=v.get("atol", 0),
+                                   err_msg=f"{what}: {v['path']}")
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.name for c in CASES])
+def test_a_real_recording_answers_as_its_case_says(client, case):
+    r = client.post("/api/v1/recordings", files=case.upload_parts(), data=case.form)
+    assert r.status_code < 500, r.text
+    rec = r.json()
+    _check(rec, r.status_code, case.spec["upload"], f"{case.name} upload")
+    if "calibrate" not in case.spec:
+        return
+    assert r.status_code == 201, "a case that calibrates needs its upload stored"
+    r = client.post("/api/v1/calibrations", json={**case.spec["calibrate"], "recording_id": rec["id"]})
+    assert r.status_code < 500, r.text
+    _check(r.json(), r.status_code, case.spec["expect"], f"{case.name} calibration")
