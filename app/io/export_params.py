@@ -29,6 +29,8 @@ into that rotation (degrees) and the axes' non-orthogonality (mg).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .errors import ExportError
@@ -52,15 +54,29 @@ PX4_SCALE_RANGE = (0.1, 3.0)
 generated from PX4's parameter metadata, not from PX4's source itself."""
 
 
+@dataclass(frozen=True)
+class Level:
+    """A firmware's own level calibration: its name, where a person starts it, the parameters it sets (and
+    what they hold), the largest tilt they take in degrees (None: no bound known)."""
+
+    name: str
+    where: str
+    params: str
+    holds: str
+    bound_deg: float | None
+
+
 LEVEL = {
-    "ArduPilot": ("ArduPilot's level calibration (Mission Planner: Calibrate Level)",
-                  "AHRS_TRIM_X and AHRS_TRIM_Y (roll and pitch, in rad, within ±0.1745 = ±10°: @Range in "
-                  "libraries/AP_AHRS/AP_AHRS.cpp)", 10.0),
-    "PX4": ("PX4's level horizon calibration (QGroundControl: Sensors → Level Horizon)",
-            "SENS_BOARD_X_OFF and SENS_BOARD_Y_OFF (roll and pitch, in degrees)", None),
+    "ArduPilot": Level("ArduPilot's level calibration", "Mission Planner: Calibrate Level", "AHRS_TRIM_X and AHRS_TRIM_Y",
+                       "roll and pitch, in rad, within +-0.1745 = +-10 deg: @Range in libraries/AP_AHRS/AP_AHRS.cpp", 10.0),
+    "PX4": Level("PX4's level horizon calibration", "QGroundControl: Sensors > Level Horizon",
+                 "SENS_BOARD_X_OFF and SENS_BOARD_Y_OFF", "roll and pitch, in degrees", None),
 }
-"""Each firmware's own level calibration, the parameters it sets, and the largest tilt they hold (degrees; None:
-no bound known)."""
+
+
+def _mg(v: float) -> str:
+    """A figure in mg for a sentence: two decimals under 10 mg, one above."""
+    return f"{v:.{2 if v < 10 else 1}f}"
 
 
 def offset_scale(body: dict, target: str) -> dict:
@@ -134,15 +150,18 @@ def firmware_summary(body: dict, target: str) -> dict:
     }
     where = f"on the {fit.count} still readings" if fit.from_readings else "on readings in 14 directions"
     if not fit.improves:
-        out["words"] = (f"{target}'s offsets and scales would leave {out['firmware_max_mg']:.3g} mg {where}, no "
-                        f"better than raw ({out['raw_max_mg']:.3g} mg): use the full correction (M and o) instead")
+        out["words"] = (f"{target}'s offsets and scales would leave {_mg(out['firmware_max_mg'])} mg {where}, no "
+                        f"better than raw ({_mg(out['raw_max_mg'])} mg): use the full correction (M and o) instead")
         return out
     exact = " (6 numbers fit 6 readings exactly)" if fit.dof == 0 else ""
+    level = LEVEL[target]
     out["words"] = (
-        f"With these offsets and scales {target} reaches at most {out['firmware_max_mg']:.2g} mg {where}{exact} "
-        f"and {out['any_direction_max_mg']:.2g} mg in any direction; raw {out['raw_max_mg']:.3g} mg, trical's "
-        f"full model {out['full_max_mg']:.2g} mg. The board's {fit.rotation_deg:.1f}° tilt is for "
-        f"{LEVEL[target][0].split(' (')[0]} to take ({LEVEL[target][1].split(' (')[0]})."
+        f"With these offsets and scales {target} reaches at most {_mg(out['firmware_max_mg'])} mg {where}{exact} "
+        f"and {_mg(out['any_direction_max_mg'])} mg in any direction; raw {_mg(out['raw_max_mg'])} mg, trical's "
+        f"full model {_mg(out['full_max_mg'])} mg."
+        + (f" trical's model also turns the axes {fit.rotation_deg:.1f}° (the table's tilt or the board's "
+           f"mounting), which no offset or scale holds: {level.name} takes the tilt ({level.params})."
+           if fit.rotation_deg >= 0.05 else "")
     )
     return out
 
@@ -184,7 +203,7 @@ def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
     else:
         on = "the readings trical's full model puts at magnitude g in 14 directions (the calibration holds fewer than 6)"
         exact = "fitted on those readings"
-    who, params, bound = LEVEL[target]
+    level = LEVEL[target]
     tilt = float(np.hypot(*fit.rotation_axes_deg[:2]))
     lines = [
         f"{target} holds an offset and a scale per axis and no cross-axis terms. These are fitted to {on}, as "
@@ -204,8 +223,10 @@ def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
         f"rotation_deg: {fit.rotation_deg:.3f}  (about x {fit.rotation_axes_deg[0]:.3f}, y "
         f"{fit.rotation_axes_deg[1]:.3f}, z {fit.rotation_axes_deg[2]:.3f} deg): the sensor's axes against the "
         "poses' frame - the table's tilt or the board's mounting. It changes no magnitude, so no offset or scale "
-        f"holds it: {who} takes its tilt ({tilt:.2f} deg about x and y) into {params}"
-        + (f"; beyond {bound:g} deg it cannot: mount the board level" if bound is not None and tilt > bound else "")
+        f"holds it: {level.name} ({level.where}) takes its tilt ({tilt:.2f} deg about x and y) into {level.params} "
+        f"({level.holds})"
+        + (f"; beyond {level.bound_deg:g} deg it cannot: mount the board level"
+           if level.bound_deg is not None and tilt > level.bound_deg else "")
         + ". The turn about z (in the board's plane) is no tilt: it matters only for a board turned on its frame.",
         f"nonorthogonality_mg: {mg(fit.nonorthogonality)}  (largest part of a reading the off-diagonal terms of P "
         f"make, g |I - D P^-1|, D = diag(P); the axes are "

@@ -382,9 +382,10 @@ def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_
     page.select_option("#use-with", "ardupilot")
     assert page.is_visible("#use-file") and page.get_attribute("#use-file", "data-format") == "ardupilot"
     assert page.text_content("#use-firmware") == (
-        "With these offsets and scales ArduPilot reaches at most 0 mg on the 6 still readings (6 numbers fit 6 "
-        "readings exactly) and 3.7 mg in any direction; raw 65.1 mg, trical's full model 0.96 mg. The board's 2.8° "
-        "tilt is for ArduPilot's level calibration to take (AHRS_TRIM_X and AHRS_TRIM_Y).")
+        "With these offsets and scales ArduPilot reaches at most 0.00 mg on the 6 still readings (6 numbers fit 6 "
+        "readings exactly) and 3.68 mg in any direction; raw 65.1 mg, trical's full model 0.96 mg. trical's model "
+        "also turns the axes 2.8° (the table's tilt or the board's mounting), which no offset or scale holds: "
+        "ArduPilot's level calibration takes the tilt (AHRS_TRIM_X and AHRS_TRIM_Y).")
     shot(page, "use_ardupilot_pose_files")
     page.goto(f"{server.url}/c/{shear['id']}")
     page.wait_for_selector("#downloads[data-ready=true]", state="attached")

@@ -60,7 +60,8 @@ def test_a_rotation_is_no_error_of_the_firmware_s_offsets_and_scales():
     assert not fit.from_readings and fit.count == 14 and fit.norm_error_any_direction < 1e-9
     text = to_ardupilot(body(np.linalg.inv(R @ S), o)).content
     assert "# rotation_deg: 3.000  (about x 1.309, y 2.619, z 0.655 deg)" in text
-    assert "takes its tilt (2.93 deg about x and y) into AHRS_TRIM_X and AHRS_TRIM_Y" in text
+    assert ("ArduPilot's level calibration (Mission Planner: Calibrate Level) takes its tilt (2.93 deg about x and y) "
+            "into AHRS_TRIM_X and AHRS_TRIM_Y (roll and pitch, in rad, within +-0.1745 = +-10 deg") in text
 
 
 def test_the_axes_non_orthogonality_is_what_the_firmware_cannot_hold():
