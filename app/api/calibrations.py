@@ -58,8 +58,10 @@ def export(*, calibration_id: str, format: str = Query("json", description=f"By 
 
     ``json`` (versioned schema), ``c`` (C99 header), ``yaml`` and ``csv`` carry the full correction
     ``a = M (m - o)``; ``ardupilot`` (``INS_ACCOFFS_*``, ``INS_ACCSCAL_*``) and ``px4``
-    (``CAL_ACC0_*OFF``, ``CAL_ACC0_*SCALE``) carry offsets and per-axis scales only, their comment
-    header reporting the residual of the dropped cross-axis terms; ArduPilot's ranges are enforced.
+    (``CAL_ACC0_*OFF``, ``CAL_ACC0_*SCALE``) carry offsets and per-axis scales only, fitted on the
+    calibration's still readings; their comment header states the norm error the firmware reaches with them
+    beside trical's full model's, and the rotation and non-orthogonality they cannot hold; ArduPilot's ranges
+    are enforced.
     ``allan_svg`` draws a noise characterisation's Allan deviation (an SVG image). A temperature calibration
     exports its own ``px4`` (QGroundControl ``.params``, ``TC_A*``/``TC_G*``), ``ardupilot`` (``INS_TCAL1_*``),
     ``json`` and ``temperature_svg`` (offset against temperature).

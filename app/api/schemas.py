@@ -717,6 +717,29 @@ class CorrectionOut(BaseModel):
     source: str = Field(description="How M and o come from the model's own parameters (e.g. M = X⁻¹, o = y).")
 
 
+class FirmwareFiguresOut(BaseModel):
+    target: str = Field(description="ArduPilot or PX4.")
+    count: int = Field(description="Still readings the offsets and scales were fitted on (14 directions of trical's "
+                                   "model when the calibration holds fewer than 6).")
+    from_readings: bool = Field(description="True when fitted on the calibration's own still readings.")
+    firmware_max_mg: float = Field(description="Largest | |a| − g | of those readings with the exported offsets and "
+                                               "scales, applied by the firmware's formula, in mg.")
+    firmware_mean_mg: float
+    raw_max_mg: float = Field(description="The same readings raw.")
+    raw_mean_mg: float
+    full_max_mg: float = Field(description="The same readings with trical's full correction M (m − o).")
+    full_mean_mg: float
+    any_direction_max_mg: float = Field(description="The exported model's largest norm error over every direction, on "
+                                                    "readings trical's full model puts at magnitude g.")
+    rotation_deg: float = Field(description="The rotation of M = R P: the table's tilt or the board's mounting, which "
+                                            "the firmware's level calibration takes.")
+    nonorthogonality_mg: float = Field(description="g ‖I − D P⁻¹‖₂: what the axes' non-orthogonality makes of a "
+                                                   "reading, which no offset or scale holds.")
+    improves: bool = Field(description="Whether firmware_max_mg is below raw_max_mg: the page offers the firmware's "
+                                       "file only then.")
+    words: str = Field(description="One sentence for the page.")
+
+
 class SnippetsOut(BaseModel):
     corrections: dict[str, CorrectionOut] = Field(description="Each sensor's correction, by acc, gyr, mag.")
     c: str = Field(description="Lines over the C header: a reading scaled to the header's unit and passed through "
@@ -726,6 +749,9 @@ class SnippetsOut(BaseModel):
     functions: dict[str, str] = Field(description="The C header's apply function of each sensor.")
     scales: dict[str, ScaleOut | None] = Field(description="How a sensor's int16 counts become the input unit; "
                                                            "null when the calibration takes them as they are.")
+    firmware: dict[str, FirmwareFiguresOut] = Field(
+        default_factory=dict, description="By export format (ardupilot, px4): what the firmware reaches with the "
+                                          "exported offsets and scales; absent where that export is refused.")
 
 
 class LinkOut(BaseModel):

@@ -246,6 +246,10 @@ class AutoCalibration(CalibrationResult):
     def _calibrate(self, rows: np.ndarray) -> np.ndarray:
         return (rows + self.o) @ self.K.T  # Farago et al. eqs. (7)–(9): a = K (v + o); the identity without a fit
 
+    def still_readings(self) -> np.ndarray:
+        """Its calibration points (the control points are held out of the fit)."""
+        return np.asarray(self.points, dtype=float).reshape(-1, 3)
+
     @classmethod
     def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
         """Readings the request held out, else its control points (held out of its fit, Farago et al.

@@ -282,6 +282,11 @@ class CalibrationResult(Gated):
         """Every sensor's correction by sensor name (``acc``, and ``gyr``, ``mag`` for the cube)."""
         return {"acc": self.correction}
 
+    def still_readings(self) -> np.ndarray | None:
+        """The accelerometer's still readings (N, 3) its correction was fitted on, in :attr:`unit`; None where
+        it holds none (the firmware exports then fit their model on its correction alone)."""
+        return None
+
     # -- plain form --------------------------------------------------------------------------
 
     def model_dict(self) -> dict:
@@ -443,6 +448,9 @@ class StillReadingsResult(CalibrationResult, GatedFit):
     def interval_dict(self, hw: np.ndarray) -> dict:  # pragma: no cover - every subclass defines it
         """The half-widths ``hw`` (in the covariance's order) as the model's parameters."""
         raise NotImplementedError
+
+    def still_readings(self) -> np.ndarray:
+        return np.asarray(self.means, dtype=float).reshape(-1, 3)
 
     def readings(self) -> list[dict]:
         """Per-reading detail: the model's own fields (:meth:`reading_detail`) and the relative norm errors

@@ -69,6 +69,12 @@ def accelerometer_correction(body: dict) -> AffineCorrection:
     return acc[0]
 
 
+def accelerometer_readings(body: dict):
+    """The still readings the accelerometer's correction was fitted on (N × 3, the calibration's input unit),
+    or None where the calibration holds none."""
+    return _result(body).still_readings()
+
+
 def unit_label(unit: str | None) -> str:
     """How a text export names a unit: readings whose scale is unknown (``raw``) are counts."""
     return "counts" if unit == "raw" else str(unit)

@@ -18,19 +18,26 @@ A wizard session's calibration with a ``gyroscope_bias`` adds ArduPilot's ``INS_
 (``@Units: rad/s`` in ``AP_InertialSensor_Params.cpp``): ``_rotate_and_correct_gyro`` in the same backend
 file does ``gyro -= _gyro_offset`` in the sensor frame, so ``w_i = m_i − INS_GYROFFS_i``.
 
-trical's correction is ``a = M (m − o)``; the export keeps ``o`` and the diagonal ``D`` of ``M``.  The
-dropped off-diagonal terms leave a residual ``(M − D)(m − o) = (I − D M⁻¹) a``, whose largest value
-over readings of magnitude g is ``‖I − D M⁻¹‖₂ · g``: the export's comment header reports it, overall
-and per axis.
+trical's correction is ``a = M (m − o)``; neither firmware holds its cross-axis terms. The offsets and scales
+exported are fitted on the calibration's own still readings as ArduPilot's own calibration fits them, to the
+magnitude ``|S (m − b)| = g`` (app.calibration.firmware_model), not taken from ``M``'s diagonal: ``M`` also turns
+the sensor's axes into the frame the poses define (the table's tilt, the board's mounting), which the
+firmware's level calibration takes. The comment header gives the norm error the firmware reaches with these
+numbers on the readings, beside the raw one and trical's full model's, and splits what it cannot hold of ``M``
+into that rotation (degrees) and the axes' non-orthogonality (mg).
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 
 from .errors import ExportError
 from .log import ACC_PHYSICAL_UNITS
-from .export_common import Export, accelerometer_correction, describe, only_compass
+from .export_common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
+from ..calibration.errors import CalibrationError
+from ..calibration.firmware_model import offset_scale_fit
 from ..calibration.gravity import STANDARD_GRAVITY
 from .export_compass import to_ardupilot_compass, to_px4_compass
 
@@ -47,8 +54,34 @@ PX4_SCALE_RANGE = (0.1, 3.0)
 generated from PX4's parameter metadata, not from PX4's source itself."""
 
 
+@dataclass(frozen=True)
+class Level:
+    """A firmware's own level calibration: its name, where a person starts it, the parameters it sets (and
+    what they hold), the largest tilt they take in degrees (None: no bound known)."""
+
+    name: str
+    where: str
+    params: str
+    holds: str
+    bound_deg: float | None
+
+
+LEVEL = {
+    "ArduPilot": Level("ArduPilot's level calibration", "Mission Planner: Calibrate Level", "AHRS_TRIM_X and AHRS_TRIM_Y",
+                       "roll and pitch, in rad, within +-0.1745 = +-10 deg: @Range in libraries/AP_AHRS/AP_AHRS.cpp", 10.0),
+    "PX4": Level("PX4's level horizon calibration", "QGroundControl: Sensors > Level Horizon",
+                 "SENS_BOARD_X_OFF and SENS_BOARD_Y_OFF", "roll and pitch, in degrees", None),
+}
+
+
+def _mg(v: float) -> str:
+    """A figure in mg for a sentence: two decimals under 10 mg, one above."""
+    return f"{v:.{2 if v < 10 else 1}f}"
+
+
 def offset_scale(body: dict, target: str) -> dict:
-    """Per-axis offset (m/s²) and scale of a calibration, and the residual of the dropped terms.
+    """Per-axis offset (m/s²) and scale of the firmware's model fitted on a calibration's still readings, and
+    what it reaches on them (app.calibration.firmware_model).
 
     Parameters
     ----------
@@ -60,9 +93,8 @@ def offset_scale(body: dict, target: str) -> dict:
     Returns
     -------
     dict
-        ``offset_mps2``, ``scale`` (arrays of 3), ``residual_max`` (worst case over readings of
-        magnitude ``gravity``, in the calibration's output unit), ``residual_axis`` (per axis),
-        ``residual_max_mps2`` and ``output_unit``.
+        ``offset_mps2``, ``scale`` (arrays of 3), ``fit`` (:class:`~app.calibration.firmware_model.OffsetScaleFit`,
+        in the calibration's unit), ``gravity`` (in that unit), ``output_unit`` and ``source``.
 
     Raises
     ------
@@ -70,7 +102,6 @@ def offset_scale(body: dict, target: str) -> dict:
         Calibrations of readings in counts (the firmware applies its parameters to m/s²).
     """
     correction = accelerometer_correction(body)
-    M, o = correction.M, correction.o
     unit = body.get("unit")
     if unit not in ACC_PHYSICAL_UNITS:
         raise ExportError(
@@ -80,20 +111,80 @@ def offset_scale(body: dict, target: str) -> dict:
             f"calibrate that to export it for {target}"
         )
     to_mps2 = 1.0 if unit == "m/s^2" else STANDARD_GRAVITY
-    D = np.diag(np.diag(M))
-    R = np.eye(3) - D @ np.linalg.inv(M)
     gravity = float(body.get("gravity") or (1.0 if unit == "g" else STANDARD_GRAVITY))
-    residual_max = float(np.linalg.norm(R, 2) * gravity)
+    try:
+        fit = offset_scale_fit(correction.M, correction.o, gravity, accelerometer_readings(body))
+    except CalibrationError as exc:
+        raise ExportError(f"{exc}: use the json export") from None
     return {
-        "offset_mps2": o * to_mps2,
-        "scale": np.diag(M).copy(),
-        "residual_max": residual_max,
-        "residual_axis": np.linalg.norm(R, axis=1) * gravity,
-        "residual_max_mps2": residual_max * to_mps2,
+        "offset_mps2": fit.offset * to_mps2,
+        "scale": fit.scale,
+        "fit": fit,
+        "gravity": gravity,
         "output_unit": body.get("output_unit"),
-        "matrix": M,
         "source": correction.source,
     }
+
+
+def firmware_summary(body: dict, target: str) -> dict:
+    """What the firmware reaches with its exported offsets and scales, in figures and in words, for the page.
+
+    Returns
+    -------
+    dict
+        ``target``; ``count`` and ``from_readings``; the norm errors in mg (``firmware_max_mg``,
+        ``firmware_mean_mg``, ``raw_max_mg``, ``raw_mean_mg``, ``full_max_mg``, ``full_mean_mg``,
+        ``any_direction_max_mg``); ``rotation_deg``, ``nonorthogonality_mg``; ``improves`` (the firmware's
+        figure below raw's) and ``words`` (one sentence).
+    """
+    fit = offset_scale(body, target)["fit"]
+    mg = lambda v: float(1000.0 * v)  # noqa: E731 - relative norm errors to thousandths of g
+    out = {
+        "target": target, "count": fit.count, "from_readings": fit.from_readings,
+        "firmware_max_mg": mg(fit.norm_error.max()), "firmware_mean_mg": mg(fit.norm_error.mean()),
+        "raw_max_mg": mg(fit.norm_error_raw.max()), "raw_mean_mg": mg(fit.norm_error_raw.mean()),
+        "full_max_mg": mg(fit.norm_error_full.max()), "full_mean_mg": mg(fit.norm_error_full.mean()),
+        "any_direction_max_mg": mg(fit.norm_error_any_direction),
+        "rotation_deg": fit.rotation_deg, "nonorthogonality_mg": mg(fit.nonorthogonality),
+        "improves": fit.improves,
+    }
+    where = f"on the {fit.count} still readings" if fit.from_readings else "on readings in 14 directions"
+    if not fit.improves:
+        out["words"] = (f"{target}'s offsets and scales would leave {_mg(out['firmware_max_mg'])} mg {where}, no "
+                        f"better than raw ({_mg(out['raw_max_mg'])} mg): use the full correction (M and o) instead")
+        return out
+    exact = " (6 numbers fit 6 readings exactly)" if fit.dof == 0 else ""
+    level = LEVEL[target]
+    out["words"] = (
+        f"With these offsets and scales {target} reaches at most {_mg(out['firmware_max_mg'])} mg {where}{exact} "
+        f"and {_mg(out['any_direction_max_mg'])} mg in any direction; raw {_mg(out['raw_max_mg'])} mg, trical's "
+        f"full model {_mg(out['full_max_mg'])} mg."
+        + (f" trical's model also turns the axes {fit.rotation_deg:.1f}° (the table's tilt or the board's "
+           f"mounting), which no offset or scale holds: {level.name} takes the tilt ({level.params})."
+           if fit.rotation_deg >= 0.05 else "")
+    )
+    return out
+
+
+FIRMWARE_TARGETS = {"ardupilot": "ArduPilot", "px4": "PX4"}
+"""The offset-and-scale exports, by format key."""
+
+
+def firmware_figures(body: dict) -> dict:
+    """:func:`firmware_summary` of each offset-and-scale export (by format key) that the calibration gives: none
+    for a compass's or a calibration those exports refuse (their own message says why)."""
+    out = {}
+    try:
+        if only_compass(body):
+            return out
+    except ExportError:
+        return out
+    for key, target in FIRMWARE_TARGETS.items():
+        try:
+            out[key] = firmware_summary(body, target)
+        except ExportError:
+            continue
+    return out
 
 
 def _number(v: float) -> str:
@@ -101,17 +192,49 @@ def _number(v: float) -> str:
     return f"{v:.9g}"
 
 
-def _residual_lines(p: dict, target: str) -> list[str]:
-    unit = p["output_unit"]
-    axis = ", ".join(f"{a} {v:.6g}" for a, v in zip("xyz", p["residual_axis"]))
-    return [
-        f"{target} has no cross-axis terms: the off-diagonal terms of M are dropped.",
-        "residual (trical minus this export) = (I - D M^-1) a, D = diag(M); over readings of magnitude g:",
-        f"dropped_terms_residual_max: {p['residual_max']:.6g} {unit} "
-        f"({p['residual_max_mps2'] / STANDARD_GRAVITY * 1000:.4g} mg)",
-        f"dropped_terms_residual_per_axis: {axis} {unit}",
+def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
+    """The comment lines that say what the firmware reaches with these numbers, and what it cannot hold."""
+    fit = p["fit"]
+    mg = lambda v: f"{1000.0 * v:.3f}"  # noqa: E731 - relative norm errors to thousandths of g
+    if fit.from_readings:
+        on = f"the calibration's {fit.count} still readings"
+        exact = ("6 numbers fit 6 readings exactly, so this figure tests nothing: the figure for any direction "
+                 "below, or more poses, does" if fit.dof == 0 else f"{fit.dof} readings more than the 6 numbers")
+    else:
+        on = "the readings trical's full model puts at magnitude g in 14 directions (the calibration holds fewer than 6)"
+        exact = "fitted on those readings"
+    level = LEVEL[target]
+    tilt = float(np.hypot(*fit.rotation_axes_deg[:2]))
+    lines = [
+        f"{target} holds an offset and a scale per axis and no cross-axis terms. These are fitted to {on}, as "
+        "ArduPilot's own accelerometer calibration fits them (libraries/AP_AccelCal/AccelCalibrator.cpp, "
+        "calc_residual: GRAVITY_MSS - |diag(s) (m + offset)|, least squares): to the magnitude |a| = g, which no "
+        "tilt of the poses changes.",
+        f"Norm error | |a| - g | on {on}, largest and mean ({exact}):",
+        f"firmware_norm_error_max_mg: {mg(fit.norm_error.max())}  (this file, {formula})",
+        f"firmware_norm_error_mean_mg: {mg(fit.norm_error.mean())}",
+        f"raw_norm_error_max_mg: {mg(fit.norm_error_raw.max())}",
+        f"raw_norm_error_mean_mg: {mg(fit.norm_error_raw.mean())}",
+        f"trical_norm_error_max_mg: {mg(fit.norm_error_full.max())}  (trical's full model, a = M (m - o))",
+        f"trical_norm_error_mean_mg: {mg(fit.norm_error_full.mean())}",
+        f"firmware_norm_error_any_direction_mg: {mg(fit.norm_error_any_direction)}  (every direction, on readings "
+        "trical's full model puts at magnitude g)",
+        "What these numbers cannot hold of trical's M = R P (polar decomposition: R a rotation, P symmetric):",
+        f"rotation_deg: {fit.rotation_deg:.3f}  (about x {fit.rotation_axes_deg[0]:.3f}, y "
+        f"{fit.rotation_axes_deg[1]:.3f}, z {fit.rotation_axes_deg[2]:.3f} deg): the sensor's axes against the "
+        "poses' frame - the table's tilt or the board's mounting. It changes no magnitude, so no offset or scale "
+        f"holds it: {level.name} ({level.where}) takes its tilt ({tilt:.2f} deg about x and y) into {level.params} "
+        f"({level.holds})"
+        + (f"; beyond {level.bound_deg:g} deg it cannot: mount the board level"
+           if level.bound_deg is not None and tilt > level.bound_deg else "")
+        + ". The turn about z (in the board's plane) is no tilt: it matters only for a board turned on its frame.",
+        f"nonorthogonality_mg: {mg(fit.nonorthogonality)}  (largest part of a reading the off-diagonal terms of P "
+        f"make, g |I - D P^-1|, D = diag(P); the axes are "
+        + ", ".join(f"{n} {v:+.3f}" for n, v in zip(("xy", "xz", "yz"), fit.axis_angles_deg))
+        + f" deg off 90): {target} has no term for it.",
         "Axes are those of the logged data: the numbers fit the firmware only if they are the IMU's sensor axes.",
     ]
+    return lines
 
 
 def to_ardupilot(body: dict) -> Export:
@@ -144,7 +267,7 @@ def to_ardupilot(body: dict) -> Export:
     comments = describe(body, p["source"]) + [
         f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_SOURCE}):",
         "  a_i = INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i), m and INS_ACCOFFS in m/s/s",
-    ] + _residual_lines(p, "ArduPilot")
+    ] + _fit_lines(p, "ArduPilot", "INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i)")
     gyro = body.get("gyroscope_bias")
     if gyro:
         half = ", ".join(f"{a} {v:.3g}" for a, v in zip("XYZ", gyro["half_width_rad_s"]))
@@ -181,7 +304,7 @@ def to_px4(body: dict) -> Export:
         f"PX4 applies, per axis in the sensor frame ({PX4_SOURCE}):",
         "  a_i = CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF), m and CAL_ACC0_iOFF in m/s^2",
         "Set CAL_ACC0_ID to the accelerometer's device id: PX4 uses the calibration slot whose id matches.",
-    ] + _residual_lines(p, "PX4")
+    ] + _fit_lines(p, "PX4", "CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF)")
     lines = [f"# {c}" for c in comments]
     lines += [f"param set CAL_ACC0_{a}OFF {_number(v)}" for a, v in zip("XYZ", p["offset_mps2"])]
     lines += [f"param set CAL_ACC0_{a}SCALE {_number(v)}" for a, v in zip("XYZ", p["scale"])]

@@ -15,6 +15,7 @@ import numpy as np
 from app.calibration import STANDARD_GRAVITY
 
 from .export_common import SENSORS, result_class, sensor_corrections, unit_label
+from .export_params import firmware_figures
 from .formats.chips import CHIPS
 
 _EXAMPLE_SCALE = {"acc": (16384.0, "16384 counts per g of an MPU-6050 at ±2 g (its datasheet, section 6.2)", "g"),
@@ -102,7 +103,8 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         over the JSON export), ``javascript`` (over the JSON export, for a phone app), ``functions``
         (the C functions by sensor), ``scales`` (how counts become each sensor's input unit; None
         where none applies) and ``corrections`` (each sensor's ``M``, ``o``, units and the source of
-        the correction ``f = M (m − o)``: what the lines apply, as the page shows it).
+        the correction ``f = M (m − o)``: what the lines apply, as the page shows it), and ``firmware``
+        (what ArduPilot's and PX4's offsets and scales reach: app.io.export_params.firmware_figures).
     """
     corrections = sensor_corrections(body)
     header = f"trical_{body['id']}.h"
@@ -140,4 +142,5 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
     corrections_out = {c.sensor: {"M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
                                   "output_unit": c.output_unit, "source": c.source} for c in corrections}
     return {"corrections": corrections_out, "c": "\n".join(c_lines), "python": "\n".join(py_lines), "javascript": "\n".join(js_lines),
-            "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections}, "scales": scales}
+            "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections}, "scales": scales,
+            "firmware": firmware_figures(body)}

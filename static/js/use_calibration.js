@@ -92,11 +92,17 @@ export function showUse(cal, downloads) {
   const use = chosenUse(uses, kind);
   select.value = use.key;
   const file = downloads.find((d) => d.key === use.format);
+  // A firmware's offsets and scales (app/io/export_params.py): what they reach on the readings, and the file
+  // offered only where that is better than raw.
+  const firmware = file?.url ? downloads.snippets?.firmware?.[use.format] : null;
+  const offered = Boolean(file?.url) && (!firmware || firmware.improves);
   const link = $("#use-file");
   const problem = $("#use-problem");
-  link.hidden = !file?.url;
-  problem.hidden = Boolean(file?.url);
-  if (file?.url) {
+  link.hidden = !offered;
+  problem.hidden = offered;
+  $("#use-firmware").textContent = offered && firmware ? firmware.words : "";
+  $("#use-firmware").hidden = !(offered && firmware);
+  if (offered) {
     link.href = file.url;
     link.download = file.filename;
     link.dataset.format = file.key;
@@ -105,7 +111,8 @@ export function showUse(cal, downloads) {
     $("#use-how").textContent = use.how;
   } else {
     $("#use-how").textContent = "";
-    problem.textContent = `${use.name}: ${file ? file.error : "no file for it"}. Pick another use, or a format below.`;
+    const why = firmware ? firmware.words : file ? file.error : "no file for it";
+    problem.textContent = `${use.name}: ${why}. Pick another use, or a format below.`;
   }
   showSnippet(use, file?.url ? downloads.snippets : null);
   list.replaceChildren(...downloads.map((d) => {

@@ -15,6 +15,7 @@ import pytest
 from app.calibration import CANONICAL_SIX
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
+from tests.e2e.conftest import shot
 from tests.e2e.test_layout import layout_problems
 from tests.phone_poses import pose_samples
 
@@ -358,3 +359,41 @@ def test_send_to_my_computer_hands_the_link_to_the_web_share_api(browser, server
         assert page.is_hidden("#send-box") and "Sent: the link opens it until" in page.text_content("#send-msg")
     finally:
         context.close()
+
+
+def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_it_beats_raw(page, server):
+    """The MPU-6050's six pose files (tests/data/real/README.md): ArduPilot's file, with what its offsets and
+    scales reach beside raw and trical's; a sensor whose only error is its axes' angles: no ArduPilot file."""
+    from tests.api.test_pose_files import ORDER, pose_bytes
+
+    from app.calibration.firmware_model import DIRECTIONS
+
+    rec = httpx.post(server.url + "/api/v1/recordings", data={"acc_unit": "m/s^2"}, timeout=60,
+                     files=[("file", (f"{s}.csv", pose_bytes(s), "text/csv")) for s in ORDER]).json()
+    boards = httpx.post(server.url + "/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]},
+                        timeout=60).json()
+    e = np.sin(np.radians(1.0))  # every pair of axes 2° from orthogonal, nothing else
+    sheared = 9.80665 * DIRECTIONS @ np.linalg.inv([[1, e, e], [e, 1, e], [e, e, 1.0]]).T
+    shear = httpx.post(server.url + "/api/v1/calibrations", json={"method": "nonorthogonal", "means": sheared.tolist()},
+                       timeout=60).json()
+    assert boards["verdict"]["apply"] and shear["verdict"]["apply"]
+    page.goto(f"{server.url}/c/{boards['id']}")
+    page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+    page.select_option("#use-with", "ardupilot")
+    assert page.is_visible("#use-file") and page.get_attribute("#use-file", "data-format") == "ardupilot"
+    assert page.text_content("#use-firmware") == (
+        "With these offsets and scales ArduPilot reaches at most 0.00 mg on the 6 still readings (6 numbers fit 6 "
+        "readings exactly) and 3.68 mg in any direction; raw 65.1 mg, trical's full model 0.96 mg. trical's model "
+        "also turns the axes 2.8° (the table's tilt or the board's mounting), which no offset or scale holds: "
+        "ArduPilot's level calibration takes the tilt (AHRS_TRIM_X and AHRS_TRIM_Y).")
+    shot(page, "use_ardupilot_pose_files")
+    page.goto(f"{server.url}/c/{shear['id']}")
+    page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+    page.select_option("#use-with", "px4")
+    assert page.is_hidden("#use-file") and page.is_hidden("#use-firmware")
+    assert page.text_content("#use-problem") == (
+        "PX4: PX4's offsets and scales would leave 34.7 mg on the 14 still readings, no better than raw (33.7 mg): "
+        "use the full correction (M and o) instead. Pick another use, or a format below.")
+    assert page.locator("#downloads a[data-format=px4]").count() == 1  # still listed among every format
+    shot(page, "use_px4_not_offered")
+    assert page.errors == []

@@ -19,7 +19,7 @@ def test_calibrate_a_zip_and_export_ardupilot(tmp_path):
     assert body["unit"] == "g"
     np.testing.assert_allclose(body["model"]["X"], TRUTH["model"]["X"], atol=5e-3)
     params = trical("export", body["id"], "--format", "ardupilot", tmp_path=tmp_path, check=True).stdout
-    assert "INS_ACCSCAL_Z" in params and "dropped_terms_residual_max" in params
+    assert "INS_ACCSCAL_Z" in params and "firmware_norm_error_max_mg" in params
 
 
 def test_calibrate_counts_with_lsb_per_g(tmp_path):

@@ -144,6 +144,10 @@ class CubeCalibration(CalibrationResult):
     def corrected_sensors(self) -> tuple[str, ...]:
         return tuple(name for name in self.CUBE_SENSORS if getattr(self, name) is not None)
 
+    def still_readings(self) -> np.ndarray | None:
+        """The accelerometer's means of its positions (Särkkä et al. section VI), or None without its model."""
+        return None if self.acc is None else np.asarray(self.acc.means, dtype=float).reshape(-1, 3)
+
     def figures(self) -> tuple[Figure, ...]:
         """The accelerometer's mean | |m| − g | of its positions raw, and of S⁻¹ (m − b) (Särkkä et al., IEEE
         Sensors Journal 17(11) 2017, eq. (1)), in mg of g: in-sample, the positions are fitted with their
