@@ -148,9 +148,11 @@ function showSegments(rec) {
   note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}${files}: calibrating…`
     : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
       : `The ${rec.channels.join(" and ")} alone, ${rate}${files}: nothing to calibrate from its poses…`);
-  // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest).
-  $("#segments-notes").hidden = !(parts.length && rec.notes.length);
-  $("#segments-notes").textContent = parts.length ? rec.notes.join(" ") : "";
+  // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
+  // file gave which sensor when they are one per sensor, merged onto one clock).
+  const several = parts.length > 0 || $("#log-file").files.length > 1;
+  $("#segments-notes").hidden = !(several && rec.notes.length);
+  $("#segments-notes").textContent = several ? rec.notes.join(" ") : "";
 }
 
 // The file's header was not recognised: a control per column to say what it holds.

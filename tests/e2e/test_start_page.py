@@ -357,3 +357,15 @@ def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_besi
     shot(page, "start_page_desktop_no_serial_1280")
     other.close()
     assert errors == []
+
+
+def test_one_file_per_sensor_chosen_together_is_one_recording(page, server):
+    """An iPhone's accelerometer.csv, gyroscope.csv and magnetometer.csv (tests/data/real/corpus), each with its
+    own epoch time column: chosen together, they are one recording on the accelerometer's clock."""
+    folder = DATA / "real" / "corpus" / "iphone_heading_per_sensor_files"
+    upload_pose_files(page, server, [folder / f for f in ("accelerometer.csv", "gyroscope.csv", "magnetometer.csv")])
+    notes = page.text_content("#segments-notes")
+    assert "one recording in 3 files, one per sensor: accelerometer.csv the accelerometer (g), gyroscope.csv the " \
+           "gyroscope (rad/s), magnetometer.csv the magnetometer (raw)" in notes
+    assert "merged on the clock of accelerometer.csv" in notes
+    assert page.locator("#segments-table th.file-col").is_hidden()  # one recording, not files of poses
