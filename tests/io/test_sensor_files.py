@@ -118,3 +118,26 @@ def test_without_time_columns_files_of_equal_length_are_taken_sample_by_sample(t
     with pytest.raises(LogFormatError, match="cannot be put on one clock"):
         read_log(zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg[:200])}), name="rec.zip",
                  sampling_rate_hz=100)
+
+
+SENSOR_LOGGER = DATA / "real" / "corpus" / "sensor_logger_iphone_per_sensor_files"
+PHYPHOX = DATA / "real" / "corpus" / "phyphox_per_sensor_files"
+
+
+def test_sensor_loggers_gyroscope_and_magnetometer_files_are_one_recording_on_the_gyroscopes_clock(tmp_path):
+    """Without the accelerometer (Sensor Logger's Accelerometer.csv holds no gravity), the fastest sensor's clock."""
+    files = ("Gyroscope.csv", "Magnetometer.csv")
+    log = read_log(zipped(tmp_path, {f: (SENSOR_LOGGER / f).read_bytes() for f in files}), name="rec.zip")
+    assert log.channels == ["gyr", "mag"] and log.units == {"gyr": "rad/s", "mag": "uT"}
+    assert log.n_samples == 400  # the two files share their timestamps: nothing left out
+    assert "merged on the clock of Gyroscope.csv (the fastest sensor's, the gyroscope's, 99.71 Hz)" in log.notes[1]
+    raw = np.genfromtxt(SENSOR_LOGGER / "Gyroscope.csv", delimiter=",", skip_header=1)
+    assert log.gyr[:, 0] == pytest.approx(raw[:, 4], abs=1e-12)  # z, y, x columns: x is the last
+
+
+def test_a_phyphox_gyroscope_file_keeps_its_headers_unit_when_read_as_the_gyroscope(tmp_path):
+    text = (PHYPHOX / "Gyroscope.csv").read_text().replace("(rad/s)", "(deg/s)")
+    log = read_log(zipped(tmp_path, {"Accelerometer.csv": (PHYPHOX / "Accelerometer.csv").read_bytes(),
+                                     "Gyroscope.csv": text.encode()}), name="rec.zip")
+    assert log.units == {"acc": "m/s^2", "gyr": "deg/s"}  # the header's unit, not the default rad/s
+    assert log.n_samples == 299

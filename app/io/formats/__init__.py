@@ -303,7 +303,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     log = with_timing(log, sampling_rate_hz, name)  # the one decision of the rate (.timing)
     maker = fmt in (generic_csv.CSV, generic_csv.ARDUINO)
     if maker:  # a header row names the units, or nothing does
-        stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text)
+        stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text, column_map)
     else:  # a phone app's format states its units
         stated = {k: v for k, v in log.units.items() if k not in (units or {})}
     log = settle_units(log, given=units, stated=stated, lsb_per_g=lsb,
