@@ -90,7 +90,7 @@ def pose_from_name(filename: str) -> str | None:
 
 # -- reading and joining the parts ----------------------------------------------------------------
 
-LOG_SUFFIXES = ("", ".csv", ".txt", ".tsv", ".log", ".dat", ".npy", ".parquet", ".pq")
+LOG_SUFFIXES = ("", ".csv", ".txt", ".tsv", ".log", ".dat", ".json", ".npy", ".parquet", ".pq")
 """Members of a zip of pose files that are read; anything else (a photo, a README) is left out with a note."""
 
 SKIPPED_MEMBERS = ("__macosx/", ".ds_store", "thumbs.db", "desktop.ini")
@@ -242,7 +242,7 @@ def read_parts_zip(path: Path, members, read, *, name: str, columns_given: bool 
         raise LogFormatError(
             f"{name} is a zip holding {listed}: trical reads phyphox exports (Raw Data.csv), Sensor Logger "
             "exports (Metadata.csv with TotalAcceleration.csv or AccelerometerUncalibrated.csv) and zips of log "
-            "files (CSV or text, one per pose); upload the CSV itself otherwise", status=415)
+            "files (CSV, text or JSON; one per pose, or one per sensor); upload the CSV itself otherwise", status=415)
     with zipfile.ZipFile(path) as zf:
         total = sum(zf.getinfo(m).file_size for m in kept)
     if total > MAX_UNZIPPED_BYTES:

@@ -22,6 +22,7 @@ The notes say which file gave which sensor and which clock was chosen.
 from __future__ import annotations
 
 import dataclasses
+import json
 import re
 from pathlib import Path, PurePosixPath
 
@@ -95,28 +96,60 @@ def per_sensor_files(names: list[str]) -> dict[str, str] | None:
     return sensors
 
 
+def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] | None:
+    """A file's column names, its time column and the first two values of that column, or None when the file
+    is not a table trical reads as one (a zip, a table it cannot lay out). A JSON array of samples is the table
+    it becomes (:mod:`app.io.formats.json_samples`)."""
+    from .formats import json_samples
+    from .formats.generic_csv import HEADERLESS_NAMES, map_columns, table_layout
+    from .formats.table import SNIFF_BYTES, decode_head, split_row
+
+    with open(path, "rb") as f:
+        head = f.read(SNIFF_BYTES)
+    try:
+        text = decode_head(head, name)
+        if text.lstrip()[:1] in ("[", "{"):
+            header, rows, _ = json_samples.to_table(json.loads(path.read_bytes().decode("utf-8-sig")), name)
+            names = header or HEADERLESS_NAMES.get(len(rows[0]))
+            if names is None:
+                return None
+            time_col = map_columns(names)[1]
+            return names, time_col, [r[time_col] for r in rows[:2]] if time_col is not None else []
+        layout = table_layout(text, name)
+        time_col = map_columns(layout.names)[1]
+    except (LogFormatError, ValueError):
+        return None
+    raw: list[float] = []
+    if time_col is not None:
+        lines = [ln for ln in text.splitlines()[layout.skip_lines:] if ln.strip() and not ln.lstrip().startswith("#")]
+        try:
+            raw = [float(split_row(ln, layout.delimiter)[time_col].replace(layout.decimal, ".")) for ln in lines[:2]]
+        except (ValueError, IndexError):
+            raw = []
+    return [n.strip().strip('"').strip() for n in layout.names], time_col, raw
+
+
 def columns_for(path: Path, sensor: str, name: str) -> dict | None:
     """The ``columns`` mapping that reads a file's unnamed ``x, y, z`` columns as ``sensor``'s, or None.
 
     None when the file's header names its sensor's columns itself (``gx, gy, gz``), names another
-    sensor's too, or is not a table (a zip, a JSON file): it is then read as it is.
+    sensor's too, or is not a table (a zip): it is then read as it is.
     """
-    from .formats.generic_csv import map_columns, table_layout
-    from .formats.table import SNIFF_BYTES, decode_head
+    from .formats.generic_csv import map_columns
 
     if sensor == "acc":
         return None
-    with open(path, "rb") as f:
-        head = f.read(SNIFF_BYTES)
+    table = _table(path, name)
+    if table is None:
+        return None
+    names = table[0]
     try:
-        layout = table_layout(decode_head(head, name), name)
-        channels = map_columns(layout.names)[0]
+        channels = map_columns(names)[0]
     except LogFormatError:
         return None
     if set(channels) != {"acc"}:
         return None
-    stripped = [n.strip().strip('"').strip() for n in layout.names]
-    return {f"{sensor}_{axis}": stripped[col] for axis, col in channels["acc"].items()}
+    return {f"{sensor}_{axis}": names[col] for axis, col in channels["acc"].items()}
 
 
 def first_time(path: Path, log: LogData, name: str) -> float | None:
@@ -125,28 +158,12 @@ def first_time(path: Path, log: LogData, name: str) -> float | None:
     :class:`LogData` counts time from each file's first sample; merging files needs where each starts on
     the clock they share. The first two values of the time column and the log's first step give it.
     """
-    from .formats.generic_csv import map_columns, table_layout
-    from .formats.table import SNIFF_BYTES, decode_head, split_row
-
     if log.time_s is None or len(log.time_s) < 2 or log.time_s[1] <= 0:
         return None
-    with open(path, "rb") as f:
-        head = f.read(SNIFF_BYTES)
-    try:
-        layout = table_layout(decode_head(head, name), name)
-        time_col = map_columns(layout.names)[1]
-    except LogFormatError:
+    table = _table(path, name)
+    if table is None or len(table[2]) < 2 or table[2][1] == table[2][0]:
         return None
-    if time_col is None:
-        return None
-    lines = [ln for ln in head.decode("utf-8", errors="replace").splitlines()[layout.skip_lines:]
-             if ln.strip() and not ln.lstrip().startswith("#")]
-    try:
-        raw = [float(split_row(ln, layout.delimiter)[time_col].replace(layout.decimal, ".")) for ln in lines[:2]]
-    except (ValueError, IndexError):
-        return None
-    if len(raw) < 2 or raw[1] == raw[0]:
-        return None
+    raw = table[2]
     scale = float(log.time_s[1]) / (raw[1] - raw[0])
     return raw[0] * scale
 

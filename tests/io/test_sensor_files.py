@@ -141,3 +141,18 @@ def test_a_phyphox_gyroscope_file_keeps_its_headers_unit_when_read_as_the_gyrosc
                                      "Gyroscope.csv": text.encode()}), name="rec.zip")
     assert log.units == {"acc": "m/s^2", "gyr": "deg/s"}  # the header's unit, not the default rad/s
     assert log.n_samples == 299
+
+
+def test_json_arrays_one_per_sensor_are_one_recording(tmp_path):
+    """accelerometer.json and gyroscope.json, each an array of {"t", "x", "y", "z"}: the gyroscope's x, y, z are its own."""
+    import json
+
+    rng = np.random.default_rng(12)
+    ta, va = _stream(rng, 50.0, 100.0, 600, [0.0, 0.0, 9.81], 0.01)
+    tg, vg = _stream(rng, 50.004, 100.0, 600, [0.02, -0.01, 0.0], 0.002)
+    as_json = lambda t, v: json.dumps([{"t": a, "x": x, "y": y, "z": z} for a, (x, y, z) in zip(t, v)]).encode()
+    log = read_log(zipped(tmp_path, {"accelerometer.json": as_json(ta, va), "gyroscope.json": as_json(tg, vg)}),
+                   name="rec.zip")
+    assert log.channels == ["acc", "gyr"] and log.units == {"acc": "m/s^2", "gyr": "rad/s"}
+    assert log.n_samples == 599  # the accelerometer's first sample comes 4 ms before the gyroscope's
+    assert np.abs(log.gyr.mean(axis=0) - [0.02, -0.01, 0.0]).max() < 1e-3
