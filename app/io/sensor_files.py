@@ -216,12 +216,12 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
                 "cannot be put on one clock; log a time column in every file")
         notes.append("no time column in every file: the files' samples taken as simultaneous, one to one")
         clock_sensor = "acc" if "acc" in by_sensor else next(iter(by_sensor))
-        clock_file, clock_log, _ = by_sensor[clock_sensor]
+        clock_log = by_sensor[clock_sensor][1]
         arrays = {s: np.asarray(getattr(log, s), dtype=float) for s, (_, log, _) in by_sensor.items()}
-        merged = dataclasses.replace(clock_log, acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"),
-                                     units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
-                                     notes=tuple(notes), warnings=_warnings(logs), parts=(), format=_format(logs))
-        return merged
+        return dataclasses.replace(clock_log, acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"),
+                                   units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
+                                   notes=tuple(notes + _file_notes(logs)), warnings=_warnings(logs), parts=(),
+                                   format=_format(logs))
     starts = {s: (st if st is not None else 0.0) for s, (_, _, st) in by_sensor.items()}
     zero = min(starts.values())
     starts = {s: st - zero for s, st in starts.items()}
@@ -267,7 +267,7 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     merged = LogData(acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"),
                      time_s=kept_times - kept_times[0], sampling_rate_hz=None,
                      units={s: log.units[s] for s, (_, log, _) in by_sensor.items()}, format=_format(logs),
-                     columns=list(clock_log.columns), notes=tuple(notes), sign=clock_log.sign,
+                     columns=list(clock_log.columns), notes=tuple(notes + _file_notes(logs)), sign=clock_log.sign,
                      warnings=_warnings(logs),
                      temperature_c=None if temperature is None else np.asarray(temperature)[keep])
     return with_timing(merged, None, name)
@@ -279,6 +279,11 @@ _WORDS = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}
 def _format(logs) -> str:
     formats = list(dict.fromkeys(log.format for _, _, log, _ in logs))
     return formats[0] if len(formats) == 1 else "+".join(formats)
+
+
+def _file_notes(logs) -> list:
+    """What the reading of each file noticed (its time column's unit, its unit inferred), named by the file."""
+    return [f"{fname}: {note}" for fname, _, log, _ in logs for note in log.notes]
 
 
 def _warnings(logs) -> tuple:
