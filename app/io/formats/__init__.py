@@ -259,7 +259,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     column_map = parse_columns(columns)
     s = sniff(path, name)
     json_fmt = format if format in (betaflight_mag.NAME, json_samples.NAME) else None
-    if format == "auto" and json_samples.detect(s):
+    if format in ("auto", json_samples.NAME) and json_samples.detect(s):
         json_fmt = betaflight_mag.NAME if betaflight_mag.detect(s) else json_samples.NAME
     if json_fmt is not None:  # JSON: the export of a fit (refused), or an array of samples read as its table
 
