@@ -154,12 +154,18 @@ def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_give
         if part_name.lower().endswith(".zip"):
             raise LogFormatError(f"{part_name} is a zip inside a recording of several files: give the files "
                                  "themselves, or one zip of them")
-    from .sensor_files import read_sensor_files
+    from .sensor_files import first_time, merge_sensor_logs, read_sensor_files
 
     merged = read_sensor_files(sources, read, name=name, columns_given=columns_given)
-    if merged is not None:
+    if merged is not None:  # named one per sensor
         return merged
-    return join_parts([(part_name, read(path, part_name)) for part_name, path in sources])
+    logs = [(part_name, read(path, part_name)) for part_name, path in sources]
+    one_each = [log.channels[0] for _, log in logs if len(log.channels) == 1]
+    if len(logs) > 1 and len(one_each) == len(logs) and len(set(one_each)) == len(logs):
+        # Not named so, but each file holds one sensor, a different one: one per sensor all the same.
+        return merge_sensor_logs([(part_name, log.channels[0], log, first_time(path, log, part_name))
+                                  for (part_name, log), (_, path) in zip(logs, sources)], name=name)
+    return join_parts(logs)
 
 
 def join_parts(logs: list[tuple[str, LogData]]) -> LogData:

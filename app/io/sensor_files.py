@@ -7,9 +7,11 @@ the files of one calibration's poses (:mod:`app.io.parts`) by the files themselv
 
 * every file's name names one sensor (:func:`sensor_from_name`: ``acc``, ``accel``, ``accelerometer``;
   ``gyr``, ``gyro``, ``gyroscope``; ``mag``, ``magnetometer``, ``compass``, ``hmc…``, ``qmc…``,
-  ``ak…``), and no two files name the same one;
-* each file holds that one sensor (columns named ``x, y, z`` are that sensor's);
-* their time columns overlap in time, rather than follow each other as the poses of a calibration do.
+  ``ak…``), and no two files name the same one — each file then holds that one sensor (columns named
+  ``x, y, z`` are that sensor's); or, whatever their names, each file's columns name one sensor, and no
+  two the same (``ax, ay, az`` in one, ``gx, gy, gz`` in the other: :func:`app.io.parts.read_parts`);
+* their time columns overlap in time, rather than follow each other as the poses of a calibration do
+  (files that do not are refused).
 
 Each file is read alone, so that its unit is decided on its own data
 (:func:`app.io.formats.units.settle_units`, through the reader). The files are then merged onto one

@@ -156,3 +156,14 @@ def test_json_arrays_one_per_sensor_are_one_recording(tmp_path):
     assert log.channels == ["acc", "gyr"] and log.units == {"acc": "m/s^2", "gyr": "rad/s"}
     assert log.n_samples == 599  # the accelerometer's first sample comes 4 ms before the gyroscope's
     assert np.abs(log.gyr.mean(axis=0) - [0.02, -0.01, 0.0]).max() < 1e-3
+
+
+def test_files_not_named_for_a_sensor_but_holding_one_each_are_one_recording(tmp_path):
+    rng = np.random.default_rng(9)
+    ta, va = _stream(rng, 7.0, 100.0, 400, [0, 0, 1.0], 0.002)
+    tg, vg = _stream(rng, 7.002, 100.0, 400, [0.01, 0, 0], 0.001)
+    log = read_log(zipped(tmp_path, {"log_1.csv": _csv("t,ax,ay,az", ta, va), "log_2.csv": _csv("t,gx,gy,gz", tg, vg)}),
+                   name="rec.zip")
+    assert log.channels == ["acc", "gyr"] and log.n_samples == 399
+    assert log.notes[0] == "one recording in 2 files, one per sensor: log_1.csv the accelerometer (g), log_2.csv the " \
+                           "gyroscope (rad/s)"
