@@ -73,14 +73,17 @@ def _part_name(upload: UploadFile, i: int) -> str:
 def upload_recording(
     *,
     file: list[UploadFile] = File(..., description=(
-        "A log: CSV with or without a header row, a phyphox / Sensor Logger zip, .npy / .parquet samples, a PX4 "
-        "ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several `file` parts (one file per pose) are one recording in parts, in the order given.")),
+        "A log: CSV with or without a header row, a JSON array of samples, a phyphox / Sensor Logger zip, .npy / "
+        ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several "
+        "`file` parts (one file per pose) are one recording in parts, in the order given; files named one per sensor "
+        "(accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one clock "
+        "(app.io.sensor_files).")),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: AccUnit | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
     mag_unit: Literal["uT", "nT", "gauss", "raw"] | None = Form(None),
     format: Literal["auto", "ulog", "dataflash", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",
-                    "arduino"] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
+                    "betaflight_mag", "json", "arduino"] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
     chip: str | None = Form(None, description="The parts (and ranges) of sensors logged in counts, separated by "
                             "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "

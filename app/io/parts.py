@@ -90,7 +90,7 @@ def pose_from_name(filename: str) -> str | None:
 
 # -- reading and joining the parts ----------------------------------------------------------------
 
-LOG_SUFFIXES = ("", ".csv", ".txt", ".tsv", ".log", ".dat", ".npy", ".parquet", ".pq")
+LOG_SUFFIXES = ("", ".csv", ".txt", ".tsv", ".log", ".dat", ".json", ".npy", ".parquet", ".pq")
 """Members of a zip of pose files that are read; anything else (a photo, a README) is left out with a note."""
 
 SKIPPED_MEMBERS = ("__macosx/", ".ds_store", "thumbs.db", "desktop.ini")
@@ -117,17 +117,21 @@ def refuse_repeated_names(names) -> None:
                              "with its own name")
 
 
-def read_parts(sources: list[tuple[str, Path]], read, *, name: str) -> LogData:
-    """Read every file of a recording in parts with ``read`` and join them end to end.
+def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_given: bool = False) -> LogData:
+    """Read every file of a recording in parts with ``read`` and join them end to end — or, when the files
+    are one per sensor (:mod:`app.io.sensor_files`), merge them onto one clock.
 
     Parameters
     ----------
     sources : list of (str, pathlib.Path)
         Each file's name (as the person gave it) and where it is, in the recording's order.
     read : callable
-        ``read(path, name)`` → :class:`LogData`: the one reader, with the upload's options.
+        ``read(path, name, columns=None)`` → :class:`LogData`: the one reader, with the upload's options
+        (``columns``, when given, replaces the upload's for that file).
     name : str
         How to call the whole recording in messages.
+    columns_given : bool
+        The upload named the columns: files of one sensor each keep them as they are.
 
     Returns
     -------
@@ -146,12 +150,21 @@ def read_parts(sources: list[tuple[str, Path]], read, *, name: str) -> LogData:
         raise LogFormatError(f"{name} holds {len(sources)} files; at most {MAX_PARTS} are read as one recording: "
                              "give the files of one calibration only")
     refuse_repeated_names([n for n, _ in sources])
-    logs = []
-    for part_name, path in sources:
+    for part_name, _ in sources:
         if part_name.lower().endswith(".zip"):
             raise LogFormatError(f"{part_name} is a zip inside a recording of several files: give the files "
                                  "themselves, or one zip of them")
-        logs.append((part_name, read(path, part_name)))
+    from .sensor_files import first_time, merge_sensor_logs, read_sensor_files
+
+    merged = read_sensor_files(sources, read, name=name, columns_given=columns_given)
+    if merged is not None:  # named one per sensor
+        return merged
+    logs = [(part_name, read(path, part_name)) for part_name, path in sources]
+    one_each = [log.channels[0] for _, log in logs if len(log.channels) == 1]
+    if len(logs) > 1 and len(one_each) == len(logs) and len(set(one_each)) == len(logs):
+        # Not named so, but each file holds one sensor, a different one: one per sensor all the same.
+        return merge_sensor_logs([(part_name, log.channels[0], log, first_time(path, log, part_name))
+                                  for (part_name, log), (_, path) in zip(logs, sources)], name=name)
     return join_parts(logs)
 
 
@@ -215,7 +228,7 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
                                parts=tuple(parts), timing=timing)
 
 
-def read_parts_zip(path: Path, members, read, *, name: str) -> LogData:
+def read_parts_zip(path: Path, members, read, *, name: str, columns_given: bool = False) -> LogData:
     """Read a zip of pose files (not a phyphox or Sensor Logger export) as one recording in parts.
 
     Each member is read by ``read(path, member name)`` in the zip's order; the parts are named by
@@ -235,7 +248,7 @@ def read_parts_zip(path: Path, members, read, *, name: str) -> LogData:
         raise LogFormatError(
             f"{name} is a zip holding {listed}: trical reads phyphox exports (Raw Data.csv), Sensor Logger "
             "exports (Metadata.csv with TotalAcceleration.csv or AccelerometerUncalibrated.csv) and zips of log "
-            "files (CSV or text, one per pose); upload the CSV itself otherwise", status=415)
+            "files (CSV, text or JSON; one per pose, or one per sensor); upload the CSV itself otherwise", status=415)
     with zipfile.ZipFile(path) as zf:
         total = sum(zf.getinfo(m).file_size for m in kept)
     if total > MAX_UNZIPPED_BYTES:
@@ -248,7 +261,7 @@ def read_parts_zip(path: Path, members, read, *, name: str) -> LogData:
             target = Path(tmp) / f"{i:04d}{Path(base).suffix.lower()}"
             target.write_bytes(read_member(path, member, name))
             sources.append((base, target))
-        log = read_parts(sources, read, name=name)
+        log = read_parts(sources, read, name=name, columns_given=columns_given)
     if left:
         note = f"{name}: {', '.join(left)} left out (not a log file)"
         log = dataclasses.replace(log, notes=tuple(log.notes) + (note,))

@@ -19,6 +19,28 @@ from .formats.timing import with_timing
 from .log import LogData
 
 WEARABLE_SUFFIXES = (".cwa", ".gt3x", ".bin")
+BIN_MAGICS = (b"Device Identity", b"MDTC")
+"""The first bytes of the .bin files actipy reads (its readers: a GENEActiv .bin's text header ``Device Identity``,
+a Matrix .bin's ``MDTC`` signature); .bin is also ArduPilot's DataFlash log (:data:`app.io.formats.table.BINARY_LOG_MAGICS`),
+and the name of many a binary of no format trical reads."""
+
+
+def refuse_unknown_binary(path: Path, name: str) -> None:
+    """Refuse a ``.bin`` file whose first bytes are none of the .bin formats trical reads (a binary of no known
+    format), listing the formats trical reads (:data:`app.io.formats.kinds.FILE_KINDS`)."""
+    from .formats.kinds import formats_read
+
+    suffixes = [s.lower() for s in Path(path).suffixes]
+    if suffixes and suffixes[-1] in (".gz", ".zip"):
+        return  # compressed: actipy decompresses it, and says what it finds
+    suffix = suffixes[-1] if suffixes else ""
+    with open(path, "rb") as f:
+        head = f.read(16)
+    if suffix == ".bin" and not head.startswith(BIN_MAGICS):
+        raise LogFormatError(
+            f"{name} is not a format trical reads: its first bytes ({head[:8].hex(' ')}) are none of the .bin "
+            f"formats (an ArduPilot DataFlash log, a GENEActiv or Matrix wearable's recording). trical reads: {formats_read()}",
+            status=415)
 
 
 def is_wearable(path: Path) -> bool:
@@ -41,6 +63,7 @@ def read_wearable_log(path: Path, *, sampling_rate_hz: float | None = None, unit
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(2, "No such file", str(path))
+    refuse_unknown_binary(path, name)
     try:
         import actipy
     except ImportError:

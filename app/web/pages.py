@@ -10,6 +10,7 @@ from fastapi.responses import HTMLResponse
 from fastapi.templating import Jinja2Templates
 
 from app.calibration import CANONICAL_SIX
+from app.io.formats.kinds import ACCEPTED_SUFFIXES
 from app.qr import qr_svg_data_uri
 from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 from app.tls import lan_addresses
@@ -60,6 +61,7 @@ def index(request: Request):
         "tables": page_tables(),
         "phone_url": url,
         "phone_qr": qr_svg_data_uri(url),
+        "accept": ",".join(ACCEPTED_SUFFIXES),
     })
 
 

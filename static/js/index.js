@@ -148,14 +148,18 @@ function showSegments(rec) {
   note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}${files}: calibrating…`
     : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
       : `The ${rec.channels.join(" and ")} alone, ${rate}${files}: nothing to calibrate from its poses…`);
-  // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest).
-  $("#segments-notes").hidden = !(parts.length && rec.notes.length);
-  $("#segments-notes").textContent = parts.length ? rec.notes.join(" ") : "";
+  // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
+  // file gave which sensor when they are one per sensor, merged onto one clock).
+  const several = parts.length > 0 || $("#log-file").files.length > 1;
+  $("#segments-notes").hidden = !(several && rec.notes.length);
+  $("#segments-notes").textContent = several ? rec.notes.join(" ") : "";
 }
 
 // The file's header was not recognised: a control per column to say what it holds.
 async function offerColumnMap(file) {
-  const names = headerColumns((await file.slice(0, 4096).text()).split(/\r?\n/)[0] || "");
+  const head = await file.slice(0, 4096).text();
+  if (/^\s*[[{]/.test(head)) return false; // JSON: its keys are its columns, and the refusal says what it holds
+  const names = headerColumns(head.split(/\r?\n/)[0] || "");
   if (names.length < 2 || names.every((n) => Number.isFinite(Number(n)))) return false; // no header to map
   $("#columns-map-list").replaceChildren(...names.map((name, i) => {
     const label = cell("label", name);
@@ -218,6 +222,12 @@ async function showOptions() {
   let apply = { rate: false, columns: false, sign: false };
   if (file && /\.(ulg|bin)$/i.test(file.name)) {
     // a flight controller's log states its rate, units and columns: nothing to give
+  } else if (file && /\.json$/i.test(file.name)) {
+    // a JSON array of samples: its keys name the columns (app/io/formats/json_samples.py); the rate is asked
+    // for unless a key names a time
+    const head = await file.slice(0, 4096).text();
+    const timeKey = [...head.matchAll(/"([^"]{1,40})"\s*:/g)].some((m) => TIME_NAME.test(m[1]));
+    apply = { rate: !timeKey, columns: false, sign: false };
   } else if (file && !/\.zip$/i.test(file.name)) {
     const head = await file.slice(0, 4096).text();
     const first = head.split(/\r\n|\r|\n/).find((line) => line.trim() && !line.trim().startsWith("#")) || "";

@@ -357,3 +357,34 @@ def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_besi
     shot(page, "start_page_desktop_no_serial_1280")
     other.close()
     assert errors == []
+
+
+def test_one_file_per_sensor_chosen_together_is_one_recording(page, server):
+    """An iPhone's accelerometer.csv, gyroscope.csv and magnetometer.csv (tests/data/real/corpus), each with its
+    own epoch time column: chosen together, they are one recording on the accelerometer's clock."""
+    folder = DATA / "real" / "corpus" / "iphone_heading_per_sensor_files"
+    upload_pose_files(page, server, [folder / f for f in ("accelerometer.csv", "gyroscope.csv", "magnetometer.csv")])
+    notes = page.text_content("#segments-notes")
+    assert "one recording in 3 files, one per sensor: accelerometer.csv the accelerometer (g), gyroscope.csv the " \
+           "gyroscope (rad/s), magnetometer.csv the magnetometer (raw)" in notes
+    assert "merged on the clock of accelerometer.csv" in notes
+    assert page.locator("#segments-table th.file-col").is_hidden()  # one recording, not files of poses
+
+
+def test_json_files_are_offered_read_and_the_betaflight_export_is_refused_in_its_own_words(page, server, tmp_path):
+    page.goto(server.url + "/")
+    samples = tmp_path / "samples.json"
+    samples.write_text(json.dumps([{"t": round(i * 0.01, 2), "x": 0.01, "y": -0.02, "z": 0.98} for i in range(300)]))
+    page.set_input_files("#log-file", str(samples))
+    page.wait_for_timeout(300)
+    assert page.locator("#options").is_hidden()  # a key names the time: nothing to ask
+    untimed = tmp_path / "untimed.json"
+    untimed.write_text(json.dumps([[0.01, -0.02, 0.98]] * 300))
+    page.set_input_files("#log-file", str(untimed))
+    page.wait_for_function("() => document.querySelector('#options-summary').textContent === 'Options: sampling rate'")
+    export = DATA / "real" / "corpus" / "betaflight_mag_characterization_model" / "characterization_model_2026-06-26.json"
+    page.set_input_files("#log-file", str(export))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_function("() => document.querySelector('#upload-msg').textContent.startsWith('Upload refused')")
+    assert "the Betaflight configurator's magnetometer characterization model" in page.text_content("#upload-msg")
+    assert page.locator("#columns-map").is_hidden()

@@ -38,7 +38,8 @@ from pathlib import Path
 
 from ..errors import LogFormatError
 from ..log import LogData
-from . import dataflash, generic_csv, gnss_logger, phyphox, physics_toolbox, sensor_logger, sensorlog, ulog
+from . import (betaflight_mag, dataflash, generic_csv, gnss_logger, json_samples, phyphox, physics_toolbox, sensor_logger,
+               sensorlog, ulog)
 from .flight_log import CLOCKS
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
@@ -54,6 +55,8 @@ READERS = {
     gnss_logger.NAME: gnss_logger.read,
     physics_toolbox.NAME: physics_toolbox.read,
     sensorlog.NAME: sensorlog.read,
+    betaflight_mag.NAME: betaflight_mag.read,
+    json_samples.NAME: json_samples.read,
     generic_csv.ARDUINO: generic_csv.read_arduino,
     generic_csv.CSV: generic_csv.read_csv,
 }
@@ -67,6 +70,8 @@ DETECTORS = (
     (gnss_logger.NAME, gnss_logger.detect),
     (physics_toolbox.NAME, physics_toolbox.detect),
     (sensorlog.NAME, sensorlog.detect),
+    (betaflight_mag.NAME, betaflight_mag.detect),
+    (json_samples.NAME, json_samples.detect),
     (generic_csv.ARDUINO, generic_csv.detect_arduino),
     (generic_csv.CSV, generic_csv.detect_csv),
 )
@@ -253,16 +258,27 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     check_sign(sign)
     column_map = parse_columns(columns)
     s = sniff(path, name)
+    json_fmt = format if format in (betaflight_mag.NAME, json_samples.NAME) else None
+    if format in ("auto", json_samples.NAME) and json_samples.detect(s):
+        json_fmt = betaflight_mag.NAME if betaflight_mag.detect(s) else json_samples.NAME
+    if json_fmt is not None:  # JSON: the export of a fit (refused), or an array of samples read as its table
+
+        def read_table(table, table_name):
+            return read_log(table, sampling_rate_hz=sampling_rate_hz, units=units, lsb_per_g=lsb_per_g,
+                            columns=columns, sign=sign, chip=chip, name=table_name)
+
+        return READERS[json_fmt](path, s, name=name, read_table=read_table)
     if s.is_zip and format not in (phyphox.NAME, sensor_logger.NAME) and not (phyphox.detect(s) or sensor_logger.detect(s)) \
             and not any(m.startswith("xl/") for m in s.members):
         # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
         from ..parts import read_parts_zip
 
-        def read_part(part_path, part_name):
+        def read_part(part_path, part_name, part_columns=None):
             return read_log(part_path, format=format, sampling_rate_hz=sampling_rate_hz, units=units,
-                            lsb_per_g=lsb_per_g, columns=columns, sign=sign, name=part_name)
+                            lsb_per_g=lsb_per_g, columns=part_columns or columns, sign=sign, chip=chip,
+                            name=part_name)
 
-        return read_parts_zip(path, s.members, read_part, name=name)
+        return read_parts_zip(path, s.members, read_part, name=name, columns_given=bool(columns))
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
         raise LogFormatError(f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
                              "leave columns out, or use format=csv")
@@ -287,7 +303,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     log = with_timing(log, sampling_rate_hz, name)  # the one decision of the rate (.timing)
     maker = fmt in (generic_csv.CSV, generic_csv.ARDUINO)
     if maker:  # a header row names the units, or nothing does
-        stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text)
+        stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text, column_map)
     else:  # a phone app's format states its units
         stated = {k: v for k, v in log.units.items() if k not in (units or {})}
     log = settle_units(log, given=units, stated=stated, lsb_per_g=lsb,

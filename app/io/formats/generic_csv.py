@@ -64,6 +64,8 @@ _UNIT_ALIASES = {
     "m/s^2": "m/s^2", "m/s2": "m/s^2", "m/s²": "m/s^2", "ms^-2": "m/s^2", "m s^-2": "m/s^2",
     "g": "g", "rad/s": "rad/s", "deg/s": "deg/s", "°/s": "deg/s", "dps": "deg/s",
     "ut": "uT", "µt": "uT", "μt": "uT", "nt": "nT", "raw": "raw", "lsb": "raw", "counts": "raw",
+    "g's": "g", "gs": "g", "radians/s": "rad/s", "radians/second": "rad/s", "degrees/s": "deg/s",
+    "degrees/second": "deg/s", "microtesla": "uT", "microteslas": "uT", "nanotesla": "nT", "nanoteslas": "nT",
 }
 _TIME_SCALE = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9}
 
@@ -79,7 +81,8 @@ _MAG_ALIASES = {"g": "gauss", "gauss": "gauss", "ga": "gauss"}
 def _header_unit(text: str | None, sensor: str = "acc") -> str | None:
     if not text:
         return None
-    key = text.strip().lower().replace(" ", "")
+    key = text.strip().lower()
+    key = (key[3:] if key.startswith("in ") else key).replace(" ", "")  # iOS loggers' "x (in G's)"
     if sensor == "mag" and key in _MAG_ALIASES:
         return _MAG_ALIASES[key]
     return _UNIT_ALIASES.get(key, None)
@@ -236,6 +239,22 @@ def temperature_column(names: list[str]) -> int | None:
     return next((col for col, raw in enumerate(names) if _TEMPERATURE.match(normalise(raw))), None)
 
 
+_UNIT_IN_NAME = re.compile(r"[\(\[]([^\)\]]*)[\)\]]")
+
+
+def mapped_units(names: list[str], column_map: dict | None) -> dict:
+    """The units a header names per sensor, the columns of ``column_map`` keeping the unit their own name
+    gives (``x (rad/s)`` mapped to ``gyr_x`` is in rad/s)."""
+    units = map_columns(renamed(names, column_map))[3]
+    for canonical, column in (column_map or {}).items():
+        sensor = canonical.split("_")[0]
+        found = _UNIT_IN_NAME.search(column)
+        unit = _header_unit(found.group(1), sensor) if found and sensor in PATTERNS else None
+        if unit is not None and unit in (*UNITS[sensor], *(MAG_UNITS_IN if sensor == "mag" else ())):
+            units.setdefault(sensor, unit)
+    return units
+
+
 def renamed(names: list[str], column_map: dict | None) -> list[str]:
     """The header with the columns of ``column_map`` (canonical name → file column) renamed."""
     if not column_map:
@@ -286,7 +305,8 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         head = f.read(SNIFF_BYTES)
     layout = table_layout(decode_head(head, name), name, column_names)
     names = layout.names
-    channels, time_col, time_scale, header_units = map_columns(renamed(names, column_map))
+    channels, time_col, time_scale, _ = map_columns(renamed(names, column_map))
+    header_units = mapped_units(names, column_map)
     temp_col = temperature_column(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
     if temp_col is not None:
@@ -372,11 +392,12 @@ def detect_csv(s: Sniff) -> bool:
     return not s.is_zip
 
 
-def header_units(text: str) -> dict:
-    """The units a header row names per sensor (``acc_x (g)`` …); empty when it names none."""
+def header_units(text: str, column_map: dict | None = None) -> dict:
+    """The units a header row names per sensor (``acc_x (g)`` …), its columns mapped by ``column_map``
+    (:func:`mapped_units`); empty when it names none."""
     try:
         _, _, names = split_header(text)
-        return map_columns(names)[3]
+        return mapped_units(names, column_map)
     except LogFormatError:
         return {}
 

@@ -70,17 +70,21 @@ def decode_head(head: bytes, name: str) -> str:
     """The head as text; binary or non-UTF-8 files are refused with status 415."""
     if not head.strip():
         raise LogFormatError(f"{name} is empty: upload a CSV with a header row and one sample per line")
+    from .kinds import formats_read
+
     if b"\x00" in head:
         raise LogFormatError(
-            f"{name} is not a text file (it holds NUL bytes): upload a CSV log with a header row, "
-            "or a zip export of phyphox or Sensor Logger", status=415,
+            f"{name} is not a text file (it holds NUL bytes), and not a format trical reads: upload a CSV log "
+            f"with a header row, or a zip export of phyphox or Sensor Logger. trical reads: {formats_read()}",
+            status=415,
         )
     try:
         return head.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         if exc.start < len(head) - 4:  # a character cut by the sniff window is fine
             raise LogFormatError(
-                f"{name} is not UTF-8 text (byte {exc.start}): upload a CSV log with a header row",
+                f"{name} is not UTF-8 text (byte {exc.start}), and not a format trical reads: upload a CSV log "
+                f"with a header row. trical reads: {formats_read()}",
                 status=415,
             ) from None
         return head[: exc.start].decode("utf-8-sig")
