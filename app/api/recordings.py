@@ -13,13 +13,12 @@ from app import workflow
 from app.api.deps import OwnerDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import AccUnit, RecordingOut
+from app.io.formats.kinds import NAMED_SUFFIXES
 from app.io.parts import refuse_repeated_names
 from app.store import new_id
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
-KEPT_SUFFIXES = (".zip", ".npy", ".parquet", ".pq", ".cwa", ".gt3x", ".bin", ".ulg")
-"""Uploads whose suffix names their format keep it; anything else is read as text (CSV-like)."""
 
 
 def _plus_or_minus_one(value: int) -> int:
@@ -106,7 +105,7 @@ def upload_recording(
     if len(file) == 1:
         filename = file[0].filename
         suffix = Path(filename or "").suffix.lower()
-        dest = settings.recordings_dir / f"{recording_id}{suffix if suffix in KEPT_SUFFIXES else '.csv'}"
+        dest = settings.recordings_dir / f"{recording_id}{suffix if suffix in NAMED_SUFFIXES else '.csv'}"
         save_upload(file[0].file, dest, settings.max_upload_bytes, settings.max_upload_mb)
     else:  # one file per pose: kept together, each under its name, and read as a zip of them (app.io.parts)
         names = [_part_name(f, i) for i, f in enumerate(file)]

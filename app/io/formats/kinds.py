@@ -22,8 +22,15 @@ FILE_KINDS = (
 )
 """What trical reads: a description and the suffixes of such files."""
 
+TEXT_SUFFIXES = (*FILE_KINDS[0][1], *FILE_KINDS[1][1])
+"""Text files (CSV-like and JSON), known by their content whatever their name."""
+
 ACCEPTED_SUFFIXES = tuple(dict.fromkeys(s for _, suffixes in FILE_KINDS for s in suffixes))
 """Every suffix of :data:`FILE_KINDS`, once: the page's file chooser offers these."""
+
+
+NAMED_SUFFIXES = tuple(s for s in ACCEPTED_SUFFIXES if s not in TEXT_SUFFIXES)
+"""Suffixes that name their file's kind (zips, arrays, flight and wearable logs): an upload keeps them."""
 
 
 def formats_read() -> str:
