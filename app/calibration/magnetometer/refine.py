@@ -17,7 +17,7 @@ The criterion has no finite minimum when the readings do not lie on one ellipsoi
 changed during the turn, readings in one plane, a small cap): an ellipsoid whose centre and one axis
 grow without bound, M nearly singular along them, lowers the cost towards zero while every calibrated
 direction falls in one face.  :func:`runs_away` tells such a fit from a refinement, and the caller
-keeps its start (:func:`held`), as ArduPilot's CompassCalibrator refuses a fit whose offsets or scale
+keeps a closed form instead (:func:`held`), as ArduPilot's CompassCalibrator refuses a fit whose offsets or scale
 factors leave their bounds (``fit_acceptable``: offsets under ``offset_max``, diagonal 0.2–5) and
 MotionCal keeps its previous calibration when a new one's field leaves 22–67 µT.
 """
@@ -135,7 +135,7 @@ def runs_away(M: np.ndarray, b: np.ndarray, mag, field: float) -> bool:
 
 
 def held(mag, M: np.ndarray, b: np.ndarray, field: float) -> Refined:
-    """``(M, b)`` kept as they are (a closed-form start the refinement could not improve on): its
+    """``(M, b)`` kept as they are (a closed form kept where the refinement ran away): its
     residuals, no covariance (the criterion is not at a minimum there) and ``converged`` false."""
     m = np.asarray(mag, dtype=float).reshape(-1, 3)
     M = 0.5 * (M + M.T)
