@@ -577,6 +577,13 @@ class MagnetometerMetrics(Out):
     norm_spread_raw_ut: float = Field(description="The same of the raw readings' magnitude.")
     coverage: float = Field(description="Share of the 20 icosahedron faces the calibrated directions reach.")
     missing_directions: list[str] = Field(description="Faces not reached, e.g. +z+y (mostly +z, towards +y).")
+    thickness: float = Field(description=(
+        "How far the readings leave their best plane: the third singular value of the centred readings over "
+        "the first (0 for a turn kept flat, 0.65 or more through all directions; below 0.1 refused)."))
+    fit_stage: Literal["refined", "closed form", "sphere", "centre"] = Field(description=(
+        "What M and b are: the refined fit, or, when its refinement ran away from the readings (no ellipsoid "
+        "fits them), the closed-form ellipsoid, the sphere (hard iron only) or the readings' own centre, shown "
+        "to draw them only (ok is then false)."))
     count: int
     fit_error_ut: float = Field(description="RMS of |h| − F on the readings fitted (in-sample).")
     raw_error_ut: float | None = Field(description="RMS of |m| − F of the readings as they are (null for raw counts).")

@@ -90,6 +90,8 @@ METRICS: dict[str, tuple[str, str, str]] = {
     "noise_ut": ("Noise", "µT", "residual standard deviation"),
     "coverage": ("Directions covered", "fraction", "share of the 20 faces of a sphere the readings reach"),
     "missing_directions": ("Directions missing", "", "faces not reached"),
+    "thickness": ("Out of one plane", "fraction", "how far the readings leave their best plane: 0 for a turn kept flat"),
+    "fit_stage": ("Fit shown", "", "the refined fit, or the closed form kept when the refinement ran away"),
     # Noise (per sensor).
     "adev_min": ("Lowest Allan deviation", "sensor unit", "the floor of the curve"),
     "tau_adev_min_s": ("Averaging time at the floor", "s", "τ where the Allan deviation is lowest"),

@@ -11,6 +11,9 @@ Each face is named by the device directions its centre lies closest to: the eigh
 diagonals of the device's octants are named by three signs (``+x+y+z``), the twelve others by the
 axis they lean on first and the axis they lean towards (``+z+y``: mostly +z, tilted towards +y).
 The page (``/wizard?protocol=compass``) reads the same faces from the HTML the server renders.
+
+A turn kept flat (a compass turned round on a table) puts its readings on a ring in one plane, whatever
+the centre: :func:`thickness` measures that from the readings alone, before any fit.
 """
 
 from __future__ import annotations
@@ -109,3 +112,24 @@ def coverage(vectors, min_samples: int = MIN_SAMPLES_PER_FACE) -> tuple[float, l
     """
     covered = face_counts(vectors) >= min_samples
     return float(covered.mean()), [FACE_NAMES[k] for k in np.flatnonzero(~covered)]
+
+
+def thickness(readings) -> float:
+    """How far the readings leave their best plane: the third singular value of the readings about
+    their mean over the first (the principal axes of the cloud).
+
+    0 for a ring in one plane (a device turned round flat), about 0.4 for a hemisphere and 0.65–1 for
+    a turn through all directions; it needs no centre, so no fit.
+
+    Parameters
+    ----------
+    readings : array_like, shape (N, 3)
+
+    Returns
+    -------
+    float
+        In [0, 1]; 0 when the readings do not change.
+    """
+    m = np.asarray(readings, dtype=float).reshape(-1, 3)
+    s = np.linalg.svd(m - m.mean(axis=0), compute_uv=False)
+    return float(s[2] / s[0]) if s[0] > 0.0 else 0.0

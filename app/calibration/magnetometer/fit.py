@@ -1,11 +1,12 @@
 """The compass calibration: ``h = M (m − b)`` from a device turned in all directions.
 
 Stages: the readings are checked (:func:`_validated`), the algebraic ellipsoid starts the fit
-(:mod:`.ellipsoid`), Levenberg–Marquardt refines it on the field's magnitude (:mod:`.refine`), and
-the result is judged by what a person gets: the spread of |h|, the directions covered
-(:mod:`.coverage`), the error on directions left out of the fit (:func:`cross_validated_field_error`),
-the dip angle against the geomagnetic model when the accelerometer rested (:func:`measured_inclination`),
-and the parameters' intervals (:func:`_gates`).
+(:mod:`.ellipsoid`), Levenberg–Marquardt refines it on the field's magnitude (:mod:`.refine`; a
+refinement that runs away from the readings is dropped for a closed form, :func:`_kept`), and the
+result is judged by what a person gets: whether the readings leave one plane, the spread of |h|, the
+directions covered (:mod:`.coverage`), the error on directions left out of the fit
+(:func:`cross_validated_field_error`), the dip angle against the geomagnetic model when the
+accelerometer rested (:func:`measured_inclination`), and the parameters' intervals (:func:`_gates`).
 """
 
 from __future__ import annotations
@@ -15,9 +16,9 @@ import numpy as np
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates
 from ..uncertainty import CONFIDENCE, half_widths
-from .coverage import coverage, face_of
+from .coverage import coverage, face_of, thickness
 from .ellipsoid import fit_ellipsoid, fit_sphere
-from .refine import Refined, refine, unpack
+from .refine import Refined, held, refine, runs_away, unpack
 from .result import MagnetometerResult
 
 MIN_READINGS = 50
@@ -26,6 +27,11 @@ MIN_READINGS = 50
 MIN_COVERAGE = 0.75
 """Share of the 20 directions (:mod:`.coverage`) a turn must reach: 15 faces. A turn that keeps the
 device flat, or the screen up, reaches a hemisphere (12 faces), where the ellipsoid is free to bulge."""
+
+MIN_THICKNESS = 0.1
+"""The readings' :func:`.coverage.thickness` below 0.1 (they leave their best plane by less than a tenth
+of their width, a ring tilted by about 7° at most): the device was turned round flat, and the ellipsoid
+across that plane is not determined (a hemisphere reaches 0.4, a full turn 0.65 or more)."""
 
 MAX_SPREAD = 0.10
 """A 5–95 % range of |h| above 10 % of the field: the field changed while the device turned (steel,
@@ -52,6 +58,21 @@ SAMPLES_SHOWN = 600
 
 FIELD_SOURCES = ("given", "model", "estimated")
 
+MAX_CENTRE_DISAGREEMENT = 0.5
+"""Where the refinement runs away, the closed-form ellipsoid is kept only if its centre lies within half
+the readings' half-extent of the sphere's: 0.09 and 0.13 on the flat and the disturbed real turns of
+``tests/data/real/corpus``, 2.0 on an iPhone's 1.7 s arc, where the ellipsoid is another surface
+through the arc rather than the sphere reshaped."""
+
+NO_CROSS_VALIDATION = {"cv_error_ut": None, "cv_error_max_ut": None, "cv_scheme": "leave-one-direction-out",
+                       "cv_note": "no figure for new directions: no ellipsoid fits the readings, so none can be "
+                                  "refitted without a direction"}
+
+FIT_STAGES = {"refined": "the refined fit's", "closed form": "the closed-form ellipsoid's",
+              "sphere": "the sphere's (hard iron only)", "centre": "the readings' own centre's"}
+"""What ``h = M (m − b)`` of a result is: the refinement, or (when it ran away from the readings) the
+closed-form ellipsoid, the sphere or the readings' own centre (:func:`_kept`), in the reason's words."""
+
 
 def _validated(mag) -> np.ndarray:
     m = np.asarray(mag, dtype=float)
@@ -68,28 +89,60 @@ def _validated(mag) -> np.ndarray:
     return m
 
 
-def _start(m: np.ndarray, field: float, gates: Gates) -> tuple[np.ndarray, np.ndarray]:
+def _start(m: np.ndarray, field: float, gates: Gates) -> tuple[np.ndarray, np.ndarray, str]:
     """The algebraic ellipsoid, or the sphere when the readings do not determine an ellipsoid."""
     try:
-        return fit_ellipsoid(m, field)
+        return (*fit_ellipsoid(m, field), "closed form")
     except CalibrationError:
         gates.warn("the readings do not determine an ellipsoid on their own; the fit started from a sphere")
-        return fit_sphere(m, field)
+        return (*fit_sphere(m, field), "sphere")
 
 
-def _fit(m: np.ndarray, field: float | None, gates: Gates) -> tuple[Refined, float]:
-    """The refined fit and the field's magnitude: given, or estimated with ``det M = 1``.
+def _kept(m: np.ndarray, M0: np.ndarray, b0: np.ndarray, stage: str, field: float) -> tuple[Refined, str]:
+    """What stands when the refinement runs away (the readings determine no ellipsoid): the closed-form
+    ellipsoid where it stays with the readings (:func:`.refine.runs_away`) and its centre agrees with
+    the sphere's (:data:`MAX_CENTRE_DISAGREEMENT`: the soft iron then only reshapes the sphere), else
+    the sphere (hard iron only: 4 numbers, ArduPilot's first step before its ellipsoid), else the
+    readings' own centre with their RMS radius.  On an iPhone's short arc the closed-form ellipsoid
+    bends round the arc, 35 µT from the sphere's centre, which is iOS's own hard iron within 3 µT
+    (``tests/api/test_real_magnetometer.py``)."""
+    M_s, b_s = fit_sphere(m, field)
+    sphere_kept = not runs_away(M_s, b_s, m, field)
+    if stage != "sphere" and not runs_away(M0, b0, m, field):
+        half = 0.5 * float(np.ptp(m, axis=0).max())
+        if not sphere_kept or np.linalg.norm(b0 - b_s) <= MAX_CENTRE_DISAGREEMENT * half:
+            return held(m, M0, b0, field), stage
+    if sphere_kept:
+        return held(m, M_s, b_s, field), "sphere"
+    centre = m.mean(axis=0)
+    radius = float(np.sqrt(np.mean(np.sum((m - centre) ** 2, axis=1))))
+    return held(m, (field / radius) * np.eye(3), centre, field), "centre"
+
+
+def _fit(m: np.ndarray, field: float | None, gates: Gates) -> tuple[Refined, float, str]:
+    """The refined fit, the field's magnitude (given, or estimated with ``det M = 1``) and the stage
+    kept (:data:`FIT_STAGES`).
 
     Without a field the scale of M is free (any F fits with M scaled by F); trical fixes it so that
-    M changes no volume (``det M = 1``), and F is then the readings' own mean field.
+    M changes no volume (``det M = 1``), and F is then the readings' own mean field.  A refinement
+    that runs away from the readings (:func:`.refine.runs_away`: the criterion has no minimum there)
+    is not a result: a closed form is kept instead (:func:`_kept`), with no intervals.
     """
-    M0, b0 = _start(m, 1.0 if field is None else field, gates)
-    fitted = refine(m, M0, b0, 1.0 if field is None else field)
+    unit_field = 1.0 if field is None else field
+    M0, b0, stage = _start(m, unit_field, gates)
+    fitted = refine(m, M0, b0, unit_field)
+    if runs_away(fitted.M, fitted.b, m, unit_field):
+        fitted, stage = _kept(m, M0, b0, stage, unit_field)
+    else:
+        stage = "refined"
     if field is None:
-        scale = float(np.linalg.det(fitted.M)) ** (-1.0 / 3.0)
+        first = fitted
+        scale = float(np.linalg.det(first.M)) ** (-1.0 / 3.0)
         field = scale
-        fitted = refine(m, scale * fitted.M, fitted.b, field)
-    return fitted, float(field)
+        fitted = refine(m, scale * first.M, first.b, field) if stage == "refined" else None
+        if fitted is None or runs_away(fitted.M, fitted.b, m, field):
+            fitted = held(m, scale * first.M, first.b, field)
+    return fitted, float(field), stage
 
 
 def _spread(values: np.ndarray) -> float:
@@ -159,6 +212,15 @@ def measured_inclination(rests, M: np.ndarray, b: np.ndarray) -> float | None:
 def _gates(metrics: dict, fitted: Refined, half_M: np.ndarray | None, half_b: np.ndarray | None,
            raw_comparable: bool, gates: Gates, label: str = "µT") -> None:
     field = metrics["field_ut"]
+    if metrics["thickness"] < MIN_THICKNESS:
+        gates.fail(f"the readings lie in one plane (they leave it by {100 * metrics['thickness']:.0f} % of their "
+                   "width): the device was turned round flat, which leaves the hard and soft iron across that plane "
+                   "undetermined — turn it over too, through all directions, not only round on a table")
+    if metrics["fit_stage"] != "refined":
+        gates.fail(f"no ellipsoid fits these readings: the least-squares fit runs away from them (its centre and "
+                   f"one axis grow without bound), so the hard and soft iron are not determined and the b and M "
+                   f"shown are {FIT_STAGES[metrics['fit_stage']]}, to draw the readings only — turn the device "
+                   "slowly through all directions, away from steel and magnets, and try again")
     if metrics["coverage"] < MIN_COVERAGE:
         gates.fail(f"the turn covered {100 * metrics['coverage']:.0f} % of the directions (at least "
                    f"{100 * MIN_COVERAGE:.0f} % needed): still missing {', '.join(metrics['missing_directions'])} — "
@@ -167,7 +229,9 @@ def _gates(metrics: dict, fitted: Refined, half_M: np.ndarray | None, half_b: np
         gates.fail(f"the calibrated field's magnitude spreads over {metrics['norm_spread_ut']:.1f} {label} (5–95 %), more "
                    f"than {100 * MAX_SPREAD:.0f} % of {field:.1f} {label}: the field changed while the device turned (steel, "
                    "magnets, a laptop or a phone case nearby) — move away from them and turn it again")
-    if half_b is None:
+    if metrics["fit_stage"] != "refined":
+        pass  # the runaway above says it: no intervals without a minimum
+    elif half_b is None:
         gates.fail("the fit is not determined (no intervals): turn the device through all directions")
     else:
         if np.max(half_b) > MAX_OFFSET_HALF_WIDTH * field:
@@ -231,7 +295,7 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
     source = "estimated" if field_ut is None else (field_source or "given")
     if source not in FIELD_SOURCES:
         raise CalibrationError(f"field_source must be one of {', '.join(FIELD_SOURCES)}; got {source!r}")
-    fitted, field = _fit(m, field_ut, gates)
+    fitted, field, stage = _fit(m, field_ut, gates)
     if field_ut is None:
         gates.warn(f"no place and date, so the field's magnitude is estimated from the readings ({field:.1f} {label}, M "
                    "scaled to change no volume): give date, latitude_deg and longitude_deg (or field_ut) for the "
@@ -248,11 +312,12 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
     metrics = {
         "field_ut": field, "field_source": source, "inclination_deg": inclination_deg,
         "declination_deg": declination_deg, "norm_spread_ut": _spread(norms), "norm_spread_raw_ut": _spread(raw_norms),
-        "coverage": share, "missing_directions": missing, "count": int(len(m)),
+        "coverage": share, "missing_directions": missing, "thickness": thickness(m), "fit_stage": stage,
+        "count": int(len(m)),
         "fit_error_ut": float(np.sqrt(np.mean((norms - field) ** 2))),
         "raw_error_ut": float(np.sqrt(np.mean((raw_norms - field) ** 2))) if raw_comparable else None,
         "noise_ut": fitted.sigma_ut, "correlation_inflation": fitted.inflation,
-        **cross_validated_field_error(m, M, b, field),
+        **(cross_validated_field_error(m, M, b, field) if stage == "refined" else NO_CROSS_VALIDATION),
         "measured_inclination_deg": measured_inclination(rests, M, b),
         "rests": 0 if not rests else len(rests),
     }
@@ -261,7 +326,7 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
         if abs(own / field - 1.0) > MAX_SCALE_DEVIATION:
             gates.warn(f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: check the "
                        "magnetometer's unit, or the place and date")
-    if not fitted.converged:
+    if stage == "refined" and not fitted.converged:
         gates.fail("the fit did not converge: turn the device slowly through all directions and try again")
     _gates(metrics, fitted, half_M, half_b, raw_comparable, gates, label)
     shown = m[:: max(1, int(np.ceil(len(m) / SAMPLES_SHOWN)))]

@@ -12,6 +12,14 @@ the algebraic ellipsoid of :mod:`.ellipsoid`.  The covariance at the solution is
 ``σ² (Jᵀ J)⁻¹`` (Särkkä et al., IEEE Sensors Journal 17(11) 2017, Appendix A, eq. (22), with
 V(ε) = σ² I), inflated for the correlation of the residuals in time (see
 :func:`correlation_inflation`).
+
+The criterion has no finite minimum when the readings do not lie on one ellipsoid (a field that
+changed during the turn, readings in one plane, a small cap): an ellipsoid whose centre and one axis
+grow without bound, M nearly singular along them, lowers the cost towards zero while every calibrated
+direction falls in one face.  :func:`runs_away` tells such a fit from a refinement, and the caller
+keeps a closed form instead (:func:`held`), as ArduPilot's CompassCalibrator refuses a fit whose offsets or scale
+factors leave their bounds (``fit_acceptable``: offsets under ``offset_max``, diagonal 0.2–5) and
+MotionCal keeps its previous calibration when a new one's field leaves 22–67 µT.
 """
 
 from __future__ import annotations
@@ -27,6 +35,14 @@ SYMMETRIC_INDEX = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 """Where the six free numbers of the symmetric M sit: the diagonal, then xy, xz, yz."""
 
 N_PARAMETERS = 9
+
+MAX_REACH = 3.0
+"""How far a fitted ellipsoid may reach beyond the readings, in their own half-extent (half the
+largest range of an axis): its longest semi-axis, and its centre's distance outside their bounding
+box.  Readings over a cap of half-angle α (up to 90°) of a sphere of radius R span R sin α about its
+centre, which lies R cos α from them, so a true fit stays within the bound for any cap wider than
+about 20° (1 / sin α ≤ 3 and cos α / sin α ≤ 3).  Fits on simulated turns (full, 120° cap,
+hemisphere) reach 1.2; the runaways of real turns reach 10 to 100 and beyond."""
 
 
 def pack(M: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -100,6 +116,34 @@ def correlation_inflation(r: np.ndarray) -> float:
     rho = float(r[1:] @ r[:-1]) / denominator
     rho = min(rho, 0.99)
     return max(1.0, (1.0 + rho) / (1.0 - rho))
+
+
+def runs_away(M: np.ndarray, b: np.ndarray, mag, field: float) -> bool:
+    """Whether ``h = M (m − b)`` has left the readings: M not positive definite, or its ellipsoid's
+    longest semi-axis (F over M's smallest eigenvalue) or its centre's distance outside the readings'
+    bounding box above :data:`MAX_REACH` half-extents of the readings."""
+    m = np.asarray(mag, dtype=float).reshape(-1, 3)
+    lo, hi = m.min(axis=0), m.max(axis=0)
+    half = 0.5 * float(np.max(hi - lo))
+    if not (np.all(np.isfinite(M)) and np.all(np.isfinite(b)) and half > 0.0):
+        return True
+    smallest = float(np.linalg.eigvalsh(0.5 * (M + M.T))[0])
+    if not smallest > 0.0:
+        return True
+    outside = float(np.max(np.maximum(np.maximum(lo - b, b - hi), 0.0)))
+    return field / smallest > MAX_REACH * half or outside > MAX_REACH * half
+
+
+def held(mag, M: np.ndarray, b: np.ndarray, field: float) -> Refined:
+    """``(M, b)`` kept as they are (a closed form kept where the refinement ran away): its
+    residuals, no covariance (the criterion is not at a minimum there) and ``converged`` false."""
+    m = np.asarray(mag, dtype=float).reshape(-1, 3)
+    M = 0.5 * (M + M.T)
+    r = residuals(pack(M, b), m, field)
+    dof = max(len(m) - N_PARAMETERS, 0)
+    sigma = float(np.sqrt(r @ r / dof)) if dof else float("nan")
+    return Refined(M=M, b=np.asarray(b, dtype=float), residuals=r, covariance=None, dof=dof, sigma_ut=sigma,
+                   inflation=correlation_inflation(r), converged=False)
 
 
 def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations: int = 200) -> Refined:
