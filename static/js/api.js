@@ -1,7 +1,9 @@
 // REST calls of the pages (no DOM here). Every failure becomes an ApiError whose message is the
 // API's detail, whose code is the API's error code (`wrong_turn`, `already_captured` …; null when
 // the answer has none) and whose status is the HTTP status (0 when the server could not be reached).
-// Pages decide on the code, never on the message.
+// Pages decide on the code, never on the message. Every request says it comes from a page
+// (X-Trical-Client: page, and which page): the server then words its messages for the page, naming the
+// page's controls rather than the API's parameters (app/words.py).
 
 export class ApiError extends Error {
   constructor(message, status, code = null) {
@@ -15,7 +17,8 @@ function bearer(token) { return token ? { Authorization: `Bearer ${token}` } : {
 
 async function send(path, { method = "GET", headers = {}, body } = {}) {
   try {
-    return await fetch(path, { method, headers, body });
+    const reader = { "X-Trical-Client": "page", "X-Trical-Page": location.pathname };
+    return await fetch(path, { method, headers: { ...reader, ...headers }, body });
   } catch (err) {
     throw new ApiError(`the server could not be reached (${err.message})`, 0);
   }
