@@ -87,10 +87,10 @@ VOCABULARY: dict[str, Term] = {t.name: t for t in (
     _unit_term("acc", "accelerometer", "--unit"),
     _unit_term("gyr", "gyroscope", "--gyr-unit"),
     _unit_term("mag", "magnetometer", "--mag-unit"),
-    Term("lsb_per_g", f"the accelerometer's part menu (in {UNITS_CARD})",
-         "the accelerometer's part of {value} LSB per g (its part menu, in " + UNITS_CARD + ")"),
+    Term("lsb_per_g", f"the sensor's part menu (in {UNITS_CARD})",
+         "an accelerometer part of {value} LSB per g (in its part menu, in " + UNITS_CARD + ")"),
     Term("chip", word=r"(?!'s)", page=f"the sensor's part menu (in {UNITS_CARD})",
-         page_value="the part {value} (its sensor's part menu, in " + UNITS_CARD + ")",
+         page_value="the part {value} (in its sensor's part menu, in " + UNITS_CARD + ")",
          values={name: chip.label for name, chip in CHIPS.items()}),
     Term("columns", word=r"(?= names\b)", page="“Which column is which?” (or the column names in " + OPTIONS + ")",
          page_value="the column names {value} (in " + OPTIONS + ", or “Which column is which?”)"),
@@ -198,7 +198,11 @@ def render(text: str, reader: str = "api", page: str | None = None) -> str:
     out = TOKEN.sub(one, text)
     for words in said:  # "latitude_deg and longitude_deg" where one control gives both: said once
         once = re.escape(words)
-        out = re.sub(rf"{once}(?:(?:,| and| or) {once}| \(or {once}\))+", words, out)
+        out = re.sub(rf"{once}(?:(?:,| and| or| /) {once}| \(or {once}\))+", words, out)
+    for where in (f"in {UNITS_CARD}", f"in {OPTIONS}"):  # where the controls are: said once a message
+        first = out.find(where) + len(where)
+        if first >= len(where):
+            out = out[:first] + re.sub(rf"(?: \({re.escape(where)}\)|, {re.escape(where)}(?=\)))", "", out[first:])
     return out[:1].upper() + out[1:] if reader == "page" and text[:1].isupper() else out
 
 

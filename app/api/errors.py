@@ -40,7 +40,7 @@ from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.methods import describe_errors
-from app.words import reader_of, render
+from app.words import named, reader_of, render
 from app.store import ConflictError, NotFoundError
 
 log = logging.getLogger("trical")
@@ -71,10 +71,15 @@ def describe_validation(exc: RequestValidationError) -> str:
 
 def error_response(status: int, detail: str, code: str, headers: dict | None = None,
                    request: Request | None = None) -> JSONResponse:
-    """The error body every failure of the API answers with, its ``detail`` in the words of who reads it."""
+    """The error body every failure of the API answers with, its ``detail`` in the words of who reads it, and
+    ``asks``: the parameters the detail asks for (app.words.named), when it names any, so that a page can
+    show their controls without reading the words."""
+    body = {"detail": detail, "code": code}
+    if asks := named(detail):
+        body["asks"] = asks
     if request is not None:
-        detail = render(detail, *reader_of(request.headers))
-    return JSONResponse({"detail": detail, "code": code}, status_code=status, headers=headers)
+        body["detail"] = render(detail, *reader_of(request.headers))
+    return JSONResponse(body, status_code=status, headers=headers)
 
 
 def install_error_handlers(app: FastAPI) -> None:
