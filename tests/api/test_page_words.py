@@ -147,3 +147,24 @@ def test_every_parameter_of_the_vocabulary_is_one_of_the_api_and_its_option_one_
     for term in VOCABULARY.values():
         assert term.option in options or not term.option.startswith("--"), term
         assert not api_words(term.page) and not api_words(term.page_value or ""), term
+
+
+def test_one_message_in_its_three_readers_words_and_a_page_whose_control_differs(client):
+    said = ("the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give chip or "
+            "lsb_per_g to calibrate in g")
+    assert render(said, "api") == said
+    assert render(said, "cli") == ("the accelerometer's readings are counts (--unit raw): its figures are in counts; "
+                                   "give --chip or --lsb-per-g to calibrate in g")
+    assert render(said, "page") == (
+        "the accelerometer's readings are counts (counts in the accelerometer's unit menu (in “Units, as the data "
+        "show them”)): its figures are in counts; give the sensor's part menu to calibrate in g")
+    place = "give `date`, latitude_deg and longitude_deg (or field_ut) for the Earth's field there"
+    assert render(place, "page", "/") == ("give the Date of the turn, the Latitude and the Longitude (or the field's "
+                                          "strength (µT)) for the Earth's field there")
+    assert render(place, "page", "/wizard") == ("give today's date (the page sends it with your location), your "
+                                                "location (“Use my location for the reference field”) for the "
+                                                "Earth's field there")
+    # The error body lists what its detail asks for, in the API's names, for every reader.
+    r = client.post("/api/v1/recordings", headers=PAGE, data={"lsb_per_g": "16384"},
+                    files={"file": ("log.csv", test_units_api.SIX_CSV, "text/csv")})
+    assert r.json()["asks"] == ["lsb_per_g"], r.json()
