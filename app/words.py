@@ -13,9 +13,11 @@ A message names a parameter in one of these forms, and only these are rewritten:
 - an identifier with an underscore, bare: ``acc_unit``, ``sampling_rate_hz``;
 - any parameter in code form: ```columns```, or with its value, ``chip=mpu6050-2g``, ``sign=-1``;
 - a validation error's location, ``gravity: Input should be …``;
-- ``method`` or ``chip`` followed by one of their values: ``method auto``, ``chip mpu6050-2g``.
+- ``method`` or ``chip`` followed by one of their values: ``method auto``, ``chip mpu6050-2g``;
+- a plain word where :attr:`Term.word` says it is the parameter: ``chip`` (not ``chip's``), ``columns``
+  before ``names``.
 
-A plain English word (the unit, the sign, a chip) is never taken for a parameter.
+Any other plain English word (the unit, the sign, the columns of a file) is never taken for a parameter.
 """
 
 from __future__ import annotations

@@ -85,6 +85,7 @@ async function calibrate(payload, doing, refused, where, stillHint = false) {
   } catch (err) {
     if (mine !== action) return;
     const still = err.code === "insufficient_data" && stillHint ? " A still recording? Characterise its noise below." : "";
+    offerOptions(err.asks || []);
     note(where, `${refused}: ${err.message.replace(/\.$/, "")}.${still}`, true);
   }
 }
@@ -207,6 +208,11 @@ function offerControls(asks, data) {
     lastUpload = data;
     showUnits({ channels: Object.keys(TABLES.units.units), units: {}, warnings: [], read_with: null });
   }
+  offerOptions(asks);
+}
+
+// The upload's options a refusal asks for (a sampling rate for the noise …), open to read the file again.
+function offerOptions(asks) {
   const options = asks.filter((a) => a in OPTION_ASKS);
   for (const a of options) $(OPTION_ASKS[a]).hidden = false;
   if (options.length) { $("#options").hidden = false; $("#options").open = true; }
