@@ -217,6 +217,12 @@ def named(text: str) -> list[str]:
     return list(dict.fromkeys(found))
 
 
+def asked(text: str) -> list[str]:
+    """The parameters a message asks for: those it names but ``method``, which a message names as what
+    was asked of trical (``method noise needs …``), not as something to give."""
+    return [name for name in named(text) if name != "method"]
+
+
 MESSAGE_KEYS = ("detail", "warnings", "notes", "reasons", "words", "why", "headline", "cv_note", "note")
 """The keys of an answer whose strings are messages (the rest are data, never rewritten)."""
 

@@ -40,7 +40,7 @@ from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.methods import describe_errors
-from app.words import named, reader_of, render
+from app.words import asked, reader_of, render
 from app.store import ConflictError, NotFoundError
 
 log = logging.getLogger("trical")
@@ -72,10 +72,10 @@ def describe_validation(exc: RequestValidationError) -> str:
 def error_response(status: int, detail: str, code: str, headers: dict | None = None,
                    request: Request | None = None) -> JSONResponse:
     """The error body every failure of the API answers with, its ``detail`` in the words of who reads it, and
-    ``asks``: the parameters the detail asks for (app.words.named), when it names any, so that a page can
+    ``asks``: the parameters the detail asks for (app.words.asked), when it names any, so that a page can
     show their controls without reading the words."""
     body = {"detail": detail, "code": code}
-    if asks := named(detail):
+    if asks := asked(detail):
         body["asks"] = asks
     if request is not None:
         body["detail"] = render(detail, *reader_of(request.headers))
