@@ -133,7 +133,7 @@ _SPACED_RE = "|".join(
     for name, values in _SPACED.items())
 TOKEN = re.compile(
     rf"(?P<spaced>\b(?:{_SPACED_RE}))"
-    rf"|`(?P<tick>{_NAMES})`"
+    rf"|(?:the field )?`(?P<tick>{_NAMES})`"
     rf"|(?<![\w.\-])(?P<assign>{_NAMES})=(?P<value>{_VALUE})"
     rf"|(?:^|(?<=; ))(?P<loc>{_NAMES})(?P<path>(?:\[\d+\]|\.\w+)*): "
     rf"|(?<![\w.\-])(?P<bare>{'|'.join(n for n in _NAMES.split('|') if '_' in n)})(?![\w-])"
