@@ -35,6 +35,7 @@ from app.requests import CUBE_PROTOCOLS, ValidationError
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
 from app.workflows.temperature import TEMPERATURE_SENSORS
+from app.words import render, render_body
 
 CALIBRATE_METHODS = methods.commanded_by("calibrate")
 """The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
@@ -363,6 +364,7 @@ def _read_sections(path) -> object:
 
 
 def _print_summary(body: dict, recording: dict) -> None:
+    body = render_body(body, "cli")
     rate = recording["sampling_rate_hz"]
     files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
     print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples{files} "
@@ -463,6 +465,7 @@ def _autocal(args, settings: Settings) -> int:
 
 
 def _print_autocal(body: dict) -> None:
+    body = render_body(body, "cli")
     det = body["detection"]
     print(f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
           f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}")
@@ -530,11 +533,12 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
 
 
 def _print_folder_table(bodies: list[dict]) -> None:
+    bodies = [render_body(b, "cli") for b in bodies]
     name_w = max(8, *(len(b.get("label") or "") for b in bodies))
     print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'before mg':>10}{'after mg':>10}{'R %':>8}  note")
     for b in bodies:
         if "error" in b:
-            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>10}{'':>10}{'':>8}  {b['error']}")
+            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>10}{'':>10}{'':>8}  {render(b['error'], 'cli')}")
             continue
         m = b["metrics"]
         cv = "-" if m.get("cv_error_mg") is None else f"{m['cv_error_mg']:.2f}"
@@ -598,6 +602,7 @@ def _temperature(args, settings: Settings) -> int:
 
 
 def _print_temperature(body: dict) -> None:
+    body = render_body(body, "cli")
     stored = f", id {body['id']}" if body.get("id") else ""
     print(f"{body.get('label') or ''}: ok = {body['ok']}{stored}")
     _print_verdict(body)
@@ -628,6 +633,7 @@ def _relabel_units(log, unit: str):
 
 
 def _print_noise(body: dict) -> None:
+    body = render_body(body, "cli")
     still = body.get("still") or {}
     print(f"{body.get('label') or ''}: {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz "
           f"({100 * still.get('fraction', 1):.0f} % of the recording); ok = {body['ok']}")
@@ -668,7 +674,7 @@ def _export(args, settings: Settings) -> int:
     else:
         sys.stdout.write(out.content)
     for note in out.notes:  # what the format does not carry (motioncal: the accelerometer's scales)
-        print(f"note: {note}", file=sys.stderr)
+        print(f"note: {render(note, 'cli')}", file=sys.stderr)
     return 0
 
 
@@ -768,7 +774,7 @@ def _capture_calibration(capture, outcome, args, settings: Settings) -> int:
         port.flush()
         say(f"sent MotionCal's {len(packet)}-byte calibration packet to the board")
         for note in notes:
-            say(f"note: {note}")
+            say(f"note: {render(note, 'cli')}")
     return 0 if body["ok"] else 3
 
 
@@ -804,13 +810,13 @@ def _run(argv: list[str] | None) -> int:
                    "temperature": _temperature, "export": _export, "capture": _capture}[args.command]
         return command(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
-        print(f"trical: error: {exc}", file=sys.stderr)
+        print(f"trical: error: {render(str(exc), 'cli')}", file=sys.stderr)
         return 2
     except ValidationError as exc:
-        print(f"trical: error: {methods.describe_errors(exc.errors())}", file=sys.stderr)
+        print(f"trical: error: {render(methods.describe_errors(exc.errors()), 'cli')}", file=sys.stderr)
         return 2
     except NotFoundError as exc:
-        print(f"trical: error: {exc.args[0]}", file=sys.stderr)
+        print(f"trical: error: {render(str(exc.args[0]), 'cli')}", file=sys.stderr)
         return 2
     except FileNotFoundError as exc:
         print(f"trical: error: no such file: {exc.filename}", file=sys.stderr)

@@ -117,13 +117,14 @@ def chips(what: str):
     def parse(value: str) -> str:
         from app.io.errors import LogFormatError
         from app.io.formats.chips import parse_chips
+        from app.words import render
 
         if not value.strip():
             raise argparse.ArgumentTypeError(f"an empty value: give {what}")
         try:
             parse_chips(value)
         except LogFormatError as exc:
-            raise argparse.ArgumentTypeError(str(exc)) from None
+            raise argparse.ArgumentTypeError(render(str(exc), "cli")) from None
         return value
 
     parse.refuses = ("", "mpu9999", "mpu6050-2g,mpu6050-4g")

@@ -45,7 +45,7 @@ def test_a_magnetometer_in_counts_prints_counts_and_chip_makes_it_ut(tmp_path):
     assert body["output_unit"] == "raw" and " counts of the " in body["headline"] and "µT" not in body["headline"]
     refused = trical("export", body["id"], "--format", "ardupilot", tmp_path=tmp_path)
     assert refused.returncode == 2 and len(refused.stderr.splitlines()) == 1
-    assert "upload the log again with chip" in refused.stderr
+    assert "upload the log again with --chip" in refused.stderr
     human = trical("calibrate", str(path), "--method", "magnetometer", "--sampling-rate-hz", "50",
                    "--chip", "ak8963-16bit", "--field-ut", "48", tmp_path=tmp_path)
     assert human.returncode == 0, human.stderr

@@ -7,11 +7,12 @@ from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
 from app import methods, workflow
-from app.api.deps import OwnerDep, StoreDep
+from app.api.deps import OwnerDep, ReaderDep, StoreDep
 from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, SnippetsOut
 from app.io.snippets import usage_snippets
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict
+from app.words import render_body
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
@@ -26,27 +27,26 @@ def recording_source(store: Store, recording_id: str | None, owner: str | None) 
 
 @router.post("", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True,
              summary="Compute and store a calibration")
-def create_calibration(request: CalibrationIn, store: StoreDep,
-                       owner: OwnerDep):
+def create_calibration(request: CalibrationIn, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     body = methods.calibrate(request, recording_source(store, getattr(request, "recording_id", None), owner))
-    return store.add_calibration(body, owner=owner)
+    return render_body(store.add_calibration(body, owner=owner), *reader)
 
 
 @router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")
 def list_calibrations(*, device_id: str | None = Query(None, max_length=200),
                       limit: int = Query(100, ge=1, le=1000), store: StoreDep,
-                      owner: OwnerDep):
+                      owner: OwnerDep, reader: ReaderDep):
     """Calibrations, newest first, optionally of one device."""
-    return {"items": [with_verdict(body) for body in store.list_calibrations(owner=owner, device_id=device_id,
-                                                                             limit=limit)]}
+    return render_body({"items": [with_verdict(body) for body in store.list_calibrations(
+        owner=owner, device_id=device_id, limit=limit)]}, *reader)
 
 
 @router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True,
             summary="Read a calibration")
-def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep):
+def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """One stored calibration."""
-    return with_verdict(store.get_calibration(calibration_id, owner=owner))
+    return render_body(with_verdict(store.get_calibration(calibration_id, owner=owner)), *reader)
 
 
 @router.get("/{calibration_id}/export", summary="Export a calibration",

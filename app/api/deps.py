@@ -12,6 +12,7 @@ from fastapi import Depends, Request
 
 from app.config import Settings
 from app.store import NotFoundError, Store
+from app.words import reader_of
 
 
 class Unauthorized(Exception):
@@ -140,3 +141,12 @@ OwnerDep = Annotated[str | None, Depends(get_owner)]
 """Who calls the route (``owner: OwnerDep``): None when API keys are off."""
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 """The service's settings (``settings: SettingsDep``)."""
+
+
+def get_reader(request: Request) -> tuple[str, str | None]:
+    """Who reads the answer (app.words.reader_of): ``("page", its path)`` from the page, else ``("api", None)``."""
+    return reader_of(request.headers)
+
+
+ReaderDep = Annotated[tuple[str, str | None], Depends(get_reader)]
+"""Who reads a route's answer (``reader: ReaderDep``): its messages go through app.words.render_body."""

@@ -1,7 +1,8 @@
 """The one place that maps errors to HTTP responses: ``{"detail": "...", "code": "..."}``.
 
 ``detail`` says in words what is wrong and how to fix it; ``code`` is stable, for programs (the
-pages decide on it, never on the words). Bad input never yields a 500; an unexpected failure is
+pages decide on it, never on the words). ``detail`` is in the API's words, or in the page's when the
+request comes from the page (``X-Trical-Client: page``, app.words). Bad input never yields a 500; an unexpected failure is
 logged with its traceback and answered with a 500 whose message holds no internals.
 
 =====================  ======  ==========================================================
@@ -39,6 +40,7 @@ from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.methods import describe_errors
+from app.words import asked, reader_of, render
 from app.store import ConflictError, NotFoundError
 
 log = logging.getLogger("trical")
@@ -67,9 +69,17 @@ def describe_validation(exc: RequestValidationError) -> str:
     return describe_errors(exc.errors())
 
 
-def error_response(status: int, detail: str, code: str, headers: dict | None = None) -> JSONResponse:
-    """The error body every failure of the API answers with."""
-    return JSONResponse({"detail": detail, "code": code}, status_code=status, headers=headers)
+def error_response(status: int, detail: str, code: str, headers: dict | None = None,
+                   request: Request | None = None) -> JSONResponse:
+    """The error body every failure of the API answers with, its ``detail`` in the words of who reads it, and
+    ``asks``: the parameters the detail asks for (app.words.asked), when it names any, so that a page can
+    show their controls without reading the words."""
+    body = {"detail": detail, "code": code}
+    if asks := asked(detail):
+        body["asks"] = asks
+    if request is not None:
+        body["detail"] = render(detail, *reader_of(request.headers))
+    return JSONResponse(body, status_code=status, headers=headers)
 
 
 def install_error_handlers(app: FastAPI) -> None:
@@ -77,41 +87,41 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError):
-        return error_response(422, describe_validation(exc), "invalid_request")
+        return error_response(422, describe_validation(exc), "invalid_request", request=request)
 
     @app.exception_handler(CalibrationError)
     async def _calibration(request: Request, exc: CalibrationError):
-        return error_response(422, str(exc), exc.code)  # calibration_refused, insufficient_data, not_still…
+        return error_response(422, str(exc), exc.code, request=request)  # calibration_refused, insufficient_data, not_still…
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):
-        return error_response(exc.status, str(exc), LOG_FORMAT_CODES.get(exc.status, "unreadable_log"))
+        return error_response(exc.status, str(exc), LOG_FORMAT_CODES.get(exc.status, "unreadable_log"), request=request)
 
     @app.exception_handler(ExportError)
     async def _export(request: Request, exc: ExportError):
-        return error_response(422, str(exc), "export_refused")
+        return error_response(422, str(exc), "export_refused", request=request)
 
     @app.exception_handler(NotFoundError)
     async def _not_found(request: Request, exc: NotFoundError):
-        return error_response(404, str(exc.args[0]) if exc.args else "not found", "not_found")
+        return error_response(404, str(exc.args[0]) if exc.args else "not found", "not_found", request=request)
 
     @app.exception_handler(ConflictError)
     async def _conflict(request: Request, exc: ConflictError):
-        return error_response(409, str(exc), "already_captured")
+        return error_response(409, str(exc), "already_captured", request=request)
 
     @app.exception_handler(Unauthorized)
     async def _unauthorized(request: Request, exc: Unauthorized):
-        return error_response(401, str(exc), "unauthorized", {"WWW-Authenticate": "Bearer"})
+        return error_response(401, str(exc), "unauthorized", {"WWW-Authenticate": "Bearer"}, request=request)
 
     @app.exception_handler(PayloadTooLarge)
     async def _too_large(request: Request, exc: PayloadTooLarge):
-        return error_response(413, str(exc), "payload_too_large")
+        return error_response(413, str(exc), "payload_too_large", request=request)
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException):
-        return error_response(exc.status_code, exc.detail, "http_error", exc.headers)
+        return error_response(exc.status_code, exc.detail, "http_error", exc.headers, request=request)
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception):
         log.exception("unexpected error on %s %s", request.method, request.url.path)
-        return error_response(500, "internal error: the request was not completed; nothing was stored", "internal_error")
+        return error_response(500, "internal error: the request was not completed; nothing was stored", "internal_error", request=request)

@@ -10,12 +10,13 @@ from fastapi import APIRouter, File, Form, UploadFile
 from pydantic import AfterValidator
 
 from app import workflow
-from app.api.deps import OwnerDep, SettingsDep, StoreDep
+from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import AccUnit, RecordingOut
 from app.io.formats.kinds import NAMED_SUFFIXES
 from app.io.parts import refuse_repeated_names
 from app.store import new_id
+from app.words import render_body
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
@@ -99,6 +100,7 @@ def upload_recording(
     settings: SettingsDep,
     store: StoreDep,
     owner: OwnerDep,
+    reader: ReaderDep,
 ):
     """Store a log (or one file per pose, as one recording) and return its static segments with their orientation."""
     recording_id = new_id("rec")
@@ -116,13 +118,13 @@ def upload_recording(
     units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
     read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip,
                      instance=instance, mag_instance=mag_instance)
-    return workflow.add_recording(store, recording_id, dest, filename=filename, sampling_rate_hz=sampling_rate_hz,
-                                  read_with=read_with, owner=owner)
+    return render_body(workflow.add_recording(store, recording_id, dest, filename=filename,
+                                              sampling_rate_hz=sampling_rate_hz, read_with=read_with, owner=owner),
+                       *reader)
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
-def get_recording(recording_id: str, store: StoreDep,
-                  owner: OwnerDep):
+def get_recording(recording_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """A recording's metadata and static segments."""
     body, _ = store.get_recording(recording_id, owner=owner)
-    return body
+    return render_body(body, *reader)

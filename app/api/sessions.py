@@ -6,11 +6,12 @@ from fastapi import APIRouter, Depends, Request
 
 from app import sessions
 from app.api.deps import (
-    SESSION_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token, new_session_token,
+    SESSION_TOKEN_PREFIX, OwnerDep, ReaderDep, SettingsDep, StoreDep, Unauthorized, bearer_token, new_session_token,
     session_of_token, session_owner,
 )
 from app.api.schemas import CalibrationOut, CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
 from app.store import NotFoundError
+from app.words import render_body
 
 router = APIRouter(prefix="/api/v1/sessions", tags=["sessions"])
 
@@ -38,20 +39,21 @@ def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep,
 
 
 @router.get("/{session_id}", response_model=SessionOut)
-def get_session(session: sessions.Session = Depends(session_of)):
+def get_session(reader: ReaderDep, session: sessions.Session = Depends(session_of)):
     """A session: its captures, the positions that remain, its calibration once solved."""
-    return sessions.view(session)
+    return render_body(sessions.view(session), *reader)
 
 
 @router.post("/{session_id}/captures", status_code=201, response_model=CaptureOut)
-def add_capture(*, body: CaptureIn, session: sessions.Session = Depends(session_of), store: StoreDep):
+def add_capture(*, body: CaptureIn, session: sessions.Session = Depends(session_of), store: StoreDep,
+                reader: ReaderDep):
     """Check the raw samples of one still pose and store them (409 when that pose is done)."""
     capture, view = sessions.add_capture(store, session, body.model_dump())
-    return {"capture": capture, "session": view}
+    return render_body({"capture": capture, "session": view}, *reader)
 
 
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
-def solve_session(*, session: sessions.Session = Depends(session_of), store: StoreDep):
+def solve_session(*, session: sessions.Session = Depends(session_of), store: StoreDep, reader: ReaderDep):
     """Compute and store the calibration of a complete session; its token reads it."""
-    return store.add_calibration(sessions.solve(store, session), owner=session_owner(session.id),
-                                 session_id=session.id)
+    return render_body(store.add_calibration(sessions.solve(store, session), owner=session_owner(session.id),
+                                             session_id=session.id), *reader)

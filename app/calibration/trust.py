@@ -100,7 +100,7 @@ def _norm_grows(metrics: dict, *, labelled: bool) -> list[str]:
             "after): ")
     if labelled:
         return [what + "the poses are not on the axes their labels say (a tilt of a degree reads as a cross-axis "
-                "term of 1.7 %), or not still; use free poses with a magnitude model (method auto or triangular), "
+                "term of 1.7 %), or not still; use free poses with a magnitude model (method auto or method triangular), "
                 "or a jig that holds each axis vertical"]
     return [what + "the readings do not fit the model (not still, or from another sensor); record the poses again"]
 

@@ -180,7 +180,7 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
             if log.units[sensor] != first.units[sensor]:
                 raise LogFormatError(
                     f"{part_name} reads the {sensor} in {log.units[sensor]} but {first_name} in "
-                    f"{first.units[sensor]}: give the unit ({sensor}_unit, or --unit for the accelerometer) so "
+                    f"{first.units[sensor]}: give the unit ({sensor}_unit) so "
                     "that every file is read in the same one")
         if log.sign != first.sign:
             raise LogFormatError(

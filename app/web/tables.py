@@ -25,6 +25,7 @@ from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
 from app.web.metric_words import METRICS, SENSOR_WORDS
 from app.web.uses import uses_table
+from app.words import UNIT_WORDS
 
 CAPTURE_WINDOW_MS = 500
 """The page's moving window of the mean and spread (ms)."""
@@ -91,8 +92,6 @@ def capture_thresholds() -> dict:
     }
 
 
-UNIT_WORDS = {"m/s^2": "m/s²", "g": "g", "rad/s": "rad/s", "deg/s": "°/s", "uT": "µT", "nT": "nT", "gauss": "gauss",
-              "raw": "counts"}
 SENSOR_UNITS = {"acc": ("m/s^2", "g", "raw"), "gyr": ("rad/s", "deg/s", "raw"), "mag": ("uT", "nT", "gauss", "raw")}
 """The units the upload's ``acc_unit``, ``gyr_unit`` and ``mag_unit`` take (app/api/recordings.py)."""
 

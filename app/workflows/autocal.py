@@ -94,7 +94,7 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
     if unit not in AUTOCAL_UNITS:
         raise CalibrationError(
             f"auto-calibration needs samples in g or m/s^2 (its thresholds are fractions of g); {path.name} is in "
-            f"counts whose scale is unknown: give chip (--chip, e.g. mpu6050-2g) for a CSV, or convert the counts "
+            f"counts whose scale is unknown: give chip (e.g. chip=mpu6050-2g) for a CSV, or convert the counts "
             f"to g first"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)

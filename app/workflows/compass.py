@@ -21,7 +21,7 @@ def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
     reference: dict = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
     if request.latitude_deg is None:
         if request.date is not None or request.height_m is not None:
-            notes.append("date and height_m without latitude_deg and longitude_deg are not used: give the place too "
+            notes.append("`date` and height_m without latitude_deg and longitude_deg are not used: give the place too "
                          "for the Earth's field there")
         return reference, {}
     from app.geomag import GeomagneticRangeError, reference_field  # the model's package loads only here

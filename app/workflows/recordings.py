@@ -289,7 +289,7 @@ def require_rate(rate: float | None, method: str) -> float:
     if rate is None:
         raise CalibrationError(
             f"method {method} needs the sensor's sampling rate, and this recording has none (no time column, and "
-            "no sampling_rate_hz was given): upload it again with sampling_rate_hz (--sampling-rate-hz), the "
+            "sampling_rate_hz not given): read it again with sampling_rate_hz, the "
             "sensor's output data rate, or log a time column")
     return rate
 

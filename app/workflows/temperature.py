@@ -36,7 +36,7 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
         if unit == "raw":
             raise CalibrationError(
                 f"the {name} readings are counts whose scale is unknown: the firmwares' temperature parameters are "
-                "in m/s² and rad/s — give chip (--chip, e.g. mpu6050-2g,mpu6050-250dps), or the unit")
+                "in m/s² and rad/s — give chip (e.g. chip=mpu6050-2g,mpu6050-250dps), or the unit")
         scale = TO_SI[name][unit]
         arrays[name] = np.asarray(getattr(log, name), dtype=float) * scale
     rate = log.sampling_rate_hz

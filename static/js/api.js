@@ -1,13 +1,17 @@
 // REST calls of the pages (no DOM here). Every failure becomes an ApiError whose message is the
 // API's detail, whose code is the API's error code (`wrong_turn`, `already_captured` …; null when
-// the answer has none) and whose status is the HTTP status (0 when the server could not be reached).
-// Pages decide on the code, never on the message.
+// the answer has none), whose asks are the parameters the detail asks for (`acc_unit`, `sampling_rate_hz` …:
+// the page shows their controls) and whose status is the HTTP status (0 when the server could not be reached).
+// Pages decide on the code, never on the message. Every request says it comes from a page
+// (X-Trical-Client: page, and which page): the server then words its messages for the page, naming the
+// page's controls rather than the API's parameters (app/words.py).
 
 export class ApiError extends Error {
-  constructor(message, status, code = null) {
+  constructor(message, status, code = null, asks = []) {
     super(message);
     this.status = status;
     this.code = code;
+    this.asks = asks;
   }
 }
 
@@ -15,7 +19,8 @@ function bearer(token) { return token ? { Authorization: `Bearer ${token}` } : {
 
 async function send(path, { method = "GET", headers = {}, body } = {}) {
   try {
-    return await fetch(path, { method, headers, body });
+    const reader = { "X-Trical-Client": "page", "X-Trical-Page": location.pathname };
+    return await fetch(path, { method, headers: { ...reader, ...headers }, body });
   } catch (err) {
     throw new ApiError(`the server could not be reached (${err.message})`, 0);
   }
@@ -24,13 +29,15 @@ async function send(path, { method = "GET", headers = {}, body } = {}) {
 async function failure(response) {
   let detail = `HTTP ${response.status}`;
   let code = null;
+  let asks = [];
   try {
     const body = await response.json();
     if (body && typeof body.detail === "string") detail = body.detail;
     else if (body && Array.isArray(body.detail)) detail = body.detail.map((d) => d.msg || JSON.stringify(d)).join("; ");
     if (body && typeof body.code === "string") code = body.code;
+    if (body && Array.isArray(body.asks)) asks = body.asks;
   } catch { /* not JSON: keep the status */ }
-  return new ApiError(detail, response.status, code);
+  return new ApiError(detail, response.status, code, asks);
 }
 
 async function request(path, options = {}) {

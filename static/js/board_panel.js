@@ -1,7 +1,7 @@
 // The board card of the wizard pages (templates/_board.html, _board_send.html): connect a board over
 // USB or Bluetooth, see its readings arrive, and send a calibration back to it. The samples go to the
 // page's own capture engine through onSample; this module only shows the board.
-import { ApiError, exportUrl } from "./api.js";
+import { fetchExport } from "./api.js";
 import { BAUD_RATES, BoardPort, BoardSource, DEFAULT_BAUD, SILENCE_MS, hasBluetooth, hasSerial } from "./board.js";
 import { FORMAT_WORDS, UNIT_WORDS } from "./board_lines.js";
 import { formatNumber } from "./readings.js";
@@ -243,14 +243,8 @@ export class BoardPanel {
     msg.textContent = "Sending…";
     let bytes;
     try {
-      const headers = this.token ? { Authorization: `Bearer ${this.token}` } : {};
-      const response = await fetch(exportUrl(this.calibration.id, "motioncal"), { headers });
-      if (!response.ok) {
-        let detail = `HTTP ${response.status}`;
-        try { detail = (await response.json()).detail || detail; } catch { /* keep the status */ }
-        throw new ApiError(detail, response.status);
-      }
-      bytes = new Uint8Array(await response.arrayBuffer());
+      const { blob } = await fetchExport(this.calibration.id, "motioncal", this.token);
+      bytes = new Uint8Array(await blob.arrayBuffer());
     } catch (err) {
       msg.textContent = `The packet could not be made: ${err.message}.`;
       return;

@@ -59,15 +59,6 @@ export function fillFigures(table, cal) {
   }));
 }
 
-// The server's notes name request fields (latitude_deg …): on a page each is said in words.
-const FIELD_WORDS = { latitude_deg: "the latitude", longitude_deg: "the longitude", field_ut: "the field's strength (µT)",
-  height_m: "the height", sampling_rate_hz: "the sampling rate", lsb_per_g: "the counts per g", acc_unit: "the "
-  + "accelerometer's unit", gyr_unit: "the gyroscope's unit", mag_unit: "the magnetometer's unit" };
-export function pageWords(text) {
-  return String(text).replace(/\b(latitude_deg|longitude_deg|field_ut|height_m|sampling_rate_hz|lsb_per_g|acc_unit|gyr_unit|mag_unit)\b/g,
-    (key) => FIELD_WORDS[key]);
-}
-
 // A matrix (rows of numbers) into a table, each number with its 95 % half-width when given.
 export function fillMatrix(table, rows, halfWidths = null, digits = 6) {
   table.replaceChildren(...rows.map((row, i) => {

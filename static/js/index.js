@@ -85,12 +85,14 @@ async function calibrate(payload, doing, refused, where, stillHint = false) {
   } catch (err) {
     if (mine !== action) return;
     const still = err.code === "insufficient_data" && stillHint ? " A still recording? Characterise its noise below." : "";
+    offerOptions(err.asks || []);
     note(where, `${refused}: ${err.message.replace(/\.$/, "")}.${still}`, true);
   }
 }
 
-// One unit menu per sensor the file has, set to the unit trical read from the data, and the parts
-// (app.io.formats.chips) that turn that sensor's counts into g, °/s or µT; the reader's warnings above.
+// One unit menu per sensor the file has, set to the unit trical read from the data (or "as the data show",
+// sending none, for a file refused before its units were read), and the parts (app.io.formats.chips) that
+// turn that sensor's counts into g, °/s or µT; the reader's warnings above.
 function showUnits(rec) {
   const chips = (rec.read_with && rec.read_with.chip ? rec.read_with.chip.split(",") : []).map((c) => c.trim());
   const { sensors, units, chips: parts } = TABLES.units;
@@ -101,8 +103,9 @@ function showUnits(rec) {
     const menu = document.createElement("select");
     menu.id = `unit-${sensor}`;
     menu.dataset.sensor = sensor;
+    if (!rec.units[sensor]) { const o = cell("option", "as the data show"); o.value = ""; menu.append(o); }
     menu.append(...units[sensor].map(([value, words]) => { const o = cell("option", words); o.value = value; return o; }));
-    menu.value = rec.units[sensor];
+    menu.value = rec.units[sensor] || "";
     unit.append(menu);
     const part = cell("label", `${sensors[sensor]} part, for counts`);
     part.htmlFor = `chip-${sensor}`;
@@ -184,7 +187,9 @@ async function upload(data) {
     rec = await uploadRecording(data);
   } catch (err) {
     if (mine !== action) return;
-    const mapped = err.code === "unreadable_log" && !data.get("columns") && await offerColumnMap(data.get("file"));
+    const mapped = err.code === "unreadable_log" && err.asks.includes("columns") && !data.get("columns")
+      && await offerColumnMap(data.get("file"));
+    if (!mapped) offerControls(err.asks, data);
     note("#upload-msg", mapped ? "Say which column is which, below." : `Upload refused: ${err.message}`, true);
     return;
   }
@@ -197,6 +202,24 @@ async function upload(data) {
   showSegments(rec);
   await calibrate({ method: "auto", recording_id: rec.id }, $("#segments-msg").textContent,
     "Not calibrated", "#segments-msg", true);
+}
+
+// A refusal that asks for a unit, a part or an option of the upload: their controls, to read the file again.
+const UNIT_ASKS = ["acc_unit", "gyr_unit", "mag_unit", "chip", "lsb_per_g"];
+const OPTION_ASKS = { sampling_rate_hz: "#opt-rate", columns: "#opt-columns", sign: "#opt-sign" };
+function offerControls(asks, data) {
+  if (asks.some((a) => UNIT_ASKS.includes(a))) {
+    lastUpload = data;
+    showUnits({ channels: Object.keys(TABLES.units.units), units: {}, warnings: [], read_with: null });
+  }
+  offerOptions(asks);
+}
+
+// The upload's options a refusal asks for (a sampling rate for the noise …), open to read the file again.
+function offerOptions(asks) {
+  const options = asks.filter((a) => a in OPTION_ASKS);
+  for (const a of options) $(OPTION_ASKS[a]).hidden = false;
+  if (options.length) { $("#options").hidden = false; $("#options").open = true; }
 }
 
 function uploadData() {
@@ -270,7 +293,7 @@ $("#units-go").addEventListener("click", () => {
   for (const menu of document.querySelectorAll("#units-list select[id^=unit-]")) {
     const chip = $(`#chip-${menu.dataset.sensor}`).value;
     if (chip) chips.push(chip);
-    else data.set(`${menu.dataset.sensor}_unit`, menu.value);
+    else if (menu.value) data.set(`${menu.dataset.sensor}_unit`, menu.value);
   }
   if (chips.length) data.set("chip", chips.join(","));
   upload(data);

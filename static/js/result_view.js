@@ -5,7 +5,7 @@
 // readings and the notes.
 import { exportUrl } from "./api.js";
 import { showCorrection } from "./correction_view.js";
-import { fillFigures, pageWords } from "./figures.js";
+import { fillFigures } from "./figures.js";
 import { formatNumber } from "./readings.js";
 import { normChartSvg } from "./result.js";
 import { PLOTS, kindOf, magSpheres } from "./result_kinds.js";
@@ -38,7 +38,7 @@ export function showCalibration(cal, token = null) {
   const words = (text) => text.replace(/\b[a-z]+(?:_[a-z]+)+\b|\b(?:triangular|nonorthogonal|autocal|orientations)\b/g,
     (key) => TABLES.methods[key] || key);
   choice.textContent = cal.choice ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, ${words(cal.choice.why)}.` : "";
-  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", pageWords(w))));
+  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
   const kind = kindOf(cal);
   $("#result-model").replaceChildren(...kind.model(cal));
   $("#result-model-h").textContent = kind.heading;

@@ -5,7 +5,7 @@
 // the live region and the focus. What a flow draws of its own comes from its view's hooks (`view`:
 // model, result), called from here; each page's render draws its own cards, then calls renderShared.
 import { showCorrection } from "./correction_view.js";
-import { fillFigures, pageWords } from "./figures.js";
+import { fillFigures } from "./figures.js";
 import { normChartSvg } from "./result.js";
 import { STANDARD_GRAVITY } from "./motion.js";
 import { resetUse, showUse, showVerdict } from "./use_calibration.js";
@@ -28,7 +28,7 @@ function renderResult(s, rendered, view) {
   ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks:`;
   $("#result-reasons").replaceChildren(...(cal.reasons || []).map((r) => el("li", r)));
   const warnings = cal.warnings || [];
-  $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", pageWords(w))));
+  $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
   showCorrection($("#result-correction"), cal, s.token, $("#result-fitted-note"));
   view.model(cal, s);
   view.result(cal, s);

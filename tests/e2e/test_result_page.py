@@ -249,7 +249,7 @@ def test_the_compass_upload_takes_its_place_and_date_and_they_reach_the_model_s_
         page.wait_for_selector("#compass-place:not([hidden])")
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")  # the estimated field, at once
         notes = page.text_content("#result-warnings")
-        assert "the latitude and the longitude (or the field's strength (µT))" in notes and "_deg" not in notes, notes
+        assert "give the Date of the turn, the Latitude and the Longitude (or the field's strength (µT))" in notes and "_deg" not in notes, notes
         page.click("#place-here")
         page.wait_for_function("document.querySelector('#place-lat').value !== ''")
         assert (page.input_value("#place-lat"), page.input_value("#place-lon")) == ("60.1699", "24.9384")

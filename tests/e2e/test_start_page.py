@@ -117,8 +117,8 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     assert "no header row and 7 columns" in page.text_content("#upload-msg")
     refused = list(page.errors)
     assert len(refused) == 1 and "422" in refused[0]  # the browser logs the refused upload
-    assert page.locator("#columns-map").is_hidden()  # no header row to map: the options say how
-    page.click("#options-summary")
+    assert page.locator("#columns-map").is_hidden()  # no header row to map: the options say how, open
+    assert page.locator("#log-columns").is_visible()
     page.fill("#log-columns", "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
     page.select_option("#log-sign", "-1")
     page.click("#upload-form button[type=submit]")
@@ -294,7 +294,7 @@ def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_pat
     page.wait_for_selector("#downloads[data-ready=true]")
     refused = page.eval_on_selector_all("#downloads li span", "ss => ss.map(s => s.textContent)")
     assert [r.split(":")[0] for r in refused] == ["ArduPilot", "PX4"]  # firmware needs µT: they name the chip
-    assert all("upload the log again with chip" in r for r in refused)
+    assert all("upload the log again with the sensor's part menu" in r and "chip" not in r for r in refused)
     assert len(page.errors) == 2 and all("422" in e for e in page.errors)  # the browser logs the two refusals
     page.errors.clear()
     shot(page, "upload_units_counts")
@@ -312,6 +312,33 @@ def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_pat
     page.wait_for_function("() => /µT/.test(document.querySelector('#verdict-words').textContent)")
     assert "counts" not in page.text_content("#verdict-words")
     assert page.errors == []
+
+
+def test_an_upload_refused_for_its_unit_names_the_page_s_menus_and_shows_them(page, server, tmp_path):
+    # An accelerometer whose header says g but whose rest fits no unit (0.3 g in m/s²): the refusal asks for
+    # the unit. The API names acc_unit, lsb_per_g and chip; the page names its own menus, and shows them.
+    from app.calibration.simulations.logs import simulate_static_log
+
+    six = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=50.0, rest_s=(3.0, 3.5), turn_s=(1.0, 1.2))
+    path = tmp_path / "board.csv"
+    rows = [f"{i / 50:.2f}," + ",".join(f"{0.3 * v:.5f}" for v in a) for i, a in enumerate(six.samples)]
+    path.write_text("\n".join(["t,ax (g),ay (g),az (g)"] + rows) + "\n")
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(path))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#upload-msg.bad")
+    said = page.text_content("#upload-msg")
+    assert said.startswith("Upload refused: ") and "the accelerometer's unit menu (in “Units, as the data show them”)" in said
+    assert "part menu" in said and not re.search(r"acc_unit|lsb_per_g|\bchip\b|--\w", said), said
+    page.wait_for_selector("#units:not([hidden])")
+    menus = page.eval_on_selector_all("#units-list select[id^=unit-]", "ss => ss.map(s => [s.id, s.value])")
+    assert menus == [["unit-acc", ""], ["unit-gyr", ""], ["unit-mag", ""]]  # "as the data show": nothing sent
+    shot(page, "upload_refused_for_its_unit")
+    page.select_option("#unit-acc", "g")
+    page.click("#units-go")  # read again with the unit chosen: still no unit fits, and the page still says why
+    page.wait_for_function("() => /Upload refused: .*unit menu .*said g\\)/.test(document.querySelector('#upload-msg').textContent)")
+    assert page.locator("#units").is_visible()
+    page.errors.clear()  # the browser logs each 422
 
 
 def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_beside_them(browser, server):

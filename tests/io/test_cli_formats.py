@@ -39,7 +39,7 @@ def test_calibrate_a_headerless_log_with_columns(tmp_path):
     np.testing.assert_allclose(body["model"]["X"], TRUTH["model"]["X"], atol=5e-3)
     bad = trical("calibrate", str(log), "--columns", "t,acc_x,acc_y,acc_z", "--no-store", tmp_path=tmp_path)
     assert bad.returncode == 2 and bad.stderr.count("\n") == 1
-    assert "columns names 4 columns (t, acc_x, acc_y, acc_z) but" in bad.stderr and "has 7 per line" in bad.stderr
+    assert "--columns names 4 columns (t, acc_x, acc_y, acc_z) but" in bad.stderr and "has 7 per line" in bad.stderr
 
 
 def test_sign_option_overrides_the_ios_detection(tmp_path):

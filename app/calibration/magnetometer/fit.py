@@ -298,7 +298,7 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
     fitted, field, stage = _fit(m, field_ut, gates)
     if field_ut is None:
         gates.warn(f"no place and date, so the field's magnitude is estimated from the readings ({field:.1f} {label}, M "
-                   "scaled to change no volume): give date, latitude_deg and longitude_deg (or field_ut) for the "
+                   "scaled to change no volume): give `date`, latitude_deg and longitude_deg (or field_ut) for the "
                    "Earth's field there")
     M, b = fitted.M, fitted.b
     h = (m - b) @ M.T

@@ -249,7 +249,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
                              f"ArduPilot .bin); {name} is not one: leave them out")
     if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
         if chip or lsb_per_g is not None:
-            raise LogFormatError(f"{name} is an array file, whose samples trical takes in the unit given (unit, "
+            raise LogFormatError(f"{name} is an array file, whose samples trical takes in the unit given (`unit`, "
                                  "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
                                  "by the sensitivity before saving the array, or upload them as CSV")
         check_sign(sign)

@@ -152,8 +152,8 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
         if names is None:
             raise LogFormatError(
                 f"{name} has no header row and {width} columns: without names trical reads 3 columns as "
-                "x, y, z (accelerometer) or 4 as time, x, y, z; name yours, one per column in order, with "
-                "the upload field columns (--columns), e.g. columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z "
+                "x, y, z (accelerometer) or 4 as time, x, y, z; name yours, one per column in order, e.g. "
+                "columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z "
                 "(- skips a column)"
             )
         how = "named by columns" if column_names else "read as"
@@ -223,8 +223,7 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
             + ": name them acc_x, acc_y, acc_z (or ax, ay, az, or x, y, z), gyr_x, gyr_y, gyr_z or mag_x, mag_y, "
             "mag_z, any of the three sensors, optionally with a time column "
             "time_s / time_ms / time_ns, or map them without "
-            "editing the file with the upload field "
-            "columns, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
+            "editing the file, e.g. columns=acc_x:<name>,acc_y:<name>,acc_z:<name>,time_ms:<name>. Exports of "
             "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
             "recognised as they are"
         )
@@ -338,7 +337,7 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         if not (layout.headerless and column_names is None and time is not None):
             raise
         raise LogFormatError(f"{exc}. {name} has no header row, so its 4 columns were read as time, x, y, z: "
-                             "if the first is not a time, name the columns with columns (--columns), e.g. "
+                             "if the first is not a time, name the columns with `columns`, e.g. "
                              "columns=acc_x,acc_y,acc_z,- ") from None
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():

@@ -257,8 +257,8 @@ def decide_timing(time_s: np.ndarray | None, sampling_rate_hz: float | None = No
         if stated is not None:
             return Timing(stated, "file")
         return Timing(None, "none", notes=(
-            f"{name} has no time column and no sampling_rate_hz was given: the still poses and the compass need "
-            "no rate; the noise, cube and autocal methods ask for one (sampling_rate_hz, --sampling-rate-hz)",))
+            f"{name} has no time column and sampling_rate_hz was not given: the still poses and the compass need "
+            "no rate; the noise, cube and autocal methods ask for one (sampling_rate_hz)",))
     time_s = np.asarray(time_s, dtype=float)
     steps = np.diff(time_s)
     if not float(time_s[-1] - time_s[0]) > 0:
