@@ -7,7 +7,8 @@ A still or slowly turned accelerometer reads about 1 g: a median norm of 0.6–1
 m/s², and numbers above 50 are counts of an ADC (LSB) — near 16384, 8192, 4096 or 2048 per g for
 the common 16-bit parts (:data:`~app.io.formats.chips.ACC_LSB_PER_G`). A magnetometer turned
 through all directions reads the Earth's field, 22–67 µT anywhere on the Earth (IGRF): 15–100 µT,
-0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are counts.
+0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are counts, and so are the whole
+numbers of a still magnetometer (its norm is not known to be the field: it holds the hard iron).
 """
 
 from __future__ import annotations
@@ -70,28 +71,55 @@ def _sensitivity_hint(lsb: float) -> str:
     return f"lsb_per_g={lsb:g} or chip=mpu6050-{chip}"
 
 
+SHELL_CV = 0.3
+"""Readings of a turned magnetometer lie on a shell about the centre of their range: their distances
+from it vary by a few per cent to 0.3 of their mean (soft iron, a partial turn, a flat ring). A still
+sensor's noise and wander fill a ball instead, whose distances vary by 0.42 of their mean (the
+Maxwell distribution of a 3-D Gaussian: std/mean = sqrt(3π/8 − 1) ≈ 0.42)."""
+
+
+def _shell_spread(sub: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """The std/mean of the readings' distances from the centre of their 1–99 % range."""
+    d = np.linalg.norm(sub - (lo + hi) / 2.0, axis=1)
+    mean = float(d.mean())
+    return float(d.std() / mean) if mean > 0 else np.inf
+
+
 def field_magnitude(mag: np.ndarray) -> float:
     """The field a magnetometer reads: half the 1–99 % range per axis when it turned through all
     directions (free of the hard-iron offset), else the median norm."""
+    turn = turn_field(mag)
+    return median_norm(np.asarray(mag[: 200_000], dtype=float)) if turn is None else turn
+
+
+def turn_field(mag: np.ndarray) -> float | None:
+    """Half the 1–99 % range per axis (the field, free of the hard iron) when the magnetometer turned
+    through all directions; None when it did not (a still sensor: its norm is all there is)."""
     sub = np.asarray(mag[: 200_000], dtype=float)
     lo, hi = np.percentile(sub, [1.0, 99.0], axis=0)
     half = (hi - lo) / 2.0
     norm = median_norm(sub)
     # Turned: every axis spans a like range, far beyond a still sensor's noise (a few thousandths of
-    # its norm), even under a hard iron many times the field (an MMC5983MA's mid-scale zero: 4 %).
-    if half.min() > 0.3 * half.max() and half.mean() > 0.025 * norm:
+    # its norm), even under a hard iron many times the field (an MMC5983MA's mid-scale zero: 4 %);
+    # and the readings lie on a shell, not in a ball: a still sensor's noise and slow wander can span
+    # 2.5 % of its norm (a BNO055 at 954 counts: ±25), but they fill the ball (SHELL_CV).
+    if (half.min() > 0.3 * half.max() and half.mean() > 0.025 * norm
+            and _shell_spread(sub, lo, hi) < SHELL_CV):
         return float(half.mean())
-    return norm
+    return None
 
 
 def infer_mag_unit(mag: np.ndarray) -> str | None:
     """``uT``, ``gauss``, ``nT`` or ``raw`` (counts) from the field the readings show; None when no
-    unit fits (:data:`FIELD_RANGES`)."""
-    field = field_magnitude(mag)
+    unit fits (:data:`FIELD_RANGES`); whole numbers are counts unless a turn shows them in µT."""
+    turn = turn_field(mag)
+    field = field_magnitude(mag) if turn is None else turn
     whole = _whole(mag)
     for unit in ("uT", "gauss", "nT"):
         low, high = FIELD_RANGES[unit]
-        if low <= field <= high and not (whole and unit != "uT"):
+        # Whole numbers are µT only when a turn shows the field's radius: the norm of a still sensor's
+        # counts can fall in 15–100 too (an AK8963 at 14 bits, 0.6 µT per count, reads 80 for 48 µT).
+        if low <= field <= high and not (whole and (unit != "uT" or turn is None)):
             return unit
     if whole and field > 1.0:
         return "raw"
