@@ -5,8 +5,8 @@ format, before any method sees the arrays.
 
 A still or slowly turned accelerometer reads about 1 g: a median norm of 0.6–1.6 is in g, 6–14 in
 m/s², and numbers above 50 are counts of an ADC (LSB) — near 16384, 8192, 4096 or 2048 per g for
-the common 16-bit parts (:data:`~app.io.formats.chips.ACC_LSB_PER_G`). A magnetometer turned
-through all directions reads the Earth's field, 22–67 µT anywhere on the Earth (IGRF): 15–100 µT,
+the common 16-bit parts, or 1000 for readings in mg (:data:`~app.io.formats.chips.ACC_LSB_PER_G`).
+A magnetometer turned through all directions reads the Earth's field, 22–67 µT anywhere on the Earth (IGRF): 15–100 µT,
 0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are counts, and so are the whole
 numbers of a still magnetometer (its norm is not known to be the field: it holds the hard iron).
 """
@@ -67,8 +67,15 @@ def common_sensitivity(norm_counts: float) -> float | None:
 
 
 def _sensitivity_hint(lsb: float) -> str:
-    chip = {16384.0: "2g", 8192.0: "4g", 4096.0: "8g", 2048.0: "16g"}[lsb]
-    return f"lsb_per_g={lsb:g} or chip=mpu6050-{chip}"
+    chip = {16384.0: "2g", 8192.0: "4g", 4096.0: "8g", 2048.0: "16g"}.get(lsb)
+    return f"lsb_per_g={lsb:g}" + (f" or chip=mpu6050-{chip}" if chip else "")
+
+
+def _sensitivity_words(lsb: float) -> str:
+    """Where a common sensitivity comes from, for the messages."""
+    if ACC_RANGE[lsb] == "mg":
+        return "readings in milli-g (mg), as the BNO055 and the ADXL345 and LIS3DH libraries give them"
+    return f"the {ACC_RANGE[lsb]} range of the MPU-6050 family and the ICM-20948"
 
 
 SHELL_CV = 0.3
@@ -255,12 +262,12 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
         said = f" ({claim.words()})" if claim.unit not in (None, "raw") else ""
         if fit is not None:
             warns.append(f"the accelerometer's readings are counts{said}: they rest at a median norm of {norm:.0f}, "
-                         f"about {fit:g} LSB per g (the {ACC_RANGE[fit]} range of the MPU-6050 family and the "
-                         f"ICM-20948), so they were divided by {fit:g} into g; give chip or lsb_per_g for another "
-                         "scale, or acc_unit=raw to calibrate in counts")
+                         f"about {fit:g} LSB per g ({_sensitivity_words(fit)}), so they were divided by {fit:g} into "
+                         "g; give chip or lsb_per_g for another scale, or acc_unit=raw to calibrate in counts")
             return acc / fit, "g"
         warns.append(f"the accelerometer's readings are counts{said} resting at a median norm of {norm:.0f}, near "
-                     "none of the common sensitivities (16384, 8192, 4096, 2048 LSB per g): calibrated in counts, "
+                     f"none of the common sensitivities ({', '.join(f'{v:g}' for v in ACC_LSB_PER_G)} LSB per g): "
+                     "calibrated in counts, "
                      "and its figures are in counts; give lsb_per_g (or chip) to calibrate in g")
         return acc, "raw"
     if (1.6 < norm < 6.0 or 14.0 < norm <= 50) and claim.unit in (None, "raw"):
