@@ -161,3 +161,15 @@ def test_a_text_block_in_a_cell_is_quoted_with_its_line_and_column():
                                                  r"lines \('accelerometer \{' …\), not a number: .* no columns "
                                                  "mapping can read it"):
             read_log(BLUEYE, sampling_rate_hz=None, units={}, name="calibration_data.csv", columns=columns)
+
+
+def test_the_rate_a_hyperimu_comment_states_is_used_when_there_is_no_time_column(tmp_path):
+    lines = HYPERIMU.read_text().splitlines()  # '@ Date:…, Sampling Rate:50ms'
+    path = tmp_path / "imu.csv"
+    path.write_text("\n".join(lines[:3] + [",".join(r.split(",")[1:4]) for r in lines[3:]]) + "\n")
+    log = read_log(path, sampling_rate_hz=None, units={}, name="imu.csv")
+    assert log.sampling_rate_hz == 20.0 and log.timing.source == "file"
+    assert "no time column: the rate 20 Hz its comment line states is used" in log.notes
+    assert read_log(path, sampling_rate_hz=25.0, units={}, name="imu.csv").sampling_rate_hz == 25.0
+    # With its time column the timestamps decide (Android delivers near, not at, the requested rate).
+    assert read_log(HYPERIMU, sampling_rate_hz=None, units={}, name="imu.csv").timing.source == "time column"

@@ -5,7 +5,7 @@ Accelerometer columns are recognised by names such as ``acc_x``, ``ax``, ``x`` o
 (``mag_x``, ``mx``, ``Magnetic field x (µT)``) columns are optional.  An optional leading index or
 time column (seconds, milliseconds, microseconds or nanoseconds) gives the sampling rate; without
 one, the caller gives ``sampling_rate_hz``.  Error messages name lines 1-based, the header being
-line 1 (comment lines starting with ``#`` before the header count too).  Parquet files name their
+line 1 (comment lines starting with ``#`` or ``@`` before the header count too).  Parquet files name their
 columns the same way (:mod:`app.io.arrays` uses :func:`map_columns`).
 
 Loggers often write no header row: numbers from the first line, separated by commas, semicolons,
@@ -389,6 +389,9 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         raise LogFormatError(f"{exc}. {name} has no header row, so its 4 columns were read as time, x, y, z: "
                              "if the first is not a time, name the columns with columns (--columns), e.g. "
                              "columns=acc_x,acc_y,acc_z,- ") from None
+    stated_rate = None if time_s is not None else rate_from_comments(text.splitlines()[:layout.skip_lines])
+    if stated_rate is not None and sampling_rate_hz is None:
+        notes.append(f"no time column: the rate {stated_rate:g} Hz its comment line states is used")
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
         accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
@@ -399,7 +402,7 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         gyr=arrays.get("gyr"),
         mag=arrays.get("mag"),
         time_s=time_s,
-        sampling_rate_hz=None,
+        sampling_rate_hz=stated_rate,
         units=final_units,
         format="csv",
         columns=names,
@@ -413,6 +416,19 @@ ARDUINO = "arduino"
 LSB_COMMENT = re.compile(r"lsb[ _]?per[ _]?g\s*[:=]\s*([0-9][0-9.eE+]*)", re.IGNORECASE)
 _PLOTTER_PAIR = re.compile(r"([A-Za-z_][A-Za-z0-9_ ]*?)\s*:\s*(-?[0-9][0-9.eE+-]*)")
 _PLOTTER_LINE = re.compile(r"^\s*[A-Za-z_][A-Za-z0-9_]*\s*:\s*-?[0-9]")
+
+
+_RATE_COMMENT = re.compile(r"sampling[ _]?rate\s*[:=]\s*([0-9][0-9.]*)\s*(ms|hz)\b", re.IGNORECASE)
+_RATE_HZ = {"ms": lambda v: 1000.0 / v, "hz": lambda v: v}
+
+
+def rate_from_comments(lines: list[str]) -> float | None:
+    """The rate a comment line states, in Hz (HyperIMU's ``@ Date:…, Sampling Rate:50ms``), if any."""
+    for line in lines:
+        m = _RATE_COMMENT.search(line) if is_comment(line) else None
+        if m and float(m.group(1)) > 0:
+            return _RATE_HZ[m.group(2).lower()](float(m.group(1)))
+    return None
 
 
 def lsb_from_comments(lines: list[str]) -> float | None:
