@@ -147,8 +147,9 @@ def leading_prose(lines: list[str]) -> list[int]:
         if not before:
             return []
         delimiter, _, width = numeric
-        fields = split_row(lines[before[-1]], delimiter)
-        header = len(fields) == width if delimiter == WHITESPACE else delimiter in lines[before[-1]] and len(fields) >= 2
+        last = lines[before[-1]]
+        fields = split_row(last, delimiter)
+        header = len(fields) == width if delimiter == WHITESPACE else delimiter in last and len(fields) >= 2
         return before[:-1] if header else before
     return []
 

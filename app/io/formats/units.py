@@ -6,9 +6,10 @@ format, before any method sees the arrays.
 A still or slowly turned accelerometer reads about 1 g: a median norm of 0.6–1.6 is in g, 6–14 in
 m/s², and numbers above 50 are counts of an ADC (LSB) — near 16384, 8192, 4096 or 2048 per g for
 the common 16-bit parts, or 1000 for readings in mg (:data:`~app.io.formats.chips.ACC_LSB_PER_G`).
-A magnetometer turned through all directions reads the Earth's field, 22–67 µT anywhere on the Earth (IGRF): 15–100 µT,
-0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are counts, and so are the whole
-numbers of a still magnetometer (its norm is not known to be the field: it holds the hard iron).
+A magnetometer turned through all directions reads the Earth's field, 22–67 µT anywhere on the
+Earth (IGRF): 15–100 µT, 0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are
+counts, and so are the whole numbers of a still magnetometer (its norm is not known to be the field:
+it holds the hard iron).
 """
 
 from __future__ import annotations
