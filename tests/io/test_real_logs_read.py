@@ -46,11 +46,20 @@ def test_a_turn_still_shows_its_field_and_a_ball_of_noise_does_not():
     # Noise and wander spanning 2.6 % of the norm in every axis, as the BNO055's: no turn.
     still = np.array([-528.8, -29.2, -793.9]) + rng.normal(0.0, 11.0, (2000, 3))
     assert turn_field(still) is None
-    # Whole numbers of a still sensor are counts even when their norm falls in 15-100 (an AK8963 at
-    # 14 bits reads 80 for 48 µT); as floats the same norm is µT.
+
+
+def test_whole_numbers_of_a_still_magnetometer_are_counts_unless_a_unit_is_stated(tmp_path):
+    # Their norm can fall in 15-100 (an AK8963 at 14 bits reads 80 for 48 µT); as floats it is µT.
+    rng = np.random.default_rng(4)
     counts = np.round([50.0, 20.0, 55.0] + rng.normal(0.0, 0.6, (2000, 3)))
-    assert infer_mag_unit(counts) == "raw"
-    assert infer_mag_unit(counts + rng.uniform(-0.4, 0.4, counts.shape)) == "uT"
+    for header, values, fmt, unit in (("mag_x,mag_y,mag_z", counts, "%.0f", "raw"),
+                                      ("mag_x (uT),mag_y (uT),mag_z (uT)", counts, "%.0f", "uT"),
+                                      ("mag_x,mag_y,mag_z", counts + rng.uniform(-0.4, 0.4, counts.shape), "%.3f",
+                                       "uT")):
+        path = tmp_path / "mag.csv"
+        np.savetxt(path, values, fmt=fmt, delimiter=",", header=header, comments="")
+        log = read_log(path, sampling_rate_hz=50, units={}, name="mag.csv")
+        assert log.units["mag"] == unit, (header, fmt)
 
 
 # -- D8: an accelerometer in mg ------------------------------------------------------------------

@@ -8,8 +8,8 @@ m/s², and numbers above 50 are counts of an ADC (LSB) — near 16384, 8192, 409
 the common 16-bit parts, or 1000 for readings in mg (:data:`~app.io.formats.chips.ACC_LSB_PER_G`).
 A magnetometer turned through all directions reads the Earth's field, 22–67 µT anywhere on the
 Earth (IGRF): 15–100 µT, 0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are
-counts, and so are the whole numbers of a still magnetometer (its norm is not known to be the field:
-it holds the hard iron).
+counts, and so are the whole numbers of a still magnetometer whose unit nothing states (its norm is
+not known to be the field: it holds the hard iron).
 """
 
 from __future__ import annotations
@@ -119,15 +119,12 @@ def turn_field(mag: np.ndarray) -> float | None:
 
 def infer_mag_unit(mag: np.ndarray) -> str | None:
     """``uT``, ``gauss``, ``nT`` or ``raw`` (counts) from the field the readings show; None when no
-    unit fits (:data:`FIELD_RANGES`); whole numbers are counts unless a turn shows them in µT."""
-    turn = turn_field(mag)
-    field = field_magnitude(mag) if turn is None else turn
+    unit fits (:data:`FIELD_RANGES`)."""
+    field = field_magnitude(mag)
     whole = _whole(mag)
     for unit in ("uT", "gauss", "nT"):
         low, high = FIELD_RANGES[unit]
-        # Whole numbers are µT only when a turn shows the field's radius: the norm of a still sensor's
-        # counts can fall in 15–100 too (an AK8963 at 14 bits, 0.6 µT per count, reads 80 for 48 µT).
-        if low <= field <= high and not (whole and (unit != "uT" or turn is None)):
+        if low <= field <= high and not (whole and unit != "uT"):
             return unit
     if whole and field > 1.0:
         return "raw"
@@ -328,6 +325,11 @@ def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, 
         return mag, unit
     inferred = infer_mag_unit(mag)
     field = field_magnitude(mag)
+    if inferred == "uT" and claim.unit is None and _whole(mag) and turn_field(mag) is None:
+        # Said by no one, whole numbers are µT only when a turn shows the field's radius: the norm of a
+        # still sensor's counts can fall in 15–100 too (an AK8963 at 14 bits, 0.6 µT per count, reads 80
+        # for 48 µT), and it holds the hard iron besides.
+        inferred = "raw"
     said = claim.unit is not None and claim.unit != inferred
     if inferred is None:
         if unit == "gauss":
