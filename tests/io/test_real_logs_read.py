@@ -125,7 +125,7 @@ def test_microstrain_scaled_columns_are_the_accelerometer_beside_the_filters_lin
 
 def test_linear_columns_alone_are_refused_and_beside_unknown_acceleration_columns_asked_about():
     with pytest.raises(LogFormatError, match="hold linear acceleration .gravity removed.; calibration needs"):
-        map_columns(["time", "linear_acceleration.x", "linear_acceleration.y", "linear_acceleration.z"])
+        map_columns(["time", "accuracy", "linear_acceleration.x", "linear_acceleration.y", "linear_acceleration.z"])
     with pytest.raises(LogFormatError, match=r"'estLinearAccelX', .* hold linear acceleration \(gravity removed\), "
                                              r"but 'bodyAccX', 'bodyAccY', 'bodyAccZ' may be the accelerometer .*"
                                              r"columns=acc_x:<name>"):

@@ -68,6 +68,9 @@ _NAMED = {
 """Sensor columns named with a prefix or the chip (tried after :data:`PATTERNS`): an IMU's
 ``scaledAccelX`` (MicroStrain, beside its filter's ``estLinearAccelX``), HyperIMU's
 ``accelerometer_lsm6ds3_c.x`` and ``gyroscope_lsm6ds3_c.x`` (beside Android's ``linear_Acceleration.x``)."""
+_ACC_AXIS = re.compile(r"^(?=.*(?i:acc)).*(?:[ _.\-]\(?[xyzXYZ]\)?|[a-z][XYZ])(?:\s*[\(\[][^\)\]]*[\)\]])?$")
+"""A name, as written, that may be an acceleration's axis (``bodyAccX``, ``acc_lis3dh (x)``; not
+``accuracy``)."""
 
 _UNIT_ALIASES = {
     "m/s^2": "m/s^2", "m/s2": "m/s^2", "m/s²": "m/s^2", "ms^-2": "m/s^2", "m s^-2": "m/s^2",
@@ -256,7 +259,7 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
                     break
     linear = [n for n in names if _LINEAR.search(normalise(n))]
     if linear and "acc" not in channels:
-        others = [n for n in names if "acc" in normalise(n) and not _LINEAR.search(normalise(n))
+        others = [n for n in names if _ACC_AXIS.search(n.strip()) and not _LINEAR.search(normalise(n))
                   and "gravity" not in normalise(n)]
         if others:  # the linear columns are not all there is: ask which are the accelerometer
             listed = ", ".join(repr(n.strip()[:40]) for n in others[:6]) + (" …" if len(others) > 6 else "")
