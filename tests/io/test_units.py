@@ -86,7 +86,7 @@ def test_an_option_that_the_data_contradict_is_overridden_with_a_warning(tmp_pat
     assert log.warnings[0].startswith("acc_unit said m/s^2 for the accelerometer, but its readings rest")
 
 
-@pytest.mark.parametrize("lsb", [16384, 8192, 4096, 2048])
+@pytest.mark.parametrize("lsb", [16384, 8192, 4096, 2048, 1000])
 def test_counts_near_a_common_sensitivity_become_g(tmp_path, lsb):
     counts = np.round(ACC / G * lsb)
     log = _read(_write(tmp_path, "t,ax (g),ay (g),az (g)", [T, counts], "%.0f"))
@@ -97,7 +97,7 @@ def test_counts_near_a_common_sensitivity_become_g(tmp_path, lsb):
 
 
 def test_counts_of_no_common_sensitivity_stay_counts_and_say_so(tmp_path):
-    counts = np.round(ACC / G * 1000)
+    counts = np.round(ACC / G * 3000)
     log = _read(_write(tmp_path, "t,ax,ay,az", [T, counts], "%.0f"))
     assert log.units["acc"] == "raw"
     assert "calibrated in counts, and its figures are in counts; give lsb_per_g (or chip)" in log.warnings[0]

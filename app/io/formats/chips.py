@@ -85,11 +85,12 @@ _CHIPS = [
 CHIPS: dict[str, Chip] = {c.name: c for c in _CHIPS}
 """Every known part and range by its name (``mpu6050-4g``, ``ak8963-16bit``, ``hmc5883l-1090`` …)."""
 
-ACC_LSB_PER_G = (16384.0, 8192.0, 4096.0, 2048.0)
+ACC_LSB_PER_G = (16384.0, 8192.0, 4096.0, 2048.0, 1000.0)
 """The accelerometer sensitivities of the common 16-bit parts (MPU-6050 family, ICM-20948, and the
-same four on LSM6DS and BMI160 to within their datasheet tolerance): counts whose resting
-magnitude sits near one of them are read as g with it."""
-ACC_RANGE = {16384.0: "±2 g", 8192.0: "±4 g", 4096.0: "±8 g", 2048.0: "±16 g"}
+same four on LSM6DS and BMI160 to within their datasheet tolerance), and milli-g (1000 per g: the
+Bosch BNO055 with UNIT_SEL bit 0 set, BST-BNO055-DS000 section 3.6.1, and the usual ADXL345 and
+LIS3DH libraries): counts whose resting magnitude sits near one of them are read as g with it."""
+ACC_RANGE = {16384.0: "±2 g", 8192.0: "±4 g", 4096.0: "±8 g", 2048.0: "±16 g", 1000.0: "mg"}
 
 
 def parse_chips(chip: str | list | None) -> dict[str, Chip]:

@@ -5,7 +5,7 @@ Accelerometer columns are recognised by names such as ``acc_x``, ``ax``, ``x`` o
 (``mag_x``, ``mx``, ``Magnetic field x (µT)``) columns are optional.  An optional leading index or
 time column (seconds, milliseconds, microseconds or nanoseconds) gives the sampling rate; without
 one, the caller gives ``sampling_rate_hz``.  Error messages name lines 1-based, the header being
-line 1 (comment lines starting with ``#`` before the header count too).  Parquet files name their
+line 1 (comment lines starting with ``#`` or ``@`` before the header count too).  Parquet files name their
 columns the same way (:mod:`app.io.arrays` uses :func:`map_columns`).
 
 Loggers often write no header row: numbers from the first line, separated by commas, semicolons,
@@ -36,8 +36,8 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
-from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
-                    read_columns, split_row)
+from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, is_comment,
+                    numeric_layout, read_columns, split_row, text_block_cell)
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
 from .units import MAG_UNITS_IN
@@ -59,6 +59,18 @@ _TEMPERATURE = re.compile(r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature
 """A column of the sensor's temperature in °C (``temp_c``, ``temp``, ``temperature``, ``T (°C)``)."""
 _INDEX = re.compile(r"^(?:index|idx|i|n|sample|sample_index|#)$")
 _LINEAR = re.compile(r"linear|user[ _]?acc|without[ _]g|gravity[ _]removed")
+_CHIP = r"(?:_[a-z0-9]+)*?"
+_NAMED = {
+    "acc": re.compile(rf"^(?:scaled|raw|imu)?[ _]?(?:accel|accelerometer){_CHIP}{_AXIS}$"),
+    "gyr": re.compile(rf"^(?:scaled|raw|imu)?[ _]?(?:gyro|gyroscope){_CHIP}{_AXIS}$"),
+    "mag": re.compile(rf"^(?:scaled|raw|imu)?[ _]?(?:mag|magnetometer){_CHIP}{_AXIS}$"),
+}
+"""Sensor columns named with a prefix or the chip (tried after :data:`PATTERNS`): an IMU's
+``scaledAccelX`` (MicroStrain, beside its filter's ``estLinearAccelX``), HyperIMU's
+``accelerometer_lsm6ds3_c.x`` and ``gyroscope_lsm6ds3_c.x`` (beside Android's ``linear_Acceleration.x``)."""
+_ACC_AXIS = re.compile(r"^(?=.*(?i:acc)).*(?:[ _.\-]\(?[xyzXYZ]\)?|[a-z][XYZ])(?:\s*[\(\[][^\)\]]*[\)\]])?$")
+"""A name, as written, that may be an acceleration's axis (``bodyAccX``, ``acc_lis3dh (x)``; not
+``accuracy``)."""
 
 _UNIT_ALIASES = {
     "m/s^2": "m/s^2", "m/s2": "m/s^2", "m/s²": "m/s^2", "ms^-2": "m/s^2", "m s^-2": "m/s^2",
@@ -92,7 +104,7 @@ def split_header(text: str) -> tuple[int, str, list[str]]:
     """Line number (1-based) of the header, the delimiter and the column names."""
     lines = text.splitlines()
     for number, line in enumerate(lines, start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
+        if not line.strip() or is_comment(line):
             continue
         delimiter = guess_delimiter(line)
         if line.count(delimiter) == 0:
@@ -117,6 +129,35 @@ class Layout:
     names: list[str]
     headerless: bool
     notes: tuple[str, ...] = ()
+
+
+MAX_PROSE_LINES = 10
+"""How many lines before a table may be neither its header nor numbers (a terminal capture's start-up
+messages: ``GPIO initialized.``, ``i2c bus opened with handle 0.``) and be skipped."""
+
+
+def leading_prose(lines: list[str]) -> list[int]:
+    """The 0-based indices of the lines before a table that are neither its header nor numbers.
+
+    The table starts at the first line below which :func:`~app.io.formats.table.numeric_layout` finds
+    rows of numbers; of the lines above it (comments and blank lines aside), the last is the header
+    when it splits into names by the numbers' separator (for spaces: as many as the numbers), and the
+    others are prose. None when no rows of numbers begin within :data:`MAX_PROSE_LINES` lines.
+    """
+    content = [i for i, ln in enumerate(lines) if ln.strip() and not is_comment(ln)][:MAX_PROSE_LINES + 2]
+    for k, start in enumerate(content):
+        numeric = numeric_layout(lines[start:])
+        if numeric is None:
+            continue
+        before = content[:k]
+        if not before:
+            return []
+        delimiter, _, width = numeric
+        last = lines[before[-1]]
+        fields = split_row(last, delimiter)
+        header = len(fields) == width if delimiter == WHITESPACE else delimiter in last and len(fields) >= 2
+        return before[:-1] if header else before
+    return []
 
 
 HEADERLESS_NAMES = {3: ["acc_x", "acc_y", "acc_z"], 4: ["time", "acc_x", "acc_y", "acc_z"]}
@@ -144,10 +185,16 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
         and no ``column_names``, or ``column_names`` whose count is not the file's.
     """
     lines = text.splitlines()
-    numeric = numeric_layout(lines)
+    prose = leading_prose(lines)
+    start = prose[-1] + 1 if prose else 0
+    skipped = [] if not prose else [
+        f"line{'s' if len(prose) > 1 else ''} {', '.join(str(i + 1) for i in prose)} skipped before the table: "
+        f"neither a header nor numbers ({', '.join(repr(lines[i].strip()[:40]) for i in prose[:3])}"
+        f"{', …' if len(prose) > 3 else ''})"]
+    numeric = numeric_layout(lines[start:])
     if numeric is not None:
         delimiter, decimal, width = numeric
-        skip = next(i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#"))
+        skip = next(i for i, ln in enumerate(lines) if i >= start and ln.strip() and not is_comment(ln))
         names = column_names or HEADERLESS_NAMES.get(width)
         if names is None:
             raise LogFormatError(
@@ -157,13 +204,14 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
                 "(- skips a column)"
             )
         how = "named by columns" if column_names else "read as"
-        notes = [f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, {how} "
-                 f"{', '.join(names)}"]
+        notes = skipped + [f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, {how} "
+                           f"{', '.join(names)}"]
         layout = Layout(skip, delimiter, decimal, list(names), True, tuple(notes))
     else:
-        header_line, delimiter, names = split_header(text)
+        header_line, delimiter, names = split_header("\n".join(lines[start:]))
+        header_line += start
         decimal = guess_decimal(lines[header_line:], delimiter)
-        notes = [f"header row replaced by columns {', '.join(column_names)}"] if column_names else []
+        notes = skipped + ([f"header row replaced by columns {', '.join(column_names)}"] if column_names else [])
         layout = Layout(header_line, delimiter, decimal, column_names or names, False, tuple(notes))
         width = len(names)
     if column_names and len(column_names) != width:
@@ -206,7 +254,24 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
                 if unit:
                     units.setdefault(sensor, unit)
                 break
-    if any(_LINEAR.search(normalise(n)) for n in names) and "acc" not in channels:
+        else:
+            for sensor, pattern in _NAMED.items():
+                m = pattern.match(name)
+                if m and col not in channels.get(sensor, {}).values():
+                    channels.setdefault(sensor, {}).setdefault(m.group("axis"), col)
+                    break
+    linear = [n for n in names if _LINEAR.search(normalise(n))]
+    if linear and "acc" not in channels:
+        others = [n for n in names if _ACC_AXIS.search(n.strip()) and not _LINEAR.search(normalise(n))
+                  and "gravity" not in normalise(n)]
+        if others:  # the linear columns are not all there is: ask which are the accelerometer
+            listed = ", ".join(repr(n.strip()[:40]) for n in others[:6]) + (" …" if len(others) > 6 else "")
+            raise LogFormatError(
+                f"columns {', '.join(repr(n.strip()[:40]) for n in linear[:3])} hold linear acceleration (gravity "
+                f"removed), but {listed} may be the accelerometer including gravity, which calibration needs: "
+                "name its columns with the upload field columns, e.g. columns=acc_x:<name>,acc_y:<name>,"
+                "acc_z:<name>"
+            )
         raise LogFormatError(
             "the accelerometer columns hold linear acceleration (gravity removed); calibration needs "
             "the raw accelerometer including gravity: export 'acceleration including gravity' instead"
@@ -302,23 +367,31 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     """
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
-    layout = table_layout(decode_head(head, name), name, column_names)
+    text = decode_head(head, name)
+    layout = table_layout(text, name, column_names)
     names = layout.names
+    block = None if layout.headerless else text_block_cell(text, layout.delimiter, layout.skip_lines, names)
+    if block is not None:
+        line, column, first = block
+        raise LogFormatError(
+            f"{name}: line {line}, column {column!r} holds a block of text over several lines ({first!r} …), not "
+            "a number: trical reads one number per column and row, so no columns mapping can read it; write each "
+            "reading in a column of its own (e.g. acc_x, acc_y, acc_z), one row per sample")
     channels, time_col, time_scale, _ = map_columns(renamed(names, column_map))
     header_units = mapped_units(names, column_map)
     temp_col = temperature_column(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
     if temp_col is not None:
         used.append(temp_col)
-    for sensor in ("acc", "gyr", "mag"):
-        if sensor in channels:
-            used += [channels[sensor][a] for a in "xyz"]
+    sensors = [channels[sensor][a] for sensor in ("acc", "gyr", "mag") if sensor in channels for a in "xyz"]
+    used += sensors
+    notes = list(layout.notes)
     values = dict(zip(used, read_columns(Path(path), skip_lines=layout.skip_lines, n_columns=len(names),
                                          columns=used, delimiter=layout.delimiter, decimal=layout.decimal,
-                                         name=name, column_names=names, first_line=layout.skip_lines + 1)))
+                                         name=name, column_names=names, first_line=layout.skip_lines + 1,
+                                         drop_empty=tuple(sensors), notes=notes)))
     arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
     time = values[time_col] if time_col is not None else None
-    notes = list(layout.notes)
     try:
         time_s = None
         if time is not None and len(time) >= 2:
@@ -339,6 +412,9 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         raise LogFormatError(f"{exc}. {name} has no header row, so its 4 columns were read as time, x, y, z: "
                              "if the first is not a time, name the columns with `columns`, e.g. "
                              "columns=acc_x,acc_y,acc_z,- ") from None
+    stated_rate = None if time_s is not None else rate_from_comments(text.splitlines()[:layout.skip_lines])
+    if stated_rate is not None and sampling_rate_hz is None:
+        notes.append(f"no time column: the rate {stated_rate:g} Hz its comment line states is used")
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
         accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
@@ -349,7 +425,7 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         gyr=arrays.get("gyr"),
         mag=arrays.get("mag"),
         time_s=time_s,
-        sampling_rate_hz=None,
+        sampling_rate_hz=stated_rate,
         units=final_units,
         format="csv",
         columns=names,
@@ -363,6 +439,19 @@ ARDUINO = "arduino"
 LSB_COMMENT = re.compile(r"lsb[ _]?per[ _]?g\s*[:=]\s*([0-9][0-9.eE+]*)", re.IGNORECASE)
 _PLOTTER_PAIR = re.compile(r"([A-Za-z_][A-Za-z0-9_ ]*?)\s*:\s*(-?[0-9][0-9.eE+-]*)")
 _PLOTTER_LINE = re.compile(r"^\s*[A-Za-z_][A-Za-z0-9_]*\s*:\s*-?[0-9]")
+
+
+_RATE_COMMENT = re.compile(r"sampling[ _]?rate\s*[:=]\s*([0-9][0-9.]*)\s*(ms|hz)\b", re.IGNORECASE)
+_RATE_HZ = {"ms": lambda v: 1000.0 / v, "hz": lambda v: v}
+
+
+def rate_from_comments(lines: list[str]) -> float | None:
+    """The rate a comment line states, in Hz (HyperIMU's ``@ Date:…, Sampling Rate:50ms``), if any."""
+    for line in lines:
+        m = _RATE_COMMENT.search(line) if is_comment(line) else None
+        if m and float(m.group(1)) > 0:
+            return _RATE_HZ[m.group(2).lower()](float(m.group(1)))
+    return None
 
 
 def lsb_from_comments(lines: list[str]) -> float | None:

@@ -119,6 +119,16 @@ part of a number, a comma may be a decimal mark (``0,5;9,81``), so it is tried a
 _TAB_TO_SPACE = bytes.maketrans(b"\t", b" ")
 
 
+COMMENT_MARKS = ("#", "@")
+"""What starts a comment line: ``#``, and ``@`` (HyperIMU's ``@ HyperIMU …`` and ``@ Date:…, Sampling
+Rate:50ms`` lines before its header)."""
+
+
+def is_comment(line: str) -> bool:
+    """True for a comment line (:data:`COMMENT_MARKS`)."""
+    return line.lstrip().startswith(COMMENT_MARKS)
+
+
 def split_row(line: str, delimiter: str) -> list[str]:
     if delimiter == WHITESPACE:
         return line.split()
@@ -143,7 +153,7 @@ def guess_decimal(lines: list[str], delimiter: str, first_column: int = 0) -> st
     comma), else ``.``; looks at the first 20 non-blank data lines, from column ``first_column``."""
     if delimiter == ",":
         return "."
-    data = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")][:20]
+    data = [ln for ln in lines if ln.strip() and not is_comment(ln)][:20]
     return "," if any("," in f for ln in data for f in split_row(ln, delimiter)[first_column:]) else "."
 
 
@@ -169,7 +179,7 @@ def numeric_layout(lines: list[str]) -> tuple[str, str, int] | None:
     (up to 20) wins (else the first: the reader then names the line that differs); the decimal mark
     is a comma when the separator is not one and the numbers carry commas.
     """
-    data = [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")][:20]
+    data = [ln for ln in lines if ln.strip() and not is_comment(ln)][:20]
     if not data:
         return None
     found = []
@@ -242,7 +252,8 @@ def _csv_source(data: bytes | Path, delimiter: str):
 
 def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns: list[int], delimiter: str,
                  decimal: str = ".", name: str = "the file", column_names: list[str] | None = None,
-                 first_line: int | None = None, integer_columns: tuple[int, ...] = ()) -> list[np.ndarray]:
+                 first_line: int | None = None, integer_columns: tuple[int, ...] = (),
+                 drop_empty: tuple[int, ...] = (), notes: list[str] | None = None) -> list[np.ndarray]:
     """Numeric columns of a delimited table, as float arrays.
 
     Parameters
@@ -264,11 +275,17 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
         1-based line number of the first data line in the uploaded file (default ``skip_lines + 1``).
     integer_columns : tuple of int
         Columns read as int64 (epoch nanoseconds, beyond float64's 2⁵³).
+    drop_empty : tuple of int
+        The sensors' columns: a row where all of them are empty is dropped (a log interleaving packets
+        of two rates leaves the other packet's fields empty), with a line in ``notes``; a row where
+        only some are empty is refused.
+    notes : list of str, optional
+        Where the note of dropped rows goes.
 
     Raises
     ------
     LogFormatError
-        A non-numeric value (naming its line and column), or no data rows.
+        A non-numeric value (naming its line and column), a partly empty row, or no data rows.
     """
     names = [f"c{i}" for i in range(n_columns)]
     first_line = first_line or skip_lines + 1
@@ -289,20 +306,32 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
         raise LogFormatError(f"{name}: {detail}: every used column must hold numbers") from None
     if table.num_rows == 0:
         raise LogFormatError(f"{name} has a header (line {first_line - 1}) but no data rows: add the samples below it")
+    empty = np.zeros(table.num_rows, dtype=bool)
+    if drop_empty:
+        empty = np.logical_and.reduce([table.column(names[c]).is_null().to_numpy(zero_copy_only=False)
+                                       for c in drop_empty])
     out = []
     for c in columns:
         arr = table.column(names[c])
-        if arr.null_count:
-            row = int(np.flatnonzero(arr.is_null().to_numpy(zero_copy_only=False))[0])
+        if arr.null_count and (arr.is_null().to_numpy(zero_copy_only=False) & ~empty).any():
+            row = int(np.flatnonzero(arr.is_null().to_numpy(zero_copy_only=False) & ~empty)[0])
             raise LogFormatError(f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank "
                                  f"lines) has an empty value in column {(column_names or names)[c]!r}: fill or "
                                  "remove that line")
         arr = arr.to_numpy(zero_copy_only=False)
-        out.append(arr if c in integer_columns else arr.astype(float, copy=False))
+        arr = arr if c in integer_columns else arr.astype(float, copy=False)
+        out.append(arr[~empty] if empty.any() else arr)
     # The table's blocks are numpy's now; Arrow's allocator keeps freed pages for reuse, which would
     # hold a second copy of a large log for the rest of the process (a night at 200 Hz: 0.6 GB).
     del table, arr
     pa.default_memory_pool().release_unused()
+    if empty.any():
+        if empty.all():
+            labels = ", ".join(repr((column_names or names)[c]) for c in drop_empty)
+            raise LogFormatError(f"{name}: every data row leaves {labels} empty: those columns hold no readings")
+        if notes is not None:
+            notes.append(f"{name}: {int(empty.sum())} of {len(empty)} rows leave the sensors' columns empty (another "
+                         "packet type's rows, as logs interleaving packets of two rates write them): skipped")
     for c, arr in zip(columns, out):
         bad = ~np.isfinite(arr)
         if bad.any():
@@ -337,7 +366,7 @@ def first_bad_line(data: bytes | Path, skip_lines: int, delimiter: str, decimal:
 def _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, first_line) -> str:
     for offset, line in enumerate(itertools.islice(_text_lines(data), skip_lines, None)):
         number = first_line + offset
-        if not line.strip() or line.lstrip().startswith("#"):
+        if not line.strip() or is_comment(line):
             continue
         row = split_row(line, delimiter)
         if len(row) < len(names):
@@ -349,6 +378,29 @@ def _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, fir
             except ValueError:
                 return f"line {number}, column {names[c]!r}: {value[:40]!r} is not a number"
     return "a line could not be read as numbers"
+
+
+def text_block_cell(text: str, delimiter: str, skip_lines: int, names: list[str],
+                    records: int = 20) -> tuple[int, str, str] | None:
+    """The first cell of a table's data rows that holds a block of text over several lines (a quoted
+    cell with line breaks, as a logger writing message objects with ``csv.writer`` makes): its 1-based
+    line, its column's name and its first line of text; None when the first ``records`` rows hold none.
+
+    ``text`` is the head of the file, ``skip_lines`` the lines before the data (header, comments).
+    """
+    if delimiter == WHITESPACE or '"' not in text:
+        return None
+    reader = csv.reader(text.splitlines(keepends=True)[skip_lines:], delimiter=delimiter)
+    try:
+        for _ in range(records):
+            line = skip_lines + reader.line_num + 1
+            for column, cell in enumerate(next(reader)):
+                if "\n" in cell or "\r" in cell:
+                    label = names[column] if column < len(names) else f"column {column + 1}"
+                    return line, label, cell.strip().splitlines()[0]
+    except (StopIteration, csv.Error):
+        pass
+    return None
 
 
 def resample_to(time_s: np.ndarray, other_time_s: np.ndarray, values: np.ndarray) -> np.ndarray:

@@ -5,9 +5,11 @@ format, before any method sees the arrays.
 
 A still or slowly turned accelerometer reads about 1 g: a median norm of 0.6–1.6 is in g, 6–14 in
 m/s², and numbers above 50 are counts of an ADC (LSB) — near 16384, 8192, 4096 or 2048 per g for
-the common 16-bit parts (:data:`~app.io.formats.chips.ACC_LSB_PER_G`). A magnetometer turned
-through all directions reads the Earth's field, 22–67 µT anywhere on the Earth (IGRF): 15–100 µT,
-0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are counts.
+the common 16-bit parts, or 1000 for readings in mg (:data:`~app.io.formats.chips.ACC_LSB_PER_G`).
+A magnetometer turned through all directions reads the Earth's field, 22–67 µT anywhere on the
+Earth (IGRF): 15–100 µT, 0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are
+counts, and so are the whole numbers of a still magnetometer whose unit nothing states (its norm is
+not known to be the field: it holds the hard iron).
 """
 
 from __future__ import annotations
@@ -66,22 +68,53 @@ def common_sensitivity(norm_counts: float) -> float | None:
 
 
 def _sensitivity_hint(lsb: float) -> str:
-    chip = {16384.0: "2g", 8192.0: "4g", 4096.0: "8g", 2048.0: "16g"}[lsb]
-    return f"lsb_per_g={lsb:g} or chip=mpu6050-{chip}"
+    chip = {16384.0: "2g", 8192.0: "4g", 4096.0: "8g", 2048.0: "16g"}.get(lsb)
+    return f"lsb_per_g={lsb:g}" + (f" or chip=mpu6050-{chip}" if chip else "")
+
+
+def _sensitivity_words(lsb: float) -> str:
+    """Where a common sensitivity comes from, for the messages."""
+    if ACC_RANGE[lsb] == "mg":
+        return "readings in milli-g (mg), as the BNO055 and the ADXL345 and LIS3DH libraries give them"
+    return f"the {ACC_RANGE[lsb]} range of the MPU-6050 family and the ICM-20948"
+
+
+SHELL_CV = 0.3
+"""Readings of a turned magnetometer lie on a shell about the centre of their range: their distances
+from it vary by a few per cent to 0.3 of their mean (soft iron, a partial turn, a flat ring). A still
+sensor's noise and wander fill a ball instead, whose distances vary by 0.42 of their mean (the
+Maxwell distribution of a 3-D Gaussian: std/mean = sqrt(3π/8 − 1) ≈ 0.42)."""
+
+
+def _shell_spread(sub: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> float:
+    """The std/mean of the readings' distances from the centre of their 1–99 % range."""
+    d = np.linalg.norm(sub - (lo + hi) / 2.0, axis=1)
+    mean = float(d.mean())
+    return float(d.std() / mean) if mean > 0 else np.inf
 
 
 def field_magnitude(mag: np.ndarray) -> float:
     """The field a magnetometer reads: half the 1–99 % range per axis when it turned through all
     directions (free of the hard-iron offset), else the median norm."""
+    turn = turn_field(mag)
+    return median_norm(np.asarray(mag[: 200_000], dtype=float)) if turn is None else turn
+
+
+def turn_field(mag: np.ndarray) -> float | None:
+    """Half the 1–99 % range per axis (the field, free of the hard iron) when the magnetometer turned
+    through all directions; None when it did not (a still sensor: its norm is all there is)."""
     sub = np.asarray(mag[: 200_000], dtype=float)
     lo, hi = np.percentile(sub, [1.0, 99.0], axis=0)
     half = (hi - lo) / 2.0
     norm = median_norm(sub)
     # Turned: every axis spans a like range, far beyond a still sensor's noise (a few thousandths of
-    # its norm), even under a hard iron many times the field (an MMC5983MA's mid-scale zero: 4 %).
-    if half.min() > 0.3 * half.max() and half.mean() > 0.025 * norm:
+    # its norm), even under a hard iron many times the field (an MMC5983MA's mid-scale zero: 4 %);
+    # and the readings lie on a shell, not in a ball: a still sensor's noise and slow wander can span
+    # 2.5 % of its norm (a BNO055 at 954 counts: ±25), but they fill the ball (SHELL_CV).
+    if (half.min() > 0.3 * half.max() and half.mean() > 0.025 * norm
+            and _shell_spread(sub, lo, hi) < SHELL_CV):
         return float(half.mean())
-    return norm
+    return None
 
 
 def infer_mag_unit(mag: np.ndarray) -> str | None:
@@ -227,12 +260,12 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
         said = f" ({claim.words()})" if claim.unit not in (None, "raw") else ""
         if fit is not None:
             warns.append(f"the accelerometer's readings are counts{said}: they rest at a median norm of {norm:.0f}, "
-                         f"about {fit:g} LSB per g (the {ACC_RANGE[fit]} range of the MPU-6050 family and the "
-                         f"ICM-20948), so they were divided by {fit:g} into g; give chip or lsb_per_g for another "
-                         "scale, or acc_unit=raw to calibrate in counts")
+                         f"about {fit:g} LSB per g ({_sensitivity_words(fit)}), so they were divided by {fit:g} into "
+                         "g; give chip or lsb_per_g for another scale, or acc_unit=raw to calibrate in counts")
             return acc / fit, "g"
         warns.append(f"the accelerometer's readings are counts{said} resting at a median norm of {norm:.0f}, near "
-                     "none of the common sensitivities (16384, 8192, 4096, 2048 LSB per g): calibrated in counts, "
+                     f"none of the common sensitivities ({', '.join(f'{v:g}' for v in ACC_LSB_PER_G)} LSB per g): "
+                     "calibrated in counts, "
                      "and its figures are in counts; give lsb_per_g (or chip) to calibrate in g")
         return acc, "raw"
     if (1.6 < norm < 6.0 or 14.0 < norm <= 50) and claim.unit in (None, "raw"):
@@ -292,6 +325,11 @@ def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, 
         return mag, unit
     inferred = infer_mag_unit(mag)
     field = field_magnitude(mag)
+    if inferred == "uT" and claim.unit is None and _whole(mag) and turn_field(mag) is None:
+        # Said by no one, whole numbers are µT only when a turn shows the field's radius: the norm of a
+        # still sensor's counts can fall in 15–100 too (an AK8963 at 14 bits, 0.6 µT per count, reads 80
+        # for 48 µT), and it holds the hard iron besides.
+        inferred = "raw"
     said = claim.unit is not None and claim.unit != inferred
     if inferred is None:
         if unit == "gauss":
