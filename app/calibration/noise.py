@@ -33,6 +33,7 @@ import numpy as np
 
 from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev, preload_quantiles
 from .errors import CalibrationError, InsufficientDataError
+from .headlines import SENSOR_WORDS
 from .result import FIGURES, PerSensorResult
 
 CONFIDENCE = 0.95
@@ -236,7 +237,7 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     flat = [axis for k, axis in enumerate("xyz") if not np.all(avar[:, k] > 0)]
     if flat:  # a sensor printing one value (absent, or quantised coarser than its noise) has no noise to read
         raise InsufficientDataError(
-            f"{sensor}: the {', '.join(flat)} axis readings do not change over the recording, so they hold no noise "
+            f"the {SENSOR_WORDS.get(sensor, sensor)}'s {', '.join(flat)} axis readings do not change over the recording, so they hold no noise "
             "to characterise (a sensor that is absent and prints a constant, or one quantised coarser than its "
             "noise): leave this sensor out, or log it at a finer resolution")
     readings = [_read_axis(tau, avar[:, k], ms, n + 1) for k in range(3)]

@@ -145,5 +145,5 @@ def test_an_axis_that_never_changes_is_refused_in_words():
     refusal naming the axis, not a failed decomposition of an all-zero Allan variance."""
     x = np.random.default_rng(7).normal(0.0, 0.05, size=(20_000, 3))
     x[:, 2] = 0.0
-    with pytest.raises(InsufficientDataError, match=r"mag: the z axis readings do not change"):
+    with pytest.raises(InsufficientDataError, match=r"the magnetometer's z axis readings do not change"):
         characterise_noise(x, 100.0, unit="uT", sensor="mag")

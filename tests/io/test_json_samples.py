@@ -23,7 +23,7 @@ def write(tmp_path, name, data) -> object:
 def test_objects_nested_by_sensor_are_flattened_to_the_canonical_columns(tmp_path):
     rng = np.random.default_rng(4)
     acc = np.array([0.1, -0.2, 9.8]) + 0.01 * rng.standard_normal((300, 3))
-    samples = [{"t_ms": 10 * i, "acc": dict(zip("xyz", a)), "mag": {"x": 20.0, "y": -5.0, "z": 40.0}, "label": "rest"}
+    samples = [{"t_ms": 10 * i, "acc": dict(zip("xyz", a)), "mag": {"x": 20.5, "y": -5.25, "z": 40.125}, "label": "rest"}
                for i, a in enumerate(acc.tolist())]
     log = read_log(write(tmp_path, "imu.json", {"device": "board", "samples": samples}), name="imu.json")
     assert log.channels == ["acc", "mag"] and log.units == {"acc": "m/s^2", "mag": "uT"}
