@@ -7,7 +7,6 @@ own schema, so that a new parameter is guarded the day it is added."""
 
 from __future__ import annotations
 
-import json
 import re
 from functools import lru_cache
 from pathlib import Path
@@ -15,6 +14,7 @@ from pathlib import Path
 from app import methods
 from app.words import CLIENT_HEADER, VOCABULARY, render
 from tests.api import test_bad_input, test_units_api
+from tests.real_corpus import cases as corpus_cases
 
 REAL = Path(__file__).resolve().parent.parent / "data" / "real"
 PAGE = {CLIENT_HEADER: "page"}
@@ -78,11 +78,9 @@ def real_uploads() -> list[tuple[str, list[Path], dict, list[dict]]]:
     for name, files in groups:
         for form in ({}, {"acc_unit": "raw", "gyr_unit": "raw", "mag_unit": "raw"}):
             cases.append((f"{name} {form}", files, form, calibrations if not form else [{"method": "auto"}]))
-    for case_json in sorted(REAL.glob("corpus/*/case.json")):
-        spec = json.loads(case_json.read_text(encoding="utf-8"))
-        files = [case_json.parent / f for f in spec.get("files", [])]
-        cases.append((case_json.parent.name, files, spec.get("form", {}),
-                      [c for c in (spec.get("calibrate"), {"method": "auto"}) if c]))
+    for case in corpus_cases():
+        cases.append((case.name, case.files, case.form,
+                      [c for c in (case.spec.get("calibrate"), {"method": "auto"}) if c]))
     return cases
 
 
