@@ -176,7 +176,7 @@ def _misread_as(fig: PhysicalFigure, limits) -> list[str]:
 def _cause(fig: PhysicalFigure, limits) -> str:
     """The likely cause of an implausible figure and what to give."""
     option, word = OPTION.get(fig.sensor, "the unit"), SENSOR_WORDS.get(fig.sensor, fig.sensor)
-    if fig.unit == "raw":
+    if fig.unit == "raw" and fig.kind == "noise_density":
         return (f"these readings are not counts (whole numbers): give {option} the unit they are in "
                 f"({' or '.join(ALTERNATIVES.get(fig.sensor, ()))})")
     fits = _misread_as(fig, limits) if fig.kind != "scale" else []
