@@ -537,7 +537,7 @@ class StillPart(Out):
     end: int = Field(description="The sample after the last one used.")
     n_samples: int
     fraction: float = Field(description="Of the recording.")
-    detected_from: str = Field(description="The sensor whose stillness was tested.")
+    detected_from: str = Field(description="The sensors whose stillness was tested, joined by \", \" (every sensor the recording holds: still on all of them).")
 
 
 class NoiseOut(CalibrationCommon):

@@ -34,6 +34,7 @@ import numpy as np
 from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev, preload_quantiles
 from .errors import CalibrationError, InsufficientDataError
 from .headlines import SENSOR_WORDS
+from .plausible import PhysicalFigure
 from .result import FIGURES, PerSensorResult
 
 CONFIDENCE = 0.95
@@ -292,6 +293,20 @@ class NoiseResult(PerSensorResult):
 
     def apply(self, samples, sensor: str | None = None):
         raise CalibrationError("a noise characterisation corrects nothing: apply a calibration of another method")
+
+    def physical_figures(self) -> list:
+        """Each sensor's noise density and the gyroscope's bias (its mean at rest), in the unit it was
+        characterised in."""
+        out = []
+        for name, part in self.sensors.items():
+            model = part["model"]
+            density = tuple(v for v in model.get("noise_density") or () if v is not None)
+            if density:
+                out.append(PhysicalFigure(name, "noise_density", density, model.get("unit", ""),
+                                          sampling_rate_hz=self.sampling_rate_hz))
+            if name == "gyr" and model.get("bias") is not None:
+                out.append(PhysicalFigure(name, "bias", tuple(model["bias"]), model.get("unit", "")))
+        return out
 
     def body_dict(self) -> dict:
         return {"adev": {name: part["adev"] for name, part in self.sensors.items()},

@@ -1,7 +1,10 @@
 """The still part of a noise recording: the longest stretch in which the device rested.
 
 The half-second blocks whose spread stays below four times the stream's own noise floor (the rule
-of the upload's rest detection, app.calibration.static), knocks of up to a second merged.  The still segments of
+of the upload's rest detection, app.calibration.static), knocks of up to a second merged — on every
+sensor the recording holds (:func:`common_still_runs`): a vehicle put down rests at once by its
+accelerometer while its gyroscope rings for a second more, and a compass turned about gravity moves
+no accelerometer.  The still segments of
 an upload (:func:`app.calibration.static.detect_static_segments`) are not used: they end where the
 mean leaves the segment's by more than a threshold, which is how they tell orientations apart — and a
 still recording's slow bias drift is what the noise characterisation measures (a night of a phone
@@ -50,7 +53,7 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
         part = np.asarray(samples[start * w:stop * w], dtype=float).reshape(stop - start, w, -1)
         spread[start:stop] = np.sqrt(part.var(axis=1).sum(axis=1))
         means[start:stop] = part.mean(axis=1)
-    floor = np.percentile(spread, NOISE_PERCENTILE)
+    floor = max(float(np.percentile(spread, NOISE_PERCENTILE)), 0.5 * quantisation_step(samples))
     still = spread <= NOISE_FACTOR * floor
     gap = int(math.ceil(MAX_GAP_S * sampling_rate_hz / w))
     edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
@@ -73,15 +76,66 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
     return [(p * w, n if q == blocks else q * w) for p, q in cut]
 
 
-def longest_still(samples, sampling_rate_hz: float):
-    """``(start, end)`` sample indices (end exclusive) of the longest still stretch (:func:`still_runs`),
-    or None.
+def quantisation_step(samples) -> float:
+    """The smallest non-zero change between consecutive samples (of the first 100 000): the step of a
+    sensor quantised coarser than its noise, whose half-second blocks can all read one value (their
+    spread, and the percentile of the spreads, then 0); for continuous readings a tiny number.
 
     Parameters
     ----------
-    samples : array_like, shape (N, 3)
-        One sensor's samples (the accelerometer where there is one: it sees every handling).
+    samples : array_like, shape (N, k)
+    """
+    head = np.asarray(samples[:100_000], dtype=float)
+    steps = np.abs(np.diff(head, axis=0))
+    steps = steps[np.isfinite(steps) & (steps > 0)]
+    return float(steps.min()) if steps.size else 0.0
+
+
+def _intersect(first: list[tuple[int, int]], second: list[tuple[int, int]]) -> list[tuple[int, int]]:
+    """The stretches [a, b) inside a stretch of both lists (each in order, not overlapping itself)."""
+    out, i, j = [], 0, 0
+    while i < len(first) and j < len(second):
+        a, b = max(first[i][0], second[j][0]), min(first[i][1], second[j][1])
+        if a < b:
+            out.append((a, b))
+        if first[i][1] < second[j][1]:
+            i += 1
+        else:
+            j += 1
+    return out
+
+
+def common_still_runs(sensors, sampling_rate_hz: float) -> list[tuple[int, int]]:
+    """``(start, end)`` sample indices (end exclusive) of every stretch still on every sensor, in order.
+
+    Each sensor's still stretches (:func:`still_runs`, on its own noise floor) are intersected: still
+    means still on all of them — the accelerometer's rests cut where the gyroscope rings after a touch
+    (a vehicle put down: its gyroscope oscillates at a few hertz for a second while the accelerometer
+    already reads gravity alone) or where the compass turns.
+
+    Parameters
+    ----------
+    sensors : sequence of array_like, each shape (N, 3)
+        The sensors' samples on one clock (the rows of one recording).
     sampling_rate_hz : float
     """
-    runs = still_runs(samples, sampling_rate_hz)
+    sensors = list(sensors)
+    runs = still_runs(sensors[0], sampling_rate_hz)
+    for samples in sensors[1:]:
+        runs = _intersect(runs, still_runs(samples, sampling_rate_hz))
+    return runs
+
+
+def longest_still(samples, sampling_rate_hz: float):
+    """``(start, end)`` sample indices (end exclusive) of the longest still stretch, or None.
+
+    Parameters
+    ----------
+    samples : array_like, shape (N, 3), or a list of them
+        One sensor's samples (:func:`still_runs`), or every sensor's on one clock
+        (:func:`common_still_runs`: still on all of them).
+    sampling_rate_hz : float
+    """
+    runs = (common_still_runs(samples, sampling_rate_hz) if isinstance(samples, (list, tuple))
+            else still_runs(samples, sampling_rate_hz))
     return max(runs, key=lambda r: r[1] - r[0]) if runs else None

@@ -20,6 +20,7 @@ from .correction import AffineCorrection, correction_of
 from .errors import CalibrationError
 from .headlines import SENSOR_WORDS, accelerometer_headline
 from .norm_metrics import evaluate_still, relative_norm_errors
+from .plausible import correction_figures, implausible, is_plausibility_reason
 from .uncertainty import CONFIDENCE, half_widths
 from .validation import as_samples
 
@@ -182,6 +183,32 @@ class CalibrationResult(Gated):
         super().__init_subclass__(**kwargs)
         if cls.__dict__.get("RESULT_TYPE"):
             _REGISTRY[cls.RESULT_TYPE] = cls
+
+    def __post_init__(self):
+        # The one plausibility gate (app/calibration/plausible.py): every result, however made — fitted,
+        # given its unit afterwards (dataclasses.replace), or read back from the store —, is not ok with a
+        # figure no MEMS part can have. Its reasons come first; those of an earlier making (another unit,
+        # a stored body) are dropped and judged again, so that they always say what this result holds.
+        found = tuple(self.plausibility())
+        reasons = tuple(r for r in self.reasons if not is_plausibility_reason(r))
+        warnings = tuple(w for w in self.warnings if not is_plausibility_reason(w))
+        if found or reasons != tuple(self.reasons):
+            object.__setattr__(self, "reasons", found + reasons)
+            object.__setattr__(self, "warnings", found + warnings)
+
+    def physical_figures(self) -> list:
+        """Its figures a MEMS part bounds (:class:`~app.calibration.plausible.PhysicalFigure`): by default
+        each correction's scale and offset (a gyroscope's bias); a result with other figures adds its own
+        (a compass's field, a noise characterisation's densities)."""
+        out = []
+        for sensor, c in self.corrections().items():
+            out += correction_figures(sensor, c.M, c.o, c.input_unit, c.output_unit)
+        return out
+
+    def plausibility(self) -> list[str]:
+        """One reason per figure no MEMS part can have, naming the likely cause (the unit, the columns, the
+        chip) and what to give (:func:`app.calibration.plausible.implausible`); empty when all are plausible."""
+        return implausible(self.physical_figures())
 
     @property
     def output_unit(self) -> str:

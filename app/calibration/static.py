@@ -251,13 +251,47 @@ def still_threshold(
     return g_ref, thr
 
 
-def _still_runs(x: np.ndarray, w: int, **threshold) -> tuple[float, float, np.ndarray, np.ndarray]:
+def others_still(others, w: int, noise_percentile: float = NOISE_PERCENTILE,
+                 noise_factor: float = NOISE_FACTOR) -> np.ndarray | None:
+    """Which windows of ``w`` samples are still on every other sensor (a gyroscope, a magnetometer on
+    the accelerometer's clock), or None without one.
+
+    A window is still on a sensor when its spread (:func:`window_stats`) stays under ``noise_factor``
+    times the ``noise_percentile`` percentile of that sensor's own spreads — the accelerometer's rule,
+    on the sensor's own noise floor and in its own unit —, that floor being at least half a
+    quantisation step (a sensor quantised coarser than its noise:
+    :func:`app.calibration.noise_still.quantisation_step`), as in the noise method's still part.
+    """
+    from .noise_still import quantisation_step
+
+    still = None
+    for samples in others:
+        o = as_vectors(samples, "samples of another sensor")
+        spread, _ = window_stats(o, w)
+        thr = noise_factor * max(float(np.percentile(spread, noise_percentile)), 0.5 * quantisation_step(o))
+        still = spread <= thr if still is None else still & (spread <= thr)
+    # A window still only where those a quarter window either side are too: a move's first samples in
+    # the last quarter of a window barely raise its spread (the accelerometer's edges are trimmed on its
+    # own samples instead, :func:`_trim`).
+    if still is None:
+        return None
+    k = max(1, w // 4)
+    moving = np.concatenate(([0], np.cumsum(np.concatenate((np.zeros(k), ~still, np.zeros(k))))))
+    return (moving[2 * k + 1:] - moving[:len(still)]) == 0
+
+
+def _still_runs(x: np.ndarray, w: int, others=(), **threshold) -> tuple[float, float, np.ndarray, np.ndarray]:
     """Steps 1–2 of :func:`detect_static_segments`: the reference magnitude, the threshold and the
-    runs of still windows as sample ranges [a, b) (a run of windows [i, j) covers [i, j − 1 + w))."""
+    runs of still windows as sample ranges [a, b) (a run of windows [i, j) covers [i, j − 1 + w)),
+    a window being still when it is still on the accelerometer and on every sensor of ``others``."""
     spread, norm = window_stats(x, w)
     g_ref, thr = still_threshold(spread, norm, **threshold)
     still = spread <= thr
     del spread, norm
+    elsewhere = others_still(others, w, threshold.get("noise_percentile", NOISE_PERCENTILE),
+                             threshold.get("noise_factor", NOISE_FACTOR))
+    if elsewhere is not None:
+        still &= elsewhere
     edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
     del still
     run_a = np.flatnonzero(edges == 1)
@@ -370,6 +404,7 @@ def detect_static_segments(
     max_drift_deg_per_s: float = MAX_DRIFT_DEG_PER_S,
     norm_range_g: tuple[float, float] = NORM_RANGE_G,
     label_max_angle_deg: float = LABEL_MAX_ANGLE_DEG,
+    others=(),
 ) -> list[StaticSegment]:
     """Find the intervals where the device rests, and the axis that points up in each.
 
@@ -377,6 +412,8 @@ def detect_static_segments(
        cumulative sums.
     2. Threshold: ``noise_factor`` × the ``noise_percentile`` percentile of the spread, clipped to
        [``floor_g``, ``cap_g``] × g, g being ``gravity`` or the median norm of the still windows.
+       A window is still when its spread is under it and it is still on every sensor of ``others``
+       too (:func:`others_still`: a gyroscope ringing after a touch, a compass turning about gravity).
     3. Runs of still windows become sample ranges; their edges are trimmed where the smoothed
        samples leave the run's mean by more than the threshold (the tail of a turn).
     4. Runs separated by at most ``max_gap_s`` whose means agree within twice the threshold are
@@ -411,6 +448,9 @@ def detect_static_segments(
         Plausible mean norm of a rest, as fractions of the reference magnitude.
     label_max_angle_deg : float
         Largest angle between a rest's mean and an axis for it to earn that axis's label.
+    others : sequence of array_like, each shape (N, 3)
+        The other sensors of the recording on the same clock (gyroscope, magnetometer), in any unit:
+        a rest is still on every one of them.
 
     Returns
     -------
@@ -438,8 +478,11 @@ def detect_static_segments(
             f"{fs:g} Hz): record at least {min_duration_s:g} s still in each orientation, and check "
             "sampling_rate_hz"
         )
+    others = [o for o in others if o is not None]
+    if any(len(o) != n for o in others):
+        raise CalibrationError("the other sensors' samples must be on the accelerometer's clock: as many rows as it")
     g_ref, thr, run_a, run_b = _still_runs(
-        x, w, gravity=g_given, noise_percentile=noise_percentile, noise_factor=noise_factor,
+        x, w, others, gravity=g_given, noise_percentile=noise_percentile, noise_factor=noise_factor,
         floor_g=floor_g, cap_g=cap_g,
     )
     min_samples = max(1, int(round(min_duration_s * fs)))

@@ -25,11 +25,12 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
 
     ``array_sensor`` names the sensor a three-column array (``.npy``, Parquet) holds, which the readers
     return as ``acc``. Gyroscopes in deg/s become rad/s, magnetometers in nT µT, accelerometers in g
-    m/s² (Kalibr's units). The still part is the longest still stretch: when some of the recording
-    moved, a warning says what was used; when less than half of it is still, ``ok`` is false.
+    m/s² (Kalibr's units). The still part is the longest stretch still on every sensor the recording
+    holds: when some of the recording moved, a warning says what was used; when less than half of it is
+    still, ``ok`` is false.
     """
     from app.calibration.noise import NoiseResult, characterise_noise
-    from app.calibration.noise_still import MIN_STILL_FRACTION, still_runs
+    from app.calibration.noise_still import MIN_STILL_FRACTION, common_still_runs
 
     arrays = {name: getattr(log, name) for name in log.channels}
     units = dict(log.units)
@@ -46,8 +47,10 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
                                "ask for those it has")
     fs, n = require_rate(log.sampling_rate_hz, "noise"), len(next(iter(arrays.values())))
     notes: list[str] = list(log.warnings) + list(log.notes)
-    detected_from = "acc" if "acc" in arrays else wanted[0]
-    runs = still_runs(arrays[detected_from], fs)
+    # Still means still on every sensor the recording holds, asked for or not (a gyroscope ringing after
+    # the device was put down, a compass turning): docs/methods.md, "Still on every sensor".
+    still_on = [s for s in NOISE_SENSORS if s in arrays]
+    runs = common_still_runs([arrays[s] for s in still_on], fs)
     span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
     rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
     reasons: list[str] = []
@@ -99,7 +102,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
                                   for k, p in parts.items()},
                          sampling_rate_hz=fs, duration_s=duration,
                          still={"start": a, "end": b, "n_samples": b - a, "fraction": (b - a) / n,
-                                "detected_from": detected_from},
+                                "detected_from": ", ".join(still_on)},
                          reasons=tuple(reasons), unit=parts[wanted[0]]["model"]["unit"])
     return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
 
@@ -129,7 +132,7 @@ def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
 
     def still_samples(i):
         one = part_log(log, i)
-        span = longest_still(getattr(one, one.channels[0]), one.sampling_rate_hz)
+        span = longest_still([getattr(one, name) for name in one.channels], one.sampling_rate_hz)
         return 0 if span is None else span[1] - span[0]
 
     lengths = [still_samples(i) for i in range(len(log.parts))]

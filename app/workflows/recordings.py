@@ -156,15 +156,16 @@ NOMINAL_RATE_HZ = 100.0
 windows and least length are counted in samples as at 100 Hz; a note says so."""
 
 
-def _still_between_gaps(acc, rate: float, gravity: float | None, cuts) -> list:
-    """Still segments (app.calibration.static) of ``acc``, each stretch between the sample indices
+def _still_between_gaps(acc, rate: float, gravity: float | None, cuts, others=()) -> list:
+    """Still segments (app.calibration.static) of ``acc``, still on every sensor of ``others`` too (the
+    gyroscope's and the magnetometer's samples on its clock), each stretch between the sample indices
     ``cuts`` (gaps of the time column) searched on its own, so that a segment's samples are contiguous
     in time; a stretch shorter than one window holds none."""
     bounds = [0, *cuts, len(acc)]
     out = []
     for a, b in zip(bounds[:-1], bounds[1:]):
         try:
-            found = detect_static_segments(acc[a:b], rate, gravity=gravity)
+            found = detect_static_segments(acc[a:b], rate, gravity=gravity, others=[o[a:b] for o in others])
         except InsufficientDataError:  # shorter than one window: no rest in it
             continue
         out += [dataclasses.replace(seg, start=seg.start + a, end=seg.end + a,
@@ -175,8 +176,9 @@ def _still_between_gaps(acc, rate: float, gravity: float | None, cuts) -> list:
 def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
     """A log's still segments in their plain form (docs/rest.md), and notes on a recording in parts.
 
-    The segments are the accelerometer's (a log of other sensors alone has none), none spanning a gap
-    of the time column. A recording made of several files (one per pose, :mod:`app.io.parts`) is
+    The segments are the accelerometer's rests (a log of other sensors alone has none) that are still on
+    every other sensor the log holds too (a gyroscope ringing after the board was put down, a compass
+    turning about gravity: docs/methods.md), none spanning a gap of the time column. A recording made of several files (one per pose, :mod:`app.io.parts`) is
     searched file by file, so that no segment joins two files; each segment then names its file
     (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
     readings contradict gets a note.
@@ -186,15 +188,17 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
     unit = log.units.get("acc")
     gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
     rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
+    others = [o for o in (log.gyr, log.mag) if o is not None]
     if not log.parts:
-        found = _still_between_gaps(log.acc, rate, gravity, [g.index for g in log.gaps])
+        found = _still_between_gaps(log.acc, rate, gravity, [g.index for g in log.gaps], others)
         return [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(found)], []
     segments: list[dict] = []
     notes: list[str] = []
     for k, part in enumerate(log.parts):
         cuts = [g.index - part.start for g in log.gaps if part.start < g.index < part.end]
         found = [seg.to_dict() | {"count": seg.count} for seg in
-                 _still_between_gaps(log.acc[part.start:part.end], part.sampling_rate_hz or rate, gravity, cuts)]
+                 _still_between_gaps(log.acc[part.start:part.end], part.sampling_rate_hz or rate, gravity, cuts,
+                                     [o[part.start:part.end] for o in others])]
         named = pose_from_name(part.filename)
         if not found and (short := _short_still_file(log.acc[part.start:part.end], part, gravity, log.acc)):
             found, note = short

@@ -206,3 +206,33 @@ def test_fixture_csv_matches_its_truth():
     for seg, t in zip(segs, truth["segments"]):
         assert abs(seg.start - t["start"]) <= 0.4 * 150 and abs(seg.end - t["end"]) <= 0.4 * 150
     assert any(s.gaps for s in segs)  # the knock
+
+
+def test_a_rest_is_still_on_every_sensor_a_ringing_gyroscope_and_a_turning_compass_cut_it():
+    # 30 s on a table at 100 Hz: the accelerometer never moves; the gyroscope rings at 8 Hz (0.08 rad/s,
+    # decaying) for 1.5 s after a touch at 10 s; the compass turns about gravity (the accelerometer sees
+    # nothing) from 20 to 22 s. Its gyroscope is quantised to 0.01 rad/s, coarser than its noise.
+    rng = np.random.default_rng(31)
+    fs, n = 100.0, 3000
+    t = np.arange(n) / fs
+    acc = np.array([0.0, 0.0, 9.80665]) + rng.normal(scale=0.02, size=(n, 3))
+    gyr = rng.normal(scale=0.003, size=(n, 3))
+    ring = (t >= 10) & (t < 11.5)
+    ringing = np.zeros(n)
+    ringing[ring] = 0.08 * np.exp(-(t[ring] - 10) / 0.5) * np.sin(2 * np.pi * 8 * (t[ring] - 10))
+    gyr[:, 0] += ringing
+    gyr = np.round(gyr, 2)
+    heading = np.clip((t - 20) / 2, 0, 1) * np.pi / 2
+    mag = np.column_stack([30 * np.cos(heading), 30 * np.sin(heading), np.full(n, -40.0)])
+    mag += rng.normal(scale=0.3, size=(n, 3))
+    assert len(detect_static_segments(acc, fs)) == 1  # the accelerometer alone: one rest, end to end
+    segs = detect_static_segments(acc, fs, others=[gyr, mag])
+    used = np.zeros(n, dtype=bool)  # the samples the rests' statistics take: their gaps (knocks) left out
+    for s in segs:
+        used[s.start:s.end] = True
+        for a, b in s.gaps:
+            used[a:b] = False
+    assert len(segs) == 2, [(s.start / fs, s.end / fs, s.gaps) for s in segs]
+    assert not used[np.abs(ringing) > 0.04].any()  # none takes the ringing above 4 × the windows' noise floor
+    assert not used[(t >= 20.2) & (t < 21.8)].any()  # nor the compass's turn, but for its first and last degrees
+    assert used.mean() > 0.8 and used[0] and used[-1]

@@ -141,6 +141,11 @@ class CubeCalibration(CalibrationResult):
             raise CalibrationError(f"this calibration has no {name} model")
         return res
 
+    def physical_figures(self) -> list:
+        """Each sensor's correction's scale and offset, when the sensors' units are known (``units``): the
+        readings of a cube whose units were not given (a simulation in arbitrary units) are not judged."""
+        return super().physical_figures() if self.units else []
+
     def corrected_sensors(self) -> tuple[str, ...]:
         return tuple(name for name in self.CUBE_SENSORS if getattr(self, name) is not None)
 

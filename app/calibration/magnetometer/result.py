@@ -9,6 +9,7 @@ import numpy as np
 
 from ..correction import AffineCorrection
 from ..headlines import compass_headline
+from ..plausible import PhysicalFigure
 from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 from ..uncertainty import CONFIDENCE, half_widths
 from .refine import unpack
@@ -95,6 +96,16 @@ class MagnetometerResult(CalibrationResult):
 
     def corrections(self) -> dict[str, AffineCorrection]:
         return {"mag": self.correction}
+
+    def physical_figures(self) -> list:
+        """Its correction's scale, and the field its readings hold: F det(M)^(−1/3), the radius of the
+        readings' sphere in their own unit (F itself where it was estimated, det M = 1)."""
+        out = super().physical_figures()
+        field_ut = self.metrics.get("field_ut")
+        det = float(np.linalg.det(np.asarray(self.M, dtype=float)))
+        if field_ut is not None and det > 0:
+            out.append(PhysicalFigure("mag", "field", (float(field_ut) * det ** (-1.0 / 3.0),), self.unit))
+        return out
 
     def uncertainty(self) -> dict:
         if self.covariance is None:

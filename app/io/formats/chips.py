@@ -22,6 +22,10 @@ sensitivity (typical value), cited by part and document:
   counts): that constant is part of the offset the compass fit estimates.
 
 1 gauss = 100 µT.
+
+What a part can read once its counts are scaled — its largest offset and bias, its noise density —
+is the core's (``app/calibration/plausible.py``, which every result is judged by); these are only the
+scales that turn counts into units at the edge.
 """
 
 from __future__ import annotations
