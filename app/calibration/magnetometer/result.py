@@ -99,7 +99,11 @@ class MagnetometerResult(CalibrationResult):
 
     def physical_figures(self) -> list:
         """Its correction's scale, and the field its readings hold: F det(M)^(−1/3), the radius of the
-        readings' sphere in their own unit (F itself where it was estimated, det M = 1)."""
+        readings' sphere in their own unit (F itself where it was estimated, det M = 1). None where the
+        refinement ran away: what is shown then only draws the readings (its own reason says so), and a
+        field or scale read off it would send the person to the unit or the columns for nothing."""
+        if self.metrics.get("fit_stage", "refined") != "refined":
+            return []
         out = super().physical_figures()
         field_ut = self.metrics.get("field_ut")
         det = float(np.linalg.det(np.asarray(self.M, dtype=float)))
