@@ -14,6 +14,9 @@ wrong_turn             422     a cube wizard capture whose turn does not match t
 not_still              422     a wizard capture during which the device moved
 pose_too_close         422     a free wizard pose within 10° of one already captured
 unreadable_log         422     a log that cannot be read (format, columns, units)
+columns_ambiguous      422     a table whose columns its data let be read more than one way: the body
+                               adds ``candidates`` (each ``sensors`` and its ``columns`` value) and
+                               ``preview`` (the table's first lines); send one as ``columns``
 unsupported_media      415     an upload that is not a log trical reads
 payload_too_large      413     an upload or JSON body over its limit
 export_refused         422     an export format that does not fit the calibration
@@ -38,6 +41,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
+from app.io.formats.columns import ColumnsAmbiguous
 from app.methods import describe_errors
 from app.store import ConflictError, NotFoundError
 
@@ -85,6 +89,9 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):
+        if isinstance(exc, ColumnsAmbiguous):
+            return JSONResponse({"detail": str(exc), "code": exc.code, "candidates": exc.candidates,
+                                 "preview": exc.preview}, status_code=exc.status)
         return error_response(exc.status, str(exc), LOG_FORMAT_CODES.get(exc.status, "unreadable_log"))
 
     @app.exception_handler(ExportError)

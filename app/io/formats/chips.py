@@ -22,6 +22,23 @@ sensitivity (typical value), cited by part and document:
   counts): that constant is part of the offset the compass fit estimates.
 
 1 gauss = 100 µT.
+
+Gyroscopes' zero-rate offset (what a still gyroscope reads before calibration) and rate noise
+density, the datasheets' figures at 25 °C, for the unit a gyroscope's data can be in
+(:data:`GYR_PARTS`):
+
+- InvenSense MPU-6000/MPU-6050 Product Specification rev. 3.4, section 6.1: initial ZRO tolerance
+  ±20 °/s; rate noise spectral density 0.005 °/s/√Hz.
+- InvenSense MPU-6500 Product Specification and MPU-9250 Product Specification,
+  section 3.1: initial ZRO tolerance ±5 °/s; rate noise spectral density 0.01 °/s/√Hz.
+- TDK ICM-20948 datasheet DS-000189, table 1: initial ZRO tolerance ±5 °/s; rate noise
+  spectral density 0.015 °/s/√Hz.
+- TDK ICM-42688-P datasheet DS-000347, table 1: initial ZRO tolerance ±0.5 °/s; rate noise
+  spectral density 0.0028 °/s/√Hz.
+- Bosch BMI160 datasheet BST-BMI160-DS000, table 2: zero-rate offset ±3 °/s; output noise
+  0.007 °/s/√Hz.
+- ST LSM6DS3 datasheet DocID026899, table 3: zero-rate level ±10 °/s; rate noise density
+  0.007 °/s/√Hz.
 """
 
 from __future__ import annotations
@@ -62,8 +79,8 @@ _CHIPS = [
     _acc("mpu6050-2g", 16384, _MPU, "±2 g"), _acc("mpu6050-4g", 8192, _MPU, "±4 g"),
     _acc("mpu6050-8g", 4096, _MPU, "±8 g"), _acc("mpu6050-16g", 2048, _MPU, "±16 g"),
     # MPU-6050 Product Specification rev. 3.4, section 6.1; ICM-20948 DS-000189 table 1.
-    _gyr("mpu6050-250dps", 131, _MPU, "±250 °/s"), _gyr("mpu6050-500dps", 65.5, _MPU, "±500 °/s"),
-    _gyr("mpu6050-1000dps", 32.8, _MPU, "±1000 °/s"), _gyr("mpu6050-2000dps", 16.4, _MPU, "±2000 °/s"),
+    *(_gyr(f"mpu6050-{rng[1:-4]}dps", lsb, _MPU, rng) for lsb, rng in
+      ((131.0, "±250 °/s"), (65.5, "±500 °/s"), (32.8, "±1000 °/s"), (16.4, "±2000 °/s"))),
     # AK8963 datasheet: 0.15 µT/LSB (16-bit), 0.6 µT/LSB (14-bit).
     Chip("ak8963-16bit", "mag", 0.15, "uT", "AK8963 (MPU-9250) 16-bit (0.15 µT/LSB)"),
     Chip("ak8963-14bit", "mag", 0.6, "uT", "AK8963 (MPU-9250) 14-bit (0.6 µT/LSB)"),
@@ -84,6 +101,41 @@ _CHIPS = [
 ]
 CHIPS: dict[str, Chip] = {c.name: c for c in _CHIPS}
 """Every known part and range by its name (``mpu6050-4g``, ``ak8963-16bit``, ``hmc5883l-1090`` …)."""
+
+@dataclass(frozen=True)
+class GyroPart:
+    """A gyroscope's datasheet figures (module docstring): zero-rate offset and rate noise density."""
+
+    name: str
+    zero_rate_dps: float
+    noise_dps_rthz: float
+
+
+GYR_PARTS = (
+    GyroPart("MPU-6050", 20.0, 0.005),     # MPU-6000/6050 PS rev. 3.4, section 6.1
+    GyroPart("MPU-6500", 5.0, 0.01),       # MPU-6500 PS, section 3.1
+    GyroPart("MPU-9250", 5.0, 0.01),       # MPU-9250 PS, section 3.1
+    GyroPart("ICM-20948", 5.0, 0.015),     # DS-000189, table 1
+    GyroPart("ICM-42688-P", 0.5, 0.0028),  # DS-000347, table 1
+    GyroPart("BMI160", 3.0, 0.007),        # BST-BMI160-DS000, table 2
+    GyroPart("LSM6DS3", 10.0, 0.007),      # DocID026899, table 3
+)
+"""The MEMS gyroscopes of boards and phones whose figures bound what a still gyroscope can read."""
+GYR_OFFSET_MAX_DPS = 1.5 * max(p.zero_rate_dps for p in GYR_PARTS)
+"""The largest still offset a MEMS gyroscope reads: the widest datasheet tolerance (the MPU-6050's
+±20 °/s) with half again for temperature and soldering stress (30 °/s)."""
+GYR_NOISE_RANGE_DPS_RTHZ = (min(p.noise_dps_rthz for p in GYR_PARTS) / 2.0,
+                            max(p.noise_dps_rthz for p in GYR_PARTS) * 30.0)
+"""A still gyroscope's white rate noise, °/s/√Hz, read at τ = 0.1 s (below any filter's corner): from half
+the quietest part's datasheet figure to thirty times the noisiest's (a worn board, a simulation's
+generous noise; a real MPU-6050 reads 0.009). Only halved below: rad/s and °/s differ by 57, and a
+phone's rad/s noise read as °/s (below 0.0002) must stay outside; where a part's °/s noise read as
+rad/s stays inside (0.16–0.45), the offset or a turn decides, or the unit is asked for."""
+GYR_LSB_PER_DPS = (131.0, 65.5, 32.8, 16.4)
+"""The gyroscope sensitivities of the common 16-bit parts (the four ranges of the MPU-6050 family and
+the ICM-20948, section 6.1 / table 1; the same on the ICM-42688-P and, to within 5 %, the BMI160 and
+LSM6DS3's 8.75–70 mdps/LSB)."""
+GYR_RANGE = {131.0: "±250 °/s", 65.5: "±500 °/s", 32.8: "±1000 °/s", 16.4: "±2000 °/s"}
 
 ACC_LSB_PER_G = (16384.0, 8192.0, 4096.0, 2048.0)
 """The accelerometer sensitivities of the common 16-bit parts (MPU-6050 family, ICM-20948, and the

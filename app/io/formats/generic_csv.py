@@ -40,6 +40,7 @@ from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, 
                     read_columns, split_row)
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
+from .columns import PREVIEW_LINES, guess_columns
 from .units import MAG_UNITS_IN
 
 MAX_LISTED_COLUMNS = 20
@@ -116,8 +117,6 @@ class Layout:
     notes: tuple[str, ...] = ()
 
 
-HEADERLESS_NAMES = {3: ["acc_x", "acc_y", "acc_z"], 4: ["time", "acc_x", "acc_y", "acc_z"]}
-"""The columns of a table without a header row, by their count (more need ``columns``)."""
 _DELIMITER_WORDS = {",": "commas", ";": "semicolons", "\t": "tabs", WHITESPACE: "spaces"}
 
 
@@ -145,17 +144,9 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     if numeric is not None:
         delimiter, decimal, width = numeric
         skip = next(i for i, ln in enumerate(lines) if ln.strip() and not ln.lstrip().startswith("#"))
-        names = column_names or HEADERLESS_NAMES.get(width)
-        if names is None:
-            raise LogFormatError(
-                f"{name} has no header row and {width} columns: without names trical reads 3 columns as "
-                "x, y, z (accelerometer) or 4 as time, x, y, z; name yours, one per column in order, with "
-                "the upload field columns (--columns), e.g. columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z "
-                "(- skips a column)"
-            )
-        how = "named by columns" if column_names else "read as"
-        notes = [f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, {how} "
-                 f"{', '.join(names)}"]
+        names = column_names or [f"column {i + 1}" for i in range(width)]  # else named from the data (.columns)
+        notes = [f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, named by columns "
+                 f"{', '.join(column_names)}"] if column_names else []
         layout = Layout(skip, delimiter, decimal, list(names), True, tuple(notes))
     else:
         header_line, delimiter, names = split_header(text)
@@ -285,6 +276,8 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
     layout = table_layout(decode_head(head, name), name, column_names)
+    if layout.headerless and column_names is None:
+        layout = _named_from_data(path, layout, name)
     names = layout.names
     channels, time_col, time_scale, header_units = map_columns(renamed(names, column_map))
     temp_col = temperature_column(renamed(names, column_map))
@@ -317,9 +310,10 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
-        raise LogFormatError(f"{exc}. {name} has no header row, so its 4 columns were read as time, x, y, z: "
-                             "if the first is not a time, name the columns with columns (--columns), e.g. "
-                             "columns=acc_x,acc_y,acc_z,- ") from None
+        other = ",".join("-" if c == time_col else n for c, n in enumerate(names))
+        raise LogFormatError(f"{exc}. {name} has no header row, and its column {time_col + 1} rises at every line, "
+                             f"so it was read as the time: if it is not a time, name the columns with columns "
+                             f"(--columns), e.g. columns={other}") from None
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
         accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
@@ -337,6 +331,46 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         notes=tuple(notes),
         temperature_c=values[temp_col] if temp_col is not None else None,
     ), sampling_rate_hz, name)
+
+
+def _named_from_data(path: Path, layout: Layout, name: str) -> Layout:
+    """A table without a header row, its columns named from what they read (:mod:`.columns`)."""
+    width = len(layout.names)
+    with open(path, encoding="utf-8-sig", errors="replace") as f:
+        head = [ln.rstrip("\r\n") for _, ln in zip(range(layout.skip_lines + PREVIEW_LINES), f)][layout.skip_lines:]
+    try:
+        data = np.column_stack(read_columns(Path(path), skip_lines=layout.skip_lines, n_columns=width,
+                                            columns=list(range(width)), delimiter=layout.delimiter,
+                                            decimal=layout.decimal, name=name, column_names=layout.names,
+                                            first_line=layout.skip_lines + 1))
+    except LogFormatError:
+        # A line that is not numbers: the columns are named from the lines before it, and the reading with
+        # those names then says which line, which column and what text.
+        data = _rows_before_a_bad_line(path, layout, width)
+        if data is None:
+            raise
+    names, why = guess_columns(data, Path(name).name, head)
+    note = (f"no header row: {width} columns separated by {_DELIMITER_WORDS[layout.delimiter]}, {why}: "
+            f"{', '.join(names)} (give columns to read them otherwise)")
+    return dataclasses.replace(layout, names=names, notes=(note,) + layout.notes)
+
+
+def _rows_before_a_bad_line(path: Path, layout: Layout, width: int) -> np.ndarray | None:
+    """The numbers of the lines before the first that does not parse (None: fewer than 3)."""
+    rows = []
+    with open(path, encoding="utf-8-sig", errors="replace") as f:
+        for number, line in enumerate(f, start=1):
+            if number <= layout.skip_lines or not line.strip() or line.lstrip().startswith("#"):
+                continue
+            cells = split_row(line.rstrip("\r\n"), layout.delimiter)
+            try:
+                row = [float(c.replace(layout.decimal, ".")) for c in cells]
+            except ValueError:
+                break
+            if len(row) != width:
+                break
+            rows.append(row)
+    return np.array(rows) if len(rows) >= 3 else None
 
 
 CSV = "csv"
