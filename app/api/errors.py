@@ -14,6 +14,8 @@ wrong_turn             422     a cube wizard capture whose turn does not match t
 not_still              422     a wizard capture during which the device moved
 pose_too_close         422     a free wizard pose within 10° of one already captured
 unreadable_log         422     a log that cannot be read (format, columns, units)
+bad_line               422     a line of a log that is not numbers where numbers are read: the detail
+                               names the line, the column and the text
 columns_ambiguous      422     a table whose columns its data let be read more than one way: the body
                                adds ``candidates`` (each ``sensors`` and its ``columns`` value) and
                                ``preview`` (the table's first lines); send one as ``columns``
@@ -92,7 +94,7 @@ def install_error_handlers(app: FastAPI) -> None:
         if isinstance(exc, ColumnsAmbiguous):
             return JSONResponse({"detail": str(exc), "code": exc.code, "candidates": exc.candidates,
                                  "preview": exc.preview}, status_code=exc.status)
-        return error_response(exc.status, str(exc), LOG_FORMAT_CODES.get(exc.status, "unreadable_log"))
+        return error_response(exc.status, str(exc), exc.code or LOG_FORMAT_CODES.get(exc.status, "unreadable_log"))
 
     @app.exception_handler(ExportError)
     async def _export(request: Request, exc: ExportError):

@@ -4,10 +4,11 @@
 // Pages decide on the code, never on the message.
 
 export class ApiError extends Error {
-  constructor(message, status, code = null) {
+  constructor(message, status, code = null, body = null) {
     super(message);
     this.status = status;
     this.code = code;
+    this.body = body; // the whole answer (a columns_ambiguous refusal's candidates and preview)
   }
 }
 
@@ -24,13 +25,14 @@ async function send(path, { method = "GET", headers = {}, body } = {}) {
 async function failure(response) {
   let detail = `HTTP ${response.status}`;
   let code = null;
+  let body = null;
   try {
-    const body = await response.json();
+    body = await response.json();
     if (body && typeof body.detail === "string") detail = body.detail;
     else if (body && Array.isArray(body.detail)) detail = body.detail.map((d) => d.msg || JSON.stringify(d)).join("; ");
     if (body && typeof body.code === "string") code = body.code;
   } catch { /* not JSON: keep the status */ }
-  return new ApiError(detail, response.status, code);
+  return new ApiError(detail, response.status, code, body);
 }
 
 async function request(path, options = {}) {

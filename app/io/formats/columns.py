@@ -246,12 +246,14 @@ def guess_columns(values: np.ndarray, name: str, lines: list[str]) -> tuple[list
             readings.append((names, ", ".join(SENSOR_WORDS[s] for s in assign)))
         if readings:
             break  # the first layout (with a time column, without a temperature) that fits any reading
+    by_name = False
     if said is not None and len(readings) > 1:
         named = [r for r in readings if f"{said}_x" in r[0]]
+        by_name = bool(named)
         readings = named or readings
     if len(readings) == 1:
         names, words = readings[0]
-        return names, f"read from the data as {words}" + (f" (and the file's name, {name})" if said else "")
+        return names, f"read from the data as {words}" + (f" (and the file's name, {name})" if by_name else "")
     if not readings:
         raise LogFormatError(
             f"{name} has no header row and its {values.shape[1]} columns read as no accelerometer, gyroscope or "

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
-from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
+from .table import (BAD_LINE, SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, numeric_layout,
                     read_columns, split_row)
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
@@ -149,6 +149,7 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
                  f"{', '.join(column_names)}"] if column_names else []
         layout = Layout(skip, delimiter, decimal, list(names), True, tuple(notes))
     else:
+        _refuse_a_bad_first_line(lines, name)
         header_line, delimiter, names = split_header(text)
         decimal = guess_decimal(lines[header_line:], delimiter)
         notes = [f"header row replaced by columns {', '.join(column_names)}"] if column_names else []
@@ -167,6 +168,34 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     if layout.decimal == ",":
         layout = dataclasses.replace(layout, notes=layout.notes + ("decimal comma",))
     return layout
+
+
+def _number(cell: str) -> bool:
+    try:
+        float(cell.replace(",", "."))
+        return True
+    except ValueError:
+        return False
+
+
+def _refuse_a_bad_first_line(lines: list[str], name: str) -> None:
+    """A first line of numbers but for a cell or two, above lines of numbers only: a bad line of a table
+    without a header row, named as such (not as a header trical does not recognise)."""
+    numbered = [(i, ln) for i, ln in enumerate(lines, start=1) if ln.strip() and not ln.lstrip().startswith("#")]
+    if len(numbered) < 3:
+        return
+    (number, first), rest = numbered[0], [ln for _, ln in numbered[1:4]]
+    numeric = numeric_layout(rest)
+    if numeric is None:
+        return
+    delimiter, _, width = numeric
+    cells = split_row(first, delimiter)
+    bad = [(c, cell) for c, cell in enumerate(cells) if not _number(cell)]
+    if len(cells) == width and 0 < len(bad) <= width // 2:
+        column, text = bad[0]
+        raise LogFormatError(f"{name}: line {number}, column {column + 1}: {text[:40]!r} is not a number: every "
+                             "column of a table without a header row must hold numbers; fix or remove that line",
+                             code=BAD_LINE)
 
 
 def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]:
