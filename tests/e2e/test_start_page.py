@@ -113,11 +113,9 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(DATA / "formats" / "headerless_imu_comma.csv"))
     page.click("#upload-form button[type=submit]")
-    page.wait_for_selector("#status:has-text('Upload refused')")
-    assert "no header row and 7 columns" in page.text_content("#upload-msg")
+    page.wait_for_selector("#segments:not([hidden])")  # time, accelerometer, gyroscope: read from the data
+    assert page.locator("#columns-map").is_hidden()
     refused = list(page.errors)
-    assert len(refused) == 1 and "422" in refused[0]  # the browser logs the refused upload
-    assert page.locator("#columns-map").is_hidden()  # no header row to map: the options say how
     page.click("#options-summary")
     page.fill("#log-columns", "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
     page.select_option("#log-sign", "-1")
@@ -127,6 +125,29 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     truth = json.loads((DATA / "formats" / "format_samples.json").read_text())["labels"]
     assert ups == [{"+": "-", "-": "+"}[u[0]] + u[1] for u in truth]  # negated: every rest upside down
     assert page.errors == refused
+
+
+def test_columns_the_data_leave_open_are_chosen_on_the_card(page, server):
+    # A real still MPU-6050 gyroscope in counts, no header row: a gyroscope's offset or a compass's field.
+    still = DATA / "real" / "corpus" / "mpu6050_still_gyro_counts_headerless" / "imu_static_test_cols456.csv"
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(still))
+    page.click("#options-summary")
+    page.fill("#log-rate", "100")
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#columns-map:not([hidden])")
+    assert page.text_content("#upload-msg") == "Say which column is which, below."
+    assert page.text_content("#columns-map-hint").startswith("The columns of this file can be read more than one way")
+    assert page.text_content(".columns-preview").startswith("-480,193,-83")
+    assert page.locator(".columns-plots svg").count() == 3
+    choices = page.eval_on_selector_all("#columns-map-list input[name=columns-candidate]", "rs => rs.map(r => r.value)")
+    assert choices == ["gyr_x,gyr_y,gyr_z", "mag_x,mag_y,mag_z"]
+    shot(page, "upload_columns_candidates")
+    page.check("#columns-map-list input[value='gyr_x,gyr_y,gyr_z']")
+    page.click("#columns-map-go")
+    page.wait_for_selector("#segments:not([hidden])")
+    assert page.locator("#columns-map").is_hidden()
+    assert "gyroscope" in page.text_content("#segments-msg")
 
 
 POSE_FILES = DATA / "real" / "mpu6050_pose_files"
