@@ -10,10 +10,11 @@ columns the same way (:mod:`app.io.arrays` uses :func:`map_columns`).
 
 Loggers often write no header row: numbers from the first line, separated by commas, semicolons,
 tabs or spaces (runs of blanks, as in aligned tables), with a decimal point or — with any separator
-but a comma — a decimal comma (``0,25;9,81``).  Three columns are read as accelerometer x, y, z
-(the caller gives ``sampling_rate_hz``), four as time, x, y, z (the time unit inferred from the
-step, as for a ``time`` column); other counts are named with ``columns`` — one name per column in
-order, ``t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z`` (:func:`table_layout`).  Numbers with decimal
+but a comma — a decimal comma (``0,25;9,81``).  Which column is which is read from the data
+(:mod:`.columns`: a time, a temperature, and an accelerometer, gyroscope or magnetometer for each
+three others; the file's name breaks a tie, a 422 asks where the data leave two readings), or given
+with ``columns`` — one name per column in order, ``t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z``
+(:func:`table_layout`).  A first line with text among numbers is a bad line, named as such.  Numbers with decimal
 commas between comma separators cannot be told apart and are refused by their column count.
 
 The unit comes from the caller, else the header (``acc_x (g)``, ``mag_x (G)`` for gauss); the
@@ -136,8 +137,8 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     Raises
     ------
     LogFormatError
-        A table without a header row whose column count is neither 3 (x, y, z) nor 4 (time, x, y, z)
-        and no ``column_names``, or ``column_names`` whose count is not the file's.
+        ``column_names`` whose count is not the file's; a first line with text among the numbers of the
+        lines below it (``bad_line``).
     """
     lines = text.splitlines()
     numeric = numeric_layout(lines)
@@ -298,8 +299,8 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     ------
     LogFormatError
         Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks,
-        a table without a header row of other than 3 or 4 columns and no ``column_names``, a count of
-        ``column_names`` that is not the file's, text in a numeric column (with its line number), a
+        a table without a header row whose columns its data do not name (or name more than one way:
+        :class:`~app.io.formats.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in a numeric column (with its line number), a
         missing sampling rate.
     """
     with open(path, "rb") as f:
