@@ -91,7 +91,8 @@ def test_an_unrecognised_header_is_mapped_by_hand_and_stale_output_is_cleared(pa
     # The same log with a header trical does not know: a control per column, and nothing stale on show.
     renamed = tmp_path / "north_east_down.csv"
     lines = (DATA / "six_orientations_150hz.csv").read_text().splitlines()
-    renamed.write_text("\n".join(["north,east,down"] + lines[1:]) + "\n")
+    # Five columns (pressure and humidity beside the accelerometer): a layout the data cannot name either.
+    renamed.write_text("\n".join(["north,east,down,pressure,humidity"] + [ln + ",1013.2,45" for ln in lines[1:]]) + "\n")
     page.set_input_files("#log-file", str(renamed))
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#columns-map:not([hidden])")
@@ -99,7 +100,7 @@ def test_an_unrecognised_header_is_mapped_by_hand_and_stale_output_is_cleared(pa
     assert page.text_content("#upload-msg") == "Say which column is which, below."
     shot(page, "upload_column_map")
     columns = page.eval_on_selector_all("#columns-map-list select", "ss => ss.map(s => s.dataset.column)")
-    assert columns == ["north", "east", "down"]
+    assert columns == ["north", "east", "down", "pressure", "humidity"]
     for name, role in zip(columns, ("acc_x", "acc_y", "acc_z")):
         page.select_option(f"#columns-map-list select[data-column={name}]", role)
     page.click("#columns-map-go")

@@ -110,6 +110,7 @@ def _counts_near(value: float, scales) -> bool:
 def triple_sensors(x: np.ndarray) -> set[str]:
     """The sensors three columns can be, from what they read at rest and how they move."""
     x = np.asarray(x, dtype=float)
+    x = x[:: max(1, len(x) // 400_000)]  # a long log: every k-th line tells the same
     whole = _whole(x)
     found, noise = _rests(x)
     rests = np.array(found)
@@ -208,7 +209,8 @@ def _layouts(values: np.ndarray) -> list[tuple[int | None, int | None, list[int]
     return sorted(out, key=lambda lay: (lay[0] is None, lay[1] is not None))
 
 
-def guess_columns(values: np.ndarray, name: str, lines: list[str]) -> tuple[list[str], str]:
+def guess_columns(values: np.ndarray, name: str, lines: list[str],
+                  header: list[str] | None = None) -> tuple[list[str], str]:
     """One name per column (as the ``columns`` field takes them) and the words saying why.
 
     Parameters
@@ -219,6 +221,8 @@ def guess_columns(values: np.ndarray, name: str, lines: list[str]) -> tuple[list
         The file's name (its words break a tie).
     lines : list of str
         The table's first lines, for the question.
+    header : list of str, optional
+        A header row that names no sensor (for the messages).
 
     Raises
     ------
@@ -254,16 +258,18 @@ def guess_columns(values: np.ndarray, name: str, lines: list[str]) -> tuple[list
     if len(readings) == 1:
         names, words = readings[0]
         return names, f"read from the data as {words}" + (f" (and the file's name, {name})" if by_name else "")
+    what = (f"the header row of {name} names no sensor ({', '.join(header)})," if header
+            else f"{name} has no header row")
     if not readings:
         raise LogFormatError(
-            f"{name} has no header row and its {values.shape[1]} columns read as no accelerometer, gyroscope or "
+            f"{what} and its {values.shape[1]} columns read as no accelerometer, gyroscope or "
             "magnetometer (three columns each, with a time and a temperature column or not): name them, one per "
             "column in order, with the upload field columns (--columns), e.g. "
             "columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips a column)")
     shown = readings[:MAX_CANDIDATES]
     candidates = [{"sensors": words, "columns": ",".join(names)} for names, words in shown]
     raise ColumnsAmbiguous(
-        f"{name} has no header row and its columns can be read more than one way: "
+        f"{what} and its columns can be read more than one way: "
         + "; ".join(f"{c['sensors']} (columns={c['columns']})" for c in candidates)
         + ": say which, with the upload field columns (--columns)",
         candidates, lines[:PREVIEW_LINES])

@@ -41,7 +41,7 @@ from .table import (BAD_LINE, SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess
                     read_columns, split_row)
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
-from .columns import PREVIEW_LINES, guess_columns
+from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
 from .units import MAG_UNITS_IN
 
 MAX_LISTED_COLUMNS = 20
@@ -309,7 +309,22 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     if layout.headerless and column_names is None:
         layout = _named_from_data(path, layout, name)
     names = layout.names
-    channels, time_col, time_scale, header_units = map_columns(renamed(names, column_map))
+    try:
+        channels, time_col, time_scale, header_units = map_columns(renamed(names, column_map))
+    except LogFormatError as exc:
+        # A header naming no sensor (north, east, down): the columns named from the data if they can be, the
+        # header's refusal (with how to map it by hand) if they cannot.
+        if column_map or column_names or not _NO_SENSOR.match(str(exc)) or \
+                any(p.match(normalise(n)) for n in names for p in PATTERNS.values()):
+            raise  # a header naming part of a sensor says what it holds: its refusal says what is missing
+        try:
+            layout = _named_from_data(path, layout, name, header=names)
+        except ColumnsAmbiguous:
+            raise
+        except LogFormatError:
+            raise exc from None
+        names = layout.names
+        channels, time_col, time_scale, header_units = map_columns(names)
     temp_col = temperature_column(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
     if temp_col is not None:
@@ -363,8 +378,12 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     ), sampling_rate_hz, name)
 
 
-def _named_from_data(path: Path, layout: Layout, name: str) -> Layout:
-    """A table without a header row, its columns named from what they read (:mod:`.columns`)."""
+_NO_SENSOR = re.compile(r"^no accelerometer, gyroscope or magnetometer x, y and z columns")
+
+
+def _named_from_data(path: Path, layout: Layout, name: str, header: list[str] | None = None) -> Layout:
+    """A table without a header row (or whose ``header`` names no sensor), its columns named from what they
+    read (:mod:`.columns`)."""
     width = len(layout.names)
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         head = [ln.rstrip("\r\n") for _, ln in zip(range(layout.skip_lines + PREVIEW_LINES), f)][layout.skip_lines:]
@@ -379,8 +398,9 @@ def _named_from_data(path: Path, layout: Layout, name: str) -> Layout:
         data = _rows_before_a_bad_line(path, layout, width)
         if data is None:
             raise
-    names, why = guess_columns(data, Path(name).name, head)
-    note = (f"no header row: {width} columns separated by {_DELIMITER_WORDS[layout.delimiter]}, {why}: "
+    names, why = guess_columns(data, Path(name).name, head, header=header)
+    said = (f"the header's columns ({', '.join(header)}) name no sensor" if header else "no header row")
+    note = (f"{said}: {width} columns separated by {_DELIMITER_WORDS[layout.delimiter]}, {why}: "
             f"{', '.join(names)} (give columns to read them otherwise)")
     return dataclasses.replace(layout, names=names, notes=(note,) + layout.notes)
 

@@ -122,7 +122,7 @@ def rest_figures(gyr: np.ndarray, run: tuple[int, int], fs: float | None) -> tup
     """The offset (median at rest) and, when the readings are fine enough, the white rate noise density
     in the readings' unit per √Hz: the Allan deviation at τ = 0.1 s times √τ (IEEE Std 952-1997, annex
     C: σ(τ) = N/√τ), free of a low-pass filter's narrowing of the band above 5 Hz."""
-    still = np.asarray(gyr[run[0]:run[1]], dtype=float)
+    still = np.asarray(gyr[run[0]:min(run[1], run[0] + 200_000)], dtype=float)  # plenty for an offset and a noise
     offset = np.median(still, axis=0)
     if fs is None:
         return offset, None
