@@ -40,7 +40,8 @@ def start_page(page, url):
 
 def upload_refused(page, url):
     page.goto(url + "/")
-    page.set_input_files("#log-file", str(DATA / "formats" / "phyphox_linear.csv"))  # gravity removed
+    page.set_input_files("#log-file", {"name": "bad_line.csv", "mimeType": "text/csv",  # a bad line, named first
+                                       "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n"})
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#upload-msg:has-text('Upload refused')")
 

@@ -128,6 +128,16 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     assert page.errors == refused
 
 
+def test_a_bad_line_is_named_before_any_question_of_columns(page, server):
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", {"name": "bad_line.csv", "mimeType": "text/csv",
+                                       "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n"})
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#upload-msg:has-text('Upload refused')")
+    assert "line 3, column 'acc_y': 'abc' is not a number" in page.text_content("#upload-msg")
+    assert page.locator("#columns-map").is_hidden()
+
+
 def test_columns_the_data_leave_open_are_chosen_on_the_card(page, server):
     # A real still MPU-6050 gyroscope in counts, no header row: a gyroscope's offset or a compass's field.
     still = DATA / "real" / "corpus" / "mpu6050_still_gyro_counts_headerless" / "imu_static_test_cols456.csv"
