@@ -175,8 +175,9 @@ def gyro_evidence(gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: f
         if noise is not None and not whole:
             n_dps = noise * k / DEG
             if not lo_noise <= n_dps <= hi_noise:
+                if ok:  # the offset, where it rules the unit out, is named first
+                    words = f"a still noise of {noise:.2g} per √Hz is {n_dps:.2g} °/s/√Hz in {unit_words(key)}"
                 ok = False
-                words = f"a still noise of {noise:.2g} per √Hz is {n_dps:.2g} °/s/√Hz in {unit_words(key)}"
         plausible[key], said[key] = ok, words
     errors, moves = {}, 0
     if ref is not None and len(runs) >= 2 and (fs or time_s is not None):
