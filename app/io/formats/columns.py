@@ -25,7 +25,7 @@ import re
 import numpy as np
 
 from ..errors import LogFormatError
-from .chips import ACC_LSB_PER_G, GYR_LSB_PER_DPS, GYR_OFFSET_MAX_DPS, SENSOR_WORDS
+from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS, GYR_OFFSET_MAX_DPS, SENSOR_WORDS
 
 SENSORS = ("acc", "gyr", "mag")
 NAME_WORDS = {
@@ -38,8 +38,9 @@ ACC_REST = {"g": (0.8, 1.2), "m/s^2": (8.0, 12.0)}
 """An accelerometer at rest reads 1 g within a bad part's scale and offset errors."""
 FIELD_REST = {"uT": (20.0, 70.0), "gauss": (0.2, 0.7), "nT": (20_000.0, 70_000.0)}
 """The Earth's field, 22–67 µT anywhere (IGRF), as a still magnetometer reads it."""
-MAG_COUNTS = (20.0, 20_000.0)
-"""The Earth's field in the counts of common magnetometers (0.15 µT/LSB to 16384 LSB/gauss)."""
+_MAG_SCALES = [c.scale for c in CHIPS.values() if c.sensor == "mag"]  # µT per count
+MAG_COUNTS = (FIELD_REST["uT"][0] / max(_MAG_SCALES), FIELD_REST["uT"][1] / min(_MAG_SCALES))
+"""The Earth's field in the counts of the magnetometers of the chips table (0.6 µT/LSB to 16384 LSB/gauss)."""
 COUNTS_TOLERANCE = 0.15
 MAX_CANDIDATES = 6
 PREVIEW_LINES = 8
