@@ -15,6 +15,11 @@ wrong_turn             422     a cube wizard capture whose turn does not match t
 not_still              422     a wizard capture during which the device moved
 pose_too_close         422     a free wizard pose within 10° of one already captured
 unreadable_log         422     a log that cannot be read (format, columns, units)
+bad_line               422     a line of a log that is not numbers where numbers are read: the detail
+                               names the line, the column and the text
+columns_ambiguous      422     a table whose columns its data let be read more than one way: the body
+                               adds ``candidates`` (each ``sensors`` and its ``columns`` value) and
+                               ``preview`` (the table's first lines); send one as ``columns``
 unsupported_media      415     an upload that is not a log trical reads
 payload_too_large      413     an upload or JSON body over its limit
 export_refused         422     an export format that does not fit the calibration
@@ -39,6 +44,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
+from app.io.formats.columns import ColumnsAmbiguous
 from app.methods import describe_errors
 from app.words import asked, reader_of, render
 from app.store import ConflictError, NotFoundError
@@ -70,11 +76,12 @@ def describe_validation(exc: RequestValidationError) -> str:
 
 
 def error_response(status: int, detail: str, code: str, headers: dict | None = None,
-                   request: Request | None = None) -> JSONResponse:
+                   request: Request | None = None, extra: dict | None = None) -> JSONResponse:
     """The error body every failure of the API answers with, its ``detail`` in the words of who reads it, and
     ``asks``: the parameters the detail asks for (app.words.asked), when it names any, so that a page can
-    show their controls without reading the words."""
-    body = {"detail": detail, "code": code}
+    show their controls without reading the words; ``extra``, what a refusal carries beside its words (a
+    columns_ambiguous refusal's candidates and preview)."""
+    body = {"detail": detail, "code": code, **(extra or {})}
     if asks := asked(detail):
         body["asks"] = asks
     if request is not None:
@@ -95,7 +102,9 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):
-        return error_response(exc.status, str(exc), LOG_FORMAT_CODES.get(exc.status, "unreadable_log"), request=request)
+        extra = {"candidates": exc.candidates, "preview": exc.preview} if isinstance(exc, ColumnsAmbiguous) else None
+        return error_response(exc.status, str(exc), exc.code or LOG_FORMAT_CODES.get(exc.status, "unreadable_log"),
+                              request=request, extra=extra)
 
     @app.exception_handler(ExportError)
     async def _export(request: Request, exc: ExportError):

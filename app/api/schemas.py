@@ -924,6 +924,9 @@ class RecordingOut(BaseModel):
     warnings: list[str] = Field([], description="What the reader decided against the header or the upload's fields "
                                                 "(a unit the data contradict), and sensors left in counts; every "
                                                 "calibration of the recording repeats them.")
+    questions: list[dict[str, str]] = Field([], description="What the data leave open and a figure hangs on "
+                                            "(`sensor`, `detail`: a gyroscope's unit neither its data nor the "
+                                            "upload say): a calibration of that sensor is not ok, its reasons ask.")
     quantization_step: float | None = None
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
     read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")

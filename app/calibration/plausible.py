@@ -34,6 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .gravity import STANDARD_GRAVITY
+from .headlines import SENSOR_WORDS
 
 SCALE_RANGE = (0.5, 2.0)
 """A correction's scale (diagonal of ``M``, readings to the same unit) outside it is a wrong unit or range."""
@@ -41,8 +42,31 @@ SCALE_RANGE = (0.5, 2.0)
 ACC_OFFSET_MAX_G = 1.0
 """The largest plausible accelerometer offset, in g (the MPU-6050's zero-g offset: ±80 mg)."""
 
-GYRO_BIAS_MAX_DPS = 30.0
-"""The largest plausible gyroscope bias, in °/s (the MPU-6050's zero-rate output: ±20 °/s)."""
+@dataclass(frozen=True)
+class GyroPart:
+    """A gyroscope's datasheet figures at 25 °C: its initial zero-rate offset tolerance (what a still
+    gyroscope reads before calibration) and its rate noise spectral density."""
+
+    name: str
+    zero_rate_dps: float
+    noise_dps_rthz: float
+
+
+GYR_PARTS = (
+    GyroPart("MPU-6050", 20.0, 0.005),     # InvenSense MPU-6000/MPU-6050 Product Specification rev. 3.4, section 6.1
+    GyroPart("MPU-6500", 5.0, 0.01),       # InvenSense MPU-6500 Product Specification, section 3.1
+    GyroPart("MPU-9250", 5.0, 0.01),       # InvenSense MPU-9250 Product Specification, section 3.1
+    GyroPart("ICM-20948", 5.0, 0.015),     # TDK ICM-20948 datasheet DS-000189, table 1
+    GyroPart("ICM-42688-P", 0.5, 0.0028),  # TDK ICM-42688-P datasheet DS-000347, table 1
+    GyroPart("BMI160", 3.0, 0.007),        # Bosch BMI160 datasheet BST-BMI160-DS000, table 2
+    GyroPart("LSM6DS3", 10.0, 0.007),      # ST LSM6DS3 datasheet DocID026899, table 3
+)
+"""The MEMS gyroscopes of boards and phones whose figures bound what a gyroscope can read: the bias gate
+here, and the gyroscope's unit read from its data at the edge (``app/io/formats/gyro_unit.py``)."""
+
+GYRO_BIAS_MAX_DPS = 1.5 * max(p.zero_rate_dps for p in GYR_PARTS)
+"""The largest plausible gyroscope bias, in °/s: the widest datasheet tolerance (the MPU-6050's ±20 °/s)
+with half again for temperature and soldering stress (30 °/s)."""
 
 FIELD_RANGE_UT = (15.0, 100.0)
 """The Earth's field at the surface is 22–67 µT (World Magnetic Model 2020); outside 15–100 µT the
@@ -58,10 +82,10 @@ DEG = math.pi / 180.0
 MICRO_G = 1e-6 * STANDARD_GRAVITY
 
 NOISE_DENSITY = {
-    # Rate noise spectral density: TDK ICM-42688-P datasheet DS-000347, table 1: 0.0028 °/s/√Hz;
-    # InvenSense MPU-6050 Product Specification rev. 3.4, section 6.1: 0.005; TDK ICM-20948 DS-000189,
-    # table 1: 0.015 °/s/√Hz.
-    "gyr": (0.0028 * DEG, 0.015 * DEG, "rad/s/√Hz"),
+    # Rate noise spectral density: the quietest and the noisiest of GYR_PARTS (ICM-42688-P 0.0028,
+    # ICM-20948 0.015 °/s/√Hz).
+    "gyr": (min(p.noise_dps_rthz for p in GYR_PARTS) * DEG, max(p.noise_dps_rthz for p in GYR_PARTS) * DEG,
+            "rad/s/√Hz"),
     # Noise power spectral density: Analog Devices ADXL355 datasheet: 22.5 µg/√Hz; ICM-42688-P table 2:
     # 70; ICM-20948 table 2: 230; MPU-6050 section 6.2: 400 µg/√Hz.
     "acc": (22.5 * MICRO_G, 400.0 * MICRO_G, "m/s²/√Hz"),
@@ -81,7 +105,6 @@ OPTION = {"acc": "acc_unit", "gyr": "gyr_unit", "mag": "mag_unit"}
 """The upload's option that gives each sensor's unit (docs/rest.md)."""
 ALTERNATIVES = {"acc": ("m/s^2", "g"), "gyr": ("rad/s", "deg/s"), "mag": ("uT", "nT", "gauss")}
 """The units a sensor's readings may have been in."""
-SENSOR_WORDS = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}
 
 
 @dataclass(frozen=True)

@@ -8,9 +8,14 @@ class LogFormatError(ValueError):
     413 for files above the upload limit).
     """
 
-    def __init__(self, message: str, *, status: int = 422):
+    code: str | None = None
+    """The API's code when it is not the status's own (``bad_line``: a line that is not numbers)."""
+
+    def __init__(self, message: str, *, status: int = 422, code: str | None = None):
         super().__init__(message)
         self.status = status
+        if code is not None:
+            self.code = code
 
 
 class ExportError(ValueError):

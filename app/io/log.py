@@ -67,6 +67,10 @@ class LogData:
     temperature_c : numpy.ndarray of shape (N,), or None
         The sensor's own temperature in °C at each sample, when the log records it (a flight
         controller's IMU, a ``temp_c`` column): what a temperature calibration fits against.
+    questions : tuple of dict
+        What the data leave open and a calibration's figures hang on (``{"sensor": "gyr", "detail":
+        ...}``: a gyroscope's unit neither the data nor anyone said): a calibration of that sensor is
+        not ok, and its reasons ask.
     flight : app.io.formats.flight_log.FlightInfo or None
         A flight controller's log (PX4 ULog, ArduPilot DataFlash): every sensor instance it holds, the
         IMU and compass read, and the clock the samples are on; None for other logs.
@@ -93,6 +97,7 @@ class LogData:
     timing: Timing | None = None
     temperature_c: np.ndarray | None = None
     flight: FlightInfo | None = None
+    questions: tuple = ()
 
     @property
     def gaps(self) -> tuple:

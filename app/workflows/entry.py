@@ -45,4 +45,15 @@ def calibrate(handler: Handler, request, recording: RecordingSource | None = Non
     if recording is not None:  # what the reader decided against the header or the caller (units) comes first
         said = [w for w in recording.meta.get("warnings") or [] if w not in body["warnings"]]
         body["warnings"] = said + list(body["warnings"])
+        # What the reading left open (a gyroscope's unit): a figure of that sensor hangs on it, so not ok.
+        asked = [q["detail"] for q in recording.meta.get("questions") or [] if _uses(body, q["sensor"])]
+        if asked and "ok" in body:
+            body["ok"] = False
+            body["reasons"] = asked + [r for r in body.get("reasons") or [] if r not in asked]
     return body
+
+
+def _uses(body: dict, sensor: str) -> bool:
+    """Whether a calibration's figures are of ``sensor`` (its model holds them, or its type names it)."""
+    model = body.get("model") or {}
+    return sensor in model or sensor in str(model.get("type", "")) or body.get("sensor") == sensor

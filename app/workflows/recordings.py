@@ -98,6 +98,7 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "columns": log.columns,
         "notes": notes,
         "warnings": list(log.warnings),
+        "questions": [dict(q) for q in log.questions],
         "sign": log.sign,
         "timing": None if log.timing is None else log.timing.to_dict(),
         "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,

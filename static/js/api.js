@@ -7,11 +7,12 @@
 // page's controls rather than the API's parameters (app/words.py).
 
 export class ApiError extends Error {
-  constructor(message, status, code = null, asks = []) {
+  constructor(message, status, code = null, asks = [], body = null) {
     super(message);
     this.status = status;
     this.code = code;
     this.asks = asks;
+    this.body = body; // the whole answer (a columns_ambiguous refusal's candidates and preview)
   }
 }
 
@@ -30,14 +31,15 @@ async function failure(response) {
   let detail = `HTTP ${response.status}`;
   let code = null;
   let asks = [];
+  let body = null;
   try {
-    const body = await response.json();
+    body = await response.json();
     if (body && typeof body.detail === "string") detail = body.detail;
     else if (body && Array.isArray(body.detail)) detail = body.detail.map((d) => d.msg || JSON.stringify(d)).join("; ");
     if (body && typeof body.code === "string") code = body.code;
     if (body && Array.isArray(body.asks)) asks = body.asks;
   } catch { /* not JSON: keep the status */ }
-  return new ApiError(detail, response.status, code, asks);
+  return new ApiError(detail, response.status, code, asks, body);
 }
 
 async function request(path, options = {}) {

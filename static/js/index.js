@@ -1,6 +1,6 @@
 // The start page: the only module here that touches the DOM.
 import { createCalibration, uploadRecording } from "./api.js";
-import { columnsField, headerColumns, logPlotSvg } from "./log_plot.js";
+import { columnSparkSvg, columnsField, headerColumns, logPlotSvg, tableColumns } from "./log_plot.js";
 import { flightFields, showFlightLog } from "./flight_log.js";
 import { formatNumber, parseReadings } from "./readings.js";
 import { hideCalibration, showCalibration } from "./result_view.js";
@@ -158,12 +158,17 @@ function showSegments(rec) {
   $("#segments-notes").textContent = several ? rec.notes.join(" ") : "";
 }
 
+const HEADER_HINT = "trical did not recognise this file's header. Say what each column holds (leave the others "
+  + "as “not used”), then upload again.";
+
 // The file's header was not recognised: a control per column to say what it holds.
 async function offerColumnMap(file) {
   const head = await file.slice(0, 4096).text();
   if (/^\s*[[{]/.test(head)) return false; // JSON: its keys are its columns, and the refusal says what it holds
   const names = headerColumns(head.split(/\r?\n/)[0] || "");
   if (names.length < 2 || names.every((n) => Number.isFinite(Number(n)))) return false; // no header to map
+  $("#columns-map-list").dataset.mode = "map";
+  $("#columns-map-hint").textContent = HEADER_HINT;
   $("#columns-map-list").replaceChildren(...names.map((name, i) => {
     const label = cell("label", name);
     label.htmlFor = `map-${i}`;
@@ -178,6 +183,39 @@ async function offerColumnMap(file) {
   return true;
 }
 
+// The data let the columns be read more than one way: each reading as a choice, over the first lines
+// and a small plot of each column; the one chosen is sent as `columns`.
+async function offerCandidates(answer, file) {
+  const columns = tableColumns(await file.slice(0, 65536).text());
+  const list = $("#columns-map-list");
+  list.dataset.mode = "candidates";
+  const preview = cell("pre", (answer.preview || []).join("\n"));
+  preview.className = "columns-preview";
+  const plots = document.createElement("div");
+  plots.className = "columns-plots";
+  columns.forEach((values, i) => {
+    const fig = document.createElement("figure");
+    fig.innerHTML = columnSparkSvg(values);
+    fig.append(cell("figcaption", `column ${i + 1}`));
+    plots.append(fig);
+  });
+  const choices = (answer.candidates || []).map((c, i) => {
+    const label = document.createElement("label");
+    label.className = "columns-choice";
+    const radio = document.createElement("input");
+    radio.type = "radio";
+    radio.name = "columns-candidate";
+    radio.value = c.columns;
+    radio.checked = i === 0;
+    label.append(radio, ` ${c.sensors} — ${c.columns.split(",").map((n, k) => `${k + 1}: ${n === "-" ? "not used" : n}`).join(", ")}`);
+    return label;
+  });
+  list.replaceChildren(preview, plots, ...choices);
+  $("#columns-map-hint").textContent = "The columns of this file can be read more than one way. Choose what they hold "
+    + "(its first lines and a plot of each column are below), then upload again.";
+  $("#columns-map").hidden = false;
+}
+
 async function upload(data) {
   clearOutput();
   const mine = ++action;
@@ -187,6 +225,11 @@ async function upload(data) {
     rec = await uploadRecording(data);
   } catch (err) {
     if (mine !== action) return;
+    if (err.code === "columns_ambiguous" && !data.get("columns")) {
+      await offerCandidates(err.body || {}, data.get("file"));
+      note("#upload-msg", "Say which column is which, below.", true);
+      return;
+    }
     const mapped = err.code === "unreadable_log" && err.asks.includes("columns") && !data.get("columns")
       && await offerColumnMap(data.get("file"));
     if (!mapped) offerControls(err.asks, data);
@@ -274,10 +317,16 @@ $("#upload-form").addEventListener("submit", (event) => {
 });
 
 $("#columns-map-go").addEventListener("click", () => {
-  const mapping = Object.fromEntries([...document.querySelectorAll("#columns-map-list select")]
-    .map((s) => [s.dataset.column, s.value]));
   const data = uploadData();
-  data.set("columns", columnsField(mapping));
+  if ($("#columns-map-list").dataset.mode === "candidates") {
+    const chosen = document.querySelector("#columns-map-list input[name=columns-candidate]:checked");
+    if (!chosen) return;
+    data.set("columns", chosen.value);
+  } else {
+    const mapping = Object.fromEntries([...document.querySelectorAll("#columns-map-list select")]
+      .map((s) => [s.dataset.column, s.value]));
+    data.set("columns", columnsField(mapping));
+  }
   upload(data);
 });
 

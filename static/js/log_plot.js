@@ -25,6 +25,34 @@ export function columnsField(mapping) {
   return Object.entries(mapping).filter(([, role]) => role).map(([name, role]) => `${role}:${name}`).join(",");
 }
 
+// The numbers of a table's first lines, one array per column (a table without a header row).
+export function tableColumns(text, maxLines = 2000) {
+  const rows = text.replace(/^\uFEFF/, "").split(/\r?\n/).filter((l) => l.trim() && !l.trim().startsWith("#"))
+    .slice(0, maxLines).map((l) => l.trim().split(/\s*[,;\t]\s*|\s+/).map(Number));
+  const width = rows.length ? rows[0].length : 0;
+  const whole = rows.filter((r) => r.length === width && r.every(Number.isFinite));
+  return Array.from({ length: width }, (_, c) => whole.map((r) => r[c]));
+}
+
+// A column's values as a small line (no axes): what the column does over the file's first lines.
+export function columnSparkSvg(values, width = 150, height = 36) {
+  if (!values.length) return "";
+  const lo = Math.min(...values);
+  const hi = Math.max(...values);
+  const span = hi - lo || 1;
+  const step = Math.max(1, Math.floor(values.length / width));
+  const points = [];
+  for (let i = 0; i < values.length; i += step) {
+    points.push(`${((i / Math.max(1, values.length - 1)) * (width - 2) + 1).toFixed(1)},`
+      + `${(height - 2 - ((values[i] - lo) / span) * (height - 4)).toFixed(1)}`);
+  }
+  return `<svg class="spark" viewBox="0 0 ${width} ${height}" width="${width}" height="${height}" role="img" `
+    + `aria-label="from ${esc(formatShort(lo))} to ${esc(formatShort(hi))}"><polyline points="${points.join(" ")}" `
+    + `fill="none" stroke="#0b4f9c" stroke-width="1" /></svg>`;
+}
+
+function formatShort(v) { return Math.abs(v) >= 1000 || v === Math.round(v) ? String(Math.round(v)) : v.toPrecision(3); }
+
 // A log without a sampling rate (no time column, none given) is drawn over its samples.
 export function logPlotSvg(overview, segments, samplingRateHz) {
   const perSample = samplingRateHz ? 1 / samplingRateHz : 1;

@@ -41,8 +41,17 @@ def test_columns_name_the_gyroscope_too(client):
     assert client.get(f"/api/v1/recordings/{rec['id']}").json() == rec
 
 
+def test_seven_headerless_columns_are_named_from_the_data(client):
+    # time, an accelerometer resting in g between turns, a gyroscope in rad/s swinging between rests.
+    r = upload(client, IMU.name, IMU.read_bytes())
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    assert rec["columns"] == ["time", *IMU_COLUMNS.split(",")[1:]] and rec["units"] == {"acc": "g", "gyr": "rad/s"}
+    assert any(n.startswith("no header row: 7 columns separated by commas, read from the data as accelerometer, "
+                            "gyroscope") for n in rec["notes"])
+
+
 @pytest.mark.parametrize("columns, fragment", [
-    (None, "has no header row and 7 columns"),
     ("t,acc_x,acc_y,acc_z", "columns names 4 columns (t, acc_x, acc_y, acc_z) but headerless_imu_comma.csv has 7"),
     ("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_w", "'gyr_w', which trical does not know"),
     ("t,acc_x,acc_y,acc_z,gyr_x,-,-", "names gyr_x but not gyr_y, gyr_z"),

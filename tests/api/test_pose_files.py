@@ -219,8 +219,10 @@ def test_pose_files_too_short_for_a_still_segment_are_each_one_reading(client):
 
 
 def test_a_short_file_that_moved_gives_no_reading(client):
+    # Its gyroscope reads like the real files' (rad/s printed to 2 decimals): a constant 1.6 there would be a
+    # 92 °/s offset in rad/s, which its data would read as °/s — another unit than the other file's.
     moving = b"Timestamp,aX (g),aY (g),aZ (g),Temp (C),gX,gY,gZ\n" + b"".join(
-        f"{16 * i},{9.8 * np.cos(i / 10):.3f},{9.8 * np.sin(i / 10):.3f},0.1,26.9,0.0,0.0,1.6\n".encode()
+        f"{16 * i},{9.8 * np.cos(i / 10):.3f},{9.8 * np.sin(i / 10):.3f},0.1,26.9,0.0,0.0,0.02\n".encode()
         for i in range(60))
     rec = upload_files(client, [("x_axis_pos.csv", pose_bytes("x_axis_pos")), ("x_up_again.csv", moving)]).json()
     assert [s["source"] for s in rec["segments"]] == ["x_axis_pos.csv"]

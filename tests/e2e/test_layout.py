@@ -40,7 +40,8 @@ def start_page(page, url):
 
 def upload_refused(page, url):
     page.goto(url + "/")
-    page.set_input_files("#log-file", str(DATA / "formats" / "headerless_imu_comma.csv"))
+    page.set_input_files("#log-file", {"name": "bad_line.csv", "mimeType": "text/csv",  # a bad line, named first
+                                       "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n"})
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#upload-msg:has-text('Upload refused')")
 
@@ -93,7 +94,8 @@ def upload_flight_log(page, url):
 def upload_column_map(page, url):
     page.goto(url + "/")
     page.set_input_files("#log-file", {"name": "north_east_down.csv", "mimeType": "text/csv",
-                                       "buffer": b"north,east,down\n0.1,0.2,9.8\n0.1,0.2,9.8\n"})
+                                       "buffer": b"north,east,down,pressure,humidity\n0.1,0.2,9.8,1013,45\n"
+                                                 b"0.1,0.2,9.8,1013,45\n"})  # five columns the data cannot name
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#columns-map:not([hidden])")
 

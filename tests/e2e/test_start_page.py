@@ -91,7 +91,8 @@ def test_an_unrecognised_header_is_mapped_by_hand_and_stale_output_is_cleared(pa
     # The same log with a header trical does not know: a control per column, and nothing stale on show.
     renamed = tmp_path / "north_east_down.csv"
     lines = (DATA / "six_orientations_150hz.csv").read_text().splitlines()
-    renamed.write_text("\n".join(["north,east,down"] + lines[1:]) + "\n")
+    # Five columns (pressure and humidity beside the accelerometer): a layout the data cannot name either.
+    renamed.write_text("\n".join(["north,east,down,pressure,humidity"] + [ln + ",1013.2,45" for ln in lines[1:]]) + "\n")
     page.set_input_files("#log-file", str(renamed))
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#columns-map:not([hidden])")
@@ -99,7 +100,7 @@ def test_an_unrecognised_header_is_mapped_by_hand_and_stale_output_is_cleared(pa
     assert page.text_content("#upload-msg") == "Say which column is which, below."
     shot(page, "upload_column_map")
     columns = page.eval_on_selector_all("#columns-map-list select", "ss => ss.map(s => s.dataset.column)")
-    assert columns == ["north", "east", "down"]
+    assert columns == ["north", "east", "down", "pressure", "humidity"]
     for name, role in zip(columns, ("acc_x", "acc_y", "acc_z")):
         page.select_option(f"#columns-map-list select[data-column={name}]", role)
     page.click("#columns-map-go")
@@ -113,12 +114,10 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(DATA / "formats" / "headerless_imu_comma.csv"))
     page.click("#upload-form button[type=submit]")
-    page.wait_for_selector("#status:has-text('Upload refused')")
-    assert "no header row and 7 columns" in page.text_content("#upload-msg")
+    page.wait_for_selector("#segments:not([hidden])")  # time, accelerometer, gyroscope: read from the data
+    assert page.locator("#columns-map").is_hidden()
     refused = list(page.errors)
-    assert len(refused) == 1 and "422" in refused[0]  # the browser logs the refused upload
-    assert page.locator("#columns-map").is_hidden()  # no header row to map: the options say how, open
-    assert page.locator("#log-columns").is_visible()
+    page.click("#options-summary")
     page.fill("#log-columns", "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
     page.select_option("#log-sign", "-1")
     page.click("#upload-form button[type=submit]")
@@ -127,6 +126,39 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
     truth = json.loads((DATA / "formats" / "format_samples.json").read_text())["labels"]
     assert ups == [{"+": "-", "-": "+"}[u[0]] + u[1] for u in truth]  # negated: every rest upside down
     assert page.errors == refused
+
+
+def test_a_bad_line_is_named_before_any_question_of_columns(page, server):
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", {"name": "bad_line.csv", "mimeType": "text/csv",
+                                       "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n"})
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#upload-msg:has-text('Upload refused')")
+    assert "line 3, column 'acc_y': 'abc' is not a number" in page.text_content("#upload-msg")
+    assert page.locator("#columns-map").is_hidden()
+
+
+def test_columns_the_data_leave_open_are_chosen_on_the_card(page, server):
+    # A real still MPU-6050 gyroscope in counts, no header row: a gyroscope's offset or a compass's field.
+    still = DATA / "real" / "corpus" / "mpu6050_still_gyro_counts_headerless" / "imu_static_test_cols456.csv"
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(still))
+    page.click("#options-summary")
+    page.fill("#log-rate", "100")
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#columns-map:not([hidden])")
+    assert page.text_content("#upload-msg") == "Say which column is which, below."
+    assert page.text_content("#columns-map-hint").startswith("The columns of this file can be read more than one way")
+    assert page.text_content(".columns-preview").startswith("-480,193,-83")
+    assert page.locator(".columns-plots svg").count() == 3
+    choices = page.eval_on_selector_all("#columns-map-list input[name=columns-candidate]", "rs => rs.map(r => r.value)")
+    assert choices == ["gyr_x,gyr_y,gyr_z", "mag_x,mag_y,mag_z"]
+    shot(page, "upload_columns_candidates")
+    page.check("#columns-map-list input[value='gyr_x,gyr_y,gyr_z']")
+    page.click("#columns-map-go")
+    page.wait_for_selector("#segments:not([hidden])")
+    assert page.locator("#columns-map").is_hidden()
+    assert "gyroscope" in page.text_content("#segments-msg")
 
 
 POSE_FILES = DATA / "real" / "mpu6050_pose_files"

@@ -210,8 +210,11 @@ def test_a_gyroscope_in_whole_numbers_is_counts_unless_a_unit_in_degrees_says_ot
     degrees = _read(_write(tmp_path, "t,ax,ay,az,gx (deg/s),gy (deg/s),gz (deg/s)", [T, ACC, np.round(counts / 100)],
                            name="c.csv"))
     assert degrees.units["gyr"] == "deg/s" and degrees.warnings == ()
+    # Fractions resting with a sample spread of 0.3 at 100 Hz: 0.04 per √Hz, 2.4 °/s/√Hz in rad/s (no MEMS
+    # gyroscope's), 0.04 °/s/√Hz in °/s: the data say °/s, and a note says why.
     floats = _read(_write(tmp_path, "t,ax,ay,az,gx,gy,gz", [T, ACC, counts / 1000 + 0.0001], name="d.csv"))
-    assert floats.units["gyr"] == "rad/s" and floats.warnings == ()
+    assert floats.units["gyr"] == "deg/s" and floats.warnings == ()
+    assert any(n.startswith("gyroscope unit deg/s inferred from the data: a still noise") for n in floats.notes)
 
 
 def test_a_magnetometer_field_no_unit_explains_is_labelled_counts(tmp_path):

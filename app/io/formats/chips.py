@@ -24,8 +24,9 @@ sensitivity (typical value), cited by part and document:
 1 gauss = 100 µT.
 
 What a part can read once its counts are scaled — its largest offset and bias, its noise density —
-is the core's (``app/calibration/plausible.py``, which every result is judged by); these are only the
-scales that turn counts into units at the edge.
+is the core's (``app/calibration/plausible.py``, which every result is judged by, and whose datasheet
+figures of the common gyroscopes, ``GYR_PARTS``, also decide a gyroscope's unit at the edge:
+``gyro_unit.py``); these are only the scales that turn counts into units at the edge.
 """
 
 from __future__ import annotations
@@ -60,14 +61,19 @@ def _mag_gauss(name: str, lsb_per_gauss: float, part: str, rng: str) -> Chip:
     return Chip(name, "mag", GAUSS_UT / lsb_per_gauss, "uT", f"{part} {rng} ({lsb_per_gauss:g} LSB/gauss)")
 
 
+GYR_LSB_PER_DPS = (131.0, 65.5, 32.8, 16.4)
+"""The gyroscope sensitivities of the common 16-bit parts (the four ranges of the MPU-6050 family and
+the ICM-20948, section 6.1 / table 1; the same on the ICM-42688-P and, to within 5 %, the BMI160 and
+LSM6DS3's 8.75–70 mdps/LSB)."""
+GYR_RANGE = {131.0: "±250 °/s", 65.5: "±500 °/s", 32.8: "±1000 °/s", 16.4: "±2000 °/s"}
+
 _MPU = "MPU-6050/6500/9250, ICM-20948"
 _CHIPS = [
     # MPU-6050 Product Specification rev. 3.4, section 6.2; ICM-20948 DS-000189 table 2.
     _acc("mpu6050-2g", 16384, _MPU, "±2 g"), _acc("mpu6050-4g", 8192, _MPU, "±4 g"),
     _acc("mpu6050-8g", 4096, _MPU, "±8 g"), _acc("mpu6050-16g", 2048, _MPU, "±16 g"),
     # MPU-6050 Product Specification rev. 3.4, section 6.1; ICM-20948 DS-000189 table 1.
-    _gyr("mpu6050-250dps", 131, _MPU, "±250 °/s"), _gyr("mpu6050-500dps", 65.5, _MPU, "±500 °/s"),
-    _gyr("mpu6050-1000dps", 32.8, _MPU, "±1000 °/s"), _gyr("mpu6050-2000dps", 16.4, _MPU, "±2000 °/s"),
+    *(_gyr(f"mpu6050-{rng[1:-4]}dps", lsb, _MPU, rng) for lsb, rng in GYR_RANGE.items()),
     # AK8963 datasheet: 0.15 µT/LSB (16-bit), 0.6 µT/LSB (14-bit).
     Chip("ak8963-16bit", "mag", 0.15, "uT", "AK8963 (MPU-9250) 16-bit (0.15 µT/LSB)"),
     Chip("ak8963-14bit", "mag", 0.6, "uT", "AK8963 (MPU-9250) 14-bit (0.6 µT/LSB)"),

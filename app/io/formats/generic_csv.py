@@ -10,10 +10,11 @@ columns the same way (:mod:`app.io.arrays` uses :func:`map_columns`).
 
 Loggers often write no header row: numbers from the first line, separated by commas, semicolons,
 tabs or spaces (runs of blanks, as in aligned tables), with a decimal point or — with any separator
-but a comma — a decimal comma (``0,25;9,81``).  Three columns are read as accelerometer x, y, z
-(the caller gives ``sampling_rate_hz``), four as time, x, y, z (the time unit inferred from the
-step, as for a ``time`` column); other counts are named with ``columns`` — one name per column in
-order, ``t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z`` (:func:`table_layout`).  Numbers with decimal
+but a comma — a decimal comma (``0,25;9,81``).  Which column is which is read from the data
+(:mod:`.columns`: a time, a temperature, and an accelerometer, gyroscope or magnetometer for each
+three others; the file's name breaks a tie, a 422 asks where the data leave two readings), or given
+with ``columns`` — one name per column in order, ``t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z``
+(:func:`table_layout`).  A first line with text among numbers is a bad line, named as such.  Numbers with decimal
 commas between comma separators cannot be told apart and are refused by their column count.
 
 The unit comes from the caller, else the header (``acc_x (g)``, ``mag_x (G)`` for gauss); the
@@ -36,10 +37,11 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
-from .table import (SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter, is_comment,
-                    numeric_layout, read_columns, split_row, text_block_cell)
+from .table import (BAD_LINE, SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter,
+                    is_comment, numeric_layout, read_columns, split_row, text_block_cell)
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
+from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
 from .units import MAG_UNITS_IN
 
 MAX_LISTED_COLUMNS = 20
@@ -158,10 +160,6 @@ def leading_prose(lines: list[str]) -> list[int]:
         header = len(fields) == width if delimiter == WHITESPACE else delimiter in last and len(fields) >= 2
         return before[:-1] if header else before
     return []
-
-
-HEADERLESS_NAMES = {3: ["acc_x", "acc_y", "acc_z"], 4: ["time", "acc_x", "acc_y", "acc_z"]}
-"""The columns of a table without a header row, by their count (more need ``columns``)."""
 _DELIMITER_WORDS = {",": "commas", ";": "semicolons", "\t": "tabs", WHITESPACE: "spaces"}
 
 
@@ -181,8 +179,8 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     Raises
     ------
     LogFormatError
-        A table without a header row whose column count is neither 3 (x, y, z) nor 4 (time, x, y, z)
-        and no ``column_names``, or ``column_names`` whose count is not the file's.
+        ``column_names`` whose count is not the file's; a first line with text among the numbers of the
+        lines below it (``bad_line``).
     """
     lines = text.splitlines()
     prose = leading_prose(lines)
@@ -195,19 +193,12 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     if numeric is not None:
         delimiter, decimal, width = numeric
         skip = next(i for i, ln in enumerate(lines) if i >= start and ln.strip() and not is_comment(ln))
-        names = column_names or HEADERLESS_NAMES.get(width)
-        if names is None:
-            raise LogFormatError(
-                f"{name} has no header row and {width} columns: without names trical reads 3 columns as "
-                "x, y, z (accelerometer) or 4 as time, x, y, z; name yours, one per column in order, e.g. "
-                "columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z "
-                "(- skips a column)"
-            )
-        how = "named by columns" if column_names else "read as"
-        notes = skipped + [f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, {how} "
-                           f"{', '.join(names)}"]
+        names = column_names or [f"column {i + 1}" for i in range(width)]  # else named from the data (.columns)
+        notes = skipped + ([f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, named by "
+                            f"columns {', '.join(column_names)}"] if column_names else [])
         layout = Layout(skip, delimiter, decimal, list(names), True, tuple(notes))
     else:
+        _refuse_a_bad_first_line(lines, name, start)
         header_line, delimiter, names = split_header("\n".join(lines[start:]))
         header_line += start
         decimal = guess_decimal(lines[header_line:], delimiter)
@@ -227,6 +218,35 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     if layout.decimal == ",":
         layout = dataclasses.replace(layout, notes=layout.notes + ("decimal comma",))
     return layout
+
+
+def _number(cell: str) -> bool:
+    try:
+        float(cell.replace(",", "."))
+        return True
+    except ValueError:
+        return False
+
+
+def _refuse_a_bad_first_line(lines: list[str], name: str, start: int = 0) -> None:
+    """A first line of numbers but for a cell or two, above lines of numbers only: a bad line of a table
+    without a header row, named as such (not as a header trical does not recognise); the table starts at
+    line index ``start`` (after a capture's start-up lines)."""
+    numbered = [(i, ln) for i, ln in enumerate(lines[start:], start=start + 1) if ln.strip() and not is_comment(ln)]
+    if len(numbered) < 3:
+        return
+    (number, first), rest = numbered[0], [ln for _, ln in numbered[1:4]]
+    numeric = numeric_layout(rest)
+    if numeric is None:
+        return
+    delimiter, _, width = numeric
+    cells = split_row(first, delimiter)
+    bad = [(c, cell) for c, cell in enumerate(cells) if not _number(cell)]
+    if len(cells) == width and 0 < len(bad) <= width // 2:
+        column, text = bad[0]
+        raise LogFormatError(f"{name}: line {number}, column {column + 1}: {text[:40]!r} is not a number: every "
+                             "column of a table without a header row must hold numbers; fix or remove that line",
+                             code=BAD_LINE)
 
 
 def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]:
@@ -361,14 +381,16 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     ------
     LogFormatError
         Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks,
-        a table without a header row of other than 3 or 4 columns and no ``column_names``, a count of
-        ``column_names`` that is not the file's, text in a numeric column (with its line number), a
+        a table without a header row whose columns its data do not name (or name more than one way:
+        :class:`~app.io.formats.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in a numeric column (with its line number), a
         missing sampling rate.
     """
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
     text = decode_head(head, name)
     layout = table_layout(text, name, column_names)
+    if layout.headerless and column_names is None:
+        layout = _named_from_data(path, layout, name)
     names = layout.names
     block = None if layout.headerless else text_block_cell(text, layout.delimiter, layout.skip_lines, names)
     if block is not None:
@@ -377,7 +399,22 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
             f"{name}: line {line}, column {column!r} holds a block of text over several lines ({first!r} …), not "
             "a number: trical reads one number per column and row, so no columns mapping can read it; write each "
             "reading in a column of its own (e.g. acc_x, acc_y, acc_z), one row per sample")
-    channels, time_col, time_scale, _ = map_columns(renamed(names, column_map))
+    try:
+        channels, time_col, time_scale, _ = map_columns(renamed(names, column_map))
+    except LogFormatError as exc:
+        # A header naming no sensor (north, east, down): the columns named from the data if they can be, the
+        # header's refusal (with how to map it by hand) if they cannot.
+        if column_map or column_names or not _NO_SENSOR.match(str(exc)) or \
+                any(p.match(normalise(n)) for n in names for p in PATTERNS.values()):
+            raise  # a header naming part of a sensor says what it holds: its refusal says what is missing
+        try:
+            layout = _named_from_data(path, layout, name, header=names)
+        except ColumnsAmbiguous:
+            raise
+        except LogFormatError:
+            raise exc from None
+        names = layout.names
+        channels, time_col, time_scale, _ = map_columns(names)
     header_units = mapped_units(names, column_map)
     temp_col = temperature_column(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
@@ -409,9 +446,9 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
-        raise LogFormatError(f"{exc}. {name} has no header row, so its 4 columns were read as time, x, y, z: "
-                             "if the first is not a time, name the columns with `columns`, e.g. "
-                             "columns=acc_x,acc_y,acc_z,- ") from None
+        other = ",".join("-" if c == time_col else n for c, n in enumerate(names))
+        raise LogFormatError(f"{exc}. {name} has no header row, and its column {time_col + 1} rises at every line, "
+                             f"so it was read as the time: if it is not a time, name the columns with `columns`, e.g. columns={other}") from None
     stated_rate = None if time_s is not None else rate_from_comments(text.splitlines()[:layout.skip_lines])
     if stated_rate is not None and sampling_rate_hz is None:
         notes.append(f"no time column: the rate {stated_rate:g} Hz its comment line states is used")
@@ -432,6 +469,51 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         notes=tuple(notes),
         temperature_c=values[temp_col] if temp_col is not None else None,
     ), sampling_rate_hz, name)
+
+
+_NO_SENSOR = re.compile(r"^no accelerometer, gyroscope or magnetometer x, y and z columns")
+
+
+def _named_from_data(path: Path, layout: Layout, name: str, header: list[str] | None = None) -> Layout:
+    """A table without a header row (or whose ``header`` names no sensor), its columns named from what they
+    read (:mod:`.columns`)."""
+    width = len(layout.names)
+    with open(path, encoding="utf-8-sig", errors="replace") as f:
+        head = [ln.rstrip("\r\n") for _, ln in zip(range(layout.skip_lines + PREVIEW_LINES), f)][layout.skip_lines:]
+    try:
+        data = np.column_stack(read_columns(Path(path), skip_lines=layout.skip_lines, n_columns=width,
+                                            columns=list(range(width)), delimiter=layout.delimiter,
+                                            decimal=layout.decimal, name=name, column_names=layout.names,
+                                            first_line=layout.skip_lines + 1))
+    except LogFormatError:
+        # A line that is not numbers: the columns are named from the lines before it, and the reading with
+        # those names then says which line, which column and what text.
+        data = _rows_before_a_bad_line(path, layout, width)
+        if data is None:
+            raise
+    names, why = guess_columns(data, Path(name).name, head, header=header)
+    said = (f"the header's columns ({', '.join(header)}) name no sensor" if header else "no header row")
+    note = (f"{said}: {width} columns separated by {_DELIMITER_WORDS[layout.delimiter]}, {why}: "
+            f"{', '.join(names)} (give columns to read them otherwise)")
+    return dataclasses.replace(layout, names=names, notes=(note,) + layout.notes)
+
+
+def _rows_before_a_bad_line(path: Path, layout: Layout, width: int) -> np.ndarray | None:
+    """The numbers of the lines before the first that does not parse (None: fewer than 3)."""
+    rows = []
+    with open(path, encoding="utf-8-sig", errors="replace") as f:
+        for number, line in enumerate(f, start=1):
+            if number <= layout.skip_lines or not line.strip() or line.lstrip().startswith("#"):
+                continue
+            cells = split_row(line.rstrip("\r\n"), layout.delimiter)
+            try:
+                row = [float(c.replace(layout.decimal, ".")) for c in cells]
+            except ValueError:
+                break
+            if len(row) != width:
+                break
+            rows.append(row)
+    return np.array(rows) if len(rows) >= 3 else None
 
 
 CSV = "csv"

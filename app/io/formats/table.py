@@ -303,7 +303,7 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
             )
     except (pa.ArrowInvalid, pa.ArrowTypeError, UnicodeDecodeError):
         detail = first_bad_line(data, skip_lines, delimiter, decimal, columns, column_names or names, first_line)
-        raise LogFormatError(f"{name}: {detail}: every used column must hold numbers") from None
+        raise LogFormatError(f"{name}: {detail}: every used column must hold numbers", code=BAD_LINE) from None
     if table.num_rows == 0:
         raise LogFormatError(f"{name} has a header (line {first_line - 1}) but no data rows: add the samples below it")
     empty = np.zeros(table.num_rows, dtype=bool)
@@ -317,7 +317,7 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
             row = int(np.flatnonzero(arr.is_null().to_numpy(zero_copy_only=False) & ~empty)[0])
             raise LogFormatError(f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank "
                                  f"lines) has an empty value in column {(column_names or names)[c]!r}: fill or "
-                                 "remove that line")
+                                 "remove that line", code=BAD_LINE)
         arr = arr.to_numpy(zero_copy_only=False)
         arr = arr if c in integer_columns else arr.astype(float, copy=False)
         out.append(arr[~empty] if empty.any() else arr)
@@ -339,9 +339,13 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
             label = (column_names or names)[c]
             raise LogFormatError(
                 f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank lines) has an "
-                f"empty or non-finite value in column {label!r}: fill or remove that line"
+                f"empty or non-finite value in column {label!r}: fill or remove that line", code=BAD_LINE
             )
     return out
+
+
+BAD_LINE = "bad_line"
+"""The code of a refusal naming a line that is not numbers (its line, its column and its text)."""
 
 
 def _text_lines(data: bytes | Path):

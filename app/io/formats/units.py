@@ -21,7 +21,8 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import ACC_PHYSICAL_UNITS, LogData
 from ...calibration.gravity import STANDARD_GRAVITY
-from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, SENSOR_WORDS, Chip
+from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, SENSOR_WORDS, Chip
+from .gyro_unit import gyro_evidence
 
 LINEAR_FRACTION = 0.25
 """A log whose median norm is below this fraction of g holds no gravity (linear acceleration)."""
@@ -191,6 +192,7 @@ def settle_units(log: LogData, *, given: dict | None = None, stated: dict | None
     given, stated, chips = dict(given or {}), dict(stated or {}), dict(chips or {})
     notes: list[str] = []
     warns: list[str] = []
+    questions: list[dict] = []
     units = dict(log.units)
     arrays = {}
     for sensor, chip in chips.items():
@@ -201,12 +203,15 @@ def settle_units(log: LogData, *, given: dict | None = None, stated: dict | None
                                                   lsb_per_g, lsb_source, chips.get("acc"), notes, warns, name)
     if log.gyr is not None:
         arrays["gyr"], units["gyr"] = _settle_gyr(log.gyr, units.get("gyr"), _claim("gyr", given, stated, stated_by),
-                                                  chips.get("gyr"), notes, warns)
+                                                  chips.get("gyr"), notes, warns, questions,
+                                                  acc=arrays.get("acc", log.acc), fs=log.sampling_rate_hz,
+                                                  time_s=log.time_s)
     if log.mag is not None:
         arrays["mag"], units["mag"] = _settle_mag(log.mag, units.get("mag"), _claim("mag", given, stated, stated_by),
                                                   chips.get("mag"), check_mag, notes, warns)
     return dataclasses.replace(log, **arrays, units=units, notes=tuple(log.notes) + tuple(notes),
-                               warnings=tuple(log.warnings) + tuple(warns))
+                               warnings=tuple(log.warnings) + tuple(warns),
+                               questions=tuple(log.questions) + tuple(questions))
 
 
 def _refuse_scale_and_unit(sensor: str, claim: Claim, scale: str) -> None:
@@ -288,23 +293,49 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
     return acc, unit
 
 
-def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns):
+def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questions, *, acc=None, fs=None,
+                time_s=None):
     if chip is not None:
         _refuse_scale_and_unit("gyr", claim, f"chip {chip.name}")
         notes.append(f"gyroscope counts times {chip.scale:.6g} °/s per count (chip {chip.name}) into deg/s")
         return gyr * chip.scale, "deg/s"
-    # A still gyroscope reads near zero in any unit, so its magnitude tells nothing; but whole numbers
-    # are counts, and beyond 35 rad/s (2000 °/s) no rate sensor reads in rad/s.
-    whole = len(gyr) > 0 and _whole(gyr) and bool(np.any(gyr != 0))
-    peak = float(np.max(np.abs(gyr[:200_000]))) if len(gyr) else 0.0
-    if (claim.unit is None and whole) or (claim.unit == "rad/s" and whole and peak > 35.0):
-        if claim.unit is not None:
+    if len(gyr) == 0 or not np.any(gyr != 0):
+        return gyr, unit
+    whole = _whole(gyr)
+    peak = float(np.max(np.abs(gyr[:200_000])))
+    # Whole numbers are counts (beyond 35 rad/s, 2000 °/s, no rate sensor reads in rad/s): their scale, and
+    # else the unit, from what a MEMS gyroscope reads at rest and from the turns between rests (.gyro_unit).
+    if whole and claim.unit in ("deg/s", "rad/s") and not (claim.unit == "rad/s" and peak > 35.0):
+        whole = False  # a logger printing whole degrees per second, as its header says
+    ev = gyro_evidence(gyr, whole=whole, acc=acc, fs=fs, time_s=time_s)
+    if whole:
+        if claim.unit not in (None, "raw"):
             warns.append(f"{claim.words()} for the gyroscope, but its readings are whole numbers up to {peak:.0f}: "
                          "read as counts")
-        unit = "raw"
-    if unit == "raw":
+        if ev.unit is not None:
+            lsb = float(ev.unit[4:])
+            if claim.unit == "raw" and claim.by == "gyr_unit":
+                warns.append(f"the gyroscope's readings are counts (gyr_unit=raw): its figures are in counts; "
+                             f"{ev.words}: give chip=mpu6050-{GYR_RANGE[lsb][1:-4]}dps to have them in °/s")
+                return gyr, "raw"
+            warns.append(f"the gyroscope's readings are counts: {ev.words}, so they were divided by {lsb:g} into "
+                         "deg/s; give chip for another scale, or gyr_unit=raw to calibrate in counts")
+            return gyr / lsb, "deg/s"
         warns.append("the gyroscope's readings are counts: its figures are in counts; give chip (e.g. "
                      "mpu6050-250dps) or gyr_unit to have them in °/s")
+        return gyr, "raw"
+    if ev.unit is not None:
+        if claim.unit is not None and claim.unit != ev.unit:
+            warns.append(f"{claim.words()} for the gyroscope, but {ev.words}: read as {ev.unit}")
+        elif claim.unit is None:
+            notes.append(f"gyroscope unit {ev.unit} inferred from the data: {ev.words}")
+        return gyr, ev.unit
+    if claim.unit is not None:
+        return gyr, claim.unit
+    question = (f"the gyroscope's unit is not evident from its data ({ev.words}): its figures were read as "
+                f"{unit}, which may be wrong by a factor of 57; give gyr_unit (rad/s or deg/s)")
+    warns.append(question)
+    questions.append({"sensor": "gyr", "detail": question})
     return gyr, unit
 
 

@@ -1,0 +1,85 @@
+"""Over HTTP, with real recordings: a headerless table's columns from its data (or a 422 asking which, with
+the candidates), the gyroscope's unit from its data (or not ok, asking), a bad line named first."""
+
+from __future__ import annotations
+
+import io
+import math
+
+import numpy as np
+
+from tests.conftest import DATA
+
+CORPUS = DATA / "real" / "corpus"
+STILL = CORPUS / "mpu6050_still_gyro_counts_headerless" / "imu_static_test_cols456.csv"
+QMC = CORPUS / "qmc5883l_turn_headerless" / "qmc5883l_turn.csv"
+FS = 100.0
+
+
+def _upload(client, name: str, content: bytes, **form):
+    return client.post("/api/v1/recordings", files={"file": (name, content, "text/csv")},
+                       data={k: str(v) for k, v in form.items()})
+
+
+def _table(header: str | None, values: np.ndarray, rate: float) -> bytes:
+    buf = io.StringIO()
+    if header:
+        buf.write(header + "\n")
+    np.savetxt(buf, np.column_stack([np.arange(len(values)) / rate, values]), delimiter=",", fmt="%.6f")
+    return buf.getvalue().encode()
+
+
+def test_ambiguous_columns_are_a_422_naming_each_reading_and_its_columns(client):
+    r = _upload(client, STILL.name, STILL.read_bytes(), sampling_rate_hz=100)
+    assert r.status_code == 422
+    body = r.json()
+    assert body["code"] == "columns_ambiguous" and "can be read more than one way" in body["detail"]
+    assert [c["columns"] for c in body["candidates"]] == ["gyr_x,gyr_y,gyr_z", "mag_x,mag_y,mag_z"]
+    assert body["preview"][0] == "-480,193,-83"
+    chosen = _upload(client, STILL.name, STILL.read_bytes(), sampling_rate_hz=100,
+                     columns=body["candidates"][0]["columns"])
+    assert chosen.status_code == 201, chosen.text
+    assert chosen.json()["channels"] == ["gyr"] and chosen.json()["units"] == {"gyr": "raw"}
+
+
+def test_the_issue_s_still_gyroscope_in_deg_s_is_calibrated_in_deg_s(client):
+    # A still MPU-6050 logged in °/s (the real counts ÷ 131), header naming the axes, no unit: its bias is the
+    # offset in °/s (3.5 °/s), not the same number in rad/s (200 °/s).
+    dps = np.loadtxt(STILL, delimiter=",") / 131.0
+    for header in ("t,gyr_x,gyr_y,gyr_z", None):
+        r = _upload(client, "still.csv", _table(header, dps, FS))
+        assert r.status_code == 201, r.text
+        rec = r.json()
+        assert rec["channels"] == ["gyr"] and rec["units"] == {"gyr": "deg/s"} and rec["questions"] == []
+        cal = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"]})
+        assert cal.status_code == 201, cal.text
+        gyr = cal.json()["model"]["gyr"]  # the noise method's figures are in SI units
+        assert gyr["unit"] == "rad/s"
+        np.testing.assert_allclose(gyr["bias"], np.radians(np.mean(dps, axis=0)), atol=2e-4)
+
+
+def test_a_gyroscope_whose_unit_nothing_decides_is_not_ok_and_asked_about(client):
+    rng = np.random.default_rng(8)
+    gyr = np.array([0.2, -0.2, 0.1]) + rng.normal(0, 0.003 * math.sqrt(FS), (3000, 3))
+    r = _upload(client, "g.csv", _table("t,gyr_x,gyr_y,gyr_z", gyr, FS))
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    assert rec["questions"][0]["sensor"] == "gyr"
+    cal = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"]})
+    assert cal.status_code == 201, cal.text
+    body = cal.json()
+    assert body["ok"] is False and body["reasons"][0].startswith("the gyroscope's unit is not evident from its data")
+    said = _upload(client, "g.csv", _table("t,gyr_x,gyr_y,gyr_z", gyr, FS), gyr_unit="deg/s")
+    assert said.json()["questions"] == [] and said.json()["units"] == {"gyr": "deg/s"}
+
+
+def test_a_compass_without_a_header_is_read_as_a_magnetometer(client):
+    r = _upload(client, "log.csv", _table(None, np.loadtxt(QMC, delimiter=",") / 3000.0, 5.0))
+    assert r.status_code == 201, r.text
+    assert r.json()["channels"] == ["mag"] and r.json()["units"] == {"mag": "uT"}
+
+
+def test_a_bad_line_is_named_first_with_its_own_code(client):
+    r = _upload(client, "b.csv", b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n", sampling_rate_hz=100)
+    assert r.status_code == 422 and r.json()["code"] == "bad_line"
+    assert "line 3, column 'acc_y': 'abc' is not a number" in r.json()["detail"]
