@@ -85,6 +85,10 @@ def sensor_from_name(filename: str) -> str | None:
     return found.pop() if len(found) == 1 else None
 
 
+UNNAMED_COLUMNS = {3: ["x", "y", "z"], 4: ["time", "x", "y", "z"]}
+"""The columns of a file named for one sensor whose rows carry no names: its x, y, z (after its time)."""
+
+
 def per_sensor_files(names: list[str]) -> dict[str, str] | None:
     """The sensor of each file when the names make the files one recording per sensor, else None.
 
@@ -103,7 +107,7 @@ def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] |
     is not a table trical reads as one (a zip, a table it cannot lay out). A JSON array of samples is the table
     it becomes (:mod:`app.io.formats.json_samples`)."""
     from .formats import json_samples
-    from .formats.generic_csv import HEADERLESS_NAMES, map_columns, table_layout
+    from .formats.generic_csv import map_columns, table_layout
     from .formats.table import SNIFF_BYTES, decode_head, split_row
 
     with open(path, "rb") as f:
@@ -112,7 +116,7 @@ def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] |
         text = decode_head(head, name)
         if text.lstrip()[:1] in ("[", "{"):
             header, rows, _ = json_samples.to_table(json.loads(path.read_bytes().decode("utf-8-sig")), name)
-            names = header or HEADERLESS_NAMES.get(len(rows[0]))
+            names = header or UNNAMED_COLUMNS.get(len(rows[0]))
             if names is None:
                 return None
             time_col = map_columns(names)[1]

@@ -27,6 +27,7 @@ import numpy as np
 from ..errors import LogFormatError
 from ...calibration.plausible import GYRO_BIAS_MAX_DPS
 from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS, SENSOR_WORDS
+from .units import turn_field
 
 SENSORS = ("acc", "gyr", "mag")
 NAME_WORDS = {
@@ -145,12 +146,15 @@ def triple_sensors(x: np.ndarray) -> set[str]:
         out.add("acc")
     # Magnetometer: the Earth's field (the sphere's radius when turned, free of the hard iron).
     field = rest_norm
+    on_shell = True
     if moved:
-        lo, hi = np.percentile(x, [1, 99], axis=0)
-        half = (hi - lo) / 2.0
-        if half.min() > 0.3 * half.max():
-            field = float(half.mean())
-    fits_field = _near(field, FIELD_REST.values()) or (whole and MAG_COUNTS[0] <= field <= MAG_COUNTS[1])
+        # Turned: the field is the half-range of a shell of readings about the hard iron (.units.turn_field);
+        # readings that swing through a ball (a gyroscope turned every way) hold no field.
+        turned_field = turn_field(x)
+        on_shell = turned_field is not None
+        if on_shell:
+            field = turned_field
+    fits_field = on_shell and (_near(field, FIELD_REST.values()) or (whole and MAG_COUNTS[0] <= field <= MAG_COUNTS[1]))
     if fits_field and not (whole and "acc" in out) and (not moved or not one_rest):
         out.add("mag")
     # Gyroscope: an offset a MEMS part can have, the same at every rest, swinging only between rests.
@@ -211,6 +215,25 @@ def _layouts(values: np.ndarray) -> list[tuple[int | None, int | None, list[int]
     return sorted(out, key=lambda lay: (lay[0] is None, lay[1] is not None))
 
 
+def _readings(width: int, time_col: int | None, temp_col: int | None, firsts: list[int],
+              kinds: list[set[str]]) -> list[tuple[list[str], str]]:
+    """Every reading of a layout's columns in which each triple is one of the sensors it can be, none twice:
+    the names, one per column, and the sensors in words."""
+    out = []
+    for assign in itertools.product(*[sorted(k, key=SENSORS.index) for k in kinds]):
+        if len(set(assign)) != len(assign):
+            continue
+        names = ["-"] * width
+        if time_col is not None:
+            names[time_col] = "time"
+        if temp_col is not None:
+            names[temp_col] = "temp_c"
+        for first, sensor in zip(firsts, assign):
+            names[first:first + 3] = [f"{sensor}_{a}" for a in "xyz"]
+        out.append((names, ", ".join(SENSOR_WORDS[s] for s in assign)))
+    return out
+
+
 def guess_columns(values: np.ndarray, name: str, lines: list[str],
                   header: list[str] | None = None) -> tuple[list[str], str]:
     """One name per column (as the ``columns`` field takes them) and the words saying why.
@@ -235,23 +258,20 @@ def guess_columns(values: np.ndarray, name: str, lines: list[str],
     """
     said = name_sensor(name)
     readings: list[tuple[list[str], str]] = []
+    guesses: list[tuple[list[str], str]] = []
     for time_col, temp_col, firsts in _layouts(values):
         kinds = [triple_sensors(values[:, c:c + 3]) for c in firsts]
         if said is not None and len(firsts) == 1 and not kinds[0]:
             kinds = [{said}]
-        for assign in itertools.product(*[sorted(k, key=SENSORS.index) for k in kinds]):
-            if len(set(assign)) != len(assign):
-                continue
-            names = ["-"] * values.shape[1]
-            if time_col is not None:
-                names[time_col] = "time"
-            if temp_col is not None:
-                names[temp_col] = "temp_c"
-            for first, sensor in zip(firsts, assign):
-                names[first:first + 3] = [f"{sensor}_{a}" for a in "xyz"]
-            readings.append((names, ", ".join(SENSOR_WORDS[s] for s in assign)))
+        readings = _readings(values.shape[1], time_col, temp_col, firsts, kinds)
         if readings:
             break  # the first layout (with a time column, without a temperature) that fits any reading
+        if not guesses and sum(not k for k in kinds) == 1 and len(firsts) > 1:
+            # One triple the data name nothing for beside triples they name: the sensors left over are a
+            # guess by elimination, which is asked, never taken (a gyroscope turned every way reads neither
+            # a rest nor a shell).
+            left = set(SENSORS) - set().union(*kinds)
+            guesses = _readings(values.shape[1], time_col, temp_col, firsts, [k or left for k in kinds])
     by_name = False
     if said is not None and len(readings) > 1:
         named = [r for r in readings if f"{said}_x" in r[0]]
@@ -262,16 +282,23 @@ def guess_columns(values: np.ndarray, name: str, lines: list[str],
         return names, f"read from the data as {words}" + (f" (and the file's name, {name})" if by_name else "")
     what = (f"the header row of {name} names no sensor ({', '.join(header)})," if header
             else f"{name} has no header row")
+    if not readings and guesses:
+        candidates = [{"sensors": words, "columns": ",".join(names)} for names, words in guesses[:MAX_CANDIDATES]]
+        raise ColumnsAmbiguous(
+            f"{what}; its columns read as "
+            + "; or ".join(f"{c['sensors']} (columns={c['columns']})" for c in candidates)
+            + " only by elimination (one set of three reads as no sensor on its own): say which, with `columns`",
+            candidates, lines[:PREVIEW_LINES])
     if not readings:
         raise LogFormatError(
             f"{what} and its {values.shape[1]} columns read as no accelerometer, gyroscope or "
             "magnetometer (three columns each, with a time and a temperature column or not): name them, one per "
-            "column in order, with the upload field columns (--columns), e.g. "
+            "column in order, with `columns`, e.g. "
             "columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips a column)")
     shown = readings[:MAX_CANDIDATES]
     candidates = [{"sensors": words, "columns": ",".join(names)} for names, words in shown]
     raise ColumnsAmbiguous(
         f"{what} and its columns can be read more than one way: "
         + "; ".join(f"{c['sensors']} (columns={c['columns']})" for c in candidates)
-        + ": say which, with the upload field columns (--columns)",
+        + ": say which, with `columns`",
         candidates, lines[:PREVIEW_LINES])

@@ -37,6 +37,12 @@ MOVE_MAX_S = 30.0
 """A move longer than this is not integrated (the offset's drift would weigh in)."""
 TURN_TOLERANCE_DEG = 10.0
 """The right scale lands within this (or a quarter of the turn) of the next rest's direction."""
+FIRM_FACTOR = 3.0
+"""An offset this many times beyond what a MEMS gyroscope reads rules a unit out even at a rest the
+accelerometer does not confirm (4.5 read as rad/s: 258 °/s, 8.6 times the limit)."""
+MIN_REST_S = 1.0
+"""The shortest rest whose offset and noise are read (a second: fifty half-second blocks' worth of a
+detector that cuts every knock)."""
 NOISE_TAU_S = 0.1
 """The averaging time at which the white rate noise is read."""
 MIN_DISTINCT = 10
@@ -68,6 +74,11 @@ class GyroEvidence:
     offset: float
     turn_errors: dict
     moves: int
+    firm: bool = True
+    """Whether the evidence may overrule a unit the header or the caller stated: the turns between rests,
+    or an offset read at a rest the accelerometer confirms (or beyond :data:`FIRM_FACTOR` times what a part
+    reads). A rest found on the gyroscope alone may be a steady turn, and a hand never quite still reads a
+    noise no MEMS part has: such evidence decides only where nothing states the unit."""
 
 
 def _mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -170,15 +181,19 @@ def gyro_evidence(gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: f
     scales = candidates(whole)
     ref = acc if acc is not None and len(acc) == len(gyr) else None
     runs = still_runs(ref if ref is not None else gyr, fs or 100.0) if len(gyr) >= 20 else [(0, len(gyr))]
-    runs = [r for r in runs if r[1] - r[0] >= 10] or [(0, len(gyr))]
+    least = max(10, int(round(MIN_REST_S * (fs or 100.0))))
+    runs = [r for r in runs if r[1] - r[0] >= least]
+    if not runs:  # never still for a second: neither an offset nor a noise to read, nor turns between rests
+        return GyroEvidence(None, f"it never rests for {MIN_REST_S:g} s, so neither its offset nor its noise "
+                                  "shows its unit", math.nan, {}, 0, False)
     longest = max(runs, key=lambda r: r[1] - r[0])
     offset, noise = rest_figures(gyr, longest, fs)
     off = float(np.linalg.norm(offset))
     lo_noise, hi_noise = GYR_NOISE_RANGE_DPS_RTHZ
-    plausible, said = {}, {}
+    plausible, said, by_offset = {}, {}, {}
     for key, k in scales.items():
         off_dps = off * k / DEG
-        ok = off_dps <= GYRO_BIAS_MAX_DPS
+        ok = by_offset[key] = off_dps <= GYRO_BIAS_MAX_DPS
         words = f"a still offset of {off:.3g} is {off_dps:.3g} °/s in {unit_words(key)}"
         if noise is not None and not whole:
             n_dps = noise * k / DEG
@@ -204,9 +219,12 @@ def gyro_evidence(gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: f
     left = [k for k, ok in plausible.items() if ok]
     if len(left) == 1 and not whole:
         gone = next(k for k in scales if k not in left)
+        by_offset_alone = sum(by_offset.values()) == 1
+        far = off * scales[gone] / DEG > FIRM_FACTOR * GYRO_BIAS_MAX_DPS
+        firm = by_offset_alone and (ref is not None or far)
         return GyroEvidence(left[0], f"{said[gone]}, beyond what a MEMS gyroscope reads (an offset within "
                                      f"{GYRO_BIAS_MAX_DPS:g} °/s, a noise within {lo_noise:g}–{hi_noise:g} °/s/√Hz)",
-                            off, errors, moves)
+                            off, errors, moves, firm)
     return GyroEvidence(None, f"a still offset of {off:.3g}" + (f" and a noise of {noise:.2g} per √Hz" if noise else "")
                         + " fit " + " and ".join(unit_words(k) for k in left or scales)
                         + (", and no turn between rests shows its scale" if not errors else

@@ -324,6 +324,10 @@ def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questi
         warns.append("the gyroscope's readings are counts: its figures are in counts; give chip (e.g. "
                      "mpu6050-250dps) or gyr_unit to have them in °/s")
         return gyr, "raw"
+    if ev.unit is not None and claim.unit is not None and claim.unit != ev.unit and not ev.firm:
+        notes.append(f"{claim.words()} for the gyroscope; its quietest stretch would rather say {ev.unit} "
+                     f"({ev.words}), but no accelerometer confirms that it was still: read as {claim.unit}")
+        return gyr, claim.unit
     if ev.unit is not None:
         if claim.unit is not None and claim.unit != ev.unit:
             warns.append(f"{claim.words()} for the gyroscope, but {ev.words}: read as {ev.unit}")
