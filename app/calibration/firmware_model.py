@@ -32,7 +32,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.linalg import polar
-from scipy.optimize import least_squares, minimize
 from scipy.spatial.transform import Rotation
 
 from .errors import CalibrationError
@@ -138,6 +137,8 @@ def fit_offset_scale(means, gravity: float, offset0, scale0) -> tuple[np.ndarray
     def residual(p):
         return (np.linalg.norm((m - p[:3]) * p[3:], axis=1) - g) / g
 
+    from scipy.optimize import least_squares  # here: scipy.optimize takes ~0.5 s to import, for exports only
+
     fit = least_squares(residual, np.r_[np.asarray(offset0, float), np.asarray(scale0, float)], method="lm",
                         x_scale=np.r_[np.full(3, g), np.ones(3)], xtol=1e-14, ftol=1e-14, gtol=1e-14)
     if not fit.success or not np.all(np.isfinite(fit.x)):
@@ -160,6 +161,8 @@ def _worst_direction(error) -> float:
     grid = _sphere()
     values = error(grid)
     best = float(values.max())
+    from scipy.optimize import minimize  # here, as least_squares above
+
     for start in grid[np.argsort(values)[-5:]]:
         found = minimize(lambda u: -error((u / np.linalg.norm(u))[None, :])[0], start, method="Nelder-Mead",
                          options={"xatol": 1e-10, "fatol": 1e-14, "maxiter": 2000})
