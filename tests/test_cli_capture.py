@@ -38,7 +38,7 @@ def board_script(seed: int, first_s: float, still_s: float, turn_s: float) -> li
     def line(f, w, m):
         return "Uni:" + ",".join(f"{v:.4f}" for v in [*f, *w, *m])
 
-    mag = np.array([22.0, -5.0, 41.0])
+    mag = np.array([22.0, -5.0, 41.0])  # its noise on every line: a magnetometer never reads the same value for long
     for k, up in enumerate(UPS):
         f_true = G0 * np.asarray(up, dtype=float)
         n = int((first_s if k == 0 else still_s) * RATE_HZ)
@@ -57,11 +57,11 @@ def board_script(seed: int, first_s: float, still_s: float, turn_s: float) -> li
                 theta = angle * (i + 1) / (steps + 1)
                 d = G0 * (np.cos(theta) * a + np.sin(theta) * perp)
                 f = X_TRUE @ d + Y_TRUE + rng.normal(0, 0.6, 3)
-                lines.append(line(f, GYR_BIAS + rng.normal(0, 0.3, 3) + np.array([0, 2.5, 0]), mag))
+                lines.append(line(f, GYR_BIAS + rng.normal(0, 0.3, 3) + np.array([0, 2.5, 0]), mag + rng.normal(0, 0.3, 3)))
     # the board keeps resting in its last pose after the protocol is done
     for _ in range(int(6 * RATE_HZ)):
         f = X_TRUE @ (G0 * np.asarray(UPS[-1], dtype=float)) + Y_TRUE + rng.normal(0, 0.02, 3)
-        lines.append(line(f, GYR_BIAS + rng.normal(0, 0.002, 3), mag))
+        lines.append(line(f, GYR_BIAS + rng.normal(0, 0.002, 3), mag + rng.normal(0, 0.3, 3)))
     return lines
 
 
