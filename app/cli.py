@@ -144,8 +144,9 @@ def _add_autocal(sub) -> None:
 def _add_noise(sub) -> None:
     """``trical noise``: a still recording's Allan deviation."""
     n = sub.add_parser("noise", help="noise density, random walk and bias instability of a still recording (Allan deviation)")
-    n.add_argument("path", type=opt.input_path("a still recording"), help=".npy (N×3 with --sensor, or N×4 with time first), "
-                   "Parquet, CSV or any log format trical reads")
+    n.add_argument("path", type=opt.input_path("a still recording"), nargs="+",
+                   help=".npy (N×3 with --sensor, or N×4 with time first), Parquet, CSV or any log format trical "
+                        "reads; several files, one per sensor (accelerometer.csv gyroscope.csv), are one recording")
     n.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
     n.add_argument("--sensor", choices=tuple(UNITS), default=None,
                    help="the sensor a three-column array holds (default acc); with a log: characterise only this one")
@@ -553,7 +554,12 @@ def _print_folder_table(bodies: list[dict]) -> None:
 
 
 def _noise(args, settings: Settings) -> int:
-    array = args.path.suffix.lower() in (".npy", ".parquet", ".pq")
+    with tempfile.TemporaryDirectory(prefix="trical-") as tmp:
+        return _noise_of(args, settings, _one_recording(args.path, Path(tmp)), ", ".join(p.name for p in args.path))
+
+
+def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
+    array = path.suffix.lower() in (".npy", ".parquet", ".pq")
     sensor = args.sensor or "acc"
     units = {}
     if args.unit:
@@ -562,15 +568,16 @@ def _noise(args, settings: Settings) -> int:
         units = {sensor: args.unit}
     read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
     # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
-    clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(args.path) else "imu"
-    log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=str(args.path),
+    clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
+    name = str(args.path[0]) if len(args.path) == 1 else label
+    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=name,
                             columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance,
                             mag_instance=args.mag_instance, clock=clock)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
     body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
                                      array_sensor=sensor if array else None, device_id=args.device_id,
-                                     label=args.path.name)
+                                     label=label)
     from app.io.allan_plot import allan_svg
 
     return _finish(args, settings, body, plot=allan_svg, summary=_print_noise)

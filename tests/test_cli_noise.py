@@ -61,3 +61,17 @@ def test_noise_of_a_serial_log_stamped_by_the_host_and_the_rate_option(tmp_path)
     r = _run(path, "--sensor", "gyr", "--unit", "deg/s", "--sampling-rate-hz", 100, "--json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     assert json.loads(r.stdout)["sampling_rate_hz"] == 100.0
+
+
+def test_noise_of_one_recording_in_a_file_per_sensor_is_of_both_and_refused_when_the_phone_moved(tmp_path):
+    """A real phyphox recording written one file per sensor (tests/data/real/corpus/phyphox_per_sensor_files): the
+    two files are one recording of both sensors; the phone was in the hand, and its accelerometer's noise density
+    (16.8 mg/√Hz) is no MEMS part's, so the figures are not to be used, saying the device was not still."""
+    from tests.real_corpus import CORPUS
+
+    folder = CORPUS / "phyphox_per_sensor_files"
+    r = _run(folder / "Accelerometer.csv", folder / "Gyroscope.csv", "--json", cwd=tmp_path)
+    assert r.returncode == 3, r.stderr  # trical noise and temperature end with 3 when the figures are not ok
+    body = json.loads(r.stdout)
+    assert sorted(body["model"]) == ["acc", "gyr", "type"] and body["label"] == "Accelerometer.csv, Gyroscope.csv"
+    assert body["ok"] is False and any("not still" in x for x in body["reasons"]), body["reasons"]

@@ -202,7 +202,8 @@ def _cause(fig: PhysicalFigure, limits) -> str:
     if fig.unit == "raw" and fig.kind == "noise_density":
         return (f"these readings are not counts (whole numbers): give {option} the unit they are in "
                 f"({' or '.join(ALTERNATIVES.get(fig.sensor, ()))})")
-    fits = _misread_as(fig, limits) if fig.kind != "scale" else []
+    # A unit it was not read in: "give m/s²" for readings read in m/s² would send the person round in a circle.
+    fits = [u for u in _misread_as(fig, limits) if u != fig.unit] if fig.kind != "scale" else []
     if fits:
         return (f"the readings fit a MEMS {word} in {' or '.join(UNIT_WORDS[u] for u in fits)}, not in the unit "
                 f"they were read in: give {option} {fits[0]}")
@@ -210,8 +211,10 @@ def _cause(fig: PhysicalFigure, limits) -> str:
         return (f"the {word}'s readings are not in the unit they were read in (a range or unit a factor of 2 "
                 f"or more off): give {option} (or its chip, for counts), and check that the columns are the "
                 f"{word}'s")
+    moved = (" — or the device was not still: a noise is read from a recording at rest, on a table, untouched"
+             if fig.kind == "noise_density" else "")
     return (f"check that the columns are the {word}'s (not another sensor's), that {option} is its unit, and "
-            "for counts the chip and its range")
+            f"for counts the chip and its range{moved}")
 
 
 MARK = "which no MEMS part reads"
