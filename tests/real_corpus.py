@@ -15,7 +15,7 @@ A case folder holds the data (excerpts of public recordings, verbatim) and ``cas
      "reference": "what the peer, the firmware or the maker says, and where"}
 
 Used by ``tests/api/test_real_corpus.py`` (the upload over HTTP, as the page sends it) and the property
-test of the plausibility gate; ``python -m tests.real_corpus`` prints the table of cases.
+test of the plausibility gate; ``python -m tests.real_corpus`` writes the corpus's README (its table of cases).
 """
 
 from __future__ import annotations
@@ -88,19 +88,46 @@ def at(body, path: str):
     return value
 
 
+def _answer(spec: dict) -> str:
+    """What trical must answer, in a few words: the calibration's status and ok, else the upload's."""
+    exp = spec.get("expect") if "calibrate" in spec else spec.get("upload", {})
+    said = f"{exp.get('status', '')}" + (f" ok={str(exp['ok']).lower()}" if "ok" in exp else "")
+    return said + (f" {exp['code']}" if exp.get("code") else "")
+
+
 def table() -> str:
-    """The corpus as a Markdown table: case, device, files, method, what trical must answer, reference."""
-    rows = ["| case | device | files | method | expected | reference |", "| --- | --- | --- | --- | --- | --- |"]
+    """The corpus as a Markdown table (tests/data/real/corpus/README.md): case, device, files, what trical is
+    asked and must answer, the reference, and the source with its commit and licence."""
+    rows = ["| case | device | files | asked | must answer | reference | source (repository, path, commit) | licence |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for c in cases():
-        s = c.spec
-        method = s.get("calibrate", {}).get("method", "—")
-        exp = s.get("expect", s.get("upload", {}))
-        said = f"{exp.get('status', '')}" + (f" ok={exp['ok']}" if "ok" in exp else "") + \
-            (f" {exp['code']}" if exp.get("code") else "")
-        rows.append(f"| {c.name} | {s.get('device', '')} | {', '.join(s.get('files', []))} | {method} | {said} "
-                    f"| {s.get('reference', '')} |")
+        s, src = c.spec, c.spec.get("source", {})
+        method = s.get("calibrate", {}).get("method", "upload")
+        cells = [c.name, s.get("device", ""), ", ".join(s.get("files", [])), method, _answer(s), s.get("reference", ""),
+                 f"{src.get('repository', '')}, {src.get('path', '')}, {src.get('commit', '')}", src.get("licence", "")]
+        rows.append("| " + " | ".join(str(x).replace("|", "\\|").replace("\n", " ") for x in cells) + " |")
     return "\n".join(rows)
 
 
+README_HEAD = """# The corpus of real recordings
+
+Public recordings of real phones, boards and flight controllers, kept as excerpts with their source, each with
+what trical must answer: the peer's, the maker's or the firmware's own figure where there is one, else the right
+question or refusal. `tests/api/test_real_corpus.py` sends every case through the upload as the page does and
+checks that answer; `tests/api/test_plausible_mistakes.py` reads them again with the mistakes a person can make
+(a wrong unit, chip or columns) and `tests/api/test_page_words.py` reads every message they give as the page
+shows it. Each folder's `case.json` holds the case; what each was found to answer before trical read it right,
+and why, is in [FINDINGS.md](FINDINGS.md). This page is made by `python -m tests.real_corpus` (a test checks
+it is up to date).
+
+"""
+
+
+def readme() -> str:
+    """The corpus's README: its head and :func:`table`."""
+    return README_HEAD + table() + "\n"
+
+
 if __name__ == "__main__":
+    (CORPUS / "README.md").write_text(readme(), encoding="utf-8")
     print(table())

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.real_corpus import at, cases, problems
+from tests.real_corpus import CORPUS, at, cases, problems, readme
 
 CASES = cases()
 
@@ -17,6 +17,10 @@ def test_the_corpus_holds_real_cases_each_with_its_source_and_expectation():
     assert len(CASES) >= 1
     bad = {c.name: problems(c) for c in CASES if problems(c)}
     assert not bad, bad
+
+
+def test_the_corpus_readme_is_its_cases_table():
+    assert (CORPUS / "README.md").read_text(encoding="utf-8") == readme(), "run python -m tests.real_corpus"
 
 
 def _contains_all(texts: list[str], wanted: list[str], what: str) -> None:
