@@ -50,6 +50,22 @@ def compass_rests(log: LogData, segments: list[dict]) -> list[tuple]:
             if seg["end"] > seg["start"]]
 
 
+def inline_mag(mag: np.ndarray, notes: list[str]) -> tuple[np.ndarray, str]:
+    """A request's inline magnetometer readings in µT, or in counts (``raw``), as the field they show says
+    (app.io.formats.units, as an upload's): a board's compass page sends its counts as they are."""
+    from app.io.formats.chips import GAUSS_UT
+    from app.io.formats.units import field_magnitude, infer_mag_unit
+
+    inferred = infer_mag_unit(mag)
+    if inferred in (None, "uT"):
+        return mag, "uT"
+    field = field_magnitude(mag)
+    words = "counts" if inferred == "raw" else inferred
+    notes.append(f"the readings show a field of {field:.4g}, which is {words}: "
+                 + ("calibrated in counts" if inferred == "raw" else "converted into µT"))
+    return (mag, "raw") if inferred == "raw" else (mag * {"gauss": GAUSS_UT, **MAG_TO_UT}[inferred], "uT")
+
+
 def magnetometer(request, recording: RecordingSource | None) -> dict:
     """Method ``magnetometer``: inline readings or a recording, referenced to the field given, the Earth's at
     a place, or estimated."""
@@ -59,7 +75,7 @@ def magnetometer(request, recording: RecordingSource | None) -> dict:
     rests: list = []
     unit = "uT"
     if recording is None:
-        mag = np.asarray(request.mag, dtype=float)
+        mag, unit = inline_mag(np.asarray(request.mag, dtype=float), notes)
         source = {}
     else:
         log = recording.read(clock="mag")  # a flight controller's compass on its own clock

@@ -230,10 +230,14 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     # the lines were read (seen 15.1 counts under two busy loops, a few on a quiet machine): within 25
     # counts of the maker's fit on the whole turn (the offset is about 6200 counts).
     assert np.max(np.abs(b - offset)) < 25, (b, offset)
-    # The board prints counts, not µT: ArduPilot refuses offsets beyond its range, and the page says so
-    # in the list of formats (the browser logs the refused export).
-    assert refused == ["format=ardupilot"] and "ArduPilot would not accept this compass calibration" in page.text_content("#downloads")
-    assert len(page.errors) == 1 and "422" in page.errors[0]
+    # The board prints counts, not µT (the calibration says so: its unit is read from the field its readings
+    # show): a flight controller's file is refused, naming the scale to give, and the page says so in the list
+    # of formats (the browser logs the refused exports).
+    body = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}").json()
+    assert body["output_unit"] == "raw" and body["ok"] is True
+    assert sorted(refused) == ["format=ardupilot", "format=px4"], refused
+    assert page.text_content("#downloads").count("this calibration maps readings in counts") == 2
+    assert len(page.errors) == 2 and all("422" in e for e in page.errors)
 
 
 def test_noise_of_a_still_board(desk, server):
