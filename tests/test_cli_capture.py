@@ -177,7 +177,9 @@ def finish(proc, timeout_s: float):
 
 def test_six_poses_captured_calibrated_and_sent(tmp_path, pty_board):
     port, make = pty_board
-    board = make(board_script(23, first_s=4.5, still_s=3.0, turn_s=0.7))
+    # Rests of 4 s leave room for a capture refused when a burst of late lines brings the turn into its window
+    # (a loaded machine) to start again within the same rest.
+    board = make(board_script(23, first_s=4.5, still_s=4.0, turn_s=0.7))
     log = tmp_path / "board.csv"
     proc, first = start_capture(tmp_path, port, "--protocol", "six", "--capture-s", "0.5", "--out", str(log),
                                 "--send", "--json", "--minutes", "1", steps_on="stderr")
