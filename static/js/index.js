@@ -150,7 +150,8 @@ function showSegments(rec) {
   const files = parts.length ? ` of ${parts.length} files` : "";
   note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}${files}: calibrating…`
     : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
-      : `The ${rec.channels.join(" and ")} alone, ${rate}${files}: nothing to calibrate from its poses…`);
+      : `The ${rec.channels.map((c) => (TABLES.sensorWords[c] || c).toLowerCase()).join(" and ")} alone, ${rate}${files}: `
+        + "nothing to calibrate from its poses…");
   // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
   // file gave which sensor when they are one per sensor, merged onto one clock).
   const several = parts.length > 0 || $("#log-file").files.length > 1;
