@@ -24,6 +24,7 @@ from pathlib import Path, PurePosixPath
 import numpy as np
 
 from .errors import LogFormatError
+from .formats.kinds import TEXT_SUFFIXES
 from .log import LogData
 
 MAX_PARTS = 200
@@ -74,7 +75,7 @@ def pose_from_name(filename: str) -> str | None:
     str or None
     """
     stem = PurePosixPath(str(filename).replace("\\", "/")).name.lower()
-    for suffix in (".gz", ".csv", ".txt", ".tsv", ".log", ".dat"):
+    for suffix in (".gz", *TEXT_SUFFIXES):
         stem = stem.removesuffix(suffix)
     found = set()
     for match in _SIGNED.finditer(stem):
@@ -90,7 +91,7 @@ def pose_from_name(filename: str) -> str | None:
 
 # -- reading and joining the parts ----------------------------------------------------------------
 
-LOG_SUFFIXES = ("", ".csv", ".txt", ".tsv", ".log", ".dat", ".json", ".npy", ".parquet", ".pq")
+LOG_SUFFIXES = ("", *TEXT_SUFFIXES, ".npy", ".parquet", ".pq")
 """Members of a zip of pose files that are read; anything else (a photo, a README) is left out with a note."""
 
 SKIPPED_MEMBERS = ("__macosx/", ".ds_store", "thumbs.db", "desktop.ini")

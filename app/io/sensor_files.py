@@ -31,6 +31,7 @@ from pathlib import Path, PurePosixPath
 import numpy as np
 
 from .errors import LogFormatError
+from .formats.kinds import TEXT_SUFFIXES
 from .formats.timing import with_timing
 from .log import LogData
 
@@ -43,7 +44,7 @@ SENSOR_WORDS = {
             "magneticfield", "compass", "hmc", "qmc", "ak", "mmc", "lis3mdl", "bmm"),
 }
 """Words of a file's name that name the one sensor it holds (a chip's family counts: ``hmc5883l``)."""
-_SUFFIXES = (".gz", ".csv", ".txt", ".tsv", ".log", ".dat", ".json")
+_SUFFIXES = (".gz", *TEXT_SUFFIXES)
 MAX_MISSING_FRACTION = 0.5
 """More of the clock's samples than this fraction without every other sensor around them: the files are
 not one recording (or their clocks differ), and they are refused."""
@@ -108,7 +109,7 @@ def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] |
     it becomes (:mod:`app.io.formats.json_samples`)."""
     from .formats import json_samples
     from .formats.generic_csv import map_columns, table_layout
-    from .formats.table import SNIFF_BYTES, decode_head, split_row
+    from .formats.table import SNIFF_BYTES, decode_head, is_comment, split_row
 
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
@@ -127,7 +128,7 @@ def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] |
         return None
     raw: list[float] = []
     if time_col is not None:
-        lines = [ln for ln in text.splitlines()[layout.skip_lines:] if ln.strip() and not ln.lstrip().startswith("#")]
+        lines = [ln for ln in text.splitlines()[layout.skip_lines:] if ln.strip() and not is_comment(ln)]
         try:
             raw = [float(split_row(ln, layout.delimiter)[time_col].replace(layout.decimal, ".")) for ln in lines[:2]]
         except (ValueError, IndexError):

@@ -503,7 +503,7 @@ def _rows_before_a_bad_line(path: Path, layout: Layout, width: int) -> np.ndarra
     rows = []
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         for number, line in enumerate(f, start=1):
-            if number <= layout.skip_lines or not line.strip() or line.lstrip().startswith("#"):
+            if number <= layout.skip_lines or not line.strip() or is_comment(line):
                 continue
             cells = split_row(line.rstrip("\r\n"), layout.delimiter)
             try:
@@ -539,7 +539,7 @@ def rate_from_comments(lines: list[str]) -> float | None:
 def lsb_from_comments(lines: list[str]) -> float | None:
     """The ``lsb_per_g`` a comment line of the file gives, if any."""
     for line in lines:
-        if line.lstrip().startswith("#"):
+        if is_comment(line):
             m = LSB_COMMENT.search(line)
             if m:
                 return float(m.group(1))
@@ -547,7 +547,7 @@ def lsb_from_comments(lines: list[str]) -> float | None:
 
 
 def _data_lines(lines: list[str]) -> list[str]:
-    return [ln for ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
+    return [ln for ln in lines if ln.strip() and not is_comment(ln)]
 
 
 def detect_arduino(s: Sniff) -> bool:
@@ -609,7 +609,7 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     channels = {k: v for k, v in channels.items() if set(v) == {"x", "y", "z"}}
     rows: dict[str, list[list[float]]] = {k: [] for k in channels}
     for number, line in enumerate(lines, start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
+        if not line.strip() or is_comment(line):
             continue
         pairs = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(line))
         try:
