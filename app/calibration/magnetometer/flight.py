@@ -1,0 +1,461 @@
+"""The compass calibrated from a flight: ``h_body = M (Q m − b − k p)`` against the field the attitude expects.
+
+A flight log holds what no turn on a table has: the attitude ``C_nb`` (body → NED) at every compass
+sample, so the field the compass should read in the body frame is known, ``e = C_nbᵀ B_ned`` (B_ned the
+geomagnetic model's field at the log's place and date). The readings ``m`` (in the frame L the log gives
+them in) are fitted to it:
+
+1. **The orientation** (:func:`.flight_model.orientation`): the rotation Q (L → body) the data show, the
+   nearest of the firmwares' rotations (:func:`app.calibration.rotations.nearest_rotation`) and the angle
+   left. The fit below uses the firmware's rotation, the only one a flight controller can apply.
+2. **The fit** (:func:`.flight_model.design`): least squares of ``Q m − (M⁻¹ e + b + k p)``, linear in
+   ``(M⁻¹, b, k)``; every sample weighted by one over the number of samples whose expected field points
+   into the same face of an icosahedron (:mod:`.coverage`), so a long straight leg weighs no more than a
+   short turn; 95 % intervals from the jackknife over blocks of time
+   (:func:`.flight_model.block_jackknife`) — the residuals of a flight (the attitude's error, a wire's
+   field) are correlated over seconds, and ``σ² (JᵀJ)⁻¹`` would count every sample as news.
+3. **The model** chosen on flight segments left out: ``folds`` contiguous blocks of time; each candidate
+   (offsets / + diagonal scale / + full symmetric soft iron, each with and without the motor term) is
+   fitted on the other blocks and scored by the heading error on the block left out; the simplest
+   candidate within :data:`MODEL_MARGIN` of the best is kept.
+4. **The figure**: the heading error on the segments left out, before (the firmware's field) and after.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import CalibrationError, InsufficientDataError
+from ..gates import Gates
+from ..rotations import nearest_rotation, rotation_matrix, angle_between
+from ..uncertainty import CONFIDENCE, half_widths
+from .coverage import coverage, face_of
+from .flight_model import (MATRIX_PARAMETERS, MODELS, block_jackknife, candidate_name, correlation_time, design,
+                           error_summary, headings_deg, n_parameters, normal_equations, orientation, parse_candidate,
+                           solve_normal, wrap_deg)
+
+MIN_FIT_SAMPLES = 60
+"""Fewer samples than this cannot be split into folds and fitted at all: refused (insufficient_data)."""
+
+MIN_SAMPLES = 600
+"""Fewer samples fit, but ``ok`` is false: a minute at 10 Hz, the shortest flight with turns through
+every heading and enough blocks of time for the intervals."""
+
+MIN_HEADING_SECTORS = 6
+"""Of the eight 45° sectors of the expected field's azimuth in the body frame, a flight must reach six:
+without turns the hard iron along the field and the field itself cannot be told apart."""
+
+MIN_COVERAGE = 0.15
+"""Share of the 20 faces (:mod:`.coverage`) the expected field must reach (3 faces): a level flight turning
+through all headings reaches a ring of 4–6 faces, a flight without turns one or two."""
+
+MAX_ANGLE_LEFT_DEG = 15.0
+"""The found rotation further than this from every firmware rotation: the orientation is unresolved
+(a disturbed field, a wrong attitude, or a compass mounted at an angle no enum names)."""
+
+WARN_ANGLE_LEFT_DEG = 5.0
+"""Between this and :data:`MAX_ANGLE_LEFT_DEG` left: a warning (the compass sits a few degrees off its enum)."""
+
+MAX_OFFSET_UT = 300.0
+"""An offset above 300 µT on an axis: not iron near a compass (ArduPilot's COMPASS_OFFS_MAX defaults to
+1800 mG, 180 µT) but a wrong unit or a magnet."""
+
+MATRIX_EIGEN_RANGE = (0.67, 1.5)
+"""M's eigenvalues outside this range: a gain off by half or more is a wrong unit or field, not soft iron."""
+
+MAX_OFFSET_HALF_WIDTH = 0.05
+"""A 95 % half-width of b above 5 % of the field: the hard iron is not determined."""
+
+MAX_MATRIX_HALF_WIDTH = 0.05
+"""A 95 % half-width of an entry of M above 0.05: the soft iron is not determined."""
+
+MAX_MOTOR_HALF_WIDTH = 0.05
+"""The motor term's 95 % half-width times the power's range above 5 % of the field: not determined."""
+
+MIN_POWER_RANGE = 0.2
+"""Power whose 5–95 % range is below 20 % of its 95th percentile hardly varied: no motor term is tried."""
+
+MODEL_MARGIN = 0.01
+"""A candidate within 1 % (and :data:`MODEL_MARGIN_DEG`) of the best left-out heading error is as good."""
+
+MODEL_MARGIN_DEG = 0.01
+
+MAX_BLOCKS = 30
+"""The jackknife's blocks of time: at most 30 …"""
+
+BLOCK_CORRELATION_TIMES = 10.0
+"""… each at least ten correlation times of the residuals long (so that neighbouring blocks hardly share
+a disturbance), and of at least :data:`MIN_BLOCK_SAMPLES` samples."""
+
+MIN_BLOCK_SAMPLES = 20
+MIN_BLOCKS = 8
+"""With fewer blocks the intervals rest on too few independent pieces: a warning."""
+
+SERIES_POINTS = 600
+
+
+@dataclass(frozen=True)
+class FlightCompassResult:
+    """A compass calibrated from a flight, ``h_body = M (Q m − b − k p)`` in µT.
+
+    Attributes are those of the flight-compass contract (docs/methods.md, ``compass_flight``);
+    :meth:`to_dict` gives them as plain lists and numbers, :meth:`correct` applies the model.
+    """
+
+    ok: bool
+    reasons: tuple
+    warnings: tuple
+    model: str
+    motor: str | None
+    offsets_ut: np.ndarray
+    offsets_half_width_ut: np.ndarray | None
+    matrix: np.ndarray
+    matrix_half_width: np.ndarray | None
+    motor_coefficients: np.ndarray
+    motor_half_width: np.ndarray | None
+    rotation: np.ndarray
+    rotation_found: np.ndarray
+    rotation_nearest: dict
+    angle_left_deg: float
+    orientation_agrees: bool
+    heading_error_deg: dict
+    models: dict
+    coverage: float
+    n_samples: int
+    series: dict = field(default_factory=dict)
+    intervals: dict = field(default_factory=dict)
+    confidence: float = CONFIDENCE
+
+    def correct(self, mag, power=None) -> np.ndarray:
+        """``h_body = M (Q m − b − k p)`` for raw readings ``mag`` (N, 3) in frame L and ``power`` (N,)."""
+        m = np.asarray(mag, dtype=float).reshape(-1, 3)
+        v = m @ self.rotation.T - self.offsets_ut
+        if self.motor is not None:
+            if power is None:
+                raise CalibrationError("this calibration has a motor term: give the power (current or throttle)")
+            v = v - np.outer(np.asarray(power, dtype=float).reshape(-1), self.motor_coefficients)
+        return v @ self.matrix.T
+
+    def to_dict(self) -> dict:
+        def plain(v):
+            if isinstance(v, np.ndarray):
+                return np.where(np.isfinite(v), v, np.nan).tolist() if v.dtype.kind == "f" else v.tolist()
+            if isinstance(v, dict):
+                return {k: plain(x) for k, x in v.items()}
+            if isinstance(v, (list, tuple)):
+                return [plain(x) for x in v]
+            if isinstance(v, (np.floating, np.integer, np.bool_)):
+                return v.item()
+            return v
+        return {name: plain(getattr(self, name)) for name in self.__dataclass_fields__}
+
+
+def _weights(e: np.ndarray) -> np.ndarray:
+    """One over the count of samples whose expected field falls in the same face, scaled to mean 1."""
+    faces = face_of(e)
+    counts = np.bincount(faces, minlength=20)
+    w = 1.0 / counts[faces]
+    return w / w.mean()
+
+
+def _blocks(n: int, count: int) -> np.ndarray:
+    return (np.arange(n) * count) // n
+
+
+def _candidates(models, power_usable: bool, power_given: bool) -> list[str]:
+    if models == "auto":
+        return [candidate_name(m, motor) for m in MODELS for motor in ((False, True) if power_usable else (False,))]
+    names = [models] if isinstance(models, str) else list(models)
+    out = []
+    for name in names:
+        try:
+            model, motor = parse_candidate(name)
+        except ValueError:
+            raise CalibrationError(f"unknown compass model {name!r}: use auto or one of "
+                                   + ", ".join(candidate_name(m, x) for m in MODELS for x in (False, True))) from None
+        if motor and not power_given:
+            raise CalibrationError(f"the model {name!r} has a motor term: give the power (current or throttle)")
+        out.append(name)
+    return out
+
+
+def _simplest(scores: dict[str, float]) -> str:
+    """The candidate with fewest parameters (no motor term first among equals) whose left-out heading
+    error is within :data:`MODEL_MARGIN` of the best."""
+    best = min(scores.values())
+    limit = best * (1.0 + MODEL_MARGIN) + MODEL_MARGIN_DEG
+    order = sorted(scores, key=lambda n: (n_parameters(*parse_candidate(n)), parse_candidate(n)[1]))
+    return next(n for n in order if scores[n] <= limit)
+
+
+def _thin(n: int) -> np.ndarray:
+    return np.unique(np.linspace(0, n - 1, min(n, SERIES_POINTS)).round().astype(int))
+
+
+def _array(x, name: str, shape_tail: tuple, n: int | None = None) -> np.ndarray:
+    a = np.asarray(x, dtype=float)
+    if a.shape[1:] != shape_tail or a.ndim != 1 + len(shape_tail) or (n is not None and len(a) != n):
+        want = "N" + "".join(f"×{s}" for s in shape_tail)
+        raise CalibrationError(f"{name} must be {want}" + (f" with N = {n}" if n is not None else "")
+                               + f"; got shape {a.shape}")
+    return a
+
+
+def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, firmware_field=None,
+                       frame_to_body=None, attitude=None, earth_ned=None, folds: int = 5, models="auto",
+                       confidence: float = CONFIDENCE) -> FlightCompassResult:
+    """Calibrate a compass from a flight: ``h_body = M (Q m − b − k p)`` fitted to ``e = C_nbᵀ B_ned``.
+
+    Parameters
+    ----------
+    mag : array_like, shape (N, 3)
+        Raw readings in µT in the frame L the log gives them in.
+    expected : array_like, shape (N, 3)
+        The field expected in the body frame, µT (``C_nbᵀ B_ned``).
+    time_s : array_like, shape (N,)
+        Sample times, increasing; the folds and the covariance's blocks are contiguous in time.
+    power : array_like of shape (N,), optional
+        Current in A or throttle 0..1 (``power_kind`` says which); without it no motor term.
+    power_kind : {"current", "throttle"}, optional
+    firmware_field : array_like of shape (N, 3), optional
+        The body field the firmware computed (its calibration), for the error "before".
+    frame_to_body : array_like of shape (3, 3), optional
+        The rotation L → body the firmware applies now (identity by default).
+    attitude : array_like of shape (N, 3, 3), optional
+        ``C_nb`` (body → NED) at each sample: needed for the heading errors (without it ``ok`` is false).
+    earth_ned : array_like of shape (3,), optional
+        B_ned in µT; without it the reference azimuth is that of ``C_nb e`` sample by sample.
+    folds : int
+        Contiguous blocks of time for choosing the model, ≥ 2.
+    models : str or sequence of str
+        ``"auto"`` (every candidate), or the candidates to try: ``offsets``, ``scale``, ``soft_iron``,
+        each optionally ``+motor``.
+    confidence : float
+        Of the intervals.
+
+    Returns
+    -------
+    FlightCompassResult
+
+    Raises
+    ------
+    CalibrationError
+        Malformed input (shapes, non-finite times, an unknown model).
+    InsufficientDataError
+        Fewer than :data:`MIN_FIT_SAMPLES` usable samples.
+    """
+    m = _array(mag, "the compass readings", (3,))
+    n0 = len(m)
+    e = _array(expected, "the expected field", (3,), n0)
+    t = np.asarray(time_s, dtype=float).reshape(-1)
+    if len(t) != n0:
+        raise CalibrationError(f"time_s must have one time per reading ({n0}); got {len(t)}")
+    p = None if power is None else np.asarray(power, dtype=float).reshape(-1)
+    if p is not None and len(p) != n0:
+        raise CalibrationError(f"power must have one value per reading ({n0}); got {len(p)}")
+    if p is not None and power_kind not in ("current", "throttle"):
+        raise CalibrationError(f"power_kind must be current or throttle with a power; got {power_kind!r}")
+    fw = None if firmware_field is None else _array(firmware_field, "the firmware's field", (3,), n0)
+    C = None if attitude is None else _array(attitude, "the attitude", (3, 3), n0)
+    F2B = np.eye(3) if frame_to_body is None else np.asarray(frame_to_body, dtype=float).reshape(3, 3)
+    B = None if earth_ned is None else np.asarray(earth_ned, dtype=float).reshape(3)
+    if int(folds) < 2:
+        raise CalibrationError(f"folds must be 2 or more; got {folds}")
+    folds = int(folds)
+
+    good = np.all(np.isfinite(m), axis=1) & np.all(np.isfinite(e), axis=1) & np.isfinite(t)
+    if p is not None:
+        good &= np.isfinite(p)
+    if fw is not None:
+        good &= np.all(np.isfinite(fw), axis=1)
+    if C is not None:
+        good &= np.all(np.isfinite(C.reshape(n0, 9)), axis=1)
+    order = np.argsort(t[good], kind="stable")
+    pick = lambda a: None if a is None else a[good][order]  # noqa: E731
+    m, e, t, p, fw, C = (pick(a) for a in (m, e, t, p, fw, C))
+    n = len(m)
+    if n < MIN_FIT_SAMPLES:
+        raise InsufficientDataError(
+            f"{n} usable compass samples (with their expected field{', power' if p is not None else ''} and time): "
+            f"a flight calibration needs at least {MIN_FIT_SAMPLES}, and a minute of flight with turns to be trusted")
+
+    gates = Gates()
+    if n < MIN_SAMPLES:
+        gates.fail(f"only {n} samples: fly at least a minute ({MIN_SAMPLES} samples) with turns through every heading")
+    F = float(np.median(np.linalg.norm(e, axis=1)))
+
+    # Directions the flight reached, in the body frame.
+    share, _ = coverage(e)
+    azimuth = np.degrees(np.arctan2(e[:, 1], e[:, 0]))
+    sectors = np.unique(((azimuth + 180.0) // 45.0).astype(int) % 8).size
+    if sectors < MIN_HEADING_SECTORS or share < MIN_COVERAGE:
+        gates.fail(f"the flight turned through too few headings ({sectors} of 8 sectors of 45°, "
+                   f"{share:.0%} of the directions): fly turns through every heading (a slow full yaw turn, "
+                   "or circles) so that the hard iron can be told from the field")
+    if C is None:
+        gates.fail("no attitude in the log: the heading errors cannot be measured, so no fit can be judged; "
+                   "log the attitude (ArduPilot ATT, PX4 vehicle_attitude)")
+
+    # Power: is there a motor term to find?
+    power_usable = False
+    if p is not None:
+        lo, hi = np.percentile(p, [5, 95])
+        power_usable = (hi - lo) > MIN_POWER_RANGE * max(abs(hi), 1e-12)
+        if not power_usable:
+            gates.warn(f"the {power_kind} hardly varied ({lo:.3g} to {hi:.3g}, 5–95 %): the motor term is not "
+                       "determined, so none is fitted; fly climbs and hovers to find it")
+    candidates = _candidates(models, power_usable, p is not None)
+    if models == "auto" and p is None:
+        gates.warn("no current or throttle given: the motor term was not tried")
+
+    w = _weights(e)
+
+    # 1. The orientation.
+    Q_found = orientation(m, e, p if power_usable else None, w)
+    ap, px4, name, angle_left = nearest_rotation(Q_found)
+    Q = rotation_matrix(ap, px4)
+    agrees = angle_between(Q, F2B) < 0.01
+    if angle_left > MAX_ANGLE_LEFT_DEG:
+        gates.fail(f"the compass's orientation is unresolved: the rotation the data show is {angle_left:.0f}° from "
+                   f"every firmware rotation (the nearest is {name}); a disturbed field, a wrong attitude, or a "
+                   "compass mounted at an angle no orientation setting names")
+    elif angle_left > WARN_ANGLE_LEFT_DEG:
+        gates.warn(f"the compass sits {angle_left:.1f}° off the nearest orientation setting ({name}): the "
+                   "firmware cannot apply the rest, which stays as a heading error")
+    if not agrees:
+        gates.warn(f"the compass is mounted as {name} (ArduPilot COMPASS_ORIENT {ap}"
+                   + (f", PX4 CAL_MAGn_ROT {px4}" if px4 is not None else ", no PX4 CAL_MAGn_ROT value")
+                   + "), not as the firmware applies it now")
+    u = m @ Q.T
+
+    # 3. The model chosen on segments left out.
+    fold = _blocks(n, folds)
+    ref = None
+    if C is not None:
+        ref = (np.degrees(np.arctan2(B[1], B[0])) if B is not None else headings_deg(e, C))
+    scores, left_out = {}, {}
+    for cand in candidates:
+        model, motor = parse_candidate(cand)
+        X, y = design(u, e, p if motor else None, model, motor)
+        A, g = normal_equations(X, y, w, fold, folds)
+        pred = np.full_like(e, np.nan)
+        for k in range(folds):
+            out = fold == k
+            try:
+                f = solve_normal(A.sum(axis=0) - A[k], g.sum(axis=0) - g[k], model, motor)
+            except np.linalg.LinAlgError:   # the other segments do not determine this candidate
+                break
+            pred[out] = f.field(u[out], p[out] if motor else None)
+        if np.isnan(pred).any():
+            continue
+        left_out[cand] = pred
+        if C is not None:
+            err = wrap_deg(headings_deg(pred, C) - ref)
+            scores[cand] = error_summary(err) | {"n_parameters": n_parameters(model, motor)}
+        else:
+            scores[cand] = {"rms_ut": float(np.sqrt(np.mean(np.sum((pred - e) ** 2, axis=1)))),
+                            "n_parameters": n_parameters(model, motor)}
+    if not scores:
+        raise InsufficientDataError("no model can be fitted on the flight with a segment left out: fly longer, "
+                                    "with turns through every heading and some pitch and roll")
+    key = "rms" if C is not None else "rms_ut"
+    chosen = _simplest({c: s[key] for c, s in scores.items()})
+    model, motor = parse_candidate(chosen)
+
+    # 2. The fit on all samples and its intervals.
+    X, y = design(u, e, p if motor else None, model, motor)
+    A, g = normal_equations(X, y, w, fold, folds)
+    try:
+        fit = solve_normal(A.sum(axis=0), g.sum(axis=0), model, motor)
+    except np.linalg.LinAlgError:
+        raise InsufficientDataError("the flight does not determine the compass's parameters (a singular fit): "
+                                    "fly turns through every heading with some pitch and roll") from None
+    h = fit.field(u, p if motor else None)
+    r = h - e
+    dt = float(np.median(np.diff(t))) if n > 1 else 0.0
+    corr = correlation_time(r)
+    count = int(min(MAX_BLOCKS, n // max(MIN_BLOCK_SAMPLES, BLOCK_CORRELATION_TIMES * corr)))
+    warn_blocks = count < MIN_BLOCKS
+    count = max(count, 2)
+    A, g = normal_equations(X, y, w, _blocks(n, count), count)
+    try:
+        cov = block_jackknife(A, g, model, motor)
+    except np.linalg.LinAlgError:
+        cov = None
+        gates.fail("a stretch of the flight holds all that determines a parameter (the fit without it is "
+                   "singular): no intervals; fly turns through every heading with some pitch and roll")
+    nm = len(MATRIX_PARAMETERS[model])
+    hw_b = hw_M = hw_k = None
+    if cov is not None:
+        hw = half_widths(cov, count - 1, confidence)
+        hw_M = np.zeros((3, 3))
+        for value, (i, j) in zip(hw[:nm], MATRIX_PARAMETERS[model]):
+            hw_M[i, j] = hw_M[j, i] = value
+        hw_b = hw[nm:nm + 3]
+        hw_k = hw[nm + 3:nm + 6] if motor else np.zeros(3)
+    if warn_blocks:
+        gates.warn(f"the residuals stay correlated over {corr * dt:.1f} s: the flight holds fewer than "
+                   f"{MIN_BLOCKS} independent stretches, so the intervals rest on few of them")
+
+    # Plausibility and determination.
+    for axis, value in zip("xyz", fit.b):
+        if abs(value) > MAX_OFFSET_UT:
+            gates.fail(f"the {axis} offset {value:.0f} µT is beyond {MAX_OFFSET_UT:.0f} µT: no iron near a compass "
+                       "does that; check the unit of the readings and for a magnet")
+    eig = np.linalg.eigvalsh(fit.M)
+    lo_e, hi_e = MATRIX_EIGEN_RANGE
+    if eig.min() < lo_e or eig.max() > hi_e:
+        gates.fail(f"the soft-iron matrix scales the field by {eig.min():.2f} to {eig.max():.2f} (plausible "
+                   f"{lo_e}–{hi_e}): a wrong unit or a wrong expected field, not soft iron")
+    if hw_b is not None:
+        if np.max(hw_b) > MAX_OFFSET_HALF_WIDTH * F:
+            gates.fail(f"the offsets are not determined (±{np.max(hw_b):.2f} µT at {confidence:.0%}, above "
+                       f"{MAX_OFFSET_HALF_WIDTH:.0%} of the field): fly turns through every heading")
+        if nm and np.max(hw_M) > MAX_MATRIX_HALF_WIDTH:
+            gates.fail(f"the soft iron is not determined (±{np.max(hw_M):.3f} on an entry at {confidence:.0%}): "
+                       "fly turns with more pitch and roll")
+        if motor:
+            p_range = float(np.ptp(p))
+            if np.max(hw_k) * p_range > MAX_MOTOR_HALF_WIDTH * F:
+                gates.fail(f"the motor term is not determined (±{np.max(hw_k) * p_range:.2f} µT over the "
+                           f"flight's {power_kind} range): fly climbs and hovers while turning")
+
+    # 4. The figure: heading errors on segments left out, before and after.
+    after = left_out[chosen]
+    heading = {"before": None, "after": None}
+    err_before = err_after = None
+    if C is not None:
+        err_after = wrap_deg(headings_deg(after, C) - ref)
+        heading["after"] = error_summary(err_after)
+        if fw is not None:
+            err_before = wrap_deg(headings_deg(fw, C) - ref)
+            heading["before"] = error_summary(err_before)
+            if heading["after"]["rms"] >= heading["before"]["rms"]:
+                gates.fail(f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
+                           f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
+                           "calibration): keep the calibration the firmware has")
+
+    idx = _thin(n)
+    series = {
+        "time_s": t[idx], "expected": e[idx], "corrected": h[idx],
+        "firmware": None if fw is None else fw[idx],
+        "field_magnitude": np.linalg.norm(h[idx], axis=1),
+        "power": None if p is None else p[idx],
+        "heading_error_before": None if err_before is None else err_before[idx],
+        "heading_error_after": None if err_after is None else err_after[idx],
+    }
+    fields = gates.fields()
+    return FlightCompassResult(
+        ok=not fields["reasons"], reasons=fields["reasons"], warnings=fields["warnings"],
+        model=model, motor=power_kind if motor else None,
+        offsets_ut=fit.b, offsets_half_width_ut=hw_b, matrix=fit.M, matrix_half_width=hw_M,
+        motor_coefficients=fit.k, motor_half_width=hw_k,
+        rotation=Q, rotation_found=Q_found, rotation_nearest={"ardupilot": ap, "px4": px4, "name": name},
+        angle_left_deg=float(angle_left), orientation_agrees=bool(agrees),
+        heading_error_deg=heading, models=scores, coverage=float(share), n_samples=n, series=series,
+        intervals={"blocks": count, "correlation_s": corr * dt, "dof": count - 1,
+                   "method": "jackknife over blocks of time"},
+        confidence=confidence,
+    )
