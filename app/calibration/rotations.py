@@ -156,7 +156,9 @@ def nearest_rotation(Q) -> tuple[int | None, int | None, str, float]:
     Parameters
     ----------
     Q : array_like, shape (3, 3)
-        A rotation (sensor → body), e.g. the one a flight's data show.
+        A rotation (sensor → body), e.g. the one a flight's data show. Where the readings were already
+        turned by a firmware rotation T (ArduPilot logs them in the body frame under ``COMPASS_ORIENTn``),
+        the setting to store is the nearest to ``Q @ T``.
 
     Returns
     -------
