@@ -23,18 +23,17 @@ them in) are fitted to it:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates
-from ..rotations import nearest_rotation, rotation_matrix, angle_between
+from ..rotations import angle_between, nearest_rotation, rotation_matrix
 from ..uncertainty import CONFIDENCE, half_widths
 from .coverage import coverage, face_of
 from .flight_model import (MATRIX_PARAMETERS, MODELS, block_jackknife, candidate_name, correlation_time, design,
                            error_summary, headings_deg, n_parameters, normal_equations, orientation, parse_candidate,
                            solve_normal, wrap_deg)
+from .flight_result import FlightCompassResult
 
 MIN_FIT_SAMPLES = 60
 """Fewer samples than this cannot be split into folds and fitted at all: refused (insufficient_data)."""
@@ -94,62 +93,6 @@ MIN_BLOCKS = 8
 """With fewer blocks the intervals rest on too few independent pieces: a warning."""
 
 SERIES_POINTS = 600
-
-
-@dataclass(frozen=True)
-class FlightCompassResult:
-    """A compass calibrated from a flight, ``h_body = M (Q m − b − k p)`` in µT.
-
-    Attributes are those of the flight-compass contract (docs/methods.md, ``compass_flight``);
-    :meth:`to_dict` gives them as plain lists and numbers, :meth:`correct` applies the model.
-    """
-
-    ok: bool
-    reasons: tuple
-    warnings: tuple
-    model: str
-    motor: str | None
-    offsets_ut: np.ndarray
-    offsets_half_width_ut: np.ndarray | None
-    matrix: np.ndarray
-    matrix_half_width: np.ndarray | None
-    motor_coefficients: np.ndarray
-    motor_half_width: np.ndarray | None
-    rotation: np.ndarray
-    rotation_found: np.ndarray
-    rotation_nearest: dict
-    angle_left_deg: float
-    orientation_agrees: bool
-    heading_error_deg: dict
-    models: dict
-    coverage: float
-    n_samples: int
-    series: dict = field(default_factory=dict)
-    intervals: dict = field(default_factory=dict)
-    confidence: float = CONFIDENCE
-
-    def correct(self, mag, power=None) -> np.ndarray:
-        """``h_body = M (Q m − b − k p)`` for raw readings ``mag`` (N, 3) in frame L and ``power`` (N,)."""
-        m = np.asarray(mag, dtype=float).reshape(-1, 3)
-        v = m @ self.rotation.T - self.offsets_ut
-        if self.motor is not None:
-            if power is None:
-                raise CalibrationError("this calibration has a motor term: give the power (current or throttle)")
-            v = v - np.outer(np.asarray(power, dtype=float).reshape(-1), self.motor_coefficients)
-        return v @ self.matrix.T
-
-    def to_dict(self) -> dict:
-        def plain(v):
-            if isinstance(v, np.ndarray):
-                return np.where(np.isfinite(v), v, np.nan).tolist() if v.dtype.kind == "f" else v.tolist()
-            if isinstance(v, dict):
-                return {k: plain(x) for k, x in v.items()}
-            if isinstance(v, (list, tuple)):
-                return [plain(x) for x in v]
-            if isinstance(v, (np.floating, np.integer, np.bool_)):
-                return v.item()
-            return v
-        return {name: plain(getattr(self, name)) for name in self.__dataclass_fields__}
 
 
 def _weights(e: np.ndarray) -> np.ndarray:
@@ -265,6 +208,75 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
         raise CalibrationError(f"folds must be 2 or more; got {folds}")
     folds = int(folds)
 
+    m, e, t, p, fw, C = _usable(m, e, t, p, fw, C)
+    n = len(m)
+    gates = Gates()
+    if n < MIN_SAMPLES:
+        gates.fail(f"only {n} samples: fly at least a minute ({MIN_SAMPLES} samples) with turns through every heading")
+    F = float(np.median(np.linalg.norm(e, axis=1)))
+    share = _direction_gates(gates, e, C)
+    power_usable = _power_usable(gates, p, power_kind)
+    candidates = _candidates(models, power_usable, p is not None)
+    if models == "auto" and p is None:
+        gates.warn("no current or throttle given: the motor term was not tried")
+    w = _weights(e)
+
+    # 1. The orientation.
+    Q_found = orientation(m, e, p if power_usable else None, w)
+    ap, px4, name, angle_left = nearest_rotation(Q_found)
+    Q = rotation_matrix(ap, px4)
+    agrees = angle_between(Q, F2B) < 0.01
+    _orientation_gates(gates, ap, px4, name, angle_left, agrees)
+    u = m @ Q.T
+
+    # 3. The model chosen on segments left out.
+    fold = _blocks(n, folds)
+    ref = None if C is None else (np.degrees(np.arctan2(B[1], B[0])) if B is not None else headings_deg(e, C))
+    scores, left_out = _left_out(candidates, u, e, p, w, fold, folds, C, ref)
+    key = "rms" if C is not None else "rms_ut"
+    chosen = _simplest({c: s[key] for c, s in scores.items()})
+    model, motor = parse_candidate(chosen)
+
+    # 2. The fit on all samples and its intervals.
+    fit, h, half, blocks = _fit_with_intervals(gates, u, e, p if motor else None, w, t, model, motor, confidence)
+    _parameter_gates(gates, fit, half, F, p, power_kind, confidence)
+
+    # 4. The figure: heading errors on segments left out, before and after.
+    heading = {"before": None, "after": None}
+    err_before = err_after = None
+    if C is not None:
+        err_after = wrap_deg(headings_deg(left_out[chosen], C) - ref)
+        heading["after"] = error_summary(err_after)
+        if fw is not None:
+            err_before = wrap_deg(headings_deg(fw, C) - ref)
+            heading["before"] = error_summary(err_before)
+            if heading["after"]["rms"] >= heading["before"]["rms"]:
+                gates.fail(f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
+                           f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
+                           "calibration): keep the calibration the firmware has")
+
+    idx = _thin(n)
+    thin = lambda a: None if a is None else a[idx]  # noqa: E731
+    series = {"time_s": t[idx], "expected": e[idx], "corrected": h[idx], "firmware": thin(fw),
+              "field_magnitude": np.linalg.norm(h[idx], axis=1), "power": thin(p),
+              "heading_error_before": thin(err_before), "heading_error_after": thin(err_after)}
+    fields = gates.fields()
+    hw_M, hw_b, hw_k = half if half is not None else (None, None, None)
+    return FlightCompassResult(
+        ok=not fields["reasons"], reasons=fields["reasons"], warnings=fields["warnings"],
+        model=model, motor=power_kind if motor else None,
+        offsets_ut=fit.b, offsets_half_width_ut=hw_b, matrix=fit.M, matrix_half_width=hw_M,
+        motor_coefficients=fit.k, motor_half_width=hw_k,
+        rotation=Q, rotation_found=Q_found, rotation_nearest={"ardupilot": ap, "px4": px4, "name": name},
+        angle_left_deg=float(angle_left), orientation_agrees=bool(agrees),
+        heading_error_deg=heading, models=scores, coverage=float(share), n_samples=n, series=series,
+        intervals=blocks, confidence=confidence,
+    )
+
+
+def _usable(m, e, t, p, fw, C):
+    """The samples with every given quantity finite, in time order; refused below :data:`MIN_FIT_SAMPLES`."""
+    n0 = len(m)
     good = np.all(np.isfinite(m), axis=1) & np.all(np.isfinite(e), axis=1) & np.isfinite(t)
     if p is not None:
         good &= np.isfinite(p)
@@ -273,20 +285,18 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
     if C is not None:
         good &= np.all(np.isfinite(C.reshape(n0, 9)), axis=1)
     order = np.argsort(t[good], kind="stable")
-    pick = lambda a: None if a is None else a[good][order]  # noqa: E731
-    m, e, t, p, fw, C = (pick(a) for a in (m, e, t, p, fw, C))
-    n = len(m)
+    out = tuple(None if a is None else a[good][order] for a in (m, e, t, p, fw, C))
+    n = len(out[0])
     if n < MIN_FIT_SAMPLES:
         raise InsufficientDataError(
             f"{n} usable compass samples (with their expected field{', power' if p is not None else ''} and time): "
             f"a flight calibration needs at least {MIN_FIT_SAMPLES}, and a minute of flight with turns to be trusted")
+    return out
 
-    gates = Gates()
-    if n < MIN_SAMPLES:
-        gates.fail(f"only {n} samples: fly at least a minute ({MIN_SAMPLES} samples) with turns through every heading")
-    F = float(np.median(np.linalg.norm(e, axis=1)))
 
-    # Directions the flight reached, in the body frame.
+def _direction_gates(gates: Gates, e: np.ndarray, C) -> float:
+    """The directions the flight reached in the body frame (:data:`MIN_HEADING_SECTORS`,
+    :data:`MIN_COVERAGE`) and the attitude; returns the share of the 20 faces covered."""
     share, _ = coverage(e)
     azimuth = np.degrees(np.arctan2(e[:, 1], e[:, 0]))
     sectors = np.unique(((azimuth + 180.0) // 45.0).astype(int) % 8).size
@@ -297,26 +307,22 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
     if C is None:
         gates.fail("no attitude in the log: the heading errors cannot be measured, so no fit can be judged; "
                    "log the attitude (ArduPilot ATT, PX4 vehicle_attitude)")
+    return float(share)
 
-    # Power: is there a motor term to find?
-    power_usable = False
-    if p is not None:
-        lo, hi = np.percentile(p, [5, 95])
-        power_usable = (hi - lo) > MIN_POWER_RANGE * max(abs(hi), 1e-12)
-        if not power_usable:
-            gates.warn(f"the {power_kind} hardly varied ({lo:.3g} to {hi:.3g}, 5–95 %): the motor term is not "
-                       "determined, so none is fitted; fly climbs and hovers to find it")
-    candidates = _candidates(models, power_usable, p is not None)
-    if models == "auto" and p is None:
-        gates.warn("no current or throttle given: the motor term was not tried")
 
-    w = _weights(e)
+def _power_usable(gates: Gates, p, power_kind) -> bool:
+    """Whether the power varied enough for a motor term (:data:`MIN_POWER_RANGE`), with a warning if not."""
+    if p is None:
+        return False
+    lo, hi = np.percentile(p, [5, 95])
+    usable = bool((hi - lo) > MIN_POWER_RANGE * max(abs(hi), 1e-12))
+    if not usable:
+        gates.warn(f"the {power_kind} hardly varied ({lo:.3g} to {hi:.3g}, 5–95 %): the motor term is not "
+                   "determined, so none is fitted; fly climbs and hovers to find it")
+    return usable
 
-    # 1. The orientation.
-    Q_found = orientation(m, e, p if power_usable else None, w)
-    ap, px4, name, angle_left = nearest_rotation(Q_found)
-    Q = rotation_matrix(ap, px4)
-    agrees = angle_between(Q, F2B) < 0.01
+
+def _orientation_gates(gates: Gates, ap, px4, name: str, angle_left: float, agrees: bool) -> None:
     if angle_left > MAX_ANGLE_LEFT_DEG:
         gates.fail(f"the compass's orientation is unresolved: the rotation the data show is {angle_left:.0f}° from "
                    f"every firmware rotation (the nearest is {name}); a disturbed field, a wrong attitude, or a "
@@ -325,16 +331,15 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
         gates.warn(f"the compass sits {angle_left:.1f}° off the nearest orientation setting ({name}): the "
                    "firmware cannot apply the rest, which stays as a heading error")
     if not agrees:
-        gates.warn(f"the compass is mounted as {name} (ArduPilot COMPASS_ORIENT {ap}"
-                   + (f", PX4 CAL_MAGn_ROT {px4}" if px4 is not None else ", no PX4 CAL_MAGn_ROT value")
-                   + "), not as the firmware applies it now")
-    u = m @ Q.T
+        settings = [f"ArduPilot COMPASS_ORIENTn {ap}" if ap is not None else "no ArduPilot COMPASS_ORIENTn value",
+                    f"PX4 CAL_MAGn_ROT {px4}" if px4 is not None else "no PX4 CAL_MAGn_ROT value"]
+        gates.warn(f"the compass is mounted as {name} ({', '.join(settings)}), not as the firmware applies it now")
 
-    # 3. The model chosen on segments left out.
-    fold = _blocks(n, folds)
-    ref = None
-    if C is not None:
-        ref = (np.degrees(np.arctan2(B[1], B[0])) if B is not None else headings_deg(e, C))
+
+def _left_out(candidates, u, e, p, w, fold, folds: int, C, ref) -> tuple[dict, dict]:
+    """Each candidate fitted without each fold and evaluated on it: its scores (heading error, or the
+    field's error without an attitude) and its left-out fields. A candidate the other folds do not
+    determine is dropped."""
     scores, left_out = {}, {}
     for cand in candidates:
         model, motor = parse_candidate(cand)
@@ -352,110 +357,75 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
             continue
         left_out[cand] = pred
         if C is not None:
-            err = wrap_deg(headings_deg(pred, C) - ref)
-            scores[cand] = error_summary(err) | {"n_parameters": n_parameters(model, motor)}
+            scores[cand] = error_summary(wrap_deg(headings_deg(pred, C) - ref))
         else:
-            scores[cand] = {"rms_ut": float(np.sqrt(np.mean(np.sum((pred - e) ** 2, axis=1)))),
-                            "n_parameters": n_parameters(model, motor)}
+            scores[cand] = {"rms_ut": float(np.sqrt(np.mean(np.sum((pred - e) ** 2, axis=1))))}
+        scores[cand]["n_parameters"] = n_parameters(model, motor)
     if not scores:
         raise InsufficientDataError("no model can be fitted on the flight with a segment left out: fly longer, "
                                     "with turns through every heading and some pitch and roll")
-    key = "rms" if C is not None else "rms_ut"
-    chosen = _simplest({c: s[key] for c, s in scores.items()})
-    model, motor = parse_candidate(chosen)
+    return scores, left_out
 
-    # 2. The fit on all samples and its intervals.
-    X, y = design(u, e, p if motor else None, model, motor)
-    A, g = normal_equations(X, y, w, fold, folds)
+
+def _fit_with_intervals(gates: Gates, u, e, p, w, t, model: str, motor: bool, confidence: float):
+    """The fit on every sample, its field, the half-widths ``(M, b, k)`` (None without intervals) and how
+    the blocks of the jackknife were chosen (:data:`BLOCK_CORRELATION_TIMES`)."""
+    n = len(u)
+    X, y = design(u, e, p, model, motor)
+    A, g = normal_equations(X, y, w, np.zeros(n, dtype=int), 1)
     try:
-        fit = solve_normal(A.sum(axis=0), g.sum(axis=0), model, motor)
+        fit = solve_normal(A[0], g[0], model, motor)
     except np.linalg.LinAlgError:
         raise InsufficientDataError("the flight does not determine the compass's parameters (a singular fit): "
                                     "fly turns through every heading with some pitch and roll") from None
-    h = fit.field(u, p if motor else None)
-    r = h - e
-    dt = float(np.median(np.diff(t))) if n > 1 else 0.0
-    corr = correlation_time(r)
+    h = fit.field(u, p)
+    dt = float(np.median(np.diff(t)))
+    corr = correlation_time(h - e)
     count = int(min(MAX_BLOCKS, n // max(MIN_BLOCK_SAMPLES, BLOCK_CORRELATION_TIMES * corr)))
-    warn_blocks = count < MIN_BLOCKS
+    if count < MIN_BLOCKS:
+        gates.warn(f"the residuals stay correlated over {corr * dt:.1f} s: the flight holds fewer than "
+                   f"{MIN_BLOCKS} independent stretches, so the intervals rest on few of them")
     count = max(count, 2)
+    blocks = {"blocks": count, "correlation_s": corr * dt, "dof": count - 1, "method": "jackknife over blocks of time"}
     A, g = normal_equations(X, y, w, _blocks(n, count), count)
     try:
         cov = block_jackknife(A, g, model, motor)
     except np.linalg.LinAlgError:
-        cov = None
         gates.fail("a stretch of the flight holds all that determines a parameter (the fit without it is "
                    "singular): no intervals; fly turns through every heading with some pitch and roll")
+        return fit, h, None, blocks
+    hw = half_widths(cov, count - 1, confidence)
     nm = len(MATRIX_PARAMETERS[model])
-    hw_b = hw_M = hw_k = None
-    if cov is not None:
-        hw = half_widths(cov, count - 1, confidence)
-        hw_M = np.zeros((3, 3))
-        for value, (i, j) in zip(hw[:nm], MATRIX_PARAMETERS[model]):
-            hw_M[i, j] = hw_M[j, i] = value
-        hw_b = hw[nm:nm + 3]
-        hw_k = hw[nm + 3:nm + 6] if motor else np.zeros(3)
-    if warn_blocks:
-        gates.warn(f"the residuals stay correlated over {corr * dt:.1f} s: the flight holds fewer than "
-                   f"{MIN_BLOCKS} independent stretches, so the intervals rest on few of them")
+    hw_M = np.zeros((3, 3))
+    for value, (i, j) in zip(hw[:nm], MATRIX_PARAMETERS[model]):
+        hw_M[i, j] = hw_M[j, i] = value
+    return fit, h, (hw_M, hw[nm:nm + 3], hw[nm + 3:nm + 6] if motor else np.zeros(3)), blocks
 
-    # Plausibility and determination.
+
+def _parameter_gates(gates: Gates, fit, half, F: float, p, power_kind, confidence: float) -> None:
+    """Plausible parameters (:data:`MAX_OFFSET_UT`, :data:`MATRIX_EIGEN_RANGE`) and determined ones (the
+    half-widths against :data:`MAX_OFFSET_HALF_WIDTH`, :data:`MAX_MATRIX_HALF_WIDTH`,
+    :data:`MAX_MOTOR_HALF_WIDTH`)."""
     for axis, value in zip("xyz", fit.b):
         if abs(value) > MAX_OFFSET_UT:
             gates.fail(f"the {axis} offset {value:.0f} µT is beyond {MAX_OFFSET_UT:.0f} µT: no iron near a compass "
                        "does that; check the unit of the readings and for a magnet")
     eig = np.linalg.eigvalsh(fit.M)
-    lo_e, hi_e = MATRIX_EIGEN_RANGE
-    if eig.min() < lo_e or eig.max() > hi_e:
+    lo, hi = MATRIX_EIGEN_RANGE
+    if eig.min() < lo or eig.max() > hi:
         gates.fail(f"the soft-iron matrix scales the field by {eig.min():.2f} to {eig.max():.2f} (plausible "
-                   f"{lo_e}–{hi_e}): a wrong unit or a wrong expected field, not soft iron")
-    if hw_b is not None:
-        if np.max(hw_b) > MAX_OFFSET_HALF_WIDTH * F:
-            gates.fail(f"the offsets are not determined (±{np.max(hw_b):.2f} µT at {confidence:.0%}, above "
-                       f"{MAX_OFFSET_HALF_WIDTH:.0%} of the field): fly turns through every heading")
-        if nm and np.max(hw_M) > MAX_MATRIX_HALF_WIDTH:
-            gates.fail(f"the soft iron is not determined (±{np.max(hw_M):.3f} on an entry at {confidence:.0%}): "
-                       "fly turns with more pitch and roll")
-        if motor:
-            p_range = float(np.ptp(p))
-            if np.max(hw_k) * p_range > MAX_MOTOR_HALF_WIDTH * F:
-                gates.fail(f"the motor term is not determined (±{np.max(hw_k) * p_range:.2f} µT over the "
-                           f"flight's {power_kind} range): fly climbs and hovers while turning")
-
-    # 4. The figure: heading errors on segments left out, before and after.
-    after = left_out[chosen]
-    heading = {"before": None, "after": None}
-    err_before = err_after = None
-    if C is not None:
-        err_after = wrap_deg(headings_deg(after, C) - ref)
-        heading["after"] = error_summary(err_after)
-        if fw is not None:
-            err_before = wrap_deg(headings_deg(fw, C) - ref)
-            heading["before"] = error_summary(err_before)
-            if heading["after"]["rms"] >= heading["before"]["rms"]:
-                gates.fail(f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
-                           f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
-                           "calibration): keep the calibration the firmware has")
-
-    idx = _thin(n)
-    series = {
-        "time_s": t[idx], "expected": e[idx], "corrected": h[idx],
-        "firmware": None if fw is None else fw[idx],
-        "field_magnitude": np.linalg.norm(h[idx], axis=1),
-        "power": None if p is None else p[idx],
-        "heading_error_before": None if err_before is None else err_before[idx],
-        "heading_error_after": None if err_after is None else err_after[idx],
-    }
-    fields = gates.fields()
-    return FlightCompassResult(
-        ok=not fields["reasons"], reasons=fields["reasons"], warnings=fields["warnings"],
-        model=model, motor=power_kind if motor else None,
-        offsets_ut=fit.b, offsets_half_width_ut=hw_b, matrix=fit.M, matrix_half_width=hw_M,
-        motor_coefficients=fit.k, motor_half_width=hw_k,
-        rotation=Q, rotation_found=Q_found, rotation_nearest={"ardupilot": ap, "px4": px4, "name": name},
-        angle_left_deg=float(angle_left), orientation_agrees=bool(agrees),
-        heading_error_deg=heading, models=scores, coverage=float(share), n_samples=n, series=series,
-        intervals={"blocks": count, "correlation_s": corr * dt, "dof": count - 1,
-                   "method": "jackknife over blocks of time"},
-        confidence=confidence,
-    )
+                   f"{lo}–{hi}): a wrong unit or a wrong expected field, not soft iron")
+    if half is None:
+        return
+    hw_M, hw_b, hw_k = half
+    if np.max(hw_b) > MAX_OFFSET_HALF_WIDTH * F:
+        gates.fail(f"the offsets are not determined (±{np.max(hw_b):.2f} µT at {confidence:.0%}, above "
+                   f"{MAX_OFFSET_HALF_WIDTH:.0%} of the field): fly turns through every heading")
+    if np.max(hw_M) > MAX_MATRIX_HALF_WIDTH:
+        gates.fail(f"the soft iron is not determined (±{np.max(hw_M):.3f} on an entry at {confidence:.0%}): "
+                   "fly turns with more pitch and roll")
+    if fit.motor:
+        spread = float(np.max(hw_k) * np.ptp(p))
+        if spread > MAX_MOTOR_HALF_WIDTH * F:
+            gates.fail(f"the motor term is not determined (±{spread:.2f} µT over the flight's {power_kind} "
+                       "range): fly climbs and hovers while turning")
