@@ -89,6 +89,17 @@ def test_a_seeded_flight_gives_back_every_parameter_and_the_orientation(orientat
     assert d["rotation_nearest"] == {"ardupilot": orientation, "px4": orientation, "name": r.rotation_nearest["name"]}
 
 
+def test_a_firmware_that_applies_the_mounting_agrees_and_throttle_is_a_power():
+    f = simulate_flight(9, orientation=16)
+    r = _fit(f, frame_to_body=f["truth"]["Q"], power=f["throttle"], power_kind="throttle")
+    assert r.orientation_agrees and r.rotation_nearest["name"] == "ROLL_90"
+    assert not any("mounted as" in w for w in r.warnings)
+    assert r.motor == "throttle" and r.ok, r.reasons
+    # the simulated attitude's angles are those of its matrices (what a log's ATT would hold)
+    assert np.allclose(euler_matrix(f["roll_deg"][100], f["pitch_deg"][100], f["yaw_deg"][100]),
+                       f["attitude_c_nb"][100], atol=1e-9)
+
+
 def test_the_intervals_hold_the_truth_at_their_rate_over_200_flights():
     """200 seeded flights of 3 minutes at 25 Hz (0.3 µT of compass noise, the attitude off by 0.3° per axis
     wandering over 3 s, six mountings): every parameter against its 95 % interval."""

@@ -49,6 +49,13 @@ def _wander(rng, n: int, dt: float, sigma: float, tau_s: float) -> np.ndarray:
     return x
 
 
+def _euler_deg(C: np.ndarray) -> dict:
+    """Roll, pitch and yaw in degrees of ``C = Rz(yaw) Ry(pitch) Rx(roll)``."""
+    return {"roll_deg": np.degrees(np.arctan2(C[:, 2, 1], C[:, 2, 2])),
+            "pitch_deg": np.degrees(-np.arcsin(np.clip(C[:, 2, 0], -1.0, 1.0))),
+            "yaw_deg": np.degrees(np.arctan2(C[:, 1, 0], C[:, 0, 0])) % 360.0}
+
+
 def earth_field_ned(field_ut: float = 50.0, inclination_deg: float = 64.0, declination_deg: float = 2.0) -> np.ndarray:
     """``F (cos I cos D, cos I sin D, sin I)``: the field in north-east-down."""
     i, d = np.radians(inclination_deg), np.radians(declination_deg)
@@ -84,7 +91,8 @@ def simulate_flight(seed: int, *, duration_s: float = 180.0, rate_hz: float = 25
     Returns
     -------
     dict
-        ``time_s``, ``attitude_c_nb`` (N, 3, 3, the logged attitude), ``mag_raw_ut`` (N, 3, frame L),
+        ``time_s``, ``attitude_c_nb`` (N, 3, 3, the logged attitude) and its ``roll_deg``, ``pitch_deg``,
+        ``yaw_deg`` (as ArduPilot's ATT logs them, yaw in 0–360), ``mag_raw_ut`` (N, 3, frame L),
         ``current_a``, ``throttle`` (0..1), ``earth_ned``, ``lat``, ``lon``, ``alt_m``, ``utc``,
         ``expected_ut`` (``C_nbᵀ B_ned`` with the logged attitude), ``mag_firmware_ut`` (the field of a
         firmware that applies no rotation and a stale offset), and ``truth``: ``b``, ``M``, ``k``, ``Q``,
@@ -118,7 +126,7 @@ def simulate_flight(seed: int, *, duration_s: float = 180.0, rate_hz: float = 25
     b_stale = b + rng.normal(0.0, 5.0, 3)
     firmware = mag - b_stale                                         # no rotation, stale offsets, no soft iron
     return {
-        "time_s": t, "attitude_c_nb": C_log, "mag_raw_ut": mag, "current_a": current, "throttle": throttle,
+        "time_s": t, "attitude_c_nb": C_log, **_euler_deg(C_log), "mag_raw_ut": mag, "current_a": current, "throttle": throttle,
         "earth_ned": B, "lat": 47.4, "lon": 8.5, "alt_m": 430.0,
         "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.timezone.utc),
         "expected_ut": np.einsum("nji,j->ni", C_log, B), "mag_firmware_ut": firmware,
