@@ -11,7 +11,16 @@ topic                fields                            unit             trical's
 ``sensor_gyro``      x, y, z; temperature; device_id   rad/s, °C        rad/s
 ``sensor_mag``       x, y, z; temperature; device_id   gauss, °C        µT (× 100)
 ``sensor_combined``  accelerometer_m_s2, gyro_rad      m/s², rad/s      m/s², rad/s
+                     magnetometer_ga (PX4 ≤ 1.8)       gauss            µT (× 100)
 ===================  ================================  ===============  ==========================
+
+Generations: PX4 1.6–1.8 logs (``sample.ulg``) hold ``sensor_combined`` alone, with the compass in it
+(``magnetometer_ga``, at ``timestamp + magnetometer_timestamp_relative``); from PX4 1.9 the compass left
+``sensor_combined`` for ``vehicle_magnetometer`` (the selected compass, calibrated, body frame), and
+``sensor_accel``/``sensor_gyro``/``sensor_mag`` are logged per instance when the profile asks.  Old
+``sensor_combined`` compass readings are *calibrated* (the driver applied CAL_MAGn offsets and scales,
+the sensors module SENS_BOARD_ROT): trical lists them as instance 0 of source ``sensor_combined`` and says
+so; :mod:`app.io.flight_context` reads them back to raw.
 
 Each ``multi_id`` of ``sensor_accel`` (and ``sensor_gyro``, ``sensor_mag``) is an instance.  Their
 frame is the *board's* FRD frame (x forward, y right, z down): the driver has turned the chip's axes
@@ -51,6 +60,24 @@ def detect(s: Sniff) -> bool:
     return s.head.startswith(MAGIC)
 
 
+RELATIVE_INVALID = 0x7FFFFFFF
+"""sensor_combined's RELATIVE_TIMESTAMP_INVALID: no sample of that sensor in the message (msg/SensorCombined.msg)."""
+
+
+def combined_mag(data: dict) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(time_us, gauss)`` of the compass inside an old ``sensor_combined`` (PX4 ≤ 1.8), or None."""
+    names = [f"magnetometer_ga[{k}]" for k in range(3)]
+    if not set(names) <= set(data):
+        return None
+    time = np.asarray(data["timestamp"], dtype=np.int64)
+    rel = np.asarray(data.get("magnetometer_timestamp_relative", np.zeros(len(time))), dtype=np.int64)
+    xyz = np.column_stack([data[a] for a in names]).astype(float)
+    ok = (rel != RELATIVE_INVALID) & np.isfinite(xyz).all(axis=1)
+    t, xyz = time[ok] + rel[ok], xyz[ok]
+    keep = np.concatenate([[True], np.diff(t) > 0])  # a compass sample repeats in every message until the next
+    return t[keep], xyz[keep]
+
+
 def _streams(ulog) -> list[Stream]:
     streams = []
     for d in ulog.data_list:
@@ -76,12 +103,15 @@ def _streams(ulog) -> list[Stream]:
                 # (msg/SensorCombined.msg); the gyroscope's is the message's.
                 rel = np.asarray(data.get("accelerometer_timestamp_relative", np.zeros(len(time))), dtype=np.int64)
                 # A relative time of RELATIVE_TIMESTAMP_INVALID (0x7fffffff) marks no accelerometer sample.
-                ok = rel != 0x7FFFFFFF
+                ok = rel != RELATIVE_INVALID
                 streams.append(Stream("acc", int(d.multi_id), d.name, time[ok] + rel[ok],
                                       np.column_stack([data[a] for a in acc])[ok].astype(float)))
             if set(gyr) <= set(data):
                 streams.append(Stream("gyr", int(d.multi_id), d.name, time,
                                       np.column_stack([data[a] for a in gyr]).astype(float)))
+            mag = combined_mag(data)
+            if mag is not None:
+                streams.append(Stream("mag", int(d.multi_id), d.name, mag[0], mag[1] * GAUSS_TO_UT))
     return [s for s in streams if s.n_samples]
 
 
@@ -126,8 +156,11 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
     else:
         notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag: the board's FRD frame (x forward, y right, z down), "
                      "before PX4's calibration and SENS_BOARD_ROT")
+    if any(x.sensor == "mag" and x.source == "sensor_combined" for x in streams):
+        notes.append("the compass of sensor_combined (PX4 1.8 and before) is logged after PX4's calibration (CAL_MAGn "
+                     "offsets and scales) in the body frame: a calibration from it is what is left over PX4's")
     log = choose(streams, fmt=NAME, imu_sources=("sensor_accel", "sensor_combined"),
                  gyr_for={"sensor_accel": "sensor_gyro", "sensor_combined": "sensor_combined"},
-                 mag_sources=("sensor_mag",), instance=instance, mag_instance=mag_instance, clock=clock,
+                 mag_sources=("sensor_mag", "sensor_combined"), instance=instance, mag_instance=mag_instance, clock=clock,
                  default_imu=default, notes=notes, name=name)
     return log
