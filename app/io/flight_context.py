@@ -440,8 +440,6 @@ def _read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
 
 # -- PX4 -------------------------------------------------------------------------------------------------
 
-PX4_RAW_SENSOR_MAG = (1, 12)
-"""The first PX4 release whose sensor_mag is raw (the calibration moved from the drivers to lib/sensor_calibration)."""
 PX4_TOPICS = ("sensor_mag", "sensor_combined", "vehicle_magnetometer", "vehicle_attitude", "battery_status",
               "actuator_controls_0", "vehicle_thrust_setpoint", "vehicle_gps_position", "sensor_gps",
               "vehicle_global_position")
@@ -583,12 +581,12 @@ def _read_px4(path, mag_instance, name) -> FlightCompassLog:
     if instance not in have:
         raise LogFormatError(f"{name} has no compass instance {instance}: its compass instances are "
                              f"{', '.join(map(str, have))}; give mag_instance as one of them")
-    release = u.msg_info_dict.get("ver_sw_release")
-    major_minor = ((release >> 24) & 0xFF, (release >> 16) & 0xFF) if release else None
-    version = ("PX4 v{}.{}.{}".format(*major_minor, (release >> 8) & 0xFF) if release else "PX4 (release not logged)")
+    number = u.msg_info_dict.get("ver_sw_release")
+    version = ("PX4 v{}.{}.{}".format(*ulog.release(u), (int(number) >> 8) & 0xFF) if number
+               else "PX4 (release not logged)")
     # Before PX4 1.12 the driver (PX4Magnetometer) applied CAL_MAGn offsets and scales itself: sensor_mag is
     # calibrated there; from 1.12 the calibration is the sensors module's (lib/sensor_calibration) and sensor_mag raw.
-    sensor_mag_calibrated = major_minor is not None and major_minor < PX4_RAW_SENSOR_MAG
+    sensor_mag_calibrated = ulog.release_before(u, ulog.RAW_SENSORS_FROM)
     p_t, cur, thr, p_source = _px4_power(u, notes)
     if raw_mags:
         d = _ds(u, "sensor_mag", instance)
@@ -690,3 +688,30 @@ def read_flight_compass(path, *, mag_instance: int | None = None, name: str = "t
         return _read_ardupilot(path, mag_instance, name)
     raise LogFormatError(f"{name} is not a flight controller's log: a compass from a flight reads a PX4 ULog (.ulg) "
                          "or an ArduPilot DataFlash log (.bin)")
+
+
+CALIBRATION_PREFIXES = ("COMPASS_", "INS_ACC", "INS_GYR", "AHRS_ORIENTATION", "CAL_ACC", "CAL_GYRO", "CAL_MAG",
+                        "SENS_BOARD")
+"""The parameters holding what a firmware stored of its sensors' calibration (ArduPilot, PX4)."""
+
+
+def stored_calibration_parameters(path, *, name: str = "the file") -> dict:
+    """The sensors' calibration the firmware stored in a flight log's parameters (ArduPilot PARM, PX4's initial
+    parameters): COMPASS_*, INS_ACC*/INS_GYR*, CAL_ACC*/CAL_GYRO*/CAL_MAG*, the board's orientation."""
+    with open(path, "rb") as f:
+        head = f.read(16)
+    if head.startswith(ulog.MAGIC):
+        from pyulog import ULog
+
+        with contextlib.redirect_stdout(io.StringIO()):
+            try:
+                values = ULog(str(path), message_name_filter_list=[], disable_str_exceptions=True).initial_parameters
+            except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
+                raise LogFormatError(f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): "
+                                     "the file is damaged; download the log again") from None
+    elif head.startswith(dataflash.MAGIC):
+        reader, buf, _ = dataflash.open_log(path, name)
+        values = dataflash.params(reader, buf)
+    else:
+        raise LogFormatError(f"{name} is not a flight controller's log (PX4 .ulg or ArduPilot .bin)")
+    return {k: v for k, v in sorted(values.items()) if k.startswith(CALIBRATION_PREFIXES)}

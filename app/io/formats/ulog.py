@@ -24,8 +24,9 @@ so; :mod:`app.io.flight_context` reads them back to raw.
 
 Each ``multi_id`` of ``sensor_accel`` (and ``sensor_gyro``, ``sensor_mag``) is an instance.  Their
 frame is the *board's* FRD frame (x forward, y right, z down): the driver has turned the chip's axes
-onto the board's, and nothing else — no calibration (offsets, scales), no thermal correction, no
-``SENS_BOARD_ROT`` — is applied, which is what a calibration wants.  ``sensor_combined`` is what PX4's
+onto the board's, and from PX4 1.12 on nothing else — no calibration (offsets, scales), no thermal
+correction, no ``SENS_BOARD_ROT`` — is applied, which is what a calibration wants; before 1.12 the
+drivers applied the CAL_* offsets and scales (:data:`RAW_SENSORS_FROM`), and a note says so.  ``sensor_combined`` is what PX4's
 estimator uses: the selected IMU already calibrated and turned into the vehicle's FRD body frame;
 trical reads it (without temperature) when it has more samples than every ``sensor_accel`` instance
 (PX4's default logging profile logs ``sensor_accel`` at a low rate) and nothing else is asked, and
@@ -53,6 +54,23 @@ GAUSS_TO_UT = 100.0
 """1 gauss = 100 µT; PX4's sensor_mag is in gauss (msg/SensorMag.msg)."""
 TOPICS = ("sensor_accel", "sensor_gyro", "sensor_mag", "sensor_combined")
 SENSOR_OF = {"sensor_accel": ("acc", 1.0), "sensor_gyro": ("gyr", 1.0), "sensor_mag": ("mag", GAUSS_TO_UT)}
+
+
+RAW_SENSORS_FROM = (1, 12)
+"""The first PX4 release whose sensor_accel/sensor_gyro/sensor_mag are raw: before it the drivers (PX4Accelerometer,
+PX4Magnetometer …) applied the CAL_* offsets and scales; from it src/lib/sensor_calibration in the sensors module
+does.  Seen in sample_log_small.ulg (PX4 1.11.2): its external compass's sensor_mag equals vehicle_magnetometer."""
+
+
+def release(ulog) -> tuple[int, int] | None:
+    """PX4's release (major, minor) from the ``ver_sw_release`` information (0xAABBCCTT), None when not logged."""
+    v = ulog.msg_info_dict.get("ver_sw_release")
+    return ((int(v) >> 24) & 0xFF, (int(v) >> 16) & 0xFF) if v else None
+
+
+def release_before(ulog, version: tuple[int, int]) -> bool:
+    r = release(ulog)
+    return r is not None and r < version
 
 
 def detect(s: Sniff) -> bool:
@@ -153,6 +171,10 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
                      "the vehicle's body frame (FRD)" + (f": it has more samples ({default.n_samples}) than any "
                      f"sensor_accel instance ({max(x.n_samples for x in raw)}); give instance for one of those"
                      if raw else "; the log has no sensor_accel") + ". Its calibration is what is left over PX4's own")
+    elif release_before(ulog, RAW_SENSORS_FROM):
+        notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag of a release before 1.12: the board's FRD frame, after "
+                     "the driver's own calibration (CAL_ACCn/CAL_GYROn/CAL_MAGn offsets and scales), before "
+                     "SENS_BOARD_ROT: a calibration from them is what is left over PX4's")
     else:
         notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag: the board's FRD frame (x forward, y right, z down), "
                      "before PX4's calibration and SENS_BOARD_ROT")

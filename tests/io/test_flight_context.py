@@ -1,0 +1,116 @@
+"""A simulated flight written as both firmwares' logs (tests/flight_logs.py write_flight_logs) and read back by
+read_flight_compass: the raw compass, the attitude, the current and throttle, the place and date, and the
+stored calibrations come back as written; layouts trical cannot read are refused naming message and field."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from app.io.errors import LogFormatError
+from app.io.flight_context import read_flight_compass
+from app.io.formats import read_log
+from tests.flight_logs import (ardupilot_flight_messages, ardupilot_imu, simulated_flight, write_dataflash,
+                               write_flight_logs)
+
+RAW_ATOL_UT = 1e-3
+"""The raw field read back: float32 in the logs (MagX… of the simulated DataFlash, sensor_mag's x…)."""
+
+
+def _rotation_z(deg):
+    c, s = np.cos(np.radians(deg)), np.sin(np.radians(deg))
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+
+def _check_common(r, flight, *, current_atol=1e-5, throttle_atol=1e-6):
+    np.testing.assert_allclose(r.time_s, flight["time_s"], atol=1e-6)
+    np.testing.assert_allclose(r.mag_raw_ut, flight["mag_raw_ut"], atol=RAW_ATOL_UT)
+    np.testing.assert_allclose(r.attitude_time_s, flight["time_s"], atol=1e-6)
+    np.testing.assert_allclose(r.attitude_c_nb, flight["attitude_c_nb"], atol=1e-5)
+    np.testing.assert_allclose(r.power_time_s, flight["time_s"], atol=1e-6)
+    np.testing.assert_allclose(r.current_a, flight["current_a"], atol=current_atol)
+    np.testing.assert_allclose(r.throttle, flight["throttle"], atol=throttle_atol)
+    assert (r.latitude_deg, r.longitude_deg) == pytest.approx((flight["lat"], flight["lon"]), abs=1e-7)
+    assert r.altitude_m == pytest.approx(flight["alt_m"], abs=0.01)
+    assert abs((r.utc - flight["utc"]).total_seconds()) < 1e-3
+
+
+@pytest.mark.parametrize("generation", ["new", "old"])
+def test_ardupilot_log_of_a_flight_reads_back_what_was_written(tmp_path, generation):
+    flight = simulated_flight(3)
+    bin_path, _ = write_flight_logs(tmp_path, flight, ardupilot_generation=generation)
+    r = read_flight_compass(bin_path)
+    cal = flight["stored"]["ardupilot"]
+    assert r.firmware == "ardupilot" and r.instance == 0
+    assert r.generation.endswith("(TimeUS, MAG with I)" if generation == "new" else "(TimeMS, MAG)")
+    # old CURR holds centi-amps and ThrOut thousandths (int16): the current to 5 mA, the throttle to 5e-4
+    _check_common(r, flight, current_atol=1e-5 if generation == "new" else 5e-3,
+                  throttle_atol=1e-6 if generation == "new" else 5e-4)
+    np.testing.assert_allclose(r.stored.offsets_ut, cal["offsets_ut"], atol=1e-5)
+    np.testing.assert_allclose(r.stored.matrix, cal["matrix"], atol=1e-6)
+    np.testing.assert_allclose(r.stored.motor, cal["motor"], atol=1e-6)
+    assert r.stored.motor_kind == "current" and r.stored.orientation == 0
+    np.testing.assert_array_equal(r.frame_to_body, np.eye(3))
+    # the firmware's field is ArduPilot's formula of that generation, written independently here
+    D, O = cal["matrix"], cal["offsets_ut"]
+    mofs = np.outer(flight["current_a"], cal["motor"])
+    m = flight["mag_raw_ut"]
+    h = (m + O) @ D.T + mofs if generation == "new" else (m + O + mofs) @ D.T
+    np.testing.assert_allclose(r.mag_firmware_ut, h, atol=RAW_ATOL_UT)
+    assert "read back to raw from MAG" in r.raw_how
+
+
+def test_ardupilot_numbered_mag2_of_old_logs(tmp_path):
+    flight = simulated_flight(4)
+    path = write_dataflash(tmp_path / "mag2.bin", ardupilot_flight_messages(flight, generation="old", instance=1))
+    r = read_flight_compass(path, mag_instance=1)
+    assert r.instance == 1 and "MAG2" in r.generation
+    np.testing.assert_allclose(r.mag_raw_ut, flight["mag_raw_ut"], atol=RAW_ATOL_UT)
+    with pytest.raises(LogFormatError, match="compass instances are 1"):
+        read_flight_compass(path, mag_instance=0)
+
+
+def test_px4_log_of_a_flight_reads_back_what_was_written(tmp_path):
+    flight = simulated_flight(5)
+    _, ulg_path = write_flight_logs(tmp_path, flight)
+    r = read_flight_compass(ulg_path)
+    cal = flight["stored"]["px4"]
+    assert r.firmware == "px4" and r.generation == "PX4 v1.14.0 (sensor_mag)"
+    _check_common(r, flight)
+    assert r.raw_how.startswith("logged raw")
+    np.testing.assert_allclose(r.stored.offsets_ut, cal["offsets_ut"], atol=1e-5)
+    np.testing.assert_allclose(r.stored.matrix, cal["matrix"], atol=1e-6)
+    np.testing.assert_allclose(r.stored.motor, cal["motor"], atol=1e-6)
+    assert r.stored.motor_kind == "current" and r.stored.orientation == 2
+    assert r.stored.params["CAL_MAG0_ID"] == 396809
+    np.testing.assert_allclose(r.frame_to_body, _rotation_z(90), atol=1e-12)  # ROTATION_YAW_90
+    # PX4 Magnetometer::Correct, written independently: R (S ((m + c I) − o)), c in µT per A (xCOMP per kA)
+    h = ((flight["mag_raw_ut"] + np.outer(flight["current_a"], cal["motor"])) - cal["offsets_ut"]) @ cal["matrix"].T
+    np.testing.assert_allclose(r.mag_firmware_ut, h @ _rotation_z(90).T, atol=RAW_ATOL_UT)
+
+
+def test_a_message_without_the_field_trical_needs_is_named_not_called_damaged(tmp_path):
+    imu = ardupilot_imu(0, np.arange(10) * 5000, np.zeros((10, 3)), np.zeros((10, 3)), 30.0)
+    imu["columns"][0] = "Stamp"
+    imu["data"]["Stamp"] = imu["data"].pop("TimeUS")
+    path = write_dataflash(tmp_path / "odd.bin", [imu])
+    with pytest.raises(LogFormatError) as e:
+        read_log(path)
+    assert "IMU" in str(e.value) and "TimeUS" in str(e.value) and "TimeMS" in str(e.value)
+    assert "damaged" not in str(e.value)
+    flight = simulated_flight(6, n=20)
+    messages = ardupilot_flight_messages(flight)
+    mag = next(m for m in messages if m["name"] == "MAG")
+    mag["columns"][2] = "FieldX"
+    mag["data"]["FieldX"] = mag["data"].pop("MagX")
+    path = write_dataflash(tmp_path / "odd_mag.bin", messages)
+    with pytest.raises(LogFormatError, match="MAG messages have no MagX field") as e:
+        read_flight_compass(path)
+    assert "damaged" not in str(e.value)
+
+
+def test_not_a_flight_log_is_refused(tmp_path):
+    path = tmp_path / "x.csv"
+    path.write_text("a,b\n1,2\n")
+    with pytest.raises(LogFormatError, match="not a flight controller's log"):
+        read_flight_compass(path)
