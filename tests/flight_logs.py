@@ -391,7 +391,8 @@ def ardupilot_flight_messages(flight: dict, *, generation: str = "new", instance
         messages.append({"name": "CTUN", "type": 162, "format": "Qff", "columns": ["TimeUS", "ThI", "ThO"],
                          "data": {**stamp, "ThI": thr, "ThO": thr}})
     else:
-        messages.append({"name": "CURR", "type": 161, "format": "Ihhh", "columns": ["TimeMS", "Throttle", "Volt", "Curr"],
+        messages.append({"name": "CURR", "type": 161, "format": "Ihhh",
+                         "columns": ["TimeMS", "Throttle", "Volt", "Curr"],
                          "data": {**stamp, "Throttle": np.round(thr * 1000), "Volt": np.full(n, 1600),
                                   "Curr": np.round(cur * 100)}})
         messages.append({"name": "CTUN", "type": 162, "format": "Ihh", "columns": ["TimeMS", "ThrIn", "ThrOut"],
@@ -443,7 +444,8 @@ def px4_flight_topics(flight: dict, *, device_id: int = 396809, slot: int = 0):
                    "fields": [("uint64_t", "timestamp"), ("uint64_t", "time_utc_usec"), ("int32_t", "lat"),
                               ("int32_t", "lon"), ("int32_t", "alt"), ("uint8_t", "fix_type")],
                    "data": {"timestamp": t_us, "time_utc_usec": utc_us + (t_us - t_us[2]).astype(np.int64),
-                            "lat": np.full(n, round(flight["lat"] * 1e7)), "lon": np.full(n, round(flight["lon"] * 1e7)),
+                            "lat": np.full(n, round(flight["lat"] * 1e7)),
+                            "lon": np.full(n, round(flight["lon"] * 1e7)),
                             "alt": np.full(n, round(flight["alt_m"] * 1000)), "fix_type": fix}})
     M = np.asarray(cal["matrix"], dtype=float)
     kind = cal.get("motor_kind")

@@ -7,41 +7,39 @@ corrected, and puts every series on one clock: seconds on the flight controller'
 ArduPilot's ``TimeUS``/``TimeMS``, PX4's ``timestamp_sample``/``timestamp``), which every message of a log
 shares.
 
-What is raw, what is corrected (what a logged compass reading is, per firmware and generation):
+What is raw, what is corrected (what a logged compass reading is, per firmware and generation; the
+reading's ``raw_how`` says which; docs/rest.md has the same table):
 
-=========================  ==============================  =======================================  =====================================
-firmware, generation       message                         logged                                   read back to raw (frame L) with
-=========================  ==============================  =======================================  =====================================
-ArduPilot (Copter ≤ 3.5)   ``MAG``, ``MAG2``, ``MAG3``     corrected, body frame (COMPASS_ORIENT,   ``m = D⁻¹h − O − MOfs``
-(``TimeMS`` or ``TimeUS``)  with OfsX…, MOfsX…             AHRS_ORIENTATION), mG:                   (O: COMPASS_OFS*, D: COMPASS_DIA*/ODI*)
-                                                           ``h = D (m + O + MOfs)``
-ArduPilot (with            ``MAG`` with ``I``              corrected, body frame, mG:               ``m = D⁻¹(h − MOfs) / s − O``
-COMPASS_SCALE, 3.6 on)                                     ``h = D s (m + O) + MOfs``
-ArduPilot, every           ``IMU``, ``ACC``, ``GYR``       corrected (INS_ACCOFFS/ACCSCAL, gyro     not read back (the IMU is not the
-generation                                                 offsets), body frame                     compass's business here)
-PX4 ≤ 1.8                  ``sensor_combined``             corrected, body frame, gauss:            ``m = S⁻¹ Rᵀ h + o``
-                           ``magnetometer_ga``             ``h = R S (m − o)``                      (o: CAL_MAGn_xOFF, S: xSCALE)
-PX4 1.9–1.11               ``sensor_mag`` (per instance)   calibrated by the driver (CAL_MAGn       ``m = S⁻¹ h + o``
-                                                           offsets, scales), the driver's frame
-PX4 ≥ 1.12                 ``sensor_mag`` (per instance)   raw, the driver's frame (chip axes       logged raw
-                                                           turned onto the board's), gauss
-PX4 ≥ 1.9                  ``vehicle_magnetometer``        corrected, body frame (the selected      the firmware's field, compared with
-                                                           compass)                                 PX4's formula applied to sensor_mag
-PX4 ≥ 1.9                  ``sensor_accel``/``_gyro``      raw, the driver's frame                  logged raw
-=========================  ==============================  =======================================  =====================================
+- ArduPilot Copter 3.3–3.5 (``TimeMS`` or ``TimeUS``), ``MAG``/``MAG2``/``MAG3`` with OfsX…, MOfsX…:
+  corrected, body frame (COMPASS_ORIENT, AHRS_ORIENTATION), mG, ``h = D (m + O + MOfs)``; read back
+  ``m = D⁻¹ h − O − MOfs`` (O: COMPASS_OFS*, D: COMPASS_DIA*/ODI*).
+- ArduPilot Copter 3.6 on (COMPASS_PMOT_EN or COMPASS_SCALE in the parameters), ``MAG`` (with ``I``
+  later): corrected, body frame, ``h = D s (m + O) + MOfs``; read back ``m = (D s)⁻¹ (h − MOfs) − O``.
+- ArduPilot, every release, ``IMU``/``ACC``/``GYR``: corrected (INS_ACCOFFS/ACCSCAL, gyro offsets),
+  body frame; not read back here.
+- PX4 1.6–1.8, ``sensor_combined.magnetometer_ga``: corrected, body frame, gauss, ``h = R S (m − o)``;
+  read back ``m = S⁻¹ Rᵀ h + o`` (o: CAL_MAGn_xOFF, S: xSCALE/xODIAG, R: the rotation below).
+- PX4 1.9–1.11, ``sensor_mag`` per instance: after the driver's CAL_MAGn offsets and scales, the
+  driver's frame; read back ``m = S⁻¹ h + o``.
+- PX4 1.12 on, ``sensor_mag`` (and ``sensor_accel``/``sensor_gyro``): raw, the driver's frame (the
+  chip's axes turned onto the board's), gauss; the firmware's field is computed with PX4's formula.
+- PX4 1.9 on, ``vehicle_magnetometer``: corrected, body frame, the selected compass; compared with the
+  firmware's field computed from sensor_mag when it is the same compass (a note gives the rms).
 
 The firmwares' formulas, from their sources:
 
 - ArduPilot, ``AP_Compass_Backend::correct_field`` (libraries/AP_Compass/AP_Compass_Backend.cpp): the
   driver has rotated the raw field into the body frame (COMPASS_ORIENTn, and AHRS_ORIENTATION for an
   internal compass) before; then in Copter 3.3–3.5 ``mag += offsets; mag += motor_offset; mag = mat *
-  mag`` (the motor offset inside the matrix), from the release that added COMPASS_SCALE ``mag +=
-  offsets; mag *= scale_factor; mag = mat * mag; mag += motor_offset``.  ``mat`` is
+  mag`` (the motor offset inside the matrix); from the release that added the per-motor compensation
+  (COMPASS_PMOT_EN, Copter 3.6) ``mag += offsets; mag = mat * mag; mag += motor_offset``, and later
+  ``mag *= scale_factor`` (COMPASS_SCALE) before the matrix.  ``mat`` is
   ``[[DIA_X, ODI_X, ODI_Y], [ODI_X, DIA_Y, ODI_Z], [ODI_Y, ODI_Z, DIA_Z]]``; ``motor_offset =
   COMPASS_MOT * thr_or_curr`` (COMPASS_MOTCT 1: throttle 0..1, 2: current in A).  The logger writes the
   corrected field with the offsets (OfsX…, int16, the parameter truncated) and the motor offset applied
-  (MOfsX…) — the order is told by COMPASS_SCALE in the log's parameters; with DIA/ODI the identity and
-  no motor offset both orders are the same.
+  (MOfsX…) — the order is told by COMPASS_PMOT_EN or COMPASS_SCALE in the log's parameters
+  (:data:`ARDUPILOT_MOTOR_AFTER_MATRIX`); with DIA/ODI the identity or no motor offset both orders are
+  the same.
 - PX4, ``calibration::Magnetometer::Correct`` (src/lib/sensor_calibration/Magnetometer.hpp):
   ``rotation * (scale * ((data + power_compensation) - offset))`` in gauss, ``scale`` the symmetric
   matrix of CAL_MAGn_XSCALE… on its diagonal and CAL_MAGn_XODIAG, YODIAG, ZODIAG off it,
@@ -84,6 +82,10 @@ LEAP_SECONDS = ((dt.datetime(2017, 1, 1, tzinfo=dt.timezone.utc), 18),
 GPS_3D_FIX = 3
 """ArduPilot's GPS Status and PX4's fix_type both number a 3-D fix 3 (AP_GPS::GPS_OK_FIX_3D, msg/SensorGps.msg)."""
 ARDUPILOT_SUFFIX = ("", "2", "3")
+ARDUPILOT_MOTOR_AFTER_MATRIX = ("COMPASS_PMOT_EN", "COMPASS_SCALE", "COMPASS_SCALE2", "COMPASS_SCALE3")
+"""Parameters only a firmware that applies the motor offset after DIA/ODI has: correct_field moved the motor
+compensation after the matrix with the per-motor compensation (COMPASS_PMOT_*, Copter 3.6), and COMPASS_SCALE
+came later still."""
 """ArduPilot's compass parameters per instance: COMPASS_OFS_X, COMPASS_OFS2_X, COMPASS_OFS3_X …"""
 PX4_ROTATIONS_RPY = ((0, 0, 0), (0, 0, 45), (0, 0, 90), (0, 0, 135), (0, 0, 180), (0, 0, 225), (0, 0, 270),
                      (0, 0, 315), (180, 0, 0), (180, 0, 45), (180, 0, 90), (180, 0, 135), (0, 180, 0),
@@ -414,7 +416,7 @@ def _read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
         mofs = np.zeros_like(h)
         notes.append(f"{msg} has no MOfsX… fields: no motor offset is taken out")
     d_inv = np.linalg.inv(stored.matrix)
-    newer = any(f"COMPASS_SCALE{k}" in values for k in ARDUPILOT_SUFFIX)
+    newer = any(n in values for n in ARDUPILOT_MOTOR_AFTER_MATRIX)
     if newer:  # h = D s (m + O) + MOfs (stored.matrix holds D s)
         raw_mg = (h - mofs) @ d_inv.T - ofs
         formula = "m = (D s)⁻¹ (h − MOfs) − O"
@@ -449,7 +451,8 @@ def px4_cal(values: dict, slot: int, instance: int) -> FirmwareCompassCal:
     """The calibration PX4 stored in CAL_MAG{slot}_* (for the compass ``instance``), with CAL_MAG_COMP_TYP."""
     p = f"CAL_MAG{slot}_"
     names = [p + n for n in ("ID", "ROT", "XOFF", "YOFF", "ZOFF", "XSCALE", "YSCALE", "ZSCALE", "XODIAG", "YODIAG",
-                             "ZODIAG", "XCOMP", "YCOMP", "ZCOMP", "PRIO", "EN")] + ["CAL_MAG_COMP_TYP", "SENS_BOARD_ROT"]
+                             "ZODIAG", "XCOMP", "YCOMP", "ZCOMP", "PRIO", "EN")]
+    names += ["CAL_MAG_COMP_TYP", "SENS_BOARD_ROT"]
     used = {n: values[n] for n in names if n in values}
     scale = [values.get(p + f"{a}SCALE", 1.0) or 1.0 for a in "XYZ"]
     kind = {1: "throttle", 2: "current", 3: "current"}.get(int(values.get("CAL_MAG_COMP_TYP", 0)))

@@ -26,9 +26,9 @@ Each ``multi_id`` of ``sensor_accel`` (and ``sensor_gyro``, ``sensor_mag``) is a
 frame is the *board's* FRD frame (x forward, y right, z down): the driver has turned the chip's axes
 onto the board's, and from PX4 1.12 on nothing else — no calibration (offsets, scales), no thermal
 correction, no ``SENS_BOARD_ROT`` — is applied, which is what a calibration wants; before 1.12 the
-drivers applied the CAL_* offsets and scales (:data:`RAW_SENSORS_FROM`), and a note says so.  ``sensor_combined`` is what PX4's
-estimator uses: the selected IMU already calibrated and turned into the vehicle's FRD body frame;
-trical reads it (without temperature) when it has more samples than every ``sensor_accel`` instance
+drivers applied the CAL_* offsets and scales (:data:`RAW_SENSORS_FROM`), and a note says so.
+``sensor_combined`` is what PX4's estimator uses: the selected IMU already calibrated and turned into
+the vehicle's FRD body frame; trical reads it (without temperature) when it has more samples than every ``sensor_accel`` instance
 (PX4's default logging profile logs ``sensor_accel`` at a low rate) and nothing else is asked, and
 says so in a note: its calibration is the residual left by PX4's own.  At rest the axis pointing up
 reads +g in both (specific force), as trical's convention has it.
@@ -183,6 +183,7 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
                      "offsets and scales) in the body frame: a calibration from it is what is left over PX4's")
     log = choose(streams, fmt=NAME, imu_sources=("sensor_accel", "sensor_combined"),
                  gyr_for={"sensor_accel": "sensor_gyro", "sensor_combined": "sensor_combined"},
-                 mag_sources=("sensor_mag", "sensor_combined"), instance=instance, mag_instance=mag_instance, clock=clock,
+                 mag_sources=("sensor_mag", "sensor_combined"), instance=instance, mag_instance=mag_instance,
+                 clock=clock,
                  default_imu=default, notes=notes, name=name)
     return log
