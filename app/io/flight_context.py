@@ -329,20 +329,20 @@ def _ardupilot_power(reader, buf, name, notes):
 
 
 def _power(current, throttle, notes):
-    """One clock for the current and the throttle: the current's times, the throttle interpolated onto them."""
+    """One clock for the current and the throttle: the times of the one logged more often, the other
+    interpolated linearly onto them (PX4 logs battery_status at about 1 Hz, the controls far faster)."""
     if current is None and throttle is None:
         notes.append("no battery current and no throttle in the log: the motors' interference cannot be fitted")
         return None, None, None, None
-    base = current if current is not None else throttle
+    present = [x for x in (current, throttle) if x is not None]
+    base = max(present, key=lambda x: len(x[0]))
     t = base[0]
-    cur = None if current is None else current[1]
-    thr = None
-    if throttle is not None:
-        thr = throttle[1] if throttle is base else np.interp(t, throttle[0], throttle[1])
-    source = " and ".join(x[2] for x in (current, throttle) if x is not None)
-    if current is not None and throttle is not None:
-        source += f" (the throttle interpolated onto {current[2].split('.')[0]}'s times)"
-    return t, cur, thr, source
+    onto = [None if x is None else x[1] if x is base else np.interp(t, x[0], x[1]) for x in (current, throttle)]
+    source = " and ".join(x[2] for x in present)
+    if len(present) == 2:
+        other = throttle if base is current else current
+        source += f" ({other[2]} interpolated onto {base[2].split('.')[0]}'s times)"
+    return t, onto[0], onto[1], source
 
 
 def _ardupilot_position(reader, buf, name, notes):

@@ -70,6 +70,16 @@ def test_ardupilot_numbered_mag2_of_old_logs(tmp_path):
         read_flight_compass(path, mag_instance=0)
 
 
+def test_ardupilot_second_battery_is_not_mixed_into_the_first(tmp_path):
+    flight = simulated_flight(7, n=50)
+    messages = ardupilot_flight_messages(flight)
+    bat = next(m for m in messages if m["name"] == "BAT")
+    second = {**bat, "data": {**bat["data"], "Inst": np.ones(50), "Curr": np.full(50, 99.0)}}
+    path = write_dataflash(tmp_path / "two_batteries.bin", messages + [second])
+    r = read_flight_compass(path)
+    np.testing.assert_allclose(r.current_a, flight["current_a"], atol=1e-5)
+
+
 def test_px4_log_of_a_flight_reads_back_what_was_written(tmp_path):
     flight = simulated_flight(5)
     _, ulg_path = write_flight_logs(tmp_path, flight)

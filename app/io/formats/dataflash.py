@@ -74,6 +74,8 @@ STRUCT_TO_NUMPY = {"b": "i1", "B": "u1", "h": "<i2", "H": "<u2", "i": "<i4", "I"
 DEVICE_PARAMS = {"acc": ("INS_ACC_ID", "INS_ACC2_ID", "INS_ACC3_ID"),
                  "gyr": ("INS_GYR_ID", "INS_GYR2_ID", "INS_GYR3_ID"),
                  "mag": ("COMPASS_DEV_ID", "COMPASS_DEV_ID2", "COMPASS_DEV_ID3")}
+INSTANCE_FIELDS = ("I", "Inst")
+"""The instance fields of logs without FMTU: ``I`` (IMU, MAG, GPS …), ``Inst`` (BAT)."""
 MAG_NAMES = {"MAG": 0, "MAG2": 1, "MAG3": 2}
 """The compass's messages: one with ``I``, or one per instance in older logs."""
 """The parameters naming each instance's device id (bus, address, type packed as in flight_log.decode_device_id)."""
@@ -146,12 +148,12 @@ def params(reader, buf) -> dict:
 
 
 def instance_field(reader, name: str) -> str | None:
-    """The field that numbers a message's instances: FMTU's ``#`` unit when logged, else ``I``."""
+    """The field that numbers a message's instances: FMTU's ``#`` unit when logged, else ``I`` (``Inst`` of BAT)."""
     type_id = reader.name_to_id.get(name)
     fmt = None if type_id is None else reader.formats[type_id]
     if fmt is not None and fmt.instance_field:
         return fmt.instance_field
-    return "I" if fmt is not None and "I" in fmt.columns else None
+    return next((c for c in INSTANCE_FIELDS if fmt is not None and c in fmt.columns), None)
 
 
 def instances(reader, buf, names: dict[str, int]) -> list[tuple[int, str, dict]]:

@@ -28,9 +28,9 @@ onto the board's, and from PX4 1.12 on nothing else — no calibration (offsets,
 correction, no ``SENS_BOARD_ROT`` — is applied, which is what a calibration wants; before 1.12 the
 drivers applied the CAL_* offsets and scales (:data:`RAW_SENSORS_FROM`), and a note says so.
 ``sensor_combined`` is what PX4's estimator uses: the selected IMU already calibrated and turned into
-the vehicle's FRD body frame; trical reads it (without temperature) when it has more samples than every ``sensor_accel`` instance
-(PX4's default logging profile logs ``sensor_accel`` at a low rate) and nothing else is asked, and
-says so in a note: its calibration is the residual left by PX4's own.  At rest the axis pointing up
+the vehicle's FRD body frame; trical reads it (without temperature) when it has more samples than every
+``sensor_accel`` instance (PX4's default logging profile logs ``sensor_accel`` at a low rate) and nothing
+else is asked, and says so in a note: its calibration is the residual left by PX4's own.  At rest the axis pointing up
 reads +g in both (specific force), as trical's convention has it.
 """
 
