@@ -313,18 +313,20 @@ def _scaled(values, per: float) -> np.ndarray:
     return v.astype(float) * per if v.dtype.kind in "iu" else v.astype(float)
 
 
-def _ardupilot_power(reader, buf, name, notes):
+def _ardupilot_power(reader, buf, name, release, notes):
     current = throttle = None
     msg, t = _first(reader, buf, ("BAT", "CURR"))
     if t is not None and ("Curr" in t):
         # CURR of Copter ≤ 3.4 logs int16 current_amps * 100 (centi-amps); BAT and later CURR log A as float.
         current = (dataflash.time_us(t, msg, name) * 1e-6, _scaled(t["Curr"], 0.01), f"{msg}.Curr")
     tmsg, tt = _first(reader, buf, ("CTUN",))
-    if tt is not None:
-        # CTUN ThO (float 0..1), ThrOut in older logs (int16 0..1000).
-        field = "ThO" if "ThO" in tt else "ThrOut" if "ThrOut" in tt else None
-        if field is not None:
-            throttle = (dataflash.time_us(tt, tmsg, name) * 1e-6, _scaled(tt[field], 1e-3), f"CTUN.{field}")
+    field = None if tt is None else "ThO" if "ThO" in tt else "ThrOut" if "ThrOut" in tt else None
+    if field is not None:
+        if "Plane" in release:  # Plane's CTUN logs the throttle servo's scaled output, percent
+            value, how = np.asarray(tt[field], dtype=float) * 0.01, f"CTUN.{field} (Plane, percent)"
+        else:  # Copter: ThO 0..1 (float), ThrOut 0..1000 (int16) in older logs
+            value, how = _scaled(tt[field], 1e-3), f"CTUN.{field}"
+        throttle = (dataflash.time_us(tt, tmsg, name) * 1e-6, value, how)
     return _power(current, throttle, notes)
 
 
@@ -366,15 +368,18 @@ def _ardupilot_position(reader, buf, name, notes):
     return lat, lon, alt, utc
 
 
-def _ardupilot_generation(reader, buf, mag_msg, t) -> str:
+def _ardupilot_release(reader, buf) -> str:
+    """The firmware's banner from the log's MSG (``ArduPilot Copter V3.3-dev``), or ``ArduPilot``."""
     msgs = dataflash.table(reader, buf, "MSG")
-    release = "ArduPilot"
     if msgs is not None and "Message" in msgs:
         for m in msgs["Message"]:
             text = m.split(b"\0")[0].decode("ascii", "replace")
             if text.startswith(("APM:", "Ardu")):
-                release = "ArduPilot " + text.replace("APM:", "").split(" (")[0].strip()
-                break
+                return "ArduPilot " + text.replace("APM:", "").split(" (")[0].strip()
+    return "ArduPilot"
+
+
+def _ardupilot_generation(reader, release, mag_msg, t) -> str:
     clock = "TimeUS" if "TimeUS" in t else "TimeMS"
     layout = mag_msg if dataflash.instance_field(reader, mag_msg) is None else f"{mag_msg} with I"
     return f"{release} ({clock}, {layout})"
@@ -428,12 +433,14 @@ def _read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
     att_t, att_c, att_source = _ardupilot_attitude(reader, buf, name)
     if att_t is None:
         notes.append("no ATT or AHR2 messages: the attitude is missing (log ATTITUDE_MED/FAST)")
-    p_t, cur, thr, p_source = _ardupilot_power(reader, buf, name, notes)
+    release = _ardupilot_release(reader, buf)
+    p_t, cur, thr, p_source = _ardupilot_power(reader, buf, name, release, notes)
     lat, lon, alt, utc = _ardupilot_position(reader, buf, name, notes)
     if said.getvalue().strip():
         notes.append(f"{name}: pymavlink reported: {said.getvalue().strip()[:200]}")
     return FlightCompassLog(
-        firmware="ardupilot", generation=_ardupilot_generation(reader, buf, msg, t), instance=instance, time_s=time_s,
+        firmware="ardupilot", generation=_ardupilot_generation(reader, release, msg, t), instance=instance,
+        time_s=time_s,
         mag_raw_ut=raw_mg * MILLIGAUSS_TO_UT, mag_firmware_ut=h * MILLIGAUSS_TO_UT, raw_how=raw_how,
         frame_to_body=np.eye(3), stored=stored, attitude_time_s=att_t, attitude_c_nb=att_c,
         attitude_source=att_source, power_time_s=p_t, current_a=cur, throttle=thr, power_source=p_source,

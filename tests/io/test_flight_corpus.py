@@ -21,6 +21,8 @@ from app.io.formats import read_log
 
 FLIGHT = Path(__file__).resolve().parents[1] / "data" / "real" / "flight"
 LOG171 = FLIGHT / "log171.bin"
+PLANE = FLIGHT.parents[1] / "flight_logs" / "test.BIN"
+"""pymavlink's test log (tests/data/README.md): ArduPlane V3.8.2-dev, TimeUS with MAG/MAG2/MAG3 named per instance."""
 ULOGS = {"sample_appended_multiple.ulg": "PX4 v1.6.0 (sensor_combined)",
          "sample_log_small.ulg": "PX4 v1.11.2 (sensor_mag, calibrated)",
          "sample_px4_events.ulg": "PX4 v1.15.0 (sensor_mag)"}
@@ -108,6 +110,26 @@ def test_log171_stored_offsets_agree_with_a_sphere_fit_of_the_raw_mag2():
     assert np.abs(offsets_fit - r.stored.offsets_ut).max() < 0.2
     _, raw_centre = fit_sphere(r.mag_raw_ut)
     assert 1.0 < np.abs(-raw_centre - r.stored.offsets_ut).max() < 3.0
+
+
+def test_plane_3_8_of_timeus_with_numbered_compasses_against_pymavlink():
+    with contextlib.redirect_stdout(io.StringIO()):
+        reader = DFReader.DFReader_binary(str(PLANE), zero_time_base=True)
+        first = {}
+        while (m := reader.recv_msg()) is not None:
+            first.setdefault(m.get_type(), m)
+    r = read_flight_compass(PLANE, mag_instance=1)
+    assert r.generation == "ArduPilot ArduPlane V3.8.2-dev (TimeUS, MAG2)"
+    m = first["MAG2"]
+    assert r.time_s[0] == pytest.approx(m.TimeUS * 1e-6, abs=1e-9)
+    np.testing.assert_allclose(r.mag_firmware_ut[0], np.array([m.MagX, m.MagY, m.MagZ]) * 0.1, atol=1e-9)
+    np.testing.assert_allclose((r.mag_raw_ut[0] + r.stored.offsets_ut + np.array([m.MOfsX, m.MOfsY, m.MOfsZ]) * 0.1)
+                               @ r.stored.matrix.T, r.mag_firmware_ut[0], atol=1e-9)
+    bat, ctun = first["BAT"], first["CTUN"]
+    assert r.current_a.max() == pytest.approx(1.166, abs=1e-6) and "BAT.Curr" in r.power_source
+    assert "Plane, percent" in r.power_source and r.throttle[0] == pytest.approx(ctun.ThrOut / 100.0)
+    assert bat.Curr >= 0
+    assert r.utc.year == 2017 and r.latitude_deg == pytest.approx(-35.3626277)
 
 
 @pytest.mark.parametrize("name", sorted(ULOGS))
