@@ -99,6 +99,29 @@ def test_px4_log_of_a_flight_reads_back_what_was_written(tmp_path):
     np.testing.assert_allclose(r.mag_firmware_ut, h @ _rotation_z(90).T, atol=RAW_ATOL_UT)
 
 
+def test_fmtu_names_the_instance_field(tmp_path):
+    """A log with FMTU (ArduPilot 3.6 on): the field whose unit is ``#`` numbers the instances, whatever its name;
+    its multipliers are not applied (pymavlink applies none), the fields read having fixed units."""
+    flight = simulated_flight(8, n=40)
+    messages = ardupilot_flight_messages(flight)
+    mag = next(m for m in messages if m["name"] == "MAG")
+    mag["columns"][1] = "Num"
+    mag["data"]["Num"] = mag["data"].pop("I")
+    units = "s#" + "G" * 9 + "-"
+    mults = "F-" + "C" * 9 + "-"
+    fmtu = {"name": "FMTU", "type": 177, "format": "QBNN", "columns": ["TimeUS", "FmtType", "UnitIds", "MultIds"],
+            "data": {"TimeUS": np.zeros(1), "FmtType": np.array([mag["type"]]), "UnitIds": np.array([units.encode()]),
+                     "MultIds": np.array([mults.encode()])}}
+    second = {**mag, "data": {**mag["data"], "Num": np.ones(40), "MagX": mag["data"]["MagX"] + 1000.0}}
+    path = write_dataflash(tmp_path / "fmtu.bin", [fmtu] + messages + [second])
+    r = read_flight_compass(path)
+    assert r.generation.endswith("(TimeUS, MAG with I)")
+    np.testing.assert_allclose(r.mag_raw_ut, flight["mag_raw_ut"], atol=RAW_ATOL_UT)
+    other = read_flight_compass(path, mag_instance=1)  # the same calibration read back: 1000 mG more on x
+    assert len(other.time_s) == 40
+    np.testing.assert_allclose(other.mag_firmware_ut[:, 0] - r.mag_firmware_ut[:, 0], 100.0, atol=1e-3)
+
+
 def test_a_message_without_the_field_trical_needs_is_named_not_called_damaged(tmp_path):
     imu = ardupilot_imu(0, np.arange(10) * 5000, np.zeros((10, 3)), np.zeros((10, 3)), 30.0)
     imu["columns"][0] = "Stamp"
