@@ -693,9 +693,11 @@ def read_flight_compass(path, *, mag_instance: int | None = None, name: str = "t
     with open(path, "rb") as f:
         head = f.read(16)
     if head.startswith(ulog.MAGIC):
-        return _read_px4(path, mag_instance, name)
+        with dataflash.unknown_layout(name, "a PX4 ULog"):
+            return _read_px4(path, mag_instance, name)
     if head.startswith(dataflash.MAGIC):
-        return _read_ardupilot(path, mag_instance, name)
+        with dataflash.unknown_layout(name):
+            return _read_ardupilot(path, mag_instance, name)
     raise LogFormatError(f"{name} is not a flight controller's log: a compass from a flight reads a PX4 ULog (.ulg) "
                          "or an ArduPilot DataFlash log (.bin)")
 

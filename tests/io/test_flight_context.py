@@ -142,6 +142,18 @@ def test_a_message_without_the_field_trical_needs_is_named_not_called_damaged(tm
     assert "damaged" not in str(e.value)
 
 
+def test_a_layout_trical_does_not_know_is_a_422_that_calls_the_file_fine(tmp_path):
+    flight = simulated_flight(9, n=20)
+    messages = ardupilot_flight_messages(flight)
+    mag = next(m for m in messages if m["name"] == "MAG")
+    mag["format"] = mag["format"][:2] + "N" + mag["format"][3:]  # MagX as text
+    mag["data"]["MagX"] = np.array([b"north"] * 20)
+    path = write_dataflash(tmp_path / "text_field.bin", messages)
+    with pytest.raises(LogFormatError, match="cannot take its messages apart") as e:
+        read_flight_compass(path)
+    assert "the file itself is fine" in str(e.value) and "damaged" not in str(e.value)
+
+
 def test_not_a_flight_log_is_refused(tmp_path):
     path = tmp_path / "x.csv"
     path.write_text("a,b\n1,2\n")

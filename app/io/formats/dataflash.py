@@ -224,6 +224,19 @@ def _indexed_reader(DFReader):
     return IndexedReader
 
 
+@contextlib.contextmanager
+def unknown_layout(name: str, what: str = "an ArduPilot DataFlash log"):
+    """Taking apart a log the library read: what goes wrong is a layout trical does not know, not a damaged file."""
+    try:
+        yield
+    except LogFormatError:
+        raise
+    except (KeyError, ValueError, IndexError, TypeError) as exc:
+        raise LogFormatError(f"{name} is {what} its library reads, but trical cannot take its messages apart "
+                             f"({type(exc).__name__}: {exc}): a layout trical does not know yet; the file itself "
+                             "is fine") from None
+
+
 def open_log(path: Path, name: str = "the file"):
     """pymavlink's index of the log, its bytes, and what DFReader printed: ``(reader, buf, said)``.
 
@@ -255,7 +268,8 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
         A file DFReader cannot index, one without IMU samples, or an instance the log does not have.
     """
     reader, buf, said = open_log(path, name)
-    streams = _streams(reader, buf, name)
+    with unknown_layout(name):
+        streams = _streams(reader, buf, name)
     if not streams:
         raise LogFormatError(f"{name} is an ArduPilot DataFlash log without IMU samples (no IMU, ACC, GYR or MAG "
                              "messages; the file may be cut short): log the IMU (LOG_BITMASK with IMU, or "
