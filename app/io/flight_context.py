@@ -24,7 +24,8 @@ reading's ``raw_how`` says which; docs/rest.md has the same table):
 - PX4 1.12 on, ``sensor_mag`` (and ``sensor_accel``/``sensor_gyro``): raw, the driver's frame (the
   chip's axes turned onto the board's), gauss; the firmware's field is computed with PX4's formula.
 - PX4 1.9 on, ``vehicle_magnetometer``: corrected, body frame, the selected compass; compared with the
-  firmware's field computed from sensor_mag when it is the same compass (a note gives the rms).
+  firmware's field computed from sensor_mag when it is the same compass (a note gives the rms); read
+  back ``m = S⁻¹ Rᵀ h + o − c p`` when the log has no sensor_mag.
 
 The firmwares' formulas, from their sources:
 
@@ -559,6 +560,22 @@ def _px4_position(u, notes):
     return None, None, None, None
 
 
+def _px4_body_mag(u):
+    """``(time_us, gauss, topic, device_id)`` of a calibrated body-frame compass, for logs without sensor_mag:
+    sensor_combined's magnetometer_ga (PX4 ≤ 1.8), else vehicle_magnetometer (the selected compass); or None."""
+    combined = _ds(u, "sensor_combined")
+    found = None if combined is None else ulog.combined_mag(combined)
+    if found is not None:
+        return found[0], found[1], "sensor_combined.magnetometer_ga", None
+    vm = _ds(u, "vehicle_magnetometer")
+    if vm is None or "magnetometer_ga[0]" not in vm:
+        return None
+    device = int(vm["device_id"][-1]) if "device_id" in vm and len(vm["device_id"]) else None
+    t = np.asarray(vm.get("timestamp_sample", vm["timestamp"]), dtype=np.int64)
+    return t, np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]).astype(float), \
+        "vehicle_magnetometer", device
+
+
 def px4_correct(raw_ut, cal: FirmwareCompassCal, rotation, power=None) -> np.ndarray:
     """PX4's ``Magnetometer::Correct``: ``R (S ((m + c p) − o))`` in µT (rows of ``raw_ut``)."""
     m = np.asarray(raw_ut, dtype=float)
@@ -580,13 +597,12 @@ def _read_px4(path, mag_instance, name) -> FlightCompassLog:
     values = dict(u.initial_parameters)
     notes = []
     raw_mags = sorted(d.multi_id for d in u.data_list if d.name == "sensor_mag" and {"x", "y", "z"} <= set(d.data))
-    combined = _ds(u, "sensor_combined")
-    combined_mag = None if combined is None else ulog.combined_mag(combined)
-    have = raw_mags or ([0] if combined_mag is not None else [])
+    body = None if raw_mags else _px4_body_mag(u)
+    have = raw_mags or ([0] if body is not None else [])
     if not have:
-        raise LogFormatError(f"{name} is a PX4 ULog without compass readings (no sensor_mag, and no magnetometer_ga in "
-                             "sensor_combined): log the compass (SDLOG_PROFILE with 'Sensor comparison', or "
-                             "sensor_mag in etc/logging/logger_topics.txt)")
+        raise LogFormatError(f"{name} is a PX4 ULog without compass readings (no sensor_mag, no magnetometer_ga in "
+                             "sensor_combined, no vehicle_magnetometer): log the compass (SDLOG_PROFILE with 'Sensor "
+                             "comparison', or sensor_mag in etc/logging/logger_topics.txt)")
     instance = have[0] if mag_instance is None else int(mag_instance)
     if instance not in have:
         raise LogFormatError(f"{name} has no compass instance {instance}: its compass instances are "
@@ -606,11 +622,11 @@ def _read_px4(path, mag_instance, name) -> FlightCompassLog:
         slot = _px4_slot(values, device, instance, notes)
         generation = f"{version} (sensor_mag{', calibrated' if sensor_mag_calibrated else ''})"
     else:
-        t_us, ga = combined_mag
+        t_us, ga, topic, device = body
         time_s = t_us * 1e-6
-        prime = values.get("CAL_MAG_PRIME")
-        slot = _px4_slot(values, int(prime) if prime else None, 0, notes) if prime else 0
-        generation = f"{version} (sensor_combined)"
+        device = device or int(values.get("CAL_MAG_PRIME", 0)) or None  # the selected compass
+        slot = _px4_slot(values, device, 0, notes) if device else 0
+        generation = f"{version} ({topic.split('.')[0]})"
     stored = px4_cal(values, slot, instance) if slot is not None else px4_cal({}, -1, instance)
     rotation = _px4_rotation(values, stored, slot, name, notes)
     power = None
@@ -650,11 +666,13 @@ def _read_px4(path, mag_instance, name) -> FlightCompassLog:
             notes.append(f"the firmware's field: {how} (no vehicle_magnetometer of this compass logged)")
     if not raw_mags:
         firmware = ga * GAUSS_TO_UT
-        m = firmware @ rotation  # Rᵀ h
-        m = np.linalg.solve(stored.matrix, m.T).T + stored.offsets_ut
-        raw = m
-        raw_how = ("read back to raw from sensor_combined.magnetometer_ga (logged calibrated, body frame) with "
-                   f"CAL_MAG{slot}_xOFF/xSCALE and the rotation: m = S⁻¹ Rᵀ h + o")
+        raw = np.linalg.solve(stored.matrix, (firmware @ rotation).T).T + stored.offsets_ut  # S⁻¹ Rᵀ h + o
+        formula = "m = S⁻¹ Rᵀ h + o"
+        if power is not None:
+            raw = raw - np.outer(power, stored.motor)
+            formula += " − c p"
+        raw_how = (f"read back to raw from {topic} (logged calibrated, body frame) with CAL_MAG{slot}_* and the "
+                   f"rotation: {formula}")
     att = _ds(u, "vehicle_attitude")
     if att is not None and "q[0]" in att:
         att_t = _t(att)

@@ -10,8 +10,8 @@ import pytest
 from app.io.errors import LogFormatError
 from app.io.flight_context import read_flight_compass
 from app.io.formats import read_log
-from tests.flight_logs import (ardupilot_flight_messages, ardupilot_imu, simulated_flight, write_dataflash,
-                               write_flight_logs)
+from tests.flight_logs import (ardupilot_flight_messages, ardupilot_imu, px4_flight_topics, simulated_flight,
+                               ulog_bytes, write_dataflash, write_flight_logs)
 
 RAW_ATOL_UT = 1e-3
 """The raw field read back: float32 in the logs (MagX… of the simulated DataFlash, sensor_mag's x…)."""
@@ -120,6 +120,28 @@ def test_fmtu_names_the_instance_field(tmp_path):
     other = read_flight_compass(path, mag_instance=1)  # the same calibration read back: 1000 mG more on x
     assert len(other.time_s) == 40
     np.testing.assert_allclose(other.mag_firmware_ut[:, 0] - r.mag_firmware_ut[:, 0], 100.0, atol=1e-3)
+
+
+def test_px4_log_with_vehicle_magnetometer_alone_is_read_back_to_raw(tmp_path):
+    """PX4's default profile may log the selected compass only as vehicle_magnetometer (calibrated, body frame):
+    read back with the CAL_MAGn_* of its device id, the power compensation taken out."""
+    flight = simulated_flight(10, n=80)
+    topics, params, info = px4_flight_topics(flight)
+    cal = flight["stored"]["px4"]
+    mag = topics.pop(0)
+    h = ((flight["mag_raw_ut"] + np.outer(flight["current_a"], cal["motor"])) - cal["offsets_ut"]) @ cal["matrix"].T
+    h = h @ _rotation_z(90).T / 100.0
+    topics.append({"name": "vehicle_magnetometer", "multi_id": 0,
+                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("uint32_t", "device_id"),
+                              ("float[3]", "magnetometer_ga")],
+                   "data": {"timestamp": mag["data"]["timestamp"], "timestamp_sample": mag["data"]["timestamp"],
+                            "device_id": mag["data"]["device_id"], "magnetometer_ga": h}})
+    path = tmp_path / "vm.ulg"
+    path.write_bytes(ulog_bytes(topics, params=params, info=info))
+    r = read_flight_compass(path)
+    assert r.generation == "PX4 v1.14.0 (vehicle_magnetometer)" and "− c p" in r.raw_how
+    np.testing.assert_allclose(r.mag_raw_ut, flight["mag_raw_ut"], atol=RAW_ATOL_UT)
+    np.testing.assert_allclose(r.mag_firmware_ut, h * 100.0, atol=RAW_ATOL_UT)
 
 
 def test_a_message_without_the_field_trical_needs_is_named_not_called_damaged(tmp_path):
