@@ -252,10 +252,6 @@ def px4_rotation(number: int, name: str, what: str) -> np.ndarray:
     return euler_to_c_nb(*PX4_ROTATIONS_RPY[number])
 
 
-def _interp(t_target, t, v):
-    return None if v is None else np.interp(t_target, t, v)
-
-
 # -- ArduPilot -------------------------------------------------------------------------------------------
 
 def ardupilot_cal(values: dict, instance: int) -> FirmwareCompassCal:
