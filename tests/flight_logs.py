@@ -27,15 +27,40 @@ ULOG_TYPES = {"uint64_t": "<u8", "int64_t": "<i8", "uint32_t": "<u4", "int32_t":
               "int16_t": "<i2", "uint8_t": "u1", "int8_t": "i1", "float": "<f4", "double": "<f8"}
 
 
+ULOG_STRUCT = {"int32_t": "<i", "float": "<f", "uint32_t": "<I", "uint64_t": "<Q"}
+
+
 def _ulog_message(kind: str, body: bytes) -> bytes:
     return struct.pack("<HB", len(body), ord(kind)) + body
 
 
-def ulog_bytes(topics: list[dict], *, start_us: int = 0) -> bytes:
+def _ulog_keyed(kind: str, type_: str, key: str, value) -> bytes:
+    """An information (``I``) or parameter (``P``) message: uint8 key length, ``"type name"``, the value."""
+    k = f"{type_} {key}".encode()
+    v = value.encode() if type_.startswith("char") else struct.pack(ULOG_STRUCT[type_], value)
+    return _ulog_message(kind, bytes([len(k)]) + k + v)
+
+
+def _ulog_field(type_: str):
+    """numpy type of a ULog field type, arrays (``float[4]``) included."""
+    if "[" in type_:
+        base, n = type_[:-1].split("[")
+        return ULOG_TYPES[base], (int(n),)
+    return ULOG_TYPES[type_], ()
+
+
+def ulog_bytes(topics: list[dict], *, start_us: int = 0, params: dict | None = None,
+               info: dict | None = None) -> bytes:
     """A ULog file of ``topics``: each ``{"name", "multi_id", "fields": [(type, name), ...], "data": {name: array}}``,
-    the first field ``uint64_t timestamp``; the same name shares one format."""
+    the first field ``uint64_t timestamp``; the same name shares one format.  ``params`` (name → int or float)
+    are written as the initial parameters (``P`` messages of the definitions section, ``int32_t`` for an int,
+    ``float`` else), ``info`` (name → (type, value)) as information messages (``I``)."""
     out = [b"ULog\x01\x12\x35", bytes([1]), struct.pack("<Q", start_us)]
     out.append(_ulog_message("B", bytes(40)))
+    for key, (type_, value) in (info or {}).items():
+        out.append(_ulog_keyed("I", type_, key, value))
+    for key, value in (params or {}).items():
+        out.append(_ulog_keyed("P", "int32_t" if isinstance(value, (int, np.integer)) else "float", key, value))
     formats = {}
     for t in topics:
         formats.setdefault(t["name"], t["fields"])
@@ -45,7 +70,7 @@ def ulog_bytes(topics: list[dict], *, start_us: int = 0) -> bytes:
         out.append(_ulog_message("A", struct.pack("<BH", t["multi_id"], msg_id) + t["name"].encode()))
     for msg_id, t in enumerate(topics):
         dtype = np.dtype([("size", "<u2"), ("type", "u1"), ("msg_id", "<u2")]
-                         + [(n, ULOG_TYPES[ty]) for ty, n in t["fields"]])
+                         + [(n, *_ulog_field(ty)) for ty, n in t["fields"]])
         n = len(t["data"][t["fields"][0][1]])
         rows = np.zeros(n, dtype=dtype)
         rows["size"] = dtype.itemsize - 3
@@ -82,7 +107,10 @@ def px4_sensor(name: str, multi_id: int, time_us, xyz, temperature=None, device_
 # -- DataFlash ---------------------------------------------------------------------------------------
 
 DF_TYPES = {"Q": "<u8", "q": "<i8", "I": "<u4", "i": "<i4", "H": "<u2", "h": "<i2", "B": "u1", "b": "i1",
-            "f": "<f4", "d": "<f8", "N": "S16", "n": "S4", "Z": "S64"}
+            "f": "<f4", "d": "<f8", "N": "S16", "n": "S4", "Z": "S64", "L": "<i4", "c": "<i2", "C": "<u2",
+            "e": "<i4", "E": "<u4"}
+"""ArduPilot's format characters (libraries/AP_Logger/README or LogStructure.h): ``L`` int32 degrees × 1e7,
+``c``/``C`` int16/uint16 × 100, ``e``/``E`` int32/uint32 × 100 — written here as the stored integers."""
 FMT_TYPE = 128
 
 
@@ -251,3 +279,235 @@ def ardupilot_file(path: Path, imus: list[dict], mags: list[dict] = (), *, numbe
     messages += [ardupilot_mag(k, mag["time_us"], mag["mag"] * 10.0, numbered=numbered_mags)
                  for k, mag in enumerate(mags)]
     return write_dataflash(path, messages)
+
+
+# -- a simulated flight written as both firmwares' logs -----------------------------------------------------
+
+def _c_nb_to_rpy_deg(c):
+    """Roll, pitch, yaw (degrees, yaw 0..360 as ArduPilot logs it) of body → NED matrices, ZYX."""
+    roll = np.degrees(np.arctan2(c[:, 2, 1], c[:, 2, 2]))
+    pitch = np.degrees(-np.arcsin(np.clip(c[:, 2, 0], -1, 1)))
+    yaw = np.degrees(np.arctan2(c[:, 1, 0], c[:, 0, 0])) % 360.0
+    return roll, pitch, yaw
+
+
+def _c_nb_to_quaternion(c):
+    """Unit quaternions ``w, x, y, z`` of body → NED matrices (Shepperd's method, w ≥ 0 branch made safe)."""
+    tr = np.trace(c, axis1=1, axis2=2)
+    q = np.empty((len(c), 4))
+    for i, (m, t) in enumerate(zip(c, tr)):
+        k = int(np.argmax([t, m[0, 0], m[1, 1], m[2, 2]]))
+        if k == 0:
+            s = 2 * np.sqrt(1 + t)
+            q[i] = [s / 4, (m[2, 1] - m[1, 2]) / s, (m[0, 2] - m[2, 0]) / s, (m[1, 0] - m[0, 1]) / s]
+        elif k == 1:
+            s = 2 * np.sqrt(1 + m[0, 0] - m[1, 1] - m[2, 2])
+            q[i] = [(m[2, 1] - m[1, 2]) / s, s / 4, (m[0, 1] + m[1, 0]) / s, (m[0, 2] + m[2, 0]) / s]
+        elif k == 2:
+            s = 2 * np.sqrt(1 + m[1, 1] - m[0, 0] - m[2, 2])
+            q[i] = [(m[0, 2] - m[2, 0]) / s, (m[0, 1] + m[1, 0]) / s, s / 4, (m[1, 2] + m[2, 1]) / s]
+        else:
+            s = 2 * np.sqrt(1 + m[2, 2] - m[0, 0] - m[1, 1])
+            q[i] = [(m[1, 0] - m[0, 1]) / s, (m[0, 2] + m[2, 0]) / s, (m[1, 2] + m[2, 1]) / s, s / 4]
+    return q * np.sign(q[:, :1] + (q[:, :1] == 0))
+
+
+GPS_LEAP_S = 18
+"""GPS − UTC since 2017 (the simulated flights' dates are later)."""
+
+
+def _gps_week_ms(utc):
+    import datetime as dt
+
+    gps = utc + dt.timedelta(seconds=GPS_LEAP_S) - dt.datetime(1980, 1, 6, tzinfo=dt.timezone.utc)
+    week = gps.days // 7
+    ms = ((gps.days % 7) * 86400 + gps.seconds) * 1000 + gps.microseconds // 1000
+    return week, ms
+
+
+def _power_of(flight, kind):
+    return {"current": flight["current_a"], "throttle": flight["throttle"]}.get(kind)
+
+
+def ardupilot_flight_messages(flight: dict, *, generation: str = "new", instance: int = 0) -> list[dict]:
+    """The messages of an ArduPilot log of ``flight`` (see :func:`write_flight_logs`).
+
+    ``generation="new"``: ``TimeUS``, MAG with ``I``, BAT (A), CTUN ThO 0..1, GPS GWk/GMS, PARM with TimeUS and
+    COMPASS_SCALE; the firmware's order ``h = D s (m + O) + MOfs``.  ``"old"`` (Copter 3.3): ``TimeMS``, MAG/MAG2
+    named per instance, CURR in centi-amps (int16), CTUN ThrOut 0..1000, GPS Week/TimeMS with the board's time in
+    ``T``, PARM without time; the order ``h = D (m + O + MOfs)``.  MagX…, OfsX…, MOfsX… are written as floats
+    (real logs hold int16 mG) so that the raw field reads back exactly.
+    """
+    cal = flight["stored"]["ardupilot"]
+    new = generation == "new"
+    t = np.asarray(flight["time_s"], dtype=float)
+    n = len(t)
+    stamp = {"TimeUS": np.round(t * 1e6).astype(np.uint64)} if new else {"TimeMS": np.round(t * 1e3).astype(np.uint32)}
+    tname, tfmt = ("TimeUS", "Q") if new else ("TimeMS", "I")
+    m_mg = np.asarray(flight["mag_raw_ut"], dtype=float) * 10.0
+    ofs = np.asarray(cal["offsets_ut"], dtype=float) * 10.0
+    D = np.asarray(cal["matrix"], dtype=float)
+    kind = cal.get("motor_kind")
+    mot = np.asarray(cal.get("motor", np.zeros(3)), dtype=float) * 10.0
+    mofs = np.zeros((n, 3)) if kind is None else np.outer(_power_of(flight, kind), mot)
+    h = (m_mg + ofs) @ D.T + mofs if new else (m_mg + ofs + mofs) @ D.T
+    mag = {**stamp, **{f"Mag{a}": h[:, k] for k, a in enumerate("XYZ")},
+           **{f"Ofs{a}": np.full(n, ofs[k]) for k, a in enumerate("XYZ")},
+           **{f"MOfs{a}": mofs[:, k] for k, a in enumerate("XYZ")}, "Health": np.ones(n)}
+    mag_cols = [tname] + ([] if not new else ["I"]) + [f"{p}{a}" for p in ("Mag", "Ofs", "MOfs") for a in "XYZ"] + [
+        "Health"]
+    if new:
+        mag["I"] = np.full(n, instance)
+    name = "MAG" if new or instance == 0 else f"MAG{instance + 1}"
+    messages = [{"name": "MSG", "type": 91, "format": "Z", "columns": ["Message"],
+                 "data": {"Message": np.array([b"ArduCopter V4.5.0 (simulated)" if new
+                                               else b"APM:Copter V3.3-dev (simulated)"])}}]
+    k = ("", "2", "3")[instance]
+    params = {f"COMPASS_OFS{k}_{a}": ofs[i] for i, a in enumerate("XYZ")}
+    params |= {f"COMPASS_DIA{k}_{a}": D[i, i] for i, a in enumerate("XYZ")}
+    params |= {f"COMPASS_ODI{k}_X": D[0, 1], f"COMPASS_ODI{k}_Y": D[0, 2], f"COMPASS_ODI{k}_Z": D[1, 2]}
+    params |= {f"COMPASS_MOT{k}_{a}": mot[i] for i, a in enumerate("XYZ")}
+    params |= {"COMPASS_MOTCT": {None: 0, "throttle": 1, "current": 2}[kind],
+               f"COMPASS_ORIENT{k}": cal.get("orientation") or 0}
+    if new:
+        params[f"COMPASS_SCALE{k}"] = 1.0
+    names = np.array([p.encode() for p in params])
+    parm = {"Name": names, "Value": np.array(list(params.values()), dtype=float)}
+    if new:
+        parm["TimeUS"] = np.zeros(len(names), dtype=np.uint64)
+    messages.append({"name": "PARM", "type": 92, "format": "QNf" if new else "Nf",
+                     "columns": (["TimeUS"] if new else []) + ["Name", "Value"], "data": parm})
+    messages.append({"name": name, "type": 150 + (0 if new else instance), "format": tfmt + ("B" if new else "")
+                     + "fffffffffB", "columns": mag_cols, "data": mag})
+    roll, pitch, yaw = _c_nb_to_rpy_deg(np.asarray(flight["attitude_c_nb"], dtype=float))
+    messages.append({"name": "ATT", "type": 160, "format": tfmt + "ffffff",
+                     "columns": [tname, "DesRoll", "Roll", "DesPitch", "Pitch", "DesYaw", "Yaw"],
+                     "data": {**stamp, "DesRoll": roll, "Roll": roll, "DesPitch": pitch, "Pitch": pitch,
+                              "DesYaw": yaw, "Yaw": yaw}})
+    cur, thr = np.asarray(flight["current_a"], dtype=float), np.asarray(flight["throttle"], dtype=float)
+    if new:
+        messages.append({"name": "BAT", "type": 161, "format": "QBff", "columns": ["TimeUS", "Inst", "Volt", "Curr"],
+                         "data": {**stamp, "Inst": np.zeros(n), "Volt": np.full(n, 16.0), "Curr": cur}})
+        messages.append({"name": "CTUN", "type": 162, "format": "Qff", "columns": ["TimeUS", "ThI", "ThO"],
+                         "data": {**stamp, "ThI": thr, "ThO": thr}})
+    else:
+        messages.append({"name": "CURR", "type": 161, "format": "Ihhh",
+                         "columns": ["TimeMS", "Throttle", "Volt", "Curr"],
+                         "data": {**stamp, "Throttle": np.round(thr * 1000), "Volt": np.full(n, 1600),
+                                  "Curr": np.round(cur * 100)}})
+        messages.append({"name": "CTUN", "type": 162, "format": "Ihh", "columns": ["TimeMS", "ThrIn", "ThrOut"],
+                         "data": {**stamp, "ThrIn": np.round(thr * 1000), "ThrOut": np.round(thr * 1000)}})
+    week, ms = _gps_week_ms(flight["utc"])
+    lat, lon = round(flight["lat"] * 1e7), round(flight["lon"] * 1e7)
+    status = np.full(n, 3)
+    status[:2] = 1  # no fix at first: the first 3-D fix is read
+    gps_ms = ms + np.round((t - t[2]) * 1000).astype(np.int64)
+    if new:
+        messages.append({"name": "GPS", "type": 163, "format": "QBBIHBLLf",
+                         "columns": ["TimeUS", "I", "Status", "GMS", "GWk", "NSats", "Lat", "Lng", "Alt"],
+                         "data": {**stamp, "I": np.zeros(n), "Status": status, "GMS": gps_ms, "GWk": np.full(n, week),
+                                  "NSats": np.full(n, 12), "Lat": np.full(n, lat), "Lng": np.full(n, lon),
+                                  "Alt": np.full(n, flight["alt_m"])}})
+    else:
+        messages.append({"name": "GPS", "type": 163, "format": "BIHBLLeI",
+                         "columns": ["Status", "TimeMS", "Week", "NSats", "Lat", "Lng", "Alt", "T"],
+                         "data": {"Status": status, "TimeMS": gps_ms, "Week": np.full(n, week), "NSats": np.full(n, 12),
+                                  "Lat": np.full(n, lat), "Lng": np.full(n, lon),
+                                  "Alt": np.full(n, round(flight["alt_m"] * 100)),
+                                  "T": np.round(t * 1e3).astype(np.uint32)}})
+    return messages
+
+
+def px4_flight_topics(flight: dict, *, device_id: int = 396809, slot: int = 0):
+    """The topics, initial parameters and information of a PX4 (≥ 1.12) ULog of ``flight``: sensor_mag raw
+    (gauss), vehicle_attitude, battery_status, actuator_controls_0, vehicle_gps_position, CAL_MAG{slot}_*."""
+    cal = flight["stored"]["px4"]
+    t_us = np.round(np.asarray(flight["time_s"], dtype=float) * 1e6).astype(np.uint64)
+    n = len(t_us)
+    topics = [px4_sensor("sensor_mag", 0, t_us, np.asarray(flight["mag_raw_ut"]) / 100.0, 35.0, device_id)]
+    q = _c_nb_to_quaternion(np.asarray(flight["attitude_c_nb"], dtype=float))
+    topics.append({"name": "vehicle_attitude", "multi_id": 0,
+                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("float[4]", "q")],
+                   "data": {"timestamp": t_us, "timestamp_sample": t_us, "q": q}})
+    topics.append({"name": "battery_status", "multi_id": 0,
+                   "fields": [("uint64_t", "timestamp"), ("float", "voltage_v"), ("float", "current_a")],
+                   "data": {"timestamp": t_us, "voltage_v": np.full(n, 16.0), "current_a": flight["current_a"]}})
+    controls = np.zeros((n, 8))
+    controls[:, 3] = flight["throttle"]
+    topics.append({"name": "actuator_controls_0", "multi_id": 0,
+                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("float[8]", "control")],
+                   "data": {"timestamp": t_us, "timestamp_sample": t_us, "control": controls}})
+    fix = np.full(n, 3)
+    fix[:2] = 0
+    utc_us = int(round(flight["utc"].timestamp() * 1e6))
+    topics.append({"name": "vehicle_gps_position", "multi_id": 0,
+                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "time_utc_usec"), ("int32_t", "lat"),
+                              ("int32_t", "lon"), ("int32_t", "alt"), ("uint8_t", "fix_type")],
+                   "data": {"timestamp": t_us, "time_utc_usec": utc_us + (t_us - t_us[2]).astype(np.int64),
+                            "lat": np.full(n, round(flight["lat"] * 1e7)),
+                            "lon": np.full(n, round(flight["lon"] * 1e7)),
+                            "alt": np.full(n, round(flight["alt_m"] * 1000)), "fix_type": fix}})
+    M = np.asarray(cal["matrix"], dtype=float)
+    kind = cal.get("motor_kind")
+    comp = np.asarray(cal.get("motor", np.zeros(3)), dtype=float) / 100.0
+    if kind == "current":
+        comp = comp / 1e-3  # per kA
+    p = f"CAL_MAG{slot}_"
+    params = {p + "ID": int(device_id), p + "ROT": int(-1 if cal.get("orientation") is None else cal["orientation"]),
+              "CAL_MAG_COMP_TYP": {None: 0, "throttle": 1, "current": 2}[kind], "SENS_BOARD_ROT": 0}
+    params |= {p + f"{a}OFF": float(cal["offsets_ut"][i] / 100.0) for i, a in enumerate("XYZ")}
+    params |= {p + f"{a}SCALE": float(M[i, i]) for i, a in enumerate("XYZ")}
+    params |= {p + "XODIAG": float(M[0, 1]), p + "YODIAG": float(M[0, 2]), p + "ZODIAG": float(M[1, 2])}
+    params |= {p + f"{a}COMP": float(comp[i]) for i, a in enumerate("XYZ")}
+    info = {"ver_sw_release": ("uint32_t", (1 << 24) | (14 << 16) | (0 << 8) | 255), "sys_name": ("char[3]", "PX4")}
+    return topics, params, info
+
+
+def write_flight_logs(directory, flight: dict, *, ardupilot_generation: str = "new") -> tuple[Path, Path]:
+    """A simulated flight written as an ArduPilot DataFlash log and a PX4 ULog: ``(bin_path, ulg_path)``.
+
+    ``flight`` holds ``time_s`` (N,), ``attitude_c_nb`` (N, 3, 3) body → NED, ``mag_raw_ut`` (N, 3) raw in the
+    compass's frame L (ArduPilot: the body frame; PX4: sensor_mag's frame, turned into the body by
+    CAL_MAG0_ROT), ``current_a`` (N,), ``throttle`` (N,) 0..1, ``lat``, ``lon``, ``alt_m``, ``utc`` (an aware
+    datetime), and ``stored`` = ``{"ardupilot": {...}, "px4": {...}}``, each with the fields of
+    ``FirmwareCompassCal`` (``offsets_ut``, ``matrix``, ``motor``, ``motor_kind``, ``orientation``).  Every
+    series is sampled on ``time_s``.  Each firmware's log holds the field as that firmware logs it: ArduPilot's
+    MAG corrected by its stored calibration (its formula of that generation), PX4's sensor_mag raw.
+    """
+    directory = Path(directory)
+    bin_path = write_dataflash(directory / "flight.bin", ardupilot_flight_messages(flight,
+                                                                                  generation=ardupilot_generation))
+    topics, params, info = px4_flight_topics(flight)
+    ulg_path = directory / "flight.ulg"
+    ulg_path.write_bytes(ulog_bytes(topics, params=params, info=info))
+    return bin_path, ulg_path
+
+
+def simulated_flight(seed: int, *, n: int = 600, rate_hz: float = 10.0) -> dict:
+    """A seeded flight for the writers' tests: turning through headings with some roll and pitch, current and
+    throttle rising together, both firmwares' stored calibrations with offsets, soft iron and motor terms."""
+    import datetime as dt
+
+    rng = np.random.default_rng(seed)
+    t = 5.0 + np.arange(n) / rate_hz
+    yaw = np.cumsum(rng.normal(0, 4.0, n))
+    roll, pitch = 15 * np.sin(t / 3.0), 10 * np.cos(t / 5.0)
+    r, p, y = np.radians(roll), np.radians(pitch), np.radians(yaw)
+    cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
+    c = np.stack([np.stack([cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy], -1),
+                  np.stack([cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy], -1),
+                  np.stack([-sp, sr * cp, cr * cp], -1)], -2)
+    b_ned = np.array([20.0, 1.5, 45.0])
+    field_body = np.einsum("nji,j->ni", c, b_ned)
+    mag = field_body + rng.normal(0, 0.3, (n, 3)) + np.array([8.0, -5.0, 12.0])
+    throttle = np.clip(0.4 + 0.2 * np.sin(t / 7.0), 0, 1)
+    soft = np.array([[1.02, 0.01, -0.005], [0.01, 0.98, 0.002], [-0.005, 0.002, 1.01]])
+    return {"time_s": t, "attitude_c_nb": c, "mag_raw_ut": mag, "current_a": 30.0 * throttle, "throttle": throttle,
+            "lat": 47.3977419, "lon": 8.5455939, "alt_m": 488.0,
+            "utc": dt.datetime(2024, 3, 18, 14, 49, 19, 500000, tzinfo=dt.timezone.utc),
+            "stored": {"ardupilot": {"offsets_ut": np.array([-8.1, 5.2, -11.9]), "matrix": soft,
+                                     "motor": np.array([0.05, -0.03, 0.12]), "motor_kind": "current",
+                                     "orientation": 0},
+                       "px4": {"offsets_ut": np.array([8.1, -5.2, 11.9]), "matrix": soft,
+                               "motor": np.array([0.02, 0.01, -0.04]), "motor_kind": "current",
+                               "orientation": 2}}}

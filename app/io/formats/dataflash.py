@@ -13,7 +13,7 @@ libraries/AP_Logger/LogStructure.h for logs before the ``I`` field):
 =========================  ===========================  ======================  ==============
 message                    fields                       unit                    trical's unit
 =========================  ===========================  ======================  ==============
-``IMU`` (``IMU2``, …)      I; AccX…Z; GyrX…Z; T         m/s², rad/s, °C         m/s², rad/s
+``IMU`` (``IMU2``, …)      I; AccX…Z; GyrX…Z; T/Temp    m/s², rad/s, °C         m/s², rad/s
 ``ACC``, ``GYR``           I; SampleUS; AccX… / GyrX…   m/s², rad/s             m/s², rad/s
 (``ACC1``…, ``GYR1``…)
 ``MAG`` (``MAG2``, …)      I; MagX, MagY, MagZ          milligauss              µT (× 0.1)
@@ -26,6 +26,26 @@ interpolated onto their times).  Frame: ArduPilot's body frame (x forward, y rig
 accelerometer's offsets and scales, the compass's offsets ``OfsX…`` and scale factors), so a
 calibration from them is what is left over ArduPilot's; a note says so.  At rest the axis pointing up
 reads +g (specific force), as trical's convention has it.
+
+Generations (what changes between ArduPilot's releases, and how trical reads each):
+
+==========================  ===========================================  ======================================
+what                        older logs (e.g. Copter 3.3, 2015)           newer logs
+==========================  ===========================================  ======================================
+the clock                   ``TimeMS`` (ms since boot, uint32)           ``TimeUS`` (µs since boot, uint64)
+IMU temperature             ``Temp``                                     ``T``
+instances                   ``IMU2``, ``IMU3``, ``MAG2``, ``MAG3``       one message with the ``I`` field
+                            (instances 1, 2)                             (named by FMTU's ``#`` unit when logged)
+units, multipliers          the format letters only (``c`` ×0.01,        the letters, and FMTU/UNIT/MULT naming
+                            ``L`` ×1e-7 …)                               each field's unit
+==========================  ===========================================  ======================================
+
+pymavlink's DFReader applies the multipliers of the format letters (``c``, ``C``, ``e``, ``E`` ×0.01,
+``L`` ×1e-7: ``DFFormat.msg_mults``) and trical takes them as it does; FMTU's multipliers are not applied
+by DFReader (``DFFormat.set_mult_ids`` only names the unit), and trical applies none either: the units of
+the fields it reads are fixed per message above.  When FMTU marks a field as the instance (unit ``#``),
+that field splits the message into instances.  A message trical reads that lacks the field it needs
+is refused naming the message and the field (never "damaged": pymavlink read the file).
 """
 
 from __future__ import annotations
@@ -54,6 +74,10 @@ STRUCT_TO_NUMPY = {"b": "i1", "B": "u1", "h": "<i2", "H": "<u2", "i": "<i4", "I"
 DEVICE_PARAMS = {"acc": ("INS_ACC_ID", "INS_ACC2_ID", "INS_ACC3_ID"),
                  "gyr": ("INS_GYR_ID", "INS_GYR2_ID", "INS_GYR3_ID"),
                  "mag": ("COMPASS_DEV_ID", "COMPASS_DEV_ID2", "COMPASS_DEV_ID3")}
+INSTANCE_FIELDS = ("I", "Inst")
+"""The instance fields of logs without FMTU: ``I`` (IMU, MAG, GPS …), ``Inst`` (BAT)."""
+MAG_NAMES = {"MAG": 0, "MAG2": 1, "MAG3": 2}
+"""The compass's messages: one with ``I``, or one per instance in older logs."""
 """The parameters naming each instance's device id (bus, address, type packed as in flight_log.decode_device_id)."""
 
 
@@ -71,7 +95,26 @@ def _dtype(fmt) -> np.dtype:
     return np.dtype([(n, t) if not shape else (n, t, shape) for n, t, shape in fields])
 
 
-def _table(reader, buf: np.ndarray, name: str) -> dict | None:
+def time_us(table: dict, message: str, name: str = "the file") -> np.ndarray:
+    """A message's time in µs since boot: ``TimeUS``, or ``TimeMS`` × 1000 in logs before ``TimeUS``."""
+    if "TimeUS" in table:
+        return np.asarray(table["TimeUS"]).astype(np.int64)
+    if "TimeMS" in table:
+        return np.asarray(table["TimeMS"]).astype(np.int64) * 1000
+    raise LogFormatError(f"{name}: its {message} messages have no time field (neither TimeUS nor TimeMS; fields "
+                         f"{', '.join(table)}): trical reads ArduPilot logs that stamp them with either")
+
+
+def column(table: dict, message: str, names: tuple[str, ...], name: str = "the file") -> np.ndarray:
+    """The first of the fields ``names`` the message has, or a refusal naming the message and the fields."""
+    for n in names:
+        if n in table:
+            return table[n]
+    raise LogFormatError(f"{name}: its {message} messages have no {' or '.join(names)} field (fields "
+                         f"{', '.join(table)}): this layout of {message} is not one trical reads")
+
+
+def table(reader, buf: np.ndarray, name: str) -> dict | None:
     """The columns of every message ``name`` in the log (multipliers applied), or None when it has none."""
     type_id = reader.name_to_id.get(name)
     if type_id is None or not reader.offsets[type_id]:
@@ -96,61 +139,75 @@ def _table(reader, buf: np.ndarray, name: str) -> dict | None:
     return out
 
 
-def _params(reader, buf) -> dict:
-    table = _table(reader, buf, "PARM")
-    if table is None:
+def params(reader, buf) -> dict:
+    """The log's parameters (PARM Name, Value), the last value of each name."""
+    t = table(reader, buf, "PARM")
+    if t is None or "Name" not in t or "Value" not in t:
         return {}
-    return {n.split(b"\0")[0].decode("ascii", "replace"): float(v) for n, v in zip(table["Name"], table["Value"])}
+    return {n.split(b"\0")[0].decode("ascii", "replace"): float(v) for n, v in zip(t["Name"], t["Value"])}
 
 
-def _instances(reader, buf, names: dict[str, int]) -> list[tuple[int, dict]]:
+def instance_field(reader, name: str) -> str | None:
+    """The field that numbers a message's instances: FMTU's ``#`` unit when logged, else ``I`` (``Inst`` of BAT)."""
+    type_id = reader.name_to_id.get(name)
+    fmt = None if type_id is None else reader.formats[type_id]
+    if fmt is not None and fmt.instance_field:
+        return fmt.instance_field
+    return next((c for c in INSTANCE_FIELDS if fmt is not None and c in fmt.columns), None)
+
+
+def instances(reader, buf, names: dict[str, int]) -> list[tuple[int, str, dict]]:
     """``(instance, columns)`` of a message with an ``I`` field, or of its numbered names (``IMU2`` is
-    instance 1 in logs before the field): ``names`` maps each name to its instance when it has no ``I``."""
+    instance 1 in logs before the field): ``names`` maps each name to its instance when it has no ``I``.
+    Returns ``(instance, message name, columns)``."""
     out = []
     for name, number in names.items():
-        table = _table(reader, buf, name)
-        if table is None:
+        t = table(reader, buf, name)
+        if t is None:
             continue
-        if "I" in table:
-            for i in np.unique(table["I"]):
-                out.append((int(i), {c: v[table["I"] == i] for c, v in table.items()}))
+        field = instance_field(reader, name)
+        if field is not None and field in t:
+            for i in np.unique(t[field]):
+                out.append((int(i), name, {c: v[t[field] == i] for c, v in t.items()}))
         else:
-            out.append((number, table))
+            out.append((number, name, t))
     return out
 
 
-def _streams(reader, buf) -> list[Stream]:
-    params = _params(reader, buf)
+def _streams(reader, buf, name: str = "the file") -> list[Stream]:
+    values = params(reader, buf)
 
     def device(sensor, instance):
         names = DEVICE_PARAMS[sensor]
-        value = params.get(names[instance]) if instance < len(names) else None
+        value = values.get(names[instance]) if instance < len(names) else None
         return int(value) if value else None
 
-    def xyz(t, prefix):
-        return np.column_stack([t[f"{prefix}{a}"] for a in "XYZ"]).astype(float)
+    def xyz(t, prefix, msg):
+        return np.column_stack([column(t, msg, (f"{prefix}{a}",), name) for a in "XYZ"]).astype(float)
 
     streams: list[Stream] = []
     imu_temps = {}
-    for instance, t in _instances(reader, buf, {"IMU": 0, "IMU2": 1, "IMU3": 2}):
-        time = t["TimeUS"].astype(np.int64)
-        temperature = t["T"].astype(float) if "T" in t else None
+    for instance, msg, t in instances(reader, buf, {"IMU": 0, "IMU2": 1, "IMU3": 2}):
+        time = time_us(t, msg, name)
+        temp = t.get("T", t.get("Temp"))  # Temp in logs before T
+        temperature = None if temp is None else np.asarray(temp, dtype=float)
         imu_temps[instance] = (time, temperature)
-        streams.append(Stream("acc", instance, "IMU", time, xyz(t, "Acc"), temperature, device("acc", instance)))
-        streams.append(Stream("gyr", instance, "IMU", time, xyz(t, "Gyr"), temperature, device("gyr", instance)))
+        streams.append(Stream("acc", instance, "IMU", time, xyz(t, "Acc", msg), temperature, device("acc", instance)))
+        streams.append(Stream("gyr", instance, "IMU", time, xyz(t, "Gyr", msg), temperature, device("gyr", instance)))
     for sensor, source, prefix in (("acc", "ACC", "Acc"), ("gyr", "GYR", "Gyr")):
         # Older logs name the batch sampler's instances ACC1, ACC2, ACC3 (instances 0, 1, 2).
-        for instance, t in _instances(reader, buf, {source: 0, f"{source}1": 0, f"{source}2": 1, f"{source}3": 2}):
-            time = (t["SampleUS"] if "SampleUS" in t else t["TimeUS"]).astype(np.int64)
+        for instance, msg, t in instances(reader, buf, {source: 0, f"{source}1": 0, f"{source}2": 1,
+                                                        f"{source}3": 2}):
+            time = np.asarray(t["SampleUS"]).astype(np.int64) if "SampleUS" in t else time_us(t, msg, name)
             temperature = None
             it, temp = imu_temps.get(instance, (None, None))
             if temp is not None and len(it) >= 2:  # the IMU's T (logged slower) at the batch's times
                 temperature = np.interp(time.astype(float), it.astype(float), temp)
-            streams.append(Stream(sensor, instance, source, time, xyz(t, prefix), temperature,
+            streams.append(Stream(sensor, instance, source, time, xyz(t, prefix, msg), temperature,
                                   device(sensor, instance)))
-    for instance, t in _instances(reader, buf, {"MAG": 0, "MAG2": 1, "MAG3": 2}):
-        streams.append(Stream("mag", instance, "MAG", t["TimeUS"].astype(np.int64),
-                              xyz(t, "Mag") * MILLIGAUSS_TO_UT, None, device("mag", instance)))
+    for instance, msg, t in instances(reader, buf, MAG_NAMES):
+        streams.append(Stream("mag", instance, "MAG", time_us(t, msg, name),
+                              xyz(t, "Mag", msg) * MILLIGAUSS_TO_UT, None, device("mag", instance)))
     return [s for s in streams if s.n_samples]
 
 
@@ -167,6 +224,40 @@ def _indexed_reader(DFReader):
     return IndexedReader
 
 
+@contextlib.contextmanager
+def unknown_layout(name: str, what: str = "an ArduPilot DataFlash log"):
+    """Taking apart a log the library read: what goes wrong is a layout trical does not know, not a damaged file."""
+    try:
+        yield
+    except LogFormatError:
+        raise
+    except (KeyError, ValueError, IndexError, TypeError) as exc:
+        raise LogFormatError(f"{name} is {what} its library reads, but trical cannot take its messages apart "
+                             f"({type(exc).__name__}: {exc}): a layout trical does not know yet; the file itself "
+                             "is fine") from None
+
+
+def open_log(path: Path, name: str = "the file"):
+    """pymavlink's index of the log, its bytes, and what DFReader printed: ``(reader, buf, said)``.
+
+    Raises
+    ------
+    LogFormatError
+        A file DFReader cannot index (then it is damaged or cut short in its formats).
+    """
+    from pymavlink import DFReader  # here: only DataFlash uploads load it
+
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(said):  # DFReader prints what it skips; the note carries it
+            reader = _indexed_reader(DFReader)(str(path), zero_time_base=True)
+    except Exception as exc:  # noqa: BLE001 - DFReader raises many kinds on a damaged file
+        raise LogFormatError(f"{name} starts as an ArduPilot DataFlash log but cannot be read ({type(exc).__name__}: "
+                             f"{exc}): the file is damaged; download the log again (Mission Planner, DataFlash "
+                             "Logs > Download)") from None
+    return reader, np.frombuffer(reader.data_map, dtype=np.uint8), said
+
+
 def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
          name: str = "the file", **_) -> LogData:
     """Read the IMU instance ``instance`` (and compass ``mag_instance``) of an ArduPilot DataFlash log.
@@ -176,20 +267,9 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
     LogFormatError
         A file DFReader cannot index, one without IMU samples, or an instance the log does not have.
     """
-    from pymavlink import DFReader  # here: only DataFlash uploads load it
-
-    said = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(said):  # DFReader prints what it skips; the note carries it
-            reader = _indexed_reader(DFReader)(str(path), zero_time_base=True)
-            buf = np.frombuffer(reader.data_map, dtype=np.uint8)
-            streams = _streams(reader, buf)
-    except LogFormatError:
-        raise
-    except Exception as exc:  # noqa: BLE001 - DFReader raises many kinds on a damaged file
-        raise LogFormatError(f"{name} starts as an ArduPilot DataFlash log but cannot be read ({type(exc).__name__}: "
-                             f"{exc}): the file is damaged; download the log again (Mission Planner, DataFlash "
-                             "Logs > Download)") from None
+    reader, buf, said = open_log(path, name)
+    with unknown_layout(name):
+        streams = _streams(reader, buf, name)
     if not streams:
         raise LogFormatError(f"{name} is an ArduPilot DataFlash log without IMU samples (no IMU, ACC, GYR or MAG "
                              "messages; the file may be cut short): log the IMU (LOG_BITMASK with IMU, or "

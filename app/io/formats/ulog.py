@@ -11,16 +11,26 @@ topic                fields                            unit             trical's
 ``sensor_gyro``      x, y, z; temperature; device_id   rad/s, °C        rad/s
 ``sensor_mag``       x, y, z; temperature; device_id   gauss, °C        µT (× 100)
 ``sensor_combined``  accelerometer_m_s2, gyro_rad      m/s², rad/s      m/s², rad/s
+                     magnetometer_ga (PX4 ≤ 1.8)       gauss            µT (× 100)
 ===================  ================================  ===============  ==========================
+
+Generations: PX4 1.6–1.8 logs (``sample.ulg``) hold ``sensor_combined`` alone, with the compass in it
+(``magnetometer_ga``, at ``timestamp + magnetometer_timestamp_relative``); from PX4 1.9 the compass left
+``sensor_combined`` for ``vehicle_magnetometer`` (the selected compass, calibrated, body frame), and
+``sensor_accel``/``sensor_gyro``/``sensor_mag`` are logged per instance when the profile asks.  Old
+``sensor_combined`` compass readings are *calibrated* (the driver applied CAL_MAGn offsets and scales,
+the sensors module SENS_BOARD_ROT): trical lists them as instance 0 of source ``sensor_combined`` and says
+so; :mod:`app.io.flight_context` reads them back to raw.
 
 Each ``multi_id`` of ``sensor_accel`` (and ``sensor_gyro``, ``sensor_mag``) is an instance.  Their
 frame is the *board's* FRD frame (x forward, y right, z down): the driver has turned the chip's axes
-onto the board's, and nothing else — no calibration (offsets, scales), no thermal correction, no
-``SENS_BOARD_ROT`` — is applied, which is what a calibration wants.  ``sensor_combined`` is what PX4's
-estimator uses: the selected IMU already calibrated and turned into the vehicle's FRD body frame;
-trical reads it (without temperature) when it has more samples than every ``sensor_accel`` instance
-(PX4's default logging profile logs ``sensor_accel`` at a low rate) and nothing else is asked, and
-says so in a note: its calibration is the residual left by PX4's own.  At rest the axis pointing up
+onto the board's, and from PX4 1.12 on nothing else — no calibration (offsets, scales), no thermal
+correction, no ``SENS_BOARD_ROT`` — is applied, which is what a calibration wants; before 1.12 the
+drivers applied the CAL_* offsets and scales (:data:`RAW_SENSORS_FROM`), and a note says so.
+``sensor_combined`` is what PX4's estimator uses: the selected IMU already calibrated and turned into
+the vehicle's FRD body frame; trical reads it (without temperature) when it has more samples than every
+``sensor_accel`` instance (PX4's default logging profile logs ``sensor_accel`` at a low rate) and nothing
+else is asked, and says so in a note: its calibration is the residual left by PX4's own.  At rest the axis pointing up
 reads +g in both (specific force), as trical's convention has it.
 """
 
@@ -46,9 +56,44 @@ TOPICS = ("sensor_accel", "sensor_gyro", "sensor_mag", "sensor_combined")
 SENSOR_OF = {"sensor_accel": ("acc", 1.0), "sensor_gyro": ("gyr", 1.0), "sensor_mag": ("mag", GAUSS_TO_UT)}
 
 
+RAW_SENSORS_FROM = (1, 12)
+"""The first PX4 release whose sensor_accel/sensor_gyro/sensor_mag are raw: before it the drivers (PX4Accelerometer,
+PX4Magnetometer …) applied the CAL_* offsets and scales; from it src/lib/sensor_calibration in the sensors module
+does.  Seen in sample_log_small.ulg (PX4 1.11.2): its external compass's sensor_mag equals vehicle_magnetometer."""
+
+
+def release(ulog) -> tuple[int, int] | None:
+    """PX4's release (major, minor) from the ``ver_sw_release`` information (0xAABBCCTT), None when not logged."""
+    v = ulog.msg_info_dict.get("ver_sw_release")
+    return ((int(v) >> 24) & 0xFF, (int(v) >> 16) & 0xFF) if v else None
+
+
+def release_before(ulog, version: tuple[int, int]) -> bool:
+    r = release(ulog)
+    return r is not None and r < version
+
+
 def detect(s: Sniff) -> bool:
     """A file that starts with ULog's magic bytes."""
     return s.head.startswith(MAGIC)
+
+
+RELATIVE_INVALID = 0x7FFFFFFF
+"""sensor_combined's RELATIVE_TIMESTAMP_INVALID: no sample of that sensor in the message (msg/SensorCombined.msg)."""
+
+
+def combined_mag(data: dict) -> tuple[np.ndarray, np.ndarray] | None:
+    """``(time_us, gauss)`` of the compass inside an old ``sensor_combined`` (PX4 ≤ 1.8), or None."""
+    names = [f"magnetometer_ga[{k}]" for k in range(3)]
+    if not set(names) <= set(data):
+        return None
+    time = np.asarray(data["timestamp"], dtype=np.int64)
+    rel = np.asarray(data.get("magnetometer_timestamp_relative", np.zeros(len(time))), dtype=np.int64)
+    xyz = np.column_stack([data[a] for a in names]).astype(float)
+    ok = (rel != RELATIVE_INVALID) & np.isfinite(xyz).all(axis=1)
+    t, xyz = time[ok] + rel[ok], xyz[ok]
+    keep = np.concatenate([[True], np.diff(t) > 0])  # a compass sample repeats in every message until the next
+    return t[keep], xyz[keep]
 
 
 def _streams(ulog) -> list[Stream]:
@@ -76,12 +121,15 @@ def _streams(ulog) -> list[Stream]:
                 # (msg/SensorCombined.msg); the gyroscope's is the message's.
                 rel = np.asarray(data.get("accelerometer_timestamp_relative", np.zeros(len(time))), dtype=np.int64)
                 # A relative time of RELATIVE_TIMESTAMP_INVALID (0x7fffffff) marks no accelerometer sample.
-                ok = rel != 0x7FFFFFFF
+                ok = rel != RELATIVE_INVALID
                 streams.append(Stream("acc", int(d.multi_id), d.name, time[ok] + rel[ok],
                                       np.column_stack([data[a] for a in acc])[ok].astype(float)))
             if set(gyr) <= set(data):
                 streams.append(Stream("gyr", int(d.multi_id), d.name, time,
                                       np.column_stack([data[a] for a in gyr]).astype(float)))
+            mag = combined_mag(data)
+            if mag is not None:
+                streams.append(Stream("mag", int(d.multi_id), d.name, mag[0], mag[1] * GAUSS_TO_UT))
     return [s for s in streams if s.n_samples]
 
 
@@ -123,11 +171,19 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
                      "the vehicle's body frame (FRD)" + (f": it has more samples ({default.n_samples}) than any "
                      f"sensor_accel instance ({max(x.n_samples for x in raw)}); give instance for one of those"
                      if raw else "; the log has no sensor_accel") + ". Its calibration is what is left over PX4's own")
+    elif release_before(ulog, RAW_SENSORS_FROM):
+        notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag of a release before 1.12: the board's FRD frame, after "
+                     "the driver's own calibration (CAL_ACCn/CAL_GYROn/CAL_MAGn offsets and scales), before "
+                     "SENS_BOARD_ROT: a calibration from them is what is left over PX4's")
     else:
         notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag: the board's FRD frame (x forward, y right, z down), "
                      "before PX4's calibration and SENS_BOARD_ROT")
+    if any(x.sensor == "mag" and x.source == "sensor_combined" for x in streams):
+        notes.append("the compass of sensor_combined (PX4 1.8 and before) is logged after PX4's calibration (CAL_MAGn "
+                     "offsets and scales) in the body frame: a calibration from it is what is left over PX4's")
     log = choose(streams, fmt=NAME, imu_sources=("sensor_accel", "sensor_combined"),
                  gyr_for={"sensor_accel": "sensor_gyro", "sensor_combined": "sensor_combined"},
-                 mag_sources=("sensor_mag",), instance=instance, mag_instance=mag_instance, clock=clock,
+                 mag_sources=("sensor_mag", "sensor_combined"), instance=instance, mag_instance=mag_instance,
+                 clock=clock,
                  default_imu=default, notes=notes, name=name)
     return log

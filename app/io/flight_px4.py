@@ -1,0 +1,275 @@
+"""PX4's part of :mod:`.flight_context`: a ULog's compass (sensor_mag, or read back from sensor_combined or
+vehicle_magnetometer), its stored calibration (CAL_MAGn_* matched by device id), attitude (vehicle_attitude),
+current (battery_status), throttle (actuator_controls_0, vehicle_thrust_setpoint) and first GPS fix.
+The formulas and the generations are in :mod:`.flight_context`'s docstring."""
+
+from __future__ import annotations
+
+import contextlib
+import datetime as dt
+import io
+
+import numpy as np
+
+from .errors import LogFormatError
+from .flight_context import (GAUSS_TO_UT, GPS_3D_FIX, FirmwareCompassCal, FlightCompassLog, euler_to_c_nb,
+                             one_power_clock, quaternion_to_c_nb, symmetric)
+from .formats import ulog
+
+KILOAMP_PER_AMP = 1e-3
+"""PX4's CAL_MAGn_xCOMP are per kA of battery current (src/modules/sensors/vehicle_magnetometer: current_a * 0.001)."""
+PX4_ROTATIONS_RPY = ((0, 0, 0), (0, 0, 45), (0, 0, 90), (0, 0, 135), (0, 0, 180), (0, 0, 225), (0, 0, 270),
+                     (0, 0, 315), (180, 0, 0), (180, 0, 45), (180, 0, 90), (180, 0, 135), (0, 180, 0),
+                     (180, 0, 225), (180, 0, 270), (180, 0, 315), (90, 0, 0), (90, 0, 45), (90, 0, 90),
+                     (90, 0, 135), (270, 0, 0), (270, 0, 45), (270, 0, 90), (270, 0, 135), (0, 90, 0), (0, 270, 0))
+"""PX4's enum Rotation 0–25 as roll, pitch, yaw in degrees (src/lib/conversion/rotation.h, rot_lookup), the
+entries every PX4 release shares; a later entry is refused by name."""
+
+
+def px4_rotation(number: int, name: str, what: str) -> np.ndarray:
+    """PX4's rotation ``number`` as a matrix (``R = Rz(yaw) Ry(pitch) Rx(roll)``, rotation.cpp get_rot_matrix)."""
+    if not 0 <= number < len(PX4_ROTATIONS_RPY):
+        raise LogFormatError(f"{name}: {what} is {number}, a rotation of PX4's list past ROTATION_PITCH_270 (25) that "
+                             "trical does not hold; set it to one of 0–25 or leave the compass internal")
+    return euler_to_c_nb(*PX4_ROTATIONS_RPY[number])
+
+
+PX4_TOPICS = ("sensor_mag", "sensor_combined", "vehicle_magnetometer", "vehicle_attitude", "battery_status",
+              "actuator_controls_0", "vehicle_thrust_setpoint", "vehicle_gps_position", "sensor_gps",
+              "vehicle_global_position")
+
+
+def px4_cal(values: dict, slot: int, instance: int) -> FirmwareCompassCal:
+    """The calibration PX4 stored in CAL_MAG{slot}_* (for the compass ``instance``), with CAL_MAG_COMP_TYP."""
+    p = f"CAL_MAG{slot}_"
+    names = [p + n for n in ("ID", "ROT", "XOFF", "YOFF", "ZOFF", "XSCALE", "YSCALE", "ZSCALE", "XODIAG", "YODIAG",
+                             "ZODIAG", "XCOMP", "YCOMP", "ZCOMP", "PRIO", "EN")]
+    names += ["CAL_MAG_COMP_TYP", "SENS_BOARD_ROT"]
+    used = {n: values[n] for n in names if n in values}
+    scale = [values.get(p + f"{a}SCALE", 1.0) or 1.0 for a in "XYZ"]
+    kind = {1: "throttle", 2: "current", 3: "current"}.get(int(values.get("CAL_MAG_COMP_TYP", 0)))
+    comp = np.array([values.get(p + f"{a}COMP", 0.0) for a in "XYZ"]) * GAUSS_TO_UT
+    if kind == "current":
+        comp = comp * KILOAMP_PER_AMP
+    rot = values.get(p + "ROT")
+    return FirmwareCompassCal(
+        firmware="px4", instance=instance,
+        offsets_ut=np.array([values.get(p + f"{a}OFF", 0.0) for a in "XYZ"]) * GAUSS_TO_UT,
+        matrix=symmetric(scale, [values.get(p + f"{a}ODIAG", 0.0) for a in "XYZ"]), motor=comp, motor_kind=kind,
+        orientation=None if rot is None else int(rot), params=used)
+
+
+def _px4_slot(values: dict, device_id: int | None, instance: int, notes: list) -> int | None:
+    """The CAL_MAGn slot whose CAL_MAGn_ID is ``device_id`` (PX4 matches calibrations by device id)."""
+    slots = sorted({int(k[7:].split("_")[0]) for k in values if k.startswith("CAL_MAG") and k.endswith("_ID")
+                    and k[7:].split("_")[0].isdigit()})
+    if device_id:
+        for n in slots:
+            if int(values.get(f"CAL_MAG{n}_ID", 0)) == device_id:
+                return n
+        notes.append(f"no CAL_MAGn_ID equals the compass's device id {device_id}: PX4 has no calibration stored for "
+                     "it (offsets 0, scale 1)")
+        return None
+    if instance in slots:
+        notes.append(f"the compass's device id is not logged: CAL_MAG{instance}_* taken by its instance number")
+        return instance
+    return None
+
+
+def _ds(ulog_file, topic, multi_id=0):
+    for d in ulog_file.data_list:
+        if d.name == topic and d.multi_id == multi_id:
+            return d.data
+    return None
+
+
+def _t(data) -> np.ndarray:
+    return np.asarray(data.get("timestamp_sample", data["timestamp"]), dtype=np.int64) * 1e-6
+
+
+def _px4_rotation(values, cal: FirmwareCompassCal, slot, name, notes) -> np.ndarray:
+    rot = cal.orientation
+    if rot is None or rot < 0:  # internal: the board's rotation
+        board = int(values.get("SENS_BOARD_ROT", 0))
+        extra = [values.get(f"SENS_BOARD_{a}_OFF", 0.0) for a in "XYZ"]
+        if any(abs(x) > 1e-3 for x in extra):
+            notes.append(f"SENS_BOARD_X/Y/Z_OFF are {', '.join(f'{x:.2f}' for x in extra)} degrees: the board's "
+                         "rotation includes them")
+        # get_board_rotation_matrix (src/lib/conversion/rotation.cpp): the offsets' rotation times SENS_BOARD_ROT's
+        return euler_to_c_nb(*extra) @ px4_rotation(board, name, "SENS_BOARD_ROT")
+    return px4_rotation(rot, name, f"CAL_MAG{slot}_ROT")
+
+
+def _px4_power(u, notes):
+    current = throttle = None
+    bat = _ds(u, "battery_status")
+    if bat is not None and "current_a" in bat:
+        amps = np.asarray(bat["current_a"], dtype=float)
+        if (amps >= 0).any():
+            current = (_t(bat), amps, "battery_status.current_a")
+        else:  # msg/BatteryStatus.msg: -1 when the current is not measured
+            notes.append("battery_status.current_a is −1 throughout (no current sensor): the throttle stands in")
+    act = _ds(u, "actuator_controls_0")
+    thrust = _ds(u, "vehicle_thrust_setpoint")
+    if act is not None and "control[3]" in act:
+        throttle = (_t(act), np.asarray(act["control[3]"], dtype=float), "actuator_controls_0.control[3]")
+    elif thrust is not None and "xyz[2]" in thrust:
+        # FRD thrust setpoint: up is −z, 0..1 of full thrust.
+        throttle = (_t(thrust), -np.asarray(thrust["xyz[2]"], dtype=float), "−vehicle_thrust_setpoint.xyz[2]")
+    return one_power_clock(current, throttle, notes)
+
+
+def _px4_position(u, notes):
+    for topic in ("vehicle_gps_position", "sensor_gps"):
+        g = _ds(u, topic)
+        if g is None:
+            continue
+        fix = np.asarray(g.get("fix_type", np.zeros(len(g["timestamp"]))))
+        good = np.flatnonzero(fix >= GPS_3D_FIX)
+        if not len(good):
+            continue
+        i = int(good[0])
+        if "latitude_deg" in g:  # PX4 ≥ 1.14: degrees and metres as doubles
+            lat, lon, alt = (float(g[k][i]) for k in ("latitude_deg", "longitude_deg", "altitude_msl_m"))
+        else:  # older: int32 1e-7 degrees, int32 mm
+            lat, lon, alt = float(g["lat"][i]) * 1e-7, float(g["lon"][i]) * 1e-7, float(g["alt"][i]) * 1e-3
+        utc_us = int(g.get("time_utc_usec", [0] * (i + 1))[i])
+        utc = dt.datetime.fromtimestamp(utc_us * 1e-6, dt.timezone.utc) if utc_us > 0 else None
+        return lat, lon, alt, utc
+    g = _ds(u, "vehicle_global_position")
+    if g is not None and "lat" in g and len(g["lat"]):
+        notes.append("no GPS fix logged: the place from vehicle_global_position, the date must be given")
+        return float(g["lat"][0]), float(g["lon"][0]), float(g["alt"][0]), None
+    notes.append("no GPS position in the log: the place and date of the flight must be given")
+    return None, None, None, None
+
+
+def _px4_body_mag(u):
+    """``(time_us, gauss, topic, device_id)`` of a calibrated body-frame compass, for logs without sensor_mag:
+    sensor_combined's magnetometer_ga (PX4 ≤ 1.8), else vehicle_magnetometer (the selected compass); or None."""
+    combined = _ds(u, "sensor_combined")
+    found = None if combined is None else ulog.combined_mag(combined)
+    if found is not None:
+        return found[0], found[1], "sensor_combined.magnetometer_ga", None
+    vm = _ds(u, "vehicle_magnetometer")
+    if vm is None or "magnetometer_ga[0]" not in vm:
+        return None
+    device = int(vm["device_id"][-1]) if "device_id" in vm and len(vm["device_id"]) else None
+    t = np.asarray(vm.get("timestamp_sample", vm["timestamp"]), dtype=np.int64)
+    return t, np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]).astype(float), \
+        "vehicle_magnetometer", device
+
+
+def px4_correct(raw_ut, cal: FirmwareCompassCal, rotation, power=None) -> np.ndarray:
+    """PX4's ``Magnetometer::Correct``: ``R (S ((m + c p) − o))`` in µT (rows of ``raw_ut``)."""
+    m = np.asarray(raw_ut, dtype=float)
+    if power is not None and cal.motor_kind is not None:
+        m = m + np.outer(power, cal.motor)
+    return (m - cal.offsets_ut) @ cal.matrix.T @ np.asarray(rotation).T
+
+
+def read_px4(path, mag_instance, name) -> FlightCompassLog:
+    from pyulog import ULog  # here: only ULog uploads load it
+
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(said):
+            u = ULog(str(path), message_name_filter_list=list(PX4_TOPICS), disable_str_exceptions=True)
+    except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
+        raise LogFormatError(f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
+                             "file is damaged or cut short in its definitions; download the log again") from None
+    values = dict(u.initial_parameters)
+    notes = []
+    raw_mags = sorted(d.multi_id for d in u.data_list if d.name == "sensor_mag" and {"x", "y", "z"} <= set(d.data))
+    body = None if raw_mags else _px4_body_mag(u)
+    have = raw_mags or ([0] if body is not None else [])
+    if not have:
+        raise LogFormatError(f"{name} is a PX4 ULog without compass readings (no sensor_mag, no magnetometer_ga in "
+                             "sensor_combined, no vehicle_magnetometer): log the compass (SDLOG_PROFILE with 'Sensor "
+                             "comparison', or sensor_mag in etc/logging/logger_topics.txt)")
+    instance = have[0] if mag_instance is None else int(mag_instance)
+    if instance not in have:
+        raise LogFormatError(f"{name} has no compass instance {instance}: its compass instances are "
+                             f"{', '.join(map(str, have))}; give mag_instance as one of them")
+    number = u.msg_info_dict.get("ver_sw_release")
+    version = ("PX4 v{}.{}.{}".format(*ulog.release(u), (int(number) >> 8) & 0xFF) if number
+               else "PX4 (release not logged)")
+    # Before PX4 1.12 the driver (PX4Magnetometer) applied CAL_MAGn offsets and scales itself: sensor_mag is
+    # calibrated there; from 1.12 the calibration is the sensors module's (lib/sensor_calibration) and sensor_mag raw.
+    sensor_mag_calibrated = ulog.release_before(u, ulog.RAW_SENSORS_FROM)
+    p_t, cur, thr, p_source = _px4_power(u, notes)
+    if raw_mags:
+        d = _ds(u, "sensor_mag", instance)
+        time_s = _t(d)
+        logged_mag = np.column_stack([d[a] for a in "xyz"]).astype(float) * GAUSS_TO_UT
+        device = int(d["device_id"][-1]) if "device_id" in d and len(d["device_id"]) else None
+        slot = _px4_slot(values, device, instance, notes)
+        generation = f"{version} (sensor_mag{', calibrated' if sensor_mag_calibrated else ''})"
+    else:
+        t_us, ga, topic, device = body
+        time_s = t_us * 1e-6
+        device = device or int(values.get("CAL_MAG_PRIME", 0)) or None  # the selected compass
+        slot = _px4_slot(values, device, 0, notes) if device else 0
+        generation = f"{version} ({topic.split('.')[0]})"
+    stored = px4_cal(values, slot, instance) if slot is not None else px4_cal({}, -1, instance)
+    rotation = _px4_rotation(values, stored, slot, name, notes)
+    power = None
+    if stored.motor_kind is not None:
+        src = cur if stored.motor_kind == "current" else thr
+        if src is None:
+            notes.append(f"CAL_MAG_COMP_TYP asks for the {stored.motor_kind}, which the log lacks: no power "
+                         "compensation applied")
+        else:
+            power = np.interp(time_s, p_t, src)
+    if raw_mags and not sensor_mag_calibrated:
+        raw = logged_mag
+        raw_how = "logged raw (sensor_mag, the driver's frame)"
+        firmware = px4_correct(raw, stored, rotation, power)
+    elif raw_mags:
+        raw = np.linalg.solve(stored.matrix, logged_mag.T).T + stored.offsets_ut
+        raw_how = (f"read back to raw from sensor_mag (calibrated by the driver before PX4 1.12, its frame) with "
+                   f"CAL_MAG{slot}_xOFF/xSCALE: m = S⁻¹ h + o")
+        firmware = logged_mag @ rotation.T
+    if raw_mags:
+        vm = _ds(u, "vehicle_magnetometer")
+        # vehicle_magnetometer is the selected compass: its device_id when logged, else CAL_MAG_PRIME names it.
+        selected = (int(vm["device_id"][-1]) if vm is not None and "device_id" in vm and len(vm["device_id"])
+                    else int(values.get("CAL_MAG_PRIME", 0)) or None)
+        how = ("PX4's formula applied to sensor_mag with CAL_MAG{}_*".format(slot) if not sensor_mag_calibrated
+               else "sensor_mag turned into the body frame")
+        if vm is not None and "magnetometer_ga[0]" in vm and device is not None and selected == device:
+            logged = np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]) * GAUSS_TO_UT
+            vt = _t(vm)
+            inside = (time_s >= vt[0]) & (time_s <= vt[-1])
+            if inside.sum() >= 2:
+                onto = np.column_stack([np.interp(time_s[inside], vt, logged[:, k]) for k in range(3)])
+                rms = float(np.sqrt(np.mean(np.sum((onto - firmware[inside]) ** 2, axis=1))))
+                notes.append(f"the firmware's field ({how}) differs from the logged vehicle_magnetometer by "
+                             f"{rms:.2f} µT rms (the latter filtered, interpolated onto sensor_mag's times)")
+        else:
+            notes.append(f"the firmware's field: {how} (no vehicle_magnetometer of this compass logged)")
+    if not raw_mags:
+        firmware = ga * GAUSS_TO_UT
+        raw = np.linalg.solve(stored.matrix, (firmware @ rotation).T).T + stored.offsets_ut  # S⁻¹ Rᵀ h + o
+        formula = "m = S⁻¹ Rᵀ h + o"
+        if power is not None:
+            raw = raw - np.outer(power, stored.motor)
+            formula += " − c p"
+        raw_how = (f"read back to raw from {topic} (logged calibrated, body frame) with CAL_MAG{slot}_* and the "
+                   f"rotation: {formula}")
+    att = _ds(u, "vehicle_attitude")
+    if att is not None and "q[0]" in att:
+        att_t = _t(att)
+        att_c = quaternion_to_c_nb(np.column_stack([att[f"q[{k}]"] for k in range(4)]))
+        att_source = "vehicle_attitude q (w, x, y, z)"
+    else:
+        att_t = att_c = att_source = None
+        notes.append("no vehicle_attitude in the log: the attitude is missing")
+    lat, lon, alt, utc = _px4_position(u, notes)
+    if u.file_corruption:
+        notes.append(f"{name}: pyulog found damaged data in the file and skipped it")
+    return FlightCompassLog(
+        firmware="px4", generation=generation, instance=instance, time_s=time_s, mag_raw_ut=raw,
+        mag_firmware_ut=firmware, raw_how=raw_how, frame_to_body=rotation, stored=stored, attitude_time_s=att_t,
+        attitude_c_nb=att_c, attitude_source=att_source, power_time_s=p_t, current_a=cur, throttle=thr,
+        power_source=p_source, latitude_deg=lat, longitude_deg=lon, altitude_m=alt, utc=utc, notes=tuple(notes))
