@@ -493,27 +493,34 @@ def to_px4_flight_compass(body: dict) -> Export:
 
 def to_json_flight_compass(body: dict) -> Export:
     """Versioned JSON of a compass calibrated from a flight: trical's correction ``h = M (Q m − b − k p)``,
-    what the firmware stored, the heading errors, and the firmware's parameters (or why they are refused)."""
-    f = flight_compass(body)
+    what the firmware stored, the heading errors, and the firmware's parameters (or why they are refused).
+    A calibration that failed its checks, or whose numbers are missing, is written as it is."""
+    firmware = body.get("firmware")
+    to_params = {"ardupilot": ardupilot_flight_parameters, "px4": px4_flight_parameters}.get(firmware)
     try:
-        params, _ = (ardupilot_flight_parameters if f.firmware == "ardupilot" else px4_flight_parameters)(body)
+        if to_params is None:
+            flight_compass(body)  # raises, naming the firmware missing
+        params, _ = to_params(body)
         refused = None
     except ExportError as exc:
         params, refused = None, str(exc)
+    motor = body.get("motor")
     doc = {
         "$schema": JSON_SCHEMA, "schema_version": 1,
         "id": body.get("id"), "method": body.get("method"), "created_at": body.get("created_at"),
         "device_id": body.get("device_id"), "label": body.get("label"),
-        "sensor": "magnetometer", "firmware": f.firmware, "instance": f.instance, "unit": "uT",
-        "model": body.get("model"), "motor": f.motor,
+        "sensor": "magnetometer", "firmware": firmware, "instance": body.get("instance"), "unit": body.get("unit"),
+        "model": body.get("model"), "motor": motor,
         "correction": {
-            "formula": "h_body = M (Q m - b - k p)", "frame": "m raw in the frame the log gives it in "
-            + ("(the body frame under the orientation ArduPilot applied)" if f.firmware == "ardupilot"
-               else "(sensor_mag's sensor frame)"),
-            "Q": f.Q.tolist(), "M": f.M.tolist(), "b": f.b.tolist(), "k": f.k.tolist(),
-            "p": {"current": "battery current, A", "throttle": "throttle, 0..1", None: "none"}[f.motor]},
+            "formula": "h_body = M (Q m - b - k p)",
+            "frame": "m raw in the frame the log gives it in: " + {
+                "ardupilot": "the body frame under the orientation ArduPilot applied",
+                "px4": "sensor_mag's sensor frame"}.get(firmware, "unknown"),
+            "Q": body.get("rotation"), "M": body.get("matrix"), "b": body.get("offsets_ut"),
+            "k": body.get("motor_coefficients") if motor else [0.0, 0.0, 0.0],
+            "p": {"current": "battery current, A", "throttle": "throttle, 0..1"}.get(motor, "none")},
         "rotation_nearest": body.get("rotation_nearest"), "orientation_agrees": body.get("orientation_agrees"),
-        "stored": f.stored, "heading_error_deg": body.get("heading_error_deg"),
+        "stored": body.get("stored"), "heading_error_deg": body.get("heading_error_deg"),
         "firmware_parameters": params, "firmware_parameters_refused": refused,
         "ok": body.get("ok"), "warnings": body.get("warnings", []), "reasons": body.get("reasons", []),
     }

@@ -250,6 +250,8 @@ def test_json_holds_the_correction_and_the_firmwares_parameters(rng):
     assert doc["firmware_parameters"]["COMPASS_ORIENT"] == 10
     failed = json.loads(export_calibration(flight_body(ok=False), "json").content)
     assert failed["firmware_parameters"] is None and "failed its checks" in failed["firmware_parameters_refused"]
+    empty = dict(flight_body(ok=False), rotation=None, matrix=None, offsets_ut=None)  # a fit that gave no numbers
+    assert json.loads(export_calibration(empty, "json").content)["correction"]["Q"] is None
 
 
 def test_other_formats_are_refused_naming_the_ones_that_fit():
