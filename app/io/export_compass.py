@@ -366,15 +366,27 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
 
 
 def px4_slot(f: FlightCompass) -> int:
-    """The ``CAL_MAGn`` slot that holds this compass: the one its stored parameters name (PX4 uses the slot
-    whose ``CAL_MAGn_ID`` is the compass's device id, ``FindCalibrationIndex`` in
-    src/lib/sensor_calibration/Utilities.cpp)."""
+    """The ``CAL_MAGn`` slot that holds this compass. PX4 applies the slot whose ``CAL_MAGn_ID`` is the
+    compass's device id (``FindCalibrationIndex``, src/lib/sensor_calibration/Utilities.cpp); the stored
+    calibration names it: its ``slot``, else the one slot its parameters hold, else the one whose
+    ``CAL_MAGn_xOFF`` (×100 µT) are the stored offsets.
+
+    Raises
+    ------
+    ExportError
+        When none of these names exactly one slot.
+    """
+    if f.stored.get("slot") is not None:
+        return int(f.stored["slot"])
     slots = sorted({int(m.group(1)) for name in f.params if (m := re.match(r"CAL_MAG(\d)_", str(name)))})
+    if len(slots) > 1:
+        stored = np.asarray(f.stored.get("offsets_ut") or [np.nan] * 3, dtype=float)
+        slots = [s for s in slots if np.allclose(
+            [100.0 * float(f.params.get(f"CAL_MAG{s}_{a}OFF", np.nan)) for a in "XYZ"], stored, rtol=1e-6, atol=1e-9)]
     if len(slots) != 1:
-        found = "none" if not slots else ", ".join(f"CAL_MAG{s}" for s in slots)
-        raise ExportError(f"the log's parameters do not say which CAL_MAGn slot holds compass {f.instance} (found "
-                          f"{found}): PX4 applies the slot whose CAL_MAGn_ID is the compass's device id; calibrate "
-                          "a log that holds its parameters, or use the json export")
+        raise ExportError(f"the log's parameters do not say which CAL_MAGn slot holds compass {f.instance}: PX4 "
+                          "applies the slot whose CAL_MAGn_ID is the compass's device id; calibrate a log that holds "
+                          "its parameters, or use the json export")
     return slots[0]
 
 

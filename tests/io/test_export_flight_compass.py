@@ -14,9 +14,12 @@ power the throttle or ``current_a * 0.001`` (kA, VehicleMagnetometer::UpdatePowe
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+from pymavlink import mavutil
+from pyulog import ULog
 from scipy.spatial.transform import Rotation
 
 from app.io.errors import ExportError
@@ -107,10 +110,18 @@ def ardupilot_correct(params: dict, instance: int, stored_orient: int, sensor_ut
     return mag / 10.0
 
 
-def px4_correct(params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray) -> np.ndarray:
-    """Magnetometer::Correct with the export's parameters; µT in, µT out; power already in PX4's unit."""
+def px4_level(params: dict) -> np.ndarray:
+    """GetSensorLevelAdjustment: Eulerf(radians(SENS_BOARD_X_OFF), radians(Y_OFF), radians(Z_OFF))."""
+    roll, pitch, yaw = (params.get(f"SENS_BOARD_{a}_OFF", 0.0) for a in "XYZ")
+    return Rotation.from_euler("ZYX", [yaw, pitch, roll], degrees=True).as_matrix()
+
+
+def px4_correct(params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray,
+                level: np.ndarray = np.eye(3)) -> np.ndarray:
+    """Magnetometer::Correct with the export's parameters; µT in, µT out; power already in PX4's unit;
+    ``_rotation = level adjustment * get_rot_matrix(ROT)`` (Magnetometer::set_rotation)."""
     c = lambda g: np.array([params[f"CAL_MAG{slot}_{a}{g}"] for a in "XYZ"])  # noqa: E731
-    R = px4_rotation(int(params.get(f"CAL_MAG{slot}_ROT", stored_rot)))
+    R = level @ px4_rotation(int(params.get(f"CAL_MAG{slot}_ROT", stored_rot)))
     d, o = c("SCALE"), c("ODIAG")
     S = np.array([[d[0], o[0], o[1]], [o[0], d[1], o[2]], [o[1], o[2], d[2]]])
     data = sensor_ut / 100.0  # gauss
@@ -237,6 +248,60 @@ def test_px4_refuses_what_px4_would_refuse(change, words):
     kwargs = {"params": {"CAL_MAG2_ID": 7, "CAL_MAG2_ROT": 0}, **change}
     with pytest.raises(ExportError, match=words):
         export_flight_compass(flight_body(kwargs.pop("firmware", "px4"), **kwargs), "px4")
+
+
+# -- the firmware's own calibration, stored in real logs ----------------------------------------------------------
+# A body whose model is the calibration the firmware stored exports the stored parameters themselves.
+
+REAL = Path(__file__).resolve().parents[1] / "data" / "flight_logs"  # see tests/data/README.md
+
+
+def dataflash_params(path: Path) -> dict[str, float]:
+    log = mavutil.mavlink_connection(str(path))
+    out = {}
+    while (msg := log.recv_match(type="PARM")) is not None:
+        out[msg.Name] = float(msg.Value)
+    return out
+
+
+@pytest.mark.parametrize("instance", [0, 1, 2])
+def test_ardupilot_export_of_the_stored_calibration_is_the_stored_parameters(instance):
+    params = {k: v for k, v in dataflash_params(REAL / "test.BIN").items() if k.startswith(("COMPASS_", "AHRS_"))}
+    s = "" if instance == 0 else str(instance + 1)
+    v = lambda g: np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])  # noqa: E731
+    dia, odi = v("DIA"), v("ODI")
+    M = np.array([[dia[0], odi[0], odi[1]], [odi[0], dia[1], odi[2]], [odi[1], odi[2], dia[2]]])
+    body = flight_body(M=M, b=-0.1 * v("OFS"), motor=None, instance=instance,
+                       orientation=int(params[f"COMPASS_ORIENT{s}"]), params=params)
+    out = parse_ardupilot(export_flight_compass(body, "ardupilot").content)
+    for name in (f"COMPASS_{g}{s}_{a}" for g in ("OFS", "DIA", "ODI") for a in "XYZ"):
+        assert out[name] == pytest.approx(params[name], rel=1e-6, abs=1e-7), name
+    assert f"COMPASS_ORIENT{s}" not in out  # AHRS_ORIENTATION 8 for the internal ones, 0 for the external: kept
+    with pytest.raises(ExportError, match="COMPASS_OFFS_MAX 850"):  # this log's own limit, not the default 1800
+        export_flight_compass(dict(body, offsets_ut=[90.0, 0.0, 0.0]), "ardupilot")
+
+
+def test_px4_export_of_the_stored_calibration_is_the_stored_parameters(rng):
+    params = {k: v for k, v in ULog(str(REAL / "sample_log_small.ulg")).initial_parameters.items()
+              if k.startswith(("CAL_MAG", "SENS_BOARD"))}
+    c = lambda g: np.array([params[f"CAL_MAG1_{a}{g}"] for a in "XYZ"])  # noqa: E731  slot 1: the external compass
+    level = px4_level(params)  # SENS_BOARD_X_OFF 0.76, Y_OFF -2.94 degrees in this log
+    R = level @ px4_rotation(int(params["CAL_MAG1_ROT"]))
+    S, off = np.diag(c("SCALE")), 100.0 * c("OFF")
+    body = flight_body("px4", Q=R, frame_to_body=R, M=R @ S @ R.T, b=R @ off, motor=None, params=params)
+    body["stored"]["offsets_ut"] = off.tolist()  # picks CAL_MAG1 among the log's four slots
+    out = parse_px4(export_flight_compass(body, "px4").content)
+    for name in (f"CAL_MAG1_{a}{g}" for g in ("OFF", "SCALE") for a in "XYZ"):
+        assert out[name] == pytest.approx(params[name], rel=1e-6, abs=1e-7), name
+    assert "CAL_MAG1_ROT" not in out and not any(name.startswith("CAL_MAG0_") for name in out)
+    # the same board with the compass turned: the new CAL_MAG1_ROT under the level adjustment still reproduces
+    wrong = flight_body("px4", Q=level @ px4_rotation(12), frame_to_body=R, M=soft_iron(rng), params=params)
+    wrong["stored"]["offsets_ut"] = off.tolist()
+    out = parse_px4(export_flight_compass(wrong, "px4").content)
+    assert out["CAL_MAG1_ROT"] == 12
+    sensor, p = readings(rng)
+    h = px4_correct(out, 1, 0, sensor, p * 0.001, level)
+    assert np.abs(h - trical(wrong, sensor, p)).max() < 1e-4
 
 
 # -- JSON and the formats ------------------------------------------------------------------------------------------
