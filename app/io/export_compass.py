@@ -317,7 +317,8 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
     offs_max = float(f.params.get("COMPASS_OFFS_MAX") or ARDUPILOT_OFFSET_MAX_MGAUSS)
     problems = []
     if np.linalg.norm(offsets) > offs_max:
-        problems.append(f"|{ardupilot_name('OFS', n)}| = {np.linalg.norm(offsets):.0f} mGauss is beyond COMPASS_OFFS_MAX "
+        problems.append(f"|{ardupilot_name('OFS', n)}| = {np.linalg.norm(offsets):.0f} mGauss is beyond "
+                        "COMPASS_OFFS_MAX "
                         f"{offs_max:g}")
     lo, hi = ARDUPILOT_DIAGONAL_RANGE
     problems += [f"{ardupilot_name('DIA', n)}_{a} = {v:.4g} is outside {lo:g}…{hi:g}" for a, v in zip("XYZ", diagonal)
@@ -336,31 +337,35 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
     params[ardupilot_name("SCALE", n)] = 1.0
     unit = {"current": "mGauss per A", "throttle": "mGauss at full throttle"}
     notes = [
-        f"ArduPilot turns compass {n}'s field into the body frame, then corrects it in milligauss ({ARDUPILOT_FLIGHT_SOURCE}):",
-        "  mag += OFS; mag *= SCALE; mag = [[DIA_X, ODI_X, ODI_Y], [ODI_X, DIA_Y, ODI_Z], [ODI_Y, ODI_Z, DIA_Z]] * mag; "
-        "mag += MOT * p",
-        "trical's h = M (Q m - b - k p) in uT, so OFS = -10 b, DIA/ODI = M, MOT = -10 M k, SCALE = 1 (1 uT = 10 mGauss).",
+        f"ArduPilot turns compass {n}'s field into the body frame, then corrects it in milligauss "
+        f"({ARDUPILOT_FLIGHT_SOURCE}):",
+        "  mag += OFS; mag *= SCALE; mag = [[DIA_X, ODI_X, ODI_Y], [ODI_X, DIA_Y, ODI_Z], [ODI_Y, ODI_Z, DIA_Z]] "
+        "* mag; mag += MOT * p",
+        "trical's h = M (Q m - b - k p) in uT, so OFS = -10 b, DIA/ODI = M, MOT = -10 M k, SCALE = 1 "
+        "(1 uT = 10 mGauss).",
     ]
     motct = ARDUPILOT_MOTCT.get(f.motor)
     stored_motct = _param_int(f.params, "COMPASS_MOTCT")
     if motct is not None:
         params["COMPASS_MOTCT"] = float(motct)
         notes.append(f"COMPASS_MOT is in {unit[f.motor]}; COMPASS_MOTCT {motct} ({f.motor}) is one setting for every "
-                     "compass" + (f": it was {stored_motct}, so the other compasses' COMPASS_MOT values were fitted "
-                                  "against the other input - check them" if stored_motct not in (None, 0, motct) else "."))
+                     "compass" + (f": it was {stored_motct}, so the other compasses' COMPASS_MOT values were "
+                                  "fitted against the other input - check them"
+                                  if stored_motct not in (None, 0, motct) else "."))
         if n == 0 and _param_int(f.params, "COMPASS_PMOT_EN") == 1:
             params["COMPASS_PMOT_EN"] = 0.0
             notes.append("COMPASS_PMOT_EN 0: the per-motor compensation replaces COMPASS_MOT for the first compass "
                          "(correct_field).")
     else:
-        notes.append("No motor model: COMPASS_MOT is 0 for this compass; COMPASS_MOTCT (every compass's) is left as it is.")
+        notes.append("No motor model: COMPASS_MOT is 0 for this compass; COMPASS_MOTCT (every compass's) is left "
+                     "as it is.")
     if changes:
         params[orient_name] = float(new)
         notes.append(f"{orient_name} {new} ({rotation_name('ardupilot', new)}) replaces {now} "
                      f"({rotation_name('ardupilot', now)}): the flight shows the compass turned from the axes that "
                      "orientation gives"
-                     + ("." if external else f"; it takes effect for an external compass only ({ardupilot_name('EXTERNAL', n)} "
-                                            "1 or 2): an internal one turns with AHRS_ORIENTATION."))
+                     + ("." if external else "; it takes effect for an external compass only "
+                        f"({ardupilot_name('EXTERNAL', n)} 1 or 2): an internal one turns with AHRS_ORIENTATION."))
     notes.append("Older ArduPilot (e.g. Copter 3.3) added COMPASS_MOT before the matrix; there MOT = -10 k.")
     return params, notes
 
@@ -456,7 +461,8 @@ def px4_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
         notes.append(f"CAL_MAG_COMP_TYP {comp} ({f.motor}"
                      + (f", battery_status instance {comp - 2}" if f.motor == "current" else "")
                      + ") is one setting for every compass"
-                     + ("; PX4 applies the throttle's compensation only while armed." if f.motor == "throttle" else "."))
+                     + ("; PX4 applies the throttle's compensation only while armed." if f.motor == "throttle"
+                        else "."))
     else:
         notes.append("No motor model: the COMP values are 0 for this compass; CAL_MAG_COMP_TYP (every compass's) is "
                      "left as it is.")
@@ -498,8 +504,9 @@ def to_px4_flight_compass(body: dict) -> Export:
     ``xODIAG``, ``xCOMP``, ``CAL_MAG_COMP_TYP`` and ``CAL_MAGn_ROT`` where the rotation changes
     (:func:`px4_flight_parameters`)."""
     params, notes = px4_flight_parameters(body)
+    integer = ("_ROT", "COMP_TYP")  # integer parameters
     lines = _flight_header(body, "PX4", notes) + [
-        f"param set {name} {int(v) if name.endswith(('_ROT', 'COMP_TYP')) else _number(v)}" for name, v in params.items()]
+        f"param set {name} {int(v) if name.endswith(integer) else _number(v)}" for name, v in params.items()]
     return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body.get('id', 'compass')}_px4.txt")
 
 

@@ -143,7 +143,8 @@ writes it to the board with *Send to the board*, and the API and ``trical export
 ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS, *TEMPERATURE_EXPORTERS, *FLIGHT_COMPASS_EXPORTS]))
 """Every format name of any calibration (the CLI's choices)."""
 
-__all__ = ["ALL_FORMATS", "EXPORTERS", "FLIGHT_COMPASS_EXPORTS", "FORMAT_NAMES", "NOISE_FORMATS", "TEMPERATURE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
+__all__ = ["ALL_FORMATS", "EXPORTERS", "FLIGHT_COMPASS_EXPORTS", "FORMAT_NAMES",
+           "NOISE_FORMATS", "TEMPERATURE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
            "export_calibration"]
 
 
