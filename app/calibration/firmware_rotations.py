@@ -114,7 +114,7 @@ def angle_between_deg(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
-def nearest_rotation(firmware: str, R: np.ndarray) -> tuple[int, float]:
+def nearest_firmware_rotation(firmware: str, R: np.ndarray) -> tuple[int, float]:
     """The firmware's rotation number nearest to ``R`` and the angle left (degrees); of equal entries, the
     lowest number."""
     best = min(_table(firmware).items(), key=lambda item: (round(angle_between_deg(R, item[1][1]), 9), item[0]))

@@ -33,8 +33,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.calibration.firmware_rotations import (angle_between_deg, euler_matrix, nearest_rotation, rotation_matrix,
-                                                rotation_name)
+from app.calibration.firmware_rotations import (angle_between_deg, euler_matrix, nearest_firmware_rotation,
+                                                rotation_matrix, rotation_name)
 
 from .errors import ExportError
 from .export_common import JSON_SCHEMA, Export, describe, sensor_corrections, unit_label
@@ -238,7 +238,7 @@ def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
 
 
 def _rotation_number(firmware: str, R: np.ndarray, what: str) -> int:
-    number, angle = nearest_rotation(firmware, R)
+    number, angle = nearest_firmware_rotation(firmware, R)
     if angle > ROTATION_TOLERANCE_DEG:
         raise ExportError(f"{what} is {angle:.1f}° from the nearest rotation {FIRMWARE_NAMES[firmware]} lists "
                           f"({number}, {rotation_name(firmware, number)}): the firmware cannot hold it; mount the "

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from app.calibration.firmware_rotations import (ROTATIONS, angle_between_deg, nearest_rotation, rotation_matrix,
-                                                rotation_name)
+from app.calibration.firmware_rotations import (ROTATIONS, angle_between_deg, nearest_firmware_rotation,
+                                                rotation_matrix, rotation_name)
 
 H = np.sqrt(0.5)
 VECTOR3_ROTATE = {  # number: v -> rotated v, as the switch in Vector3::rotate writes it
@@ -54,8 +54,8 @@ def test_every_entry_is_a_rotation_and_px4_shares_ardupilots_numbers_to_40():
 
 
 def test_nearest_rotation_names_the_lowest_of_equal_entries():
-    assert nearest_rotation("ardupilot", rotation_matrix("ardupilot", 27)) == (10, pytest.approx(0.0, abs=1e-6))
-    number, angle = nearest_rotation("ardupilot", Rotation.from_euler("z", 93, degrees=True).as_matrix())
+    assert nearest_firmware_rotation("ardupilot", rotation_matrix("ardupilot", 27)) == (10, pytest.approx(0.0, abs=1e-6))
+    number, angle = nearest_firmware_rotation("ardupilot", Rotation.from_euler("z", 93, degrees=True).as_matrix())
     assert (number, round(angle, 6)) == (2, 3.0) and rotation_name("ardupilot", number) == "Yaw90"
     with pytest.raises(ValueError, match="no rotation number 100"):
         rotation_matrix("ardupilot", 100)
