@@ -147,8 +147,9 @@ FLIGHT_COMPASS_METHOD = "compass_flight"
 
 FIRMWARE_NAMES = {"ardupilot": "ArduPilot", "px4": "PX4"}
 ROTATION_TOLERANCE_DEG = 0.5
-"""Largest angle between the rotation found and a firmware's listed rotation for the two to be one (the
-closest two distinct entries, ArduPilot's and PX4's number 38, are 0.85° apart within neither table)."""
+"""Largest angle between the rotation found and a firmware's listed rotation for the two to be one: distinct
+entries of one table are 7° apart or more (ArduPilot's Pitch7 and None); ArduPilot's and PX4's number 38 differ
+by 0.85°, but each export reads its own table."""
 
 ARDUPILOT_MOT_MAX_MGAUSS = 1000.0
 ARDUPILOT_INSTANCES = 3
@@ -229,10 +230,16 @@ def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
     if motor not in (None, "current", "throttle"):
         raise ExportError(f"this compass calibration's motor model {motor!r} is none of current, throttle or null")
     k = _matrix(body, "motor_coefficients", (3,), [0.0, 0.0, 0.0]) if motor else np.zeros(3)
+    Q, M = _matrix(body, "rotation", (3, 3)), _matrix(body, "matrix", (3, 3))
+    if np.abs(Q.T @ Q - np.eye(3)).max() > 1e-6 or np.linalg.det(Q) <= 0:
+        raise ExportError("this compass calibration's rotation is not a rotation (orthonormal, determinant +1): it "
+                          "cannot be exported; calibrate the flight log again")
+    if np.abs(M - M.T).max() > 1e-9 * max(1.0, np.abs(M).max()):
+        raise ExportError("this compass calibration's matrix is not symmetric, and both firmwares hold a symmetric "
+                          "one (diagonal and off-diagonal terms): calibrate the flight log again")
     stored = body.get("stored") or {}
     return FlightCompass(
-        firmware=firmware, instance=int(body.get("instance") or 0),
-        Q=_matrix(body, "rotation", (3, 3)), M=_matrix(body, "matrix", (3, 3)), b=_matrix(body, "offsets_ut", (3,)),
+        firmware=firmware, instance=int(body.get("instance") or 0), Q=Q, M=M, b=_matrix(body, "offsets_ut", (3,)),
         k=k, motor=motor, frame_to_body=_matrix(body, "frame_to_body", (3, 3), np.eye(3).tolist()),
         stored=stored, params=dict(stored.get("params") or {}))
 

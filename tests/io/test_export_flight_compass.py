@@ -198,6 +198,8 @@ def test_ardupilot_internal_compass_with_right_orientation_exports(rng):
     ({"ok": False}, "failed its checks"),
     ({"params": {"COMPASS_EXTERNAL": 0}, "Q": YAW_90}, "AHRS_ORIENTATION"),
     ({"Q": Rotation.from_euler("z", 20, degrees=True).as_matrix()}, "cannot hold it"),
+    ({"Q": 2 * np.eye(3)}, "not a rotation"),
+    ({"M": [[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]}, "not symmetric"),
 ])
 def test_ardupilot_refuses_what_ardupilot_would_refuse(change, words):
     with pytest.raises(ExportError, match=words):
