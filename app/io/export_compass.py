@@ -234,7 +234,7 @@ def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
     if np.abs(Q.T @ Q - np.eye(3)).max() > 1e-6 or np.linalg.det(Q) <= 0:
         raise ExportError("this compass calibration's rotation is not a rotation (orthonormal, determinant +1): it "
                           "cannot be exported; calibrate the flight log again")
-    if np.abs(M - M.T).max() > 1e-9 * max(1.0, np.abs(M).max()):
+    if np.abs(M - M.T).max() > 1e-6 * max(1.0, np.abs(M).max()):
         raise ExportError("this compass calibration's matrix is not symmetric, and both firmwares hold a symmetric "
                           "one (diagonal and off-diagonal terms): calibrate the flight log again")
     stored = body.get("stored") or {}
