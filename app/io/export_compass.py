@@ -299,7 +299,8 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
         now, now_name = _param_int(f.params, "AHRS_ORIENTATION") or 0, "AHRS_ORIENTATION"
     else:
         stored = f.stored.get("orientation")
-        now, now_name = (int(stored) if stored is not None else 0), orient_name
+        stored = _param_int(f.params, orient_name) if stored is None else int(stored)
+        now, now_name = (stored if stored is not None else 0), orient_name
     try:
         R_now = rotation_matrix("ardupilot", now)
     except ValueError:
