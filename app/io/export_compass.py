@@ -19,14 +19,25 @@ Both firmwares apply a full symmetric matrix, so nothing is dropped; they differ
 Both correct the field after the board's rotation (ArduPilot's ``rotate_field``; PX4's ``_rotation``
 is applied last, so its parameters are in the sensor frame): the numbers fit when the logged axes are
 the ones the firmware sees (ArduPilot's ``COMPASS_ORIENT`` / ``AHRS_ORIENTATION`` at none).
+
+A compass calibrated from a flight log (method ``compass_flight``, :func:`export_flight_compass`) has its own
+exports: its model ``h_body = M (Q m_L − b − k p)`` adds the rotation Q and the motors' term, which each
+firmware holds in its own frame and unit (:func:`ardupilot_flight_parameters`, :func:`px4_flight_parameters`).
 """
 
 from __future__ import annotations
 
+import json
+import re
+from dataclasses import dataclass
+
 import numpy as np
 
+from app.calibration.firmware_rotations import (angle_between_deg, euler_matrix, nearest_firmware_rotation,
+                                                rotation_matrix, rotation_name)
+
 from .errors import ExportError
-from .export_common import Export, describe, sensor_corrections, unit_label
+from .export_common import JSON_SCHEMA, Export, describe, sensor_corrections, unit_label
 
 MGAUSS_PER_UT = 10.0
 GAUSS_PER_UT = 0.01
@@ -123,3 +134,442 @@ def to_px4_compass(body: dict) -> Export:
     lines += [f"param set CAL_MAG0_{a}SCALE {_number(v)}" for a, v in zip("XYZ", p["diagonal"])]
     lines += [f"param set CAL_MAG0_{a}ODIAG {_number(v)}" for a, v in zip("XYZ", p["offdiagonal"])]
     return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body['id']}_px4.txt")
+
+
+# -- the compass calibrated from a flight (method compass_flight) ---------------------------------------------------
+#
+# trical's flight model, in the frame L the log gives the raw readings in (ArduPilot: the body frame under the
+# rotation the firmware applied; PX4: sensor_mag's own frame), is h_body = M (Q m_L − b − k p), µT, with Q a
+# firmware rotation L → body, p the current (A) or throttle (0…1). Each firmware's formula below, applied with
+# the exported numbers to the raw reading, gives the same h_body (tests/io/test_export_flight_compass.py).
+
+FLIGHT_COMPASS_METHOD = "compass_flight"
+
+FIRMWARE_NAMES = {"ardupilot": "ArduPilot", "px4": "PX4"}
+ROTATION_TOLERANCE_DEG = 0.5
+"""Largest angle between the rotation found and a firmware's listed rotation for the two to be one: distinct
+entries of one table are 7° apart or more (ArduPilot's Pitch7 and None); ArduPilot's and PX4's number 38 differ
+by 0.85°, but each export reads its own table."""
+
+ARDUPILOT_MOT_MAX_MGAUSS = 1000.0
+ARDUPILOT_INSTANCES = 3
+ARDUPILOT_FLIGHT_SOURCE = ("libraries/AP_Compass/AP_Compass_Backend.cpp (AP_Compass_Backend::rotate_field, "
+                           "AP_Compass_Backend::correct_field)")
+ARDUPILOT_RANGE_SOURCE = ("COMPASS_OFFS_MAX: libraries/AP_Arming/AP_Arming.cpp (compass checks, 'Compass offsets "
+                          "too high'); DIA 0.2-5 and |ODI| < 1: libraries/AP_Compass/CompassCalibrator.cpp "
+                          "(fit_acceptable); MOT -1000..1000 mGauss/A: @Range in libraries/AP_Compass/AP_Compass.cpp")
+ARDUPILOT_MOTCT = {"throttle": 1, "current": 2}
+"""COMPASS_MOTCT: 0 Disabled, 1 Use Throttle, 2 Use Current (@Values in libraries/AP_Compass/AP_Compass.cpp)."""
+PX4_FLIGHT_SOURCE = ("src/lib/sensor_calibration/Magnetometer.hpp (Magnetometer::Correct), Magnetometer.cpp "
+                     "(ParametersUpdate), src/modules/sensors/vehicle_magnetometer/VehicleMagnetometer.cpp "
+                     "(UpdatePowerCompensation)")
+PX4_COMP_TYPE = {"throttle": 1, "current": 2}
+"""CAL_MAG_COMP_TYP: 0 Disabled, 1 Throttle, 2 Current of battery_status instance 0, 3 of instance 1
+(MagCompensationType in src/modules/sensors/vehicle_magnetometer/VehicleMagnetometer.hpp)."""
+PX4_KILOAMPERE_PER_AMPERE = 1e-3  # VehicleMagnetometer::UpdatePowerCompensation: power = current_a * 0.001 (kA)
+
+
+@dataclass(frozen=True)
+class FlightCompass:
+    """The parts of a flight-compass calibration an export needs, checked: ``Q`` (L → body), ``M``, ``b``
+    (µT), ``k`` (µT per A or per unit throttle; zeros without a motor model), ``motor`` (None, ``current``,
+    ``throttle``), the firmware and instance, ``frame_to_body`` (the rotation the firmware applied) and
+    ``stored`` (what the firmware stored; its ``params`` the log's parameters)."""
+
+    firmware: str
+    instance: int
+    Q: np.ndarray
+    M: np.ndarray
+    b: np.ndarray
+    k: np.ndarray
+    motor: str | None
+    frame_to_body: np.ndarray
+    stored: dict
+    params: dict
+
+
+def _matrix(body: dict, key: str, shape: tuple, default=None) -> np.ndarray:
+    value = body.get(key, default)
+    try:
+        out = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        out = None
+    if out is None or out.shape != shape or not np.all(np.isfinite(out)):
+        raise ExportError(f"this compass calibration's {key} is not {'×'.join(map(str, shape))} finite numbers "
+                          f"({value!r}): it cannot be exported; calibrate the flight log again")
+    return out
+
+
+def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
+    """The checked model of a ``compass_flight`` calibration, for ``target``'s export (None: the JSON).
+
+    Raises
+    ------
+    ExportError
+        A calibration that failed its checks, of another unit, of another firmware than ``target``, or
+        with its numbers missing.
+    """
+    firmware = body.get("firmware")
+    if firmware not in FIRMWARE_NAMES:
+        raise ExportError(f"this compass calibration names no firmware (firmware {firmware!r}, known "
+                          f"{', '.join(FIRMWARE_NAMES)}): calibrate the flight log again")
+    if target is not None:
+        name = FIRMWARE_NAMES[target]
+        if firmware != target:
+            raise ExportError(
+                f"this compass was calibrated from a {FIRMWARE_NAMES[firmware]} log: its numbers are in the frames "
+                f"{FIRMWARE_NAMES[firmware]} reads the compass in, which {name} does not share; use the {firmware} "
+                "or json export")
+        if body.get("unit") != "uT":
+            raise ExportError(f"{name} takes its compass parameters in gauss or milligauss, but this calibration maps "
+                              f"readings in {unit_label(body.get('unit'))}: calibrate the flight log again")
+        if not body.get("ok", False):
+            raise ExportError(f"this calibration failed its checks ({'; '.join(body.get('reasons') or [])}): it must "
+                              f"not be written to {name}; fix what the reasons say and calibrate again")
+    motor = body.get("motor")
+    if motor not in (None, "current", "throttle"):
+        raise ExportError(f"this compass calibration's motor model {motor!r} is none of current, throttle or null")
+    k = _matrix(body, "motor_coefficients", (3,), [0.0, 0.0, 0.0]) if motor else np.zeros(3)
+    Q, M = _matrix(body, "rotation", (3, 3)), _matrix(body, "matrix", (3, 3))
+    if np.abs(Q.T @ Q - np.eye(3)).max() > 1e-6 or np.linalg.det(Q) <= 0:
+        raise ExportError("this compass calibration's rotation is not a rotation (orthonormal, determinant +1): it "
+                          "cannot be exported; calibrate the flight log again")
+    if np.abs(M - M.T).max() > 1e-6 * max(1.0, np.abs(M).max()):
+        raise ExportError("this compass calibration's matrix is not symmetric, and both firmwares hold a symmetric "
+                          "one (diagonal and off-diagonal terms): calibrate the flight log again")
+    stored = body.get("stored") or {}
+    return FlightCompass(
+        firmware=firmware, instance=int(body.get("instance") or 0), Q=Q, M=M, b=_matrix(body, "offsets_ut", (3,)),
+        k=k, motor=motor, frame_to_body=_matrix(body, "frame_to_body", (3, 3), np.eye(3).tolist()),
+        stored=stored, params=dict(stored.get("params") or {}))
+
+
+def _rotation_number(firmware: str, R: np.ndarray, what: str) -> int:
+    number, angle = nearest_firmware_rotation(firmware, R)
+    if angle > ROTATION_TOLERANCE_DEG:
+        raise ExportError(f"{what} is {angle:.1f}° from the nearest rotation {FIRMWARE_NAMES[firmware]} lists "
+                          f"({number}, {rotation_name(firmware, number)}): the firmware cannot hold it; mount the "
+                          "compass square to the vehicle (or use the json export)")
+    return number
+
+
+def _param_int(params: dict, name: str) -> int | None:
+    value = params.get(name)
+    try:
+        return None if value is None else int(round(float(value)))
+    except (TypeError, ValueError):
+        return None
+
+
+def ardupilot_name(group: str, instance: int) -> str:
+    """ArduPilot's parameter of a compass instance: ``COMPASS_OFS`` (0), ``COMPASS_OFS2``, ``COMPASS_OFS3``;
+    ``EXTERNAL`` is ``EXTERN2``, ``EXTERN3`` beyond the first (var_info in libraries/AP_Compass/AP_Compass.cpp)."""
+    if instance == 0:
+        return f"COMPASS_{group}"
+    return f"COMPASS_{'EXTERN' if group == 'EXTERNAL' else group}{instance + 1}"
+
+
+def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
+    """ArduPilot's parameters that make its correction of a compass equal to trical's ``h_body``, and the
+    comment lines that go with them.
+
+    ArduPilot (``AP_Compass_Backend::rotate_field``, then ``correct_field``) turns the sensor's field ``s`` into
+    the body frame by the driver's rotation and then ``COMPASS_ORIENTn`` (an external compass;
+    ``AHRS_ORIENTATION`` for an internal one), then in milligauss ``mag += COMPASS_OFS; mag *= COMPASS_SCALE;
+    mag = [[DIA_X, ODI_X, ODI_Y], [ODI_X, DIA_Y, ODI_Z], [ODI_Y, ODI_Z, DIA_Z]] mag; mag += COMPASS_MOT p``
+    (the motor offset after the matrix). The log's raw ``m_L`` is the field rotated by the orientation the
+    firmware applied, ``R_now``; the new orientation is the listed rotation equal to ``Q R_now``, which turns
+    the same ``s`` into ``Q m_L``. Hence ``COMPASS_OFS = −10 b``, ``DIA/ODI = M``, ``COMPASS_MOT = −10 M k``
+    (mG per A or per unit throttle) and ``COMPASS_SCALE = 1``.
+
+    Raises
+    ------
+    ExportError
+        What ArduPilot would refuse (its ranges), an internal compass whose orientation is wrong (ArduPilot
+        rotates it with the board), or an instance beyond the third.
+    """
+    f = flight_compass(body, "ardupilot")
+    n = f.instance
+    if not 0 <= n < ARDUPILOT_INSTANCES:
+        raise ExportError(f"ArduPilot stores a calibration for compasses 0-{ARDUPILOT_INSTANCES - 1}, not {n}: use the "
+                          "json export")
+    external = _param_int(f.params, ardupilot_name("EXTERNAL", n))
+    orient_name = ardupilot_name("ORIENT", n)
+    if external == 0:  # internal: rotate_field applies the board's orientation, not COMPASS_ORIENTn
+        now, now_name = _param_int(f.params, "AHRS_ORIENTATION") or 0, "AHRS_ORIENTATION"
+    else:
+        stored = f.stored.get("orientation")
+        stored = _param_int(f.params, orient_name) if stored is None else int(stored)
+        now, now_name = (stored if stored is not None else 0), orient_name
+    try:
+        R_now = rotation_matrix("ardupilot", now)
+    except ValueError:
+        raise ExportError(f"{now_name} is {now}, a custom rotation whose angles the export does not read: set it to "
+                          "a listed rotation, fly again and calibrate that log") from None
+    new = _rotation_number("ardupilot", f.Q @ R_now, f"the compass's orientation found ({now_name} {now} turned by "
+                                                     "the rotation the flight shows)")
+    changes = angle_between_deg(rotation_matrix("ardupilot", new), R_now) > ROTATION_TOLERANCE_DEG
+    if changes and external == 0:
+        raise ExportError(
+            f"the flight shows compass {n} turned from the vehicle's axes (the nearest listed orientation is {new}, "
+            f"{rotation_name('ardupilot', new)}, where AHRS_ORIENTATION {now} is applied), but it is an internal "
+            f"compass ({ardupilot_name('EXTERNAL', n)} 0): ArduPilot turns it with the board's AHRS_ORIENTATION, "
+            "not COMPASS_ORIENT, and its own calibration never changes an internal compass's orientation "
+            "(CompassCalibrator::calculate_orientation). Check AHRS_ORIENTATION; if the compass is in fact "
+            f"external, set {ardupilot_name('EXTERNAL', n)} 2 and {orient_name} {new}, fly again and calibrate "
+            "that log")
+    offsets = -MGAUSS_PER_UT * f.b
+    mot = -MGAUSS_PER_UT * (f.M @ f.k)
+    diagonal = np.diag(f.M)
+    offdiagonal = np.array([f.M[0, 1], f.M[0, 2], f.M[1, 2]])
+    offs_max = float(f.params.get("COMPASS_OFFS_MAX") or ARDUPILOT_OFFSET_MAX_MGAUSS)
+    problems = []
+    if np.linalg.norm(offsets) > offs_max:
+        problems.append(f"|{ardupilot_name('OFS', n)}| = {np.linalg.norm(offsets):.0f} mGauss is beyond "
+                        "COMPASS_OFFS_MAX "
+                        f"{offs_max:g}")
+    lo, hi = ARDUPILOT_DIAGONAL_RANGE
+    problems += [f"{ardupilot_name('DIA', n)}_{a} = {v:.4g} is outside {lo:g}…{hi:g}" for a, v in zip("XYZ", diagonal)
+                 if not lo < v < hi]
+    problems += [f"{ardupilot_name('ODI', n)}_{a} = {v:.4g} is beyond ±1" for a, v in zip("XYZ", offdiagonal)
+                 if abs(v) >= ARDUPILOT_OFFDIAGONAL_MAX]
+    problems += [f"{ardupilot_name('MOT', n)}_{a} = {v:.0f} mGauss is beyond ±{ARDUPILOT_MOT_MAX_MGAUSS:g}"
+                 for a, v in zip("XYZ", mot) if abs(v) > ARDUPILOT_MOT_MAX_MGAUSS]
+    if problems:
+        raise ExportError("ArduPilot would not accept this compass calibration: " + "; ".join(problems)
+                          + f" ({ARDUPILOT_RANGE_SOURCE}); move the compass away from the power wires and metal, "
+                          "or use the json export")
+    params: dict[str, float] = {}
+    for group, values in (("OFS", offsets), ("DIA", diagonal), ("ODI", offdiagonal), ("MOT", mot)):
+        params.update({f"{ardupilot_name(group, n)}_{a}": float(v) for a, v in zip("XYZ", values)})
+    params[ardupilot_name("SCALE", n)] = 1.0
+    unit = {"current": "mGauss per A", "throttle": "mGauss at full throttle"}
+    notes = [
+        f"ArduPilot turns compass {n}'s field into the body frame, then corrects it in milligauss "
+        f"({ARDUPILOT_FLIGHT_SOURCE}):",
+        "  mag += OFS; mag *= SCALE; mag = [[DIA_X, ODI_X, ODI_Y], [ODI_X, DIA_Y, ODI_Z], [ODI_Y, ODI_Z, DIA_Z]] "
+        "* mag; mag += MOT * p",
+        "trical's h = M (Q m - b - k p) in uT, so OFS = -10 b, DIA/ODI = M, MOT = -10 M k, SCALE = 1 "
+        "(1 uT = 10 mGauss).",
+    ]
+    motct = ARDUPILOT_MOTCT.get(f.motor)
+    stored_motct = _param_int(f.params, "COMPASS_MOTCT")
+    if motct is not None:
+        params["COMPASS_MOTCT"] = float(motct)
+        notes.append(f"COMPASS_MOT is in {unit[f.motor]}; COMPASS_MOTCT {motct} ({f.motor}) is one setting for every "
+                     "compass" + (f": it was {stored_motct}, so the other compasses' COMPASS_MOT values were "
+                                  "fitted against the other input - check them"
+                                  if stored_motct not in (None, 0, motct) else "."))
+        if n == 0 and _param_int(f.params, "COMPASS_PMOT_EN") == 1:
+            params["COMPASS_PMOT_EN"] = 0.0
+            notes.append("COMPASS_PMOT_EN 0: the per-motor compensation replaces COMPASS_MOT for the first compass "
+                         "(correct_field).")
+    else:
+        notes.append("No motor model: COMPASS_MOT is 0 for this compass; COMPASS_MOTCT (every compass's) is left "
+                     "as it is.")
+    if changes:
+        params[orient_name] = float(new)
+        notes.append(f"{orient_name} {new} ({rotation_name('ardupilot', new)}) replaces {now} "
+                     f"({rotation_name('ardupilot', now)}): the flight shows the compass turned from the axes that "
+                     "orientation gives"
+                     + ("." if external else "; it takes effect for an external compass only "
+                        f"({ardupilot_name('EXTERNAL', n)} 1 or 2): an internal one turns with AHRS_ORIENTATION."))
+    notes.append("Older ArduPilot (e.g. Copter 3.3) added COMPASS_MOT before the matrix; there MOT = -10 k.")
+    return params, notes
+
+
+def px4_slot(f: FlightCompass) -> int:
+    """The ``CAL_MAGn`` slot that holds this compass. PX4 applies the slot whose ``CAL_MAGn_ID`` is the
+    compass's device id (``FindCalibrationIndex``, src/lib/sensor_calibration/Utilities.cpp); the stored
+    calibration names it: its ``slot``, else the one slot its parameters hold, else the one whose
+    ``CAL_MAGn_xOFF`` (×100 µT) are the stored offsets.
+
+    Raises
+    ------
+    ExportError
+        When none of these names exactly one slot.
+    """
+    if f.stored.get("slot") is not None:
+        return int(f.stored["slot"])
+    slots = sorted({int(m.group(1)) for name in f.params if (m := re.match(r"CAL_MAG(\d)_", str(name)))})
+    if len(slots) > 1:
+        stored = np.asarray(f.stored.get("offsets_ut") or [np.nan] * 3, dtype=float)
+        slots = [s for s in slots if np.allclose(
+            [100.0 * float(f.params.get(f"CAL_MAG{s}_{a}OFF", np.nan)) for a in "XYZ"], stored, rtol=1e-6, atol=1e-9)]
+    if len(slots) != 1:
+        raise ExportError(f"the log's parameters do not say which CAL_MAGn slot holds compass {f.instance}: PX4 "
+                          "applies the slot whose CAL_MAGn_ID is the compass's device id; calibrate a log that holds "
+                          "its parameters, or use the json export")
+    return slots[0]
+
+
+def _level_adjustment(params: dict) -> np.ndarray:
+    """PX4's ``GetSensorLevelAdjustment``: Euler(SENS_BOARD_X_OFF, Y_OFF, Z_OFF) in degrees, applied before the
+    rotation (Magnetometer::set_rotation)."""
+    return euler_matrix(*(float(params.get(f"SENS_BOARD_{a}_OFF") or 0.0) for a in "XYZ"))
+
+
+def px4_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
+    """PX4's ``CAL_MAGn_*`` parameters that make its correction of a compass equal to trical's ``h_body``,
+    and the comment lines that go with them.
+
+    PX4 (``Magnetometer::Correct``) applies ``R (S ((data + power · COMP) − OFF))`` in gauss to sensor_mag's
+    sensor-frame field, ``R`` the level adjustment times ``CAL_MAGn_ROT``'s rotation (the board's
+    ``SENS_BOARD_ROT`` for an internal compass), ``S`` the symmetric matrix of ``xSCALE`` and ``xODIAG``, power
+    the throttle (0…1) or the battery current in kA. From ``h = M (Q m − b − k p)``: ``R = Q``, ``S = Qᵀ M Q``,
+    ``OFF = Qᵀ b / 100`` (G), ``COMP = −Qᵀ k / 100`` G per unit throttle or ``−10 Qᵀ k`` G/kA.
+
+    Raises
+    ------
+    ExportError
+        A scale PX4 would not take, an internal compass whose rotation is wrong (PX4 turns it with the
+        board), or a slot the log's parameters do not name.
+    """
+    f = flight_compass(body, "px4")
+    slot = px4_slot(f)
+    p = f"CAL_MAG{slot}_"
+    stored_rot = _param_int(f.params, p + "ROT")
+    if stored_rot is None and f.stored.get("orientation") is not None:
+        stored_rot = int(f.stored["orientation"])
+    level = _level_adjustment(f.params)
+    changes = angle_between_deg(f.Q, f.frame_to_body) > ROTATION_TOLERANCE_DEG
+    new = _rotation_number("px4", level.T @ f.Q, "the compass's rotation found") if changes else stored_rot
+    if changes and stored_rot == -1:
+        raise ExportError(
+            f"the flight shows compass {f.instance} turned from the vehicle's axes (the nearest listed rotation is "
+            f"{new}, {rotation_name('px4', new)}), but it is an internal compass ({p}ROT -1): PX4 turns it with the "
+            "board's SENS_BOARD_ROT and resets its CAL_MAGn_ROT to -1 (Magnetometer::ParametersUpdate). Check "
+            "SENS_BOARD_ROT; an external compass's rotation is set in its own CAL_MAGn_ROT")
+    S = f.Q.T @ f.M @ f.Q
+    diagonal = np.diag(S)
+    lo, hi = PX4_SCALE_RANGE
+    bad = [f"{p}{a}SCALE = {v:.4g}" for a, v in zip("XYZ", diagonal) if not lo <= v <= hi]
+    if bad:
+        raise ExportError(f"PX4 would not take this compass calibration: {', '.join(bad)} outside {lo:g}…{hi:g} (its "
+                          "parameter range; Magnetometer::set_scale keeps the old scale for one not above 0): check "
+                          "the log's unit, or use the json export")
+    to_comp = GAUSS_PER_UT / PX4_KILOAMPERE_PER_AMPERE if f.motor == "current" else GAUSS_PER_UT
+    values = {"OFF": GAUSS_PER_UT * (f.Q.T @ f.b), "SCALE": diagonal,
+              "ODIAG": np.array([S[0, 1], S[0, 2], S[1, 2]]), "COMP": -to_comp * (f.Q.T @ f.k)}
+    params = {f"{p}{a}{group}": float(v) for group, vs in values.items() for a, v in zip("XYZ", vs)}
+    notes = [
+        f"PX4 corrects the sensor-frame field in gauss ({PX4_FLIGHT_SOURCE}):",
+        "  h = R * (S * ((data + power * COMP) - OFF)), S = [[XSCALE, XODIAG, YODIAG], [XODIAG, YSCALE, ZODIAG], "
+        "[YODIAG, ZODIAG, ZSCALE]]",
+        "trical's h = M (Q m - b - k p) in uT, so R = Q, S = Q^T M Q, OFF = Q^T b / 100, COMP = -Q^T k / 100 "
+        "(per unit throttle) or -10 Q^T k (G/kA: PX4's power is the current in kA).",
+        f"CAL_MAG{slot} is the slot whose CAL_MAG{slot}_ID is this compass's device id in the log.",
+    ]
+    comp = PX4_COMP_TYPE.get(f.motor)
+    stored_comp = _param_int(f.params, "CAL_MAG_COMP_TYP")
+    if comp is not None:
+        if comp == 2 and stored_comp == 3:
+            comp = 3  # current of battery_status instance 1, as the log's setting chose
+        params["CAL_MAG_COMP_TYP"] = float(comp)
+        notes.append(f"CAL_MAG_COMP_TYP {comp} ({f.motor}"
+                     + (f", battery_status instance {comp - 2}" if f.motor == "current" else "")
+                     + ") is one setting for every compass"
+                     + ("; PX4 applies the throttle's compensation only while armed." if f.motor == "throttle"
+                        else "."))
+    else:
+        notes.append("No motor model: the COMP values are 0 for this compass; CAL_MAG_COMP_TYP (every compass's) is "
+                     "left as it is.")
+    if changes:
+        params[p + "ROT"] = float(new)
+        notes.append(f"{p}ROT {new} ({rotation_name('px4', new)}) replaces {stored_rot}: the flight shows the compass "
+                     "turned from the axes that rotation gives"
+                     + ("." if stored_rot is not None else "; it takes effect for an external compass only."))
+    return params, notes
+
+
+def _flight_header(body: dict, target: str, notes: list[str]) -> list[str]:
+    errors = body.get("heading_error_deg") or {}
+    before, after = errors.get("before") or {}, errors.get("after") or {}
+    figure = lambda e: (f"rms {e['rms']:.2f} deg, 95th percentile {e['p95']:.2f} deg"  # noqa: E731
+                        if isinstance(e, dict) and "rms" in e and "p95" in e else "not measured")
+    lines = [
+        f"trical calibration {body.get('id', '-')}",
+        f"method: {body.get('method')}, created {body.get('created_at', '-')}, device: {body.get('device_id') or '-'}",
+        f"compass {body.get('instance', 0)} of {'an' if target[0] in 'AEIOU' else 'a'} {target} flight log: model "
+        f"{body.get('model')}, motor "
+        f"{body.get('motor') or 'none'}",
+        f"heading error on flight segments left out: before {figure(before)}; after {figure(after)}",
+    ] + notes
+    return [f"# {line}" for line in lines]
+
+
+def to_ardupilot_flight_compass(body: dict) -> Export:
+    """ArduPilot parameter file of a compass calibrated from a flight: ``COMPASS_OFSn_*`` (mG),
+    ``COMPASS_DIAn_*``, ``COMPASS_ODIn_*``, ``COMPASS_MOTn_*``, ``COMPASS_SCALEn``, ``COMPASS_MOTCT`` and
+    ``COMPASS_ORIENTn`` where the orientation changes (:func:`ardupilot_flight_parameters`)."""
+    params, notes = ardupilot_flight_parameters(body)
+    lines = _flight_header(body, "ArduPilot", notes) + [f"{name} {_number(v)}" for name, v in params.items()]
+    return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body.get('id', 'compass')}_ardupilot.parm")
+
+
+def to_px4_flight_compass(body: dict) -> Export:
+    """PX4 ``param set`` lines of a compass calibrated from a flight: ``CAL_MAGn_xOFF`` (G), ``xSCALE``,
+    ``xODIAG``, ``xCOMP``, ``CAL_MAG_COMP_TYP`` and ``CAL_MAGn_ROT`` where the rotation changes
+    (:func:`px4_flight_parameters`)."""
+    params, notes = px4_flight_parameters(body)
+    integer = ("_ROT", "COMP_TYP")  # integer parameters
+    lines = _flight_header(body, "PX4", notes) + [
+        f"param set {name} {int(v) if name.endswith(integer) else _number(v)}" for name, v in params.items()]
+    return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body.get('id', 'compass')}_px4.txt")
+
+
+def to_json_flight_compass(body: dict) -> Export:
+    """Versioned JSON of a compass calibrated from a flight: trical's correction ``h = M (Q m − b − k p)``,
+    what the firmware stored, the heading errors, and the firmware's parameters (or why they are refused).
+    A calibration that failed its checks, or whose numbers are missing, is written as it is."""
+    firmware = body.get("firmware")
+    to_params = {"ardupilot": ardupilot_flight_parameters, "px4": px4_flight_parameters}.get(firmware)
+    try:
+        if to_params is None:
+            flight_compass(body)  # raises, naming the firmware missing
+        params, _ = to_params(body)
+        refused = None
+    except ExportError as exc:
+        params, refused = None, str(exc)
+    motor = body.get("motor")
+    doc = {
+        "$schema": JSON_SCHEMA, "schema_version": 1,
+        "id": body.get("id"), "method": body.get("method"), "created_at": body.get("created_at"),
+        "device_id": body.get("device_id"), "label": body.get("label"),
+        "sensor": "magnetometer", "firmware": firmware, "instance": body.get("instance"), "unit": body.get("unit"),
+        "model": body.get("model"), "motor": motor,
+        "correction": {
+            "formula": "h_body = M (Q m - b - k p)",
+            "frame": "m raw in the frame the log gives it in: " + {
+                "ardupilot": "the body frame under the orientation ArduPilot applied",
+                "px4": "sensor_mag's sensor frame"}.get(firmware, "unknown"),
+            "Q": body.get("rotation"), "M": body.get("matrix"), "b": body.get("offsets_ut"),
+            "k": body.get("motor_coefficients") if motor else [0.0, 0.0, 0.0],
+            "p": {"current": "battery current, A", "throttle": "throttle, 0..1"}.get(motor, "none")},
+        "rotation_nearest": body.get("rotation_nearest"), "orientation_agrees": body.get("orientation_agrees"),
+        "stored": body.get("stored"), "heading_error_deg": body.get("heading_error_deg"),
+        "firmware_parameters": params, "firmware_parameters_refused": refused,
+        "ok": body.get("ok"), "warnings": body.get("warnings", []), "reasons": body.get("reasons", []),
+    }
+    return Export(json.dumps(doc, indent=2), "application/json", f"{body.get('id', 'compass')}.json")
+
+
+FLIGHT_COMPASS_EXPORTERS = {"json": to_json_flight_compass, "ardupilot": to_ardupilot_flight_compass,
+                            "px4": to_px4_flight_compass}
+FLIGHT_COMPASS_EXPORTS = tuple(FLIGHT_COMPASS_EXPORTERS)
+"""The export formats of a compass calibrated from a flight (method ``compass_flight``): the method table's
+``formats``."""
+
+
+def export_flight_compass(body: dict, fmt: str) -> Export:
+    """A compass calibrated from a flight (method ``compass_flight``) in ``fmt`` (:data:`FLIGHT_COMPASS_EXPORTS`).
+
+    Raises
+    ------
+    ExportError
+        A format it does not offer, or one its firmware would refuse (the message says why and what to do).
+    """
+    if fmt not in FLIGHT_COMPASS_EXPORTERS:
+        raise ExportError(f"format {fmt!r} does not fit this calibration, a compass calibrated from a flight: use one "
+                          f"of {', '.join(FLIGHT_COMPASS_EXPORTS)}")
+    return FLIGHT_COMPASS_EXPORTERS[fmt](body)

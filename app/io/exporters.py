@@ -13,6 +13,7 @@ from app.calibration.result import DRIFT, FIGURES
 
 from .errors import ExportError
 from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, result_class, sensor_corrections, unit_label
+from .export_compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
 from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
@@ -139,10 +140,11 @@ FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4"
 """The page's download links; ``motioncal`` (bytes for a board, not a file to keep) is left out: the page
 writes it to the board with *Send to the board*, and the API and ``trical export`` give it."""
 
-ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS, *TEMPERATURE_EXPORTERS]))
+ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS, *TEMPERATURE_EXPORTERS, *FLIGHT_COMPASS_EXPORTS]))
 """Every format name of any calibration (the CLI's choices)."""
 
-__all__ = ["ALL_FORMATS", "EXPORTERS", "FORMAT_NAMES", "NOISE_FORMATS", "TEMPERATURE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
+__all__ = ["ALL_FORMATS", "EXPORTERS", "FLIGHT_COMPASS_EXPORTS", "FORMAT_NAMES",
+           "NOISE_FORMATS", "TEMPERATURE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
            "export_calibration"]
 
 
@@ -154,6 +156,8 @@ def export_calibration(body: dict, fmt: str) -> Export:
     ExportError
         Unknown format, or a format that does not fit this calibration's model.
     """
+    if body.get("method") == FLIGHT_COMPASS_METHOD:  # its model is a flight's, with a rotation and the motors' term
+        return export_flight_compass(body, fmt)
     kind = result_class(body).KIND
     if kind == DRIFT:  # its own px4, ardupilot, json: the firmwares' thermal parameters
         if fmt not in TEMPERATURE_EXPORTERS:
