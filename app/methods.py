@@ -27,7 +27,8 @@ from app.io.errors import ExportError
 from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_temperature import TEMPERATURE_EXPORTERS
 from app.io.exporters import EXPORTERS, Export, export_calibration
-from app.workflows import autocal, compass, cube, noise, still, temperature
+from app.io.export_compass import FLIGHT_COMPASS_EXPORTS
+from app.workflows import autocal, compass, cube, flight_compass, noise, still, temperature
 from app.workflows.entry import calibrate as run_handler
 from app.workflows.recordings import RecordingSource
 
@@ -109,6 +110,9 @@ TABLE: tuple[Method, ...] = (
     Method("temperature", request=rq.TemperatureIn, handler=temperature.temperature, response="TemperatureOut",
            command="temperature", formats=TEMPERATURE_EXPORTS,
            kind="a temperature calibration (offsets against temperature)"),
+    Method("compass_flight", request=rq.CompassFlightIn, handler=flight_compass.compass_flight,
+           response="CompassFlightOut", command="calibrate", formats=FLIGHT_COMPASS_EXPORTS,
+           kind="a compass calibrated from a flight"),
 )
 """Every method. ``auto`` on a recording of the magnetometer alone is the compass (its handler calls
 :func:`app.workflows.compass.auto_compass`), answered as method ``magnetometer``: not a method of its own."""

@@ -222,4 +222,27 @@ class MagnetometerIn(Strict):
         return self
 
 
+class CompassFlightIn(Strict):
+    """A flight controller's compass calibrated from a flight log against the field its attitude expects (issue 32)."""
+
+    method: Literal["compass_flight"]
+    recording_id: str = Field(description="An uploaded PX4 ULog (.ulg) or ArduPilot DataFlash log (.bin) of a flight "
+                                          "with turns through every heading, with the attitude and the compass.")
+    mag_instance: Annotated[int, Field(ge=0, le=255)] | None = Field(
+        None, description="The compass instance (default: the one read at the upload, else the first).")
+    date: datetime.date | None = Field(None, description="Day of the flight, for the model (default: the log's GPS time).")
+    latitude_deg: Latitude | None = Field(None, description="Where the vehicle flew (default: the log's first GPS fix).")
+    longitude_deg: Longitude | None = None
+    height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = Field(
+        None, description="Height above the WGS84 ellipsoid (default: the fix's).")
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None
+
+    @model_validator(mode="after")
+    def _place(self):
+        if (self.latitude_deg is None) != (self.longitude_deg is None):
+            raise ValueError("give both `latitude_deg` and `longitude_deg` for the Earth's field there, or neither")
+        return self
+
+
 __all__ = ["ValidationError"]

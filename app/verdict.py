@@ -35,7 +35,11 @@ MIN_GAIN_MG = 0.5
 MIN_GAIN_UT = 0.5
 """The compass's: 0.5 µT, about 1 % of the Earth's field and a quarter of a degree of heading at most."""
 
-MIN_GAIN = {"µT": MIN_GAIN_UT}
+MIN_GAIN_DEG = 0.5
+"""A compass calibrated from a flight, by its heading error: half a degree, below what a pilot or a
+position controller notices, and about the spread of one flight's heading error from segment to segment."""
+
+MIN_GAIN = {"µT": MIN_GAIN_UT, "°": MIN_GAIN_DEG}
 """The least gain worth applying by the figure's unit where it is not :data:`MIN_GAIN_MG` (mg, and counts)."""
 
 

@@ -148,9 +148,9 @@ class VerdictOut(Out):
     why: str = Field(description="One line more: the reason, or what the figure is.")
     before: float | None = Field(description="The figure's raw error (null where the readings are counts).")
     after: float | None = Field(description="The same, calibrated.")
-    unit: Literal["mg", "µT", "counts", "°/s"] | None = Field(description="mg of g, or µT for a compass (counts for a "
-                                                                         "magnetometer left in counts); °/s for a "
-                                                                         "temperature calibration of a gyroscope alone.")
+    unit: Literal["mg", "µT", "counts", "°/s", "°"] | None = Field(description=(
+        "mg of g, or µT for a compass (counts for a magnetometer left in counts); °/s for a temperature calibration "
+        "of a gyroscope alone; ° (heading error) for a compass calibrated from a flight."))
     basis: str | None = Field(description="Which readings the figure is on, in words.")
 
 
@@ -695,6 +695,54 @@ class TemperatureOut(CalibrationCommon):
     sensor_ids: dict[str, int] | None = Field(
         None, description="Sensor → the firmware's device id of the sensor a flight log's IMU was read from (PX4's "
                           "TC_A0_ID, TC_G0_ID in the px4 export); absent for other recordings.")
+
+
+class CompassFlightModel(Out):
+    type: Literal["compass_flight"]
+    M: Mat3Out = Field(description="Soft iron, symmetric (identity or diagonal for the simpler structures): "
+                                   "h = M (Q m − b − k p).")
+    b: Vec3Out = Field(description="Offsets in µT, in the body frame.")
+    k: Vec3Out = Field(description="Motor interference, µT per A (current) or per unit throttle 0–1; zeros without.")
+    Q: Mat3Out = Field(description="The rotation from the axes the log gives the raw readings in onto the body frame.")
+
+
+class CompassFlightUncertainty(Out):
+    confidence: float
+    M: Mat3Out | None = Field(None, description="95 % half-widths of M's entries; null where not fitted.")
+    b: Vec3Out | None = Field(None, description="95 % half-widths of b, µT.")
+    k: Vec3Out | None = Field(None, description="95 % half-widths of k; null without a motor term.")
+
+
+class CompassFlightMetrics(Out):
+    heading_error_before_deg: float | None = Field(
+        None, description="Rms heading error on flight segments left out, with the firmware's own calibration.")
+    heading_error_after_deg: float | None = Field(None, description="The same with this calibration.")
+    heading_error_before_p95_deg: float | None = Field(None, description="95th percentile of |error| before.")
+    heading_error_after_p95_deg: float | None = Field(None, description="95th percentile of |error| after.")
+    coverage: float = Field(description="Share of the 20 directions the expected field reached in the body frame.")
+    n_samples: int = Field(description="Compass samples fitted (inside the attitude's and the power's spans).")
+    field_ut: float = Field(description="The geomagnetic model's field at the place and date, µT.")
+    inclination_deg: float
+    declination_deg: float
+    field_model: str
+    field_date: str
+
+
+class CompassFlightOut(CalibrationCommon):
+    method: Literal["compass_flight"]
+    gravity: float | None = Field(None, description="Not used by a compass calibration.")
+    model: CompassFlightModel
+    uncertainty: CompassFlightUncertainty
+    metrics: CompassFlightMetrics
+    flight: dict[str, Any] = Field(description=(
+        "The log and the fit: firmware, generation, instance, raw_how (how the raw readings were had), structure "
+        "(offsets, scale, soft_iron), motor (current, throttle or null), rotation_found, rotation_nearest "
+        "({ardupilot, px4, name}), angle_left_deg, orientation_agrees, frame_to_body, stored (the firmware's own "
+        "calibration), attitude_source, power_source, place, models (each candidate's error on segments left out), "
+        "intervals."))
+    series: dict[str, Any] = Field(description=(
+        "At most 600 samples over the flight for drawing: time_s, expected, corrected, firmware (µT, body frame), "
+        "field_magnitude, power, heading_error_before, heading_error_after (degrees)."))
 
 
 RESPONSE_MODELS = {method.name: globals()[method.response] for method in TABLE if method.response is not None}

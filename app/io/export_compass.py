@@ -209,7 +209,8 @@ def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
         A calibration that failed its checks, of another unit, of another firmware than ``target``, or
         with its numbers missing.
     """
-    firmware = body.get("firmware")
+    flight, model = body.get("flight") or {}, body.get("model") or {}
+    firmware = flight.get("firmware")
     if firmware not in FIRMWARE_NAMES:
         raise ExportError(f"this compass calibration names no firmware (firmware {firmware!r}, known "
                           f"{', '.join(FIRMWARE_NAMES)}): calibrate the flight log again")
@@ -226,21 +227,21 @@ def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
         if not body.get("ok", False):
             raise ExportError(f"this calibration failed its checks ({'; '.join(body.get('reasons') or [])}): it must "
                               f"not be written to {name}; fix what the reasons say and calibrate again")
-    motor = body.get("motor")
+    motor = flight.get("motor")
     if motor not in (None, "current", "throttle"):
         raise ExportError(f"this compass calibration's motor model {motor!r} is none of current, throttle or null")
-    k = _matrix(body, "motor_coefficients", (3,), [0.0, 0.0, 0.0]) if motor else np.zeros(3)
-    Q, M = _matrix(body, "rotation", (3, 3)), _matrix(body, "matrix", (3, 3))
+    k = _matrix(model, "k", (3,), [0.0, 0.0, 0.0]) if motor else np.zeros(3)
+    Q, M = _matrix(model, "Q", (3, 3)), _matrix(model, "M", (3, 3))
     if np.abs(Q.T @ Q - np.eye(3)).max() > 1e-6 or np.linalg.det(Q) <= 0:
         raise ExportError("this compass calibration's rotation is not a rotation (orthonormal, determinant +1): it "
                           "cannot be exported; calibrate the flight log again")
     if np.abs(M - M.T).max() > 1e-6 * max(1.0, np.abs(M).max()):
         raise ExportError("this compass calibration's matrix is not symmetric, and both firmwares hold a symmetric "
                           "one (diagonal and off-diagonal terms): calibrate the flight log again")
-    stored = body.get("stored") or {}
+    stored = flight.get("stored") or {}
     return FlightCompass(
-        firmware=firmware, instance=int(body.get("instance") or 0), Q=Q, M=M, b=_matrix(body, "offsets_ut", (3,)),
-        k=k, motor=motor, frame_to_body=_matrix(body, "frame_to_body", (3, 3), np.eye(3).tolist()),
+        firmware=firmware, instance=int(flight.get("instance") or 0), Q=Q, M=M, b=_matrix(model, "b", (3,)),
+        k=k, motor=motor, frame_to_body=_matrix(flight, "frame_to_body", (3, 3), np.eye(3).tolist()),
         stored=stored, params=dict(stored.get("params") or {}))
 
 
@@ -482,17 +483,25 @@ def px4_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
     return params, notes
 
 
+def heading_errors(body: dict) -> dict:
+    """``{"before": {"rms", "p95"}, "after": {…}}``: the heading errors on flight segments left out, in degrees,
+    from the calibration's metrics."""
+    m = body.get("metrics") or {}
+    return {when: {"rms": m.get(f"heading_error_{when}_deg"), "p95": m.get(f"heading_error_{when}_p95_deg")}
+            for when in ("before", "after")}
+
+
 def _flight_header(body: dict, target: str, notes: list[str]) -> list[str]:
-    errors = body.get("heading_error_deg") or {}
-    before, after = errors.get("before") or {}, errors.get("after") or {}
+    flight, errors = body.get("flight") or {}, heading_errors(body)
     figure = lambda e: (f"rms {e['rms']:.2f} deg, 95th percentile {e['p95']:.2f} deg"  # noqa: E731
-                        if isinstance(e, dict) and "rms" in e and "p95" in e else "not measured")
+                        if e.get("rms") is not None and e.get("p95") is not None else "not measured")
+    before, after = errors["before"], errors["after"]
     lines = [
         f"trical calibration {body.get('id', '-')}",
         f"method: {body.get('method')}, created {body.get('created_at', '-')}, device: {body.get('device_id') or '-'}",
-        f"compass {body.get('instance', 0)} of {'an' if target[0] in 'AEIOU' else 'a'} {target} flight log: model "
-        f"{body.get('model')}, motor "
-        f"{body.get('motor') or 'none'}",
+        f"compass {flight.get('instance', 0)} of {'an' if target[0] in 'AEIOU' else 'a'} {target} flight log: model "
+        f"{flight.get('structure')}, motor "
+        f"{flight.get('motor') or 'none'}",
         f"heading error on flight segments left out: before {figure(before)}; after {figure(after)}",
     ] + notes
     return [f"# {line}" for line in lines]
@@ -522,7 +531,8 @@ def to_json_flight_compass(body: dict) -> Export:
     """Versioned JSON of a compass calibrated from a flight: trical's correction ``h = M (Q m − b − k p)``,
     what the firmware stored, the heading errors, and the firmware's parameters (or why they are refused).
     A calibration that failed its checks, or whose numbers are missing, is written as it is."""
-    firmware = body.get("firmware")
+    flight, model = body.get("flight") or {}, body.get("model") or {}
+    firmware = flight.get("firmware")
     to_params = {"ardupilot": ardupilot_flight_parameters, "px4": px4_flight_parameters}.get(firmware)
     try:
         if to_params is None:
@@ -531,23 +541,23 @@ def to_json_flight_compass(body: dict) -> Export:
         refused = None
     except ExportError as exc:
         params, refused = None, str(exc)
-    motor = body.get("motor")
+    motor = flight.get("motor")
     doc = {
         "$schema": JSON_SCHEMA, "schema_version": 1,
         "id": body.get("id"), "method": body.get("method"), "created_at": body.get("created_at"),
         "device_id": body.get("device_id"), "label": body.get("label"),
-        "sensor": "magnetometer", "firmware": firmware, "instance": body.get("instance"), "unit": body.get("unit"),
-        "model": body.get("model"), "motor": motor,
+        "sensor": "magnetometer", "firmware": firmware, "instance": flight.get("instance"), "unit": body.get("unit"),
+        "structure": flight.get("structure"), "motor": motor,
         "correction": {
             "formula": "h_body = M (Q m - b - k p)",
             "frame": "m raw in the frame the log gives it in: " + {
                 "ardupilot": "the body frame under the orientation ArduPilot applied",
                 "px4": "sensor_mag's sensor frame"}.get(firmware, "unknown"),
-            "Q": body.get("rotation"), "M": body.get("matrix"), "b": body.get("offsets_ut"),
-            "k": body.get("motor_coefficients") if motor else [0.0, 0.0, 0.0],
+            "Q": model.get("Q"), "M": model.get("M"), "b": model.get("b"),
+            "k": model.get("k") if motor else [0.0, 0.0, 0.0],
             "p": {"current": "battery current, A", "throttle": "throttle, 0..1"}.get(motor, "none")},
-        "rotation_nearest": body.get("rotation_nearest"), "orientation_agrees": body.get("orientation_agrees"),
-        "stored": body.get("stored"), "heading_error_deg": body.get("heading_error_deg"),
+        "rotation_nearest": flight.get("rotation_nearest"), "orientation_agrees": flight.get("orientation_agrees"),
+        "stored": flight.get("stored"), "heading_error_deg": heading_errors(body),
         "firmware_parameters": params, "firmware_parameters_refused": refused,
         "ok": body.get("ok"), "warnings": body.get("warnings", []), "reasons": body.get("reasons", []),
     }

@@ -64,19 +64,23 @@ def flight_body(firmware="ardupilot", *, Q=np.eye(3), M=np.eye(3), b=(12.0, -20.
     return {
         "id": "cal_flight", "method": "compass_flight", "created_at": "2026-12-04T07:00:00Z", "ok": ok,
         "reasons": [] if ok else ["the heading error grew on segments left out"], "unit": "uT",
-        "firmware": firmware, "instance": instance, "model": "soft_iron", "motor": motor,
-        "offsets_ut": list(b), "matrix": np.asarray(M).tolist(), "motor_coefficients": list(k),
-        "rotation": np.asarray(Q).tolist(), "rotation_nearest": {"ardupilot": 0, "px4": 0, "name": "None"},
-        "orientation_agrees": bool(np.allclose(Q, frame_to_body)), "frame_to_body": np.asarray(frame_to_body).tolist(),
-        "stored": {"firmware": firmware, "instance": instance, "offsets_ut": [0, 0, 0], "matrix": np.eye(3).tolist(),
-                   "motor": [0, 0, 0], "motor_kind": None, "orientation": orientation, "params": params or {}},
-        "heading_error_deg": {"before": {"rms": 7.1, "p95": 12.0}, "after": {"rms": 1.2, "p95": 2.4}},
+        "model": {"type": "compass_flight", "M": np.asarray(M).tolist(), "b": list(b), "k": list(k),
+                  "Q": np.asarray(Q).tolist()},
+        "metrics": {"heading_error_before_deg": 7.1, "heading_error_before_p95_deg": 12.0,
+                    "heading_error_after_deg": 1.2, "heading_error_after_p95_deg": 2.4},
+        "flight": {"firmware": firmware, "instance": instance, "structure": "soft_iron", "motor": motor,
+                   "rotation_nearest": {"ardupilot": 0, "px4": 0, "name": "None"},
+                   "orientation_agrees": bool(np.allclose(Q, frame_to_body)),
+                   "frame_to_body": np.asarray(frame_to_body).tolist(),
+                   "stored": {"firmware": firmware, "instance": instance, "offsets_ut": [0, 0, 0],
+                              "matrix": np.eye(3).tolist(), "motor": [0, 0, 0], "motor_kind": None,
+                              "orientation": orientation, "params": params or {}}},
     }
 
 
 def trical(body: dict, m_L: np.ndarray, p: np.ndarray) -> np.ndarray:
-    Q, M = np.array(body["rotation"]), np.array(body["matrix"])
-    b, k = np.array(body["offsets_ut"]), np.array(body["motor_coefficients"]) * (body["motor"] is not None)
+    Q, M = np.array(body["model"]["Q"]), np.array(body["model"]["M"])
+    b, k = np.array(body["model"]["b"]), np.array(body["model"]["k"]) * (body["flight"]["motor"] is not None)
     return (M @ (m_L @ Q.T - b - np.outer(p, k)).T).T
 
 
@@ -280,7 +284,7 @@ def test_ardupilot_export_of_the_stored_calibration_is_the_stored_parameters(ins
         assert out[name] == pytest.approx(params[name], rel=1e-6, abs=1e-7), name
     assert f"COMPASS_ORIENT{s}" not in out  # AHRS_ORIENTATION 8 for the internal ones, 0 for the external: kept
     with pytest.raises(ExportError, match="COMPASS_OFFS_MAX 850"):  # this log's own limit, not the default 1800
-        export_flight_compass(dict(body, offsets_ut=[90.0, 0.0, 0.0]), "ardupilot")
+        export_flight_compass(dict(body, model={**body["model"], "b": [90.0, 0.0, 0.0]}), "ardupilot")
 
 
 def test_px4_export_of_the_stored_calibration_is_the_stored_parameters(rng):
@@ -291,14 +295,14 @@ def test_px4_export_of_the_stored_calibration_is_the_stored_parameters(rng):
     R = level @ px4_rotation(int(params["CAL_MAG1_ROT"]))
     S, off = np.diag(c("SCALE")), 100.0 * c("OFF")
     body = flight_body("px4", Q=R, frame_to_body=R, M=R @ S @ R.T, b=R @ off, motor=None, params=params)
-    body["stored"]["offsets_ut"] = off.tolist()  # picks CAL_MAG1 among the log's four slots
+    body["flight"]["stored"]["offsets_ut"] = off.tolist()  # picks CAL_MAG1 among the log's four slots
     out = parse_px4(export_flight_compass(body, "px4").content)
     for name in (f"CAL_MAG1_{a}{g}" for g in ("OFF", "SCALE") for a in "XYZ"):
         assert out[name] == pytest.approx(params[name], rel=1e-6, abs=1e-7), name
     assert "CAL_MAG1_ROT" not in out and not any(name.startswith("CAL_MAG0_") for name in out)
     # the same board with the compass turned: the new CAL_MAG1_ROT under the level adjustment still reproduces
     wrong = flight_body("px4", Q=level @ px4_rotation(12), frame_to_body=R, M=soft_iron(rng), params=params)
-    wrong["stored"]["offsets_ut"] = off.tolist()
+    wrong["flight"]["stored"]["offsets_ut"] = off.tolist()
     out = parse_px4(export_flight_compass(wrong, "px4").content)
     assert out["CAL_MAG1_ROT"] == 12
     sensor, p = readings(rng)
@@ -317,7 +321,7 @@ def test_json_holds_the_correction_and_the_firmwares_parameters(rng):
     assert doc["firmware_parameters"]["COMPASS_ORIENT"] == 10
     failed = json.loads(export_calibration(flight_body(ok=False), "json").content)
     assert failed["firmware_parameters"] is None and "failed its checks" in failed["firmware_parameters_refused"]
-    empty = dict(flight_body(ok=False), rotation=None, matrix=None, offsets_ut=None)  # a fit that gave no numbers
+    empty = dict(flight_body(ok=False), model={"type": "compass_flight"})  # a body cut short: no numbers
     assert json.loads(export_calibration(empty, "json").content)["correction"]["Q"] is None
 
 

@@ -8,6 +8,7 @@ controller's compass from a flight log against the field its attitude expects.
 
 from .fit import fit_magnetometer
 from .flight import FlightCompassResult, fit_flight_compass
+from .flight_calibration import FlightCompassCalibration
 from .result import MagnetometerResult
 
-__all__ = ["FlightCompassResult", "MagnetometerResult", "fit_flight_compass", "fit_magnetometer"]
+__all__ = ["FlightCompassCalibration", "FlightCompassResult", "MagnetometerResult", "fit_flight_compass", "fit_magnetometer"]
