@@ -38,6 +38,7 @@ from app.calibration.firmware_rotations import (angle_between_deg, euler_matrix,
 
 from .errors import ExportError
 from .export_common import JSON_SCHEMA, Export, describe, sensor_corrections, unit_label
+from .flight_compass_plot import to_flight_compass_svg
 
 MGAUSS_PER_UT = 10.0
 GAUSS_PER_UT = 0.01
@@ -565,7 +566,10 @@ def to_json_flight_compass(body: dict) -> Export:
 
 
 FLIGHT_COMPASS_EXPORTERS = {"json": to_json_flight_compass, "ardupilot": to_ardupilot_flight_compass,
-                            "px4": to_px4_flight_compass}
+                            "px4": to_px4_flight_compass, "flight_svg": to_flight_compass_svg}
+FLIGHT_COMPASS_FORMATS = {"ardupilot": "ArduPilot (.parm)", "px4": "PX4 (param set lines)", "json": "JSON",
+                          "flight_svg": "The flight's compass (SVG)"}
+"""The page's download links of a compass calibrated from a flight."""
 FLIGHT_COMPASS_EXPORTS = tuple(FLIGHT_COMPASS_EXPORTERS)
 """The export formats of a compass calibrated from a flight (method ``compass_flight``): the method table's
 ``formats``."""

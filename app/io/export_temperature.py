@@ -170,7 +170,8 @@ def _f(v: float) -> str:
     return f"{v:.1f}"
 
 
-def _ticks(lo: float, hi: float, n: int = 5) -> list[float]:
+def ticks(lo: float, hi: float, n: int = 5) -> list[float]:
+    """Round values (1, 2, 5 × 10ⁿ apart) for about ``n`` ticks between ``lo`` and ``hi``."""
     span = hi - lo if hi > lo else 1.0
     raw = span / n
     mag = 10 ** np.floor(np.log10(raw))
@@ -204,11 +205,11 @@ def _panel(body: dict, sensor: str, top: float) -> tuple[list[str], str]:
     rel = " (relative to T_ref)" if body["model"][sensor].get("relative") else ""
     out = [f'<text x="{LEFT}" y="{top + 20}" font-size="13" font-weight="bold" {FONT}>{name} offset{rel}, {unit}</text>',
            f'<rect x="{LEFT}" y="{_f(top + TOP)}" width="{w}" height="{h}" fill="none" stroke="#888"/>']
-    for v in _ticks(lo, hi):
+    for v in ticks(lo, hi):
         y = float(Y(v))
         out.append(f'<line x1="{LEFT}" x2="{LEFT + w}" y1="{_f(y)}" y2="{_f(y)}" stroke="#e4e4e4"/>')
         out.append(f'<text x="{LEFT - 4}" y="{_f(y + 4)}" font-size="10" text-anchor="end" {FONT}>{v:g}</text>')
-    for v in _ticks(x0, x1):
+    for v in ticks(x0, x1):
         x = float(X(v))
         out.append(f'<text x="{_f(x)}" y="{_f(top + TOP + h + 14)}" font-size="10" text-anchor="middle" {FONT}>{v:g}</text>')
     out.append(f'<text x="{LEFT + w / 2}" y="{_f(top + TOP + h + 30)}" font-size="11" text-anchor="middle" {FONT}>'

@@ -119,6 +119,8 @@ METHOD_NAMES = {
     "cube": "24 positions of a cube (accelerometer and gyroscope)",
     "magnetometer": "the compass (magnetometer)",
     "noise": "noise (Allan deviation)",
+    "temperature": "temperature drift (accelerometer and gyroscope)",
+    "compass_flight": "the compass from a flight (flight controller)",
 }
 """Each stored method in words, for the history of calibrations (an unknown method shows its key)."""
 

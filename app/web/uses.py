@@ -7,6 +7,7 @@ export formats of app.io (FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS).
 
 from __future__ import annotations
 
+from app.io.export_compass import FLIGHT_COMPASS_FORMATS
 from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
 
 CALIBRATION_USES = (
@@ -57,12 +58,29 @@ TEMPERATURE_USES = (
 """A temperature calibration: the firmwares' thermal compensation parameters, or the polynomials."""
 
 
+FLIGHT_COMPASS_USES = (
+    {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
+     "how": "In Mission Planner: Config → Full Parameter List → Load from file, then Write Params and reboot. The "
+            "file sets the compass's offsets, soft iron, motor compensation (COMPASS_MOT, COMPASS_MOTCT) and, when "
+            "the compass is mounted otherwise than set, its orientation."},
+    {"key": "px4", "name": "PX4", "format": "px4",
+     "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save and "
+            "reboot. They set CAL_MAGn's offsets, scales, the power compensation (CAL_MAG_COMP_TYP) and, when it "
+            "is wrong, the rotation."},
+    {"key": "filter", "name": "my own firmware", "format": "json",
+     "how": "Correct every reading as h = M (Q m − b − k p) with p the battery current in A (or the throttle, 0–1): "
+            "Q, M, b and k are in the JSON's correction."},
+)
+"""A compass calibrated from a flight: its firmware's parameters (only the firmware the log came from)."""
+
+
 def uses_table() -> dict:
     """The page's table of uses: ``calibration``, ``noise`` and ``temperature``, each a list of key, name,
     format, how (and for a calibration the ``snippet`` shown);
     ``formats``, ``noiseFormats`` and ``temperatureFormats``, every export as ``[key, name]`` in the order the page lists them
     (pairs, since the template's JSON sorts an object's keys)."""
     return {"calibration": [dict(u) for u in CALIBRATION_USES], "noise": [dict(u) for u in NOISE_USES],
-            "temperature": [dict(u) for u in TEMPERATURE_USES],
+            "temperature": [dict(u) for u in TEMPERATURE_USES], "flightCompass": [dict(u) for u in FLIGHT_COMPASS_USES],
+            "flightCompassFormats": [list(f) for f in FLIGHT_COMPASS_FORMATS.items()],
             "formats": [list(f) for f in FORMAT_NAMES.items()], "noiseFormats": [list(f) for f in NOISE_FORMATS.items()],
             "temperatureFormats": [list(f) for f in TEMPERATURE_FORMATS.items()]}

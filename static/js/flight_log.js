@@ -71,6 +71,8 @@ export function showFlightLog(rec) {
   $("#flight-mag").replaceChildren(...mags.map((i) => option(i.instance, `${i.source} ${i.instance}`,
     flight.mag && i.instance === flight.mag.instance)));
   $("#flight-mag-label").hidden = !mags.length;
+  $("#flight-compass-box").hidden = !mags.length;
+  $("#flight-compass-msg").textContent = "";
   $("#flight-temp-plot").innerHTML = temperaturePlotSvg(rec.overview);
   const temp = rec.temperature_c;
   const span = temp && temp.min !== null ? temp.max - temp.min : null;

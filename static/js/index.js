@@ -364,6 +364,11 @@ $("#flight-go").addEventListener("click", () => {
   upload(data);
 });
 
+$("#flight-compass").addEventListener("click", () => calibrate(
+  { method: "compass_flight", recording_id: recordingId, mag_instance: Number($("#flight-mag").value) },
+  "Fitting the compass against the flight's attitude and the Earth's field…", "Compass calibration refused",
+  "#flight-compass-msg"));
+
 $("#temperature-recording").addEventListener("click", () => calibrate({ method: "temperature", recording_id: recordingId },
   "Fitting the offsets against temperature…", "Temperature calibration refused", "#segments-msg"));
 

@@ -125,6 +125,27 @@ const CORRECTION = {
   norms: noNorms,
 };
 
+// A compass calibrated from a flight: what the picture does not say — the orientation found against the one the
+// firmware has, the directions covered, the model chosen and how the raw readings were had.
+const FIRMWARE_WORDS = { ardupilot: "ArduPilot", px4: "PX4" };
+
+export function flightCaption(cal) {
+  const f = cal.flight || {};
+  const near = f.rotation_nearest || {};
+  const firmware = FIRMWARE_WORDS[f.firmware] || f.firmware || "the firmware";
+  const number = f.firmware === "px4" ? near.px4 : near.ardupilot;
+  const setting = f.firmware === "px4" ? "CAL_MAG_ROT" : "COMPASS_ORIENT";
+  const orientation = f.orientation_agrees
+    ? `Orientation: as ${firmware} has it (${near.name}), ${formatNumber(f.angle_left_deg, 1)}° left.`
+    : `Orientation: the compass sits as ${near.name} (${setting} ${number ?? "—"}), not as ${firmware} has it; `
+      + `${formatNumber(f.angle_left_deg, 1)}° left.`;
+  const motor = f.motor ? `, with the motors' interference against the ${f.motor}` : ", without a motor term";
+  const covered = cal.metrics && cal.metrics.coverage !== undefined
+    ? ` Directions covered: ${Math.round(cal.metrics.coverage * 100)} %.` : "";
+  return `${orientation}${covered} Model: ${f.structure || "—"}${motor}. Compass ${f.instance ?? 0} of a `
+    + `${firmware} log (${f.generation || "—"}); ${f.raw_how || ""}.`;
+}
+
 export const KINDS = {
   affine: { ...CORRECTION, norms: readingNorms },
   nonorthogonal: CORRECTION,
@@ -133,6 +154,9 @@ export const KINDS = {
   magnetometer: { ...CORRECTION, spheres: true },
   noise: { ...CORRECTION, uses: "noise", formats: "noiseFormats", correction: false, snippets: false, heading: "The noise terms",
     model: noiseTables, plot: { box: "#result-allan", format: "allan_svg" } },
+  compass_flight: { ...CORRECTION, uses: "flightCompass", formats: "flightCompassFormats", snippets: false,
+    heading: "The compass's model, h = M (Q m − b − k p)",
+    plot: { box: "#result-flight", format: "flight_svg", caption: flightCaption } },
   temperature: { ...CORRECTION, uses: "temperature", formats: "temperatureFormats", snippets: false,
     heading: "Each axis's offset polynomial", plot: { box: "#result-temperature", format: "temperature_svg" } },
 };

@@ -65,6 +65,7 @@ export function showCalibration(cal, token = null) {
     $(plot.box).hidden = plot !== kind.plot;
     if (plot === kind.plot) $(`${plot.box} img`).src = exportUrl(cal.id, plot.format);
     else $(`${plot.box} img`).removeAttribute("src");
+    if (plot.caption) $(`${plot.box} figcaption`).textContent = plot === kind.plot ? plot.caption(cal) : "";
   }
   shown = cal;
   offerSend(cal, token);

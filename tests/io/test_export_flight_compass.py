@@ -326,6 +326,6 @@ def test_json_holds_the_correction_and_the_firmwares_parameters(rng):
 
 
 def test_other_formats_are_refused_naming_the_ones_that_fit():
-    assert FLIGHT_COMPASS_EXPORTS == ("json", "ardupilot", "px4")
+    assert FLIGHT_COMPASS_EXPORTS == ("json", "ardupilot", "px4", "flight_svg")
     with pytest.raises(ExportError, match="json, ardupilot, px4"):
         export_calibration(flight_body(), "c")

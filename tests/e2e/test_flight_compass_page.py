@@ -1,0 +1,71 @@
+"""A flight's compass on the page in real Chromium: a drone builder's log uploaded, *Calibrate the compass from
+this flight*, then the verdict in degrees, the flight seen by its compass (expected against measured field, |B|
+beside the current, the heading error before and after), the orientation found, and the firmware's file."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from playwright.sync_api import expect
+
+from tests.e2e.axe import axe_context
+from tests.e2e.conftest import shot, watched_page
+from tests.flight_logs import write_flight_logs
+
+
+def flight_logs(directory, seed: int = 3):
+    """A seeded three-minute flight (app.calibration.simulations.flight_compass) of a compass mounted yaw 90° where
+    the firmware has it straight, with hard and soft iron and the motors' current, under the IGRF field of its place
+    and day, written as both firmwares' logs with nothing calibrated yet."""
+    from app.calibration.simulations.flight_compass import simulate_flight
+    from app.geomag import reference_field
+
+    earth = reference_field("2025-06-01", 47.4, 8.5, 430.0)
+    flight = simulate_flight(seed, rate_hz=10.0, earth_ned=[earth.north_ut, earth.east_ut, earth.down_ut])
+    nothing = {"offsets_ut": np.zeros(3), "matrix": np.eye(3), "motor": np.zeros(3), "motor_kind": None,
+               "orientation": 0}
+    flight["stored"] = {"ardupilot": dict(nothing), "px4": dict(nothing)}
+    return write_flight_logs(directory, flight)
+
+
+@pytest.fixture
+def axe_page(browser):
+    context = axe_context(browser, viewport={"width": 390, "height": 900}, device_scale_factor=1)
+    yield watched_page(context)
+    context.close()
+
+
+def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_path):
+    from tests.e2e.test_layout import layout_problems
+
+    page = axe_page
+    log, _ = flight_logs(tmp_path)
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(log))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    expect(page.locator("#flight-compass")).to_be_visible()
+    shot(page, "flight_compass_start_390")
+    page.click("#flight-compass")
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=60_000)
+    words = page.text_content("#verdict-words")
+    assert words.startswith("Apply it: heading error on flight segments left out"), words
+    assert "°" in words
+    expect(page.locator("#result-flight")).to_be_visible()
+    loaded = page.evaluate("() => new Promise((done) => { const img = document.querySelector('#result-flight img');"
+                           " if (img.complete) done(img.naturalWidth); else img.onload = () => done(img.naturalWidth); })")
+    assert loaded > 0
+    caption = page.text_content("#result-flight figcaption")
+    assert caption.startswith("Orientation: the compass sits as ") and "COMPASS_ORIENT 2" in caption, caption
+    assert "Directions covered:" in caption and "ArduPilot log" in caption, caption
+    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == \
+        ["ardupilot", "px4", "filter"]
+    links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")
+    assert "ardupilot" in links and "flight_svg" in links, links
+    problems = []
+    for width in (320, 390, 1280):
+        page.set_viewport_size({"width": width, "height": 900})
+        shot(page, f"flight_compass_result_{width}")
+        problems += layout_problems(page, "flight_compass_result", width)
+    assert not problems, "\n".join(problems)
+    assert [e for e in page.errors if "status of 422" not in e] == []
