@@ -11,11 +11,12 @@ body frame.
   ``ROTATION_YAW_90``: ``x' = −y, y' = x``; ``ROTATION_ROLL_90``: ``y' = −z, z' = y``;
   ``ROTATION_PITCH_90``: ``x' = z, z' = −x`` — the columns of ``Rz(90)``, ``Rx(90)``, ``Ry(90)``.
   Entry 38, ``ROTATION_ROLL_90_PITCH_68_YAW_293``, is a measured mounting given there as a literal
-  matrix (rounded to six decimals in ``vector3.cpp``), kept here as printed.
+  matrix, kept here as printed in ``vector3.cpp`` (to double precision).
 - PX4: ``enum Rotation`` and its table ``rot_lookup`` of (roll, pitch, yaw) in degrees in
   ``src/lib/conversion/rotation.h`` (PX4/PX4-Autopilot), turned into a matrix by ``get_rot_matrix``
   (``src/lib/conversion/rotation.cpp``): ``Dcmf(Eulerf(roll, pitch, yaw))``, the same ``Rz Ry Rx``
-  (``CAL_MAGn_ROT``, ``SENS_BOARD_ROT``).
+  (``CAL_MAGn_ROT``, ``SENS_BOARD_ROT``). Entries 0–25 (up to ``ROTATION_PITCH_270``) are the ones every PX4
+  release shares (:data:`PX4_EVERY_RELEASE`).
 
 The two enums agree, name for name and number for number, on entries 0–40 (``ROTATION_NONE`` …
 ``ROTATION_ROLL_90_PITCH_315``), except that PX4 builds entry 38 from its Euler angles (90°, 68°, 293°)
@@ -62,9 +63,18 @@ PX4_ROTATIONS: dict[int, tuple[str, float, float, float]] = {
 """PX4's ``enum Rotation`` with ``rot_lookup`` (``src/lib/conversion/rotation.h``): the same names and
 numbers as ArduPilot's up to 40, its own from 41."""
 
-ARDUPILOT_38 = np.array([[0.143039, 0.368776, -0.918446],
-                         [-0.332133, -0.856289, -0.395546],
-                         [-0.932324, 0.361625, 0.000000]])
+FIRMWARE_ROTATIONS = {"ardupilot": ARDUPILOT_ROTATIONS, "px4": PX4_ROTATIONS}
+"""Each firmware's table by the name trical gives the firmware (``"ardupilot"``, ``"px4"``)."""
+
+PX4_EVERY_RELEASE = 25
+"""PX4's entries 0 to this one (``ROTATION_PITCH_270``) are the entries every PX4 release shares; a log's
+later number may mean another rotation in the release that wrote it."""
+
+ARDUPILOT_38 = np.array([
+    [0.14303897231223747, 0.36877648650320383, -0.91844638134308709],
+    [-0.33213277779664740, -0.85628942146641884, -0.39554550256296522],
+    [-0.93232380121551217, 0.36162457008209242, 0.0],
+])
 """``ROTATION_ROLL_90_PITCH_68_YAW_293`` as ``Vector3<T>::rotate`` writes it (``vector3.cpp``)."""
 
 
@@ -101,6 +111,40 @@ def px4_matrix(number: int) -> np.ndarray:
     return euler_matrix(r, p, y)
 
 
+def firmware_matrix(firmware: str, number: int) -> np.ndarray:
+    """The matrix a firmware applies for its rotation ``number`` (sensor → body).
+
+    Parameters
+    ----------
+    firmware : {"ardupilot", "px4"}
+    number : int
+        ``COMPASS_ORIENTn`` / ``AHRS_ORIENTATION``, or ``CAL_MAGn_ROT`` / ``SENS_BOARD_ROT``.
+
+    Raises
+    ------
+    ValueError
+        An unknown firmware, or a number outside its table (custom rotations among them).
+    """
+    table = _table(firmware)
+    if number not in table:
+        raise ValueError(f"{firmware} has no rotation number {number} (known 0–{max(table)})")
+    return ardupilot_matrix(number) if firmware == "ardupilot" else px4_matrix(number)
+
+
+def rotation_name(firmware: str, number: int) -> str:
+    """The enum's name of a firmware's rotation number, without ``ROTATION_`` (``ROLL_180_YAW_90``), or
+    ``rotation <number>`` for a number not in its table."""
+    table = _table(firmware)
+    return table[number][0] if number in table else f"rotation {number}"
+
+
+def _table(firmware: str) -> dict[int, tuple[str, float, float, float]]:
+    try:
+        return FIRMWARE_ROTATIONS[firmware]
+    except KeyError:
+        raise ValueError(f"unknown firmware {firmware!r}; known: {', '.join(FIRMWARE_ROTATIONS)}") from None
+
+
 def angle_between(A: np.ndarray, B: np.ndarray) -> float:
     """The angle in degrees of the rotation ``A Bᵀ`` (how far apart two rotations are):
     ``arccos((trace − 1) / 2)``."""
@@ -126,6 +170,29 @@ def ardupilot_number(R: np.ndarray) -> int | None:
         if _same(ardupilot_matrix(number), R):
             return number
     return None
+
+
+def nearest_number(firmware: str, R) -> tuple[int, float]:
+    """The number of the firmware's rotation nearest ``R`` (of equal entries the lowest) and the angle left.
+
+    Parameters
+    ----------
+    firmware : {"ardupilot", "px4"}
+    R : array_like, shape (3, 3)
+        A rotation (sensor → body).
+
+    Returns
+    -------
+    number : int
+        ``COMPASS_ORIENTn`` or ``CAL_MAGn_ROT``: this firmware's own number, from its own table (entry 38
+        included as that firmware writes it).
+    angle_deg : float
+        :func:`angle_between` ``R`` and that entry; the caller decides how far is still the same rotation.
+    """
+    R = np.asarray(R, dtype=float)
+    angles = {n: angle_between(R, firmware_matrix(firmware, n)) for n in _table(firmware)}
+    best = min(angles, key=lambda n: (round(angles[n], 9), n))
+    return best, angles[best]
 
 
 def _candidates() -> list[tuple[int | None, int | None, str, np.ndarray]]:

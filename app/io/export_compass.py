@@ -33,8 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.calibration.firmware_rotations import (angle_between_deg, euler_matrix, nearest_firmware_rotation,
-                                                rotation_matrix, rotation_name)
+from app.calibration.rotations import angle_between, euler_matrix, firmware_matrix, nearest_number, rotation_name
 
 from .errors import ExportError
 from .export_common import JSON_SCHEMA, Export, describe, sensor_corrections, unit_label
@@ -149,7 +148,7 @@ FLIGHT_COMPASS_METHOD = "compass_flight"
 FIRMWARE_NAMES = {"ardupilot": "ArduPilot", "px4": "PX4"}
 ROTATION_TOLERANCE_DEG = 0.5
 """Largest angle between the rotation found and a firmware's listed rotation for the two to be one: distinct
-entries of one table are 7° apart or more (ArduPilot's Pitch7 and None); ArduPilot's and PX4's number 38 differ
+entries of one table are 7° apart or more (ArduPilot's PITCH_7 and NONE); ArduPilot's and PX4's number 38 differ
 by 0.85°, but each export reads its own table."""
 
 ARDUPILOT_MOT_MAX_MGAUSS = 1000.0
@@ -247,7 +246,7 @@ def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
 
 
 def _rotation_number(firmware: str, R: np.ndarray, what: str) -> int:
-    number, angle = nearest_firmware_rotation(firmware, R)
+    number, angle = nearest_number(firmware, R)
     if angle > ROTATION_TOLERANCE_DEG:
         raise ExportError(f"{what} is {angle:.1f}° from the nearest rotation {FIRMWARE_NAMES[firmware]} lists "
                           f"({number}, {rotation_name(firmware, number)}): the firmware cannot hold it; mount the "
@@ -304,13 +303,13 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
         stored = _param_int(f.params, orient_name) if stored is None else int(stored)
         now, now_name = (stored if stored is not None else 0), orient_name
     try:
-        R_now = rotation_matrix("ardupilot", now)
+        R_now = firmware_matrix("ardupilot", now)
     except ValueError:
         raise ExportError(f"{now_name} is {now}, a custom rotation whose angles the export does not read: set it to "
                           "a listed rotation, fly again and calibrate that log") from None
     new = _rotation_number("ardupilot", f.Q @ R_now, f"the compass's orientation found ({now_name} {now} turned by "
                                                      "the rotation the flight shows)")
-    changes = angle_between_deg(rotation_matrix("ardupilot", new), R_now) > ROTATION_TOLERANCE_DEG
+    changes = angle_between(firmware_matrix("ardupilot", new), R_now) > ROTATION_TOLERANCE_DEG
     if changes and external == 0:
         raise ExportError(
             f"the flight shows compass {n} turned from the vehicle's axes (the nearest listed orientation is {new}, "
@@ -434,7 +433,7 @@ def px4_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
     if stored_rot is None and f.stored.get("orientation") is not None:
         stored_rot = int(f.stored["orientation"])
     level = _level_adjustment(f.params)
-    changes = angle_between_deg(f.Q, f.frame_to_body) > ROTATION_TOLERANCE_DEG
+    changes = angle_between(f.Q, f.frame_to_body) > ROTATION_TOLERANCE_DEG
     new = _rotation_number("px4", level.T @ f.Q, "the compass's rotation found") if changes else stored_rot
     if changes and stored_rot == -1:
         raise ExportError(

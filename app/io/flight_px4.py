@@ -11,6 +11,8 @@ import io
 
 import numpy as np
 
+from app.calibration.rotations import PX4_EVERY_RELEASE, PX4_ROTATIONS, px4_matrix
+
 from .errors import LogFormatError
 from .flight_context import (GAUSS_TO_UT, GPS_3D_FIX, FirmwareCompassCal, FlightCompassLog, euler_to_c_nb,
                              one_power_clock, quaternion_to_c_nb, symmetric)
@@ -18,20 +20,17 @@ from .formats import ulog
 
 KILOAMP_PER_AMP = 1e-3
 """PX4's CAL_MAGn_xCOMP are per kA of battery current (src/modules/sensors/vehicle_magnetometer: current_a * 0.001)."""
-PX4_ROTATIONS_RPY = ((0, 0, 0), (0, 0, 45), (0, 0, 90), (0, 0, 135), (0, 0, 180), (0, 0, 225), (0, 0, 270),
-                     (0, 0, 315), (180, 0, 0), (180, 0, 45), (180, 0, 90), (180, 0, 135), (0, 180, 0),
-                     (180, 0, 225), (180, 0, 270), (180, 0, 315), (90, 0, 0), (90, 0, 45), (90, 0, 90),
-                     (90, 0, 135), (270, 0, 0), (270, 0, 45), (270, 0, 90), (270, 0, 135), (0, 90, 0), (0, 270, 0))
-"""PX4's enum Rotation 0–25 as roll, pitch, yaw in degrees (src/lib/conversion/rotation.h, rot_lookup), the
-entries every PX4 release shares; a later entry is refused by name."""
 
 
 def px4_rotation(number: int, name: str, what: str) -> np.ndarray:
-    """PX4's rotation ``number`` as a matrix (``R = Rz(yaw) Ry(pitch) Rx(roll)``, rotation.cpp get_rot_matrix)."""
-    if not 0 <= number < len(PX4_ROTATIONS_RPY):
-        raise LogFormatError(f"{name}: {what} is {number}, a rotation of PX4's list past ROTATION_PITCH_270 (25) that "
-                             "trical does not hold; set it to one of 0–25 or leave the compass internal")
-    return euler_to_c_nb(*PX4_ROTATIONS_RPY[number])
+    """PX4's rotation ``number`` as a matrix (rotation.cpp get_rot_matrix), one of the entries every PX4 release
+    shares (:data:`app.calibration.rotations.PX4_EVERY_RELEASE`); a later entry is refused by name."""
+    if not 0 <= number <= PX4_EVERY_RELEASE:
+        last = PX4_ROTATIONS[PX4_EVERY_RELEASE][0]
+        raise LogFormatError(f"{name}: {what} is {number}, a rotation of PX4's list past ROTATION_{last} "
+                             f"({PX4_EVERY_RELEASE}) that trical does not hold; set it to one of 0–{PX4_EVERY_RELEASE} "
+                             "or leave the compass internal")
+    return px4_matrix(number)
 
 
 PX4_TOPICS = ("sensor_mag", "sensor_combined", "vehicle_magnetometer", "vehicle_attitude", "battery_status",

@@ -7,8 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from app.calibration.rotations import px4_matrix
 from app.io.errors import LogFormatError
 from app.io.flight_context import read_flight_compass
+from app.io.flight_px4 import px4_rotation
 from app.io.formats import read_log
 from tests.flight_logs import (ardupilot_flight_messages, ardupilot_imu, px4_flight_topics, simulated_flight,
                                ulog_bytes, write_dataflash, write_flight_logs)
@@ -181,3 +183,9 @@ def test_not_a_flight_log_is_refused(tmp_path):
     path.write_text("a,b\n1,2\n")
     with pytest.raises(LogFormatError, match="not a flight controller's log"):
         read_flight_compass(path)
+
+
+def test_px4_rotations_come_from_the_one_table_and_a_number_past_25_is_refused_by_name():
+    assert all(np.array_equal(px4_rotation(n, "f", "CAL_MAG0_ROT"), px4_matrix(n)) for n in range(26))
+    with pytest.raises(LogFormatError, match=r"CAL_MAG0_ROT is 30, .* past ROTATION_PITCH_270 \(25\)"):
+        px4_rotation(30, "f", "CAL_MAG0_ROT")
