@@ -46,7 +46,8 @@ MIN_GAIN = {"µT": MIN_GAIN_UT, "°": MIN_GAIN_DEG}
 def _amount(value: float, unit: str) -> str:
     """``36.0 mg``, ``1.40 mg``: three significant figures or so, the unit after a no-break space (a
     figure never wraps away from its unit)."""
-    return f"{value:.1f}\u00a0{unit}" if value >= 10 else f"{value:.2f}\u00a0{unit}"
+    gap = "" if unit == "°" else "\u00a0"  # an angle's degree sign follows its number (SI Brochure, 5.4.3)
+    return f"{value:.1f}{gap}{unit}" if value >= 10 else f"{value:.2f}{gap}{unit}"
 
 
 def _short_reason(reasons: list[str]) -> str:

@@ -329,6 +329,12 @@ def _power_of(flight, kind):
     return {"current": flight["current_a"], "throttle": flight["throttle"]}.get(kind)
 
 
+def _specific_force(flight: dict) -> np.ndarray:
+    """(N, 3) m/s²: what the accelerometer of a vehicle flying without accelerating reads, gravity's opposite in
+    the body frame, ``C_nbᵀ (0, 0, −g)`` (the axis pointing up reads +g)."""
+    return np.einsum("nji,j->ni", np.asarray(flight["attitude_c_nb"], dtype=float), np.array([0.0, 0.0, -9.80665]))
+
+
 def ardupilot_flight_messages(flight: dict, *, generation: str = "new", instance: int = 0) -> list[dict]:
     """The messages of an ArduPilot log of ``flight`` (see :func:`write_flight_logs`).
 
@@ -379,6 +385,16 @@ def ardupilot_flight_messages(flight: dict, *, generation: str = "new", instance
                      "columns": (["TimeUS"] if new else []) + ["Name", "Value"], "data": parm})
     messages.append({"name": name, "type": 150 + (0 if new else instance), "format": tfmt + ("B" if new else "")
                      + "fffffffffB", "columns": mag_cols, "data": mag})
+    acc = _specific_force(flight)
+    imu = {**stamp, **{f"Gyr{a}": np.zeros(n) for a in "XYZ"}, **{f"Acc{a}": acc[:, k] for k, a in enumerate("XYZ")}}
+    if new:
+        messages.append({"name": "IMU", "type": 159, "format": "QBfffffff",
+                         "columns": ["TimeUS", "I", "GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ", "T"],
+                         "data": {**imu, "I": np.zeros(n), "T": np.full(n, 35.0)}})
+    else:
+        messages.append({"name": "IMU", "type": 159, "format": "Ifffffff",
+                         "columns": ["TimeMS", "GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ", "Temp"],
+                         "data": {**imu, "Temp": np.full(n, 35.0)}})
     roll, pitch, yaw = _c_nb_to_rpy_deg(np.asarray(flight["attitude_c_nb"], dtype=float))
     messages.append({"name": "ATT", "type": 160, "format": tfmt + "ffffff",
                      "columns": [tname, "DesRoll", "Roll", "DesPitch", "Pitch", "DesYaw", "Yaw"],
@@ -424,7 +440,9 @@ def px4_flight_topics(flight: dict, *, device_id: int = 396809, slot: int = 0):
     cal = flight["stored"]["px4"]
     t_us = np.round(np.asarray(flight["time_s"], dtype=float) * 1e6).astype(np.uint64)
     n = len(t_us)
-    topics = [px4_sensor("sensor_mag", 0, t_us, np.asarray(flight["mag_raw_ut"]) / 100.0, 35.0, device_id)]
+    topics = [px4_sensor("sensor_mag", 0, t_us, np.asarray(flight["mag_raw_ut"]) / 100.0, 35.0, device_id),
+              px4_sensor("sensor_accel", 0, t_us, _specific_force(flight), 35.0, 2424842),
+              px4_sensor("sensor_gyro", 0, t_us, np.zeros((n, 3)), 35.0, 2424842)]
     q = _c_nb_to_quaternion(np.asarray(flight["attitude_c_nb"], dtype=float))
     topics.append({"name": "vehicle_attitude", "multi_id": 0,
                    "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("float[4]", "q")],

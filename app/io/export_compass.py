@@ -218,9 +218,9 @@ def flight_compass(body: dict, target: str | None = None) -> FlightCompass:
         name = FIRMWARE_NAMES[target]
         if firmware != target:
             raise ExportError(
-                f"this compass was calibrated from a {FIRMWARE_NAMES[firmware]} log: its numbers are in the frames "
-                f"{FIRMWARE_NAMES[firmware]} reads the compass in, which {name} does not share; use the {firmware} "
-                "or json export")
+                f"this compass was calibrated from {'an' if firmware == 'ardupilot' else 'a'} "
+                f"{FIRMWARE_NAMES[firmware]} log: its numbers are in the frames {FIRMWARE_NAMES[firmware]} reads the "
+                f"compass in, which {name} does not share; use the {FIRMWARE_NAMES[firmware]} or JSON file")
         if body.get("unit") != "uT":
             raise ExportError(f"{name} takes its compass parameters in gauss or milligauss, but this calibration maps "
                               f"readings in {unit_label(body.get('unit'))}: calibrate the flight log again")

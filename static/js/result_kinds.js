@@ -128,6 +128,8 @@ const CORRECTION = {
 // A compass calibrated from a flight: what the picture does not say — the orientation found against the one the
 // firmware has, the directions covered, the model chosen and how the raw readings were had.
 const FIRMWARE_WORDS = { ardupilot: "ArduPilot", px4: "PX4" };
+const STRUCTURE_WORDS = { offsets: "offsets (hard iron)", scale: "offsets and a scale per axis",
+  soft_iron: "offsets and soft iron" };
 
 export function flightCaption(cal) {
   const f = cal.flight || {};
@@ -142,8 +144,9 @@ export function flightCaption(cal) {
   const motor = f.motor ? `, with the motors' interference against the ${f.motor}` : ", without a motor term";
   const covered = cal.metrics && cal.metrics.coverage !== undefined
     ? ` Directions covered: ${Math.round(cal.metrics.coverage * 100)} %.` : "";
-  return `${orientation}${covered} Model: ${f.structure || "—"}${motor}. Compass ${f.instance ?? 0} of a `
-    + `${firmware} log (${f.generation || "—"}); ${f.raw_how || ""}.`;
+  const model = STRUCTURE_WORDS[f.structure] || f.structure || "—";
+  return `${orientation}${covered} Model: ${model}${motor}. Compass ${f.instance ?? 0} of the log `
+    + `(${f.generation || firmware}); ${f.raw_how || ""}.`;
 }
 
 export const KINDS = {
