@@ -15,6 +15,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..correction import AffineCorrection
+from ..plausible import correction_figures
 from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 
 SOURCE = ("h = M (Q m − b − k p): the compass's offsets b, soft iron M and motor interference k p after the "
@@ -123,6 +124,11 @@ class FlightCompassCalibration(CalibrationResult):
 
     def corrections(self) -> dict[str, AffineCorrection]:
         return {"mag": self.correction}
+
+    def physical_figures(self) -> list:
+        """The scale of the soft iron ``M`` alone: the correction's matrix ``M Q`` holds the mounting ``Q``, whose
+        diagonal is no scale (a compass at yaw 90° has zeros there)."""
+        return correction_figures("mag", self.M, self.b, self.unit, "uT")
 
     @classmethod
     def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
