@@ -49,7 +49,7 @@ def test_every_request_model_of_the_union_is_an_entry_of_its_own_name():
     assert members == tuple(m.request for m in methods.TABLE)
     assert [literal_method(model) for model in members] == [m.name for m in methods.TABLE]
     assert methods.METHODS == ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube",
-                               "autocal", "noise", "magnetometer", "temperature")
+                               "autocal", "noise", "magnetometer", "temperature", "compass_flight")
     assert schemas.CalibrationIn is methods.CalibrationIn
 
 
@@ -73,7 +73,7 @@ def test_the_cli_method_choices_and_commands_come_from_the_table():
     commands = subcommands()
     assert tuple(option(commands["calibrate"], "--method").choices) == methods.commanded_by("calibrate")
     assert methods.commanded_by("calibrate") == ("auto", "six_position", "orientations", "nonorthogonal",
-                                                 "triangular", "cube", "magnetometer")
+                                                 "triangular", "cube", "magnetometer", "compass_flight")
     for method in methods.TABLE:
         assert method.command in commands, method.name
     # --solver names the methods whose request takes a solver, and offers the solvers of the core.
@@ -94,7 +94,8 @@ def test_the_export_formats_come_from_the_table():
 
 
 def test_what_a_method_takes_is_read_from_its_request_model():
-    assert [m.name for m in methods.TABLE if m.needs_recording] == ["cube", "autocal", "noise", "temperature"]
+    assert [m.name for m in methods.TABLE if m.needs_recording] == ["cube", "autocal", "noise", "temperature",
+                                                                    "compass_flight"]
     compass = methods.BY_NAME["magnetometer"].options
     assert "field_ut" in compass and "gravity" not in compass
     assert "method" not in methods.BY_NAME["cube"].options and "sections" in methods.BY_NAME["cube"].options
