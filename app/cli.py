@@ -368,8 +368,14 @@ def _print_summary(body: dict, recording: dict) -> None:
     body = render_body(body, "cli")
     rate = recording["sampling_rate_hz"]
     files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
-    print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples{files} "
-          f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; used {body.get('segments_used', 'all')}")
+    flight = body.get("flight") if body.get("method") == "compass_flight" else None
+    if flight:  # a compass from a flight reads no still segments: say what of the log it read
+        print(f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
+              f"({flight['raw_how']}), attitude from {flight['attitude_source']}")
+    else:
+        print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples{files} "
+              f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
+              f"used {body.get('segments_used', 'all')}")
     if body.get("id"):
         print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
     _print_verdict(body)

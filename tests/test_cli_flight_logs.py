@@ -44,3 +44,18 @@ def test_noise_and_gyroscope_bias_of_an_instance(tmp_path):
     se = np.asarray(body["metrics"]["gyr"]["bias_standard_error"])
     assert np.all(np.abs(np.asarray(body["model"]["gyr"]["bias"]) - GYR_BIAS[1]) <= 4 * se), (body["model"], se)
     assert np.all(se < 1.5e-3)
+
+
+def test_compass_from_a_flight_log(tmp_path):
+    from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
+
+    path, _ = write_flight_compass_logs(tmp_path, seeded_flight(9, orientation=12))
+    out = trical("calibrate", "--method", "compass_flight", str(path), "--no-store", tmp_path=tmp_path)
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert lines[0].startswith("ArduPilot ArduCopter V4.5.0 (TimeUS, MAG with I)") and "compass 0, 4500 samples" in lines[0]
+    assert lines[1].startswith("Apply it: heading error on flight segments left out") and lines[1].endswith("°.")
+    assert "COMPASS_ORIENTn 12" in out.stdout  # the mounting found, not the one stored
+    out = trical("calibrate", "--method", "compass_flight", str(path), "--json", "--no-store", tmp_path=tmp_path)
+    body = json.loads(out.stdout)
+    assert body["ok"] and body["flight"]["rotation_nearest"]["ardupilot"] == 12

@@ -98,7 +98,7 @@ def test_the_export_formats_come_from_the_table():
 
 def test_what_a_method_takes_is_read_from_its_request_model():
     assert [m.name for m in methods.TABLE if m.needs_recording] == ["cube", "autocal", "noise", "temperature",
-                                                                          "compass_flight"]
+                                                                    "compass_flight"]
     compass = methods.BY_NAME["magnetometer"].options
     assert "field_ut" in compass and "gravity" not in compass
     assert "method" not in methods.BY_NAME["cube"].options and "sections" in methods.BY_NAME["cube"].options

@@ -37,6 +37,6 @@ def test_a_format_that_does_not_fit_is_refused_in_words(client):
     cal = _stored(client, flight_body())
     r = client.get(f"/api/v1/calibrations/{cal}/export", params={"format": "px4"})
     assert r.status_code == 422 and r.json()["code"] == "export_refused"
-    assert "ArduPilot log" in r.json()["detail"] and "ardupilot or json" in r.json()["detail"]
+    assert "ArduPilot log" in r.json()["detail"] and "ArduPilot or JSON file" in r.json()["detail"]
     r = client.get(f"/api/v1/calibrations/{cal}/export", params={"format": "c"})
     assert r.status_code == 422 and "json, ardupilot, px4" in r.json()["detail"]

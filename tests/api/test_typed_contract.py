@@ -79,6 +79,14 @@ def _requests(client, cube_csv):
 
     yield {"method": "temperature",
            "recording_id": _upload(client, "warm.csv", warm_up_csv(duration_s=600, sampling_rate_hz=20))}
+    import tempfile
+
+    from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
+
+    with tempfile.TemporaryDirectory() as folder:
+        log, _ = write_flight_compass_logs(folder, seeded_flight(4, rate_hz=10.0))
+        rec = _upload(client, "flight.bin", log.read_bytes())
+    yield {"method": "compass_flight", "recording_id": rec}
 
 
 def _still_csv() -> bytes:
@@ -111,7 +119,7 @@ def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
         seen.add(body["method"])
     assert seen == set(RESPONSE_MODELS)
     listed = client.get("/api/v1/calibrations").json()["items"]
-    assert len(listed) == 15 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
+    assert len(listed) == 16 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
 
 
 def test_openapi_documents_each_method_s_response(client):

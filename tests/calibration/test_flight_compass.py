@@ -164,3 +164,13 @@ def test_too_few_samples():
         _fit(short)
     with pytest.raises(CalibrationError, match="unknown compass model"):
         _fit(f, models="ellipsoid")
+
+
+def test_a_turned_compass_stored_as_a_calibration_stays_ok():
+    """The stored calibration's scale is its soft iron M's, not the diagonal of M Q (zeros at yaw 90°)."""
+    from app.calibration.magnetometer import FlightCompassCalibration
+
+    f = simulate_flight(7, orientation=2)
+    cal = FlightCompassCalibration.from_fit(_fit(f), flight={}, metrics={})
+    assert cal.ok, cal.reasons
+    assert not any("scale" in reason for reason in cal.reasons)

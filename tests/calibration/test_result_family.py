@@ -34,7 +34,7 @@ def _results():
 
 def test_registry_knows_every_type():
     assert set(registered_types()) == {"affine", "nonorthogonal", "triangular", "cube", "autocal", "noise",
-                                     "magnetometer", "temperature"}
+                                     "magnetometer", "temperature", "compass_flight"}
 
 
 @pytest.mark.parametrize("result", list(_results()), ids=lambda r: r.MODEL_TYPE)

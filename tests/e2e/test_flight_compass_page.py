@@ -4,28 +4,12 @@ beside the current, the heading error before and after), the orientation found, 
 
 from __future__ import annotations
 
-import numpy as np
 import pytest
 from playwright.sync_api import expect
 
 from tests.e2e.axe import axe_context
 from tests.e2e.conftest import shot, watched_page
-from tests.flight_logs import write_flight_logs
-
-
-def flight_logs(directory, seed: int = 3):
-    """A seeded three-minute flight (app.calibration.simulations.flight_compass) of a compass mounted yaw 90° where
-    the firmware has it straight, with hard and soft iron and the motors' current, under the IGRF field of its place
-    and day, written as both firmwares' logs with nothing calibrated yet."""
-    from app.calibration.simulations.flight_compass import simulate_flight
-    from app.geomag import reference_field
-
-    earth = reference_field("2025-06-01", 47.4, 8.5, 430.0)
-    flight = simulate_flight(seed, rate_hz=10.0, earth_ned=[earth.north_ut, earth.east_ut, earth.down_ut])
-    nothing = {"offsets_ut": np.zeros(3), "matrix": np.eye(3), "motor": np.zeros(3), "motor_kind": None,
-               "orientation": 0}
-    flight["stored"] = {"ardupilot": dict(nothing), "px4": dict(nothing)}
-    return write_flight_logs(directory, flight)
+from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
 
 
 @pytest.fixture
@@ -39,7 +23,7 @@ def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_pat
     from tests.e2e.test_layout import layout_problems
 
     page = axe_page
-    log, _ = flight_logs(tmp_path)
+    log, _ = write_flight_compass_logs(tmp_path, seeded_flight(3, rate_hz=10.0))  # mounted yaw 90°, stored 0
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(log))
     page.click("#upload-form button[type=submit]")
@@ -57,7 +41,7 @@ def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_pat
     assert loaded > 0
     caption = page.text_content("#result-flight figcaption")
     assert caption.startswith("Orientation: the compass sits as ") and "COMPASS_ORIENT 2" in caption, caption
-    assert "Directions covered:" in caption and "ArduPilot log" in caption, caption
+    assert "Directions covered:" in caption and "of the log (ArduPilot" in caption, caption
     assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == \
         ["ardupilot", "px4", "filter"]
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")

@@ -126,8 +126,8 @@ class FlightCompassCalibration(CalibrationResult):
         return {"mag": self.correction}
 
     def physical_figures(self) -> list:
-        """The soft iron's scale and the offsets a compass can have: of ``M`` and ``b``, not of the correction's
-        ``M Q``, whose diagonal a turned mounting empties (a yaw of 90° is no scale of 0)."""
+        """The scale of the soft iron ``M`` alone: the correction's matrix ``M Q`` holds the mounting ``Q``, whose
+        diagonal is no scale (a compass at yaw 90° has zeros there)."""
         return correction_figures("mag", self.M, self.b, self.unit, "uT")
 
     @classmethod

@@ -1,0 +1,169 @@
+"""The compass calibrated from a flight (method ``compass_flight``) over HTTP, as a user runs it: a flight log
+uploaded with POST /api/v1/recordings, then POST /api/v1/calibrations {"method": "compass_flight", ...}.
+
+- A seeded simulated flight with known offsets, soft iron and motor coefficients, its compass mounted at
+  PITCH_180 (12) while both firmwares stored orientation 0, written as an ArduPilot DataFlash log and a PX4
+  ULog (tests/flight_compass_logs.py): the orientation is found, every parameter lies inside its 95 %
+  interval (this seed; the rate over 200 flights is bench/flight_compass_logs.py's), and the firmware's
+  export, applied with that firmware's own formula written in tests/io/test_export_flight_compass.py,
+  reproduces the model's correction of the raw readings.
+- The real ArduPilot Copter 3.3 log tests/data/real/flight/log171.bin (parked most of its 4 minutes, few
+  turns): every compass answers with ok false and reasons in words, its figure and the firmware's stored
+  calibration (tests/data/real/flight/README.md, "compass from the flight", holds the figures).
+- What a user gets wrong: a file that is no flight log, a log without GPS, a compass the log does not have,
+  and the export of a failed fit.
+"""
+
+from __future__ import annotations
+
+import datetime
+
+import numpy as np
+import pytest
+
+from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
+from tests.io.test_export_flight_compass import ardupilot_correct, parse_ardupilot, parse_px4, px4_correct
+
+from .test_flight_corpus_api import LOG171
+
+ORIENTATION = 12  # PITCH_180 in both firmwares' tables; 0 stored
+SEED = 9
+CSV = LOG171.parents[2] / "six_orientations_150hz.csv"
+
+
+def _upload(client, path, **form) -> str:
+    r = client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes())}, data=form)
+    assert r.status_code == 201, r.text
+    return r.json()["id"]
+
+
+def _calibrate(client, recording_id: str, **fields):
+    return client.post("/api/v1/calibrations", json={"method": "compass_flight", "recording_id": recording_id,
+                                                       **fields})
+
+
+@pytest.fixture(scope="module")
+def flight():
+    return seeded_flight(SEED, orientation=ORIENTATION)
+
+
+@pytest.fixture(scope="module")
+def logs(flight, tmp_path_factory):
+    return write_flight_compass_logs(tmp_path_factory.mktemp("flight"), flight)
+
+
+def _model_correction(body: dict, mag: np.ndarray, power: np.ndarray) -> np.ndarray:
+    """``h = M (Q m − b − k p)`` with the response's numbers."""
+    m = {key: np.asarray(body["model"][key], dtype=float) for key in ("M", "b", "k", "Q")}
+    return (mag @ m["Q"].T - m["b"] - np.outer(power, m["k"])) @ m["M"].T
+
+
+@pytest.mark.parametrize("firmware", ["ardupilot", "px4"])
+def test_a_simulated_flight_is_calibrated_from_either_firmwares_log(client, flight, logs, firmware):
+    path = logs[0] if firmware == "ardupilot" else logs[1]
+    r = _calibrate(client, _upload(client, path))
+    assert r.status_code == 201, r.text
+    body = r.json()
+    assert body["ok"] is True, body["reasons"]
+    assert body["flight"]["firmware"] == firmware
+    assert (body["flight"]["structure"], body["flight"]["motor"]) == ("soft_iron", "current")
+    # the orientation: found, and not the one stored
+    nearest = body["flight"]["rotation_nearest"]
+    assert (nearest["ardupilot"], nearest["px4"], nearest["name"]) == (ORIENTATION, ORIENTATION, "PITCH_180")
+    assert body["flight"]["orientation_agrees"] is False and body["flight"]["angle_left_deg"] < 2.0
+    assert body["flight"]["stored"]["orientation"] == 0
+    # every parameter inside its 95 % interval, in the model's frame: b and k in the body frame, M symmetric
+    truth, half = flight["truth"], body["uncertainty"]
+    assert half["confidence"] == 0.95
+    for key in ("b", "M", "k"):
+        error = np.abs(np.asarray(body["model"][key]) - truth[key])
+        assert np.all(error <= np.asarray(half[key], dtype=float)), (key, error, half[key])
+    assert np.allclose(body["model"]["Q"], truth["Q"], atol=1e-9)
+    # the verdict first, in degrees: the stale stored calibration at the wrong orientation before, the fit after
+    verdict, metrics = body["verdict"], body["metrics"]
+    assert verdict["apply"] is True and verdict["kind"] == "apply" and verdict["unit"] == "°"
+    assert verdict["basis"] == "heading error on flight segments left out"
+    assert verdict["before"] == pytest.approx(metrics["heading_error_before_deg"]) and verdict["before"] > 50.0
+    assert verdict["after"] == pytest.approx(metrics["heading_error_after_deg"]) and verdict["after"] < 1.5
+    assert f"{verdict['after']:.2f}" in verdict["words"] and "°" in verdict["words"]
+    # the firmware's export applied by its own formula to the raw readings reproduces the model's correction
+    cal = body["id"]
+    export = client.get(f"/api/v1/calibrations/{cal}/export", params={"format": firmware})
+    assert export.status_code == 200, export.text
+    mag, current = flight["mag_raw_ut"], flight["current_a"]
+    if firmware == "ardupilot":
+        params = parse_ardupilot(export.text)
+        assert params["COMPASS_ORIENT"] == ORIENTATION and params["COMPASS_MOTCT"] == 2
+        h = ardupilot_correct(params, 0, 0, mag, current, 2)
+    else:
+        params = parse_px4(export.text)
+        assert params["CAL_MAG0_ROT"] == ORIENTATION and params["CAL_MAG_COMP_TYP"] == 2
+        h = px4_correct(params, 0, 0, mag, current * 0.001)
+    model = _model_correction(body, mag, current)
+    assert np.abs(h - model).max() < 1e-3
+    # and that correction is the field the attitude expects, to the compass's noise and the attitude's error
+    assert np.sqrt(np.mean((model - flight["expected_ut"]) ** 2)) < 1.0
+
+
+@pytest.fixture
+def log171(client) -> str:
+    return _upload(client, LOG171)
+
+
+@pytest.mark.parametrize("instance", [0, 1, 2])
+def test_a_real_copter_log_parked_most_of_its_flight_is_not_ok_in_words(client, log171, instance):
+    r = _calibrate(client, log171, mag_instance=instance)
+    assert r.status_code == 201, r.text
+    body = r.json()
+    assert "damaged" not in r.text
+    assert body["ok"] is False and body["verdict"]["apply"] is False
+    assert body["reasons"] and all(len(reason.split()) >= 6 for reason in body["reasons"])
+    assert body["flight"]["generation"] == f"ArduPilot Copter V3.3-dev (TimeMS, {('MAG', 'MAG2', 'MAG3')[instance]})"
+    assert body["flight"]["instance"] == instance
+    # the figure, before and after, in degrees, on segments left out
+    assert body["verdict"]["unit"] == "°"
+    assert 5.0 < body["metrics"]["heading_error_before_deg"] < 40.0
+    assert 5.0 < body["metrics"]["heading_error_after_deg"] < 15.0
+    # the calibration the firmware stored in the log's parameters, beside trical's
+    stored = body["flight"]["stored"]
+    assert stored["firmware"] == "ardupilot" and len(stored["offsets_ut"]) == 3
+    s = ("", "2", "3")[instance]
+    if instance < 2:
+        assert stored["offsets_ut"][0] == pytest.approx(0.1 * stored["params"][f"COMPASS_OFS{s}_X"])
+    assert body["flight"]["place"]["date"] == "2015-11-21"
+    # a failed fit is not exported to the firmware, and the refusal says why
+    export = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "ardupilot"})
+    assert export.status_code == 422 and export.json()["code"] == "export_refused"
+    assert "failed its checks" in export.json()["detail"] and "must not be written to ArduPilot" in export.json()["detail"]
+
+
+def test_a_compass_the_log_does_not_have_names_those_it_has(client, log171):
+    r = _calibrate(client, log171, mag_instance=5)
+    assert 400 <= r.status_code < 500, r.text
+    assert "no compass instance 5" in r.json()["detail"] and "0, 1, 2" in r.json()["detail"]
+
+
+def test_a_file_that_is_no_flight_log_is_refused_naming_what_to_upload(client):
+    r = _calibrate(client, _upload(client, CSV))
+    assert 400 <= r.status_code < 500, r.text
+    detail = r.json()["detail"]
+    assert "ULog (.ulg)" in detail and "DataFlash log (.bin)" in detail
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_a_log_without_gps_asks_for_the_place_and_date(client, tmp_path, which):
+    flight = seeded_flight(SEED, orientation=ORIENTATION, duration_s=120.0)
+    rec = _upload(client, write_flight_compass_logs(tmp_path, flight, gps=False)[which])
+    r = _calibrate(client, rec)
+    assert 400 <= r.status_code < 500, r.text
+    assert "latitude_deg and longitude_deg" in r.json()["detail"] and "date" in r.json()["detail"]
+    r = _calibrate(client, rec, latitude_deg=flight["lat"], longitude_deg=flight["lon"])
+    assert 400 <= r.status_code < 500 and "give its date" in r.json()["detail"], r.text
+    r = _calibrate(client, rec, latitude_deg=flight["lat"], longitude_deg=flight["lon"], height_m=flight["alt_m"],
+                   date=flight["utc"].date().isoformat())
+    assert r.status_code == 201, r.text
+    body = r.json()
+    assert body["ok"] is True, body["reasons"]
+    assert body["flight"]["place"] == {"latitude_deg": flight["lat"], "longitude_deg": flight["lon"],
+                                       "height_m": flight["alt_m"], "date": datetime.date(2025, 6, 1).isoformat()}
+    assert body["flight"]["rotation_nearest"]["ardupilot"] == ORIENTATION
