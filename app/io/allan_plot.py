@@ -79,6 +79,14 @@ class LogAxes:
                 and self.top - 0.5 <= py <= self.top + self.height + 0.5)
 
 
+def svg_picture(width: int, height: int, title: str, desc: str, parts: list[str]) -> str:
+    """A standalone SVG picture of ``width`` × ``height`` user units on white, with its ``<title>`` and a
+    ``<desc>`` stating its figures (what a screen reader says of it): the envelope of every plot trical draws."""
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" '
+            f'role="img"><title>{escape(title)}</title><desc>{escape(desc)}</desc>'
+            f'<rect width="100%" height="100%" fill="#fff"/>' + "".join(parts) + "</svg>\n")
+
+
 def number(v: float) -> str:
     """Three significant digits; below 0.01 or from 10⁴ on, as 5.09×10⁻⁴ rather than 0.000509."""
     if v == 0 or 0.01 <= abs(v) < 1e4:

@@ -26,14 +26,13 @@ dispatches on the calibration's method, as for a noise characterisation):
 from __future__ import annotations
 
 import json
-from html import escape
 
 import numpy as np
 
 from app.calibration.result import DRIFT
 from app.calibration.temperature import shift_polynomial
 
-from .allan_plot import COLOURS, DASHES, FONT, GLYPHS
+from .allan_plot import COLOURS, DASHES, FONT, GLYPHS, svg_picture
 from .errors import ExportError
 from .export_common import JSON_SCHEMA, Export, result_class
 
@@ -245,10 +244,7 @@ def temperature_svg(body: dict) -> str:
         parts += p
         said.append(s)
     height = PANEL_H * len(sensors)
-    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{height}" viewBox="0 0 {WIDTH} {height}" '
-            f'role="img"><title>Offset against temperature, {escape(body.get("id", ""))}</title>'
-            f'<desc>{escape(" ".join(said))}</desc><rect width="100%" height="100%" fill="#fff"/>'
-            + "".join(parts) + "</svg>\n")
+    return svg_picture(WIDTH, height, f"Offset against temperature, {body.get('id', '')}", " ".join(said), parts)
 
 
 def to_temperature_svg(body: dict) -> Export:

@@ -20,7 +20,7 @@ from html import escape
 
 import numpy as np
 
-from .allan_plot import COLOURS, DASHES, FONT
+from .allan_plot import COLOURS, DASHES, FONT, svg_picture
 from .errors import ExportError
 from .export_common import Export
 from .export_temperature import ticks
@@ -164,10 +164,7 @@ def flight_compass_svg(body: dict) -> str:
                     + (f"{b:.1f}° before and " if b is not None else "")
                     + (f"{a:.1f}° after." if a is not None else "not measured after."))
     height = PANEL_H * (3 if errors else 2)
-    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{height}" viewBox="0 0 {WIDTH} {height}" '
-            f'role="img"><title>The flight seen by its compass, {escape(str(body.get("id", "")))}</title>'
-            f'<desc>{escape(" ".join(said))}</desc><rect width="100%" height="100%" fill="#fff"/>'
-            + "".join(parts) + "</svg>\n")
+    return svg_picture(WIDTH, height, f"The flight seen by its compass, {body.get('id', '')}", " ".join(said), parts)
 
 
 def to_flight_compass_svg(body: dict) -> Export:

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 
+from tests.e2e.axe import axe_context
 from tests.live_server import ROOT, LiveServer
 
 CHROMIUM = os.environ.get("TRICAL_CHROMIUM", "/usr/bin/chromium")
@@ -92,3 +93,11 @@ def tab_to(page, selector: str, limit: int = 40) -> None:
         if page.evaluate("(s) => document.activeElement === document.querySelector(s)", selector):
             return
     raise AssertionError(f"Tab never reached {selector}")
+
+
+@pytest.fixture
+def axe_page(browser):
+    """A phone-width page whose CSP lets axe in (the layout checks), with its errors collected."""
+    context = axe_context(browser, viewport={"width": 390, "height": 900}, device_scale_factor=1)
+    yield watched_page(context)
+    context.close()

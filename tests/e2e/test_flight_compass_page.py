@@ -4,19 +4,10 @@ beside the current, the heading error before and after), the orientation found, 
 
 from __future__ import annotations
 
-import pytest
 from playwright.sync_api import expect
 
-from tests.e2e.axe import axe_context
-from tests.e2e.conftest import shot, watched_page
+from tests.e2e.conftest import shot
 from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
-
-
-@pytest.fixture
-def axe_page(browser):
-    context = axe_context(browser, viewport={"width": 390, "height": 900}, device_scale_factor=1)
-    yield watched_page(context)
-    context.close()
 
 
 def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_path):

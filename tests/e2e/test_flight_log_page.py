@@ -4,11 +4,9 @@ chosen and read again, the temperature over the log, and the temperature calibra
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from playwright.sync_api import expect
 
-from tests.e2e.axe import axe_context
-from tests.e2e.conftest import shot, watched_page
+from tests.e2e.conftest import shot
 from tests.flight_logs import px4_file, still_board
 
 
@@ -64,14 +62,6 @@ def test_a_log_too_short_a_warm_up_says_what_the_temperature_calibration_needs(p
     assert "a temperature calibration needs 10 °C or more" in caption and "cold start" in caption, caption
     assert page.is_hidden("#temperature-recording")
     assert [e for e in page.errors if "status of 422" not in e] == []
-
-
-@pytest.fixture
-def axe_page(browser):
-    """A phone-width page whose CSP lets axe in (the layout checks), with its errors collected."""
-    context = axe_context(browser, viewport={"width": 390, "height": 900}, device_scale_factor=1)
-    yield watched_page(context)
-    context.close()
 
 
 def test_a_warm_up_is_calibrated_for_temperature_from_the_page(axe_page, server, tmp_path):
