@@ -118,6 +118,9 @@ def test_a_real_copter_log_parked_most_of_its_flight_is_not_ok_in_words(client, 
     assert "damaged" not in r.text
     assert body["ok"] is False and body["verdict"]["apply"] is False
     assert body["reasons"] and all(len(reason.split()) >= 6 for reason in body["reasons"])
+    # what to do first: the vehicle stood parked one way (77 % of the flight in one 45° sector of heading)
+    assert body["reasons"][0].startswith("the flight turned through too few headings (8 of 8 sectors of 45° reached, "
+                                         "77% of it in one"), body["reasons"][0]
     assert body["flight"]["generation"] == f"ArduPilot Copter V3.3-dev (TimeMS, {('MAG', 'MAG2', 'MAG3')[instance]})"
     assert body["flight"]["instance"] == instance
     # the figure, before and after, in degrees, on segments left out
