@@ -127,7 +127,9 @@ function showSegments(rec) {
   // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
   const still = rec.channels.includes("acc");
   $("#compass-recording").hidden = !rec.channels.includes("mag");
-  $("#compass-place").hidden = !rec.channels.includes("mag");
+  // A flight log's compass takes the place and date from its GPS; the fields are there for a log without one.
+  const flightCompass = Boolean(rec.flight && rec.flight.instances.some((i) => i.sensor === "mag"));
+  $("#compass-place").hidden = !rec.channels.includes("mag") && !flightCompass;
   if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
@@ -364,10 +366,19 @@ $("#flight-go").addEventListener("click", () => {
   upload(data);
 });
 
-$("#flight-compass").addEventListener("click", () => calibrate(
-  { method: "compass_flight", recording_id: recordingId, mag_instance: Number($("#flight-mag").value) },
-  "Fitting the compass against the flight's attitude and the Earth's field…", "Compass calibration refused",
-  "#flight-compass-msg"));
+// A flight's compass: the place and date of the log's GPS fix, or those typed (the field's strength is not
+// used: the model's field is turned by the attitude, its direction as much as its strength).
+$("#flight-compass").addEventListener("click", () => {
+  let place;
+  try { place = compassPlace(); } catch (err) {
+    note("#flight-compass-msg", `Not calibrated: ${err.message}.`, true);
+    return;
+  }
+  delete place.field_ut;
+  calibrate({ method: "compass_flight", recording_id: recordingId, mag_instance: Number($("#flight-mag").value), ...place },
+    "Fitting the compass against the flight's attitude and the Earth's field…", "Compass calibration refused",
+    "#flight-compass-msg");
+});
 
 $("#temperature-recording").addEventListener("click", () => calibrate({ method: "temperature", recording_id: recordingId },
   "Fitting the offsets against temperature…", "Temperature calibration refused", "#segments-msg"));

@@ -44,3 +44,24 @@ def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_pat
         problems += layout_problems(page, "flight_compass_result", width)
     assert not problems, "\n".join(problems)
     assert [e for e in page.errors if "status of 422" not in e] == []
+
+
+def test_a_log_without_gps_asks_for_the_place_in_the_pages_words(page, server, tmp_path):
+    log, _ = write_flight_compass_logs(tmp_path, seeded_flight(3, rate_hz=10.0), gps=False)
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(log))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    expect(page.locator("#compass-place")).to_be_visible()  # for the flight's compass, the log having no GPS
+    page.click("#flight-compass")
+    expect(page.locator("#flight-compass-msg")).to_contain_text("the Latitude and the Longitude")
+    said = page.text_content("#flight-compass-msg")
+    assert "latitude_deg" not in said and "Compass calibration refused" in said, said
+    shot(page, "flight_compass_no_gps")
+    page.fill("#place-lat", "47.4")
+    page.fill("#place-lon", "8.5")
+    page.fill("#place-date", "2025-06-01")
+    page.click("#flight-compass")
+    page.wait_for_selector("#downloads[data-ready=true]", timeout=60_000)
+    assert page.text_content("#verdict-words").startswith("Apply it: heading error on flight segments left out")
+    assert [e for e in page.errors if "status of 422" not in e] == []
