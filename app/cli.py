@@ -368,8 +368,8 @@ def _print_summary(body: dict, recording: dict) -> None:
     body = render_body(body, "cli")
     rate = recording["sampling_rate_hz"]
     files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
-    flight = body.get("flight") if body.get("method") == "compass_flight" else None
-    if flight:  # a compass from a flight reads no still segments: say what of the log it read
+    flight = body.get("flight")  # a compass from a flight: the log's facts, and no still segments read
+    if flight:
         print(f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
               f"({flight['raw_how']}), attitude from {flight['attitude_source']}")
     else:
