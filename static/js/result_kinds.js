@@ -158,6 +158,8 @@ export const KINDS = {
   noise: { ...CORRECTION, uses: "noise", formats: "noiseFormats", correction: false, snippets: false, heading: "The noise terms",
     model: noiseTables, plot: { box: "#result-allan", format: "allan_svg" } },
   compass_flight: { ...CORRECTION, uses: "flightCompass", formats: "flightCompassFormats", snippets: false,
+    // its numbers are in the frames of the firmware whose log it came from: that firmware's file, or the JSON
+    usesFor: (cal, uses) => uses.filter((u) => u.format === "json" || u.key === cal.flight?.firmware),
     heading: "The compass's model, h = M (Q m − b − k p)",
     plot: { box: "#result-flight", format: "flight_svg", caption: flightCaption } },
   temperature: { ...CORRECTION, uses: "temperature", formats: "temperatureFormats", snippets: false,

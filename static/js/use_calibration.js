@@ -78,11 +78,14 @@ export function showUse(cal, downloads) {
     list.replaceChildren();
     return;
   }
-  const kind = kindOf(cal).uses;
-  const uses = TABLES.uses[kind];
+  const entry = kindOf(cal);
+  const kind = entry.uses;
+  // A kind may offer only the uses that fit this calibration (a flight's compass: its own log's firmware).
+  const uses = entry.usesFor ? entry.usesFor(cal, TABLES.uses[kind]) : TABLES.uses[kind];
+  const listed = `${kind}:${uses.map((u) => u.key).join(",")}`;
   const select = $("#use-with");
-  if (select.dataset.kind !== kind) {
-    select.dataset.kind = kind;
+  if (select.dataset.kind !== listed) {
+    select.dataset.kind = listed;
     select.replaceChildren(...uses.map((u) => el("option", u.name, { value: u.key })));
     select.onchange = () => {
       try { localStorage.setItem(`${REMEMBER}.${kind}`, select.value); } catch { /* no memory */ }

@@ -33,8 +33,9 @@ def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_pat
     caption = page.text_content("#result-flight figcaption")
     assert caption.startswith("Orientation: the compass sits as ") and "COMPASS_ORIENT 2" in caption, caption
     assert "Directions covered:" in caption and "of the log (ArduPilot" in caption, caption
+    # the numbers are in ArduPilot's frames: its file, or the JSON
     assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == \
-        ["ardupilot", "px4", "filter"]
+        ["ardupilot", "filter"]
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")
     assert "ardupilot" in links and "flight_svg" in links, links
     problems = []
@@ -46,8 +47,8 @@ def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_pat
     assert [e for e in page.errors if "status of 422" not in e] == []
 
 
-def test_a_log_without_gps_asks_for_the_place_in_the_pages_words(page, server, tmp_path):
-    log, _ = write_flight_compass_logs(tmp_path, seeded_flight(3, rate_hz=10.0), gps=False)
+def test_a_px4_log_without_gps_asks_for_the_place_in_the_pages_words(page, server, tmp_path):
+    _, log = write_flight_compass_logs(tmp_path, seeded_flight(3, rate_hz=10.0), gps=False)
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(log))
     page.click("#upload-form button[type=submit]")
@@ -64,4 +65,6 @@ def test_a_log_without_gps_asks_for_the_place_in_the_pages_words(page, server, t
     page.click("#flight-compass")
     page.wait_for_selector("#downloads[data-ready=true]", timeout=60_000)
     assert page.text_content("#verdict-words").startswith("Apply it: heading error on flight segments left out")
+    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == ["px4", "filter"]
+    assert page.get_attribute("#use-file", "data-format") == "px4" and "CAL_MAG_COMP_TYP" in page.text_content("#use-how")
     assert [e for e in page.errors if "status of 422" not in e] == []
