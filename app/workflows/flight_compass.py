@@ -33,7 +33,7 @@ def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.nd
     at, c_nb = at[keep], c_nb[keep]
     inside = (t >= at[0]) & (t <= at[-1])
     if len(at) < 2 or not inside.any():
-        return np.empty((0, 3, 3)), inside & False
+        return np.empty((0, 3, 3)), np.zeros(len(t), dtype=bool)
     slerp = Slerp(at, Rotation.from_matrix(c_nb))
     return slerp(t[inside]).as_matrix(), inside
 

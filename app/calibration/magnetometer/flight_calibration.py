@@ -25,22 +25,6 @@ FIGURE_BASIS = "heading error on flight segments left out"
 FIGURE_UNIT = "°"
 
 
-def _plain(value):
-    if value is None:
-        return None
-    if isinstance(value, dict):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return [_plain(v) for v in value] if value.ndim else _plain(value.item())
-    if isinstance(value, (np.floating, float)):
-        return float(value) if np.isfinite(value) else None
-    if isinstance(value, (np.integer, np.bool_)):
-        return value.item()
-    return value
-
-
 @dataclass(frozen=True)
 class FlightCompassCalibration(CalibrationResult):
     """A compass's correction fitted on a flight log.
@@ -83,36 +67,27 @@ class FlightCompassCalibration(CalibrationResult):
     gravity: float | None = None
 
     @classmethod
-    def from_fit(cls, fit, *, flight: dict, metrics: dict, warnings=()) -> "FlightCompassCalibration":
+    def from_fit(cls, fit, *, flight: dict, metrics: dict) -> "FlightCompassCalibration":
         """The stored form of a :class:`.flight_result.FlightCompassResult` with the log's ``flight`` facts."""
-        heading = fit.heading_error_deg or {}
+        d = fit.to_dict()
         figures = {}
         for when in ("before", "after"):
-            summary = heading.get(when) or {}
+            summary = d["heading_error_deg"].get(when) or {}
             figures[f"heading_error_{when}_deg"] = summary.get("rms")
             figures[f"heading_error_{when}_p95_deg"] = summary.get("p95")
-        flight = {**flight, "structure": fit.model, "motor": fit.motor, "rotation_found": _plain(fit.rotation_found),
-                  "rotation_nearest": _plain(fit.rotation_nearest), "angle_left_deg": float(fit.angle_left_deg),
-                  "orientation_agrees": bool(fit.orientation_agrees), "models": _plain(fit.models),
-                  "intervals": _plain(fit.intervals)}
+        flight = {**flight, "structure": d["model"], "motor": d["motor"], **{key: d[key] for key in (
+            "rotation_found", "rotation_nearest", "angle_left_deg", "orientation_agrees", "models", "intervals")}}
         return cls(M=np.asarray(fit.matrix, float), b=np.asarray(fit.offsets_ut, float),
                    k=np.asarray(fit.motor_coefficients, float) if fit.motor else np.zeros(3),
                    Q=np.asarray(fit.rotation, float),
-                   half_widths={"M": _plain(fit.matrix_half_width), "b": _plain(fit.offsets_half_width_ut),
-                                "k": _plain(fit.motor_half_width) if fit.motor else None},
-                   flight=flight, series=_plain(fit.series),
-                   metrics={**metrics, **figures, "coverage": float(fit.coverage), "n_samples": int(fit.n_samples)},
-                   warnings=tuple(fit.warnings) + tuple(warnings), reasons=tuple(fit.reasons))
+                   half_widths={"M": d["matrix_half_width"], "b": d["offsets_half_width_ut"],
+                                "k": d["motor_half_width"] if fit.motor else None},
+                   flight=flight, series=d["series"],
+                   metrics={**metrics, **figures, "coverage": d["coverage"], "n_samples": d["n_samples"]},
+                   warnings=tuple(fit.warnings), reasons=tuple(fit.reasons))
 
     def _calibrate(self, rows: np.ndarray) -> np.ndarray:
         return (rows @ self.Q.T - self.b) @ self.M.T  # h = M (Q m − b), at no current
-
-    def correct(self, mag, power=None) -> np.ndarray:
-        """``h = M (Q m − b − k p)`` of raw readings (N, 3) at power ``p`` (N,); without it, at none."""
-        u = np.asarray(mag, dtype=float).reshape(-1, 3) @ self.Q.T - self.b
-        if power is not None:
-            u = u - np.outer(np.asarray(power, dtype=float).reshape(-1), self.k)
-        return u @ self.M.T
 
     def corrected_sensors(self) -> tuple[str, ...]:
         return ("mag",)

@@ -53,14 +53,20 @@ class FlightCompassResult:
         return v @ self.matrix.T
 
     def to_dict(self) -> dict:
-        def plain(v):
-            if isinstance(v, np.ndarray):
-                return np.where(np.isfinite(v), v, np.nan).tolist() if v.dtype.kind == "f" else v.tolist()
-            if isinstance(v, dict):
-                return {k: plain(x) for k, x in v.items()}
-            if isinstance(v, (list, tuple)):
-                return [plain(x) for x in v]
-            if isinstance(v, (np.floating, np.integer, np.bool_)):
-                return v.item()
-            return v
+        """Every field as plain JSON: arrays as lists, a non-finite number as None."""
         return {name: plain(getattr(self, name)) for name in self.__dataclass_fields__}
+
+
+def plain(value):
+    """``value`` as JSON has it: arrays and tuples as lists, numpy scalars as numbers, NaN and ±inf as None."""
+    if isinstance(value, dict):
+        return {k: plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return [plain(v) for v in value] if value.ndim else plain(value.item())
+    if isinstance(value, (np.floating, float)):
+        return float(value) if np.isfinite(value) else None
+    if isinstance(value, (np.integer, np.bool_)):
+        return value.item()
+    return value
