@@ -19,10 +19,6 @@ from app.calibration import CalibrationError
 from app.workflows.recordings import RecordingSource
 from app.workflows.results import calibration_body
 
-FLIGHT_FORMATS = ("ulog", "dataflash")
-"""The recordings a compass from a flight reads: the two flight controllers' logs (app.io.formats)."""
-
-
 def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """C_nb at the times ``t`` inside the attitude's span (slerp of its quaternions), and the mask of those."""
     from scipy.spatial.transform import Rotation, Slerp
@@ -77,7 +73,7 @@ def compass_flight(request, recording: RecordingSource | None) -> dict:
     from app.geomag import GeomagneticRangeError, reference_field
     from app.io.flight_context import read_flight_compass
 
-    if recording is None or recording.meta.get("format") not in FLIGHT_FORMATS:
+    if recording is None or recording.meta.get("flight") is None:  # a flight controller's log lists its sensors
         raise CalibrationError("a compass from a flight reads a flight controller's log: upload the PX4 ULog (.ulg) "
                                "or ArduPilot DataFlash log (.bin) of a flight with turns")
     read_with = recording.meta.get("read_with") or {}
