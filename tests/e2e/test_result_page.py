@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from app.calibration import CANONICAL_SIX
+from app.tls import lan_addresses
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
 from tests.e2e.conftest import shot
@@ -306,7 +307,8 @@ def test_send_to_my_computer_without_web_share_shows_a_qr_of_a_short_link_the_co
     """The phone (no Web Share API) shows a QR code and a short link; the QR decodes to the link, which a
     second browser (the computer, keeping nothing) opens into the calibration's page with its files."""
     cal_id, token = session_calibration(server.url)
-    phone = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1)
+    phone = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1,
+                        timezone_id="Europe/Berlin")
     computer = axe_context(browser, viewport={"width": 1280, "height": 900}, device_scale_factor=1)
     try:
         page = phone.new_page()
@@ -319,14 +321,17 @@ def test_send_to_my_computer_without_web_share_shows_a_qr_of_a_short_link_the_co
         page.wait_for_selector("#send-box:not([hidden])")
         page.wait_for_function("document.querySelector('#send-qr').complete && document.querySelector('#send-qr').naturalWidth > 0")
         url = page.text_content("#send-url")
-        assert re.fullmatch(re.escape(server.url) + r"/s/[2-9A-HJKMNP-Z]{10}", url), url
+        # A server on loopback: the link is at this machine's LAN address, which the computer can open.
+        lan_url = f"http://{lan_addresses()[0]}:{server.port}"
+        assert re.fullmatch(re.escape(lan_url) + r"/s/[2-9A-HJKMNP-Z]{10}", url), url
         assert decode_qr(page.locator("#send-qr").screenshot()) == url  # the QR read back is the link
-        assert "opens this calibration until" in page.text_content("#send-expires")
+        expires = page.text_content("#send-expires")  # a date, a time and the phone's zone (Berlin: CET)
+        assert re.fullmatch(r"\(it opens this calibration until \d{1,2} [A-Z][a-z]+ 20\d\d, \d\d:\d\d CET\)\.", expires), expires
         problems = layout_problems(page, "send_fallback", width)
         assert not problems, "\n".join(problems)
 
         other = computer.new_page()
-        other.goto(url)
+        other.goto(url.replace(lan_url, server.url))  # the test's server listens on loopback only
         other.wait_for_selector("#downloads[data-ready=true]", state="attached")
         assert other.url == f"{server.url}/c/{cal_id}"  # the calibration's own address, the link's token kept for it
         assert other.locator("#downloads a").count() >= 4 and cal_id in other.text_content("#cal-meta")
@@ -354,7 +359,7 @@ def test_send_to_my_computer_hands_the_link_to_the_web_share_api(browser, server
         page.click("#send-btn")
         page.wait_for_function("window.__shared !== undefined")
         shared = page.evaluate("window.__shared")
-        assert re.fullmatch(re.escape(server.url) + r"/s/[2-9A-HJKMNP-Z]{10}", shared["url"])
+        assert re.fullmatch(rf"http://{re.escape(lan_addresses()[0])}:{server.port}/s/[2-9A-HJKMNP-Z]{{10}}", shared["url"])
         assert shared["text"] == page.text_content("#verdict-words")
         assert page.is_hidden("#send-box") and "Sent: the link opens it until" in page.text_content("#send-msg")
     finally:
