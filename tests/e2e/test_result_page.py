@@ -87,12 +87,30 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
             assert key not in visible, key
         problems = layout_problems(page, "calibration_page", width)
 
-        # A second device, then the history: both, newest first; the filter keeps one; its latest is a link.
+        # A second device, read again with the units shown (Read again with these units): the later reading
+        # supersedes the earlier one of the same upload, method and device.
         other = upload(page, server.url, f"other-board-{width}")
+        page.click("#units-go")
+        page.wait_for_function(f"/^\\/c\\/cal_/.test(location.pathname) && !location.pathname.endsWith('{other}')")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        again = CAL_PATH.search(page.url).group(1)
+        # The history: one row per recording and method, newest first; the earlier reading one tap away.
         page.goto(server.url + "/history")
         page.wait_for_selector("#history-table:not([hidden])")
         ids = page.eval_on_selector_all("#history-table tbody tr", "(rows) => rows.map((r) => r.dataset.id)")
-        assert ids.index(other) < ids.index(cal_id)
+        assert ids.index(again) < ids.index(cal_id) and other not in ids
+        toggle = page.locator(f"#history-table tr[data-id='{again}'] .earlier-toggle")
+        assert toggle.text_content() == "1 earlier" and toggle.get_attribute("aria-expanded") == "false"
+        toggle.click()
+        page.wait_for_selector(f"#history-table tr.earlier[data-id='{other}'][data-earlier-than='{again}']")
+        assert page.get_attribute(f"#history-table tr[data-id='{again}'] .earlier-toggle", "aria-expanded") == "true"
+        problems += layout_problems(page, "history_earlier", width)
+        shot(page, f"history_earlier_{width}")
+        page.click(f"#history-table tr[data-id='{other}'] th a")  # the earlier reading still opens by id
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.url.endswith(f"/c/{other}")
+        page.goto(server.url + "/history")
+        page.wait_for_selector("#history-table:not([hidden])")
         row = page.locator(f"#history-table tr[data-id='{cal_id}']")
         cells = row.locator("td").all_text_contents()
         assert cells[0] == f"bench-imu-{width}" and "accelerometer" in cells[1] and cells[2] == words
@@ -108,9 +126,9 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
         page.wait_for_selector("#history-table:not([hidden])")
         assert page.input_value("#history-device") == f"bench-imu-{width}"
         page.select_option("#history-device", "")
-        page.click(f"#history-table tr[data-id='{other}'] th a")
+        page.click(f"#history-table tr[data-id='{again}'] th a")
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")
-        assert page.url.endswith(f"/c/{other}")
+        assert page.url.endswith(f"/c/{again}")
         assert not problems, "\n".join(problems)
         assert errors == []
     finally:
