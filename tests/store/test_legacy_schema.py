@@ -191,13 +191,12 @@ def test_a_revision_0004_database_gains_superseding_and_keeps_its_calibrations(d
     its calibrations all list and read as before, and new ones of one upload supersede each other only."""
     from alembic import command
 
-    from app.store.migrate import alembic_config
+    from app.store.migrate import adopt_legacy_schema, alembic_config
 
     legacy_database(database_url, 3)
     engine = make_engine(database_url)
     with engine.begin() as connection:  # adopted and brought to 0004, as the trical before 0005 left it
         config = alembic_config(connection)
-        from app.store.migrate import adopt_legacy_schema
         adopt_legacy_schema(connection, config)
         command.upgrade(config, "0004")
     engine.dispose()
