@@ -344,9 +344,15 @@ export class BoardPanel {
     let compass = null;
     try {
       bytes = await packet(this.calibration.id, this.token);
-      if (found) compass = await packet(found.cal.id, found.token);
     } catch (err) {
       msg.textContent = `The packet could not be made: ${err.message}.`;
+      return;
+    }
+    try {
+      if (found) compass = await packet(found.cal.id, found.token);
+    } catch (err) {
+      msg.textContent = `The compass calibration of ${madeAt(found.cal.created_at)} cannot go in the packet: `
+        + `${err.message}. Nothing was sent: untick it to send this calibration alone (the board's compass is then reset).`;
       return;
     }
     for (const b of [bytes, compass]) {
