@@ -29,17 +29,23 @@ def recording_source(store: Store, recording_id: str | None, owner: str | None) 
              summary="Compute and store a calibration")
 def create_calibration(request: CalibrationIn, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
-    body = methods.calibrate(request, recording_source(store, getattr(request, "recording_id", None), owner))
-    return render_body(store.add_calibration(body, owner=owner), *reader)
+    source = recording_source(store, getattr(request, "recording_id", None), owner)
+    body = methods.calibrate(request, source)
+    # A calibration of the same upload and method supersedes the earlier ones (none is deleted).
+    digest = source.meta.get("content_sha256") if source is not None else None
+    return render_body(store.add_calibration(body, owner=owner, recording_digest=digest), *reader)
 
 
 @router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")
 def list_calibrations(*, device_id: str | None = Query(None, max_length=200),
+                      superseded_by: str | None = Query(None, max_length=200, description=(
+                          "List the earlier calibrations of the same recording and method this one superseded.")),
                       limit: int = Query(100, ge=1, le=1000), store: StoreDep,
                       owner: OwnerDep, reader: ReaderDep):
-    """Calibrations, newest first, optionally of one device."""
+    """Calibrations, newest first, optionally of one device: one per recording and method (the latest; each
+    says how many ``earlier`` it superseded), or with ``superseded_by`` those earlier ones."""
     return render_body({"items": [with_verdict(body) for body in store.list_calibrations(
-        owner=owner, device_id=device_id, limit=limit)]}, *reader)
+        owner=owner, device_id=device_id, limit=limit, superseded_by=superseded_by)]}, *reader)
 
 
 @router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True,

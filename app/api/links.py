@@ -4,19 +4,18 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 
+from app.addresses import reachable_origin
 from app.api.deps import LINK_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token
 from app.api.schemas import LinkOpened, LinkOut
-from app.config import Settings
 from app.qr import qr_svg_data_uri
 
 router = APIRouter(tags=["links"])
 
 
-def link_address(request: Request, settings: Settings, code: str) -> str:
-    """The link's page, /s/CODE, at TRICAL_PUBLIC_URL's origin when set, else at the address the phone used."""
-    base = settings.public_url or str(request.base_url)
-    scheme, _, rest = base.partition("://")
-    return f"{scheme}://{rest.split('/')[0]}/s/{code}"
+def link_address(request: Request, code: str) -> str:
+    """The link's page, /s/CODE, at the address the other machine opens (app.addresses: TRICAL_PUBLIC_URL's
+    origin when set, else the address the phone reached the server at, a loopback one as its LAN address)."""
+    return f"{reachable_origin(request)}/s/{code}"
 
 
 @router.post("/api/v1/calibrations/{calibration_id}/links", status_code=201, response_model=LinkOut,
@@ -27,7 +26,7 @@ def create_link(calibration_id: str, request: Request, store: StoreDep,
     if (bearer_token(request) or "").startswith(LINK_TOKEN_PREFIX):
         raise Unauthorized("a link cannot make another link: send it from the device that made the calibration")
     link = store.add_link(calibration_id, owner=owner, ttl_s=60.0 * settings.link_ttl_min)
-    url = link_address(request, settings, link["code"])
+    url = link_address(request, link["code"])
     return {**link, "url": url, "qr": qr_svg_data_uri(url)}
 
 

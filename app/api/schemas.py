@@ -172,6 +172,12 @@ class CalibrationCommon(Out):
     label: str | None = None
     recording_id: str | None = Field(None, description="The recording the readings came from.")
     session_id: str | None = Field(None, description="The wizard session that solved it.")
+    superseded_by: str | None = Field(None, description=(
+        "The later calibration of the same recording (the same upload's content) and method, read again with "
+        "other options, that superseded this one; absent while none did. It is kept and still read by id."))
+    earlier: int | None = Field(None, description=(
+        "How many earlier calibrations of the same recording and method this one superseded "
+        "(GET /api/v1/calibrations?superseded_by=ID lists them); absent when none."))
     captures: list[dict[str, Any]] | None = Field(None, description=(
         "A wizard session's captures: position, mean, std, count, sampling_rate_hz (and up for cube24 and free); "
         "`trical capture`'s: position, rows (first, after last) of its log, up, mean, std, count."))
@@ -978,6 +984,10 @@ class RecordingOut(BaseModel):
     quantization_step: float | None = None
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
     read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")
+    content_sha256: str | None = Field(None, description=(
+        "SHA-256 of the upload (of several files, their names and contents in order): the same upload read again "
+        "with other options has the same one, and its calibrations by one method supersede each other. Absent "
+        "from recordings stored before it existed."))
     segments: list[SegmentOut]
     parts: list[PartOut] | None = Field(None, description=(
         "A recording made of several files (several `file` parts, or a zip of log files): each file, in order; "

@@ -48,10 +48,17 @@ CAPTURE_PROTOCOLS = ("six", "free", "cube24", "compass", "noise")
 
 MOTIONCAL_PACKET_BYTES = 68
 MOTIONCAL_SIGNATURE = (117, 84)
+MOTIONCAL_CRC = {"polynomial": 0xA001, "start": 0xFFFF}
+"""The packet's CRC-16 (reflected polynomial 0xA001, CRC-16/MODBUS, from 0xFFFF), low byte first after byte 65."""
+MOTIONCAL_MAG_FLOATS = (6, 16)
+"""The packet's floats [6, 16) are the magnetometer's (hard iron, field, soft iron); [0, 6) the accelerometer's
+and gyroscope's offsets (app.io.motioncal_packet)."""
 
 
 def board_tables() -> dict:
     """The board connection's constants as plain JSON-ready data (for the page)."""
+    from .motioncal_packet import DEFAULT_FIELD_UT  # it imports this module's packet facts
+
     return {
         "raw": dict(MOTIONCAL_RAW),
         "uni": {**ADAFRUIT_UNI, "units": dict(ADAFRUIT_UNI["units"])},
@@ -59,5 +66,6 @@ def board_tables() -> dict:
         "defaultBaud": DEFAULT_BAUD,
         "silenceS": SILENCE_S,
         "nordicUart": dict(NORDIC_UART),
-        "packet": {"bytes": MOTIONCAL_PACKET_BYTES, "signature": list(MOTIONCAL_SIGNATURE)},
+        "packet": {"bytes": MOTIONCAL_PACKET_BYTES, "signature": list(MOTIONCAL_SIGNATURE), "crc": dict(MOTIONCAL_CRC),
+                   "magFloats": list(MOTIONCAL_MAG_FLOATS), "defaultFieldUt": DEFAULT_FIELD_UT},
     }

@@ -26,13 +26,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .board_formats import MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
+from .board_formats import MOTIONCAL_CRC, MOTIONCAL_MAG_FLOATS, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from .errors import ExportError
 from .export_common import sensor_corrections
 from .log import TO_SI
 
-CRC_POLYNOMIAL = 0xA001
-CRC_START = 0xFFFF
+CRC_POLYNOMIAL = MOTIONCAL_CRC["polynomial"]
+CRC_START = MOTIONCAL_CRC["start"]
 SOFT_IRON_ORDER = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 """The packet's six soft-iron entries, in order."""
 # Adafruit's Unified Sensor units are m/s² (a g is STANDARD_GRAVITY of them), rad/s and µT.

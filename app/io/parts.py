@@ -284,3 +284,24 @@ def part_log(log: LogData, index: int) -> LogData:
         timing = dataclasses.replace(timing, sampling_rate_hz=part.sampling_rate_hz, gaps=gaps)
     return dataclasses.replace(log, acc=cut(log.acc), gyr=cut(log.gyr), mag=cut(log.mag), time_s=time_s,
                                sampling_rate_hz=part.sampling_rate_hz, notes=part.notes, parts=(), timing=timing)
+
+
+def content_digest(path: Path) -> str:
+    """The SHA-256 (hex) of what was uploaded: of a zip, its members' names and contents in order (a zip
+    of the same pose files made again differs only in its members' times), else the file's bytes. Two
+    uploads of the same file or files have the same digest, whatever options they are read with."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    if zipfile.is_zipfile(path):
+        with zipfile.ZipFile(path) as zf:
+            for info in zf.infolist():
+                digest.update(info.filename.encode() + b"\0" + str(info.file_size).encode() + b"\0")
+                with zf.open(info) as member:
+                    for chunk in iter(lambda: member.read(1 << 20), b""):
+                        digest.update(chunk)
+    else:
+        with open(path, "rb") as f:
+            for chunk in iter(lambda: f.read(1 << 20), b""):
+                digest.update(chunk)
+    return digest.hexdigest()

@@ -16,7 +16,7 @@ import secrets
 from datetime import datetime, timedelta, timezone
 from pathlib import Path
 
-from sqlalchemy import Engine, select, update
+from sqlalchemy import Engine, func, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 
 from . import migrate
@@ -86,33 +86,62 @@ class Store:
 
     # -- calibrations ---------------------------------------------------------------------
 
-    def add_calibration(self, body: dict, *, owner: str | None, session_id: str | None = None) -> dict:
+    def add_calibration(self, body: dict, *, owner: str | None, session_id: str | None = None,
+                        recording_digest: str | None = None) -> dict:
         """Store a calibration; ``id`` and ``created_at`` are assigned here and returned in it. With
         ``session_id``, the session names it as its calibration in the same transaction: a solved session
-        and its calibration are stored together or not at all."""
+        and its calibration are stored together or not at all. With ``recording_digest`` (the SHA-256 of the
+        recording's upload), it supersedes the owner's earlier calibrations of the same recording, method and
+        device name (read again with other options): they stay, each naming it in ``superseded_by``."""
         body = dict(body, id=new_id("cal"), created_at=utc_now())
         with self._writer.begin() as db:
             db.execute(calibrations.insert().values(
                 id=body["id"], method=body["method"], device_id=body.get("device_id"), label=body.get("label"),
-                owner=owner, created_at=body["created_at"], ok=int(bool(body.get("ok"))), body=_json(body)))
+                owner=owner, created_at=body["created_at"], ok=int(bool(body.get("ok"))), body=_json(body),
+                recording_digest=recording_digest))
+            if recording_digest is not None:
+                db.execute(update(calibrations).where(
+                    _owned_by(calibrations.c.owner, owner), calibrations.c.recording_digest == recording_digest,
+                    calibrations.c.method == body["method"], calibrations.c.id != body["id"],
+                    calibrations.c.device_id.is_not_distinct_from(body.get("device_id")),
+                ).values(superseded_by=body["id"]))
             if session_id is not None:
                 db.execute(update(sessions).where(sessions.c.id == session_id).values(calibration_id=body["id"]))
         return body
 
     def get_calibration(self, calibration_id: str, *, owner: str | None) -> dict:
-        rows = self._read(select(calibrations.c.body).where(
+        """One calibration, with ``superseded_by`` when a later one of the same recording and method
+        superseded it and ``earlier`` (how many it superseded) when it did."""
+        rows = self._read(select(calibrations.c.body, calibrations.c.superseded_by).where(
             calibrations.c.id == calibration_id, _owned_by(calibrations.c.owner, owner)))
         if not rows:
             raise NotFoundError(f"no calibration with id {calibration_id!r}")
-        return json.loads(rows[0].body)
+        return self._with_lineage(rows)[0]
 
-    def list_calibrations(self, *, owner: str | None, device_id: str | None = None, limit: int = 100) -> list[dict]:
-        """The owner's calibrations, newest first, optionally of one device."""
-        query = select(calibrations.c.body).where(_owned_by(calibrations.c.owner, owner))
+    def list_calibrations(self, *, owner: str | None, device_id: str | None = None, limit: int = 100,
+                          superseded_by: str | None = None) -> list[dict]:
+        """The owner's calibrations that no later one superseded, newest first, optionally of one device;
+        with ``superseded_by``, the earlier ones that calibration superseded instead."""
+        query = select(calibrations.c.body, calibrations.c.superseded_by).where(
+            _owned_by(calibrations.c.owner, owner), calibrations.c.superseded_by.is_(None) if superseded_by is None
+            else calibrations.c.superseded_by == superseded_by)
         if device_id is not None:
             query = query.where(calibrations.c.device_id == device_id)
         query = query.order_by(calibrations.c.created_at.desc(), calibrations.c.id).limit(limit)
-        return [json.loads(row.body) for row in self._read(query)]
+        return self._with_lineage(self._read(query))
+
+    def _with_lineage(self, rows) -> list[dict]:
+        """The bodies of ``rows`` (body, superseded_by), each with ``superseded_by`` and ``earlier`` where they hold."""
+        bodies = [json.loads(row.body) for row in rows]
+        ids = [b["id"] for b in bodies]
+        counts = dict(self._read(select(calibrations.c.superseded_by, func.count()).where(
+            calibrations.c.superseded_by.in_(ids)).group_by(calibrations.c.superseded_by))) if ids else {}
+        for body, row in zip(bodies, rows):
+            if row.superseded_by:
+                body["superseded_by"] = row.superseded_by
+            if counts.get(body["id"]):
+                body["earlier"] = counts[body["id"]]
+        return bodies
 
     # -- links ----------------------------------------------------------------------------
 

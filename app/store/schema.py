@@ -22,7 +22,12 @@ calibrations = Table(
     Column("created_at", Text, nullable=False),
     Column("ok", Integer, nullable=False),
     Column("body", Text, nullable=False),
+    # The SHA-256 of the recording's upload (a calibration of one): with the method, what "the same reading" is.
+    Column("recording_digest", Text),
+    Column("superseded_by", Text),  # the later calibration of the same recording and method, if any
     Index("calibrations_device", "device_id", "created_at"),
+    Index("calibrations_recording", "recording_digest", "method"),
+    Index("calibrations_superseded", "superseded_by"),
 )
 
 recordings = Table(

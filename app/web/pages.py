@@ -9,11 +9,11 @@ from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
 from fastapi.templating import Jinja2Templates
 
+from app.addresses import reachable_url
 from app.calibration import CANONICAL_SIX
 from app.io.formats.kinds import ACCEPTED_SUFFIXES
 from app.qr import qr_svg_data_uri
 from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
-from app.tls import lan_addresses
 
 from .tables import POSE_NAMES, POSE_SHORT, page_tables
 
@@ -35,27 +35,11 @@ def _templates(request: Request) -> Jinja2Templates:
     return cached
 
 
-LOOPBACK = ("127.0.0.1", "localhost", "::1")
-
-
-def phone_url(request: Request) -> str:
-    """The address a phone opens: TRICAL_PUBLIC_URL, else this request's own address, with this
-    machine's LAN address in place of a loopback one (a phone cannot reach 127.0.0.1)."""
-    public_url = request.app.state.settings.public_url
-    if public_url:
-        return public_url
-    host = request.url.hostname or "127.0.0.1"
-    if host in LOOPBACK:
-        host = lan_addresses()[0]
-    port = f":{request.url.port}" if request.url.port else ""
-    return f"{request.url.scheme}://{'[' + host + ']' if ':' in host else host}{port}/"
-
-
 @router.get("/", response_class=HTMLResponse)
 def index(request: Request):
     """Start page: Start on a phone with motion sensors; on a desktop, the QR code and address of
     the phone page (always), and the upload."""
-    url = phone_url(request)
+    url = reachable_url(request)
     return _templates(request).TemplateResponse(request, "index.html", {
         "labels": list(CANONICAL_SIX),
         "tables": page_tables(),

@@ -14,7 +14,7 @@ from app.calibration.errors import InsufficientDataError
 from app.calibration.static import detect_static_segments
 from app.io.formats import read_log
 from app.io.log import LogData
-from app.io.parts import pose_from_name
+from app.io.parts import content_digest, pose_from_name
 
 
 BROWSER_STEP = 0.1
@@ -61,6 +61,7 @@ def add_recording(store, recording_id: str, path: Path, *, filename: str | None,
         log = load_log(path, sampling_rate_hz=sampling_rate_hz, name=filename or "the file", **read_with)
         body = describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
         body["filename"] = filename
+        body["content_sha256"] = content_digest(path)  # the same upload read again: its calibrations supersede
         return store.add_recording(recording_id, body, path, owner=owner)
     except BaseException:
         path.unlink(missing_ok=True)

@@ -109,6 +109,12 @@ export function listCalibrations(token = null, device = null, limit = 100) {
   return request(`/api/v1/calibrations?${query}`, { headers: bearer(token) });
 }
 
+// The earlier calibrations of the same recording and method that `id` superseded, newest first.
+export function listEarlier(id, token = null) {
+  const query = new URLSearchParams({ superseded_by: id });
+  return request(`/api/v1/calibrations?${query}`, { headers: bearer(token) });
+}
+
 // Paste-ready lines applying a calibration: {c, python, javascript, functions, scales}.
 export function getUse(id, token = null) {
   return request(`/api/v1/calibrations/${encodeURIComponent(id)}/use`, { headers: bearer(token) });

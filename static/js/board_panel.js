@@ -1,11 +1,12 @@
 // The board card of the wizard pages (templates/_board.html, _board_send.html): connect a board over
 // USB or Bluetooth, see its readings arrive, and send a calibration back to it. The samples go to the
 // page's own capture engine through onSample; this module only shows the board.
-import { fetchExport } from "./api.js";
+import { fetchExport, listCalibrations } from "./api.js";
 import { BAUD_RATES, BoardPort, BoardSource, DEFAULT_BAUD, SILENCE_MS, hasBluetooth, hasSerial } from "./board.js";
 import { FORMAT_WORDS, UNIT_WORDS } from "./board_lines.js";
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
+import { apiKey, sessionTokens } from "./tokens.js";
 import { preferUse } from "./use_calibration.js";
 import { $, el } from "./dom.js";
 
@@ -38,6 +39,51 @@ export function plotSvg(samples, gravity = TABLES.gravity) {
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" role="img" `
     + `aria-label="The accelerometer's x, y and z over the last 5 seconds">`
     + `<line x1="0" y1="${H / 2}" x2="${W}" y2="${H / 2}" stroke="#bbb" />${lines.join("")}</svg>`;
+}
+
+// What a calibration carries of the packet's two parts: the accelerometer's (with the gyroscope's) offsets,
+// and the compass's hard iron, soft iron and field (a compass calibration, or a cube's magnetometer).
+export function packetParts(cal) {
+  const model = (cal && cal.model) || {};
+  const compass = model.type === "magnetometer" || Object.keys(model).some((k) => k !== "type" && /mag/i.test(k));
+  return { acc: model.type !== "magnetometer", compass };
+}
+
+// The packet's CRC-16, as app/io/motioncal_packet.py computes it (the server's tables give its polynomial and start).
+export function crc16(bytes, crc = PACKET.crc.start) {
+  for (const byte of bytes) {
+    crc ^= byte;
+    for (let k = 0; k < 8; k += 1) crc = crc & 1 ? (crc >>> 1) ^ PACKET.crc.polynomial : crc >>> 1;
+  }
+  return crc;
+}
+
+// The packet `base` (the server's, for this calibration) with the compass floats of `compass` (the server's packet
+// of a compass calibration) in place of its own, and the CRC made again over the result.
+export function withCompass(base, compass) {
+  const out = new Uint8Array(base);
+  const [from, to] = PACKET.magFloats.map((i) => PACKET.signature.length + 4 * i);
+  out.set(compass.subarray(from, to), from);
+  const crc = crc16(out.subarray(0, PACKET.bytes - 2));
+  out[PACKET.bytes - 2] = crc & 0xff;
+  out[PACKET.bytes - 1] = crc >> 8;
+  return out;
+}
+
+// The device's latest compass calibration this browser can read ({cal, token}), or null: each owner's list
+// (the API key or none, each wizard session's token) of that device, newest first, as the history reads them.
+export async function latestCompass(device) {
+  if (!device) return null;
+  const owners = [...new Set([apiKey(), ...sessionTokens()])];
+  const lists = await Promise.all(owners.map((token) => listCalibrations(token, device)
+    .then(({ items }) => items.map((cal) => ({ cal, token }))).catch(() => [])));
+  const found = lists.flat().filter(({ cal }) => cal.ok && !packetParts(cal).acc && packetParts(cal).compass);
+  found.sort((a, b) => (a.cal.created_at < b.cal.created_at ? 1 : -1));
+  return found[0] || null;
+}
+
+function madeAt(iso) {
+  return new Date(iso).toLocaleString("en-GB", { day: "numeric", month: "long", year: "numeric", hour: "2-digit", minute: "2-digit" });
 }
 
 export class BoardPanel {
@@ -81,6 +127,8 @@ export class BoardPanel {
     $("#board-close").addEventListener("click", () => this.close("You disconnected the board."));
     const send = $("#board-send");
     if (send) send.addEventListener("click", () => this.send());
+    const include = $("#board-send-compass");
+    if (include) include.addEventListener("change", () => this.describeSend());
   }
 
   message(text) {
@@ -223,10 +271,58 @@ export class BoardPanel {
   // --- send a calibration back ----------------------------------------------------------------
 
   // The calibration a Send would write, with the token that reads its export.
+  // An accelerometer's calibration looks for the same device's latest compass calibration to send with it.
   offer(calibration, token = null) {
     this.calibration = calibration;
     this.token = token;
+    this.compass = null;
     this.showSend();
+    const box = $("#board-send-box");
+    if (!box) return;
+    const parts = packetParts(calibration);
+    box.dataset.compass = "";
+    this.describeSend();
+    if (!parts.acc || parts.compass) return;
+    latestCompass(calibration.device_id).then((found) => {
+      if (this.calibration !== calibration) return;
+      this.compass = found;
+      $("#board-send-compass").checked = Boolean(found); // checked by default when there is one
+      box.dataset.compass = found ? found.cal.id : "none";
+      this.describeSend();
+    });
+  }
+
+  // What the packet will replace on the board, and where each part comes from.
+  describeSend() {
+    const cal = this.calibration;
+    if (!cal || !$("#board-send-box")) return;
+    const parts = packetParts(cal);
+    const device = cal.device_id;
+    const found = this.compass;
+    const included = Boolean(found) && $("#board-send-compass").checked;
+    $("#board-send-compass-box").hidden = !found;
+    if (found) {
+      $("#board-send-compass-words").textContent = `Include the compass calibration of ${device} from `
+        + `${madeAt(found.cal.created_at)} (its hard iron, soft iron and field), so that the board keeps it.`;
+    }
+    const reset = `no hard iron, an identity soft iron and ${PACKET.defaultFieldUt} µT`;
+    let words;
+    if (parts.acc && parts.compass) {
+      words = "From this calibration: the accelerometer's and gyroscope's offsets, and the compass's hard iron, soft iron and field.";
+    } else if (parts.acc && included) {
+      words = "From this calibration: the accelerometer's and gyroscope's offsets. From the compass calibration of "
+        + `${madeAt(found.cal.created_at)}: the compass's hard iron, soft iron and field.`;
+    } else if (parts.acc) {
+      const why = found ? "" : device ? ` (no compass calibration of ${device} in your calibrations)`
+        : " (this calibration names no device, so none of its compass calibrations can be found)";
+      words = "From this calibration: the accelerometer's and gyroscope's offsets. The board's compass calibration "
+        + `will be reset${why}: ${reset}. Calibrate the compass afterwards, or send its calibration again.`;
+    } else {
+      words = "From this calibration: the compass's hard iron, soft iron and field. The board's accelerometer and "
+        + "gyroscope offsets will be reset to zero (a compass calibration has none): calibrate the accelerometer "
+        + "afterwards and send that, with this compass calibration included.";
+    }
+    $("#board-send-parts").textContent = words;
   }
 
   showSend() {
@@ -241,18 +337,31 @@ export class BoardPanel {
     const msg = $("#board-send-msg");
     if (!this.port || !this.calibration) return;
     msg.textContent = "Sending…";
+    const found = this.compass && $("#board-send-compass").checked ? this.compass : null;
+    const packet = async (id, token) => new Uint8Array(await (await fetchExport(id, "motioncal", token)).blob.arrayBuffer());
+    const whole = (b) => b.length === PACKET.bytes && b[0] === PACKET.signature[0] && b[1] === PACKET.signature[1];
     let bytes;
+    let compass = null;
     try {
-      const { blob } = await fetchExport(this.calibration.id, "motioncal", this.token);
-      bytes = new Uint8Array(await blob.arrayBuffer());
+      bytes = await packet(this.calibration.id, this.token);
     } catch (err) {
       msg.textContent = `The packet could not be made: ${err.message}.`;
       return;
     }
-    if (bytes.length !== PACKET.bytes || bytes[0] !== PACKET.signature[0] || bytes[1] !== PACKET.signature[1]) {
-      msg.textContent = `The server's answer is not MotionCal's ${PACKET.bytes}-byte packet (${bytes.length} bytes): nothing was sent.`;
+    try {
+      if (found) compass = await packet(found.cal.id, found.token);
+    } catch (err) {
+      msg.textContent = `The compass calibration of ${madeAt(found.cal.created_at)} cannot go in the packet: `
+        + `${err.message}. Nothing was sent: untick it to send this calibration alone (the board's compass is then reset).`;
       return;
     }
+    for (const b of [bytes, compass]) {
+      if (b && !whole(b)) {
+        msg.textContent = `The server's answer is not MotionCal's ${PACKET.bytes}-byte packet (${b.length} bytes): nothing was sent.`;
+        return;
+      }
+    }
+    if (compass) bytes = withCompass(bytes, compass);
     try {
       await this.port.write(bytes);
     } catch (err) {
@@ -260,7 +369,9 @@ export class BoardPanel {
       return;
     }
     msg.dataset.sent = String(bytes.length);
-    msg.textContent = `Sent MotionCal's ${bytes.length}-byte packet to the board: a board running Adafruit's Sensor `
-      + "Calibration library checks its CRC, stores it and uses it from now on.";
+    msg.dataset.compass = found ? found.cal.id : "";
+    msg.textContent = `Sent MotionCal's ${bytes.length}-byte packet to the board${found ? ", with the compass calibration of "
+      + madeAt(found.cal.created_at) : ""}: a board running Adafruit's Sensor Calibration library checks its CRC, stores it `
+      + "and uses it from now on.";
   }
 }

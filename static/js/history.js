@@ -1,13 +1,16 @@
 // The history: every calibration this browser can read (no token or the API key it was given, and
 // each wizard session's token kept in tokens.js), newest first, filtered by device; a device's
-// latest calibration is one link, /c/latest?device=NAME.
-import { getCalibration, listCalibrations } from "./api.js";
+// latest calibration is one link, /c/latest?device=NAME. One row per recording and method: a reading of the
+// same upload again supersedes the earlier ones, which "N earlier" under its date shows in place.
+import { getCalibration, listCalibrations, listEarlier } from "./api.js";
 import { TABLES } from "./tables.js";
 import { apiKey, linkedCalibrations, rememberApiKey, sessionTokens } from "./tokens.js";
-import { $, cell } from "./dom.js";
+import { $, cell, el } from "./dom.js";
 
 const root = $("#history");
 let items = [];
+const readWith = new Map(); // calibration id → the token that read it (its earlier ones read with the same)
+const earlierOf = new Map(); // calibration id → its earlier calibrations, once shown
 
 
 function when(iso) { return iso ? iso.slice(0, 16).replace("T", " ") : "—"; }
@@ -18,7 +21,11 @@ async function readAll() {
   const owners = [apiKey(), ...sessionTokens()]; // no key: null, the keyless owner
   let needKey = null;
   const lists = await Promise.all(owners.map(async (token) => {
-    try { return (await listCalibrations(token)).items; } catch (err) {
+    try {
+      const { items: found } = await listCalibrations(token);
+      for (const cal of found) readWith.set(cal.id, token);
+      return found;
+    } catch (err) {
       if (err.code === "unauthorized" && (token === null || token === apiKey())) needKey = err;
       return [];
     }
@@ -30,24 +37,55 @@ async function readAll() {
   return { cals: [...seen.values()].sort((a, b) => (a.created_at < b.created_at ? 1 : -1)), needKey };
 }
 
+function row(cal, earlierThan = null) {
+  const tr = document.createElement("tr");
+  tr.dataset.id = cal.id;
+  const date = cell("th", "");
+  date.scope = "row";
+  date.append(Object.assign(cell("a", when(cal.created_at)), { href: `/c/${encodeURIComponent(cal.id)}` }));
+  if (earlierThan) {
+    tr.dataset.earlierThan = earlierThan;
+    tr.classList.add("earlier");
+    date.append(el("span", "an earlier reading", { class: "hint earlier-note" }));
+  } else if (cal.earlier) {
+    const open = earlierOf.has(cal.id);
+    const button = el("button", `${cal.earlier} earlier`, { type: "button", class: "secondary earlier-toggle" });
+    button.setAttribute("aria-expanded", String(open));
+    button.title = "The earlier readings of the same upload with this method";
+    button.addEventListener("click", () => toggleEarlier(cal));
+    date.append(button);
+  }
+  const verdict = cell("td", cal.verdict.words);
+  verdict.dataset.kind = cal.verdict.kind;
+  const named = (label, text) => { const td = cell("td", text); td.dataset.label = label; return td; };
+  const device = named("Device", cal.device_id || "—");
+  const method = named("Method", TABLES.methods[cal.method] || cal.method);
+  verdict.dataset.label = "Verdict";
+  tr.append(date, device, method, verdict);
+  return tr;
+}
+
+// "N earlier": the earlier calibrations of the row's recording and method, under it; again hides them.
+async function toggleEarlier(cal) {
+  if (earlierOf.has(cal.id)) {
+    earlierOf.delete(cal.id);
+  } else {
+    try {
+      earlierOf.set(cal.id, (await listEarlier(cal.id, readWith.get(cal.id) ?? null)).items);
+    } catch (err) {
+      $("#history-msg").textContent = `The earlier calibrations could not be read: ${err.message}.`;
+      return;
+    }
+  }
+  render();
+  $(`#history-table tr[data-id="${cal.id}"] .earlier-toggle`).focus();
+}
+
 function render() {
   const device = $("#history-device").value;
   const shown = items.filter((c) => !device || c.device_id === device);
-  $("#history-table tbody").replaceChildren(...shown.map((cal) => {
-    const tr = document.createElement("tr");
-    tr.dataset.id = cal.id;
-    const date = cell("th", "");
-    date.scope = "row";
-    date.append(Object.assign(cell("a", when(cal.created_at)), { href: `/c/${encodeURIComponent(cal.id)}` }));
-    const verdict = cell("td", cal.verdict.words);
-    verdict.dataset.kind = cal.verdict.kind;
-    const named = (label, text) => { const td = cell("td", text); td.dataset.label = label; return td; };
-    const device = named("Device", cal.device_id || "—");
-    const method = named("Method", TABLES.methods[cal.method] || cal.method);
-    verdict.dataset.label = "Verdict";
-    tr.append(date, device, method, verdict);
-    return tr;
-  }));
+  $("#history-table tbody").replaceChildren(...shown.flatMap((cal) => [row(cal),
+    ...(earlierOf.get(cal.id) || []).map((old) => row(old, cal.id))]));
   $("#history-table").hidden = !shown.length;
   $("#history-msg").textContent = shown.length ? `${shown.length} calibration${shown.length === 1 ? "" : "s"}.`
     : device ? `No calibration of ${device} here.` : "No calibration readable in this browser yet: upload a log or "

@@ -3,15 +3,20 @@ that one calibration as its owner until it expires, and nothing else."""
 
 from __future__ import annotations
 
+import sys
 import time
+from datetime import datetime, timezone
 
+import httpx
 import numpy as np
 from fastapi.testclient import TestClient
 
 from app.calibration import CANONICAL_SIX
 from app.main import create_app
+from app.tls import lan_addresses
 from tests.api.conftest import make_settings
 from tests.api.test_sessions import auth, start
+from tests.live_server import free_port, live_server
 from tests.phone_poses import pose_samples
 
 
@@ -58,3 +63,33 @@ def test_the_link_page_and_a_code_that_is_no_code(client):
     r = client.get("/s/ABCDEFGHJK")
     assert r.status_code == 200 and 'data-link="ABCDEFGHJK"' in r.text
     assert client.get("/s/abc").status_code == 404
+
+
+def test_the_link_is_at_the_address_the_phone_reached_and_a_loopback_one_becomes_the_lan_address(tmp_path):
+    """A real server on every interface (as `trical serve --host 0.0.0.0`): a phone on the LAN reaches it at
+    the LAN address and its link is there; a request on this machine (loopback) gets the same LAN address (the
+    start page's QR code finds it so); another name the request used (its Host) is kept; the link page opens
+    at the LAN address; the expiry is ISO 8601 with its offset."""
+    lan = lan_addresses()[0]
+    assert lan != "127.0.0.1", "this test needs a LAN address"
+    with _everywhere(tmp_path) as server:
+        at_lan = f"http://{lan}:{server.port}"
+        with httpx.Client(base_url=at_lan, timeout=30) as phone:
+            cal, token = solved(phone)
+            link = phone.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token)).json()
+            assert link["url"] == f"{at_lan}/s/{link['code']}"
+            expires = datetime.fromisoformat(link["expires_at"])
+            assert expires.utcoffset() is not None and expires > datetime.now(timezone.utc)
+            assert phone.get(link["url"]).status_code == 200  # the other machine opens it there
+        with httpx.Client(base_url=f"http://127.0.0.1:{server.port}", timeout=30) as here:
+            loop = here.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token)).json()
+            assert loop["url"] == f"{at_lan}/s/{loop['code']}"
+            named = here.post(f"/api/v1/calibrations/{cal['id']}/links", headers={**auth(token), "Host": "trical.lan:8765"})
+            assert named.json()["url"] == f"http://trical.lan:8765/s/{named.json()['code']}"
+
+
+def _everywhere(tmp_path):
+    """`trical serve --host 0.0.0.0` over HTTP: reachable at loopback and at the LAN address."""
+    port = free_port()
+    return live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}, port=port,
+                       command=[sys.executable, "-m", "app.cli", "serve", "--host", "0.0.0.0", "--port", str(port)])

@@ -14,9 +14,11 @@ import pytest
 from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
+from app.calibration.simulations.magnetometer import simulate_session
+from app.io.motioncal_packet import decode
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
-from tests.e2e.conftest import shot, watched_page
+from tests.e2e.conftest import ARTIFACTS, shot, watched_page
 
 SHIM = (Path(__file__).parent / "board_shim.js").read_text()
 POSE_FILES = DATA / "real" / "mpu6050_pose_files"
@@ -26,7 +28,8 @@ ORDER = ["+z", "-y", "+x", "-z", "-x", "+y"]
 BOOT = ["", "ets Jun  8 2016 00:22:57", "MPU6050 Found!"]  # what a sketch prints before its readings
 CAPTURED = '#poses li[data-pose="{}"][data-state="done"]'
 G = 9.80665
-NOISE_S = 10  # the shortest still recording the noise page offers
+NOISE_S = 10
+DEVICE = "bench-imu"  # the board's name, as the person types it  # the shortest still recording the noise page offers
 
 
 def pose_rows(label: str) -> tuple[str, list[list[str]]]:
@@ -76,9 +79,17 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     page = desk
     sent: list[dict] = []
     page.on("request", lambda r: sent.append(r.post_data_json) if r.url.endswith("/captures") else None)
+    # The same board's compass was calibrated before (its turn simulated, in µT: a board's compass
+    # in counts has no MotionCal packet): Send will offer to keep it on the board.
+    turn, _, _ = simulate_session(33, n=300, hard_iron_ut=60.0)
+    r = page.request.post(f"{server.url}/api/v1/calibrations", data={
+        "method": "magnetometer", "mag": turn.tolist(), "field_ut": 48.0, "device_id": DEVICE})
+    assert r.status == 201, r.text()
+    compass = r.json()
     page.goto(server.url + "/wizard?protocol=six&capture_s=0.5")
     expect(page.locator("#board")).to_be_visible()
     assert page.input_value("#board-baud") == "115200"
+    page.fill("#device-name", DEVICE)
     lines, printed = six_lines()
     play(page, lines, 62.5)  # the board's own rate: ≈ 62.5 lines a second of its millis()
     t0 = time.monotonic()
@@ -132,10 +143,37 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     api = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}/export?format=motioncal",
                            headers={"Authorization": f"Bearer {saved['token']}"})
     assert api.ok and len(api.body()) == 68 and api.body()[:2] == bytes([117, 84]), api.text()
+    # What it replaces, and the same device's compass calibration from the history, included by default.
+    box = page.locator("#board-send-box")
+    expect(box).to_have_attribute("data-compass", compass["id"])
+    assert "replaces all the board has stored: the accelerometer's offsets, the gyroscope's offsets, and the " \
+           "compass's hard iron, soft iron and field strength" in page.inner_text("#board-send-replaces")
+    assert page.is_checked("#board-send-compass")
+    assert f"Include the compass calibration of {DEVICE} from " in page.text_content("#board-send-compass-box")
+    assert "From the compass calibration of" in page.text_content("#board-send-parts")
     page.click("#board-send")
     expect(page.locator("#board-send-msg")).to_have_attribute("data-sent", "68")
-    assert bytes(page.evaluate("window.__board.written")) == api.body()
+    assert page.get_attribute("#board-send-msg", "data-compass") == compass["id"]
+    written = bytes(page.evaluate("window.__board.written"))
+    sent_cal, ours = decode(written), decode(api.body())  # decode checks the signature and the CRC
+    theirs = decode(page.request.get(f"{server.url}/api/v1/calibrations/{compass['id']}/export?format=motioncal").body())
+    assert np.array_equal(sent_cal.accel_zerog, ours.accel_zerog) and np.array_equal(sent_cal.gyro_zerorate, ours.gyro_zerorate)
+    assert np.array_equal(sent_cal.mag_hardiron, theirs.mag_hardiron) and sent_cal.mag_field == theirs.mag_field
+    assert np.array_equal(sent_cal.mag_softiron, theirs.mag_softiron)
+    # the stored compass calibration's own numbers (float32 on the way)
+    np.testing.assert_allclose(sent_cal.mag_hardiron, compass["model"]["b"], rtol=1e-6)
+    np.testing.assert_allclose(sent_cal.mag_softiron, compass["model"]["M"], rtol=1e-6, atol=1e-7)
+    assert sent_cal.mag_field == pytest.approx(compass["metrics"]["field_ut"], rel=1e-6)
     shot(page, "board_six_sent_1280")
+    box.screenshot(path=str(ARTIFACTS / "board_send_compass_1280.png"))
+    # Left out: the page says the board's compass calibration is reset, and the packet is the server's own.
+    page.uncheck("#board-send-compass")
+    assert "The board's compass calibration will be reset: no hard iron, an identity soft iron and 50 µT" \
+        in page.text_content("#board-send-parts")
+    page.click("#board-send")
+    page.wait_for_function("window.__board.written.length === 136")
+    assert bytes(page.evaluate("window.__board.written"))[68:] == api.body()
+    page.check("#board-send-compass")
     from tests.e2e.test_layout import layout_problems
 
     problems = []

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from app.calibration import CANONICAL_SIX
+from app.tls import lan_addresses
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
 from tests.e2e.conftest import shot
@@ -86,12 +87,30 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
             assert key not in visible, key
         problems = layout_problems(page, "calibration_page", width)
 
-        # A second device, then the history: both, newest first; the filter keeps one; its latest is a link.
+        # A second device, read again with the units shown (Read again with these units): the later reading
+        # supersedes the earlier one of the same upload, method and device.
         other = upload(page, server.url, f"other-board-{width}")
+        page.click("#units-go")
+        page.wait_for_function(f"/^\\/c\\/cal_/.test(location.pathname) && !location.pathname.endsWith('{other}')")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        again = CAL_PATH.search(page.url).group(1)
+        # The history: one row per recording and method, newest first; the earlier reading one tap away.
         page.goto(server.url + "/history")
         page.wait_for_selector("#history-table:not([hidden])")
         ids = page.eval_on_selector_all("#history-table tbody tr", "(rows) => rows.map((r) => r.dataset.id)")
-        assert ids.index(other) < ids.index(cal_id)
+        assert ids.index(again) < ids.index(cal_id) and other not in ids
+        toggle = page.locator(f"#history-table tr[data-id='{again}'] .earlier-toggle")
+        assert toggle.text_content() == "1 earlier" and toggle.get_attribute("aria-expanded") == "false"
+        toggle.click()
+        page.wait_for_selector(f"#history-table tr.earlier[data-id='{other}'][data-earlier-than='{again}']")
+        assert page.get_attribute(f"#history-table tr[data-id='{again}'] .earlier-toggle", "aria-expanded") == "true"
+        problems += layout_problems(page, "history_earlier", width)
+        shot(page, f"history_earlier_{width}")
+        page.click(f"#history-table tr[data-id='{other}'] th a")  # the earlier reading still opens by id
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.url.endswith(f"/c/{other}")
+        page.goto(server.url + "/history")
+        page.wait_for_selector("#history-table:not([hidden])")
         row = page.locator(f"#history-table tr[data-id='{cal_id}']")
         cells = row.locator("td").all_text_contents()
         assert cells[0] == f"bench-imu-{width}" and "accelerometer" in cells[1] and cells[2] == words
@@ -107,9 +126,9 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
         page.wait_for_selector("#history-table:not([hidden])")
         assert page.input_value("#history-device") == f"bench-imu-{width}"
         page.select_option("#history-device", "")
-        page.click(f"#history-table tr[data-id='{other}'] th a")
+        page.click(f"#history-table tr[data-id='{again}'] th a")
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")
-        assert page.url.endswith(f"/c/{other}")
+        assert page.url.endswith(f"/c/{again}")
         assert not problems, "\n".join(problems)
         assert errors == []
     finally:
@@ -306,7 +325,8 @@ def test_send_to_my_computer_without_web_share_shows_a_qr_of_a_short_link_the_co
     """The phone (no Web Share API) shows a QR code and a short link; the QR decodes to the link, which a
     second browser (the computer, keeping nothing) opens into the calibration's page with its files."""
     cal_id, token = session_calibration(server.url)
-    phone = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1)
+    phone = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1,
+                        timezone_id="Europe/Berlin")
     computer = axe_context(browser, viewport={"width": 1280, "height": 900}, device_scale_factor=1)
     try:
         page = phone.new_page()
@@ -319,14 +339,17 @@ def test_send_to_my_computer_without_web_share_shows_a_qr_of_a_short_link_the_co
         page.wait_for_selector("#send-box:not([hidden])")
         page.wait_for_function("document.querySelector('#send-qr').complete && document.querySelector('#send-qr').naturalWidth > 0")
         url = page.text_content("#send-url")
-        assert re.fullmatch(re.escape(server.url) + r"/s/[2-9A-HJKMNP-Z]{10}", url), url
+        # A server on loopback: the link is at this machine's LAN address, which the computer can open.
+        lan_url = f"http://{lan_addresses()[0]}:{server.port}"
+        assert re.fullmatch(re.escape(lan_url) + r"/s/[2-9A-HJKMNP-Z]{10}", url), url
         assert decode_qr(page.locator("#send-qr").screenshot()) == url  # the QR read back is the link
-        assert "opens this calibration until" in page.text_content("#send-expires")
+        expires = page.text_content("#send-expires")  # a date, a time and the phone's zone (Berlin: CET)
+        assert re.fullmatch(r"\(it opens this calibration until \d{1,2} [A-Z][a-z]+ 20\d\d, \d\d:\d\d CET\)\.", expires), expires
         problems = layout_problems(page, "send_fallback", width)
         assert not problems, "\n".join(problems)
 
         other = computer.new_page()
-        other.goto(url)
+        other.goto(url.replace(lan_url, server.url))  # the test's server listens on loopback only
         other.wait_for_selector("#downloads[data-ready=true]", state="attached")
         assert other.url == f"{server.url}/c/{cal_id}"  # the calibration's own address, the link's token kept for it
         assert other.locator("#downloads a").count() >= 4 and cal_id in other.text_content("#cal-meta")
@@ -354,7 +377,7 @@ def test_send_to_my_computer_hands_the_link_to_the_web_share_api(browser, server
         page.click("#send-btn")
         page.wait_for_function("window.__shared !== undefined")
         shared = page.evaluate("window.__shared")
-        assert re.fullmatch(re.escape(server.url) + r"/s/[2-9A-HJKMNP-Z]{10}", shared["url"])
+        assert re.fullmatch(rf"http://{re.escape(lan_addresses()[0])}:{server.port}/s/[2-9A-HJKMNP-Z]{{10}}", shared["url"])
         assert shared["text"] == page.text_content("#verdict-words")
         assert page.is_hidden("#send-box") and "Sent: the link opens it until" in page.text_content("#send-msg")
     finally:

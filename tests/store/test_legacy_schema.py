@@ -182,4 +182,34 @@ def test_the_package_carries_every_migration():
     files = {p for p in (package / "migrations").rglob("*") if p.is_file() and "__pycache__" not in p.parts}
     assert files and files <= shipped, sorted(map(str, files - shipped))
     assert {p.name for p in (package / "migrations" / "versions").glob("*.py")} >= {
-        "0001_calibrations_and_recordings.py", "0002_recording_files.py", "0003_sessions.py", "0004_links.py"}
+        "0001_calibrations_and_recordings.py", "0002_recording_files.py", "0003_sessions.py", "0004_links.py",
+        "0005_superseded_calibrations.py"}
+
+
+def test_a_revision_0004_database_gains_superseding_and_keeps_its_calibrations(database_url, tmp_path):
+    """A database file of the trical before 0005 (calibrations with no recording digest): upgraded in place,
+    its calibrations all list and read as before, and new ones of one upload supersede each other only."""
+    from alembic import command
+
+    from app.store.migrate import adopt_legacy_schema, alembic_config
+
+    legacy_database(database_url, 3)
+    engine = make_engine(database_url)
+    with engine.begin() as connection:  # adopted and brought to 0004, as the trical before 0005 left it
+        config = alembic_config(connection)
+        adopt_legacy_schema(connection, config)
+        command.upgrade(config, "0004")
+    engine.dispose()
+    store = open_store(database_url, tmp_path / "files")
+    assert store.schema_revision == head_revision() == "0005"
+    for body in CALIBRATIONS:
+        assert store.get_calibration(body["id"], owner=OWNERS[body["id"]]) == body
+    assert [b["id"] for b in store.list_calibrations(owner="key:a", device_id="d1")] == ["cal_key_a"]
+    first = store.add_calibration(dict(CALIBRATIONS[0], id=None), owner=None, recording_digest="ab" * 32)
+    second = store.add_calibration(dict(CALIBRATIONS[0], id=None), owner=None, recording_digest="ab" * 32)
+    other_owner = store.add_calibration(dict(CALIBRATIONS[0], id=None), owner="key:a", recording_digest="ab" * 32)
+    assert [b["id"] for b in store.list_calibrations(owner=None)] == [second["id"], "cal_keyless"]
+    assert store.list_calibrations(owner=None)[0]["earlier"] == 1
+    assert [b["id"] for b in store.list_calibrations(owner=None, superseded_by=second["id"])] == [first["id"]]
+    assert store.get_calibration(first["id"], owner=None)["superseded_by"] == second["id"]
+    assert "superseded_by" not in store.get_calibration(other_owner["id"], owner="key:a")  # another owner's own

@@ -21,7 +21,7 @@ def body(**kw):
 
 
 def test_migrations_are_versioned_and_idempotent(store, database_url, tmp_path):
-    assert store.schema_revision == head_revision() == "0004"
+    assert store.schema_revision == head_revision() == "0005"
     again = open_store(database_url, tmp_path / "files")  # a restart, or a second replica
     assert again.schema_revision == head_revision()
 

@@ -1,0 +1,31 @@
+"""The address another machine opens this server at: the start page's QR code for a phone, and a short
+link's page (*Send to my computer*) for a computer. One rule for both: TRICAL_PUBLIC_URL when set, else
+the address the request reached the server at, with this machine's LAN address in place of a loopback
+one (another machine cannot open 127.0.0.1)."""
+
+from __future__ import annotations
+
+from starlette.requests import Request
+
+from app.tls import lan_addresses
+
+LOOPBACK = ("127.0.0.1", "localhost", "::1")
+
+
+def reachable_url(request: Request) -> str:
+    """The address another machine opens: TRICAL_PUBLIC_URL as given, else ``scheme://host[:port]/`` of
+    this request (its Host), a loopback host replaced by this machine's first LAN address."""
+    public_url = request.app.state.settings.public_url
+    if public_url:
+        return public_url
+    host = request.url.hostname or "127.0.0.1"
+    if host in LOOPBACK:
+        host = lan_addresses()[0]
+    port = f":{request.url.port}" if request.url.port else ""
+    return f"{request.url.scheme}://{'[' + host + ']' if ':' in host else host}{port}/"
+
+
+def reachable_origin(request: Request) -> str:
+    """``scheme://host[:port]`` of :func:`reachable_url`, without its path (TRICAL_PUBLIC_URL may carry one)."""
+    scheme, _, rest = reachable_url(request).partition("://")
+    return f"{scheme}://{rest.split('/')[0]}"
