@@ -1,11 +1,13 @@
 """``trical capture PORT``: the guided calibration of a board in the terminal.
 
-The board's lines are read as they arrive (:mod:`app.io.board_lines`), written to a CSV log as received
-and watched by the hands-free capture engine the page uses: the device is still when the per-axis
+The board's lines are read as they arrive (:mod:`app.io.board_lines`), timed on the board's clock — its
+time column, else its rate counted over several seconds of arrivals (:class:`app.io.board_lines.StreamRate`),
+so that lines handed over in bursts are neither motion nor gaps — written to a CSV log and watched by the hands-free capture engine the page uses: the device is still when the per-axis
 spread of the accelerometer over a moving window (and the mean rotation rate, when the lines carry a
 gyroscope) falls below the page's thresholds, and moving again above their higher limits (hysteresis);
 held still for the page's hold time in a new pose, a capture starts, and it is done after the capture
-length unless the board moves (refused). The thresholds are the page's own, the Python constants
+length unless the board moves (refused, and it starts again once still). A capture that makes no progress
+for :data:`app.io.board_formats.STALL_S` says what it waits for and what it sees. The thresholds are the page's own, the Python constants
 :func:`app.web.tables.capture_thresholds` renders for it.
 
 Then the log is calibrated (``auto``, or the protocol's method) and the verdict printed. The six and free
@@ -29,10 +31,10 @@ from pathlib import Path
 import numpy as np
 
 from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.orientations import nearest_orientation
+from app.calibration.orientations import UP_VECTORS, nearest_orientation
 from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
-from app.io.board_formats import DEFAULT_BAUD, SILENCE_S
-from app.io.board_lines import BoardLineReader, LogWriter, board_rate, to_log
+from app.io.board_formats import DEFAULT_BAUD, SILENCE_S, STALL_S
+from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, to_log
 from app.io.errors import LogFormatError
 from app.io.formats.timing import time_scale
 from app.protocols import BOARD_PROTOCOLS, Protocol
@@ -67,6 +69,7 @@ class StillEngine:
     capture_from: int | None = None
     done: list = field(default_factory=list)  # (label, mean direction)
     rows: list = field(default_factory=list)  # (label, first row, row after the last) of each capture
+    seen: tuple | None = None  # (spread m/s², rotation °/s or None, mean) of the last full window
 
     def update(self, t: float, acc: np.ndarray, gyr: np.ndarray | None, row: int = 0) -> list[Event]:
         """Take one reading (time ``t`` in s, the log's ``row``) and return what happened."""
@@ -79,6 +82,7 @@ class StillEngine:
         a = np.array([w[1] for w in self.window])
         spread = float(a.std(axis=0).max())
         rate = None if gyr is None else float(np.linalg.norm(np.mean([w[2] for w in self.window], axis=0)))
+        self.seen = (spread, rate, a.mean(axis=0))
         if self.still:
             self.still = not (spread > th["spreadHigh"] or (rate is not None and rate > th["gyrHigh"]))
         else:
@@ -116,6 +120,34 @@ class StillEngine:
     @property
     def finished(self) -> bool:
         return len(self.done) >= self.protocol.poses
+
+    def waiting_words(self) -> str:
+        """What the engine waits for and what it sees now, for a capture that makes no progress: the poses
+        asked and the stillness of the last window against the thresholds."""
+        th = self.thresholds
+        done = [d[0] for d in self.done]
+        left = [p for p in getattr(self.protocol, "positions", ()) if p not in done]
+        asked = f"waiting for {' or '.join(left)}" if left else "waiting for a new pose"
+        if self.seen is None:
+            return f"{asked}: no full window of readings yet"
+        spread, rate, mean = self.seen
+        limit_a = th["spreadHigh"] if self.still else th["spreadLow"]
+        limit_w = th["gyrHigh"] if self.still else th["gyrLow"]
+        if not self.still:
+            if rate is not None and rate >= limit_w and spread < limit_a:
+                seen = f"the board turns: {rate:.2g} °/s > {limit_w:g}"
+            else:
+                seen = f"the board moves: spread {spread:.2g} m/s² > {limit_a:g}"
+            return f"{asked}: {seen}; hold it still in a pose asked"
+        up = nearest_orientation(mean, 90.0)
+        axis = np.asarray(UP_VECTORS[up])
+        angle = math.degrees(math.acos(max(-1.0, min(1.0, float(axis @ mean) / float(np.linalg.norm(mean))))))
+        if up in done:
+            return f"{asked}: the board is still with {up} up, captured already; turn it to a pose asked"
+        if angle > th["maxAngleDeg"]:
+            return (f"{asked}: the board is still, {angle:.0f}° from {up} (a pose is within {th['maxAngleDeg']:g}°); "
+                    "set it square on a side")
+        return f"{asked}: the board is still with {up} up; keep it so"
 
 
 def capture_segments(acc: np.ndarray, rows: list) -> list[dict]:
@@ -189,6 +221,11 @@ class Capture:
         self.acc_scale = self.gyr_scale = None
         self.time_scale = None
         self.record_from: float | None = None
+        self.stream = StreamRate()
+        self.times: list[float] = []  # each reading's time on the board's clock (s), once the rate is known
+        self.written = 0
+        self.fed = 0
+        self.progress_at: float | None = None
 
     def _step(self, text: str, bell: bool = False) -> None:
         if bell:
@@ -201,9 +238,10 @@ class Capture:
         fmt = self.reader.format
         log = to_log(self.readings, fmt, units=self.units, name="the board's first second")
         words = ", ".join(f"{s} {u}" for s, u in log.units.items())
-        rate = log.sampling_rate_hz
-        self._step(f"units checked at rest: {words}; rate {rate:.4g} Hz "
-                   f"({'the board' + chr(39) + 's time column' if fmt.time_col is not None else 'the arrivals'})")
+        rate = self._rate()
+        source = ("the board's time column" if fmt.time_col is not None else
+                  f"{len(self.readings)} readings counted over {self.stream.span_s:.1f} s of arrivals")
+        self._step(f"units checked at rest: {words}; rate {rate:.4g} Hz ({source})")
         for w in log.warnings:
             self._step(f"warning: {w}")
         if "acc" in fmt.sensors:
@@ -217,20 +255,59 @@ class Capture:
             self.time_scale = fmt.time_scale or time_scale(t)[0]
         self.checked = True
 
-    def _time(self, r) -> float:
-        if self.time_scale is not None:
-            return float(r.board_time) * self.time_scale
-        return float(r.arrival_s)
+    def _rate(self) -> float | None:
+        """The board's rate: its time column's (the upload rule) once it spans :data:`CHECK_S`, else the
+        count of readings over their arrival (:class:`app.io.board_lines.StreamRate`); None while unknown."""
+        fmt = self.reader.format
+        if fmt is not None and fmt.time_col is not None:
+            if len(self.readings) < 2:
+                return None
+            try:
+                timing = board_rate(self.readings, fmt)
+            except LogFormatError:
+                return None
+            span = (len(self.readings) - 1) / timing.sampling_rate_hz
+            return timing.sampling_rate_hz if span >= CHECK_S else None
+        return self.stream.rate_hz
 
-    def _feed_engine(self, new) -> None:
-        first_row = len(self.readings) - len(new)
-        for k, r in enumerate(new):
+    def _clock(self) -> None:
+        """Times for the readings not yet timed: the board's own, else one interval of the rate after the
+        last (a burst neither repeats a time nor makes a gap)."""
+        rate = None if self.time_scale is not None else self._rate()
+        for r in self.readings[len(self.times):]:
+            if self.time_scale is not None:
+                self.times.append(float(r.board_time) * self.time_scale)
+            else:
+                self.times.append(self.times[-1] + 1.0 / rate if self.times else 0.0)
+
+    def _write(self) -> None:
+        if self.writer is not None and self.written < len(self.times):
+            self.writer.write(self.readings[self.written:len(self.times)], self.times[self.written:])
+            self.written = len(self.times)
+
+    def _feed_engine(self) -> None:
+        while self.fed < len(self.times):
+            row, r = self.fed, self.readings[self.fed]
+            self.fed += 1
             if self.engine is None or "acc" not in r.values:
                 continue
             acc = np.asarray(r.values["acc"], dtype=float) * self.acc_scale
             gyr = None if self.gyr_scale is None else np.asarray(r.values["gyr"], dtype=float) * self.gyr_scale
-            for e in self.engine.update(self._time(r), acc, gyr, first_row + k):
+            for e in self.engine.update(self.times[row], acc, gyr, row):
+                if e.kind in ("start", "done"):
+                    self.progress_at = self.clock()
                 self._step(e.text, bell=True)
+            if self.engine.finished:
+                return
+
+    def _stalled(self, now: float) -> None:
+        """Every :data:`app.io.board_formats.STALL_S` without a capture started or done: what the engine
+        waits for, what it sees, and what to do."""
+        if self.engine is None or self.progress_at is None or now - self.progress_at < STALL_S:
+            return
+        self.progress_at = now
+        self._step(f"no capture for {STALL_S:g} s, {self.engine.waiting_words()}; Ctrl-C keeps the log "
+                   f"({self.out_path}) and says how to finish it", bell=True)
 
     def run(self) -> CaptureOutcome:
         opened = self.clock()
@@ -247,8 +324,8 @@ class Capture:
                                + (f"; {self.reader.skipped} lines that are not readings skipped"
                                   if self.reader.skipped else ""))
                 if new:
-                    self.writer.write(new)
                     self.readings += new
+                    self.stream.arrive(len(new), now)
                 elif not self.readings and not silence_said and now - opened > SILENCE_S:
                     silence_said = True
                     if self.reader.lines:
@@ -257,19 +334,22 @@ class Capture:
                     else:
                         self._step(f"Nothing arrives at {self.baud} baud: check the rate and that the board prints "
                                    "readings", bell=True)
-                if not self.checked and len(self.readings) >= 2 and self._span() >= CHECK_S:
+                if not self.checked and self._rate() is not None:
                     try:
                         self._check_units()
                     except LogFormatError as exc:
                         self._step(f"refused: {exc}", bell=True)
                         return self._outcome("refused", str(exc))
-                    self.record_from = now
+                    self.record_from = self.progress_at = now
                     if self.engine is None:
                         self._step(f"recording {self.seconds:g} s: {self.protocol.words}", bell=True)
                     else:
                         self._step(self.protocol.words)
                 if self.checked:
-                    self._feed_engine(new)
+                    self._clock()
+                    self._write()
+                    self._feed_engine()
+                    self._stalled(now)
                     if self.live and new and now - last_live > 0.1:
                         last_live = now
                         self.live(_live_words(new[-1]))
@@ -286,18 +366,21 @@ class Capture:
             return self._outcome("interrupted")
         finally:
             if self.writer is not None:
+                self._write_rest()
                 self.writer.close()
 
-    def _span(self) -> float:
-        return float(self.readings[-1].arrival_s - self.readings[0].arrival_s)
+    def _write_rest(self) -> None:
+        """The readings not yet written (the rate still unknown, or a capture stopped): on the rate once it
+        is known, else on their arrival."""
+        if self._rate() is not None or self.time_scale is not None:
+            self._clock()
+            self._write()
+        elif self.written == 0 and self.readings:
+            self.writer.write(self.readings)
+            self.written = len(self.readings)
 
     def _outcome(self, status: str, message: str = "") -> CaptureOutcome:
-        rate = None
-        if len(self.readings) >= 2:
-            try:
-                rate = board_rate(self.readings, self.reader.format).sampling_rate_hz
-            except LogFormatError:
-                rate = None
+        rate = self._rate()
         return CaptureOutcome(status, self.out_path if self.writer is not None else None, len(self.readings),
                               self.reader.format, rate, message, [] if self.engine is None else list(self.engine.rows))
 

@@ -36,6 +36,17 @@ DEFAULT_BAUD = 115200
 SILENCE_S = 3.0
 """Nothing for this long after the port opened: the rate or the sketch is wrong, and the page says so."""
 
+RATE_MIN_S = 1.0
+RATE_STEPS = 2.0
+"""Live lines: the board's rate is the slope of the readings counted against their arrival (least squares
+over every chunk since the first), decided once the arrivals span ``RATE_MIN_S`` and ``RATE_STEPS`` times
+their longest step: a bridge's buffer or a loaded host delivering 1–2 s of lines at once is decided after
+2–4 s, and its bursts shift the count, not its slope. Never the step of one burst's arrival
+(app.io.board_lines.StreamRate, static/js/board_lines.js StreamRate)."""
+
+STALL_S = 20.0
+"""A capture that makes no progress for this long says what it waits for and what to do."""
+
 NORDIC_UART = {
     "service": "6e400001-b5a3-f393-e0a9-e50e24dcca9e",
     "rx": "6e400002-b5a3-f393-e0a9-e50e24dcca9e",  # the board receives: trical writes here
@@ -65,6 +76,9 @@ def board_tables() -> dict:
         "baudRates": list(BAUD_RATES),
         "defaultBaud": DEFAULT_BAUD,
         "silenceS": SILENCE_S,
+        "rateMinS": RATE_MIN_S,
+        "rateSteps": RATE_STEPS,
+        "stallS": STALL_S,
         "nordicUart": dict(NORDIC_UART),
         "packet": {"bytes": MOTIONCAL_PACKET_BYTES, "signature": list(MOTIONCAL_SIGNATURE), "crc": dict(MOTIONCAL_CRC),
                    "magFloats": list(MOTIONCAL_MAG_FLOATS), "defaultFieldUt": DEFAULT_FIELD_UT},

@@ -13,9 +13,9 @@ The formats (:mod:`app.io.board_formats` holds their constants):
   order), optionally after a leading time (4, 7 or 10 columns), separated by commas, semicolons, tabs
   or spaces.
 
-Lines end in CR, LF or CRLF. The rate is the board's: from its time column when the lines have one,
-else from the span of the arrivals (:func:`app.io.formats.timing.decide_timing`, which bursts of a
-serial host do not move). The units are checked at rest by the rules of every log
+Lines end in CR, LF or CRLF. The rate is the board's: from its time column when the lines have one
+(:func:`app.io.formats.timing.decide_timing`); else, for lines read live, from the count of readings
+against their arrival over several seconds (:class:`StreamRate`), never from the arrival of one burst. The units are checked at rest by the rules of every log
 (:func:`app.io.formats.units.settle_units`) when the readings become a log (:func:`to_log`).
 """
 
@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW
+from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_MIN_S, RATE_STEPS
 from .errors import LogFormatError
 from .formats.generic_csv import map_columns
 from .formats.table import WHITESPACE, guess_delimiter, split_row
@@ -322,6 +322,69 @@ class BoardLineReader:
         return BoardReading(arrival_s, board_time, {s: tuple(values[c] for c in cols) for s, cols in f.columns.items()})
 
 
+class StreamRate:
+    """The board's rate from live lines without a time column: readings counted over their arrival.
+
+    A board prints at its own rate; a USB-serial bridge's buffer or a loaded host hands its lines over in
+    bursts (63 lines at once about every second from a board at 62.5 Hz), and a read may split a burst in
+    two. Each chunk's arrival is a point (t, readings so far). A burst ends at a point whose next arrival
+    comes after at least half the longest step seen (a split's parts come closer together); when a burst
+    ends, every line printed until then has arrived. The rate is the readings counted between the end of
+    the first burst and the end of the latest one, over the time between them — the span rule of uploads
+    (:func:`app.io.formats.timing.decide_timing`: samples over time, never one step), taken between
+    moments when the count is whole. A steady stream's every chunk ends a "burst". It is decided once
+    those ends span :data:`app.io.board_formats.RATE_MIN_S` and :data:`~app.io.board_formats.RATE_STEPS`
+    times the longest step (bursts of 1–2 s: after 2–4 s), and stays decided. The page's twin is
+    ``StreamRate`` of static/js/board_lines.js, on the same constants.
+    """
+
+    def __init__(self, min_s: float = RATE_MIN_S, steps: float = RATE_STEPS):
+        self.min_s, self.steps = min_s, steps
+        self.count = 0
+        self.longest = 0.0
+        self.points: list[tuple[float, int]] = []  # until decided: every arrival
+        self.first: tuple[float, int] | None = None  # the end of the first burst, once decided
+        self.end: tuple[float, int] | None = None  # the end of the latest
+        self.t0: float | None = None
+        self.last: float | None = None
+
+    def arrive(self, readings: int, arrival_s: float) -> None:
+        """A chunk bringing ``readings`` readings arrived at ``arrival_s`` (seconds, any origin)."""
+        if readings <= 0:
+            return
+        self.count += readings
+        if self.t0 is None:
+            self.t0 = arrival_s
+        if self.last is not None:
+            step = arrival_s - self.last
+            self.longest = max(self.longest, step)
+            if self.first is not None and step >= 0.5 * self.longest:
+                self.end = (self.last, self._prev)
+        self.last, self._prev = arrival_s, self.count
+        if self.first is None:
+            self.points.append((arrival_s, self.count))
+            ends = [p for p, q in zip(self.points, self.points[1:]) if q[0] - p[0] >= 0.5 * self.longest]
+            if len(ends) >= 2 and ends[-1][0] - ends[0][0] >= self.needed_s:
+                self.first, self.end, self.points = ends[0], ends[-1], []
+
+    @property
+    def span_s(self) -> float:
+        """The arrivals' span the rate is counted over (0 while undecided)."""
+        return 0.0 if self.first is None else self.end[0] - self.first[0]
+
+    @property
+    def needed_s(self) -> float:
+        """The span of burst ends the rate is first decided on (longer for longer bursts)."""
+        return max(self.min_s, self.steps * self.longest)
+
+    @property
+    def rate_hz(self) -> float | None:
+        """Readings per second, or None while undecided."""
+        if self.first is None:
+            return None
+        return (self.end[1] - self.first[1]) / (self.end[0] - self.first[0])
+
+
 def read_lines(lines, fmt: str = "auto", *, arrivals=None) -> tuple[list[BoardReading], BoardLineReader]:
     """All the readings of ``lines`` (text without line ends) as a reader of ``fmt`` makes them, stamped
     ``arrivals`` (one per line; 0, 1, 2 … when None)."""
@@ -407,8 +470,9 @@ LOG_UNIT_WORDS = {"m/s^2": "m/s^2", "g": "g", "deg/s": "deg/s", "rad/s": "rad/s"
 
 class LogWriter:
     """Writes the readings to a CSV log as they are received, in the format's units (named in the header
-    when the format states them), with the board's time column when the lines have one, else the host's
-    arrival time in seconds: ``trical calibrate LOG.csv`` reads it back with the board's rate."""
+    when the format states them), with the board's time column when the lines have one, else the time in
+    seconds on the board's rate (the caller's ``times``; the host's arrival when none is given):
+    ``trical calibrate LOG.csv`` reads it back with the board's rate."""
 
     def __init__(self, path: Path, fmt: LineFormat):
         self.path = Path(path)
@@ -427,10 +491,14 @@ class LogWriter:
         self.file.write(",".join(names) + "\n")
         self.count = 0
 
-    def write(self, readings: list[BoardReading]) -> None:
-        for r in readings:
+    def write(self, readings: list[BoardReading], times=None) -> None:
+        """Rows for ``readings``; without a time column, at ``times`` (seconds on the board's clock, from
+        its rate: :class:`StreamRate`) when given, else at their arrival."""
+        for i, r in enumerate(readings):
             if self.fmt.time_col is not None:
                 t = repr(r.board_time) if not float(r.board_time).is_integer() else str(int(r.board_time))
+            elif times is not None:
+                t = f"{times[i]:.6f}"
             else:
                 if self.first_arrival is None:
                     self.first_arrival = r.arrival_s

@@ -8,18 +8,21 @@
 //
 // Times, on the page's clock (performance.now(), as a devicemotion event's): a board's own time
 // column when its lines have one (in ms, shifted to the first reading's arrival, a reset of the
-// board's clock rebased so that time goes on increasing); otherwise the lines of one chunk, which arrive together, are spread evenly between
-// the previous chunk's arrival and this one's, so that a burst neither repeats a time nor changes the
-// rate. The rate shown is the board's: readings over the span of the board's time, or over the span
-// of their arrival since the first chunk (bursts average out).
+// board's clock rebased so that time goes on increasing); otherwise the board's rate counted over several
+// seconds of arrivals (StreamRate, board_lines.js), each reading one interval of it after the one before,
+// from the first chunk's arrival: lines that reach the page in bursts (a USB-serial bridge's buffer, a
+// loaded computer) are neither motion nor a gap. Until the rate is decided the readings wait (the live
+// view shows them at once). The rate shown is the board's: readings over the span of the board's time,
+// or the counted one.
 
 import { TABLES } from "./tables.js";
-import { BoardLines, LineSplitter, accUnitAtRest, inWizardUnits } from "./board_lines.js";
+import { BoardLines, LineSplitter, StreamRate, accUnitAtRest, inWizardUnits } from "./board_lines.js";
 
 const B = TABLES.board;
 export const BAUD_RATES = B.baudRates;
 export const DEFAULT_BAUD = B.defaultBaud;
 export const SILENCE_MS = B.silenceS * 1000;
+export const STALL_MS = B.stallS * 1000; // a capture without progress this long says what it waits for
 const BLE_CHUNK = 20; // bytes a Bluetooth LE write carries at the default MTU
 
 export const hasSerial = () => typeof navigator !== "undefined" && "serial" in navigator;
@@ -127,8 +130,8 @@ export class BoardSource {
     this.unitProblem = null; // the norm at rest when it is neither g nor m/s²
     this.rest = []; // recent accelerometer readings, to decide the unit at rest
     this.firstArrival = null;
-    this.firstCount = 0;
-    this.lastArrival = null;
+    this.stream = new StreamRate();
+    this.waiting = []; // readings waiting for the rate (lines without the board's time)
     this.count = 0;
     this.boardFirst = null; // the first board time and the last, ms
     this.boardLast = null;
@@ -144,8 +147,7 @@ export class BoardSource {
     if (this.boardFirst !== null && this.boardLast > this.boardFirst && this.count > 2) {
       return (this.count - 1) / ((this.boardLast - this.boardFirst) / 1000);
     }
-    if (this.firstArrival === null || this.lastArrival - this.firstArrival < 500) return null;
-    return (this.count - this.firstCount) / ((this.lastArrival - this.firstArrival) / 1000);
+    return this.stream.rateHz;
   }
 
   text(chunk, now) {
@@ -168,22 +170,37 @@ export class BoardSource {
         if (this.boardFirst === null) this.boardFirst = t;
         this.boardLast = t;
       } else {
-        const from = this.lastArrival === null ? now : this.lastArrival;
-        t = from + ((now - from) * (i + 1)) / readings.length;
-        if (this.lastT !== null && t <= this.lastT) t = this.lastT + 0.001;
+        this.waiting.push(r);
+        return;
       }
       this.lastT = t;
       this.count += 1;
       this.take({ ...r, t });
     });
-    if (this.firstArrival === null) { this.firstArrival = now; this.firstCount = this.count; }
-    this.lastArrival = now;
+    if (this.firstArrival === null) this.firstArrival = now;
+    if (timed) return;
+    this.stream.arrive(readings.length, now / 1000);
+    const rate = this.stream.rateHz;
+    if (rate === null) { // the live view shows them at once, on their arrival
+      for (const r of readings) this.onLive({ t: now, ...inWizardUnits(r, this.liveUnits()) }, r);
+      return;
+    }
+    for (const r of this.waiting.splice(0)) {
+      const t = this.lastT === null ? this.firstArrival : this.lastT + 1000 / rate;
+      this.lastT = t;
+      this.count += 1;
+      this.take({ ...r, t });
+    }
+  }
+
+  liveUnits() {
+    const units = this.units || { ...this.lines.units, acc: this.lines.units.acc || "m/s^2" };
+    return { ...units, gyr: units.gyr || "deg/s" };
   }
 
   take(r) {
     if (!this.units) this.decideUnits(r);
-    const units = this.units || { ...this.lines.units, acc: this.lines.units.acc || "m/s^2" };
-    const sample = { t: r.t, ...inWizardUnits(r, { ...units, gyr: units.gyr || "deg/s" }) };
+    const sample = { t: r.t, ...inWizardUnits(r, this.liveUnits()) };
     this.onLive(sample, r);
     if (this.units) this.onSample(sample);
   }
@@ -210,4 +227,26 @@ export class BoardSource {
     this.unitProblem = null;
     this.units = { acc, gyr, mag: known.mag || (r.mag ? "unknown" : null) };
   }
+}
+
+// What a board's capture that made no progress for STALL_MS waits for and what it sees, from the capture
+// machine (motion.js) and its last output {still, spread, gyr, pose, angleDeg}: the poses asked, the
+// stillness against the machine's thresholds, and what to do (the terminal's twin: app/board_capture.py).
+export function stallWords(machine, out) {
+  const o = machine.o || TABLES.capture;
+  const left = typeof machine.remaining === "function" ? machine.remaining() : [];
+  const asked = left.length ? `Waiting for ${left.join(" or ")}` : "Waiting for a new pose";
+  let seen;
+  if (!out.still) {
+    const turning = out.gyr != null && out.gyr >= o.gyrLow && out.spread < o.spreadLow;
+    seen = turning ? `the board turns: ${out.gyr.toFixed(1)} °/s > ${o.gyrLow}; hold it still in a pose asked`
+      : `the board moves: spread ${out.spread.toFixed(2)} m/s² > ${o.spreadLow}; hold it still in a pose asked`;
+  } else if (out.angleDeg > o.maxAngleDeg) {
+    seen = `the board is still, ${Math.round(out.angleDeg)}° from ${out.pose}; set it square on a side`;
+  } else if (left.length && !left.includes(out.pose)) {
+    seen = `the board is still with ${out.pose} up, captured already; turn it to a pose asked`;
+  } else {
+    seen = `the board is still with ${out.pose} up; keep it so`;
+  }
+  return `No capture for ${STALL_MS / 1000} s. ${asked}: ${seen}.`;
 }

@@ -286,6 +286,60 @@ export function accUnitAtRest(norm) {
   return null;
 }
 
+// The board's rate from live lines without a time column: readings counted over their arrival, the twin
+// of app/io/board_lines.py's StreamRate on the same constants (the server's tables). Each chunk is a point
+// (arrival, readings so far); a burst ends at a point whose next chunk comes after at least half the
+// longest step (a read that splits a burst brings its parts closer together), and when it ends every
+// line printed until then has arrived. The rate is the readings counted between the end of the first
+// burst and the end of the latest over the time between them, decided once those ends span rateMinS and
+// rateSteps times the longest step (bursts of 1–2 s: after 2–4 s), then kept up to date. Never the step
+// of one burst's arrival.
+export class StreamRate {
+  constructor(minS = B.rateMinS, steps = B.rateSteps) {
+    this.minS = minS;
+    this.steps = steps;
+    this.count = 0;
+    this.longest = 0;
+    this.points = []; // until decided: every arrival
+    this.first = null; // [t, count] at the end of the first burst, once decided
+    this.end = null; // and of the latest
+    this.last = null;
+    this.prev = 0;
+  }
+
+  // A chunk bringing `readings` readings arrived at `t` (seconds, any origin).
+  arrive(readings, t) {
+    if (readings <= 0) return;
+    this.count += readings;
+    if (this.last !== null) {
+      const step = t - this.last;
+      this.longest = Math.max(this.longest, step);
+      if (this.first !== null && step >= 0.5 * this.longest) this.end = [this.last, this.prev];
+    }
+    this.last = t;
+    this.prev = this.count;
+    if (this.first === null) {
+      this.points.push([t, this.count]);
+      const ends = this.points.filter((p, i) => i + 1 < this.points.length && this.points[i + 1][0] - p[0] >= 0.5 * this.longest);
+      if (ends.length >= 2 && ends[ends.length - 1][0] - ends[0][0] >= this.neededS) {
+        this.first = ends[0];
+        this.end = ends[ends.length - 1];
+        this.points = [];
+      }
+    }
+  }
+
+  get neededS() { return Math.max(this.minS, this.steps * this.longest); }
+
+  get spanS() { return this.first === null ? 0 : this.end[0] - this.first[0]; }
+
+  // Readings per second, or null while undecided.
+  get rateHz() {
+    if (this.first === null) return null;
+    return (this.end[1] - this.first[1]) / (this.end[0] - this.first[0]);
+  }
+}
+
 // Converts a reading to the wizard's units: acc m/s², gyr °/s, mag µT (or as they are when unknown).
 const GYR_TO_DEG_S = { "deg/s": 1, "rad/s": 180 / Math.PI };
 const MAG_TO_UT = { uT: 1, nT: 0.001, gauss: 100 };

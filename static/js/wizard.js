@@ -6,6 +6,7 @@ import { createSession, getCalibration, getSession, solveSession } from "./api.j
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
 import { describePose, poseSvg, setDevice, shortPose } from "./poses.js";
 import { BoardPanel } from "./board_panel.js";
+import { STALL_MS, stallWords } from "./board.js";
 import { adviceText, gyroBiasText } from "./result.js";
 import { kindOf } from "./result_kinds.js";
 import { cue, unlockCues } from "./cues.js";
@@ -26,6 +27,7 @@ import { $, el, setHidden, setText } from "./dom.js";
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
 const root = $("#wizard");
 const NO_MOTION_MS = 2000;
+const EARLY_MS = 10_000; // a board's samples kept while its session is created
 
 const state = newState({
   protocol: root.dataset.protocol,
@@ -202,6 +204,7 @@ async function ensureSession() {
     state.token = created.token;
     adopt(created);
     remember();
+    for (const sample of state.early.splice(0)) if (state.machine) capture(sample);
     v.keyBox = false;
     v.startOver = true;
     instruct(state, flow.firstInstruction(state), flow.firstCode ? flow.firstCode(state) : null);
@@ -324,13 +327,26 @@ function onSample(raw) {
   const sample = { t, acc: toW3C(raw.acc, convention.convention), gyr: raw.gyr };
   flow.record(state, sample);
   if (!state.session) {
+    // A board's lines come in bursts, and the first wait for its rate to be counted: what it printed
+    // while the session was being created goes to the capture engine once it is.
+    if (state.device === "board") {
+      state.early.push(sample);
+      while (state.early[0].t < t - EARLY_MS) state.early.shift();
+    }
     v.live = { acc: sample.acc, out: null, force: false };
     render(state);
     return;
   }
+  capture(sample);
+}
+
+// One sample into the capture engine, and what it says to the person.
+function capture(sample) {
+  const v = state.view;
   const out = state.machine.push(sample);
   v.live = { acc: sample.acc, out, force: out.event !== null };
   flow.show(state, out);
+  if (state.device === "board") stalled(out);
   // The machine's own events as cues, the same in every flow: a capture has begun (again, after a
   // move); a pose is refused before anything is sent (six: already captured; cube24: the wrong face
   // up; free: too near a direction captured). The flows cue what the server answers (send).
@@ -386,6 +402,16 @@ async function onStart() {
 
 // --- a board ------------------------------------------------------------------------------------
 
+// A board's capture that makes no progress (no capture started or done) for STALL_MS says, in the
+// instruction, what it waits for and what it sees against the capture's thresholds, until it goes on.
+function stalled(out) {
+  const now = performance.now();
+  if (out.event === "started" || out.capture || state.progressAt == null) state.progressAt = now;
+  if (now - state.progressAt < STALL_MS) return;
+  instruct(state, stallWords(state.machine, out));
+}
+
+
 // The board's samples go where the phone's go (onSample), read while the flow listens.
 function listenBoard() {
   state.listening = true;
@@ -412,6 +438,7 @@ function startBoard() {
   }
   if (state.listening && !state.board) stop(); // the phone's events (none come on a computer) make way
   state.board = board;
+  state.progressAt = null; // the wait without progress counts from the first sample
   unlockCues();
   const v = state.view;
   v.problem = null;

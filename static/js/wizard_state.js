@@ -17,6 +17,7 @@ export function newState({ protocol, captureS }) {
     gotMotion: false,
     creating: false,
     lastT: null,
+    early: [], // a board's samples before its session exists (wizard.js)
     lastAnnounced: "",
     solveOnContinue: false, // a complete session whose solve failed: Continue solves again
     view: {

@@ -5,9 +5,10 @@
 //   and resolves to a port (the chooser's answer); with window.__board.refuse set it rejects with a
 //   NotFoundError, as Chromium does when the person closes the chooser;
 // - port.open({baudRate}) records the rate; port.readable is a ReadableStream of Uint8Array chunks: the
-//   lines the test queued with window.__board.play(lines, hz, eol) leave at `hz` lines a second of the
-//   page's clock, gathered every 16 ms into one chunk (a USB serial port delivers bursts), each line
-//   ended by `eol` (CRLF unless given). Opened at another rate than window.__board.baud (115200 unless
+//   lines the test queued with window.__board.play(lines, hz, eol, chunkMs) leave at `hz` lines a second
+//   of the page's clock, gathered every 16 ms into one chunk (a USB serial port delivers bursts) or, with
+//   `chunkMs`, every chunkMs (a USB-serial bridge's buffer, a loaded computer: 1000 → 1 s of lines at
+//   once), each line ended by `eol` (CRLF unless given). Opened at another rate than window.__board.baud (115200 unless
 //   set), the board's bytes arrive as a UART at the wrong rate makes them: the same count of bytes, each
 //   one scrambled (XORed with 0x5A), the line ends left where they were;
 // - port.writable is a WritableStream whose bytes are kept in window.__board.written;
@@ -17,9 +18,10 @@
   const board = { baud: 115200, opened: [], requests: [], written: [], closed: 0, queue: [], hz: 100, sent: 0,
     refuse: false, reading: false };
   window.__board = board;
-  board.play = (lines, hz, eol = "\r\n") => {
+  board.play = (lines, hz, eol = "\r\n", chunkMs = 16) => {
     for (const line of lines) board.queue.push(line + eol);
     board.hz = hz;
+    board.chunkMs = chunkMs;
   };
   board.pending = () => board.queue.length;
   const encoder = new TextEncoder();
@@ -31,6 +33,8 @@
       board.opened.push(baudRate);
       let due = 0;
       let last = performance.now();
+      let flushed = last;
+      let text = "";
       const port = this;
       this.readable = new ReadableStream({
         start(controller) {
@@ -38,11 +42,12 @@
             const now = performance.now();
             due += ((now - last) / 1000) * board.hz;
             last = now;
-            let text = "";
             while (due >= 1 && board.queue.length) { text += board.queue.shift(); due -= 1; board.sent += 1; }
             if (!board.queue.length) due = 0;
-            if (!text) return;
+            if (!text || now - flushed < (board.chunkMs || 16) - 8) return;
+            flushed = now;
             let bytes = encoder.encode(text);
+            text = "";
             if (baudRate !== board.baud) bytes = bytes.map((b) => (b === 10 || b === 13 ? b : b ^ 0x5a));
             controller.enqueue(bytes);
           }, 16);

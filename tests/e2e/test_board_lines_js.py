@@ -95,3 +95,58 @@ def test_the_unit_at_rest_and_the_board_s_rate_whatever_the_bursts(js):
     units, rate, increasing, az, n = got
     assert units == {"acc": "g", "gyr": None, "mag": None} and increasing
     assert rate == pytest.approx(100.0, rel=0.02) and az == pytest.approx(G) and 240 <= n < 300
+
+
+@pytest.mark.parametrize("burst_s", [1.0, 2.0])
+def test_the_rate_counted_over_bursts_of_1_and_2_s_and_times_on_it(js, burst_s):
+    """A bare board at 62.5 Hz whose lines reach the page `burst_s` at a time, each burst split in two reads
+    0.1 s apart (the twin of tests/io/test_board_lines.py's case): the rate is counted, decided after three
+    bursts, and the samples are one interval of it apart, none in a burst repeating a time."""
+    got = js(f"""const src = new b.BoardSource({{ onSample: (s) => out.push(s) }}); const out = [];
+      const rate = new m.StreamRate(); let lines = 0, decidedAt = null;
+      for (let k = 0; k < 10; k += 1) {{
+        const t = 1000 * k * {burst_s} + 37 * ((k * 7) % 3);
+        const made = Math.round(62.5 * (k + 1) * {burst_s}); const first = Math.floor((made - lines) / 2);
+        rate.arrive(first, t / 1000); rate.arrive(made - lines - first, t / 1000 + 0.1);
+        src.text('0.001 -0.002 1.000\\n'.repeat(first), t); src.text('0.001 -0.002 1.000\\n'.repeat(made - lines - first), t + 100);
+        lines = made;
+        if (decidedAt === null && rate.rateHz !== null) decidedAt = t / 1000;
+      }}
+      const steps = out.slice(1).map((s, i) => s.t - out[i].t);
+      return [rate.rateHz, decidedAt, src.rate(), Math.min(...steps), Math.max(...steps), out.length, lines];""")
+    rate, decided_at, source_rate, step_min, step_max, n, lines = got
+    assert decided_at == pytest.approx(3 * burst_s, abs=0.2)
+    assert rate == pytest.approx(62.5, rel=0.01) and source_rate == pytest.approx(62.5, rel=0.01)
+    # no repeated time, no gap: the first estimate within the delays' spread (74 ms) over its 2 s
+    assert 1000 / 62.5 * 0.95 < step_min <= step_max < 1000 / 62.5 * 1.05
+    assert lines - 2 * 62.5 * burst_s <= n <= lines
+
+
+def test_a_time_column_wins_over_the_arrival(js):
+    """The board's own time (millis() at 50 Hz) gives the samples' times and the rate, however the lines
+    arrive (here 100 at once every 0.5 s: 200 Hz by their arrival)."""
+    got = js("""const src = new b.BoardSource({ onSample: (s) => out.push(s) }); const out = [];
+      for (let k = 0; k < 6; k += 1) {
+        let text = ''; for (let i = 0; i < 100; i += 1) text += `${20 * (100 * k + i)},0.001,-0.002,1.000\\n`;
+        src.text(text, 1000 + 500 * k);
+      }
+      const steps = out.slice(1).map((s, i) => s.t - out[i].t);
+      return [src.rate(), Math.min(...steps), Math.max(...steps)];""")
+    rate, step_min, step_max = got
+    assert rate == pytest.approx(50.0, rel=1e-9) and step_min == pytest.approx(20.0) and step_max == pytest.approx(20.0)
+
+
+def test_a_stalled_capture_says_what_it_waits_for(js):
+    machine = "{ o: (await import('/static/js/tables.js')).TABLES.capture, remaining: () => ['+x', '-y'] }"
+    got = js(f"""const machine = {machine};
+      return [b.stallWords(machine, {{ still: false, spread: 0.31, gyr: 0.5 }}),
+              b.stallWords(machine, {{ still: false, spread: 0.02, gyr: 7.25 }}),
+              b.stallWords(machine, {{ still: true, spread: 0.02, gyr: 0.5, pose: '+z', angleDeg: 31 }}),
+              b.stallWords(machine, {{ still: true, spread: 0.02, gyr: 0.5, pose: '+z', angleDeg: 3 }})];""")
+    assert got == [
+        "No capture for 20 s. Waiting for +x or -y: the board moves: spread 0.31 m/s² > 0.1; hold it still in a pose asked.",
+        "No capture for 20 s. Waiting for +x or -y: the board turns: 7.3 °/s > 3; hold it still in a pose asked.",
+        "No capture for 20 s. Waiting for +x or -y: the board is still, 31° from +z; set it square on a side.",
+        "No capture for 20 s. Waiting for +x or -y: the board is still with +z up, captured already; turn it to a "
+        "pose asked.",
+    ]

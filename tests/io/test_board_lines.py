@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from app.io.board_formats import MOTIONCAL_RAW
-from app.io.board_lines import (BoardLineReader, LogWriter, board_rate, numbers_format, read_lines, to_log)
+from app.io.board_lines import (BoardLineReader, LogWriter, StreamRate, board_rate, numbers_format, read_lines,
+                                 to_log)
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.calibration import STANDARD_GRAVITY
@@ -191,3 +192,38 @@ def test_log_written_as_received_reads_back_with_the_board_rate(tmp_path):
     back = read_log(tmp_path / "raw.csv")
     assert back.units == {"acc": "m/s^2", "gyr": "deg/s", "mag": "uT"}
     assert back.sampling_rate_hz == pytest.approx(100.0, rel=1e-6)
+
+
+@pytest.mark.parametrize("burst_s", [1.0, 2.0])
+def test_live_rate_counted_over_bursts_of_arrival(burst_s):
+    """A board at 62.5 Hz whose lines arrive in bursts of 1 s and 2 s (each split in two reads 0.1 s apart,
+    the host's delay varying by 50 ms): the rate is counted, never read from a burst's arrival."""
+    rng = np.random.default_rng(4)
+    rate, lines = StreamRate(), 0
+    decided_at = None
+    for k in range(10):
+        t = k * burst_s + rng.uniform(0, 0.05)
+        made = round(62.5 * (k + 1) * burst_s)
+        first = (made - lines) // 2
+        rate.arrive(first, t)
+        rate.arrive(made - lines - first, t + 0.1)
+        lines = made
+        if decided_at is None and rate.rate_hz is not None:
+            decided_at = t
+    assert decided_at == pytest.approx(3 * burst_s, abs=0.2)  # the ends of the first and third bursts
+    assert rate.rate_hz == pytest.approx(62.5, rel=0.01)
+    # steady arrivals, every 16 ms: decided after a second
+    steady = StreamRate()
+    for k in range(100):
+        steady.arrive(1, k * 0.016)
+    assert steady.rate_hz == pytest.approx(62.5, rel=1e-6) and steady.span_s >= 1.0
+
+
+def test_a_board_time_column_wins_over_bursts():
+    """Lines with the board's time column: its times decide the rate (the rule of uploads), however the
+    lines arrived."""
+    lines = [f"{4 * i},0.01,0.02,0.98" for i in range(500)]  # millis() at 250 Hz
+    arrivals = np.repeat(np.arange(5) * 0.4, 100)  # 100 lines at once every 0.4 s
+    out, reader = read_lines(lines, arrivals=arrivals)
+    assert reader.format.time_col == 0
+    assert board_rate(out, reader.format).sampling_rate_hz == pytest.approx(250.0, rel=1e-9)
