@@ -1,11 +1,11 @@
 // The wizard's one state object (no DOM): what the session and the sensors are doing, and `view`,
 // what the page shows. The flows change it; wizard.js's render(state) writes it to the page.
 
-export function newState({ protocol, captureS }) {
+export function newState({ protocol, captureS, device = "phone" }) {
   return {
     protocol,
     captureS,
-    device: "phone", // "board" once a board is the source: the flows' words say "board"
+    device, // the page's source (source.js), "phone" or "board": the flows' words say "board" for a board
     board: null, // the board panel (board_panel.js) when a board is the source
     storeKey: `trical.wizard.${protocol}`,
     session: null, // the server's session object
@@ -102,5 +102,4 @@ export const VIEW_DEFAULTS = {
   figures: (cal) => ({ ...cal, metrics: Object.fromEntries(Object.entries(cal.metrics || {})
     .filter(([, v]) => v === null || typeof v !== "object")) }),
   bind() {}, // the flow's own controls: (state, ctx)
-  boardHeading: null, // the capture card's heading once a board is the source
 };
