@@ -132,7 +132,7 @@ def docs(page, url):
     page.wait_for_selector(".opblock", timeout=20_000)
 
 
-def board(query: str = "?protocol=six", lines: tuple[str, ...] = (), baud: str | None = None, serial: bool = True):
+def board(query: str = "?protocol=six&source=board", lines: tuple[str, ...] = (), baud: str | None = None, serial: bool = True):
     """A wizard page with a board (tests/e2e/board_shim.js, the stand-in for the Web Serial API)
     printing `lines` at 100 a second, connected at `baud`; without `serial`, a browser lacking the API."""
     def open_board(page, url):
@@ -189,7 +189,7 @@ STATES = {
     "board_silent": board(),
     "board_unreadable": board(lines=UNI, baud="9600"),
     "board_no_serial": board(serial=False),
-    "board_compass_live": board("?protocol=compass", lines=UNI),
+    "board_compass_live": board("?protocol=compass&source=board", lines=UNI),
     "start_no_serial": start_no_serial,
     "docs": docs,
 }
@@ -250,9 +250,10 @@ SMALL_TARGETS = """(minPx) => {
 }"""
 
 
-def layout_problems(page, state: str, width: int) -> list[str]:
-    """What is wrong with the page as it stands: sideways scrolling, axe violations, small targets."""
-    shot(page, f"layout_{state}_{width}")
+def layout_problems(page, state: str, width: int, shot_name: str | None = None) -> list[str]:
+    """What is wrong with the page as it stands: sideways scrolling, axe violations, small targets (its
+    screenshot: test-artifacts/<shot_name>.png, layout_<state>_<width> unless named)."""
+    shot(page, shot_name or f"layout_{state}_{width}")
     problems = []
     fit = page.evaluate(OVERFLOW)
     if fit["scrollWidth"] > fit["innerWidth"]:
