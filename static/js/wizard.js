@@ -14,7 +14,7 @@ import { fetchDownloads } from "./use_calibration.js";
 import { offerSend } from "./send.js";
 import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
-import { announce, instruct, newState, showResult } from "./wizard_state.js";
+import { announce, deviceWords, instruct, newState, showResult } from "./wizard_state.js";
 import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
 import { sixFlow } from "./flow_six.js";
 import { cubeFlow } from "./flow_cube.js";
@@ -251,6 +251,7 @@ async function resume() {
   }
   state.view.startLabel = "Continue";
   flow.resume(state);
+  state.view.resume = deviceWords(state, state.view.resume); // a board's page: connect it to go on
   render(state);
 }
 
@@ -406,6 +407,7 @@ function startBoard() {
   v.problem = null;
   if (!state.listening) listenBoard();
   if (v.result) { render(state); return; } // a finished session: the board stays connected for Send
+  if (state.solveOnContinue) { state.solveOnContinue = false; solve(); } // a complete session whose solve failed
   v.start = false;
   v.capture = true;
   v.resumePic = null;

@@ -139,7 +139,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     # The result is the closed form of Georgieva et al. on the means of what the board printed.
     means = np.array([np.mean(c["acc"], axis=0) for c in sent])
     expected = fit_six_position(means, [c["position"] for c in sent], gravity=G)
-    saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six')"))
+    saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six.board')"))
     cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
     r = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}", headers={"Authorization": f"Bearer {saved['token']}"})
     assert r.status == 200, r.text()

@@ -20,6 +20,7 @@ import pytest
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context, describe, violations
 from tests.e2e.conftest import shot
+from tests.e2e.source_words import other_source_words
 from tests.live_server import LiveServer
 
 WIDTHS = [320, 390, 1280]
@@ -269,6 +270,13 @@ def layout_problems(page, state: str, width: int, shot_name: str | None = None) 
     return [f"{state} at {width} px: {p}" for p in problems]
 
 
+def source_of(state: str) -> str | None:
+    """A wizard state's source: a board's (board_*, and the noise page, a board's only) or a phone's."""
+    if state.startswith("board_") or state == "wizard_noise":
+        return "board"
+    return "phone" if state.startswith("wizard_") else None
+
+
 @pytest.mark.parametrize("width", WIDTHS)
 @pytest.mark.parametrize("state", list(STATES))
 def test_layout(browser, layout_server, state, width):
@@ -277,6 +285,9 @@ def test_layout(browser, layout_server, state, width):
         page = context.new_page()
         STATES[state](page, layout_server.url)
         problems = layout_problems(page, state, width)
+        source = source_of(state)
+        if source:  # a wizard page says only its own source's words (tests/e2e/source_words.py)
+            problems += [f"{state}: the other source's word {w}" for w in other_source_words(page, source)]
         assert not problems, "\n".join(problems)
     finally:
         context.close()
