@@ -99,7 +99,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     assert page.title() == "Calibrate this board — trical" and page.text_content("h1") == "Calibrate this board"
     assert page.evaluate("document.querySelector('main .card:not([hidden])').id") == "board"
     assert page.locator("#start-btn").count() == 0
-    problems = board_state(page, "six", "before_start")
+    problems = board_state(page, "six", "before_start", widths=(320, 390, 1280))
     assert page.input_value("#board-baud") == "115200"
     lines, printed = six_lines()
     play(page, lines, 62.5)  # the board's own rate: ≈ 62.5 lines a second of its millis()
@@ -120,7 +120,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     for k, label in enumerate(ORDER):
         page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=15_000)
         if k == 1:
-            problems += board_state(page, "six", "capture_done")
+            problems += board_state(page, "six", "capture_done", widths=(320, 390, 1280))
             checks = time.monotonic() - checks  # the seconds the checks above held the page (left out below)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
     elapsed = time.monotonic() - t0 - checks
@@ -225,7 +225,7 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     rows = text[header_at + 1:][300:]  # after the 60 s at rest (5 rows a second here)
     page.goto(server.url + "/wizard?protocol=compass&source=board")
     assert page.text_content("h1") == "Calibrate this board's compass" and page.locator("#compass-start-btn").count() == 0
-    problems = board_state(page, "compass", "before_start")
+    problems = board_state(page, "compass", "before_start", widths=(320, 390, 1280))
     play(page, [text[header_at]] + rows, 100, "\n")
     page.click("#board-usb")
     expect(page.locator("#compass-capture")).to_be_visible()
@@ -236,7 +236,7 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     assert "screen" not in page.inner_html("#compass-sphere")
     page.wait_for_selector("#result:not([hidden])", timeout=40_000)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
-    problems += board_state(page, "compass", "result")
+    problems += board_state(page, "compass", "result", widths=(320, 390, 1280))
     assert page.eval_on_selector_all("#result-mag svg text", "ts => ts.map(t => t.textContent)").count("component side") == 2
     assert len(sent) == 1
     mag = np.array(sent[0]["mag"])
@@ -274,7 +274,7 @@ def test_noise_of_a_still_board(desk, server):
     rows = [line for line in text if line and not line.startswith("#")][1:]
     lines = [",".join(f"{int(v) / 16384:.5f}" for v in row.split(",")) for row in rows]
     page.goto(server.url + "/wizard?protocol=noise&source=board")
-    problems = board_state(page, "noise", "before_start")
+    problems = board_state(page, "noise", "before_start", widths=(320, 390, 1280))
     page.select_option("#noise-length", str(NOISE_S))
     page.fill("#device-name", "mpu6050 bench")
     play(page, lines, 100)
@@ -334,7 +334,7 @@ def test_free_poses_and_the_cube_from_a_board_are_a_board_s(desk, server, flow):
     page = desk
     page.goto(server.url + f"/wizard?protocol={flow}&source=board&capture_s=0.5")
     assert page.text_content("h1") == "Calibrate this board" and page.locator("#start-btn").count() == 0
-    problems = board_state(page, flow, "before_start")
+    problems = board_state(page, flow, "before_start", widths=(320, 390, 1280))
     play(page, list(UNI) * 3, 100)
     page.click("#board-usb")
     expect(page.locator("#capture")).to_be_visible()
