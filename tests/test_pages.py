@@ -77,8 +77,16 @@ def test_wizard_refuses_an_unknown_protocol_or_capture_time_with_links(client):
     r = client.get("/wizard?protocol=cube12")
     assert r.status_code == 400
     assert "The protocol “cube12” is unknown" in r.text
-    assert 'href="/wizard?protocol=six"' in r.text and 'href="/wizard?protocol=cube24"' in r.text and 'href="/"' in r.text
+    assert 'href="/wizard?protocol=six&amp;source=phone"' in r.text and 'href="/"' in r.text
+    assert 'href="/wizard?protocol=cube24&amp;source=board"' in r.text
     assert "wizard.js" not in r.text
+    # The source: phone (the default) or board; another is refused naming both, as a flow the source
+    # cannot do (a phone's noise: the noise page records a board).
+    r = client.get("/wizard?protocol=six&source=tablet")
+    assert r.status_code == 400 and "The source “tablet” is unknown: source is phone or board" in r.text
+    r = client.get("/wizard?protocol=noise&source=phone")
+    assert r.status_code == 400 and "A phone cannot do “the noise: a still recording of a chosen length”" in r.text
+    assert client.get("/wizard?protocol=noise").status_code == 200  # a board's, with no source named
     for bad in ("0.1", "31", "nan", "five"):
         r = client.get(f"/wizard?capture_s={bad}")
         assert r.status_code == 400 and f"capture_s={bad} is not a number of seconds between 0.5 and 30" in r.text

@@ -15,13 +15,16 @@ from app.io.formats.kinds import ACCEPTED_SUFFIXES
 from app.qr import qr_svg_data_uri
 from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 
-from .tables import POSE_NAMES, POSE_SHORT, page_tables
+from .tables import SOURCES, page_tables
 
 router = APIRouter(include_in_schema=False)
 
 PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube", "free": "free poses, no jig",
-             "compass": "the compass: turn the phone through all directions",
-             "noise": "a board's noise: a still recording of a chosen length"}
+             "compass": "the compass: turn it through all directions",
+             "noise": "the noise: a still recording of a chosen length"}
+
+SOURCE_PROTOCOLS = {"phone": ("six", "cube24", "free", "compass"), "board": tuple(PROTOCOLS)}
+"""The flows each source can do: a phone's motion events have no noise page (it records a board)."""
 
 NOISE_LENGTHS_S = (10, 30, 60, 120, 300, 600, 1800, 3600, 7200)
 """The lengths of the noise page's still recording (s); a short one shows the white noise only."""
@@ -63,16 +66,31 @@ def _capture_s(text: str | None) -> tuple[float | None, str | None]:
     return value, None
 
 
+def default_source(protocol: str) -> str:
+    """The source a flow reads when the address names none: a phone, unless the phone cannot do it."""
+    return "phone" if protocol in SOURCE_PROTOCOLS["phone"] else "board"
+
+
 @router.get("/wizard", response_class=HTMLResponse)
-def wizard(request: Request, protocol: str = "six", capture_s: str | None = None):
-    """The guided calibration with the phone's own motion sensors."""
+def wizard(request: Request, protocol: str = "six", capture_s: str | None = None, source: str | None = None):
+    """The guided calibration with the phone's own motion sensors (``source=phone``, the default) or
+    a board's lines over Web Serial or Bluetooth (``source=board``): the page is that source's from
+    its first screen (app/web/tables.py SOURCES holds its words)."""
     seconds, problem = _capture_s(capture_s)
+    source = source if source is not None else default_source(protocol)
     if protocol not in PROTOCOLS:
         problem = f"The protocol “{protocol}” is unknown: choose one below."
+    elif source not in SOURCES:
+        problem = f"The source “{source[:40]}” is unknown: source is phone or board; choose one below."
+    elif protocol not in SOURCE_PROTOCOLS[source]:
+        problem = f"A {source} cannot do “{PROTOCOLS[protocol]}” on this page: choose one below."
+    shown = source if source in SOURCES else "phone"
     context = {
         "protocol": protocol, "capture_s": seconds, "problem": problem, "protocols": PROTOCOLS,
+        "source": shown, "words": SOURCES[shown], "choices": [
+            (s, p, PROTOCOLS[p]) for s in SOURCES for p in SOURCE_PROTOCOLS[s]],
         "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
-        "poses": [(label, POSE_NAMES[label], POSE_SHORT[label]) for label in CANONICAL_SIX],
+        "poses": [(label, SOURCES[shown]["poseNames"][label], SOURCES[shown]["poseShort"][label]) for label in CANONICAL_SIX],
         "tables": None if problem else page_tables(),
     }
     if problem:

@@ -45,23 +45,41 @@ readings in each face."""
 
 _SIDE = {"x": ("right edge", "left edge"), "y": ("top edge", "bottom edge"), "z": ("screen", "back")}
 _TOWARDS = {"x": ("right", "left"), "y": ("top", "bottom"), "z": ("screen", "back")}
+_BOARD_SIDE = {"x": ("X arrow's edge", "edge behind the X arrow"), "y": ("Y arrow's edge", "edge behind the Y arrow"),
+               "z": ("component side", "underside")}
+_BOARD_TOWARDS = {"x": ("X arrow", "back of the X arrow"), "y": ("Y arrow", "back of the Y arrow"),
+                  "z": ("component side", "underside")}
 
 
-def face_words(name: str) -> str:
-    """A compass face in plain words: the side of the phone the field comes out of.
+def face_words(name: str, source: str = "phone") -> str:
+    """A compass face in plain words: the side of the phone (or the board) the field comes out of.
 
-    ``+z+y`` → ``screen, towards the top``; ``+x+y+z`` → ``screen, top-right corner``.
+    ``+z+y`` → ``screen, towards the top``; ``+x+y+z`` → ``screen, top-right corner``; a board's
+    ``+z+y`` → ``component side, towards the Y arrow``, ``+x+y+z`` → ``component side, the corner
+    the X and Y arrows point to``, ``+x-y-z`` → ``underside, the corner the X arrow points to, away from
+    the Y arrow``.
     """
     signs = [(name[i + 1], name[i] == "+") for i in range(0, len(name), 2)]
     word = {axis: pos for axis, pos in signs}
+    board = source == "board"
+    side, towards = (_BOARD_SIDE, _BOARD_TOWARDS) if board else (_SIDE, _TOWARDS)
 
     def pick(table, axis):
         return table[axis][0 if word[axis] else 1]
 
+    if len(signs) == 3 and board:
+        to = [a.upper() for a in "xy" if word[a]]
+        away = [a.upper() for a in "xy" if not word[a]]
+        said = []
+        if to:
+            said.append(f"the corner the {' and '.join(to)} arrow{'s' if len(to) == 2 else ''} point{'' if len(to) == 2 else 's'} to")
+        if away:
+            said.append(f"{'the corner ' if not to else ''}away from the {' and '.join(away)} arrow{'s' if len(away) == 2 else ''}")
+        return f"{pick(side, 'z')}, {', '.join(said)}"
     if len(signs) == 3:
-        return f"{pick(_SIDE, 'z')}, {pick(_TOWARDS, 'y')}-{pick(_TOWARDS, 'x')} corner"
-    (main, _), (towards, _) = signs
-    return f"{pick(_SIDE, main)}, towards the {pick(_TOWARDS, towards)}"
+        return f"{pick(side, 'z')}, {pick(towards, 'y')}-{pick(towards, 'x')} corner"
+    (main, _), (toward, _) = signs
+    return f"{pick(side, main)}, towards the {pick(towards, toward)}"
 
 
 def compass_tables() -> dict:
@@ -69,7 +87,7 @@ def compass_tables() -> dict:
     return {
         "faceCentres": compass.FACE_CENTRES.round(12).tolist(),
         "faceNames": list(compass.FACE_NAMES),
-        "faceWords": [face_words(n) for n in compass.FACE_NAMES],
+        "faceWords": {source: [face_words(n, source) for n in compass.FACE_NAMES] for source in SOURCES},
         "vertices": compass.ICOSAHEDRON_VERTICES.round(12).tolist(),
         "faces": compass.ICOSAHEDRON_FACES.tolist(),
         "coverageToSolve": COVERAGE_TO_SOLVE,
@@ -109,6 +127,30 @@ def unit_tables() -> dict:
 POSE_SHORT = {"+z": "screen up", "-z": "screen down", "+y": "standing", "-y": "upside down",
               "+x": "left edge down", "-x": "right edge down"}
 """Each of the six poses in two or three words, under its thumbnail (the axis code is a grey note)."""
+
+SOURCES = {
+    "phone": {
+        "noun": "phone", "title": "Calibrate this phone", "compassTitle": "Calibrate this phone's compass",
+        "sides": ["screen side", "back side"], "ups": ["screen up", "screen down"],
+        "axes": "x to the phone's right edge, y to its top edge, z out of the screen",
+        "poseNames": dict(POSE_NAMES), "poseShort": POSE_SHORT,
+    },
+    "board": {
+        "noun": "board", "title": "Calibrate this board", "compassTitle": "Calibrate this board's compass",
+        "sides": ["component side", "underside"], "ups": ["component side up", "underside up"],
+        "axes": "x and y along the arrows printed on the board (its silkscreen), z out of its component side",
+        # A board: its printed X and Y arrows (the sensor's axes, as breakout boards mark them) and its
+        # component side (z out of it).
+        "poseNames": {"+z": "flat, component side up", "-z": "flat, component side down",
+                      "+y": "on an edge, its Y arrow pointing up", "-y": "on an edge, its Y arrow pointing down",
+                      "+x": "on an edge, its X arrow pointing up", "-x": "on an edge, its X arrow pointing down"},
+        "poseShort": {"+z": "components up", "-z": "components down", "+y": "Y arrow up", "-y": "Y arrow down",
+                      "+x": "X arrow up", "-x": "X arrow down"},
+    },
+}
+"""The words of each sensor source the wizard pages take (``/wizard?source=phone|board``): the
+templates read them, and the page's scripts read them from :func:`page_tables` (``sources``)."""
+
 
 METHOD_NAMES = {
     "six_position": "six positions (accelerometer)",
@@ -172,4 +214,5 @@ def page_tables() -> dict:
         "methods": dict(METHOD_NAMES),
         "metrics": {key: list(words) for key, words in METRICS.items()},
         "sensorWords": dict(SENSOR_WORDS),
+        "sources": SOURCES,
     }

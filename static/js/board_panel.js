@@ -15,12 +15,6 @@ const DRAW_MS = 200;
 const PACKET = TABLES.board.packet;
 
 
-// A computer rather than a phone: a fine pointer, or the Web Serial API (only desktop browsers have it).
-export function onComputer() {
-  if (hasSerial()) return true;
-  return !(window.matchMedia && window.matchMedia("(pointer: coarse)").matches);
-}
-
 // The accelerometer's last seconds as three lines (x red, y green, z blue), an SVG string.
 export function plotSvg(samples, gravity = TABLES.gravity) {
   const W = 300;
@@ -109,7 +103,7 @@ export class BoardPanel {
 
   setup() {
     const card = $("#board");
-    if (!card || !onComputer()) return;
+    if (!card) return; // only a board's pages have the card (source=board); elsewhere it says why it cannot read one
     card.hidden = false;
     const usb = hasSerial();
     const ble = hasBluetooth();

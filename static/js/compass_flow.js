@@ -13,12 +13,13 @@
 // counts the coverage again from the calibrated readings.
 
 import { TABLES } from "./tables.js";
+import { SOURCE } from "./source.js";
 
 const C = TABLES.compass;
 export const MIN_READINGS = C.minReadings;
 export const COVERAGE_TO_SOLVE = C.coverageToSolve;
 export const FACE_NAMES = C.faceNames;
-export const FACE_WORDS = C.faceWords;
+export const FACE_WORDS = C.faceWords[SOURCE]; // the phone's sides or the board's
 
 // Gauss–Jordan with partial pivoting on a small system; null when it is singular.
 function solve(A, y) {

@@ -19,7 +19,6 @@ let drawnStatus = null; // the coverage status drawn: the sphere is redrawn only
 function capture(s) {
   const c = s.compass;
   const st = c.status;
-  if (c.heading) setText($("#compass-capture-h"), c.heading);
   if (st && st !== drawnStatus) {
     drawnStatus = st;
     const box = $("#compass-coverage");
@@ -28,7 +27,7 @@ function capture(s) {
     const covered = st.covered.filter(Boolean).length;
     box.textContent = st.centre
       ? `Coverage ${pct(st.coverage)} (${covered} of ${st.covered.length} directions), ${st.count} readings.`
-      : `${st.count} readings: keep turning, the sphere fills once the ${s.board ? "board" : "phone"} has turned a little.`;
+      : `${st.count} readings: keep turning, the sphere fills once the ${s.device} has turned a little.`;
     $("#compass-progress").value = st.coverage;
     $("#compass-sphere").innerHTML = magSphereSvg({ covered: st.covered, points: st.directions.slice(-DRAWN_POINTS),
       current: st.current, label: "Field directions reached" });

@@ -5,6 +5,7 @@ import { capturedCount, nextPosition } from "./flow_cube.js";
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
 import { column, fillMatrix } from "./figures.js";
 import { VIEW_DEFAULTS } from "./wizard_state.js";
+import { WORDS } from "./source.js";
 import { $, el, setHidden, setText } from "./dom.js";
 
 const drawn = { figures: {}, turnAlert: null, resumePic: null }; // what is drawn: pictures are redrawn only when they change
@@ -34,7 +35,7 @@ function capture(s) {
     const { label, words } = turnInto(k);
     figure($("#cube-turn"), k - 1, label, `From position ${k - 1}: ${words}.`);
   } else {
-    figure($("#cube-turn"), 1, null, "Start: screen (sensor z) up, the phone's x axis along the jig.");
+    figure($("#cube-turn"), 1, null, `Start: ${WORDS.ups[0]} (sensor z), the ${WORDS.noun}'s x axis along the jig.`);
   }
   figure($("#cube-target"), k, null, `Position ${k}: sensor ${upOf(k)} up.`);
   setText($("#cube-count"), `${n} of ${CUBE_POSITIONS} positions captured`);

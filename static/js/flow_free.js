@@ -5,6 +5,7 @@
 import { getSession, postCapture } from "./api.js";
 import { cue } from "./cues.js";
 import { CaptureMachine, dot, norm } from "./motion.js";
+import { sourcePoseWords } from "./poses.js";
 import { TABLES } from "./tables.js";
 import { FLOW_DEFAULTS, announce, instruct } from "./wizard_state.js";
 
@@ -30,7 +31,7 @@ function taken(state, mean) {
 
 const nextWords = (state) => {
   const advice = progressOf(state)?.advice || [];
-  return advice.length ? `Next: ${advice[0].words}.` : "";
+  return advice.length ? `Next: ${sourcePoseWords(advice[0].words)}.` : "";
 };
 
 function init(state) { state.free = { current: null }; }

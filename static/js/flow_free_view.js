@@ -2,7 +2,9 @@
 // covered and advised, the count, the advice in words, Finish; and the triangular model.
 import { canFinish, coveredDirections, poseCount, progressOf } from "./flow_free.js";
 import { column, fillMatrix } from "./figures.js";
+import { sourcePoseWords } from "./poses.js";
 import { sphereSvg } from "./sphere.js";
+import { WORDS } from "./source.js";
 import { VIEW_DEFAULTS } from "./wizard_state.js";
 import { $, el, setText } from "./dom.js";
 
@@ -17,7 +19,7 @@ function capture(s) {
     current && current.map((v) => Math.round(v * 20))]); // redraw when the live direction moves ~3°
   if (drawnSphere !== key) {
     drawnSphere = key;
-    $("#sphere").innerHTML = sphereSvg({ covered, advice: advice.map((a) => a.up), current });
+    $("#sphere").innerHTML = sphereSvg({ covered, advice: advice.map((a) => a.up), current, titles: WORDS.ups });
   }
   const n = poseCount(s);
   const count = $("#free-count");
@@ -30,7 +32,7 @@ function capture(s) {
   const words = advice.map((a) => a.words).join("|");
   if (list.dataset.words !== words) {
     list.dataset.words = words;
-    list.replaceChildren(...advice.map((a) => el("li", a.words)));
+    list.replaceChildren(...advice.map((a) => el("li", sourcePoseWords(a.words))));
   }
   const finish = $("#free-finish");
   const fitFrom = progress ? progress.fit_from : 10;
@@ -51,4 +53,4 @@ function bind(state, ctx) {
   $("#free-finish").addEventListener("click", () => { if (canFinish(state)) ctx.solve(); });
 }
 
-export const freeView = { ...VIEW_DEFAULTS, capture, model, bind, boardHeading: "Rest the board in any pose" };
+export const freeView = { ...VIEW_DEFAULTS, capture, model, bind };

@@ -30,4 +30,4 @@ function model(cal) {
   fillMatrix($("#result-y"), column(cal.model.y), column(unc.y));
 }
 
-export const sixView = { ...VIEW_DEFAULTS, capture, next, model, boardHeading: "Rest the board on one side" };
+export const sixView = { ...VIEW_DEFAULTS, capture, next, model };

@@ -7,6 +7,7 @@
 // start page (a result, before and after).
 
 import { TABLES } from "./tables.js";
+import { WORDS } from "./source.js";
 
 const C = TABLES.compass;
 const R = 66; // disc radius at scale 1
@@ -30,8 +31,8 @@ function camera(d) {
   return { d: toward, e1, e2: cross(toward, e1) };
 }
 export const VIEWS = [
-  { cam: camera([0.45, 0.55, 1]), title: "screen side" },
-  { cam: camera([-0.45, -0.55, -1]), title: "back side" },
+  { cam: camera([0.45, 0.55, 1]), title: WORDS.sides[0] }, // the phone's screen side, a board's component side
+  { cam: camera([-0.45, -0.55, -1]), title: WORDS.sides[1] },
 ];
 
 // A point of the unit sphere behind the picture plane is moved onto the rim (the cut).

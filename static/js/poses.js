@@ -8,6 +8,7 @@
 // tables (tables.js).
 
 import { TABLES } from "./tables.js";
+import { SOURCE } from "./source.js";
 
 const W = 120;
 const H = 120;
@@ -58,36 +59,29 @@ const STANDING = {
   "-x": { angle: 90, down: "right", up: "left" },
 };
 
-const DESCRIPTIONS = TABLES.poses.names;
+// The page's source (source.js), "phone" or "board": which pictures and words describePose and poseSvg
+// give; a board's page shows a board from its first screen.
+const device = SOURCE;
 
-// A board: its printed X and Y arrows (the sensor's axes, as breakout boards mark them) and its
-// component side (z out of it). The page switches to these when a board is the source.
-const BOARD_DESCRIPTIONS = {
-  "+z": "flat, component side up",
-  "-z": "flat, component side down",
-  "+y": "on an edge, its Y arrow pointing up",
-  "-y": "on an edge, its Y arrow pointing down",
-  "+x": "on an edge, its X arrow pointing up",
-  "-x": "on an edge, its X arrow pointing down",
-};
-let device = "phone";
+// Each pose in words, the phone's or the board's (app/web/tables.py SOURCES: a board's printed X and Y
+// arrows and its component side): two or three words under a thumbnail ("screen up", a board's "X arrow
+// up"), and the whole pose (a phone lying flat with its screen up).
+const poseWords = () => TABLES.sources[device];
+// The server names an advised pose's nearest axis in a phone's words (app/calibration/advice.py
+// describe_up, the table of TABLES.poses.names); a board's page says the board's.
+export function sourcePoseWords(text) {
+  if (device === "phone") return text;
+  return Object.entries(TABLES.poses.names).reduce((t, [label, name]) => t.replace(`(${name})`, `(${describePose(label)})`), text);
+}
 
-// "phone" or "board": which pictures and words describePose and poseSvg give.
-export function setDevice(kind) { device = kind === "board" ? "board" : "phone"; }
-export function currentDevice() { return device; }
-
-const BOARD_SHORT = { "+z": "components up", "-z": "components down", "+y": "Y arrow up", "-y": "Y arrow down",
-  "+x": "X arrow up", "-x": "X arrow down" };
-
-// Two or three words under a thumbnail: "screen up", "left edge down" (a board: "X arrow up").
-export function shortPose(label) { return (device === "board" ? BOARD_SHORT : TABLES.poses.short)[label] || label; }
+export function shortPose(label) { return poseWords().poseShort[label] || label; }
 
 // The pose the wizard names next among those still to do: flat ones first (the easiest to place),
 // then standing, then on the side edges.
 export const NEXT_ORDER = ["+z", "-z", "+y", "-y", "+x", "-x"];
 export function nextPose(remaining) { return NEXT_ORDER.find((p) => remaining.includes(p)) || null; }
 
-export function describePose(label) { return (device === "board" ? BOARD_DESCRIPTIONS : DESCRIPTIONS)[label] || label; }
+export function describePose(label) { return poseWords().poseNames[label] || label; }
 
 // A board seen from its component side, centred on (0, 0), with its X arrow to the right and its Y
 // arrow up (as printed on it), the chip in the middle and a row of header pins at the bottom; `down`
@@ -127,7 +121,7 @@ function flatBoard(componentsUp) {
 // An SVG picture of the phone with `label`'s axis pointing up. `size` in CSS pixels (null: fill the
 // width of its box).
 export function poseSvg(label, size = 160) {
-  if (!(label in DESCRIPTIONS)) throw new Error(`unknown pose ${label}`);
+  if (!(label in TABLES.poses.names)) throw new Error(`unknown pose ${label}`);
   let body;
   const board = device === "board";
   if (label in STANDING) {

@@ -1,11 +1,13 @@
 // The result of a calibration: its norms per position and their chart, advice and intervals in words (pure, no DOM).
 
 import { norm } from "./motion.js";
+import { sourcePoseWords } from "./poses.js";
 
 // One advised pose in words, with what it would gain.
 export function adviceText(a) {
-  return a.gain === null || a.gain === undefined ? a.words
-    : `${a.words} — shrinks the parameters' uncertainty (generalized variance) by ${Math.round(100 * a.gain)} %`;
+  const words = sourcePoseWords(a.words);
+  return a.gain === null || a.gain === undefined ? words
+    : `${words} — shrinks the parameters' uncertainty (generalized variance) by ${Math.round(100 * a.gain)} %`;
 }
 
 // One row of the norm chart: a reading's position, |m| raw and |a| calibrated, both vectors as the

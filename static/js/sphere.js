@@ -38,9 +38,10 @@ function disc(k, title) {
     + `<text x="${cx}" y="${SIZE + 12}" font-size="12" font-weight="700" text-anchor="middle">${title}</text>`;
 }
 
-// covered: directions captured; advice: directions advised, best first; current: the live direction or null.
-export function sphereSvg({ covered = [], advice = [], current = null } = {}) {
-  const parts = [disc(0, "screen up"), disc(1, "screen down")];
+// covered: directions captured; advice: directions advised, best first; current: the live direction or null;
+// titles: the two discs' names (the source's: app/web/tables.py SOURCES "ups").
+export function sphereSvg({ covered = [], advice = [], current = null, titles = ["screen up", "screen down"] } = {}) {
+  const parts = [disc(0, titles[0]), disc(1, titles[1])];
   for (const v of covered) {
     const p = project(v);
     parts.push(`<circle class="covered" cx="${fmt(p.x)}" cy="${fmt(p.y)}" r="5" fill="#0a5a14" stroke="#fff" stroke-width="1" />`);

@@ -4,7 +4,8 @@
 // the server; only render and the views' hooks it calls touch the page.
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
 import { SignDetector, STANDARD_GRAVITY, isApplePlatform, sampleFromMotionEvent, toW3C } from "./motion.js";
-import { describePose, poseSvg, setDevice, shortPose } from "./poses.js";
+import { describePose, poseSvg } from "./poses.js";
+import { SOURCE } from "./source.js";
 import { BoardPanel } from "./board_panel.js";
 import { STALL_MS, stallWords } from "./board.js";
 import { adviceText, gyroBiasText } from "./result.js";
@@ -14,7 +15,7 @@ import { fetchDownloads } from "./use_calibration.js";
 import { offerSend } from "./send.js";
 import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
-import { announce, instruct, newState, showResult } from "./wizard_state.js";
+import { announce, deviceWords, instruct, newState, showResult } from "./wizard_state.js";
 import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
 import { sixFlow } from "./flow_six.js";
 import { cubeFlow } from "./flow_cube.js";
@@ -32,6 +33,7 @@ const EARLY_MS = 10_000; // a board's samples kept while its session is created
 const state = newState({
   protocol: root.dataset.protocol,
   captureS: Number(root.dataset.captureS),
+  device: SOURCE, // a board's page (source=board) reads the board from its first screen
 });
 // Each protocol's flow (its steps on the state and its server calls) and its view (its render hooks).
 const FLOWS = { six: [sixFlow, sixView], cube24: [cubeFlow, cubeView], free: [freeFlow, freeView] };
@@ -91,9 +93,12 @@ const rendered = { ...newRendered(), problem: null, lastLive: 0 };
 function render(s) {
   const v = s.view;
   setHidden($("#start"), !v.start);
-  setHidden($("#start-btn"), v.startHidden);
-  if ($("#start-btn").disabled !== v.startDisabled) $("#start-btn").disabled = v.startDisabled;
-  setText($("#start-btn"), v.startLabel);
+  const startBtn = $("#start-btn"); // a phone's page only: a board's starts when it connects
+  if (startBtn) {
+    setHidden(startBtn, v.startHidden);
+    if (startBtn.disabled !== v.startDisabled) startBtn.disabled = v.startDisabled;
+    setText(startBtn, v.startLabel);
+  }
   if (v.resume !== null) setText($("#resume"), v.resume);
   setHidden($("#resume"), v.resume === null);
   view.start(s);
@@ -249,6 +254,7 @@ async function resume() {
   }
   state.view.startLabel = "Continue";
   flow.resume(state);
+  state.view.resume = deviceWords(state, state.view.resume); // a board's page: connect it to go on
   render(state);
 }
 
@@ -421,22 +427,6 @@ function listenBoard() {
 
 // Connected: the board is the source from now on; the flow starts (or goes on) at once.
 function startBoard() {
-  if (state.device !== "board") {
-    state.device = "board";
-    setDevice("board");
-    for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic, null);
-    for (const words of document.querySelectorAll("[data-words]")) words.textContent = shortPose(words.dataset.words);
-    for (const li of document.querySelectorAll("#poses li")) { // the words a screen reader says, a board's
-      const pose = li.dataset.pose;
-      li.querySelector(".pose-text .sr-only").textContent = ` ${describePose(pose)}`;
-      li.querySelector(".redo").setAttribute("aria-label", `Redo ${pose} (${describePose(pose)})`);
-    }
-    $("#live-pose").dataset.pose = ""; // redrawn as a board at the next sample
-    if (view.boardHeading) setText($("#capture-h"), view.boardHeading);
-    setText($("h1"), "Calibrate this board");
-    document.title = "Calibrate this board — trical";
-  }
-  if (state.listening && !state.board) stop(); // the phone's events (none come on a computer) make way
   state.board = board;
   state.progressAt = null; // the wait without progress counts from the first sample
   unlockCues();
@@ -444,6 +434,7 @@ function startBoard() {
   v.problem = null;
   if (!state.listening) listenBoard();
   if (v.result) { render(state); return; } // a finished session: the board stays connected for Send
+  if (state.solveOnContinue) { state.solveOnContinue = false; solve(); } // a complete session whose solve failed
   v.start = false;
   v.capture = true;
   v.resumePic = null;
@@ -481,11 +472,12 @@ function redo(arg) {
   // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
   const go = () => { if (state.machine) { flow.redo(state, arg); render(state); } };
   if (!state.listening && state.device === "board" && board.connected) { startBoard(); go(); }
+  else if (!state.listening && state.device === "board") { instruct(state, "Connect the board first (above)."); render(state); }
   else if (!state.listening) onStart().then(go);
   else go();
 }
 
-$("#start-btn").addEventListener("click", () => {
+if (SOURCE === "phone") $("#start-btn").addEventListener("click", () => {
   onStart();
   if (state.solveOnContinue) { // a complete session whose solve failed: Continue solves again
     state.solveOnContinue = false;
@@ -513,7 +505,7 @@ $("#capture").addEventListener("click", (event) => {
 
 for (const span of document.querySelectorAll("[data-pic]")) span.innerHTML = poseSvg(span.dataset.pic, null);
 const local = ["localhost", "127.0.0.1", "[::1]"].includes(location.hostname);
-if (!window.isSecureContext && !local) {
+if (SOURCE === "phone" && !window.isSecureContext && !local) { // a board's page: the board card says what it can read
   showProblem("insecure");
   render(state);
 } else resume();

@@ -12,6 +12,7 @@ import { compassView } from "./compass_view.js";
 import { offerSend } from "./send.js";
 import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
+import { SOURCE } from "./source.js";
 import { fetchDownloads } from "./use_calibration.js";
 import { announce, newState, showResult } from "./wizard_state.js";
 import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
@@ -21,12 +22,11 @@ const WIZARD_URL = location.pathname + location.search; // before a result moves
 const NO_READING_MS = 3000;
 const DRAW_MS = 150; // the sphere is redrawn at most this often
 
-const state = newState({ protocol: "compass", captureS: null });
+const state = newState({ protocol: "compass", captureS: null, device: SOURCE });
 state.compass = {
   coverage: new CompassCoverage(),
   status: null, // the coverage's status last drawn
   message: null, // what stands in for the missing faces until the next draw (a refusal, a stop)
-  heading: null, // the capture card's heading, once a board turns
   whereText: null, // what came of the location asked for
   sensor: null, place: null, solving: false, autoSolved: false, drawnAt: 0, timer: null, drawTimer: null,
   reading: false, boardOn: false,
@@ -47,7 +47,7 @@ const rendered = newRendered();
 function render(s) {
   const v = s.view;
   setHidden($("#compass-start"), !v.start);
-  setHidden($("#compass-none"), !v.problem);
+  if ($("#compass-none")) setHidden($("#compass-none"), !v.problem); // a phone's page only
   if (v.problem) setText($("#compass-none-why"), v.problem.detail);
   setHidden($("#compass-capture"), !v.capture);
   compassView.capture(s);
@@ -228,7 +228,6 @@ function startBoard() {
   c.reading = false;
   unlockCues();
   stopSensor();
-  c.heading = "Turn the board slowly through all directions";
   turning("The board is connected: turn it slowly through all directions.");
 }
 
@@ -244,7 +243,7 @@ const board = new BoardPanel({
 
 // --- controls --------------------------------------------------------------------------------
 
-$("#compass-start-btn").addEventListener("click", start);
+if (SOURCE === "phone") $("#compass-start-btn").addEventListener("click", start);
 $("#compass-solve").addEventListener("click", solve);
 $("#compass-more").addEventListener("click", () => {
   history.replaceState(null, "", WIZARD_URL); // turning again: the wizard's address until the next result
@@ -267,7 +266,7 @@ $("#compass-where").addEventListener("click", () => {
 });
 
 $("#compass-coverage").dataset.solveAt = String(COVERAGE_TO_SOLVE);
-if (!("Magnetometer" in window)) {
+if (SOURCE === "phone" && !("Magnetometer" in window)) { // a board's page reads the board's lines
   noMagnetometer(window.isSecureContext
     ? "This browser has no Magnetometer (the Generic Sensor API's): Chrome on Android has it behind a flag "
       + "(chrome://flags, “Generic Sensor Extra Classes”); Safari and Firefox do not have it."

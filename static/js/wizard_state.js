@@ -1,13 +1,13 @@
 // The wizard's one state object (no DOM): what the session and the sensors are doing, and `view`,
 // what the page shows. The flows change it; wizard.js's render(state) writes it to the page.
 
-export function newState({ protocol, captureS }) {
+export function newState({ protocol, captureS, device = "phone" }) {
   return {
     protocol,
     captureS,
-    device: "phone", // "board" once a board is the source: the flows' words say "board"
+    device, // the page's source (source.js), "phone" or "board": the flows' words say "board" for a board
     board: null, // the board panel (board_panel.js) when a board is the source
-    storeKey: `trical.wizard.${protocol}`,
+    storeKey: `trical.wizard.${protocol}${device === "board" ? ".board" : ""}`, // a board's session resumes on a board's page
     session: null, // the server's session object
     token: null,
     apiKey: null,
@@ -50,7 +50,8 @@ export function newState({ protocol, captureS }) {
 // The flows speak of the phone; with a board as the source, of the board.
 export function deviceWords(state, text) {
   if (state.device !== "board" || typeof text !== "string") return text;
-  return text.replace(/\bphone's\b/g, "board's").replace(/\bphone\b/g, "board").replace(/\bPhone\b/g, "Board");
+  return text.replace(/\bphone's\b/g, "board's").replace(/\bphone\b/g, "board").replace(/\bPhone\b/g, "Board")
+    .replace(/\bTap Continue\b/g, "Connect the board").replace(/\btap Continue\b/g, "connect the board"); // no Start on a board's page
 }
 
 // Say `text` in the live region (again, even when it is the same words).
@@ -103,5 +104,4 @@ export const VIEW_DEFAULTS = {
   figures: (cal) => ({ ...cal, metrics: Object.fromEntries(Object.entries(cal.metrics || {})
     .filter(([, v]) => v === null || typeof v !== "object")) }),
   bind() {}, // the flow's own controls: (state, ctx)
-  boardHeading: null, // the capture card's heading once a board is the source
 };

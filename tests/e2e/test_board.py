@@ -19,6 +19,7 @@ from app.io.motioncal_packet import decode
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
 from tests.e2e.conftest import ARTIFACTS, shot, watched_page
+from tests.e2e.source_words import other_source_words
 
 SHIM = (Path(__file__).parent / "board_shim.js").read_text()
 POSE_FILES = DATA / "real" / "mpu6050_pose_files"
@@ -61,14 +62,30 @@ def six_lines() -> tuple[list[str], dict[str, list[list[float]]]]:
 
 @pytest.fixture
 def desk(browser, request):
-    """A computer's browser with the board stand-in; `axe` in the test's name: CSP bypassed for axe."""
+    """A computer's browser with the board stand-in, the CSP bypassed for axe (tests/e2e/axe.py) unless the
+    test's name has `csp` in it (then the page's script runs under the page's own policy)."""
     options = {"viewport": {"width": 1280, "height": 900}, "device_scale_factor": 1}
-    axe = "layout" in request.node.name
+    axe = "csp" not in request.node.name
     context = axe_context(browser, **options) if axe else browser.new_context(**options)
     page = watched_page(context)
     page.add_init_script(SHIM)
     yield page
     context.close()
+
+
+def board_state(page, flow: str, state: str, widths=(390, 1280)) -> list[str]:
+    """A board's page as it stands: none of a phone's words, and at each width (the one page resized in
+    place) no sideways scrolling, no axe violation, no target under 44 px, a screenshot
+    test-artifacts/board_<flow>_<state>_<width>.png. Returns the problems found."""
+    from tests.e2e.test_layout import layout_problems
+
+    problems = [f"board_{flow}_{state}: a phone's word {w}" for w in other_source_words(page, "board")]
+    size = page.viewport_size
+    for width in widths:
+        page.set_viewport_size({"width": width, "height": 900})
+        problems += layout_problems(page, f"board_{flow}_{state}", width, f"board_{flow}_{state}_{width}")
+    page.set_viewport_size(size)
+    return problems
 
 
 def play(page, lines: list[str], hz: float, eol: str = "\r\n", chunk_ms: float = 16) -> None:
@@ -86,8 +103,13 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
         "method": "magnetometer", "mag": turn.tolist(), "field_ut": 48.0, "device_id": DEVICE})
     assert r.status == 201, r.text()
     compass = r.json()
-    page.goto(server.url + "/wizard?protocol=six&capture_s=0.5")
+    page.goto(server.url + "/wizard?protocol=six&source=board&capture_s=0.5")
     expect(page.locator("#board")).to_be_visible()
+    # A board's page from the first screen: its title, the board's card first, no Start, a board pictured.
+    assert page.title() == "Calibrate this board — trical" and page.text_content("h1") == "Calibrate this board"
+    assert page.evaluate("document.querySelector('main .card:not([hidden])').id") == "board"
+    assert page.locator("#start-btn").count() == 0
+    problems = board_state(page, "six", "before_start", widths=(320, 390, 1280))
     assert page.input_value("#board-baud") == "115200"
     page.fill("#device-name", DEVICE)
     lines, printed = six_lines()
@@ -101,7 +123,8 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     assert page.evaluate("window.__board.opened") == [115200]
     expect(page.locator("#board-live")).to_have_attribute("data-format", "csv", timeout=5_000)
     expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=5_000)
-    shot(page, "board_six_live_1280")
+    checks = time.monotonic()
+    problems += board_state(page, "six", "connected")
     what = page.text_content("#board-what")
     assert "CSV with a header line" in what and "accelerometer in m/s² (from its reading at rest)" in what
     assert "gyroscope in °/s (assumed)" in what
@@ -111,11 +134,12 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     for k, label in enumerate(ORDER):
         page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=15_000)
         if k == 1:
-            shot(page, "board_six_second_pose_1280")
-            assert "phone" not in page.text_content("#instruction")
+            problems += board_state(page, "six", "capture_done", widths=(320, 390, 1280))
+            checks = time.monotonic() - checks  # the seconds the checks above held the page (left out below)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
-    elapsed = time.monotonic() - t0
-    shot(page, "board_six_result_1280")
+    elapsed = time.monotonic() - t0 - checks
+    page.click("#result-details summary")  # the details open too
+    problems += board_state(page, "six", "result")
 
     # The captures are the board's rows, verbatim and in order, on the board's clock (its counted rate).
     assert [c["position"] for c in sent] == ORDER
@@ -129,7 +153,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     # The result is the closed form of Georgieva et al. on the means of what the board printed.
     means = np.array([np.mean(c["acc"], axis=0) for c in sent])
     expected = fit_six_position(means, [c["position"] for c in sent], gravity=G)
-    saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six')"))
+    saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six.board')"))
     cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
     r = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}", headers={"Authorization": f"Bearer {saved['token']}"})
     assert r.status == 200, r.text()
@@ -177,15 +201,8 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     page.wait_for_function("window.__board.written.length === 136")
     assert bytes(page.evaluate("window.__board.written"))[68:] == api.body()
     page.check("#board-send-compass")
-    from tests.e2e.test_layout import layout_problems
-
-    problems = []
-    for width in (1280, 390):
-        page.set_viewport_size({"width": width, "height": 900})
-        problems += layout_problems(page, "board_six_result", width)
-    page.set_viewport_size({"width": 1280, "height": 900})
+    problems += board_state(page, "six", "sent", widths=(320, 390, 1280))
     assert not problems, "\n".join(problems)
-
 
     # The live view: the boot lines skipped and counted, the board's rate counted over 1 s bursts.
     page.wait_for_function("window.__board.pending() === 0", timeout=30_000)
@@ -207,12 +224,12 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
 
 def test_nothing_arrives_then_lines_that_are_not_readings(desk, server):
     page = desk
-    page.goto(server.url + "/wizard?protocol=six")
+    page.goto(server.url + "/wizard?protocol=six&source=board")
     page.click("#board-usb")  # a board that prints nothing
     msg = page.locator("#board-msg")
     expect(msg).to_have_text("Nothing arrives at 115200 baud: check the rate and that the board prints readings.",
                              timeout=6_000)
-    shot(page, "board_silent_1280")
+    problems = board_state(page, "six", "silent")
     page.click("#board-close")
     expect(page.locator("#board-live")).to_be_hidden()
     # The same board printing Uni: lines at 115200, opened at 9600: scrambled bytes, no reading.
@@ -221,13 +238,14 @@ def test_nothing_arrives_then_lines_that_are_not_readings(desk, server):
     page.click("#board-usb")
     expect(msg).to_contain_text("The lines arriving are not readings: the last one is “", timeout=6_000)
     assert page.evaluate("window.__board.opened") == [115200, 9600]
-    shot(page, "board_unreadable_1280")
+    problems += board_state(page, "six", "unreadable")
+    assert not problems, "\n".join(problems)
     assert page.errors == []
 
 
-def test_the_chooser_closed_says_so(desk, server):
+def test_the_chooser_closed_says_so_under_the_csp(desk, server):
     page = desk
-    page.goto(server.url + "/wizard?protocol=six")
+    page.goto(server.url + "/wizard?protocol=six&source=board")
     page.evaluate("window.__board.refuse = true")
     page.click("#board-usb")
     expect(page.locator("#board-msg")).to_have_text("No board was chosen: connect it, then choose it in the browser's list.")
@@ -246,17 +264,21 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     text = (DATA / "real" / "magnetometer" / "tomisuarez2_qmc5883l_turn_every10.csv").read_text().splitlines()
     header_at = next(i for i, line in enumerate(text) if line.startswith("mx"))
     rows = text[header_at + 1:][300:]  # after the 60 s at rest (5 rows a second here)
-    page.goto(server.url + "/wizard?protocol=compass")
+    page.goto(server.url + "/wizard?protocol=compass&source=board")
+    assert page.text_content("h1") == "Calibrate this board's compass" and page.locator("#compass-start-btn").count() == 0
+    problems = board_state(page, "compass", "before_start", widths=(320, 390, 1280))
     play(page, [text[header_at]] + rows, 100, "\n")
     page.click("#board-usb")
     expect(page.locator("#compass-capture")).to_be_visible()
     assert page.text_content("#compass-capture-h") == "Turn the board slowly through all directions"
     expect(page.locator("#board-live")).to_have_attribute("data-format", "csv")
     expect(page.locator(".board-plot-fig")).to_be_hidden()  # no accelerometer to plot
-    shot(page, "board_compass_turning_1280")
+    problems += board_state(page, "compass", "turning")
+    assert "screen" not in page.inner_html("#compass-sphere")
     page.wait_for_selector("#result:not([hidden])", timeout=40_000)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
-    shot(page, "board_compass_result_1280")
+    problems += board_state(page, "compass", "result", widths=(320, 390, 1280))
+    assert page.eval_on_selector_all("#result-mag svg text", "ts => ts.map(t => t.textContent)").count("component side") == 2
     assert len(sent) == 1
     mag = np.array(sent[0]["mag"])
     played = np.array([[float(v) for v in r.split(",")] for r in rows])
@@ -278,6 +300,7 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     assert sorted(refused) == ["format=ardupilot", "format=px4"], refused
     assert page.text_content("#downloads").count("this calibration maps readings in counts") == 2
     assert len(page.errors) == 2 and all("422" in e for e in page.errors)
+    assert not problems, "\n".join(problems)
 
 
 def test_noise_of_a_still_board(desk, server):
@@ -291,8 +314,8 @@ def test_noise_of_a_still_board(desk, server):
     text = (DATA / "real" / "mpu6050_session2_still_30s.csv").read_text().splitlines()
     rows = [line for line in text if line and not line.startswith("#")][1:]
     lines = [",".join(f"{int(v) / 16384:.5f}" for v in row.split(",")) for row in rows]
-    page.goto(server.url + "/wizard?protocol=noise")
-    shot(page, "board_noise_start_1280")
+    page.goto(server.url + "/wizard?protocol=noise&source=board")
+    problems = board_state(page, "noise", "before_start", widths=(320, 390, 1280))
     page.select_option("#noise-length", str(NOISE_S))
     page.fill("#device-name", "mpu6050 bench")
     play(page, lines, 100)
@@ -300,10 +323,10 @@ def test_noise_of_a_still_board(desk, server):
     expect(page.locator("#noise-record")).to_be_enabled(timeout=5_000)
     expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "g")
     page.click("#noise-record")
-    shot(page, "board_noise_recording_1280")
+    problems += board_state(page, "noise", "recording")
     page.wait_for_selector("#result:not([hidden])", timeout=(NOISE_S + 30) * 1000)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
-    shot(page, "board_noise_result_1280")
+    problems += board_state(page, "noise", "result")
     cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
     cal = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}").json()
     assert cal["device_id"] == "mpu6050 bench"
@@ -317,6 +340,7 @@ def test_noise_of_a_still_board(desk, server):
     assert sorted(refused) == ["format=kalibr", "format=openvins", "format=vins"]
     assert "random_walk is null on some axes (the recording is too short to see it" in page.text_content("#downloads")
     assert len(page.errors) == 3 and all("422" in e for e in page.errors)
+    assert not problems, "\n".join(problems)
 
 
 def test_a_board_over_bluetooth_prints_raw_lines(desk, server):
@@ -325,7 +349,7 @@ def test_a_board_over_bluetooth_prints_raw_lines(desk, server):
     page = desk
     _, rows = pose_rows("+z")
     lines = ["Raw:" + ",".join(str(round(float(v) / G * 8192)) for v in r[1:4]) + ",0,0,0,0,0,0" for r in rows]
-    page.goto(server.url + "/wizard?protocol=six")
+    page.goto(server.url + "/wizard?protocol=six&source=board")
     expect(page.locator("#board-ble")).to_be_visible()
     play(page, lines, 62.5, "\n")
     page.click("#board-ble")
@@ -339,4 +363,26 @@ def test_a_board_over_bluetooth_prints_raw_lines(desk, server):
     row = page.eval_on_selector_all("#board-numbers tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
     assert [r[0] for r in row] == ["acc (m/s²)", "gyr (°/s)", "mag (µT)"]
     shot(page, "board_bluetooth_raw_1280")
+    assert page.errors == []
+
+
+@pytest.mark.parametrize("flow", ["free", "cube24"])
+def test_free_poses_and_the_cube_from_a_board_are_a_board_s(desk, server, flow):
+    """The free and the cube flows with a board resting component side up (Uni: lines with a gyroscope):
+    the page before it connects, the board connected and capturing, its first pose captured."""
+    from tests.e2e.test_layout import UNI
+
+    page = desk
+    page.goto(server.url + f"/wizard?protocol={flow}&source=board&capture_s=0.5")
+    assert page.text_content("h1") == "Calibrate this board" and page.locator("#start-btn").count() == 0
+    problems = board_state(page, flow, "before_start", widths=(320, 390, 1280))
+    play(page, list(UNI) * 3, 100)
+    page.click("#board-usb")
+    expect(page.locator("#capture")).to_be_visible()
+    expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=5_000)
+    problems += board_state(page, flow, "connected")
+    done = "#free-count[data-count='1']" if flow == "free" else "#cube-count[data-captured='1']"
+    page.wait_for_selector(done, state="attached", timeout=15_000)
+    problems += board_state(page, flow, "capture_done")
+    assert not problems, "\n".join(problems)
     assert page.errors == []

@@ -20,6 +20,7 @@ import pytest
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context, describe, violations
 from tests.e2e.conftest import shot
+from tests.e2e.source_words import other_source_words
 from tests.live_server import LiveServer
 
 WIDTHS = [320, 390, 1280]
@@ -132,7 +133,7 @@ def docs(page, url):
     page.wait_for_selector(".opblock", timeout=20_000)
 
 
-def board(query: str = "?protocol=six", lines: tuple[str, ...] = (), baud: str | None = None, serial: bool = True):
+def board(query: str = "?protocol=six&source=board", lines: tuple[str, ...] = (), baud: str | None = None, serial: bool = True):
     """A wizard page with a board (tests/e2e/board_shim.js, the stand-in for the Web Serial API)
     printing `lines` at 100 a second, connected at `baud`; without `serial`, a browser lacking the API."""
     def open_board(page, url):
@@ -189,7 +190,7 @@ STATES = {
     "board_silent": board(),
     "board_unreadable": board(lines=UNI, baud="9600"),
     "board_no_serial": board(serial=False),
-    "board_compass_live": board("?protocol=compass", lines=UNI),
+    "board_compass_live": board("?protocol=compass&source=board", lines=UNI),
     "start_no_serial": start_no_serial,
     "docs": docs,
 }
@@ -250,9 +251,10 @@ SMALL_TARGETS = """(minPx) => {
 }"""
 
 
-def layout_problems(page, state: str, width: int) -> list[str]:
-    """What is wrong with the page as it stands: sideways scrolling, axe violations, small targets."""
-    shot(page, f"layout_{state}_{width}")
+def layout_problems(page, state: str, width: int, shot_name: str | None = None) -> list[str]:
+    """What is wrong with the page as it stands: sideways scrolling, axe violations, small targets (its
+    screenshot: test-artifacts/<shot_name>.png, layout_<state>_<width> unless named)."""
+    shot(page, shot_name or f"layout_{state}_{width}")
     problems = []
     fit = page.evaluate(OVERFLOW)
     if fit["scrollWidth"] > fit["innerWidth"]:
@@ -268,6 +270,13 @@ def layout_problems(page, state: str, width: int) -> list[str]:
     return [f"{state} at {width} px: {p}" for p in problems]
 
 
+def source_of(state: str) -> str | None:
+    """A wizard state's source: a board's (board_*, and the noise page, a board's only) or a phone's."""
+    if state.startswith("board_") or state == "wizard_noise":
+        return "board"
+    return "phone" if state.startswith("wizard_") else None
+
+
 @pytest.mark.parametrize("width", WIDTHS)
 @pytest.mark.parametrize("state", list(STATES))
 def test_layout(browser, layout_server, state, width):
@@ -276,6 +285,9 @@ def test_layout(browser, layout_server, state, width):
         page = context.new_page()
         STATES[state](page, layout_server.url)
         problems = layout_problems(page, state, width)
+        source = source_of(state)
+        if source:  # a wizard page says only its own source's words (tests/e2e/source_words.py)
+            problems += [f"{state}: the other source's word {w}" for w in other_source_words(page, source)]
         assert not problems, "\n".join(problems)
     finally:
         context.close()

@@ -386,7 +386,7 @@ def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_besi
     upload = page.locator("#upload-form").bounding_box()
     phone = page.locator("#on-phone").bounding_box()
     assert board["y"] < upload["y"] and phone["x"] > board["x"] + board["width"] - 1 and phone["y"] < upload["y"]
-    assert page.get_attribute("#board-flows .cta", "href") == "/wizard?protocol=six"
+    assert page.get_attribute("#board-flows .cta", "href") == "/wizard?protocol=six&source=board"
     assert page.locator("#board-no-serial").is_hidden()
     # The phone's address is http:// on the LAN: the page says a phone needs HTTPS for its motion data.
     assert page.text_content("#phone-url").startswith("http://")

@@ -15,6 +15,7 @@ from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
 from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot, tab_to
+from tests.e2e.source_words import assert_only_its_words
 from tests.live_server import LiveServer
 
 G = 9.80665  # the session's default gravity
@@ -119,6 +120,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     motion.send("gyroscope", np.radians(gyro_deg_s))  # the sensor in rad/s, rotationRate in °/s
     page.goto(server.url + "/wizard?protocol=six&capture_s=1")
     shot(page, "wizard_start")
+    assert_only_its_words(page, "phone")
     assert "flat, steady table" in page.text_content("#start")
     order = ["+z", "-y", "+x", "-z", "-x", "+y"]  # shuffled
     motion.acc(reading(order[0]))
@@ -133,11 +135,14 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
         if k == 0:
             page.wait_for_selector("#progress:not([value='0'])", timeout=10_000)
             shot(page, "wizard_capturing_first_pose")
+            assert_only_its_words(page, "phone")
         wait_captured(page, label)
         shot(page, f"wizard_captured_{k + 1}_{label}")
+        assert_only_its_words(page, "phone")
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
     elapsed = time.monotonic() - t0
     shot(page, "wizard_result")
+    assert_only_its_words(page, "phone")
 
     # The closed form of Georgieva et al. section 3.3.1 on what Chromium handed the page.
     fed = np.array([chromium_round(reading(label)) for label in POSES])
@@ -274,6 +279,7 @@ def test_denied_permission_shows_how_to_allow_it(page, server):
     assert "not allowed" in page.text_content("#status")
     assert page.evaluate("localStorage.length") == 0  # no session was started
     shot(page, "wizard_permission_denied")
+    assert_only_its_words(page, "phone")
 
 
 def test_no_motion_events_suggest_an_upload(page, server):
@@ -286,6 +292,7 @@ def test_no_motion_events_suggest_an_upload(page, server):
     assert page.get_attribute("#problem a", "href") == "/"
     assert page.evaluate("localStorage.length") == 0
     shot(page, "wizard_no_motion")
+    assert_only_its_words(page, "phone")
 
 
 @pytest.mark.parametrize("user_agent, orientation, negate, sign", [

@@ -17,6 +17,7 @@ from playwright.sync_api import expect
 from app.calibration.simulations.magnetometer import random_soft_iron
 from app.geomag import reference_field
 from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot
+from tests.e2e.source_words import assert_only_its_words
 
 WIDTHS = (320, 390, 1280)
 WIDEST = ("() => [...document.querySelectorAll('body *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 0.5)"
@@ -46,7 +47,10 @@ def turn(seed: int, field_ut: float, n: int = N_TURN, noise_ut: float = 0.3):
 
 
 def shots(page, name: str) -> None:
-    """A screenshot of the state at each width, no sideways scrolling, back at the phone's width after."""
+    """A screenshot of the state at each width, no sideways scrolling, back at the phone's width after; no
+    board's words (a phone's page)."""
+    if page.locator("[data-source]").count():  # a wizard page (not the start page's upload)
+        assert_only_its_words(page, "phone")
     for width in WIDTHS:
         page.set_viewport_size({"width": width, "height": 720})
         shot(page, f"wizard_compass_{name}_{width}")

@@ -21,6 +21,7 @@ from app.capture_rules import MAX_ROTATION_DEG_S
 from app.web.tables import page_tables
 from tests.cube_phone import X_ACC, Y_ACC
 from tests.e2e.conftest import ARTIFACTS, phone_shim, shot, tab_to
+from tests.e2e.source_words import assert_only_its_words
 from tests.e2e.test_wizard import G, Motion, captures_sent
 
 ATTITUDES = cube24().attitudes  # R_k: sensor → calibration frame
@@ -147,12 +148,14 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     assert "in a fixed order" in start and "jig" in start and "about 4 minutes" in start
     assert "uploaded through the API" in start  # the recorded-sequence route, kept as one line
     shot(page, "cube_start")
+    assert_only_its_words(page, "phone")
     cube.place(1)
     t0 = time.monotonic()
     page.click("#start-btn")
     expect(page.locator("#capture-h")).to_have_text("Position 1 of 24")
     page.wait_for_selector("#progress:not([value='0'])", timeout=10_000)
     shot(page, "cube_capturing_1")
+    assert_only_its_words(page, "phone")
     wait_captured(page, 1)
     for k in range(2, 25):
         if k in (2, 5):  # between positions: the turn to make, with an arrow and words
@@ -169,6 +172,7 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     page.wait_for_selector("#downloads[data-ready=true]", timeout=30_000)
     elapsed = time.monotonic() - t0
     shot(page, "cube_result")
+    assert_only_its_words(page, "phone")
     for width in (320, 390, 1280):  # no sideways scroll of the result at any width (its tables scroll in their box)
         page.set_viewport_size({"width": width, "height": 800})
         shot(page, f"cube_result_{width}")
@@ -281,6 +285,7 @@ def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, serve
     assert "Wrong turn into position 4" in page.text_content("#instruction")
     assert page.get_attribute(COUNT.format(3), "data-captured") == "3"
     shot(page, "cube_wrong_turn")
+    assert_only_its_words(page, "phone")
 
     cube.turn(4, "z+")  # back into position 3...
     cube.move_into(page, 4)  # ...and the right turn
@@ -320,6 +325,7 @@ def test_without_a_gyroscope_the_page_says_the_cube_flow_needs_it(page, server):
     assert len(rates) >= 10 and all(r == "null" or r == [None, None, None] for r in rates), rates[:3]
     print(f"\nChromium without a gyroscope override: rotationRate = {rates[0]!r}")
     shot(page, "cube_no_gyroscope")
+    assert_only_its_words(page, "phone")
     assert page.errors == []
 
 
@@ -334,6 +340,7 @@ def test_a_reload_resumes_at_the_right_position_and_redo_replaces_the_last(page,
     assert page.get_attribute("#resume-pic svg", "data-position") == "3"
     assert page.text_content("#start-btn") == "Continue"
     shot(page, "cube_resumed")
+    assert_only_its_words(page, "phone")
 
     tab_to(page, "#start-btn")
     page.keyboard.press("Enter")  # Continue, from the keyboard

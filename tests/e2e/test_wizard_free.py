@@ -14,6 +14,7 @@ from playwright.sync_api import expect
 from app import workflow
 from app.calibration.advice import fibonacci_sphere
 from tests.e2e.conftest import shot
+from tests.e2e.source_words import assert_only_its_words
 from tests.e2e.test_wizard import G, X_TRUE, Y_TRUE, Motion, captures_sent, chromium_round
 from tests.live_server import LiveServer
 
@@ -27,7 +28,9 @@ def reading(up) -> np.ndarray:
 
 
 def shots(page, name: str) -> None:
-    """A screenshot of the state at each width, back at the phone's width after."""
+    """A screenshot of the state at each width, back at the phone's width after; no board's words."""
+    if page.locator("[data-source]").count():  # a wizard page (not the start page's upload)
+        assert_only_its_words(page, "phone")
     for width in WIDTHS:
         page.set_viewport_size({"width": width, "height": 720})
         shot(page, f"wizard_free_{name}_{width}")

@@ -18,7 +18,7 @@ from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage
 from app.calibration.magnetometer.fit import MIN_COVERAGE, MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
-from app.web.tables import COVERAGE_TO_SOLVE, POSE_NAMES, face_words, page_tables
+from app.web.tables import COVERAGE_TO_SOLVE, POSE_NAMES, SOURCES, face_words, page_tables
 from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
 
 JS = Path(__file__).resolve().parents[2] / "static" / "js"
@@ -75,7 +75,8 @@ def test_the_compass_faces_are_coverage_py_s():
     assert t["faces"] == coverage.ICOSAHEDRON_FACES.tolist() and t["faceNames"] == list(coverage.FACE_NAMES)
     assert t["minReadings"] == MIN_READINGS and t["coverageToSolve"] == COVERAGE_TO_SOLVE
     assert MIN_COVERAGE < COVERAGE_TO_SOLVE < 1.0  # a turn the page solves is not refused for coverage alone
-    assert len(set(t["faceWords"])) == 20
+    assert sorted(t["faceWords"]) == ["board", "phone"]
+    assert all(len(set(words)) == 20 for words in t["faceWords"].values())
 
 
 def test_the_compass_faces_in_words():
@@ -84,6 +85,12 @@ def test_the_compass_faces_in_words():
     assert face_words("+x+y+z") == "screen, top-right corner"
     assert face_words("-z+x") == "back, towards the right"
     assert face_words("+x-y") == "right edge, towards the bottom"
+    # A board's: its component side and the arrows printed on it.
+    assert face_words("+z+y", "board") == "component side, towards the Y arrow"
+    assert face_words("-z-x", "board") == "underside, towards the back of the X arrow"
+    assert face_words("+x+y+z", "board") == "component side, the corner the X and Y arrows point to"
+    assert face_words("-x-y-z", "board") == "underside, the corner away from the X and Y arrows"
+    assert face_words("+x-y-z", "board") == "underside, the corner the X arrow points to, away from the Y arrow"
 
 
 def test_the_page_s_thresholds_stay_inside_the_server_s_checks():
@@ -111,7 +118,7 @@ def test_the_scripts_hold_no_copy_of_the_tables():
     for name, text in sources.items():
         for words in TURN_WORDS.values():
             assert words not in text, (name, words)
-        for pose_name in POSE_NAMES.values():
+        for pose_name in [*POSE_NAMES.values(), *SOURCES["board"]["poseNames"].values(), *SOURCES["board"]["sides"]]:
             assert f'"{pose_name}"' not in text, (name, pose_name)
         assert "9.80665" not in text, name
         assert not re.search(r'"z\+",\s*"z\+",\s*"z\+"', text), name  # the cube24 rotations

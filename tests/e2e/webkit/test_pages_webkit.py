@@ -30,8 +30,8 @@ def test_the_start_page_reads_in_webkit(webkit, server, width):
 def test_the_board_card_in_a_browser_without_web_serial_offers_the_upload_and_the_terminal(webkit, server, width):
     """WebKit (Safari's engine) has neither the Web Serial API nor Web Bluetooth: on a computer the board
     card says which browsers read a board, and offers the upload and `trical capture` instead."""
-    webkit.open(server.url + "/wizard?protocol=six", (width, 900))
-    webkit.wait("!document.querySelector('#board').hidden", 5, "the board card on a computer")
+    webkit.open(server.url + "/wizard?protocol=six&source=board", (width, 900))
+    webkit.wait("!document.querySelector('#board').hidden", 5, "the board card on a board's page")
     assert webkit.js("'serial' in navigator") is False and webkit.js("'bluetooth' in navigator") is False
     assert webkit.js("document.querySelector('#board-connect').hidden")
     assert webkit.js("document.querySelector('#board-usb').hidden && document.querySelector('#board-ble').hidden")
@@ -39,7 +39,7 @@ def test_the_board_card_in_a_browser_without_web_serial_offers_the_upload_and_th
     assert "Chrome, Edge and Opera" in text and "not in Safari or Firefox" in text
     assert "trical capture PORT" in text
     assert webkit.js("document.querySelector('#board-none a').getAttribute('href')") == "/"
-    assert webkit.text("#board-h") == "A board on this computer"
+    assert webkit.text("#board-h") == "Connect the board"
     assert not webkit.scrolls_sideways(), f"the board card scrolls sideways at {width} px"
     webkit.shot(f"board_no_web_serial_{width}")
     assert webkit.errors() == []
