@@ -38,11 +38,13 @@ SILENCE_S = 3.0
 
 RATE_MIN_S = 1.0
 RATE_STEPS = 2.0
-"""Live lines: the board's rate is the slope of the readings counted against their arrival (least squares
-over every chunk since the first), decided once the arrivals span ``RATE_MIN_S`` and ``RATE_STEPS`` times
-their longest step: a bridge's buffer or a loaded host delivering 1–2 s of lines at once is decided after
-2–4 s, and its bursts shift the count, not its slope. Never the step of one burst's arrival
-(app.io.board_lines.StreamRate, static/js/board_lines.js StreamRate)."""
+RATE_WINDOW_S = 8.0
+"""Live lines: the board's rate is the readings counted between two ends of bursts (moments when every line
+printed so far has arrived) over the time between them, decided once such ends span ``RATE_MIN_S`` and
+``RATE_STEPS`` times the longest step between arrivals in the last ``RATE_WINDOW_S``: a bridge's buffer or a
+loaded host delivering 1–2 s of lines at once is decided after 2–4 s, and a page whose thread was held for
+seconds once (a steady stream after it) is decided once that pause has left the window. Never the step of one
+burst's arrival (app.io.board_lines.StreamRate, static/js/board_lines.js StreamRate)."""
 
 STALL_S = 20.0
 """A capture that makes no progress for this long says what it waits for and what to do."""
@@ -78,6 +80,7 @@ def board_tables() -> dict:
         "silenceS": SILENCE_S,
         "rateMinS": RATE_MIN_S,
         "rateSteps": RATE_STEPS,
+        "rateWindowS": RATE_WINDOW_S,
         "stallS": STALL_S,
         "nordicUart": dict(NORDIC_UART),
         "packet": {"bytes": MOTIONCAL_PACKET_BYTES, "signature": list(MOTIONCAL_SIGNATURE), "crc": dict(MOTIONCAL_CRC),

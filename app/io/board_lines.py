@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_MIN_S, RATE_STEPS
+from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
 from .errors import LogFormatError
 from .formats.generic_csv import map_columns
 from .formats.table import WHITESPACE, guess_delimiter, split_row
@@ -334,12 +334,14 @@ class StreamRate:
     (:func:`app.io.formats.timing.decide_timing`: samples over time, never one step), taken between
     moments when the count is whole. A steady stream's every chunk ends a "burst". It is decided once
     those ends span :data:`app.io.board_formats.RATE_MIN_S` and :data:`~app.io.board_formats.RATE_STEPS`
-    times the longest step (bursts of 1–2 s: after 2–4 s), and stays decided. The page's twin is
+    times the longest step among the arrivals of the last :data:`~app.io.board_formats.RATE_WINDOW_S`
+    (bursts of 1–2 s: after 2–4 s; one long pause of the reader, as a page's thread held for seconds, is
+    forgotten once it has left that window), and stays decided. The page's twin is
     ``StreamRate`` of static/js/board_lines.js, on the same constants.
     """
 
-    def __init__(self, min_s: float = RATE_MIN_S, steps: float = RATE_STEPS):
-        self.min_s, self.steps = min_s, steps
+    def __init__(self, min_s: float = RATE_MIN_S, steps: float = RATE_STEPS, window_s: float = RATE_WINDOW_S):
+        self.min_s, self.steps, self.window_s = min_s, steps, window_s
         self.count = 0
         self.longest = 0.0
         self.points: list[tuple[float, int]] = []  # until decided: every arrival
@@ -363,6 +365,8 @@ class StreamRate:
         self.last, self._prev = arrival_s, self.count
         if self.first is None:
             self.points.append((arrival_s, self.count))
+            self.points = [p for p in self.points if p[0] >= arrival_s - self.window_s]
+            self.longest = max((q[0] - p[0] for p, q in zip(self.points, self.points[1:])), default=0.0)
             ends = [p for p, q in zip(self.points, self.points[1:]) if q[0] - p[0] >= 0.5 * self.longest]
             if len(ends) >= 2 and ends[-1][0] - ends[0][0] >= self.needed_s:
                 self.first, self.end, self.points = ends[0], ends[-1], []

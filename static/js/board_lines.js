@@ -295,9 +295,10 @@ export function accUnitAtRest(norm) {
 // rateSteps times the longest step (bursts of 1–2 s: after 2–4 s), then kept up to date. Never the step
 // of one burst's arrival.
 export class StreamRate {
-  constructor(minS = B.rateMinS, steps = B.rateSteps) {
+  constructor(minS = B.rateMinS, steps = B.rateSteps, windowS = B.rateWindowS) {
     this.minS = minS;
     this.steps = steps;
+    this.windowS = windowS;
     this.count = 0;
     this.longest = 0;
     this.points = []; // until decided: every arrival
@@ -320,6 +321,9 @@ export class StreamRate {
     this.prev = this.count;
     if (this.first === null) {
       this.points.push([t, this.count]);
+      // The longest step among the last windowS of arrivals: a pause of the reader is forgotten once it has left.
+      this.points = this.points.filter((p) => p[0] >= t - this.windowS);
+      this.longest = this.points.reduce((m, p, i) => (i ? Math.max(m, p[0] - this.points[i - 1][0]) : m), 0);
       const ends = this.points.filter((p, i) => i + 1 < this.points.length && this.points[i + 1][0] - p[0] >= 0.5 * this.longest);
       if (ends.length >= 2 && ends[ends.length - 1][0] - ends[0][0] >= this.neededS) {
         this.first = ends[0];

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.io.board_formats import MOTIONCAL_RAW
+from app.io.board_formats import MOTIONCAL_RAW, RATE_WINDOW_S
 from app.io.board_lines import (BoardLineReader, LogWriter, StreamRate, board_rate, numbers_format, read_lines,
                                  to_log)
 from app.io.errors import LogFormatError
@@ -217,6 +217,22 @@ def test_live_rate_counted_over_bursts_of_arrival(burst_s):
     for k in range(100):
         steady.arrive(1, k * 0.016)
     assert steady.rate_hz == pytest.approx(62.5, rel=1e-6) and steady.span_s >= 1.0
+
+
+def test_a_reader_held_once_for_seconds_is_forgotten_and_the_rate_decided():
+    """A steady board at 100 Hz read every 16 ms whose reader was held for 3 s once in its first second (a
+    page's thread busy): that step leaves the window and the steady arrivals after it decide the rate (it
+    once waited for ever, the board's readings held back, when the longest step was never forgotten)."""
+    rate, t, n, decided_at = StreamRate(), 0.0, 0, None
+    while t < 20.0:
+        t += 3.0 if 0.5 <= t < 0.52 else 0.016
+        n_new = round(100 * t) - n
+        n += n_new
+        rate.arrive(n_new, t)
+        if decided_at is None and rate.rate_hz is not None:
+            decided_at = t
+    assert decided_at is not None and decided_at <= 3.5 + RATE_WINDOW_S + 1.0
+    assert rate.rate_hz == pytest.approx(100, rel=0.01)
 
 
 def test_a_board_time_column_wins_over_bursts():
