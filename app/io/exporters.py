@@ -86,18 +86,20 @@ static const float {name}_matrix[3][3] = {{
 }};
 
 /* Calibrate one raw reading m into f = M (m - o). */
-static inline void {name}_apply(const float m[3], float f[3])
+static TRICAL_INLINE void {name}_apply(const float m[3], float f[3])
 {{
     float d[3];
-    for (int i = 0; i < 3; ++i) d[i] = m[i] - {name}_offset[i];
-    for (int i = 0; i < 3; ++i)
+    int i;
+    for (i = 0; i < 3; ++i) d[i] = m[i] - {name}_offset[i];
+    for (i = 0; i < 3; ++i)
         f[i] = {name}_matrix[i][0] * d[0] + {name}_matrix[i][1] * d[1] + {name}_matrix[i][2] * d[2];
 }}
 """
 
 
 def to_c_header(body: dict) -> Export:
-    """A C99 header with each sensor's correction matrix, offset and an inline apply function, and
+    """A C header (C89 and later: it builds with ``gcc -std=c89 -pedantic``) with each sensor's correction
+    matrix, offset and an apply function (inline where the compiler has it), and
     ``TRICAL_GYRO_BIAS_RAD_S`` when the calibration has a ``gyroscope_bias``."""
     corrections = sensor_corrections(body)
     guard = "TRICAL_" + re.sub(r"[^A-Za-z0-9]", "_", body["id"]).upper() + "_H"
@@ -115,6 +117,18 @@ def to_c_header(body: dict) -> Export:
  */
 #ifndef {guard}
 #define {guard}
+
+/* inline where the compiler has it (C99, or GCC's __inline__ in C89), so that an apply function left unused
+ * costs nothing and warns of nothing; plain static in strict C89 elsewhere. */
+#ifndef TRICAL_INLINE
+#if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L
+#define TRICAL_INLINE inline
+#elif defined(__GNUC__)
+#define TRICAL_INLINE __inline__
+#else
+#define TRICAL_INLINE
+#endif
+#endif
 
 {sensors}
 #endif /* {guard} */

@@ -23,8 +23,8 @@ CALIBRATION_USES = (
      "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save "
             "and reboot."},
     {"key": "firmware", "name": "my own firmware", "format": "c", "snippet": "c",
-     "how": "#include the header and pass each reading through its apply function, f = M (m − o), as in these "
-            "lines (a loop of your own around them):"},
+     "how": "Put the header beside your code and these lines at file scope in one of your .c files (C89 or "
+            "later); call the function on each reading, f = M (m − o), as their comment shows:"},
 )
 """A correction of a sensor (every method but noise). ``snippet`` names the lines of
 ``GET /api/v1/calibrations/{id}/use`` (app/io/use.py) shown under the file."""
