@@ -27,7 +27,9 @@ not_found              404     no such resource for this caller
 already_captured       409     a wizard pose captured already (send redo)
 unauthorized           401     a missing or invalid API key or session token
 rate_limited           429     too many requests (with Retry-After)
-http_error             4xx     any other HTTP error (unknown route, method not allowed)
+http_error             4xx     any other HTTP error (unknown route, method not allowed); an unknown
+                               address outside /api/ asked for by a browser (Accept: text/html)
+                               is answered by the 404 page instead (templates/not_found.html)
 internal_error         500     a failure of trical itself; nothing was stored
 =====================  ======  ==========================================================
 """
@@ -38,7 +40,7 @@ import logging
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
+from fastapi.responses import HTMLResponse, JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from app.api.deps import Unauthorized
@@ -46,6 +48,7 @@ from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.io.formats.columns import ColumnsAmbiguous
 from app.methods import describe_errors
+from app.web.pages import render_page
 from app.words import asked, reader_of, render
 from app.store import ConflictError, NotFoundError
 
@@ -89,6 +92,23 @@ def error_response(status: int, detail: str, code: str, headers: dict | None = N
     return JSONResponse(body, status_code=status, headers=headers)
 
 
+API_PREFIX = "/api/"
+"""Every address under it answers JSON, whoever asks."""
+
+
+def wants_page(request: Request) -> bool:
+    """A browser asking for a page: an address outside the API whose request accepts HTML (``Accept: text/html``,
+    as a browser's navigation sends); any other caller, and every address under ``/api/``, is answered JSON."""
+    if request.url.path.startswith(API_PREFIX) or request.url.path == API_PREFIX.rstrip("/"):
+        return False
+    return "text/html" in (request.headers.get("accept") or "").lower()
+
+
+def not_found_page(request: Request) -> HTMLResponse:
+    """The 404 page (templates/not_found.html): the address asked for, and links to the start page and the history."""
+    return render_page(request, "not_found.html", {"path": request.url.path[:200]}, status_code=404)
+
+
 def install_error_handlers(app: FastAPI) -> None:
     """Register the mapping of every error class to its HTTP status and code."""
 
@@ -128,6 +148,8 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException):
+        if exc.status_code == 404 and wants_page(request):
+            return not_found_page(request)
         return error_response(exc.status_code, exc.detail, "http_error", exc.headers, request=request)
 
     @app.exception_handler(Exception)

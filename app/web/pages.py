@@ -35,6 +35,11 @@ def _templates(request: Request) -> Jinja2Templates:
     return cached
 
 
+def render_page(request: Request, name: str, context: dict, status_code: int = 200) -> HTMLResponse:
+    """The page ``name`` (a template) rendered for ``request``."""
+    return _templates(request).TemplateResponse(request, name, context, status_code=status_code)
+
+
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
 
