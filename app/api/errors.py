@@ -37,6 +37,7 @@ internal_error         500     a failure of trical itself; nothing was stored
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -48,7 +49,6 @@ from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.io.formats.columns import ColumnsAmbiguous
 from app.methods import describe_errors
-from app.web.pages import render_page
 from app.words import asked, reader_of, render
 from app.store import ConflictError, NotFoundError
 
@@ -104,13 +104,9 @@ def wants_page(request: Request) -> bool:
     return "text/html" in (request.headers.get("accept") or "").lower()
 
 
-def not_found_page(request: Request) -> HTMLResponse:
-    """The 404 page (templates/not_found.html): the address asked for, and links to the start page and the history."""
-    return render_page(request, "not_found.html", {"path": request.url.path[:200]}, status_code=404)
-
-
-def install_error_handlers(app: FastAPI) -> None:
-    """Register the mapping of every error class to its HTTP status and code."""
+def install_error_handlers(app: FastAPI, not_found_page: Callable[[Request], HTMLResponse] | None = None) -> None:
+    """Register the mapping of every error class to its HTTP status and code; ``not_found_page`` (the pages' 404
+    page, given by app.main: the API does not import the pages) answers a browser's unknown address."""
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError):
@@ -148,7 +144,7 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException):
-        if exc.status_code == 404 and wants_page(request):
+        if exc.status_code == 404 and not_found_page is not None and wants_page(request):
             return not_found_page(request)
         return error_response(exc.status_code, exc.detail, "http_error", exc.headers, request=request)
 

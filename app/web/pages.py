@@ -35,9 +35,11 @@ def _templates(request: Request) -> Jinja2Templates:
     return cached
 
 
-def render_page(request: Request, name: str, context: dict, status_code: int = 200) -> HTMLResponse:
-    """The page ``name`` (a template) rendered for ``request``."""
-    return _templates(request).TemplateResponse(request, name, context, status_code=status_code)
+def not_found_page(request: Request) -> HTMLResponse:
+    """The 404 page (templates/not_found.html): the address asked for, and links to the start page and the
+    history; app.api.errors answers a browser's unknown address with it."""
+    return _templates(request).TemplateResponse(request, "not_found.html", {"path": request.url.path[:200]},
+                                                status_code=404)
 
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
