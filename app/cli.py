@@ -26,6 +26,7 @@ from app.calibration.angles import degrees_text, tilt_error_deg
 from app.calibration.solvers import SOLVERS
 from app.config import Settings, SettingsError
 from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
+from app.io.plural import counted
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.errors import ExportError, LogFormatError
 from app.io.formats import FORMATS, starts_like_flight_log
@@ -374,7 +375,7 @@ def _print_summary(body: dict, recording: dict) -> None:
         print(f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
               f"({flight['raw_how']}), attitude from {flight['attitude_source']}")
     else:
-        print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples{files} "
+        print(f"{counted(len(recording['segments']), 'still segment')} in {recording['n_samples']} samples{files} "
               f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
               f"used {body.get('segments_used', 'all')}")
     if body.get("id"):

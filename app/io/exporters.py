@@ -11,6 +11,7 @@ import re
 
 from app.calibration.result import DRIFT, FIGURES
 
+from .plural import counted
 from .errors import ExportError
 from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, result_class, sensor_corrections, unit_label
 from .export_compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
@@ -107,7 +108,7 @@ def to_c_header(body: dict) -> Export:
     gyro = body.get("gyroscope_bias")
     if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
         half = ", ".join(f"{v:.3g}" for v in gyro["half_width_rad_s"])
-        sensors += (f"\n/* gyroscope bias at rest, rad/s, over {gyro['count']} still captures (95 % half-widths "
+        sensors += (f"\n/* gyroscope bias at rest, rad/s, over {counted(gyro['count'], 'still capture')} (95 % half-widths "
                     f"{half}): w = m - TRICAL_GYRO_BIAS_RAD_S */\n"
                     f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n")
     text = f"""/* trical calibration {body['id']}

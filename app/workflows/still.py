@@ -21,6 +21,7 @@ from app.calibration.errors import InsufficientDataError
 from app.calibration.trust import review
 from app.calibration.validation import as_vectors
 from app.io.log import ACC_PHYSICAL_UNITS
+from app.io.plural import counted
 from app.workflows.compass import auto_compass
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer
@@ -60,7 +61,7 @@ def _every_labelled(segments: list[dict]) -> list[int]:
     chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
     if not chosen:
         raise InsufficientDataError(
-            f"none of the recording's {len(segments)} still segments lies within 20° of an axis: method "
+            f"none of the recording's {counted(len(segments), 'still segment')} lies within 20° of an axis: method "
             "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
             "for free poses")
     return chosen
@@ -419,7 +420,7 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
                 raise
     if not candidates:
         raise InsufficientDataError(
-            f"{len(m)} still readings are not the six axis-aligned poses (each within 20° of one of ±x, ±y, ±z) "
+            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses (each within 20° of one of ±x, ±y, ±z) "
             f"and a magnitude model needs at least 9 free poses (12 or more recommended): add "
             f"{9 - len(m)} or more poses in other directions"
         )
