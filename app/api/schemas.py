@@ -189,6 +189,10 @@ class CalibrationCommon(Out):
     label: str | None = None
     recording_id: str | None = Field(None, description="The recording the readings came from.")
     session_id: str | None = Field(None, description="The wizard session that solved it.")
+    source: Literal["board", "phone", "px4", "ardupilot"] | None = Field(None, description=(
+        "Where its readings came from: a wizard session's source (a phone, or a board's printed lines), else the "
+        "recording's format (a phone app's, a board's lines, a PX4 or ArduPilot log); absent for a plain CSV or "
+        "JSON. The page offers the use of that source first (app/web/uses.py DEFAULT_USES)."))
     captures: list[dict[str, Any]] | None = Field(None, description=(
         "A wizard session's captures: position, mean, std, count, sampling_rate_hz (and up for cube24 and free); "
         "`trical capture`'s: position, rows (first, after last) of its log, up, mean, std, count."))

@@ -3,6 +3,8 @@ chosen and read again, the temperature over the log, and the temperature calibra
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 from playwright.sync_api import expect
 
@@ -117,7 +119,7 @@ CUT_HEADERS = """() => {
 }"""
 
 
-def test_a_real_flight_log_s_table_of_sensors_is_never_cut_from_320_to_1280_px(page, server):
+def test_a_real_flight_log_s_table_of_sensors_is_never_cut_from_320_to_1280_px(page, server, tmp_path):
     """pyulog's real sample log (tests/data/flight_logs): at 320, 390 and 1280 px no header or cell of the table of
     sensors is cut ("Temperature (°C)" once read "Te"); a table wider than a phone scrolls in its own box, never
     the page. The same walk checks the wording of the page's counts and spans, and a browser's 404 page."""
@@ -144,6 +146,17 @@ def test_a_real_flight_log_s_table_of_sensors_is_never_cut_from_320_to_1280_px(p
         [0.02, 0.1, 0.05, 0.004, 3.2, 0].map(m.spanDecimals))""") == [2, 1, 2, 3, 1, 1]
     assert page.evaluate("""() => import("/static/js/dom.js").then((m) =>
         [m.counted(1, "still reading"), m.counted(6, "still reading")])""") == ["1 still reading", "6 still readings"]
+    # An ArduPilot log's six poses: the verdict tells its figure as a level's tilt, and the use offered first is
+    # that firmware's parameters (app/web/uses.py DEFAULT_USES), not a phone app.
+    from tests.flight_logs import ardupilot_file, imu_instances
+
+    page.set_viewport_size({"width": 1280, "height": 900})
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(ardupilot_file(tmp_path / "six.bin", imu_instances(3))))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#downloads[data-ready=true]")
+    assert re.search(r"\(a level off by [\d.]+° → [\d.<]+°\)\.$", page.text_content("#verdict-words"))
+    assert page.input_value("#use-with") == "ardupilot" and page.get_attribute("#use-file", "data-format") == "ardupilot"
     # An address that names nothing: a page, with the way back.
     answer = page.goto(server.url + "/nope")
     assert answer.status == 404 and page.text_content("h1") == "No page at this address"

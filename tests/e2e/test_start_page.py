@@ -47,7 +47,8 @@ def test_paste_six_readings(page, server):
     page.select_option("#use-with", "ardupilot")
     assert page.get_attribute("#use-file", "data-format") == "ardupilot"
     assert "Mission Planner" in page.text_content("#use-how")
-    assert page.evaluate("() => localStorage.getItem('trical.use.calibration')") == "ardupilot"
+    # remembered for calibrations of this source (a plain CSV: none), over the source's default (app/web/uses.py)
+    assert page.evaluate("() => localStorage.getItem('trical.use.calibration.any')") == "ardupilot"
     shot(page, "start_page_result_ardupilot")
     assert page.errors == []
 
