@@ -14,8 +14,8 @@ So:
 - a tilt (a level, a horizon): r = g, the angle asin(e / g);
 - a heading: the compass reads the horizontal component H = F cos I of the field F at inclination I
   (positive down), so r = H and the angle is asin(e / H), at the worst, where the error lies in the
-  horizontal plane across the field. This is the same figure at most 1/cos I times larger than the
-  tilt-like asin(e / F): the closer to a pole, the larger (I = 64° in central Europe: 2.3 times).
+  horizontal plane across the field. For a small error it is about 1/cos I times the tilt-like
+  asin(e / F): the closer to a pole, the larger (I = 64° in central Europe: 2.3 times).
 
 The figures are worst cases of an error of that size, not the mean of a random one: the figure the verdict
 stands on is a norm error | |a| − g | (or | |h| − F |), which bounds below the vector error it comes from,
