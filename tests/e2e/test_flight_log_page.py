@@ -157,8 +157,10 @@ def test_a_real_flight_log_s_table_of_sensors_is_never_cut_from_320_to_1280_px(p
     page.wait_for_selector("#downloads[data-ready=true]")
     assert re.search(r"\(a level off by [\d.]+° → [\d.<]+°\)\.$", page.text_content("#verdict-words"))
     assert page.input_value("#use-with") == "ardupilot" and page.get_attribute("#use-file", "data-format") == "ardupilot"
+    shot(page, "flight_log_six_verdict_ardupilot_1280")
     # An address that names nothing: a page, with the way back.
     answer = page.goto(server.url + "/nope")
     assert answer.status == 404 and page.text_content("h1") == "No page at this address"
+    shot(page, "not_found_1280")
     page.click("#not-found-history")
     page.wait_for_url(server.url + "/history")
