@@ -22,9 +22,11 @@ import numpy as np
 from app import __version__, methods, workflow
 from app import cli_options as opt
 from app.calibration import CalibrationError
+from app.calibration.angles import degrees_text, tilt_error_deg
 from app.calibration.solvers import SOLVERS
 from app.config import Settings, SettingsError
 from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
+from app.io.plural import counted
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.errors import ExportError, LogFormatError
 from app.io.formats import FORMATS, starts_like_flight_log
@@ -373,7 +375,7 @@ def _print_summary(body: dict, recording: dict) -> None:
         print(f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
               f"({flight['raw_how']}), attitude from {flight['attitude_source']}")
     else:
-        print(f"{len(recording['segments'])} still segments in {recording['n_samples']} samples{files} "
+        print(f"{counted(len(recording['segments']), 'still segment')} in {recording['n_samples']} samples{files} "
               f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
               f"used {body.get('segments_used', 'all')}")
     if body.get("id"):
@@ -542,18 +544,22 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
 def _print_folder_table(bodies: list[dict]) -> None:
     bodies = [render_body(b, "cli") for b in bodies]
     name_w = max(8, *(len(b.get("label") or "") for b in bodies))
-    print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'before mg':>10}{'after mg':>10}{'R %':>8}  note")
+    # "tilt": the worst tilt a level reads with the cv error (app.calibration.angles).
+    print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'tilt':>8}{'before mg':>10}{'after mg':>10}"
+          f"{'R %':>8}  note")
     for b in bodies:
         if "error" in b:
-            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>10}{'':>10}{'':>8}  {render(b['error'], 'cli')}")
+            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>8}{'':>10}{'':>10}{'':>8}  "
+                  f"{render(b['error'], 'cli')}")
             continue
         m = b["metrics"]
         cv = "-" if m.get("cv_error_mg") is None else f"{m['cv_error_mg']:.2f}"
+        tilt = "-" if m.get("cv_error_mg") is None else degrees_text(tilt_error_deg(m["cv_error_mg"]))
         before = "-" if m.get("error_before_mg") is None else f"{m['error_before_mg']:.2f}"
         after = "-" if m.get("error_after_mg") is None else f"{m['error_after_mg']:.2f}"
         r = "-" if not m.get("improvement_pct") else f"{m['improvement_pct']:.0f}"
         note = b["reasons"][0] if b["reasons"] else ""
-        print(f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}"
+        print(f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}{tilt:>8}"
               f"{before:>10}{after:>10}{r:>8}  {note[:100]}")
     n_ok = sum(1 for b in bodies if b.get("ok"))
     print(f"{n_ok} of {len(bodies)} recordings calibrated")

@@ -27,6 +27,7 @@ from app.api.ratelimit import RateLimiter, retry_after
 from app.config import Settings
 from app.store import open_store
 from app.web import router as web_router
+from app.web.pages import not_found_page
 
 
 SECURITY_HEADERS = {
@@ -135,7 +136,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.add_middleware(GZipMiddleware, minimum_size=1024)
     # Outermost, so that an oversized JSON body is refused before any other layer touches it.
     app.add_middleware(JsonBodyLimit, limit_bytes=settings.max_json_bytes, limit_mb=settings.max_json_mb)
-    install_error_handlers(app)
+    install_error_handlers(app, not_found_page)
     app.include_router(api_router)
     app.include_router(web_router)
     docs_page, docs_policy = swagger_ui_page(app.openapi_url, f"{app.title} - Swagger UI")

@@ -372,7 +372,7 @@ class Cube24Protocol(SessionProtocol):
         result = calibrate_cube(acc, gyr, None, sampling_rate_hz=rate, protocol=self.name, gravity=session.gravity)
         return workflow.calibration_body(
             result, {}, unit=session.unit, notes=browser_notes(session), device_id=session.device_id,
-            label=session.label, session_id=session.id, units={"acc": session.unit, "gyr": "rad/s"},
+            label=session.label, session_id=session.id, source=session.source, units={"acc": session.unit, "gyr": "rad/s"},
             captures=[{k: c[k] for k in CAPTURE_FIELDS} for c in session.captures],
         )
 
@@ -451,7 +451,7 @@ def session_body(session: Session, result, extra: dict, **fields) -> dict:
         fields["gyroscope_bias"] = bias
     return workflow.calibration_body(
         result, extra, unit=session.unit, notes=browser_notes(session), device_id=session.device_id,
-        label=session.label, session_id=session.id, **fields)
+        label=session.label, session_id=session.id, source=session.source, **fields)
 
 
 def browser_notes(session: Session) -> list[str]:

@@ -22,6 +22,7 @@ applying; below that it is "no need": the sensor is already as good as the calib
 
 from __future__ import annotations
 
+from app.calibration.angles import figure_degrees
 from app.calibration.errors import CalibrationError
 from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult
 
@@ -81,7 +82,8 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
         ``apply`` (offer its files to a device), ``kind`` (``apply``, ``no_gain``, ``worse``, ``failed``,
         or ``figures`` for a noise characterisation, which corrects nothing), ``words`` (the sentence),
         ``why`` (one line more), and ``before``, ``after``, ``unit``, ``basis`` of its figure (null
-        where it has none).
+        where it has none), and ``degrees``: the figure as a level's tilt or a compass's heading error
+        (app.calibration.angles.figure_degrees; null for a figure that is no error of gravity or of the field).
 
     The result decides what it stands on: its kind (:attr:`CalibrationResult.KIND`), its figures
     (:meth:`CalibrationResult.figures`), its headline and the note under its figure. A body cut short
@@ -98,10 +100,10 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
             cls = CalibrationResult
         figures, line = cls.figures_from(body.get("metrics") or {}, body.get("output_unit")), body.get("headline")
         ok, reasons = bool(body.get("ok")), list(body.get("reasons") or [])
-    return _VERDICTS[cls.KIND](cls, body.get("method"), figures, line, ok, reasons)
+    return _VERDICTS[cls.KIND](cls, body.get("method"), figures, line, ok, reasons, body.get("metrics") or {})
 
 
-def _figures_verdict(cls, method, figures, line, ok: bool, reasons: list[str]) -> dict:
+def _figures_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:
     """A noise characterisation corrects nothing: its figures are for a filter."""
     if ok:
         return _out(True, "figures", "Use these figures in your filter: the sensors' noise is characterised.",
@@ -111,15 +113,18 @@ def _figures_verdict(cls, method, figures, line, ok: bool, reasons: list[str]) -
                 _short_reason(reasons))
 
 
-def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str]) -> dict:
-    """A correction: its one figure, the most honest it has (the result's order)."""
+def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:
+    """A correction: its one figure, the most honest it has (the result's order), and what it means as an angle
+    (app.calibration.angles.figure_degrees): a level's tilt for an accelerometer, a heading for a compass."""
     figure = figures[0] if figures else NO_FIGURE
     before, after, unit, basis = figure.before, figure.after, figure.unit, figure.basis
     change = ("" if after is None else f"{basis} {_amount(before, unit)} → {_amount(after, unit)}"
               if before is not None else f"{basis} {_amount(after, unit)}")
-    figures_out = dict(before=before, after=after, unit=unit or None, basis=basis or None)
+    degrees = figure_degrees(before, after, unit, metrics)
+    figures_out = dict(before=before, after=after, unit=unit or None, basis=basis or None, degrees=degrees)
+    told = f"{change}; {degrees['words']}" if degrees and change else change
     if figure.grew:
-        return _out(False, "worse", f"Don't apply it: your sensor is already better than this ({change}).",
+        return _out(False, "worse", f"Don't apply it: your sensor is already better than this ({told}).",
                     ("It would make your sensor worse; keep it as it is. "
                      + (_short_reason(reasons) if reasons else "")).strip(),
                     **figures_out)
@@ -128,22 +133,25 @@ def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str]
                     **figures_out)
     if before is not None and after is not None:
         if after > (1.0 - MIN_GAIN_FRACTION) * before or before - after < MIN_GAIN.get(unit, MIN_GAIN_MG):
-            return _out(False, "no_gain", f"No need to apply it: it changes too little to matter ({change}).",
+            return _out(False, "no_gain", f"No need to apply it: it changes too little to matter ({told}).",
                         "Your sensor is about as good without it; keep it as it is.", **figures_out)
-    words = f"Apply it: {change}." if change else "Apply it: it passed every check."
+    words = f"Apply it: {change} ({degrees['words']})." if degrees and change else (
+        f"Apply it: {change}." if change else "Apply it: it passed every check.")
     why = cls.verdict_note(method, figure) or ("It passed every check." if change else "")
     return _out(True, "apply", words, why, **figures_out)
 
 
-def _drift_verdict(cls, method, figures, line, ok: bool, reasons: list[str]) -> dict:
+def _drift_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:
     """A temperature calibration: its offset drift over the range, raw against bands of temperature left out
     (each predicted by the fit made without it), the accelerometer's in mg first, else the gyroscope's in °/s;
-    worse when any sensor's drift grew, no gain when none shrank enough."""
+    worse when any sensor's drift grew, no gain when none shrank enough. The accelerometer's drift is also told
+    as the tilt it gives a level (app.calibration.angles.figure_degrees)."""
     if not figures:
         return _out(False, "failed", "Don't apply it: the calibration has no temperature model.", _short_reason(reasons))
     first = figures[0]
-    change = line or ""
-    figures_out = dict(before=first.before, after=first.after, unit=first.unit, basis=first.basis)
+    degrees = next((d for f in figures if (d := figure_degrees(f.before, f.after, f.unit, metrics))), None)
+    change = f"{line}; {degrees['words']}" if line and degrees else (line or "")
+    figures_out = dict(before=first.before, after=first.after, unit=first.unit, basis=first.basis, degrees=degrees)
     if any(f.grew for f in figures):
         return _out(False, "worse", f"Don't apply it: the drift would grow ({change}).",
                     ("It would make your sensor worse; keep its temperature calibration off. "
@@ -168,6 +176,7 @@ def with_verdict(body: dict) -> dict:
     return body if "verdict" in body else {**body, "verdict": verdict(body)}
 
 
-def _out(apply: bool, kind: str, words: str, why: str, *, before=None, after=None, unit=None, basis=None) -> dict:
+def _out(apply: bool, kind: str, words: str, why: str, *, before=None, after=None, unit=None, basis=None,
+         degrees=None) -> dict:
     return {"apply": apply, "kind": kind, "words": words, "why": why, "before": before, "after": after,
-            "unit": unit, "basis": basis}
+            "unit": unit, "basis": basis, "degrees": degrees}

@@ -25,7 +25,7 @@ def test_calibrate_several_files_names_each_pose_by_its_file(tmp_path):
     human = trical("calibrate", *paths, "--unit", "m/s^2", "--no-store", tmp_path=tmp_path)
     lines = human.stdout.splitlines()
     assert lines[0] == "6 still segments in 1200 samples of 6 files at 62.8687 Hz; used [0, 1, 2, 3, 4, 5]"  # the span of the files' ms stamps
-    assert lines[1] == "Apply it: error on the 6 poses fitted 32.1\u00a0mg → 0.58\u00a0mg."
+    assert lines[1] == "Apply it: error on the 6 poses fitted 32.1\u00a0mg → 0.58\u00a0mg (a level off by 1.8° → 0.03°)."
     assert lines[3:9] == [
         "x_axis_pos.csv: +x up, mean 10.2001  -0.0428  -0.0932",
         "x_axis_neg.csv: -x up, mean -9.4339  -0.2734  0.9238",

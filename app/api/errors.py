@@ -27,7 +27,9 @@ not_found              404     no such resource for this caller
 already_captured       409     a wizard pose captured already (send redo)
 unauthorized           401     a missing or invalid API key or session token
 rate_limited           429     too many requests (with Retry-After)
-http_error             4xx     any other HTTP error (unknown route, method not allowed)
+http_error             4xx     any other HTTP error (unknown route, method not allowed); an unknown
+                               address outside /api/ asked for by a browser (Accept: text/html)
+                               is answered by the 404 page instead (templates/not_found.html)
 internal_error         500     a failure of trical itself; nothing was stored
 =====================  ======  ==========================================================
 """
@@ -35,10 +37,11 @@ internal_error         500     a failure of trical itself; nothing was stored
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
+from fastapi.responses import HTMLResponse, JSONResponse
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from app.api.deps import Unauthorized
@@ -89,8 +92,21 @@ def error_response(status: int, detail: str, code: str, headers: dict | None = N
     return JSONResponse(body, status_code=status, headers=headers)
 
 
-def install_error_handlers(app: FastAPI) -> None:
-    """Register the mapping of every error class to its HTTP status and code."""
+API_PREFIX = "/api/"
+"""Every address under it answers JSON, whoever asks."""
+
+
+def wants_page(request: Request) -> bool:
+    """A browser asking for a page: an address outside the API whose request accepts HTML (``Accept: text/html``,
+    as a browser's navigation sends); any other caller, and every address under ``/api/``, is answered JSON."""
+    if request.url.path.startswith(API_PREFIX) or request.url.path == API_PREFIX.rstrip("/"):
+        return False
+    return "text/html" in (request.headers.get("accept") or "").lower()
+
+
+def install_error_handlers(app: FastAPI, not_found_page: Callable[[Request], HTMLResponse] | None = None) -> None:
+    """Register the mapping of every error class to its HTTP status and code; ``not_found_page`` (the pages' 404
+    page, given by app.main: the API does not import the pages) answers a browser's unknown address."""
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError):
@@ -128,6 +144,8 @@ def install_error_handlers(app: FastAPI) -> None:
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException):
+        if exc.status_code == 404 and not_found_page is not None and wants_page(request):
+            return not_found_page(request)
         return error_response(exc.status_code, exc.detail, "http_error", exc.headers, request=request)
 
     @app.exception_handler(Exception)

@@ -137,6 +137,19 @@ class MagnitudeReading(Out):
         "A recording made of several files (one per pose): the file this reading came from."))
 
 
+class DegreesOut(Out):
+    """A verdict's figure as the angle it can turn a level or a heading by, at worst: asin(e/r)."""
+
+    kind: Literal["tilt", "heading"] = Field(description="`tilt`: asin(e/g) for a figure in mg; `heading`: "
+                                                         "asin(e/H), H = F cos I, for µT or counts.")
+    before_deg: float | None = Field(description="The raw figure's angle, degrees (null without a raw figure).")
+    after_deg: float = Field(description="The calibrated figure's angle, degrees.")
+    inclination_deg: float | None = Field(description="A heading's inclination I, degrees (null for a tilt).")
+    inclination_source: Literal["model", "measured", "assumed"] | None = Field(description=(
+        "Where I comes from: `model` (IGRF-14 at the place given), `measured` (in the turn), `assumed` (60°)."))
+    words: str = Field(description="E.g. “a level off by 1.8° → 0.03°”.")
+
+
 class VerdictOut(Out):
     """Whether to apply the calibration, in words (app.verdict): what a person reads first."""
 
@@ -144,7 +157,8 @@ class VerdictOut(Out):
     kind: Literal["apply", "no_gain", "worse", "failed", "figures"] = Field(description=(
         "`apply`; `no_gain`: passed but changes too little to matter; `worse`: its error grew; `failed`: a check "
         "failed; `figures`: a noise characterisation, which corrects nothing."))
-    words: str = Field(description="E.g. “Apply it: error on new orientations 36.0 mg → 1.40 mg.”")
+    words: str = Field(description="E.g. “Apply it: error on new orientations 36.0 mg → 1.40 mg (a level off by 2.1° → "
+                                   "0.08°).”")
     why: str = Field(description="One line more: the reason, or what the figure is.")
     before: float | None = Field(description="The figure's raw error (null where the readings are counts).")
     after: float | None = Field(description="The same, calibrated.")
@@ -152,6 +166,9 @@ class VerdictOut(Out):
         "mg of g, or µT for a compass (counts for a magnetometer left in counts); °/s for a temperature calibration "
         "of a gyroscope alone; ° (heading error) for a compass calibrated from a flight."))
     basis: str | None = Field(description="Which readings the figure is on, in words.")
+    degrees: DegreesOut | None = Field(default=None, description=(
+        "The figure as an angle (app.calibration.angles, docs/methods.md): a level's tilt for an accelerometer, a "
+        "heading error for a compass; null for a figure that is no error of gravity or of the field."))
 
 
 class CalibrationCommon(Out):
@@ -178,6 +195,10 @@ class CalibrationCommon(Out):
     earlier: int | None = Field(None, description=(
         "How many earlier calibrations of the same recording and method this one superseded "
         "(GET /api/v1/calibrations?superseded_by=ID lists them); absent when none."))
+    source: Literal["board", "phone", "px4", "ardupilot"] | None = Field(None, description=(
+        "Where its readings came from: a wizard session's source (a phone, or a board's printed lines), else the "
+        "recording's format (a phone app's, a board's lines, a PX4 or ArduPilot log); absent for a plain CSV or "
+        "JSON. The page offers the use of that source first (app/web/uses.py DEFAULT_USES)."))
     captures: list[dict[str, Any]] | None = Field(None, description=(
         "A wizard session's captures: position, mean, std, count, sampling_rate_hz (and up for cube24 and free); "
         "`trical capture`'s: position, rows (first, after last) of its log, up, mean, std, count."))
@@ -803,11 +824,15 @@ class FirmwareFiguresOut(BaseModel):
 
 class SnippetsOut(BaseModel):
     corrections: dict[str, CorrectionOut] = Field(description="Each sensor's correction, by acc, gyr, mag.")
-    c: str = Field(description="Lines over the C header: a reading scaled to the header's unit and passed through "
-                               "trical_<sensor>_apply.")
+    c: str = Field(description="Lines at file scope over the C header (C89 and later): its #include, then per sensor "
+                               "a function trical_<sensor>_calibrate that scales a driver's reading to the header's "
+                               "unit and passes it through trical_<sensor>_apply, the call for one reading in a "
+                               "comment.")
     python: str = Field(description="numpy over the JSON export.")
     javascript: str = Field(description="JavaScript over the JSON export, for a phone app.")
     functions: dict[str, str] = Field(description="The C header's apply function of each sensor.")
+    calibrate: dict[str, str] = Field(default_factory=dict,
+                                      description="The C lines' function of each sensor, taking a driver's reading.")
     scales: dict[str, ScaleOut | None] = Field(description="How a sensor's int16 counts become the input unit; "
                                                            "null when the calibration takes them as they are.")
     firmware: dict[str, FirmwareFiguresOut] = Field(

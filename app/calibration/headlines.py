@@ -8,21 +8,24 @@ flatters every fit (zero for an exact one). Each result class chooses its line
 
 from __future__ import annotations
 
+from .angles import compass_inclination, degrees_text, heading_error_deg, tilt_error_deg
+
 
 def _mg(value) -> str:
     return "n/a" if value is None else f"{value:.2f} mg"
 
 
 def accelerometer_headline(metrics: dict, *, held_out: bool) -> str:
-    """``metrics`` of an accelerometer calibration in one line: new orientations first, in-sample and raw
-    beside.
+    """``metrics`` of an accelerometer calibration in one line: new orientations first (and the tilt it can
+    give a level, app.calibration.angles), in-sample and raw beside.
 
     ``held_out``: its ``error_*_mg`` are control points held out of the fit (autocal's), not the fitted
     readings.
     """
     scheme = metrics.get("cv_scheme")
     if metrics.get("cv_error_mg") is not None:
-        first = (f"on new orientations expect {_mg(metrics['cv_error_mg'])} of g "
+        first = (f"on new orientations expect {_mg(metrics['cv_error_mg'])} of g, a level off by "
+                 f"{degrees_text(tilt_error_deg(metrics['cv_error_mg']))} at most "
                  f"(up to {_mg(metrics.get('cv_error_max_mg'))}; {scheme})")
     else:
         first = metrics.get("cv_note") or "no figure for new orientations"
@@ -33,13 +36,17 @@ def accelerometer_headline(metrics: dict, *, held_out: bool) -> str:
 
 
 def compass_headline(metrics: dict, label: str = "µT") -> str:
-    """A compass calibration's line: the error of |h| on directions left out, then in-sample and raw;
+    """A compass calibration's line: the error of |h| on directions left out (and the heading error it can
+    give at the field's inclination, app.calibration.angles), then in-sample and raw;
     ``label`` is ``counts`` for a magnetometer left in counts (its ``_ut`` figures are then counts)."""
     def ut(value) -> str:
         return "n/a" if value is None else f"{value:.2f} {label}"
 
     if metrics.get("cv_error_ut") is not None:
-        first = (f"on new directions expect {ut(metrics['cv_error_ut'])} of the {metrics['field_ut']:.1f} {label} field "
+        inclination, _ = compass_inclination(metrics)
+        heading = degrees_text(heading_error_deg(metrics["cv_error_ut"], metrics["field_ut"], inclination))
+        first = (f"on new directions expect {ut(metrics['cv_error_ut'])} of the {metrics['field_ut']:.1f} {label} field, "
+                 f"a heading off by {heading} at most at a dip of {abs(inclination):.0f}° "
                  f"(up to {ut(metrics.get('cv_error_max_ut'))}; {metrics.get('cv_scheme')})")
     else:
         first = metrics.get("cv_note") or "no figure for new directions"

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .plural import counted
 from .errors import ExportError
 from .log import ACC_PHYSICAL_UNITS
 from .export_common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
@@ -148,7 +149,7 @@ def firmware_summary(body: dict, target: str) -> dict:
         "rotation_deg": fit.rotation_deg, "nonorthogonality_mg": mg(fit.nonorthogonality),
         "improves": fit.improves,
     }
-    where = f"on the {fit.count} still readings" if fit.from_readings else "on readings in 14 directions"
+    where = f"on the {counted(fit.count, 'still reading')}" if fit.from_readings else "on readings in 14 directions"
     if not fit.improves:
         out["words"] = (f"{target}'s offsets and scales would leave {_mg(out['firmware_max_mg'])} mg {where}, no "
                         f"better than raw ({_mg(out['raw_max_mg'])} mg): use the full correction (M and o) instead")
@@ -197,9 +198,9 @@ def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
     fit = p["fit"]
     mg = lambda v: f"{1000.0 * v:.3f}"  # noqa: E731 - relative norm errors to thousandths of g
     if fit.from_readings:
-        on = f"the calibration's {fit.count} still readings"
+        on = f"the calibration's {counted(fit.count, 'still reading')}"
         exact = ("6 numbers fit 6 readings exactly, so this figure tests nothing: the figure for any direction "
-                 "below, or more poses, does" if fit.dof == 0 else f"{fit.dof} readings more than the 6 numbers")
+                 "below, or more poses, does" if fit.dof == 0 else f"{counted(fit.dof, 'reading')} more than the 6 numbers")
     else:
         on = "the readings trical's full model puts at magnitude g in 14 directions (the calibration holds fewer than 6)"
         exact = "fitted on those readings"
@@ -272,7 +273,7 @@ def to_ardupilot(body: dict) -> Export:
     if gyro:
         half = ", ".join(f"{a} {v:.3g}" for a, v in zip("XYZ", gyro["half_width_rad_s"]))
         comments += [
-            f"Gyroscope bias over {gyro['count']} still captures, 95 % half-widths {half} rad/s "
+            f"Gyroscope bias over {counted(gyro['count'], 'still capture')}, 95 % half-widths {half} rad/s "
             f"(interval from the {gyro['interval_from']}).",
             f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_GYRO_SOURCE}):",
             "  w_i = m_i - INS_GYROFFS_i, m and INS_GYROFFS in rad/s",

@@ -11,6 +11,7 @@ import re
 
 from app.calibration.result import DRIFT, FIGURES
 
+from .plural import counted
 from .errors import ExportError
 from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, result_class, sensor_corrections, unit_label
 from .export_compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
@@ -86,18 +87,20 @@ static const float {name}_matrix[3][3] = {{
 }};
 
 /* Calibrate one raw reading m into f = M (m - o). */
-static inline void {name}_apply(const float m[3], float f[3])
+static TRICAL_INLINE void {name}_apply(const float m[3], float f[3])
 {{
     float d[3];
-    for (int i = 0; i < 3; ++i) d[i] = m[i] - {name}_offset[i];
-    for (int i = 0; i < 3; ++i)
+    int i;
+    for (i = 0; i < 3; ++i) d[i] = m[i] - {name}_offset[i];
+    for (i = 0; i < 3; ++i)
         f[i] = {name}_matrix[i][0] * d[0] + {name}_matrix[i][1] * d[1] + {name}_matrix[i][2] * d[2];
 }}
 """
 
 
 def to_c_header(body: dict) -> Export:
-    """A C99 header with each sensor's correction matrix, offset and an inline apply function, and
+    """A C header (C89 and later: it builds with ``gcc -std=c89 -pedantic``) with each sensor's correction
+    matrix, offset and an apply function (inline where the compiler has it), and
     ``TRICAL_GYRO_BIAS_RAD_S`` when the calibration has a ``gyroscope_bias``."""
     corrections = sensor_corrections(body)
     guard = "TRICAL_" + re.sub(r"[^A-Za-z0-9]", "_", body["id"]).upper() + "_H"
@@ -105,7 +108,7 @@ def to_c_header(body: dict) -> Export:
     gyro = body.get("gyroscope_bias")
     if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
         half = ", ".join(f"{v:.3g}" for v in gyro["half_width_rad_s"])
-        sensors += (f"\n/* gyroscope bias at rest, rad/s, over {gyro['count']} still captures (95 % half-widths "
+        sensors += (f"\n/* gyroscope bias at rest, rad/s, over {counted(gyro['count'], 'still capture')} (95 % half-widths "
                     f"{half}): w = m - TRICAL_GYRO_BIAS_RAD_S */\n"
                     f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n")
     text = f"""/* trical calibration {body['id']}
@@ -115,6 +118,18 @@ def to_c_header(body: dict) -> Export:
  */
 #ifndef {guard}
 #define {guard}
+
+/* inline where the compiler has it (C99, or GCC's __inline__ in C89), so that an apply function left unused
+ * costs nothing and warns of nothing; plain static in strict C89 elsewhere. */
+#ifndef TRICAL_INLINE
+#if defined(__STDC_VERSION__) && __STDC_VERSION__ >= 199901L
+#define TRICAL_INLINE inline
+#elif defined(__GNUC__)
+#define TRICAL_INLINE __inline__
+#else
+#define TRICAL_INLINE
+#endif
+#endif
 
 {sensors}
 #endif /* {guard} */

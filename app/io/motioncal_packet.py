@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .board_formats import MOTIONCAL_CRC, MOTIONCAL_MAG_FLOATS, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
+from .plural import counted
 from .errors import ExportError
 from .export_common import sensor_corrections
 from .log import TO_SI
@@ -181,7 +182,7 @@ def from_calibration(body: dict) -> MotionCalCalibration:
         notes.append("gyroscope: only the offsets are carried, not its scales and cross terms")
     elif gyro:
         cal["gyro_zerorate"] = np.asarray(gyro["rad_s"], dtype=float)
-        notes.append(f"gyroscope: the bias at rest over {gyro['count']} still captures")
+        notes.append(f"gyroscope: the bias at rest over {counted(gyro['count'], 'still capture')}")
     else:
         notes.append("gyroscope: no bias in this calibration, zero offsets sent")
     if "mag" in corrections:

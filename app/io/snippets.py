@@ -1,5 +1,6 @@
-"""Paste-ready examples of applying a stored calibration: a few lines of C over the C header
-(``trical_<sensor>_apply``), of Python over the JSON export, of JavaScript for a phone app over the
+"""Paste-ready examples of applying a stored calibration: lines of C at file scope over the C header (C89
+and later: a function ``trical_<sensor>_calibrate`` per sensor around the header's ``trical_<sensor>_apply``,
+the call for one reading in a comment), of Python over the JSON export, of JavaScript for a phone app over the
 JSON export, each for the calibration's own sensor and unit.
 
 A board's driver gives int16 counts; the C header maps the unit the calibration was made in (g, µT,
@@ -68,22 +69,35 @@ def _sample(c, scale: dict | None, field_ut: float | None) -> list[float]:
     return [float(f"{v:.6g}") for v in rest]
 
 
-def _c_lines(c, scale: dict | None, header: str, sample: list[float]) -> list[str]:
+def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
+    """One sensor's C lines at file scope (C89 and later): a function ``trical_<sensor>_calibrate`` that takes
+    a reading as the driver gives it (int16 counts, or floats in the header's unit) and calibrates it with the
+    header's ``trical_<sensor>_apply``, then, in a comment, the call for one reading (what the sensor reads at
+    rest with z up)."""
     name = f"trical_{c.sensor}"
-    out = unit_label(c.output_unit)
+    out, unit_in = unit_label(c.output_unit), unit_label(c.input_unit)
     if scale is None and c.input_unit != "raw":
-        read = (f"float m[3] = {{{', '.join(_c_float(v) for v in sample)}}};  "
-                f"/* one reading in {unit_label(c.input_unit)}, as the header takes it */")
-        return [f'#include "{header}"', read, "float f[3];", f"{name}_apply(m, f);  /* f: calibrated, in {out} */"]
-    raw = f"int16_t raw[3] = {{{', '.join(str(int(v)) for v in sample)}}};  /* one reading from your driver, in counts */"
+        numbers = ", ".join(_c_float(v) for v in sample)
+        return [f"/* One {SENSORS[c.sensor]} reading m in {unit_in}, as the header takes it, calibrated into f, in {out}. */",
+                f"void {name}_calibrate(const float m[3], float f[3])", "{", f"    {name}_apply(m, f);", "}",
+                "/* For each reading, e.g. at rest with z up:",
+                f" *     float m[3] = {{{numbers}}};",
+                f" *     float f[3];  {name}_calibrate(m, f);",
+                " */"]
     if scale is None:
-        m = "float m[3] = {raw[0], raw[1], raw[2]};  /* the header takes counts, as calibrated */"
+        body = [f"    m[{i}] = (float)raw[{i}];" + ("  /* the header takes counts, as calibrated */" if i == 0 else "")
+                for i in range(3)]
     else:
-        k = _c_float(scale["value"])
-        op = scale["op"]
-        m = (f"float m[3] = {{raw[0] {op} {k}, raw[1] {op} {k}, raw[2] {op} {k}}};  "
-             f"/* counts to {unit_label(c.input_unit)}: {scale['words']} */")
-    return [f'#include "{header}"  /* and <stdint.h>, for int16_t */', raw, m, "float f[3];", f"{name}_apply(m, f);  /* f: calibrated, in {out} */"]
+        k, op = _c_float(scale["value"]), scale["op"]
+        body = [f"    m[{i}] = raw[{i}] {op} {k};" + (f"  /* counts to {unit_in}: {scale['words']} */" if i == 0 else "")
+                for i in range(3)]
+    return [f"/* One {SENSORS[c.sensor]} reading from your driver, in counts, calibrated into f, in {out}. */",
+            f"void {name}_calibrate(const int16_t raw[3], float f[3])", "{", "    float m[3];", *body,
+            f"    {name}_apply(m, f);", "}",
+            "/* For each reading, e.g. at rest with z up:",
+            f" *     int16_t raw[3] = {{{', '.join(str(int(v)) for v in sample)}}};",
+            f" *     float f[3];  {name}_calibrate(raw, f);",
+            " */"]
 
 
 def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
@@ -99,7 +113,9 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
     Returns
     -------
     dict
-        ``c`` (lines over the C header, each sensor's ``trical_<sensor>_apply``), ``python`` (numpy
+        ``c`` (lines at file scope over the C header, C89 and later: the ``#include`` lines, then each sensor's
+        function ``trical_<sensor>_calibrate`` calling the header's ``trical_<sensor>_apply``, with the call for
+        one reading in a comment), ``python`` (numpy
         over the JSON export), ``javascript`` (over the JSON export, for a phone app), ``functions``
         (the C functions by sensor), ``scales`` (how counts become each sensor's input unit; None
         where none applies) and ``corrections`` (each sensor's ``M``, ``o``, units and the source of
@@ -110,15 +126,14 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
     header = f"trical_{body['id']}.h"
     json_name = f"{body['id']}.json"
     cube = result_class(body).PER_SENSOR
-    c_lines, py_lines, js_lines, scales = [], [], [], {}
+    c_blocks, py_lines, js_lines, scales = [], [], [], {}
     py_lines += ["import json", "import numpy as np", f'cal = json.load(open("{json_name}"))']
     js_lines += [f'const cal = await (await fetch("{json_name}")).json();  // the JSON file, served with your app']
     for c in corrections:
         scale = input_scale(c.sensor, c.input_unit, read_with)
         scales[c.sensor] = scale
         sample = _sample(c, scale, (body.get("metrics") or {}).get("field_ut"))
-        lines = _c_lines(c, scale, header, sample)
-        c_lines += lines if not c_lines else lines[1:]  # one #include
+        c_blocks += ["", *_c_lines(c, scale, sample)]
         where = f'cal["corrections"]["{c.sensor}"]' if cube else 'cal["correction"]'
         numbers = ", ".join(f"{v:g}" for v in sample)
         to_unit = ""
@@ -141,6 +156,10 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
                         f"o{suffix}[j]), 0));  // calibrated, in {unit_label(c.output_unit)}")
     corrections_out = {c.sensor: {"M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
                                   "output_unit": c.output_unit, "source": c.source} for c in corrections}
+    counts = any(scales[c.sensor] is not None or c.input_unit == "raw" for c in corrections)  # int16_t
+    c_lines = ["#include <stdint.h>  /* int16_t */", f'#include "{header}"'] if counts else [f'#include "{header}"']
+    c_lines += c_blocks
     return {"corrections": corrections_out, "c": "\n".join(c_lines), "python": "\n".join(py_lines), "javascript": "\n".join(js_lines),
-            "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections}, "scales": scales,
+            "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections},
+            "calibrate": {c.sensor: f"trical_{c.sensor}_calibrate" for c in corrections}, "scales": scales,
             "firmware": firmware_figures(body)}

@@ -38,6 +38,13 @@ def _templates(request: Request) -> Jinja2Templates:
     return cached
 
 
+def not_found_page(request: Request) -> HTMLResponse:
+    """The 404 page (templates/not_found.html): the address asked for, and links to the start page and the
+    history; app.api.errors answers a browser's unknown address with it."""
+    return _templates(request).TemplateResponse(request, "not_found.html", {"path": request.url.path[:200]},
+                                                status_code=404)
+
+
 @router.get("/", response_class=HTMLResponse)
 def index(request: Request):
     """Start page: Start on a phone with motion sensors; on a desktop, the QR code and address of

@@ -23,8 +23,8 @@ CALIBRATION_USES = (
      "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save "
             "and reboot."},
     {"key": "firmware", "name": "my own firmware", "format": "c", "snippet": "c",
-     "how": "#include the header and pass each reading through its apply function, f = M (m − o), as in these "
-            "lines (a loop of your own around them):"},
+     "how": "Put the header beside your code and these lines at file scope in one of your .c files (C89 or "
+            "later); call the function on each reading, f = M (m − o), as their comment shows:"},
 )
 """A correction of a sensor (every method but noise). ``snippet`` names the lines of
 ``GET /api/v1/calibrations/{id}/use`` (app/io/use.py) shown under the file."""
@@ -74,12 +74,22 @@ FLIGHT_COMPASS_USES = (
 """A compass calibrated from a flight: its firmware's parameters (only the firmware the log came from)."""
 
 
+DEFAULT_USES = {"board": ("firmware", "filter"), "px4": ("px4",), "ardupilot": ("ardupilot",), "phone": ("app",)}
+"""The use offered first by where the calibration's readings came from (its ``source``,
+app.io.formats.SOURCES), the first of these keys its kind offers: a board's goes into its own firmware (the C
+header; a temperature calibration's polynomials), a flight log's into that firmware's parameters, a phone's into
+a phone app. The one rule: the page (static/js/use_calibration.js) looks it up here; the person's own choice,
+once made, is remembered per source over it. A calibration with no source offers its kind's first use."""
+
+
 def uses_table() -> dict:
-    """The page's table of uses: ``calibration``, ``noise`` and ``temperature``, each a list of key, name,
+    """The page's table of uses: ``defaults`` (:data:`DEFAULT_USES`), ``calibration``, ``noise`` and
+    ``temperature``, each a list of key, name,
     format, how (and for a calibration the ``snippet`` shown);
     ``formats``, ``noiseFormats`` and ``temperatureFormats``, every export as ``[key, name]`` in the order the page lists them
     (pairs, since the template's JSON sorts an object's keys)."""
-    return {"calibration": [dict(u) for u in CALIBRATION_USES], "noise": [dict(u) for u in NOISE_USES],
+    return {"defaults": {source: list(keys) for source, keys in DEFAULT_USES.items()},
+            "calibration": [dict(u) for u in CALIBRATION_USES], "noise": [dict(u) for u in NOISE_USES],
             "temperature": [dict(u) for u in TEMPERATURE_USES], "flightCompass": [dict(u) for u in FLIGHT_COMPASS_USES],
             "flightCompassFormats": [list(f) for f in FLIGHT_COMPASS_FORMATS.items()],
             "formats": [list(f) for f in FORMAT_NAMES.items()], "noiseFormats": [list(f) for f in NOISE_FORMATS.items()],

@@ -12,7 +12,7 @@ import numpy as np
 from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientation
 from app.calibration.errors import InsufficientDataError
 from app.calibration.static import detect_static_segments
-from app.io.formats import read_log
+from app.io.formats import SOURCE_OF_FORMAT, read_log
 from app.io.log import LogData
 from app.io.parts import content_digest, pose_from_name
 
@@ -287,7 +287,11 @@ class RecordingSource:
 
     @property
     def source_fields(self) -> dict:
-        return {} if self.id is None else {"recording_id": self.id}
+        """The calibration's fields about its recording: its id, and where it came from (``source``, by its
+        format: app.io.formats.SOURCE_OF_FORMAT) when its format says."""
+        fields = {} if self.id is None else {"recording_id": self.id}
+        source = SOURCE_OF_FORMAT.get(self.meta.get("format"))
+        return fields if source is None else {**fields, "source": source}
 
 
 def require_rate(rate: float | None, method: str) -> float:

@@ -21,6 +21,7 @@ from app.calibration.errors import InsufficientDataError
 from app.calibration.trust import review
 from app.calibration.validation import as_vectors
 from app.io.log import ACC_PHYSICAL_UNITS
+from app.io.plural import counted
 from app.workflows.compass import auto_compass
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer
@@ -60,7 +61,7 @@ def _every_labelled(segments: list[dict]) -> list[int]:
     chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
     if not chosen:
         raise InsufficientDataError(
-            f"none of the recording's {len(segments)} still segments lies within 20° of an axis: method "
+            f"none of the recording's {counted(len(segments), 'still segment')} lies within 20° of an axis: method "
             "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
             "for free poses")
     return chosen
@@ -419,7 +420,7 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
                 raise
     if not candidates:
         raise InsufficientDataError(
-            f"{len(m)} still readings are not the six axis-aligned poses (each within 20° of one of ±x, ±y, ±z) "
+            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses (each within 20° of one of ±x, ±y, ±z) "
             f"and a magnitude model needs at least 9 free poses (12 or more recommended): add "
             f"{9 - len(m)} or more poses in other directions"
         )
@@ -431,25 +432,28 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
 
     chosen = min(candidates, key=rank)
     summary = {name: {"ok": r.ok, "cv_error_mg": r.metrics.get("cv_error_mg")} for name, (r, _) in candidates.items()}
-    why = _why(chosen, summary, aligned, len(m))
+    why = _why(summary, aligned, len(m))
     result, extra = candidates[chosen]
     return result, extra, {"method": chosen, "why": why, "candidates": summary}
 
 
-def _why(chosen: str, summary: dict, aligned: bool, n: int) -> str:
+def _why(summary: dict, aligned: bool, n: int) -> str:
+    """Why the chosen model fits these poses, in words that do not name it again: the page and the command line say
+    the method first ("Method: six positions, chosen because …")."""
     if not aligned:
-        return (f"the {n} poses are free (not all within 20° of an axis, or not all six axes): the magnitude model "
-                "triangular (Farago et al.) needs no orientation")
+        return (f"the {n} poses are free (not all within 20° of an axis, or not all six axes), and a magnitude model "
+                "(Farago et al.) needs no orientation")
     if len(summary) == 1:
-        return (f"the {n} poses are the six axis orientations (each within 20° of ±x, ±y, ±z): {chosen} "
-                "(Georgieva et al.); nine or more distinct poses would also allow a magnitude model to check it")
+        return (f"the {n} poses are the six axis orientations (each within 20° of ±x, ±y, ±z), which determine the "
+                "affine model in closed form (Georgieva et al.); nine or more distinct poses would also allow a "
+                "magnitude model to check it")
 
     def figure(name):
         cv = summary[name]["cv_error_mg"]
         return f"{name} {'n/a' if cv is None else f'{cv:.2f} mg'}{'' if summary[name]['ok'] else ' (not ok)'}"
 
     return (f"the {n} poses cover the six axes, so both a known-orientation and a magnitude model apply; "
-            f"on poses left out: {', '.join(figure(k) for k in summary)}; {chosen} was chosen")
+            f"on poses left out: {', '.join(figure(k) for k in summary)}")
 
 
 def auto(request, recording: RecordingSource | None) -> dict:

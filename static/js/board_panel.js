@@ -7,7 +7,7 @@ import { FORMAT_WORDS, UNIT_WORDS } from "./board_lines.js";
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { apiKey, sessionTokens } from "./tokens.js";
-import { preferUse } from "./use_calibration.js";
+import { preferSource } from "./use_calibration.js";
 import { $, el } from "./dom.js";
 
 const PLOT_MS = 5000;
@@ -154,7 +154,7 @@ export class BoardPanel {
     }
     this.port = port;
     this.baud = baud;
-    preferUse("firmware"); // a board's calibration goes into its sketch: the C header first
+    preferSource("board"); // a board's calibration goes into its sketch: the C header first (app/web/uses.py)
     this.openedAt = performance.now();
     $("#board-baud").disabled = true;
     $("#board-format").disabled = true;

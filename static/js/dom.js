@@ -14,5 +14,8 @@ export function el(tag, text, attrs = {}) {
 // An element with its text only (a table cell, a list item).
 export function cell(tag, text) { return el(tag, text); }
 
+// A count with its noun in the number it takes: "1 still reading", "6 still readings" (app/io/plural.py).
+export function counted(n, noun, plural = `${noun}s`) { return `${n} ${n === 1 ? noun : plural}`; }
+
 export function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
 export function setHidden(node, hidden) { if (node.hidden !== hidden) node.hidden = hidden; }

@@ -38,6 +38,10 @@ export function figureRows(cal) {
     ? Object.entries(v).map(([k2, v2]) => row(k2, v2, k)) : [row(k, v)]));
 }
 
+// The nouns of counts among the figures' units (app/web/metric_words.py), in the singular.
+const SINGULAR = { readings: "reading", points: "point", segments: "segment", positions: "position",
+  samples: "sample", turns: "turn", "rests and moves": "rest or move" };
+
 // The figures into a table: the name with its line in a row header, the value with its unit.
 export function fillFigures(table, cal) {
   table.replaceChildren(...figureRows(cal).map((r) => {
@@ -53,7 +57,9 @@ export function fillFigures(table, cal) {
       th.append(small);
     }
     const td = document.createElement("td");
-    td.textContent = r.unit && r.value !== "—" ? `${r.value} ${r.unit}` : r.value;
+    // A count of one takes its noun in the singular: "1 reading", not "1 readings".
+    const unit = r.value === "1" && SINGULAR[r.unit] ? SINGULAR[r.unit] : r.unit;
+    td.textContent = unit && r.value !== "—" ? `${r.value} ${unit}` : r.value;
     tr.append(th, td);
     return tr;
   }));

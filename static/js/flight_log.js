@@ -11,6 +11,11 @@ const TEMPERATURE_SPAN_C = TABLES.temperature.minSpanC; // the temperature metho
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot
 
+// The decimals a span of temperature needs to show (0.02 °C, not 0.0 °C): one, or as many as its first digit.
+export function spanDecimals(span) {
+  return span >= 0.1 || !(span > 0) ? 1 : Math.min(3, Math.ceil(-Math.log10(span)));
+}
+
 
 function esc(text) {
   return String(text).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" }[c]));
@@ -39,6 +44,16 @@ export function temperaturePlotSvg(overview) {
     + `<text x="${LEFT}" y="${H - 4}" font-size="10">°C</text></svg>`;
 }
 
+// A cell whose name may wrap after each underscore ("sensor_/combined"), its text unchanged.
+function breakable(words) {
+  const td = cell("td");
+  String(words).split("_").forEach((part, k, all) => {
+    td.append(part + (k < all.length - 1 ? "_" : ""));
+    if (k < all.length - 1) td.append(document.createElement("wbr"));
+  });
+  return td;
+}
+
 function option(value, words, chosen) {
   const o = cell("option", words);
   o.value = String(value);
@@ -52,14 +67,17 @@ export function showFlightLog(rec) {
   const flight = rec.flight;
   box.hidden = !flight;
   if (!flight) return false;
+  const heads = [...document.querySelectorAll("#flight-table thead th")].map((th) => th.textContent);
   const rows = flight.instances.map((i) => {
     const tr = document.createElement("tr");
     const range = i.temperature_min_c === null || i.temperature_min_c === undefined ? "—"
       : `${celsius(i.temperature_min_c)}–${celsius(i.temperature_max_c)}`;
     const device = i.device ? `${i.device.bus_type} ${i.device.bus}, address ${i.device.address}` : "—";
-    tr.append(cell("td", SENSORS[i.sensor] || i.sensor), cell("td", String(i.instance)), cell("td", i.source),
+    tr.append(cell("td", SENSORS[i.sensor] || i.sensor), cell("td", String(i.instance)), breakable(i.source),
       cell("td", String(i.n_samples)), cell("td", i.sampling_rate_hz ? formatNumber(i.sampling_rate_hz, 1) : "—"),
       cell("td", range), cell("td", device));
+    // Each cell named by its column, for a phone's block of lines (the table's header is hidden there).
+    [...tr.cells].forEach((td, k) => { td.dataset.label = heads[k]; });
     return tr;
   });
   $("#flight-table tbody").replaceChildren(...rows);
@@ -76,11 +94,12 @@ export function showFlightLog(rec) {
   $("#flight-temp-plot").innerHTML = temperaturePlotSvg(rec.overview);
   const temp = rec.temperature_c;
   const span = temp && temp.min !== null ? temp.max - temp.min : null;
+  const digits = spanDecimals(span); // a small span with the digits that show it, its ends alike
   $("#flight-temp").textContent = span === null
     ? "The IMU read logs no temperature."
-    : `The IMU read went from ${celsius(temp.min)} to ${celsius(temp.max)} °C`
+    : `The IMU read went from ${Number(temp.min).toFixed(digits)} to ${Number(temp.max).toFixed(digits)} °C`
       + (span >= TEMPERATURE_SPAN_C ? ": enough for a temperature calibration."
-        : ` (${celsius(span)} °C): a temperature calibration needs ${TEMPERATURE_SPAN_C} °C or more — log a cold start, the board left still while it warms up.`);
+        : ` (a span of ${span.toFixed(digits)} °C): a temperature calibration needs ${TEMPERATURE_SPAN_C} °C or more — log a cold start, the board left still while it warms up.`);
   $("#temperature-recording").hidden = !(span !== null && span >= TEMPERATURE_SPAN_C);
   return true;
 }

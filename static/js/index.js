@@ -5,7 +5,7 @@ import { flightFields, showFlightLog } from "./flight_log.js";
 import { formatNumber, parseReadings } from "./readings.js";
 import { hideCalibration, showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
-import { $, cell } from "./dom.js";
+import { $, cell, counted } from "./dom.js";
 
 
 // A phone with motion sensors sees Start; a desktop sees the phone page's QR code and address and the
@@ -150,7 +150,7 @@ function showSegments(rec) {
   const rate = rec.sampling_rate_hz ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
     : `${rec.n_samples} samples (no time column)`;
   const files = parts.length ? ` of ${parts.length} files` : "";
-  note("#segments-msg", still ? `${rec.segments.length} still segments in ${rate}${files}: calibrating…`
+  note("#segments-msg", still ? `${counted(rec.segments.length, "still segment")} in ${rate}${files}: calibrating…`
     : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
       : `The ${rec.channels.map((c) => (TABLES.sensorWords[c] || c).toLowerCase()).join(" and ")} alone, ${rate}${files}: `
         + "nothing to calibrate from its poses…");

@@ -93,7 +93,7 @@ export function logPlotSvg(overview, segments, samplingRateHz) {
   );
   const what = { mag: "magnetometer", gyr: "gyroscope" }[overview.sensor] || "accelerometer";
   const label = `The ${what}'s norm${unit} over the ${end.toFixed(samplingRateHz ? 1 : 0)} ${axis} of the log; ${segments.length} still `
-    + `segments shaded green, labelled with the face up`;
+    + `${segments.length === 1 ? "segment" : "segments"} shaded green, labelled with the face up`;
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" width="100%" role="img" `
     + `aria-label="${esc(label)}">${parts.join("")}</svg>`;
 }

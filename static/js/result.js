@@ -2,6 +2,7 @@
 
 import { norm } from "./motion.js";
 import { sourcePoseWords } from "./poses.js";
+import { counted } from "./dom.js";
 
 // One advised pose in words, with what it would gain.
 export function adviceText(a) {
@@ -58,7 +59,7 @@ export function withInterval(value, halfWidth, format) {
 export function gyroBiasText(bias) {
   const list = (v) => v.map((x) => x.toFixed(3)).join(", ");
   const over = bias.interval_from === "samples" ? "1 still capture, interval from its samples"
-    : `${bias.count} still captures`;
+    : counted(bias.count, "still capture");
   return `Gyroscope bias: ${list(bias.deg_s)} °/s ± ${list(bias.half_width_deg_s)} °/s `
     + `(${Math.round(100 * bias.confidence)} %, ${over})`;
 }

@@ -37,7 +37,8 @@ export function showCalibration(cal, token = null) {
   // The server's words name methods by key: each in words here.
   const words = (text) => text.replace(/\b[a-z]+(?:_[a-z]+)+\b|\b(?:triangular|nonorthogonal|autocal|orientations)\b/g,
     (key) => TABLES.methods[key] || key);
-  choice.textContent = cal.choice ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, ${words(cal.choice.why)}.` : "";
+  choice.textContent = cal.choice
+    ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, chosen because ${words(cal.choice.why)}.` : "";
   $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
   const kind = kindOf(cal);
   $("#result-model").replaceChildren(...kind.model(cal));

@@ -50,15 +50,22 @@ export async function fetchDownloads(cal, token = null) {
   return downloads;
 }
 
-let preferred = null;
+let connected = null;
 
-// The use offered first when the person has chosen none yet (a board: "my own firmware").
-export function preferUse(key) { preferred = key; }
+// Where the readings come from when the calibration does not say (a board connected to this page).
+export function preferSource(source) { connected = source; }
 
-function chosenUse(uses, kind) {
+// Where a calibration's readings came from: its own `source` (a session's, or its recording's format), a flight
+// compass's firmware, else what this page is connected to.
+export function sourceOf(cal) { return cal.source || cal.flight?.firmware || connected || "any"; }
+
+// The use offered first: the person's own choice for calibrations of this source, else the source's default
+// (app/web/uses.py DEFAULT_USES, the one rule), else the kind's first use.
+function chosenUse(uses, kind, source) {
   let saved = null;
-  try { saved = localStorage.getItem(`${REMEMBER}.${kind}`); } catch { /* private mode: no memory */ }
-  return uses.find((u) => u.key === saved) || uses.find((u) => u.key === preferred) || uses[0];
+  try { saved = localStorage.getItem(`${REMEMBER}.${kind}.${source}`); } catch { /* private mode: no memory */ }
+  const byDefault = (TABLES.uses.defaults[source] || []).map((key) => uses.find((u) => u.key === key)).find(Boolean);
+  return uses.find((u) => u.key === saved) || byDefault || uses[0];
 }
 
 // Before a new calibration's files are fetched: nothing stale on show.
@@ -82,17 +89,18 @@ export function showUse(cal, downloads) {
   const kind = entry.uses;
   // A kind may offer only the uses that fit this calibration (a flight's compass: its own log's firmware).
   const uses = entry.usesFor ? entry.usesFor(cal, TABLES.uses[kind]) : TABLES.uses[kind];
-  const listed = `${kind}:${uses.map((u) => u.key).join(",")}`;
+  const source = sourceOf(cal);
+  const listed = `${kind}:${source}:${uses.map((u) => u.key).join(",")}`;
   const select = $("#use-with");
   if (select.dataset.kind !== listed) {
     select.dataset.kind = listed;
     select.replaceChildren(...uses.map((u) => el("option", u.name, { value: u.key })));
     select.onchange = () => {
-      try { localStorage.setItem(`${REMEMBER}.${kind}`, select.value); } catch { /* no memory */ }
+      try { localStorage.setItem(`${REMEMBER}.${kind}.${source}`, select.value); } catch { /* no memory */ }
       showUse(cal, downloads);
     };
   }
-  const use = chosenUse(uses, kind);
+  const use = chosenUse(uses, kind, source);
   select.value = use.key;
   const file = downloads.find((d) => d.key === use.format);
   // A firmware's offsets and scales (app/io/export_params.py): what they reach on the readings, and the file

@@ -107,6 +107,11 @@ def check_cube_exports(client, body, tmp_path, headers=None):
     run_ok([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
            timeout_s=120, cwd=tmp_path)
     out = np.loadtxt(run_ok([str(tmp_path / "apply")], timeout_s=30).stdout.splitlines())
+    # The header builds as C89 too (no inline keyword, no loop declarations), and a file that uses one sensor's
+    # apply function is not warned about the others'.
+    (tmp_path / "one.c").write_text('#include "cal.h"\nvoid one(const float m[3], float f[3]) { trical_acc_apply(m, f); }\n')
+    run_ok([cc, "-std=c89", "-pedantic", "-Wall", "-Wextra", "-Werror", "-c", "-o", str(tmp_path / "one.o"),
+            str(tmp_path / "one.c")], timeout_s=60, cwd=tmp_path)
     for k, s in enumerate(sensors):
         # Single precision on the device: each float32 rounding (2⁻²⁴ relative) of m, o and M carried
         # through f = M (m − o), with a margin of 4.

@@ -48,6 +48,7 @@ def test_six_poses_of_the_chosen_imu(client, tmp_path, write):
     body = _calibrate(client, rec["id"], "six_position")
     X, y = TRUTH[1]
     assert body["ok"], body["reasons"]
+    assert body["source"] == ("px4" if write is px4_file else "ardupilot")  # its firmware's parameters first
     np.testing.assert_allclose(body["model"]["X"], X, atol=3e-4)
     np.testing.assert_allclose(body["model"]["y"], y, atol=3e-3)
     assert np.abs(np.asarray(body["model"]["y"]) - y).max() < np.abs(TRUTH[0][1] - y).max() / 20

@@ -72,6 +72,7 @@ def test_a_board_s_session_has_no_notes_of_a_phone_s_browser(client):
                                 gravity=G)
     np.testing.assert_allclose(cal["model"]["X"], expected.X, rtol=1e-12, atol=1e-14)
     assert not any("rounds its sensor values" in w or "may already calibrate" in w for w in cal["warnings"])
+    assert cal["source"] == "board"  # the page offers a board's calibration for its firmware first (app/web/uses.py)
     r = client.post("/api/v1/sessions", json={"protocol": "six", "source": "arduino"})
     assert r.status_code == 422 and "source" in r.text
 

@@ -22,6 +22,7 @@ import pytest
 from app.calibration.simulations.magnetometer import simulate_session
 from app.calibration.simulations.triangular import random_unit_vectors
 from app.calibration.triangular import fit_triangular
+from app.geomag import reference_field
 from app.verdict import verdict
 from tests.api.test_real_recordings import leave_one_out_mg
 from tests.real_recordings import by_name
@@ -52,13 +53,18 @@ def test_a_good_calibration_says_apply_it_with_the_error_on_new_orientations(cli
     body = _post(client, rec.means, unit=rec.unit, gravity=rec.gravity)
     v = body["verdict"]
     assert body["ok"] and v["apply"] is True and v["kind"] == "apply"
-    assert v["words"] == "Apply it: error on new orientations 74.0\u00a0mg → 1.20\u00a0mg."  # no-break spaces
+    # no-break spaces; the figure as a level's tilt, asin(e/g) (app.calibration.angles)
+    assert v["words"] == "Apply it: error on new orientations 74.0\u00a0mg → 1.20\u00a0mg (a level off by 4.2° → 0.07°)."
     raw = _raw_error_mg(rec.means, rec.gravity)
     cv, _ = leave_one_out_mg(lambda keep: fit_triangular(rec.means[keep], gravity=rec.gravity), rec.means,
                              rec.gravity)
     assert v["before"] == pytest.approx(raw, rel=1e-9) and v["after"] == pytest.approx(cv, rel=1e-6)
     assert _figures(v["words"]) == (round(raw, 1), round(cv, 2))
     assert v["unit"] == "mg" and v["basis"] == "error on new orientations"
+    # The tilt a level reads with that error, at worst: asin(e/g) (app.calibration.angles, docs/methods.md).
+    d = v["degrees"]
+    assert d["kind"] == "tilt" and d["before_deg"] == pytest.approx(np.degrees(np.arcsin(raw / 1000)), rel=1e-9)
+    assert d["after_deg"] == pytest.approx(np.degrees(np.arcsin(cv / 1000)), rel=1e-6)
     assert client.get(f"/api/v1/calibrations/{body['id']}").json()["verdict"] == v
 
 
@@ -123,6 +129,25 @@ def test_a_compass_calibration_s_verdict_is_in_microtesla_on_new_directions(clie
     assert v["words"].startswith("Apply it: error of the field strength on new directions ")
     before, after = _figures(v["words"])
     assert (before, after) == (round(body["metrics"]["raw_error_ut"], 1), round(body["metrics"]["cv_error_ut"], 2))
+    # No place: the heading error at the inclination measured in the turn, else an assumed one, said so.
+    assert v["degrees"]["kind"] == "heading" and v["degrees"]["inclination_source"] in ("measured", "assumed")
+    assert "a heading off by " in v["words"] and "dips" in v["words"]
+
+
+def test_a_compass_verdict_tells_its_heading_error_at_the_place_s_inclination(client):
+    m, _, _ = simulate_session(21, n=300, hard_iron_ut=80.0)
+    place = {"latitude_deg": 48.14, "longitude_deg": 11.58, "date": "2024-06-01"}
+    r = client.post("/api/v1/calibrations", json={"method": "magnetometer", "mag": m.tolist(), **place})
+    assert r.status_code == 201, r.text
+    body = r.json()
+    earth = reference_field(place["date"], place["latitude_deg"], place["longitude_deg"])
+    d, metrics = body["verdict"]["degrees"], body["metrics"]
+    assert d["inclination_source"] == "model" and d["inclination_deg"] == pytest.approx(earth.inclination_deg, abs=1e-9)
+    h = earth.horizontal_ut  # IGRF-14's H at the place
+    assert d["after_deg"] == pytest.approx(np.degrees(np.arcsin(metrics["cv_error_ut"] / h)), rel=1e-6)
+    assert d["before_deg"] == pytest.approx(np.degrees(np.arcsin(min(1.0, metrics["raw_error_ut"] / h))), rel=1e-6)
+    assert f"(the field dips {earth.inclination_deg:.0f}° at your place)" in body["verdict"]["words"]
+    assert "a heading off by " in body["headline"] and f"dip of {earth.inclination_deg:.0f}°" in body["headline"]
 
 
 def test_ok_never_carries_an_apply_verdict_when_the_figure_grew():

@@ -60,7 +60,7 @@ def test_a_still_readings_fit_stands_on_held_out_readings_then_new_orientations_
     assert r.figure() == Figure(41.5, 1.25, "mg", "error on the readings you held out")
     r = dataclasses.replace(triangular, metrics={k: v for k, v in metrics.items() if not k.startswith("holdout")})
     assert r.figure() == Figure(40.0, 2.5, "mg", "error on new orientations")
-    assert r.headline() == ("on new orientations expect 2.50 mg of g (up to 6.00 mg; leave one out); "
+    assert r.headline() == ("on new orientations expect 2.50 mg of g, a level off by 0.14° at most (up to 6.00 mg; leave one out); "
                             "on the poses fitted (in-sample) 0.75 mg, raw 40.00 mg")
     r = dataclasses.replace(triangular, metrics={**r.metrics, "cv_error_mg": None, "cv_note": "too few poses"})
     assert r.figure() == Figure(40.0, 0.75, "mg", "error on the 20 poses fitted")
@@ -132,7 +132,7 @@ def test_autocal_stands_on_its_control_points_and_says_so_in_its_headline(triang
                         point_starts=np.arange(20), control_starts=np.empty(0, dtype=np.int64), selection={},
                         control_selection={}, detection={}, comparison={}, solver="lm", metrics=metrics, unit="m/s^2")
     assert r.figure() == Figure(30.0, 1.5, "mg", "error on control points held out of the fit")
-    assert r.headline() == ("on new orientations expect 2.00 mg of g (up to 4.00 mg; leave one out); "
+    assert r.headline() == ("on new orientations expect 2.00 mg of g, a level off by 0.11° at most (up to 4.00 mg; leave one out); "
                             "on the control points (held out) 1.50 mg, raw 30.00 mg")
     no_control = dataclasses.replace(r, metrics={**metrics, "error_after_mg": None})
     assert no_control.figure() == Figure(30.0, 2.0, "mg", "error on new orientations")

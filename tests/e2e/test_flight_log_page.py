@@ -3,6 +3,8 @@ chosen and read again, the temperature over the log, and the temperature calibra
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 from playwright.sync_api import expect
 
@@ -102,3 +104,63 @@ def test_a_warm_up_is_calibrated_for_temperature_from_the_page(axe_page, server,
         problems += layout_problems(page, "flight_log_temperature_result", width)
     assert not problems, "\n".join(problems)
     assert [e for e in page.errors if "status of 422" not in e] == []
+
+
+CUT_HEADERS = """() => {
+  const cut = (c) => c.scrollWidth > c.clientWidth + 1;  // its words wider than the cell shows
+  const box = document.querySelector("#flight .scroll");
+  const table = document.querySelector("#flight-table");
+  return {
+    cells: [...table.querySelectorAll("th, td")].filter(cut).map((c) => c.textContent),
+    widths: [...table.querySelectorAll("thead th")].map((c) => [c.textContent, c.clientWidth, c.scrollWidth]),
+    scroller: [box.scrollWidth, box.clientWidth], table: [table.scrollWidth, table.clientWidth],
+    page: [document.documentElement.scrollWidth, document.documentElement.clientWidth],
+  };
+}"""
+
+
+def test_a_real_flight_log_s_table_of_sensors_is_never_cut_from_320_to_1280_px(page, server, tmp_path):
+    """pyulog's real sample log (tests/data/flight_logs): at 320, 390 and 1280 px no header or cell of the table of
+    sensors is cut ("Temperature (°C)" once read "Te"); a table wider than a phone scrolls in its own box, never
+    the page. The same walk checks the wording of the page's counts and spans, and a browser's 404 page."""
+    from tests.conftest import DATA
+
+    page.set_viewport_size({"width": 1280, "height": 900})
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(DATA / "flight_logs" / "sample_log_small.ulg"))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    heads = page.eval_on_selector_all("#flight-table thead th", "hs => hs.map(h => h.textContent)")
+    assert "Temperature (°C)" in heads and "Device" in heads
+    for width in (1280, 1024, 768, 640, 390, 320):
+        page.set_viewport_size({"width": width, "height": 900})
+        page.evaluate("() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done)))")
+        found = page.evaluate(CUT_HEADERS)
+        assert found["cells"] == [], (width, found)
+        assert found["page"][0] <= found["page"][1], (width, found)  # the page itself never scrolls sideways
+        assert found["scroller"][0] <= found["scroller"][1] + 1, (width, found)  # the whole table in view, unscrolled
+        if width in (1280, 390, 320):
+            shot(page, f"flight_log_table_{width}")
+    # A small span of temperature with the digits that show it (44.44 → 44.46 °C is 0.02 °C, not "0.0 °C").
+    assert page.evaluate("""() => import("/static/js/flight_log.js").then((m) =>
+        [0.02, 0.1, 0.05, 0.004, 3.2, 0].map(m.spanDecimals))""") == [2, 1, 2, 3, 1, 1]
+    assert page.evaluate("""() => import("/static/js/dom.js").then((m) =>
+        [m.counted(1, "still reading"), m.counted(6, "still reading")])""") == ["1 still reading", "6 still readings"]
+    # An ArduPilot log's six poses: the verdict tells its figure as a level's tilt, and the use offered first is
+    # that firmware's parameters (app/web/uses.py DEFAULT_USES), not a phone app.
+    from tests.flight_logs import ardupilot_file, imu_instances
+
+    page.set_viewport_size({"width": 1280, "height": 900})
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(ardupilot_file(tmp_path / "six.bin", imu_instances(3))))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#downloads[data-ready=true]")
+    assert re.search(r"\(a level off by [\d.]+° → [\d.<]+°\)\.$", page.text_content("#verdict-words"))
+    assert page.input_value("#use-with") == "ardupilot" and page.get_attribute("#use-file", "data-format") == "ardupilot"
+    shot(page, "flight_log_six_verdict_ardupilot_1280")
+    # An address that names nothing: a page, with the way back.
+    answer = page.goto(server.url + "/nope")
+    assert answer.status == 404 and page.text_content("h1") == "No page at this address"
+    shot(page, "not_found_1280")
+    page.click("#not-found-history")
+    page.wait_for_url(server.url + "/history")

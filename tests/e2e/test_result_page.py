@@ -192,7 +192,7 @@ def test_with_api_keys_the_page_asks_for_the_key_and_reads_with_it(browser, tmp_
 def test_the_firmware_use_shows_the_lines_to_paste_which_gcc_builds_and_runs(browser, server, tmp_path):
     """The page's snippet under the C header, as a person copies it, compiled over the header the page
     downloads and run on its reading: the same numbers as the API's apply."""
-    from tests.io.test_snippets import counts_log
+    from tests.io.test_snippets import C_FLAGS, counts_log, example_reading
     from tests.processes import run_ok
     import shutil
 
@@ -214,15 +214,16 @@ def test_the_firmware_use_shows_the_lines_to_paste_which_gcc_builds_and_runs(bro
             page.click("#use-file")
         header = tmp_path / download.value.suggested_filename
         download.value.save_as(header)
-        include, *body = snippet.splitlines()
-        assert include.startswith(f'#include "{header.name}"')
-        (tmp_path / "paste.c").write_text("\n".join(["#include <stdint.h>", "#include <stdio.h>", include,
-                                                    "int main(void) {", *body,
-                                                    'printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);', "return 0; }", ""]))
-        run_ok([shutil.which("gcc"), "-std=c99", "-Wall", "-Wextra", "-Werror", "-I", str(tmp_path), "-o",
-                str(tmp_path / "paste"), str(tmp_path / "paste.c")], timeout_s=60)
+        # The lines go at file scope as pasted (their #include first), then a main of ours calls their function.
+        assert f'#include "{header.name}"' in snippet.splitlines()[:2]
+        raw = [int(v) for v in example_reading(snippet)]
+        (tmp_path / "paste.c").write_text("\n".join([
+            "#include <stdio.h>", snippet, "int main(void) {", f"    int16_t raw[3] = {{{', '.join(map(str, raw))}}};",
+            "    float f[3];", "    trical_acc_calibrate(raw, f);", '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);',
+            "    return 0;", "}", ""]))
+        run_ok([shutil.which("gcc"), *C_FLAGS, "-I", str(tmp_path), "-o", str(tmp_path / "paste"),
+                str(tmp_path / "paste.c")], timeout_s=60)
         f = [float(v) for v in run_ok([str(tmp_path / "paste")], timeout_s=10).stdout.split()]
-        raw = [int(v) for v in body[0].split("{")[1].split("}")[0].split(",")]
         want = httpx.post(f"{server.url}/api/v1/calibrations/{cal['id']}/apply",
                           json={"samples": [[v / 8192 for v in raw]]}, timeout=60).json()["samples"][0]
         np.testing.assert_allclose(f, want, atol=2e-6)

@@ -47,7 +47,8 @@ def test_paste_six_readings(page, server):
     page.select_option("#use-with", "ardupilot")
     assert page.get_attribute("#use-file", "data-format") == "ardupilot"
     assert "Mission Planner" in page.text_content("#use-how")
-    assert page.evaluate("() => localStorage.getItem('trical.use.calibration')") == "ardupilot"
+    # remembered for calibrations of this source (a plain CSV: none), over the source's default (app/web/uses.py)
+    assert page.evaluate("() => localStorage.getItem('trical.use.calibration.any')") == "ardupilot"
     shot(page, "start_page_result_ardupilot")
     assert page.errors == []
 
@@ -78,7 +79,9 @@ def test_upload_a_log(page, server):
     assert "passed its checks" in page.text_content("#result-ok")
     # method auto: six axis poses → six_position, said in words; the headline says that six poses give
     # no figure for new orientations, and how to get one.
-    assert page.text_content("#result-choice").startswith("Method: six positions (accelerometer), the 6 poses are the six axis")
+    choice = page.text_content("#result-choice")  # the method named once, then why
+    assert choice.startswith("Method: six positions (accelerometer), chosen because the 6 poses are the six axis")
+    assert choice.count("six positions (accelerometer)") == 1, choice
     headline = page.text_content("#result-headline")
     assert headline.startswith("no figure for new orientations") and "add poses" in headline
     assert "on the poses fitted (in-sample)" in headline
@@ -184,7 +187,9 @@ def test_one_file_per_pose_chosen_at_once_is_one_calibration(page, server):
     page.wait_for_selector("#downloads[data-ready=true]")
     shot(page, "start_page_pose_files")
     assert page.get_attribute("#verdict", "data-kind") == "apply"
-    assert page.text_content("#result-choice").startswith("Method: six positions (accelerometer), the 6 poses are the six axis")
+    choice = page.text_content("#result-choice")  # the method named once, then why
+    assert choice.startswith("Method: six positions (accelerometer), chosen because the 6 poses are the six axis")
+    assert choice.count("six positions (accelerometer)") == 1, choice
     readings = page.eval_on_selector_all("#result-readings tbody tr", "rows => rows.map(r => [r.cells[0].textContent, r.cells[3].textContent])")
     assert sorted(map(tuple, readings)) == sorted([("+x", "x_axis_pos.csv"), ("-x", "x_axis_neg.csv"), ("+y", "y_axis_pos.csv"),
                                        ("-y", "y_axis_neg.csv"), ("+z", "z_axis_pos.csv"), ("-z", "z_axis_neg.csv")])

@@ -42,20 +42,35 @@ def calibrate(client, content: bytes, **fields) -> dict:
     return r.json()
 
 
-def run_c(client, cal: dict, snippet: str, tmp_path) -> np.ndarray:
-    """The C lines in a main() over the exported header, built by gcc with every warning an error."""
+C_FLAGS = ("-std=c89", "-pedantic", "-Wall", "-Wextra", "-Werror")
+"""The C lines and the header build as C89 (no inline, no declaration after a statement, no // comment), every
+warning an error; C99 and later accept C89."""
+
+
+def example_reading(snippet: str, sensor: str = "acc") -> list[float]:
+    """The reading the lines' comment calls ``trical_<sensor>_calibrate`` with (at rest, z up)."""
+    block = snippet[snippet.index(f"trical_{sensor}_calibrate("):]
+    numbers = block.split("[3] = {")[1].split("}")[0]
+    return [float(v.strip().rstrip("f")) for v in numbers.split(",")]
+
+
+def run_c(client, cal: dict, snippet: str, tmp_path, sensor: str = "acc") -> np.ndarray:
+    """The C lines as pasted at file scope over the exported header, and a main() that calls their function on
+    the comment's reading and prints the result, built by gcc as C89 with every warning an error."""
     cc = shutil.which("gcc")
     assert cc, "gcc is needed to build the C example"
     header = client.get(f"/api/v1/calibrations/{cal['id']}/export", params={"format": "c"})
     (tmp_path / f"trical_{cal['id']}.h").write_text(header.text)
-    include, *body = snippet.splitlines()
-    source = "\n".join(["#include <stdint.h>", "#include <stdio.h>", include, "int main(void)", "{",
-                        *("    " + line for line in body), '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);',
-                        "    return 0;", "}", ""])
+    reading = example_reading(snippet, sensor)
+    counts = f"void trical_{sensor}_calibrate(const int16_t raw[3]" in snippet
+    declare = (f"    int16_t raw[3] = {{{', '.join(str(int(v)) for v in reading)}}};" if counts
+               else f"    float m[3] = {{{', '.join(f'{v!r}f' for v in reading)}}};")
+    source = "\n".join(["#include <stdio.h>", snippet, "", "int main(void)", "{", declare, "    float f[3];",
+                        f"    trical_{sensor}_calibrate({'raw' if counts else 'm'}, f);",
+                        '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);', "    return 0;", "}", ""])
     (tmp_path / "example.c").write_text(source)
     exe = tmp_path / "example"
-    run_ok([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-I", str(tmp_path), "-o", str(exe),
-            str(tmp_path / "example.c")], timeout_s=60)
+    run_ok([cc, *C_FLAGS, "-I", str(tmp_path), "-o", str(exe), str(tmp_path / "example.c")], timeout_s=60)
     return np.array([float(v) for v in run_ok([str(exe)], timeout_s=10).stdout.split()])
 
 
@@ -78,12 +93,16 @@ def test_counts_of_a_named_part_are_scaled_into_g_and_the_c_lines_compile_and_ru
     assert s["scales"]["acc"] == {"op": "/", "value": 8192.0, "known": True,
                                   "words": "the MPU-6050/6500/9250, ICM-20948 accelerometer ±4 g (8192 LSB/g)"}
     lines = s["c"].splitlines()
-    assert len(lines) == 5 and "trical_acc_apply(m, f);" in lines[4] and "int16_t raw[3]" in lines[1]
-    assert "raw[0] / 8192.0f" in lines[2]
-    raw = [int(v) for v in lines[1].split("{")[1].split("}")[0].split(",")]
+    # File scope: the #include lines first, then a function, never an #include among a body's lines.
+    assert lines[:2] == ["#include <stdint.h>  /* int16_t */", f'#include "trical_{cal["id"]}.h"']
+    assert not any(line.startswith("#include") for line in lines[2:])
+    assert "void trical_acc_calibrate(const int16_t raw[3], float f[3])" in lines and "    trical_acc_apply(m, f);" in lines
+    assert "    m[0] = raw[0] / 8192.0f;" in s["c"]
+    assert s["calibrate"] == {"acc": "trical_acc_calibrate"}
+    raw = example_reading(s["c"])
     f = run_c(client, cal, s["c"], tmp_path)
     want = applied(client, cal, np.array(raw) / 8192.0)
-    np.testing.assert_allclose(f, want, atol=2e-6)  # float32 in the C code
+    np.testing.assert_allclose(f, want, atol=1e-6)  # float32 in the C code, in g
     np.testing.assert_allclose(np.linalg.norm(f), 1.0, atol=2e-3)  # the reading at rest, z up: 1 g calibrated
 
     json_export(client, cal, tmp_path)
@@ -102,7 +121,7 @@ def test_counts_of_an_unnamed_part_say_which_figure_to_set(client, tmp_path):
     cal = calibrate(client, counts_log(16384, seed=25))  # the data say counts of 16384 per g: into g
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["scales"]["acc"]["known"] is False and "set your part's figure" in s["scales"]["acc"]["words"]
-    raw = [int(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].split(",")]
+    raw = example_reading(s["c"])
     np.testing.assert_allclose(run_c(client, cal, s["c"], tmp_path), applied(client, cal, np.array(raw) / 16384.0),
                                atol=2e-6)
 
@@ -111,8 +130,8 @@ def test_counts_kept_as_counts_go_in_as_they_are(client, tmp_path):
     cal = calibrate(client, counts_log(16384, seed=26), acc_unit="raw")
     assert cal["unit"] == "raw"
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
-    assert s["scales"]["acc"] is None and "float m[3] = {raw[0], raw[1], raw[2]};" in s["c"]
-    raw = [int(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].split(",")]
+    assert s["scales"]["acc"] is None and "    m[0] = (float)raw[0];  /* the header takes counts, as calibrated */" in s["c"]
+    raw = example_reading(s["c"])
     f = run_c(client, cal, s["c"], tmp_path)
     np.testing.assert_allclose(f, applied(client, cal, raw), atol=2e-5)  # float32 of m/s²
     np.testing.assert_allclose(np.linalg.norm(f), G, rtol=2e-3)  # counts calibrate into m/s²
@@ -123,9 +142,10 @@ def test_a_phone_s_readings_in_m_s2_need_no_scale(client, tmp_path):
     r = client.post("/api/v1/calibrations", json={"method": "six_position", "readings": readings})
     cal = r.json()
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
-    assert s["scales"]["acc"] is None and "int16_t" not in s["c"] and len(s["c"].splitlines()) == 4
+    assert s["scales"]["acc"] is None and "int16_t" not in s["c"]
+    assert "void trical_acc_calibrate(const float m[3], float f[3])" in s["c"].splitlines()
     f = run_c(client, cal, s["c"], tmp_path)
-    m = [float(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].replace("f", "").split(",")]
+    m = example_reading(s["c"])
     np.testing.assert_allclose(f, applied(client, cal, m), atol=2e-5)
     np.testing.assert_allclose(f, [0, 0, G], atol=2e-3)  # the reading at rest, z up, calibrated
 
@@ -143,8 +163,8 @@ def test_a_compass_in_counts_of_a_named_part_is_scaled_into_ut(client, tmp_path,
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["functions"] == {"mag": "trical_mag_apply"} and s["scales"]["mag"]["op"] == "*"
     assert s["scales"]["mag"]["value"] == pytest.approx(100 / 3000)
-    raw = [int(v) for v in s["c"].splitlines()[1].split("{")[1].split("}")[0].split(",")]
-    np.testing.assert_allclose(run_c(client, cal, s["c"], tmp_path),
+    raw = example_reading(s["c"], "mag")
+    np.testing.assert_allclose(run_c(client, cal, s["c"], tmp_path, "mag"),
                                applied_mag(client, cal, np.array(raw) * s["scales"]["mag"]["value"]), atol=1e-3)
 
 
@@ -176,6 +196,6 @@ def test_the_triangular_model_s_o_is_applied_with_its_sign_turned(client, tmp_pa
     np.testing.assert_allclose(c["o"], -np.array(cal["model"]["o"]), rtol=1e-12, atol=1e-12)
     doc = client.get(f"/api/v1/calibrations/{cal['id']}/export", params={"format": "json"}).json()
     assert doc["correction"]["o"] == c["o"] and doc["correction"]["M"] == c["M"]
-    m = [float(v) for v in use["c"].splitlines()[1].split("{")[1].split("}")[0].replace("f", "").split(",")]
+    m = example_reading(use["c"])
     f = run_c(client, cal, use["c"], tmp_path)
     np.testing.assert_allclose(f, np.array(cal["model"]["K"]) @ (np.array(m) + np.array(cal["model"]["o"])), atol=2e-5)

@@ -41,3 +41,20 @@ def test_a_server_with_api_keys_answers_unauthorized(tmp_path):
         r = c.post("/api/v1/sessions", json={"protocol": "six"})
     assert r.status_code == 401 and r.json()["code"] == "unauthorized"
     assert r.headers["www-authenticate"] == "Bearer"
+
+
+BROWSER = {"Accept": "text/html,application/xhtml+xml,application/xml;q=0.9,*/*;q=0.8"}
+"""What a browser's navigation sends."""
+
+
+def test_an_unknown_address_is_a_page_for_a_browser_and_json_for_the_api(client):
+    page = client.get("/nope", headers=BROWSER)
+    assert page.status_code == 404 and page.headers["content-type"].startswith("text/html")
+    assert "<h1>No page at this address</h1>" in page.text and "“/nope” is not a page of trical" in page.text
+    assert '<a id="not-found-start" href="/">' in page.text and '<a id="not-found-history" href="/history">' in page.text
+    program = client.get("/nope", headers={"Accept": "application/json"})  # a program asking outside the API
+    assert program.status_code == 404 and program.json()["code"] == "http_error"
+    api = client.get("/api/v1/nope", headers=BROWSER)  # the API answers JSON, whoever asks
+    assert api.status_code == 404 and api.json()["code"] == "http_error"
+    method = client.post("/history", headers=BROWSER)  # not a 404: its own status, in JSON
+    assert method.status_code == 405 and method.json()["code"] == "http_error"

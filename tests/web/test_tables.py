@@ -133,3 +133,16 @@ def test_the_capture_duration_bounds_are_the_sessions_(client):
     assert client.post("/api/v1/sessions", json={}).json()["capture_s"] == capture_rules.CAPTURE_S_DEFAULT
     assert client.get(f"/wizard?capture_s={high + 0.1}").status_code == 400
     assert client.get(f"/wizard?capture_s={low}").status_code == 200
+
+
+def test_each_source_s_default_use_is_one_its_calibrations_offer():
+    """The one rule of the use offered first (app/web/uses.py DEFAULT_USES): a board's calibration goes into its
+    firmware (the C header), a flight log's into that firmware's parameters, a phone's into a phone app."""
+    from app.io.formats import SOURCES
+    from app.web.uses import CALIBRATION_USES, DEFAULT_USES, uses_table
+
+    assert set(DEFAULT_USES) == set(SOURCES)
+    first = {source: next(u for u in CALIBRATION_USES if u["key"] in keys) for source, keys in DEFAULT_USES.items()}
+    assert {s: (u["key"], u["format"]) for s, u in first.items()} == {
+        "board": ("firmware", "c"), "px4": ("px4", "px4"), "ardupilot": ("ardupilot", "ardupilot"), "phone": ("app", "json")}
+    assert uses_table()["defaults"] == {s: list(k) for s, k in DEFAULT_USES.items()}

@@ -82,6 +82,15 @@ FORMATS = ("auto", *READERS)
 FLIGHT_FORMATS = (ulog.NAME, dataflash.NAME)
 """Flight controllers' logs: several IMU and compass instances, chosen by ``instance`` and ``mag_instance``."""
 
+SOURCES = ("board", "phone", "px4", "ardupilot")
+"""Where a recording comes from, as a calibration's ``source`` says it (the page offers its use first by it,
+app/web/uses.py): a board printing its readings, a phone, a flight controller's firmware."""
+
+SOURCE_OF_FORMAT = {ulog.NAME: "px4", dataflash.NAME: "ardupilot", generic_csv.ARDUINO: "board",
+                    phyphox.NAME: "phone", sensor_logger.NAME: "phone", gnss_logger.NAME: "phone",
+                    physics_toolbox.NAME: "phone", sensorlog.NAME: "phone"}
+"""The source of a recording of each format (:data:`SOURCES`); a plain CSV or JSON says none."""
+
 CANONICAL_COLUMNS = (*(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
                      "time_s", "time_ms", "time_us", "time_ns", "temp_c")
 """Names a column can be mapped to with ``columns``."""
