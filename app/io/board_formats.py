@@ -39,12 +39,16 @@ SILENCE_S = 3.0
 RATE_MIN_S = 1.0
 RATE_STEPS = 2.0
 RATE_WINDOW_S = 8.0
+RATE_AGREE = 0.05
 """Live lines: the board's rate is the readings counted between two ends of bursts (moments when every line
 printed so far has arrived) over the time between them, decided once such ends span ``RATE_MIN_S`` and
-``RATE_STEPS`` times the longest step between arrivals in the last ``RATE_WINDOW_S``: a bridge's buffer or a
-loaded host delivering 1–2 s of lines at once is decided after 2–4 s, and a page whose thread was held for
-seconds once (a steady stream after it) is decided once that pause has left the window. Never the step of one
-burst's arrival (app.io.board_lines.StreamRate, static/js/board_lines.js StreamRate)."""
+``RATE_STEPS`` times the longest step between arrivals in the last ``RATE_WINDOW_S``, and the rates over the
+two halves of that span agree within ``RATE_AGREE`` (one end read late by a loaded reader shows as halves that
+disagree: 0.15 s late at the end of 2 s made 93 Hz of a board at 100 Hz), else once the arrivals fill the
+window. A bridge's buffer or a loaded host delivering 1–2 s of lines at once is decided after 2–4 s, a
+reader that lags now and then by the window's 8 s at the latest, and a page whose thread was held for
+seconds once (a steady stream after it) once that pause has left the window. Never the step of one burst's
+arrival (app.io.board_lines.StreamRate, static/js/board_lines.js StreamRate)."""
 
 STALL_S = 20.0
 """A capture that makes no progress for this long says what it waits for and what to do."""
@@ -81,6 +85,7 @@ def board_tables() -> dict:
         "rateMinS": RATE_MIN_S,
         "rateSteps": RATE_STEPS,
         "rateWindowS": RATE_WINDOW_S,
+        "rateAgree": RATE_AGREE,
         "stallS": STALL_S,
         "nordicUart": dict(NORDIC_UART),
         "packet": {"bytes": MOTIONCAL_PACKET_BYTES, "signature": list(MOTIONCAL_SIGNATURE), "crc": dict(MOTIONCAL_CRC),

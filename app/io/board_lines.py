@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
+from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_AGREE, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
 from .errors import LogFormatError
 from .formats.generic_csv import map_columns
 from .formats.table import WHITESPACE, guess_delimiter, split_row
@@ -336,7 +336,9 @@ class StreamRate:
     those ends span :data:`app.io.board_formats.RATE_MIN_S` and :data:`~app.io.board_formats.RATE_STEPS`
     times the longest step among the arrivals of the last :data:`~app.io.board_formats.RATE_WINDOW_S`
     (bursts of 1–2 s: after 2–4 s; one long pause of the reader, as a page's thread held for seconds, is
-    forgotten once it has left that window), and stays decided. The page's twin is
+    forgotten once it has left that window) and the rates over the span's two halves agree within
+    :data:`~app.io.board_formats.RATE_AGREE` (else once the arrivals fill the window), and stays decided.
+    The page's twin is
     ``StreamRate`` of static/js/board_lines.js, on the same constants.
     """
 
@@ -368,8 +370,23 @@ class StreamRate:
             self.points = [p for p in self.points if p[0] >= arrival_s - self.window_s]
             self.longest = max((q[0] - p[0] for p, q in zip(self.points, self.points[1:])), default=0.0)
             ends = [p for p, q in zip(self.points, self.points[1:]) if q[0] - p[0] >= 0.5 * self.longest]
-            if len(ends) >= 2 and ends[-1][0] - ends[0][0] >= self.needed_s:
+            if len(ends) >= 2 and ends[-1][0] - ends[0][0] >= self.needed_s and (
+                    self._halves_agree(ends) or arrival_s - self.points[0][0] >= self.window_s - self.longest):
                 self.first, self.end, self.points = ends[0], ends[-1], []
+
+    @staticmethod
+    def _slope(p: tuple[float, int], q: tuple[float, int]) -> float:
+        return (q[1] - p[1]) / (q[0] - p[0])
+
+    def _halves_agree(self, ends: list[tuple[float, int]]) -> bool:
+        """The rates from the first end to the one nearest the middle and from there to the last agree within
+        RATE_AGREE: no end among them read late by a lagging reader."""
+        middle = 0.5 * (ends[0][0] + ends[-1][0])
+        mid = min(ends[1:-1], key=lambda p: abs(p[0] - middle), default=None)
+        if mid is None:
+            return False
+        a, b = self._slope(ends[0], mid), self._slope(mid, ends[-1])
+        return abs(a - b) <= RATE_AGREE * 0.5 * (a + b)
 
     @property
     def span_s(self) -> float:

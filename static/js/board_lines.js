@@ -294,6 +294,18 @@ export function accUnitAtRest(norm) {
 // burst and the end of the latest over the time between them, decided once those ends span rateMinS and
 // rateSteps times the longest step (bursts of 1–2 s: after 2–4 s), then kept up to date. Never the step
 // of one burst's arrival.
+// The rates from the first burst end to the one nearest the middle and from there to the last agree within
+// rateAgree: no end among them read late by a lagging reader (app.io.board_lines.StreamRate._halves_agree).
+function halvesAgree(ends) {
+  const middle = 0.5 * (ends[0][0] + ends[ends.length - 1][0]);
+  const inner = ends.slice(1, -1);
+  if (!inner.length) return false;
+  const mid = inner.reduce((m, p) => (Math.abs(p[0] - middle) < Math.abs(m[0] - middle) ? p : m));
+  const slope = (p, q) => (q[1] - p[1]) / (q[0] - p[0]);
+  const a = slope(ends[0], mid), b = slope(mid, ends[ends.length - 1]);
+  return Math.abs(a - b) <= B.rateAgree * 0.5 * (a + b);
+}
+
 export class StreamRate {
   constructor(minS = B.rateMinS, steps = B.rateSteps, windowS = B.rateWindowS) {
     this.minS = minS;
@@ -325,7 +337,8 @@ export class StreamRate {
       this.points = this.points.filter((p) => p[0] >= t - this.windowS);
       this.longest = this.points.reduce((m, p, i) => (i ? Math.max(m, p[0] - this.points[i - 1][0]) : m), 0);
       const ends = this.points.filter((p, i) => i + 1 < this.points.length && this.points[i + 1][0] - p[0] >= 0.5 * this.longest);
-      if (ends.length >= 2 && ends[ends.length - 1][0] - ends[0][0] >= this.neededS) {
+      const full = t - this.points[0][0] >= this.windowS - this.longest;
+      if (ends.length >= 2 && ends[ends.length - 1][0] - ends[0][0] >= this.neededS && (halvesAgree(ends) || full)) {
         this.first = ends[0];
         this.end = ends[ends.length - 1];
         this.points = [];

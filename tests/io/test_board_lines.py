@@ -235,6 +235,18 @@ def test_a_reader_held_once_for_seconds_is_forgotten_and_the_rate_decided():
     assert rate.rate_hz == pytest.approx(100, rel=0.01)
 
 
+def test_a_burst_read_late_by_a_loaded_reader_does_not_decide_the_rate():
+    """Bursts of 1 s from a board at 100 Hz, the third read 0.15 s late (a loaded host: once seen as
+    "rate 93.38 Hz"): the halves of the span disagree, and the rate is decided a burst later (a burst's end
+    is known when the next one arrives), right."""
+    rate = StreamRate()
+    for k in range(6):
+        rate.arrive(100, k + (0.15 if k == 2 else 0.0))
+        if rate.rate_hz is not None:
+            break
+    assert k == 4 and rate.rate_hz == pytest.approx(100, rel=1e-9)
+
+
 def test_a_board_time_column_wins_over_bursts():
     """Lines with the board's time column: its times decide the rate (the rule of uploads), however the
     lines arrived."""
