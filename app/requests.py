@@ -210,11 +210,16 @@ class MagnetometerIn(Strict):
     field_ut: FieldMagnitude | None = Field(
         None, description="The local field's magnitude in µT; overrides the model's. Without it or a place, "
                           "the magnitude is estimated from the readings.")
+    source: Literal["phone", "board"] | None = Field(
+        None, description="Inline readings: the device they came from (the compass page says which), kept as the "
+                          "calibration's source so its page speaks of that device. A recording's comes from its format.")
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
 
     @model_validator(mode="after")
     def _sources(self):
+        if self.source is not None and self.recording_id is not None:
+            raise ValueError("`source` is for inline `mag` readings: a recording's source comes from its format")
         if (self.mag is None) == (self.recording_id is None):
             raise ValueError("give either `mag` or `recording_id` (exactly one of them)")
         if (self.latitude_deg is None) != (self.longitude_deg is None):

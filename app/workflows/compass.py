@@ -76,7 +76,7 @@ def magnetometer(request, recording: RecordingSource | None) -> dict:
     unit = "uT"
     if recording is None:
         mag, unit = inline_mag(np.asarray(request.mag, dtype=float), notes)
-        source = {}
+        source = {} if request.source is None else {"source": request.source}
     else:
         log = recording.read(clock="mag")  # a flight controller's compass on its own clock
         if log.mag is None:

@@ -30,10 +30,15 @@ function camera(d) {
   const e1 = unit(cross([0, 1, 0], toward));
   return { d: toward, e1, e2: cross(toward, e1) };
 }
-export const VIEWS = [
-  { cam: camera([0.45, 0.55, 1]), title: WORDS.sides[0] }, // the phone's screen side, a board's component side
-  { cam: camera([-0.45, -0.55, -1]), title: WORDS.sides[1] },
-];
+// The two views, titled by the sides of the device (a phone's screen side, a board's component side).
+export const VIEWS = [{ cam: camera([0.45, 0.55, 1]) }, { cam: camera([-0.45, -0.55, -1]) }];
+
+// The words of the device a stored calibration's readings came from (its `source`): a phone's, a board's
+// (a flight controller is a board); without one, the page's own.
+export function sourceWords(cal) {
+  if (!cal || !cal.source) return WORDS;
+  return TABLES.sources[cal.source === "phone" ? "phone" : "board"];
+}
 
 // A point of the unit sphere behind the picture plane is moved onto the rim (the cut).
 function onFront(p, cam) {
@@ -61,7 +66,7 @@ const AXES = [["x", [1, 0, 0]], ["y", [0, 1, 0]], ["z", [0, 0, 1]]];
 // One disc: the faces near the camera, the near half of the points (near of the plane through
 // their own centre, so that a cloud off the sphere still shows as a cloud), the current reading, the
 // axes. points, centre and current are in units of the sphere's radius (1: on the sphere).
-function disc(view, k, { covered, points, centre, current, radius }) {
+function disc(view, k, { covered, points, centre, current, radius, title }) {
   const { cam } = view;
   const cx = k * (SIZE + GAP) + PAD + R;
   const cy = PAD + R;
@@ -94,7 +99,7 @@ function disc(view, k, { covered, points, centre, current, radius }) {
       + `<text x="${fmt(x1)}" y="${fmt(y1 + 4)}" font-size="11" text-anchor="middle" fill="#111" stroke="#fff" `
       + `stroke-width="3" paint-order="stroke">${sign > 0 ? "+" : "−"}${name}</text>`);
   }
-  parts.push(`<text x="${cx}" y="${SIZE + 10}" font-size="12" font-weight="700" text-anchor="middle">${view.title}</text>`);
+  parts.push(`<text x="${cx}" y="${SIZE + 10}" font-size="12" font-weight="700" text-anchor="middle">${title}</text>`);
   return parts.join("");
 }
 
@@ -102,9 +107,10 @@ function disc(view, k, { covered, points, centre, current, radius }) {
 // radius; current: the latest reading, or null; scale: the picture's radius in those units (above 1
 // when points lie outside the sphere); centre: the points' own centre (default the sphere's);
 // label: the picture's accessible name.
-export function magSphereSvg({ covered, points = [], centre = [0, 0, 0], current = null, scale = 1.15, label, className = "" }) {
+export function magSphereSvg({ covered, points = [], centre = [0, 0, 0], current = null, scale = 1.15, label, className = "",
+  sides = WORDS.sides }) {
   const radius = 1 / scale; // the sphere's radius in the picture, its disc R
-  const discs = VIEWS.map((view, k) => disc(view, k, { covered, points, centre, current, radius }));
+  const discs = VIEWS.map((view, k) => disc(view, k, { covered, points, centre, current, radius, title: sides[k] }));
   const width = 2 * SIZE + GAP;
   const height = SIZE + 16;
   const nCovered = covered.filter(Boolean).length;
@@ -138,10 +144,11 @@ export function magResultSvgs(cal) {
   const before = inUnits(raw);
   const calibrated = inUnits(after);
   const mean = (pts) => [0, 1, 2].map((i) => pts.reduce((sum, p) => sum + p[i], 0) / Math.max(1, pts.length));
+  const { sides } = sourceWords(cal);
   return {
-    before: magSphereSvg({ covered, points: before, centre: mean(before), scale: reach(before), className: "before",
+    before: magSphereSvg({ covered, points: before, centre: mean(before), scale: reach(before), className: "before", sides,
       label: `Raw readings m around zero, the sphere of radius F = ${field.toFixed(1)} ${unit}` }),
-    after: magSphereSvg({ covered, points: calibrated, scale: reach(calibrated), className: "after",
+    after: magSphereSvg({ covered, points: calibrated, scale: reach(calibrated), className: "after", sides,
       label: `Calibrated h = M (m − b), the sphere of radius F = ${field.toFixed(1)} ${unit}` }),
   };
 }

@@ -173,7 +173,7 @@ function start() {
 // The place only when the person allowed it (never waited for), with today's date for the field
 // model; without a place the server uses no date (it would only warn that it went unused).
 function payload() {
-  const body = { method: "magnetometer", mag: c.coverage.readings, label: "compass wizard",
+  const body = { method: "magnetometer", mag: c.coverage.readings, label: "compass wizard", source: SOURCE,
     device_id: $("#device-name").value.trim() || null };
   if (c.place) Object.assign(body, c.place, { date: new Date().toISOString().slice(0, 10) });
   return body;

@@ -98,6 +98,17 @@ def test_bad_requests_say_what_to_fix(client, body, code, words):
     assert r.json()["code"] == code and words in r.json()["detail"], r.json()
 
 
+def test_inline_readings_keep_the_device_they_came_from(client, turn):
+    """The compass page says whose readings it sends (a board's, a phone's): the calibration keeps it as its
+    source, so its own page later speaks of that device; a recording's source is its format's, not given."""
+    r = _post(client, mag=turn[0].tolist(), field_ut=F, source="board")
+    assert r.status_code == 201, r.text
+    assert r.json()["source"] == "board"
+    assert "source" not in _post(client, mag=turn[0].tolist(), field_ut=F).json()
+    r = _post(client, recording_id="rec_" + "0" * 32, source="board")
+    assert r.status_code == 422 and "`source` is for inline `mag` readings" in r.text, r.text
+
+
 def test_apply_asks_for_the_magnetometer(client, cal):
     r = client.post(f"/api/v1/calibrations/{cal['id']}/apply", json={"samples": [[1.0, 2.0, 3.0]]})
     assert r.status_code == 422 and 'sensor: "mag"' in r.json()["detail"]

@@ -300,6 +300,12 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     assert sorted(refused) == ["format=ardupilot", "format=px4"], refused
     assert page.text_content("#downloads").count("this calibration maps readings in counts") == 2
     assert len(page.errors) == 2 and all("422" in e for e in page.errors)
+    # Its own page, opened later, still speaks of a board: the calibration keeps its source.
+    assert body["source"] == "board"
+    page.goto(f"{server.url}/c/{cal_id}")
+    page.wait_for_selector(".mag-fig svg text", timeout=10_000)
+    assert page.eval_on_selector_all(".mag-fig svg text", "ts => ts.map(t => t.textContent)").count("component side") == 2
+    problems += [f"/c/ of a board's compass: a phone's word {w}" for w in other_source_words(page, "board")]
     assert not problems, "\n".join(problems)
 
 
