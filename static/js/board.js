@@ -232,21 +232,25 @@ export class BoardSource {
 // What a board's capture that made no progress for STALL_MS waits for and what it sees, from the capture
 // machine (motion.js) and its last output {still, spread, gyr, pose, angleDeg}: the poses asked, the
 // stillness against the machine's thresholds, and what to do (the terminal's twin: app/board_capture.py).
+const BOARD_POSES = TABLES.sources.board.poseShort;
+
 export function stallWords(machine, out) {
   const o = machine.o || TABLES.capture;
   const left = typeof machine.remaining === "function" ? machine.remaining() : [];
-  const asked = left.length ? `Waiting for ${left.join(" or ")}` : "Waiting for a new pose";
+  // A pose in the board's words, its code beside it (the board's page and `trical capture` name both).
+  const named = (pose) => (BOARD_POSES[pose] ? `${BOARD_POSES[pose]} (${pose})` : pose);
+  const asked = left.length ? `Waiting for ${left.map(named).join(" or ")}` : "Waiting for a new pose";
   let seen;
   if (!out.still) {
     const turning = out.gyr != null && out.gyr >= o.gyrLow && out.spread < o.spreadLow;
     seen = turning ? `the board turns: ${out.gyr.toFixed(1)} °/s > ${o.gyrLow}; hold it still in a pose asked`
       : `the board moves: spread ${out.spread.toFixed(2)} m/s² > ${o.spreadLow}; hold it still in a pose asked`;
   } else if (out.angleDeg > o.maxAngleDeg) {
-    seen = `the board is still, ${Math.round(out.angleDeg)}° from ${out.pose}; set it square on a side`;
+    seen = `the board is still, ${Math.round(out.angleDeg)}° from ${named(out.pose)}; set it square on a side`;
   } else if (left.length && !left.includes(out.pose)) {
-    seen = `the board is still with ${out.pose} up, captured already; turn it to a pose asked`;
+    seen = `the board is still, ${named(out.pose)}, captured already; turn it to a pose asked`;
   } else {
-    seen = `the board is still with ${out.pose} up; keep it so`;
+    seen = `the board is still, ${named(out.pose)}; keep it so`;
   }
   return `No capture for ${STALL_MS / 1000} s. ${asked}: ${seen}.`;
 }

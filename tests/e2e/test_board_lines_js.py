@@ -144,9 +144,12 @@ def test_a_stalled_capture_says_what_it_waits_for(js):
               b.stallWords(machine, {{ still: true, spread: 0.02, gyr: 0.5, pose: '+z', angleDeg: 31 }}),
               b.stallWords(machine, {{ still: true, spread: 0.02, gyr: 0.5, pose: '+z', angleDeg: 3 }})];""")
     assert got == [
-        "No capture for 20 s. Waiting for +x or -y: the board moves: spread 0.31 m/s² > 0.1; hold it still in a pose asked.",
-        "No capture for 20 s. Waiting for +x or -y: the board turns: 7.3 °/s > 3; hold it still in a pose asked.",
-        "No capture for 20 s. Waiting for +x or -y: the board is still, 31° from +z; set it square on a side.",
-        "No capture for 20 s. Waiting for +x or -y: the board is still with +z up, captured already; turn it to a "
-        "pose asked.",
+        "No capture for 20 s. Waiting for X arrow up (+x) or Y arrow down (-y): the board moves: spread 0.31 m/s² "
+        "> 0.1; hold it still in a pose asked.",
+        "No capture for 20 s. Waiting for X arrow up (+x) or Y arrow down (-y): the board turns: 7.3 °/s > 3; hold "
+        "it still in a pose asked.",
+        "No capture for 20 s. Waiting for X arrow up (+x) or Y arrow down (-y): the board is still, 31° from "
+        "components up (+z); set it square on a side.",
+        "No capture for 20 s. Waiting for X arrow up (+x) or Y arrow down (-y): the board is still, components up "
+        "(+z), captured already; turn it to a pose asked.",
     ]
