@@ -4,7 +4,7 @@ import { ApiError, getCalibration, listCalibrations, openLink } from "./api.js";
 import { showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
 import { candidates, rememberApiKey, rememberToken, sessionTokens } from "./tokens.js";
-import { $ } from "./dom.js";
+import { $, counted, el } from "./dom.js";
 
 const root = $("#calibration-page");
 let id = root.dataset.id;
@@ -49,6 +49,21 @@ function when(iso) { return iso ? iso.replace("T", " ").replace(/\.\d+Z$/, " UTC
 
 // A short link sent from the phone (/s/CODE): the calibration it opens, its token kept for the
 // calibration's own address, which replaces the link's in the address bar.
+// The readings of the same upload around this one (app/store: a later one of the same recording, method
+// and device supersedes): the newer one a tap away, or how many earlier ones the history holds under it.
+function showReadings(cal) {
+  const p = $("#cal-readings");
+  p.replaceChildren();
+  if (cal.superseded_by) {
+    p.append("A newer reading of the same upload superseded this one (it is kept): ",
+      el("a", "open the newer reading", { href: `/c/${encodeURIComponent(cal.superseded_by)}` }), ".");
+  } else if (cal.earlier) {
+    p.append(`This reading superseded ${counted(cal.earlier, "earlier reading")} of the same upload, kept under its row in `,
+      el("a", "your calibrations", { href: "/history" }), ".");
+  }
+  p.hidden = !p.childNodes.length;
+}
+
 async function follow() {
   const opened = await openLink(link);
   id = opened.calibration_id;
@@ -68,6 +83,7 @@ async function load() {
     meta.textContent = [cal.device_id && `Device ${cal.device_id}`, `Method: ${method}`, `made ${when(cal.created_at)}`,
       `id ${cal.id}`].filter(Boolean).join(" · ");
     meta.hidden = false;
+    showReadings(cal);
     document.title = `${cal.device_id ? `${cal.device_id}: ` : ""}calibration ${cal.id} — trical`;
     showCalibration(cal, token);
     $("#status").textContent = `Calibration ${cal.id}. ${cal.verdict.words}`;

@@ -11,6 +11,7 @@ import re
 import httpx
 import numpy as np
 import pytest
+from playwright.sync_api import expect
 
 from app.calibration import CANONICAL_SIX
 from app.tls import lan_addresses
@@ -109,6 +110,12 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
         page.click(f"#history-table tr[data-id='{other}'] th a")  # the earlier reading still opens by id
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")
         assert page.url.endswith(f"/c/{other}")
+        # ... and its page leads to the newer reading, whose page says it superseded one.
+        assert "A newer reading of the same upload superseded this one" in page.text_content("#cal-readings")
+        page.click("#cal-readings a")
+        page.wait_for_selector("#downloads[data-ready=true]", state="attached")
+        assert page.url.endswith(f"/c/{again}")
+        expect(page.locator("#cal-readings")).to_contain_text("superseded 1 earlier reading of the same upload")
         page.goto(server.url + "/history")
         page.wait_for_selector("#history-table:not([hidden])")
         row = page.locator(f"#history-table tr[data-id='{cal_id}']")
