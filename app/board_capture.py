@@ -2,12 +2,14 @@
 
 The board's lines are read as they arrive (:mod:`app.io.board_lines`), timed on the board's clock — its
 time column, else its rate counted over several seconds of arrivals (:class:`app.io.board_lines.StreamRate`),
-so that lines handed over in bursts are neither motion nor gaps — written to a CSV log and watched by the hands-free capture engine the page uses: the device is still when the per-axis
+so that lines handed over in bursts are neither motion nor gaps — written to a CSV log and watched by the
+hands-free capture engine the page uses: the device is still when the per-axis
 spread of the accelerometer over a moving window (and the mean rotation rate, when the lines carry a
 gyroscope) falls below the page's thresholds, and moving again above their higher limits (hysteresis);
 held still for the page's hold time in a new pose, a capture starts, and it is done after the capture
 length unless the board moves (refused, and it starts again once still). A capture that makes no progress
-for :data:`app.io.board_formats.STALL_S` says what it waits for and what it sees. The thresholds are the page's own, the Python constants
+for :data:`app.io.board_formats.STALL_S` says what it waits for and what it sees. The thresholds are the
+page's own, the Python constants
 :func:`app.web.tables.capture_thresholds` renders for it.
 
 Then the log is calibrated (``auto``, or the protocol's method) and the verdict printed. The six and free

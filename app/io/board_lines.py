@@ -15,7 +15,8 @@ The formats (:mod:`app.io.board_formats` holds their constants):
 
 Lines end in CR, LF or CRLF. The rate is the board's: from its time column when the lines have one
 (:func:`app.io.formats.timing.decide_timing`); else, for lines read live, from the count of readings
-against their arrival over several seconds (:class:`StreamRate`), never from the arrival of one burst. The units are checked at rest by the rules of every log
+against their arrival over several seconds (:class:`StreamRate`), never from the arrival of one burst. The
+units are checked at rest by the rules of every log
 (:func:`app.io.formats.units.settle_units`) when the readings become a log (:func:`to_log`).
 """
 
@@ -338,8 +339,7 @@ class StreamRate:
     (bursts of 1–2 s: after 2–4 s; one long pause of the reader, as a page's thread held for seconds, is
     forgotten once it has left that window) and the rates over the span's two halves agree within
     :data:`~app.io.board_formats.RATE_AGREE` (else once the arrivals fill the window), and stays decided.
-    The page's twin is
-    ``StreamRate`` of static/js/board_lines.js, on the same constants.
+    The page's twin is ``StreamRate`` of static/js/board_lines.js, on the same constants.
     """
 
     def __init__(self, min_s: float = RATE_MIN_S, steps: float = RATE_STEPS, window_s: float = RATE_WINDOW_S):
@@ -349,24 +349,21 @@ class StreamRate:
         self.points: list[tuple[float, int]] = []  # until decided: every arrival
         self.first: tuple[float, int] | None = None  # the end of the first burst, once decided
         self.end: tuple[float, int] | None = None  # the end of the latest
-        self.t0: float | None = None
-        self.last: float | None = None
+        self.last: tuple[float, int] | None = None  # the latest arrival
 
     def arrive(self, readings: int, arrival_s: float) -> None:
         """A chunk bringing ``readings`` readings arrived at ``arrival_s`` (seconds, any origin)."""
         if readings <= 0:
             return
         self.count += readings
-        if self.t0 is None:
-            self.t0 = arrival_s
-        if self.last is not None:
-            step = arrival_s - self.last
+        if self.first is not None:  # decided: the latest burst's end moves on
+            step = arrival_s - self.last[0]
             self.longest = max(self.longest, step)
-            if self.first is not None and step >= 0.5 * self.longest:
-                self.end = (self.last, self._prev)
-        self.last, self._prev = arrival_s, self.count
+            if step >= 0.5 * self.longest:
+                self.end = self.last
+        self.last = (arrival_s, self.count)
         if self.first is None:
-            self.points.append((arrival_s, self.count))
+            self.points.append(self.last)
             self.points = [p for p in self.points if p[0] >= arrival_s - self.window_s]
             self.longest = max((q[0] - p[0] for p, q in zip(self.points, self.points[1:])), default=0.0)
             ends = [p for p, q in zip(self.points, self.points[1:]) if q[0] - p[0] >= 0.5 * self.longest]

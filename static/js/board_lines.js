@@ -286,14 +286,6 @@ export function accUnitAtRest(norm) {
   return null;
 }
 
-// The board's rate from live lines without a time column: readings counted over their arrival, the twin
-// of app/io/board_lines.py's StreamRate on the same constants (the server's tables). Each chunk is a point
-// (arrival, readings so far); a burst ends at a point whose next chunk comes after at least half the
-// longest step (a read that splits a burst brings its parts closer together), and when it ends every
-// line printed until then has arrived. The rate is the readings counted between the end of the first
-// burst and the end of the latest over the time between them, decided once those ends span rateMinS and
-// rateSteps times the longest step (bursts of 1–2 s: after 2–4 s), then kept up to date. Never the step
-// of one burst's arrival.
 // The rates from the first burst end to the one nearest the middle and from there to the last agree within
 // rateAgree: no end among them read late by a lagging reader (app.io.board_lines.StreamRate._halves_agree).
 function halvesAgree(ends) {
@@ -306,6 +298,15 @@ function halvesAgree(ends) {
   return Math.abs(a - b) <= B.rateAgree * 0.5 * (a + b);
 }
 
+// The board's rate from live lines without a time column: readings counted over their arrival, the twin
+// of app/io/board_lines.py's StreamRate on the same constants (the server's tables). Each chunk is a point
+// (arrival, readings so far); a burst ends at a point whose next chunk comes after at least half the
+// longest step (a read that splits a burst brings its parts closer together), and when it ends every
+// line printed until then has arrived. The rate is the readings counted between the end of the first
+// burst and the end of the latest over the time between them, decided once those ends span rateMinS and
+// rateSteps times the longest step of the last rateWindowS of arrivals (bursts of 1–2 s: after 2–4 s) and
+// the rates over the span's halves agree (halvesAgree), else once the arrivals fill the window; then kept
+// up to date. Never the step of one burst's arrival.
 export class StreamRate {
   constructor(minS = B.rateMinS, steps = B.rateSteps, windowS = B.rateWindowS) {
     this.minS = minS;
@@ -316,23 +317,21 @@ export class StreamRate {
     this.points = []; // until decided: every arrival
     this.first = null; // [t, count] at the end of the first burst, once decided
     this.end = null; // and of the latest
-    this.last = null;
-    this.prev = 0;
+    this.last = null; // [t, count] of the latest arrival
   }
 
   // A chunk bringing `readings` readings arrived at `t` (seconds, any origin).
   arrive(readings, t) {
     if (readings <= 0) return;
     this.count += readings;
-    if (this.last !== null) {
-      const step = t - this.last;
+    if (this.first !== null) { // decided: the latest burst's end moves on
+      const step = t - this.last[0];
       this.longest = Math.max(this.longest, step);
-      if (this.first !== null && step >= 0.5 * this.longest) this.end = [this.last, this.prev];
+      if (step >= 0.5 * this.longest) this.end = this.last;
     }
-    this.last = t;
-    this.prev = this.count;
+    this.last = [t, this.count];
     if (this.first === null) {
-      this.points.push([t, this.count]);
+      this.points.push(this.last);
       // The longest step among the last windowS of arrivals: a pause of the reader is forgotten once it has left.
       this.points = this.points.filter((p) => p[0] >= t - this.windowS);
       this.longest = this.points.reduce((m, p, i) => (i ? Math.max(m, p[0] - this.points[i - 1][0]) : m), 0);

@@ -8,7 +8,7 @@ import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { apiKey, sessionTokens } from "./tokens.js";
 import { preferSource } from "./use_calibration.js";
-import { $, el } from "./dom.js";
+import { $, dateTimeWords, el } from "./dom.js";
 
 const PLOT_MS = 5000;
 const DRAW_MS = 200;
@@ -74,10 +74,6 @@ export async function latestCompass(device) {
   const found = lists.flat().filter(({ cal }) => cal.ok && !packetParts(cal).acc && packetParts(cal).compass);
   found.sort((a, b) => (a.cal.created_at < b.cal.created_at ? 1 : -1));
   return found[0] || null;
-}
-
-function madeAt(iso) {
-  return new Date(iso).toLocaleString("en-GB", { day: "numeric", month: "long", year: "numeric", hour: "2-digit", minute: "2-digit" });
 }
 
 export class BoardPanel {
@@ -297,7 +293,7 @@ export class BoardPanel {
     $("#board-send-compass-box").hidden = !found;
     if (found) {
       $("#board-send-compass-words").textContent = `Include the compass calibration of ${device} from `
-        + `${madeAt(found.cal.created_at)} (its hard iron, soft iron and field), so that the board keeps it.`;
+        + `${dateTimeWords(found.cal.created_at)} (its hard iron, soft iron and field), so that the board keeps it.`;
     }
     const reset = `no hard iron, an identity soft iron and ${PACKET.defaultFieldUt} µT`;
     let words;
@@ -305,7 +301,7 @@ export class BoardPanel {
       words = "From this calibration: the accelerometer's and gyroscope's offsets, and the compass's hard iron, soft iron and field.";
     } else if (parts.acc && included) {
       words = "From this calibration: the accelerometer's and gyroscope's offsets. From the compass calibration of "
-        + `${madeAt(found.cal.created_at)}: the compass's hard iron, soft iron and field.`;
+        + `${dateTimeWords(found.cal.created_at)}: the compass's hard iron, soft iron and field.`;
     } else if (parts.acc) {
       const why = found ? "" : device ? ` (no compass calibration of ${device} in your calibrations)`
         : " (this calibration names no device, so none of its compass calibrations can be found)";
@@ -345,7 +341,7 @@ export class BoardPanel {
     try {
       if (found) compass = await packet(found.cal.id, found.token);
     } catch (err) {
-      msg.textContent = `The compass calibration of ${madeAt(found.cal.created_at)} cannot go in the packet: `
+      msg.textContent = `The compass calibration of ${dateTimeWords(found.cal.created_at)} cannot go in the packet: `
         + `${err.message}. Nothing was sent: untick it to send this calibration alone (the board's compass is then reset).`;
       return;
     }
@@ -365,7 +361,7 @@ export class BoardPanel {
     msg.dataset.sent = String(bytes.length);
     msg.dataset.compass = found ? found.cal.id : "";
     msg.textContent = `Sent MotionCal's ${bytes.length}-byte packet to the board${found ? ", with the compass calibration of "
-      + madeAt(found.cal.created_at) : ""}: a board running Adafruit's Sensor Calibration library checks its CRC, stores it `
+      + dateTimeWords(found.cal.created_at) : ""}: a board running Adafruit's Sensor Calibration library checks its CRC, stores it `
       + "and uses it from now on.";
   }
 }

@@ -17,5 +17,14 @@ export function cell(tag, text) { return el(tag, text); }
 // A count with its noun in the number it takes: "1 still reading", "6 still readings" (app/io/plural.py).
 export function counted(n, noun, plural = `${noun}s`) { return `${n} ${n === 1 ? noun : plural}`; }
 
+// A moment (ISO 8601) as a date and a time in this browser's zone, named: "4 December 2026, 13:51 CET" (a link
+// opened tomorrow or in another zone, a calibration made some day; the API gives ISO 8601 in UTC).
+export function dateTimeWords(iso) {
+  const when = new Date(iso);
+  const date = when.toLocaleDateString("en-GB", { day: "numeric", month: "long", year: "numeric" });
+  const time = when.toLocaleTimeString("en-GB", { hour: "2-digit", minute: "2-digit", timeZoneName: "short" });
+  return `${date}, ${time}`;
+}
+
 export function setText(node, text) { if (node.textContent !== text) node.textContent = text; }
 export function setHidden(node, hidden) { if (node.hidden !== hidden) node.hidden = hidden; }

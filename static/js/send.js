@@ -2,18 +2,9 @@
 // token this page holds; it expires), handed to the Web Share API where the browser has it (a phone's
 // share sheet: mail, a messenger, AirDrop), else shown as a QR code and an address to type.
 import { createLink } from "./api.js";
-import { $ } from "./dom.js";
+import { $, dateTimeWords } from "./dom.js";
 
 let current = null; // {cal, token}: what the button sends
-
-// The link's expiry as a date and a time in this browser's zone, named: "4 December 2026, 13:51 CET" (the other
-// machine may be opened tomorrow, or in another zone; the API gives ISO 8601 in UTC).
-export function until(iso) {
-  const when = new Date(iso);
-  const date = when.toLocaleDateString("en-GB", { day: "numeric", month: "long", year: "numeric" });
-  const time = when.toLocaleTimeString("en-GB", { hour: "2-digit", minute: "2-digit", timeZoneName: "short" });
-  return `${date}, ${time}`;
-}
 
 function say(text, bad = false) {
   const p = $("#send-msg");
@@ -27,7 +18,7 @@ function showFallback(link) {
   $("#send-qr").alt = `QR code of ${link.url}`;
   $("#send-url").href = link.url;
   $("#send-url").textContent = link.url;
-  $("#send-expires").textContent = `(it opens this calibration until ${until(link.expires_at)}).`;
+  $("#send-expires").textContent = `(it opens this calibration until ${dateTimeWords(link.expires_at)}).`;
   $("#send-box").hidden = false;
 }
 
@@ -48,7 +39,7 @@ async function send() {
     if (!navigator.canShare || navigator.canShare(data)) {
       try {
         await navigator.share(data);
-        say(`Sent: the link opens it until ${until(link.expires_at)}.`);
+        say(`Sent: the link opens it until ${dateTimeWords(link.expires_at)}.`);
         return;
       } catch (err) {
         if (err.name === "AbortError") { say("Not sent. Tap again to share, or use the code below."); }

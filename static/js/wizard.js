@@ -417,7 +417,6 @@ function stalled(out) {
   instruct(state, stallWords(state.machine, out));
 }
 
-
 // The board's samples go where the phone's go (onSample), read while the flow listens.
 function listenBoard() {
   state.listening = true;
