@@ -336,9 +336,11 @@ class StreamRate:
     moments when the count is whole. A steady stream's every chunk ends a "burst". It is decided once
     those ends span :data:`app.io.board_formats.RATE_MIN_S` and :data:`~app.io.board_formats.RATE_STEPS`
     times the longest step among the arrivals of the last :data:`~app.io.board_formats.RATE_WINDOW_S`
-    (bursts of 1–2 s: after 2–4 s; one long pause of the reader, as a page's thread held for seconds, is
-    forgotten once it has left that window) and the rates over the span's two halves agree within
+    (bursts of 1–2 s: after 3–4 bursts) and the rates over the span's two halves agree within
     :data:`~app.io.board_formats.RATE_AGREE` (else once the arrivals fill the window), and stays decided.
+    When the window's arrivals do not decide, those after its longest pause (a page busy drawing as the
+    board connected, a host's hiccup) may, by the same rule with the halves agreeing: a pause is not
+    waited out until it leaves the window.
     The page's twin is ``StreamRate`` of static/js/board_lines.js, on the same constants.
     """
 
@@ -365,11 +367,33 @@ class StreamRate:
         if self.first is None:
             self.points.append(self.last)
             self.points = [p for p in self.points if p[0] >= arrival_s - self.window_s]
-            self.longest = max((q[0] - p[0] for p, q in zip(self.points, self.points[1:])), default=0.0)
-            ends = [p for p, q in zip(self.points, self.points[1:]) if q[0] - p[0] >= 0.5 * self.longest]
-            if len(ends) >= 2 and ends[-1][0] - ends[0][0] >= self.needed_s and (
-                    self._halves_agree(ends) or arrival_s - self.points[0][0] >= self.window_s - self.longest):
-                self.first, self.end, self.points = ends[0], ends[-1], []
+            decided = self._ends(self.points, full=arrival_s - self.points[0][0])
+            if decided is None and len(self.points) > 2:
+                # The arrivals since the window's longest pause (a page busy drawing as the board connected,
+                # a host's hiccup) decide alone once they suffice and their halves agree: a pause is not
+                # waited out for the whole window.
+                steps = [q[0] - p[0] for p, q in zip(self.points, self.points[1:])]
+                decided = self._ends(self.points[steps.index(max(steps)) + 1:], full=None)
+            if decided is not None:
+                self.first, self.end, self.longest = decided
+                self.points = []
+            else:
+                self.longest = self._longest(self.points)
+
+    @staticmethod
+    def _longest(points: list[tuple[float, int]]) -> float:
+        return max((q[0] - p[0] for p, q in zip(points, points[1:])), default=0.0)
+
+    def _ends(self, points: list[tuple[float, int]], full: float | None):
+        """The first and the latest burst end of ``points`` and their longest step, if they decide the rate:
+        the ends span the needed time and the halves agree, or (``full``: the arrivals' age) fill the window."""
+        longest = self._longest(points)
+        ends = [p for p, q in zip(points, points[1:]) if q[0] - p[0] >= 0.5 * longest]
+        if len(ends) < 2 or ends[-1][0] - ends[0][0] < max(self.min_s, self.steps * longest):
+            return None
+        if self._halves_agree(ends) or (full is not None and full >= self.window_s - longest):
+            return ends[0], ends[-1], longest
+        return None
 
     @staticmethod
     def _slope(p: tuple[float, int], q: tuple[float, int]) -> float:

@@ -288,6 +288,10 @@ export function accUnitAtRest(norm) {
 
 // The rates from the first burst end to the one nearest the middle and from there to the last agree within
 // rateAgree: no end among them read late by a lagging reader (app.io.board_lines.StreamRate._halves_agree).
+function longestStep(points) {
+  return points.reduce((m, p, i) => (i ? Math.max(m, p[0] - points[i - 1][0]) : m), 0);
+}
+
 function halvesAgree(ends) {
   const middle = 0.5 * (ends[0][0] + ends[ends.length - 1][0]);
   const inner = ends.slice(1, -1);
@@ -304,8 +308,9 @@ function halvesAgree(ends) {
 // longest step (a read that splits a burst brings its parts closer together), and when it ends every
 // line printed until then has arrived. The rate is the readings counted between the end of the first
 // burst and the end of the latest over the time between them, decided once those ends span rateMinS and
-// rateSteps times the longest step of the last rateWindowS of arrivals (bursts of 1–2 s: after 2–4 s) and
-// the rates over the span's halves agree (halvesAgree), else once the arrivals fill the window; then kept
+// rateSteps times the longest step of the last rateWindowS of arrivals (bursts of 1–2 s: after 3–4 bursts) and
+// the rates over the span's halves agree (halvesAgree), else once the arrivals fill the window; or once the
+// arrivals after the window's longest pause so decide alone, halves agreeing (a pause is not waited out); then kept
 // up to date. Never the step of one burst's arrival.
 export class StreamRate {
   constructor(minS = B.rateMinS, steps = B.rateSteps, windowS = B.rateWindowS) {
@@ -334,15 +339,30 @@ export class StreamRate {
       this.points.push(this.last);
       // The longest step among the last windowS of arrivals: a pause of the reader is forgotten once it has left.
       this.points = this.points.filter((p) => p[0] >= t - this.windowS);
-      this.longest = this.points.reduce((m, p, i) => (i ? Math.max(m, p[0] - this.points[i - 1][0]) : m), 0);
-      const ends = this.points.filter((p, i) => i + 1 < this.points.length && this.points[i + 1][0] - p[0] >= 0.5 * this.longest);
-      const full = t - this.points[0][0] >= this.windowS - this.longest;
-      if (ends.length >= 2 && ends[ends.length - 1][0] - ends[0][0] >= this.neededS && (halvesAgree(ends) || full)) {
-        this.first = ends[0];
-        this.end = ends[ends.length - 1];
+      let decided = this.ends(this.points, t - this.points[0][0]);
+      if (decided === null && this.points.length > 2) {
+        // The arrivals since the window's longest pause (a page busy drawing as the board connected, a
+        // host's hiccup) decide alone once they suffice and their halves agree: a pause is not waited out.
+        const steps = this.points.slice(1).map((p, i) => p[0] - this.points[i][0]);
+        decided = this.ends(this.points.slice(steps.indexOf(Math.max(...steps)) + 1), null);
+      }
+      if (decided !== null) {
+        [this.first, this.end, this.longest] = decided;
         this.points = [];
+      } else {
+        this.longest = longestStep(this.points);
       }
     }
+  }
+
+  // The first and the latest burst end of `points` and their longest step, if they decide the rate: the ends
+  // span the needed time and the halves agree, or (`full`: the arrivals' age) fill the window; else null.
+  ends(points, full) {
+    const longest = longestStep(points);
+    const ends = points.filter((p, i) => i + 1 < points.length && points[i + 1][0] - p[0] >= 0.5 * longest);
+    if (ends.length < 2 || ends[ends.length - 1][0] - ends[0][0] < Math.max(this.minS, this.steps * longest)) return null;
+    if (halvesAgree(ends) || (full !== null && full >= this.windowS - longest)) return [ends[0], ends[ends.length - 1], longest];
+    return null;
   }
 
   get neededS() { return Math.max(this.minS, this.steps * this.longest); }

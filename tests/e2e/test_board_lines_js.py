@@ -122,6 +122,40 @@ def test_the_rate_counted_over_bursts_of_1_and_2_s_and_times_on_it(js, burst_s):
     assert lines - 2 * 62.5 * burst_s <= n <= lines
 
 
+def test_the_twins_decide_the_same_rate_at_the_same_arrival(js):
+    """The page's StreamRate and the CLI's (app.io.board_lines.StreamRate) given the same arrivals — a
+    reader held once for 0.4 s and 3 s, bursts of 1 s with one read late, a host hiccuping now and then —
+    decide at the same arrival on the same rate."""
+    import numpy as np
+
+    from app.io.board_lines import StreamRate
+    from tests.io.test_board_lines import held_reader
+
+    rng = np.random.default_rng(7)
+    hiccups, t, due = [], 0.0, 0.0
+    while t < 12:
+        step = 0.016 + abs(rng.normal(0, 0.003)) + (rng.uniform(0.05, 0.5) if rng.random() < 0.01 else 0.0)
+        t, due = t + step, due + 62.5 * step
+        hiccups.append((int(due), t))
+        due -= int(due)
+    streams = [held_reader(0.4), held_reader(3.0), [(100, k + (0.15 if k == 2 else 0.0)) for k in range(8)], hiccups]
+    for arrivals in streams:
+        rate, python = StreamRate(), None
+        for i, (n, t) in enumerate(arrivals):
+            rate.arrive(n, t)
+            if rate.rate_hz is not None:
+                python = [i, rate.rate_hz, rate.span_s]
+                break
+        page = js(f"""const r = new m.StreamRate(); const arrivals = {json.dumps(arrivals)};
+          for (let i = 0; i < arrivals.length; i += 1) {{
+            r.arrive(arrivals[i][0], arrivals[i][1]);
+            if (r.rateHz !== null) return [i, r.rateHz, r.spanS];
+          }}
+          return null;""")
+        assert python is not None and page is not None
+        assert page[0] == python[0] and page[1:] == pytest.approx(python[1:], rel=1e-12)
+
+
 def test_a_time_column_wins_over_the_arrival(js):
     """The board's own time (millis() at 50 Hz) gives the samples' times and the rate, however the lines
     arrive (here 100 at once every 0.5 s: 200 Hz by their arrival)."""

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.io.board_formats import MOTIONCAL_RAW, RATE_WINDOW_S
+from app.io.board_formats import MOTIONCAL_RAW, RATE_MIN_S, RATE_WINDOW_S
 from app.io.board_lines import (BoardLineReader, LogWriter, StreamRate, board_rate, numbers_format, read_lines,
                                  to_log)
 from app.io.errors import LogFormatError
@@ -219,20 +219,50 @@ def test_live_rate_counted_over_bursts_of_arrival(burst_s):
     assert steady.rate_hz == pytest.approx(62.5, rel=1e-6) and steady.span_s >= 1.0
 
 
-def test_a_reader_held_once_for_seconds_is_forgotten_and_the_rate_decided():
-    """A steady board at 100 Hz read every 16 ms whose reader was held for 3 s once in its first second (a
-    page's thread busy): that step leaves the window and the steady arrivals after it decide the rate (it
-    once waited for ever, the board's readings held back, when the longest step was never forgotten)."""
-    rate, t, n, decided_at = StreamRate(), 0.0, 0, None
-    while t < 20.0:
-        t += 3.0 if 0.5 <= t < 0.52 else 0.016
-        n_new = round(100 * t) - n
+def held_reader(hold_s: float, at_s: float = 0.5, hz: float = 100.0, until_s: float = 20.0):
+    """Arrivals of a steady board at ``hz`` read every 16 ms whose reader was held for ``hold_s`` once at
+    ``at_s`` (a page's thread busy drawing as the board connected): (readings, arrival) pairs."""
+    t, n, out = 0.0, 0, []
+    while t < until_s:
+        t += hold_s if at_s <= t < at_s + 0.016 else 0.016
+        n_new = round(hz * t) - n
         n += n_new
+        out.append((n_new, t))
+    return out
+
+
+@pytest.mark.parametrize("hold_s", [0.4, 3.0])
+def test_a_reader_held_once_is_not_waited_out(hold_s):
+    """A reader held once in the first second (for 0.4 s, or 3 s): the arrivals after the pause decide the
+    rate once they span a second and their halves agree. The rule once waited until the pause left the
+    8 s window (the page showed no rate, its board's readings held back, for 8–15 s on a loaded host), and
+    before that for ever."""
+    rate, decided_at = StreamRate(), None
+    for n_new, t in held_reader(hold_s):
         rate.arrive(n_new, t)
         if decided_at is None and rate.rate_hz is not None:
             decided_at = t
-    assert decided_at is not None and decided_at <= 3.5 + RATE_WINDOW_S + 1.0
+    assert decided_at == pytest.approx(0.5 + hold_s + RATE_MIN_S, abs=0.1)
     assert rate.rate_hz == pytest.approx(100, rel=0.01)
+
+
+def test_a_host_hiccuping_now_and_then_decides_the_rate_right():
+    """A board at 62.5 Hz read every 16 ms (±3 ms) by a host that hiccups for 50–500 ms about every 5 s,
+    200 seeded runs: every rate decided within the window and a second, each within 2 % (a chunk's readings
+    over a second's span); most within 2.2 s."""
+    decided, errors = [], []
+    for seed in range(200):
+        rng = np.random.default_rng(seed)
+        rate, t, due = StreamRate(), 0.0, 0.0
+        while rate.rate_hz is None and t < 30:
+            step = 0.016 + abs(rng.normal(0, 0.003)) + (rng.uniform(0.05, 0.5) if rng.random() < 0.003 else 0.0)
+            t, due = t + step, due + 62.5 * step
+            rate.arrive(int(due), t)
+            due -= int(due)
+        decided.append(t)
+        errors.append(abs(rate.rate_hz / 62.5 - 1))
+    assert max(decided) <= RATE_WINDOW_S + 1.0 and np.percentile(decided, 95) <= 2.2
+    assert max(errors) < 0.02
 
 
 def test_a_burst_read_late_by_a_loaded_reader_does_not_decide_the_rate():
