@@ -15,6 +15,7 @@ from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
 from app.calibration.simulations.magnetometer import simulate_session
+from app.io.board_formats import RATE_WINDOW_S
 from app.io.motioncal_packet import decode
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
@@ -29,8 +30,9 @@ ORDER = ["+z", "-y", "+x", "-z", "-x", "+y"]
 BOOT = ["", "ets Jun  8 2016 00:22:57", "MPU6050 Found!"]  # what a sketch prints before its readings
 CAPTURED = '#poses li[data-pose="{}"][data-state="done"]'
 G = 9.80665
-NOISE_S = 10
-DEVICE = "bench-imu"  # the board's name, as the person types it  # the shortest still recording the noise page offers
+NOISE_S = 10  # the shortest still recording the noise page offers
+DEVICE = "bench-imu"  # the board's name, as the person types it
+RATE_WAIT_MS = int((RATE_WINDOW_S + 4) * 1000)  # a rate is decided once the arrivals fill the window, at the latest
 
 
 def pose_rows(label: str) -> tuple[str, list[list[str]]]:
@@ -122,7 +124,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     assert page.evaluate("window.__board.requests") == [True]  # the chooser, from the click
     assert page.evaluate("window.__board.opened") == [115200]
     expect(page.locator("#board-live")).to_have_attribute("data-format", "csv", timeout=5_000)
-    expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=5_000)
+    expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=RATE_WAIT_MS)
     checks = time.monotonic()
     problems += board_state(page, "six", "connected")
     what = page.text_content("#board-what")
@@ -340,7 +342,12 @@ def test_noise_of_a_still_board(desk, server):
     peer = json.loads((DATA / "real" / "mpu6050_noise_peer.json").read_text())
     expected = np.sqrt(np.array(peer["R"]) / peer["sampling_rate_hz"])  # 3.30, 3.05, 4.63 mm/s²/√Hz
     print(f"\nnoise density over {NOISE_S} s from the board's lines: {density} m/s²/√Hz; the maker's: {expected}")
-    assert np.all(np.abs(density / expected - 1) < 0.10)
+    # Which 10 s the page records depends on when the rate is decided: over every 10 s window of this file
+    # trical's density lies −13.4…+9.8 % from the maker's, whose figure lies inside trical's 95 % interval
+    # in each (the page's figure is honest about what 10 s can tell).
+    interval = np.array(cal["uncertainty"]["acc"]["noise_density"], dtype=float)
+    assert np.all((interval[:, 0] <= expected) & (expected <= interval[:, 1])), interval
+    assert np.all(np.abs(density / expected - 1) < 0.15)
     # 10 s show no random walk: the filters' formats that need it are refused with the reason, the JSON,
     # the CSV and the plot offered (the browser logs the three refused exports).
     assert sorted(refused) == ["format=kalibr", "format=openvins", "format=vins"]
@@ -363,7 +370,7 @@ def test_a_board_over_bluetooth_prints_raw_lines(desk, server):
     assert requests == [{"options": {"filters": [{"services": ["6e400001-b5a3-f393-e0a9-e50e24dcca9e"]}]}, "click": True}]
     live = page.locator("#board-live")
     expect(live).to_have_attribute("data-format", "raw", timeout=5_000)
-    expect(page.locator("#live-pose")).to_have_attribute("data-pose", "+z", timeout=8_000)
+    expect(page.locator("#live-pose")).to_have_attribute("data-pose", "+z", timeout=RATE_WAIT_MS)
     assert page.text_content("#live-pose-words") == "Now: flat, component side up"
     assert page.text_content("#board-what").startswith("MotionCal Raw: lines (counts at MotionCal's scales); accelerometer in m/s²;")
     row = page.eval_on_selector_all("#board-numbers tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
@@ -385,7 +392,7 @@ def test_free_poses_and_the_cube_from_a_board_are_a_board_s(desk, server, flow):
     play(page, list(UNI) * 3, 100)
     page.click("#board-usb")
     expect(page.locator("#capture")).to_be_visible()
-    expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=5_000)
+    expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=RATE_WAIT_MS)
     problems += board_state(page, flow, "connected")
     done = "#free-count[data-count='1']" if flow == "free" else "#cube-count[data-captured='1']"
     page.wait_for_selector(done, state="attached", timeout=15_000)
