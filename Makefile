@@ -17,10 +17,12 @@ run: $(VENV)/.installed
 
 # The whole suite, with the test extras and the browser the end-to-end tests drive, on $(TEST_WORKERS)
 # workers (pytest-xdist): the browser tests mostly wait on real time (captures, servers, browsers), so
-# three workers pay even on two cores. Every test is bounded (pytest-timeout, pyproject.toml).
+# three workers pay even on two cores; a worker that runs out of tests takes the others' pending ones
+# (--dist worksteal), so the slowest browser walks do not leave one worker running alone at the end.
+# Every test is bounded (pytest-timeout, pyproject.toml).
 TEST_WORKERS ?= 3
 test: $(VENV)/.installed-test system-deps
-	$(BIN)/python -m pytest -n $(TEST_WORKERS)
+	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
 
 install: $(VENV)/.installed
 install-test: $(VENV)/.installed-test
