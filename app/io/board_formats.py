@@ -46,8 +46,9 @@ printed so far has arrived) over the time between them, decided once such ends s
 two halves of that span agree within ``RATE_AGREE`` (one end read late by a loaded reader shows as halves that
 disagree: 0.15 s late at the end of 2 s made 93 Hz of a board at 100 Hz), else once the arrivals fill the
 window. When the window's arrivals do not decide, those after its longest pause may alone (by the same
-rule, halves agreeing): a page whose thread was held once as the board connected (a steady stream after
-it) is decided ``RATE_MIN_S`` after the pause, not once the pause has left the window. A bridge's buffer
+rule, halves agreeing, their ends spanning ``RATE_MIN_S`` and ``RATE_STEPS`` times that pause): a page
+whose thread was held 0.4 s as the board connected (a steady stream after it) is decided a second after
+the pause, not once the pause has left the window. A bridge's buffer
 or a loaded host delivering 1–2 s of lines at once is decided after 3–4 bursts, a reader that lags now and
 then by the window's 8 s at the latest. Never the step of one burst's
 arrival (app.io.board_lines.StreamRate, static/js/board_lines.js StreamRate)."""

@@ -339,8 +339,9 @@ class StreamRate:
     (bursts of 1–2 s: after 3–4 bursts) and the rates over the span's two halves agree within
     :data:`~app.io.board_formats.RATE_AGREE` (else once the arrivals fill the window), and stays decided.
     When the window's arrivals do not decide, those after its longest pause (a page busy drawing as the
-    board connected, a host's hiccup) may, by the same rule with the halves agreeing: a pause is not
-    waited out until it leaves the window.
+    board connected, a host's hiccup) may, by the same rule with the halves agreeing, once their ends span
+    what the window needs (``RATE_STEPS`` times that pause): a short pause is not waited out until it
+    leaves the window.
     The page's twin is ``StreamRate`` of static/js/board_lines.js, on the same constants.
     """
 
@@ -370,10 +371,10 @@ class StreamRate:
             decided = self._ends(self.points, full=arrival_s - self.points[0][0])
             if decided is None and len(self.points) > 2:
                 # The arrivals since the window's longest pause (a page busy drawing as the board connected,
-                # a host's hiccup) decide alone once they suffice and their halves agree: a pause is not
-                # waited out for the whole window.
+                # a host's hiccup) decide alone once they span what the whole window needs and their halves
+                # agree: a short pause is not waited out for the whole window.
                 steps = [q[0] - p[0] for p, q in zip(self.points, self.points[1:])]
-                decided = self._ends(self.points[steps.index(max(steps)) + 1:], full=None)
+                decided = self._ends(self.points[steps.index(max(steps)) + 1:], full=None, pause=max(steps))
             if decided is not None:
                 self.first, self.end, self.longest = decided
                 self.points = []
@@ -384,12 +385,13 @@ class StreamRate:
     def _longest(points: list[tuple[float, int]]) -> float:
         return max((q[0] - p[0] for p, q in zip(points, points[1:])), default=0.0)
 
-    def _ends(self, points: list[tuple[float, int]], full: float | None):
+    def _ends(self, points: list[tuple[float, int]], full: float | None, pause: float = 0.0):
         """The first and the latest burst end of ``points`` and their longest step, if they decide the rate:
-        the ends span the needed time and the halves agree, or (``full``: the arrivals' age) fill the window."""
+        the ends span the needed time (for their longest step, or the ``pause`` before them) and the halves
+        agree, or (``full``: the arrivals' age) fill the window."""
         longest = self._longest(points)
         ends = [p for p, q in zip(points, points[1:]) if q[0] - p[0] >= 0.5 * longest]
-        if len(ends) < 2 or ends[-1][0] - ends[0][0] < max(self.min_s, self.steps * longest):
+        if len(ends) < 2 or ends[-1][0] - ends[0][0] < max(self.min_s, self.steps * max(longest, pause)):
             return None
         if self._halves_agree(ends) or (full is not None and full >= self.window_s - longest):
             return ends[0], ends[-1], longest

@@ -310,7 +310,8 @@ function halvesAgree(ends) {
 // burst and the end of the latest over the time between them, decided once those ends span rateMinS and
 // rateSteps times the longest step of the last rateWindowS of arrivals (bursts of 1–2 s: after 3–4 bursts) and
 // the rates over the span's halves agree (halvesAgree), else once the arrivals fill the window; or once the
-// arrivals after the window's longest pause so decide alone, halves agreeing (a pause is not waited out); then kept
+// arrivals after the window's longest pause so decide alone, spanning rateSteps times that pause (a short
+// pause is not waited out); then kept
 // up to date. Never the step of one burst's arrival.
 export class StreamRate {
   constructor(minS = B.rateMinS, steps = B.rateSteps, windowS = B.rateWindowS) {
@@ -342,9 +343,11 @@ export class StreamRate {
       let decided = this.ends(this.points, t - this.points[0][0]);
       if (decided === null && this.points.length > 2) {
         // The arrivals since the window's longest pause (a page busy drawing as the board connected, a
-        // host's hiccup) decide alone once they suffice and their halves agree: a pause is not waited out.
+        // host's hiccup) decide alone once they span what the whole window needs and their halves agree:
+        // a short pause is not waited out for the whole window.
         const steps = this.points.slice(1).map((p, i) => p[0] - this.points[i][0]);
-        decided = this.ends(this.points.slice(steps.indexOf(Math.max(...steps)) + 1), null);
+        const pause = Math.max(...steps);
+        decided = this.ends(this.points.slice(steps.indexOf(pause) + 1), null, pause);
       }
       if (decided !== null) {
         [this.first, this.end, this.longest] = decided;
@@ -356,11 +359,13 @@ export class StreamRate {
   }
 
   // The first and the latest burst end of `points` and their longest step, if they decide the rate: the ends
-  // span the needed time and the halves agree, or (`full`: the arrivals' age) fill the window; else null.
-  ends(points, full) {
+  // span the needed time (for their longest step, or the `pause` before them) and the halves agree, or
+  // (`full`: the arrivals' age) fill the window; else null.
+  ends(points, full, pause = 0) {
     const longest = longestStep(points);
     const ends = points.filter((p, i) => i + 1 < points.length && points[i + 1][0] - p[0] >= 0.5 * longest);
-    if (ends.length < 2 || ends[ends.length - 1][0] - ends[0][0] < Math.max(this.minS, this.steps * longest)) return null;
+    const needed = Math.max(this.minS, this.steps * Math.max(longest, pause));
+    if (ends.length < 2 || ends[ends.length - 1][0] - ends[0][0] < needed) return null;
     if (halvesAgree(ends) || (full !== null && full >= this.windowS - longest)) return [ends[0], ends[ends.length - 1], longest];
     return null;
   }
