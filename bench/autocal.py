@@ -4,7 +4,7 @@
 
 1. Generates (once, cached in ``--dir``) a week at 100 Hz — 60 480 000 samples, float32 .npy,
    726 MB — of rest bouts (posture-like and random orientations) and movement bouts through the
-   sensor errors of Farago et al. eq. (17) with 3 mg noise (:mod:`app.calibration.simulations.autocal`), and the
+   sensor errors of Farago et al. eq. (17) with 3 mg noise (:mod:`simulations.autocal`), and the
    true parameters beside it (``.json``).
 2. Runs ``trical autocal FILE --sampling-rate-hz 100 --unit g --json`` as a subprocess (``python -m
    app.cli``), ``--runs`` times, timing the wall clock; peak memory is the child's ``ru_maxrss``
@@ -40,7 +40,7 @@ PARAMS = ("k_xx", "k_yy", "k_zz", "k_xy", "k_xz", "k_yz", "o_x", "o_y", "o_z")
 
 def make_week(path: Path, seed: int) -> dict:
     """Generate the week into ``path`` (memory-mapped) unless it is there; returns the truth."""
-    from app.calibration.simulations.autocal import simulate_recording
+    from simulations.autocal import simulate_recording
 
     meta = path.with_suffix(".json")
     if path.exists() and meta.exists():

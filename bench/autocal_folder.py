@@ -3,7 +3,7 @@
     PYTHONPATH=. python bench/autocal_folder.py [--files 8] [--hours 24] [--rate 25] [--workers 2] [--runs 2]
 
 Generates (in a temporary folder) ``--files`` synthetic recordings of ``--hours`` each at ``--rate`` Hz
-(:mod:`app.calibration.simulations.autocal`), then times ``trical autocal FOLDER --json`` run as a
+(:mod:`simulations.autocal`), then times ``trical autocal FOLDER --json`` run as a
 subprocess, ``--runs`` times each way: with ``--workers`` local processes, and with
 ``--dask-scheduler`` on a ``dask.distributed.LocalCluster`` of as many single-threaded worker
 processes (started once, before the timings; its start-up is printed apart). Needs the dask extra
@@ -29,7 +29,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from app.calibration.simulations.autocal import simulate_recording  # noqa: E402
+from simulations.autocal import simulate_recording  # noqa: E402
 
 
 def run_folder(folder: Path, rate: float, db: Path, *extra: str) -> tuple[float, list[dict]]:

@@ -2,7 +2,7 @@
 
     PYTHONPATH=. python bench/compass.py [--sessions 50] [--seed 1]
 
-For each scenario, ``--sessions`` seeded turns (app.calibration.simulations.magnetometer: a random
+For each scenario, ``--sessions`` seeded turns (simulations.magnetometer: a random
 symmetric soft iron, a hard iron, white noise) are calibrated three ways on the same readings:
 
 - ``trical``: ``fit_magnetometer`` (the algebraic start, Levenberg–Marquardt on |h| − F, the gates);
@@ -30,7 +30,7 @@ import numpy as np
 
 from app.calibration.magnetometer import fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
-from app.calibration.simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
+from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
 from app.io.formats import read_log
 
 F = EARTH_FIELD_UT

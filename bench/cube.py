@@ -21,7 +21,7 @@ import numpy as np
 from app.calibration.cube import calibrate_cube, fit_field_sensor, fit_gyroscope
 from app.calibration.cube.accmag import decompose
 from app.calibration.cube.protocols import cube24
-from app.calibration.simulations.cube import (
+from simulations.cube import (
     FIELD_UT,
     GRAVITY,
     NOISE_VAR,

@@ -3,7 +3,7 @@ the model chosen, the heading error, and the orientation step against a sphere f
 
     PYTHONPATH=. python bench/flight_compass.py [--flights 200] [--seed 1000]
 
-Each flight (app.calibration.simulations.flight_compass: 3 min at 25 Hz, a yaw turn a minute, ±20° of pitch
+Each flight (simulations.flight_compass: 3 min at 25 Hz, a yaw turn a minute, ±20° of pitch
 and roll, current 12–33 A, 0.3 µT of compass noise, the attitude off by 0.3° per axis wandering over 3 s,
 mountings cycling through COMPASS_ORIENT 2, 8, 0, 4, 16, 25) is calibrated twice: with the model fixed to
 the truth's (``soft_iron+motor``) for the coverage of the 95 % intervals, and with ``models="auto"``.
@@ -24,7 +24,7 @@ import numpy as np
 from app.calibration.magnetometer.ellipsoid import fit_sphere
 from app.calibration.magnetometer.flight import fit_flight_compass
 from app.calibration.rotations import angle_between, nearest_rotation
-from app.calibration.simulations.flight_compass import simulate_flight
+from simulations.flight_compass import simulate_flight
 
 MOUNTINGS = (2, 8, 0, 4, 16, 25)
 

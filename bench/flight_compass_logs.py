@@ -3,7 +3,7 @@ ArduPilot DataFlash log and a PX4 ULog, read and calibrated by the method ``comp
 
     PYTHONPATH=. python bench/flight_compass_logs.py [--flights 200] [--seed 2000]
 
-Each flight (app.calibration.simulations.flight_compass.simulate_flight: 3 min at 25 Hz, a yaw turn a minute,
+Each flight (simulations.flight_compass.simulate_flight: 3 min at 25 Hz, a yaw turn a minute,
 ±20° of pitch and roll, current 12–33 A, 0.3 µT of compass noise, the attitude off by 0.3° per axis wandering
 over 3 s; known offsets, soft iron and motor coefficients) is flown under the geomagnetic model's field at the
 log's place and date, with the compass mounted at an orientation cycling through 2, 8, 4, 16, 25, 6 while

@@ -2,7 +2,7 @@
 
     PYTHONPATH=. python bench/noise_coverage.py [--runs 200] [--minutes 20] [--seed 100]
 
-Each run simulates a still gyroscope at 100 Hz (app.calibration.simulations.noise: white noise N,
+Each run simulates a still gyroscope at 100 Hz (simulations.noise: white noise N,
 flicker B, random walk K, the values of tests/calibration/test_noise.py), characterises it by the
 overlapping Allan deviation (app.calibration.noise.characterise_noise) and checks, per axis, whether
 each term's 95 % interval holds the true value. It prints, per term, the coverage over the axes that
@@ -17,7 +17,7 @@ import argparse
 import numpy as np
 
 from app.calibration.noise import characterise_noise
-from app.calibration.simulations.noise import simulate_still
+from simulations.noise import simulate_still
 
 FS = 100.0
 TRUTH = {"noise_density": 0.01, "bias_instability": 0.015, "random_walk": 0.00224}

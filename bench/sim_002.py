@@ -1,7 +1,7 @@
 """Farago et al. Table 2 recomputed: 500 simulated scenarios at 1 mg and 5 mg, every solver, against the CRB.
 
 Farago et al. (IEEE Access) section III.A: parameters drawn by eqs. (17)–(18), points by eqs.
-(19)–(20) and the nine-bin selection (app/calibration/simulations/triangular.py).  Every solver of
+(19)–(20) and the nine-bin selection (simulations/triangular.py).  Every solver of
 ``fit_triangular`` runs on the same scenarios.  For each parameter the table gives the mean and the
 SD of the absolute error (the columns of Farago et al. Table 2), the Cramér–Rao bound sqrt(mean CRB) and the
 solver's RMS error divided by it; ``z`` is the per-scenario normalised RMS sqrt(mean(err²/CRB)).
@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from app.calibration.simulations.triangular import PARAM_NAMES, cramer_rao_bound, simulate_scenario
+from simulations.triangular import PARAM_NAMES, cramer_rao_bound, simulate_scenario
 from app.calibration.triangular import SOLVERS, fit_triangular
 
 # Farago et al. Table 2 as printed: mean and SD of |error| at 1 mg and 5 mg.

@@ -4,7 +4,7 @@ seeded warm-ups.
     PYTHONPATH=. python bench/temperature.py [--runs 300] [--minutes 30] [--rate 50] [--seed 1000] [--noise real|white]
                                              [--walk K]
 
-Each run simulates a still board warming up from 15 °C towards 55 °C (app.calibration.simulations.temperature:
+Each run simulates a still board warming up from 15 °C towards 55 °C (simulations.temperature:
 a first-order warm-up, τ = 400 s, the temperature read with 0.02 °C of noise, sample times jittering by 2 %),
 each axis's offset a known cubic (ACC_TRUTH, GYR_TRUTH), the noise drawn in 5 s blocks from the real still
 MPU-6050 recording of tests/data/real (``--noise real``, its correlation in time kept within a block) or white.
@@ -35,9 +35,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from app.calibration.simulations.temperature import (ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C,  # noqa: E402
-                                                     shift_polynomial, simulate_warm_up)
-from app.calibration.temperature import FIGURE_SCALE, calibrate_temperature, offset_at  # noqa: E402
+from app.calibration.temperature import (FIGURE_SCALE, calibrate_temperature, offset_at,  # noqa: E402
+                                         shift_polynomial)
+from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up  # noqa: E402
 
 TRUTH = {"acc": ACC_TRUTH, "gyr": GYR_TRUTH}
 

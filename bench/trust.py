@@ -3,7 +3,7 @@
     PYTHONPATH=. python bench/trust.py [--sessions 40] [--seed 1]
 
 For each number of poses, ``--sessions`` simulated free-pose sessions of a phone
-(app.calibration.simulations.free_poses: Farago et al.'s unit errors, 0.5 mg of noise per pose, a
+(simulations.free_poses: Farago et al.'s unit errors, 0.5 mg of noise per pose, a
 third of the poses off by 3 mg of hand tremor) are calibrated by ``method: auto`` (which picks
 triangular for free poses). Beside each other, averaged over the sessions: the raw error, the
 in-sample error, the cross-validated error ``cv_error_mg``, and the true error on 1000 fresh poses
@@ -21,7 +21,7 @@ import numpy as np
 
 from app import workflow
 from app.calibration import InsufficientDataError
-from app.calibration.simulations.free_poses import free_pose_session, fresh_error_mg
+from simulations.free_poses import free_pose_session, fresh_error_mg
 
 POSES = (5, 9, 10, 12, 15, 20, 25, 30)
 

@@ -1,6 +1,6 @@
 """A phone (or IMU board) in the 24-position cube, as its browser would report it.
 
-The motion is Särkkä et al.'s simulation (app.calibration.simulations.cube: the protocol's rotations with a
+The motion is Särkkä et al.'s simulation (simulations.cube: the protocol's rotations with a
 wandering axis, Särkkä et al. section V-A); the sensors are a phone's: m = X f + y in m/s² rounded to the
 browser's 0.1 m/s², the gyroscope S ω + b in deg/s rounded to 0.1 °/s, events at 60 Hz.
 """
@@ -13,7 +13,7 @@ import numpy as np
 
 from app.calibration.cube import quaternion as quat
 from app.calibration.cube.accmag import direction_matrix
-from app.calibration.simulations.cube import simulate_session
+from simulations.cube import simulate_session
 
 G = 9.80665
 RATE_HZ = 60.0

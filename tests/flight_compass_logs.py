@@ -1,4 +1,4 @@
-"""A seeded simulated flight (app.calibration.simulations.flight_compass.simulate_flight) written as both
+"""A seeded simulated flight (simulations.flight_compass.simulate_flight) written as both
 firmwares' logs (tests.flight_logs), for the compass-from-a-flight tests over HTTP, the CLI and the bench.
 
 The simulator's dict holds the flight (time, attitude, raw compass in the frame L, current, throttle, place
@@ -36,7 +36,7 @@ def earth_field_at(flight_place: dict | None = None) -> np.ndarray:
 
 def seeded_flight(seed: int, *, orientation: int = 2, stale_ut: float = 5.0, **kw) -> dict:
     """:func:`simulate_flight` under the model's field, with each firmware's stale stored calibration."""
-    from app.calibration.simulations.flight_compass import simulate_flight
+    from simulations.flight_compass import simulate_flight
 
     flight = simulate_flight(seed, orientation=orientation, earth_ned=earth_field_at(), **kw)
     stale = flight["truth"]["b"] + np.random.default_rng(seed + 7_000).normal(0.0, stale_ut, 3)

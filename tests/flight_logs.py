@@ -208,7 +208,7 @@ def imu_instances(seed: int, *, rate_hz: float = 200.0, orientations=None, rest_
     """Two IMU instances of one board rested in the poses asked (default the six, shuffled): the same motion
     and noise, each instance its own error :data:`TRUTH`, gyroscope bias, and a temperature warming 30 → 34 °C
     (instance 1 a degree warmer)."""
-    from app.calibration.simulations.logs import simulate_static_log
+    from simulations.logs import simulate_static_log
 
     out = []
     for k, (X, y) in enumerate(TRUTH):
@@ -225,7 +225,7 @@ def imu_instances(seed: int, *, rate_hz: float = 200.0, orientations=None, rest_
 def compass_tumble(seed: int, *, rate_hz: float = 50.0, duration_s: float = 20.0, imu_rate_hz: float = 200.0):
     """A board turned through all directions: two compass instances (µT, hard iron :data:`HARD_IRON_UT`, a
     little soft iron) at ``rate_hz``, and the IMU moving at ``imu_rate_hz``. Returns ``(imus, mags, Ms)``."""
-    from app.calibration.simulations.magnetometer import random_soft_iron, simulate_turn
+    from simulations.magnetometer import random_soft_iron, simulate_turn
 
     rng = np.random.default_rng(seed)
     n = int(duration_s * rate_hz)
@@ -247,7 +247,7 @@ def compass_tumble(seed: int, *, rate_hz: float = 50.0, duration_s: float = 20.0
 def still_board(seed: int, *, rate_hz: float = 400.0, duration_s: float = 60.0) -> list[dict]:
     """Two IMU instances resting flat (z down, FRD: −g on z), their gyroscopes with :data:`GYR_BIAS` and white
     noise of 2e-3 rad/s/√Hz, the accelerometers' of 3e-3 m/s²/√Hz."""
-    from app.calibration.simulations.noise import simulate_still
+    from simulations.noise import simulate_still
 
     rng = np.random.default_rng(seed)
     n = int(duration_s * rate_hz)

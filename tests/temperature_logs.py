@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.calibration.simulations.temperature import simulate_warm_up
+from simulations.temperature import simulate_warm_up
 
 REAL_STILL = Path(__file__).parent / "data" / "real" / "mpu6050_session2_still_30s.csv"
 
@@ -23,7 +23,7 @@ def real_still_noise() -> np.ndarray:
 
 
 def warm_up(seed: int, **kw):
-    """A seeded warm-up (app.calibration.simulations.temperature) with the real log's noise."""
+    """A seeded warm-up (simulations.temperature) with the real log's noise."""
     return simulate_warm_up(np.random.default_rng(seed), noise=real_still_noise(), **kw)
 
 

@@ -1,6 +1,7 @@
 """The import table of docs/architecture.md ("Who may import whom") as a test: each row's *must not import*
 column is read from the document itself, and every module the row names is parsed (its imports at the top and
-those inside functions) and must import none of them. The document and the code cannot drift apart."""
+those inside functions) and must import none of them; a row that says "no module of `app` imports it" bans its
+modules from every file of app/. The document and the code cannot drift apart."""
 
 from __future__ import annotations
 
@@ -23,9 +24,9 @@ def table_rows() -> list[tuple[list[str], str]]:
     rows = []
     for line in section.splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) != 3 or not cells[0].startswith("`app"):
+        if len(cells) != 3 or not cells[0].startswith(("`app", "`simulations")):
             continue
-        rows.append((re.findall(r"`(app[^`]*)`", cells[0]), cells[2]))
+        rows.append((re.findall(r"`((?:app|simulations)[^`]*)`", cells[0]), cells[2]))
     return rows
 
 
@@ -98,4 +99,17 @@ def test_no_module_imports_what_its_row_forbids(paths, cell):
                 hits = [b for b in banned if under(name, b)]
                 if hits:
                     found.append(f"{file.relative_to(ROOT)} imports {name} ({hits[0]} is forbidden to {path})")
+    assert not found, "\n".join(found)
+
+
+NOT_FOR_APP = "no module of `app` imports it"
+"""The words of a row whose modules serve only the tests and the benches (the simulations)."""
+
+
+def test_no_module_of_app_imports_what_serves_only_tests():
+    banned = [module_name(p) for paths, cell in ROWS if NOT_FOR_APP in cell for p in paths]
+    assert banned == ["simulations"], f"the table's rows saying {NOT_FOR_APP!r}: {banned}"
+    found = [f"{file.relative_to(ROOT)} imports {name}"
+             for file in sorted((ROOT / "app").rglob("*.py")) for name in sorted(imports_of(file))
+             if any(under(name, b) for b in banned)]
     assert not found, "\n".join(found)

@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 
-from app.calibration.simulations.triangular import random_unit_vectors
+from simulations.triangular import random_unit_vectors
 from app.cli import _parser, capture_on_port
 from app.config import Settings
 from tests.cube_phone import B_GYR_DEG_S, S_GYR, X_ACC, Y_ACC, phone_cube

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from app import cli
-from app.calibration.simulations.autocal import simulate_recording
+from simulations.autocal import simulate_recording
 from tests.processes import run_ok
 
 FS = 25.0

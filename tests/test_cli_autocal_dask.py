@@ -16,7 +16,7 @@ import pytest
 import dask
 from dask.distributed import Client, LocalCluster
 
-from app.calibration.simulations.autocal import simulate_recording
+from simulations.autocal import simulate_recording
 from tests.live_server import ROOT
 
 TRICAL = Path(sys.executable).parent / "trical"

@@ -6,7 +6,7 @@ import json
 
 import numpy as np
 
-from app.calibration.simulations.magnetometer import simulate_session
+from simulations.magnetometer import simulate_session
 from tests.test_cli import trical
 
 

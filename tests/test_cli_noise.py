@@ -8,7 +8,7 @@ import sys
 
 import numpy as np
 
-from app.calibration.simulations.noise import simulate_still
+from simulations.noise import simulate_still
 
 
 def _run(*args, cwd):
@@ -44,7 +44,7 @@ def test_plot_writes_the_allan_svg(tmp_path):
 
 def test_noise_of_a_serial_log_stamped_by_the_host_and_the_rate_option(tmp_path):
     # The case: t in host milliseconds, arriving in bursts; a 100 Hz gyroscope in deg/s.
-    from app.calibration.simulations.serial import host_arrival_times
+    from simulations.serial import host_arrival_times
 
     n = 20_000
     t_ms = host_arrival_times(np.random.default_rng(6), n_samples=n, sampling_rate_hz=100.0) * 1e3 + 8_000.0

@@ -8,8 +8,8 @@ import re
 
 import numpy as np
 
-from app.calibration.simulations.logs import simulate_static_log
-from app.calibration.simulations.magnetometer import simulate_session
+from simulations.logs import simulate_static_log
+from simulations.magnetometer import simulate_session
 from tests.test_cli import trical
 
 G = 9.80665

@@ -9,7 +9,7 @@ Farago, Maczak and Gingl, IEEE Access:
    [0.75, 1.25] g, giving nine subsets C_xn … C_zp; each must hold between ``min_per_bin`` and
    ``max_per_bin`` points (2 and 2 → 18 points in the paper).  Figure 6, the paper's exact rule for
    accepting a point, is not in the text; trical's reading (the same as
-   :func:`app.calibration.simulations.triangular.select_points`, plus the distance test the text describes):
+   :func:`simulations.triangular.select_points`, plus the distance test the text describes):
    the rest segments are taken in time order, as a device would see them; a segment's mean joins
    the first subset, in the order x, y, z, that it falls in and that holds fewer than
    ``max_per_bin`` points — provided it lies at least ``min_distance`` (0.1 g) from every point

@@ -85,7 +85,7 @@ def _csv(case: dict) -> bytes:
     if case["time"] is not None:
         name, scale = case["time"]
         if scale == "bursty_ms":
-            from app.calibration.simulations.serial import host_arrival_times
+            from simulations.serial import host_arrival_times
 
             t = host_arrival_times(rng, n_samples=n, sampling_rate_hz=100.0) * 1e3 if n > 1 else np.zeros(1)
         else:

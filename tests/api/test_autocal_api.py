@@ -6,7 +6,7 @@ import io
 
 import numpy as np
 
-from app.calibration.simulations.autocal import simulate_recording
+from simulations.autocal import simulate_recording
 
 FS = 10.0
 

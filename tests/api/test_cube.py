@@ -7,7 +7,7 @@ import io
 import numpy as np
 import pytest
 
-from app.calibration.simulations.cube import FIELD_UT, simulate_session, true_parameters
+from simulations.cube import FIELD_UT, simulate_session, true_parameters
 from tests.processes import run_ok
 
 FS = 100.0

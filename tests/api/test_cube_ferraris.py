@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from app.calibration.simulations.cube import simulate_hand_ferraris
+from simulations.cube import simulate_hand_ferraris
 from tests.conftest import DATA
 from tests.test_cli import trical
 

@@ -12,7 +12,8 @@ import sys
 import numpy as np
 import pytest
 
-from app.calibration.simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, shift_polynomial
+from app.calibration.temperature import shift_polynomial
+from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C
 from tests.flight_logs import ardupilot_file, px4_file
 from tests.live_server import ROOT
 from tests.temperature_logs import warm_up

@@ -19,7 +19,7 @@ import shutil
 import numpy as np
 import pytest
 
-from app.calibration.simulations.magnetometer import simulate_rests, simulate_session
+from simulations.magnetometer import simulate_rests, simulate_session
 from tests.processes import run_ok
 
 F = 48.0

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.calibration.simulations.magnetometer import simulate_session
+from simulations.magnetometer import simulate_session
 from app.io.motioncal_packet import MotionCalCalibration, PacketError, crc16, decode, encode, from_calibration
 from tests.processes import ProcessFailed, run_ok
 

@@ -7,7 +7,7 @@ import io
 import numpy as np
 import yaml
 
-from app.calibration.simulations.noise import simulate_still
+from simulations.noise import simulate_still
 
 FS = 100.0
 

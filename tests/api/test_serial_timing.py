@@ -7,8 +7,8 @@ import io
 import numpy as np
 import pytest
 
-from app.calibration.simulations.noise import simulate_still
-from app.calibration.simulations.serial import host_arrival_times
+from simulations.noise import simulate_still
+from simulations.serial import host_arrival_times
 
 FS = 100.0
 N_DEG = 0.01  # the gyroscope's noise density, deg/s/√Hz

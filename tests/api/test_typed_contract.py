@@ -10,9 +10,9 @@ import pytest
 from pydantic import BaseModel, TypeAdapter
 
 from app.api.schemas import RESPONSE_MODELS, CalibrationOut
-from app.calibration.simulations.cube import FIELD_UT, simulate_session
-from app.calibration.simulations.autocal import simulate_recording
-from app.calibration.simulations.magnetometer import simulate_session as simulate_turn_session
+from simulations.cube import FIELD_UT, simulate_session
+from simulations.autocal import simulate_recording
+from simulations.magnetometer import simulate_session as simulate_turn_session
 from tests.conftest import seed_table
 
 G = 9.81
@@ -91,7 +91,7 @@ def _requests(client, cube_csv):
 
 def _still_csv() -> bytes:
     """Two minutes of a still IMU (accelerometer and gyroscope) at 100 Hz."""
-    from app.calibration.simulations.noise import simulate_still
+    from simulations.noise import simulate_still
 
     rng = np.random.default_rng(13)
     acc = simulate_still(rng, n_samples=12_000, sampling_rate_hz=100.0, N=2e-3, B=3e-4, K=1e-4, bias=[0.1, -0.2, G])

@@ -11,8 +11,8 @@ import re
 import numpy as np
 import pytest
 
-from app.calibration.simulations.logs import simulate_static_log
-from app.calibration.simulations.magnetometer import EARTH_FIELD_UT, simulate_session
+from simulations.logs import simulate_static_log
+from simulations.magnetometer import EARTH_FIELD_UT, simulate_session
 
 G = 9.80665
 SIX = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=100.0, rest_s=(3.0, 4.0), turn_s=(1.0, 1.5))

@@ -19,8 +19,8 @@ import re
 import numpy as np
 import pytest
 
-from app.calibration.simulations.magnetometer import simulate_session
-from app.calibration.simulations.triangular import random_unit_vectors
+from simulations.magnetometer import simulate_session
+from simulations.triangular import random_unit_vectors
 from app.calibration.triangular import fit_triangular
 from app.geomag import reference_field
 from app.verdict import verdict

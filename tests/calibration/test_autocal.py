@@ -15,8 +15,8 @@ from app.calibration.autocal import (
     select_points,
 )
 from app.calibration.comparison import fit_ellipsoid_axes, fit_sphere_van_hees
-from app.calibration.simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
-from app.calibration.simulations.autocal import simulate_recording
+from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
+from simulations.autocal import simulate_recording
 from app.calibration.stationary_002 import RestAccumulator, detect_rest_segments
 
 FS = 25.0  # a low rate keeps the recordings small; the segments stay 5 s long

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from app import workflow
-from app.calibration.simulations.free_poses import free_pose_session, fresh_error_mg
-from app.calibration.simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
+from simulations.free_poses import free_pose_session, fresh_error_mg
+from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 from tests.conftest import seed_table
 
 

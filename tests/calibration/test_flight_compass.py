@@ -11,7 +11,7 @@ from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.magnetometer.flight import fit_flight_compass
 from app.calibration.rotations import (ARDUPILOT_ROTATIONS, PX4_ROTATIONS, ardupilot_matrix, euler_matrix,
                                        nearest_rotation, px4_matrix)
-from app.calibration.simulations.flight_compass import simulate_flight
+from simulations.flight_compass import simulate_flight
 
 S = np.sqrt(0.5)
 

@@ -8,7 +8,7 @@ from scipy import stats
 
 from app.calibration import CalibrationError
 from app.calibration.gyro_bias import gyroscope_bias
-from app.calibration.simulations.gyro_captures import capture_statistics, simulate_captures
+from simulations.gyro_captures import capture_statistics, simulate_captures
 
 BIAS = np.array([0.004, -0.0025, 0.0012])  # rad/s: 0.23, −0.14, 0.07 °/s, a phone gyroscope's order
 NOISE = np.radians(0.3)  # white noise per sample at 60 Hz

@@ -8,8 +8,7 @@ from app.calibration.magnetometer import MagnetometerResult, fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
 from app.calibration.magnetometer.refine import correlation_inflation, pack
 from app.calibration.registry import result_from_dict
-from app.calibration.simulations.magnetometer import (EARTH_FIELD_UT, random_soft_iron, simulate_rests,
-                                                      simulate_session, simulate_turn)
+from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_rests, simulate_session, simulate_turn
 
 F = EARTH_FIELD_UT
 

@@ -9,7 +9,7 @@ import pytest
 
 from app.calibration.magnetometer import fit_magnetometer
 from app.calibration.magnetometer.refine import runs_away
-from app.calibration.simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_session
+from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_session
 from tests.conftest import DATA
 
 CORPUS = DATA / "real" / "corpus"

@@ -11,7 +11,7 @@ from app.calibration.allan import overlapping_adev, tau_grid
 from app.calibration.errors import InsufficientDataError
 from app.calibration.noise import NoiseResult, characterise_noise
 from app.calibration.registry import result_from_dict
-from app.calibration.simulations.noise import simulate_still
+from simulations.noise import simulate_still
 
 FS = 100.0
 TRUTH = {"noise_density": 0.01, "bias_instability": 0.015, "random_walk": 0.00224}

@@ -10,7 +10,7 @@ import pytest
 
 from app.calibration import CalibrationError, fit_six_position
 from app.calibration.cube.calibrate import calibrate_cube
-from app.calibration.simulations.cube import FIELD_UT, simulate_session
+from simulations.cube import FIELD_UT, simulate_session
 from app.calibration.nonorthogonal import fit_nonorthogonal
 from app.calibration.registry import registered_types, result_from_dict
 from app.calibration.result import SCHEMA_VERSION, CalibrationResult

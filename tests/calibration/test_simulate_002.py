@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from app.calibration.errors import CalibrationError
-from app.calibration.simulations.triangular import (
+from simulations.triangular import (
     bin_indices,
     cramer_rao_bound,
     draw_parameters,

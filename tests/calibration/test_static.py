@@ -6,7 +6,7 @@ import pytest
 from app.calibration import CANONICAL_SIX, fit_six_position
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.simulations.logs import simulate_static_log
+from simulations.logs import simulate_static_log
 from app.calibration.static import StaticSegment, detect_static_segments
 
 BOUNDARY_TOL_S = 0.4

@@ -6,11 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.simulations.temperature import (ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, shift_polynomial,
-                                                     simulate_warm_up)
-from app.calibration.temperature import TemperatureResult, calibrate_temperature, offset_at
+from app.calibration.temperature import TemperatureResult, calibrate_temperature, offset_at, shift_polynomial
 from app.calibration.registry import result_from_dict
 from app.calibration.errors import CalibrationError
+from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up
 from tests.temperature_logs import real_still_noise, warm_up
 
 

@@ -7,7 +7,7 @@ import pytest
 
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.fixed_point import div_round, fixed_point_descent, format_for
-from app.calibration.simulations.triangular import simulate_scenario, uncalibrate
+from simulations.triangular import simulate_scenario, uncalibrate
 from app.calibration.triangular import (
     TriangularCalibration,
     alpha_vector,

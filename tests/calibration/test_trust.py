@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from app import workflow
-from app.calibration.simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
+from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 from app.calibration.trust import HALF_WIDTH_LIMITS
 
 G = 9.80665

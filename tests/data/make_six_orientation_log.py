@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.calibration.simulations.logs import simulate_static_log
+from simulations.logs import simulate_static_log
 
 SEED = 20261123
 PARAMS = dict(
@@ -44,7 +44,7 @@ def main() -> None:
         unit="m/s^2",
         seed=SEED,
         params=PARAMS,
-        generator="app.calibration.simulations.logs.simulate_static_log",
+        generator="simulations.logs.simulate_static_log",
         note="segments: true rests, sample indices (0 = first data row, line 2), end exclusive",
     )
     TRUTH.write_text(json.dumps(truth, indent=1) + "\n")

@@ -14,7 +14,7 @@ import pytest
 from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
-from app.calibration.simulations.magnetometer import simulate_session
+from simulations.magnetometer import simulate_session
 from app.io.board_formats import RATE_WINDOW_S
 from app.io.motioncal_packet import decode
 from tests.conftest import DATA

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from app.calibration.magnetometer.coverage import FACE_NAMES, coverage, face_of
-from app.calibration.simulations.magnetometer import directions
+from simulations.magnetometer import directions
 
 MODULE = "/static/js/compass_flow.js"
 B = np.array([23.5, -41.2, 12.8])

@@ -229,9 +229,9 @@ def test_bad_paste_is_explained(page, server):
 
 def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
     # Ten minutes of a still board at 100 Hz with known white noise, flicker and random walk
-    # (app.calibration.simulations.noise): the page shows each term per axis with its unit, and the
+    # (simulations.noise): the page shows each term per axis with its unit, and the
     # Allan plot the server draws.
-    from app.calibration.simulations.noise import simulate_still
+    from simulations.noise import simulate_still
 
     rng = np.random.default_rng(5)
     n, fs = 60_000, 100.0
@@ -302,8 +302,8 @@ def test_the_start_page_by_capability(browser, server):
 def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_path):
     # A six-pose log whose header says g over m/s², beside a magnetometer in the AK8963's raw counts
     # (0.15 µT per count at 16 bits), as a maker's sketch prints them.
-    from app.calibration.simulations.logs import simulate_static_log
-    from app.calibration.simulations.magnetometer import simulate_session
+    from simulations.logs import simulate_static_log
+    from simulations.magnetometer import simulate_session
 
     six = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=50.0, rest_s=(3.0, 3.5), turn_s=(1.0, 1.2))
     n = len(six.samples)
@@ -354,7 +354,7 @@ def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_pat
 def test_an_upload_refused_for_its_unit_names_the_page_s_menus_and_shows_them(page, server, tmp_path):
     # An accelerometer whose header says g but whose rest fits no unit (0.3 g in m/s²): the refusal asks for
     # the unit. The API names acc_unit, lsb_per_g and chip; the page names its own menus, and shows them.
-    from app.calibration.simulations.logs import simulate_static_log
+    from simulations.logs import simulate_static_log
 
     six = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=50.0, rest_s=(3.0, 3.5), turn_s=(1.0, 1.2))
     path = tmp_path / "board.csv"

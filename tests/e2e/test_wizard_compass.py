@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from playwright.sync_api import expect
 
-from app.calibration.simulations.magnetometer import random_soft_iron
+from simulations.magnetometer import random_soft_iron
 from app.geomag import reference_field
 from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot
 from tests.e2e.source_words import assert_only_its_words

@@ -9,7 +9,7 @@ import zipfile
 import numpy as np
 import pytest
 
-from app.calibration.simulations.magnetometer import simulate_session
+from simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.workflow import describe_log

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.simulations.serial import host_arrival_times
+from simulations.serial import host_arrival_times
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.timing import JITTER_MAX, decide_timing, time_scale

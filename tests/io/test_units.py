@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.simulations.logs import simulate_static_log
-from app.calibration.simulations.magnetometer import simulate_session
+from simulations.logs import simulate_static_log
+from simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.chips import CHIPS, parse_chips

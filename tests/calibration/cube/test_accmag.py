@@ -13,7 +13,7 @@ from app.calibration.cube.accmag import (
     fit_field_sensor,
 )
 from app.calibration.cube.protocols import cube24
-from app.calibration.simulations.cube import FIELD_UT, GRAVITY, TABLE_VI, simulate_position_means, true_parameters
+from simulations.cube import FIELD_UT, GRAVITY, TABLE_VI, simulate_position_means, true_parameters
 
 REF = {"acc": GRAVITY, "mag": FIELD_UT}
 # Factors from simulation raw units to the units of Table VII (µV/(m/s²) or V/T; mV).

@@ -8,7 +8,7 @@ import pytest
 
 from app.calibration import CalibrationError, InsufficientDataError
 from app.calibration.cube import CubeCalibration, calibrate_cube, check_sequence, explicit_protocol
-from app.calibration.simulations.cube import FIELD_UT, GRAVITY, simulate_session, true_parameters
+from simulations.cube import FIELD_UT, GRAVITY, simulate_session, true_parameters
 from tests.processes import run_ok
 
 FS = 50.0

@@ -19,7 +19,7 @@ from imucal import FerrarisCalibration, ferraris_regions_from_section_list
 
 from app.calibration import CalibrationError
 from app.calibration.cube import calibrate_cube
-from app.calibration.simulations.cube import simulate_hand_ferraris
+from simulations.cube import simulate_hand_ferraris
 
 SECTIONS = json.loads((Path(__file__).resolve().parents[2] / "data" / "imucal_example_ferraris_session_list.json").read_text())
 G = 9.81  # imucal's default grav

@@ -8,7 +8,7 @@ from app.calibration import CalibrationError, InsufficientDataError
 from app.calibration.cube import quaternion as quat
 from app.calibration.cube.accmag import decompose
 from app.calibration.cube.gyro import GyroCalibration, fit_gyroscope
-from app.calibration.simulations.cube import simulate_session, true_parameters
+from simulations.cube import simulate_session, true_parameters
 
 
 def _rotations(session, pad_s=0.2):

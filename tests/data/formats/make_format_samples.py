@@ -4,7 +4,7 @@ Every file here is written by this script, by the trical project, in the documen
 the app it imitates (column names, units, sign conventions, file names inside the zips); none is
 downloaded or copied from a device.  All hold the same simulated recording: a phone resting in the
 six canonical orientations, 2.5–3 s each with 1–1.5 s hand turns between them, at 50 Hz, with a
-true affine error and white noise (app.calibration.simulations.logs, seed below).
+true affine error and white noise (simulations.logs, seed below).
 
 Run from the repository root:  PYTHONPATH=. python tests/data/formats/make_format_samples.py
 """
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.calibration.simulations.logs import simulate_static_log
+from simulations.logs import simulate_static_log
 
 SEED = 20261123_7
 G0 = 9.80665

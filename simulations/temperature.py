@@ -13,8 +13,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..temperature import shift_polynomial  # noqa: F401  (the bench and tests name it here)
-
 T_POLY_REF_C = 35.0
 """The temperature the true polynomials are written about."""
 

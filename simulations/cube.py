@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..cube import quaternion as quat
-from ..gravity import STANDARD_GRAVITY
-from ..cube.accmag import direction_matrix, reference_direction
-from ..cube.protocols import Protocol, get_protocol, parse_rotation
+from app.calibration.cube import quaternion as quat
+from app.calibration.gravity import STANDARD_GRAVITY
+from app.calibration.cube.accmag import direction_matrix, reference_direction
+from app.calibration.cube.protocols import Protocol, get_protocol, parse_rotation
 
 # Särkkä et al., IEEE Sensors Journal 17(11) 2017, Table VI, in the table's units: D (diag), D⁻¹S, b.
 TABLE_VI = {
@@ -341,7 +341,7 @@ def simulate_hand_ferraris(rng: np.random.Generator, *, timeline=HAND_TIMELINE, 
     SimulatedSession
         ``acc`` in m/s², ``gyr`` in deg/s (not rad/s), ``mag`` None.
     """
-    from ..cube.protocols import attitude_for_up
+    from app.calibration.cube.protocols import attitude_for_up
 
     cfg = HAND_SENSORS if sensors is None else sensors
     h = 1.0 / HAND_FS

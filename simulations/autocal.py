@@ -8,7 +8,7 @@ the sphere.  A movement bout turns from one direction to another with an oscilla
 acceleration of a few tenths of g on each axis.  The true specific force ``a`` (in g) becomes the
 reading ``v = K⁻¹ a − o`` by the 9-parameter model of Farago, Maczak and Gingl, IEEE Access with the
 parameters of eq. (17)
-(:func:`app.calibration.simulations.triangular.draw_parameters`, :func:`~app.calibration.simulations.triangular.uncalibrate`)
+(:func:`simulations.triangular.draw_parameters`, :func:`~simulations.triangular.uncalibrate`)
 plus white noise.  Optionally some rest bouts are replaced by idle-sleep runs (the first sample
 repeated) or NaN gaps.
 

@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import CalibrationError
-from ..gravity import STANDARD_GRAVITY
-from ..orientations import CANONICAL_SIX, UP_VECTORS, nearest_orientation
-from ..validation import check_gravity
+from app.calibration.errors import CalibrationError
+from app.calibration.gravity import STANDARD_GRAVITY
+from app.calibration.orientations import CANONICAL_SIX, UP_VECTORS, nearest_orientation
+from app.calibration.validation import check_gravity
 
 
 @dataclass(frozen=True)

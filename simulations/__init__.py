@@ -1,6 +1,7 @@
 """Seeded simulations of the papers' experiments, for the tests, the benchmarks and the sample data.
 
-Nothing the service runs imports this package (``tests/calibration/test_import_path.py`` checks it):
+A top-level package beside ``app``, left out of the wheel: it imports the core (it simulates its models), and no
+module of ``app`` imports it (docs/architecture.md's import table, checked by ``tests/test_architecture.py``):
 
 - :mod:`.triangular`: the simulation of Farago, Maczak and Gingl, IEEE Access, eqs. (17)–(20), and
   the Cramér–Rao bound of its 9-parameter model;
