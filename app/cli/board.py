@@ -45,7 +45,6 @@ from app.web.tables import capture_thresholds
 
 CHECK_S = 1.0
 """Seconds of readings the unit is checked on, at rest, before any capture."""
-BELL = "\a"
 
 
 @dataclass
