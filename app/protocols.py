@@ -1,6 +1,6 @@
 """The capture protocols, one strategy each: what a protocol asks for next, how it checks a capture, when
 it may be solved and how it solves — for the wizard's sessions (app.sessions, the page's flows
-static/js/flow_six.js, flow_free.js, flow_cube.js) and for ``trical capture`` (app.board_capture), which
+static/js/flow_six.js, flow_free.js, flow_cube.js) and for ``trical capture`` (app.cli.board), which
 captures the same poses from a board's lines.
 
 - ``six``: the six poses in any order, each recognised from the data; solved by the six-position closed
@@ -57,7 +57,7 @@ CAPTURE_FIELDS = ("position", "up", "mean", "std", "count", "sampling_rate_hz")
 
 
 class Protocol:
-    """What every protocol tells ``trical capture`` (app.board_capture): the still captures it asks for
+    """What every protocol tells ``trical capture`` (app.cli.board): the still captures it asks for
     (``poses``; None records for ``minutes`` instead), which capture a still pose would be (:meth:`label`),
     the words that ask for them, and the command and method that calibrate the log at the end."""
 
@@ -73,7 +73,7 @@ class Protocol:
     method: str = "auto"
     """The method the log is calibrated with at the end."""
     from_captures: bool = False
-    """The log is calibrated from the captures' own rows (app.board_capture.capture_segments), as a wizard
+    """The log is calibrated from the captures' own rows (app.cli.board.capture_segments), as a wizard
     session is, rather than from still segments found again in the log."""
 
     def label(self, mean: np.ndarray, done: list, max_angle_deg: float) -> str | None:

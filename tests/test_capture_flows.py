@@ -1,5 +1,5 @@
 """``trical capture``'s free and cube24 flows, whole, on a simulated clock: the steps the command takes on an
-open port (:func:`app.cli.capture_on_port`) with a port that delivers a simulated board's ``Uni:`` lines as
+open port (:func:`app.cli.capture.capture_on_port`) with a port that delivers a simulated board's ``Uni:`` lines as
 time passes on that clock — the same lines, engine, log and calibration as over a serial port, without
 waiting minutes of real time (the six flow runs over a real pseudo-terminal in real time in
 tests/test_cli_capture.py)."""
@@ -11,7 +11,8 @@ import json
 import numpy as np
 
 from simulations.triangular import random_unit_vectors
-from app.cli import _parser, capture_on_port
+from app.cli.capture import capture_on_port
+from app.cli.parser import build_parser
 from app.config import Settings
 from tests.cube_phone import B_GYR_DEG_S, S_GYR, X_ACC, Y_ACC, phone_cube
 
@@ -82,7 +83,7 @@ def run_capture(tmp_path, monkeypatch, capsys, lines, rate_hz, *args) -> tuple[i
     monkeypatch.setenv("TRICAL_DATABASE_URL", f"sqlite:///{tmp_path / 'trical.db'}")
     clock = SimulatedClock()
     port = SimulatedPort(lines, rate_hz, clock)
-    cli_args = _parser().parse_args(["capture", "SIMULATED", "--out", str(tmp_path / "board.csv"), "--json",
+    cli_args = build_parser().parse_args(["capture", "SIMULATED", "--out", str(tmp_path / "board.csv"), "--json",
                                      "--no-store", *args])
     status = capture_on_port(port, cli_args, Settings.from_env(), capture_s=cli_args.capture_s or 5.0, clock=clock)
     out, steps = capsys.readouterr()

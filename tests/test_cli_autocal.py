@@ -9,7 +9,7 @@ import os
 import numpy as np
 import pytest
 
-from app import cli
+from app.cli.main import main
 from simulations.autocal import simulate_recording
 from tests.processes import run_ok
 
@@ -22,7 +22,7 @@ def recording():
 
 
 def _run(argv, capsys):
-    code = cli.main(argv)
+    code = main(argv)
     out = capsys.readouterr()
     return code, out.out, out.err
 
@@ -59,7 +59,7 @@ def test_autocal_text_summary_and_progress_bar(tmp_path, capsys, recording, monk
 
     tty = Tty()
     monkeypatch.setattr("sys.stderr", tty)
-    assert cli.main(["autocal", str(f), "--unit", "g", "--json"]) == 0
+    assert main(["autocal", str(f), "--unit", "g", "--json"]) == 0
     assert "100%" in tty.getvalue() and "M samples" in tty.getvalue()
 
 
@@ -152,12 +152,12 @@ def test_autocal_raw_unit_is_refused_with_advice(tmp_path):
 
 def test_cli_start_does_not_import_scipy_optimize_or_stats():
     """`trical autocal` on a week stays under 3 s because scipy.optimize (~0.5 s) is imported on the
-    other core while detection runs, and scipy.stats (~0.7 s) never: keep them out of app.cli's imports.
+    other core while detection runs, and scipy.stats (~0.7 s) never: keep them out of app.cli.main's imports.
     (pyarrow, ~20 ms, is imported: it reads the CSV.)"""
     import sys
     from pathlib import Path
 
-    code = "import sys, app.cli; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
+    code = "import sys, app.cli.main; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
     out = run_ok([sys.executable, "-c", code], timeout_s=120, cwd=Path(__file__).resolve().parents[1],
                  env={**os.environ, "PYTHONPATH": "."})
     assert out.stdout.strip() == "[]"

@@ -79,6 +79,6 @@ def test_a_folder_on_a_local_cluster_matches_local_processes(folder, cluster, tm
         np.testing.assert_allclose(b["model"]["o"], a["model"]["o"], rtol=0, atol=1e-12)
     assert [b["ok"] for b in dask] == [False, False, True, True, True]
     assert dask[1]["reasons"] and "fewer than" in dask[1]["reasons"][0]
-    # The files went to the cluster: its scheduler ran the folder's job (app.cli._autocal_job), once a file.
+    # The files went to the cluster: its scheduler ran the folder's job (app.cli.autocal._autocal_job), once a file.
     prefix = cluster.scheduler.task_prefixes["autocal_job"]
     assert prefix.state_counts["memory"] == len(dask), dict(prefix.state_counts)  # transitions into memory

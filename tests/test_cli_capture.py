@@ -334,7 +334,7 @@ def test_a_capture_without_progress_says_what_it_waits_for(tmp_path):
     """A board that rests at +z for a capture and then shakes, on a clock of its own (no waiting): after
     20 s without a capture started or done the terminal says the poses asked, the stillness it sees and
     that Ctrl-C keeps the log; the protocol's minutes end it."""
-    from app.board_capture import Capture
+    from app.cli.board import Capture
 
     rng = np.random.default_rng(3)
     clock = [0.0]

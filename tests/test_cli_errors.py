@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from app import cli
+from app.cli.main import main
+from app.cli.parser import build_parser
 from tests.conftest import DATA
 from tests.live_server import ROOT
 
@@ -37,7 +38,7 @@ def run(args: list[str], env: dict, **kw) -> subprocess.CompletedProcess:
 
 
 def subcommands() -> dict[str, argparse.ArgumentParser]:
-    parser = cli._parser()
+    parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     return dict(sub.choices)
 
@@ -62,7 +63,7 @@ def bad_invocations() -> list[list[str]]:
         for action in value_actions(parser):
             values = bad_values(action)
             assert values, (f"trical {name} {action.option_strings or action.dest}: no value check; give it "
-                            "choices or a type from app.cli_options")
+                            "choices or a type from app.cli.options")
             for value in values:
                 args = [name]
                 for p in positionals:
@@ -74,7 +75,7 @@ def bad_invocations() -> list[list[str]]:
 
 
 def run_in_process(args: list[str], env: dict) -> subprocess.CompletedProcess:
-    """``trical ARGS`` as the console script runs it (``sys.exit(cli.main())``), in this process: the same
+    """``trical ARGS`` as the console script runs it (``sys.exit(main())``), in this process: the same
     parser, messages and exit status, without a new interpreter's imports for each of the many cases. The
     installed script itself runs in the tests below."""
     out, err = io.StringIO(), io.StringIO()
@@ -83,7 +84,7 @@ def run_in_process(args: list[str], env: dict) -> subprocess.CompletedProcess:
     try:
         with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
             try:
-                status = cli.main(args)
+                status = main(args)
             except SystemExit as exc:  # argparse's refusals exit 2 from the parser
                 status = exc.code
     finally:

@@ -12,8 +12,10 @@ from pathlib import Path
 
 import pytest
 
-from app import cli, methods, workflow
+from app import methods, workflow
 from app.api import schemas
+from app.cli.calibrate import calibration_request
+from app.cli.parser import build_parser
 from app.io import log as io_log
 from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_compass import FLIGHT_COMPASS_EXPORTERS
@@ -35,7 +37,7 @@ def union_members(annotated) -> tuple:
 
 
 def subcommands() -> dict[str, argparse.ArgumentParser]:
-    parser = cli._parser()
+    parser = build_parser()
     (sub,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
     return dict(sub.choices)
 
@@ -105,8 +107,8 @@ def test_what_a_method_takes_is_read_from_its_request_model():
 
 
 def cli_request(argv: list[str]) -> dict:
-    args = cli._parser().parse_args(["calibrate", *argv])
-    return cli._calibration_request(args, unit="g")
+    args = build_parser().parse_args(["calibrate", *argv])
+    return calibration_request(args, unit="g")
 
 
 def test_the_cli_builds_each_method_request_from_the_options_its_model_takes():
@@ -137,7 +139,7 @@ def test_a_method_with_no_entry_is_refused_naming_the_methods():
     assert "auto_compass" in words and all(f"'{name}'" in words for name in methods.METHODS), words
     err = io.StringIO()
     with contextlib.redirect_stderr(err), pytest.raises(SystemExit) as exit_:
-        cli._parser().parse_args(["calibrate", "log.csv", "--method", "noise"])
+        build_parser().parse_args(["calibrate", "log.csv", "--method", "noise"])
     assert exit_.value.code == 2
     assert "invalid choice: 'noise'" in err.getvalue() and "'magnetometer'" in err.getvalue()
 

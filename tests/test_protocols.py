@@ -1,6 +1,6 @@
 """The capture protocols' strategies (app.protocols) one by one: what each asks for next after given captures,
 how it checks a capture, when a session may be solved; the typed session read from and written to a real SQLite
-store (app.sessions); and what the terminal's capture (app.board_capture) asks of each."""
+store (app.sessions); and what the terminal's capture (app.cli.board) asks of each."""
 
 from __future__ import annotations
 

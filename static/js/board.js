@@ -231,7 +231,7 @@ export class BoardSource {
 
 // What a board's capture that made no progress for STALL_MS waits for and what it sees, from the capture
 // machine (motion.js) and its last output {still, spread, gyr, pose, angleDeg}: the poses asked, the
-// stillness against the machine's thresholds, and what to do (the terminal's twin: app/board_capture.py).
+// stillness against the machine's thresholds, and what to do (the terminal's twin: app/cli/board.py).
 const BOARD_POSES = TABLES.sources.board.poseShort;
 
 export function stallWords(machine, out) {

@@ -130,7 +130,7 @@ def test_the_guard_catches_a_parameter_named_in_any_form():
 
 
 def test_every_parameter_of_the_vocabulary_is_one_of_the_api_and_its_option_one_of_the_command():
-    from app.cli import _parser
+    from app.cli.parser import build_parser
 
     options = set()
 
@@ -140,7 +140,7 @@ def test_every_parameter_of_the_vocabulary_is_one_of_the_api_and_its_option_one_
             for sub in (getattr(action, "choices", None) or {}).values() if hasattr(action, "_name_parser_map") else ():
                 walk(sub)
 
-    walk(_parser())
+    walk(build_parser())
     assert set(VOCABULARY) <= parameter_names() | {"mag"}, set(VOCABULARY) - parameter_names()
     for term in VOCABULARY.values():
         assert term.option in options or not term.option.startswith("--"), term

@@ -1,4 +1,5 @@
-"""``trical capture PORT``: the guided calibration of a board in the terminal.
+"""The capture on a board's port behind ``trical capture PORT`` (:mod:`app.cli.capture` opens the port): the guided
+calibration of a board in the terminal.
 
 The board's lines are read as they arrive (:mod:`app.io.board_lines`), timed on the board's clock — its
 time column, else its rate counted over several seconds of arrivals (:class:`app.io.board_lines.StreamRate`),
@@ -44,7 +45,6 @@ from app.web.tables import capture_thresholds
 
 CHECK_S = 1.0
 """Seconds of readings the unit is checked on, at rest, before any capture."""
-BELL = "\a"
 
 
 @dataclass

@@ -1,0 +1,95 @@
+"""``trical calibrate``: one recording (a log, or the pose files joined) calibrated by the method table's
+request, with imucal's section list for the cube (``--sections``)."""
+
+from __future__ import annotations
+
+import json
+import tempfile
+import zipfile
+from pathlib import Path
+
+from app import methods, workflow
+from app.calibration import CalibrationError
+from app.cli.printers import print_summary
+from app.config import Settings
+from app.io.parts import refuse_repeated_names
+from app.store import open_store
+
+
+def run(args, settings: Settings) -> int:
+    """``trical calibrate LOG…``: the files as one recording, calibrated, printed; status 3 when not ok."""
+    with tempfile.TemporaryDirectory(prefix="trical-") as tmp:
+        return _calibrate_files(args, settings, one_recording(args.log, Path(tmp)))
+
+
+def one_recording(paths: list[Path], tmp: Path) -> Path:
+    """The log to read: the one path, or the pose files put together, each under its name, in a zip that
+    is read as one recording in parts (app.io.parts), as the API stores several uploaded files."""
+    if len(paths) == 1:
+        return paths[0]
+    refuse_repeated_names([p.name for p in paths])
+    joined = tmp / "poses.zip"
+    with zipfile.ZipFile(joined, "w", compression=zipfile.ZIP_STORED) as zf:
+        for p in paths:
+            if not p.is_file():
+                raise FileNotFoundError(2, "No such file", str(p))
+            zf.write(p, p.name)
+    return joined
+
+
+def _calibrate_files(args, settings: Settings, path: Path) -> int:
+    body, recording = calibrated(args, settings, path)
+    if args.json:
+        print(json.dumps(body, indent=2))
+    else:
+        print_summary(body, recording)
+    return 0 if body["ok"] else 3
+
+
+def calibrated(args, settings: Settings, path: Path, captures: list | None = None) -> tuple[dict, dict]:
+    """The calibration of the log at ``path`` as ``trical calibrate``'s options ask (stored unless
+    ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
+    capture) stand for the still segments the log's detector would find."""
+    units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
+    read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
+                     sign=args.sign, chip=args.chip, instance=args.instance, mag_instance=args.mag_instance)
+    name = ", ".join(str(p) for p in args.log)
+    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
+    recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
+    if captures:
+        from app.cli.board import capture_segments
+
+        recording["segments"] = capture_segments(log.acc, captures)
+        recording["notes"].append(f"the still segments are the {len(captures)} captures, rows "
+                                  + ", ".join(f"{a}–{b - 1}" for _, a, b in captures))
+    request = methods.parse_calibration_request(calibration_request(args, unit=log.units.get("acc", "m/s^2")))
+    body = methods.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
+    if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
+        body["captures"] = [{"position": seg["capture"], "rows": [seg["start"], seg["end"]], "up": seg["up"],
+                             "mean": seg["acc_mean"], "std": seg["acc_std"], "count": seg["count"]}
+                            for seg in recording["segments"]]
+    if not args.no_store:
+        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
+    return body, recording
+
+
+def calibration_request(args, *, unit: str) -> dict:
+    """The request of POST /api/v1/calibrations that ``trical calibrate`` makes of its options: each field the
+    method's request model takes (app.methods) from the option of its name (``--field-ut``: ``field_ut``); the
+    log file stands in for the stored recording, and ``unit`` is the log's accelerometer unit."""
+    # Read whatever the method: a section list that cannot be read is an error, not an option ignored.
+    sections = None if args.sections is None else _read_sections(args.sections)
+    given = {**vars(args), "recording_id": ", ".join(str(p) for p in args.log),
+             "label": ", ".join(p.name for p in args.log), "unit": unit, "sections": sections}
+    return {"method": args.method, **{name: given[name] for name in methods.BY_NAME[args.method].options
+                                      if given.get(name) is not None}}
+
+
+def _read_sections(path) -> object:
+    """The JSON of ``--sections``; the request model validates its keys and regions."""
+    try:
+        return json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise CalibrationError(f"--sections {path}: not a readable JSON section list ({exc}); write it as imucal "
+                               "does: {\"x_p\": {\"start\": 540, \"end\": 1271}, …}") from None
+

@@ -1,0 +1,75 @@
+"""The ``trical`` command's entry: parse, run the command, and the one place that turns errors into exit codes.
+
+``--json`` prints the same JSON as the API.  Errors are one line on stderr and exit status 2
+(bad input, including an option's value out of range: app.cli.options checks them while parsing) or
+1 (anything else; TRICAL_DEBUG=1 adds the traceback); never a traceback otherwise.  Output into a pipe
+closed early (``trical ... | head``) ends quietly with status 141, as a command killed by SIGPIPE does.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import traceback
+
+from app import methods
+from app.calibration import CalibrationError
+from app.cli import autocal, calibrate, capture, export, noise, serve, temperature
+from app.cli.parser import build_parser
+from app.config import Settings, SettingsError
+from app.io.errors import ExportError, LogFormatError
+from app.requests import ValidationError
+from app.store import NotFoundError
+from app.tls import CertificateError
+from app.words import render
+
+COMMANDS = {"serve": serve.run, "calibrate": calibrate.run, "autocal": autocal.run, "noise": noise.run,
+            "temperature": temperature.run, "export": export.run, "capture": capture.run}
+"""Each command's function, by its name on the command line: ``run(args, settings)`` returns the exit status."""
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command; bad input is one line and status 2, a closed pipe 141, anything else one line and 1."""
+    try:
+        status = _run(argv)
+        sys.stdout.flush()  # a closed pipe shows here, not as a message at interpreter exit
+        return status
+    except BrokenPipeError:
+        # The reader went away (`trical ... | head`): say nothing, and let the interpreter's last flush
+        # of stdout go to /dev/null. 141 = 128 + SIGPIPE, what a shell reports for `cat` in that case.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 141
+    except Exception as exc:
+        if os.environ.get("TRICAL_DEBUG") == "1":
+            traceback.print_exc()
+        reason = str(exc).splitlines()[0] if str(exc) else "no message"
+        print(f"trical: error: {type(exc).__name__}: {reason} (TRICAL_DEBUG=1 shows the traceback)", file=sys.stderr)
+        return 1
+
+
+def _run(argv: list[str] | None) -> int:
+    args = build_parser().parse_args(argv)
+    try:
+        settings = Settings.from_env()
+        return COMMANDS[args.command](args, settings)
+    except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
+        print(f"trical: error: {render(str(exc), 'cli')}", file=sys.stderr)
+        return 2
+    except ValidationError as exc:
+        print(f"trical: error: {render(methods.describe_errors(exc.errors()), 'cli')}", file=sys.stderr)
+        return 2
+    except NotFoundError as exc:
+        print(f"trical: error: {render(str(exc.args[0]), 'cli')}", file=sys.stderr)
+        return 2
+    except FileNotFoundError as exc:
+        print(f"trical: error: no such file: {exc.filename}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        raise  # main() ends quietly
+    except OSError as exc:  # a file that cannot be read or written, a port in use
+        print(f"trical: error: {exc.strerror or exc}{f': {exc.filename}' if exc.filename else ''}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        return 130
+

@@ -1,0 +1,59 @@
+"""``trical noise``: a still recording's Allan deviation (noise density, random walk, bias instability)."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from app import workflow
+from app.calibration import CalibrationError
+from app.cli.calibrate import one_recording
+from app.cli.finish import finish
+from app.cli.printers import print_noise
+from app.config import Settings
+from app.io.formats import starts_like_flight_log
+from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
+
+
+def run(args, settings: Settings) -> int:
+    """``trical noise PATH…``: the files as one still recording, characterised."""
+    with tempfile.TemporaryDirectory(prefix="trical-") as tmp:
+        return _noise_of(args, settings, one_recording(args.path, Path(tmp)), ", ".join(p.name for p in args.path))
+
+
+def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
+    array = path.suffix.lower() in (".npy", ".parquet", ".pq")
+    sensor = args.sensor or "acc"
+    units = {}
+    if args.unit:
+        if args.unit not in UNITS[sensor]:
+            raise CalibrationError(f"--unit {args.unit} is not a {sensor} unit: use one of {', '.join(UNITS[sensor])}")
+        units = {sensor: args.unit}
+    read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
+    # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
+    clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
+    name = str(args.path[0]) if len(args.path) == 1 else label
+    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=name,
+                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance,
+                            mag_instance=args.mag_instance, clock=clock)
+    if array and sensor != "acc" and units:
+        log = _relabel_units(log, units[sensor])
+    body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
+                                     array_sensor=sensor if array else None, device_id=args.device_id,
+                                     label=label)
+    from app.io.allan_plot import allan_svg
+
+    return finish(args, settings, body, plot=allan_svg, summary=print_noise)
+
+
+def _relabel_units(log, unit: str):
+    """An array of gyroscope or magnetometer samples in deg/s or nT: read as acc, converted by the workflow."""
+    import dataclasses
+
+    factor = {"deg/s": GYR_TO_RAD_S["deg/s"], "nT": MAG_TO_UT["nT"]}.get(unit)
+    if factor is None:
+        return log
+    return dataclasses.replace(log, acc=np.asarray(log.acc, dtype=float) * factor)
+

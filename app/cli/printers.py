@@ -1,0 +1,186 @@
+"""What the terminal shows: each command's summary of a body (the verdict first), the autocal folder's table
+and the progress bar."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from app.calibration.angles import degrees_text, tilt_error_deg
+from app.io.plural import counted
+from app.words import render, render_body
+
+
+def print_summary(body: dict, recording: dict) -> None:
+    body = render_body(body, "cli")
+    rate = recording["sampling_rate_hz"]
+    files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
+    flight = body.get("flight")  # a compass from a flight: the log's facts, and no still segments read
+    if flight:
+        print(f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
+              f"({flight['raw_how']}), attitude from {flight['attitude_source']}")
+    else:
+        print(f"{counted(len(recording['segments']), 'still segment')} in {recording['n_samples']} samples{files} "
+              f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
+              f"used {body.get('segments_used', 'all')}")
+    if body.get("id"):
+        print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
+    print_verdict(body)
+    if recording.get("parts"):  # one file per pose: what each file gave
+        used = body.get("segments_used") or []
+        for r, i in zip(body.get("readings") or [], used):
+            up = recording["segments"][i]["up"]
+            print(f"{r.get('source')}: {up + ' up' if up else 'no axis within 20°'}, mean "
+                  + "  ".join(f"{v:.4f}" for v in r["mean"]))
+    for name, value in body["model"].items():
+        if name == "type" or isinstance(value, dict) or value is None:
+            if isinstance(value, dict):
+                print(f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}")
+            continue
+        arr = np.atleast_2d(np.asarray(value, dtype=float))
+        print(f"{name} =" if arr.shape[0] > 1 else f"{name} = " + "  ".join(f"{v: .6f}" for v in arr[0]))
+        if arr.shape[0] > 1:
+            for row in arr:
+                print("   " + "  ".join(f"{v: .6f}" for v in row))
+    m = body["metrics"]
+    if body.get("choice"):
+        print(f"method auto chose {body['choice']['method']}: {body['choice']['why']}")
+    if body.get("headline"):
+        print(body["headline"])
+    if "fit_error_max" in m:
+        print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f})")
+    if "norm_error_max" in m:
+        print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
+    for a in body.get("advice") or []:
+        print(f"next pose: {a['words']} (shrinks the parameters' generalized variance by {100 * a['gain']:.0f} %)")
+    for w in body["warnings"]:
+        print(f"warning: {w}")
+
+
+def print_verdict(body: dict) -> None:
+    """The verdict first (app.verdict): whether to apply the calibration, and why."""
+    v = body.get("verdict")
+    if v:
+        print(v["words"])
+        if v["why"]:
+            print(f"  {v['why']}")
+
+
+class ProgressBar:
+    """A one-line progress bar on stderr, drawn only on a terminal."""
+
+    def __init__(self, label: str, stream=None):
+        self.stream = stream or sys.stderr
+        self.label = label
+        self.last = -1
+
+    def __call__(self, done: int, total: int) -> None:
+        pct = int(100 * done / total) if total else 100
+        if pct == self.last:
+            return
+        self.last = pct
+        filled = pct * 30 // 100
+        self.stream.write(f"\r{self.label} [{'#' * filled}{'.' * (30 - filled)}] {pct:3d}% "
+                          f"{done / 1e6:.1f}/{total / 1e6:.1f} M samples")
+        if done >= total:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def print_autocal(body: dict) -> None:
+    body = render_body(body, "cli")
+    det = body["detection"]
+    print(f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
+          f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}")
+    print_verdict(body)
+    if body.get("headline"):
+        print(body["headline"])
+    print("points per subset C_ij: " + ", ".join(f"{k} {v}" for k, v in body["selection"].items()))
+    model = body["model"]
+    print("K =")
+    for row in model["K"]:
+        print("   " + "  ".join(f"{v: .6f}" for v in row))
+    print("o = " + "  ".join(f"{v: .6f}" for v in model["o"]))
+    if body["comparison"]:
+        print(f"{'method':<22}{'before mg':>10}{'after mg':>10}{'R %':>9}  points")
+        for name, row in body["comparison"].items():
+            if row.get("error_after_mg") is None:
+                print(f"{name:<22}{'-':>10}{'-':>10}{'-':>9}  {row.get('count')}")
+                continue
+            print(f"{name:<22}{row['error_before_mg']:>10.2f}{row['error_after_mg']:>10.2f}"
+                  f"{row['improvement_pct'] or 0:>9.0f}  {row.get('count')}")
+    for w in body["warnings"]:
+        print(f"warning: {w}")
+
+
+def print_folder_table(bodies: list[dict]) -> None:
+    bodies = [render_body(b, "cli") for b in bodies]
+    name_w = max(8, *(len(b.get("label") or "") for b in bodies))
+    # "tilt": the worst tilt a level reads with the cv error (app.calibration.angles).
+    print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'tilt':>8}{'before mg':>10}{'after mg':>10}"
+          f"{'R %':>8}  note")
+    for b in bodies:
+        if "error" in b:
+            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>8}{'':>10}{'':>10}{'':>8}  "
+                  f"{render(b['error'], 'cli')}")
+            continue
+        m = b["metrics"]
+        cv = "-" if m.get("cv_error_mg") is None else f"{m['cv_error_mg']:.2f}"
+        tilt = "-" if m.get("cv_error_mg") is None else degrees_text(tilt_error_deg(m["cv_error_mg"]))
+        before = "-" if m.get("error_before_mg") is None else f"{m['error_before_mg']:.2f}"
+        after = "-" if m.get("error_after_mg") is None else f"{m['error_after_mg']:.2f}"
+        r = "-" if not m.get("improvement_pct") else f"{m['improvement_pct']:.0f}"
+        note = b["reasons"][0] if b["reasons"] else ""
+        print(f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}{tilt:>8}"
+              f"{before:>10}{after:>10}{r:>8}  {note[:100]}")
+    n_ok = sum(1 for b in bodies if b.get("ok"))
+    print(f"{n_ok} of {len(bodies)} recordings calibrated")
+
+
+def print_temperature(body: dict) -> None:
+    body = render_body(body, "cli")
+    stored = f", id {body['id']}" if body.get("id") else ""
+    print(f"{body.get('label') or ''}: ok = {body['ok']}{stored}")
+    print_verdict(body)
+    for reason in body.get("reasons") or []:
+        print(f"  reason: {reason}")
+    for sensor, model in body["model"].items():
+        if sensor == "type":
+            continue
+        m, unc = body["metrics"][sensor], body["uncertainty"][sensor]
+        print(f"{sensor} ({model['unit']}), {model['t_min_c']:.1f}–{model['t_max_c']:.1f} °C, T_ref "
+              f"{model['t_ref_c']:.2f} °C, offset = X0 + X1 dT + X2 dT^2 + X3 dT^3:")
+        for i, axis in enumerate("xyz"):
+            cells = "  ".join(f"X{k} {c:.4g} ± {h:.2g}" for k, (c, h) in
+                              enumerate(zip(model["coefficients"][i], unc["coefficients"][i])))
+            print(f"  {axis}: order {model['order'][i]}  {cells}  drift {m['drift_raw'][i]:.3g} → {m['drift_cv'][i]:.3g} "
+                  f"{m['unit']} (bands left out)")
+        print(f"  samples per band: {', '.join(str(n) for n in m['samples_per_band'])}")
+
+
+def print_noise(body: dict) -> None:
+    body = render_body(body, "cli")
+    still = body.get("still") or {}
+    print(f"{body.get('label') or ''}: {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz "
+          f"({100 * still.get('fraction', 1):.0f} % of the recording); ok = {body['ok']}")
+    print_verdict(body)
+    names = {"noise_density": "noise density N", "random_walk": "random walk K", "bias_instability": "bias instability B"}
+    for sensor in ("gyr", "acc", "mag"):
+        model = body["model"].get(sensor)
+        if not model:
+            continue
+        unc = body["uncertainty"][sensor]
+        print(f"{sensor} ({model['unit']}):")
+        for term, label in names.items():
+            unit = model[f"{term}_unit"]
+            cells = []
+            for v, iv in zip(model[term], unc[term]):
+                cells.append("null" if v is None else f"{v:.4g} [{iv[0]:.3g}, {iv[1]:.3g}]")
+            print(f"  {label:<20} {unit:<12} x {cells[0]}  y {cells[1]}  z {cells[2]}")
+        print(f"  {'bias':<20} {model['unit']:<12} " + "  ".join(f"{a} {v:.6g}" for a, v in zip("xyz", model["bias"])))
+    for r in body["reasons"]:
+        print(f"reason: {r}")
+    for w in body["warnings"]:
+        print(f"warning: {w}")
+
