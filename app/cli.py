@@ -29,10 +29,11 @@ from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
 from app.io.plural import counted
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.errors import ExportError, LogFormatError
-from app.io.formats import FORMATS, starts_like_flight_log
+from app.io.formats import FORMATS, read_log, starts_like_flight_log
 from app.io.formats.units import MAG_UNITS_IN
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.parts import refuse_repeated_names
+from app.io.read_options import ReadOptions
 from app.requests import CUBE_PROTOCOLS, ValidationError
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
@@ -323,11 +324,12 @@ def _calibrated(args, settings: Settings, path: Path, captures: list | None = No
     ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
     capture) stand for the still segments the log's detector would find."""
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
-    read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
-                     sign=args.sign, chip=args.chip, instance=args.instance, mag_instance=args.mag_instance)
+    options = ReadOptions(format=args.log_format, sampling_rate_hz=args.sampling_rate_hz, units=units,
+                          lsb_per_g=args.lsb_per_g, columns=args.columns, sign=args.sign, chip=args.chip,
+                          instance=args.instance, mag_instance=args.mag_instance)
     name = ", ".join(str(p) for p in args.log)
-    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
-    recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
+    log = read_log(path, options, name=name)
+    recording = workflow.describe_log(log, options)
     if captures:
         from app.board_capture import capture_segments
 
@@ -443,9 +445,10 @@ class _ProgressBar:
 
 
 def _autocal_options(args) -> dict:
-    return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
-                latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
-                device_id=args.device_id, columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
+    read = ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units={"acc": args.unit} if args.unit else {},
+                       columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
+    return dict(options=read, solver=args.solver, gravity=args.gravity, latitude_deg=args.latitude_deg,
+                detection={"all_axes": True} if args.all_axes else None, device_id=args.device_id)
 
 
 def _autocal_job(path: str, options: dict) -> dict:
@@ -582,9 +585,9 @@ def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
     # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
     clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
     name = str(args.path[0]) if len(args.path) == 1 else label
-    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=name,
-                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance,
-                            mag_instance=args.mag_instance, clock=clock)
+    log = read_log(path, ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units=read_units, columns=args.columns,
+                                     sign=args.sign, chip=args.chip, instance=args.instance,
+                                     mag_instance=args.mag_instance, clock=clock), name=name)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
     body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
@@ -611,8 +614,8 @@ def _finish(args, settings: Settings, body: dict, *, plot, summary) -> int:
 
 
 def _temperature(args, settings: Settings) -> int:
-    log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units={}, name=str(args.path),
-                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
+    log = read_log(args.path, ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units={}, columns=args.columns,
+                                          sign=args.sign, chip=args.chip, instance=args.instance), name=str(args.path))
     body = workflow.temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
                                     label=args.path.name)
     from app.io.export_temperature import temperature_svg
