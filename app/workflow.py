@@ -20,7 +20,7 @@ from app.workflows.cube import calibrate_cube_log
 from app.workflows.entry import calibrate
 from app.workflows.gravity import reference_gravity
 from app.workflows.noise import characterise_log, one_still_file
-from app.workflows.recordings import (RecordingSource, add_recording, describe_log, load_log, overview,
+from app.workflows.recordings import (RecordingSource, add_recording, describe_log, overview,
                                       quantization_step, require_accelerometer, require_rate, still_segments,
                                       NOMINAL_RATE_HZ)
 from app.workflows.results import apply_calibration, calibration_body, holdout_metrics, pose_advice
@@ -30,7 +30,7 @@ from app.workflows.temperature import temperature_log
 
 __all__ = [
     "apply_calibration", "calibration_body", "holdout_metrics", "pose_advice", "RecordingSource", "add_recording",
-    "describe_log", "load_log", "overview", "quantization_step", "require_accelerometer", "require_rate",
+    "describe_log", "overview", "quantization_step", "require_accelerometer", "require_rate",
     "still_segments", "NOMINAL_RATE_HZ", "reference_gravity", "calibrate", "Reading", "calibrate_known",
     "calibrate_unknown", "choose_model", "inline_unit", "means_from_segments", "readings_from_segments",
     "calibrate_cube_log", "AUTOCAL_UNITS", "autocalibrate_file", "characterise_log", "one_still_file",

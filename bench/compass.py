@@ -32,6 +32,7 @@ from app.calibration.magnetometer import fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
 from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
 from app.io.formats import read_log
+from app.io.read_options import ReadOptions
 
 F = EARTH_FIELD_UT
 SCENARIOS = {
@@ -107,7 +108,7 @@ def real() -> None:
     readable = []
     for path in files:
         try:
-            log = read_log(path, format="auto", sampling_rate_hz=None, units={}, name=path.name)
+            log = read_log(path, ReadOptions(format="auto", sampling_rate_hz=None, units={}), name=path.name)
         except Exception as exc:  # a file this checkout cannot read yet: say so
             print(f"{path.relative_to(REAL)}: not read ({exc})")
             continue

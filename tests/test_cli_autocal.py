@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from app.cli.main import main
+from app.io.read_options import ReadOptions
 from simulations.autocal import simulate_recording
 from tests.processes import run_ok
 
@@ -147,7 +148,7 @@ def test_autocal_raw_unit_is_refused_with_advice(tmp_path):
     f = tmp_path / "raw.csv"
     f.write_text("acc_x,acc_y,acc_z\n" + "\n".join("0,0,1000" for _ in range(100)))
     with pytest.raises(CalibrationError, match="g or m/s\\^2"):
-        workflow.autocalibrate_file(f, sampling_rate_hz=50.0, unit="raw")
+        workflow.autocalibrate_file(f, ReadOptions(sampling_rate_hz=50.0, units={"acc": "raw"}))
 
 
 def test_cli_start_does_not_import_scipy_optimize_or_stats():

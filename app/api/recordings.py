@@ -15,6 +15,7 @@ from app.api.errors import PayloadTooLarge
 from app.api.schemas import AccUnit, RecordingOut
 from app.io.formats.kinds import NAMED_SUFFIXES
 from app.io.parts import refuse_repeated_names
+from app.io.read_options import ReadOptions
 from app.store import new_id
 from app.words import render_body
 
@@ -116,11 +117,10 @@ def upload_recording(
         save_uploads_as_zip([(n, f.file) for n, f in zip(names, file)], dest, settings.max_upload_bytes,
                             settings.max_upload_mb)
     units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-    read_with = dict(format=format, units=units, lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip,
-                     instance=instance, mag_instance=mag_instance)
-    return render_body(workflow.add_recording(store, recording_id, dest, filename=filename,
-                                              sampling_rate_hz=sampling_rate_hz, read_with=read_with, owner=owner),
-                       *reader)
+    options = ReadOptions(format=format, sampling_rate_hz=sampling_rate_hz, units=units, lsb_per_g=lsb_per_g,
+                          columns=columns, sign=sign, chip=chip, instance=instance, mag_instance=mag_instance)
+    return render_body(workflow.add_recording(store, recording_id, dest, filename=filename, options=options,
+                                              owner=owner), *reader)
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")

@@ -284,6 +284,113 @@ def _ptp(r: np.ndarray) -> float:
     return float(np.ptp(r)) if r.size else math.nan
 
 
+@dataclass(frozen=True)
+class _SensorBins:
+    """What every axis of one sensor is fitted over: the bins' temperatures scaled to [−1, 1] (``u``; ``du``
+    and ``dbands`` for PX4's bins of temperature alone), the random walk's covariance of the bins, the half
+    range ``h`` the scaling divides by, the curve's grid scaled alike, and how the sensor's figures read."""
+
+    u: np.ndarray
+    du: np.ndarray
+    dbands: np.ndarray
+    walk_cov: tuple | None
+    h: float
+    ug: np.ndarray
+    relative: bool
+    scale: float
+
+
+@dataclass(frozen=True)
+class _AxisDrift:
+    """One axis's drift polynomial in the plain values :func:`fit_sensor` reports (coefficients of dT^k, their
+    half-widths and covariance, the curve over the range) and its figures (left-out errors, drift)."""
+
+    coefficients: list
+    half: list
+    cov: list
+    curve_offset: list
+    curve_half: list
+    order: int
+    dof: float
+    rho: float
+    walk: float
+    level: float
+    cv: float
+    cv_raw: float
+    cv_by_order: list
+    drift_raw: float
+    drift_after: float
+    drift_cv: float
+
+
+def _finite_readings(values, temperature_c, time_s):
+    """The readings, temperatures and times (or None) where both reading and temperature are finite; too few
+    of them is refused."""
+    v = np.asarray(values, dtype=float)
+    t = np.asarray(temperature_c, dtype=float)
+    finite = np.all(np.isfinite(v), axis=1) & np.isfinite(t)
+    v, t = v[finite], t[finite]
+    times = None if time_s is None else np.asarray(time_s, dtype=float)[finite]
+    if len(t) < MIN_BAND_SAMPLES:
+        raise InsufficientDataError(f"{len(t)} readings with a temperature: a temperature calibration needs a "
+                                    "recording of minutes to hours while the sensor warms up")
+    return v, t, times
+
+
+def _thin_bands(bands, counts, t_min: float, t_max: float, name: str) -> tuple[list, list, list, str | None]:
+    """The samples and bins of each of the :data:`N_BANDS` bands of the range, the bands with too few of
+    either, and the reason naming them (None when every band is full)."""
+    band_samples = [int(counts[bands == k].sum()) for k in range(N_BANDS)]
+    band_bins = [int((bands == k).sum()) for k in range(N_BANDS)]
+    thin = [k for k in range(N_BANDS) if band_samples[k] < MIN_BAND_SAMPLES or band_bins[k] < MIN_BAND_BINS]
+    if not thin:
+        return band_samples, band_bins, thin, None
+    edges = np.linspace(t_min, t_max, N_BANDS + 1)
+    listed = ", ".join(f"{edges[k]:.1f}–{edges[k + 1]:.1f} °C ({band_samples[k]} samples)" for k in thin)
+    return band_samples, band_bins, thin, (
+        f"too few {name} samples in {listed}: each of the {N_BANDS} bands of the range needs "
+        f"{MIN_BAND_SAMPLES} samples or more, in {MIN_BAND_BINS} bins or more — warm the board more "
+        "slowly, or record longer at those temperatures")
+
+
+def _axis_drift(y: np.ndarray, dy: np.ndarray, b: _SensorBins, order: int | None) -> _AxisDrift:
+    """One axis: its order chosen on bands left out (unless forced), its GLS fit on the bins (:func:`fit_axis`),
+    the coefficients scaled back to dT^k, the curve with its interval, and the figures."""
+    # The order on PX4's bins of temperature alone: each part of the range weighs the same in the
+    # fits of the other bands (bins cut in time would weigh the final temperature the most).
+    by_order = {q: _rms(left_out_residuals(b.du, dy, b.dbands, q)) for q in range(0, MAX_ORDER + 1)}
+    chosen = order or min(range(1, MAX_ORDER + 1), key=lambda q: (by_order[q], q))
+    fit = fit_axis(b.u, y, chosen, b.walk_cov)
+    held = left_out_residuals(b.du, dy, b.dbands, chosen)
+    level = fit.beta[0] if b.relative else 0.0  # the accelerometer: drift relative to T_ref
+    q = _t_quantile(fit.dof)
+    beta = np.zeros(MAX_ORDER + 1)
+    beta[: chosen + 1] = fit.beta
+    beta[0] -= level
+    hw = np.zeros(MAX_ORDER + 1)
+    hw[: chosen + 1] = q * np.sqrt(np.diag(fit.cov))
+    if b.relative:
+        hw[0] = 0.0
+    powers = b.h ** np.arange(MAX_ORDER + 1)
+    cov = np.zeros((MAX_ORDER + 1, MAX_ORDER + 1))
+    cov[: chosen + 1, : chosen + 1] = fit.cov
+    if b.relative:
+        cov[0, :] = cov[:, 0] = 0.0
+    G = _design(b.ug, MAX_ORDER)
+    if b.relative:
+        G = G.copy()
+        G[:, 0] = 0.0
+    return _AxisDrift(
+        coefficients=(beta / powers).tolist(),  # X_k of dT^k, from the scaled b_k of u^k
+        half=(hw / powers).tolist(), cov=(cov / np.outer(powers, powers)).tolist(),
+        curve_offset=(G @ beta).tolist(), curve_half=(q * np.sqrt(np.einsum("ij,jk,ik->i", G, cov, G))).tolist(),
+        order=chosen, dof=fit.dof, rho=fit.rho, walk=math.sqrt(fit.walk), level=level,
+        cv=by_order[chosen] * b.scale, cv_raw=by_order[0] * b.scale,
+        cv_by_order=[by_order[k] * b.scale for k in range(1, MAX_ORDER + 1)],
+        drift_raw=_ptp(dy) * b.scale, drift_after=_ptp(dy - _design(b.du, chosen) @ fit.beta) * b.scale,
+        drift_cv=_ptp(held) * b.scale)
+
+
 def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
                time_s=None) -> tuple[dict, list[str]]:
     """The temperature model of one sensor (``acc`` in m/s², ``gyr`` in rad/s) and the reasons it fails.
@@ -309,14 +416,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
     reasons : list of str
         Failed gates (span, samples per band, a fit worse than raw on left-out bands).
     """
-    v = np.asarray(values, dtype=float)
-    t = np.asarray(temperature_c, dtype=float)
-    finite = np.all(np.isfinite(v), axis=1) & np.isfinite(t)
-    v, t = v[finite], t[finite]
-    times = None if time_s is None else np.asarray(time_s, dtype=float)[finite]
-    if len(t) < MIN_BAND_SAMPLES:
-        raise InsufficientDataError(f"{len(t)} readings with a temperature: a temperature calibration needs a "
-                                    "recording of minutes to hours while the sensor warms up")
+    v, t, times = _finite_readings(values, temperature_c, time_s)
     name = SENSOR_NAMES[sensor]
     t_min, t_max = float(t.min()), float(t.max())
     span = t_max - t_min
@@ -336,70 +436,18 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
             f"the {name}'s readings fill only {len(dt_c)} bins of temperature ({t_min:.1f}–{t_max:.1f} °C): a "
             f"temperature calibration needs the sensor to warm through {MIN_SPAN_C:g} °C or more — start from a "
             "cold board (cooled for half an hour) and record while it warms up, still all the while")
-    u = (t_c - t_ref) / h
     walk_cov = None if times is None else walk_decomposition(walk_covariance(times, index, len(t_c)))
-    bands = band_of(t_c, t_min, t_max)
-    # The drift figures on PX4's bins, of temperature alone (dt_c above): the same bins however long the recording.
-    du, dbands = (dt_c - t_ref) / h, band_of(dt_c, t_min, t_max)
-    band_samples = [int(counts[bands == k].sum()) for k in range(N_BANDS)]
-    band_bins = [int((bands == k).sum()) for k in range(N_BANDS)]
-    thin = [k for k in range(N_BANDS) if band_samples[k] < MIN_BAND_SAMPLES or band_bins[k] < MIN_BAND_BINS]
-    if thin:
-        edges = np.linspace(t_min, t_max, N_BANDS + 1)
-        listed = ", ".join(f"{edges[k]:.1f}–{edges[k + 1]:.1f} °C ({band_samples[k]} samples)" for k in thin)
-        reasons.append(f"too few {name} samples in {listed}: each of the {N_BANDS} bands of the range needs "
-                       f"{MIN_BAND_SAMPLES} samples or more, in {MIN_BAND_BINS} bins or more — warm the board more "
-                       "slowly, or record longer at those temperatures")
-    scale = FIGURE_SCALE[sensor]
-    relative = sensor == "acc"
-    coefficients, half, orders, dofs, rhos, covs, walks, levels = [], [], [], [], [], [], [], []
-    cv, cv_raw, drift_raw, drift_after, drift_cv, cv_by_order = [], [], [], [], [], []
+    band_samples, band_bins, thin, thin_reason = _thin_bands(band_of(t_c, t_min, t_max), counts, t_min, t_max, name)
+    if thin_reason:
+        reasons.append(thin_reason)
     grid = np.linspace(t_min, t_max, CURVE_POINTS)
-    ug = (grid - t_ref) / h
-    curve_offset, curve_half = [], []
-    for axis in range(v.shape[1]):
-        y = means[:, axis]
-        dy = dmeans[:, axis]
-        # The order on PX4's bins of temperature alone: each part of the range weighs the same in the
-        # fits of the other bands (bins cut in time would weigh the final temperature the most).
-        by_order = {q: _rms(left_out_residuals(du, dy, dbands, q)) for q in range(0, MAX_ORDER + 1)}
-        chosen = order or min(range(1, MAX_ORDER + 1), key=lambda q: (by_order[q], q))
-        fit = fit_axis(u, y, chosen, walk_cov)
-        held = left_out_residuals(du, dy, dbands, chosen)
-        level = fit.beta[0] if relative else 0.0  # the accelerometer: drift relative to T_ref
-        levels.append(level)
-        q = _t_quantile(fit.dof)
-        beta = np.zeros(MAX_ORDER + 1)
-        beta[: chosen + 1] = fit.beta
-        beta[0] -= level
-        hw = np.zeros(MAX_ORDER + 1)
-        hw[: chosen + 1] = q * np.sqrt(np.diag(fit.cov))
-        if relative:
-            hw[0] = 0.0
-        powers = h ** np.arange(MAX_ORDER + 1)
-        coefficients.append((beta / powers).tolist())  # X_k of dT^k, from the scaled b_k of u^k
-        half.append((hw / powers).tolist())
-        cov = np.zeros((MAX_ORDER + 1, MAX_ORDER + 1))
-        cov[: chosen + 1, : chosen + 1] = fit.cov
-        if relative:
-            cov[0, :] = cov[:, 0] = 0.0
-        covs.append((cov / np.outer(powers, powers)).tolist())
-        G = _design(ug, MAX_ORDER)
-        if relative:
-            G = G.copy()
-            G[:, 0] = 0.0
-        curve_offset.append((G @ beta).tolist())
-        curve_half.append((q * np.sqrt(np.einsum("ij,jk,ik->i", G, cov, G))).tolist())
-        orders.append(chosen)
-        dofs.append(fit.dof)
-        rhos.append(fit.rho)
-        walks.append(math.sqrt(fit.walk))
-        cv.append(by_order[chosen] * scale)
-        cv_raw.append(by_order[0] * scale)
-        cv_by_order.append([by_order[k] * scale for k in range(1, MAX_ORDER + 1)])
-        drift_raw.append(_ptp(dy) * scale)
-        drift_after.append(_ptp(dy - _design(du, chosen) @ fit.beta) * scale)
-        drift_cv.append(_ptp(held) * scale)
+    # The drift figures on PX4's bins, of temperature alone (dt_c above): the same bins however long the recording.
+    bins = _SensorBins(u=(t_c - t_ref) / h, du=(dt_c - t_ref) / h, dbands=band_of(dt_c, t_min, t_max),
+                       walk_cov=walk_cov, h=h, ug=(grid - t_ref) / h, relative=sensor == "acc",
+                       scale=FIGURE_SCALE[sensor])
+    axes = [_axis_drift(means[:, axis], dmeans[:, axis], bins, order) for axis in range(v.shape[1])]
+    cv, cv_raw = [a.cv for a in axes], [a.cv_raw for a in axes]
+    drift_raw, drift_cv = [a.drift_raw for a in axes], [a.drift_cv for a in axes]
     unit = FIGURE_UNITS[sensor]
     worse = float(np.sqrt(np.mean(np.square(cv)))) >= float(np.sqrt(np.mean(np.square(cv_raw))))
     if worse and not thin:
@@ -407,20 +455,23 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
                        f"(RMS {np.sqrt(np.mean(np.square(cv))):.3g} {unit} against {np.sqrt(np.mean(np.square(cv_raw))):.3g} "
                        f"{unit} raw): its offset does not follow the temperature here — leave its temperature "
                        "calibration off")
-    offsets = dmeans - np.asarray(levels)
+    offsets = dmeans - np.asarray([a.level for a in axes])
     part = {
         "model": {"unit": SI_UNITS[sensor], "t_ref_c": t_ref, "t_min_c": t_min, "t_max_c": t_max,
-                  "relative": relative, "order": orders, "coefficients": coefficients},
-        "uncertainty": {"coefficients": half, "dof": dofs, "autocorrelation": rhos, "covariance": covs,
-                        "random_walk": walks},
-        "metrics": {"unit": unit, "span_c": span, "drift_raw": drift_raw, "drift_after": drift_after,
-                    "drift_cv": drift_cv, "cv_error": cv, "cv_error_raw": cv_raw, "cv_error_by_order": cv_by_order,
+                  "relative": bins.relative, "order": [a.order for a in axes],
+                  "coefficients": [a.coefficients for a in axes]},
+        "uncertainty": {"coefficients": [a.half for a in axes], "dof": [a.dof for a in axes],
+                        "autocorrelation": [a.rho for a in axes], "covariance": [a.cov for a in axes],
+                        "random_walk": [a.walk for a in axes]},
+        "metrics": {"unit": unit, "span_c": span, "drift_raw": drift_raw,
+                    "drift_after": [a.drift_after for a in axes], "drift_cv": drift_cv, "cv_error": cv,
+                    "cv_error_raw": cv_raw, "cv_error_by_order": [a.cv_by_order for a in axes],
                     "drift_raw_max": max(drift_raw), "drift_cv_max": max(drift_cv),
                     "n_samples": int(len(t)), "n_bins": int(len(t_c)), "samples_per_band": band_samples,
                     "bins_per_band": band_bins},
         "bins": {"t_c": dt_c.tolist(), "offset": offsets.tolist(), "count": dcounts.tolist()},
-        "curve": {"t_c": grid.tolist(), "offset": np.array(curve_offset).T.tolist(),
-                  "half_width": np.array(curve_half).T.tolist()},
+        "curve": {"t_c": grid.tolist(), "offset": np.array([a.curve_offset for a in axes]).T.tolist(),
+                  "half_width": np.array([a.curve_half for a in axes]).T.tolist()},
     }
     return part, reasons
 

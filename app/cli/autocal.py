@@ -13,13 +13,15 @@ from app.calibration import CalibrationError
 from app.cli.printers import ProgressBar, print_autocal, print_folder_table
 from app.config import Settings
 from app.io.errors import LogFormatError
+from app.io.read_options import ReadOptions
 from app.store import open_store
 
 
 def _autocal_options(args) -> dict:
-    return dict(sampling_rate_hz=args.sampling_rate_hz, unit=args.unit, solver=args.solver, gravity=args.gravity,
-                latitude_deg=args.latitude_deg, detection={"all_axes": True} if args.all_axes else None,
-                device_id=args.device_id, columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
+    read = ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units={"acc": args.unit} if args.unit else {},
+                       columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
+    return dict(options=read, solver=args.solver, gravity=args.gravity, latitude_deg=args.latitude_deg,
+                detection={"all_axes": True} if args.all_axes else None, device_id=args.device_id)
 
 
 def _autocal_job(path: str, options: dict) -> dict:

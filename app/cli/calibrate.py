@@ -12,7 +12,9 @@ from app import methods, workflow
 from app.calibration import CalibrationError
 from app.cli.printers import print_summary
 from app.config import Settings
+from app.io.formats import read_log
 from app.io.parts import refuse_repeated_names
+from app.io.read_options import ReadOptions
 from app.store import open_store
 
 
@@ -51,11 +53,12 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
     ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
     capture) stand for the still segments the log's detector would find."""
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
-    read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
-                     sign=args.sign, chip=args.chip, instance=args.instance, mag_instance=args.mag_instance)
+    options = ReadOptions(format=args.log_format, sampling_rate_hz=args.sampling_rate_hz, units=units,
+                          lsb_per_g=args.lsb_per_g, columns=args.columns, sign=args.sign, chip=args.chip,
+                          instance=args.instance, mag_instance=args.mag_instance)
     name = ", ".join(str(p) for p in args.log)
-    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
-    recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
+    log = read_log(path, options, name=name)
+    recording = workflow.describe_log(log, options)
     if captures:
         from app.cli.board import capture_segments
 

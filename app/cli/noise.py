@@ -13,8 +13,9 @@ from app.cli.calibrate import one_recording
 from app.cli.finish import finish
 from app.cli.printers import print_noise
 from app.config import Settings
-from app.io.formats import starts_like_flight_log
+from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
+from app.io.read_options import ReadOptions
 
 
 def run(args, settings: Settings) -> int:
@@ -35,9 +36,9 @@ def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
     # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
     clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
     name = str(args.path[0]) if len(args.path) == 1 else label
-    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=name,
-                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance,
-                            mag_instance=args.mag_instance, clock=clock)
+    log = read_log(path, ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units=read_units, columns=args.columns,
+                                     sign=args.sign, chip=args.chip, instance=args.instance,
+                                     mag_instance=args.mag_instance, clock=clock), name=name)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
     body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],

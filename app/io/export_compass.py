@@ -294,6 +294,41 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
     if not 0 <= n < ARDUPILOT_INSTANCES:
         raise ExportError(f"ArduPilot stores a calibration for compasses 0-{ARDUPILOT_INSTANCES - 1}, not {n}: use the "
                           "json export")
+    external, orient_name, now, new, changes = _ardupilot_orientation(f, n)
+    offsets = -MGAUSS_PER_UT * f.b
+    mot = -MGAUSS_PER_UT * (f.M @ f.k)
+    diagonal = np.diag(f.M)
+    offdiagonal = np.array([f.M[0, 1], f.M[0, 2], f.M[1, 2]])
+    _refuse_beyond_ardupilot_ranges(f, n, offsets, diagonal, offdiagonal, mot)
+    params: dict[str, float] = {}
+    for group, values in (("OFS", offsets), ("DIA", diagonal), ("ODI", offdiagonal), ("MOT", mot)):
+        params.update({f"{ardupilot_name(group, n)}_{a}": float(v) for a, v in zip("XYZ", values)})
+    params[ardupilot_name("SCALE", n)] = 1.0
+    notes = [
+        f"ArduPilot turns compass {n}'s field into the body frame, then corrects it in milligauss "
+        f"({ARDUPILOT_FLIGHT_SOURCE}):",
+        "  mag += OFS; mag *= SCALE; mag = [[DIA_X, ODI_X, ODI_Y], [ODI_X, DIA_Y, ODI_Z], [ODI_Y, ODI_Z, DIA_Z]] "
+        "* mag; mag += MOT * p",
+        "trical's h = M (Q m - b - k p) in uT, so OFS = -10 b, DIA/ODI = M, MOT = -10 M k, SCALE = 1 "
+        "(1 uT = 10 mGauss).",
+    ]
+    _ardupilot_motor(f, n, params, notes)
+    if changes:
+        params[orient_name] = float(new)
+        notes.append(f"{orient_name} {new} ({rotation_name('ardupilot', new)}) replaces {now} "
+                     f"({rotation_name('ardupilot', now)}): the flight shows the compass turned from the axes that "
+                     "orientation gives"
+                     + ("." if external else "; it takes effect for an external compass only "
+                        f"({ardupilot_name('EXTERNAL', n)} 1 or 2): an internal one turns with AHRS_ORIENTATION."))
+    notes.append("Older ArduPilot (e.g. Copter 3.3) added COMPASS_MOT before the matrix; there MOT = -10 k.")
+    return params, notes
+
+
+def _ardupilot_orientation(f: FlightCompass, n: int) -> tuple[int | None, str, int, int, bool]:
+    """Whether compass ``n`` is external (its ``COMPASS_EXTERNALn``), the name of its orientation parameter,
+    the orientation applied now (``COMPASS_ORIENTn``, or ``AHRS_ORIENTATION`` for an internal compass), the
+    listed rotation equal to ``Q R_now``, and whether that changes it. Refuses a custom rotation, and an
+    internal compass whose orientation the flight would change."""
     external = _param_int(f.params, ardupilot_name("EXTERNAL", n))
     orient_name = ardupilot_name("ORIENT", n)
     if external == 0:  # internal: rotate_field applies the board's orientation, not COMPASS_ORIENTn
@@ -319,10 +354,11 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
             "(CompassCalibrator::calculate_orientation). Check AHRS_ORIENTATION; if the compass is in fact "
             f"external, set {ardupilot_name('EXTERNAL', n)} 2 and {orient_name} {new}, fly again and calibrate "
             "that log")
-    offsets = -MGAUSS_PER_UT * f.b
-    mot = -MGAUSS_PER_UT * (f.M @ f.k)
-    diagonal = np.diag(f.M)
-    offdiagonal = np.array([f.M[0, 1], f.M[0, 2], f.M[1, 2]])
+    return external, orient_name, now, new, changes
+
+
+def _refuse_beyond_ardupilot_ranges(f: FlightCompass, n: int, offsets, diagonal, offdiagonal, mot) -> None:
+    """Refuse parameters ArduPilot would not accept (its ranges), naming each."""
     offs_max = float(f.params.get("COMPASS_OFFS_MAX") or ARDUPILOT_OFFSET_MAX_MGAUSS)
     problems = []
     if np.linalg.norm(offsets) > offs_max:
@@ -340,19 +376,13 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
         raise ExportError("ArduPilot would not accept this compass calibration: " + "; ".join(problems)
                           + f" ({ARDUPILOT_RANGE_SOURCE}); move the compass away from the power wires and metal, "
                           "or use the json export")
-    params: dict[str, float] = {}
-    for group, values in (("OFS", offsets), ("DIA", diagonal), ("ODI", offdiagonal), ("MOT", mot)):
-        params.update({f"{ardupilot_name(group, n)}_{a}": float(v) for a, v in zip("XYZ", values)})
-    params[ardupilot_name("SCALE", n)] = 1.0
+
+
+def _ardupilot_motor(f: FlightCompass, n: int, params: dict, notes: list) -> None:
+    """``COMPASS_MOTCT`` for the motor model's input (and ``COMPASS_PMOT_EN`` 0 for the first compass when the
+    per-motor compensation is on), with the notes saying so; without a motor model, a note that ``COMPASS_MOT``
+    is 0."""
     unit = {"current": "mGauss per A", "throttle": "mGauss at full throttle"}
-    notes = [
-        f"ArduPilot turns compass {n}'s field into the body frame, then corrects it in milligauss "
-        f"({ARDUPILOT_FLIGHT_SOURCE}):",
-        "  mag += OFS; mag *= SCALE; mag = [[DIA_X, ODI_X, ODI_Y], [ODI_X, DIA_Y, ODI_Z], [ODI_Y, ODI_Z, DIA_Z]] "
-        "* mag; mag += MOT * p",
-        "trical's h = M (Q m - b - k p) in uT, so OFS = -10 b, DIA/ODI = M, MOT = -10 M k, SCALE = 1 "
-        "(1 uT = 10 mGauss).",
-    ]
     motct = ARDUPILOT_MOTCT.get(f.motor)
     stored_motct = _param_int(f.params, "COMPASS_MOTCT")
     if motct is not None:
@@ -368,15 +398,6 @@ def ardupilot_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]
     else:
         notes.append("No motor model: COMPASS_MOT is 0 for this compass; COMPASS_MOTCT (every compass's) is left "
                      "as it is.")
-    if changes:
-        params[orient_name] = float(new)
-        notes.append(f"{orient_name} {new} ({rotation_name('ardupilot', new)}) replaces {now} "
-                     f"({rotation_name('ardupilot', now)}): the flight shows the compass turned from the axes that "
-                     "orientation gives"
-                     + ("." if external else "; it takes effect for an external compass only "
-                        f"({ardupilot_name('EXTERNAL', n)} 1 or 2): an internal one turns with AHRS_ORIENTATION."))
-    notes.append("Older ArduPilot (e.g. Copter 3.3) added COMPASS_MOT before the matrix; there MOT = -10 k.")
-    return params, notes
 
 
 def px4_slot(f: FlightCompass) -> int:

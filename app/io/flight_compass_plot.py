@@ -103,9 +103,17 @@ def flight_compass_svg(body: dict) -> str:
     power = _column(series, "power", n)
     before, after = _column(series, "heading_error_before", n), _column(series, "heading_error_after", n)
     flight, metrics = body.get("flight") or {}, body.get("metrics") or {}
-    parts, said = [], []
+    panels = [_field_panel(t, expected, corrected), _strength_panel(t, corrected, firmware, power, flight, metrics),
+              _heading_panel(t, before, after, metrics)]
+    parts = [part for panel_parts, _ in panels for part in panel_parts]
+    said = [words for _, words in panels if words]
+    height = PANEL_H * (3 if panels[2][0] else 2)
+    return svg_picture(WIDTH, height, f"The flight seen by its compass, {body.get('id', '')}", " ".join(said), parts)
 
-    # 1. The field per axis, expected against calibrated.
+
+def _field_panel(t, expected, corrected) -> tuple[list[str], str]:
+    """1. The field per axis, expected against calibrated."""
+    parts = []
     lo, hi = float(np.nanmin([expected.min(), corrected.min()])), float(np.nanmax([expected.max(), corrected.max()]))
     p = _Panel(0, t, lo, hi)
     parts += p.frame("The field in the vehicle's frame: expected (dashed) and calibrated (solid)", "µT")
@@ -113,10 +121,13 @@ def flight_compass_svg(body: dict) -> str:
         parts.append(p.line(t, expected[:, i], COLOURS[axis], dash="5 3", cls=f"expected-{axis}"))
         parts.append(p.line(t, corrected[:, i], COLOURS[axis], cls=f"corrected-{axis}"))
         parts.append(p.legend(i, COLOURS[axis], f"{axis} ({'forward right down'.split()[i]})", DASHES[axis]))
-    said.append("The field's three axes in the vehicle's frame over the flight, expected from the attitude and the "
-                "geomagnetic model, and as the compass reads it calibrated.")
+    return parts, ("The field's three axes in the vehicle's frame over the flight, expected from the attitude and "
+                   "the geomagnetic model, and as the compass reads it calibrated.")
 
-    # 2. |h| beside the current.
+
+def _strength_panel(t, corrected, firmware, power, flight: dict, metrics: dict) -> tuple[list[str], str]:
+    """2. |h| beside the current."""
+    parts = []
     F = metrics.get("field_ut")
     strength = np.linalg.norm(corrected, axis=1)
     values = [strength] + ([np.linalg.norm(firmware, axis=1)] if firmware is not None else [])
@@ -144,27 +155,29 @@ def flight_compass_svg(body: dict) -> str:
                      f'{unit}</text><text x="{WIDTH - RIGHT + 4}" y="{_f(p.top + TOP + p.h)}" font-size="10" {FONT}>'
                      f'{plo:.3g} {unit}</text>')
         parts.append(p.legend(3, POWER, "power (right)", "1 2"))
-    said.append("The calibrated field's strength against the model's, with the power on its own scale.")
+    return parts, "The calibrated field's strength against the model's, with the power on its own scale."
 
-    # 3. The heading error.
+
+def _heading_panel(t, before, after, metrics: dict) -> tuple[list[str], str | None]:
+    """3. The heading error (no panel without one)."""
     errors = [a for a in (before, after) if a is not None and np.isfinite(a).any()]
-    if errors:
-        lo = float(min(np.nanmin(a) for a in errors))
-        hi = float(max(np.nanmax(a) for a in errors))
-        p = _Panel(2 * PANEL_H, t, min(lo, 0.0), max(hi, 0.0))
-        parts += p.frame("Heading error: the firmware's calibration and trical's, on segments left out", "°")
-        if before is not None:
-            parts.append(p.line(t, before, BEFORE, cls="heading-before"))
-            parts.append(p.legend(0, BEFORE, "before (the firmware's)"))
-        if after is not None:
-            parts.append(p.line(t, after, AFTER, cls="heading-after", width=1.8))
-            parts.append(p.legend(1, AFTER, "after (trical's)"))
-        b, a = metrics.get("heading_error_before_deg"), metrics.get("heading_error_after_deg")
-        said.append("The heading error over the flight, rms "
-                    + (f"{b:.1f}° before and " if b is not None else "")
-                    + (f"{a:.1f}° after." if a is not None else "not measured after."))
-    height = PANEL_H * (3 if errors else 2)
-    return svg_picture(WIDTH, height, f"The flight seen by its compass, {body.get('id', '')}", " ".join(said), parts)
+    if not errors:
+        return [], None
+    parts = []
+    lo = float(min(np.nanmin(a) for a in errors))
+    hi = float(max(np.nanmax(a) for a in errors))
+    p = _Panel(2 * PANEL_H, t, min(lo, 0.0), max(hi, 0.0))
+    parts += p.frame("Heading error: the firmware's calibration and trical's, on segments left out", "°")
+    if before is not None:
+        parts.append(p.line(t, before, BEFORE, cls="heading-before"))
+        parts.append(p.legend(0, BEFORE, "before (the firmware's)"))
+    if after is not None:
+        parts.append(p.line(t, after, AFTER, cls="heading-after", width=1.8))
+        parts.append(p.legend(1, AFTER, "after (trical's)"))
+    b, a = metrics.get("heading_error_before_deg"), metrics.get("heading_error_after_deg")
+    return parts, ("The heading error over the flight, rms "
+                   + (f"{b:.1f}° before and " if b is not None else "")
+                   + (f"{a:.1f}° after." if a is not None else "not measured after."))
 
 
 def to_flight_compass_svg(body: dict) -> Export:

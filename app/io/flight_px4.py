@@ -167,16 +167,65 @@ def px4_correct(raw_ut, cal: FirmwareCompassCal, rotation, power=None) -> np.nda
     return (m - cal.offsets_ut) @ cal.matrix.T @ np.asarray(rotation).T
 
 
-def read_px4(path, mag_instance, name) -> FlightCompassLog:
+def _open_ulog(path, name):
+    """The ULog's topics of :data:`PX4_TOPICS` (pyulog's printing kept off the output); a file pyulog cannot
+    read is refused."""
     from pyulog import ULog  # here: only ULog uploads load it
 
     said = io.StringIO()
     try:
         with contextlib.redirect_stdout(said):
-            u = ULog(str(path), message_name_filter_list=list(PX4_TOPICS), disable_str_exceptions=True)
+            return ULog(str(path), message_name_filter_list=list(PX4_TOPICS), disable_str_exceptions=True)
     except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
         raise LogFormatError(f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
                              "file is damaged or cut short in its definitions; download the log again") from None
+
+
+def _px4_power_at(stored: FirmwareCompassCal, cur, thr, p_t, time_s, notes: list) -> np.ndarray | None:
+    """The power the stored motor compensation asks for (current or throttle) on the compass's times, or None
+    (no compensation, or the log lacks it: a note says so)."""
+    if stored.motor_kind is None:
+        return None
+    src = cur if stored.motor_kind == "current" else thr
+    if src is None:
+        notes.append(f"CAL_MAG_COMP_TYP asks for the {stored.motor_kind}, which the log lacks: no power "
+                     "compensation applied")
+        return None
+    return np.interp(time_s, p_t, src)
+
+
+def _compare_vehicle_magnetometer(u, values, time_s, firmware, device, how: str, notes: list) -> None:
+    """A note on the firmware's field computed from sensor_mag against the logged vehicle_magnetometer, when
+    that is this compass (its rms difference), else that it was not logged."""
+    vm = _ds(u, "vehicle_magnetometer")
+    # vehicle_magnetometer is the selected compass: its device_id when logged, else CAL_MAG_PRIME names it.
+    selected = (int(vm["device_id"][-1]) if vm is not None and "device_id" in vm and len(vm["device_id"])
+                else int(values.get("CAL_MAG_PRIME", 0)) or None)
+    if vm is not None and "magnetometer_ga[0]" in vm and device is not None and selected == device:
+        logged = np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]) * GAUSS_TO_UT
+        vt = _t(vm)
+        inside = (time_s >= vt[0]) & (time_s <= vt[-1])
+        if inside.sum() >= 2:
+            onto = np.column_stack([np.interp(time_s[inside], vt, logged[:, k]) for k in range(3)])
+            rms = float(np.sqrt(np.mean(np.sum((onto - firmware[inside]) ** 2, axis=1))))
+            notes.append(f"the firmware's field ({how}) differs from the logged vehicle_magnetometer by "
+                         f"{rms:.2f} µT rms (the latter filtered, interpolated onto sensor_mag's times)")
+    else:
+        notes.append(f"the firmware's field: {how} (no vehicle_magnetometer of this compass logged)")
+
+
+def _px4_attitude(u, notes: list):
+    """``(time_s, C_nb, source)`` of vehicle_attitude's quaternion, or three None (a note says so)."""
+    att = _ds(u, "vehicle_attitude")
+    if att is not None and "q[0]" in att:
+        return _t(att), quaternion_to_c_nb(np.column_stack([att[f"q[{k}]"] for k in range(4)])), \
+            "vehicle_attitude q (w, x, y, z)"
+    notes.append("no vehicle_attitude in the log: the attitude is missing")
+    return None, None, None
+
+
+def read_px4(path, mag_instance, name) -> FlightCompassLog:
+    u = _open_ulog(path, name)
     values = dict(u.initial_parameters)
     notes = []
     raw_mags = sorted(d.multi_id for d in u.data_list if d.name == "sensor_mag" and {"x", "y", "z"} <= set(d.data))
@@ -212,14 +261,7 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
         generation = f"{version} ({topic.split('.')[0]})"
     stored = px4_cal(values, slot, instance) if slot is not None else px4_cal({}, -1, instance)
     rotation = _px4_rotation(values, stored, slot, name, notes)
-    power = None
-    if stored.motor_kind is not None:
-        src = cur if stored.motor_kind == "current" else thr
-        if src is None:
-            notes.append(f"CAL_MAG_COMP_TYP asks for the {stored.motor_kind}, which the log lacks: no power "
-                         "compensation applied")
-        else:
-            power = np.interp(time_s, p_t, src)
+    power = _px4_power_at(stored, cur, thr, p_t, time_s, notes)
     if raw_mags and not sensor_mag_calibrated:
         raw = logged_mag
         raw_how = "logged raw (sensor_mag, the driver's frame)"
@@ -230,23 +272,9 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
                    f"CAL_MAG{slot}_xOFF/xSCALE: m = S⁻¹ h + o")
         firmware = logged_mag @ rotation.T
     if raw_mags:
-        vm = _ds(u, "vehicle_magnetometer")
-        # vehicle_magnetometer is the selected compass: its device_id when logged, else CAL_MAG_PRIME names it.
-        selected = (int(vm["device_id"][-1]) if vm is not None and "device_id" in vm and len(vm["device_id"])
-                    else int(values.get("CAL_MAG_PRIME", 0)) or None)
         how = ("PX4's formula applied to sensor_mag with CAL_MAG{}_*".format(slot) if not sensor_mag_calibrated
                else "sensor_mag turned into the body frame")
-        if vm is not None and "magnetometer_ga[0]" in vm and device is not None and selected == device:
-            logged = np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]) * GAUSS_TO_UT
-            vt = _t(vm)
-            inside = (time_s >= vt[0]) & (time_s <= vt[-1])
-            if inside.sum() >= 2:
-                onto = np.column_stack([np.interp(time_s[inside], vt, logged[:, k]) for k in range(3)])
-                rms = float(np.sqrt(np.mean(np.sum((onto - firmware[inside]) ** 2, axis=1))))
-                notes.append(f"the firmware's field ({how}) differs from the logged vehicle_magnetometer by "
-                             f"{rms:.2f} µT rms (the latter filtered, interpolated onto sensor_mag's times)")
-        else:
-            notes.append(f"the firmware's field: {how} (no vehicle_magnetometer of this compass logged)")
+        _compare_vehicle_magnetometer(u, values, time_s, firmware, device, how, notes)
     if not raw_mags:
         firmware = ga * GAUSS_TO_UT
         raw = np.linalg.solve(stored.matrix, (firmware @ rotation).T).T + stored.offsets_ut  # S⁻¹ Rᵀ h + o
@@ -256,14 +284,7 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
             formula += " − c p"
         raw_how = (f"read back to raw from {topic} (logged calibrated, body frame) with CAL_MAG{slot}_* and the "
                    f"rotation: {formula}")
-    att = _ds(u, "vehicle_attitude")
-    if att is not None and "q[0]" in att:
-        att_t = _t(att)
-        att_c = quaternion_to_c_nb(np.column_stack([att[f"q[{k}]"] for k in range(4)]))
-        att_source = "vehicle_attitude q (w, x, y, z)"
-    else:
-        att_t = att_c = att_source = None
-        notes.append("no vehicle_attitude in the log: the attitude is missing")
+    att_t, att_c, att_source = _px4_attitude(u, notes)
     lat, lon, alt, utc = _px4_position(u, notes)
     if u.file_corruption:
         notes.append(f"{name}: pyulog found damaged data in the file and skipped it")

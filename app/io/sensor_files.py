@@ -214,31 +214,8 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     notes = [f"one recording in {len(logs)} files, one per sensor: "
              + ", ".join(f"{fname} the {_WORDS[sensor]} ({log.units[sensor]})" for fname, sensor, log, _ in logs)]
     if not timed:
-        counts = {log.n_samples for _, log, _ in by_sensor.values()}
-        if len(counts) != 1:
-            lacking = ", ".join(f for f, log, _ in by_sensor.values() if log.time_s is None)
-            raise LogFormatError(
-                f"{name}: {lacking} has no time column, and the files hold different counts of samples "
-                f"({', '.join(f'{f} {log.n_samples}' for f, log, _ in by_sensor.values())}): the sensors' files "
-                "cannot be put on one clock; log a time column in every file")
-        notes.append("no time column in every file: the files' samples taken as simultaneous, one to one")
-        clock_sensor = "acc" if "acc" in by_sensor else next(iter(by_sensor))
-        clock_log = by_sensor[clock_sensor][1]
-        arrays = {s: np.asarray(getattr(log, s), dtype=float) for s, (_, log, _) in by_sensor.items()}
-        return dataclasses.replace(clock_log, acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"),
-                                   units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
-                                   notes=tuple(notes + _file_notes(logs)), warnings=_warnings(logs), parts=(),
-                                   format=_format(logs))
-    starts = {s: (st if st is not None else 0.0) for s, (_, _, st) in by_sensor.items()}
-    zero = min(starts.values())
-    starts = {s: st - zero for s, st in starts.items()}
-    spans = {s: (starts[s], starts[s] + float(log.time_s[-1])) for s, (_, log, _) in by_sensor.items()}
-    begin, end = max(a for a, _ in spans.values()), min(b for _, b in spans.values())
-    if end <= begin:
-        listed = ", ".join(f"{by_sensor[s][0]} {a:.3f}–{b:.3f} s" for s, (a, b) in spans.items())
-        raise LogFormatError(
-            f"{name}: the files name one sensor each but their times do not overlap ({listed}): the sensors of one "
-            "recording are logged at the same time; upload the files of one recording together")
+        return _one_to_one(logs, by_sensor, notes, name)
+    starts = _overlapping_starts(by_sensor, name)
     if "acc" in by_sensor:
         clock_sensor, why = "acc", "the accelerometer's"
     else:
@@ -278,6 +255,42 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
                      warnings=_warnings(logs),
                      temperature_c=None if temperature is None else np.asarray(temperature)[keep])
     return with_timing(merged, None, name)
+
+
+def _one_to_one(logs: list, by_sensor: dict, notes: list, name: str) -> LogData:
+    """Files without a time column in every one: their samples taken as simultaneous, one to one, when they
+    hold as many; refused otherwise."""
+    counts = {log.n_samples for _, log, _ in by_sensor.values()}
+    if len(counts) != 1:
+        lacking = ", ".join(f for f, log, _ in by_sensor.values() if log.time_s is None)
+        raise LogFormatError(
+            f"{name}: {lacking} has no time column, and the files hold different counts of samples "
+            f"({', '.join(f'{f} {log.n_samples}' for f, log, _ in by_sensor.values())}): the sensors' files "
+            "cannot be put on one clock; log a time column in every file")
+    notes.append("no time column in every file: the files' samples taken as simultaneous, one to one")
+    clock_sensor = "acc" if "acc" in by_sensor else next(iter(by_sensor))
+    clock_log = by_sensor[clock_sensor][1]
+    arrays = {s: np.asarray(getattr(log, s), dtype=float) for s, (_, log, _) in by_sensor.items()}
+    return dataclasses.replace(clock_log, acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"),
+                               units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
+                               notes=tuple(notes + _file_notes(logs)), warnings=_warnings(logs), parts=(),
+                               format=_format(logs))
+
+
+def _overlapping_starts(by_sensor: dict, name: str) -> dict:
+    """Each sensor's first time on the files' shared clock, from the earliest (a file without one starts with
+    the others); files whose times do not overlap are refused."""
+    starts = {s: (st if st is not None else 0.0) for s, (_, _, st) in by_sensor.items()}
+    zero = min(starts.values())
+    starts = {s: st - zero for s, st in starts.items()}
+    spans = {s: (starts[s], starts[s] + float(log.time_s[-1])) for s, (_, log, _) in by_sensor.items()}
+    begin, end = max(a for a, _ in spans.values()), min(b for _, b in spans.values())
+    if end <= begin:
+        listed = ", ".join(f"{by_sensor[s][0]} {a:.3f}–{b:.3f} s" for s, (a, b) in spans.items())
+        raise LogFormatError(
+            f"{name}: the files name one sensor each but their times do not overlap ({listed}): the sensors of one "
+            "recording are logged at the same time; upload the files of one recording together")
+    return starts
 
 
 _WORDS = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}

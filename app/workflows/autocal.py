@@ -5,9 +5,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from app.calibration import CalibrationError
+from app.io.formats import read_log
 from app.io.log import ACC_PHYSICAL_UNITS
+from app.io.read_options import ReadOptions
 from app.workflows.gravity import reference_gravity
-from app.workflows.recordings import RecordingSource, load_log, require_accelerometer, require_rate
+from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
 from app.workflows.results import calibration_body
 
 
@@ -16,11 +18,12 @@ def autocal(request, recording: RecordingSource) -> dict:
     require_accelerometer(recording.meta["units"], "autocal")
     # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
     read_with = recording.meta.get("read_with") or {"units": recording.meta["units"]}
+    unit = request.unit or (read_with.get("units") or {}).get("acc")
+    options = ReadOptions(sampling_rate_hz=recording.meta["sampling_rate_hz"], units={"acc": unit} if unit else {},
+                          chip=read_with.get("chip"), instance=read_with.get("instance"),
+                          lsb_per_g=read_with.get("lsb_per_g"))
     return autocalibrate_file(
-        recording.path, sampling_rate_hz=recording.meta["sampling_rate_hz"],
-        unit=request.unit or (read_with.get("units") or {}).get("acc"), chip=read_with.get("chip"),
-        instance=read_with.get("instance"),
-        lsb_per_g=read_with.get("lsb_per_g"), solver=request.solver, gravity=request.gravity,
+        recording.path, options, solver=request.solver, gravity=request.gravity,
         latitude_deg=request.latitude_deg, height_m=request.height_m,
         detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
         label=request.label or recording.meta.get("filename"), **recording.source_fields)
@@ -29,21 +32,20 @@ def autocal(request, recording: RecordingSource) -> dict:
 AUTOCAL_UNITS = ACC_PHYSICAL_UNITS
 
 
-def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str | None = None, progress=None,
-                       solver: str = "lm", gravity: float | None = None, latitude_deg: float | None = None,
-                       height_m: float | None = None, detection: dict | None = None, selection: dict | None = None,
-                       columns: str | None = None, sign: int | None = None, chip: str | None = None,
-                       lsb_per_g: float | None = None, instance: int | None = None, **fields) -> dict:
+def autocalibrate_file(path, options: ReadOptions = ReadOptions(), *, progress=None, solver: str = "lm",
+                       gravity: float | None = None, latitude_deg: float | None = None, height_m: float | None = None,
+                       detection: dict | None = None, selection: dict | None = None, **fields) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
     ----------
     path : str or pathlib.Path
         ``.npy`` (N×3, or N×4 with time first; memory-mapped), Parquet or CSV.
-    sampling_rate_hz : float, optional
-        Needed when the file has no time column.
-    unit : {"g", "m/s^2"}, optional
-        The accelerometer unit; the file's (header) unit, else m/s², when omitted.
+    options : app.io.read_options.ReadOptions
+        How to read it (:func:`app.io.formats.read_log`): the rate, needed when the file has no time column;
+        the accelerometer's unit (``units["acc"]``: g or m/s²; the file's (header) unit, else m/s², when
+        omitted); a CSV's columns and sign; the part and range (``chip``) or the counts per g of a CSV in
+        counts; the IMU instance of a flight controller's log (PX4 ULog, ArduPilot DataFlash).
     progress : callable, optional
         ``progress(done_samples, total_samples)``.
     solver : str
@@ -53,15 +55,6 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
     detection, selection : dict, optional
         Options of :class:`app.calibration.stationary_002.RestAccumulator` and
         :func:`app.calibration.autocal.autocalibrate`.
-    columns : str, optional
-        The columns of a CSV (:func:`app.io.formats.parse_columns`).
-    sign : {1, -1}, optional
-        Factor on the file's accelerations; detected from the header when None.
-    chip, lsb_per_g : str or float, optional
-        The accelerometer's part and range, or its counts per g, for a CSV in counts
-        (:func:`app.io.formats.read_log`).
-    instance : int, optional
-        The IMU instance of a flight controller's log (PX4 ULog, ArduPilot DataFlash).
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -87,8 +80,7 @@ def autocalibrate_file(path, *, sampling_rate_hz: float | None = None, unit: str
             daemon=True)
         preload.start()
     path = Path(path)
-    log = load_log(path, sampling_rate_hz=sampling_rate_hz, units={"acc": unit} if unit else {}, name=str(path),
-                   columns=columns, sign=sign, chip=chip, lsb_per_g=lsb_per_g, instance=instance)
+    log = read_log(path, options, name=str(path))
     require_accelerometer(log.channels, "autocal")
     unit = log.units["acc"]
     if unit not in AUTOCAL_UNITS:

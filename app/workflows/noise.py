@@ -30,61 +30,18 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     still, ``ok`` is false.
     """
     from app.calibration.noise import NoiseResult, characterise_noise
-    from app.calibration.noise_still import MIN_STILL_FRACTION, common_still_runs
+    from app.calibration.noise_still import common_still_runs
 
-    arrays = {name: getattr(log, name) for name in log.channels}
-    units = dict(log.units)
-    if array_sensor not in (None, "acc"):
-        if log.channels != ["acc"]:
-            raise CalibrationError(f"the sensor of an array is given for files with one sensor; this one has "
-                                   f"{', '.join(log.channels)}: leave it out")
-        arrays = {array_sensor: log.acc}
-        units = {array_sensor: SI_UNITS[array_sensor]}
-    wanted = list(sensors) if sensors else [s for s in NOISE_SENSORS if s in arrays]
-    missing = [s for s in wanted if s not in arrays]
-    if missing:
-        raise CalibrationError(f"the recording has no {', '.join(missing)} samples (it has {', '.join(arrays)}): "
-                               "ask for those it has")
+    arrays, units, wanted = _chosen_sensors(log, sensors, array_sensor)
     fs, n = require_rate(log.sampling_rate_hz, "noise"), len(next(iter(arrays.values())))
     notes: list[str] = list(log.warnings) + list(log.notes)
     # Still means still on every sensor the recording holds, asked for or not (a gyroscope ringing after
     # the device was put down, a compass turning): docs/methods.md, "Still on every sensor".
     still_on = [s for s in NOISE_SENSORS if s in arrays]
     runs = common_still_runs([arrays[s] for s in still_on], fs)
-    span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
-    rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
     reasons: list[str] = []
-    if span is not None and len(rests) >= 2:
-        a, b = span
-        said = (f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
-                f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
-                "recording), was characterised — no term is fitted across a move")
-        if b - a < MIN_STILL_FRACTION * n:
-            reasons.append(said + "; for the noise, record the device resting in one orientation, untouched, for "
-                                  "the whole recording")
-        else:
-            notes.append(said)
-    elif span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
-        still_s = 0.0 if span is None else (span[1] - span[0]) / fs
-        reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
-                       "is characterised on a still recording — leave the device resting on a firm surface, "
-                       "untouched, for the whole recording")
-        span = span or (0, n)
-    elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
-        notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
-                     f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
-    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
-    if inside:
-        lost = sum(g.missing_s for g in inside)
-        still_s = (span[1] - span[0]) / fs
-        said = (f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
-                f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)")
-        if lost > NOISE_GAPS_MAX * still_s:
-            reasons.append(said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
-                                  "the sensor's — record again without losing samples (a faster serial baud rate, "
-                                  "fewer columns printed, a larger host buffer)")
-        else:
-            notes.append(said + ": few enough for the Allan deviation")
+    span = _still_span(runs, fs, n, notes, reasons)
+    _judge_gaps(log, span, fs, notes, reasons)
     a, b = span
     parts = {}
     for name in wanted:
@@ -105,6 +62,71 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
                                 "detected_from": ", ".join(still_on)},
                          reasons=tuple(reasons), unit=parts[wanted[0]]["model"]["unit"])
     return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
+
+
+def _chosen_sensors(log: LogData, sensors, array_sensor: str | None) -> tuple[dict, dict, list]:
+    """The recording's samples and units by sensor (an array's under the sensor it holds), and the sensors
+    asked for (by default every one it has); a sensor it lacks is refused."""
+    arrays = {name: getattr(log, name) for name in log.channels}
+    units = dict(log.units)
+    if array_sensor not in (None, "acc"):
+        if log.channels != ["acc"]:
+            raise CalibrationError(f"the sensor of an array is given for files with one sensor; this one has "
+                                   f"{', '.join(log.channels)}: leave it out")
+        arrays = {array_sensor: log.acc}
+        units = {array_sensor: SI_UNITS[array_sensor]}
+    wanted = list(sensors) if sensors else [s for s in NOISE_SENSORS if s in arrays]
+    missing = [s for s in wanted if s not in arrays]
+    if missing:
+        raise CalibrationError(f"the recording has no {', '.join(missing)} samples (it has {', '.join(arrays)}): "
+                               "ask for those it has")
+    return arrays, units, wanted
+
+
+def _still_span(runs: list, fs: float, n: int, notes: list, reasons: list) -> tuple[int, int]:
+    """The longest still stretch (the whole recording when none is), with a note or a reason when the device
+    moved: several rests, or too little of the recording still."""
+    from app.calibration.noise_still import MIN_STILL_FRACTION
+
+    span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
+    rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
+    if span is not None and len(rests) >= 2:
+        a, b = span
+        said = (f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
+                f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
+                "recording), was characterised — no term is fitted across a move")
+        if b - a < MIN_STILL_FRACTION * n:
+            reasons.append(said + "; for the noise, record the device resting in one orientation, untouched, for "
+                                  "the whole recording")
+        else:
+            notes.append(said)
+    elif span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
+        still_s = 0.0 if span is None else (span[1] - span[0]) / fs
+        reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
+                       "is characterised on a still recording — leave the device resting on a firm surface, "
+                       "untouched, for the whole recording")
+        span = span or (0, n)
+    elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
+        notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
+                     f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
+    return span
+
+
+def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, reasons: list) -> None:
+    """A note on the time column's gaps inside the still part, or a reason when they lose too much of it for
+    the Allan deviation (:data:`NOISE_GAPS_MAX`)."""
+    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    if inside:
+        lost = sum(g.missing_s for g in inside)
+        still_s = (span[1] - span[0]) / fs
+        said = (f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
+                f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)")
+        if lost > NOISE_GAPS_MAX * still_s:
+            reasons.append(said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
+                                  "the sensor's — record again without losing samples (a faster serial baud rate, "
+                                  "fewer columns printed, a larger host buffer)")
+        else:
+            notes.append(said + ": few enough for the Allan deviation")
 
 
 def noise(request, recording: RecordingSource) -> dict:

@@ -14,6 +14,7 @@ from app.calibration.errors import InsufficientDataError
 from app.calibration.static import detect_static_segments
 from app.io.formats import SOURCE_OF_FORMAT, read_log
 from app.io.log import LogData
+from app.io.read_options import ReadOptions
 from app.io.parts import content_digest, pose_from_name
 
 
@@ -21,19 +22,8 @@ BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
 
 
-def load_log(path: Path, *, sampling_rate_hz: float | None, units: dict, name: str, format: str = "auto",
-             lsb_per_g: float | None = None, columns: str | None = None, sign: int | None = None,
-             chip: str | None = None, instance: int | None = None, mag_instance: int | None = None,
-             clock: str = "imu") -> LogData:
-    """Read an uploaded log file into arrays, its format given or detected (app.io.formats); ``instance``,
-    ``mag_instance`` and ``clock`` choose the sensors of a flight controller's log (app.io.formats.flight_log)."""
-    return read_log(path, format=format, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                    lsb_per_g=lsb_per_g, columns=columns, sign=sign, chip=chip, instance=instance,
-                    mag_instance=mag_instance, clock=clock)
-
-
-def add_recording(store, recording_id: str, path: Path, *, filename: str | None, sampling_rate_hz: float | None,
-                  read_with: dict, owner: str | None) -> dict:
+def add_recording(store, recording_id: str, path: Path, *, filename: str | None, options: ReadOptions,
+                  owner: str | None) -> dict:
     """Read a saved upload, describe it and store it as a recording; the file is removed if any step fails,
     so that nothing is kept that no recording names.
 
@@ -46,10 +36,8 @@ def add_recording(store, recording_id: str, path: Path, *, filename: str | None,
         The saved upload (one file, or a zip of several files, one per pose).
     filename : str or None
         The name (or names) it came with, for messages and the recording.
-    sampling_rate_hz : float or None
-        The caller's rate.
-    read_with : dict
-        How to read it (:func:`load_log`'s options), kept with the recording.
+    options : app.io.read_options.ReadOptions
+        How to read it (the caller's rate included), kept with the recording.
     owner : str or None
 
     Returns
@@ -58,8 +46,8 @@ def add_recording(store, recording_id: str, path: Path, *, filename: str | None,
         The stored recording (:func:`describe_log` with its id, filename and creation time).
     """
     try:
-        log = load_log(path, sampling_rate_hz=sampling_rate_hz, name=filename or "the file", **read_with)
-        body = describe_log(log, {**read_with, "sampling_rate_hz": sampling_rate_hz})
+        log = read_log(path, options, name=filename or "the file")
+        body = describe_log(log, options)
         body["filename"] = filename
         body["content_sha256"] = content_digest(path)  # the same upload read again: its calibrations supersede
         return store.add_recording(recording_id, body, path, owner=owner)
@@ -77,11 +65,11 @@ def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float 
     return None
 
 
-def describe_log(log: LogData, read_with: dict | None = None) -> dict:
+def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
     """Recording metadata and its static segments (docs/rest.md, POST /recordings).
 
-    ``read_with`` holds what the reader was told (``format``, ``units``, ``lsb_per_g``, ``columns``);
-    it is kept with the sign applied, so that the stored file is read again the same way.
+    ``options`` are what the reader was told (:class:`app.io.read_options.ReadOptions`); they are kept as
+    ``read_with``, with the sign applied, so that the stored file is read again the same way.
     """
     segments, part_notes = still_segments(log)
     rate = log.sampling_rate_hz
@@ -102,9 +90,7 @@ def describe_log(log: LogData, read_with: dict | None = None) -> dict:
         "questions": [dict(q) for q in log.questions],
         "sign": log.sign,
         "timing": None if log.timing is None else log.timing.to_dict(),
-        "read_with": {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "chip": None,
-                      "sampling_rate_hz": None, "instance": None, "mag_instance": None, **(read_with or {}),
-                      "sign": log.sign},
+        "read_with": (options or ReadOptions()).stored(log.sign),
         "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
         "segments": segments,
         "overview": overview(log),
@@ -282,8 +268,8 @@ class RecordingSource:
         # The caller's rate as given at the upload, so that the time column is judged again the same
         # way (its gaps); recordings stored before read_with kept it are read at their stored rate.
         rate = read_with.pop("sampling_rate_hz") if "sampling_rate_hz" in read_with else self.meta["sampling_rate_hz"]
-        return load_log(self.path, sampling_rate_hz=rate, name=self.meta.get("filename") or "the recording",
-                        **read_with)
+        return read_log(self.path, ReadOptions.from_stored({**read_with, "sampling_rate_hz": rate}),
+                        name=self.meta.get("filename") or "the recording")
 
     @property
     def source_fields(self) -> dict:

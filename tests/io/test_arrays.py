@@ -10,6 +10,7 @@ import pytest
 from app.io.arrays import read_npy_log, read_parquet_log
 from app.io.formats import read_log
 from app.io.errors import LogFormatError
+from app.io.read_options import ReadOptions
 
 
 def _samples(n=1000, seed=0):
@@ -133,7 +134,7 @@ def test_read_log_dispatches_by_suffix(tmp_path):
     x = _samples(200)
     csv = tmp_path / "rec.csv"
     csv.write_text("acc_x,acc_y,acc_z\n" + "\n".join(",".join(f"{v:.6f}" for v in row) for row in x))
-    assert read_log(csv, sampling_rate_hz=10.0).format == "csv"
+    assert read_log(csv, ReadOptions(sampling_rate_hz=10.0)).format == "csv"
     npy = tmp_path / "rec.npy"
     np.save(npy, x)
-    assert read_log(npy, sampling_rate_hz=10.0).format == "npy"
+    assert read_log(npy, ReadOptions(sampling_rate_hz=10.0)).format == "npy"

@@ -9,6 +9,7 @@ import pytest
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.columns import ColumnsAmbiguous, name_sensor
+from app.io.read_options import ReadOptions
 from tests.conftest import DATA
 
 CORPUS = DATA / "real" / "corpus"
@@ -41,13 +42,13 @@ def test_a_compass_turned_over_the_sphere_in_gauss_without_a_header_is_a_magneto
 
 
 def test_a_real_compass_in_counts_without_a_header_is_a_magnetometer():
-    log = read_log(QMC, sampling_rate_hz=5)
+    log = read_log(QMC, ReadOptions(sampling_rate_hz=5))
     assert log.channels == ["mag"] and log.units["mag"] == "raw"
     assert "(and the file's name" not in log.notes[0]  # the data alone decided
 
 
 def test_real_accelerometer_and_gyroscope_counts_turned_between_rests():
-    log = read_log(TURNS, sampling_rate_hz=100)
+    log = read_log(TURNS, ReadOptions(sampling_rate_hz=100))
     assert log.columns == ["acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"]
     assert log.units == {"acc": "g", "gyr": "deg/s"}
     assert any("divided by 131 into deg/s" in w for w in log.warnings)
@@ -55,16 +56,16 @@ def test_real_accelerometer_and_gyroscope_counts_turned_between_rests():
 
 def test_real_still_counts_a_gyroscope_or_a_magnetometer_could_read_are_asked_about(tmp_path):
     with pytest.raises(ColumnsAmbiguous) as e:
-        read_log(STILL, sampling_rate_hz=100, name=STILL.name)
+        read_log(STILL, ReadOptions(sampling_rate_hz=100), name=STILL.name)
     assert e.value.code == "columns_ambiguous"
     assert e.value.candidates == [{"sensors": "gyroscope", "columns": "gyr_x,gyr_y,gyr_z"},
                                   {"sensors": "magnetometer", "columns": "mag_x,mag_y,mag_z"}]
     assert e.value.preview[:2] == ["-480,193,-83", "-439,189,-56"]
-    chosen = read_log(STILL, sampling_rate_hz=100, columns=e.value.candidates[0]["columns"])
+    chosen = read_log(STILL, ReadOptions(sampling_rate_hz=100, columns=e.value.candidates[0]["columns"]))
     assert chosen.channels == ["gyr"]
     named = tmp_path / "mpu6050_gyro.csv"
     named.write_bytes(STILL.read_bytes())
-    assert read_log(named, sampling_rate_hz=100, name=named.name).channels == ["gyr"]
+    assert read_log(named, ReadOptions(sampling_rate_hz=100), name=named.name).channels == ["gyr"]
 
 
 @pytest.mark.parametrize("name, sensor", [("gyro_log.csv", "gyr"), ("Gyroscope.txt", "gyr"), ("accel.csv", "acc"),
@@ -84,5 +85,5 @@ def test_a_first_line_with_text_in_a_number_column_is_named_as_a_bad_line(tmp_pa
     q = tmp_path / "c.csv"
     q.write_text("acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n")
     with pytest.raises(LogFormatError, match="line 3, column 'acc_y': 'abc' is not a number") as e:
-        read_log(q, sampling_rate_hz=100)
+        read_log(q, ReadOptions(sampling_rate_hz=100))
     assert e.value.code == "bad_line"

@@ -18,6 +18,7 @@ from scipy.spatial.transform import Rotation
 from app.calibration.magnetometer.ellipsoid import fit_sphere
 from app.io.flight_context import read_flight_compass, stored_calibration_parameters
 from app.io.formats import read_log
+from app.io.read_options import ReadOptions
 
 FLIGHT = Path(__file__).resolve().parents[1] / "data" / "real" / "flight"
 LOG171 = FLIGHT / "log171.bin"
@@ -55,13 +56,13 @@ def test_log171_of_copter_3_3_reads_as_pymavlink_reads_it(mavlink):
     for k, name in enumerate(("MAG", "MAG2", "MAG3")):
         assert listed[("mag", k)] == counts[name]
     for k, name in enumerate(("IMU", "IMU2", "IMU3")):
-        one = read_log(LOG171, instance=k)
+        one = read_log(LOG171, ReadOptions(instance=k))
         m = first[name]
         np.testing.assert_allclose(one.acc[0], [m.AccX, m.AccY, m.AccZ], rtol=0, atol=1e-6)
         np.testing.assert_allclose(one.gyr[0], [m.GyrX, m.GyrY, m.GyrZ], rtol=0, atol=1e-7)
         assert one.temperature_c[0] == pytest.approx(m.Temp, abs=1e-5)
         assert one.n_samples == 11916
-    mags = read_log(LOG171, clock="mag", mag_instance=1)
+    mags = read_log(LOG171, ReadOptions(clock="mag", mag_instance=1))
     assert mags.flight.mag == {"instance": 1, "source": "MAG"}
 
 

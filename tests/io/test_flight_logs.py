@@ -15,6 +15,7 @@ import pytest
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.flight_log import decode_device_id
+from app.io.read_options import ReadOptions
 from tests.flight_logs import (GYR_BIAS, TRUTH, ardupilot_batch, ardupilot_file, ardupilot_imu, compass_tumble,
                                imu_instances, px4_file, still_board, write_dataflash)
 
@@ -45,7 +46,7 @@ def _mavlogdump(kind: str) -> list[dict]:
 
 def test_ulog_sample_reads_as_ulog2csv_prints(ulog2csv):
     dump = ulog2csv["sensor_accel_1"]
-    log = read_log(ULOG, instance=1)
+    log = read_log(ULOG, ReadOptions(instance=1))
     assert log.format == "ulog" and log.flight.imu == {"instance": 1, "source": "sensor_accel",
                                                        "gyr_source": "sensor_gyro"}
     assert log.n_samples == len(dump) == 6
@@ -74,7 +75,7 @@ def test_ulog_sample_reads_as_ulog2csv_prints(ulog2csv):
 
 def test_ulog_sample_compass_in_microtesla(ulog2csv):
     dump = ulog2csv["sensor_mag_1"]
-    log = read_log(ULOG, mag_instance=1, clock="mag")
+    log = read_log(ULOG, ReadOptions(mag_instance=1, clock="mag"))
     assert log.units["mag"] == "uT" and log.flight.mag == {"instance": 1, "source": "sensor_mag"}
     # the compass's samples inside the span of the IMU read (sensor_combined: its accelerometer's times are the
     # message's plus accelerometer_timestamp_relative, its gyroscope's the message's), in µT: gauss × 100
@@ -102,7 +103,7 @@ def test_ulog_sample_defaults_to_sensor_combined_and_says_so(ulog2csv):
 
 def test_dataflash_sample_reads_as_mavlogdump_prints():
     dump = _mavlogdump("IMU2")
-    log = read_log(BIN, instance=1)
+    log = read_log(BIN, ReadOptions(instance=1))
     assert log.format == "dataflash" and log.n_samples == len(dump) == 45
     np.testing.assert_allclose(log.acc, [[float(r[f"Acc{a}"]) for a in "XYZ"] for r in dump], rtol=0, atol=1e-6)
     np.testing.assert_allclose(log.gyr, [[float(r[f"Gyr{a}"]) for a in "XYZ"] for r in dump], rtol=0, atol=1e-6)
@@ -110,7 +111,7 @@ def test_dataflash_sample_reads_as_mavlogdump_prints():
     t = np.array([int(r["TimeUS"]) for r in dump])
     np.testing.assert_allclose(log.time_s, (t - t[0]) * 1e-6, atol=1e-9)
     mag3 = _mavlogdump("MAG3")
-    compass = read_log(BIN, mag_instance=2, clock="mag")
+    compass = read_log(BIN, ReadOptions(mag_instance=2, clock="mag"))
     assert compass.flight.mag == {"instance": 2, "source": "MAG"}
     milligauss = np.array([[float(r[f"Mag{a}"]) for a in "XYZ"] for r in mag3])
     t_mag = np.array([int(r["TimeUS"]) for r in mag3])
@@ -129,19 +130,19 @@ def test_dataflash_sample_reads_as_mavlogdump_prints():
 ])
 def test_an_instance_the_log_lacks_is_refused_naming_those_it_has(path, option, words):
     with pytest.raises(LogFormatError, match=words):
-        read_log(path, **option)
+        read_log(path, ReadOptions(**option))
 
 
 def test_text_options_are_refused_for_flight_logs(tmp_path):
     with pytest.raises(LogFormatError, match="chip is for text logs"):
-        read_log(BIN, chip="mpu6050-2g")
+        read_log(BIN, ReadOptions(chip="mpu6050-2g"))
     with pytest.raises(LogFormatError, match="units is for text logs"):
-        read_log(ULOG, units={"acc": "g"})
-    assert read_log(ULOG, units={"acc": "m/s^2"}, instance=0).units["acc"] == "m/s^2"  # the format's own unit
+        read_log(ULOG, ReadOptions(units={"acc": "g"}))
+    assert read_log(ULOG, ReadOptions(units={"acc": "m/s^2"}, instance=0)).units["acc"] == "m/s^2"  # the format's own unit
     csv_path = tmp_path / "still.csv"
     csv_path.write_text("t,ax,ay,az\n" + "".join(f"{i / 100},0,0,9.81\n" for i in range(100)))
     with pytest.raises(LogFormatError, match="instance and mag_instance choose a sensor of a flight"):
-        read_log(csv_path, instance=0)
+        read_log(csv_path, ReadOptions(instance=0))
 
 
 def test_dataflash_is_read_by_its_magic_whatever_its_suffix(tmp_path):
@@ -151,7 +152,7 @@ def test_dataflash_is_read_by_its_magic_whatever_its_suffix(tmp_path):
     assert read_log(copy).format == "dataflash"
     renamed = tmp_path / "flight.dat"
     renamed.write_bytes(ULOG.read_bytes())
-    assert read_log(renamed, instance=2).format == "ulog"
+    assert read_log(renamed, ReadOptions(instance=2)).format == "ulog"
 
 
 @pytest.mark.parametrize("cut", [20, 300, 2000])
@@ -185,7 +186,7 @@ def test_a_dataflash_log_cut_in_its_data_reads_up_to_the_cut(tmp_path):
     data = BIN.read_bytes()
     path = tmp_path / "cut.bin"
     path.write_bytes(data[: len(data) - 37])  # through the middle of a message
-    log = read_log(path, instance=1)
+    log = read_log(path, ReadOptions(instance=1))
     assert 40 <= log.n_samples <= 45 and np.isfinite(log.acc).all()
 
 
@@ -193,7 +194,7 @@ def test_px4_gyroscope_is_interpolated_onto_the_accelerometer_times(tmp_path):
     imus = imu_instances(2)
     ramp = np.linspace(-1.0, 1.0, len(imus[0]["gyr"]))
     imus[0]["gyr"] = np.column_stack([ramp, 2 * ramp, -ramp])
-    log = read_log(px4_file(tmp_path / "lag.ulg", imus, gyro_lag_us=1000), instance=0)
+    log = read_log(px4_file(tmp_path / "lag.ulg", imus, gyro_lag_us=1000), ReadOptions(instance=0))
     # The gyroscope is stamped 1 ms (0.2 sample at 200 Hz) after the accelerometer: the first accelerometer
     # sample precedes every gyroscope sample and is left out; sample i then reads the ramp at i − 0.2.
     n = log.n_samples
@@ -213,18 +214,18 @@ def test_dataflash_batch_sampler_at_full_rate_with_the_imu_temperature(tmp_path)
     messages = [ardupilot_imu(k, imu["time_us"], imu["acc"], imu["gyr"], temps if k else imu["temperature"])
                 for k, imu in enumerate(imus)]
     messages += [ardupilot_batch("ACC", 1, t_batch, acc), ardupilot_batch("GYR", 1, t_batch, np.zeros((n, 3)))]
-    log = read_log(write_dataflash(tmp_path / "batch.bin", messages), instance=1)
+    log = read_log(write_dataflash(tmp_path / "batch.bin", messages), ReadOptions(instance=1))
     assert log.flight.imu == {"instance": 1, "source": "ACC", "gyr_source": "GYR"}
     assert log.sampling_rate_hz == pytest.approx(1000.0, rel=1e-9) and log.n_samples == n
     t_imu = imus[1]["time_us"].astype(float)
     np.testing.assert_allclose(log.temperature_c, np.interp(t_batch.astype(float), t_imu, temps), atol=1e-6)
-    assert read_log(tmp_path / "batch.bin", instance=0).flight.imu["source"] == "IMU"
+    assert read_log(tmp_path / "batch.bin", ReadOptions(instance=0)).flight.imu["source"] == "IMU"
 
 
 def test_older_dataflash_names_instances_mag2(tmp_path):
     imus, mags, _ = compass_tumble(3, duration_s=4.0)
     path = ardupilot_file(tmp_path / "old.bin", imus, mags, numbered_mags=True)
-    log = read_log(path, mag_instance=1, clock="mag")
+    log = read_log(path, ReadOptions(mag_instance=1, clock="mag"))
     np.testing.assert_allclose(log.mag, np.round(mags[1]["mag"] * 10.0) / 10.0, atol=1e-9)
     assert log.sampling_rate_hz == pytest.approx(50.0, rel=1e-9)
 
@@ -234,7 +235,7 @@ def test_the_two_imu_instances_are_their_own(tmp_path):
     for write in (px4_file, ardupilot_file):
         path = write(tmp_path / f"six.{write.__name__}", imus)
         for k in (0, 1):
-            log = read_log(path, instance=k)
+            log = read_log(path, ReadOptions(instance=k))
             n = log.n_samples  # PX4's gyroscope is stamped after the first accelerometer sample: that one is left out
             assert n == len(imus[k]["acc"]) - (write is px4_file)
             np.testing.assert_allclose(log.acc, imus[k]["acc"][-n:], atol=2e-6)

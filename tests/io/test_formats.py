@@ -11,6 +11,7 @@ from app.io.errors import LogFormatError
 from app.io.formats import detect_format, read_log
 from app.io.formats.table import sniff
 from app.io.formats.units import infer_acc_unit
+from app.io.read_options import ReadOptions
 from tests.conftest import DATA
 
 SAMPLES = DATA / "formats"
@@ -152,19 +153,19 @@ def test_unit_inference(scale, unit):
 
 def test_lsb_per_g_needs_counts(tmp_path):
     with pytest.raises(LogFormatError, match="converts counts"):
-        read_log(SAMPLES / "generic_g.csv", lsb_per_g=4096, units={"acc": "g"})
+        read_log(SAMPLES / "generic_g.csv", ReadOptions(lsb_per_g=4096, units={"acc": "g"}))
     with pytest.raises(LogFormatError, match="positive number"):
-        read_log(SAMPLES / "arduino_lsb.csv", lsb_per_g=-1)
+        read_log(SAMPLES / "arduino_lsb.csv", ReadOptions(lsb_per_g=-1))
 
 
 def test_serial_plotter_without_accelerometer_labels(tmp_path):
     with pytest.raises(LogFormatError, match="name no accelerometer x, y and z"):
-        read_log(write(tmp_path, "s.txt", "temp:21 hum:40\ntemp:22 hum:41\n"), sampling_rate_hz=10)
+        read_log(write(tmp_path, "s.txt", "temp:21 hum:40\ntemp:22 hum:41\n"), ReadOptions(sampling_rate_hz=10))
 
 
 def test_unknown_format_name(tmp_path):
     with pytest.raises(LogFormatError, match="unknown format 'xlsx'"):
-        read_log(SAMPLES / "generic_g.csv", format="xlsx")
+        read_log(SAMPLES / "generic_g.csv", ReadOptions(format="xlsx"))
 
 
 def test_zip_with_a_broken_directory(tmp_path):
@@ -198,7 +199,7 @@ def test_the_samples_are_the_generator_output(tmp_path):
 
 
 def test_g_readings_declared_in_m_s2_are_read_in_g_with_a_warning():
-    log = read_log(SAMPLES / "generic_g.csv", units={"acc": "m/s^2"})
+    log = read_log(SAMPLES / "generic_g.csv", ReadOptions(units={"acc": "m/s^2"}))
     assert log.units["acc"] == "g"
     assert any(n.startswith("acc_unit said m/s^2 for the accelerometer, but its readings rest at a median norm of")
                and n.endswith("about 1 g in g: calibrated in g") for n in log.warnings)

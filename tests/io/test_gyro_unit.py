@@ -12,6 +12,7 @@ from app.io.formats import read_log
 from app.calibration.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
 from app.io.formats.chips import GYR_LSB_PER_DPS
 from app.io.formats.gyro_unit import compose, gyro_evidence, rotate_back
+from app.io.read_options import ReadOptions
 from tests.conftest import DATA
 
 CORPUS = DATA / "real" / "corpus"
@@ -54,7 +55,7 @@ def test_a_real_still_mpu6050_in_deg_s_is_read_in_deg_s_whatever_the_header(tmp_
     said = read_log(_write(tmp_path, "said.csv", "t,gyr_x (rad/s),gyr_y (rad/s),gyr_z (rad/s)", [dps]))
     assert said.units["gyr"] == "deg/s"
     assert said.warnings[0].startswith("the header said rad/s for the gyroscope, but a still")
-    given = read_log(_write(tmp_path, "given.csv", "t,gyr_x,gyr_y,gyr_z", [dps]), units={"gyr": "rad/s"})
+    given = read_log(_write(tmp_path, "given.csv", "t,gyr_x,gyr_y,gyr_z", [dps]), ReadOptions(units={"gyr": "rad/s"}))
     assert given.units["gyr"] == "deg/s" and given.warnings[0].startswith("gyr_unit said rad/s for the gyroscope")
 
 

@@ -10,6 +10,7 @@ import pytest
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.table import numeric_layout
+from app.io.read_options import ReadOptions
 from tests.conftest import DATA
 
 SAMPLES = DATA / "formats"
@@ -64,7 +65,7 @@ def test_three_columns_are_x_y_z_and_take_a_rate(tmp_path):
     log = read_log(p)  # still poses need no rate: the note says which methods ask for one
     assert log.sampling_rate_hz is None
     assert any(re.search("has no time column.*noise, cube and autocal methods ask for one", n) for n in log.notes)
-    log = read_log(p, sampling_rate_hz=200)
+    log = read_log(p, ReadOptions(sampling_rate_hz=200))
     assert log.columns == ["acc_x", "acc_y", "acc_z"] and log.sampling_rate_hz == 200 and log.time_s is None
 
 
@@ -78,10 +79,10 @@ def test_other_column_counts_are_named_from_the_data_or_by_columns(tmp_path):
     # An accelerometer resting at 9.8 and three columns resting near zero: time, accelerometer, gyroscope.
     guessed = read_log(p)
     assert guessed.columns == ["time", "acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"]
-    log = read_log(p, columns="t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    log = read_log(p, ReadOptions(columns="t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"))
     assert log.channels == ["acc", "gyr"] and log.units["gyr"] == "rad/s"
     np.testing.assert_allclose(log.gyr[0], [0.0, 0.001, 0.002])
-    skipped = read_log(p, columns="time_s,acc_x,acc_y,acc_z,-,-,-")
+    skipped = read_log(p, ReadOptions(columns="time_s,acc_x,acc_y,acc_z,-,-,-"))
     assert skipped.channels == ["acc"] and skipped.sampling_rate_hz == pytest.approx(100.0)
 
 
@@ -96,19 +97,19 @@ def test_other_column_counts_are_named_from_the_data_or_by_columns(tmp_path):
 ])
 def test_bad_columns_name_the_problem(tmp_path, columns, fragment):
     with pytest.raises(LogFormatError) as e:
-        read_log(write(tmp_path, "imu.csv", rows(7)), columns=columns)
+        read_log(write(tmp_path, "imu.csv", rows(7)), ReadOptions(columns=columns))
     assert fragment in str(e.value)
 
 
 def test_decimal_commas_between_comma_separators_are_refused_by_their_count(tmp_path):
     p = write(tmp_path, "eu.csv", "".join(f"{i / 100:.2f},0.01,0.02,9.81\n".replace(".", ",") for i in range(N)))
     with pytest.raises(LogFormatError, match="decimal commas .* save the log with semicolons or tabs"):
-        read_log(p, columns="t,acc_x,acc_y,acc_z")
+        read_log(p, ReadOptions(columns="t,acc_x,acc_y,acc_z"))
 
 
 def test_columns_replace_a_header_row(tmp_path):
     text = "Zeit;Wert1;Wert2;Wert3\n" + rows(4, sep=";", decimal=",")
-    log = read_log(write(tmp_path, "de.csv", text), columns="time_s,acc_x,acc_y,acc_z")
+    log = read_log(write(tmp_path, "de.csv", text), ReadOptions(columns="time_s,acc_x,acc_y,acc_z"))
     assert log.columns == ["time_s", "acc_x", "acc_y", "acc_z"] and log.sampling_rate_hz == pytest.approx(100.0)
     assert "header row replaced by columns time_s, acc_x, acc_y, acc_z" in log.notes
 
@@ -142,11 +143,11 @@ def test_numeric_layout(line, layout):
 
 def test_sign_minus_one_negates_the_accelerations(tmp_path):
     p = write(tmp_path, "log.txt", rows(4, sep=" "))
-    kept, flipped = read_log(p), read_log(p, sign=-1)
+    kept, flipped = read_log(p), read_log(p, ReadOptions(sign=-1))
     np.testing.assert_array_equal(flipped.acc, -kept.acc)
     assert (kept.sign, flipped.sign) == (1, -1) and "accelerations negated as sign=-1 asks" in flipped.notes
     with pytest.raises(LogFormatError, match="sign must be 1 .* or -1"):
-        read_log(p, sign=2)
+        read_log(p, ReadOptions(sign=2))
 
 
 def test_a_sensorlog_file_is_detected_as_ios_and_negated():
@@ -154,9 +155,9 @@ def test_a_sensorlog_file_is_detected_as_ios_and_negated():
     assert log.format == "sensorlog" and log.sign == -1 and log.units == {"acc": "g", "gyr": "rad/s"}
     assert any(n.startswith("this looks like an iOS Core Motion log (accelerometerAccelerationX(G)") and
                n.endswith("pass sign=1 to keep them") for n in log.notes)
-    generic = read_log(SAMPLES / "headerless_tab_xyz_g.txt", sampling_rate_hz=50)
+    generic = read_log(SAMPLES / "headerless_tab_xyz_g.txt", ReadOptions(sampling_rate_hz=50))
     np.testing.assert_allclose(log.acc, generic.acc, atol=1e-6)  # the same rests on trical's sign
-    kept = read_log(SAMPLES / "sensorlog_ios.csv", sign=1)
+    kept = read_log(SAMPLES / "sensorlog_ios.csv", ReadOptions(sign=1))
     np.testing.assert_array_equal(kept.acc, -log.acc)
     assert kept.sign == 1 and "sign=1 given: the file's accelerations are kept as they are (not negated)" in kept.notes
 
@@ -188,6 +189,6 @@ def test_android_gravity_columns_alone_are_not_ios(tmp_path):
 
 def test_sensor_logger_ios_flip_can_be_refused_with_sign_one():
     flipped = read_log(SAMPLES / "sensor_logger_ios.zip")
-    kept = read_log(SAMPLES / "sensor_logger_ios.zip", sign=1)
+    kept = read_log(SAMPLES / "sensor_logger_ios.zip", ReadOptions(sign=1))
     assert flipped.sign == -1 and kept.sign == 1
     np.testing.assert_array_equal(kept.acc, -flipped.acc)

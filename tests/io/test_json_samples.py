@@ -9,6 +9,7 @@ import pytest
 
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
+from app.io.read_options import ReadOptions
 from tests.conftest import DATA
 
 BETAFLIGHT = DATA / "real" / "corpus" / "betaflight_mag_characterization_model" / "characterization_model_2026-06-26.json"
@@ -64,5 +65,5 @@ def test_a_json_file_cut_short_is_named_by_line_and_column(tmp_path):
 def test_the_betaflight_export_is_refused_whatever_format_is_asked(tmp_path):
     for fmt in ("auto", "betaflight_mag", "json"):
         with pytest.raises(LogFormatError, match="Betaflight configurator's magnetometer characterization model") as err:
-            read_log(BETAFLIGHT, format=fmt, name=BETAFLIGHT.name)
+            read_log(BETAFLIGHT, ReadOptions(format=fmt), name=BETAFLIGHT.name)
         assert err.value.status == 422

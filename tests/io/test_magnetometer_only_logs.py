@@ -12,6 +12,7 @@ import pytest
 from simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
+from app.io.read_options import ReadOptions
 from app.workflow import describe_log
 
 N = 200
@@ -66,7 +67,7 @@ def test_a_magnetometer_alone_is_read(tmp_path, case):
     filename, content, options, fmt = CASES[case]
     path = tmp_path / filename
     path.write_bytes(content if isinstance(content, bytes) else content.encode())
-    log = read_log(path, format="auto", sampling_rate_hz=None, units={}, name=filename, **options)
+    log = read_log(path, ReadOptions(format="auto", sampling_rate_hz=None, units={}, **options), name=filename)
     assert log.format == fmt and log.channels == ["mag"] and log.acc is None
     assert log.units == {"mag": "uT"} and log.n_samples == N
     assert log.sampling_rate_hz == pytest.approx(RATE, rel=1e-3)
@@ -79,5 +80,5 @@ def test_a_file_without_any_sensor_triple_says_what_it_wants(tmp_path):
     path = tmp_path / "x.csv"
     path.write_text("time_s,temperature,pressure\n0,20,1000\n0.1,20,1000\n")
     with pytest.raises(LogFormatError, match="mag_x, mag_y, mag_z"):
-        read_log(path, format="auto", sampling_rate_hz=None, units={}, name="x.csv")
+        read_log(path, ReadOptions(format="auto", sampling_rate_hz=None, units={}), name="x.csv")
 

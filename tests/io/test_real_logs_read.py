@@ -13,6 +13,7 @@ from app.io.formats import read_log
 from app.io.formats.generic_csv import leading_prose, map_columns, split_header, table_layout
 from app.io.formats.table import read_columns, text_block_cell
 from app.io.formats.units import common_sensitivity, field_magnitude, infer_mag_unit, turn_field
+from app.io.read_options import ReadOptions
 from tests.conftest import DATA
 
 CORPUS = DATA / "real" / "corpus"
@@ -58,7 +59,7 @@ def test_whole_numbers_of_a_still_magnetometer_are_counts_unless_a_unit_is_state
                                        "uT")):
         path = tmp_path / "mag.csv"
         np.savetxt(path, values, fmt=fmt, delimiter=",", header=header, comments="")
-        log = read_log(path, sampling_rate_hz=50, units={}, name="mag.csv")
+        log = read_log(path, ReadOptions(sampling_rate_hz=50, units={}), name="mag.csv")
         assert log.units["mag"] == unit, (header, fmt)
 
 
@@ -93,7 +94,7 @@ def test_start_up_lines_before_a_header_are_skipped_and_the_header_kept():
 
 
 def test_the_bno055_capture_reads_in_g_from_its_milli_g():
-    log = read_log(BNO, sampling_rate_hz=50, units={}, name="imu_raw.csv", columns=",".join(BNO_COLUMNS))
+    log = read_log(BNO, ReadOptions(sampling_rate_hz=50, units={}, columns=",".join(BNO_COLUMNS)), name="imu_raw.csv")
     assert log.units == {"acc": "g", "gyr": "raw", "mag": "raw"}
     rows = np.loadtxt(BNO_ROWS, delimiter=",")
     np.testing.assert_array_equal(log.acc, rows[:, :3] / 1000.0)
@@ -111,7 +112,7 @@ def test_hyperimu_at_lines_are_comments_and_its_chip_named_columns_are_read():
     assert [names[channels["acc"][a]] for a in "xyz"] == [f"accelerometer_lsm6ds3_c.{a}" for a in "xyz"]
     assert [names[channels["gyr"][a]] for a in "xyz"] == [f"gyroscope_lsm6ds3_c.{a}" for a in "xyz"]
     assert names[time_col] == "timestamp"
-    log = read_log(HYPERIMU, sampling_rate_hz=None, units={}, name="imu.csv")
+    log = read_log(HYPERIMU, ReadOptions(sampling_rate_hz=None, units={}), name="imu.csv")
     assert log.units["acc"] == "m/s^2" and log.acc.shape == (330, 3)
 
 
@@ -169,16 +170,16 @@ def test_a_text_block_in_a_cell_is_quoted_with_its_line_and_column():
         with pytest.raises(LogFormatError, match=r"line 2, column 'IMU1Data' holds a block of text over several "
                                                  r"lines \('accelerometer \{' …\), not a number: .* no columns "
                                                  "mapping can read it"):
-            read_log(BLUEYE, sampling_rate_hz=None, units={}, name="calibration_data.csv", columns=columns)
+            read_log(BLUEYE, ReadOptions(sampling_rate_hz=None, units={}, columns=columns), name="calibration_data.csv")
 
 
 def test_the_rate_a_hyperimu_comment_states_is_used_when_there_is_no_time_column(tmp_path):
     lines = HYPERIMU.read_text().splitlines()  # '@ Date:…, Sampling Rate:50ms'
     path = tmp_path / "imu.csv"
     path.write_text("\n".join(lines[:3] + [",".join(r.split(",")[1:4]) for r in lines[3:]]) + "\n")
-    log = read_log(path, sampling_rate_hz=None, units={}, name="imu.csv")
+    log = read_log(path, ReadOptions(sampling_rate_hz=None, units={}), name="imu.csv")
     assert log.sampling_rate_hz == 20.0 and log.timing.source == "file"
     assert "no time column: the rate 20 Hz its comment line states is used" in log.notes
-    assert read_log(path, sampling_rate_hz=25.0, units={}, name="imu.csv").sampling_rate_hz == 25.0
+    assert read_log(path, ReadOptions(sampling_rate_hz=25.0, units={}), name="imu.csv").sampling_rate_hz == 25.0
     # With its time column the timestamps decide (Android delivers near, not at, the requested rate).
-    assert read_log(HYPERIMU, sampling_rate_hz=None, units={}, name="imu.csv").timing.source == "time column"
+    assert read_log(HYPERIMU, ReadOptions(sampling_rate_hz=None, units={}), name="imu.csv").timing.source == "time column"

@@ -14,6 +14,7 @@ import pytest
 
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
+from app.io.read_options import ReadOptions
 from app.io.sensor_files import per_sensor_files, sensor_from_name
 from tests.conftest import DATA
 
@@ -111,13 +112,11 @@ def test_without_time_columns_files_of_equal_length_are_taken_sample_by_sample(t
     _, vg = _stream(rng, 0, 100, 300, [0.01, 0, 0], 0.001)
     rows = lambda v: ("ax,ay,az\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
     rowsg = lambda v: ("gx,gy,gz\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
-    log = read_log(zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg)}), name="rec.zip",
-                   sampling_rate_hz=100)
+    log = read_log(zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg)}), ReadOptions(sampling_rate_hz=100), name="rec.zip")
     assert log.channels == ["acc", "gyr"] and log.n_samples == 300
     assert any("taken as simultaneous" in n for n in log.notes)
     with pytest.raises(LogFormatError, match="cannot be put on one clock"):
-        read_log(zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg[:200])}), name="rec.zip",
-                 sampling_rate_hz=100)
+        read_log(zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg[:200])}), ReadOptions(sampling_rate_hz=100), name="rec.zip")
 
 
 SENSOR_LOGGER = DATA / "real" / "corpus" / "sensor_logger_iphone_per_sensor_files"

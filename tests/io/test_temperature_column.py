@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from app.io.formats import read_log
+from app.io.read_options import ReadOptions
 
 ROWS = [(0.00, 0.1, 0.2, 9.8, 21.5), (0.01, 0.1, 0.2, 9.8, 21.52), (0.02, 0.1, 0.2, 9.81, 21.55),
         (0.03, 0.11, 0.2, 9.8, 21.6)]
@@ -33,8 +34,8 @@ def test_a_log_without_temperature_has_none(tmp_path):
 
 def test_columns_name_or_map_the_temperature(tmp_path):
     path = _write(tmp_path, None)
-    log = read_log(path, columns="t,acc_x,acc_y,acc_z,temp_c", sampling_rate_hz=100)
+    log = read_log(path, ReadOptions(columns="t,acc_x,acc_y,acc_z,temp_c", sampling_rate_hz=100))
     np.testing.assert_allclose(log.temperature_c, [r[4] for r in ROWS])
     path = _write(tmp_path, "time_s,acc_x,acc_y,acc_z,board")
-    log = read_log(path, columns="temp_c:board")
+    log = read_log(path, ReadOptions(columns="temp_c:board"))
     np.testing.assert_allclose(log.temperature_c, [r[4] for r in ROWS])

@@ -12,6 +12,7 @@ from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.chips import CHIPS, parse_chips
 from app.io.formats.units import field_magnitude, infer_mag_unit
+from app.io.read_options import ReadOptions
 
 G = 9.80665
 SIX = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=100.0, rest_s=(2.0, 2.5), turn_s=(1.0, 1.5))
@@ -32,8 +33,8 @@ def _write(tmp_path, header: str, columns: list, fmt: str = "%.6f", name: str = 
 
 
 def _read(path, **kw):
-    return read_log(path, sampling_rate_hz=kw.pop("sampling_rate_hz", None), units=kw.pop("units", {}),
-                    name=path.name, **kw)
+    return read_log(path, ReadOptions(sampling_rate_hz=kw.pop("sampling_rate_hz", None), units=kw.pop("units", {}),
+                                      **kw), name=path.name)
 
 
 # -- the datasheet scales ----------------------------------------------------------------------

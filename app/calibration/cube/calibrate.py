@@ -521,42 +521,42 @@ def calibrate_cube(
     rec = _Stages(seg=seg, proto=proto, fs=fs, seq=seq, n_valid=n_valid, drift=drift,
                   centres_s=np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static]))
     acc_res = _fit_field(rec, a, g, "acc", gates)
-    mag_res = None
-    if m is not None:
-        if not proto.heading_known:
-            gates.warn(
-                f"mag not calibrated: protocol {proto.name} leaves the headings unknown, so the field's "
-                "direction changes between positions in an unknown way; use cube24 or a protocol of known rotations"
-            )
-        else:
-            mag_res = _fit_field(rec, m, float(field_ut), "mag", gates)
+    mag_res = None if m is None else _fit_mag(rec, m, float(field_ut), gates)
     gyr_res, used = _fit_gyro(rec, w, lam, gates)
     for res in (acc_res, gyr_res, mag_res):
         if res is not None:
             gates.merge(res, unique=True)
-    metrics = {
-        "n_samples": int(len(a)),
+    return CubeCalibration(
+        acc=acc_res, gyr=gyr_res, mag=mag_res, protocol=proto, sequence=seq.rotations,
+        first_wrong_rotation=seq.first_wrong, segmentation=seg, drift=drift, sampling_rate_hz=fs, gravity=g,
+        field_ut=None if field_ut is None else float(field_ut), metrics=_cube_metrics(rec, len(a), used, has_return),
+        **gates.fields(),
+    )
+
+
+def _fit_mag(rec: _Stages, m, field_ut: float, gates: Gates):
+    """The magnetometer as the accelerometer (:func:`_fit_field`), when the protocol knows the headings
+    between positions; else None, with a warning saying why."""
+    if not rec.proto.heading_known:
+        gates.warn(
+            f"mag not calibrated: protocol {rec.proto.name} leaves the headings unknown, so the field's "
+            "direction changes between positions in an unknown way; use cube24 or a protocol of known rotations"
+        )
+        return None
+    return _fit_field(rec, m, field_ut, "mag", gates)
+
+
+def _cube_metrics(rec: _Stages, n_samples: int, used: list[int], has_return: bool) -> dict:
+    """What the recording held and what the fits used: positions found and used, rotations used, return."""
+    seg = rec.seg
+    return {
+        "n_samples": int(n_samples),
         "n_positions_found": len(seg.static),
         "n_still_found": seg.n_still_found,
         "n_handling": len(seg.handling),
         "positions_from": seg.source,
-        "n_positions_used": n_valid,
+        "n_positions_used": rec.n_valid,
         "rotations_used": [k + 1 for k in used],
         "returned_to_start": has_return,
-        "duration_s": len(a) / fs,
+        "duration_s": n_samples / rec.fs,
     }
-    return CubeCalibration(
-        acc=acc_res,
-        gyr=gyr_res,
-        mag=mag_res,
-        protocol=proto,
-        sequence=seq.rotations,
-        first_wrong_rotation=seq.first_wrong,
-        segmentation=seg,
-        drift=drift,
-        sampling_rate_hz=fs,
-        gravity=g,
-        field_ut=None if field_ut is None else float(field_ut),
-        metrics=metrics,
-        **gates.fields(),
-    )

@@ -195,19 +195,7 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
     InsufficientDataError
         Fewer than :data:`MIN_FIT_SAMPLES` usable samples.
     """
-    m = _array(mag, "the compass readings", (3,))
-    n0 = len(m)
-    e = _array(expected, "the expected field", (3,), n0)
-    t = np.asarray(time_s, dtype=float).reshape(-1)
-    if len(t) != n0:
-        raise CalibrationError(f"time_s must have one time per reading ({n0}); got {len(t)}")
-    p = None if power is None else np.asarray(power, dtype=float).reshape(-1)
-    if p is not None and len(p) != n0:
-        raise CalibrationError(f"power must have one value per reading ({n0}); got {len(p)}")
-    if p is not None and power_kind not in ("current", "throttle"):
-        raise CalibrationError(f"power_kind must be current or throttle with a power; got {power_kind!r}")
-    fw = None if firmware_field is None else _array(firmware_field, "the firmware's field", (3,), n0)
-    C = None if attitude is None else _array(attitude, "the attitude", (3, 3), n0)
+    m, e, t, p, fw, C = _series_arrays(mag, expected, time_s, power, power_kind, firmware_field, attitude)
     F2B = np.eye(3) if frame_to_body is None else np.asarray(frame_to_body, dtype=float).reshape(3, 3)
     B = None if earth_ned is None else np.asarray(earth_ned, dtype=float).reshape(3)
     if int(folds) < 2:
@@ -248,18 +236,7 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
     _parameter_gates(gates, fit, half, F, p, power_kind, confidence)
 
     # 4. The figure: heading errors on segments left out, before and after.
-    heading = {"before": None, "after": None}
-    err_before = err_after = None
-    if C is not None:
-        err_after = wrap_deg(headings_deg(left_out[chosen], C) - ref)
-        heading["after"] = error_summary(err_after)
-        if fw is not None:
-            err_before = wrap_deg(headings_deg(fw, C) - ref)
-            heading["before"] = error_summary(err_before)
-            if heading["after"]["rms"] >= heading["before"]["rms"]:
-                gates.fail(f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
-                           f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
-                           "calibration): keep the calibration the firmware has")
+    heading, err_before, err_after = _heading_errors(gates, left_out[chosen], fw, C, ref)
 
     idx = _thin(n)
     thin = lambda a: None if a is None else a[idx]  # noqa: E731
@@ -278,6 +255,45 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
         heading_error_deg=heading, models=scores, coverage=float(share), n_samples=n, series=series,
         intervals=blocks, confidence=confidence,
     )
+
+
+def _series_arrays(mag, expected, time_s, power, power_kind, firmware_field, attitude):
+    """The flight's series as arrays, each checked for its shape and one value per reading: the readings,
+    the expected field, the times, the power (with its kind), the firmware's field and the attitude (the
+    last three None when not given)."""
+    m = _array(mag, "the compass readings", (3,))
+    n0 = len(m)
+    e = _array(expected, "the expected field", (3,), n0)
+    t = np.asarray(time_s, dtype=float).reshape(-1)
+    if len(t) != n0:
+        raise CalibrationError(f"time_s must have one time per reading ({n0}); got {len(t)}")
+    p = None if power is None else np.asarray(power, dtype=float).reshape(-1)
+    if p is not None and len(p) != n0:
+        raise CalibrationError(f"power must have one value per reading ({n0}); got {len(p)}")
+    if p is not None and power_kind not in ("current", "throttle"):
+        raise CalibrationError(f"power_kind must be current or throttle with a power; got {power_kind!r}")
+    fw = None if firmware_field is None else _array(firmware_field, "the firmware's field", (3,), n0)
+    C = None if attitude is None else _array(attitude, "the attitude", (3, 3), n0)
+    return m, e, t, p, fw, C
+
+
+def _heading_errors(gates: Gates, corrected_left_out, fw, C, ref) -> tuple[dict, np.ndarray | None, np.ndarray | None]:
+    """The heading errors against the reference azimuth ``ref``: after (the fields of the chosen model on
+    segments left out) and before (the firmware's field), each summarised, and both series; None without an
+    attitude (and before without the firmware's field). A fit that does not lower the error fails."""
+    heading = {"before": None, "after": None}
+    err_before = err_after = None
+    if C is not None:
+        err_after = wrap_deg(headings_deg(corrected_left_out, C) - ref)
+        heading["after"] = error_summary(err_after)
+        if fw is not None:
+            err_before = wrap_deg(headings_deg(fw, C) - ref)
+            heading["before"] = error_summary(err_before)
+            if heading["after"]["rms"] >= heading["before"]["rms"]:
+                gates.fail(f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
+                           f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
+                           "calibration): keep the calibration the firmware has")
+    return heading, err_before, err_after
 
 
 def _usable(m, e, t, p, fw, C):

@@ -1,6 +1,6 @@
 """Log formats of phone and microcontroller apps, recognised by their header, read into :class:`LogData`.
 
-``read_log(path, format="auto")`` sniffs the upload (the first 64 KiB, or the member names of a
+``read_log(path, options)`` sniffs the upload (the first 64 KiB, or the member names of a
 zip), picks the first format whose ``detect`` accepts it — in the order of :data:`DETECTORS`, most
 specific first — and reads it.  Whatever the format, the result then goes through the same checks:
 counts become g when ``lsb_per_g`` is known (caller or a ``# lsb_per_g=…`` comment), and a log
@@ -38,6 +38,7 @@ from pathlib import Path
 
 from ..errors import LogFormatError
 from ..log import LogData
+from ..read_options import ReadOptions
 from . import (betaflight_mag, dataflash, generic_csv, gnss_logger, json_samples, phyphox, physics_toolbox, sensor_logger,
                sensorlog, ulog)
 from .flight_log import CLOCKS
@@ -189,44 +190,16 @@ def detect_format(s: Sniff) -> str:
     )
 
 
-def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None = None,
-             units: dict | None = None, lsb_per_g: float | None = None,
-             columns: str | dict | list | None = None, sign: int | None = None, chip: str | list | None = None,
-             instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
-             name: str = "the file") -> LogData:
+def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "the file") -> LogData:
     """Read a log in any supported format into arrays.
 
     Parameters
     ----------
     path : pathlib.Path
         The uploaded file (text or zip).
-    format : str
-        One of :data:`FORMATS`; ``auto`` detects it from the header.
-    sampling_rate_hz : float, optional
-        Required when the file has no time column; overrides the rate the time column gives.
-    units : dict, optional
-        Units per sensor (``{"acc": "g"}``), overriding what the format and the data say.
-    lsb_per_g : float, optional
-        Sensitivity of an accelerometer read in counts: readings are divided by it into g.  A
-        comment ``# lsb_per_g=16384`` in the file gives it too.
-    columns : str, dict or list, optional
-        Column mapping of a CSV whose header trical does not recognise, ``"acc_x:north,acc_y:east,
-        acc_z:down,time_ms:t"``, or one name per column, ``"t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"``
-        (a table without a header row, or instead of its header row; :func:`parse_columns`); the
-        file is then read as a generic (or Arduino) CSV.
-    sign : {1, -1}, optional
-        Factor on the file's accelerations (−1 for Core Motion's sign); detected when None
-        (:mod:`.ios_sign`).
-    chip : str, optional
-        The parts and ranges of the file's sensors in counts, separated by commas (``mpu6050-4g,
-        ak8963-16bit``; :data:`app.io.formats.chips.CHIPS`): their counts become g, °/s and µT.
-    instance, mag_instance : int, optional
-        A flight controller's log (:data:`FLIGHT_FORMATS`): the IMU instance read (default: PX4 the
-        source with the most samples, ArduPilot the first) and the compass instance (default the
-        first); an instance the log lacks is refused naming those it has.
-    clock : {"imu", "mag"}
-        A flight controller's log: the samples on the IMU's times (no compass), or on the compass's
-        with the IMU interpolated onto them (what the compass methods read; :mod:`.flight_log`).
+    options : ReadOptions
+        How to read it (:class:`app.io.read_options.ReadOptions`: format, rate, units, counts per g, columns,
+        sign, chips, a flight controller's instances and clock); by default the file decides.
     name : str
         How to call the file in messages.
 
@@ -234,7 +207,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     -------
     LogData
         Readings as specific force with +g on the up axis (iOS signs flipped where the format or the
-        header says so, or as ``sign`` asks), ``format`` naming the reader, ``sign`` the factor
+        header says so, or as ``options.sign`` asks), ``format`` naming the reader, ``sign`` the factor
         applied and ``notes`` what it decided.
 
     Raises
@@ -243,51 +216,62 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
         Unknown format, a file the format cannot read (the message names the line or column and
         the fix), linear acceleration, inconsistent units or signs.
     """
-    if format not in FORMATS:
-        raise LogFormatError(f"unknown format {format!r}: use one of {', '.join(FORMATS)}")
-    from ..arrays import is_array_file, read_array_log  # here: app.io.arrays reads CSV through this package
+    o = options
+    if o.format not in FORMATS:
+        raise LogFormatError(f"unknown format {o.format!r}: use one of {', '.join(FORMATS)}")
+    from ..arrays import is_array_file  # here: app.io.arrays reads CSV through this package
 
-    if clock not in CLOCKS:
-        raise LogFormatError(f"unknown clock {clock!r}: use one of {', '.join(CLOCKS)}")
-    if format in FLIGHT_FORMATS or (format == "auto" and starts_like_flight_log(path)):
-        return read_flight_log(path, format=format, instance=instance, mag_instance=mag_instance, clock=clock,
-                               sampling_rate_hz=sampling_rate_hz, units=units, lsb_per_g=lsb_per_g, columns=columns,
-                               sign=sign, chip=chip, name=name)
-    if instance is not None or mag_instance is not None:
+    if o.clock not in CLOCKS:
+        raise LogFormatError(f"unknown clock {o.clock!r}: use one of {', '.join(CLOCKS)}")
+    if o.format in FLIGHT_FORMATS or (o.format == "auto" and starts_like_flight_log(path)):
+        return read_flight_log(path, o, name=name)
+    if o.instance is not None or o.mag_instance is not None:
         raise LogFormatError(f"instance and mag_instance choose a sensor of a flight controller's log (PX4 .ulg, "
                              f"ArduPilot .bin); {name} is not one: leave them out")
-    if format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
-        if chip or lsb_per_g is not None:
-            raise LogFormatError(f"{name} is an array file, whose samples trical takes in the unit given (`unit`, "
-                                 "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
-                                 "by the sensitivity before saving the array, or upload them as CSV")
-        check_sign(sign)
-        log = read_array_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name)
-        return settle_sign(with_timing(log, sampling_rate_hz, name), sign)
-    check_sign(sign)
-    column_map = parse_columns(columns)
+    if o.format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
+        return _read_array_file(path, o, name)
+    check_sign(o.sign)
+    column_map = parse_columns(o.columns)
     s = sniff(path, name)
-    json_fmt = format if format in (betaflight_mag.NAME, json_samples.NAME) else None
-    if format in ("auto", json_samples.NAME) and json_samples.detect(s):
+    json_fmt = o.format if o.format in (betaflight_mag.NAME, json_samples.NAME) else None
+    if o.format in ("auto", json_samples.NAME) and json_samples.detect(s):
         json_fmt = betaflight_mag.NAME if betaflight_mag.detect(s) else json_samples.NAME
     if json_fmt is not None:  # JSON: the export of a fit (refused), or an array of samples read as its table
 
         def read_table(table, table_name):
-            return read_log(table, sampling_rate_hz=sampling_rate_hz, units=units, lsb_per_g=lsb_per_g,
-                            columns=columns, sign=sign, chip=chip, name=table_name)
+            return read_log(table, dataclasses.replace(o, format="auto", clock="imu"), name=table_name)
 
         return READERS[json_fmt](path, s, name=name, read_table=read_table)
-    if s.is_zip and format not in (phyphox.NAME, sensor_logger.NAME) and not (phyphox.detect(s) or sensor_logger.detect(s)) \
+    if s.is_zip and o.format not in (phyphox.NAME, sensor_logger.NAME) and not (phyphox.detect(s) or sensor_logger.detect(s)) \
             and not any(m.startswith("xl/") for m in s.members):
         # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
         from ..parts import read_parts_zip
 
         def read_part(part_path, part_name, part_columns=None):
-            return read_log(part_path, format=format, sampling_rate_hz=sampling_rate_hz, units=units,
-                            lsb_per_g=lsb_per_g, columns=part_columns or columns, sign=sign, chip=chip,
+            return read_log(part_path, dataclasses.replace(o, columns=part_columns or o.columns, clock="imu"),
                             name=part_name)
 
-        return read_parts_zip(path, s.members, read_part, name=name, columns_given=bool(columns))
+        return read_parts_zip(path, s.members, read_part, name=name, columns_given=bool(o.columns))
+    fmt = _text_format(s, o.format, column_map, name)
+    return _read_text_log(path, s, fmt, column_map, o, name)
+
+
+def _read_array_file(path: Path, o: ReadOptions, name: str) -> LogData:
+    """A .npy, Parquet or wearable's file (:mod:`app.io.arrays`): its samples in the unit given, timed and signed."""
+    from ..arrays import read_array_log
+
+    if o.chip or o.lsb_per_g is not None:
+        raise LogFormatError(f"{name} is an array file, whose samples trical takes in the unit given (`unit`, "
+                             "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
+                             "by the sensitivity before saving the array, or upload them as CSV")
+    check_sign(o.sign)
+    log = read_array_log(path, sampling_rate_hz=o.sampling_rate_hz, units=o.units, name=name)
+    return settle_sign(with_timing(log, o.sampling_rate_hz, name), o.sign)
+
+
+def _text_format(s: Sniff, format: str, column_map, name: str) -> str:
+    """The format a text log (or a phone app's zip) is read in: the one asked for, else the one detected; a
+    generic CSV when its columns are mapped. Refuses a format the file cannot be."""
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
         raise LogFormatError(f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
                              "leave columns out, or use format=csv")
@@ -301,22 +285,29 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
             and not dict(DETECTORS)[fmt](s):
         raise LogFormatError(f"{name} does not look like a {fmt} file (its header does not match): use "
                              "format=auto, or map its columns as acc_x, acc_y, acc_z with format=csv")
-    chips = parse_chips(chip)
+    return fmt
+
+
+def _read_text_log(path: Path, s: Sniff, fmt: str, column_map, o: ReadOptions, name: str) -> LogData:
+    """A text log (or a phone app's zip) read by the reader of ``fmt``, then timed, put in its units (the
+    caller's, the header's, the format's, the chips' or the counts per g) and signed; linear acceleration is
+    refused."""
+    chips = parse_chips(o.chip)
     comment_lsb = None if s.is_zip else generic_csv.lsb_from_comments(s.lines)
-    lsb = lsb_per_g if lsb_per_g is not None else comment_lsb
+    lsb = o.lsb_per_g if o.lsb_per_g is not None else comment_lsb
     extra = {}
     if column_map:
         extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
-    log = READERS[fmt](path, s, sampling_rate_hz=sampling_rate_hz, units=dict(units or {}), name=name,
+    log = READERS[fmt](path, s, sampling_rate_hz=o.sampling_rate_hz, units=dict(o.units or {}), name=name,
                        lsb_per_g=lsb, **extra)
-    log = with_timing(log, sampling_rate_hz, name)  # the one decision of the rate (.timing)
+    log = with_timing(log, o.sampling_rate_hz, name)  # the one decision of the rate (.timing)
     maker = fmt in (generic_csv.CSV, generic_csv.ARDUINO)
     if maker:  # a header row names the units, or nothing does
         stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text, column_map)
     else:  # a phone app's format states its units
-        stated = {k: v for k, v in log.units.items() if k not in (units or {})}
-    log = settle_units(log, given=units, stated=stated, lsb_per_g=lsb,
-                       lsb_source="lsb_per_g" if lsb_per_g is not None else "the file's comment lsb_per_g",
+        stated = {k: v for k, v in log.units.items() if k not in (o.units or {})}
+    log = settle_units(log, given=o.units, stated=stated, lsb_per_g=lsb,
+                       lsb_source="lsb_per_g" if o.lsb_per_g is not None else "the file's comment lsb_per_g",
                        chips=chips, stated_by="the header" if maker else f"the {fmt} format", check_mag=maker,
                        name=name)
     notes = [] if fmt == log.format else [f"read as {fmt}"]
@@ -324,7 +315,7 @@ def read_log(path: Path, *, format: str = "auto", sampling_rate_hz: float | None
     if log.acc is None:  # a magnetometer (or gyroscope) alone
         return log
     refuse_linear_acceleration(log.acc, log.units["acc"], name)
-    return settle_sign(log, sign)
+    return settle_sign(log, o.sign)
 
 
 def starts_like_flight_log(path: Path) -> bool:
@@ -335,29 +326,28 @@ def starts_like_flight_log(path: Path) -> bool:
         return f.read(8).startswith(BINARY_LOG_MAGICS)
 
 
-def read_flight_log(path: Path, *, format: str, instance: int | None, mag_instance: int | None, clock: str,
-                    sampling_rate_hz: float | None, units: dict | None, lsb_per_g: float | None, columns,
-                    sign: int | None, chip, name: str) -> LogData:
+def read_flight_log(path: Path, options: ReadOptions, *, name: str) -> LogData:
     """A PX4 ULog or ArduPilot DataFlash log (:mod:`.ulog`, :mod:`.dataflash`): its units and frame are the
     format's, so the options of text logs (columns, chip, lsb_per_g, units, sign) are refused."""
+    o = options
     own = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
-    other_units = {k: v for k, v in (units or {}).items() if own.get(k) != v}
-    given = [k for k, v in (("columns", columns), ("chip", chip), ("lsb_per_g", lsb_per_g), ("units", other_units),
-                            ("sign", sign if sign != 1 else None)) if v]
+    other_units = {k: v for k, v in (o.units or {}).items() if own.get(k) != v}
+    given = [k for k, v in (("columns", o.columns), ("chip", o.chip), ("lsb_per_g", o.lsb_per_g),
+                            ("units", other_units), ("sign", o.sign if o.sign != 1 else None)) if v]
     if given:
         raise LogFormatError(f"{name} is a flight controller's log, whose units and frame the format states: "
                              f"{', '.join(given)} {'is' if len(given) == 1 else 'are'} for text logs — leave "
                              f"{'it' if len(given) == 1 else 'them'} out (its units: m/s^2, rad/s, uT)")
-    for what, value in (("instance", instance), ("mag_instance", mag_instance)):
+    for what, value in (("instance", o.instance), ("mag_instance", o.mag_instance)):
         if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
             raise LogFormatError(f"{what} {value!r} is not an instance number: give a whole number from 0")
     s = sniff(path, name)
-    fmt = detect_format(s) if format == "auto" else format
+    fmt = detect_format(s) if o.format == "auto" else o.format
     if not dict(DETECTORS)[fmt](s):
         raise LogFormatError(f"{name} does not start as a {fmt} log (its first bytes are not the format's magic): "
                              "use format=auto, or upload the .ulg / .bin file the vehicle wrote")
-    log = READERS[fmt](path, s, instance=instance, mag_instance=mag_instance, clock=clock, name=name)
-    log = with_timing(log, sampling_rate_hz, name)
+    log = READERS[fmt](path, s, instance=o.instance, mag_instance=o.mag_instance, clock=o.clock, name=name)
+    log = with_timing(log, o.sampling_rate_hz, name)
     log = settle_units(log, given=None, stated=dict(log.units), lsb_per_g=None, lsb_source="lsb_per_g", chips=None,
                        stated_by=f"the {fmt} format", check_mag=False, name=name)
     refuse_linear_acceleration(log.acc, log.units["acc"], name)

@@ -391,30 +391,9 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     layout = table_layout(text, name, column_names)
     if layout.headerless and column_names is None:
         layout = _named_from_data(path, layout, name)
+    _refuse_text_block(text, layout, name)
+    layout, channels, time_col, time_scale = _mapped_layout(path, layout, column_map, column_names, name)
     names = layout.names
-    block = None if layout.headerless else text_block_cell(text, layout.delimiter, layout.skip_lines, names)
-    if block is not None:
-        line, column, first = block
-        raise LogFormatError(
-            f"{name}: line {line}, column {column!r} holds a block of text over several lines ({first!r} …), not "
-            "a number: trical reads one number per column and row, so no columns mapping can read it; write each "
-            "reading in a column of its own (e.g. acc_x, acc_y, acc_z), one row per sample")
-    try:
-        channels, time_col, time_scale, _ = map_columns(renamed(names, column_map))
-    except LogFormatError as exc:
-        # A header naming no sensor (north, east, down): the columns named from the data if they can be, the
-        # header's refusal (with how to map it by hand) if they cannot.
-        if column_map or column_names or not _NO_SENSOR.match(str(exc)) or \
-                any(p.match(normalise(n)) for n in names for p in PATTERNS.values()):
-            raise  # a header naming part of a sensor says what it holds: its refusal says what is missing
-        try:
-            layout = _named_from_data(path, layout, name, header=names)
-        except ColumnsAmbiguous:
-            raise
-        except LogFormatError:
-            raise exc from None
-        names = layout.names
-        channels, time_col, time_scale, _ = map_columns(names)
     header_units = mapped_units(names, column_map)
     temp_col = temperature_column(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
@@ -430,19 +409,8 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
     time = values[time_col] if time_col is not None else None
     try:
-        time_s = None
-        if time is not None and len(time) >= 2:
-            if time_scale is None:
-                try:
-                    time_scale, time_unit = infer_time_scale(time)
-                    notes.append(f"time column {names[time_col]!r} read in {time_unit} (from its step)")
-                except LogFormatError:
-                    if sampling_rate_hz is None:
-                        raise
-                    notes.append(f"time column {names[time_col]!r} not used: its unit is unclear and "
-                                 "sampling_rate_hz was given")
-            if time_scale is not None:
-                time_s = (time - time[0]) * time_scale
+        time_s = _time_seconds(time, time_scale, None if time_col is None else names[time_col], sampling_rate_hz,
+                               notes)
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
@@ -458,17 +426,62 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         if unit not in accepted:
             raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(accepted)}")
     return with_timing(LogData(
-        acc=arrays.get("acc"),
-        gyr=arrays.get("gyr"),
-        mag=arrays.get("mag"),
-        time_s=time_s,
-        sampling_rate_hz=stated_rate,
-        units=final_units,
-        format="csv",
-        columns=names,
-        notes=tuple(notes),
+        acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=time_s,
+        sampling_rate_hz=stated_rate, units=final_units, format="csv", columns=names, notes=tuple(notes),
         temperature_c=values[temp_col] if temp_col is not None else None,
     ), sampling_rate_hz, name)
+
+
+def _refuse_text_block(text: str, layout, name: str) -> None:
+    """Refuse a header row's table whose cell holds a block of text over several lines: no mapping reads it."""
+    block = None if layout.headerless else text_block_cell(text, layout.delimiter, layout.skip_lines, layout.names)
+    if block is not None:
+        line, column, first = block
+        raise LogFormatError(
+            f"{name}: line {line}, column {column!r} holds a block of text over several lines ({first!r} …), not "
+            "a number: trical reads one number per column and row, so no columns mapping can read it; write each "
+            "reading in a column of its own (e.g. acc_x, acc_y, acc_z), one row per sample")
+
+
+def _mapped_layout(path: Path, layout, column_map: dict | None, column_names: list[str] | None, name: str):
+    """The table's layout (its columns named from the data when its header names no sensor), the sensors'
+    columns, the time column and the time's scale (:func:`map_columns`)."""
+    names = layout.names
+    try:
+        channels, time_col, time_scale, _ = map_columns(renamed(names, column_map))
+    except LogFormatError as exc:
+        # A header naming no sensor (north, east, down): the columns named from the data if they can be, the
+        # header's refusal (with how to map it by hand) if they cannot.
+        if column_map or column_names or not _NO_SENSOR.match(str(exc)) or \
+                any(p.match(normalise(n)) for n in names for p in PATTERNS.values()):
+            raise  # a header naming part of a sensor says what it holds: its refusal says what is missing
+        try:
+            layout = _named_from_data(path, layout, name, header=names)
+        except ColumnsAmbiguous:
+            raise
+        except LogFormatError:
+            raise exc from None
+        channels, time_col, time_scale, _ = map_columns(layout.names)
+    return layout, channels, time_col, time_scale
+
+
+def _time_seconds(time, time_scale: float | None, column: str | None, sampling_rate_hz: float | None,
+                  notes: list[str]):
+    """Seconds since the first sample from the time column (None without one, or when its unit is unclear and
+    the rate was given: a note says so); its unit from its step when the header does not name it."""
+    if time is None or len(time) < 2:
+        return None
+    if time_scale is None:
+        try:
+            time_scale, time_unit = infer_time_scale(time)
+            notes.append(f"time column {column!r} read in {time_unit} (from its step)")
+        except LogFormatError:
+            if sampling_rate_hz is None:
+                raise
+            notes.append(f"time column {column!r} not used: its unit is unclear and sampling_rate_hz was given")
+    if time_scale is not None:
+        return (time - time[0]) * time_scale
+    return None
 
 
 _NO_SENSOR = re.compile(r"^no accelerometer, gyroscope or magnetometer x, y and z columns")

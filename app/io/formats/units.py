@@ -228,27 +228,7 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
         raise LogFormatError(f"chip {chip.name} ({1 / chip.scale:g} LSB/g) and lsb_per_g={lsb_per_g:g} disagree: "
                              "give one of them")
     if chip is not None or lsb_per_g is not None:
-        lsb = lsb_per_g if lsb_per_g is not None else 1.0 / chip.scale
-        what = f"chip {chip.name}" if chip is not None else f"{lsb_source}={lsb:g}"
-        if not (np.isfinite(lsb) and lsb > 0):
-            raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb}")
-        _refuse_scale_and_unit("acc", claim, what)
-        if inferred in ACC_PHYSICAL_UNITS:
-            raise LogFormatError(f"{what} converts counts (LSB) into g, but the accelerometer's readings are "
-                                 f"already in {inferred} (they rest at a median norm of {norm:.3g}): leave "
-                                 f"{what.split('=')[0]} "
-                                 "out")
-        in_g = norm / lsb
-        if not 0.6 <= in_g <= 1.6:
-            fit = common_sensitivity(norm)
-            raise LogFormatError(
-                f"with {what} the accelerometer rests at {in_g:.3g} g, not about 1 g: "
-                + (f"its counts rest at {norm:.0f}, which fits {fit:g} LSB/g ({ACC_RANGE[fit]}): give "
-                   f"{_sensitivity_hint(fit)}" if fit else
-                   f"its counts rest at {norm:.0f}; give the sensitivity of the range the sensor was set to "
-                   "(its datasheet's LSB per g)"))
-        notes.append(f"accelerometer counts divided by {lsb:g} LSB per g ({what}) into g")
-        return acc / lsb, "g"
+        return _acc_by_scale(acc, norm, inferred, claim, lsb_per_g, lsb_source, chip, notes)
     if inferred in ACC_PHYSICAL_UNITS:
         if claim.unit is not None and claim.unit != inferred:
             warns.append(f"{claim.words()} for the accelerometer, but its readings rest at a median norm of "
@@ -257,22 +237,7 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
             notes.append(f"accelerometer unit {inferred} inferred from the data (median norm {norm:.3g})")
         return acc, inferred
     if norm > 50:  # counts of an ADC
-        if claim.by == "acc_unit" and claim.unit == "raw":
-            warns.append("the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give "
-                         "chip or lsb_per_g to calibrate in g")
-            return acc, "raw"
-        fit = common_sensitivity(norm)
-        said = f" ({claim.words()})" if claim.unit not in (None, "raw") else ""
-        if fit is not None:
-            warns.append(f"the accelerometer's readings are counts{said}: they rest at a median norm of {norm:.0f}, "
-                         f"about {fit:g} LSB per g ({_sensitivity_words(fit)}), so they were divided by {fit:g} into "
-                         "g; give chip or lsb_per_g for another scale, or acc_unit=raw to calibrate in counts")
-            return acc / fit, "g"
-        warns.append(f"the accelerometer's readings are counts{said} resting at a median norm of {norm:.0f}, near "
-                     f"none of the common sensitivities ({', '.join(f'{v:g}' for v in ACC_LSB_PER_G)} LSB per g): "
-                     "calibrated in counts, "
-                     "and its figures are in counts; give lsb_per_g (or chip) to calibrate in g")
-        return acc, "raw"
+        return _acc_counts(acc, norm, claim, warns)
     if (1.6 < norm < 6.0 or 14.0 < norm <= 50) and claim.unit in (None, "raw"):
         warns.append(f"the accelerometer rests at a median norm of {norm:.3g}, neither about 1 (g) nor about 9.8 "
                      "(m/s²): it is calibrated in the readings' own unit (an analogue sensor's volts, or counts), "
@@ -291,6 +256,53 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
         notes.append("accelerometer unit not named and not evident from the data: m/s² assumed "
                      "(give acc_unit to change it)")
     return acc, unit
+
+
+def _acc_by_scale(acc, norm: float, inferred, claim: Claim, lsb_per_g, lsb_source, chip: Chip | None, notes):
+    """Accelerometer counts divided by the counts per g a chip or ``lsb_per_g`` gives, into g; refused when the
+    readings are not counts, or rest far from 1 g with that scale."""
+    lsb = lsb_per_g if lsb_per_g is not None else 1.0 / chip.scale
+    what = f"chip {chip.name}" if chip is not None else f"{lsb_source}={lsb:g}"
+    if not (np.isfinite(lsb) and lsb > 0):
+        raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb}")
+    _refuse_scale_and_unit("acc", claim, what)
+    if inferred in ACC_PHYSICAL_UNITS:
+        raise LogFormatError(f"{what} converts counts (LSB) into g, but the accelerometer's readings are "
+                             f"already in {inferred} (they rest at a median norm of {norm:.3g}): leave "
+                             f"{what.split('=')[0]} "
+                             "out")
+    in_g = norm / lsb
+    if not 0.6 <= in_g <= 1.6:
+        fit = common_sensitivity(norm)
+        raise LogFormatError(
+            f"with {what} the accelerometer rests at {in_g:.3g} g, not about 1 g: "
+            + (f"its counts rest at {norm:.0f}, which fits {fit:g} LSB/g ({ACC_RANGE[fit]}): give "
+               f"{_sensitivity_hint(fit)}" if fit else
+               f"its counts rest at {norm:.0f}; give the sensitivity of the range the sensor was set to "
+               "(its datasheet's LSB per g)"))
+    notes.append(f"accelerometer counts divided by {lsb:g} LSB per g ({what}) into g")
+    return acc / lsb, "g"
+
+
+def _acc_counts(acc, norm: float, claim: Claim, warns):
+    """Accelerometer readings that are counts of an ADC (median norm over 50) with no scale given: divided
+    into g by the common sensitivity they fit, else left in counts; a warning says which."""
+    if claim.by == "acc_unit" and claim.unit == "raw":
+        warns.append("the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give "
+                     "chip or lsb_per_g to calibrate in g")
+        return acc, "raw"
+    fit = common_sensitivity(norm)
+    said = f" ({claim.words()})" if claim.unit not in (None, "raw") else ""
+    if fit is not None:
+        warns.append(f"the accelerometer's readings are counts{said}: they rest at a median norm of {norm:.0f}, "
+                     f"about {fit:g} LSB per g ({_sensitivity_words(fit)}), so they were divided by {fit:g} into "
+                     "g; give chip or lsb_per_g for another scale, or acc_unit=raw to calibrate in counts")
+        return acc / fit, "g"
+    warns.append(f"the accelerometer's readings are counts{said} resting at a median norm of {norm:.0f}, near "
+                 f"none of the common sensitivities ({', '.join(f'{v:g}' for v in ACC_LSB_PER_G)} LSB per g): "
+                 "calibrated in counts, "
+                 "and its figures are in counts; give lsb_per_g (or chip) to calibrate in g")
+    return acc, "raw"
 
 
 def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questions, *, acc=None, fs=None,

@@ -1,0 +1,67 @@
+"""How to read a log: the reader's options (:class:`ReadOptions`), given once by the upload, the command line or a
+stored recording, and passed whole to :func:`app.io.formats.read_log`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class ReadOptions:
+    """The options :func:`app.io.formats.read_log` reads a log with; each default lets the file decide.
+
+    Attributes
+    ----------
+    format : str
+        One of :data:`app.io.formats.FORMATS`; ``auto`` detects it from the header.
+    sampling_rate_hz : float, optional
+        Required when the file has no time column; overrides the rate the time column gives.
+    units : dict, optional
+        Units per sensor (``{"acc": "g"}``), overriding what the format and the data say.
+    lsb_per_g : float, optional
+        Sensitivity of an accelerometer read in counts: readings are divided by it into g.  A
+        comment ``# lsb_per_g=16384`` in the file gives it too.
+    columns : str, dict or list, optional
+        Column mapping of a CSV whose header trical does not recognise, ``"acc_x:north,acc_y:east,
+        acc_z:down,time_ms:t"``, or one name per column, ``"t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"``
+        (a table without a header row, or instead of its header row; :func:`app.io.formats.parse_columns`);
+        the file is then read as a generic (or Arduino) CSV.
+    sign : {1, -1}, optional
+        Factor on the file's accelerations (−1 for Core Motion's sign); detected when None
+        (:mod:`app.io.formats.ios_sign`).
+    chip : str, optional
+        The parts and ranges of the file's sensors in counts, separated by commas (``mpu6050-4g,
+        ak8963-16bit``; :data:`app.io.formats.chips.CHIPS`): their counts become g, °/s and µT.
+    instance, mag_instance : int, optional
+        A flight controller's log (:data:`app.io.formats.FLIGHT_FORMATS`): the IMU instance read (default:
+        PX4 the source with the most samples, ArduPilot the first) and the compass instance (default the
+        first); an instance the log lacks is refused naming those it has.
+    clock : {"imu", "mag"}
+        A flight controller's log: the samples on the IMU's times (no compass), or on the compass's
+        with the IMU interpolated onto them (what the compass methods read; :mod:`app.io.formats.flight_log`).
+    """
+
+    format: str = "auto"
+    sampling_rate_hz: float | None = None
+    units: dict | None = None
+    lsb_per_g: float | None = None
+    columns: str | dict | list | None = None
+    sign: int | None = None
+    chip: str | list | None = None
+    instance: int | None = None
+    mag_instance: int | None = None
+    clock: str = "imu"
+
+    def stored(self, sign: int) -> dict:
+        """The plain form kept with a recording (its ``read_with``, docs/rest.md), with the ``sign`` the reader
+        applied, so that the stored file is read again the same way; the clock is the reader's choice of the
+        moment, not the recording's, and is not kept."""
+        return {"format": self.format, "units": self.units or {}, "lsb_per_g": self.lsb_per_g,
+                "columns": self.columns, "chip": self.chip, "sampling_rate_hz": self.sampling_rate_hz,
+                "instance": self.instance, "mag_instance": self.mag_instance, "sign": sign}
+
+    @classmethod
+    def from_stored(cls, read_with: dict) -> ReadOptions:
+        """The options of a recording's stored ``read_with`` (:meth:`stored`; bodies stored before it give only
+        some of its keys, the others keep their defaults)."""
+        return cls(**read_with)
