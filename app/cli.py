@@ -35,7 +35,7 @@ from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.parts import refuse_repeated_names
 from app.requests import CUBE_PROTOCOLS, ValidationError
 from app.store import NotFoundError, open_store
-from app.tls import CertificateError
+from app.reach.tls import CertificateError
 from app.workflows.temperature import TEMPERATURE_SENSORS
 from app.words import render, render_body
 
@@ -248,8 +248,8 @@ def _serve(args, settings: Settings) -> int:
 def _serve_https(args, settings: Settings, port: int) -> int:
     import uvicorn
 
-    from app import tls
-    from app.qr import qr_terminal
+    from app.reach import tls
+    from app.reach.qr import qr_terminal
 
     if bool(args.cert) != bool(args.key):
         raise tls.CertificateError("--cert and --key go together: give both, or neither for a self-signed certificate")
@@ -701,7 +701,7 @@ def _capture(args, settings: Settings) -> int:
     """``trical capture PORT``: the board's lines captured hands-free into a log, then calibrated (app.board_capture)."""
     import serial  # pyserial
 
-    from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+    from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 
     capture_s = CAPTURE_S_DEFAULT if args.capture_s is None else args.capture_s
     low, high = CAPTURE_S_RANGE
@@ -798,7 +798,7 @@ def _capture_calibration(capture, outcome, args, settings: Settings) -> int:
 
 
 _CAPTURE_FINISH = {"noise": _capture_noise, "calibrate": _capture_calibration}
-"""How ``trical capture`` ends, by the command its protocol finishes with (app.protocols)."""
+"""How ``trical capture`` ends, by the command its protocol finishes with (app.guided.protocols)."""
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -28,7 +28,7 @@ from app.requests import (  # noqa: F401  (re-exported: the routes and tests nam
     UnknownOrientationIn,
     Vec3,
 )
-from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
+from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
 from app.io.log import ACC_PHYSICAL_UNITS
 
 

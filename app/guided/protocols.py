@@ -1,5 +1,5 @@
 """The capture protocols, one strategy each: what a protocol asks for next, how it checks a capture, when
-it may be solved and how it solves — for the wizard's sessions (app.sessions, the page's flows
+it may be solved and how it solves — for the wizard's sessions (app.guided.sessions, the page's flows
 static/js/flow_six.js, flow_free.js, flow_cube.js) and for ``trical capture`` (app.board_capture), which
 captures the same poses from a board's lines.
 
@@ -40,12 +40,12 @@ from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.calibration.errors import NotStillError
 from app.calibration.gyro_bias import gyroscope_bias
 from app.calibration.orientations import nearest_orientation
-from app.capture_rules import (CUBE_FACE_MAX_ANGLE_DEG, FREE_FIT_FROM, FREE_MAX_ANGLE_DEG, FREE_MIN_ANGLE_DEG,
-                               FREE_TARGET_MIN_POSES, MAX_ROTATION_DEG_S)
+from app.guided.capture_rules import (CUBE_FACE_MAX_ANGLE_DEG, FREE_FIT_FROM, FREE_MAX_ANGLE_DEG, FREE_MIN_ANGLE_DEG,
+                                      FREE_TARGET_MIN_POSES, MAX_ROTATION_DEG_S)
 from app.store import ConflictError
 
 if TYPE_CHECKING:
-    from app.sessions import Session
+    from app.guided.sessions import Session
 
 OS_CALIBRATION_WARNING = (
     "the phone's system may already calibrate what the browser reports (Android and iOS apply their "
@@ -83,7 +83,7 @@ class Protocol:
 
 
 class SessionProtocol(Protocol):
-    """A protocol the wizard's sessions follow (app.sessions): what it asks for next, how it checks a capture,
+    """A protocol the wizard's sessions follow (app.guided.sessions): what it asks for next, how it checks a capture,
     when it may be solved and how."""
 
     positions: tuple[str, ...] = ()

@@ -5,7 +5,7 @@ A session belongs to whoever holds its token.  Each capture holds the raw sample
 the page.
 
 A session is a :class:`Session`, read from the store's row and written to it in one place
-(:meth:`Session.from_row`, :meth:`Session.body`); its protocol is a strategy of app.protocols, looked up
+(:meth:`Session.from_row`, :meth:`Session.body`); its protocol is a strategy of app.guided.protocols, looked up
 once when the session is read: what it asks for next, how it checks a capture, when the session may be
 solved and how (``six``, ``free``, ``cube24``: the module's docstring says each).
 """
@@ -18,7 +18,7 @@ import numpy as np
 
 from app import workflow
 from app.calibration import CalibrationError
-from app.protocols import SESSION_PROTOCOLS, SessionProtocol
+from app.guided.protocols import SESSION_PROTOCOLS, SessionProtocol
 from app.store import ConflictError
 
 
@@ -145,7 +145,7 @@ def add_capture(store, session: Session, capture: dict) -> tuple[dict, dict]:
 
 
 def solve(store, session: Session) -> dict:
-    """The calibration of a complete session, as a calibration body (its protocol's method: app.protocols).
+    """The calibration of a complete session, as a calibration body (its protocol's method: app.guided.protocols).
 
     Raises
     ------
