@@ -19,7 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from app import __version__, methods, workflow
+from app import __version__, methods
+from app.workflows.autocal import AUTOCAL_UNITS, autocalibrate_file
+from app.workflows.noise import characterise_log
+from app.workflows.recordings import RecordingSource, describe_log, load_log
+from app.workflows.temperature import temperature_log
 from app import cli_options as opt
 from app.calibration import CalibrationError
 from app.calibration.angles import degrees_text, tilt_error_deg
@@ -129,7 +133,7 @@ def _add_autocal(sub) -> None:
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
     a.add_argument("path", type=opt.input_path("a recording or a folder of them"), help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
     a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
-    a.add_argument("--unit", choices=workflow.AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
+    a.add_argument("--unit", choices=AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
     a.add_argument("--solver", choices=SOLVERS, default="lm")
     _read_options(a)
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
@@ -326,8 +330,8 @@ def _calibrated(args, settings: Settings, path: Path, captures: list | None = No
     read_with = dict(format=args.log_format, units=units, lsb_per_g=args.lsb_per_g, columns=args.columns,
                      sign=args.sign, chip=args.chip, instance=args.instance, mag_instance=args.mag_instance)
     name = ", ".join(str(p) for p in args.log)
-    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
-    recording = workflow.describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
+    log = load_log(path, sampling_rate_hz=args.sampling_rate_hz, name=name, **read_with)
+    recording = describe_log(log, {**read_with, "sampling_rate_hz": args.sampling_rate_hz})
     if captures:
         from app.board_capture import capture_segments
 
@@ -335,7 +339,7 @@ def _calibrated(args, settings: Settings, path: Path, captures: list | None = No
         recording["notes"].append(f"the still segments are the {len(captures)} captures, rows "
                                   + ", ".join(f"{a}–{b - 1}" for _, a, b in captures))
     request = methods.parse_calibration_request(_calibration_request(args, unit=log.units.get("acc", "m/s^2")))
-    body = methods.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
+    body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log))
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
         body["captures"] = [{"position": seg["capture"], "rows": [seg["start"], seg["end"]], "up": seg["up"],
                              "mean": seg["acc_mean"], "std": seg["acc_std"], "count": seg["count"]}
@@ -451,7 +455,7 @@ def _autocal_options(args) -> dict:
 def _autocal_job(path: str, options: dict) -> dict:
     """One file of a folder run (top level, so that worker processes can pickle it)."""
     try:
-        return workflow.autocalibrate_file(path, **options)
+        return autocalibrate_file(path, **options)
     except (CalibrationError, LogFormatError) as exc:
         return {"label": Path(path).name, "ok": False, "error": str(exc)}
     except Exception as exc:  # a worker must report, never take the run down
@@ -463,7 +467,7 @@ def _autocal(args, settings: Settings) -> int:
     if args.path.is_dir():
         return _autocal_folder(args, settings, options)
     progress = _ProgressBar(args.path.name) if sys.stderr.isatty() else None
-    body = workflow.autocalibrate_file(args.path, progress=progress, **options)
+    body = autocalibrate_file(args.path, progress=progress, **options)
     if args.store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:
@@ -582,14 +586,14 @@ def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
     # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
     clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
     name = str(args.path[0]) if len(args.path) == 1 else label
-    log = workflow.load_log(path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=name,
-                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance,
-                            mag_instance=args.mag_instance, clock=clock)
+    log = load_log(path, sampling_rate_hz=args.sampling_rate_hz, units=read_units, name=name,
+                   columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance,
+                   mag_instance=args.mag_instance, clock=clock)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
-    body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
-                                     array_sensor=sensor if array else None, device_id=args.device_id,
-                                     label=label)
+    body = characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
+                            array_sensor=sensor if array else None, device_id=args.device_id,
+                            label=label)
     from app.io.allan_plot import allan_svg
 
     return _finish(args, settings, body, plot=allan_svg, summary=_print_noise)
@@ -611,10 +615,10 @@ def _finish(args, settings: Settings, body: dict, *, plot, summary) -> int:
 
 
 def _temperature(args, settings: Settings) -> int:
-    log = workflow.load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units={}, name=str(args.path),
-                            columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
-    body = workflow.temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
-                                    label=args.path.name)
+    log = load_log(args.path, sampling_rate_hz=args.sampling_rate_hz, units={}, name=str(args.path),
+                   columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
+    body = temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
+                           label=args.path.name)
     from app.io.export_temperature import temperature_svg
 
     return _finish(args, settings, body, plot=temperature_svg, summary=_print_temperature)

@@ -3,7 +3,7 @@
     python bench/real_board_logs.py
 
 Three logs as makers write them over a serial port, each read by the same loader the API and the
-CLI use (``workflow.load_log``), then calibrated through the method table (``methods.calibrate``), as they do:
+CLI use (``app.workflows.recordings.load_log``), then calibrated through the method table (``methods.calibrate``), as they do:
 
 - an MPU-6050's six pose files, one per pose (``x_axis_pos.csv`` …), as one recording in parts,
   beside the maker's Ferraris fit (imucal) of the same first 100 samples per file, g = 9.81;
@@ -23,7 +23,8 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from app import methods, workflow  # noqa: E402
+from app import methods  # noqa: E402
+from app.workflows.recordings import RecordingSource, describe_log, load_log  # noqa: E402
 
 REAL = ROOT / "tests" / "data" / "real"
 ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
@@ -32,10 +33,10 @@ ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "
 def calibrate(path: Path, request: dict, **read_with) -> tuple[dict, dict]:
     read_with = {"format": "auto", "units": {}, "lsb_per_g": None, "columns": None, "sign": None, **read_with}
     rate = read_with.pop("sampling_rate_hz", None)
-    log = workflow.load_log(path, sampling_rate_hz=rate, name=path.name, **read_with)
-    meta = workflow.describe_log(log, read_with)
+    log = load_log(path, sampling_rate_hz=rate, name=path.name, **read_with)
+    meta = describe_log(log, read_with)
     body = methods.calibrate(methods.parse_calibration_request({**request, "recording_id": path.name}),
-                             workflow.RecordingSource(meta=meta, path=path, log=log))
+                             RecordingSource(meta=meta, path=path, log=log))
     return meta, body
 
 

@@ -81,7 +81,7 @@ ROWS = table_rows()
 
 def test_the_table_is_read():
     paths = {p for row, _ in ROWS for p in row}
-    assert {"app/calibration", "app/io", "app/store", "app/workflow.py", "app/guided", "app/api", "app/web",
+    assert {"app/calibration", "app/io", "app/store", "app/workflows", "app/guided", "app/api", "app/web",
             "app/cli.py", "app/board_capture.py", "app/guided/capture_rules.py", "app/reach"} <= paths, paths
 
 

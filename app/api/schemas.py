@@ -210,7 +210,7 @@ class CandidateOut(Out):
 
 
 class ChoiceOut(Out):
-    """What `method: auto` chose (app.workflow.choose_model)."""
+    """What `method: auto` chose (app.workflows.still.choose_model)."""
 
     method: Literal["six_position", "orientations", "triangular", "magnetometer"]
     why: str
@@ -968,7 +968,7 @@ class TimingOut(BaseModel):
 
 
 class LogOverview(BaseModel):
-    """The log's norm in at most 300 bins (app.workflow.overview), for a plot with the still segments."""
+    """The log's norm in at most 300 bins (app.workflows.recordings.overview), for a plot with the still segments."""
 
     sensor: Literal["acc", "mag", "gyr"] = Field(description=(
         "The accelerometer's norm; in a log without it the magnetometer's, else the gyroscope's."))

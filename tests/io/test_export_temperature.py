@@ -17,7 +17,7 @@ import pytest
 
 from app.io.errors import ExportError
 from app.io.exporters import export_calibration
-from app.workflow import temperature_log
+from app.workflows.temperature import temperature_log
 from app.calibration.registry import result_from_dict
 from tests.temperature_logs import warm_up
 

@@ -12,7 +12,7 @@ import pytest
 from app.calibration.simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
-from app.workflow import describe_log
+from app.workflows.recordings import describe_log
 
 N = 200
 RATE = 20.0
