@@ -107,7 +107,7 @@ class TriangularIn(UnknownOrientationIn):
 
 
 class AutoIn(UnknownOrientationIn):
-    """Still readings, axis-aligned or free: the workflow picks the model (app.workflow, ``auto``)."""
+    """Still readings, axis-aligned or free: the workflow picks the model (app.workflows.still, ``auto``)."""
 
     method: Literal["auto"]
 

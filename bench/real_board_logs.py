@@ -23,9 +23,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from app import methods, workflow  # noqa: E402
+from app import methods  # noqa: E402
 from app.io.formats import read_log  # noqa: E402
 from app.io.read_options import ReadOptions  # noqa: E402
+from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402
 
 REAL = ROOT / "tests" / "data" / "real"
 ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
@@ -34,9 +35,9 @@ ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "
 def calibrate(path: Path, request: dict, **read_with) -> tuple[dict, dict]:
     options = ReadOptions(**{"units": {}, **read_with})
     log = read_log(path, options, name=path.name)
-    meta = workflow.describe_log(log, options)
+    meta = describe_log(log, options)
     body = methods.calibrate(methods.parse_calibration_request({**request, "recording_id": path.name}),
-                             workflow.RecordingSource(meta=meta, path=path, log=log))
+                             RecordingSource(meta=meta, path=path, log=log))
     return meta, body
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from app import workflow  # noqa: E402
+from app.workflows.still import Reading, calibrate_known, calibrate_unknown  # noqa: E402
 from tests.real_recordings import (  # noqa: E402
     MPU6050_LSB_PER_G, by_name, pose_subsets, raw_error_mg, recordings, tedaldi_apply)
 
@@ -29,12 +29,12 @@ MAGNITUDE_METHODS = ("triangular", "nonorthogonal")
 def calibrate(rec, method: str, means, holdout=None):
     """The core result and its metrics with the workflow's held-out ones, for one method on still means."""
     if method in MAGNITUDE_METHODS:
-        result, held_out = workflow.calibrate_unknown(method, means, unit=rec.unit, gravity=rec.gravity,
-                                                      holdout=holdout)
+        result, held_out = calibrate_unknown(method, means, unit=rec.unit, gravity=rec.gravity,
+                                             holdout=holdout)
     else:
-        readings = [workflow.Reading(mean=tuple(m), up=u) for m, u in zip(means, rec.ups)]
-        result, held_out = workflow.calibrate_known(method, readings, unit=rec.unit, gravity=rec.gravity,
-                                                    holdout=holdout)
+        readings = [Reading(mean=tuple(m), up=u) for m, u in zip(means, rec.ups)]
+        result, held_out = calibrate_known(method, readings, unit=rec.unit, gravity=rec.gravity,
+                                           holdout=holdout)
     return result, {**result.metrics, **held_out}
 
 
@@ -54,9 +54,9 @@ def peer_line(rec) -> str | None:
                 f"{fit:.3f} mg, other session {other:.2f} mg")
     if "ward" in rec.peer:
         p = rec.peer["ward"]
-        cal = workflow.calibrate_known("six_position", [workflow.Reading(mean=tuple(m), up=u)
-                                                         for m, u in zip(rec.means, rec.ups)],
-                                       unit=rec.unit, gravity=rec.gravity)[0]
+        cal = calibrate_known("six_position", [Reading(mean=tuple(m), up=u)
+                                               for m, u in zip(rec.means, rec.ups)],
+                              unit=rec.unit, gravity=rec.gravity)[0]
         dX = np.abs(cal.X - np.array(p["S"])).max()
         dy = np.abs(cal.y - np.array(p["b"])).max()
         return (f"    peer: the author's per-axis curve_fit of m = S a + b (willward20/UCA-Honors-Capstone): "

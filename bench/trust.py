@@ -19,7 +19,7 @@ import argparse
 
 import numpy as np
 
-from app import workflow
+from app.workflows.still import choose_model
 from app.calibration import InsufficientDataError
 from simulations.free_poses import free_pose_session, fresh_error_mg
 
@@ -39,7 +39,7 @@ def main() -> None:
         for _ in range(args.sessions):
             p, means = free_pose_session(rng, n)
             try:
-                result, _, _ = workflow.choose_model(means, unit="g", gravity=1.0)
+                result, _, _ = choose_model(means, unit="g", gravity=1.0)
             except InsufficientDataError:
                 refused += 1
                 continue

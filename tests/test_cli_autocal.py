@@ -142,13 +142,13 @@ def test_autocal_tiny_or_empty_recordings_never_crash(tmp_path, capsys, n):
 
 
 def test_autocal_raw_unit_is_refused_with_advice(tmp_path):
-    from app import workflow
+    from app.workflows.autocal import autocalibrate_file
     from app.calibration import CalibrationError
 
     f = tmp_path / "raw.csv"
     f.write_text("acc_x,acc_y,acc_z\n" + "\n".join("0,0,1000" for _ in range(100)))
     with pytest.raises(CalibrationError, match="g or m/s\\^2"):
-        workflow.autocalibrate_file(f, ReadOptions(sampling_rate_hz=50.0, units={"acc": "raw"}))
+        autocalibrate_file(f, ReadOptions(sampling_rate_hz=50.0, units={"acc": "raw"}))
 
 
 def test_cli_start_does_not_import_scipy_optimize_or_stats():

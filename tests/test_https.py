@@ -15,8 +15,8 @@ from cryptography.hazmat.primitives import hashes
 from cryptography.hazmat.primitives.asymmetric import ec
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
-from app import tls
-from app.qr import qr_svg_data_uri, qr_terminal
+from app.reach import tls
+from app.reach.qr import qr_svg_data_uri, qr_terminal
 from tests.live_server import ROOT, LiveServer, free_port
 
 LAN_IP = "192.168.1.23"

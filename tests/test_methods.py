@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from app import methods, workflow
+from app import methods
 from app.api import schemas
 from app.cli.calibrate import calibration_request
 from app.cli.parser import build_parser
@@ -144,14 +144,8 @@ def test_a_method_with_no_entry_is_refused_naming_the_methods():
     assert "invalid choice: 'noise'" in err.getvalue() and "'magnetometer'" in err.getvalue()
 
 
-def test_the_unit_tables_are_io_s_and_the_moved_names_still_read_from_the_workflow():
-    assert workflow.GYR_TO_RAD_S is io_log.GYR_TO_RAD_S and workflow.MAG_TO_UT is io_log.MAG_TO_UT
+def test_the_unit_tables_are_io_s():
     assert set(io_log.TO_SI) == set(io_log.UNITS) == set(io_log.SI_UNITS)
     for sensor, units in io_log.UNITS.items():
         assert set(io_log.TO_SI[sensor]) == set(units)
         assert io_log.TO_SI[sensor][io_log.SI_UNITS[sensor]] == 1.0
-    from app.workflows import still
-
-    assert workflow.calibrate_unknown is still.calibrate_unknown and workflow.Reading is still.Reading
-    with pytest.raises(AttributeError):
-        workflow.no_such_step  # noqa: B018

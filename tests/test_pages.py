@@ -33,7 +33,7 @@ def test_start_page_shows_the_phone_address_as_a_qr_code(tmp_path):
     from fastapi.testclient import TestClient
 
     from app.main import create_app
-    from app.qr import qr_svg_data_uri
+    from app.reach.qr import qr_svg_data_uri
     from tests.api.conftest import make_settings
 
     url = "https://192.168.1.23:8443/wizard?protocol=six"

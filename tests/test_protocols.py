@@ -1,6 +1,6 @@
-"""The capture protocols' strategies (app.protocols) one by one: what each asks for next after given captures,
+"""The capture protocols' strategies (app.guided.protocols) one by one: what each asks for next after given captures,
 how it checks a capture, when a session may be solved; the typed session read from and written to a real SQLite
-store (app.sessions); and what the terminal's capture (app.cli.board) asks of each."""
+store (app.guided.sessions); and what the terminal's capture (app.cli.board) asks of each."""
 
 from __future__ import annotations
 
@@ -9,15 +9,15 @@ import typing
 import numpy as np
 import pytest
 
-from app import sessions
+from app.guided import sessions
 from app.api.deps import new_session_token
 from app.api.schemas import SessionIn
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, InsufficientDataError, up_vector
 from app.calibration.advice import fibonacci_sphere
 from app.calibration.capture import PoseTooCloseError
-from app.capture_rules import FREE_FIT_FROM, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
+from app.guided.capture_rules import FREE_FIT_FROM, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
 from app.io.board_formats import CAPTURE_PROTOCOLS
-from app.protocols import BOARD_PROTOCOLS, CUBE24, FREE, SESSION_PROTOCOLS, SIX
+from app.guided.protocols import BOARD_PROTOCOLS, CUBE24, FREE, SESSION_PROTOCOLS, SIX
 from app.store import ConflictError, open_store
 from app.web.tables import capture_thresholds
 from tests.cube_phone import phone_cube

@@ -13,7 +13,7 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-from app.calibration.registry import CalibrationResult, registered_types
+from app.calibration.result import CalibrationResult, registered_types
 from app.calibration.result import FIGURE_METRICS
 from app.methods import METHODS
 

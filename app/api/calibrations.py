@@ -6,7 +6,9 @@ import numpy as np
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
-from app import methods, workflow
+from app import methods
+from app.workflows.recordings import RecordingSource
+from app.workflows.results import apply_calibration
 from app.api.deps import OwnerDep, ReaderDep, StoreDep
 from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, SnippetsOut
 from app.io.snippets import usage_snippets
@@ -17,12 +19,12 @@ from app.words import render_body
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 
 
-def recording_source(store: Store, recording_id: str | None, owner: str | None) -> workflow.RecordingSource | None:
+def recording_source(store: Store, recording_id: str | None, owner: str | None) -> RecordingSource | None:
     """The caller's stored recording a request names (404 when it is not theirs)."""
     if recording_id is None:
         return None
     meta, path = store.get_recording(recording_id, owner=owner)
-    return workflow.RecordingSource(meta=meta, path=path, id=recording_id)
+    return RecordingSource(meta=meta, path=path, id=recording_id)
 
 
 @router.post("", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True,
@@ -96,5 +98,5 @@ def apply(calibration_id: str, request: ApplyIn, store: StoreDep,
           owner: OwnerDep):
     """Samples calibrated with a stored calibration."""
     body = store.get_calibration(calibration_id, owner=owner)
-    calibrated = workflow.apply_calibration(body, request.samples, request.sensor)
+    calibrated = apply_calibration(body, request.samples, request.sensor)
     return {"samples": np.asarray(calibrated).tolist(), "unit": body.get("output_unit")}

@@ -4,16 +4,16 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 
-from app.addresses import reachable_origin
+from app.reach.addresses import reachable_origin
 from app.api.deps import LINK_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token
 from app.api.schemas import LinkOpened, LinkOut
-from app.qr import qr_svg_data_uri
+from app.reach.qr import qr_svg_data_uri
 
 router = APIRouter(tags=["links"])
 
 
 def link_address(request: Request, code: str) -> str:
-    """The link's page, /s/CODE, at the address the other machine opens (app.addresses: TRICAL_PUBLIC_URL's
+    """The link's page, /s/CODE, at the address the other machine opens (app.reach.addresses: TRICAL_PUBLIC_URL's
     origin when set, else the address the phone reached the server at, a loopback one as its LAN address)."""
     return f"{reachable_origin(request)}/s/{code}"
 

@@ -9,7 +9,7 @@ from typing import Annotated, Literal
 from fastapi import APIRouter, File, Form, UploadFile
 from pydantic import AfterValidator
 
-from app import workflow
+from app.workflows.recordings import add_recording
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas import AccUnit, RecordingOut
@@ -119,8 +119,8 @@ def upload_recording(
     units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
     options = ReadOptions(format=format, sampling_rate_hz=sampling_rate_hz, units=units, lsb_per_g=lsb_per_g,
                           columns=columns, sign=sign, chip=chip, instance=instance, mag_instance=mag_instance)
-    return render_body(workflow.add_recording(store, recording_id, dest, filename=filename, options=options,
-                                              owner=owner), *reader)
+    return render_body(add_recording(store, recording_id, dest, filename=filename, options=options, owner=owner),
+                       *reader)
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")

@@ -28,7 +28,7 @@ from app.requests import (  # noqa: F401  (re-exported: the routes and tests nam
     UnknownOrientationIn,
     Vec3,
 )
-from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
+from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
 from app.io.log import ACC_PHYSICAL_UNITS
 
 
@@ -210,7 +210,7 @@ class CandidateOut(Out):
 
 
 class ChoiceOut(Out):
-    """What `method: auto` chose (app.workflow.choose_model)."""
+    """What `method: auto` chose (app.workflows.still.choose_model)."""
 
     method: Literal["six_position", "orientations", "triangular", "magnetometer"]
     why: str
@@ -968,7 +968,7 @@ class TimingOut(BaseModel):
 
 
 class LogOverview(BaseModel):
-    """The log's norm in at most 300 bins (app.workflow.overview), for a plot with the still segments."""
+    """The log's norm in at most 300 bins (app.workflows.recordings.overview), for a plot with the still segments."""
 
     sensor: Literal["acc", "mag", "gyr"] = Field(description=(
         "The accelerometer's norm; in a log without it the magnetometer's, else the gyroscope's."))

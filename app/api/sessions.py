@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Depends, Request
 
-from app import sessions
+from app.guided import sessions
 from app.api.deps import (
     SESSION_TOKEN_PREFIX, OwnerDep, ReaderDep, SettingsDep, StoreDep, Unauthorized, bearer_token, new_session_token,
     session_of_token, session_owner,

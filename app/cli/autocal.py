@@ -8,13 +8,13 @@ import os
 import sys
 from pathlib import Path
 
-from app import workflow
 from app.calibration import CalibrationError
 from app.cli.printers import ProgressBar, print_autocal, print_folder_table
 from app.config import Settings
 from app.io.errors import LogFormatError
 from app.io.read_options import ReadOptions
 from app.store import open_store
+from app.workflows.autocal import autocalibrate_file
 
 
 def _autocal_options(args) -> dict:
@@ -27,7 +27,7 @@ def _autocal_options(args) -> dict:
 def _autocal_job(path: str, options: dict) -> dict:
     """One file of a folder run (top level, so that worker processes can pickle it)."""
     try:
-        return workflow.autocalibrate_file(path, **options)
+        return autocalibrate_file(path, **options)
     except (CalibrationError, LogFormatError) as exc:
         return {"label": Path(path).name, "ok": False, "error": str(exc)}
     except Exception as exc:  # a worker must report, never take the run down
@@ -40,7 +40,7 @@ def run(args, settings: Settings) -> int:
     if args.path.is_dir():
         return _autocal_folder(args, settings, options)
     progress = ProgressBar(args.path.name) if sys.stderr.isatty() else None
-    body = workflow.autocalibrate_file(args.path, progress=progress, **options)
+    body = autocalibrate_file(args.path, progress=progress, **options)
     if args.store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:

@@ -35,12 +35,12 @@ import numpy as np
 
 from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.orientations import UP_VECTORS, nearest_orientation
-from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 from app.io.board_formats import DEFAULT_BAUD, SILENCE_S, STALL_S
 from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, to_log
 from app.io.errors import LogFormatError
 from app.io.formats.timing import time_scale
-from app.protocols import BOARD_PROTOCOLS, Protocol
+from app.guided.protocols import BOARD_PROTOCOLS, Protocol
 from app.web.tables import capture_thresholds
 
 CHECK_S = 1.0
@@ -59,7 +59,7 @@ class StillEngine:
     """The page's capture machine for still poses, on the board's time (seconds) and readings normalised
     so that the accelerometer rests at g (m/s²) and the gyroscope in °/s (None when the lines have none)."""
 
-    protocol: Protocol  # a posed one (``poses`` set): app.protocols
+    protocol: Protocol  # a posed one (``poses`` set): app.guided.protocols
     capture_s: float
     thresholds: dict = field(default_factory=capture_thresholds)
     window: deque = field(default_factory=deque)
@@ -198,7 +198,7 @@ class Capture:
     port
         An object with ``read(n) -> bytes`` returning what has arrived (pyserial with a timeout).
     protocol : str
-        One of app.protocols.BOARD_PROTOCOLS.
+        One of app.guided.protocols.BOARD_PROTOCOLS.
     out_path : Path
         The CSV log to write.
     say : callable

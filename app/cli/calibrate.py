@@ -8,7 +8,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from app import methods, workflow
+from app import methods
 from app.calibration import CalibrationError
 from app.cli.printers import print_summary
 from app.config import Settings
@@ -16,6 +16,7 @@ from app.io.formats import read_log
 from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions
 from app.store import open_store
+from app.workflows.recordings import RecordingSource, describe_log
 
 
 def run(args, settings: Settings) -> int:
@@ -58,7 +59,7 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
                           instance=args.instance, mag_instance=args.mag_instance)
     name = ", ".join(str(p) for p in args.log)
     log = read_log(path, options, name=name)
-    recording = workflow.describe_log(log, options)
+    recording = describe_log(log, options)
     if captures:
         from app.cli.board import capture_segments
 
@@ -66,7 +67,7 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
         recording["notes"].append(f"the still segments are the {len(captures)} captures, rows "
                                   + ", ".join(f"{a}–{b - 1}" for _, a, b in captures))
     request = methods.parse_calibration_request(calibration_request(args, unit=log.units.get("acc", "m/s^2")))
-    body = methods.calibrate(request, workflow.RecordingSource(meta=recording, path=path, log=log))
+    body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log))
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
         body["captures"] = [{"position": seg["capture"], "rows": [seg["start"], seg["end"]], "up": seg["up"],
                              "mean": seg["acc_mean"], "std": seg["acc_std"], "count": seg["count"]}

@@ -23,7 +23,7 @@ def run(args, settings: Settings) -> int:
     """``trical capture PORT``: the board's lines captured hands-free into a log, then calibrated (app.cli.board)."""
     import serial  # pyserial
 
-    from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+    from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 
     capture_s = CAPTURE_S_DEFAULT if args.capture_s is None else args.capture_s
     low, high = CAPTURE_S_RANGE
@@ -118,5 +118,5 @@ def _capture_calibration(capture, outcome, args, settings: Settings) -> int:
 
 
 _CAPTURE_FINISH = {"noise": _capture_noise, "calibrate": _capture_calibration}
-"""How ``trical capture`` ends, by the command its protocol finishes with (app.protocols)."""
+"""How ``trical capture`` ends, by the command its protocol finishes with (app.guided.protocols)."""
 

@@ -20,7 +20,7 @@ from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.requests import ValidationError
 from app.store import NotFoundError
-from app.tls import CertificateError
+from app.reach.tls import CertificateError
 from app.words import render
 
 COMMANDS = {"serve": serve.run, "calibrate": calibrate.run, "autocal": autocal.run, "noise": noise.run,

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import numpy as np
 
-from app import workflow
 from app.calibration import CalibrationError
 from app.cli.calibrate import one_recording
 from app.cli.finish import finish
@@ -16,6 +15,7 @@ from app.config import Settings
 from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.read_options import ReadOptions
+from app.workflows.noise import characterise_log
 
 
 def run(args, settings: Settings) -> int:
@@ -41,7 +41,7 @@ def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
                                      mag_instance=args.mag_instance, clock=clock), name=name)
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
-    body = workflow.characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
+    body = characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
                                      array_sensor=sensor if array else None, device_id=args.device_id,
                                      label=label)
     from app.io.allan_plot import allan_svg

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from app import __version__, methods, workflow
+from app import __version__, methods
 from app.calibration.solvers import SOLVERS
 from app.cli import options as opt
 from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
@@ -15,6 +15,7 @@ from app.io.formats.units import MAG_UNITS_IN
 from app.io.log import UNITS
 from app.requests import CUBE_PROTOCOLS
 from app.workflows.temperature import TEMPERATURE_SENSORS
+from app.workflows.autocal import AUTOCAL_UNITS
 
 CALIBRATE_METHODS = methods.commanded_by("calibrate")
 """The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
@@ -107,7 +108,7 @@ def _add_autocal(sub) -> None:
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
     a.add_argument("path", type=opt.input_path("a recording or a folder of them"), help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
     a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
-    a.add_argument("--unit", choices=workflow.AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
+    a.add_argument("--unit", choices=AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
     a.add_argument("--solver", choices=SOLVERS, default="lm")
     _read_options(a)
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")

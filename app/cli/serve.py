@@ -26,8 +26,8 @@ def run(args, settings: Settings) -> int:
 def _serve_https(args, settings: Settings, port: int) -> int:
     import uvicorn
 
-    from app import tls
-    from app.qr import qr_terminal
+    from app.reach import tls
+    from app.reach.qr import qr_terminal
 
     if bool(args.cert) != bool(args.key):
         raise tls.CertificateError("--cert and --key go together: give both, or neither for a self-signed certificate")

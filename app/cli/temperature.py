@@ -2,19 +2,19 @@
 
 from __future__ import annotations
 
-from app import workflow
 from app.cli.finish import finish
 from app.cli.printers import print_temperature
 from app.config import Settings
 from app.io.formats import read_log
 from app.io.read_options import ReadOptions
+from app.workflows.temperature import temperature_log
 
 
 def run(args, settings: Settings) -> int:
     """``trical temperature PATH``: the offsets' drift with temperature, fitted."""
     log = read_log(args.path, ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units={}, columns=args.columns,
                                           sign=args.sign, chip=args.chip, instance=args.instance), name=str(args.path))
-    body = workflow.temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
+    body = temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
                                     label=args.path.name)
     from app.io.export_temperature import temperature_svg
 

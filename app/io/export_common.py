@@ -28,10 +28,10 @@ class Export:
 
 
 def _result(body: dict):
-    from app.calibration.registry import result_from_dict  # every model: see app/workflow.py
+    from app.calibration.result import CalibrationResult  # from_dict imports every model
 
     try:
-        return result_from_dict(body)
+        return CalibrationResult.from_dict(body)
     except CalibrationError as exc:
         raise ExportError(f"{exc}: this calibration cannot be exported") from None
 
@@ -39,7 +39,7 @@ def _result(body: dict):
 def result_class(body: dict):
     """The result class a stored calibration names (app.calibration.result): its class answers (``KIND``,
     ``PER_SENSOR``) say which exports fit it, even for a body cut short."""
-    from app.calibration.registry import CalibrationResult  # every model: see app/workflow.py
+    from app.calibration.result import CalibrationResult  # class_of imports every model
 
     try:
         return CalibrationResult.class_of(body)

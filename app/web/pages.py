@@ -9,11 +9,11 @@ from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
 from fastapi.templating import Jinja2Templates
 
-from app.addresses import reachable_url
 from app.calibration import CANONICAL_SIX
+from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
 from app.io.formats.kinds import ACCEPTED_SUFFIXES
-from app.qr import qr_svg_data_uri
-from app.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.reach.addresses import reachable_url
+from app.reach.qr import qr_svg_data_uri
 
 from .tables import SOURCES, page_tables
 

@@ -13,7 +13,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from app import capture_rules
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
@@ -21,6 +20,7 @@ from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
+from app.guided import capture_rules
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
 from app.web.metric_words import METRICS, SENSOR_WORDS

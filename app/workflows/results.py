@@ -26,9 +26,9 @@ def pose_advice(result) -> list[dict]:
 def apply_calibration(body: dict, samples, sensor: str = "acc"):
     """Calibrate samples of one sensor with a stored calibration: the result it rebuilds applies its
     correction of that sensor, or says which sensors it has (a noise characterisation corrects nothing)."""
-    from app.calibration.registry import result_from_dict  # the registry imports every model
+    from app.calibration.result import CalibrationResult  # from_dict imports every model
 
-    return result_from_dict(body).apply(samples, sensor)
+    return CalibrationResult.from_dict(body).apply(samples, sensor)
 
 
 def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:

@@ -108,7 +108,7 @@ class StillFit:
     cv_note : str or None
         None: the fit is cross-validated on readings left out; else why it is not, reported instead.
     advises : bool
-        Its result comes with the next poses to add (D-optimal, :func:`app.workflow.pose_advice`).
+        Its result comes with the next poses to add (D-optimal, :func:`app.workflows.results.pose_advice`).
     """
 
     name: str

@@ -1,6 +1,6 @@
 // A small plot of an uploaded log (pure, no DOM): the norm of its accelerometer (or magnetometer)
 // over time, each bin's smallest to largest value as a band, the still segments shaded and
-// labelled with the face up. The server sends the overview (app.workflow.overview) and segments.
+// labelled with the face up. The server sends the overview (app.workflows.recordings.overview) and segments.
 
 const W = 320;
 const H = 120;

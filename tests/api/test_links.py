@@ -13,7 +13,7 @@ from fastapi.testclient import TestClient
 
 from app.calibration import CANONICAL_SIX
 from app.main import create_app
-from app.tls import lan_addresses
+from app.reach.tls import lan_addresses
 from tests.api.conftest import make_settings
 from tests.api.test_sessions import auth, start
 from tests.live_server import free_port, live_server

@@ -12,7 +12,7 @@ import json
 import numpy as np
 import pytest
 
-from app import workflow
+from app.workflows.recordings import RecordingSource
 from app.api.schemas import RecordingOut
 from simulations.cube import FIELD_UT, simulate_session
 from tests.api.test_typed_contract import undescribed
@@ -96,7 +96,7 @@ def test_an_ios_header_is_detected_flipped_and_said_so(client):
 def test_a_stored_recording_is_read_again_as_it_was_told(client, settings):
     log = SAMPLES / "sensorlog_ios.csv"
     rec = upload(client, log.name, log.read_bytes(), sign=1).json()
-    again = workflow.RecordingSource(meta=rec, path=settings.recordings_dir / f"{rec['id']}.csv").read()
+    again = RecordingSource(meta=rec, path=settings.recordings_dir / f"{rec['id']}.csv").read()
     assert again.sign == 1
     for seg in rec["segments"]:
         np.testing.assert_allclose(again.acc[seg["start"]:seg["end"]].mean(axis=0), seg["acc_mean"], atol=1e-9)

@@ -10,7 +10,7 @@ from app.calibration import (
     fit_orientations,
     fit_six_position,
 )
-from app.calibration.registry import result_from_dict
+from app.calibration.result import CalibrationResult
 
 HUAWEI_X = [[1.00381, -0.00227028, -0.0141925], [-0.00324982, 1.00003, 0.00734762], [-0.019297, 0.0362144, 0.988311]]
 HUAWEI_Y = [0.353222, 0.363473, -1.18129]
@@ -156,7 +156,7 @@ def test_near_duplicates_are_named(table1):
 
 def test_round_trip_and_apply(table1):
     cal = fit_six_position(table1[:6], gravity=9.81)
-    again = result_from_dict(cal.to_dict())
+    again = CalibrationResult.from_dict(cal.to_dict())
     assert isinstance(again, AffineCalibration)
     np.testing.assert_array_equal(again.X, cal.X)
     np.testing.assert_array_equal(again.apply(table1), cal.apply(table1))

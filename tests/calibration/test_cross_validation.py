@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app import workflow
+from app.workflows.still import Reading, calibrate_known, calibrate_unknown
 from simulations.free_poses import free_pose_session, fresh_error_mg
 from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 from tests.conftest import seed_table
@@ -13,7 +13,7 @@ from tests.conftest import seed_table
 
 def test_triangular_cv_error_on_seed_table_2_exceeds_the_in_sample_error():
     # Farago et al. Table 2-like readings: 20 positions; leave-one-out refits 20 times.
-    result, _ = workflow.calibrate_unknown("triangular", seed_table(2)[:20], unit="m/s^2", gravity=9.806)
+    result, _ = calibrate_unknown("triangular", seed_table(2)[:20], unit="m/s^2", gravity=9.806)
     assert result.metrics["cv_scheme"] == "leave-one-out"
     assert result.metrics["cv_error_mg"] > result.metrics["error_after_mg"]  # in-sample flatters
     assert result.metrics["cv_error_max_mg"] >= result.metrics["cv_error_mg"]
@@ -27,16 +27,16 @@ def test_triangular_cv_error_on_seed_table_2_exceeds_the_in_sample_error():
 
 
 def test_nine_positions_have_no_figure_and_say_how_to_get_one():
-    result, _ = workflow.calibrate_unknown("triangular", seed_table(2)[:9], unit="m/s^2", gravity=9.806)
+    result, _ = calibrate_unknown("triangular", seed_table(2)[:9], unit="m/s^2", gravity=9.806)
     assert result.metrics["cv_error_mg"] is None and "add poses" in result.metrics["cv_note"]
 
 
 def test_six_position_has_no_redundancy():
     g = 9.81
-    readings = [workflow.Reading(mean=tuple(v), up=u) for u, v in
+    readings = [Reading(mean=tuple(v), up=u) for u, v in
                 (("+x", (g, 0, 0)), ("-x", (-g, 0, 0)), ("+y", (0, g, 0)), ("-y", (0, -g, 0)),
                  ("+z", (0, 0, g)), ("-z", (0, 0, -g)))]
-    result, _ = workflow.calibrate_known("six_position", readings, unit="m/s^2", gravity=g)
+    result, _ = calibrate_known("six_position", readings, unit="m/s^2", gravity=g)
     assert result.metrics["cv_error_mg"] is None and "add poses" in result.metrics["cv_note"]
 
 
@@ -59,7 +59,7 @@ def test_cv_error_tracks_the_error_on_fresh_poses(n, scheme):
     cv, fresh, inside = [], [], []
     for _ in range(20):
         p, means = _session(rng, n, 0.003)
-        result, _ = workflow.calibrate_unknown("triangular", means, unit="g", gravity=1.0)
+        result, _ = calibrate_unknown("triangular", means, unit="g", gravity=1.0)
         assert result.metrics["cv_scheme"] == scheme
         # The readings' own noise is in every cv figure: compare with fresh poses read with that noise.
         cv.append(result.metrics["cv_error_mg"])
@@ -79,7 +79,7 @@ def test_cv_error_is_what_a_person_gets_on_fresh_poses_with_tremor_and_unit_erro
     cv, fresh = [], []
     for _ in range(30):
         p, means = free_pose_session(rng, n)
-        result, _ = workflow.calibrate_unknown("triangular", means, unit="g", gravity=1.0)
+        result, _ = calibrate_unknown("triangular", means, unit="g", gravity=1.0)
         cv.append(result.metrics["cv_error_mg"])
         fresh.append(fresh_error_mg(rng, p, result.apply)[0])
     assert abs(np.mean(cv) / np.mean(fresh) - 1) < 0.3, (np.mean(cv), np.mean(fresh))

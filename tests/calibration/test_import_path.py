@@ -12,7 +12,7 @@ SIMULATIONS = "simulations"
 def test_the_service_loads_no_simulation():
     code = (
         "import sys, pkgutil, importlib\n"
-        "import app.main, app.workflow, app.sessions, app.cli.main\n"
+        "import app.main, app.workflows, app.guided.sessions, app.cli.main\n"
         "import app.api, app.io, app.store, app.web\n"
         "for pkg in (app.api, app.io, app.store, app.web):\n"
         "    for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + '.'):\n"

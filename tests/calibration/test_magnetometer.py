@@ -7,7 +7,7 @@ from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.magnetometer import MagnetometerResult, fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
 from app.calibration.magnetometer.refine import correlation_inflation, pack
-from app.calibration.registry import result_from_dict
+from app.calibration.result import CalibrationResult
 from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_rests, simulate_session, simulate_turn
 
 F = EARTH_FIELD_UT
@@ -123,7 +123,7 @@ def test_correlated_residuals_widen_the_intervals():
 def test_the_result_round_trips_and_applies():
     m, M, b = simulate_session(14, n=300)
     r = fit_magnetometer(m, field_ut=F)
-    again = result_from_dict(r.to_dict())
+    again = CalibrationResult.from_dict(r.to_dict())
     assert isinstance(again, MagnetometerResult)
     np.testing.assert_array_equal(again.M, r.M)
     np.testing.assert_array_equal(again.b, r.b)

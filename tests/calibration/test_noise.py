@@ -10,7 +10,7 @@ import pytest
 from app.calibration.allan import overlapping_adev, tau_grid
 from app.calibration.errors import InsufficientDataError
 from app.calibration.noise import NoiseResult, characterise_noise
-from app.calibration.registry import result_from_dict
+from app.calibration.result import CalibrationResult
 from simulations.noise import simulate_still
 
 FS = 100.0
@@ -86,7 +86,7 @@ def test_result_round_trips_and_corrects_nothing():
                          sampling_rate_hz=FS, duration_s=part["duration_s"], unit="rad/s")
     body = result.to_dict()
     assert body["model"]["type"] == "noise" and body["method"] == "noise"
-    again = result_from_dict(body)
+    again = CalibrationResult.from_dict(body)
     assert isinstance(again, NoiseResult) and again.to_dict() == body
     assert again.corrections() == {}
     with pytest.raises(ValueError, match="corrects nothing"):

@@ -12,8 +12,7 @@ from app.calibration import CalibrationError, fit_six_position
 from app.calibration.cube.calibrate import calibrate_cube
 from simulations.cube import FIELD_UT, simulate_session
 from app.calibration.nonorthogonal import fit_nonorthogonal
-from app.calibration.registry import registered_types, result_from_dict
-from app.calibration.result import SCHEMA_VERSION, CalibrationResult
+from app.calibration.result import SCHEMA_VERSION, CalibrationResult, registered_types
 from app.calibration.triangular import fit_triangular
 from tests.conftest import seed_table
 
@@ -45,7 +44,7 @@ def test_round_trip_units_and_correction(result):
     again = CalibrationResult.from_dict(body)
     kept = lambda d: {k: v for k, v in d.items() if k != "segments"}  # noqa: E731  (the cube's segmentation is not kept)
     assert type(again) is type(result) and kept(again.to_dict()) == kept(body)
-    assert type(result_from_dict(body)) is type(result)
+    assert type(CalibrationResult.from_dict(body)) is type(result)
     rng = np.random.default_rng(3)
     for sensor, c in result.corrections().items():
         assert c.sensor == sensor and c.source

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from app.calibration.temperature import TemperatureResult, calibrate_temperature, offset_at, shift_polynomial
-from app.calibration.registry import result_from_dict
+from app.calibration.result import CalibrationResult
 from app.calibration.errors import CalibrationError
 from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up
 from tests.temperature_logs import real_still_noise, warm_up
@@ -96,7 +96,7 @@ def test_correct_subtracts_the_offset_clamped_to_the_range():
     np.testing.assert_allclose(o[2], np.asarray(model["coefficients"])[:, 0], rtol=1e-12)
     m = np.ones((4, 3))
     np.testing.assert_allclose(r.correct("gyr", m, t), m - o, rtol=1e-12)
-    again = result_from_dict(r.to_dict())
+    again = CalibrationResult.from_dict(r.to_dict())
     assert isinstance(again, TemperatureResult)
     np.testing.assert_allclose(again.correct("gyr", m, t), m - o, rtol=1e-12)
     with pytest.raises(CalibrationError, match="temperature"):

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from app import workflow
+from app.workflows.still import Reading, calibrate_known, calibrate_unknown
 from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 from app.calibration.trust import HALF_WIDTH_LIMITS
 
@@ -24,11 +24,11 @@ def tilted(v, degrees, rng):
 
 
 def labelled(vectors_by_label, gravity=G):
-    return [workflow.Reading(mean=tuple(gravity * np.asarray(v)), up=u) for u, v in vectors_by_label]
+    return [Reading(mean=tuple(gravity * np.asarray(v)), up=u) for u, v in vectors_by_label]
 
 
 def magnitude(means, unit="g", gravity=1.0):
-    result, _ = workflow.calibrate_unknown("triangular", means, unit=unit, gravity=gravity)
+    result, _ = calibrate_unknown("triangular", means, unit=unit, gravity=gravity)
     return result
 
 
@@ -47,12 +47,12 @@ def test_six_poses_tilted_3_degrees_fail_on_the_growth_of_the_norm_error():
     # of g of noise in the issue's; none here); six_position puts the tilts into X and the norms grow.
     rng = np.random.default_rng(1)
     readings = labelled((u, tilted(v, 3.0, rng)) for u, v in AXES.items())
-    result, _ = workflow.calibrate_known("six_position", readings, unit="m/s^2", gravity=G)
+    result, _ = calibrate_known("six_position", readings, unit="m/s^2", gravity=G)
     assert not result.ok
     assert result.metrics["norm_error_max_raw"] < 1e-12 and result.metrics["norm_error_max"] > 0.01
     assert "not on the axes their labels say" in result.reasons[0] and "magnitude model" in result.reasons[0]
     # The same six poses on their axes pass.
-    exact, _ = workflow.calibrate_known("six_position", labelled(AXES.items()), unit="m/s^2", gravity=G)
+    exact, _ = calibrate_known("six_position", labelled(AXES.items()), unit="m/s^2", gravity=G)
     assert exact.ok, exact.reasons
 
 
@@ -61,7 +61,7 @@ def test_non_axis_aligned_orientations_are_refused():
     # rounded edges. The sensor is ideal: any change is harm.
     rng = np.random.default_rng(5)
     poses = [(u, tilted(v, rng.uniform(6, 10), rng)) for u, v in list(AXES.items()) * 2]
-    result, _ = workflow.calibrate_known("orientations", labelled(poses), unit="m/s^2", gravity=G)
+    result, _ = calibrate_known("orientations", labelled(poses), unit="m/s^2", gravity=G)
     assert not result.ok
     m = result.metrics
     assert m["error_after_mg"] > m["error_before_mg"] and m["cv_error_mg"] > m["error_before_mg"]
@@ -108,5 +108,5 @@ def test_raw_units_skip_the_comparisons_with_the_raw_norm():
     # Counts are not comparable with g: only the fit's own gates speak.
     rng = np.random.default_rng(4)
     counts = 4096 * (uncalibrate(draw_parameters(rng), random_unit_vectors(rng, 20)) + rng.normal(scale=5e-4, size=(20, 3)))
-    result, _ = workflow.calibrate_unknown("triangular", counts, unit="raw", gravity=G)
+    result, _ = calibrate_unknown("triangular", counts, unit="raw", gravity=G)
     assert not any("without it" in r or "norms of its own readings" in r for r in result.reasons)

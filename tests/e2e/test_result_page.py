@@ -14,7 +14,7 @@ import pytest
 from playwright.sync_api import expect
 
 from app.calibration import CANONICAL_SIX
-from app.tls import lan_addresses
+from app.reach.tls import lan_addresses
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
 from tests.e2e.conftest import shot

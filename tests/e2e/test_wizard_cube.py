@@ -17,7 +17,7 @@ from playwright.sync_api import expect
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
 from app.calibration.cube.turns import TURN_WORDS
-from app.capture_rules import MAX_ROTATION_DEG_S
+from app.guided.capture_rules import MAX_ROTATION_DEG_S
 from app.web.tables import page_tables
 from tests.cube_phone import X_ACC, Y_ACC
 from tests.e2e.conftest import ARTIFACTS, phone_shim, shot, tab_to

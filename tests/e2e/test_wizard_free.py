@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from playwright.sync_api import expect
 
-from app import workflow
+from app.workflows.still import calibrate_unknown
 from app.calibration.advice import fibonacci_sphere
 from tests.e2e.conftest import shot
 from tests.e2e.source_words import assert_only_its_words
@@ -46,7 +46,7 @@ def put_down(page, motion, k: int) -> None:
 
 def fitted(k: int):
     """The triangular fit of what Chromium handed the page for the first ``k`` poses."""
-    return workflow.calibrate_unknown("triangular", np.array([chromium_round(reading(u)) for u in UPS[:k]]), unit="m/s^2", gravity=G)
+    return calibrate_unknown("triangular", np.array([chromium_round(reading(u)) for u in UPS[:k]]), unit="m/s^2", gravity=G)
 
 
 def check_recovers_the_phone(cal: dict, k: int) -> None:

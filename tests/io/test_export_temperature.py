@@ -17,8 +17,8 @@ import pytest
 
 from app.io.errors import ExportError
 from app.io.exporters import export_calibration
-from app.workflow import temperature_log
-from app.calibration.registry import result_from_dict
+from app.workflows.temperature import temperature_log
+from app.calibration.result import CalibrationResult
 from tests.temperature_logs import warm_up
 
 from app.io.log import LogData
@@ -58,7 +58,7 @@ def _px4_rows(text: str) -> dict:
 def test_px4_params_reproduce_trical_s_correction(body):
     text = export_calibration(body, "px4").content
     p = _px4_rows(text)
-    result = result_from_dict(body)
+    result = CalibrationResult.from_dict(body)
     for sensor, prefix in (("acc", "TC_A"), ("gyr", "TC_G")):
         assert p[f"{prefix}_ENABLE"] == 1
         model = body["model"][sensor]
@@ -89,7 +89,7 @@ def _ardupilot_rows(text: str) -> dict:
 def test_ardupilot_parm_reproduces_trical_s_correction_relative_to_the_calibration_temperature(body, cal_offset_c):
     p = _ardupilot_rows(export_calibration(body, "ardupilot").content)
     assert p["INS_TCAL1_ENABLE"] == 1
-    result = result_from_dict(body)
+    result = CalibrationResult.from_dict(body)
     for sensor, word in (("acc", "ACC"), ("gyr", "GYR")):
         model = body["model"][sensor]
         T = _temperatures(model)

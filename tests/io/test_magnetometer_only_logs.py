@@ -13,7 +13,7 @@ from simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.read_options import ReadOptions
-from app.workflow import describe_log
+from app.workflows.recordings import describe_log
 
 N = 200
 RATE = 20.0

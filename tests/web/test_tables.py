@@ -10,7 +10,6 @@ from pathlib import Path
 
 import numpy as np
 
-from app import capture_rules
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.capture import STILL_MAX_STD_G
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
@@ -18,6 +17,7 @@ from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage
 from app.calibration.magnetometer.fit import MIN_COVERAGE, MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
+from app.guided import capture_rules
 from app.web.tables import COVERAGE_TO_SOLVE, POSE_NAMES, SOURCES, face_words, page_tables
 from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
 

@@ -21,9 +21,6 @@ import numpy as np
 
 from ..errors import CalibrationError
 
-ELLIPSOID_PARAMETERS = 9
-SPHERE_PARAMETERS = 4
-
 
 def _normalised(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """Readings centred on their mean and scaled to unit RMS radius: the quadric's design matrix of

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app import workflow
+from app.workflows.still import calibrate_unknown
 from tests.e2e.test_wizard import G
 from tests.e2e.test_wizard_free import UPS, reading
 
@@ -45,7 +45,7 @@ def test_free_poses_in_webkit_until_the_target(webkit, server):
     session = webkit.stored(server, "free")
     cal = webkit.stored(server, "free", f"/calibrations/{session['calibration_id']}")
     assert cal["finish"]["reason"] == "target" and cal["finish"]["poses"] == 12
-    result, _ = workflow.calibrate_unknown("triangular", np.array([reading(u) for u in UPS[:12]]), unit="m/s^2", gravity=G)
+    result, _ = calibrate_unknown("triangular", np.array([reading(u) for u in UPS[:12]]), unit="m/s^2", gravity=G)
     np.testing.assert_allclose(cal["model"]["K"], result.K, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(cal["model"]["o"], result.o, rtol=1e-9, atol=1e-12)
     assert cal["metrics"]["cv_error_mg"] == pytest.approx(result.metrics["cv_error_mg"], rel=1e-6, abs=1e-9)

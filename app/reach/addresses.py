@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from starlette.requests import Request
 
-from app.tls import lan_addresses
+from app.reach.tls import lan_addresses
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 

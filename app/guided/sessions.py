@@ -5,7 +5,7 @@ A session belongs to whoever holds its token.  Each capture holds the raw sample
 the page.
 
 A session is a :class:`Session`, read from the store's row and written to it in one place
-(:meth:`Session.from_row`, :meth:`Session.body`); its protocol is a strategy of app.protocols, looked up
+(:meth:`Session.from_row`, :meth:`Session.body`); its protocol is a strategy of app.guided.protocols, looked up
 once when the session is read: what it asks for next, how it checks a capture, when the session may be
 solved and how (``six``, ``free``, ``cube24``: the module's docstring says each).
 """
@@ -16,10 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app import workflow
 from app.calibration import CalibrationError
-from app.protocols import SESSION_PROTOCOLS, SessionProtocol
+from app.guided.protocols import SESSION_PROTOCOLS, SessionProtocol
 from app.store import ConflictError
+from app.workflows.gravity import reference_gravity
+from app.workflows.recordings import quantization_step
 
 
 @dataclass(frozen=True)
@@ -49,8 +50,8 @@ class Session:
     def new(cls, fields: dict) -> Session:
         """A new session from the request's fields (app.api.schemas.SessionIn, ``target_mg`` filled in)."""
         protocol = SESSION_PROTOCOLS[fields["protocol"]]
-        gravity, notes = workflow.reference_gravity(fields["unit"], fields.get("gravity"), fields.get("latitude_deg"),
-                                                    fields.get("height_m"))
+        gravity, notes = reference_gravity(fields["unit"], fields.get("gravity"), fields.get("latitude_deg"),
+                                           fields.get("height_m"))
         return cls(protocol=protocol, positions=protocol.positions, capture_s=fields["capture_s"],
                    unit=fields["unit"], gravity=gravity, notes=tuple(notes), device_id=fields.get("device_id"),
                    label=fields.get("label"), source=fields.get("source", "phone"),
@@ -130,7 +131,7 @@ def add_capture(store, session: Session, capture: dict) -> tuple[dict, dict]:
         raise CalibrationError(f"this session takes samples in {session.unit}; got {capture['unit']}")
     summary = session.protocol.check(session, capture)
     acc = np.asarray(capture["acc"], dtype=float)
-    summary["quantization_step"] = workflow.quantization_step(acc) if session.unit == "m/s^2" else None
+    summary["quantization_step"] = quantization_step(acc) if session.unit == "m/s^2" else None
     summary["sign"] = capture.get("sign") or {"convention": "w3c", "detected_from": "default"}
     samples = {k: capture.get(k) for k in ("t_ms", "acc", "gyr", "gyr_unit", "motion")}
     try:
@@ -145,7 +146,7 @@ def add_capture(store, session: Session, capture: dict) -> tuple[dict, dict]:
 
 
 def solve(store, session: Session) -> dict:
-    """The calibration of a complete session, as a calibration body (its protocol's method: app.protocols).
+    """The calibration of a complete session, as a calibration body (its protocol's method: app.guided.protocols).
 
     Raises
     ------

@@ -1,5 +1,5 @@
 """The capture protocols, one strategy each: what a protocol asks for next, how it checks a capture, when
-it may be solved and how it solves — for the wizard's sessions (app.sessions, the page's flows
+it may be solved and how it solves — for the wizard's sessions (app.guided.sessions, the page's flows
 static/js/flow_six.js, flow_free.js, flow_cube.js) and for ``trical capture`` (app.cli.board), which
 captures the same poses from a board's lines.
 
@@ -32,7 +32,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from app import workflow
 from app.calibration import CANONICAL_SIX, CalibrationError, InsufficientDataError
 from app.calibration.advice import farthest_directions
 from app.calibration.capture import PoseTooCloseError, check_new_direction, check_still_capture, on_uniform_grid
@@ -40,12 +39,15 @@ from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.calibration.errors import NotStillError
 from app.calibration.gyro_bias import gyroscope_bias
 from app.calibration.orientations import nearest_orientation
-from app.capture_rules import (CUBE_FACE_MAX_ANGLE_DEG, FREE_FIT_FROM, FREE_MAX_ANGLE_DEG, FREE_MIN_ANGLE_DEG,
-                               FREE_TARGET_MIN_POSES, MAX_ROTATION_DEG_S)
+from app.guided.capture_rules import (CUBE_FACE_MAX_ANGLE_DEG, FREE_FIT_FROM, FREE_MAX_ANGLE_DEG, FREE_MIN_ANGLE_DEG,
+                                      FREE_TARGET_MIN_POSES, MAX_ROTATION_DEG_S)
+from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
+from app.workflows.results import calibration_body, pose_advice
+from app.workflows.still import Reading, calibrate_known, calibrate_unknown
 
 if TYPE_CHECKING:
-    from app.sessions import Session
+    from app.guided.sessions import Session
 
 OS_CALIBRATION_WARNING = (
     "the phone's system may already calibrate what the browser reports (Android and iOS apply their "
@@ -83,7 +85,7 @@ class Protocol:
 
 
 class SessionProtocol(Protocol):
-    """A protocol the wizard's sessions follow (app.sessions): what it asks for next, how it checks a capture,
+    """A protocol the wizard's sessions follow (app.guided.sessions): what it asks for next, how it checks a capture,
     when it may be solved and how."""
 
     positions: tuple[str, ...] = ()
@@ -176,9 +178,9 @@ class SixProtocol(SessionProtocol):
 
     def _solve(self, store, session):
         captures = [session.capture(p) for p in self.positions]
-        readings = [workflow.Reading(mean=tuple(c["mean"]), up=c["position"], std=tuple(c["std"]), count=c["count"])
+        readings = [Reading(mean=tuple(c["mean"]), up=c["position"], std=tuple(c["std"]), count=c["count"])
                     for c in captures]
-        result, extra = workflow.calibrate_known("six_position", readings, unit=session.unit, gravity=session.gravity)
+        result, extra = calibrate_known("six_position", readings, unit=session.unit, gravity=session.gravity)
         return session_body(session, result, extra, captures=[
             {k: c[k] for k in CAPTURE_FIELDS if k != "up"} for c in captures])
 
@@ -230,7 +232,7 @@ class FreeProtocol(SessionProtocol):
     @staticmethod
     def fit(session: Session) -> tuple:
         """The triangular model of Farago et al. on the capture means, with its extra metrics."""
-        return workflow.calibrate_unknown("triangular", session.means, unit=session.unit, gravity=session.gravity)
+        return calibrate_unknown("triangular", session.means, unit=session.unit, gravity=session.gravity)
 
     def progress_and_fit(self, session: Session) -> tuple[dict, tuple | None]:
         """Where a free session stands: its cross-validated error, the advice and whether the target is
@@ -256,7 +258,7 @@ class FreeProtocol(SessionProtocol):
         # The target is an error on new orientations below target_mg from a fit that passes every gate.
         reached = cv is not None and n >= FREE_TARGET_MIN_POSES and cv < target and fit[0].ok
         if fit is not None:
-            advice = workflow.pose_advice(fit[0])
+            advice = pose_advice(fit[0])
         else:
             advice = [a.to_dict() for a in farthest_directions(np.asarray(session.means, dtype=float).reshape(-1, 3))]
         if reached:
@@ -322,7 +324,7 @@ class Cube24Protocol(SessionProtocol):
         summary = dict(checked.to_dict(), position=position, up=checked.position, expected_up=CUBE24_UPS[k - 1],
                        gyr_mean=np.mean(np.asarray(capture["gyr"], dtype=float), axis=0).tolist(),
                        gyr_unit=capture.get("gyr_unit", "deg/s"))
-        declared = workflow.GYR_TO_RAD_S[summary["gyr_unit"]]
+        declared = GYR_TO_RAD_S[summary["gyr_unit"]]
         summary["gyr_to_rad_s"] = declared
         if k > 1:
             motion = capture.get("motion")
@@ -370,7 +372,7 @@ class Cube24Protocol(SessionProtocol):
 
         acc, gyr, rate = self.recording(store, session)
         result = calibrate_cube(acc, gyr, None, sampling_rate_hz=rate, protocol=self.name, gravity=session.gravity)
-        return workflow.calibration_body(
+        return calibration_body(
             result, {}, unit=session.unit, notes=browser_notes(session), device_id=session.device_id,
             label=session.label, session_id=session.id, source=session.source, units={"acc": session.unit, "gyr": "rad/s"},
             captures=[{k: c[k] for k in CAPTURE_FIELDS} for c in session.captures],
@@ -407,7 +409,7 @@ BOARD_PROTOCOLS: dict[str, Protocol] = {p.name: p for p in (SIX, FREE, CUBE24, C
 
 def _gyr_mean_deg_s(capture: dict) -> float:
     rate = np.linalg.norm(np.mean(np.asarray(capture["gyr"], dtype=float), axis=0))
-    return float(np.degrees(rate * workflow.GYR_TO_RAD_S[capture.get("gyr_unit", "deg/s")]))
+    return float(np.degrees(rate * GYR_TO_RAD_S[capture.get("gyr_unit", "deg/s")]))
 
 
 def check_not_turning(capture: dict, what: str = "device") -> None:
@@ -436,7 +438,7 @@ def session_gyroscope_bias(session: Session) -> dict | None:
     captures = [c for c in session.captures if c.get("gyr_std") is not None]
     if not captures:
         return None
-    scale = np.array([workflow.GYR_TO_RAD_S[c["gyr_unit"]] for c in captures])[:, None]
+    scale = np.array([GYR_TO_RAD_S[c["gyr_unit"]] for c in captures])[:, None]
     return gyroscope_bias(np.array([c["gyr_mean"] for c in captures]) * scale,
                           np.array([c["gyr_std"] for c in captures]) * scale, [c["gyr_count"] for c in captures])
 
@@ -449,7 +451,7 @@ def session_body(session: Session, result, extra: dict, **fields) -> dict:
     bias = session_gyroscope_bias(session)
     if bias is not None:
         fields["gyroscope_bias"] = bias
-    return workflow.calibration_body(
+    return calibration_body(
         result, extra, unit=session.unit, notes=browser_notes(session), device_id=session.device_id,
         label=session.label, session_id=session.id, source=session.source, **fields)
 

@@ -1,6 +1,6 @@
 """The rules of the guided capture flows: how long a pose is captured, when a device is still, how far a free
 pose must point from the others and how many the free flow fits from — shared by the server's sessions
-(app.sessions), the pages' tables (app.web.tables) and the terminal's capture (app.cli.board), so that
+(app.guided.sessions), the pages' tables (app.web.tables) and the terminal's capture (app.cli.board), so that
 what the page or the terminal captures the server accepts.
 """
 
