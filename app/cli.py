@@ -18,6 +18,7 @@ import zipfile
 from pathlib import Path
 
 import numpy as np
+from pydantic import ValidationError
 
 from app import __version__, methods, workflow
 from app import cli_options as opt
@@ -33,7 +34,7 @@ from app.io.formats import FORMATS, starts_like_flight_log
 from app.io.formats.units import MAG_UNITS_IN
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.parts import refuse_repeated_names
-from app.requests import CUBE_PROTOCOLS, ValidationError
+from app.calibration_requests import CUBE_PROTOCOLS
 from app.store import NotFoundError, open_store
 from app.tls import CertificateError
 from app.workflows.temperature import TEMPERATURE_SENSORS

@@ -1,6 +1,6 @@
 """The method table: one declaration per calibration method, from which the rest is derived.
 
-Each :class:`Method` names its request model (:mod:`app.requests`), its handler (a function of
+Each :class:`Method` names its request model (:mod:`app.calibration_requests`), its handler (a function of
 :mod:`app.workflows`), its response model (by its class name in :mod:`app.api.schemas`, which builds its
 union from this table: the CLI, which imports this module, never loads the API), the ``trical`` command
 that runs it and the export formats its calibrations offer. From it come the request union that
@@ -21,7 +21,7 @@ from typing import Annotated, Callable, Union
 
 from pydantic import Field, TypeAdapter
 
-from app import requests as rq
+from app import calibration_requests as rq
 from app.calibration.solvers import SOLVERS
 from app.io.errors import ExportError
 from app.io.export_noise import NOISE_EXPORTERS

@@ -1,7 +1,7 @@
 """The steps the API and the CLI share: logs into recordings, requests into calibrations.
 
 Data flows one way (docs/architecture.md): the callers parse a request into the models of
-:mod:`app.requests`, find its recording and hand it, through the method table of :mod:`app.methods`, to
+:mod:`app.calibration_requests`, find its recording and hand it, through the method table of :mod:`app.methods`, to
 its method's handler in :mod:`app.workflows` (one module per method family), which calls ``io`` to turn
 files into arrays and one function of ``calibration``, and returns the plain form that the callers store,
 export and serialise.  Nothing here knows HTTP, pydantic or the database.

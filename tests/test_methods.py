@@ -129,7 +129,7 @@ def test_the_cli_builds_each_method_request_from_the_options_its_model_takes():
 
 def test_a_method_with_no_entry_is_refused_naming_the_methods():
     from app.methods import describe_errors
-    from app.requests import ValidationError
+    from pydantic import ValidationError
 
     with pytest.raises(ValidationError) as caught:
         methods.parse_calibration_request({"method": "auto_compass", "recording_id": "rec_1"})

@@ -1,6 +1,6 @@
 """Response models of the REST API (v1), and the request models of its other resources.
 
-The calibration request models live in :mod:`app.requests` (the CLI builds them too); the
+The calibration request models live in :mod:`app.calibration_requests` (the CLI builds them too); the
 responses here describe every field each method returns, so that ``/openapi.json`` documents them.
 """
 
@@ -11,7 +11,7 @@ from typing import Annotated, Any, Literal, Union
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
 from app.methods import METHODS, TABLE, CalibrationIn  # noqa: F401  (re-exported: the routes name them here)
-from app.requests import (  # noqa: F401  (re-exported: the routes and tests name them here)
+from app.calibration_requests import (  # noqa: F401  (re-exported: the routes and tests name them here)
     AccUnit,
     Solver,
     Gravity,
