@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from app import workflow
-from app.api.schemas import RecordingOut
+from app.api.schemas.recordings import RecordingOut
 from app.calibration.simulations.cube import FIELD_UT, simulate_session
 from tests.api.test_typed_contract import undescribed
 from tests.conftest import DATA

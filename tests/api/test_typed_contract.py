@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from pydantic import BaseModel, TypeAdapter
 
-from app.api.schemas import RESPONSE_MODELS, CalibrationOut
+from app.api.schemas.calibrations import RESPONSE_MODELS, CalibrationOut
 from app.calibration.simulations.cube import FIELD_UT, simulate_session
 from app.calibration.simulations.autocal import simulate_recording
 from app.calibration.simulations.magnetometer import simulate_session as simulate_turn_session
