@@ -1,11 +1,12 @@
 """The method table: one declaration per calibration method, from which the rest is derived.
 
-Each :class:`Method` names its request model (:mod:`app.requests`), its handler (a function of
-:mod:`app.workflows`), its response model (by its class name in :mod:`app.api.schemas`, which builds its
-union from this table: the CLI, which imports this module, never loads the API), the ``trical`` command
-that runs it and the export formats its calibrations offer. From it come the request union that
-POST /api/v1/calibrations and ``trical calibrate`` validate, the response union of the API, the dispatch
-of a request to its handler, the CLI's ``--method`` choices and the formats the export route accepts.
+Each :class:`Method` names its request model (:mod:`app.calibration_requests`), its handler (a function of
+:mod:`app.workflows`), its response model (by its class name, which :mod:`app.api.schemas.calibrations` finds
+in its family's module and builds its union from this table: the CLI, which imports this module, never loads
+the API), the ``trical`` command that runs it and the export formats its calibrations offer. From it come the
+request union that POST /api/v1/calibrations and ``trical calibrate`` validate, the response union of the API,
+the dispatch of a request to its handler, the CLI's ``--method`` choices and the formats the export route
+accepts.
 
 Adding a method: write its handler, its request and response models, and add one entry here.
 
@@ -21,7 +22,7 @@ from typing import Annotated, Callable, Union
 
 from pydantic import Field, TypeAdapter
 
-from app import requests as rq
+from app import calibration_requests as rq
 from app.calibration.solvers import SOLVERS
 from app.io.errors import ExportError
 from app.io.export_noise import NOISE_EXPORTERS
@@ -52,8 +53,8 @@ class Method:
     handler : callable
         ``handler(request, recording)``: the workflow's function that computes its calibration's plain form.
     response : str or None
-        The class name of its response model in :mod:`app.api.schemas`; None for ``auto``, which answers as
-        the method it chose.
+        The class name of its response model in its family's module of :mod:`app.api.schemas`; None for
+        ``auto``, which answers as the method it chose.
     command : str
         The ``trical`` command that runs it: ``calibrate`` (a choice of ``--method``) or its own command.
     formats : tuple of str

@@ -11,7 +11,7 @@ import pytest
 
 from app.guided import sessions
 from app.api.deps import new_session_token
-from app.api.schemas import SessionIn
+from app.api.schemas.sessions import SessionIn
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, InsufficientDataError, up_vector
 from app.calibration.advice import fibonacci_sphere
 from app.calibration.capture import PoseTooCloseError

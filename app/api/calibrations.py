@@ -10,8 +10,9 @@ from app import methods
 from app.workflows.recordings import RecordingSource
 from app.workflows.results import apply_calibration
 from app.api.deps import OwnerDep, ReaderDep, StoreDep
-from app.api.schemas import ApplyIn, ApplyOut, CalibrationIn, CalibrationList, CalibrationOut, SnippetsOut
+from app.api.schemas.calibrations import ApplyIn, ApplyOut, CalibrationList, CalibrationOut, SnippetsOut
 from app.io.snippets import usage_snippets
+from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict
 from app.words import render_body

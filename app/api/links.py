@@ -6,7 +6,7 @@ from fastapi import APIRouter, Request
 
 from app.reach.addresses import reachable_origin
 from app.api.deps import LINK_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token
-from app.api.schemas import LinkOpened, LinkOut
+from app.api.schemas.links import LinkOpened, LinkOut
 from app.reach.qr import qr_svg_data_uri
 
 router = APIRouter(tags=["links"])

@@ -12,7 +12,8 @@ from pydantic import AfterValidator
 from app.workflows.recordings import add_recording
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
-from app.api.schemas import AccUnit, RecordingOut
+from app.api.schemas.recordings import RecordingOut
+from app.calibration_requests import AccUnit
 from app.io.formats.kinds import NAMED_SUFFIXES
 from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions

@@ -9,7 +9,8 @@ from app.api.deps import (
     SESSION_TOKEN_PREFIX, OwnerDep, ReaderDep, SettingsDep, StoreDep, Unauthorized, bearer_token, new_session_token,
     session_of_token, session_owner,
 )
-from app.api.schemas import CalibrationOut, CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
+from app.api.schemas.calibrations import CalibrationOut
+from app.api.schemas.sessions import CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
 from app.store import NotFoundError
 from app.words import render_body
 

@@ -18,7 +18,7 @@ from app.cli import autocal, calibrate, capture, export, noise, serve, temperatu
 from app.cli.parser import build_parser
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
-from app.requests import ValidationError
+from pydantic import ValidationError
 from app.store import NotFoundError
 from app.reach.tls import CertificateError
 from app.words import render

@@ -13,7 +13,7 @@ from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.formats import FORMATS
 from app.io.formats.units import MAG_UNITS_IN
 from app.io.log import UNITS
-from app.requests import CUBE_PROTOCOLS
+from app.calibration_requests import CUBE_PROTOCOLS
 from app.workflows.temperature import TEMPERATURE_SENSORS
 from app.workflows.autocal import AUTOCAL_UNITS
 

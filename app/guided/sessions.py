@@ -48,7 +48,7 @@ class Session:
 
     @classmethod
     def new(cls, fields: dict) -> Session:
-        """A new session from the request's fields (app.api.schemas.SessionIn, ``target_mg`` filled in)."""
+        """A new session from the request's fields (app.api.schemas.sessions.SessionIn, ``target_mg`` filled in)."""
         protocol = SESSION_PROTOCOLS[fields["protocol"]]
         gravity, notes = reference_gravity(fields["unit"], fields.get("gravity"), fields.get("latitude_deg"),
                                            fields.get("height_m"))

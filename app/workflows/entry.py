@@ -21,7 +21,7 @@ def calibrate(handler: Handler, request, recording: RecordingSource | None = Non
     ----------
     handler : callable
         The handler the method table (:mod:`app.methods`) names for ``request.method``.
-    request : app.requests request model
+    request : app.calibration_requests request model
         One of the request models (read by attribute: nothing here knows pydantic).
     recording : RecordingSource, optional
         The recording ``request.recording_id`` names, found by the caller (the API in the store

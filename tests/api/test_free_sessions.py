@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from pydantic import TypeAdapter
 
-from app.api.schemas import CalibrationOut, SessionOut
+from app.api.schemas.calibrations import CalibrationOut
+from app.api.schemas.sessions import SessionOut
 from app.calibration.advice import fibonacci_sphere
 from tests.api.test_sessions import auth, start
 from tests.api.test_typed_contract import undescribed

@@ -9,7 +9,8 @@ import numpy as np
 from pydantic import TypeAdapter
 from scipy import stats
 
-from app.api.schemas import CalibrationOut, SessionOut
+from app.api.schemas.calibrations import CalibrationOut
+from app.api.schemas.sessions import SessionOut
 from app.calibration import CANONICAL_SIX
 from app.calibration.advice import fibonacci_sphere
 from tests.api.test_sessions import auth, start

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from app.workflows.recordings import RecordingSource
-from app.api.schemas import RecordingOut
+from app.api.schemas.recordings import RecordingOut
 from simulations.cube import FIELD_UT, simulate_session
 from tests.api.test_typed_contract import undescribed
 from tests.conftest import DATA

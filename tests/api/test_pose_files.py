@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 from pydantic import TypeAdapter
 
-from app.api.schemas import CalibrationOut, RecordingOut
+from app.api.schemas.calibrations import CalibrationOut
+from app.api.schemas.recordings import RecordingOut
 from tests.api.conftest import make_settings
 from tests.api.test_typed_contract import undescribed
 from tests.conftest import DATA

@@ -74,7 +74,8 @@ def test_bad_input(client, method):
 def test_the_response_advises_the_next_poses_typed(client, method):
     from pydantic import TypeAdapter
 
-    from app.api.schemas import CalibrationOut, PoseAdviceOut
+    from app.api.schemas.calibrations import CalibrationOut
+    from app.api.schemas.still_readings import PoseAdviceOut
 
     r = client.post("/api/v1/calibrations", json={"method": method, "means": seed_table(1)[:14].tolist(), "gravity": 9.806})
     assert r.status_code == 201, r.text

@@ -10,7 +10,7 @@ from __future__ import annotations
 import datetime
 from typing import Annotated, Any, ClassVar, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
 from app.calibration.solvers import SOLVERS
 from app.io.log import ACC_PHYSICAL_UNITS, UNITS
@@ -248,6 +248,3 @@ class CompassFlightIn(Strict):
         if (self.latitude_deg is None) != (self.longitude_deg is None):
             raise ValueError("give both `latitude_deg` and `longitude_deg` for the Earth's field there, or neither")
         return self
-
-
-__all__ = ["ValidationError"]
