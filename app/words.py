@@ -26,6 +26,7 @@ import re
 from dataclasses import dataclass, field
 
 from app.io.formats.chips import CHIPS
+from app.methods import TABLE as METHOD_TABLE
 
 READERS = ("api", "cli", "page")
 """Where a message is read."""
@@ -76,14 +77,9 @@ def _unit_term(sensor: str, words: str, cli: str) -> Term:
                 "{value} in the " + words + f"'s unit menu (in {UNITS_CARD})", cli=cli, values=UNIT_WORDS)
 
 
-_METHOD_PAGE = {
-    "auto": "the calibration from still poses", "six_position": "the six-position calibration",
-    "orientations": "the calibration from known orientations", "nonorthogonal": "the non-orthogonal calibration",
-    "triangular": "the free-pose calibration", "cube": "the cube calibration",
-    "autocal": "the free-living calibration", "noise": "the noise characterisation",
-    "magnetometer": "the compass calibration", "temperature": "the temperature calibration",
-}
-_METHOD_CLI = {"autocal": "trical autocal", "noise": "trical noise", "temperature": "trical temperature"}
+_METHOD_PAGE = {method.name: method.page_words for method in METHOD_TABLE}
+_METHOD_CLI = {method.name: f"trical {method.command}" for method in METHOD_TABLE if method.command != "calibrate"}
+"""A method on the page and, for one with a command of its own, on the command line (the method table's)."""
 
 VOCABULARY: dict[str, Term] = {t.name: t for t in (
     _unit_term("acc", "accelerometer", "--unit"),
