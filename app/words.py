@@ -25,6 +25,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from app.calibration.plausible import UNIT_WORDS as PHYSICAL_UNIT_WORDS
 from app.io.formats.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
 
@@ -37,9 +38,9 @@ CLIENT_HEADER = "X-Trical-Client"
 PAGE_HEADER = "X-Trical-Page"
 """The path of the page that sends the request (``/``, ``/wizard`` …), for words that differ by page."""
 
-UNIT_WORDS = {"m/s^2": "m/s²", "g": "g", "rad/s": "rad/s", "deg/s": "°/s", "uT": "µT", "nT": "nT", "gauss": "gauss",
-              "raw": "counts"}
-"""Each unit as a person reads it (the start page's unit menus show these)."""
+UNIT_WORDS = {**PHYSICAL_UNIT_WORDS, "raw": "counts"}
+"""Each unit as a person reads it (the start page's unit menus show these): the core's words of the physical
+units (app/calibration/plausible.py), and counts."""
 
 UNITS_CARD = "“Units, as the data show them”"
 OPTIONS = "the upload's Options"
