@@ -121,8 +121,9 @@ SENSOR_UNITS = {"acc": ("m/s^2", "g", "raw"), "gyr": ("rad/s", "deg/s", "raw"), 
 
 
 def unit_tables() -> dict:
-    """The start page's unit menus: each sensor's units in words (its name: ``sensorWords``), and the chips (app.io.formats.chips)
-    that turn its counts into a physical unit, by sensor, with their datasheet scale in words."""
+    """The start page's unit menus: each sensor's units in words (its name: ``sensorWords``), and the chips
+    (app.io.formats.chips) that turn its counts into a physical unit, by sensor, with their datasheet scale in
+    words."""
     return {
         "units": {s: [[u, UNIT_WORDS[u]] for u in units] for s, units in SENSOR_UNITS.items()},
         "chips": {s: [[c.name, c.label] for c in CHIPS.values() if c.sensor == s] for s in SENSOR_UNITS},
