@@ -25,7 +25,9 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from app.calibration.plausible import UNIT_WORDS as PHYSICAL_UNIT_WORDS
 from app.io.formats.chips import CHIPS
+from app.methods import TABLE as METHOD_TABLE
 
 READERS = ("api", "cli", "page")
 """Where a message is read."""
@@ -36,9 +38,9 @@ CLIENT_HEADER = "X-Trical-Client"
 PAGE_HEADER = "X-Trical-Page"
 """The path of the page that sends the request (``/``, ``/wizard`` …), for words that differ by page."""
 
-UNIT_WORDS = {"m/s^2": "m/s²", "g": "g", "rad/s": "rad/s", "deg/s": "°/s", "uT": "µT", "nT": "nT", "gauss": "gauss",
-              "raw": "counts"}
-"""Each unit as a person reads it (the start page's unit menus show these)."""
+UNIT_WORDS = {**PHYSICAL_UNIT_WORDS, "raw": "counts"}
+"""Each unit as a person reads it (the start page's unit menus show these): the core's words of the physical
+units (app/calibration/plausible.py), and counts."""
 
 UNITS_CARD = "“Units, as the data show them”"
 OPTIONS = "the upload's Options"
@@ -76,14 +78,9 @@ def _unit_term(sensor: str, words: str, cli: str) -> Term:
                 "{value} in the " + words + f"'s unit menu (in {UNITS_CARD})", cli=cli, values=UNIT_WORDS)
 
 
-_METHOD_PAGE = {
-    "auto": "the calibration from still poses", "six_position": "the six-position calibration",
-    "orientations": "the calibration from known orientations", "nonorthogonal": "the non-orthogonal calibration",
-    "triangular": "the free-pose calibration", "cube": "the cube calibration",
-    "autocal": "the free-living calibration", "noise": "the noise characterisation",
-    "magnetometer": "the compass calibration", "temperature": "the temperature calibration",
-}
-_METHOD_CLI = {"autocal": "trical autocal", "noise": "trical noise", "temperature": "trical temperature"}
+_METHOD_PAGE = {method.name: method.page_words for method in METHOD_TABLE}
+_METHOD_CLI = {method.name: f"trical {method.command}" for method in METHOD_TABLE if method.command != "calibrate"}
+"""A method on the page and, for one with a command of its own, on the command line (the method table's)."""
 
 VOCABULARY: dict[str, Term] = {t.name: t for t in (
     _unit_term("acc", "accelerometer", "--unit"),

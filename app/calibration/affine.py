@@ -84,6 +84,7 @@ class AffineCalibration(StillReadingsResult):
     MODEL_TYPE = MODEL_TYPE
     N_PARAMS = 12
     CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (20): M = X^-1, o = y"
+    AS_FITTED = "As fitted (Georgieva et al., ESGI'95, section 3.2): m = X a + y, so X = M⁻¹ and y = o."
     PARAMETERS = tuple(
         (f"x{i + 1}{j + 1}", "scale" if i == j else "cross", "xyz"[i] if i == j else "xyz"[min(i, j)] + "xyz"[max(i, j)])
         for i in range(3) for j in range(3)

@@ -223,6 +223,7 @@ class AutoCalibration(CalibrationResult):
     RESULT_TYPE = METHOD
     MODEL_TYPE = MODEL_TYPE
     CORRECTION_SOURCE = TriangularCalibration.CORRECTION_SOURCE
+    AS_FITTED = TriangularCalibration.AS_FITTED
 
     @property
     def ok(self) -> bool:

@@ -194,6 +194,8 @@ class NonOrthogonalCalibration(StillReadingsResult):
     MODEL_TYPE = MODEL_TYPE
     N_PARAMS = N_PARAMS
     CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (16): M = T_orth T_bar T, o = s / b"
+    AS_FITTED = ("As fitted (Georgieva et al., ESGI'95, eq. (16)): shifts s, scales b and the angles φ, ψ, θ between "
+                 "the axes; M and o are what they come to.")
     PARAMETERS = (("s1", "offset", "x"), ("s2", "offset", "y"), ("s3", "offset", "z"),
                   ("b1", "scale", "x"), ("b2", "scale", "y"), ("b3", "scale", "z"),
                   ("phi", "cross", "xy"), ("psi", "cross", "xz"), ("theta", "cross", "yz"))

@@ -101,6 +101,7 @@ TO_SI = {"rad/s": 1.0, "deg/s": DEG, "m/s^2": 1.0, "g": STANDARD_GRAVITY, "uT": 
 
 UNIT_WORDS = {"rad/s": "rad/s", "deg/s": "°/s", "m/s^2": "m/s²", "g": "g", "uT": "µT", "nT": "nT",
               "gauss": "gauss"}
+"""Each unit of :data:`TO_SI` as a person reads it: the one list of these words (app/words.py adds counts)."""
 OPTION = {"acc": "acc_unit", "gyr": "gyr_unit", "mag": "mag_unit"}
 """The upload's option that gives each sensor's unit (docs/rest.md)."""
 ALTERNATIVES = {"acc": ("m/s^2", "g"), "gyr": ("rad/s", "deg/s"), "mag": ("uT", "nT", "gauss")}

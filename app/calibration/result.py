@@ -105,6 +105,13 @@ def registered_types() -> tuple[str, ...]:
     return tuple(_REGISTRY)
 
 
+def as_fitted_words() -> dict[str, str]:
+    """By model type, how the model as fitted relates to its correction (:attr:`CalibrationResult.AS_FITTED`),
+    for the models that say it."""
+    _load_all()
+    return {cls.MODEL_TYPE: cls.AS_FITTED for cls in _REGISTRY.values() if cls.AS_FITTED}
+
+
 def _load_all() -> None:
     # The models register on import; the core's package imports only the light ones.
     from . import affine, autocal, magnetometer, noise, nonorthogonal, temperature, triangular  # noqa: F401
@@ -173,6 +180,9 @@ class CalibrationResult(Gated):
     MODEL_TYPE: ClassVar[str] = ""
     CORRECTION_SOURCE: ClassVar[str] = ""
     """Where the correction ``f = M (m − o)`` of this model comes from (paper and equation)."""
+    AS_FITTED: ClassVar[str] = ""
+    """How the model as fitted relates to its correction, in a line for the result's Details (the page shows it
+    under the correction, by model type: :func:`as_fitted_words`); empty where there is nothing to relate."""
     KIND: ClassVar[str] = CORRECTION
     """:data:`CORRECTION`, :data:`FIGURES` or :data:`DRIFT`: which verdict and which exports fit it. A class
     answer, so that a body cut short (no model) is still told apart."""

@@ -223,6 +223,8 @@ class TriangularCalibration(StillReadingsResult):
     N_PARAMS = N_PARAMS
     REPORTS_IMPROVEMENT = True  # Farago et al. report it for their model (Table 3, eq. (21))
     CORRECTION_SOURCE = "Farago, Maczak and Gingl, IEEE Access, eq. (6): M = K, o = -o_model"
+    AS_FITTED = ("As fitted (Farago, Maczak and Gingl, IEEE Access, eq. (6)): a = K (v + o), so K = M and the "
+                 "paper's o is minus the o above: the paper adds its o to the reading, the correction takes its o off.")
     PARAMETERS = (("k_xx", "scale", "x"), ("k_yy", "scale", "y"), ("k_zz", "scale", "z"),
                   ("k_xy", "cross", "xy"), ("k_xz", "cross", "xz"), ("k_yz", "cross", "yz"),
                   ("o_x", "offset", "x"), ("o_y", "offset", "y"), ("o_z", "offset", "z"))

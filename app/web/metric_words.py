@@ -101,5 +101,3 @@ METRICS: dict[str, tuple[str, str, str]] = {
     "bias_standard_error": ("Bias standard error", "sensor unit", "the Allan deviation at the recording's length"),
 }
 """key → (name, unit, one line on what it is). A ``_raw`` twin or a ``holdout_`` figure has its own line."""
-
-SENSOR_WORDS = {"acc": "Accelerometer", "gyr": "Gyroscope", "mag": "Magnetometer"}

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import dataclass
 
 from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
@@ -19,9 +20,28 @@ from .tables import SOURCES, page_tables
 
 router = APIRouter(include_in_schema=False)
 
-PROTOCOLS = {"six": "six positions", "cube24": "24 positions of a cube", "free": "free poses, no jig",
-             "compass": "the compass: turn it through all directions",
-             "noise": "the noise: a still recording of a chosen length"}
+@dataclass(frozen=True)
+class WizardProtocol:
+    """A protocol the wizard pages offer: its words, its template and what its page shows (the template
+    branches on these, never on a protocol's name)."""
+
+    words: str
+    template: str = "wizard.html"
+    has_turns: bool = False
+    """Positions in a fixed order, a turn between each that the gyroscope checks (pictures of a cube)."""
+    lists_poses: bool = False
+    """The six poses, listed each with its picture, captured in any order."""
+    any_pose: bool = False
+    """Poses of the person's choosing, as many as the fit needs (a sphere of the directions covered)."""
+
+
+PROTOCOLS = {
+    "six": WizardProtocol("six positions", lists_poses=True),
+    "cube24": WizardProtocol("24 positions of a cube", has_turns=True),
+    "free": WizardProtocol("free poses, no jig", any_pose=True),
+    "compass": WizardProtocol("the compass: turn it through all directions", template="wizard_compass.html"),
+    "noise": WizardProtocol("the noise: a still recording of a chosen length", template="wizard_noise.html"),
+}
 
 SOURCE_PROTOCOLS = {"phone": ("six", "cube24", "free", "compass"), "board": tuple(PROTOCOLS)}
 """The flows each source can do: a phone's motion events have no noise page (it records a board)."""
@@ -90,12 +110,12 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
     elif source not in SOURCES:
         problem = f"The source “{source[:40]}” is unknown: source is phone or board; choose one below."
     elif protocol not in SOURCE_PROTOCOLS[source]:
-        problem = f"A {source} cannot do “{PROTOCOLS[protocol]}” on this page: choose one below."
+        problem = f"A {source} cannot do “{PROTOCOLS[protocol].words}” on this page: choose one below."
     shown = source if source in SOURCES else "phone"
     context = {
-        "protocol": protocol, "capture_s": seconds, "problem": problem, "protocols": PROTOCOLS,
+        "protocol": protocol, "flow": PROTOCOLS.get(protocol), "capture_s": seconds, "problem": problem,
         "source": shown, "words": SOURCES[shown], "choices": [
-            (s, p, PROTOCOLS[p]) for s in SOURCES for p in SOURCE_PROTOCOLS[s]],
+            (s, p, PROTOCOLS[p].words) for s in SOURCES for p in SOURCE_PROTOCOLS[s]],
         "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
         "poses": [(label, SOURCES[shown]["poseNames"][label], SOURCES[shown]["poseShort"][label]) for label in CANONICAL_SIX],
         "tables": None if problem else page_tables(),
@@ -103,7 +123,7 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
     if problem:
         page = "wizard.html"
     else:
-        page = {"compass": "wizard_compass.html", "noise": "wizard_noise.html"}.get(protocol, "wizard.html")
+        page = PROTOCOLS[protocol].template
         context.update(noise_lengths=NOISE_LENGTHS_S, noise_default=NOISE_DEFAULT_S)
     return _templates(request).TemplateResponse(request, page, context, status_code=400 if problem else 200)
 

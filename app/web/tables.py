@@ -16,14 +16,17 @@ import numpy as np
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
+from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
+from app.calibration.result import as_fitted_words
 from app.guided import capture_rules
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
-from app.web.metric_words import METRICS, SENSOR_WORDS
+from app.methods import TABLE as METHOD_TABLE
+from app.web.metric_words import METRICS
 from app.web.uses import uses_table
 from app.words import UNIT_WORDS
 
@@ -110,15 +113,18 @@ def capture_thresholds() -> dict:
     }
 
 
+SENSOR_TITLES = {sensor: words.capitalize() for sensor, words in SENSOR_WORDS.items()}
+"""Each sensor's word as a heading or a menu's label (``Accelerometer``), from the core's words."""
+
 SENSOR_UNITS = {"acc": ("m/s^2", "g", "raw"), "gyr": ("rad/s", "deg/s", "raw"), "mag": ("uT", "nT", "gauss", "raw")}
 """The units the upload's ``acc_unit``, ``gyr_unit`` and ``mag_unit`` take (app/api/recordings.py)."""
 
 
 def unit_tables() -> dict:
-    """The start page's unit menus: each sensor's units in words, and the chips (app.io.formats.chips)
-    that turn its counts into a physical unit, by sensor, with their datasheet scale in words."""
+    """The start page's unit menus: each sensor's units in words (its name: ``sensorWords``), and the chips
+    (app.io.formats.chips) that turn its counts into a physical unit, by sensor, with their datasheet scale in
+    words."""
     return {
-        "sensors": {"acc": "Accelerometer", "gyr": "Gyroscope", "mag": "Magnetometer"},
         "units": {s: [[u, UNIT_WORDS[u]] for u in units] for s, units in SENSOR_UNITS.items()},
         "chips": {s: [[c.name, c.label] for c in CHIPS.values() if c.sensor == s] for s in SENSOR_UNITS},
     }
@@ -152,21 +158,6 @@ SOURCES = {
 templates read them, and the page's scripts read them from :func:`page_tables` (``sources``)."""
 
 
-METHOD_NAMES = {
-    "six_position": "six positions (accelerometer)",
-    "orientations": "known orientations (accelerometer)",
-    "nonorthogonal": "non-orthogonal axes (accelerometer)",
-    "triangular": "free poses (accelerometer)",
-    "autocal": "free-living log (accelerometer)",
-    "cube": "24 positions of a cube (accelerometer and gyroscope)",
-    "magnetometer": "the compass (magnetometer)",
-    "noise": "noise (Allan deviation)",
-    "temperature": "temperature drift (accelerometer and gyroscope)",
-    "compass_flight": "the compass from a flight (flight controller)",
-}
-"""Each stored method in words, for the history of calibrations (an unknown method shows its key)."""
-
-
 @lru_cache(maxsize=1)
 def page_tables() -> dict:
     """Everything the pages take from the server's constants, as plain JSON-ready data.
@@ -182,8 +173,10 @@ def page_tables() -> dict:
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
         (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
-        ``methods`` (:data:`METHOD_NAMES`: each method in words); ``metrics`` (app.web.metric_words:
-        each figure's name, unit and meaning) and ``sensorWords``.
+        ``methods`` (each method in words, from the method table, app.methods); ``metrics``
+        (app.web.metric_words: each figure's name, unit and meaning); ``sensorWords`` (:data:`SENSOR_TITLES`);
+        ``unitWords`` (app.words: each unit as a person reads it) and ``asFitted`` (by model type, how the
+        model as fitted relates to its correction: the result classes' ``AS_FITTED``).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -211,8 +204,10 @@ def page_tables() -> dict:
         "uses": uses_table(),
         "units": unit_tables(),
         "board": board_tables(),
-        "methods": dict(METHOD_NAMES),
+        "methods": {method.name: method.words for method in METHOD_TABLE},
         "metrics": {key: list(words) for key, words in METRICS.items()},
-        "sensorWords": dict(SENSOR_WORDS),
+        "sensorWords": dict(SENSOR_TITLES),
+        "unitWords": dict(UNIT_WORDS),
+        "asFitted": as_fitted_words(),
         "sources": SOURCES,
     }

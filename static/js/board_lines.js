@@ -25,8 +25,7 @@ export const FORMAT_WORDS = {
   csv: "CSV with a header line",
   bare: "numbers in columns",
 };
-export const UNIT_WORDS = { "m/s^2": "m/s²", g: "g", "rad/s": "rad/s", "deg/s": "°/s", uT: "µT", nT: "nT",
-  gauss: "gauss", raw: "counts", unknown: "unknown" };
+export const UNIT_WORDS = { ...TABLES.unitWords, unknown: "unknown" }; // each unit in words (app/words.py)
 
 // Splits a stream of text into lines at CR, LF or CRLF (a CRLF split across two chunks is one end).
 export class LineSplitter {

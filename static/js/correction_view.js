@@ -7,18 +7,7 @@ import { kindOf } from "./result_kinds.js";
 import { TABLES } from "./tables.js";
 import { el } from "./dom.js";
 
-const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", "deg/s": "°/s", "rad/s": "rad/s", g: "g" };
-
-const AS_FITTED = {
-  affine: "As fitted (Georgieva et al., ESGI'95, section 3.2): m = X a + y, so X = M⁻¹ and y = o.",
-  triangular: "As fitted (Farago, Maczak and Gingl, IEEE Access, eq. (6)): a = K (v + o), so K = M and the paper's o "
-    + "is minus the o above: the paper adds its o to the reading, the correction takes its o off.",
-  magnetometer: "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (6)): h = M (m − b), so b = o.",
-  nonorthogonal: "As fitted (Georgieva et al., ESGI'95, eq. (16)): shifts s, scales b and the angles φ, ψ, θ between "
-    + "the axes; M and o are what they come to.",
-  cube: "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)): raw = S f + b per sensor, so S = M⁻¹ "
-    + "and b = o.",
-};
+const UNIT_WORDS = TABLES.unitWords; // each unit in words (app/words.py)
 
 
 function matrix(id, rows) {
@@ -29,7 +18,8 @@ function matrix(id, rows) {
 
 // The correction of `cal` into `box` (read with `token`); the relation line into `fittedNote` when given.
 export async function showCorrection(box, cal, token = null, fittedNote = null) {
-  if (fittedNote) fittedNote.textContent = AS_FITTED[cal.model.type] || "";
+  // how the model as fitted relates to the correction, by model type (the result classes' AS_FITTED)
+  if (fittedNote) fittedNote.textContent = TABLES.asFitted[cal.model.type] || "";
   if (!kindOf(cal).correction) { box.replaceChildren(); box.hidden = true; return; }
   let use;
   try { use = await getUse(cal.id, token); } catch (err) {

@@ -5,7 +5,7 @@ import { TABLES } from "./tables.js";
 import { withInterval } from "./result.js";
 import { el } from "./dom.js";
 
-const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", "deg/s": "°/s", "rad/s": "rad/s", g: "g" };
+const UNIT_WORDS = TABLES.unitWords; // each unit in words (app/words.py)
 const SUFFIX_UNITS = [["_mg", "mg"], ["_ut", "µT"], ["_deg", "°"], ["_hz", "Hz"], ["_s", "s"], ["_pct", "%"]];
 
 // A name made from a key the table does not list: its words, its unit from its suffix.

@@ -4,6 +4,7 @@
 import { capturedCount, nextPosition } from "./flow_cube.js";
 import { CUBE_POSITIONS, cubeSvg, turnInto, upOf } from "./cube.js";
 import { column, fillMatrix } from "./figures.js";
+import { TABLES } from "./tables.js";
 import { VIEW_DEFAULTS } from "./wizard_state.js";
 import { WORDS } from "./source.js";
 import { $, el, setHidden, setText } from "./dom.js";
@@ -77,11 +78,11 @@ function model(cal) {
   const units = { acc: cal.unit || "m/s²", gyr: (cal.units && cal.units.gyr) || "rad/s" };
   const parts = [];
   // The accelerometer's D and misalignment are shown; the gyroscope's stay in the JSON export.
-  for (const [key, name, factors] of [["acc", "Accelerometer", true], ["gyr", "Gyroscope", false]]) {
+  for (const [key, factors] of [["acc", true], ["gyr", false]]) {
     const m = cal.model[key];
     if (!m) continue;
     const half = unc[key] || {};
-    parts.push(el("h4", name));
+    parts.push(el("h4", TABLES.sensorWords[key]));
     const row = el("div", null, { class: "row" });
     const items = [["S", "S (scale and cross-axis)", m.S, half.S]];
     if (factors && m.D) items.push(["D", "D (scale factors)", column(m.D), column(half.D)]);

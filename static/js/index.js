@@ -95,7 +95,8 @@ async function calibrate(payload, doing, refused, where, stillHint = false) {
 // turn that sensor's counts into g, °/s or µT; the reader's warnings above.
 function showUnits(rec) {
   const chips = (rec.read_with && rec.read_with.chip ? rec.read_with.chip.split(",") : []).map((c) => c.trim());
-  const { sensors, units, chips: parts } = TABLES.units;
+  const { units, chips: parts } = TABLES.units;
+  const sensors = TABLES.sensorWords;
   $("#units-warnings").replaceChildren(...(rec.warnings || []).map((w) => cell("li", w)));
   $("#units-list").replaceChildren(...rec.channels.filter((s) => units[s]).flatMap((sensor) => {
     const unit = cell("label", `${sensors[sensor]} unit`);

@@ -13,7 +13,7 @@ import { normRow } from "./result.js";
 import { TABLES } from "./tables.js";
 import { cell, el } from "./dom.js";
 
-const UNIT_WORDS = { "m/s^2": "m/s²", uT: "µT", raw: "counts", g: "g" };
+const UNIT_WORDS = TABLES.unitWords; // each unit in words (app/words.py)
 const IN_INPUT_UNIT = new Set(["y", "o", "b", "s"]); // offsets and shifts: in the readings' unit
 const ANGLES = new Set(["phi", "psi", "theta"]);
 

@@ -34,9 +34,10 @@ export function showCalibration(cal, token = null) {
   ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
   const choice = $("#result-choice");
   choice.hidden = !cal.choice;
-  // The server's words name methods by key: each in words here.
-  const words = (text) => text.replace(/\b[a-z]+(?:_[a-z]+)+\b|\b(?:triangular|nonorthogonal|autocal|orientations)\b/g,
-    (key) => TABLES.methods[key] || key);
+  // The server's words name the candidates by their method's key: each in the method table's words here.
+  const named = Object.keys(cal.choice?.candidates || {});
+  const words = (text) => (named.length ? text.replace(new RegExp(`\\b(?:${named.join("|")})\\b`, "g"),
+    (key) => TABLES.methods[key] || key) : text);
   choice.textContent = cal.choice
     ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, chosen because ${words(cal.choice.why)}.` : "";
   $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));

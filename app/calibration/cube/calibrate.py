@@ -83,6 +83,8 @@ class CubeCalibration(CalibrationResult):
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
     CORRECTION_SOURCE = "Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1): raw = S f + b, so M = S^-1, o = b"
+    AS_FITTED = ("As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)): raw = S f + b per sensor, "
+                 "so S = M⁻¹ and b = o.")
     method = MODEL_TYPE
     PER_SENSOR = True
     CUBE_SENSORS = ("acc", "gyr", "mag")

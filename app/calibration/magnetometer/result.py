@@ -43,6 +43,8 @@ class MagnetometerResult(CalibrationResult):
     RESULT_TYPE: ClassVar[str] = "magnetometer"
     MODEL_TYPE: ClassVar[str] = "magnetometer"
     CORRECTION_SOURCE: ClassVar[str] = SOURCE
+    AS_FITTED: ClassVar[str] = ("As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (6)): h = M (m − b), "
+                                "so b = o.")
 
     M: np.ndarray = parameter()
     b: np.ndarray = parameter()
