@@ -89,12 +89,17 @@ def _literals(node: ast.AST) -> list[ast.Constant]:
     return []
 
 
-def deciding_comparisons(source: str, names: dict[str, str]) -> list[tuple[int, str, str]]:
+def nodes_of(source: str | list[ast.AST]) -> list[ast.AST]:
+    """Every node of a source (parsed once by the caller when several scanners read it)."""
+    return list(ast.walk(ast.parse(source))) if isinstance(source, str) else source
+
+
+def deciding_comparisons(source: str | list[ast.AST], names: dict[str, str]) -> list[tuple[int, str, str]]:
     """(line, literal, what it is) of every comparison in ``source`` that decides by one of ``names``:
     ``==``, ``!=``, ``in``, ``not in`` with such a literal on either side (or in a literal tuple, list or
     set), and ``case`` patterns of one."""
     found = []
-    for node in ast.walk(ast.parse(source)):
+    for node in nodes_of(source):
         if isinstance(node, ast.Compare):
             operands = [node.left, *node.comparators]
             if any(isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)) for op in node.ops):
@@ -107,12 +112,12 @@ def deciding_comparisons(source: str, names: dict[str, str]) -> list[tuple[int, 
     return sorted(set(found))
 
 
-def metric_reads(source: str, names: dict[str, str]) -> list[tuple[int, str, str]]:
+def metric_reads(source: str | list[ast.AST], names: dict[str, str]) -> list[tuple[int, str, str]]:
     """(line, key, what it is) of every read of a metric by its key: ``m.get("cv_error_mg")``, ``m["cv_error_mg"]``
     (a write, ``m["cv_error_mg"] = …``, produces the metric and is not a read)."""
     keys = {n for n, what in names.items() if what == "metric key"}
     found = []
-    for node in ast.walk(ast.parse(source)):
+    for node in nodes_of(source):
         key = None
         if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "get"
                 and node.args and isinstance(node.args[0], ast.Constant)):
@@ -124,10 +129,10 @@ def metric_reads(source: str, names: dict[str, str]) -> list[tuple[int, str, str
     return sorted(set(found))
 
 
-def method_keyed_dicts(source: str, names: dict[str, str]) -> list[tuple[int, str, str]]:
+def method_keyed_dicts(source: str | list[ast.AST], names: dict[str, str]) -> list[tuple[int, str, str]]:
     """(line, key, what it is) of every dict display keyed by a method name or a model type: a second table."""
     found = []
-    for node in ast.walk(ast.parse(source)):
+    for node in nodes_of(source):
         if isinstance(node, ast.Dict):
             found += [(k.lineno, k.value, names[k.value]) for k in node.keys
                       if isinstance(k, ast.Constant) and names.get(k.value) in ("method", "model type")]
@@ -135,11 +140,15 @@ def method_keyed_dicts(source: str, names: dict[str, str]) -> list[tuple[int, st
 
 
 def python_decisions(source: str, names: dict[str, str]) -> list[tuple[int, str, str]]:
-    """The three Python scanners' findings, one list, with how each decides."""
+    """The three Python scanners' findings, one list, with how each decides (a source that quotes none of the
+    names is not parsed: that keeps the scan fast)."""
+    if not re.search("|".join(f"['\"]{re.escape(n)}['\"]" for n in names), source):
+        return []
+    nodes = nodes_of(source)
     return sorted(
-        [(line, lit, f"compares with the {what}") for line, lit, what in deciding_comparisons(source, names)]
-        + [(line, lit, f"reads the {what}") for line, lit, what in metric_reads(source, names)]
-        + [(line, lit, f"keys a table by the {what}") for line, lit, what in method_keyed_dicts(source, names)])
+        [(line, lit, f"compares with the {what}") for line, lit, what in deciding_comparisons(nodes, names)]
+        + [(line, lit, f"reads the {what}") for line, lit, what in metric_reads(nodes, names)]
+        + [(line, lit, f"keys a table by the {what}") for line, lit, what in method_keyed_dicts(nodes, names)])
 
 
 STRING = re.compile(r"""'(?:[^'\\\n]|\\.)*'|"(?:[^"\\\n]|\\.)*"|`(?:[^`\\]|\\.)*`""")
