@@ -48,12 +48,10 @@ is also the value of every option read from the data (format, unit, sign, column
 
 AWAITING = {
     "app/cli.py": {"autocal", "cv_error_mg", "error_after_mg", "error_before_mg", "noise", "temperature"},
-    "app/protocols.py": {"cv_error_max_mg", "cv_error_mg"},
     "app/web/pages.py": {"noise"},
     "app/web/tables.py": {"autocal", "compass_flight", "cube", "magnetometer", "noise", "nonorthogonal", "orientations", "six_position", "temperature", "triangular"},
     "app/web/uses.py": {"noise", "temperature"},
     "app/words.py": {"autocal", "cube", "magnetometer", "noise", "nonorthogonal", "orientations", "six_position", "temperature", "triangular"},
-    "app/workflows/still.py": {"cv_error_mg"},
     "static/js/board_panel.js": {"magnetometer"},
     "static/js/correction_view.js": {"affine", "cube", "magnetometer", "nonorthogonal", "triangular"},
     "static/js/result_kinds.js": {"affine", "compass_flight", "cube", "magnetometer", "noise", "nonorthogonal", "temperature", "triangular"},
