@@ -27,20 +27,18 @@ ROOT = Path(__file__).resolve().parent.parent
 APP = ROOT / "app"
 
 EXEMPT = (
-    "app/calibration/result.py",
-    "app/calibration/affine.py",
-    "app/calibration/autocal.py",
-    "app/calibration/comparison.py",
-    "app/calibration/cube/calibrate.py",
-    "app/calibration/headlines.py",
-    "app/calibration/magnetometer/fit.py",
-    "app/calibration/magnetometer/result.py",
-    "app/calibration/simulations/free_poses.py",
-    "app/calibration/temperature.py",
-    "app/calibration/trust.py",
+    "app/calibration/result.py", "app/calibration/affine.py", "app/calibration/autocal.py",
+    "app/calibration/cube/calibrate.py", "app/calibration/magnetometer/result.py", "app/calibration/temperature.py",
+    "app/calibration/headlines.py", "app/calibration/trust.py", "app/calibration/comparison.py",
+    "app/calibration/magnetometer/fit.py", "app/calibration/simulations/free_poses.py",
     "app/methods.py",
 )
-"""The files that may decide: the result classes, which decide, and the method table, which declares."""
+"""The files that may decide, named one by one (every other file of app/calibration is scanned too): the result
+modules, which choose their figures and headlines by their metrics (result, affine, autocal, cube/calibrate,
+magnetometer/result, temperature), the core's modules that write those metrics and read them back in the same
+fit (headlines, trust, comparison, magnetometer/fit; the free-pose simulation's report), and the method table,
+which declares."""
+
 
 NOT_A_RESULT = {"auto"}
 """Methods no stored result carries: ``auto`` chooses a method and the body names the one it chose; ``auto``
@@ -58,8 +56,8 @@ AWAITING = {
     "static/js/wizard.js": {"cube24", "free", "six"},
     "templates/wizard.html": {"cube24", "free", "six"},
 }
-"""What the scan finds today and others are removing (the page's copies, the CLI's printers, the words' and the
-protocols' tables): file → the names it still decides by. New findings fail; an entry no longer found fails too,
+"""What the scan finds today and others are removing (the page's copies, the CLI's printers, the methods' words
+in app/words.py): file → the names it still decides by. New findings fail; an entry no longer found fails too,
 so that this list only shrinks."""
 
 NOT_DECISIONS = {
