@@ -49,8 +49,8 @@ def table_rows(text: str) -> list[Row]:
 
 
 def module_name(path: str) -> str:
-    """``app/io/log.py`` → ``app.io.log``; ``app/io`` → ``app.io``; ``app/__init__.py`` → ``app``."""
-    return path.removesuffix(".py").removesuffix("/__init__").replace("/", ".")
+    """``app/io/log.py`` → ``app.io.log``; ``app/io`` (or ``app/io/``) → ``app.io``; ``app/__init__.py`` → ``app``."""
+    return path.rstrip("/").removesuffix(".py").removesuffix("/__init__").replace("/", ".")
 
 
 @functools.cache
@@ -134,14 +134,14 @@ def owners(rows: list[Row], root: Path) -> tuple[dict[Path, int], list[str], lis
     seen: dict[str, int] = {}
     repeated = []
     for i, row in enumerate(rows):
-        for path in row.paths:
+        for path in (p.rstrip("/") for p in row.paths):
             if path in seen:
                 repeated.append(path)
             seen[path] = i
     owner, uncovered = {}, []
     for file in sorted((root / "app").rglob("*.py")):
         rel = file.relative_to(root).as_posix()
-        holders = [p for p in seen if rel == p or rel.startswith(p.rstrip("/") + "/")]
+        holders = [p for p in seen if rel == p or rel.startswith(p + "/")]
         if holders:
             owner[file] = seen[max(holders, key=len)]
         else:
@@ -247,7 +247,7 @@ PLANTED_DOC = """# Architecture
 | `app/core` | numpy, itself | everything else in `app` |
 | `app/workflow.py` | `app/core` | `app/api` |
 | `app/workflows` | `app/core` | `app/workflow`, `app/api` |
-| `app/api` | `app/workflows`, `app/core` | — |
+| `app/api/` | `app/workflows/`, `app/core` | — |
 {extra}
 ## Next
 """

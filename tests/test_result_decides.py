@@ -150,7 +150,7 @@ def python_decisions(source: str, names: dict[str, str]) -> list[tuple[int, str,
 STRING = re.compile(r"""'(?:[^'\\\n]|\\.)*'|"(?:[^"\\\n]|\\.)*"|`(?:[^`\\]|\\.)*`""")
 JS_COMMENT = re.compile(r"//[^\n]*|/\*.*?\*/", re.S)
 BEFORE = re.compile(r"(===|!==|==|!=|\bcase|\bincludes\s*\(|\bin)\s*$")
-AFTER = re.compile(r"^\s*(===|!==|==|!=)")
+AFTER = re.compile(r"^\s*(===|!==|==|!=|in\b|not\s+in\b)")
 IN_ITEMS = re.compile(r"""(\bin\s*)?[\[({]\s*(?:(?:"\s*"|'\s*')\s*,\s*)*$""")
 ITEMS_AFTER = re.compile(r"""^\s*(?:,\s*(?:"\s*"|'\s*')\s*)*,?\s*[\])}]\s*(\.\s*includes\s*\()?""")
 KEY_BEFORE = re.compile(r"[{,]\s*$")
@@ -313,10 +313,12 @@ def test_planted_javascript():
         "if (['six_position', 'x'].includes(m)) go();\n"
         "const title = 'cube'; el('p', {}, `the cube`);\n"
         "const t = a ? cube : b;\n"
+        "if ('cube' in KINDS) go();\n"
     )
     assert page_decisions(source, PLANTED, template=False) == [
         (2, "cube", "keys a table by the model type"), (3, "cube", "compares with the model type"),
-        (4, "cube24", "compares with the protocol"), (5, "six_position", "compares with the method")]
+        (4, "cube24", "compares with the protocol"), (5, "six_position", "compares with the method"),
+        (8, "cube", "compares with the model type")]
 
 
 def test_planted_template():
