@@ -49,7 +49,8 @@ def table_rows(text: str) -> list[Row]:
 
 
 def module_name(path: str) -> str:
-    """``app/io/log.py`` → ``app.io.log``; ``app/io`` (or ``app/io/``) → ``app.io``; ``app/__init__.py`` → ``app``."""
+    """``app/io/log.py`` → ``app.io.log``; ``app/io`` (or ``app/io/``) → ``app.io``; ``app/__init__.py`` →
+    ``app``."""
     return path.rstrip("/").removesuffix(".py").removesuffix("/__init__").replace("/", ".")
 
 
@@ -265,7 +266,8 @@ def plant(tmp_path: Path, files: dict[str, str], extra: str = "") -> tuple[list[
 
 def test_planted_a_clean_tree_passes(tmp_path):
     rows, root = plant(tmp_path, {}, "| `app/__init__.py` | — | — |\n")
-    assert [v for _, v in violations(rows, root)] == [] and owners(rows, root)[1:] == ([], []) and missing_paths(rows, root) == []
+    assert [v for _, v in violations(rows, root)] == []
+    assert owners(rows, root)[1:] == ([], []) and missing_paths(rows, root) == []
 
 
 def test_planted_an_import_the_may_column_does_not_name_fails(tmp_path):

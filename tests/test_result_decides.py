@@ -47,12 +47,20 @@ is also the value of every option read from the data (format, unit, sign, column
 AWAITING = {
     "app/cli.py": {"cv_error_mg", "error_after_mg", "error_before_mg"},
     "app/web/pages.py": {"noise"},
-    "app/web/tables.py": {"autocal", "compass_flight", "cube", "magnetometer", "noise", "nonorthogonal", "orientations", "six_position", "temperature", "triangular"},
+    "app/web/tables.py": {
+        "autocal", "compass_flight", "cube", "magnetometer", "noise", "nonorthogonal", "orientations", "six_position",
+        "temperature", "triangular"
+    },
     "app/web/uses.py": {"noise", "temperature"},
-    "app/words.py": {"autocal", "cube", "magnetometer", "noise", "nonorthogonal", "orientations", "six_position", "temperature", "triangular"},
+    "app/words.py": {
+        "autocal", "cube", "magnetometer", "noise", "nonorthogonal", "orientations", "six_position", "temperature",
+        "triangular"
+    },
     "static/js/board_panel.js": {"magnetometer"},
     "static/js/correction_view.js": {"affine", "cube", "magnetometer", "nonorthogonal", "triangular"},
-    "static/js/result_kinds.js": {"affine", "compass_flight", "cube", "magnetometer", "noise", "nonorthogonal", "temperature", "triangular"},
+    "static/js/result_kinds.js": {
+        "affine", "compass_flight", "cube", "magnetometer", "noise", "nonorthogonal", "temperature", "triangular"
+    },
     "static/js/wizard.js": {"cube24", "free", "six"},
     "templates/wizard.html": {"cube24", "free", "six"},
 }
@@ -121,7 +129,8 @@ def metric_reads(source: str | list[ast.AST], names: dict[str, str]) -> list[tup
         if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "get"
                 and node.args and isinstance(node.args[0], ast.Constant)):
             key = node.args[0]
-        elif isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Load) and isinstance(node.slice, ast.Constant):
+        elif (isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Load)
+              and isinstance(node.slice, ast.Constant)):
             key = node.slice
         if key is not None and key.value in keys:
             found.append((key.lineno, key.value, names[key.value]))
@@ -239,7 +248,8 @@ def findings() -> list[tuple[str, int, str, str]]:
     found = []
     for path in scanned_files():
         rel = str(path.relative_to(ROOT))
-        found += [(rel, line, literal, how) for line, literal, how in python_decisions(path.read_text(encoding="utf-8"), names)
+        source = path.read_text(encoding="utf-8")
+        found += [(rel, line, literal, how) for line, literal, how in python_decisions(source, names)
                   if (rel, literal) not in NOT_DECISIONS]
     for path in page_files():
         rel = str(path.relative_to(ROOT))
@@ -258,7 +268,8 @@ def test_no_module_script_or_template_outside_the_results_decides_by_a_method_a_
 
 def test_every_finding_awaiting_its_removal_is_still_there():
     present = {(rel, literal) for rel, _, literal, _ in FINDINGS}
-    gone = [f"{rel}: {name!r}" for rel, awaited in AWAITING.items() for name in sorted(awaited) if (rel, name) not in present]
+    gone = [f"{rel}: {name!r}" for rel, awaited in AWAITING.items() for name in sorted(awaited)
+            if (rel, name) not in present]
     assert not gone, "no longer found; strike them from AWAITING:\n" + "\n".join(gone)
 
 
