@@ -461,6 +461,17 @@ class StillReadingsResult(CalibrationResult, GatedFit):
     def figures_from(cls, metrics: dict, output_unit: str | None) -> tuple[Figure, ...]:
         return (first_figure(metrics, cls.FIGURE_SOURCES),)
 
+    @property
+    def error_on_new_orientations(self) -> float | None:
+        """The cross-validated error (mg; each reading calibrated by the fit made without it), or None when the
+        fit has none: what ``auto`` ranks its candidates by and the free flow measures its progress with."""
+        return self.metrics.get("cv_error_mg")
+
+    @property
+    def largest_error_on_new_orientations(self) -> float | None:
+        """The largest of those errors (mg), or None."""
+        return self.metrics.get("cv_error_max_mg")
+
     def headline(self) -> str | None:
         """Its error on new orientations, then in-sample and raw (every fit of still readings reports a
         cross-validated error, ``cv_error_mg``, or says why it has none)."""

@@ -254,7 +254,7 @@ class FreeProtocol(SessionProtocol):
             except CalibrationError:
                 fit = None  # poses that do not determine the model yet: the advice spreads them out
             else:
-                cv, cv_max = fit[0].metrics.get("cv_error_mg"), fit[0].metrics.get("cv_error_max_mg")
+                cv, cv_max = fit[0].error_on_new_orientations, fit[0].largest_error_on_new_orientations
         # The target is an error on new orientations below target_mg from a fit that passes every gate.
         reached = cv is not None and n >= FREE_TARGET_MIN_POSES and cv < target and fit[0].ok
         if fit is not None:
@@ -279,7 +279,8 @@ class FreeProtocol(SessionProtocol):
         """The triangular fit of the capture means, with how the session ended."""
         progress, fit = self.progress_and_fit(session)
         result, extra = fit if fit is not None else self.fit(session)  # the fit itself refuses: its error says why
-        n, cv, target = progress["count"], progress["cv_error_mg"], progress["target_mg"]
+        n, target = progress["count"], progress["target_mg"]
+        cv = result.error_on_new_orientations if fit is not None else None  # the progress's figure
         if progress["target_reached"]:
             reason, text = "target", f"target reached: {cv:.1f} mg on new orientations"
         else:

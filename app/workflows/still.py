@@ -427,33 +427,34 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
 
     def rank(name):
         result = candidates[name][0]
-        cv = result.metrics.get("cv_error_mg")
+        cv = result.error_on_new_orientations
         return (not result.ok, math.inf if cv is None else cv)
 
     chosen = min(candidates, key=rank)
-    summary = {name: {"ok": r.ok, "cv_error_mg": r.metrics.get("cv_error_mg")} for name, (r, _) in candidates.items()}
-    why = _why(summary, aligned, len(m))
+    fits = {name: r for name, (r, _) in candidates.items()}
+    summary = {name: {"ok": r.ok, "cv_error_mg": r.error_on_new_orientations} for name, r in fits.items()}
+    why = _why(fits, aligned, len(m))
     result, extra = candidates[chosen]
     return result, extra, {"method": chosen, "why": why, "candidates": summary}
 
 
-def _why(summary: dict, aligned: bool, n: int) -> str:
+def _why(fits: dict, aligned: bool, n: int) -> str:
     """Why the chosen model fits these poses, in words that do not name it again: the page and the command line say
     the method first ("Method: six positions, chosen because …")."""
     if not aligned:
         return (f"the {n} poses are free (not all within 20° of an axis, or not all six axes), and a magnitude model "
                 "(Farago et al.) needs no orientation")
-    if len(summary) == 1:
+    if len(fits) == 1:
         return (f"the {n} poses are the six axis orientations (each within 20° of ±x, ±y, ±z), which determine the "
                 "affine model in closed form (Georgieva et al.); nine or more distinct poses would also allow a "
                 "magnitude model to check it")
 
     def figure(name):
-        cv = summary[name]["cv_error_mg"]
-        return f"{name} {'n/a' if cv is None else f'{cv:.2f} mg'}{'' if summary[name]['ok'] else ' (not ok)'}"
+        cv = fits[name].error_on_new_orientations
+        return f"{name} {'n/a' if cv is None else f'{cv:.2f} mg'}{'' if fits[name].ok else ' (not ok)'}"
 
     return (f"the {n} poses cover the six axes, so both a known-orientation and a magnitude model apply; "
-            f"on poses left out: {', '.join(figure(k) for k in summary)}")
+            f"on poses left out: {', '.join(figure(k) for k in fits)}")
 
 
 def auto(request, recording: RecordingSource | None) -> dict:
