@@ -33,13 +33,15 @@ class ReadingIn(Strict):
     mean: Vec3 = Field(description="Mean specific force [x, y, z] in `unit`.")
     up: Label | None = Field(None, description="The device axis that points up (`+x` reads +g on x).")
     expected: Vec3 | None = Field(None, description="Explicit true specific force, instead of `up`.")
-    std: Annotated[list[Annotated[float, Field(ge=0, allow_inf_nan=False)]], Field(min_length=3, max_length=3)] | None = None
+    std: (
+        Annotated[list[Annotated[float, Field(ge=0, allow_inf_nan=False)]], Field(min_length=3, max_length=3)] | None
+    ) = None
     count: int | None = Field(None, ge=1)
 
     @model_validator(mode="after")
     def _orientation_given(self):
         if self.up is None and self.expected is None:
-            raise ValueError("each reading needs `up` (e.g. \"+z\") or an explicit `expected` vector")
+            raise ValueError('each reading needs `up` (e.g. "+z") or an explicit `expected` vector')
         return self
 
 
@@ -102,7 +104,8 @@ class NonOrthogonalIn(UnknownOrientationIn):
 class TriangularIn(UnknownOrientationIn):
     method: Literal["triangular"]
     solver: Solver = Field(
-        "lm", description="lm (optimal), or Farago et al.'s finite-difference descent in float, 16- or 32-bit fixed point."
+        "lm",
+        description="lm (optimal), or Farago et al.'s finite-difference descent in float, 16- or 32-bit fixed point.",
     )
 
 
@@ -133,7 +136,7 @@ class CubeIn(Strict):
     method: Literal["cube"]
     recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
     protocol: Literal[CUBE_PROTOCOLS] | dict[str, Any] = Field(
-        "cube24", description="`cube24`, `ferraris`, or {\"rotations\": [...], \"ups\": [...]}."
+        "cube24", description='`cube24`, `ferraris`, or {"rotations": [...], "ups": [...]}.'
     )
     gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
@@ -142,8 +145,9 @@ class CubeIn(Strict):
         None, description="Magnitude of the local magnetic field in µT; needed when the recording has a magnetometer."
     )
     sections: dict[SectionKey, SectionIn] | None = Field(
-        None, description="protocol ferraris: imucal's annotated section list, {\"x_p\": {\"start\", \"end\"}, …, "
-                          "\"z_rot\"} in sample indices (end exclusive), instead of the detected rests and turns.",
+        None,
+        description='protocol ferraris: imucal\'s annotated section list, {"x_p": {"start", "end"}, …, '
+        '"z_rot"} in sample indices (end exclusive), instead of the detected rests and turns.',
     )
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
@@ -170,9 +174,11 @@ class NoiseIn(Strict):
     method: Literal["noise"]
     recording_id: str = Field(description="An uploaded still recording (POST /api/v1/recordings), any length.")
     sensors: Annotated[list[Literal["acc", "gyr", "mag"]], Field(min_length=1, max_length=3)] | None = Field(
-        None, description="Sensors to characterise (default: every sensor the recording has).")
+        None, description="Sensors to characterise (default: every sensor the recording has)."
+    )
     sensor: Literal["acc", "gyr", "mag"] | None = Field(
-        None, description="The sensor a three-column array (.npy N×3 or N×4, Parquet) holds; default acc.")
+        None, description="The sensor a three-column array (.npy N×3 or N×4, Parquet) holds; default acc."
+    )
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
 
@@ -181,10 +187,13 @@ class TemperatureIn(Strict):
     """Temperature calibration of a still recording across a range of temperature (issue 26)."""
 
     method: Literal["temperature"]
-    recording_id: str = Field(description="An uploaded recording with the sensor's temperature (a temp_c column, "
-                                          "or a flight log), the device still while it warms up.")
+    recording_id: str = Field(
+        description="An uploaded recording with the sensor's temperature (a temp_c column, "
+        "or a flight log), the device still while it warms up."
+    )
     sensors: Annotated[list[Literal["acc", "gyr"]], Field(min_length=1, max_length=2)] | None = Field(
-        None, description="Sensors to calibrate (default: the accelerometer and the gyroscope the recording has).")
+        None, description="Sensors to calibrate (default: the accelerometer and the gyroscope the recording has)."
+    )
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
 
@@ -199,20 +208,27 @@ class MagnetometerIn(Strict):
 
     method: Literal["magnetometer"]
     mag: Annotated[list[Vec3], Field(min_length=1, max_length=200_000)] | None = Field(
-        None, description="N×3 magnetometer readings in µT, in recording order (N ≥ 50, spread over all directions).")
+        None, description="N×3 magnetometer readings in µT, in recording order (N ≥ 50, spread over all directions)."
+    )
     recording_id: str | None = Field(None, description="An uploaded recording with magnetometer columns instead.")
     date: datetime.date | None = Field(None, description="Day of the recording (default today, UTC), for the model.")
-    latitude_deg: Latitude | None = Field(None, description="Geodetic latitude: with longitude_deg, the Earth's "
-                                                            "field there from IGRF.")
+    latitude_deg: Latitude | None = Field(
+        None, description="Geodetic latitude: with longitude_deg, the Earth's field there from IGRF."
+    )
     longitude_deg: Longitude | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = Field(
-        None, description="Height above the WGS84 ellipsoid (default 0).")
+        None, description="Height above the WGS84 ellipsoid (default 0)."
+    )
     field_ut: FieldMagnitude | None = Field(
-        None, description="The local field's magnitude in µT; overrides the model's. Without it or a place, "
-                          "the magnitude is estimated from the readings.")
+        None,
+        description="The local field's magnitude in µT; overrides the model's. Without it or a place, "
+        "the magnitude is estimated from the readings.",
+    )
     source: Literal["phone", "board"] | None = Field(
-        None, description="Inline readings: the device they came from (the compass page says which), kept as the "
-                          "calibration's source so its page speaks of that device. A recording's comes from its format.")
+        None,
+        description="Inline readings: the device they came from (the compass page says which), kept as the "
+        "calibration's source so its page speaks of that device. A recording's comes from its format.",
+    )
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
 
@@ -231,15 +247,23 @@ class CompassFlightIn(Strict):
     """A flight controller's compass calibrated from a flight log against the field its attitude expects (issue 32)."""
 
     method: Literal["compass_flight"]
-    recording_id: str = Field(description="An uploaded PX4 ULog (.ulg) or ArduPilot DataFlash log (.bin) of a flight "
-                                          "with turns through every heading, with the attitude and the compass.")
+    recording_id: str = Field(
+        description="An uploaded PX4 ULog (.ulg) or ArduPilot DataFlash log (.bin) of a flight "
+        "with turns through every heading, with the attitude and the compass."
+    )
     mag_instance: Annotated[int, Field(ge=0, le=255)] | None = Field(
-        None, description="The compass instance (default: the one read at the upload, else the first).")
-    date: datetime.date | None = Field(None, description="Day of the flight, for the model (default: the log's GPS time).")
-    latitude_deg: Latitude | None = Field(None, description="Where the vehicle flew (default: the log's first GPS fix).")
+        None, description="The compass instance (default: the one read at the upload, else the first)."
+    )
+    date: datetime.date | None = Field(
+        None, description="Day of the flight, for the model (default: the log's GPS time)."
+    )
+    latitude_deg: Latitude | None = Field(
+        None, description="Where the vehicle flew (default: the log's first GPS fix)."
+    )
     longitude_deg: Longitude | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = Field(
-        None, description="Height above the WGS84 ellipsoid (default: the fix's).")
+        None, description="Height above the WGS84 ellipsoid (default: the fix's)."
+    )
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
 

@@ -22,14 +22,15 @@ POSTGRES_PREFIXES = ("postgresql://", "postgres://", "postgresql+psycopg://")
 def database_url_problem(database_url: str) -> str | None:
     """Why ``database_url`` cannot be used, or None when it can."""
     if database_url.startswith(POSTGRES_PREFIXES) or (
-            database_url.startswith(SQLITE_PREFIX) and len(database_url) > len(SQLITE_PREFIX)):
+        database_url.startswith(SQLITE_PREFIX) and len(database_url) > len(SQLITE_PREFIX)
+    ):
         return None
     return "must be sqlite:///path/to/trical.db or postgresql://user:password@host/db"
 
 
 def sqlite_path(database_url: str) -> Path | None:
     """The file of a ``sqlite:///path`` URL, or None for PostgreSQL."""
-    return Path(database_url[len(SQLITE_PREFIX):]) if database_url.startswith(SQLITE_PREFIX) else None
+    return Path(database_url[len(SQLITE_PREFIX) :]) if database_url.startswith(SQLITE_PREFIX) else None
 
 
 class SettingsError(ValueError):
@@ -84,8 +85,9 @@ class Settings(BaseSettings):
         (TRICAL_LINK_TTL_MIN).
     """
 
-    model_config = SettingsConfigDict(env_prefix="TRICAL_", env_ignore_empty=True, frozen=True,
-                                      populate_by_name=True, extra="forbid")
+    model_config = SettingsConfigDict(
+        env_prefix="TRICAL_", env_ignore_empty=True, frozen=True, populate_by_name=True, extra="forbid"
+    )
 
     database_url: str = "sqlite:///./var/trical.db"
     max_upload_mb: float = Field(512.0, gt=0)
@@ -106,8 +108,9 @@ class Settings(BaseSettings):
     templates_dir: Path = PROJECT_ROOT / "templates"
 
     @classmethod
-    def settings_customise_sources(cls, settings_cls, init_settings, env_settings, dotenv_settings,
-                                   file_secret_settings):
+    def settings_customise_sources(
+        cls, settings_cls, init_settings, env_settings, dotenv_settings, file_secret_settings
+    ):
         # The environment is read by from_env alone, so that Settings(...) is what it says.
         return (init_settings,)
 
@@ -157,7 +160,11 @@ class Settings(BaseSettings):
     @property
     def database_label(self) -> str:
         """The database for messages, without its password."""
-        return str(self.database_path) if self.is_sqlite else re.sub(r"//([^:@/]+):[^@]*@", r"//\1:***@", self.database_url)
+        return (
+            str(self.database_path)
+            if self.is_sqlite
+            else re.sub(r"//([^:@/]+):[^@]*@", r"//\1:***@", self.database_url)
+        )
 
     @property
     def max_upload_bytes(self) -> int:

@@ -58,7 +58,8 @@ def swagger_ui_page(openapi_url: str, title: str) -> tuple[bytes, str]:
     page by any other means is still refused.
     """
     page = get_swagger_ui_html(
-        openapi_url=openapi_url, title=title,
+        openapi_url=openapi_url,
+        title=title,
         swagger_js_url=f"{SWAGGER_UI_ASSETS}/swagger-ui-bundle.js",
         # Swagger UI's stylesheet, imported by trical's, which adds contrast and touch target sizes.
         swagger_css_url="/static/css/docs.css",
@@ -68,8 +69,10 @@ def swagger_ui_page(openapi_url: str, title: str) -> tuple[bytes, str]:
         swagger_ui_parameters={"validatorUrl": None, "deepLinking": False},
     ).body
     # The page's language, and its content in a main landmark (the element Swagger UI fills).
-    for old, new in ((b"<html>", b'<html lang="en">'),
-                     (b'<div id="swagger-ui">\n    </div>', b'<main id="swagger-ui"></main>')):
+    for old, new in (
+        (b"<html>", b'<html lang="en">'),
+        (b'<div id="swagger-ui">\n    </div>', b'<main id="swagger-ui"></main>'),
+    ):
         if page.count(old) != 1:
             raise RuntimeError(f"FastAPI's Swagger UI page no longer holds {old!r} once")
         page = page.replace(old, new)
@@ -126,9 +129,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                 wait = limiter.acquire(client)
                 if wait > 0:
                     return error_response(
-                        429, f"too many requests: at most {settings.rate_limit_per_minute:g} a minute "
-                             f"(TRICAL_RATE_LIMIT_PER_MINUTE); retry in {retry_after(wait)} s",
-                        "rate_limited", {"Retry-After": retry_after(wait)})
+                        429,
+                        f"too many requests: at most {settings.rate_limit_per_minute:g} a minute "
+                        f"(TRICAL_RATE_LIMIT_PER_MINUTE); retry in {retry_after(wait)} s",
+                        "rate_limited",
+                        {"Retry-After": retry_after(wait)},
+                    )
             return await call_next(request)
 
     # Responses of 1 KiB or more compressed for clients that accept gzip (the pages, their scripts,

@@ -96,53 +96,127 @@ class Method:
 
 
 TABLE: tuple[Method, ...] = (
-    Method("auto", request=rq.AutoIn, handler=still.auto, response=None,
-           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER,
-           words="the model the still readings support (accelerometer)",
-           page_words="the calibration from still poses"),
-    Method("six_position", request=rq.SixPositionIn, handler=still.six_position, response="SixPositionOut",
-           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER,
-           words="six positions (accelerometer)",
-           page_words="the six-position calibration"),
-    Method("orientations", request=rq.OrientationsIn, handler=still.orientations, response="OrientationsOut",
-           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER,
-           words="known orientations (accelerometer)",
-           page_words="the calibration from known orientations"),
-    Method("nonorthogonal", request=rq.NonOrthogonalIn, handler=still.nonorthogonal, response="NonOrthogonalOut",
-           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER,
-           words="non-orthogonal axes (accelerometer)",
-           page_words="the non-orthogonal calibration"),
-    Method("triangular", request=rq.TriangularIn, handler=still.triangular, response="TriangularOut",
-           command="calibrate", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER,
-           words="free poses (accelerometer)",
-           page_words="the free-pose calibration"),
-    Method("cube", request=rq.CubeIn, handler=cube.cube, response="CubeOut",
-           command="calibrate", formats=CORRECTION_EXPORTS,
-           kind="a cube calibration (accelerometer, gyroscope, magnetometer)",
-           words="24 positions of a cube (accelerometer and gyroscope)",
-           page_words="the cube calibration"),
-    Method("autocal", request=rq.AutocalIn, handler=autocal.autocal, response="AutocalOut",
-           command="autocal", formats=CORRECTION_EXPORTS, kind=ACCELEROMETER,
-           words="free-living log (accelerometer)",
-           page_words="the free-living calibration"),
-    Method("noise", request=rq.NoiseIn, handler=noise.noise, response="NoiseOut",
-           command="noise", formats=NOISE_EXPORTS, kind="a noise characterisation",
-           words="noise (Allan deviation)",
-           page_words="the noise characterisation"),
-    Method("magnetometer", request=rq.MagnetometerIn, handler=compass.magnetometer, response="MagnetometerOut",
-           command="calibrate", formats=CORRECTION_EXPORTS, kind="a compass calibration",
-           words="the compass (magnetometer)",
-           page_words="the compass calibration"),
-    Method("temperature", request=rq.TemperatureIn, handler=temperature.temperature, response="TemperatureOut",
-           command="temperature", formats=TEMPERATURE_EXPORTS,
-           kind="a temperature calibration (offsets against temperature)",
-           words="temperature drift (accelerometer and gyroscope)",
-           page_words="the temperature calibration"),
-    Method("compass_flight", request=rq.CompassFlightIn, handler=flight_compass.compass_flight,
-           response="CompassFlightOut", command="calibrate", formats=FLIGHT_COMPASS_EXPORTS,
-           kind="a compass calibrated from a flight",
-           words="the compass from a flight (flight controller)",
-           page_words="the compass calibration from a flight"),
+    Method(
+        "auto",
+        request=rq.AutoIn,
+        handler=still.auto,
+        response=None,
+        command="calibrate",
+        formats=CORRECTION_EXPORTS,
+        kind=ACCELEROMETER,
+        words="the model the still readings support (accelerometer)",
+        page_words="the calibration from still poses",
+    ),
+    Method(
+        "six_position",
+        request=rq.SixPositionIn,
+        handler=still.six_position,
+        response="SixPositionOut",
+        command="calibrate",
+        formats=CORRECTION_EXPORTS,
+        kind=ACCELEROMETER,
+        words="six positions (accelerometer)",
+        page_words="the six-position calibration",
+    ),
+    Method(
+        "orientations",
+        request=rq.OrientationsIn,
+        handler=still.orientations,
+        response="OrientationsOut",
+        command="calibrate",
+        formats=CORRECTION_EXPORTS,
+        kind=ACCELEROMETER,
+        words="known orientations (accelerometer)",
+        page_words="the calibration from known orientations",
+    ),
+    Method(
+        "nonorthogonal",
+        request=rq.NonOrthogonalIn,
+        handler=still.nonorthogonal,
+        response="NonOrthogonalOut",
+        command="calibrate",
+        formats=CORRECTION_EXPORTS,
+        kind=ACCELEROMETER,
+        words="non-orthogonal axes (accelerometer)",
+        page_words="the non-orthogonal calibration",
+    ),
+    Method(
+        "triangular",
+        request=rq.TriangularIn,
+        handler=still.triangular,
+        response="TriangularOut",
+        command="calibrate",
+        formats=CORRECTION_EXPORTS,
+        kind=ACCELEROMETER,
+        words="free poses (accelerometer)",
+        page_words="the free-pose calibration",
+    ),
+    Method(
+        "cube",
+        request=rq.CubeIn,
+        handler=cube.cube,
+        response="CubeOut",
+        command="calibrate",
+        formats=CORRECTION_EXPORTS,
+        kind="a cube calibration (accelerometer, gyroscope, magnetometer)",
+        words="24 positions of a cube (accelerometer and gyroscope)",
+        page_words="the cube calibration",
+    ),
+    Method(
+        "autocal",
+        request=rq.AutocalIn,
+        handler=autocal.autocal,
+        response="AutocalOut",
+        command="autocal",
+        formats=CORRECTION_EXPORTS,
+        kind=ACCELEROMETER,
+        words="free-living log (accelerometer)",
+        page_words="the free-living calibration",
+    ),
+    Method(
+        "noise",
+        request=rq.NoiseIn,
+        handler=noise.noise,
+        response="NoiseOut",
+        command="noise",
+        formats=NOISE_EXPORTS,
+        kind="a noise characterisation",
+        words="noise (Allan deviation)",
+        page_words="the noise characterisation",
+    ),
+    Method(
+        "magnetometer",
+        request=rq.MagnetometerIn,
+        handler=compass.magnetometer,
+        response="MagnetometerOut",
+        command="calibrate",
+        formats=CORRECTION_EXPORTS,
+        kind="a compass calibration",
+        words="the compass (magnetometer)",
+        page_words="the compass calibration",
+    ),
+    Method(
+        "temperature",
+        request=rq.TemperatureIn,
+        handler=temperature.temperature,
+        response="TemperatureOut",
+        command="temperature",
+        formats=TEMPERATURE_EXPORTS,
+        kind="a temperature calibration (offsets against temperature)",
+        words="temperature drift (accelerometer and gyroscope)",
+        page_words="the temperature calibration",
+    ),
+    Method(
+        "compass_flight",
+        request=rq.CompassFlightIn,
+        handler=flight_compass.compass_flight,
+        response="CompassFlightOut",
+        command="calibrate",
+        formats=FLIGHT_COMPASS_EXPORTS,
+        kind="a compass calibrated from a flight",
+        words="the compass from a flight (flight controller)",
+        page_words="the compass calibration from a flight",
+    ),
 )
 """Every method. ``auto`` on a recording of the magnetometer alone is the compass (its handler calls
 :func:`app.workflows.compass.auto_compass`), answered as method ``magnetometer``: not a method of its own."""
@@ -203,8 +277,10 @@ def export(body: dict, fmt: str) -> Export:
     method = BY_NAME.get(body.get("method"))
     if method is not None and fmt not in method.formats and fmt in ALL_FORMATS:
         kinds = dict.fromkeys(m.kind for m in TABLE if fmt in m.formats)
-        raise ExportError(f"format {fmt!r} does not fit this calibration, {method.kind} (method {method.name}): "
-                          f"{fmt} writes {' or '.join(kinds)}; use one of {', '.join(method.formats)}")
+        raise ExportError(
+            f"format {fmt!r} does not fit this calibration, {method.kind} (method {method.name}): "
+            f"{fmt} writes {' or '.join(kinds)}; use one of {', '.join(method.formats)}"
+        )
     return export_calibration(body, fmt)
 
 
@@ -236,8 +312,10 @@ def describe_errors(errors: list[dict]) -> str:
             messages.append("the request needs a JSON body")
             continue
         if err.get("type") == "union_tag_not_found":
-            messages.append(f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
-                            f"required: one of {', '.join(METHODS)}")
+            messages.append(
+                f"the field `{err.get('ctx', {}).get('discriminator', 'method').strip(chr(39))}` is "
+                f"required: one of {', '.join(METHODS)}"
+            )
             continue
         msg = err.get("msg", "invalid").removeprefix("Value error, ")
         messages.append(f"{_location(err.get('loc', ()))}: {msg}")

@@ -106,11 +106,15 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
 def _figures_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:
     """A noise characterisation corrects nothing: its figures are for a filter."""
     if ok:
-        return _out(True, "figures", "Use these figures in your filter: the sensors' noise is characterised.",
-                    "White noise, random walk and bias instability per axis (IEEE Std 952), for a Kalman "
-                    "filter's noise model.")
-    return _out(False, "failed", "Don't use these figures: the noise could not be characterised.",
-                _short_reason(reasons))
+        return _out(
+            True,
+            "figures",
+            "Use these figures in your filter: the sensors' noise is characterised.",
+            "White noise, random walk and bias instability per axis (IEEE Std 952), for a Kalman filter's noise model.",
+        )
+    return _out(
+        False, "failed", "Don't use these figures: the noise could not be characterised.", _short_reason(reasons)
+    )
 
 
 def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:
@@ -118,25 +122,44 @@ def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str]
     (app.calibration.angles.figure_degrees): a level's tilt for an accelerometer, a heading for a compass."""
     figure = figures[0] if figures else NO_FIGURE
     before, after, unit, basis = figure.before, figure.after, figure.unit, figure.basis
-    change = ("" if after is None else f"{basis} {_amount(before, unit)} → {_amount(after, unit)}"
-              if before is not None else f"{basis} {_amount(after, unit)}")
+    change = (
+        ""
+        if after is None
+        else f"{basis} {_amount(before, unit)} → {_amount(after, unit)}"
+        if before is not None
+        else f"{basis} {_amount(after, unit)}"
+    )
     degrees = figure_degrees(before, after, unit, metrics)
     figures_out = dict(before=before, after=after, unit=unit or None, basis=basis or None, degrees=degrees)
     told = f"{change}; {degrees['words']}" if degrees and change else change
     if figure.grew:
-        return _out(False, "worse", f"Don't apply it: your sensor is already better than this ({told}).",
-                    ("It would make your sensor worse; keep it as it is. "
-                     + (_short_reason(reasons) if reasons else "")).strip(),
-                    **figures_out)
+        return _out(
+            False,
+            "worse",
+            f"Don't apply it: your sensor is already better than this ({told}).",
+            (
+                "It would make your sensor worse; keep it as it is. " + (_short_reason(reasons) if reasons else "")
+            ).strip(),
+            **figures_out,
+        )
     if not ok:
-        return _out(False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons),
-                    **figures_out)
+        return _out(
+            False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons), **figures_out
+        )
     if before is not None and after is not None:
         if after > (1.0 - MIN_GAIN_FRACTION) * before or before - after < MIN_GAIN.get(unit, MIN_GAIN_MG):
-            return _out(False, "no_gain", f"No need to apply it: it changes too little to matter ({told}).",
-                        "Your sensor is about as good without it; keep it as it is.", **figures_out)
-    words = f"Apply it: {change} ({degrees['words']})." if degrees and change else (
-        f"Apply it: {change}." if change else "Apply it: it passed every check.")
+            return _out(
+                False,
+                "no_gain",
+                f"No need to apply it: it changes too little to matter ({told}).",
+                "Your sensor is about as good without it; keep it as it is.",
+                **figures_out,
+            )
+    words = (
+        f"Apply it: {change} ({degrees['words']})."
+        if degrees and change
+        else (f"Apply it: {change}." if change else "Apply it: it passed every check.")
+    )
     why = cls.verdict_note(method, figure) or ("It passed every check." if change else "")
     return _out(True, "apply", words, why, **figures_out)
 
@@ -147,24 +170,44 @@ def _drift_verdict(cls, method, figures, line, ok: bool, reasons: list[str], met
     worse when any sensor's drift grew, no gain when none shrank enough. The accelerometer's drift is also told
     as the tilt it gives a level (app.calibration.angles.figure_degrees)."""
     if not figures:
-        return _out(False, "failed", "Don't apply it: the calibration has no temperature model.", _short_reason(reasons))
+        return _out(
+            False, "failed", "Don't apply it: the calibration has no temperature model.", _short_reason(reasons)
+        )
     first = figures[0]
     degrees = next((d for f in figures if (d := figure_degrees(f.before, f.after, f.unit, metrics))), None)
     change = f"{line}; {degrees['words']}" if line and degrees else (line or "")
     figures_out = dict(before=first.before, after=first.after, unit=first.unit, basis=first.basis, degrees=degrees)
     if any(f.grew for f in figures):
-        return _out(False, "worse", f"Don't apply it: the drift would grow ({change}).",
-                    ("It would make your sensor worse; keep its temperature calibration off. "
-                     + (_short_reason(reasons) if reasons else "")).strip(), **figures_out)
+        return _out(
+            False,
+            "worse",
+            f"Don't apply it: the drift would grow ({change}).",
+            (
+                "It would make your sensor worse; keep its temperature calibration off. "
+                + (_short_reason(reasons) if reasons else "")
+            ).strip(),
+            **figures_out,
+        )
     if not ok:
-        return _out(False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons),
-                    **figures_out)
+        return _out(
+            False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons), **figures_out
+        )
     if all(f.after > (1.0 - MIN_GAIN_FRACTION) * f.before for f in figures):
-        return _out(False, "no_gain", f"No need to apply it: it changes too little to matter ({change}).",
-                    "Your sensor drifts about as little without it; keep it as it is.", **figures_out)
-    return _out(True, "apply", f"Apply it: {change}.",
-                "Each band of temperature was predicted by the fit made without it: the figure is what to expect "
-                "between the temperatures recorded.", **figures_out)
+        return _out(
+            False,
+            "no_gain",
+            f"No need to apply it: it changes too little to matter ({change}).",
+            "Your sensor drifts about as little without it; keep it as it is.",
+            **figures_out,
+        )
+    return _out(
+        True,
+        "apply",
+        f"Apply it: {change}.",
+        "Each band of temperature was predicted by the fit made without it: the figure is what to expect "
+        "between the temperatures recorded.",
+        **figures_out,
+    )
 
 
 _VERDICTS = {CORRECTION: _correction_verdict, FIGURES: _figures_verdict, DRIFT: _drift_verdict}
@@ -176,7 +219,17 @@ def with_verdict(body: dict) -> dict:
     return body if "verdict" in body else {**body, "verdict": verdict(body)}
 
 
-def _out(apply: bool, kind: str, words: str, why: str, *, before=None, after=None, unit=None, basis=None,
-         degrees=None) -> dict:
-    return {"apply": apply, "kind": kind, "words": words, "why": why, "before": before, "after": after,
-            "unit": unit, "basis": basis, "degrees": degrees}
+def _out(
+    apply: bool, kind: str, words: str, why: str, *, before=None, after=None, unit=None, basis=None, degrees=None
+) -> dict:
+    return {
+        "apply": apply,
+        "kind": kind,
+        "words": words,
+        "why": why,
+        "before": before,
+        "after": after,
+        "unit": unit,
+        "basis": basis,
+        "degrees": degrees,
+    }

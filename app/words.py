@@ -74,50 +74,88 @@ class Term:
 
 
 def _unit_term(sensor: str, words: str, cli: str) -> Term:
-    return Term(f"{sensor}_unit", f"the {words}'s unit menu (in {UNITS_CARD})",
-                "{value} in the " + words + f"'s unit menu (in {UNITS_CARD})", cli=cli, values=UNIT_WORDS)
+    return Term(
+        f"{sensor}_unit",
+        f"the {words}'s unit menu (in {UNITS_CARD})",
+        "{value} in the " + words + f"'s unit menu (in {UNITS_CARD})",
+        cli=cli,
+        values=UNIT_WORDS,
+    )
 
 
 _METHOD_PAGE = {method.name: method.page_words for method in METHOD_TABLE}
 _METHOD_CLI = {method.name: f"trical {method.command}" for method in METHOD_TABLE if method.command != "calibrate"}
 """A method on the page and, for one with a command of its own, on the command line (the method table's)."""
 
-VOCABULARY: dict[str, Term] = {t.name: t for t in (
-    _unit_term("acc", "accelerometer", "--unit"),
-    _unit_term("gyr", "gyroscope", "--gyr-unit"),
-    _unit_term("mag", "magnetometer", "--mag-unit"),
-    Term("lsb_per_g", f"the sensor's part menu (in {UNITS_CARD})",
-         "an accelerometer part of {value} LSB per g (in its part menu, in " + UNITS_CARD + ")"),
-    Term("chip", word=r"(?!'s)", page=f"the sensor's part menu (in {UNITS_CARD})",
-         page_value="the part {value} (in its sensor's part menu, in " + UNITS_CARD + ")",
-         values={name: chip.label for name, chip in CHIPS.items()}),
-    Term("columns", word=r"(?= names\b)", page="“Which column is which?” (or the column names in " + OPTIONS + ")",
-         page_value="the column names {value} (in " + OPTIONS + ", or “Which column is which?”)"),
-    Term("sign", f"the Sign menu (in {OPTIONS})", "the Sign menu set to {value} (in " + OPTIONS + ")",
-         values={"1": "keep the file's accelerations", "-1": "negate them"}),
-    Term("sampling_rate_hz", f"the Sampling rate (Hz) (in {OPTIONS})",
-         "a Sampling rate (Hz) of {value} (in " + OPTIONS + ")"),
-    Term("format", "a file named for its format (.csv, .zip, .ulg, .bin)", cli="--log-format"),
-    Term("instance", "the “IMU read” menu", "IMU {value} in the “IMU read” menu"),
-    Term("mag_instance", "the “Compass read” menu", "compass {value} in the “Compass read” menu"),
-    Term("latitude_deg", "the Latitude", "a Latitude of {value}°",
-         pages={"/wizard": "your location (“Use my location for the reference field”)"}),
-    Term("longitude_deg", "the Longitude", "a Longitude of {value}°",
-         pages={"/wizard": "your location (“Use my location for the reference field”)"}),
-    Term("date", "the Date of the turn", pages={"/wizard": "today's date (the page sends it with your location)"}),
-    Term("height_m", "the height (the page takes none: the latitude alone is used)"),
-    Term("field_ut", "the field's strength (µT)", "a field's strength of {value} µT",
-         pages={"/wizard": "your location (“Use my location for the reference field”)"}),
-    Term("gravity", "the Gravity (m/s²)", "a Gravity of {value} m/s²"),
-    Term("unit", "the Unit menu", "{value} in the Unit menu", values=UNIT_WORDS),
-    Term("method", "the kind of calibration", "{value}", values=_METHOD_PAGE, cli_values=_METHOD_CLI),
-    Term("device_id", "the Device name", "the Device name {value}"),
-    Term("recording_id", "an uploaded log", cli="the log file"),
-    Term("readings", "the six readings", cli="the log file"),
-    Term("means", "the still readings", cli="the log file"),
-    Term("segments", "the still segments", cli="the log file"),
-    Term("mag", "the magnetometer's readings", cli="the log file"),
-)}
+VOCABULARY: dict[str, Term] = {
+    t.name: t
+    for t in (
+        _unit_term("acc", "accelerometer", "--unit"),
+        _unit_term("gyr", "gyroscope", "--gyr-unit"),
+        _unit_term("mag", "magnetometer", "--mag-unit"),
+        Term(
+            "lsb_per_g",
+            f"the sensor's part menu (in {UNITS_CARD})",
+            "an accelerometer part of {value} LSB per g (in its part menu, in " + UNITS_CARD + ")",
+        ),
+        Term(
+            "chip",
+            word=r"(?!'s)",
+            page=f"the sensor's part menu (in {UNITS_CARD})",
+            page_value="the part {value} (in its sensor's part menu, in " + UNITS_CARD + ")",
+            values={name: chip.label for name, chip in CHIPS.items()},
+        ),
+        Term(
+            "columns",
+            word=r"(?= names\b)",
+            page="“Which column is which?” (or the column names in " + OPTIONS + ")",
+            page_value="the column names {value} (in " + OPTIONS + ", or “Which column is which?”)",
+        ),
+        Term(
+            "sign",
+            f"the Sign menu (in {OPTIONS})",
+            "the Sign menu set to {value} (in " + OPTIONS + ")",
+            values={"1": "keep the file's accelerations", "-1": "negate them"},
+        ),
+        Term(
+            "sampling_rate_hz",
+            f"the Sampling rate (Hz) (in {OPTIONS})",
+            "a Sampling rate (Hz) of {value} (in " + OPTIONS + ")",
+        ),
+        Term("format", "a file named for its format (.csv, .zip, .ulg, .bin)", cli="--log-format"),
+        Term("instance", "the “IMU read” menu", "IMU {value} in the “IMU read” menu"),
+        Term("mag_instance", "the “Compass read” menu", "compass {value} in the “Compass read” menu"),
+        Term(
+            "latitude_deg",
+            "the Latitude",
+            "a Latitude of {value}°",
+            pages={"/wizard": "your location (“Use my location for the reference field”)"},
+        ),
+        Term(
+            "longitude_deg",
+            "the Longitude",
+            "a Longitude of {value}°",
+            pages={"/wizard": "your location (“Use my location for the reference field”)"},
+        ),
+        Term("date", "the Date of the turn", pages={"/wizard": "today's date (the page sends it with your location)"}),
+        Term("height_m", "the height (the page takes none: the latitude alone is used)"),
+        Term(
+            "field_ut",
+            "the field's strength (µT)",
+            "a field's strength of {value} µT",
+            pages={"/wizard": "your location (“Use my location for the reference field”)"},
+        ),
+        Term("gravity", "the Gravity (m/s²)", "a Gravity of {value} m/s²"),
+        Term("unit", "the Unit menu", "{value} in the Unit menu", values=UNIT_WORDS),
+        Term("method", "the kind of calibration", "{value}", values=_METHOD_PAGE, cli_values=_METHOD_CLI),
+        Term("device_id", "the Device name", "the Device name {value}"),
+        Term("recording_id", "an uploaded log", cli="the log file"),
+        Term("readings", "the six readings", cli="the log file"),
+        Term("means", "the still readings", cli="the log file"),
+        Term("segments", "the still segments", cli="the log file"),
+        Term("mag", "the magnetometer's readings", cli="the log file"),
+    )
+}
 """Every parameter a message may name, and its words on the command line and on the page."""
 
 _SPACED = {"method": tuple(_METHOD_PAGE), "chip": tuple(CHIPS)}
@@ -127,7 +165,8 @@ _VALUE = r"[^\s;)`]+?(?=[\s;)`]|[.,:](?:\s|$)|$)"
 _NAMES = "|".join(sorted(map(re.escape, VOCABULARY), key=len, reverse=True))
 _SPACED_RE = "|".join(
     rf"{name} `?(?:{'|'.join(sorted(map(re.escape, values), key=len, reverse=True))})(?:,[a-z0-9-]+)*`?(?![\w-])"
-    for name, values in _SPACED.items())
+    for name, values in _SPACED.items()
+)
 TOKEN = re.compile(
     rf"(?P<spaced>\b(?:{_SPACED_RE}))"
     rf"|(?:the field )?`(?P<tick>{_NAMES})`"

@@ -39,11 +39,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--requests", type=int, default=500)
     args = parser.parse_args()
-    body = {"method": "six_position", "gravity": 9.81,
-            "readings": [{"up": u, "mean": m} for u, m in zip(LABELS, seed_table(1)[:6].tolist())]}
-    with tempfile.TemporaryDirectory() as tmp, \
-            live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp}/bench.db"}) as server, \
-            httpx.Client(base_url=server.url, timeout=30) as http:
+    body = {
+        "method": "six_position",
+        "gravity": 9.81,
+        "readings": [{"up": u, "mean": m} for u, m in zip(LABELS, seed_table(1)[:6].tolist())],
+    }
+    with (
+        tempfile.TemporaryDirectory() as tmp,
+        live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp}/bench.db"}) as server,
+        httpx.Client(base_url=server.url, timeout=30) as http,
+    ):
 
         def solve():
             r = http.post("/api/v1/calibrations", json=body)
@@ -60,7 +65,9 @@ def main() -> None:
     print(f"{'endpoint':<36}{'p50 ms':>10}{'p99 ms':>10}")
     print(f"{'POST /api/v1/calibrations (six)':<36}{p(solve_ms, 50):>10.2f}{p(solve_ms, 99):>10.2f}")
     print(f"{'GET /healthz':<36}{p(health_ms, 50):>10.2f}{p(health_ms, 99):>10.2f}")
-    print(f"{'ratio six / healthz':<36}{p(solve_ms, 50) / p(health_ms, 50):>10.2f}{p(solve_ms, 99) / p(health_ms, 99):>10.2f}")
+    print(
+        f"{'ratio six / healthz':<36}{p(solve_ms, 50) / p(health_ms, 50):>10.2f}{p(solve_ms, 99) / p(health_ms, 99):>10.2f}"
+    )
 
 
 if __name__ == "__main__":

@@ -49,12 +49,18 @@ def make_week(path: Path, seed: int) -> dict:
             return truth
     t0 = time.perf_counter()
     out = np.lib.format.open_memmap(path, mode="w+", dtype=np.float32, shape=(N_SAMPLES, 3))
-    _, sim = simulate_recording(np.random.default_rng(seed), duration_s=N_SAMPLES / 100.0, sampling_rate_hz=100.0,
-                                noise_g=0.003, out=out)
+    _, sim = simulate_recording(
+        np.random.default_rng(seed), duration_s=N_SAMPLES / 100.0, sampling_rate_hz=100.0, noise_g=0.003, out=out
+    )
     out.flush()
     del out
-    truth = {"seed": seed, "n_samples": N_SAMPLES, "p": sim.p.tolist(), "rest_bouts": int(len(sim.rest_bouts)),
-             "generated_in_s": time.perf_counter() - t0}
+    truth = {
+        "seed": seed,
+        "n_samples": N_SAMPLES,
+        "p": sim.p.tolist(),
+        "rest_bouts": int(len(sim.rest_bouts)),
+        "generated_in_s": time.perf_counter() - t0,
+    }
     meta.write_text(json.dumps(truth))
     return truth
 
@@ -98,9 +104,18 @@ def core_child(path: str) -> None:
     t3 = time.perf_counter()
     autocalibrate(rest, compare=True)
     t4 = time.perf_counter()
-    print(json.dumps({"import_s": t_import, "detect_s": t2 - t1, "select_fit_s": t3 - t2,
-                      "select_fit_compare_s": t4 - t3, "ok": res.ok,
-                      "maxrss_kb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss}))
+    print(
+        json.dumps(
+            {
+                "import_s": t_import,
+                "detect_s": t2 - t1,
+                "select_fit_s": t3 - t2,
+                "select_fit_compare_s": t4 - t3,
+                "ok": res.ok,
+                "maxrss_kb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
+            }
+        )
+    )
 
 
 def actipy_child(path: str) -> None:
@@ -120,8 +135,16 @@ def actipy_child(path: str) -> None:
         _, info = processing.calibrate_gravity(df, _inplace=True)
     t2 = time.perf_counter()
     info = {k: (float(v) if isinstance(v, (int, float, np.floating, np.integer)) else v) for k, v in info.items()}
-    print(json.dumps({"frame_s": t1 - t0, "calibrate_s": t2 - t1, "info": info,
-                      "maxrss_kb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss}))
+    print(
+        json.dumps(
+            {
+                "frame_s": t1 - t0,
+                "calibrate_s": t2 - t1,
+                "info": info,
+                "maxrss_kb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss,
+            }
+        )
+    )
 
 
 def _fmt_params(est, true) -> str:
@@ -147,9 +170,11 @@ def main() -> None:
     path = args.dir / f"autocal_week_seed{args.seed}.npy"
     truth = make_week(path, args.seed)
     p_true = np.array(truth["p"])
-    print(f"data: {path} ({path.stat().st_size / 1e6:.0f} MB, {N_SAMPLES:,} samples, {truth['rest_bouts']} rest bouts, "
-          f"seed {args.seed}); load: {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f} "
-          f"on {os.cpu_count()} CPUs")
+    print(
+        f"data: {path} ({path.stat().st_size / 1e6:.0f} MB, {N_SAMPLES:,} samples, {truth['rest_bouts']} rest bouts, "
+        f"seed {args.seed}); load: {os.getloadavg()[0]:.2f} {os.getloadavg()[1]:.2f} {os.getloadavg()[2]:.2f} "
+        f"on {os.cpu_count()} CPUs"
+    )
     # Warm the page cache once so that every run reads the same way.
     subprocess.run(["cat", str(path)], stdout=subprocess.DEVNULL)
 
@@ -161,29 +186,41 @@ def main() -> None:
         walls.append(wall)
         peaks.append(peak)
         body = json.loads(out)
-        print(f"  run {i + 1}: {wall:.2f} s wall, {N_SAMPLES / wall / 1e6:.1f} M samples/s, peak RSS {peak / 1024:.0f} MB")
+        print(
+            f"  run {i + 1}: {wall:.2f} s wall, {N_SAMPLES / wall / 1e6:.1f} M samples/s, peak RSS {peak / 1024:.0f} MB"
+        )
     best = min(walls)
-    print(f"  best {best:.2f} s ({N_SAMPLES / best / 1e6:.1f} M samples/s), median {np.median(walls):.2f} s; "
-          f"peak RSS max {max(peaks) / 1024:.0f} MB")
+    print(
+        f"  best {best:.2f} s ({N_SAMPLES / best / 1e6:.1f} M samples/s), median {np.median(walls):.2f} s; "
+        f"peak RSS max {max(peaks) / 1024:.0f} MB"
+    )
     K, o = np.array(body["model"]["K"]), np.array(body["model"]["o"])
     p_est = np.array([K[0, 0], K[1, 1], K[2, 2], K[1, 0], K[2, 0], K[2, 1], *o])
     m, det = body["metrics"], body["detection"]
-    print(f"  ok {body['ok']}; {det['n_rest']} rest segments of {det['n_segments']}, {m['count']} points, "
-          f"{m['count_control']} control points")
+    print(
+        f"  ok {body['ok']}; {det['n_rest']} rest segments of {det['n_segments']}, {m['count']} points, "
+        f"{m['count_control']} control points"
+    )
     print(f"  |p̂ − p|: {_fmt_params(p_est, p_true)}")
-    print(f"  held-out |r − 1|: {m['error_before_mg']:.2f} mg before, {m['error_after_mg']:.3f} mg after, "
-          f"R = {m['improvement_pct']:.0f} % (eq. (21))")
+    print(
+        f"  held-out |r − 1|: {m['error_before_mg']:.2f} mg before, {m['error_after_mg']:.3f} mg after, "
+        f"R = {m['improvement_pct']:.0f} % (eq. (21))"
+    )
     print(f"  {'method':<22}{'before mg':>10}{'after mg':>10}{'R %':>9}{'points':>8}")
     for name, row in body["comparison"].items():
-        print(f"  {name:<22}{row['error_before_mg']:>10.2f}{row['error_after_mg']:>10.3f}"
-              f"{row['improvement_pct']:>9.0f}{row['count']:>8}")
+        print(
+            f"  {name:<22}{row['error_before_mg']:>10.2f}{row['error_after_mg']:>10.3f}"
+            f"{row['improvement_pct']:>9.0f}{row['count']:>8}"
+        )
 
     wall, peak, out = run_measured([sys.executable, str(Path(__file__).resolve()), "--core", str(path)])
     core = json.loads(out)
     core_s = core["detect_s"] + core["select_fit_s"]
-    print(f"\ncore in-process: import {core['import_s']:.2f} s, detection {core['detect_s']:.2f} s, selection + fit "
-          f"{core['select_fit_s']:.3f} s (with the comparison fits {core['select_fit_compare_s']:.3f} s); "
-          f"detection + selection + fit {core_s:.2f} s = {N_SAMPLES / core_s / 1e6:.0f} M samples/s")
+    print(
+        f"\ncore in-process: import {core['import_s']:.2f} s, detection {core['detect_s']:.2f} s, selection + fit "
+        f"{core['select_fit_s']:.3f} s (with the comparison fits {core['select_fit_compare_s']:.3f} s); "
+        f"detection + selection + fit {core_s:.2f} s = {N_SAMPLES / core_s / 1e6:.0f} M samples/s"
+    )
 
     if args.no_actipy:
         return
@@ -195,10 +232,12 @@ def main() -> None:
     wall, peak, out = run_measured([sys.executable, str(Path(__file__).resolve()), "--actipy", str(path)])
     res = json.loads(out)
     info = res["info"]
-    print(f"\nactipy {actipy.__version__} calibrate_gravity: {res['calibrate_s']:.2f} s "
-          f"({N_SAMPLES / res['calibrate_s'] / 1e6:.1f} M samples/s; building its DataFrame {res['frame_s']:.2f} s more), "
-          f"peak RSS {peak / 1024:.0f} MB; CalibOK {info.get('CalibOK')}, {info.get('CalibNumSamples')} windows, "
-          f"its own error {info.get('CalibErrorBefore(mg)'):.2f} → {info.get('CalibErrorAfter(mg)'):.2f} mg")
+    print(
+        f"\nactipy {actipy.__version__} calibrate_gravity: {res['calibrate_s']:.2f} s "
+        f"({N_SAMPLES / res['calibrate_s'] / 1e6:.1f} M samples/s; building its DataFrame {res['frame_s']:.2f} s more), "
+        f"peak RSS {peak / 1024:.0f} MB; CalibOK {info.get('CalibOK')}, {info.get('CalibNumSamples')} windows, "
+        f"its own error {info.get('CalibErrorBefore(mg)'):.2f} → {info.get('CalibErrorAfter(mg)'):.2f} mg"
+    )
     print(f"  trical detection + selection + fit is {res['calibrate_s'] / core_s:.1f}× faster")
     if info.get("CalibOK"):
         slope = np.array([info[f"Calib{a}Slope"] for a in "xyz"])

@@ -34,8 +34,19 @@ from simulations.autocal import simulate_recording  # noqa: E402
 
 def run_folder(folder: Path, rate: float, db: Path, *extra: str) -> tuple[float, list[dict]]:
     env = {**os.environ, "TRICAL_DATABASE_URL": f"sqlite:///{db}"}
-    cmd = [sys.executable, "-m", "app.cli", "autocal", str(folder), "--sampling-rate-hz", str(rate),
-           "--unit", "g", "--json", *extra]
+    cmd = [
+        sys.executable,
+        "-m",
+        "app.cli",
+        "autocal",
+        str(folder),
+        "--sampling-rate-hz",
+        str(rate),
+        "--unit",
+        "g",
+        "--json",
+        *extra,
+    ]
     start = time.perf_counter()
     out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - start
@@ -63,17 +74,21 @@ def main() -> None:
             x, _ = simulate_recording(rng, duration_s=args.hours * 3600, sampling_rate_hz=args.rate)
             np.save(folder / f"rec_{i:03d}.npy", x)
         n = int(args.hours * 3600 * args.rate)
-        print(f"{args.files} recordings of {args.hours:g} h at {args.rate:g} Hz ({n / 1e6:.2f} M samples each, "
-              f"{args.files * n * 12 / 1e6:.0f} MB float32); {args.workers} workers; load {os.getloadavg()[0]:.2f}")
+        print(
+            f"{args.files} recordings of {args.hours:g} h at {args.rate:g} Hz ({n / 1e6:.2f} M samples each, "
+            f"{args.files * n * 12 / 1e6:.0f} MB float32); {args.workers} workers; load {os.getloadavg()[0]:.2f}"
+        )
         start = time.perf_counter()
-        with LocalCluster(n_workers=args.workers, processes=True, threads_per_worker=1, host="127.0.0.1",
-                          dashboard_address=None) as cluster:
+        with LocalCluster(
+            n_workers=args.workers, processes=True, threads_per_worker=1, host="127.0.0.1", dashboard_address=None
+        ) as cluster:
             print(f"LocalCluster start-up {time.perf_counter() - start:.2f} s ({cluster.scheduler_address})")
             print(f"{'run':>4}{'local s':>10}{'dask s':>10}{'dask/local':>12}  same result")
             for run in range(1, args.runs + 1):
                 local_s, local = run_folder(folder, args.rate, Path(tmp) / "db.sqlite", "--workers", str(args.workers))
-                dask_s, dask = run_folder(folder, args.rate, Path(tmp) / "db.sqlite",
-                                          "--dask-scheduler", cluster.scheduler_address)
+                dask_s, dask = run_folder(
+                    folder, args.rate, Path(tmp) / "db.sqlite", "--dask-scheduler", cluster.scheduler_address
+                )
                 same = all(a.get("ok") == b.get("ok") and a.get("model") == b.get("model") for a, b in zip(local, dask))
                 print(f"{run:>4}{local_s:>10.2f}{dask_s:>10.2f}{dask_s / local_s:>12.2f}  {same}")
         ok = sum(1 for b in local if b.get("ok"))

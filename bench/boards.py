@@ -61,7 +61,7 @@ def board_lines(loops: int) -> tuple[list[str], np.ndarray]:
 def find_rows(acc: np.ndarray, capture: np.ndarray) -> int:
     """Where a capture's samples start among the rows played (each capture is a run of them)."""
     for i in np.flatnonzero(np.all(acc == capture[0], axis=1)):
-        if i + len(capture) <= len(acc) and np.array_equal(acc[i:i + len(capture)], capture):
+        if i + len(capture) <= len(acc) and np.array_equal(acc[i : i + len(capture)], capture):
             return int(i)
     raise AssertionError("a capture's samples are not a run of the rows played")
 
@@ -95,34 +95,47 @@ def main() -> None:
     parser.add_argument("--turn-s", type=float, default=8.0, help="seconds a person takes to turn the board to a pose")
     args = parser.parse_args()
     lines, acc = board_lines(LOOPS)
-    with tempfile.TemporaryDirectory() as tmp, \
-            live_server({"TRICAL_DATABASE_URL": f"sqlite:///{Path(tmp) / 'trical.db'}"}) as server:
+    with (
+        tempfile.TemporaryDirectory() as tmp,
+        live_server({"TRICAL_DATABASE_URL": f"sqlite:///{Path(tmp) / 'trical.db'}"}) as server,
+    ):
         elapsed, sent, saved, cal_id = run_flow(server.url, lines, args.capture_s)
         with httpx.Client(base_url=server.url, timeout=60) as http:
-            flow = http.get(f"/api/v1/calibrations/{cal_id}", headers={"Authorization": f"Bearer {saved['token']}"}).json()
-            log = "\n".join(lines[len(BOOT):]) + "\n"
+            flow = http.get(
+                f"/api/v1/calibrations/{cal_id}", headers={"Authorization": f"Bearer {saved['token']}"}
+            ).json()
+            log = "\n".join(lines[len(BOOT) :]) + "\n"
             rec = http.post("/api/v1/recordings", files={"file": ("board.csv", log.encode(), "text/csv")})
             rec.raise_for_status()
-            upload = http.post("/api/v1/calibrations", json={"method": "six_position",
-                                                             "recording_id": rec.json()["id"]}).json()
+            upload = http.post(
+                "/api/v1/calibrations", json={"method": "six_position", "recording_id": rec.json()["id"]}
+            ).json()
     print(f"six flow over the Web Serial stand-in, {args.capture_s:g} s a pose, lines at 62.5 Hz:")
-    print(f"  Connect → verdict: {elapsed:.1f} s of the page's time; with {args.turn_s:g} s a turn for a person's "
-          f"hands: {elapsed + 6 * args.turn_s:.1f} s (the issue's bound: 120 s)")
+    print(
+        f"  Connect → verdict: {elapsed:.1f} s of the page's time; with {args.turn_s:g} s a turn for a person's "
+        f"hands: {elapsed + 6 * args.turn_s:.1f} s (the issue's bound: 120 s)"
+    )
     X, y = np.array(flow["model"]["X"]), np.array(flow["model"]["y"])
     starts = [find_rows(acc, np.array(c["acc"])) for c in sent]
-    means = [acc[s:s + len(c["acc"])].mean(axis=0) for s, c in zip(starts, sent)]
+    means = [acc[s : s + len(c["acc"])].mean(axis=0) for s, c in zip(starts, sent)]
     closed = fit_six_position(np.array(means), [c["position"] for c in sent], gravity=G)
     where = ", ".join(f"{c['position']} rows {s}–{s + len(c['acc']) - 1}" for s, c in zip(starts, sent))
     print(f"  captures: {where}")
-    print(f"  session vs closed form on the captured rows: max |ΔX| {np.abs(X - closed.X).max():.2e}, "
-          f"max |Δy| {np.abs(y - closed.y).max():.2e} m/s²")
+    print(
+        f"  session vs closed form on the captured rows: max |ΔX| {np.abs(X - closed.X).max():.2e}, "
+        f"max |Δy| {np.abs(y - closed.y).max():.2e} m/s²"
+    )
     Xu, yu = np.array(upload["model"]["X"]), np.array(upload["model"]["y"])
     used = upload.get("segments_used")
-    print(f"  the same lines uploaded as a log ({rec.json()['n_samples']} rows, {len(rec.json()['segments'])} still "
-          f"segments, used {used}): max |ΔX| {np.abs(X - Xu).max():.2e}, max |Δy| {np.abs(y - yu).max():.2e} m/s²")
+    print(
+        f"  the same lines uploaded as a log ({rec.json()['n_samples']} rows, {len(rec.json()['segments'])} still "
+        f"segments, used {used}): max |ΔX| {np.abs(X - Xu).max():.2e}, max |Δy| {np.abs(y - yu).max():.2e} m/s²"
+    )
     for name, body in (("session", flow), ("upload", upload)):
         m = body["metrics"]
-        print(f"  {name}: error on the six poses {m['error_before_mg']:.2f} mg → {m['error_after_mg']:.3f} mg, ok = {body['ok']}")
+        print(
+            f"  {name}: error on the six poses {m['error_before_mg']:.2f} mg → {m['error_after_mg']:.3f} mg, ok = {body['ok']}"
+        )
 
 
 if __name__ == "__main__":

@@ -30,8 +30,9 @@ BRANCH_PATTERNS = {
 
 def grep_counts(pattern: str, paths: list[str]) -> dict[str, int]:
     """``git grep -c -E pattern -- paths`` as {file: count}."""
-    out = subprocess.run(["git", "grep", "-c", "-E", pattern, "--", *paths], cwd=ROOT, capture_output=True,
-                         text=True, timeout=60)
+    out = subprocess.run(
+        ["git", "grep", "-c", "-E", pattern, "--", *paths], cwd=ROOT, capture_output=True, text=True, timeout=60
+    )
     counts = {}
     for line in out.stdout.splitlines():
         name, _, count = line.rpartition(":")
@@ -48,8 +49,7 @@ def python_functions() -> list[tuple[int, str]]:
         tree = ast.parse(path.read_text(encoding="utf-8"))
         for node in ast.walk(tree):
             if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                found.append((node.end_lineno - node.lineno + 1,
-                              f"{path.relative_to(ROOT)}:{node.lineno} {node.name}"))
+                found.append((node.end_lineno - node.lineno + 1, f"{path.relative_to(ROOT)}:{node.lineno} {node.name}"))
     return sorted(found, reverse=True)
 
 
@@ -89,12 +89,14 @@ def main() -> None:
         print(f"{name}: {sum(counts.values())} in {len(counts)} files")
         for file, count in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0])):
             print(f"  {count:3d}  {file}")
-    for title, functions in (("longest Python functions (app/)", python_functions()),
-                             ("longest page functions (static/js)", js_functions())):
+    for title, functions in (
+        ("longest Python functions (app/)", python_functions()),
+        ("longest page functions (static/js)", js_functions()),
+    ):
         lengths = [n for n, _ in functions]
         median = sorted(lengths)[len(lengths) // 2] if lengths else 0
         print(f"{title}: {len(lengths)} functions, median {median} lines")
-        for n, place in functions[:args.top]:
+        for n, place in functions[: args.top]:
             print(f"  {n:4d}  {place}")
 
 

@@ -59,8 +59,10 @@ def _fresh_error(rng, M_true, b_true, M, b) -> float:
 
 def simulated(sessions: int, seed: int) -> None:
     print(f"simulated turns, medians over {sessions} sessions; F = {F} µT")
-    print(f"{'scenario':<38} {'method':<10} {'|Δb| µT':>8} {'|ΔM|':>8} {'fresh µT':>9} {'ms':>7} {'ok %':>6} "
-          f"{'ok but worse':>13}")
+    print(
+        f"{'scenario':<38} {'method':<10} {'|Δb| µT':>8} {'|ΔM|':>8} {'fresh µT':>9} {'ms':>7} {'ok %':>6} "
+        f"{'ok but worse':>13}"
+    )
     for name, sc in SCENARIOS.items():
         rng = np.random.default_rng(seed)
         rows = {"trical": [], "ellipsoid": [], "sphere": []}
@@ -68,8 +70,9 @@ def simulated(sessions: int, seed: int) -> None:
         for _ in range(sessions):
             M_true = random_soft_iron(rng)
             b_true = rng.uniform(-sc["hard"], sc["hard"], 3)
-            m = simulate_turn(rng, M_true, b_true, field_ut=F, noise_ut=sc["noise_ut"], n=sc["n"],
-                              max_polar_deg=sc["max_polar_deg"])
+            m = simulate_turn(
+                rng, M_true, b_true, field_ut=F, noise_ut=sc["noise_ut"], n=sc["n"], max_polar_deg=sc["max_polar_deg"]
+            )
             raw = _fresh_error(rng, M_true, b_true, np.eye(3), np.zeros(3))
             result, ms = _timed(fit_magnetometer, m, field_ut=F)
             fits = {"trical": (result.M, result.b, ms)}
@@ -94,8 +97,10 @@ def simulated(sessions: int, seed: int) -> None:
             a = np.array(values)
             ok = f"{100 * oks / sessions:6.0f} {worse:>13d}" if method == "trical" else ""
             label = name if method == "trical" else ""
-            print(f"{label:<38} {method:<10} {np.median(a[:, 0]):8.3f} {np.median(a[:, 1]):8.4f} "
-                  f"{np.median(a[:, 2]):9.3f} {np.nanmedian(a[:, 3]):7.2f} {ok}")
+            print(
+                f"{label:<38} {method:<10} {np.median(a[:, 0]):8.3f} {np.median(a[:, 1]):8.4f} "
+                f"{np.median(a[:, 2]):9.3f} {np.nanmedian(a[:, 3]):7.2f} {ok}"
+            )
 
 
 def _spread(values) -> float:
@@ -130,10 +135,12 @@ def real() -> None:
             ell = _spread(np.linalg.norm((m - b_e) @ M_e.T, axis=1))
         except Exception:
             ell = float("nan")
-        print(f"{str(path.relative_to(REAL)):<60} {len(m):>5} {_spread(np.linalg.norm(m, axis=1)):7.2f} "
-              f"{_spread(np.linalg.norm((m - b_s) @ M_s.T, axis=1)):7.2f} {ell:7.2f} "
-              f"{result.metrics['norm_spread_ut']:7.2f}  {np.round(result.b, 2).tolist()} / {result.ok} "
-              f"{'; '.join(r[:60] for r in result.reasons)}")
+        print(
+            f"{str(path.relative_to(REAL)):<60} {len(m):>5} {_spread(np.linalg.norm(m, axis=1)):7.2f} "
+            f"{_spread(np.linalg.norm((m - b_s) @ M_s.T, axis=1)):7.2f} {ell:7.2f} "
+            f"{result.metrics['norm_spread_ut']:7.2f}  {np.round(result.b, 2).tolist()} / {result.ok} "
+            f"{'; '.join(r[:60] for r in result.reasons)}"
+        )
 
 
 def main() -> None:

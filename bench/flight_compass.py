@@ -30,9 +30,17 @@ MOUNTINGS = (2, 8, 0, 4, 16, 25)
 
 
 def _fit(f, models):
-    return fit_flight_compass(f["mag_raw_ut"], f["expected_ut"], time_s=f["time_s"], power=f["current_a"],
-                              power_kind="current", firmware_field=f["mag_firmware_ut"],
-                              attitude=f["attitude_c_nb"], earth_ned=f["earth_ned"], models=models)
+    return fit_flight_compass(
+        f["mag_raw_ut"],
+        f["expected_ut"],
+        time_s=f["time_s"],
+        power=f["current_a"],
+        power_kind="current",
+        firmware_field=f["mag_firmware_ut"],
+        attitude=f["attitude_c_nb"],
+        earth_ned=f["earth_ned"],
+        models=models,
+    )
 
 
 def _sphere_wahba(mag, expected) -> np.ndarray:
@@ -72,11 +80,15 @@ def main() -> None:
     n = args.flights
     rates = {k: f"{np.mean(v):.3f}" for k, v in hits.items()}
     print(f"{n} flights; 95 % intervals hold the truth: {rates}, overall {np.mean(sum(hits.values(), [])):.3f}")
-    print(f"mounting found: trical {found}/{n} (angle left to the truth median {np.median(angle):.2f}°, "
-          f"95th {np.percentile(angle, 95):.2f}°); sphere + Wahba {found_sphere}/{n} "
-          f"(median {np.median(angle_sphere):.2f}°, 95th {np.percentile(angle_sphere, 95):.2f}°)")
-    print(f"auto: models chosen {dict(chosen)}, ok {ok}/{n}; heading error on segments left out, median rms "
-          f"before {np.median(before):.1f}°, after {np.median(after):.2f}°")
+    print(
+        f"mounting found: trical {found}/{n} (angle left to the truth median {np.median(angle):.2f}°, "
+        f"95th {np.percentile(angle, 95):.2f}°); sphere + Wahba {found_sphere}/{n} "
+        f"(median {np.median(angle_sphere):.2f}°, 95th {np.percentile(angle_sphere, 95):.2f}°)"
+    )
+    print(
+        f"auto: models chosen {dict(chosen)}, ok {ok}/{n}; heading error on segments left out, median rms "
+        f"before {np.median(before):.1f}°, after {np.median(after):.2f}°"
+    )
     print(f"one fit (model fixed) {1000 * np.median(times):.0f} ms median")
 
 

@@ -17,13 +17,30 @@ import argparse
 import numpy as np
 
 from app.io.export_compass import export_flight_compass
-from tests.io.test_export_flight_compass import (YAW_90, ap_rotate, ardupilot_correct, flight_body, parse_ardupilot,
-                                                 parse_px4, px4_correct, px4_rotation, soft_iron, trical)
+from tests.io.test_export_flight_compass import (
+    YAW_90,
+    ap_rotate,
+    ardupilot_correct,
+    flight_body,
+    parse_ardupilot,
+    parse_px4,
+    px4_correct,
+    px4_rotation,
+    soft_iron,
+    trical,
+)
 
 
 def _ardupilot(rng, n, motor, Q, stored):
-    body = flight_body(Q=Q, M=soft_iron(rng), b=rng.normal(scale=20, size=3), k=rng.normal(scale=0.5, size=3),
-                       motor=motor, orientation=stored, params={"COMPASS_EXTERNAL": 1})
+    body = flight_body(
+        Q=Q,
+        M=soft_iron(rng),
+        b=rng.normal(scale=20, size=3),
+        k=rng.normal(scale=0.5, size=3),
+        motor=motor,
+        orientation=stored,
+        params={"COMPASS_EXTERNAL": 1},
+    )
     sensor = rng.normal(scale=35.0, size=(n, 3))
     p = rng.uniform(0, 1, n) if motor == "throttle" else rng.uniform(0, 40, n)
     params = parse_ardupilot(export_flight_compass(body, "ardupilot").content)
@@ -33,9 +50,17 @@ def _ardupilot(rng, n, motor, Q, stored):
 
 def _px4(rng, n, motor, Q, stored):
     R = px4_rotation(stored)
-    body = flight_body("px4", Q=Q, frame_to_body=R, M=soft_iron(rng), b=rng.normal(scale=20, size=3),
-                       k=rng.normal(scale=0.5, size=3), motor=motor, orientation=stored,
-                       params={"CAL_MAG0_ID": 1, "CAL_MAG0_ROT": stored})
+    body = flight_body(
+        "px4",
+        Q=Q,
+        frame_to_body=R,
+        M=soft_iron(rng),
+        b=rng.normal(scale=20, size=3),
+        k=rng.normal(scale=0.5, size=3),
+        motor=motor,
+        orientation=stored,
+        params={"CAL_MAG0_ID": 1, "CAL_MAG0_ROT": stored},
+    )
     sensor = rng.normal(scale=35.0, size=(n, 3))
     p = rng.uniform(0, 1, n) if motor == "throttle" else rng.uniform(0, 40, n)
     params = parse_px4(export_flight_compass(body, "px4").content)

@@ -46,8 +46,13 @@ UPPER = np.triu_indices(3)
 
 def _array(values) -> np.ndarray:
     """A half-width as floats, None (an entry the model does not fit) as NaN."""
-    return np.array([[np.nan if v is None else v for v in row] if isinstance(row, list) else
-                     (np.nan if row is None else row) for row in values], dtype=float)
+    return np.array(
+        [
+            [np.nan if v is None else v for v in row] if isinstance(row, list) else (np.nan if row is None else row)
+            for row in values
+        ],
+        dtype=float,
+    )
 
 
 def calibrate_log(path: Path, fmt: str) -> dict:
@@ -62,8 +67,21 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=2000)
     args = parser.parse_args()
     start = time.perf_counter()
-    tally = {fw: {"offsets": [], "matrix": [], "motor": [], "found": 0, "ok": 0, "models": Counter(),
-                  "full": [], "before": [], "after": [], "seconds": 0.0} for fw, _, _ in FIRMWARES}
+    tally = {
+        fw: {
+            "offsets": [],
+            "matrix": [],
+            "motor": [],
+            "found": 0,
+            "ok": 0,
+            "models": Counter(),
+            "full": [],
+            "before": [],
+            "after": [],
+            "seconds": 0.0,
+        }
+        for fw, _, _ in FIRMWARES
+    }
     with tempfile.TemporaryDirectory() as tmp:
         for i in range(args.flights):
             orientation = MOUNTINGS[i % len(MOUNTINGS)]
@@ -80,7 +98,11 @@ def main() -> None:
                 t["ok"] += bool(body["ok"])
                 chosen = f"{body['flight']['structure']}+{body['flight']['motor']}"
                 t["models"][chosen] += 1
-                for cls, key, sel in (("offsets", "b", slice(None)), ("matrix", "M", UPPER), ("motor", "k", slice(None))):
+                for cls, key, sel in (
+                    ("offsets", "b", slice(None)),
+                    ("matrix", "M", UPPER),
+                    ("motor", "k", slice(None)),
+                ):
                     if half.get(key) is None:
                         continue
                     hw = _array(half[key])[sel]
@@ -92,19 +114,27 @@ def main() -> None:
                 t["before"].append(body["metrics"]["heading_error_before_deg"])
                 t["after"].append(body["metrics"]["heading_error_after_deg"])
     n = args.flights
-    print(f"{n} seeded flights (seeds {args.seed}..{args.seed + n - 1}), mountings {MOUNTINGS} with 0 stored, "
-          f"each written as both firmwares' logs and calibrated by compass_flight; {time.perf_counter() - start:.0f} s")
+    print(
+        f"{n} seeded flights (seeds {args.seed}..{args.seed + n - 1}), mountings {MOUNTINGS} with 0 stored, "
+        f"each written as both firmwares' logs and calibrated by compass_flight; {time.perf_counter() - start:.0f} s"
+    )
     for fw, _, _ in FIRMWARES:
         t = tally[fw]
-        shares = ", ".join(f"{cls} {np.mean(t[cls]):.3f} of {len(t[cls])}" if t[cls] else f"{cls} -"
-                           for cls in ("offsets", "matrix", "motor"))
+        shares = ", ".join(
+            f"{cls} {np.mean(t[cls]):.3f} of {len(t[cls])}" if t[cls] else f"{cls} -"
+            for cls in ("offsets", "matrix", "motor")
+        )
         overall = np.mean(t["offsets"] + t["matrix"] + t["motor"])
-        print(f"{fw:9s}: inside the 95 % intervals: {shares}; overall {overall:.3f}; "
-              f"over the flights fitted with soft iron and motor {np.mean(t['full']):.3f}")
+        print(
+            f"{fw:9s}: inside the 95 % intervals: {shares}; overall {overall:.3f}; "
+            f"over the flights fitted with soft iron and motor {np.mean(t['full']):.3f}"
+        )
         print(f"{'':9s}  orientation found {t['found']}/{n}; ok {t['ok']}/{n}; models {dict(t['models'])}")
-        print(f"{'':9s}  heading error rms on segments left out, median: before {np.median(t['before']):.2f}°, "
-              f"after {np.median(t['after']):.2f}° (after: 95th percentile over flights "
-              f"{np.percentile(t['after'], 95):.2f}°); {t['seconds'] / n:.2f} s a log")
+        print(
+            f"{'':9s}  heading error rms on segments left out, median: before {np.median(t['before']):.2f}°, "
+            f"after {np.median(t['after']):.2f}° (after: 95th percentile over flights "
+            f"{np.percentile(t['after'], 95):.2f}°); {t['seconds'] / n:.2f} s a log"
+        )
 
 
 if __name__ == "__main__":

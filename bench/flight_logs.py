@@ -30,8 +30,14 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from tests.flight_logs import (ardupilot_batch, ardupilot_imu, ardupilot_mag, px4_sensor, write_dataflash,  # noqa: E402
-                               write_ulog)
+from tests.flight_logs import (
+    ardupilot_batch,
+    ardupilot_imu,
+    ardupilot_mag,
+    px4_sensor,
+    write_dataflash,  # noqa: E402
+    write_ulog,
+)
 
 BIN = Path(sys.executable).parent
 TIMEOUT_S = 1800
@@ -51,10 +57,12 @@ def write_px4(path: Path, seconds: int, rng) -> Path:
     temp = np.linspace(30.0, 45.0, len(t))
     topics = []
     for k in range(2):
-        topics.append(px4_sensor("sensor_accel", k, t, _still(rng, len(t), [0.05, -0.03, -9.81], 0.02), temp + k,
-                                 2424842 + k))
-        topics.append(px4_sensor("sensor_gyro", k, t + 100, _still(rng, len(t), [0.01, 0.0, -0.01], 0.003), temp + k,
-                                 2424842 + k))
+        topics.append(
+            px4_sensor("sensor_accel", k, t, _still(rng, len(t), [0.05, -0.03, -9.81], 0.02), temp + k, 2424842 + k)
+        )
+        topics.append(
+            px4_sensor("sensor_gyro", k, t + 100, _still(rng, len(t), [0.01, 0.0, -0.01], 0.003), temp + k, 2424842 + k)
+        )
     topics.append(px4_sensor("sensor_mag", 0, tm, _still(rng, len(tm), [0.2, 0.05, 0.4], 0.003), None, 592905))
     return write_ulog(path, topics)
 
@@ -63,21 +71,30 @@ def write_ardupilot(path: Path, seconds: int, rng) -> Path:
     t = (1_000_000 + np.arange(seconds * 1000) * 1000).astype(np.uint64)
     tm = (1_000_000 + np.arange(seconds * 100) * 10_000).astype(np.uint64)
     temp = np.linspace(30.0, 45.0, len(t))
-    messages = [ardupilot_imu(k, t, _still(rng, len(t), [0.05, -0.03, -9.81], 0.02),
-                              _still(rng, len(t), [0.01, 0.0, -0.01], 0.003), temp + k) for k in range(2)]
-    messages += [ardupilot_batch("ACC", 0, t, _still(rng, len(t), [0.05, -0.03, -9.81], 0.02)),
-                 ardupilot_batch("GYR", 0, t, _still(rng, len(t), [0.01, 0.0, -0.01], 0.003)),
-                 ardupilot_mag(0, tm, _still(rng, len(tm), [200.0, 50.0, 400.0], 3.0))]
+    messages = [
+        ardupilot_imu(
+            k,
+            t,
+            _still(rng, len(t), [0.05, -0.03, -9.81], 0.02),
+            _still(rng, len(t), [0.01, 0.0, -0.01], 0.003),
+            temp + k,
+        )
+        for k in range(2)
+    ]
+    messages += [
+        ardupilot_batch("ACC", 0, t, _still(rng, len(t), [0.05, -0.03, -9.81], 0.02)),
+        ardupilot_batch("GYR", 0, t, _still(rng, len(t), [0.01, 0.0, -0.01], 0.003)),
+        ardupilot_mag(0, tm, _still(rng, len(tm), [200.0, 50.0, 400.0], 3.0)),
+    ]
     return write_dataflash(path, messages)
 
 
 def timed(command: list[str], cwd: Path) -> tuple[float, float, int]:
     """Wall seconds, peak RSS in MB and exit status of ``command`` under /usr/bin/time -v."""
-    r = subprocess.run(["/usr/bin/time", "-v", *command], cwd=cwd, capture_output=True, text=True,
-                       timeout=TIMEOUT_S)
+    r = subprocess.run(["/usr/bin/time", "-v", *command], cwd=cwd, capture_output=True, text=True, timeout=TIMEOUT_S)
     wall = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (\S+)", r.stderr).group(1)
     parts = [float(p) for p in wall.split(":")]
-    seconds = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
+    seconds = sum(p * 60**i for i, p in enumerate(reversed(parts)))
     rss_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", r.stderr).group(1))
     if r.returncode:
         print(f"  ({command[0]} exited {r.returncode}: {r.stderr.strip().splitlines()[0][:160]})")
@@ -95,15 +112,20 @@ def main() -> None:
     try:
         ulg = write_px4(work / "bench.ulg", int(args.mb * 1e6 / ULOG_BYTES_PER_S), rng)
         binlog = write_ardupilot(work / "bench.bin", int(args.mb * 1e6 / DATAFLASH_BYTES_PER_S), rng)
-        read = ("import sys; from pathlib import Path; from app.io.formats import read_log; "
-                "log = read_log(Path(sys.argv[1])); print(log.n_samples, len(log.flight.instances))")
+        read = (
+            "import sys; from pathlib import Path; from app.io.formats import read_log; "
+            "log = read_log(Path(sys.argv[1])); print(log.n_samples, len(log.flight.instances))"
+        )
         rows = []
         for label, path, command in (
-                ("trical read_log (ULog)", ulg, [sys.executable, "-c", read, str(ulg)]),
-                ("pyulog ulog2csv", ulg, [str(BIN / "ulog2csv"), "-o", str(work / "csv"), str(ulg)]),
-                ("trical read_log (DataFlash)", binlog, [sys.executable, "-c", read, str(binlog)]),
-                ("pymavlink mavlogdump.py --format csv --types IMU", binlog,
-                 ["sh", "-c", f"{sys.executable} {BIN / 'mavlogdump.py'} --format csv --types IMU {binlog} > /dev/null"]),
+            ("trical read_log (ULog)", ulg, [sys.executable, "-c", read, str(ulg)]),
+            ("pyulog ulog2csv", ulg, [str(BIN / "ulog2csv"), "-o", str(work / "csv"), str(ulg)]),
+            ("trical read_log (DataFlash)", binlog, [sys.executable, "-c", read, str(binlog)]),
+            (
+                "pymavlink mavlogdump.py --format csv --types IMU",
+                binlog,
+                ["sh", "-c", f"{sys.executable} {BIN / 'mavlogdump.py'} --format csv --types IMU {binlog} > /dev/null"],
+            ),
         ):
             (work / "csv").mkdir(exist_ok=True)
             seconds, rss, status = timed(command, ROOT)

@@ -36,8 +36,12 @@ async def client_loop(url: str, jobs: asyncio.Queue, latencies: list, errors: li
             except asyncio.QueueEmpty:
                 return
             means = seed_table(1)[:6] + rng.normal(0, 0.01, (6, 3))
-            body = {"method": "six_position", "device_id": f"dev{i % 50}", "gravity": 9.81,
-                    "readings": [{"up": u, "mean": m} for u, m in zip(LABELS, means.tolist())]}
+            body = {
+                "method": "six_position",
+                "device_id": f"dev{i % 50}",
+                "gravity": 9.81,
+                "readings": [{"up": u, "mean": m} for u, m in zip(LABELS, means.tolist())],
+            }
             t0 = time.perf_counter()
             try:
                 r = await http.post("/api/v1/calibrations", json=body)
@@ -62,8 +66,12 @@ async def run(url: str, clients: int, requests: int):
     errors: list = []
     ids: list = []
     t0 = time.perf_counter()
-    await asyncio.wait_for(asyncio.gather(*(client_loop(url, jobs, latencies, errors, ids, np.random.default_rng(c))
-                                            for c in range(clients))), timeout=600)
+    await asyncio.wait_for(
+        asyncio.gather(
+            *(client_loop(url, jobs, latencies, errors, ids, np.random.default_rng(c)) for c in range(clients))
+        ),
+        timeout=600,
+    )
     return time.perf_counter() - t0, np.array(latencies) * 1000.0, errors, ids
 
 
@@ -72,15 +80,22 @@ def main() -> None:
     parser.add_argument("--clients", type=int, default=50)
     parser.add_argument("--requests", type=int, default=1000)
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as tmp, live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp}/load.db"}) as server:
+    with (
+        tempfile.TemporaryDirectory() as tmp,
+        live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp}/load.db"}) as server,
+    ):
         wall, lat, errors, ids = asyncio.run(run(server.url, args.clients, args.requests))
         with httpx.Client(base_url=server.url, timeout=30) as http:
             missing = sum(http.get(f"/api/v1/calibrations/{i}").status_code != 200 for i in ids)
-    print(f"{args.requests} six-position flows (POST + GET) from {args.clients} concurrent clients, one server, loopback")
+    print(
+        f"{args.requests} six-position flows (POST + GET) from {args.clients} concurrent clients, one server, loopback"
+    )
     print(f"wall {wall:.2f} s, {len(lat) / wall:.1f} flows/s, errors {len(errors)}, acknowledged but missing {missing}")
     if len(lat):
-        print(f"latency ms: p50 {np.percentile(lat, 50):.1f}  p90 {np.percentile(lat, 90):.1f}  "
-              f"p99 {np.percentile(lat, 99):.1f}  max {lat.max():.1f}")
+        print(
+            f"latency ms: p50 {np.percentile(lat, 50):.1f}  p90 {np.percentile(lat, 90):.1f}  "
+            f"p99 {np.percentile(lat, 99):.1f}  max {lat.max():.1f}"
+        )
     for e in errors[:5]:
         print("error:", e)
 

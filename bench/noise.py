@@ -70,7 +70,7 @@ def flicker(rng: np.random.Generator, n: int, fs: float, b: float, axes: int) ->
     for tau_c in taus:
         phi = np.exp(-1.0 / (fs * tau_c))
         w = rng.standard_normal((n, axes))
-        out += lfilter([q * np.sqrt(1 - phi ** 2)], [1.0, -phi], w, axis=0)
+        out += lfilter([q * np.sqrt(1 - phi**2)], [1.0, -phi], w, axis=0)
     return out
 
 
@@ -113,8 +113,13 @@ def run(cmd: list[str]) -> tuple[float, float, int, str, str]:
     """Wall time (s), peak RSS of the child (MiB), exit status, stdout, stderr."""
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         start = time.perf_counter()
-        child = subprocess.Popen(cmd, stdout=out, stderr=err, cwd=Path(__file__).resolve().parent.parent,
-                                 env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parent.parent)})
+        child = subprocess.Popen(
+            cmd,
+            stdout=out,
+            stderr=err,
+            cwd=Path(__file__).resolve().parent.parent,
+            env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parent.parent)},
+        )
         _, status, usage = os.wait4(child.pid, 0)
         wall = time.perf_counter() - start
         child.returncode = os.waitstatus_to_exitcode(status)
@@ -130,8 +135,10 @@ def trical_cmd(path: Path, sensor: str | None) -> list[str]:
 
 def summary(name: str, runs: list[tuple[float, float]]) -> tuple[float, float]:
     walls, rss = [r[0] for r in runs], [r[1] for r in runs]
-    print(f"{name:<34} wall min {min(walls):7.2f} s  median {statistics.median(walls):7.2f} s   "
-          f"peak RSS max {max(rss):7.0f} MiB")
+    print(
+        f"{name:<34} wall min {min(walls):7.2f} s  median {statistics.median(walls):7.2f} s   "
+        f"peak RSS max {max(rss):7.0f} MiB"
+    )
     return min(walls), statistics.median(walls)
 
 
@@ -147,8 +154,10 @@ def main() -> None:
 
     t0 = time.perf_counter()
     path = make_gyr_file(args.dir, args.hours)
-    print(f"gyroscope: {path} ({path.stat().st_size / 2**20:.0f} MiB, {args.hours:g} h at {FS:g} Hz; "
-          f"ready in {time.perf_counter() - t0:.1f} s)")
+    print(
+        f"gyroscope: {path} ({path.stat().st_size / 2**20:.0f} MiB, {args.hours:g} h at {FS:g} Hz; "
+        f"ready in {time.perf_counter() - t0:.1f} s)"
+    )
     print("truth: " + ", ".join(f"{k} {v:.3g}" for k, v in TRUTH.items()))
 
     trical_runs, ms, estimate = [], None, None
@@ -165,12 +174,14 @@ def main() -> None:
         print("trical: " + ", ".join(f"{k} {estimate[k]}" for k in TRUTH))
     if ms is None:
         n = int(args.hours * 3600 * FS)
-        ms = [2 ** k for k in range(int(np.log2(n // 4)) + 1)]
+        ms = [2**k for k in range(int(np.log2(n // 4)) + 1)]
         print(f"(no τ from trical: allantools runs on {len(ms)} octave-spaced m instead)")
 
     allan_runs = []
     for _ in range(args.runs):
-        wall, rss, status, out, err = run([sys.executable, "-c", ALLANTOOLS_CHILD, str(path), f"{FS:g}", json.dumps(ms)])
+        wall, rss, status, out, err = run(
+            [sys.executable, "-c", ALLANTOOLS_CHILD, str(path), f"{FS:g}", json.dumps(ms)]
+        )
         if status != 0:
             print(f"allantools failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
             break
@@ -183,20 +194,26 @@ def main() -> None:
     if allan_runs:
         best["allantools"] = summary("(b) numpy.load + allantools.oadev", allan_runs)
     if len(best) == 2:
-        print(f"ratio trical / allantools: min {best['trical'][0] / best['allantools'][0]:.2f}, "
-              f"median {best['trical'][1] / best['allantools'][1]:.2f}")
+        print(
+            f"ratio trical / allantools: min {best['trical'][0] / best['allantools'][0]:.2f}, "
+            f"median {best['trical'][1] / best['allantools'][1]:.2f}"
+        )
 
     if not args.no_night:
         t0 = time.perf_counter()
         night = make_night_file(args.dir, args.night_hours)
-        print(f"\nnight: {night} ({night.stat().st_size / 2**20:.0f} MiB, {args.night_hours:g} h at {FS:g} Hz, "
-              f"acc + gyr; ready in {time.perf_counter() - t0:.1f} s)")
+        print(
+            f"\nnight: {night} ({night.stat().st_size / 2**20:.0f} MiB, {args.night_hours:g} h at {FS:g} Hz, "
+            f"acc + gyr; ready in {time.perf_counter() - t0:.1f} s)"
+        )
         wall, rss, status, _, err = run(trical_cmd(night, None))
         if status in (0, 3):
             print(f"trical noise (six axes): wall {wall:.1f} s, peak RSS {rss:.0f} MiB (bound 2048 MiB)")
         else:
-            print(f"trical noise failed on the night (exit {status}): "
-                  f"{err.strip().splitlines()[-1] if err.strip() else '-'}")
+            print(
+                f"trical noise failed on the night (exit {status}): "
+                f"{err.strip().splitlines()[-1] if err.strip() else '-'}"
+            )
 
 
 if __name__ == "__main__":

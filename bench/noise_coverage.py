@@ -35,8 +35,14 @@ def main() -> None:
     nulls = {k: 0 for k in TRUTH}
     for run in range(args.runs):
         rng = np.random.default_rng(args.seed + run)
-        samples = simulate_still(rng, n_samples=n, sampling_rate_hz=FS, N=TRUTH["noise_density"],
-                                 B=TRUTH["bias_instability"], K=TRUTH["random_walk"])
+        samples = simulate_still(
+            rng,
+            n_samples=n,
+            sampling_rate_hz=FS,
+            N=TRUTH["noise_density"],
+            B=TRUTH["bias_instability"],
+            K=TRUTH["random_walk"],
+        )
         r = characterise_noise(samples, FS, unit="rad/s")
         for name, truth in TRUTH.items():
             for interval in r["uncertainty"][name]:

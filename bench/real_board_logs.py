@@ -36,8 +36,10 @@ def calibrate(path: Path, request: dict, **read_with) -> tuple[dict, dict]:
     options = ReadOptions(**{"units": {}, **read_with})
     log = read_log(path, options, name=path.name)
     meta = describe_log(log, options)
-    body = methods.calibrate(methods.parse_calibration_request({**request, "recording_id": path.name}),
-                             RecordingSource(meta=meta, path=path, log=log))
+    body = methods.calibrate(
+        methods.parse_calibration_request({**request, "recording_id": path.name}),
+        RecordingSource(meta=meta, path=path, log=log),
+    )
     return meta, body
 
 
@@ -60,19 +62,24 @@ def pose_files(tmp: Path) -> None:
 
     print(f"MPU-6050, six pose files ({n} samples each), six_position beside imucal's Ferraris:")
     for r, m_peer in zip(body["readings"], mg(peer_cal)):
-        print(f"  {r['source']:15s} {r['up']}  raw {r['norm_error_raw'] * 1000:6.2f} mg   trical "
-              f"{r['norm_error'] * 1000:5.2f} mg   peer {m_peer:5.2f} mg")
-    print(f"  mean: raw {body['metrics']['error_before_mg']:.2f} mg, trical {body['metrics']['error_after_mg']:.2f} mg, "
-          f"peer {mg(peer_cal).mean():.2f} mg; max |X − K R| = {np.abs(np.asarray(body['model']['X']) - K @ R).max():.1e}; "
-          f"y − b = {np.round(np.asarray(body['model']['y']) - b, 4).tolist()} m/s²")
+        print(
+            f"  {r['source']:15s} {r['up']}  raw {r['norm_error_raw'] * 1000:6.2f} mg   trical "
+            f"{r['norm_error'] * 1000:5.2f} mg   peer {m_peer:5.2f} mg"
+        )
+    print(
+        f"  mean: raw {body['metrics']['error_before_mg']:.2f} mg, trical {body['metrics']['error_after_mg']:.2f} mg, "
+        f"peer {mg(peer_cal).mean():.2f} mg; max |X − K R| = {np.abs(np.asarray(body['model']['X']) - K @ R).max():.1e}; "
+        f"y − b = {np.round(np.asarray(body['model']['y']) - b, 4).tolist()} m/s²"
+    )
 
 
 def compass() -> None:
     peer = json.loads((REAL / "magnetometer" / "tomisuarez2_qmc5883l_peer.json").read_text())
     path = REAL / "magnetometer" / "tomisuarez2_qmc5883l_turn_every10.csv"
-    _, body = calibrate(path, {"method": "magnetometer"}, units={"mag": "raw"}, columns="mag_x,mag_y,mag_z",
-                        sampling_rate_hz=5.0)
-    m = np.loadtxt(path, delimiter=",", skiprows=4)[int(peer["skipped_s"] * 5):]
+    _, body = calibrate(
+        path, {"method": "magnetometer"}, units={"mag": "raw"}, columns="mag_x,mag_y,mag_z", sampling_rate_hz=5.0
+    )
+    m = np.loadtxt(path, delimiter=",", skiprows=4)[int(peer["skipped_s"] * 5) :]
     A, B = np.asarray(peer["A"]), np.asarray(peer["B"])
     F = body["metrics"]["field_ut"]
     ours = np.linalg.norm((m - body["model"]["b"]) @ np.asarray(body["model"]["M"]).T, axis=1) / F
@@ -83,21 +90,33 @@ def compass() -> None:
         return 100 * np.sqrt(np.mean((x - 1) ** 2))
 
     print("QMC5883L hand turn (raw counts), magnetometer beside the maker's Dorveaux fit:")
-    print(f"  offset: trical {np.round(body['model']['b'], 1).tolist()}, peer "
-          f"{np.round(-np.linalg.solve(A, B), 1).tolist()} counts")
-    print(f"  |h| relative RMS over the turn: raw {rms(raw / raw.mean()):.2f} %, trical {rms(ours):.3f} %, "
-          f"peer {rms(theirs):.3f} %; trical on new directions {100 * body['metrics']['cv_error_ut'] / F:.2f} %")
+    print(
+        f"  offset: trical {np.round(body['model']['b'], 1).tolist()}, peer "
+        f"{np.round(-np.linalg.solve(A, B), 1).tolist()} counts"
+    )
+    print(
+        f"  |h| relative RMS over the turn: raw {rms(raw / raw.mean()):.2f} %, trical {rms(ours):.3f} %, "
+        f"peer {rms(theirs):.3f} %; trical on new directions {100 * body['metrics']['cv_error_ut'] / F:.2f} %"
+    )
 
 
 def still() -> None:
     peer = json.loads((REAL / "mpu6050_noise_peer.json").read_text())
-    _, body = calibrate(REAL / "mpu6050_session2_still_30s.csv", {"method": "noise"}, units={"acc": "raw"},
-                        lsb_per_g=16384.0, columns="acc_x,acc_y,acc_z", sampling_rate_hz=100.0)
+    _, body = calibrate(
+        REAL / "mpu6050_session2_still_30s.csv",
+        {"method": "noise"},
+        units={"acc": "raw"},
+        lsb_per_g=16384.0,
+        columns="acc_x,acc_y,acc_z",
+        sampling_rate_hz=100.0,
+    )
     ours = np.asarray(body["model"]["acc"]["noise_density"]) * 1000
     theirs = np.sqrt(np.asarray(peer["R"]) / peer["sampling_rate_hz"]) * 1000
     print("MPU-6050 still 30 s, noise density (mm/s²/√Hz) beside the maker's 6-hour Allan figure:")
-    print(f"  trical {np.round(ours, 2).tolist()}   peer {np.round(theirs, 2).tolist()}   ratio "
-          f"{np.round(ours / theirs, 3).tolist()}")
+    print(
+        f"  trical {np.round(ours, 2).tolist()}   peer {np.round(theirs, 2).tolist()}   ratio "
+        f"{np.round(ours / theirs, 3).tolist()}"
+    )
 
 
 if __name__ == "__main__":

@@ -45,14 +45,18 @@ def main() -> None:
             density = characterise_noise(gyr, rate, unit="deg/s", sensor="gyr")["model"]["noise_density"]
             rows[how].append((rate / FS, *(d / N_TRUE for d in density)))
     med, mean, top = np.median(np.array(steps_seen), axis=0) * 1e3
-    print(f"{args.runs} runs of {args.minutes:g} min at {FS:g} Hz; host steps: median {med:.2f} ms, mean {mean:.2f} ms, "
-          f"max {top:.1f} ms")
+    print(
+        f"{args.runs} runs of {args.minutes:g} min at {FS:g} Hz; host steps: median {med:.2f} ms, mean {mean:.2f} ms, "
+        f"max {top:.1f} ms"
+    )
     print(f"{'rate from':<10} {'rate / truth':>26} {'noise density / truth (3 axes)':>34}")
     for how, values in rows.items():
         v = np.array(values)
         rate, dens = v[:, 0], v[:, 1:].ravel()
-        print(f"{how:<10} {np.median(rate):>8.4f} [{rate.min():.4f}, {rate.max():.4f}]"
-              f" {np.median(dens):>16.4f} [{dens.min():.4f}, {dens.max():.4f}]")
+        print(
+            f"{how:<10} {np.median(rate):>8.4f} [{rate.min():.4f}, {rate.max():.4f}]"
+            f" {np.median(dens):>16.4f} [{dens.min():.4f}, {dens.max():.4f}]"
+        )
 
 
 if __name__ == "__main__":

@@ -61,24 +61,32 @@ def main() -> None:
     phone = phone_cube(0, static_s=5.0)
     cube = [phone.capture(k) for k in range(1, 25)]
     p = lambda a, q: float(np.percentile(a, q))  # noqa: E731
-    with tempfile.TemporaryDirectory() as tmp, \
-            live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp}/bench.db"}) as server, \
-            httpx.Client(base_url=server.url, timeout=120) as http:
+    with (
+        tempfile.TemporaryDirectory() as tmp,
+        live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp}/bench.db"}) as server,
+        httpx.Client(base_url=server.url, timeout=120) as http,
+    ):
         run(http, "six", six)  # warm-up
-        for protocol, captures, runs, person_s in (("six", six, args.runs, 6 * 5),
-                                                   ("cube24", cube, max(1, args.runs // 5), 24 * 5)):
+        for protocol, captures, runs, person_s in (
+            ("six", six, args.runs, 6 * 5),
+            ("cube24", cube, max(1, args.runs // 5), 24 * 5),
+        ):
             all_times: dict[str, list[float]] = {"create": [], "capture": [], "solve": []}
             for _ in range(runs):
                 for k, v in run(http, protocol, captures).items():
                     all_times[k] += v
             per_session = (sum(all_times["create"]) + sum(all_times["capture"]) + sum(all_times["solve"])) / runs
-            print(f"{protocol}: {runs} sessions, {len(captures)} captures of "
-                  f"{len(captures[0]['acc'])} samples each, one server, loopback")
+            print(
+                f"{protocol}: {runs} sessions, {len(captures)} captures of "
+                f"{len(captures[0]['acc'])} samples each, one server, loopback"
+            )
             print(f"  {'call':<10}{'p50 ms':>10}{'p99 ms':>10}")
             for k, v in all_times.items():
                 print(f"  {k:<10}{p(v, 50):>10.1f}{p(v, 99):>10.1f}")
-            print(f"  server time per session {per_session / 1000:.2f} s; the person holds still "
-                  f"{person_s} s (capture_s = 5)")
+            print(
+                f"  server time per session {per_session / 1000:.2f} s; the person holds still "
+                f"{person_s} s (capture_s = 5)"
+            )
 
 
 if __name__ == "__main__":

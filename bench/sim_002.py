@@ -61,13 +61,17 @@ def main() -> None:
     t0 = time.perf_counter()
     res = run(args.scenarios, args.seed)
     n = args.scenarios
-    print(f"Farago et al. Table 2 recomputed: {n} scenarios per noise level, seed {args.seed}, N = 18 points (2 per bin)")
+    print(
+        f"Farago et al. Table 2 recomputed: {n} scenarios per noise level, seed {args.seed}, N = 18 points (2 per bin)"
+    )
     print("offsets in g; CRB = sqrt(mean over scenarios of the Cramér–Rao variance); ratio = RMS error / CRB;")
     print("z = sqrt(mean(err² / CRB)) per scenario.\n")
     for s in SOLVERS:
         print(f"solver {s}  (mean fit time {1000 * res[NOISES[0]]['secs'][s] / n:.1f} ms at 1 mg)")
-        print(f"{'param':6} {'mean|e| 1mg':>11} {'5mg':>9} {'SD|e| 1mg':>10} {'5mg':>9} |"
-              f" {'CRB 1mg':>9} {'ratio':>6} {'z':>5} | {'CRB 5mg':>9} {'ratio':>6} {'z':>5}")
+        print(
+            f"{'param':6} {'mean|e| 1mg':>11} {'5mg':>9} {'SD|e| 1mg':>10} {'5mg':>9} |"
+            f" {'CRB 1mg':>9} {'ratio':>6} {'z':>5} | {'CRB 5mg':>9} {'ratio':>6} {'z':>5}"
+        )
         for j, name in enumerate(PARAM_NAMES):
             cells = []
             for noise in NOISES:
@@ -79,8 +83,10 @@ def main() -> None:
                 c = res[noise]["crb"][:, j]
                 bound = np.sqrt(c.mean())
                 right.append(f"{bound:9.2e} {np.sqrt(np.mean(e**2)) / bound:6.2f} {np.sqrt(np.mean(e**2 / c)):5.2f}")
-            print(f"{name:6} {cells[0][0]:11.2e} {cells[1][0]:9.2e} {cells[0][1]:10.2e} {cells[1][1]:9.2e} | "
-                  + " | ".join(right))
+            print(
+                f"{name:6} {cells[0][0]:11.2e} {cells[1][0]:9.2e} {cells[0][1]:10.2e} {cells[1][1]:9.2e} | "
+                + " | ".join(right)
+            )
         print()
     print("Farago et al. Table 2 as printed (mean|e| 1 mg, 5 mg; SD|e| 1 mg, 5 mg):")
     for name in PARAM_NAMES:

@@ -52,8 +52,10 @@ def speed(n: int = 10_000_000) -> None:
         t0 = time.perf_counter()
         segs = detect_static_segments(big, 100.0)
         best.append(time.perf_counter() - t0)
-    print(f"{n:.0e} samples (tiled simulated log, {len(segs)} rests found of {reps * len(log.segments)}): "
-          f"best {min(best):.2f} s, median {np.median(best):.2f} s of 3")
+    print(
+        f"{n:.0e} samples (tiled simulated log, {len(segs)} rests found of {reps * len(log.segments)}): "
+        f"best {min(best):.2f} s, median {np.median(best):.2f} s of 3"
+    )
 
 
 if __name__ == "__main__":

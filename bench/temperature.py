@@ -35,8 +35,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from app.calibration.temperature import (FIGURE_SCALE, calibrate_temperature, offset_at,  # noqa: E402
-                                         shift_polynomial)
+from app.calibration.temperature import (
+    FIGURE_SCALE,
+    calibrate_temperature,
+    offset_at,  # noqa: E402
+    shift_polynomial,
+)
 from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up  # noqa: E402
 
 TRUTH = {"acc": ACC_TRUTH, "gyr": GYR_TRUTH}
@@ -81,10 +85,10 @@ def main() -> None:
         gyr = w.gyr
         if args.walk:
             gyr = gyr + np.cumsum(rng.normal(0.0, args.walk / np.sqrt(args.rate), gyr.shape), axis=0)
-        fixed = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate,
-                                      time_s=w.time_s, order=3)
-        chosen = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate,
-                                       time_s=w.time_s)
+        fixed = calibrate_temperature(
+            w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate, time_s=w.time_s, order=3
+        )
+        chosen = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=gyr, sampling_rate_hz=args.rate, time_s=w.time_s)
         ok += chosen.ok
         for s in TRUTH:
             model, unc = fixed.sensors[s]["model"], fixed.sensors[s]["uncertainty"]
@@ -106,21 +110,29 @@ def main() -> None:
             cv[s].append(m["metrics"]["drift_cv_max"])
             t = np.linspace(m["model"]["t_min_c"], m["model"]["t_max_c"], 200)
             diff = offset_at(m["model"], t) - true_offset(m["model"], s, t)
-            rms[s].append(float(np.sqrt(np.mean(diff ** 2))) * FIGURE_SCALE[s])
+            rms[s].append(float(np.sqrt(np.mean(diff**2))) * FIGURE_SCALE[s])
     took = time.perf_counter() - start
-    print(f"{args.runs} warm-ups of {args.minutes:g} min at {args.rate:g} Hz, 15 → 55 °C (τ 400 s), {args.noise} noise"
-          f"{f', gyroscope rate random walk {args.walk:g} rad/s^2/sqrt(Hz)' if args.walk else ''}; {took:.1f} s ({1000 * took / args.runs / 2:.0f} ms a calibration)")
+    print(
+        f"{args.runs} warm-ups of {args.minutes:g} min at {args.rate:g} Hz, 15 → 55 °C (τ 400 s), {args.noise} noise"
+        f"{f', gyroscope rate random walk {args.walk:g} rad/s^2/sqrt(Hz)' if args.walk else ''}; {took:.1f} s ({1000 * took / args.runs / 2:.0f} ms a calibration)"
+    )
     print(f"ok (order chosen): {ok} of {args.runs}")
     units = {"acc": "mg", "gyr": "°/s"}
     for s in TRUTH:
         c, b = hits[s], band[s]
-        print(f"{s}: coefficients' 95 % intervals hold the truth {100 * c[0] / c[1]:.1f} % ({c[0]}/{c[1]}); "
-              f"the offset's band at each temperature {100 * b[0] / b[1]:.1f} % ({b[0]}/{b[1]})")
+        print(
+            f"{s}: coefficients' 95 % intervals hold the truth {100 * c[0] / c[1]:.1f} % ({c[0]}/{c[1]}); "
+            f"the offset's band at each temperature {100 * b[0] / b[1]:.1f} % ({b[0]}/{b[1]})"
+        )
         print(f"  orders chosen (axes): {dict(sorted(orders[s].items()))}")
-        print(f"  drift over the range (largest axis, peak to peak): raw median {np.median(raw[s]):.3g} {units[s]}, "
-              f"on bands left out median {np.median(cv[s]):.3g} {units[s]} (95th percentile {np.percentile(cv[s], 95):.3g})")
-        print(f"  fitted offset against the truth over the range: RMS median {np.median(rms[s]):.3g} {units[s]}, "
-              f"95th percentile {np.percentile(rms[s], 95):.3g}")
+        print(
+            f"  drift over the range (largest axis, peak to peak): raw median {np.median(raw[s]):.3g} {units[s]}, "
+            f"on bands left out median {np.median(cv[s]):.3g} {units[s]} (95th percentile {np.percentile(cv[s], 95):.3g})"
+        )
+        print(
+            f"  fitted offset against the truth over the range: RMS median {np.median(rms[s]):.3g} {units[s]}, "
+            f"95th percentile {np.percentile(rms[s], 95):.3g}"
+        )
     both = [hits["acc"][0] + hits["gyr"][0], hits["acc"][1] + hits["gyr"][1]]
     print(f"all coefficients: {100 * both[0] / both[1]:.1f} % (target 93–97 %)")
 

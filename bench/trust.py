@@ -32,8 +32,10 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
     rng = np.random.default_rng(args.seed)
-    print(f"{'poses':>5} {'raw mg':>8} {'in-sample':>10} {'cv mg':>8} {'fresh mg':>9} {'cv/fresh':>9} "
-          f"{'ok %':>6} {'ok but worse':>13}")
+    print(
+        f"{'poses':>5} {'raw mg':>8} {'in-sample':>10} {'cv mg':>8} {'fresh mg':>9} {'cv/fresh':>9} "
+        f"{'ok %':>6} {'ok but worse':>13}"
+    )
     for n in POSES:
         rows, refused = [], 0
         for _ in range(args.sessions):
@@ -53,8 +55,10 @@ def main() -> None:
         has_cv = ~np.isnan(cv)
         cv_mean = np.mean(cv[has_cv]) if has_cv.any() else float("nan")
         ratio = cv_mean / np.mean(fresh[has_cv]) if has_cv.any() else float("nan")
-        print(f"{n:>5} {raw.mean():>8.2f} {inside.mean():>10.2f} {cv_mean:>8.2f} {fresh.mean():>9.2f} "
-              f"{ratio:>9.2f} {100 * ok.mean():>6.0f} {int(harm.sum()):>13d}")
+        print(
+            f"{n:>5} {raw.mean():>8.2f} {inside.mean():>10.2f} {cv_mean:>8.2f} {fresh.mean():>9.2f} "
+            f"{ratio:>9.2f} {100 * ok.mean():>6.0f} {int(harm.sum()):>13d}"
+        )
 
 
 if __name__ == "__main__":

@@ -24,14 +24,16 @@ import numpy as np
 
 from .triangular import draw_parameters, random_unit_vectors, uncalibrate
 
-POSTURES = np.array([
-    [0.0, 0.0, 1.0],     # wrist face up (lying, hand on a table)
-    [0.0, 0.0, -1.0],    # face down
-    [-1.0, 0.0, 0.0],    # arm hanging
-    [-0.5, 0.0, 0.866],  # forearm resting, tilted
-    [0.0, 0.94, 0.34],   # on the side
-    [0.0, -0.9, 0.44],   # on the other side
-])
+POSTURES = np.array(
+    [
+        [0.0, 0.0, 1.0],  # wrist face up (lying, hand on a table)
+        [0.0, 0.0, -1.0],  # face down
+        [-1.0, 0.0, 0.0],  # arm hanging
+        [-0.5, 0.0, 0.866],  # forearm resting, tilted
+        [0.0, 0.94, 0.34],  # on the side
+        [0.0, -0.9, 0.44],  # on the other side
+    ]
+)
 """Posture-like rest directions (unit vectors of the specific force in the sensor frame)."""
 
 
@@ -67,11 +69,22 @@ def _jitter(rng, d, deg):
     return v / np.linalg.norm(v)
 
 
-def simulate_recording(rng: np.random.Generator, *, duration_s: float, sampling_rate_hz: float = 100.0,
-                       p=None, noise_g: float = 0.003, posture_fraction: float = 0.8,
-                       directions=None, rest_median_s: float = 90.0, move_median_s: float = 60.0,
-                       idle_fraction: float = 0.0, nan_fraction: float = 0.0, out=None,
-                       dtype=np.float32) -> tuple[np.ndarray, SimulatedRecording]:
+def simulate_recording(
+    rng: np.random.Generator,
+    *,
+    duration_s: float,
+    sampling_rate_hz: float = 100.0,
+    p=None,
+    noise_g: float = 0.003,
+    posture_fraction: float = 0.8,
+    directions=None,
+    rest_median_s: float = 90.0,
+    move_median_s: float = 60.0,
+    idle_fraction: float = 0.0,
+    nan_fraction: float = 0.0,
+    out=None,
+    dtype=np.float32,
+) -> tuple[np.ndarray, SimulatedRecording]:
     """Generate a recording of rest and movement bouts (module docstring).
 
     Parameters
@@ -143,7 +156,11 @@ def simulate_recording(rng: np.random.Generator, *, duration_s: float, sampling_
     bouts = np.array(rest_bouts, dtype=np.int64).reshape(-1, 2)
     nb = len(bouts)
     idle = np.flatnonzero(rng.random(nb) < idle_fraction) if idle_fraction > 0 else np.zeros(0, dtype=int)
-    nan = np.setdiff1d(np.flatnonzero(rng.random(nb) < nan_fraction), idle) if nan_fraction > 0 else np.zeros(0, dtype=int)
+    nan = (
+        np.setdiff1d(np.flatnonzero(rng.random(nb) < nan_fraction), idle)
+        if nan_fraction > 0
+        else np.zeros(0, dtype=int)
+    )
     for b in idle:
         s, e = bouts[b]
         x[s:e] = x[s]
@@ -151,6 +168,11 @@ def simulate_recording(rng: np.random.Generator, *, duration_s: float, sampling_
         s, e = bouts[b]
         x[s:e] = np.nan
     return x, SimulatedRecording(
-        p=p, n_samples=n, sampling_rate_hz=fs, rest_bouts=bouts,
-        rest_directions=np.array(rest_dirs).reshape(-1, 3), idle_bouts=idle, nan_bouts=nan,
+        p=p,
+        n_samples=n,
+        sampling_rate_hz=fs,
+        rest_bouts=bouts,
+        rest_directions=np.array(rest_dirs).reshape(-1, 3),
+        idle_bouts=idle,
+        nan_bouts=nan,
     )

@@ -308,27 +308,57 @@ HAND_FS = 102.4
 ACC_LSB = 16 * 9.81 / 32768  # m/s² per count
 GYR_LSB = 2000.0 / 32768  # deg/s per count
 HAND_SENSORS = {
-    "acc": {"S": [[1.0175, 0.0061, -0.0112], [-0.0048, 1.0043, 0.0087], [0.0093, -0.0035, 0.9912]],
-            "b": [0.312, -0.556, 0.493], "std": 0.018, "lsb": ACC_LSB},
-    "gyr": {"S": [[1.0121, 0.0042, -0.0067], [-0.0031, 0.9874, 0.0055], [0.0078, -0.0024, 1.0046]],
-            "b": [-0.592, -0.361, 0.058], "std": 0.05, "lsb": GYR_LSB},
+    "acc": {
+        "S": [[1.0175, 0.0061, -0.0112], [-0.0048, 1.0043, 0.0087], [0.0093, -0.0035, 0.9912]],
+        "b": [0.312, -0.556, 0.493],
+        "std": 0.018,
+        "lsb": ACC_LSB,
+    },
+    "gyr": {
+        "S": [[1.0121, 0.0042, -0.0067], [-0.0031, 0.9874, 0.0055], [0.0078, -0.0024, 1.0046]],
+        "b": [-0.592, -0.361, 0.058],
+        "std": 0.05,
+        "lsb": GYR_LSB,
+    },
 }
 """raw = S f + b of each sensor (acc in m/s², gyr in deg/s), white noise std and quantisation step."""
 
 HAND_TIMELINE = (
-    ("rest", 290), ("adjust", 100, 6.0), ("rest", 950),  # x_p, after a re-placement
-    ("to", "-x", 220), ("rest", 860), ("to", "+y", 320), ("rest", 620), ("to", "-y", 330), ("rest", 520),
-    ("to", "+z", 260), ("rest", 570), ("to", "-z", 280), ("rest", 720),
-    ("to", "+x", 290), ("rest", 460), ("turn", 285), ("rest", 385), ("adjust", 100, 10.0), ("rest", 300),
-    ("to", "+y", 90), ("rest", 145), ("turn", 295), ("rest", 410),
-    ("to", "+z", 200), ("rest", 215), ("turn", 285), ("rest", 500),
+    ("rest", 290),
+    ("adjust", 100, 6.0),
+    ("rest", 950),  # x_p, after a re-placement
+    ("to", "-x", 220),
+    ("rest", 860),
+    ("to", "+y", 320),
+    ("rest", 620),
+    ("to", "-y", 330),
+    ("rest", 520),
+    ("to", "+z", 260),
+    ("rest", 570),
+    ("to", "-z", 280),
+    ("rest", 720),
+    ("to", "+x", 290),
+    ("rest", 460),
+    ("turn", 285),
+    ("rest", 385),
+    ("adjust", 100, 10.0),
+    ("rest", 300),
+    ("to", "+y", 90),
+    ("rest", 145),
+    ("turn", 295),
+    ("rest", 410),
+    ("to", "+z", 200),
+    ("rest", 215),
+    ("turn", 285),
+    ("rest", 500),
 )
 """Steps in samples: rests, free moves to an orientation, handling adjustments (degrees), and
 turns of −360° about the vertical (imucal: clockwise seen from above)."""
 
 
-def simulate_hand_ferraris(rng: np.random.Generator, *, timeline=HAND_TIMELINE, sensors=None,
-                           tilt_deg: float = 0.5, wander_deg: float = 3.0) -> SimulatedSession:
+def simulate_hand_ferraris(
+    rng: np.random.Generator, *, timeline=HAND_TIMELINE, sensors=None, tilt_deg: float = 0.5, wander_deg: float = 3.0
+) -> SimulatedSession:
     """A Ferraris session recorded by hand, with pauses and re-placements (module constants).
 
     Each placement has a random heading and a tilt of about ``tilt_deg`` from its nominal up axis;
@@ -385,6 +415,14 @@ def simulate_hand_ferraris(rng: np.random.Generator, *, timeline=HAND_TIMELINE, 
         raw = f[name] @ S.T + b + cfg[name]["std"] * rng.standard_normal(f[name].shape)
         out[name] = np.round(raw / cfg[name]["lsb"]) * cfg[name]["lsb"]
         truth[name] = {"S": S, "b": b}
-    return SimulatedSession(acc=out["acc"], gyr=out["gyr"], mag=None, sampling_rate_hz=HAND_FS,
-                            protocol=get_protocol("ferraris"), truth=truth, static_segments=tuple(rests),
-                            gravity=9.81, extra={"attitudes": Q})
+    return SimulatedSession(
+        acc=out["acc"],
+        gyr=out["gyr"],
+        mag=None,
+        sampling_rate_hz=HAND_FS,
+        protocol=get_protocol("ferraris"),
+        truth=truth,
+        static_segments=tuple(rests),
+        gravity=9.81,
+        extra={"attitudes": Q},
+    )

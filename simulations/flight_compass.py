@@ -51,9 +51,11 @@ def _wander(rng, n: int, dt: float, sigma: float, tau_s: float) -> np.ndarray:
 
 def _euler_deg(C: np.ndarray) -> dict:
     """Roll, pitch and yaw in degrees of ``C = Rz(yaw) Ry(pitch) Rx(roll)``."""
-    return {"roll_deg": np.degrees(np.arctan2(C[:, 2, 1], C[:, 2, 2])),
-            "pitch_deg": np.degrees(-np.arcsin(np.clip(C[:, 2, 0], -1.0, 1.0))),
-            "yaw_deg": np.degrees(np.arctan2(C[:, 1, 0], C[:, 0, 0])) % 360.0}
+    return {
+        "roll_deg": np.degrees(np.arctan2(C[:, 2, 1], C[:, 2, 2])),
+        "pitch_deg": np.degrees(-np.arcsin(np.clip(C[:, 2, 0], -1.0, 1.0))),
+        "yaw_deg": np.degrees(np.arctan2(C[:, 1, 0], C[:, 0, 0])) % 360.0,
+    }
 
 
 def earth_field_ned(field_ut: float = 50.0, inclination_deg: float = 64.0, declination_deg: float = 2.0) -> np.ndarray:
@@ -62,10 +64,22 @@ def earth_field_ned(field_ut: float = 50.0, inclination_deg: float = 64.0, decli
     return field_ut * np.array([np.cos(i) * np.cos(d), np.cos(i) * np.sin(d), np.sin(i)])
 
 
-def simulate_flight(seed: int, *, duration_s: float = 180.0, rate_hz: float = 25.0, orientation: int = 2,
-                    noise_ut: float = 0.3, attitude_error_deg: float = 0.3, attitude_tau_s: float = 3.0,
-                    hard_iron_ut: float = 120.0, soft_iron: float = 0.08, motor_ut_per_a: float = 0.5,
-                    tilt_deg: float = 20.0, turns: float | None = None, earth_ned=None) -> dict:
+def simulate_flight(
+    seed: int,
+    *,
+    duration_s: float = 180.0,
+    rate_hz: float = 25.0,
+    orientation: int = 2,
+    noise_ut: float = 0.3,
+    attitude_error_deg: float = 0.3,
+    attitude_tau_s: float = 3.0,
+    hard_iron_ut: float = 120.0,
+    soft_iron: float = 0.08,
+    motor_ut_per_a: float = 0.5,
+    tilt_deg: float = 20.0,
+    turns: float | None = None,
+    earth_ned=None,
+) -> dict:
     """One seeded flight with its truth.
 
     Parameters
@@ -120,16 +134,25 @@ def simulate_flight(seed: int, *, duration_s: float = 180.0, rate_hz: float = 25
     b = rng.uniform(-hard_iron_ut, hard_iron_ut, 3)
     k = rng.uniform(-motor_ut_per_a, motor_ut_per_a, 3)
     Q = ardupilot_matrix(orientation)
-    h_true = np.einsum("nji,j->ni", C_true, B)                      # C_nbᵀ B
+    h_true = np.einsum("nji,j->ni", C_true, B)  # C_nbᵀ B
     body = h_true @ np.linalg.inv(M).T + b + np.outer(current, k)
-    mag = body @ Q + rng.normal(0.0, noise_ut, (n, 3))              # Qᵀ applied to rows
+    mag = body @ Q + rng.normal(0.0, noise_ut, (n, 3))  # Qᵀ applied to rows
     b_stale = b + rng.normal(0.0, 5.0, 3)
-    firmware = mag - b_stale                                         # no rotation, stale offsets, no soft iron
+    firmware = mag - b_stale  # no rotation, stale offsets, no soft iron
     return {
-        "time_s": t, "attitude_c_nb": C_log, **_euler_deg(C_log), "mag_raw_ut": mag, "current_a": current, "throttle": throttle,
-        "earth_ned": B, "lat": 47.4, "lon": 8.5, "alt_m": 430.0,
+        "time_s": t,
+        "attitude_c_nb": C_log,
+        **_euler_deg(C_log),
+        "mag_raw_ut": mag,
+        "current_a": current,
+        "throttle": throttle,
+        "earth_ned": B,
+        "lat": 47.4,
+        "lon": 8.5,
+        "alt_m": 430.0,
         "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.timezone.utc),
-        "expected_ut": np.einsum("nji,j->ni", C_log, B), "mag_firmware_ut": firmware,
+        "expected_ut": np.einsum("nji,j->ni", C_log, B),
+        "mag_firmware_ut": firmware,
         "truth": {"b": b, "M": M, "k": k, "Q": Q, "orientation": orientation},
     }
 

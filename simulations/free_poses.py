@@ -25,8 +25,15 @@ TREMOR_RATE = 0.3
 """A third of the poses are read while the phone still settles, off by 3 mg."""
 
 
-def read_poses(rng: np.random.Generator, p, up, *, noise_g: float = NOISE_G, tremor_g: float = TREMOR_G,
-               tremor_rate: float = TREMOR_RATE) -> np.ndarray:
+def read_poses(
+    rng: np.random.Generator,
+    p,
+    up,
+    *,
+    noise_g: float = NOISE_G,
+    tremor_g: float = TREMOR_G,
+    tremor_rate: float = TREMOR_RATE,
+) -> np.ndarray:
     """The mean readings of a phone of parameters ``p`` resting with ``up`` up (unit vectors, (N, 3))."""
     m = uncalibrate(p, up)
     m = m + rng.normal(scale=noise_g, size=m.shape)

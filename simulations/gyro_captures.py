@@ -11,8 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 
-def simulate_captures(rng: np.random.Generator, *, bias, n_captures: int, n_samples: int, noise: float,
-                      wander: float) -> list[np.ndarray]:
+def simulate_captures(
+    rng: np.random.Generator, *, bias, n_captures: int, n_samples: int, noise: float, wander: float
+) -> list[np.ndarray]:
     """The samples of ``n_captures`` still captures, each of shape (n_samples, 3), in the unit of ``bias``.
 
     Parameters
@@ -33,5 +34,8 @@ def simulate_captures(rng: np.random.Generator, *, bias, n_captures: int, n_samp
 
 def capture_statistics(captures: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Each capture's mean, standard deviation (ddof 1) and count: what a session keeps per capture."""
-    return (np.array([c.mean(axis=0) for c in captures]), np.array([c.std(axis=0, ddof=1) for c in captures]),
-            np.array([len(c) for c in captures]))
+    return (
+        np.array([c.mean(axis=0) for c in captures]),
+        np.array([c.std(axis=0, ddof=1) for c in captures]),
+        np.array([len(c) for c in captures]),
+    )

@@ -97,9 +97,7 @@ def _per_item(value, n: int, rng: np.random.Generator, name: str) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if arr.shape == (n,) and np.all(arr >= 0):
         return arr
-    raise CalibrationError(
-        f"{name} must be a (low, high) tuple in seconds or a list of {n} non-negative durations"
-    )
+    raise CalibrationError(f"{name} must be a (low, high) tuple in seconds or a list of {n} non-negative durations")
 
 
 def _tilt(u: np.ndarray, rng: np.random.Generator, max_deg: float) -> np.ndarray:
@@ -271,7 +269,11 @@ def simulate_static_log(
         acc = np.zeros((n, 3))
         if hand_acc > 0:
             # the hand moves out and back: one period of a sine under the envelope
-            acc = (hand_acc * unit) * (np.sin(2 * np.pi * np.arange(1, n + 1) / n) * env)[:, None] * _unit(rng.normal(size=3))
+            acc = (
+                (hand_acc * unit)
+                * (np.sin(2 * np.pi * np.arange(1, n + 1) / n) * env)[:, None]
+                * _unit(rng.normal(size=3))
+            )
         parts_dir.append(d)
         parts_acc.append(acc)
         pos += n

@@ -28,15 +28,30 @@ def directions(rng: np.random.Generator, n: int, *, max_polar_deg: float = 180.0
     return np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
 
 
-def simulate_turn(rng: np.random.Generator, M: np.ndarray, b, *, field_ut: float = EARTH_FIELD_UT,
-                  noise_ut: float = 0.3, n: int = 400, max_polar_deg: float = 180.0) -> np.ndarray:
+def simulate_turn(
+    rng: np.random.Generator,
+    M: np.ndarray,
+    b,
+    *,
+    field_ut: float = EARTH_FIELD_UT,
+    noise_ut: float = 0.3,
+    n: int = 400,
+    max_polar_deg: float = 180.0,
+) -> np.ndarray:
     """Raw readings ``M⁻¹ h + b + ε`` of a turn, shape (n, 3)."""
     h = field_ut * directions(rng, n, max_polar_deg=max_polar_deg)
     return h @ np.linalg.inv(M).T + np.asarray(b, dtype=float) + rng.normal(0.0, noise_ut, (n, 3))
 
 
-def simulate_session(seed: int, *, n: int = 400, noise_ut: float = 0.3, max_polar_deg: float = 180.0,
-                     field_ut: float = EARTH_FIELD_UT, hard_iron_ut: float = 60.0):
+def simulate_session(
+    seed: int,
+    *,
+    n: int = 400,
+    noise_ut: float = 0.3,
+    max_polar_deg: float = 180.0,
+    field_ut: float = EARTH_FIELD_UT,
+    hard_iron_ut: float = 60.0,
+):
     """One session with its truth: ``(readings, M, b)`` — a phone-like hard iron of tens of µT."""
     rng = np.random.default_rng(seed)
     M = random_soft_iron(rng)
@@ -51,8 +66,17 @@ def random_rotation(rng: np.random.Generator) -> np.ndarray:
     return Q if np.linalg.det(Q) > 0 else -Q
 
 
-def simulate_rests(rng: np.random.Generator, M: np.ndarray, b, *, field_ut: float = EARTH_FIELD_UT,
-                   inclination_deg: float = 64.0, gravity: float = 9.81, n: int = 6, noise_ut: float = 0.0):
+def simulate_rests(
+    rng: np.random.Generator,
+    M: np.ndarray,
+    b,
+    *,
+    field_ut: float = EARTH_FIELD_UT,
+    inclination_deg: float = 64.0,
+    gravity: float = 9.81,
+    n: int = 6,
+    noise_ut: float = 0.0,
+):
     """Still moments of the device in random attitudes: ``(acc_mean, mag_mean)`` pairs.
 
     In the local north-east-down frame the field is ``F (cos I, 0, sin I)`` and the specific force

@@ -13,8 +13,15 @@ from __future__ import annotations
 import numpy as np
 
 
-def host_arrival_times(rng: np.random.Generator, *, n_samples: int, sampling_rate_hz: float,
-                       poll_s=(0.001, 0.070), line_s=(0.001, 0.003), lost=()) -> np.ndarray:
+def host_arrival_times(
+    rng: np.random.Generator,
+    *,
+    n_samples: int,
+    sampling_rate_hz: float,
+    poll_s=(0.001, 0.070),
+    line_s=(0.001, 0.003),
+    lost=(),
+) -> np.ndarray:
     """Arrival times (seconds) of ``n_samples`` samples made at ``sampling_rate_hz``.
 
     Parameters

@@ -16,12 +16,20 @@ import numpy as np
 T_POLY_REF_C = 35.0
 """The temperature the true polynomials are written about."""
 
-ACC_TRUTH = np.array([[0.0, 2.0e-3, -6.0e-5, 1.5e-6],   # m/s² about 35 °C: X0, X1, X2, X3 per axis
-                      [0.0, -1.5e-3, 4.0e-5, 0.0],
-                      [0.0, 4.0e-3, 3.0e-5, -1.0e-6]])
-GYR_TRUTH = np.array([[1.0e-3, 8.0e-5, -2.0e-6, 5.0e-8],  # rad/s
-                      [-2.0e-3, -5.0e-5, 1.0e-6, 0.0],
-                      [5.0e-4, 1.2e-4, 0.0, -4.0e-8]])
+ACC_TRUTH = np.array(
+    [
+        [0.0, 2.0e-3, -6.0e-5, 1.5e-6],  # m/s² about 35 °C: X0, X1, X2, X3 per axis
+        [0.0, -1.5e-3, 4.0e-5, 0.0],
+        [0.0, 4.0e-3, 3.0e-5, -1.0e-6],
+    ]
+)
+GYR_TRUTH = np.array(
+    [
+        [1.0e-3, 8.0e-5, -2.0e-6, 5.0e-8],  # rad/s
+        [-2.0e-3, -5.0e-5, 1.0e-6, 0.0],
+        [5.0e-4, 1.2e-4, 0.0, -4.0e-8],
+    ]
+)
 
 
 @dataclass(frozen=True)
@@ -45,15 +53,28 @@ def _noise(rng, n: int, source, std: float, block: int) -> np.ndarray:
     for a in range(0, n, block):
         b = min(n, a + block)
         start = int(rng.integers(0, len(src) - (b - a) + 1))
-        out[a:b] = src[start:start + (b - a)][:, rng.permutation(3)] * rng.choice([-1.0, 1.0], 3)
+        out[a:b] = src[start : start + (b - a)][:, rng.permutation(3)] * rng.choice([-1.0, 1.0], 3)
     return out
 
 
-def simulate_warm_up(rng: np.random.Generator, *, duration_s: float = 1200.0, sampling_rate_hz: float = 50.0,
-                     t_start_c: float = 15.0, t_end_c: float = 55.0, tau_s: float = 400.0,
-                     acc_truth=ACC_TRUTH, gyr_truth=GYR_TRUTH, acc_std: float = 0.03, gyr_std: float = 1.0e-3,
-                     noise=None, block_s: float = 5.0, temp_noise_c: float = 0.02,
-                     jitter: float = 0.02, gravity=(0.0, 0.0, 9.80665)) -> WarmUp:
+def simulate_warm_up(
+    rng: np.random.Generator,
+    *,
+    duration_s: float = 1200.0,
+    sampling_rate_hz: float = 50.0,
+    t_start_c: float = 15.0,
+    t_end_c: float = 55.0,
+    tau_s: float = 400.0,
+    acc_truth=ACC_TRUTH,
+    gyr_truth=GYR_TRUTH,
+    acc_std: float = 0.03,
+    gyr_std: float = 1.0e-3,
+    noise=None,
+    block_s: float = 5.0,
+    temp_noise_c: float = 0.02,
+    jitter: float = 0.02,
+    gravity=(0.0, 0.0, 9.80665),
+) -> WarmUp:
     """A still board warming up: readings = gravity (accelerometer) + offset(T) + noise.
 
     Parameters

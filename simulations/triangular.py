@@ -79,7 +79,7 @@ def uncalibrate(p, a) -> np.ndarray:
     a = np.asarray(a, dtype=float).reshape(-1, 3)
     cx = a[:, 0] / kxx - ox
     cy = (a[:, 1] - (cx + ox) * kxy) / kyy - oy  # Farago, Maczak and Gingl, IEEE Access, eq. (19), +
-                                                 # o_x: the inverse of eq. (8)
+    # o_x: the inverse of eq. (8)
     cz = (a[:, 2] - (cx + ox) * kxz - (cy + oy) * kyz) / kzz - oz
     return np.column_stack([cx, cy, cz])
 
@@ -180,7 +180,7 @@ def simulate_scenario(
     while drawn < max_candidates:
         a = random_unit_vectors(rng, batch)
         u = uncalibrate(p, a) + noise_g * rng.standard_normal((batch, 3))  # Farago, Maczak and Gingl,
-                                                                           # IEEE Access, eqs. (19)–(20)
+        # IEEE Access, eqs. (19)–(20)
         dirs.append(a)
         pts.append(u)
         drawn += batch

@@ -34,20 +34,37 @@ class PhoneCube:
         """The still samples of 1-based position k and, after the first, the move into it."""
         a, b = self.static_segments[k - 1]
         a, b = a + margin, b - margin
-        body = {"acc": self.acc[a:b].tolist(), "t_ms": self.t_ms[a:b].tolist(), "gyr": self.gyr[a:b].tolist(),
-                "gyr_unit": "deg/s"}
+        body = {
+            "acc": self.acc[a:b].tolist(),
+            "t_ms": self.t_ms[a:b].tolist(),
+            "gyr": self.gyr[a:b].tolist(),
+            "gyr_unit": "deg/s",
+        }
         if k > 1:
             p = self.static_segments[k - 2][1] - margin
-            body["motion"] = {"t_ms": self.t_ms[p:a].tolist(), "gyr": self.gyr[p:a].tolist(),
-                              "acc": self.acc[p:a].tolist()}
+            body["motion"] = {
+                "t_ms": self.t_ms[p:a].tolist(),
+                "gyr": self.gyr[p:a].tolist(),
+                "acc": self.acc[p:a].tolist(),
+            }
         return body
 
 
-def phone_cube(seed: int = 0, *, wrong_rotations: dict | None = None, alpha_deg: float = 5.0,
-               static_s: float = 3.0) -> PhoneCube:
+def phone_cube(
+    seed: int = 0, *, wrong_rotations: dict | None = None, alpha_deg: float = 5.0, static_s: float = 3.0
+) -> PhoneCube:
     rng = np.random.default_rng(seed)
-    sim = simulate_session(rng, "cube24", sampling_rate_hz=RATE_HZ, static_s=static_s, rotation_s=1.5,
-                           alpha_deg=alpha_deg, beta_deg=0.0, with_mag=False, wrong_rotations=wrong_rotations)
+    sim = simulate_session(
+        rng,
+        "cube24",
+        sampling_rate_hz=RATE_HZ,
+        static_s=static_s,
+        rotation_s=1.5,
+        alpha_deg=alpha_deg,
+        beta_deg=0.0,
+        with_mag=False,
+        wrong_rotations=wrong_rotations,
+    )
     R = quat.to_matrix(sim.extra["attitudes"])
     g_cal = direction_matrix(np.radians(alpha_deg), 0.0) @ np.array([0.0, 0.0, G])
     f = np.einsum("nji,j->ni", R, g_cal)  # Rᵀ g: specific force in the sensor frame at rest

@@ -28,8 +28,12 @@ def earth_field_at(flight_place: dict | None = None) -> np.ndarray:
     """The geomagnetic model's field in north-east-down (µT) where and when :func:`simulate_flight` flies."""
     from app.geomag import reference_field
 
-    place = flight_place or {"lat": 47.4, "lon": 8.5, "alt_m": 430.0,
-                             "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.timezone.utc)}
+    place = flight_place or {
+        "lat": 47.4,
+        "lon": 8.5,
+        "alt_m": 430.0,
+        "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.timezone.utc),
+    }
     e = reference_field(place["utc"].date(), place["lat"], place["lon"], place["alt_m"])
     return np.array([e.north_ut, e.east_ut, e.down_ut])
 

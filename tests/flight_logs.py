@@ -23,8 +23,18 @@ from pathlib import Path
 
 import numpy as np
 
-ULOG_TYPES = {"uint64_t": "<u8", "int64_t": "<i8", "uint32_t": "<u4", "int32_t": "<i4", "uint16_t": "<u2",
-              "int16_t": "<i2", "uint8_t": "u1", "int8_t": "i1", "float": "<f4", "double": "<f8"}
+ULOG_TYPES = {
+    "uint64_t": "<u8",
+    "int64_t": "<i8",
+    "uint32_t": "<u4",
+    "int32_t": "<i4",
+    "uint16_t": "<u2",
+    "int16_t": "<i2",
+    "uint8_t": "u1",
+    "int8_t": "i1",
+    "float": "<f4",
+    "double": "<f8",
+}
 
 
 ULOG_STRUCT = {"int32_t": "<i", "float": "<f", "uint32_t": "<I", "uint64_t": "<Q"}
@@ -49,8 +59,7 @@ def _ulog_field(type_: str):
     return ULOG_TYPES[type_], ()
 
 
-def ulog_bytes(topics: list[dict], *, start_us: int = 0, params: dict | None = None,
-               info: dict | None = None) -> bytes:
+def ulog_bytes(topics: list[dict], *, start_us: int = 0, params: dict | None = None, info: dict | None = None) -> bytes:
     """A ULog file of ``topics``: each ``{"name", "multi_id", "fields": [(type, name), ...], "data": {name: array}}``,
     the first field ``uint64_t timestamp``; the same name shares one format.  ``params`` (name → int or float)
     are written as the initial parameters (``P`` messages of the definitions section, ``int32_t`` for an int,
@@ -69,8 +78,9 @@ def ulog_bytes(topics: list[dict], *, start_us: int = 0, params: dict | None = N
     for msg_id, t in enumerate(topics):
         out.append(_ulog_message("A", struct.pack("<BH", t["multi_id"], msg_id) + t["name"].encode()))
     for msg_id, t in enumerate(topics):
-        dtype = np.dtype([("size", "<u2"), ("type", "u1"), ("msg_id", "<u2")]
-                         + [(n, *_ulog_field(ty)) for ty, n in t["fields"]])
+        dtype = np.dtype(
+            [("size", "<u2"), ("type", "u1"), ("msg_id", "<u2")] + [(n, *_ulog_field(ty)) for ty, n in t["fields"]]
+        )
         n = len(t["data"][t["fields"][0][1]])
         rows = np.zeros(n, dtype=dtype)
         rows["size"] = dtype.itemsize - 3
@@ -87,8 +97,16 @@ def write_ulog(path: Path, topics: list[dict], **kw) -> Path:
     return Path(path)
 
 
-SENSOR_FIELDS = [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("uint32_t", "device_id"),
-                 ("float", "x"), ("float", "y"), ("float", "z"), ("float", "temperature"), ("uint32_t", "error_count")]
+SENSOR_FIELDS = [
+    ("uint64_t", "timestamp"),
+    ("uint64_t", "timestamp_sample"),
+    ("uint32_t", "device_id"),
+    ("float", "x"),
+    ("float", "y"),
+    ("float", "z"),
+    ("float", "temperature"),
+    ("uint32_t", "error_count"),
+]
 """PX4's sensor_accel / sensor_gyro / sensor_mag fields (msg/SensorAccel.msg and the others), without the
 clip counters and sample count, which trical does not read."""
 
@@ -98,25 +116,52 @@ def px4_sensor(name: str, multi_id: int, time_us, xyz, temperature=None, device_
     time_us = np.asarray(time_us, dtype=np.uint64)
     xyz = np.asarray(xyz, dtype=float)
     temp = np.zeros(len(time_us)) if temperature is None else np.broadcast_to(temperature, (len(time_us),))
-    return {"name": name, "multi_id": multi_id, "fields": SENSOR_FIELDS,
-            "data": {"timestamp": time_us, "timestamp_sample": time_us, "device_id": np.full(len(time_us), device_id),
-                     "x": xyz[:, 0], "y": xyz[:, 1], "z": xyz[:, 2], "temperature": temp,
-                     "error_count": np.zeros(len(time_us))}}
+    return {
+        "name": name,
+        "multi_id": multi_id,
+        "fields": SENSOR_FIELDS,
+        "data": {
+            "timestamp": time_us,
+            "timestamp_sample": time_us,
+            "device_id": np.full(len(time_us), device_id),
+            "x": xyz[:, 0],
+            "y": xyz[:, 1],
+            "z": xyz[:, 2],
+            "temperature": temp,
+            "error_count": np.zeros(len(time_us)),
+        },
+    }
 
 
 # -- DataFlash ---------------------------------------------------------------------------------------
 
-DF_TYPES = {"Q": "<u8", "q": "<i8", "I": "<u4", "i": "<i4", "H": "<u2", "h": "<i2", "B": "u1", "b": "i1",
-            "f": "<f4", "d": "<f8", "N": "S16", "n": "S4", "Z": "S64", "L": "<i4", "c": "<i2", "C": "<u2",
-            "e": "<i4", "E": "<u4"}
+DF_TYPES = {
+    "Q": "<u8",
+    "q": "<i8",
+    "I": "<u4",
+    "i": "<i4",
+    "H": "<u2",
+    "h": "<i2",
+    "B": "u1",
+    "b": "i1",
+    "f": "<f4",
+    "d": "<f8",
+    "N": "S16",
+    "n": "S4",
+    "Z": "S64",
+    "L": "<i4",
+    "c": "<i2",
+    "C": "<u2",
+    "e": "<i4",
+    "E": "<u4",
+}
 """ArduPilot's format characters (libraries/AP_Logger/README or LogStructure.h): ``L`` int32 degrees × 1e7,
 ``c``/``C`` int16/uint16 × 100, ``e``/``E`` int32/uint32 × 100 — written here as the stored integers."""
 FMT_TYPE = 128
 
 
 def _df_dtype(fmt: str, columns: list[str]) -> np.dtype:
-    return np.dtype([("h1", "u1"), ("h2", "u1"), ("type", "u1")]
-                    + [(c, DF_TYPES[f]) for f, c in zip(fmt, columns)])
+    return np.dtype([("h1", "u1"), ("h2", "u1"), ("type", "u1")] + [(c, DF_TYPES[f]) for f, c in zip(fmt, columns)])
 
 
 def dataflash_bytes(messages: list[dict]) -> bytes:
@@ -126,11 +171,20 @@ def dataflash_bytes(messages: list[dict]) -> bytes:
     fmt_columns = ["Type", "Length", "Name", "Format", "Columns"]
     fmt_dtype = _df_dtype("BBnNZ", fmt_columns)
     described = [{"name": "FMT", "type": FMT_TYPE, "format": "BBnNZ", "columns": fmt_columns}] + [
-        m for i, m in enumerate(messages) if m["type"] not in {x["type"] for x in messages[:i]}]
+        m for i, m in enumerate(messages) if m["type"] not in {x["type"] for x in messages[:i]}
+    ]
     fmts = np.zeros(len(described), dtype=fmt_dtype)
     for i, m in enumerate(described):
-        fmts[i] = (0xA3, 0x95, FMT_TYPE, m["type"], _df_dtype(m["format"], m["columns"]).itemsize, m["name"].encode(),
-                   m["format"].encode(), ",".join(m["columns"]).encode())
+        fmts[i] = (
+            0xA3,
+            0x95,
+            FMT_TYPE,
+            m["type"],
+            _df_dtype(m["format"], m["columns"]).itemsize,
+            m["name"].encode(),
+            m["format"].encode(),
+            ",".join(m["columns"]).encode(),
+        )
     out = [fmts.tobytes()]
     for m in messages:
         dtype = _df_dtype(m["format"], m["columns"])
@@ -153,14 +207,45 @@ def ardupilot_imu(instance: int, time_us, acc, gyr, temperature) -> dict:
     trical reads."""
     acc, gyr = np.asarray(acc, dtype=float), np.asarray(gyr, dtype=float)
     n = len(acc)
-    return {"name": "IMU", "type": 140, "format": "QBffffffIIfBBHH",
-            "columns": ["TimeUS", "I", "GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ", "EG", "EA", "T", "GH", "AH",
-                        "GHz", "AHz"],
-            "data": {"TimeUS": np.asarray(time_us, dtype=np.uint64), "I": np.full(n, instance),
-                     "GyrX": gyr[:, 0], "GyrY": gyr[:, 1], "GyrZ": gyr[:, 2],
-                     "AccX": acc[:, 0], "AccY": acc[:, 1], "AccZ": acc[:, 2], "EG": np.zeros(n), "EA": np.zeros(n),
-                     "T": np.broadcast_to(temperature, (n,)), "GH": np.ones(n), "AH": np.ones(n),
-                     "GHz": np.full(n, 1000), "AHz": np.full(n, 1000)}}
+    return {
+        "name": "IMU",
+        "type": 140,
+        "format": "QBffffffIIfBBHH",
+        "columns": [
+            "TimeUS",
+            "I",
+            "GyrX",
+            "GyrY",
+            "GyrZ",
+            "AccX",
+            "AccY",
+            "AccZ",
+            "EG",
+            "EA",
+            "T",
+            "GH",
+            "AH",
+            "GHz",
+            "AHz",
+        ],
+        "data": {
+            "TimeUS": np.asarray(time_us, dtype=np.uint64),
+            "I": np.full(n, instance),
+            "GyrX": gyr[:, 0],
+            "GyrY": gyr[:, 1],
+            "GyrZ": gyr[:, 2],
+            "AccX": acc[:, 0],
+            "AccY": acc[:, 1],
+            "AccZ": acc[:, 2],
+            "EG": np.zeros(n),
+            "EA": np.zeros(n),
+            "T": np.broadcast_to(temperature, (n,)),
+            "GH": np.ones(n),
+            "AH": np.ones(n),
+            "GHz": np.full(n, 1000),
+            "AHz": np.full(n, 1000),
+        },
+    }
 
 
 def ardupilot_batch(name: str, instance: int, time_us, xyz) -> dict:
@@ -168,11 +253,20 @@ def ardupilot_batch(name: str, instance: int, time_us, xyz) -> dict:
     xyz = np.asarray(xyz, dtype=float)
     prefix = "Acc" if name == "ACC" else "Gyr"
     n = len(xyz)
-    return {"name": name, "type": 141 if name == "ACC" else 142, "format": "QBQfff",
-            "columns": ["TimeUS", "I", "SampleUS", f"{prefix}X", f"{prefix}Y", f"{prefix}Z"],
-            "data": {"TimeUS": np.asarray(time_us, dtype=np.uint64), "I": np.full(n, instance),
-                     "SampleUS": np.asarray(time_us, dtype=np.uint64),
-                     f"{prefix}X": xyz[:, 0], f"{prefix}Y": xyz[:, 1], f"{prefix}Z": xyz[:, 2]}}
+    return {
+        "name": name,
+        "type": 141 if name == "ACC" else 142,
+        "format": "QBQfff",
+        "columns": ["TimeUS", "I", "SampleUS", f"{prefix}X", f"{prefix}Y", f"{prefix}Z"],
+        "data": {
+            "TimeUS": np.asarray(time_us, dtype=np.uint64),
+            "I": np.full(n, instance),
+            "SampleUS": np.asarray(time_us, dtype=np.uint64),
+            f"{prefix}X": xyz[:, 0],
+            f"{prefix}Y": xyz[:, 1],
+            f"{prefix}Z": xyz[:, 2],
+        },
+    }
 
 
 def ardupilot_mag(instance: int, time_us, milligauss, *, numbered: bool = False) -> dict:
@@ -180,14 +274,29 @@ def ardupilot_mag(instance: int, time_us, milligauss, *, numbered: bool = False)
     logs, without the ``I`` field."""
     m = np.round(np.asarray(milligauss, dtype=float)).astype(np.int16)
     n = len(m)
-    data = {"TimeUS": np.asarray(time_us, dtype=np.uint64), "MagX": m[:, 0], "MagY": m[:, 1], "MagZ": m[:, 2],
-            "Health": np.ones(n)}
+    data = {
+        "TimeUS": np.asarray(time_us, dtype=np.uint64),
+        "MagX": m[:, 0],
+        "MagY": m[:, 1],
+        "MagZ": m[:, 2],
+        "Health": np.ones(n),
+    }
     if numbered:
         name = "MAG" if instance == 0 else f"MAG{instance + 1}"
-        return {"name": name, "type": 150 + instance, "format": "QhhhB",
-                "columns": ["TimeUS", "MagX", "MagY", "MagZ", "Health"], "data": data}
-    return {"name": "MAG", "type": 150, "format": "QBhhhB", "columns": ["TimeUS", "I", "MagX", "MagY", "MagZ", "Health"],
-            "data": {**data, "I": np.full(n, instance)}}
+        return {
+            "name": name,
+            "type": 150 + instance,
+            "format": "QhhhB",
+            "columns": ["TimeUS", "MagX", "MagY", "MagZ", "Health"],
+            "data": data,
+        }
+    return {
+        "name": "MAG",
+        "type": 150,
+        "format": "QBhhhB",
+        "columns": ["TimeUS", "I", "MagX", "MagY", "MagZ", "Health"],
+        "data": {**data, "I": np.full(n, instance)},
+    }
 
 
 # -- boards with known content -------------------------------------------------------------------------
@@ -212,13 +321,27 @@ def imu_instances(seed: int, *, rate_hz: float = 200.0, orientations=None, rest_
 
     out = []
     for k, (X, y) in enumerate(TRUTH):
-        sim = simulate_static_log(np.random.default_rng(seed), orientations=orientations, sampling_rate_hz=rate_hz,
-                                  X=X, y=y, noise_std=0.02, rest_s=rest_s)
+        sim = simulate_static_log(
+            np.random.default_rng(seed),
+            orientations=orientations,
+            sampling_rate_hz=rate_hz,
+            X=X,
+            y=y,
+            noise_std=0.02,
+            rest_s=rest_s,
+        )
         n = len(sim.samples)
         time_us = (1_000_000 + np.round(np.arange(n) * 1e6 / rate_hz)).astype(np.uint64)
         gyr = np.random.default_rng(seed + 100 + k).normal(GYR_BIAS[k], 0.002, (n, 3))
-        out.append({"time_us": time_us, "acc": sim.samples, "gyr": gyr,
-                    "temperature": 30.0 + k + 4.0 * np.arange(n) / n, "segments": sim.segments})
+        out.append(
+            {
+                "time_us": time_us,
+                "acc": sim.samples,
+                "gyr": gyr,
+                "temperature": 30.0 + k + 4.0 * np.arange(n) / n,
+                "segments": sim.segments,
+            }
+        )
     return out
 
 
@@ -233,14 +356,24 @@ def compass_tumble(seed: int, *, rate_hz: float = 50.0, duration_s: float = 20.0
     for k in range(2):
         M = random_soft_iron(rng, 0.04)
         Ms.append(M)
-        mags.append({"time_us": (1_000_000 + np.round(np.arange(n) * 1e6 / rate_hz)).astype(np.uint64),
-                     "mag": simulate_turn(rng, M, HARD_IRON_UT[k], field_ut=48.0, noise_ut=0.2, n=n)})
+        mags.append(
+            {
+                "time_us": (1_000_000 + np.round(np.arange(n) * 1e6 / rate_hz)).astype(np.uint64),
+                "mag": simulate_turn(rng, M, HARD_IRON_UT[k], field_ut=48.0, noise_ut=0.2, n=n),
+            }
+        )
     m = int(duration_s * imu_rate_hz) + 1
     t = np.arange(m) / imu_rate_hz
     up = np.column_stack([np.sin(0.7 * t) * np.cos(0.3 * t), np.sin(0.7 * t) * np.sin(0.3 * t), np.cos(0.7 * t)])
-    imus = [{"time_us": (1_000_000 + np.round(t * 1e6)).astype(np.uint64),
-             "acc": 9.80665 * up + rng.normal(0, 0.3, (m, 3)), "gyr": rng.normal(0, 0.5, (m, 3)),
-             "temperature": np.full(m, 31.0 + k)} for k in range(2)]
+    imus = [
+        {
+            "time_us": (1_000_000 + np.round(t * 1e6)).astype(np.uint64),
+            "acc": 9.80665 * up + rng.normal(0, 0.3, (m, 3)),
+            "gyr": rng.normal(0, 0.5, (m, 3)),
+            "temperature": np.full(m, 31.0 + k),
+        }
+        for k in range(2)
+    ]
     return imus, mags, Ms
 
 
@@ -252,11 +385,17 @@ def still_board(seed: int, *, rate_hz: float = 400.0, duration_s: float = 60.0) 
     rng = np.random.default_rng(seed)
     n = int(duration_s * rate_hz)
     time_us = (1_000_000 + np.round(np.arange(n) * 1e6 / rate_hz)).astype(np.uint64)
-    return [{"time_us": time_us,
-             "acc": simulate_still(rng, n_samples=n, sampling_rate_hz=rate_hz, N=3e-3, B=0.0, K=0.0,
-                                   bias=[0.05, -0.03, -9.80665]),
-             "gyr": simulate_still(rng, n_samples=n, sampling_rate_hz=rate_hz, N=2e-3, B=0.0, K=0.0, bias=GYR_BIAS[k]),
-             "temperature": np.full(n, 40.0 + k)} for k in range(2)]
+    return [
+        {
+            "time_us": time_us,
+            "acc": simulate_still(
+                rng, n_samples=n, sampling_rate_hz=rate_hz, N=3e-3, B=0.0, K=0.0, bias=[0.05, -0.03, -9.80665]
+            ),
+            "gyr": simulate_still(rng, n_samples=n, sampling_rate_hz=rate_hz, N=2e-3, B=0.0, K=0.0, bias=GYR_BIAS[k]),
+            "temperature": np.full(n, 40.0 + k),
+        }
+        for k in range(2)
+    ]
 
 
 def px4_file(path: Path, imus: list[dict], mags: list[dict] = (), *, gyro_lag_us: int = 150) -> Path:
@@ -265,8 +404,9 @@ def px4_file(path: Path, imus: list[dict], mags: list[dict] = (), *, gyro_lag_us
     topics = []
     for k, imu in enumerate(imus):
         topics.append(px4_sensor("sensor_accel", k, imu["time_us"], imu["acc"], imu["temperature"], 2424842 + k))
-        topics.append(px4_sensor("sensor_gyro", k, imu["time_us"] + gyro_lag_us, imu["gyr"], imu["temperature"],
-                                 2424842 + k))
+        topics.append(
+            px4_sensor("sensor_gyro", k, imu["time_us"] + gyro_lag_us, imu["gyr"], imu["temperature"], 2424842 + k)
+        )
     for k, mag in enumerate(mags):
         topics.append(px4_sensor("sensor_mag", k, mag["time_us"], mag["mag"] / 100.0, None, 592905 + k))
     return write_ulog(path, topics)
@@ -274,14 +414,17 @@ def px4_file(path: Path, imus: list[dict], mags: list[dict] = (), *, gyro_lag_us
 
 def ardupilot_file(path: Path, imus: list[dict], mags: list[dict] = (), *, numbered_mags: bool = False) -> Path:
     """A DataFlash log of the IMU instances (``IMU`` with ``I``) and compasses (``MAG`` in milligauss)."""
-    messages = [ardupilot_imu(k, imu["time_us"], imu["acc"], imu["gyr"], imu["temperature"])
-                for k, imu in enumerate(imus)]
-    messages += [ardupilot_mag(k, mag["time_us"], mag["mag"] * 10.0, numbered=numbered_mags)
-                 for k, mag in enumerate(mags)]
+    messages = [
+        ardupilot_imu(k, imu["time_us"], imu["acc"], imu["gyr"], imu["temperature"]) for k, imu in enumerate(imus)
+    ]
+    messages += [
+        ardupilot_mag(k, mag["time_us"], mag["mag"] * 10.0, numbered=numbered_mags) for k, mag in enumerate(mags)
+    ]
     return write_dataflash(path, messages)
 
 
 # -- a simulated flight written as both firmwares' logs -----------------------------------------------------
+
 
 def _c_nb_to_rpy_deg(c):
     """Roll, pitch, yaw (degrees, yaw 0..360 as ArduPilot logs it) of body → NED matrices, ZYX."""
@@ -357,80 +500,191 @@ def ardupilot_flight_messages(flight: dict, *, generation: str = "new", instance
     mot = np.asarray(cal.get("motor", np.zeros(3)), dtype=float) * 10.0
     mofs = np.zeros((n, 3)) if kind is None else np.outer(_power_of(flight, kind), mot)
     h = (m_mg + ofs) @ D.T + mofs if new else (m_mg + ofs + mofs) @ D.T
-    mag = {**stamp, **{f"Mag{a}": h[:, k] for k, a in enumerate("XYZ")},
-           **{f"Ofs{a}": np.full(n, ofs[k]) for k, a in enumerate("XYZ")},
-           **{f"MOfs{a}": mofs[:, k] for k, a in enumerate("XYZ")}, "Health": np.ones(n)}
-    mag_cols = [tname] + ([] if not new else ["I"]) + [f"{p}{a}" for p in ("Mag", "Ofs", "MOfs") for a in "XYZ"] + [
-        "Health"]
+    mag = {
+        **stamp,
+        **{f"Mag{a}": h[:, k] for k, a in enumerate("XYZ")},
+        **{f"Ofs{a}": np.full(n, ofs[k]) for k, a in enumerate("XYZ")},
+        **{f"MOfs{a}": mofs[:, k] for k, a in enumerate("XYZ")},
+        "Health": np.ones(n),
+    }
+    mag_cols = (
+        [tname] + ([] if not new else ["I"]) + [f"{p}{a}" for p in ("Mag", "Ofs", "MOfs") for a in "XYZ"] + ["Health"]
+    )
     if new:
         mag["I"] = np.full(n, instance)
     name = "MAG" if new or instance == 0 else f"MAG{instance + 1}"
-    messages = [{"name": "MSG", "type": 91, "format": "Z", "columns": ["Message"],
-                 "data": {"Message": np.array([b"ArduCopter V4.5.0 (simulated)" if new
-                                               else b"APM:Copter V3.3-dev (simulated)"])}}]
+    messages = [
+        {
+            "name": "MSG",
+            "type": 91,
+            "format": "Z",
+            "columns": ["Message"],
+            "data": {
+                "Message": np.array([b"ArduCopter V4.5.0 (simulated)" if new else b"APM:Copter V3.3-dev (simulated)"])
+            },
+        }
+    ]
     k = ("", "2", "3")[instance]
     params = {f"COMPASS_OFS{k}_{a}": ofs[i] for i, a in enumerate("XYZ")}
     params |= {f"COMPASS_DIA{k}_{a}": D[i, i] for i, a in enumerate("XYZ")}
     params |= {f"COMPASS_ODI{k}_X": D[0, 1], f"COMPASS_ODI{k}_Y": D[0, 2], f"COMPASS_ODI{k}_Z": D[1, 2]}
     params |= {f"COMPASS_MOT{k}_{a}": mot[i] for i, a in enumerate("XYZ")}
-    params |= {"COMPASS_MOTCT": {None: 0, "throttle": 1, "current": 2}[kind],
-               f"COMPASS_ORIENT{k}": cal.get("orientation") or 0}
+    params |= {
+        "COMPASS_MOTCT": {None: 0, "throttle": 1, "current": 2}[kind],
+        f"COMPASS_ORIENT{k}": cal.get("orientation") or 0,
+    }
     if new:
         params[f"COMPASS_SCALE{k}"] = 1.0
     names = np.array([p.encode() for p in params])
     parm = {"Name": names, "Value": np.array(list(params.values()), dtype=float)}
     if new:
         parm["TimeUS"] = np.zeros(len(names), dtype=np.uint64)
-    messages.append({"name": "PARM", "type": 92, "format": "QNf" if new else "Nf",
-                     "columns": (["TimeUS"] if new else []) + ["Name", "Value"], "data": parm})
-    messages.append({"name": name, "type": 150 + (0 if new else instance), "format": tfmt + ("B" if new else "")
-                     + "fffffffffB", "columns": mag_cols, "data": mag})
+    messages.append(
+        {
+            "name": "PARM",
+            "type": 92,
+            "format": "QNf" if new else "Nf",
+            "columns": (["TimeUS"] if new else []) + ["Name", "Value"],
+            "data": parm,
+        }
+    )
+    messages.append(
+        {
+            "name": name,
+            "type": 150 + (0 if new else instance),
+            "format": tfmt + ("B" if new else "") + "fffffffffB",
+            "columns": mag_cols,
+            "data": mag,
+        }
+    )
     acc = _specific_force(flight)
     imu = {**stamp, **{f"Gyr{a}": np.zeros(n) for a in "XYZ"}, **{f"Acc{a}": acc[:, k] for k, a in enumerate("XYZ")}}
     if new:
-        messages.append({"name": "IMU", "type": 159, "format": "QBfffffff",
-                         "columns": ["TimeUS", "I", "GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ", "T"],
-                         "data": {**imu, "I": np.zeros(n), "T": np.full(n, 35.0)}})
+        messages.append(
+            {
+                "name": "IMU",
+                "type": 159,
+                "format": "QBfffffff",
+                "columns": ["TimeUS", "I", "GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ", "T"],
+                "data": {**imu, "I": np.zeros(n), "T": np.full(n, 35.0)},
+            }
+        )
     else:
-        messages.append({"name": "IMU", "type": 159, "format": "Ifffffff",
-                         "columns": ["TimeMS", "GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ", "Temp"],
-                         "data": {**imu, "Temp": np.full(n, 35.0)}})
+        messages.append(
+            {
+                "name": "IMU",
+                "type": 159,
+                "format": "Ifffffff",
+                "columns": ["TimeMS", "GyrX", "GyrY", "GyrZ", "AccX", "AccY", "AccZ", "Temp"],
+                "data": {**imu, "Temp": np.full(n, 35.0)},
+            }
+        )
     roll, pitch, yaw = _c_nb_to_rpy_deg(np.asarray(flight["attitude_c_nb"], dtype=float))
-    messages.append({"name": "ATT", "type": 160, "format": tfmt + "ffffff",
-                     "columns": [tname, "DesRoll", "Roll", "DesPitch", "Pitch", "DesYaw", "Yaw"],
-                     "data": {**stamp, "DesRoll": roll, "Roll": roll, "DesPitch": pitch, "Pitch": pitch,
-                              "DesYaw": yaw, "Yaw": yaw}})
+    messages.append(
+        {
+            "name": "ATT",
+            "type": 160,
+            "format": tfmt + "ffffff",
+            "columns": [tname, "DesRoll", "Roll", "DesPitch", "Pitch", "DesYaw", "Yaw"],
+            "data": {
+                **stamp,
+                "DesRoll": roll,
+                "Roll": roll,
+                "DesPitch": pitch,
+                "Pitch": pitch,
+                "DesYaw": yaw,
+                "Yaw": yaw,
+            },
+        }
+    )
     cur, thr = np.asarray(flight["current_a"], dtype=float), np.asarray(flight["throttle"], dtype=float)
     if new:
-        messages.append({"name": "BAT", "type": 161, "format": "QBff", "columns": ["TimeUS", "Inst", "Volt", "Curr"],
-                         "data": {**stamp, "Inst": np.zeros(n), "Volt": np.full(n, 16.0), "Curr": cur}})
-        messages.append({"name": "CTUN", "type": 162, "format": "Qff", "columns": ["TimeUS", "ThI", "ThO"],
-                         "data": {**stamp, "ThI": thr, "ThO": thr}})
+        messages.append(
+            {
+                "name": "BAT",
+                "type": 161,
+                "format": "QBff",
+                "columns": ["TimeUS", "Inst", "Volt", "Curr"],
+                "data": {**stamp, "Inst": np.zeros(n), "Volt": np.full(n, 16.0), "Curr": cur},
+            }
+        )
+        messages.append(
+            {
+                "name": "CTUN",
+                "type": 162,
+                "format": "Qff",
+                "columns": ["TimeUS", "ThI", "ThO"],
+                "data": {**stamp, "ThI": thr, "ThO": thr},
+            }
+        )
     else:
-        messages.append({"name": "CURR", "type": 161, "format": "Ihhh",
-                         "columns": ["TimeMS", "Throttle", "Volt", "Curr"],
-                         "data": {**stamp, "Throttle": np.round(thr * 1000), "Volt": np.full(n, 1600),
-                                  "Curr": np.round(cur * 100)}})
-        messages.append({"name": "CTUN", "type": 162, "format": "Ihh", "columns": ["TimeMS", "ThrIn", "ThrOut"],
-                         "data": {**stamp, "ThrIn": np.round(thr * 1000), "ThrOut": np.round(thr * 1000)}})
+        messages.append(
+            {
+                "name": "CURR",
+                "type": 161,
+                "format": "Ihhh",
+                "columns": ["TimeMS", "Throttle", "Volt", "Curr"],
+                "data": {
+                    **stamp,
+                    "Throttle": np.round(thr * 1000),
+                    "Volt": np.full(n, 1600),
+                    "Curr": np.round(cur * 100),
+                },
+            }
+        )
+        messages.append(
+            {
+                "name": "CTUN",
+                "type": 162,
+                "format": "Ihh",
+                "columns": ["TimeMS", "ThrIn", "ThrOut"],
+                "data": {**stamp, "ThrIn": np.round(thr * 1000), "ThrOut": np.round(thr * 1000)},
+            }
+        )
     week, ms = _gps_week_ms(flight["utc"])
     lat, lon = round(flight["lat"] * 1e7), round(flight["lon"] * 1e7)
     status = np.full(n, 3)
     status[:2] = 1  # no fix at first: the first 3-D fix is read
     gps_ms = ms + np.round((t - t[2]) * 1000).astype(np.int64)
     if new:
-        messages.append({"name": "GPS", "type": 163, "format": "QBBIHBLLf",
-                         "columns": ["TimeUS", "I", "Status", "GMS", "GWk", "NSats", "Lat", "Lng", "Alt"],
-                         "data": {**stamp, "I": np.zeros(n), "Status": status, "GMS": gps_ms, "GWk": np.full(n, week),
-                                  "NSats": np.full(n, 12), "Lat": np.full(n, lat), "Lng": np.full(n, lon),
-                                  "Alt": np.full(n, flight["alt_m"])}})
+        messages.append(
+            {
+                "name": "GPS",
+                "type": 163,
+                "format": "QBBIHBLLf",
+                "columns": ["TimeUS", "I", "Status", "GMS", "GWk", "NSats", "Lat", "Lng", "Alt"],
+                "data": {
+                    **stamp,
+                    "I": np.zeros(n),
+                    "Status": status,
+                    "GMS": gps_ms,
+                    "GWk": np.full(n, week),
+                    "NSats": np.full(n, 12),
+                    "Lat": np.full(n, lat),
+                    "Lng": np.full(n, lon),
+                    "Alt": np.full(n, flight["alt_m"]),
+                },
+            }
+        )
     else:
-        messages.append({"name": "GPS", "type": 163, "format": "BIHBLLeI",
-                         "columns": ["Status", "TimeMS", "Week", "NSats", "Lat", "Lng", "Alt", "T"],
-                         "data": {"Status": status, "TimeMS": gps_ms, "Week": np.full(n, week), "NSats": np.full(n, 12),
-                                  "Lat": np.full(n, lat), "Lng": np.full(n, lon),
-                                  "Alt": np.full(n, round(flight["alt_m"] * 100)),
-                                  "T": np.round(t * 1e3).astype(np.uint32)}})
+        messages.append(
+            {
+                "name": "GPS",
+                "type": 163,
+                "format": "BIHBLLeI",
+                "columns": ["Status", "TimeMS", "Week", "NSats", "Lat", "Lng", "Alt", "T"],
+                "data": {
+                    "Status": status,
+                    "TimeMS": gps_ms,
+                    "Week": np.full(n, week),
+                    "NSats": np.full(n, 12),
+                    "Lat": np.full(n, lat),
+                    "Lng": np.full(n, lon),
+                    "Alt": np.full(n, round(flight["alt_m"] * 100)),
+                    "T": np.round(t * 1e3).astype(np.uint32),
+                },
+            }
+        )
     return messages
 
 
@@ -440,39 +694,75 @@ def px4_flight_topics(flight: dict, *, device_id: int = 396809, slot: int = 0):
     cal = flight["stored"]["px4"]
     t_us = np.round(np.asarray(flight["time_s"], dtype=float) * 1e6).astype(np.uint64)
     n = len(t_us)
-    topics = [px4_sensor("sensor_mag", 0, t_us, np.asarray(flight["mag_raw_ut"]) / 100.0, 35.0, device_id),
-              px4_sensor("sensor_accel", 0, t_us, _specific_force(flight), 35.0, 2424842),
-              px4_sensor("sensor_gyro", 0, t_us, np.zeros((n, 3)), 35.0, 2424842)]
+    topics = [
+        px4_sensor("sensor_mag", 0, t_us, np.asarray(flight["mag_raw_ut"]) / 100.0, 35.0, device_id),
+        px4_sensor("sensor_accel", 0, t_us, _specific_force(flight), 35.0, 2424842),
+        px4_sensor("sensor_gyro", 0, t_us, np.zeros((n, 3)), 35.0, 2424842),
+    ]
     q = _c_nb_to_quaternion(np.asarray(flight["attitude_c_nb"], dtype=float))
-    topics.append({"name": "vehicle_attitude", "multi_id": 0,
-                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("float[4]", "q")],
-                   "data": {"timestamp": t_us, "timestamp_sample": t_us, "q": q}})
-    topics.append({"name": "battery_status", "multi_id": 0,
-                   "fields": [("uint64_t", "timestamp"), ("float", "voltage_v"), ("float", "current_a")],
-                   "data": {"timestamp": t_us, "voltage_v": np.full(n, 16.0), "current_a": flight["current_a"]}})
+    topics.append(
+        {
+            "name": "vehicle_attitude",
+            "multi_id": 0,
+            "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("float[4]", "q")],
+            "data": {"timestamp": t_us, "timestamp_sample": t_us, "q": q},
+        }
+    )
+    topics.append(
+        {
+            "name": "battery_status",
+            "multi_id": 0,
+            "fields": [("uint64_t", "timestamp"), ("float", "voltage_v"), ("float", "current_a")],
+            "data": {"timestamp": t_us, "voltage_v": np.full(n, 16.0), "current_a": flight["current_a"]},
+        }
+    )
     controls = np.zeros((n, 8))
     controls[:, 3] = flight["throttle"]
-    topics.append({"name": "actuator_controls_0", "multi_id": 0,
-                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("float[8]", "control")],
-                   "data": {"timestamp": t_us, "timestamp_sample": t_us, "control": controls}})
+    topics.append(
+        {
+            "name": "actuator_controls_0",
+            "multi_id": 0,
+            "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("float[8]", "control")],
+            "data": {"timestamp": t_us, "timestamp_sample": t_us, "control": controls},
+        }
+    )
     fix = np.full(n, 3)
     fix[:2] = 0
     utc_us = int(round(flight["utc"].timestamp() * 1e6))
-    topics.append({"name": "vehicle_gps_position", "multi_id": 0,
-                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "time_utc_usec"), ("int32_t", "lat"),
-                              ("int32_t", "lon"), ("int32_t", "alt"), ("uint8_t", "fix_type")],
-                   "data": {"timestamp": t_us, "time_utc_usec": utc_us + (t_us - t_us[2]).astype(np.int64),
-                            "lat": np.full(n, round(flight["lat"] * 1e7)),
-                            "lon": np.full(n, round(flight["lon"] * 1e7)),
-                            "alt": np.full(n, round(flight["alt_m"] * 1000)), "fix_type": fix}})
+    topics.append(
+        {
+            "name": "vehicle_gps_position",
+            "multi_id": 0,
+            "fields": [
+                ("uint64_t", "timestamp"),
+                ("uint64_t", "time_utc_usec"),
+                ("int32_t", "lat"),
+                ("int32_t", "lon"),
+                ("int32_t", "alt"),
+                ("uint8_t", "fix_type"),
+            ],
+            "data": {
+                "timestamp": t_us,
+                "time_utc_usec": utc_us + (t_us - t_us[2]).astype(np.int64),
+                "lat": np.full(n, round(flight["lat"] * 1e7)),
+                "lon": np.full(n, round(flight["lon"] * 1e7)),
+                "alt": np.full(n, round(flight["alt_m"] * 1000)),
+                "fix_type": fix,
+            },
+        }
+    )
     M = np.asarray(cal["matrix"], dtype=float)
     kind = cal.get("motor_kind")
     comp = np.asarray(cal.get("motor", np.zeros(3)), dtype=float) / 100.0
     if kind == "current":
         comp = comp / 1e-3  # per kA
     p = f"CAL_MAG{slot}_"
-    params = {p + "ID": int(device_id), p + "ROT": int(-1 if cal.get("orientation") is None else cal["orientation"]),
-              "CAL_MAG_COMP_TYP": {None: 0, "throttle": 1, "current": 2}[kind], "SENS_BOARD_ROT": 0}
+    params = {
+        p + "ID": int(device_id),
+        p + "ROT": int(-1 if cal.get("orientation") is None else cal["orientation"]),
+        "CAL_MAG_COMP_TYP": {None: 0, "throttle": 1, "current": 2}[kind],
+        "SENS_BOARD_ROT": 0,
+    }
     params |= {p + f"{a}OFF": float(cal["offsets_ut"][i] / 100.0) for i, a in enumerate("XYZ")}
     params |= {p + f"{a}SCALE": float(M[i, i]) for i, a in enumerate("XYZ")}
     params |= {p + "XODIAG": float(M[0, 1]), p + "YODIAG": float(M[0, 2]), p + "ZODIAG": float(M[1, 2])}
@@ -493,8 +783,9 @@ def write_flight_logs(directory, flight: dict, *, ardupilot_generation: str = "n
     MAG corrected by its stored calibration (its formula of that generation), PX4's sensor_mag raw.
     """
     directory = Path(directory)
-    bin_path = write_dataflash(directory / "flight.bin", ardupilot_flight_messages(flight,
-                                                                                  generation=ardupilot_generation))
+    bin_path = write_dataflash(
+        directory / "flight.bin", ardupilot_flight_messages(flight, generation=ardupilot_generation)
+    )
     topics, params, info = px4_flight_topics(flight)
     ulg_path = directory / "flight.ulg"
     ulg_path.write_bytes(ulog_bytes(topics, params=params, info=info))
@@ -512,20 +803,43 @@ def simulated_flight(seed: int, *, n: int = 600, rate_hz: float = 10.0) -> dict:
     roll, pitch = 15 * np.sin(t / 3.0), 10 * np.cos(t / 5.0)
     r, p, y = np.radians(roll), np.radians(pitch), np.radians(yaw)
     cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
-    c = np.stack([np.stack([cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy], -1),
-                  np.stack([cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy], -1),
-                  np.stack([-sp, sr * cp, cr * cp], -1)], -2)
+    c = np.stack(
+        [
+            np.stack([cp * cy, sr * sp * cy - cr * sy, cr * sp * cy + sr * sy], -1),
+            np.stack([cp * sy, sr * sp * sy + cr * cy, cr * sp * sy - sr * cy], -1),
+            np.stack([-sp, sr * cp, cr * cp], -1),
+        ],
+        -2,
+    )
     b_ned = np.array([20.0, 1.5, 45.0])
     field_body = np.einsum("nji,j->ni", c, b_ned)
     mag = field_body + rng.normal(0, 0.3, (n, 3)) + np.array([8.0, -5.0, 12.0])
     throttle = np.clip(0.4 + 0.2 * np.sin(t / 7.0), 0, 1)
     soft = np.array([[1.02, 0.01, -0.005], [0.01, 0.98, 0.002], [-0.005, 0.002, 1.01]])
-    return {"time_s": t, "attitude_c_nb": c, "mag_raw_ut": mag, "current_a": 30.0 * throttle, "throttle": throttle,
-            "lat": 47.3977419, "lon": 8.5455939, "alt_m": 488.0,
-            "utc": dt.datetime(2024, 3, 18, 14, 49, 19, 500000, tzinfo=dt.timezone.utc),
-            "stored": {"ardupilot": {"offsets_ut": np.array([-8.1, 5.2, -11.9]), "matrix": soft,
-                                     "motor": np.array([0.05, -0.03, 0.12]), "motor_kind": "current",
-                                     "orientation": 0},
-                       "px4": {"offsets_ut": np.array([8.1, -5.2, 11.9]), "matrix": soft,
-                               "motor": np.array([0.02, 0.01, -0.04]), "motor_kind": "current",
-                               "orientation": 2}}}
+    return {
+        "time_s": t,
+        "attitude_c_nb": c,
+        "mag_raw_ut": mag,
+        "current_a": 30.0 * throttle,
+        "throttle": throttle,
+        "lat": 47.3977419,
+        "lon": 8.5455939,
+        "alt_m": 488.0,
+        "utc": dt.datetime(2024, 3, 18, 14, 49, 19, 500000, tzinfo=dt.timezone.utc),
+        "stored": {
+            "ardupilot": {
+                "offsets_ut": np.array([-8.1, 5.2, -11.9]),
+                "matrix": soft,
+                "motor": np.array([0.05, -0.03, 0.12]),
+                "motor_kind": "current",
+                "orientation": 0,
+            },
+            "px4": {
+                "offsets_ut": np.array([8.1, -5.2, 11.9]),
+                "matrix": soft,
+                "motor": np.array([0.02, 0.01, -0.04]),
+                "motor_kind": "current",
+                "orientation": 2,
+            },
+        },
+    }

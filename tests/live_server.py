@@ -33,14 +33,23 @@ class LiveServer:
     the server is polled over HTTPS and verified against that certificate.
     """
 
-    def __init__(self, env: dict, port: int | None = None, command: list[str] | None = None,
-                 https_ca: Path | None = None):
+    def __init__(
+        self, env: dict, port: int | None = None, command: list[str] | None = None, https_ca: Path | None = None
+    ):
         self.port = port or free_port()
         self.https_ca = https_ca
         self.url = f"{'https' if https_ca else 'http'}://127.0.0.1:{self.port}"
         self.env = {**os.environ, **env}
-        self.command = command or [sys.executable, "-m", "app.cli", "serve", "--host", "127.0.0.1",
-                                   "--port", str(self.port)]
+        self.command = command or [
+            sys.executable,
+            "-m",
+            "app.cli",
+            "serve",
+            "--host",
+            "127.0.0.1",
+            "--port",
+            str(self.port),
+        ]
         self.process: subprocess.Popen | None = None
         self.log = Path(tempfile.mkstemp(prefix="trical-server-", suffix=".log")[1])
 

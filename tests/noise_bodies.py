@@ -22,8 +22,8 @@ def overlapping_adev(rate: np.ndarray, fs: float, per_decade: int = 8) -> tuple[
     tau = ms / fs
     value = np.empty((ms.size, rate.shape[1]))
     for j, m in enumerate(ms):
-        d = theta[2 * m:] - 2 * theta[m:-m] + theta[:-2 * m]
-        value[j] = np.sqrt((d ** 2).sum(axis=0) / (2 * tau[j] ** 2 * (theta.shape[0] - 2 * m)))
+        d = theta[2 * m :] - 2 * theta[m:-m] + theta[: -2 * m]
+        value[j] = np.sqrt((d**2).sum(axis=0) / (2 * tau[j] ** 2 * (theta.shape[0] - 2 * m)))
     edf = np.maximum(n / ms - 1, 1.0)[:, None]
     lo = value * np.sqrt(edf / chi2.ppf(0.975, edf))
     hi = value * np.sqrt(edf / chi2.ppf(0.025, edf))
@@ -39,8 +39,15 @@ def simulate(seed: int, fs: float, seconds: float, n_density, k_walk) -> np.ndar
     return 0.01 + white + walk
 
 
-def noise_body(sensors=("gyr",), seed: int = 13, fs: float = 200.0, seconds: float = 1000.0,
-               n_density=(2e-3, 2.6e-3, 1.5e-3), k_walk=(4e-5, 6e-5, 3e-5), null=()) -> dict:
+def noise_body(
+    sensors=("gyr",),
+    seed: int = 13,
+    fs: float = 200.0,
+    seconds: float = 1000.0,
+    n_density=(2e-3, 2.6e-3, 1.5e-3),
+    k_walk=(4e-5, 6e-5, 3e-5),
+    null=(),
+) -> dict:
     """A stored-calibration-like noise body; ``null`` lists (sensor, term, axis index) set to null."""
     model, adev = {"type": "noise"}, {}
     for j, sensor in enumerate(sensors):
@@ -53,11 +60,26 @@ def noise_body(sensors=("gyr",), seed: int = 13, fs: float = 200.0, seconds: flo
             if s == sensor:
                 terms[term][i] = None
         unit = UNITS[sensor]
-        model[sensor] = {"unit": unit, "bias": [0.01] * 3, **terms, "noise_density_unit": f"({unit})/√Hz",
-                         "random_walk_unit": f"({unit})·√Hz", "bias_instability_unit": unit}
+        model[sensor] = {
+            "unit": unit,
+            "bias": [0.01] * 3,
+            **terms,
+            "noise_density_unit": f"({unit})/√Hz",
+            "random_walk_unit": f"({unit})·√Hz",
+            "bias_instability_unit": unit,
+        }
         adev[sensor] = {"tau_s": tau.tolist(), "value": value.tolist(), "lo": lo.tolist(), "hi": hi.tolist()}
-    return {"id": "cal_noise_fixture", "method": "noise", "created_at": "2025-01-31T12:34:56.789Z",
-            "model": model, "adev": adev, "ok": True, "reasons": [], "warnings": [], "metrics": {}}
+    return {
+        "id": "cal_noise_fixture",
+        "method": "noise",
+        "created_at": "2025-01-31T12:34:56.789Z",
+        "model": model,
+        "adev": adev,
+        "ok": True,
+        "reasons": [],
+        "warnings": [],
+        "metrics": {},
+    }
 
 
 def three_sensors_body() -> dict:

@@ -24,8 +24,10 @@ from tests.processes import ProcessFailed, failure, run_ok
 def pg_bin() -> Path:
     found = sorted(glob.glob("/usr/lib/postgresql/*/bin/initdb"))
     if not found:
-        raise RuntimeError("PostgreSQL is not installed (no /usr/lib/postgresql/*/bin/initdb): "
-                           "run `make test`, which installs Debian's postgresql")
+        raise RuntimeError(
+            "PostgreSQL is not installed (no /usr/lib/postgresql/*/bin/initdb): "
+            "run `make test`, which installs Debian's postgresql"
+        )
     return Path(found[-1]).parent
 
 
@@ -71,23 +73,48 @@ def postgres_server():
     port = free_port()
     log = root / "server.log"
     try:
-        run_ok(_as_server_user([str(bindir / "initdb"), "-D", str(data), "-A", "trust", "-U", "postgres", "-E", "UTF8"]),
-               timeout_s=START_TIMEOUT_S)
+        run_ok(
+            _as_server_user([str(bindir / "initdb"), "-D", str(data), "-A", "trust", "-U", "postgres", "-E", "UTF8"]),
+            timeout_s=START_TIMEOUT_S,
+        )
         try:
-            run_ok(_as_server_user([str(bindir / "pg_ctl"), "-D", str(data), "-l", str(log), "-w",
-                                    "-t", str(START_TIMEOUT_S), "-o",
-                                    f"-p {port} -k {sock} -h 127.0.0.1 -c fsync=on -c synchronous_commit=on", "start"]),
-                   timeout_s=START_TIMEOUT_S + 10)
+            run_ok(
+                _as_server_user(
+                    [
+                        str(bindir / "pg_ctl"),
+                        "-D",
+                        str(data),
+                        "-l",
+                        str(log),
+                        "-w",
+                        "-t",
+                        str(START_TIMEOUT_S),
+                        "-o",
+                        f"-p {port} -k {sock} -h 127.0.0.1 -c fsync=on -c synchronous_commit=on",
+                        "start",
+                    ]
+                ),
+                timeout_s=START_TIMEOUT_S + 10,
+            )
         except ProcessFailed as exc:
             raise failure("PostgreSQL", f"did not start ({exc})", log) from None
         deadline = time.monotonic() + START_TIMEOUT_S
-        while subprocess.run([str(bindir / "pg_isready"), "-h", "127.0.0.1", "-p", str(port)],
-                             capture_output=True, timeout=CONNECT_TIMEOUT_S + 5).returncode != 0:
+        while (
+            subprocess.run(
+                [str(bindir / "pg_isready"), "-h", "127.0.0.1", "-p", str(port)],
+                capture_output=True,
+                timeout=CONNECT_TIMEOUT_S + 5,
+            ).returncode
+            != 0
+        ):
             if time.monotonic() > deadline:
                 raise failure("PostgreSQL", f"did not accept connections within {START_TIMEOUT_S} s", log)
             time.sleep(0.2)
         yield PostgresServer(f"postgresql://postgres@127.0.0.1:{port}", log)
     finally:
-        subprocess.run(_as_server_user([str(bindir / "pg_ctl"), "-D", str(data), "-m", "immediate", "stop"]),
-                       capture_output=True, timeout=60)
+        subprocess.run(
+            _as_server_user([str(bindir / "pg_ctl"), "-D", str(data), "-m", "immediate", "stop"]),
+            capture_output=True,
+            timeout=60,
+        )
         shutil.rmtree(root, ignore_errors=True)

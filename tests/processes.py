@@ -85,7 +85,11 @@ def start_xvfb(xvfb: str, timeout_s: float = 20.0) -> tuple[subprocess.Popen, st
         with open(log, "ab") as out:
             process = subprocess.Popen(
                 [xvfb, "-displayfd", str(write), "-screen", "0", "1400x6000x24", "-nolisten", "tcp"],
-                pass_fds=(write,), stdin=subprocess.DEVNULL, stdout=out, stderr=subprocess.STDOUT)
+                pass_fds=(write,),
+                stdin=subprocess.DEVNULL,
+                stdout=out,
+                stderr=subprocess.STDOUT,
+            )
         os.close(write)
         write = -1
         line = read_line(read, timeout_s)
@@ -109,9 +113,11 @@ def run_ok(command: list[str], *, timeout_s: float, **kwargs) -> subprocess.Comp
         out = subprocess.run(command, capture_output=True, text=True, timeout=timeout_s, **kwargs)
     except subprocess.TimeoutExpired as exc:
         said = exc.stderr.decode(errors="replace") if isinstance(exc.stderr, bytes) else (exc.stderr or "")
-        raise ProcessFailed(f"{name} did not finish within {timeout_s:g} s; its stderr:\n"
-                            f"{said[-3000:] or '(nothing)'}") from None
+        raise ProcessFailed(
+            f"{name} did not finish within {timeout_s:g} s; its stderr:\n{said[-3000:] or '(nothing)'}"
+        ) from None
     if out.returncode != 0:
-        raise ProcessFailed(f"{name} exited with status {out.returncode}; its stderr:\n"
-                            f"{out.stderr[-3000:] or '(nothing)'}")
+        raise ProcessFailed(
+            f"{name} exited with status {out.returncode}; its stderr:\n{out.stderr[-3000:] or '(nothing)'}"
+        )
     return out

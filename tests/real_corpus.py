@@ -52,8 +52,7 @@ class Case:
 
 def cases() -> list[Case]:
     """Every case of the corpus, by folder name."""
-    return [Case(p.parent.name, p.parent, json.loads(p.read_text()))
-            for p in sorted(CORPUS.glob("*/case.json"))]
+    return [Case(p.parent.name, p.parent, json.loads(p.read_text())) for p in sorted(CORPUS.glob("*/case.json"))]
 
 
 def problems(case: Case) -> list[str]:
@@ -98,13 +97,23 @@ def _answer(spec: dict) -> str:
 def table() -> str:
     """The corpus as a Markdown table (tests/data/real/corpus/README.md): case, device, files, what trical is
     asked and must answer, the reference, and the source with its commit and licence."""
-    rows = ["| case | device | files | asked | must answer | reference | source (repository, path, commit) | licence |",
-            "| --- | --- | --- | --- | --- | --- | --- | --- |"]
+    rows = [
+        "| case | device | files | asked | must answer | reference | source (repository, path, commit) | licence |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
     for c in cases():
         s, src = c.spec, c.spec.get("source", {})
         method = s.get("calibrate", {}).get("method", "upload")
-        cells = [c.name, s.get("device", ""), ", ".join(s.get("files", [])), method, _answer(s), s.get("reference", ""),
-                 f"{src.get('repository', '')}, {src.get('path', '')}, {src.get('commit', '')}", src.get("licence", "")]
+        cells = [
+            c.name,
+            s.get("device", ""),
+            ", ".join(s.get("files", [])),
+            method,
+            _answer(s),
+            s.get("reference", ""),
+            f"{src.get('repository', '')}, {src.get('path', '')}, {src.get('commit', '')}",
+            src.get("licence", ""),
+        ]
         rows.append("| " + " | ".join(str(x).replace("|", "\\|").replace("\n", " ") for x in cells) + " |")
     return "\n".join(rows)
 

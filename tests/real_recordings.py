@@ -96,18 +96,43 @@ def recordings() -> list[Recording]:
     """Every real recording, one per session."""
     tedaldi = peer("mpu6050_tedaldi_peer.json")
     out = [
-        Recording("mpu6050-session1", "MPU-6050 (Arduino UNO), Tedaldi et al. protocol", mpu6050_session1(), "g", 1.0,
-                  other_sessions=("mpu6050-session2",), peer={"tedaldi": tedaldi}),
-        Recording("mpu6050-session2", "MPU-6050 (Arduino UNO), validation", mpu6050_session2(), "g", 1.0,
-                  other_sessions=("mpu6050-session1",)),
+        Recording(
+            "mpu6050-session1",
+            "MPU-6050 (Arduino UNO), Tedaldi et al. protocol",
+            mpu6050_session1(),
+            "g",
+            1.0,
+            other_sessions=("mpu6050-session2",),
+            peer={"tedaldi": tedaldi},
+        ),
+        Recording(
+            "mpu6050-session2",
+            "MPU-6050 (Arduino UNO), validation",
+            mpu6050_session2(),
+            "g",
+            1.0,
+            other_sessions=("mpu6050-session1",),
+        ),
     ]
     sessions = mpu9250_sessions()
     for name, (ups, means) in sessions.items():
-        out.append(Recording(f"mpu9250-{name}", "MPU-9250 (Raspberry Pi), six-position", means, "g", 1.0, ups=ups,
-                             other_sessions=tuple(f"mpu9250-{n}" for n in sessions if n != name),
-                             peer={"ward": peer("mpu9250_trial1_peer.json")} if name == "trial_1" else {}))
-    for k, device in ((1, "Huawei phone (Georgieva et al. Table 1)"), (2, "phone (Georgieva et al. Table 2)"),
-                      (3, "GT phone (Georgieva et al. Table 3)")):
+        out.append(
+            Recording(
+                f"mpu9250-{name}",
+                "MPU-9250 (Raspberry Pi), six-position",
+                means,
+                "g",
+                1.0,
+                ups=ups,
+                other_sessions=tuple(f"mpu9250-{n}" for n in sessions if n != name),
+                peer={"ward": peer("mpu9250_trial1_peer.json")} if name == "trial_1" else {},
+            )
+        )
+    for k, device in (
+        (1, "Huawei phone (Georgieva et al. Table 1)"),
+        (2, "phone (Georgieva et al. Table 2)"),
+        (3, "GT phone (Georgieva et al. Table 3)"),
+    ):
         out.append(Recording(f"georgieva-table{k}", device, seed_table(k), "m/s^2", GEORGIEVA_GRAVITY))
     return out
 

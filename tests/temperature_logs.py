@@ -32,6 +32,12 @@ def warm_up_csv(seed: int = 5, *, temperature_header: str = "temp_c", acc_in_g: 
     w = warm_up(seed, **kw)
     acc = w.acc / 9.80665 if acc_in_g else w.acc
     buf = io.StringIO()
-    np.savetxt(buf, np.column_stack([w.time_s, acc, w.gyr, w.temperature_c]), delimiter=",", comments="",
-               fmt="%.9g", header=f"time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,{temperature_header}")
+    np.savetxt(
+        buf,
+        np.column_stack([w.time_s, acc, w.gyr, w.temperature_c]),
+        delimiter=",",
+        comments="",
+        fmt="%.9g",
+        header=f"time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,{temperature_header}",
+    )
     return buf.getvalue().encode()

@@ -204,8 +204,13 @@ def violations(rows: list[Row], root: Path) -> list[tuple[int, str]]:
                 elif lib in banned_libraries:
                     found.append((i, f"{rel} imports {lib}, which its row's must-not-import cell bans"))
                 elif named_libraries and lib not in named_libraries:
-                    found.append((i, f"{rel} imports {lib}, a library its row's may-import cell does not name "
-                                     f"(it names {', '.join(sorted(named_libraries))})"))
+                    found.append(
+                        (
+                            i,
+                            f"{rel} imports {lib}, a library its row's may-import cell does not name "
+                            f"(it names {', '.join(sorted(named_libraries))})",
+                        )
+                    )
     return found
 
 
@@ -214,8 +219,20 @@ ROWS = table_rows(DOC.read_text(encoding="utf-8"))
 
 def test_the_table_is_read():
     paths = {p for row in ROWS for p in row.paths}
-    assert {"app/calibration", "app/io", "app/store", "app/workflows", "app/guided", "app/api", "app/web",
-            "app/cli", "app/cli/board.py", "app/guided/capture_rules.py", "app/reach", "app/main.py"} <= paths, paths
+    assert {
+        "app/calibration",
+        "app/io",
+        "app/store",
+        "app/workflows",
+        "app/guided",
+        "app/api",
+        "app/web",
+        "app/cli",
+        "app/cli/board.py",
+        "app/guided/capture_rules.py",
+        "app/reach",
+        "app/main.py",
+    } <= paths, paths
 
 
 def test_every_path_the_table_names_is_a_module_or_a_package():
@@ -237,17 +254,24 @@ def test_every_module_imports_what_its_row_allows_and_nothing_it_forbids(index):
     assert not found, "\n".join(found)
 
 
-
 NOT_FOR_APP = "no module of `app` imports it"
 """The words of a row whose modules serve only the tests and the benches (the simulations)."""
 
 
 def test_no_module_of_app_imports_what_serves_only_tests():
     section = DOC.read_text(encoding="utf-8").split("## Who may import whom", 1)[1].split("\n## ", 1)[0]
-    banned = [re.findall(r"`([^`]+)`", line)[0].rstrip("/") for line in section.splitlines() if line.startswith("|") and NOT_FOR_APP in line]
+    banned = [
+        re.findall(r"`([^`]+)`", line)[0].rstrip("/")
+        for line in section.splitlines()
+        if line.startswith("|") and NOT_FOR_APP in line
+    ]
     assert banned == ["simulations"], f"the table's rows saying {NOT_FOR_APP!r}: {banned}"
-    found = [f"{file.relative_to(ROOT)} imports {name}" for file in sorted((ROOT / "app").rglob("*.py"))
-             for name in sorted(imports_of(file, ROOT)) if name == "simulations" or name.startswith("simulations.")]
+    found = [
+        f"{file.relative_to(ROOT)} imports {name}"
+        for file in sorted((ROOT / "app").rglob("*.py"))
+        for name in sorted(imports_of(file, ROOT))
+        if name == "simulations" or name.startswith("simulations.")
+    ]
     assert not found, "\n".join(found)
 
 
@@ -269,10 +293,17 @@ PLANTED_DOC = """# Architecture
 
 
 def plant(tmp_path: Path, files: dict[str, str], extra: str = "") -> tuple[list[Row], Path]:
-    for rel, source in {"app/__init__.py": "", "app/core/__init__.py": "", "app/core/fit.py": "import numpy\n",
-                        "app/workflow.py": "from app.core import fit\n", "app/workflows/__init__.py": "",
-                        "app/workflows/still.py": "from app.core.fit import numpy\n", "app/api/__init__.py": "",
-                        "app/api/routes.py": "from app.workflows import still\n", **files}.items():
+    for rel, source in {
+        "app/__init__.py": "",
+        "app/core/__init__.py": "",
+        "app/core/fit.py": "import numpy\n",
+        "app/workflow.py": "from app.core import fit\n",
+        "app/workflows/__init__.py": "",
+        "app/workflows/still.py": "from app.core.fit import numpy\n",
+        "app/api/__init__.py": "",
+        "app/api/routes.py": "from app.workflows import still\n",
+        **files,
+    }.items():
         (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
         (tmp_path / rel).write_text(source, encoding="utf-8")
     return table_rows(PLANTED_DOC.format(extra=extra)), tmp_path
@@ -285,26 +316,38 @@ def test_planted_a_clean_tree_passes(tmp_path):
 
 
 def test_planted_an_import_the_may_column_does_not_name_fails(tmp_path):
-    rows, root = plant(tmp_path, {"app/workflows/still.py": "def f():\n    from app.api import routes\n"
-                                                            "from app.core import fit\n"})
+    rows, root = plant(
+        tmp_path, {"app/workflows/still.py": "def f():\n    from app.api import routes\nfrom app.core import fit\n"}
+    )
     assert [v for _, v in violations(rows, root)] == [
-        "app/workflows/still.py imports app.api.routes, which its row's may-import cell does not name"]
+        "app/workflows/still.py imports app.api.routes, which its row's may-import cell does not name"
+    ]
 
 
 def test_planted_an_import_the_must_not_column_bans_fails_even_when_the_may_column_names_it(tmp_path):
-    rows, root = plant(tmp_path, {"app/workflows/still.py": "import app.workflow\n"},
-                       "| `app/cli.py` | `app/workflow.py`, `app/api` | `app/api` |\n")
+    rows, root = plant(
+        tmp_path,
+        {"app/workflows/still.py": "import app.workflow\n"},
+        "| `app/cli.py` | `app/workflow.py`, `app/api` | `app/api` |\n",
+    )
     (root / "app/cli.py").write_text("from app.api import routes\nfrom app import workflow\n", encoding="utf-8")
     assert [v for _, v in violations(rows, root)] == [
         "app/workflows/still.py imports app.workflow, which its row's may-import cell does not name",
-        "app/cli.py imports app.api.routes, which its row's must-not-import cell bans"]
+        "app/cli.py imports app.api.routes, which its row's must-not-import cell bans",
+    ]
 
 
 def test_planted_a_library_the_may_column_does_not_name_fails_where_it_names_libraries(tmp_path):
-    rows, root = plant(tmp_path, {"app/core/fit.py": "import numpy\nimport scipy.linalg\n",
-                                  "app/api/routes.py": "import scipy\nfrom app.workflows import still\n"})
+    rows, root = plant(
+        tmp_path,
+        {
+            "app/core/fit.py": "import numpy\nimport scipy.linalg\n",
+            "app/api/routes.py": "import scipy\nfrom app.workflows import still\n",
+        },
+    )
     assert [v for _, v in violations(rows, root)] == [
-        "app/core/fit.py imports scipy, a library its row's may-import cell does not name (it names numpy)"]
+        "app/core/fit.py imports scipy, a library its row's may-import cell does not name (it names numpy)"
+    ]
 
 
 def test_planted_a_module_without_a_row_fails(tmp_path):

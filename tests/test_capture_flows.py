@@ -42,7 +42,7 @@ class SimulatedPort:
     def read(self, n: int) -> bytes:
         self.clock.now += self.tick
         due = min(len(self.lines), int((self.clock.now - self.start) * self.rate_hz))
-        chunk = "".join(line + "\r\n" for line in self.lines[self.sent:due])
+        chunk = "".join(line + "\r\n" for line in self.lines[self.sent : due])
         self.sent = due
         return chunk.encode()[:n] if len(chunk) <= n else chunk.encode()
 
@@ -83,8 +83,9 @@ def run_capture(tmp_path, monkeypatch, capsys, lines, rate_hz, *args) -> tuple[i
     monkeypatch.setenv("TRICAL_DATABASE_URL", f"sqlite:///{tmp_path / 'trical.db'}")
     clock = SimulatedClock()
     port = SimulatedPort(lines, rate_hz, clock)
-    cli_args = build_parser().parse_args(["capture", "SIMULATED", "--out", str(tmp_path / "board.csv"), "--json",
-                                     "--no-store", *args])
+    cli_args = build_parser().parse_args(
+        ["capture", "SIMULATED", "--out", str(tmp_path / "board.csv"), "--json", "--no-store", *args]
+    )
     status = capture_on_port(port, cli_args, Settings.from_env(), capture_s=cli_args.capture_s or 5.0, clock=clock)
     out, steps = capsys.readouterr()
     assert out.strip(), f"no calibration printed (status {status}); the steps:\n{steps}"
@@ -101,12 +102,15 @@ def test_free_poses_are_captured_and_calibrated_from_the_captures(tmp_path, monk
         if all(np.degrees(np.arccos(np.clip(u @ v, -1, 1))) > 25 for v in ups):
             ups.append(u)
     lines = free_lines(np.array(ups), rng, rate_hz=100.0, first_s=4.5, still_s=3.0, turn_s=0.7)
-    status, body, steps, _ = run_capture(tmp_path, monkeypatch, capsys, lines, 100.0, "--protocol", "free",
-                                         "--capture-s", "0.5", "--minutes", "2")
+    status, body, steps, _ = run_capture(
+        tmp_path, monkeypatch, capsys, lines, 100.0, "--protocol", "free", "--capture-s", "0.5", "--minutes", "2"
+    )
     assert "all 12 poses captured" in steps, steps
     assert "on its 12 captures" in steps
     assert status == 0, body["reasons"]
-    assert len(body["captures"]) == 12 and [c["position"] for c in body["captures"]] == [f"pose {k}" for k in range(1, 13)]
+    assert len(body["captures"]) == 12 and [c["position"] for c in body["captures"]] == [
+        f"pose {k}" for k in range(1, 13)
+    ]
     table = np.loadtxt(tmp_path / "board.csv", delimiter=",", skiprows=1)[:, 1:4]
     for c, direction in zip(body["captures"], ups):
         start, end = c["rows"]
@@ -132,8 +136,9 @@ def test_cube24_positions_are_captured_and_calibrated_by_sarkka_method(tmp_path,
     turn, then Särkkä et al.'s method on the log finds the accelerometer's and the gyroscope's models."""
     phone = phone_cube(11, static_s=4.0)  # each rest long enough for the engine: still 1.5 s, then the capture
     lines = ["LSM6DSOX found"] + [uni(a, np.radians(w)) for a, w in zip(phone.acc, phone.gyr)]
-    status, body, steps, _ = run_capture(tmp_path, monkeypatch, capsys, lines, 60.0, "--protocol", "cube24",
-                                         "--capture-s", "0.5", "--minutes", "5")
+    status, body, steps, _ = run_capture(
+        tmp_path, monkeypatch, capsys, lines, 60.0, "--protocol", "cube24", "--capture-s", "0.5", "--minutes", "5"
+    )
     assert "all 24 poses captured" in steps, steps
     assert "position 24 captured (24 of 24)" in steps
     assert body["method"] == "cube", body

@@ -14,14 +14,22 @@ from tests.live_server import ROOT
 
 def trical(*args, tmp_path, check=False):
     env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "PATH": "/usr/bin:/bin"}
-    return subprocess.run([sys.executable, "-m", "app.cli", *args], cwd=ROOT, env=env, capture_output=True,
-                          text=True, check=check, timeout=120)
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", *args],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=check,
+        timeout=120,
+    )
 
 
 def test_calibrate_json_then_export(tmp_path):
     log = DATA / "six_orientations_150hz.csv"
-    out = trical("calibrate", str(log), "--method", "six_position", "--sampling-rate-hz", "150", "--json",
-                 tmp_path=tmp_path)
+    out = trical(
+        "calibrate", str(log), "--method", "six_position", "--sampling-rate-hz", "150", "--json", tmp_path=tmp_path
+    )
     assert out.returncode == 0, out.stderr
     body = json.loads(out.stdout)
     assert body["method"] == "six_position" and body["ok"] and body["id"].startswith("cal_")
@@ -42,8 +50,9 @@ def test_calibrate_json_then_export(tmp_path):
     chose = next(i for i, line in enumerate(lines) if line.startswith("method auto chose six_position: "))
     assert lines[chose + 1].startswith("no figure for new orientations") and "add poses" in lines[chose + 1]
     assert "on the poses fitted (in-sample)" in lines[chose + 1]
-    tri = trical("calibrate", str(log), "--sampling-rate-hz", "150", "--method", "orientations", "--no-store",
-                 tmp_path=tmp_path)
+    tri = trical(
+        "calibrate", str(log), "--sampling-rate-hz", "150", "--method", "orientations", "--no-store", tmp_path=tmp_path
+    )
     assert tri.returncode == 0 and "norm error max" in tri.stdout
 
 
@@ -76,8 +85,9 @@ def test_calibrate_triangular_prints_the_next_pose(tmp_path):
         rows += list(X @ (g * u) + y + rng.normal(0, 0.01, (150, 3)))
     log = tmp_path / "poses.csv"
     np.savetxt(log, np.array(rows), delimiter=",", header="acc_x,acc_y,acc_z", comments="", fmt="%.5f")
-    out = trical("calibrate", str(log), "--sampling-rate-hz", "50", "--method", "triangular", "--no-store",
-                 tmp_path=tmp_path)
+    out = trical(
+        "calibrate", str(log), "--sampling-rate-hz", "50", "--method", "triangular", "--no-store", tmp_path=tmp_path
+    )
     assert out.returncode in (0, 3), out.stderr
     lines = [line for line in out.stdout.splitlines() if line.startswith("next pose: ")]
     assert len(lines) == 3 and " up (" in lines[0] and "generalized variance by" in lines[0]

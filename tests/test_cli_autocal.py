@@ -79,8 +79,9 @@ def test_autocal_store_then_export(tmp_path, capsys, recording, monkeypatch):
     monkeypatch.setenv("TRICAL_DATABASE_URL", f"sqlite:///{tmp_path / 'db.sqlite'}")
     f = tmp_path / "day.npy"
     np.save(f, recording[0][: int(FS * 6 * 3600)])
-    code, out, err = _run(["autocal", str(f), "--sampling-rate-hz", str(FS), "--unit", "g", "--store", "--json"],
-                          capsys)
+    code, out, err = _run(
+        ["autocal", str(f), "--sampling-rate-hz", str(FS), "--unit", "g", "--store", "--json"], capsys
+    )
     assert code in (0, 3), err
     stored = json.loads(out)
     assert stored["id"].startswith("cal_")
@@ -102,11 +103,12 @@ def test_autocal_no_rest_exits_3_with_reason(tmp_path, capsys):
 def test_autocal_folder_in_parallel(tmp_path, capsys, recording):
     x, _ = recording
     np.save(tmp_path / "a.npy", x[: len(x) // 2])
-    np.save(tmp_path / "b.npy", x[len(x) // 2:])
+    np.save(tmp_path / "b.npy", x[len(x) // 2 :])
     (tmp_path / "c.npy").write_bytes(b"garbage")
     (tmp_path / "notes.md").write_text("ignored")
-    code, out, err = _run(["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--unit", "g",
-                           "--workers", "2"], capsys)
+    code, out, err = _run(
+        ["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--unit", "g", "--workers", "2"], capsys
+    )
     assert code == 3, err  # c.npy failed
     lines = out.splitlines()
     assert lines[0].split()[:3] == ["file", "ok", "rest"]
@@ -123,8 +125,9 @@ def test_autocal_dask_missing_is_a_clear_error(tmp_path, capsys, recording, monk
     monkeypatch.setitem(sys.modules, "dask", None)  # as on a machine without the dask extra
     monkeypatch.setitem(sys.modules, "dask.distributed", None)
     np.save(tmp_path / "a.npy", recording[0][:100_000])
-    code, _, err = _run(["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--dask-scheduler",
-                         "tcp://127.0.0.1:8786"], capsys)
+    code, _, err = _run(
+        ["autocal", str(tmp_path), "--sampling-rate-hz", str(FS), "--dask-scheduler", "tcp://127.0.0.1:8786"], capsys
+    )
     assert code == 2 and "dask" in err and "pip install" in err
 
 
@@ -159,6 +162,10 @@ def test_cli_start_does_not_import_scipy_optimize_or_stats():
     from pathlib import Path
 
     code = "import sys, app.cli.main; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
-    out = run_ok([sys.executable, "-c", code], timeout_s=120, cwd=Path(__file__).resolve().parents[1],
-                 env={**os.environ, "PYTHONPATH": "."})
+    out = run_ok(
+        [sys.executable, "-c", code],
+        timeout_s=120,
+        cwd=Path(__file__).resolve().parents[1],
+        env={**os.environ, "PYTHONPATH": "."},
+    )
     assert out.stdout.strip() == "[]"

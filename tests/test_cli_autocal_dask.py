@@ -42,22 +42,39 @@ START_TIMEOUT_S = 60
 def cluster():
     """Two worker processes, each bound to end itself when its scheduler is gone for a minute; the
     test waits a bounded time for both before it uses them, and fails naming the cluster otherwise."""
-    with dask.config.set({"distributed.comm.timeouts.connect": f"{START_TIMEOUT_S}s"}), \
-            LocalCluster(n_workers=2, processes=True, threads_per_worker=1, host="127.0.0.1",
-                         dashboard_address=None, death_timeout=START_TIMEOUT_S) as c, Client(c) as client:
+    with (
+        dask.config.set({"distributed.comm.timeouts.connect": f"{START_TIMEOUT_S}s"}),
+        LocalCluster(
+            n_workers=2,
+            processes=True,
+            threads_per_worker=1,
+            host="127.0.0.1",
+            dashboard_address=None,
+            death_timeout=START_TIMEOUT_S,
+        ) as c,
+        Client(c) as client,
+    ):
         try:
             client.wait_for_workers(2, timeout=START_TIMEOUT_S)
         except TimeoutError:
-            pytest.fail(f"the LocalCluster had {len(c.scheduler.workers)} of 2 workers after {START_TIMEOUT_S} s: "
-                        f"{c.get_logs()}")
+            pytest.fail(
+                f"the LocalCluster had {len(c.scheduler.workers)} of 2 workers after {START_TIMEOUT_S} s: "
+                f"{c.get_logs()}"
+            )
         yield c
 
 
 def autocal(folder: Path, tmp_path: Path, *extra: str) -> list[dict]:
     assert TRICAL.exists(), f"the console script {TRICAL} is missing: run `make install-test`"
     env = {"PATH": "/usr/bin:/bin", "TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}
-    out = subprocess.run([str(TRICAL), "autocal", str(folder), "--sampling-rate-hz", str(FS), "--unit", "g",
-                          "--json", *extra], cwd=ROOT, env=env, capture_output=True, text=True, timeout=120)
+    out = subprocess.run(
+        [str(TRICAL), "autocal", str(folder), "--sampling-rate-hz", str(FS), "--unit", "g", "--json", *extra],
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert out.returncode == 3, out.stderr  # short.npy and broken.npy do not calibrate
     assert "Traceback" not in out.stderr
     return json.loads(out.stdout)
@@ -67,8 +84,11 @@ def test_a_folder_on_a_local_cluster_matches_local_processes(folder, cluster, tm
     local = autocal(folder, tmp_path, "--workers", "2")
     assert len(cluster.scheduler.workers) == 2, f"the cluster lost a worker: {cluster.get_logs()}"
     dask = autocal(folder, tmp_path, "--dask-scheduler", cluster.scheduler_address)
-    assert [b["label"] for b in dask] == [b["label"] for b in local] == [
-        "broken.npy", "short.npy", "wrist_1.npy", "wrist_2.npy", "wrist_3.npy"]
+    assert (
+        [b["label"] for b in dask]
+        == [b["label"] for b in local]
+        == ["broken.npy", "short.npy", "wrist_1.npy", "wrist_2.npy", "wrist_3.npy"]
+    )
     for a, b in zip(local, dask):
         assert a["ok"] == b["ok"], a["label"]
         if "error" in a:

@@ -58,7 +58,9 @@ def board_script(seed: int, first_s: float, still_s: float, turn_s: float) -> li
                 theta = angle * (i + 1) / (steps + 1)
                 d = G0 * (np.cos(theta) * a + np.sin(theta) * perp)
                 f = X_TRUE @ d + Y_TRUE + rng.normal(0, 0.6, 3)
-                lines.append(line(f, GYR_BIAS + rng.normal(0, 0.3, 3) + np.array([0, 2.5, 0]), mag + rng.normal(0, 0.3, 3)))
+                lines.append(
+                    line(f, GYR_BIAS + rng.normal(0, 0.3, 3) + np.array([0, 2.5, 0]), mag + rng.normal(0, 0.3, 3))
+                )
     # the board keeps resting in its last pose after the protocol is done
     for _ in range(int(6 * RATE_HZ)):
         f = X_TRUE @ (G0 * np.asarray(UPS[-1], dtype=float)) + Y_TRUE + rng.normal(0, 0.02, 3)
@@ -86,7 +88,7 @@ class Board(threading.Thread):
             delay = start + (i + per - 1) / RATE_HZ - time.monotonic()
             if delay > 0:
                 time.sleep(delay)
-            data = "".join(text + "\r\n" for text in self.lines[i:i + per]).encode()
+            data = "".join(text + "\r\n" for text in self.lines[i : i + per]).encode()
             stuck = time.monotonic() + 0.5  # a burst larger than the pty's buffer: as fast as it is read
             while data and not self.stop.is_set() and time.monotonic() < stuck:  # (nobody reads: dropped)
                 try:
@@ -139,23 +141,34 @@ def pty_board():
 
 
 def trical_env(tmp_path):
-    return {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "PATH": "/usr/bin:/bin",
-            "PYTHONFAULTHANDLER": "1"}
+    return {
+        "TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}",
+        "PATH": "/usr/bin:/bin",
+        "PYTHONFAULTHANDLER": "1",
+    }
 
 
 # What a terminal gives the command it runs: Ctrl-C (SIGINT) delivered and handled by default. A test worker
 # that ran other tests before may have left SIGINT ignored or blocked, and a child inherits both across exec
 # (seen in full runs: a SIGINT that never arrived). The launcher puts SIGINT back before the command starts.
-AS_FROM_A_TERMINAL = ("import runpy, signal, sys; signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT]); "
-                      "signal.signal(signal.SIGINT, signal.default_int_handler); sys.argv[0] = 'trical'; "
-                      "runpy.run_module('app.cli', run_name='__main__', alter_sys=True)")
+AS_FROM_A_TERMINAL = (
+    "import runpy, signal, sys; signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT]); "
+    "signal.signal(signal.SIGINT, signal.default_int_handler); sys.argv[0] = 'trical'; "
+    "runpy.run_module('app.cli', run_name='__main__', alter_sys=True)"
+)
 
 
 def start_capture(tmp_path, port, *args, steps_on="stdout"):
     """trical capture as a subprocess, as a terminal starts it; returns it once it said the port is open, and
     that first line."""
-    proc = subprocess.Popen([sys.executable, "-c", AS_FROM_A_TERMINAL, "capture", port, *args], cwd=ROOT,
-                            env=trical_env(tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-c", AS_FROM_A_TERMINAL, "capture", port, *args],
+        cwd=ROOT,
+        env=trical_env(tmp_path),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     stream = proc.stdout if steps_on == "stdout" else proc.stderr
     ready, _, _ = select.select([stream], [], [], 30)
     first = stream.readline() if ready else ""
@@ -178,8 +191,10 @@ def finish(proc, timeout_s: float):
         except subprocess.TimeoutExpired:
             proc.kill()
             out, err = proc.communicate(timeout=10)
-        raise AssertionError(f"trical capture did not exit within {timeout_s:g} s; it printed:\n{out}\n"
-                             f"and on stderr (its stacks):\n{err}") from None
+        raise AssertionError(
+            f"trical capture did not exit within {timeout_s:g} s; it printed:\n{out}\n"
+            f"and on stderr (its stacks):\n{err}"
+        ) from None
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -197,8 +212,21 @@ def test_six_poses_captured_calibrated_and_sent(tmp_path, pty_board, burst_s):
     board = make(board_script(23, first_s=4.5, still_s=4.0, turn_s=0.7), burst_s)
     started = time.monotonic()
     log = tmp_path / "board.csv"
-    proc, first = start_capture(tmp_path, port, "--protocol", "six", "--capture-s", "0.5", "--out", str(log),
-                                "--send", "--json", "--minutes", "1", steps_on="stderr")
+    proc, first = start_capture(
+        tmp_path,
+        port,
+        "--protocol",
+        "six",
+        "--capture-s",
+        "0.5",
+        "--out",
+        str(log),
+        "--send",
+        "--json",
+        "--minutes",
+        "1",
+        steps_on="stderr",
+    )
     board.start()
     stdout, steps = finish(proc, 90)
     print(f"bursts of {burst_s:g} s: {time.monotonic() - started:.1f} s from the board's first line to the verdict")
@@ -259,7 +287,9 @@ def test_ctrl_c_keeps_the_log_and_says_how_to_finish_it(tmp_path, pty_board):
     try:
         stdout, stderr = finish(proc, 40)
     except AssertionError as exc:  # say what this worker would have passed on, for the next reader
-        raise AssertionError(f"{exc}\n(this test process: SIGINT handler {inherited[0]!r}, blocked {inherited[1]!r})") from None
+        raise AssertionError(
+            f"{exc}\n(this test process: SIGINT handler {inherited[0]!r}, blocked {inherited[1]!r})"
+        ) from None
     assert proc.returncode == 130, stderr
     assert "keeps the" in stdout and f"finish it with: trical calibrate {log}" in stdout
     rows = log.read_text().splitlines()
@@ -285,8 +315,19 @@ def test_noise_records_the_minutes_asked_at_rest(tmp_path, pty_board):
     port, make = pty_board
     board = make(still)
     log = tmp_path / "still.csv"
-    proc, _ = start_capture(tmp_path, port, "--protocol", "noise", "--minutes", "0.1", "--out", str(log), "--json",
-                            "--no-store", steps_on="stderr")
+    proc, _ = start_capture(
+        tmp_path,
+        port,
+        "--protocol",
+        "noise",
+        "--minutes",
+        "0.1",
+        "--out",
+        str(log),
+        "--json",
+        "--no-store",
+        steps_on="stderr",
+    )
     board.start()
     stdout, steps = finish(proc, 60)
     assert proc.returncode in (0, 3), steps
@@ -319,8 +360,19 @@ def test_compass_records_a_turn_and_fits_the_hard_iron(tmp_path, pty_board):
     port, make = pty_board
     board = make(lines)
     log = tmp_path / "turn.csv"
-    proc, _ = start_capture(tmp_path, port, "--protocol", "compass", "--minutes", "0.2", "--out", str(log), "--json",
-                            "--no-store", steps_on="stderr")
+    proc, _ = start_capture(
+        tmp_path,
+        port,
+        "--protocol",
+        "compass",
+        "--minutes",
+        "0.2",
+        "--out",
+        str(log),
+        "--json",
+        "--no-store",
+        steps_on="stderr",
+    )
     board.start()
     stdout, steps = finish(proc, 60)
     assert proc.returncode in (0, 3), steps
@@ -347,8 +399,15 @@ def test_a_capture_without_progress_says_what_it_waits_for(tmp_path):
             return ("Uni:" + ",".join(f"{v:.4f}" for v in [*f, *GYR_BIAS, 22.0, -5.0, 41.0]) + "\r\n").encode()
 
     said = []
-    outcome = Capture(ShakenBoard(), protocol="six", out_path=tmp_path / "shaken.csv", minutes=0.5, capture_s=0.5,
-                      say=said.append, clock=lambda: clock[0]).run()
+    outcome = Capture(
+        ShakenBoard(),
+        protocol="six",
+        out_path=tmp_path / "shaken.csv",
+        minutes=0.5,
+        capture_s=0.5,
+        say=said.append,
+        clock=lambda: clock[0],
+    ).run()
     assert outcome.status == "timeout" and "+z captured (1 of 6)" in said
     stalled = [s for s in said if s.startswith("no capture for 20 s")]
     assert stalled, said

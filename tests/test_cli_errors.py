@@ -62,8 +62,10 @@ def bad_invocations() -> list[list[str]]:
         positionals = [a for a in parser._actions if not a.option_strings]
         for action in value_actions(parser):
             values = bad_values(action)
-            assert values, (f"trical {name} {action.option_strings or action.dest}: no value check; give it "
-                            "choices or a type from app.cli.options")
+            assert values, (
+                f"trical {name} {action.option_strings or action.dest}: no value check; give it "
+                "choices or a type from app.cli.options"
+            )
             for value in values:
                 args = [name]
                 for p in positionals:
@@ -98,8 +100,15 @@ def run_in_process(args: list[str], env: dict) -> subprocess.CompletedProcess:
 
 def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
     cases = bad_invocations()
-    assert len(cases) > 50 and {c[0] for c in cases} == {"serve", "calibrate", "autocal", "noise",
-                                                         "temperature", "export", "capture"}
+    assert len(cases) > 50 and {c[0] for c in cases} == {
+        "serve",
+        "calibrate",
+        "autocal",
+        "noise",
+        "temperature",
+        "export",
+        "capture",
+    }
     results = [run_in_process(args, env) for args in cases]
     failures = []
     for args, out in zip(cases, results):
@@ -108,8 +117,13 @@ def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
         # log the command could not read) would pass a check it never made.
         option, value = (args[1].split("=", 1) + [""])[:2] if args[1].startswith("--") else ("", args[1])
         named = (option and option in out.stderr) or (value and value in out.stderr) or "argument" in out.stderr
-        if out.returncode != 2 or len(lines) != 1 or "Traceback" in out.stderr or not lines[0].startswith("trical") \
-                or not named:
+        if (
+            out.returncode != 2
+            or len(lines) != 1
+            or "Traceback" in out.stderr
+            or not lines[0].startswith("trical")
+            or not named
+        ):
             failures.append(f"trical {' '.join(args)!r}: status {out.returncode}, stderr {out.stderr!r}")
     assert not failures, "\n".join(failures)
 
@@ -117,8 +131,10 @@ def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
 def test_the_message_names_the_option_and_its_range(env):
     out = run(["calibrate", str(LOG), "--latitude-deg", "100"], env)
     assert out.returncode == 2 and out.stdout == ""
-    assert out.stderr == ("trical calibrate: error: argument --latitude-deg: 100 is out of range: give a latitude "
-                          "in degrees, from -90 to 90 (see trical calibrate --help)\n")
+    assert out.stderr == (
+        "trical calibrate: error: argument --latitude-deg: 100 is out of range: give a latitude "
+        "in degrees, from -90 to 90 (see trical calibrate --help)\n"
+    )
     assert "argument --port" in run(["serve", "--port", "70000"], env).stderr
     assert "from 0.1 to 100" in run(["autocal", str(DATA), "--gravity", "0"], env).stderr
 
@@ -128,16 +144,30 @@ def test_output_into_a_closed_pipe_ends_quietly(env, extra):
     reader, writer = os.pipe()
     os.close(reader)  # the reader is gone before the command writes a byte, as after `| head -c 10`
     try:
-        out = subprocess.run([str(TRICAL), "calibrate", str(LOG), "--sampling-rate-hz", "150", "--no-store", *extra],
-                             cwd=ROOT, env=env, stdout=writer, stderr=subprocess.PIPE, text=True, timeout=60)
+        out = subprocess.run(
+            [str(TRICAL), "calibrate", str(LOG), "--sampling-rate-hz", "150", "--no-store", *extra],
+            cwd=ROOT,
+            env=env,
+            stdout=writer,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=60,
+        )
     finally:
         os.close(writer)
     assert out.stderr == "" and out.returncode == 141
 
 
 def test_output_through_head_is_cut_without_a_traceback(env):
-    out = subprocess.run(f"'{TRICAL}' calibrate '{LOG}' --sampling-rate-hz 150 --no-store --json | head -c 10",
-                         shell=True, cwd=ROOT, env=env, capture_output=True, text=True, timeout=60)
+    out = subprocess.run(
+        f"'{TRICAL}' calibrate '{LOG}' --sampling-rate-hz 150 --no-store --json | head -c 10",
+        shell=True,
+        cwd=ROOT,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert out.returncode == 0 and out.stdout == '{\n  "schem' and "Traceback" not in out.stderr
 
 

@@ -6,15 +6,24 @@ import json
 
 import numpy as np
 
-from tests.flight_logs import (GYR_BIAS, HARD_IRON_UT, TRUTH, ardupilot_file, compass_tumble, imu_instances,
-                               px4_file, still_board)
+from tests.flight_logs import (
+    GYR_BIAS,
+    HARD_IRON_UT,
+    TRUTH,
+    ardupilot_file,
+    compass_tumble,
+    imu_instances,
+    px4_file,
+    still_board,
+)
 from tests.test_cli import trical
 
 
 def test_calibrate_six_poses_of_an_instance(tmp_path):
     path = ardupilot_file(tmp_path / "00000007.BIN", imu_instances(3))
-    out = trical("calibrate", str(path), "--method", "six_position", "--instance", "1", "--json", "--no-store",
-                 tmp_path=tmp_path)
+    out = trical(
+        "calibrate", str(path), "--method", "six_position", "--instance", "1", "--json", "--no-store", tmp_path=tmp_path
+    )
     assert out.returncode == 0, out.stderr
     body = json.loads(out.stdout)
     np.testing.assert_allclose(body["model"]["X"], TRUTH[1][0], atol=3e-4)
@@ -28,8 +37,19 @@ def test_calibrate_six_poses_of_an_instance(tmp_path):
 def test_compass_of_an_instance_on_its_own_clock(tmp_path):
     imus, mags, _ = compass_tumble(5)
     path = px4_file(tmp_path / "tumble.ulg", imus, mags)
-    out = trical("calibrate", str(path), "--method", "magnetometer", "--mag-instance", "1", "--field-ut", "48",
-                 "--json", "--no-store", tmp_path=tmp_path)
+    out = trical(
+        "calibrate",
+        str(path),
+        "--method",
+        "magnetometer",
+        "--mag-instance",
+        "1",
+        "--field-ut",
+        "48",
+        "--json",
+        "--no-store",
+        tmp_path=tmp_path,
+    )
     assert out.returncode == 0, out.stderr
     np.testing.assert_allclose(json.loads(out.stdout)["model"]["b"], HARD_IRON_UT[1], atol=0.1)
 
@@ -53,7 +73,10 @@ def test_compass_from_a_flight_log(tmp_path):
     out = trical("calibrate", "--method", "compass_flight", str(path), "--no-store", tmp_path=tmp_path)
     assert out.returncode == 0, out.stderr
     lines = out.stdout.splitlines()
-    assert lines[0].startswith("ArduPilot ArduCopter V4.5.0 (TimeUS, MAG with I)") and "compass 0, 4500 samples" in lines[0]
+    assert (
+        lines[0].startswith("ArduPilot ArduCopter V4.5.0 (TimeUS, MAG with I)")
+        and "compass 0, 4500 samples" in lines[0]
+    )
     assert lines[1].startswith("Apply it: heading error on flight segments left out") and lines[1].endswith("°.")
     assert "COMPASS_ORIENTn 12" in out.stdout  # the mounting found, not the one stored
     out = trical("calibrate", "--method", "compass_flight", str(path), "--json", "--no-store", tmp_path=tmp_path)

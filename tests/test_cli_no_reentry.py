@@ -29,22 +29,33 @@ def reentries(source: str) -> list[str]:
 
 
 def test_only_the_entry_parses_a_command_line():
-    found = {f.name: reentries(f.read_text(encoding="utf-8")) for f in sorted(CLI.glob("*.py")) if f.name not in ENTRIES}
+    found = {
+        f.name: reentries(f.read_text(encoding="utf-8")) for f in sorted(CLI.glob("*.py")) if f.name not in ENTRIES
+    }
     assert not any(found.values()), {k: v for k, v in found.items() if v}
 
 
 def test_the_guard_sees_a_command_run_through_its_parser():
-    planted = ('def end(out):\n    args = build_parser().parse_args(["calibrate", str(out)])\n'
-               '    return _run(["noise", str(out)])\n')
+    planted = (
+        'def end(out):\n    args = build_parser().parse_args(["calibrate", str(out)])\n'
+        '    return _run(["noise", str(out)])\n'
+    )
     assert reentries(planted) == ["line 2: parse_args()", "line 3: _run()"]
 
 
 def test_the_defaults_a_capture_ends_with_are_what_the_parser_gives_a_command_line():
     for command, argv, values in (
-            ("calibrate", ["calibrate", "board.csv", "--method", "six_position", "--unit", "g", "--no-store"],
-             {"log": [Path("board.csv")], "method": "six_position", "unit": "g", "no_store": True}),
-            ("noise", ["noise", "board.csv", "--json", "--store"],
-             {"path": [Path("board.csv")], "json": True, "store": True})):
+        (
+            "calibrate",
+            ["calibrate", "board.csv", "--method", "six_position", "--unit", "g", "--no-store"],
+            {"log": [Path("board.csv")], "method": "six_position", "unit": "g", "no_store": True},
+        ),
+        (
+            "noise",
+            ["noise", "board.csv", "--json", "--store"],
+            {"path": [Path("board.csv")], "json": True, "store": True},
+        ),
+    ):
         parsed = vars(build_parser().parse_args(argv))
         assert parsed.pop("command") == command
         assert {**defaults_of(command), **values} == parsed

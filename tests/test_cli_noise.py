@@ -12,8 +12,13 @@ from simulations.noise import simulate_still
 
 
 def _run(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "app.cli", "noise", *map(str, args)], capture_output=True, text=True,
-                          cwd=cwd, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", "noise", *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=300,
+    )
 
 
 def test_noise_of_a_gyroscope_array(tmp_path):
@@ -50,8 +55,14 @@ def test_noise_of_a_serial_log_stamped_by_the_host_and_the_rate_option(tmp_path)
     t_ms = host_arrival_times(np.random.default_rng(6), n_samples=n, sampling_rate_hz=100.0) * 1e3 + 8_000.0
     gyr = simulate_still(np.random.default_rng(7), n_samples=n, sampling_rate_hz=100.0, N=0.01, B=0.0, K=0.0)
     path = tmp_path / "still.csv"
-    np.savetxt(path, np.column_stack([np.round(t_ms, 3), gyr]), delimiter=",", header="t,gyr_x,gyr_y,gyr_z",
-               comments="", fmt="%.7g")
+    np.savetxt(
+        path,
+        np.column_stack([np.round(t_ms, 3), gyr]),
+        delimiter=",",
+        header="t,gyr_x,gyr_y,gyr_z",
+        comments="",
+        fmt="%.7g",
+    )
     r = _run(path, "--sensor", "gyr", "--unit", "deg/s", "--json", cwd=tmp_path)
     assert r.returncode == 0, r.stderr
     body = json.loads(r.stdout)

@@ -11,8 +11,13 @@ from tests.temperature_logs import warm_up_csv
 
 
 def _run(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "app.cli", "temperature", *map(str, args)], capture_output=True,
-                          text=True, cwd=cwd, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", "temperature", *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=300,
+    )
 
 
 def test_a_warm_up_from_the_command_line(tmp_path):

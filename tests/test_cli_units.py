@@ -32,22 +32,38 @@ def test_a_g_header_over_m_s2_values_calibrates_and_warns(tmp_path):
     out = trical("calibrate", str(path), "--no-store", tmp_path=tmp_path)
     assert out.returncode == 0, out.stderr
     assert out.stdout.splitlines()[1].startswith("Apply it:")
-    assert re.search(r"^warning: the header said g for the accelerometer, but its readings rest at a median norm of "
-                     r"9\.\d+, about 1 g in m/s\^2: calibrated in m/s\^2$", out.stdout, re.M), out.stdout
+    assert re.search(
+        r"^warning: the header said g for the accelerometer, but its readings rest at a median norm of "
+        r"9\.\d+, about 1 g in m/s\^2: calibrated in m/s\^2$",
+        out.stdout,
+        re.M,
+    ), out.stdout
 
 
 def test_a_magnetometer_in_counts_prints_counts_and_chip_makes_it_ut(tmp_path):
     path = _write(tmp_path / "mag.csv", "mag_x,mag_y,mag_z", [np.round(MAG / 0.15)], "%.0f")
-    counts = trical("calibrate", str(path), "--method", "magnetometer", "--sampling-rate-hz", "50", "--json",
-                    tmp_path=tmp_path)
+    counts = trical(
+        "calibrate", str(path), "--method", "magnetometer", "--sampling-rate-hz", "50", "--json", tmp_path=tmp_path
+    )
     assert counts.returncode == 0, counts.stderr
     body = json.loads(counts.stdout)
     assert body["output_unit"] == "raw" and " counts of the " in body["headline"] and "µT" not in body["headline"]
     refused = trical("export", body["id"], "--format", "ardupilot", tmp_path=tmp_path)
     assert refused.returncode == 2 and len(refused.stderr.splitlines()) == 1
     assert "upload the log again with --chip" in refused.stderr
-    human = trical("calibrate", str(path), "--method", "magnetometer", "--sampling-rate-hz", "50",
-                   "--chip", "ak8963-16bit", "--field-ut", "48", tmp_path=tmp_path)
+    human = trical(
+        "calibrate",
+        str(path),
+        "--method",
+        "magnetometer",
+        "--sampling-rate-hz",
+        "50",
+        "--chip",
+        "ak8963-16bit",
+        "--field-ut",
+        "48",
+        tmp_path=tmp_path,
+    )
     assert human.returncode == 0, human.stderr
     assert re.search(r"expect \d\.\d\d µT of the 48\.0 µT field", human.stdout), human.stdout
     b = np.array([float(v) for v in re.search(r"^b = (.*)$", human.stdout, re.M).group(1).split()])

@@ -39,16 +39,37 @@ def test_the_arduino_example_correction_built_for_the_host(client, tmp_path):
     cc = shutil.which("gcc")
     assert cc, "gcc is needed to build the example's correction"
     table = seed_table(1)
-    r = client.post("/api/v1/calibrations", json={"method": "six_position", "unit": "m/s^2",
-                                                  "readings": [{"up": u, "mean": m.tolist()} for u, m in zip(CANONICAL, table[:6])]})
+    r = client.post(
+        "/api/v1/calibrations",
+        json={
+            "method": "six_position",
+            "unit": "m/s^2",
+            "readings": [{"up": u, "mean": m.tolist()} for u, m in zip(CANONICAL, table[:6])],
+        },
+    )
     assert r.status_code == 201, r.text
     cal = r.json()
     header = client.get(f"/api/v1/calibrations/{cal['id']}/export", params={"format": "c"})
     assert header.status_code == 200
     (tmp_path / "trical_calibration.h").write_text(header.text)
     exe = tmp_path / "host_check"
-    run_ok([cc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-I", str(tmp_path), "-I", str(EXAMPLE), "-o", str(exe),
-            str(EXAMPLE / "host_check.c")], timeout_s=60)
+    run_ok(
+        [
+            cc,
+            "-std=c99",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-I",
+            str(tmp_path),
+            "-I",
+            str(EXAMPLE),
+            "-o",
+            str(exe),
+            str(EXAMPLE / "host_check.c"),
+        ],
+        timeout_s=60,
+    )
     samples = np.random.default_rng(6).normal(0, 6, size=(40, 3))
     out = run_ok([str(exe)], timeout_s=10, input="\n".join(" ".join(f"{v:.9g}" for v in s) for s in samples))
     board = np.array([[float(v) for v in ln.split()] for ln in out.stdout.splitlines()])
@@ -62,9 +83,21 @@ def test_the_python_example_reads_a_board_and_calibrates_over_the_api(tmp_path, 
     board = make(board_script(11, first_s=3.0, still_s=3.0, turn_s=0.4))  # 20 s; rests twice the detector's 1.5 s
     env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}
     with live_server(env) as server:
-        proc = subprocess.Popen([sys.executable, str(ROOT / "examples" / "python" / "board_to_api.py"), port,
-                                 "--seconds", "30", "--api", server.url], cwd=tmp_path, stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)
+        proc = subprocess.Popen(
+            [
+                sys.executable,
+                str(ROOT / "examples" / "python" / "board_to_api.py"),
+                port,
+                "--seconds",
+                "30",
+                "--api",
+                server.url,
+            ],
+            cwd=tmp_path,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         try:
             # The board starts once the script has opened the port (opening flushes what arrived before): its
             # first count of readings is printed after the port's first read. A fixed pause lost the first rest

@@ -30,7 +30,7 @@ def served_fingerprint(port: int) -> str:
     """The SHA-256 fingerprint of the certificate the server on 127.0.0.1:port presents."""
     pem = ssl.get_server_certificate(("127.0.0.1", port), timeout=10)
     digest = x509.load_pem_x509_certificate(pem.encode()).fingerprint(hashes.SHA256()).hex().upper()
-    return ":".join(digest[i:i + 2] for i in range(0, len(digest), 2))
+    return ":".join(digest[i : i + 2] for i in range(0, len(digest), 2))
 
 
 def server_env(tmp_path) -> dict:
@@ -39,8 +39,14 @@ def server_env(tmp_path) -> dict:
 
 
 def trical(*args, tmp_path, **env):
-    return subprocess.run([sys.executable, "-m", "app.cli", *args], cwd=ROOT, capture_output=True, text=True,
-                          timeout=60, env={"PATH": "/usr/bin:/bin", **server_env(tmp_path), **env})
+    return subprocess.run(
+        [sys.executable, "-m", "app.cli", *args],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        env={"PATH": "/usr/bin:/bin", **server_env(tmp_path), **env},
+    )
 
 
 def test_self_signed_certificate_for_the_lan(tmp_path):
@@ -49,7 +55,9 @@ def test_self_signed_certificate_for_the_lan(tmp_path):
     cert = load(cert_path)
     san = cert.extensions.get_extension_for_class(x509.SubjectAlternativeName).value
     assert {"localhost", "bench-pc"} <= set(san.get_values_for_type(x509.DNSName))
-    assert {ipaddress.ip_address("127.0.0.1"), ipaddress.ip_address(LAN_IP)} <= set(san.get_values_for_type(x509.IPAddress))
+    assert {ipaddress.ip_address("127.0.0.1"), ipaddress.ip_address(LAN_IP)} <= set(
+        san.get_values_for_type(x509.IPAddress)
+    )
     assert LAN_IP not in san.get_values_for_type(x509.DNSName)  # an address is an IP entry, not a name
     assert cert.extensions.get_extension_for_class(x509.BasicConstraints).value.ca is False
     assert cert.extensions.get_extension_for_class(x509.KeyUsage).value.digital_signature
@@ -133,10 +141,23 @@ def test_serve_https_with_given_files(tmp_path):
     port = free_port()
     public = "https://trical.example.org/wizard?protocol=six"
     # --cert and --key alone mean --https.
-    command = [sys.executable, "-m", "app.cli", "serve", "--host", "127.0.0.1", "--port", str(port),
-               "--cert", str(given_cert), "--key", str(given_key)]
-    server = LiveServer({**server_env(tmp_path), "TRICAL_PUBLIC_URL": public}, port=port, command=command,
-                        https_ca=given_cert).start()
+    command = [
+        sys.executable,
+        "-m",
+        "app.cli",
+        "serve",
+        "--host",
+        "127.0.0.1",
+        "--port",
+        str(port),
+        "--cert",
+        str(given_cert),
+        "--key",
+        str(given_key),
+    ]
+    server = LiveServer(
+        {**server_env(tmp_path), "TRICAL_PUBLIC_URL": public}, port=port, command=command, https_ca=given_cert
+    ).start()
     try:
         assert httpx.get(f"{server.url}/healthz", verify=server.verify(), timeout=10).status_code == 200
         assert served_fingerprint(port) == tls.fingerprint(given_cert)

@@ -51,8 +51,19 @@ def test_every_request_model_of_the_union_is_an_entry_of_its_own_name():
     members = union_members(methods.CalibrationIn)
     assert members == tuple(m.request for m in methods.TABLE)
     assert [literal_method(model) for model in members] == [m.name for m in methods.TABLE]
-    assert methods.METHODS == ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube",
-                               "autocal", "noise", "magnetometer", "temperature", "compass_flight")
+    assert methods.METHODS == (
+        "auto",
+        "six_position",
+        "orientations",
+        "nonorthogonal",
+        "triangular",
+        "cube",
+        "autocal",
+        "noise",
+        "magnetometer",
+        "temperature",
+        "compass_flight",
+    )
 
 
 def test_every_response_model_of_the_union_is_an_entry_of_its_own_name():
@@ -74,8 +85,16 @@ def test_the_dispatch_is_the_entry_handler():
 def test_the_cli_method_choices_and_commands_come_from_the_table():
     commands = subcommands()
     assert tuple(option(commands["calibrate"], "--method").choices) == methods.commanded_by("calibrate")
-    assert methods.commanded_by("calibrate") == ("auto", "six_position", "orientations", "nonorthogonal",
-                                                 "triangular", "cube", "magnetometer", "compass_flight")
+    assert methods.commanded_by("calibrate") == (
+        "auto",
+        "six_position",
+        "orientations",
+        "nonorthogonal",
+        "triangular",
+        "cube",
+        "magnetometer",
+        "compass_flight",
+    )
     for method in methods.TABLE:
         assert method.command in commands, method.name
     # --solver names the methods whose request takes a solver, and offers the solvers of the core.
@@ -87,19 +106,33 @@ def test_the_cli_method_choices_and_commands_come_from_the_table():
 
 def test_the_export_formats_come_from_the_table():
     assert tuple(option(subcommands()["export"], "--format").choices) == methods.ALL_FORMATS
-    assert set(methods.ALL_FORMATS) == (set(EXPORTERS) | set(NOISE_EXPORTERS) | set(TEMPERATURE_EXPORTERS)
-                                        | set(FLIGHT_COMPASS_EXPORTERS))
+    assert set(methods.ALL_FORMATS) == (
+        set(EXPORTERS) | set(NOISE_EXPORTERS) | set(TEMPERATURE_EXPORTERS) | set(FLIGHT_COMPASS_EXPORTERS)
+    )
     assert methods.BY_NAME["compass_flight"].formats == tuple(FLIGHT_COMPASS_EXPORTERS)
     assert methods.BY_NAME["noise"].formats == tuple(NOISE_EXPORTERS)
     assert methods.BY_NAME["temperature"].formats == tuple(TEMPERATURE_EXPORTERS)
-    for name in ("auto", "six_position", "orientations", "nonorthogonal", "triangular", "cube", "autocal",
-                 "magnetometer"):
+    for name in (
+        "auto",
+        "six_position",
+        "orientations",
+        "nonorthogonal",
+        "triangular",
+        "cube",
+        "autocal",
+        "magnetometer",
+    ):
         assert methods.BY_NAME[name].formats == tuple(EXPORTERS)
 
 
 def test_what_a_method_takes_is_read_from_its_request_model():
-    assert [m.name for m in methods.TABLE if m.needs_recording] == ["cube", "autocal", "noise", "temperature",
-                                                                    "compass_flight"]
+    assert [m.name for m in methods.TABLE if m.needs_recording] == [
+        "cube",
+        "autocal",
+        "noise",
+        "temperature",
+        "compass_flight",
+    ]
     compass = methods.BY_NAME["magnetometer"].options
     assert "field_ut" in compass and "gravity" not in compass
     assert "method" not in methods.BY_NAME["cube"].options and "sections" in methods.BY_NAME["cube"].options
@@ -113,15 +146,47 @@ def cli_request(argv: list[str]) -> dict:
 def test_the_cli_builds_each_method_request_from_the_options_its_model_takes():
     common = {"recording_id": "log.csv", "label": "log.csv"}
     assert cli_request(["log.csv", "--method", "triangular", "--solver", "fixed16", "--field-ut", "50"]) == {
-        "method": "triangular", **common, "unit": "g", "solver": "fixed16"}
+        "method": "triangular",
+        **common,
+        "unit": "g",
+        "solver": "fixed16",
+    }
     assert cli_request(["log.csv", "--method", "nonorthogonal", "--solver", "fixed16", "--gravity", "9.81"]) == {
-        "method": "nonorthogonal", **common, "unit": "g", "gravity": 9.81}
-    assert cli_request(["log.csv", "--method", "magnetometer", "--gravity", "9.81", "--field-ut", "48.5",
-                        "--latitude-deg", "60.2", "--longitude-deg", "24.9", "--device-id", "b1"]) == {
-        "method": "magnetometer", **common, "latitude_deg": 60.2, "longitude_deg": 24.9, "field_ut": 48.5,
-        "device_id": "b1"}
+        "method": "nonorthogonal",
+        **common,
+        "unit": "g",
+        "gravity": 9.81,
+    }
+    assert cli_request(
+        [
+            "log.csv",
+            "--method",
+            "magnetometer",
+            "--gravity",
+            "9.81",
+            "--field-ut",
+            "48.5",
+            "--latitude-deg",
+            "60.2",
+            "--longitude-deg",
+            "24.9",
+            "--device-id",
+            "b1",
+        ]
+    ) == {
+        "method": "magnetometer",
+        **common,
+        "latitude_deg": 60.2,
+        "longitude_deg": 24.9,
+        "field_ut": 48.5,
+        "device_id": "b1",
+    }
     assert cli_request(["log.csv", "--method", "cube", "--field-ut", "50", "--protocol", "ferraris"]) == {
-        "method": "cube", **common, "protocol": "ferraris", "field_ut": 50.0}
+        "method": "cube",
+        **common,
+        "protocol": "ferraris",
+        "field_ut": 50.0,
+    }
     for argv in (["log.csv"], ["log.csv", "--method", "six_position", "--protocol", "ferraris"]):
         request = cli_request(argv)
         methods.parse_calibration_request(request)  # every request the CLI builds is a valid one

@@ -7,8 +7,13 @@ def test_start_page(client):
     r = client.get("/")
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
     html = r.text
-    for needle in ('id="upload-form"', 'id="readings-form"', 'type="module" src="/static/js/index.js"',
-                   'aria-live="polite"', "C header"):
+    for needle in (
+        'id="upload-form"',
+        'id="readings-form"',
+        'type="module" src="/static/js/index.js"',
+        'aria-live="polite"',
+        "C header",
+    ):
         assert needle in html
     for label in ("-x", "+x", "-y", "+y", "-z", "+z"):
         assert f'data-up="{label}"' in html
@@ -22,8 +27,9 @@ def test_security_headers_and_no_cors(client):
     assert r.headers["x-frame-options"] == "DENY"
     assert "script-src 'self'" in r.headers["content-security-policy"]
     assert "access-control-allow-origin" not in r.headers
-    pre = client.options("/api/v1/calibrations", headers={"Origin": "https://evil.example",
-                                                           "Access-Control-Request-Method": "POST"})
+    pre = client.options(
+        "/api/v1/calibrations", headers={"Origin": "https://evil.example", "Access-Control-Request-Method": "POST"}
+    )
     assert "access-control-allow-origin" not in pre.headers
 
 
@@ -62,9 +68,17 @@ def test_wizard_page(client):
     r = client.get("/wizard")
     assert r.status_code == 200
     html = r.text
-    for needle in ('data-protocol="six"', 'data-capture-s="5.0"', 'type="module" src="/static/js/wizard.js"',
-                   'id="start-btn"', "flat, steady table", "about 2 minutes", '"C header"',
-                   'aria-label="Redo +z (flat, screen up)"', 'aria-label="Capture progress"'):
+    for needle in (
+        'data-protocol="six"',
+        'data-capture-s="5.0"',
+        'type="module" src="/static/js/wizard.js"',
+        'id="start-btn"',
+        "flat, steady table",
+        "about 2 minutes",
+        '"C header"',
+        'aria-label="Redo +z (flat, screen up)"',
+        'aria-label="Capture progress"',
+    ):
         assert needle in html, needle
     for label in ("-x", "+x", "-y", "+y", "-z", "+z"):
         assert f'data-pose="{label}"' in html
@@ -96,9 +110,18 @@ def test_cube24_wizard_page(client):
     r = client.get("/wizard?protocol=cube24&capture_s=2")
     assert r.status_code == 200
     html = " ".join(r.text.split())
-    for needle in ('data-protocol="cube24"', 'data-capture-s="2.0"', 'type="module" src="/static/js/wizard.js"',
-                   "in a fixed order", "a jig", "about 4 minutes", 'id="turn-alert" class="problem" role="alert"',
-                   'id="redo-last"', "Position 1 of 24", 'aria-label="Positions captured"'):
+    for needle in (
+        'data-protocol="cube24"',
+        'data-capture-s="2.0"',
+        'type="module" src="/static/js/wizard.js"',
+        "in a fixed order",
+        "a jig",
+        "about 4 minutes",
+        'id="turn-alert" class="problem" role="alert"',
+        'id="redo-last"',
+        "Position 1 of 24",
+        'aria-label="Positions captured"',
+    ):
         assert needle in html, needle
     assert "coming" not in html and 'id="poses"' not in html  # no upload-instead notice, no six-pose list
     assert "can still be uploaded through the API" in html and "POST /api/v1/recordings" in html

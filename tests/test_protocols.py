@@ -64,7 +64,12 @@ def test_a_session_is_read_from_and_written_to_the_store_s_row(store):
     row = session.row()
     assert row == dict(store.get_session(session.id), captures=[])
     assert {k: row[k] for k in ("protocol", "device_id", "label", "source", "target_mg")} == {
-        "protocol": "free", "device_id": "phone-1", "label": "bench", "source": "phone", "target_mg": 2.0}
+        "protocol": "free",
+        "device_id": "phone-1",
+        "label": "bench",
+        "source": "phone",
+        "target_mg": 2.0,
+    }
     six = start(store, "six", latitude_deg=45.0, height_m=0.0)
     assert "target_mg" not in six.row()  # only a protocol with a target keeps one
     assert six.gravity == pytest.approx(9.80620, abs=2e-5)  # WGS84 normal gravity at 45°, sea level
@@ -114,15 +119,16 @@ def test_free_numbers_its_poses_and_is_solvable_from_fit_from(store):
     rng = np.random.default_rng(4)
     session = start(store, "free")
     assert FREE.next_position(session) == "1" and FREE.remaining(session) == []
-    session = captured(store, session, *[direction_samples(d, rng) for d in directions[:FREE_FIT_FROM - 1]])
+    session = captured(store, session, *[direction_samples(d, rng) for d in directions[: FREE_FIT_FROM - 1]])
     assert FREE.next_position(session) == str(FREE_FIT_FROM)
     assert not FREE.solvable(session)
     progress = sessions.view(session)["progress"]
     assert progress["cv_error_mg"] is None
     assert progress["message"] == f"{FREE_FIT_FROM - 1} poses captured: 1 more before the first estimate"
     assert len(progress["advice"]) > 0 and all(a["gain"] is None for a in progress["advice"])
-    with pytest.raises(InsufficientDataError, match=f"capture 1 more poses first: a free session solves from "
-                                                    f"{FREE_FIT_FROM}"):
+    with pytest.raises(
+        InsufficientDataError, match=f"capture 1 more poses first: a free session solves from {FREE_FIT_FROM}"
+    ):
         sessions.solve(store, session)
     session = captured(store, session, direction_samples(directions[FREE_FIT_FROM - 1], rng))
     assert FREE.solvable(session)

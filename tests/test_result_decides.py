@@ -27,10 +27,17 @@ ROOT = Path(__file__).resolve().parent.parent
 APP = ROOT / "app"
 
 EXEMPT = (
-    "app/calibration/result.py", "app/calibration/affine.py", "app/calibration/autocal.py",
-    "app/calibration/cube/calibrate.py", "app/calibration/magnetometer/result.py", "app/calibration/temperature.py",
-    "app/calibration/headlines.py", "app/calibration/trust.py", "app/calibration/comparison.py",
-    "app/calibration/magnetometer/fit.py", "simulations/free_poses.py",
+    "app/calibration/result.py",
+    "app/calibration/affine.py",
+    "app/calibration/autocal.py",
+    "app/calibration/cube/calibrate.py",
+    "app/calibration/magnetometer/result.py",
+    "app/calibration/temperature.py",
+    "app/calibration/headlines.py",
+    "app/calibration/trust.py",
+    "app/calibration/comparison.py",
+    "app/calibration/magnetometer/fit.py",
+    "simulations/free_poses.py",
     "app/methods.py",
 )
 """The files that may decide, named one by one (every other file of app/calibration is scanned too): the result
@@ -51,7 +58,14 @@ AWAITING = {
     "app/web/uses.py": {"noise", "temperature"},
     "static/js/board_panel.js": {"magnetometer"},
     "static/js/result_kinds.js": {
-        "affine", "compass_flight", "cube", "magnetometer", "noise", "nonorthogonal", "temperature", "triangular"
+        "affine",
+        "compass_flight",
+        "cube",
+        "magnetometer",
+        "noise",
+        "nonorthogonal",
+        "temperature",
+        "triangular",
     },
     "static/js/wizard.js": {"cube24", "free", "six"},
 }
@@ -102,12 +116,15 @@ def deciding_comparisons(source: str | list[ast.AST], names: dict[str, str]) -> 
         if isinstance(node, ast.Compare):
             operands = [node.left, *node.comparators]
             if any(isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)) for op in node.ops):
-                found += [(c.lineno, c.value, names[c.value]) for o in operands for c in _literals(o)
-                          if c.value in names]
+                found += [
+                    (c.lineno, c.value, names[c.value]) for o in operands for c in _literals(o) if c.value in names
+                ]
         elif isinstance(node, ast.match_case):
-            found += [(p.value.lineno, p.value.value, names[p.value.value]) for p in ast.walk(node.pattern)
-                      if isinstance(p, ast.MatchValue) and isinstance(p.value, ast.Constant)
-                      and p.value.value in names]
+            found += [
+                (p.value.lineno, p.value.value, names[p.value.value])
+                for p in ast.walk(node.pattern)
+                if isinstance(p, ast.MatchValue) and isinstance(p.value, ast.Constant) and p.value.value in names
+            ]
     return sorted(set(found))
 
 
@@ -118,11 +135,17 @@ def metric_reads(source: str | list[ast.AST], names: dict[str, str]) -> list[tup
     found = []
     for node in nodes_of(source):
         key = None
-        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "get"
-                and node.args and isinstance(node.args[0], ast.Constant)):
+        if (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "get"
+            and node.args
+            and isinstance(node.args[0], ast.Constant)
+        ):
             key = node.args[0]
-        elif (isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Load)
-              and isinstance(node.slice, ast.Constant)):
+        elif (
+            isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Load) and isinstance(node.slice, ast.Constant)
+        ):
             key = node.slice
         if key is not None and key.value in keys:
             found.append((key.lineno, key.value, names[key.value]))
@@ -134,8 +157,11 @@ def method_keyed_dicts(source: str | list[ast.AST], names: dict[str, str]) -> li
     found = []
     for node in nodes_of(source):
         if isinstance(node, ast.Dict):
-            found += [(k.lineno, k.value, names[k.value]) for k in node.keys
-                      if isinstance(k, ast.Constant) and names.get(k.value) in ("method", "model type")]
+            found += [
+                (k.lineno, k.value, names[k.value])
+                for k in node.keys
+                if isinstance(k, ast.Constant) and names.get(k.value) in ("method", "model type")
+            ]
     return sorted(set(found))
 
 
@@ -148,7 +174,8 @@ def python_decisions(source: str, names: dict[str, str]) -> list[tuple[int, str,
     return sorted(
         [(line, lit, f"compares with the {what}") for line, lit, what in deciding_comparisons(nodes, names)]
         + [(line, lit, f"reads the {what}") for line, lit, what in metric_reads(nodes, names)]
-        + [(line, lit, f"keys a table by the {what}") for line, lit, what in method_keyed_dicts(nodes, names)])
+        + [(line, lit, f"keys a table by the {what}") for line, lit, what in method_keyed_dicts(nodes, names)]
+    )
 
 
 STRING = re.compile(r"""'(?:[^'\\\n]|\\.)*'|"(?:[^"\\\n]|\\.)*"|`(?:[^`\\]|\\.)*`""")
@@ -171,7 +198,7 @@ def code_decisions(code: str, names: dict[str, str], offset: int, text: str) -> 
     strings = list(STRING.finditer(code))
     blank = code
     for m in reversed(strings):  # the strings' insides blanked: only code is matched around them
-        blank = blank[: m.start() + 1] + " " * (m.end() - m.start() - 2) + blank[m.end() - 1:]
+        blank = blank[: m.start() + 1] + " " * (m.end() - m.start() - 2) + blank[m.end() - 1 :]
     found = []
 
     def line(pos: int) -> int:
@@ -181,7 +208,7 @@ def code_decisions(code: str, names: dict[str, str], offset: int, text: str) -> 
         value = m.group()[1:-1]
         if value not in names:
             continue
-        before, after = blank[: m.start()], blank[m.end():]
+        before, after = blank[: m.start()], blank[m.end() :]
         items_before, items_after = IN_ITEMS.search(before), ITEMS_AFTER.match(after)
         if BEFORE.search(before) or AFTER.match(after):
             how = "compares with the"
@@ -219,8 +246,9 @@ def page_names() -> dict[str, str]:
 
 
 def scanned_files() -> list[Path]:
-    return [p for p in sorted(APP.rglob("*.py"))
-            if str(p.relative_to(ROOT)) not in EXEMPT and "migrations" not in p.parts]
+    return [
+        p for p in sorted(APP.rglob("*.py")) if str(p.relative_to(ROOT)) not in EXEMPT and "migrations" not in p.parts
+    ]
 
 
 def page_files() -> list[Path]:
@@ -241,8 +269,11 @@ def findings() -> list[tuple[str, int, str, str]]:
     for path in scanned_files():
         rel = str(path.relative_to(ROOT))
         source = path.read_text(encoding="utf-8")
-        found += [(rel, line, literal, how) for line, literal, how in python_decisions(source, names)
-                  if (rel, literal) not in NOT_DECISIONS]
+        found += [
+            (rel, line, literal, how)
+            for line, literal, how in python_decisions(source, names)
+            if (rel, literal) not in NOT_DECISIONS
+        ]
     for path in page_files():
         rel = str(path.relative_to(ROOT))
         found += [(rel, *f) for f in page_decisions(path.read_text(encoding="utf-8"), on_page, path.suffix == ".html")]
@@ -253,15 +284,22 @@ FINDINGS = findings()
 
 
 def test_no_module_script_or_template_outside_the_results_decides_by_a_method_a_model_type_or_a_metric_key():
-    new = [f"{rel}:{line}: {how} {literal!r}" for rel, line, literal, how in FINDINGS
-           if literal not in AWAITING.get(rel, ())]
+    new = [
+        f"{rel}:{line}: {how} {literal!r}"
+        for rel, line, literal, how in FINDINGS
+        if literal not in AWAITING.get(rel, ())
+    ]
     assert not new, "the result (or the method table) decides, not these:\n" + "\n".join(new)
 
 
 def test_every_finding_awaiting_its_removal_is_still_there():
     present = {(rel, literal) for rel, _, literal, _ in FINDINGS}
-    gone = [f"{rel}: {name!r}" for rel, awaited in AWAITING.items() for name in sorted(awaited)
-            if (rel, name) not in present]
+    gone = [
+        f"{rel}: {name!r}"
+        for rel, awaited in AWAITING.items()
+        for name in sorted(awaited)
+        if (rel, name) not in present
+    ]
     assert not gone, "no longer found; strike them from AWAITING:\n" + "\n".join(gone)
 
 
@@ -270,9 +308,14 @@ def test_every_pair_that_is_about_something_else_is_still_found():
     stale = []
     for rel, literal in NOT_DECISIONS:
         path = ROOT / rel
-        found = (path.is_file() and any(lit == literal for _, lit, _ in (
-            python_decisions(path.read_text(encoding="utf-8"), names) if rel.endswith(".py")
-            else page_decisions(path.read_text(encoding="utf-8"), on_page, rel.endswith(".html")))))
+        found = path.is_file() and any(
+            lit == literal
+            for _, lit, _ in (
+                python_decisions(path.read_text(encoding="utf-8"), names)
+                if rel.endswith(".py")
+                else page_decisions(path.read_text(encoding="utf-8"), on_page, rel.endswith(".html"))
+            )
+        )
         if not found:
             stale.append(f"{rel}: {literal!r}")
     assert not stale, "no longer found; strike them from NOT_DECISIONS:\n" + "\n".join(stale)
@@ -298,7 +341,9 @@ def test_the_checker_catches_each_kind_of_comparison_it_looks_for():
         "    return {'cube': 5}.get(method, method != 'free')\n"
     )
     assert deciding_comparisons(source, names) == [
-        (2, "cube", "model type"), (4, "six_position", "method"), (6, "cv_error_mg", "metric key"),
+        (2, "cube", "model type"),
+        (4, "six_position", "method"),
+        (6, "cv_error_mg", "metric key"),
         (9, "six_position", "method"),
     ]
 
@@ -327,7 +372,7 @@ def test_planted_javascript():
     source = (
         "// if (type === 'cube') in a comment\n"
         "const KINDS = { cube: 1, plain: 2 };\n"
-        "if (cal.model.type === \"cube\") draw();\n"
+        'if (cal.model.type === "cube") draw();\n'
         "switch (p) { case 'cube24': go(); }\n"
         "if (['six_position', 'x'].includes(m)) go();\n"
         "const title = 'cube'; el('p', {}, `the cube`);\n"
@@ -335,20 +380,25 @@ def test_planted_javascript():
         "if ('cube' in KINDS) go();\n"
     )
     assert page_decisions(source, PLANTED, template=False) == [
-        (2, "cube", "keys a table by the model type"), (3, "cube", "compares with the model type"),
-        (4, "cube24", "compares with the protocol"), (5, "six_position", "compares with the method"),
-        (8, "cube", "compares with the model type")]
+        (2, "cube", "keys a table by the model type"),
+        (3, "cube", "compares with the model type"),
+        (4, "cube24", "compares with the protocol"),
+        (5, "six_position", "compares with the method"),
+        (8, "cube", "compares with the model type"),
+    ]
 
 
 def test_planted_template():
     source = (
-        "<p class=\"cube\">the cube's sides</p>\n"
+        '<p class="cube">the cube\'s sides</p>\n'
         "{# {% if protocol == 'cube24' %} in a comment #}\n"
-        "{% if protocol == \"cube24\" %}<p>24</p>{% endif %}\n"
-        "<a href=\"/wizard?protocol=cube24\">cube24</a>\n"
+        '{% if protocol == "cube24" %}<p>24</p>{% endif %}\n'
+        '<a href="/wizard?protocol=cube24">cube24</a>\n'
         "{% if protocol in ('six', 'cube24') %}x{% endif %}\n"
         "<script>const x = {{ protocol|tojson }}; if (x !== 'cube24') go();</script>\n"
     )
     assert page_decisions(source, PLANTED, template=True) == [
-        (3, "cube24", "compares with the protocol"), (5, "cube24", "compares with the protocol"),
-        (6, "cube24", "compares with the protocol")]
+        (3, "cube24", "compares with the protocol"),
+        (5, "cube24", "compares with the protocol"),
+        (6, "cube24", "compares with the protocol"),
+    ]

@@ -29,6 +29,9 @@ def test_the_check_finds_an_unbounded_run():
 
 
 def test_every_process_a_test_runs_has_a_time_bound():
-    found = {f"{path.relative_to(TESTS)}:{line}" for path in TESTS.rglob("*.py")
-             for line in unbounded_calls(path.read_text())}
+    found = {
+        f"{path.relative_to(TESTS)}:{line}"
+        for path in TESTS.rglob("*.py")
+        for line in unbounded_calls(path.read_text())
+    }
     assert not found, f"subprocess calls without timeout= (a hang there would stop the suite): {sorted(found)}"

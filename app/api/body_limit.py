@@ -71,7 +71,15 @@ class JsonBodyLimit:
     async def _refuse(self, send: Send) -> None:
         exc = PayloadTooLarge(self.limit_mb, "json")
         body = json.dumps({"detail": str(exc), "code": exc.code}).encode()
-        await send({"type": "http.response.start", "status": 413,
-                    "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode()),
-                                (b"connection", b"close")]})
+        await send(
+            {
+                "type": "http.response.start",
+                "status": 413,
+                "headers": [
+                    (b"content-type", b"application/json"),
+                    (b"content-length", str(len(body)).encode()),
+                    (b"connection", b"close"),
+                ],
+            }
+        )
         await send({"type": "http.response.body", "body": body})

@@ -28,8 +28,13 @@ def recording_source(store: Store, recording_id: str | None, owner: str | None) 
     return RecordingSource(meta=meta, path=path, id=recording_id)
 
 
-@router.post("", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True,
-             summary="Compute and store a calibration")
+@router.post(
+    "",
+    status_code=201,
+    response_model=CalibrationOut,
+    response_model_exclude_unset=True,
+    summary="Compute and store a calibration",
+)
 def create_calibration(request: CalibrationIn, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     source = recording_source(store, getattr(request, "recording_id", None), owner)
@@ -40,29 +45,65 @@ def create_calibration(request: CalibrationIn, store: StoreDep, owner: OwnerDep,
 
 
 @router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")
-def list_calibrations(*, device_id: str | None = Query(None, max_length=200),
-                      superseded_by: str | None = Query(None, max_length=200, description=(
-                          "List the earlier calibrations of the same recording and method this one superseded.")),
-                      limit: int = Query(100, ge=1, le=1000), store: StoreDep,
-                      owner: OwnerDep, reader: ReaderDep):
+def list_calibrations(
+    *,
+    device_id: str | None = Query(None, max_length=200),
+    superseded_by: str | None = Query(
+        None,
+        max_length=200,
+        description=("List the earlier calibrations of the same recording and method this one superseded."),
+    ),
+    limit: int = Query(100, ge=1, le=1000),
+    store: StoreDep,
+    owner: OwnerDep,
+    reader: ReaderDep,
+):
     """Calibrations, newest first, optionally of one device: one per recording and method (the latest; each
     says how many ``earlier`` it superseded), or with ``superseded_by`` those earlier ones."""
-    return render_body({"items": [with_verdict(body) for body in store.list_calibrations(
-        owner=owner, device_id=device_id, limit=limit, superseded_by=superseded_by)]}, *reader)
+    return render_body(
+        {
+            "items": [
+                with_verdict(body)
+                for body in store.list_calibrations(
+                    owner=owner, device_id=device_id, limit=limit, superseded_by=superseded_by
+                )
+            ]
+        },
+        *reader,
+    )
 
 
-@router.get("/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True,
-            summary="Read a calibration")
+@router.get(
+    "/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True, summary="Read a calibration"
+)
 def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """One stored calibration."""
     return render_body(with_verdict(store.get_calibration(calibration_id, owner=owner)), *reader)
 
 
-@router.get("/{calibration_id}/export", summary="Export a calibration",
-            responses={200: {"content": {"application/json": {}, "text/x-c": {}, "text/plain": {},
-                                         "application/yaml": {}, "text/csv": {}, "image/svg+xml": {}}}})
-def export(*, calibration_id: str, format: str = Query("json", description=f"By the calibration's method: {methods.formats_in_words()}"),
-           store: StoreDep, owner: OwnerDep):
+@router.get(
+    "/{calibration_id}/export",
+    summary="Export a calibration",
+    responses={
+        200: {
+            "content": {
+                "application/json": {},
+                "text/x-c": {},
+                "text/plain": {},
+                "application/yaml": {},
+                "text/csv": {},
+                "image/svg+xml": {},
+            }
+        }
+    },
+)
+def export(
+    *,
+    calibration_id: str,
+    format: str = Query("json", description=f"By the calibration's method: {methods.formats_in_words()}"),
+    store: StoreDep,
+    owner: OwnerDep,
+):
     """The calibration as a file for firmware or analysis code.
 
     ``json`` (versioned schema), ``c`` (C99 header), ``yaml`` and ``csv`` carry the full correction
@@ -76,11 +117,18 @@ def export(*, calibration_id: str, format: str = Query("json", description=f"By 
     ``json`` and ``temperature_svg`` (offset against temperature).
     """
     out = methods.export(store.get_calibration(calibration_id, owner=owner), format)
-    return Response(out.content, media_type=out.media_type,
-                    headers={"Content-Disposition": f'attachment; filename="{out.filename}"'})
+    return Response(
+        out.content,
+        media_type=out.media_type,
+        headers={"Content-Disposition": f'attachment; filename="{out.filename}"'},
+    )
 
 
-@router.get("/{calibration_id}/use", response_model=SnippetsOut, summary="How to apply it: the corrections and paste-ready lines")
+@router.get(
+    "/{calibration_id}/use",
+    response_model=SnippetsOut,
+    summary="How to apply it: the corrections and paste-ready lines",
+)
 def snippets(calibration_id: str, store: StoreDep, owner: OwnerDep):
     """Paste-ready lines that apply the calibration: C over its header, Python and JavaScript over its JSON;
     a board's counts scaled into the calibration's unit by the part its recording was read with."""
@@ -95,8 +143,7 @@ def snippets(calibration_id: str, store: StoreDep, owner: OwnerDep):
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")
-def apply(calibration_id: str, request: ApplyIn, store: StoreDep,
-          owner: OwnerDep):
+def apply(calibration_id: str, request: ApplyIn, store: StoreDep, owner: OwnerDep):
     """Samples calibrated with a stored calibration."""
     body = store.get_calibration(calibration_id, owner=owner)
     calibrated = apply_calibration(body, request.samples, request.sensor)

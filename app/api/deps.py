@@ -69,7 +69,7 @@ def link_owner(request: Request, token: str | None) -> tuple[bool, str | None]:
     if token is None or not token.startswith(LINK_TOKEN_PREFIX):
         return False, None
     try:
-        link = get_store(request).open_link(token[len(LINK_TOKEN_PREFIX):])
+        link = get_store(request).open_link(token[len(LINK_TOKEN_PREFIX) :])
     except NotFoundError as exc:
         raise Unauthorized(str(exc)) from None
     if request.path_params.get("calibration_id") != link["calibration_id"]:

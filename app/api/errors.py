@@ -64,8 +64,12 @@ class PayloadTooLarge(Exception):
     code = "payload_too_large"
     LIMITS = {
         "upload": ("the upload", "TRICAL_MAX_UPLOAD_MB", "split the recording or raise the limit"),
-        "json": ("the JSON body", "TRICAL_MAX_JSON_MB", "send fewer samples per request (e.g. upload long "
-                 "recordings with POST /api/v1/recordings) or raise the limit"),
+        "json": (
+            "the JSON body",
+            "TRICAL_MAX_JSON_MB",
+            "send fewer samples per request (e.g. upload long "
+            "recordings with POST /api/v1/recordings) or raise the limit",
+        ),
     }
 
     def __init__(self, limit_mb: float, kind: str = "upload"):
@@ -78,8 +82,14 @@ def describe_validation(exc: RequestValidationError) -> str:
     return describe_errors(exc.errors())
 
 
-def error_response(status: int, detail: str, code: str, headers: dict | None = None,
-                   request: Request | None = None, extra: dict | None = None) -> JSONResponse:
+def error_response(
+    status: int,
+    detail: str,
+    code: str,
+    headers: dict | None = None,
+    request: Request | None = None,
+    extra: dict | None = None,
+) -> JSONResponse:
     """The error body every failure of the API answers with, its ``detail`` in the words of who reads it, and
     ``asks``: the parameters the detail asks for (app.words.asked), when it names any, so that a page can
     show their controls without reading the words; ``extra``, what a refusal carries beside its words (a
@@ -114,13 +124,20 @@ def install_error_handlers(app: FastAPI, not_found_page: Callable[[Request], HTM
 
     @app.exception_handler(CalibrationError)
     async def _calibration(request: Request, exc: CalibrationError):
-        return error_response(422, str(exc), exc.code, request=request)  # calibration_refused, insufficient_data, not_still…
+        return error_response(
+            422, str(exc), exc.code, request=request
+        )  # calibration_refused, insufficient_data, not_still…
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):
         extra = {"candidates": exc.candidates, "preview": exc.preview} if isinstance(exc, ColumnsAmbiguous) else None
-        return error_response(exc.status, str(exc), exc.code or LOG_FORMAT_CODES.get(exc.status, "unreadable_log"),
-                              request=request, extra=extra)
+        return error_response(
+            exc.status,
+            str(exc),
+            exc.code or LOG_FORMAT_CODES.get(exc.status, "unreadable_log"),
+            request=request,
+            extra=extra,
+        )
 
     @app.exception_handler(ExportError)
     async def _export(request: Request, exc: ExportError):
@@ -151,4 +168,6 @@ def install_error_handlers(app: FastAPI, not_found_page: Callable[[Request], HTM
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception):
         log.exception("unexpected error on %s %s", request.method, request.url.path)
-        return error_response(500, "internal error: the request was not completed; nothing was stored", "internal_error", request=request)
+        return error_response(
+            500, "internal error: the request was not completed; nothing was stored", "internal_error", request=request
+        )

@@ -18,10 +18,13 @@ def link_address(request: Request, code: str) -> str:
     return f"{reachable_origin(request)}/s/{code}"
 
 
-@router.post("/api/v1/calibrations/{calibration_id}/links", status_code=201, response_model=LinkOut,
-             summary="A short link that reads the calibration for a while")
-def create_link(calibration_id: str, request: Request, store: StoreDep,
-                owner: OwnerDep, settings: SettingsDep):
+@router.post(
+    "/api/v1/calibrations/{calibration_id}/links",
+    status_code=201,
+    response_model=LinkOut,
+    summary="A short link that reads the calibration for a while",
+)
+def create_link(calibration_id: str, request: Request, store: StoreDep, owner: OwnerDep, settings: SettingsDep):
     """A short link to the calibration, for another device to open until it expires (TRICAL_LINK_TTL_MIN)."""
     if (bearer_token(request) or "").startswith(LINK_TOKEN_PREFIX):
         raise Unauthorized("a link cannot make another link: send it from the device that made the calibration")
@@ -34,5 +37,9 @@ def create_link(calibration_id: str, request: Request, store: StoreDep,
 def open_link(code: str, store: StoreDep):
     """The calibration a link's code opens and until when; the code, as ``Bearer lnk_<code>``, then reads it."""
     link = store.open_link(code)
-    return {"code": code.upper(), "calibration_id": link["calibration_id"], "expires_at": link["expires_at"],
-            "token": LINK_TOKEN_PREFIX + code.upper()}
+    return {
+        "code": code.upper(),
+        "calibration_id": link["calibration_id"],
+        "expires_at": link["expires_at"],
+        "token": LINK_TOKEN_PREFIX + code.upper(),
+    }

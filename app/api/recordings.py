@@ -74,31 +74,66 @@ def _part_name(upload: UploadFile, i: int) -> str:
 @router.post("", status_code=201, response_model=RecordingOut, summary="Upload a log, or one file per pose")
 def upload_recording(
     *,
-    file: list[UploadFile] = File(..., description=(
-        "A log: CSV with or without a header row, a JSON array of samples, a phyphox / Sensor Logger zip, .npy / "
-        ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several "
-        "`file` parts (one file per pose) are one recording in parts, in the order given; files named one per sensor "
-        "(accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one clock "
-        "(app.io.sensor_files).")),
+    file: list[UploadFile] = File(
+        ...,
+        description=(
+            "A log: CSV with or without a header row, a JSON array of samples, a phyphox / Sensor Logger zip, .npy / "
+            ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several "
+            "`file` parts (one file per pose) are one recording in parts, in the order given; files named one per sensor "
+            "(accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one clock "
+            "(app.io.sensor_files)."
+        ),
+    ),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: AccUnit | None = Form(None),
     gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
     mag_unit: Literal["uT", "nT", "gauss", "raw"] | None = Form(None),
-    format: Literal["auto", "ulog", "dataflash", "csv", "phyphox", "sensor_logger", "gnss_logger", "physics_toolbox", "sensorlog",
-                    "betaflight_mag", "json", "arduino"] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
+    format: Literal[
+        "auto",
+        "ulog",
+        "dataflash",
+        "csv",
+        "phyphox",
+        "sensor_logger",
+        "gnss_logger",
+        "physics_toolbox",
+        "sensorlog",
+        "betaflight_mag",
+        "json",
+        "arduino",
+    ] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
-    chip: str | None = Form(None, description="The parts (and ranges) of sensors logged in counts, separated by "
-                            "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "
-                            "(app.io.formats.chips)."),
-    columns: str | None = Form(None, description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
-                               "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)"),
-    sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Form(None, description="Factor on the file's accelerations: -1 for iOS Core Motion's "
-                                       "sign (-g up), 1 to keep them; detected from the header when omitted."),
-    instance: int | None = Form(None, ge=0, le=255, description=(
-        "A flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance read (PX4 multi_id, ArduPilot I); "
-        "default: PX4 the source with the most samples, ArduPilot 0. `flight.instances` of the answer lists them.")),
-    mag_instance: int | None = Form(None, ge=0, le=255, description=(
-        "A flight controller's log: the compass instance the compass methods read (default: the first).")),
+    chip: str | None = Form(
+        None,
+        description="The parts (and ranges) of sensors logged in counts, separated by "
+        "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "
+        "(app.io.formats.chips).",
+    ),
+    columns: str | None = Form(
+        None,
+        description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
+        "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)",
+    ),
+    sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Form(
+        None,
+        description="Factor on the file's accelerations: -1 for iOS Core Motion's "
+        "sign (-g up), 1 to keep them; detected from the header when omitted.",
+    ),
+    instance: int | None = Form(
+        None,
+        ge=0,
+        le=255,
+        description=(
+            "A flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance read (PX4 multi_id, ArduPilot I); "
+            "default: PX4 the source with the most samples, ArduPilot 0. `flight.instances` of the answer lists them."
+        ),
+    ),
+    mag_instance: int | None = Form(
+        None,
+        ge=0,
+        le=255,
+        description=("A flight controller's log: the compass instance the compass methods read (default: the first)."),
+    ),
     settings: SettingsDep,
     store: StoreDep,
     owner: OwnerDep,
@@ -115,13 +150,24 @@ def upload_recording(
         names = [_part_name(f, i) for i, f in enumerate(file)]
         filename = ", ".join(names)
         dest = settings.recordings_dir / f"{recording_id}.zip"
-        save_uploads_as_zip([(n, f.file) for n, f in zip(names, file)], dest, settings.max_upload_bytes,
-                            settings.max_upload_mb)
+        save_uploads_as_zip(
+            [(n, f.file) for n, f in zip(names, file)], dest, settings.max_upload_bytes, settings.max_upload_mb
+        )
     units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-    options = ReadOptions(format=format, sampling_rate_hz=sampling_rate_hz, units=units, lsb_per_g=lsb_per_g,
-                          columns=columns, sign=sign, chip=chip, instance=instance, mag_instance=mag_instance)
-    return render_body(add_recording(store, recording_id, dest, filename=filename, options=options, owner=owner),
-                       *reader)
+    options = ReadOptions(
+        format=format,
+        sampling_rate_hz=sampling_rate_hz,
+        units=units,
+        lsb_per_g=lsb_per_g,
+        columns=columns,
+        sign=sign,
+        chip=chip,
+        instance=instance,
+        mag_instance=mag_instance,
+    )
+    return render_body(
+        add_recording(store, recording_id, dest, filename=filename, options=options, owner=owner), *reader
+    )
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")

@@ -6,8 +6,16 @@ from fastapi import APIRouter, Depends, Request
 
 from app.guided import sessions
 from app.api.deps import (
-    SESSION_TOKEN_PREFIX, OwnerDep, ReaderDep, SettingsDep, StoreDep, Unauthorized, bearer_token, new_session_token,
-    session_of_token, session_owner,
+    SESSION_TOKEN_PREFIX,
+    OwnerDep,
+    ReaderDep,
+    SettingsDep,
+    StoreDep,
+    Unauthorized,
+    bearer_token,
+    new_session_token,
+    session_of_token,
+    session_owner,
 )
 from app.api.schemas.calibrations import CalibrationOut
 from app.api.schemas.sessions import CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
@@ -21,16 +29,17 @@ def session_of(session_id: str, request: Request, store: StoreDep) -> sessions.S
     """The session the bearer token opens; 401 without a valid token, 404 for another session's id."""
     token = bearer_token(request)
     if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
-        raise Unauthorized("a session call needs its token: send `Authorization: Bearer <token>` "
-                           "(the token POST /api/v1/sessions returned)")
+        raise Unauthorized(
+            "a session call needs its token: send `Authorization: Bearer <token>` "
+            "(the token POST /api/v1/sessions returned)"
+        )
     if session_of_token(request, token) != session_id:
         raise NotFoundError(f"no session with id {session_id!r} for this token")
     return sessions.load(store, session_id)
 
 
 @router.post("", status_code=201, response_model=SessionCreated)
-def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep,
-                   settings: SettingsDep):
+def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep, settings: SettingsDep):
     """Start a wizard session; the token in the answer opens it (with TRICAL_API_KEYS set, starting
     one needs a key)."""
     token, digest = new_session_token()
@@ -46,8 +55,9 @@ def get_session(reader: ReaderDep, session: sessions.Session = Depends(session_o
 
 
 @router.post("/{session_id}/captures", status_code=201, response_model=CaptureOut)
-def add_capture(*, body: CaptureIn, session: sessions.Session = Depends(session_of), store: StoreDep,
-                reader: ReaderDep):
+def add_capture(
+    *, body: CaptureIn, session: sessions.Session = Depends(session_of), store: StoreDep, reader: ReaderDep
+):
     """Check the raw samples of one still pose and store them (409 when that pose is done)."""
     capture, view = sessions.add_capture(store, session, body.model_dump())
     return render_body({"capture": capture, "session": view}, *reader)
@@ -56,5 +66,7 @@ def add_capture(*, body: CaptureIn, session: sessions.Session = Depends(session_
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
 def solve_session(*, session: sessions.Session = Depends(session_of), store: StoreDep, reader: ReaderDep):
     """Compute and store the calibration of a complete session; its token reads it."""
-    return render_body(store.add_calibration(sessions.solve(store, session), owner=session_owner(session.id),
-                                             session_id=session.id), *reader)
+    return render_body(
+        store.add_calibration(sessions.solve(store, session), owner=session_owner(session.id), session_id=session.id),
+        *reader,
+    )

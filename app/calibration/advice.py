@@ -143,8 +143,9 @@ def _allowed(directions: np.ndarray, taken: np.ndarray, min_separation_deg: floa
     return np.all(directions @ taken.T < np.cos(np.radians(min_separation_deg)), axis=1)
 
 
-def next_poses(result, *, count: int = ADVICE_COUNT, candidates: int = CANDIDATES,
-               min_separation_deg: float = MIN_SEPARATION_DEG) -> tuple[PoseAdvice, ...]:
+def next_poses(
+    result, *, count: int = ADVICE_COUNT, candidates: int = CANDIDATES, min_separation_deg: float = MIN_SEPARATION_DEG
+) -> tuple[PoseAdvice, ...]:
     """The D-optimal next poses for a fitted magnitude model (module docstring).
 
     Parameters
@@ -190,7 +191,7 @@ def next_poses(result, *, count: int = ADVICE_COUNT, candidates: int = CANDIDATE
         h = float(leverage[best])
         Pj = P @ R[best]
         P = P - np.outer(Pj, Pj) / (1.0 + h)  # Sherman–Morrison: the pose is taken
-        allowed &= _allowed(directions, directions[best:best + 1], min_separation_deg)
+        allowed &= _allowed(directions, directions[best : best + 1], min_separation_deg)
         advice.append(PoseAdvice(up=directions[best], words=describe_up(directions[best]), gain=h / (1.0 + h)))
     return tuple(advice)
 
@@ -222,4 +223,3 @@ def farthest_directions(ups, *, count: int = ADVICE_COUNT, candidates: int = CAN
         taken = np.vstack([taken, directions[best]])
         advice.append(PoseAdvice(up=directions[best], words=describe_up(directions[best]), gain=None))
     return tuple(advice)
-

@@ -86,8 +86,13 @@ class AffineCalibration(StillReadingsResult):
     CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (20): M = X^-1, o = y"
     AS_FITTED = "As fitted (Georgieva et al., ESGI'95, section 3.2): m = X a + y, so X = M⁻¹ and y = o."
     PARAMETERS = tuple(
-        (f"x{i + 1}{j + 1}", "scale" if i == j else "cross", "xyz"[i] if i == j else "xyz"[min(i, j)] + "xyz"[max(i, j)])
-        for i in range(3) for j in range(3)
+        (
+            f"x{i + 1}{j + 1}",
+            "scale" if i == j else "cross",
+            "xyz"[i] if i == j else "xyz"[min(i, j)] + "xyz"[max(i, j)],
+        )
+        for i in range(3)
+        for j in range(3)
     ) + (("y1", "offset", "x"), ("y2", "offset", "y"), ("y3", "offset", "z"))
     """Name, kind and axes of each parameter in the covariance's order (z of eq. (21))."""
 
@@ -95,8 +100,10 @@ class AffineCalibration(StillReadingsResult):
     def verdict_note(cls, method: str | None, figure) -> str:
         """Six poses' figure is in-sample: say so, and how to measure the error on new orientations."""
         if method == "six_position" and figure.before is not None:
-            return ("Six poses leave none out to test on: the figure is on the poses fitted. A free session "
-                    "measures the error on new orientations.")
+            return (
+                "Six poses leave none out to test on: the figure is on the poses fitted. A free session "
+                "measures the error on new orientations."
+            )
         return ""
 
     @property
@@ -113,8 +120,10 @@ class AffineCalibration(StillReadingsResult):
         """Calibrated readings minus their expected specific force, shape (N, 3)."""
         return self.apply(self.means) - self.expected
 
-    NO_INTERVALS = ("no intervals: {n} readings fit 4 parameters per axis exactly (0 residual degrees of freedom); "
-                    "add orientations to estimate the uncertainty")
+    NO_INTERVALS = (
+        "no intervals: {n} readings fit 4 parameters per axis exactly (0 residual degrees of freedom); "
+        "add orientations to estimate the uncertainty"
+    )
 
     def interval_dict(self, hw: np.ndarray) -> dict:
         return {"X": hw[:9].reshape(3, 3).tolist(), "y": hw[9:].tolist()}
@@ -123,16 +132,21 @@ class AffineCalibration(StillReadingsResult):
         """A known orientation's reading: its label, mean, expected vector, calibrated residual and the
         relative fit errors after and before (Georgieva et al., ESGI'95, section 3.5)."""
         a = self.expected[index]
-        return {"up": self.labels[index], "mean": mean.tolist(), "expected": a.tolist(),
-                "residual": (calibrated - a).tolist(),
-                "fit_error": float(np.linalg.norm(calibrated - a) / np.linalg.norm(a)),
-                "fit_error_raw": float(np.linalg.norm(mean - a) / np.linalg.norm(a))}
+        return {
+            "up": self.labels[index],
+            "mean": mean.tolist(),
+            "expected": a.tolist(),
+            "residual": (calibrated - a).tolist(),
+            "fit_error": float(np.linalg.norm(calibrated - a) / np.linalg.norm(a)),
+            "fit_error_raw": float(np.linalg.norm(mean - a) / np.linalg.norm(a)),
+        }
 
     @property
     def correction(self) -> AffineCorrection:
         """``a = X⁻¹ (m − y)`` (Georgieva et al., ESGI'95, eq. (20)): M = X⁻¹, o = y."""
-        return AffineCorrection(self.correction_matrix, np.asarray(self.y, dtype=float), self.unit,
-                                self.output_unit, self.CORRECTION_SOURCE)
+        return AffineCorrection(
+            self.correction_matrix, np.asarray(self.y, dtype=float), self.unit, self.output_unit, self.CORRECTION_SOURCE
+        )
 
     @classmethod
     def _from_body(cls, data: dict) -> "AffineCalibration":
@@ -144,6 +158,7 @@ class AffineCalibration(StillReadingsResult):
             labels=tuple(r.get("up") for r in readings),
             **common,
         )
+
 
 def _design(expected: np.ndarray, gravity: float) -> np.ndarray:
     """Rows (a⁽ⁱ⁾/g, 1) of Georgieva et al., ESGI'95, condition (22), normalised so that the design is
@@ -209,8 +224,9 @@ def _calibrated(X: np.ndarray, y: np.ndarray, means: np.ndarray) -> np.ndarray:
     return np.linalg.solve(X, (means - y).T).T
 
 
-def _metrics(cal: np.ndarray, means: np.ndarray, expected: np.ndarray, gravity: float, cond: float,
-             dof: int) -> tuple[dict, np.ndarray]:
+def _metrics(
+    cal: np.ndarray, means: np.ndarray, expected: np.ndarray, gravity: float, cond: float, dof: int
+) -> tuple[dict, np.ndarray]:
     """The figures of Georgieva et al., ESGI'95, section 3.5, and the relative fitting errors."""
     norm_a = np.linalg.norm(expected, axis=1)
     fit = np.linalg.norm(cal - expected, axis=1) / norm_a
@@ -237,32 +253,47 @@ def _metrics(cal: np.ndarray, means: np.ndarray, expected: np.ndarray, gravity: 
 def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scale, max_offset) -> Gates:
     """Quality gates of the affine fit (docs/methods.md): fit error, scales, offsets, spread, duplicates."""
     gates = Gates()
-    gates.fail(residual_gate(
-        fit, MAX_FIT_ERROR,
-        lambda index, percent, gate_percent, **_: (
-            f"reading {index} ({labels[index] or f'reading {index}'}) is {percent:.1f} % of g from its "
-            f"orientation after calibration (gate {gate_percent:.0f} %): it may be mislabelled or not still"
-        ),
-    ))
-    gates.fail(scale_gate(
-        np.diag(X), plausible_scale,
-        "scale of the {axis} axis is {value:.4f}, outside the plausible {lo}–{hi}: "
-        "check the unit and the orientation labels",
-    ))
-    gates.fail(offset_gate(
-        y, max_offset,
-        "offset of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit and the orientation labels",
-    ))
-    gates.warn(limit_gate(
-        cond, MAX_CONDITION_NUMBER,
-        "the orientations are poorly spread (condition number {value:.1f}): the parameters "
-        "are sensitive to noise; add opposite orientations",
-    ))
-    gates.warn(near_duplicate_gate(
-        means, NEAR_DUPLICATE_FRACTION * gravity,
-        "readings {i} and {j} are within 1 % of g of each other (near-duplicate positions, "
-        "Georgieva et al. Dataset 3): they weigh one orientation twice",
-    ))
+    gates.fail(
+        residual_gate(
+            fit,
+            MAX_FIT_ERROR,
+            lambda index, percent, gate_percent, **_: (
+                f"reading {index} ({labels[index] or f'reading {index}'}) is {percent:.1f} % of g from its "
+                f"orientation after calibration (gate {gate_percent:.0f} %): it may be mislabelled or not still"
+            ),
+        )
+    )
+    gates.fail(
+        scale_gate(
+            np.diag(X),
+            plausible_scale,
+            "scale of the {axis} axis is {value:.4f}, outside the plausible {lo}–{hi}: "
+            "check the unit and the orientation labels",
+        )
+    )
+    gates.fail(
+        offset_gate(
+            y,
+            max_offset,
+            "offset of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit and the orientation labels",
+        )
+    )
+    gates.warn(
+        limit_gate(
+            cond,
+            MAX_CONDITION_NUMBER,
+            "the orientations are poorly spread (condition number {value:.1f}): the parameters "
+            "are sensitive to noise; add opposite orientations",
+        )
+    )
+    gates.warn(
+        near_duplicate_gate(
+            means,
+            NEAR_DUPLICATE_FRACTION * gravity,
+            "readings {i} and {j} are within 1 % of g of each other (near-duplicate positions, "
+            "Georgieva et al. Dataset 3): they weigh one orientation twice",
+        )
+    )
     if stds is not None:
         for i, s in enumerate(stds):
             if s is not None and np.all(np.isfinite(s)) and np.linalg.norm(s) > 0.05 * gravity:
@@ -270,11 +301,13 @@ def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scal
                     f"reading {i} has a spread of {np.linalg.norm(s):.3g} (above 5 % of g): "
                     "the device may have moved during the capture"
                 )
-    gates.fail(exact_fit_gate(
-        dof,
-        "4 readings fit the 12 parameters exactly: there are no residual degrees of freedom, "
-        "so no intervals and no check of the fit; use six or more orientations",
-    ))
+    gates.fail(
+        exact_fit_gate(
+            dof,
+            "4 readings fit the 12 parameters exactly: there are no residual degrees of freedom, "
+            "so no intervals and no check of the fit; use six or more orientations",
+        )
+    )
     return gates
 
 
@@ -301,8 +334,9 @@ def _finish(
     cond = float(np.linalg.cond(design))
     cal = _calibrated(X, y, means)
     metrics, fit = _metrics(cal, means, expected, gravity, cond, dof)
-    gates = _gates(X, y, means, labels, gravity, fit, cond, dof, stds=stds,
-                   plausible_scale=plausible_scale, max_offset=max_offset)
+    gates = _gates(
+        X, y, means, labels, gravity, fit, cond, dof, stds=stds, plausible_scale=plausible_scale, max_offset=max_offset
+    )
     return AffineCalibration(
         X=X,
         y=y,
@@ -404,8 +438,9 @@ def fit_orientations(
     design = np.hstack([a, np.ones((len(a), 1))])
     W, *_ = np.linalg.lstsq(design, m, rcond=None)
     X, y = W[:3].T.copy(), W[3].copy()
-    return _finish(X, y, m, a, labels, g, "orientations", stds=stds, plausible_scale=plausible_scale,
-                   max_offset=max_offset)
+    return _finish(
+        X, y, m, a, labels, g, "orientations", stds=stds, plausible_scale=plausible_scale, max_offset=max_offset
+    )
 
 
 def fit_six_position(
@@ -466,5 +501,6 @@ def fit_six_position(
     X = np.column_stack([by_label["+" + ax] - by_label["-" + ax] for ax in "xyz"]) / (2.0 * g)
     y = m.mean(axis=0)
     a = np.array([up_vector(lab) * g for lab in labels])
-    return _finish(X, y, m, a, tuple(labels), g, "six_position", stds=stds, plausible_scale=plausible_scale,
-                   max_offset=max_offset)
+    return _finish(
+        X, y, m, a, tuple(labels), g, "six_position", stds=stds, plausible_scale=plausible_scale, max_offset=max_offset
+    )

@@ -59,7 +59,8 @@ def tau_grid(n_samples: int, sampling_rate_hz: float, per_decade: int = PER_DECA
     if n_samples < MIN_SAMPLES:
         raise InsufficientDataError(
             f"{n_samples} still samples are too few for an Allan deviation: record the device resting for at "
-            f"least {MIN_SAMPLES} samples (minutes for the noise density, hours for the random walk)")
+            f"least {MIN_SAMPLES} samples (minutes for the noise density, hours for the random walk)"
+        )
     m_max = (n_samples - 1) // 2
     small = np.arange(1, min(10, m_max) + 1)
     if m_max <= 10:
@@ -79,14 +80,14 @@ def phase_of(column, sampling_rate_hz: float) -> tuple[np.ndarray, float]:
     n = len(column)
     total = 0.0
     for a in range(0, n, 1 << 20):
-        total += float(np.sum(np.asarray(column[a:a + (1 << 20)], dtype=np.float64)))
+        total += float(np.sum(np.asarray(column[a : a + (1 << 20)], dtype=np.float64)))
     mean = total / n
     x = np.empty(n + 1)
     x[0] = 0.0
     carry = 0.0
     for a in range(0, n, 1 << 20):
-        block = np.asarray(column[a:a + (1 << 20)], dtype=np.float64) - mean
-        out = x[1 + a:1 + a + len(block)]
+        block = np.asarray(column[a : a + (1 << 20)], dtype=np.float64) - mean
+        out = x[1 + a : 1 + a + len(block)]
         np.cumsum(block, out=out)
         out += carry
         carry = float(out[-1])
@@ -105,9 +106,9 @@ def second_difference_sums(x: np.ndarray, ms: np.ndarray) -> np.ndarray:
         for a in range(0, count, CHUNK):
             k = min(CHUNK, count - a)
             d = buf[:k]
-            np.multiply(x[a + m:a + m + k], -2.0, out=d)
-            np.add(d, x[a + 2 * m:a + 2 * m + k], out=d)
-            np.add(d, x[a:a + k], out=d)
+            np.multiply(x[a + m : a + m + k], -2.0, out=d)
+            np.add(d, x[a + 2 * m : a + 2 * m + k], out=d)
+            np.add(d, x[a : a + k], out=d)
             np.square(d, out=d)
             s += float(d.sum())
         out[j] = s
@@ -144,6 +145,7 @@ def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = N
         raise CalibrationError(f"averaging factors must lie in 1 … {(n - 1) // 2} for {n} samples")
     tau = ms / sampling_rate_hz
     n_terms = n + 1 - 2 * ms
+
     def one_axis(axis: int) -> tuple[np.ndarray, float]:
         x, mean = phase_of(samples[:, axis], sampling_rate_hz)
         if not np.isfinite(x[-1]):

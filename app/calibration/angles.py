@@ -104,8 +104,11 @@ def degrees_text(value: float) -> str:
     return f"{value:.2f}°" if value >= 0.005 else "<0.01°"
 
 
-INCLINATION_WORDS = {"model": "the field dips {i:.0f}° at your place", "measured": "the field dips {i:.0f}° as measured in the turn",
-                     "assumed": "assuming the field dips {i:.0f}°: give the place for its own"}
+INCLINATION_WORDS = {
+    "model": "the field dips {i:.0f}° at your place",
+    "measured": "the field dips {i:.0f}° as measured in the turn",
+    "assumed": "assuming the field dips {i:.0f}°: give the place for its own",
+}
 """Where a heading figure's inclination comes from, in words (:func:`compass_inclination`)."""
 
 
@@ -140,9 +143,23 @@ def figure_degrees(before: float | None, after: float | None, unit: str, metrics
     words = f"a level off by {told}" if kind == "tilt" else f"a heading off by {told}"
     if kind == "heading":
         words += f" ({INCLINATION_WORDS[source].format(i=abs(inclination))})"
-    return {"kind": kind, "before_deg": before_deg, "after_deg": after_deg, "inclination_deg": inclination,
-            "inclination_source": source, "words": words}
+    return {
+        "kind": kind,
+        "before_deg": before_deg,
+        "after_deg": after_deg,
+        "inclination_deg": inclination,
+        "inclination_source": source,
+        "words": words,
+    }
 
 
-__all__ = ["ASSUMED_INCLINATION_DEG", "compass_inclination", "degrees_text", "figure_degrees", "heading_error_deg",
-           "horizontal_field", "tilt_error_deg", "worst_angle_deg"]
+__all__ = [
+    "ASSUMED_INCLINATION_DEG",
+    "compass_inclination",
+    "degrees_text",
+    "figure_degrees",
+    "heading_error_deg",
+    "horizontal_field",
+    "tilt_error_deg",
+    "worst_angle_deg",
+]

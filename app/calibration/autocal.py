@@ -106,8 +106,15 @@ def bin_of(points_g: np.ndarray) -> np.ndarray:
     return out
 
 
-def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN, max_per_bin: int = MAX_PER_BIN,
-                  min_distance_g: float = MIN_DISTANCE_G, exclude=None) -> Selection:
+def select_points(
+    means,
+    *,
+    gravity: float = 1.0,
+    min_per_bin: int = MIN_PER_BIN,
+    max_per_bin: int = MAX_PER_BIN,
+    min_distance_g: float = MIN_DISTANCE_G,
+    exclude=None,
+) -> Selection:
     """Choose calibration points into the nine subsets of Farago, Maczak and Gingl, IEEE Access, eq.
     (10) (module docstring, step 2).
 
@@ -129,10 +136,14 @@ def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN
     -------
     Selection
     """
-    if not (isinstance(min_per_bin, (int, np.integer)) and isinstance(max_per_bin, (int, np.integer))
-            and 1 <= min_per_bin <= max_per_bin):
+    if not (
+        isinstance(min_per_bin, (int, np.integer))
+        and isinstance(max_per_bin, (int, np.integer))
+        and 1 <= min_per_bin <= max_per_bin
+    ):
         raise CalibrationError(
-            f"min_per_bin and max_per_bin must be integers with 1 ≤ min ≤ max; got {min_per_bin}, {max_per_bin}")
+            f"min_per_bin and max_per_bin must be integers with 1 ≤ min ≤ max; got {min_per_bin}, {max_per_bin}"
+        )
     if not (math.isfinite(min_distance_g) and min_distance_g >= 0):
         raise CalibrationError(f"min_distance_g must be a non-negative number; got {min_distance_g!r}")
     v = np.asarray(means, dtype=float).reshape(-1, 3) / float(gravity)
@@ -165,8 +176,13 @@ def select_points(means, *, gravity: float = 1.0, min_per_bin: int = MIN_PER_BIN
         pts.append((x, y, z))
         if counts.min() >= max_per_bin:
             break
-    return Selection(indices=np.array(chosen, dtype=int), bins=np.array(chosen_bins, dtype=int), counts=counts,
-                     min_per_bin=int(min_per_bin), max_per_bin=int(max_per_bin))
+    return Selection(
+        indices=np.array(chosen, dtype=int),
+        bins=np.array(chosen_bins, dtype=int),
+        counts=counts,
+        min_per_bin=int(min_per_bin),
+        max_per_bin=int(max_per_bin),
+    )
 
 
 def control_figure(m: dict) -> Figure | None:
@@ -299,27 +315,43 @@ class AutoCalibration(CalibrationResult):
         if data.get("readings"):
             cal = TriangularCalibration._from_body({**data, "method": "triangular", "reasons": []})
         return cls(
-            calibration=cal, gravity=float(data["gravity"]),
+            calibration=cal,
+            gravity=float(data["gravity"]),
             points=np.asarray(data.get("points", []), dtype=float).reshape(-1, 3),
             control=np.asarray(data.get("control", []), dtype=float).reshape(-1, 3),
             point_starts=np.asarray(data.get("point_starts", []), dtype=np.int64),
             control_starts=np.asarray(data.get("control_starts", []), dtype=np.int64),
-            selection=dict(data.get("selection", {})), control_selection=dict(data.get("control_selection", {})),
-            detection=dict(data.get("detection", {})), comparison=dict(data.get("comparison", {})),
-            solver=data.get("solver", "lm"), **gate_fields(data), unit=data.get("unit", "g"),
+            selection=dict(data.get("selection", {})),
+            control_selection=dict(data.get("control_selection", {})),
+            detection=dict(data.get("detection", {})),
+            comparison=dict(data.get("comparison", {})),
+            solver=data.get("solver", "lm"),
+            **gate_fields(data),
+            unit=data.get("unit", "g"),
         )
 
 
 def _comparison_entry(result, control, count: int) -> dict:
     """One row of the comparison table (Farago, Maczak and Gingl, IEEE Access, Table 3): errors on the
     control points and the model."""
-    entry = {"K": result.K.tolist(), "o": np.asarray(result.o).tolist(), "ok": bool(result.ok), "count": int(count),
-             "reasons": list(result.reasons), "error_before_mg": None, "error_after_mg": None,
-             "improvement_pct": None, "count_control": int(len(control))}
+    entry = {
+        "K": result.K.tolist(),
+        "o": np.asarray(result.o).tolist(),
+        "ok": bool(result.ok),
+        "count": int(count),
+        "reasons": list(result.reasons),
+        "error_before_mg": None,
+        "error_after_mg": None,
+        "improvement_pct": None,
+        "count_control": int(len(control)),
+    }
     if len(control):
         ev = norm_errors(control, result.apply, result.gravity)
-        entry.update(error_before_mg=ev["error_before_mg"], error_after_mg=ev["error_after_mg"],
-                     improvement_pct=ev["improvement_pct"])
+        entry.update(
+            error_before_mg=ev["error_before_mg"],
+            error_after_mg=ev["error_after_mg"],
+            improvement_pct=ev["improvement_pct"],
+        )
     return entry
 
 
@@ -339,13 +371,22 @@ def _one_orientation(means: np.ndarray) -> np.ndarray | None:
     return None
 
 
-FIT_METRICS = ("error_before_mg", "error_after_mg", "norm_error_max", "noise_estimate", "condition_number",
-               "converged", "iterations", "distance_to_lm")
+FIT_METRICS = (
+    "error_before_mg",
+    "error_after_mg",
+    "norm_error_max",
+    "noise_estimate",
+    "condition_number",
+    "converged",
+    "iterations",
+    "distance_to_lm",
+)
 """Metrics of the fit repeated in the auto-calibration's metrics, prefixed ``fit_``."""
 
 
-def _rest_gates(rest: RestSegments, sel: Selection, ctl: Selection, seg_s: float, min_per_bin: int,
-                gates: Gates) -> None:
+def _rest_gates(
+    rest: RestSegments, sel: Selection, ctl: Selection, seg_s: float, min_per_bin: int, gates: Gates
+) -> None:
     """Reasons when the recording has no rest, rest in one orientation, or subsets of Farago,
     Maczak and Gingl, IEEE Access, eq. (10) left short; a warning for an incomplete control set."""
     if rest.n_rest == 0:
@@ -395,8 +436,10 @@ def _fit(rest: RestSegments, points: np.ndarray, g: float, solver: str, gates: G
         except CalibrationError as exc:  # InsufficientDataError: too few distinct orientations
             gates.fail(f"the 9-parameter fit was not possible: {exc}")
     elif rest.n_rest:
-        gates.fail(f"only {len(points)} calibration points could be selected; the 9-parameter model needs "
-                   "at least 9 (Farago et al. recommends 18)")
+        gates.fail(
+            f"only {len(points)} calibration points could be selected; the 9-parameter model needs "
+            "at least 9 (Farago et al. recommends 18)"
+        )
     return None
 
 
@@ -405,12 +448,17 @@ def _held_out(cal: TriangularCalibration, control: np.ndarray, g: float, metrics
     eq. (21)) on the control points; a reason when the calibration makes them worse."""
     if not len(control):
         metrics.update(error_before_mg=None, error_after_mg=None, improvement_pct=None)
-        gates.warn("no control points remain for the held-out evaluation (Farago et al. section III.B): "
-                   "a longer recording gives one")
+        gates.warn(
+            "no control points remain for the held-out evaluation (Farago et al. section III.B): "
+            "a longer recording gives one"
+        )
         return
     ev = norm_errors(control, cal.apply, g)
-    metrics.update(error_before_mg=ev["error_before_mg"], error_after_mg=ev["error_after_mg"],
-                   improvement_pct=ev["improvement_pct"])
+    metrics.update(
+        error_before_mg=ev["error_before_mg"],
+        error_after_mg=ev["error_after_mg"],
+        improvement_pct=ev["improvement_pct"],
+    )
     if ev["error_after_mg"] >= ev["error_before_mg"]:
         gates.fail(
             f"the calibration makes the control points worse ({ev['error_before_mg']:.2f} mg before, "
@@ -427,25 +475,40 @@ def _cross_validated(points: np.ndarray, g: float, solver: str, metrics: dict, g
     gates.fail(worse_than_raw(cv["cv_error_mg"], metrics["fit_error_before_mg"], len(points), cv["cv_scheme"]))
 
 
-def _comparison(rest: RestSegments, cal: TriangularCalibration, points: np.ndarray, control: np.ndarray,
-                g: float) -> dict:
+def _comparison(
+    rest: RestSegments, cal: TriangularCalibration, points: np.ndarray, control: np.ndarray, g: float
+) -> dict:
     """The comparison table of Farago, Maczak and Gingl, IEEE Access, Table 3: the triangular fit,
     the axis-aligned ellipsoid fit and the van Hees sphere fit (also on its own 10 s windows)."""
     comparison = {"triangular_002": _comparison_entry(cal, control, len(points))}
-    for name, fn, pts in (("ellipsoid_axes", fit_ellipsoid_axes, points),
-                          ("sphere_van_hees", fit_sphere_van_hees, points),
-                          ("sphere_van_hees_10s", fit_sphere_van_hees, rest.ggir_mean)):
+    for name, fn, pts in (
+        ("ellipsoid_axes", fit_ellipsoid_axes, points),
+        ("sphere_van_hees", fit_sphere_van_hees, points),
+        ("sphere_van_hees_10s", fit_sphere_van_hees, rest.ggir_mean),
+    ):
         try:
             comparison[name] = _comparison_entry(fn(pts, gravity=g), control, len(pts))
         except CalibrationError as exc:
-            comparison[name] = {"ok": False, "reasons": [str(exc)], "error_before_mg": None,
-                                "error_after_mg": None, "improvement_pct": None, "count": int(len(pts))}
+            comparison[name] = {
+                "ok": False,
+                "reasons": [str(exc)],
+                "error_before_mg": None,
+                "error_after_mg": None,
+                "improvement_pct": None,
+                "count": int(len(pts)),
+            }
     return comparison
 
 
-def autocalibrate(rest: RestSegments, *, solver: str = "lm", min_per_bin: int = MIN_PER_BIN,
-                  max_per_bin: int = MAX_PER_BIN, min_distance_g: float = MIN_DISTANCE_G,
-                  compare: bool = True) -> AutoCalibration:
+def autocalibrate(
+    rest: RestSegments,
+    *,
+    solver: str = "lm",
+    min_per_bin: int = MIN_PER_BIN,
+    max_per_bin: int = MAX_PER_BIN,
+    min_distance_g: float = MIN_DISTANCE_G,
+    compare: bool = True,
+) -> AutoCalibration:
     """Select, fit and evaluate the Farago, Maczak and Gingl, IEEE Access auto-calibration from
     detected rest segments.
 
@@ -478,10 +541,17 @@ def autocalibrate(rest: RestSegments, *, solver: str = "lm", min_per_bin: int = 
     g = rest.gravity
     det = rest.summary()
     gates = Gates()
-    sel = select_points(rest.mean, gravity=g, min_per_bin=min_per_bin, max_per_bin=max_per_bin,
-                        min_distance_g=min_distance_g)
-    ctl = select_points(rest.mean, gravity=g, min_per_bin=min_per_bin, max_per_bin=max_per_bin,
-                        min_distance_g=min_distance_g, exclude=sel.indices)
+    sel = select_points(
+        rest.mean, gravity=g, min_per_bin=min_per_bin, max_per_bin=max_per_bin, min_distance_g=min_distance_g
+    )
+    ctl = select_points(
+        rest.mean,
+        gravity=g,
+        min_per_bin=min_per_bin,
+        max_per_bin=max_per_bin,
+        min_distance_g=min_distance_g,
+        exclude=sel.indices,
+    )
     points = rest.mean[sel.indices]
     control = rest.mean[ctl.indices]
     _rest_gates(rest, sel, ctl, det["segment_s"], min_per_bin, gates)
@@ -496,15 +566,32 @@ def autocalibrate(rest: RestSegments, *, solver: str = "lm", min_per_bin: int = 
         metrics.update(error_before_mg=None, error_after_mg=None, improvement_pct=None)
     comparison = _comparison(rest, cal, points, control, g) if compare and cal is not None else {}
     return AutoCalibration(
-        calibration=cal, gravity=g, points=points, control=control,
-        point_starts=rest.start[sel.indices], control_starts=rest.start[ctl.indices],
-        selection=sel.to_dict(), control_selection=ctl.to_dict(), detection=det, comparison=comparison,
-        solver=solver, metrics=metrics, **gates.fields(),
+        calibration=cal,
+        gravity=g,
+        points=points,
+        control=control,
+        point_starts=rest.start[sel.indices],
+        control_starts=rest.start[ctl.indices],
+        selection=sel.to_dict(),
+        control_selection=ctl.to_dict(),
+        detection=det,
+        comparison=comparison,
+        solver=solver,
+        metrics=metrics,
+        **gates.fields(),
     )
 
 
-def autocalibrate_samples(samples, sampling_rate_hz: float, *, gravity: float = 1.0, solver: str = "lm",
-                          progress=None, detection: dict | None = None, **selection) -> AutoCalibration:
+def autocalibrate_samples(
+    samples,
+    sampling_rate_hz: float,
+    *,
+    gravity: float = 1.0,
+    solver: str = "lm",
+    progress=None,
+    detection: dict | None = None,
+    **selection,
+) -> AutoCalibration:
     """Detect, select, fit and evaluate in one call (Farago, Maczak and Gingl, IEEE Access, section II.B).
 
     Parameters
@@ -530,5 +617,12 @@ def autocalibrate_samples(samples, sampling_rate_hz: float, *, gravity: float = 
     return autocalibrate(rest, solver=solver, **selection)
 
 
-__all__ = ["AutoCalibration", "BIN_NAMES", "Selection", "autocalibrate", "autocalibrate_samples", "bin_of",
-           "select_points"]
+__all__ = [
+    "AutoCalibration",
+    "BIN_NAMES",
+    "Selection",
+    "autocalibrate",
+    "autocalibrate_samples",
+    "bin_of",
+    "select_points",
+]

@@ -81,13 +81,18 @@ class StillCapture:
 
     def to_dict(self) -> dict:
         return {
-            "position": self.position, "mean": self.mean.tolist(), "std": self.std.tolist(),
-            "count": self.count, "sampling_rate_hz": self.sampling_rate_hz, "duration_s": self.duration_s,
+            "position": self.position,
+            "mean": self.mean.tolist(),
+            "std": self.std.tolist(),
+            "count": self.count,
+            "sampling_rate_hz": self.sampling_rate_hz,
+            "duration_s": self.duration_s,
         }
 
 
-def check_still_capture(acc, t_ms, *, gravity: float, expected: str | None = None,
-                        max_angle_deg: float = LABEL_MAX_ANGLE_DEG) -> StillCapture:
+def check_still_capture(
+    acc, t_ms, *, gravity: float, expected: str | None = None, max_angle_deg: float = LABEL_MAX_ANGLE_DEG
+) -> StillCapture:
     """Check one capture of the wizard and summarise it.
 
     Parameters
@@ -123,8 +128,10 @@ def check_still_capture(acc, t_ms, *, gravity: float, expected: str | None = Non
         raise CalibrationError("t_ms holds a value that is not a finite number")
     steps = np.diff(t)
     if np.any(steps < 0):
-        raise CalibrationError(f"t_ms goes back in time at sample {int(np.argmax(steps < 0)) + 1}: "
-                               "send the event timestamps in the order they arrived")
+        raise CalibrationError(
+            f"t_ms goes back in time at sample {int(np.argmax(steps < 0)) + 1}: "
+            "send the event timestamps in the order they arrived"
+        )
     duration_s = float(t[-1] - t[0]) / 1000.0
     rate = 1000.0 / median_interval_ms(t)
 
@@ -157,10 +164,13 @@ def check_still_capture(acc, t_ms, *, gravity: float, expected: str | None = Non
             "lay the device flat on a face or stand it straight on an edge"
         )
     if expected is not None and expected != position:
-        raise CalibrationError(f"the device is in the {position} pose, not {expected}: turn it so that "
-                               f"{expected} points up, or capture {position}")
-    return StillCapture(position=position, mean=mean, std=std, count=len(a), sampling_rate_hz=rate,
-                        duration_s=duration_s)
+        raise CalibrationError(
+            f"the device is in the {position} pose, not {expected}: turn it so that "
+            f"{expected} points up, or capture {position}"
+        )
+    return StillCapture(
+        position=position, mean=mean, std=std, count=len(a), sampling_rate_hz=rate, duration_s=duration_s
+    )
 
 
 class PoseTooCloseError(CalibrationError):

@@ -108,16 +108,24 @@ class AxisCalibration:
     @classmethod
     def from_dict(cls, data: dict) -> "AxisCalibration":
         return cls(
-            scale=np.asarray(data["scale"], dtype=float), offset=np.asarray(data["offset"], dtype=float),
-            gravity=float(data["gravity"]), method=data["method"], count=int(data.get("count", 0)),
-            metrics=dict(data.get("metrics", {})), warnings=tuple(data.get("warnings", ())),
+            scale=np.asarray(data["scale"], dtype=float),
+            offset=np.asarray(data["offset"], dtype=float),
+            gravity=float(data["gravity"]),
+            method=data["method"],
+            count=int(data.get("count", 0)),
+            metrics=dict(data.get("metrics", {})),
+            warnings=tuple(data.get("warnings", ())),
             reasons=tuple(data.get("reasons", ())),
         )
 
 
 def _coverage_reasons(v: np.ndarray) -> list[str]:
-    missing = [f"{s}{'xyz'[k]}" for k in range(3) for s, cond in
-               (("+", (v[:, k] > SPHERE_POPULATED_G).any()), ("-", (v[:, k] < -SPHERE_POPULATED_G).any())) if not cond]
+    missing = [
+        f"{s}{'xyz'[k]}"
+        for k in range(3)
+        for s, cond in (("+", (v[:, k] > SPHERE_POPULATED_G).any()), ("-", (v[:, k] < -SPHERE_POPULATED_G).any()))
+        if not cond
+    ]
     if missing:
         return [f"the sphere is not populated (GGIR check): no point beyond 0.3 g towards {', '.join(missing)}"]
     return []
@@ -130,6 +138,7 @@ def _still_readings(means, gravity: float, fit: str) -> tuple[float, np.ndarray,
     if len(m) < 6:
         raise InsufficientDataError(f"{fit} needs at least 6 still readings; got {len(m)}")
     return g, m, m / g
+
 
 def fit_ellipsoid_axes(means, *, gravity: float) -> AxisCalibration:
     """Non-iterative axis-aligned ellipsoid fit for scale and offset (Gietzelt et al., Farago et al. ref. [34]).
@@ -156,8 +165,9 @@ def fit_ellipsoid_axes(means, *, gravity: float) -> AxisCalibration:
     A, L = beta[:3], beta[3:]
     gates = Gates()
     if np.any(A <= 0):
-        gates.fail("the fitted quadric is not an ellipsoid (a non-positive square term): "
-                   "the points do not cover the sphere")
+        gates.fail(
+            "the fitted quadric is not an ellipsoid (a non-positive square term): the points do not cover the sphere"
+        )
         A = np.where(A > 0, A, np.nan)
     centre = -L / (2 * A)
     G = 1.0 + np.sum(L * L / (4 * A))
@@ -168,12 +178,20 @@ def fit_ellipsoid_axes(means, *, gravity: float) -> AxisCalibration:
         scale, offset = np.ones(3), np.zeros(3)
     gates.fail(_coverage_reasons(v))
     fit = norm_errors(m, lambda x: (x + offset) * scale, g)
-    return AxisCalibration(scale=scale, offset=offset, gravity=g, method="ellipsoid_axes", count=len(m),
-                           metrics={"fit": fit}, **gates.fields())
+    return AxisCalibration(
+        scale=scale,
+        offset=offset,
+        gravity=g,
+        method="ellipsoid_axes",
+        count=len(m),
+        metrics={"fit": fit},
+        **gates.fields(),
+    )
 
 
-def fit_sphere_van_hees(means, *, gravity: float, tol: float = VAN_HEES_TOL,
-                        max_iter: int = VAN_HEES_MAX_ITER) -> AxisCalibration:
+def fit_sphere_van_hees(
+    means, *, gravity: float, tol: float = VAN_HEES_TOL, max_iter: int = VAN_HEES_MAX_ITER
+) -> AxisCalibration:
     """Iteratively reweighted sphere fit of van Hees et al. (2014), as in GGIR and actipy.
 
     Parameters
@@ -232,9 +250,19 @@ def fit_sphere_van_hees(means, *, gravity: float, tol: float = VAN_HEES_TOL,
         scale, offset = np.ones(3), np.zeros(3)
     out = AxisCalibration(scale=scale, offset=offset * g, gravity=g, method="sphere_van_hees", count=len(m))
     fit = norm_errors(m, out.apply, g)
-    gates.fail(limit_gate(
-        fit["error_after_mg"], 1000 * MAX_ERROR_AFTER_G,
-        "mean distance from the sphere after calibration is {value:.1f} mg, above GGIR's 10 mg acceptance",
-    ))
-    return AxisCalibration(scale=scale, offset=offset * g, gravity=g, method="sphere_van_hees", count=len(m),
-                           metrics={"iterations": it, "fit": fit}, **gates.fields())
+    gates.fail(
+        limit_gate(
+            fit["error_after_mg"],
+            1000 * MAX_ERROR_AFTER_G,
+            "mean distance from the sphere after calibration is {value:.1f} mg, above GGIR's 10 mg acceptance",
+        )
+    )
+    return AxisCalibration(
+        scale=scale,
+        offset=offset * g,
+        gravity=g,
+        method="sphere_van_hees",
+        count=len(m),
+        metrics={"iterations": it, "fit": fit},
+        **gates.fields(),
+    )

@@ -53,14 +53,25 @@ def cross_validated_error(refit, means, gravity: float) -> dict:
         try:
             fit = refit(kept)
         except CalibrationError:
-            return {"cv_error_mg": None, "cv_error_max_mg": None, "cv_scheme": scheme,
-                    "cv_note": (f"no figure for new orientations: without some of the {len(m)} readings the model "
-                                "is not determined; add poses in other directions to get one")}
+            return {
+                "cv_error_mg": None,
+                "cv_error_max_mg": None,
+                "cv_scheme": scheme,
+                "cv_note": (
+                    f"no figure for new orientations: without some of the {len(m)} readings the model "
+                    "is not determined; add poses in other directions to get one"
+                ),
+            }
         errors[held] = np.abs(np.linalg.norm(fit.apply(m[held]), axis=1) - gravity) / gravity
-    return {"cv_error_mg": float(1000.0 * errors.mean()), "cv_error_max_mg": float(1000.0 * errors.max()),
-            "cv_scheme": scheme}
+    return {
+        "cv_error_mg": float(1000.0 * errors.mean()),
+        "cv_error_max_mg": float(1000.0 * errors.max()),
+        "cv_scheme": scheme,
+    }
 
 
-SIX_POSITION_NOTE = ("no figure for new orientations: the six-position solution fits its six readings "
-                     "exactly (no redundancy); add poses (method orientations, or a magnitude model) to get one")
+SIX_POSITION_NOTE = (
+    "no figure for new orientations: the six-position solution fits its six readings "
+    "exactly (no redundancy); add poses (method orientations, or a magnitude model) to get one"
+)
 """Why ``six_position`` has no cross-validated error."""

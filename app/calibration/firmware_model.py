@@ -41,8 +41,9 @@ from .validation import as_vectors
 N_PARAMS = 6
 """Three offsets and three scales."""
 
-DIRECTIONS = np.vstack([np.eye(3), -np.eye(3),
-                        np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) / np.sqrt(3.0)])
+DIRECTIONS = np.vstack(
+    [np.eye(3), -np.eye(3), np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) / np.sqrt(3.0)]
+)
 """The 6 axes and the 8 diagonals of a cube: the directions a calibration with too few readings of its own is
 fitted on (the readings its full model puts at magnitude g)."""
 
@@ -139,8 +140,15 @@ def fit_offset_scale(means, gravity: float, offset0, scale0) -> tuple[np.ndarray
 
     from scipy.optimize import least_squares  # here: scipy.optimize takes ~0.5 s to import, for exports only
 
-    fit = least_squares(residual, np.r_[np.asarray(offset0, float), np.asarray(scale0, float)], method="lm",
-                        x_scale=np.r_[np.full(3, g), np.ones(3)], xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    fit = least_squares(
+        residual,
+        np.r_[np.asarray(offset0, float), np.asarray(scale0, float)],
+        method="lm",
+        x_scale=np.r_[np.full(3, g), np.ones(3)],
+        xtol=1e-14,
+        ftol=1e-14,
+        gtol=1e-14,
+    )
     if not fit.success or not np.all(np.isfinite(fit.x)):
         raise CalibrationError(f"the offset-and-scale fit did not converge: {fit.message}")
     return fit.x[:3].copy(), fit.x[3:].copy()
@@ -164,8 +172,12 @@ def _worst_direction(error) -> float:
     from scipy.optimize import minimize  # here, as least_squares above
 
     for start in grid[np.argsort(values)[-5:]]:
-        found = minimize(lambda u: -error((u / np.linalg.norm(u))[None, :])[0], start, method="Nelder-Mead",
-                         options={"xatol": 1e-10, "fatol": 1e-14, "maxiter": 2000})
+        found = minimize(
+            lambda u: -error((u / np.linalg.norm(u))[None, :])[0],
+            start,
+            method="Nelder-Mead",
+            options={"xatol": 1e-10, "fatol": 1e-14, "maxiter": 2000},
+        )
         best = max(best, -float(found.fun))
     return best
 

@@ -123,8 +123,10 @@ def _costs(fmt: FixedFormat, P: np.ndarray, v: np.ndarray) -> list[int]:
     """Eq. (12) without the square root, mean over the points, in Q.2F (Python ints)."""
     a = _calibrated(fmt, P, v)
     one = 1 << fmt.frac
-    r = fmt.sat(fmt.sat(fmt.sat(fmt.mul(a[..., 0], a[..., 0]) + fmt.mul(a[..., 1], a[..., 1]))
-                        + fmt.mul(a[..., 2], a[..., 2])) - one)
+    r = fmt.sat(
+        fmt.sat(fmt.sat(fmt.mul(a[..., 0], a[..., 0]) + fmt.mul(a[..., 1], a[..., 1])) + fmt.mul(a[..., 2], a[..., 2]))
+        - one
+    )
     rr = r * r  # exact: |r| ≤ 2^(W−1), so rr ≤ 2^62
     n = v.shape[0]
     out = []
@@ -212,11 +214,17 @@ def fixed_point_descent(
         trial = fmt.sat(P[None, :] + eye)  # eq. (15)
         f = _costs(fmt, np.vstack([P[None, :], trial]), v)
         f0, fi = f[0], f[1:]
-        grad = np.array([min(max(div_round(_sat2(fmt, x - f0), h_q), fmt.lo), fmt.hi) for x in fi], dtype=np.int64)  # eq. (13)
+        grad = np.array(
+            [min(max(div_round(_sat2(fmt, x - f0), h_q), fmt.lo), fmt.hi) for x in fi], dtype=np.int64
+        )  # eq. (13)
         step = fmt.mul(a_q, grad)  # eq. (16)
         new = fmt.sat(P - step)  # eq. (14)
-        saturated |= bool(np.any(np.abs(grad) >= fmt.hi) or np.any(np.abs(new) >= fmt.hi)
-                          or f0 >= fmt.hi2 or any(x >= fmt.hi2 for x in fi))
+        saturated |= bool(
+            np.any(np.abs(grad) >= fmt.hi)
+            or np.any(np.abs(new) >= fmt.hi)
+            or f0 >= fmt.hi2
+            or any(x >= fmt.hi2 for x in fi)
+        )
         if np.all(new == P):
             break
         P = new

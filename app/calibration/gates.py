@@ -65,8 +65,9 @@ def residual_gate(errors, limit: float, message: Message, **extra) -> list[str]:
     if not errors[worst] > limit:
         return []
     value = errors[worst]
-    return [_render(message, index=worst, value=value, percent=100 * value, limit=limit,
-                    gate_percent=100 * limit, **extra)]
+    return [
+        _render(message, index=worst, value=value, percent=100 * value, limit=limit, gate_percent=100 * limit, **extra)
+    ]
 
 
 def limit_gate(value, limit: float, message: Message, **extra) -> list[str]:
@@ -77,8 +78,9 @@ def limit_gate(value, limit: float, message: Message, **extra) -> list[str]:
     return [_render(message, value=value, limit=limit, **extra)] if value > limit else []
 
 
-def deviation_gate(named_values: Iterable[tuple[str, float]], centre: float, limit: float,
-                   message: Message, **extra) -> list[str]:
+def deviation_gate(
+    named_values: Iterable[tuple[str, float]], centre: float, limit: float, message: Message, **extra
+) -> list[str]:
     """One message per named value further than ``limit`` from ``centre``.
 
     Fields: ``name``, ``value``, ``limit``.
@@ -118,8 +120,7 @@ def near_duplicate_gate(vectors, tolerance: float, message: Message, **extra) ->
     Fields: ``i`` < ``j`` (0-based), ``pi``, ``pj`` (1-based).
     """
     return [
-        _render(message, i=i, j=j, pi=i + 1, pj=j + 1, **extra)
-        for i, j in near_duplicate_pairs(vectors, tolerance)
+        _render(message, i=i, j=j, pi=i + 1, pj=j + 1, **extra) for i, j in near_duplicate_pairs(vectors, tolerance)
     ]
 
 
@@ -162,31 +163,52 @@ class Gates:
         return {"warnings": tuple(self.reasons + self.warnings), "reasons": tuple(self.reasons)}
 
 
-def unknown_orientation_gates(gates: Gates, means, gravity: float, *, condition: float, max_condition: float,
-                              dof: int, hemisphere, near_fraction: float, coverage_hint: str = "",
-                              positions_hint: str) -> None:
+def unknown_orientation_gates(
+    gates: Gates,
+    means,
+    gravity: float,
+    *,
+    condition: float,
+    max_condition: float,
+    dof: int,
+    hemisphere,
+    near_fraction: float,
+    coverage_hint: str = "",
+    positions_hint: str,
+) -> None:
     """The gates every fit of still readings of unknown orientation ends with (Georgieva et al., ESGI'95,
     approach 1; Farago, Maczak and Gingl, IEEE Access), in this order: warnings for a poorly conditioned
     design, a direction of the sphere with no position near it and near-duplicate positions, and a reason
     for an exact fit of the 9 parameters. ``coverage_hint`` and ``positions_hint`` end the coverage and
     exact-fit messages with the method's own advice."""
-    gates.warn(limit_gate(
-        condition, max_condition,
-        "the positions determine the parameters poorly (condition number {value:.3g}): "
-        "spread the positions over the whole sphere",
-    ))
-    gates.warn(coverage_gate(
-        means, "poor coverage of the sphere: no position has the {missing} axis within 60° of up; add such positions"
-        + coverage_hint,
-        hemisphere=hemisphere,
-    ))
-    gates.warn(near_duplicate_gate(
-        means, near_fraction * gravity,
-        "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
-        "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
-    ))
-    gates.fail(exact_fit_gate(
-        dof,
-        "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
-        "so no intervals and no check of the fit; " + positions_hint,
-    ))
+    gates.warn(
+        limit_gate(
+            condition,
+            max_condition,
+            "the positions determine the parameters poorly (condition number {value:.3g}): "
+            "spread the positions over the whole sphere",
+        )
+    )
+    gates.warn(
+        coverage_gate(
+            means,
+            "poor coverage of the sphere: no position has the {missing} axis within 60° of up; add such positions"
+            + coverage_hint,
+            hemisphere=hemisphere,
+        )
+    )
+    gates.warn(
+        near_duplicate_gate(
+            means,
+            near_fraction * gravity,
+            "readings {i} and {j} (positions {pi} and {pj}, counting from 1) are within 1 % of g "
+            "of each other (near-duplicate positions, Georgieva et al. Dataset 3): they weigh one orientation twice",
+        )
+    )
+    gates.fail(
+        exact_fit_gate(
+            dof,
+            "9 positions fit the 9 parameters exactly: there are no residual degrees of freedom, "
+            "so no intervals and no check of the fit; " + positions_hint,
+        )
+    )

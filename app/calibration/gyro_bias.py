@@ -70,8 +70,9 @@ def gyroscope_bias(means_rad_s, stds_rad_s, counts, confidence: float = CONFIDEN
     if m.ndim != 2 or m.shape[1] != 3 or m.shape[0] == 0:
         raise CalibrationError(f"the gyroscope means must have shape (K, 3) with K ≥ 1; got {m.shape}")
     if s.shape != m.shape or n.shape != (m.shape[0],):
-        raise CalibrationError(f"give one std row (3) and one count per capture: {m.shape[0]} means, "
-                               f"std shape {s.shape}, {n.size} counts")
+        raise CalibrationError(
+            f"give one std row (3) and one count per capture: {m.shape[0]} means, std shape {s.shape}, {n.size} counts"
+        )
     if not (np.all(np.isfinite(m)) and np.all(np.isfinite(n))):
         raise CalibrationError("a gyroscope capture mean or count is not a finite number")
     if np.any(n < 1) or np.any(n != np.round(n)):
@@ -83,8 +84,10 @@ def gyroscope_bias(means_rad_s, stds_rad_s, counts, confidence: float = CONFIDEN
         source, formula = "captures", FORMULA_CAPTURES
     else:
         if n[0] < 2 or not np.all(np.isfinite(s)):
-            raise CalibrationError("a single gyroscope capture needs at least two samples and a finite std "
-                                   "for its interval: capture longer, or capture more poses")
+            raise CalibrationError(
+                "a single gyroscope capture needs at least two samples and a finite std "
+                "for its interval: capture longer, or capture more poses"
+            )
         half = t_quantile(int(n[0]) - 1, confidence) * s[0] / np.sqrt(n[0])
         source, formula = "samples", FORMULA_SAMPLES
     return {

@@ -24,9 +24,11 @@ def accelerometer_headline(metrics: dict, *, held_out: bool) -> str:
     """
     scheme = metrics.get("cv_scheme")
     if metrics.get("cv_error_mg") is not None:
-        first = (f"on new orientations expect {_mg(metrics['cv_error_mg'])} of g, a level off by "
-                 f"{degrees_text(tilt_error_deg(metrics['cv_error_mg']))} at most "
-                 f"(up to {_mg(metrics.get('cv_error_max_mg'))}; {scheme})")
+        first = (
+            f"on new orientations expect {_mg(metrics['cv_error_mg'])} of g, a level off by "
+            f"{degrees_text(tilt_error_deg(metrics['cv_error_mg']))} at most "
+            f"(up to {_mg(metrics.get('cv_error_max_mg'))}; {scheme})"
+        )
     else:
         first = metrics.get("cv_note") or "no figure for new orientations"
     if metrics.get("error_after_mg") is None:
@@ -39,15 +41,18 @@ def compass_headline(metrics: dict, label: str = "µT") -> str:
     """A compass calibration's line: the error of |h| on directions left out (and the heading error it can
     give at the field's inclination, app.calibration.angles), then in-sample and raw;
     ``label`` is ``counts`` for a magnetometer left in counts (its ``_ut`` figures are then counts)."""
+
     def ut(value) -> str:
         return "n/a" if value is None else f"{value:.2f} {label}"
 
     if metrics.get("cv_error_ut") is not None:
         inclination, _ = compass_inclination(metrics)
         heading = degrees_text(heading_error_deg(metrics["cv_error_ut"], metrics["field_ut"], inclination))
-        first = (f"on new directions expect {ut(metrics['cv_error_ut'])} of the {metrics['field_ut']:.1f} {label} field, "
-                 f"a heading off by {heading} at most at a dip of {abs(inclination):.0f}° "
-                 f"(up to {ut(metrics.get('cv_error_max_ut'))}; {metrics.get('cv_scheme')})")
+        first = (
+            f"on new directions expect {ut(metrics['cv_error_ut'])} of the {metrics['field_ut']:.1f} {label} field, "
+            f"a heading off by {heading} at most at a dip of {abs(inclination):.0f}° "
+            f"(up to {ut(metrics.get('cv_error_max_ut'))}; {metrics.get('cv_scheme')})"
+        )
     else:
         first = metrics.get("cv_note") or "no figure for new directions"
     raw = "" if metrics.get("raw_error_ut") is None else f", raw {ut(metrics['raw_error_ut'])}"
@@ -76,7 +81,12 @@ def temperature_headline(model: dict, metrics: dict) -> str:
         return "no temperature model"
     lo = min(model[s]["t_min_c"] for s in sensors)
     hi = max(model[s]["t_max_c"] for s in sensors)
-    parts = [f"{SENSOR_WORDS[s]} {amount(metrics[s]['drift_raw_max'], metrics[s]['unit'])} → "
-             f"{amount(metrics[s]['drift_cv_max'], metrics[s]['unit'])}" for s in sensors]
-    return (f"offset drift over {lo:.0f}–{hi:.0f} °C: {', '.join(parts)} on bands of temperature left out "
-            "(largest axis, peak to peak)")
+    parts = [
+        f"{SENSOR_WORDS[s]} {amount(metrics[s]['drift_raw_max'], metrics[s]['unit'])} → "
+        f"{amount(metrics[s]['drift_cv_max'], metrics[s]['unit'])}"
+        for s in sensors
+    ]
+    return (
+        f"offset drift over {lo:.0f}–{hi:.0f} °C: {', '.join(parts)} on bands of temperature left out "
+        "(largest axis, peak to peak)"
+    )

@@ -55,15 +55,23 @@ freedom (the overlapping estimator reaches τ = T / 2, with one or two)."""
 TERMS = ("noise_density", "bias_instability", "random_walk")
 _ALPHAS = (WHITE, FLICKER, RANDOM_WALK)
 
-TERM_UNITS = {"rad/s": ("rad/s/√Hz", "rad/s²/√Hz"), "m/s^2": ("m/s²/√Hz", "m/s³/√Hz"),
-              "uT": ("uT/√Hz", "uT/s/√Hz"), "raw": ("counts/√Hz", "counts/s/√Hz")}
+TERM_UNITS = {
+    "rad/s": ("rad/s/√Hz", "rad/s²/√Hz"),
+    "m/s^2": ("m/s²/√Hz", "m/s³/√Hz"),
+    "uT": ("uT/√Hz", "uT/s/√Hz"),
+    "raw": ("counts/√Hz", "counts/s/√Hz"),
+}
 
 
 def term_units(unit: str) -> dict:
     """The units of N, K and B for a sensor in ``unit`` (Kalibr's continuous-time units); readings of
     unknown scale (``raw``) are counts."""
     n, k = TERM_UNITS.get(unit, (f"{unit}/√Hz", f"{unit}/s/√Hz"))
-    return {"noise_density_unit": n, "random_walk_unit": k, "bias_instability_unit": "counts" if unit == "raw" else unit}
+    return {
+        "noise_density_unit": n,
+        "random_walk_unit": k,
+        "bias_instability_unit": "counts" if unit == "raw" else unit,
+    }
 
 
 def _basis(tau: np.ndarray) -> np.ndarray:
@@ -162,8 +170,7 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
     return AxisNoise(values, intervals, taus, theta, edf, lo_f, hi_f)
 
 
-def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, avar_hi, sensor: str,
-                    unit: str) -> str:
+def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, avar_hi, sensor: str, unit: str) -> str:
     """Why a term is null on some axes, and how long a recording would show it."""
     tau_max = float(tau[-1])
     which = f"{sensor} {'/'.join(axes)}"
@@ -171,22 +178,32 @@ def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, 
     if name == "random_walk":
         k2 = float(np.max(np.min(3.0 * avar_hi / tau[:, None], axis=0)))  # the curve's upper end bounds K at every τ
         b2 = max(r.theta[1] for r in readings)
-        need = (FLICKER_VARIANCE * b2 + math.sqrt((FLICKER_VARIANCE * b2) ** 2 + 4.0 * k2 * n2 / 3.0)) / (2.0 * k2 / 3.0)
-        return (f"{which}: random_walk is null — the Allan deviation does not turn up to τ = {tau_max:.3g} s "
-                f"(the longest this still recording supports); a random walk of at most {math.sqrt(k2):.3g} "
-                f"{term_units(unit)['random_walk_unit']} would show from τ ≈ {need:.3g} s: record the device still for "
-                f"at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}")
+        need = (FLICKER_VARIANCE * b2 + math.sqrt((FLICKER_VARIANCE * b2) ** 2 + 4.0 * k2 * n2 / 3.0)) / (
+            2.0 * k2 / 3.0
+        )
+        return (
+            f"{which}: random_walk is null — the Allan deviation does not turn up to τ = {tau_max:.3g} s "
+            f"(the longest this still recording supports); a random walk of at most {math.sqrt(k2):.3g} "
+            f"{term_units(unit)['random_walk_unit']} would show from τ ≈ {need:.3g} s: record the device still for "
+            f"at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}"
+        )
     if name == "bias_instability":
         b2 = float(np.min(avar_hi)) / FLICKER_VARIANCE
         if any(r.values["random_walk"] is not None for r in readings):
-            return (f"{which}: bias_instability is null — the floor is hidden where white noise gives way to the "
-                    f"random walk (B ≤ {math.sqrt(b2):.3g} {unit}); a longer recording does not reveal it")
+            return (
+                f"{which}: bias_instability is null — the floor is hidden where white noise gives way to the "
+                f"random walk (B ≤ {math.sqrt(b2):.3g} {unit}); a longer recording does not reveal it"
+            )
         need = n2 / (FLICKER_VARIANCE * b2) if b2 > 0 else math.inf
-        return (f"{which}: bias_instability is null — the Allan deviation still falls as white noise at "
-                f"τ = {tau_max:.3g} s; a floor of B ≤ {math.sqrt(b2):.3g} {unit} would show from τ ≈ {need:.3g} s: "
-                f"record the device still for at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}")
-    return (f"{which}: noise_density is null — white noise dominates no τ from {FIT_MIN_M} samples on: sample "
-            "faster, or check that the samples are not filtered or rounded to a few steps")
+        return (
+            f"{which}: bias_instability is null — the Allan deviation still falls as white noise at "
+            f"τ = {tau_max:.3g} s; a floor of B ≤ {math.sqrt(b2):.3g} {unit} would show from τ ≈ {need:.3g} s: "
+            f"record the device still for at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}"
+        )
+    return (
+        f"{which}: noise_density is null — white noise dominates no τ from {FIT_MIN_M} samples on: sample "
+        "faster, or check that the samples are not filtered or rounded to a few steps"
+    )
 
 
 def _duration(seconds: float) -> str:
@@ -234,13 +251,14 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     tau, adev, n_terms, mean = overlapping_adev(samples, sampling_rate_hz)
     n = samples.shape[0]
     ms = np.round(tau * sampling_rate_hz).astype(np.int64)
-    avar = adev ** 2
+    avar = adev**2
     flat = [axis for k, axis in enumerate("xyz") if not np.all(avar[:, k] > 0)]
     if flat:  # a sensor printing one value (absent, or quantised coarser than its noise) has no noise to read
         raise InsufficientDataError(
             f"the {SENSOR_WORDS.get(sensor, sensor)}'s {', '.join(flat)} axis readings do not change over the recording, so they hold no noise "
             "to characterise (a sensor that is absent and prints a constant, or one quantised coarser than its "
-            "noise): leave this sensor out, or log it at a finer resolution")
+            "noise): leave this sensor out, or log it at a finer resolution"
+        )
     readings = [_read_axis(tau, avar[:, k], ms, n + 1) for k in range(3)]
     lo = np.column_stack([adev[:, k] * np.sqrt(r.lo) for k, r in enumerate(readings)])
     hi = np.column_stack([adev[:, k] * np.sqrt(r.hi) for k, r in enumerate(readings)])
@@ -249,24 +267,42 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     # extrapolated to the whole duration (σ/√n for white noise alone).
     se = np.array([math.sqrt(max(float(_basis(np.array([duration]))[0] @ r.theta), 0.0)) for r in readings])
     z = 1.959963984540054
-    model = {"unit": unit, "bias": mean.tolist(), **{name: [r.values[name] for r in readings] for name in TERMS},
-             **term_units(unit)}
+    model = {
+        "unit": unit,
+        "bias": mean.tolist(),
+        **{name: [r.values[name] for r in readings] for name in TERMS},
+        **term_units(unit),
+    }
     uncertainty = {name: [r.intervals[name] for r in readings] for name in TERMS}
     uncertainty["bias"] = [[float(m - z * s), float(m + z * s)] for m, s in zip(mean, se)]
     warnings = []
     for name in ("noise_density", "random_walk", "bias_instability"):
         axes = [ax for ax, r in zip("xyz", readings) if r.values[name] is None]
         if axes:
-            warnings.append(_unseen_warning(name, axes, readings, tau, hi ** 2, sensor, unit))
+            warnings.append(_unseen_warning(name, axes, readings, tau, hi**2, sensor, unit))
     imin = np.argmin(adev, axis=0)
-    metrics = {**{f"tau_{name}_s": [r.taus[name] for r in readings] for name in TERMS},
-               "adev_min": [float(adev[imin[k], k]) for k in range(3)],
-               "tau_adev_min_s": [float(tau[imin[k]]) for k in range(3)],
-               "bias_standard_error": se.tolist()}
-    adev_plain = {"tau_s": tau.tolist(), "value": adev.tolist(), "lo": lo.tolist(), "hi": hi.tolist(),
-                  "edf": np.column_stack([r.edf for r in readings]).tolist(), "n_terms": n_terms.tolist()}
-    return {"model": model, "adev": adev_plain, "uncertainty": uncertainty, "metrics": metrics,
-            "warnings": warnings, "duration_s": duration}
+    metrics = {
+        **{f"tau_{name}_s": [r.taus[name] for r in readings] for name in TERMS},
+        "adev_min": [float(adev[imin[k], k]) for k in range(3)],
+        "tau_adev_min_s": [float(tau[imin[k]]) for k in range(3)],
+        "bias_standard_error": se.tolist(),
+    }
+    adev_plain = {
+        "tau_s": tau.tolist(),
+        "value": adev.tolist(),
+        "lo": lo.tolist(),
+        "hi": hi.tolist(),
+        "edf": np.column_stack([r.edf for r in readings]).tolist(),
+        "n_terms": n_terms.tolist(),
+    }
+    return {
+        "model": model,
+        "adev": adev_plain,
+        "uncertainty": uncertainty,
+        "metrics": metrics,
+        "warnings": warnings,
+        "duration_s": duration,
+    }
 
 
 @dataclass(frozen=True)
@@ -302,19 +338,31 @@ class NoiseResult(PerSensorResult):
             model = part["model"]
             density = tuple(v for v in model.get("noise_density") or () if v is not None)
             if density:
-                out.append(PhysicalFigure(name, "noise_density", density, model.get("unit", ""),
-                                          sampling_rate_hz=self.sampling_rate_hz))
+                out.append(
+                    PhysicalFigure(
+                        name, "noise_density", density, model.get("unit", ""), sampling_rate_hz=self.sampling_rate_hz
+                    )
+                )
             if name == "gyr" and model.get("bias") is not None:
                 out.append(PhysicalFigure(name, "bias", tuple(model["bias"]), model.get("unit", "")))
         return out
 
     def body_dict(self) -> dict:
-        return {"adev": {name: part["adev"] for name, part in self.sensors.items()},
-                "sampling_rate_hz": self.sampling_rate_hz, "duration_s": self.duration_s, "still": self.still}
+        return {
+            "adev": {name: part["adev"] for name, part in self.sensors.items()},
+            "sampling_rate_hz": self.sampling_rate_hz,
+            "duration_s": self.duration_s,
+            "still": self.still,
+        }
 
     @classmethod
     def _from_body(cls, data: dict) -> "NoiseResult":
-        return cls(sensors=cls.parts_from(data, "adev"), sampling_rate_hz=float(data["sampling_rate_hz"]),
-                   duration_s=float(data["duration_s"]), still=data.get("still"),
-                   warnings=tuple(data.get("warnings", ())), reasons=tuple(data.get("reasons", ())),
-                   unit=data.get("unit", ""))
+        return cls(
+            sensors=cls.parts_from(data, "adev"),
+            sampling_rate_hz=float(data["sampling_rate_hz"]),
+            duration_s=float(data["duration_s"]),
+            still=data.get("still"),
+            warnings=tuple(data.get("warnings", ())),
+            reasons=tuple(data.get("reasons", ())),
+            unit=data.get("unit", ""),
+        )

@@ -50,7 +50,7 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
     means = np.empty((blocks, np.shape(samples)[1]))
     for start in range(0, blocks, 1 << 14):
         stop = min(blocks, start + (1 << 14))
-        part = np.asarray(samples[start * w:stop * w], dtype=float).reshape(stop - start, w, -1)
+        part = np.asarray(samples[start * w : stop * w], dtype=float).reshape(stop - start, w, -1)
         spread[start:stop] = np.sqrt(part.var(axis=1).sum(axis=1))
         means[start:stop] = part.mean(axis=1)
     floor = max(float(np.percentile(spread, NOISE_PERCENTILE)), 0.5 * quantisation_step(samples))
@@ -136,6 +136,9 @@ def longest_still(samples, sampling_rate_hz: float):
         (:func:`common_still_runs`: still on all of them).
     sampling_rate_hz : float
     """
-    runs = (common_still_runs(samples, sampling_rate_hz) if isinstance(samples, (list, tuple))
-            else still_runs(samples, sampling_rate_hz))
+    runs = (
+        common_still_runs(samples, sampling_rate_hz)
+        if isinstance(samples, (list, tuple))
+        else still_runs(samples, sampling_rate_hz)
+    )
     return max(runs, key=lambda r: r[1] - r[0]) if runs else None

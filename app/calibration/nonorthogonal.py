@@ -85,9 +85,9 @@ def affine_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
     return (
         np.array(
             [
-                [-np.sin(theta) ** 2, cf - ct * cp, cp - cf * ct],
-                [cf - ct * cp, -np.sin(psi) ** 2, ct - cf * cp],
-                [cp - cf * ct, ct - cf * cp, -np.sin(phi) ** 2],
+                [-(np.sin(theta) ** 2), cf - ct * cp, cp - cf * ct],
+                [cf - ct * cp, -(np.sin(psi) ** 2), ct - cf * cp],
+                [cp - cf * ct, ct - cf * cp, -(np.sin(phi) ** 2)],
             ]
         )
         / den
@@ -105,9 +105,7 @@ def orthonormal_matrix(phi: float, psi: float, theta: float) -> np.ndarray:
     sf = np.sin(phi)
     det = 1.0 - cf**2 - cp**2 - ct**2 + 2.0 * cf * cp * ct
     if det <= 0.0:
-        raise CalibrationError(
-            f"angles φ={phi}, ψ={psi}, θ={theta} do not describe three independent axes"
-        )
+        raise CalibrationError(f"angles φ={phi}, ψ={psi}, θ={theta} do not describe three independent axes")
     # Georgieva et al., ESGI'95, eq. (12)
     return np.array(
         [
@@ -194,11 +192,21 @@ class NonOrthogonalCalibration(StillReadingsResult):
     MODEL_TYPE = MODEL_TYPE
     N_PARAMS = N_PARAMS
     CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (16): M = T_orth T_bar T, o = s / b"
-    AS_FITTED = ("As fitted (Georgieva et al., ESGI'95, eq. (16)): shifts s, scales b and the angles φ, ψ, θ between "
-                 "the axes; M and o are what they come to.")
-    PARAMETERS = (("s1", "offset", "x"), ("s2", "offset", "y"), ("s3", "offset", "z"),
-                  ("b1", "scale", "x"), ("b2", "scale", "y"), ("b3", "scale", "z"),
-                  ("phi", "cross", "xy"), ("psi", "cross", "xz"), ("theta", "cross", "yz"))
+    AS_FITTED = (
+        "As fitted (Georgieva et al., ESGI'95, eq. (16)): shifts s, scales b and the angles φ, ψ, θ between "
+        "the axes; M and o are what they come to."
+    )
+    PARAMETERS = (
+        ("s1", "offset", "x"),
+        ("s2", "offset", "y"),
+        ("s3", "offset", "z"),
+        ("b1", "scale", "x"),
+        ("b2", "scale", "y"),
+        ("b3", "scale", "z"),
+        ("phi", "cross", "xy"),
+        ("psi", "cross", "xz"),
+        ("theta", "cross", "yz"),
+    )
     """Name, kind and axes of each parameter in the covariance's order (eqs. (1), (3))."""
 
     @property
@@ -224,13 +232,19 @@ class NonOrthogonalCalibration(StillReadingsResult):
         return _jacobian_17(self.params, as_vectors(means, "means"), self.gravity)
 
     def interval_dict(self, hw: np.ndarray) -> dict:
-        return {"s": hw[0:3].tolist(), "b": hw[3:6].tolist(), "phi": float(hw[6]), "psi": float(hw[7]),
-                "theta": float(hw[8])}
+        return {
+            "s": hw[0:3].tolist(),
+            "b": hw[3:6].tolist(),
+            "phi": float(hw[6]),
+            "psi": float(hw[7]),
+            "theta": float(hw[8]),
+        }
 
     @classmethod
     def _from_body(cls, data: dict) -> "NonOrthogonalCalibration":
         model, _, common = cls.common_from_dict(data)
         return cls(**cls.parameters_from(model), **common)
+
 
 # ---------------------------------------------------------------------------------------------
 # Fit, section 2.2
@@ -295,8 +309,17 @@ def _fit_17(m: np.ndarray, g: float, rough, s0: np.ndarray, b0: np.ndarray):
     p0 = np.r_[s0, b0, np.full(3, np.pi / 2)]
     p0 = np.clip(p0, lower + 1e-12, upper - 1e-12)
     return least_squares(
-        _residuals_17, p0, jac=_jacobian_17, args=(m, g), bounds=(lower, upper),
-        method="trf", x_scale="jac", xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=2000,
+        _residuals_17,
+        p0,
+        jac=_jacobian_17,
+        args=(m, g),
+        bounds=(lower, upper),
+        method="trf",
+        x_scale="jac",
+        xtol=1e-15,
+        ftol=1e-15,
+        gtol=1e-15,
+        max_nfev=2000,
     )
 
 
@@ -340,37 +363,60 @@ def _gates(m, g, s, b, angles, norm_err, cond, dof, hemisphere, sol, plausible_s
     """Quality gates: hemisphere, convergence, norm error, scales, shifts (reasons); angles,
     conditioning, coverage, near duplicates, an exact fit (warnings)."""
     gates = Gates()
-    gates.fail(hemisphere_gate(
-        hemisphere,
-        "all positions lie in one hemisphere (around the direction {direction}): the shifts cannot be "
-        "told from the scales; add positions with the device turned the other way up",
-    ))
+    gates.fail(
+        hemisphere_gate(
+            hemisphere,
+            "all positions lie in one hemisphere (around the direction {direction}): the shifts cannot be "
+            "told from the scales; add positions with the device turned the other way up",
+        )
+    )
     if not sol.success:
         gates.fail(f"the least-squares fit of (17) did not converge ({sol.message}); add positions")
-    gates.fail(residual_gate(
-        norm_err, MAX_NORM_ERROR,
-        "reading {index} has a calibrated norm {percent:.1f} % from g after "
-        "calibration (gate {gate_percent:.0f} %): it may not have been still",
-    ))
-    gates.fail(scale_gate(
-        b, plausible_scale,
-        "scale b{n} of the {axis} axis is {value:.4f}, outside the plausible {lo}–{hi}: "
-        "check the unit and the gravity value",
-    ))
-    gates.fail(offset_gate(
-        s, g if max_offset is None else max_offset,
-        "shift s{n} of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit",
-    ))
-    gates.warn(deviation_gate(
-        zip(("phi", "psi", "theta"), angles), np.pi / 2, MAX_ANGLE_DEVIATION,
-        lambda name, value, **_: (
-            f"the angle {name} between the axes is {np.degrees(value):.2f}°, more than 5 % from 90° "
-            "(Georgieva et al. section 2 assumes 90° ± 2 %): check the positions"
-        ),
-    ))
-    unknown_orientation_gates(gates, m, g, condition=cond, max_condition=MAX_CONDITION_NUMBER, dof=dof,
-                              hemisphere=hemisphere, near_fraction=NEAR_DUPLICATE_FRACTION,
-                              positions_hint="use about 20 positions")
+    gates.fail(
+        residual_gate(
+            norm_err,
+            MAX_NORM_ERROR,
+            "reading {index} has a calibrated norm {percent:.1f} % from g after "
+            "calibration (gate {gate_percent:.0f} %): it may not have been still",
+        )
+    )
+    gates.fail(
+        scale_gate(
+            b,
+            plausible_scale,
+            "scale b{n} of the {axis} axis is {value:.4f}, outside the plausible {lo}–{hi}: "
+            "check the unit and the gravity value",
+        )
+    )
+    gates.fail(
+        offset_gate(
+            s,
+            g if max_offset is None else max_offset,
+            "shift s{n} of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit",
+        )
+    )
+    gates.warn(
+        deviation_gate(
+            zip(("phi", "psi", "theta"), angles),
+            np.pi / 2,
+            MAX_ANGLE_DEVIATION,
+            lambda name, value, **_: (
+                f"the angle {name} between the axes is {np.degrees(value):.2f}°, more than 5 % from 90° "
+                "(Georgieva et al. section 2 assumes 90° ± 2 %): check the positions"
+            ),
+        )
+    )
+    unknown_orientation_gates(
+        gates,
+        m,
+        g,
+        condition=cond,
+        max_condition=MAX_CONDITION_NUMBER,
+        dof=dof,
+        hemisphere=hemisphere,
+        near_fraction=NEAR_DUPLICATE_FRACTION,
+        positions_hint="use about 20 positions",
+    )
     return gates
 
 
@@ -422,9 +468,17 @@ def fit_nonorthogonal(
     phi, psi, theta = (float(v) for v in p[6:9])
     cov, dof, r, cond = _covariance(p, m, g)
     metrics, norm_err = _metrics(m, g, p, s, b, r, cond, s0, b0, sol, dof)
-    gates = _gates(m, g, s, b, (phi, psi, theta), norm_err, cond, dof, hemisphere, sol,
-                   plausible_scale, max_offset)
+    gates = _gates(m, g, s, b, (phi, psi, theta), norm_err, cond, dof, hemisphere, sol, plausible_scale, max_offset)
     return NonOrthogonalCalibration(
-        s=s, b=b, phi=phi, psi=psi, theta=theta, gravity=g, means=m, covariance=cov, dof=dof,
-        metrics=metrics, **gates.fields(),
+        s=s,
+        b=b,
+        phi=phi,
+        psi=psi,
+        theta=theta,
+        gravity=g,
+        means=m,
+        covariance=cov,
+        dof=dof,
+        metrics=metrics,
+        **gates.fields(),
     )

@@ -161,7 +161,11 @@ def _maximise(objective, starts, bounds, constraints=()) -> tuple[float, np.ndar
     best_val, best_x = -np.inf, None
     for x0 in starts:
         res = minimize(
-            lambda x: -objective(x), x0, method="SLSQP", bounds=bounds, constraints=constraints,
+            lambda x: -objective(x),
+            x0,
+            method="SLSQP",
+            bounds=bounds,
+            constraints=constraints,
             options={"ftol": 1e-14, "maxiter": 100},
         )
         x = np.clip(res.x, [b[0] for b in bounds], [b[1] for b in bounds])

@@ -59,8 +59,7 @@ def up_vector(label: str) -> np.ndarray:
         return np.array(UP_VECTORS[label])
     except (KeyError, TypeError):
         raise CalibrationError(
-            f"unknown orientation {label!r}: use one of {', '.join(UP_VECTORS)} "
-            "(the device axis that points up)"
+            f"unknown orientation {label!r}: use one of {', '.join(UP_VECTORS)} (the device axis that points up)"
         ) from None
 
 

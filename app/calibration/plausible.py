@@ -42,6 +42,7 @@ SCALE_RANGE = (0.5, 2.0)
 ACC_OFFSET_MAX_G = 1.0
 """The largest plausible accelerometer offset, in g (the MPU-6050's zero-g offset: ±80 mg)."""
 
+
 @dataclass(frozen=True)
 class GyroPart:
     """A gyroscope's datasheet figures at 25 °C: its initial zero-rate offset tolerance (what a still
@@ -53,13 +54,13 @@ class GyroPart:
 
 
 GYR_PARTS = (
-    GyroPart("MPU-6050", 20.0, 0.005),     # InvenSense MPU-6000/MPU-6050 Product Specification rev. 3.4, section 6.1
-    GyroPart("MPU-6500", 5.0, 0.01),       # InvenSense MPU-6500 Product Specification, section 3.1
-    GyroPart("MPU-9250", 5.0, 0.01),       # InvenSense MPU-9250 Product Specification, section 3.1
-    GyroPart("ICM-20948", 5.0, 0.015),     # TDK ICM-20948 datasheet DS-000189, table 1
+    GyroPart("MPU-6050", 20.0, 0.005),  # InvenSense MPU-6000/MPU-6050 Product Specification rev. 3.4, section 6.1
+    GyroPart("MPU-6500", 5.0, 0.01),  # InvenSense MPU-6500 Product Specification, section 3.1
+    GyroPart("MPU-9250", 5.0, 0.01),  # InvenSense MPU-9250 Product Specification, section 3.1
+    GyroPart("ICM-20948", 5.0, 0.015),  # TDK ICM-20948 datasheet DS-000189, table 1
     GyroPart("ICM-42688-P", 0.5, 0.0028),  # TDK ICM-42688-P datasheet DS-000347, table 1
-    GyroPart("BMI160", 3.0, 0.007),        # Bosch BMI160 datasheet BST-BMI160-DS000, table 2
-    GyroPart("LSM6DS3", 10.0, 0.007),      # ST LSM6DS3 datasheet DocID026899, table 3
+    GyroPart("BMI160", 3.0, 0.007),  # Bosch BMI160 datasheet BST-BMI160-DS000, table 2
+    GyroPart("LSM6DS3", 10.0, 0.007),  # ST LSM6DS3 datasheet DocID026899, table 3
 )
 """The MEMS gyroscopes of boards and phones whose figures bound what a gyroscope can read: the bias gate
 here, and the gyroscope's unit read from its data at the edge (``app/io/formats/gyro_unit.py``)."""
@@ -84,8 +85,11 @@ MICRO_G = 1e-6 * STANDARD_GRAVITY
 NOISE_DENSITY = {
     # Rate noise spectral density: the quietest and the noisiest of GYR_PARTS (ICM-42688-P 0.0028,
     # ICM-20948 0.015 °/s/√Hz).
-    "gyr": (min(p.noise_dps_rthz for p in GYR_PARTS) * DEG, max(p.noise_dps_rthz for p in GYR_PARTS) * DEG,
-            "rad/s/√Hz"),
+    "gyr": (
+        min(p.noise_dps_rthz for p in GYR_PARTS) * DEG,
+        max(p.noise_dps_rthz for p in GYR_PARTS) * DEG,
+        "rad/s/√Hz",
+    ),
     # Noise power spectral density: Analog Devices ADXL355 datasheet: 22.5 µg/√Hz; ICM-42688-P table 2:
     # 70; ICM-20948 table 2: 230; MPU-6050 section 6.2: 400 µg/√Hz.
     "acc": (22.5 * MICRO_G, 400.0 * MICRO_G, "m/s²/√Hz"),
@@ -95,12 +99,10 @@ NOISE_DENSITY = {
 }
 """The quietest and noisiest common MEMS part of each sensor, in SI (rad/s, m/s², µT per √Hz)."""
 
-TO_SI = {"rad/s": 1.0, "deg/s": DEG, "m/s^2": 1.0, "g": STANDARD_GRAVITY, "uT": 1.0, "nT": 1e-3,
-         "gauss": 100.0}
+TO_SI = {"rad/s": 1.0, "deg/s": DEG, "m/s^2": 1.0, "g": STANDARD_GRAVITY, "uT": 1.0, "nT": 1e-3, "gauss": 100.0}
 """The units a result's figures can be in, to SI (rad/s, m/s², µT); ``raw`` (counts) has no scale."""
 
-UNIT_WORDS = {"rad/s": "rad/s", "deg/s": "°/s", "m/s^2": "m/s²", "g": "g", "uT": "µT", "nT": "nT",
-              "gauss": "gauss"}
+UNIT_WORDS = {"rad/s": "rad/s", "deg/s": "°/s", "m/s^2": "m/s²", "g": "g", "uT": "µT", "nT": "nT", "gauss": "gauss"}
 """Each unit of :data:`TO_SI` as a person reads it: the one list of these words (app/words.py adds counts)."""
 OPTION = {"acc": "acc_unit", "gyr": "gyr_unit", "mag": "mag_unit"}
 """The upload's option that gives each sensor's unit (docs/rest.md)."""
@@ -191,8 +193,11 @@ def _misread_as(fig: PhysicalFigure, limits) -> list[str]:
     for actual in units:
         for given in units:
             factor = TO_SI[actual] / TO_SI[given]
-            if given != actual and actual not in fits and all(
-                    _plausible(v * factor, limits, fig) for v in _si(fig, fig.unit)):
+            if (
+                given != actual
+                and actual not in fits
+                and all(_plausible(v * factor, limits, fig) for v in _si(fig, fig.unit))
+            ):
                 fits.append(actual)
     return fits
 
@@ -201,21 +206,32 @@ def _cause(fig: PhysicalFigure, limits) -> str:
     """The likely cause of an implausible figure and what to give."""
     option, word = OPTION.get(fig.sensor, "the unit"), SENSOR_WORDS.get(fig.sensor, fig.sensor)
     if fig.unit == "raw" and fig.kind == "noise_density":
-        return (f"these readings are not counts (whole numbers): give {option} the unit they are in "
-                f"({' or '.join(ALTERNATIVES.get(fig.sensor, ()))})")
+        return (
+            f"these readings are not counts (whole numbers): give {option} the unit they are in "
+            f"({' or '.join(ALTERNATIVES.get(fig.sensor, ()))})"
+        )
     # A unit it was not read in: "give m/s²" for readings read in m/s² would send the person round in a circle.
     fits = [u for u in _misread_as(fig, limits) if u != fig.unit] if fig.kind != "scale" else []
     if fits:
-        return (f"the readings fit a MEMS {word} in {' or '.join(UNIT_WORDS[u] for u in fits)}, not in the unit "
-                f"they were read in: give {option} {fits[0]}")
+        return (
+            f"the readings fit a MEMS {word} in {' or '.join(UNIT_WORDS[u] for u in fits)}, not in the unit "
+            f"they were read in: give {option} {fits[0]}"
+        )
     if fig.kind == "scale":
-        return (f"the {word}'s readings are not in the unit they were read in (a range or unit a factor of 2 "
-                f"or more off): give {option} (or its chip, for counts), and check that the columns are the "
-                f"{word}'s")
-    moved = (" — or the device was not still: a noise is read from a recording at rest, on a table, untouched"
-             if fig.kind == "noise_density" else "")
-    return (f"check that the columns are the {word}'s (not another sensor's), that {option} is its unit, and "
-            f"for counts the chip and its range{moved}")
+        return (
+            f"the {word}'s readings are not in the unit they were read in (a range or unit a factor of 2 "
+            f"or more off): give {option} (or its chip, for counts), and check that the columns are the "
+            f"{word}'s"
+        )
+    moved = (
+        " — or the device was not still: a noise is read from a recording at rest, on a table, untouched"
+        if fig.kind == "noise_density"
+        else ""
+    )
+    return (
+        f"check that the columns are the {word}'s (not another sensor's), that {option} is its unit, and "
+        f"for counts the chip and its range{moved}"
+    )
 
 
 MARK = "which no MEMS part reads"
@@ -251,12 +267,24 @@ def implausible(figures) -> list[str]:
             continue
         worst = _farthest(bad, limits)
         lo, hi = limits
-        span = (f"at least {_shown(lo, fig)}" if hi == math.inf else
-                f"{_shown(lo, fig)}–{_shown(hi, fig)}" if lo > 0 else f"at most {_shown(hi, fig)}")
-        what = {"scale": "scale", "offset": "offset", "bias": "bias", "field": "field",
-                "noise_density": "noise density"}[fig.kind]
-        out.append(f"the {SENSOR_WORDS.get(fig.sensor, fig.sensor)}'s {what} is {_shown(worst, fig)}, {MARK} "
-                   f"(plausible: {span}): {_cause(fig, limits)}")
+        span = (
+            f"at least {_shown(lo, fig)}"
+            if hi == math.inf
+            else f"{_shown(lo, fig)}–{_shown(hi, fig)}"
+            if lo > 0
+            else f"at most {_shown(hi, fig)}"
+        )
+        what = {
+            "scale": "scale",
+            "offset": "offset",
+            "bias": "bias",
+            "field": "field",
+            "noise_density": "noise density",
+        }[fig.kind]
+        out.append(
+            f"the {SENSOR_WORDS.get(fig.sensor, fig.sensor)}'s {what} is {_shown(worst, fig)}, {MARK} "
+            f"(plausible: {span}): {_cause(fig, limits)}"
+        )
     return out
 
 
@@ -266,13 +294,24 @@ def correction_figures(sensor: str, M, o, input_unit: str | None, output_unit: s
     hard iron has no limit of its own) in the readings' unit."""
     out = []
     if input_unit is not None and input_unit == output_unit:
-        out.append(PhysicalFigure(sensor, "scale", tuple(float(v) for v in np.diag(np.asarray(M, dtype=float))),
-                                  input_unit))
+        out.append(
+            PhysicalFigure(sensor, "scale", tuple(float(v) for v in np.diag(np.asarray(M, dtype=float))), input_unit)
+        )
     kind = {"acc": "offset", "gyr": "bias"}.get(sensor)
     if kind is not None and input_unit in TO_SI:
         out.append(PhysicalFigure(sensor, kind, tuple(float(v) for v in np.asarray(o, dtype=float)), input_unit))
     return out
 
 
-__all__ = ["PhysicalFigure", "implausible", "is_plausibility_reason", "correction_figures", "NOISE_DENSITY", "SCALE_RANGE",
-           "ACC_OFFSET_MAX_G", "GYRO_BIAS_MAX_DPS", "FIELD_RANGE_UT", "NOISE_FACTOR"]
+__all__ = [
+    "PhysicalFigure",
+    "implausible",
+    "is_plausibility_reason",
+    "correction_figures",
+    "NOISE_DENSITY",
+    "SCALE_RANGE",
+    "ACC_OFFSET_MAX_G",
+    "GYRO_BIAS_MAX_DPS",
+    "FIELD_RANGE_UT",
+    "NOISE_FACTOR",
+]

@@ -59,9 +59,22 @@ class Figure:
 
 NO_FIGURE = Figure()
 
-FIGURE_METRICS = ("holdout_error_before_mg", "holdout_error_after_mg", "count_control", "cv_error_mg",
-                  "cv_error_max_mg", "cv_note", "error_before_mg", "error_after_mg", "cv_error_ut", "cv_error_max_ut",
-                  "fit_error_ut", "raw_error_ut", "drift_raw_max", "drift_cv_max")
+FIGURE_METRICS = (
+    "holdout_error_before_mg",
+    "holdout_error_after_mg",
+    "count_control",
+    "cv_error_mg",
+    "cv_error_max_mg",
+    "cv_note",
+    "error_before_mg",
+    "error_after_mg",
+    "cv_error_ut",
+    "cv_error_max_ut",
+    "fit_error_ut",
+    "raw_error_ut",
+    "drift_raw_max",
+    "drift_cv_max",
+)
 """The metrics a result chooses its figure and its headline by: only the result classes read them to decide
 (tests/test_result_decides.py)."""
 
@@ -70,8 +83,9 @@ def holdout_figure(m: dict) -> Figure | None:
     """Readings the request held out (``holdout_*``): the most honest figure, when given."""
     if m.get("holdout_error_after_mg") is None:
         return None
-    return Figure(m.get("holdout_error_before_mg"), m["holdout_error_after_mg"], "mg",
-                  "error on the readings you held out")
+    return Figure(
+        m.get("holdout_error_before_mg"), m["holdout_error_after_mg"], "mg", "error on the readings you held out"
+    )
 
 
 def cv_figure(m: dict) -> Figure | None:
@@ -155,14 +169,21 @@ class GatedFit(Gated):
 
     def gate_dict(self) -> dict:
         """The plain form of its metrics, ``ok``, warnings and reasons."""
-        return {"metrics": dict(self.metrics), "ok": self.ok, "warnings": list(self.warnings),
-                "reasons": list(self.reasons)}
+        return {
+            "metrics": dict(self.metrics),
+            "ok": self.ok,
+            "warnings": list(self.warnings),
+            "reasons": list(self.reasons),
+        }
 
 
 def gate_fields(data: dict) -> dict:
     """``metrics``, ``warnings`` and ``reasons`` of a plain form, as a result's constructor takes them."""
-    return dict(metrics=dict(data.get("metrics", {})), warnings=tuple(data.get("warnings", ())),
-                reasons=tuple(data.get("reasons", ())))
+    return dict(
+        metrics=dict(data.get("metrics", {})),
+        warnings=tuple(data.get("warnings", ())),
+        reasons=tuple(data.get("reasons", ())),
+    )
 
 
 class CalibrationResult(Gated):
@@ -296,13 +317,13 @@ class CalibrationResult(Gated):
             raise CalibrationError(f"this calibration has no {sensor} model")
         word = SENSOR_WORDS[have[0]]
         fix = "; drop `sensor`" if have[0] == "acc" else f': send `sensor: "{have[0]}"`'
-        raise CalibrationError(f"a {self.MODEL_TYPE} calibration has only {'an' if word[0] in 'aeiou' else 'a'} "
-                               f"{word} model{fix}")
+        raise CalibrationError(
+            f"a {self.MODEL_TYPE} calibration has only {'an' if word[0] in 'aeiou' else 'a'} {word} model{fix}"
+        )
 
     def corrected_sensors(self) -> tuple[str, ...]:
         """The sensors it has a correction of (the keys of :meth:`corrections`, without computing them)."""
         return ("acc",)
-
 
     @property
     def correction(self) -> AffineCorrection:
@@ -312,8 +333,9 @@ class CalibrationResult(Gated):
         ESGI'95, eqs. (16), (20); Farago, Maczak and Gingl, IEEE Access, eq. (6)), so M and o
         follow from applying the model to the origin and the unit vectors.
         """
-        return correction_of(self.apply, input_unit=self.unit, output_unit=self.output_unit,
-                             source=self.CORRECTION_SOURCE)
+        return correction_of(
+            self.apply, input_unit=self.unit, output_unit=self.output_unit, source=self.CORRECTION_SOURCE
+        )
 
     def corrections(self) -> dict[str, AffineCorrection]:
         """Every sensor's correction by sensor name (``acc``, and ``gyr``, ``mag`` for the cube)."""
@@ -334,8 +356,11 @@ class CalibrationResult(Gated):
     @classmethod
     def parameters_from(cls, model: dict) -> dict:
         """The parameter fields of a plain form's ``model`` (the reverse of :meth:`model_dict`): arrays and floats."""
-        return {f.name: np.asarray(model[f.name], dtype=float) if isinstance(model[f.name], list) else float(model[f.name])
-                for f in dataclasses.fields(cls) if f.metadata == PARAMETER}
+        return {
+            f.name: np.asarray(model[f.name], dtype=float) if isinstance(model[f.name], list) else float(model[f.name])
+            for f in dataclasses.fields(cls)
+            if f.metadata == PARAMETER
+        }
 
     def body_dict(self) -> dict:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
@@ -479,8 +504,10 @@ class StillReadingsResult(CalibrationResult, GatedFit):
             return None
         return accelerometer_headline(self.metrics, held_out=False)
 
-    NO_INTERVALS: ClassVar[str] = ("no intervals: {n} positions fit the 9 parameters exactly (0 residual degrees "
-                                   "of freedom) or the fit is degenerate; add positions")
+    NO_INTERVALS: ClassVar[str] = (
+        "no intervals: {n} positions fit the 9 parameters exactly (0 residual degrees "
+        "of freedom) or the fit is degenerate; add positions"
+    )
     """Why there are no intervals without a covariance (``{n}``: the readings fitted)."""
 
     def uncertainty(self) -> dict:
@@ -507,8 +534,15 @@ class StillReadingsResult(CalibrationResult, GatedFit):
         calibrated = self.apply(means)
         after = relative_norm_errors(calibrated, self.gravity)
         before = relative_norm_errors(means, self.gravity)
-        return [{"index": i, **self.reading_detail(i, m, c), "norm_error": float(after[i]),
-                 "norm_error_raw": float(before[i])} for i, (m, c) in enumerate(zip(means, calibrated))]
+        return [
+            {
+                "index": i,
+                **self.reading_detail(i, m, c),
+                "norm_error": float(after[i]),
+                "norm_error_raw": float(before[i]),
+            }
+            for i, (m, c) in enumerate(zip(means, calibrated))
+        ]
 
     def reading_detail(self, index: int, mean: np.ndarray, calibrated: np.ndarray) -> dict:
         """What a reading's plain form holds besides its index and norm errors: its mean and calibrated vector."""
@@ -569,6 +603,12 @@ class PerSensorResult(CalibrationResult):
         """Each sensor's part of a plain form: its model, uncertainty and metrics, and ``pieces`` (the
         method's own, each stored by sensor at the top of the form)."""
         names = [k for k in data["model"] if k != "type"]
-        return {name: {"model": data["model"][name], "uncertainty": data["uncertainty"][name],
-                       "metrics": data["metrics"].get(name, {}), **{p: data[p][name] for p in pieces}}
-                for name in names}
+        return {
+            name: {
+                "model": data["model"][name],
+                "uncertainty": data["uncertainty"][name],
+                "metrics": data["metrics"].get(name, {}),
+                **{p: data[p][name] for p in pieces},
+            }
+            for name in names
+        }

@@ -112,7 +112,9 @@ def _positive(value, name: str, *, allow_zero: bool = False) -> float:
     except (TypeError, ValueError):
         raise CalibrationError(f"{name} must be a number; got {value!r}") from None
     if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        raise CalibrationError(f"{name} must be a {'non-negative' if allow_zero else 'positive'} finite number; got {value!r}")
+        raise CalibrationError(
+            f"{name} must be a {'non-negative' if allow_zero else 'positive'} finite number; got {value!r}"
+        )
     return v
 
 
@@ -251,8 +253,9 @@ def still_threshold(
     return g_ref, thr
 
 
-def others_still(others, w: int, noise_percentile: float = NOISE_PERCENTILE,
-                 noise_factor: float = NOISE_FACTOR) -> np.ndarray | None:
+def others_still(
+    others, w: int, noise_percentile: float = NOISE_PERCENTILE, noise_factor: float = NOISE_FACTOR
+) -> np.ndarray | None:
     """Which windows of ``w`` samples are still on every other sensor (a gyroscope, a magnetometer on
     the accelerometer's clock), or None without one.
 
@@ -277,7 +280,7 @@ def others_still(others, w: int, noise_percentile: float = NOISE_PERCENTILE,
         return None
     k = max(1, w // 4)
     moving = np.concatenate(([0], np.cumsum(np.concatenate((np.zeros(k), ~still, np.zeros(k))))))
-    return (moving[2 * k + 1:] - moving[:len(still)]) == 0
+    return (moving[2 * k + 1 :] - moving[: len(still)]) == 0
 
 
 def _still_runs(x: np.ndarray, w: int, others=(), **threshold) -> tuple[float, float, np.ndarray, np.ndarray]:
@@ -288,8 +291,9 @@ def _still_runs(x: np.ndarray, w: int, others=(), **threshold) -> tuple[float, f
     g_ref, thr = still_threshold(spread, norm, **threshold)
     still = spread <= thr
     del spread, norm
-    elsewhere = others_still(others, w, threshold.get("noise_percentile", NOISE_PERCENTILE),
-                             threshold.get("noise_factor", NOISE_FACTOR))
+    elsewhere = others_still(
+        others, w, threshold.get("noise_percentile", NOISE_PERCENTILE), threshold.get("noise_factor", NOISE_FACTOR)
+    )
     if elsewhere is not None:
         still &= elsewhere
     edges = np.diff(np.concatenate(([0], still.view(np.int8), [0])))
@@ -326,8 +330,9 @@ class _Runs:
         run_a, run_b = _trim(xc, csum, run_a, run_b, w, half, thr)
         keep = (run_b - run_a) >= min_length
         run_a, run_b = run_a[keep], run_b[keep]
-        return cls(x=x, centre=centre, csum=csum, a=run_a, b=run_b, sums=csum[run_b] - csum[run_a],
-                   counts=run_b - run_a)
+        return cls(
+            x=x, centre=centre, csum=csum, a=run_a, b=run_b, sums=csum[run_b] - csum[run_a], counts=run_b - run_a
+        )
 
     def merged(self, max_gap: int, thr: float) -> list[list[int]]:
         """Step 4: groups of runs split by a knock (short gap, same mean: a bump is not an orientation)."""
@@ -359,8 +364,16 @@ class _Runs:
         m1, m3 = xs[:k].mean(axis=0), xs[-k:].mean(axis=0)
         return m1, m3, (t[-k:].mean() - t[:k].mean()) / fs, xs, k
 
-    def segment(self, grp: list[int], fs: float, *, min_samples: int, norm_range: tuple[float, float],
-                max_drift_deg_per_s: float, label_max_angle_deg: float) -> StaticSegment | None:
+    def segment(
+        self,
+        grp: list[int],
+        fs: float,
+        *,
+        min_samples: int,
+        norm_range: tuple[float, float],
+        max_drift_deg_per_s: float,
+        label_max_angle_deg: float,
+    ) -> StaticSegment | None:
         """Step 5: the rest of a group, or None when it is too short, its norm implausible, or its
         direction drifts (a slow turn, not a rest)."""
         count = int(self.counts[grp].sum())
@@ -374,7 +387,11 @@ class _Runs:
         rate = math.degrees(math.acos(min(1.0, max(-1.0, cosang)))) / dt if dt > 0 else 0.0
         std = xs.std(axis=0)
         # The angle between two means of k noisy samples has a spread of about σ √(2 / k) / |g|.
-        noise_rate = math.degrees(float(np.sqrt(np.mean(std**2))) * math.sqrt(2.0 / k) / float(np.linalg.norm(mean))) / dt if dt > 0 else 0.0
+        noise_rate = (
+            math.degrees(float(np.sqrt(np.mean(std**2))) * math.sqrt(2.0 / k) / float(np.linalg.norm(mean))) / dt
+            if dt > 0
+            else 0.0
+        )
         if rate > max_drift_deg_per_s + 4.0 * noise_rate:
             return None
         return StaticSegment(
@@ -482,8 +499,14 @@ def detect_static_segments(
     if any(len(o) != n for o in others):
         raise CalibrationError("the other sensors' samples must be on the accelerometer's clock: as many rows as it")
     g_ref, thr, run_a, run_b = _still_runs(
-        x, w, others, gravity=g_given, noise_percentile=noise_percentile, noise_factor=noise_factor,
-        floor_g=floor_g, cap_g=cap_g,
+        x,
+        w,
+        others,
+        gravity=g_given,
+        noise_percentile=noise_percentile,
+        noise_factor=noise_factor,
+        floor_g=floor_g,
+        cap_g=cap_g,
     )
     min_samples = max(1, int(round(min_duration_s * fs)))
     min_piece = max(w, min_samples // 4)
@@ -491,13 +514,20 @@ def detect_static_segments(
     run_a, run_b = run_a[keep], run_b[keep]
     if len(run_a) == 0:
         return []
-    runs = _Runs.trimmed(x, run_a, run_b, w=w, half=max(1, int(round(EDGE_SMOOTH_S * fs / 2))), thr=thr,
-                         min_length=min(min_piece, w))
+    runs = _Runs.trimmed(
+        x, run_a, run_b, w=w, half=max(1, int(round(EDGE_SMOOTH_S * fs / 2))), thr=thr, min_length=min(min_piece, w)
+    )
     lo_norm, hi_norm = norm_range_g[0] * g_ref, norm_range_g[1] * g_ref
     out: list[StaticSegment] = []
     for grp in runs.merged(int(round(max_gap_s * fs)), thr):
-        seg = runs.segment(grp, fs, min_samples=min_samples, norm_range=(lo_norm, hi_norm),
-                           max_drift_deg_per_s=max_drift_deg_per_s, label_max_angle_deg=label_max_angle_deg)
+        seg = runs.segment(
+            grp,
+            fs,
+            min_samples=min_samples,
+            norm_range=(lo_norm, hi_norm),
+            max_drift_deg_per_s=max_drift_deg_per_s,
+            label_max_angle_deg=label_max_angle_deg,
+        )
         if seg is not None:
             out.append(seg)
     return out

@@ -148,10 +148,19 @@ class RestAccumulator:
     >>> rest = acc.result()           # doctest: +SKIP
     """
 
-    def __init__(self, sampling_rate_hz: float, *, gravity: float = 1.0, segment_s: float = SEGMENT_S,
-                 threshold_g: float = THRESHOLD_G, axis: int = 0, all_axes: bool = False,
-                 idle_min_run_s: float | None = IDLE_MIN_RUN_S, ggir_window_s: float | None = GGIR_WINDOW_S,
-                 ggir_sd_g: float = GGIR_SD_G):
+    def __init__(
+        self,
+        sampling_rate_hz: float,
+        *,
+        gravity: float = 1.0,
+        segment_s: float = SEGMENT_S,
+        threshold_g: float = THRESHOLD_G,
+        axis: int = 0,
+        all_axes: bool = False,
+        idle_min_run_s: float | None = IDLE_MIN_RUN_S,
+        ggir_window_s: float | None = GGIR_WINDOW_S,
+        ggir_sd_g: float = GGIR_SD_G,
+    ):
         try:
             rate = float(sampling_rate_hz)
         except (TypeError, ValueError):
@@ -294,10 +303,21 @@ class RestAccumulator:
         if self.ggir_group is not None and len(start):
             gm, gs = self._ggir_windows(start, mean, np.vstack(self._sq))
         return RestSegments(
-            start=start, mean=mean, range=rng, segment_samples=self.seg,
-            sampling_rate_hz=self.sampling_rate_hz, gravity=self.gravity, threshold=self.threshold,
-            axes=self.axes, n_samples=self._n_samples, n_segments=self._n_segments,
-            n_moving=self._n_moving, n_nan=self._n_nan, n_idle=self._n_idle, ggir_mean=gm, ggir_std=gs,
+            start=start,
+            mean=mean,
+            range=rng,
+            segment_samples=self.seg,
+            sampling_rate_hz=self.sampling_rate_hz,
+            gravity=self.gravity,
+            threshold=self.threshold,
+            axes=self.axes,
+            n_samples=self._n_samples,
+            n_segments=self._n_segments,
+            n_moving=self._n_moving,
+            n_nan=self._n_nan,
+            n_idle=self._n_idle,
+            ggir_mean=gm,
+            ggir_std=gs,
         )
 
     def _ggir_windows(self, start, mean, sq):
@@ -358,8 +378,15 @@ class _PageReleaser:
             self.mm = None
 
 
-def detect_rest_segments(samples, sampling_rate_hz: float, *, gravity: float = 1.0,
-                         chunk_segments: int = CHUNK_SEGMENTS, progress=None, **options) -> RestSegments:
+def detect_rest_segments(
+    samples,
+    sampling_rate_hz: float,
+    *,
+    gravity: float = 1.0,
+    chunk_segments: int = CHUNK_SEGMENTS,
+    progress=None,
+    **options,
+) -> RestSegments:
     """Rest segments of a whole recording, processed in chunks (Farago et al. section II.B.1).
 
     Parameters
@@ -389,7 +416,7 @@ def detect_rest_segments(samples, sampling_rate_hz: float, *, gravity: float = 1
     step = max(1, int(chunk_segments)) * acc.seg
     pages = _PageReleaser(x)
     for s in range(0, n, step):
-        chunk = x[s:s + step]
+        chunk = x[s : s + step]
         acc.feed(chunk)
         pages.release(chunk)
         if progress is not None:

@@ -178,11 +178,11 @@ class AxisFit:
     """One axis's polynomial in the scaled dT, u = dT / h."""
 
     order: int
-    beta: np.ndarray      # (order + 1,) coefficients of u^k
-    cov: np.ndarray       # their covariance, inflated for correlated bins
-    dof: float            # effective residual degrees of freedom
-    rho: float            # lag-1 autocorrelation of the (whitened) residuals (0 when negative)
-    walk: float = 0.0     # the random walk's variance per second, in the readings' unit² / s (REML)
+    beta: np.ndarray  # (order + 1,) coefficients of u^k
+    cov: np.ndarray  # their covariance, inflated for correlated bins
+    dof: float  # effective residual degrees of freedom
+    rho: float  # lag-1 autocorrelation of the (whitened) residuals (0 when negative)
+    walk: float = 0.0  # the random walk's variance per second, in the readings' unit² / s (REML)
 
 
 WALK_GRID = np.concatenate(([0.0], np.logspace(-4, 4, 33)))
@@ -218,8 +218,10 @@ def fit_axis(u: np.ndarray, y: np.ndarray, order: int, walk=None) -> AxisFit:
     """
     n, p = len(u), order + 1
     if n <= p + 1:
-        raise InsufficientDataError(f"{n} temperature bins cannot fit an order-{order} polynomial with an interval: "
-                                    "record over a wider range of temperature")
+        raise InsufficientDataError(
+            f"{n} temperature bins cannot fit an order-{order} polynomial with an interval: "
+            "record over a wider range of temperature"
+        )
     X = _design(u, order)
     lam, scale = 0.0, 1.0
     if walk is None:
@@ -258,8 +260,9 @@ def band_of(t_c: np.ndarray, lo: float, hi: float, n_bands: int = N_BANDS) -> np
     return np.clip(((t_c - lo) / width).astype(int), 0, n_bands - 1)
 
 
-def left_out_residuals(u: np.ndarray, y: np.ndarray, bands: np.ndarray, order: int,
-                       at: tuple | None = None) -> np.ndarray:
+def left_out_residuals(
+    u: np.ndarray, y: np.ndarray, bands: np.ndarray, order: int, at: tuple | None = None
+) -> np.ndarray:
     """Each bin's residual from the fit made without its band (order 0: a constant, the raw figure);
     NaN where the other bands hold too few bins. ``at = (u, y, bands)`` of other bins (the temperature-only
     bins of the drift figures) are predicted instead, by the same fits."""
@@ -276,7 +279,7 @@ def left_out_residuals(u: np.ndarray, y: np.ndarray, bands: np.ndarray, order: i
 
 def _rms(r: np.ndarray) -> float:
     r = r[np.isfinite(r)]
-    return float(np.sqrt(np.mean(r ** 2))) if r.size else math.nan
+    return float(np.sqrt(np.mean(r**2))) if r.size else math.nan
 
 
 def _ptp(r: np.ndarray) -> float:
@@ -332,8 +335,10 @@ def _finite_readings(values, temperature_c, time_s):
     v, t = v[finite], t[finite]
     times = None if time_s is None else np.asarray(time_s, dtype=float)[finite]
     if len(t) < MIN_BAND_SAMPLES:
-        raise InsufficientDataError(f"{len(t)} readings with a temperature: a temperature calibration needs a "
-                                    "recording of minutes to hours while the sensor warms up")
+        raise InsufficientDataError(
+            f"{len(t)} readings with a temperature: a temperature calibration needs a "
+            "recording of minutes to hours while the sensor warms up"
+        )
     return v, t, times
 
 
@@ -347,10 +352,16 @@ def _thin_bands(bands, counts, t_min: float, t_max: float, name: str) -> tuple[l
         return band_samples, band_bins, thin, None
     edges = np.linspace(t_min, t_max, N_BANDS + 1)
     listed = ", ".join(f"{edges[k]:.1f}–{edges[k + 1]:.1f} °C ({band_samples[k]} samples)" for k in thin)
-    return band_samples, band_bins, thin, (
-        f"too few {name} samples in {listed}: each of the {N_BANDS} bands of the range needs "
-        f"{MIN_BAND_SAMPLES} samples or more, in {MIN_BAND_BINS} bins or more — warm the board more "
-        "slowly, or record longer at those temperatures")
+    return (
+        band_samples,
+        band_bins,
+        thin,
+        (
+            f"too few {name} samples in {listed}: each of the {N_BANDS} bands of the range needs "
+            f"{MIN_BAND_SAMPLES} samples or more, in {MIN_BAND_BINS} bins or more — warm the board more "
+            "slowly, or record longer at those temperatures"
+        ),
+    )
 
 
 def _axis_drift(y: np.ndarray, dy: np.ndarray, b: _SensorBins, order: int | None) -> _AxisDrift:
@@ -382,17 +393,25 @@ def _axis_drift(y: np.ndarray, dy: np.ndarray, b: _SensorBins, order: int | None
         G[:, 0] = 0.0
     return _AxisDrift(
         coefficients=(beta / powers).tolist(),  # X_k of dT^k, from the scaled b_k of u^k
-        half=(hw / powers).tolist(), cov=(cov / np.outer(powers, powers)).tolist(),
-        curve_offset=(G @ beta).tolist(), curve_half=(q * np.sqrt(np.einsum("ij,jk,ik->i", G, cov, G))).tolist(),
-        order=chosen, dof=fit.dof, rho=fit.rho, walk=math.sqrt(fit.walk), level=level,
-        cv=by_order[chosen] * b.scale, cv_raw=by_order[0] * b.scale,
+        half=(hw / powers).tolist(),
+        cov=(cov / np.outer(powers, powers)).tolist(),
+        curve_offset=(G @ beta).tolist(),
+        curve_half=(q * np.sqrt(np.einsum("ij,jk,ik->i", G, cov, G))).tolist(),
+        order=chosen,
+        dof=fit.dof,
+        rho=fit.rho,
+        walk=math.sqrt(fit.walk),
+        level=level,
+        cv=by_order[chosen] * b.scale,
+        cv_raw=by_order[0] * b.scale,
         cv_by_order=[by_order[k] * b.scale for k in range(1, MAX_ORDER + 1)],
-        drift_raw=_ptp(dy) * b.scale, drift_after=_ptp(dy - _design(b.du, chosen) @ fit.beta) * b.scale,
-        drift_cv=_ptp(held) * b.scale)
+        drift_raw=_ptp(dy) * b.scale,
+        drift_after=_ptp(dy - _design(b.du, chosen) @ fit.beta) * b.scale,
+        drift_cv=_ptp(held) * b.scale,
+    )
 
 
-def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
-               time_s=None) -> tuple[dict, list[str]]:
+def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None, time_s=None) -> tuple[dict, list[str]]:
     """The temperature model of one sensor (``acc`` in m/s², ``gyr`` in rad/s) and the reasons it fails.
 
     Parameters
@@ -424,9 +443,11 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
     h = max(span / 2.0, 1e-9)
     reasons: list[str] = []
     if span < MIN_SPAN_C:
-        reasons.append(f"the {name}'s temperature spans {span:.1f} °C ({t_min:.1f}–{t_max:.1f} °C), under the "
-                       f"{MIN_SPAN_C:g} °C a temperature calibration needs: start from a cold board (cooled for half "
-                       "an hour) and record while it warms up")
+        reasons.append(
+            f"the {name}'s temperature spans {span:.1f} °C ({t_min:.1f}–{t_max:.1f} °C), under the "
+            f"{MIN_SPAN_C:g} °C a temperature calibration needs: start from a cold board (cooled for half "
+            "an hour) and record while it warms up"
+        )
     t_c, means, counts, index = bin_by_temperature(v, t, times)
     # The bins cut in time (for the random walk) can be many at one temperature; a polynomial of temperature
     # needs distinct temperatures: as many bins of temperature alone as a cubic has coefficients, and two more.
@@ -435,43 +456,76 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None,
         raise InsufficientDataError(
             f"the {name}'s readings fill only {len(dt_c)} bins of temperature ({t_min:.1f}–{t_max:.1f} °C): a "
             f"temperature calibration needs the sensor to warm through {MIN_SPAN_C:g} °C or more — start from a "
-            "cold board (cooled for half an hour) and record while it warms up, still all the while")
+            "cold board (cooled for half an hour) and record while it warms up, still all the while"
+        )
     walk_cov = None if times is None else walk_decomposition(walk_covariance(times, index, len(t_c)))
     band_samples, band_bins, thin, thin_reason = _thin_bands(band_of(t_c, t_min, t_max), counts, t_min, t_max, name)
     if thin_reason:
         reasons.append(thin_reason)
     grid = np.linspace(t_min, t_max, CURVE_POINTS)
     # The drift figures on PX4's bins, of temperature alone (dt_c above): the same bins however long the recording.
-    bins = _SensorBins(u=(t_c - t_ref) / h, du=(dt_c - t_ref) / h, dbands=band_of(dt_c, t_min, t_max),
-                       walk_cov=walk_cov, h=h, ug=(grid - t_ref) / h, relative=sensor == "acc",
-                       scale=FIGURE_SCALE[sensor])
+    bins = _SensorBins(
+        u=(t_c - t_ref) / h,
+        du=(dt_c - t_ref) / h,
+        dbands=band_of(dt_c, t_min, t_max),
+        walk_cov=walk_cov,
+        h=h,
+        ug=(grid - t_ref) / h,
+        relative=sensor == "acc",
+        scale=FIGURE_SCALE[sensor],
+    )
     axes = [_axis_drift(means[:, axis], dmeans[:, axis], bins, order) for axis in range(v.shape[1])]
     cv, cv_raw = [a.cv for a in axes], [a.cv_raw for a in axes]
     drift_raw, drift_cv = [a.drift_raw for a in axes], [a.drift_cv for a in axes]
     unit = FIGURE_UNITS[sensor]
     worse = float(np.sqrt(np.mean(np.square(cv)))) >= float(np.sqrt(np.mean(np.square(cv_raw))))
     if worse and not thin:
-        reasons.append(f"the {name}'s polynomial predicts the bands left out no better than no correction at all "
-                       f"(RMS {np.sqrt(np.mean(np.square(cv))):.3g} {unit} against {np.sqrt(np.mean(np.square(cv_raw))):.3g} "
-                       f"{unit} raw): its offset does not follow the temperature here — leave its temperature "
-                       "calibration off")
+        reasons.append(
+            f"the {name}'s polynomial predicts the bands left out no better than no correction at all "
+            f"(RMS {np.sqrt(np.mean(np.square(cv))):.3g} {unit} against {np.sqrt(np.mean(np.square(cv_raw))):.3g} "
+            f"{unit} raw): its offset does not follow the temperature here — leave its temperature "
+            "calibration off"
+        )
     offsets = dmeans - np.asarray([a.level for a in axes])
     part = {
-        "model": {"unit": SI_UNITS[sensor], "t_ref_c": t_ref, "t_min_c": t_min, "t_max_c": t_max,
-                  "relative": bins.relative, "order": [a.order for a in axes],
-                  "coefficients": [a.coefficients for a in axes]},
-        "uncertainty": {"coefficients": [a.half for a in axes], "dof": [a.dof for a in axes],
-                        "autocorrelation": [a.rho for a in axes], "covariance": [a.cov for a in axes],
-                        "random_walk": [a.walk for a in axes]},
-        "metrics": {"unit": unit, "span_c": span, "drift_raw": drift_raw,
-                    "drift_after": [a.drift_after for a in axes], "drift_cv": drift_cv, "cv_error": cv,
-                    "cv_error_raw": cv_raw, "cv_error_by_order": [a.cv_by_order for a in axes],
-                    "drift_raw_max": max(drift_raw), "drift_cv_max": max(drift_cv),
-                    "n_samples": int(len(t)), "n_bins": int(len(t_c)), "samples_per_band": band_samples,
-                    "bins_per_band": band_bins},
+        "model": {
+            "unit": SI_UNITS[sensor],
+            "t_ref_c": t_ref,
+            "t_min_c": t_min,
+            "t_max_c": t_max,
+            "relative": bins.relative,
+            "order": [a.order for a in axes],
+            "coefficients": [a.coefficients for a in axes],
+        },
+        "uncertainty": {
+            "coefficients": [a.half for a in axes],
+            "dof": [a.dof for a in axes],
+            "autocorrelation": [a.rho for a in axes],
+            "covariance": [a.cov for a in axes],
+            "random_walk": [a.walk for a in axes],
+        },
+        "metrics": {
+            "unit": unit,
+            "span_c": span,
+            "drift_raw": drift_raw,
+            "drift_after": [a.drift_after for a in axes],
+            "drift_cv": drift_cv,
+            "cv_error": cv,
+            "cv_error_raw": cv_raw,
+            "cv_error_by_order": [a.cv_by_order for a in axes],
+            "drift_raw_max": max(drift_raw),
+            "drift_cv_max": max(drift_cv),
+            "n_samples": int(len(t)),
+            "n_bins": int(len(t_c)),
+            "samples_per_band": band_samples,
+            "bins_per_band": band_bins,
+        },
         "bins": {"t_c": dt_c.tolist(), "offset": offsets.tolist(), "count": dcounts.tolist()},
-        "curve": {"t_c": grid.tolist(), "offset": np.array([a.curve_offset for a in axes]).T.tolist(),
-                  "half_width": np.array([a.curve_half for a in axes]).T.tolist()},
+        "curve": {
+            "t_c": grid.tolist(),
+            "offset": np.array([a.curve_offset for a in axes]).T.tolist(),
+            "half_width": np.array([a.curve_half for a in axes]).T.tolist(),
+        },
     }
     return part, reasons
 
@@ -504,7 +558,7 @@ def offset_at(model: dict, temperature_c) -> np.ndarray:
     """The offset o(T) a sensor's model gives (PX4's form: dT = clamp(T, T_min, T_max) − T_ref), shape (N, 3)."""
     t = np.clip(np.asarray(temperature_c, dtype=float), model["t_min_c"], model["t_max_c"]) - model["t_ref_c"]
     c = np.asarray(model["coefficients"], dtype=float)  # (3, 4): X0…X3 per axis
-    return (_design(np.atleast_1d(t), MAX_ORDER) @ c.T)
+    return _design(np.atleast_1d(t), MAX_ORDER) @ c.T
 
 
 def movement(sensors: list, sampling_rate_hz: float) -> tuple[np.ndarray, str | None]:
@@ -527,8 +581,10 @@ def movement(sensors: list, sampling_rate_hz: float) -> tuple[np.ndarray, str | 
             worst = (longest, len(runs))
     if worst is None:
         return mask, None
-    return mask, (f"the device moved: its longest rest is {worst[0] / sampling_rate_hz:.0f} s of "
-                  f"{n / sampling_rate_hz:.0f} s ({worst[1]} rests)")
+    return mask, (
+        f"the device moved: its longest rest is {worst[0] / sampling_rate_hz:.0f} s of "
+        f"{n / sampling_rate_hz:.0f} s ({worst[1]} rests)"
+    )
 
 
 @dataclass(frozen=True)
@@ -547,8 +603,9 @@ class TemperatureResult(PerSensorResult):
 
     @property
     def correction(self):
-        raise CalibrationError("a temperature calibration has no fixed correction: its offset depends on the "
-                               "temperature of each reading")
+        raise CalibrationError(
+            "a temperature calibration has no fixed correction: its offset depends on the temperature of each reading"
+        )
 
     @property
     def output_unit(self) -> str:
@@ -559,17 +616,26 @@ class TemperatureResult(PerSensorResult):
         """Per sensor (the accelerometer's in mg first, then the gyroscope's in °/s): its offset drift over
         the range raw, against bands of temperature left out (each predicted by the fit made without it);
         none without a temperature model."""
-        return tuple(Figure(metrics[s]["drift_raw_max"], metrics[s]["drift_cv_max"], FIGURE_WORDS[metrics[s]["unit"]],
-                            "offset drift over the temperature range, on bands of temperature left out")
-                     for s in TEMPERATURE_SENSORS if s in metrics)
+        return tuple(
+            Figure(
+                metrics[s]["drift_raw_max"],
+                metrics[s]["drift_cv_max"],
+                FIGURE_WORDS[metrics[s]["unit"]],
+                "offset drift over the temperature range, on bands of temperature left out",
+            )
+            for s in TEMPERATURE_SENSORS
+            if s in metrics
+        )
 
     def headline(self) -> str | None:
         """The offset drift over the range raw, then on bands left out, per sensor."""
         return temperature_headline(self.model_dict(), self.metrics)
 
     def apply(self, samples, sensor: str | None = None):
-        raise CalibrationError("a temperature calibration needs each sample's temperature: export it for the "
-                               "firmware (px4, ardupilot), or correct readings with their temperatures")
+        raise CalibrationError(
+            "a temperature calibration needs each sample's temperature: export it for the "
+            "firmware (px4, ardupilot), or correct readings with their temperatures"
+        )
 
     def correct(self, sensor: str, readings, temperature_c) -> np.ndarray:
         """Readings (SI) less their offset at their temperatures: m − o(clamp(T)).
@@ -580,22 +646,30 @@ class TemperatureResult(PerSensorResult):
             A sensor the calibration has no model of.
         """
         if sensor not in self.sensors:
-            raise CalibrationError(f"this temperature calibration has no {sensor} model (it has "
-                                   f"{', '.join(self.sensors)})")
+            raise CalibrationError(
+                f"this temperature calibration has no {sensor} model (it has {', '.join(self.sensors)})"
+            )
         return np.asarray(readings, dtype=float) - offset_at(self.sensors[sensor]["model"], temperature_c)
 
     def body_dict(self) -> dict:
-        return {"bins": {n: p["bins"] for n, p in self.sensors.items()},
-                "curve": {n: p["curve"] for n, p in self.sensors.items()}}
+        return {
+            "bins": {n: p["bins"] for n, p in self.sensors.items()},
+            "curve": {n: p["curve"] for n, p in self.sensors.items()},
+        }
 
     @classmethod
     def _from_body(cls, data: dict) -> "TemperatureResult":
-        return cls(sensors=cls.parts_from(data, "bins", "curve"), warnings=tuple(data.get("warnings", ())),
-                   reasons=tuple(data.get("reasons", ())), unit=data.get("unit", ""))
+        return cls(
+            sensors=cls.parts_from(data, "bins", "curve"),
+            warnings=tuple(data.get("warnings", ())),
+            reasons=tuple(data.get("reasons", ())),
+            unit=data.get("unit", ""),
+        )
 
 
-def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz: float = 100.0,
-                          time_s=None, order: int | None = None) -> TemperatureResult:
+def calibrate_temperature(
+    temperature_c, *, acc=None, gyr=None, sampling_rate_hz: float = 100.0, time_s=None, order: int | None = None
+) -> TemperatureResult:
     """Temperature calibration of the accelerometer and/or gyroscope of a still recording.
 
     Parameters
@@ -629,12 +703,13 @@ def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz
         raise CalibrationError("a temperature calibration needs accelerometer or gyroscope readings")
     for k, v in given.items():
         if v.ndim != 2 or v.shape[1] != 3 or len(v) != len(t):
-            raise CalibrationError(f"the {SENSOR_NAMES[k]}'s readings and the temperatures do not line up: give "
-                                   "one temperature per reading")
+            raise CalibrationError(
+                f"the {SENSOR_NAMES[k]}'s readings and the temperatures do not line up: give "
+                "one temperature per reading"
+            )
     if not np.any(np.isfinite(t)):
         raise CalibrationError("the temperature column holds no number: give the sensor's temperature in °C")
-    times = (np.arange(len(t)) / sampling_rate_hz if time_s is None
-             else np.asarray(time_s, dtype=float).reshape(-1))
+    times = np.arange(len(t)) / sampling_rate_hz if time_s is None else np.asarray(time_s, dtype=float).reshape(-1)
     if len(times) != len(t):
         raise CalibrationError("the times and the temperatures do not line up: give one time per sample")
     still, moved = movement(list(given.values()), sampling_rate_hz)
@@ -645,14 +720,20 @@ def calibrate_temperature(temperature_c, *, acc=None, gyr=None, sampling_rate_hz
         use = slice(None)
         if moved is not None:
             if name == "acc":
-                reasons.append(moved + ": the accelerometer's reading then changes with its pose (gravity's "
-                               "projection), which a fit would take for drift — record it resting in one "
-                               "pose, untouched, as it warms up")
+                reasons.append(
+                    moved + ": the accelerometer's reading then changes with its pose (gravity's "
+                    "projection), which a fit would take for drift — record it resting in one "
+                    "pose, untouched, as it warms up"
+                )
             else:
                 use = still
                 warnings.append(moved + f": the gyroscope was fitted on its {int(still.sum())} still samples only")
         part, why = fit_sensor(values[use], t[use], name, order=order, time_s=times[use])
         sensors[name] = part
         reasons += why
-    return TemperatureResult(sensors=sensors, warnings=tuple(reasons + warnings), reasons=tuple(reasons),
-                             unit=", ".join(SI_UNITS[k] for k in sensors))
+    return TemperatureResult(
+        sensors=sensors,
+        warnings=tuple(reasons + warnings),
+        reasons=tuple(reasons),
+        unit=", ".join(SI_UNITS[k] for k in sensors),
+    )

@@ -223,11 +223,21 @@ class TriangularCalibration(StillReadingsResult):
     N_PARAMS = N_PARAMS
     REPORTS_IMPROVEMENT = True  # Farago et al. report it for their model (Table 3, eq. (21))
     CORRECTION_SOURCE = "Farago, Maczak and Gingl, IEEE Access, eq. (6): M = K, o = -o_model"
-    AS_FITTED = ("As fitted (Farago, Maczak and Gingl, IEEE Access, eq. (6)): a = K (v + o), so K = M and the "
-                 "paper's o is minus the o above: the paper adds its o to the reading, the correction takes its o off.")
-    PARAMETERS = (("k_xx", "scale", "x"), ("k_yy", "scale", "y"), ("k_zz", "scale", "z"),
-                  ("k_xy", "cross", "xy"), ("k_xz", "cross", "xz"), ("k_yz", "cross", "yz"),
-                  ("o_x", "offset", "x"), ("o_y", "offset", "y"), ("o_z", "offset", "z"))
+    AS_FITTED = (
+        "As fitted (Farago, Maczak and Gingl, IEEE Access, eq. (6)): a = K (v + o), so K = M and the "
+        "paper's o is minus the o above: the paper adds its o to the reading, the correction takes its o off."
+    )
+    PARAMETERS = (
+        ("k_xx", "scale", "x"),
+        ("k_yy", "scale", "y"),
+        ("k_zz", "scale", "z"),
+        ("k_xy", "cross", "xy"),
+        ("k_xz", "cross", "xz"),
+        ("k_yz", "cross", "yz"),
+        ("o_x", "offset", "x"),
+        ("o_y", "offset", "y"),
+        ("o_z", "offset", "z"),
+    )
     """Name, kind and axes of each parameter in the covariance's order (p of eq. (6))."""
 
     @property
@@ -262,6 +272,7 @@ class TriangularCalibration(StillReadingsResult):
             **common,
         )
 
+
 def _validated(means, gravity, solver: str, max_iter) -> tuple[float, np.ndarray]:
     """Checked gravity and readings (Farago, Maczak and Gingl, IEEE Access, section II: N ≥ 9)."""
     if solver not in SOLVERS:
@@ -275,12 +286,14 @@ def _validated(means, gravity, solver: str, max_iter) -> tuple[float, np.ndarray
 
 def _least_squares_lm(v: np.ndarray):
     """Levenberg–Marquardt on the residuals of :func:`_residuals_lm` from p₀ (module docstring)."""
-    return least_squares(_residuals_lm, P0.copy(), jac=_jacobian_lm, args=(v,), method="lm",
-                         xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    return least_squares(
+        _residuals_lm, P0.copy(), jac=_jacobian_lm, args=(v,), method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15
+    )
 
 
-def _solve(v: np.ndarray, solver: str, *, max_iter, h, learning_rates, metrics: dict,
-           gates: Gates) -> tuple[np.ndarray, bool]:
+def _solve(
+    v: np.ndarray, solver: str, *, max_iter, h, learning_rates, metrics: dict, gates: Gates
+) -> tuple[np.ndarray, bool]:
     """Parameters p (in g) by the chosen solver: ``lm``, or the descent of Farago, Maczak and Gingl,
     IEEE Access, eqs. (12)–(16) in floating or fixed point; raise when it diverged."""
     if solver == "lm":
@@ -299,8 +312,9 @@ def _solve(v: np.ndarray, solver: str, *, max_iter, h, learning_rates, metrics: 
         hh = (H_FIXED16 if bits == 16 else H_FIXED32) if h is None else float(h)
         run = fixed_point_descent(v, bits=bits, h=hh, alphas=alpha_vector(learning_rates), max_iter=int(max_iter))
         p_g, converged = run.p, True
-        metrics.update(iterations=run.iterations, h=run.h, q_format=run.q_format, p_raw=run.p_raw.tolist(),
-                       saturated=run.saturated)
+        metrics.update(
+            iterations=run.iterations, h=run.h, q_format=run.q_format, p_raw=run.p_raw.tolist(), saturated=run.saturated
+        )
         if run.saturated:
             gates.warn(
                 f"the {bits}-bit fixed-point descent saturated ({run.q_format}): the readings or the "
@@ -324,13 +338,16 @@ def _distance_to_lm(v: np.ndarray, p_g: np.ndarray, solver: str, metrics: dict, 
         return
     dist = float(np.max(np.abs(p_g - ref.x) / half_widths(cov_ref, dof_ref)))
     metrics["distance_to_lm"] = dist
-    gates.warn(limit_gate(
-        dist, 1.0,
-        "the {solver} solver stopped {value:.1f} times the 95 % interval from the "
-        "least-squares optimum (iteration cap, finite-difference step or number format); "
-        "use solver 'lm' for the best estimate",
-        solver=solver,
-    ))
+    gates.warn(
+        limit_gate(
+            dist,
+            1.0,
+            "the {solver} solver stopped {value:.1f} times the 95 % interval from the "
+            "least-squares optimum (iteration cap, finite-difference step or number format); "
+            "use solver 'lm' for the best estimate",
+            solver=solver,
+        )
+    )
 
 
 def _covariance(p_g: np.ndarray, v: np.ndarray, g: float) -> tuple[np.ndarray | None, int, float, float]:
@@ -377,38 +394,60 @@ def _metrics(m, K, o, g, sigma2, cond, converged, dof, metrics: dict) -> np.ndar
     return norm_err
 
 
-def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale, max_offset,
-           gates: Gates) -> None:
+def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale, max_offset, gates: Gates) -> None:
     """Quality gates: hemisphere, norm error, scales, offsets (reasons); misalignments,
     conditioning, coverage of Farago, Maczak and Gingl, IEEE Access, eq. (10), near duplicates,
     an exact fit (warnings)."""
-    gates.fail(hemisphere_gate(
-        hemisphere,
-        "all positions lie in one hemisphere (around the direction {direction}): the offsets cannot be "
-        "told from the scales; add positions with the device turned the other way up",
-    ))
-    gates.fail(residual_gate(
-        norm_err, MAX_NORM_ERROR,
-        "reading {index} has a calibrated norm {percent:.1f} % from g (gate {gate_percent:.0f} %): it may "
-        "not have been still, or the {solver} solver did not reach the minimum",
-        solver=solver,
-    ))
-    gates.fail(scale_gate(
-        np.diag(K), plausible_scale,
-        "scale k_{axis}{axis} is {value:.4f}, outside the plausible {lo}–{hi}: check the unit and the gravity value",
-    ))
-    gates.fail(offset_gate(
-        o, g if max_offset is None else max_offset,
-        "offset o_{axis} is {value:.4g}, above 1 g in magnitude: check the unit",
-    ))
-    gates.warn(deviation_gate(
-        (("k_xy", K[1, 0]), ("k_xz", K[2, 0]), ("k_yz", K[2, 1])), 0.0, MAX_MISALIGNMENT,
-        "misalignment {name} = {value:.3f} is implausibly large (above {limit})",
-    ))
-    unknown_orientation_gates(gates, m, g, condition=cond, max_condition=MAX_CONDITION_NUMBER, dof=dof,
-                              hemisphere=hemisphere, near_fraction=NEAR_DUPLICATE_FRACTION,
-                              coverage_hint=" (Farago et al. eq. (10): two per bin)",
-                              positions_hint="use 18 positions (Farago et al.)")
+    gates.fail(
+        hemisphere_gate(
+            hemisphere,
+            "all positions lie in one hemisphere (around the direction {direction}): the offsets cannot be "
+            "told from the scales; add positions with the device turned the other way up",
+        )
+    )
+    gates.fail(
+        residual_gate(
+            norm_err,
+            MAX_NORM_ERROR,
+            "reading {index} has a calibrated norm {percent:.1f} % from g (gate {gate_percent:.0f} %): it may "
+            "not have been still, or the {solver} solver did not reach the minimum",
+            solver=solver,
+        )
+    )
+    gates.fail(
+        scale_gate(
+            np.diag(K),
+            plausible_scale,
+            "scale k_{axis}{axis} is {value:.4f}, outside the plausible {lo}–{hi}: check the unit and the gravity value",
+        )
+    )
+    gates.fail(
+        offset_gate(
+            o,
+            g if max_offset is None else max_offset,
+            "offset o_{axis} is {value:.4g}, above 1 g in magnitude: check the unit",
+        )
+    )
+    gates.warn(
+        deviation_gate(
+            (("k_xy", K[1, 0]), ("k_xz", K[2, 0]), ("k_yz", K[2, 1])),
+            0.0,
+            MAX_MISALIGNMENT,
+            "misalignment {name} = {value:.3f} is implausibly large (above {limit})",
+        )
+    )
+    unknown_orientation_gates(
+        gates,
+        m,
+        g,
+        condition=cond,
+        max_condition=MAX_CONDITION_NUMBER,
+        dof=dof,
+        hemisphere=hemisphere,
+        near_fraction=NEAR_DUPLICATE_FRACTION,
+        coverage_hint=" (Farago et al. eq. (10): two per bin)",
+        positions_hint="use 18 positions (Farago et al.)",
+    )
 
 
 def fit_triangular(
@@ -463,8 +502,9 @@ def fit_triangular(
     v = m / g  # the paper works in g
     gates = Gates()
     metrics: dict = {"solver": solver}
-    p_g, converged = _solve(v, solver, max_iter=max_iter, h=h, learning_rates=learning_rates,
-                            metrics=metrics, gates=gates)
+    p_g, converged = _solve(
+        v, solver, max_iter=max_iter, h=h, learning_rates=learning_rates, metrics=metrics, gates=gates
+    )
     if solver != "lm":
         _distance_to_lm(v, p_g, solver, metrics, gates)
     K = k_matrix(p_g)
@@ -473,6 +513,13 @@ def fit_triangular(
     norm_err = _metrics(m, K, o, g, sigma2, cond, converged, dof, metrics)
     _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale, max_offset, gates)
     return TriangularCalibration(
-        K=K, o=o, gravity=g, means=m, solver=solver, covariance=cov, dof=dof,
-        metrics=metrics, **gates.fields(),
+        K=K,
+        o=o,
+        gravity=g,
+        means=m,
+        solver=solver,
+        covariance=cov,
+        dof=dof,
+        metrics=metrics,
+        **gates.fields(),
     )

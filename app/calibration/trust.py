@@ -65,12 +65,22 @@ def review(result, cv: dict, *, raw_unit: bool = False):
         failed trust gates.
     """
     inside = norm_errors(result.means, result.apply, result.gravity)
-    metrics = {**result.metrics, **cv, "error_before_mg": inside["error_before_mg"],
-               "error_after_mg": inside["error_after_mg"]}
+    metrics = {
+        **result.metrics,
+        **cv,
+        "error_before_mg": inside["error_before_mg"],
+        "error_after_mg": inside["error_after_mg"],
+    }
     gates = Gates().merge(result)  # the fit's own reasons first
     if not raw_unit:
-        gates.fail(worse_than_raw(metrics.get("cv_error_mg"), metrics["error_before_mg"], inside["count"],
-                                  metrics.get("cv_scheme", "cross-validated")))
+        gates.fail(
+            worse_than_raw(
+                metrics.get("cv_error_mg"),
+                metrics["error_before_mg"],
+                inside["count"],
+                metrics.get("cv_scheme", "cross-validated"),
+            )
+        )
         gates.fail(_norm_grows(metrics, labelled=hasattr(result, "labels")))
     gates.fail(_no_figure(result, cv))
     if result.dof == 0:
@@ -87,21 +97,26 @@ def worse_than_raw(cv_mg: float | None, raw_mg: float, count: int, scheme: str) 
     error ``raw_mg`` (both mean | |a| − g | in mg of g over ``count`` readings)."""
     if cv_mg is None or cv_mg < raw_mg:
         return []
-    return [f"on poses left out of the fit this calibration gives {cv_mg:.2f} mg against {raw_mg:.2f} mg without it "
-            f"({scheme} over {count} poses): it would make new orientations worse; add poses in other directions, "
-            "or keep the sensor as it is"]
+    return [
+        f"on poses left out of the fit this calibration gives {cv_mg:.2f} mg against {raw_mg:.2f} mg without it "
+        f"({scheme} over {count} poses): it would make new orientations worse; add poses in other directions, "
+        "or keep the sensor as it is"
+    ]
 
 
 def _norm_grows(metrics: dict, *, labelled: bool) -> list[str]:
     before, after = metrics["error_before_mg"], metrics["error_after_mg"]
     if after <= before + NORM_GROWTH_TOLERANCE_MG:
         return []
-    what = (f"the calibration makes the norms of its own readings worse ({before:.2f} mg of g raw, {after:.2f} mg "
-            "after): ")
+    what = (
+        f"the calibration makes the norms of its own readings worse ({before:.2f} mg of g raw, {after:.2f} mg after): "
+    )
     if labelled:
-        return [what + "the poses are not on the axes their labels say (a tilt of a degree reads as a cross-axis "
-                "term of 1.7 %), or not still; use free poses with a magnitude model (method auto or method triangular), "
-                "or a jig that holds each axis vertical"]
+        return [
+            what + "the poses are not on the axes their labels say (a tilt of a degree reads as a cross-axis "
+            "term of 1.7 %), or not still; use free poses with a magnitude model (method auto or method triangular), "
+            "or a jig that holds each axis vertical"
+        ]
     return [what + "the readings do not fit the model (not still, or from another sensor); record the poses again"]
 
 
@@ -109,8 +124,10 @@ def _no_figure(result, cv: dict) -> list[str]:
     if result.dof == 0:  # the fit's own exact-fit gate says so
         return []
     if cv.get("cv_error_mg") is None and "cv_scheme" in cv:
-        return ["no reading can be left out without the model becoming undetermined, so its error on new "
-                "orientations is unknown; add poses in other directions"]
+        return [
+            "no reading can be left out without the model becoming undetermined, so its error on new "
+            "orientations is unknown; add poses in other directions"
+        ]
     return []
 
 
@@ -129,8 +146,10 @@ def _undetermined(result) -> list[str]:
                 poses.append(_pose_for(kind, axes))
     if not named:
         return []
-    return [f"not determined by these poses (95 % half-widths beyond what a datasheet allows: scales and "
-            f"cross-axis terms 0.05, offsets 100 mg of g): {', '.join(named)}; add {'; '.join(poses)}"]
+    return [
+        f"not determined by these poses (95 % half-widths beyond what a datasheet allows: scales and "
+        f"cross-axis terms 0.05, offsets 100 mg of g): {', '.join(named)}; add {'; '.join(poses)}"
+    ]
 
 
 def _pose_for(kind: str, axes: str) -> str:

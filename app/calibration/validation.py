@@ -33,9 +33,7 @@ def as_vectors(values, name: str, *, min_rows: int = 1) -> np.ndarray:
     if arr.ndim == 1 and arr.shape[0] == 3:
         arr = arr[np.newaxis, :]
     if arr.ndim != 2 or arr.shape[1] != 3:
-        raise CalibrationError(
-            f"{name} must have shape N×3 (one [x, y, z] per row); got shape {tuple(arr.shape)}"
-        )
+        raise CalibrationError(f"{name} must have shape N×3 (one [x, y, z] per row); got shape {tuple(arr.shape)}")
     bad = ~np.isfinite(arr).all(axis=1)
     if bad.any():
         row = int(np.flatnonzero(bad)[0])
@@ -74,8 +72,9 @@ def check_gravity(gravity: float) -> float:
     except (TypeError, ValueError):
         raise CalibrationError(f"gravity must be a number; got {gravity!r}") from None
     if not (math.isfinite(g) and g >= MIN_GRAVITY):
-        raise CalibrationError(f"gravity must be a finite number of at least {MIN_GRAVITY:g} (the readings' unit); "
-                               f"got {gravity!r}")
+        raise CalibrationError(
+            f"gravity must be a finite number of at least {MIN_GRAVITY:g} (the readings' unit); got {gravity!r}"
+        )
     return g
 
 

@@ -18,10 +18,22 @@ from app.workflows.autocal import autocalibrate_file
 
 
 def _autocal_options(args) -> dict:
-    read = ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units={"acc": args.unit} if args.unit else {},
-                       columns=args.columns, sign=args.sign, chip=args.chip, instance=args.instance)
-    return dict(options=read, solver=args.solver, gravity=args.gravity, latitude_deg=args.latitude_deg,
-                detection={"all_axes": True} if args.all_axes else None, device_id=args.device_id)
+    read = ReadOptions(
+        sampling_rate_hz=args.sampling_rate_hz,
+        units={"acc": args.unit} if args.unit else {},
+        columns=args.columns,
+        sign=args.sign,
+        chip=args.chip,
+        instance=args.instance,
+    )
+    return dict(
+        options=read,
+        solver=args.solver,
+        gravity=args.gravity,
+        latitude_deg=args.latitude_deg,
+        detection={"all_axes": True} if args.all_axes else None,
+        device_id=args.device_id,
+    )
 
 
 def _autocal_job(path: str, options: dict) -> dict:
@@ -90,4 +102,3 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
     else:
         print_folder_table(bodies)
     return 0 if all(b.get("ok") for b in bodies) else 3
-

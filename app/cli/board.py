@@ -94,8 +94,13 @@ class StillEngine:
             self.moved = True
             self.hold_since = None
             if self.capture_since is not None:
-                events.append(Event("refused", self.label, f"{self.label}: the board moved during the capture; "
-                                                           "hold it still and it starts again"))
+                events.append(
+                    Event(
+                        "refused",
+                        self.label,
+                        f"{self.label}: the board moved during the capture; hold it still and it starts again",
+                    )
+                )
                 self.capture_since = None
             return events
         mean = a.mean(axis=0)
@@ -103,8 +108,9 @@ class StillEngine:
             if t - self.capture_since >= self.capture_s:
                 self.done.append((self.label, mean / np.linalg.norm(mean)))
                 self.rows.append((self.label, self.capture_from, row + 1))
-                events.append(Event("done", self.label, f"{self.label} captured ({len(self.done)} of "
-                                                        f"{self.protocol.poses})"))
+                events.append(
+                    Event("done", self.label, f"{self.label} captured ({len(self.done)} of {self.protocol.poses})")
+                )
                 self.capture_since = None
                 self.moved = False
             return events
@@ -147,8 +153,10 @@ class StillEngine:
         if up in done:
             return f"{asked}: the board is still with {up} up, captured already; turn it to a pose asked"
         if angle > th["maxAngleDeg"]:
-            return (f"{asked}: the board is still, {angle:.0f}° from {up} (a pose is within {th['maxAngleDeg']:g}°); "
-                    "set it square on a side")
+            return (
+                f"{asked}: the board is still, {angle:.0f}° from {up} (a pose is within {th['maxAngleDeg']:g}°); "
+                "set it square on a side"
+            )
         return f"{asked}: the board is still with {up} up; keep it so"
 
 
@@ -173,9 +181,18 @@ def capture_segments(acc: np.ndarray, rows: list) -> list[dict]:
     for label, start, end in rows:
         window = np.asarray(acc[start:end], dtype=float)
         mean = window.mean(axis=0)
-        segments.append({"index": len(segments), "start": int(start), "end": int(end),
-                         "acc_mean": [float(v) for v in mean], "acc_std": [float(v) for v in window.std(axis=0)],
-                         "up": nearest_orientation(mean), "count": int(end - start), "capture": label})
+        segments.append(
+            {
+                "index": len(segments),
+                "start": int(start),
+                "end": int(end),
+                "acc_mean": [float(v) for v in mean],
+                "acc_std": [float(v) for v in window.std(axis=0)],
+                "up": nearest_orientation(mean),
+                "count": int(end - start),
+                "capture": label,
+            }
+        )
     return segments
 
 
@@ -207,9 +224,22 @@ class Capture:
         Shows the current reading (one line rewritten), or None.
     """
 
-    def __init__(self, port, *, protocol: str, out_path: Path, fmt: str = "auto", units: dict | None = None,
-                 minutes: float | None = None, capture_s: float | None = None, baud: int = DEFAULT_BAUD,
-                 say=print, bell=None, live=None, clock=time.monotonic):
+    def __init__(
+        self,
+        port,
+        *,
+        protocol: str,
+        out_path: Path,
+        fmt: str = "auto",
+        units: dict | None = None,
+        minutes: float | None = None,
+        capture_s: float | None = None,
+        baud: int = DEFAULT_BAUD,
+        say=print,
+        bell=None,
+        live=None,
+        clock=time.monotonic,
+    ):
         self.port, self.protocol, self.out_path = port, BOARD_PROTOCOLS[protocol], Path(out_path)
         self.reader = BoardLineReader(fmt, clock)
         self.units = units or {}
@@ -241,8 +271,11 @@ class Capture:
         log = to_log(self.readings, fmt, units=self.units, name="the board's first second")
         words = ", ".join(f"{s} {u}" for s, u in log.units.items())
         rate = self._rate()
-        source = ("the board's time column" if fmt.time_col is not None else
-                  f"{len(self.readings)} readings counted over {self.stream.span_s:.1f} s of arrivals")
+        source = (
+            "the board's time column"
+            if fmt.time_col is not None
+            else f"{len(self.readings)} readings counted over {self.stream.span_s:.1f} s of arrivals"
+        )
         self._step(f"units checked at rest: {words}; rate {rate:.4g} Hz ({source})")
         for w in log.warnings:
             self._step(f"warning: {w}")
@@ -276,7 +309,7 @@ class Capture:
         """Times for the readings not yet timed: the board's own, else one interval of the rate after the
         last (a burst neither repeats a time nor makes a gap)."""
         rate = None if self.time_scale is not None else self._rate()
-        for r in self.readings[len(self.times):]:
+        for r in self.readings[len(self.times) :]:
             if self.time_scale is not None:
                 self.times.append(float(r.board_time) * self.time_scale)
             else:
@@ -284,7 +317,7 @@ class Capture:
 
     def _write(self) -> None:
         if self.writer is not None and self.written < len(self.times):
-            self.writer.write(self.readings[self.written:len(self.times)], self.times[self.written:])
+            self.writer.write(self.readings[self.written : len(self.times)], self.times[self.written :])
             self.written = len(self.times)
 
     def _feed_engine(self) -> None:
@@ -308,8 +341,11 @@ class Capture:
         if self.engine is None or self.progress_at is None or now - self.progress_at < STALL_S:
             return
         self.progress_at = now
-        self._step(f"no capture for {STALL_S:g} s, {self.engine.waiting_words()}; Ctrl-C keeps the log "
-                   f"({self.out_path}) and says how to finish it", bell=True)
+        self._step(
+            f"no capture for {STALL_S:g} s, {self.engine.waiting_words()}; Ctrl-C keeps the log "
+            f"({self.out_path}) and says how to finish it",
+            bell=True,
+        )
 
     def run(self) -> CaptureOutcome:
         opened = self.clock()
@@ -322,20 +358,30 @@ class Capture:
                 new = self.reader.feed(data, now) if data else []
                 if self.reader.format is not None and self.writer is None:
                     self.writer = LogWriter(self.out_path, self.reader.format)
-                    self._step(f"lines read as {self.reader.format.words()}"
-                               + (f"; {self.reader.skipped} lines that are not readings skipped"
-                                  if self.reader.skipped else ""))
+                    self._step(
+                        f"lines read as {self.reader.format.words()}"
+                        + (
+                            f"; {self.reader.skipped} lines that are not readings skipped"
+                            if self.reader.skipped
+                            else ""
+                        )
+                    )
                 if new:
                     self.readings += new
                     self.stream.arrive(len(new), now)
                 elif not self.readings and not silence_said and now - opened > SILENCE_S:
                     silence_said = True
                     if self.reader.lines:
-                        self._step(f"lines arrive but none is a reading; the last: {self.reader.last_unreadable!r}: "
-                                   "choose the format with --format, or check the sketch", bell=True)
+                        self._step(
+                            f"lines arrive but none is a reading; the last: {self.reader.last_unreadable!r}: "
+                            "choose the format with --format, or check the sketch",
+                            bell=True,
+                        )
                     else:
-                        self._step(f"Nothing arrives at {self.baud} baud: check the rate and that the board prints "
-                                   "readings", bell=True)
+                        self._step(
+                            f"Nothing arrives at {self.baud} baud: check the rate and that the board prints readings",
+                            bell=True,
+                        )
                 if not self.checked and self._rate() is not None:
                     try:
                         self._check_units()
@@ -383,8 +429,15 @@ class Capture:
 
     def _outcome(self, status: str, message: str = "") -> CaptureOutcome:
         rate = self._rate()
-        return CaptureOutcome(status, self.out_path if self.writer is not None else None, len(self.readings),
-                              self.reader.format, rate, message, [] if self.engine is None else list(self.engine.rows))
+        return CaptureOutcome(
+            status,
+            self.out_path if self.writer is not None else None,
+            len(self.readings),
+            self.reader.format,
+            rate,
+            message,
+            [] if self.engine is None else list(self.engine.rows),
+        )
 
 
 def _live_words(r) -> str:

@@ -54,9 +54,17 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
     ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
     capture) stand for the still segments the log's detector would find."""
     units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
-    options = ReadOptions(format=args.log_format, sampling_rate_hz=args.sampling_rate_hz, units=units,
-                          lsb_per_g=args.lsb_per_g, columns=args.columns, sign=args.sign, chip=args.chip,
-                          instance=args.instance, mag_instance=args.mag_instance)
+    options = ReadOptions(
+        format=args.log_format,
+        sampling_rate_hz=args.sampling_rate_hz,
+        units=units,
+        lsb_per_g=args.lsb_per_g,
+        columns=args.columns,
+        sign=args.sign,
+        chip=args.chip,
+        instance=args.instance,
+        mag_instance=args.mag_instance,
+    )
     name = ", ".join(str(p) for p in args.log)
     log = read_log(path, options, name=name)
     recording = describe_log(log, options)
@@ -64,14 +72,24 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
         from app.cli.board import capture_segments
 
         recording["segments"] = capture_segments(log.acc, captures)
-        recording["notes"].append(f"the still segments are the {len(captures)} captures, rows "
-                                  + ", ".join(f"{a}–{b - 1}" for _, a, b in captures))
+        recording["notes"].append(
+            f"the still segments are the {len(captures)} captures, rows "
+            + ", ".join(f"{a}–{b - 1}" for _, a, b in captures)
+        )
     request = methods.parse_calibration_request(calibration_request(args, unit=log.units.get("acc", "m/s^2")))
     body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log))
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
-        body["captures"] = [{"position": seg["capture"], "rows": [seg["start"], seg["end"]], "up": seg["up"],
-                             "mean": seg["acc_mean"], "std": seg["acc_std"], "count": seg["count"]}
-                            for seg in recording["segments"]]
+        body["captures"] = [
+            {
+                "position": seg["capture"],
+                "rows": [seg["start"], seg["end"]],
+                "up": seg["up"],
+                "mean": seg["acc_mean"],
+                "std": seg["acc_std"],
+                "count": seg["count"],
+            }
+            for seg in recording["segments"]
+        ]
     if not args.no_store:
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     return body, recording
@@ -83,10 +101,17 @@ def calibration_request(args, *, unit: str) -> dict:
     log file stands in for the stored recording, and ``unit`` is the log's accelerometer unit."""
     # Read whatever the method: a section list that cannot be read is an error, not an option ignored.
     sections = None if args.sections is None else _read_sections(args.sections)
-    given = {**vars(args), "recording_id": ", ".join(str(p) for p in args.log),
-             "label": ", ".join(p.name for p in args.log), "unit": unit, "sections": sections}
-    return {"method": args.method, **{name: given[name] for name in methods.BY_NAME[args.method].options
-                                      if given.get(name) is not None}}
+    given = {
+        **vars(args),
+        "recording_id": ", ".join(str(p) for p in args.log),
+        "label": ", ".join(p.name for p in args.log),
+        "unit": unit,
+        "sections": sections,
+    }
+    return {
+        "method": args.method,
+        **{name: given[name] for name in methods.BY_NAME[args.method].options if given.get(name) is not None},
+    }
 
 
 def _read_sections(path) -> object:
@@ -94,6 +119,7 @@ def _read_sections(path) -> object:
     try:
         return json.loads(Path(path).read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise CalibrationError(f"--sections {path}: not a readable JSON section list ({exc}); write it as imucal "
-                               "does: {\"x_p\": {\"start\": 540, \"end\": 1271}, …}") from None
-
+        raise CalibrationError(
+            f"--sections {path}: not a readable JSON section list ({exc}); write it as imucal "
+            'does: {"x_p": {"start": 540, "end": 1271}, …}'
+        ) from None

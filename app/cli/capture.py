@@ -28,13 +28,17 @@ def run(args, settings: Settings) -> int:
     capture_s = CAPTURE_S_DEFAULT if args.capture_s is None else args.capture_s
     low, high = CAPTURE_S_RANGE
     if not low <= capture_s <= high:
-        raise CalibrationError(f"--capture-s {capture_s:g} is out of range: give the seconds captured per pose, from "
-                               f"{low:g} to {high:g} (the wizard's default is {CAPTURE_S_DEFAULT:g})")
+        raise CalibrationError(
+            f"--capture-s {capture_s:g} is out of range: give the seconds captured per pose, from "
+            f"{low:g} to {high:g} (the wizard's default is {CAPTURE_S_DEFAULT:g})"
+        )
     try:
         port = serial.Serial(args.port, args.baud, timeout=0.1)
     except (serial.SerialException, ValueError) as exc:
-        raise LogFormatError(f"cannot open {args.port} at {args.baud} baud ({exc}): check the port's name (ls /dev/tty* "
-                             "on Linux, COM3 on Windows) and that no other program (a serial monitor) holds it") from None
+        raise LogFormatError(
+            f"cannot open {args.port} at {args.baud} baud ({exc}): check the port's name (ls /dev/tty* "
+            "on Linux, COM3 on Windows) and that no other program (a serial monitor) holds it"
+        ) from None
     with port:
         return capture_on_port(port, args, settings, capture_s=capture_s)
 
@@ -61,16 +65,29 @@ def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=N
 
     out = args.out or Path(time.strftime("trical-capture-%Y%m%d-%H%M%S.csv"))
     say(f"{args.port} open at {args.baud} baud; waiting for the board's lines")
-    capture = Capture(port, protocol=args.protocol, out_path=out, fmt=args.format,
-                      units={"acc": args.unit} if args.unit else None, minutes=args.minutes,
-                      capture_s=capture_s, baud=args.baud, say=say, bell=bell, live=live if tty else None,
-                      clock=clock or time.monotonic)
+    capture = Capture(
+        port,
+        protocol=args.protocol,
+        out_path=out,
+        fmt=args.format,
+        units={"acc": args.unit} if args.unit else None,
+        minutes=args.minutes,
+        capture_s=capture_s,
+        baud=args.baud,
+        say=say,
+        bell=bell,
+        live=live if tty else None,
+        clock=clock or time.monotonic,
+    )
     outcome = capture.run()
     finish = f"trical {capture.protocol.command} {out}"
     if outcome.status == "interrupted":
         bell()
-        say(f"stopped: {out} keeps the {outcome.readings} readings received; finish it with: {finish}"
-            if outcome.log_path else "stopped before any reading arrived: nothing was written")
+        say(
+            f"stopped: {out} keeps the {outcome.readings} readings received; finish it with: {finish}"
+            if outcome.log_path
+            else "stopped before any reading arrived: nothing was written"
+        )
         return 130
     if outcome.status != "finished":
         if outcome.log_path:
@@ -83,8 +100,9 @@ def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=N
 
 def _capture_noise(capture, outcome, args, settings: Settings) -> int:
     """``trical capture --protocol noise``'s end: the log characterised as ``trical noise LOG`` does."""
-    noise_args = argparse.Namespace(**{**defaults_of("noise"), "path": [capture.out_path], "json": args.json,
-                                       "store": not args.no_store})
+    noise_args = argparse.Namespace(
+        **{**defaults_of("noise"), "path": [capture.out_path], "json": args.json, "store": not args.no_store}
+    )
     return noise.run(noise_args, settings)
 
 
@@ -94,8 +112,16 @@ def _capture_calibration(capture, outcome, args, settings: Settings) -> int:
     from app.io.motioncal_packet import packet_of
 
     protocol, out, port, say, bell = capture.protocol, capture.out_path, capture.port, capture.say, capture.bell
-    cal_args = argparse.Namespace(**{**defaults_of("calibrate"), "log": [out], "method": protocol.method,
-                                     "unit": args.unit, "device_id": args.device_id, "no_store": args.no_store})
+    cal_args = argparse.Namespace(
+        **{
+            **defaults_of("calibrate"),
+            "log": [out],
+            "method": protocol.method,
+            "unit": args.unit,
+            "device_id": args.device_id,
+            "no_store": args.no_store,
+        }
+    )
     captures = outcome.rows if protocol.from_captures else None
     say(f"calibrating {out} ({protocol.method}{f' on its {len(captures)} captures' if captures else ''})")
     body, recording = calibrated(cal_args, settings, out, captures)
@@ -119,4 +145,3 @@ def _capture_calibration(capture, outcome, args, settings: Settings) -> int:
 
 _CAPTURE_FINISH = {"noise": _capture_noise, "calibrate": _capture_calibration}
 """How ``trical capture`` ends, by the command its protocol finishes with (app.guided.protocols)."""
-

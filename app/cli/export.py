@@ -29,4 +29,3 @@ def run(args, settings: Settings) -> int:
     for note in out.notes:  # what the format does not carry (motioncal: the accelerometer's scales)
         print(f"note: {render(note, 'cli')}", file=sys.stderr)
     return 0
-

@@ -22,4 +22,3 @@ def finish(args, settings: Settings, body: dict, *, plot, summary) -> int:
     else:
         summary(body)
     return 0 if body["ok"] else 3
-

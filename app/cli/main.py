@@ -23,8 +23,15 @@ from app.store import NotFoundError
 from app.reach.tls import CertificateError
 from app.words import render
 
-COMMANDS = {"serve": serve.run, "calibrate": calibrate.run, "autocal": autocal.run, "noise": noise.run,
-            "temperature": temperature.run, "export": export.run, "capture": capture.run}
+COMMANDS = {
+    "serve": serve.run,
+    "calibrate": calibrate.run,
+    "autocal": autocal.run,
+    "noise": noise.run,
+    "temperature": temperature.run,
+    "export": export.run,
+    "capture": capture.run,
+}
 """Each command's function, by its name on the command line: ``run(args, settings)`` returns the exit status."""
 
 
@@ -72,4 +79,3 @@ def _run(argv: list[str] | None) -> int:
         return 1
     except KeyboardInterrupt:
         return 130
-

@@ -36,14 +36,29 @@ def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
     # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
     clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
     name = str(args.path[0]) if len(args.path) == 1 else label
-    log = read_log(path, ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units=read_units, columns=args.columns,
-                                     sign=args.sign, chip=args.chip, instance=args.instance,
-                                     mag_instance=args.mag_instance, clock=clock), name=name)
+    log = read_log(
+        path,
+        ReadOptions(
+            sampling_rate_hz=args.sampling_rate_hz,
+            units=read_units,
+            columns=args.columns,
+            sign=args.sign,
+            chip=args.chip,
+            instance=args.instance,
+            mag_instance=args.mag_instance,
+            clock=clock,
+        ),
+        name=name,
+    )
     if array and sensor != "acc" and units:
         log = _relabel_units(log, units[sensor])
-    body = characterise_log(log, sensors=None if array or not args.sensor else [args.sensor],
-                                     array_sensor=sensor if array else None, device_id=args.device_id,
-                                     label=label)
+    body = characterise_log(
+        log,
+        sensors=None if array or not args.sensor else [args.sensor],
+        array_sensor=sensor if array else None,
+        device_id=args.device_id,
+        label=label,
+    )
     from app.io.allan_plot import allan_svg
 
     return finish(args, settings, body, plot=allan_svg, summary=print_noise)
@@ -57,4 +72,3 @@ def _relabel_units(log, unit: str):
     if factor is None:
         return log
     return dataclasses.replace(log, acc=np.asarray(log.acc, dtype=float) * factor)
-

@@ -13,8 +13,9 @@ import math
 from pathlib import Path
 
 
-def number(what: str, *, low: float | None = None, high: float | None = None, low_open: bool = False,
-           integer: bool = False):
+def number(
+    what: str, *, low: float | None = None, high: float | None = None, low_open: bool = False, integer: bool = False
+):
     """A finite number (an integer with ``integer``) within ``[low, high]`` (``(low, high]`` with ``low_open``).
 
     Parameters
@@ -39,10 +40,14 @@ def number(what: str, *, low: float | None = None, high: float | None = None, lo
         try:
             value = int(text) if integer else float(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not {'an integer' if integer else 'a number'}: "
-                                             f"give {what}, {bounds}") from None
-        if not math.isfinite(value) or (low is not None and (value < low or (low_open and value == low))) \
-                or (high is not None and value > high):
+            raise argparse.ArgumentTypeError(
+                f"{text!r} is not {'an integer' if integer else 'a number'}: give {what}, {bounds}"
+            ) from None
+        if (
+            not math.isfinite(value)
+            or (low is not None and (value < low or (low_open and value == low)))
+            or (high is not None and value > high)
+        ):
             raise argparse.ArgumentTypeError(f"{text} is out of range: give {what}, {bounds}")
         return value
 

@@ -57,47 +57,98 @@ def build_parser() -> argparse.ArgumentParser:
 def _add_serve(sub) -> None:
     """``trical serve``: the API and the pages."""
     s = sub.add_parser("serve", help="serve the API and the pages")
-    s.add_argument("--host", type=opt.text("an address to listen on"), default=None,
-                   help="address to listen on (default: HOST, else 127.0.0.1, or 0.0.0.0 with --https)")
+    s.add_argument(
+        "--host",
+        type=opt.text("an address to listen on"),
+        default=None,
+        help="address to listen on (default: HOST, else 127.0.0.1, or 0.0.0.0 with --https)",
+    )
     s.add_argument("--port", type=opt.PORT, default=None, help="port (default: PORT or 8000)")
-    s.add_argument("--https", action="store_true",
-                   help="serve over TLS so that a phone on the LAN can use its motion sensors "
-                        "(a self-signed certificate unless --cert and --key)")
-    s.add_argument("--cert", type=opt.input_path("a PEM certificate"), default=None, metavar="FILE", help="PEM certificate to serve (implies --https)")
-    s.add_argument("--key", type=opt.input_path("the PEM private key of --cert"), default=None, metavar="FILE", help="PEM private key of --cert")
+    s.add_argument(
+        "--https",
+        action="store_true",
+        help="serve over TLS so that a phone on the LAN can use its motion sensors "
+        "(a self-signed certificate unless --cert and --key)",
+    )
+    s.add_argument(
+        "--cert",
+        type=opt.input_path("a PEM certificate"),
+        default=None,
+        metavar="FILE",
+        help="PEM certificate to serve (implies --https)",
+    )
+    s.add_argument(
+        "--key",
+        type=opt.input_path("the PEM private key of --cert"),
+        default=None,
+        metavar="FILE",
+        help="PEM private key of --cert",
+    )
 
 
 def _add_calibrate(sub) -> None:
     """``trical calibrate``: a log of still orientations (or a cube, a compass turn), by the method table's methods."""
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
-    c.add_argument("log", type=opt.input_path("a log file"), nargs="+",
-                   help="log: CSV with a header row, a phyphox / Sensor Logger zip, or several files (one per pose, "
-                        "or a zip of them): one calibration, each reading naming its file")
-    c.add_argument("--method", choices=CALIBRATE_METHODS, default="auto",
-                   help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones")
+    c.add_argument(
+        "log",
+        type=opt.input_path("a log file"),
+        nargs="+",
+        help="log: CSV with a header row, a phyphox / Sensor Logger zip, or several files (one per pose, "
+        "or a zip of them): one calibration, each reading naming its file",
+    )
+    c.add_argument(
+        "--method",
+        choices=CALIBRATE_METHODS,
+        default="auto",
+        help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones",
+    )
     c.add_argument("--protocol", choices=CUBE_PROTOCOLS, default=CUBE_PROTOCOLS[0], help=f"{_takers('protocol')} only")
-    c.add_argument("--field-ut", type=opt.FIELD_UT, default=None,
-                   help=f"{_takers('field_ut')}: local magnetic field magnitude in µT (magnetometer: overrides the "
-                        "model's)")
-    c.add_argument("--sections", type=opt.input_path("a section list (JSON)"), default=None, metavar="FILE.json",
-                   help=f"{_takers('sections')} with --protocol ferraris: imucal's annotated section list (x_p … z_rot, "
-                        "sample indices)")
+    c.add_argument(
+        "--field-ut",
+        type=opt.FIELD_UT,
+        default=None,
+        help=f"{_takers('field_ut')}: local magnetic field magnitude in µT (magnetometer: overrides the model's)",
+    )
+    c.add_argument(
+        "--sections",
+        type=opt.input_path("a section list (JSON)"),
+        default=None,
+        metavar="FILE.json",
+        help=f"{_takers('sections')} with --protocol ferraris: imucal's annotated section list (x_p … z_rot, "
+        "sample indices)",
+    )
     c.add_argument("--gyr-unit", choices=UNITS["gyr"], default=None)
     c.add_argument("--mag-unit", choices=MAG_UNITS_IN, default=None)
-    c.add_argument("--solver", choices=SOLVERS, default="lm",
-                   help=f"{_takers('solver')} only: lm, or "
-                        "Farago et al.'s descent in float, 16- or 32-bit fixed point")
-    c.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column")
+    c.add_argument(
+        "--solver",
+        choices=SOLVERS,
+        default="lm",
+        help=f"{_takers('solver')} only: lm, or Farago et al.'s descent in float, 16- or 32-bit fixed point",
+    )
+    c.add_argument(
+        "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column"
+    )
     c.add_argument("--unit", choices=UNITS["acc"], default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
     c.add_argument("--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer")
     _read_options(c)
     c.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
-    c.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude (magnetometer: with --longitude-deg, the Earth's field there)")
+    c.add_argument(
+        "--latitude-deg",
+        type=opt.LATITUDE,
+        default=None,
+        help="local normal gravity from latitude (magnetometer: with --longitude-deg, the Earth's field there)",
+    )
     c.add_argument("--height-m", type=opt.HEIGHT, default=None, help="height above the ellipsoid, with --latitude-deg")
-    c.add_argument("--longitude-deg", type=opt.LONGITUDE, default=None,
-                   help=f"{_takers('longitude_deg')}: with --latitude-deg, the Earth's field there from IGRF")
-    c.add_argument("--date", type=opt.DAY, default=None, help=f"{_takers('date')}: day of the recording (default today)")
+    c.add_argument(
+        "--longitude-deg",
+        type=opt.LONGITUDE,
+        default=None,
+        help=f"{_takers('longitude_deg')}: with --latitude-deg, the Earth's field there from IGRF",
+    )
+    c.add_argument(
+        "--date", type=opt.DAY, default=None, help=f"{_takers('date')}: day of the recording (default today)"
+    )
     c.add_argument("--device-id", type=opt.text("a device id"), default=None)
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
@@ -106,17 +157,34 @@ def _add_calibrate(sub) -> None:
 def _add_autocal(sub) -> None:
     """``trical autocal``: a long recording, or a folder of them."""
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
-    a.add_argument("path", type=opt.input_path("a recording or a folder of them"), help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them")
-    a.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
-    a.add_argument("--unit", choices=AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)")
+    a.add_argument(
+        "path",
+        type=opt.input_path("a recording or a folder of them"),
+        help=".npy (N×3 or N×4 with time), Parquet or CSV file, or a folder of them",
+    )
+    a.add_argument(
+        "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column"
+    )
+    a.add_argument(
+        "--unit", choices=AUTOCAL_UNITS, default=None, help="accelerometer unit (default: the file's, else m/s^2)"
+    )
     a.add_argument("--solver", choices=SOLVERS, default="lm")
     _read_options(a)
     a.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
     a.add_argument("--latitude-deg", type=opt.LATITUDE, default=None, help="local normal gravity from latitude")
-    a.add_argument("--all-axes", action="store_true", help="every axis must pass the max − min test (Farago et al.: one is enough)")
-    a.add_argument("--workers", type=opt.WORKERS, default=None, help="parallel processes for a folder (default: CPU count)")
-    a.add_argument("--dask-scheduler", type=opt.text("a scheduler address"), default=None, metavar="ADDRESS",
-                   help="run a folder on a Dask cluster (needs dask.distributed), e.g. tcp://host:8786")
+    a.add_argument(
+        "--all-axes", action="store_true", help="every axis must pass the max − min test (Farago et al.: one is enough)"
+    )
+    a.add_argument(
+        "--workers", type=opt.WORKERS, default=None, help="parallel processes for a folder (default: CPU count)"
+    )
+    a.add_argument(
+        "--dask-scheduler",
+        type=opt.text("a scheduler address"),
+        default=None,
+        metavar="ADDRESS",
+        help="run a folder on a Dask cluster (needs dask.distributed), e.g. tcp://host:8786",
+    )
     a.add_argument("--device-id", type=opt.text("a device id"), default=None)
     a.add_argument("--store", action="store_true", help="store the calibration(s) in the database")
     a.add_argument("--json", action="store_true", help="print the API's JSON (a list for a folder)")
@@ -124,17 +192,39 @@ def _add_autocal(sub) -> None:
 
 def _add_noise(sub) -> None:
     """``trical noise``: a still recording's Allan deviation."""
-    n = sub.add_parser("noise", help="noise density, random walk and bias instability of a still recording (Allan deviation)")
-    n.add_argument("path", type=opt.input_path("a still recording"), nargs="+",
-                   help=".npy (N×3 with --sensor, or N×4 with time first), Parquet, CSV or any log format trical "
-                        "reads; several files, one per sensor (accelerometer.csv gyroscope.csv), are one recording")
-    n.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
-    n.add_argument("--sensor", choices=tuple(UNITS), default=None,
-                   help="the sensor a three-column array holds (default acc); with a log: characterise only this one")
-    n.add_argument("--unit", choices=SCALED_UNITS, default=None, help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)")
+    n = sub.add_parser(
+        "noise", help="noise density, random walk and bias instability of a still recording (Allan deviation)"
+    )
+    n.add_argument(
+        "path",
+        type=opt.input_path("a still recording"),
+        nargs="+",
+        help=".npy (N×3 with --sensor, or N×4 with time first), Parquet, CSV or any log format trical "
+        "reads; several files, one per sensor (accelerometer.csv gyroscope.csv), are one recording",
+    )
+    n.add_argument(
+        "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column"
+    )
+    n.add_argument(
+        "--sensor",
+        choices=tuple(UNITS),
+        default=None,
+        help="the sensor a three-column array holds (default acc); with a log: characterise only this one",
+    )
+    n.add_argument(
+        "--unit",
+        choices=SCALED_UNITS,
+        default=None,
+        help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)",
+    )
     _read_options(n)
-    n.add_argument("--plot", type=opt.output_file("an SVG file to write"), default=None, metavar="FILE.svg",
-                   help="write the log-log Allan plot with the fitted slopes")
+    n.add_argument(
+        "--plot",
+        type=opt.output_file("an SVG file to write"),
+        default=None,
+        metavar="FILE.svg",
+        help="write the log-log Allan plot with the fitted slopes",
+    )
     n.add_argument("--device-id", type=opt.text("a device id"), default=None)
     n.add_argument("--store", action="store_true", help="store the characterisation in the database")
     n.add_argument("--json", action="store_true", help="print the API's JSON")
@@ -142,43 +232,90 @@ def _add_noise(sub) -> None:
 
 def _add_temperature(sub) -> None:
     """``trical temperature``: the offsets' drift with temperature."""
-    t = sub.add_parser("temperature", help="each axis's offset as a polynomial of temperature, from a still recording "
-                                           "while the board warms up (a temp_c column, or a flight log)")
-    t.add_argument("path", type=opt.input_path("a still recording with the sensor's temperature"),
-                   help="a CSV with a temp_c (temp, temperature, T (°C)) column beside the readings, or any log "
-                        "format trical reads that records the temperature")
-    t.add_argument("--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column")
-    t.add_argument("--sensor", choices=TEMPERATURE_SENSORS, default=None,
-                   help="calibrate only this sensor (default: the accelerometer and the gyroscope the log has)")
+    t = sub.add_parser(
+        "temperature",
+        help="each axis's offset as a polynomial of temperature, from a still recording "
+        "while the board warms up (a temp_c column, or a flight log)",
+    )
+    t.add_argument(
+        "path",
+        type=opt.input_path("a still recording with the sensor's temperature"),
+        help="a CSV with a temp_c (temp, temperature, T (°C)) column beside the readings, or any log "
+        "format trical reads that records the temperature",
+    )
+    t.add_argument(
+        "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the file has no time column"
+    )
+    t.add_argument(
+        "--sensor",
+        choices=TEMPERATURE_SENSORS,
+        default=None,
+        help="calibrate only this sensor (default: the accelerometer and the gyroscope the log has)",
+    )
     _read_options(t)
-    t.add_argument("--plot", type=opt.output_file("an SVG file to write"), default=None, metavar="FILE.svg",
-                   help="write the plot of offset against temperature (binned readings, fit, 95 %% band)")
+    t.add_argument(
+        "--plot",
+        type=opt.output_file("an SVG file to write"),
+        default=None,
+        metavar="FILE.svg",
+        help="write the plot of offset against temperature (binned readings, fit, 95 %% band)",
+    )
     t.add_argument("--device-id", type=opt.text("a device id"), default=None)
-    t.add_argument("--store", action="store_true", help="store the calibration in the database (then trical export "
-                                                        "ID --format px4 or ardupilot)")
+    t.add_argument(
+        "--store",
+        action="store_true",
+        help="store the calibration in the database (then trical export ID --format px4 or ardupilot)",
+    )
     t.add_argument("--json", action="store_true", help="print the API's JSON")
 
 
 def _add_capture(sub) -> None:
     """``trical capture``: the guided calibration of a board on a serial port."""
-    b = sub.add_parser("capture", help="the guided calibration of a board on a serial port (pyserial): capture, "
-                                       "log, calibrate, verdict")
+    b = sub.add_parser(
+        "capture",
+        help="the guided calibration of a board on a serial port (pyserial): capture, log, calibrate, verdict",
+    )
     b.add_argument("port", type=opt.text("a serial port"), help="the board's serial port, e.g. /dev/ttyACM0 or COM3")
     b.add_argument("--baud", type=opt.BAUD, default=DEFAULT_BAUD, help=f"the port's rate (default {DEFAULT_BAUD})")
-    b.add_argument("--protocol", choices=CAPTURE_PROTOCOLS, default="six",
-                   help="six (default), free poses, cube24, compass (turn it) or noise (leave it still)")
-    b.add_argument("--minutes", type=opt.MINUTES, default=None,
-                   help="compass and noise: the length recorded (default 1); poses: the time allowed (default 10)")
-    b.add_argument("--capture-s", type=opt.CAPTURE_S, default=None,
-                   help="seconds captured per pose (default: the wizard's; within the range a session accepts)")
-    b.add_argument("--format", choices=BOARD_LINE_FORMATS, default="auto",
-                   help="the board's lines: auto (default), raw (MotionCal Raw:), uni (Uni:), csv, numbers")
-    b.add_argument("--unit", choices=UNITS["acc"], default=None,
-                   help="the accelerometer's unit (checked against the data at rest)")
-    b.add_argument("--out", type=opt.output_file("a log file to write"), default=None, metavar="LOG.csv",
-                   help="the log written as received (default trical-capture-DATE-TIME.csv)")
-    b.add_argument("--send", action="store_true",
-                   help="write MotionCal's 68-byte calibration packet to the board (Adafruit Sensor Calibration)")
+    b.add_argument(
+        "--protocol",
+        choices=CAPTURE_PROTOCOLS,
+        default="six",
+        help="six (default), free poses, cube24, compass (turn it) or noise (leave it still)",
+    )
+    b.add_argument(
+        "--minutes",
+        type=opt.MINUTES,
+        default=None,
+        help="compass and noise: the length recorded (default 1); poses: the time allowed (default 10)",
+    )
+    b.add_argument(
+        "--capture-s",
+        type=opt.CAPTURE_S,
+        default=None,
+        help="seconds captured per pose (default: the wizard's; within the range a session accepts)",
+    )
+    b.add_argument(
+        "--format",
+        choices=BOARD_LINE_FORMATS,
+        default="auto",
+        help="the board's lines: auto (default), raw (MotionCal Raw:), uni (Uni:), csv, numbers",
+    )
+    b.add_argument(
+        "--unit", choices=UNITS["acc"], default=None, help="the accelerometer's unit (checked against the data at rest)"
+    )
+    b.add_argument(
+        "--out",
+        type=opt.output_file("a log file to write"),
+        default=None,
+        metavar="LOG.csv",
+        help="the log written as received (default trical-capture-DATE-TIME.csv)",
+    )
+    b.add_argument(
+        "--send",
+        action="store_true",
+        help="write MotionCal's 68-byte calibration packet to the board (Adafruit Sensor Calibration)",
+    )
     b.add_argument("--device-id", type=opt.text("a device id"), default=None)
     b.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     b.add_argument("--json", action="store_true", help="print the API's JSON (the steps go to stderr)")
@@ -189,28 +326,53 @@ def _add_export(sub) -> None:
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
     e.add_argument("--format", choices=methods.ALL_FORMATS, default="json")
-    e.add_argument("--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)")
+    e.add_argument(
+        "--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)"
+    )
 
 
 def _read_options(parser: argparse.ArgumentParser) -> None:
     """The options that say how to read a log, as the upload's form fields do."""
-    parser.add_argument("--columns", type=opt.text("column names or a mapping"), default=None, metavar="NAMES",
-                        help="name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips "
-                             "one; for logs without a header row), or map unrecognised ones, e.g. acc_x:north,…")
-    parser.add_argument("--chip", type=opt.CHIP, default=None, metavar="PARTS",
-                        help="the parts (and ranges) of sensors logged in counts, separated by commas, e.g. "
-                             "mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s and uT "
-                             "(the list: README, Units)")
-    parser.add_argument("--sign", type=int, choices=(1, -1), default=None,
-                        help="factor on the log's accelerations: -1 for iOS Core Motion's sign (-g up), 1 to keep "
-                             "them (default: detected from the header)")
-    parser.add_argument("--instance", type=opt.INSTANCE, default=None, metavar="N",
-                        help="a flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance to read (PX4 "
-                             "multi_id, ArduPilot I; default: PX4 the source with the most samples, ArduPilot 0)")
-    parser.add_argument("--mag-instance", type=opt.INSTANCE, default=None, metavar="N",
-                        help="a flight controller's log: the compass instance the compass methods read (default: "
-                             "the first)")
-
+    parser.add_argument(
+        "--columns",
+        type=opt.text("column names or a mapping"),
+        default=None,
+        metavar="NAMES",
+        help="name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips "
+        "one; for logs without a header row), or map unrecognised ones, e.g. acc_x:north,…",
+    )
+    parser.add_argument(
+        "--chip",
+        type=opt.CHIP,
+        default=None,
+        metavar="PARTS",
+        help="the parts (and ranges) of sensors logged in counts, separated by commas, e.g. "
+        "mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s and uT "
+        "(the list: README, Units)",
+    )
+    parser.add_argument(
+        "--sign",
+        type=int,
+        choices=(1, -1),
+        default=None,
+        help="factor on the log's accelerations: -1 for iOS Core Motion's sign (-g up), 1 to keep "
+        "them (default: detected from the header)",
+    )
+    parser.add_argument(
+        "--instance",
+        type=opt.INSTANCE,
+        default=None,
+        metavar="N",
+        help="a flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance to read (PX4 "
+        "multi_id, ArduPilot I; default: PX4 the source with the most samples, ArduPilot 0)",
+    )
+    parser.add_argument(
+        "--mag-instance",
+        type=opt.INSTANCE,
+        default=None,
+        metavar="N",
+        help="a flight controller's log: the compass instance the compass methods read (default: the first)",
+    )
 
 
 def defaults_of(command: str) -> dict:
@@ -218,5 +380,8 @@ def defaults_of(command: str) -> dict:
     argparse gives it when the option is left out: what a command that ends as another (``trical capture`` as
     ``trical calibrate`` or ``trical noise``) sets its own values on, with no command line to parse again."""
     sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
-    return {a.dest: a.type(a.default) if isinstance(a.default, str) and a.type else a.default
-            for a in sub.choices[command]._actions if a.default is not argparse.SUPPRESS}
+    return {
+        a.dest: a.type(a.default) if isinstance(a.default, str) and a.type else a.default
+        for a in sub.choices[command]._actions
+        if a.default is not argparse.SUPPRESS
+    }

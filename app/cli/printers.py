@@ -18,12 +18,16 @@ def print_summary(body: dict, recording: dict) -> None:
     files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
     flight = body.get("flight")  # a compass from a flight: the log's facts, and no still segments read
     if flight:
-        print(f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
-              f"({flight['raw_how']}), attitude from {flight['attitude_source']}")
+        print(
+            f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
+            f"({flight['raw_how']}), attitude from {flight['attitude_source']}"
+        )
     else:
-        print(f"{counted(len(recording['segments']), 'still segment')} in {recording['n_samples']} samples{files} "
-              f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
-              f"used {body.get('segments_used', 'all')}")
+        print(
+            f"{counted(len(recording['segments']), 'still segment')} in {recording['n_samples']} samples{files} "
+            f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
+            f"used {body.get('segments_used', 'all')}"
+        )
     if body.get("id"):
         print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
     print_verdict(body)
@@ -31,12 +35,16 @@ def print_summary(body: dict, recording: dict) -> None:
         used = body.get("segments_used") or []
         for r, i in zip(body.get("readings") or [], used):
             up = recording["segments"][i]["up"]
-            print(f"{r.get('source')}: {up + ' up' if up else 'no axis within 20°'}, mean "
-                  + "  ".join(f"{v:.4f}" for v in r["mean"]))
+            print(
+                f"{r.get('source')}: {up + ' up' if up else 'no axis within 20°'}, mean "
+                + "  ".join(f"{v:.4f}" for v in r["mean"])
+            )
     for name, value in body["model"].items():
         if name == "type" or isinstance(value, dict) or value is None:
             if isinstance(value, dict):
-                print(f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}")
+                print(
+                    f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}"
+                )
             continue
         arr = np.atleast_2d(np.asarray(value, dtype=float))
         print(f"{name} =" if arr.shape[0] > 1 else f"{name} = " + "  ".join(f"{v: .6f}" for v in arr[0]))
@@ -81,8 +89,10 @@ class ProgressBar:
             return
         self.last = pct
         filled = pct * 30 // 100
-        self.stream.write(f"\r{self.label} [{'#' * filled}{'.' * (30 - filled)}] {pct:3d}% "
-                          f"{done / 1e6:.1f}/{total / 1e6:.1f} M samples")
+        self.stream.write(
+            f"\r{self.label} [{'#' * filled}{'.' * (30 - filled)}] {pct:3d}% "
+            f"{done / 1e6:.1f}/{total / 1e6:.1f} M samples"
+        )
         if done >= total:
             self.stream.write("\n")
         self.stream.flush()
@@ -91,8 +101,10 @@ class ProgressBar:
 def print_autocal(body: dict) -> None:
     body = render_body(body, "cli")
     det = body["detection"]
-    print(f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
-          f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}")
+    print(
+        f"{body['label']}: {det['n_rest']} rest segments of {det['n_segments']} ({det['segment_s']:g} s; "
+        f"{det['n_moving']} moving, {det['n_nan']} NaN, {det['n_idle']} idle sleep); ok = {body['ok']}"
+    )
     print_verdict(body)
     if body.get("headline"):
         print(body["headline"])
@@ -108,8 +120,10 @@ def print_autocal(body: dict) -> None:
             if row.get("error_after_mg") is None:
                 print(f"{name:<22}{'-':>10}{'-':>10}{'-':>9}  {row.get('count')}")
                 continue
-            print(f"{name:<22}{row['error_before_mg']:>10.2f}{row['error_after_mg']:>10.2f}"
-                  f"{row['improvement_pct'] or 0:>9.0f}  {row.get('count')}")
+            print(
+                f"{name:<22}{row['error_before_mg']:>10.2f}{row['error_after_mg']:>10.2f}"
+                f"{row['improvement_pct'] or 0:>9.0f}  {row.get('count')}"
+            )
     for w in body["warnings"]:
         print(f"warning: {w}")
 
@@ -118,12 +132,16 @@ def print_folder_table(bodies: list[dict]) -> None:
     bodies = [render_body(b, "cli") for b in bodies]
     name_w = max(8, *(len(b.get("label") or "") for b in bodies))
     # "tilt": the worst tilt a level reads with the cv error (app.calibration.angles).
-    print(f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'tilt':>8}{'before mg':>10}{'after mg':>10}"
-          f"{'R %':>8}  note")
+    print(
+        f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'tilt':>8}{'before mg':>10}{'after mg':>10}"
+        f"{'R %':>8}  note"
+    )
     for b in bodies:
         if "error" in b:
-            print(f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>8}{'':>10}{'':>10}{'':>8}  "
-                  f"{render(b['error'], 'cli')}")
+            print(
+                f"{b['label']:<{name_w}}  {'error':<5}{'':>7}{'':>7}{'':>8}{'':>8}{'':>10}{'':>10}{'':>8}  "
+                f"{render(b['error'], 'cli')}"
+            )
             continue
         m = b["metrics"]
         cv = "-" if m.get("cv_error_mg") is None else f"{m['cv_error_mg']:.2f}"
@@ -132,8 +150,10 @@ def print_folder_table(bodies: list[dict]) -> None:
         after = "-" if m.get("error_after_mg") is None else f"{m['error_after_mg']:.2f}"
         r = "-" if not m.get("improvement_pct") else f"{m['improvement_pct']:.0f}"
         note = b["reasons"][0] if b["reasons"] else ""
-        print(f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}{tilt:>8}"
-              f"{before:>10}{after:>10}{r:>8}  {note[:100]}")
+        print(
+            f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}{tilt:>8}"
+            f"{before:>10}{after:>10}{r:>8}  {note[:100]}"
+        )
     n_ok = sum(1 for b in bodies if b.get("ok"))
     print(f"{n_ok} of {len(bodies)} recordings calibrated")
 
@@ -149,23 +169,35 @@ def print_temperature(body: dict) -> None:
         if sensor == "type":
             continue
         m, unc = body["metrics"][sensor], body["uncertainty"][sensor]
-        print(f"{sensor} ({model['unit']}), {model['t_min_c']:.1f}–{model['t_max_c']:.1f} °C, T_ref "
-              f"{model['t_ref_c']:.2f} °C, offset = X0 + X1 dT + X2 dT^2 + X3 dT^3:")
+        print(
+            f"{sensor} ({model['unit']}), {model['t_min_c']:.1f}–{model['t_max_c']:.1f} °C, T_ref "
+            f"{model['t_ref_c']:.2f} °C, offset = X0 + X1 dT + X2 dT^2 + X3 dT^3:"
+        )
         for i, axis in enumerate("xyz"):
-            cells = "  ".join(f"X{k} {c:.4g} ± {h:.2g}" for k, (c, h) in
-                              enumerate(zip(model["coefficients"][i], unc["coefficients"][i])))
-            print(f"  {axis}: order {model['order'][i]}  {cells}  drift {m['drift_raw'][i]:.3g} → {m['drift_cv'][i]:.3g} "
-                  f"{m['unit']} (bands left out)")
+            cells = "  ".join(
+                f"X{k} {c:.4g} ± {h:.2g}"
+                for k, (c, h) in enumerate(zip(model["coefficients"][i], unc["coefficients"][i]))
+            )
+            print(
+                f"  {axis}: order {model['order'][i]}  {cells}  drift {m['drift_raw'][i]:.3g} → {m['drift_cv'][i]:.3g} "
+                f"{m['unit']} (bands left out)"
+            )
         print(f"  samples per band: {', '.join(str(n) for n in m['samples_per_band'])}")
 
 
 def print_noise(body: dict) -> None:
     body = render_body(body, "cli")
     still = body.get("still") or {}
-    print(f"{body.get('label') or ''}: {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz "
-          f"({100 * still.get('fraction', 1):.0f} % of the recording); ok = {body['ok']}")
+    print(
+        f"{body.get('label') or ''}: {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz "
+        f"({100 * still.get('fraction', 1):.0f} % of the recording); ok = {body['ok']}"
+    )
     print_verdict(body)
-    names = {"noise_density": "noise density N", "random_walk": "random walk K", "bias_instability": "bias instability B"}
+    names = {
+        "noise_density": "noise density N",
+        "random_walk": "random walk K",
+        "bias_instability": "bias instability B",
+    }
     for sensor in ("gyr", "acc", "mag"):
         model = body["model"].get(sensor)
         if not model:
@@ -183,4 +215,3 @@ def print_noise(body: dict) -> None:
         print(f"reason: {r}")
     for w in body["warnings"]:
         print(f"warning: {w}")
-

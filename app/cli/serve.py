@@ -38,8 +38,10 @@ def _serve_https(args, settings: Settings, port: int) -> int:
     url = f"https://{url_host}:{port}/wizard?protocol=six"
     print(f"trical {__version__} on https://{host}:{port}  (database {settings.database_label})")
     if everywhere:
-        print(f"listening on every interface ({host}) so that a phone on this network can connect; "
-              "--host 127.0.0.1 keeps it to this machine")
+        print(
+            f"listening on every interface ({host}) so that a phone on this network can connect; "
+            "--host 127.0.0.1 keeps it to this machine"
+        )
     if args.cert:
         tls.check_certificate_files(args.cert, args.key)
         cert, key = args.cert, args.key
@@ -48,9 +50,11 @@ def _serve_https(args, settings: Settings, port: int) -> int:
         hosts = tls.certificate_hosts([] if everywhere else [host])
         cert, key, made = tls.self_signed_certificate(settings.tls_dir, hosts)
         print(f"{'made a' if made else 'reusing the'} self-signed certificate {cert} for {', '.join(hosts)}")
-        print("The browser will warn that this certificate is not trusted (it signed itself). Proceed when its\n"
-              "SHA-256 fingerprint is the one below (Chrome: Advanced → Proceed; Safari: Show Details → visit):\n"
-              f"  {tls.fingerprint(cert)}")
+        print(
+            "The browser will warn that this certificate is not trusted (it signed itself). Proceed when its\n"
+            "SHA-256 fingerprint is the one below (Chrome: Advanced → Proceed; Safari: Show Details → visit):\n"
+            f"  {tls.fingerprint(cert)}"
+        )
     if not settings.public_url:
         os.environ["TRICAL_PUBLIC_URL"] = url  # app.main builds its settings from the environment
     print(f"Open {url} on your phone")
@@ -65,4 +69,3 @@ def _print_qr(drawing: str) -> None:
     except UnicodeEncodeError:  # a terminal that cannot show block characters
         print("(this terminal cannot draw the QR code: type the address above)")
     sys.stdout.flush()
-

@@ -12,11 +12,21 @@ from app.workflows.temperature import temperature_log
 
 def run(args, settings: Settings) -> int:
     """``trical temperature PATH``: the offsets' drift with temperature, fitted."""
-    log = read_log(args.path, ReadOptions(sampling_rate_hz=args.sampling_rate_hz, units={}, columns=args.columns,
-                                          sign=args.sign, chip=args.chip, instance=args.instance), name=str(args.path))
-    body = temperature_log(log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id,
-                                    label=args.path.name)
+    log = read_log(
+        args.path,
+        ReadOptions(
+            sampling_rate_hz=args.sampling_rate_hz,
+            units={},
+            columns=args.columns,
+            sign=args.sign,
+            chip=args.chip,
+            instance=args.instance,
+        ),
+        name=str(args.path),
+    )
+    body = temperature_log(
+        log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id, label=args.path.name
+    )
     from app.io.export_temperature import temperature_svg
 
     return finish(args, settings, body, plot=temperature_svg, summary=print_temperature)
-

@@ -39,8 +39,14 @@ from app.calibration.cube.protocols import CUBE24_UPS, cube24
 from app.calibration.errors import NotStillError
 from app.calibration.gyro_bias import gyroscope_bias
 from app.calibration.orientations import nearest_orientation
-from app.guided.capture_rules import (CUBE_FACE_MAX_ANGLE_DEG, FREE_FIT_FROM, FREE_MAX_ANGLE_DEG, FREE_MIN_ANGLE_DEG,
-                                      FREE_TARGET_MIN_POSES, MAX_ROTATION_DEG_S)
+from app.guided.capture_rules import (
+    CUBE_FACE_MAX_ANGLE_DEG,
+    FREE_FIT_FROM,
+    FREE_MAX_ANGLE_DEG,
+    FREE_MIN_ANGLE_DEG,
+    FREE_TARGET_MIN_POSES,
+    MAX_ROTATION_DEG_S,
+)
 from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
 from app.workflows.results import calibration_body, pose_advice
@@ -125,8 +131,10 @@ class SessionProtocol(Protocol):
 
     def unsolvable(self, session: Session) -> str:
         """What to capture before the session can be solved."""
-        return (f"capture {', '.join(self.remaining(session))} first: the session has "
-                f"{len(session.captures)} of {len(self.positions)} positions")
+        return (
+            f"capture {', '.join(self.remaining(session))} first: the session has "
+            f"{len(session.captures)} of {len(self.positions)} positions"
+        )
 
     def solve(self, store, session: Session) -> dict:
         """The calibration body of the session.
@@ -152,8 +160,10 @@ class SixProtocol(SessionProtocol):
     poses = len(CANONICAL_SIX)
     minutes = 10.0
     from_captures = True
-    words = ("rest the board on each of its six sides in turn (+x, -x, +y, -y, +z, -z up: the axis printed on "
-             "the board pointing up; +z up is the component side up), still, until the bell")
+    words = (
+        "rest the board on each of its six sides in turn (+x, -x, +y, -y, +z, -z up: the axis printed on "
+        "the board pointing up; +z up is the component side up), still, until the bell"
+    )
     asked_order = ("+z", "-z", "+y", "-y", "+x", "-x")
     """The pose named next among those to do, as the page names it (static/js/poses.js, ``NEXT_ORDER``): flat
     ones first (the easiest to place), then standing, then on the side edges; any other remaining one is
@@ -169,20 +179,24 @@ class SixProtocol(SessionProtocol):
 
     def check(self, session, capture):
         if capture.get("position") not in (None, *self.positions):
-            raise CalibrationError(f"a six-position pose is one of {', '.join(self.positions)}; "
-                                   f"got {capture['position']!r}")
-        checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session.gravity,
-                                      expected=capture.get("position"))
+            raise CalibrationError(
+                f"a six-position pose is one of {', '.join(self.positions)}; got {capture['position']!r}"
+            )
+        checked = check_still_capture(
+            capture["acc"], capture["t_ms"], gravity=session.gravity, expected=capture.get("position")
+        )
         check_not_turning(capture)
         return dict(checked.to_dict(), **gyr_summary(capture))
 
     def _solve(self, store, session):
         captures = [session.capture(p) for p in self.positions]
-        readings = [Reading(mean=tuple(c["mean"]), up=c["position"], std=tuple(c["std"]), count=c["count"])
-                    for c in captures]
+        readings = [
+            Reading(mean=tuple(c["mean"]), up=c["position"], std=tuple(c["std"]), count=c["count"]) for c in captures
+        ]
         result, extra = calibrate_known("six_position", readings, unit=session.unit, gravity=session.gravity)
-        return session_body(session, result, extra, captures=[
-            {k: c[k] for k in CAPTURE_FIELDS if k != "up"} for c in captures])
+        return session_body(
+            session, result, extra, captures=[{k: c[k] for k in CAPTURE_FIELDS if k != "up"} for c in captures]
+        )
 
 
 class FreeProtocol(SessionProtocol):
@@ -213,10 +227,12 @@ class FreeProtocol(SessionProtocol):
     def check(self, session, capture):
         position = self.next_position(session)
         if capture.get("position") not in (None, position):
-            raise CalibrationError(f"free poses are numbered in order: this capture is pose {position}; "
-                                   "leave `position` out")
-        checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session.gravity,
-                                      max_angle_deg=FREE_MAX_ANGLE_DEG)
+            raise CalibrationError(
+                f"free poses are numbered in order: this capture is pose {position}; leave `position` out"
+            )
+        checked = check_still_capture(
+            capture["acc"], capture["t_ms"], gravity=session.gravity, max_angle_deg=FREE_MAX_ANGLE_DEG
+        )
         check_not_turning(capture)
         check_new_direction(checked.mean, session.means, min_angle_deg=FREE_MIN_ANGLE_DEG)
         return dict(checked.to_dict(), position=position, up=checked.position, **gyr_summary(capture))
@@ -226,8 +242,10 @@ class FreeProtocol(SessionProtocol):
 
     def unsolvable(self, session):
         n = len(session.captures)
-        return (f"capture {FREE_FIT_FROM - n} more poses first: a free session solves from {FREE_FIT_FROM} poses "
-                f"(it has {n}); the target needs {FREE_TARGET_MIN_POSES}")
+        return (
+            f"capture {FREE_FIT_FROM - n} more poses first: a free session solves from {FREE_FIT_FROM} poses "
+            f"(it has {n}); the target needs {FREE_TARGET_MIN_POSES}"
+        )
 
     @staticmethod
     def fit(session: Session) -> tuple:
@@ -265,14 +283,25 @@ class FreeProtocol(SessionProtocol):
             message = f"target reached: {cv:.1f} mg on new orientations with {n} poses"
         elif cv is None:
             more = FREE_FIT_FROM - n
-            message = (f"{n} poses captured: {more} more before the first estimate" if more > 0
-                       else f"{n} poses captured: no estimate for new orientations yet; add poses in other directions")
+            message = (
+                f"{n} poses captured: {more} more before the first estimate"
+                if more > 0
+                else f"{n} poses captured: no estimate for new orientations yet; add poses in other directions"
+            )
         else:
             need = f", at least {FREE_TARGET_MIN_POSES} poses" if n < FREE_TARGET_MIN_POSES else ""
             message = f"{n} poses: {cv:.1f} mg expected on new orientations (target {target:g} mg{need})"
-        progress = {"count": n, "fit_from": FREE_FIT_FROM, "target_poses": FREE_TARGET_MIN_POSES, "target_mg": target,
-                    "cv_error_mg": cv, "cv_error_max_mg": cv_max, "target_reached": reached, "advice": advice,
-                    "message": message}
+        progress = {
+            "count": n,
+            "fit_from": FREE_FIT_FROM,
+            "target_poses": FREE_TARGET_MIN_POSES,
+            "target_mg": target,
+            "cv_error_mg": cv,
+            "cv_error_max_mg": cv_max,
+            "target_reached": reached,
+            "advice": advice,
+            "message": message,
+        }
         return progress, fit
 
     def _solve(self, store, session):
@@ -287,8 +316,14 @@ class FreeProtocol(SessionProtocol):
             expected = "no figure for new orientations" if cv is None else f"{cv:.1f} mg expected on new orientations"
             reason, text = "stopped", f"stopped at {n} poses: {expected}, target {target:g} mg"
         finish = {"reason": reason, "text": text, "poses": n, "cv_error_mg": cv, "target_mg": target}
-        return session_body(session, result, extra, advice=progress["advice"], finish=finish,
-                            captures=[{k: c[k] for k in CAPTURE_FIELDS} for c in session.captures])
+        return session_body(
+            session,
+            result,
+            extra,
+            advice=progress["advice"],
+            finish=finish,
+            captures=[{k: c[k] for k in CAPTURE_FIELDS} for c in session.captures],
+        )
 
 
 class Cube24Protocol(SessionProtocol):
@@ -312,28 +347,44 @@ class Cube24Protocol(SessionProtocol):
         if capture.get("redo") and done and capture.get("position") in (None, done[-1]):
             position = done[-1]  # the last position again, reached by the same turn
         elif capture.get("position") not in (None, position):
-            raise CalibrationError(f"the cube sequence goes in order: this capture is position {position}"
-                                   + (", the last one captured can be redone with redo=true" if done else ""))
+            raise CalibrationError(
+                f"the cube sequence goes in order: this capture is position {position}"
+                + (", the last one captured can be redone with redo=true" if done else "")
+            )
         if int(position) > len(self.positions):
             raise ConflictError(position)
         k = int(position)
         if capture.get("gyr") is None:
             raise CalibrationError("the cube flow needs the gyroscope: send gyr (rotationRate) with every capture")
-        checked = check_still_capture(capture["acc"], capture["t_ms"], gravity=session.gravity,
-                                      max_angle_deg=CUBE_FACE_MAX_ANGLE_DEG)
+        checked = check_still_capture(
+            capture["acc"], capture["t_ms"], gravity=session.gravity, max_angle_deg=CUBE_FACE_MAX_ANGLE_DEG
+        )
         check_not_turning(capture, "cube")
-        summary = dict(checked.to_dict(), position=position, up=checked.position, expected_up=CUBE24_UPS[k - 1],
-                       gyr_mean=np.mean(np.asarray(capture["gyr"], dtype=float), axis=0).tolist(),
-                       gyr_unit=capture.get("gyr_unit", "deg/s"))
+        summary = dict(
+            checked.to_dict(),
+            position=position,
+            up=checked.position,
+            expected_up=CUBE24_UPS[k - 1],
+            gyr_mean=np.mean(np.asarray(capture["gyr"], dtype=float), axis=0).tolist(),
+            gyr_unit=capture.get("gyr_unit", "deg/s"),
+        )
         declared = GYR_TO_RAD_S[summary["gyr_unit"]]
         summary["gyr_to_rad_s"] = declared
         if k > 1:
             motion = capture.get("motion")
             if not motion or not motion.get("gyr"):
-                raise CalibrationError(f"position {k} needs the move from position {k - 1}: send motion "
-                                       "{t_ms, gyr} with the rates recorded since the last capture ended")
-            turn = check_turn(motion["gyr"], motion["t_ms"], cube24(), k - 2,
-                              bias=session.capture(str(k - 1))["gyr_mean"], gyr_scale=declared)
+                raise CalibrationError(
+                    f"position {k} needs the move from position {k - 1}: send motion "
+                    "{t_ms, gyr} with the rates recorded since the last capture ended"
+                )
+            turn = check_turn(
+                motion["gyr"],
+                motion["t_ms"],
+                cube24(),
+                k - 2,
+                bias=session.capture(str(k - 1))["gyr_mean"],
+                gyr_scale=declared,
+            )
             if not turn.ok:
                 raise CalibrationError(turn.message, code="wrong_turn")
             summary["turn"] = turn.to_dict()
@@ -374,8 +425,15 @@ class Cube24Protocol(SessionProtocol):
         acc, gyr, rate = self.recording(store, session)
         result = calibrate_cube(acc, gyr, None, sampling_rate_hz=rate, protocol=self.name, gravity=session.gravity)
         return calibration_body(
-            result, {}, unit=session.unit, notes=browser_notes(session), device_id=session.device_id,
-            label=session.label, session_id=session.id, source=session.source, units={"acc": session.unit, "gyr": "rad/s"},
+            result,
+            {},
+            unit=session.unit,
+            notes=browser_notes(session),
+            device_id=session.device_id,
+            label=session.label,
+            session_id=session.id,
+            source=session.source,
+            units={"acc": session.unit, "gyr": "rad/s"},
             captures=[{k: c[k] for k in CAPTURE_FIELDS} for c in session.captures],
         )
 
@@ -419,8 +477,9 @@ def check_not_turning(capture: dict, what: str = "device") -> None:
         return
     rate = _gyr_mean_deg_s(capture)
     if rate > MAX_ROTATION_DEG_S:
-        raise NotStillError(f"the {what} was turning during the capture ({rate:.3g} °/s): "
-                            "leave it resting until the capture ends")
+        raise NotStillError(
+            f"the {what} was turning during the capture ({rate:.3g} °/s): leave it resting until the capture ends"
+        )
 
 
 def gyr_summary(capture: dict) -> dict:
@@ -429,8 +488,12 @@ def gyr_summary(capture: dict) -> dict:
     if capture.get("gyr") is None:
         return {}
     gyr = np.asarray(capture["gyr"], dtype=float).reshape(-1, 3)
-    return {"gyr_mean": gyr.mean(axis=0).tolist(), "gyr_std": gyr.std(axis=0, ddof=1).tolist(),
-            "gyr_count": len(gyr), "gyr_unit": capture.get("gyr_unit", "deg/s")}
+    return {
+        "gyr_mean": gyr.mean(axis=0).tolist(),
+        "gyr_std": gyr.std(axis=0, ddof=1).tolist(),
+        "gyr_count": len(gyr),
+        "gyr_unit": capture.get("gyr_unit", "deg/s"),
+    }
 
 
 def session_gyroscope_bias(session: Session) -> dict | None:
@@ -440,8 +503,11 @@ def session_gyroscope_bias(session: Session) -> dict | None:
     if not captures:
         return None
     scale = np.array([GYR_TO_RAD_S[c["gyr_unit"]] for c in captures])[:, None]
-    return gyroscope_bias(np.array([c["gyr_mean"] for c in captures]) * scale,
-                          np.array([c["gyr_std"] for c in captures]) * scale, [c["gyr_count"] for c in captures])
+    return gyroscope_bias(
+        np.array([c["gyr_mean"] for c in captures]) * scale,
+        np.array([c["gyr_std"] for c in captures]) * scale,
+        [c["gyr_count"] for c in captures],
+    )
 
 
 def session_body(session: Session, result, extra: dict, **fields) -> dict:
@@ -453,8 +519,16 @@ def session_body(session: Session, result, extra: dict, **fields) -> dict:
     if bias is not None:
         fields["gyroscope_bias"] = bias
     return calibration_body(
-        result, extra, unit=session.unit, notes=browser_notes(session), device_id=session.device_id,
-        label=session.label, session_id=session.id, source=session.source, **fields)
+        result,
+        extra,
+        unit=session.unit,
+        notes=browser_notes(session),
+        device_id=session.device_id,
+        label=session.label,
+        session_id=session.id,
+        source=session.source,
+        **fields,
+    )
 
 
 def browser_notes(session: Session) -> list[str]:
@@ -465,12 +539,15 @@ def browser_notes(session: Session) -> list[str]:
         return notes
     steps = {c.get("quantization_step") for c in session.captures} - {None}
     if steps:
-        notes.append(f"the browser rounds its sensor values to {max(steps):g} m/s²: each position's mean "
-                     "averages many samples, so it is still finer than the rounding")
+        notes.append(
+            f"the browser rounds its sensor values to {max(steps):g} m/s²: each position's mean "
+            "averages many samples, so it is still finer than the rounding"
+        )
     notes.append(OS_CALIBRATION_WARNING)
-    ios = sorted({c["sign"]["detected_from"] for c in session.captures
-                  if c.get("sign", {}).get("convention") == "ios"})
+    ios = sorted({c["sign"]["detected_from"] for c in session.captures if c.get("sign", {}).get("convention") == "ios"})
     if ios:
-        notes.append(f"the browser reported the iOS sign convention (detected from {', '.join(ios)}); "
-                     "the samples were flipped to the W3C convention before fitting")
+        notes.append(
+            f"the browser reported the iOS sign convention (detected from {', '.join(ios)}); "
+            "the samples were flipped to the W3C convention before fitting"
+        )
     return notes

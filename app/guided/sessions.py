@@ -50,36 +50,68 @@ class Session:
     def new(cls, fields: dict) -> Session:
         """A new session from the request's fields (app.api.schemas.sessions.SessionIn, ``target_mg`` filled in)."""
         protocol = SESSION_PROTOCOLS[fields["protocol"]]
-        gravity, notes = reference_gravity(fields["unit"], fields.get("gravity"), fields.get("latitude_deg"),
-                                           fields.get("height_m"))
-        return cls(protocol=protocol, positions=protocol.positions, capture_s=fields["capture_s"],
-                   unit=fields["unit"], gravity=gravity, notes=tuple(notes), device_id=fields.get("device_id"),
-                   label=fields.get("label"), source=fields.get("source", "phone"),
-                   target_mg=protocol.target_mg(fields))
+        gravity, notes = reference_gravity(
+            fields["unit"], fields.get("gravity"), fields.get("latitude_deg"), fields.get("height_m")
+        )
+        return cls(
+            protocol=protocol,
+            positions=protocol.positions,
+            capture_s=fields["capture_s"],
+            unit=fields["unit"],
+            gravity=gravity,
+            notes=tuple(notes),
+            device_id=fields.get("device_id"),
+            label=fields.get("label"),
+            source=fields.get("source", "phone"),
+            target_mg=protocol.target_mg(fields),
+        )
 
     @classmethod
     def from_row(cls, row: dict) -> Session:
         """The session the store returns (``store.get_session``: its body, ``calibration_id`` and ``captures``)."""
-        return cls(protocol=SESSION_PROTOCOLS[row["protocol"]], positions=tuple(row["positions"]),
-                   capture_s=row["capture_s"], unit=row["unit"], gravity=row["gravity"],
-                   notes=tuple(row.get("notes", ())), device_id=row.get("device_id"), label=row.get("label"),
-                   source=row.get("source", "phone"), target_mg=row.get("target_mg"), id=row.get("id"),
-                   created_at=row.get("created_at"), calibration_id=row.get("calibration_id"),
-                   captures=tuple(row.get("captures", ())))
+        return cls(
+            protocol=SESSION_PROTOCOLS[row["protocol"]],
+            positions=tuple(row["positions"]),
+            capture_s=row["capture_s"],
+            unit=row["unit"],
+            gravity=row["gravity"],
+            notes=tuple(row.get("notes", ())),
+            device_id=row.get("device_id"),
+            label=row.get("label"),
+            source=row.get("source", "phone"),
+            target_mg=row.get("target_mg"),
+            id=row.get("id"),
+            created_at=row.get("created_at"),
+            calibration_id=row.get("calibration_id"),
+            captures=tuple(row.get("captures", ())),
+        )
 
     def body(self) -> dict:
         """The stored body (``store.add_session``); ``target_mg`` only for a protocol that has one."""
-        body = {"protocol": self.protocol.name, "positions": list(self.positions), "capture_s": self.capture_s,
-                "unit": self.unit, "gravity": self.gravity, "notes": list(self.notes), "device_id": self.device_id,
-                "label": self.label, "source": self.source}
+        body = {
+            "protocol": self.protocol.name,
+            "positions": list(self.positions),
+            "capture_s": self.capture_s,
+            "unit": self.unit,
+            "gravity": self.gravity,
+            "notes": list(self.notes),
+            "device_id": self.device_id,
+            "label": self.label,
+            "source": self.source,
+        }
         if self.target_mg is not None:
             body["target_mg"] = self.target_mg
         return body
 
     def row(self) -> dict:
         """The body with what the store adds: ``id``, ``created_at``, ``calibration_id`` and ``captures``."""
-        return dict(self.body(), id=self.id, created_at=self.created_at, calibration_id=self.calibration_id,
-                    captures=list(self.captures))
+        return dict(
+            self.body(),
+            id=self.id,
+            created_at=self.created_at,
+            calibration_id=self.calibration_id,
+            captures=list(self.captures),
+        )
 
     @property
     def done(self) -> list[str]:

@@ -51,8 +51,7 @@ TERMS = (  # key in the model, mark class, symbol, where it is read
     ("random_walk", "random-walk", "K", "at τ = 3 s"),
     ("bias_instability", "bias-instability", "B", "(floor 0.664 B)"),
 )
-TERM_NAMES = {"noise_density": "noise density", "random_walk": "random walk",
-              "bias_instability": "bias instability"}
+TERM_NAMES = {"noise_density": "noise density", "random_walk": "random walk", "bias_instability": "bias instability"}
 
 
 @dataclass(frozen=True)
@@ -75,16 +74,20 @@ class LogAxes:
         return self.top + (b - math.log10(sigma)) / (b - a) * self.height
 
     def inside(self, px: float, py: float) -> bool:
-        return (self.left - 0.5 <= px <= self.left + self.width + 0.5
-                and self.top - 0.5 <= py <= self.top + self.height + 0.5)
+        return (
+            self.left - 0.5 <= px <= self.left + self.width + 0.5
+            and self.top - 0.5 <= py <= self.top + self.height + 0.5
+        )
 
 
 def svg_picture(width: int, height: int, title: str, desc: str, parts: list[str]) -> str:
     """A standalone SVG picture of ``width`` × ``height`` user units on white, with its ``<title>`` and a
     ``<desc>`` stating its figures (what a screen reader says of it): the envelope of every plot trical draws."""
-    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" '
-            f'role="img"><title>{escape(title)}</title><desc>{escape(desc)}</desc>'
-            f'<rect width="100%" height="100%" fill="#fff"/>' + "".join(parts) + "</svg>\n")
+    return (
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" '
+        f'role="img"><title>{escape(title)}</title><desc>{escape(desc)}</desc>'
+        f'<rect width="100%" height="100%" fill="#fff"/>' + "".join(parts) + "</svg>\n"
+    )
 
 
 def number(v: float) -> str:
@@ -150,11 +153,15 @@ def _marker(axis: str, x: float, y: float, r: float = 3.2) -> str:
     if axis == "x":
         return f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(r)}" fill="{fill}" stroke="#fff" stroke-width="0.8"/>'
     if axis == "y":
-        return (f'<rect x="{_f(x - r)}" y="{_f(y - r)}" width="{_f(2 * r)}" height="{_f(2 * r)}" fill="{fill}" '
-                f'stroke="#fff" stroke-width="0.8"/>')
+        return (
+            f'<rect x="{_f(x - r)}" y="{_f(y - r)}" width="{_f(2 * r)}" height="{_f(2 * r)}" fill="{fill}" '
+            f'stroke="#fff" stroke-width="0.8"/>'
+        )
     h = r * 1.2
-    return (f'<path d="M {_f(x)} {_f(y - h)} L {_f(x + h)} {_f(y + h * 0.8)} L {_f(x - h)} {_f(y + h * 0.8)} Z" '
-            f'fill="{fill}" stroke="#fff" stroke-width="0.8"/>')
+    return (
+        f'<path d="M {_f(x)} {_f(y - h)} L {_f(x + h)} {_f(y + h * 0.8)} L {_f(x - h)} {_f(y + h * 0.8)} Z" '
+        f'fill="{fill}" stroke="#fff" stroke-width="0.8"/>'
+    )
 
 
 def _stroke(axis: str, width: float, dash: str | None) -> str:
@@ -162,11 +169,20 @@ def _stroke(axis: str, width: float, dash: str | None) -> str:
     return f'fill="none" stroke="{COLOURS[axis]}" stroke-width="{width}"{d} stroke-linejoin="round"'
 
 
-def _text(x: float, y: float, content: str, size: float = 11, anchor: str = "start", extra: str = "",
-          markup: str | None = None) -> str:
+def _text(
+    x: float,
+    y: float,
+    content: str,
+    size: float = 11,
+    anchor: str = "start",
+    extra: str = "",
+    markup: str | None = None,
+) -> str:
     """A text element; ``markup`` (already escaped, e.g. with a coloured tspan) replaces ``content``."""
-    return (f'<text x="{_f(x)}" y="{_f(y)}" font-size="{size}" text-anchor="{anchor}" {FONT} fill="#222"'
-            f'{extra}>{escape(content) if markup is None else markup}</text>')
+    return (
+        f'<text x="{_f(x)}" y="{_f(y)}" font-size="{size}" text-anchor="{anchor}" {FONT} fill="#222"'
+        f"{extra}>{escape(content) if markup is None else markup}</text>"
+    )
 
 
 HALO = ' stroke="#fff" stroke-width="3" stroke-linejoin="round" paint-order="stroke"'
@@ -197,7 +213,11 @@ def _read_sensor(body: dict, sensor: str) -> _Sensor:
     tau = np.asarray(curve.get("tau_s") or [], dtype=float)
     n = tau.size
     return _Sensor(
-        sensor, pretty_unit(model.get("unit") or ""), tau, _rows(curve.get("value"), n), _rows(curve.get("lo"), n),
+        sensor,
+        pretty_unit(model.get("unit") or ""),
+        tau,
+        _rows(curve.get("value"), n),
+        _rows(curve.get("lo"), n),
         _rows(curve.get("hi"), n),
         {key: [_term(model.get(key), i) for i in range(3)] for key, *_ in TERMS},
         {key: pretty_unit(model.get(f"{key}_unit") or "") for key, *_ in TERMS},
@@ -245,7 +265,7 @@ def _mark_points(s: _Sensor) -> dict:
 
 def _fit_lines(s: _Sensor, axes: LogAxes, marks: dict) -> tuple[list[str], list]:
     """The fitted slopes, drawn across the whole plot and clipped to it, and their end points."""
-    a, b = (10.0 ** d for d in axes.tau_decades)
+    a, b = (10.0**d for d in axes.tau_decades)
     out, ends_px = [], []
     for i, axis in enumerate(AXES):
         lines = []
@@ -259,13 +279,20 @@ def _fit_lines(s: _Sensor, axes: LogAxes, marks: dict) -> tuple[list[str], list]
         for cls, ends in lines:
             ends_px.append([(axes.x(t), axes.y(v)) for t, v in ends])
             d = _path([ends_px[-1]])
-            out.append(f'<path class="fit {cls}" data-axis="{axis}" d="{d}" {_stroke(axis, 1.2, FIT_DASH)} '
-                       f'opacity="0.85"/>')
+            out.append(
+                f'<path class="fit {cls}" data-axis="{axis}" d="{d}" {_stroke(axis, 1.2, FIT_DASH)} opacity="0.85"/>'
+            )
     return out, ends_px
 
 
-def _place(axes: LogAxes, anchor: tuple[float, float], w: float, h: float, obstacles: np.ndarray,
-           placed: list[tuple[float, float, float, float]]) -> tuple[float, float]:
+def _place(
+    axes: LogAxes,
+    anchor: tuple[float, float],
+    w: float,
+    h: float,
+    obstacles: np.ndarray,
+    placed: list[tuple[float, float, float, float]],
+) -> tuple[float, float]:
     """The top-left corner of a w × h label inside the plot that covers the least: each obstacle
     point costs its weight, another label forbids, and every 40 px away from the anchor costs one."""
     xs = np.arange(axes.left + 2, axes.left + axes.width - w - 1, 6.0)
@@ -277,7 +304,7 @@ def _place(axes: LogAxes, anchor: tuple[float, float], w: float, h: float, obsta
     cost = np.zeros(x0.size)
     if obstacles.size:
         px, py, weight = obstacles[:, 0], obstacles[:, 1], obstacles[:, 2]
-        inside = ((px >= x0[:, None]) & (px <= x0[:, None] + w) & (py >= y0[:, None]) & (py <= y0[:, None] + h))
+        inside = (px >= x0[:, None]) & (px <= x0[:, None] + w) & (py >= y0[:, None]) & (py <= y0[:, None] + h)
         cost += inside @ weight
     for q in placed:
         cost += 1000 * ((x0 < q[2]) & (q[0] < x0 + w) & (y0 < q[3]) & (q[1] < y0 + h))
@@ -328,9 +355,16 @@ def _label_blocks(s: _Sensor, axes: LogAxes, marks: dict, obstacles: np.ndarray)
         placed.append((x0, y0, x0 + w, y0 + h))
         body = "".join(_halo_text(x0 + 3, y0 + 14 * (j + 1), t, 11) for j, t in enumerate(head))
         body += "".join(
-            _text(x0 + 3, y0 + 14 * (j + 3), "", 11, extra=HALO,
-                  markup=f'<tspan fill="{COLOURS[a]}">{GLYPHS[a]}</tspan> {a}  {escape(number(v))}')
-            for j, (a, v) in enumerate((a, v) for a, v in zip(AXES, values) if v is not None))
+            _text(
+                x0 + 3,
+                y0 + 14 * (j + 3),
+                "",
+                11,
+                extra=HALO,
+                markup=f'<tspan fill="{COLOURS[a]}">{GLYPHS[a]}</tspan> {a}  {escape(number(v))}',
+            )
+            for j, (a, v) in enumerate((a, v) for a, v in zip(AXES, values) if v is not None)
+        )
         out.append(f'<g class="label {cls}">{body}</g>')
     return out
 
@@ -341,18 +375,26 @@ def _panel(s: _Sensor, top: float, index: int) -> tuple[str, float, str]:
     taus = list(s.tau) + [p[0] for key in marks for p in marks[key] if p is not None]
     sigmas = [v for arr in (s.value, s.lo, s.hi) for v in arr.ravel()]
     sigmas += [p[1] for key in marks for p in marks[key] if p is not None]
-    axes = LogAxes(MARGIN["left"], top + MARGIN["top"], WIDTH - MARGIN["left"] - MARGIN["right"], PLOT_H,
-                   _decades(taus, 0.0), _room(_decades(sigmas, 0.3)))
+    axes = LogAxes(
+        MARGIN["left"],
+        top + MARGIN["top"],
+        WIDTH - MARGIN["left"] - MARGIN["right"],
+        PLOT_H,
+        _decades(taus, 0.0),
+        _room(_decades(sigmas, 0.3)),
+    )
     title = f"{SENSORS[s.name].capitalize()} ({s.unit})" if s.unit else SENSORS[s.name].capitalize()
     clip = f"plot-{index}"
-    g = [f'<g class="panel" data-sensor="{s.name}">',
-         _text(axes.left, top + 18, title, 14, extra=' font-weight="bold"'),
-         f'<clipPath id="{clip}"><rect x="{_f(axes.left)}" y="{_f(axes.top)}" width="{_f(axes.width)}" '
-         f'height="{_f(axes.height)}"/></clipPath>',
-         f'<rect class="plot-area" x="{_f(axes.left)}" y="{_f(axes.top)}" width="{_f(axes.width)}" '
-         f'height="{_f(axes.height)}" fill="#fff" stroke="#888" stroke-width="1" '
-         f'data-log-tau="{axes.tau_decades[0]} {axes.tau_decades[1]}" '
-         f'data-log-adev="{axes.adev_decades[0]} {axes.adev_decades[1]}"/>']
+    g = [
+        f'<g class="panel" data-sensor="{s.name}">',
+        _text(axes.left, top + 18, title, 14, extra=' font-weight="bold"'),
+        f'<clipPath id="{clip}"><rect x="{_f(axes.left)}" y="{_f(axes.top)}" width="{_f(axes.width)}" '
+        f'height="{_f(axes.height)}"/></clipPath>',
+        f'<rect class="plot-area" x="{_f(axes.left)}" y="{_f(axes.top)}" width="{_f(axes.width)}" '
+        f'height="{_f(axes.height)}" fill="#fff" stroke="#888" stroke-width="1" '
+        f'data-log-tau="{axes.tau_decades[0]} {axes.tau_decades[1]}" '
+        f'data-log-adev="{axes.adev_decades[0]} {axes.adev_decades[1]}"/>',
+    ]
     g += _grid(axes, s.unit)
     plot = []
     curves, mark_px = [], []
@@ -362,8 +404,10 @@ def _panel(s: _Sensor, top: float, index: int) -> tuple[str, float, str]:
         if ok.sum() >= 2:
             upper = [(axes.x(t), axes.y(v)) for t, v in zip(s.tau[ok], hi[ok])]
             lower = [(axes.x(t), axes.y(v)) for t, v in zip(s.tau[ok], lo[ok])][::-1]
-            plot.append(f'<path class="band" data-axis="{axis}" d="{_path([upper + lower])} Z" '
-                        f'fill="{COLOURS[axis]}" fill-opacity="0.13" stroke="none"/>')
+            plot.append(
+                f'<path class="band" data-axis="{axis}" d="{_path([upper + lower])} Z" '
+                f'fill="{COLOURS[axis]}" fill-opacity="0.13" stroke="none"/>'
+            )
     fits, fit_ends = _fit_lines(s, axes, marks)
     plot += fits
     for i, axis in enumerate(AXES):
@@ -374,15 +418,17 @@ def _panel(s: _Sensor, top: float, index: int) -> tuple[str, float, str]:
         flat = [p for run in runs for p in run]
         curves.append(runs)
         step = max(1, len(flat) // 8)
-        plot += [_marker(axis, x, y) for x, y in flat[i * step // 3::step]]
+        plot += [_marker(axis, x, y) for x, y in flat[i * step // 3 :: step]]
     g.append(f'<g clip-path="url(#{clip})">{"".join(plot)}</g>')
     for key, cls, symbol, _ in TERMS:
         for axis, p in zip(AXES, marks[key]):
             if p is None or not axes.inside(axes.x(p[0]), axes.y(p[1])):
                 continue
             x, y = axes.x(p[0]), axes.y(p[1])
-            g.append(f'<g class="mark {cls}" data-axis="{axis}" data-tau="{p[0]:.6g}" data-value="{p[1]:.6g}">'
-                     f'{_ring(axis, x, y)}</g>')
+            g.append(
+                f'<g class="mark {cls}" data-axis="{axis}" data-tau="{p[0]:.6g}" data-value="{p[1]:.6g}">'
+                f"{_ring(axis, x, y)}</g>"
+            )
             mark_px.append((x, y))
     g += _label_blocks(s, axes, marks, _obstacles(curves, fit_ends, mark_px))
     y = axes.top + axes.height + 40
@@ -395,41 +441,65 @@ def _panel(s: _Sensor, top: float, index: int) -> tuple[str, float, str]:
             y += LINE_H
             g.append(_text(axes.left, y, line, 11, extra=' class="note" font-style="italic"'))
     if not s.tau.size:
-        g.append(_halo_text(axes.left + axes.width / 2, axes.top + axes.height / 2,
-                            "No Allan deviation in this calibration", 12, "middle"))
+        g.append(
+            _halo_text(
+                axes.left + axes.width / 2,
+                axes.top + axes.height / 2,
+                "No Allan deviation in this calibration",
+                12,
+                "middle",
+            )
+        )
     g.append("</g>")
     return "".join(g), y + 12 - top, _describe(s, marks, missing)
 
 
 def _ring(axis: str, x: float, y: float) -> str:
     """A mark: a larger hollow marker of the axis, ringed in black so it stands out of the curves."""
-    return (f'<circle cx="{_f(x)}" cy="{_f(y)}" r="6.5" fill="none" stroke="#111" stroke-width="1.4"/>'
-            + _marker(axis, x, y, 3.4))
+    return f'<circle cx="{_f(x)}" cy="{_f(y)}" r="6.5" fill="none" stroke="#111" stroke-width="1.4"/>' + _marker(
+        axis, x, y, 3.4
+    )
 
 
 def _grid(axes: LogAxes, unit: str) -> list[str]:
     out = []
     bottom = axes.top + axes.height
     for k in range(axes.tau_decades[0], axes.tau_decades[1] + 1):
-        x = axes.x(10.0 ** k)
-        out.append(f'<line class="tick tau" data-log10="{k}" x1="{_f(x)}" y1="{_f(axes.top)}" x2="{_f(x)}" '
-                   f'y2="{_f(bottom + 4)}" stroke="#ddd" stroke-width="1"/>')
+        x = axes.x(10.0**k)
+        out.append(
+            f'<line class="tick tau" data-log10="{k}" x1="{_f(x)}" y1="{_f(axes.top)}" x2="{_f(x)}" '
+            f'y2="{_f(bottom + 4)}" stroke="#ddd" stroke-width="1"/>'
+        )
         out.append(_text(x, bottom + 17, _decade_label(k), 12, "middle", f' class="tick-label tau" data-log10="{k}"'))
         for m in range(2, 10) if k < axes.tau_decades[1] else ():
-            xm = axes.x(m * 10.0 ** k)
+            xm = axes.x(m * 10.0**k)
             out.append(f'<line x1="{_f(xm)}" y1="{_f(bottom - 3)}" x2="{_f(xm)}" y2="{_f(bottom)}" stroke="#888"/>')
     for k in range(axes.adev_decades[0], axes.adev_decades[1] + 1):
-        y = axes.y(10.0 ** k)
-        out.append(f'<line class="tick adev" data-log10="{k}" x1="{_f(axes.left - 4)}" y1="{_f(y)}" '
-                   f'x2="{_f(axes.left + axes.width)}" y2="{_f(y)}" stroke="#ddd" stroke-width="1"/>')
-        out.append(_text(axes.left - 6, y + 4, _decade_label(k), 12, "end", f' class="tick-label adev" data-log10="{k}"'))
+        y = axes.y(10.0**k)
+        out.append(
+            f'<line class="tick adev" data-log10="{k}" x1="{_f(axes.left - 4)}" y1="{_f(y)}" '
+            f'x2="{_f(axes.left + axes.width)}" y2="{_f(y)}" stroke="#ddd" stroke-width="1"/>'
+        )
+        out.append(
+            _text(axes.left - 6, y + 4, _decade_label(k), 12, "end", f' class="tick-label adev" data-log10="{k}"')
+        )
         for m in range(2, 10) if k < axes.adev_decades[1] else ():
-            ym = axes.y(m * 10.0 ** k)
-            out.append(f'<line x1="{_f(axes.left)}" y1="{_f(ym)}" x2="{_f(axes.left + 3)}" y2="{_f(ym)}" stroke="#888"/>')
+            ym = axes.y(m * 10.0**k)
+            out.append(
+                f'<line x1="{_f(axes.left)}" y1="{_f(ym)}" x2="{_f(axes.left + 3)}" y2="{_f(ym)}" stroke="#888"/>'
+            )
     out.append(_text(axes.left + axes.width / 2, bottom + 33, "τ (s)", 13, "middle", ' class="axis-label"'))
     cy = axes.top + axes.height / 2
-    out.append(_text(14, cy, f"Allan deviation ({unit})" if unit else "Allan deviation", 13, "middle",
-                     f' class="axis-label" transform="rotate(-90 14 {_f(cy)})"'))
+    out.append(
+        _text(
+            14,
+            cy,
+            f"Allan deviation ({unit})" if unit else "Allan deviation",
+            13,
+            "middle",
+            f' class="axis-label" transform="rotate(-90 14 {_f(cy)})"',
+        )
+    )
     return out
 
 
@@ -444,8 +514,10 @@ def _legend(x: float, y: float) -> list[str]:
     out.append(f'<rect x="{_f(x0)}" y="{_f(y - 10)}" width="16" height="11" fill="#555" fill-opacity="0.2"/>')
     out.append(_text(x0 + 21, y, "95 % band", 11))
     y += LINE_H
-    out.append(f'<path d="M {_f(x)} {_f(y - 4)} L {_f(x + 28)} {_f(y - 4)}" fill="none" stroke="#444" '
-               f'stroke-width="1.2" stroke-dasharray="{FIT_DASH}"/>')
+    out.append(
+        f'<path d="M {_f(x)} {_f(y - 4)} L {_f(x + 28)} {_f(y - 4)}" fill="none" stroke="#444" '
+        f'stroke-width="1.2" stroke-dasharray="{FIT_DASH}"/>'
+    )
     out.append(_text(x + 33, y, "fitted: −½ (N), +½ (K), floor 0.664 B", 11))
     out.append(f'<circle cx="{_f(x + 296)}" cy="{_f(y - 4)}" r="5.5" fill="none" stroke="#111" stroke-width="1.4"/>')
     out.append(_text(x + 305, y, "mark", 11))
@@ -477,8 +549,7 @@ def _describe(s: _Sensor, marks: dict, missing: str) -> str:
         span = f"for τ from {number(float(s.tau.min()))} s to {number(float(s.tau.max()))} s"
     else:
         span = "with no curve"
-    parts = [f"{SENSORS[s.name].capitalize()}: Allan deviation in {s.unit} of axes x, y, z {span}, "
-             f"with 95 % bands."]
+    parts = [f"{SENSORS[s.name].capitalize()}: Allan deviation in {s.unit} of axes x, y, z {span}, with 95 % bands."]
     for key, _, symbol, where in TERMS:
         vals = [f"{a} {number(v)}" for a, v in zip(AXES, s.terms[key]) if v is not None]
         if vals:
@@ -491,8 +562,10 @@ def _describe(s: _Sensor, marks: dict, missing: str) -> str:
 def _sensors(body: dict, sensor: str | None) -> list[str]:
     model = body.get("model") or {}
     if result_class(body).KIND != FIGURES:
-        raise ExportError(f"the allan_svg export draws a noise characterisation (method noise); "
-                          f"this calibration is {body.get('method')!r}: export it as json, c, yaml or csv")
+        raise ExportError(
+            f"the allan_svg export draws a noise characterisation (method noise); "
+            f"this calibration is {body.get('method')!r}: export it as json, c, yaml or csv"
+        )
     present = [k for k in SENSOR_ORDER if isinstance(model.get(k), dict)]
     if sensor is None:
         if not present:
@@ -534,16 +607,20 @@ def allan_svg(body: dict, sensor: str | None = None) -> str:
         top += height
     names = ", ".join(SENSORS[p] for p in _sensors(body, sensor))
     title = f"Allan deviation of the {names}" + (f", calibration {body['id']}" if body.get("id") else "")
-    desc = ("Log–log overlapping Allan deviation against the averaging time τ, one line per axis; "
-            "fitted lines: white noise σ = N/√τ (slope −½), random walk σ = K·√(τ/3) (slope +½), "
-            "bias instability floor 0.664 B. " + " ".join(descs))
+    desc = (
+        "Log–log overlapping Allan deviation against the averaging time τ, one line per axis; "
+        "fitted lines: white noise σ = N/√τ (slope −½), random walk σ = K·√(τ/3) (slope +½), "
+        "bias instability floor 0.664 B. " + " ".join(descs)
+    )
     height = math.ceil(top)
-    return (f'<?xml version="1.0" encoding="UTF-8"?>\n'
-            f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{WIDTH * 3 // 2}" '
-            f'height="{height * 3 // 2}" viewBox="0 0 {WIDTH} {height}" role="img" '
-            f'aria-labelledby="allan-title allan-desc">\n'
-            f'<title id="allan-title">{escape(title)}</title>\n<desc id="allan-desc">{escape(desc)}</desc>\n'
-            f'<rect width="{WIDTH}" height="{height}" fill="#fff"/>\n' + "\n".join(panels) + "\n</svg>\n")
+    return (
+        f'<?xml version="1.0" encoding="UTF-8"?>\n'
+        f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{WIDTH * 3 // 2}" '
+        f'height="{height * 3 // 2}" viewBox="0 0 {WIDTH} {height}" role="img" '
+        f'aria-labelledby="allan-title allan-desc">\n'
+        f'<title id="allan-title">{escape(title)}</title>\n<desc id="allan-desc">{escape(desc)}</desc>\n'
+        f'<rect width="{WIDTH}" height="{height}" fill="#fff"/>\n' + "\n".join(panels) + "\n</svg>\n"
+    )
 
 
 def to_allan_svg(body: dict) -> Export:

@@ -38,8 +38,9 @@ def _unit(units: dict | None) -> str:
     return unit
 
 
-def read_npy_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
-                 name: str = "the file") -> LogData:
+def read_npy_log(
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str = "the file"
+) -> LogData:
     """Memory-map a ``.npy`` array of samples (N×3 ``x, y, z`` or N×4 ``time, x, y, z``).
 
     Parameters
@@ -77,13 +78,21 @@ def read_npy_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
             status=415,
         ) from None
     if not isinstance(arr, np.ndarray):
-        raise LogFormatError(f"{name} holds several arrays (.npz?): save one N×3 or N×4 array with numpy.save", status=415)
+        raise LogFormatError(
+            f"{name} holds several arrays (.npz?): save one N×3 or N×4 array with numpy.save", status=415
+        )
     if arr.ndim != 2 or arr.shape[1] not in (3, 4):
-        held = (f"{arr.size} numbers in a single row" if arr.ndim <= 1 else
-                f"rows of {arr.shape[1]} numbers" if arr.ndim == 2 else f"a {arr.ndim}-dimensional block of numbers")
+        held = (
+            f"{arr.size} numbers in a single row"
+            if arr.ndim <= 1
+            else f"rows of {arr.shape[1]} numbers"
+            if arr.ndim == 2
+            else f"a {arr.ndim}-dimensional block of numbers"
+        )
         raise LogFormatError(
             f"{name} holds {held}: save one row per sample with 3 numbers (x, y, z) or 4 (time, x, y, z), "
-            "e.g. numpy.save(path, samples) with samples of 3 or 4 columns")
+            "e.g. numpy.save(path, samples) with samples of 3 or 4 columns"
+        )
     if arr.dtype.kind not in "fiu":
         raise LogFormatError(f"{name} holds {arr.dtype} values: expected numbers (float32 or float64)")
     if arr.shape[0] == 0:
@@ -96,13 +105,25 @@ def read_npy_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     time_s = None
     if time is not None and len(time) >= 2:
         time_s = (time - time[0]) * infer_time_scale(time)[0]
-    return with_timing(LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=None,
-                               units={"acc": _unit(units)}, format="npy",
-                               columns=["time", "x", "y", "z"][4 - arr.shape[1]:]), sampling_rate_hz, name)
+    return with_timing(
+        LogData(
+            acc=acc,
+            gyr=None,
+            mag=None,
+            time_s=time_s,
+            sampling_rate_hz=None,
+            units={"acc": _unit(units)},
+            format="npy",
+            columns=["time", "x", "y", "z"][4 - arr.shape[1] :],
+        ),
+        sampling_rate_hz,
+        name,
+    )
 
 
-def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
-                     name: str = "the file") -> LogData:
+def read_parquet_log(
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str = "the file"
+) -> LogData:
     """Read a Parquet table of samples (columns named as in CSV logs).
 
     Raises
@@ -124,14 +145,19 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
     channels, time_col, time_scale, header_units = map_columns(names)
     cols = [names[channels["acc"][a]] for a in "xyz"] if "acc" in channels else []
     # Gyroscope and magnetometer columns beside it (or alone), when all three axes are there (noise, cube).
-    others = {s: [names[channels[s][a]] for a in "xyz"] for s in ("gyr", "mag") if set(channels.get(s, {})) >= set("xyz")}
-    wanted = cols + [c for group in others.values() for c in group] + ([names[time_col]] if time_col is not None else [])
+    others = {
+        s: [names[channels[s][a]] for a in "xyz"] for s in ("gyr", "mag") if set(channels.get(s, {})) >= set("xyz")
+    }
+    wanted = (
+        cols + [c for group in others.values() for c in group] + ([names[time_col]] if time_col is not None else [])
+    )
     try:
         table = pf.read(columns=wanted)
     except (pa.ArrowInvalid, OSError) as exc:
         raise LogFormatError(f"{name}: the columns cannot be read ({exc})") from None
     if table.num_rows == 0:
         raise LogFormatError(f"{name} has no rows")
+
     def numbers(group: list[str], what: str) -> np.ndarray:
         try:
             return np.column_stack([table.column(c).to_numpy(zero_copy_only=False).astype(float) for c in group])
@@ -154,11 +180,22 @@ def read_parquet_log(path: Path, *, sampling_rate_hz: float | None = None, units
         sensor_units[s] = (units or {}).get(s) or header_units.get(s) or UNITS[s][0]
         if sensor_units[s] not in UNITS[s]:
             raise LogFormatError(f"{s} unit {sensor_units[s]!r} is not one of {', '.join(UNITS[s])}")
-    return with_timing(LogData(
-        acc=acc, gyr=extra.get("gyr"), mag=extra.get("mag"),
-        time_s=None if time is None or len(time) < 2 else (time - time[0]) * (time_scale or infer_time_scale(time)[0]),
-        sampling_rate_hz=None, units=sensor_units, format="parquet", columns=names,
-    ), sampling_rate_hz, name)
+    return with_timing(
+        LogData(
+            acc=acc,
+            gyr=extra.get("gyr"),
+            mag=extra.get("mag"),
+            time_s=None
+            if time is None or len(time) < 2
+            else (time - time[0]) * (time_scale or infer_time_scale(time)[0]),
+            sampling_rate_hz=None,
+            units=sensor_units,
+            format="parquet",
+            columns=names,
+        ),
+        sampling_rate_hz,
+        name,
+    )
 
 
 def is_array_file(path: Path) -> bool:
@@ -168,8 +205,9 @@ def is_array_file(path: Path) -> bool:
     return Path(path).suffix.lower() in NPY_SUFFIXES + PARQUET_SUFFIXES or is_wearable(path)
 
 
-def read_array_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
-                   name: str | None = None) -> LogData:
+def read_array_log(
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str | None = None
+) -> LogData:
     """Read a binary sample file, chosen by the file name's suffix (CSV when none matches)."""
     path = Path(path)
     name = name or str(path)

@@ -91,6 +91,11 @@ def board_tables() -> dict:
         "rateAgree": RATE_AGREE,
         "stallS": STALL_S,
         "nordicUart": dict(NORDIC_UART),
-        "packet": {"bytes": MOTIONCAL_PACKET_BYTES, "signature": list(MOTIONCAL_SIGNATURE), "crc": dict(MOTIONCAL_CRC),
-                   "magFloats": list(MOTIONCAL_MAG_FLOATS), "defaultFieldUt": DEFAULT_FIELD_UT},
+        "packet": {
+            "bytes": MOTIONCAL_PACKET_BYTES,
+            "signature": list(MOTIONCAL_SIGNATURE),
+            "crc": dict(MOTIONCAL_CRC),
+            "magFloats": list(MOTIONCAL_MAG_FLOATS),
+            "defaultFieldUt": DEFAULT_FIELD_UT,
+        },
     }

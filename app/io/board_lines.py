@@ -44,8 +44,12 @@ from .log import LogData
 FORMATS = ("auto", "raw", "uni", "csv", "numbers")
 """The names a caller chooses a format by (``--format``); ``auto`` recognises it from the first lines."""
 
-FORMAT_WORDS = {"raw": "MotionCal Raw: counts", "uni": "Uni: (m/s², rad/s, µT)", "csv": "CSV with a header line",
-                "numbers": "bare numbers"}
+FORMAT_WORDS = {
+    "raw": "MotionCal Raw: counts",
+    "uni": "Uni: (m/s², rad/s, µT)",
+    "csv": "CSV with a header line",
+    "numbers": "bare numbers",
+}
 
 DETECT_LINES = 20
 """Lines held while the format is not yet known; past them, lines that fit none are skipped."""
@@ -113,7 +117,7 @@ def _numbers(line: str) -> list[float] | None:
 def _prefixed(line: str, prefix: str, n: int) -> list[float] | None:
     if not line.startswith(prefix):
         return None
-    values = _numbers(line[len(prefix):])
+    values = _numbers(line[len(prefix) :])
     return values if values is not None and len(values) == n else None
 
 
@@ -131,7 +135,7 @@ UNI_FORMAT = LineFormat("uni", SENSORS, dict(ADAFRUIT_UNI["units"]))
 def _printed(fmt: LineFormat, values: list[float]) -> LineFormat:
     """The Raw: or Uni: format with the sensors a board prints: a sensor it lacks (an MPU-6050 has no
     magnetometer) is printed as zeros, and is left out."""
-    sensors = tuple(s for i, s in enumerate(SENSORS) if any(v != 0 for v in values[3 * i:3 * i + 3]))
+    sensors = tuple(s for i, s in enumerate(SENSORS) if any(v != 0 for v in values[3 * i : 3 * i + 3]))
     return dataclasses.replace(fmt, sensors=sensors or SENSORS)
 
 
@@ -162,8 +166,7 @@ def csv_format(line: str) -> LineFormat | None:
     except LogFormatError:
         return None
     columns = {s: tuple(channels[s][a] for a in "xyz") for s in SENSORS if s in channels}
-    return LineFormat("csv", tuple(columns), dict(units), len(names), columns, time_col, scale, delimiter,
-                      tuple(names))
+    return LineFormat("csv", tuple(columns), dict(units), len(names), columns, time_col, scale, delimiter, tuple(names))
 
 
 class BoardLineReader:
@@ -307,8 +310,15 @@ class BoardLineReader:
             if values is None:
                 return None
             scale = RAW_SCALES if f.name == "raw" else {s: 1.0 for s in SENSORS}
-            return BoardReading(arrival_s, None, {s: tuple(v * scale[s] for v in values[3 * i:3 * i + 3])
-                                                  for i, s in enumerate(SENSORS) if s in f.sensors})
+            return BoardReading(
+                arrival_s,
+                None,
+                {
+                    s: tuple(v * scale[s] for v in values[3 * i : 3 * i + 3])
+                    for i, s in enumerate(SENSORS)
+                    if s in f.sensors
+                },
+            )
         if f.name == "csv":
             try:
                 row = next(csv.reader([line], delimiter=f.delimiter)) if f.delimiter != WHITESPACE else line.split()
@@ -374,7 +384,7 @@ class StreamRate:
                 # a host's hiccup) decide alone once they span what the whole window needs and their halves
                 # agree: a short pause is not waited out for the whole window.
                 steps = [q[0] - p[0] for p, q in zip(self.points, self.points[1:])]
-                decided = self._ends(self.points[steps.index(max(steps)) + 1:], full=None, pause=max(steps))
+                decided = self._ends(self.points[steps.index(max(steps)) + 1 :], full=None, pause=max(steps))
             if decided is not None:
                 self.first, self.end, self.longest = decided
                 self.points = []
@@ -464,8 +474,15 @@ def board_rate(readings: list[BoardReading], fmt: LineFormat, name: str = "the b
     return decide_timing(times, name=name)
 
 
-def to_log(readings: list[BoardReading], fmt: LineFormat, *, units: dict | None = None, chips: dict | None = None,
-           lsb_per_g: float | None = None, name: str = "the board's lines") -> LogData:
+def to_log(
+    readings: list[BoardReading],
+    fmt: LineFormat,
+    *,
+    units: dict | None = None,
+    chips: dict | None = None,
+    lsb_per_g: float | None = None,
+    name: str = "the board's lines",
+) -> LogData:
     """The readings as a log, their rate decided (:func:`board_rate`) and their units settled at rest
     by the rules of every log (:func:`app.io.formats.units.settle_units`).
 
@@ -497,16 +514,25 @@ def to_log(readings: list[BoardReading], fmt: LineFormat, *, units: dict | None 
         notes.append(f"the board's time read in {unit} (from its step)")
     stated = {s: u for s, u in fmt.units.items() if s in arrays}
     default = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
-    log = LogData(acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=times,
-                  sampling_rate_hz=None, units={s: stated.get(s, default[s]) for s in arrays},
-                  format=f"board-{fmt.name}", columns=list(fmt.header) or [f"{s}_{a}" for s in arrays for a in "xyz"],
-                  notes=tuple(notes))
+    log = LogData(
+        acc=arrays.get("acc"),
+        gyr=arrays.get("gyr"),
+        mag=arrays.get("mag"),
+        time_s=times,
+        sampling_rate_hz=None,
+        units={s: stated.get(s, default[s]) for s in arrays},
+        format=f"board-{fmt.name}",
+        columns=list(fmt.header) or [f"{s}_{a}" for s in arrays for a in "xyz"],
+        notes=tuple(notes),
+    )
     timing = decide_timing(times, name=f"{name} ({source})")
-    log = dataclasses.replace(log, sampling_rate_hz=timing.sampling_rate_hz, timing=timing,
-                              notes=log.notes + timing.notes)
+    log = dataclasses.replace(
+        log, sampling_rate_hz=timing.sampling_rate_hz, timing=timing, notes=log.notes + timing.notes
+    )
     stated_by = "the header" if fmt.name == "csv" else f"the {FORMAT_WORDS.get(fmt.name, fmt.name)} format"
-    return settle_units(log, given=units, stated=stated, chips=chips, lsb_per_g=lsb_per_g, stated_by=stated_by,
-                        name=name)
+    return settle_units(
+        log, given=units, stated=stated, chips=chips, lsb_per_g=lsb_per_g, stated_by=stated_by, name=name
+    )
 
 
 LOG_UNIT_WORDS = {"m/s^2": "m/s^2", "g": "g", "deg/s": "deg/s", "rad/s": "rad/s", "uT": "uT"}

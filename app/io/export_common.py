@@ -90,4 +90,3 @@ def describe(body: dict, source: str) -> list[str]:
         f"gravity: {body.get('gravity')}",
         f"calibrated a = M (m - o): {source}",
     ]
-

@@ -19,18 +19,28 @@ from .errors import ExportError
 from .allan_plot import to_allan_svg
 from .export_common import JSON_SCHEMA, Export
 
-NOISE_FORMATS = {"kalibr": "Kalibr imu.yaml", "openvins": "OpenVINS", "vins": "VINS-Fusion", "json": "JSON",
-                 "csv": "CSV (Allan table)", "allan_svg": "Allan plot (SVG)"}
+NOISE_FORMATS = {
+    "kalibr": "Kalibr imu.yaml",
+    "openvins": "OpenVINS",
+    "vins": "VINS-Fusion",
+    "json": "JSON",
+    "csv": "CSV (Allan table)",
+    "allan_svg": "Allan plot (SVG)",
+}
 
 
 def _figure(body: dict, sensor: str, term: str) -> float:
-    values = ((body["model"].get(sensor) or {}).get(term))
+    values = (body["model"].get(sensor) or {}).get(term)
     if values is None:
-        raise ExportError(f"this noise characterisation has no {sensor} samples, which the {term} of this export "
-                          "needs: record the accelerometer and the gyroscope together, or use the json or csv export")
+        raise ExportError(
+            f"this noise characterisation has no {sensor} samples, which the {term} of this export "
+            "needs: record the accelerometer and the gyroscope together, or use the json or csv export"
+        )
     if any(v is None for v in values):
-        raise ExportError(f"{sensor} {term} is null on some axes (the recording is too short to see it: see its "
-                          "warnings): record longer, or use the json or csv export")
+        raise ExportError(
+            f"{sensor} {term} is null on some axes (the recording is too short to see it: see its "
+            "warnings): record longer, or use the json or csv export"
+        )
     return float(max(values))
 
 
@@ -39,9 +49,11 @@ def _filter_figures(body: dict) -> dict:
 
 
 def _header(body: dict) -> str:
-    return (f"# trical noise characterisation {body['id']} ({body['created_at']}), device {body.get('device_id') or '-'}\n"
-            f"# {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz; the largest axis of each figure;\n"
-            "# continuous-time units: m/s^2/sqrt(Hz), m/s^3/sqrt(Hz), rad/s/sqrt(Hz), rad/s^2/sqrt(Hz)\n")
+    return (
+        f"# trical noise characterisation {body['id']} ({body['created_at']}), device {body.get('device_id') or '-'}\n"
+        f"# {body['duration_s']:.1f} s still at {body['sampling_rate_hz']:g} Hz; the largest axis of each figure;\n"
+        "# continuous-time units: m/s^2/sqrt(Hz), m/s^3/sqrt(Hz), rad/s/sqrt(Hz), rad/s^2/sqrt(Hz)\n"
+    )
 
 
 def _kalibr_lines(body: dict, indent: str = "") -> str:
@@ -69,16 +81,29 @@ def to_vins(body: dict) -> Export:
         f"acc_n: {f['acc', 'noise_density']:.6e}\n"
         f"gyr_n: {f['gyr', 'noise_density']:.6e}\n"
         f"acc_w: {f['acc', 'random_walk']:.6e}\n"
-        f"gyr_w: {f['gyr', 'random_walk']:.6e}\n")
+        f"gyr_w: {f['gyr', 'random_walk']:.6e}\n"
+    )
     return Export(text, "application/yaml", "vins_imu.yaml")
 
 
 def to_noise_json(body: dict) -> Export:
-    doc = {"$schema": JSON_SCHEMA, "schema_version": 1, "id": body["id"], "method": "noise",
-           "created_at": body["created_at"], "device_id": body.get("device_id"), "label": body.get("label"),
-           "sampling_rate_hz": body["sampling_rate_hz"], "duration_s": body["duration_s"], "model": body["model"],
-           "uncertainty": body["uncertainty"], "adev": body["adev"], "metrics": body.get("metrics"),
-           "ok": body.get("ok"), "warnings": body.get("warnings", [])}
+    doc = {
+        "$schema": JSON_SCHEMA,
+        "schema_version": 1,
+        "id": body["id"],
+        "method": "noise",
+        "created_at": body["created_at"],
+        "device_id": body.get("device_id"),
+        "label": body.get("label"),
+        "sampling_rate_hz": body["sampling_rate_hz"],
+        "duration_s": body["duration_s"],
+        "model": body["model"],
+        "uncertainty": body["uncertainty"],
+        "adev": body["adev"],
+        "metrics": body.get("metrics"),
+        "ok": body.get("ok"),
+        "warnings": body.get("warnings", []),
+    }
     return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
 
 
@@ -93,5 +118,11 @@ def to_allan_csv(body: dict) -> Export:
     return Export(out.getvalue(), "text/csv", f"{body['id']}_allan.csv")
 
 
-NOISE_EXPORTERS = {"kalibr": to_kalibr, "openvins": to_openvins, "vins": to_vins, "json": to_noise_json,
-                   "csv": to_allan_csv, "allan_svg": to_allan_svg}
+NOISE_EXPORTERS = {
+    "kalibr": to_kalibr,
+    "openvins": to_openvins,
+    "vins": to_vins,
+    "json": to_noise_json,
+    "csv": to_allan_csv,
+    "allan_svg": to_allan_svg,
+}

@@ -68,10 +68,20 @@ class Level:
 
 
 LEVEL = {
-    "ArduPilot": Level("ArduPilot's level calibration", "Mission Planner: Calibrate Level", "AHRS_TRIM_X and AHRS_TRIM_Y",
-                       "roll and pitch, in rad, within +-0.1745 = +-10 deg: @Range in libraries/AP_AHRS/AP_AHRS.cpp", 10.0),
-    "PX4": Level("PX4's level horizon calibration", "QGroundControl: Sensors > Level Horizon",
-                 "SENS_BOARD_X_OFF and SENS_BOARD_Y_OFF", "roll and pitch, in degrees", None),
+    "ArduPilot": Level(
+        "ArduPilot's level calibration",
+        "Mission Planner: Calibrate Level",
+        "AHRS_TRIM_X and AHRS_TRIM_Y",
+        "roll and pitch, in rad, within +-0.1745 = +-10 deg: @Range in libraries/AP_AHRS/AP_AHRS.cpp",
+        10.0,
+    ),
+    "PX4": Level(
+        "PX4's level horizon calibration",
+        "QGroundControl: Sensors > Level Horizon",
+        "SENS_BOARD_X_OFF and SENS_BOARD_Y_OFF",
+        "roll and pitch, in degrees",
+        None,
+    ),
 }
 
 
@@ -141,18 +151,26 @@ def firmware_summary(body: dict, target: str) -> dict:
     fit = offset_scale(body, target)["fit"]
     mg = lambda v: float(1000.0 * v)  # noqa: E731 - relative norm errors to thousandths of g
     out = {
-        "target": target, "count": fit.count, "from_readings": fit.from_readings,
-        "firmware_max_mg": mg(fit.norm_error.max()), "firmware_mean_mg": mg(fit.norm_error.mean()),
-        "raw_max_mg": mg(fit.norm_error_raw.max()), "raw_mean_mg": mg(fit.norm_error_raw.mean()),
-        "full_max_mg": mg(fit.norm_error_full.max()), "full_mean_mg": mg(fit.norm_error_full.mean()),
+        "target": target,
+        "count": fit.count,
+        "from_readings": fit.from_readings,
+        "firmware_max_mg": mg(fit.norm_error.max()),
+        "firmware_mean_mg": mg(fit.norm_error.mean()),
+        "raw_max_mg": mg(fit.norm_error_raw.max()),
+        "raw_mean_mg": mg(fit.norm_error_raw.mean()),
+        "full_max_mg": mg(fit.norm_error_full.max()),
+        "full_mean_mg": mg(fit.norm_error_full.mean()),
         "any_direction_max_mg": mg(fit.norm_error_any_direction),
-        "rotation_deg": fit.rotation_deg, "nonorthogonality_mg": mg(fit.nonorthogonality),
+        "rotation_deg": fit.rotation_deg,
+        "nonorthogonality_mg": mg(fit.nonorthogonality),
         "improves": fit.improves,
     }
     where = f"on the {counted(fit.count, 'still reading')}" if fit.from_readings else "on readings in 14 directions"
     if not fit.improves:
-        out["words"] = (f"{target}'s offsets and scales would leave {_mg(out['firmware_max_mg'])} mg {where}, no "
-                        f"better than raw ({_mg(out['raw_max_mg'])} mg): use the full correction (M and o) instead")
+        out["words"] = (
+            f"{target}'s offsets and scales would leave {_mg(out['firmware_max_mg'])} mg {where}, no "
+            f"better than raw ({_mg(out['raw_max_mg'])} mg): use the full correction (M and o) instead"
+        )
         return out
     exact = " (6 numbers fit 6 readings exactly)" if fit.dof == 0 else ""
     level = LEVEL[target]
@@ -160,9 +178,12 @@ def firmware_summary(body: dict, target: str) -> dict:
         f"With these offsets and scales {target} reaches at most {_mg(out['firmware_max_mg'])} mg {where}{exact} "
         f"and {_mg(out['any_direction_max_mg'])} mg in any direction; raw {_mg(out['raw_max_mg'])} mg, trical's "
         f"full model {_mg(out['full_max_mg'])} mg."
-        + (f" trical's model also turns the axes {fit.rotation_deg:.1f}° (the table's tilt or the board's "
-           f"mounting), which no offset or scale holds: {level.name} takes the tilt ({level.params})."
-           if fit.rotation_deg >= 0.05 else "")
+        + (
+            f" trical's model also turns the axes {fit.rotation_deg:.1f}° (the table's tilt or the board's "
+            f"mounting), which no offset or scale holds: {level.name} takes the tilt ({level.params})."
+            if fit.rotation_deg >= 0.05
+            else ""
+        )
     )
     return out
 
@@ -199,10 +220,16 @@ def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
     mg = lambda v: f"{1000.0 * v:.3f}"  # noqa: E731 - relative norm errors to thousandths of g
     if fit.from_readings:
         on = f"the calibration's {counted(fit.count, 'still reading')}"
-        exact = ("6 numbers fit 6 readings exactly, so this figure tests nothing: the figure for any direction "
-                 "below, or more poses, does" if fit.dof == 0 else f"{counted(fit.dof, 'reading')} more than the 6 numbers")
+        exact = (
+            "6 numbers fit 6 readings exactly, so this figure tests nothing: the figure for any direction "
+            "below, or more poses, does"
+            if fit.dof == 0
+            else f"{counted(fit.dof, 'reading')} more than the 6 numbers"
+        )
     else:
-        on = "the readings trical's full model puts at magnitude g in 14 directions (the calibration holds fewer than 6)"
+        on = (
+            "the readings trical's full model puts at magnitude g in 14 directions (the calibration holds fewer than 6)"
+        )
         exact = "fitted on those readings"
     level = LEVEL[target]
     tilt = float(np.hypot(*fit.rotation_axes_deg[:2]))
@@ -226,8 +253,11 @@ def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
         "poses' frame - the table's tilt or the board's mounting. It changes no magnitude, so no offset or scale "
         f"holds it: {level.name} ({level.where}) takes its tilt ({tilt:.2f} deg about x and y) into {level.params} "
         f"({level.holds})"
-        + (f"; beyond {level.bound_deg:g} deg it cannot: mount the board level"
-           if level.bound_deg is not None and tilt > level.bound_deg else "")
+        + (
+            f"; beyond {level.bound_deg:g} deg it cannot: mount the board level"
+            if level.bound_deg is not None and tilt > level.bound_deg
+            else ""
+        )
         + ". The turn about z (in the board's plane) is no tilt: it matters only for a board turned on its frame.",
         f"nonorthogonality_mg: {mg(fit.nonorthogonality)}  (largest part of a reading the off-diagonal terms of P "
         f"make, g |I - D P^-1|, D = diag(P); the axes are "
@@ -261,14 +291,19 @@ def to_ardupilot(body: dict) -> Export:
             problems.append(f"INS_ACCSCAL_{axis} = {v:.4g} is outside {lo:g}…{hi:g}")
     if problems:
         raise ExportError(
-            "ArduPilot would not accept this calibration: " + "; ".join(problems)
+            "ArduPilot would not accept this calibration: "
+            + "; ".join(problems)
             + f" (ArduPilot's ranges, {ARDUPILOT_RANGE_SOURCE}). Check the log's unit (g read as m/s² or the "
             "reverse gives such values) and that the axes are the IMU's; otherwise use the json or c export"
         )
-    comments = describe(body, p["source"]) + [
-        f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_SOURCE}):",
-        "  a_i = INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i), m and INS_ACCOFFS in m/s/s",
-    ] + _fit_lines(p, "ArduPilot", "INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i)")
+    comments = (
+        describe(body, p["source"])
+        + [
+            f"ArduPilot applies, per axis in the sensor frame ({ARDUPILOT_SOURCE}):",
+            "  a_i = INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i), m and INS_ACCOFFS in m/s/s",
+        ]
+        + _fit_lines(p, "ArduPilot", "INS_ACCSCAL_i * (m_i - INS_ACCOFFS_i)")
+    )
     gyro = body.get("gyroscope_bias")
     if gyro:
         half = ", ".join(f"{a} {v:.3g}" for a, v in zip("XYZ", gyro["half_width_rad_s"]))
@@ -297,15 +332,22 @@ def to_px4(body: dict) -> Export:
     if bad:
         raise ExportError(
             f"PX4 would not accept this calibration: {', '.join(bad)} outside its parameter range {lo:g}…{hi:g}"
-            + (" (a negative scale means an axis of the log is inverted relative to the sensor)"
-               if np.any(p["scale"] < 0) else "")
+            + (
+                " (a negative scale means an axis of the log is inverted relative to the sensor)"
+                if np.any(p["scale"] < 0)
+                else ""
+            )
             + ": check the log's unit and axes, or use the json export"
         )
-    comments = describe(body, p["source"]) + [
-        f"PX4 applies, per axis in the sensor frame ({PX4_SOURCE}):",
-        "  a_i = CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF), m and CAL_ACC0_iOFF in m/s^2",
-        "Set CAL_ACC0_ID to the accelerometer's device id: PX4 uses the calibration slot whose id matches.",
-    ] + _fit_lines(p, "PX4", "CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF)")
+    comments = (
+        describe(body, p["source"])
+        + [
+            f"PX4 applies, per axis in the sensor frame ({PX4_SOURCE}):",
+            "  a_i = CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF), m and CAL_ACC0_iOFF in m/s^2",
+            "Set CAL_ACC0_ID to the accelerometer's device id: PX4 uses the calibration slot whose id matches.",
+        ]
+        + _fit_lines(p, "PX4", "CAL_ACC0_iSCALE * (m_i - CAL_ACC0_iOFF)")
+    )
     lines = [f"# {c}" for c in comments]
     lines += [f"param set CAL_ACC0_{a}OFF {_number(v)}" for a, v in zip("XYZ", p["offset_mps2"])]
     lines += [f"param set CAL_ACC0_{a}SCALE {_number(v)}" for a, v in zip("XYZ", p["scale"])]

@@ -83,7 +83,9 @@ def to_csv(body: dict) -> Export:
         for v in [*c.o, *c.M.ravel()]:
             yaml_number(float(v))  # refuses non-finite numbers
     out = io.StringIO()
-    for line in describe(body, corrections[0].source) + ["a = M (m - o): row offset is o, rows M_x, M_y, M_z are the rows of M"]:
+    for line in describe(body, corrections[0].source) + [
+        "a = M (m - o): row offset is o, rows M_x, M_y, M_z are the rows of M"
+    ]:
         out.write(f"# {line}\n")
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(["quantity", "x", "y", "z"])

@@ -36,10 +36,14 @@ from .allan_plot import COLOURS, DASHES, FONT, GLYPHS, svg_picture
 from .errors import ExportError
 from .export_common import JSON_SCHEMA, Export, result_class
 
-PX4_SOURCE = ("src/modules/sensors/temperature_compensation/TemperatureCompensation.cpp "
-              "(TemperatureCompensation::calc_thermal_offsets_1D)")
-ARDUPILOT_SOURCE = ("libraries/AP_InertialSensor/AP_InertialSensor_tempcal.cpp "
-                    "(AP_InertialSensor::TCal::correct_sensor, polynomial_eval)")
+PX4_SOURCE = (
+    "src/modules/sensors/temperature_compensation/TemperatureCompensation.cpp "
+    "(TemperatureCompensation::calc_thermal_offsets_1D)"
+)
+ARDUPILOT_SOURCE = (
+    "libraries/AP_InertialSensor/AP_InertialSensor_tempcal.cpp "
+    "(AP_InertialSensor::TCal::correct_sensor, polynomial_eval)"
+)
 ARDUPILOT_REFERENCE_C = 35.0
 ARDUPILOT_SCALE = 1.0e6
 ARDUPILOT_T_RANGE = (-70.0, 80.0)
@@ -48,8 +52,12 @@ PX4_INT32, PX4_REAL32 = 6, 9
 """MAVLink's MAV_PARAM_TYPE_INT32 and MAV_PARAM_TYPE_REAL32, the type column of a QGroundControl .params file."""
 PREFIX = {"acc": ("TC_A", "ACC", "accelerometer"), "gyr": ("TC_G", "GYR", "gyroscope")}
 
-TEMPERATURE_FORMATS = {"px4": "PX4 (.params for QGroundControl)", "ardupilot": "ArduPilot (.parm)", "json": "JSON",
-                       "temperature_svg": "Offset against temperature (SVG)"}
+TEMPERATURE_FORMATS = {
+    "px4": "PX4 (.params for QGroundControl)",
+    "ardupilot": "ArduPilot (.parm)",
+    "json": "JSON",
+    "temperature_svg": "Offset against temperature (SVG)",
+}
 
 
 def _number(v: float) -> str:
@@ -60,15 +68,19 @@ def _usable(body: dict, target: str) -> dict:
     """The sensors' models, refused when the calibration failed its checks."""
     if not body.get("ok"):
         reasons = "; ".join(body.get("reasons") or ["it failed its checks"])
-        raise ExportError(f"this temperature calibration failed its checks ({reasons}): {target} would apply a "
-                          "polynomial that does not hold — record the warm-up again, or use the json export to see it")
+        raise ExportError(
+            f"this temperature calibration failed its checks ({reasons}): {target} would apply a "
+            "polynomial that does not hold — record the warm-up again, or use the json export to see it"
+        )
     return {s: body["model"][s] for s in ("acc", "gyr") if s in body["model"]}
 
 
 def _header(body: dict) -> list[str]:
-    return [f"trical temperature calibration {body['id']} ({body['created_at']}), device {body.get('device_id') or '-'}",
-            "Axes are those of the logged data: the numbers fit the firmware only if they are the IMU's sensor axes.",
-            f"Verdict: {(body.get('verdict') or {}).get('words', '')}"]
+    return [
+        f"trical temperature calibration {body['id']} ({body['created_at']}), device {body.get('device_id') or '-'}",
+        "Axes are those of the logged data: the numbers fit the firmware only if they are the IMU's sensor axes.",
+        f"Verdict: {(body.get('verdict') or {}).get('words', '')}",
+    ]
 
 
 def px4_parameters(models: dict, ids: dict | None = None) -> list[tuple[str, float, int]]:
@@ -78,8 +90,11 @@ def px4_parameters(models: dict, ids: dict | None = None) -> list[tuple[str, flo
         p = PREFIX[sensor][0]
         out.append((f"{p}_ENABLE", 1, PX4_INT32))
         out.append((f"{p}0_ID", int((ids or {}).get(sensor, 0)), PX4_INT32))
-        out += [(f"{p}0_TREF", model["t_ref_c"], PX4_REAL32), (f"{p}0_TMIN", model["t_min_c"], PX4_REAL32),
-                (f"{p}0_TMAX", model["t_max_c"], PX4_REAL32)]
+        out += [
+            (f"{p}0_TREF", model["t_ref_c"], PX4_REAL32),
+            (f"{p}0_TMIN", model["t_min_c"], PX4_REAL32),
+            (f"{p}0_TMAX", model["t_max_c"], PX4_REAL32),
+        ]
         c = np.asarray(model["coefficients"], dtype=float)
         out += [(f"{p}0_X{k}_{axis}", float(c[axis, k]), PX4_REAL32) for k in range(4) for axis in range(3)]
     return out
@@ -93,12 +108,18 @@ def ardupilot_parameters(models: dict, instance: int = 1) -> list[tuple[str, flo
     t_max = max(m["t_max_c"] for m in models.values())
     lo, hi = ARDUPILOT_T_RANGE
     if t_min < lo or t_max > hi:
-        raise ExportError(f"the calibrated range {t_min:.1f}–{t_max:.1f} °C is outside ArduPilot's {lo:g}…{hi:g} °C "
-                          "for INS_TCALn_TMIN and _TMAX: use the px4 or json export")
-    if len(models) == 2 and (abs(models["acc"]["t_min_c"] - models["gyr"]["t_min_c"]) > 1e-9
-                             or abs(models["acc"]["t_max_c"] - models["gyr"]["t_max_c"]) > 1e-9):
-        raise ExportError("the accelerometer's and the gyroscope's ranges differ, and ArduPilot keeps one TMIN and "
-                          "TMAX per IMU: calibrate them on the same samples, or use the px4 export")
+        raise ExportError(
+            f"the calibrated range {t_min:.1f}–{t_max:.1f} °C is outside ArduPilot's {lo:g}…{hi:g} °C "
+            "for INS_TCALn_TMIN and _TMAX: use the px4 or json export"
+        )
+    if len(models) == 2 and (
+        abs(models["acc"]["t_min_c"] - models["gyr"]["t_min_c"]) > 1e-9
+        or abs(models["acc"]["t_max_c"] - models["gyr"]["t_max_c"]) > 1e-9
+    ):
+        raise ExportError(
+            "the accelerometer's and the gyroscope's ranges differ, and ArduPilot keeps one TMIN and "
+            "TMAX per IMU: calibrate them on the same samples, or use the px4 export"
+        )
     out += [(f"INS_TCAL{instance}_ENABLE", 1), (f"INS_TCAL{instance}_TMIN", t_min), (f"INS_TCAL{instance}_TMAX", t_max)]
     for sensor in ("acc", "gyr"):
         if sensor not in models:
@@ -106,8 +127,11 @@ def ardupilot_parameters(models: dict, instance: int = 1) -> list[tuple[str, flo
         model = models[sensor]
         about35 = shift_polynomial(model["coefficients"], model["t_ref_c"], ARDUPILOT_REFERENCE_C)
         word = PREFIX[sensor][1]
-        out += [(f"INS_TCAL{instance}_{word}{k}_{a}", float(about35[i, k] * ARDUPILOT_SCALE))
-                for k in (1, 2, 3) for i, a in enumerate("XYZ")]
+        out += [
+            (f"INS_TCAL{instance}_{word}{k}_{a}", float(about35[i, k] * ARDUPILOT_SCALE))
+            for k in (1, 2, 3)
+            for i, a in enumerate("XYZ")
+        ]
     return out
 
 
@@ -147,12 +171,22 @@ def to_ardupilot_parm(body: dict) -> Export:
 
 
 def to_temperature_json(body: dict) -> Export:
-    doc = {"$schema": JSON_SCHEMA, "schema_version": 1, "id": body["id"], "method": "temperature",
-           "created_at": body["created_at"], "device_id": body.get("device_id"), "label": body.get("label"),
-           "formula": "o(T) = X0 + X1 dT + X2 dT^2 + X3 dT^3, dT = clamp(T, t_min_c, t_max_c) - t_ref_c; "
-                      "corrected = m - o(T)",
-           "model": body["model"], "uncertainty": body["uncertainty"], "metrics": body.get("metrics"),
-           "ok": body.get("ok"), "warnings": body.get("warnings", [])}
+    doc = {
+        "$schema": JSON_SCHEMA,
+        "schema_version": 1,
+        "id": body["id"],
+        "method": "temperature",
+        "created_at": body["created_at"],
+        "device_id": body.get("device_id"),
+        "label": body.get("label"),
+        "formula": "o(T) = X0 + X1 dT + X2 dT^2 + X3 dT^3, dT = clamp(T, t_min_c, t_max_c) - t_ref_c; "
+        "corrected = m - o(T)",
+        "model": body["model"],
+        "uncertainty": body["uncertainty"],
+        "metrics": body.get("metrics"),
+        "ok": body.get("ok"),
+        "warnings": body.get("warnings", []),
+    }
     return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
 
 
@@ -202,33 +236,48 @@ def _panel(body: dict, sensor: str, top: float) -> tuple[list[str], str]:
 
     name = {"acc": "Accelerometer", "gyr": "Gyroscope"}[sensor]
     rel = " (relative to T_ref)" if body["model"][sensor].get("relative") else ""
-    out = [f'<text x="{LEFT}" y="{top + 20}" font-size="13" font-weight="bold" {FONT}>{name} offset{rel}, {unit}</text>',
-           f'<rect x="{LEFT}" y="{_f(top + TOP)}" width="{w}" height="{h}" fill="none" stroke="#888"/>']
+    out = [
+        f'<text x="{LEFT}" y="{top + 20}" font-size="13" font-weight="bold" {FONT}>{name} offset{rel}, {unit}</text>',
+        f'<rect x="{LEFT}" y="{_f(top + TOP)}" width="{w}" height="{h}" fill="none" stroke="#888"/>',
+    ]
     for v in ticks(lo, hi):
         y = float(Y(v))
         out.append(f'<line x1="{LEFT}" x2="{LEFT + w}" y1="{_f(y)}" y2="{_f(y)}" stroke="#e4e4e4"/>')
         out.append(f'<text x="{LEFT - 4}" y="{_f(y + 4)}" font-size="10" text-anchor="end" {FONT}>{v:g}</text>')
     for v in ticks(x0, x1):
         x = float(X(v))
-        out.append(f'<text x="{_f(x)}" y="{_f(top + TOP + h + 14)}" font-size="10" text-anchor="middle" {FONT}>{v:g}</text>')
-    out.append(f'<text x="{LEFT + w / 2}" y="{_f(top + TOP + h + 30)}" font-size="11" text-anchor="middle" {FONT}>'
-               "temperature, °C</text>")
+        out.append(
+            f'<text x="{_f(x)}" y="{_f(top + TOP + h + 14)}" font-size="10" text-anchor="middle" {FONT}>{v:g}</text>'
+        )
+    out.append(
+        f'<text x="{LEFT + w / 2}" y="{_f(top + TOP + h + 30)}" font-size="11" text-anchor="middle" {FONT}>'
+        "temperature, °C</text>"
+    )
     for i, axis in enumerate("xyz"):
         colour = COLOURS[axis]
-        band = ([f"{float(X(t)):.1f},{float(Y(v)):.1f}" for t, v in zip(t_c, y_c[:, i] + h_c[:, i])]
-                + [f"{float(X(t)):.1f},{float(Y(v)):.1f}" for t, v in zip(t_c[::-1], (y_c[:, i] - h_c[:, i])[::-1])])
-        out.append(f'<polygon class="band" points="{" ".join(band)}" fill="{colour}" fill-opacity="0.18" stroke="none"/>')
-        out += [f'<circle class="bin" cx="{float(X(t)):.1f}" cy="{float(Y(v)):.1f}" r="1.8" fill="{colour}"/>'
-                for t, v in zip(t_b, y_b[:, i])]
+        band = [f"{float(X(t)):.1f},{float(Y(v)):.1f}" for t, v in zip(t_c, y_c[:, i] + h_c[:, i])] + [
+            f"{float(X(t)):.1f},{float(Y(v)):.1f}" for t, v in zip(t_c[::-1], (y_c[:, i] - h_c[:, i])[::-1])
+        ]
+        out.append(
+            f'<polygon class="band" points="{" ".join(band)}" fill="{colour}" fill-opacity="0.18" stroke="none"/>'
+        )
+        out += [
+            f'<circle class="bin" cx="{float(X(t)):.1f}" cy="{float(Y(v)):.1f}" r="1.8" fill="{colour}"/>'
+            for t, v in zip(t_b, y_b[:, i])
+        ]
         dash = f' stroke-dasharray="{DASHES[axis]}"' if DASHES[axis] else ""
         line = " ".join(f"{float(X(t)):.1f},{float(Y(v)):.1f}" for t, v in zip(t_c, y_c[:, i]))
         out.append(f'<polyline class="fit" points="{line}" fill="none" stroke="{colour}" stroke-width="1.8"{dash}/>')
-        out.append(f'<text class="legend" x="{LEFT}" y="{_f(top + TOP + h + 48 + LEGEND_LINE * i)}" font-size="10" '
-                   f'fill="{colour}" {FONT}>{GLYPHS[axis]} {axis}: order {body["model"][sensor]["order"][i]}, drift '
-                   f'{metrics["drift_raw"][i]:.3g} → {metrics["drift_cv"][i]:.3g} {unit}</text>')
-    said = (f"{name}: offset against temperature {x0:.1f}–{x1:.1f} °C, binned readings, the fitted polynomial and its "
-            f"95 % band per axis; drift raw {', '.join(f'{v:.3g}' for v in metrics['drift_raw'])} {unit}, on bands left "
-            f"out {', '.join(f'{v:.3g}' for v in metrics['drift_cv'])} {unit}.")
+        out.append(
+            f'<text class="legend" x="{LEFT}" y="{_f(top + TOP + h + 48 + LEGEND_LINE * i)}" font-size="10" '
+            f'fill="{colour}" {FONT}>{GLYPHS[axis]} {axis}: order {body["model"][sensor]["order"][i]}, drift '
+            f"{metrics['drift_raw'][i]:.3g} → {metrics['drift_cv'][i]:.3g} {unit}</text>"
+        )
+    said = (
+        f"{name}: offset against temperature {x0:.1f}–{x1:.1f} °C, binned readings, the fitted polynomial and its "
+        f"95 % band per axis; drift raw {', '.join(f'{v:.3g}' for v in metrics['drift_raw'])} {unit}, on bands left "
+        f"out {', '.join(f'{v:.3g}' for v in metrics['drift_cv'])} {unit}."
+    )
     return out, said
 
 
@@ -251,5 +300,9 @@ def to_temperature_svg(body: dict) -> Export:
     return Export(temperature_svg(body), "image/svg+xml", f"{body['id']}_temperature.svg")
 
 
-TEMPERATURE_EXPORTERS = {"px4": to_px4_params, "ardupilot": to_ardupilot_parm, "json": to_temperature_json,
-                         "temperature_svg": to_temperature_svg}
+TEMPERATURE_EXPORTERS = {
+    "px4": to_px4_params,
+    "ardupilot": to_ardupilot_parm,
+    "json": to_temperature_json,
+    "temperature_svg": to_temperature_svg,
+}

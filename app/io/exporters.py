@@ -48,23 +48,39 @@ def to_json(body: dict) -> Export:
     if result_class(body).PER_SENSOR:  # the cube: one correction per sensor (Särkkä et al., eq. (1))
         doc["sensor"] = ", ".join(SENSORS[c.sensor] for c in corrections)
         doc["corrections"] = {
-            c.sensor: {"formula": "f = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
-                       "output_unit": c.output_unit, "source": c.source}
+            c.sensor: {
+                "formula": "f = M (m - o)",
+                "M": c.M.tolist(),
+                "o": c.o.tolist(),
+                "input_unit": c.input_unit,
+                "output_unit": c.output_unit,
+                "source": c.source,
+            }
             for c in corrections
         }
     elif corrections[0].sensor == "mag":  # the compass: h = M (m − b), o = b the hard iron
         c = corrections[0]
         doc["sensor"] = SENSORS["mag"]
-        doc["correction"] = {"formula": "h = M (m - o), o = b (hard iron)", "M": c.M.tolist(), "o": c.o.tolist(),
-                             "source": c.source}
+        doc["correction"] = {
+            "formula": "h = M (m - o), o = b (hard iron)",
+            "M": c.M.tolist(),
+            "o": c.o.tolist(),
+            "source": c.source,
+        }
     else:
         c = corrections[0]
         doc["correction"] = {"formula": "a = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "source": c.source}
     gyro = body.get("gyroscope_bias")
     if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
-        doc["gyroscope"] = {"formula": "w = m - b", "unit": "rad/s", "bias": gyro["rad_s"],
-                            "half_width": gyro["half_width_rad_s"], "confidence": gyro["confidence"],
-                            "count": gyro["count"], "interval_from": gyro["interval_from"]}
+        doc["gyroscope"] = {
+            "formula": "w = m - b",
+            "unit": "rad/s",
+            "bias": gyro["rad_s"],
+            "half_width": gyro["half_width_rad_s"],
+            "confidence": gyro["confidence"],
+            "count": gyro["count"],
+            "interval_from": gyro["interval_from"],
+        }
     return Export(json.dumps(doc, indent=2), "application/json", f"{body['id']}.json")
 
 
@@ -108,12 +124,14 @@ def to_c_header(body: dict) -> Export:
     gyro = body.get("gyroscope_bias")
     if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
         half = ", ".join(f"{v:.3g}" for v in gyro["half_width_rad_s"])
-        sensors += (f"\n/* gyroscope bias at rest, rad/s, over {counted(gyro['count'], 'still capture')} (95 % half-widths "
-                    f"{half}): w = m - TRICAL_GYRO_BIAS_RAD_S */\n"
-                    f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n")
-    text = f"""/* trical calibration {body['id']}
- * method: {body['method']}, created {body['created_at']}, device: {body.get('device_id') or '-'}
- * input unit: {unit_label(body.get('unit'))}, output unit: {unit_label(body.get('output_unit'))}, gravity: {body.get('gravity')}
+        sensors += (
+            f"\n/* gyroscope bias at rest, rad/s, over {counted(gyro['count'], 'still capture')} (95 % half-widths "
+            f"{half}): w = m - TRICAL_GYRO_BIAS_RAD_S */\n"
+            f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n"
+        )
+    text = f"""/* trical calibration {body["id"]}
+ * method: {body["method"]}, created {body["created_at"]}, device: {body.get("device_id") or "-"}
+ * input unit: {unit_label(body.get("unit"))}, output unit: {unit_label(body.get("output_unit"))}, gravity: {body.get("gravity")}
  * calibrated f = M (m - o): {corrections[0].source}
  */
 #ifndef {guard}
@@ -147,8 +165,15 @@ def to_motioncal(body: dict) -> Export:
     return Export(packet, "application/octet-stream", f"trical_{body['id']}.motioncal", notes)
 
 
-EXPORTERS = {"json": to_json, "c": to_c_header, "ardupilot": to_ardupilot, "px4": to_px4, "yaml": to_yaml,
-             "csv": to_csv, "motioncal": to_motioncal}
+EXPORTERS = {
+    "json": to_json,
+    "c": to_c_header,
+    "ardupilot": to_ardupilot,
+    "px4": to_px4,
+    "yaml": to_yaml,
+    "csv": to_csv,
+    "motioncal": to_motioncal,
+}
 """Export formats by their query name."""
 
 FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4": "PX4", "yaml": "YAML", "csv": "CSV"}
@@ -158,9 +183,18 @@ writes it to the board with *Send to the board*, and the API and ``trical export
 ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS, *TEMPERATURE_EXPORTERS, *FLIGHT_COMPASS_EXPORTS]))
 """Every format name of any calibration (the CLI's choices)."""
 
-__all__ = ["ALL_FORMATS", "EXPORTERS", "FLIGHT_COMPASS_EXPORTS", "FORMAT_NAMES",
-           "NOISE_FORMATS", "TEMPERATURE_FORMATS", "FRAME", "JSON_SCHEMA", "Export",
-           "export_calibration"]
+__all__ = [
+    "ALL_FORMATS",
+    "EXPORTERS",
+    "FLIGHT_COMPASS_EXPORTS",
+    "FORMAT_NAMES",
+    "NOISE_FORMATS",
+    "TEMPERATURE_FORMATS",
+    "FRAME",
+    "JSON_SCHEMA",
+    "Export",
+    "export_calibration",
+]
 
 
 def export_calibration(body: dict, fmt: str) -> Export:
@@ -176,18 +210,24 @@ def export_calibration(body: dict, fmt: str) -> Export:
     kind = result_class(body).KIND
     if kind == DRIFT:  # its own px4, ardupilot, json: the firmwares' thermal parameters
         if fmt not in TEMPERATURE_EXPORTERS:
-            raise ExportError(f"format {fmt!r} does not fit this calibration: a temperature calibration's offsets "
-                              f"depend on the temperature; use one of {', '.join(TEMPERATURE_EXPORTERS)}")
+            raise ExportError(
+                f"format {fmt!r} does not fit this calibration: a temperature calibration's offsets "
+                f"depend on the temperature; use one of {', '.join(TEMPERATURE_EXPORTERS)}"
+            )
         return TEMPERATURE_EXPORTERS[fmt](body)
     noise = kind == FIGURES
     table, other = (NOISE_EXPORTERS, EXPORTERS) if noise else (EXPORTERS, NOISE_EXPORTERS)
     if fmt not in table:
         if fmt == "temperature_svg":
-            raise ExportError(f"format {fmt!r} draws a temperature calibration (method temperature); use one of "
-                              f"{', '.join(table)}")
+            raise ExportError(
+                f"format {fmt!r} draws a temperature calibration (method temperature); use one of {', '.join(table)}"
+            )
         if fmt in other:
-            kind = ("a noise characterisation holds no correction to write" if noise
-                    else f"{fmt} writes a noise characterisation (method noise)")
+            kind = (
+                "a noise characterisation holds no correction to write"
+                if noise
+                else f"{fmt} writes a noise characterisation (method noise)"
+            )
             raise ExportError(f"format {fmt!r} does not fit this calibration: {kind}; use one of {', '.join(table)}")
         raise ExportError(f"unknown export format {fmt!r}: use one of {', '.join(table)}")
     return table[fmt](body)

@@ -7,8 +7,16 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import LogFormatError
-from .flight_context import (GPS_3D_FIX, MILLIGAUSS_TO_UT, FirmwareCompassCal, FlightCompassLog, euler_to_c_nb,
-                             gps_to_utc, one_power_clock, symmetric)
+from .flight_context import (
+    GPS_3D_FIX,
+    MILLIGAUSS_TO_UT,
+    FirmwareCompassCal,
+    FlightCompassLog,
+    euler_to_c_nb,
+    gps_to_utc,
+    one_power_clock,
+    symmetric,
+)
 from .formats import dataflash
 
 ARDUPILOT_SUFFIX = ("", "2", "3")
@@ -23,8 +31,12 @@ def ardupilot_cal(values: dict, instance: int) -> FirmwareCompassCal:
     """The compass calibration ArduPilot stored for ``instance`` (COMPASS_OFS{,2,3}_X …, DIA, ODI, MOT,
     MOTCT, ORIENT, SCALE)."""
     k = ARDUPILOT_SUFFIX[instance] if instance < len(ARDUPILOT_SUFFIX) else str(instance + 1)
-    names = {"ofs": [f"COMPASS_OFS{k}_{a}" for a in "XYZ"], "dia": [f"COMPASS_DIA{k}_{a}" for a in "XYZ"],
-             "odi": [f"COMPASS_ODI{k}_{a}" for a in "XYZ"], "mot": [f"COMPASS_MOT{k}_{a}" for a in "XYZ"]}
+    names = {
+        "ofs": [f"COMPASS_OFS{k}_{a}" for a in "XYZ"],
+        "dia": [f"COMPASS_DIA{k}_{a}" for a in "XYZ"],
+        "odi": [f"COMPASS_ODI{k}_{a}" for a in "XYZ"],
+        "mot": [f"COMPASS_MOT{k}_{a}" for a in "XYZ"],
+    }
     orient = "COMPASS_ORIENT" + k
     scale = "COMPASS_SCALE" + k
     used = {n: values[n] for group in names.values() for n in group if n in values}
@@ -41,10 +53,15 @@ def ardupilot_cal(values: dict, instance: int) -> FirmwareCompassCal:
         matrix = matrix * s
     motct = int(values.get("COMPASS_MOTCT", 0))
     return FirmwareCompassCal(
-        firmware="ardupilot", instance=instance, offsets_ut=ofs * MILLIGAUSS_TO_UT, matrix=matrix,
+        firmware="ardupilot",
+        instance=instance,
+        offsets_ut=ofs * MILLIGAUSS_TO_UT,
+        matrix=matrix,
         motor=np.array([values.get(n, 0.0) for n in names["mot"]]) * MILLIGAUSS_TO_UT,
-        motor_kind={1: "throttle", 2: "current"}.get(motct), orientation=int(values[orient]) if orient in values
-        else None, params=used)
+        motor_kind={1: "throttle", 2: "current"}.get(motct),
+        orientation=int(values[orient]) if orient in values else None,
+        params=used,
+    )
 
 
 def _first(reader, buf, names):
@@ -136,12 +153,16 @@ def read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
     mags = dataflash.instances(reader, buf, dataflash.MAG_NAMES)
     have = sorted({i for i, _, _ in mags})
     if not have:
-        raise LogFormatError(f"{name} is an ArduPilot DataFlash log without compass messages (MAG): log the compass "
-                             "(LOG_BITMASK with COMPASS)")
+        raise LogFormatError(
+            f"{name} is an ArduPilot DataFlash log without compass messages (MAG): log the compass "
+            "(LOG_BITMASK with COMPASS)"
+        )
     instance = have[0] if mag_instance is None else int(mag_instance)
     if instance not in have:
-        raise LogFormatError(f"{name} has no compass instance {instance}: its compass instances are "
-                             f"{', '.join(map(str, have))}; give mag_instance as one of them")
+        raise LogFormatError(
+            f"{name} has no compass instance {instance}: its compass instances are "
+            f"{', '.join(map(str, have))}; give mag_instance as one of them"
+        )
     msg, t = next((m, x) for i, m, x in mags if i == instance)
     notes = []
     time_s = dataflash.time_us(t, msg, name) * 1e-6
@@ -155,9 +176,11 @@ def read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
         differ = np.abs(logged - ofs) > 1.0
         if differ.any():
             ofs[differ] = logged[differ]
-            notes.append(f"{int(differ.any(axis=1).sum())} of {len(h)} {msg} rows carry offsets OfsX… other than "
-                         "COMPASS_OFS in the parameters (learnt or set in flight): those rows are read back with the "
-                         "logged offsets (whole mG)")
+            notes.append(
+                f"{int(differ.any(axis=1).sum())} of {len(h)} {msg} rows carry offsets OfsX… other than "
+                "COMPASS_OFS in the parameters (learnt or set in flight): those rows are read back with the "
+                "logged offsets (whole mG)"
+            )
     else:
         notes.append(f"{msg} has no OfsX… fields: read back with COMPASS_OFS of the parameters")
     if all(f"MOfs{a}" in t for a in "XYZ"):
@@ -173,8 +196,10 @@ def read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
     else:  # Copter 3.3–3.5: h = D (m + O + MOfs)
         raw_mg = h @ d_inv.T - ofs - mofs
         formula = "m = D⁻¹ h − O − MOfs"
-    raw_how = (f"read back to raw from {msg} (logged corrected, body frame) with OfsX…, MOfsX… and COMPASS_DIA/ODI"
-               f"{'/SCALE' if newer else ''}: {formula}")
+    raw_how = (
+        f"read back to raw from {msg} (logged corrected, body frame) with OfsX…, MOfsX… and COMPASS_DIA/ODI"
+        f"{'/SCALE' if newer else ''}: {formula}"
+    )
     att_t, att_c, att_source = _ardupilot_attitude(reader, buf, name)
     if att_t is None:
         notes.append("no ATT or AHR2 messages: the attitude is missing (log ATTITUDE_MED/FAST)")
@@ -184,9 +209,25 @@ def read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
     if said.getvalue().strip():
         notes.append(f"{name}: pymavlink reported: {said.getvalue().strip()[:200]}")
     return FlightCompassLog(
-        firmware="ardupilot", generation=_ardupilot_generation(reader, release, msg, t), instance=instance,
+        firmware="ardupilot",
+        generation=_ardupilot_generation(reader, release, msg, t),
+        instance=instance,
         time_s=time_s,
-        mag_raw_ut=raw_mg * MILLIGAUSS_TO_UT, mag_firmware_ut=h * MILLIGAUSS_TO_UT, raw_how=raw_how,
-        frame_to_body=np.eye(3), stored=stored, attitude_time_s=att_t, attitude_c_nb=att_c,
-        attitude_source=att_source, power_time_s=p_t, current_a=cur, throttle=thr, power_source=p_source,
-        latitude_deg=lat, longitude_deg=lon, altitude_m=alt, utc=utc, notes=tuple(notes))
+        mag_raw_ut=raw_mg * MILLIGAUSS_TO_UT,
+        mag_firmware_ut=h * MILLIGAUSS_TO_UT,
+        raw_how=raw_how,
+        frame_to_body=np.eye(3),
+        stored=stored,
+        attitude_time_s=att_t,
+        attitude_c_nb=att_c,
+        attitude_source=att_source,
+        power_time_s=p_t,
+        current_a=cur,
+        throttle=thr,
+        power_source=p_source,
+        latitude_deg=lat,
+        longitude_deg=lon,
+        altitude_m=alt,
+        utc=utc,
+        notes=tuple(notes),
+    )

@@ -59,35 +59,47 @@ class _Panel:
         return self.top + TOP + (hi - np.asarray(v, dtype=float)) / ((hi - lo) or 1.0) * self.h
 
     def frame(self, title: str, unit: str) -> list[str]:
-        out = [f'<text x="{LEFT}" y="{_f(self.top + 20)}" font-size="13" font-weight="bold" {FONT}>{escape(title)}</text>',
-               f'<rect x="{LEFT}" y="{_f(self.top + TOP)}" width="{self.w}" height="{self.h}" fill="none" stroke="#888"/>']
+        out = [
+            f'<text x="{LEFT}" y="{_f(self.top + 20)}" font-size="13" font-weight="bold" {FONT}>{escape(title)}</text>',
+            f'<rect x="{LEFT}" y="{_f(self.top + TOP)}" width="{self.w}" height="{self.h}" fill="none" stroke="#888"/>',
+        ]
         for v in ticks(self.lo, self.hi, 4):
             y = float(self.y(v))
             out.append(f'<line x1="{LEFT}" x2="{LEFT + self.w}" y1="{_f(y)}" y2="{_f(y)}" stroke="#e4e4e4"/>')
             out.append(f'<text x="{LEFT - 4}" y="{_f(y + 4)}" font-size="10" text-anchor="end" {FONT}>{v:g}</text>')
         for v in ticks(self.t0, self.t1, 6):
-            out.append(f'<text x="{_f(float(self.x(v)))}" y="{_f(self.top + TOP + self.h + 14)}" font-size="10" '
-                       f'text-anchor="middle" {FONT}>{v:g}</text>')
-        out.append(f'<text x="{LEFT + self.w / 2}" y="{_f(self.top + TOP + self.h + 28)}" font-size="10" '
-                   f'text-anchor="middle" {FONT}>time in the log, s</text>')
-        out.append(f'<text x="{LEFT - 4}" y="{_f(self.top + TOP - 4)}" font-size="10" text-anchor="end" {FONT}>'
-                   f'{escape(unit)}</text>')
+            out.append(
+                f'<text x="{_f(float(self.x(v)))}" y="{_f(self.top + TOP + self.h + 14)}" font-size="10" '
+                f'text-anchor="middle" {FONT}>{v:g}</text>'
+            )
+        out.append(
+            f'<text x="{LEFT + self.w / 2}" y="{_f(self.top + TOP + self.h + 28)}" font-size="10" '
+            f'text-anchor="middle" {FONT}>time in the log, s</text>'
+        )
+        out.append(
+            f'<text x="{LEFT - 4}" y="{_f(self.top + TOP - 4)}" font-size="10" text-anchor="end" {FONT}>'
+            f"{escape(unit)}</text>"
+        )
         return out
 
-    def line(self, t, v, colour: str, *, dash: str | None = None, cls: str = "", width: float = 1.4,
-             lo=None, hi=None) -> str:
+    def line(
+        self, t, v, colour: str, *, dash: str | None = None, cls: str = "", width: float = 1.4, lo=None, hi=None
+    ) -> str:
         good = np.isfinite(v)
         points = " ".join(f"{float(a):.1f},{float(b):.1f}" for a, b in zip(self.x(t[good]), self.y(v[good], lo, hi)))
         dashed = f' stroke-dasharray="{dash}"' if dash else ""
-        return (f'<polyline class="{cls}" points="{points}" fill="none" stroke="{colour}" stroke-width="{width}"'
-                f"{dashed}/>")
+        return (
+            f'<polyline class="{cls}" points="{points}" fill="none" stroke="{colour}" stroke-width="{width}"{dashed}/>'
+        )
 
     def legend(self, k: int, colour: str, words: str, dash: str | None = None) -> str:
         x = LEFT + 8 + 150 * k
         y = self.top + TOP + 12
         dashed = f' stroke-dasharray="{dash}"' if dash else ""
-        return (f'<line x1="{x}" x2="{x + 18}" y1="{y - 4}" y2="{y - 4}" stroke="{colour}" stroke-width="2"{dashed}/>'
-                f'<text x="{x + 22}" y="{y}" font-size="10" {FONT}>{escape(words)}</text>')
+        return (
+            f'<line x1="{x}" x2="{x + 18}" y1="{y - 4}" y2="{y - 4}" stroke="{colour}" stroke-width="2"{dashed}/>'
+            f'<text x="{x + 22}" y="{y}" font-size="10" {FONT}>{escape(words)}</text>'
+        )
 
 
 def flight_compass_svg(body: dict) -> str:
@@ -97,14 +109,18 @@ def flight_compass_svg(body: dict) -> str:
     n = len(t)
     expected, corrected = _column(series, "expected", n), _column(series, "corrected", n)
     if n < 2 or expected is None or corrected is None or expected.shape != (n, 3) or corrected.shape != (n, 3):
-        raise ExportError("this compass calibration keeps no series of the flight to draw: calibrate the flight log "
-                          "again")
+        raise ExportError(
+            "this compass calibration keeps no series of the flight to draw: calibrate the flight log again"
+        )
     firmware = _column(series, "firmware", n)
     power = _column(series, "power", n)
     before, after = _column(series, "heading_error_before", n), _column(series, "heading_error_after", n)
     flight, metrics = body.get("flight") or {}, body.get("metrics") or {}
-    panels = [_field_panel(t, expected, corrected), _strength_panel(t, corrected, firmware, power, flight, metrics),
-              _heading_panel(t, before, after, metrics)]
+    panels = [
+        _field_panel(t, expected, corrected),
+        _strength_panel(t, corrected, firmware, power, flight, metrics),
+        _heading_panel(t, before, after, metrics),
+    ]
     parts = [part for panel_parts, _ in panels for part in panel_parts]
     said = [words for _, words in panels if words]
     height = PANEL_H * (3 if panels[2][0] else 2)
@@ -121,8 +137,10 @@ def _field_panel(t, expected, corrected) -> tuple[list[str], str]:
         parts.append(p.line(t, expected[:, i], COLOURS[axis], dash="5 3", cls=f"expected-{axis}"))
         parts.append(p.line(t, corrected[:, i], COLOURS[axis], cls=f"corrected-{axis}"))
         parts.append(p.legend(i, COLOURS[axis], f"{axis} ({'forward right down'.split()[i]})", DASHES[axis]))
-    return parts, ("The field's three axes in the vehicle's frame over the flight, expected from the attitude and "
-                   "the geomagnetic model, and as the compass reads it calibrated.")
+    return parts, (
+        "The field's three axes in the vehicle's frame over the flight, expected from the attitude and "
+        "the geomagnetic model, and as the compass reads it calibrated."
+    )
 
 
 def _strength_panel(t, corrected, firmware, power, flight: dict, metrics: dict) -> tuple[list[str], str]:
@@ -134,8 +152,10 @@ def _strength_panel(t, corrected, firmware, power, flight: dict, metrics: dict) 
     lo = float(min(np.nanmin(v) for v in values + ([np.array([F])] if F else [])))
     hi = float(max(np.nanmax(v) for v in values + ([np.array([F])] if F else [])))
     p = _Panel(PANEL_H, t, lo, hi)
-    parts += p.frame("The field's strength |h|, and the motors' " + ("current" if flight.get("motor") != "throttle"
-                                                                    else "throttle"), "µT")
+    parts += p.frame(
+        "The field's strength |h|, and the motors' " + ("current" if flight.get("motor") != "throttle" else "throttle"),
+        "µT",
+    )
     if F:
         parts.append(p.line(np.array([t[0], t[-1]]), np.array([F, F]), MODEL, dash="2 2", cls="model-field"))
     if firmware is not None:
@@ -151,9 +171,11 @@ def _strength_panel(t, corrected, firmware, power, flight: dict, metrics: dict) 
         phi = phi if phi > plo else plo + 1.0
         parts.append(p.line(t, power, POWER, dash="1 2", cls="power", lo=plo, hi=phi))
         unit = "A" if flight.get("power_source") is None or "hrottle" not in str(flight.get("power_source")) else ""
-        parts.append(f'<text x="{WIDTH - RIGHT + 4}" y="{_f(p.top + TOP + 8)}" font-size="10" {FONT}>{phi:.3g} '
-                     f'{unit}</text><text x="{WIDTH - RIGHT + 4}" y="{_f(p.top + TOP + p.h)}" font-size="10" {FONT}>'
-                     f'{plo:.3g} {unit}</text>')
+        parts.append(
+            f'<text x="{WIDTH - RIGHT + 4}" y="{_f(p.top + TOP + 8)}" font-size="10" {FONT}>{phi:.3g} '
+            f'{unit}</text><text x="{WIDTH - RIGHT + 4}" y="{_f(p.top + TOP + p.h)}" font-size="10" {FONT}>'
+            f"{plo:.3g} {unit}</text>"
+        )
         parts.append(p.legend(3, POWER, "power (right)", "1 2"))
     return parts, "The calibrated field's strength against the model's, with the power on its own scale."
 
@@ -175,9 +197,11 @@ def _heading_panel(t, before, after, metrics: dict) -> tuple[list[str], str | No
         parts.append(p.line(t, after, AFTER, cls="heading-after", width=1.8))
         parts.append(p.legend(1, AFTER, "after (trical's)"))
     b, a = metrics.get("heading_error_before_deg"), metrics.get("heading_error_after_deg")
-    return parts, ("The heading error over the flight, rms "
-                   + (f"{b:.1f}° before and " if b is not None else "")
-                   + (f"{a:.1f}° after." if a is not None else "not measured after."))
+    return parts, (
+        "The heading error over the flight, rms "
+        + (f"{b:.1f}° before and " if b is not None else "")
+        + (f"{a:.1f}° after." if a is not None else "not measured after.")
+    )
 
 
 def to_flight_compass_svg(body: dict) -> Export:

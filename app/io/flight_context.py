@@ -75,11 +75,13 @@ from .formats import dataflash, ulog
 MILLIGAUSS_TO_UT = dataflash.MILLIGAUSS_TO_UT
 GAUSS_TO_UT = ulog.GAUSS_TO_UT
 GPS_EPOCH = dt.datetime(1980, 1, 6, tzinfo=dt.timezone.utc)
-LEAP_SECONDS = ((dt.datetime(2017, 1, 1, tzinfo=dt.timezone.utc), 18),
-                (dt.datetime(2015, 7, 1, tzinfo=dt.timezone.utc), 17),
-                (dt.datetime(2012, 7, 1, tzinfo=dt.timezone.utc), 16),
-                (dt.datetime(2009, 1, 1, tzinfo=dt.timezone.utc), 15),
-                (dt.datetime(2006, 1, 1, tzinfo=dt.timezone.utc), 14))
+LEAP_SECONDS = (
+    (dt.datetime(2017, 1, 1, tzinfo=dt.timezone.utc), 18),
+    (dt.datetime(2015, 7, 1, tzinfo=dt.timezone.utc), 17),
+    (dt.datetime(2012, 7, 1, tzinfo=dt.timezone.utc), 16),
+    (dt.datetime(2009, 1, 1, tzinfo=dt.timezone.utc), 15),
+    (dt.datetime(2006, 1, 1, tzinfo=dt.timezone.utc), 14),
+)
 """GPS time minus UTC from each date on (IERS Bulletin C; GPS time has no leap seconds)."""
 GPS_3D_FIX = 3
 """ArduPilot's GPS Status and PX4's fix_type both number a 3-D fix 3 (AP_GPS::GPS_OK_FIX_3D, msg/SensorGps.msg)."""
@@ -280,12 +282,22 @@ def read_flight_compass(path, *, mag_instance: int | None = None, name: str = "t
 
         with dataflash.unknown_layout(name):
             return read_ardupilot(path, mag_instance, name)
-    raise LogFormatError(f"{name} is not a flight controller's log: a compass from a flight reads a PX4 ULog (.ulg) "
-                         "or an ArduPilot DataFlash log (.bin)")
+    raise LogFormatError(
+        f"{name} is not a flight controller's log: a compass from a flight reads a PX4 ULog (.ulg) "
+        "or an ArduPilot DataFlash log (.bin)"
+    )
 
 
-CALIBRATION_PREFIXES = ("COMPASS_", "INS_ACC", "INS_GYR", "AHRS_ORIENTATION", "CAL_ACC", "CAL_GYRO", "CAL_MAG",
-                        "SENS_BOARD")
+CALIBRATION_PREFIXES = (
+    "COMPASS_",
+    "INS_ACC",
+    "INS_GYR",
+    "AHRS_ORIENTATION",
+    "CAL_ACC",
+    "CAL_GYRO",
+    "CAL_MAG",
+    "SENS_BOARD",
+)
 """The parameters holding what a firmware stored of its sensors' calibration (ArduPilot, PX4)."""
 
 
@@ -301,8 +313,10 @@ def stored_calibration_parameters(path, *, name: str = "the file") -> dict:
             try:
                 values = ULog(str(path), message_name_filter_list=[], disable_str_exceptions=True).initial_parameters
             except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
-                raise LogFormatError(f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): "
-                                     "the file is damaged; download the log again") from None
+                raise LogFormatError(
+                    f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): "
+                    "the file is damaged; download the log again"
+                ) from None
     elif head.startswith(dataflash.MAGIC):
         reader, buf, _ = dataflash.open_log(path, name)
         values = dataflash.params(reader, buf)

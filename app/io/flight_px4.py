@@ -14,8 +14,16 @@ import numpy as np
 from app.calibration.rotations import PX4_EVERY_RELEASE, PX4_ROTATIONS, px4_matrix
 
 from .errors import LogFormatError
-from .flight_context import (GAUSS_TO_UT, GPS_3D_FIX, FirmwareCompassCal, FlightCompassLog, euler_to_c_nb,
-                             one_power_clock, quaternion_to_c_nb, symmetric)
+from .flight_context import (
+    GAUSS_TO_UT,
+    GPS_3D_FIX,
+    FirmwareCompassCal,
+    FlightCompassLog,
+    euler_to_c_nb,
+    one_power_clock,
+    quaternion_to_c_nb,
+    symmetric,
+)
 from .formats import ulog
 
 KILOAMP_PER_AMP = 1e-3
@@ -27,22 +35,52 @@ def px4_rotation(number: int, name: str, what: str) -> np.ndarray:
     shares (:data:`app.calibration.rotations.PX4_EVERY_RELEASE`); a later entry is refused by name."""
     if not 0 <= number <= PX4_EVERY_RELEASE:
         last = PX4_ROTATIONS[PX4_EVERY_RELEASE][0]
-        raise LogFormatError(f"{name}: {what} is {number}, a rotation of PX4's list past ROTATION_{last} "
-                             f"({PX4_EVERY_RELEASE}) that trical does not hold; set it to one of 0–{PX4_EVERY_RELEASE} "
-                             "or leave the compass internal")
+        raise LogFormatError(
+            f"{name}: {what} is {number}, a rotation of PX4's list past ROTATION_{last} "
+            f"({PX4_EVERY_RELEASE}) that trical does not hold; set it to one of 0–{PX4_EVERY_RELEASE} "
+            "or leave the compass internal"
+        )
     return px4_matrix(number)
 
 
-PX4_TOPICS = ("sensor_mag", "sensor_combined", "vehicle_magnetometer", "vehicle_attitude", "battery_status",
-              "actuator_controls_0", "vehicle_thrust_setpoint", "vehicle_gps_position", "sensor_gps",
-              "vehicle_global_position")
+PX4_TOPICS = (
+    "sensor_mag",
+    "sensor_combined",
+    "vehicle_magnetometer",
+    "vehicle_attitude",
+    "battery_status",
+    "actuator_controls_0",
+    "vehicle_thrust_setpoint",
+    "vehicle_gps_position",
+    "sensor_gps",
+    "vehicle_global_position",
+)
 
 
 def px4_cal(values: dict, slot: int, instance: int) -> FirmwareCompassCal:
     """The calibration PX4 stored in CAL_MAG{slot}_* (for the compass ``instance``), with CAL_MAG_COMP_TYP."""
     p = f"CAL_MAG{slot}_"
-    names = [p + n for n in ("ID", "ROT", "XOFF", "YOFF", "ZOFF", "XSCALE", "YSCALE", "ZSCALE", "XODIAG", "YODIAG",
-                             "ZODIAG", "XCOMP", "YCOMP", "ZCOMP", "PRIO", "EN")]
+    names = [
+        p + n
+        for n in (
+            "ID",
+            "ROT",
+            "XOFF",
+            "YOFF",
+            "ZOFF",
+            "XSCALE",
+            "YSCALE",
+            "ZSCALE",
+            "XODIAG",
+            "YODIAG",
+            "ZODIAG",
+            "XCOMP",
+            "YCOMP",
+            "ZCOMP",
+            "PRIO",
+            "EN",
+        )
+    ]
     names += ["CAL_MAG_COMP_TYP", "SENS_BOARD_ROT"]
     used = {n: values[n] for n in names if n in values}
     scale = [values.get(p + f"{a}SCALE", 1.0) or 1.0 for a in "XYZ"]
@@ -52,22 +90,34 @@ def px4_cal(values: dict, slot: int, instance: int) -> FirmwareCompassCal:
         comp = comp * KILOAMP_PER_AMP
     rot = values.get(p + "ROT")
     return FirmwareCompassCal(
-        firmware="px4", instance=instance,
+        firmware="px4",
+        instance=instance,
         offsets_ut=np.array([values.get(p + f"{a}OFF", 0.0) for a in "XYZ"]) * GAUSS_TO_UT,
-        matrix=symmetric(scale, [values.get(p + f"{a}ODIAG", 0.0) for a in "XYZ"]), motor=comp, motor_kind=kind,
-        orientation=None if rot is None else int(rot), params=used)
+        matrix=symmetric(scale, [values.get(p + f"{a}ODIAG", 0.0) for a in "XYZ"]),
+        motor=comp,
+        motor_kind=kind,
+        orientation=None if rot is None else int(rot),
+        params=used,
+    )
 
 
 def _px4_slot(values: dict, device_id: int | None, instance: int, notes: list) -> int | None:
     """The CAL_MAGn slot whose CAL_MAGn_ID is ``device_id`` (PX4 matches calibrations by device id)."""
-    slots = sorted({int(k[7:].split("_")[0]) for k in values if k.startswith("CAL_MAG") and k.endswith("_ID")
-                    and k[7:].split("_")[0].isdigit()})
+    slots = sorted(
+        {
+            int(k[7:].split("_")[0])
+            for k in values
+            if k.startswith("CAL_MAG") and k.endswith("_ID") and k[7:].split("_")[0].isdigit()
+        }
+    )
     if device_id:
         for n in slots:
             if int(values.get(f"CAL_MAG{n}_ID", 0)) == device_id:
                 return n
-        notes.append(f"no CAL_MAGn_ID equals the compass's device id {device_id}: PX4 has no calibration stored for "
-                     "it (offsets 0, scale 1)")
+        notes.append(
+            f"no CAL_MAGn_ID equals the compass's device id {device_id}: PX4 has no calibration stored for "
+            "it (offsets 0, scale 1)"
+        )
         return None
     if instance in slots:
         notes.append(f"the compass's device id is not logged: CAL_MAG{instance}_* taken by its instance number")
@@ -92,8 +142,10 @@ def _px4_rotation(values, cal: FirmwareCompassCal, slot, name, notes) -> np.ndar
         board = int(values.get("SENS_BOARD_ROT", 0))
         extra = [values.get(f"SENS_BOARD_{a}_OFF", 0.0) for a in "XYZ"]
         if any(abs(x) > 1e-3 for x in extra):
-            notes.append(f"SENS_BOARD_X/Y/Z_OFF are {', '.join(f'{x:.2f}' for x in extra)} degrees: the board's "
-                         "rotation includes them")
+            notes.append(
+                f"SENS_BOARD_X/Y/Z_OFF are {', '.join(f'{x:.2f}' for x in extra)} degrees: the board's "
+                "rotation includes them"
+            )
         # get_board_rotation_matrix (src/lib/conversion/rotation.cpp): the offsets' rotation times SENS_BOARD_ROT's
         return euler_to_c_nb(*extra) @ px4_rotation(board, name, "SENS_BOARD_ROT")
     return px4_rotation(rot, name, f"CAL_MAG{slot}_ROT")
@@ -155,8 +207,12 @@ def _px4_body_mag(u):
         return None
     device = int(vm["device_id"][-1]) if "device_id" in vm and len(vm["device_id"]) else None
     t = np.asarray(vm.get("timestamp_sample", vm["timestamp"]), dtype=np.int64)
-    return t, np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]).astype(float), \
-        "vehicle_magnetometer", device
+    return (
+        t,
+        np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]).astype(float),
+        "vehicle_magnetometer",
+        device,
+    )
 
 
 def px4_correct(raw_ut, cal: FirmwareCompassCal, rotation, power=None) -> np.ndarray:
@@ -177,8 +233,10 @@ def _open_ulog(path, name):
         with contextlib.redirect_stdout(said):
             return ULog(str(path), message_name_filter_list=list(PX4_TOPICS), disable_str_exceptions=True)
     except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
-        raise LogFormatError(f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
-                             "file is damaged or cut short in its definitions; download the log again") from None
+        raise LogFormatError(
+            f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
+            "file is damaged or cut short in its definitions; download the log again"
+        ) from None
 
 
 def _px4_power_at(stored: FirmwareCompassCal, cur, thr, p_t, time_s, notes: list) -> np.ndarray | None:
@@ -188,8 +246,9 @@ def _px4_power_at(stored: FirmwareCompassCal, cur, thr, p_t, time_s, notes: list
         return None
     src = cur if stored.motor_kind == "current" else thr
     if src is None:
-        notes.append(f"CAL_MAG_COMP_TYP asks for the {stored.motor_kind}, which the log lacks: no power "
-                     "compensation applied")
+        notes.append(
+            f"CAL_MAG_COMP_TYP asks for the {stored.motor_kind}, which the log lacks: no power compensation applied"
+        )
         return None
     return np.interp(time_s, p_t, src)
 
@@ -199,8 +258,11 @@ def _compare_vehicle_magnetometer(u, values, time_s, firmware, device, how: str,
     that is this compass (its rms difference), else that it was not logged."""
     vm = _ds(u, "vehicle_magnetometer")
     # vehicle_magnetometer is the selected compass: its device_id when logged, else CAL_MAG_PRIME names it.
-    selected = (int(vm["device_id"][-1]) if vm is not None and "device_id" in vm and len(vm["device_id"])
-                else int(values.get("CAL_MAG_PRIME", 0)) or None)
+    selected = (
+        int(vm["device_id"][-1])
+        if vm is not None and "device_id" in vm and len(vm["device_id"])
+        else int(values.get("CAL_MAG_PRIME", 0)) or None
+    )
     if vm is not None and "magnetometer_ga[0]" in vm and device is not None and selected == device:
         logged = np.column_stack([vm[f"magnetometer_ga[{k}]"] for k in range(3)]) * GAUSS_TO_UT
         vt = _t(vm)
@@ -208,8 +270,10 @@ def _compare_vehicle_magnetometer(u, values, time_s, firmware, device, how: str,
         if inside.sum() >= 2:
             onto = np.column_stack([np.interp(time_s[inside], vt, logged[:, k]) for k in range(3)])
             rms = float(np.sqrt(np.mean(np.sum((onto - firmware[inside]) ** 2, axis=1))))
-            notes.append(f"the firmware's field ({how}) differs from the logged vehicle_magnetometer by "
-                         f"{rms:.2f} µT rms (the latter filtered, interpolated onto sensor_mag's times)")
+            notes.append(
+                f"the firmware's field ({how}) differs from the logged vehicle_magnetometer by "
+                f"{rms:.2f} µT rms (the latter filtered, interpolated onto sensor_mag's times)"
+            )
     else:
         notes.append(f"the firmware's field: {how} (no vehicle_magnetometer of this compass logged)")
 
@@ -218,8 +282,11 @@ def _px4_attitude(u, notes: list):
     """``(time_s, C_nb, source)`` of vehicle_attitude's quaternion, or three None (a note says so)."""
     att = _ds(u, "vehicle_attitude")
     if att is not None and "q[0]" in att:
-        return _t(att), quaternion_to_c_nb(np.column_stack([att[f"q[{k}]"] for k in range(4)])), \
-            "vehicle_attitude q (w, x, y, z)"
+        return (
+            _t(att),
+            quaternion_to_c_nb(np.column_stack([att[f"q[{k}]"] for k in range(4)])),
+            "vehicle_attitude q (w, x, y, z)",
+        )
     notes.append("no vehicle_attitude in the log: the attitude is missing")
     return None, None, None
 
@@ -232,16 +299,21 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
     body = None if raw_mags else _px4_body_mag(u)
     have = raw_mags or ([0] if body is not None else [])
     if not have:
-        raise LogFormatError(f"{name} is a PX4 ULog without compass readings (no sensor_mag, no magnetometer_ga in "
-                             "sensor_combined, no vehicle_magnetometer): log the compass (SDLOG_PROFILE with 'Sensor "
-                             "comparison', or sensor_mag in etc/logging/logger_topics.txt)")
+        raise LogFormatError(
+            f"{name} is a PX4 ULog without compass readings (no sensor_mag, no magnetometer_ga in "
+            "sensor_combined, no vehicle_magnetometer): log the compass (SDLOG_PROFILE with 'Sensor "
+            "comparison', or sensor_mag in etc/logging/logger_topics.txt)"
+        )
     instance = have[0] if mag_instance is None else int(mag_instance)
     if instance not in have:
-        raise LogFormatError(f"{name} has no compass instance {instance}: its compass instances are "
-                             f"{', '.join(map(str, have))}; give mag_instance as one of them")
+        raise LogFormatError(
+            f"{name} has no compass instance {instance}: its compass instances are "
+            f"{', '.join(map(str, have))}; give mag_instance as one of them"
+        )
     number = u.msg_info_dict.get("ver_sw_release")
-    version = ("PX4 v{}.{}.{}".format(*ulog.release(u), (int(number) >> 8) & 0xFF) if number
-               else "PX4 (release not logged)")
+    version = (
+        "PX4 v{}.{}.{}".format(*ulog.release(u), (int(number) >> 8) & 0xFF) if number else "PX4 (release not logged)"
+    )
     # Before PX4 1.12 the driver (PX4Magnetometer) applied CAL_MAGn offsets and scales itself: sensor_mag is
     # calibrated there; from 1.12 the calibration is the sensors module's (lib/sensor_calibration) and sensor_mag raw.
     sensor_mag_calibrated = ulog.release_before(u, ulog.RAW_SENSORS_FROM)
@@ -268,12 +340,17 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
         firmware = px4_correct(raw, stored, rotation, power)
     elif raw_mags:
         raw = np.linalg.solve(stored.matrix, logged_mag.T).T + stored.offsets_ut
-        raw_how = (f"read back to raw from sensor_mag (calibrated by the driver before PX4 1.12, its frame) with "
-                   f"CAL_MAG{slot}_xOFF/xSCALE: m = S⁻¹ h + o")
+        raw_how = (
+            f"read back to raw from sensor_mag (calibrated by the driver before PX4 1.12, its frame) with "
+            f"CAL_MAG{slot}_xOFF/xSCALE: m = S⁻¹ h + o"
+        )
         firmware = logged_mag @ rotation.T
     if raw_mags:
-        how = ("PX4's formula applied to sensor_mag with CAL_MAG{}_*".format(slot) if not sensor_mag_calibrated
-               else "sensor_mag turned into the body frame")
+        how = (
+            "PX4's formula applied to sensor_mag with CAL_MAG{}_*".format(slot)
+            if not sensor_mag_calibrated
+            else "sensor_mag turned into the body frame"
+        )
         _compare_vehicle_magnetometer(u, values, time_s, firmware, device, how, notes)
     if not raw_mags:
         firmware = ga * GAUSS_TO_UT
@@ -282,14 +359,34 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
         if power is not None:
             raw = raw - np.outer(power, stored.motor)
             formula += " − c p"
-        raw_how = (f"read back to raw from {topic} (logged calibrated, body frame) with CAL_MAG{slot}_* and the "
-                   f"rotation: {formula}")
+        raw_how = (
+            f"read back to raw from {topic} (logged calibrated, body frame) with CAL_MAG{slot}_* and the "
+            f"rotation: {formula}"
+        )
     att_t, att_c, att_source = _px4_attitude(u, notes)
     lat, lon, alt, utc = _px4_position(u, notes)
     if u.file_corruption:
         notes.append(f"{name}: pyulog found damaged data in the file and skipped it")
     return FlightCompassLog(
-        firmware="px4", generation=generation, instance=instance, time_s=time_s, mag_raw_ut=raw,
-        mag_firmware_ut=firmware, raw_how=raw_how, frame_to_body=rotation, stored=stored, attitude_time_s=att_t,
-        attitude_c_nb=att_c, attitude_source=att_source, power_time_s=p_t, current_a=cur, throttle=thr,
-        power_source=p_source, latitude_deg=lat, longitude_deg=lon, altitude_m=alt, utc=utc, notes=tuple(notes))
+        firmware="px4",
+        generation=generation,
+        instance=instance,
+        time_s=time_s,
+        mag_raw_ut=raw,
+        mag_firmware_ut=firmware,
+        raw_how=raw_how,
+        frame_to_body=rotation,
+        stored=stored,
+        attitude_time_s=att_t,
+        attitude_c_nb=att_c,
+        attitude_source=att_source,
+        power_time_s=p_t,
+        current_a=cur,
+        throttle=thr,
+        power_source=p_source,
+        latitude_deg=lat,
+        longitude_deg=lon,
+        altitude_m=alt,
+        utc=utc,
+        notes=tuple(notes),
+    )

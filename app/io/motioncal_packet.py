@@ -87,8 +87,13 @@ class MotionCalCalibration:
 
     def floats(self) -> list[float]:
         M = np.asarray(self.mag_softiron, dtype=float)
-        return [*map(float, self.accel_zerog), *map(float, self.gyro_zerorate), *map(float, self.mag_hardiron),
-                float(self.mag_field), *(float(M[i, j]) for i, j in SOFT_IRON_ORDER)]
+        return [
+            *map(float, self.accel_zerog),
+            *map(float, self.gyro_zerorate),
+            *map(float, self.mag_hardiron),
+            float(self.mag_field),
+            *(float(M[i, j]) for i, j in SOFT_IRON_ORDER),
+        ]
 
 
 def encode(cal: MotionCalCalibration) -> bytes:
@@ -101,8 +106,10 @@ def encode(cal: MotionCalCalibration) -> bytes:
     """
     values = cal.floats()
     if not all(np.isfinite(values)) or max(abs(v) for v in values) > 3.4e38:
-        raise ExportError("the calibration holds a value that is not finite or beyond a float32: it cannot be "
-                          "written to MotionCal's packet")
+        raise ExportError(
+            "the calibration holds a value that is not finite or beyond a float32: it cannot be "
+            "written to MotionCal's packet"
+        )
     body = bytes(MOTIONCAL_SIGNATURE) + _FLOATS.pack(*values)
     crc = crc16(body)
     packet = body + bytes((crc & 0xFF, crc >> 8))
@@ -143,7 +150,8 @@ def _refuse_counts(sensor: str, unit: str | None) -> float:
         raise ExportError(
             f"the {words} of this calibration is in {'counts' if unit == 'raw' else unit}, but MotionCal's packet "
             f"holds {', '.join(table)} only (Adafruit's Unified Sensor units): calibrate readings in those units "
-            "(give chip for counts), or use the C header export")
+            "(give chip for counts), or use the C header export"
+        )
     return table[unit]
 
 
@@ -161,8 +169,13 @@ def from_calibration(body: dict) -> MotionCalCalibration:
         entries): the message names the C header export, which carries the whole model.
     """
     notes: list[str] = []
-    cal = {"accel_zerog": np.zeros(3), "gyro_zerorate": np.zeros(3), "mag_hardiron": np.zeros(3),
-           "mag_field": DEFAULT_FIELD_UT, "mag_softiron": np.eye(3)}
+    cal = {
+        "accel_zerog": np.zeros(3),
+        "gyro_zerorate": np.zeros(3),
+        "mag_hardiron": np.zeros(3),
+        "mag_field": DEFAULT_FIELD_UT,
+        "mag_softiron": np.eye(3),
+    }
     corrections = {c.sensor: c for c in sensor_corrections(body)}
     if "acc" in corrections:
         c = corrections["acc"]
@@ -170,9 +183,11 @@ def from_calibration(body: dict) -> MotionCalCalibration:
         cal["accel_zerog"] = scale * np.asarray(c.o, dtype=float)
         M = np.asarray(c.M, dtype=float)
         off = float(np.abs(M - np.eye(3)).max())
-        notes.append(f"accelerometer: only the offsets are carried; its scales and cross terms (the matrix M, "
-                     f"up to {100 * off:.2f} % from the identity) are not: apply the C header export for the "
-                     "whole model")
+        notes.append(
+            f"accelerometer: only the offsets are carried; its scales and cross terms (the matrix M, "
+            f"up to {100 * off:.2f} % from the identity) are not: apply the C header export for the "
+            "whole model"
+        )
     else:
         notes.append("accelerometer: no model in this calibration, zero offsets sent")
     gyro = body.get("gyroscope_bias")
@@ -192,16 +207,20 @@ def from_calibration(body: dict) -> MotionCalCalibration:
         scale = _refuse_counts("mag", c.input_unit)
         M = np.asarray(c.M, dtype=float)
         if float(np.abs(M - M.T).max()) > SYMMETRY_TOLERANCE * float(np.abs(M).max()):
-            raise ExportError("the magnetometer's correction matrix is not symmetric, and MotionCal's packet holds "
-                              "a symmetric soft-iron matrix only: use the C header export, which carries it whole")
+            raise ExportError(
+                "the magnetometer's correction matrix is not symmetric, and MotionCal's packet holds "
+                "a symmetric soft-iron matrix only: use the C header export, which carries it whole"
+            )
         cal["mag_hardiron"] = scale * np.asarray(c.o, dtype=float)
         cal["mag_softiron"] = (M + M.T) / 2.0
         field_ut = (body.get("metrics") or {}).get("field_ut")
         cal["mag_field"] = float(field_ut) * scale if field_ut else DEFAULT_FIELD_UT
         notes.append("magnetometer: hard iron, field and soft-iron matrix carried whole")
     else:
-        notes.append("magnetometer: no model in this calibration, the library's defaults sent (no hard iron, "
-                     "identity soft iron, 50 uT): the board's magnetometer calibration is replaced")
+        notes.append(
+            "magnetometer: no model in this calibration, the library's defaults sent (no hard iron, "
+            "identity soft iron, 50 uT): the board's magnetometer calibration is replaced"
+        )
     return MotionCalCalibration(**cal, notes=tuple(notes))
 
 

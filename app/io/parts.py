@@ -114,8 +114,9 @@ def refuse_repeated_names(names) -> None:
     """Refuse two files of one name in one recording: each file's name is what its readings are called by."""
     twice = sorted({n for n in names if list(names).count(n) > 1})
     if twice:
-        raise LogFormatError(f"{', '.join(twice)} is given more than once: give each pose's file once, each "
-                             "with its own name")
+        raise LogFormatError(
+            f"{', '.join(twice)} is given more than once: give each pose's file once, each with its own name"
+        )
 
 
 def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_given: bool = False) -> LogData:
@@ -148,13 +149,17 @@ def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_give
     if not sources:
         raise LogFormatError(f"{name} holds no file to read: put the pose files (CSV) in it")
     if len(sources) > MAX_PARTS:
-        raise LogFormatError(f"{name} holds {len(sources)} files; at most {MAX_PARTS} are read as one recording: "
-                             "give the files of one calibration only")
+        raise LogFormatError(
+            f"{name} holds {len(sources)} files; at most {MAX_PARTS} are read as one recording: "
+            "give the files of one calibration only"
+        )
     refuse_repeated_names([n for n, _ in sources])
     for part_name, _ in sources:
         if part_name.lower().endswith(".zip"):
-            raise LogFormatError(f"{part_name} is a zip inside a recording of several files: give the files "
-                                 "themselves, or one zip of them")
+            raise LogFormatError(
+                f"{part_name} is a zip inside a recording of several files: give the files "
+                "themselves, or one zip of them"
+            )
     from .sensor_files import first_time, merge_sensor_logs, read_sensor_files
 
     merged = read_sensor_files(sources, read, name=name, columns_given=columns_given)
@@ -164,8 +169,13 @@ def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_give
     one_each = [log.channels[0] for _, log in logs if len(log.channels) == 1]
     if len(logs) > 1 and len(one_each) == len(logs) and len(set(one_each)) == len(logs):
         # Not named so, but each file holds one sensor, a different one: one per sensor all the same.
-        return merge_sensor_logs([(part_name, log.channels[0], log, first_time(path, log, part_name))
-                                  for (part_name, log), (_, path) in zip(logs, sources)], name=name)
+        return merge_sensor_logs(
+            [
+                (part_name, log.channels[0], log, first_time(path, log, part_name))
+                for (part_name, log), (_, path) in zip(logs, sources)
+            ],
+            name=name,
+        )
     return join_parts(logs)
 
 
@@ -176,22 +186,32 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
         if log.channels != first.channels:
             raise LogFormatError(
                 f"{part_name} holds {', '.join(log.channels)} but {first_name} holds {', '.join(first.channels)}: "
-                "every file of one calibration needs the same sensors — log the same columns for every pose")
+                "every file of one calibration needs the same sensors — log the same columns for every pose"
+            )
         for sensor in first.channels:
             if log.units[sensor] != first.units[sensor]:
                 raise LogFormatError(
                     f"{part_name} reads the {sensor} in {log.units[sensor]} but {first_name} in "
                     f"{first.units[sensor]}: give the unit ({sensor}_unit) so "
-                    "that every file is read in the same one")
+                    "that every file is read in the same one"
+                )
         if log.sign != first.sign:
             raise LogFormatError(
                 f"{part_name} and {first_name} come in opposite signs (one was negated as an iOS Core Motion "
-                "log): give sign=1 or sign=-1 for all of them")
+                "log): give sign=1 or sign=-1 for all of them"
+            )
     parts, start, notes = [], 0, []
     for part_name, log in logs:
         n = log.n_samples
-        parts.append(Part(filename=part_name, start=start, end=start + n, sampling_rate_hz=log.sampling_rate_hz,
-                          notes=tuple(log.notes)))
+        parts.append(
+            Part(
+                filename=part_name,
+                start=start,
+                end=start + n,
+                sampling_rate_hz=log.sampling_rate_hz,
+                notes=tuple(log.notes),
+            )
+        )
         start += n
         for note in log.notes:
             if note not in notes:
@@ -210,12 +230,15 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
     total = sum(p.n_samples for p in parts)
     # The rate of the whole: the parts' own, weighted by their samples; none when a part has none (pose
     # files without a time column: still poses need no rate).
-    rate = (sum(p.n_samples * p.sampling_rate_hz for p in parts) / total
-            if all(p.sampling_rate_hz for p in parts) else None)
+    rate = (
+        sum(p.n_samples * p.sampling_rate_hz for p in parts) / total if all(p.sampling_rate_hz for p in parts) else None
+    )
     # Each file's gaps, at their place in the whole; its jitter the largest of the files'.
     timing = first.timing
     if timing is not None:
-        gaps = tuple(dataclasses.replace(g, index=g.index + p.start) for p, (_, log) in zip(parts, logs) for g in log.gaps)
+        gaps = tuple(
+            dataclasses.replace(g, index=g.index + p.start) for p, (_, log) in zip(parts, logs) for g in log.gaps
+        )
         jitters = [log.timing.jitter for _, log in logs if log.timing is not None and log.timing.jitter is not None]
         timing = dataclasses.replace(timing, sampling_rate_hz=rate, gaps=gaps, jitter=max(jitters) if jitters else None)
 
@@ -224,9 +247,17 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
             return None
         return np.concatenate([np.asarray(getattr(log, sensor), dtype=float) for _, log in logs])
 
-    return dataclasses.replace(first, acc=stacked("acc"), gyr=stacked("gyr"), mag=stacked("mag"), time_s=time_s,
-                               sampling_rate_hz=None if rate is None else float(rate), notes=tuple(notes),
-                               parts=tuple(parts), timing=timing)
+    return dataclasses.replace(
+        first,
+        acc=stacked("acc"),
+        gyr=stacked("gyr"),
+        mag=stacked("mag"),
+        time_s=time_s,
+        sampling_rate_hz=None if rate is None else float(rate),
+        notes=tuple(notes),
+        parts=tuple(parts),
+        timing=timing,
+    )
 
 
 def read_parts_zip(path: Path, members, read, *, name: str, columns_given: bool = False) -> LogData:
@@ -240,8 +271,10 @@ def read_parts_zip(path: Path, members, read, *, name: str, columns_given: bool 
     files = log_members(members)
     nested = [m for m in files if m.lower().endswith(".zip")]
     if nested:
-        raise LogFormatError(f"{', '.join(nested)} is a zip inside a recording of several files ({name}): give the "
-                             "files themselves, or one zip of them")
+        raise LogFormatError(
+            f"{', '.join(nested)} is a zip inside a recording of several files ({name}): give the "
+            "files themselves, or one zip of them"
+        )
     kept = [m for m in files if PurePosixPath(m).suffix.lower() in LOG_SUFFIXES]
     left = [m for m in files if m not in kept]
     if not kept:
@@ -249,12 +282,17 @@ def read_parts_zip(path: Path, members, read, *, name: str, columns_given: bool 
         raise LogFormatError(
             f"{name} is a zip holding {listed}: trical reads phyphox exports (Raw Data.csv), Sensor Logger "
             "exports (Metadata.csv with TotalAcceleration.csv or AccelerometerUncalibrated.csv) and zips of log "
-            "files (CSV, text or JSON; one per pose, or one per sensor); upload the CSV itself otherwise", status=415)
+            "files (CSV, text or JSON; one per pose, or one per sensor); upload the CSV itself otherwise",
+            status=415,
+        )
     with zipfile.ZipFile(path) as zf:
         total = sum(zf.getinfo(m).file_size for m in kept)
     if total > MAX_UNZIPPED_BYTES:
-        raise LogFormatError(f"the files in {name} expand to {total} bytes together, more than "
-                             f"{MAX_UNZIPPED_BYTES >> 20} MiB: give the files of one calibration only", status=413)
+        raise LogFormatError(
+            f"the files in {name} expand to {total} bytes together, more than "
+            f"{MAX_UNZIPPED_BYTES >> 20} MiB: give the files of one calibration only",
+            status=413,
+        )
     with tempfile.TemporaryDirectory(prefix="trical-parts-") as tmp:
         sources = []
         for i, member in enumerate(kept):
@@ -274,16 +312,26 @@ def part_log(log: LogData, index: int) -> LogData:
     part = log.parts[index]
 
     def cut(a):
-        return None if a is None else a[part.start:part.end]
+        return None if a is None else a[part.start : part.end]
 
-    time_s = None if log.time_s is None else log.time_s[part.start:part.end] - log.time_s[part.start]
+    time_s = None if log.time_s is None else log.time_s[part.start : part.end] - log.time_s[part.start]
     timing = log.timing
     if timing is not None:  # the file's own gaps, counted from its first sample
-        gaps = tuple(dataclasses.replace(g, index=g.index - part.start) for g in log.gaps
-                     if part.start < g.index < part.end)
+        gaps = tuple(
+            dataclasses.replace(g, index=g.index - part.start) for g in log.gaps if part.start < g.index < part.end
+        )
         timing = dataclasses.replace(timing, sampling_rate_hz=part.sampling_rate_hz, gaps=gaps)
-    return dataclasses.replace(log, acc=cut(log.acc), gyr=cut(log.gyr), mag=cut(log.mag), time_s=time_s,
-                               sampling_rate_hz=part.sampling_rate_hz, notes=part.notes, parts=(), timing=timing)
+    return dataclasses.replace(
+        log,
+        acc=cut(log.acc),
+        gyr=cut(log.gyr),
+        mag=cut(log.mag),
+        time_s=time_s,
+        sampling_rate_hz=part.sampling_rate_hz,
+        notes=part.notes,
+        parts=(),
+        timing=timing,
+    )
 
 
 def content_digest(path: Path) -> str:

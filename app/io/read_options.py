@@ -56,9 +56,17 @@ class ReadOptions:
         """The plain form kept with a recording (its ``read_with``, docs/rest.md), with the ``sign`` the reader
         applied, so that the stored file is read again the same way; the clock is the reader's choice of the
         moment, not the recording's, and is not kept."""
-        return {"format": self.format, "units": self.units or {}, "lsb_per_g": self.lsb_per_g,
-                "columns": self.columns, "chip": self.chip, "sampling_rate_hz": self.sampling_rate_hz,
-                "instance": self.instance, "mag_instance": self.mag_instance, "sign": sign}
+        return {
+            "format": self.format,
+            "units": self.units or {},
+            "lsb_per_g": self.lsb_per_g,
+            "columns": self.columns,
+            "chip": self.chip,
+            "sampling_rate_hz": self.sampling_rate_hz,
+            "instance": self.instance,
+            "mag_instance": self.mag_instance,
+            "sign": sign,
+        }
 
     @classmethod
     def from_stored(cls, read_with: dict) -> ReadOptions:

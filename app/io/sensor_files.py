@@ -36,12 +36,46 @@ from .formats.timing import with_timing
 from .log import LogData
 
 SENSOR_WORDS = {
-    "acc": ("acc", "accel", "accelerometer", "accelerometers", "acceleration", "accelerations", "accl",
-            "totalacceleration", "accelerometeruncalibrated", "adxl", "lis3dh", "lsm303acc"),
-    "gyr": ("gyr", "gyro", "gyros", "gyroscope", "gyroscopes", "gyroscopeuncalibrated", "rotationrate",
-            "angularvelocity"),
-    "mag": ("mag", "magn", "magneto", "magnetometer", "magnetometers", "magnetometeruncalibrated",
-            "magneticfield", "compass", "hmc", "qmc", "ak", "mmc", "lis3mdl", "bmm"),
+    "acc": (
+        "acc",
+        "accel",
+        "accelerometer",
+        "accelerometers",
+        "acceleration",
+        "accelerations",
+        "accl",
+        "totalacceleration",
+        "accelerometeruncalibrated",
+        "adxl",
+        "lis3dh",
+        "lsm303acc",
+    ),
+    "gyr": (
+        "gyr",
+        "gyro",
+        "gyros",
+        "gyroscope",
+        "gyroscopes",
+        "gyroscopeuncalibrated",
+        "rotationrate",
+        "angularvelocity",
+    ),
+    "mag": (
+        "mag",
+        "magn",
+        "magneto",
+        "magnetometer",
+        "magnetometers",
+        "magnetometeruncalibrated",
+        "magneticfield",
+        "compass",
+        "hmc",
+        "qmc",
+        "ak",
+        "mmc",
+        "lis3mdl",
+        "bmm",
+    ),
 }
 """Words of a file's name that name the one sensor it holds (a chip's family counts: ``hmc5883l``)."""
 _SUFFIXES = (".gz", *TEXT_SUFFIXES)
@@ -57,7 +91,7 @@ def _tokens(filename: str) -> list[str]:
             stem = stem[: -len(suffix)]
     stem = re.sub(r"(?<=[a-z])(?=[A-Z])", "_", stem)  # camelCase: TotalAcceleration → Total_Acceleration
     words = [w for w in re.split(r"[^a-z0-9]+", stem.lower()) if w]
-    joined = ["".join(words[i:i + 2]) for i in range(len(words) - 1)]  # total_acceleration → totalacceleration
+    joined = ["".join(words[i : i + 2]) for i in range(len(words) - 1)]  # total_acceleration → totalacceleration
     return words + joined
 
 
@@ -128,7 +162,7 @@ def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] |
         return None
     raw: list[float] = []
     if time_col is not None:
-        lines = [ln for ln in text.splitlines()[layout.skip_lines:] if ln.strip() and not is_comment(ln)]
+        lines = [ln for ln in text.splitlines()[layout.skip_lines :] if ln.strip() and not is_comment(ln)]
         try:
             raw = [float(split_row(ln, layout.delimiter)[time_col].replace(layout.decimal, ".")) for ln in lines[:2]]
         except (ValueError, IndexError):
@@ -211,8 +245,10 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     """
     by_sensor = {sensor: (fname, log, start) for fname, sensor, log, start in logs}
     timed = all(log.time_s is not None and len(log.time_s) >= 2 for _, log, _ in by_sensor.values())
-    notes = [f"one recording in {len(logs)} files, one per sensor: "
-             + ", ".join(f"{fname} the {_WORDS[sensor]} ({log.units[sensor]})" for fname, sensor, log, _ in logs)]
+    notes = [
+        f"one recording in {len(logs)} files, one per sensor: "
+        + ", ".join(f"{fname} the {_WORDS[sensor]} ({log.units[sensor]})" for fname, sensor, log, _ in logs)
+    ]
     if not timed:
         return _one_to_one(logs, by_sensor, notes, name)
     starts = _overlapping_starts(by_sensor, name)
@@ -231,7 +267,8 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
         raise LogFormatError(
             f"{name}: {int(drop.sum())} of the {len(times)} samples of {clock_file} have no sample of the other "
             "files' sensors around them (the files overlap too little, or their clocks differ): upload the files "
-            "of one recording, each with its time column on the same clock")
+            "of one recording, each with its time column on the same clock"
+        )
     keep = ~drop
     kept_times = times[keep]
     arrays = {clock_sensor: np.asarray(getattr(clock_log, clock_sensor), dtype=float)[keep]}
@@ -241,19 +278,31 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
         t = np.asarray(log.time_s, dtype=float) + starts[s]
         v = np.asarray(getattr(log, s), dtype=float)
         arrays[s] = np.column_stack([np.interp(kept_times, t, v[:, k]) for k in range(3)])
-    notes.append(f"merged on the clock of {clock_file} ({why}, {clock_log.sampling_rate_hz or 0:.4g} Hz); "
-                 + ", ".join(f"{f} interpolated onto it" for s, (f, _, _) in by_sensor.items() if s != clock_sensor))
+    notes.append(
+        f"merged on the clock of {clock_file} ({why}, {clock_log.sampling_rate_hz or 0:.4g} Hz); "
+        + ", ".join(f"{f} interpolated onto it" for s, (f, _, _) in by_sensor.items() if s != clock_sensor)
+    )
     if drop.any():
-        notes.append(f"{int(drop.sum())} of the {len(times)} samples of {clock_file} left out: another file has no "
-                     "samples there (before its first, after its last, or in one of its gaps); they are not "
-                     "interpolated across")
+        notes.append(
+            f"{int(drop.sum())} of the {len(times)} samples of {clock_file} left out: another file has no "
+            "samples there (before its first, after its last, or in one of its gaps); they are not "
+            "interpolated across"
+        )
     temperature = clock_log.temperature_c
-    merged = LogData(acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"),
-                     time_s=kept_times - kept_times[0], sampling_rate_hz=None,
-                     units={s: log.units[s] for s, (_, log, _) in by_sensor.items()}, format=_format(logs),
-                     columns=list(clock_log.columns), notes=tuple(notes + _file_notes(logs)), sign=clock_log.sign,
-                     warnings=_warnings(logs),
-                     temperature_c=None if temperature is None else np.asarray(temperature)[keep])
+    merged = LogData(
+        acc=arrays.get("acc"),
+        gyr=arrays.get("gyr"),
+        mag=arrays.get("mag"),
+        time_s=kept_times - kept_times[0],
+        sampling_rate_hz=None,
+        units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
+        format=_format(logs),
+        columns=list(clock_log.columns),
+        notes=tuple(notes + _file_notes(logs)),
+        sign=clock_log.sign,
+        warnings=_warnings(logs),
+        temperature_c=None if temperature is None else np.asarray(temperature)[keep],
+    )
     return with_timing(merged, None, name)
 
 
@@ -266,15 +315,23 @@ def _one_to_one(logs: list, by_sensor: dict, notes: list, name: str) -> LogData:
         raise LogFormatError(
             f"{name}: {lacking} has no time column, and the files hold different counts of samples "
             f"({', '.join(f'{f} {log.n_samples}' for f, log, _ in by_sensor.values())}): the sensors' files "
-            "cannot be put on one clock; log a time column in every file")
+            "cannot be put on one clock; log a time column in every file"
+        )
     notes.append("no time column in every file: the files' samples taken as simultaneous, one to one")
     clock_sensor = "acc" if "acc" in by_sensor else next(iter(by_sensor))
     clock_log = by_sensor[clock_sensor][1]
     arrays = {s: np.asarray(getattr(log, s), dtype=float) for s, (_, log, _) in by_sensor.items()}
-    return dataclasses.replace(clock_log, acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"),
-                               units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
-                               notes=tuple(notes + _file_notes(logs)), warnings=_warnings(logs), parts=(),
-                               format=_format(logs))
+    return dataclasses.replace(
+        clock_log,
+        acc=arrays.get("acc"),
+        gyr=arrays.get("gyr"),
+        mag=arrays.get("mag"),
+        units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
+        notes=tuple(notes + _file_notes(logs)),
+        warnings=_warnings(logs),
+        parts=(),
+        format=_format(logs),
+    )
 
 
 def _overlapping_starts(by_sensor: dict, name: str) -> dict:
@@ -289,7 +346,8 @@ def _overlapping_starts(by_sensor: dict, name: str) -> dict:
         listed = ", ".join(f"{by_sensor[s][0]} {a:.3f}–{b:.3f} s" for s, (a, b) in spans.items())
         raise LogFormatError(
             f"{name}: the files name one sensor each but their times do not overlap ({listed}): the sensors of one "
-            "recording are logged at the same time; upload the files of one recording together")
+            "recording are logged at the same time; upload the files of one recording together"
+        )
     return starts
 
 
@@ -342,6 +400,7 @@ def read_sensor_files(sources: list[tuple[str, Path]], read, *, name: str, colum
             raise LogFormatError(
                 f"{fname} is named for the {_WORDS[sensor]} but holds the {_WORDS[log.channels[0]]}'s columns "
                 f"({', '.join(map(str, log.columns[:8]))}): name the file for the sensor it holds, or its columns "
-                f"for the {_WORDS[sensor]} ({sensor}_x, {sensor}_y, {sensor}_z)")
+                f"for the {_WORDS[sensor]} ({sensor}_x, {sensor}_y, {sensor}_z)"
+            )
         logs.append((fname, sensor, log, first_time(path, log, fname)))
     return merge_sensor_logs(logs, name=name)

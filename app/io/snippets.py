@@ -19,9 +19,11 @@ from .export_common import SENSORS, result_class, sensor_corrections, unit_label
 from .export_params import firmware_figures
 from .formats.chips import CHIPS
 
-_EXAMPLE_SCALE = {"acc": (16384.0, "16384 counts per g of an MPU-6050 at ±2 g (its datasheet, section 6.2)", "g"),
-                  "mag": (0.15, "0.15 µT per count of an AK8963 at 16 bit (its datasheet)", "uT"),
-                  "gyr": (131.0, "131 counts per °/s of an MPU-6050 at ±250 °/s (its datasheet, section 6.1)", "deg/s")}
+_EXAMPLE_SCALE = {
+    "acc": (16384.0, "16384 counts per g of an MPU-6050 at ±2 g (its datasheet, section 6.2)", "g"),
+    "mag": (0.15, "0.15 µT per count of an AK8963 at 16 bit (its datasheet)", "uT"),
+    "gyr": (131.0, "131 counts per °/s of an MPU-6050 at ±250 °/s (its datasheet, section 6.1)", "deg/s"),
+}
 """A common part's sensitivity, offered when the calibration does not say which part it is."""
 
 
@@ -44,13 +46,21 @@ def input_scale(sensor: str, unit: str | None, read_with: dict | None) -> dict |
                 return {"op": "*", "value": chip.scale, "words": f"the {chip.label}", "known": True}
             return {"op": "/", "value": 1.0 / chip.scale, "words": f"the {chip.label}", "known": True}
     if sensor == "acc" and unit == "g" and read_with.get("lsb_per_g"):
-        return {"op": "/", "value": float(read_with["lsb_per_g"]), "words": "the counts per g the upload gave",
-                "known": True}
+        return {
+            "op": "/",
+            "value": float(read_with["lsb_per_g"]),
+            "words": "the counts per g the upload gave",
+            "known": True,
+        }
     value, words, example_unit = _EXAMPLE_SCALE.get(sensor, (None, None, None))
     if value is None or unit != example_unit:
         return None
-    return {"op": "*" if sensor == "mag" else "/", "value": value, "known": False,
-            "words": f"{words}: set your part's figure"}
+    return {
+        "op": "*" if sensor == "mag" else "/",
+        "value": value,
+        "known": False,
+        "words": f"{words}: set your part's figure",
+    }
 
 
 def _sample(c, scale: dict | None, field_ut: float | None) -> list[float]:
@@ -78,26 +88,41 @@ def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
     out, unit_in = unit_label(c.output_unit), unit_label(c.input_unit)
     if scale is None and c.input_unit != "raw":
         numbers = ", ".join(_c_float(v) for v in sample)
-        return [f"/* One {SENSORS[c.sensor]} reading m in {unit_in}, as the header takes it, calibrated into f, in {out}. */",
-                f"void {name}_calibrate(const float m[3], float f[3])", "{", f"    {name}_apply(m, f);", "}",
-                "/* For each reading, e.g. at rest with z up:",
-                f" *     float m[3] = {{{numbers}}};",
-                f" *     float f[3];  {name}_calibrate(m, f);",
-                " */"]
+        return [
+            f"/* One {SENSORS[c.sensor]} reading m in {unit_in}, as the header takes it, calibrated into f, in {out}. */",
+            f"void {name}_calibrate(const float m[3], float f[3])",
+            "{",
+            f"    {name}_apply(m, f);",
+            "}",
+            "/* For each reading, e.g. at rest with z up:",
+            f" *     float m[3] = {{{numbers}}};",
+            f" *     float f[3];  {name}_calibrate(m, f);",
+            " */",
+        ]
     if scale is None:
-        body = [f"    m[{i}] = (float)raw[{i}];" + ("  /* the header takes counts, as calibrated */" if i == 0 else "")
-                for i in range(3)]
+        body = [
+            f"    m[{i}] = (float)raw[{i}];" + ("  /* the header takes counts, as calibrated */" if i == 0 else "")
+            for i in range(3)
+        ]
     else:
         k, op = _c_float(scale["value"]), scale["op"]
-        body = [f"    m[{i}] = raw[{i}] {op} {k};" + (f"  /* counts to {unit_in}: {scale['words']} */" if i == 0 else "")
-                for i in range(3)]
-    return [f"/* One {SENSORS[c.sensor]} reading from your driver, in counts, calibrated into f, in {out}. */",
-            f"void {name}_calibrate(const int16_t raw[3], float f[3])", "{", "    float m[3];", *body,
-            f"    {name}_apply(m, f);", "}",
-            "/* For each reading, e.g. at rest with z up:",
-            f" *     int16_t raw[3] = {{{', '.join(str(int(v)) for v in sample)}}};",
-            f" *     float f[3];  {name}_calibrate(raw, f);",
-            " */"]
+        body = [
+            f"    m[{i}] = raw[{i}] {op} {k};" + (f"  /* counts to {unit_in}: {scale['words']} */" if i == 0 else "")
+            for i in range(3)
+        ]
+    return [
+        f"/* One {SENSORS[c.sensor]} reading from your driver, in counts, calibrated into f, in {out}. */",
+        f"void {name}_calibrate(const int16_t raw[3], float f[3])",
+        "{",
+        "    float m[3];",
+        *body,
+        f"    {name}_apply(m, f);",
+        "}",
+        "/* For each reading, e.g. at rest with z up:",
+        f" *     int16_t raw[3] = {{{', '.join(str(int(v)) for v in sample)}}};",
+        f" *     float f[3];  {name}_calibrate(raw, f);",
+        " */",
+    ]
 
 
 def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
@@ -140,26 +165,48 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         if scale is not None:
             to_unit = f" {scale['op']} {scale['value']:g}  # counts to {unit_label(c.input_unit)}: {scale['words']}"
         suffix = "" if len(corrections) == 1 else f"_{c.sensor}"
-        py_lines += [f"M{suffix}, o{suffix} = np.array({where}['M']), np.array({where}['o'])".replace("'", '"'),
-                     f"m{suffix} = np.array([{numbers}]){to_unit or f'  # one reading in {unit_label(c.input_unit)}'}",
-                     f"f{suffix} = M{suffix} @ (m{suffix} - o{suffix})  # calibrated, in {unit_label(c.output_unit)}"]
+        py_lines += [
+            f"M{suffix}, o{suffix} = np.array({where}['M']), np.array({where}['o'])".replace("'", '"'),
+            f"m{suffix} = np.array([{numbers}]){to_unit or f'  # one reading in {unit_label(c.input_unit)}'}",
+            f"f{suffix} = M{suffix} @ (m{suffix} - o{suffix})  # calibrated, in {unit_label(c.output_unit)}",
+        ]
         js_where = f"cal.corrections.{c.sensor}" if cube else "cal.correction"
         names = f"M: M{suffix}, o: o{suffix}" if suffix else "M, o"
-        js_lines += [f"const {{ {names} }} = {js_where};",
-                     f"const m{suffix} = [{numbers}];  // one reading from the {SENSORS[c.sensor]}, in "
-                     f"{unit_label(c.input_unit) if scale is None else 'counts: scale it as below'}"]
+        js_lines += [
+            f"const {{ {names} }} = {js_where};",
+            f"const m{suffix} = [{numbers}];  // one reading from the {SENSORS[c.sensor]}, in "
+            f"{unit_label(c.input_unit) if scale is None else 'counts: scale it as below'}",
+        ]
         if scale is not None:
-            js_lines.append(f"const s{suffix} = m{suffix}.map((v) => v {scale['op']} {scale['value']:g});  "
-                            f"// counts to {unit_label(c.input_unit)}: {scale['words']}")
+            js_lines.append(
+                f"const s{suffix} = m{suffix}.map((v) => v {scale['op']} {scale['value']:g});  "
+                f"// counts to {unit_label(c.input_unit)}: {scale['words']}"
+            )
         arg = f"s{suffix}" if scale is not None else f"m{suffix}"
-        js_lines.append(f"const f{suffix} = M{suffix}.map((row) => row.reduce((sum, k, j) => sum + k * ({arg}[j] - "
-                        f"o{suffix}[j]), 0));  // calibrated, in {unit_label(c.output_unit)}")
-    corrections_out = {c.sensor: {"M": c.M.tolist(), "o": c.o.tolist(), "input_unit": c.input_unit,
-                                  "output_unit": c.output_unit, "source": c.source} for c in corrections}
+        js_lines.append(
+            f"const f{suffix} = M{suffix}.map((row) => row.reduce((sum, k, j) => sum + k * ({arg}[j] - "
+            f"o{suffix}[j]), 0));  // calibrated, in {unit_label(c.output_unit)}"
+        )
+    corrections_out = {
+        c.sensor: {
+            "M": c.M.tolist(),
+            "o": c.o.tolist(),
+            "input_unit": c.input_unit,
+            "output_unit": c.output_unit,
+            "source": c.source,
+        }
+        for c in corrections
+    }
     counts = any(scales[c.sensor] is not None or c.input_unit == "raw" for c in corrections)  # int16_t
     c_lines = ["#include <stdint.h>  /* int16_t */", f'#include "{header}"'] if counts else [f'#include "{header}"']
     c_lines += c_blocks
-    return {"corrections": corrections_out, "c": "\n".join(c_lines), "python": "\n".join(py_lines), "javascript": "\n".join(js_lines),
-            "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections},
-            "calibrate": {c.sensor: f"trical_{c.sensor}_calibrate" for c in corrections}, "scales": scales,
-            "firmware": firmware_figures(body)}
+    return {
+        "corrections": corrections_out,
+        "c": "\n".join(c_lines),
+        "python": "\n".join(py_lines),
+        "javascript": "\n".join(js_lines),
+        "functions": {c.sensor: f"trical_{c.sensor}_apply" for c in corrections},
+        "calibrate": {c.sensor: f"trical_{c.sensor}_calibrate" for c in corrections},
+        "scales": scales,
+        "firmware": firmware_figures(body),
+    }

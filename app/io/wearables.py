@@ -40,7 +40,8 @@ def refuse_unknown_binary(path: Path, name: str) -> None:
         raise LogFormatError(
             f"{name} is not a format trical reads: its first bytes ({head[:8].hex(' ')}) are none of the .bin "
             f"formats (an ArduPilot DataFlash log, a GENEActiv or Matrix wearable's recording). trical reads: {formats_read()}",
-            status=415)
+            status=415,
+        )
 
 
 def is_wearable(path: Path) -> bool:
@@ -51,8 +52,9 @@ def is_wearable(path: Path) -> bool:
     return bool(suffixes) and suffixes[-1] in WEARABLE_SUFFIXES
 
 
-def read_wearable_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
-                      name: str = "the file") -> LogData:
+def read_wearable_log(
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str = "the file"
+) -> LogData:
     """Read a wearable device file with actipy into samples in g.
 
     Raises
@@ -76,13 +78,25 @@ def read_wearable_log(path: Path, *, sampling_rate_hz: float | None = None, unit
     if (units or {}).get("acc") not in (None, "g"):
         raise LogFormatError(f"{name}: wearable files are read in g; leave the unit out or give g")
     try:
-        data, info = actipy.read_device(str(path), lowpass_hz=None, calibrate_gravity=False,
-                                        detect_nonwear=False, resample_hz=None, verbose=False)
+        data, info = actipy.read_device(
+            str(path), lowpass_hz=None, calibrate_gravity=False, detect_nonwear=False, resample_hz=None, verbose=False
+        )
     except Exception as exc:  # actipy raises many kinds of errors on a bad file
         raise LogFormatError(f"{name} could not be read as a wearable device file: {exc}", status=415) from None
     acc = data[["x", "y", "z"]].to_numpy(dtype=np.float32)
     rate = float(info.get("SampleRate") or 0) or None  # the device's stated rate; the caller's wins
     time_s = np.asarray((data.index - data.index[0]).total_seconds(), dtype=float) if len(data) else None
-    return with_timing(LogData(acc=acc, gyr=None, mag=None, time_s=time_s, sampling_rate_hz=rate, units={"acc": "g"},
-                               format=f"wearable:{info.get('Device', path.suffix.lstrip('.'))}",
-                               columns=["x", "y", "z"]), sampling_rate_hz, name)
+    return with_timing(
+        LogData(
+            acc=acc,
+            gyr=None,
+            mag=None,
+            time_s=time_s,
+            sampling_rate_hz=rate,
+            units={"acc": "g"},
+            format=f"wearable:{info.get('Device', path.suffix.lstrip('.'))}",
+            columns=["x", "y", "z"],
+        ),
+        sampling_rate_hz,
+        name,
+    )

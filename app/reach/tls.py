@@ -139,9 +139,20 @@ def make_self_signed(cert_path: Path | str, key_path: Path | str, hosts: list[st
         .not_valid_after(now + dt.timedelta(days=days))
         .add_extension(x509.SubjectAlternativeName(_general_names(hosts)), critical=False)
         .add_extension(x509.BasicConstraints(ca=False, path_length=None), critical=True)
-        .add_extension(x509.KeyUsage(digital_signature=True, content_commitment=False, key_encipherment=False,
-                                     data_encipherment=False, key_agreement=False, key_cert_sign=False,
-                                     crl_sign=False, encipher_only=False, decipher_only=False), critical=True)
+        .add_extension(
+            x509.KeyUsage(
+                digital_signature=True,
+                content_commitment=False,
+                key_encipherment=False,
+                data_encipherment=False,
+                key_agreement=False,
+                key_cert_sign=False,
+                crl_sign=False,
+                encipher_only=False,
+                decipher_only=False,
+            ),
+            critical=True,
+        )
         .add_extension(x509.ExtendedKeyUsage([ExtendedKeyUsageOID.SERVER_AUTH]), critical=False)
         .add_extension(x509.SubjectKeyIdentifier.from_public_key(public), critical=False)
         .add_extension(x509.AuthorityKeyIdentifier.from_issuer_public_key(public), critical=False)
@@ -150,8 +161,9 @@ def make_self_signed(cert_path: Path | str, key_path: Path | str, hosts: list[st
     cert_path, key_path = Path(cert_path), Path(key_path)
     for path in (cert_path, key_path):
         path.parent.mkdir(parents=True, exist_ok=True)
-    key_pem = key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8,
-                                serialization.NoEncryption())
+    key_pem = key.private_bytes(
+        serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8, serialization.NoEncryption()
+    )
     fd = os.open(key_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
     with os.fdopen(fd, "wb") as out:
         out.write(key_pem)
@@ -229,8 +241,10 @@ def check_certificate_files(cert_path: Path | str, key_path: Path | str) -> None
     try:
         context.load_cert_chain(str(cert_path), str(key_path), password=lambda: b"")
     except ssl.SSLError as exc:
-        raise CertificateError(f"{cert_path} and {key_path} are not a PEM certificate and its unencrypted "
-                               f"private key ({exc.reason or exc})") from None
+        raise CertificateError(
+            f"{cert_path} and {key_path} are not a PEM certificate and its unencrypted "
+            f"private key ({exc.reason or exc})"
+        ) from None
     except OSError as exc:
         raise CertificateError(f"cannot read {cert_path} or {key_path}: {exc.strerror}") from None
 
@@ -242,4 +256,4 @@ def fingerprint(cert_path: Path | str) -> str:
     if not match:
         raise CertificateError(f"{cert_path} holds no PEM certificate")
     digest = hashlib.sha256(ssl.PEM_cert_to_DER_cert(match.group(0))).hexdigest().upper()
-    return ":".join(digest[i:i + 2] for i in range(0, len(digest), 2))
+    return ":".join(digest[i : i + 2] for i in range(0, len(digest), 2))

@@ -36,8 +36,7 @@ def make_engine(database_url: str) -> Engine:
 
 def _sqlite_engine(path: Path) -> Engine:
     path.parent.mkdir(parents=True, exist_ok=True)
-    engine = create_engine(f"sqlite:///{path}", connect_args={"timeout": 30.0, "check_same_thread": False},
-                           **POOL)
+    engine = create_engine(f"sqlite:///{path}", connect_args={"timeout": 30.0, "check_same_thread": False}, **POOL)
 
     @event.listens_for(engine, "connect")
     def _configure(dbapi_connection, _record):

@@ -66,8 +66,10 @@ def adopt_legacy_schema(connection: Connection, config: Config) -> None:
     if version is None:
         version = 0
     if version not in LEGACY_REVISIONS:
-        raise SchemaError(f"the database is at schema_version {version}, newer than this trical knows "
-                          f"(at most {max(LEGACY_REVISIONS)}): run the trical that made it")
+        raise SchemaError(
+            f"the database is at schema_version {version}, newer than this trical knows "
+            f"(at most {max(LEGACY_REVISIONS)}): run the trical that made it"
+        )
     revision = LEGACY_REVISIONS[version]
     if revision is not None:
         command.stamp(config, revision)

@@ -86,8 +86,9 @@ class Store:
 
     # -- calibrations ---------------------------------------------------------------------
 
-    def add_calibration(self, body: dict, *, owner: str | None, session_id: str | None = None,
-                        recording_digest: str | None = None) -> dict:
+    def add_calibration(
+        self, body: dict, *, owner: str | None, session_id: str | None = None, recording_digest: str | None = None
+    ) -> dict:
         """Store a calibration; ``id`` and ``created_at`` are assigned here and returned in it. With
         ``session_id``, the session names it as its calibration in the same transaction: a solved session
         and its calibration are stored together or not at all. With ``recording_digest`` (the SHA-256 of the
@@ -95,16 +96,31 @@ class Store:
         device name (read again with other options): they stay, each naming it in ``superseded_by``."""
         body = dict(body, id=new_id("cal"), created_at=utc_now())
         with self._writer.begin() as db:
-            db.execute(calibrations.insert().values(
-                id=body["id"], method=body["method"], device_id=body.get("device_id"), label=body.get("label"),
-                owner=owner, created_at=body["created_at"], ok=int(bool(body.get("ok"))), body=_json(body),
-                recording_digest=recording_digest))
+            db.execute(
+                calibrations.insert().values(
+                    id=body["id"],
+                    method=body["method"],
+                    device_id=body.get("device_id"),
+                    label=body.get("label"),
+                    owner=owner,
+                    created_at=body["created_at"],
+                    ok=int(bool(body.get("ok"))),
+                    body=_json(body),
+                    recording_digest=recording_digest,
+                )
+            )
             if recording_digest is not None:
-                db.execute(update(calibrations).where(
-                    _owned_by(calibrations.c.owner, owner), calibrations.c.recording_digest == recording_digest,
-                    calibrations.c.method == body["method"], calibrations.c.id != body["id"],
-                    calibrations.c.device_id.is_not_distinct_from(body.get("device_id")),
-                ).values(superseded_by=body["id"]))
+                db.execute(
+                    update(calibrations)
+                    .where(
+                        _owned_by(calibrations.c.owner, owner),
+                        calibrations.c.recording_digest == recording_digest,
+                        calibrations.c.method == body["method"],
+                        calibrations.c.id != body["id"],
+                        calibrations.c.device_id.is_not_distinct_from(body.get("device_id")),
+                    )
+                    .values(superseded_by=body["id"])
+                )
             if session_id is not None:
                 db.execute(update(sessions).where(sessions.c.id == session_id).values(calibration_id=body["id"]))
         return body
@@ -112,19 +128,26 @@ class Store:
     def get_calibration(self, calibration_id: str, *, owner: str | None) -> dict:
         """One calibration, with ``superseded_by`` when a later one of the same recording and method
         superseded it and ``earlier`` (how many it superseded) when it did."""
-        rows = self._read(select(calibrations.c.body, calibrations.c.superseded_by).where(
-            calibrations.c.id == calibration_id, _owned_by(calibrations.c.owner, owner)))
+        rows = self._read(
+            select(calibrations.c.body, calibrations.c.superseded_by).where(
+                calibrations.c.id == calibration_id, _owned_by(calibrations.c.owner, owner)
+            )
+        )
         if not rows:
             raise NotFoundError(f"no calibration with id {calibration_id!r}")
         return self._with_lineage(rows)[0]
 
-    def list_calibrations(self, *, owner: str | None, device_id: str | None = None, limit: int = 100,
-                          superseded_by: str | None = None) -> list[dict]:
+    def list_calibrations(
+        self, *, owner: str | None, device_id: str | None = None, limit: int = 100, superseded_by: str | None = None
+    ) -> list[dict]:
         """The owner's calibrations that no later one superseded, newest first, optionally of one device;
         with ``superseded_by``, the earlier ones that calibration superseded instead."""
         query = select(calibrations.c.body, calibrations.c.superseded_by).where(
-            _owned_by(calibrations.c.owner, owner), calibrations.c.superseded_by.is_(None) if superseded_by is None
-            else calibrations.c.superseded_by == superseded_by)
+            _owned_by(calibrations.c.owner, owner),
+            calibrations.c.superseded_by.is_(None)
+            if superseded_by is None
+            else calibrations.c.superseded_by == superseded_by,
+        )
         if device_id is not None:
             query = query.where(calibrations.c.device_id == device_id)
         query = query.order_by(calibrations.c.created_at.desc(), calibrations.c.id).limit(limit)
@@ -134,8 +157,17 @@ class Store:
         """The bodies of ``rows`` (body, superseded_by), each with ``superseded_by`` and ``earlier`` where they hold."""
         bodies = [json.loads(row.body) for row in rows]
         ids = [b["id"] for b in bodies]
-        counts = dict(self._read(select(calibrations.c.superseded_by, func.count()).where(
-            calibrations.c.superseded_by.in_(ids)).group_by(calibrations.c.superseded_by))) if ids else {}
+        counts = (
+            dict(
+                self._read(
+                    select(calibrations.c.superseded_by, func.count())
+                    .where(calibrations.c.superseded_by.in_(ids))
+                    .group_by(calibrations.c.superseded_by)
+                )
+            )
+            if ids
+            else {}
+        )
         for body, row in zip(bodies, rows):
             if row.superseded_by:
                 body["superseded_by"] = row.superseded_by
@@ -149,9 +181,13 @@ class Store:
         """A short link to the owner's calibration that reads it for ``ttl_s`` seconds: ``code``,
         ``calibration_id``, ``created_at``, ``expires_at``. Another owner's calibration is not found."""
         self.get_calibration(calibration_id, owner=owner)
-        row = {"code": "".join(secrets.choice(LINK_ALPHABET) for _ in range(LINK_LENGTH)),
-               "calibration_id": calibration_id, "owner": owner, "created_at": utc_now(),
-               "expires_at": utc_now(ttl_s)}
+        row = {
+            "code": "".join(secrets.choice(LINK_ALPHABET) for _ in range(LINK_LENGTH)),
+            "calibration_id": calibration_id,
+            "owner": owner,
+            "created_at": utc_now(),
+            "expires_at": utc_now(ttl_s),
+        }
         with self._writer.begin() as db:
             db.execute(links.insert().values(**row))
         return {k: v for k, v in row.items() if k != "owner"}
@@ -161,12 +197,15 @@ class Store:
         code, or one past its time, is not found, with a message saying to send it again."""
         rows = self._read(select(links).where(links.c.code == code.upper()))
         if not rows:
-            raise NotFoundError(f"no link {code!r}: check the address, or send it again from the device that made "
-                                "the calibration")
+            raise NotFoundError(
+                f"no link {code!r}: check the address, or send it again from the device that made the calibration"
+            )
         row = rows[0]._asdict()
         if row["expires_at"] <= utc_now():
-            raise NotFoundError(f"the link {code!r} expired at {row['expires_at']}: send it again from the device "
-                                "that made the calibration")
+            raise NotFoundError(
+                f"the link {code!r} expired at {row['expires_at']}: send it again from the device "
+                "that made the calibration"
+            )
         return row
 
     # -- recordings -----------------------------------------------------------------------
@@ -177,18 +216,28 @@ class Store:
         with self._writer.begin() as db:
             if self.keep_files_in_database:
                 db.execute(recording_files.insert().values(id=recording_id, content=Path(path).read_bytes()))
-            db.execute(recordings.insert().values(
-                id=recording_id, owner=owner, created_at=body["created_at"], format=body["format"],
-                n_samples=body["n_samples"], path=Path(path).name,
-                # The column is informative (the body holds the rate): 0 for a log without one.
-                sampling_rate_hz=body["sampling_rate_hz"] or 0.0,
-                body=_json(body)))
+            db.execute(
+                recordings.insert().values(
+                    id=recording_id,
+                    owner=owner,
+                    created_at=body["created_at"],
+                    format=body["format"],
+                    n_samples=body["n_samples"],
+                    path=Path(path).name,
+                    # The column is informative (the body holds the rate): 0 for a log without one.
+                    sampling_rate_hz=body["sampling_rate_hz"] or 0.0,
+                    body=_json(body),
+                )
+            )
         return body
 
     def get_recording(self, recording_id: str, *, owner: str | None) -> tuple[dict, Path]:
         """A recording's metadata and its file on this machine (fetched from the database if needed)."""
-        rows = self._read(select(recordings.c.body, recordings.c.path).where(
-            recordings.c.id == recording_id, _owned_by(recordings.c.owner, owner)))
+        rows = self._read(
+            select(recordings.c.body, recordings.c.path).where(
+                recordings.c.id == recording_id, _owned_by(recordings.c.owner, owner)
+            )
+        )
         if not rows:
             raise NotFoundError(f"no recording with id {recording_id!r}; upload it with POST /api/v1/recordings")
         path = self.files_dir / rows[0].path
@@ -209,9 +258,17 @@ class Store:
         """Store a new session; ``id`` and ``created_at`` are assigned here."""
         body = dict(body, id=new_id("ses"), created_at=utc_now())
         with self._writer.begin() as db:
-            db.execute(sessions.insert().values(
-                id=body["id"], token_hash=token_hash, owner=owner, protocol=body["protocol"],
-                created_at=body["created_at"], calibration_id=None, body=_json(body)))
+            db.execute(
+                sessions.insert().values(
+                    id=body["id"],
+                    token_hash=token_hash,
+                    owner=owner,
+                    protocol=body["protocol"],
+                    created_at=body["created_at"],
+                    calibration_id=None,
+                    body=_json(body),
+                )
+            )
         return body
 
     def session_id_for_token(self, token_hash: str) -> str | None:
@@ -221,15 +278,19 @@ class Store:
     def get_session(self, session_id: str) -> dict:
         """The session with its captures' summaries (in the order they were taken) and calibration id."""
         with self.engine.connect() as db:
-            row = db.execute(select(sessions.c.body, sessions.c.calibration_id)
-                             .where(sessions.c.id == session_id)).first()
+            row = db.execute(
+                select(sessions.c.body, sessions.c.calibration_id).where(sessions.c.id == session_id)
+            ).first()
             if row is None:
                 raise NotFoundError(f"no session with id {session_id!r}; start one with POST /api/v1/sessions")
-            captures = db.execute(select(session_captures.c.summary)
-                                  .where(session_captures.c.session_id == session_id)
-                                  .order_by(session_captures.c.created_at, session_captures.c.position)).all()
-        return dict(json.loads(row.body), calibration_id=row.calibration_id,
-                    captures=[json.loads(c.summary) for c in captures])
+            captures = db.execute(
+                select(session_captures.c.summary)
+                .where(session_captures.c.session_id == session_id)
+                .order_by(session_captures.c.created_at, session_captures.c.position)
+            ).all()
+        return dict(
+            json.loads(row.body), calibration_id=row.calibration_id, captures=[json.loads(c.summary) for c in captures]
+        )
 
     def add_capture(self, session_id: str, summary: dict, samples: dict, *, replace: bool = False) -> dict:
         """Store one capture of a pose; a second one of the same pose needs ``replace``.
@@ -241,21 +302,36 @@ class Store:
         """
         summary = dict(summary, created_at=utc_now())
         insert = self._insert(session_captures).values(
-            session_id=session_id, position=summary["position"], created_at=summary["created_at"],
-            summary=_json(summary), samples=_json(samples))
+            session_id=session_id,
+            position=summary["position"],
+            created_at=summary["created_at"],
+            summary=_json(summary),
+            samples=_json(samples),
+        )
         key = ["session_id", "position"]
         with self._writer.begin() as db:
             if replace:
-                db.execute(insert.on_conflict_do_update(index_elements=key, set_={
-                    name: insert.excluded[name] for name in ("created_at", "summary", "samples")}))
-            elif db.execute(insert.on_conflict_do_nothing(index_elements=key)
-                            .returning(session_captures.c.position)).first() is None:
+                db.execute(
+                    insert.on_conflict_do_update(
+                        index_elements=key,
+                        set_={name: insert.excluded[name] for name in ("created_at", "summary", "samples")},
+                    )
+                )
+            elif (
+                db.execute(
+                    insert.on_conflict_do_nothing(index_elements=key).returning(session_captures.c.position)
+                ).first()
+                is None
+            ):
                 raise ConflictError(summary["position"])
         return summary
 
     def get_capture_samples(self, session_id: str, position: str) -> dict:
-        rows = self._read(select(session_captures.c.samples).where(
-            session_captures.c.session_id == session_id, session_captures.c.position == position))
+        rows = self._read(
+            select(session_captures.c.samples).where(
+                session_captures.c.session_id == session_id, session_captures.c.position == position
+            )
+        )
         if not rows:
             raise NotFoundError(f"session {session_id!r} has no capture of {position}")
         return json.loads(rows[0].samples)

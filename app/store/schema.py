@@ -7,13 +7,23 @@ Bodies are JSON text; ``created_at`` is an ISO 8601 UTC string, so it sorts as t
 from __future__ import annotations
 
 from sqlalchemy import (
-    REAL, Column, ForeignKey, Index, Integer, LargeBinary, MetaData, PrimaryKeyConstraint, Table, Text,
+    REAL,
+    Column,
+    ForeignKey,
+    Index,
+    Integer,
+    LargeBinary,
+    MetaData,
+    PrimaryKeyConstraint,
+    Table,
+    Text,
 )
 
 metadata = MetaData()
 
 calibrations = Table(
-    "calibrations", metadata,
+    "calibrations",
+    metadata,
     Column("id", Text, primary_key=True),
     Column("method", Text, nullable=False),
     Column("device_id", Text),
@@ -31,7 +41,8 @@ calibrations = Table(
 )
 
 recordings = Table(
-    "recordings", metadata,
+    "recordings",
+    metadata,
     Column("id", Text, primary_key=True),
     Column("owner", Text),
     Column("created_at", Text, nullable=False),
@@ -43,14 +54,16 @@ recordings = Table(
 )
 
 recording_files = Table(
-    "recording_files", metadata,
+    "recording_files",
+    metadata,
     Column("id", Text, primary_key=True),  # the recording's id
     Column("content", LargeBinary, nullable=False),
 )
 """Uploaded files kept in the database itself, so that replicas share nothing else."""
 
 sessions = Table(
-    "sessions", metadata,
+    "sessions",
+    metadata,
     Column("id", Text, primary_key=True),
     Column("token_hash", Text, nullable=False, unique=True),
     Column("owner", Text),
@@ -61,7 +74,8 @@ sessions = Table(
 )
 
 session_captures = Table(
-    "session_captures", metadata,
+    "session_captures",
+    metadata,
     Column("session_id", Text, ForeignKey("sessions.id"), nullable=False),
     Column("position", Text, nullable=False),
     Column("created_at", Text, nullable=False),
@@ -71,7 +85,8 @@ session_captures = Table(
 )
 
 links = Table(
-    "links", metadata,
+    "links",
+    metadata,
     Column("code", Text, primary_key=True),  # short and random: what the link carries
     Column("calibration_id", Text, nullable=False),
     Column("owner", Text),  # the calibration's owner: the link reads as it, that one calibration only

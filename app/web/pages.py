@@ -20,6 +20,7 @@ from .tables import SOURCES, page_tables
 
 router = APIRouter(include_in_schema=False)
 
+
 @dataclass(frozen=True)
 class WizardProtocol:
     """A protocol the wizard pages offer: its words, its template and what its page shows (the template
@@ -61,8 +62,9 @@ def _templates(request: Request) -> Jinja2Templates:
 def not_found_page(request: Request) -> HTMLResponse:
     """The 404 page (templates/not_found.html): the address asked for, and links to the start page and the
     history; app.api.errors answers a browser's unknown address with it."""
-    return _templates(request).TemplateResponse(request, "not_found.html", {"path": request.url.path[:200]},
-                                                status_code=404)
+    return _templates(request).TemplateResponse(
+        request, "not_found.html", {"path": request.url.path[:200]}, status_code=404
+    )
 
 
 @router.get("/", response_class=HTMLResponse)
@@ -70,13 +72,17 @@ def index(request: Request):
     """Start page: Start on a phone with motion sensors; on a desktop, the QR code and address of
     the phone page (always), and the upload."""
     url = reachable_url(request)
-    return _templates(request).TemplateResponse(request, "index.html", {
-        "labels": list(CANONICAL_SIX),
-        "tables": page_tables(),
-        "phone_url": url,
-        "phone_qr": qr_svg_data_uri(url),
-        "accept": ",".join(ACCEPTED_SUFFIXES),
-    })
+    return _templates(request).TemplateResponse(
+        request,
+        "index.html",
+        {
+            "labels": list(CANONICAL_SIX),
+            "tables": page_tables(),
+            "phone_url": url,
+            "phone_qr": qr_svg_data_uri(url),
+            "accept": ",".join(ACCEPTED_SUFFIXES),
+        },
+    )
 
 
 def _capture_s(text: str | None) -> tuple[float | None, str | None]:
@@ -113,11 +119,18 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
         problem = f"A {source} cannot do “{PROTOCOLS[protocol].words}” on this page: choose one below."
     shown = source if source in SOURCES else "phone"
     context = {
-        "protocol": protocol, "flow": PROTOCOLS.get(protocol), "capture_s": seconds, "problem": problem,
-        "source": shown, "words": SOURCES[shown], "choices": [
-            (s, p, PROTOCOLS[p].words) for s in SOURCES for p in SOURCE_PROTOCOLS[s]],
-        "capture_s_default": CAPTURE_S_DEFAULT, "capture_s_range": CAPTURE_S_RANGE,
-        "poses": [(label, SOURCES[shown]["poseNames"][label], SOURCES[shown]["poseShort"][label]) for label in CANONICAL_SIX],
+        "protocol": protocol,
+        "flow": PROTOCOLS.get(protocol),
+        "capture_s": seconds,
+        "problem": problem,
+        "source": shown,
+        "words": SOURCES[shown],
+        "choices": [(s, p, PROTOCOLS[p].words) for s in SOURCES for p in SOURCE_PROTOCOLS[s]],
+        "capture_s_default": CAPTURE_S_DEFAULT,
+        "capture_s_range": CAPTURE_S_RANGE,
+        "poses": [
+            (label, SOURCES[shown]["poseNames"][label], SOURCES[shown]["poseShort"][label]) for label in CANONICAL_SIX
+        ],
         "tables": None if problem else page_tables(),
     }
     if problem:
@@ -142,12 +155,21 @@ def calibration_page(request: Request, calibration_id: str, device: str | None =
     if latest and not device:
         problem = "/c/latest needs the device: /c/latest?device=NAME (the names are in your calibrations)."
     elif not latest and not CALIBRATION_ID.match(calibration_id):
-        problem = (f"“{calibration_id[:80]}” is not a calibration's id: an id is cal_ and 32 hexadecimal digits. "
-                   "Your calibrations are listed in the history.")
-    return _templates(request).TemplateResponse(request, "calibration.html", {
-        "calibration_id": None if latest else calibration_id, "device": device if latest else None,
-        "problem": problem, "tables": None if problem else page_tables(),
-    }, status_code=404 if problem else 200)
+        problem = (
+            f"“{calibration_id[:80]}” is not a calibration's id: an id is cal_ and 32 hexadecimal digits. "
+            "Your calibrations are listed in the history."
+        )
+    return _templates(request).TemplateResponse(
+        request,
+        "calibration.html",
+        {
+            "calibration_id": None if latest else calibration_id,
+            "device": device if latest else None,
+            "problem": problem,
+            "tables": None if problem else page_tables(),
+        },
+        status_code=404 if problem else 200,
+    )
 
 
 LINK_CODE = re.compile(r"^[2-9A-HJKMNP-Za-hjkmnp-z]{10}$")
@@ -157,17 +179,33 @@ LINK_CODE = re.compile(r"^[2-9A-HJKMNP-Za-hjkmnp-z]{10}$")
 @router.get("/s/{code}", response_class=HTMLResponse)
 def link_page(request: Request, code: str):
     """A short link sent from the phone: the calibration it opens, read with the link until it expires."""
-    problem = None if LINK_CODE.match(code) else (
-        f"“{code[:40]}” is not a link's code: a code is ten letters and digits, as the phone showed it.")
-    return _templates(request).TemplateResponse(request, "calibration.html", {
-        "calibration_id": None, "device": None, "link": None if problem else code.upper(),
-        "problem": problem, "tables": None if problem else page_tables(),
-    }, status_code=404 if problem else 200)
+    problem = (
+        None
+        if LINK_CODE.match(code)
+        else (f"“{code[:40]}” is not a link's code: a code is ten letters and digits, as the phone showed it.")
+    )
+    return _templates(request).TemplateResponse(
+        request,
+        "calibration.html",
+        {
+            "calibration_id": None,
+            "device": None,
+            "link": None if problem else code.upper(),
+            "problem": problem,
+            "tables": None if problem else page_tables(),
+        },
+        status_code=404 if problem else 200,
+    )
 
 
 @router.get("/history", response_class=HTMLResponse)
 def history_page(request: Request, device: str | None = None):
     """The owner's calibrations, newest first (device, method, verdict, date), filtered by device."""
-    return _templates(request).TemplateResponse(request, "history.html", {
-        "device": device or "", "tables": page_tables(),
-    })
+    return _templates(request).TemplateResponse(
+        request,
+        "history.html",
+        {
+            "device": device or "",
+            "tables": page_tables(),
+        },
+    )

@@ -48,10 +48,16 @@ readings in each face."""
 
 _SIDE = {"x": ("right edge", "left edge"), "y": ("top edge", "bottom edge"), "z": ("screen", "back")}
 _TOWARDS = {"x": ("right", "left"), "y": ("top", "bottom"), "z": ("screen", "back")}
-_BOARD_SIDE = {"x": ("X arrow's edge", "edge behind the X arrow"), "y": ("Y arrow's edge", "edge behind the Y arrow"),
-               "z": ("component side", "underside")}
-_BOARD_TOWARDS = {"x": ("X arrow", "back of the X arrow"), "y": ("Y arrow", "back of the Y arrow"),
-                  "z": ("component side", "underside")}
+_BOARD_SIDE = {
+    "x": ("X arrow's edge", "edge behind the X arrow"),
+    "y": ("Y arrow's edge", "edge behind the Y arrow"),
+    "z": ("component side", "underside"),
+}
+_BOARD_TOWARDS = {
+    "x": ("X arrow", "back of the X arrow"),
+    "y": ("Y arrow", "back of the Y arrow"),
+    "z": ("component side", "underside"),
+}
 
 
 def face_words(name: str, source: str = "phone") -> str:
@@ -75,9 +81,13 @@ def face_words(name: str, source: str = "phone") -> str:
         away = [a.upper() for a in "xy" if not word[a]]
         said = []
         if to:
-            said.append(f"the corner the {' and '.join(to)} arrow{'s' if len(to) == 2 else ''} point{'' if len(to) == 2 else 's'} to")
+            said.append(
+                f"the corner the {' and '.join(to)} arrow{'s' if len(to) == 2 else ''} point{'' if len(to) == 2 else 's'} to"
+            )
         if away:
-            said.append(f"{'the corner ' if not to else ''}away from the {' and '.join(away)} arrow{'s' if len(away) == 2 else ''}")
+            said.append(
+                f"{'the corner ' if not to else ''}away from the {' and '.join(away)} arrow{'s' if len(away) == 2 else ''}"
+            )
         return f"{pick(side, 'z')}, {', '.join(said)}"
     if len(signs) == 3:
         return f"{pick(side, 'z')}, {pick(towards, 'y')}-{pick(towards, 'x')} corner"
@@ -130,28 +140,52 @@ def unit_tables() -> dict:
     }
 
 
-POSE_SHORT = {"+z": "screen up", "-z": "screen down", "+y": "standing", "-y": "upside down",
-              "+x": "left edge down", "-x": "right edge down"}
+POSE_SHORT = {
+    "+z": "screen up",
+    "-z": "screen down",
+    "+y": "standing",
+    "-y": "upside down",
+    "+x": "left edge down",
+    "-x": "right edge down",
+}
 """Each of the six poses in two or three words, under its thumbnail (the axis code is a grey note)."""
 
 SOURCES = {
     "phone": {
-        "noun": "phone", "title": "Calibrate this phone", "compassTitle": "Calibrate this phone's compass",
-        "sides": ["screen side", "back side"], "ups": ["screen up", "screen down"],
+        "noun": "phone",
+        "title": "Calibrate this phone",
+        "compassTitle": "Calibrate this phone's compass",
+        "sides": ["screen side", "back side"],
+        "ups": ["screen up", "screen down"],
         "axes": "x to the phone's right edge, y to its top edge, z out of the screen",
-        "poseNames": dict(POSE_NAMES), "poseShort": POSE_SHORT,
+        "poseNames": dict(POSE_NAMES),
+        "poseShort": POSE_SHORT,
     },
     "board": {
-        "noun": "board", "title": "Calibrate this board", "compassTitle": "Calibrate this board's compass",
-        "sides": ["component side", "underside"], "ups": ["component side up", "underside up"],
+        "noun": "board",
+        "title": "Calibrate this board",
+        "compassTitle": "Calibrate this board's compass",
+        "sides": ["component side", "underside"],
+        "ups": ["component side up", "underside up"],
         "axes": "x and y along the arrows printed on the board (its silkscreen), z out of its component side",
         # A board: its printed X and Y arrows (the sensor's axes, as breakout boards mark them) and its
         # component side (z out of it).
-        "poseNames": {"+z": "flat, component side up", "-z": "flat, component side down",
-                      "+y": "on an edge, its Y arrow pointing up", "-y": "on an edge, its Y arrow pointing down",
-                      "+x": "on an edge, its X arrow pointing up", "-x": "on an edge, its X arrow pointing down"},
-        "poseShort": {"+z": "components up", "-z": "components down", "+y": "Y arrow up", "-y": "Y arrow down",
-                      "+x": "X arrow up", "-x": "X arrow down"},
+        "poseNames": {
+            "+z": "flat, component side up",
+            "-z": "flat, component side down",
+            "+y": "on an edge, its Y arrow pointing up",
+            "-y": "on an edge, its Y arrow pointing down",
+            "+x": "on an edge, its X arrow pointing up",
+            "-x": "on an edge, its X arrow pointing down",
+        },
+        "poseShort": {
+            "+z": "components up",
+            "-z": "components down",
+            "+y": "Y arrow up",
+            "-y": "Y arrow down",
+            "+x": "X arrow up",
+            "-x": "X arrow down",
+        },
     },
 }
 """The words of each sensor source the wizard pages take (``/wizard?source=phone|board``): the
@@ -191,9 +225,12 @@ def page_tables() -> dict:
         "capture": capture_thresholds(),
         "cube": {"maxAngleDeg": capture_rules.PAGE_CUBE_FACE_MAX_ANGLE_DEG},
         "temperature": {"minSpanC": TEMPERATURE_MIN_SPAN_C},
-        "free": {"maxAngleDeg": capture_rules.FREE_MAX_ANGLE_DEG, "minAngleDeg": capture_rules.FREE_MIN_ANGLE_DEG,
-                 "fitFrom": capture_rules.FREE_FIT_FROM,
-                 "targetPoses": capture_rules.FREE_TARGET_MIN_POSES},
+        "free": {
+            "maxAngleDeg": capture_rules.FREE_MAX_ANGLE_DEG,
+            "minAngleDeg": capture_rules.FREE_MIN_ANGLE_DEG,
+            "fitFrom": capture_rules.FREE_FIT_FROM,
+            "targetPoses": capture_rules.FREE_TARGET_MIN_POSES,
+        },
         "cube24": {
             "rotations": list(CUBE24_ROTATIONS),
             "ups": list(protocol.ups),

@@ -11,65 +11,128 @@ from app.io.export_compass import FLIGHT_COMPASS_FORMATS
 from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
 
 CALIBRATION_USES = (
-    {"key": "app", "name": "a phone app", "format": "json", "snippet": "javascript",
-     "how": "Read correction (M and o) from the JSON in your app and calibrate every reading as "
-            "M · (reading − o), as in these lines:"},
-    {"key": "python", "name": "my own Python code", "format": "json", "snippet": "python",
-     "how": "Load the JSON with numpy and calibrate every reading as M @ (reading − o), as in these lines:"},
-    {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
-     "how": "In Mission Planner: Config → Full Parameter List → Load from file, then Write Params and reboot the "
-            "board."},
-    {"key": "px4", "name": "PX4", "format": "px4",
-     "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save "
-            "and reboot."},
-    {"key": "firmware", "name": "my own firmware", "format": "c", "snippet": "c",
-     "how": "Put the header beside your code and these lines at file scope in one of your .c files (C89 or "
-            "later); call the function on each reading, f = M (m − o), as their comment shows:"},
+    {
+        "key": "app",
+        "name": "a phone app",
+        "format": "json",
+        "snippet": "javascript",
+        "how": "Read correction (M and o) from the JSON in your app and calibrate every reading as "
+        "M · (reading − o), as in these lines:",
+    },
+    {
+        "key": "python",
+        "name": "my own Python code",
+        "format": "json",
+        "snippet": "python",
+        "how": "Load the JSON with numpy and calibrate every reading as M @ (reading − o), as in these lines:",
+    },
+    {
+        "key": "ardupilot",
+        "name": "ArduPilot",
+        "format": "ardupilot",
+        "how": "In Mission Planner: Config → Full Parameter List → Load from file, then Write Params and reboot the "
+        "board.",
+    },
+    {
+        "key": "px4",
+        "name": "PX4",
+        "format": "px4",
+        "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save "
+        "and reboot.",
+    },
+    {
+        "key": "firmware",
+        "name": "my own firmware",
+        "format": "c",
+        "snippet": "c",
+        "how": "Put the header beside your code and these lines at file scope in one of your .c files (C89 or "
+        "later); call the function on each reading, f = M (m − o), as their comment shows:",
+    },
 )
 """A correction of a sensor (every method but noise). ``snippet`` names the lines of
 ``GET /api/v1/calibrations/{id}/use`` (app/io/use.py) shown under the file."""
 
 NOISE_USES = (
-    {"key": "kalibr", "name": "Kalibr", "format": "kalibr",
-     "how": "Pass it to Kalibr's camera–IMU calibration as --imu imu.yaml (set rostopic to your IMU's topic)."},
-    {"key": "openvins", "name": "OpenVINS", "format": "openvins",
-     "how": "Replace imu0's noise values in your OpenVINS configuration's kalibr_imu_chain.yaml with these."},
-    {"key": "vins", "name": "VINS-Fusion", "format": "vins",
-     "how": "Copy acc_n, gyr_n, acc_w and gyr_w into your VINS-Fusion configuration file."},
-    {"key": "filter", "name": "my own filter", "format": "json",
-     "how": "Read each sensor's noise density N, random walk K and bias instability B from the JSON into your "
-            "filter's noise model."},
+    {
+        "key": "kalibr",
+        "name": "Kalibr",
+        "format": "kalibr",
+        "how": "Pass it to Kalibr's camera–IMU calibration as --imu imu.yaml (set rostopic to your IMU's topic).",
+    },
+    {
+        "key": "openvins",
+        "name": "OpenVINS",
+        "format": "openvins",
+        "how": "Replace imu0's noise values in your OpenVINS configuration's kalibr_imu_chain.yaml with these.",
+    },
+    {
+        "key": "vins",
+        "name": "VINS-Fusion",
+        "format": "vins",
+        "how": "Copy acc_n, gyr_n, acc_w and gyr_w into your VINS-Fusion configuration file.",
+    },
+    {
+        "key": "filter",
+        "name": "my own filter",
+        "format": "json",
+        "how": "Read each sensor's noise density N, random walk K and bias instability B from the JSON into your "
+        "filter's noise model.",
+    },
 )
 """A noise characterisation: figures for a filter, not a correction."""
 
 
 TEMPERATURE_USES = (
-    {"key": "px4", "name": "PX4", "format": "px4",
-     "how": "In QGroundControl: Vehicle Setup → Parameters → Tools → Load from file, then reboot. A PX4 log gives "
-            "the sensors' device ids in TC_A0_ID and TC_G0_ID; where they are 0, set them to CAL_ACC0_ID and "
-            "CAL_GYRO0_ID first."},
-    {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
-     "how": "In Mission Planner: Config → Full Parameter List → Load from file, Write Params, reboot; ArduPilot "
-            "corrects relative to INS_ACC1_CALTEMP and INS_GYR1_CALTEMP, the temperature of its last calibration."},
-    {"key": "filter", "name": "my own firmware", "format": "json",
-     "how": "Each axis's offset is X0 + X1·dT + X2·dT² + X3·dT³ with dT = T − T_ref (T clamped to the range): "
-            "subtract it from the reading at that temperature (the JSON's model)."},
+    {
+        "key": "px4",
+        "name": "PX4",
+        "format": "px4",
+        "how": "In QGroundControl: Vehicle Setup → Parameters → Tools → Load from file, then reboot. A PX4 log gives "
+        "the sensors' device ids in TC_A0_ID and TC_G0_ID; where they are 0, set them to CAL_ACC0_ID and "
+        "CAL_GYRO0_ID first.",
+    },
+    {
+        "key": "ardupilot",
+        "name": "ArduPilot",
+        "format": "ardupilot",
+        "how": "In Mission Planner: Config → Full Parameter List → Load from file, Write Params, reboot; ArduPilot "
+        "corrects relative to INS_ACC1_CALTEMP and INS_GYR1_CALTEMP, the temperature of its last calibration.",
+    },
+    {
+        "key": "filter",
+        "name": "my own firmware",
+        "format": "json",
+        "how": "Each axis's offset is X0 + X1·dT + X2·dT² + X3·dT³ with dT = T − T_ref (T clamped to the range): "
+        "subtract it from the reading at that temperature (the JSON's model).",
+    },
 )
 """A temperature calibration: the firmwares' thermal compensation parameters, or the polynomials."""
 
 
 FLIGHT_COMPASS_USES = (
-    {"key": "ardupilot", "name": "ArduPilot", "format": "ardupilot",
-     "how": "In Mission Planner: Config → Full Parameter List → Load from file, then Write Params and reboot. The "
-            "file sets the compass's offsets, soft iron, motor compensation (COMPASS_MOT, COMPASS_MOTCT) and, when "
-            "the compass is mounted otherwise than set, its orientation."},
-    {"key": "px4", "name": "PX4", "format": "px4",
-     "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save and "
-            "reboot. They set CAL_MAGn's offsets, scales, the power compensation (CAL_MAG_COMP_TYP) and, when it "
-            "is wrong, the rotation."},
-    {"key": "filter", "name": "my own firmware", "format": "json",
-     "how": "Correct every reading as h = M (Q m − b − k p) with p the battery current in A (or the throttle, 0–1): "
-            "Q, M, b and k are in the JSON's correction."},
+    {
+        "key": "ardupilot",
+        "name": "ArduPilot",
+        "format": "ardupilot",
+        "how": "In Mission Planner: Config → Full Parameter List → Load from file, then Write Params and reboot. The "
+        "file sets the compass's offsets, soft iron, motor compensation (COMPASS_MOT, COMPASS_MOTCT) and, when "
+        "the compass is mounted otherwise than set, its orientation.",
+    },
+    {
+        "key": "px4",
+        "name": "PX4",
+        "format": "px4",
+        "how": "In QGroundControl: Analyze Tools → MAVLink Console, paste the param set lines, then run param save and "
+        "reboot. They set CAL_MAGn's offsets, scales, the power compensation (CAL_MAG_COMP_TYP) and, when it "
+        "is wrong, the rotation.",
+    },
+    {
+        "key": "filter",
+        "name": "my own firmware",
+        "format": "json",
+        "how": "Correct every reading as h = M (Q m − b − k p) with p the battery current in A (or the throttle, 0–1): "
+        "Q, M, b and k are in the JSON's correction.",
+    },
 )
 """A compass calibrated from a flight: its firmware's parameters (only the firmware the log came from)."""
 
@@ -88,9 +151,14 @@ def uses_table() -> dict:
     format, how (and for a calibration the ``snippet`` shown);
     ``formats``, ``noiseFormats`` and ``temperatureFormats``, every export as ``[key, name]`` in the order the page lists them
     (pairs, since the template's JSON sorts an object's keys)."""
-    return {"defaults": {source: list(keys) for source, keys in DEFAULT_USES.items()},
-            "calibration": [dict(u) for u in CALIBRATION_USES], "noise": [dict(u) for u in NOISE_USES],
-            "temperature": [dict(u) for u in TEMPERATURE_USES], "flightCompass": [dict(u) for u in FLIGHT_COMPASS_USES],
-            "flightCompassFormats": [list(f) for f in FLIGHT_COMPASS_FORMATS.items()],
-            "formats": [list(f) for f in FORMAT_NAMES.items()], "noiseFormats": [list(f) for f in NOISE_FORMATS.items()],
-            "temperatureFormats": [list(f) for f in TEMPERATURE_FORMATS.items()]}
+    return {
+        "defaults": {source: list(keys) for source, keys in DEFAULT_USES.items()},
+        "calibration": [dict(u) for u in CALIBRATION_USES],
+        "noise": [dict(u) for u in NOISE_USES],
+        "temperature": [dict(u) for u in TEMPERATURE_USES],
+        "flightCompass": [dict(u) for u in FLIGHT_COMPASS_USES],
+        "flightCompassFormats": [list(f) for f in FLIGHT_COMPASS_FORMATS.items()],
+        "formats": [list(f) for f in FORMAT_NAMES.items()],
+        "noiseFormats": [list(f) for f in NOISE_FORMATS.items()],
+        "temperatureFormats": [list(f) for f in TEMPERATURE_FORMATS.items()],
+    }

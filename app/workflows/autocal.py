@@ -19,22 +19,43 @@ def autocal(request, recording: RecordingSource) -> dict:
     # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
     read_with = recording.meta.get("read_with") or {"units": recording.meta["units"]}
     unit = request.unit or (read_with.get("units") or {}).get("acc")
-    options = ReadOptions(sampling_rate_hz=recording.meta["sampling_rate_hz"], units={"acc": unit} if unit else {},
-                          chip=read_with.get("chip"), instance=read_with.get("instance"),
-                          lsb_per_g=read_with.get("lsb_per_g"))
+    options = ReadOptions(
+        sampling_rate_hz=recording.meta["sampling_rate_hz"],
+        units={"acc": unit} if unit else {},
+        chip=read_with.get("chip"),
+        instance=read_with.get("instance"),
+        lsb_per_g=read_with.get("lsb_per_g"),
+    )
     return autocalibrate_file(
-        recording.path, options, solver=request.solver, gravity=request.gravity,
-        latitude_deg=request.latitude_deg, height_m=request.height_m,
-        detection={"all_axes": True} if request.all_axes else None, device_id=request.device_id,
-        label=request.label or recording.meta.get("filename"), **recording.source_fields)
+        recording.path,
+        options,
+        solver=request.solver,
+        gravity=request.gravity,
+        latitude_deg=request.latitude_deg,
+        height_m=request.height_m,
+        detection={"all_axes": True} if request.all_axes else None,
+        device_id=request.device_id,
+        label=request.label or recording.meta.get("filename"),
+        **recording.source_fields,
+    )
 
 
 AUTOCAL_UNITS = ACC_PHYSICAL_UNITS
 
 
-def autocalibrate_file(path, options: ReadOptions = ReadOptions(), *, progress=None, solver: str = "lm",
-                       gravity: float | None = None, latitude_deg: float | None = None, height_m: float | None = None,
-                       detection: dict | None = None, selection: dict | None = None, **fields) -> dict:
+def autocalibrate_file(
+    path,
+    options: ReadOptions = ReadOptions(),
+    *,
+    progress=None,
+    solver: str = "lm",
+    gravity: float | None = None,
+    latitude_deg: float | None = None,
+    height_m: float | None = None,
+    detection: dict | None = None,
+    selection: dict | None = None,
+    **fields,
+) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
 
     Parameters
@@ -77,7 +98,8 @@ def autocalibrate_file(path, options: ReadOptions = ReadOptions(), *, progress=N
     if "app.calibration.autocal" not in sys.modules:
         preload = threading.Thread(
             target=lambda: [importlib.import_module(m) for m in ("app.calibration.autocal", "scipy.special")],
-            daemon=True)
+            daemon=True,
+        )
         preload.start()
     path = Path(path)
     log = read_log(path, options, name=str(path))
@@ -90,14 +112,25 @@ def autocalibrate_file(path, options: ReadOptions = ReadOptions(), *, progress=N
             f"to g first"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
-    rest = detect_rest_segments(log.acc, require_rate(log.sampling_rate_hz, "autocal"), gravity=g, progress=progress,
-                                **(detection or {}))
+    rest = detect_rest_segments(
+        log.acc, require_rate(log.sampling_rate_hz, "autocal"), gravity=g, progress=progress, **(detection or {})
+    )
     if preload is not None:
         preload.join()
     from app.calibration.autocal import autocalibrate
 
     result = autocalibrate(rest, solver=solver, **(selection or {}))
     fields.setdefault("label", path.name)
-    return calibration_body(result, {}, unit=unit, notes=notes, recording={
-        "format": log.format, "n_samples": log.n_samples, "sampling_rate_hz": log.sampling_rate_hz,
-        "duration_s": log.n_samples / log.sampling_rate_hz}, **fields)
+    return calibration_body(
+        result,
+        {},
+        unit=unit,
+        notes=notes,
+        recording={
+            "format": log.format,
+            "n_samples": log.n_samples,
+            "sampling_rate_hz": log.sampling_rate_hz,
+            "duration_s": log.n_samples / log.sampling_rate_hz,
+        },
+        **fields,
+    )

@@ -21,23 +21,28 @@ def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
     reference: dict = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
     if request.latitude_deg is None:
         if request.date is not None or request.height_m is not None:
-            notes.append("`date` and height_m without latitude_deg and longitude_deg are not used: give the place too "
-                         "for the Earth's field there")
+            notes.append(
+                "`date` and height_m without latitude_deg and longitude_deg are not used: give the place too "
+                "for the Earth's field there"
+            )
         return reference, {}
     from app.geomag import GeomagneticRangeError, reference_field  # the model's package loads only here
 
     day = request.date or datetime.datetime.now(datetime.timezone.utc).date()
     try:
-        earth = reference_field(day, request.latitude_deg, request.longitude_deg,
-                                0.0 if request.height_m is None else request.height_m)
+        earth = reference_field(
+            day, request.latitude_deg, request.longitude_deg, 0.0 if request.height_m is None else request.height_m
+        )
     except GeomagneticRangeError as exc:
         raise CalibrationError(str(exc)) from None
     reference.update(inclination_deg=earth.inclination_deg, declination_deg=earth.declination_deg)
     if request.field_ut is None:
         reference.update(field_ut=earth.field_ut, field_source="model")
     elif abs(request.field_ut / earth.field_ut - 1.0) > 0.1:
-        notes.append(f"field_ut {request.field_ut:g} µT is more than 10 % from the {earth.model} field here "
-                     f"({earth.field_ut:.1f} µT): the given value is used")
+        notes.append(
+            f"field_ut {request.field_ut:g} µT is more than 10 % from the {earth.model} field here "
+            f"({earth.field_ut:.1f} µT): the given value is used"
+        )
     return reference, {"field_model": earth.model, "field_date": day.isoformat()}
 
 
@@ -46,8 +51,9 @@ def compass_rests(log: LogData, segments: list[dict]) -> list[tuple]:
     if log.mag is None or log.acc is None:
         return []
     mag = log.mag * MAG_TO_UT[log.units["mag"]]
-    return [(seg["acc_mean"], mag[seg["start"]:seg["end"]].mean(axis=0)) for seg in segments
-            if seg["end"] > seg["start"]]
+    return [
+        (seg["acc_mean"], mag[seg["start"] : seg["end"]].mean(axis=0)) for seg in segments if seg["end"] > seg["start"]
+    ]
 
 
 def inline_mag(mag: np.ndarray, notes: list[str]) -> tuple[np.ndarray, str]:
@@ -61,8 +67,10 @@ def inline_mag(mag: np.ndarray, notes: list[str]) -> tuple[np.ndarray, str]:
         return mag, "uT"
     field = field_magnitude(mag)
     words = "counts" if inferred == "raw" else inferred
-    notes.append(f"the readings show a field of {field:.4g}, which is {words}: "
-                 + ("calibrated in counts" if inferred == "raw" else "converted into µT"))
+    notes.append(
+        f"the readings show a field of {field:.4g}, which is {words}: "
+        + ("calibrated in counts" if inferred == "raw" else "converted into µT")
+    )
     return (mag, "raw") if inferred == "raw" else (mag * {"gauss": GAUSS_UT, **MAG_TO_UT}[inferred], "uT")
 
 
@@ -82,7 +90,8 @@ def magnetometer(request, recording: RecordingSource | None) -> dict:
         if log.mag is None:
             raise CalibrationError(
                 f"the recording has no magnetometer columns (it has {', '.join(log.channels)}): the magnetometer "
-                "method needs mag_x, mag_y, mag_z — record the magnetometer (uncalibrated) while turning the device")
+                "method needs mag_x, mag_y, mag_z — record the magnetometer (uncalibrated) while turning the device"
+            )
         unit = log.units["mag"]
         mag = log.mag * MAG_TO_UT.get(unit, 1.0)
         unit = "raw" if unit == "raw" else "uT"
@@ -93,13 +102,23 @@ def magnetometer(request, recording: RecordingSource | None) -> dict:
     reference, extra = magnetometer_reference(request, notes)
     counts = unit == "raw" and reference["field_ut"] is None
     if counts:
-        notes.append("the magnetometer's readings are counts and no field was given: M maps them to the "
-                     "readings' own scale, not to µT, and every figure is in counts — give chip (the part and "
-                     "its range), or a place and date, or field_ut")
-    result = fit_magnetometer(mag, rests=rests, raw_comparable=unit == "uT", label="counts" if counts else "µT",
-                              **reference)
-    return calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label or (recording.meta.get("filename") if recording else None), **source)
+        notes.append(
+            "the magnetometer's readings are counts and no field was given: M maps them to the "
+            "readings' own scale, not to µT, and every figure is in counts — give chip (the part and "
+            "its range), or a place and date, or field_ut"
+        )
+    result = fit_magnetometer(
+        mag, rests=rests, raw_comparable=unit == "uT", label="counts" if counts else "µT", **reference
+    )
+    return calibration_body(
+        result,
+        extra,
+        unit=unit,
+        notes=notes,
+        device_id=request.device_id,
+        label=request.label or (recording.meta.get("filename") if recording else None),
+        **source,
+    )
 
 
 @dataclass(frozen=True)
@@ -124,8 +143,11 @@ def auto_compass(request, recording: RecordingSource) -> dict:
     takes no place; method magnetometer with a place references the Earth's field there)."""
     compass = CompassAsk(recording_id=request.recording_id, device_id=request.device_id, label=request.label)
     body = magnetometer(compass, recording)
-    body["choice"] = {"method": "magnetometer", "candidates": {},
-                      "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
-                             "calibration; for the Earth's field at your place use method magnetometer with "
-                             "latitude_deg, longitude_deg and date"}
+    body["choice"] = {
+        "method": "magnetometer",
+        "candidates": {},
+        "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
+        "calibration; for the Earth's field at your place use method magnetometer with "
+        "latitude_deg, longitude_deg and date",
+    }
     return body

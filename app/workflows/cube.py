@@ -30,8 +30,16 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
     mag = None if log.mag is None else log.mag * MAG_TO_UT[log.units["mag"]]
     if mag is not None and field_ut is None:
         raise CalibrationError("the recording has a magnetometer: give field_ut, the local field magnitude in µT")
-    return calibrate_cube(log.acc, gyr, mag, sampling_rate_hz=rate, protocol=protocol,
-                          gravity=gravity, field_ut=field_ut, sections=sections)
+    return calibrate_cube(
+        log.acc,
+        gyr,
+        mag,
+        sampling_rate_hz=rate,
+        protocol=protocol,
+        gravity=gravity,
+        field_ut=field_ut,
+        sections=sections,
+    )
 
 
 def cube(request, recording: RecordingSource) -> dict:
@@ -40,14 +48,17 @@ def cube(request, recording: RecordingSource) -> dict:
         raise CalibrationError(
             f"the cube method follows the turns between its positions in one recording; this one is made of "
             f"{len(recording.meta['parts'])} files (one per pose), which hold no turns: calibrate the accelerometer "
-            "from them with method six_position or orientations, or record the cube session in one file")
+            "from them with method six_position or orientations, or record the cube session in one file"
+        )
     log = recording.read()
     require_accelerometer(log.channels, "cube")
     unit = log.units["acc"]
     gravity, notes = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
     sections = None if request.sections is None else {k: v.model_dump() for k, v in request.sections.items()}
-    result = calibrate_cube_log(log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut,
-                                sections=sections)
+    result = calibrate_cube_log(
+        log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut, sections=sections
+    )
     result = dataclasses.replace(result, units=dict(log.units))
-    return calibration_body(result, {}, unit=unit, notes=notes, device_id=request.device_id,
-                            label=request.label, **recording.source_fields)
+    return calibration_body(
+        result, {}, unit=unit, notes=notes, device_id=request.device_id, label=request.label, **recording.source_fields
+    )

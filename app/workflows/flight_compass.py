@@ -19,6 +19,7 @@ from app.calibration import CalibrationError
 from app.workflows.recordings import RecordingSource
 from app.workflows.results import calibration_body
 
+
 def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """C_nb at the times ``t`` inside the attitude's span (slerp of its quaternions), and the mask of those."""
     from scipy.spatial.transform import Rotation, Slerp
@@ -55,15 +56,19 @@ def _place(request, log, notes: list[str]) -> tuple[float, float, float, datetim
     lat = request.latitude_deg if request.latitude_deg is not None else log.latitude_deg
     lon = request.longitude_deg if request.longitude_deg is not None else log.longitude_deg
     if lat is None or lon is None:
-        raise CalibrationError("the log has no GPS fix, so the Earth's field there is unknown: give the place the "
-                               "vehicle flew (latitude_deg and longitude_deg) and its date")
+        raise CalibrationError(
+            "the log has no GPS fix, so the Earth's field there is unknown: give the place the "
+            "vehicle flew (latitude_deg and longitude_deg) and its date"
+        )
     height = request.height_m if request.height_m is not None else (log.altitude_m or 0.0)
     day = request.date or (log.utc.date() if log.utc is not None else None)
     if day is None:
         raise CalibrationError("the log has no GPS time, so the day of the flight is unknown: give its date")
     if request.latitude_deg is not None and log.latitude_deg is not None:
-        notes.append(f"the place given ({lat:.5f}°, {lon:.5f}°) is used, not the log's GPS fix "
-                     f"({log.latitude_deg:.5f}°, {log.longitude_deg:.5f}°)")
+        notes.append(
+            f"the place given ({lat:.5f}°, {lon:.5f}°) is used, not the log's GPS fix "
+            f"({log.latitude_deg:.5f}°, {log.longitude_deg:.5f}°)"
+        )
     return float(lat), float(lon), float(height), day
 
 
@@ -74,16 +79,19 @@ def compass_flight(request, recording: RecordingSource | None) -> dict:
     from app.io.flight_context import read_flight_compass
 
     if recording is None or recording.meta.get("flight") is None:  # a flight controller's log lists its sensors
-        raise CalibrationError("a compass from a flight reads a flight controller's log: upload the PX4 ULog (.ulg) "
-                               "or ArduPilot DataFlash log (.bin) of a flight with turns")
+        raise CalibrationError(
+            "a compass from a flight reads a flight controller's log: upload the PX4 ULog (.ulg) "
+            "or ArduPilot DataFlash log (.bin) of a flight with turns"
+        )
     read_with = recording.meta.get("read_with") or {}
     instance = request.mag_instance if request.mag_instance is not None else read_with.get("mag_instance")
-    log = read_flight_compass(recording.path, mag_instance=instance,
-                              name=recording.meta.get("filename") or "the log")
+    log = read_flight_compass(recording.path, mag_instance=instance, name=recording.meta.get("filename") or "the log")
     notes: list[str] = list(log.notes)
     if log.attitude_c_nb is None:
-        raise CalibrationError("the log has no attitude (ArduPilot ATT or AHR2, PX4 vehicle_attitude): a compass from "
-                               "a flight compares the compass with the field the attitude expects — log the attitude")
+        raise CalibrationError(
+            "the log has no attitude (ArduPilot ATT or AHR2, PX4 vehicle_attitude): a compass from "
+            "a flight compares the compass with the field the attitude expects — log the attitude"
+        )
     t = np.asarray(log.time_s, dtype=float)
     c_nb, inside = _attitude_on(t, np.asarray(log.attitude_time_s, dtype=float), np.asarray(log.attitude_c_nb, float))
     power, kind, powered = _power_on(t, log)
@@ -100,16 +108,42 @@ def compass_flight(request, recording: RecordingSource | None) -> dict:
     expected = np.einsum("nji,j->ni", attitude, b_ned)  # e = C_nbᵀ B_ned
     if kind is None:
         notes.append("the log has neither the battery current nor the throttle: no motor term was tried")
-    fit = fit_flight_compass(log.mag_raw_ut[keep], expected, time_s=t[keep],
-                             power=None if power is None else power[keep], power_kind=kind,
-                             firmware_field=log.mag_firmware_ut[keep], frame_to_body=log.frame_to_body,
-                             attitude=attitude, earth_ned=b_ned)
-    flight = {"firmware": log.firmware, "generation": log.generation, "instance": log.instance,
-              "raw_how": log.raw_how, "frame_to_body": log.frame_to_body.tolist(), "stored": log.stored.to_dict(),
-              "attitude_source": log.attitude_source, "power_source": log.power_source if kind else None,
-              "place": {"latitude_deg": lat, "longitude_deg": lon, "height_m": height, "date": day.isoformat()}}
-    metrics = {"field_ut": earth.field_ut, "inclination_deg": earth.inclination_deg,
-               "declination_deg": earth.declination_deg, "field_model": earth.model, "field_date": day.isoformat()}
+    fit = fit_flight_compass(
+        log.mag_raw_ut[keep],
+        expected,
+        time_s=t[keep],
+        power=None if power is None else power[keep],
+        power_kind=kind,
+        firmware_field=log.mag_firmware_ut[keep],
+        frame_to_body=log.frame_to_body,
+        attitude=attitude,
+        earth_ned=b_ned,
+    )
+    flight = {
+        "firmware": log.firmware,
+        "generation": log.generation,
+        "instance": log.instance,
+        "raw_how": log.raw_how,
+        "frame_to_body": log.frame_to_body.tolist(),
+        "stored": log.stored.to_dict(),
+        "attitude_source": log.attitude_source,
+        "power_source": log.power_source if kind else None,
+        "place": {"latitude_deg": lat, "longitude_deg": lon, "height_m": height, "date": day.isoformat()},
+    }
+    metrics = {
+        "field_ut": earth.field_ut,
+        "inclination_deg": earth.inclination_deg,
+        "declination_deg": earth.declination_deg,
+        "field_model": earth.model,
+        "field_date": day.isoformat(),
+    }
     result = FlightCompassCalibration.from_fit(fit, flight=flight, metrics=metrics)
-    return calibration_body(result, {}, unit="uT", notes=notes, device_id=request.device_id,
-                            label=request.label or recording.meta.get("filename"), **recording.source_fields)
+    return calibration_body(
+        result,
+        {},
+        unit="uT",
+        notes=notes,
+        device_id=request.device_id,
+        label=request.label or recording.meta.get("filename"),
+        **recording.source_fields,
+    )

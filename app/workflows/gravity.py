@@ -5,8 +5,9 @@ from __future__ import annotations
 from app.calibration import STANDARD_GRAVITY, normal_gravity
 
 
-def reference_gravity(unit: str, gravity: float | None = None, latitude_deg: float | None = None,
-                      height_m: float | None = None) -> tuple[float, list[str]]:
+def reference_gravity(
+    unit: str, gravity: float | None = None, latitude_deg: float | None = None, height_m: float | None = None
+) -> tuple[float, list[str]]:
     """Reference magnitude in the calibrated output unit, and notes about how it was chosen.
 
     ``unit: g`` calibrates into g, so the magnitude is 1; otherwise an explicit ``gravity`` wins,

@@ -55,12 +55,14 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
         notes.extend(part.pop("warnings"))
         parts[name] = part
     duration = (b - a) / fs
-    result = NoiseResult(sensors={k: {x: p[x] for x in ("model", "adev", "uncertainty", "metrics")}
-                                  for k, p in parts.items()},
-                         sampling_rate_hz=fs, duration_s=duration,
-                         still={"start": a, "end": b, "n_samples": b - a, "fraction": (b - a) / n,
-                                "detected_from": ", ".join(still_on)},
-                         reasons=tuple(reasons), unit=parts[wanted[0]]["model"]["unit"])
+    result = NoiseResult(
+        sensors={k: {x: p[x] for x in ("model", "adev", "uncertainty", "metrics")} for k, p in parts.items()},
+        sampling_rate_hz=fs,
+        duration_s=duration,
+        still={"start": a, "end": b, "n_samples": b - a, "fraction": (b - a) / n, "detected_from": ", ".join(still_on)},
+        reasons=tuple(reasons),
+        unit=parts[wanted[0]]["model"]["unit"],
+    )
     return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
 
 
@@ -71,15 +73,18 @@ def _chosen_sensors(log: LogData, sensors, array_sensor: str | None) -> tuple[di
     units = dict(log.units)
     if array_sensor not in (None, "acc"):
         if log.channels != ["acc"]:
-            raise CalibrationError(f"the sensor of an array is given for files with one sensor; this one has "
-                                   f"{', '.join(log.channels)}: leave it out")
+            raise CalibrationError(
+                f"the sensor of an array is given for files with one sensor; this one has "
+                f"{', '.join(log.channels)}: leave it out"
+            )
         arrays = {array_sensor: log.acc}
         units = {array_sensor: SI_UNITS[array_sensor]}
     wanted = list(sensors) if sensors else [s for s in NOISE_SENSORS if s in arrays]
     missing = [s for s in wanted if s not in arrays]
     if missing:
-        raise CalibrationError(f"the recording has no {', '.join(missing)} samples (it has {', '.join(arrays)}): "
-                               "ask for those it has")
+        raise CalibrationError(
+            f"the recording has no {', '.join(missing)} samples (it has {', '.join(arrays)}): ask for those it has"
+        )
     return arrays, units, wanted
 
 
@@ -92,23 +97,31 @@ def _still_span(runs: list, fs: float, n: int, notes: list, reasons: list) -> tu
     rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
     if span is not None and len(rests) >= 2:
         a, b = span
-        said = (f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
-                f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
-                "recording), was characterised — no term is fitted across a move")
+        said = (
+            f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
+            f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
+            "recording), was characterised — no term is fitted across a move"
+        )
         if b - a < MIN_STILL_FRACTION * n:
-            reasons.append(said + "; for the noise, record the device resting in one orientation, untouched, for "
-                                  "the whole recording")
+            reasons.append(
+                said + "; for the noise, record the device resting in one orientation, untouched, for "
+                "the whole recording"
+            )
         else:
             notes.append(said)
     elif span is None or (span[1] - span[0]) < MIN_STILL_FRACTION * n:
         still_s = 0.0 if span is None else (span[1] - span[0]) / fs
-        reasons.append(f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
-                       "is characterised on a still recording — leave the device resting on a firm surface, "
-                       "untouched, for the whole recording")
+        reasons.append(
+            f"the device moved: the longest still stretch is {still_s:.1f} s of {n / fs:.1f} s; the noise "
+            "is characterised on a still recording — leave the device resting on a firm surface, "
+            "untouched, for the whole recording"
+        )
         span = span or (0, n)
     elif n - (span[1] - span[0]) > max(2.0 * fs, 0.01 * n):
-        notes.append(f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
-                     f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used")
+        notes.append(
+            f"the device moved: only the longest still stretch, {span[0] / fs:.1f}–{span[1] / fs:.1f} s "
+            f"({100 * (span[1] - span[0]) / n:.0f} % of the recording), was used"
+        )
     return span
 
 
@@ -119,12 +132,16 @@ def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, rea
     if inside:
         lost = sum(g.missing_s for g in inside)
         still_s = (span[1] - span[0]) / fs
-        said = (f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
-                f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)")
+        said = (
+            f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column lose "
+            f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)"
+        )
         if lost > NOISE_GAPS_MAX * still_s:
-            reasons.append(said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
-                                  "the sensor's — record again without losing samples (a faster serial baud rate, "
-                                  "fewer columns printed, a larger host buffer)")
+            reasons.append(
+                said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
+                "the sensor's — record again without losing samples (a faster serial baud rate, "
+                "fewer columns printed, a larger host buffer)"
+            )
         else:
             notes.append(said + ": few enough for the Allan deviation")
 
@@ -134,14 +151,22 @@ def noise(request, recording: RecordingSource) -> dict:
     clock = None
     if recording.meta.get("flight") is not None and request.sensors and "mag" in request.sensors:
         if list(request.sensors) != ["mag"]:
-            raise CalibrationError("a flight controller's compass is read on its own clock, slower than the IMU's: "
-                                   "ask for sensors [\"mag\"] alone, and for the IMU's (acc, gyr) in another request")
+            raise CalibrationError(
+                "a flight controller's compass is read on its own clock, slower than the IMU's: "
+                'ask for sensors ["mag"] alone, and for the IMU\'s (acc, gyr) in another request'
+            )
         clock = "mag"
     log, notes = recording.read(clock=clock), []
     if log.parts:  # one file per pose: the noise of one file, never across two
         log, notes = one_still_file(log)
-    body = characterise_log(log, sensors=request.sensors, array_sensor=request.sensor, device_id=request.device_id,
-                            label=request.label or recording.meta.get("filename"), **recording.source_fields)
+    body = characterise_log(
+        log,
+        sensors=request.sensors,
+        array_sensor=request.sensor,
+        device_id=request.device_id,
+        label=request.label or recording.meta.get("filename"),
+        **recording.source_fields,
+    )
     body["warnings"] = notes + body["warnings"]
     return body
 
@@ -159,6 +184,8 @@ def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
 
     lengths = [still_samples(i) for i in range(len(log.parts))]
     best = int(np.argmax(lengths))
-    note = (f"the recording is made of {len(log.parts)} files: the noise is characterised on one, "
-            f"{log.parts[best].filename} (the longest still stretch), not across files")
+    note = (
+        f"the recording is made of {len(log.parts)} files: the noise is characterised on one, "
+        f"{log.parts[best].filename} (the longest still stretch), not across files"
+    )
     return part_log(log, best), [note]

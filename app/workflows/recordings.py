@@ -22,8 +22,9 @@ BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
 
 
-def add_recording(store, recording_id: str, path: Path, *, filename: str | None, options: ReadOptions,
-                  owner: str | None) -> dict:
+def add_recording(
+    store, recording_id: str, path: Path, *, filename: str | None, options: ReadOptions, owner: str | None
+) -> dict:
     """Read a saved upload, describe it and store it as a recording; the file is removed if any step fails,
     so that nothing is kept that no recording names.
 
@@ -58,7 +59,7 @@ def add_recording(store, recording_id: str, path: Path, *, filename: str | None,
 
 def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float | None:
     """``step`` when every sample is a multiple of it (browser rounding), else None."""
-    sub = samples[: 10_000]
+    sub = samples[:10_000]
     scaled = sub / step
     if len(sub) > 10 and np.allclose(scaled, np.round(scaled), atol=1e-6):
         return step
@@ -75,8 +76,10 @@ def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
     rate = log.sampling_rate_hz
     notes = list(log.notes) + part_notes
     if log.acc is not None and log.sampling_rate_hz is None:
-        notes.append(f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
-                     "their start and end are sample indices")
+        notes.append(
+            f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
+            "their start and end are sample indices"
+        )
     body = {
         "format": log.format,
         "n_samples": log.n_samples,
@@ -91,7 +94,9 @@ def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
         "sign": log.sign,
         "timing": None if log.timing is None else log.timing.to_dict(),
         "read_with": (options or ReadOptions()).stored(log.sign),
-        "quantization_step": quantization_step(log.acc) if log.units.get("acc") == "m/s^2" and log.acc is not None else None,
+        "quantization_step": quantization_step(log.acc)
+        if log.units.get("acc") == "m/s^2" and log.acc is not None
+        else None,
         "segments": segments,
         "overview": overview(log),
     }
@@ -99,9 +104,18 @@ def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
         body["flight"] = log.flight.to_dict()
         body["temperature_c"] = temperature_range(log.temperature_c)
     if log.parts:
-        body["parts"] = [{"index": i, "filename": p.filename, "start": p.start, "end": p.end,
-                          "n_samples": p.n_samples, "sampling_rate_hz": p.sampling_rate_hz,
-                          "pose_from_name": pose_from_name(p.filename)} for i, p in enumerate(log.parts)]
+        body["parts"] = [
+            {
+                "index": i,
+                "filename": p.filename,
+                "start": p.start,
+                "end": p.end,
+                "n_samples": p.n_samples,
+                "sampling_rate_hz": p.sampling_rate_hz,
+                "pose_from_name": pose_from_name(p.filename),
+            }
+            for i, p in enumerate(log.parts)
+        ]
     return body
 
 
@@ -128,15 +142,23 @@ def _short_still_file(acc, part, gravity: float | None, everything) -> tuple[lis
     a = np.asarray(acc, dtype=float)
     g = gravity or float(np.median(np.linalg.norm(np.asarray(everything, dtype=float), axis=1)))
     mean, std = a.mean(axis=0), a.std(axis=0)
-    spread = float(np.sqrt(np.sum(std ** 2)))
+    spread = float(np.sqrt(np.sum(std**2)))
     norm = float(np.linalg.norm(mean))
     if not (np.all(np.isfinite(mean)) and spread <= CAP_G * g and NORM_RANGE_G[0] * g <= norm <= NORM_RANGE_G[1] * g):
         return None
-    seg = {"start": 0, "end": part.n_samples, "acc_mean": mean.tolist(), "acc_std": std.tolist(),
-           "up": nearest_orientation(mean), "count": part.n_samples}
+    seg = {
+        "start": 0,
+        "end": part.n_samples,
+        "acc_mean": mean.tolist(),
+        "acc_std": std.tolist(),
+        "up": nearest_orientation(mean),
+        "count": part.n_samples,
+    }
     duration = part.n_samples / rate
-    return [seg], (f"{part.filename}: {duration:.1f} s, shorter than the {MIN_DURATION_S:g} s a still segment needs, "
-                   f"but still all through (spread {spread / g * 1000:.1f} mg): the whole file is its pose's reading")
+    return [seg], (
+        f"{part.filename}: {duration:.1f} s, shorter than the {MIN_DURATION_S:g} s a still segment needs, "
+        f"but still all through (spread {spread / g * 1000:.1f} mg): the whole file is its pose's reading"
+    )
 
 
 NOMINAL_RATE_HZ = 100.0
@@ -156,8 +178,12 @@ def _still_between_gaps(acc, rate: float, gravity: float | None, cuts, others=()
             found = detect_static_segments(acc[a:b], rate, gravity=gravity, others=[o[a:b] for o in others])
         except InsufficientDataError:  # shorter than one window: no rest in it
             continue
-        out += [dataclasses.replace(seg, start=seg.start + a, end=seg.end + a,
-                                    gaps=tuple((p + a, q + a) for p, q in seg.gaps)) for seg in found]
+        out += [
+            dataclasses.replace(
+                seg, start=seg.start + a, end=seg.end + a, gaps=tuple((p + a, q + a) for p, q in seg.gaps)
+            )
+            for seg in found
+        ]
     return out
 
 
@@ -184,26 +210,44 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
     notes: list[str] = []
     for k, part in enumerate(log.parts):
         cuts = [g.index - part.start for g in log.gaps if part.start < g.index < part.end]
-        found = [seg.to_dict() | {"count": seg.count} for seg in
-                 _still_between_gaps(log.acc[part.start:part.end], part.sampling_rate_hz or rate, gravity, cuts,
-                                     [o[part.start:part.end] for o in others])]
+        found = [
+            seg.to_dict() | {"count": seg.count}
+            for seg in _still_between_gaps(
+                log.acc[part.start : part.end],
+                part.sampling_rate_hz or rate,
+                gravity,
+                cuts,
+                [o[part.start : part.end] for o in others],
+            )
+        ]
         named = pose_from_name(part.filename)
-        if not found and (short := _short_still_file(log.acc[part.start:part.end], part, gravity, log.acc)):
+        if not found and (short := _short_still_file(log.acc[part.start : part.end], part, gravity, log.acc)):
             found, note = short
             notes.append(note)
         for plain in found:
             plain.update(start=plain["start"] + part.start, end=plain["end"] + part.start)
-            segments.append(dict(index=len(segments), **plain, source=part.filename, part=k,
-                                 **({"pose_from_name": named} if named else {})))
+            segments.append(
+                dict(
+                    index=len(segments),
+                    **plain,
+                    source=part.filename,
+                    part=k,
+                    **({"pose_from_name": named} if named else {}),
+                )
+            )
         if not found:
-            notes.append(f"{part.filename}: no still stretch found in its {part.n_samples} samples, so it gives no "
-                         "reading: record the board resting, untouched, for a few seconds in that pose")
+            notes.append(
+                f"{part.filename}: no still stretch found in its {part.n_samples} samples, so it gives no "
+                "reading: record the board resting, untouched, for a few seconds in that pose"
+            )
         elif named:
             ups = [seg["up"] for seg in found]
             if any(up != named for up in ups):
                 seen = ", ".join(sorted({up or "no axis within 20°" for up in ups if up != named}))
-                notes.append(f"{part.filename}: its name says {named} up, but its still readings point {seen} "
-                             f"up: the data's label is used — check the file's name, or how the board lay")
+                notes.append(
+                    f"{part.filename}: its name says {named} up, but its still readings point {seen} "
+                    f"up: the data's label is used — check the file's name, or how the board lay"
+                )
     return segments, notes
 
 
@@ -222,10 +266,14 @@ def overview(log: LogData) -> dict:
     edges = np.linspace(0, len(values), min(OVERVIEW_POINTS, len(values)) + 1).astype(int)
     finite = [b[np.isfinite(b)] for b in np.split(values, edges[1:-1])]
     rate = log.sampling_rate_hz
-    plain = {"sensor": sensor, "unit": log.units.get(sensor),
-             "t_s": None if rate is None else (edges[:-1] / rate).tolist(), "start": edges[:-1].tolist(),
-             "low": [float(f.min()) if f.size else None for f in finite],
-             "high": [float(f.max()) if f.size else None for f in finite]}
+    plain = {
+        "sensor": sensor,
+        "unit": log.units.get(sensor),
+        "t_s": None if rate is None else (edges[:-1] / rate).tolist(),
+        "start": edges[:-1].tolist(),
+        "low": [float(f.min()) if f.size else None for f in finite],
+        "high": [float(f.max()) if f.size else None for f in finite],
+    }
     if log.temperature_c is not None:  # the sensor's temperature over the same bins: the page's warm-up curve
         temps = [b[np.isfinite(b)] for b in np.split(np.asarray(log.temperature_c, dtype=float), edges[1:-1])]
         plain["temperature_c"] = [float(b.mean()) if b.size else None for b in temps]
@@ -268,8 +316,11 @@ class RecordingSource:
         # The caller's rate as given at the upload, so that the time column is judged again the same
         # way (its gaps); recordings stored before read_with kept it are read at their stored rate.
         rate = read_with.pop("sampling_rate_hz") if "sampling_rate_hz" in read_with else self.meta["sampling_rate_hz"]
-        return read_log(self.path, ReadOptions.from_stored({**read_with, "sampling_rate_hz": rate}),
-                        name=self.meta.get("filename") or "the recording")
+        return read_log(
+            self.path,
+            ReadOptions.from_stored({**read_with, "sampling_rate_hz": rate}),
+            name=self.meta.get("filename") or "the recording",
+        )
 
     @property
     def source_fields(self) -> dict:
@@ -286,16 +337,19 @@ def require_rate(rate: float | None, method: str) -> float:
         raise CalibrationError(
             f"method {method} needs the sensor's sampling rate, and this recording has none (no time column, and "
             "sampling_rate_hz not given): read it again with sampling_rate_hz, the "
-            "sensor's output data rate, or log a time column")
+            "sensor's output data rate, or log a time column"
+        )
     return rate
 
 
 def require_accelerometer(channels, method: str) -> None:
     """Refuse a recording without accelerometer columns for an accelerometer method, naming the fix."""
     if "acc" not in channels:
-        other = {"mag": "method magnetometer calibrates a magnetometer turned through all directions",
-                 "gyr": "method noise characterises a still gyroscope"}
+        other = {
+            "mag": "method magnetometer calibrates a magnetometer turned through all directions",
+            "gyr": "method noise characterises a still gyroscope",
+        }
         raise CalibrationError(
             f"the recording has no accelerometer columns (it has {', '.join(channels)}): method {method} needs "
-            "acc_x, acc_y, acc_z — record the accelerometer too; "
-            + "; ".join(other[c] for c in channels if c in other))
+            "acc_x, acc_y, acc_z — record the accelerometer too; " + "; ".join(other[c] for c in channels if c in other)
+        )

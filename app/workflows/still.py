@@ -14,8 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from app.calibration import (CANONICAL_SIX, CalibrationError, fit_orientations, fit_six_position,
-                             nearest_orientation)
+from app.calibration import CANONICAL_SIX, CalibrationError, fit_orientations, fit_six_position, nearest_orientation
 from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
 from app.calibration.errors import InsufficientDataError
 from app.calibration.trust import review
@@ -63,20 +62,26 @@ def _every_labelled(segments: list[dict]) -> list[int]:
         raise InsufficientDataError(
             f"none of the recording's {counted(len(segments), 'still segment')} lies within 20° of an axis: method "
             "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
-            "for free poses")
+            "for free poses"
+        )
     return chosen
 
 
 def _fit_six(readings: list[Reading], *, gravity: float, stds, gates: dict):
     if any(r.up is None for r in readings):
         raise CalibrationError("six_position readings each need an `up` label (+x, -x, +y, -y, +z, -z)")
-    return fit_six_position([r.mean for r in readings], [r.up for r in readings], gravity=gravity, stds=stds,
-                            **gates)
+    return fit_six_position([r.mean for r in readings], [r.up for r in readings], gravity=gravity, stds=stds, **gates)
 
 
 def _fit_orientations(readings: list[Reading], *, gravity: float, stds, gates: dict):
-    return fit_orientations([r.mean for r in readings], [r.up for r in readings],
-                            expected=[r.expected for r in readings], gravity=gravity, stds=stds, **gates)
+    return fit_orientations(
+        [r.mean for r in readings],
+        [r.up for r in readings],
+        expected=[r.expected for r in readings],
+        gravity=gravity,
+        stds=stds,
+        **gates,
+    )
 
 
 def _fit_nonorthogonal(m, *, gravity: float, solver: str, gates: dict):
@@ -166,8 +171,12 @@ def readings_from_segments(recording: dict, method, indices: list[int] | None) -
     else:
         chosen = spec.pick(segments)
     readings = [
-        Reading(mean=tuple(segments[i]["acc_mean"]), up=segments[i]["up"], std=tuple(segments[i]["acc_std"]),
-                count=segments[i].get("count"))
+        Reading(
+            mean=tuple(segments[i]["acc_mean"]),
+            up=segments[i]["up"],
+            std=tuple(segments[i]["acc_std"]),
+            count=segments[i].get("count"),
+        )
         for i in chosen
     ]
     return readings, chosen
@@ -183,8 +192,12 @@ def calibrate_known(method, readings: list[Reading], *, unit: str, gravity: floa
     gates = _gates(unit)
 
     def fit(idx):
-        return spec.fit([readings[i] for i in idx], gravity=gravity,
-                        stds=None if stds is None else [stds[i] for i in idx], gates=gates)
+        return spec.fit(
+            [readings[i] for i in idx],
+            gravity=gravity,
+            stds=None if stds is None else [stds[i] for i in idx],
+            gates=gates,
+        )
 
     result = fit(range(len(readings)))
     if spec.cv_note is None:
@@ -206,19 +219,20 @@ def require_segments(recording: dict, method: str) -> list[dict]:
             f"the recording has no still segments ({recording['n_samples']} samples, its accelerometer read in "
             f"{unit}; a rest lasts at least 1.5 s with the accelerometer reading about 1 g): method {method} needs "
             "the device resting still in several orientations — record it a few seconds in each; if it did rest, "
-            "check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)")
+            "check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)"
+        )
     return segments
 
 
-def means_from_segments(recording: dict, indices: list[int] | None, method: str = "the method") -> tuple[list, list[int]]:
+def means_from_segments(
+    recording: dict, indices: list[int] | None, method: str = "the method"
+) -> tuple[list, list[int]]:
     """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
     segments = require_segments(recording, method)
     chosen = list(range(len(segments))) if indices is None else list(indices)
     for i in chosen:
         if not 0 <= i < len(segments):
-            raise CalibrationError(
-                f"segment {i} does not exist: the recording has {len(segments)} static segments"
-            )
+            raise CalibrationError(f"segment {i} does not exist: the recording has {len(segments)} static segments")
     return [segments[i]["acc_mean"] for i in chosen], chosen
 
 
@@ -270,15 +284,19 @@ def inline_unit(request, notes: list[str]) -> str:
     from app.io.formats.units import infer_acc_unit
 
     unit = request.unit
-    means = [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
+    means = (
+        [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
+    )
     if unit not in ACC_PHYSICAL_UNITS or not means:
         return unit
     inferred = infer_acc_unit(np.asarray(means, dtype=float))
     if inferred in ACC_PHYSICAL_UNITS and inferred != unit:
         norm = float(np.median(np.linalg.norm(np.asarray(means, dtype=float), axis=1)))
         said = "the request's unit said" if "unit" in request.model_fields_set else "the request gave no unit, so"
-        notes.append(f"{said} {unit}, but its readings' median norm is {norm:.3g}, about 1 g in {inferred}: "
-                     f"calibrated in {inferred}")
+        notes.append(
+            f"{said} {unit}, but its readings' median norm is {norm:.3g}, about 1 g in {inferred}: "
+            f"calibrated in {inferred}"
+        )
         return inferred
     return unit
 
@@ -291,12 +309,23 @@ def _known(spec: StillFit, request, recording: RecordingSource | None) -> dict:
             readings, used = readings_from_segments(recording.meta, spec, request.segments)
         source = {**recording.source_fields, "segments_used": used}
     else:
-        readings = [Reading(mean=tuple(r.mean), up=r.up, expected=None if r.expected is None else tuple(r.expected),
-                            std=None if r.std is None else tuple(r.std), count=r.count)
-                    for r in request.readings]
+        readings = [
+            Reading(
+                mean=tuple(r.mean),
+                up=r.up,
+                expected=None if r.expected is None else tuple(r.expected),
+                std=None if r.std is None else tuple(r.std),
+                count=r.count,
+            )
+            for r in request.readings
+        ]
     result, extra = calibrate_known(spec, readings, unit=unit, gravity=gravity, holdout=request.holdout)
-    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                                         label=request.label, **source), recording)
+    return name_sources(
+        calibration_body(
+            result, extra, unit=unit, notes=notes, device_id=request.device_id, label=request.label, **source
+        ),
+        recording,
+    )
 
 
 def _means_and_source(request, recording: RecordingSource | None) -> tuple[list, dict]:
@@ -316,11 +345,18 @@ def missing_named_poses(meta: dict) -> str:
     missing = sorted(named - seen)
     if not missing:
         return ""
-    wrong = sorted({f"{seg['source']} holds {seg['up'] or 'no axis'} up" for seg in meta["segments"]
-                    if seg.get("pose_from_name") in missing and seg["up"] != seg["pose_from_name"]})
-    return (f"The files' names promise {', '.join(missing)} up, but no still reading shows it"
-            + (f" ({'; '.join(wrong)})" if wrong else "")
-            + ": record that pose again, or check which file holds which pose")
+    wrong = sorted(
+        {
+            f"{seg['source']} holds {seg['up'] or 'no axis'} up"
+            for seg in meta["segments"]
+            if seg.get("pose_from_name") in missing and seg["up"] != seg["pose_from_name"]
+        }
+    )
+    return (
+        f"The files' names promise {', '.join(missing)} up, but no still reading shows it"
+        + (f" ({'; '.join(wrong)})" if wrong else "")
+        + ": record that pose again, or check which file holds which pose"
+    )
 
 
 @contextmanager
@@ -350,18 +386,24 @@ def name_sources(body: dict, recording: RecordingSource | None) -> dict:
             body["warnings"].append(
                 f"{seg.get('source')} names {named} up, but its still reading points "
                 f"{seg['up'] or 'to no axis within 20°'}{' up' if seg['up'] else ''}: the data's pose was used — check "
-                "the file's name, or how the board lay")
+                "the file's name, or how the board lay"
+            )
     return body
 
 
 def _magnitude(spec: StillFit, request, recording: RecordingSource | None) -> dict:
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
-    result, extra = calibrate_unknown(spec, means, unit=unit, gravity=gravity,
-                                      solver=getattr(request, "solver", "lm"), holdout=request.holdout)
+    result, extra = calibrate_unknown(
+        spec, means, unit=unit, gravity=gravity, solver=getattr(request, "solver", "lm"), holdout=request.holdout
+    )
     advice = {"advice": pose_advice(result)} if spec.advises else {}
-    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                                         label=request.label, **advice, **source), recording)
+    return name_sources(
+        calibration_body(
+            result, extra, unit=unit, notes=notes, device_id=request.device_id, label=request.label, **advice, **source
+        ),
+        recording,
+    )
 
 
 def six_position(request, recording: RecordingSource | None) -> dict:
@@ -413,8 +455,9 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
         candidates[known.name] = calibrate_known(known, readings, unit=unit, gravity=gravity, holdout=holdout)
     if len(m) >= 9:
         try:
-            candidates[TRIANGULAR.name] = calibrate_unknown(TRIANGULAR, m, unit=unit, gravity=gravity, solver=solver,
-                                                            holdout=holdout)
+            candidates[TRIANGULAR.name] = calibrate_unknown(
+                TRIANGULAR, m, unit=unit, gravity=gravity, solver=solver, holdout=holdout
+            )
         except InsufficientDataError:
             if not candidates:  # nothing else applies: say what the magnitude model lacks
                 raise
@@ -442,19 +485,25 @@ def _why(fits: dict, aligned: bool, n: int) -> str:
     """Why the chosen model fits these poses, in words that do not name it again: the page and the command line say
     the method first ("Method: six positions, chosen because …")."""
     if not aligned:
-        return (f"the {n} poses are free (not all within 20° of an axis, or not all six axes), and a magnitude model "
-                "(Farago et al.) needs no orientation")
+        return (
+            f"the {n} poses are free (not all within 20° of an axis, or not all six axes), and a magnitude model "
+            "(Farago et al.) needs no orientation"
+        )
     if len(fits) == 1:
-        return (f"the {n} poses are the six axis orientations (each within 20° of ±x, ±y, ±z), which determine the "
-                "affine model in closed form (Georgieva et al.); nine or more distinct poses would also allow a "
-                "magnitude model to check it")
+        return (
+            f"the {n} poses are the six axis orientations (each within 20° of ±x, ±y, ±z), which determine the "
+            "affine model in closed form (Georgieva et al.); nine or more distinct poses would also allow a "
+            "magnitude model to check it"
+        )
 
     def figure(name):
         cv = fits[name].error_on_new_orientations
         return f"{name} {'n/a' if cv is None else f'{cv:.2f} mg'}{'' if fits[name].ok else ' (not ok)'}"
 
-    return (f"the {n} poses cover the six axes, so both a known-orientation and a magnitude model apply; "
-            f"on poses left out: {', '.join(figure(k) for k in fits)}")
+    return (
+        f"the {n} poses cover the six axes, so both a known-orientation and a magnitude model apply; "
+        f"on poses left out: {', '.join(figure(k) for k in fits)}"
+    )
 
 
 def auto(request, recording: RecordingSource | None) -> dict:
@@ -468,5 +517,16 @@ def auto(request, recording: RecordingSource | None) -> dict:
         result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)
     if STILL_FITS[choice["method"]].advises:  # a magnitude model: which poses to add next
         source["advice"] = pose_advice(result)
-    return name_sources(calibration_body(result, extra, unit=unit, notes=notes, device_id=request.device_id,
-                                         label=request.label, choice=choice, **source), recording)
+    return name_sources(
+        calibration_body(
+            result,
+            extra,
+            unit=unit,
+            notes=notes,
+            device_id=request.device_id,
+            label=request.label,
+            choice=choice,
+            **source,
+        ),
+        recording,
+    )

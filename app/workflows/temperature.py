@@ -22,13 +22,15 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
         raise CalibrationError(
             "the recording has no temperature: method temperature fits each axis's offset against the sensor's "
             "temperature — give a CSV with a temp_c column (°C, one per sample, beside the readings), or a flight "
-            "controller's log (PX4 .ulg, ArduPilot .bin) that records its IMU's temperature")
+            "controller's log (PX4 .ulg, ArduPilot .bin) that records its IMU's temperature"
+        )
     wanted = list(sensors) if sensors else [s for s in TEMPERATURE_SENSORS if getattr(log, s) is not None]
     missing = [s for s in wanted if getattr(log, s) is None]
     if not wanted or missing:
         raise CalibrationError(
             f"the recording has no {', '.join(missing or TEMPERATURE_SENSORS)} samples (it has "
-            f"{', '.join(log.channels)}): method temperature calibrates the accelerometer and the gyroscope")
+            f"{', '.join(log.channels)}): method temperature calibrates the accelerometer and the gyroscope"
+        )
     notes = list(log.warnings) + list(log.notes)
     arrays = {}
     for name in wanted:
@@ -36,7 +38,8 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
         if unit == "raw":
             raise CalibrationError(
                 f"the {name} readings are counts whose scale is unknown: the firmwares' temperature parameters are "
-                "in m/s² and rad/s — give chip (e.g. chip=mpu6050-2g,mpu6050-250dps), or the unit")
+                "in m/s² and rad/s — give chip (e.g. chip=mpu6050-2g,mpu6050-250dps), or the unit"
+            )
         scale = TO_SI[name][unit]
         arrays[name] = np.asarray(getattr(log, name), dtype=float) * scale
     rate = log.sampling_rate_hz
@@ -45,8 +48,7 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
         notes.append(f"the rests were looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate)")
     result = calibrate_temperature(log.temperature_c, sampling_rate_hz=rate, time_s=log.time_s, **arrays)
     ids = sensor_ids(log, wanted)
-    return calibration_body(result, {}, unit=result.unit, notes=notes, **({"sensor_ids": ids} if ids else {}),
-                            **fields)
+    return calibration_body(result, {}, unit=result.unit, notes=notes, **({"sensor_ids": ids} if ids else {}), **fields)
 
 
 def sensor_ids(log: LogData, sensors) -> dict:
@@ -61,8 +63,12 @@ def sensor_ids(log: LogData, sensors) -> dict:
     ids = {}
     for row in log.flight.instances:
         sensor = row["sensor"]
-        if (sensor in sensors and row["instance"] == imu.get("instance") and row["source"] == source[sensor]
-                and row.get("device_id")):
+        if (
+            sensor in sensors
+            and row["instance"] == imu.get("instance")
+            and row["source"] == source[sensor]
+            and row.get("device_id")
+        ):
             ids[sensor] = int(row["device_id"])
     return ids
 
@@ -70,5 +76,10 @@ def sensor_ids(log: LogData, sensors) -> dict:
 def temperature(request, recording: RecordingSource) -> dict:
     """Method ``temperature``: a still recording that carries the sensor's temperature (:func:`temperature_log`)."""
     log = recording.read()
-    return temperature_log(log, sensors=request.sensors, device_id=request.device_id,
-                           label=request.label or recording.meta.get("filename"), **recording.source_fields)
+    return temperature_log(
+        log,
+        sensors=request.sensors,
+        device_id=request.device_id,
+        label=request.label or recording.meta.get("filename"),
+        **recording.source_fields,
+    )

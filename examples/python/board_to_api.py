@@ -21,8 +21,10 @@ import uuid
 
 import serial  # pyserial
 
-UNI_HEADER = ("time_s,acc_x (m/s^2),acc_y (m/s^2),acc_z (m/s^2),gyr_x (rad/s),gyr_y (rad/s),gyr_z (rad/s),"
-              "mag_x (uT),mag_y (uT),mag_z (uT)")
+UNI_HEADER = (
+    "time_s,acc_x (m/s^2),acc_y (m/s^2),acc_z (m/s^2),gyr_x (rad/s),gyr_y (rad/s),gyr_z (rad/s),"
+    "mag_x (uT),mag_y (uT),mag_z (uT)"
+)
 
 
 def record(port: str, baud: int, seconds: float) -> str:
@@ -56,8 +58,10 @@ def post(url: str, body: bytes, content_type: str) -> dict:
 
 def upload(api: str, log: str) -> dict:
     boundary = uuid.uuid4().hex
-    body = (f"--{boundary}\r\nContent-Disposition: form-data; name=\"file\"; filename=\"board.csv\"\r\n"
-            f"Content-Type: text/csv\r\n\r\n{log}\r\n--{boundary}--\r\n").encode()
+    body = (
+        f'--{boundary}\r\nContent-Disposition: form-data; name="file"; filename="board.csv"\r\n'
+        f"Content-Type: text/csv\r\n\r\n{log}\r\n--{boundary}--\r\n"
+    ).encode()
     return post(f"{api}/api/v1/recordings", body, f"multipart/form-data; boundary={boundary}")
 
 
@@ -71,8 +75,11 @@ def main() -> None:
     log = record(args.port, args.baud, args.seconds)
     recording = upload(args.api, log)
     print(f"recording {recording['id']}: {len(recording.get('segments', []))} still segments")
-    cal = post(f"{args.api}/api/v1/calibrations", json.dumps({"recording_id": recording["id"], "method": "auto"}).encode(),
-               "application/json")
+    cal = post(
+        f"{args.api}/api/v1/calibrations",
+        json.dumps({"recording_id": recording["id"], "method": "auto"}).encode(),
+        "application/json",
+    )
     print(f"calibration {cal['id']} ({cal['method']}): {cal['verdict']['words']}")
     with urllib.request.urlopen(f"{args.api}/api/v1/calibrations/{cal['id']}/export?format=c", timeout=60) as answer:
         header = answer.read()

@@ -23,32 +23,51 @@ def auth(key):
 
 
 def test_two_keys_never_see_each_other(keyed):
-    a = keyed.post("/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL, device_id="d"), headers=auth("key-a"))
-    b = keyed.post("/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL, device_id="d"), headers=auth("key-b"))
+    a = keyed.post(
+        "/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL, device_id="d"), headers=auth("key-a")
+    )
+    b = keyed.post(
+        "/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL, device_id="d"), headers=auth("key-b")
+    )
     assert a.status_code == b.status_code == 201
     ida, idb = a.json()["id"], b.json()["id"]
     assert keyed.get(f"/api/v1/calibrations/{ida}", headers=auth("key-a")).status_code == 200
     assert keyed.get(f"/api/v1/calibrations/{ida}", headers=auth("key-b")).status_code == 404
     assert keyed.get(f"/api/v1/calibrations/{idb}/export", headers=auth("key-a")).status_code == 404
-    assert keyed.post(f"/api/v1/calibrations/{idb}/apply", json={"samples": [[1, 2, 3]]},
-                      headers=auth("key-a")).status_code == 404
-    assert [c["id"] for c in keyed.get("/api/v1/calibrations", params={"device_id": "d"},
-                                       headers=auth("key-a")).json()["items"]] == [ida]
+    assert (
+        keyed.post(
+            f"/api/v1/calibrations/{idb}/apply", json={"samples": [[1, 2, 3]]}, headers=auth("key-a")
+        ).status_code
+        == 404
+    )
+    assert [
+        c["id"]
+        for c in keyed.get("/api/v1/calibrations", params={"device_id": "d"}, headers=auth("key-a")).json()["items"]
+    ] == [ida]
     rec = keyed.post(
-        "/api/v1/recordings", files={"file": ("log.csv", LOG.read_bytes(), "text/csv")},
-        data={"sampling_rate_hz": "150"}, headers=auth("key-a"))
+        "/api/v1/recordings",
+        files={"file": ("log.csv", LOG.read_bytes(), "text/csv")},
+        data={"sampling_rate_hz": "150"},
+        headers=auth("key-a"),
+    )
     assert rec.status_code == 201
-    other = keyed.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec.json()["id"]},
-                       headers=auth("key-b"))
+    other = keyed.post(
+        "/api/v1/calibrations", json={"method": "six_position", "recording_id": rec.json()["id"]}, headers=auth("key-b")
+    )
     assert other.status_code == 404
 
 
-@pytest.mark.parametrize("headers", [{}, auth("wrong"), {"Authorization": "Basic a2V5LWE="}, {"Authorization": "Bearer "}])
+@pytest.mark.parametrize(
+    "headers", [{}, auth("wrong"), {"Authorization": "Basic a2V5LWE="}, {"Authorization": "Bearer "}]
+)
 def test_missing_or_wrong_key_is_401(keyed, headers):
     r = keyed.get("/api/v1/calibrations", headers=headers)
     assert r.status_code == 401 and r.headers["www-authenticate"] == "Bearer"
     assert "API key" in r.json()["detail"]
-    assert keyed.post("/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL), headers=headers).status_code == 401
+    assert (
+        keyed.post("/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL), headers=headers).status_code
+        == 401
+    )
 
 
 def test_health_and_pages_need_no_key(keyed):

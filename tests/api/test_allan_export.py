@@ -32,14 +32,18 @@ def test_allan_svg_downloads_over_http(server):
     assert f'filename="allan_{stored["id"]}.svg"' in r.headers["content-disposition"]
     assert r.text == allan_svg(stored)
     root = ET.fromstring(r.content)
-    assert [p.get("data-sensor") for p in root.iter("{http://www.w3.org/2000/svg}g") if p.get("class") == "panel"] \
-        == ["acc", "gyr"]
+    assert [p.get("data-sensor") for p in root.iter("{http://www.w3.org/2000/svg}g") if p.get("class") == "panel"] == [
+        "acc",
+        "gyr",
+    ]
 
 
 def test_allan_svg_of_another_method_is_refused_with_a_reason(server):
     s, _ = server
-    readings = [{"up": up, "mean": [9.80665 * (up == f"+{a}") - 9.80665 * (up == f"-{a}") for a in "xyz"]}
-                for up in ("-x", "+x", "-y", "+y", "-z", "+z")]
+    readings = [
+        {"up": up, "mean": [9.80665 * (up == f"+{a}") - 9.80665 * (up == f"-{a}") for a in "xyz"]}
+        for up in ("-x", "+x", "-y", "+y", "-z", "+z")
+    ]
     cal = httpx.post(f"{s.url}/api/v1/calibrations", json={"method": "six_position", "readings": readings})
     assert cal.status_code == 201, cal.text
     r = httpx.get(f"{s.url}/api/v1/calibrations/{cal.json()['id']}/export", params={"format": "allan_svg"})

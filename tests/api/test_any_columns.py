@@ -33,13 +33,31 @@ UNITS = {
     "gyr": {"rad/s": ("rad/s",), "deg/s": ("deg/s", "dps", "°/s"), "raw": ("raw", "counts")},
     "mag": {"uT": ("uT", "µT"), "nT": ("nT",), "raw": ("raw",)},
 }
-SCALE = {"acc": {"m/s^2": 9.81, "g": 1.0, "raw": 16384.0}, "gyr": {"rad/s": 1.0, "deg/s": 57.3, "raw": 131.0 * 57.3},
-         "mag": {"uT": 48.0, "nT": 48_000.0, "raw": 48.0 / 0.15}}
-METHODS = ({"method": "auto"}, {"method": "six_position"}, {"method": "orientations"}, {"method": "nonorthogonal"},
-           {"method": "triangular"}, {"method": "cube", "field_ut": 48.0}, {"method": "autocal"}, {"method": "noise"},
-           {"method": "magnetometer"})
-NEEDS = {"six_position": "acc", "orientations": "acc", "nonorthogonal": "acc", "triangular": "acc", "cube": "acc",
-         "autocal": "acc", "magnetometer": "mag"}
+SCALE = {
+    "acc": {"m/s^2": 9.81, "g": 1.0, "raw": 16384.0},
+    "gyr": {"rad/s": 1.0, "deg/s": 57.3, "raw": 131.0 * 57.3},
+    "mag": {"uT": 48.0, "nT": 48_000.0, "raw": 48.0 / 0.15},
+}
+METHODS = (
+    {"method": "auto"},
+    {"method": "six_position"},
+    {"method": "orientations"},
+    {"method": "nonorthogonal"},
+    {"method": "triangular"},
+    {"method": "cube", "field_ut": 48.0},
+    {"method": "autocal"},
+    {"method": "noise"},
+    {"method": "magnetometer"},
+)
+NEEDS = {
+    "six_position": "acc",
+    "orientations": "acc",
+    "nonorthogonal": "acc",
+    "triangular": "acc",
+    "cube": "acc",
+    "autocal": "acc",
+    "magnetometer": "mag",
+}
 WORDS = {"acc": "accelerometer", "mag": "magnetometer", "gyr": "gyroscope"}
 TIMES = (None, ("t", 1.0), ("time_ms", 1e3), ("timestamp", 1e6), ("time", "bursty_ms"))
 EXTRA = ("temperature", "temp (C)", "pressure", "label", "i")
@@ -63,8 +81,17 @@ def recordings(draw):
     time = draw(st.sampled_from(TIMES))
     extra = draw(st.lists(st.sampled_from(EXTRA), unique=True, max_size=2))
     seed = draw(st.integers(0, 2**16))
-    return dict(axes=sorted(axes), spelling=spelling, unit=unit, in_header=in_header, n=n, motion=motion,
-                time=time, extra=extra, seed=seed)
+    return dict(
+        axes=sorted(axes),
+        spelling=spelling,
+        unit=unit,
+        in_header=in_header,
+        n=n,
+        motion=motion,
+        time=time,
+        extra=extra,
+        seed=seed,
+    )
 
 
 def _directions(rng, n: int, motion: str) -> np.ndarray:
@@ -150,8 +177,14 @@ def _check(client, case: dict, seen: dict) -> None:
 def test_any_columns_upload_and_every_method_answers_without_a_500(tmp_path):
     seen = {"cases": 0, "uploaded": 0, "calibrated": 0, "refused": 0}
     with TestClient(create_app(make_settings(tmp_path)), raise_server_exceptions=False) as client:
-        @settings(max_examples=EXAMPLES, deadline=None, derandomize=True, database=None,
-                  suppress_health_check=[HealthCheck.too_slow])
+
+        @settings(
+            max_examples=EXAMPLES,
+            deadline=None,
+            derandomize=True,
+            database=None,
+            suppress_health_check=[HealthCheck.too_slow],
+        )
         @given(case=recordings())
         def check(case):
             _check(client, case, seen)

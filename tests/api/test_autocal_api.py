@@ -18,13 +18,22 @@ def _npy(x) -> bytes:
 
 
 def _upload(client, data: bytes, name: str):
-    return client.post("/api/v1/recordings", files={"file": (name, data, "application/octet-stream")},
-                       data={"sampling_rate_hz": str(FS), "acc_unit": "g"})
+    return client.post(
+        "/api/v1/recordings",
+        files={"file": (name, data, "application/octet-stream")},
+        data={"sampling_rate_hz": str(FS), "acc_unit": "g"},
+    )
 
 
 def test_autocal_on_uploaded_npy(client):
-    x, truth = simulate_recording(np.random.default_rng(11), duration_s=6 * 3600, sampling_rate_hz=FS,
-                                  rest_median_s=30, move_median_s=10, posture_fraction=0.3)
+    x, truth = simulate_recording(
+        np.random.default_rng(11),
+        duration_s=6 * 3600,
+        sampling_rate_hz=FS,
+        rest_median_s=30,
+        move_median_s=10,
+        posture_fraction=0.3,
+    )
     r = _upload(client, _npy(x), "wrist.npy")
     assert r.status_code == 201, r.text
     assert r.json()["format"] == "npy"

@@ -26,8 +26,14 @@ GOOD = seed_table(1)[:6].tolist()
         (readings(GOOD[:5]), 422, "exactly 6 readings"),
         (readings(GOOD, CANONICAL[:5] + ["+w"]), 422, "readings[5].up"),
         (readings(GOOD, CANONICAL[:5] + ["-z"]), 422, "-z is given more than once and +z is missing"),
-        ({"method": "orientations", "readings": [{"up": u, "mean": m} for u, m in
-                                                  zip(["+x", "-x", "+y", "-y"], GOOD[:4])]}, 422, "condition (22)"),
+        (
+            {
+                "method": "orientations",
+                "readings": [{"up": u, "mean": m} for u, m in zip(["+x", "-x", "+y", "-y"], GOOD[:4])],
+            },
+            422,
+            "condition (22)",
+        ),
         ({"method": "orientations", "readings": [{"up": "+x", "mean": GOOD[0]}]}, 422, "at least 4"),
         ({"method": "magic", "readings": []}, 422, "magic"),
         ({"readings": GOOD}, 422, "the field `method` is required: one of auto, six_position"),
@@ -35,8 +41,11 @@ GOOD = seed_table(1)[:6].tolist()
         ({"method": "six_position", "recording_id": "rec_nope"}, 404, "no recording with id 'rec_nope'"),
         ({**readings(GOOD), "gravity": -1}, 422, "gravity"),
         # Found by the schema fuzzer: a subnormal gravity overflowed the magnitude models' division.
-        ({"method": "auto", "gravity": 5e-324, "means": [[0.0, 0.0, 1.0]] * 9}, 422,
-         "gravity: Input should be greater than or equal to 0.1"),
+        (
+            {"method": "auto", "gravity": 5e-324, "means": [[0.0, 0.0, 1.0]] * 9},
+            422,
+            "gravity: Input should be greater than or equal to 0.1",
+        ),
         ({**readings(GOOD), "unit": "furlong"}, 422, "unit"),
         ({**readings(GOOD), "unexpected": 1}, 422, "unexpected"),
     ],

@@ -31,9 +31,11 @@ def test_table1_through_the_api(client):
     body = r.json()
     assert body["id"].startswith("cal_") and body["method"] == "six_position" and body["ok"] is True
     assert body["model"]["type"] == "affine"
-    np.testing.assert_allclose(body["model"]["X"], [[1.00381, -0.00227028, -0.0141925],
-                                                    [-0.00324982, 1.00003, 0.00734762],
-                                                    [-0.019297, 0.0362144, 0.988311]], atol=1e-5)
+    np.testing.assert_allclose(
+        body["model"]["X"],
+        [[1.00381, -0.00227028, -0.0141925], [-0.00324982, 1.00003, 0.00734762], [-0.019297, 0.0362144, 0.988311]],
+        atol=1e-5,
+    )
     np.testing.assert_allclose(body["model"]["y"], [0.353222, 0.363473, -1.18129], atol=1e-5)
     m = body["metrics"]
     assert m["fit_error_max"] == pytest.approx(0.010601, abs=1e-6)
@@ -69,8 +71,10 @@ def test_orientations_method_matches_six_position(client):
 
 def test_list_by_device(client):
     t1 = seed_table(1)
-    ids = {client.post("/api/v1/calibrations", json=six_request(t1, CANONICAL, device_id=d)).json()["id"]: d
-           for d in ("phone-a", "phone-b", "phone-a")}
+    ids = {
+        client.post("/api/v1/calibrations", json=six_request(t1, CANONICAL, device_id=d)).json()["id"]: d
+        for d in ("phone-a", "phone-b", "phone-a")
+    }
     items = client.get("/api/v1/calibrations", params={"device_id": "phone-a"}).json()["items"]
     assert {i["id"] for i in items} == {k for k, d in ids.items() if d == "phone-a"}
     assert len(client.get("/api/v1/calibrations").json()["items"]) == 3
@@ -105,8 +109,11 @@ def test_apply_and_exports(client, tmp_path):
         "int main(void){float a[3];for(int i=0;i<%d;++i){trical_acc_apply(raw[i],a);"
         'printf("%%.9g %%.9g %%.9g\\n",a[0],a[1],a[2]);}return 0;}\n' % len(t1)
     )
-    run_ok([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
-           timeout_s=120, cwd=tmp_path)
+    run_ok(
+        [cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
+        timeout_s=120,
+        cwd=tmp_path,
+    )
     out = run_ok([str(tmp_path / "apply")], timeout_s=30).stdout
     firmware = np.loadtxt(out.splitlines())
     # Single precision on the device: agreement to float32 rounding of m/s² values.
@@ -114,9 +121,15 @@ def test_apply_and_exports(client, tmp_path):
 
 
 def test_no_dof_intervals_are_null_not_nan(client):
-    req = {"method": "orientations", "readings": [
-        {"up": "+x", "mean": [9.9, 0.1, 0.0]}, {"up": "+y", "mean": [0.1, 9.7, 0.1]},
-        {"up": "+z", "mean": [0.0, 0.2, 9.8]}, {"up": "-x", "mean": [-9.7, 0.1, 0.0]}]}
+    req = {
+        "method": "orientations",
+        "readings": [
+            {"up": "+x", "mean": [9.9, 0.1, 0.0]},
+            {"up": "+y", "mean": [0.1, 9.7, 0.1]},
+            {"up": "+z", "mean": [0.0, 0.2, 9.8]},
+            {"up": "-x", "mean": [-9.7, 0.1, 0.0]},
+        ],
+    }
     r = client.post("/api/v1/calibrations", json=req)
     assert r.status_code == 201
     unc = r.json()["uncertainty"]

@@ -17,8 +17,9 @@ FS = 100.0
 
 
 def _upload(client, name: str, content: bytes, **form):
-    return client.post("/api/v1/recordings", files={"file": (name, content, "text/csv")},
-                       data={k: str(v) for k, v in form.items()})
+    return client.post(
+        "/api/v1/recordings", files={"file": (name, content, "text/csv")}, data={k: str(v) for k, v in form.items()}
+    )
 
 
 def _table(header: str | None, values: np.ndarray, rate: float) -> bytes:
@@ -36,8 +37,9 @@ def test_ambiguous_columns_are_a_422_naming_each_reading_and_its_columns(client)
     assert body["code"] == "columns_ambiguous" and "can be read more than one way" in body["detail"]
     assert [c["columns"] for c in body["candidates"]] == ["gyr_x,gyr_y,gyr_z", "mag_x,mag_y,mag_z"]
     assert body["preview"][0] == "-480,193,-83"
-    chosen = _upload(client, STILL.name, STILL.read_bytes(), sampling_rate_hz=100,
-                     columns=body["candidates"][0]["columns"])
+    chosen = _upload(
+        client, STILL.name, STILL.read_bytes(), sampling_rate_hz=100, columns=body["candidates"][0]["columns"]
+    )
     assert chosen.status_code == 201, chosen.text
     assert chosen.json()["channels"] == ["gyr"] and chosen.json()["units"] == {"gyr": "raw"}
 

@@ -38,8 +38,9 @@ def _upload(client, path, **form) -> str:
 
 
 def _calibrate(client, recording_id: str, **fields):
-    return client.post("/api/v1/calibrations", json={"method": "compass_flight", "recording_id": recording_id,
-                                                       **fields})
+    return client.post(
+        "/api/v1/calibrations", json={"method": "compass_flight", "recording_id": recording_id, **fields}
+    )
 
 
 @pytest.fixture(scope="module")
@@ -119,8 +120,9 @@ def test_a_real_copter_log_parked_most_of_its_flight_is_not_ok_in_words(client, 
     assert body["ok"] is False and body["verdict"]["apply"] is False
     assert body["reasons"] and all(len(reason.split()) >= 6 for reason in body["reasons"])
     # what to do first: the vehicle stood parked one way (77 % of the flight in one 45° sector of heading)
-    assert body["reasons"][0].startswith("the flight turned through too few headings (8 of 8 sectors of 45° reached, "
-                                         "77% of it in one"), body["reasons"][0]
+    assert body["reasons"][0].startswith(
+        "the flight turned through too few headings (8 of 8 sectors of 45° reached, 77% of it in one"
+    ), body["reasons"][0]
     assert body["flight"]["generation"] == f"ArduPilot Copter V3.3-dev (TimeMS, {('MAG', 'MAG2', 'MAG3')[instance]})"
     assert body["flight"]["instance"] == instance
     # the figure, before and after, in degrees, on segments left out
@@ -137,7 +139,9 @@ def test_a_real_copter_log_parked_most_of_its_flight_is_not_ok_in_words(client, 
     # a failed fit is not exported to the firmware, and the refusal says why
     export = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "ardupilot"})
     assert export.status_code == 422 and export.json()["code"] == "export_refused"
-    assert "failed its checks" in export.json()["detail"] and "must not be written to ArduPilot" in export.json()["detail"]
+    assert (
+        "failed its checks" in export.json()["detail"] and "must not be written to ArduPilot" in export.json()["detail"]
+    )
 
 
 def test_a_compass_the_log_does_not_have_names_those_it_has(client, log171):
@@ -162,11 +166,21 @@ def test_a_log_without_gps_asks_for_the_place_and_date(client, tmp_path, which):
     assert "latitude_deg and longitude_deg" in r.json()["detail"] and "date" in r.json()["detail"]
     r = _calibrate(client, rec, latitude_deg=flight["lat"], longitude_deg=flight["lon"])
     assert 400 <= r.status_code < 500 and "give its date" in r.json()["detail"], r.text
-    r = _calibrate(client, rec, latitude_deg=flight["lat"], longitude_deg=flight["lon"], height_m=flight["alt_m"],
-                   date=flight["utc"].date().isoformat())
+    r = _calibrate(
+        client,
+        rec,
+        latitude_deg=flight["lat"],
+        longitude_deg=flight["lon"],
+        height_m=flight["alt_m"],
+        date=flight["utc"].date().isoformat(),
+    )
     assert r.status_code == 201, r.text
     body = r.json()
     assert body["ok"] is True, body["reasons"]
-    assert body["flight"]["place"] == {"latitude_deg": flight["lat"], "longitude_deg": flight["lon"],
-                                       "height_m": flight["alt_m"], "date": datetime.date(2025, 6, 1).isoformat()}
+    assert body["flight"]["place"] == {
+        "latitude_deg": flight["lat"],
+        "longitude_deg": flight["lon"],
+        "height_m": flight["alt_m"],
+        "date": datetime.date(2025, 6, 1).isoformat(),
+    }
     assert body["flight"]["rotation_nearest"]["ardupilot"] == ORIENTATION

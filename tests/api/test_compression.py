@@ -8,8 +8,14 @@ import httpx
 
 from tests.live_server import live_server
 
-SIX = {"-x": [-9.7, 0.1, 0.2], "+x": [9.9, 0.1, 0.2], "-y": [0.1, -9.7, 0.2],
-       "+y": [0.1, 9.9, 0.2], "-z": [0.1, 0.1, -9.6], "+z": [0.1, 0.1, 10.0]}
+SIX = {
+    "-x": [-9.7, 0.1, 0.2],
+    "+x": [9.9, 0.1, 0.2],
+    "-y": [0.1, -9.7, 0.2],
+    "+y": [0.1, 9.9, 0.2],
+    "-z": [0.1, 0.1, -9.6],
+    "+z": [0.1, 0.1, 10.0],
+}
 
 
 def _raw_get(url: str, encoding: str | None) -> httpx.Response:
@@ -22,11 +28,18 @@ def _raw_get(url: str, encoding: str | None) -> httpx.Response:
 
 def test_pages_scripts_and_calibrations_come_compressed_when_asked(tmp_path):
     with live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 't.db'}"}) as s:
-        cal = httpx.post(f"{s.url}/api/v1/calibrations",
-                         json={"method": "six_position", "readings": [{"up": k, "mean": v} for k, v in SIX.items()]})
+        cal = httpx.post(
+            f"{s.url}/api/v1/calibrations",
+            json={"method": "six_position", "readings": [{"up": k, "mean": v} for k, v in SIX.items()]},
+        )
         assert cal.status_code == 201, cal.text
-        for path in ("/", "/wizard?protocol=compass", "/static/js/wizard.js", f"/api/v1/calibrations/{cal.json()['id']}",
-                     f"/api/v1/calibrations/{cal.json()['id']}/export?format=json"):
+        for path in (
+            "/",
+            "/wizard?protocol=compass",
+            "/static/js/wizard.js",
+            f"/api/v1/calibrations/{cal.json()['id']}",
+            f"/api/v1/calibrations/{cal.json()['id']}/export?format=json",
+        ):
             plain = _raw_get(s.url + path, None)
             packed = _raw_get(s.url + path, "gzip")
             assert plain.status_code == packed.status_code == 200, path

@@ -29,8 +29,12 @@ CANONICAL = ["-x", "+x", "-y", "+y", "-z", "+z"]
 
 
 def calibrate(client, table, unit="m/s^2", **extra):
-    req = {"method": "six_position", "unit": unit,
-           "readings": [{"up": lab, "mean": row.tolist()} for lab, row in zip(CANONICAL, table[:6])], **extra}
+    req = {
+        "method": "six_position",
+        "unit": unit,
+        "readings": [{"up": lab, "mean": row.tolist()} for lab, row in zip(CANONICAL, table[:6])],
+        **extra,
+    }
     r = client.post("/api/v1/calibrations", json=req)
     assert r.status_code == 201, r.text
     return r.json()
@@ -81,6 +85,7 @@ def test_yaml_reproduces_the_calibration(client):
 
 def test_yaml_is_read_alike_by_a_yaml_parser(client):
     import yaml
+
     cal = calibrate(client, seed_table(1) / G0, unit="g")
     text = export(client, cal, "yaml").text
     assert yaml.safe_load(text) == tiny_yaml(text)
@@ -91,9 +96,11 @@ def test_csv_reproduces_the_calibration(client):
     cal = calibrate(client, t1)
     r = export(client, cal, "csv")
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv")
-    rows = {row[0]: [float(v) for v in row[1:]]
-            for row in csv.reader(line for line in io.StringIO(r.text) if not line.startswith("#"))
-            if row[0] != "quantity"}
+    rows = {
+        row[0]: [float(v) for v in row[1:]]
+        for row in csv.reader(line for line in io.StringIO(r.text) if not line.startswith("#"))
+        if row[0] != "quantity"
+    }
     o = np.array(rows["offset"])
     M = np.array([rows["M_x"], rows["M_y"], rows["M_z"]])
     np.testing.assert_allclose((t1 - o) @ M.T, trical_apply(client, cal, t1), rtol=0, atol=1e-12)

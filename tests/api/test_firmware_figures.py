@@ -62,8 +62,9 @@ def exports(client, cal) -> dict:
 
 @pytest.fixture
 def pose_files_calibration(client):
-    r = client.post("/api/v1/recordings", files=[("file", (f"{s}.csv", pose_bytes(s), "text/csv")) for s in ORDER],
-                    data=UNIT)
+    r = client.post(
+        "/api/v1/recordings", files=[("file", (f"{s}.csv", pose_bytes(s), "text/csv")) for s in ORDER], data=UNIT
+    )
     assert r.status_code == 201, r.text
     r = client.post("/api/v1/calibrations", json={"method": "auto", "recording_id": r.json()["id"]})
     assert r.status_code == 201, r.text
@@ -77,7 +78,9 @@ def test_the_mpu6050_pose_files_firmware_figures(client, pose_files_calibration)
     doc = json.loads(client.get(f"/api/v1/calibrations/{cal['id']}/export", params={"format": "json"}).text)
     M, o = np.array(doc["correction"]["M"]), np.array(doc["correction"]["o"])
     # The board raw: 65.09 mg at worst (z up), 32.12 mg mean; trical's full model 0.96 mg at worst.
-    assert mg(means, G0).max() == pytest.approx(65.091, abs=1e-3) and mg(means, G0).mean() == pytest.approx(32.122, abs=1e-3)
+    assert mg(means, G0).max() == pytest.approx(65.091, abs=1e-3) and mg(means, G0).mean() == pytest.approx(
+        32.122, abs=1e-3
+    )
     assert mg((means - o) @ M.T, G0).max() == pytest.approx(0.959, abs=1e-3)
     # What the old export gave the firmware (o and M's diagonal): 2.00 mg at worst — better than raw, though it
     # reported 52 mg of dropped terms.
@@ -95,13 +98,19 @@ def test_the_mpu6050_pose_files_firmware_figures(client, pose_files_calibration)
         # axes' non-orthogonality (up to 0.34° off 90°), which no offset or scale holds.
         assert stated(text, "firmware_norm_error_any_direction_mg") == 3.677
         assert 3.67 < mg(apply(text, sphere), G0).max() <= 3.6775
-        assert stated(text, "nonorthogonality_mg") == 3.437 and "the axes are xy -0.172, xz +0.345, yz +0.017 deg off 90" in text
+        assert (
+            stated(text, "nonorthogonality_mg") == 3.437
+            and "the axes are xy -0.172, xz +0.345, yz +0.017 deg off 90" in text
+        )
         # The 2.8° rotation of M = R P (R = U Vᵀ of M's singular value decomposition), 2.76° of it a tilt.
         U, _, Vt = np.linalg.svd(M)
         assert np.degrees(np.arccos((np.trace(U @ Vt) - 1) / 2)) == pytest.approx(2.824, abs=1e-3)
         assert stated(text, "rotation_deg") == 2.824 and "(about x -0.294, y -2.749, z -0.577 deg)" in text
-        assert "takes its tilt (2.76 deg about x and y) into " + (
-            "AHRS_TRIM_X and AHRS_TRIM_Y" if fmt == "ardupilot" else "SENS_BOARD_X_OFF and SENS_BOARD_Y_OFF") in text
+        assert (
+            "takes its tilt (2.76 deg about x and y) into "
+            + ("AHRS_TRIM_X and AHRS_TRIM_Y" if fmt == "ardupilot" else "SENS_BOARD_X_OFF and SENS_BOARD_Y_OFF")
+            in text
+        )
     # The page's figures: the same, in words.
     fw = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()["firmware"]
     assert set(fw) == {"ardupilot", "px4"} and fw["ardupilot"]["improves"]
@@ -110,14 +119,16 @@ def test_the_mpu6050_pose_files_firmware_figures(client, pose_files_calibration)
         "With these offsets and scales ArduPilot reaches at most 0.00 mg on the 6 still readings (6 numbers fit 6 "
         "readings exactly) and 3.68 mg in any direction; raw 65.1 mg, trical's full model 0.96 mg. trical's model "
         "also turns the axes 2.8° (the table's tilt or the board's mounting), which no offset or scale holds: "
-        "ArduPilot's level calibration takes the tilt (AHRS_TRIM_X and AHRS_TRIM_Y).")
+        "ArduPilot's level calibration takes the tilt (AHRS_TRIM_X and AHRS_TRIM_Y)."
+    )
 
 
 def test_four_sessions_of_an_mpu9250_the_firmware_fit_on_24_readings(client):
     """The MPU-9250's six poses in four sessions (24 readings, g): more readings than numbers, so the figure the
     firmware reaches on them is a fit's, below trical's full model's on magnitude alone."""
-    readings = [{"up": up, "mean": m.tolist()} for ups, means in mpu9250_sessions().values()
-                for up, m in zip(ups, means)]
+    readings = [
+        {"up": up, "mean": m.tolist()} for ups, means in mpu9250_sessions().values() for up, m in zip(ups, means)
+    ]
     r = client.post("/api/v1/calibrations", json={"method": "orientations", "unit": "g", "readings": readings})
     assert r.status_code == 201, r.text
     cal = r.json()

@@ -9,8 +9,11 @@ LOG171 = Path(__file__).resolve().parents[1] / "data" / "real" / "flight" / "log
 
 
 def test_copter_3_3_log_uploads_with_its_instances_listed(client):
-    r = client.post("/api/v1/recordings", files={"file": (LOG171.name, LOG171.read_bytes())},
-                    data={"instance": "1", "mag_instance": "1"})
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": (LOG171.name, LOG171.read_bytes())},
+        data={"instance": "1", "mag_instance": "1"},
+    )
     assert r.status_code == 201, r.text
     rec = r.json()
     assert rec["format"] == "dataflash"

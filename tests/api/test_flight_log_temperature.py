@@ -30,8 +30,12 @@ def warm_instances(seed: int) -> list[dict]:
     """Instance 0 at a constant 40 °C, instance 1 warming from 15 °C (FRD: at rest z reads −g)."""
     w = warm_up(seed, duration_s=900, sampling_rate_hz=RATE_HZ, gravity=(0.0, 0.0, -9.80665))
     time_us = (1_000_000 + np.round(w.time_s * 1e6)).astype(np.uint64)
-    flat = {"time_us": time_us, "acc": np.tile([0.0, 0.0, -9.80665], (len(time_us), 1)) + 0.01,
-            "gyr": np.zeros((len(time_us), 3)) + 1e-3, "temperature": np.full(len(time_us), 40.0)}
+    flat = {
+        "time_us": time_us,
+        "acc": np.tile([0.0, 0.0, -9.80665], (len(time_us), 1)) + 0.01,
+        "gyr": np.zeros((len(time_us), 3)) + 1e-3,
+        "temperature": np.full(len(time_us), 40.0),
+    }
     return [flat, {"time_us": time_us, "acc": w.acc, "gyr": w.gyr, "temperature": w.temperature_c}]
 
 
@@ -39,11 +43,16 @@ def warm_instances(seed: int) -> list[dict]:
 def test_a_flight_log_warm_up_is_calibrated_for_temperature_on_its_instance(client, tmp_path, writer):
     log = writer(tmp_path / ("warm.ulg" if writer is px4_file else "warm.bin"), warm_instances(41))
     with open(log, "rb") as f:
-        r = client.post("/api/v1/recordings", files={"file": (log.name, f.read(), "application/octet-stream")},
-                        data={"instance": "1"})
+        r = client.post(
+            "/api/v1/recordings",
+            files={"file": (log.name, f.read(), "application/octet-stream")},
+            data={"instance": "1"},
+        )
     assert r.status_code == 201, r.text
     rec = r.json()
-    assert rec["flight"]["imu"]["instance"] == 1 and rec["temperature_c"]["min"] < 16 and rec["temperature_c"]["max"] > 45
+    assert (
+        rec["flight"]["imu"]["instance"] == 1 and rec["temperature_c"]["min"] < 16 and rec["temperature_c"]["max"] > 45
+    )
     r = client.post("/api/v1/calibrations", json={"method": "temperature", "recording_id": rec["id"]})
     assert r.status_code == 201, r.text
     body = r.json()
@@ -78,8 +87,11 @@ def test_the_instance_at_one_temperature_is_refused_in_words(client, tmp_path):
     """Instance 0 rests at 40 °C throughout: no polynomial of temperature can be fitted, and the answer says why."""
     log = px4_file(tmp_path / "warm.ulg", warm_instances(42))
     with open(log, "rb") as f:
-        rec = client.post("/api/v1/recordings", files={"file": ("warm.ulg", f.read(), "application/octet-stream")},
-                          data={"instance": "0"}).json()
+        rec = client.post(
+            "/api/v1/recordings",
+            files={"file": ("warm.ulg", f.read(), "application/octet-stream")},
+            data={"instance": "0"},
+        ).json()
     r = client.post("/api/v1/calibrations", json={"method": "temperature", "recording_id": rec["id"]})
     assert r.status_code == 422, r.text
     detail = r.json()["detail"]
@@ -88,8 +100,13 @@ def test_the_instance_at_one_temperature_is_refused_in_words(client, tmp_path):
 
 def test_trical_temperature_reads_the_instance_of_a_flight_log(tmp_path):
     log = ardupilot_file(tmp_path / "warm.bin", warm_instances(43))
-    run = subprocess.run([sys.executable, "-m", "app.cli", "temperature", str(log), "--instance", "1", "--sensor", "gyr"],
-                         cwd=ROOT, capture_output=True, text=True, timeout=120,
-                         env={"PATH": "/usr/bin:/bin", "TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 't.db'}"})
+    run = subprocess.run(
+        [sys.executable, "-m", "app.cli", "temperature", str(log), "--instance", "1", "--sensor", "gyr"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={"PATH": "/usr/bin:/bin", "TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 't.db'}"},
+    )
     assert run.returncode == 0, run.stdout + run.stderr
     assert "ok = True" in run.stdout and "gyr (rad/s)" in run.stdout

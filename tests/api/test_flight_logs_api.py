@@ -8,19 +8,43 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.flight_logs import (GYR_BIAS, HARD_IRON_UT, TRUTH, ardupilot_file, compass_tumble, imu_instances,
-                               px4_file, still_board)
+from tests.flight_logs import (
+    GYR_BIAS,
+    HARD_IRON_UT,
+    TRUTH,
+    ardupilot_file,
+    compass_tumble,
+    imu_instances,
+    px4_file,
+    still_board,
+)
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "flight_logs"
-FREE_POSES = [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0], [-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, -1.0, 0.0],
-              [1.0, 1.0, 1.0], [-1.0, 1.0, -1.0], [1.0, -1.0, -1.0], [-1.0, -1.0, 1.0], [1.0, 0.0, 1.0],
-              [0.0, 1.0, -1.0], [-1.0, 1.0, 0.0], [0.0, -1.0, -1.0]]
+FREE_POSES = [
+    [0.0, 0.0, 1.0],
+    [0.0, 0.0, -1.0],
+    [1.0, 0.0, 0.0],
+    [-1.0, 0.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.0, -1.0, 0.0],
+    [1.0, 1.0, 1.0],
+    [-1.0, 1.0, -1.0],
+    [1.0, -1.0, -1.0],
+    [-1.0, -1.0, 1.0],
+    [1.0, 0.0, 1.0],
+    [0.0, 1.0, -1.0],
+    [-1.0, 1.0, 0.0],
+    [0.0, -1.0, -1.0],
+]
 """Fourteen poses, the six and eight between them: enough for the nine parameters of the triangular model."""
 
 
 def _upload(client, path: Path, **fields):
-    r = client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes())},
-                    data={k: str(v) for k, v in fields.items()})
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": (path.name, path.read_bytes())},
+        data={k: str(v) for k, v in fields.items()},
+    )
     return r
 
 
@@ -105,15 +129,20 @@ def test_noise_of_the_compass_on_its_own_clock(client, tmp_path):
     imus = still_board(2, rate_hz=200.0, duration_s=60.0)
     rng = np.random.default_rng(12)
     n = 60 * 50
-    mags = [{"time_us": (1_000_000 + np.arange(n) * 20_000).astype(np.uint64),
-             "mag": np.array([20.0, -5.0, 40.0]) + rng.normal(0.0, 0.3, (n, 3))}]
+    mags = [
+        {
+            "time_us": (1_000_000 + np.arange(n) * 20_000).astype(np.uint64),
+            "mag": np.array([20.0, -5.0, 40.0]) + rng.normal(0.0, 0.3, (n, 3)),
+        }
+    ]
     rec = _upload(client, px4_file(tmp_path / "still_mag.ulg", imus, mags)).json()
     body = _calibrate(client, rec["id"], "noise", sensors=["mag"])
     assert body["sampling_rate_hz"] == pytest.approx(50.0, rel=1e-6)
     # white noise of 0.3 µT per sample at 50 Hz: σ(τ) = N/√τ with σ(1/50 s) = 0.3, so N = 0.3/√50 µT/√Hz
     np.testing.assert_allclose(body["model"]["mag"]["noise_density"], 0.3 / np.sqrt(50.0), rtol=0.08)
-    r = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"],
-                                                 "sensors": ["acc", "mag"]})
+    r = client.post(
+        "/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"], "sensors": ["acc", "mag"]}
+    )
     assert r.status_code == 422 and "compass is read on its own clock" in r.json()["detail"]
 
 
@@ -128,14 +157,17 @@ def test_sample_logs_upload_with_their_instances(client):
     assert rec["n_samples"] == 6 and rec["temperature_c"]["min"] == pytest.approx(29.4344215, abs=1e-5)
 
 
-@pytest.mark.parametrize("name, cut, fields, words", [
-    ("test.BIN", None, {"instance": 4}, "has no IMU instance 4: its IMU instances are 0, 1"),
-    ("test.BIN", None, {"mag_instance": 3}, "its magnetometer instances are 0, 1, 2"),
-    ("sample_log_small.ulg", None, {"instance": 3}, "its IMU instances are 0, 1, 2"),
-    ("sample_log_small.ulg", 400, {}, "PX4 ULog"),
-    ("test.BIN", 500, {}, "DataFlash log without IMU samples"),
-    ("test.BIN", None, {"chip": "mpu6050-2g"}, "chip is for text logs"),
-])
+@pytest.mark.parametrize(
+    "name, cut, fields, words",
+    [
+        ("test.BIN", None, {"instance": 4}, "has no IMU instance 4: its IMU instances are 0, 1"),
+        ("test.BIN", None, {"mag_instance": 3}, "its magnetometer instances are 0, 1, 2"),
+        ("sample_log_small.ulg", None, {"instance": 3}, "its IMU instances are 0, 1, 2"),
+        ("sample_log_small.ulg", 400, {}, "PX4 ULog"),
+        ("test.BIN", 500, {}, "DataFlash log without IMU samples"),
+        ("test.BIN", None, {"chip": "mpu6050-2g"}, "chip is for text logs"),
+    ],
+)
 def test_bad_flight_logs_and_instances_are_refused_naming_the_problem(client, tmp_path, name, cut, fields, words):
     data = (DATA / name).read_bytes()
     path = tmp_path / name

@@ -24,8 +24,11 @@ G0 = 9.80665
 
 def upload(client, path, **form):
     media = "application/zip" if path.suffix == ".zip" else "text/csv"
-    return client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes(), media)},
-                       data={k: str(v) for k, v in form.items()})
+    return client.post(
+        "/api/v1/recordings",
+        files={"file": (path.name, path.read_bytes(), media)},
+        data={k: str(v) for k, v in form.items()},
+    )
 
 
 @pytest.mark.parametrize(
@@ -73,8 +76,9 @@ def test_ios_sign_is_flipped_and_said_so(client):
     assert "iOS sign flipped to +g on the up axis" in rec["notes"]
     android = upload(client, SAMPLES / "sensor_logger_android.zip").json()
     assert not any("flipped" in n for n in android["notes"])
-    np.testing.assert_allclose(np.array([s["acc_mean"] for s in rec["segments"]]) * G0,
-                               [s["acc_mean"] for s in android["segments"]], atol=1e-4)
+    np.testing.assert_allclose(
+        np.array([s["acc_mean"] for s in rec["segments"]]) * G0, [s["acc_mean"] for s in android["segments"]], atol=1e-4
+    )
     assert android["channels"] == ["acc", "gyr"]
 
 
@@ -109,8 +113,11 @@ def test_linear_acceleration_found_from_the_data(client):
 
 
 def test_unrecognised_columns_are_listed_with_how_to_map_them(client):
-    r = client.post("/api/v1/recordings", files={"file": ("x.csv", b"when,north,east,down\n0,1,2,3\n", "text/csv")},
-                    data={"sampling_rate_hz": "100"})
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": ("x.csv", b"when,north,east,down\n0,1,2,3\n", "text/csv")},
+        data={"sampling_rate_hz": "100"},
+    )
     assert r.status_code == 422
     detail = r.json()["detail"]
     assert "'when', 'north', 'east', 'down'" in detail and "acc_x, acc_y, acc_z" in detail
@@ -167,8 +174,9 @@ def test_unrecognised_columns_mapped_with_the_columns_field(client):
     assert guessed.json()["columns"] == ["time", "acc_x", "acc_y", "acc_z"]
     assert guessed.json()["notes"][0].startswith("the header's columns (stamp, north, east, down) name no sensor")
     assert [s["up"] for s in guessed.json()["segments"]] == TRUTH["labels"]
-    r = client.post("/api/v1/recordings", files=files,
-                    data={"columns": "acc_x:north,acc_y:east,acc_z:down,time_ms:stamp"})
+    r = client.post(
+        "/api/v1/recordings", files=files, data={"columns": "acc_x:north,acc_y:east,acc_z:down,time_ms:stamp"}
+    )
     assert r.status_code == 201, r.text
     rec = r.json()
     assert rec["units"]["acc"] == "g" and rec["sampling_rate_hz"] == pytest.approx(50.0)

@@ -19,8 +19,11 @@ G = 9.80665
 
 
 def capture(client, s, up, rng, **extra):
-    return client.post(f"/api/v1/sessions/{s['id']}/captures", json=dict(direction_samples(up, rng, noise=0.05), **extra),
-                       headers=auth(s["token"]))
+    return client.post(
+        f"/api/v1/sessions/{s['id']}/captures",
+        json=dict(direction_samples(up, rng, noise=0.05), **extra),
+        headers=auth(s["token"]),
+    )
 
 
 def test_poses_until_the_target_then_the_calibration_recovers_the_phone(client):
@@ -35,7 +38,14 @@ def test_poses_until_the_target_then_the_calibration_recovers_the_phone(client):
         r = capture(client, s, up, rng)
         assert r.status_code == 201, r.text
         body = r.json()
-        assert body["capture"]["position"] == str(k + 1) and body["capture"]["up"] in ("+x", "-x", "+y", "-y", "+z", "-z")
+        assert body["capture"]["position"] == str(k + 1) and body["capture"]["up"] in (
+            "+x",
+            "-x",
+            "+y",
+            "-y",
+            "+z",
+            "-z",
+        )
         progress = body["session"]["progress"]
         SessionOut.model_validate(body["session"])
         seen.append(progress)
@@ -85,7 +95,10 @@ def test_a_pose_near_one_taken_is_refused_and_stop_says_so(client):
     assert r.status_code == 201, r.text
     finish = r.json()["finish"]
     assert finish["reason"] == "stopped" and finish["poses"] == 11 and finish["target_mg"] == 0.01
-    assert finish["text"] == f"stopped at 11 poses: {finish['cv_error_mg']:.1f} mg expected on new orientations, target 0.01 mg"
+    assert (
+        finish["text"]
+        == f"stopped at 11 poses: {finish['cv_error_mg']:.1f} mg expected on new orientations, target 0.01 mg"
+    )
 
 
 def test_the_target_defaults_to_the_setting(tmp_path):

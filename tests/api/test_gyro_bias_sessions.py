@@ -90,9 +90,15 @@ def test_a_six_session_reports_the_gyroscope_bias_and_ardupilot_removes_it(clien
     assert "w_i = m_i - INS_GYROFFS_i, m and INS_GYROFFS in rad/s" in text and "INS_GYR_CAL" in text
 
     doc = _export(client, s, cal, "json").json()
-    assert doc["gyroscope"] == {"formula": "w = m - b", "unit": "rad/s", "bias": bias["rad_s"],
-                                "half_width": bias["half_width_rad_s"], "confidence": 0.95, "count": 6,
-                                "interval_from": "captures"}
+    assert doc["gyroscope"] == {
+        "formula": "w = m - b",
+        "unit": "rad/s",
+        "bias": bias["rad_s"],
+        "half_width": bias["half_width_rad_s"],
+        "confidence": 0.95,
+        "count": 6,
+        "interval_from": "captures",
+    }
     header = _export(client, s, cal, "c").text
     values = re.search(r"#define TRICAL_GYRO_BIAS_RAD_S \{(\S+)f, (\S+)f, (\S+)f\}", header)
     np.testing.assert_allclose([float(v) for v in values.groups()], bias["rad_s"], rtol=1e-8)

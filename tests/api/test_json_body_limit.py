@@ -23,8 +23,14 @@ from tests.live_server import live_server
 DATA = Path(__file__).resolve().parent.parent / "data"
 HUGE_BYTES = 200 << 20
 DEFAULT_LIMIT = Settings().max_json_bytes
-SIX = {"-x": [-9.7, 0.1, 0.2], "+x": [9.9, 0.1, 0.2], "-y": [0.1, -9.7, 0.2],
-       "+y": [0.1, 9.9, 0.2], "-z": [0.1, 0.1, -9.6], "+z": [0.1, 0.1, 10.0]}
+SIX = {
+    "-x": [-9.7, 0.1, 0.2],
+    "+x": [9.9, 0.1, 0.2],
+    "-y": [0.1, -9.7, 0.2],
+    "+y": [0.1, 9.9, 0.2],
+    "-z": [0.1, 0.1, -9.6],
+    "+z": [0.1, 0.1, 10.0],
+}
 
 
 def six_body(**extra) -> dict:
@@ -75,8 +81,7 @@ def test_a_200_mb_body_is_refused_at_once_without_growing_the_server(server, dec
     if declared:
         headers["content-length"] = str(HUGE_BYTES)
     start = time.monotonic()
-    response = httpx.post(f"{server.url}/api/v1/calibrations", content=chunks(HUGE_BYTES), headers=headers,
-                          timeout=30)
+    response = httpx.post(f"{server.url}/api/v1/calibrations", content=chunks(HUGE_BYTES), headers=headers, timeout=30)
     elapsed = time.monotonic() - start
     grown = rss_bytes(pid) - before
     assert_refused(response)
@@ -102,7 +107,7 @@ def test_a_body_of_exactly_the_limit_is_served_and_one_byte_more_is_not(server, 
 
 def chunks_of(raw: bytes, size: int = 1 << 20):
     for i in range(0, len(raw), size):
-        yield raw[i:i + size]
+        yield raw[i : i + size]
 
 
 def test_a_holdout_of_100_000_readings_fits_the_default(server):
@@ -110,16 +115,18 @@ def test_a_holdout_of_100_000_readings_fits_the_default(server):
     holdout = (np.random.default_rng(1).normal(0, 1, (100_000, 3)) * 9.81).tolist()
     raw = json.dumps(six_body(holdout=holdout)).encode()
     assert len(raw) < DEFAULT_LIMIT / 2
-    r = httpx.post(f"{server.url}/api/v1/calibrations", content=raw,
-                   headers={"content-type": "application/json"}, timeout=60)
+    r = httpx.post(
+        f"{server.url}/api/v1/calibrations", content=raw, headers={"content-type": "application/json"}, timeout=60
+    )
     assert r.status_code == 201, r.text
 
 
 def test_the_cap_follows_the_setting_and_spares_uploads(tmp_path):
     settings = make_settings(tmp_path, max_json_mb=0.01)  # 10 KiB, far below the CSV below
     with TestClient(create_app(settings), raise_server_exceptions=False) as client:
-        r = client.post("/api/v1/calibrations", content=padded(six_body(), 20_000),
-                        headers={"content-type": "application/json"})
+        r = client.post(
+            "/api/v1/calibrations", content=padded(six_body(), 20_000), headers={"content-type": "application/json"}
+        )
         assert r.status_code == 413 and r.json()["code"] == "payload_too_large"
         assert "0.01 MiB" in r.json()["detail"]
         small = client.post("/api/v1/calibrations", json=six_body())
@@ -127,8 +134,9 @@ def test_the_cap_follows_the_setting_and_spares_uploads(tmp_path):
         log = DATA / "six_orientations_150hz.csv"
         assert log.stat().st_size > 20 * settings.max_json_bytes
         with open(log, "rb") as f:
-            up = client.post("/api/v1/recordings", files={"file": (log.name, f, "text/csv")},
-                             data={"sampling_rate_hz": "150"})
+            up = client.post(
+                "/api/v1/recordings", files={"file": (log.name, f, "text/csv")}, data={"sampling_rate_hz": "150"}
+            )
         assert up.status_code == 201, up.text
         # Outside /api/ nothing is capped by it (the pages take no bodies; a 405 is not a 413).
         assert client.post("/healthz", content=b" " * 20_000).status_code != 413

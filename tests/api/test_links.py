@@ -24,8 +24,12 @@ def solved(client) -> tuple[dict, str]:
     s = start(client)
     rng = np.random.default_rng(3)
     for label in CANONICAL_SIX:
-        assert client.post(f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng),
-                           headers=auth(s["token"])).status_code == 201
+        assert (
+            client.post(
+                f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng), headers=auth(s["token"])
+            ).status_code
+            == 201
+        )
     r = client.post(f"/api/v1/sessions/{s['id']}/solve", headers=auth(s["token"]))
     assert r.status_code == 201, r.text
     return r.json(), s["token"]
@@ -44,7 +48,10 @@ def test_a_link_reads_its_one_calibration_until_it_expires(tmp_path):
         assert opened["calibration_id"] == cal["id"] and opened["token"] == "lnk_" + link["code"]
         as_link = auth(opened["token"])
         assert client.get(f"/api/v1/calibrations/{cal['id']}", headers=as_link).json()["id"] == cal["id"]
-        assert client.get(f"/api/v1/calibrations/{cal['id']}/export", params={"format": "c"}, headers=as_link).status_code == 200
+        assert (
+            client.get(f"/api/v1/calibrations/{cal['id']}/export", params={"format": "c"}, headers=as_link).status_code
+            == 200
+        )
         assert client.get(f"/api/v1/calibrations/{cal['id']}/use", headers=as_link).status_code == 200
         for path in (f"/api/v1/calibrations/{other['id']}", "/api/v1/calibrations"):
             r = client.get(path, headers=as_link)
@@ -56,7 +63,9 @@ def test_a_link_reads_its_one_calibration_until_it_expires(tmp_path):
         assert r.status_code == 404 and "expired at" in r.json()["detail"] and "send it again" in r.json()["detail"]
         r = client.get(f"/api/v1/calibrations/{cal['id']}", headers=as_link)
         assert r.status_code == 401 and "expired" in r.json()["detail"]
-        assert client.get(f"/api/v1/calibrations/{cal['id']}", headers=auth(token)).status_code == 200  # the phone still
+        assert (
+            client.get(f"/api/v1/calibrations/{cal['id']}", headers=auth(token)).status_code == 200
+        )  # the phone still
 
 
 def test_the_link_page_and_a_code_that_is_no_code(client):
@@ -84,12 +93,17 @@ def test_the_link_is_at_the_address_the_phone_reached_and_a_loopback_one_becomes
         with httpx.Client(base_url=f"http://127.0.0.1:{server.port}", timeout=30) as here:
             loop = here.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token)).json()
             assert loop["url"] == f"{at_lan}/s/{loop['code']}"
-            named = here.post(f"/api/v1/calibrations/{cal['id']}/links", headers={**auth(token), "Host": "trical.lan:8765"})
+            named = here.post(
+                f"/api/v1/calibrations/{cal['id']}/links", headers={**auth(token), "Host": "trical.lan:8765"}
+            )
             assert named.json()["url"] == f"http://trical.lan:8765/s/{named.json()['code']}"
 
 
 def _everywhere(tmp_path):
     """`trical serve --host 0.0.0.0` over HTTP: reachable at loopback and at the LAN address."""
     port = free_port()
-    return live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}, port=port,
-                       command=[sys.executable, "-m", "app.cli", "serve", "--host", "0.0.0.0", "--port", str(port)])
+    return live_server(
+        {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"},
+        port=port,
+        command=[sys.executable, "-m", "app.cli", "serve", "--host", "0.0.0.0", "--port", str(port)],
+    )

@@ -42,8 +42,9 @@ def test_acknowledged_captures_survive_kill_9_and_the_session_resumes(tmp_path):
         with httpx.Client(base_url=server.url, timeout=10) as http:
             s = http.post("/api/v1/sessions", json={"protocol": "six"}).json()
             for label in ("+z", "-x", "+y"):
-                r = http.post(f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng),
-                              headers=auth(s["token"]))
+                r = http.post(
+                    f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng), headers=auth(s["token"])
+                )
                 assert r.status_code == 201
             before = r.json()["session"]
         server.kill()  # right after the last 201

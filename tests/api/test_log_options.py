@@ -25,8 +25,9 @@ IMU_COLUMNS = "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"
 
 
 def upload(client, name: str, content: bytes, **form):
-    return client.post("/api/v1/recordings", files={"file": (name, content, "text/csv")},
-                       data={k: str(v) for k, v in form.items()})
+    return client.post(
+        "/api/v1/recordings", files={"file": (name, content, "text/csv")}, data={k: str(v) for k, v in form.items()}
+    )
 
 
 def test_columns_name_the_gyroscope_too(client):
@@ -47,16 +48,21 @@ def test_seven_headerless_columns_are_named_from_the_data(client):
     assert r.status_code == 201, r.text
     rec = r.json()
     assert rec["columns"] == ["time", *IMU_COLUMNS.split(",")[1:]] and rec["units"] == {"acc": "g", "gyr": "rad/s"}
-    assert any(n.startswith("no header row: 7 columns separated by commas, read from the data as accelerometer, "
-                            "gyroscope") for n in rec["notes"])
+    assert any(
+        n.startswith("no header row: 7 columns separated by commas, read from the data as accelerometer, gyroscope")
+        for n in rec["notes"]
+    )
 
 
-@pytest.mark.parametrize("columns, fragment", [
-    ("t,acc_x,acc_y,acc_z", "columns names 4 columns (t, acc_x, acc_y, acc_z) but headerless_imu_comma.csv has 7"),
-    ("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_w", "'gyr_w', which trical does not know"),
-    ("t,acc_x,acc_y,acc_z,gyr_x,-,-", "names gyr_x but not gyr_y, gyr_z"),
-    ("t,acc_x,acc_x,acc_z,-,-,-", "names acc_x more than once"),
-])
+@pytest.mark.parametrize(
+    "columns, fragment",
+    [
+        ("t,acc_x,acc_y,acc_z", "columns names 4 columns (t, acc_x, acc_y, acc_z) but headerless_imu_comma.csv has 7"),
+        ("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_w", "'gyr_w', which trical does not know"),
+        ("t,acc_x,acc_y,acc_z,gyr_x,-,-", "names gyr_x but not gyr_y, gyr_z"),
+        ("t,acc_x,acc_x,acc_z,-,-,-", "names acc_x more than once"),
+    ],
+)
 def test_bad_columns_are_a_422_naming_the_problem(client, columns, fragment):
     r = upload(client, IMU.name, IMU.read_bytes(), **({"columns": columns} if columns else {}))
     assert r.status_code == 422 and r.json()["code"] == "unreadable_log"
@@ -70,12 +76,15 @@ def test_sign_minus_one_flips_an_upload(client):
     assert kept["sign"] == 1 and flipped["sign"] == -1 and flipped["read_with"]["sign"] == -1
     opposite = {"+": "-", "-": "+"}
     assert [s["up"] for s in flipped["segments"]] == [opposite[u[0]] + u[1] for u in TRUTH["labels"]]
-    np.testing.assert_allclose([s["acc_mean"] for s in flipped["segments"]],
-                               -np.array([s["acc_mean"] for s in kept["segments"]]))
+    np.testing.assert_allclose(
+        [s["acc_mean"] for s in flipped["segments"]], -np.array([s["acc_mean"] for s in kept["segments"]])
+    )
 
 
-@pytest.mark.parametrize("sign, fragment", [("0", "give 1 (keep the file's accelerations) or -1"),
-                                            ("2", "give 1"), ("minus", "valid integer")])
+@pytest.mark.parametrize(
+    "sign, fragment",
+    [("0", "give 1 (keep the file's accelerations) or -1"), ("2", "give 1"), ("minus", "valid integer")],
+)
 def test_a_bad_sign_is_a_422(client, sign, fragment):
     r = upload(client, "x.txt", b"0 0 9.8\n" * 100, sign=sign, sampling_rate_hz=50)
     assert r.status_code == 422 and r.json()["code"] == "invalid_request" and fragment in r.json()["detail"]
@@ -99,7 +108,7 @@ def test_a_stored_recording_is_read_again_as_it_was_told(client, settings):
     again = RecordingSource(meta=rec, path=settings.recordings_dir / f"{rec['id']}.csv").read()
     assert again.sign == 1
     for seg in rec["segments"]:
-        np.testing.assert_allclose(again.acc[seg["start"]:seg["end"]].mean(axis=0), seg["acc_mean"], atol=1e-9)
+        np.testing.assert_allclose(again.acc[seg["start"] : seg["end"]].mean(axis=0), seg["acc_mean"], atol=1e-9)
 
 
 def test_a_cube_calibration_of_a_headerless_recording(client):
@@ -110,7 +119,9 @@ def test_a_cube_calibration_of_a_headerless_recording(client):
     names = "acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,mag_x,mag_y,mag_z"
     rec = upload(client, "cube.txt", buf.getvalue().encode(), columns=names, sampling_rate_hz=100)
     assert rec.status_code == 201, rec.text
-    cal = client.post("/api/v1/calibrations", json={"method": "cube", "recording_id": rec.json()["id"],
-                                                    "protocol": "cube24", "field_ut": FIELD_UT})
+    cal = client.post(
+        "/api/v1/calibrations",
+        json={"method": "cube", "recording_id": rec.json()["id"], "protocol": "cube24", "field_ut": FIELD_UT},
+    )
     assert cal.status_code == 201, cal.text
     assert set(cal.json()["model"]) >= {"acc", "gyr", "mag"}

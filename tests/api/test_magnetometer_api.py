@@ -43,8 +43,9 @@ def cal(client, turn):
 
 
 def _apply(client, cal, samples):
-    r = client.post(f"/api/v1/calibrations/{cal['id']}/apply", json={"samples": np.asarray(samples).tolist(),
-                                                                      "sensor": "mag"})
+    r = client.post(
+        f"/api/v1/calibrations/{cal['id']}/apply", json={"samples": np.asarray(samples).tolist(), "sensor": "mag"}
+    )
     assert r.status_code == 200, r.text
     return np.array(r.json()["samples"])
 
@@ -85,13 +86,16 @@ def test_without_a_field_the_magnitude_is_estimated(client, turn):
     assert np.linalg.det(np.array(body["model"]["M"])) == pytest.approx(1.0, abs=1e-6)
 
 
-@pytest.mark.parametrize("body, code, words", [
-    ({"mag": [[1.0, 2.0, 3.0]] * 10}, "insufficient_data", "at least 50"),
-    ({"mag": [[1.0, 2.0, 3.0]] * 60, "latitude_deg": 48.0}, "invalid_request", "longitude_deg"),
-    ({}, "invalid_request", "`mag` or `recording_id`"),
-    ({"mag": [[1.0, 2.0]] * 60}, "invalid_request", "mag[0]"),
-    ({"mag": [[1.0, 2.0, 3.0]] * 60, "field_ut": -3}, "invalid_request", "field_ut"),
-])
+@pytest.mark.parametrize(
+    "body, code, words",
+    [
+        ({"mag": [[1.0, 2.0, 3.0]] * 10}, "insufficient_data", "at least 50"),
+        ({"mag": [[1.0, 2.0, 3.0]] * 60, "latitude_deg": 48.0}, "invalid_request", "longitude_deg"),
+        ({}, "invalid_request", "`mag` or `recording_id`"),
+        ({"mag": [[1.0, 2.0]] * 60}, "invalid_request", "mag[0]"),
+        ({"mag": [[1.0, 2.0, 3.0]] * 60, "field_ut": -3}, "invalid_request", "field_ut"),
+    ],
+)
 def test_bad_requests_say_what_to_fix(client, body, code, words):
     r = _post(client, **body)
     assert 400 <= r.status_code < 500, r.text
@@ -122,13 +126,20 @@ def test_an_uploaded_turn_with_rests_checks_the_dip(client):
     rows, acc_turning = [], np.array([0.3, -0.2, 9.4])  # while turning the accelerometer reads no rest
     for k, (acc, mag) in enumerate(rests):
         rows += [np.r_[acc + rng.normal(0, 0.01, 3), mag + rng.normal(0, 0.2, 3)] for _ in range(100)]
-        rows += [np.r_[acc_turning + rng.normal(0, 2.0, 3), v] for v in m[k * 375:(k + 1) * 375]]
+        rows += [np.r_[acc_turning + rng.normal(0, 2.0, 3), v] for v in m[k * 375 : (k + 1) * 375]]
     data = np.array(rows)
     buf = io.StringIO()
-    np.savetxt(buf, np.column_stack([np.arange(len(data)) / 50.0, data]), delimiter=",", fmt="%.6f", comments="",
-               header="time_s,acc_x,acc_y,acc_z,mag_x,mag_y,mag_z")
-    up = client.post("/api/v1/recordings", files={"file": ("turn.csv", buf.getvalue().encode(), "text/csv")},
-                     data={"mag_unit": "uT"})
+    np.savetxt(
+        buf,
+        np.column_stack([np.arange(len(data)) / 50.0, data]),
+        delimiter=",",
+        fmt="%.6f",
+        comments="",
+        header="time_s,acc_x,acc_y,acc_z,mag_x,mag_y,mag_z",
+    )
+    up = client.post(
+        "/api/v1/recordings", files={"file": ("turn.csv", buf.getvalue().encode(), "text/csv")}, data={"mag_unit": "uT"}
+    )
     assert up.status_code == 201, up.text
     r = _post(client, recording_id=up.json()["id"], field_ut=F)
     assert r.status_code == 201, r.text
@@ -140,10 +151,19 @@ def test_an_uploaded_turn_with_rests_checks_the_dip(client):
 
 def test_a_recording_without_a_magnetometer_is_refused_by_name(client):
     buf = io.StringIO()
-    np.savetxt(buf, np.random.default_rng(1).normal(size=(200, 3)) + [0, 0, 9.8], delimiter=",", fmt="%.5f",
-               comments="", header="acc_x,acc_y,acc_z")
-    up = client.post("/api/v1/recordings", files={"file": ("still.csv", buf.getvalue().encode(), "text/csv")},
-                     data={"sampling_rate_hz": "100"})
+    np.savetxt(
+        buf,
+        np.random.default_rng(1).normal(size=(200, 3)) + [0, 0, 9.8],
+        delimiter=",",
+        fmt="%.5f",
+        comments="",
+        header="acc_x,acc_y,acc_z",
+    )
+    up = client.post(
+        "/api/v1/recordings",
+        files={"file": ("still.csv", buf.getvalue().encode(), "text/csv")},
+        data={"sampling_rate_hz": "100"},
+    )
     assert up.status_code == 201, up.text
     r = _post(client, recording_id=up.json()["id"])
     assert r.status_code == 422 and "no magnetometer columns" in r.json()["detail"]
@@ -203,9 +223,13 @@ def test_c_header_json_yaml_and_csv_carry_the_compass(client, cal, turn, tmp_pat
         '#include <stdio.h>\n#include "cal.h"\n'
         f"static const float raw[{len(m)}][3] = {{{raw}}};\n"
         "int main(void){float h[3];for(int i=0;i<%d;++i){trical_mag_apply(raw[i],h);"
-        'printf("%%.7g %%.7g %%.7g\\n",h[0],h[1],h[2]);}return 0;}\n' % len(m))
-    run_ok([cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
-           timeout_s=120, cwd=tmp_path)
+        'printf("%%.7g %%.7g %%.7g\\n",h[0],h[1],h[2]);}return 0;}\n' % len(m)
+    )
+    run_ok(
+        [cc, "-std=c99", "-Wall", "-Werror", "-o", str(tmp_path / "apply"), str(tmp_path / "main.c")],
+        timeout_s=120,
+        cwd=tmp_path,
+    )
     out = run_ok([str(tmp_path / "apply")], timeout_s=30).stdout
     np.testing.assert_allclose(np.loadtxt(out.splitlines()), expected, atol=2e-4)  # float32 of ~100 µT values
 

@@ -6,8 +6,10 @@ from __future__ import annotations
 from app import methods
 
 G = 9.80665
-SIX = [{"up": up, "mean": [G * (up == f"+{a}") - G * (up == f"-{a}") for a in "xyz"]}
-       for up in ("-x", "+x", "-y", "+y", "-z", "+z")]
+SIX = [
+    {"up": up, "mean": [G * (up == f"+{a}") - G * (up == f"-{a}") for a in "xyz"]}
+    for up in ("-x", "+x", "-y", "+y", "-z", "+z")
+]
 
 
 def test_a_method_with_no_entry_is_a_422_naming_the_methods(client):
@@ -45,7 +47,10 @@ def test_the_export_route_accepts_the_formats_of_the_calibration_s_method(client
         r = client.get(url, params={"format": fmt})
         assert r.status_code == 422 and r.json()["code"] == "export_refused", (fmt, r.text)
         detail = r.json()["detail"]
-        assert f"format '{fmt}' does not fit this calibration, an accelerometer calibration (method six_position)" \
-            in detail and detail.endswith(f"use one of {', '.join(offered)}"), detail
+        assert (
+            f"format '{fmt}' does not fit this calibration, an accelerometer calibration (method six_position)"
+            in detail
+            and detail.endswith(f"use one of {', '.join(offered)}")
+        ), detail
     r = client.get(url, params={"format": "docx"})
     assert r.status_code == 422 and "unknown export format 'docx'" in r.json()["detail"]

@@ -35,14 +35,21 @@ def receive(exe, packet: bytes) -> np.ndarray:
 
 
 def test_crc_is_crc16_modbus():
-    assert crc16(b"123456789") == 0x4B37  # the catalogued check value of CRC-16/MODBUS (poly 0xA001 reflected, init 0xFFFF)
+    assert (
+        crc16(b"123456789") == 0x4B37
+    )  # the catalogued check value of CRC-16/MODBUS (poly 0xA001 reflected, init 0xFFFF)
 
 
 def test_the_c_receiver_recovers_every_value_and_refuses_a_corrupted_byte(receiver):
     rng = np.random.default_rng(23)
     A = rng.normal(size=(3, 3))
-    cal = MotionCalCalibration(rng.normal(0, 0.3, 3), rng.normal(0, 0.02, 3), rng.normal(0, 40, 3),
-                               float(rng.uniform(25, 65)), np.eye(3) + 0.05 * (A + A.T))
+    cal = MotionCalCalibration(
+        rng.normal(0, 0.3, 3),
+        rng.normal(0, 0.02, 3),
+        rng.normal(0, 40, 3),
+        float(rng.uniform(25, 65)),
+        np.eye(3) + 0.05 * (A + A.T),
+    )
     packet = encode(cal)
     assert len(packet) == 68 and packet[:2] == bytes((117, 84))
     got = receive(receiver, packet)
@@ -76,19 +83,23 @@ def test_compass_calibration_exported_and_received(client, receiver):
     assert np.all(got[:6] == 0.0)
     np.testing.assert_allclose(got[6:9], cal["model"]["b"], rtol=1e-7, atol=1e-5)
     assert got[9] == pytest.approx(48.0, rel=1e-7)
-    np.testing.assert_allclose(got[10:], [Mf[0, 0], Mf[1, 1], Mf[2, 2], Mf[0, 1], Mf[0, 2], Mf[1, 2]], rtol=1e-6,
-                               atol=1e-7)
+    np.testing.assert_allclose(
+        got[10:], [Mf[0, 0], Mf[1, 1], Mf[2, 2], Mf[0, 1], Mf[0, 2], Mf[1, 2]], rtol=1e-6, atol=1e-7
+    )
     # the receiver's correction h = M (m − b) in float32 gives trical's calibrated field
     h = client.post(f"/api/v1/calibrations/{cal['id']}/apply", json={"samples": m[:50].tolist(), "sensor": "mag"})
     assert h.status_code == 200, h.text
     back = decode(e.content)
-    board = ((m[:50] - back.mag_hardiron) @ back.mag_softiron.T)
+    board = (m[:50] - back.mag_hardiron) @ back.mag_softiron.T
     np.testing.assert_allclose(board, h.json()["samples"], atol=1e-4)
 
 
 def test_accelerometer_offsets_only_and_what_is_not_carried(client, receiver, table1):
-    req = {"method": "six_position", "unit": "m/s^2",
-           "readings": [{"up": lab, "mean": row.tolist()} for lab, row in zip(CANONICAL, table1[:6])]}
+    req = {
+        "method": "six_position",
+        "unit": "m/s^2",
+        "readings": [{"up": lab, "mean": row.tolist()} for lab, row in zip(CANONICAL, table1[:6])],
+    }
     r = client.post("/api/v1/calibrations", json=req)
     assert r.status_code == 201, r.text
     body = r.json()
@@ -103,8 +114,11 @@ def test_accelerometer_offsets_only_and_what_is_not_carried(client, receiver, ta
 
 
 def test_counts_are_refused(client, table1):
-    req = {"method": "six_position", "unit": "raw",
-           "readings": [{"up": lab, "mean": (row / G0 * 16384).tolist()} for lab, row in zip(CANONICAL, table1[:6])]}
+    req = {
+        "method": "six_position",
+        "unit": "raw",
+        "readings": [{"up": lab, "mean": (row / G0 * 16384).tolist()} for lab, row in zip(CANONICAL, table1[:6])],
+    }
     r = client.post("/api/v1/calibrations", json=req)
     assert r.status_code == 201, r.text
     e = client.get(f"/api/v1/calibrations/{r.json()['id']}/export", params={"format": "motioncal"})
@@ -116,8 +130,16 @@ def test_cli_export_writes_the_bytes_and_says_what_they_do_not_carry(tmp_path, r
     from tests.conftest import DATA
     from tests.test_cli import trical
 
-    out = trical("calibrate", str(DATA / "six_orientations_150hz.csv"), "--method", "six_position",
-                 "--sampling-rate-hz", "150", "--json", tmp_path=tmp_path)
+    out = trical(
+        "calibrate",
+        str(DATA / "six_orientations_150hz.csv"),
+        "--method",
+        "six_position",
+        "--sampling-rate-hz",
+        "150",
+        "--json",
+        tmp_path=tmp_path,
+    )
     assert out.returncode == 0, out.stderr
     body = json.loads(out.stdout)
     packet_file = tmp_path / "board.motioncal"

@@ -22,8 +22,14 @@ def _csv(moved: bool = False) -> bytes:
         acc[6_000:8_000] = np.column_stack([9.81 * np.sin(t), 0.5 * np.sin(3 * t), 9.81 * np.cos(t)])
         gyr[6_000:8_000] += 1.0
     buf = io.StringIO()
-    np.savetxt(buf, np.column_stack([np.arange(n) / FS, acc, gyr]), delimiter=",", comments="", fmt="%.9g",
-               header="time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    np.savetxt(
+        buf,
+        np.column_stack([np.arange(n) / FS, acc, gyr]),
+        delimiter=",",
+        comments="",
+        fmt="%.9g",
+        header="time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z",
+    )
     return buf.getvalue().encode()
 
 
@@ -52,7 +58,9 @@ def test_noise_of_an_upload_and_its_exports(client):
     ov = client.get(f"/api/v1/calibrations/{cal}/export?format=openvins").text
     assert ov.startswith("%YAML:1.0") and "gyroscope_random_walk" in yaml.safe_load(ov.split("\n", 1)[1])["imu0"]
     table = client.get(f"/api/v1/calibrations/{cal}/export?format=csv").text.splitlines()
-    assert table[0] == "tau_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z" and len(table) == len(body["adev"]["acc"]["tau_s"]) + 1
+    assert (
+        table[0] == "tau_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z" and len(table) == len(body["adev"]["acc"]["tau_s"]) + 1
+    )
     r = client.get(f"/api/v1/calibrations/{cal}/export?format=c")
     assert r.status_code == 422 and r.json()["code"] == "export_refused" and "kalibr" in r.json()["detail"]
     r = client.post(f"/api/v1/calibrations/{cal}/apply", json={"samples": [[0, 0, 9.8]]})
@@ -67,5 +75,7 @@ def test_a_recording_that_moved_uses_its_still_part_with_a_warning(client):
 
 def test_a_sensor_the_recording_lacks_is_refused(client):
     r = client.post("/api/v1/recordings", files={"file": ("still.csv", _csv(), "text/csv")})
-    r = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": r.json()["id"], "sensors": ["mag"]})
+    r = client.post(
+        "/api/v1/calibrations", json={"method": "noise", "recording_id": r.json()["id"], "sensors": ["mag"]}
+    )
     assert r.status_code == 422 and "no mag samples" in r.json()["detail"]

@@ -72,15 +72,18 @@ def real_uploads() -> list[tuple[str, list[Path], dict, list[dict]]]:
     makes on the page (the unit menus, the part menu)."""
     loose = sorted(p for p in REAL.rglob("*.csv") if "corpus" not in p.parts and not p.parent.name.endswith("files"))
     groups = [(p.name, [p]) for p in loose]
-    groups += [(d.name, sorted(d.glob("*.csv"))) for d in sorted(REAL.iterdir()) if d.is_dir() and d.name.endswith("files")]
+    groups += [
+        (d.name, sorted(d.glob("*.csv"))) for d in sorted(REAL.iterdir()) if d.is_dir() and d.name.endswith("files")
+    ]
     calibrations = [{"method": m} for m in ("auto", "noise", "magnetometer", "temperature")]
     cases = []
     for name, files in groups:
         for form in ({}, {"acc_unit": "raw", "gyr_unit": "raw", "mag_unit": "raw"}):
             cases.append((f"{name} {form}", files, form, calibrations if not form else [{"method": "auto"}]))
     for case in corpus_cases():
-        cases.append((case.name, case.files, case.form,
-                      [c for c in (case.spec.get("calibrate"), {"method": "auto"}) if c]))
+        cases.append(
+            (case.name, case.files, case.form, [c for c in (case.spec.get("calibrate"), {"method": "auto"}) if c])
+        )
     return cases
 
 
@@ -102,7 +105,9 @@ def collect(client) -> list[tuple[str, str]]:
     for name, request in test_units_api.REQUESTS.items():
         said += [(name, m) for m in messages(request(client).json())]
     for payload, *_ in test_bad_input.test_bad_calibration_requests.pytestmark[0].args[1]:
-        said += [(f"calibrate {payload}"[:80], m) for m in messages(client.post("/api/v1/calibrations", json=payload).json())]
+        said += [
+            (f"calibrate {payload}"[:80], m) for m in messages(client.post("/api/v1/calibrations", json=payload).json())
+        ]
     return [(where, m) for where, m in said if m]
 
 
@@ -117,14 +122,24 @@ def test_the_page_reads_no_api_parameter_and_no_command_line_option(client):
 def test_the_api_keeps_its_own_words(client):
     r = test_units_api._upload(client, test_units_api.SIX_CSV, lsb_per_g=16384)
     assert r.status_code == 422 and "lsb_per_g=16384" in r.json()["detail"], r.text
-    page = client.post("/api/v1/recordings", headers=PAGE, data={"lsb_per_g": "16384"},
-                       files={"file": ("log.csv", test_units_api.SIX_CSV, "text/csv")}).json()["detail"]
+    page = client.post(
+        "/api/v1/recordings",
+        headers=PAGE,
+        data={"lsb_per_g": "16384"},
+        files={"file": ("log.csv", test_units_api.SIX_CSV, "text/csv")},
+    ).json()["detail"]
     assert page == render(r.json()["detail"], "page") and "part menu" in page and not api_words(page), page
 
 
 def test_the_guard_catches_a_parameter_named_in_any_form():
-    planted = ["give acc_unit=raw", "the upload field `columns`", "method auto needs still poses",
-               "(sampling_rate_hz)", "gravity: Input should be greater", "upload it with --chip mpu6050-2g"]
+    planted = [
+        "give acc_unit=raw",
+        "the upload field `columns`",
+        "method auto needs still poses",
+        "(sampling_rate_hz)",
+        "gravity: Input should be greater",
+        "upload it with --chip mpu6050-2g",
+    ]
     assert all(api_words(text) for text in planted), [t for t in planted if not api_words(t)]
     assert not api_words("the accelerometer's unit menu, the columns of the file, the sign of the readings")
 
@@ -148,21 +163,34 @@ def test_every_parameter_of_the_vocabulary_is_one_of_the_api_and_its_option_one_
 
 
 def test_one_message_in_its_three_readers_words_and_a_page_whose_control_differs(client):
-    said = ("the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give chip or "
-            "lsb_per_g to calibrate in g")
+    said = (
+        "the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give chip or "
+        "lsb_per_g to calibrate in g"
+    )
     assert render(said, "api") == said
-    assert render(said, "cli") == ("the accelerometer's readings are counts (--unit raw): its figures are in counts; "
-                                   "give --chip or --lsb-per-g to calibrate in g")
+    assert render(said, "cli") == (
+        "the accelerometer's readings are counts (--unit raw): its figures are in counts; "
+        "give --chip or --lsb-per-g to calibrate in g"
+    )
     assert render(said, "page") == (
         "the accelerometer's readings are counts (counts in the accelerometer's unit menu (in “Units, as the data "
-        "show them”)): its figures are in counts; give the sensor's part menu to calibrate in g")
+        "show them”)): its figures are in counts; give the sensor's part menu to calibrate in g"
+    )
     place = "give `date`, latitude_deg and longitude_deg (or field_ut) for the Earth's field there"
-    assert render(place, "page", "/") == ("give the Date of the turn, the Latitude and the Longitude (or the field's "
-                                          "strength (µT)) for the Earth's field there")
-    assert render(place, "page", "/wizard") == ("give today's date (the page sends it with your location), your "
-                                                "location (“Use my location for the reference field”) for the "
-                                                "Earth's field there")
+    assert render(place, "page", "/") == (
+        "give the Date of the turn, the Latitude and the Longitude (or the field's "
+        "strength (µT)) for the Earth's field there"
+    )
+    assert render(place, "page", "/wizard") == (
+        "give today's date (the page sends it with your location), your "
+        "location (“Use my location for the reference field”) for the "
+        "Earth's field there"
+    )
     # The error body lists what its detail asks for, in the API's names, for every reader.
-    r = client.post("/api/v1/recordings", headers=PAGE, data={"lsb_per_g": "16384"},
-                    files={"file": ("log.csv", test_units_api.SIX_CSV, "text/csv")})
+    r = client.post(
+        "/api/v1/recordings",
+        headers=PAGE,
+        data={"lsb_per_g": "16384"},
+        files={"file": ("log.csv", test_units_api.SIX_CSV, "text/csv")},
+    )
     assert r.json()["asks"] == ["lsb_per_g"], r.json()

@@ -22,10 +22,19 @@ from tests.real_corpus import cases as corpus_cases
 
 REAL = DATA / "real"
 UNITS = {"acc": ("m/s^2", "g", "raw"), "gyr": ("rad/s", "deg/s", "raw"), "mag": ("uT", "nT", "gauss", "raw")}
-CHIPS = {"acc": ("mpu6050-2g", "mpu6050-4g", "mpu6050-8g", "mpu6050-16g"),
-         "gyr": ("mpu6050-250dps", "mpu6050-500dps", "mpu6050-1000dps", "mpu6050-2000dps"),
-         "mag": ("qmc5883l-2g", "qmc5883l-8g", "hmc5883l-1370", "hmc5883l-230", "ak8963-16bit", "lis3mdl-4g",
-                 "mmc5983ma-16bit")}
+CHIPS = {
+    "acc": ("mpu6050-2g", "mpu6050-4g", "mpu6050-8g", "mpu6050-16g"),
+    "gyr": ("mpu6050-250dps", "mpu6050-500dps", "mpu6050-1000dps", "mpu6050-2000dps"),
+    "mag": (
+        "qmc5883l-2g",
+        "qmc5883l-8g",
+        "hmc5883l-1370",
+        "hmc5883l-230",
+        "ak8963-16bit",
+        "lis3mdl-4g",
+        "mmc5983ma-16bit",
+    ),
+}
 SWAPS = (("acc", "gyr"), ("gyr", "acc"), ("mag", "acc"), ("mag", "gyr"), ("acc", "mag"), ("gyr", "mag"))
 
 
@@ -35,29 +44,62 @@ def _board_cases() -> list[dict]:
     esp = sorted((REAL / "mpu6050_esp32_pose_files").glob("*.csv"))
     mag = REAL / "magnetometer"
     return [
-        {"name": "mpu6050_session2_still_30s", "files": [REAL / "mpu6050_session2_still_30s.csv"],
-         "form": {"columns": "acc_x,acc_y,acc_z", "acc_unit": "raw", "lsb_per_g": "16384", "sampling_rate_hz": "100"},
-         "calibrate": {"method": "noise"}},
-        {"name": "mpu6050_pose_files", "files": pose, "form": {}, "calibrate": {"method": "six_position"},
-         "columns": "t,acc_x,acc_y,acc_z,temp_c,gyr_x,gyr_y,gyr_z"},
-        {"name": "mpu6050_esp32_pose_files", "files": esp, "form": {}, "calibrate": {"method": "orientations"},
-         "columns": "time_us,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,-"},
-        {"name": "qmc5883l_turn", "files": [mag / "tomisuarez2_qmc5883l_turn_every10.csv"],
-         "form": {"columns": "mag_x,mag_y,mag_z", "mag_unit": "raw", "sampling_rate_hz": "5"},
-         "calibrate": {"method": "magnetometer"}},
-        {"name": "iphone13_magnetometer", "files": [mag / "jmandzak_iphone13_MagnetometerUncalibrated.csv"],
-         "form": {}, "calibrate": {"method": "magnetometer"}},
-        {"name": "android_hard_iron", "files": [mag / "simorxb_android_hard_iron_MagnetometerUncalibrated.csv"],
-         "form": {}, "calibrate": {"method": "magnetometer"}},
+        {
+            "name": "mpu6050_session2_still_30s",
+            "files": [REAL / "mpu6050_session2_still_30s.csv"],
+            "form": {
+                "columns": "acc_x,acc_y,acc_z",
+                "acc_unit": "raw",
+                "lsb_per_g": "16384",
+                "sampling_rate_hz": "100",
+            },
+            "calibrate": {"method": "noise"},
+        },
+        {
+            "name": "mpu6050_pose_files",
+            "files": pose,
+            "form": {},
+            "calibrate": {"method": "six_position"},
+            "columns": "t,acc_x,acc_y,acc_z,temp_c,gyr_x,gyr_y,gyr_z",
+        },
+        {
+            "name": "mpu6050_esp32_pose_files",
+            "files": esp,
+            "form": {},
+            "calibrate": {"method": "orientations"},
+            "columns": "time_us,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,-",
+        },
+        {
+            "name": "qmc5883l_turn",
+            "files": [mag / "tomisuarez2_qmc5883l_turn_every10.csv"],
+            "form": {"columns": "mag_x,mag_y,mag_z", "mag_unit": "raw", "sampling_rate_hz": "5"},
+            "calibrate": {"method": "magnetometer"},
+        },
+        {
+            "name": "iphone13_magnetometer",
+            "files": [mag / "jmandzak_iphone13_MagnetometerUncalibrated.csv"],
+            "form": {},
+            "calibrate": {"method": "magnetometer"},
+        },
+        {
+            "name": "android_hard_iron",
+            "files": [mag / "simorxb_android_hard_iron_MagnetometerUncalibrated.csv"],
+            "form": {},
+            "calibrate": {"method": "magnetometer"},
+        },
     ]
 
 
 def _corpus_cases() -> list[dict]:
     """Every corpus case that uploads and calibrates (its files, form and calibration as stated, both
     answered with 201: a case whose right answer is a refusal has no figure to get wrong)."""
-    return [{"name": c.name, "files": c.files, "form": dict(c.form), "calibrate": dict(c.spec["calibrate"])}
-            for c in corpus_cases() if "calibrate" in c.spec and c.spec["upload"].get("status", 201) == 201
-            and c.spec["expect"].get("status", 201) == 201]
+    return [
+        {"name": c.name, "files": c.files, "form": dict(c.form), "calibrate": dict(c.spec["calibrate"])}
+        for c in corpus_cases()
+        if "calibrate" in c.spec
+        and c.spec["upload"].get("status", 201) == 201
+        and c.spec["expect"].get("status", 201) == 201
+    ]
 
 
 def _post(client, case: dict, form: dict):
@@ -86,8 +128,12 @@ def _mistakes(case: dict, baseline: dict) -> list[tuple[str, dict]]:
         for a, b in SWAPS:
             if f"{a}_x" in columns:
                 swapped = columns.replace(f"{b}_", "tmp_").replace(f"{a}_", f"{b}_").replace("tmp_", f"{a}_")
-                out.append((f"columns {a} named {b}", {**{k: v for k, v in form.items() if not k.endswith("_unit")},
-                                                       "columns": swapped}))
+                out.append(
+                    (
+                        f"columns {a} named {b}",
+                        {**{k: v for k, v in form.items() if not k.endswith("_unit")}, "columns": swapped},
+                    )
+                )
     return out
 
 
@@ -95,8 +141,11 @@ def _figures(body: dict) -> dict:
     """The figures a mistake must not change when the data overruled it: the noise densities (SI) of
     each sensor, or the verdict's calibrated figure with its unit."""
     if body.get("method") == "noise":
-        return {f"{s} noise density": (np.asarray([v for v in m["noise_density"] if v is not None]), m["unit"])
-                for s, m in body["model"].items() if isinstance(m, dict) and "noise_density" in m}
+        return {
+            f"{s} noise density": (np.asarray([v for v in m["noise_density"] if v is not None]), m["unit"])
+            for s, m in body["model"].items()
+            if isinstance(m, dict) and "noise_density" in m
+        }
     v = body.get("verdict") or {}
     return {} if v.get("after") is None else {"figure": (np.asarray([v["after"]]), v.get("unit"))}
 

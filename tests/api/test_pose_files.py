@@ -23,8 +23,14 @@ from tests.conftest import DATA
 
 POSES = DATA / "real" / "mpu6050_pose_files"
 ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
-UP = {"x_axis_pos": "+x", "x_axis_neg": "-x", "y_axis_pos": "+y", "y_axis_neg": "-y", "z_axis_pos": "+z",
-      "z_axis_neg": "-z"}
+UP = {
+    "x_axis_pos": "+x",
+    "x_axis_neg": "-x",
+    "y_axis_pos": "+y",
+    "y_axis_neg": "-y",
+    "z_axis_pos": "+z",
+    "z_axis_neg": "-z",
+}
 PEER = json.loads((DATA / "real" / "mpu6050_pose_files_peer.json").read_text())
 UNIT = {"acc_unit": "m/s^2"}
 
@@ -42,8 +48,11 @@ def file_notes(rec: dict) -> list[str]:
 
 
 def upload_files(client, files: list[tuple[str, bytes]], **form):
-    return client.post("/api/v1/recordings", files=[("file", (name, content, "text/csv")) for name, content in files],
-                       data={**UNIT, **form})
+    return client.post(
+        "/api/v1/recordings",
+        files=[("file", (name, content, "text/csv")) for name, content in files],
+        data={**UNIT, **form},
+    )
 
 
 def six(rows: int | None = None, names=None) -> list[tuple[str, bytes]]:
@@ -61,8 +70,9 @@ def test_six_pose_files_are_one_recording_each_segment_naming_its_file(client, s
     assert [(p["start"], p["end"]) for p in rec["parts"]] == [(200 * i, 200 * (i + 1)) for i in range(6)]
     assert rec["n_samples"] == 1200 and rec["sampling_rate_hz"] == pytest.approx(62.5, abs=0.5)
     # One still segment per file, inside it, labelled by the data as the file's name says.
-    assert [(s["source"], s["up"], s["part"]) for s in rec["segments"]] == [(f"{s}.csv", UP[s], i)
-                                                                         for i, s in enumerate(ORDER)]
+    assert [(s["source"], s["up"], s["part"]) for s in rec["segments"]] == [
+        (f"{s}.csv", UP[s], i) for i, s in enumerate(ORDER)
+    ]
     assert all(p["start"] <= s["start"] < s["end"] <= p["end"] for s, p in zip(rec["segments"], rec["parts"]))
     # The files' time column says no unit: read in ms from its step, said once for the six files.
     assert rec["notes"] == ["time column 'Timestamp' read in ms (from its step)"]
@@ -116,7 +126,8 @@ def test_a_file_whose_name_contradicts_its_data_is_labelled_by_the_data_with_a_w
         "x_axis_neg.csv: its name says -x up, but its still readings point +x up: the data's label is used — "
         "check the file's name, or how the board lay",
         "x_axis_pos.csv: its name says +x up, but its still readings point -x up: the data's label is used — "
-        "check the file's name, or how the board lay"]
+        "check the file's name, or how the board lay",
+    ]
     body = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
     assert body["ok"]
     named = [w for w in body["warnings"] if "names" in w]
@@ -124,10 +135,13 @@ def test_a_file_whose_name_contradicts_its_data_is_labelled_by_the_data_with_a_w
         "x_axis_neg.csv names -x up, but its still reading points +x up: the data's pose was used — check the "
         "file's name, or how the board lay",
         "x_axis_pos.csv names +x up, but its still reading points -x up: the data's pose was used — check the "
-        "file's name, or how the board lay"]
+        "file's name, or how the board lay",
+    ]
     # The data decide: the same calibration as with the right names.
-    right = client.post("/api/v1/calibrations", json={
-        "method": "six_position", "recording_id": upload_files(client, six()).json()["id"]}).json()
+    right = client.post(
+        "/api/v1/calibrations",
+        json={"method": "six_position", "recording_id": upload_files(client, six()).json()["id"]},
+    ).json()
     np.testing.assert_allclose(body["model"]["X"], right["model"]["X"], rtol=0, atol=1e-12)
 
 
@@ -135,8 +149,9 @@ def test_trical_s_figures_beside_the_maker_s_ferraris_fit(client):
     """The maker fitted imucal's Ferraris calibration on the first 100 samples of each file with g = 9.81."""
     rec = upload_files(client, six(rows=PEER["samples_per_pose"])).json()
     assert [s["count"] for s in rec["segments"]] == [100] * 6
-    body = client.post("/api/v1/calibrations", json={
-        "method": "six_position", "recording_id": rec["id"], "gravity": PEER["gravity"]}).json()
+    body = client.post(
+        "/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"], "gravity": PEER["gravity"]}
+    ).json()
     K, R, b = np.diag(PEER["K"]), np.asarray(PEER["R"]), np.asarray(PEER["b"])
     # The same matrix (both take each axis's column from its two poses: (m₊ − m₋) / 2g) ...
     np.testing.assert_allclose(body["model"]["X"], K @ R, rtol=0, atol=1e-7)
@@ -158,17 +173,32 @@ def test_trical_s_figures_beside_the_maker_s_ferraris_fit(client):
     assert error_mg(peer) == pytest.approx(0.03, abs=0.01)
 
 
-@pytest.mark.parametrize("files, status, words", [
-    ([("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,9.8,0,0\n1,9.8,0,0\n"),
-      ("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,-9.8,0,0\n1,-9.8,0,0\n")], 422,
-     "x_axis_pos.csv is given more than once: give each pose's file once"),
-    ([("x_axis_pos.csv", pose_bytes("x_axis_pos")),
-      ("x_axis_neg.csv", b"t,acc_x,acc_y,acc_z\n" + b"".join(
-          f"{16 * i},-9.4,-0.3,0.9\n".encode() for i in range(200)))], 422,
-     "x_axis_neg.csv holds acc but x_axis_pos.csv holds acc, gyr: every file of one calibration needs the same "
-     "sensors"),
-    ([("a.csv", pose_bytes("x_axis_pos")), ("b.zip", b"PK\x03\x04")], 422, "b.zip is a zip inside a recording"),
-])
+@pytest.mark.parametrize(
+    "files, status, words",
+    [
+        (
+            [
+                ("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,9.8,0,0\n1,9.8,0,0\n"),
+                ("x_axis_pos.csv", b"t,acc_x,acc_y,acc_z\n0,-9.8,0,0\n1,-9.8,0,0\n"),
+            ],
+            422,
+            "x_axis_pos.csv is given more than once: give each pose's file once",
+        ),
+        (
+            [
+                ("x_axis_pos.csv", pose_bytes("x_axis_pos")),
+                (
+                    "x_axis_neg.csv",
+                    b"t,acc_x,acc_y,acc_z\n" + b"".join(f"{16 * i},-9.4,-0.3,0.9\n".encode() for i in range(200)),
+                ),
+            ],
+            422,
+            "x_axis_neg.csv holds acc but x_axis_pos.csv holds acc, gyr: every file of one calibration needs the same "
+            "sensors",
+        ),
+        ([("a.csv", pose_bytes("x_axis_pos")), ("b.zip", b"PK\x03\x04")], 422, "b.zip is a zip inside a recording"),
+    ],
+)
 def test_files_that_cannot_be_one_recording_are_refused_by_name(client, files, status, words):
     r = upload_files(client, files)
     assert r.status_code == status and r.json()["code"] == "unreadable_log", r.text
@@ -198,10 +228,12 @@ def test_the_noise_of_pose_files_is_one_file_s_never_across_files(client):
     assert chosen in {f"{s}.csv" for s in ORDER}
     # The figures are the chosen file's alone, uploaded by itself.
     alone = upload_files(client, [(chosen, pose_bytes(chosen.removesuffix(".csv")))]).json()
-    single = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": alone["id"],
-                                                      "sensors": ["acc"]}).json()
-    np.testing.assert_allclose(body["model"]["acc"]["noise_density"], single["model"]["acc"]["noise_density"],
-                               rtol=1e-12)
+    single = client.post(
+        "/api/v1/calibrations", json={"method": "noise", "recording_id": alone["id"], "sensors": ["acc"]}
+    ).json()
+    np.testing.assert_allclose(
+        body["model"]["acc"]["noise_density"], single["model"]["acc"]["noise_density"], rtol=1e-12
+    )
     assert body["model"]["acc"]["noise_density"][0] < 2e-3  # m/s²/√Hz: a still file's, not a pose change's
 
 
@@ -210,9 +242,11 @@ def test_pose_files_too_short_for_a_still_segment_are_each_one_reading(client):
     # pose's reading, and the calibration is the one its means give.
     rec = upload_files(client, six(rows=60)).json()
     assert [(s["source"], s["up"], s["count"], s["end"] - s["start"]) for s in rec["segments"]] == [
-        (f"{s}.csv", UP[s], 60, 60) for s in ORDER]
+        (f"{s}.csv", UP[s], 60, 60) for s in ORDER
+    ]
     assert len(file_notes(rec)) == 6 and file_notes(rec)[0].startswith(
-        "x_axis_pos.csv: 1.0 s, shorter than the 1.5 s a still segment needs, but still all through (spread ")
+        "x_axis_pos.csv: 1.0 s, shorter than the 1.5 s a still segment needs, but still all through (spread "
+    )
     body = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
     assert body["ok"]
     means = [np.loadtxt(io.BytesIO(pose_bytes(s, 60)), delimiter=",", skiprows=1)[:, 1:4].mean(axis=0) for s in ORDER]
@@ -224,11 +258,14 @@ def test_a_short_file_that_moved_gives_no_reading(client):
     # 92 °/s offset in rad/s, which its data would read as °/s — another unit than the other file's.
     moving = b"Timestamp,aX (g),aY (g),aZ (g),Temp (C),gX,gY,gZ\n" + b"".join(
         f"{16 * i},{9.8 * np.cos(i / 10):.3f},{9.8 * np.sin(i / 10):.3f},0.1,26.9,0.0,0.0,0.02\n".encode()
-        for i in range(60))
+        for i in range(60)
+    )
     rec = upload_files(client, [("x_axis_pos.csv", pose_bytes("x_axis_pos")), ("x_up_again.csv", moving)]).json()
     assert [s["source"] for s in rec["segments"]] == ["x_axis_pos.csv"]
-    assert file_notes(rec) == ["x_up_again.csv: no still stretch found in its 60 samples, so it gives no reading: record "
-                            "the board resting, untouched, for a few seconds in that pose"]
+    assert file_notes(rec) == [
+        "x_up_again.csv: no still stretch found in its 60 samples, so it gives no reading: record "
+        "the board resting, untouched, for a few seconds in that pose"
+    ]
 
 
 ESP32 = DATA / "real" / "mpu6050_esp32_pose_files"
@@ -244,25 +281,36 @@ def test_a_maker_s_pose_file_that_holds_another_pose_is_found_and_named(client):
     rec = rec.json()
     assert rec["sampling_rate_hz"] == pytest.approx(175.7, abs=0.1)  # every fifth sample of ~878 Hz
     assert [(s["source"], s["pose_from_name"], s["up"]) for s in rec["segments"]] == [
-        ("imu_data_posX.csv", "+x", "+x"), ("imu_data_negX.csv", "-x", "-x"), ("imu_data_posY.csv", "+y", "+y"),
-        ("imu_data_negY.csv", "-y", "-y"), ("imu_data_posZ.csv", "+z", "-z"), ("imu_data_negZ.csv", "-z", "-z")]
-    assert file_notes(rec)[-1] == ("imu_data_posZ.csv: its name says +z up, but its still readings point -z up: the "
-                                "data's label is used — check the file's name, or how the board lay")
+        ("imu_data_posX.csv", "+x", "+x"),
+        ("imu_data_negX.csv", "-x", "-x"),
+        ("imu_data_posY.csv", "+y", "+y"),
+        ("imu_data_negY.csv", "-y", "-y"),
+        ("imu_data_posZ.csv", "+z", "-z"),
+        ("imu_data_negZ.csv", "-z", "-z"),
+    ]
+    assert file_notes(rec)[-1] == (
+        "imu_data_posZ.csv: its name says +z up, but its still readings point -z up: the "
+        "data's label is used — check the file's name, or how the board lay"
+    )
     # Each still reading beside the maker's printed average of the file, in counts: within 10 (0.6 mg) for the
     # five files that are what was printed; the posZ file is 33 000 counts from its printout on z.
     for seg in rec["segments"]:
         counts = np.asarray(seg["acc_mean"]) * 16384
         gap = np.abs(counts - ESP32_PEER[seg["source"]]).max()
         assert (gap > 33_000) if seg["source"] == "imu_data_posZ.csv" else (gap < 10), (seg["source"], gap)
-    hint = ("The files' names promise +z up, but no still reading shows it (imu_data_posZ.csv holds -z up): record "
-            "that pose again, or check which file holds which pose")
+    hint = (
+        "The files' names promise +z up, but no still reading shows it (imu_data_posZ.csv holds -z up): record "
+        "that pose again, or check which file holds which pose"
+    )
     for method in ("auto", "six_position"):
         r = client.post("/api/v1/calibrations", json={"method": method, "recording_id": rec["id"]})
         assert r.status_code == 422 and r.json()["code"] == "insufficient_data", r.text
         assert r.json()["detail"].endswith(hint)
     six = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
-    assert six["detail"].startswith("the recording has no still segment with +z up; found +x (segment 0), -x "
-                                    "(segment 1), +y (segment 2), -y (segment 3), -z (segment 4).")
+    assert six["detail"].startswith(
+        "the recording has no still segment with +z up; found +x (segment 0), -x "
+        "(segment 1), +y (segment 2), -y (segment 3), -z (segment 4)."
+    )
 
 
 @pytest.mark.parametrize("protocol", ["cube24", "ferraris"])
@@ -273,4 +321,5 @@ def test_the_cube_method_refuses_pose_files_naming_what_to_do(client, protocol):
     assert r.json()["detail"] == (
         "the cube method follows the turns between its positions in one recording; this one is made of 6 files "
         "(one per pose), which hold no turns: calibrate the accelerometer from them with method six_position or "
-        "orientations, or record the cube session in one file")
+        "orientations, or record the cube session in one file"
+    )

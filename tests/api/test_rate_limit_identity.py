@@ -61,7 +61,8 @@ def test_a_wizard_session_token_has_its_own_bucket(tmp_path):
         # Spend the address's bucket with made-up tokens; the session's token is unaffected.
         [c.get("/api/v1/calibrations", headers=auth(t)) for t in made_up(LIMIT)]
         assert c.get("/api/v1/calibrations").status_code == 429
-        codes = [c.get(f"/api/v1/sessions/{session['id']}", headers=auth(session["token"])).status_code
-                 for _ in range(LIMIT)]
+        codes = [
+            c.get(f"/api/v1/sessions/{session['id']}", headers=auth(session["token"])).status_code for _ in range(LIMIT)
+        ]
         assert codes == [200] * LIMIT
         assert c.get(f"/api/v1/sessions/{session['id']}", headers=auth(session["token"])).status_code == 429

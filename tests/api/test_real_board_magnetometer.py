@@ -26,8 +26,11 @@ def _counts() -> np.ndarray:
 
 
 def test_the_compass_on_a_qmc5883l_hand_turn_beside_the_maker_s_fit(client):
-    r = client.post("/api/v1/recordings", files={"file": (LOG.name, LOG.read_bytes(), "text/csv")},
-                    data={"columns": "mag_x,mag_y,mag_z", "mag_unit": "raw", "sampling_rate_hz": "5"})
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": (LOG.name, LOG.read_bytes(), "text/csv")},
+        data={"columns": "mag_x,mag_y,mag_z", "mag_unit": "raw", "sampling_rate_hz": "5"},
+    )
     assert r.status_code == 201, r.text
     rec = r.json()
     assert rec["channels"] == ["mag"] and rec["n_samples"] == 2275 and rec["units"] == {"mag": "raw"}

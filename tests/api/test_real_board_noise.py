@@ -18,9 +18,11 @@ PEER = json.loads((DATA / "real" / "mpu6050_noise_peer.json").read_text())
 
 
 def test_noise_density_of_a_still_mpu6050_beside_the_maker_s(client):
-    r = client.post("/api/v1/recordings", files={"file": (LOG.name, LOG.read_bytes(), "text/csv")},
-                    data={"columns": "acc_x,acc_y,acc_z", "acc_unit": "raw", "lsb_per_g": "16384",
-                          "sampling_rate_hz": "100"})
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": (LOG.name, LOG.read_bytes(), "text/csv")},
+        data={"columns": "acc_x,acc_y,acc_z", "acc_unit": "raw", "lsb_per_g": "16384", "sampling_rate_hz": "100"},
+    )
     assert r.status_code == 201, r.text
     rec = r.json()
     assert rec["n_samples"] == 3000 and rec["units"] == {"acc": "g"}

@@ -44,8 +44,13 @@ def _check(body: dict, status: int, want: dict, what: str) -> None:
         if isinstance(v["value"], str):
             assert at(body, v["path"]) == v["value"], f"{what}: {v['path']}"
             continue
-        np.testing.assert_allclose(at(body, v["path"]), v["value"], rtol=v.get("rtol", 0), atol=v.get("atol", 0),
-                                   err_msg=f"{what}: {v['path']}")
+        np.testing.assert_allclose(
+            at(body, v["path"]),
+            v["value"],
+            rtol=v.get("rtol", 0),
+            atol=v.get("atol", 0),
+            err_msg=f"{what}: {v['path']}",
+        )
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.name for c in CASES])

@@ -36,9 +36,12 @@ def test_an_android_phone_s_hard_iron_is_found_and_the_partial_turn_refused(clie
     body = r.json()
     m = body["metrics"]
     assert body["ok"] is False
-    assert m["coverage"] == pytest.approx(0.6) and len(m["missing_directions"]) == 8 and "-x-y" in m["missing_directions"]
-    assert any("covered 60 %" in x for x in body["reasons"]) and any("hard iron b is not determined" in x
-                                                                    for x in body["reasons"])
+    assert (
+        m["coverage"] == pytest.approx(0.6) and len(m["missing_directions"]) == 8 and "-x-y" in m["missing_directions"]
+    )
+    assert any("covered 60 %" in x for x in body["reasons"]) and any(
+        "hard iron b is not determined" in x for x in body["reasons"]
+    )
     assert m["field_source"] == "estimated" and 40.0 < m["field_ut"] < 55.0
     assert m["norm_spread_raw_ut"] == pytest.approx(74.5, abs=0.5) and m["norm_spread_ut"] < 3.5
     # the offset agrees with the plain sphere fit within trical's own 95 % interval of it
@@ -58,6 +61,6 @@ def test_an_iphone_s_short_recording_is_refused_and_ios_s_offset_is_in_its_strea
     assert body["ok"] is False and body["metrics"]["coverage"] <= 0.1
     assert any("covered" in x for x in body["reasons"])
     uncal, cal = _zyx("jmandzak_iphone13_MagnetometerUncalibrated.csv"), _zyx("jmandzak_iphone13_Magnetometer.csv")
-    offset = uncal[:len(cal)] - cal
+    offset = uncal[: len(cal)] - cal
     np.testing.assert_allclose(offset.mean(axis=0), [100.04, 17.48, 74.53], atol=0.01)
     assert offset.std(axis=0).max() < 0.35  # a constant offset: iOS removes no soft iron

@@ -70,8 +70,9 @@ def other_sessions(rec) -> np.ndarray:
 def test_cv_error_is_leave_one_out_of_fit_triangular(client, name):
     rec = RECS[name]
     body = post(client, rec, "triangular", rec.means)
-    mean, worst = leave_one_out_mg(lambda idx: fit_triangular(rec.means[idx], gravity=rec.gravity),
-                                   rec.means, rec.gravity)
+    mean, worst = leave_one_out_mg(
+        lambda idx: fit_triangular(rec.means[idx], gravity=rec.gravity), rec.means, rec.gravity
+    )
     assert body["metrics"]["cv_scheme"] == "leave-one-out"
     assert body["metrics"]["cv_error_mg"] == pytest.approx(mean, rel=1e-9)
     assert body["metrics"]["cv_error_max_mg"] == pytest.approx(worst, rel=1e-9)
@@ -93,7 +94,9 @@ def test_cv_error_is_leave_one_out_of_fit_orientations(client, name):
     body = post(client, rec, "orientations", rec.means)
     mean, worst = leave_one_out_mg(
         lambda idx: fit_orientations(rec.means[idx], [rec.ups[i] for i in idx], gravity=rec.gravity),
-        rec.means, rec.gravity)
+        rec.means,
+        rec.gravity,
+    )
     assert body["metrics"]["cv_error_mg"] == pytest.approx(mean, rel=1e-9)
     assert body["metrics"]["cv_error_max_mg"] == pytest.approx(worst, rel=1e-9)
     six = post(client, rec, "six_position", rec.means)
@@ -171,12 +174,17 @@ def test_ok_never_stands_on_a_calibration_worse_than_raw(client, case):
     body = post(client, rec, "triangular", m)
     raw = raw_error_mg(m, rec.gravity)
     if body["metrics"]["cv_error_mg"] >= raw:
-        assert not body["ok"], (f"{name} poses {start + 1}–{stop}: ok although new poses get "
-                                f"{body['metrics']['cv_error_mg']:.1f} mg against {raw:.1f} mg raw")
+        assert not body["ok"], (
+            f"{name} poses {start + 1}–{stop}: ok although new poses get "
+            f"{body['metrics']['cv_error_mg']:.1f} mg against {raw:.1f} mg raw"
+        )
 
 
-@pytest.mark.parametrize("name,method", [("mpu6050-session1", "triangular"), ("mpu6050-session1", "nonorthogonal")]
-                         + [(n, m) for n in AXIS_ALIGNED for m in ("orientations", "six_position")])
+@pytest.mark.parametrize(
+    "name,method",
+    [("mpu6050-session1", "triangular"), ("mpu6050-session1", "nonorthogonal")]
+    + [(n, m) for n in AXIS_ALIGNED for m in ("orientations", "six_position")],
+)
 def test_ok_calibration_does_not_make_the_device_s_other_session_worse(client, name, method):
     """Issue 11: a calibration that says ok, applied to the same device's other session, does not
     make it worse (there: 8.5 → 13.1 mg on a phone).  Holds on both boards today."""
@@ -198,4 +206,6 @@ def test_ok_calibration_does_not_make_the_phone_s_unseen_poses_worse(client, cas
     body = post(client, rec, "triangular", rec.means[start:stop], holdout=rest)
     if body["ok"]:
         before, after = body["metrics"]["holdout_error_before_mg"], body["metrics"]["holdout_error_after_mg"]
-        assert after <= before, f"{name} poses {start + 1}–{stop}: ok although unseen poses go {before:.1f} → {after:.1f} mg"
+        assert after <= before, (
+            f"{name} poses {start + 1}–{stop}: ok although unseen poses go {before:.1f} → {after:.1f} mg"
+        )

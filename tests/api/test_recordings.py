@@ -17,8 +17,9 @@ TRUTH = json.loads((DATA / "six_orientations_150hz.json").read_text())
 
 
 def upload(client, content: bytes, name="log.csv", **form):
-    return client.post("/api/v1/recordings", files={"file": (name, content, "text/csv")},
-                       data={k: str(v) for k, v in form.items()})
+    return client.post(
+        "/api/v1/recordings", files={"file": (name, content, "text/csv")}, data={k: str(v) for k, v in form.items()}
+    )
 
 
 def test_six_rest_log_end_to_end(client):
@@ -59,8 +60,7 @@ def test_segments_must_cover_six_orientations(client):
     rec = upload(client, f"x,y,z\n{rows}\n".encode(), sampling_rate_hz=100).json()
     r = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]})
     assert r.status_code == 422 and "no still segment with -x, +x, -y, +y, -z up" in r.json()["detail"]
-    r = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"],
-                                                  "segments": [7]})
+    r = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"], "segments": [7]})
     assert r.status_code == 422 and "segment 7 does not exist" in r.json()["detail"]
 
 
@@ -70,13 +70,25 @@ def test_segments_must_cover_six_orientations(client):
         (b"", {"sampling_rate_hz": 100}, 422, "is empty"),
         (b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR" + bytes(range(256)), {}, 415, "not a text file"),
         (b"acc_x,acc_y,acc_z\n", {"sampling_rate_hz": 100}, 422, "header (line 1) but no data rows"),
-        (b"acc_x,acc_y,acc_z\n1,2,3\n1,2,3\n1,oops,3\n", {"sampling_rate_hz": 100}, 422,
-         "line 4, column 'acc_y': 'oops' is not a number"),
+        (
+            b"acc_x,acc_y,acc_z\n1,2,3\n1,2,3\n1,oops,3\n",
+            {"sampling_rate_hz": 100},
+            422,
+            "line 4, column 'acc_y': 'oops' is not a number",
+        ),
         (b"temperature,pressure\n1,2\n", {"sampling_rate_hz": 100}, 422, "'temperature', 'pressure'"),
-        (b"lin_acc_x,linear acceleration y,linear acceleration z\n1,2,3\n", {"sampling_rate_hz": 100}, 422,
-         "gravity removed"),
-        (b"just one line of text without separators\n", {}, 422,
-         "no accelerometer, gyroscope or magnetometer x, y and z columns among the header's columns 'just', 'one'"),  # split at its spaces
+        (
+            b"lin_acc_x,linear acceleration y,linear acceleration z\n1,2,3\n",
+            {"sampling_rate_hz": 100},
+            422,
+            "gravity removed",
+        ),
+        (
+            b"just one line of text without separators\n",
+            {},
+            422,
+            "no accelerometer, gyroscope or magnetometer x, y and z columns among the header's columns 'just', 'one'",
+        ),  # split at its spaces
         (b"oneword\n", {}, 422, "is not a header"),
         (b"x,y,z\n1,2,3\n", {"sampling_rate_hz": -5}, 422, "sampling_rate_hz"),
         (b"x,y,z\n1,2,3\n", {"acc_unit": "parsec"}, 422, "acc_unit"),

@@ -14,12 +14,15 @@ from app.io.formats.kinds import ACCEPTED_SUFFIXES
 from tests.conftest import DATA
 
 IPHONE = DATA / "real" / "corpus" / "iphone_heading_per_sensor_files"
-BETAFLIGHT = DATA / "real" / "corpus" / "betaflight_mag_characterization_model" / "characterization_model_2026-06-26.json"
+BETAFLIGHT = (
+    DATA / "real" / "corpus" / "betaflight_mag_characterization_model" / "characterization_model_2026-06-26.json"
+)
 
 
 def upload(client, files: list[tuple[str, bytes]], **form):
-    return client.post("/api/v1/recordings", files=[("file", (n, b, "application/octet-stream")) for n, b in files],
-                       data=form)
+    return client.post(
+        "/api/v1/recordings", files=[("file", (n, b, "application/octet-stream")) for n, b in files], data=form
+    )
 
 
 def test_the_files_of_an_iphones_sensors_are_one_recording_in_any_order(client):
@@ -30,11 +33,17 @@ def test_the_files_of_an_iphones_sensors_are_one_recording_in_any_order(client):
     assert rec["channels"] == ["acc", "gyr", "mag"]
     assert rec["units"] == {"acc": "g", "gyr": "rad/s", "mag": "raw"}
     assert rec["n_samples"] == 1490 and abs(rec["sampling_rate_hz"] - 102.9) < 0.1
-    assert any(n.startswith("one recording in 3 files, one per sensor: gyroscope.csv the gyroscope (rad/s), "
-                            "magnetometer.csv the magnetometer (raw), accelerometer.csv the accelerometer (g)")
-               for n in rec["notes"])
+    assert any(
+        n.startswith(
+            "one recording in 3 files, one per sensor: gyroscope.csv the gyroscope (rad/s), "
+            "magnetometer.csv the magnetometer (raw), accelerometer.csv the accelerometer (g)"
+        )
+        for n in rec["notes"]
+    )
     assert any("merged on the clock of accelerometer.csv" in n for n in rec["notes"])
-    assert any(w.startswith("magnetometer.csv: the magnetometer's readings show a field of 480") for w in rec["warnings"])
+    assert any(
+        w.startswith("magnetometer.csv: the magnetometer's readings show a field of 480") for w in rec["warnings"]
+    )
 
 
 def test_an_accelerometer_and_a_gyroscope_file_of_one_still_recording_are_not_refused_for_their_units(client):
@@ -43,10 +52,10 @@ def test_an_accelerometer_and_a_gyroscope_file_of_one_still_recording_are_not_re
     t = 1000 + np.arange(1500) / 100.0
     acc = np.array([0.02, -0.01, 1.0]) + 0.002 * rng.standard_normal((1500, 3))
     gyr = np.array([-1.2, 0.8, 4.5]) + 0.05 * rng.standard_normal((1500, 3))  # deg/s of a still MPU-6050
-    table = lambda v: ("t,x,y,z\n" + "\n".join(f"{a:.3f},{x:.5f},{y:.5f},{z:.5f}" for a, (x, y, z) in zip(t, v))
-                       + "\n").encode()
-    r = upload(client, [("mpu_accelerometer.csv", table(acc)), ("mpu_gyroscope.csv", table(gyr))],
-               gyr_unit="deg/s")
+    table = lambda v: (
+        "t,x,y,z\n" + "\n".join(f"{a:.3f},{x:.5f},{y:.5f},{z:.5f}" for a, (x, y, z) in zip(t, v)) + "\n"
+    ).encode()
+    r = upload(client, [("mpu_accelerometer.csv", table(acc)), ("mpu_gyroscope.csv", table(gyr))], gyr_unit="deg/s")
     assert r.status_code == 201, r.text
     rec = r.json()
     assert rec["channels"] == ["acc", "gyr"] and rec["units"] == {"acc": "g", "gyr": "deg/s"}

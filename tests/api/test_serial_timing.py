@@ -23,13 +23,17 @@ def _csv(header: str, *columns, fmt="%.7g") -> bytes:
 
 def _still_gyr(seed: int, n: int) -> np.ndarray:
     """A still gyroscope in deg/s: white noise N_DEG, a bias, no slower terms."""
-    return simulate_still(np.random.default_rng(seed), n_samples=n, sampling_rate_hz=FS, N=N_DEG, B=0.0, K=0.0,
-                          bias=[0.3, -0.2, 0.1])
+    return simulate_still(
+        np.random.default_rng(seed), n_samples=n, sampling_rate_hz=FS, N=N_DEG, B=0.0, K=0.0, bias=[0.3, -0.2, 0.1]
+    )
 
 
 def _upload(client, content: bytes, **form) -> dict:
-    r = client.post("/api/v1/recordings", files={"file": ("board.csv", content, "text/csv")},
-                    data={k: str(v) for k, v in form.items()})
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": ("board.csv", content, "text/csv")},
+        data={k: str(v) for k, v in form.items()},
+    )
     assert r.status_code == 201, r.text
     return r.json()
 
@@ -54,8 +58,12 @@ def test_a_still_gyroscope_with_bursty_host_stamps_gives_its_noise_density(clien
     np.testing.assert_allclose(body["model"]["gyr"]["noise_density"], N_RAD, rtol=0.05)
     assert any("irregular" in w and "% of the interval" in w for w in body["warnings"])
     # The rate given overrides the time column's.
-    rec = _upload(client, _csv("t,gyr_x,gyr_y,gyr_z", np.round(t_ms, 3), _still_gyr(12, n)), gyr_unit="deg/s",
-                  sampling_rate_hz=100)
+    rec = _upload(
+        client,
+        _csv("t,gyr_x,gyr_y,gyr_z", np.round(t_ms, 3), _still_gyr(12, n)),
+        gyr_unit="deg/s",
+        sampling_rate_hz=100,
+    )
     assert rec["sampling_rate_hz"] == 100 and rec["timing"]["source"] == "sampling_rate_hz"
     np.testing.assert_allclose(_noise(client, rec["id"])["model"]["gyr"]["noise_density"], N_RAD, rtol=0.05)
 
@@ -72,8 +80,9 @@ def test_gaps_in_the_still_part_make_the_noise_not_ok_naming_the_timing(client):
     assert rec["timing"]["missing_s"] == pytest.approx(7.0, abs=0.15)
     body = _noise(client, rec["id"])
     assert not body["ok"]
-    assert any(r.startswith("the timing: 2 gaps in the time column lose") and "evenly spaced" in r
-               for r in body["reasons"])
+    assert any(
+        r.startswith("the timing: 2 gaps in the time column lose") and "evenly spaced" in r for r in body["reasons"]
+    )
 
 
 def _six_poses(seed: int, *, time: bool) -> bytes:

@@ -68,8 +68,9 @@ def test_a_board_s_session_has_no_notes_of_a_phone_s_browser(client):
         r = client.post(f"/api/v1/sessions/{s['id']}/captures", json=capture, headers=auth(s["token"]))
         assert r.status_code == 201, r.text
     cal = client.post(f"/api/v1/sessions/{s['id']}/solve", headers=auth(s["token"])).json()
-    expected = fit_six_position([np.mean(sent[label]["acc"], axis=0) for label in CANONICAL_SIX], list(CANONICAL_SIX),
-                                gravity=G)
+    expected = fit_six_position(
+        [np.mean(sent[label]["acc"], axis=0) for label in CANONICAL_SIX], list(CANONICAL_SIX), gravity=G
+    )
     np.testing.assert_allclose(cal["model"]["X"], expected.X, rtol=1e-12, atol=1e-14)
     assert not any("rounds its sensor values" in w or "may already calibrate" in w for w in cal["warnings"])
     assert cal["source"] == "board"  # the page offers a board's calibration for its firmware first (app/web/uses.py)
@@ -95,27 +96,35 @@ def test_a_pose_already_captured_is_refused_naming_what_remains_and_redo_replace
     assert next(c for c in captures if c["position"] == "+z")["mean"] != first["mean"]
 
 
-@pytest.mark.parametrize("change, message", [
-    (lambda p: {**p, "acc": (np.array(p["acc"]) + np.random.default_rng(1).normal(0, 1.0, (300, 3))).tolist()},
-     "the device moved during the capture"),
-    (lambda p: {**p, "acc": (np.array(p["acc"]) + np.linspace(0, 0.6, 300)[:, None] * [1, 0, 0]).tolist()},
-     "slid or tilted"),
-    (lambda p: {**p, "acc": [[6.9, 0.0, 6.9]] * 300}, "no axis points up within 20°"),
-    (lambda p: {**p, "acc": [[0.0, 0.0, 5.0]] * 300}, "not gravity's"),
-    (lambda p: {**p, "position": "-y"}, "the device is in the +z pose, not -y"),
-    (lambda p: {**p, "t_ms": p["t_ms"][::-1]}, "goes back in time"),
-    (lambda p: {**p, "t_ms": p["t_ms"][:-1]}, "t_ms has 299 timestamps for 300 samples"),
-    (lambda p: {**p, "acc": p["acc"][:5], "t_ms": p["t_ms"][:5], "gyr": None}, "at least 10 samples"),
-    (lambda p: {**p, "gyr": [[20.0, 0.0, 0.0]] * 300}, "turning during the capture"),
-    (lambda p: {**p, "gyr": p["gyr"][:10]}, "gyr has 10 samples for 300 acc samples"),
-    (lambda p: {**p, "unit": "g"}, "this session takes samples in m/s^2"),
-    (lambda p: {**p, "acc": p["acc"][:-1] + [[0.0, 0.0, None]]}, "acc[299][2]"),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (
+            lambda p: {**p, "acc": (np.array(p["acc"]) + np.random.default_rng(1).normal(0, 1.0, (300, 3))).tolist()},
+            "the device moved during the capture",
+        ),
+        (
+            lambda p: {**p, "acc": (np.array(p["acc"]) + np.linspace(0, 0.6, 300)[:, None] * [1, 0, 0]).tolist()},
+            "slid or tilted",
+        ),
+        (lambda p: {**p, "acc": [[6.9, 0.0, 6.9]] * 300}, "no axis points up within 20°"),
+        (lambda p: {**p, "acc": [[0.0, 0.0, 5.0]] * 300}, "not gravity's"),
+        (lambda p: {**p, "position": "-y"}, "the device is in the +z pose, not -y"),
+        (lambda p: {**p, "t_ms": p["t_ms"][::-1]}, "goes back in time"),
+        (lambda p: {**p, "t_ms": p["t_ms"][:-1]}, "t_ms has 299 timestamps for 300 samples"),
+        (lambda p: {**p, "acc": p["acc"][:5], "t_ms": p["t_ms"][:5], "gyr": None}, "at least 10 samples"),
+        (lambda p: {**p, "gyr": [[20.0, 0.0, 0.0]] * 300}, "turning during the capture"),
+        (lambda p: {**p, "gyr": p["gyr"][:10]}, "gyr has 10 samples for 300 acc samples"),
+        (lambda p: {**p, "unit": "g"}, "this session takes samples in m/s^2"),
+        (lambda p: {**p, "acc": p["acc"][:-1] + [[0.0, 0.0, None]]}, "acc[299][2]"),
+    ],
+)
 def test_bad_captures_are_refused_with_the_reason_and_nothing_is_stored(client, change, message):
     s = start(client)
     h = auth(s["token"])
-    r = client.post(f"/api/v1/sessions/{s['id']}/captures", json=change(pose_samples("+z", np.random.default_rng(2))),
-                    headers=h)
+    r = client.post(
+        f"/api/v1/sessions/{s['id']}/captures", json=change(pose_samples("+z", np.random.default_rng(2))), headers=h
+    )
     assert r.status_code == 422, r.text
     assert message in r.json()["detail"]
     assert client.get(f"/api/v1/sessions/{s['id']}", headers=h).json()["captures"] == []
@@ -148,8 +157,9 @@ def test_two_people_calibrating_at_once_never_see_each_others_data(client):
     people = [start(client), start(client)]
     for label in CANONICAL_SIX:  # interleaved, pose by pose
         for s in people:
-            r = client.post(f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng),
-                            headers=auth(s["token"]))
+            r = client.post(
+                f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng), headers=auth(s["token"])
+            )
             assert r.status_code == 201
     cals = [client.post(f"/api/v1/sessions/{s['id']}/solve", headers=auth(s["token"])).json() for s in people]
     assert cals[0]["id"] != cals[1]["id"] and cals[0]["model"] != cals[1]["model"]
@@ -186,8 +196,9 @@ def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client, tmp_path):
     assert cal["first_wrong_rotation"] is None, cal["sequence"]
     # The same as Särkkä et al.'s method on the recording the captures join into (the still parts and the moves).
     a, b = phone.static_segments[0][0] + 6, phone.static_segments[-1][1] - 6
-    direct = calibrate_cube(phone.acc[a:b], np.radians(phone.gyr[a:b]), None, sampling_rate_hz=60.0,
-                            protocol="cube24", gravity=G)
+    direct = calibrate_cube(
+        phone.acc[a:b], np.radians(phone.gyr[a:b]), None, sampling_rate_hz=60.0, protocol="cube24", gravity=G
+    )
     np.testing.assert_allclose(cal["model"]["acc"]["S"], direct.acc.S, rtol=1e-6, atol=1e-9)
     np.testing.assert_allclose(cal["model"]["gyr"]["S"], direct.gyr.S, rtol=1e-6, atol=1e-9)
     # And the phone's parameters: raw = S f + b (Särkkä et al. eq. (1)).
@@ -259,8 +270,12 @@ def test_with_api_keys_a_key_starts_a_session_and_its_token_carries_it(tmp_path)
         s = r.json()
         rng = np.random.default_rng(8)
         for label in CANONICAL_SIX:
-            assert client.post(f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng),
-                               headers=auth(s["token"])).status_code == 201
+            assert (
+                client.post(
+                    f"/api/v1/sessions/{s['id']}/captures", json=pose_samples(label, rng), headers=auth(s["token"])
+                ).status_code
+                == 201
+            )
         cal = client.post(f"/api/v1/sessions/{s['id']}/solve", headers=auth(s["token"])).json()
         assert client.get(f"/api/v1/calibrations/{cal['id']}", headers=auth(s["token"])).status_code == 200
         assert client.get(f"/api/v1/calibrations/{cal['id']}", headers=auth("k1")).status_code == 404

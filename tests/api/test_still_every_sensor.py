@@ -69,7 +69,7 @@ def test_the_noise_of_a_gyroscope_ringing_after_landing_is_taken_where_it_rests(
     # What the accelerometer alone called still (from the landing on): the figure 20 times too high.
     acc_only = detect_static_segments(acc, fs)
     assert len(acc_only) == 1 and t[acc_only[0].start] < 1.6
-    wrong = np.asarray(characterise_noise(gyr[acc_only[0].start:], fs, unit="rad/s")["model"]["noise_density"])
+    wrong = np.asarray(characterise_noise(gyr[acc_only[0].start :], fs, unit="rad/s")["model"]["noise_density"])
     print("from the accelerometer's still part", wrong, "ratio", wrong / REFERENCE)
     assert np.all(wrong[:2] / REFERENCE[:2] > 15)
 

@@ -16,8 +16,11 @@ def _upload(client, name: str, content: bytes) -> str:
 
 @pytest.mark.parametrize("header", ["temp_c", "T (°C)", "temperature"])
 def test_a_warm_up_is_calibrated_exported_and_drawn(client, header):
-    rec = _upload(client, "warm.csv", warm_up_csv(31, temperature_header=header, acc_in_g=True, duration_s=900,
-                                                  sampling_rate_hz=20))
+    rec = _upload(
+        client,
+        "warm.csv",
+        warm_up_csv(31, temperature_header=header, acc_in_g=True, duration_s=900, sampling_rate_hz=20),
+    )
     r = client.post("/api/v1/calibrations", json={"method": "temperature", "recording_id": rec, "device_id": "fc1"})
     assert r.status_code == 201, r.text
     body = r.json()
@@ -26,8 +29,12 @@ def test_a_warm_up_is_calibrated_exported_and_drawn(client, header):
     assert body["verdict"]["kind"] == "apply" and body["verdict"]["unit"] == "mg"
     assert body["headline"].startswith("offset drift over 15–")
     assert body["verdict"]["after"] < 0.25 * body["verdict"]["before"]
-    for fmt, media in (("px4", "text/plain"), ("ardupilot", "text/plain"), ("json", "application/json"),
-                       ("temperature_svg", "image/svg+xml")):
+    for fmt, media in (
+        ("px4", "text/plain"),
+        ("ardupilot", "text/plain"),
+        ("json", "application/json"),
+        ("temperature_svg", "image/svg+xml"),
+    ):
         e = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": fmt})
         assert e.status_code == 200, (fmt, e.text)
         assert e.headers["content-type"].startswith(media)
@@ -54,7 +61,6 @@ def test_applying_a_temperature_calibration_without_temperatures_is_a_4xx(client
 
 
 def test_unknown_sensors_are_refused_by_the_schema(client):
-    r = client.post("/api/v1/calibrations", json={"method": "temperature", "recording_id": "rec_x",
-                                                  "sensors": ["mag"]})
+    r = client.post("/api/v1/calibrations", json={"method": "temperature", "recording_id": "rec_x", "sensors": ["mag"]})
     assert r.status_code == 422 and r.json()["code"] == "invalid_request"
     np.testing.assert_equal(r.json()["detail"].startswith("sensors[0]"), True)

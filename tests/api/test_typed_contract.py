@@ -16,8 +16,14 @@ from simulations.magnetometer import simulate_session as simulate_turn_session
 from tests.conftest import seed_table
 
 G = 9.81
-SIX = [([G + 0.1, 0.05, -0.02], "+x"), ([-G + 0.12, 0.03, 0.01], "-x"), ([0.02, G - 0.05, 0.1], "+y"),
-       ([0.01, -G - 0.02, 0.08], "-y"), ([0.05, 0.02, G + 0.2], "+z"), ([0.04, 0.01, -G + 0.15], "-z")]
+SIX = [
+    ([G + 0.1, 0.05, -0.02], "+x"),
+    ([-G + 0.12, 0.03, 0.01], "-x"),
+    ([0.02, G - 0.05, 0.1], "+y"),
+    ([0.01, -G - 0.02, 0.08], "-y"),
+    ([0.05, 0.02, G + 0.2], "+z"),
+    ([0.04, 0.01, -G + 0.15], "-z"),
+]
 
 
 def undescribed(value, path: str = "") -> list[str]:
@@ -37,8 +43,11 @@ def undescribed(value, path: str = "") -> list[str]:
 
 
 def _upload(client, name: str, content: bytes, **data):
-    r = client.post("/api/v1/recordings", files={"file": (name, content, "application/octet-stream")},
-                    data={k: str(v) for k, v in data.items()})
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": (name, content, "application/octet-stream")},
+        data={k: str(v) for k, v in data.items()},
+    )
     assert r.status_code == 201, r.text
     return r.json()["id"]
 
@@ -47,27 +56,48 @@ def _upload(client, name: str, content: bytes, **data):
 def cube_csv() -> bytes:
     s = simulate_session(np.random.default_rng(21), sampling_rate_hz=100.0)
     buf = io.StringIO()
-    np.savetxt(buf, np.hstack([s.acc, s.gyr, s.mag]), delimiter=",", comments="", fmt="%.9g",
-               header="acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,mag_x,mag_y,mag_z")
+    np.savetxt(
+        buf,
+        np.hstack([s.acc, s.gyr, s.mag]),
+        delimiter=",",
+        comments="",
+        fmt="%.9g",
+        header="acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z,mag_x,mag_y,mag_z",
+    )
     return buf.getvalue().encode()
 
 
 def _requests(client, cube_csv):
     t1, t2 = seed_table(1), seed_table(2)
     yield {"method": "six_position", "readings": [{"mean": m, "up": u} for m, u in SIX], "gravity": G}
-    yield {"method": "orientations", "readings": [{"mean": m, "up": u} for m, u in SIX] * 2, "gravity": G,
-           "holdout": t1.tolist()}
+    yield {
+        "method": "orientations",
+        "readings": [{"mean": m, "up": u} for m, u in SIX] * 2,
+        "gravity": G,
+        "holdout": t1.tolist(),
+    }
     yield {"method": "auto", "means": [m for m, _ in SIX], "gravity": G}  # → six_position, with its choice
     yield {"method": "auto", "means": t2[:20].tolist(), "gravity": 9.806}  # free poses → triangular
     yield {"method": "nonorthogonal", "means": t1[:20].tolist(), "gravity": 9.806, "holdout": t1.tolist()}
     yield {"method": "triangular", "means": t2[:9].tolist(), "gravity": 9.806}  # no residual dof: nulls
     for solver in ("lm", "gradient", "fixed16", "fixed32"):
-        yield {"method": "triangular", "solver": solver, "means": t2[:20].tolist(), "gravity": 9.806,
-               "holdout": t2.tolist()}
+        yield {
+            "method": "triangular",
+            "solver": solver,
+            "means": t2[:20].tolist(),
+            "gravity": 9.806,
+            "holdout": t2.tolist(),
+        }
     rec = _upload(client, "cube.csv", cube_csv, sampling_rate_hz=100, acc_unit="raw", gyr_unit="raw", mag_unit="raw")
     yield {"method": "cube", "recording_id": rec, "protocol": "cube24", "field_ut": FIELD_UT}
-    x, _ = simulate_recording(np.random.default_rng(11), duration_s=6 * 3600, sampling_rate_hz=10.0,
-                              rest_median_s=30, move_median_s=10, posture_fraction=0.3)
+    x, _ = simulate_recording(
+        np.random.default_rng(11),
+        duration_s=6 * 3600,
+        sampling_rate_hz=10.0,
+        rest_median_s=30,
+        move_median_s=10,
+        posture_fraction=0.3,
+    )
     buf = io.BytesIO()
     np.save(buf, x)
     rec = _upload(client, "wrist.npy", buf.getvalue(), sampling_rate_hz=10, acc_unit="g")
@@ -77,8 +107,10 @@ def _requests(client, cube_csv):
     yield {"method": "magnetometer", "mag": mag.tolist(), "field_ut": 48.0}
     from tests.temperature_logs import warm_up_csv
 
-    yield {"method": "temperature",
-           "recording_id": _upload(client, "warm.csv", warm_up_csv(duration_s=600, sampling_rate_hz=20))}
+    yield {
+        "method": "temperature",
+        "recording_id": _upload(client, "warm.csv", warm_up_csv(duration_s=600, sampling_rate_hz=20)),
+    }
     import tempfile
 
     from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
@@ -97,8 +129,9 @@ def _still_csv() -> bytes:
     acc = simulate_still(rng, n_samples=12_000, sampling_rate_hz=100.0, N=2e-3, B=3e-4, K=1e-4, bias=[0.1, -0.2, G])
     gyr = simulate_still(rng, n_samples=12_000, sampling_rate_hz=100.0, N=1e-3, B=1e-4, K=1e-5)
     buf = io.StringIO()
-    np.savetxt(buf, np.hstack([acc, gyr]), delimiter=",", comments="", fmt="%.9g",
-               header="acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    np.savetxt(
+        buf, np.hstack([acc, gyr]), delimiter=",", comments="", fmt="%.9g", header="acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"
+    )
     return buf.getvalue().encode()
 
 
@@ -125,7 +158,9 @@ def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
 def test_openapi_documents_each_method_s_response(client):
     spec = client.get("/openapi.json").json()
     schemas = spec["components"]["schemas"]
-    response = spec["paths"]["/api/v1/calibrations"]["post"]["responses"]["201"]["content"]["application/json"]["schema"]
+    response = spec["paths"]["/api/v1/calibrations"]["post"]["responses"]["201"]["content"]["application/json"][
+        "schema"
+    ]
     assert response["discriminator"]["propertyName"] == "method"
     assert set(response["discriminator"]["mapping"]) == set(RESPONSE_MODELS)
     for name in ("SixPositionOut", "TriangularOut", "CubeOut", "AutocalOut", "AffineMetrics", "TriangularModel"):
@@ -136,17 +171,20 @@ def test_openapi_documents_each_method_s_response(client):
     assert "additionalProperties" not in schemas["CalibrationList"]
 
 
-@pytest.mark.parametrize("request_body, status, code", [
-    ({}, 422, "invalid_request"),
-    ({"method": "six_position", "readings": [{"mean": [0, 0, 9.8], "up": "+q"}]}, 422, "invalid_request"),
-    ({"method": "six_position", "readings": [{"mean": m, "up": u} for m, u in SIX[:5]]}, 422, "insufficient_data"),
-    ({"method": "triangular", "means": [[0, 0, 9.8]] * 5}, 422, "insufficient_data"),
-    ({"method": "auto", "means": [[0, 0, 9.8], [9.8, 0, 0], [0, 7, 7]]}, 422, "insufficient_data"),
-    ({"method": "nonorthogonal", "means": [[0, 0, 9.8]] * 5}, 422, "insufficient_data"),
-    ({"method": "orientations", "readings": [{"mean": [0, 0, 9.8], "up": "+z"}] * 3}, 422, "insufficient_data"),
-    ({"method": "six_position", "readings": [{"mean": m, "up": "+x"} for m, _ in SIX]}, 422, "calibration_refused"),
-    ({"method": "cube", "recording_id": "rec_missing"}, 404, "not_found"),
-])
+@pytest.mark.parametrize(
+    "request_body, status, code",
+    [
+        ({}, 422, "invalid_request"),
+        ({"method": "six_position", "readings": [{"mean": [0, 0, 9.8], "up": "+q"}]}, 422, "invalid_request"),
+        ({"method": "six_position", "readings": [{"mean": m, "up": u} for m, u in SIX[:5]]}, 422, "insufficient_data"),
+        ({"method": "triangular", "means": [[0, 0, 9.8]] * 5}, 422, "insufficient_data"),
+        ({"method": "auto", "means": [[0, 0, 9.8], [9.8, 0, 0], [0, 7, 7]]}, 422, "insufficient_data"),
+        ({"method": "nonorthogonal", "means": [[0, 0, 9.8]] * 5}, 422, "insufficient_data"),
+        ({"method": "orientations", "readings": [{"mean": [0, 0, 9.8], "up": "+z"}] * 3}, 422, "insufficient_data"),
+        ({"method": "six_position", "readings": [{"mean": m, "up": "+x"} for m, _ in SIX]}, 422, "calibration_refused"),
+        ({"method": "cube", "recording_id": "rec_missing"}, 404, "not_found"),
+    ],
+)
 def test_errors_carry_a_stable_code(client, request_body, status, code):
     r = client.post("/api/v1/calibrations", json=request_body)
     assert r.status_code == status, r.text
@@ -158,8 +196,14 @@ def test_other_errors_carry_codes(client):
     assert client.get("/api/v1/calibrations/cal_missing/export").json()["code"] == "not_found"
     r = client.post("/api/v1/recordings", files={"file": ("x.bin", b"\x00\x01\x02" * 100, "application/octet-stream")})
     assert r.status_code in (415, 422) and r.json()["code"] in ("unsupported_media", "unreadable_log")
-    six = client.post("/api/v1/calibrations", json={"method": "six_position", "unit": "raw",
-                                                    "readings": [{"mean": [v * 100 for v in m], "up": u} for m, u in SIX]})
+    six = client.post(
+        "/api/v1/calibrations",
+        json={
+            "method": "six_position",
+            "unit": "raw",
+            "readings": [{"mean": [v * 100 for v in m], "up": u} for m, u in SIX],
+        },
+    )
     r = client.get(f"/api/v1/calibrations/{six.json()['id']}/export", params={"format": "ardupilot"})
     assert r.status_code == 422 and r.json()["code"] == "export_refused"
     r = client.get(f"/api/v1/calibrations/{six.json()['id']}/export", params={"format": "nope"})

@@ -31,8 +31,9 @@ def _csv(header: str, columns: list, fmt: str = "%.6f") -> bytes:
 
 
 def _upload(client, content: bytes, filename: str = "log.csv", **form):
-    return client.post("/api/v1/recordings", files={"file": (filename, content, "text/csv")},
-                       data={k: str(v) for k, v in form.items()})
+    return client.post(
+        "/api/v1/recordings", files={"file": (filename, content, "text/csv")}, data={k: str(v) for k, v in form.items()}
+    )
 
 
 def _calibrate(client, **body):
@@ -91,15 +92,16 @@ def test_a_magnetometer_in_counts_is_labelled_counts_and_its_firmware_exports_na
     for fmt in ("ardupilot", "px4"):
         refused = _export(client, body["id"], fmt)
         assert refused.status_code == 422, refused.text
-        assert "upload the log again with chip (the magnetometer's part and range, e.g. ak8963-16bit" in \
-            refused.json()["detail"]
+        assert (
+            "upload the log again with chip (the magnetometer's part and range, e.g. ak8963-16bit"
+            in refused.json()["detail"]
+        )
 
 
 def test_a_chip_gives_the_magnetometer_in_ut_and_ardupilot_its_true_offsets(client):
     # The issue's case: the ArduPilot file of an AK8963 calibrated in counts had offsets 0.15× off.
     counts = np.round(MAG / AK8963_UT_PER_LSB)
-    rec = _upload(client, _csv("mag_x,mag_y,mag_z", [counts], "%.0f"), sampling_rate_hz=50,
-                  chip="ak8963-16bit").json()
+    rec = _upload(client, _csv("mag_x,mag_y,mag_z", [counts], "%.0f"), sampling_rate_hz=50, chip="ak8963-16bit").json()
     assert rec["units"] == {"mag": "uT"} and rec["warnings"] == [] and rec["read_with"]["chip"] == "ak8963-16bit"
     body = _calibrate(client, method="magnetometer", recording_id=rec["id"], field_ut=EARTH_FIELD_UT).json()
     assert body["ok"] and body["unit"] == "uT" and body["output_unit"] == "uT", body["reasons"]
@@ -172,23 +174,30 @@ def _rec(client, content: bytes, **form) -> str:
 
 
 REQUESTS = {
-    "six_position on a moving recording": lambda c: _calibrate(c, method="six_position",
-                                                               recording_id=_rec(c, _moving_log())),
-    "triangular on a moving recording": lambda c: _calibrate(c, method="triangular",
-                                                             recording_id=_rec(c, _moving_log())),
+    "six_position on a moving recording": lambda c: _calibrate(
+        c, method="six_position", recording_id=_rec(c, _moving_log())
+    ),
+    "triangular on a moving recording": lambda c: _calibrate(
+        c, method="triangular", recording_id=_rec(c, _moving_log())
+    ),
     "auto on a moving recording": lambda c: _calibrate(c, method="auto", recording_id=_rec(c, _moving_log())),
-    "orientations on a moving recording": lambda c: _calibrate(c, method="orientations",
-                                                               recording_id=_rec(c, _moving_log())),
+    "orientations on a moving recording": lambda c: _calibrate(
+        c, method="orientations", recording_id=_rec(c, _moving_log())
+    ),
     "nonorthogonal on six poses": lambda c: _calibrate(c, method="nonorthogonal", recording_id=_rec(c, SIX_CSV)),
-    "a segment that does not exist": lambda c: _calibrate(c, method="orientations", segments=[0, 1, 2, 3, 4, 99],
-                                                          recording_id=_rec(c, SIX_CSV)),
-    "magnetometer on an accelerometer log": lambda c: _calibrate(c, method="magnetometer",
-                                                                 recording_id=_rec(c, SIX_CSV)),
+    "a segment that does not exist": lambda c: _calibrate(
+        c, method="orientations", segments=[0, 1, 2, 3, 4, 99], recording_id=_rec(c, SIX_CSV)
+    ),
+    "magnetometer on an accelerometer log": lambda c: _calibrate(
+        c, method="magnetometer", recording_id=_rec(c, SIX_CSV)
+    ),
     "six_position on a magnetometer log": lambda c: _calibrate(
-        c, method="six_position", recording_id=_rec(c, _csv("mag_x,mag_y,mag_z", [MAG]), sampling_rate_hz=50)),
+        c, method="six_position", recording_id=_rec(c, _csv("mag_x,mag_y,mag_z", [MAG]), sampling_rate_hz=50)
+    ),
     "inline means of two numbers": lambda c: _calibrate(c, method="triangular", means=[[1.0, 2.0]] * 12),
     "inline readings of four numbers": lambda c: _calibrate(
-        c, method="six_position", readings=[{"mean": [0, 0, 9.8, 1], "up": "+z"}] * 6),
+        c, method="six_position", readings=[{"mean": [0, 0, 9.8, 1], "up": "+z"}] * 6
+    ),
     "inline magnetometer of two numbers": lambda c: _calibrate(c, method="magnetometer", mag=[[1.0, 2.0]] * 50),
     "ardupilot of an accelerometer in counts": lambda c: _export(c, _counts_cal(c), "ardupilot"),
     "px4 of an accelerometer in counts": lambda c: _export(c, _counts_cal(c), "px4"),
@@ -213,8 +222,11 @@ def test_inline_readings_in_g_without_their_unit_calibrate_in_g_and_say_so(clien
     assert r.status_code == 201, r.text
     body = r.json()
     assert body["ok"] and body["unit"] == "g" and body["gravity"] == 1.0
-    assert any(w.startswith("the request gave no unit, so m/s^2, but its readings' median norm is 0.9")
-               and w.endswith("about 1 g in g: calibrated in g") for w in body["warnings"])
+    assert any(
+        w.startswith("the request gave no unit, so m/s^2, but its readings' median norm is 0.9")
+        and w.endswith("about 1 g in g: calibrated in g")
+        for w in body["warnings"]
+    )
     np.testing.assert_allclose(body["model"]["X"], SIX.X, atol=2e-3)
     said = _calibrate(client, method="six_position", readings=readings, unit="m/s^2").json()
     assert any(w.startswith("the request's unit said m/s^2, but") for w in said["warnings"])

@@ -10,8 +10,15 @@ from tests.conftest import seed_table
 
 def test_dataset1_positions_1_20_through_the_api(client):
     # Georgieva et al. section 2.4, Dataset 1, positions 1–20 (the paper's scales correspond to g = 9.806).
-    r = client.post("/api/v1/calibrations", json={"method": "nonorthogonal", "means": seed_table(1)[:20].tolist(),
-                                                  "gravity": 9.806, "holdout": seed_table(1).tolist()})
+    r = client.post(
+        "/api/v1/calibrations",
+        json={
+            "method": "nonorthogonal",
+            "means": seed_table(1)[:20].tolist(),
+            "gravity": 9.806,
+            "holdout": seed_table(1).tolist(),
+        },
+    )
     assert r.status_code == 201, r.text
     body = r.json()
     m = body["model"]
@@ -26,8 +33,10 @@ def test_dataset1_positions_1_20_through_the_api(client):
 @pytest.mark.parametrize("solver", ["lm", "gradient", "fixed16", "fixed32"])
 def test_triangular_solvers_and_c_export(client, solver):
     t2 = seed_table(2)
-    r = client.post("/api/v1/calibrations", json={"method": "triangular", "solver": solver,
-                                                  "means": t2[:20].tolist(), "gravity": 9.806})
+    r = client.post(
+        "/api/v1/calibrations",
+        json={"method": "triangular", "solver": solver, "means": t2[:20].tolist(), "gravity": 9.806},
+    )
     assert r.status_code == 201, r.text
     body = r.json()
     assert body["model"]["type"] == "triangular" and body["solver"] == solver
@@ -57,8 +66,11 @@ def test_bad_input(client, method):
     assert few.status_code == 422 and "9" in few.json()["detail"]
     same = client.post("/api/v1/calibrations", json={"method": method, "means": [t1[0].tolist()] * 12})
     assert same.status_code == 422
-    nan = client.post("/api/v1/calibrations", content='{"method": "%s", "means": [[NaN, 1, 2]]}' % method,
-                      headers={"Content-Type": "application/json"})
+    nan = client.post(
+        "/api/v1/calibrations",
+        content='{"method": "%s", "means": [[NaN, 1, 2]]}' % method,
+        headers={"Content-Type": "application/json"},
+    )
     assert nan.status_code == 422 and "finite" in nan.json()["detail"]
     # All positions in one hemisphere (z up or sideways, never down): ok = false with the reason.
     upper = t1[[i for i in range(27) if t1[i, 2] > -1.0]]
@@ -77,7 +89,9 @@ def test_the_response_advises_the_next_poses_typed(client, method):
     from app.api.schemas.calibrations import CalibrationOut
     from app.api.schemas.still_readings import PoseAdviceOut
 
-    r = client.post("/api/v1/calibrations", json={"method": method, "means": seed_table(1)[:14].tolist(), "gravity": 9.806})
+    r = client.post(
+        "/api/v1/calibrations", json={"method": method, "means": seed_table(1)[:14].tolist(), "gravity": 9.806}
+    )
     assert r.status_code == 201, r.text
     body = r.json()
     advice = body["advice"]

@@ -54,10 +54,11 @@ def test_a_good_calibration_says_apply_it_with_the_error_on_new_orientations(cli
     v = body["verdict"]
     assert body["ok"] and v["apply"] is True and v["kind"] == "apply"
     # no-break spaces; the figure as a level's tilt, asin(e/g) (app.calibration.angles)
-    assert v["words"] == "Apply it: error on new orientations 74.0\u00a0mg → 1.20\u00a0mg (a level off by 4.2° → 0.07°)."
+    assert (
+        v["words"] == "Apply it: error on new orientations 74.0\u00a0mg → 1.20\u00a0mg (a level off by 4.2° → 0.07°)."
+    )
     raw = _raw_error_mg(rec.means, rec.gravity)
-    cv, _ = leave_one_out_mg(lambda keep: fit_triangular(rec.means[keep], gravity=rec.gravity), rec.means,
-                             rec.gravity)
+    cv, _ = leave_one_out_mg(lambda keep: fit_triangular(rec.means[keep], gravity=rec.gravity), rec.means, rec.gravity)
     assert v["before"] == pytest.approx(raw, rel=1e-9) and v["after"] == pytest.approx(cv, rel=1e-6)
     assert _figures(v["words"]) == (round(raw, 1), round(cv, 2))
     assert v["unit"] == "mg" and v["basis"] == "error on new orientations"
@@ -152,8 +153,12 @@ def test_a_compass_verdict_tells_its_heading_error_at_the_place_s_inclination(cl
 
 def test_ok_never_carries_an_apply_verdict_when_the_figure_grew():
     # Whatever the gates said, a grown error is "worse": the verdict does not pass a bug on.
-    body = {"method": "triangular", "ok": True, "reasons": [],
-            "metrics": {"cv_error_mg": 3.0, "error_before_mg": 2.0, "error_after_mg": 1.0}}
+    body = {
+        "method": "triangular",
+        "ok": True,
+        "reasons": [],
+        "metrics": {"cv_error_mg": 3.0, "error_before_mg": 2.0, "error_after_mg": 1.0},
+    }
     assert verdict(body)["kind"] == "worse" and verdict(body)["apply"] is False
 
 

@@ -6,7 +6,12 @@ import numpy as np
 import pytest
 
 from app.calibration.advice import (
-    MIN_SEPARATION_DEG, candidate_directions, describe_up, farthest_directions, fibonacci_sphere, next_poses,
+    MIN_SEPARATION_DEG,
+    candidate_directions,
+    describe_up,
+    farthest_directions,
+    fibonacci_sphere,
+    next_poses,
 )
 from app.calibration.nonorthogonal import fit_nonorthogonal
 from app.calibration.triangular import fit_triangular
@@ -108,14 +113,20 @@ def test_nine_poses_without_covariance_still_get_advice():
     assert len(advice) == 3 and all(0 < a.gain < 1 for a in advice)
 
 
-@pytest.mark.parametrize("up, words", [
-    ((0, 0, 1), "+z up (flat, screen up)"),
-    ((0, 0, -1), "−z up (flat, screen down)"),
-    ((0.02, 0.99, 0.03), "+y up (upright on its bottom edge (the charging port))"),
-    ((np.cos(np.radians(30)), 0, -np.sin(np.radians(30))), "+x up (on its left edge as you face the screen, right edge up), tilted 30° towards −z"),
-    ((-0.2, -1.0, 0.03), "−y up (upside down on its top edge (the earpiece)), tilted 10° towards −x"),
-    ((0.5, 0.5, -0.8), "−z up (flat, screen down), tilted 40° towards +x and +y"),
-])
+@pytest.mark.parametrize(
+    "up, words",
+    [
+        ((0, 0, 1), "+z up (flat, screen up)"),
+        ((0, 0, -1), "−z up (flat, screen down)"),
+        ((0.02, 0.99, 0.03), "+y up (upright on its bottom edge (the charging port))"),
+        (
+            (np.cos(np.radians(30)), 0, -np.sin(np.radians(30))),
+            "+x up (on its left edge as you face the screen, right edge up), tilted 30° towards −z",
+        ),
+        ((-0.2, -1.0, 0.03), "−y up (upside down on its top edge (the earpiece)), tilted 10° towards −x"),
+        ((0.5, 0.5, -0.8), "−z up (flat, screen down), tilted 40° towards +x and +y"),
+    ],
+)
 def test_words(up, words):
     assert describe_up(up) == words
 

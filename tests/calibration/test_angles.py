@@ -9,8 +9,16 @@ import math
 import numpy as np
 import pytest
 
-from app.calibration.angles import (ASSUMED_INCLINATION_DEG, compass_inclination, degrees_text, figure_degrees,
-                                    heading_error_deg, horizontal_field, tilt_error_deg, worst_angle_deg)
+from app.calibration.angles import (
+    ASSUMED_INCLINATION_DEG,
+    compass_inclination,
+    degrees_text,
+    figure_degrees,
+    heading_error_deg,
+    horizontal_field,
+    tilt_error_deg,
+    worst_angle_deg,
+)
 from app.geomag import reference_field
 
 
@@ -55,8 +63,9 @@ def test_a_heading_error_is_told_against_the_horizontal_component_at_the_place_s
     assert h == pytest.approx(earth.horizontal_ut, rel=1e-12)
     # The worst heading error: an error of size e in the horizontal plane across H, found by search.
     for e in (0.5, 2.0, 10.0):
-        assert heading_error_deg(e, earth.field_ut, earth.inclination_deg) == pytest.approx(_worst_by_search(e, h),
-                                                                                             abs=1e-9)
+        assert heading_error_deg(e, earth.field_ut, earth.inclination_deg) == pytest.approx(
+            _worst_by_search(e, h), abs=1e-9
+        )
     # A compass error in 3D turns the heading (the horizontal components' angle) by at most asin(e/H).
     rng = np.random.default_rng(3)
     u = rng.normal(size=(200000, 3))
@@ -74,7 +83,9 @@ def test_the_inclination_comes_from_the_place_else_the_turn_else_an_assumption_s
     assert compass_inclination({"inclination_deg": None, "measured_inclination_deg": 61.0}) == (61.0, "measured")
     assert compass_inclination({}) == (ASSUMED_INCLINATION_DEG, "assumed")
     d = figure_degrees(5.0, 0.5, "µT", {"field_ut": 48.0, "inclination_deg": -64.0})
-    assert d["after_deg"] == pytest.approx(math.degrees(math.asin(0.5 / (48.0 * math.cos(math.radians(64))))), rel=1e-14)
+    assert d["after_deg"] == pytest.approx(
+        math.degrees(math.asin(0.5 / (48.0 * math.cos(math.radians(64))))), rel=1e-14
+    )
     assert d["words"] == "a heading off by 14° → 1.4° (the field dips 64° at your place)"
     assumed = figure_degrees(5.0, 0.5, "counts", {"field_ut": 300.0})
     assert assumed["inclination_source"] == "assumed" and "assuming the field dips 60°" in assumed["words"]

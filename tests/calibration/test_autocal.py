@@ -81,11 +81,19 @@ def test_selection_fills_nine_bins_with_distinct_points(runs):
 
 
 def test_select_points_rules():
-    pts = np.array([
-        [1.0, 0, 0], [1.02, 0, 0],   # second within 0.1 g of the first: refused
-        [0.9, 0.3, 0.1], [0.5, 0.5, 0.7],  # C_xp again; then a point in no subset of eq. (10)
-        [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1], [-1, 0, 0],
-    ])
+    pts = np.array(
+        [
+            [1.0, 0, 0],
+            [1.02, 0, 0],  # second within 0.1 g of the first: refused
+            [0.9, 0.3, 0.1],
+            [0.5, 0.5, 0.7],  # C_xp again; then a point in no subset of eq. (10)
+            [0, 1, 0],
+            [0, -1, 0],
+            [0, 0, 1],
+            [0, 0, -1],
+            [-1, 0, 0],
+        ]
+    )
     sel = select_points(pts, min_per_bin=1, max_per_bin=2)
     assert 1 not in sel.indices.tolist()
     assert 3 not in sel.indices.tolist()  # (0.5, 0.5, 0.7) falls in no subset of eq. (10)
@@ -105,7 +113,7 @@ def test_streaming_in_odd_chunks_equals_one_pass():
     s = 0
     while s < len(x):
         n = int(rng.integers(1, 5000))
-        acc.feed(x[s:s + n])
+        acc.feed(x[s : s + n])
         s += n
     parts = acc.result()
     assert parts.n_rest == whole.n_rest > 50
@@ -168,7 +176,7 @@ def test_recording_of_only_idle_sleep_and_nan_is_not_ok():
 def test_partial_idle_run_inside_a_segment():
     rng = np.random.default_rng(5)
     x = (np.array([0, 0, 1.0]) + 0.003 * rng.standard_normal((int(20 * FS), 3))).astype(np.float32)
-    x[10:10 + int(1.2 * FS)] = x[10]  # 1.2 s of repeated samples in the first segment
+    x[10 : 10 + int(1.2 * FS)] = x[10]  # 1.2 s of repeated samples in the first segment
     rest = detect_rest_segments(x, FS)
     assert rest.n_idle == 1 and rest.n_rest == 3
     assert detect_rest_segments(x, FS, idle_min_run_s=None).n_rest == 4

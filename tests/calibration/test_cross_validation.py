@@ -21,8 +21,10 @@ def test_triangular_cv_error_on_seed_table_2_exceeds_the_in_sample_error():
     from app.calibration.triangular import fit_triangular
 
     m = seed_table(2)[:20]
-    errors = [abs(np.linalg.norm(fit_triangular(np.delete(m, i, 0), gravity=9.806).apply(m[i])) - 9.806) / 9.806
-              for i in range(20)]
+    errors = [
+        abs(np.linalg.norm(fit_triangular(np.delete(m, i, 0), gravity=9.806).apply(m[i])) - 9.806) / 9.806
+        for i in range(20)
+    ]
     assert abs(result.metrics["cv_error_mg"] - 1000 * np.mean(errors)) < 1e-9
 
 
@@ -33,9 +35,17 @@ def test_nine_positions_have_no_figure_and_say_how_to_get_one():
 
 def test_six_position_has_no_redundancy():
     g = 9.81
-    readings = [Reading(mean=tuple(v), up=u) for u, v in
-                (("+x", (g, 0, 0)), ("-x", (-g, 0, 0)), ("+y", (0, g, 0)), ("-y", (0, -g, 0)),
-                 ("+z", (0, 0, g)), ("-z", (0, 0, -g)))]
+    readings = [
+        Reading(mean=tuple(v), up=u)
+        for u, v in (
+            ("+x", (g, 0, 0)),
+            ("-x", (-g, 0, 0)),
+            ("+y", (0, g, 0)),
+            ("-y", (0, -g, 0)),
+            ("+z", (0, 0, g)),
+            ("-z", (0, 0, -g)),
+        )
+    ]
     result, _ = calibrate_known("six_position", readings, unit="m/s^2", gravity=g)
     assert result.metrics["cv_error_mg"] is None and "add poses" in result.metrics["cv_note"]
 
@@ -65,7 +75,9 @@ def test_cv_error_tracks_the_error_on_fresh_poses(n, scheme):
         cv.append(result.metrics["cv_error_mg"])
         fresh.append(_fresh_error_mg(result, p, rng))
         inside.append(result.metrics["error_after_mg"])
-    noise_floor = np.mean(np.abs(np.linalg.norm(rng.normal(scale=0.003, size=(20000, 3)) + [0, 0, 1], axis=1) - 1)) * 1000
+    noise_floor = (
+        np.mean(np.abs(np.linalg.norm(rng.normal(scale=0.003, size=(20000, 3)) + [0, 0, 1], axis=1) - 1)) * 1000
+    )
     expected = np.hypot(np.mean(fresh), noise_floor)
     assert abs(np.mean(cv) / expected - 1) < 0.3, (np.mean(cv), expected, np.mean(inside))
 

@@ -9,8 +9,14 @@ import pytest
 
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.magnetometer.flight import fit_flight_compass
-from app.calibration.rotations import (ARDUPILOT_ROTATIONS, PX4_ROTATIONS, ardupilot_matrix, euler_matrix,
-                                       nearest_rotation, px4_matrix)
+from app.calibration.rotations import (
+    ARDUPILOT_ROTATIONS,
+    PX4_ROTATIONS,
+    ardupilot_matrix,
+    euler_matrix,
+    nearest_rotation,
+    px4_matrix,
+)
 from simulations.flight_compass import simulate_flight
 
 S = np.sqrt(0.5)
@@ -21,17 +27,20 @@ def _apply(R, v):
 
 
 # Each firmware's own code for a few entries, by hand: (x, y, z) → the vector the code leaves.
-@pytest.mark.parametrize("number, by_hand", [
-    # ArduPilot AP_Math/vector3.cpp Vector3<T>::rotate and PX4 conversion/rotation.cpp rotate_3f
-    (2, lambda x, y, z: (-y, x, z)),                          # YAW_90: tmp = x; x = -y; y = tmp
-    (8, lambda x, y, z: (x, -y, -z)),                         # ROLL_180: y = -y; z = -z
-    (16, lambda x, y, z: (x, -z, y)),                         # ROLL_90: tmp = z; z = y; y = -tmp
-    (18, lambda x, y, z: (z, x, y)),                          # ROLL_90_YAW_90 (PX4: x = z; z = y; y = tmp)
-    (24, lambda x, y, z: (z, y, -x)),                         # PITCH_90: tmp = z; z = -x; x = tmp
-    (26, lambda x, y, z: (-y, -x, -z)),                       # PITCH_180_YAW_90: z = -z; tmp = -x; x = -y; y = tmp
-    (39, lambda x, y, z: (S * x - S * z, y, S * z + S * x)),  # PITCH_315 (PX4 rotate_3f)
-    (40, lambda x, y, z: (S * x - S * y, -z, S * x + S * y)),  # ROLL_90_PITCH_315 (PX4 rotate_3f's literal)
-])
+@pytest.mark.parametrize(
+    "number, by_hand",
+    [
+        # ArduPilot AP_Math/vector3.cpp Vector3<T>::rotate and PX4 conversion/rotation.cpp rotate_3f
+        (2, lambda x, y, z: (-y, x, z)),  # YAW_90: tmp = x; x = -y; y = tmp
+        (8, lambda x, y, z: (x, -y, -z)),  # ROLL_180: y = -y; z = -z
+        (16, lambda x, y, z: (x, -z, y)),  # ROLL_90: tmp = z; z = y; y = -tmp
+        (18, lambda x, y, z: (z, x, y)),  # ROLL_90_YAW_90 (PX4: x = z; z = y; y = tmp)
+        (24, lambda x, y, z: (z, y, -x)),  # PITCH_90: tmp = z; z = -x; x = tmp
+        (26, lambda x, y, z: (-y, -x, -z)),  # PITCH_180_YAW_90: z = -z; tmp = -x; x = -y; y = tmp
+        (39, lambda x, y, z: (S * x - S * z, y, S * z + S * x)),  # PITCH_315 (PX4 rotate_3f)
+        (40, lambda x, y, z: (S * x - S * y, -z, S * x + S * y)),  # ROLL_90_PITCH_315 (PX4 rotate_3f's literal)
+    ],
+)
 def test_the_rotation_table_matches_the_firmwares_code(number, by_hand):
     v = (0.3, -1.7, 2.9)
     assert _apply(ardupilot_matrix(number), v) == pytest.approx(by_hand(*v), abs=1e-6)
@@ -57,8 +66,14 @@ def test_the_two_enums_agree_up_to_40_and_part_after():
 
 
 def _fit(f, **kw):
-    args = dict(time_s=f["time_s"], power=f["current_a"], power_kind="current", firmware_field=f["mag_firmware_ut"],
-                attitude=f["attitude_c_nb"], earth_ned=f["earth_ned"])
+    args = dict(
+        time_s=f["time_s"],
+        power=f["current_a"],
+        power_kind="current",
+        firmware_field=f["mag_firmware_ut"],
+        attitude=f["attitude_c_nb"],
+        earth_ned=f["earth_ned"],
+    )
     args.update(kw)
     return fit_flight_compass(f["mag_raw_ut"], f["expected_ut"], **args)
 
@@ -71,18 +86,18 @@ def test_a_seeded_flight_gives_back_every_parameter_and_the_orientation(orientat
     assert r.ok, r.reasons
     assert (r.model, r.motor) == ("soft_iron", "current")
     assert r.rotation_nearest["ardupilot"] == orientation and np.allclose(r.rotation, truth["Q"])
-    assert r.angle_left_deg < 2.0 and not r.orientation_agrees   # the firmware applies none (identity)
+    assert r.angle_left_deg < 2.0 and not r.orientation_agrees  # the firmware applies none (identity)
     assert np.abs(r.offsets_ut - truth["b"]).max() < 0.6
     assert np.abs(r.matrix - truth["M"]).max() < 0.01
     assert np.abs(r.motor_coefficients - truth["k"]).max() < 0.03
-    assert np.all(r.offsets_half_width_ut < 2.5) and np.all(r.matrix_half_width < 0.05)   # the gates: 5 % of F, 0.05
+    assert np.all(r.offsets_half_width_ut < 2.5) and np.all(r.matrix_half_width < 0.05)  # the gates: 5 % of F, 0.05
     # the heading: the firmware's field (wrong orientation, stale offsets) against the fit, on segments left out
     assert r.heading_error_deg["before"]["rms"] > 50.0
     assert r.heading_error_deg["after"]["rms"] < 1.5 and r.heading_error_deg["after"]["p95"] < 3.0
     assert r.models["soft_iron+motor"]["rms"] < r.models["offsets"]["rms"]
     # correct() is the model; to_dict() is plain JSON; the series is thinned
     h = r.correct(f["mag_raw_ut"], f["current_a"])
-    expected_h = ((f["mag_raw_ut"] @ truth["Q"].T - truth["b"] - np.outer(f["current_a"], truth["k"])) @ truth["M"].T)
+    expected_h = (f["mag_raw_ut"] @ truth["Q"].T - truth["b"] - np.outer(f["current_a"], truth["k"])) @ truth["M"].T
     assert np.sqrt(np.mean((h - expected_h) ** 2)) < 0.5
     d = json.loads(json.dumps(r.to_dict()))
     assert len(d["series"]["time_s"]) == 600 and len(d["series"]["heading_error_after"]) == 600
@@ -96,8 +111,9 @@ def test_a_firmware_that_applies_the_mounting_agrees_and_throttle_is_a_power():
     assert not any("mounted as" in w for w in r.warnings)
     assert r.motor == "throttle" and r.ok, r.reasons
     # the simulated attitude's angles are those of its matrices (what a log's ATT would hold)
-    assert np.allclose(euler_matrix(f["roll_deg"][100], f["pitch_deg"][100], f["yaw_deg"][100]),
-                       f["attitude_c_nb"][100], atol=1e-9)
+    assert np.allclose(
+        euler_matrix(f["roll_deg"][100], f["pitch_deg"][100], f["yaw_deg"][100]), f["attitude_c_nb"][100], atol=1e-9
+    )
 
 
 def test_the_intervals_hold_the_truth_at_their_rate_over_200_flights():
@@ -132,7 +148,7 @@ def test_a_flight_without_turns_is_not_ok():
 
 def test_a_fit_that_does_not_beat_the_firmware_is_not_ok():
     f = simulate_flight(4)
-    r = _fit(f, firmware_field=f["expected_ut"])        # a firmware whose field is exactly the expected one
+    r = _fit(f, firmware_field=f["expected_ut"])  # a firmware whose field is exactly the expected one
     assert not r.ok
     assert any("does not lower the heading error" in reason for reason in r.reasons)
 
@@ -148,7 +164,7 @@ def test_without_attitude_or_power_varying_it_says_so():
 
 def test_an_orientation_no_firmware_names_and_an_implausible_offset_are_not_ok():
     f = simulate_flight(6, orientation=0)
-    f["mag_raw_ut"] = f["mag_raw_ut"] @ euler_matrix(0, 0, 22.5)     # mounted half way between yaw 0 and 45
+    f["mag_raw_ut"] = f["mag_raw_ut"] @ euler_matrix(0, 0, 22.5)  # mounted half way between yaw 0 and 45
     r = _fit(f)
     assert not r.ok and r.angle_left_deg > 15 and any("unresolved" in reason for reason in r.reasons)
     big = _fit(simulate_flight(6, hard_iron_ut=900.0))

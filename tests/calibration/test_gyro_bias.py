@@ -38,7 +38,8 @@ def test_the_interval_over_captures_covers_the_bias_at_95_percent_despite_its_wa
 def test_the_bias_is_the_mean_of_the_capture_means_with_a_t_interval_on_their_spread():
     rng = np.random.default_rng(5)
     means, stds, counts = capture_statistics(
-        simulate_captures(rng, bias=BIAS, n_captures=6, n_samples=300, noise=NOISE, wander=WANDER))
+        simulate_captures(rng, bias=BIAS, n_captures=6, n_samples=300, noise=NOISE, wander=WANDER)
+    )
     b = gyroscope_bias(means, stds, counts)
     np.testing.assert_allclose(b["rad_s"], means.mean(axis=0), rtol=0, atol=1e-15)
     expected = stats.t.ppf(0.975, 5) * means.std(axis=0, ddof=1) / np.sqrt(6)
@@ -63,14 +64,17 @@ def test_a_single_capture_takes_its_interval_from_the_samples_and_says_so():
     assert np.all((covered >= 0.93) & (covered <= 0.97)), covered
 
 
-@pytest.mark.parametrize("means, stds, counts, message", [
-    (np.zeros((0, 3)), np.zeros((0, 3)), [], "shape (K, 3)"),
-    (np.zeros((2, 2)), np.zeros((2, 2)), [10, 10], "shape (K, 3)"),
-    (np.zeros((2, 3)), np.zeros((1, 3)), [10, 10], "one std row"),
-    (np.full((2, 3), np.nan), np.zeros((2, 3)), [10, 10], "not a finite number"),
-    (np.zeros((2, 3)), np.zeros((2, 3)), [10, 0], "at least 1"),
-    (np.zeros((1, 3)), np.zeros((1, 3)), [1], "at least two samples"),
-])
+@pytest.mark.parametrize(
+    "means, stds, counts, message",
+    [
+        (np.zeros((0, 3)), np.zeros((0, 3)), [], "shape (K, 3)"),
+        (np.zeros((2, 2)), np.zeros((2, 2)), [10, 10], "shape (K, 3)"),
+        (np.zeros((2, 3)), np.zeros((1, 3)), [10, 10], "one std row"),
+        (np.full((2, 3), np.nan), np.zeros((2, 3)), [10, 10], "not a finite number"),
+        (np.zeros((2, 3)), np.zeros((2, 3)), [10, 0], "at least 1"),
+        (np.zeros((1, 3)), np.zeros((1, 3)), [1], "at least two samples"),
+    ],
+)
 def test_bad_input_is_refused_naming_the_problem(means, stds, counts, message):
     with pytest.raises(CalibrationError, match=message.replace("(", r"\(").replace(")", r"\)")):
         gyroscope_bias(means, stds, counts)

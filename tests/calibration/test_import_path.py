@@ -21,4 +21,3 @@ def test_the_service_loads_no_simulation():
     )
     out = run_ok([sys.executable, "-c", code], timeout_s=120, cwd=ROOT)
     assert out.stdout.strip() == "", f"the service imported {out.stdout.strip()}"
-

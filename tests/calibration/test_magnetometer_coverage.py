@@ -3,8 +3,15 @@
 import numpy as np
 import pytest
 
-from app.calibration.magnetometer.coverage import (FACE_CENTRES, FACE_NAMES, ICOSAHEDRON_FACES,
-                                                   ICOSAHEDRON_VERTICES, coverage, face_counts, face_of)
+from app.calibration.magnetometer.coverage import (
+    FACE_CENTRES,
+    FACE_NAMES,
+    ICOSAHEDRON_FACES,
+    ICOSAHEDRON_VERTICES,
+    coverage,
+    face_counts,
+    face_of,
+)
 
 
 def test_a_regular_icosahedron_of_twenty_equal_faces():

@@ -41,7 +41,7 @@ def test_tau_grid_has_ten_points_per_decade_up_to_the_longest_tau():
     assert list(ms[:10]) == list(range(1, 11))
     assert ms[-1] == (2_160_000 - 1) // 2
     for k in range(1, 6):  # every full decade of m holds at least 10 points (m = 1 … 10 the first)
-        assert np.count_nonzero((ms >= 10 ** k) & (ms < 10 ** (k + 1))) >= 10, k
+        assert np.count_nonzero((ms >= 10**k) & (ms < 10 ** (k + 1))) >= 10, k
     with pytest.raises(InsufficientDataError, match="too few"):
         tau_grid(10, 100.0)
 
@@ -82,8 +82,12 @@ def test_too_short_a_recording_gives_nulls_and_says_how_long_to_record():
 
 def test_result_round_trips_and_corrects_nothing():
     part = characterise_noise(_simulate(7, n=20_000), FS, unit="rad/s")
-    result = NoiseResult(sensors={"gyr": {k: part[k] for k in ("model", "adev", "uncertainty", "metrics")}},
-                         sampling_rate_hz=FS, duration_s=part["duration_s"], unit="rad/s")
+    result = NoiseResult(
+        sensors={"gyr": {k: part[k] for k in ("model", "adev", "uncertainty", "metrics")}},
+        sampling_rate_hz=FS,
+        duration_s=part["duration_s"],
+        unit="rad/s",
+    )
     body = result.to_dict()
     assert body["model"]["type"] == "noise" and body["method"] == "noise"
     again = CalibrationResult.from_dict(body)

@@ -17,8 +17,12 @@ SIX = np.array([up_vector(label) for label in CANONICAL_SIX])
 
 def _noise(samples, fs: float, unit: str) -> NoiseResult:
     part = characterise_noise(samples, fs, unit=unit, sensor="gyr")
-    return NoiseResult(sensors={"gyr": {k: part[k] for k in ("model", "adev", "uncertainty", "metrics")}},
-                       sampling_rate_hz=fs, duration_s=len(samples) / fs, unit=unit)
+    return NoiseResult(
+        sensors={"gyr": {k: part[k] for k in ("model", "adev", "uncertainty", "metrics")}},
+        sampling_rate_hz=fs,
+        duration_s=len(samples) / fs,
+        unit=unit,
+    )
 
 
 def test_a_still_gyroscope_in_deg_s_read_as_rad_s_is_not_ok_and_the_unit_is_named():
@@ -62,7 +66,9 @@ def test_the_gate_is_judged_again_when_a_result_is_made_again():
     rng = np.random.default_rng(4)
     d = rng.normal(size=(400, 3))
     d /= np.linalg.norm(d, axis=1)[:, None]
-    counts = 1000 * d * np.array([1.1, 0.9, 1.0]) + np.array([300.0, -120.0, 40.0]) + rng.normal(scale=2.0, size=(400, 3))
+    counts = (
+        1000 * d * np.array([1.1, 0.9, 1.0]) + np.array([300.0, -120.0, 40.0]) + rng.normal(scale=2.0, size=(400, 3))
+    )
     as_ut = fit_magnetometer(counts)  # made in µT (the fit's default): 1000 µT is no Earth's field
     assert not as_ut.ok
     in_counts = dataclasses.replace(as_ut, unit="raw")  # the workflow says they are counts
@@ -74,7 +80,8 @@ def test_the_gate_is_judged_again_when_a_result_is_made_again():
 
 def test_offsets_and_biases_have_limits_scales_and_densities_a_range():
     assert implausible([PhysicalFigure("acc", "offset", (0.5, 0.2, 1.2), "g")])[0].startswith(
-        "the accelerometer's offset is 1.2e+03 mg")
+        "the accelerometer's offset is 1.2e+03 mg"
+    )
     assert implausible([PhysicalFigure("gyr", "bias", (0.1, 0.2, 0.3), "rad/s")]) == []
     assert implausible([PhysicalFigure("mag", "field", (50.0,), "uT")]) == []
     assert "give mag_unit nT" in implausible([PhysicalFigure("mag", "field", (48000.0,), "uT")])[0]

@@ -24,8 +24,14 @@ from app.calibration.trust import review
 from tests.conftest import seed_table
 
 G = 9.806
-SIX = {"+x": [G + 0.1, 0.05, -0.02], "-x": [-G + 0.12, 0.03, 0.01], "+y": [0.02, G - 0.05, 0.1],
-       "-y": [0.01, -G - 0.02, 0.08], "+z": [0.05, 0.02, G + 0.2], "-z": [0.04, 0.01, -G + 0.15]}
+SIX = {
+    "+x": [G + 0.1, 0.05, -0.02],
+    "-x": [-G + 0.12, 0.03, 0.01],
+    "+y": [0.02, G - 0.05, 0.1],
+    "-y": [0.01, -G - 0.02, 0.08],
+    "+z": [0.05, 0.02, G + 0.2],
+    "-z": [0.04, 0.01, -G + 0.15],
+}
 
 
 def _raw_mg(means, g) -> float:
@@ -53,15 +59,24 @@ def compass():
 
 
 def test_a_still_readings_fit_stands_on_held_out_readings_then_new_orientations_then_the_poses_fitted(triangular):
-    metrics = {"holdout_error_before_mg": 41.5, "holdout_error_after_mg": 1.25, "cv_error_mg": 2.5,
-               "cv_error_max_mg": 6.0, "cv_scheme": "leave one out", "error_before_mg": 40.0, "error_after_mg": 0.75,
-               "count": 20}
+    metrics = {
+        "holdout_error_before_mg": 41.5,
+        "holdout_error_after_mg": 1.25,
+        "cv_error_mg": 2.5,
+        "cv_error_max_mg": 6.0,
+        "cv_scheme": "leave one out",
+        "error_before_mg": 40.0,
+        "error_after_mg": 0.75,
+        "count": 20,
+    }
     r = dataclasses.replace(triangular, metrics=metrics)
     assert r.figure() == Figure(41.5, 1.25, "mg", "error on the readings you held out")
     r = dataclasses.replace(triangular, metrics={k: v for k, v in metrics.items() if not k.startswith("holdout")})
     assert r.figure() == Figure(40.0, 2.5, "mg", "error on new orientations")
-    assert r.headline() == ("on new orientations expect 2.50 mg of g, a level off by 0.14° at most (up to 6.00 mg; leave one out); "
-                            "on the poses fitted (in-sample) 0.75 mg, raw 40.00 mg")
+    assert r.headline() == (
+        "on new orientations expect 2.50 mg of g, a level off by 0.14° at most (up to 6.00 mg; leave one out); "
+        "on the poses fitted (in-sample) 0.75 mg, raw 40.00 mg"
+    )
     r = dataclasses.replace(triangular, metrics={**r.metrics, "cv_error_mg": None, "cv_note": "too few poses"})
     assert r.figure() == Figure(40.0, 0.75, "mg", "error on the 20 poses fitted")
     assert r.headline() == "too few poses; on the poses fitted (in-sample) 0.75 mg, raw 40.00 mg"
@@ -77,8 +92,9 @@ def test_a_stored_body_rebuilds_with_its_metrics_as_stored_so_the_request_s_hold
     for stored in (body, legacy):
         again = CalibrationResult.from_dict(stored)
         assert again.metrics == body["metrics"]
-        assert again.figure() == Figure(holdout["error_before_mg"], holdout["error_after_mg"], "mg",
-                                        "error on the readings you held out")
+        assert again.figure() == Figure(
+            holdout["error_before_mg"], holdout["error_after_mg"], "mg", "error on the readings you held out"
+        )
     rest = seed_table(2)[20:]
     assert holdout["error_after_mg"] == pytest.approx(_raw_mg(triangular.apply(rest), G), rel=1e-12)
 
@@ -93,23 +109,30 @@ def test_the_figure_of_a_fit_is_its_own_metrics_recomputed_from_the_readings(tri
 
 
 def test_six_poses_are_in_sample_and_say_how_to_measure_new_orientations():
-    r = review(fit_six_position(list(SIX.values()), list(SIX), gravity=G),
-               {"cv_error_mg": None, "cv_error_max_mg": None, "cv_note": "six poses leave none out"})
+    r = review(
+        fit_six_position(list(SIX.values()), list(SIX), gravity=G),
+        {"cv_error_mg": None, "cv_error_max_mg": None, "cv_note": "six poses leave none out"},
+    )
     f = r.figure()
     means = np.array(list(SIX.values()))
     assert f.basis == "error on the 6 poses fitted" and f.before == pytest.approx(_raw_mg(means, G), rel=1e-12)
     assert f.after == pytest.approx(_raw_mg(r.apply(means), G), rel=1e-9)
-    assert r.headline() == (f"six poses leave none out; on the poses fitted (in-sample) {f.after:.2f} mg, "
-                            f"raw {f.before:.2f} mg")
+    assert r.headline() == (
+        f"six poses leave none out; on the poses fitted (in-sample) {f.after:.2f} mg, raw {f.before:.2f} mg"
+    )
     assert r.verdict_note("six_position", f).startswith("Six poses leave none out to test on")
     assert r.verdict_note("orientations", f) == ""
 
 
-@pytest.mark.parametrize("fit", [
-    lambda: fit_six_position(list(SIX.values()), list(SIX), gravity=G),
-    lambda: fit_nonorthogonal(seed_table(1)[:20], gravity=G),
-    lambda: fit_triangular(seed_table(2)[:20], gravity=G),
-], ids=["affine", "nonorthogonal", "triangular"])
+@pytest.mark.parametrize(
+    "fit",
+    [
+        lambda: fit_six_position(list(SIX.values()), list(SIX), gravity=G),
+        lambda: fit_nonorthogonal(seed_table(1)[:20], gravity=G),
+        lambda: fit_triangular(seed_table(2)[:20], gravity=G),
+    ],
+    ids=["affine", "nonorthogonal", "triangular"],
+)
 def test_apply_is_the_accelerometer_s_correction_and_refuses_another_sensor(fit):
     r = fit()
     raw = np.random.default_rng(5).normal(scale=G, size=(30, 3))
@@ -117,8 +140,9 @@ def test_apply_is_the_accelerometer_s_correction_and_refuses_another_sensor(fit)
     np.testing.assert_allclose(r.apply(raw, "acc"), (raw - c.o) @ c.M.T, rtol=1e-12, atol=1e-12)
     np.testing.assert_array_equal(r.apply(raw), r.apply(raw, "acc"))
     assert r.apply(raw[0]).shape == (3,)
-    with pytest.raises(CalibrationError, match=f"a {r.MODEL_TYPE} calibration has only an accelerometer model; "
-                                               "drop `sensor`"):
+    with pytest.raises(
+        CalibrationError, match=f"a {r.MODEL_TYPE} calibration has only an accelerometer model; drop `sensor`"
+    ):
         r.apply(raw, "gyr")
 
 
@@ -126,14 +150,35 @@ def test_apply_is_the_accelerometer_s_correction_and_refuses_another_sensor(fit)
 
 
 def test_autocal_stands_on_its_control_points_and_says_so_in_its_headline(triangular):
-    metrics = {"count": 20, "count_control": 9, "error_before_mg": 30.0, "error_after_mg": 1.5, "cv_error_mg": 2.0,
-               "cv_error_max_mg": 4.0, "cv_scheme": "leave one out"}
-    r = AutoCalibration(calibration=triangular, gravity=G, points=triangular.means, control=np.empty((0, 3)),
-                        point_starts=np.arange(20), control_starts=np.empty(0, dtype=np.int64), selection={},
-                        control_selection={}, detection={}, comparison={}, solver="lm", metrics=metrics, unit="m/s^2")
+    metrics = {
+        "count": 20,
+        "count_control": 9,
+        "error_before_mg": 30.0,
+        "error_after_mg": 1.5,
+        "cv_error_mg": 2.0,
+        "cv_error_max_mg": 4.0,
+        "cv_scheme": "leave one out",
+    }
+    r = AutoCalibration(
+        calibration=triangular,
+        gravity=G,
+        points=triangular.means,
+        control=np.empty((0, 3)),
+        point_starts=np.arange(20),
+        control_starts=np.empty(0, dtype=np.int64),
+        selection={},
+        control_selection={},
+        detection={},
+        comparison={},
+        solver="lm",
+        metrics=metrics,
+        unit="m/s^2",
+    )
     assert r.figure() == Figure(30.0, 1.5, "mg", "error on control points held out of the fit")
-    assert r.headline() == ("on new orientations expect 2.00 mg of g, a level off by 0.11° at most (up to 4.00 mg; leave one out); "
-                            "on the control points (held out) 1.50 mg, raw 30.00 mg")
+    assert r.headline() == (
+        "on new orientations expect 2.00 mg of g, a level off by 0.11° at most (up to 4.00 mg; leave one out); "
+        "on the control points (held out) 1.50 mg, raw 30.00 mg"
+    )
     no_control = dataclasses.replace(r, metrics={**metrics, "error_after_mg": None})
     assert no_control.figure() == Figure(30.0, 2.0, "mg", "error on new orientations")
     raw = np.random.default_rng(6).normal(scale=G, size=(10, 3))
@@ -148,15 +193,17 @@ def test_autocal_stands_on_its_control_points_and_says_so_in_its_headline(triang
 def test_the_compass_stands_on_the_field_strength_on_new_directions_in_microtesla(compass):
     r, m = compass
     f = r.figure()
-    assert f == Figure(r.metrics["raw_error_ut"], r.metrics["cv_error_ut"], "µT",
-                       "error of the field strength on new directions")
+    assert f == Figure(
+        r.metrics["raw_error_ut"], r.metrics["cv_error_ut"], "µT", "error of the field strength on new directions"
+    )
     h = r.M @ (m - r.b).T
     rms = float(np.sqrt(np.mean((np.linalg.norm(h, axis=0) - 48.0) ** 2)))
     assert r.metrics["fit_error_ut"] == pytest.approx(rms, rel=1e-9)  # the in-sample figure, recomputed
     assert r.headline().startswith(f"on new directions expect {r.metrics['cv_error_ut']:.2f} µT of the 48.0 µT field")
     fitted = dataclasses.replace(r, metrics={**r.metrics, "cv_error_ut": None})
-    assert fitted.figure() == Figure(r.metrics["raw_error_ut"], r.metrics["fit_error_ut"], "µT",
-                                     "error of the field strength on the readings fitted")
+    assert fitted.figure() == Figure(
+        r.metrics["raw_error_ut"], r.metrics["fit_error_ut"], "µT", "error of the field strength on the readings fitted"
+    )
     assert type(r).figures_from(r.metrics, "raw")[0].unit == "counts"  # a magnetometer left in counts
 
 
@@ -164,8 +211,9 @@ def test_the_compass_applies_its_magnetometer_correction_only(compass):
     r, m = compass
     np.testing.assert_allclose(r.apply(m[:7], "mag"), (m[:7] - r.b) @ r.M.T, rtol=1e-15)
     np.testing.assert_array_equal(r.apply(m[:7]), r.apply(m[:7], "mag"))
-    with pytest.raises(CalibrationError, match='a magnetometer calibration has only a magnetometer model: send '
-                                               '`sensor: "mag"`'):
+    with pytest.raises(
+        CalibrationError, match='a magnetometer calibration has only a magnetometer model: send `sensor: "mag"`'
+    ):
         r.apply(m[:7], "acc")
 
 
@@ -198,8 +246,11 @@ def test_the_cube_applies_each_sensor_s_correction_and_refuses_one_it_has_not(cu
 
 
 def test_a_noise_characterisation_corrects_nothing_and_has_no_figure():
-    r = NoiseResult(sensors={"gyr": {"model": {"unit": "rad/s"}, "adev": {}, "uncertainty": {}, "metrics": {}}},
-                    sampling_rate_hz=200.0, duration_s=600.0)
+    r = NoiseResult(
+        sensors={"gyr": {"model": {"unit": "rad/s"}, "adev": {}, "uncertainty": {}, "metrics": {}}},
+        sampling_rate_hz=200.0,
+        duration_s=600.0,
+    )
     assert not r.corrects and r.KIND == FIGURES
     assert r.figure() == NO_FIGURE and r.figures() == (NO_FIGURE,) and r.headline() is None
     with pytest.raises(CalibrationError, match="corrects nothing"):

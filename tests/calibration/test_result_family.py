@@ -17,8 +17,14 @@ from app.calibration.triangular import fit_triangular
 from tests.conftest import seed_table
 
 G = 9.81
-SIX = {"+x": [G + 0.1, 0.05, -0.02], "-x": [-G + 0.12, 0.03, 0.01], "+y": [0.02, G - 0.05, 0.1],
-       "-y": [0.01, -G - 0.02, 0.08], "+z": [0.05, 0.02, G + 0.2], "-z": [0.04, 0.01, -G + 0.15]}
+SIX = {
+    "+x": [G + 0.1, 0.05, -0.02],
+    "-x": [-G + 0.12, 0.03, 0.01],
+    "+y": [0.02, G - 0.05, 0.1],
+    "-y": [0.01, -G - 0.02, 0.08],
+    "+z": [0.05, 0.02, G + 0.2],
+    "-z": [0.04, 0.01, -G + 0.15],
+}
 
 
 def _results():
@@ -26,14 +32,24 @@ def _results():
     yield fit_nonorthogonal(seed_table(1)[:20], gravity=9.806)
     yield fit_triangular(seed_table(2)[:20], gravity=9.806)
     s = simulate_session(np.random.default_rng(21), sampling_rate_hz=100.0)
-    cube = calibrate_cube(s.acc, s.gyr, s.mag, sampling_rate_hz=100.0, protocol="cube24", gravity=9.80665,
-                          field_ut=FIELD_UT)
+    cube = calibrate_cube(
+        s.acc, s.gyr, s.mag, sampling_rate_hz=100.0, protocol="cube24", gravity=9.80665, field_ut=FIELD_UT
+    )
     yield dataclasses.replace(cube, units={"acc": "raw", "gyr": "raw", "mag": "raw"})
 
 
 def test_registry_knows_every_type():
-    assert set(registered_types()) == {"affine", "nonorthogonal", "triangular", "cube", "autocal", "noise",
-                                     "magnetometer", "temperature", "compass_flight"}
+    assert set(registered_types()) == {
+        "affine",
+        "nonorthogonal",
+        "triangular",
+        "cube",
+        "autocal",
+        "noise",
+        "magnetometer",
+        "temperature",
+        "compass_flight",
+    }
 
 
 @pytest.mark.parametrize("result", list(_results()), ids=lambda r: r.MODEL_TYPE)

@@ -9,9 +9,18 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from app.calibration.rotations import (ARDUPILOT_ROTATIONS, FIRMWARE_ROTATIONS, PX4_EVERY_RELEASE, PX4_ROTATIONS,
-                                       angle_between, ardupilot_matrix, firmware_matrix, nearest_number,
-                                       px4_matrix, rotation_name)
+from app.calibration.rotations import (
+    ARDUPILOT_ROTATIONS,
+    FIRMWARE_ROTATIONS,
+    PX4_EVERY_RELEASE,
+    PX4_ROTATIONS,
+    angle_between,
+    ardupilot_matrix,
+    firmware_matrix,
+    nearest_number,
+    px4_matrix,
+    rotation_name,
+)
 
 H = np.sqrt(0.5)
 VECTOR3_ROTATE = {  # number: v -> rotated v, as the switch in Vector3<T>::rotate writes it

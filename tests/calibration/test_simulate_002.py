@@ -48,9 +48,7 @@ def test_selection_two_per_bin():
                 counts[axis, row[axis]] += 1
                 break
     assert np.all(counts == 2)
-    np.testing.assert_allclose(
-        np.linalg.norm((sc.points + sc.p[6:]) @ k_matrix(sc.p).T, axis=1), 1.0, atol=0.01
-    )
+    np.testing.assert_allclose(np.linalg.norm((sc.points + sc.p[6:]) @ k_matrix(sc.p).T, axis=1), 1.0, atol=0.01)
     # A seed fixes the scenario.
     sc2 = simulate_scenario(np.random.default_rng(2), noise_g=0.001)
     np.testing.assert_array_equal(sc.points, sc2.points)

@@ -229,7 +229,7 @@ def test_a_rest_is_still_on_every_sensor_a_ringing_gyroscope_and_a_turning_compa
     segs = detect_static_segments(acc, fs, others=[gyr, mag])
     used = np.zeros(n, dtype=bool)  # the samples the rests' statistics take: their gaps (knocks) left out
     for s in segs:
-        used[s.start:s.end] = True
+        used[s.start : s.end] = True
         for a, b in s.gaps:
             used[a:b] = False
     assert len(segs) == 2, [(s.start / fs, s.end / fs, s.gaps) for s in segs]

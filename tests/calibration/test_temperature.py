@@ -63,8 +63,7 @@ def test_intervals_cover_the_truth_in_a_small_seeded_run():
     hits = total = 0
     for seed in range(12):
         w = warm_up(100 + seed, duration_s=900, sampling_rate_hz=20)
-        r = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=w.gyr, sampling_rate_hz=20, time_s=w.time_s,
-                                  order=3)
+        r = calibrate_temperature(w.temperature_c, acc=w.acc, gyr=w.gyr, sampling_rate_hz=20, time_s=w.time_s, order=3)
         for sensor in ("acc", "gyr"):
             model, half = r.sensors[sensor]["model"], np.asarray(r.sensors[sensor]["uncertainty"]["coefficients"])
             err = np.abs(np.asarray(model["coefficients"]) - truth_about(model, sensor))
@@ -126,8 +125,13 @@ def test_too_few_samples_in_a_band_fails_naming_the_band():
 
 
 def test_a_sensor_that_does_not_drift_fails_worse_than_raw():
-    w = simulate_warm_up(np.random.default_rng(13), noise=real_still_noise(), acc_truth=np.zeros((3, 4)),
-                         duration_s=900, sampling_rate_hz=20)
+    w = simulate_warm_up(
+        np.random.default_rng(13),
+        noise=real_still_noise(),
+        acc_truth=np.zeros((3, 4)),
+        duration_s=900,
+        sampling_rate_hz=20,
+    )
     r = calibrate_temperature(w.temperature_c, acc=w.acc, sampling_rate_hz=20)
     assert not r.ok
     assert any("no better than no correction" in reason for reason in r.reasons), r.reasons
@@ -138,7 +142,7 @@ def test_a_device_that_moved_fails_the_accelerometer_and_fits_the_gyroscope_on_i
     acc, gyr = w.acc.copy(), w.gyr.copy()
     half = len(acc) // 2
     acc[half:] = acc[half:][:, [0, 2, 1]] * [1, 1, -1]  # turned onto its side halfway
-    gyr[half - 20:half] += [0.0, 1.5, 0.0]  # the turn, 1 s at 1.5 rad/s
+    gyr[half - 20 : half] += [0.0, 1.5, 0.0]  # the turn, 1 s at 1.5 rad/s
     r = calibrate_temperature(w.temperature_c, acc=acc, gyr=gyr, sampling_rate_hz=20)
     assert not r.ok
     assert any("the device moved" in reason and "accelerometer" in reason for reason in r.reasons)

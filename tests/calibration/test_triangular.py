@@ -36,7 +36,9 @@ def exact_points(n=18, seed=1):
 
 def test_model_is_eqs_7_to_9():
     v = np.array([[0.3, -0.8, 0.5]])
-    cal = TriangularCalibration(K=k_matrix(P_TRUE), o=P_TRUE[6:], gravity=1.0, means=v, solver="lm", covariance=None, dof=0)
+    cal = TriangularCalibration(
+        K=k_matrix(P_TRUE), o=P_TRUE[6:], gravity=1.0, means=v, solver="lm", covariance=None, dof=0
+    )
     kxx, kyy, kzz, kxy, kxz, kyz, ox, oy, oz = P_TRUE
     vx, vy, vz = v[0]
     expected = [

@@ -107,6 +107,8 @@ def test_an_undetermined_parameter_is_named_with_the_pose_that_determines_it():
 def test_raw_units_skip_the_comparisons_with_the_raw_norm():
     # Counts are not comparable with g: only the fit's own gates speak.
     rng = np.random.default_rng(4)
-    counts = 4096 * (uncalibrate(draw_parameters(rng), random_unit_vectors(rng, 20)) + rng.normal(scale=5e-4, size=(20, 3)))
+    counts = 4096 * (
+        uncalibrate(draw_parameters(rng), random_unit_vectors(rng, 20)) + rng.normal(scale=5e-4, size=(20, 3))
+    )
     result, _ = calibrate_unknown("triangular", counts, unit="raw", gravity=G)
     assert not any("without it" in r or "norms of its own readings" in r for r in result.reasons)

@@ -14,8 +14,8 @@ def _turn(phone, k):
     """Rates (deg/s) and timestamps of the move from 1-based position k into k + 1, and the rest bias."""
     a = phone.static_segments[k - 1]
     b = phone.static_segments[k]
-    bias = phone.gyr[a[0]:a[1]].mean(axis=0)
-    return phone.gyr[a[1]:b[0]], phone.t_ms[a[1]:b[0]], bias
+    bias = phone.gyr[a[0] : a[1]].mean(axis=0)
+    return phone.gyr[a[1] : b[0]], phone.t_ms[a[1] : b[0]], bias
 
 
 def test_every_protocol_turn_passes():

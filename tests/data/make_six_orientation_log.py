@@ -48,8 +48,10 @@ def main() -> None:
         note="segments: true rests, sample indices (0 = first data row, line 2), end exclusive",
     )
     TRUTH.write_text(json.dumps(truth, indent=1) + "\n")
-    print(f"{CSV.name}: {len(log.samples)} samples, {len(log.samples) / log.sampling_rate_hz:.1f} s, "
-          f"{CSV.stat().st_size / 1e6:.2f} MB")
+    print(
+        f"{CSV.name}: {len(log.samples)} samples, {len(log.samples) / log.sampling_rate_hz:.1f} s, "
+        f"{CSV.stat().st_size / 1e6:.2f} MB"
+    )
 
 
 if __name__ == "__main__":

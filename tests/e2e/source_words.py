@@ -19,8 +19,10 @@ OTHER_WORDS = {
 }
 """Per page source, the words of the other one (regular expressions, case-insensitive)."""
 
-ALLOWED = {"phone": ["Calibrating a board that prints its readings? Connect a board instead."],
-           "board": ["I will use it with a phone app"]}
+ALLOWED = {
+    "phone": ["Calibrating a board that prints its readings? Connect a board instead."],
+    "board": ["I will use it with a phone app"],
+}
 """Sentences that name the other source on purpose, left out before the check."""
 
 SEEN = """() => {
@@ -46,7 +48,7 @@ def other_source_words(page, source: str) -> list[str]:
     found = []
     for word in OTHER_WORDS[source]:
         for m in re.finditer(word, text, flags=re.I):
-            found.append(f"{m.group(0)!r} in …{text[max(0, m.start() - 50):m.end() + 50]}…")
+            found.append(f"{m.group(0)!r} in …{text[max(0, m.start() - 50) : m.end() + 50]}…")
     return found
 
 

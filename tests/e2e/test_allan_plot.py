@@ -20,11 +20,14 @@ def test_renders_in_chromium(browser, noise_three, noise_short, width):
     images = "".join(
         f'<img id="{name}" alt="Allan deviation" style="display:block;width:100%;max-width:600px;height:auto" '
         f'src="data:image/svg+xml;base64,{base64.b64encode(allan_svg(b).encode()).decode()}">'
-        for name, b in (("all", noise_three), ("short", noise_short)))
+        for name, b in (("all", noise_three), ("short", noise_short))
+    )
     page.set_content(f"<!doctype html><body style='margin:8px'>{images}</body>")
     page.wait_for_function("[...document.images].every((i) => i.complete)")
     for name in ("all", "short"):
-        natural = page.evaluate(f"[document.getElementById('{name}').naturalWidth, document.getElementById('{name}').width]")
+        natural = page.evaluate(
+            f"[document.getElementById('{name}').naturalWidth, document.getElementById('{name}').width]"
+        )
         assert natural[0] > 0, f"Chromium could not decode the {name} SVG"
         assert natural[1] == min(width - 16, 600)
     assert shot(page, f"allan_plot_{width}").stat().st_size > 10_000

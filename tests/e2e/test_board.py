@@ -24,8 +24,14 @@ from tests.e2e.source_words import other_source_words
 
 SHIM = (Path(__file__).parent / "board_shim.js").read_text()
 POSE_FILES = DATA / "real" / "mpu6050_pose_files"
-FILES = {"+x": "x_axis_pos.csv", "-x": "x_axis_neg.csv", "+y": "y_axis_pos.csv", "-y": "y_axis_neg.csv",
-         "+z": "z_axis_pos.csv", "-z": "z_axis_neg.csv"}
+FILES = {
+    "+x": "x_axis_pos.csv",
+    "-x": "x_axis_neg.csv",
+    "+y": "y_axis_pos.csv",
+    "-y": "y_axis_neg.csv",
+    "+z": "z_axis_pos.csv",
+    "-z": "z_axis_neg.csv",
+}
 ORDER = ["+z", "-y", "+x", "-z", "-x", "+y"]
 BOOT = ["", "ets Jun  8 2016 00:22:57", "MPU6050 Found!"]  # what a sketch prints before its readings
 CAPTURED = '#poses li[data-pose="{}"][data-state="done"]'
@@ -101,8 +107,10 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     # The same board's compass was calibrated before (its turn simulated, in µT: a board's compass
     # in counts has no MotionCal packet): Send will offer to keep it on the board.
     turn, _, _ = simulate_session(33, n=300, hard_iron_ut=60.0)
-    r = page.request.post(f"{server.url}/api/v1/calibrations", data={
-        "method": "magnetometer", "mag": turn.tolist(), "field_ut": 48.0, "device_id": DEVICE})
+    r = page.request.post(
+        f"{server.url}/api/v1/calibrations",
+        data={"method": "magnetometer", "mag": turn.tolist(), "field_ut": 48.0, "device_id": DEVICE},
+    )
     assert r.status == 201, r.text()
     compass = r.json()
     page.goto(server.url + "/wizard?protocol=six&source=board&capture_s=0.5")
@@ -117,7 +125,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     lines, printed = six_lines()
     # Lines without the board's time (the Timestamp column dropped), reaching the page 1 s at a time (a
     # USB-serial bridge's buffer, a loaded computer): the rate is counted over the arrivals.
-    lines = BOOT + [line.split(",", 1)[1] for line in lines[len(BOOT):]]
+    lines = BOOT + [line.split(",", 1)[1] for line in lines[len(BOOT) :]]
     play(page, lines, 62.5, "\r\n", 1000)
     t0 = time.monotonic()
     page.click("#board-usb")
@@ -132,7 +140,10 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     assert "gyroscope in °/s (assumed)" in what
     # The pictures and words are a board's.
     assert page.text_content("h1") == "Calibrate this board"
-    assert page.get_attribute("#poses li[data-pose='+x'] svg", "aria-label") == "Board on an edge, its X arrow pointing up (+x up)"
+    assert (
+        page.get_attribute("#poses li[data-pose='+x'] svg", "aria-label")
+        == "Board on an edge, its X arrow pointing up (+x up)"
+    )
     for k, label in enumerate(ORDER):
         page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=15_000)
         if k == 1:
@@ -148,8 +159,12 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     for c in sent:
         rows = np.array(printed[c["position"]])
         acc = np.array(c["acc"])
-        start = next(i for i in range(len(rows)) if np.array_equal(rows[i], acc[0]) and np.array_equal(rows[i:i + len(acc)], acc))
-        assert np.array_equal(rows[start:start + len(acc)], acc)
+        start = next(
+            i
+            for i in range(len(rows))
+            if np.array_equal(rows[i], acc[0]) and np.array_equal(rows[i : i + len(acc)], acc)
+        )
+        assert np.array_equal(rows[start : start + len(acc)], acc)
         assert np.allclose(np.diff(c["t_ms"]), 16.0, rtol=0.02) and c["t_ms"][-1] - c["t_ms"][0] >= 500
         assert c["sign"] == {"convention": "w3c", "detected_from": "default"} and c["unit"] == "m/s^2"
     # The result is the closed form of Georgieva et al. on the means of what the board printed.
@@ -157,7 +172,9 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     expected = fit_six_position(means, [c["position"] for c in sent], gravity=G)
     saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six.board')"))
     cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
-    r = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}", headers={"Authorization": f"Bearer {saved['token']}"})
+    r = page.request.get(
+        f"{server.url}/api/v1/calibrations/{cal_id}", headers={"Authorization": f"Bearer {saved['token']}"}
+    )
     assert r.status == 200, r.text()
     model = r.json()["model"]
     np.testing.assert_allclose(np.array(model["X"]), expected.X, rtol=1e-9, atol=1e-12)
@@ -169,14 +186,18 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     expect(page.locator("#board-send-box")).to_be_visible()
     note = page.text_content("#board-send-box")
     assert "cannot carry the accelerometer's scales and cross terms" in note and "C header" in note
-    api = page.request.get(f"{server.url}/api/v1/calibrations/{cal_id}/export?format=motioncal",
-                           headers={"Authorization": f"Bearer {saved['token']}"})
+    api = page.request.get(
+        f"{server.url}/api/v1/calibrations/{cal_id}/export?format=motioncal",
+        headers={"Authorization": f"Bearer {saved['token']}"},
+    )
     assert api.ok and len(api.body()) == 68 and api.body()[:2] == bytes([117, 84]), api.text()
     # What it replaces, and the same device's compass calibration from the history, included by default.
     box = page.locator("#board-send-box")
     expect(box).to_have_attribute("data-compass", compass["id"])
-    assert "replaces all the board has stored: the accelerometer's offsets, the gyroscope's offsets, and the " \
-           "compass's hard iron, soft iron and field strength" in page.inner_text("#board-send-replaces")
+    assert (
+        "replaces all the board has stored: the accelerometer's offsets, the gyroscope's offsets, and the "
+        "compass's hard iron, soft iron and field strength" in page.inner_text("#board-send-replaces")
+    )
     assert page.is_checked("#board-send-compass")
     assert f"Include the compass calibration of {DEVICE} from " in page.text_content("#board-send-compass-box")
     assert "From the compass calibration of" in page.text_content("#board-send-parts")
@@ -185,8 +206,12 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     assert page.get_attribute("#board-send-msg", "data-compass") == compass["id"]
     written = bytes(page.evaluate("window.__board.written"))
     sent_cal, ours = decode(written), decode(api.body())  # decode checks the signature and the CRC
-    theirs = decode(page.request.get(f"{server.url}/api/v1/calibrations/{compass['id']}/export?format=motioncal").body())
-    assert np.array_equal(sent_cal.accel_zerog, ours.accel_zerog) and np.array_equal(sent_cal.gyro_zerorate, ours.gyro_zerorate)
+    theirs = decode(
+        page.request.get(f"{server.url}/api/v1/calibrations/{compass['id']}/export?format=motioncal").body()
+    )
+    assert np.array_equal(sent_cal.accel_zerog, ours.accel_zerog) and np.array_equal(
+        sent_cal.gyro_zerorate, ours.gyro_zerorate
+    )
     assert np.array_equal(sent_cal.mag_hardiron, theirs.mag_hardiron) and sent_cal.mag_field == theirs.mag_field
     assert np.array_equal(sent_cal.mag_softiron, theirs.mag_softiron)
     # the stored compass calibration's own numbers (float32 on the way)
@@ -197,8 +222,10 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     box.screenshot(path=str(ARTIFACTS / "board_send_compass_1280.png"))
     # Left out: the page says the board's compass calibration is reset, and the packet is the server's own.
     page.uncheck("#board-send-compass")
-    assert "The board's compass calibration will be reset: no hard iron, an identity soft iron and 50 µT" \
+    assert (
+        "The board's compass calibration will be reset: no hard iron, an identity soft iron and 50 µT"
         in page.text_content("#board-send-parts")
+    )
     page.click("#board-send")
     page.wait_for_function("window.__board.written.length === 136")
     assert bytes(page.evaluate("window.__board.written"))[68:] == api.body()
@@ -219,9 +246,11 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     # From Connect to the verdict with 5 s a pose: each capture 4.5 s longer, and 8 s for a person to
     # turn the board each time (the played lines turn it at once).
     estimate = elapsed + 6 * (5 - 0.5) + 6 * 8
-    print(f"\nboard six flow, lines in 1 s bursts, capture_s=0.5: {elapsed:.1f} s from Connect to the downloads; "
-          f"with 5 s a pose and "
-          f"8 s a turn: {estimate:.0f} s")
+    print(
+        f"\nboard six flow, lines in 1 s bursts, capture_s=0.5: {elapsed:.1f} s from Connect to the downloads; "
+        f"with 5 s a pose and "
+        f"8 s a turn: {estimate:.0f} s"
+    )
 
 
 def test_nothing_arrives_then_lines_that_are_not_readings(desk, server):
@@ -229,8 +258,9 @@ def test_nothing_arrives_then_lines_that_are_not_readings(desk, server):
     page.goto(server.url + "/wizard?protocol=six&source=board")
     page.click("#board-usb")  # a board that prints nothing
     msg = page.locator("#board-msg")
-    expect(msg).to_have_text("Nothing arrives at 115200 baud: check the rate and that the board prints readings.",
-                             timeout=6_000)
+    expect(msg).to_have_text(
+        "Nothing arrives at 115200 baud: check the rate and that the board prints readings.", timeout=6_000
+    )
     problems = board_state(page, "six", "silent")
     page.click("#board-close")
     expect(page.locator("#board-live")).to_be_hidden()
@@ -250,7 +280,9 @@ def test_the_chooser_closed_says_so_under_the_csp(desk, server):
     page.goto(server.url + "/wizard?protocol=six&source=board")
     page.evaluate("window.__board.refuse = true")
     page.click("#board-usb")
-    expect(page.locator("#board-msg")).to_have_text("No board was chosen: connect it, then choose it in the browser's list.")
+    expect(page.locator("#board-msg")).to_have_text(
+        "No board was chosen: connect it, then choose it in the browser's list."
+    )
     assert page.evaluate("window.__board.opened") == []
 
 
@@ -260,14 +292,19 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     offset lands within a few counts of the maker's own fit."""
     page = desk
     sent: list[dict] = []
-    page.on("request", lambda r: sent.append(r.post_data_json) if r.url.endswith("/calibrations") and r.method == "POST" else None)
+    page.on(
+        "request",
+        lambda r: sent.append(r.post_data_json) if r.url.endswith("/calibrations") and r.method == "POST" else None,
+    )
     refused: list[str] = []
     page.on("response", lambda r: refused.append(r.url.split("?")[-1]) if r.status == 422 else None)
     text = (DATA / "real" / "magnetometer" / "tomisuarez2_qmc5883l_turn_every10.csv").read_text().splitlines()
     header_at = next(i for i, line in enumerate(text) if line.startswith("mx"))
-    rows = text[header_at + 1:][300:]  # after the 60 s at rest (5 rows a second here)
+    rows = text[header_at + 1 :][300:]  # after the 60 s at rest (5 rows a second here)
     page.goto(server.url + "/wizard?protocol=compass&source=board")
-    assert page.text_content("h1") == "Calibrate this board's compass" and page.locator("#compass-start-btn").count() == 0
+    assert (
+        page.text_content("h1") == "Calibrate this board's compass" and page.locator("#compass-start-btn").count() == 0
+    )
     problems = board_state(page, "compass", "before_start", widths=(320, 390, 1280))
     play(page, [text[header_at]] + rows, 100, "\n")
     page.click("#board-usb")
@@ -280,12 +317,15 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     page.wait_for_selector("#result:not([hidden])", timeout=40_000)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
     problems += board_state(page, "compass", "result", widths=(320, 390, 1280))
-    assert page.eval_on_selector_all("#result-mag svg text", "ts => ts.map(t => t.textContent)").count("component side") == 2
+    assert (
+        page.eval_on_selector_all("#result-mag svg text", "ts => ts.map(t => t.textContent)").count("component side")
+        == 2
+    )
     assert len(sent) == 1
     mag = np.array(sent[0]["mag"])
     played = np.array([[float(v) for v in r.split(",")] for r in rows])
     assert np.array_equal(mag[0], played[0]) and len(mag) >= 50
-    assert all(any(np.array_equal(m, p) for p in played[:len(mag) + 50]) for m in mag[:20])
+    assert all(any(np.array_equal(m, p) for p in played[: len(mag) + 50]) for m in mag[:20])
     peer = json.loads((DATA / "real" / "magnetometer" / "tomisuarez2_qmc5883l_peer.json").read_text())
     offset = -np.linalg.solve(np.array(peer["A"]), np.array(peer["B"]))
     cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
@@ -306,7 +346,9 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     assert body["source"] == "board"
     page.goto(f"{server.url}/c/{cal_id}")
     page.wait_for_selector(".mag-fig svg text", timeout=10_000)
-    assert page.eval_on_selector_all(".mag-fig svg text", "ts => ts.map(t => t.textContent)").count("component side") == 2
+    assert (
+        page.eval_on_selector_all(".mag-fig svg text", "ts => ts.map(t => t.textContent)").count("component side") == 2
+    )
     problems += [f"/c/ of a board's compass: a phone's word {w}" for w in other_source_words(page, "board")]
     assert not problems, "\n".join(problems)
 
@@ -367,13 +409,19 @@ def test_a_board_over_bluetooth_prints_raw_lines(desk, server):
     play(page, lines, 62.5, "\n")
     page.click("#board-ble")
     requests = page.evaluate("window.__board.bleRequests")
-    assert requests == [{"options": {"filters": [{"services": ["6e400001-b5a3-f393-e0a9-e50e24dcca9e"]}]}, "click": True}]
+    assert requests == [
+        {"options": {"filters": [{"services": ["6e400001-b5a3-f393-e0a9-e50e24dcca9e"]}]}, "click": True}
+    ]
     live = page.locator("#board-live")
     expect(live).to_have_attribute("data-format", "raw", timeout=5_000)
     expect(page.locator("#live-pose")).to_have_attribute("data-pose", "+z", timeout=RATE_WAIT_MS)
     assert page.text_content("#live-pose-words") == "Now: flat, component side up"
-    assert page.text_content("#board-what").startswith("MotionCal Raw: lines (counts at MotionCal's scales); accelerometer in m/s²;")
-    row = page.eval_on_selector_all("#board-numbers tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
+    assert page.text_content("#board-what").startswith(
+        "MotionCal Raw: lines (counts at MotionCal's scales); accelerometer in m/s²;"
+    )
+    row = page.eval_on_selector_all(
+        "#board-numbers tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))"
+    )
     assert [r[0] for r in row] == ["acc (m/s²)", "gyr (°/s)", "mag (µT)"]
     shot(page, "board_bluetooth_raw_1280")
     assert page.errors == []

@@ -17,19 +17,28 @@ def js(page, server):
     page.goto(server.url + "/wizard?protocol=six")
 
     def run(body: str):
-        return page.evaluate("async () => { const m = await import('/static/js/board_lines.js'); "
-                             f"const b = await import('/static/js/board.js'); {body} }}")
+        return page.evaluate(
+            "async () => { const m = await import('/static/js/board_lines.js'); "
+            f"const b = await import('/static/js/board.js'); {body} }}"
+        )
+
     return run
 
 
 def test_line_ends_cr_lf_crlf_and_one_split_across_chunks(js):
     chunks = ["a\r", "\nb\rc\n", "d\r\n", "e"]
-    assert js(f"const s = new m.LineSplitter(); return {json.dumps(chunks)}.flatMap((c) => s.push(c));") \
-        == ["a", "b", "c", "d"]
+    assert js(f"const s = new m.LineSplitter(); return {json.dumps(chunks)}.flatMap((c) => s.push(c));") == [
+        "a",
+        "b",
+        "c",
+        "d",
+    ]
 
 
 def test_raw_lines_at_motioncal_s_scales(js):
-    r = js("const l = new m.BoardLines(); return [l.push('Raw:0,-8192,16384,16,-32,0,215,-100,3000'), l.format, l.units];")
+    r = js(
+        "const l = new m.BoardLines(); return [l.push('Raw:0,-8192,16384,16,-32,0,215,-100,3000'), l.format, l.units];"
+    )
     (reading,), fmt, units = r
     assert fmt == "raw" and units == {"acc": "m/s^2", "gyr": "deg/s", "mag": "uT"}
     assert reading["acc"] == pytest.approx([0, -G * 8192 * MOTIONCAL_RAW["acc_g_per_count"], 2 * G], abs=1e-12)
@@ -37,21 +46,36 @@ def test_raw_lines_at_motioncal_s_scales(js):
 
 
 def test_boot_text_is_skipped_and_counted_then_uni_lines(js):
-    lines = ["", "Adafruit SensorLab", "Uni:0.10,-0.20,9.79,0.010,0.020,-0.030,21.50,-3.20,40.10", "oops",
-             "Raw:0,0,8192,0,0,0,0,0,0"]
-    got = js(f"const l = new m.BoardLines(); const out = {json.dumps(lines)}.map((x) => l.push(x)); "
-             "return [out, l.format, l.skipped, l.lastSkipped, l.readings];")
+    lines = [
+        "",
+        "Adafruit SensorLab",
+        "Uni:0.10,-0.20,9.79,0.010,0.020,-0.030,21.50,-3.20,40.10",
+        "oops",
+        "Raw:0,0,8192,0,0,0,0,0,0",
+    ]
+    got = js(
+        f"const l = new m.BoardLines(); const out = {json.dumps(lines)}.map((x) => l.push(x)); "
+        "return [out, l.format, l.skipped, l.lastSkipped, l.readings];"
+    )
     out, fmt, skipped, last, readings = got
     assert fmt == "uni" and readings == 1 and skipped == 3 and last == "Raw:0,0,8192,0,0,0,0,0,0"
-    assert out == [[], [], [{"t": None, "acc": [0.1, -0.2, 9.79], "gyr": [0.01, 0.02, -0.03], "mag": [21.5, -3.2, 40.1]}],
-                   [], []]
+    assert out == [
+        [],
+        [],
+        [{"t": None, "acc": [0.1, -0.2, 9.79], "gyr": [0.01, 0.02, -0.03], "mag": [21.5, -3.2, 40.1]}],
+        [],
+        [],
+    ]
 
 
 def test_a_csv_header_names_the_columns_and_the_time_unit_comes_from_its_steps(js):
-    lines = ["Timestamp,aX (g),aY (g),aZ (g),Temp (C),gX,gY,gZ"] + \
-        [f"{410 + 16 * k},0.1,0.2,9.8,26.1,0.03,0.02,0.01" for k in range(6)]
-    out = js(f"const l = new m.BoardLines(); const out = {json.dumps(lines)}.map((x) => l.push(x)); "
-             "return [out, l.format, l.hasTime, l.timeMs, l.skipped];")
+    lines = ["Timestamp,aX (g),aY (g),aZ (g),Temp (C),gX,gY,gZ"] + [
+        f"{410 + 16 * k},0.1,0.2,9.8,26.1,0.03,0.02,0.01" for k in range(6)
+    ]
+    out = js(
+        f"const l = new m.BoardLines(); const out = {json.dumps(lines)}.map((x) => l.push(x)); "
+        "return [out, l.format, l.hasTime, l.timeMs, l.skipped];"
+    )
     readings, fmt, has_time, time_ms, skipped = out
     assert fmt == "csv" and has_time and time_ms == 1 and skipped == 0 and readings[0] == []
     assert [r["t"] for (r,) in readings[1:]] == [None, None, None, None, 410 + 16 * 4, 410 + 16 * 5]
@@ -63,19 +87,30 @@ def test_the_first_line_is_held_until_the_next_agrees(js):
     # Connected in the middle of a line: its tail has three numbers, the board's lines have seven
     # (a time and six values); the tail is skipped, and the first two whole lines make the layout.
     lines = ["81,9.80", "2.5,-0.01", "1000,0.1,0.2,9.8,1,2,3", "1010,0.1,0.2,9.8,1,2,3", "1020,0.1,0.2,9.8,1,2,3"]
-    got = js(f"const l = new m.BoardLines(); const out = {json.dumps(lines)}.map((x) => l.push(x).length); "
-             "return [out, l.format, l.layout.width, l.skipped, l.readings];")
+    got = js(
+        f"const l = new m.BoardLines(); const out = {json.dumps(lines)}.map((x) => l.push(x).length); "
+        "return [out, l.format, l.layout.width, l.skipped, l.readings];"
+    )
     assert got == [[0, 0, 0, 2, 1], "bare", 7, 2, 3]
 
 
-@pytest.mark.parametrize("line, width, expected", [
-    ("0.1 0.2 9.8", 3, {"t": None, "acc": [0.1, 0.2, 9.8], "gyr": None, "mag": None}),
-    ("0.1\t0.2\t9.8\t1\t2\t3", 6, {"t": None, "acc": [0.1, 0.2, 9.8], "gyr": [1, 2, 3], "mag": None}),
-    ("1.5;0.1;0.2;9.8;1;2;3;20;30;40", 10, {"t": 1500, "acc": [0.1, 0.2, 9.8], "gyr": [1, 2, 3], "mag": [20, 30, 40]}),
-])
+@pytest.mark.parametrize(
+    "line, width, expected",
+    [
+        ("0.1 0.2 9.8", 3, {"t": None, "acc": [0.1, 0.2, 9.8], "gyr": None, "mag": None}),
+        ("0.1\t0.2\t9.8\t1\t2\t3", 6, {"t": None, "acc": [0.1, 0.2, 9.8], "gyr": [1, 2, 3], "mag": None}),
+        (
+            "1.5;0.1;0.2;9.8;1;2;3;20;30;40",
+            10,
+            {"t": 1500, "acc": [0.1, 0.2, 9.8], "gyr": [1, 2, 3], "mag": [20, 30, 40]},
+        ),
+    ],
+)
 def test_bare_columns(js, line, width, expected):
-    got = js(f"const l = new m.BoardLines(); l.push({json.dumps(line)}); const r = l.push({json.dumps(line)}); "
-             "return [r, l.format, l.layout.width];")
+    got = js(
+        f"const l = new m.BoardLines(); l.push({json.dumps(line)}); const r = l.push({json.dumps(line)}); "
+        "return [r, l.format, l.layout.width];"
+    )
     assert got == [[expected, expected], "bare", width]
 
 

@@ -22,6 +22,7 @@ def js(page, server):
 
     def run(body: str):
         return page.evaluate(f"async () => {{ const m = await import('{MODULE}'); {body} }}")
+
     return run
 
 
@@ -54,5 +55,6 @@ def test_no_faces_before_the_phone_has_turned_and_repeats_are_dropped(js):
     m = F * directions(rng, 40, max_polar_deg=15.0) + B  # a 30° cap: the centre is not fixed yet
     st = js(feed(m) + "return c.status();")
     assert st["centre"] is None and st["coverage"] == 0 and len(st["missing"]) == 20
-    assert js("const c = new m.CompassCoverage(); return [c.push([1, 2, 3]), c.push([1, 2, 3]), c.push([1, 2, NaN]), c.count];") \
-        == [True, False, False, 1]
+    assert js(
+        "const c = new m.CompassCoverage(); return [c.push([1, 2, 3]), c.push([1, 2, 3]), c.push([1, 2, NaN]), c.count];"
+    ) == [True, False, False, 1]

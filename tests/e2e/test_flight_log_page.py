@@ -28,17 +28,28 @@ def test_a_flight_log_shows_its_sensors_and_reads_the_imu_chosen(page, server, t
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#flight:not([hidden])")
     # Every instance of the log, a row each, with its source, rate and temperature range.
-    rows = page.eval_on_selector_all("#flight-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
-    assert [(r[0], r[1], r[2]) for r in rows] == [("accelerometer", "0", "sensor_accel"), ("accelerometer", "1", "sensor_accel"),
-                                                 ("gyroscope", "0", "sensor_gyro"), ("gyroscope", "1", "sensor_gyro")], rows
+    rows = page.eval_on_selector_all(
+        "#flight-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))"
+    )
+    assert [(r[0], r[1], r[2]) for r in rows] == [
+        ("accelerometer", "0", "sensor_accel"),
+        ("accelerometer", "1", "sensor_accel"),
+        ("gyroscope", "0", "sensor_gyro"),
+        ("gyroscope", "1", "sensor_gyro"),
+    ], rows
     assert all(r[4] == "200" for r in rows), rows
     assert rows[0][5] == "25.0–44.9" and rows[1][5] == "26.0–45.9", rows
     # The units menus of text logs are not offered: the format states its units.
     assert page.is_hidden("#units") and page.is_hidden("#flight-mag-label")
     caption = page.text_content("#flight-temp")
-    assert caption.startswith("The IMU read went from 25.0 to 44.9 °C") and "enough for a temperature calibration" in caption
-    assert page.get_attribute("#flight-temp-plot svg", "aria-label") == \
-        "The sensor's temperature over the log, 25.2 to 44.9 °C"  # the bins' means
+    assert (
+        caption.startswith("The IMU read went from 25.0 to 44.9 °C")
+        and "enough for a temperature calibration" in caption
+    )
+    assert (
+        page.get_attribute("#flight-temp-plot svg", "aria-label")
+        == "The sensor's temperature over the log, 25.2 to 44.9 °C"
+    )  # the bins' means
     assert page.is_visible("#temperature-recording")
     assert page.is_hidden("#options")  # the format states its rate, units and columns
     shot(page, "flight_log_sensors")
@@ -89,11 +100,16 @@ def test_a_warm_up_is_calibrated_for_temperature_from_the_page(axe_page, server,
     assert page.url.endswith("/c/" + page.text_content("#result-ok").split(" ")[1])
     assert page.text_content("#verdict-words").startswith("Apply it: offset drift over 15")
     expect(page.locator("#result-temperature")).to_be_visible()
-    loaded = page.evaluate("() => new Promise((done) => { const img = document.querySelector('#result-temperature img');"
-                           " if (img.complete) done(img.naturalWidth); else img.onload = () => done(img.naturalWidth); })")
+    loaded = page.evaluate(
+        "() => new Promise((done) => { const img = document.querySelector('#result-temperature img');"
+        " if (img.complete) done(img.naturalWidth); else img.onload = () => done(img.naturalWidth); })"
+    )
     assert loaded > 0
-    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == \
-        ["px4", "ardupilot", "filter"]
+    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == [
+        "px4",
+        "ardupilot",
+        "filter",
+    ]
     assert page.get_attribute("#use-file", "data-format") == "px4" and "TC_A0_ID" in page.text_content("#use-how")
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")
     assert links == ["px4", "ardupilot", "json", "temperature_svg"], links
@@ -156,7 +172,9 @@ def test_a_real_flight_log_s_table_of_sensors_is_never_cut_from_320_to_1280_px(p
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#downloads[data-ready=true]")
     assert re.search(r"\(a level off by [\d.]+° → [\d.<]+°\)\.$", page.text_content("#verdict-words"))
-    assert page.input_value("#use-with") == "ardupilot" and page.get_attribute("#use-file", "data-format") == "ardupilot"
+    assert (
+        page.input_value("#use-with") == "ardupilot" and page.get_attribute("#use-file", "data-format") == "ardupilot"
+    )
     shot(page, "flight_log_six_verdict_ardupilot_1280")
     # An address that names nothing: a page, with the way back.
     answer = page.goto(server.url + "/nope")

@@ -41,8 +41,14 @@ def start_page(page, url):
 
 def upload_refused(page, url):
     page.goto(url + "/")
-    page.set_input_files("#log-file", {"name": "bad_line.csv", "mimeType": "text/csv",  # a bad line, named first
-                                       "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n"})
+    page.set_input_files(
+        "#log-file",
+        {
+            "name": "bad_line.csv",
+            "mimeType": "text/csv",  # a bad line, named first
+            "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n",
+        },
+    )
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#upload-msg:has-text('Upload refused')")
 
@@ -61,8 +67,14 @@ def upload_calibrated(page, url):
 def upload_pose_files(page, url):
     """A maker's six pose files chosen at once: the segments' File column and the files' notes."""
     page.goto(url + "/")
-    page.set_input_files("#log-file", [str(DATA / "real" / "mpu6050_pose_files" / f"{axis}_axis_{sign}.csv")
-                                       for axis in "xyz" for sign in ("pos", "neg")])
+    page.set_input_files(
+        "#log-file",
+        [
+            str(DATA / "real" / "mpu6050_pose_files" / f"{axis}_axis_{sign}.csv")
+            for axis in "xyz"
+            for sign in ("pos", "neg")
+        ],
+    )
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#result:not([hidden])")
     page.wait_for_selector("#downloads[data-ready=true]")
@@ -94,9 +106,14 @@ def upload_flight_log(page, url):
 
 def upload_column_map(page, url):
     page.goto(url + "/")
-    page.set_input_files("#log-file", {"name": "north_east_down.csv", "mimeType": "text/csv",
-                                       "buffer": b"north,east,down,pressure,humidity\n0.1,0.2,9.8,1013,45\n"
-                                                 b"0.1,0.2,9.8,1013,45\n"})  # five columns the data cannot name
+    page.set_input_files(
+        "#log-file",
+        {
+            "name": "north_east_down.csv",
+            "mimeType": "text/csv",
+            "buffer": b"north,east,down,pressure,humidity\n0.1,0.2,9.8,1013,45\n0.1,0.2,9.8,1013,45\n",
+        },
+    )  # five columns the data cannot name
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#columns-map:not([hidden])")
 
@@ -125,6 +142,7 @@ def wizard(query: str = ""):
     def open_wizard(page, url):
         page.goto(url + "/wizard" + query)
         page.wait_for_load_state("networkidle")
+
     return open_wizard
 
 
@@ -133,9 +151,12 @@ def docs(page, url):
     page.wait_for_selector(".opblock", timeout=20_000)
 
 
-def board(query: str = "?protocol=six&source=board", lines: tuple[str, ...] = (), baud: str | None = None, serial: bool = True):
+def board(
+    query: str = "?protocol=six&source=board", lines: tuple[str, ...] = (), baud: str | None = None, serial: bool = True
+):
     """A wizard page with a board (tests/e2e/board_shim.js, the stand-in for the Web Serial API)
     printing `lines` at 100 a second, connected at `baud`; without `serial`, a browser lacking the API."""
+
     def open_board(page, url):
         from tests.e2e.test_board import SHIM
 
@@ -156,6 +177,7 @@ def board(query: str = "?protocol=six&source=board", lines: tuple[str, ...] = ()
             page.wait_for_timeout(300)  # a redraw of the live view with its plot
         else:
             page.wait_for_selector("#board-msg:not([hidden])", timeout=6_000)
+
     return open_board
 
 
@@ -259,8 +281,10 @@ def layout_problems(page, state: str, width: int, shot_name: str | None = None) 
     fit = page.evaluate(OVERFLOW)
     if fit["scrollWidth"] > fit["innerWidth"]:
         worst = "\n".join(f"  {o['path']} reaches {o['right']} px ({o['text']!r})" for o in fit["offenders"])
-        problems.append(f"the page scrolls sideways: scrollWidth {fit['scrollWidth']} > {fit['innerWidth']} px;"
-                        f" furthest right:\n{worst or '  (no element outside a scrolling box)'}")
+        problems.append(
+            f"the page scrolls sideways: scrollWidth {fit['scrollWidth']} > {fit['innerWidth']} px;"
+            f" furthest right:\n{worst or '  (no element outside a scrolling box)'}"
+        )
     found = violations(page, AXE_OPTIONS.get(state))
     if found:
         problems.append("axe: " + describe(found))

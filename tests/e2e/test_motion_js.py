@@ -14,6 +14,7 @@ def js(page, server):
 
     def run(body: str):
         return page.evaluate(f"async () => {{ const m = await import('{MODULE}'); {body} }}")
+
     return run
 
 
@@ -42,8 +43,14 @@ def test_sign_detection(js):
       const r = [];
       for (const s of [a, b]) { r.push(s.motion(0, [0, 0, 9.8]), s.motion(999, [0, 0, 9.8]), s.motion(1000, [0, 0, 9.8])); }
       return r;""")
-    assert got == [None, None, {"convention": "ios", "detected_from": "platform"},
-                   None, None, {"convention": "w3c", "detected_from": "default"}]
+    assert got == [
+        None,
+        None,
+        {"convention": "ios", "detected_from": "platform"},
+        None,
+        None,
+        {"convention": "w3c", "detected_from": "default"},
+    ]
     assert js("return m.toW3C([1, -2, 3], 'ios')") == [-1, 2, -3]
 
 
@@ -64,6 +71,7 @@ FEED = """
 
 def feed(js, segments, capture_ms=1000):
     import json
+
     return js(FEED.replace("CAPTURE_MS", str(capture_ms)).replace("SEGMENTS", json.dumps(segments)))
 
 

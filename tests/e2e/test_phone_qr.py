@@ -11,8 +11,12 @@ from tests.live_server import LiveServer, free_port
 def test_https_start_page_shows_the_qr_code(browser, tmp_path):
     port = free_port()
     env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "HOST": "", "TRICAL_PUBLIC_URL": ""}
-    server = LiveServer(env, port=port, https_ca=tmp_path / "tls" / "cert.pem",
-                        command=[sys.executable, "-m", "app.cli", "serve", "--https", "--port", str(port)]).start()
+    server = LiveServer(
+        env,
+        port=port,
+        https_ca=tmp_path / "tls" / "cert.pem",
+        command=[sys.executable, "-m", "app.cli", "serve", "--https", "--port", str(port)],
+    ).start()
     # The browser has not been told to trust the self-signed certificate: the user's "proceed".
     context = browser.new_context(viewport={"width": 360, "height": 640}, ignore_https_errors=True)
     try:

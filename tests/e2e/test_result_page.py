@@ -64,10 +64,14 @@ def test_an_upload_moves_to_its_page_which_a_reload_keeps_and_the_history_finds(
         page.reload()  # the address keeps the result: the calibration's own page reads it back
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")
         assert page.text_content("#verdict-words") == words
-        assert f"Device bench-imu-{width}" in page.text_content("#cal-meta") and cal_id in page.text_content("#cal-meta")
+        assert f"Device bench-imu-{width}" in page.text_content("#cal-meta") and cal_id in page.text_content(
+            "#cal-meta"
+        )
         assert page.get_attribute("#use-file", "download").endswith(".json") or page.is_visible("#use-file")
         assert page.locator("#downloads a").count() >= 4  # every format, fetched
-        assert page.is_visible("#result-norms") and page.locator("#norm-chart svg circle").count() == 12  # as the wizard draws it
+        assert (
+            page.is_visible("#result-norms") and page.locator("#norm-chart svg circle").count() == 12
+        )  # as the wizard draws it
         page.click("#result-details summary")
         # One naming: the correction the person applies, M = X⁻¹ and o = y, then the model as fitted.
         page.wait_for_selector("#correction-acc-M td")
@@ -153,8 +157,9 @@ def test_a_session_s_calibration_opens_with_the_token_this_browser_kept_and_nowh
         assert page.is_hidden("#result")
         problems = layout_problems(page, "calibration_not_readable", 390)
         # The wizard keeps each calibration's session token (static/js/tokens.js): the same page opens it.
-        page.evaluate("([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))",
-                      [cal_id, token])
+        page.evaluate(
+            "([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))", [cal_id, token]
+        )
         page.reload()
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")
         assert page.is_hidden("#cal-access") and "six positions" in page.text_content("#cal-meta")
@@ -173,10 +178,16 @@ def test_with_api_keys_the_page_asks_for_the_key_and_reads_with_it(browser, tmp_
     s = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'keys.db'}", "TRICAL_API_KEYS": key}).start()
     context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
     try:
-        readings = [{"up": up, "mean": [9.80665 * v for v in vec]} for up, vec in
-                    zip(CANONICAL_SIX, ([-1, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1]))]
-        r = httpx.post(s.url + "/api/v1/calibrations", json={"method": "six_position", "readings": readings},
-                       headers={"Authorization": f"Bearer {key}"}, timeout=60)
+        readings = [
+            {"up": up, "mean": [9.80665 * v for v in vec]}
+            for up, vec in zip(CANONICAL_SIX, ([-1, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1]))
+        ]
+        r = httpx.post(
+            s.url + "/api/v1/calibrations",
+            json={"method": "six_position", "readings": readings},
+            headers={"Authorization": f"Bearer {key}"},
+            timeout=60,
+        )
         assert r.status_code == 201, r.text
         page = context.new_page()
         page.goto(f"{s.url}/c/{r.json()['id']}")
@@ -203,10 +214,17 @@ def test_the_firmware_use_shows_the_lines_to_paste_which_gcc_builds_and_runs(bro
     from tests.processes import run_ok
     import shutil
 
-    rec = httpx.post(server.url + "/api/v1/recordings", files={"file": ("board.csv", counts_log(8192, 7), "text/csv")},
-                     data={"chip": "mpu6050-4g"}, timeout=60).json()
-    cal = httpx.post(server.url + "/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"],
-                                                                 "device_id": "bench-board"}, timeout=60).json()
+    rec = httpx.post(
+        server.url + "/api/v1/recordings",
+        files={"file": ("board.csv", counts_log(8192, 7), "text/csv")},
+        data={"chip": "mpu6050-4g"},
+        timeout=60,
+    ).json()
+    cal = httpx.post(
+        server.url + "/api/v1/calibrations",
+        json={"method": "six_position", "recording_id": rec["id"], "device_id": "bench-board"},
+        timeout=60,
+    ).json()
     context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
     try:
         page = context.new_page()
@@ -224,15 +242,40 @@ def test_the_firmware_use_shows_the_lines_to_paste_which_gcc_builds_and_runs(bro
         # The lines go at file scope as pasted (their #include first), then a main of ours calls their function.
         assert f'#include "{header.name}"' in snippet.splitlines()[:2]
         raw = [int(v) for v in example_reading(snippet)]
-        (tmp_path / "paste.c").write_text("\n".join([
-            "#include <stdio.h>", snippet, "int main(void) {", f"    int16_t raw[3] = {{{', '.join(map(str, raw))}}};",
-            "    float f[3];", "    trical_acc_calibrate(raw, f);", '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);',
-            "    return 0;", "}", ""]))
-        run_ok([shutil.which("gcc"), *C_FLAGS, "-I", str(tmp_path), "-o", str(tmp_path / "paste"),
-                str(tmp_path / "paste.c")], timeout_s=60)
+        (tmp_path / "paste.c").write_text(
+            "\n".join(
+                [
+                    "#include <stdio.h>",
+                    snippet,
+                    "int main(void) {",
+                    f"    int16_t raw[3] = {{{', '.join(map(str, raw))}}};",
+                    "    float f[3];",
+                    "    trical_acc_calibrate(raw, f);",
+                    '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);',
+                    "    return 0;",
+                    "}",
+                    "",
+                ]
+            )
+        )
+        run_ok(
+            [
+                shutil.which("gcc"),
+                *C_FLAGS,
+                "-I",
+                str(tmp_path),
+                "-o",
+                str(tmp_path / "paste"),
+                str(tmp_path / "paste.c"),
+            ],
+            timeout_s=60,
+        )
         f = [float(v) for v in run_ok([str(tmp_path / "paste")], timeout_s=10).stdout.split()]
-        want = httpx.post(f"{server.url}/api/v1/calibrations/{cal['id']}/apply",
-                          json={"samples": [[v / 8192 for v in raw]]}, timeout=60).json()["samples"][0]
+        want = httpx.post(
+            f"{server.url}/api/v1/calibrations/{cal['id']}/apply",
+            json={"samples": [[v / 8192 for v in raw]]},
+            timeout=60,
+        ).json()["samples"][0]
         np.testing.assert_allclose(f, want, atol=2e-6)
         page.select_option("#use-with", "python")
         page.wait_for_function("document.querySelector('#use-snippet code').textContent.includes('np.array')")
@@ -252,8 +295,10 @@ def compass_log(tmp_path):
     t = np.arange(len(readings)) / 10.0
     path = tmp_path / "Raw Data.csv"
     header = '"Time (s)","Magnetic field x (µT)","Magnetic field y (µT)","Magnetic field z (µT)"'
-    path.write_text(header + "\n" + "\n".join(",".join(f"{v:.6f}" for v in row)
-                                              for row in np.column_stack([t, readings])) + "\n", encoding="utf-8")
+    path.write_text(
+        header + "\n" + "\n".join(",".join(f"{v:.6f}" for v in row) for row in np.column_stack([t, readings])) + "\n",
+        encoding="utf-8",
+    )
     return path
 
 
@@ -263,20 +308,32 @@ def test_the_compass_upload_takes_its_place_and_date_and_they_reach_the_model_s_
     strength typed instead is the field the model takes; half a place is named, not sent."""
     from app.geomag import reference_field
 
-    context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1,
-                          geolocation={"latitude": 60.1699, "longitude": 24.9384}, permissions=["geolocation"])
+    context = axe_context(
+        browser,
+        viewport={"width": 390, "height": 844},
+        device_scale_factor=1,
+        geolocation={"latitude": 60.1699, "longitude": 24.9384},
+        permissions=["geolocation"],
+    )
     try:
         page = context.new_page()
         sent = []
-        page.on("request", lambda r: sent.append(r.post_data_json)
-                if r.url.endswith("/api/v1/calibrations") and r.method == "POST" else None)
+        page.on(
+            "request",
+            lambda r: (
+                sent.append(r.post_data_json) if r.url.endswith("/api/v1/calibrations") and r.method == "POST" else None
+            ),
+        )
         page.goto(server.url + "/")
         page.set_input_files("#log-file", str(compass_log(tmp_path)))
         page.click("#upload-form button[type=submit]")
         page.wait_for_selector("#compass-place:not([hidden])")
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")  # the estimated field, at once
         notes = page.text_content("#result-warnings")
-        assert "give the Date of the turn, the Latitude and the Longitude (or the field's strength (µT))" in notes and "_deg" not in notes, notes
+        assert (
+            "give the Date of the turn, the Latitude and the Longitude (or the field's strength (µT))" in notes
+            and "_deg" not in notes
+        ), notes
         page.click("#place-here")
         page.wait_for_function("document.querySelector('#place-lat').value !== ''")
         assert (page.input_value("#place-lat"), page.input_value("#place-lon")) == ("60.1699", "24.9384")
@@ -286,8 +343,10 @@ def test_the_compass_upload_takes_its_place_and_date_and_they_reach_the_model_s_
         problems += layout_problems(page, "compass_place", 1280)
         assert not problems, "\n".join(problems)
         page.click("#compass-recording")
-        page.wait_for_function("document.querySelector('#result-metrics tr[data-key=field_source] td')"
-                               " && document.querySelector('#result-metrics tr[data-key=field_source] td').textContent === 'model'")
+        page.wait_for_function(
+            "document.querySelector('#result-metrics tr[data-key=field_source] td')"
+            " && document.querySelector('#result-metrics tr[data-key=field_source] td').textContent === 'model'"
+        )
         body = sent[-1]
         assert (body["latitude_deg"], body["longitude_deg"], body["date"]) == (60.1699, 24.9384, "2025-06-01")
         cal_id = CAL_PATH.search(page.url).group(1)
@@ -301,10 +360,14 @@ def test_the_compass_upload_takes_its_place_and_date_and_they_reach_the_model_s_
         page.fill("#place-lon", "")
         page.fill("#place-field", "51.25")
         page.click("#compass-recording")
-        page.wait_for_function("document.querySelector('#result-metrics tr[data-key=field_source] td').textContent === 'given'")
+        page.wait_for_function(
+            "document.querySelector('#result-metrics tr[data-key=field_source] td').textContent === 'given'"
+        )
         assert "latitude_deg" not in sent[-1] and sent[-1]["field_ut"] == 51.25
         cal_id = CAL_PATH.search(page.url).group(1)
-        assert httpx.get(f"{server.url}/api/v1/calibrations/{cal_id}", timeout=60).json()["metrics"]["field_ut"] == 51.25
+        assert (
+            httpx.get(f"{server.url}/api/v1/calibrations/{cal_id}", timeout=60).json()["metrics"]["field_ut"] == 51.25
+        )
         # Half a place is named and nothing is sent.
         n = len(sent)
         page.fill("#place-field", "")
@@ -333,26 +396,33 @@ def test_send_to_my_computer_without_web_share_shows_a_qr_of_a_short_link_the_co
     """The phone (no Web Share API) shows a QR code and a short link; the QR decodes to the link, which a
     second browser (the computer, keeping nothing) opens into the calibration's page with its files."""
     cal_id, token = session_calibration(server.url)
-    phone = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1,
-                        timezone_id="Europe/Berlin")
+    phone = axe_context(
+        browser, viewport={"width": width, "height": 844}, device_scale_factor=1, timezone_id="Europe/Berlin"
+    )
     computer = axe_context(browser, viewport={"width": 1280, "height": 900}, device_scale_factor=1)
     try:
         page = phone.new_page()
         page.add_init_script("delete Navigator.prototype.share; delete Navigator.prototype.canShare;")
         page.goto(server.url + "/")
-        page.evaluate("([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))", [cal_id, token])
+        page.evaluate(
+            "([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))", [cal_id, token]
+        )
         page.goto(f"{server.url}/c/{cal_id}")
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")
         page.click("#send-btn")
         page.wait_for_selector("#send-box:not([hidden])")
-        page.wait_for_function("document.querySelector('#send-qr').complete && document.querySelector('#send-qr').naturalWidth > 0")
+        page.wait_for_function(
+            "document.querySelector('#send-qr').complete && document.querySelector('#send-qr').naturalWidth > 0"
+        )
         url = page.text_content("#send-url")
         # A server on loopback: the link is at this machine's LAN address, which the computer can open.
         lan_url = f"http://{lan_addresses()[0]}:{server.port}"
         assert re.fullmatch(re.escape(lan_url) + r"/s/[2-9A-HJKMNP-Z]{10}", url), url
         assert decode_qr(page.locator("#send-qr").screenshot()) == url  # the QR read back is the link
         expires = page.text_content("#send-expires")  # a date, a time and the phone's zone (Berlin: CET)
-        assert re.fullmatch(r"\(it opens this calibration until \d{1,2} [A-Z][a-z]+ 20\d\d, \d\d:\d\d CET\)\.", expires), expires
+        assert re.fullmatch(
+            r"\(it opens this calibration until \d{1,2} [A-Z][a-z]+ 20\d\d, \d\d:\d\d CET\)\.", expires
+        ), expires
         problems = layout_problems(page, "send_fallback", width)
         assert not problems, "\n".join(problems)
 
@@ -376,16 +446,21 @@ def test_send_to_my_computer_hands_the_link_to_the_web_share_api(browser, server
     try:
         page = context.new_page()
         # A phone's share sheet, as the page calls it (navigator.share resolves once the person picked a target).
-        page.add_init_script("navigator.share = async (data) => { window.__shared = data; };"
-                             "navigator.canShare = () => true;")
+        page.add_init_script(
+            "navigator.share = async (data) => { window.__shared = data; };navigator.canShare = () => true;"
+        )
         page.goto(server.url + "/")
-        page.evaluate("([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))", [cal_id, token])
+        page.evaluate(
+            "([id, t]) => localStorage.setItem('trical.calibrations', JSON.stringify({[id]: t}))", [cal_id, token]
+        )
         page.goto(f"{server.url}/c/{cal_id}")
         page.wait_for_selector("#downloads[data-ready=true]", state="attached")
         page.click("#send-btn")
         page.wait_for_function("window.__shared !== undefined")
         shared = page.evaluate("window.__shared")
-        assert re.fullmatch(rf"http://{re.escape(lan_addresses()[0])}:{server.port}/s/[2-9A-HJKMNP-Z]{{10}}", shared["url"])
+        assert re.fullmatch(
+            rf"http://{re.escape(lan_addresses()[0])}:{server.port}/s/[2-9A-HJKMNP-Z]{{10}}", shared["url"]
+        )
         assert shared["text"] == page.text_content("#verdict-words")
         assert page.is_hidden("#send-box") and "Sent: the link opens it until" in page.text_content("#send-msg")
     finally:
@@ -399,14 +474,20 @@ def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_
 
     from app.calibration.firmware_model import DIRECTIONS
 
-    rec = httpx.post(server.url + "/api/v1/recordings", data={"acc_unit": "m/s^2"}, timeout=60,
-                     files=[("file", (f"{s}.csv", pose_bytes(s), "text/csv")) for s in ORDER]).json()
-    boards = httpx.post(server.url + "/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]},
-                        timeout=60).json()
+    rec = httpx.post(
+        server.url + "/api/v1/recordings",
+        data={"acc_unit": "m/s^2"},
+        timeout=60,
+        files=[("file", (f"{s}.csv", pose_bytes(s), "text/csv")) for s in ORDER],
+    ).json()
+    boards = httpx.post(
+        server.url + "/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]}, timeout=60
+    ).json()
     e = np.sin(np.radians(1.0))  # every pair of axes 2° from orthogonal, nothing else
     sheared = 9.80665 * DIRECTIONS @ np.linalg.inv([[1, e, e], [e, 1, e], [e, e, 1.0]]).T
-    shear = httpx.post(server.url + "/api/v1/calibrations", json={"method": "nonorthogonal", "means": sheared.tolist()},
-                       timeout=60).json()
+    shear = httpx.post(
+        server.url + "/api/v1/calibrations", json={"method": "nonorthogonal", "means": sheared.tolist()}, timeout=60
+    ).json()
     assert boards["verdict"]["apply"] and shear["verdict"]["apply"]
     page.goto(f"{server.url}/c/{boards['id']}")
     page.wait_for_selector("#downloads[data-ready=true]", state="attached")
@@ -416,7 +497,8 @@ def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_
         "With these offsets and scales ArduPilot reaches at most 0.00 mg on the 6 still readings (6 numbers fit 6 "
         "readings exactly) and 3.68 mg in any direction; raw 65.1 mg, trical's full model 0.96 mg. trical's model "
         "also turns the axes 2.8° (the table's tilt or the board's mounting), which no offset or scale holds: "
-        "ArduPilot's level calibration takes the tilt (AHRS_TRIM_X and AHRS_TRIM_Y).")
+        "ArduPilot's level calibration takes the tilt (AHRS_TRIM_X and AHRS_TRIM_Y)."
+    )
     shot(page, "use_ardupilot_pose_files")
     page.goto(f"{server.url}/c/{shear['id']}")
     page.wait_for_selector("#downloads[data-ready=true]", state="attached")
@@ -424,7 +506,8 @@ def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_
     assert page.is_hidden("#use-file") and page.is_hidden("#use-firmware")
     assert page.text_content("#use-problem") == (
         "PX4: PX4's offsets and scales would leave 34.7 mg on the 14 still readings, no better than raw (33.7 mg): "
-        "use the full correction (M and o) instead. Pick another use, or a format below.")
+        "use the full correction (M and o) instead. Pick another use, or a format below."
+    )
     assert page.locator("#downloads a[data-format=px4]").count() == 1  # still listed among every format
     shot(page, "use_px4_not_offered")
     assert page.errors == []

@@ -13,8 +13,14 @@ from tests.e2e.conftest import shot
 
 
 def read_matrix(page, selector):
-    return np.array([[float(td) for td in row] for row in page.eval_on_selector_all(
-        f"{selector} tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))")])
+    return np.array(
+        [
+            [float(td) for td in row]
+            for row in page.eval_on_selector_all(
+                f"{selector} tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))"
+            )
+        ]
+    )
 
 
 def test_paste_six_readings(page, server):
@@ -35,8 +41,13 @@ def test_paste_six_readings(page, server):
     # The verdict first, then the one file for the use chosen (a phone app by default), then every format.
     page.wait_for_selector("#downloads[data-ready=true]")
     words = page.text_content("#verdict-words")
-    assert words.startswith("Apply it: error on the 6 poses fitted ") and page.get_attribute("#verdict", "data-kind") == "apply"
-    assert page.get_attribute("#use-file", "data-format") == "json" and "M · (reading − o)" in page.text_content("#use-how")
+    assert (
+        words.startswith("Apply it: error on the 6 poses fitted ")
+        and page.get_attribute("#verdict", "data-kind") == "apply"
+    )
+    assert page.get_attribute("#use-file", "data-format") == "json" and "M · (reading − o)" in page.text_content(
+        "#use-how"
+    )
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href])")
     assert [name for name, _ in links] == ["JSON", "C header", "ArduPilot", "PX4", "YAML", "CSV"]
     for name, href in links:  # every link is a real export of this calibration, fetched by the page
@@ -95,7 +106,9 @@ def test_an_unrecognised_header_is_mapped_by_hand_and_stale_output_is_cleared(pa
     renamed = tmp_path / "north_east_down.csv"
     lines = (DATA / "six_orientations_150hz.csv").read_text().splitlines()
     # Five columns (pressure and humidity beside the accelerometer): a layout the data cannot name either.
-    renamed.write_text("\n".join(["north,east,down,pressure,humidity"] + [ln + ",1013.2,45" for ln in lines[1:]]) + "\n")
+    renamed.write_text(
+        "\n".join(["north,east,down,pressure,humidity"] + [ln + ",1013.2,45" for ln in lines[1:]]) + "\n"
+    )
     page.set_input_files("#log-file", str(renamed))
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#columns-map:not([hidden])")
@@ -133,8 +146,10 @@ def test_upload_a_headerless_log_with_its_columns(page, server):
 
 def test_a_bad_line_is_named_before_any_question_of_columns(page, server):
     page.goto(server.url + "/")
-    page.set_input_files("#log-file", {"name": "bad_line.csv", "mimeType": "text/csv",
-                                       "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n"})
+    page.set_input_files(
+        "#log-file",
+        {"name": "bad_line.csv", "mimeType": "text/csv", "buffer": b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n"},
+    )
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#upload-msg:has-text('Upload refused')")
     assert "line 3, column 'acc_y': 'abc' is not a number" in page.text_content("#upload-msg")
@@ -179,9 +194,17 @@ def upload_pose_files(page, server, paths):
 
 def test_one_file_per_pose_chosen_at_once_is_one_calibration(page, server):
     upload_pose_files(page, server, [POSE_FILES / f"{s}.csv" for s in POSE_ORDER])
-    rows = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))")
-    assert [(r[2], r[4]) for r in rows] == [("+x", "x_axis_pos.csv"), ("-x", "x_axis_neg.csv"), ("+y", "y_axis_pos.csv"),
-                                            ("-y", "y_axis_neg.csv"), ("+z", "z_axis_pos.csv"), ("-z", "z_axis_neg.csv")]
+    rows = page.eval_on_selector_all(
+        "#segments-table tbody tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))"
+    )
+    assert [(r[2], r[4]) for r in rows] == [
+        ("+x", "x_axis_pos.csv"),
+        ("-x", "x_axis_neg.csv"),
+        ("+y", "y_axis_pos.csv"),
+        ("-y", "y_axis_neg.csv"),
+        ("+z", "z_axis_pos.csv"),
+        ("-z", "z_axis_neg.csv"),
+    ]
     assert page.locator("#segments-table th.file-col").is_visible()
     page.wait_for_selector("#result:not([hidden])")
     page.wait_for_selector("#downloads[data-ready=true]")
@@ -190,9 +213,19 @@ def test_one_file_per_pose_chosen_at_once_is_one_calibration(page, server):
     choice = page.text_content("#result-choice")  # the method named once, then why
     assert choice.startswith("Method: six positions (accelerometer), chosen because the 6 poses are the six axis")
     assert choice.count("six positions (accelerometer)") == 1, choice
-    readings = page.eval_on_selector_all("#result-readings tbody tr", "rows => rows.map(r => [r.cells[0].textContent, r.cells[3].textContent])")
-    assert sorted(map(tuple, readings)) == sorted([("+x", "x_axis_pos.csv"), ("-x", "x_axis_neg.csv"), ("+y", "y_axis_pos.csv"),
-                                       ("-y", "y_axis_neg.csv"), ("+z", "z_axis_pos.csv"), ("-z", "z_axis_neg.csv")])
+    readings = page.eval_on_selector_all(
+        "#result-readings tbody tr", "rows => rows.map(r => [r.cells[0].textContent, r.cells[3].textContent])"
+    )
+    assert sorted(map(tuple, readings)) == sorted(
+        [
+            ("+x", "x_axis_pos.csv"),
+            ("-x", "x_axis_neg.csv"),
+            ("+y", "y_axis_pos.csv"),
+            ("-y", "y_axis_neg.csv"),
+            ("+z", "z_axis_pos.csv"),
+            ("-z", "z_axis_neg.csv"),
+        ]
+    )
     # Nothing to say of the files but how their time column was read.
     assert page.text_content("#segments-notes") == "time column 'Timestamp' read in ms (from its step)"
     assert page.errors == []
@@ -208,7 +241,9 @@ def test_a_zip_of_pose_files_with_a_misnamed_one_is_labelled_by_the_data(page, s
         for s in POSE_ORDER:
             zf.write(POSE_FILES / f"{s}.csv", f"poses/{names[s]}")
     upload_pose_files(page, server, [path])
-    rows = page.eval_on_selector_all("#segments-table tbody tr", "rows => rows.map(r => [r.cells[2].textContent, r.cells[4].textContent])")
+    rows = page.eval_on_selector_all(
+        "#segments-table tbody tr", "rows => rows.map(r => [r.cells[2].textContent, r.cells[4].textContent])"
+    )
     assert rows[4:] == [["+z", "z_axis_neg.csv"], ["-z", "z_axis_pos.csv"]]
     notes = page.text_content("#segments-notes")
     assert "z_axis_neg.csv: its name says -z up, but its still readings point +z up" in notes
@@ -238,8 +273,14 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
     gyr = simulate_still(rng, n_samples=n, sampling_rate_hz=fs, N=1e-3, B=1e-4, K=3e-4)
     acc = simulate_still(rng, n_samples=n, sampling_rate_hz=fs, N=2e-3, B=3e-4, K=1e-3, bias=[0.1, -0.2, 9.81])
     path = tmp_path / "still.csv"
-    np.savetxt(path, np.column_stack([np.arange(n) / fs, acc, gyr]), delimiter=",", comments="", fmt="%.9g",
-               header="time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z")
+    np.savetxt(
+        path,
+        np.column_stack([np.arange(n) / fs, acc, gyr]),
+        delimiter=",",
+        comments="",
+        fmt="%.9g",
+        header="time_s,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z",
+    )
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(path))
     page.click("#upload-form button[type=submit]")
@@ -262,10 +303,18 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
     page.wait_for_selector("#downloads[data-ready=true]")
     assert page.get_attribute("#verdict", "data-kind") == "figures"
     assert page.text_content("#verdict-words").startswith("Use these figures in your filter")
-    assert page.get_attribute("#use-file", "data-format") == "kalibr" and "--imu imu.yaml" in page.text_content("#use-how")
+    assert page.get_attribute("#use-file", "data-format") == "kalibr" and "--imu imu.yaml" in page.text_content(
+        "#use-how"
+    )
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href])")
-    assert [name for name, _ in links] == ["Kalibr imu.yaml", "OpenVINS", "VINS-Fusion", "JSON", "CSV (Allan table)",
-                                           "Allan plot (SVG)"]
+    assert [name for name, _ in links] == [
+        "Kalibr imu.yaml",
+        "OpenVINS",
+        "VINS-Fusion",
+        "JSON",
+        "CSV (Allan table)",
+        "Allan plot (SVG)",
+    ]
     for name, href in links:  # every link is a real export of this characterisation, fetched by the page
         with page.expect_download() as info:
             page.click(f"#downloads a:text-is('{name}')")
@@ -309,8 +358,10 @@ def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_pat
     n = len(six.samples)
     mag, _, _ = simulate_session(7, n=n)
     path = tmp_path / "board.csv"
-    rows = [f"{i / 50:.2f}," + ",".join(f"{v:.5f}" for v in a) + "," + ",".join(f"{round(v / 0.15)}" for v in m)
-            for i, (a, m) in enumerate(zip(six.samples, mag))]
+    rows = [
+        f"{i / 50:.2f}," + ",".join(f"{v:.5f}" for v in a) + "," + ",".join(f"{round(v / 0.15)}" for v in m)
+        for i, (a, m) in enumerate(zip(six.samples, mag))
+    ]
     path.write_text("\n".join(["t,aX (g),aY (g),aZ (g),mx,my,mz"] + rows) + "\n")
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(path))
@@ -339,8 +390,9 @@ def test_the_units_each_sensor_shows_and_a_part_for_counts(page, server, tmp_pat
     page.select_option("#chip-mag", "ak8963-16bit")
     assert page.input_value("#unit-mag") == "raw"
     page.click("#units-go")
-    page.wait_for_function("() => document.querySelector('#unit-mag') && "
-                           "document.querySelector('#unit-mag').value === 'uT'")
+    page.wait_for_function(
+        "() => document.querySelector('#unit-mag') && document.querySelector('#unit-mag').value === 'uT'"
+    )
     assert page.input_value("#chip-mag") == "ak8963-16bit" and page.input_value("#unit-acc") == "m/s^2"
     warnings = page.eval_on_selector_all("#units-warnings li", "ls => ls.map(l => l.textContent)")
     assert not any("magnetometer" in w for w in warnings)
@@ -365,7 +417,10 @@ def test_an_upload_refused_for_its_unit_names_the_page_s_menus_and_shows_them(pa
     page.click("#upload-form button[type=submit]")
     page.wait_for_selector("#upload-msg.bad")
     said = page.text_content("#upload-msg")
-    assert said.startswith("Upload refused: ") and "the accelerometer's unit menu (in “Units, as the data show them”)" in said
+    assert (
+        said.startswith("Upload refused: ")
+        and "the accelerometer's unit menu (in “Units, as the data show them”)" in said
+    )
     assert "part menu" in said and not re.search(r"acc_unit|lsb_per_g|\bchip\b|--\w", said), said
     page.wait_for_selector("#units:not([hidden])")
     menus = page.eval_on_selector_all("#units-list select[id^=unit-]", "ss => ss.map(s => [s.id, s.value])")
@@ -373,7 +428,9 @@ def test_an_upload_refused_for_its_unit_names_the_page_s_menus_and_shows_them(pa
     shot(page, "upload_refused_for_its_unit")
     page.select_option("#unit-acc", "g")
     page.click("#units-go")  # read again with the unit chosen: still no unit fits, and the page still says why
-    page.wait_for_function("() => /Upload refused: .*unit menu .*said g\\)/.test(document.querySelector('#upload-msg').textContent)")
+    page.wait_for_function(
+        "() => /Upload refused: .*unit menu .*said g\\)/.test(document.querySelector('#upload-msg').textContent)"
+    )
     assert page.locator("#units").is_visible()
     page.errors.clear()  # the browser logs each 422
 
@@ -398,13 +455,19 @@ def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_besi
     assert "only over HTTPS" in page.text_content("#phone-https")
     # The upload's options show once a file is chosen, each only when it applies to it.
     assert page.locator("#options").is_hidden()
-    page.set_input_files("#log-file", [str(DATA / "real" / "mpu6050_pose_files" / f) for f in ("x_axis_pos.csv", "z_axis_neg.csv")])
+    page.set_input_files(
+        "#log-file", [str(DATA / "real" / "mpu6050_pose_files" / f) for f in ("x_axis_pos.csv", "z_axis_neg.csv")]
+    )
     page.wait_for_timeout(300)
     assert page.locator("#options").is_hidden()  # a time column, a header, no Core Motion names: nothing to choose
     page.set_input_files("#log-file", str(DATA / "six_orientations_150hz.csv"))
     page.click("#options-summary")
     assert page.text_content("#options-summary") == "Options: sampling rate"
-    assert page.locator("#log-rate").is_visible() and page.locator("#log-columns").is_hidden() and page.locator("#log-sign").is_hidden()
+    assert (
+        page.locator("#log-rate").is_visible()
+        and page.locator("#log-columns").is_hidden()
+        and page.locator("#log-sign").is_hidden()
+    )
     page.set_input_files("#log-file", str(DATA / "formats" / "headerless_imu_comma.csv"))
     expect_text = "Options: sampling rate, column names, sign"
     page.wait_for_function("(t) => document.querySelector('#options-summary').textContent === t", arg=expect_text)
@@ -429,8 +492,10 @@ def test_one_file_per_sensor_chosen_together_is_one_recording(page, server):
     folder = DATA / "real" / "corpus" / "iphone_heading_per_sensor_files"
     upload_pose_files(page, server, [folder / f for f in ("accelerometer.csv", "gyroscope.csv", "magnetometer.csv")])
     notes = page.text_content("#segments-notes")
-    assert "one recording in 3 files, one per sensor: accelerometer.csv the accelerometer (g), gyroscope.csv the " \
-           "gyroscope (rad/s), magnetometer.csv the magnetometer (raw)" in notes
+    assert (
+        "one recording in 3 files, one per sensor: accelerometer.csv the accelerometer (g), gyroscope.csv the "
+        "gyroscope (rad/s), magnetometer.csv the magnetometer (raw)" in notes
+    )
     assert "merged on the clock of accelerometer.csv" in notes
     assert page.locator("#segments-table th.file-col").is_hidden()  # one recording, not files of poses
 
@@ -446,7 +511,9 @@ def test_json_files_are_offered_read_and_the_betaflight_export_is_refused_in_its
     untimed.write_text(json.dumps([[0.01, -0.02, 0.98]] * 300))
     page.set_input_files("#log-file", str(untimed))
     page.wait_for_function("() => document.querySelector('#options-summary').textContent === 'Options: sampling rate'")
-    export = DATA / "real" / "corpus" / "betaflight_mag_characterization_model" / "characterization_model_2026-06-26.json"
+    export = (
+        DATA / "real" / "corpus" / "betaflight_mag_characterization_model" / "characterization_model_2026-06-26.json"
+    )
     page.set_input_files("#log-file", str(export))
     page.click("#upload-form button[type=submit]")
     page.wait_for_function("() => document.querySelector('#upload-msg').textContent.startsWith('Upload refused')")

@@ -20,8 +20,10 @@ from tests.live_server import LiveServer
 
 G = 9.80665  # the session's default gravity
 POSES = ["-x", "+x", "-y", "+y", "-z", "+z"]
-IPHONE_UA = ("Mozilla/5.0 (iPhone; CPU iPhone OS 17_5 like Mac OS X) AppleWebKit/605.1.15 "
-             "(KHTML, like Gecko) Version/17.5 Mobile/15E148 Safari/604.1")
+IPHONE_UA = (
+    "Mozilla/5.0 (iPhone; CPU iPhone OS 17_5 like Mac OS X) AppleWebKit/605.1.15 "
+    "(KHTML, like Gecko) Version/17.5 Mobile/15E148 Safari/604.1"
+)
 # A phone's accelerometer as the test knows it: m = X a + y, X off the identity, y off zero.
 X_TRUE = np.array([[1.012, 0.011, -0.018], [-0.014, 0.991, 0.023], [0.016, -0.021, 1.006]])
 Y_TRUE = np.array([0.137, -0.211, 0.284])
@@ -54,7 +56,9 @@ class Motion:
 
     def send(self, sensor, xyz):
         x, y, z = (float(v) for v in xyz)
-        self.cdp.send("Emulation.setSensorOverrideReadings", {"type": sensor, "reading": {"xyz": {"x": x, "y": y, "z": z}}})
+        self.cdp.send(
+            "Emulation.setSensorOverrideReadings", {"type": sensor, "reading": {"xyz": {"x": x, "y": y, "z": z}}}
+        )
 
     def acc(self, xyz):
         self.send("accelerometer", xyz)
@@ -72,7 +76,9 @@ def captures_sent(page) -> list[dict]:
 
 def stored_session(page, server) -> dict:
     saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.six')"))
-    r = page.request.get(f"{server.url}/api/v1/sessions/{saved['id']}", headers={"Authorization": f"Bearer {saved['token']}"})
+    r = page.request.get(
+        f"{server.url}/api/v1/sessions/{saved['id']}", headers={"Authorization": f"Bearer {saved['token']}"}
+    )
     assert r.status == 200, r.text()
     return r.json()
 
@@ -172,8 +178,9 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
         assert float(calibrated) == pytest.approx(np.linalg.norm(expected.apply(m[None])[0]), abs=1e-4)
     assert page.locator("#norm-chart svg circle").count() == 12
     # The gyroscope's bias over the still captures (app.calibration.gyro_bias), and its export.
-    assert page.text_content("#result-gyro") == ("Gyroscope bias: 0.300, -0.200, 0.100 °/s ± 0.000, 0.000, 0.000 °/s "
-                                                 "(95 %, 6 still captures)")
+    assert page.text_content("#result-gyro") == (
+        "Gyroscope bias: 0.300, -0.200, 0.100 °/s ± 0.000, 0.000, 0.000 °/s (95 %, 6 still captures)"
+    )
     np.testing.assert_allclose(doc["gyroscope"]["bias"], np.radians(gyro_deg_s), rtol=1e-6)
 
     # What the page sent: raw samples in order, W3C by default off Apple devices, the gyroscope too.
@@ -190,9 +197,11 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
 
     per_pose = elapsed / 6
     estimate = elapsed + 6 * (5 - 1)  # each pose captures 4 s longer with capture_s=5
-    note = (f"six-pose wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
-            f"({per_pose:.1f} s a pose, the phone moved instantly); capture_s=5: {estimate:.1f} s of "
-            f"waiting, {estimate + 6 * 8:.0f} s with 8 s for a person to turn the phone each time")
+    note = (
+        f"six-pose wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
+        f"({per_pose:.1f} s a pose, the phone moved instantly); capture_s=5: {estimate:.1f} s of "
+        f"waiting, {estimate + 6 * 8:.0f} s with 8 s for a person to turn the phone each time"
+    )
     print("\n" + note)
     ARTIFACTS.mkdir(exist_ok=True)
     (ARTIFACTS / "wizard_timing.txt").write_text(note + "\n")
@@ -261,7 +270,10 @@ def test_a_reload_resumes_with_the_done_poses(page, server):
     page.click("#start-over")
     page.click("#start-over-yes")  # the second step: discard the session; the calibration stays findable
     page.wait_for_selector("#start-btn")
-    assert page.text_content("#start-btn") == "Start" and page.evaluate("localStorage.getItem('trical.wizard.six')") is None
+    assert (
+        page.text_content("#start-btn") == "Start"
+        and page.evaluate("localStorage.getItem('trical.wizard.six')") is None
+    )
     assert page.evaluate("Object.keys(JSON.parse(localStorage.getItem('trical.calibrations')))") == [cal_path[3:]]
     assert page.errors == []
 
@@ -295,11 +307,15 @@ def test_no_motion_events_suggest_an_upload(page, server):
     assert_only_its_words(page, "phone")
 
 
-@pytest.mark.parametrize("user_agent, orientation, negate, sign", [
-    (IPHONE_UA, None, True, {"convention": "ios", "detected_from": "platform"}),
-    (None, (0.0, 0.0), True, {"convention": "ios", "detected_from": "orientation"}),
-    (IPHONE_UA, (0.0, 0.0), False, {"convention": "w3c", "detected_from": "orientation"}),
-], ids=["iphone-platform", "orientation-says-ios", "orientation-beats-platform"])
+@pytest.mark.parametrize(
+    "user_agent, orientation, negate, sign",
+    [
+        (IPHONE_UA, None, True, {"convention": "ios", "detected_from": "platform"}),
+        (None, (0.0, 0.0), True, {"convention": "ios", "detected_from": "orientation"}),
+        (IPHONE_UA, (0.0, 0.0), False, {"convention": "w3c", "detected_from": "orientation"}),
+    ],
+    ids=["iphone-platform", "orientation-says-ios", "orientation-beats-platform"],
+)
 def test_ios_sign_convention(browser, server, user_agent, orientation, negate, sign):
     context = browser.new_context(viewport={"width": 360, "height": 640}, user_agent=user_agent)
     try:
@@ -347,15 +363,19 @@ def test_keyboard_reaches_start_and_redo_with_names(page, server):
 def test_insecure_context_asks_for_https(browser, server):
     # A name other than localhost over plain HTTP is not a secure context: a phone on the LAN sees
     # http://<computer>:8000 that way. A second Chromium resolves trical.test to the test server.
-    b = browser.browser_type.launch(executable_path=CHROMIUM,
-                                    args=CHROMIUM_ARGS + ["--host-resolver-rules=MAP trical.test 127.0.0.1"],
-                                    timeout=LAUNCH_TIMEOUT_MS)
+    b = browser.browser_type.launch(
+        executable_path=CHROMIUM,
+        args=CHROMIUM_ARGS + ["--host-resolver-rules=MAP trical.test 127.0.0.1"],
+        timeout=LAUNCH_TIMEOUT_MS,
+    )
     try:
         page = b.new_page(viewport={"width": 360, "height": 640})
         page.goto(f"http://trical.test:{server.port}/wizard")
         assert page.evaluate("window.isSecureContext") is False
         problem = page.locator("#problem")
-        expect(problem).to_contain_text("Motion sensors need HTTPS: run trical serve --https and open the https address")
+        expect(problem).to_contain_text(
+            "Motion sensors need HTTPS: run trical serve --https and open the https address"
+        )
         assert page.get_attribute("#problem a", "href") == "/"
         assert page.locator("#start-btn").is_hidden()
         shot(page, "wizard_insecure_context")
@@ -364,7 +384,9 @@ def test_insecure_context_asks_for_https(browser, server):
 
 
 def test_api_key_is_asked_for(browser, tmp_path):
-    server = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "TRICAL_API_KEYS": "k-123"}).start()
+    server = LiveServer(
+        {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}", "TRICAL_API_KEYS": "k-123"}
+    ).start()
     context = browser.new_context(viewport={"width": 360, "height": 640})
     try:
         page = context.new_page()
@@ -418,7 +440,8 @@ def test_the_next_pose_is_named_in_words_with_its_large_picture_before_the_phone
         motion.acc(reading("+z"))
         wait_captured(page, "+z")
         expect(page.locator("#instruction")).to_contain_text(
-            "Flat, screen up: captured. Next: put the phone flat, screen down (or on any side still to do).")
+            "Flat, screen up: captured. Next: put the phone flat, screen down (or on any side still to do)."
+        )
         motion.acc((3.0, 3.0, 8.8))  # picked up: the next pose is pictured before it is turned
         expect(page.locator("#live-pose")).to_have_attribute("data-pose", "next -z")
         assert page.text_content("#live-pose-words") == "Next: flat, screen down"

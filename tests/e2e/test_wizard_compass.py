@@ -20,8 +20,10 @@ from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot
 from tests.e2e.source_words import assert_only_its_words
 
 WIDTHS = (320, 390, 1280)
-WIDEST = ("() => [...document.querySelectorAll('body *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 0.5)"
-          ".slice(-3).map((e) => `${e.tagName}#${e.id}.${e.className} ${e.textContent.slice(0, 40)}`).join(' | ')")
+WIDEST = (
+    "() => [...document.querySelectorAll('body *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 0.5)"
+    ".slice(-3).map((e) => `${e.tagName}#${e.id}.${e.className} ${e.textContent.slice(0, 40)}`).join(' | ')"
+)
 MAG_FLAGS = ["--enable-features=GenericSensorExtraClasses", "--enable-generic-sensor-extra-classes"]
 HELSINKI = {"latitude": 60.17, "longitude": 24.94}
 B_TRUE = np.array([23.5, -41.2, 12.8])
@@ -54,15 +56,18 @@ def shots(page, name: str) -> None:
     for width in WIDTHS:
         page.set_viewport_size({"width": width, "height": 720})
         shot(page, f"wizard_compass_{name}_{width}")
-        assert page.evaluate("() => document.documentElement.scrollWidth <= innerWidth"), \
+        assert page.evaluate("() => document.documentElement.scrollWidth <= innerWidth"), (
             f"{name} scrolls sideways at {width} px: {page.evaluate(WIDEST)}"
+        )
     page.set_viewport_size({"width": 390, "height": 720})
 
 
 @pytest.fixture(scope="module")
 def mag_browser(browser):
     """A second Chromium, from the same Playwright, with the Generic Sensor API's extra classes on."""
-    b = browser.browser_type.launch(executable_path=CHROMIUM, args=[*CHROMIUM_ARGS, *MAG_FLAGS], timeout=LAUNCH_TIMEOUT_MS)
+    b = browser.browser_type.launch(
+        executable_path=CHROMIUM, args=[*CHROMIUM_ARGS, *MAG_FLAGS], timeout=LAUNCH_TIMEOUT_MS
+    )
     yield b
     b.close()
 
@@ -87,7 +92,11 @@ def magnetometer(page):
 
     def feed(m):
         x, y, z = (float(v) for v in m)
-        cdp.send("Emulation.setSensorOverrideReadings", {"type": "magnetometer", "reading": {"xyz": {"x": x, "y": y, "z": z}}})
+        cdp.send(
+            "Emulation.setSensorOverrideReadings",
+            {"type": "magnetometer", "reading": {"xyz": {"x": x, "y": y, "z": z}}},
+        )
+
     return feed
 
 
@@ -129,8 +138,10 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     seen = []
     for k, m in enumerate(readings[1:], start=2):
         feed(m)
-        page.wait_for_function(f"() => Number(document.querySelector('#compass-coverage').dataset.count) >= {k}"
-                               " || !document.querySelector('#result').hidden")
+        page.wait_for_function(
+            f"() => Number(document.querySelector('#compass-coverage').dataset.count) >= {k}"
+            " || !document.querySelector('#result').hidden"
+        )
         if k % 20 == 0 and page.is_hidden("#result"):
             page.wait_for_timeout(200)  # the sphere is redrawn at most every 150 ms
             seen.append(coverage_of(page))
@@ -155,7 +166,9 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     page.wait_for_selector("#downloads[data-ready=true]")
     with page.expect_download() as info:
         page.click("#downloads a[data-format='json']")
-    full = page.request.get(f"{server.url}/api/v1/calibrations/{json.loads(open(info.value.path()).read())['id']}").json()
+    full = page.request.get(
+        f"{server.url}/api/v1/calibrations/{json.loads(open(info.value.path()).read())['id']}"
+    ).json()
     # The verdict first, in µT on new directions; the file for the use chosen (a phone app: JSON) under it.
     assert page.text_content("#verdict-words") == full["verdict"]["words"]
     assert full["verdict"]["words"].startswith("Apply it: error of the field strength on new directions ")
@@ -189,8 +202,10 @@ def test_a_phyphox_upload_shows_the_sphere_before_and_after(page, server, tmp_pa
     t = np.arange(len(readings)) / 10.0
     path = tmp_path / "Raw Data.csv"
     header = '"Time (s)","Magnetic field x (µT)","Magnetic field y (µT)","Magnetic field z (µT)"'
-    path.write_text(header + "\n" + "\n".join(",".join(f"{v:.6f}" for v in row)
-                                              for row in np.column_stack([t, readings])) + "\n", encoding="utf-8")
+    path.write_text(
+        header + "\n" + "\n".join(",".join(f"{v:.6f}" for v in row) for row in np.column_stack([t, readings])) + "\n",
+        encoding="utf-8",
+    )
     page.goto(server.url + "/")
     page.set_input_files("#log-file", str(path))
     page.click("#upload-form button[type=submit]")

@@ -92,8 +92,10 @@ class Cube:
         axis = turn_axis_in_sensor_frame(k_from, label)
         peak = PEAK_DEG_S + 3.0 * (len(self.turns) % 11)
         self.acc = self.acc if then_acc is None else then_acc
-        played = self.page.evaluate("([axis, peak, then]) => (window.__phone.turn(axis, peak, then), window.__phone.turns.length)",
-                                    [[float(v) for v in axis], peak, [float(v) for v in self.acc]])
+        played = self.page.evaluate(
+            "([axis, peak, then]) => (window.__phone.turn(axis, peak, then), window.__phone.turns.length)",
+            [[float(v) for v in axis], peak, [float(v) for v in self.acc]],
+        )
         self.page.wait_for_function("(n) => window.__phone.turns.length > n", arg=played, timeout=15_000)
         done = self.page.evaluate("() => window.__phone.turns.at(-1)")
         self.turns.append({"label": label, "seconds": done["ms"] / 1000.0, "angle_deg": done["angle"]})
@@ -108,13 +110,16 @@ def wait_captured(page, n: int, timeout=30_000):
         page.wait_for_selector(COUNT.format(n), state="attached", timeout=timeout)
     except Exception as exc:  # say what the page said instead
         said = {sel: page.text_content(sel) for sel in ("#instruction", "#status", "#cube-count", "#turn-alert")}
-        raise AssertionError(f"position {n} was not captured within {timeout / 1000:g} s; the page says {said}") from exc
+        raise AssertionError(
+            f"position {n} was not captured within {timeout / 1000:g} s; the page says {said}"
+        ) from exc
 
 
 def saved_session(page, server) -> dict:
     saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.cube24')"))
-    r = page.request.get(f"{server.url}/api/v1/sessions/{saved['id']}",
-                         headers={"Authorization": f"Bearer {saved['token']}"})
+    r = page.request.get(
+        f"{server.url}/api/v1/sessions/{saved['id']}", headers={"Authorization": f"Bearer {saved['token']}"}
+    )
     assert r.status == 200, r.text()
     return r.json()
 
@@ -163,8 +168,10 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
             assert turn.get_attribute("data-position") == str(k - 1)
             assert turn.get_attribute("data-turn") == CUBE24_ROTATIONS[k - 2]
             assert page.locator("#cube-target svg").get_attribute("data-position") == str(k)
-            words = {"z+": "turn the cube a quarter counter-clockwise (seen from above) on the plane",
-                     "x+": "tip the cube 90° over the jig edge (about x, its top moving towards −y)"}
+            words = {
+                "z+": "turn the cube a quarter counter-clockwise (seen from above) on the plane",
+                "x+": "tip the cube 90° over the jig edge (about x, its top moving towards −y)",
+            }
             assert words[CUBE24_ROTATIONS[k - 2]] in page.text_content("#instruction")
             shot(page, f"cube_turn_into_{k}")
         cube.move_into(page, k)
@@ -176,7 +183,9 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     for width in (320, 390, 1280):  # no sideways scroll of the result at any width (its tables scroll in their box)
         page.set_viewport_size({"width": width, "height": 800})
         shot(page, f"cube_result_{width}")
-        assert page.evaluate("() => document.documentElement.scrollWidth <= innerWidth"), f"the result scrolls at {width} px"
+        assert page.evaluate("() => document.documentElement.scrollWidth <= innerWidth"), (
+            f"the result scrolls at {width} px"
+        )
     page.set_viewport_size({"width": 360, "height": 640})
 
     # The server checked every turn by integrating the page's gyroscope samples (Särkkä et al. eq. (2)).
@@ -195,19 +204,23 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
         page.click("#downloads a[data-format=json]")
     doc = json.loads(open(info.value.path()).read())
     acc, gyr = doc["model"]["acc"], doc["model"]["gyr"]
-    note = (f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
-            f"({elapsed / 24:.1f} s a position, turns of about 1.3 s peaking at 100-130 °/s, played by the page); "
-            f"turn angle seen by the server minus the angle played: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
-            f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°), minus the trapezoid of the samples "
-            f"the page sent: up to {np.abs(seen - sent_angle).max():.2f}°; end attitude error up to "
-            f"{errors.max():.2f}°; acc S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.4f}, "
-            f"b − y up to {np.abs(np.array(acc['b']) - Y_ACC).max():.4f} m/s²; "
-            f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}, b up to "
-            f"{np.degrees(np.abs(gyr['b']).max()):.3f} °/s; ok={doc['ok']} {[w for w in doc['warnings'] if 'rotation' in w]}")
+    note = (
+        f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
+        f"({elapsed / 24:.1f} s a position, turns of about 1.3 s peaking at 100-130 °/s, played by the page); "
+        f"turn angle seen by the server minus the angle played: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
+        f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°), minus the trapezoid of the samples "
+        f"the page sent: up to {np.abs(seen - sent_angle).max():.2f}°; end attitude error up to "
+        f"{errors.max():.2f}°; acc S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.4f}, "
+        f"b − y up to {np.abs(np.array(acc['b']) - Y_ACC).max():.4f} m/s²; "
+        f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}, b up to "
+        f"{np.degrees(np.abs(gyr['b']).max()):.3f} °/s; ok={doc['ok']} {[w for w in doc['warnings'] if 'rotation' in w]}"
+    )
     print("\n" + note)
     ARTIFACTS.mkdir(exist_ok=True)
-    per_turn = [{"turn": k + 2, "fed": round(f, 3), "seen": round(v, 3), "end_error": round(e, 3)}
-                for k, (f, v, e) in enumerate(zip(fed, seen, errors))]
+    per_turn = [
+        {"turn": k + 2, "fed": round(f, 3), "seen": round(v, 3), "end_error": round(e, 3)}
+        for k, (f, v, e) in enumerate(zip(fed, seen, errors))
+    ]
     (ARTIFACTS / "wizard_cube_timing.txt").write_text(note + "\n" + json.dumps(per_turn) + "\n")
     # The page played each turn as a half sine of 90° sampled every 16 ms of its own clock (a late timer
     # dispatches the samples it owes, each with its time): the trapezoid of those samples is 90° within
@@ -245,13 +258,20 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     means = np.array([c["mean"] for c in session["captures"]])
     S, b = np.array(acc["S"]), np.array(acc["b"])
     np.testing.assert_allclose([float(r[1]) for r in norms], np.linalg.norm(means, axis=1), atol=6e-5)
-    np.testing.assert_allclose([float(r[2]) for r in norms],
-                               np.linalg.norm(np.linalg.solve(S, (means - b).T).T, axis=1), atol=6e-5)
+    np.testing.assert_allclose(
+        [float(r[2]) for r in norms], np.linalg.norm(np.linalg.solve(S, (means - b).T).T, axis=1), atol=6e-5
+    )
     assert page.locator("#norm-chart svg circle").count() == 48
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.dataset.format, a.textContent])")
     # Every format: JSON, C and the tables hold each sensor's correction; ArduPilot and PX4 the accelerometer's.
-    assert links == [["json", "JSON"], ["c", "C header"], ["ardupilot", "ArduPilot"], ["px4", "PX4"],
-                     ["yaml", "YAML"], ["csv", "CSV"]]
+    assert links == [
+        ["json", "JSON"],
+        ["c", "C header"],
+        ["ardupilot", "ArduPilot"],
+        ["px4", "PX4"],
+        ["yaml", "YAML"],
+        ["csv", "CSV"],
+    ]
     assert page.eval_on_selector_all("#downloads li span", "ss => ss.length") == 0
     assert page.errors == []
 
@@ -277,8 +297,10 @@ def test_a_wrong_turn_is_named_at_once_and_the_corrected_move_passes(page, serve
     expect(alert).to_be_visible(timeout=30_000)
     assert alert.get_attribute("role") == "alert"
     text = alert.text_content()
-    assert ("wrong turn into position 4: the cube made a quarter turn clockwise (seen from above). Put it back "
-            "in position 3, then turn the cube a quarter counter-clockwise (seen from above) on the plane") in text
+    assert (
+        "wrong turn into position 4: the cube made a quarter turn clockwise (seen from above). Put it back "
+        "in position 3, then turn the cube a quarter counter-clockwise (seen from above) on the plane"
+    ) in text
     pic = page.locator("#turn-alert svg")
     assert pic.get_attribute("data-position") == "3" and pic.get_attribute("data-turn") == "z+"
     assert "counter-clockwise" in pic.get_attribute("aria-label")

@@ -154,7 +154,9 @@ def test_a_refused_pose_cues_and_start_over_asks_first(page, server):
     redo = page.locator('#poses button[data-redo="+z"]')
     expect(redo).to_be_visible()
     colours = redo.evaluate("(b) => [getComputedStyle(b).backgroundColor, getComputedStyle(b).color]")
-    primary = page.eval_on_selector("#start-btn", "(b) => [getComputedStyle(b).backgroundColor, getComputedStyle(b).color]")
+    primary = page.eval_on_selector(
+        "#start-btn", "(b) => [getComputedStyle(b).backgroundColor, getComputedStyle(b).color]"
+    )
     assert colours != primary and colours[0] == "rgb(255, 255, 255)", (colours, primary)
 
     # Start over, first tap: it only asks. Keep it: the session and the capture go on.
@@ -174,7 +176,9 @@ def test_a_refused_pose_cues_and_start_over_asks_first(page, server):
     motion.acc(reading("-z"))
     wait_captured(page, "-z")  # still capturing, in the same session
     session = json.loads(saved)
-    r = page.request.get(f"{server.url}/api/v1/sessions/{session['id']}", headers={"Authorization": f"Bearer {session['token']}"})
+    r = page.request.get(
+        f"{server.url}/api/v1/sessions/{session['id']}", headers={"Authorization": f"Bearer {session['token']}"}
+    )
     assert [c["position"] for c in r.json()["captures"]] == ["+z", "-z"]
 
     # Second tap: discarded, the lock released, the page back at its start.
@@ -199,7 +203,9 @@ def test_the_instruction_is_the_largest_text_during_capture(page, server):
             page.reload()
         motion.acc(reading("+x"))
         page.click("#start-btn")
-        expect(page.locator("#instruction")).to_contain_text("Capturing on its left edge as you face the screen", timeout=10_000)
+        expect(page.locator("#instruction")).to_contain_text(
+            "Capturing on its left edge as you face the screen", timeout=10_000
+        )
         sizes = page.evaluate("""() => ({
           instruction: parseFloat(getComputedStyle(document.querySelector('#instruction')).fontSize),
           headings: [...document.querySelectorAll('h1, h2')].map((h) => parseFloat(getComputedStyle(h).fontSize)),
@@ -212,7 +218,9 @@ def test_the_instruction_is_the_largest_text_during_capture(page, server):
         motion.acc((3.0, 3.0, 8.8))
         expect(page.locator("#still-text")).to_have_text("Moving")
         motion.acc(reading("+x"))  # the longest instruction: a refused pose with all that remains
-        expect(page.locator("#instruction")).to_contain_text("On its left edge as you face the screen, right edge up is already captured", timeout=10_000)
+        expect(page.locator("#instruction")).to_contain_text(
+            "On its left edge as you face the screen, right edge up is already captured", timeout=10_000
+        )
         assert page.evaluate("() => document.documentElement.scrollWidth") <= width
         box = page.locator("#instruction").bounding_box()
         assert box["x"] >= 0 and box["x"] + box["width"] <= width
@@ -292,5 +300,7 @@ def test_without_wake_lock_vibration_or_audio_nothing_breaks(page, server):
     motion.acc((3.0, 3.0, 8.8))
     expect(page.locator("#still-text")).to_have_text("Moving")
     motion.acc(reading("-x"))
-    expect(page.locator("#instruction")).to_contain_text("On its right edge as you face the screen, left edge up is already captured", timeout=10_000)
+    expect(page.locator("#instruction")).to_contain_text(
+        "On its right edge as you face the screen, left edge up is already captured", timeout=10_000
+    )
     assert page.errors == []

@@ -46,7 +46,9 @@ def put_down(page, motion, k: int) -> None:
 
 def fitted(k: int):
     """The triangular fit of what Chromium handed the page for the first ``k`` poses."""
-    return calibrate_unknown("triangular", np.array([chromium_round(reading(u)) for u in UPS[:k]]), unit="m/s^2", gravity=G)
+    return calibrate_unknown(
+        "triangular", np.array([chromium_round(reading(u)) for u in UPS[:k]]), unit="m/s^2", gravity=G
+    )
 
 
 def check_recovers_the_phone(cal: dict, k: int) -> None:
@@ -120,7 +122,9 @@ def test_free_poses_until_the_target(page, server_5mg):
         page.click("#downloads a[data-format=json]")
     doc = json.loads(open(info.value.path()).read())
     saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.free')"))
-    r = page.request.get(f"{server.url}/api/v1/calibrations/{doc['id']}", headers={"Authorization": f"Bearer {saved['token']}"})
+    r = page.request.get(
+        f"{server.url}/api/v1/calibrations/{doc['id']}", headers={"Authorization": f"Bearer {saved['token']}"}
+    )
     cal = r.json()
     assert cal["finish"]["reason"] == "target" and cal["finish"]["poses"] == 12
     check_recovers_the_phone(cal, 12)
@@ -143,14 +147,19 @@ def test_finish_before_the_target_says_it_stopped(page, server):
     page.click("#free-finish")
     page.wait_for_selector("#downloads[data-ready=true]", timeout=30_000)
     finish = page.text_content("#result-finish")
-    assert finish.startswith("Stopped at 11 poses: ") and finish.endswith("mg expected on new orientations, target 2 mg.")
+    assert finish.startswith("Stopped at 11 poses: ") and finish.endswith(
+        "mg expected on new orientations, target 2 mg."
+    )
     assert page.get_attribute("#result-finish", "data-reason") == "stopped"
     shots(page, "stopped")
     saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.free')"))
-    session = page.request.get(f"{server.url}/api/v1/sessions/{saved['id']}",
-                               headers={"Authorization": f"Bearer {saved['token']}"}).json()
-    cal = page.request.get(f"{server.url}/api/v1/calibrations/{session['calibration_id']}",
-                           headers={"Authorization": f"Bearer {saved['token']}"}).json()
+    session = page.request.get(
+        f"{server.url}/api/v1/sessions/{saved['id']}", headers={"Authorization": f"Bearer {saved['token']}"}
+    ).json()
+    cal = page.request.get(
+        f"{server.url}/api/v1/calibrations/{session['calibration_id']}",
+        headers={"Authorization": f"Bearer {saved['token']}"},
+    ).json()
     assert cal["finish"]["reason"] == "stopped"
     check_recovers_the_phone(cal, 11)
     assert page.errors == []

@@ -24,16 +24,22 @@ _DB = _TMP / "trical.db"
 _WORK_TREE_DATA = ROOT / ".schemathesis"
 _BEFORE = sorted(_WORK_TREE_DATA.rglob("*")) if _WORK_TREE_DATA.exists() else []
 app = create_app(Settings(database_url=f"sqlite:///{_DB}"))
-config = SchemathesisConfig.from_dict({
-    "cache": {"enabled": False, "directory": str(_TMP / "schemathesis-cache")},
-    "reports": {"directory": str(_TMP / "schemathesis-report")},
-})
+config = SchemathesisConfig.from_dict(
+    {
+        "cache": {"enabled": False, "directory": str(_TMP / "schemathesis-cache")},
+        "reports": {"directory": str(_TMP / "schemathesis-report")},
+    }
+)
 schema = schemathesis.openapi.from_asgi("/openapi.json", app, config=config)
 
 
 @schema.parametrize()
-@settings(max_examples=60, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@settings(
+    max_examples=60,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much],
+)
 def test_no_server_error(case):
     case.call_and_validate(checks=[not_a_server_error])
 

@@ -20,8 +20,14 @@ CASES = {
     "latin1_text": lambda: "acc_x,acc_y,acc_z\n1,2,3\n\xe9\xe8,1,2\n".encode("latin-1"),
     "huge_line": lambda: b"acc_x,acc_y,acc_z\n" + b"1" * 20_000_000 + b",2,3\n",
     "million_columns": lambda: ",".join(f"c{i}" for i in range(1_000_000)).encode() + b"\n",
-    "million_columns_acc": lambda: (b"acc_x,acc_y,acc_z," + b",".join(b"c%d" % i for i in range(1_000_000))
-                                    + b"\n" + b"1,2,3," + b",".join(b"0" for _ in range(1_000_000)) + b"\n"),
+    "million_columns_acc": lambda: (
+        b"acc_x,acc_y,acc_z,"
+        + b",".join(b"c%d" % i for i in range(1_000_000))
+        + b"\n"
+        + b"1,2,3,"
+        + b",".join(b"0" for _ in range(1_000_000))
+        + b"\n"
+    ),
     "only_newlines": lambda: b"\n" * 100_000,
     "ragged_rows": lambda: b"acc_x,acc_y,acc_z\n1,2,3\n1,2\n1,2,3,4,5\n",
     "nan_values": lambda: b"acc_x,acc_y,acc_z\n1,2,3\nnan,2,3\n",

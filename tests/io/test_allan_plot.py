@@ -76,7 +76,9 @@ def test_svg_parses_and_has_one_panel_per_sensor_with_title_desc_and_axis_labels
 
 def test_axes_are_distinguishable_without_colour(noise_three):
     p = panel(parse(allan_svg(noise_three)), "gyr")
-    dashes = {path.get("data-axis"): path.get("stroke-dasharray") for path in p.iterfind(".//s:path[@class='adev']", NS)}
+    dashes = {
+        path.get("data-axis"): path.get("stroke-dasharray") for path in p.iterfind(".//s:path[@class='adev']", NS)
+    }
     assert len(set(dashes.values())) == 3
     marks = p.findall(".//s:g[@class='mark noise-density']", NS)
     shapes = {m.get("data-axis"): m[1].tag.split("}")[1] for m in marks}  # the ring, then the axis' marker
@@ -89,7 +91,7 @@ def test_ticks_are_decades_at_the_transformed_positions(noise_three):
     taus = [(int(t.get("data-log10")), float(t.get("x1"))) for t in p.iterfind("s:line[@class='tick tau']", NS)]
     assert [k for k, _ in taus] == list(range(tr.tau[0], tr.tau[1] + 1))
     for k, x in taus:
-        assert tr.tau_of(x) == pytest.approx(10.0 ** k, rel=1e-3)
+        assert tr.tau_of(x) == pytest.approx(10.0**k, rel=1e-3)
     for t in p.iterfind("s:line[@class='tick adev']", NS):
         assert tr.sigma_of(float(t.get("y1"))) == pytest.approx(10.0 ** int(t.get("data-log10")), rel=1e-3)
     labels = {t.get("data-log10"): t.text for t in p.iterfind("s:text[@class='tick-label tau']", NS)}
@@ -119,11 +121,17 @@ def test_curves_and_fitted_slopes_pass_through_the_right_points(noise_three):
             for x, y in points(floor.get("d")):  # σ = 0.664 B
                 assert tr.sigma_of(y) == pytest.approx(FLOOR * b, rel=2e-3)
 
-            marks = {m.get("class"): m for m in p.iterfind(f".//s:g[@data-axis='{axis}']", NS)
-                     if m.get("class", "").startswith("mark")}
+            marks = {
+                m.get("class"): m
+                for m in p.iterfind(f".//s:g[@data-axis='{axis}']", NS)
+                if m.get("class", "").startswith("mark")
+            }
             tau_min = curve["tau_s"][int(np.argmin([row[i] for row in curve["value"]]))]
-            for cls, (tau, sigma) in {"mark noise-density": (1.0, n), "mark random-walk": (3.0, k),
-                                      "mark bias-instability": (tau_min, FLOOR * b)}.items():
+            for cls, (tau, sigma) in {
+                "mark noise-density": (1.0, n),
+                "mark random-walk": (3.0, k),
+                "mark bias-instability": (tau_min, FLOOR * b),
+            }.items():
                 ring = marks[cls].find("s:circle", NS)
                 assert tr.tau_of(float(ring.get("cx"))) == pytest.approx(tau, rel=2e-3)
                 assert tr.sigma_of(float(ring.get("cy"))) == pytest.approx(sigma, rel=2e-3)
@@ -132,9 +140,11 @@ def test_curves_and_fitted_slopes_pass_through_the_right_points(noise_three):
 def test_marks_are_labelled_with_their_values_and_units(noise_three):
     p = panel(parse(allan_svg(noise_three)), "gyr")
     model = noise_three["model"]["gyr"]
-    for cls, key, head in (("noise-density", "noise_density", "N at τ = 1 s"),
-                           ("random-walk", "random_walk", "K at τ = 3 s"),
-                           ("bias-instability", "bias_instability", "B (floor 0.664 B)")):
+    for cls, key, head in (
+        ("noise-density", "noise_density", "N at τ = 1 s"),
+        ("random-walk", "random_walk", "K at τ = 3 s"),
+        ("bias-instability", "bias_instability", "B (floor 0.664 B)"),
+    ):
         label = ["".join(t.itertext()) for t in p.find(f"s:g[@class='label {cls}']", NS)]
         assert label[0] == head
         assert label[1] == "in " + model[f"{key}_unit"]

@@ -84,8 +84,9 @@ def test_npy_wrong_shapes_and_no_rate(tmp_path):
 def test_parquet_with_time_and_named_columns(tmp_path):
     x = _samples(400)
     f = tmp_path / "rec.parquet"
-    table = pa.table({"time_ms": np.arange(400) * 20.0, "acc_x": x[:, 0], "acc_y": x[:, 1], "acc_z": x[:, 2],
-                      "note": ["a"] * 400})
+    table = pa.table(
+        {"time_ms": np.arange(400) * 20.0, "acc_x": x[:, 0], "acc_y": x[:, 1], "acc_z": x[:, 2], "note": ["a"] * 400}
+    )
     pq.write_table(table, f)
     log = read_parquet_log(f, units={"acc": "g"})
     assert log.sampling_rate_hz == pytest.approx(50.0)
@@ -96,9 +97,17 @@ def test_parquet_with_time_and_named_columns(tmp_path):
 def test_parquet_reads_the_gyroscope_and_magnetometer_beside_the_accelerometer(tmp_path):
     x, w, b = _samples(400), _samples(400) * 0.01, _samples(400) * 5
     f = tmp_path / "imu.parquet"
-    pq.write_table(pa.table({"time_s": np.arange(400) / 100.0, **{f"acc_{a}": x[:, i] for i, a in enumerate("xyz")},
-                             **{f"gyr_{a} (deg/s)": w[:, i] for i, a in enumerate("xyz")},
-                             **{f"mag_{a}": b[:, i] for i, a in enumerate("xyz")}}), f)
+    pq.write_table(
+        pa.table(
+            {
+                "time_s": np.arange(400) / 100.0,
+                **{f"acc_{a}": x[:, i] for i, a in enumerate("xyz")},
+                **{f"gyr_{a} (deg/s)": w[:, i] for i, a in enumerate("xyz")},
+                **{f"mag_{a}": b[:, i] for i, a in enumerate("xyz")},
+            }
+        ),
+        f,
+    )
     log = read_parquet_log(f)
     assert np.allclose(log.gyr, w) and np.allclose(log.mag, b) and log.channels == ["acc", "gyr", "mag"]
     assert log.units == {"acc": "m/s^2", "gyr": "deg/s", "mag": "uT"}
@@ -108,8 +117,9 @@ def test_parquet_timestamp_column(tmp_path):
     x = _samples(300)
     ts = np.datetime64("2026-01-01T00:00:00") + np.arange(300) * np.timedelta64(10, "ms")
     f = tmp_path / "rec.pq"
-    pq.write_table(pa.table({"timestamp": pa.array(ts, type=pa.timestamp("ms")), "x": x[:, 0], "y": x[:, 1],
-                             "z": x[:, 2]}), f)
+    pq.write_table(
+        pa.table({"timestamp": pa.array(ts, type=pa.timestamp("ms")), "x": x[:, 0], "y": x[:, 1], "z": x[:, 2]}), f
+    )
     log = read_log(f)
     assert log.format == "parquet" and log.sampling_rate_hz == pytest.approx(100.0)
 

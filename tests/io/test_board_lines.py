@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 from app.io.board_formats import MOTIONCAL_RAW, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
-from app.io.board_lines import (BoardLineReader, LogWriter, StreamRate, board_rate, numbers_format, read_lines,
-                                 to_log)
+from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, numbers_format, read_lines, to_log
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.calibration import STANDARD_GRAVITY
@@ -35,7 +34,7 @@ def play(text: str, *, chunk: int, fmt: str = "auto", rate_hz: float = 100.0, bu
     out = []
     lines_before = 0
     for i in range(0, len(data), chunk):
-        piece = data[i:i + chunk]
+        piece = data[i : i + chunk]
         # the arrival of a line: the burst its number falls in
         arrival = (lines_before // burst) * burst / rate_hz
         out += reader.feed(piece, arrival_s=arrival)
@@ -184,8 +183,9 @@ def test_log_written_as_received_reads_back_with_the_board_rate(tmp_path):
         header = next(csv.reader(f))
     assert header[0] == "timestamp_us" and header[1] == "acc_x"
     # lines without a time column: the arrival times in seconds
-    out, reader = read_lines(_raw_lines([[0, 0, 9.8]] * 50, [[1, 2, 3]] * 50, [[30, 0, 20]] * 50),
-                             arrivals=np.arange(50) / 100.0)
+    out, reader = read_lines(
+        _raw_lines([[0, 0, 9.8]] * 50, [[1, 2, 3]] * 50, [[30, 0, 20]] * 50), arrivals=np.arange(50) / 100.0
+    )
     writer = LogWriter(tmp_path / "raw.csv", reader.format)
     writer.write(out)
     writer.close()
@@ -243,7 +243,9 @@ def test_a_reader_held_once_is_not_waited_out(hold_s):
         if decided_at is None and rate.rate_hz is not None:
             decided_at = t
     # (the pause has left the window once the arrival before it has: 0.5 s + the window)
-    assert decided_at == pytest.approx(min(0.5 + hold_s + max(RATE_MIN_S, RATE_STEPS * hold_s), 0.5 + RATE_WINDOW_S), abs=0.1)
+    assert decided_at == pytest.approx(
+        min(0.5 + hold_s + max(RATE_MIN_S, RATE_STEPS * hold_s), 0.5 + RATE_WINDOW_S), abs=0.1
+    )
     assert rate.rate_hz == pytest.approx(100, rel=0.01)
 
 

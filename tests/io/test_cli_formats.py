@@ -23,16 +23,34 @@ def test_calibrate_a_zip_and_export_ardupilot(tmp_path):
 
 
 def test_calibrate_counts_with_lsb_per_g(tmp_path):
-    out = trical("calibrate", str(SAMPLES / "arduino_serial_plotter.txt"), "--sampling-rate-hz", "50",
-                 "--lsb-per-g", "4096", "--log-format", "arduino", "--json", "--no-store", tmp_path=tmp_path)
+    out = trical(
+        "calibrate",
+        str(SAMPLES / "arduino_serial_plotter.txt"),
+        "--sampling-rate-hz",
+        "50",
+        "--lsb-per-g",
+        "4096",
+        "--log-format",
+        "arduino",
+        "--json",
+        "--no-store",
+        tmp_path=tmp_path,
+    )
     assert out.returncode == 0, out.stderr
     assert json.loads(out.stdout)["unit"] == "g"
 
 
 def test_calibrate_a_headerless_log_with_columns(tmp_path):
     log = SAMPLES / "headerless_imu_comma.csv"
-    out = trical("calibrate", str(log), "--columns", "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z", "--json", "--no-store",
-                 tmp_path=tmp_path)
+    out = trical(
+        "calibrate",
+        str(log),
+        "--columns",
+        "t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z",
+        "--json",
+        "--no-store",
+        tmp_path=tmp_path,
+    )
     assert out.returncode == 0, out.stderr
     body = json.loads(out.stdout)
     assert body["unit"] == "g"
@@ -45,8 +63,9 @@ def test_calibrate_a_headerless_log_with_columns(tmp_path):
 def test_sign_option_overrides_the_ios_detection(tmp_path):
     log = str(SAMPLES / "sensorlog_ios.csv")
     detected = json.loads(trical("calibrate", log, "--json", "--no-store", tmp_path=tmp_path, check=True).stdout)
-    kept = json.loads(trical("calibrate", log, "--sign", "1", "--json", "--no-store", tmp_path=tmp_path,
-                             check=True).stdout)
+    kept = json.loads(
+        trical("calibrate", log, "--sign", "1", "--json", "--no-store", tmp_path=tmp_path, check=True).stdout
+    )
     np.testing.assert_allclose(detected["model"]["X"], TRUTH["model"]["X"], atol=5e-3)
     # Readings negated, their labels too: m' = -(X a + y) = X (-a) - y, the same X and the offset negated.
     np.testing.assert_allclose(kept["model"]["X"], detected["model"]["X"], atol=1e-9)

@@ -58,8 +58,10 @@ def test_real_still_counts_a_gyroscope_or_a_magnetometer_could_read_are_asked_ab
     with pytest.raises(ColumnsAmbiguous) as e:
         read_log(STILL, ReadOptions(sampling_rate_hz=100), name=STILL.name)
     assert e.value.code == "columns_ambiguous"
-    assert e.value.candidates == [{"sensors": "gyroscope", "columns": "gyr_x,gyr_y,gyr_z"},
-                                  {"sensors": "magnetometer", "columns": "mag_x,mag_y,mag_z"}]
+    assert e.value.candidates == [
+        {"sensors": "gyroscope", "columns": "gyr_x,gyr_y,gyr_z"},
+        {"sensors": "magnetometer", "columns": "mag_x,mag_y,mag_z"},
+    ]
     assert e.value.preview[:2] == ["-480,193,-83", "-439,189,-56"]
     chosen = read_log(STILL, ReadOptions(sampling_rate_hz=100, columns=e.value.candidates[0]["columns"]))
     assert chosen.channels == ["gyr"]
@@ -68,10 +70,21 @@ def test_real_still_counts_a_gyroscope_or_a_magnetometer_could_read_are_asked_ab
     assert read_log(named, ReadOptions(sampling_rate_hz=100), name=named.name).channels == ["gyr"]
 
 
-@pytest.mark.parametrize("name, sensor", [("gyro_log.csv", "gyr"), ("Gyroscope.txt", "gyr"), ("accel.csv", "acc"),
-                                          ("acc_01.csv", "acc"), ("compass.csv", "mag"), ("hmc5883l.txt", "mag"),
-                                          ("qmc_turn.csv", "mag"), ("ak8963.csv", "mag"), ("log.csv", None),
-                                          ("accel_and_gyro.csv", None)])
+@pytest.mark.parametrize(
+    "name, sensor",
+    [
+        ("gyro_log.csv", "gyr"),
+        ("Gyroscope.txt", "gyr"),
+        ("accel.csv", "acc"),
+        ("acc_01.csv", "acc"),
+        ("compass.csv", "mag"),
+        ("hmc5883l.txt", "mag"),
+        ("qmc_turn.csv", "mag"),
+        ("ak8963.csv", "mag"),
+        ("log.csv", None),
+        ("accel_and_gyro.csv", None),
+    ],
+)
 def test_the_file_name_says_a_sensor(name, sensor):
     assert name_sensor(name) == sensor
 

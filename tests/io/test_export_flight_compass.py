@@ -59,22 +59,59 @@ def soft_iron(rng, scale=0.06) -> np.ndarray:
     return np.eye(3) + (a + a.T) / 2
 
 
-def flight_body(firmware="ardupilot", *, Q=np.eye(3), M=np.eye(3), b=(12.0, -20.0, 31.0), k=(0.4, -0.3, 0.6),
-                motor="current", instance=0, orientation=0, params=None, frame_to_body=np.eye(3), ok=True) -> dict:
+def flight_body(
+    firmware="ardupilot",
+    *,
+    Q=np.eye(3),
+    M=np.eye(3),
+    b=(12.0, -20.0, 31.0),
+    k=(0.4, -0.3, 0.6),
+    motor="current",
+    instance=0,
+    orientation=0,
+    params=None,
+    frame_to_body=np.eye(3),
+    ok=True,
+) -> dict:
     return {
-        "id": "cal_flight", "method": "compass_flight", "created_at": "2026-12-04T07:00:00Z", "ok": ok,
-        "reasons": [] if ok else ["the heading error grew on segments left out"], "unit": "uT",
-        "model": {"type": "compass_flight", "M": np.asarray(M).tolist(), "b": list(b), "k": list(k),
-                  "Q": np.asarray(Q).tolist()},
-        "metrics": {"heading_error_before_deg": 7.1, "heading_error_before_p95_deg": 12.0,
-                    "heading_error_after_deg": 1.2, "heading_error_after_p95_deg": 2.4},
-        "flight": {"firmware": firmware, "instance": instance, "structure": "soft_iron", "motor": motor,
-                   "rotation_nearest": {"ardupilot": 0, "px4": 0, "name": "None"},
-                   "orientation_agrees": bool(np.allclose(Q, frame_to_body)),
-                   "frame_to_body": np.asarray(frame_to_body).tolist(),
-                   "stored": {"firmware": firmware, "instance": instance, "offsets_ut": [0, 0, 0],
-                              "matrix": np.eye(3).tolist(), "motor": [0, 0, 0], "motor_kind": None,
-                              "orientation": orientation, "params": params or {}}},
+        "id": "cal_flight",
+        "method": "compass_flight",
+        "created_at": "2026-12-04T07:00:00Z",
+        "ok": ok,
+        "reasons": [] if ok else ["the heading error grew on segments left out"],
+        "unit": "uT",
+        "model": {
+            "type": "compass_flight",
+            "M": np.asarray(M).tolist(),
+            "b": list(b),
+            "k": list(k),
+            "Q": np.asarray(Q).tolist(),
+        },
+        "metrics": {
+            "heading_error_before_deg": 7.1,
+            "heading_error_before_p95_deg": 12.0,
+            "heading_error_after_deg": 1.2,
+            "heading_error_after_p95_deg": 2.4,
+        },
+        "flight": {
+            "firmware": firmware,
+            "instance": instance,
+            "structure": "soft_iron",
+            "motor": motor,
+            "rotation_nearest": {"ardupilot": 0, "px4": 0, "name": "None"},
+            "orientation_agrees": bool(np.allclose(Q, frame_to_body)),
+            "frame_to_body": np.asarray(frame_to_body).tolist(),
+            "stored": {
+                "firmware": firmware,
+                "instance": instance,
+                "offsets_ut": [0, 0, 0],
+                "matrix": np.eye(3).tolist(),
+                "motor": [0, 0, 0],
+                "motor_kind": None,
+                "orientation": orientation,
+                "params": params or {},
+            },
+        },
     }
 
 
@@ -97,8 +134,9 @@ def parse_px4(text: str) -> dict[str, float]:
     return out
 
 
-def ardupilot_correct(params: dict, instance: int, stored_orient: int, sensor_ut: np.ndarray, p: np.ndarray,
-                      motct: int) -> np.ndarray:
+def ardupilot_correct(
+    params: dict, instance: int, stored_orient: int, sensor_ut: np.ndarray, p: np.ndarray, motct: int
+) -> np.ndarray:
     """AP_Compass_Backend::rotate_field then correct_field, with the export's parameters; µT in, µT out."""
     s = "" if instance == 0 else str(instance + 1)
     v = lambda g: np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])  # noqa: E731
@@ -120,8 +158,9 @@ def px4_level(params: dict) -> np.ndarray:
     return Rotation.from_euler("ZYX", [yaw, pitch, roll], degrees=True).as_matrix()
 
 
-def px4_correct(params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray,
-                level: np.ndarray = np.eye(3)) -> np.ndarray:
+def px4_correct(
+    params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray, level: np.ndarray = np.eye(3)
+) -> np.ndarray:
     """Magnetometer::Correct with the export's parameters; µT in, µT out; power already in PX4's unit;
     ``_rotation = level adjustment * get_rot_matrix(ROT)`` (Magnetometer::set_rotation)."""
     c = lambda g: np.array([params[f"CAL_MAG{slot}_{a}{g}"] for a in "XYZ"])  # noqa: E731
@@ -171,8 +210,13 @@ def test_ardupilot_wrong_orientation_is_replaced_and_still_reproduces(rng):
 
 
 def test_ardupilot_second_compass_uses_its_own_names(rng):
-    body = flight_body(Q=YAW_90 @ YAW_90, M=soft_iron(rng), instance=1, orientation=0,
-                       params={"COMPASS_EXTERN2": 1, "COMPASS_MOTCT": 1})
+    body = flight_body(
+        Q=YAW_90 @ YAW_90,
+        M=soft_iron(rng),
+        instance=1,
+        orientation=0,
+        params={"COMPASS_EXTERN2": 1, "COMPASS_MOTCT": 1},
+    )
     sensor, p = readings(rng)
     text = export_flight_compass(body, "ardupilot").content
     params = parse_ardupilot(text)
@@ -194,17 +238,20 @@ def test_ardupilot_internal_compass_with_right_orientation_exports(rng):
     assert "COMPASS_ORIENT" not in parse_ardupilot(export_flight_compass(body, "ardupilot").content)
 
 
-@pytest.mark.parametrize("change, words", [
-    ({"b": (200.0, 0.0, 0.0)}, "COMPASS_OFFS_MAX"),
-    ({"M": np.diag([6.0, 1.0, 1.0])}, "COMPASS_DIA_X = 6"),
-    ({"M": [[2.0, 1.2, 0.0], [1.2, 2.0, 0.0], [0.0, 0.0, 2.0]]}, "COMPASS_ODI_X = 1.2"),
-    ({"k": (150.0, 0.0, 0.0)}, "COMPASS_MOT_X = -1500"),
-    ({"ok": False}, "failed its checks"),
-    ({"params": {"COMPASS_EXTERNAL": 0}, "Q": YAW_90}, "AHRS_ORIENTATION"),
-    ({"Q": Rotation.from_euler("z", 20, degrees=True).as_matrix()}, "cannot hold it"),
-    ({"Q": 2 * np.eye(3)}, "not a rotation"),
-    ({"M": [[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]}, "not symmetric"),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        ({"b": (200.0, 0.0, 0.0)}, "COMPASS_OFFS_MAX"),
+        ({"M": np.diag([6.0, 1.0, 1.0])}, "COMPASS_DIA_X = 6"),
+        ({"M": [[2.0, 1.2, 0.0], [1.2, 2.0, 0.0], [0.0, 0.0, 2.0]]}, "COMPASS_ODI_X = 1.2"),
+        ({"k": (150.0, 0.0, 0.0)}, "COMPASS_MOT_X = -1500"),
+        ({"ok": False}, "failed its checks"),
+        ({"params": {"COMPASS_EXTERNAL": 0}, "Q": YAW_90}, "AHRS_ORIENTATION"),
+        ({"Q": Rotation.from_euler("z", 20, degrees=True).as_matrix()}, "cannot hold it"),
+        ({"Q": 2 * np.eye(3)}, "not a rotation"),
+        ({"M": [[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]}, "not symmetric"),
+    ],
+)
 def test_ardupilot_refuses_what_ardupilot_would_refuse(change, words):
     with pytest.raises(ExportError, match=words):
         export_flight_compass(flight_body(**change), "ardupilot")
@@ -217,8 +264,15 @@ def test_ardupilot_refuses_what_ardupilot_would_refuse(change, words):
 def test_px4_formula_reproduces_tricals_correction(rng, motor):
     # an external compass at Roll180 (CAL_MAG1_ROT 8), slot 1, rotation agreeing with the flight
     R = px4_rotation(8)
-    body = flight_body("px4", Q=R, frame_to_body=R, M=soft_iron(rng), motor=motor, orientation=8,
-                       params={"CAL_MAG1_ID": 396825, "CAL_MAG1_ROT": 8})
+    body = flight_body(
+        "px4",
+        Q=R,
+        frame_to_body=R,
+        M=soft_iron(rng),
+        motor=motor,
+        orientation=8,
+        params={"CAL_MAG1_ID": 396825, "CAL_MAG1_ROT": 8},
+    )
     sensor, p = readings(rng)
     if motor == "throttle":
         p = rng.uniform(0.0, 1.0, size=len(p))
@@ -233,8 +287,14 @@ def test_px4_formula_reproduces_tricals_correction(rng, motor):
 def test_px4_wrong_rotation_is_replaced_and_still_reproduces(rng):
     # stored CAL_MAG0_ROT 0; the flight shows the compass at Yaw270 (6)
     Q = px4_rotation(6)
-    body = flight_body("px4", Q=Q, frame_to_body=np.eye(3), M=soft_iron(rng), orientation=0,
-                       params={"CAL_MAG0_ID": 12345, "CAL_MAG0_ROT": 0, "CAL_MAG_COMP_TYP": 3})
+    body = flight_body(
+        "px4",
+        Q=Q,
+        frame_to_body=np.eye(3),
+        M=soft_iron(rng),
+        orientation=0,
+        params={"CAL_MAG0_ID": 12345, "CAL_MAG0_ROT": 0, "CAL_MAG_COMP_TYP": 3},
+    )
     sensor, p = readings(rng)
     params = parse_px4(export_flight_compass(body, "px4").content)
     assert params["CAL_MAG0_ROT"] == 6
@@ -243,13 +303,16 @@ def test_px4_wrong_rotation_is_replaced_and_still_reproduces(rng):
     assert np.abs(h - trical(body, sensor, p)).max() < 1e-4
 
 
-@pytest.mark.parametrize("change, words", [
-    ({"M": np.diag([4.0, 1.0, 1.0])}, "CAL_MAG2_XSCALE = 4"),
-    ({"ok": False}, "failed its checks"),
-    ({"params": {"CAL_MAG2_ROT": -1, "CAL_MAG2_ID": 7}, "Q": YAW_90}, "SENS_BOARD_ROT"),
-    ({"params": {}}, "which CAL_MAGn slot"),
-    ({"firmware": "ardupilot"}, "ArduPilot log"),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        ({"M": np.diag([4.0, 1.0, 1.0])}, "CAL_MAG2_XSCALE = 4"),
+        ({"ok": False}, "failed its checks"),
+        ({"params": {"CAL_MAG2_ROT": -1, "CAL_MAG2_ID": 7}, "Q": YAW_90}, "SENS_BOARD_ROT"),
+        ({"params": {}}, "which CAL_MAGn slot"),
+        ({"firmware": "ardupilot"}, "ArduPilot log"),
+    ],
+)
 def test_px4_refuses_what_px4_would_refuse(change, words):
     kwargs = {"params": {"CAL_MAG2_ID": 7, "CAL_MAG2_ROT": 0}, **change}
     with pytest.raises(ExportError, match=words):
@@ -277,8 +340,14 @@ def test_ardupilot_export_of_the_stored_calibration_is_the_stored_parameters(ins
     v = lambda g: np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])  # noqa: E731
     dia, odi = v("DIA"), v("ODI")
     M = np.array([[dia[0], odi[0], odi[1]], [odi[0], dia[1], odi[2]], [odi[1], odi[2], dia[2]]])
-    body = flight_body(M=M, b=-0.1 * v("OFS"), motor=None, instance=instance,
-                       orientation=int(params[f"COMPASS_ORIENT{s}"]), params=params)
+    body = flight_body(
+        M=M,
+        b=-0.1 * v("OFS"),
+        motor=None,
+        instance=instance,
+        orientation=int(params[f"COMPASS_ORIENT{s}"]),
+        params=params,
+    )
     out = parse_ardupilot(export_flight_compass(body, "ardupilot").content)
     for name in (f"COMPASS_{g}{s}_{a}" for g in ("OFS", "DIA", "ODI") for a in "XYZ"):
         assert out[name] == pytest.approx(params[name], rel=1e-6, abs=1e-7), name
@@ -288,8 +357,11 @@ def test_ardupilot_export_of_the_stored_calibration_is_the_stored_parameters(ins
 
 
 def test_px4_export_of_the_stored_calibration_is_the_stored_parameters(rng):
-    params = {k: v for k, v in ULog(str(REAL / "sample_log_small.ulg")).initial_parameters.items()
-              if k.startswith(("CAL_MAG", "SENS_BOARD"))}
+    params = {
+        k: v
+        for k, v in ULog(str(REAL / "sample_log_small.ulg")).initial_parameters.items()
+        if k.startswith(("CAL_MAG", "SENS_BOARD"))
+    }
     c = lambda g: np.array([params[f"CAL_MAG1_{a}{g}"] for a in "XYZ"])  # noqa: E731  slot 1: the external compass
     level = px4_level(params)  # SENS_BOARD_X_OFF 0.76, Y_OFF -2.94 degrees in this log
     R = level @ px4_rotation(int(params["CAL_MAG1_ROT"]))

@@ -11,9 +11,15 @@ from app.io.export_params import firmware_summary, offset_scale, to_ardupilot, t
 
 
 def body(X, y, unit="m/s^2", gravity=9.80665):
-    return {"id": "cal_test", "method": "six_position", "created_at": "2026-11-23T00:00:00Z", "unit": unit,
-            "output_unit": unit, "gravity": gravity,
-            "model": {"type": "affine", "X": np.asarray(X, float).tolist(), "y": list(map(float, y))}}
+    return {
+        "id": "cal_test",
+        "method": "six_position",
+        "created_at": "2026-11-23T00:00:00Z",
+        "unit": unit,
+        "output_unit": unit,
+        "gravity": gravity,
+        "model": {"type": "affine", "X": np.asarray(X, float).tolist(), "y": list(map(float, y))},
+    }
 
 
 def test_scale_outside_ardupilot_range_is_refused():
@@ -60,8 +66,10 @@ def test_a_rotation_is_no_error_of_the_firmware_s_offsets_and_scales():
     assert not fit.from_readings and fit.count == 14 and fit.norm_error_any_direction < 1e-9
     text = to_ardupilot(body(np.linalg.inv(R @ S), o)).content
     assert "# rotation_deg: 3.000  (about x 1.309, y 2.619, z 0.655 deg)" in text
-    assert ("ArduPilot's level calibration (Mission Planner: Calibrate Level) takes its tilt (2.93 deg about x and y) "
-            "into AHRS_TRIM_X and AHRS_TRIM_Y (roll and pitch, in rad, within +-0.1745 = +-10 deg") in text
+    assert (
+        "ArduPilot's level calibration (Mission Planner: Calibrate Level) takes its tilt (2.93 deg about x and y) "
+        "into AHRS_TRIM_X and AHRS_TRIM_Y (roll and pitch, in rad, within +-0.1745 = +-10 deg"
+    ) in text
 
 
 def test_the_axes_non_orthogonality_is_what_the_firmware_cannot_hold():
@@ -80,7 +88,9 @@ def test_the_axes_non_orthogonality_is_what_the_firmware_cannot_hold():
 
 def test_a_tilt_beyond_ardupilot_s_level_range_is_said():
     text = to_ardupilot(body(np.linalg.inv(rotation([1, 0, 0], 12.0)), [0, 0, 0])).content
-    assert "takes its tilt (12.00 deg about x and y)" in text and "beyond 10 deg it cannot: mount the board level" in text
+    assert (
+        "takes its tilt (12.00 deg about x and y)" in text and "beyond 10 deg it cannot: mount the board level" in text
+    )
 
 
 def test_inverted_axis_is_refused_by_px4():
@@ -95,7 +105,11 @@ def test_a_sensor_whose_only_error_is_its_axes_angles_gets_no_firmware_file():
     P = np.array([[1, e, e], [e, 1, e], [e, e, 1.0]])
     out = firmware_summary(body(np.linalg.inv(P), [0, 0, 0]), "ArduPilot")
     assert not out["improves"] and not out["from_readings"] and out["count"] == 14
-    assert out["firmware_max_mg"] == pytest.approx(34.699, abs=1e-3) and out["raw_max_mg"] == pytest.approx(33.728, abs=1e-3)
-    assert out["words"] == ("ArduPilot's offsets and scales would leave 34.7 mg on readings in 14 directions, no better "
-                            "than raw (33.7 mg): use the full correction (M and o) instead")
+    assert out["firmware_max_mg"] == pytest.approx(34.699, abs=1e-3) and out["raw_max_mg"] == pytest.approx(
+        33.728, abs=1e-3
+    )
+    assert out["words"] == (
+        "ArduPilot's offsets and scales would leave 34.7 mg on readings in 14 directions, no better "
+        "than raw (33.7 mg): use the full correction (M and o) instead"
+    )
     assert firmware_summary(body(np.linalg.inv(P) * 0.98, [0.2, 0, 0]), "PX4")["improves"]  # with a scale and offset

@@ -26,8 +26,17 @@ from app.io.log import LogData
 
 def _body(seed: int = 21, **kw) -> dict:
     w = warm_up(seed, duration_s=1200, sampling_rate_hz=20, **kw)
-    log = LogData(acc=w.acc, gyr=w.gyr, mag=None, time_s=w.time_s, sampling_rate_hz=20.0,
-                  units={"acc": "m/s^2", "gyr": "rad/s"}, format="csv", columns=[], temperature_c=w.temperature_c)
+    log = LogData(
+        acc=w.acc,
+        gyr=w.gyr,
+        mag=None,
+        time_s=w.time_s,
+        sampling_rate_hz=20.0,
+        units={"acc": "m/s^2", "gyr": "rad/s"},
+        format="csv",
+        columns=[],
+        temperature_c=w.temperature_c,
+    )
     body = temperature_log(log, label="warm.csv")
     body.update(id="cal_test", created_at="2026-12-03T12:00:00.000Z")
     return body
@@ -67,7 +76,7 @@ def test_px4_params_reproduce_trical_s_correction(body):
         dT = np.clip(T, p[f"{prefix}0_TMIN"], p[f"{prefix}0_TMAX"]) - p[f"{prefix}0_TREF"]
         px4 = np.empty_like(m)
         for axis in range(3):
-            offset = sum(p[f"{prefix}0_X{k}_{axis}"] * dT ** k for k in range(4))
+            offset = sum(p[f"{prefix}0_X{k}_{axis}"] * dT**k for k in range(4))
             px4[:, axis] = m[:, axis] - offset
         np.testing.assert_allclose(px4, result.correct(sensor, m, T), rtol=0, atol=1e-6)
     assert p["TC_A0_X0_0"] == 0.0 and p["TC_G0_X0_0"] != 0.0  # the accelerometer's offsets are relative to TREF
@@ -98,7 +107,7 @@ def test_ardupilot_parm_reproduces_trical_s_correction_relative_to_the_calibrati
 
         def P(x, axis):
             c1, c2, c3 = (p[f"INS_TCAL1_{word}{k}_{'XYZ'[axis]}"] for k in (1, 2, 3))
-            return (c1 * x + c2 * x ** 2 + c3 * x ** 3) * 1e-6
+            return (c1 * x + c2 * x**2 + c3 * x**3) * 1e-6
 
         t = np.clip(T, p["INS_TCAL1_TMIN"], p["INS_TCAL1_TMAX"])
         tc = np.clip(cal_temp, p["INS_TCAL1_TMIN"], p["INS_TCAL1_TMAX"])
@@ -133,8 +142,14 @@ def test_the_plot_draws_the_bins_the_fit_and_its_band_per_axis_and_sensor(body):
     assert text.count('class="bin"') == 3 * n_bins
     assert "<desc>Accelerometer: offset against temperature" in text
     # The legend stands under each panel's plot, never over its curves: every legend line below the plot's frame.
-    frames = [float(y) + float(h) for y, h in re.findall(r'<rect x="\d+" y="([\d.]+)" width="\d+" height="([\d.]+)" '
-                                                           r'fill="none"', text)]
+    frames = [
+        float(y) + float(h)
+        for y, h in re.findall(
+            r'<rect x="\d+" y="([\d.]+)" width="\d+" height="([\d.]+)" '
+            r'fill="none"',
+            text,
+        )
+    ]
     legends = [float(y) for y in re.findall(r'<text class="legend" x="\d+" y="([\d.]+)"', text)]
     assert len(frames) == 2 and len(legends) == 6
     assert all(frames[0] < y < frames[0] + 85 for y in legends[:3]) and all(y > frames[1] for y in legends[3:])

@@ -12,8 +12,15 @@ from app.io.errors import LogFormatError
 from app.io.flight_context import read_flight_compass
 from app.io.flight_px4 import px4_rotation
 from app.io.formats import read_log
-from tests.flight_logs import (ardupilot_flight_messages, ardupilot_imu, px4_flight_topics, simulated_flight,
-                               ulog_bytes, write_dataflash, write_flight_logs)
+from tests.flight_logs import (
+    ardupilot_flight_messages,
+    ardupilot_imu,
+    px4_flight_topics,
+    simulated_flight,
+    ulog_bytes,
+    write_dataflash,
+    write_flight_logs,
+)
 
 RAW_ATOL_UT = 1e-3
 """The raw field read back: float32 in the logs (MagX… of the simulated DataFlash, sensor_mag's x…)."""
@@ -46,8 +53,12 @@ def test_ardupilot_log_of_a_flight_reads_back_what_was_written(tmp_path, generat
     assert r.firmware == "ardupilot" and r.instance == 0
     assert r.generation.endswith("(TimeUS, MAG with I)" if generation == "new" else "(TimeMS, MAG)")
     # old CURR holds centi-amps and ThrOut thousandths (int16): the current to 5 mA, the throttle to 5e-4
-    _check_common(r, flight, current_atol=1e-5 if generation == "new" else 5e-3,
-                  throttle_atol=1e-6 if generation == "new" else 5e-4)
+    _check_common(
+        r,
+        flight,
+        current_atol=1e-5 if generation == "new" else 5e-3,
+        throttle_atol=1e-6 if generation == "new" else 5e-4,
+    )
     np.testing.assert_allclose(r.stored.offsets_ut, cal["offsets_ut"], atol=1e-5)
     np.testing.assert_allclose(r.stored.matrix, cal["matrix"], atol=1e-6)
     np.testing.assert_allclose(r.stored.motor, cal["motor"], atol=1e-6)
@@ -111,9 +122,18 @@ def test_fmtu_names_the_instance_field(tmp_path):
     mag["data"]["Num"] = mag["data"].pop("I")
     units = "s#" + "G" * 9 + "-"
     mults = "F-" + "C" * 9 + "-"
-    fmtu = {"name": "FMTU", "type": 177, "format": "QBNN", "columns": ["TimeUS", "FmtType", "UnitIds", "MultIds"],
-            "data": {"TimeUS": np.zeros(1), "FmtType": np.array([mag["type"]]), "UnitIds": np.array([units.encode()]),
-                     "MultIds": np.array([mults.encode()])}}
+    fmtu = {
+        "name": "FMTU",
+        "type": 177,
+        "format": "QBNN",
+        "columns": ["TimeUS", "FmtType", "UnitIds", "MultIds"],
+        "data": {
+            "TimeUS": np.zeros(1),
+            "FmtType": np.array([mag["type"]]),
+            "UnitIds": np.array([units.encode()]),
+            "MultIds": np.array([mults.encode()]),
+        },
+    }
     second = {**mag, "data": {**mag["data"], "Num": np.ones(40), "MagX": mag["data"]["MagX"] + 1000.0}}
     path = write_dataflash(tmp_path / "fmtu.bin", [fmtu] + messages + [second])
     r = read_flight_compass(path)
@@ -133,11 +153,24 @@ def test_px4_log_with_vehicle_magnetometer_alone_is_read_back_to_raw(tmp_path):
     mag = topics.pop(0)
     h = ((flight["mag_raw_ut"] + np.outer(flight["current_a"], cal["motor"])) - cal["offsets_ut"]) @ cal["matrix"].T
     h = h @ _rotation_z(90).T / 100.0
-    topics.append({"name": "vehicle_magnetometer", "multi_id": 0,
-                   "fields": [("uint64_t", "timestamp"), ("uint64_t", "timestamp_sample"), ("uint32_t", "device_id"),
-                              ("float[3]", "magnetometer_ga")],
-                   "data": {"timestamp": mag["data"]["timestamp"], "timestamp_sample": mag["data"]["timestamp"],
-                            "device_id": mag["data"]["device_id"], "magnetometer_ga": h}})
+    topics.append(
+        {
+            "name": "vehicle_magnetometer",
+            "multi_id": 0,
+            "fields": [
+                ("uint64_t", "timestamp"),
+                ("uint64_t", "timestamp_sample"),
+                ("uint32_t", "device_id"),
+                ("float[3]", "magnetometer_ga"),
+            ],
+            "data": {
+                "timestamp": mag["data"]["timestamp"],
+                "timestamp_sample": mag["data"]["timestamp"],
+                "device_id": mag["data"]["device_id"],
+                "magnetometer_ga": h,
+            },
+        }
+    )
     path = tmp_path / "vm.ulg"
     path.write_bytes(ulog_bytes(topics, params=params, info=info))
     r = read_flight_compass(path)

@@ -24,9 +24,11 @@ FLIGHT = Path(__file__).resolve().parents[1] / "data" / "real" / "flight"
 LOG171 = FLIGHT / "log171.bin"
 PLANE = FLIGHT.parents[1] / "flight_logs" / "test.BIN"
 """pymavlink's test log (tests/data/README.md): ArduPlane V3.8.2-dev, TimeUS with MAG/MAG2/MAG3 named per instance."""
-ULOGS = {"sample_appended_multiple.ulg": "PX4 v1.6.0 (sensor_combined)",
-         "sample_log_small.ulg": "PX4 v1.11.2 (sensor_mag, calibrated)",
-         "sample_px4_events.ulg": "PX4 v1.15.0 (sensor_mag)"}
+ULOGS = {
+    "sample_appended_multiple.ulg": "PX4 v1.6.0 (sensor_combined)",
+    "sample_log_small.ulg": "PX4 v1.11.2 (sensor_mag, calibrated)",
+    "sample_px4_events.ulg": "PX4 v1.15.0 (sensor_mag)",
+}
 
 
 @pytest.fixture(scope="module")
@@ -77,12 +79,10 @@ def test_log171_compass_context_against_pymavlink(mavlink):
     np.testing.assert_allclose(r.stored.offsets_ut, [params[f"COMPASS_OFS2_{a}"] * 0.1 for a in "XYZ"], atol=1e-6)
     d = [params[f"COMPASS_DIA2_{a}"] for a in "XYZ"]
     o = [params[f"COMPASS_ODI2_{a}"] for a in "XYZ"]
-    np.testing.assert_allclose(r.stored.matrix, [[d[0], o[0], o[1]], [o[0], d[1], o[2]], [o[1], o[2], d[2]]],
-                               atol=1e-7)
+    np.testing.assert_allclose(r.stored.matrix, [[d[0], o[0], o[1]], [o[0], d[1], o[2]], [o[1], o[2], d[2]]], atol=1e-7)
     assert r.stored.motor_kind is None and r.stored.orientation == 0
     # raw read back: D (m + O) is the logged field (no motor offset in this log: COMPASS_MOTCT 0)
-    np.testing.assert_allclose((r.mag_raw_ut + r.stored.offsets_ut) @ r.stored.matrix.T, r.mag_firmware_ut,
-                               atol=1e-9)
+    np.testing.assert_allclose((r.mag_raw_ut + r.stored.offsets_ut) @ r.stored.matrix.T, r.mag_firmware_ut, atol=1e-9)
     att = first["ATT"]
     expected = Rotation.from_euler("ZYX", [att.Yaw, att.Pitch, att.Roll], degrees=True).as_matrix()
     np.testing.assert_allclose(r.attitude_c_nb[0], expected, atol=1e-9)
@@ -91,8 +91,11 @@ def test_log171_compass_context_against_pymavlink(mavlink):
     assert r.current_a[0] == pytest.approx(cur.Curr / 100.0) and r.power_time_s[0] == pytest.approx(cur.TimeMS * 1e-3)
     assert r.current_a.max() == pytest.approx(27.44)
     ctun = first["CTUN"]
-    assert 0 <= r.throttle.min() and r.throttle.max() <= 1 and r.throttle[0] == pytest.approx(ctun.ThrOut / 1000.0,
-                                                                                           abs=1e-3)
+    assert (
+        0 <= r.throttle.min()
+        and r.throttle.max() <= 1
+        and r.throttle[0] == pytest.approx(ctun.ThrOut / 1000.0, abs=1e-3)
+    )
     fix = mavlink["gps_fix"]
     assert (r.latitude_deg, r.longitude_deg, r.altitude_m) == pytest.approx((fix.Lat, fix.Lng, fix.Alt), abs=1e-9)
     gps = dt.datetime(1980, 1, 6, tzinfo=dt.timezone.utc) + dt.timedelta(weeks=fix.Week, milliseconds=fix.TimeMS)
@@ -124,8 +127,11 @@ def test_plane_3_8_of_timeus_with_numbered_compasses_against_pymavlink():
     m = first["MAG2"]
     assert r.time_s[0] == pytest.approx(m.TimeUS * 1e-6, abs=1e-9)
     np.testing.assert_allclose(r.mag_firmware_ut[0], np.array([m.MagX, m.MagY, m.MagZ]) * 0.1, atol=1e-9)
-    np.testing.assert_allclose((r.mag_raw_ut[0] + r.stored.offsets_ut + np.array([m.MOfsX, m.MOfsY, m.MOfsZ]) * 0.1)
-                               @ r.stored.matrix.T, r.mag_firmware_ut[0], atol=1e-9)
+    np.testing.assert_allclose(
+        (r.mag_raw_ut[0] + r.stored.offsets_ut + np.array([m.MOfsX, m.MOfsY, m.MOfsZ]) * 0.1) @ r.stored.matrix.T,
+        r.mag_firmware_ut[0],
+        atol=1e-9,
+    )
     bat, ctun = first["BAT"], first["CTUN"]
     assert r.current_a.max() == pytest.approx(1.166, abs=1e-6) and "BAT.Curr" in r.power_source
     assert "Plane, percent" in r.power_source and r.throttle[0] == pytest.approx(ctun.ThrOut / 100.0)
@@ -170,8 +176,12 @@ def test_ulog_corpus_reads_as_pyulog_reads_it(name):
     assert len(r.attitude_time_s) == len(att["timestamp"])
     # the stored calibration matched by device id, as PX4 means it (offsets subtracted, gauss)
     values = u.initial_parameters
-    slot = next(n for n in range(4) if f"CAL_MAG{n}_XOFF" in values
-                and np.allclose(r.stored.offsets_ut, [values[f"CAL_MAG{n}_{a}OFF"] * 100 for a in "XYZ"]))
+    slot = next(
+        n
+        for n in range(4)
+        if f"CAL_MAG{n}_XOFF" in values
+        and np.allclose(r.stored.offsets_ut, [values[f"CAL_MAG{n}_{a}OFF"] * 100 for a in "XYZ"])
+    )
     assert r.stored.params[f"CAL_MAG{slot}_ID"] == values[f"CAL_MAG{slot}_ID"]
     np.testing.assert_allclose(np.diag(r.stored.matrix), [values[f"CAL_MAG{slot}_{a}SCALE"] for a in "XYZ"])
 
@@ -211,7 +221,8 @@ def test_stored_calibration_parameters_as_the_libraries_read_them(name):
     if name.endswith(".bin"):
         theirs = _pymavlink_params(path)
         wanted = [f"COMPASS_OFS{k}_{a}" for k in ("", "2", "3") for a in "XYZ"] + [
-            f"INS_ACC{k}OFFS_{a}" for k in ("", "2", "3") for a in "XYZ"]
+            f"INS_ACC{k}OFFS_{a}" for k in ("", "2", "3") for a in "XYZ"
+        ]
     else:
         with contextlib.redirect_stdout(io.StringIO()):
             theirs = ULog(str(path), message_name_filter_list=[]).initial_parameters

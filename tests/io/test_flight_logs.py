@@ -16,8 +16,18 @@ from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.flight_log import decode_device_id
 from app.io.read_options import ReadOptions
-from tests.flight_logs import (GYR_BIAS, TRUTH, ardupilot_batch, ardupilot_file, ardupilot_imu, compass_tumble,
-                               imu_instances, px4_file, still_board, write_dataflash)
+from tests.flight_logs import (
+    GYR_BIAS,
+    TRUTH,
+    ardupilot_batch,
+    ardupilot_file,
+    ardupilot_imu,
+    compass_tumble,
+    imu_instances,
+    px4_file,
+    still_board,
+    write_dataflash,
+)
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "flight_logs"
 ULOG = DATA / "sample_log_small.ulg"
@@ -33,22 +43,41 @@ def _csv_rows(text: str) -> list[dict]:
 def ulog2csv(tmp_path_factory):
     """pyulog's own dump of the sample, as a process."""
     out = tmp_path_factory.mktemp("ulog2csv")
-    subprocess.run([str(BIN_DIR / "ulog2csv"), "-m", "sensor_accel,sensor_gyro,sensor_mag,sensor_combined", "-o",
-                    str(out), str(ULOG)], check=True, capture_output=True, timeout=120)
+    subprocess.run(
+        [
+            str(BIN_DIR / "ulog2csv"),
+            "-m",
+            "sensor_accel,sensor_gyro,sensor_mag,sensor_combined",
+            "-o",
+            str(out),
+            str(ULOG),
+        ],
+        check=True,
+        capture_output=True,
+        timeout=120,
+    )
     return {p.stem.replace("sample_log_small_", ""): _csv_rows(p.read_text()) for p in out.glob("*.csv")}
 
 
 def _mavlogdump(kind: str) -> list[dict]:
-    r = subprocess.run([sys.executable, str(BIN_DIR / "mavlogdump.py"), "--format", "csv", "--types", kind, str(BIN)],
-                       check=True, capture_output=True, text=True, timeout=120)
+    r = subprocess.run(
+        [sys.executable, str(BIN_DIR / "mavlogdump.py"), "--format", "csv", "--types", kind, str(BIN)],
+        check=True,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     return _csv_rows(r.stdout)
 
 
 def test_ulog_sample_reads_as_ulog2csv_prints(ulog2csv):
     dump = ulog2csv["sensor_accel_1"]
     log = read_log(ULOG, ReadOptions(instance=1))
-    assert log.format == "ulog" and log.flight.imu == {"instance": 1, "source": "sensor_accel",
-                                                       "gyr_source": "sensor_gyro"}
+    assert log.format == "ulog" and log.flight.imu == {
+        "instance": 1,
+        "source": "sensor_accel",
+        "gyr_source": "sensor_gyro",
+    }
     assert log.n_samples == len(dump) == 6
     first = dump[0]
     np.testing.assert_allclose(log.acc[0], [float(first[a]) for a in "xyz"], rtol=0, atol=1e-6)
@@ -122,12 +151,15 @@ def test_dataflash_sample_reads_as_mavlogdump_prints():
     assert rows[("acc", 0)]["n_samples"] == len(_mavlogdump("IMU")) == 45
 
 
-@pytest.mark.parametrize("path, option, words", [
-    (ULOG, {"instance": 3}, "has no IMU instance 3: its IMU instances are 0, 1, 2"),
-    (ULOG, {"mag_instance": 2}, "has no magnetometer instance 2: its magnetometer instances are 0, 1"),
-    (BIN, {"instance": 2}, "has no IMU instance 2: its IMU instances are 0, 1"),
-    (BIN, {"mag_instance": 5}, "its magnetometer instances are 0, 1, 2"),
-])
+@pytest.mark.parametrize(
+    "path, option, words",
+    [
+        (ULOG, {"instance": 3}, "has no IMU instance 3: its IMU instances are 0, 1, 2"),
+        (ULOG, {"mag_instance": 2}, "has no magnetometer instance 2: its magnetometer instances are 0, 1"),
+        (BIN, {"instance": 2}, "has no IMU instance 2: its IMU instances are 0, 1"),
+        (BIN, {"mag_instance": 5}, "its magnetometer instances are 0, 1, 2"),
+    ],
+)
 def test_an_instance_the_log_lacks_is_refused_naming_those_it_has(path, option, words):
     with pytest.raises(LogFormatError, match=words):
         read_log(path, ReadOptions(**option))
@@ -138,7 +170,9 @@ def test_text_options_are_refused_for_flight_logs(tmp_path):
         read_log(BIN, ReadOptions(chip="mpu6050-2g"))
     with pytest.raises(LogFormatError, match="units is for text logs"):
         read_log(ULOG, ReadOptions(units={"acc": "g"}))
-    assert read_log(ULOG, ReadOptions(units={"acc": "m/s^2"}, instance=0)).units["acc"] == "m/s^2"  # the format's own unit
+    assert (
+        read_log(ULOG, ReadOptions(units={"acc": "m/s^2"}, instance=0)).units["acc"] == "m/s^2"
+    )  # the format's own unit
     csv_path = tmp_path / "still.csv"
     csv_path.write_text("t,ax,ay,az\n" + "".join(f"{i / 100},0,0,9.81\n" for i in range(100)))
     with pytest.raises(LogFormatError, match="instance and mag_instance choose a sensor of a flight"):
@@ -199,10 +233,10 @@ def test_px4_gyroscope_is_interpolated_onto_the_accelerometer_times(tmp_path):
     # sample precedes every gyroscope sample and is left out; sample i then reads the ramp at i − 0.2.
     n = log.n_samples
     assert n == len(ramp) - 1
-    expected = ramp[1:1 + n] - 0.2 * (ramp[1] - ramp[0])
+    expected = ramp[1 : 1 + n] - 0.2 * (ramp[1] - ramp[0])
     np.testing.assert_allclose(log.gyr, np.column_stack([expected, 2 * expected, -expected]), atol=1e-6)
-    np.testing.assert_allclose(log.acc, imus[0]["acc"][1:1 + n], atol=2e-6)
-    np.testing.assert_allclose(log.temperature_c, imus[0]["temperature"][1:1 + n], atol=2e-6)
+    np.testing.assert_allclose(log.acc, imus[0]["acc"][1 : 1 + n], atol=2e-6)
+    np.testing.assert_allclose(log.temperature_c, imus[0]["temperature"][1 : 1 + n], atol=2e-6)
 
 
 def test_dataflash_batch_sampler_at_full_rate_with_the_imu_temperature(tmp_path):
@@ -211,8 +245,10 @@ def test_dataflash_batch_sampler_at_full_rate_with_the_imu_temperature(tmp_path)
     t_batch = (1_000_000 + np.arange(n) * 1000).astype(np.uint64)
     acc = np.tile([0.0, 0.0, -9.80665], (n, 1))
     temps = np.linspace(35.0, 36.0, len(imus[1]["time_us"]))
-    messages = [ardupilot_imu(k, imu["time_us"], imu["acc"], imu["gyr"], temps if k else imu["temperature"])
-                for k, imu in enumerate(imus)]
+    messages = [
+        ardupilot_imu(k, imu["time_us"], imu["acc"], imu["gyr"], temps if k else imu["temperature"])
+        for k, imu in enumerate(imus)
+    ]
     messages += [ardupilot_batch("ACC", 1, t_batch, acc), ardupilot_batch("GYR", 1, t_batch, np.zeros((n, 3)))]
     log = read_log(write_dataflash(tmp_path / "batch.bin", messages), ReadOptions(instance=1))
     assert log.flight.imu == {"instance": 1, "source": "ACC", "gyr_source": "GYR"}

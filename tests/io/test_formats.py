@@ -35,11 +35,17 @@ def write_zip(tmp_path, name, members):
 @pytest.mark.parametrize(
     "filename, fmt",
     [
-        ("phyphox_comma.csv", "phyphox"), ("phyphox_tab.csv", "phyphox"),
-        ("phyphox_semicolon_decimal_comma.csv", "phyphox"), ("phyphox_export.zip", "phyphox"),
-        ("sensor_logger_android.zip", "sensor_logger"), ("sensor_logger_TotalAcceleration.csv", "sensor_logger"),
-        ("physics_toolbox_gforce.csv", "physics_toolbox"), ("gnss_logger.txt", "gnss_logger"),
-        ("arduino_serial_plotter.txt", "arduino"), ("arduino_lsb.csv", "arduino"), ("generic_g.csv", "csv"),
+        ("phyphox_comma.csv", "phyphox"),
+        ("phyphox_tab.csv", "phyphox"),
+        ("phyphox_semicolon_decimal_comma.csv", "phyphox"),
+        ("phyphox_export.zip", "phyphox"),
+        ("sensor_logger_android.zip", "sensor_logger"),
+        ("sensor_logger_TotalAcceleration.csv", "sensor_logger"),
+        ("physics_toolbox_gforce.csv", "physics_toolbox"),
+        ("gnss_logger.txt", "gnss_logger"),
+        ("arduino_serial_plotter.txt", "arduino"),
+        ("arduino_lsb.csv", "arduino"),
+        ("generic_g.csv", "csv"),
         ("../six_orientations_150hz.csv", "csv"),
     ],
 )
@@ -78,9 +84,13 @@ def test_physics_toolbox_multi_record_ignores_linear_columns(tmp_path):
 
 
 def _sl_csv(rows):
-    return "time,seconds_elapsed,z,y,x\n" + "\n".join(
-        f"{1_700_000_000_000_000_000 + i * 10_000_000},{i / 100},{z},{y},{x}"
-        for i, (x, y, z) in enumerate(rows)) + "\n"
+    return (
+        "time,seconds_elapsed,z,y,x\n"
+        + "\n".join(
+            f"{1_700_000_000_000_000_000 + i * 10_000_000},{i / 100},{z},{y},{x}" for i, (x, y, z) in enumerate(rows)
+        )
+        + "\n"
+    )
 
 
 def test_sensor_logger_ios_standardised_keeps_the_sign(tmp_path):
@@ -123,9 +133,11 @@ def test_gnss_logger_found_past_the_first_lines(tmp_path):
 
 
 def test_gnss_logger_bad_line_is_named(tmp_path):
-    text = ("# UncalAccel,utcTimeMillis,elapsedRealtimeNanos,UncalAccelXMps2,UncalAccelYMps2,UncalAccelZMps2,"
-            "BiasXMps2,BiasYMps2,BiasZMps2\n"
-            "UncalAccel,1,1000000,0.1,0.2,9.8,0,0,0\nUncalAccel,2,2000000,0.1,x,9.8,0,0,0\n")
+    text = (
+        "# UncalAccel,utcTimeMillis,elapsedRealtimeNanos,UncalAccelXMps2,UncalAccelYMps2,UncalAccelZMps2,"
+        "BiasXMps2,BiasYMps2,BiasZMps2\n"
+        "UncalAccel,1,1000000,0.1,0.2,9.8,0,0,0\nUncalAccel,2,2000000,0.1,x,9.8,0,0,0\n"
+    )
     with pytest.raises(LogFormatError, match="line 3 \\(UncalAccel\\)"):
         read_log(write(tmp_path, "g.txt", text))
 
@@ -201,5 +213,8 @@ def test_the_samples_are_the_generator_output(tmp_path):
 def test_g_readings_declared_in_m_s2_are_read_in_g_with_a_warning():
     log = read_log(SAMPLES / "generic_g.csv", ReadOptions(units={"acc": "m/s^2"}))
     assert log.units["acc"] == "g"
-    assert any(n.startswith("acc_unit said m/s^2 for the accelerometer, but its readings rest at a median norm of")
-               and n.endswith("about 1 g in g: calibrated in g") for n in log.warnings)
+    assert any(
+        n.startswith("acc_unit said m/s^2 for the accelerometer, but its readings rest at a median norm of")
+        and n.endswith("about 1 g in g: calibrated in g")
+        for n in log.warnings
+    )

@@ -115,6 +115,7 @@ def _simulated_turns(seed: int, lsb: float | None, unit: str):
 
 def _step(q, r):
     from app.io.formats.gyro_unit import _mul
+
     return _mul(q, compose(r[None]))
 
 

@@ -37,11 +37,20 @@ def write(tmp_path, name, text):
     return p
 
 
-@pytest.mark.parametrize("sep, decimal, word", [
-    (",", ".", "commas"), (";", ".", "semicolons"), ("\t", ".", "tabs"), (" ", ".", "spaces"),
-    ("   ", ".", "spaces"), (" \t ", ".", "tabs"), (";", ",", "semicolons"), ("\t", ",", "tabs"),
-    (" ", ",", "spaces"),
-])
+@pytest.mark.parametrize(
+    "sep, decimal, word",
+    [
+        (",", ".", "commas"),
+        (";", ".", "semicolons"),
+        ("\t", ".", "tabs"),
+        (" ", ".", "spaces"),
+        ("   ", ".", "spaces"),
+        (" \t ", ".", "tabs"),
+        (";", ",", "semicolons"),
+        ("\t", ",", "tabs"),
+        (" ", ",", "spaces"),
+    ],
+)
 def test_four_columns_are_time_x_y_z_with_any_separator(tmp_path, sep, decimal, word):
     log = read_log(write(tmp_path, "log.txt", rows(4, sep=sep, decimal=decimal)))
     assert log.format == "csv" and log.columns == ["time", "acc_x", "acc_y", "acc_z"]
@@ -51,8 +60,9 @@ def test_four_columns_are_time_x_y_z_with_any_separator(tmp_path, sep, decimal, 
     assert ("decimal comma" in log.notes) == (decimal == ",")
 
 
-@pytest.mark.parametrize("step, time_fmt, rate", [(0.02, "{:.3f}", 50.0), (20, "{:.0f}", 50.0),
-                                                  (2_000_000, "{:.0f}", 500.0)])
+@pytest.mark.parametrize(
+    "step, time_fmt, rate", [(0.02, "{:.3f}", 50.0), (20, "{:.0f}", 50.0), (2_000_000, "{:.0f}", 500.0)]
+)
 def test_the_time_unit_is_inferred_from_the_step(tmp_path, step, time_fmt, rate):
     # 0.02 s; 20 ms; 2 000 000 ns (500 Hz) — as for a header's `time` column without a unit.
     log = read_log(write(tmp_path, "t.txt", rows(4, step=step, sep=" ", time_fmt=time_fmt)))
@@ -86,15 +96,18 @@ def test_other_column_counts_are_named_from_the_data_or_by_columns(tmp_path):
     assert skipped.channels == ["acc"] and skipped.sampling_rate_hz == pytest.approx(100.0)
 
 
-@pytest.mark.parametrize("columns, fragment", [
-    ("t,acc_x,acc_y,acc_z", "names 4 columns (t, acc_x, acc_y, acc_z) but the file has 7 per line"),
-    ("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyro_z", "'gyro_z', which trical does not know"),
-    ("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,-", "names gyr_x, gyr_y but not gyr_z"),
-    ("t,-,-,-,-,-,-", "names no sensor"),
-    ("t,acc_x,acc_y,acc_z,acc_x,-,-", "names acc_x more than once"),
-    ("t,time_ms,acc_x,acc_y,acc_z,-,-", "names t, time_ms more than once"),
-    ("acc_x:north,acc_y", "is not canonical:column"),
-])
+@pytest.mark.parametrize(
+    "columns, fragment",
+    [
+        ("t,acc_x,acc_y,acc_z", "names 4 columns (t, acc_x, acc_y, acc_z) but the file has 7 per line"),
+        ("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyro_z", "'gyro_z', which trical does not know"),
+        ("t,acc_x,acc_y,acc_z,gyr_x,gyr_y,-", "names gyr_x, gyr_y but not gyr_z"),
+        ("t,-,-,-,-,-,-", "names no sensor"),
+        ("t,acc_x,acc_y,acc_z,acc_x,-,-", "names acc_x more than once"),
+        ("t,time_ms,acc_x,acc_y,acc_z,-,-", "names t, time_ms more than once"),
+        ("acc_x:north,acc_y", "is not canonical:column"),
+    ],
+)
 def test_bad_columns_name_the_problem(tmp_path, columns, fragment):
     with pytest.raises(LogFormatError) as e:
         read_log(write(tmp_path, "imu.csv", rows(7)), ReadOptions(columns=columns))
@@ -132,11 +145,20 @@ def test_a_bad_number_is_named_by_line_and_column(tmp_path):
         read_log(write(tmp_path, "bad.txt", "\n".join(text) + "\n"))
 
 
-@pytest.mark.parametrize("line, layout", [
-    ("0 1 2", (" ", ".", 3)), ("0,5;1,5;9,8", (";", ",", 3)), ("0.5,1,2", (",", ".", 3)),
-    ("0,5 1,5 2", (" ", ",", 3)), ("0.1\t0.2\t9.8", ("\t", ".", 3)), ("0.1, 0.2, 9.8", (",", ".", 3)),
-    ("time x y z", None), ("acc_x,acc_y,acc_z", None), ("nan,1,2", None),
-])
+@pytest.mark.parametrize(
+    "line, layout",
+    [
+        ("0 1 2", (" ", ".", 3)),
+        ("0,5;1,5;9,8", (";", ",", 3)),
+        ("0.5,1,2", (",", ".", 3)),
+        ("0,5 1,5 2", (" ", ",", 3)),
+        ("0.1\t0.2\t9.8", ("\t", ".", 3)),
+        ("0.1, 0.2, 9.8", (",", ".", 3)),
+        ("time x y z", None),
+        ("acc_x,acc_y,acc_z", None),
+        ("nan,1,2", None),
+    ],
+)
 def test_numeric_layout(line, layout):
     assert numeric_layout([line]) == layout
 
@@ -153,8 +175,11 @@ def test_sign_minus_one_negates_the_accelerations(tmp_path):
 def test_a_sensorlog_file_is_detected_as_ios_and_negated():
     log = read_log(SAMPLES / "sensorlog_ios.csv")
     assert log.format == "sensorlog" and log.sign == -1 and log.units == {"acc": "g", "gyr": "rad/s"}
-    assert any(n.startswith("this looks like an iOS Core Motion log (accelerometerAccelerationX(G)") and
-               n.endswith("pass sign=1 to keep them") for n in log.notes)
+    assert any(
+        n.startswith("this looks like an iOS Core Motion log (accelerometerAccelerationX(G)")
+        and n.endswith("pass sign=1 to keep them")
+        for n in log.notes
+    )
     generic = read_log(SAMPLES / "headerless_tab_xyz_g.txt", ReadOptions(sampling_rate_hz=50))
     np.testing.assert_allclose(log.acc, generic.acc, atol=1e-6)  # the same rests on trical's sign
     kept = read_log(SAMPLES / "sensorlog_ios.csv", ReadOptions(sign=1))
@@ -163,13 +188,16 @@ def test_a_sensorlog_file_is_detected_as_ios_and_negated():
 
 
 def test_core_motion_names_in_a_generic_csv(tmp_path):
-    header = "timestamp,accelerationX,accelerationY,accelerationZ,userAccelerationX,userAccelerationY," \
-             "userAccelerationZ,gravityX,gravityY,gravityZ\n"
+    header = (
+        "timestamp,accelerationX,accelerationY,accelerationZ,userAccelerationX,userAccelerationY,"
+        "userAccelerationZ,gravityX,gravityY,gravityZ\n"
+    )
     body = "".join(f"{i / 100:.2f},0.01,0.02,-1.0,0.0,0.0,0.0,0.01,0.02,-1.0\n" for i in range(N))
     log = read_log(write(tmp_path, "cm.csv", header + body))
     assert log.sign == -1 and log.acc[0, 2] == pytest.approx(1.0)
-    assert any("iOS Core Motion log (userAccelerationX, userAccelerationY, userAccelerationZ, …)" in n
-               for n in log.notes)
+    assert any(
+        "iOS Core Motion log (userAccelerationX, userAccelerationY, userAccelerationZ, …)" in n for n in log.notes
+    )
 
 
 def test_core_motion_names_in_m_s2_are_kept_with_a_note(tmp_path):

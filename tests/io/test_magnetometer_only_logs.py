@@ -27,16 +27,23 @@ def _csv(header: str, rows) -> str:
 
 def _sensor_logger_csv() -> str:
     ns = (1_700_000_000_000_000_000 + T * 1e9).astype(np.int64)
-    lines = ["time,seconds_elapsed,z,y,x"] + [f"{n},{s:.6f},{v[2]:.6f},{v[1]:.6f},{v[0]:.6f}" for n, s, v in zip(ns, T, MAG)]
+    lines = ["time,seconds_elapsed,z,y,x"] + [
+        f"{n},{s:.6f},{v[2]:.6f},{v[1]:.6f},{v[0]:.6f}" for n, s, v in zip(ns, T, MAG)
+    ]
     return "\n".join(lines) + "\n"
 
 
 def _gnss_logger() -> str:
-    header = ["# Header Description:", "# UncalMag,utcTimeMillis,elapsedRealtimeNanos,UncalMagXMicroT,UncalMagYMicroT,"
-              "UncalMagZMicroT,BiasXMicroT,BiasYMicroT,BiasZMicroT,CalibrationAccuracy"]
+    header = [
+        "# Header Description:",
+        "# UncalMag,utcTimeMillis,elapsedRealtimeNanos,UncalMagXMicroT,UncalMagYMicroT,"
+        "UncalMagZMicroT,BiasXMicroT,BiasYMicroT,BiasZMicroT,CalibrationAccuracy",
+    ]
     ns = (5_000_000_000 + T * 1e9).astype(np.int64)
-    lines = [f"UncalMag,{1_700_000_000_000 + int(s * 1000)},{n},{v[0]:.6f},{v[1]:.6f},{v[2]:.6f},10.0,20.0,30.0,3"
-             for n, s, v in zip(ns, T, MAG)]
+    lines = [
+        f"UncalMag,{1_700_000_000_000 + int(s * 1000)},{n},{v[0]:.6f},{v[1]:.6f},{v[2]:.6f},10.0,20.0,30.0,3"
+        for n, s, v in zip(ns, T, MAG)
+    ]
     return "\n".join(header + lines) + "\n"
 
 
@@ -50,14 +57,33 @@ def _zip(**members) -> bytes:
 
 CASES = {
     "generic CSV": ("turn.csv", _csv("time_s,mag_x (uT),mag_y (uT),mag_z (uT)", np.column_stack([T, MAG])), {}, "csv"),
-    "headerless with columns": ("turn.csv", _csv("", np.column_stack([T, MAG])).lstrip("\n"),
-                                {"columns": "t,mag_x,mag_y,mag_z"}, "csv"),
+    "headerless with columns": (
+        "turn.csv",
+        _csv("", np.column_stack([T, MAG])).lstrip("\n"),
+        {"columns": "t,mag_x,mag_y,mag_z"},
+        "csv",
+    ),
     "Sensor Logger CSV": ("MagnetometerUncalibrated.csv", _sensor_logger_csv(), {}, "sensor_logger"),
-    "Sensor Logger zip": ("turn.zip", _zip(**{"Metadata.csv": "platform,standardisation\nandroid,true\n",
-                                              "MagnetometerUncalibrated.csv": _sensor_logger_csv()}), {},
-                          "sensor_logger"),
-    "phyphox": ("Raw Data.csv", _csv('"Time (s)","Magnetic field x (µT)","Magnetic field y (µT)","Magnetic field z (µT)"',
-                                     np.column_stack([T, MAG])), {}, "phyphox"),
+    "Sensor Logger zip": (
+        "turn.zip",
+        _zip(
+            **{
+                "Metadata.csv": "platform,standardisation\nandroid,true\n",
+                "MagnetometerUncalibrated.csv": _sensor_logger_csv(),
+            }
+        ),
+        {},
+        "sensor_logger",
+    ),
+    "phyphox": (
+        "Raw Data.csv",
+        _csv(
+            '"Time (s)","Magnetic field x (µT)","Magnetic field y (µT)","Magnetic field z (µT)"',
+            np.column_stack([T, MAG]),
+        ),
+        {},
+        "phyphox",
+    ),
     "GnssLogger UncalMag": ("gnss_log.txt", _gnss_logger(), {}, "gnss_logger"),
 }
 
@@ -81,4 +107,3 @@ def test_a_file_without_any_sensor_triple_says_what_it_wants(tmp_path):
     path.write_text("time_s,temperature,pressure\n0,20,1000\n0.1,20,1000\n")
     with pytest.raises(LogFormatError, match="mag_x, mag_y, mag_z"):
         read_log(path, ReadOptions(format="auto", sampling_rate_hz=None, units={}), name="x.csv")
-

@@ -12,31 +12,66 @@ from app.io.formats import read_log
 from app.io.parts import log_members, pose_from_name
 
 
-@pytest.mark.parametrize("name, pose", [
-    ("x_axis_pos.csv", "+x"), ("x_axis_neg.csv", "-x"), ("y_axis_neg2.csv", "-y"), ("data/z_axis_pos.csv", "+z"),
-    ("xpos.csv", "+x"), ("xneg", "-x"), ("xplus.csv", "+x"), ("xminus.csv", "-x"),  # merged words
-    ("x_up.txt", "+x"), ("z_down.csv", "-z"), ("Y-UP.csv", "+y"), ("up_z.csv", "+z"),
-    ("imu_data_posZ.csv", "+z"), ("imu_data_negZ.csv", "-z"), ("negx", "-x"),
-    ("+x.csv", "+x"), ("-z.csv", "-z"), ("acc_-y.csv", "-y"), ("pose +x.csv", "+x"),
-    ("x_p.csv", "+x"), ("x_a.csv", "-x"), ("z_n.csv", "-z"),  # imucal's region names: x_p parallel, x_a anti
-    ("x_positive.csv", "+x"), ("y_negative.csv", "-y"),
-])
+@pytest.mark.parametrize(
+    "name, pose",
+    [
+        ("x_axis_pos.csv", "+x"),
+        ("x_axis_neg.csv", "-x"),
+        ("y_axis_neg2.csv", "-y"),
+        ("data/z_axis_pos.csv", "+z"),
+        ("xpos.csv", "+x"),
+        ("xneg", "-x"),
+        ("xplus.csv", "+x"),
+        ("xminus.csv", "-x"),  # merged words
+        ("x_up.txt", "+x"),
+        ("z_down.csv", "-z"),
+        ("Y-UP.csv", "+y"),
+        ("up_z.csv", "+z"),
+        ("imu_data_posZ.csv", "+z"),
+        ("imu_data_negZ.csv", "-z"),
+        ("negx", "-x"),
+        ("+x.csv", "+x"),
+        ("-z.csv", "-z"),
+        ("acc_-y.csv", "-y"),
+        ("pose +x.csv", "+x"),
+        ("x_p.csv", "+x"),
+        ("x_a.csv", "-x"),
+        ("z_n.csv", "-z"),  # imucal's region names: x_p parallel, x_a anti
+        ("x_positive.csv", "+x"),
+        ("y_negative.csv", "-y"),
+    ],
+)
 def test_a_file_name_gives_the_up_axis(name, pose):
     assert pose_from_name(name) == pose
 
 
-@pytest.mark.parametrize("name", [
-    "x_axis.csv", "log.csv", "box_up.csv", "imu-x.csv", "maxpos.csv", "1.csv", "still.csv",
-    "xpos_yneg.csv",  # two poses: none
-    "tux_down.csv", "experiment_up.csv",
-])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "x_axis.csv",
+        "log.csv",
+        "box_up.csv",
+        "imu-x.csv",
+        "maxpos.csv",
+        "1.csv",
+        "still.csv",
+        "xpos_yneg.csv",  # two poses: none
+        "tux_down.csv",
+        "experiment_up.csv",
+    ],
+)
 def test_a_name_that_gives_no_single_pose_gives_none(name):
     assert pose_from_name(name) is None
 
 
 def test_zip_members_of_the_system_are_left_out():
-    members = ["poses/", "poses/x_axis_pos.csv", "__MACOSX/poses/._x_axis_pos.csv", "poses/.DS_Store",
-               "poses/x_axis_neg.csv"]
+    members = [
+        "poses/",
+        "poses/x_axis_pos.csv",
+        "__MACOSX/poses/._x_axis_pos.csv",
+        "poses/.DS_Store",
+        "poses/x_axis_neg.csv",
+    ]
     assert log_members(members) == ["poses/x_axis_pos.csv", "poses/x_axis_neg.csv"]
 
 
@@ -68,7 +103,9 @@ def test_a_zip_of_pose_files_is_read_file_by_file_and_joined(tmp_path):
 def test_files_in_different_units_are_refused_naming_both(tmp_path):
     p = tmp_path / "poses.zip"
     with zipfile.ZipFile(p, "w") as zf:
-        zf.writestr("x_up.csv", _csv([[0, 9.81, 0, 0], [10, 9.81, 0, 0]], "t_ms,acc_x (m/s^2),acc_y (m/s^2),acc_z (m/s^2)"))
+        zf.writestr(
+            "x_up.csv", _csv([[0, 9.81, 0, 0], [10, 9.81, 0, 0]], "t_ms,acc_x (m/s^2),acc_y (m/s^2),acc_z (m/s^2)")
+        )
         zf.writestr("x_down.csv", _csv([[0, -1, 0, 0], [10, -1, 0, 0]], "t_ms,acc_x (g),acc_y (g),acc_z (g)"))
     with pytest.raises(LogFormatError, match=r"x_down.csv reads the acc in g but x_up.csv in m/s\^2: give the unit"):
         read_log(p, name="poses.zip")

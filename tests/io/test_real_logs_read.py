@@ -53,10 +53,11 @@ def test_whole_numbers_of_a_still_magnetometer_are_counts_unless_a_unit_is_state
     # Their norm can fall in 15-100 (an AK8963 at 14 bits reads 80 for 48 µT); as floats it is µT.
     rng = np.random.default_rng(4)
     counts = np.round([50.0, 20.0, 55.0] + rng.normal(0.0, 0.6, (2000, 3)))
-    for header, values, fmt, unit in (("mag_x,mag_y,mag_z", counts, "%.0f", "raw"),
-                                      ("mag_x (uT),mag_y (uT),mag_z (uT)", counts, "%.0f", "uT"),
-                                      ("mag_x,mag_y,mag_z", counts + rng.uniform(-0.4, 0.4, counts.shape), "%.3f",
-                                       "uT")):
+    for header, values, fmt, unit in (
+        ("mag_x,mag_y,mag_z", counts, "%.0f", "raw"),
+        ("mag_x (uT),mag_y (uT),mag_z (uT)", counts, "%.0f", "uT"),
+        ("mag_x,mag_y,mag_z", counts + rng.uniform(-0.4, 0.4, counts.shape), "%.3f", "uT"),
+    ):
         path = tmp_path / "mag.csv"
         np.savetxt(path, values, fmt=fmt, delimiter=",", header=header, comments="")
         log = read_log(path, ReadOptions(sampling_rate_hz=50, units={}), name="mag.csv")
@@ -79,8 +80,10 @@ def test_a_terminal_captures_start_up_lines_are_skipped_and_named():
     assert leading_prose(text.splitlines()) == [0, 1, 2]
     layout = table_layout(text, "imu_raw.csv", BNO_COLUMNS)
     assert layout.skip_lines == 3 and layout.headerless and layout.delimiter == ","
-    assert layout.notes[0] == ("lines 1, 2, 3 skipped before the table: neither a header nor numbers ('GPIO "
-                               "initialized.', 'i2c bus opened with handle 0.', 'Device with address a0 found')")
+    assert layout.notes[0] == (
+        "lines 1, 2, 3 skipped before the table: neither a header nor numbers ('GPIO "
+        "initialized.', 'i2c bus opened with handle 0.', 'Device with address a0 found')"
+    )
 
 
 def test_start_up_lines_before_a_header_are_skipped_and_the_header_kept():
@@ -127,11 +130,13 @@ def test_microstrain_scaled_columns_are_the_accelerometer_beside_the_filters_lin
 def test_linear_columns_alone_are_refused_and_beside_unknown_acceleration_columns_asked_about():
     with pytest.raises(LogFormatError, match="hold linear acceleration .gravity removed.; calibration needs"):
         map_columns(["time", "accuracy", "linear_acceleration.x", "linear_acceleration.y", "linear_acceleration.z"])
-    with pytest.raises(LogFormatError, match=r"'estLinearAccelX', .* hold linear acceleration \(gravity removed\), "
-                                             r"but 'bodyAccX', 'bodyAccY', 'bodyAccZ' may be the accelerometer .*"
-                                             r"columns=acc_x:<name>"):
-        map_columns(["t", "bodyAccX", "bodyAccY", "bodyAccZ", "estLinearAccelX", "estLinearAccelY",
-                     "estLinearAccelZ"])
+    with pytest.raises(
+        LogFormatError,
+        match=r"'estLinearAccelX', .* hold linear acceleration \(gravity removed\), "
+        r"but 'bodyAccX', 'bodyAccY', 'bodyAccZ' may be the accelerometer .*"
+        r"columns=acc_x:<name>",
+    ):
+        map_columns(["t", "bodyAccX", "bodyAccY", "bodyAccZ", "estLinearAccelX", "estLinearAccelY", "estLinearAccelZ"])
 
 
 # -- D3: packets of two rates interleaved ----------------------------------------------------------
@@ -141,21 +146,43 @@ def test_rows_of_the_other_packet_are_dropped_with_a_note_and_a_partly_empty_row
     names = MICROSTRAIN.read_text().splitlines()[0].split(",")
     cols = [2, 4, 5, 6]  # timestamp, scaledAccelX/Y/Z
     notes: list[str] = []
-    t, x, y, z = read_columns(MICROSTRAIN, skip_lines=1, n_columns=len(names), columns=cols, delimiter=",",
-                              name="xplus.csv", column_names=names, drop_empty=(4, 5, 6), notes=notes)
+    t, x, y, z = read_columns(
+        MICROSTRAIN,
+        skip_lines=1,
+        n_columns=len(names),
+        columns=cols,
+        delimiter=",",
+        name="xplus.csv",
+        column_names=names,
+        drop_empty=(4, 5, 6),
+        notes=notes,
+    )
     assert len(x) == 603 - 201 and np.isfinite(np.column_stack([x, y, z])).all()
     assert np.median(np.diff(t)) == pytest.approx(1e6, rel=0.01)  # the IMU packets' 1 kHz, in ns
-    assert notes == ["xplus.csv: 201 of 603 rows leave the sensors' columns empty (another packet type's rows, "
-                     "as logs interleaving packets of two rates write them): skipped"]
+    assert notes == [
+        "xplus.csv: 201 of 603 rows leave the sensors' columns empty (another packet type's rows, "
+        "as logs interleaving packets of two rates write them): skipped"
+    ]
     lines = MICROSTRAIN.read_text().splitlines()
     cells = lines[2].split(",")
     cells[5] = ""  # scaledAccelY of an IMU packet lost
     bad = tmp_path / "partly.csv"
     bad.write_text("\n".join(lines[:2] + [",".join(cells)] + lines[3:]) + "\n")
-    with pytest.raises(LogFormatError, match="data row 2 .line 3 if the file has no blank lines. has an empty value "
-                                             "in column 'scaledAccelY'"):
-        read_columns(bad, skip_lines=1, n_columns=len(names), columns=cols, delimiter=",", name="partly.csv",
-                     column_names=names, drop_empty=(4, 5, 6), notes=[])
+    with pytest.raises(
+        LogFormatError,
+        match="data row 2 .line 3 if the file has no blank lines. has an empty value in column 'scaledAccelY'",
+    ):
+        read_columns(
+            bad,
+            skip_lines=1,
+            n_columns=len(names),
+            columns=cols,
+            delimiter=",",
+            name="partly.csv",
+            column_names=names,
+            drop_empty=(4, 5, 6),
+            notes=[],
+        )
 
 
 # -- D9: text blocks in cells --------------------------------------------------------------------------
@@ -164,12 +191,18 @@ def test_rows_of_the_other_packet_are_dropped_with_a_note_and_a_partly_empty_row
 def test_a_text_block_in_a_cell_is_quoted_with_its_line_and_column():
     text = BLUEYE.read_text()
     assert text_block_cell(text, ",", 1, ["Timestamp", "IMU1Data", "IMU2Data", "Depth"]) == (
-        2, "IMU1Data", "accelerometer {")
+        2,
+        "IMU1Data",
+        "accelerometer {",
+    )
     assert text_block_cell(MICROSTRAIN.read_text(), ",", 1, []) is None
     for columns in (None, "time_s:Timestamp,acc_x:IMU1Data,acc_y:IMU1Data,acc_z:IMU1Data"):
-        with pytest.raises(LogFormatError, match=r"line 2, column 'IMU1Data' holds a block of text over several "
-                                                 r"lines \('accelerometer \{' …\), not a number: .* no columns "
-                                                 "mapping can read it"):
+        with pytest.raises(
+            LogFormatError,
+            match=r"line 2, column 'IMU1Data' holds a block of text over several "
+            r"lines \('accelerometer \{' …\), not a number: .* no columns "
+            "mapping can read it",
+        ):
             read_log(BLUEYE, ReadOptions(sampling_rate_hz=None, units={}, columns=columns), name="calibration_data.csv")
 
 
@@ -182,4 +215,6 @@ def test_the_rate_a_hyperimu_comment_states_is_used_when_there_is_no_time_column
     assert "no time column: the rate 20 Hz its comment line states is used" in log.notes
     assert read_log(path, ReadOptions(sampling_rate_hz=25.0, units={}), name="imu.csv").sampling_rate_hz == 25.0
     # With its time column the timestamps decide (Android delivers near, not at, the requested rate).
-    assert read_log(HYPERIMU, ReadOptions(sampling_rate_hz=None, units={}), name="imu.csv").timing.source == "time column"
+    assert (
+        read_log(HYPERIMU, ReadOptions(sampling_rate_hz=None, units={}), name="imu.csv").timing.source == "time column"
+    )

@@ -30,13 +30,31 @@ def zipped(tmp_path, files: dict[str, bytes]):
     return path
 
 
-@pytest.mark.parametrize("name, sensor", [
-    ("accelerometer.csv", "acc"), ("Accelerometer.csv", "acc"), ("acc.csv", "acc"), ("imu_accel_2024.txt", "acc"),
-    ("TotalAcceleration.csv", "acc"), ("gyroscope.csv", "gyr"), ("Gyroscope.csv", "gyr"), ("gyro.csv", "gyr"),
-    ("GyroscopeUncalibrated.csv", "gyr"), ("mag.csv", "mag"), ("compass_log.csv", "mag"), ("hmc5883l.csv", "mag"),
-    ("qmc5883.csv", "mag"), ("ak8963.csv", "mag"), ("MagnetometerUncalibrated.csv", "mag"),
-    ("x_axis_pos.csv", None), ("data.csv", None), ("acc_gyro.csv", None), ("image.csv", None), ("package.csv", None),
-])
+@pytest.mark.parametrize(
+    "name, sensor",
+    [
+        ("accelerometer.csv", "acc"),
+        ("Accelerometer.csv", "acc"),
+        ("acc.csv", "acc"),
+        ("imu_accel_2024.txt", "acc"),
+        ("TotalAcceleration.csv", "acc"),
+        ("gyroscope.csv", "gyr"),
+        ("Gyroscope.csv", "gyr"),
+        ("gyro.csv", "gyr"),
+        ("GyroscopeUncalibrated.csv", "gyr"),
+        ("mag.csv", "mag"),
+        ("compass_log.csv", "mag"),
+        ("hmc5883l.csv", "mag"),
+        ("qmc5883.csv", "mag"),
+        ("ak8963.csv", "mag"),
+        ("MagnetometerUncalibrated.csv", "mag"),
+        ("x_axis_pos.csv", None),
+        ("data.csv", None),
+        ("acc_gyro.csv", None),
+        ("image.csv", None),
+        ("package.csv", None),
+    ],
+)
 def test_a_file_name_names_one_sensor_or_none(name, sensor):
     assert sensor_from_name(name) == sensor
 
@@ -86,8 +104,9 @@ def test_a_gap_in_the_gyroscopes_file_is_not_interpolated_across(tmp_path):
     rng = np.random.default_rng(31)
     ta, va = _stream(rng, 100.0, 100.0, 2000, [0, 0, 1.0], 0.002)  # 20 s in g
     tg, vg = _stream(rng, 100.013, 200.0, 4000, [0.01, -0.02, 0.005], 0.001, gap_at=2000, gap_s=1.5)  # 1.5 s lost
-    log = read_log(zipped(tmp_path, {"acc.csv": _csv("t,x,y,z", ta, va), "gyro.csv": _csv("t,x,y,z", tg, vg)}),
-                   name="rec.zip")
+    log = read_log(
+        zipped(tmp_path, {"acc.csv": _csv("t,x,y,z", ta, va), "gyro.csv": _csv("t,x,y,z", tg, vg)}), name="rec.zip"
+    )
     assert log.channels == ["acc", "gyr"] and log.units["acc"] == "g"
     # The accelerometer's samples in the gyroscope's 1.5 s gap (and before its first sample) are left out,
     # and the merged recording shows that gap.
@@ -102,8 +121,9 @@ def test_files_of_one_sensor_each_that_follow_each_other_are_refused(tmp_path):
     ta, va = _stream(rng, 0.0, 100.0, 500, [0, 0, 1.0], 0.002)
     tg, vg = _stream(rng, 10.0, 100.0, 500, [0.01, 0, 0], 0.001)
     with pytest.raises(LogFormatError, match="their times do not overlap"):
-        read_log(zipped(tmp_path, {"acc.csv": _csv("t,x,y,z", ta, va), "gyro.csv": _csv("t,x,y,z", tg, vg)}),
-                 name="rec.zip")
+        read_log(
+            zipped(tmp_path, {"acc.csv": _csv("t,x,y,z", ta, va), "gyro.csv": _csv("t,x,y,z", tg, vg)}), name="rec.zip"
+        )
 
 
 def test_without_time_columns_files_of_equal_length_are_taken_sample_by_sample(tmp_path):
@@ -112,11 +132,19 @@ def test_without_time_columns_files_of_equal_length_are_taken_sample_by_sample(t
     _, vg = _stream(rng, 0, 100, 300, [0.01, 0, 0], 0.001)
     rows = lambda v: ("ax,ay,az\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
     rowsg = lambda v: ("gx,gy,gz\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
-    log = read_log(zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg)}), ReadOptions(sampling_rate_hz=100), name="rec.zip")
+    log = read_log(
+        zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg)}),
+        ReadOptions(sampling_rate_hz=100),
+        name="rec.zip",
+    )
     assert log.channels == ["acc", "gyr"] and log.n_samples == 300
     assert any("taken as simultaneous" in n for n in log.notes)
     with pytest.raises(LogFormatError, match="cannot be put on one clock"):
-        read_log(zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg[:200])}), ReadOptions(sampling_rate_hz=100), name="rec.zip")
+        read_log(
+            zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg[:200])}),
+            ReadOptions(sampling_rate_hz=100),
+            name="rec.zip",
+        )
 
 
 SENSOR_LOGGER = DATA / "real" / "corpus" / "sensor_logger_iphone_per_sensor_files"
@@ -136,8 +164,13 @@ def test_sensor_loggers_gyroscope_and_magnetometer_files_are_one_recording_on_th
 
 def test_a_phyphox_gyroscope_file_keeps_its_headers_unit_when_read_as_the_gyroscope(tmp_path):
     text = (PHYPHOX / "Gyroscope.csv").read_text().replace("(rad/s)", "(deg/s)")
-    log = read_log(zipped(tmp_path, {"Accelerometer.csv": (PHYPHOX / "Accelerometer.csv").read_bytes(),
-                                     "Gyroscope.csv": text.encode()}), name="rec.zip")
+    log = read_log(
+        zipped(
+            tmp_path,
+            {"Accelerometer.csv": (PHYPHOX / "Accelerometer.csv").read_bytes(), "Gyroscope.csv": text.encode()},
+        ),
+        name="rec.zip",
+    )
     assert log.units == {"acc": "m/s^2", "gyr": "deg/s"}  # the header's unit, not the default rad/s
     assert log.n_samples == 299
 
@@ -150,8 +183,9 @@ def test_json_arrays_one_per_sensor_are_one_recording(tmp_path):
     ta, va = _stream(rng, 50.0, 100.0, 600, [0.0, 0.0, 9.81], 0.01)
     tg, vg = _stream(rng, 50.004, 100.0, 600, [0.02, -0.01, 0.0], 0.002)
     as_json = lambda t, v: json.dumps([{"t": a, "x": x, "y": y, "z": z} for a, (x, y, z) in zip(t, v)]).encode()
-    log = read_log(zipped(tmp_path, {"accelerometer.json": as_json(ta, va), "gyroscope.json": as_json(tg, vg)}),
-                   name="rec.zip")
+    log = read_log(
+        zipped(tmp_path, {"accelerometer.json": as_json(ta, va), "gyroscope.json": as_json(tg, vg)}), name="rec.zip"
+    )
     assert log.channels == ["acc", "gyr"] and log.units == {"acc": "m/s^2", "gyr": "rad/s"}
     assert log.n_samples == 599  # the accelerometer's first sample comes 4 ms before the gyroscope's
     assert np.abs(log.gyr.mean(axis=0) - [0.02, -0.01, 0.0]).max() < 1e-3
@@ -161,8 +195,12 @@ def test_files_not_named_for_a_sensor_but_holding_one_each_are_one_recording(tmp
     rng = np.random.default_rng(9)
     ta, va = _stream(rng, 7.0, 100.0, 400, [0, 0, 1.0], 0.002)
     tg, vg = _stream(rng, 7.002, 100.0, 400, [0.01, 0, 0], 0.001)
-    log = read_log(zipped(tmp_path, {"log_1.csv": _csv("t,ax,ay,az", ta, va), "log_2.csv": _csv("t,gx,gy,gz", tg, vg)}),
-                   name="rec.zip")
+    log = read_log(
+        zipped(tmp_path, {"log_1.csv": _csv("t,ax,ay,az", ta, va), "log_2.csv": _csv("t,gx,gy,gz", tg, vg)}),
+        name="rec.zip",
+    )
     assert log.channels == ["acc", "gyr"] and log.n_samples == 399
-    assert log.notes[0] == "one recording in 2 files, one per sensor: log_1.csv the accelerometer (g), log_2.csv the " \
-                           "gyroscope (rad/s)"
+    assert (
+        log.notes[0] == "one recording in 2 files, one per sensor: log_1.csv the accelerometer (g), log_2.csv the "
+        "gyroscope (rad/s)"
+    )

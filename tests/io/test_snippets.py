@@ -49,7 +49,7 @@ warning an error; C99 and later accept C89."""
 
 def example_reading(snippet: str, sensor: str = "acc") -> list[float]:
     """The reading the lines' comment calls ``trical_<sensor>_calibrate`` with (at rest, z up)."""
-    block = snippet[snippet.index(f"trical_{sensor}_calibrate("):]
+    block = snippet[snippet.index(f"trical_{sensor}_calibrate(") :]
     numbers = block.split("[3] = {")[1].split("}")[0]
     return [float(v.strip().rstrip("f")) for v in numbers.split(",")]
 
@@ -63,11 +63,27 @@ def run_c(client, cal: dict, snippet: str, tmp_path, sensor: str = "acc") -> np.
     (tmp_path / f"trical_{cal['id']}.h").write_text(header.text)
     reading = example_reading(snippet, sensor)
     counts = f"void trical_{sensor}_calibrate(const int16_t raw[3]" in snippet
-    declare = (f"    int16_t raw[3] = {{{', '.join(str(int(v)) for v in reading)}}};" if counts
-               else f"    float m[3] = {{{', '.join(f'{v!r}f' for v in reading)}}};")
-    source = "\n".join(["#include <stdio.h>", snippet, "", "int main(void)", "{", declare, "    float f[3];",
-                        f"    trical_{sensor}_calibrate({'raw' if counts else 'm'}, f);",
-                        '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);', "    return 0;", "}", ""])
+    declare = (
+        f"    int16_t raw[3] = {{{', '.join(str(int(v)) for v in reading)}}};"
+        if counts
+        else f"    float m[3] = {{{', '.join(f'{v!r}f' for v in reading)}}};"
+    )
+    source = "\n".join(
+        [
+            "#include <stdio.h>",
+            snippet,
+            "",
+            "int main(void)",
+            "{",
+            declare,
+            "    float f[3];",
+            f"    trical_{sensor}_calibrate({'raw' if counts else 'm'}, f);",
+            '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);',
+            "    return 0;",
+            "}",
+            "",
+        ]
+    )
     (tmp_path / "example.c").write_text(source)
     exe = tmp_path / "example"
     run_ok([cc, *C_FLAGS, "-I", str(tmp_path), "-o", str(exe), str(tmp_path / "example.c")], timeout_s=60)
@@ -90,13 +106,20 @@ def test_counts_of_a_named_part_are_scaled_into_g_and_the_c_lines_compile_and_ru
     assert cal["unit"] == "g"
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["functions"] == {"acc": "trical_acc_apply"}
-    assert s["scales"]["acc"] == {"op": "/", "value": 8192.0, "known": True,
-                                  "words": "the MPU-6050/6500/9250, ICM-20948 accelerometer ±4 g (8192 LSB/g)"}
+    assert s["scales"]["acc"] == {
+        "op": "/",
+        "value": 8192.0,
+        "known": True,
+        "words": "the MPU-6050/6500/9250, ICM-20948 accelerometer ±4 g (8192 LSB/g)",
+    }
     lines = s["c"].splitlines()
     # File scope: the #include lines first, then a function, never an #include among a body's lines.
     assert lines[:2] == ["#include <stdint.h>  /* int16_t */", f'#include "trical_{cal["id"]}.h"']
     assert not any(line.startswith("#include") for line in lines[2:])
-    assert "void trical_acc_calibrate(const int16_t raw[3], float f[3])" in lines and "    trical_acc_apply(m, f);" in lines
+    assert (
+        "void trical_acc_calibrate(const int16_t raw[3], float f[3])" in lines
+        and "    trical_acc_apply(m, f);" in lines
+    )
     assert "    m[0] = raw[0] / 8192.0f;" in s["c"]
     assert s["calibrate"] == {"acc": "trical_acc_calibrate"}
     raw = example_reading(s["c"])
@@ -110,8 +133,10 @@ def test_counts_of_a_named_part_are_scaled_into_g_and_the_c_lines_compile_and_ru
     np.testing.assert_allclose([float(v) for v in out.stdout.split()], want, atol=1e-12)
     node = shutil.which("node")
     assert node, "node is needed to run the JavaScript example"
-    js = ("globalThis.fetch = async (name) => ({ json: async () => JSON.parse(require('fs').readFileSync(name)) });\n"
-          "(async () => {\n" + s["javascript"] + "\nconsole.log(f.join(' '));\n})();\n")
+    js = (
+        "globalThis.fetch = async (name) => ({ json: async () => JSON.parse(require('fs').readFileSync(name)) });\n"
+        "(async () => {\n" + s["javascript"] + "\nconsole.log(f.join(' '));\n})();\n"
+    )
     (tmp_path / "example.js").write_text(js)
     out = run_ok([node, str(tmp_path / "example.js")], timeout_s=60, cwd=tmp_path)
     np.testing.assert_allclose([float(v) for v in out.stdout.split()], want, atol=1e-12)
@@ -122,15 +147,19 @@ def test_counts_of_an_unnamed_part_say_which_figure_to_set(client, tmp_path):
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
     assert s["scales"]["acc"]["known"] is False and "set your part's figure" in s["scales"]["acc"]["words"]
     raw = example_reading(s["c"])
-    np.testing.assert_allclose(run_c(client, cal, s["c"], tmp_path), applied(client, cal, np.array(raw) / 16384.0),
-                               atol=2e-6)
+    np.testing.assert_allclose(
+        run_c(client, cal, s["c"], tmp_path), applied(client, cal, np.array(raw) / 16384.0), atol=2e-6
+    )
 
 
 def test_counts_kept_as_counts_go_in_as_they_are(client, tmp_path):
     cal = calibrate(client, counts_log(16384, seed=26), acc_unit="raw")
     assert cal["unit"] == "raw"
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
-    assert s["scales"]["acc"] is None and "    m[0] = (float)raw[0];  /* the header takes counts, as calibrated */" in s["c"]
+    assert (
+        s["scales"]["acc"] is None
+        and "    m[0] = (float)raw[0];  /* the header takes counts, as calibrated */" in s["c"]
+    )
     raw = example_reading(s["c"])
     f = run_c(client, cal, s["c"], tmp_path)
     np.testing.assert_allclose(f, applied(client, cal, raw), atol=2e-5)  # float32 of m/s²
@@ -164,13 +193,17 @@ def test_a_compass_in_counts_of_a_named_part_is_scaled_into_ut(client, tmp_path,
     assert s["functions"] == {"mag": "trical_mag_apply"} and s["scales"]["mag"]["op"] == "*"
     assert s["scales"]["mag"]["value"] == pytest.approx(100 / 3000)
     raw = example_reading(s["c"], "mag")
-    np.testing.assert_allclose(run_c(client, cal, s["c"], tmp_path, "mag"),
-                               applied_mag(client, cal, np.array(raw) * s["scales"]["mag"]["value"]), atol=1e-3)
+    np.testing.assert_allclose(
+        run_c(client, cal, s["c"], tmp_path, "mag"),
+        applied_mag(client, cal, np.array(raw) * s["scales"]["mag"]["value"]),
+        atol=1e-3,
+    )
 
 
 def applied_mag(client, cal, reading):
-    r = client.post(f"/api/v1/calibrations/{cal['id']}/apply", json={"samples": [list(map(float, reading))],
-                                                                      "sensor": "mag"})
+    r = client.post(
+        f"/api/v1/calibrations/{cal['id']}/apply", json={"samples": [list(map(float, reading))], "sensor": "mag"}
+    )
     assert r.status_code == 200, r.text
     return np.array(r.json()["samples"][0])
 

@@ -9,8 +9,12 @@ import pytest
 from app.io.formats import read_log
 from app.io.read_options import ReadOptions
 
-ROWS = [(0.00, 0.1, 0.2, 9.8, 21.5), (0.01, 0.1, 0.2, 9.8, 21.52), (0.02, 0.1, 0.2, 9.81, 21.55),
-        (0.03, 0.11, 0.2, 9.8, 21.6)]
+ROWS = [
+    (0.00, 0.1, 0.2, 9.8, 21.5),
+    (0.01, 0.1, 0.2, 9.8, 21.52),
+    (0.02, 0.1, 0.2, 9.81, 21.55),
+    (0.03, 0.11, 0.2, 9.8, 21.6),
+]
 
 
 def _write(tmp_path, header: str | None, rows=ROWS):

@@ -36,14 +36,17 @@ def test_a_sensor_clock_has_no_jitter_note():
     assert timing.jitter < 0.01 and timing.notes == () and timing.gaps == ()
 
 
-@pytest.mark.parametrize("values, unit, rate", [
-    (np.arange(1_000) * 0.01, "s", 100.0),
-    (np.arange(1_000) * 10.0, "ms", 100.0),  # millis()
-    (np.arange(1_000) * 1.0, "ms", 1000.0),  # 1, 2, 3: milliseconds at 1 kHz, not seconds at 1 Hz
-    (np.arange(1_000) * 1000.0, "µs", 1000.0),  # micros() at 1 kHz, not milliseconds at 1 Hz
-    (np.round(np.arange(1_000) * 2500.0 + 123_456_789), "µs", 400.0),
-    (np.arange(1_000) * 5e6, "ns", 200.0),
-])
+@pytest.mark.parametrize(
+    "values, unit, rate",
+    [
+        (np.arange(1_000) * 0.01, "s", 100.0),
+        (np.arange(1_000) * 10.0, "ms", 100.0),  # millis()
+        (np.arange(1_000) * 1.0, "ms", 1000.0),  # 1, 2, 3: milliseconds at 1 kHz, not seconds at 1 Hz
+        (np.arange(1_000) * 1000.0, "µs", 1000.0),  # micros() at 1 kHz, not milliseconds at 1 Hz
+        (np.round(np.arange(1_000) * 2500.0 + 123_456_789), "µs", 400.0),
+        (np.arange(1_000) * 5e6, "ns", 200.0),
+    ],
+)
 def test_the_unit_of_a_time_column_from_its_step(values, unit, rate):
     scale, name = time_scale(values)
     assert name == unit
@@ -105,8 +108,14 @@ def test_a_csv_of_host_stamps_in_ms_reads_at_the_sensor_s_rate(tmp_path):
     t = host_arrival_times(np.random.default_rng(7), n_samples=6_000, sampling_rate_hz=FS)
     gyr = np.random.default_rng(8).normal(scale=0.05, size=(6_000, 3))
     path = tmp_path / "serial.csv"
-    np.savetxt(path, np.column_stack([np.round(t * 1e3 + 31_000, 3), gyr]), delimiter=",", comments="",
-               header="t,gyr_x,gyr_y,gyr_z", fmt="%.6g")
+    np.savetxt(
+        path,
+        np.column_stack([np.round(t * 1e3 + 31_000, 3), gyr]),
+        delimiter=",",
+        comments="",
+        header="t,gyr_x,gyr_y,gyr_z",
+        fmt="%.6g",
+    )
     log = read_log(path)
     assert log.sampling_rate_hz == pytest.approx(FS, rel=3e-3) and log.timing.source == "time column"
     assert any("time column 't' read in ms" in n for n in log.notes)

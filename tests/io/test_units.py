@@ -27,29 +27,47 @@ def _write(tmp_path, header: str, columns: list, fmt: str = "%.6f", name: str = 
     with open(path, "w") as f:
         f.write(header + "\n")
         for row in data:
-            f.write(",".join(("%.3f" % v) if (i == 0 and header.startswith("t,")) else (fmt % v)
-                             for i, v in enumerate(row)) + "\n")
+            f.write(
+                ",".join(("%.3f" % v) if (i == 0 and header.startswith("t,")) else (fmt % v) for i, v in enumerate(row))
+                + "\n"
+            )
     return path
 
 
 def _read(path, **kw):
-    return read_log(path, ReadOptions(sampling_rate_hz=kw.pop("sampling_rate_hz", None), units=kw.pop("units", {}),
-                                      **kw), name=path.name)
+    return read_log(
+        path,
+        ReadOptions(sampling_rate_hz=kw.pop("sampling_rate_hz", None), units=kw.pop("units", {}), **kw),
+        name=path.name,
+    )
 
 
 # -- the datasheet scales ----------------------------------------------------------------------
 
 DATASHEET = {
     # MPU-6050 Product Specification rev. 3.4, sections 6.1 and 6.2 (same on the ICM-20948, DS-000189).
-    "mpu6050-2g": 1 / 16384, "mpu6050-4g": 1 / 8192, "mpu6050-8g": 1 / 4096, "mpu6050-16g": 1 / 2048,
-    "mpu6050-250dps": 1 / 131, "mpu6050-500dps": 1 / 65.5, "mpu6050-1000dps": 1 / 32.8, "mpu6050-2000dps": 1 / 16.4,
+    "mpu6050-2g": 1 / 16384,
+    "mpu6050-4g": 1 / 8192,
+    "mpu6050-8g": 1 / 4096,
+    "mpu6050-16g": 1 / 2048,
+    "mpu6050-250dps": 1 / 131,
+    "mpu6050-500dps": 1 / 65.5,
+    "mpu6050-1000dps": 1 / 32.8,
+    "mpu6050-2000dps": 1 / 16.4,
     # AK8963, AK09916: µT per LSB.
-    "ak8963-16bit": 0.15, "ak8963-14bit": 0.6, "ak09916": 0.15,
+    "ak8963-16bit": 0.15,
+    "ak8963-14bit": 0.6,
+    "ak09916": 0.15,
     # LSB per gauss → µT per LSB (1 G = 100 µT).
-    "qmc5883l-2g": 100 / 12000, "qmc5883l-8g": 100 / 3000,
+    "qmc5883l-2g": 100 / 12000,
+    "qmc5883l-8g": 100 / 3000,
     **{f"hmc5883l-{g}": 100 / g for g in (1370, 1090, 820, 660, 440, 390, 330, 230)},
-    "lis3mdl-4g": 100 / 6842, "lis3mdl-8g": 100 / 3421, "lis3mdl-12g": 100 / 2281, "lis3mdl-16g": 100 / 1711,
-    "mmc5983ma-18bit": 100 / 16384, "mmc5983ma-16bit": 100 / 4096,
+    "lis3mdl-4g": 100 / 6842,
+    "lis3mdl-8g": 100 / 3421,
+    "lis3mdl-12g": 100 / 2281,
+    "lis3mdl-16g": 100 / 1711,
+    "mmc5983ma-18bit": 100 / 16384,
+    "mmc5983ma-16bit": 100 / 4096,
 }
 
 
@@ -62,7 +80,10 @@ def test_every_chip_carries_its_datasheet_scale_and_no_other():
 
 def test_chip_names_are_checked_one_per_sensor():
     assert {s: c.name for s, c in parse_chips("MPU6050-4g, mpu6050-500dps,ak8963-16bit").items()} == {
-        "acc": "mpu6050-4g", "gyr": "mpu6050-500dps", "mag": "ak8963-16bit"}
+        "acc": "mpu6050-4g",
+        "gyr": "mpu6050-500dps",
+        "mag": "ak8963-16bit",
+    }
     with pytest.raises(LogFormatError, match="chip 'mpu9999' is not one trical knows: give one of mpu6050-2g"):
         parse_chips("mpu9999")
     with pytest.raises(LogFormatError, match="two parts for the magnetometer .ak8963-16bit, qmc5883l-2g."):
@@ -118,9 +139,12 @@ def test_a_chip_is_lsb_per_g_and_a_wrong_scale_names_the_right_one(tmp_path):
     by_lsb = _read(path, lsb_per_g=8192)
     assert by_chip.units["acc"] == by_lsb.units["acc"] == "g" and not by_chip.warnings
     np.testing.assert_array_equal(by_chip.acc, by_lsb.acc)
-    with pytest.raises(LogFormatError, match=r"with lsb_per_g=16384 the accelerometer rests at 0\.4\d+ g, not about "
-                                             r"1 g: its counts rest at \d+, which fits 8192 LSB/g \(±4 g\): give "
-                                             r"lsb_per_g=8192 or chip=mpu6050-4g"):
+    with pytest.raises(
+        LogFormatError,
+        match=r"with lsb_per_g=16384 the accelerometer rests at 0\.4\d+ g, not about "
+        r"1 g: its counts rest at \d+, which fits 8192 LSB/g \(±4 g\): give "
+        r"lsb_per_g=8192 or chip=mpu6050-4g",
+    ):
         _read(path, lsb_per_g=16384)
     with pytest.raises(LogFormatError, match="chip mpu6050-2g .16384 LSB/g. and lsb_per_g=8192 disagree"):
         _read(path, lsb_per_g=8192, chip="mpu6050-2g")
@@ -130,8 +154,11 @@ def test_a_chip_is_lsb_per_g_and_a_wrong_scale_names_the_right_one(tmp_path):
 
 def test_a_magnitude_no_unit_explains_is_refused_naming_the_units_to_give(tmp_path):
     path = _write(tmp_path, "t,ax (g),ay (g),az (g)", [T, ACC * 0.3])
-    with pytest.raises(LogFormatError, match=r"rests at a median norm of 2\.\d+ \(the header said g\), which is "
-                                             r"neither about 1 \(g\) nor about 9\.8 \(m/s²\).*give acc_unit \(g, m/s\^2\)"):
+    with pytest.raises(
+        LogFormatError,
+        match=r"rests at a median norm of 2\.\d+ \(the header said g\), which is "
+        r"neither about 1 \(g\) nor about 9\.8 \(m/s²\).*give acc_unit \(g, m/s\^2\)",
+    ):
         _read(path)
 
 
@@ -171,16 +198,25 @@ def test_counts_under_a_ut_header_are_counts_and_a_chip_makes_them_ut(tmp_path):
     assert log.units["mag"] == "raw"
     assert log.warnings[0].startswith("the header said uT for the magnetometer, but its readings show a field of 3")
     assert "give chip (e.g. ak8963-16bit" in log.warnings[1]
-    with pytest.raises(LogFormatError, match="chip ak8963-16bit converts counts of the magnetometer, but mag_unit says"):
+    with pytest.raises(
+        LogFormatError, match="chip ak8963-16bit converts counts of the magnetometer, but mag_unit says"
+    ):
         _read(path, sampling_rate_hz=50, units={"mag": "uT"}, chip="ak8963-16bit")
     chip = _read(path, sampling_rate_hz=50, chip="ak8963-16bit")
     assert chip.units["mag"] == "uT" and not chip.warnings
     np.testing.assert_allclose(chip.mag, counts * 0.15, rtol=1e-12)
 
 
-@pytest.mark.parametrize("chip, lsb_per_gauss, zero", [("qmc5883l-2g", 12000, 0), ("hmc5883l-1090", 1090, 0),
-                                                        ("lis3mdl-4g", 6842, 0), ("mmc5983ma-16bit", 4096, 32768),
-                                                        ("mmc5983ma-18bit", 16384, 131072)])
+@pytest.mark.parametrize(
+    "chip, lsb_per_gauss, zero",
+    [
+        ("qmc5883l-2g", 12000, 0),
+        ("hmc5883l-1090", 1090, 0),
+        ("lis3mdl-4g", 6842, 0),
+        ("mmc5983ma-16bit", 4096, 32768),
+        ("mmc5983ma-18bit", 16384, 131072),
+    ],
+)
 def test_magnetometer_chips_turn_counts_into_the_earths_field(tmp_path, chip, lsb_per_gauss, zero):
     # The MMC5983MA's output is unsigned, zero field at mid-scale: a constant the compass fit's b takes.
     counts = np.round(MAG / 100 * lsb_per_gauss) + zero
@@ -208,8 +244,9 @@ def test_a_gyroscope_in_whole_numbers_is_counts_unless_a_unit_in_degrees_says_ot
     radians = _read(_write(tmp_path, "t,ax,ay,az,gx (rad/s),gy (rad/s),gz (rad/s)", [T, ACC, counts], name="b.csv"))
     assert radians.units["gyr"] == "raw"
     assert radians.warnings[0].startswith("the header said rad/s for the gyroscope, but its readings are whole numbers")
-    degrees = _read(_write(tmp_path, "t,ax,ay,az,gx (deg/s),gy (deg/s),gz (deg/s)", [T, ACC, np.round(counts / 100)],
-                           name="c.csv"))
+    degrees = _read(
+        _write(tmp_path, "t,ax,ay,az,gx (deg/s),gy (deg/s),gz (deg/s)", [T, ACC, np.round(counts / 100)], name="c.csv")
+    )
     assert degrees.units["gyr"] == "deg/s" and degrees.warnings == ()
     # Fractions resting with a sample spread of 0.3 at 100 Hz: 0.04 per √Hz, 2.4 °/s/√Hz in rad/s (no MEMS
     # gyroscope's), 0.04 °/s/√Hz in °/s: the data say °/s, and a note says why.

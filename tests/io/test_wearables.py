@@ -29,19 +29,24 @@ def test_without_actipy_the_file_is_refused_with_the_way_to_enable_it(tmp_path, 
 
 def test_samples_come_raw_from_actipy(tmp_path, monkeypatch):
     import pandas as pd  # the test extras install actipy, and pandas with it
+
     calls = {}
 
     def read_device(path, **kw):
         calls.update(kw)
         idx = pd.date_range("2026-01-01", periods=1000, freq="10ms")
-        df = pd.DataFrame({"x": np.zeros(1000), "y": np.zeros(1000), "z": np.ones(1000), "temperature": 20.0}, index=idx)
+        df = pd.DataFrame(
+            {"x": np.zeros(1000), "y": np.zeros(1000), "z": np.ones(1000), "temperature": 20.0}, index=idx
+        )
         return df, {"SampleRate": 100.0, "Device": "Axivity"}
 
     monkeypatch.setitem(sys.modules, "actipy", types.SimpleNamespace(read_device=read_device))
     f = tmp_path / "rec.cwa"
     f.write_bytes(b"\x00")
     log = read_log(f)
-    assert calls == dict(lowpass_hz=None, calibrate_gravity=False, detect_nonwear=False, resample_hz=None, verbose=False)
+    assert calls == dict(
+        lowpass_hz=None, calibrate_gravity=False, detect_nonwear=False, resample_hz=None, verbose=False
+    )
     assert log.acc.shape == (1000, 3) and log.units == {"acc": "g"} and log.sampling_rate_hz == 100.0
     assert log.format == "wearable:Axivity" and log.time_s[-1] == pytest.approx(9.99)
 

@@ -44,25 +44,69 @@ LEGACY_MIGRATIONS = (
 )
 
 CALIBRATIONS = [
-    {"id": "cal_keyless", "method": "six_position", "ok": True, "device_id": "d1", "label": "bench",
-     "created_at": "2026-01-01T10:00:00.000Z", "model": {"type": "affine", "X": [[1.01, 0, 0]], "o": [0.1, 0, 0]}},
-    {"id": "cal_key_a", "method": "nonorthogonal", "ok": False, "device_id": "d1", "label": None,
-     "created_at": "2026-01-02T10:00:00.000Z", "model": {"type": "nonorthogonal"}, "warnings": ["ü ° ²"]},
-    {"id": "cal_session", "method": "six_position", "ok": True, "device_id": None, "label": None,
-     "created_at": "2026-01-03T10:00:00.000Z", "model": {"type": "affine"}, "session_id": "ses_legacy"},
+    {
+        "id": "cal_keyless",
+        "method": "six_position",
+        "ok": True,
+        "device_id": "d1",
+        "label": "bench",
+        "created_at": "2026-01-01T10:00:00.000Z",
+        "model": {"type": "affine", "X": [[1.01, 0, 0]], "o": [0.1, 0, 0]},
+    },
+    {
+        "id": "cal_key_a",
+        "method": "nonorthogonal",
+        "ok": False,
+        "device_id": "d1",
+        "label": None,
+        "created_at": "2026-01-02T10:00:00.000Z",
+        "model": {"type": "nonorthogonal"},
+        "warnings": ["ü ° ²"],
+    },
+    {
+        "id": "cal_session",
+        "method": "six_position",
+        "ok": True,
+        "device_id": None,
+        "label": None,
+        "created_at": "2026-01-03T10:00:00.000Z",
+        "model": {"type": "affine"},
+        "session_id": "ses_legacy",
+    },
 ]
 OWNERS = {"cal_keyless": None, "cal_key_a": "key:a", "cal_session": "session:ses_legacy"}
-RECORDING = {"id": "rec_legacy", "created_at": "2026-01-01T09:00:00.000Z", "format": "csv", "n_samples": 3,
-             "sampling_rate_hz": 150.0, "units": {"acc": "m/s^2"}, "segments": [], "filename": "log.csv"}
+RECORDING = {
+    "id": "rec_legacy",
+    "created_at": "2026-01-01T09:00:00.000Z",
+    "format": "csv",
+    "n_samples": 3,
+    "sampling_rate_hz": 150.0,
+    "units": {"acc": "m/s^2"},
+    "segments": [],
+    "filename": "log.csv",
+}
 FILE = b"t,ax,ay,az\n0,0,0,9.81\n" + bytes(range(256))  # every byte value survives
-SESSION = {"id": "ses_legacy", "created_at": "2026-01-03T09:00:00.000Z", "protocol": "six",
-           "positions": ["+x", "-x", "+y", "-y", "+z", "-z"], "capture_s": 3, "unit": "m/s^2", "gravity": 9.81,
-           "notes": [], "device_id": None, "label": None}
+SESSION = {
+    "id": "ses_legacy",
+    "created_at": "2026-01-03T09:00:00.000Z",
+    "protocol": "six",
+    "positions": ["+x", "-x", "+y", "-y", "+z", "-z"],
+    "capture_s": 3,
+    "unit": "m/s^2",
+    "gravity": 9.81,
+    "notes": [],
+    "device_id": None,
+    "label": None,
+}
 CAPTURES = [
-    ({"position": "+z", "mean": [0.0, 0.0, 9.81], "created_at": "2026-01-03T09:01:00.000Z"},
-     {"t_ms": [0.0, 10.0], "acc": [[0, 0, 9.8], [0, 0, 9.82]], "gyr": None, "gyr_unit": None, "motion": None}),
-    ({"position": "-z", "mean": [0.0, 0.0, -9.81], "created_at": "2026-01-03T09:02:00.000Z"},
-     {"t_ms": [20.0], "acc": [[0, 0, -9.81]], "gyr": [[0.1, 0, 0]], "gyr_unit": "deg/s", "motion": None}),
+    (
+        {"position": "+z", "mean": [0.0, 0.0, 9.81], "created_at": "2026-01-03T09:01:00.000Z"},
+        {"t_ms": [0.0, 10.0], "acc": [[0, 0, 9.8], [0, 0, 9.82]], "gyr": None, "gyr_unit": None, "motion": None},
+    ),
+    (
+        {"position": "-z", "mean": [0.0, 0.0, -9.81], "created_at": "2026-01-03T09:02:00.000Z"},
+        {"t_ms": [20.0], "acc": [[0, 0, -9.81]], "gyr": [[0.1, 0, 0]], "gyr_unit": "deg/s", "motion": None},
+    ),
 ]
 
 
@@ -71,6 +115,7 @@ def legacy_database(database_url: str, version: int) -> None:
     path = sqlite_path(database_url)
     db = sqlite3.connect(path, isolation_level=None) if path else psycopg.connect(database_url, autocommit=True)
     with closing(db):
+
         def run(sql, args=()):
             db.execute(sql if path else sql.replace("?", "%s").replace("BLOB", "BYTEA"), args)
 
@@ -81,25 +126,54 @@ def legacy_database(database_url: str, version: int) -> None:
             for statement in filter(str.strip, script.split(";")):
                 run(statement)
         for body in CALIBRATIONS:
-            run("INSERT INTO calibrations (id, method, device_id, label, owner, created_at, ok, body)"
+            run(
+                "INSERT INTO calibrations (id, method, device_id, label, owner, created_at, ok, body)"
                 " VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
-                (body["id"], body["method"], body["device_id"], body["label"], OWNERS[body["id"]],
-                 body["created_at"], int(body["ok"]), json.dumps(body)))
-        run("INSERT INTO recordings (id, owner, created_at, format, n_samples, sampling_rate_hz, path, body)"
+                (
+                    body["id"],
+                    body["method"],
+                    body["device_id"],
+                    body["label"],
+                    OWNERS[body["id"]],
+                    body["created_at"],
+                    int(body["ok"]),
+                    json.dumps(body),
+                ),
+            )
+        run(
+            "INSERT INTO recordings (id, owner, created_at, format, n_samples, sampling_rate_hz, path, body)"
             " VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
-            (RECORDING["id"], "key:a", RECORDING["created_at"], "csv", 3, 150.0, "rec_legacy.csv",
-             json.dumps(RECORDING)))
+            (
+                RECORDING["id"],
+                "key:a",
+                RECORDING["created_at"],
+                "csv",
+                3,
+                150.0,
+                "rec_legacy.csv",
+                json.dumps(RECORDING),
+            ),
+        )
         if version >= 2:
             run("INSERT INTO recording_files (id, content) VALUES (?, ?)", (RECORDING["id"], FILE))
         if version >= 3:
-            run("INSERT INTO sessions (id, token_hash, owner, protocol, created_at, calibration_id, body)"
+            run(
+                "INSERT INTO sessions (id, token_hash, owner, protocol, created_at, calibration_id, body)"
                 " VALUES (?, ?, ?, ?, ?, ?, ?)",
-                (SESSION["id"], "hash-legacy", None, "six", SESSION["created_at"], "cal_session", json.dumps(SESSION)))
+                (SESSION["id"], "hash-legacy", None, "six", SESSION["created_at"], "cal_session", json.dumps(SESSION)),
+            )
             for summary, samples in CAPTURES:
-                run("INSERT INTO session_captures (session_id, position, created_at, summary, samples)"
+                run(
+                    "INSERT INTO session_captures (session_id, position, created_at, summary, samples)"
                     " VALUES (?, ?, ?, ?, ?)",
-                    (SESSION["id"], summary["position"], summary["created_at"], json.dumps(summary),
-                     json.dumps(samples)))
+                    (
+                        SESSION["id"],
+                        summary["position"],
+                        summary["created_at"],
+                        json.dumps(summary),
+                        json.dumps(samples),
+                    ),
+                )
         run("COMMIT")
 
 
@@ -176,14 +250,19 @@ def test_the_package_carries_every_migration():
     import app.store
 
     package = Path(app.store.__file__).parent
-    patterns = tomllib.loads((package.parents[1] / "pyproject.toml").read_text())["tool"]["setuptools"][
-        "package-data"]["app.store"]
+    patterns = tomllib.loads((package.parents[1] / "pyproject.toml").read_text())["tool"]["setuptools"]["package-data"][
+        "app.store"
+    ]
     shipped = {p for pattern in patterns for p in package.glob(pattern)}
     files = {p for p in (package / "migrations").rglob("*") if p.is_file() and "__pycache__" not in p.parts}
     assert files and files <= shipped, sorted(map(str, files - shipped))
     assert {p.name for p in (package / "migrations" / "versions").glob("*.py")} >= {
-        "0001_calibrations_and_recordings.py", "0002_recording_files.py", "0003_sessions.py", "0004_links.py",
-        "0005_superseded_calibrations.py"}
+        "0001_calibrations_and_recordings.py",
+        "0002_recording_files.py",
+        "0003_sessions.py",
+        "0004_links.py",
+        "0005_superseded_calibrations.py",
+    }
 
 
 def test_a_revision_0004_database_gains_superseding_and_keeps_its_calibrations(database_url, tmp_path):

@@ -50,8 +50,11 @@ def test_a_link_opens_its_owner_s_calibration_until_it_expires(store):
     link = store.add_link(a["id"], owner="session:ses_1", ttl_s=60)
     assert len(link["code"]) == LINK_LENGTH and set(link["code"]) <= set(LINK_ALPHABET)
     opened = store.open_link(link["code"].lower())  # typed in lower case: the same link
-    assert (opened["calibration_id"], opened["owner"], opened["expires_at"]) == (a["id"], "session:ses_1",
-                                                                                link["expires_at"])
+    assert (opened["calibration_id"], opened["owner"], opened["expires_at"]) == (
+        a["id"],
+        "session:ses_1",
+        link["expires_at"],
+    )
     short = store.add_link(a["id"], owner="session:ses_1", ttl_s=0.05)
     time.sleep(0.1)
     with pytest.raises(NotFoundError, match="expired at .*: send it again"):
@@ -62,14 +65,18 @@ def test_a_link_opens_its_owner_s_calibration_until_it_expires(store):
 
 def test_two_replicas_share_only_the_database(pg, tmp_path):
     url = pg.new_database()
-    replicas = [TestClient(create_app(Settings(database_url=url, data_dir=tmp_path / f"replica{i}")))
-                for i in range(2)]
+    replicas = [TestClient(create_app(Settings(database_url=url, data_dir=tmp_path / f"replica{i}"))) for i in range(2)]
     with replicas[0] as first, replicas[1] as second:
-        rec = first.post("/api/v1/recordings", files={"file": ("log.csv", LOG.read_bytes(), "text/csv")},
-                         data={"sampling_rate_hz": "150"})
+        rec = first.post(
+            "/api/v1/recordings",
+            files={"file": ("log.csv", LOG.read_bytes(), "text/csv")},
+            data={"sampling_rate_hz": "150"},
+        )
         assert rec.status_code == 201
         # The second replica has never seen the file on its disk: it comes from the database.
-        assert not (tmp_path / "replica1" / "recordings").exists() or not any((tmp_path / "replica1" / "recordings").iterdir())
+        assert not (tmp_path / "replica1" / "recordings").exists() or not any(
+            (tmp_path / "replica1" / "recordings").iterdir()
+        )
         cal = second.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec.json()["id"]})
         assert cal.status_code == 201, cal.text
         assert first.get(f"/api/v1/calibrations/{cal.json()['id']}").json() == cal.json()
@@ -80,8 +87,9 @@ def test_acknowledged_writes_survive_kill_9_on_postgresql(pg, tmp_path):
     server = LiveServer(env).start()
     try:
         with httpx.Client(base_url=server.url, timeout=10) as http:
-            acked = [http.post("/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL)).json()
-                     for _ in range(10)]
+            acked = [
+                http.post("/api/v1/calibrations", json=six_request(seed_table(1), CANONICAL)).json() for _ in range(10)
+            ]
         server.kill()
         server.start()
         with httpx.Client(base_url=server.url, timeout=10) as http:
@@ -101,8 +109,9 @@ def test_sessions_and_their_captures(store):
     with pytest.raises(ConflictError):
         store.add_capture(s["id"], {"position": "+z", "mean": [0, 0, 9.7]}, {"acc": [], "t_ms": []})
     store.add_capture(s["id"], {"position": "-z", "mean": [0, 0, -9.8]}, {"acc": [], "t_ms": []})
-    store.add_capture(s["id"], {"position": "+z", "mean": [0, 0, 9.9]}, {"acc": [[0, 0, 9.9]], "t_ms": [1.0]},
-                      replace=True)
+    store.add_capture(
+        s["id"], {"position": "+z", "mean": [0, 0, 9.9]}, {"acc": [[0, 0, 9.9]], "t_ms": [1.0]}, replace=True
+    )
     got = store.get_session(s["id"])
     assert {c["position"]: c["mean"] for c in got["captures"]} == {"+z": [0, 0, 9.9], "-z": [0, 0, -9.8]}
     assert got["calibration_id"] is None and first["created_at"]
@@ -124,11 +133,20 @@ def test_replicas_starting_together_migrate_one_after_the_other(pg, tmp_path):
 
     url = pg.new_database()
     code = "import sys; from app.store import open_store; print(open_store(sys.argv[1], sys.argv[2]).schema_revision)"
-    replicas = [subprocess.Popen([sys.executable, "-c", code, url, str(tmp_path / f"replica{i}")], cwd=ROOT,
-                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) for i in range(4)]
+    replicas = [
+        subprocess.Popen(
+            [sys.executable, "-c", code, url, str(tmp_path / f"replica{i}")],
+            cwd=ROOT,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        for i in range(4)
+    ]
     outcomes = [r.communicate(timeout=120) for r in replicas]
-    assert [(r.returncode, out.strip()) for r, (out, _) in zip(replicas, outcomes)] == [(0, head_revision())] * 4, \
-        [err for _, err in outcomes]
+    assert [(r.returncode, out.strip()) for r, (out, _) in zip(replicas, outcomes)] == [(0, head_revision())] * 4, [
+        err for _, err in outcomes
+    ]
     store = open_store(url, tmp_path / "files")
     made = store.add_calibration(body(), owner=None)
     assert store.get_calibration(made["id"], owner=None) == made

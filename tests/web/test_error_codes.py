@@ -51,7 +51,9 @@ def test_an_unknown_address_is_a_page_for_a_browser_and_json_for_the_api(client)
     page = client.get("/nope", headers=BROWSER)
     assert page.status_code == 404 and page.headers["content-type"].startswith("text/html")
     assert "<h1>No page at this address</h1>" in page.text and "“/nope” is not a page of trical" in page.text
-    assert '<a id="not-found-start" href="/">' in page.text and '<a id="not-found-history" href="/history">' in page.text
+    assert (
+        '<a id="not-found-start" href="/">' in page.text and '<a id="not-found-history" href="/history">' in page.text
+    )
     program = client.get("/nope", headers={"Accept": "application/json"})  # a program asking outside the API
     assert program.status_code == 404 and program.json()["code"] == "http_error"
     api = client.get("/api/v1/nope", headers=BROWSER)  # the API answers JSON, whoever asks

@@ -8,12 +8,23 @@ from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
 def test_a_calibration_page_renders_the_result_view_and_its_script(client):
     r = client.get("/c/cal_" + "0123456789abcdef" * 2)
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
-    for needle in ('data-id="cal_0123456789abcdef0123456789abcdef"', 'id="result"', 'id="verdict"', 'id="use"',
-                   'id="result-details"', 'src="/static/js/calibration_page.js"', 'href="/history"',
-                   'id="trical-tables"'):
+    for needle in (
+        'data-id="cal_0123456789abcdef0123456789abcdef"',
+        'id="result"',
+        'id="verdict"',
+        'id="use"',
+        'id="result-details"',
+        'src="/static/js/calibration_page.js"',
+        'href="/history"',
+        'id="trical-tables"',
+    ):
         assert needle in r.text, needle
-    for path in ("/static/js/calibration_page.js", "/static/js/result_view.js", "/static/js/tokens.js",
-                 "/static/js/history.js"):
+    for path in (
+        "/static/js/calibration_page.js",
+        "/static/js/result_view.js",
+        "/static/js/tokens.js",
+        "/static/js/history.js",
+    ):
         assert client.get(path).status_code == 200, path
 
 
@@ -34,6 +45,10 @@ def test_an_address_that_names_no_calibration_is_a_404_saying_what_an_id_is(clie
 def test_the_history_page_renders_its_filter_and_script(client):
     r = client.get("/history", params={"device": "bench-board"})
     assert r.status_code == 200
-    for needle in ('id="history-device"', 'data-device="bench-board"', 'src="/static/js/history.js"',
-                   'id="history-table"'):
+    for needle in (
+        'id="history-device"',
+        'data-device="bench-board"',
+        'src="/static/js/history.js"',
+        'id="history-table"',
+    ):
         assert needle in r.text, needle

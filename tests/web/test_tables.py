@@ -144,5 +144,9 @@ def test_each_source_s_default_use_is_one_its_calibrations_offer():
     assert set(DEFAULT_USES) == set(SOURCES)
     first = {source: next(u for u in CALIBRATION_USES if u["key"] in keys) for source, keys in DEFAULT_USES.items()}
     assert {s: (u["key"], u["format"]) for s, u in first.items()} == {
-        "board": ("firmware", "c"), "px4": ("px4", "px4"), "ardupilot": ("ardupilot", "ardupilot"), "phone": ("app", "json")}
+        "board": ("firmware", "c"),
+        "px4": ("px4", "px4"),
+        "ardupilot": ("ardupilot", "ardupilot"),
+        "phone": ("app", "json"),
+    }
     assert uses_table()["defaults"] == {s: list(k) for s, k in DEFAULT_USES.items()}

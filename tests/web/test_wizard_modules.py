@@ -13,8 +13,15 @@ DOM = re.compile(r"\bdocument\.|\bwindow\.|\$\(|\.innerHTML|\.textContent\s*=|\.
 
 
 def test_only_the_render_loops_and_the_views_touch_the_page():
-    for name in ("flow_six.js", "flow_cube.js", "flow_free.js", "wizard_state.js", "compass_flow.js", "mag_sphere.js",
-                 "result.js"):
+    for name in (
+        "flow_six.js",
+        "flow_cube.js",
+        "flow_free.js",
+        "wizard_state.js",
+        "compass_flow.js",
+        "mag_sphere.js",
+        "result.js",
+    ):
         text = (JS / name).read_text()
         assert not DOM.findall(text), (name, DOM.findall(text))
     wizard = (JS / "wizard.js").read_text()
@@ -35,8 +42,17 @@ BRANCH = re.compile(r"if \((cube|free)\)|(type|method|protocol|flow) !?==+ [\"']
 
 
 def test_no_page_module_branches_on_a_flow_or_a_kind_of_result():
-    for name in ("wizard.js", "wizard_render.js", "wizard_compass.js", "wizard_noise.js", "result_view.js", "correction_view.js",
-                 "use_calibration.js", "result_kinds.js", "result.js"):
+    for name in (
+        "wizard.js",
+        "wizard_render.js",
+        "wizard_compass.js",
+        "wizard_noise.js",
+        "result_view.js",
+        "correction_view.js",
+        "use_calibration.js",
+        "result_kinds.js",
+        "result.js",
+    ):
         text = (JS / name).read_text()
         assert not BRANCH.findall(text), (name, BRANCH.findall(text))
 
@@ -53,7 +69,9 @@ def test_errors_are_told_apart_by_their_code():
     for path in JS.glob("*.js"):
         text = path.read_text()
         assert not re.search(r"err(or)?\.message\.(startsWith|includes|match|indexOf)", text), path.name
-        assert not re.search(r"err(or)?\.status\s*===?\s*[1-9]", text), path.name  # only 0 (network) may be told by status
+        assert not re.search(r"err(or)?\.status\s*===?\s*[1-9]", text), (
+            path.name
+        )  # only 0 (network) may be told by status
     for name in ("flow_six.js", "flow_cube.js"):
         assert 'err.code === "already_captured"' in (JS / name).read_text()
     assert 'err.code === "wrong_turn"' in (JS / "flow_cube.js").read_text()

@@ -45,8 +45,10 @@ class ScaleOut(BaseModel):
     op: Literal["/", "*"] = Field(description="Counts `op` value gives the calibration's input unit.")
     value: float
     words: str = Field(description="What the figure is, and where it comes from.")
-    known: bool = Field(description="True when the upload named the part (chip, lsb_per_g); false for a common "
-                                    "part's figure the person should check against the datasheet.")
+    known: bool = Field(
+        description="True when the upload named the part (chip, lsb_per_g); false for a common "
+        "part's figure the person should check against the datasheet."
+    )
 
 
 class CorrectionOut(BaseModel):
@@ -59,43 +61,61 @@ class CorrectionOut(BaseModel):
 
 class FirmwareFiguresOut(BaseModel):
     target: str = Field(description="ArduPilot or PX4.")
-    count: int = Field(description="Still readings the offsets and scales were fitted on (14 directions of trical's "
-                                   "model when the calibration holds fewer than 6).")
+    count: int = Field(
+        description="Still readings the offsets and scales were fitted on (14 directions of trical's "
+        "model when the calibration holds fewer than 6)."
+    )
     from_readings: bool = Field(description="True when fitted on the calibration's own still readings.")
-    firmware_max_mg: float = Field(description="Largest | |a| − g | of those readings with the exported offsets and "
-                                               "scales, applied by the firmware's formula, in mg.")
+    firmware_max_mg: float = Field(
+        description="Largest | |a| − g | of those readings with the exported offsets and "
+        "scales, applied by the firmware's formula, in mg."
+    )
     firmware_mean_mg: float
     raw_max_mg: float = Field(description="The same readings raw.")
     raw_mean_mg: float
     full_max_mg: float = Field(description="The same readings with trical's full correction M (m − o).")
     full_mean_mg: float
-    any_direction_max_mg: float = Field(description="The exported model's largest norm error over every direction, on "
-                                                    "readings trical's full model puts at magnitude g.")
-    rotation_deg: float = Field(description="The rotation of M = R P: the table's tilt or the board's mounting, which "
-                                            "the firmware's level calibration takes.")
-    nonorthogonality_mg: float = Field(description="g ‖I − D P⁻¹‖₂: what the axes' non-orthogonality makes of a "
-                                                   "reading, which no offset or scale holds.")
-    improves: bool = Field(description="Whether firmware_max_mg is below raw_max_mg: the page offers the firmware's "
-                                       "file only then.")
+    any_direction_max_mg: float = Field(
+        description="The exported model's largest norm error over every direction, on "
+        "readings trical's full model puts at magnitude g."
+    )
+    rotation_deg: float = Field(
+        description="The rotation of M = R P: the table's tilt or the board's mounting, which "
+        "the firmware's level calibration takes."
+    )
+    nonorthogonality_mg: float = Field(
+        description="g ‖I − D P⁻¹‖₂: what the axes' non-orthogonality makes of a "
+        "reading, which no offset or scale holds."
+    )
+    improves: bool = Field(
+        description="Whether firmware_max_mg is below raw_max_mg: the page offers the firmware's file only then."
+    )
     words: str = Field(description="One sentence for the page.")
 
 
 class SnippetsOut(BaseModel):
     corrections: dict[str, CorrectionOut] = Field(description="Each sensor's correction, by acc, gyr, mag.")
-    c: str = Field(description="Lines at file scope over the C header (C89 and later): its #include, then per sensor "
-                               "a function trical_<sensor>_calibrate that scales a driver's reading to the header's "
-                               "unit and passes it through trical_<sensor>_apply, the call for one reading in a "
-                               "comment.")
+    c: str = Field(
+        description="Lines at file scope over the C header (C89 and later): its #include, then per sensor "
+        "a function trical_<sensor>_calibrate that scales a driver's reading to the header's "
+        "unit and passes it through trical_<sensor>_apply, the call for one reading in a "
+        "comment."
+    )
     python: str = Field(description="numpy over the JSON export.")
     javascript: str = Field(description="JavaScript over the JSON export, for a phone app.")
     functions: dict[str, str] = Field(description="The C header's apply function of each sensor.")
-    calibrate: dict[str, str] = Field(default_factory=dict,
-                                      description="The C lines' function of each sensor, taking a driver's reading.")
-    scales: dict[str, ScaleOut | None] = Field(description="How a sensor's int16 counts become the input unit; "
-                                                           "null when the calibration takes them as they are.")
+    calibrate: dict[str, str] = Field(
+        default_factory=dict, description="The C lines' function of each sensor, taking a driver's reading."
+    )
+    scales: dict[str, ScaleOut | None] = Field(
+        description="How a sensor's int16 counts become the input unit; "
+        "null when the calibration takes them as they are."
+    )
     firmware: dict[str, FirmwareFiguresOut] = Field(
-        default_factory=dict, description="By export format (ardupilot, px4): what the firmware reaches with the "
-                                          "exported offsets and scales; absent where that export is refused.")
+        default_factory=dict,
+        description="By export format (ardupilot, px4): what the firmware reaches with the "
+        "exported offsets and scales; absent where that export is refused.",
+    )
 
 
 class ApplyIn(Strict):

@@ -46,10 +46,15 @@ class CubeMetrics(Out):
     duration_s: float | None = None
     n_samples: int | None = None
     n_positions_found: int | None = None
-    n_still_found: int | None = Field(None, description="Still segments detected before they were matched to the protocol.")
-    n_handling: int | None = Field(None, description="Rests and moves left out as handling (pauses, re-placements, moves by hand).")
+    n_still_found: int | None = Field(
+        None, description="Still segments detected before they were matched to the protocol."
+    )
+    n_handling: int | None = Field(
+        None, description="Rests and moves left out as handling (pauses, re-placements, moves by hand)."
+    )
     positions_from: Literal["detected", "sections"] | None = Field(
-        None, description="`detected` from the gyroscope, or `sections` (an annotated section list).")
+        None, description="`detected` from the gyroscope, or `sections` (an annotated section list)."
+    )
     n_positions_used: int | None = None
     returned_to_start: bool | None = None
     rotations_used: list[int] | None = None
@@ -80,10 +85,14 @@ class CubeOut(CalibrationCommon):
     units: dict[str, str] = Field(description="Each sensor's recorded unit.")
     sequence: list[RotationCheck] = Field(description="The check of every rotation (section VII-A-1).")
     first_wrong_rotation: int | None
-    protocol: dict[str, Any] = Field(description="name, rotations, ups, attitudes, heading_known, reading_positions "
-                                                 "(for ferraris: the order the recording made it in).")
-    segments: dict[str, Any] | None = Field(description="Still intervals and rotations matched to the protocol (sample "
-                                                        "indices), source, n_still_found and the handling left out.")
+    protocol: dict[str, Any] = Field(
+        description="name, rotations, ups, attitudes, heading_known, reading_positions "
+        "(for ferraris: the order the recording made it in)."
+    )
+    segments: dict[str, Any] | None = Field(
+        description="Still intervals and rotations matched to the protocol (sample "
+        "indices), source, n_still_found and the handling left out."
+    )
     drift: dict[str, Any] = Field(description="Sensor → drift removed (return to position 1).")
     sampling_rate_hz: float
     field_ut: float | None

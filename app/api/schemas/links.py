@@ -18,5 +18,6 @@ class LinkOpened(BaseModel):
     code: str
     calibration_id: str
     expires_at: str
-    token: str = Field(description="`Authorization: Bearer` value that reads this calibration (and no other) "
-                                   "until expires_at.")
+    token: str = Field(
+        description="`Authorization: Bearer` value that reads this calibration (and no other) until expires_at."
+    )

@@ -16,8 +16,9 @@ Figures3 = list[float | None]
 class SensorNoiseModel(Out):
     unit: str = Field(description="The sensor's unit (gyroscope rad/s, accelerometer m/s^2, magnetometer uT).")
     bias: Vec3Out = Field(description="Mean of the still part, per axis.")
-    noise_density: Figures3 = Field(description="N, white noise: the −½ line at τ = 1 s (IEEE Std 952, Annex C); "
-                                                "null where not seen.")
+    noise_density: Figures3 = Field(
+        description="N, white noise: the −½ line at τ = 1 s (IEEE Std 952, Annex C); null where not seen."
+    )
     random_walk: Figures3 = Field(description="K, the +½ line at τ = 3 s; null where the recording is too short.")
     bias_instability: Figures3 = Field(description="B, the flat floor / 0.664; null where not seen.")
     noise_density_unit: str = Field(description="e.g. rad/s/√Hz (Kalibr's gyroscope_noise_density).")
@@ -36,7 +37,9 @@ Intervals3 = list[list[float] | None]
 
 
 class SensorNoiseUncertainty(Out):
-    noise_density: Intervals3 = Field(description="95 % interval [lo, hi] per axis (χ², equivalent degrees of freedom).")
+    noise_density: Intervals3 = Field(
+        description="95 % interval [lo, hi] per axis (χ², equivalent degrees of freedom)."
+    )
     random_walk: Intervals3
     bias_instability: Intervals3
     bias: Intervals3
@@ -50,7 +53,9 @@ class NoiseUncertainty(Out):
 
 
 class AllanTable(Out):
-    tau_s: list[float] = Field(description="τ = m / fs, at least 10 per decade, up to the longest the recording supports.")
+    tau_s: list[float] = Field(
+        description="τ = m / fs, at least 10 per decade, up to the longest the recording supports."
+    )
     value: list[Vec3Out] = Field(description="Overlapping Allan deviation (n_τ × 3), in the sensor's unit.")
     lo: list[Vec3Out] = Field(description="Lower end of each point's 95 % interval.")
     hi: list[Vec3Out] = Field(description="Upper end.")
@@ -64,7 +69,9 @@ class SensorNoiseMetrics(Out):
     tau_random_walk_s: Figures3
     adev_min: Vec3Out = Field(description="The curve's minimum (B ≥ it / 0.664 holds the other terms too).")
     tau_adev_min_s: Vec3Out
-    bias_standard_error: Vec3Out = Field(description="Standard error of the bias: the fitted Allan deviation at the duration.")
+    bias_standard_error: Vec3Out = Field(
+        description="Standard error of the bias: the fitted Allan deviation at the duration."
+    )
 
 
 class NoiseMetrics(Out):
@@ -78,7 +85,9 @@ class StillPart(Out):
     end: int = Field(description="The sample after the last one used.")
     n_samples: int
     fraction: float = Field(description="Of the recording.")
-    detected_from: str = Field(description="The sensors whose stillness was tested, joined by \", \" (every sensor the recording holds: still on all of them).")
+    detected_from: str = Field(
+        description='The sensors whose stillness was tested, joined by ", " (every sensor the recording holds: still on all of them).'
+    )
 
 
 class NoiseOut(CalibrationCommon):

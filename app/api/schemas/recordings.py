@@ -18,9 +18,13 @@ class SegmentOut(BaseModel):
     count: int
     source: str | None = Field(None, description="A recording made of several files: the file the segment is in.")
     part: int | None = Field(None, description="The index of that file in `parts`.")
-    pose_from_name: str | None = Field(None, description=(
-        "The up axis the file's name gives (x_axis_pos → +x, z_down → -z), when it gives one; the data decide `up`, "
-        "and a note names a file whose name they contradict."))
+    pose_from_name: str | None = Field(
+        None,
+        description=(
+            "The up axis the file's name gives (x_axis_pos → +x, z_down → -z), when it gives one; the data decide `up`, "
+            "and a note names a file whose name they contradict."
+        ),
+    )
 
 
 class PartOut(BaseModel):
@@ -45,7 +49,9 @@ class ReadWithOut(BaseModel):
     chip: str | None = Field(None, description="The parts the upload named (app.io.formats.chips).")
     sampling_rate_hz: float | None = Field(None, description="The rate the upload gave (null: the file's own).")
     sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
-    instance: int | None = Field(None, description="A flight controller's log: the IMU instance asked (null: the default).")
+    instance: int | None = Field(
+        None, description="A flight controller's log: the IMU instance asked (null: the default)."
+    )
     mag_instance: int | None = Field(None, description="A flight controller's log: the compass instance asked.")
 
 
@@ -63,9 +69,12 @@ class InstanceOut(BaseModel):
 
     sensor: Literal["acc", "gyr", "mag"]
     instance: int = Field(description="PX4's multi_id, ArduPilot's I (or the 2 of IMU2, less one).")
-    source: str = Field(description="The message: sensor_accel, sensor_gyro, sensor_mag, sensor_combined; IMU, ACC, "
-                                    "GYR, MAG.")
-    device_id: int | None = Field(None, description="The firmware's device id (ArduPilot: from INS_ACC_ID … parameters).")
+    source: str = Field(
+        description="The message: sensor_accel, sensor_gyro, sensor_mag, sensor_combined; IMU, ACC, GYR, MAG."
+    )
+    device_id: int | None = Field(
+        None, description="The firmware's device id (ArduPilot: from INS_ACC_ID … parameters)."
+    )
     device: DeviceOut | None = None
     n_samples: int
     sampling_rate_hz: float | None = Field(None, description="From the span: (N − 1)/(t_last − t_first).")
@@ -79,8 +88,10 @@ class FlightOut(BaseModel):
     instances: list[InstanceOut]
     imu: dict = Field(description="The IMU read: instance, source, gyr_source.")
     mag: dict | None = Field(None, description="The compass the compass methods read: instance, source.")
-    clock: Literal["imu", "mag"] = Field("imu", description="The samples are on the IMU's times; the compass methods "
-                                                            "read the log again on the compass's.")
+    clock: Literal["imu", "mag"] = Field(
+        "imu",
+        description="The samples are on the IMU's times; the compass methods read the log again on the compass's.",
+    )
 
 
 class TemperatureRangeOut(BaseModel):
@@ -97,12 +108,17 @@ class GapOut(BaseModel):
 class TimingOut(BaseModel):
     """How the sampling rate was decided (app.io.formats.timing), and what the time column showed."""
 
-    source: Literal["sampling_rate_hz", "file", "time column", "none"] = Field(description=(
-        "The upload's sampling_rate_hz, the file's metadata, the time column's span, or none (no rate)."))
+    source: Literal["sampling_rate_hz", "file", "time column", "none"] = Field(
+        description=("The upload's sampling_rate_hz, the file's metadata, the time column's span, or none (no rate).")
+    )
     sampling_rate_hz: float | None
-    jitter: float | None = Field(None, description=(
-        "Standard deviation of the time column's steps (gaps left out) over the sampling interval; above 0.2 "
-        "the timestamps are a host's arrival times and a note says so."))
+    jitter: float | None = Field(
+        None,
+        description=(
+            "Standard deviation of the time column's steps (gaps left out) over the sampling interval; above 0.2 "
+            "the timestamps are a host's arrival times and a note says so."
+        ),
+    )
     median_step_s: float | None = None
     gaps: list[GapOut] = Field([], description="Where samples were lost; still segments do not span them.")
     missing_s: float = Field(0.0, description="Time lost in all gaps.")
@@ -111,17 +127,23 @@ class TimingOut(BaseModel):
 class LogOverview(BaseModel):
     """The log's norm in at most 300 bins (app.workflows.recordings.overview), for a plot with the still segments."""
 
-    sensor: Literal["acc", "mag", "gyr"] = Field(description=(
-        "The accelerometer's norm; in a log without it the magnetometer's, else the gyroscope's."))
+    sensor: Literal["acc", "mag", "gyr"] = Field(
+        description=("The accelerometer's norm; in a log without it the magnetometer's, else the gyroscope's.")
+    )
     unit: str | None
-    t_s: list[float] | None = Field(description="Start of each bin, seconds from the first sample; null in a log "
-                                                "without a sampling rate.")
+    t_s: list[float] | None = Field(
+        description="Start of each bin, seconds from the first sample; null in a log without a sampling rate."
+    )
     start: list[int] | None = Field(None, description="Start of each bin, in samples.")
     low: list[float | None] = Field(description="Smallest norm in the bin (null: no finite sample).")
     high: list[float | None] = Field(description="Largest.")
-    temperature_c: list[float | None] | None = Field(None, description=(
-        "A log that records the sensor's temperature (a flight controller's IMU, a temp_c column): each bin's "
-        "mean temperature, °C."))
+    temperature_c: list[float | None] | None = Field(
+        None,
+        description=(
+            "A log that records the sensor's temperature (a flight controller's IMU, a temp_c column): each bin's "
+            "mean temperature, °C."
+        ),
+    )
 
 
 class RecordingOut(BaseModel):
@@ -132,35 +154,57 @@ class RecordingOut(BaseModel):
     format: str
     filename: str | None = None
     n_samples: int
-    sampling_rate_hz: float | None = Field(description=(
-        "The sensor's rate (timing says how it was decided); null when the file has no time column and none was "
-        "given: the still poses and the compass need none, noise, cube and autocal ask for it."))
+    sampling_rate_hz: float | None = Field(
+        description=(
+            "The sensor's rate (timing says how it was decided); null when the file has no time column and none was "
+            "given: the still poses and the compass need none, noise, cube and autocal ask for it."
+        )
+    )
     duration_s: float | None = None
     timing: TimingOut | None = Field(None, description="Absent from recordings stored before it existed.")
     channels: list[str]
     units: dict[str, str]
     columns: list[str] = Field([], description="The file's column names (or those `columns` gave).")
     notes: list[str] = Field([], description="What the reader decided: sign negated, unit inferred, no header row.")
-    warnings: list[str] = Field([], description="What the reader decided against the header or the upload's fields "
-                                                "(a unit the data contradict), and sensors left in counts; every "
-                                                "calibration of the recording repeats them.")
-    questions: list[dict[str, str]] = Field([], description="What the data leave open and a figure hangs on "
-                                            "(`sensor`, `detail`: a gyroscope's unit neither its data nor the "
-                                            "upload say): a calibration of that sensor is not ok, its reasons ask.")
+    warnings: list[str] = Field(
+        [],
+        description="What the reader decided against the header or the upload's fields "
+        "(a unit the data contradict), and sensors left in counts; every "
+        "calibration of the recording repeats them.",
+    )
+    questions: list[dict[str, str]] = Field(
+        [],
+        description="What the data leave open and a figure hangs on "
+        "(`sensor`, `detail`: a gyroscope's unit neither its data nor the "
+        "upload say): a calibration of that sensor is not ok, its reasons ask.",
+    )
     quantization_step: float | None = None
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")
     read_with: ReadWithOut | None = Field(None, description="Absent from recordings stored before it existed.")
-    content_sha256: str | None = Field(None, description=(
-        "SHA-256 of the upload (of several files, their names and contents in order): the same upload read again "
-        "with other options has the same one, and its calibrations by one method supersede each other. Absent "
-        "from recordings stored before it existed."))
+    content_sha256: str | None = Field(
+        None,
+        description=(
+            "SHA-256 of the upload (of several files, their names and contents in order): the same upload read again "
+            "with other options has the same one, and its calibrations by one method supersede each other. Absent "
+            "from recordings stored before it existed."
+        ),
+    )
     segments: list[SegmentOut]
-    parts: list[PartOut] | None = Field(None, description=(
-        "A recording made of several files (several `file` parts, or a zip of log files): each file, in order; "
-        "absent for one file."))
-    overview: LogOverview | None = Field(None, description="For a plot of the log; absent from recordings stored "
-                                                           "before it existed.")
-    flight: FlightOut | None = Field(None, description="A flight controller's log (PX4 ULog, ArduPilot DataFlash): "
-                                                       "its sensor instances; absent for other logs.")
-    temperature_c: TemperatureRangeOut | None = Field(None, description=(
-        "The read IMU's temperature range in °C, when the log records it."))
+    parts: list[PartOut] | None = Field(
+        None,
+        description=(
+            "A recording made of several files (several `file` parts, or a zip of log files): each file, in order; "
+            "absent for one file."
+        ),
+    )
+    overview: LogOverview | None = Field(
+        None, description="For a plot of the log; absent from recordings stored before it existed."
+    )
+    flight: FlightOut | None = Field(
+        None,
+        description="A flight controller's log (PX4 ULog, ArduPilot DataFlash): "
+        "its sensor instances; absent for other logs.",
+    )
+    temperature_c: TemperatureRangeOut | None = Field(
+        None, description=("The read IMU's temperature range in °C, when the log records it.")
+    )

@@ -16,21 +16,32 @@ from app.io.log import ACC_PHYSICAL_UNITS
 class SessionIn(Strict):
     """A guided wizard session (issue 6): the page captures each pose into it, then solves it."""
 
-    protocol: Literal["six", "cube24", "free"] = Field("six", description=(
-        "`six` (any order), `cube24` (fixed order) or `free` (still poses in any direction, 12 or more)."))
+    protocol: Literal["six", "cube24", "free"] = Field(
+        "six",
+        description=("`six` (any order), `cube24` (fixed order) or `free` (still poses in any direction, 12 or more)."),
+    )
     capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
-        CAPTURE_S_DEFAULT, description="Seconds captured per position.")
+        CAPTURE_S_DEFAULT, description="Seconds captured per position."
+    )
     unit: Literal[ACC_PHYSICAL_UNITS] = Field("m/s^2", description="Unit of the samples the page sends.")
     gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
-    target_mg: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(None, description=(
-        "free: the cross-validated error in mg of g below which the session is done; default TRICAL_FREE_TARGET_MG."))
-    source: Literal["phone", "board"] = Field("phone", description=(
-        "What the page reads: the phone's motion events (`phone`: the result notes the browser's rounding and the "
-        "system's own calibration) or a board's printed lines (`board`: neither applies)."))
+    target_mg: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
+        None,
+        description=(
+            "free: the cross-validated error in mg of g below which the session is done; default TRICAL_FREE_TARGET_MG."
+        ),
+    )
+    source: Literal["phone", "board"] = Field(
+        "phone",
+        description=(
+            "What the page reads: the phone's motion events (`phone`: the result notes the browser's rounding and the "
+            "system's own calibration) or a board's printed lines (`board`: neither applies)."
+        ),
+    )
 
 
 class SignIn(Strict):
@@ -40,8 +51,32 @@ class SignIn(Strict):
     detected_from: Literal["orientation", "platform", "default"] = "default"
 
 
-CubePosition = Literal["1", "2", "3", "4", "5", "6", "7", "8", "9", "10", "11", "12",
-                       "13", "14", "15", "16", "17", "18", "19", "20", "21", "22", "23", "24"]
+CubePosition = Literal[
+    "1",
+    "2",
+    "3",
+    "4",
+    "5",
+    "6",
+    "7",
+    "8",
+    "9",
+    "10",
+    "11",
+    "12",
+    "13",
+    "14",
+    "15",
+    "16",
+    "17",
+    "18",
+    "19",
+    "20",
+    "21",
+    "22",
+    "23",
+    "24",
+]
 
 
 class MotionIn(Strict):
@@ -64,17 +99,24 @@ class CaptureIn(Strict):
     """The raw samples of one still pose, already in the W3C sign convention."""
 
     acc: Annotated[list[Vec3], Field(min_length=1, max_length=100_000)] = Field(
-        description="accelerationIncludingGravity samples [x, y, z] in the session's unit.")
+        description="accelerationIncludingGravity samples [x, y, z] in the session's unit."
+    )
     t_ms: Annotated[list[FiniteFloat], Field(min_length=1, max_length=100_000)] = Field(
-        description="Each sample's event timestamp in ms (DeviceMotionEvent.timeStamp).")
+        description="Each sample's event timestamp in ms (DeviceMotionEvent.timeStamp)."
+    )
     gyr: Annotated[list[Vec3], Field(max_length=100_000)] | None = Field(
-        None, description="rotationRate samples [x, y, z], one per acc sample.")
+        None, description="rotationRate samples [x, y, z], one per acc sample."
+    )
     gyr_unit: Literal["deg/s", "rad/s"] = "deg/s"
     unit: Literal[ACC_PHYSICAL_UNITS] | None = Field(None, description="Must be the session's unit when given.")
     sign: SignIn = Field(default_factory=SignIn)
     position: Label | CubePosition | None = Field(
-        None, description=("six: the pose the page recognised (checked against the data); cube24: the position number; "
-                           "free: leave it out (poses are numbered in order)."))
+        None,
+        description=(
+            "six: the pose the page recognised (checked against the data); cube24: the position number; "
+            "free: leave it out (poses are numbered in order)."
+        ),
+    )
     redo: bool = Field(False, description="Replace an earlier capture of the same pose (cube24: the last one).")
     motion: MotionIn | None = Field(None, description="cube24: the rates of the turn into this position.")
 
@@ -108,14 +150,21 @@ class FreeProgress(BaseModel):
 
     count: int = Field(description="Poses captured.")
     fit_from: int = Field(description=f"The triangular model is fitted from this many poses on ({FREE_FIT_FROM}).")
-    target_poses: int = Field(description=f"The target counts only with at least this many poses ({FREE_TARGET_MIN_POSES}).")
+    target_poses: int = Field(
+        description=f"The target counts only with at least this many poses ({FREE_TARGET_MIN_POSES})."
+    )
     target_mg: float
     cv_error_mg: float | None = Field(description="Cross-validated error on new orientations (null before the fit).")
     cv_error_max_mg: float | None
     target_reached: bool
-    advice: list[PoseAdviceOut] = Field(description=(
-        "The next poses: D-optimal once fitted, before that the directions farthest from the poses taken (gain null)."))
-    message: str = Field(description="The state in words, e.g. “11 poses: 3.2 mg expected on new orientations (target 2 mg, at least 12 poses)”.")
+    advice: list[PoseAdviceOut] = Field(
+        description=(
+            "The next poses: D-optimal once fitted, before that the directions farthest from the poses taken (gain null)."
+        )
+    )
+    message: str = Field(
+        description="The state in words, e.g. “11 poses: 3.2 mg expected on new orientations (target 2 mg, at least 12 poses)”."
+    )
 
 
 class SessionOut(BaseModel):

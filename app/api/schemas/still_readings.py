@@ -15,9 +15,13 @@ class OutOfSampleMetrics(CrossValidatedMetrics):
     """Figures of readings the fit did not see: each left out in turn (cv_*), and the request's `holdout`."""
 
     holdout_count: int | None = Field(None, description="Held-out readings (`holdout` of the request).")
-    holdout_norm_error_max: float | None = Field(None, description="Largest relative norm error of the held-out readings, calibrated.")
+    holdout_norm_error_max: float | None = Field(
+        None, description="Largest relative norm error of the held-out readings, calibrated."
+    )
     holdout_norm_error_max_raw: float | None = Field(None, description="The same, raw.")
-    holdout_error_before_mg: float | None = Field(None, description="Mean | |m| − g | of the held-out readings, raw, in mg of g.")
+    holdout_error_before_mg: float | None = Field(
+        None, description="Mean | |m| − g | of the held-out readings, raw, in mg of g."
+    )
     holdout_error_after_mg: float | None = Field(None, description="The same, calibrated.")
     holdout_improvement: float | None = Field(None, description="before / after (triangular only).")
 
@@ -31,7 +35,9 @@ class SessionRates(Out):
 
 class AffineModel(Out):
     type: Literal["affine"]
-    X: Mat3Out = Field(description="m = X a + y (Georgieva et al., ESGI'95, section 3.2), in the readings' unit per unit of the reference.")
+    X: Mat3Out = Field(
+        description="m = X a + y (Georgieva et al., ESGI'95, section 3.2), in the readings' unit per unit of the reference."
+    )
     y: Vec3Out = Field(description="Offset, in the readings' unit.")
 
 
@@ -50,7 +56,9 @@ class StillReadingsMetrics(OutOfSampleMetrics, SessionRates):
     count: int | None = None
     dof: int | None = None
     condition_number: float | None = None
-    error_before_mg: float | None = Field(None, description="Mean | |m| − g | of the fitted readings, raw, in mg of g (in-sample).")
+    error_before_mg: float | None = Field(
+        None, description="Mean | |m| − g | of the fitted readings, raw, in mg of g (in-sample)."
+    )
     error_after_mg: float | None = Field(None, description="The same, calibrated (in-sample).")
     norm_error_max: float | None = Field(None, description="max | |a_cal| − g | / g over the fitted readings.")
     norm_error_max_raw: float | None = None
@@ -58,7 +66,9 @@ class StillReadingsMetrics(OutOfSampleMetrics, SessionRates):
 
 class AffineMetrics(StillReadingsMetrics):
     condition_number: float | None = Field(None, description="Of the normalised design (rows (a/g, 1)).")
-    fit_error_max: float | None = Field(None, description="max ‖X⁻¹(m − y) − a‖ / ‖a‖ over the readings (ESGI'95 section 3.5).")
+    fit_error_max: float | None = Field(
+        None, description="max ‖X⁻¹(m − y) − a‖ / ‖a‖ over the readings (ESGI'95 section 3.5)."
+    )
     fit_error_max_raw: float | None = Field(None, description="max ‖m − a‖ / ‖a‖.")
     fit_improvement: float | None = None
     norm_improvement: float | None = None
@@ -75,8 +85,9 @@ class AffineReading(Out):
     fit_error_raw: float
     norm_error: float
     norm_error_raw: float
-    source: str | None = Field(None, description=(
-        "A recording made of several files (one per pose): the file this reading came from."))
+    source: str | None = Field(
+        None, description=("A recording made of several files (one per pose): the file this reading came from.")
+    )
 
 
 class MagnitudeReading(Out):
@@ -85,8 +96,9 @@ class MagnitudeReading(Out):
     calibrated: Vec3Out
     norm_error: float
     norm_error_raw: float
-    source: str | None = Field(None, description=(
-        "A recording made of several files (one per pose): the file this reading came from."))
+    source: str | None = Field(
+        None, description=("A recording made of several files (one per pose): the file this reading came from.")
+    )
 
 
 class GyroscopeBiasOut(Out):
@@ -98,17 +110,24 @@ class GyroscopeBiasOut(Out):
     half_width_deg_s: Vec3Out = Field(description="The half-width in °/s.")
     count: int = Field(description="Captures that carried gyroscope samples (K).")
     confidence: float = Field(description="0.95.")
-    interval_from: Literal["captures", "samples"] = Field(description=(
-        "`captures`: Student-t with K − 1 degrees of freedom on the spread of the capture means, which holds the "
-        "bias's wander between captures; `samples`: a single capture, t with n − 1 on its standard error."))
+    interval_from: Literal["captures", "samples"] = Field(
+        description=(
+            "`captures`: Student-t with K − 1 degrees of freedom on the spread of the capture means, which holds the "
+            "bias's wander between captures; `samples`: a single capture, t with n − 1 on its standard error."
+        )
+    )
     formula: str = Field(description="The interval's formula in words.")
 
 
 class StillReadingsCommon(CalibrationCommon):
     choice: ChoiceOut | None = Field(None, description="Present when the request's method was `auto`.")
-    gyroscope_bias: GyroscopeBiasOut | None = Field(None, description=(
-        "A six or free wizard session whose captures carried gyroscope samples: the gyroscope's bias at rest; "
-        "absent otherwise."))
+    gyroscope_bias: GyroscopeBiasOut | None = Field(
+        None,
+        description=(
+            "A six or free wizard session whose captures carried gyroscope samples: the gyroscope's bias at rest; "
+            "absent otherwise."
+        ),
+    )
     covariance: list[list[float]] | None = Field(description="Covariance of the parameters (least squares).")
     segments_used: list[int] | None = Field(None, description="Still segments of the recording that were used.")
 
@@ -165,14 +184,21 @@ class PoseAdviceOut(Out):
     """One pose to add next (app.calibration.advice): D-optimal for the model's parameters."""
 
     up: Vec3Out = Field(description="Unit vector in the sensor frame that should point up (reads +g at rest).")
-    words: str = Field(description="The pose in words, e.g. “+x up (on its left edge as you face the screen, right edge up), tilted 30° towards −z”.")
-    gain: float | None = Field(description=(
-        "Fraction by which adding this pose (after the advised ones before it) shrinks the generalized variance "
-        "det C of the parameters; null when no model is fitted yet (a free wizard session before 10 poses)."))
+    words: str = Field(
+        description="The pose in words, e.g. “+x up (on its left edge as you face the screen, right edge up), tilted 30° towards −z”."
+    )
+    gain: float | None = Field(
+        description=(
+            "Fraction by which adding this pose (after the advised ones before it) shrinks the generalized variance "
+            "det C of the parameters; null when no model is fitted yet (a free wizard session before 10 poses)."
+        )
+    )
 
 
-ADVICE_DESCRIPTION = ("The three poses that would most shrink the parameters' uncertainty (D-optimal), best first; "
-                      "null on calibrations stored before advice existed.")
+ADVICE_DESCRIPTION = (
+    "The three poses that would most shrink the parameters' uncertainty (D-optimal), best first; "
+    "null on calibrations stored before advice existed."
+)
 
 
 class NonOrthogonalOut(StillReadingsCommon):
@@ -214,8 +240,11 @@ class TriangularMetrics(MagnitudeMetrics):
 class FreeFinish(Out):
     """How a free wizard session ended."""
 
-    reason: Literal["target", "stopped"] = Field(description=(
-        "`target`: the cross-validated error fell below the target with enough poses; `stopped`: the person finished first."))
+    reason: Literal["target", "stopped"] = Field(
+        description=(
+            "`target`: the cross-validated error fell below the target with enough poses; `stopped`: the person finished first."
+        )
+    )
     text: str = Field(description="E.g. “target reached: 1.4 mg on new orientations”.")
     poses: int
     cv_error_mg: float | None = Field(description="metrics.cv_error_mg when the session ended.")

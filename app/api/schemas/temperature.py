@@ -15,11 +15,14 @@ class SensorTemperatureModel(Out):
     t_ref_c: float = Field(description="T_ref: the middle of the recorded range (PX4's process_sensor_caldata.py).")
     t_min_c: float = Field(description="The coldest temperature recorded; the firmware clamps below it.")
     t_max_c: float = Field(description="The warmest.")
-    relative: bool = Field(description="True for the accelerometer: X0 = 0, the drift relative to its reading at "
-                                       "T_ref (gravity's projection is unknown without poses).")
+    relative: bool = Field(
+        description="True for the accelerometer: X0 = 0, the drift relative to its reading at "
+        "T_ref (gravity's projection is unknown without poses)."
+    )
     order: list[int] = Field(description="Per axis, the order (1–3) chosen on bands of temperature left out.")
-    coefficients: list[list[float]] = Field(description="3×4: per axis X0…X3 of o(T) = Σ X_k dT^k, "
-                                                        "dT = clamp(T, t_min_c, t_max_c) − t_ref_c; subtracted.")
+    coefficients: list[list[float]] = Field(
+        description="3×4: per axis X0…X3 of o(T) = Σ X_k dT^k, dT = clamp(T, t_min_c, t_max_c) − t_ref_c; subtracted."
+    )
 
 
 class TemperatureModel(Out):
@@ -31,11 +34,15 @@ class TemperatureModel(Out):
 class SensorTemperatureUncertainty(Out):
     coefficients: list[list[float]] = Field(description="95 % half-widths of the coefficients (0 where not fitted).")
     dof: list[float] = Field(description="Per axis, the effective residual degrees of freedom of the Student-t.")
-    autocorrelation: list[float] = Field(description="Per axis, the lag-1 autocorrelation of the bins' residuals "
-                                                     "the covariance was inflated by (0 when negative).")
+    autocorrelation: list[float] = Field(
+        description="Per axis, the lag-1 autocorrelation of the bins' residuals "
+        "the covariance was inflated by (0 when negative)."
+    )
     covariance: list[list[list[float]]] = Field(description="Per axis, the 4×4 covariance of X0…X3.")
-    random_walk: list[float] = Field(description="Per axis, the bias's random walk in time estimated beside the bins' "
-                                                 "scatter (REML), in the unit per √s: 0 when none is seen.")
+    random_walk: list[float] = Field(
+        description="Per axis, the bias's random walk in time estimated beside the bins' "
+        "scatter (REML), in the unit per √s: 0 when none is seen."
+    )
 
 
 class TemperatureUncertainty(Out):
@@ -87,5 +94,7 @@ class TemperatureOut(CalibrationCommon):
     bins: dict[str, TemperatureBins] = Field(description="Sensor → the binned readings the fit saw.")
     curve: dict[str, TemperatureCurve] = Field(description="Sensor → the fit and its band over the range.")
     sensor_ids: dict[str, int] | None = Field(
-        None, description="Sensor → the firmware's device id of the sensor a flight log's IMU was read from (PX4's "
-                          "TC_A0_ID, TC_G0_ID in the px4 export); absent for other recordings.")
+        None,
+        description="Sensor → the firmware's device id of the sensor a flight log's IMU was read from (PX4's "
+        "TC_A0_ID, TC_G0_ID in the px4 export); absent for other recordings.",
+    )

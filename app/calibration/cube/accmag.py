@@ -93,8 +93,13 @@ class SensorFit(GatedFit):
 
     def model(self) -> dict:
         """S, b, D and the misalignment as plain lists, then the sensor's own parameters (:meth:`own_model`)."""
-        return {"S": self.S.tolist(), "b": self.b.tolist(), "D": self.D.tolist(),
-                "misalignment": self.misalignment.tolist(), **self.own_model()}
+        return {
+            "S": self.S.tolist(),
+            "b": self.b.tolist(),
+            "D": self.D.tolist(),
+            "misalignment": self.misalignment.tolist(),
+            **self.own_model(),
+        }
 
     def own_model(self) -> dict:  # pragma: no cover - every sensor defines it
         raise NotImplementedError
@@ -189,8 +194,13 @@ class FieldSensorCalibration(SensorFit):
             "reference": self.reference,
             "angles_estimated": self.angles_estimated,
             "positions": [
-                {"position": int(p), "mean": m.tolist(), "covariance": c.tolist(), "count": int(n),
-                 "attitude": R.tolist()}
+                {
+                    "position": int(p),
+                    "mean": m.tolist(),
+                    "covariance": c.tolist(),
+                    "count": int(n),
+                    "attitude": R.tolist(),
+                }
                 for p, m, c, n, R in zip(self.positions, self.means, self.covariances, self.counts, self.attitudes)
             ],
             **self.gate_dict(),
@@ -233,7 +243,7 @@ def _model_and_jacobian(x: np.ndarray, attitudes: np.ndarray, ref: float):
     P = len(attitudes)
     J = np.zeros((P, 3, N_PARAMETERS))
     for i in range(3):
-        J[:, i, 3 * i:3 * i + 3] = v  # ∂h_i/∂S_ij = v_j
+        J[:, i, 3 * i : 3 * i + 3] = v  # ∂h_i/∂S_ij = v_j
         J[:, i, 9 + i] = 1.0
     J[:, :, 12] = (Rt @ du_da) @ S.T
     J[:, :, 13] = (Rt @ du_db) @ S.T
@@ -258,7 +268,7 @@ def _whitener(covariances: np.ndarray, counts: np.ndarray, warnings: list, extra
         if not np.all(w > floor):
             floored = True
             w = np.maximum(w, floor if scale > 0 else 1.0)
-        full[3 * p:3 * p + 3, 3 * p:3 * p + 3] = Q @ np.diag(w) @ Q.T
+        full[3 * p : 3 * p + 3, 3 * p : 3 * p + 3] = Q @ np.diag(w) @ Q.T
     if floored:
         warnings.append(
             "some positions have a (near-)zero sample variance, e.g. rounded or constant readings: "
@@ -287,8 +297,8 @@ def drift_covariance(times_s, covariances, counts) -> np.ndarray:
     extra = np.kron(np.outer(tau, tau), Vd)
     # Cross terms with position 1, whose own error enters the drift estimate.
     for q in range(1, P):
-        extra[0:3, 3 * q:3 * q + 3] += tau[q] * V[0]
-        extra[3 * q:3 * q + 3, 0:3] += tau[q] * V[0]
+        extra[0:3, 3 * q : 3 * q + 3] += tau[q] * V[0]
+        extra[3 * q : 3 * q + 3, 0:3] += tau[q] * V[0]
     return extra
 
 
@@ -359,9 +369,10 @@ def _gauss_newton(x, free, m, Rs, ref: float, L, sensor: str, max_iterations: in
         dx, *_ = np.linalg.lstsq(Jw / scale, pw, rcond=None)
         dx = dx / scale
         x[free] -= dx
-        if np.linalg.norm(dx * scale) <= tolerance * max(1.0, np.linalg.norm(pw)) or np.max(
-            np.abs(dx) / np.maximum(np.abs(x[free]), 1e-12)
-        ) < tolerance:
+        if (
+            np.linalg.norm(dx * scale) <= tolerance * max(1.0, np.linalg.norm(pw))
+            or np.max(np.abs(dx) / np.maximum(np.abs(x[free]), 1e-12)) < tolerance
+        ):
             converged = True
             break
     return x, it, converged
@@ -391,7 +402,7 @@ def _metrics(m, h, S, pw, reference, n_par: int, it: int, converged: bool, cond:
     P = len(m)
     chi2 = float(pw @ pw)
     dof = 3 * P - n_par
-    resid = (m - h.reshape(P, 3))
+    resid = m - h.reshape(P, 3)
     resid_ref = np.linalg.solve(S, resid.T).T
     rel = np.linalg.norm(resid_ref, axis=1) / reference
     metrics = {
@@ -416,20 +427,26 @@ def _gates(metrics: dict, rel, positions, sensor: str, max_iterations: int, gate
             f"{sensor}: the generalised least squares did not converge in {max_iterations} iterations; "
             "check the positions and the protocol"
         )
-    gates.fail(residual_gate(
-        rel, MAX_FIT_ERROR,
-        lambda index, percent, gate_percent, **_: (
-            f"{sensor}: position {positions[index]} is {percent:.1f} % of the reference away from "
-            f"the model after calibration (gate {gate_percent:.0f} %): the position is not the one "
-            "the protocol expects, or the sensor moved"
-        ),
-    ))
-    gates.warn(limit_gate(
-        metrics["reduced_chi2"], MAX_REDUCED_CHI2,
-        "{sensor}: χ²/dof = {value:.3g}: the misfit is larger than the sample noise explains "
-        "(unmodelled errors or drift, Särkkä et al. section VII-A-2), so the intervals are too narrow",
-        sensor=sensor,
-    ))
+    gates.fail(
+        residual_gate(
+            rel,
+            MAX_FIT_ERROR,
+            lambda index, percent, gate_percent, **_: (
+                f"{sensor}: position {positions[index]} is {percent:.1f} % of the reference away from "
+                f"the model after calibration (gate {gate_percent:.0f} %): the position is not the one "
+                "the protocol expects, or the sensor moved"
+            ),
+        )
+    )
+    gates.warn(
+        limit_gate(
+            metrics["reduced_chi2"],
+            MAX_REDUCED_CHI2,
+            "{sensor}: χ²/dof = {value:.3g}: the misfit is larger than the sample noise explains "
+            "(unmodelled errors or drift, Särkkä et al. section VII-A-2), so the intervals are too narrow",
+            sensor=sensor,
+        )
+    )
 
 
 def fit_field_sensor(
@@ -530,8 +547,9 @@ def expected_covariance(S, b, alpha_deg, beta_deg, attitudes, noise_cov, count, 
     of a fit converge to; it reproduces the half-widths of Särkkä et al., IEEE Sensors Journal 17(11)
     2017, Table VII without simulation.
     """
-    x = np.concatenate([np.asarray(S, float).reshape(-1), np.asarray(b, float),
-                        [np.radians(alpha_deg), np.radians(beta_deg)]])
+    x = np.concatenate(
+        [np.asarray(S, float).reshape(-1), np.asarray(b, float), [np.radians(alpha_deg), np.radians(beta_deg)]]
+    )
     Rs = np.asarray(attitudes, dtype=float)
     _, J = _model_and_jacobian(x, Rs, float(reference))
     Vinv = np.linalg.inv(np.asarray(noise_cov, float) / count)

@@ -83,8 +83,10 @@ class CubeCalibration(CalibrationResult):
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
     CORRECTION_SOURCE = "Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1): raw = S f + b, so M = S^-1, o = b"
-    AS_FITTED = ("As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)): raw = S f + b per sensor, "
-                 "so S = M⁻¹ and b = o.")
+    AS_FITTED = (
+        "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)): raw = S f + b per sensor, "
+        "so S = M⁻¹ and b = o."
+    )
     method = MODEL_TYPE
     PER_SENSOR = True
     CUBE_SENSORS = ("acc", "gyr", "mag")
@@ -116,8 +118,9 @@ class CubeCalibration(CalibrationResult):
             else:
                 out_unit = self.CALIBRATED_UNITS[sensor]
                 units = ("raw" if self.units.get(sensor) == "raw" else out_unit, out_unit)
-            out[sensor] = AffineCorrection(np.linalg.inv(res.S), np.asarray(res.b, dtype=float), *units,
-                                           self.CORRECTION_SOURCE, sensor)
+            out[sensor] = AffineCorrection(
+                np.linalg.inv(res.S), np.asarray(res.b, dtype=float), *units, self.CORRECTION_SOURCE, sensor
+            )
         return out
 
     def apply(self, samples=None, sensor: str | None = None, *, acc=None, gyr=None, mag=None):
@@ -134,8 +137,11 @@ class CubeCalibration(CalibrationResult):
         """
         if samples is not None:
             return self._sensor(sensor or "acc").apply(samples)
-        return {name: self._sensor(name).apply(raw) for name, raw in (("acc", acc), ("gyr", gyr), ("mag", mag))
-                if raw is not None}
+        return {
+            name: self._sensor(name).apply(raw)
+            for name, raw in (("acc", acc), ("gyr", gyr), ("mag", mag))
+            if raw is not None
+        }
 
     def _sensor(self, name: str):
         res = getattr(self, name) if name in self.CUBE_SENSORS else None
@@ -164,8 +170,14 @@ class CubeCalibration(CalibrationResult):
         means = self.acc.means
         g = float(self.gravity or np.mean(np.linalg.norm(means, axis=1)))
         errors = norm_errors(means, self.acc.apply, g)
-        return (Figure(errors["error_before_mg"], errors["error_after_mg"], "mg",
-                       f"accelerometer error on the {len(means)} positions fitted"),)
+        return (
+            Figure(
+                errors["error_before_mg"],
+                errors["error_after_mg"],
+                "mg",
+                f"accelerometer error on the {len(means)} positions fitted",
+            ),
+        )
 
     def model_dict(self) -> dict:
         """``{"acc": {...}, "gyr": {...}, "mag": {...}}``, each sensor's S, b and their parts."""
@@ -213,13 +225,20 @@ class CubeCalibration(CalibrationResult):
         rotations = tuple(None if r is None else parse_rotation(r) for r in p["rotations"])
         attitudes = np.asarray(p["attitudes"], dtype=float)
         protocol = Protocol(
-            name=p["name"], attitudes=attitudes,
+            name=p["name"],
+            attitudes=attitudes,
             quaternions=np.array([quat.from_matrix(R) for R in attitudes]),
-            rotations=rotations, ups=tuple(p["ups"]), heading_known=bool(p["heading_known"]),
+            rotations=rotations,
+            ups=tuple(p["ups"]),
+            heading_known=bool(p["heading_known"]),
         )
         drift = {
-            k: Drift(rate=np.asarray(v["rate_per_s"]), t0_s=float(v["t0_s"]), change=np.asarray(v["change"]),
-                     z=None if v.get("z") is None else np.asarray(v["z"]))
+            k: Drift(
+                rate=np.asarray(v["rate_per_s"]),
+                t0_s=float(v["t0_s"]),
+                change=np.asarray(v["change"]),
+                z=None if v.get("z") is None else np.asarray(v["z"]),
+            )
             for k, v in (data.get("drift") or {}).items()
         }
         return cls(
@@ -281,7 +300,8 @@ def _validated(acc, gyr, mag, *, gravity, sampling_rate_hz, field_ut):
     if len(w) != len(a) or (m is not None and len(m) != len(a)):
         raise CalibrationError(
             f"the sensors must be sampled together: acc has {len(a)} samples, gyr {len(w)}"
-            + ("" if m is None else f", mag {len(m)}") + "; resample them to one clock first"
+            + ("" if m is None else f", mag {len(m)}")
+            + "; resample them to one clock first"
         )
     g = check_gravity(gravity)
     fs = float(sampling_rate_hz)
@@ -319,8 +339,8 @@ def _remove_drift(a, w, m, seg: Segmentation, fs: float, gates: Gates):
     """The affine drift of Särkkä et al., IEEE Sensors Journal 17(11) 2017, section II, from the
     return to position 1; only a significant drift is removed (removing noise only adds error)."""
     drift: dict = {}
-    a_first = a[seg.static[0][0]:seg.static[0][1]].mean(axis=0)
-    a_last = a[seg.static[-1][0]:seg.static[-1][1]].mean(axis=0)
+    a_first = a[seg.static[0][0] : seg.static[0][1]].mean(axis=0)
+    a_last = a[seg.static[-1][0] : seg.static[-1][1]].mean(axis=0)
     span = np.ptp(np.array([a[s0:s1].mean(axis=0) for s0, s1 in seg.static]), axis=0).max()
     if np.linalg.norm(a_last - a_first) > RETURN_TOLERANCE * span:
         gates.warn(
@@ -355,16 +375,25 @@ def _check_sequence(a, w, w_raw, seg: Segmentation, proto: Protocol, fs: float, 
     VII-A-1): the first mistake and the saturated rotations before it are reasons.  Returns the
     check and the number of positions before the first mistake."""
     acc_means = _position_stats(a, seg.static)[0]
-    gyro_bias = np.vstack([w[seg.static[k][0]:seg.static[k][1]] for k in _readings(proto, seg.static)]).mean(axis=0)
+    gyro_bias = np.vstack([w[seg.static[k][0] : seg.static[k][1]] for k in _readings(proto, seg.static)]).mean(axis=0)
     sat = saturated_samples(w_raw, gyro_range)
     seq = check_sequence(
-        w, acc_means, seg.rotations, proto, sampling_rate_hz=fs, gyro_bias=gyro_bias, gravity=g, saturated=sat,
+        w,
+        acc_means,
+        seg.rotations,
+        proto,
+        sampling_rate_hz=fs,
+        gyro_bias=gyro_bias,
+        gravity=g,
+        saturated=sat,
     )
     if seq.first_wrong is not None:
         gates.fail(seq.reason())
     for entry in seq.rotations:
-        if entry["saturated"] and entry["rotation"] <= len(proto.rotations) and (
-            seq.first_wrong is None or entry["rotation"] < seq.first_wrong
+        if (
+            entry["saturated"]
+            and entry["rotation"] <= len(proto.rotations)
+            and (seq.first_wrong is None or entry["rotation"] < seq.first_wrong)
         ):
             gates.fail(entry["message"])
     return seq, min(seq.valid_positions, proto.n_positions)
@@ -382,8 +411,14 @@ def _fit_field(rec: _Stages, raw, ref: float, name: str, gates: Gates) -> FieldS
         extra = drift_covariance(rec.centres_s[idx], covs[idx], counts[idx])
     try:
         return fit_field_sensor(
-            means[use], covs[use], counts[use], rec.proto.attitudes[use], reference=ref,
-            sensor=name, estimate_angles=rec.proto.heading_known, positions=tuple(k + 1 for k in use),
+            means[use],
+            covs[use],
+            counts[use],
+            rec.proto.attitudes[use],
+            reference=ref,
+            sensor=name,
+            estimate_angles=rec.proto.heading_known,
+            positions=tuple(k + 1 for k in use),
             mean_covariance_extra=extra,
         )
     except InsufficientDataError as exc:
@@ -413,7 +448,8 @@ def _fit_gyro(rec: _Stages, w, lam, gates: Gates) -> tuple[GyroCalibration | Non
     IEEE Sensors Journal 17(11) 2017, sections III-B, IV-A), or from full turns (ferraris)."""
     seg, proto, seq, n_valid, fs = rec.seg, rec.proto, rec.seq, rec.n_valid, rec.fs
     used = [
-        k for k, rot in enumerate(proto.rotations)
+        k
+        for k, rot in enumerate(proto.rotations)
         if rot is not None and k + 1 < n_valid and not seq.rotations[k]["saturated"]
     ]
     static_valid = [seg.static[k] for k in _readings(proto, seg.static, n_valid)]
@@ -423,13 +459,20 @@ def _fit_gyro(rec: _Stages, w, lam, gates: Gates) -> tuple[GyroCalibration | Non
     bias0 = np.vstack([w[s0:s1] for s0, s1 in static_valid]).mean(axis=0)
     estimate_bias = len(used) >= 4
     full_turns = bool(used) and all(abs(proto.rotations[k].angle_deg) >= 360.0 for k in used)
-    rates = [w[seg.rotations[k][0]:seg.rotations[k][1]] for k in used]
-    common = dict(sampling_rate_hz=fs, noise_cov=noise_cov, bias_covariance=noise_cov / still_counts.sum(),
-                  rotation_numbers=[k + 1 for k in used])
+    rates = [w[seg.rotations[k][0] : seg.rotations[k][1]] for k in used]
+    common = dict(
+        sampling_rate_hz=fs,
+        noise_cov=noise_cov,
+        bias_covariance=noise_cov / still_counts.sum(),
+        rotation_numbers=[k + 1 for k in used],
+    )
     if full_turns and len(used) == 3:
         res = fit_gyroscope_full_turns(
-            rates, [proto.attitudes[k].T @ proto.rotations[k].axis for k in used],
-            [proto.rotations[k].angle_deg for k in used], bias=bias0, **common,
+            rates,
+            [proto.attitudes[k].T @ proto.rotations[k].axis for k in used],
+            [proto.rotations[k].angle_deg for k in used],
+            bias=bias0,
+            **common,
         )
         return res, used
     if 3 * len(used) < (12 if estimate_bias else 9):
@@ -443,8 +486,14 @@ def _fit_gyro(rec: _Stages, w, lam, gates: Gates) -> tuple[GyroCalibration | Non
         )
         return None, used
     res = fit_gyroscope(
-        rates, proto.quaternions[[k for k in used]], proto.quaternions[[k + 1 for k in used]],
-        bias0=bias0, lam=lam, estimate_bias=estimate_bias, **common, **_gyro_drift(rec, w, used),
+        rates,
+        proto.quaternions[[k for k in used]],
+        proto.quaternions[[k + 1 for k in used]],
+        bias0=bias0,
+        lam=lam,
+        estimate_bias=estimate_bias,
+        **common,
+        **_gyro_drift(rec, w, used),
     )
     return res, used
 
@@ -520,8 +569,15 @@ def calibrate_cube(
     if has_return:
         a, w, m, drift = _remove_drift(a, w, m, seg, fs, gates)
     seq, n_valid = _check_sequence(a, w, w_raw, seg, proto, fs, g, gyro_range, gates)
-    rec = _Stages(seg=seg, proto=proto, fs=fs, seq=seq, n_valid=n_valid, drift=drift,
-                  centres_s=np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static]))
+    rec = _Stages(
+        seg=seg,
+        proto=proto,
+        fs=fs,
+        seq=seq,
+        n_valid=n_valid,
+        drift=drift,
+        centres_s=np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static]),
+    )
     acc_res = _fit_field(rec, a, g, "acc", gates)
     mag_res = None if m is None else _fit_mag(rec, m, float(field_ut), gates)
     gyr_res, used = _fit_gyro(rec, w, lam, gates)
@@ -529,9 +585,18 @@ def calibrate_cube(
         if res is not None:
             gates.merge(res, unique=True)
     return CubeCalibration(
-        acc=acc_res, gyr=gyr_res, mag=mag_res, protocol=proto, sequence=seq.rotations,
-        first_wrong_rotation=seq.first_wrong, segmentation=seg, drift=drift, sampling_rate_hz=fs, gravity=g,
-        field_ut=None if field_ut is None else float(field_ut), metrics=_cube_metrics(rec, len(a), used, has_return),
+        acc=acc_res,
+        gyr=gyr_res,
+        mag=mag_res,
+        protocol=proto,
+        sequence=seq.rotations,
+        first_wrong_rotation=seq.first_wrong,
+        segmentation=seg,
+        drift=drift,
+        sampling_rate_hz=fs,
+        gravity=g,
+        field_ut=None if field_ut is None else float(field_ut),
+        metrics=_cube_metrics(rec, len(a), used, has_return),
         **gates.fields(),
     )
 

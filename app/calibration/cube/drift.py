@@ -74,7 +74,7 @@ def estimate_drift(raw, first: tuple[int, int], last: tuple[int, int], *, sampli
     """
     raw = np.asarray(raw, dtype=float)
     fs = float(sampling_rate_hz)
-    x0, x1 = raw[first[0]:first[1]], raw[last[0]:last[1]]
+    x0, x1 = raw[first[0] : first[1]], raw[last[0] : last[1]]
     m0, m1 = x0.mean(axis=0), x1.mean(axis=0)
     se = np.sqrt(x0.var(axis=0, ddof=1) / len(x0) + x1.var(axis=0, ddof=1) / len(x1))
     t0 = 0.5 * (first[0] + first[1] - 1) / fs

@@ -35,7 +35,7 @@ from . import quaternion as quat
 from ..result import gate_fields
 from .accmag import SensorFit, decomposition_jacobian
 
-LAMBDAS = tuple(10.0 ** k for k in range(-3, 7))
+LAMBDAS = tuple(10.0**k for k in range(-3, 7))
 """λ values tried in turn, upwards, until the parameters saturate (Särkkä et al., IEEE Sensors Journal
 17(11) 2017, section IV-A-1)."""
 
@@ -198,20 +198,27 @@ class _Problem:
             cols_c = 4 * self.c[:, None].astype(idx) + np.arange(4, dtype=idx)
             cols_t = self.n_q + np.arange(nt, dtype=idx)
             cols1 = np.concatenate(
-                [np.repeat(cols_a[:, None, :], 4, axis=1), np.repeat(cols_c[:, None, :], 4, axis=1),
-                 np.broadcast_to(cols_t, (nb, 4, nt))],
+                [
+                    np.repeat(cols_a[:, None, :], 4, axis=1),
+                    np.repeat(cols_c[:, None, :], 4, axis=1),
+                    np.broadcast_to(cols_t, (nb, 4, nt)),
+                ],
                 axis=2,
             )
             R = len(self.first)
             rows2 = self.n_r1 + np.arange(8 * R, dtype=idx)
-            cols2 = np.concatenate([4 * self.first[:, None] + np.arange(4), 4 * self.last[:, None] + np.arange(4)], axis=1)
-            self._pattern = (np.concatenate([rows1.reshape(-1), rows2]),
-                             np.concatenate([cols1.reshape(-1), cols2.reshape(-1).astype(idx)]))
+            cols2 = np.concatenate(
+                [4 * self.first[:, None] + np.arange(4), 4 * self.last[:, None] + np.arange(4)], axis=1
+            )
+            self._pattern = (
+                np.concatenate([rows1.reshape(-1), rows2]),
+                np.concatenate([cols1.reshape(-1), cols2.reshape(-1).astype(idx)]),
+            )
         return self._pattern
 
     def theta_parts(self, theta):
         M = theta[:9].reshape(3, 3).T  # columns of S⁻¹ (Särkkä et al., IEEE Sensors Journal 17(11)
-                                       # 2017, eq. (4))
+        # 2017, eq. (4))
         b = theta[9:12] if self.estimate_bias else self.fixed_bias
         return M, b
 
@@ -220,7 +227,7 @@ class _Problem:
         2017, eqs. (10)–(11))."""
         h = self.h
         Q = x[: self.n_q].reshape(self.N, 4)
-        M, b = self.theta_parts(x[self.n_q:])
+        M, b = self.theta_parts(x[self.n_q :])
         U = self.Y - b
         om = U @ M.T
         Wm = quat.omega_matrix(om)
@@ -238,8 +245,7 @@ class _Problem:
                 dom[:, r, 3 * col + r] = U[:, col]
         if self.estimate_bias:
             dom[:, :, 9:12] = -M
-        Th = 0.25 * h * (quat.xi_matrix(Qa) @ dom[self.a]
-                         + quat.xi_matrix(Qc) @ dom[self.c])
+        Th = 0.25 * h * (quat.xi_matrix(Qa) @ dom[self.a] + quat.xi_matrix(Qc) @ dom[self.c])
         sl = np.sqrt(lam)
         # Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (5), weighted as in eq. (10)
         r2 = sl * np.concatenate([Q[self.first] - self.qs, Q[self.last] - self.qe], axis=1)
@@ -272,9 +278,7 @@ class _Linearisation:
         vals1 = np.concatenate([self.A, self.C, self.Th], axis=2)
         vals2 = np.full(8 * len(p.first), self.sl)
         rows, cols = p.pattern()
-        return sp.csr_matrix(
-            (np.concatenate([vals1.reshape(-1), vals2]), (rows, cols)), shape=(p.n_rows, p.n_x)
-        )
+        return sp.csr_matrix((np.concatenate([vals1.reshape(-1), vals2]), (rows, cols)), shape=(p.n_rows, p.n_x))
 
     def normal_equations(self):
         """Blocks of JᵀJ and Jᵀr, assembled from the sparsity of J: the quaternion block in
@@ -325,7 +329,7 @@ class _NormalSolver:
         self.schur_inv = np.linalg.inv(Htt - self.Hqt.T @ self.Xt)
 
     def solve(self, g: np.ndarray) -> np.ndarray:
-        gq, gt = g[: self.n_q], g[self.n_q:]
+        gq, gt = g[: self.n_q], g[self.n_q :]
         Xg = cho_solve_banded((self.cb, False), gq)
         dt = self.schur_inv @ (gt - self.Hqt.T @ Xg)
         return np.concatenate([Xg - self.Xt @ dt, dt])
@@ -349,13 +353,14 @@ def _gauss_newton(prob: _Problem, x, lam, max_iterations, tolerance):
     for it in range(1, max_iterations + 1):
         dx = _NormalSolver(prob.evaluate(x, lam)).step()
         x = x + dx
-        if np.max(np.abs(dx[prob.n_q:])) < tolerance:
+        if np.max(np.abs(dx[prob.n_q :])) < tolerance:
             break
     return x, it
 
 
-def _validated(rotations, q_start, q_end, sampling_rate_hz, noise_cov, bias0, S_inv0, estimate_bias: bool,
-               rotation_numbers):
+def _validated(
+    rotations, q_start, q_end, sampling_rate_hz, noise_cov, bias0, S_inv0, estimate_bias: bool, rotation_numbers
+):
     """Checked rotations, their numbers, start and end attitudes, rate, noise covariance and the
     initial bias and S_ω⁻¹ (Särkkä et al., IEEE Sensors Journal 17(11) 2017, section III-B:
     three attitude equations per rotation)."""
@@ -414,7 +419,7 @@ def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance
         value = grid[i]
         x, it = _gauss_newton(prob, x, value, max_iterations, tolerance)
         total_it += it
-        theta = x[prob.n_q:].copy()
+        theta = x[prob.n_q :].copy()
         change = None if prev is None else float(np.max(np.abs(theta - prev)))
         path.append({"lambda": value, "max_change": change})
         if change is not None and change < SATURATION:
@@ -424,7 +429,7 @@ def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance
             # Probe the top of the range: if it agrees, this plateau is the greater one.
             x_top, it = _gauss_newton(prob, x.copy(), grid[-1], max_iterations, tolerance)
             total_it += it
-            top_change = float(np.max(np.abs(x_top[prob.n_q:] - theta)))
+            top_change = float(np.max(np.abs(x_top[prob.n_q :] - theta)))
             path.append({"lambda": grid[-1], "max_change": top_change, "probe": True})
             if top_change < SATURATION:
                 chosen = value
@@ -440,8 +445,15 @@ def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance
     return x, chosen, path, total_it
 
 
-def _covariance(prob: _Problem, lin: "_Linearisation", Sigma, estimate_bias: bool, bias_covariance,
-                rate_error_weights, rate_error_covariance) -> np.ndarray:
+def _covariance(
+    prob: _Problem,
+    lin: "_Linearisation",
+    Sigma,
+    estimate_bias: bool,
+    bias_covariance,
+    rate_error_weights,
+    rate_error_covariance,
+) -> np.ndarray:
     """Covariance (12, 12) of [columns of S_ω⁻¹, b] by Särkkä et al., IEEE Sensors Journal 17(11)
     2017, Appendix B, eq. (28): V(θ) = [H⁻¹ Jᵀ J_y Σ J_yᵀ J H⁻¹]_θθ (Gauss–Newton C ≈ 2H,
     D = 2JᵀJ_y), plus a removed drift's error and a held bias's covariance."""
@@ -466,8 +478,20 @@ def _covariance(prob: _Problem, lin: "_Linearisation", Sigma, estimate_bias: boo
     return cov
 
 
-def _metrics(prob: _Problem, lin: "_Linearisation", x, rots, qs, qe, pre_end, M_hat, b_hat, chosen: float,
-             path: list, total_it: int) -> tuple[dict, np.ndarray]:
+def _metrics(
+    prob: _Problem,
+    lin: "_Linearisation",
+    x,
+    rots,
+    qs,
+    qe,
+    pre_end,
+    M_hat,
+    b_hat,
+    chosen: float,
+    path: list,
+    total_it: int,
+) -> tuple[dict, np.ndarray]:
     """Residual sizes and the check of every rotation: the forward solution with the calibrated
     rates against the protocol's end attitudes, before and after (degrees)."""
     h = prob.h
@@ -484,11 +508,13 @@ def _metrics(prob: _Problem, lin: "_Linearisation", x, rots, qs, qe, pre_end, M_
         "n_samples": prob.N,
         "n_unknowns": prob.n_x,
         "rms_r1": float(np.sqrt(np.mean(r1**2))),
-        "rms_r2": float(np.sqrt(np.mean(r[prob.n_r1:] ** 2) / chosen)),
+        "rms_r2": float(np.sqrt(np.mean(r[prob.n_r1 :] ** 2) / chosen)),
         "end_error_deg_before": err_before.tolist(),
         "end_error_deg_after": err_after.tolist(),
         "max_end_error_deg": float(err_after.max()),
-        "quaternion_norm_max_deviation": float(np.max(np.abs(np.linalg.norm(x[: prob.n_q].reshape(-1, 4), axis=1) - 1))),
+        "quaternion_norm_max_deviation": float(
+            np.max(np.abs(np.linalg.norm(x[: prob.n_q].reshape(-1, 4), axis=1) - 1))
+        ),
     }
     return metrics, err_after
 
@@ -566,7 +592,15 @@ def fit_gyroscope(
         Too few rotations for the parameters (3 attitude equations per rotation).
     """
     rots, numbers, qs, qe, fs, Sigma, b0, M0 = _validated(
-        rotations, q_start, q_end, sampling_rate_hz, noise_cov, bias0, S_inv0, estimate_bias, rotation_numbers,
+        rotations,
+        q_start,
+        q_end,
+        sampling_rate_hz,
+        noise_cov,
+        bias0,
+        S_inv0,
+        estimate_bias,
+        rotation_numbers,
     )
     h = 1.0 / fs
     prob = _Problem(rots, qs, qe, h, estimate_bias, b0)
@@ -579,16 +613,19 @@ def fit_gyroscope(
         x, chosen, path, total_it = _saturated_lambda(prob, x, lambdas, max_iterations, tolerance, gates)
     lin = prob.evaluate(x, chosen)
     cov = _covariance(prob, lin, Sigma, estimate_bias, bias_covariance, rate_error_weights, rate_error_covariance)
-    M_hat, b_hat = prob.theta_parts(x[prob.n_q:])
+    M_hat, b_hat = prob.theta_parts(x[prob.n_q :])
     metrics, err_after = _metrics(prob, lin, x, rots, qs, qe, pre_end, M_hat, b_hat, chosen, path, total_it)
-    gates.fail(residual_gate(
-        err_after, MAX_END_ERROR_DEG,
-        lambda index, value, limit, **_: (
-            f"gyr: rotation {numbers[index]} still ends {value:.1f}° from the protocol's attitude "
-            f"after calibration (gate {limit}°): it was not the rotation the protocol expects, "
-            "or the gyroscope saturated"
-        ),
-    ))
+    gates.fail(
+        residual_gate(
+            err_after,
+            MAX_END_ERROR_DEG,
+            lambda index, value, limit, **_: (
+                f"gyr: rotation {numbers[index]} still ends {value:.1f}° from the protocol's attitude "
+                f"after calibration (gate {limit}°): it was not the rotation the protocol expects, "
+                "or the gyroscope saturated"
+            ),
+        )
+    )
     if not estimate_bias:
         gates.warn("gyr: the bias was held at the mean rate of the still positions (too few rotations)")
     return GyroCalibration(
@@ -665,7 +702,7 @@ def fit_gyroscope_full_turns(
     Je = np.vstack([JU @ dU_de, np.hstack([np.zeros((3, 9)), np.eye(3)])])
     Ce = np.zeros((12, 12))
     for k, r in enumerate(rots):
-        Ce[3 * k:3 * k + 3, 3 * k:3 * k + 3] = (len(r) - 1) * h * h * Sigma
+        Ce[3 * k : 3 * k + 3, 3 * k : 3 * k + 3] = (len(r) - 1) * h * h * Sigma
     Ce[9:, 9:] = Vb
     cov = Je @ Ce @ Je.T
     numbers = tuple(range(1, 4)) if rotation_numbers is None else tuple(int(n) for n in rotation_numbers)
@@ -677,7 +714,9 @@ def fit_gyroscope_full_turns(
         rotations=numbers,
         sampling_rate_hz=float(sampling_rate_hz),
         metrics={"method": "full_turns", "n_rotations": 3},
-        warnings=("gyr: full turns calibrate S⁻¹ from their integrated rates (Ferraris); the bias is the "
-                  "mean rate of the still positions",),
+        warnings=(
+            "gyr: full turns calibrate S⁻¹ from their integrated rates (Ferraris); the bias is the "
+            "mean rate of the still positions",
+        ),
         reasons=(),
     )

@@ -118,24 +118,46 @@ class _Walk:
         for i in candidates:
             if i != keep:
                 a, b = self.seg.still[i]
-                self.handling.append({"kind": "pause", "start": a, "end": b, "up": self.faces[i],
-                                      "text": f"the rest at {_times(a, b, self.fs)} ({self.faces[i]} up; a longer "
-                                              "rest in the same orientation was kept)"})
+                self.handling.append(
+                    {
+                        "kind": "pause",
+                        "start": a,
+                        "end": b,
+                        "up": self.faces[i],
+                        "text": f"the rest at {_times(a, b, self.fs)} ({self.faces[i]} up; a longer "
+                        "rest in the same orientation was kept)",
+                    }
+                )
         return keep
 
     def handled_move(self, i: int, j: int, angle_deg: float, why: str) -> None:
         a, b = self.seg.still[i][1], self.seg.still[j][0]
-        self.handling.append({"kind": "move", "start": a, "end": b, "angle_deg": angle_deg,
-                              "text": f"the move at {_times(a, b, self.fs)} ({angle_deg:.0f}° in all; {why})"})
+        self.handling.append(
+            {
+                "kind": "move",
+                "start": a,
+                "end": b,
+                "angle_deg": angle_deg,
+                "text": f"the move at {_times(a, b, self.fs)} ({angle_deg:.0f}° in all; {why})",
+            }
+        )
 
     def tilted(self, j: int) -> None:
         a, b = self.seg.still[j]
-        self.handling.append({"kind": "tilted", "start": a, "end": b, "up": None,
-                              "text": f"the still moment at {_times(a, b, self.fs)} (no axis within "
-                                      f"{FACE_MAX_ANGLE_DEG:g}° of up: held in the hand)"})
+        self.handling.append(
+            {
+                "kind": "tilted",
+                "start": a,
+                "end": b,
+                "up": None,
+                "text": f"the still moment at {_times(a, b, self.fs)} (no axis within "
+                f"{FACE_MAX_ANGLE_DEG:g}° of up: held in the hand)",
+            }
+        )
 
-    def result(self, positions: list[list[int]], anchors: list[int], protocol: Protocol,
-               ret: list[int] | None) -> Match:
+    def result(
+        self, positions: list[list[int]], anchors: list[int], protocol: Protocol, ret: list[int] | None
+    ) -> Match:
         """The segmentation of the matched positions: each position's longest rest, each rotation
         from the last rest before it to the first after it (padded like Segmentation's)."""
         seg = self.seg
@@ -150,8 +172,12 @@ class _Walk:
             rotations.append((max(a0, b0 - pad), min(b1, a1 + pad)))
         self.handling.sort(key=lambda h: h["start"])
         out = replace(
-            seg, static=tuple(seg.static[i] for i in chosen), still=tuple(seg.still[i] for i in chosen),
-            rotations=tuple(rotations), handling=tuple(self.handling), n_still_found=len(seg.still),
+            seg,
+            static=tuple(seg.static[i] for i in chosen),
+            still=tuple(seg.still[i] for i in chosen),
+            rotations=tuple(rotations),
+            handling=tuple(self.handling),
+            n_still_found=len(seg.still),
         )
         warnings = ()
         if self.handling:
@@ -254,8 +280,11 @@ def _walk_full_turns(walk: _Walk, proto: Protocol) -> Match:
             transitions.append(k)
             positions.append([j])
         elif face == here:
-            why = (f"a second full turn about {'xyz'[k]}: the first is used" if full
-                   else f"{here} stayed up, not a full turn")
+            why = (
+                f"a second full turn about {'xyz'[k]}: the first is used"
+                if full
+                else f"{here} stayed up, not a full turn"
+            )
             walk.handled_move(anchors[-1], j, float(np.linalg.norm(v)), why)
             positions[-1].append(j)
             anchors[-1] = j

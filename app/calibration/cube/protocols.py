@@ -26,12 +26,29 @@ from ..orientations import UP_VECTORS, nearest_orientation, up_vector
 from . import quaternion as quat
 
 CUBE24_ROTATIONS: tuple[str, ...] = (
-    "z+", "z+", "z+", "x+",
-    "z+", "z+", "z+", "x+",
-    "z+", "z+", "z+", "x-",
-    "z+", "z+", "z+", "x-",
-    "z+", "z+", "z+", "x+",
-    "z+", "z+", "z+",
+    "z+",
+    "z+",
+    "z+",
+    "x+",
+    "z+",
+    "z+",
+    "z+",
+    "x+",
+    "z+",
+    "z+",
+    "z+",
+    "x-",
+    "z+",
+    "z+",
+    "z+",
+    "x-",
+    "z+",
+    "z+",
+    "z+",
+    "x+",
+    "z+",
+    "z+",
+    "z+",
 )
 """The 23 body rotations of cube24 in the calibration frame (docs/methods.md)."""
 
@@ -232,7 +249,7 @@ def explicit_protocol(rotations, *, ups=None, name: str = "explicit", first_up: 
         for lab in ups:
             if lab is not None:
                 up_vector(lab)
-    first = (ups[0] if ups is not None and ups[0] is not None else first_up)
+    first = ups[0] if ups is not None and ups[0] is not None else first_up
     R = [attitude_for_up(first, first=True)]
     q = [quat.from_matrix(R[0])]
     heading_known = True
@@ -242,8 +259,7 @@ def explicit_protocol(rotations, *, ups=None, name: str = "explicit", first_up: 
             lab = None if ups is None else ups[k + 1]
             if lab is None:
                 raise CalibrationError(
-                    f"position {k + 2} follows a free move: give its up axis in `ups` "
-                    f"(one of {', '.join(UP_VECTORS)})"
+                    f"position {k + 2} follows a free move: give its up axis in `ups` (one of {', '.join(UP_VECTORS)})"
                 )
             R.append(_attitude_for_up(lab))
             q.append(quat.from_matrix(R[-1]))
@@ -286,7 +302,11 @@ def turn_spec(up: str, axis: int, angle_deg: float, *, first: bool = False) -> d
     rotation of the calibration frame for :func:`explicit_protocol`."""
     R = attitude_for_up(up, first=first)
     sense = "+" if angle_deg > 0 else "-"
-    return {"axis": R[:, axis].tolist(), "angle_deg": float(angle_deg), "label": f"{'xyz'[axis]}{sense}{abs(angle_deg):g}"}
+    return {
+        "axis": R[:, axis].tolist(),
+        "angle_deg": float(angle_deg),
+        "label": f"{'xyz'[axis]}{sense}{abs(angle_deg):g}",
+    }
 
 
 def ferraris() -> Protocol:
@@ -332,6 +352,4 @@ def get_protocol(protocol) -> Protocol:
             ) from None
     if isinstance(protocol, dict) and "rotations" in protocol:
         return explicit_protocol(protocol["rotations"], ups=protocol.get("ups"), name=protocol.get("name", "explicit"))
-    raise CalibrationError(
-        "protocol must be 'cube24', 'ferraris' or {'rotations': [...], 'ups': [...]}"
-    )
+    raise CalibrationError("protocol must be 'cube24', 'ferraris' or {'rotations': [...], 'ups': [...]}")

@@ -34,13 +34,19 @@ SECTION_KEYS = REST_KEYS + TURN_KEYS
 ANCHOR_S = 0.1
 """Seconds at each end of a turn's region that stand for the rest it starts and ends in."""
 
-_FIX = (f"give each of {', '.join(SECTION_KEYS)} as {{\"start\": first sample, \"end\": sample after the last}} "
-        "(imucal's section list)")
+_FIX = (
+    f'give each of {", ".join(SECTION_KEYS)} as {{"start": first sample, "end": sample after the last}} '
+    "(imucal's section list)"
+)
 
 
 def _index(value, where: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or \
-            not np.isfinite(value) or float(value) != int(value):
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float, np.integer, np.floating))
+        or not np.isfinite(value)
+        or float(value) != int(value)
+    ):
         raise CalibrationError(f"sections.{where} must be a whole sample index; got {value!r}: {_FIX}")
     return int(value)
 
@@ -66,7 +72,7 @@ def validated_sections(sections, n_samples: int) -> dict[str, tuple[int, int]]:
     for key in SECTION_KEYS:
         region = sections[key]
         if not isinstance(region, dict) or set(region) != {"start", "end"}:
-            raise CalibrationError(f"sections.{key} must be {{\"start\": …, \"end\": …}}; got {region!r}")
+            raise CalibrationError(f'sections.{key} must be {{"start": …, "end": …}}; got {region!r}')
         a, b = _index(region["start"], f"{key}.start"), _index(region["end"], f"{key}.end")
         if not 0 <= a < b:
             raise CalibrationError(
@@ -136,8 +142,14 @@ def from_sections(sections, acc, w, *, sampling_rate_hz: float, gravity: float) 
         prev_end = b
     proto = explicit_protocol(rotations, ups=ups, name="ferraris")
     proto = replace(proto, reading_positions=tuple(range(6)))
-    seg = Segmentation(static=tuple(static), still=tuple(static), rotations=tuple(intervals), gyro_bias=bias,
-                       threshold=None, source="sections")
+    seg = Segmentation(
+        static=tuple(static),
+        still=tuple(static),
+        rotations=tuple(intervals),
+        gyro_bias=bias,
+        threshold=None,
+        source="sections",
+    )
     return seg, proto
 
 

@@ -31,6 +31,7 @@ def element_tolerance(angle_deg: float) -> float:
     """Largest quaternion element difference accepted for a rotation of this angle."""
     return MAX_ELEMENT_DIFFERENCE * max(1.0, abs(angle_deg) / 90.0)
 
+
 FACE_MAX_ANGLE_DEG = 45.0
 """The up axis seen by the accelerometer is the nearest axis within this angle."""
 
@@ -96,8 +97,9 @@ def _flat_tops(x: np.ndarray, v: float) -> np.ndarray:
     step = d[d > 0].min() if np.any(d > 0) else 0.0
     edges = np.diff(np.concatenate([[0], hit.astype(np.int8), [0]]))
     for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
-        steep = (a > 0 and abs(x[a] - x[a - 1]) > FLAT_TOP_STEP * step) or \
-                (b < len(x) and abs(x[b] - x[b - 1]) > FLAT_TOP_STEP * step)
+        steep = (a > 0 and abs(x[a] - x[a - 1]) > FLAT_TOP_STEP * step) or (
+            b < len(x) and abs(x[b] - x[b - 1]) > FLAT_TOP_STEP * step
+        )
         if b - a >= 3 and steep:
             mask[a:b] = True
     return mask
@@ -168,7 +170,8 @@ def _transition_message(entry: dict, k: int, wrong: bool, face_ok: bool, gyro_ok
                 f"position {to_pos} has {entry['observed_up'] or 'no axis'} up instead of {entry['expected_up']}"
             )
         return (
-            f"{name} is not the protocol's rotation: " + " and ".join(parts)
+            f"{name} is not the protocol's rotation: "
+            + " and ".join(parts)
             + f"; it led into position {to_pos}. The calibration uses positions 1–{k + 1} and the "
             f"rotations before it; redo the sequence from position {k + 1} to use all of them"
         )
@@ -221,8 +224,9 @@ def check_sequence(
     out = []
     first_wrong = None
     for k, (a, b) in enumerate(rotations):
-        entry, face_ok, gyro_ok = _transition(gyr[a:b], k, protocol, observed[k + 1], h, gyro_bias,
-                                              bool(saturated is not None and saturated[a:b].any()))
+        entry, face_ok, gyro_ok = _transition(
+            gyr[a:b], k, protocol, observed[k + 1], h, gyro_bias, bool(saturated is not None and saturated[a:b].any())
+        )
         # A saturated rotation that lands on the right face is a range problem, not a mistake.
         wrong = (not face_ok) or (not gyro_ok and not (entry["saturated"] and face_ok))
         entry["ok"] = not wrong and not entry["saturated"]

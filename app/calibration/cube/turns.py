@@ -81,8 +81,19 @@ class TurnCheck:
     message: str
 
     def to_dict(self) -> dict:
-        return {k: getattr(self, k) for k in ("ok", "expected", "made", "angle_deg", "end_error_deg",
-                                              "max_element_difference", "gyr_scale", "message")}
+        return {
+            k: getattr(self, k)
+            for k in (
+                "ok",
+                "expected",
+                "made",
+                "angle_deg",
+                "end_error_deg",
+                "max_element_difference",
+                "gyr_scale",
+                "message",
+            )
+        }
 
 
 def uniform_rates(gyr, t_ms) -> tuple[np.ndarray, float]:
@@ -171,7 +182,17 @@ def check_turn(gyr, t_ms, protocol: Protocol, k: int, *, bias, gyr_scale: float)
     if ok:
         message = f"position {k + 1} → {k + 2}: {expected} ok"
     else:
-        message = (f"wrong turn into position {k + 2}: {_describe(made, angle)}. Put it back in position "
-                   f"{k + 1}, then {TURN_WORDS.get(expected, expected)}")
-    return TurnCheck(ok=ok, expected=expected, made=made, angle_deg=angle, end_error_deg=end_error,
-                     max_element_difference=diff, gyr_scale=scale, message=message)
+        message = (
+            f"wrong turn into position {k + 2}: {_describe(made, angle)}. Put it back in position "
+            f"{k + 1}, then {TURN_WORDS.get(expected, expected)}"
+        )
+    return TurnCheck(
+        ok=ok,
+        expected=expected,
+        made=made,
+        angle_deg=angle,
+        end_error_deg=end_error,
+        max_element_difference=diff,
+        gyr_scale=scale,
+        message=message,
+    )

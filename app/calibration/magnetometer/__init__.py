@@ -11,4 +11,10 @@ from .flight import FlightCompassResult, fit_flight_compass
 from .flight_calibration import FlightCompassCalibration
 from .result import MagnetometerResult
 
-__all__ = ["FlightCompassCalibration", "FlightCompassResult", "MagnetometerResult", "fit_flight_compass", "fit_magnetometer"]
+__all__ = [
+    "FlightCompassCalibration",
+    "FlightCompassResult",
+    "MagnetometerResult",
+    "fit_flight_compass",
+    "fit_magnetometer",
+]

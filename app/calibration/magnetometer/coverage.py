@@ -20,13 +20,13 @@ from __future__ import annotations
 
 import numpy as np
 
-_PHI = (1.0 + 5.0 ** 0.5) / 2.0
+_PHI = (1.0 + 5.0**0.5) / 2.0
 
 ICOSAHEDRON_VERTICES = np.array(
     [(s1, s2 * _PHI, 0.0) for s1 in (-1, 1) for s2 in (-1, 1)]
     + [(0.0, s1, s2 * _PHI) for s1 in (-1, 1) for s2 in (-1, 1)]
     + [(s2 * _PHI, 0.0, s1) for s1 in (-1, 1) for s2 in (-1, 1)]
-) / np.sqrt(1.0 + _PHI ** 2)
+) / np.sqrt(1.0 + _PHI**2)
 """The 12 unit vertices of a regular icosahedron: the cyclic permutations of (±1, ±φ, 0)."""
 
 
@@ -37,8 +37,13 @@ def _faces(vertices: np.ndarray) -> np.ndarray:
     edge = d[d > 1e-9].min()
     near = np.abs(d - edge) < 1e-9
     n = len(vertices)
-    faces = [(i, j, k) for i in range(n) for j in range(i + 1, n) for k in range(j + 1, n)
-             if near[i, j] and near[j, k] and near[i, k]]
+    faces = [
+        (i, j, k)
+        for i in range(n)
+        for j in range(i + 1, n)
+        for k in range(j + 1, n)
+        if near[i, j] and near[j, k] and near[i, k]
+    ]
     return np.array(faces, dtype=int)
 
 

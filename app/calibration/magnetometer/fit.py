@@ -64,12 +64,20 @@ the readings' half-extent of the sphere's: 0.09 and 0.13 on the flat and the dis
 ``tests/data/real/corpus``, 2.0 on an iPhone's 1.7 s arc, where the ellipsoid is another surface
 through the arc rather than the sphere reshaped."""
 
-NO_CROSS_VALIDATION = {"cv_error_ut": None, "cv_error_max_ut": None, "cv_scheme": "leave-one-direction-out",
-                       "cv_note": "no figure for new directions: no ellipsoid fits the readings, so none can be "
-                                  "refitted without a direction"}
+NO_CROSS_VALIDATION = {
+    "cv_error_ut": None,
+    "cv_error_max_ut": None,
+    "cv_scheme": "leave-one-direction-out",
+    "cv_note": "no figure for new directions: no ellipsoid fits the readings, so none can be "
+    "refitted without a direction",
+}
 
-FIT_STAGES = {"refined": "the refined fit's", "closed form": "the closed-form ellipsoid's",
-              "sphere": "the sphere's (hard iron only)", "centre": "the readings' own centre's"}
+FIT_STAGES = {
+    "refined": "the refined fit's",
+    "closed form": "the closed-form ellipsoid's",
+    "sphere": "the sphere's (hard iron only)",
+    "centre": "the readings' own centre's",
+}
 """What ``h = M (m − b)`` of a result is: the refinement, or (when it ran away from the readings) the
 closed-form ellipsoid, the sphere or the readings' own centre (:func:`_kept`), in the reason's words."""
 
@@ -83,7 +91,8 @@ def _validated(mag) -> np.ndarray:
     if len(m) < MIN_READINGS:
         raise InsufficientDataError(
             f"{len(m)} magnetometer readings: a compass calibration needs at least {MIN_READINGS}, spread over all "
-            "directions — turn the device slowly through every direction for 30 s or more")
+            "directions — turn the device slowly through every direction for 30 s or more"
+        )
     if np.ptp(m, axis=0).max() == 0.0:
         raise InsufficientDataError("the magnetometer readings do not change: turn the device through all directions")
     return m
@@ -172,14 +181,21 @@ def cross_validated_field_error(mag, M: np.ndarray, b: np.ndarray, field: float)
         held = faces == face
         kept = m[~held]
         if len(kept) < MIN_READINGS:
-            return {"cv_error_ut": None, "cv_error_max_ut": None, "cv_scheme": "leave-one-direction-out",
-                    "cv_note": "no figure for new directions: too few readings outside one direction"}
+            return {
+                "cv_error_ut": None,
+                "cv_error_max_ut": None,
+                "cv_scheme": "leave-one-direction-out",
+                "cv_note": "no figure for new directions: too few readings outside one direction",
+            }
         refit = refine(kept, M, b, field, max_evaluations=50)
         e = np.linalg.norm((m[held] - refit.b) @ refit.M.T, axis=1) - field
         squared[held] = e * e
         worst = max(worst, float(np.sqrt(np.mean(e * e))))
-    return {"cv_error_ut": float(np.sqrt(squared.mean())), "cv_error_max_ut": worst,
-            "cv_scheme": "leave-one-direction-out (20 icosahedron faces)"}
+    return {
+        "cv_error_ut": float(np.sqrt(squared.mean())),
+        "cv_error_max_ut": worst,
+        "cv_scheme": "leave-one-direction-out (20 icosahedron faces)",
+    }
 
 
 def measured_inclination(rests, M: np.ndarray, b: np.ndarray) -> float | None:
@@ -209,53 +225,84 @@ def measured_inclination(rests, M: np.ndarray, b: np.ndarray) -> float | None:
     return float(np.median(angles))
 
 
-def _gates(metrics: dict, fitted: Refined, half_M: np.ndarray | None, half_b: np.ndarray | None,
-           raw_comparable: bool, gates: Gates, label: str = "µT") -> None:
+def _gates(
+    metrics: dict,
+    fitted: Refined,
+    half_M: np.ndarray | None,
+    half_b: np.ndarray | None,
+    raw_comparable: bool,
+    gates: Gates,
+    label: str = "µT",
+) -> None:
     field = metrics["field_ut"]
     if metrics["thickness"] < MIN_THICKNESS:
-        gates.fail(f"the readings lie in one plane (they leave it by {100 * metrics['thickness']:.0f} % of their "
-                   "width): the device was turned round flat, which leaves the hard and soft iron across that plane "
-                   "undetermined — turn it over too, through all directions, not only round on a table")
+        gates.fail(
+            f"the readings lie in one plane (they leave it by {100 * metrics['thickness']:.0f} % of their "
+            "width): the device was turned round flat, which leaves the hard and soft iron across that plane "
+            "undetermined — turn it over too, through all directions, not only round on a table"
+        )
     if metrics["fit_stage"] != "refined":
-        gates.fail(f"no ellipsoid fits these readings: the least-squares fit runs away from them (its centre and "
-                   f"one axis grow without bound), so the hard and soft iron are not determined and the b and M "
-                   f"shown are {FIT_STAGES[metrics['fit_stage']]}, to draw the readings only — turn the device "
-                   "slowly through all directions, away from steel and magnets, and try again")
+        gates.fail(
+            f"no ellipsoid fits these readings: the least-squares fit runs away from them (its centre and "
+            f"one axis grow without bound), so the hard and soft iron are not determined and the b and M "
+            f"shown are {FIT_STAGES[metrics['fit_stage']]}, to draw the readings only — turn the device "
+            "slowly through all directions, away from steel and magnets, and try again"
+        )
     if metrics["coverage"] < MIN_COVERAGE:
-        gates.fail(f"the turn covered {100 * metrics['coverage']:.0f} % of the directions (at least "
-                   f"{100 * MIN_COVERAGE:.0f} % needed): still missing {', '.join(metrics['missing_directions'])} — "
-                   "turn the device so that each of these points at the ground in turn")
+        gates.fail(
+            f"the turn covered {100 * metrics['coverage']:.0f} % of the directions (at least "
+            f"{100 * MIN_COVERAGE:.0f} % needed): still missing {', '.join(metrics['missing_directions'])} — "
+            "turn the device so that each of these points at the ground in turn"
+        )
     if metrics["norm_spread_ut"] > MAX_SPREAD * field:
-        gates.fail(f"the calibrated field's magnitude spreads over {metrics['norm_spread_ut']:.1f} {label} (5–95 %), more "
-                   f"than {100 * MAX_SPREAD:.0f} % of {field:.1f} {label}: the field changed while the device turned (steel, "
-                   "magnets, a laptop or a phone case nearby) — move away from them and turn it again")
+        gates.fail(
+            f"the calibrated field's magnitude spreads over {metrics['norm_spread_ut']:.1f} {label} (5–95 %), more "
+            f"than {100 * MAX_SPREAD:.0f} % of {field:.1f} {label}: the field changed while the device turned (steel, "
+            "magnets, a laptop or a phone case nearby) — move away from them and turn it again"
+        )
     if metrics["fit_stage"] != "refined":
         pass  # the runaway above says it: no intervals without a minimum
     elif half_b is None:
         gates.fail("the fit is not determined (no intervals): turn the device through all directions")
     else:
         if np.max(half_b) > MAX_OFFSET_HALF_WIDTH * field:
-            gates.fail(f"the hard iron b is not determined: its 95 % interval is ±{np.max(half_b):.1f} {label} (limit "
-                       f"{MAX_OFFSET_HALF_WIDTH * field:.1f} {label}) — turn the device through more directions")
+            gates.fail(
+                f"the hard iron b is not determined: its 95 % interval is ±{np.max(half_b):.1f} {label} (limit "
+                f"{MAX_OFFSET_HALF_WIDTH * field:.1f} {label}) — turn the device through more directions"
+            )
         scale = float(np.mean(np.diag(fitted.M)))
         if np.max(half_M) > MAX_MATRIX_HALF_WIDTH * scale:
-            gates.fail(f"the soft iron M is not determined: an entry's 95 % interval is ±{np.max(half_M):.3f} "
-                       f"(limit {MAX_MATRIX_HALF_WIDTH * scale:.3f}) — turn the device through more directions")
+            gates.fail(
+                f"the soft iron M is not determined: an entry's 95 % interval is ±{np.max(half_M):.3f} "
+                f"(limit {MAX_MATRIX_HALF_WIDTH * scale:.3f}) — turn the device through more directions"
+            )
     cv, raw = metrics["cv_error_ut"], metrics["raw_error_ut"]
     if raw_comparable and cv is not None and raw is not None and cv >= raw:
-        gates.fail(f"the calibration would not help: on directions left out of the fit its error is {cv:.2f} {label}, "
-                   f"the readings as they are err by {raw:.2f} {label} — the sensor is already calibrated (use its readings "
-                   "as they are)")
+        gates.fail(
+            f"the calibration would not help: on directions left out of the fit its error is {cv:.2f} {label}, "
+            f"the readings as they are err by {raw:.2f} {label} — the sensor is already calibrated (use its readings "
+            "as they are)"
+        )
     measured, model = metrics["measured_inclination_deg"], metrics["inclination_deg"]
     if measured is not None and model is not None and abs(measured - model) > MAX_INCLINATION_ERROR_DEG:
-        gates.fail(f"the field dips {measured:.1f}° under the horizontal where the device rested, the Earth's field "
-                   f"{model:.1f}° here: a disturbed field (steel, magnets, electronics nearby) — calibrate away from "
-                   "them")
+        gates.fail(
+            f"the field dips {measured:.1f}° under the horizontal where the device rested, the Earth's field "
+            f"{model:.1f}° here: a disturbed field (steel, magnets, electronics nearby) — calibrate away from "
+            "them"
+        )
 
 
-def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | None = None,
-                     inclination_deg: float | None = None, declination_deg: float | None = None,
-                     rests=None, raw_comparable: bool = True, label: str = "µT") -> MagnetometerResult:
+def fit_magnetometer(
+    mag,
+    *,
+    field_ut: float | None = None,
+    field_source: str | None = None,
+    inclination_deg: float | None = None,
+    declination_deg: float | None = None,
+    rests=None,
+    raw_comparable: bool = True,
+    label: str = "µT",
+) -> MagnetometerResult:
     """Calibrate a magnetometer from readings taken while the device turned through all directions.
 
     Parameters
@@ -297,9 +344,11 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
         raise CalibrationError(f"field_source must be one of {', '.join(FIELD_SOURCES)}; got {source!r}")
     fitted, field, stage = _fit(m, field_ut, gates)
     if field_ut is None:
-        gates.warn(f"no place and date, so the field's magnitude is estimated from the readings ({field:.1f} {label}, M "
-                   "scaled to change no volume): give `date`, latitude_deg and longitude_deg (or field_ut) for the "
-                   "Earth's field there")
+        gates.warn(
+            f"no place and date, so the field's magnitude is estimated from the readings ({field:.1f} {label}, M "
+            "scaled to change no volume): give `date`, latitude_deg and longitude_deg (or field_ut) for the "
+            "Earth's field there"
+        )
     M, b = fitted.M, fitted.b
     h = (m - b) @ M.T
     norms = np.linalg.norm(h, axis=1)
@@ -310,13 +359,21 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
         half_M = half_b = None
     raw_norms = np.linalg.norm(m, axis=1)
     metrics = {
-        "field_ut": field, "field_source": source, "inclination_deg": inclination_deg,
-        "declination_deg": declination_deg, "norm_spread_ut": _spread(norms), "norm_spread_raw_ut": _spread(raw_norms),
-        "coverage": share, "missing_directions": missing, "thickness": thickness(m), "fit_stage": stage,
+        "field_ut": field,
+        "field_source": source,
+        "inclination_deg": inclination_deg,
+        "declination_deg": declination_deg,
+        "norm_spread_ut": _spread(norms),
+        "norm_spread_raw_ut": _spread(raw_norms),
+        "coverage": share,
+        "missing_directions": missing,
+        "thickness": thickness(m),
+        "fit_stage": stage,
         "count": int(len(m)),
         "fit_error_ut": float(np.sqrt(np.mean((norms - field) ** 2))),
         "raw_error_ut": float(np.sqrt(np.mean((raw_norms - field) ** 2))) if raw_comparable else None,
-        "noise_ut": fitted.sigma_ut, "correlation_inflation": fitted.inflation,
+        "noise_ut": fitted.sigma_ut,
+        "correlation_inflation": fitted.inflation,
         **(cross_validated_field_error(m, M, b, field) if stage == "refined" else NO_CROSS_VALIDATION),
         "measured_inclination_deg": measured_inclination(rests, M, b),
         "rests": 0 if not rests else len(rests),
@@ -324,15 +381,17 @@ def fit_magnetometer(mag, *, field_ut: float | None = None, field_source: str | 
     if field_ut is not None:
         own = float(np.linalg.det(M)) ** (-1.0 / 3.0) * field
         if abs(own / field - 1.0) > MAX_SCALE_DEVIATION:
-            gates.warn(f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: check the "
-                       "magnetometer's unit, or the place and date")
+            gates.warn(
+                f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: check the "
+                "magnetometer's unit, or the place and date"
+            )
     if stage == "refined" and not fitted.converged:
         gates.fail("the fit did not converge: turn the device slowly through all directions and try again")
     _gates(metrics, fitted, half_M, half_b, raw_comparable, gates, label)
     shown = m[:: max(1, int(np.ceil(len(m) / SAMPLES_SHOWN)))]
     return MagnetometerResult(
-        M=M, b=b, covariance=fitted.covariance, dof=fitted.dof, metrics=metrics,
-        samples=shown, **gates.fields())
+        M=M, b=b, covariance=fitted.covariance, dof=fitted.dof, metrics=metrics, samples=shown, **gates.fields()
+    )
 
 
 __all__ = ["fit_magnetometer", "cross_validated_field_error", "measured_inclination"]

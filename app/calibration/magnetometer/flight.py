@@ -30,9 +30,22 @@ from ..gates import Gates
 from ..rotations import angle_between, nearest_rotation, rotation_matrix
 from ..uncertainty import CONFIDENCE, half_widths
 from .coverage import coverage, face_of
-from .flight_model import (MATRIX_PARAMETERS, MODELS, block_jackknife, candidate_name, correlation_time, design,
-                           error_summary, headings_deg, n_parameters, normal_equations, orientation, parse_candidate,
-                           solve_normal, wrap_deg)
+from .flight_model import (
+    MATRIX_PARAMETERS,
+    MODELS,
+    block_jackknife,
+    candidate_name,
+    correlation_time,
+    design,
+    error_summary,
+    headings_deg,
+    n_parameters,
+    normal_equations,
+    orientation,
+    parse_candidate,
+    solve_normal,
+    wrap_deg,
+)
 from .flight_result import FlightCompassResult
 
 MIN_FIT_SAMPLES = 60
@@ -122,8 +135,10 @@ def _candidates(models, power_usable: bool, power_given: bool) -> list[str]:
         try:
             model, motor = parse_candidate(name)
         except ValueError:
-            raise CalibrationError(f"unknown compass model {name!r}: use auto or one of "
-                                   + ", ".join(candidate_name(m, x) for m in MODELS for x in (False, True))) from None
+            raise CalibrationError(
+                f"unknown compass model {name!r}: use auto or one of "
+                + ", ".join(candidate_name(m, x) for m in MODELS for x in (False, True))
+            ) from None
         if motor and not power_given:
             raise CalibrationError(f"the model {name!r} has a motor term: give the power (current or throttle)")
         out.append(name)
@@ -147,14 +162,27 @@ def _array(x, name: str, shape_tail: tuple, n: int | None = None) -> np.ndarray:
     a = np.asarray(x, dtype=float)
     if a.shape[1:] != shape_tail or a.ndim != 1 + len(shape_tail) or (n is not None and len(a) != n):
         want = "N" + "".join(f"×{s}" for s in shape_tail)
-        raise CalibrationError(f"{name} must be {want}" + (f" with N = {n}" if n is not None else "")
-                               + f"; got shape {a.shape}")
+        raise CalibrationError(
+            f"{name} must be {want}" + (f" with N = {n}" if n is not None else "") + f"; got shape {a.shape}"
+        )
     return a
 
 
-def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, firmware_field=None,
-                       frame_to_body=None, attitude=None, earth_ned=None, folds: int = 5, models="auto",
-                       confidence: float = CONFIDENCE) -> FlightCompassResult:
+def fit_flight_compass(
+    mag,
+    expected,
+    *,
+    time_s,
+    power=None,
+    power_kind=None,
+    firmware_field=None,
+    frame_to_body=None,
+    attitude=None,
+    earth_ned=None,
+    folds: int = 5,
+    models="auto",
+    confidence: float = CONFIDENCE,
+) -> FlightCompassResult:
     """Calibrate a compass from a flight: ``h_body = M (Q m − b − k p)`` fitted to ``e = C_nbᵀ B_ned``.
 
     Parameters
@@ -240,20 +268,42 @@ def fit_flight_compass(mag, expected, *, time_s, power=None, power_kind=None, fi
 
     idx = _thin(n)
     thin = lambda a: None if a is None else a[idx]  # noqa: E731
-    series = {"time_s": t[idx], "expected": e[idx], "corrected": h[idx], "firmware": thin(fw),
-              "field_magnitude": np.linalg.norm(h[idx], axis=1), "power": thin(p),
-              "heading_error_before": thin(err_before), "heading_error_after": thin(err_after)}
+    series = {
+        "time_s": t[idx],
+        "expected": e[idx],
+        "corrected": h[idx],
+        "firmware": thin(fw),
+        "field_magnitude": np.linalg.norm(h[idx], axis=1),
+        "power": thin(p),
+        "heading_error_before": thin(err_before),
+        "heading_error_after": thin(err_after),
+    }
     fields = gates.fields()
     hw_M, hw_b, hw_k = half if half is not None else (None, None, None)
     return FlightCompassResult(
-        ok=not fields["reasons"], reasons=fields["reasons"], warnings=fields["warnings"],
-        model=model, motor=power_kind if motor else None,
-        offsets_ut=fit.b, offsets_half_width_ut=hw_b, matrix=fit.M, matrix_half_width=hw_M,
-        motor_coefficients=fit.k, motor_half_width=hw_k,
-        rotation=Q, rotation_found=Q_found, rotation_nearest={"ardupilot": ap, "px4": px4, "name": name},
-        angle_left_deg=float(angle_left), orientation_agrees=bool(agrees),
-        heading_error_deg=heading, models=scores, coverage=float(share), n_samples=n, series=series,
-        intervals=blocks, confidence=confidence,
+        ok=not fields["reasons"],
+        reasons=fields["reasons"],
+        warnings=fields["warnings"],
+        model=model,
+        motor=power_kind if motor else None,
+        offsets_ut=fit.b,
+        offsets_half_width_ut=hw_b,
+        matrix=fit.M,
+        matrix_half_width=hw_M,
+        motor_coefficients=fit.k,
+        motor_half_width=hw_k,
+        rotation=Q,
+        rotation_found=Q_found,
+        rotation_nearest={"ardupilot": ap, "px4": px4, "name": name},
+        angle_left_deg=float(angle_left),
+        orientation_agrees=bool(agrees),
+        heading_error_deg=heading,
+        models=scores,
+        coverage=float(share),
+        n_samples=n,
+        series=series,
+        intervals=blocks,
+        confidence=confidence,
     )
 
 
@@ -290,9 +340,11 @@ def _heading_errors(gates: Gates, corrected_left_out, fw, C, ref) -> tuple[dict,
             err_before = wrap_deg(headings_deg(fw, C) - ref)
             heading["before"] = error_summary(err_before)
             if heading["after"]["rms"] >= heading["before"]["rms"]:
-                gates.fail(f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
-                           f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
-                           "calibration): keep the calibration the firmware has")
+                gates.fail(
+                    f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
+                    f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
+                    "calibration): keep the calibration the firmware has"
+                )
     return heading, err_before, err_after
 
 
@@ -312,7 +364,8 @@ def _usable(m, e, t, p, fw, C):
     if n < MIN_FIT_SAMPLES:
         raise InsufficientDataError(
             f"{n} usable compass samples (with their expected field{', power' if p is not None else ''} and time): "
-            f"a flight calibration needs at least {MIN_FIT_SAMPLES}, and a minute of flight with turns to be trusted")
+            f"a flight calibration needs at least {MIN_FIT_SAMPLES}, and a minute of flight with turns to be trusted"
+        )
     return out
 
 
@@ -324,12 +377,16 @@ def _direction_gates(gates: Gates, e: np.ndarray, C) -> float:
     counts = np.bincount(((azimuth + 180.0) // 45.0).astype(int) % 8, minlength=8)
     sectors, one_way = int(np.count_nonzero(counts)), float(counts.max() / max(len(e), 1))
     if sectors < MIN_HEADING_SECTORS or share < MIN_COVERAGE or one_way > MAX_ONE_HEADING:
-        gates.fail(f"the flight turned through too few headings ({sectors} of 8 sectors of 45° reached, {one_way:.0%} "
-                   f"of it in one; {share:.0%} of the directions): fly turns through every heading (a slow full yaw turn, "
-                   "or circles) so that the hard iron can be told from the field and from a turn of the compass")
+        gates.fail(
+            f"the flight turned through too few headings ({sectors} of 8 sectors of 45° reached, {one_way:.0%} "
+            f"of it in one; {share:.0%} of the directions): fly turns through every heading (a slow full yaw turn, "
+            "or circles) so that the hard iron can be told from the field and from a turn of the compass"
+        )
     if C is None:
-        gates.fail("no attitude in the log: the heading errors cannot be measured, so no fit can be judged; "
-                   "log the attitude (ArduPilot ATT, PX4 vehicle_attitude)")
+        gates.fail(
+            "no attitude in the log: the heading errors cannot be measured, so no fit can be judged; "
+            "log the attitude (ArduPilot ATT, PX4 vehicle_attitude)"
+        )
     return float(share)
 
 
@@ -340,22 +397,30 @@ def _power_usable(gates: Gates, p, power_kind) -> bool:
     lo, hi = np.percentile(p, [5, 95])
     usable = bool((hi - lo) > MIN_POWER_RANGE * max(abs(hi), 1e-12))
     if not usable:
-        gates.warn(f"the {power_kind} hardly varied ({lo:.3g} to {hi:.3g}, 5–95 %): the motor term is not "
-                   "determined, so none is fitted; fly climbs and hovers to find it")
+        gates.warn(
+            f"the {power_kind} hardly varied ({lo:.3g} to {hi:.3g}, 5–95 %): the motor term is not "
+            "determined, so none is fitted; fly climbs and hovers to find it"
+        )
     return usable
 
 
 def _orientation_gates(gates: Gates, ap, px4, name: str, angle_left: float, agrees: bool) -> None:
     if angle_left > MAX_ANGLE_LEFT_DEG:
-        gates.fail(f"the compass's orientation is unresolved: the rotation the data show is {angle_left:.0f}° from "
-                   f"every firmware rotation (the nearest is {name}); a disturbed field, a wrong attitude, or a "
-                   "compass mounted at an angle no orientation setting names")
+        gates.fail(
+            f"the compass's orientation is unresolved: the rotation the data show is {angle_left:.0f}° from "
+            f"every firmware rotation (the nearest is {name}); a disturbed field, a wrong attitude, or a "
+            "compass mounted at an angle no orientation setting names"
+        )
     elif angle_left > WARN_ANGLE_LEFT_DEG:
-        gates.warn(f"the compass sits {angle_left:.1f}° off the nearest orientation setting ({name}): the "
-                   "firmware cannot apply the rest, which stays as a heading error")
+        gates.warn(
+            f"the compass sits {angle_left:.1f}° off the nearest orientation setting ({name}): the "
+            "firmware cannot apply the rest, which stays as a heading error"
+        )
     if not agrees:
-        settings = [f"ArduPilot COMPASS_ORIENTn {ap}" if ap is not None else "no ArduPilot COMPASS_ORIENTn value",
-                    f"PX4 CAL_MAGn_ROT {px4}" if px4 is not None else "no PX4 CAL_MAGn_ROT value"]
+        settings = [
+            f"ArduPilot COMPASS_ORIENTn {ap}" if ap is not None else "no ArduPilot COMPASS_ORIENTn value",
+            f"PX4 CAL_MAGn_ROT {px4}" if px4 is not None else "no PX4 CAL_MAGn_ROT value",
+        ]
         gates.warn(f"the compass is mounted as {name} ({', '.join(settings)}), not as the firmware applies it now")
 
 
@@ -373,7 +438,7 @@ def _left_out(candidates, u, e, p, w, fold, folds: int, C, ref) -> tuple[dict, d
             out = fold == k
             try:
                 f = solve_normal(A.sum(axis=0) - A[k], g.sum(axis=0) - g[k], model, motor)
-            except np.linalg.LinAlgError:   # the other segments do not determine this candidate
+            except np.linalg.LinAlgError:  # the other segments do not determine this candidate
                 break
             pred[out] = f.field(u[out], p[out] if motor else None)
         if np.isnan(pred).any():
@@ -385,8 +450,10 @@ def _left_out(candidates, u, e, p, w, fold, folds: int, C, ref) -> tuple[dict, d
             scores[cand] = {"rms_ut": float(np.sqrt(np.mean(np.sum((pred - e) ** 2, axis=1))))}
         scores[cand]["n_parameters"] = n_parameters(model, motor)
     if not scores:
-        raise InsufficientDataError("no model can be fitted on the flight with a segment left out: fly longer, "
-                                    "with turns through every heading and some pitch and roll")
+        raise InsufficientDataError(
+            "no model can be fitted on the flight with a segment left out: fly longer, "
+            "with turns through every heading and some pitch and roll"
+        )
     return scores, left_out
 
 
@@ -399,30 +466,36 @@ def _fit_with_intervals(gates: Gates, u, e, p, w, t, model: str, motor: bool, co
     try:
         fit = solve_normal(A[0], g[0], model, motor)
     except np.linalg.LinAlgError:
-        raise InsufficientDataError("the flight does not determine the compass's parameters (a singular fit): "
-                                    "fly turns through every heading with some pitch and roll") from None
+        raise InsufficientDataError(
+            "the flight does not determine the compass's parameters (a singular fit): "
+            "fly turns through every heading with some pitch and roll"
+        ) from None
     h = fit.field(u, p)
     dt = float(np.median(np.diff(t)))
     corr = correlation_time(h - e)
     count = int(min(MAX_BLOCKS, n // max(MIN_BLOCK_SAMPLES, BLOCK_CORRELATION_TIMES * corr)))
     if count < MIN_BLOCKS:
-        gates.warn(f"the residuals stay correlated over {corr * dt:.1f} s: the flight holds fewer than "
-                   f"{MIN_BLOCKS} independent stretches, so the intervals rest on few of them")
+        gates.warn(
+            f"the residuals stay correlated over {corr * dt:.1f} s: the flight holds fewer than "
+            f"{MIN_BLOCKS} independent stretches, so the intervals rest on few of them"
+        )
     count = max(count, 2)
     blocks = {"blocks": count, "correlation_s": corr * dt, "dof": count - 1, "method": "jackknife over blocks of time"}
     A, g = normal_equations(X, y, w, _blocks(n, count), count)
     try:
         cov = block_jackknife(A, g, model, motor)
     except np.linalg.LinAlgError:
-        gates.fail("a stretch of the flight holds all that determines a parameter (the fit without it is "
-                   "singular): no intervals; fly turns through every heading with some pitch and roll")
+        gates.fail(
+            "a stretch of the flight holds all that determines a parameter (the fit without it is "
+            "singular): no intervals; fly turns through every heading with some pitch and roll"
+        )
         return fit, h, None, blocks
     hw = half_widths(cov, count - 1, confidence)
     nm = len(MATRIX_PARAMETERS[model])
     hw_M = np.zeros((3, 3))
     for value, (i, j) in zip(hw[:nm], MATRIX_PARAMETERS[model]):
         hw_M[i, j] = hw_M[j, i] = value
-    return fit, h, (hw_M, hw[nm:nm + 3], hw[nm + 3:nm + 6] if motor else np.zeros(3)), blocks
+    return fit, h, (hw_M, hw[nm : nm + 3], hw[nm + 3 : nm + 6] if motor else np.zeros(3)), blocks
 
 
 def _parameter_gates(gates: Gates, fit, half, F: float, p, power_kind, confidence: float) -> None:
@@ -431,24 +504,34 @@ def _parameter_gates(gates: Gates, fit, half, F: float, p, power_kind, confidenc
     :data:`MAX_MOTOR_HALF_WIDTH`)."""
     for axis, value in zip("xyz", fit.b):
         if abs(value) > MAX_OFFSET_UT:
-            gates.fail(f"the {axis} offset {value:.0f} µT is beyond {MAX_OFFSET_UT:.0f} µT: no iron near a compass "
-                       "does that; check the unit of the readings and for a magnet")
+            gates.fail(
+                f"the {axis} offset {value:.0f} µT is beyond {MAX_OFFSET_UT:.0f} µT: no iron near a compass "
+                "does that; check the unit of the readings and for a magnet"
+            )
     eig = np.linalg.eigvalsh(fit.M)
     lo, hi = MATRIX_EIGEN_RANGE
     if eig.min() < lo or eig.max() > hi:
-        gates.fail(f"the soft-iron matrix scales the field by {eig.min():.2f} to {eig.max():.2f} (plausible "
-                   f"{lo}–{hi}): a wrong unit or a wrong expected field, not soft iron")
+        gates.fail(
+            f"the soft-iron matrix scales the field by {eig.min():.2f} to {eig.max():.2f} (plausible "
+            f"{lo}–{hi}): a wrong unit or a wrong expected field, not soft iron"
+        )
     if half is None:
         return
     hw_M, hw_b, hw_k = half
     if np.max(hw_b) > MAX_OFFSET_HALF_WIDTH * F:
-        gates.fail(f"the offsets are not determined (±{np.max(hw_b):.2f} µT at {confidence:.0%}, above "
-                   f"{MAX_OFFSET_HALF_WIDTH:.0%} of the field): fly turns through every heading")
+        gates.fail(
+            f"the offsets are not determined (±{np.max(hw_b):.2f} µT at {confidence:.0%}, above "
+            f"{MAX_OFFSET_HALF_WIDTH:.0%} of the field): fly turns through every heading"
+        )
     if np.max(hw_M) > MAX_MATRIX_HALF_WIDTH:
-        gates.fail(f"the soft iron is not determined (±{np.max(hw_M):.3f} on an entry at {confidence:.0%}): "
-                   "fly turns with more pitch and roll")
+        gates.fail(
+            f"the soft iron is not determined (±{np.max(hw_M):.3f} on an entry at {confidence:.0%}): "
+            "fly turns with more pitch and roll"
+        )
     if fit.motor:
         spread = float(np.max(hw_k) * np.ptp(p))
         if spread > MAX_MOTOR_HALF_WIDTH * F:
-            gates.fail(f"the motor term is not determined (±{spread:.2f} µT over the flight's {power_kind} "
-                       "range): fly climbs and hovers while turning")
+            gates.fail(
+                f"the motor term is not determined (±{spread:.2f} µT over the flight's {power_kind} "
+                "range): fly climbs and hovers while turning"
+            )

@@ -18,9 +18,11 @@ from ..correction import AffineCorrection
 from ..plausible import correction_figures
 from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 
-SOURCE = ("h = M (Q m − b − k p): the compass's offsets b, soft iron M and motor interference k p after the "
-          "rotation Q of its axes onto the vehicle's, fitted against the geomagnetic field turned into the body "
-          "frame by the log's attitude")
+SOURCE = (
+    "h = M (Q m − b − k p): the compass's offsets b, soft iron M and motor interference k p after the "
+    "rotation Q of its axes onto the vehicle's, fitted against the geomagnetic field turned into the body "
+    "frame by the log's attitude"
+)
 FIGURE_BASIS = "heading error on flight segments left out"
 FIGURE_UNIT = "°"
 
@@ -75,16 +77,38 @@ class FlightCompassCalibration(CalibrationResult):
             summary = d["heading_error_deg"].get(when) or {}
             figures[f"heading_error_{when}_deg"] = summary.get("rms")
             figures[f"heading_error_{when}_p95_deg"] = summary.get("p95")
-        flight = {**flight, "structure": d["model"], "motor": d["motor"], **{key: d[key] for key in (
-            "rotation_found", "rotation_nearest", "angle_left_deg", "orientation_agrees", "models", "intervals")}}
-        return cls(M=np.asarray(fit.matrix, float), b=np.asarray(fit.offsets_ut, float),
-                   k=np.asarray(fit.motor_coefficients, float) if fit.motor else np.zeros(3),
-                   Q=np.asarray(fit.rotation, float),
-                   half_widths={"M": d["matrix_half_width"], "b": d["offsets_half_width_ut"],
-                                "k": d["motor_half_width"] if fit.motor else None},
-                   flight=flight, series=d["series"],
-                   metrics={**metrics, **figures, "coverage": d["coverage"], "n_samples": d["n_samples"]},
-                   warnings=tuple(fit.warnings), reasons=tuple(fit.reasons))
+        flight = {
+            **flight,
+            "structure": d["model"],
+            "motor": d["motor"],
+            **{
+                key: d[key]
+                for key in (
+                    "rotation_found",
+                    "rotation_nearest",
+                    "angle_left_deg",
+                    "orientation_agrees",
+                    "models",
+                    "intervals",
+                )
+            },
+        }
+        return cls(
+            M=np.asarray(fit.matrix, float),
+            b=np.asarray(fit.offsets_ut, float),
+            k=np.asarray(fit.motor_coefficients, float) if fit.motor else np.zeros(3),
+            Q=np.asarray(fit.rotation, float),
+            half_widths={
+                "M": d["matrix_half_width"],
+                "b": d["offsets_half_width_ut"],
+                "k": d["motor_half_width"] if fit.motor else None,
+            },
+            flight=flight,
+            series=d["series"],
+            metrics={**metrics, **figures, "coverage": d["coverage"], "n_samples": d["n_samples"]},
+            warnings=tuple(fit.warnings),
+            reasons=tuple(fit.reasons),
+        )
 
     def _calibrate(self, rows: np.ndarray) -> np.ndarray:
         return (rows @ self.Q.T - self.b) @ self.M.T  # h = M (Q m − b), at no current
@@ -111,19 +135,26 @@ class FlightCompassCalibration(CalibrationResult):
         before, with this one after, in degrees."""
         if metrics.get("heading_error_after_deg") is None:
             return (NO_FIGURE,)
-        return (Figure(metrics.get("heading_error_before_deg"), metrics["heading_error_after_deg"], FIGURE_UNIT,
-                       FIGURE_BASIS),)
+        return (
+            Figure(
+                metrics.get("heading_error_before_deg"), metrics["heading_error_after_deg"], FIGURE_UNIT, FIGURE_BASIS
+            ),
+        )
 
     def headline(self) -> str | None:
         """The heading error on segments left out and its 95th percentile, then the firmware's."""
         m = self.metrics
         if m.get("heading_error_after_deg") is None:
             return None
-        line = (f"on flight segments left out expect a heading error of {m['heading_error_after_deg']:.1f}° rms "
-                f"(95 % within {m['heading_error_after_p95_deg']:.1f}°)")
+        line = (
+            f"on flight segments left out expect a heading error of {m['heading_error_after_deg']:.1f}° rms "
+            f"(95 % within {m['heading_error_after_p95_deg']:.1f}°)"
+        )
         if m.get("heading_error_before_deg") is not None:
-            line += (f"; with the firmware's own calibration {m['heading_error_before_deg']:.1f}° rms "
-                     f"(95 % within {m['heading_error_before_p95_deg']:.1f}°)")
+            line += (
+                f"; with the firmware's own calibration {m['heading_error_before_deg']:.1f}° rms "
+                f"(95 % within {m['heading_error_before_p95_deg']:.1f}°)"
+            )
         return line
 
     def uncertainty(self) -> dict:
@@ -135,6 +166,12 @@ class FlightCompassCalibration(CalibrationResult):
     @classmethod
     def _from_body(cls, data: dict) -> "FlightCompassCalibration":
         half = {k: v for k, v in (data.get("uncertainty") or {}).items() if k != "confidence"}
-        return cls(**cls.parameters_from(data["model"]), half_widths=half, flight=dict(data.get("flight") or {}),
-                   series=dict(data.get("series") or {}), **gate_fields(data),
-                   method=data.get("method", "compass_flight"), unit=data.get("unit", "uT"))
+        return cls(
+            **cls.parameters_from(data["model"]),
+            half_widths=half,
+            flight=dict(data.get("flight") or {}),
+            series=dict(data.get("series") or {}),
+            **gate_fields(data),
+            method=data.get("method", "compass_flight"),
+            unit=data.get("unit", "uT"),
+        )

@@ -28,8 +28,11 @@ import numpy as np
 MODELS = ("offsets", "scale", "soft_iron")
 """M fixed to the identity; M diagonal; M symmetric (soft iron)."""
 
-MATRIX_PARAMETERS = {"offsets": (), "scale": ((0, 0), (1, 1), (2, 2)),
-                     "soft_iron": ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))}
+MATRIX_PARAMETERS = {
+    "offsets": (),
+    "scale": ((0, 0), (1, 1), (2, 2)),
+    "soft_iron": ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)),
+}
 """The entries of M each model fits (a symmetric pair counts once)."""
 
 
@@ -76,15 +79,17 @@ class Fit:
         return v @ self.M.T
 
 
-def design(u: np.ndarray, e: np.ndarray, p: np.ndarray | None, model: str, motor: bool) -> tuple[np.ndarray, np.ndarray]:
+def design(
+    u: np.ndarray, e: np.ndarray, p: np.ndarray | None, model: str, motor: bool
+) -> tuple[np.ndarray, np.ndarray]:
     """The linear system ``X θ = y`` of ``u = S e + b + k p`` (``S = M⁻¹``), shapes (N, 3, P) and (N, 3):
     θ is S's fitted entries, then b, then k; for ``offsets`` (S = I) the target is ``u − e``."""
     n = len(u)
-    cols = [e @ E.T for E in _basis(model)]                                  # ∂(S e)/∂θ_j
+    cols = [e @ E.T for E in _basis(model)]  # ∂(S e)/∂θ_j
     eye = np.eye(3)
-    cols += [np.broadcast_to(eye[:, l], (n, 3)) for l in range(3)]          # b
+    cols += [np.broadcast_to(eye[:, l], (n, 3)) for l in range(3)]  # b
     if motor:
-        cols += [np.outer(p, eye[:, l]) for l in range(3)]                  # k p
+        cols += [np.outer(p, eye[:, l]) for l in range(3)]  # k p
     return np.stack(cols, axis=2), ((u - e) if model == "offsets" else u)
 
 
@@ -108,8 +113,8 @@ def from_theta(theta: np.ndarray, model: str, motor: bool) -> Fit:
     basis = _basis(model)
     nm = len(basis)
     S = np.eye(3) if model == "offsets" else sum(t * E for t, E in zip(theta[:nm], basis))
-    k = theta[nm + 3:nm + 6] if motor else np.zeros(3)
-    return Fit(model, motor, np.linalg.inv(S), theta[nm:nm + 3].copy(), k)
+    k = theta[nm + 3 : nm + 6] if motor else np.zeros(3)
+    return Fit(model, motor, np.linalg.inv(S), theta[nm : nm + 3].copy(), k)
 
 
 def solve_normal(A: np.ndarray, g: np.ndarray, model: str, motor: bool) -> Fit:
@@ -162,7 +167,7 @@ def orientation(mag: np.ndarray, e: np.ndarray, p: np.ndarray | None, w: np.ndar
     X = np.hstack(cols)
     sw = np.sqrt(w)[:, None]
     coef, *_ = np.linalg.lstsq(X * sw, mag * sw, rcond=None)
-    A = coef[:3].T                                  # m ≈ A e
+    A = coef[:3].T  # m ≈ A e
     U, _, Vt = np.linalg.svd(A)
     D = np.diag([1.0, 1.0, np.sign(np.linalg.det(U @ Vt))])
     return (U @ D @ Vt).T
@@ -182,7 +187,7 @@ def correlation_time(r: np.ndarray, factor: float = 10.0) -> float:
     if acf[0] <= 0:
         return 1.0
     rho = acf / acf[0]
-    tau = 1.0 + 2.0 * np.cumsum(rho[1:n // 2])
+    tau = 1.0 + 2.0 * np.cumsum(rho[1 : n // 2])
     ok = np.arange(1, len(tau) + 1) >= factor * tau
     return float(max(tau[np.argmax(ok)] if ok.any() else tau[-1], 1.0))
 

@@ -142,8 +142,16 @@ def held(mag, M: np.ndarray, b: np.ndarray, field: float) -> Refined:
     r = residuals(pack(M, b), m, field)
     dof = max(len(m) - N_PARAMETERS, 0)
     sigma = float(np.sqrt(r @ r / dof)) if dof else float("nan")
-    return Refined(M=M, b=np.asarray(b, dtype=float), residuals=r, covariance=None, dof=dof, sigma_ut=sigma,
-                   inflation=correlation_inflation(r), converged=False)
+    return Refined(
+        M=M,
+        b=np.asarray(b, dtype=float),
+        residuals=r,
+        covariance=None,
+        dof=dof,
+        sigma_ut=sigma,
+        inflation=correlation_inflation(r),
+        converged=False,
+    )
 
 
 def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations: int = 200) -> Refined:
@@ -163,8 +171,15 @@ def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations
     Refined
     """
     m = np.asarray(mag, dtype=float).reshape(-1, 3)
-    sol = least_squares(residuals, pack(0.5 * (M0 + M0.T), b0), jac=jacobian, args=(m, field), method="lm",
-                        x_scale="jac", max_nfev=max_evaluations)
+    sol = least_squares(
+        residuals,
+        pack(0.5 * (M0 + M0.T), b0),
+        jac=jacobian,
+        args=(m, field),
+        method="lm",
+        x_scale="jac",
+        max_nfev=max_evaluations,
+    )
     M, b = unpack(sol.x)
     if np.linalg.det(M) < 0:  # −M fits as well: keep the orientation of the readings
         M = -M
@@ -173,7 +188,13 @@ def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations
     inflation = correlation_inflation(r)
     if covariance is not None:
         covariance = covariance * inflation
-    return Refined(M=M, b=b, residuals=r, covariance=covariance, dof=dof,
-                   sigma_ut=float(np.sqrt(sigma2)) if dof else float("nan"), inflation=inflation,
-                   converged=bool(sol.status > 0))
-
+    return Refined(
+        M=M,
+        b=b,
+        residuals=r,
+        covariance=covariance,
+        dof=dof,
+        sigma_ut=float(np.sqrt(sigma2)) if dof else float("nan"),
+        inflation=inflation,
+        converged=bool(sol.status > 0),
+    )

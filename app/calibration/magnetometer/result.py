@@ -14,8 +14,10 @@ from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, paramete
 from ..uncertainty import CONFIDENCE, half_widths
 from .refine import unpack
 
-SOURCE = ("h = M (m − b), M symmetric: the magnetometer model ỹ = S h + b of Särkkä et al., IEEE Sensors "
-          "Journal 17(11) 2017, eq. (6), with S = M⁻¹, fitted on the field's magnitude")
+SOURCE = (
+    "h = M (m − b), M symmetric: the magnetometer model ỹ = S h + b of Särkkä et al., IEEE Sensors "
+    "Journal 17(11) 2017, eq. (6), with S = M⁻¹, fitted on the field's magnitude"
+)
 
 
 def figure_unit(output_unit: str | None) -> str:
@@ -43,8 +45,9 @@ class MagnetometerResult(CalibrationResult):
     RESULT_TYPE: ClassVar[str] = "magnetometer"
     MODEL_TYPE: ClassVar[str] = "magnetometer"
     CORRECTION_SOURCE: ClassVar[str] = SOURCE
-    AS_FITTED: ClassVar[str] = ("As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (6)): h = M (m − b), "
-                                "so b = o.")
+    AS_FITTED: ClassVar[str] = (
+        "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (6)): h = M (m − b), so b = o."
+    )
 
     M: np.ndarray = parameter()
     b: np.ndarray = parameter()
@@ -80,10 +83,22 @@ class MagnetometerResult(CalibrationResult):
             return (NO_FIGURE,)
         unit = figure_unit(output_unit)
         if metrics.get("cv_error_ut") is not None:
-            return (Figure(metrics.get("raw_error_ut"), metrics["cv_error_ut"], unit,
-                           "error of the field strength on new directions"),)
-        return (Figure(metrics.get("raw_error_ut"), metrics.get("fit_error_ut"), unit,
-                       "error of the field strength on the readings fitted"),)
+            return (
+                Figure(
+                    metrics.get("raw_error_ut"),
+                    metrics["cv_error_ut"],
+                    unit,
+                    "error of the field strength on new directions",
+                ),
+            )
+        return (
+            Figure(
+                metrics.get("raw_error_ut"),
+                metrics.get("fit_error_ut"),
+                unit,
+                "error of the field strength on the readings fitted",
+            ),
+        )
 
     def headline(self) -> str | None:
         """The error of |h| on directions left out, then in-sample and raw."""
@@ -93,8 +108,14 @@ class MagnetometerResult(CalibrationResult):
 
     @property
     def correction(self) -> AffineCorrection:
-        return AffineCorrection(np.asarray(self.M, dtype=float), np.asarray(self.b, dtype=float), self.unit,
-                                self.output_unit, SOURCE, sensor="mag")
+        return AffineCorrection(
+            np.asarray(self.M, dtype=float),
+            np.asarray(self.b, dtype=float),
+            self.unit,
+            self.output_unit,
+            SOURCE,
+            sensor="mag",
+        )
 
     def corrections(self) -> dict[str, AffineCorrection]:
         return {"mag": self.correction}
@@ -120,15 +141,22 @@ class MagnetometerResult(CalibrationResult):
         return {"confidence": CONFIDENCE, "dof": self.dof, "M": half_M.tolist(), "b": half_b.tolist()}
 
     def body_dict(self) -> dict:
-        return {"covariance": None if self.covariance is None else np.asarray(self.covariance).tolist(),
-                "samples": {"raw_ut": np.asarray(self.samples).tolist()}}
+        return {
+            "covariance": None if self.covariance is None else np.asarray(self.covariance).tolist(),
+            "samples": {"raw_ut": np.asarray(self.samples).tolist()},
+        }
 
     @classmethod
     def _from_body(cls, data: dict) -> "MagnetometerResult":
         cov = data.get("covariance")
-        return cls(**cls.parameters_from(data["model"]),
-                   covariance=None if cov is None else np.asarray(cov, dtype=float),
-                   dof=int((data.get("uncertainty") or {}).get("dof", 0)),
-                   samples=np.asarray((data.get("samples") or {}).get("raw_ut") or np.empty((0, 3)),
-                                      dtype=float).reshape(-1, 3),
-                   **gate_fields(data), method=data.get("method", "magnetometer"), unit=data.get("unit", "uT"))
+        return cls(
+            **cls.parameters_from(data["model"]),
+            covariance=None if cov is None else np.asarray(cov, dtype=float),
+            dof=int((data.get("uncertainty") or {}).get("dof", 0)),
+            samples=np.asarray((data.get("samples") or {}).get("raw_ut") or np.empty((0, 3)), dtype=float).reshape(
+                -1, 3
+            ),
+            **gate_fields(data),
+            method=data.get("method", "magnetometer"),
+            unit=data.get("unit", "uT"),
+        )

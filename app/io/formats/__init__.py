@@ -39,8 +39,18 @@ from pathlib import Path
 from ..errors import LogFormatError
 from ..log import LogData
 from ..read_options import ReadOptions
-from . import (betaflight_mag, dataflash, generic_csv, gnss_logger, json_samples, phyphox, physics_toolbox, sensor_logger,
-               sensorlog, ulog)
+from . import (
+    betaflight_mag,
+    dataflash,
+    generic_csv,
+    gnss_logger,
+    json_samples,
+    phyphox,
+    physics_toolbox,
+    sensor_logger,
+    sensorlog,
+    ulog,
+)
 from .flight_log import CLOCKS
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
@@ -87,13 +97,26 @@ SOURCES = ("board", "phone", "px4", "ardupilot")
 """Where a recording comes from, as a calibration's ``source`` says it (the page offers its use first by it,
 app/web/uses.py): a board printing its readings, a phone, a flight controller's firmware."""
 
-SOURCE_OF_FORMAT = {ulog.NAME: "px4", dataflash.NAME: "ardupilot", generic_csv.ARDUINO: "board",
-                    phyphox.NAME: "phone", sensor_logger.NAME: "phone", gnss_logger.NAME: "phone",
-                    physics_toolbox.NAME: "phone", sensorlog.NAME: "phone"}
+SOURCE_OF_FORMAT = {
+    ulog.NAME: "px4",
+    dataflash.NAME: "ardupilot",
+    generic_csv.ARDUINO: "board",
+    phyphox.NAME: "phone",
+    sensor_logger.NAME: "phone",
+    gnss_logger.NAME: "phone",
+    physics_toolbox.NAME: "phone",
+    sensorlog.NAME: "phone",
+}
 """The source of a recording of each format (:data:`SOURCES`); a plain CSV or JSON says none."""
 
-CANONICAL_COLUMNS = (*(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
-                     "time_s", "time_ms", "time_us", "time_ns", "temp_c")
+CANONICAL_COLUMNS = (
+    *(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
+    "time_s",
+    "time_ms",
+    "time_us",
+    "time_ns",
+    "temp_c",
+)
 """Names a column can be mapped to with ``columns``."""
 TIME_NAMES = ("t", "time")
 """Names of a time column whose unit is inferred from its step (a list of ``columns``)."""
@@ -128,15 +151,17 @@ def parse_columns(columns: str | dict | list | None) -> dict | list | None:
             if not sep or not canonical.strip() or not column.strip():
                 raise LogFormatError(
                     f"columns entry {entry!r} is not canonical:column, e.g. acc_x:north: give either a mapping "
-                    "(acc_x:north,acc_y:east,acc_z:down) or one name per column (t,acc_x,acc_y,acc_z)")
+                    "(acc_x:north,acc_y:east,acc_z:down) or one name per column (t,acc_x,acc_y,acc_z)"
+                )
             pairs[canonical.strip().lower()] = column.strip()
         columns = pairs
     if isinstance(columns, (list, tuple)):
         return parse_column_names(list(columns))
     unknown = [k for k in columns if k not in CANONICAL_COLUMNS]
     if unknown:
-        raise LogFormatError(f"columns maps {', '.join(unknown)}, which trical does not know: map to "
-                             f"{', '.join(CANONICAL_COLUMNS)}")
+        raise LogFormatError(
+            f"columns maps {', '.join(unknown)}, which trical does not know: map to {', '.join(CANONICAL_COLUMNS)}"
+        )
     return dict(columns)
 
 
@@ -149,22 +174,29 @@ def parse_column_names(names: list[str]) -> list[str]:
         raise LogFormatError(
             f"columns names {', '.join(repr(n) for n in unknown)}, which trical does not know: name each column, "
             f"in order, with one of {', '.join(known)} ({SKIP} leaves a column out), e.g. "
-            "columns=t,acc_x,acc_y,acc_z")
+            "columns=t,acc_x,acc_y,acc_z"
+        )
     twice = sorted({n for n in names if n != SKIP and names.count(n) > 1})
     times = [n for n in names if n in TIME_NAMES or n.startswith("time_")]
     if twice or len(times) > 1:
-        raise LogFormatError(f"columns names {', '.join(twice or times)} more than once: give each name (and one "
-                             f"time column) once, {SKIP} for a column to leave out")
+        raise LogFormatError(
+            f"columns names {', '.join(twice or times)} more than once: give each name (and one "
+            f"time column) once, {SKIP} for a column to leave out"
+        )
     for sensor in ("acc", "gyr", "mag"):
         axes = [f"{sensor}_{a}" for a in "xyz"]
         given = [a for a in axes if a in names]
         if given and len(given) != 3:
             missing = ", ".join(a for a in axes if a not in names)
-            raise LogFormatError(f"columns names {', '.join(given)} but not {missing}: name all three axes of "
-                                 "each sensor, e.g. columns=t,acc_x,acc_y,acc_z")
+            raise LogFormatError(
+                f"columns names {', '.join(given)} but not {missing}: name all three axes of "
+                "each sensor, e.g. columns=t,acc_x,acc_y,acc_z"
+            )
     if not any(f"{sensor}_x" in names for sensor in ("acc", "gyr", "mag")):
-        raise LogFormatError("columns names no sensor: name the three axes of at least one, e.g. "
-                             "columns=t,acc_x,acc_y,acc_z (or t,mag_x,mag_y,mag_z for a magnetometer alone)")
+        raise LogFormatError(
+            "columns names no sensor: name the three axes of at least one, e.g. "
+            "columns=t,acc_x,acc_y,acc_z (or t,mag_x,mag_y,mag_z for a magnetometer alone)"
+        )
     return names
 
 
@@ -181,12 +213,16 @@ def detect_format(s: Sniff) -> str:
             return fmt
     listed = ", ".join(s.members[:12]) if s.members else "nothing"
     if any(m.startswith("xl/") for m in s.members or ()):
-        raise LogFormatError(f"{s.name} is an Excel workbook: export the log as CSV (phyphox: 'CSV (Comma, "
-                             "decimal point)') and upload that", status=415)
+        raise LogFormatError(
+            f"{s.name} is an Excel workbook: export the log as CSV (phyphox: 'CSV (Comma, "
+            "decimal point)') and upload that",
+            status=415,
+        )
     raise LogFormatError(
         f"{s.name} is a zip holding {listed}: only phyphox exports (Raw Data.csv) and Sensor Logger "
         "exports (Metadata.csv with TotalAcceleration.csv or AccelerometerUncalibrated.csv) are read; "
-        "upload the CSV itself otherwise", status=415,
+        "upload the CSV itself otherwise",
+        status=415,
     )
 
 
@@ -226,8 +262,10 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
     if o.format in FLIGHT_FORMATS or (o.format == "auto" and starts_like_flight_log(path)):
         return read_flight_log(path, o, name=name)
     if o.instance is not None or o.mag_instance is not None:
-        raise LogFormatError(f"instance and mag_instance choose a sensor of a flight controller's log (PX4 .ulg, "
-                             f"ArduPilot .bin); {name} is not one: leave them out")
+        raise LogFormatError(
+            f"instance and mag_instance choose a sensor of a flight controller's log (PX4 .ulg, "
+            f"ArduPilot .bin); {name} is not one: leave them out"
+        )
     if o.format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
         return _read_array_file(path, o, name)
     check_sign(o.sign)
@@ -242,14 +280,19 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
             return read_log(table, dataclasses.replace(o, format="auto", clock="imu"), name=table_name)
 
         return READERS[json_fmt](path, s, name=name, read_table=read_table)
-    if s.is_zip and o.format not in (phyphox.NAME, sensor_logger.NAME) and not (phyphox.detect(s) or sensor_logger.detect(s)) \
-            and not any(m.startswith("xl/") for m in s.members):
+    if (
+        s.is_zip
+        and o.format not in (phyphox.NAME, sensor_logger.NAME)
+        and not (phyphox.detect(s) or sensor_logger.detect(s))
+        and not any(m.startswith("xl/") for m in s.members)
+    ):
         # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
         from ..parts import read_parts_zip
 
         def read_part(part_path, part_name, part_columns=None):
-            return read_log(part_path, dataclasses.replace(o, columns=part_columns or o.columns, clock="imu"),
-                            name=part_name)
+            return read_log(
+                part_path, dataclasses.replace(o, columns=part_columns or o.columns, clock="imu"), name=part_name
+            )
 
         return read_parts_zip(path, s.members, read_part, name=name, columns_given=bool(o.columns))
     fmt = _text_format(s, o.format, column_map, name)
@@ -261,9 +304,11 @@ def _read_array_file(path: Path, o: ReadOptions, name: str) -> LogData:
     from ..arrays import read_array_log
 
     if o.chip or o.lsb_per_g is not None:
-        raise LogFormatError(f"{name} is an array file, whose samples trical takes in the unit given (`unit`, "
-                             "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
-                             "by the sensitivity before saving the array, or upload them as CSV")
+        raise LogFormatError(
+            f"{name} is an array file, whose samples trical takes in the unit given (`unit`, "
+            "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
+            "by the sensitivity before saving the array, or upload them as CSV"
+        )
     check_sign(o.sign)
     log = read_array_log(path, sampling_rate_hz=o.sampling_rate_hz, units=o.units, name=name)
     return settle_sign(with_timing(log, o.sampling_rate_hz, name), o.sign)
@@ -273,18 +318,28 @@ def _text_format(s: Sniff, format: str, column_map, name: str) -> str:
     """The format a text log (or a phone app's zip) is read in: the one asked for, else the one detected; a
     generic CSV when its columns are mapped. Refuses a format the file cannot be."""
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
-        raise LogFormatError(f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
-                             "leave columns out, or use format=csv")
+        raise LogFormatError(
+            f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
+            "leave columns out, or use format=csv"
+        )
     fmt = detect_format(s) if format == "auto" else format
     if column_map and fmt not in (generic_csv.CSV, generic_csv.ARDUINO):
         fmt = generic_csv.CSV
     if s.is_zip and fmt not in (phyphox.NAME, sensor_logger.NAME):
-        raise LogFormatError(f"{name} is a zip archive, which the {fmt} format does not read: use format=auto, "
-                             "phyphox or sensor_logger, or upload the CSV itself", status=415)
-    if not s.is_zip and fmt in (phyphox.NAME, sensor_logger.NAME, gnss_logger.NAME, physics_toolbox.NAME, sensorlog.NAME) \
-            and not dict(DETECTORS)[fmt](s):
-        raise LogFormatError(f"{name} does not look like a {fmt} file (its header does not match): use "
-                             "format=auto, or map its columns as acc_x, acc_y, acc_z with format=csv")
+        raise LogFormatError(
+            f"{name} is a zip archive, which the {fmt} format does not read: use format=auto, "
+            "phyphox or sensor_logger, or upload the CSV itself",
+            status=415,
+        )
+    if (
+        not s.is_zip
+        and fmt in (phyphox.NAME, sensor_logger.NAME, gnss_logger.NAME, physics_toolbox.NAME, sensorlog.NAME)
+        and not dict(DETECTORS)[fmt](s)
+    ):
+        raise LogFormatError(
+            f"{name} does not look like a {fmt} file (its header does not match): use "
+            "format=auto, or map its columns as acc_x, acc_y, acc_z with format=csv"
+        )
     return fmt
 
 
@@ -298,18 +353,26 @@ def _read_text_log(path: Path, s: Sniff, fmt: str, column_map, o: ReadOptions, n
     extra = {}
     if column_map:
         extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
-    log = READERS[fmt](path, s, sampling_rate_hz=o.sampling_rate_hz, units=dict(o.units or {}), name=name,
-                       lsb_per_g=lsb, **extra)
+    log = READERS[fmt](
+        path, s, sampling_rate_hz=o.sampling_rate_hz, units=dict(o.units or {}), name=name, lsb_per_g=lsb, **extra
+    )
     log = with_timing(log, o.sampling_rate_hz, name)  # the one decision of the rate (.timing)
     maker = fmt in (generic_csv.CSV, generic_csv.ARDUINO)
     if maker:  # a header row names the units, or nothing does
         stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text, column_map)
     else:  # a phone app's format states its units
         stated = {k: v for k, v in log.units.items() if k not in (o.units or {})}
-    log = settle_units(log, given=o.units, stated=stated, lsb_per_g=lsb,
-                       lsb_source="lsb_per_g" if o.lsb_per_g is not None else "the file's comment lsb_per_g",
-                       chips=chips, stated_by="the header" if maker else f"the {fmt} format", check_mag=maker,
-                       name=name)
+    log = settle_units(
+        log,
+        given=o.units,
+        stated=stated,
+        lsb_per_g=lsb,
+        lsb_source="lsb_per_g" if o.lsb_per_g is not None else "the file's comment lsb_per_g",
+        chips=chips,
+        stated_by="the header" if maker else f"the {fmt} format",
+        check_mag=maker,
+        name=name,
+    )
     notes = [] if fmt == log.format else [f"read as {fmt}"]
     log = dataclasses.replace(log, format=fmt, notes=tuple(log.notes) + tuple(notes))
     if log.acc is None:  # a magnetometer (or gyroscope) alone
@@ -332,23 +395,45 @@ def read_flight_log(path: Path, options: ReadOptions, *, name: str) -> LogData:
     o = options
     own = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
     other_units = {k: v for k, v in (o.units or {}).items() if own.get(k) != v}
-    given = [k for k, v in (("columns", o.columns), ("chip", o.chip), ("lsb_per_g", o.lsb_per_g),
-                            ("units", other_units), ("sign", o.sign if o.sign != 1 else None)) if v]
+    given = [
+        k
+        for k, v in (
+            ("columns", o.columns),
+            ("chip", o.chip),
+            ("lsb_per_g", o.lsb_per_g),
+            ("units", other_units),
+            ("sign", o.sign if o.sign != 1 else None),
+        )
+        if v
+    ]
     if given:
-        raise LogFormatError(f"{name} is a flight controller's log, whose units and frame the format states: "
-                             f"{', '.join(given)} {'is' if len(given) == 1 else 'are'} for text logs — leave "
-                             f"{'it' if len(given) == 1 else 'them'} out (its units: m/s^2, rad/s, uT)")
+        raise LogFormatError(
+            f"{name} is a flight controller's log, whose units and frame the format states: "
+            f"{', '.join(given)} {'is' if len(given) == 1 else 'are'} for text logs — leave "
+            f"{'it' if len(given) == 1 else 'them'} out (its units: m/s^2, rad/s, uT)"
+        )
     for what, value in (("instance", o.instance), ("mag_instance", o.mag_instance)):
         if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
             raise LogFormatError(f"{what} {value!r} is not an instance number: give a whole number from 0")
     s = sniff(path, name)
     fmt = detect_format(s) if o.format == "auto" else o.format
     if not dict(DETECTORS)[fmt](s):
-        raise LogFormatError(f"{name} does not start as a {fmt} log (its first bytes are not the format's magic): "
-                             "use format=auto, or upload the .ulg / .bin file the vehicle wrote")
+        raise LogFormatError(
+            f"{name} does not start as a {fmt} log (its first bytes are not the format's magic): "
+            "use format=auto, or upload the .ulg / .bin file the vehicle wrote"
+        )
     log = READERS[fmt](path, s, instance=o.instance, mag_instance=o.mag_instance, clock=o.clock, name=name)
     log = with_timing(log, o.sampling_rate_hz, name)
-    log = settle_units(log, given=None, stated=dict(log.units), lsb_per_g=None, lsb_source="lsb_per_g", chips=None,
-                       stated_by=f"the {fmt} format", check_mag=False, name=name)
+    log = settle_units(
+        log,
+        given=None,
+        stated=dict(log.units),
+        lsb_per_g=None,
+        lsb_source="lsb_per_g",
+        chips=None,
+        stated_by=f"the {fmt} format",
+        check_mag=False,
+        name=name,
+    )
     refuse_linear_acceleration(log.acc, log.units["acc"], name)
     return settle_sign(log, None)

@@ -47,4 +47,5 @@ def read(path: Path, s: Sniff, *, name: str = "the file", **_):
         f"{count if count is not None else ''}{' ' if count is not None else ''}samples it was fitted to, and trical "
         "calibrates from samples. Record the tumble's magnetometer samples instead (time, x, y, z on each line, as "
         "CSV or a JSON array of samples) and upload those",
-        status=422)
+        status=422,
+    )

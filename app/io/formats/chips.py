@@ -70,8 +70,10 @@ GYR_RANGE = {131.0: "±250 °/s", 65.5: "±500 °/s", 32.8: "±1000 °/s", 16.4:
 _MPU = "MPU-6050/6500/9250, ICM-20948"
 _CHIPS = [
     # MPU-6050 Product Specification rev. 3.4, section 6.2; ICM-20948 DS-000189 table 2.
-    _acc("mpu6050-2g", 16384, _MPU, "±2 g"), _acc("mpu6050-4g", 8192, _MPU, "±4 g"),
-    _acc("mpu6050-8g", 4096, _MPU, "±8 g"), _acc("mpu6050-16g", 2048, _MPU, "±16 g"),
+    _acc("mpu6050-2g", 16384, _MPU, "±2 g"),
+    _acc("mpu6050-4g", 8192, _MPU, "±4 g"),
+    _acc("mpu6050-8g", 4096, _MPU, "±8 g"),
+    _acc("mpu6050-16g", 2048, _MPU, "±16 g"),
     # MPU-6050 Product Specification rev. 3.4, section 6.1; ICM-20948 DS-000189 table 1.
     *(_gyr(f"mpu6050-{rng[1:-4]}dps", lsb, _MPU, rng) for lsb, rng in GYR_RANGE.items()),
     # AK8963 datasheet: 0.15 µT/LSB (16-bit), 0.6 µT/LSB (14-bit).
@@ -80,14 +82,27 @@ _CHIPS = [
     # AK09916 datasheet: 0.15 µT/LSB.
     Chip("ak09916", "mag", 0.15, "uT", "AK09916 (ICM-20948) (0.15 µT/LSB)"),
     # QMC5883L datasheet, magnetic sensor characteristics.
-    _mag_gauss("qmc5883l-2g", 12000, "QMC5883L", "±2 G"), _mag_gauss("qmc5883l-8g", 3000, "QMC5883L", "±8 G"),
+    _mag_gauss("qmc5883l-2g", 12000, "QMC5883L", "±2 G"),
+    _mag_gauss("qmc5883l-8g", 3000, "QMC5883L", "±8 G"),
     # HMC5883L datasheet, table 9.
-    *(_mag_gauss(f"hmc5883l-{lsb}", lsb, "HMC5883L", f"±{fs} G")
-      for lsb, fs in ((1370, "0.88"), (1090, "1.3"), (820, "1.9"), (660, "2.5"), (440, "4.0"), (390, "4.7"),
-                      (330, "5.6"), (230, "8.1"))),
+    *(
+        _mag_gauss(f"hmc5883l-{lsb}", lsb, "HMC5883L", f"±{fs} G")
+        for lsb, fs in (
+            (1370, "0.88"),
+            (1090, "1.3"),
+            (820, "1.9"),
+            (660, "2.5"),
+            (440, "4.0"),
+            (390, "4.7"),
+            (330, "5.6"),
+            (230, "8.1"),
+        )
+    ),
     # LIS3MDL datasheet (DocID024204), sensor characteristics, GN.
-    *(_mag_gauss(f"lis3mdl-{fs}g", lsb, "LIS3MDL", f"±{fs} gauss")
-      for lsb, fs in ((6842, 4), (3421, 8), (2281, 12), (1711, 16))),
+    *(
+        _mag_gauss(f"lis3mdl-{fs}g", lsb, "LIS3MDL", f"±{fs} gauss")
+        for lsb, fs in ((6842, 4), (3421, 8), (2281, 12), (1711, 16))
+    ),
     # MMC5983MA datasheet, electrical characteristics.
     _mag_gauss("mmc5983ma-18bit", 16384, "MMC5983MA", "18-bit"),
     _mag_gauss("mmc5983ma-16bit", 4096, "MMC5983MA", "16-bit"),
@@ -118,13 +133,17 @@ def parse_chips(chip: str | list | None) -> dict[str, Chip]:
     out: dict[str, Chip] = {}
     for name in names:
         if name not in CHIPS:
-            raise LogFormatError(f"chip {name!r} is not one trical knows: give one of {', '.join(CHIPS)} "
-                                 "(several separated by commas, one per sensor), or lsb_per_g for another "
-                                 "accelerometer")
+            raise LogFormatError(
+                f"chip {name!r} is not one trical knows: give one of {', '.join(CHIPS)} "
+                "(several separated by commas, one per sensor), or lsb_per_g for another "
+                "accelerometer"
+            )
         c = CHIPS[name]
         if c.sensor in out:
-            raise LogFormatError(f"chip names two parts for the {SENSOR_WORDS[c.sensor]} ({out[c.sensor].name}, "
-                                 f"{name}): give one per sensor")
+            raise LogFormatError(
+                f"chip names two parts for the {SENSOR_WORDS[c.sensor]} ({out[c.sensor].name}, "
+                f"{name}): give one per sensor"
+            )
         out[c.sensor] = c
     return out
 

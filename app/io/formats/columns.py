@@ -135,14 +135,17 @@ def triple_sensors(x: np.ndarray) -> set[str]:
         c, r = sphere
         if (_near(r, ACC_REST.values()) or (whole and _counts_near(r, ACC_LSB_PER_G))) and c < 0.2 * r:
             out.add("acc")
-        if (_near(r, FIELD_REST.values()) or (whole and MAG_COUNTS[0] <= r <= MAG_COUNTS[1])) and \
-                not (whole and "acc" in out):
+        if (_near(r, FIELD_REST.values()) or (whole and MAG_COUNTS[0] <= r <= MAG_COUNTS[1])) and not (
+            whole and "acc" in out
+        ):
             out.add("mag")
         return out
     # Accelerometer: about 1 g at rest, in every rest (its direction turns from rest to rest).
-    if (_near(rest_norm, ACC_REST.values()) or (whole and _counts_near(rest_norm, ACC_LSB_PER_G))) and \
-            float(np.max(rest_norms)) <= 1.3 * float(np.min(rest_norms)) and (not moved or turned > 20.0 or
-                                                                            np.percentile(norms, 90) < 1.6 * rest_norm):
+    if (
+        (_near(rest_norm, ACC_REST.values()) or (whole and _counts_near(rest_norm, ACC_LSB_PER_G)))
+        and float(np.max(rest_norms)) <= 1.3 * float(np.min(rest_norms))
+        and (not moved or turned > 20.0 or np.percentile(norms, 90) < 1.6 * rest_norm)
+    ):
         out.add("acc")
     # Magnetometer: the Earth's field (the sphere's radius when turned, free of the hard iron).
     field = rest_norm
@@ -174,7 +177,7 @@ def _sphere(x: np.ndarray, rests: np.ndarray) -> tuple[float, float] | None:
     on it too (a gyroscope's rest is the centre of its swings); None otherwise."""
     sub = x[:: max(1, len(x) // 5000)]
     a = np.column_stack([2.0 * sub, np.ones(len(sub))])
-    sol, *_ = np.linalg.lstsq(a, np.sum(sub ** 2, axis=1), rcond=None)
+    sol, *_ = np.linalg.lstsq(a, np.sum(sub**2, axis=1), rcond=None)
     c, k = sol[:3], sol[3]
     r2 = k + float(c @ c)
     if r2 <= 0:
@@ -202,7 +205,7 @@ def _layouts(values: np.ndarray) -> list[tuple[int | None, int | None, list[int]
     """Ways to split the columns into (time, temperature, the sensors' first columns)."""
     width = values.shape[1]
     out = []
-    for time_col in ([None] + [c for c in (0, width - 1) if is_time(values[:, c])]):
+    for time_col in [None] + [c for c in (0, width - 1) if is_time(values[:, c])]:
         rest = [c for c in range(width) if c != time_col]
         extra = len(rest) % 3
         temps: list[int | None] = [None] if extra == 0 else []
@@ -215,8 +218,9 @@ def _layouts(values: np.ndarray) -> list[tuple[int | None, int | None, list[int]
     return sorted(out, key=lambda lay: (lay[0] is None, lay[1] is not None))
 
 
-def _readings(width: int, time_col: int | None, temp_col: int | None, firsts: list[int],
-              kinds: list[set[str]]) -> list[tuple[list[str], str]]:
+def _readings(
+    width: int, time_col: int | None, temp_col: int | None, firsts: list[int], kinds: list[set[str]]
+) -> list[tuple[list[str], str]]:
     """Every reading of a layout's columns in which each triple is one of the sensors it can be, none twice:
     the names, one per column, and the sensors in words."""
     out = []
@@ -229,13 +233,14 @@ def _readings(width: int, time_col: int | None, temp_col: int | None, firsts: li
         if temp_col is not None:
             names[temp_col] = "temp_c"
         for first, sensor in zip(firsts, assign):
-            names[first:first + 3] = [f"{sensor}_{a}" for a in "xyz"]
+            names[first : first + 3] = [f"{sensor}_{a}" for a in "xyz"]
         out.append((names, ", ".join(SENSOR_WORDS[s] for s in assign)))
     return out
 
 
-def guess_columns(values: np.ndarray, name: str, lines: list[str],
-                  header: list[str] | None = None) -> tuple[list[str], str]:
+def guess_columns(
+    values: np.ndarray, name: str, lines: list[str], header: list[str] | None = None
+) -> tuple[list[str], str]:
     """One name per column (as the ``columns`` field takes them) and the words saying why.
 
     Parameters
@@ -260,7 +265,7 @@ def guess_columns(values: np.ndarray, name: str, lines: list[str],
     readings: list[tuple[list[str], str]] = []
     guesses: list[tuple[list[str], str]] = []
     for time_col, temp_col, firsts in _layouts(values):
-        kinds = [triple_sensors(values[:, c:c + 3]) for c in firsts]
+        kinds = [triple_sensors(values[:, c : c + 3]) for c in firsts]
         if said is not None and len(firsts) == 1 and not kinds[0]:
             kinds = [{said}]
         readings = _readings(values.shape[1], time_col, temp_col, firsts, kinds)
@@ -280,25 +285,29 @@ def guess_columns(values: np.ndarray, name: str, lines: list[str],
     if len(readings) == 1:
         names, words = readings[0]
         return names, f"read from the data as {words}" + (f" (and the file's name, {name})" if by_name else "")
-    what = (f"the header row of {name} names no sensor ({', '.join(header)})," if header
-            else f"{name} has no header row")
+    what = f"the header row of {name} names no sensor ({', '.join(header)})," if header else f"{name} has no header row"
     if not readings and guesses:
         candidates = [{"sensors": words, "columns": ",".join(names)} for names, words in guesses[:MAX_CANDIDATES]]
         raise ColumnsAmbiguous(
             f"{what}; its columns read as "
             + "; or ".join(f"{c['sensors']} (columns={c['columns']})" for c in candidates)
             + " only by elimination (one set of three reads as no sensor on its own): say which, with `columns`",
-            candidates, lines[:PREVIEW_LINES])
+            candidates,
+            lines[:PREVIEW_LINES],
+        )
     if not readings:
         raise LogFormatError(
             f"{what} and its {values.shape[1]} columns read as no accelerometer, gyroscope or "
             "magnetometer (three columns each, with a time and a temperature column or not): name them, one per "
             "column in order, with `columns`, e.g. "
-            "columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips a column)")
+            "columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips a column)"
+        )
     shown = readings[:MAX_CANDIDATES]
     candidates = [{"sensors": words, "columns": ",".join(names)} for names, words in shown]
     raise ColumnsAmbiguous(
         f"{what} and its columns can be read more than one way: "
         + "; ".join(f"{c['sensors']} (columns={c['columns']})" for c in candidates)
         + ": say which, with `columns`",
-        candidates, lines[:PREVIEW_LINES])
+        candidates,
+        lines[:PREVIEW_LINES],
+    )

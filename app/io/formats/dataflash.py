@@ -69,11 +69,24 @@ MILLIGAUSS_TO_UT = 0.1
 """MAG's MagX… are in milligauss (libraries/AP_Compass/LogStructure.h: unit G, multiplier C = 1e-3)."""
 GATHER_ROWS = 65_536
 """Messages copied out of the file per numpy gather."""
-STRUCT_TO_NUMPY = {"b": "i1", "B": "u1", "h": "<i2", "H": "<u2", "i": "<i4", "I": "<u4", "q": "<i8", "Q": "<u8",
-                   "f": "<f4", "d": "<f8", "s": "S"}
-DEVICE_PARAMS = {"acc": ("INS_ACC_ID", "INS_ACC2_ID", "INS_ACC3_ID"),
-                 "gyr": ("INS_GYR_ID", "INS_GYR2_ID", "INS_GYR3_ID"),
-                 "mag": ("COMPASS_DEV_ID", "COMPASS_DEV_ID2", "COMPASS_DEV_ID3")}
+STRUCT_TO_NUMPY = {
+    "b": "i1",
+    "B": "u1",
+    "h": "<i2",
+    "H": "<u2",
+    "i": "<i4",
+    "I": "<u4",
+    "q": "<i8",
+    "Q": "<u8",
+    "f": "<f4",
+    "d": "<f8",
+    "s": "S",
+}
+DEVICE_PARAMS = {
+    "acc": ("INS_ACC_ID", "INS_ACC2_ID", "INS_ACC3_ID"),
+    "gyr": ("INS_GYR_ID", "INS_GYR2_ID", "INS_GYR3_ID"),
+    "mag": ("COMPASS_DEV_ID", "COMPASS_DEV_ID2", "COMPASS_DEV_ID3"),
+}
 INSTANCE_FIELDS = ("I", "Inst")
 """The instance fields of logs without FMTU: ``I`` (IMU, MAG, GPS …), ``Inst`` (BAT)."""
 MAG_NAMES = {"MAG": 0, "MAG2": 1, "MAG3": 2}
@@ -101,8 +114,10 @@ def time_us(table: dict, message: str, name: str = "the file") -> np.ndarray:
         return np.asarray(table["TimeUS"]).astype(np.int64)
     if "TimeMS" in table:
         return np.asarray(table["TimeMS"]).astype(np.int64) * 1000
-    raise LogFormatError(f"{name}: its {message} messages have no time field (neither TimeUS nor TimeMS; fields "
-                         f"{', '.join(table)}): trical reads ArduPilot logs that stamp them with either")
+    raise LogFormatError(
+        f"{name}: its {message} messages have no time field (neither TimeUS nor TimeMS; fields "
+        f"{', '.join(table)}): trical reads ArduPilot logs that stamp them with either"
+    )
 
 
 def column(table: dict, message: str, names: tuple[str, ...], name: str = "the file") -> np.ndarray:
@@ -110,8 +125,10 @@ def column(table: dict, message: str, names: tuple[str, ...], name: str = "the f
     for n in names:
         if n in table:
             return table[n]
-    raise LogFormatError(f"{name}: its {message} messages have no {' or '.join(names)} field (fields "
-                         f"{', '.join(table)}): this layout of {message} is not one trical reads")
+    raise LogFormatError(
+        f"{name}: its {message} messages have no {' or '.join(names)} field (fields "
+        f"{', '.join(table)}): this layout of {message} is not one trical reads"
+    )
 
 
 def table(reader, buf: np.ndarray, name: str) -> dict | None:
@@ -129,8 +146,8 @@ def table(reader, buf: np.ndarray, name: str) -> dict | None:
     raw = rows.view(np.uint8).reshape(len(offsets), dtype.itemsize)
     span = np.arange(dtype.itemsize)
     for start in range(0, len(offsets), GATHER_ROWS):  # in blocks: the byte indices of all rows at once are large
-        block = offsets[start:start + GATHER_ROWS]
-        raw[start:start + len(block)] = buf[block[:, None] + span]
+        block = offsets[start : start + GATHER_ROWS]
+        raw[start : start + len(block)] = buf[block[:, None] + span]
     out = {}
     for i, column in enumerate(fmt.columns):
         values = rows[column]
@@ -196,18 +213,27 @@ def _streams(reader, buf, name: str = "the file") -> list[Stream]:
         streams.append(Stream("gyr", instance, "IMU", time, xyz(t, "Gyr", msg), temperature, device("gyr", instance)))
     for sensor, source, prefix in (("acc", "ACC", "Acc"), ("gyr", "GYR", "Gyr")):
         # Older logs name the batch sampler's instances ACC1, ACC2, ACC3 (instances 0, 1, 2).
-        for instance, msg, t in instances(reader, buf, {source: 0, f"{source}1": 0, f"{source}2": 1,
-                                                        f"{source}3": 2}):
+        for instance, msg, t in instances(reader, buf, {source: 0, f"{source}1": 0, f"{source}2": 1, f"{source}3": 2}):
             time = np.asarray(t["SampleUS"]).astype(np.int64) if "SampleUS" in t else time_us(t, msg, name)
             temperature = None
             it, temp = imu_temps.get(instance, (None, None))
             if temp is not None and len(it) >= 2:  # the IMU's T (logged slower) at the batch's times
                 temperature = np.interp(time.astype(float), it.astype(float), temp)
-            streams.append(Stream(sensor, instance, source, time, xyz(t, prefix, msg), temperature,
-                                  device(sensor, instance)))
+            streams.append(
+                Stream(sensor, instance, source, time, xyz(t, prefix, msg), temperature, device(sensor, instance))
+            )
     for instance, msg, t in instances(reader, buf, MAG_NAMES):
-        streams.append(Stream("mag", instance, "MAG", time_us(t, msg, name),
-                              xyz(t, "Mag", msg) * MILLIGAUSS_TO_UT, None, device("mag", instance)))
+        streams.append(
+            Stream(
+                "mag",
+                instance,
+                "MAG",
+                time_us(t, msg, name),
+                xyz(t, "Mag", msg) * MILLIGAUSS_TO_UT,
+                None,
+                device("mag", instance),
+            )
+        )
     return [s for s in streams if s.n_samples]
 
 
@@ -232,9 +258,11 @@ def unknown_layout(name: str, what: str = "an ArduPilot DataFlash log"):
     except LogFormatError:
         raise
     except (KeyError, ValueError, IndexError, TypeError) as exc:
-        raise LogFormatError(f"{name} is {what} its library reads, but trical cannot take its messages apart "
-                             f"({type(exc).__name__}: {exc}): a layout trical does not know yet; the file itself "
-                             "is fine") from None
+        raise LogFormatError(
+            f"{name} is {what} its library reads, but trical cannot take its messages apart "
+            f"({type(exc).__name__}: {exc}): a layout trical does not know yet; the file itself "
+            "is fine"
+        ) from None
 
 
 def open_log(path: Path, name: str = "the file"):
@@ -252,14 +280,24 @@ def open_log(path: Path, name: str = "the file"):
         with contextlib.redirect_stdout(said):  # DFReader prints what it skips; the note carries it
             reader = _indexed_reader(DFReader)(str(path), zero_time_base=True)
     except Exception as exc:  # noqa: BLE001 - DFReader raises many kinds on a damaged file
-        raise LogFormatError(f"{name} starts as an ArduPilot DataFlash log but cannot be read ({type(exc).__name__}: "
-                             f"{exc}): the file is damaged; download the log again (Mission Planner, DataFlash "
-                             "Logs > Download)") from None
+        raise LogFormatError(
+            f"{name} starts as an ArduPilot DataFlash log but cannot be read ({type(exc).__name__}: "
+            f"{exc}): the file is damaged; download the log again (Mission Planner, DataFlash "
+            "Logs > Download)"
+        ) from None
     return reader, np.frombuffer(reader.data_map, dtype=np.uint8), said
 
 
-def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
-         name: str = "the file", **_) -> LogData:
+def read(
+    path: Path,
+    s: Sniff,
+    *,
+    instance: int | None = None,
+    mag_instance: int | None = None,
+    clock: str = "imu",
+    name: str = "the file",
+    **_,
+) -> LogData:
     """Read the IMU instance ``instance`` (and compass ``mag_instance``) of an ArduPilot DataFlash log.
 
     Raises
@@ -271,14 +309,28 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
     with unknown_layout(name):
         streams = _streams(reader, buf, name)
     if not streams:
-        raise LogFormatError(f"{name} is an ArduPilot DataFlash log without IMU samples (no IMU, ACC, GYR or MAG "
-                             "messages; the file may be cut short): log the IMU (LOG_BITMASK with IMU, or "
-                             "INS_LOG_BAT_MASK for the batch sampler)")
-    notes = ["ArduPilot IMU/ACC/GYR/MAG: the body frame (x forward, y right, z down) after AHRS_ORIENTATION and after "
-             "ArduPilot's own calibration (accelerometer offsets and scales, compass offsets OfsX… and scales): a "
-             "calibration from them is what is left over ArduPilot's"]
+        raise LogFormatError(
+            f"{name} is an ArduPilot DataFlash log without IMU samples (no IMU, ACC, GYR or MAG "
+            "messages; the file may be cut short): log the IMU (LOG_BITMASK with IMU, or "
+            "INS_LOG_BAT_MASK for the batch sampler)"
+        )
+    notes = [
+        "ArduPilot IMU/ACC/GYR/MAG: the body frame (x forward, y right, z down) after AHRS_ORIENTATION and after "
+        "ArduPilot's own calibration (accelerometer offsets and scales, compass offsets OfsX… and scales): a "
+        "calibration from them is what is left over ArduPilot's"
+    ]
     if said.getvalue().strip():
         notes.append(f"{name}: pymavlink reported: {said.getvalue().strip()[:200]}")
-    return choose(streams, fmt=NAME, imu_sources=("ACC", "IMU"), gyr_for={"ACC": "GYR", "IMU": "IMU"},
-                  mag_sources=("MAG",), instance=instance, mag_instance=mag_instance, clock=clock,
-                  default_imu=None, notes=notes, name=name)
+    return choose(
+        streams,
+        fmt=NAME,
+        imu_sources=("ACC", "IMU"),
+        gyr_for={"ACC": "GYR", "IMU": "IMU"},
+        mag_sources=("MAG",),
+        instance=instance,
+        mag_instance=mag_instance,
+        clock=clock,
+        default_imu=None,
+        notes=notes,
+        name=name,
+    )

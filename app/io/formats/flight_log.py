@@ -93,8 +93,12 @@ class FlightInfo:
     clock: str = "imu"
 
     def to_dict(self) -> dict:
-        return {"instances": [dict(i) for i in self.instances], "imu": dict(self.imu),
-                "mag": None if self.mag is None else dict(self.mag), "clock": self.clock}
+        return {
+            "instances": [dict(i) for i in self.instances],
+            "imu": dict(self.imu),
+            "mag": None if self.mag is None else dict(self.mag),
+            "clock": self.clock,
+        }
 
 
 BUS_TYPES = {0: "unknown", 1: "i2c", 2: "spi", 3: "uavcan", 4: "simulation", 5: "serial", 6: "mavlink"}
@@ -112,8 +116,12 @@ def decode_device_id(device_id: int | None) -> dict | None:
         return None
     d = int(device_id)
     bus_type = d & 0x7
-    return {"bus_type": BUS_TYPES.get(bus_type, str(bus_type)), "bus": (d >> 3) & 0x1F,
-            "address": (d >> 8) & 0xFF, "devtype": (d >> 16) & 0xFF}
+    return {
+        "bus_type": BUS_TYPES.get(bus_type, str(bus_type)),
+        "bus": (d >> 3) & 0x1F,
+        "address": (d >> 8) & 0xFF,
+        "devtype": (d >> 16) & 0xFF,
+    }
 
 
 def describe_streams(streams: list[Stream]) -> tuple[dict, ...]:
@@ -122,11 +130,19 @@ def describe_streams(streams: list[Stream]) -> tuple[dict, ...]:
     for s in sorted(streams, key=lambda s: ("acc gyr mag".split().index(s.sensor), s.source, s.instance)):
         temp = s.temperature_c[np.isfinite(s.temperature_c)] if s.temperature_c is not None else np.array([])
         rate = s.rate_hz
-        rows.append({"sensor": s.sensor, "instance": s.instance, "source": s.source, "device_id": s.device_id,
-                     "device": decode_device_id(s.device_id), "n_samples": s.n_samples,
-                     "sampling_rate_hz": None if rate is None else round(rate, 6),
-                     "temperature_min_c": float(temp.min()) if temp.size else None,
-                     "temperature_max_c": float(temp.max()) if temp.size else None})
+        rows.append(
+            {
+                "sensor": s.sensor,
+                "instance": s.instance,
+                "source": s.source,
+                "device_id": s.device_id,
+                "device": decode_device_id(s.device_id),
+                "n_samples": s.n_samples,
+                "sampling_rate_hz": None if rate is None else round(rate, 6),
+                "temperature_min_c": float(temp.min()) if temp.size else None,
+                "temperature_max_c": float(temp.max()) if temp.size else None,
+            }
+        )
     return tuple(rows)
 
 
@@ -136,8 +152,10 @@ def _numbers(streams, sensor):
 
 def _refuse_instance(what: str, wanted: int, have: list[int], option: str, name: str, extra: str = ""):
     listed = ", ".join(str(i) for i in have) if have else "none"
-    raise LogFormatError(f"{name} has no {what} instance {wanted}: its {what} instances are {listed}{extra}; give "
-                         f"{option} as one of them (or leave it out for the default)")
+    raise LogFormatError(
+        f"{name} has no {what} instance {wanted}: its {what} instances are {listed}{extra}; give "
+        f"{option} as one of them (or leave it out for the default)"
+    )
 
 
 def pick(streams: list[Stream], sensor: str, instance: int, preferred: tuple[str, ...]) -> Stream | None:
@@ -163,8 +181,17 @@ def _overlap(target: Stream, others: list[Stream]) -> np.ndarray:
     return np.flatnonzero(keep)
 
 
-def build_log(streams: list[Stream], *, fmt: str, imu: Stream, gyr: Stream | None, mag: Stream | None,
-              clock: str, notes: list[str], name: str) -> LogData:
+def build_log(
+    streams: list[Stream],
+    *,
+    fmt: str,
+    imu: Stream,
+    gyr: Stream | None,
+    mag: Stream | None,
+    clock: str,
+    notes: list[str],
+    name: str,
+) -> LogData:
     """One :class:`LogData` of the chosen streams on the clock asked (see the module's docstring)."""
     if clock not in CLOCKS:
         raise LogFormatError(f"unknown clock {clock!r}: use one of {', '.join(CLOCKS)}")
@@ -173,8 +200,10 @@ def build_log(streams: list[Stream], *, fmt: str, imu: Stream, gyr: Stream | Non
     mag_info = None if mag is None else {"instance": mag.instance, "source": mag.source}
     if clock == "mag":
         if mag is None:
-            raise LogFormatError(f"{name} has no magnetometer samples: the compass methods need a log that "
-                                 "recorded the compass (PX4 sensor_mag, ArduPilot MAG)")
+            raise LogFormatError(
+                f"{name} has no magnetometer samples: the compass methods need a log that "
+                "recorded the compass (PX4 sensor_mag, ArduPilot MAG)"
+            )
         others = [imu] + ([gyr] if gyr is not None and gyr is not imu else [])
         idx = _overlap(mag, others)
         if len(idx) < 2:
@@ -184,8 +213,10 @@ def build_log(streams: list[Stream], *, fmt: str, imu: Stream, gyr: Stream | Non
         gyro = None if gyr is None else _onto(t, gyr)
         mags = mag.xyz[idx]
         temperature = None if mag.temperature_c is None else mag.temperature_c[idx]
-        notes.append(f"the compass {mag.source} instance {mag.instance} on its own clock ({mag.n_samples} samples), "
-                     f"with the accelerometer ({imu.source} instance {imu.instance}) interpolated onto its times")
+        notes.append(
+            f"the compass {mag.source} instance {mag.instance} on its own clock ({mag.n_samples} samples), "
+            f"with the accelerometer ({imu.source} instance {imu.instance}) interpolated onto its times"
+        )
         time_us = mag.time_us[idx]
     else:
         acc, mags = imu.xyz, None
@@ -198,16 +229,21 @@ def build_log(streams: list[Stream], *, fmt: str, imu: Stream, gyr: Stream | Non
             else:
                 idx = _overlap(imu, [gyr])
                 if len(idx) < 2:
-                    raise LogFormatError(f"{name}: the gyroscope's samples do not overlap the accelerometer's in "
-                                         "time: record both")
+                    raise LogFormatError(
+                        f"{name}: the gyroscope's samples do not overlap the accelerometer's in time: record both"
+                    )
                 time_us, acc = imu.time_us[idx], imu.xyz[idx]
                 temperature = None if temperature is None else temperature[idx]
                 gyro = _onto(time_us.astype(float), gyr)
-                notes.append(f"the gyroscope ({gyr.source} instance {gyr.instance}) interpolated onto the "
-                             f"accelerometer's times ({imu.source} instance {imu.instance})")
+                notes.append(
+                    f"the gyroscope ({gyr.source} instance {gyr.instance}) interpolated onto the "
+                    f"accelerometer's times ({imu.source} instance {imu.instance})"
+                )
         if mag is not None:
-            notes.append(f"the compass ({mag.source} instance {mag.instance}, {mag.n_samples} samples) is read on its "
-                         "own clock by the compass methods (magnetometer, noise of mag)")
+            notes.append(
+                f"the compass ({mag.source} instance {mag.instance}, {mag.n_samples} samples) is read on its "
+                "own clock by the compass methods (magnetometer, noise of mag)"
+            )
     t0 = int(time_us[0])
     time_s = (np.asarray(time_us, dtype=np.int64) - t0) * 1e-6
     units = {"acc": "m/s^2"}
@@ -217,16 +253,35 @@ def build_log(streams: list[Stream], *, fmt: str, imu: Stream, gyr: Stream | Non
         units["mag"] = "uT"
     if temperature is not None and not np.isfinite(temperature).any():
         temperature = None
-    return LogData(acc=np.asarray(acc, dtype=float), gyr=None if gyro is None else np.asarray(gyro, dtype=float),
-                   mag=None if mags is None else np.asarray(mags, dtype=float), time_s=time_s,
-                   sampling_rate_hz=None, units=units, format=fmt, columns=[],
-                   notes=tuple(notes), temperature_c=None if temperature is None else np.asarray(temperature, float),
-                   flight=FlightInfo(instances=describe_streams(streams), imu=imu_info, mag=mag_info, clock=clock))
+    return LogData(
+        acc=np.asarray(acc, dtype=float),
+        gyr=None if gyro is None else np.asarray(gyro, dtype=float),
+        mag=None if mags is None else np.asarray(mags, dtype=float),
+        time_s=time_s,
+        sampling_rate_hz=None,
+        units=units,
+        format=fmt,
+        columns=[],
+        notes=tuple(notes),
+        temperature_c=None if temperature is None else np.asarray(temperature, float),
+        flight=FlightInfo(instances=describe_streams(streams), imu=imu_info, mag=mag_info, clock=clock),
+    )
 
 
-def choose(streams: list[Stream], *, fmt: str, imu_sources: tuple[str, ...], gyr_for: dict[str, str],
-           mag_sources: tuple[str, ...], instance: int | None, mag_instance: int | None, clock: str,
-           default_imu: Stream | None, notes: list[str], name: str) -> LogData:
+def choose(
+    streams: list[Stream],
+    *,
+    fmt: str,
+    imu_sources: tuple[str, ...],
+    gyr_for: dict[str, str],
+    mag_sources: tuple[str, ...],
+    instance: int | None,
+    mag_instance: int | None,
+    clock: str,
+    default_imu: Stream | None,
+    notes: list[str],
+    name: str,
+) -> LogData:
     """Pick the IMU and compass instances asked (or the defaults) and build the log.
 
     ``imu_sources`` (and ``mag_sources``) list the messages of each sensor by preference: ArduPilot's
@@ -237,8 +292,10 @@ def choose(streams: list[Stream], *, fmt: str, imu_sources: tuple[str, ...], gyr
     """
     accs = _numbers(streams, "acc")
     if not accs:
-        raise LogFormatError(f"{name} holds no accelerometer samples (PX4 sensor_accel or sensor_combined, "
-                             "ArduPilot IMU or ACC): log the IMU (PX4 SDLOG_PROFILE, ArduPilot LOG_BITMASK IMU)")
+        raise LogFormatError(
+            f"{name} holds no accelerometer samples (PX4 sensor_accel or sensor_combined, "
+            "ArduPilot IMU or ACC): log the IMU (PX4 SDLOG_PROFILE, ArduPilot LOG_BITMASK IMU)"
+        )
     if instance is None:
         imu = default_imu or pick(streams, "acc", accs[0], imu_sources)
     else:

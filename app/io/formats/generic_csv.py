@@ -37,8 +37,20 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, LogData
-from .table import (BAD_LINE, SNIFF_BYTES, WHITESPACE, Sniff, decode_head, guess_decimal, guess_delimiter,
-                    is_comment, numeric_layout, read_columns, split_row, text_block_cell)
+from .table import (
+    BAD_LINE,
+    SNIFF_BYTES,
+    WHITESPACE,
+    Sniff,
+    decode_head,
+    guess_decimal,
+    guess_delimiter,
+    is_comment,
+    numeric_layout,
+    read_columns,
+    split_row,
+    text_block_cell,
+)
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
 from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
@@ -50,14 +62,18 @@ _AXIS = r"[ _.\-]?(?:\(?)(?P<axis>[xyz])(?:\)?)"
 _UNIT = r"(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?"
 PATTERNS = {
     "acc": re.compile(rf"^(?:acc|accel|accelerometer|acceleration|a)?{_AXIS}(?:[ _]?axis)?{_UNIT}$"),
-    "gyr": re.compile(rf"^(?:gyr|gyro|gyroscope|g|angular[ _]velocity|rotation[ _]rate|w){_AXIS}(?:[ _]?axis)?{_UNIT}$"),
+    "gyr": re.compile(
+        rf"^(?:gyr|gyro|gyroscope|g|angular[ _]velocity|rotation[ _]rate|w){_AXIS}(?:[ _]?axis)?{_UNIT}$"
+    ),
     "mag": re.compile(rf"^(?:mag|magn|magnetometer|magnetic[ _]field|m|b){_AXIS}(?:[ _]?axis)?{_UNIT}$"),
 }
 _TIME = re.compile(
     r"^(?:t|time|timestamp|times|elapsed|seconds_elapsed|time_elapsed)"
     r"(?:[ _]?(?P<suffix>s|sec|ms|us|ns))?(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?$"
 )
-_TEMPERATURE = re.compile(r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature_c)(?:\s*[\(\[](?:°\s*c|deg\s*c|degc|c)[\)\]])?$|^t\s*[\(\[](?:°\s*c|deg\s*c|degc)[\)\]]$")
+_TEMPERATURE = re.compile(
+    r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature_c)(?:\s*[\(\[](?:°\s*c|deg\s*c|degc|c)[\)\]])?$|^t\s*[\(\[](?:°\s*c|deg\s*c|degc)[\)\]]$"
+)
 """A column of the sensor's temperature in °C (``temp_c``, ``temp``, ``temperature``, ``T (°C)``)."""
 _INDEX = re.compile(r"^(?:index|idx|i|n|sample|sample_index|#)$")
 _LINEAR = re.compile(r"linear|user[ _]?acc|without[ _]g|gravity[ _]removed")
@@ -75,11 +91,33 @@ _ACC_AXIS = re.compile(r"^(?=.*(?i:acc)).*(?:[ _.\-]\(?[xyzXYZ]\)?|[a-z][XYZ])(?
 ``accuracy``)."""
 
 _UNIT_ALIASES = {
-    "m/s^2": "m/s^2", "m/s2": "m/s^2", "m/s²": "m/s^2", "ms^-2": "m/s^2", "m s^-2": "m/s^2",
-    "g": "g", "rad/s": "rad/s", "deg/s": "deg/s", "°/s": "deg/s", "dps": "deg/s",
-    "ut": "uT", "µt": "uT", "μt": "uT", "nt": "nT", "raw": "raw", "lsb": "raw", "counts": "raw",
-    "g's": "g", "gs": "g", "radians/s": "rad/s", "radians/second": "rad/s", "degrees/s": "deg/s",
-    "degrees/second": "deg/s", "microtesla": "uT", "microteslas": "uT", "nanotesla": "nT", "nanoteslas": "nT",
+    "m/s^2": "m/s^2",
+    "m/s2": "m/s^2",
+    "m/s²": "m/s^2",
+    "ms^-2": "m/s^2",
+    "m s^-2": "m/s^2",
+    "g": "g",
+    "rad/s": "rad/s",
+    "deg/s": "deg/s",
+    "°/s": "deg/s",
+    "dps": "deg/s",
+    "ut": "uT",
+    "µt": "uT",
+    "μt": "uT",
+    "nt": "nT",
+    "raw": "raw",
+    "lsb": "raw",
+    "counts": "raw",
+    "g's": "g",
+    "gs": "g",
+    "radians/s": "rad/s",
+    "radians/second": "rad/s",
+    "degrees/s": "deg/s",
+    "degrees/second": "deg/s",
+    "microtesla": "uT",
+    "microteslas": "uT",
+    "nanotesla": "nT",
+    "nanoteslas": "nT",
 }
 _TIME_SCALE = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9}
 
@@ -146,7 +184,7 @@ def leading_prose(lines: list[str]) -> list[int]:
     when it splits into names by the numbers' separator (for spaces: as many as the numbers), and the
     others are prose. None when no rows of numbers begin within :data:`MAX_PROSE_LINES` lines.
     """
-    content = [i for i, ln in enumerate(lines) if ln.strip() and not is_comment(ln)][:MAX_PROSE_LINES + 2]
+    content = [i for i, ln in enumerate(lines) if ln.strip() and not is_comment(ln)][: MAX_PROSE_LINES + 2]
     for k, start in enumerate(content):
         numeric = numeric_layout(lines[start:])
         if numeric is None:
@@ -160,6 +198,8 @@ def leading_prose(lines: list[str]) -> list[int]:
         header = len(fields) == width if delimiter == WHITESPACE else delimiter in last and len(fields) >= 2
         return before[:-1] if header else before
     return []
+
+
 _DELIMITER_WORDS = {",": "commas", ";": "semicolons", "\t": "tabs", WHITESPACE: "spaces"}
 
 
@@ -185,17 +225,28 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     lines = text.splitlines()
     prose = leading_prose(lines)
     start = prose[-1] + 1 if prose else 0
-    skipped = [] if not prose else [
-        f"line{'s' if len(prose) > 1 else ''} {', '.join(str(i + 1) for i in prose)} skipped before the table: "
-        f"neither a header nor numbers ({', '.join(repr(lines[i].strip()[:40]) for i in prose[:3])}"
-        f"{', …' if len(prose) > 3 else ''})"]
+    skipped = (
+        []
+        if not prose
+        else [
+            f"line{'s' if len(prose) > 1 else ''} {', '.join(str(i + 1) for i in prose)} skipped before the table: "
+            f"neither a header nor numbers ({', '.join(repr(lines[i].strip()[:40]) for i in prose[:3])}"
+            f"{', …' if len(prose) > 3 else ''})"
+        ]
+    )
     numeric = numeric_layout(lines[start:])
     if numeric is not None:
         delimiter, decimal, width = numeric
         skip = next(i for i, ln in enumerate(lines) if i >= start and ln.strip() and not is_comment(ln))
         names = column_names or [f"column {i + 1}" for i in range(width)]  # else named from the data (.columns)
-        notes = skipped + ([f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, named by "
-                            f"columns {', '.join(column_names)}"] if column_names else [])
+        notes = skipped + (
+            [
+                f"no header row: {width} columns separated by {_DELIMITER_WORDS[delimiter]}, named by "
+                f"columns {', '.join(column_names)}"
+            ]
+            if column_names
+            else []
+        )
         layout = Layout(skip, delimiter, decimal, list(names), True, tuple(notes))
     else:
         _refuse_a_bad_first_line(lines, name, start)
@@ -208,8 +259,10 @@ def table_layout(text: str, name: str = "the file", column_names: list[str] | No
     if column_names and len(column_names) != width:
         hint = ""
         if layout.delimiter == ",":
-            hint = (". Numbers with decimal commas (0,5) cannot be told from a comma separator: save the "
-                    "log with semicolons or tabs between the columns")
+            hint = (
+                ". Numbers with decimal commas (0,5) cannot be told from a comma separator: save the "
+                "log with semicolons or tabs between the columns"
+            )
         raise LogFormatError(
             f"columns names {len(column_names)} columns ({', '.join(column_names)}) but {name} has {width} "
             f"per line, separated by {_DELIMITER_WORDS[layout.delimiter]}: give one name per column, in "
@@ -244,9 +297,11 @@ def _refuse_a_bad_first_line(lines: list[str], name: str, start: int = 0) -> Non
     bad = [(c, cell) for c, cell in enumerate(cells) if not _number(cell)]
     if len(cells) == width and 0 < len(bad) <= width // 2:
         column, text = bad[0]
-        raise LogFormatError(f"{name}: line {number}, column {column + 1}: {text[:40]!r} is not a number: every "
-                             "column of a table without a header row must hold numbers; fix or remove that line",
-                             code=BAD_LINE)
+        raise LogFormatError(
+            f"{name}: line {number}, column {column + 1}: {text[:40]!r} is not a number: every "
+            "column of a table without a header row must hold numbers; fix or remove that line",
+            code=BAD_LINE,
+        )
 
 
 def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]:
@@ -282,8 +337,11 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
                     break
     linear = [n for n in names if _LINEAR.search(normalise(n))]
     if linear and "acc" not in channels:
-        others = [n for n in names if _ACC_AXIS.search(n.strip()) and not _LINEAR.search(normalise(n))
-                  and "gravity" not in normalise(n)]
+        others = [
+            n
+            for n in names
+            if _ACC_AXIS.search(n.strip()) and not _LINEAR.search(normalise(n)) and "gravity" not in normalise(n)
+        ]
         if others:  # the linear columns are not all there is: ask which are the accelerometer
             listed = ", ".join(repr(n.strip()[:40]) for n in others[:6]) + (" …" if len(others) > 6 else "")
             raise LogFormatError(
@@ -348,16 +406,23 @@ def renamed(names: list[str], column_map: dict | None) -> list[str]:
     for canonical, column in column_map.items():
         if column not in stripped:
             listed = ", ".join(repr(n) for n in stripped)
-            raise LogFormatError(f"columns maps {canonical} to {column!r}, which is not a column of the header "
-                                 f"({listed}): use one of those names")
+            raise LogFormatError(
+                f"columns maps {canonical} to {column!r}, which is not a column of the header "
+                f"({listed}): use one of those names"
+            )
         out[stripped.index(column)] = canonical
     return out
 
 
-
-def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None,
-                 name: str = "the file", column_map: dict | None = None,
-                 column_names: list[str] | None = None) -> LogData:
+def read_csv_log(
+    path: Path,
+    *,
+    sampling_rate_hz: float | None = None,
+    units: dict | None = None,
+    name: str = "the file",
+    column_map: dict | None = None,
+    column_names: list[str] | None = None,
+) -> LogData:
     """Read a generic CSV log into arrays, its units as the caller or the header name them.
 
     Parameters
@@ -402,22 +467,37 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
     sensors = [channels[sensor][a] for sensor in ("acc", "gyr", "mag") if sensor in channels for a in "xyz"]
     used += sensors
     notes = list(layout.notes)
-    values = dict(zip(used, read_columns(Path(path), skip_lines=layout.skip_lines, n_columns=len(names),
-                                         columns=used, delimiter=layout.delimiter, decimal=layout.decimal,
-                                         name=name, column_names=names, first_line=layout.skip_lines + 1,
-                                         drop_empty=tuple(sensors), notes=notes)))
+    values = dict(
+        zip(
+            used,
+            read_columns(
+                Path(path),
+                skip_lines=layout.skip_lines,
+                n_columns=len(names),
+                columns=used,
+                delimiter=layout.delimiter,
+                decimal=layout.decimal,
+                name=name,
+                column_names=names,
+                first_line=layout.skip_lines + 1,
+                drop_empty=tuple(sensors),
+                notes=notes,
+            ),
+        )
+    )
     arrays = {s: np.column_stack([values[channels[s][a]] for a in "xyz"]) for s in channels}
     time = values[time_col] if time_col is not None else None
     try:
-        time_s = _time_seconds(time, time_scale, None if time_col is None else names[time_col], sampling_rate_hz,
-                               notes)
+        time_s = _time_seconds(time, time_scale, None if time_col is None else names[time_col], sampling_rate_hz, notes)
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
         other = ",".join("-" if c == time_col else n for c, n in enumerate(names))
-        raise LogFormatError(f"{exc}. {name} has no header row, and its column {time_col + 1} rises at every line, "
-                             f"so it was read as the time: if it is not a time, name the columns with `columns`, e.g. columns={other}") from None
-    stated_rate = None if time_s is not None else rate_from_comments(text.splitlines()[:layout.skip_lines])
+        raise LogFormatError(
+            f"{exc}. {name} has no header row, and its column {time_col + 1} rises at every line, "
+            f"so it was read as the time: if it is not a time, name the columns with `columns`, e.g. columns={other}"
+        ) from None
+    stated_rate = None if time_s is not None else rate_from_comments(text.splitlines()[: layout.skip_lines])
     if stated_rate is not None and sampling_rate_hz is None:
         notes.append(f"no time column: the rate {stated_rate:g} Hz its comment line states is used")
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
@@ -425,11 +505,22 @@ def read_csv_log(path: Path, *, sampling_rate_hz: float | None = None, units: di
         accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
         if unit not in accepted:
             raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(accepted)}")
-    return with_timing(LogData(
-        acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=time_s,
-        sampling_rate_hz=stated_rate, units=final_units, format="csv", columns=names, notes=tuple(notes),
-        temperature_c=values[temp_col] if temp_col is not None else None,
-    ), sampling_rate_hz, name)
+    return with_timing(
+        LogData(
+            acc=arrays.get("acc"),
+            gyr=arrays.get("gyr"),
+            mag=arrays.get("mag"),
+            time_s=time_s,
+            sampling_rate_hz=stated_rate,
+            units=final_units,
+            format="csv",
+            columns=names,
+            notes=tuple(notes),
+            temperature_c=values[temp_col] if temp_col is not None else None,
+        ),
+        sampling_rate_hz,
+        name,
+    )
 
 
 def _refuse_text_block(text: str, layout, name: str) -> None:
@@ -440,7 +531,8 @@ def _refuse_text_block(text: str, layout, name: str) -> None:
         raise LogFormatError(
             f"{name}: line {line}, column {column!r} holds a block of text over several lines ({first!r} …), not "
             "a number: trical reads one number per column and row, so no columns mapping can read it; write each "
-            "reading in a column of its own (e.g. acc_x, acc_y, acc_z), one row per sample")
+            "reading in a column of its own (e.g. acc_x, acc_y, acc_z), one row per sample"
+        )
 
 
 def _mapped_layout(path: Path, layout, column_map: dict | None, column_names: list[str] | None, name: str):
@@ -452,8 +544,12 @@ def _mapped_layout(path: Path, layout, column_map: dict | None, column_names: li
     except LogFormatError as exc:
         # A header naming no sensor (north, east, down): the columns named from the data if they can be, the
         # header's refusal (with how to map it by hand) if they cannot.
-        if column_map or column_names or not _NO_SENSOR.match(str(exc)) or \
-                any(p.match(normalise(n)) for n in names for p in PATTERNS.values()):
+        if (
+            column_map
+            or column_names
+            or not _NO_SENSOR.match(str(exc))
+            or any(p.match(normalise(n)) for n in names for p in PATTERNS.values())
+        ):
             raise  # a header naming part of a sensor says what it holds: its refusal says what is missing
         try:
             layout = _named_from_data(path, layout, name, header=names)
@@ -465,8 +561,7 @@ def _mapped_layout(path: Path, layout, column_map: dict | None, column_names: li
     return layout, channels, time_col, time_scale
 
 
-def _time_seconds(time, time_scale: float | None, column: str | None, sampling_rate_hz: float | None,
-                  notes: list[str]):
+def _time_seconds(time, time_scale: float | None, column: str | None, sampling_rate_hz: float | None, notes: list[str]):
     """Seconds since the first sample from the time column (None without one, or when its unit is unclear and
     the rate was given: a note says so); its unit from its step when the header does not name it."""
     if time is None or len(time) < 2:
@@ -492,12 +587,21 @@ def _named_from_data(path: Path, layout: Layout, name: str, header: list[str] | 
     read (:mod:`.columns`)."""
     width = len(layout.names)
     with open(path, encoding="utf-8-sig", errors="replace") as f:
-        head = [ln.rstrip("\r\n") for _, ln in zip(range(layout.skip_lines + PREVIEW_LINES), f)][layout.skip_lines:]
+        head = [ln.rstrip("\r\n") for _, ln in zip(range(layout.skip_lines + PREVIEW_LINES), f)][layout.skip_lines :]
     try:
-        data = np.column_stack(read_columns(Path(path), skip_lines=layout.skip_lines, n_columns=width,
-                                            columns=list(range(width)), delimiter=layout.delimiter,
-                                            decimal=layout.decimal, name=name, column_names=layout.names,
-                                            first_line=layout.skip_lines + 1))
+        data = np.column_stack(
+            read_columns(
+                Path(path),
+                skip_lines=layout.skip_lines,
+                n_columns=width,
+                columns=list(range(width)),
+                delimiter=layout.delimiter,
+                decimal=layout.decimal,
+                name=name,
+                column_names=layout.names,
+                first_line=layout.skip_lines + 1,
+            )
+        )
     except LogFormatError:
         # A line that is not numbers: the columns are named from the lines before it, and the reading with
         # those names then says which line, which column and what text.
@@ -505,9 +609,11 @@ def _named_from_data(path: Path, layout: Layout, name: str, header: list[str] | 
         if data is None:
             raise
     names, why = guess_columns(data, Path(name).name, head, header=header)
-    said = (f"the header's columns ({', '.join(header)}) name no sensor" if header else "no header row")
-    note = (f"{said}: {width} columns separated by {_DELIMITER_WORDS[layout.delimiter]}, {why}: "
-            f"{', '.join(names)} (give columns to read them otherwise)")
+    said = f"the header's columns ({', '.join(header)}) name no sensor" if header else "no header row"
+    note = (
+        f"{said}: {width} columns separated by {_DELIMITER_WORDS[layout.delimiter]}, {why}: "
+        f"{', '.join(names)} (give columns to read them otherwise)"
+    )
     return dataclasses.replace(layout, names=names, notes=(note,) + layout.notes)
 
 
@@ -585,24 +691,50 @@ def header_units(text: str, column_map: dict | None = None) -> dict:
         return {}
 
 
-def read_csv(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
-             fmt: str = CSV, column_map: dict | None = None, column_names: list[str] | None = None, **_) -> LogData:
+def read_csv(
+    path: Path,
+    s: Sniff,
+    *,
+    sampling_rate_hz=None,
+    units=None,
+    name="the file",
+    lsb_per_g=None,
+    fmt: str = CSV,
+    column_map: dict | None = None,
+    column_names: list[str] | None = None,
+    **_,
+) -> LogData:
     """Read a generic CSV log, its units as the caller or the header name them (settled from the data
     by :func:`app.io.formats.units.settle_units`)."""
     units = units or {}
-    log = read_csv_log(path, sampling_rate_hz=sampling_rate_hz, units=units, name=name, column_map=column_map,
-                       column_names=column_names)
+    log = read_csv_log(
+        path,
+        sampling_rate_hz=sampling_rate_hz,
+        units=units,
+        name=name,
+        column_map=column_map,
+        column_names=column_names,
+    )
     return dataclasses.replace(log, format=fmt)
 
 
-def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None,
-                 **kw) -> LogData:
+def read_arduino(
+    path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None, **kw
+) -> LogData:
     """Read Arduino output: Serial Plotter ``label:value`` lines, or a CSV with an ``lsb_per_g`` comment."""
     data = _data_lines(s.lines)
     if not (data and _PLOTTER_LINE.match(data[0])):
-        return read_csv(path, s, sampling_rate_hz=sampling_rate_hz, units=units, name=name,
-                        lsb_per_g=lsb_per_g, fmt=ARDUINO, column_map=kw.get("column_map"),
-                        column_names=kw.get("column_names"))
+        return read_csv(
+            path,
+            s,
+            sampling_rate_hz=sampling_rate_hz,
+            units=units,
+            name=name,
+            lsb_per_g=lsb_per_g,
+            fmt=ARDUINO,
+            column_map=kw.get("column_map"),
+            column_names=kw.get("column_names"),
+        )
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
     first = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(data[0]))
@@ -617,7 +749,7 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
     if set(channels.get("acc", {})) != {"x", "y", "z"}:
         raise LogFormatError(
             f"the Serial Plotter labels of {name} ({', '.join(labels)}) name no accelerometer x, y and z: "
-            "print them as ax:…, ay:…, az:… (Serial.print(\"ax:\"); Serial.print(ax); …)"
+            'print them as ax:…, ay:…, az:… (Serial.print("ax:"); Serial.print(ax); …)'
         )
     channels = {k: v for k, v in channels.items() if set(v) == {"x", "y", "z"}}
     rows: dict[str, list[list[float]]] = {k: [] for k in channels}
@@ -629,14 +761,20 @@ def read_arduino(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, nam
             for sensor, axes in channels.items():
                 rows[sensor].append([float(pairs[axes[a]]) for a in "xyz"])
         except (KeyError, ValueError):
-            raise LogFormatError(f"{name}: line {number} {line[:60]!r} lacks a number for one of "
-                                 f"{', '.join(v for ax in channels.values() for v in ax.values())}") from None
+            raise LogFormatError(
+                f"{name}: line {number} {line[:60]!r} lacks a number for one of "
+                f"{', '.join(v for ax in channels.values() for v in ax.values())}"
+            ) from None
     arrays = {k: np.asarray(v, dtype=float) for k, v in rows.items()}
     units = units or {}
     log = LogData(
-        acc=arrays["acc"], gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=None,
+        acc=arrays["acc"],
+        gyr=arrays.get("gyr"),
+        mag=arrays.get("mag"),
+        time_s=None,
         sampling_rate_hz=None,
         units={k: units.get(k) or {"acc": "m/s^2", "gyr": "raw", "mag": "raw"}[k] for k in arrays},
-        format=ARDUINO, columns=labels,
+        format=ARDUINO,
+        columns=labels,
     )
     return log

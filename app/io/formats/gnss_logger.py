@@ -46,8 +46,9 @@ def _layouts(lines: list[str]) -> dict[str, list[str]]:
     return out
 
 
-def _records(lines: list[tuple[int, str]], record: str, layout: list[str], columns: tuple[str, ...],
-             name: str) -> tuple[np.ndarray, np.ndarray]:
+def _records(
+    lines: list[tuple[int, str]], record: str, layout: list[str], columns: tuple[str, ...], name: str
+) -> tuple[np.ndarray, np.ndarray]:
     want = [layout.index(TIME)] + [layout.index(c) for c in columns]
     rows = []
     for number, line in lines:
@@ -80,8 +81,9 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         layout = layouts.get(record) or [record, "utcTimeMillis", TIME, *columns]
         missing = [c for c in (TIME, *columns) if c not in layout]
         if missing:
-            raise LogFormatError(f"the {record} header of {name} lacks {', '.join(missing)}: it names "
-                                 f"{', '.join(layout[1:])}")
+            raise LogFormatError(
+                f"the {record} header of {name} lacks {', '.join(missing)}: it names {', '.join(layout[1:])}"
+            )
         streams[sensor] = _records(by_type[record], record, layout, columns, name)
     if "acc" not in streams and "mag" not in streams:
         raise LogFormatError(
@@ -96,9 +98,13 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     units = units or {}
     arrays = {base: acc, **aligned}
     return LogData(
-        acc=arrays.get("acc"), gyr=arrays.get("gyr"), mag=arrays.get("mag"), time_s=time_s,
+        acc=arrays.get("acc"),
+        gyr=arrays.get("gyr"),
+        mag=arrays.get("mag"),
+        time_s=time_s,
         sampling_rate_hz=None,
         units={k: units.get(k) or RECORDS[k][2] for k in arrays},
-        format=NAME, columns=list(layouts.get(RECORDS[base][0]) or []),
+        format=NAME,
+        columns=list(layouts.get(RECORDS[base][0]) or []),
         notes=(f"{RECORDS[base][0]} readings without the platform's bias estimate",),
     )

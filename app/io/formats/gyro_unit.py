@@ -24,8 +24,10 @@ from ...calibration.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
 from .chips import GYR_LSB_PER_DPS, GYR_RANGE
 
 DEG = math.pi / 180.0
-GYR_NOISE_RANGE_DPS_RTHZ = (min(p.noise_dps_rthz for p in GYR_PARTS) / 2.0,
-                            max(p.noise_dps_rthz for p in GYR_PARTS) * 30.0)
+GYR_NOISE_RANGE_DPS_RTHZ = (
+    min(p.noise_dps_rthz for p in GYR_PARTS) / 2.0,
+    max(p.noise_dps_rthz for p in GYR_PARTS) * 30.0,
+)
 """A still gyroscope's white rate noise, °/s/√Hz, read at τ = 0.1 s (below any filter's corner): from half
 the quietest part's datasheet figure to thirty times the noisiest's (a worn board, a simulation's
 generous noise; a real MPU-6050 reads 0.009). Only halved below: rad/s and °/s differ by 57, and a
@@ -85,8 +87,15 @@ def _mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Hamilton products of quaternions (w, x, y, z), broadcast over leading axes."""
     w1, x1, y1, z1 = np.moveaxis(p, -1, 0)
     w2, x2, y2, z2 = np.moveaxis(q, -1, 0)
-    return np.stack([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                     w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2], axis=-1)
+    return np.stack(
+        [
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        ],
+        axis=-1,
+    )
 
 
 def compose(rotvecs: np.ndarray) -> np.ndarray:
@@ -141,7 +150,7 @@ def rest_figures(gyr: np.ndarray, run: tuple[int, int], fs: float | None) -> tup
     """The offset (median at rest) and, when the readings are fine enough, the white rate noise density
     in the readings' unit per √Hz: the Allan deviation at τ = 0.1 s times √τ (IEEE Std 952-1997, annex
     C: σ(τ) = N/√τ), free of a low-pass filter's narrowing of the band above 5 Hz."""
-    still = np.asarray(gyr[run[0]:min(run[1], run[0] + 200_000)], dtype=float)  # plenty for an offset and a noise
+    still = np.asarray(gyr[run[0] : min(run[1], run[0] + 200_000)], dtype=float)  # plenty for an offset and a noise
     offset = np.median(still, axis=0)
     if fs is None:
         return offset, None
@@ -154,8 +163,9 @@ def rest_figures(gyr: np.ndarray, run: tuple[int, int], fs: float | None) -> tup
     return offset, float(np.median(adev)) * math.sqrt(m / fs)
 
 
-def gyro_evidence(gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: float | None,
-                  time_s: np.ndarray | None) -> GyroEvidence:
+def gyro_evidence(
+    gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: float | None, time_s: np.ndarray | None
+) -> GyroEvidence:
     """What the gyroscope's data say of its unit: at rest its offset and noise against what a MEMS
     gyroscope can read, turned its integral against gravity's turn between rests.
 
@@ -184,8 +194,14 @@ def gyro_evidence(gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: f
     least = max(10, int(round(MIN_REST_S * (fs or 100.0))))
     runs = [r for r in runs if r[1] - r[0] >= least]
     if not runs:  # never still for a second: neither an offset nor a noise to read, nor turns between rests
-        return GyroEvidence(None, f"it never rests for {MIN_REST_S:g} s, so neither its offset nor its noise "
-                                  "shows its unit", math.nan, {}, 0, False)
+        return GyroEvidence(
+            None,
+            f"it never rests for {MIN_REST_S:g} s, so neither its offset nor its noise shows its unit",
+            math.nan,
+            {},
+            0,
+            False,
+        )
     longest = max(runs, key=lambda r: r[1] - r[0])
     offset, noise = rest_figures(gyr, longest, fs)
     off = float(np.linalg.norm(offset))
@@ -204,8 +220,11 @@ def gyro_evidence(gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: f
         plausible[key], said[key] = ok, words
     errors, moves = {}, 0
     if ref is not None and len(runs) >= 2 and (fs or time_s is not None):
-        dt = np.diff(time_s, append=time_s[-1] + (time_s[-1] - time_s[-2])) if time_s is not None and len(time_s) > 2 \
+        dt = (
+            np.diff(time_s, append=time_s[-1] + (time_s[-1] - time_s[-2]))
+            if time_s is not None and len(time_s) > 2
             else np.full(len(gyr), 1.0 / fs)
+        )
         errors, moves = turn_errors(np.asarray(gyr, float), np.asarray(ref, float), runs, dt, scales)
     if errors:
         ranked = sorted(errors, key=errors.get)
@@ -213,19 +232,42 @@ def gyro_evidence(gyr: np.ndarray, *, whole: bool, acc: np.ndarray | None, fs: f
         e2 = errors[ranked[1]] if len(ranked) > 1 else math.inf
         if e1 <= TURN_TOLERANCE_DEG and e2 >= 2.0 * e1 + TURN_TOLERANCE_DEG and plausible[best]:
             others = ", ".join(f"{unit_words(k)} {errors[k]:.0f}°" for k in ranked[1:])
-            return GyroEvidence(best, f"its integral over {moves} turn{'s' if moves > 1 else ''} between rests "
-                                      f"lands within {e1:.1f}° of gravity's direction in {unit_words(best)} "
-                                      f"(off by {others})", off, errors, moves)
+            return GyroEvidence(
+                best,
+                f"its integral over {moves} turn{'s' if moves > 1 else ''} between rests "
+                f"lands within {e1:.1f}° of gravity's direction in {unit_words(best)} "
+                f"(off by {others})",
+                off,
+                errors,
+                moves,
+            )
     left = [k for k, ok in plausible.items() if ok]
     if len(left) == 1 and not whole:
         gone = next(k for k in scales if k not in left)
         by_offset_alone = sum(by_offset.values()) == 1
         far = off * scales[gone] / DEG > FIRM_FACTOR * GYRO_BIAS_MAX_DPS
         firm = by_offset_alone and (ref is not None or far)
-        return GyroEvidence(left[0], f"{said[gone]}, beyond what a MEMS gyroscope reads (an offset within "
-                                     f"{GYRO_BIAS_MAX_DPS:g} °/s, a noise within {lo_noise:g}–{hi_noise:g} °/s/√Hz)",
-                            off, errors, moves, firm)
-    return GyroEvidence(None, f"a still offset of {off:.3g}" + (f" and a noise of {noise:.2g} per √Hz" if noise else "")
-                        + " fit " + " and ".join(unit_words(k) for k in left or scales)
-                        + (", and no turn between rests shows its scale" if not errors else
-                           ", and its turns between rests do not single out one scale"), off, errors, moves)
+        return GyroEvidence(
+            left[0],
+            f"{said[gone]}, beyond what a MEMS gyroscope reads (an offset within "
+            f"{GYRO_BIAS_MAX_DPS:g} °/s, a noise within {lo_noise:g}–{hi_noise:g} °/s/√Hz)",
+            off,
+            errors,
+            moves,
+            firm,
+        )
+    return GyroEvidence(
+        None,
+        f"a still offset of {off:.3g}"
+        + (f" and a noise of {noise:.2g} per √Hz" if noise else "")
+        + " fit "
+        + " and ".join(unit_words(k) for k in left or scales)
+        + (
+            ", and no turn between rests shows its scale"
+            if not errors
+            else ", and its turns between rests do not single out one scale"
+        ),
+        off,
+        errors,
+        moves,
+    )

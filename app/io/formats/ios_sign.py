@@ -77,13 +77,20 @@ def settle_sign(log: LogData, sign: int | None) -> LogData:
             return log
         named = ", ".join(cues[:MAX_NAMED]) + (", …" if len(cues) > MAX_NAMED else "")
         if log.units.get("acc") != "g":
-            return dataclasses.replace(log, notes=tuple(log.notes) + (
-                f"the header names Core Motion columns ({named}) but the readings are in {log.units.get('acc')}, "
-                "not Core Motion's g: an app converted them, so their sign is kept as it is; pass sign=-1 if "
-                "the up axis reads -g",))
+            return dataclasses.replace(
+                log,
+                notes=tuple(log.notes)
+                + (
+                    f"the header names Core Motion columns ({named}) but the readings are in {log.units.get('acc')}, "
+                    "not Core Motion's g: an app converted them, so their sign is kept as it is; pass sign=-1 if "
+                    "the up axis reads -g",
+                ),
+            )
         sign = -1
-        notes.append(f"this looks like an iOS Core Motion log ({named}): its accelerations were negated "
-                     "(+g on the up axis); pass sign=1 to keep them")
+        notes.append(
+            f"this looks like an iOS Core Motion log ({named}): its accelerations were negated "
+            "(+g on the up axis); pass sign=1 to keep them"
+        )
     elif sign == -1 and log.sign == 1:
         notes.append("accelerations negated as sign=-1 asks")
     elif sign == 1 and (cues or log.sign == -1):

@@ -54,8 +54,11 @@ def _samples(data, name: str) -> tuple[list, str]:
     if isinstance(data, list):
         return data, "the top-level array"
     if isinstance(data, dict):
-        arrays = [k for k, v in data.items() if isinstance(v, list) and len(v) >= 2
-                  and all(isinstance(x, (dict, list)) for x in v[:10])]
+        arrays = [
+            k
+            for k, v in data.items()
+            if isinstance(v, list) and len(v) >= 2 and all(isinstance(x, (dict, list)) for x in v[:10])
+        ]
         if len(arrays) == 1:
             return data[arrays[0]], f"the array {arrays[0]!r}"
         keys = ", ".join(repr(k) for k in list(data)[:MAX_LISTED]) or "none"
@@ -63,13 +66,17 @@ def _samples(data, name: str) -> tuple[list, str]:
             raise LogFormatError(
                 f"{name} is a JSON object holding several arrays ({', '.join(repr(k) for k in arrays)}): trical reads "
                 "one array of samples per file; save each sensor's array as a file of its own (named for the "
-                "sensor: accelerometer.json, gyroscope.json) and upload them together")
+                "sensor: accelerometer.json, gyroscope.json) and upload them together"
+            )
         raise LogFormatError(
             f"{name} is a JSON object (keys {keys}) holding no array of samples: trical reads JSON arrays of samples, "
             'one object per sample ([{"t": 0.01, "acc_x": 0.02, "acc_y": -0.01, "acc_z": 0.98}, …]) or one list of '
-            "numbers per sample ([[0.01, 0.02, -0.01, 0.98], …])")
-    raise LogFormatError(f"{name} holds a single JSON value, not an array of samples: trical reads JSON arrays of "
-                         "samples, one object or one list of numbers per sample")
+            "numbers per sample ([[0.01, 0.02, -0.01, 0.98], …])"
+        )
+    raise LogFormatError(
+        f"{name} holds a single JSON value, not an array of samples: trical reads JSON arrays of "
+        "samples, one object or one list of numbers per sample"
+    )
 
 
 def to_table(data, name: str) -> tuple[list[str] | None, list[list[float]], str]:
@@ -90,8 +97,10 @@ def to_table(data, name: str) -> tuple[list[str] | None, list[list[float]], str]
         columns = [k for k, v in first.items() if _number(v)]
         left = [k for k in first if k not in columns]
         if not columns:
-            raise LogFormatError(f"{name}: the first sample of {where} holds no number ({', '.join(first)}): each "
-                                 'sample needs its readings as numbers, e.g. {"t": 0.01, "x": 0.02, "y": -0.01, "z": 0.98}')
+            raise LogFormatError(
+                f"{name}: the first sample of {where} holds no number ({', '.join(first)}): each "
+                'sample needs its readings as numbers, e.g. {"t": 0.01, "x": 0.02, "y": -0.01, "z": 0.98}'
+            )
         rows = []
         for i, sample in enumerate(samples):
             flat = _flat(sample)
@@ -100,39 +109,51 @@ def to_table(data, name: str) -> tuple[list[str] | None, list[list[float]], str]
                 value = flat.get(key)
                 if not _number(value):
                     what = "lacks" if key not in flat else f"holds {json.dumps(value)[:40]} in"
-                    raise LogFormatError(f"{name}: sample {i} of {where} {what} {key!r}, which the first sample "
-                                         "holds as a number: give every sample the same numeric keys")
+                    raise LogFormatError(
+                        f"{name}: sample {i} of {where} {what} {key!r}, which the first sample "
+                        "holds as a number: give every sample the same numeric keys"
+                    )
                 row.append(float(value))
             rows.append(row)
-        note = (f"read as JSON: {where}, {len(rows)} samples, keys {', '.join(columns)}"
-                + (f" ({', '.join(left)} not numbers: left out)" if left else ""))
+        note = f"read as JSON: {where}, {len(rows)} samples, keys {', '.join(columns)}" + (
+            f" ({', '.join(left)} not numbers: left out)" if left else ""
+        )
         return columns, rows, note
     if all(isinstance(x, list) for x in samples):
         width = len(samples[0])
         rows = []
         for i, sample in enumerate(samples):
             if len(sample) != width or not all(_number(v) for v in sample):
-                raise LogFormatError(f"{name}: sample {i} of {where} is {json.dumps(sample)[:60]}, not {width} "
-                                     "numbers as the first sample: give every sample the same count of numbers")
+                raise LogFormatError(
+                    f"{name}: sample {i} of {where} is {json.dumps(sample)[:60]}, not {width} "
+                    "numbers as the first sample: give every sample the same count of numbers"
+                )
             rows.append([float(v) for v in sample])
         return None, rows, f"read as JSON: {where}, {len(rows)} samples of {width} numbers"
     kinds = sorted({type(x).__name__ for x in samples})
-    raise LogFormatError(f"{name}: {where} holds {', '.join(kinds)} values, not samples: each sample is an object "
-                         '({"t": …, "x": …}) or a list of numbers, all of one kind')
+    raise LogFormatError(
+        f"{name}: {where} holds {', '.join(kinds)} values, not samples: each sample is an object "
+        '({"t": …, "x": …}) or a list of numbers, all of one kind'
+    )
 
 
 def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
     """Read a JSON array of samples as the table it is (``read_table(path, name)`` reads the table)."""
     if path.stat().st_size > MAX_BYTES:
-        raise LogFormatError(f"{name} is a JSON file over {MAX_BYTES >> 20} MiB: save a recording this long as CSV",
-                             status=413)
+        raise LogFormatError(
+            f"{name} is a JSON file over {MAX_BYTES >> 20} MiB: save a recording this long as CSV", status=413
+        )
     try:
         data = json.loads(path.read_bytes().decode("utf-8-sig"))
     except UnicodeDecodeError as exc:
-        raise LogFormatError(f"{name} is not UTF-8 text (byte {exc.start}): save the JSON as UTF-8", status=415) from None
+        raise LogFormatError(
+            f"{name} is not UTF-8 text (byte {exc.start}): save the JSON as UTF-8", status=415
+        ) from None
     except json.JSONDecodeError as exc:
-        raise LogFormatError(f"{name} starts like JSON but is not JSON: line {exc.lineno}, column {exc.colno}: "
-                             f"{exc.msg}; save it again whole (the file may be cut short)") from None
+        raise LogFormatError(
+            f"{name} starts like JSON but is not JSON: line {exc.lineno}, column {exc.colno}: "
+            f"{exc.msg}; save it again whole (the file may be cut short)"
+        ) from None
     header, rows, note = to_table(data, name)
     with tempfile.TemporaryDirectory(prefix="trical-json-") as tmp:
         table = Path(tmp) / "samples.csv"

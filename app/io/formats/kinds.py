@@ -9,16 +9,20 @@ chooser and for the messages.
 from __future__ import annotations
 
 FILE_KINDS = (
-    ("CSV or text logs (a header row, or numbers from the first line; phone apps' and makers' exports)",
-     (".csv", ".txt", ".tsv", ".log", ".dat")),
+    (
+        "CSV or text logs (a header row, or numbers from the first line; phone apps' and makers' exports)",
+        (".csv", ".txt", ".tsv", ".log", ".dat"),
+    ),
     ("JSON arrays of samples", (".json",)),
     ("zips: phyphox and Sensor Logger exports, or a zip of log files (one per pose, or one per sensor)", (".zip",)),
     ("PX4 ULog flight logs", (".ulg",)),
     ("ArduPilot DataFlash flight logs", (".bin",)),
     ("NumPy arrays", (".npy",)),
     ("Parquet tables", (".parquet", ".pq")),
-    ("wearable device files (Axivity .cwa, ActiGraph .gt3x, GENEActiv .bin; with the optional actipy package)",
-     (".cwa", ".gt3x")),
+    (
+        "wearable device files (Axivity .cwa, ActiGraph .gt3x, GENEActiv .bin; with the optional actipy package)",
+        (".cwa", ".gt3x"),
+    ),
 )
 """What trical reads: a description and the suffixes of such files."""
 

@@ -58,10 +58,11 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
     found = first_row(lines)
     if found is None or not _is_phyphox_header(found[2]):
-        raise LogFormatError(f"{label} is not a phyphox table: its first line must be \"Time (s)\", then the "
-                             "sensor columns")
+        raise LogFormatError(
+            f'{label} is not a phyphox table: its first line must be "Time (s)", then the sensor columns'
+        )
     index, delimiter, names = found
-    decimal = guess_decimal(lines[index + 1:], delimiter)
+    decimal = guess_decimal(lines[index + 1 :], delimiter)
     channels: dict[str, dict[str, int]] = {}
     found_units: dict[str, str] = {}
     linear = False
@@ -82,20 +83,36 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
                 "calibration needs gravity in the readings: record with phyphox 'Acceleration with g' instead"
             )
         listed = ", ".join(repr(n) for n in names)
-        raise LogFormatError(f"{label} has no phyphox accelerometer or magnetometer columns among {listed}: record "
-                             "with 'Acceleration with g' (or 'Magnetometer' for a compass calibration), or map "
-                             "the columns as acc_x, acc_y, acc_z (format=csv)")
+        raise LogFormatError(
+            f"{label} has no phyphox accelerometer or magnetometer columns among {listed}: record "
+            "with 'Acceleration with g' (or 'Magnetometer' for a compass calibration), or map "
+            "the columns as acc_x, acc_y, acc_z (format=csv)"
+        )
     channels = {k: v for k, v in channels.items() if set(v) == {"x", "y", "z"}}
     order = [0] + [channels[s_][a] for s_ in channels for a in "xyz"]
-    arrays = read_columns(data, skip_lines=index + 1, n_columns=len(names), columns=order, delimiter=delimiter,
-                          decimal=decimal, name=label, column_names=names)
+    arrays = read_columns(
+        data,
+        skip_lines=index + 1,
+        n_columns=len(names),
+        columns=order,
+        delimiter=delimiter,
+        decimal=decimal,
+        name=label,
+        column_names=names,
+    )
     time = arrays[0]
-    stacked = {s_: np.column_stack(arrays[1 + 3 * k: 4 + 3 * k]) for k, s_ in enumerate(channels)}
+    stacked = {s_: np.column_stack(arrays[1 + 3 * k : 4 + 3 * k]) for k, s_ in enumerate(channels)}
     final_units = {s_: (units or {}).get(s_) or found_units.get(s_) for s_ in stacked}
     if decimal == ",":
         notes.append("decimal comma")
     return LogData(
-        acc=stacked.get("acc"), gyr=stacked.get("gyr"), mag=stacked.get("mag"), time_s=time - time[0],
-        sampling_rate_hz=None, units=final_units, format=NAME,
-        columns=names, notes=tuple(notes),
+        acc=stacked.get("acc"),
+        gyr=stacked.get("gyr"),
+        mag=stacked.get("mag"),
+        time_s=time - time[0],
+        sampling_rate_hz=None,
+        units=final_units,
+        format=NAME,
+        columns=names,
+        notes=tuple(notes),
     )

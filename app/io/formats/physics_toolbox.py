@@ -45,17 +45,25 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
     index, delimiter, names = first_row(lines)
     lowered = [n.lower() for n in names]
-    decimal = guess_decimal(lines[index + 1:], delimiter, first_column=1)  # a clock may read 00:01,500
+    decimal = guess_decimal(lines[index + 1 :], delimiter, first_column=1)  # a clock may read 00:01,500
     sensors = {"acc": _GF, "gyr": ("wx", "wy", "wz"), "mag": ("bx", "by", "bz")}
     present = {k: [lowered.index(c) for c in cols] for k, cols in sensors.items() if set(cols) <= set(lowered)}
     order = [c for cols in present.values() for c in cols]
-    arrays = read_columns(data, skip_lines=index + 1, n_columns=len(names), columns=order, delimiter=delimiter,
-                          decimal=decimal, name=name, column_names=names)
-    stacked = {k: np.column_stack(arrays[3 * i: 3 * i + 3]) for i, k in enumerate(present)}
+    arrays = read_columns(
+        data,
+        skip_lines=index + 1,
+        n_columns=len(names),
+        columns=order,
+        delimiter=delimiter,
+        decimal=decimal,
+        name=name,
+        column_names=names,
+    )
+    stacked = {k: np.column_stack(arrays[3 * i : 3 * i + 3]) for i, k in enumerate(present)}
     time = None
     if "time" in lowered:
         col = lowered.index("time")
-        rows = [split_row(ln, delimiter) for ln in lines[index + 1:] if ln.strip()]
+        rows = [split_row(ln, delimiter) for ln in lines[index + 1 :] if ln.strip()]
         try:
             time = np.array([_clock_seconds(r[col]) for r in rows])
         except (ValueError, IndexError):
@@ -73,10 +81,16 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         notes.append(f"the time column of {name} could not be read as seconds or a clock: it is not used")
     units = units or {}
     return LogData(
-        acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"),
+        acc=stacked["acc"],
+        gyr=stacked.get("gyr"),
+        mag=stacked.get("mag"),
         time_s=None if time is None else time - time[0],
         sampling_rate_hz=None,
-        units={"acc": units.get("acc") or "g", **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k]
-                                                   for k in stacked if k != "acc"}},
-        format=NAME, columns=names, notes=tuple(notes),
+        units={
+            "acc": units.get("acc") or "g",
+            **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k] for k in stacked if k != "acc"},
+        },
+        format=NAME,
+        columns=names,
+        notes=tuple(notes),
     )

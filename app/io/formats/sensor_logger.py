@@ -50,8 +50,10 @@ def _is_sensor_header(line: str) -> bool:
 def detect(s: Sniff) -> bool:
     """A zip with ``Metadata.csv`` and an accelerometer CSV, or a header ``time,seconds_elapsed,z,y,x``."""
     if s.is_zip:
-        return find_member(s.members, METADATA) is not None and \
-            find_member(s.members, *ACC_FILES, LINEAR_FILE, *MAG_FILES) is not None
+        return (
+            find_member(s.members, METADATA) is not None
+            and find_member(s.members, *ACC_FILES, LINEAR_FILE, *MAG_FILES) is not None
+        )
     first = next((line for line in s.lines if line.strip()), "")
     return _is_sensor_header(first)
 
@@ -70,18 +72,28 @@ def _read_sensor(data: bytes, label: str) -> tuple[np.ndarray, np.ndarray, list[
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
     index = next((i for i, line in enumerate(lines) if line.strip()), None)
     if index is None or not _is_sensor_header(lines[index]):
-        raise LogFormatError(f"{label} is not a Sensor Logger sensor file: its header must hold time, "
-                             "seconds_elapsed, z, y, x")
+        raise LogFormatError(
+            f"{label} is not a Sensor Logger sensor file: its header must hold time, seconds_elapsed, z, y, x"
+        )
     names = split_row(lines[index], ",")
     lowered = [n.lower() for n in names]
     cols = [lowered.index(c) for c in ("time", "x", "y", "z")]
-    time_ns, x, y, z = read_columns(data, skip_lines=index + 1, n_columns=len(names), columns=cols,
-                                    delimiter=",", name=label, column_names=names, integer_columns=(cols[0],))
+    time_ns, x, y, z = read_columns(
+        data,
+        skip_lines=index + 1,
+        n_columns=len(names),
+        columns=cols,
+        delimiter=",",
+        name=label,
+        column_names=names,
+        integer_columns=(cols[0],),
+    )
     return time_ns, np.column_stack([x, y, z]), names
 
 
-def _sign_and_unit(acc: np.ndarray, meta: dict | None, acc_file: str | None, caller_unit: str | None,
-                   label: str) -> tuple[float, str, list[str]]:
+def _sign_and_unit(
+    acc: np.ndarray, meta: dict | None, acc_file: str | None, caller_unit: str | None, label: str
+) -> tuple[float, str, list[str]]:
     """The factor (+1 or −1) and unit of the accelerometer readings, from the data and the metadata."""
     data_unit = infer_acc_unit(acc)
     unit = caller_unit or data_unit
@@ -92,8 +104,12 @@ def _sign_and_unit(acc: np.ndarray, meta: dict | None, acc_file: str | None, cal
             f"the accelerometer readings of {label} are neither about 1 g nor about 9.8 m/s² in norm: give "
             "acc_unit (g or m/s^2)"
         )
-    refuse_linear_acceleration(acc, unit, label, hint="in Sensor Logger, enable 'Accelerometer Uncalibrated' "
-                                                      "(iOS) or use TotalAcceleration.csv (Android)")
+    refuse_linear_acceleration(
+        acc,
+        unit,
+        label,
+        hint="in Sensor Logger, enable 'Accelerometer Uncalibrated' (iOS) or use TotalAcceleration.csv (Android)",
+    )
     notes: list[str] = []
     if meta:
         platform = meta.get("platform", "").lower()
@@ -101,8 +117,10 @@ def _sign_and_unit(acc: np.ndarray, meta: dict | None, acc_file: str | None, cal
         standardised = flag.lower() in _TRUE
         ios_raw = platform == "ios" and not standardised
         if platform not in ("ios", "android"):
-            raise LogFormatError(f"Metadata.csv gives platform {meta.get('platform')!r}, not iOS or Android: "
-                                 "the acceleration sign cannot be decided; upload the original export")
+            raise LogFormatError(
+                f"Metadata.csv gives platform {meta.get('platform')!r}, not iOS or Android: "
+                "the acceleration sign cannot be decided; upload the original export"
+            )
         if ios_raw and unit != "g":
             raise LogFormatError(
                 f"Metadata.csv says iOS without 'Standardise Units & Frames', but {acc_file or label} reads "
@@ -129,13 +147,22 @@ def _is_magnetometer_file(name: str) -> bool:
     return "magnetometer" in Path(name).name.lower()
 
 
-def _magnetometer_only(time_ns: np.ndarray, mag: np.ndarray, names: list[str], label: str, units: dict,
-                       sampling_rate_hz, notes: list[str]) -> LogData:
+def _magnetometer_only(
+    time_ns: np.ndarray, mag: np.ndarray, names: list[str], label: str, units: dict, sampling_rate_hz, notes: list[str]
+) -> LogData:
     """A recording of the magnetometer alone (a compass calibration's turn), in µT."""
     time_s = (time_ns - time_ns[0]).astype(float) * 1e-9
-    return LogData(acc=None, gyr=None, mag=mag, time_s=time_s, sampling_rate_hz=None,
-                   units={"mag": units.get("mag") or "uT"}, format=NAME, columns=names,
-                   notes=tuple(notes + ["the magnetometer alone (no accelerometer file)"]))
+    return LogData(
+        acc=None,
+        gyr=None,
+        mag=mag,
+        time_s=time_s,
+        sampling_rate_hz=None,
+        units={"mag": units.get("mag") or "uT"},
+        format=NAME,
+        columns=names,
+        notes=tuple(notes + ["the magnetometer alone (no accelerometer file)"]),
+    )
 
 
 def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
@@ -149,8 +176,9 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         if member is None and mag_member is not None and find_member(s.members, LINEAR_FILE) is None:
             label = f"{mag_member} in {name}"
             time_ns, mag, names = _read_sensor(read_member(path, mag_member, name), label)
-            return _magnetometer_only(time_ns, mag, names, label, units, sampling_rate_hz,
-                                      [f"read {mag_member} from the Sensor Logger zip"])
+            return _magnetometer_only(
+                time_ns, mag, names, label, units, sampling_rate_hz, [f"read {mag_member} from the Sensor Logger zip"]
+            )
         if member is None:
             raise LogFormatError(
                 f"{name} holds only {LINEAR_FILE}, Sensor Logger's acceleration without gravity (linear "
@@ -177,8 +205,14 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     time_s = (time_ns - time_ns[0]).astype(float) * 1e-9
     aligned = {k: resample_to(time_s, (t - time_ns[0]).astype(float) * 1e-9, v) for k, (t, v) in extra.items()}
     return LogData(
-        acc=sign * acc, sign=int(sign), gyr=aligned.get("gyr"), mag=aligned.get("mag"), time_s=time_s,
+        acc=sign * acc,
+        sign=int(sign),
+        gyr=aligned.get("gyr"),
+        mag=aligned.get("mag"),
+        time_s=time_s,
         sampling_rate_hz=None,
         units={"acc": unit, **{k: units.get(k) or {"gyr": "rad/s", "mag": "uT"}[k] for k in aligned}},
-        format=NAME, columns=names, notes=tuple(notes),
+        format=NAME,
+        columns=names,
+        notes=tuple(notes),
     )

@@ -41,23 +41,38 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     """Read the raw accelerometer (and gyroscope, magnetometer) columns of a SensorLog CSV."""
     found = first_row(s.lines)
     if found is None or not detect(s):
-        raise LogFormatError(f"{name} is not a SensorLog CSV: its header must name accelerometerAccelerationX(G), "
-                             "accelerometerAccelerationY(G) and accelerometerAccelerationZ(G)")
+        raise LogFormatError(
+            f"{name} is not a SensorLog CSV: its header must name accelerometerAccelerationX(G), "
+            "accelerometerAccelerationY(G) and accelerometerAccelerationZ(G)"
+        )
     index, delimiter, names = found
     lowered = [n.lower().replace("μ", "µ") for n in names]  # Greek mu or the micro sign
     present = {k: [lowered.index(c) for c in cols] for k, (cols, _) in STREAMS.items() if set(cols) <= set(lowered)}
     order = ([lowered.index(TIME)] if TIME in lowered else []) + [c for cols in present.values() for c in cols]
-    arrays = read_columns(Path(path), skip_lines=index + 1, n_columns=len(names), columns=order,
-                          delimiter=delimiter, decimal=guess_decimal(s.lines[index + 1:], delimiter), name=name,
-                          column_names=names)
+    arrays = read_columns(
+        Path(path),
+        skip_lines=index + 1,
+        n_columns=len(names),
+        columns=order,
+        delimiter=delimiter,
+        decimal=guess_decimal(s.lines[index + 1 :], delimiter),
+        name=name,
+        column_names=names,
+    )
     time = arrays.pop(0) if TIME in lowered else None
-    stacked = {k: np.column_stack(arrays[3 * i: 3 * i + 3]) for i, k in enumerate(present)}
+    stacked = {k: np.column_stack(arrays[3 * i : 3 * i + 3]) for i, k in enumerate(present)}
     units = units or {}
     return LogData(
-        acc=stacked["acc"], gyr=stacked.get("gyr"), mag=stacked.get("mag"),
+        acc=stacked["acc"],
+        gyr=stacked.get("gyr"),
+        mag=stacked.get("mag"),
         time_s=None if time is None else time - time[0],
         sampling_rate_hz=None,
-        units={k: units.get(k) or STREAMS[k][1] for k in stacked}, format=NAME, columns=names,
-        notes=("SensorLog's raw accelerometer, gyroscope and magnetometer columns; its motion* (fused) "
-               "values are not used",),
+        units={k: units.get(k) or STREAMS[k][1] for k in stacked},
+        format=NAME,
+        columns=names,
+        notes=(
+            "SensorLog's raw accelerometer, gyroscope and magnetometer columns; its motion* (fused) "
+            "values are not used",
+        ),
     )

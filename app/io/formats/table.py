@@ -57,8 +57,11 @@ def sniff(path: Path, name: str) -> Sniff:
             with zipfile.ZipFile(path) as zf:
                 members = tuple(i.filename for i in zf.infolist() if not i.is_dir())
         except zipfile.BadZipFile:
-            raise LogFormatError(f"{name} starts like a zip archive but cannot be opened: upload the "
-                                 "export again (the zip may be cut short)", status=415) from None
+            raise LogFormatError(
+                f"{name} starts like a zip archive but cannot be opened: upload the "
+                "export again (the zip may be cut short)",
+                status=415,
+            ) from None
         return Sniff(name=name, members=members)
     if head.startswith(BINARY_LOG_MAGICS):
         return Sniff(name=name, head=head[:16])
@@ -106,8 +109,9 @@ def read_member(path: Path, member: str, name: str) -> bytes:
     with zipfile.ZipFile(path) as zf:
         info = zf.getinfo(member)
         if info.file_size > MAX_UNZIPPED_BYTES:
-            raise LogFormatError(f"{member} in {name} expands to {info.file_size} bytes: export a shorter recording",
-                                 status=413)
+            raise LogFormatError(
+                f"{member} in {name} expands to {info.file_size} bytes: export a shorter recording", status=413
+            )
         return zf.read(member)
 
 
@@ -250,10 +254,21 @@ def _csv_source(data: bytes | Path, delimiter: str):
     return contextlib.nullcontext(io.BytesIO(data) if isinstance(data, bytes) else str(data))
 
 
-def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns: list[int], delimiter: str,
-                 decimal: str = ".", name: str = "the file", column_names: list[str] | None = None,
-                 first_line: int | None = None, integer_columns: tuple[int, ...] = (),
-                 drop_empty: tuple[int, ...] = (), notes: list[str] | None = None) -> list[np.ndarray]:
+def read_columns(
+    data: bytes | Path,
+    *,
+    skip_lines: int,
+    n_columns: int,
+    columns: list[int],
+    delimiter: str,
+    decimal: str = ".",
+    name: str = "the file",
+    column_names: list[str] | None = None,
+    first_line: int | None = None,
+    integer_columns: tuple[int, ...] = (),
+    drop_empty: tuple[int, ...] = (),
+    notes: list[str] | None = None,
+) -> list[np.ndarray]:
     """Numeric columns of a delimited table, as float arrays.
 
     Parameters
@@ -298,7 +313,9 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
                 convert_options=pacsv.ConvertOptions(
                     include_columns=[names[c] for c in columns],
                     column_types={names[c]: pa.int64() if c in integer_columns else pa.float64() for c in columns},
-                    null_values=["", "nan", "NaN", "NA"], strings_can_be_null=False, decimal_point=decimal,
+                    null_values=["", "nan", "NaN", "NA"],
+                    strings_can_be_null=False,
+                    decimal_point=decimal,
                 ),
             )
     except (pa.ArrowInvalid, pa.ArrowTypeError, UnicodeDecodeError):
@@ -308,16 +325,20 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
         raise LogFormatError(f"{name} has a header (line {first_line - 1}) but no data rows: add the samples below it")
     empty = np.zeros(table.num_rows, dtype=bool)
     if drop_empty:
-        empty = np.logical_and.reduce([table.column(names[c]).is_null().to_numpy(zero_copy_only=False)
-                                       for c in drop_empty])
+        empty = np.logical_and.reduce(
+            [table.column(names[c]).is_null().to_numpy(zero_copy_only=False) for c in drop_empty]
+        )
     out = []
     for c in columns:
         arr = table.column(names[c])
         if arr.null_count and (arr.is_null().to_numpy(zero_copy_only=False) & ~empty).any():
             row = int(np.flatnonzero(arr.is_null().to_numpy(zero_copy_only=False) & ~empty)[0])
-            raise LogFormatError(f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank "
-                                 f"lines) has an empty value in column {(column_names or names)[c]!r}: fill or "
-                                 "remove that line", code=BAD_LINE)
+            raise LogFormatError(
+                f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank "
+                f"lines) has an empty value in column {(column_names or names)[c]!r}: fill or "
+                "remove that line",
+                code=BAD_LINE,
+            )
         arr = arr.to_numpy(zero_copy_only=False)
         arr = arr if c in integer_columns else arr.astype(float, copy=False)
         out.append(arr[~empty] if empty.any() else arr)
@@ -330,8 +351,10 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
             labels = ", ".join(repr((column_names or names)[c]) for c in drop_empty)
             raise LogFormatError(f"{name}: every data row leaves {labels} empty: those columns hold no readings")
         if notes is not None:
-            notes.append(f"{name}: {int(empty.sum())} of {len(empty)} rows leave the sensors' columns empty (another "
-                         "packet type's rows, as logs interleaving packets of two rates write them): skipped")
+            notes.append(
+                f"{name}: {int(empty.sum())} of {len(empty)} rows leave the sensors' columns empty (another "
+                "packet type's rows, as logs interleaving packets of two rates write them): skipped"
+            )
     for c, arr in zip(columns, out):
         bad = ~np.isfinite(arr)
         if bad.any():
@@ -339,7 +362,8 @@ def read_columns(data: bytes | Path, *, skip_lines: int, n_columns: int, columns
             label = (column_names or names)[c]
             raise LogFormatError(
                 f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank lines) has an "
-                f"empty or non-finite value in column {label!r}: fill or remove that line", code=BAD_LINE
+                f"empty or non-finite value in column {label!r}: fill or remove that line",
+                code=BAD_LINE,
             )
     return out
 
@@ -357,14 +381,23 @@ def _text_lines(data: bytes | Path):
             yield line.rstrip("\r\n")
 
 
-def first_bad_line(data: bytes | Path, skip_lines: int, delimiter: str, decimal: str, columns: list[int],
-                   names: list[str], first_line: int) -> str:
+def first_bad_line(
+    data: bytes | Path,
+    skip_lines: int,
+    delimiter: str,
+    decimal: str,
+    columns: list[int],
+    names: list[str],
+    first_line: int,
+) -> str:
     """Describe the first data line whose used columns are not all numbers (slow path, errors only)."""
     try:
         return _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, first_line)
     except csv.Error as exc:
-        return (f"a line after the header could not be read as delimited text ({exc}; lines are limited to "
-                f"{csv.field_size_limit()} characters per field)")
+        return (
+            f"a line after the header could not be read as delimited text ({exc}; lines are limited to "
+            f"{csv.field_size_limit()} characters per field)"
+        )
 
 
 def _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, first_line) -> str:
@@ -384,8 +417,9 @@ def _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, fir
     return "a line could not be read as numbers"
 
 
-def text_block_cell(text: str, delimiter: str, skip_lines: int, names: list[str],
-                    records: int = 20) -> tuple[int, str, str] | None:
+def text_block_cell(
+    text: str, delimiter: str, skip_lines: int, names: list[str], records: int = 20
+) -> tuple[int, str, str] | None:
     """The first cell of a table's data rows that holds a block of text over several lines (a quoted
     cell with line breaks, as a logger writing message objects with ``csv.writer`` makes): its 1-based
     line, its column's name and its first line of text; None when the first ``records`` rows hold none.

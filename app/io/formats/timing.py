@@ -95,9 +95,14 @@ class Timing:
         return float(sum(g.missing_s for g in self.gaps))
 
     def to_dict(self) -> dict:
-        return {"source": self.source, "sampling_rate_hz": self.sampling_rate_hz, "jitter": self.jitter,
-                "median_step_s": self.median_step_s, "gaps": [g.to_dict() for g in self.gaps],
-                "missing_s": self.missing_s}
+        return {
+            "source": self.source,
+            "sampling_rate_hz": self.sampling_rate_hz,
+            "jitter": self.jitter,
+            "median_step_s": self.median_step_s,
+            "gaps": [g.to_dict() for g in self.gaps],
+            "missing_s": self.missing_s,
+        }
 
 
 def time_scale(time: np.ndarray) -> tuple[float, str]:
@@ -116,15 +121,17 @@ def time_scale(time: np.ndarray) -> tuple[float, str]:
     time = np.asarray(time, dtype=float)
     span = float(time[-1] - time[0]) if len(time) >= 2 else 0.0
     if not (math.isfinite(span) and span > 0):
-        raise LogFormatError("the time column does not increase from its first row to its last: give "
-                             "sampling_rate_hz or fix the time column")
+        raise LogFormatError(
+            "the time column does not increase from its first row to its last: give "
+            "sampling_rate_hz or fix the time column"
+        )
     step = span / (len(time) - 1)
-    fits = [(name, scale) for name, scale in TIME_UNITS
-            if RATE_RANGE_HZ[0] <= 1.0 / (step * scale) <= RATE_RANGE_HZ[1]]
+    fits = [(name, scale) for name, scale in TIME_UNITS if RATE_RANGE_HZ[0] <= 1.0 / (step * scale) <= RATE_RANGE_HZ[1]]
     if not fits:
         raise LogFormatError(
             f"the time column's mean step {step:g} fits no unit (s, ms, µs, ns) for a rate between 1 Hz and "
-            "10 kHz: name its unit in the header (time_s, time_ms, time_us, time_ns) or give sampling_rate_hz")
+            "10 kHz: name its unit in the header (time_s, time_ms, time_us, time_ns) or give sampling_rate_hz"
+        )
     head = time[:10_000]
     if len(fits) > 1 and np.all(head == np.round(head)):
         name, scale = min(fits, key=lambda f: abs(math.log10(1.0 / (step * f[1]) / TYPICAL_RATE_HZ)))
@@ -163,10 +170,10 @@ def find_gaps(time_s: np.ndarray, interval_s: float) -> tuple[Gap, ...]:
     offsets = np.arange(w)
     jumps = np.empty(len(candidates))
     for a in range(0, len(candidates), 1 << 15):
-        c = candidates[a:a + (1 << 15)]
+        c = candidates[a : a + (1 << 15)]
         before = padded[(c + w)[:, None] - offsets].min(axis=1)  # samples c − w + 1 … c
         after = padded[(c + w + 1)[:, None] + offsets].min(axis=1)  # samples c + 1 … c + w
-        jumps[a:a + len(c)] = after - before
+        jumps[a : a + len(c)] = after - before
     found = candidates[jumps > limit]
     gaps: list[Gap] = []
     for i in found:  # a gap's neighbours see part of its jump: the longest step within a window is the gap
@@ -219,13 +226,20 @@ def _ms(seconds: float) -> str:
 def _gap_note(gaps: tuple[Gap, ...], name: str) -> str:
     longest = max(gaps, key=lambda g: g.missing_s)
     total = sum(g.missing_s for g in gaps)
-    return (f"{len(gaps)} gap{'s' if len(gaps) > 1 else ''} in the time column of {name} (the longest "
-            f"{longest.missing_s:.3g} s at {longest.t_s:.1f} s, {total:.3g} s in all): samples were lost on the "
-            "way (a full serial buffer, a paused logger); still segments do not span a gap")
+    return (
+        f"{len(gaps)} gap{'s' if len(gaps) > 1 else ''} in the time column of {name} (the longest "
+        f"{longest.missing_s:.3g} s at {longest.t_s:.1f} s, {total:.3g} s in all): samples were lost on the "
+        "way (a full serial buffer, a paused logger); still segments do not span a gap"
+    )
 
 
-def decide_timing(time_s: np.ndarray | None, sampling_rate_hz: float | None = None, *,
-                  file_rate_hz: float | None = None, name: str = "the file") -> Timing:
+def decide_timing(
+    time_s: np.ndarray | None,
+    sampling_rate_hz: float | None = None,
+    *,
+    file_rate_hz: float | None = None,
+    name: str = "the file",
+) -> Timing:
     """The sampling rate of a log and what its time column shows (module docstring).
 
     Parameters
@@ -256,32 +270,47 @@ def decide_timing(time_s: np.ndarray | None, sampling_rate_hz: float | None = No
             return Timing(given, "sampling_rate_hz")
         if stated is not None:
             return Timing(stated, "file")
-        return Timing(None, "none", notes=(
-            f"{name} has no time column and sampling_rate_hz was not given: the still poses and the compass need "
-            "no rate; the noise, cube and autocal methods ask for one (sampling_rate_hz)",))
+        return Timing(
+            None,
+            "none",
+            notes=(
+                f"{name} has no time column and sampling_rate_hz was not given: the still poses and the compass need "
+                "no rate; the noise, cube and autocal methods ask for one (sampling_rate_hz)",
+            ),
+        )
     time_s = np.asarray(time_s, dtype=float)
     steps = np.diff(time_s)
     if not float(time_s[-1] - time_s[0]) > 0:
-        raise LogFormatError(f"the time column of {name} does not increase from its first row to its last: give "
-                             "sampling_rate_hz or fix the time column")
+        raise LogFormatError(
+            f"the time column of {name} does not increase from its first row to its last: give "
+            "sampling_rate_hz or fix the time column"
+        )
     notes: list[str] = []
     back = np.flatnonzero(steps < 0)
     if len(back):
         # A timer that wrapped, or files joined: the span means nothing; the median step is all there is.
         i = int(back[0])
         rate = 1.0 / float(np.median(steps[steps > 0]))
-        notes.append(f"the time column of {name} goes back {len(back)} time(s), first after sample {i + 1} "
-                     f"({time_s[i]:.6g} → {time_s[i + 1]:.6g} s): its rate, {rate:.4g} Hz, is one over the median "
-                     "step; give sampling_rate_hz if that is not the sensor's rate")
-        return Timing(given or stated or rate, "sampling_rate_hz" if given else "file" if stated else "time column",
-                      median_step_s=float(np.median(steps)), notes=tuple(notes))
+        notes.append(
+            f"the time column of {name} goes back {len(back)} time(s), first after sample {i + 1} "
+            f"({time_s[i]:.6g} → {time_s[i + 1]:.6g} s): its rate, {rate:.4g} Hz, is one over the median "
+            "step; give sampling_rate_hz if that is not the sensor's rate"
+        )
+        return Timing(
+            given or stated or rate,
+            "sampling_rate_hz" if given else "file" if stated else "time column",
+            median_step_s=float(np.median(steps)),
+            notes=tuple(notes),
+        )
     measured, gaps = _rate_of(time_s)
     rate, source = (given, "sampling_rate_hz") if given else (stated, "file") if stated else (measured, "time column")
     if given or stated:
         gaps = find_gaps(time_s, 1.0 / rate)
         if abs(measured / rate - 1.0) > 0.01:
-            notes.append(f"the {'given' if given else 'file’s'} rate {rate:g} Hz is used; the time column's span "
-                         f"says {measured:.4g} Hz")
+            notes.append(
+                f"the {'given' if given else 'file’s'} rate {rate:g} Hz is used; the time column's span "
+                f"says {measured:.4g} Hz"
+            )
     gap_steps = np.zeros(len(steps), dtype=bool)
     gap_steps[[g.index - 1 for g in gaps]] = True
     kept = steps[~gap_steps]
@@ -295,11 +324,15 @@ def decide_timing(time_s: np.ndarray | None, sampling_rate_hz: float | None = No
             f"the timestamps of {name} are irregular: their steps scatter by {100 * jitter:.0f} % of the interval "
             f"(from {_ms(float(kept.min()))} to {_ms(float(kept.max()))}, median {_ms(median)}), as when a host stamps "
             f"a serial stream's bursts on arrival; "
-            + (f"the rate is {rate:.4g} Hz from the span, (N − 1)/(t_last − t_first)"
-               f"{' without the gaps' if gaps else ''}, not {median_rate:.4g} Hz from the median step: give "
-               "sampling_rate_hz if you know the sensor's output data rate" if source == "time column" else
-               f"the {'given' if given else 'file’s'} rate {rate:.4g} Hz is used, not {median_rate:.4g} Hz from the "
-               "median step"))
+            + (
+                f"the rate is {rate:.4g} Hz from the span, (N − 1)/(t_last − t_first)"
+                f"{' without the gaps' if gaps else ''}, not {median_rate:.4g} Hz from the median step: give "
+                "sampling_rate_hz if you know the sensor's output data rate"
+                if source == "time column"
+                else f"the {'given' if given else 'file’s'} rate {rate:.4g} Hz is used, not {median_rate:.4g} Hz from the "
+                "median step"
+            )
+        )
     if gaps:
         notes.append(_gap_note(gaps, name))
     return Timing(rate, source, jitter=jitter, median_step_s=median, gaps=gaps, notes=tuple(notes))
@@ -312,5 +345,6 @@ def with_timing(log, sampling_rate_hz: float | None = None, name: str = "the fil
     if log.timing is not None:
         return log
     timing = decide_timing(log.time_s, sampling_rate_hz, file_rate_hz=log.sampling_rate_hz, name=name)
-    return dataclasses.replace(log, sampling_rate_hz=timing.sampling_rate_hz, timing=timing,
-                               notes=tuple(log.notes) + timing.notes)
+    return dataclasses.replace(
+        log, sampling_rate_hz=timing.sampling_rate_hz, timing=timing, notes=tuple(log.notes) + timing.notes
+    )

@@ -107,11 +107,17 @@ def _streams(ulog) -> list[Stream]:
             time = data.get("timestamp_sample", data["timestamp"])
             temperature = data.get("temperature")
             device = data.get("device_id")
-            streams.append(Stream(
-                sensor=sensor, instance=int(d.multi_id), source=d.name, time_us=np.asarray(time, dtype=np.int64),
-                xyz=np.column_stack([data[a] for a in "xyz"]).astype(float) * scale,
-                temperature_c=None if temperature is None else np.asarray(temperature, dtype=float),
-                device_id=None if device is None or not len(device) else int(device[-1])))
+            streams.append(
+                Stream(
+                    sensor=sensor,
+                    instance=int(d.multi_id),
+                    source=d.name,
+                    time_us=np.asarray(time, dtype=np.int64),
+                    xyz=np.column_stack([data[a] for a in "xyz"]).astype(float) * scale,
+                    temperature_c=None if temperature is None else np.asarray(temperature, dtype=float),
+                    device_id=None if device is None or not len(device) else int(device[-1]),
+                )
+            )
         elif d.name == "sensor_combined":
             time = np.asarray(data["timestamp"], dtype=np.int64)
             acc = [f"accelerometer_m_s2[{k}]" for k in range(3)]
@@ -122,19 +128,35 @@ def _streams(ulog) -> list[Stream]:
                 rel = np.asarray(data.get("accelerometer_timestamp_relative", np.zeros(len(time))), dtype=np.int64)
                 # A relative time of RELATIVE_TIMESTAMP_INVALID (0x7fffffff) marks no accelerometer sample.
                 ok = rel != RELATIVE_INVALID
-                streams.append(Stream("acc", int(d.multi_id), d.name, time[ok] + rel[ok],
-                                      np.column_stack([data[a] for a in acc])[ok].astype(float)))
+                streams.append(
+                    Stream(
+                        "acc",
+                        int(d.multi_id),
+                        d.name,
+                        time[ok] + rel[ok],
+                        np.column_stack([data[a] for a in acc])[ok].astype(float),
+                    )
+                )
             if set(gyr) <= set(data):
-                streams.append(Stream("gyr", int(d.multi_id), d.name, time,
-                                      np.column_stack([data[a] for a in gyr]).astype(float)))
+                streams.append(
+                    Stream("gyr", int(d.multi_id), d.name, time, np.column_stack([data[a] for a in gyr]).astype(float))
+                )
             mag = combined_mag(data)
             if mag is not None:
                 streams.append(Stream("mag", int(d.multi_id), d.name, mag[0], mag[1] * GAUSS_TO_UT))
     return [s for s in streams if s.n_samples]
 
 
-def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int | None = None, clock: str = "imu",
-         name: str = "the file", **_) -> LogData:
+def read(
+    path: Path,
+    s: Sniff,
+    *,
+    instance: int | None = None,
+    mag_instance: int | None = None,
+    clock: str = "imu",
+    name: str = "the file",
+    **_,
+) -> LogData:
     """Read the IMU instance ``instance`` (and compass ``mag_instance``) of a ULog file.
 
     Raises
@@ -149,41 +171,67 @@ def read(path: Path, s: Sniff, *, instance: int | None = None, mag_instance: int
         with contextlib.redirect_stdout(said):  # pyulog prints its warnings; the note carries them
             ulog = ULog(str(path), message_name_filter_list=list(TOPICS), disable_str_exceptions=True)
     except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
-        raise LogFormatError(f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
-                             "file is damaged or cut short in its definitions; download the log again from the "
-                             "vehicle (QGroundControl, Analyze Tools > Log Download)") from None
+        raise LogFormatError(
+            f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
+            "file is damaged or cut short in its definitions; download the log again from the "
+            "vehicle (QGroundControl, Analyze Tools > Log Download)"
+        ) from None
     notes = []
     if ulog.file_corruption or "corrupt" in said.getvalue().lower():
-        notes.append(f"{name}: pyulog found damaged data in the file and skipped it; the samples read are those "
-                     "it could parse")
+        notes.append(
+            f"{name}: pyulog found damaged data in the file and skipped it; the samples read are those it could parse"
+        )
     streams = _streams(ulog)
     if not streams:
-        raise LogFormatError(f"{name} is a PX4 ULog without IMU samples (no sensor_accel, sensor_gyro, sensor_mag or "
-                             "sensor_combined data; the file may be cut short): log the sensors (SDLOG_PROFILE with "
-                             "'Sensor comparison' or 'High rate', or the topics in etc/logging/logger_topics.txt)")
+        raise LogFormatError(
+            f"{name} is a PX4 ULog without IMU samples (no sensor_accel, sensor_gyro, sensor_mag or "
+            "sensor_combined data; the file may be cut short): log the sensors (SDLOG_PROFILE with "
+            "'Sensor comparison' or 'High rate', or the topics in etc/logging/logger_topics.txt)"
+        )
     default = None
     if instance is None:  # the source with the most samples: PX4's default profile logs sensor_accel slowly
         accs = [x for x in streams if x.sensor == "acc"]
         default = max(accs, key=lambda x: (x.n_samples, x.source == "sensor_accel", -x.instance)) if accs else None
     if default is not None and default.source == "sensor_combined":
         raw = [x for x in streams if x.source == "sensor_accel"]
-        notes.append("read sensor_combined, the IMU PX4's estimator uses, already calibrated by PX4 and turned into "
-                     "the vehicle's body frame (FRD)" + (f": it has more samples ({default.n_samples}) than any "
-                     f"sensor_accel instance ({max(x.n_samples for x in raw)}); give instance for one of those"
-                     if raw else "; the log has no sensor_accel") + ". Its calibration is what is left over PX4's own")
+        notes.append(
+            "read sensor_combined, the IMU PX4's estimator uses, already calibrated by PX4 and turned into "
+            "the vehicle's body frame (FRD)"
+            + (
+                f": it has more samples ({default.n_samples}) than any "
+                f"sensor_accel instance ({max(x.n_samples for x in raw)}); give instance for one of those"
+                if raw
+                else "; the log has no sensor_accel"
+            )
+            + ". Its calibration is what is left over PX4's own"
+        )
     elif release_before(ulog, RAW_SENSORS_FROM):
-        notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag of a release before 1.12: the board's FRD frame, after "
-                     "the driver's own calibration (CAL_ACCn/CAL_GYROn/CAL_MAGn offsets and scales), before "
-                     "SENS_BOARD_ROT: a calibration from them is what is left over PX4's")
+        notes.append(
+            "PX4 sensor_accel/sensor_gyro/sensor_mag of a release before 1.12: the board's FRD frame, after "
+            "the driver's own calibration (CAL_ACCn/CAL_GYROn/CAL_MAGn offsets and scales), before "
+            "SENS_BOARD_ROT: a calibration from them is what is left over PX4's"
+        )
     else:
-        notes.append("PX4 sensor_accel/sensor_gyro/sensor_mag: the board's FRD frame (x forward, y right, z down), "
-                     "before PX4's calibration and SENS_BOARD_ROT")
+        notes.append(
+            "PX4 sensor_accel/sensor_gyro/sensor_mag: the board's FRD frame (x forward, y right, z down), "
+            "before PX4's calibration and SENS_BOARD_ROT"
+        )
     if any(x.sensor == "mag" and x.source == "sensor_combined" for x in streams):
-        notes.append("the compass of sensor_combined (PX4 1.8 and before) is logged after PX4's calibration (CAL_MAGn "
-                     "offsets and scales) in the body frame: a calibration from it is what is left over PX4's")
-    log = choose(streams, fmt=NAME, imu_sources=("sensor_accel", "sensor_combined"),
-                 gyr_for={"sensor_accel": "sensor_gyro", "sensor_combined": "sensor_combined"},
-                 mag_sources=("sensor_mag", "sensor_combined"), instance=instance, mag_instance=mag_instance,
-                 clock=clock,
-                 default_imu=default, notes=notes, name=name)
+        notes.append(
+            "the compass of sensor_combined (PX4 1.8 and before) is logged after PX4's calibration (CAL_MAGn "
+            "offsets and scales) in the body frame: a calibration from it is what is left over PX4's"
+        )
+    log = choose(
+        streams,
+        fmt=NAME,
+        imu_sources=("sensor_accel", "sensor_combined"),
+        gyr_for={"sensor_accel": "sensor_gyro", "sensor_combined": "sensor_combined"},
+        mag_sources=("sensor_mag", "sensor_combined"),
+        instance=instance,
+        mag_instance=mag_instance,
+        clock=clock,
+        default_imu=default,
+        notes=notes,
+        name=name,
+    )
     return log

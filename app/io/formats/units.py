@@ -35,12 +35,12 @@ MAG_UNITS_IN = ("uT", "nT", "gauss", "raw")
 
 
 def median_norm(acc: np.ndarray) -> float:
-    sub = acc[: 200_000]
+    sub = acc[:200_000]
     return float(np.median(np.linalg.norm(sub, axis=1)))
 
 
 def _whole(values: np.ndarray) -> bool:
-    sub = values[: 10_000]
+    sub = values[:10_000]
     return bool(np.allclose(sub, np.round(sub)))
 
 
@@ -98,13 +98,13 @@ def field_magnitude(mag: np.ndarray) -> float:
     """The field a magnetometer reads: half the 1–99 % range per axis when it turned through all
     directions (free of the hard-iron offset), else the median norm."""
     turn = turn_field(mag)
-    return median_norm(np.asarray(mag[: 200_000], dtype=float)) if turn is None else turn
+    return median_norm(np.asarray(mag[:200_000], dtype=float)) if turn is None else turn
 
 
 def turn_field(mag: np.ndarray) -> float | None:
     """Half the 1–99 % range per axis (the field, free of the hard iron) when the magnetometer turned
     through all directions; None when it did not (a still sensor: its norm is all there is)."""
-    sub = np.asarray(mag[: 200_000], dtype=float)
+    sub = np.asarray(mag[:200_000], dtype=float)
     lo, hi = np.percentile(sub, [1.0, 99.0], axis=0)
     half = (hi - lo) / 2.0
     norm = median_norm(sub)
@@ -112,8 +112,7 @@ def turn_field(mag: np.ndarray) -> float | None:
     # its norm), even under a hard iron many times the field (an MMC5983MA's mid-scale zero: 4 %);
     # and the readings lie on a shell, not in a ball: a still sensor's noise and slow wander can span
     # 2.5 % of its norm (a BNO055 at 954 counts: ±25), but they fill the ball (SHELL_CV).
-    if (half.min() > 0.3 * half.max() and half.mean() > 0.025 * norm
-            and _shell_spread(sub, lo, hi) < SHELL_CV):
+    if half.min() > 0.3 * half.max() and half.mean() > 0.025 * norm and _shell_spread(sub, lo, hi) < SHELL_CV:
         return float(half.mean())
     return None
 
@@ -151,9 +150,18 @@ def _claim(sensor: str, given: dict, stated: dict, stated_by: str) -> Claim:
     return Claim(None, None)
 
 
-def settle_units(log: LogData, *, given: dict | None = None, stated: dict | None = None,
-                 lsb_per_g: float | None = None, lsb_source: str = "lsb_per_g", chips: dict | None = None,
-                 stated_by: str = "the header", check_mag: bool = True, name: str = "the file") -> LogData:
+def settle_units(
+    log: LogData,
+    *,
+    given: dict | None = None,
+    stated: dict | None = None,
+    lsb_per_g: float | None = None,
+    lsb_source: str = "lsb_per_g",
+    chips: dict | None = None,
+    stated_by: str = "the header",
+    check_mag: bool = True,
+    name: str = "the file",
+) -> LogData:
     """Each sensor's unit as its data show it, counts turned into physical units where a scale is known.
 
     Parameters
@@ -199,49 +207,85 @@ def settle_units(log: LogData, *, given: dict | None = None, stated: dict | None
         if getattr(log, sensor) is None:
             notes.append(f"chip {chip.name} is for the {SENSOR_WORDS[sensor]}, which the file does not have: not used")
     if log.acc is not None:
-        arrays["acc"], units["acc"] = _settle_acc(log.acc, units.get("acc"), _claim("acc", given, stated, stated_by),
-                                                  lsb_per_g, lsb_source, chips.get("acc"), notes, warns, name)
+        arrays["acc"], units["acc"] = _settle_acc(
+            log.acc,
+            units.get("acc"),
+            _claim("acc", given, stated, stated_by),
+            lsb_per_g,
+            lsb_source,
+            chips.get("acc"),
+            notes,
+            warns,
+            name,
+        )
     if log.gyr is not None:
-        arrays["gyr"], units["gyr"] = _settle_gyr(log.gyr, units.get("gyr"), _claim("gyr", given, stated, stated_by),
-                                                  chips.get("gyr"), notes, warns, questions,
-                                                  acc=arrays.get("acc", log.acc), fs=log.sampling_rate_hz,
-                                                  time_s=log.time_s)
+        arrays["gyr"], units["gyr"] = _settle_gyr(
+            log.gyr,
+            units.get("gyr"),
+            _claim("gyr", given, stated, stated_by),
+            chips.get("gyr"),
+            notes,
+            warns,
+            questions,
+            acc=arrays.get("acc", log.acc),
+            fs=log.sampling_rate_hz,
+            time_s=log.time_s,
+        )
     if log.mag is not None:
-        arrays["mag"], units["mag"] = _settle_mag(log.mag, units.get("mag"), _claim("mag", given, stated, stated_by),
-                                                  chips.get("mag"), check_mag, notes, warns)
-    return dataclasses.replace(log, **arrays, units=units, notes=tuple(log.notes) + tuple(notes),
-                               warnings=tuple(log.warnings) + tuple(warns),
-                               questions=tuple(log.questions) + tuple(questions))
+        arrays["mag"], units["mag"] = _settle_mag(
+            log.mag,
+            units.get("mag"),
+            _claim("mag", given, stated, stated_by),
+            chips.get("mag"),
+            check_mag,
+            notes,
+            warns,
+        )
+    return dataclasses.replace(
+        log,
+        **arrays,
+        units=units,
+        notes=tuple(log.notes) + tuple(notes),
+        warnings=tuple(log.warnings) + tuple(warns),
+        questions=tuple(log.questions) + tuple(questions),
+    )
 
 
 def _refuse_scale_and_unit(sensor: str, claim: Claim, scale: str) -> None:
     if claim.by == f"{sensor}_unit" and claim.unit != "raw":
-        raise LogFormatError(f"{scale} converts counts of the {SENSOR_WORDS[sensor]}, but {sensor}_unit says its "
-                             f"readings are in {claim.unit}: give one of them ({sensor}_unit=raw with the scale, "
-                             f"or the unit alone)")
+        raise LogFormatError(
+            f"{scale} converts counts of the {SENSOR_WORDS[sensor]}, but {sensor}_unit says its "
+            f"readings are in {claim.unit}: give one of them ({sensor}_unit=raw with the scale, "
+            f"or the unit alone)"
+        )
 
 
 def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | None, notes, warns, name):
     norm = median_norm(acc) if len(acc) else 0.0
     inferred = infer_acc_unit(acc) if len(acc) else None
     if chip is not None and lsb_per_g is not None and abs(lsb_per_g * chip.scale - 1.0) > 1e-9:
-        raise LogFormatError(f"chip {chip.name} ({1 / chip.scale:g} LSB/g) and lsb_per_g={lsb_per_g:g} disagree: "
-                             "give one of them")
+        raise LogFormatError(
+            f"chip {chip.name} ({1 / chip.scale:g} LSB/g) and lsb_per_g={lsb_per_g:g} disagree: give one of them"
+        )
     if chip is not None or lsb_per_g is not None:
         return _acc_by_scale(acc, norm, inferred, claim, lsb_per_g, lsb_source, chip, notes)
     if inferred in ACC_PHYSICAL_UNITS:
         if claim.unit is not None and claim.unit != inferred:
-            warns.append(f"{claim.words()} for the accelerometer, but its readings rest at a median norm of "
-                         f"{norm:.3g}, about 1 g in {inferred}: calibrated in {inferred}")
+            warns.append(
+                f"{claim.words()} for the accelerometer, but its readings rest at a median norm of "
+                f"{norm:.3g}, about 1 g in {inferred}: calibrated in {inferred}"
+            )
         elif claim.unit is None:
             notes.append(f"accelerometer unit {inferred} inferred from the data (median norm {norm:.3g})")
         return acc, inferred
     if norm > 50:  # counts of an ADC
         return _acc_counts(acc, norm, claim, warns)
     if (1.6 < norm < 6.0 or 14.0 < norm <= 50) and claim.unit in (None, "raw"):
-        warns.append(f"the accelerometer rests at a median norm of {norm:.3g}, neither about 1 (g) nor about 9.8 "
-                     "(m/s²): it is calibrated in the readings' own unit (an analogue sensor's volts, or counts), "
-                     "and its figures are labelled counts; give acc_unit, or lsb_per_g / chip for counts")
+        warns.append(
+            f"the accelerometer rests at a median norm of {norm:.3g}, neither about 1 (g) nor about 9.8 "
+            "(m/s²): it is calibrated in the readings' own unit (an analogue sensor's volts, or counts), "
+            "and its figures are labelled counts; give acc_unit, or lsb_per_g / chip for counts"
+        )
         return acc, "raw"
     if 1.6 < norm < 6.0 or 14.0 < norm <= 50:
         raise LogFormatError(
@@ -249,12 +293,14 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
             + (f" ({claim.words()})" if claim.unit else "")
             + ", which is neither about 1 (g) nor about 9.8 (m/s²) nor counts of a 16-bit sensor: check that "
             "acc_x, acc_y, acc_z are the accelerometer's columns, and give acc_unit (g, m/s^2), or lsb_per_g / "
-            "chip for counts")
+            "chip for counts"
+        )
     if claim.unit is None and unit not in ("g", "m/s^2", "raw"):
         unit = "m/s^2"
     if claim.unit is None and norm >= LINEAR_FRACTION:
-        notes.append("accelerometer unit not named and not evident from the data: m/s² assumed "
-                     "(give acc_unit to change it)")
+        notes.append(
+            "accelerometer unit not named and not evident from the data: m/s² assumed (give acc_unit to change it)"
+        )
     return acc, unit
 
 
@@ -267,19 +313,25 @@ def _acc_by_scale(acc, norm: float, inferred, claim: Claim, lsb_per_g, lsb_sourc
         raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb}")
     _refuse_scale_and_unit("acc", claim, what)
     if inferred in ACC_PHYSICAL_UNITS:
-        raise LogFormatError(f"{what} converts counts (LSB) into g, but the accelerometer's readings are "
-                             f"already in {inferred} (they rest at a median norm of {norm:.3g}): leave "
-                             f"{what.split('=')[0]} "
-                             "out")
+        raise LogFormatError(
+            f"{what} converts counts (LSB) into g, but the accelerometer's readings are "
+            f"already in {inferred} (they rest at a median norm of {norm:.3g}): leave "
+            f"{what.split('=')[0]} "
+            "out"
+        )
     in_g = norm / lsb
     if not 0.6 <= in_g <= 1.6:
         fit = common_sensitivity(norm)
         raise LogFormatError(
             f"with {what} the accelerometer rests at {in_g:.3g} g, not about 1 g: "
-            + (f"its counts rest at {norm:.0f}, which fits {fit:g} LSB/g ({ACC_RANGE[fit]}): give "
-               f"{_sensitivity_hint(fit)}" if fit else
-               f"its counts rest at {norm:.0f}; give the sensitivity of the range the sensor was set to "
-               "(its datasheet's LSB per g)"))
+            + (
+                f"its counts rest at {norm:.0f}, which fits {fit:g} LSB/g ({ACC_RANGE[fit]}): give "
+                f"{_sensitivity_hint(fit)}"
+                if fit
+                else f"its counts rest at {norm:.0f}; give the sensitivity of the range the sensor was set to "
+                "(its datasheet's LSB per g)"
+            )
+        )
     notes.append(f"accelerometer counts divided by {lsb:g} LSB per g ({what}) into g")
     return acc / lsb, "g"
 
@@ -288,25 +340,30 @@ def _acc_counts(acc, norm: float, claim: Claim, warns):
     """Accelerometer readings that are counts of an ADC (median norm over 50) with no scale given: divided
     into g by the common sensitivity they fit, else left in counts; a warning says which."""
     if claim.by == "acc_unit" and claim.unit == "raw":
-        warns.append("the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give "
-                     "chip or lsb_per_g to calibrate in g")
+        warns.append(
+            "the accelerometer's readings are counts (acc_unit=raw): its figures are in counts; give "
+            "chip or lsb_per_g to calibrate in g"
+        )
         return acc, "raw"
     fit = common_sensitivity(norm)
     said = f" ({claim.words()})" if claim.unit not in (None, "raw") else ""
     if fit is not None:
-        warns.append(f"the accelerometer's readings are counts{said}: they rest at a median norm of {norm:.0f}, "
-                     f"about {fit:g} LSB per g ({_sensitivity_words(fit)}), so they were divided by {fit:g} into "
-                     "g; give chip or lsb_per_g for another scale, or acc_unit=raw to calibrate in counts")
+        warns.append(
+            f"the accelerometer's readings are counts{said}: they rest at a median norm of {norm:.0f}, "
+            f"about {fit:g} LSB per g ({_sensitivity_words(fit)}), so they were divided by {fit:g} into "
+            "g; give chip or lsb_per_g for another scale, or acc_unit=raw to calibrate in counts"
+        )
         return acc / fit, "g"
-    warns.append(f"the accelerometer's readings are counts{said} resting at a median norm of {norm:.0f}, near "
-                 f"none of the common sensitivities ({', '.join(f'{v:g}' for v in ACC_LSB_PER_G)} LSB per g): "
-                 "calibrated in counts, "
-                 "and its figures are in counts; give lsb_per_g (or chip) to calibrate in g")
+    warns.append(
+        f"the accelerometer's readings are counts{said} resting at a median norm of {norm:.0f}, near "
+        f"none of the common sensitivities ({', '.join(f'{v:g}' for v in ACC_LSB_PER_G)} LSB per g): "
+        "calibrated in counts, "
+        "and its figures are in counts; give lsb_per_g (or chip) to calibrate in g"
+    )
     return acc, "raw"
 
 
-def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questions, *, acc=None, fs=None,
-                time_s=None):
+def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questions, *, acc=None, fs=None, time_s=None):
     if chip is not None:
         _refuse_scale_and_unit("gyr", claim, f"chip {chip.name}")
         notes.append(f"gyroscope counts times {chip.scale:.6g} °/s per count (chip {chip.name}) into deg/s")
@@ -322,23 +379,33 @@ def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questi
     ev = gyro_evidence(gyr, whole=whole, acc=acc, fs=fs, time_s=time_s)
     if whole:
         if claim.unit not in (None, "raw"):
-            warns.append(f"{claim.words()} for the gyroscope, but its readings are whole numbers up to {peak:.0f}: "
-                         "read as counts")
+            warns.append(
+                f"{claim.words()} for the gyroscope, but its readings are whole numbers up to {peak:.0f}: "
+                "read as counts"
+            )
         if ev.unit is not None:
             lsb = float(ev.unit[4:])
             if claim.unit == "raw" and claim.by == "gyr_unit":
-                warns.append(f"the gyroscope's readings are counts (gyr_unit=raw): its figures are in counts; "
-                             f"{ev.words}: give chip=mpu6050-{GYR_RANGE[lsb][1:-4]}dps to have them in °/s")
+                warns.append(
+                    f"the gyroscope's readings are counts (gyr_unit=raw): its figures are in counts; "
+                    f"{ev.words}: give chip=mpu6050-{GYR_RANGE[lsb][1:-4]}dps to have them in °/s"
+                )
                 return gyr, "raw"
-            warns.append(f"the gyroscope's readings are counts: {ev.words}, so they were divided by {lsb:g} into "
-                         "deg/s; give chip for another scale, or gyr_unit=raw to calibrate in counts")
+            warns.append(
+                f"the gyroscope's readings are counts: {ev.words}, so they were divided by {lsb:g} into "
+                "deg/s; give chip for another scale, or gyr_unit=raw to calibrate in counts"
+            )
             return gyr / lsb, "deg/s"
-        warns.append("the gyroscope's readings are counts: its figures are in counts; give chip (e.g. "
-                     "mpu6050-250dps) or gyr_unit to have them in °/s")
+        warns.append(
+            "the gyroscope's readings are counts: its figures are in counts; give chip (e.g. "
+            "mpu6050-250dps) or gyr_unit to have them in °/s"
+        )
         return gyr, "raw"
     if ev.unit is not None and claim.unit is not None and claim.unit != ev.unit and not ev.firm:
-        notes.append(f"{claim.words()} for the gyroscope; its quietest stretch would rather say {ev.unit} "
-                     f"({ev.words}), but no accelerometer confirms that it was still: read as {claim.unit}")
+        notes.append(
+            f"{claim.words()} for the gyroscope; its quietest stretch would rather say {ev.unit} "
+            f"({ev.words}), but no accelerometer confirms that it was still: read as {claim.unit}"
+        )
         return gyr, claim.unit
     if ev.unit is not None:
         if claim.unit is not None and claim.unit != ev.unit:
@@ -348,8 +415,10 @@ def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questi
         return gyr, ev.unit
     if claim.unit is not None:
         return gyr, claim.unit
-    question = (f"the gyroscope's unit is not evident from its data ({ev.words}): its figures were read as "
-                f"{unit}, which may be wrong by a factor of 57; give gyr_unit (rad/s or deg/s)")
+    question = (
+        f"the gyroscope's unit is not evident from its data ({ev.words}): its figures were read as "
+        f"{unit}, which may be wrong by a factor of 57; give gyr_unit (rad/s or deg/s)"
+    )
     warns.append(question)
     questions.append({"sensor": "gyr", "detail": question})
     return gyr, unit
@@ -363,8 +432,10 @@ def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, 
         low, high = FIELD_RANGES["uT"]
         notes.append(f"magnetometer counts times {chip.scale:.6g} µT per count (chip {chip.name}) into µT")
         if not low <= field <= high:
-            warns.append(f"with chip {chip.name} the magnetometer shows a field of {field:.1f} µT, outside the "
-                         f"Earth's {low:g}–{high:g} µT: check the chip's range (or a magnet near the sensor)")
+            warns.append(
+                f"with chip {chip.name} the magnetometer shows a field of {field:.1f} µT, outside the "
+                f"Earth's {low:g}–{high:g} µT: check the chip's range (or a magnet near the sensor)"
+            )
         return out, "uT"
     if unit == "gauss" and not check:
         return mag * GAUSS_UT, "uT"
@@ -382,20 +453,26 @@ def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, 
         if unit == "gauss":
             return mag * GAUSS_UT, "uT"
         if claim.unit in ("uT", "nT") or claim.unit is None:
-            warns.append(f"the magnetometer's readings show a field of {field:.4g}"
-                         + (f" ({claim.words()})" if claim.unit else "")
-                         + ", which fits no unit (µT 15–100, gauss 0.15–1, nT 15000–100000): its figures are left "
-                         "in the readings' own unit, labelled counts; give mag_unit, or chip for a known part")
+            warns.append(
+                f"the magnetometer's readings show a field of {field:.4g}"
+                + (f" ({claim.words()})" if claim.unit else "")
+                + ", which fits no unit (µT 15–100, gauss 0.15–1, nT 15000–100000): its figures are left "
+                "in the readings' own unit, labelled counts; give mag_unit, or chip for a known part"
+            )
             return mag, "raw"
         return mag, unit
     if said:
-        warns.append(f"{claim.words()} for the magnetometer, but its readings show a field of {field:.4g}, "
-                     + ("which is counts" if inferred == "raw" else f"the Earth's field in {inferred}")
-                     + f": read as {'counts' if inferred == 'raw' else inferred}")
+        warns.append(
+            f"{claim.words()} for the magnetometer, but its readings show a field of {field:.4g}, "
+            + ("which is counts" if inferred == "raw" else f"the Earth's field in {inferred}")
+            + f": read as {'counts' if inferred == 'raw' else inferred}"
+        )
     if inferred == "raw":
-        warns.append(f"the magnetometer's readings are counts (a field of {field:.0f} counts): its figures are "
-                     "in counts; give chip (e.g. ak8963-16bit, qmc5883l-2g, hmc5883l-1090) or mag_unit to have "
-                     "them in µT")
+        warns.append(
+            f"the magnetometer's readings are counts (a field of {field:.0f} counts): its figures are "
+            "in counts; give chip (e.g. ak8963-16bit, qmc5883l-2g, hmc5883l-1090) or mag_unit to have "
+            "them in µT"
+        )
         return mag, "raw"
     if inferred == "gauss":
         notes.append("magnetometer readings in gauss multiplied by 100 into µT")

@@ -115,7 +115,9 @@ def test_fit_recovers_exact_parameters_without_noise():
     S, b = true_parameters("mag")
     rng = np.random.default_rng(0)
     m, c, n = simulate_position_means(rng, p, sensor="mag", noise_var=1e-30)
-    r = fit_field_sensor(m, np.broadcast_to(np.eye(3) * 1e-8, (24, 3, 3)), n, p.attitudes, reference=FIELD_UT, sensor="mag")
+    r = fit_field_sensor(
+        m, np.broadcast_to(np.eye(3) * 1e-8, (24, 3, 3)), n, p.attitudes, reference=FIELD_UT, sensor="mag"
+    )
     np.testing.assert_allclose(r.S, S, rtol=1e-9)
     np.testing.assert_allclose(r.b, b, rtol=1e-9)
     assert abs(r.alpha_deg - 15) < 1e-7 and abs(r.beta_deg - 10) < 1e-7
@@ -151,8 +153,13 @@ def test_too_few_positions_and_bad_input():
         fit_field_sensor(m, c, n, p.attitudes, reference=-1.0)
     with pytest.raises(InsufficientDataError):
         # Only the four +z positions: the model is not determined.
-        fit_field_sensor(np.tile(m[:4], (2, 1)), np.tile(c[:4], (2, 1, 1)), np.tile(n[:4], 2),
-                         np.tile(p.attitudes[:4], (2, 1, 1)), reference=GRAVITY)
+        fit_field_sensor(
+            np.tile(m[:4], (2, 1)),
+            np.tile(c[:4], (2, 1, 1)),
+            np.tile(n[:4], 2),
+            np.tile(p.attitudes[:4], (2, 1, 1)),
+            reference=GRAVITY,
+        )
 
 
 def test_eq8_matrix_is_the_product_of_the_two_inclinations_and_dof_is_72_minus_14():

@@ -16,14 +16,25 @@ FS = 50.0
 
 def _run(session, **kw):
     kw.setdefault("protocol", session.protocol)
-    return calibrate_cube(session.acc, session.gyr, session.mag, sampling_rate_hz=session.sampling_rate_hz,
-                          gravity=GRAVITY, field_ut=FIELD_UT, **kw)
+    return calibrate_cube(
+        session.acc,
+        session.gyr,
+        session.mag,
+        sampling_rate_hz=session.sampling_rate_hz,
+        gravity=GRAVITY,
+        field_ut=FIELD_UT,
+        **kw,
+    )
 
 
 @pytest.fixture(scope="module")
 def good():
-    s = simulate_session(np.random.default_rng(11), sampling_rate_hz=FS, return_to_start=True,
-                         drift_per_s={"acc": [2e-6, -1e-6, 3e-6], "gyr": [2e-5, 0, -1e-5]})
+    s = simulate_session(
+        np.random.default_rng(11),
+        sampling_rate_hz=FS,
+        return_to_start=True,
+        drift_per_s={"acc": [2e-6, -1e-6, 3e-6], "gyr": [2e-5, 0, -1e-5]},
+    )
     return s, _run(s)
 
 
@@ -115,8 +126,9 @@ def test_rotations_beyond_the_gyroscope_range():
 
 def test_ferraris_protocol_calibrates_acc_and_gyro_without_field_direction():
     # Full turns about a fixed axis: the assumption of the rotation-vector (Ferraris) method.
-    s = simulate_session(np.random.default_rng(15), "ferraris", sampling_rate_hz=FS, alpha_deg=0.0, beta_deg=0.0,
-                         wander_deg=0.0)
+    s = simulate_session(
+        np.random.default_rng(15), "ferraris", sampling_rate_hz=FS, alpha_deg=0.0, beta_deg=0.0, wander_deg=0.0
+    )
     r = _run(s)
     assert r.ok, r.reasons
     assert r.mag is None and any("mag not calibrated" in w for w in r.warnings)
@@ -182,7 +194,7 @@ def test_cube24_pauses_and_hand_moves_that_are_not_a_quarter_turn_are_handling()
     for k in (2, 9):
         a, b = s.static_segments[k]
         mid = (a + b) // 2 - len(t) // 2
-        gyr[mid:mid + len(t), 0] += nudge
+        gyr[mid : mid + len(t), 0] += nudge
     r = calibrate_cube(s.acc, gyr, sampling_rate_hz=FS, protocol="cube24", gravity=GRAVITY)
     assert r.ok, r.reasons
     assert (r.metrics["n_still_found"], r.metrics["n_positions_found"]) == (26, 24)

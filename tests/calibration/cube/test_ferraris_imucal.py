@@ -21,7 +21,9 @@ from app.calibration import CalibrationError
 from app.calibration.cube import calibrate_cube
 from simulations.cube import simulate_hand_ferraris
 
-SECTIONS = json.loads((Path(__file__).resolve().parents[2] / "data" / "imucal_example_ferraris_session_list.json").read_text())
+SECTIONS = json.loads(
+    (Path(__file__).resolve().parents[2] / "data" / "imucal_example_ferraris_session_list.json").read_text()
+)
 G = 9.81  # imucal's default grav
 
 
@@ -32,23 +34,38 @@ def session():
 
 @pytest.fixture(scope="module")
 def imucal_cal(session):
-    df = pd.DataFrame(np.hstack([session.acc, session.gyr]), columns=["acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"])
+    df = pd.DataFrame(
+        np.hstack([session.acc, session.gyr]), columns=["acc_x", "acc_y", "acc_z", "gyr_x", "gyr_y", "gyr_z"]
+    )
     regions = ferraris_regions_from_section_list(df, pd.DataFrame(SECTIONS).T)
     cal = FerrarisCalibration(grav=G).compute(regions, session.sampling_rate_hz, "m/s^2", "deg/s")
-    return {"M_acc": np.linalg.inv(cal.R_a) @ np.linalg.inv(cal.K_a), "b_acc": cal.b_a,
-            "M_gyr": np.linalg.inv(cal.R_g) @ np.linalg.inv(cal.K_g), "b_gyr": cal.b_g, "K_ga": cal.K_ga}
+    return {
+        "M_acc": np.linalg.inv(cal.R_a) @ np.linalg.inv(cal.K_a),
+        "b_acc": cal.b_a,
+        "M_gyr": np.linalg.inv(cal.R_g) @ np.linalg.inv(cal.K_g),
+        "b_gyr": cal.b_g,
+        "K_ga": cal.K_ga,
+    }
 
 
 def _trical(session, **kw):
-    return calibrate_cube(session.acc, np.radians(session.gyr), sampling_rate_hz=session.sampling_rate_hz,
-                          protocol="ferraris", gravity=G, **kw)
+    return calibrate_cube(
+        session.acc,
+        np.radians(session.gyr),
+        sampling_rate_hz=session.sampling_rate_hz,
+        protocol="ferraris",
+        gravity=G,
+        **kw,
+    )
 
 
 def _differences(r, ref) -> dict:
-    return {"M_acc": np.abs(np.linalg.inv(r.acc.S) - ref["M_acc"]).max(),
-            "b_acc": np.abs(r.acc.b - ref["b_acc"]).max(),
-            "M_gyr": np.abs(np.linalg.inv(r.gyr.S) - ref["M_gyr"]).max(),
-            "b_gyr": np.abs(np.degrees(r.gyr.b) - ref["b_gyr"]).max()}
+    return {
+        "M_acc": np.abs(np.linalg.inv(r.acc.S) - ref["M_acc"]).max(),
+        "b_acc": np.abs(r.acc.b - ref["b_acc"]).max(),
+        "M_gyr": np.abs(np.linalg.inv(r.gyr.S) - ref["M_gyr"]).max(),
+        "b_gyr": np.abs(np.degrees(r.gyr.b) - ref["b_gyr"]).max(),
+    }
 
 
 def test_the_section_list_marks_the_simulated_rests(session):
@@ -111,14 +128,23 @@ def test_both_recover_the_simulated_gyroscope(session, imucal_cal):
     np.testing.assert_allclose(np.degrees(r.gyr.b), session.truth["gyr"]["b"], atol=0.01)
 
 
-@pytest.mark.parametrize("change, words", [
-    ({"x_q": {"start": 1, "end": 5}}, "unknown key(s) 'x_q'"),
-    ({"z_rot": None}, "sections.z_rot must be"),
-    ({"y_rot": {"start": 8081, "end": 20000}}, "sections.y_rot ends at sample 20000, but the recording has 10000 samples"),
-    ({"x_a": {"start": 2361, "end": 1620}}, "sections.x_a runs from 2361 to 1620"),
-    ({"y_p": {"start": 1.5, "end": 3298}}, "sections.y_p.start must be a whole sample index"),
-    ({"x_p": {"start": 1620, "end": 2361}}, "sections.x_p should be a rest with +x up, but the accelerometer reads -x up"),
-])
+@pytest.mark.parametrize(
+    "change, words",
+    [
+        ({"x_q": {"start": 1, "end": 5}}, "unknown key(s) 'x_q'"),
+        ({"z_rot": None}, "sections.z_rot must be"),
+        (
+            {"y_rot": {"start": 8081, "end": 20000}},
+            "sections.y_rot ends at sample 20000, but the recording has 10000 samples",
+        ),
+        ({"x_a": {"start": 2361, "end": 1620}}, "sections.x_a runs from 2361 to 1620"),
+        ({"y_p": {"start": 1.5, "end": 3298}}, "sections.y_p.start must be a whole sample index"),
+        (
+            {"x_p": {"start": 1620, "end": 2361}},
+            "sections.x_p should be a rest with +x up, but the accelerometer reads -x up",
+        ),
+    ],
+)
 def test_invalid_sections_name_the_key_and_the_fix(session, change, words):
     sections = {**SECTIONS, **change}
     with pytest.raises(CalibrationError) as exc:
@@ -128,5 +154,11 @@ def test_invalid_sections_name_the_key_and_the_fix(session, change, words):
     with pytest.raises(CalibrationError, match="sections lacks y_a"):
         _trical(session, sections=missing)
     with pytest.raises(CalibrationError, match="go with protocol ferraris"):
-        calibrate_cube(session.acc, np.radians(session.gyr), sampling_rate_hz=session.sampling_rate_hz,
-                       protocol="cube24", gravity=G, sections=SECTIONS)
+        calibrate_cube(
+            session.acc,
+            np.radians(session.gyr),
+            sampling_rate_hz=session.sampling_rate_hz,
+            protocol="cube24",
+            gravity=G,
+            sections=SECTIONS,
+        )

@@ -16,7 +16,7 @@ def _rotations(session, pad_s=0.2):
     pad = int(pad_s * fs)
     segs = session.static_segments
     p = session.protocol
-    rots = [session.gyr[segs[k][1] - pad:segs[k + 1][0] + pad] for k in range(p.n_positions - 1)]
+    rots = [session.gyr[segs[k][1] - pad : segs[k + 1][0] + pad] for k in range(p.n_positions - 1)]
     still = np.vstack([session.gyr[a:b] for a, b in segs])
     return rots, p.quaternions[:-1], p.quaternions[1:], still
 
@@ -28,8 +28,9 @@ def test_quaternion_helpers_agree():
     w = rng.normal(size=(5, 3))
     # W(ω) q = Ξ(q) ω = q ⊗ [0, ω]  (Särkkä et al. eq. (2))
     np.testing.assert_allclose(quat.omega_matrix(w) @ q[:, :, None], quat.xi_matrix(q) @ w[:, :, None])
-    np.testing.assert_allclose((quat.omega_matrix(w) @ q[:, :, None])[:, :, 0],
-                               quat.multiply(q, np.c_[np.zeros(5), w]), atol=1e-12)
+    np.testing.assert_allclose(
+        (quat.omega_matrix(w) @ q[:, :, None])[:, :, 0], quat.multiply(q, np.c_[np.zeros(5), w]), atol=1e-12
+    )
     for qq in q:
         R = quat.to_matrix(qq)
         np.testing.assert_allclose(abs(quat.from_matrix(R) @ qq), 1.0, atol=1e-12)
@@ -39,8 +40,9 @@ def test_quaternion_helpers_agree():
 
 
 def test_noise_free_rotations_recover_the_parameters_at_1_khz():
-    s = simulate_session(np.random.default_rng(1), sampling_rate_hz=1000.0, with_mag=False,
-                         noise_var={"gyr": 1e-16, "acc": 1e-16})
+    s = simulate_session(
+        np.random.default_rng(1), sampling_rate_hz=1000.0, with_mag=False, noise_var={"gyr": 1e-16, "acc": 1e-16}
+    )
     rots, qs, qe, still = _rotations(s)
     g = fit_gyroscope(rots, qs, qe, sampling_rate_hz=1000.0, noise_cov=np.eye(3) * 1e-16, bias0=still.mean(0))
     S, b = true_parameters("gyr")
@@ -96,4 +98,6 @@ def test_gyroscope_input_errors():
     with pytest.raises(InsufficientDataError, match="rotations"):
         fit_gyroscope([rot, rot], np.tile(q, (2, 1)), np.tile(q, (2, 1)), sampling_rate_hz=100, noise_cov=np.eye(3))
     with pytest.raises(CalibrationError, match="N×3"):
-        fit_gyroscope([rot[:, :2]] * 4, np.tile(q, (4, 1)), np.tile(q, (4, 1)), sampling_rate_hz=100, noise_cov=np.eye(3))
+        fit_gyroscope(
+            [rot[:, :2]] * 4, np.tile(q, (4, 1)), np.tile(q, (4, 1)), sampling_rate_hz=100, noise_cov=np.eye(3)
+        )

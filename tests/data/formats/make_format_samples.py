@@ -45,8 +45,9 @@ def _write(name: str, text: str) -> None:
 def _zip(name: str, members: dict[str, str]) -> None:
     with zipfile.ZipFile(OUT / name, "w", compression=zipfile.ZIP_DEFLATED) as zf:
         for member, text in members.items():
-            zf.writestr(zipfile.ZipInfo(member, date_time=ZIP_DATE), text.encode("utf-8"),
-                        compress_type=zipfile.ZIP_DEFLATED)
+            zf.writestr(
+                zipfile.ZipInfo(member, date_time=ZIP_DATE), text.encode("utf-8"), compress_type=zipfile.ZIP_DEFLATED
+            )
 
 
 def _table(header: list[str], rows, delimiter=",", decimal=".", fmt="{:.6g}", quote=False) -> str:
@@ -94,43 +95,60 @@ def main(out: Path = HERE) -> None:
     _write("phyphox_comma.csv", _table(header, rows, ",", ".", "{:.9E}", quote=True))
     _write("phyphox_semicolon_decimal_comma.csv", _table(header, rows, ";", ",", "{:.9E}", quote=True))
     _write("phyphox_tab.csv", _table(header, rows, "\t", ".", "{:.9E}", quote=True))
-    _zip("phyphox_export.zip", {
-        "Raw Data.csv": _table(header, rows, ",", ".", "{:.9E}", quote=True),
-        "meta/device.csv": '"property","value"\r\n"deviceModel","trical-sim"\r\n"deviceBrand","trical"\r\n'
-                           '"note","' + GENERATED + '"\r\n',
-        "meta/time.csv": '"event","experiment time","system time","system time text"\r\n'
-                         '"START",0.000000000E0,1.763856000E9,"2025-11-23 00:00:00.000 UTC+00:00"\r\n',
-    })
+    _zip(
+        "phyphox_export.zip",
+        {
+            "Raw Data.csv": _table(header, rows, ",", ".", "{:.9E}", quote=True),
+            "meta/device.csv": '"property","value"\r\n"deviceModel","trical-sim"\r\n"deviceBrand","trical"\r\n'
+            '"note","' + GENERATED + '"\r\n',
+            "meta/time.csv": '"event","experiment time","system time","system time text"\r\n'
+            '"START",0.000000000E0,1.763856000E9,"2025-11-23 00:00:00.000 UTC+00:00"\r\n',
+        },
+    )
     header, rows = phyphox(t, linear, linear=True)
     _write("phyphox_linear.csv", _table(header, rows, ",", ".", "{:.9E}", quote=True))
 
     # Sensor Logger: Android zip (TotalAcceleration in m/s²), iOS zip (raw stream in g, iOS sign).
     metadata = "version,device name,recording time,platform,appVersion,standardisation\n"
     t_gyr = t + 0.007
-    _zip("sensor_logger_android.zip", {
-        "Metadata.csv": metadata + "3,trical-sim-android,2025-11-23_00-00-00,android,1.41.0,false\n",
-        "TotalAcceleration.csv": sensor_logger_csv(t, acc),
-        "Accelerometer.csv": sensor_logger_csv(t, linear),
-        "Gyroscope.csv": sensor_logger_csv(t_gyr, gyr),
-        "README.txt": GENERATED + "\n",
-    })
-    _zip("sensor_logger_ios.zip", {
-        "Metadata.csv": metadata + "3,trical-sim-iphone,2025-11-23_00-00-00,ios,1.41.0,false\n",
-        "AccelerometerUncalibrated.csv": sensor_logger_csv(t, -acc / G0),
-        "Accelerometer.csv": sensor_logger_csv(t, -linear / G0),
-        "README.txt": GENERATED + "\n",
-    })
-    _zip("sensor_logger_ios_linear_only.zip", {
-        "Metadata.csv": metadata + "3,trical-sim-iphone,2025-11-23_00-00-00,ios,1.41.0,false\n",
-        "Accelerometer.csv": sensor_logger_csv(t, -linear / G0),
-    })
+    _zip(
+        "sensor_logger_android.zip",
+        {
+            "Metadata.csv": metadata + "3,trical-sim-android,2025-11-23_00-00-00,android,1.41.0,false\n",
+            "TotalAcceleration.csv": sensor_logger_csv(t, acc),
+            "Accelerometer.csv": sensor_logger_csv(t, linear),
+            "Gyroscope.csv": sensor_logger_csv(t_gyr, gyr),
+            "README.txt": GENERATED + "\n",
+        },
+    )
+    _zip(
+        "sensor_logger_ios.zip",
+        {
+            "Metadata.csv": metadata + "3,trical-sim-iphone,2025-11-23_00-00-00,ios,1.41.0,false\n",
+            "AccelerometerUncalibrated.csv": sensor_logger_csv(t, -acc / G0),
+            "Accelerometer.csv": sensor_logger_csv(t, -linear / G0),
+            "README.txt": GENERATED + "\n",
+        },
+    )
+    _zip(
+        "sensor_logger_ios_linear_only.zip",
+        {
+            "Metadata.csv": metadata + "3,trical-sim-iphone,2025-11-23_00-00-00,ios,1.41.0,false\n",
+            "Accelerometer.csv": sensor_logger_csv(t, -linear / G0),
+        },
+    )
     _write("sensor_logger_TotalAcceleration.csv", sensor_logger_csv(t, acc))
 
     # Physics Toolbox Sensor Suite, g-Force Meter: time (s), gFx, gFy, gFz, TgF in g.
     gf = acc / G0
-    _write("physics_toolbox_gforce.csv", _table(
-        ["time", "gFx", "gFy", "gFz", "TgF"],
-        [[f"{ti:.3f}", *a, float(np.linalg.norm(a))] for ti, a in zip(t, gf)], fmt="{:.5f}"))
+    _write(
+        "physics_toolbox_gforce.csv",
+        _table(
+            ["time", "gFx", "gFy", "gFz", "TgF"],
+            [[f"{ti:.3f}", *a, float(np.linalg.norm(a))] for ti, a in zip(t, gf)],
+            fmt="{:.5f}",
+        ),
+    )
 
     # GnssLogger: '#' header lines, then UncalAccel / UncalGyro lines among Fix lines.
     lines = [
@@ -171,39 +189,72 @@ def main(out: Path = HERE) -> None:
     plot = [f"# MPU-6050 at +-8 g, lsb_per_g=4096; {GENERATED}"]
     plot += [f"ax:{a} ay:{b} az:{c}" for a, b, c in counts]
     _write("arduino_serial_plotter.txt", "\n".join(plot) + "\n")
-    _write("arduino_lsb.csv", f"# lsb_per_g=4096; {GENERATED}\n" + _table(
-        ["t_ms", "ax", "ay", "az"], [[f"{int(round(ti * 1e3))}", *map(str, c)] for ti, c in zip(t, counts)]))
+    _write(
+        "arduino_lsb.csv",
+        f"# lsb_per_g=4096; {GENERATED}\n"
+        + _table(["t_ms", "ax", "ay", "az"], [[f"{int(round(ti * 1e3))}", *map(str, c)] for ti, c in zip(t, counts)]),
+    )
 
     # Generic CSV in g, no unit in the header (inferred from the data).
-    _write("generic_g.csv", f"# {GENERATED}\n" + _table(
-        ["time_ms", "acc_x", "acc_y", "acc_z"], [[f"{ti * 1e3:.1f}", *a] for ti, a in zip(t, gf)], fmt="{:.6f}"))
+    _write(
+        "generic_g.csv",
+        f"# {GENERATED}\n"
+        + _table(
+            ["time_ms", "acc_x", "acc_y", "acc_z"], [[f"{ti * 1e3:.1f}", *a] for ti, a in zip(t, gf)], fmt="{:.6f}"
+        ),
+    )
 
     # Loggers' own files, without a header row (the numbers from the first line).
-    _write("headerless_spaces_ms.txt", "".join(  # aligned columns: runs of spaces
-        f"{int(round(ti * 1e3)):8d} {a[0]:10.5f} {a[1]:10.5f} {a[2]:10.5f}\n" for ti, a in zip(t, acc)))
-    _write("headerless_semicolon_decimal_comma.csv", "".join(
-        f"{ti:.3f};{a[0]:.5f};{a[1]:.5f};{a[2]:.5f}\n".replace(".", ",") for ti, a in zip(t, acc)))
+    _write(
+        "headerless_spaces_ms.txt",
+        "".join(  # aligned columns: runs of spaces
+            f"{int(round(ti * 1e3)):8d} {a[0]:10.5f} {a[1]:10.5f} {a[2]:10.5f}\n" for ti, a in zip(t, acc)
+        ),
+    )
+    _write(
+        "headerless_semicolon_decimal_comma.csv",
+        "".join(f"{ti:.3f};{a[0]:.5f};{a[1]:.5f};{a[2]:.5f}\n".replace(".", ",") for ti, a in zip(t, acc)),
+    )
     _write("headerless_tab_xyz_g.txt", "".join(f"{a[0]:.6f}\t{a[1]:.6f}\t{a[2]:.6f}\n" for a in gf))
-    _write("headerless_imu_comma.csv", "".join(  # t (s), acc (g), gyr (rad/s): named with columns
-        f"{ti:.3f},{a[0]:.6f},{a[1]:.6f},{a[2]:.6f},{w[0]:.6f},{w[1]:.6f},{w[2]:.6f}\n"
-        for ti, a, w in zip(t, gf, gyr)))
+    _write(
+        "headerless_imu_comma.csv",
+        "".join(  # t (s), acc (g), gyr (rad/s): named with columns
+            f"{ti:.3f},{a[0]:.6f},{a[1]:.6f},{a[2]:.6f},{w[0]:.6f},{w[1]:.6f},{w[2]:.6f}\n"
+            for ti, a, w in zip(t, gf, gyr)
+        ),
+    )
 
     # SensorLog (iOS): Core Motion's values in g with its sign (-1 g on the up axis), one row per sample.
     boot_s = 61_234.5
     core = -gf  # Core Motion's sign
     gravity = core / np.linalg.norm(core, axis=1, keepdims=True)
-    header = (["loggingTime(txt)", "loggingSample(N)", "accelerometerTimestamp_sinceReboot(s)"]
-              + [f"accelerometerAcceleration{a}(G)" for a in "XYZ"] + ["motionTimestamp_sinceReboot(s)"]
-              + [f"motionUserAcceleration{a}(G)" for a in "XYZ"] + [f"motionGravity{a}(G)" for a in "XYZ"]
-              + ["gyroTimestamp_sinceReboot(s)"] + [f"gyroRotation{a}(rad/s)" for a in "XYZ"])
-    rows = [[f"2025-11-23 00:00:{ti:06.3f} +0000", str(i), f"{boot_s + ti:.6f}", *a, f"{boot_s + ti + 0.002:.6f}",
-             *(a - gv), *gv, f"{boot_s + ti + 0.001:.6f}", *w]
-            for i, (ti, a, gv, w) in enumerate(zip(t, core, gravity, gyr))]
+    header = (
+        ["loggingTime(txt)", "loggingSample(N)", "accelerometerTimestamp_sinceReboot(s)"]
+        + [f"accelerometerAcceleration{a}(G)" for a in "XYZ"]
+        + ["motionTimestamp_sinceReboot(s)"]
+        + [f"motionUserAcceleration{a}(G)" for a in "XYZ"]
+        + [f"motionGravity{a}(G)" for a in "XYZ"]
+        + ["gyroTimestamp_sinceReboot(s)"]
+        + [f"gyroRotation{a}(rad/s)" for a in "XYZ"]
+    )
+    rows = [
+        [
+            f"2025-11-23 00:00:{ti:06.3f} +0000",
+            str(i),
+            f"{boot_s + ti:.6f}",
+            *a,
+            f"{boot_s + ti + 0.002:.6f}",
+            *(a - gv),
+            *gv,
+            f"{boot_s + ti + 0.001:.6f}",
+            *w,
+        ]
+        for i, (ti, a, gv, w) in enumerate(zip(t, core, gravity, gyr))
+    ]
     _write("sensorlog_ios.csv", _table(header, rows, fmt="{:.6f}"))
 
     truth = log.to_dict()
-    truth.update(seed=SEED, params=PARAMS, unit="m/s^2", note=GENERATED,
-                 labels=[s["up"] for s in truth["segments"]])
+    truth.update(seed=SEED, params=PARAMS, unit="m/s^2", note=GENERATED, labels=[s["up"] for s in truth["segments"]])
     (OUT / "format_samples.json").write_text(json.dumps(truth, indent=1) + "\n")
     print(f"{n} samples, {n / RATE:.1f} s; labels {truth['labels']}")
 

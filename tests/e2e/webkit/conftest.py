@@ -37,8 +37,10 @@ def minibrowser() -> Path:
     for path in MINIBROWSERS:
         if path.exists():
             return path
-    pytest.fail(f"WebKitGTK's MiniBrowser is not installed ({', '.join(map(str, MINIBROWSERS))}): "
-                "run `make test` (it installs Debian's webkit2gtk-driver)")
+    pytest.fail(
+        f"WebKitGTK's MiniBrowser is not installed ({', '.join(map(str, MINIBROWSERS))}): "
+        "run `make test` (it installs Debian's webkit2gtk-driver)"
+    )
 
 
 class Display:
@@ -83,7 +85,8 @@ class WebKitPhone:
         self.wait("document.readyState === 'complete'", 10, "the page's load")
         self.driver.execute_async_script(
             "const done = arguments[arguments.length - 1];"
-            "requestAnimationFrame(() => requestAnimationFrame(() => done()));")
+            "requestAnimationFrame(() => requestAnimationFrame(() => done()));"
+        )
 
     def with_motion(self) -> None:
         """Give the open page the shim's motion sensors (before Start is tapped, as iOS has them from load)."""
@@ -102,18 +105,26 @@ class WebKitPhone:
 
     def set(self, acc, gyr=None) -> None:
         """The readings from now on, in the W3C sign (m/s², deg/s); the shim reports them as iOS does."""
-        self.driver.execute_script("window.__phone.set(arguments[0], arguments[1]);",
-                                   [float(v) for v in acc], None if gyr is None else [float(v) for v in gyr])
+        self.driver.execute_script(
+            "window.__phone.set(arguments[0], arguments[1]);",
+            [float(v) for v in acc],
+            None if gyr is None else [float(v) for v in gyr],
+        )
 
     def turn(self, axis, peak_deg_s: float, then_acc) -> None:
         """A quarter turn about `axis` (sensor frame), played by the page's timer; then at rest reading `then_acc`."""
-        self.driver.execute_script("window.__phone.turn(arguments[0], arguments[1], arguments[2]);",
-                                   [float(v) for v in axis], float(peak_deg_s), [float(v) for v in then_acc])
+        self.driver.execute_script(
+            "window.__phone.turn(arguments[0], arguments[1], arguments[2]);",
+            [float(v) for v in axis],
+            float(peak_deg_s),
+            [float(v) for v in then_acc],
+        )
 
     def noise(self, acc_sd: float, gyr_sd: float, seed: int) -> None:
         """White noise on every sample from now on (m/s², deg/s), from a generator seeded with `seed`."""
-        self.driver.execute_script("window.__phone.noise(arguments[0], arguments[1], arguments[2]);",
-                                   float(acc_sd), float(gyr_sd), int(seed))
+        self.driver.execute_script(
+            "window.__phone.noise(arguments[0], arguments[1], arguments[2]);", float(acc_sd), float(gyr_sd), int(seed)
+        )
 
     def wait(self, expression: str, timeout: float = 20.0, what: str = "") -> None:
         """Wait until the JavaScript `expression` is true; on timeout say what the page shows."""
@@ -122,9 +133,12 @@ class WebKitPhone:
             if self.js(expression):
                 return
             time.sleep(0.05)
-        said = self.js("[...document.querySelectorAll('#instruction, #status, #problem')].map(e => e.id + ': ' + e.textContent.trim())")
-        raise AssertionError(f"{what or expression} not within {timeout:g} s; the page says {said}; "
-                             f"errors {self.errors()}")
+        said = self.js(
+            "[...document.querySelectorAll('#instruction, #status, #problem')].map(e => e.id + ': ' + e.textContent.trim())"
+        )
+        raise AssertionError(
+            f"{what or expression} not within {timeout:g} s; the page says {said}; errors {self.errors()}"
+        )
 
     def wait_for(self, selector: str, timeout: float = 20.0) -> None:
         self.wait(f"document.querySelector({json.dumps(selector)}) !== null", timeout, selector)
@@ -138,7 +152,9 @@ class WebKitPhone:
         self.driver.execute_async_script(
             "const done = arguments[arguments.length - 1];"
             "arguments[0].scrollIntoView({block: 'center', behavior: 'instant'});"
-            "requestAnimationFrame(() => requestAnimationFrame(() => done()));", element)
+            "requestAnimationFrame(() => requestAnimationFrame(() => done()));",
+            element,
+        )
         element.click()
 
     def tap_start(self) -> None:
@@ -159,7 +175,9 @@ class WebKitPhone:
         return self.driver.execute_async_script(
             "const done = arguments[arguments.length - 1];"
             "window.__phone.blobText(document.querySelector(`#downloads a[data-format=${arguments[0]}]`).href)"
-            ".then(done, e => done('failed: ' + e));", fmt)
+            ".then(done, e => done('failed: ' + e));",
+            fmt,
+        )
 
     def saved(self, protocol: str) -> dict:
         return json.loads(self.js(f"localStorage.getItem('trical.wizard.{protocol}')"))
@@ -167,8 +185,10 @@ class WebKitPhone:
     def stored(self, server, protocol: str, path: str = "") -> dict:
         """GET `path` of the API (default: the flow's session) with the session token the page saved."""
         saved = self.saved(protocol)
-        r = httpx.get(f"{server.url}/api/v1{path or '/sessions/' + saved['id']}",
-                      headers={"Authorization": f"Bearer {saved['token']}"})
+        r = httpx.get(
+            f"{server.url}/api/v1{path or '/sessions/' + saved['id']}",
+            headers={"Authorization": f"Bearer {saved['token']}"},
+        )
         assert r.status_code == 200, r.text
         return r.json()
 
@@ -206,8 +226,7 @@ def start_driver(display: Display, browser: Path | None = None, timeout_s: float
     options.add_argument("--full-screen")  # no toolbar: the window is the viewport, as narrow as 334 px
     options.add_argument(f"--user-agent={IPHONE_UA}")
     log = Path(tempfile.mkstemp(prefix="trical-webkitwebdriver-", suffix=".log")[1])
-    service = Service(executable_path=WEBKIT_DRIVER, env={**os.environ, "DISPLAY": display.name},
-                      log_output=str(log))
+    service = Service(executable_path=WEBKIT_DRIVER, env={**os.environ, "DISPLAY": display.name}, log_output=str(log))
     try:
         service.start()
     except WebDriverException as exc:
@@ -219,8 +238,11 @@ def start_driver(display: Display, browser: Path | None = None, timeout_s: float
     except Exception as exc:  # the session's start timed out or was refused: say why, with both logs
         service.stop()
         display.check_alive("while the MiniBrowser started")
-        raise failure("WebKitWebDriver", f"started no MiniBrowser session within {timeout_s:g} s "
-                      f"({type(exc).__name__}: {exc})", log) from None
+        raise failure(
+            "WebKitWebDriver",
+            f"started no MiniBrowser session within {timeout_s:g} s ({type(exc).__name__}: {exc})",
+            log,
+        ) from None
     driver.set_script_timeout(30)
     return driver, service
 

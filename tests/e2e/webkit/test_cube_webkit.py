@@ -62,6 +62,8 @@ def test_the_24_positions_in_webkit_recover_the_accelerometer(webkit, server):
     assert webkit.text("#verdict-words") == full["verdict"]["words"]
     assert webkit.js("document.querySelectorAll('#norm-chart svg circle').length") == 48
     assert webkit.errors() == []
-    print(f"\nWebKit cube24: turns seen {seen.min():.2f}° to {seen.max():.2f}°; "
-          f"S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.5f}, b − y up to "
-          f"{np.abs(np.array(acc['b']) - Y_ACC).max():.5f} m/s²; ok={doc['ok']}; {full['verdict']['words']}")
+    print(
+        f"\nWebKit cube24: turns seen {seen.min():.2f}° to {seen.max():.2f}°; "
+        f"S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.5f}, b − y up to "
+        f"{np.abs(np.array(acc['b']) - Y_ACC).max():.5f} m/s²; ok={doc['ok']}; {full['verdict']['words']}"
+    )

@@ -28,8 +28,11 @@ def test_free_poses_in_webkit_until_the_target(webkit, server):
     webkit.set((1.0, 2.0, 9.0))
     webkit.wait("document.querySelector('#still-text').textContent === 'Moving'", 5, "the move")
     webkit.set(reading(UPS[1]))
-    webkit.wait("document.querySelector('#instruction').textContent.includes('within 10° of a pose already captured')",
-                10, "the refusal of a pose too close")
+    webkit.wait(
+        "document.querySelector('#instruction').textContent.includes('within 10° of a pose already captured')",
+        10,
+        "the refusal of a pose too close",
+    )
     webkit.shot("free_too_close")
     assert len(webkit.captures()) == 2
     for k in range(2, 11):

@@ -15,8 +15,11 @@ UPS = ([-1, 0, 0], [1, 0, 0], [0, -1, 0], [0, 1, 0], [0, 0, -1], [0, 0, 1])
 def stored(url: str, device: str) -> dict:
     """A six-position calibration of slightly scaled readings, stored for `device` on a keyless server."""
     readings = [{"up": up, "mean": [9.80665 * 1.01 * v + 0.05 for v in vec]} for up, vec in zip(CANONICAL_SIX, UPS)]
-    r = httpx.post(url + "/api/v1/calibrations", json={"method": "six_position", "readings": readings,
-                                                        "device_id": device}, timeout=60)
+    r = httpx.post(
+        url + "/api/v1/calibrations",
+        json={"method": "six_position", "readings": readings, "device_id": device},
+        timeout=60,
+    )
     assert r.status_code == 201, r.text
     return r.json()
 
@@ -39,12 +42,17 @@ def test_a_calibration_s_page_and_the_history_read_in_webkit(webkit, server, wid
     webkit.wait(f"!!document.querySelector(\"#history-table tr[data-id='{cal['id']}']\")", 20, "the history's row")
     assert webkit.js("document.querySelectorAll('#history-table tbody tr').length") == 1
     assert webkit.js("document.querySelector('#history-device').value") == f"wk-board-{width}"
-    assert webkit.js("document.querySelector('#history-latest-link').getAttribute('href')") \
+    assert (
+        webkit.js("document.querySelector('#history-latest-link').getAttribute('href')")
         == f"/c/latest?device=wk-board-{width}"
+    )
     assert not webkit.scrolls_sideways(), f"/history scrolls sideways at {width} px"
     webkit.shot(f"history_{width}")
     webkit.click("#history-latest-link")
-    webkit.wait("document.querySelector('#downloads') && document.querySelector('#downloads').dataset.ready === 'true'",
-                20, "the device's latest calibration")
+    webkit.wait(
+        "document.querySelector('#downloads') && document.querySelector('#downloads').dataset.ready === 'true'",
+        20,
+        "the device's latest calibration",
+    )
     assert cal["id"] in webkit.text("#cal-meta")
     assert webkit.errors() == []

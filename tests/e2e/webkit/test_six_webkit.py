@@ -24,8 +24,10 @@ def test_six_poses_in_webkit_as_on_an_iphone(webkit, server):
     webkit.set(reading(ORDER[0]), GYRO_DEG_S)
     # The page's own frames note that the capture's progress showed: a 1 s capture can be over between two
     # of the test's polls through WebDriver on a loaded machine.
-    webkit.js("(() => { window.__sawProgress = false; const watch = () => { if (document.querySelector('#progress')"
-              ".value > 0) window.__sawProgress = true; else requestAnimationFrame(watch); }; watch(); })()")
+    webkit.js(
+        "(() => { window.__sawProgress = false; const watch = () => { if (document.querySelector('#progress')"
+        ".value > 0) window.__sawProgress = true; else requestAnimationFrame(watch); }; watch(); })()"
+    )
     webkit.tap_start()  # motion access asked once, from the tap
     for k, label in enumerate(ORDER):
         if k:
@@ -93,14 +95,20 @@ def test_a_repeated_pose_is_refused_aloud_and_redo_replaces_it_in_webkit(webkit,
     webkit.set((3.0, 3.0, 8.8))  # picked up and tilted...
     webkit.wait("document.querySelector('#still-text').textContent === 'Moving'", 5, "the move")
     webkit.set(reading("+z"))  # ...and put down screen up again
-    webkit.wait("document.querySelector('#instruction').textContent.includes('Flat, screen up is already captured')", 10,
-                "the refusal of the repeat")
+    webkit.wait(
+        "document.querySelector('#instruction').textContent.includes('Flat, screen up is already captured')",
+        10,
+        "the refusal of the repeat",
+    )
     assert "Flat, screen up is already captured" in webkit.text("#status")  # announced to a screen reader
     webkit.shot("six_repeat_refused")
     assert webkit.js("window.__phone.tones") == [523, 880, 220]  # start, captured, refused
     assert len(webkit.captures()) == 1
     webkit.click('#poses button[data-redo="+z"]')
-    webkit.wait("document.querySelectorAll('#poses li[data-state=done]').length === 1 && window.__phone.captures.length === 2",
-                20, "the redo of +z")
+    webkit.wait(
+        "document.querySelectorAll('#poses li[data-state=done]').length === 1 && window.__phone.captures.length === 2",
+        20,
+        "the redo of +z",
+    )
     assert [c["redo"] for c in webkit.captures()] == [False, True]
     assert webkit.errors() == []

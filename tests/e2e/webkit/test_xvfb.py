@@ -79,7 +79,7 @@ def test_an_xvfb_that_cannot_start_fails_with_its_own_words(tmp_path):
     """An Xvfb that exits before it writes a display number (here: an option it does not know): a failure
     that says so and quotes Xvfb, at once rather than after the time bound."""
     fake = tmp_path / "Xvfb"
-    fake.write_text(f"#!/bin/sh\nexec {XVFB} \"$@\" -no-such-option\n")
+    fake.write_text(f'#!/bin/sh\nexec {XVFB} "$@" -no-such-option\n')
     fake.chmod(0o755)
     t0 = time.monotonic()
     with pytest.raises(ProcessFailed) as info:
