@@ -32,16 +32,19 @@ def record(port: str, baud: int, seconds: float) -> str:
     span of the arrivals, which the bursts of a serial port do not change."""
     rows = [UNI_HEADER]
     skipped = 0
-    start = time.monotonic()
+    start = shown = time.monotonic()
     with serial.Serial(port, baud, timeout=0.5) as board:
         while time.monotonic() - start < seconds:
             line = board.readline().decode("utf-8", errors="replace").strip()
+            now = time.monotonic()
             if line.startswith("Uni:") and line.count(",") == 8:
-                rows.append(f"{time.monotonic() - start:.4f},{line[4:].strip()}")
+                rows.append(f"{now - start:.4f},{line[4:].strip()}")
             elif line:
                 skipped += 1  # boot text, a truncated line
-            print(f"\r{len(rows) - 1} readings, {skipped} other lines", end="", flush=True)
-    print()
+            if now - shown >= 0.25 or len(rows) == 1:  # the count a few times a second: printing every line of
+                shown = now  # a board at 100 Hz slows a small host's reading into bursts
+                print(f"\r{len(rows) - 1} readings, {skipped} other lines", end="", flush=True)
+    print(f"\r{len(rows) - 1} readings, {skipped} other lines")
     if len(rows) == 1:
         raise SystemExit(f"no Uni: line arrived at {baud} baud: check the rate and that the board prints readings")
     return "\n".join(rows) + "\n"
