@@ -38,6 +38,8 @@ CORRECTION_EXPORTS = tuple(EXPORTERS)
 NOISE_EXPORTS = tuple(NOISE_EXPORTERS)
 TEMPERATURE_EXPORTS = tuple(TEMPERATURE_EXPORTERS)
 ACCELEROMETER = "an accelerometer calibration"
+AS_CHOSEN = "as the method it chose"
+"""The :attr:`Method.response` of ``auto``: its calibrations answer as the method it chose."""
 
 
 @dataclass(frozen=True)
@@ -53,8 +55,9 @@ class Method:
     handler : callable
         ``handler(request, recording)``: the workflow's function that computes its calibration's plain form.
     response : str or None
-        The class name of its response model in its family's module of :mod:`app.api.schemas`; None for
-        ``auto``, which answers as the method it chose.
+        The class name of its response model in its family's module of :mod:`app.api.schemas`;
+        :data:`AS_CHOSEN` for ``auto``, which answers as the method it chose; None (a method without a model
+        of its own) for the fields every calibration answers with (:mod:`app.api.schemas.calibrations`).
     command : str
         The ``trical`` command that runs it: ``calibrate`` (a choice of ``--method``) or its own command.
     formats : tuple of str
@@ -100,7 +103,7 @@ TABLE: tuple[Method, ...] = (
         "auto",
         request=rq.AutoIn,
         handler=still.auto,
-        response=None,
+        response=AS_CHOSEN,
         command="calibrate",
         formats=CORRECTION_EXPORTS,
         kind=ACCELEROMETER,
