@@ -8,7 +8,7 @@ request union that POST /api/v1/calibrations and ``trical calibrate`` validate, 
 the dispatch of a request to its handler, the CLI's ``--method`` choices and the formats the export route
 accepts.
 
-Adding a method: write its handler, its request and response models, and add one entry here.
+Adding a method: its result class, its request model, its handler and one entry here (docs/methods.md).
 
 The table names pydantic models, so the workflow, which imports none (docs/architecture.md), never imports
 it: the API and the CLI look a request's method up here and call :func:`app.workflows.entry.calibrate`
