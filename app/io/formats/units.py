@@ -30,8 +30,6 @@ COUNTS_TOLERANCE = 0.15
 """Counts resting within this fraction of a common sensitivity are read with it."""
 FIELD_RANGES = {"uT": (15.0, 100.0), "gauss": (0.15, 1.0), "nT": (15_000.0, 100_000.0)}
 """The Earth's field (22–67 µT, IGRF) with room for a disturbed room, in each unit a log may use."""
-MAG_UNITS_IN = ("uT", "nT", "gauss", "raw")
-"""Magnetometer units a caller or a header may name; gauss becomes µT on reading."""
 
 
 def median_norm(acc: np.ndarray) -> float:
