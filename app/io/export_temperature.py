@@ -50,7 +50,7 @@ ARDUPILOT_T_RANGE = (-70.0, 80.0)
 """``@Range`` of INS_TCALn_TMIN and _TMAX in AP_InertialSensor_tempcal.cpp."""
 PX4_INT32, PX4_REAL32 = 6, 9
 """MAVLink's MAV_PARAM_TYPE_INT32 and MAV_PARAM_TYPE_REAL32, the type column of a QGroundControl .params file."""
-PREFIX = {"acc": ("TC_A", "ACC", "accelerometer"), "gyr": ("TC_G", "GYR", "gyroscope")}
+PREFIX = {"acc": ("TC_A", "ACC"), "gyr": ("TC_G", "GYR")}
 
 TEMPERATURE_FORMATS = {
     "px4": "PX4 (.params for QGroundControl)",

@@ -21,7 +21,8 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import ACC_PHYSICAL_UNITS, LogData
 from ...calibration.gravity import STANDARD_GRAVITY
-from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, SENSOR_WORDS, Chip
+from ...calibration.headlines import SENSOR_WORDS
+from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, Chip
 from .gyro_unit import gyro_evidence
 
 LINEAR_FRACTION = 0.25
