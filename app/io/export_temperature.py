@@ -29,6 +29,7 @@ import json
 
 import numpy as np
 
+from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.result import DRIFT
 from app.calibration.temperature import shift_polynomial
 
@@ -215,7 +216,7 @@ def ticks(lo: float, hi: float, n: int = 5) -> list[float]:
 
 def _panel(body: dict, sensor: str, top: float) -> tuple[list[str], str]:
     metrics = body["metrics"][sensor]
-    scale = 1000.0 / 9.80665 if sensor == "acc" else 180.0 / np.pi
+    scale = 1000.0 / STANDARD_GRAVITY if sensor == "acc" else 180.0 / np.pi
     unit = "mg" if sensor == "acc" else "°/s"
     bins, curve = body["bins"][sensor], body["curve"][sensor]
     t_b, y_b = np.asarray(bins["t_c"]), np.asarray(bins["offset"]) * scale
