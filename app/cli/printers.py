@@ -8,6 +8,7 @@ import sys
 import numpy as np
 
 from app.calibration.angles import degrees_text, tilt_error_deg
+from app.calibration.orientations import WITHIN_LABEL_ANGLE
 from app.calibration.result import NormErrors
 from app.io.plural import counted
 from app.words import render, render_body
@@ -37,7 +38,7 @@ def print_summary(body: dict, recording: dict) -> None:
         for r, i in zip(body.get("readings") or [], used):
             up = recording["segments"][i]["up"]
             print(
-                f"{r.get('source')}: {up + ' up' if up else 'no axis within 20°'}, mean "
+                f"{r.get('source')}: {up + ' up' if up else f'no axis {WITHIN_LABEL_ANGLE}'}, mean "
                 + "  ".join(f"{v:.4f}" for v in r["mean"])
             )
     for name, value in body["model"].items():
