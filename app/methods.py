@@ -226,6 +226,10 @@ TABLE: tuple[Method, ...] = (
 
 BY_NAME = {method.name: method for method in TABLE}
 
+AUTO_CHOICES = (*still.AUTO_CHOICES, compass.CompassAsk.method)
+"""What ``auto`` answers as: a fit of still readings it chose, or the compass on a recording of the magnetometer
+alone (:func:`app.workflows.compass.auto_compass`)."""
+
 METHODS = tuple(BY_NAME)
 """The values of `method` that POST /api/v1/calibrations accepts."""
 

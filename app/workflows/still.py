@@ -46,7 +46,7 @@ def _first_of_each_axis(segments: list[dict]) -> list[int]:
     for i, seg in enumerate(segments):
         if seg["up"] is not None and seg["up"] not in first:
             first[seg["up"]] = i
-    missing = [lab for lab in ("-x", "+x", "-y", "+y", "-z", "+z") if lab not in first]
+    missing = [lab for lab in CANONICAL_SIX if lab not in first]
     if missing:
         found = ", ".join(f"{lab} (segment {i})" for lab, i in first.items()) or "none"
         raise InsufficientDataError(
@@ -70,7 +70,7 @@ def _every_labelled(segments: list[dict]) -> list[int]:
 
 def _fit_six(readings: list[Reading], *, gravity: float, stds, gates: dict):
     if any(r.up is None for r in readings):
-        raise CalibrationError("six_position readings each need an `up` label (+x, -x, +y, -y, +z, -z)")
+        raise CalibrationError(f"six_position readings each need an `up` label ({', '.join(CANONICAL_SIX)})")
     return fit_six_position([r.mean for r in readings], [r.up for r in readings], gravity=gravity, stds=stds, **gates)
 
 
@@ -131,6 +131,8 @@ TRIANGULAR = StillFit("triangular", fit=_fit_triangular, advises=True)  # Farago
 STILL_FITS = {spec.name: spec for spec in (SIX_POSITION, ORIENTATIONS, NONORTHOGONAL, TRIANGULAR)}
 """The four fits of still readings by name (``auto`` reports its choice by name; the wizard's sessions name
 theirs)."""
+AUTO_CHOICES = (SIX_POSITION.name, ORIENTATIONS.name, TRIANGULAR.name)
+"""The fits ``auto`` chooses among on still readings (:func:`choose_model`)."""
 
 
 def still_fit(method):
