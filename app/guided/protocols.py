@@ -47,8 +47,6 @@ from app.guided.capture_rules import (
     FREE_TARGET_MIN_POSES,
     MAX_ROTATION_DEG_S,
 )
-from app.io.board_formats import CAPTURE_PROTOCOLS
-from app.io.board_formats import SESSION_PROTOCOLS as SESSION_PROTOCOL_NAMES
 from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
 from app.workflows.results import calibration_body, pose_advice
@@ -458,15 +456,11 @@ class NoiseProtocol(Protocol):
 
 SIX, FREE, CUBE24 = SixProtocol(), FreeProtocol(), Cube24Protocol()
 
-_SESSION_BY_NAME: dict[str, SessionProtocol] = {p.name: p for p in (SIX, FREE, CUBE24)}
-_BY_NAME: dict[str, Protocol] = {**_SESSION_BY_NAME, **{p.name: p for p in (CompassProtocol(), NoiseProtocol())}}
+SESSION_PROTOCOLS: dict[str, SessionProtocol] = {p.name: p for p in (SIX, CUBE24, FREE)}
+"""The protocols the wizard's sessions follow (the API's ``SessionIn.protocol``)."""
 
-SESSION_PROTOCOLS: dict[str, SessionProtocol] = {name: _SESSION_BY_NAME[name] for name in SESSION_PROTOCOL_NAMES}
-"""The protocols the wizard's sessions follow, by the names of app.io.board_formats.SESSION_PROTOCOLS (the API's
-``SessionIn.protocol``)."""
-
-BOARD_PROTOCOLS: dict[str, Protocol] = {name: _BY_NAME[name] for name in CAPTURE_PROTOCOLS}
-"""The protocols ``trical capture`` follows, by the names of app.io.board_formats.CAPTURE_PROTOCOLS, in that order."""
+BOARD_PROTOCOLS: dict[str, Protocol] = {p.name: p for p in (SIX, FREE, CUBE24, CompassProtocol(), NoiseProtocol())}
+"""The protocols ``trical capture`` follows (app.io.board_formats.CAPTURE_PROTOCOLS, in that order)."""
 
 
 # -- what the protocols share ------------------------------------------------------------------------------------

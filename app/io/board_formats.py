@@ -16,8 +16,6 @@ Nothing here talks to a port: the browser uses the Web Serial API, the terminal 
 
 from __future__ import annotations
 
-from typing import Literal, get_args
-
 MOTIONCAL_RAW = {
     "prefix": "Raw:",
     "fields": 9,
@@ -66,12 +64,7 @@ NORDIC_UART = {
 """The Nordic UART Service's UUIDs (nRF52 and ESP32 BLE UART examples use them)."""
 
 CAPTURE_PROTOCOLS = ("six", "free", "cube24", "compass", "noise")
-"""The flows a board can be calibrated with (``trical capture --protocol``, the page's board source); each is a
-protocol object of app.guided.protocols (``BOARD_PROTOCOLS``, built from this list)."""
-SessionProtocolName = Literal["six", "cube24", "free"]
-SESSION_PROTOCOLS: tuple[str, ...] = get_args(SessionProtocolName)
-"""The flows the page's wizard sessions follow (POST /api/v1/sessions ``protocol``); app.guided.protocols builds its
-``SESSION_PROTOCOLS`` from this list. Kept here, the lowest module every reader of the names may import."""
+"""The flows a board can be calibrated with (``trical capture --protocol``, the page's board source)."""
 
 MOTIONCAL_PACKET_BYTES = 68
 MOTIONCAL_SIGNATURE = (117, 84)

@@ -10,14 +10,13 @@ from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 from app.api.schemas.still_readings import PoseAdviceOut
 from app.calibration_requests import Gravity, Label, Strict, Vec3
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
-from app.io.board_formats import SessionProtocolName
 from app.io.log import ACC_PHYSICAL_UNITS
 
 
 class SessionIn(Strict):
     """A guided wizard session (issue 6): the page captures each pose into it, then solves it."""
 
-    protocol: SessionProtocolName = Field(
+    protocol: Literal["six", "cube24", "free"] = Field(
         "six",
         description=("`six` (any order), `cube24` (fixed order) or `free` (still poses in any direction, 12 or more)."),
     )
