@@ -88,9 +88,9 @@ def upload_recording(
     ),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: AccUnit | None = Form(None),
-    gyr_unit: Literal[UNITS_IN["gyr"]] | None = Form(None),
-    mag_unit: Literal[UNITS_IN["mag"]] | None = Form(None),
-    format: Literal[FORMATS] = Form(
+    gyr_unit: Literal[UNITS_IN["gyr"]] | None = Form(None),  # type: ignore[valid-type, name-defined]
+    mag_unit: Literal[UNITS_IN["mag"]] | None = Form(None),  # type: ignore[valid-type, name-defined]
+    format: Literal[FORMATS] = Form(  # type: ignore[valid-type]
         "auto", description="Log format; auto detects it from the header (app.io.formats)."
     ),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
