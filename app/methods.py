@@ -8,7 +8,7 @@ request union that POST /api/v1/calibrations and ``trical calibrate`` validate, 
 the dispatch of a request to its handler, the CLI's ``--method`` choices and the formats the export route
 accepts.
 
-Adding a method: write its handler, its request and response models, and add one entry here.
+Adding a method: its result class, its request model, its handler and one entry here (docs/methods.md).
 
 The table names pydantic models, so the workflow, which imports none (docs/architecture.md), never imports
 it: the API and the CLI look a request's method up here and call :func:`app.workflows.entry.calibrate`
@@ -38,6 +38,8 @@ CORRECTION_EXPORTS = tuple(EXPORTERS)
 NOISE_EXPORTS = tuple(NOISE_EXPORTERS)
 TEMPERATURE_EXPORTS = tuple(TEMPERATURE_EXPORTERS)
 ACCELEROMETER = "an accelerometer calibration"
+AS_CHOSEN = "as the method it chose"
+"""The :attr:`Method.response` of ``auto``: its calibrations answer as the method it chose."""
 
 
 @dataclass(frozen=True)
@@ -53,8 +55,9 @@ class Method:
     handler : callable
         ``handler(request, recording)``: the workflow's function that computes its calibration's plain form.
     response : str or None
-        The class name of its response model in its family's module of :mod:`app.api.schemas`; None for
-        ``auto``, which answers as the method it chose.
+        The class name of its response model in its family's module of :mod:`app.api.schemas`;
+        :data:`AS_CHOSEN` for ``auto``, which answers as the method it chose; None (a method without a model
+        of its own) for the fields every calibration answers with (:mod:`app.api.schemas.calibrations`).
     command : str
         The ``trical`` command that runs it: ``calibrate`` (a choice of ``--method``) or its own command.
     formats : tuple of str
@@ -100,7 +103,7 @@ TABLE: tuple[Method, ...] = (
         "auto",
         request=rq.AutoIn,
         handler=still.auto,
-        response=None,
+        response=AS_CHOSEN,
         command="calibrate",
         formats=CORRECTION_EXPORTS,
         kind=ACCELEROMETER,
@@ -222,6 +225,10 @@ TABLE: tuple[Method, ...] = (
 :func:`app.workflows.compass.auto_compass`), answered as method ``magnetometer``: not a method of its own."""
 
 BY_NAME = {method.name: method for method in TABLE}
+
+AUTO_CHOICES = (*still.AUTO_CHOICES, compass.CompassAsk.method)
+"""What ``auto`` answers as: a fit of still readings it chose, or the compass on a recording of the magnetometer
+alone (:func:`app.workflows.compass.auto_compass`)."""
 
 METHODS = tuple(BY_NAME)
 """The values of `method` that POST /api/v1/calibrations accepts."""

@@ -25,6 +25,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.plausible import UNIT_WORDS as PHYSICAL_UNIT_WORDS
 from app.io.formats.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
@@ -90,9 +91,9 @@ _METHOD_CLI = {method.name: f"trical {method.command}" for method in METHOD_TABL
 VOCABULARY: dict[str, Term] = {
     t.name: t
     for t in (
-        _unit_term("acc", "accelerometer", "--unit"),
-        _unit_term("gyr", "gyroscope", "--gyr-unit"),
-        _unit_term("mag", "magnetometer", "--mag-unit"),
+        _unit_term("acc", SENSOR_WORDS["acc"], "--unit"),
+        _unit_term("gyr", SENSOR_WORDS["gyr"], "--gyr-unit"),
+        _unit_term("mag", SENSOR_WORDS["mag"], "--mag-unit"),
         Term(
             "lsb_per_g",
             f"the sensor's part menu (in {UNITS_CARD})",

@@ -68,12 +68,15 @@ def test_every_request_model_of_the_union_is_an_entry_of_its_own_name():
 
 def test_every_response_model_of_the_union_is_an_entry_of_its_own_name():
     members = union_members(calibrations.CalibrationOut)
-    named = [m for m in methods.TABLE if m.response is not None]
-    assert [model.__name__ for model in members] == [m.response for m in named]
+    named = [m for m in methods.TABLE if m.response != methods.AS_CHOSEN]
+    assert [model.__name__ for model in members] == [m.response or f"CalibrationOut_{m.name}" for m in named]
     assert [literal_method(model) for model in members] == [m.name for m in named]
     assert calibrations.RESPONSE_MODELS == {m.name: model for m, model in zip(named, members)}
     # auto answers as the method it chose, each of which has its own entry and response.
-    assert [m.name for m in methods.TABLE if m.response is None] == ["auto"]
+    assert [m.name for m in methods.TABLE if m.response == methods.AS_CHOSEN] == ["auto"]
+    # A method without a response model of its own answers with the fields every calibration has.
+    plain = calibrations.common_response("plain")
+    assert issubclass(plain, calibrations.CalibrationCommon) and literal_method(plain) == "plain"
 
 
 def test_the_dispatch_is_the_entry_handler():

@@ -52,7 +52,6 @@ NOT_A_RESULT = {"auto"}
 is also the value of every option read from the data (format, unit, sign, columns)."""
 
 AWAITING = {
-    "app/cli/printers.py": {"cv_error_mg", "error_after_mg", "error_before_mg"},
     "app/web/pages.py": {"noise"},
     "app/web/tables.py": {"cube", "temperature"},
     "app/web/uses.py": {"noise", "temperature"},

@@ -14,7 +14,9 @@ from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas.recordings import RecordingOut
 from app.calibration_requests import AccUnit
+from app.io.formats import FORMATS
 from app.io.formats.kinds import NAMED_SUFFIXES
+from app.io.log import UNITS_IN
 from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions
 from app.store import new_id
@@ -86,22 +88,11 @@ def upload_recording(
     ),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
     acc_unit: AccUnit | None = Form(None),
-    gyr_unit: Literal["rad/s", "deg/s", "raw"] | None = Form(None),
-    mag_unit: Literal["uT", "nT", "gauss", "raw"] | None = Form(None),
-    format: Literal[
-        "auto",
-        "ulog",
-        "dataflash",
-        "csv",
-        "phyphox",
-        "sensor_logger",
-        "gnss_logger",
-        "physics_toolbox",
-        "sensorlog",
-        "betaflight_mag",
-        "json",
-        "arduino",
-    ] = Form("auto", description="Log format; auto detects it from the header (app.io.formats)."),
+    gyr_unit: Literal[UNITS_IN["gyr"]] | None = Form(None),  # type: ignore[valid-type, name-defined]
+    mag_unit: Literal[UNITS_IN["mag"]] | None = Form(None),  # type: ignore[valid-type, name-defined]
+    format: Literal[FORMATS] = Form(  # type: ignore[valid-type]
+        "auto", description="Log format; auto detects it from the header (app.io.formats)."
+    ),
     lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
     chip: str | None = Form(
         None,

@@ -35,6 +35,8 @@ the screen. The pages and the pose advice (:mod:`app.calibration.advice`) use th
 
 LABEL_MAX_ANGLE_DEG = 20.0
 """A direction is labelled with its nearest axis only when within this angle (docs/rest.md)."""
+WITHIN_LABEL_ANGLE = f"within {LABEL_MAX_ANGLE_DEG:g}°"
+""":data:`LABEL_MAX_ANGLE_DEG` as the messages say it (``no axis within 20°``)."""
 
 
 def up_vector(label: str) -> np.ndarray:

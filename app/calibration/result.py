@@ -79,6 +79,23 @@ FIGURE_METRICS = (
 (tests/test_result_decides.py)."""
 
 
+@dataclass(frozen=True)
+class NormErrors:
+    """The norm errors (mg of g) a fit of still readings tells: on new orientations (cross-validated), and raw
+    and calibrated on the readings it reports them on (Farago et al., IEEE Access, Table 3); None where it has
+    none. Built from a plain body's ``metrics`` or a row of its ``comparison`` (autocal's) by :meth:`of`, so that
+    a reader of the plain form (the CLI's tables) asks the result, not the metric keys."""
+
+    on_new_orientations: float | None
+    before: float | None
+    after: float | None
+
+    @classmethod
+    def of(cls, figures: dict) -> "NormErrors":
+        """The errors of ``figures``: the ``metrics`` of a plain body, or one row of its ``comparison``."""
+        return cls(figures.get("cv_error_mg"), figures.get("error_before_mg"), figures.get("error_after_mg"))
+
+
 def holdout_figure(m: dict) -> Figure | None:
     """Readings the request held out (``holdout_*``): the most honest figure, when given."""
     if m.get("holdout_error_after_mg") is None:

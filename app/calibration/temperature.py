@@ -57,7 +57,7 @@ import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
 from .gravity import STANDARD_GRAVITY
-from .headlines import FIGURE_WORDS, TEMPERATURE_SENSORS, temperature_headline
+from .headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS, temperature_headline
 from .result import DRIFT, Figure, PerSensorResult
 
 CONFIDENCE = 0.95
@@ -81,7 +81,6 @@ MIN_REST_S = 5.0
 STILL_FRACTION = 0.9
 """A recording whose longest rest is shorter than this fraction of it moved."""
 G0 = STANDARD_GRAVITY
-SENSOR_NAMES = {"acc": "accelerometer", "gyr": "gyroscope"}
 SI_UNITS = {"acc": "m/s^2", "gyr": "rad/s"}
 FIGURE_UNITS = {"acc": "mg", "gyr": "deg/s"}
 FIGURE_SCALE = {"acc": 1000.0 / G0, "gyr": 180.0 / math.pi}
@@ -436,7 +435,7 @@ def fit_sensor(values, temperature_c, sensor: str, *, order: int | None = None, 
         Failed gates (span, samples per band, a fit worse than raw on left-out bands).
     """
     v, t, times = _finite_readings(values, temperature_c, time_s)
-    name = SENSOR_NAMES[sensor]
+    name = SENSOR_WORDS[sensor]
     t_min, t_max = float(t.min()), float(t.max())
     span = t_max - t_min
     t_ref = 0.5 * (t_min + t_max)  # PX4's process_sensor_caldata.py: TREF = (TMIN + TMAX) / 2
@@ -704,7 +703,7 @@ def calibrate_temperature(
     for k, v in given.items():
         if v.ndim != 2 or v.shape[1] != 3 or len(v) != len(t):
             raise CalibrationError(
-                f"the {SENSOR_NAMES[k]}'s readings and the temperatures do not line up: give "
+                f"the {SENSOR_WORDS[k]}'s readings and the temperatures do not line up: give "
                 "one temperature per reading"
             )
     if not np.any(np.isfinite(t)):

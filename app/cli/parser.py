@@ -11,8 +11,7 @@ from app.cli import options as opt
 from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.formats import FORMATS
-from app.io.formats.units import MAG_UNITS_IN
-from app.io.log import UNITS
+from app.io.log import UNITS, UNITS_IN
 from app.calibration_requests import CUBE_PROTOCOLS
 from app.workflows.temperature import TEMPERATURE_SENSORS
 from app.workflows.autocal import AUTOCAL_UNITS
@@ -117,8 +116,8 @@ def _add_calibrate(sub) -> None:
         help=f"{_takers('sections')} with --protocol ferraris: imucal's annotated section list (x_p … z_rot, "
         "sample indices)",
     )
-    c.add_argument("--gyr-unit", choices=UNITS["gyr"], default=None)
-    c.add_argument("--mag-unit", choices=MAG_UNITS_IN, default=None)
+    c.add_argument("--gyr-unit", choices=UNITS_IN["gyr"], default=None)
+    c.add_argument("--mag-unit", choices=UNITS_IN["mag"], default=None)
     c.add_argument(
         "--solver",
         choices=SOLVERS,
@@ -128,7 +127,7 @@ def _add_calibrate(sub) -> None:
     c.add_argument(
         "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column"
     )
-    c.add_argument("--unit", choices=UNITS["acc"], default=None, help="accelerometer unit of the log")
+    c.add_argument("--unit", choices=UNITS_IN["acc"], default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
     c.add_argument("--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer")
     _read_options(c)

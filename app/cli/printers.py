@@ -8,6 +8,8 @@ import sys
 import numpy as np
 
 from app.calibration.angles import degrees_text, tilt_error_deg
+from app.calibration.orientations import WITHIN_LABEL_ANGLE
+from app.calibration.result import NormErrors
 from app.io.plural import counted
 from app.words import render, render_body
 
@@ -36,7 +38,7 @@ def print_summary(body: dict, recording: dict) -> None:
         for r, i in zip(body.get("readings") or [], used):
             up = recording["segments"][i]["up"]
             print(
-                f"{r.get('source')}: {up + ' up' if up else 'no axis within 20°'}, mean "
+                f"{r.get('source')}: {up + ' up' if up else f'no axis {WITHIN_LABEL_ANGLE}'}, mean "
                 + "  ".join(f"{v:.4f}" for v in r["mean"])
             )
     for name, value in body["model"].items():
@@ -117,11 +119,12 @@ def print_autocal(body: dict) -> None:
     if body["comparison"]:
         print(f"{'method':<22}{'before mg':>10}{'after mg':>10}{'R %':>9}  points")
         for name, row in body["comparison"].items():
-            if row.get("error_after_mg") is None:
+            errors = NormErrors.of(row)
+            if errors.after is None:
                 print(f"{name:<22}{'-':>10}{'-':>10}{'-':>9}  {row.get('count')}")
                 continue
             print(
-                f"{name:<22}{row['error_before_mg']:>10.2f}{row['error_after_mg']:>10.2f}"
+                f"{name:<22}{errors.before:>10.2f}{errors.after:>10.2f}"
                 f"{row['improvement_pct'] or 0:>9.0f}  {row.get('count')}"
             )
     for w in body["warnings"]:
@@ -143,11 +146,11 @@ def print_folder_table(bodies: list[dict]) -> None:
                 f"{render(b['error'], 'cli')}"
             )
             continue
-        m = b["metrics"]
-        cv = "-" if m.get("cv_error_mg") is None else f"{m['cv_error_mg']:.2f}"
-        tilt = "-" if m.get("cv_error_mg") is None else degrees_text(tilt_error_deg(m["cv_error_mg"]))
-        before = "-" if m.get("error_before_mg") is None else f"{m['error_before_mg']:.2f}"
-        after = "-" if m.get("error_after_mg") is None else f"{m['error_after_mg']:.2f}"
+        m, errors = b["metrics"], NormErrors.of(b["metrics"])
+        cv = "-" if errors.on_new_orientations is None else f"{errors.on_new_orientations:.2f}"
+        tilt = "-" if errors.on_new_orientations is None else degrees_text(tilt_error_deg(errors.on_new_orientations))
+        before = "-" if errors.before is None else f"{errors.before:.2f}"
+        after = "-" if errors.after is None else f"{errors.after:.2f}"
         r = "-" if not m.get("improvement_pct") else f"{m['improvement_pct']:.0f}"
         note = b["reasons"][0] if b["reasons"] else ""
         print(

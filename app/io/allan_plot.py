@@ -23,10 +23,11 @@ from html import escape
 
 import numpy as np
 
+from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.result import FIGURES
 
 from .errors import ExportError
-from .export_common import SENSORS, Export, result_class
+from .export_common import Export, result_class
 
 AXES = ("x", "y", "z")
 SENSOR_ORDER = ("acc", "gyr", "mag")
@@ -383,7 +384,7 @@ def _panel(s: _Sensor, top: float, index: int) -> tuple[str, float, str]:
         _decades(taus, 0.0),
         _room(_decades(sigmas, 0.3)),
     )
-    title = f"{SENSORS[s.name].capitalize()} ({s.unit})" if s.unit else SENSORS[s.name].capitalize()
+    title = f"{SENSOR_WORDS[s.name].capitalize()} ({s.unit})" if s.unit else SENSOR_WORDS[s.name].capitalize()
     clip = f"plot-{index}"
     g = [
         f'<g class="panel" data-sensor="{s.name}">',
@@ -549,7 +550,9 @@ def _describe(s: _Sensor, marks: dict, missing: str) -> str:
         span = f"for τ from {number(float(s.tau.min()))} s to {number(float(s.tau.max()))} s"
     else:
         span = "with no curve"
-    parts = [f"{SENSORS[s.name].capitalize()}: Allan deviation in {s.unit} of axes x, y, z {span}, with 95 % bands."]
+    parts = [
+        f"{SENSOR_WORDS[s.name].capitalize()}: Allan deviation in {s.unit} of axes x, y, z {span}, with 95 % bands."
+    ]
     for key, _, symbol, where in TERMS:
         vals = [f"{a} {number(v)}" for a, v in zip(AXES, s.terms[key]) if v is not None]
         if vals:
@@ -605,7 +608,7 @@ def allan_svg(body: dict, sensor: str | None = None) -> str:
         panels.append(svg)
         descs.append(desc)
         top += height
-    names = ", ".join(SENSORS[p] for p in _sensors(body, sensor))
+    names = ", ".join(SENSOR_WORDS[p] for p in _sensors(body, sensor))
     title = f"Allan deviation of the {names}" + (f", calibration {body['id']}" if body.get("id") else "")
     desc = (
         "Log–log overlapping Allan deviation against the averaging time τ, one line per axis; "

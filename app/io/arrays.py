@@ -19,6 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
+from app.calibration.headlines import SENSOR_WORDS
+
 from .errors import LogFormatError
 from .formats.generic_csv import map_columns, read_csv_log
 from .formats.timing import time_scale as infer_time_scale
@@ -164,8 +166,8 @@ def read_parquet_log(
         except (ValueError, TypeError, pa.ArrowInvalid):
             raise LogFormatError(f"{name}: the {what} columns {group} must hold numbers") from None
 
-    acc = numbers(cols, "accelerometer") if cols else None
-    extra = {s: numbers(group, {"gyr": "gyroscope", "mag": "magnetometer"}[s]) for s, group in others.items()}
+    acc = numbers(cols, SENSOR_WORDS["acc"]) if cols else None
+    extra = {s: numbers(group, SENSOR_WORDS[s]) for s, group in others.items()}
     time = None
     if time_col is not None:
         col = table.column(names[time_col])

@@ -10,8 +10,6 @@ from app.calibration.errors import CalibrationError
 
 from .errors import ExportError
 
-SENSORS = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}
-
 JSON_SCHEMA = "https://trical.dev/schema/calibration/v1"
 FRAME = "device frame of the data: x right, y up along the screen, z out of the screen (W3C DeviceMotion)"
 

@@ -13,8 +13,10 @@ import io
 import json
 import math
 
+from app.calibration.headlines import SENSOR_WORDS
+
 from .errors import ExportError
-from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, describe, sensor_corrections
+from .export_common import FRAME, JSON_SCHEMA, Export, describe, sensor_corrections
 
 
 def yaml_number(v: float) -> str:
@@ -56,7 +58,7 @@ def to_yaml(body: dict) -> Export:
         "method": body["method"],
         "created_at": body["created_at"],
         "device_id": body.get("device_id"),
-        "sensor": ", ".join(SENSORS[c.sensor] for c in corrections),
+        "sensor": ", ".join(SENSOR_WORDS[c.sensor] for c in corrections),
         "frame": FRAME,
         "input_unit": body.get("unit"),
         "output_unit": body.get("output_unit"),

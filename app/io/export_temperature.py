@@ -29,6 +29,7 @@ import json
 
 import numpy as np
 
+from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.result import DRIFT
 from app.calibration.temperature import shift_polynomial
 
@@ -50,7 +51,7 @@ ARDUPILOT_T_RANGE = (-70.0, 80.0)
 """``@Range`` of INS_TCALn_TMIN and _TMAX in AP_InertialSensor_tempcal.cpp."""
 PX4_INT32, PX4_REAL32 = 6, 9
 """MAVLink's MAV_PARAM_TYPE_INT32 and MAV_PARAM_TYPE_REAL32, the type column of a QGroundControl .params file."""
-PREFIX = {"acc": ("TC_A", "ACC", "accelerometer"), "gyr": ("TC_G", "GYR", "gyroscope")}
+PREFIX = {"acc": ("TC_A", "ACC"), "gyr": ("TC_G", "GYR")}
 
 TEMPERATURE_FORMATS = {
     "px4": "PX4 (.params for QGroundControl)",
@@ -215,7 +216,7 @@ def ticks(lo: float, hi: float, n: int = 5) -> list[float]:
 
 def _panel(body: dict, sensor: str, top: float) -> tuple[list[str], str]:
     metrics = body["metrics"][sensor]
-    scale = 1000.0 / 9.80665 if sensor == "acc" else 180.0 / np.pi
+    scale = 1000.0 / STANDARD_GRAVITY if sensor == "acc" else 180.0 / np.pi
     unit = "mg" if sensor == "acc" else "°/s"
     bins, curve = body["bins"][sensor], body["curve"][sensor]
     t_b, y_b = np.asarray(bins["t_c"]), np.asarray(bins["offset"]) * scale

@@ -13,7 +13,9 @@ from app.calibration.result import DRIFT, FIGURES
 
 from .plural import counted
 from .errors import ExportError
-from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, result_class, sensor_corrections, unit_label
+from app.calibration.headlines import SENSOR_WORDS
+
+from .export_common import FRAME, JSON_SCHEMA, Export, result_class, sensor_corrections, unit_label
 from .export_compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
 from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
@@ -46,7 +48,7 @@ def to_json(body: dict) -> Export:
     }
     corrections = sensor_corrections(body)
     if result_class(body).PER_SENSOR:  # the cube: one correction per sensor (Särkkä et al., eq. (1))
-        doc["sensor"] = ", ".join(SENSORS[c.sensor] for c in corrections)
+        doc["sensor"] = ", ".join(SENSOR_WORDS[c.sensor] for c in corrections)
         doc["corrections"] = {
             c.sensor: {
                 "formula": "f = M (m - o)",
@@ -60,7 +62,7 @@ def to_json(body: dict) -> Export:
         }
     elif corrections[0].sensor == "mag":  # the compass: h = M (m − b), o = b the hard iron
         c = corrections[0]
-        doc["sensor"] = SENSORS["mag"]
+        doc["sensor"] = SENSOR_WORDS["mag"]
         doc["correction"] = {
             "formula": "h = M (m - o), o = b (hard iron)",
             "M": c.M.tolist(),
@@ -95,7 +97,7 @@ def _c_number(v: float) -> str:
 def _c_sensor(c) -> str:
     rows = ",\n".join("    {" + ", ".join(_c_number(v) for v in row) + "}" for row in c.M)
     name = f"trical_{c.sensor}"
-    return f"""/* {SENSORS[c.sensor]}: {unit_label(c.input_unit)} in, {unit_label(c.output_unit)} out */
+    return f"""/* {SENSOR_WORDS[c.sensor]}: {unit_label(c.input_unit)} in, {unit_label(c.output_unit)} out */
 static const float {name}_offset[3] = {{{", ".join(_c_number(v) for v in c.o)}}};
 
 static const float {name}_matrix[3][3] = {{

@@ -21,6 +21,11 @@ UNITS: dict[str, tuple[str, ...]] = {
 }
 """Accepted units per sensor; the first is the default when neither header nor caller names one."""
 
+UNITS_IN: dict[str, tuple[str, ...]] = {**UNITS, "mag": ("uT", "nT", "gauss", "raw")}
+"""The units a caller or a header may name per sensor (the upload's ``acc_unit``, ``gyr_unit``, ``mag_unit``;
+``trical calibrate``'s ``--unit``, ``--gyr-unit``, ``--mag-unit``): :data:`UNITS`, and a magnetometer's gauss,
+which becomes µT on reading (app.io.formats.units)."""
+
 ACC_PHYSICAL_UNITS = ("m/s^2", "g")
 """The accelerometer's units of a physical scale (counts, ``raw``, are not): what gravity is told in, what a
 firmware's driver gives, what a wearable's recording is auto-calibrated in."""

@@ -26,6 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from app.calibration.headlines import SENSOR_WORDS
+
 from .board_formats import MOTIONCAL_CRC, MOTIONCAL_MAG_FLOATS, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from .plural import counted
 from .errors import ExportError
@@ -146,9 +148,8 @@ log's unit tables (app.io.log) without counts, whose scale is unknown."""
 def _refuse_counts(sensor: str, unit: str | None) -> float:
     table = UNIFIED_SCALES[sensor]
     if unit not in table:
-        words = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}[sensor]
         raise ExportError(
-            f"the {words} of this calibration is in {'counts' if unit == 'raw' else unit}, but MotionCal's packet "
+            f"the {SENSOR_WORDS[sensor]} of this calibration is in {'counts' if unit == 'raw' else unit}, but MotionCal's packet "
             f"holds {', '.join(table)} only (Adafruit's Unified Sensor units): calibrate readings in those units "
             "(give chip for counts), or use the C header export"
         )

@@ -30,6 +30,8 @@ from pathlib import Path, PurePosixPath
 
 import numpy as np
 
+from app.calibration.headlines import SENSOR_WORDS as WORDS
+
 from .errors import LogFormatError
 from .formats.kinds import TEXT_SUFFIXES
 from .formats.timing import with_timing
@@ -247,7 +249,7 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     timed = all(log.time_s is not None and len(log.time_s) >= 2 for _, log, _ in by_sensor.values())
     notes = [
         f"one recording in {len(logs)} files, one per sensor: "
-        + ", ".join(f"{fname} the {_WORDS[sensor]} ({log.units[sensor]})" for fname, sensor, log, _ in logs)
+        + ", ".join(f"{fname} the {WORDS[sensor]} ({log.units[sensor]})" for fname, sensor, log, _ in logs)
     ]
     if not timed:
         return _one_to_one(logs, by_sensor, notes, name)
@@ -256,7 +258,7 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
         clock_sensor, why = "acc", "the accelerometer's"
     else:
         clock_sensor = max(by_sensor, key=lambda s: by_sensor[s][1].sampling_rate_hz or 0.0)
-        why = f"the fastest sensor's, the {_WORDS[clock_sensor]}'s"
+        why = f"the fastest sensor's, the {WORDS[clock_sensor]}'s"
     clock_file, clock_log, _ = by_sensor[clock_sensor]
     times = np.asarray(clock_log.time_s, dtype=float) + starts[clock_sensor]
     drop = np.zeros(len(times), dtype=bool)
@@ -351,9 +353,6 @@ def _overlapping_starts(by_sensor: dict, name: str) -> dict:
     return starts
 
 
-_WORDS = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}
-
-
 def _format(logs) -> str:
     formats = list(dict.fromkeys(log.format for _, _, log, _ in logs))
     return formats[0] if len(formats) == 1 else "+".join(formats)
@@ -398,9 +397,9 @@ def read_sensor_files(sources: list[tuple[str, Path]], read, *, name: str, colum
             if len(log.channels) > 1:
                 return None  # a file of several sensors: the files are a recording's poses, or parts of one
             raise LogFormatError(
-                f"{fname} is named for the {_WORDS[sensor]} but holds the {_WORDS[log.channels[0]]}'s columns "
+                f"{fname} is named for the {WORDS[sensor]} but holds the {WORDS[log.channels[0]]}'s columns "
                 f"({', '.join(map(str, log.columns[:8]))}): name the file for the sensor it holds, or its columns "
-                f"for the {_WORDS[sensor]} ({sensor}_x, {sensor}_y, {sensor}_z)"
+                f"for the {WORDS[sensor]} ({sensor}_x, {sensor}_y, {sensor}_z)"
             )
         logs.append((fname, sensor, log, first_time(path, log, fname)))
     return merge_sensor_logs(logs, name=name)

@@ -14,8 +14,9 @@ from __future__ import annotations
 import numpy as np
 
 from app.calibration import STANDARD_GRAVITY
+from app.calibration.headlines import SENSOR_WORDS
 
-from .export_common import SENSORS, result_class, sensor_corrections, unit_label
+from .export_common import result_class, sensor_corrections, unit_label
 from .export_params import firmware_figures
 from .formats.chips import CHIPS
 
@@ -89,7 +90,7 @@ def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
     if scale is None and c.input_unit != "raw":
         numbers = ", ".join(_c_float(v) for v in sample)
         return [
-            f"/* One {SENSORS[c.sensor]} reading m in {unit_in}, as the header takes it, calibrated into f, in {out}. */",
+            f"/* One {SENSOR_WORDS[c.sensor]} reading m in {unit_in}, as the header takes it, calibrated into f, in {out}. */",
             f"void {name}_calibrate(const float m[3], float f[3])",
             "{",
             f"    {name}_apply(m, f);",
@@ -111,7 +112,7 @@ def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
             for i in range(3)
         ]
     return [
-        f"/* One {SENSORS[c.sensor]} reading from your driver, in counts, calibrated into f, in {out}. */",
+        f"/* One {SENSOR_WORDS[c.sensor]} reading from your driver, in counts, calibrated into f, in {out}. */",
         f"void {name}_calibrate(const int16_t raw[3], float f[3])",
         "{",
         "    float m[3];",
@@ -174,7 +175,7 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         names = f"M: M{suffix}, o: o{suffix}" if suffix else "M, o"
         js_lines += [
             f"const {{ {names} }} = {js_where};",
-            f"const m{suffix} = [{numbers}];  // one reading from the {SENSORS[c.sensor]}, in "
+            f"const m{suffix} = [{numbers}];  // one reading from the {SENSOR_WORDS[c.sensor]}, in "
             f"{unit_label(c.input_unit) if scale is None else 'counts: scale it as below'}",
         ]
         if scale is not None:

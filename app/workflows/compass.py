@@ -144,7 +144,7 @@ def auto_compass(request, recording: RecordingSource) -> dict:
     compass = CompassAsk(recording_id=request.recording_id, device_id=request.device_id, label=request.label)
     body = magnetometer(compass, recording)
     body["choice"] = {
-        "method": "magnetometer",
+        "method": compass.method,
         "candidates": {},
         "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
         "calibration; for the Earth's field at your place use method magnetometer with "

@@ -11,6 +11,7 @@ import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientation
 from app.calibration.errors import InsufficientDataError
+from app.calibration.orientations import WITHIN_LABEL_ANGLE
 from app.calibration.static import detect_static_segments
 from app.io.formats import SOURCE_OF_FORMAT, read_log
 from app.io.log import LogData
@@ -243,7 +244,7 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
         elif named:
             ups = [seg["up"] for seg in found]
             if any(up != named for up in ups):
-                seen = ", ".join(sorted({up or "no axis within 20°" for up in ups if up != named}))
+                seen = ", ".join(sorted({up or f"no axis {WITHIN_LABEL_ANGLE}" for up in ups if up != named}))
                 notes.append(
                     f"{part.filename}: its name says {named} up, but its still readings point {seen} "
                     f"up: the data's label is used — check the file's name, or how the board lay"

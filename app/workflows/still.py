@@ -17,6 +17,7 @@ import numpy as np
 from app.calibration import CANONICAL_SIX, CalibrationError, fit_orientations, fit_six_position, nearest_orientation
 from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
 from app.calibration.errors import InsufficientDataError
+from app.calibration.orientations import WITHIN_LABEL_ANGLE
 from app.calibration.trust import review
 from app.calibration.validation import as_vectors
 from app.io.log import ACC_PHYSICAL_UNITS
@@ -45,7 +46,7 @@ def _first_of_each_axis(segments: list[dict]) -> list[int]:
     for i, seg in enumerate(segments):
         if seg["up"] is not None and seg["up"] not in first:
             first[seg["up"]] = i
-    missing = [lab for lab in ("-x", "+x", "-y", "+y", "-z", "+z") if lab not in first]
+    missing = [lab for lab in CANONICAL_SIX if lab not in first]
     if missing:
         found = ", ".join(f"{lab} (segment {i})" for lab, i in first.items()) or "none"
         raise InsufficientDataError(
@@ -60,7 +61,7 @@ def _every_labelled(segments: list[dict]) -> list[int]:
     chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
     if not chosen:
         raise InsufficientDataError(
-            f"none of the recording's {counted(len(segments), 'still segment')} lies within 20° of an axis: method "
+            f"none of the recording's {counted(len(segments), 'still segment')} lies {WITHIN_LABEL_ANGLE} of an axis: method "
             "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
             "for free poses"
         )
@@ -69,7 +70,7 @@ def _every_labelled(segments: list[dict]) -> list[int]:
 
 def _fit_six(readings: list[Reading], *, gravity: float, stds, gates: dict):
     if any(r.up is None for r in readings):
-        raise CalibrationError("six_position readings each need an `up` label (+x, -x, +y, -y, +z, -z)")
+        raise CalibrationError(f"six_position readings each need an `up` label ({', '.join(CANONICAL_SIX)})")
     return fit_six_position([r.mean for r in readings], [r.up for r in readings], gravity=gravity, stds=stds, **gates)
 
 
@@ -130,6 +131,8 @@ TRIANGULAR = StillFit("triangular", fit=_fit_triangular, advises=True)  # Farago
 STILL_FITS = {spec.name: spec for spec in (SIX_POSITION, ORIENTATIONS, NONORTHOGONAL, TRIANGULAR)}
 """The four fits of still readings by name (``auto`` reports its choice by name; the wizard's sessions name
 theirs)."""
+AUTO_CHOICES = (SIX_POSITION.name, ORIENTATIONS.name, TRIANGULAR.name)
+"""The fits ``auto`` chooses among on still readings (:func:`choose_model`)."""
 
 
 def still_fit(method):
@@ -164,7 +167,7 @@ def readings_from_segments(recording: dict, method, indices: list[int] | None) -
                 )
             if segments[i]["up"] is None:
                 raise CalibrationError(
-                    f"segment {i} has no recognised orientation (no axis within 20° of its direction): "
+                    f"segment {i} has no recognised orientation (no axis {WITHIN_LABEL_ANGLE} of its direction): "
                     "leave it out, or send its mean with an explicit `expected` vector"
                 )
             chosen.append(i)
@@ -385,7 +388,7 @@ def name_sources(body: dict, recording: RecordingSource | None) -> dict:
         if named and seg["up"] != named:
             body["warnings"].append(
                 f"{seg.get('source')} names {named} up, but its still reading points "
-                f"{seg['up'] or 'to no axis within 20°'}{' up' if seg['up'] else ''}: the data's pose was used — check "
+                f"{seg['up'] or f'to no axis {WITHIN_LABEL_ANGLE}'}{' up' if seg['up'] else ''}: the data's pose was used — check "
                 "the file's name, or how the board lay"
             )
     return body
@@ -463,7 +466,7 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
                 raise
     if not candidates:
         raise InsufficientDataError(
-            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses (each within 20° of one of ±x, ±y, ±z) "
+            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses (each {WITHIN_LABEL_ANGLE} of one of ±x, ±y, ±z) "
             f"and a magnitude model needs at least 9 free poses (12 or more recommended): add "
             f"{9 - len(m)} or more poses in other directions"
         )
@@ -486,12 +489,12 @@ def _why(fits: dict, aligned: bool, n: int) -> str:
     the method first ("Method: six positions, chosen because …")."""
     if not aligned:
         return (
-            f"the {n} poses are free (not all within 20° of an axis, or not all six axes), and a magnitude model "
+            f"the {n} poses are free (not all {WITHIN_LABEL_ANGLE} of an axis, or not all six axes), and a magnitude model "
             "(Farago et al.) needs no orientation"
         )
     if len(fits) == 1:
         return (
-            f"the {n} poses are the six axis orientations (each within 20° of ±x, ±y, ±z), which determine the "
+            f"the {n} poses are the six axis orientations (each {WITHIN_LABEL_ANGLE} of ±x, ±y, ±z), which determine the "
             "affine model in closed form (Georgieva et al.); nine or more distinct poses would also allow a "
             "magnitude model to check it"
         )

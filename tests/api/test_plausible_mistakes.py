@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 
 from app.calibration.result import CalibrationResult
+from app.io.log import UNITS_IN as UNITS
 from tests.conftest import DATA
 from tests.real_corpus import cases as corpus_cases
 
 REAL = DATA / "real"
-UNITS = {"acc": ("m/s^2", "g", "raw"), "gyr": ("rad/s", "deg/s", "raw"), "mag": ("uT", "nT", "gauss", "raw")}
 CHIPS = {
     "acc": ("mpu6050-2g", "mpu6050-4g", "mpu6050-8g", "mpu6050-16g"),
     "gyr": ("mpu6050-250dps", "mpu6050-500dps", "mpu6050-1000dps", "mpu6050-2000dps"),

@@ -7,14 +7,14 @@ temperature); the method table (:mod:`app.methods`) names it, and :data:`RESPONS
 
 from __future__ import annotations
 
-from typing import Annotated, Literal, Union
+from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, create_model
 
 from app.api.schemas import autocal, compass, cube, noise, still_readings, temperature
 from app.api.schemas.common import CalibrationCommon, Mat3Out, Vec3Out
 from app.calibration_requests import Strict, Vec3
-from app.methods import TABLE
+from app.methods import AS_CHOSEN, TABLE
 
 FAMILIES = (still_readings, autocal, cube, noise, compass, temperature)
 """The modules that hold the methods' response models, by method family."""
@@ -26,7 +26,23 @@ def response_model(name: str) -> type[CalibrationCommon]:
     return model
 
 
-RESPONSE_MODELS = {method.name: response_model(method.response) for method in TABLE if method.response is not None}
+def common_response(method: str) -> type[CalibrationCommon]:
+    """The response model of a method without one of its own (``Method.response`` None): the fields every
+    calibration answers with, its ``method``, and its ``model`` and ``metrics`` as its result class writes them."""
+    return create_model(
+        f"CalibrationOut_{method}",
+        __base__=CalibrationCommon,
+        method=(Literal[method], ...),
+        model=(dict[str, Any], ...),
+        metrics=(dict[str, Any], ...),
+    )
+
+
+RESPONSE_MODELS = {
+    method.name: common_response(method.name) if method.response is None else response_model(method.response)
+    for method in TABLE
+    if method.response != AS_CHOSEN
+}
 """Each method's response model, named by the method table (app.methods); ``auto`` answers as the method it chose."""
 
 # One model per method, in a union discriminated by `method` (OpenAPI's discriminator must be a

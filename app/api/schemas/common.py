@@ -8,6 +8,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from app.methods import AUTO_CHOICES
 
 Vec3Out = list[float]
 Mat3Out = list[list[float]]
@@ -144,7 +145,7 @@ class CandidateOut(Out):
 class ChoiceOut(Out):
     """What `method: auto` chose (app.workflows.still.choose_model)."""
 
-    method: Literal["six_position", "orientations", "triangular", "magnetometer"]
+    method: Literal[AUTO_CHOICES]  # type: ignore[valid-type]
     why: str
     candidates: dict[str, CandidateOut] = Field(
         description="Every model that applied: its ok and error on poses left out."

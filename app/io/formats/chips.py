@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ...calibration.headlines import SENSOR_WORDS
 from ..errors import LogFormatError
 
 GAUSS_UT = 100.0
@@ -146,6 +147,3 @@ def parse_chips(chip: str | list | None) -> dict[str, Chip]:
             )
         out[c.sensor] = c
     return out
-
-
-SENSOR_WORDS = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}

@@ -26,7 +26,8 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ...calibration.plausible import GYRO_BIAS_MAX_DPS
-from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS, SENSOR_WORDS
+from ...calibration.headlines import SENSOR_WORDS
+from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS
 from .units import turn_field
 
 SENSORS = ("acc", "gyr", "mag")

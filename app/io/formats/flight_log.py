@@ -28,7 +28,6 @@ from ..errors import LogFormatError
 from ..log import LogData
 
 CLOCKS = ("imu", "mag")
-SENSOR_NAMES = {"acc": "accelerometer", "gyr": "gyroscope", "mag": "magnetometer"}
 
 
 @dataclass(frozen=True)

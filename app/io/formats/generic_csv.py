@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import LogFormatError
-from ..log import UNITS, LogData
+from ..log import UNITS, UNITS_IN, LogData
 from .table import (
     BAD_LINE,
     SNIFF_BYTES,
@@ -54,7 +54,6 @@ from .table import (
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
 from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
-from .units import MAG_UNITS_IN
 
 MAX_LISTED_COLUMNS = 20
 
@@ -392,7 +391,7 @@ def mapped_units(names: list[str], column_map: dict | None) -> dict:
         sensor = canonical.split("_")[0]
         found = _UNIT_IN_NAME.search(column)
         unit = _header_unit(found.group(1), sensor) if found and sensor in PATTERNS else None
-        if unit is not None and unit in (*UNITS[sensor], *(MAG_UNITS_IN if sensor == "mag" else ())):
+        if unit is not None and unit in UNITS_IN[sensor]:
             units.setdefault(sensor, unit)
     return units
 
@@ -502,7 +501,7 @@ def read_csv_log(
         notes.append(f"no time column: the rate {stated_rate:g} Hz its comment line states is used")
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
-        accepted = MAG_UNITS_IN if sensor == "mag" else UNITS[sensor]
+        accepted = UNITS_IN[sensor]
         if unit not in accepted:
             raise LogFormatError(f"{sensor} unit {unit!r} is not one of {', '.join(accepted)}")
     return with_timing(

@@ -21,7 +21,8 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import ACC_PHYSICAL_UNITS, LogData
 from ...calibration.gravity import STANDARD_GRAVITY
-from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, SENSOR_WORDS, Chip
+from ...calibration.headlines import SENSOR_WORDS
+from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, Chip
 from .gyro_unit import gyro_evidence
 
 LINEAR_FRACTION = 0.25
@@ -30,8 +31,6 @@ COUNTS_TOLERANCE = 0.15
 """Counts resting within this fraction of a common sensitivity are read with it."""
 FIELD_RANGES = {"uT": (15.0, 100.0), "gauss": (0.15, 1.0), "nT": (15_000.0, 100_000.0)}
 """The Earth's field (22–67 µT, IGRF) with room for a disturbed room, in each unit a log may use."""
-MAG_UNITS_IN = ("uT", "nT", "gauss", "raw")
-"""Magnetometer units a caller or a header may name; gauss becomes µT on reading."""
 
 
 def median_norm(acc: np.ndarray) -> float:
