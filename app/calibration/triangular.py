@@ -215,7 +215,7 @@ class TriangularCalibration(StillReadingsResult):
 
     K: np.ndarray = parameter()
     o: np.ndarray = parameter()
-    solver: str
+    solver: str  # type: ignore[misc]  # parameter() is a field without a default, which mypy cannot see
     method: str = MODEL_TYPE
 
     RESULT_TYPE = MODEL_TYPE

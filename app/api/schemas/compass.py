@@ -77,7 +77,7 @@ class MagnetometerSamples(Out):
 
 class MagnetometerOut(CalibrationCommon):
     method: Literal["magnetometer"]
-    gravity: float | None = Field(None, description="Not used by a compass calibration.")
+    gravity: float | None = Field(None, description="Not used by a compass calibration.")  # type: ignore[assignment]  # pydantic: this result has no gravity
     model: MagnetometerModel
     uncertainty: MagnetometerUncertainty
     metrics: MagnetometerMetrics
@@ -123,7 +123,7 @@ class CompassFlightMetrics(Out):
 
 class CompassFlightOut(CalibrationCommon):
     method: Literal["compass_flight"]
-    gravity: float | None = Field(None, description="Not used by a compass calibration.")
+    gravity: float | None = Field(None, description="Not used by a compass calibration.")  # type: ignore[assignment]  # pydantic: this result has no gravity
     model: CompassFlightModel
     uncertainty: CompassFlightUncertainty
     metrics: CompassFlightMetrics

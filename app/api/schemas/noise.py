@@ -92,7 +92,7 @@ class StillPart(Out):
 
 class NoiseOut(CalibrationCommon):
     method: Literal["noise"]
-    gravity: float | None = Field(None, description="Not used by a noise characterisation.")
+    gravity: float | None = Field(None, description="Not used by a noise characterisation.")  # type: ignore[assignment]  # pydantic: this result has no gravity
     model: NoiseModel
     uncertainty: NoiseUncertainty
     metrics: NoiseMetrics

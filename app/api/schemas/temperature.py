@@ -87,7 +87,7 @@ class TemperatureCurve(Out):
 
 class TemperatureOut(CalibrationCommon):
     method: Literal["temperature"]
-    gravity: float | None = Field(None, description="Not used by a temperature calibration.")
+    gravity: float | None = Field(None, description="Not used by a temperature calibration.")  # type: ignore[assignment]  # pydantic: this result has no gravity
     model: TemperatureModel
     uncertainty: TemperatureUncertainty
     metrics: TemperatureMetrics
