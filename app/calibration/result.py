@@ -216,11 +216,13 @@ class CalibrationResult(Gated):
     if TYPE_CHECKING:  # what every subclass has: a frozen dataclass's fields (metrics may be a property)
         __dataclass_fields__: ClassVar[dict[str, dataclasses.Field]]
         method: str
-        unit: str
         gravity: float | None
 
         @property
         def metrics(self) -> dict: ...
+
+        @property
+        def unit(self) -> str: ...
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
