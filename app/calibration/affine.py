@@ -76,8 +76,8 @@ class AffineCalibration(StillReadingsResult):
 
     X: np.ndarray = parameter()
     y: np.ndarray = parameter()
-    expected: np.ndarray  # type: ignore[misc]  # parameter() is a field without a default, which mypy cannot see
-    labels: tuple  # type: ignore[misc]  # parameter() is a field without a default, which mypy cannot see
+    expected: np.ndarray  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
+    labels: tuple  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
     method: str = "orientations"
 
     RESULT_TYPE = MODEL_TYPE

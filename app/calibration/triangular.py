@@ -215,7 +215,7 @@ class TriangularCalibration(StillReadingsResult):
 
     K: np.ndarray = parameter()
     o: np.ndarray = parameter()
-    solver: str  # type: ignore[misc]  # parameter() is a field without a default, which mypy cannot see
+    solver: str  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
     method: str = MODEL_TYPE
 
     RESULT_TYPE = MODEL_TYPE
