@@ -8,17 +8,15 @@ the same input with the same words.
 from __future__ import annotations
 
 import datetime
-from typing import Annotated, Any, ClassVar, Literal
+from typing import Annotated, Any, ClassVar, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
-from app.calibration.solvers import SOLVERS
-from app.io.log import ACC_PHYSICAL_UNITS, UNITS
+from app.calibration.solvers import Solver
+from app.io.log import AccPhysicalUnit, AccUnit
 
 Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
 Vec3 = Annotated[list[FiniteFloat], Field(min_length=3, max_length=3)]
-AccUnit = Literal[UNITS["acc"]]
-Solver = Literal[SOLVERS]
 Gravity = Annotated[float, Field(ge=0.1, le=100, allow_inf_nan=False)]
 """A reference gravity in m/s²: from the Moon's 1.6 to well above the Earth's 9.8."""
 
@@ -125,7 +123,8 @@ class SectionIn(Strict):
     end: int = Field(ge=1, description="The sample after the last one (imucal slices data.iloc[start:end]).")
 
 
-CUBE_PROTOCOLS = ("cube24", "ferraris")
+CubeProtocol = Literal["cube24", "ferraris"]
+CUBE_PROTOCOLS: tuple[str, ...] = get_args(CubeProtocol)
 """The cube's named protocols: Särkkä et al.'s 24 positions, and imucal's Ferraris sections (a recording's
 protocol may also be given as its rotations and ups)."""
 
@@ -135,7 +134,7 @@ class CubeIn(Strict):
 
     method: Literal["cube"]
     recording_id: str = Field(description="An uploaded recording with accelerometer and gyroscope columns.")
-    protocol: Literal[CUBE_PROTOCOLS] | dict[str, Any] = Field(
+    protocol: CubeProtocol | dict[str, Any] = Field(
         "cube24", description='`cube24`, `ferraris`, or {"rotations": [...], "ups": [...]}.'
     )
     gravity: Gravity | None = None
@@ -158,7 +157,7 @@ class AutocalIn(Strict):
 
     method: Literal["autocal"]
     recording_id: str = Field(description="An uploaded recording (POST /api/v1/recordings).")
-    unit: Literal[ACC_PHYSICAL_UNITS] | None = Field(None, description="Overrides the recording's accelerometer unit.")
+    unit: AccPhysicalUnit | None = Field(None, description="Overrides the recording's accelerometer unit.")
     gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None

@@ -145,7 +145,8 @@ class Settings(BaseSettings):
         """TRICAL_DATA_DIR, else the SQLite file's directory, else ``./var``."""
         if self.data_dir is not None:
             return Path(self.data_dir)
-        return self.database_path.parent if self.is_sqlite else Path("var")
+        path = self.database_path  # the SQLite file's, None for PostgreSQL
+        return path.parent if path is not None else Path("var")
 
     @property
     def recordings_dir(self) -> Path:

@@ -68,6 +68,7 @@ def swagger_ui_page(openapi_url: str, title: str) -> tuple[bytes, str]:
         # operation's expand button (a control nested in a control, which screen readers cannot reach).
         swagger_ui_parameters={"validatorUrl": None, "deepLinking": False},
     ).body
+    page = bytes(page)  # a Response's body: bytes (a memoryview only to the type stubs)
     # The page's language, and its content in a main landmark (the element Swagger UI fills).
     for old, new in (
         (b"<html>", b'<html lang="en">'),
@@ -145,6 +146,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     install_error_handlers(app, not_found_page)
     app.include_router(api_router)
     app.include_router(web_router)
+    assert app.openapi_url is not None, "the app serves its OpenAPI document"
     docs_page, docs_policy = swagger_ui_page(app.openapi_url, f"{app.title} - Swagger UI")
 
     @app.get("/docs", include_in_schema=False)

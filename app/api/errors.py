@@ -37,7 +37,7 @@ internal_error         500     a failure of trical itself; nothing was stored
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -86,7 +86,7 @@ def error_response(
     status: int,
     detail: str,
     code: str,
-    headers: dict | None = None,
+    headers: Mapping[str, str] | None = None,
     request: Request | None = None,
     extra: dict | None = None,
 ) -> JSONResponse:

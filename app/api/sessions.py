@@ -66,6 +66,7 @@ def add_capture(
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
 def solve_session(*, session: sessions.Session = Depends(session_of), store: StoreDep, reader: ReaderDep):
     """Compute and store the calibration of a complete session; its token reads it."""
+    assert session.id is not None, "a session read from the store has its id"
     return render_body(
         store.add_calibration(sessions.solve(store, session), owner=session_owner(session.id), session_id=session.id),
         *reader,

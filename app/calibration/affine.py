@@ -76,8 +76,8 @@ class AffineCalibration(StillReadingsResult):
 
     X: np.ndarray = parameter()
     y: np.ndarray = parameter()
-    expected: np.ndarray
-    labels: tuple
+    expected: np.ndarray  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
+    labels: tuple  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
     method: str = "orientations"
 
     RESULT_TYPE = MODEL_TYPE
@@ -372,8 +372,8 @@ def _expected_from(ups, expected, n: int, gravity: float) -> tuple[np.ndarray, t
             if np.linalg.norm(v) == 0:
                 raise CalibrationError(f"expected vector of reading {i} is zero; it must be the specific force at rest")
             rows.append(v)
-        elif labels[i] is not None:
-            rows.append(up_vector(labels[i]) * gravity)
+        elif (label := labels[i]) is not None:
+            rows.append(up_vector(label) * gravity)
         else:
             raise CalibrationError(f"reading {i} has neither an `up` label nor an `expected` vector")
     return np.array(rows), tuple(labels)

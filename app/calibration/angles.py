@@ -32,6 +32,7 @@ said in the words.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 ASSUMED_INCLINATION_DEG = 60.0
 """The inclination assumed where neither the place nor a measured one is known: about that of the
@@ -126,6 +127,7 @@ def figure_degrees(before: float | None, after: float | None, unit: str, metrics
     """
     if after is None:
         return None
+    angle: Callable[[float], float]
     if unit == "mg":
         angle, kind, inclination, source = tilt_error_deg, "tilt", None, None
     elif unit in ("µT", "counts") and (metrics or {}).get("field_ut"):
@@ -141,7 +143,7 @@ def figure_degrees(before: float | None, after: float | None, unit: str, metrics
     after_deg = angle(after)
     told = degrees_text(after_deg) if before_deg is None else f"{degrees_text(before_deg)} → {degrees_text(after_deg)}"
     words = f"a level off by {told}" if kind == "tilt" else f"a heading off by {told}"
-    if kind == "heading":
+    if source is not None and inclination is not None:  # a heading
         words += f" ({INCLINATION_WORDS[source].format(i=abs(inclination))})"
     return {
         "kind": kind,

@@ -148,7 +148,7 @@ def select_points(
         raise CalibrationError(f"min_distance_g must be a non-negative number; got {min_distance_g!r}")
     v = np.asarray(means, dtype=float).reshape(-1, 3) / float(gravity)
     bins = bin_of(v)
-    usable = (bins >= 0).any(axis=1)
+    usable = np.asarray((bins >= 0).any(axis=1))
     if exclude is not None and len(exclude):
         usable[np.asarray(exclude, dtype=int)] = False
     counts = np.zeros((3, 3), dtype=int)

@@ -171,9 +171,12 @@ def _worst_direction(error) -> float:
     best = float(values.max())
     from scipy.optimize import minimize  # here, as least_squares above
 
+    def negative(u: np.ndarray) -> float:
+        return -error((u / np.linalg.norm(u))[None, :])[0]
+
     for start in grid[np.argsort(values)[-5:]]:
         found = minimize(
-            lambda u: -error((u / np.linalg.norm(u))[None, :])[0],
+            negative,
             start,
             method="Nelder-Mead",
             options={"xatol": 1e-10, "fatol": 1e-14, "maxiter": 2000},
@@ -206,7 +209,7 @@ def offset_scale_fit(M, o, gravity: float, means=None) -> OffsetScaleFit:
     X = np.linalg.inv(M)
     given = None if means is None else np.asarray(means, dtype=float).reshape(-1, 3)
     from_readings = given is not None and len(given) >= N_PARAMS
-    readings = given if from_readings else DIRECTIONS * g @ X.T + o
+    readings = given if given is not None and from_readings else DIRECTIONS * g @ X.T + o
     # An axis the correction inverts (a negative diagonal term) keeps its sign in the scale: the magnitude does
     # not see it. M = R P diag(sign), P symmetric positive definite.
     sign = np.where(np.diag(M) < 0, -1.0, 1.0)

@@ -150,7 +150,9 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
                 score = np.where(share >= SHARE_MIN, np.sqrt(2.0 / edf) / share, np.inf)
             i = int(np.argmin(score))
             best[j] = (i, float(score[i]))  # the τ it is read at, and its relative standard error there
-    values, intervals, taus = {}, {}, {}
+    values: dict[str, float | None] = {}
+    intervals: dict[str, list[float] | None] = {}
+    taus: dict[str, float | None] = {}
     for j, name in enumerate(TERMS):
         if j not in best:
             values[name] = intervals[name] = taus[name] = None

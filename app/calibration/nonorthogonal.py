@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import OptimizeResult, least_squares
 
 from .errors import CalibrationError
 from .result import StillReadingsResult, parameter
@@ -269,7 +269,7 @@ def _ellipsoid_start(m: np.ndarray, g: float) -> tuple[np.ndarray, np.ndarray]:
     return m.mean(axis=0), np.ones(3)
 
 
-def _rough_orthogonal_fit(m: np.ndarray, g: float) -> least_squares:
+def _rough_orthogonal_fit(m: np.ndarray, g: float) -> OptimizeResult:
     """Step 2 of section 2.2: minimise Σ [(Tâ − s)ᵀ(Tâ − s) − g²]² with all angles π/2."""
     centre, scale = _ellipsoid_start(m, g)
 

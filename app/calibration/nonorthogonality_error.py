@@ -158,10 +158,13 @@ def _corners(lo: float, hi: float) -> list[np.ndarray]:
 
 
 def _maximise(objective, starts, bounds, constraints=()) -> tuple[float, np.ndarray]:
+    def negative(x: np.ndarray) -> float:
+        return -objective(x)
+
     best_val, best_x = -np.inf, None
     for x0 in starts:
         res = minimize(
-            lambda x: -objective(x),
+            negative,
             x0,
             method="SLSQP",
             bounds=bounds,
@@ -175,6 +178,7 @@ def _maximise(objective, starts, bounds, constraints=()) -> tuple[float, np.ndar
         # Keep the first maximiser on ties (relative 1e-10) so the result is deterministic.
         if val > best_val * (1.0 + 1e-10) + 1e-15:
             best_val, best_x = val, x
+    assert best_x is not None, "a start meets the constraints"
     return float(best_val), best_x
 
 

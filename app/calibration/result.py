@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
@@ -169,6 +169,9 @@ class Gated:
     """What every fit with quality gates shares: ``metrics``, ``warnings`` and ``reasons`` (gate failures,
     each one sentence), and ``ok``, exactly when no gate gave a reason (docs/conventions.md)."""
 
+    warnings: tuple
+    reasons: tuple
+
     @property
     def ok(self) -> bool:
         """True when no quality gate failed."""
@@ -226,6 +229,17 @@ class CalibrationResult(Gated):
     answer, so that a body cut short (no model) is still told apart."""
     PER_SENSOR: ClassVar[bool] = False
     """Whether its corrections are named by sensor in the exports (the cube: one per sensor)."""
+
+    if TYPE_CHECKING:  # what every subclass has: a frozen dataclass's fields (metrics may be a property)
+        __dataclass_fields__: ClassVar[dict[str, dataclasses.Field]]
+        method: str
+        gravity: float | None
+
+        @property
+        def metrics(self) -> dict: ...
+
+        @property
+        def unit(self) -> str: ...
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -382,6 +396,9 @@ class CalibrationResult(Gated):
     def body_dict(self) -> dict:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 
+    def uncertainty(self) -> dict:  # pragma: no cover - every subclass defines it
+        raise NotImplementedError
+
     def to_dict(self) -> dict:
         """Plain-JSON form (version :data:`SCHEMA_VERSION`): method, model (with its type),
         metrics, uncertainty, units, ok, warnings, reasons and the method's own fields."""
@@ -435,7 +452,7 @@ class CalibrationResult(Gated):
         """
         _load_all()
         kind = result_type_of(data)
-        target = _REGISTRY.get(kind)
+        target = _REGISTRY.get(kind) if kind is not None else None
         if target is None:
             raise CalibrationError(f"unknown model type {kind!r}; known: {', '.join(_REGISTRY)}")
         return target

@@ -231,7 +231,7 @@ def nearest_number(firmware: str, R) -> tuple[int, float]:
 def _candidates() -> list[tuple[int | None, int | None, str, np.ndarray]]:
     """Every distinct rotation of either firmware: ArduPilot's in its order (with PX4's number for the
     same matrix), then PX4's own. Entry 38 is taken as ArduPilot writes it and, for PX4, as PX4's."""
-    out = []
+    out: list[tuple[int | None, int | None, str, np.ndarray]] = []
     for number in sorted(ARDUPILOT_ROTATIONS):
         R = ardupilot_matrix(number)
         if any(_same(R, c[3]) for c in out):
@@ -281,4 +281,7 @@ def nearest_rotation(Q) -> tuple[int | None, int | None, str, float]:
 
 def rotation_matrix(ardupilot: int | None, px4: int | None) -> np.ndarray:
     """The matrix of a firmware rotation given by either number (ArduPilot's first)."""
-    return ardupilot_matrix(ardupilot) if ardupilot is not None else px4_matrix(px4)
+    if ardupilot is not None:
+        return ardupilot_matrix(ardupilot)
+    assert px4 is not None, "every rotation has either firmware's number"
+    return px4_matrix(px4)

@@ -338,7 +338,7 @@ class _Runs:
         """Step 4: groups of runs split by a knock (short gap, same mean: a bump is not an orientation)."""
         means = self.sums / self.counts[:, None]
         groups: list[list[int]] = []
-        g_sum = g_cnt = None
+        g_sum, g_cnt = np.zeros(3), np.zeros(())  # the last group's, from its first run on
         for i in range(len(self.a)):
             if groups and self.a[i] - self.b[groups[-1][-1]] <= max_gap:
                 if np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr:

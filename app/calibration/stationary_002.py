@@ -189,7 +189,7 @@ class RestAccumulator:
         if ggir_window_s:
             self.ggir_group = max(1, int(round(ggir_window_s / (seg / rate))))
         self.ggir_sd = ggir_sd_g * self.gravity
-        self._ones = None
+        self._ones: np.ndarray | None = None
         self._carry = np.zeros((0, 3), dtype=np.float32)
         self._n_samples = 0
         self._n_segments = 0
@@ -233,11 +233,12 @@ class RestAccumulator:
         base = self._n_segments
         self._n_segments += n
         # Farago et al. section II.B.1: max − min of the tested axis (or axes) over the segment
-        rng = None
+        rng: np.ndarray | None = None
         for a in self.axes:
             ax = c[:, :, a]
             r = ax.max(axis=1) - ax.min(axis=1)
             rng = r if rng is None else np.maximum(rng, r)
+        assert rng is not None, "at least one axis is tested"
         # NaN propagates through max/min: such a segment fails the comparison.
         still = rng < self.threshold
         if self._ones is None or self._ones.dtype != x.dtype:

@@ -230,7 +230,7 @@ def fit_axis(u: np.ndarray, y: np.ndarray, order: int, walk=None) -> AxisFit:
     else:
         eig, Q, scale = walk if isinstance(walk, tuple) else walk_decomposition(walk)
         Xr, yr = Q.T @ X, Q.T @ y
-        best = None
+        best: tuple | None = None
         for candidate in WALK_GRID:
             d = 1.0 / (1.0 + candidate * eig)
             xtvx_c = Xr.T @ (Xr * d[:, None])
@@ -241,6 +241,7 @@ def fit_axis(u: np.ndarray, y: np.ndarray, order: int, walk=None) -> AxisFit:
             loss = (n - p) * np.log(s2_c) - float(np.sum(np.log(d))) + np.linalg.slogdet(xtvx_c)[1]
             if best is None or loss < best[0] - 1e-12:
                 best = (loss, candidate, beta_c, res, d, xtvx_c)
+        assert best is not None, "a grid of candidates"
         _, lam, beta, res, d, xtvx = best
         r = Q @ (np.sqrt(d) * res)  # the whitened residuals V^(−1/2) r, in temperature order
     s2 = float(r @ r) / (n - p)
@@ -716,7 +717,7 @@ def calibrate_temperature(
     warnings: list[str] = []
     sensors = {}
     for name, values in given.items():
-        use = slice(None)
+        use: slice | np.ndarray = slice(None)
         if moved is not None:
             if name == "acc":
                 reasons.append(

@@ -215,7 +215,7 @@ class TriangularCalibration(StillReadingsResult):
 
     K: np.ndarray = parameter()
     o: np.ndarray = parameter()
-    solver: str
+    solver: str  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
     method: str = MODEL_TYPE
 
     RESULT_TYPE = MODEL_TYPE

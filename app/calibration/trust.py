@@ -155,6 +155,6 @@ def _undetermined(result) -> list[str]:
 def _pose_for(kind: str, axes: str) -> str:
     """The pose that determines a parameter of this kind on these axes."""
     if kind == "cross":
-        i, j = axes
+        i, j = axes[0], axes[1]
         return f"a pose tilted 45° between +{i} up and +{j} up, and its opposite"
     return f"poses with +{axes} up and −{axes} up"

@@ -113,7 +113,7 @@ def one_hemisphere_axis(vectors: np.ndarray) -> np.ndarray | None:
         bounds=[(-1.0, 1.0)] * 3 + [(None, 1.0)],
         method="highs",
     )
-    if not res.success or res.x[3] <= 1e-6:
+    if not res.success or res.x is None or res.x[3] <= 1e-6:
         return None
     w = res.x[:3]
     return w / np.linalg.norm(w)

@@ -127,7 +127,7 @@ class StillEngine:
 
     @property
     def finished(self) -> bool:
-        return len(self.done) >= self.protocol.poses
+        return self.protocol.poses is not None and len(self.done) >= self.protocol.poses
 
     def waiting_words(self) -> str:
         """What the engine waits for and what it sees now, for a capture that makes no progress: the poses
@@ -148,6 +148,7 @@ class StillEngine:
                 seen = f"the board moves: spread {spread:.2g} m/s² > {limit_a:g}"
             return f"{asked}: {seen}; hold it still in a pose asked"
         up = nearest_orientation(mean, 90.0)
+        assert up is not None, "every direction is within 90° of an axis"
         axis = np.asarray(UP_VECTORS[up])
         angle = math.degrees(math.acos(max(-1.0, min(1.0, float(axis @ mean) / float(np.linalg.norm(mean))))))
         if up in done:
@@ -177,7 +178,7 @@ def capture_segments(acc: np.ndarray, rows: list) -> list[dict]:
         ``acc_mean``, ``acc_std``, ``up``, ``count``), ``capture`` naming the engine's label; ``up`` is the
         axis within 20° of the mean, as for the segments found in a log.
     """
-    segments = []
+    segments: list[dict] = []
     for label, start, end in rows:
         window = np.asarray(acc[start:end], dtype=float)
         mean = window.mean(axis=0)
@@ -250,8 +251,9 @@ class Capture:
         self.writer: LogWriter | None = None
         self.engine = StillEngine(self.protocol, self.capture_s) if self.protocol.poses else None
         self.checked = False
-        self.acc_scale = self.gyr_scale = None
-        self.time_scale = None
+        self.acc_scale: float | None = None
+        self.gyr_scale: float | None = None
+        self.time_scale: float | None = None
         self.record_from: float | None = None
         self.stream = StreamRate()
         self.times: list[float] = []  # each reading's time on the board's clock (s), once the rate is known
@@ -268,6 +270,7 @@ class Capture:
         """The units at rest (the rules of every log) and the factors that put the readings in m/s² and °/s
         for the still detection."""
         fmt = self.reader.format
+        assert fmt is not None, "the units are checked once the lines' format is known"
         log = to_log(self.readings, fmt, units=self.units, name="the board's first second")
         words = ", ".join(f"{s} {u}" for s, u in log.units.items())
         rate = self._rate()
@@ -313,6 +316,7 @@ class Capture:
             if self.time_scale is not None:
                 self.times.append(float(r.board_time) * self.time_scale)
             else:
+                assert rate is not None, "the clock runs once the board's time or rate is known"
                 self.times.append(self.times[-1] + 1.0 / rate if self.times else 0.0)
 
     def _write(self) -> None:
@@ -423,7 +427,7 @@ class Capture:
         if self._rate() is not None or self.time_scale is not None:
             self._clock()
             self._write()
-        elif self.written == 0 and self.readings:
+        elif self.written == 0 and self.readings and self.writer is not None:
             self.writer.write(self.readings)
             self.written = len(self.readings)
 

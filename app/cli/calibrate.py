@@ -68,7 +68,7 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
     name = ", ".join(str(p) for p in args.log)
     log = read_log(path, options, name=name)
     recording = describe_log(log, options)
-    if captures:
+    if captures and log.acc is not None:
         from app.cli.board import capture_segments
 
         recording["segments"] = capture_segments(log.acc, captures)

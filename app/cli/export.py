@@ -14,18 +14,18 @@ def run(args, settings: Settings) -> int:
     """``trical export ID``: the stored calibration in ``--format``, to ``--output`` or stdout."""
     body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
     out = methods.export(body, args.format)
-    binary = isinstance(out.content, bytes)
+    content = out.content
     if args.output:
-        if binary:
-            args.output.write_bytes(out.content)
+        if isinstance(content, bytes):
+            args.output.write_bytes(content)
         else:
-            args.output.write_text(out.content)
+            args.output.write_text(content)
         print(f"wrote {args.output}", file=sys.stderr)
-    elif binary:
+    elif isinstance(content, bytes):
         sys.stdout.flush()
-        sys.stdout.buffer.write(out.content)
+        sys.stdout.buffer.write(content)
     else:
-        sys.stdout.write(out.content)
+        sys.stdout.write(content)
     for note in out.notes:  # what the format does not carry (motioncal: the accelerometer's scales)
         print(f"note: {render(note, 'cli')}", file=sys.stderr)
     return 0

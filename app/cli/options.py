@@ -10,7 +10,28 @@ from __future__ import annotations
 import argparse
 import datetime
 import math
+from collections.abc import Callable, Iterable
 from pathlib import Path
+from typing import Protocol, TypeVar, cast
+
+T = TypeVar("T")
+T_co = TypeVar("T_co", covariant=True)
+
+
+class OptionType(Protocol[T_co]):
+    """A ``type=`` function: what it reads (its ``__name__``, in argparse's messages) and a few values it refuses."""
+
+    __name__: str
+    refuses: tuple[str, ...]
+
+    def __call__(self, value: str, /) -> T_co: ...
+
+
+def _option(parse: Callable[[str], T], what: str, refuses: Iterable[str]) -> OptionType[T]:
+    option = cast("OptionType[T]", parse)
+    option.refuses = tuple(refuses)
+    option.__name__ = what
+    return option
 
 
 def number(
@@ -56,9 +77,7 @@ def number(
         refused.append(f"{low:g}" if low_open else f"{low - 1:g}")
     if high is not None:
         refused.append(f"{high + 1:g}")
-    parse.refuses = tuple(refused)
-    parse.__name__ = what
-    return parse
+    return _option(parse, what, tuple(refused))
 
 
 def text(what: str):
@@ -69,9 +88,7 @@ def text(what: str):
             raise argparse.ArgumentTypeError(f"an empty value: give {what}")
         return value
 
-    parse.refuses = ("", "  ")
-    parse.__name__ = what
-    return parse
+    return _option(parse, what, ("", "  "))
 
 
 def output_file(what: str):
@@ -83,9 +100,7 @@ def output_file(what: str):
             raise argparse.ArgumentTypeError(f"cannot write {value!r}: give {what} in a directory that exists")
         return path
 
-    parse.refuses = ("/nonexistent-dir/calibration.json", "", "/")
-    parse.__name__ = what
-    return parse
+    return _option(parse, what, ("/nonexistent-dir/calibration.json", "", "/"))
 
 
 def input_path(what: str):
@@ -97,9 +112,7 @@ def input_path(what: str):
             raise argparse.ArgumentTypeError(f"an empty path: give {what}")
         return Path(value)
 
-    parse.refuses = ("/nonexistent/trical-input", "")
-    parse.__name__ = what
-    return parse
+    return _option(parse, what, ("/nonexistent/trical-input", ""))
 
 
 def day(what: str):
@@ -111,9 +124,7 @@ def day(what: str):
         except ValueError:
             raise argparse.ArgumentTypeError(f"{value!r} is not a day: give {what} as YYYY-MM-DD") from None
 
-    parse.refuses = ("2026-13-01", "yesterday", "")
-    parse.__name__ = what
-    return parse
+    return _option(parse, what, ("2026-13-01", "yesterday", ""))
 
 
 def chips(what: str):
@@ -132,9 +143,7 @@ def chips(what: str):
             raise argparse.ArgumentTypeError(render(str(exc), "cli")) from None
         return value
 
-    parse.refuses = ("", "mpu9999", "mpu6050-2g,mpu6050-4g")
-    parse.__name__ = what
-    return parse
+    return _option(parse, what, ("", "mpu9999", "mpu6050-2g,mpu6050-4g"))
 
 
 PORT = number("a TCP port", low=1, high=65535, integer=True)

@@ -274,7 +274,7 @@ class FreeProtocol(SessionProtocol):
             else:
                 cv, cv_max = fit[0].error_on_new_orientations, fit[0].largest_error_on_new_orientations
         # The target is an error on new orientations below target_mg from a fit that passes every gate.
-        reached = cv is not None and n >= FREE_TARGET_MIN_POSES and cv < target and fit[0].ok
+        reached = cv is not None and n >= FREE_TARGET_MIN_POSES and cv < target and fit is not None and fit[0].ok
         if fit is not None:
             advice = pose_advice(fit[0])
         else:
@@ -537,7 +537,7 @@ def browser_notes(session: Session) -> list[str]:
     notes = list(session.notes)
     if session.source == "board":
         return notes
-    steps = {c.get("quantization_step") for c in session.captures} - {None}
+    steps = {s for c in session.captures if (s := c.get("quantization_step")) is not None}
     if steps:
         notes.append(
             f"the browser rounds its sensor values to {max(steps):g} m/s²: each position's mean "

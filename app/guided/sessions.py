@@ -174,6 +174,7 @@ def add_capture(store, session: Session, capture: dict) -> tuple[dict, dict]:
             f"{summary['position']} is already captured; remaining: {remaining}. "
             "Turn the device to a remaining pose, or send redo=true to capture it again"
         ) from None
+    assert session.id is not None, "a session read from the store has its id"
     return summary, view(load(store, session.id))
 
 

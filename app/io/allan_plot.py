@@ -247,7 +247,7 @@ def _floor_tau(s: _Sensor, i: int) -> float | None:
 
 def _mark_points(s: _Sensor) -> dict:
     """Each term's mark per axis: (τ, σ) on its fitted line, or None for a null term."""
-    out = {}
+    out: dict[str, list] = {}
     for key, *_ in TERMS:
         out[key] = []
         for i in range(3):

@@ -16,7 +16,24 @@ Nothing here talks to a port: the browser uses the Web Serial API, the terminal 
 
 from __future__ import annotations
 
-MOTIONCAL_RAW = {
+from typing import TypedDict
+
+
+class RawLine(TypedDict):
+    prefix: str
+    fields: int
+    acc_g_per_count: float
+    gyr_dps_per_count: float
+    mag_ut_per_count: float
+
+
+class UniLine(TypedDict):
+    prefix: str
+    fields: int
+    units: dict[str, str]
+
+
+MOTIONCAL_RAW: RawLine = {
     "prefix": "Raw:",
     "fields": 9,
     "acc_g_per_count": 1.0 / 8192.0,
@@ -25,7 +42,7 @@ MOTIONCAL_RAW = {
 }
 """MotionCal's ``Raw:`` line: ax, ay, az, gx, gy, gz, mx, my, mz as integers, and their scales."""
 
-ADAFRUIT_UNI = {"prefix": "Uni:", "fields": 9, "units": {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}}
+ADAFRUIT_UNI: UniLine = {"prefix": "Uni:", "fields": 9, "units": {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}}
 """Adafruit SensorLab's ``Uni:`` line: the same nine values in the Unified Sensor units."""
 
 BAUD_RATES = (9600, 19200, 38400, 57600, 115200, 230400, 250000, 460800, 500000, 921600, 1000000)

@@ -304,6 +304,7 @@ class BoardLineReader:
 
     def _parse(self, line: str, arrival_s: float) -> BoardReading | None:
         f = self.format
+        assert f is not None, "lines are parsed once their format is known"
         if f.name in ("raw", "uni"):
             prefix = MOTIONCAL_RAW["prefix"] if f.name == "raw" else ADAFRUIT_UNI["prefix"]
             values = _prefixed(line, prefix, 9)
@@ -321,7 +322,8 @@ class BoardLineReader:
             )
         if f.name == "csv":
             try:
-                row = next(csv.reader([line], delimiter=f.delimiter)) if f.delimiter != WHITESPACE else line.split()
+                delimiter = f.delimiter or WHITESPACE  # csv_format always names one
+                row = next(csv.reader([line], delimiter=delimiter)) if delimiter != WHITESPACE else line.split()
                 values = [float(v) for v in row] if len(row) == f.width else None
             except ValueError:
                 values = None
@@ -330,6 +332,7 @@ class BoardLineReader:
         if values is None or len(values) != f.width or not all(math.isfinite(v) for v in values):
             return None
         board_time = values[f.time_col] if f.time_col is not None else None
+        assert f.columns is not None, "csv and numbers formats map their columns"
         return BoardReading(arrival_s, board_time, {s: tuple(values[c] for c in cols) for s, cols in f.columns.items()})
 
 
@@ -369,7 +372,7 @@ class StreamRate:
         if readings <= 0:
             return
         self.count += readings
-        if self.first is not None:  # decided: the latest burst's end moves on
+        if self.first is not None and self.last is not None:  # decided: the latest burst's end moves on
             step = arrival_s - self.last[0]
             self.longest = max(self.longest, step)
             if step >= 0.5 * self.longest:
@@ -424,7 +427,7 @@ class StreamRate:
     @property
     def span_s(self) -> float:
         """The arrivals' span the rate is counted over (0 while undecided)."""
-        return 0.0 if self.first is None else self.end[0] - self.first[0]
+        return 0.0 if self.first is None or self.end is None else self.end[0] - self.first[0]
 
     @property
     def needed_s(self) -> float:
@@ -434,7 +437,7 @@ class StreamRate:
     @property
     def rate_hz(self) -> float | None:
         """Readings per second, or None while undecided."""
-        if self.first is None:
+        if self.first is None or self.end is None:
             return None
         return (self.end[1] - self.first[1]) / (self.end[0] - self.first[0])
 
@@ -565,7 +568,7 @@ class LogWriter:
         """Rows for ``readings``; without a time column, at ``times`` (seconds on the board's clock, from
         its rate: :class:`StreamRate`) when given, else at their arrival."""
         for i, r in enumerate(readings):
-            if self.fmt.time_col is not None:
+            if self.fmt.time_col is not None and r.board_time is not None:
                 t = repr(r.board_time) if not float(r.board_time).is_integer() else str(int(r.board_time))
             elif times is not None:
                 t = f"{times[i]:.6f}"

@@ -473,12 +473,13 @@ def _ardupilot_motor(f: FlightCompass, n: int, params: dict, notes: list) -> Non
     per-motor compensation is on), with the notes saying so; without a motor model, a note that ``COMPASS_MOT``
     is 0."""
     unit = {"current": "mGauss per A", "throttle": "mGauss at full throttle"}
-    motct = ARDUPILOT_MOTCT.get(f.motor)
+    motor = f.motor or ""  # "": no motor model
+    motct = ARDUPILOT_MOTCT.get(motor)
     stored_motct = _param_int(f.params, "COMPASS_MOTCT")
     if motct is not None:
         params["COMPASS_MOTCT"] = float(motct)
         notes.append(
-            f"COMPASS_MOT is in {unit[f.motor]}; COMPASS_MOTCT {motct} ({f.motor}) is one setting for every "
+            f"COMPASS_MOT is in {unit[motor]}; COMPASS_MOTCT {motct} ({f.motor}) is one setting for every "
             "compass"
             + (
                 f": it was {stored_motct}, so the other compasses' COMPASS_MOT values were "
@@ -563,6 +564,7 @@ def px4_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
     changes = angle_between(f.Q, f.frame_to_body) > ROTATION_TOLERANCE_DEG
     new = _rotation_number("px4", level.T @ f.Q, "the compass's rotation found") if changes else stored_rot
     if changes and stored_rot == -1:
+        assert new is not None, "a rotation found is a number"
         raise ExportError(
             f"the flight shows compass {f.instance} turned from the vehicle's axes (the nearest listed rotation is "
             f"{new}, {rotation_name('px4', new)}), but it is an internal compass ({p}ROT -1): PX4 turns it with the "
@@ -595,7 +597,7 @@ def px4_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
         "(per unit throttle) or -10 Q^T k (G/kA: PX4's power is the current in kA).",
         f"CAL_MAG{slot} is the slot whose CAL_MAG{slot}_ID is this compass's device id in the log.",
     ]
-    comp = PX4_COMP_TYPE.get(f.motor)
+    comp = PX4_COMP_TYPE.get(f.motor or "")
     stored_comp = _param_int(f.params, "CAL_MAG_COMP_TYP")
     if comp is not None:
         if comp == 2 and stored_comp == 3:
@@ -613,6 +615,7 @@ def px4_flight_parameters(body: dict) -> tuple[dict[str, float], list[str]]:
             "left as it is."
         )
     if changes:
+        assert new is not None, "a rotation found is a number"
         params[p + "ROT"] = float(new)
         notes.append(
             f"{p}ROT {new} ({rotation_name('px4', new)}) replaces {stored_rot}: the flight shows the compass "
@@ -678,10 +681,11 @@ def to_json_flight_compass(body: dict) -> Export:
     A calibration that failed its checks, or whose numbers are missing, is written as it is."""
     flight, model = body.get("flight") or {}, body.get("model") or {}
     firmware = flight.get("firmware")
-    to_params = {"ardupilot": ardupilot_flight_parameters, "px4": px4_flight_parameters}.get(firmware)
+    to_params = {"ardupilot": ardupilot_flight_parameters, "px4": px4_flight_parameters}.get(firmware or "")
     try:
         if to_params is None:
             flight_compass(body)  # raises, naming the firmware missing
+            raise AssertionError("flight_compass refuses a flight of no known firmware")
         params, _ = to_params(body)
         refused = None
     except ExportError as exc:
@@ -707,12 +711,12 @@ def to_json_flight_compass(body: dict) -> Export:
             + {
                 "ardupilot": "the body frame under the orientation ArduPilot applied",
                 "px4": "sensor_mag's sensor frame",
-            }.get(firmware, "unknown"),
+            }.get(firmware or "", "unknown"),
             "Q": model.get("Q"),
             "M": model.get("M"),
             "b": model.get("b"),
             "k": model.get("k") if motor else [0.0, 0.0, 0.0],
-            "p": {"current": "battery current, A", "throttle": "throttle, 0..1"}.get(motor, "none"),
+            "p": {"current": "battery current, A", "throttle": "throttle, 0..1"}.get(motor or "", "none"),
         },
         "rotation_nearest": flight.get("rotation_nearest"),
         "orientation_agrees": flight.get("orientation_agrees"),

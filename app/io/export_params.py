@@ -195,7 +195,7 @@ FIRMWARE_TARGETS = {"ardupilot": "ArduPilot", "px4": "PX4"}
 def firmware_figures(body: dict) -> dict:
     """:func:`firmware_summary` of each offset-and-scale export (by format key) that the calibration gives: none
     for a compass's or a calibration those exports refuse (their own message says why)."""
-    out = {}
+    out: dict[str, dict] = {}
     try:
         if only_compass(body):
             return out

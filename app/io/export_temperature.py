@@ -86,7 +86,7 @@ def _header(body: dict) -> list[str]:
 
 def px4_parameters(models: dict, ids: dict | None = None) -> list[tuple[str, float, int]]:
     """``(name, value, type)`` of PX4's thermal compensation parameters for the models (instance 0)."""
-    out = []
+    out: list[tuple[str, float, int]] = []
     for sensor, model in models.items():
         p = PREFIX[sensor][0]
         out.append((f"{p}_ENABLE", 1, PX4_INT32))

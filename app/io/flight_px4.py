@@ -294,7 +294,7 @@ def _px4_attitude(u, notes: list):
 def read_px4(path, mag_instance, name) -> FlightCompassLog:
     u = _open_ulog(path, name)
     values = dict(u.initial_parameters)
-    notes = []
+    notes: list[str] = []
     raw_mags = sorted(d.multi_id for d in u.data_list if d.name == "sensor_mag" and {"x", "y", "z"} <= set(d.data))
     body = None if raw_mags else _px4_body_mag(u)
     have = raw_mags or ([0] if body is not None else [])
@@ -310,10 +310,8 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
             f"{name} has no compass instance {instance}: its compass instances are "
             f"{', '.join(map(str, have))}; give mag_instance as one of them"
         )
-    number = u.msg_info_dict.get("ver_sw_release")
-    version = (
-        "PX4 v{}.{}.{}".format(*ulog.release(u), (int(number) >> 8) & 0xFF) if number else "PX4 (release not logged)"
-    )
+    number, release = u.msg_info_dict.get("ver_sw_release"), ulog.release(u)  # release: None exactly without number
+    version = "PX4 v{}.{}.{}".format(*release, (int(number) >> 8) & 0xFF) if release else "PX4 (release not logged)"
     # Before PX4 1.12 the driver (PX4Magnetometer) applied CAL_MAGn offsets and scales itself: sensor_mag is
     # calibrated there; from 1.12 the calibration is the sensors module's (lib/sensor_calibration) and sensor_mag raw.
     sensor_mag_calibrated = ulog.release_before(u, ulog.RAW_SENSORS_FROM)
@@ -326,6 +324,7 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
         slot = _px4_slot(values, device, instance, notes)
         generation = f"{version} (sensor_mag{', calibrated' if sensor_mag_calibrated else ''})"
     else:
+        assert body is not None, "have holds an instance: sensor_mag's or the body's"
         t_us, ga, topic, device = body
         time_s = t_us * 1e-6
         device = device or int(values.get("CAL_MAG_PRIME", 0)) or None  # the selected compass

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
 
@@ -14,8 +14,11 @@ if TYPE_CHECKING:  # the readers' package imports this module
     from .formats.flight_log import FlightInfo
     from .formats.timing import Timing
 
+AccUnit = Literal["m/s^2", "g", "raw"]
+AccPhysicalUnit = Literal["m/s^2", "g"]
+
 UNITS: dict[str, tuple[str, ...]] = {
-    "acc": ("m/s^2", "g", "raw"),
+    "acc": get_args(AccUnit),
     "gyr": ("rad/s", "deg/s", "raw"),
     "mag": ("uT", "nT", "raw"),
 }
@@ -26,7 +29,7 @@ UNITS_IN: dict[str, tuple[str, ...]] = {**UNITS, "mag": ("uT", "nT", "gauss", "r
 ``trical calibrate``'s ``--unit``, ``--gyr-unit``, ``--mag-unit``): :data:`UNITS`, and a magnetometer's gauss,
 which becomes µT on reading (app.io.formats.units)."""
 
-ACC_PHYSICAL_UNITS = ("m/s^2", "g")
+ACC_PHYSICAL_UNITS: tuple[str, ...] = get_args(AccPhysicalUnit)
 """The accelerometer's units of a physical scale (counts, ``raw``, are not): what gravity is told in, what a
 firmware's driver gives, what a wearable's recording is auto-calibrated in."""
 

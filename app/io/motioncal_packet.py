@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import struct
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -170,7 +171,7 @@ def from_calibration(body: dict) -> MotionCalCalibration:
         entries): the message names the C header export, which carries the whole model.
     """
     notes: list[str] = []
-    cal = {
+    cal: dict[str, Any] = {  # MotionCalCalibration's fields
         "accel_zerog": np.zeros(3),
         "gyro_zerorate": np.zeros(3),
         "mag_hardiron": np.zeros(3),

@@ -231,7 +231,9 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
     # The rate of the whole: the parts' own, weighted by their samples; none when a part has none (pose
     # files without a time column: still poses need no rate).
     rate = (
-        sum(p.n_samples * p.sampling_rate_hz for p in parts) / total if all(p.sampling_rate_hz for p in parts) else None
+        sum(p.n_samples * (p.sampling_rate_hz or 0.0) for p in parts) / total
+        if all(p.sampling_rate_hz for p in parts)
+        else None
     )
     # Each file's gaps, at their place in the whole; its jitter the largest of the files'.
     timing = first.timing

@@ -133,8 +133,8 @@ def per_sensor_files(names: list[str]) -> dict[str, str] | None:
     """
     if len(names) < 2:
         return None
-    sensors = {n: sensor_from_name(n) for n in names}
-    if any(s is None for s in sensors.values()) or len(set(sensors.values())) != len(names):
+    sensors = {n: s for n in names if (s := sensor_from_name(n)) is not None}
+    if len(sensors) != len(names) or len(set(sensors.values())) != len(names):
         return None
     return sensors
 

@@ -97,7 +97,7 @@ def certificate_hosts(extra: list[str] | tuple[str, ...] = ()) -> list[str]:
 def _general_names(hosts: list[str]) -> list:
     from cryptography import x509
 
-    names = []
+    names: list[x509.GeneralName] = []
     for host in hosts:
         try:
             names.append(x509.IPAddress(ipaddress.ip_address(host)))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from typing import Any
 
 from fastapi import APIRouter, Request
 from fastapi.responses import HTMLResponse
@@ -118,7 +119,7 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
     elif protocol not in SOURCE_PROTOCOLS[source]:
         problem = f"A {source} cannot do “{PROTOCOLS[protocol].words}” on this page: choose one below."
     shown = source if source in SOURCES else "phone"
-    context = {
+    context: dict[str, Any] = {
         "protocol": protocol,
         "flow": PROTOCOLS.get(protocol),
         "capture_s": seconds,

@@ -10,6 +10,7 @@ it once.
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
@@ -150,7 +151,7 @@ POSE_SHORT = {
 }
 """Each of the six poses in two or three words, under its thumbnail (the axis code is a grey note)."""
 
-SOURCES = {
+SOURCES: dict[str, dict[str, Any]] = {
     "phone": {
         "noun": "phone",
         "title": "Calibrate this phone",

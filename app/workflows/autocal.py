@@ -112,9 +112,8 @@ def autocalibrate_file(
             f"to g first"
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
-    rest = detect_rest_segments(
-        log.acc, require_rate(log.sampling_rate_hz, "autocal"), gravity=g, progress=progress, **(detection or {})
-    )
+    rate = require_rate(log.sampling_rate_hz, "autocal")
+    rest = detect_rest_segments(log.acc, rate, gravity=g, progress=progress, **(detection or {}))
     if preload is not None:
         preload.join()
     from app.calibration.autocal import autocalibrate
@@ -130,7 +129,7 @@ def autocalibrate_file(
             "format": log.format,
             "n_samples": log.n_samples,
             "sampling_rate_hz": log.sampling_rate_hz,
-            "duration_s": log.n_samples / log.sampling_rate_hz,
+            "duration_s": log.n_samples / rate,
         },
         **fields,
     )

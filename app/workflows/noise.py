@@ -156,6 +156,7 @@ def noise(request, recording: RecordingSource) -> dict:
                 'ask for sensors ["mag"] alone, and for the IMU\'s (acc, gyr) in another request'
             )
         clock = "mag"
+    notes: list[str]
     log, notes = recording.read(clock=clock), []
     if log.parts:  # one file per pose: the noise of one file, never across two
         log, notes = one_still_file(log)

@@ -201,7 +201,7 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
     if log.acc is None:
         return [], []
     unit = log.units.get("acc")
-    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit)  # raw: estimated from the data
+    gravity = {"m/s^2": STANDARD_GRAVITY, "g": 1.0}.get(unit or "")  # raw: estimated from the data
     rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
     others = [o for o in (log.gyr, log.mag) if o is not None]
     if not log.parts:
@@ -328,7 +328,7 @@ class RecordingSource:
         """The calibration's fields about its recording: its id, and where it came from (``source``, by its
         format: app.io.formats.SOURCE_OF_FORMAT) when its format says."""
         fields = {} if self.id is None else {"recording_id": self.id}
-        source = SOURCE_OF_FORMAT.get(self.meta.get("format"))
+        source = SOURCE_OF_FORMAT.get(self.meta.get("format", ""))
         return fields if source is None else {**fields, "source": source}
 
 

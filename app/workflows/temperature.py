@@ -32,7 +32,7 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
             f"{', '.join(log.channels)}): method temperature calibrates the accelerometer and the gyroscope"
         )
     notes = list(log.warnings) + list(log.notes)
-    arrays = {}
+    arrays: dict[str, np.ndarray] = {}
     for name in wanted:
         unit = log.units[name]
         if unit == "raw":
@@ -46,7 +46,9 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
     if rate is None:
         rate = NOMINAL_RATE_HZ
         notes.append(f"the rests were looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate)")
-    result = calibrate_temperature(log.temperature_c, sampling_rate_hz=rate, time_s=log.time_s, **arrays)
+    result = calibrate_temperature(
+        log.temperature_c, sampling_rate_hz=rate, time_s=log.time_s, acc=arrays.get("acc"), gyr=arrays.get("gyr")
+    )
     ids = sensor_ids(log, wanted)
     return calibration_body(result, {}, unit=result.unit, notes=notes, **({"sensor_ids": ids} if ids else {}), **fields)
 

@@ -7,7 +7,7 @@ temperature); the method table (:mod:`app.methods`) names it, and :data:`RESPONS
 
 from __future__ import annotations
 
-from typing import Annotated, Any, Literal, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeAlias, Union
 
 from pydantic import BaseModel, Field, create_model
 
@@ -49,7 +49,10 @@ RESPONSE_MODELS = {
 # top-level property). `method` fixes `model.type` one to one: six_position and orientations give
 # `affine`, nonorthogonal and triangular their own type, cube `cube`, and autocal a `triangular`
 # model with the fields of its pipeline.
-CalibrationOut = Annotated[Union[tuple(RESPONSE_MODELS.values())], Field(discriminator="method")]
+if TYPE_CHECKING:  # a union the table makes at run time: to the checker, the base of every response model
+    CalibrationOut: TypeAlias = CalibrationCommon
+else:
+    CalibrationOut = Annotated[Union[tuple(RESPONSE_MODELS.values())], Field(discriminator="method")]
 """A stored calibration, by method."""
 
 

@@ -77,7 +77,9 @@ class MagnetometerSamples(Out):
 
 class MagnetometerOut(CalibrationCommon):
     method: Literal["magnetometer"]
-    gravity: float | None = Field(None, description="Not used by a compass calibration.")
+    gravity: float | None = Field(  # type: ignore[assignment]  # pydantic: this result has no gravity
+        None, description="Not used by a compass calibration."
+    )
     model: MagnetometerModel
     uncertainty: MagnetometerUncertainty
     metrics: MagnetometerMetrics
@@ -123,7 +125,9 @@ class CompassFlightMetrics(Out):
 
 class CompassFlightOut(CalibrationCommon):
     method: Literal["compass_flight"]
-    gravity: float | None = Field(None, description="Not used by a compass calibration.")
+    gravity: float | None = Field(  # type: ignore[assignment]  # pydantic: this result has no gravity
+        None, description="Not used by a compass calibration."
+    )
     model: CompassFlightModel
     uncertainty: CompassFlightUncertainty
     metrics: CompassFlightMetrics

@@ -92,7 +92,9 @@ class StillPart(Out):
 
 class NoiseOut(CalibrationCommon):
     method: Literal["noise"]
-    gravity: float | None = Field(None, description="Not used by a noise characterisation.")
+    gravity: float | None = Field(  # type: ignore[assignment]  # pydantic: this result has no gravity
+        None, description="Not used by a noise characterisation."
+    )
     model: NoiseModel
     uncertainty: NoiseUncertainty
     metrics: NoiseMetrics

@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 from app.api.schemas.still_readings import PoseAdviceOut
 from app.calibration_requests import Gravity, Label, Strict, Vec3
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
-from app.io.log import ACC_PHYSICAL_UNITS
+from app.io.log import AccPhysicalUnit
 
 
 class SessionIn(Strict):
@@ -23,7 +23,7 @@ class SessionIn(Strict):
     capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
         CAPTURE_S_DEFAULT, description="Seconds captured per position."
     )
-    unit: Literal[ACC_PHYSICAL_UNITS] = Field("m/s^2", description="Unit of the samples the page sends.")
+    unit: AccPhysicalUnit = Field("m/s^2", description="Unit of the samples the page sends.")
     gravity: Gravity | None = None
     latitude_deg: Annotated[float, Field(ge=-90, le=90)] | None = None
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = None
@@ -108,7 +108,7 @@ class CaptureIn(Strict):
         None, description="rotationRate samples [x, y, z], one per acc sample."
     )
     gyr_unit: Literal["deg/s", "rad/s"] = "deg/s"
-    unit: Literal[ACC_PHYSICAL_UNITS] | None = Field(None, description="Must be the session's unit when given.")
+    unit: AccPhysicalUnit | None = Field(None, description="Must be the session's unit when given.")
     sign: SignIn = Field(default_factory=SignIn)
     position: Label | CubePosition | None = Field(
         None,

@@ -87,7 +87,9 @@ class TemperatureCurve(Out):
 
 class TemperatureOut(CalibrationCommon):
     method: Literal["temperature"]
-    gravity: float | None = Field(None, description="Not used by a temperature calibration.")
+    gravity: float | None = Field(  # type: ignore[assignment]  # pydantic: this result has no gravity
+        None, description="Not used by a temperature calibration."
+    )
     model: TemperatureModel
     uncertainty: TemperatureUncertainty
     metrics: TemperatureMetrics

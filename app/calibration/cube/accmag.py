@@ -17,6 +17,7 @@ the column norms of S (section III-A).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy import stats
@@ -80,6 +81,14 @@ def _quantile(confidence: float) -> float:
 class SensorFit(GatedFit):
     """A cube sensor's fit, ``raw = S f + b`` (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)), with
     its own gates: the scale factors and misalignments of its S."""
+
+    if TYPE_CHECKING:  # every sensor's fields
+
+        @property
+        def S(self) -> np.ndarray: ...
+
+        @property
+        def b(self) -> np.ndarray: ...
 
     @property
     def D(self) -> np.ndarray:
@@ -370,7 +379,7 @@ def _gauss_newton(x, free, m, Rs, ref: float, L, sensor: str, max_iterations: in
         dx = dx / scale
         x[free] -= dx
         if (
-            np.linalg.norm(dx * scale) <= tolerance * max(1.0, np.linalg.norm(pw))
+            np.linalg.norm(dx * scale) <= tolerance * max(1.0, float(np.linalg.norm(pw)))
             or np.max(np.abs(dx) / np.maximum(np.abs(x[free]), 1e-12)) < tolerance
         ):
             converged = True

@@ -387,8 +387,8 @@ def _check_sequence(a, w, w_raw, seg: Segmentation, proto: Protocol, fs: float, 
         gravity=g,
         saturated=sat,
     )
-    if seq.first_wrong is not None:
-        gates.fail(seq.reason())
+    if (reason := seq.reason()) is not None:  # the first wrong rotation
+        gates.fail(reason)
     for entry in seq.rotations:
         if (
             entry["saturated"]
@@ -579,7 +579,8 @@ def calibrate_cube(
         centres_s=np.array([0.5 * (s0 + s1 - 1) / fs for s0, s1 in seg.static]),
     )
     acc_res = _fit_field(rec, a, g, "acc", gates)
-    mag_res = None if m is None else _fit_mag(rec, m, float(field_ut), gates)
+    # _validated refused a magnetometer without the field
+    mag_res = None if m is None or field_ut is None else _fit_mag(rec, m, float(field_ut), gates)
     gyr_res, used = _fit_gyro(rec, w, lam, gates)
     for res in (acc_res, gyr_res, mag_res):
         if res is not None:

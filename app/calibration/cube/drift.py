@@ -35,7 +35,7 @@ class Drift:
     rate: np.ndarray
     t0_s: float
     change: np.ndarray
-    z: np.ndarray = None
+    z: np.ndarray | None = None
 
     @property
     def significant(self) -> bool:

@@ -420,7 +420,7 @@ def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance
         x, it = _gauss_newton(prob, x, value, max_iterations, tolerance)
         total_it += it
         theta = x[prob.n_q :].copy()
-        change = None if prev is None else float(np.max(np.abs(theta - prev)))
+        change: float | None = None if prev is None else float(np.max(np.abs(theta - prev)))
         path.append({"lambda": value, "max_change": change})
         if change is not None and change < SATURATION:
             if value == grid[-1]:

@@ -179,7 +179,7 @@ class _Walk:
             handling=tuple(self.handling),
             n_still_found=len(seg.still),
         )
-        warnings = ()
+        warnings: tuple[str, ...] = ()
         if self.handling:
             warnings = (
                 f"treated as handling, not used for the gyroscope: {'; '.join(h['text'] for h in self.handling)}",
@@ -308,7 +308,7 @@ def _walk_full_turns(walk: _Walk, proto: Protocol) -> Match:
             f"{angle:g}° turn about each sensor axis, from a rest to a rest in the same orientation "
             "(imucal's x_rot, y_rot, z_rot), or give the annotated sections"
         )
-    rotations = []
+    rotations: list[dict | None] = []
     for k, t in enumerate(transitions):
         if t is None:
             rotations.append(None)

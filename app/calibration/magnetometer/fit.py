@@ -148,9 +148,10 @@ def _fit(m: np.ndarray, field: float | None, gates: Gates) -> tuple[Refined, flo
         first = fitted
         scale = float(np.linalg.det(first.M)) ** (-1.0 / 3.0)
         field = scale
-        fitted = refine(m, scale * first.M, first.b, field) if stage == "refined" else None
-        if fitted is None or runs_away(fitted.M, fitted.b, m, field):
-            fitted = held(m, scale * first.M, first.b, field)
+        again = refine(m, scale * first.M, first.b, field) if stage == "refined" else None
+        if again is None or runs_away(again.M, again.b, m, field):
+            again = held(m, scale * first.M, first.b, field)
+        fitted = again
     return fitted, float(field), stage
 
 
@@ -262,7 +263,7 @@ def _gates(
         )
     if metrics["fit_stage"] != "refined":
         pass  # the runaway above says it: no intervals without a minimum
-    elif half_b is None:
+    elif half_b is None or half_M is None:
         gates.fail("the fit is not determined (no intervals): turn the device through all directions")
     else:
         if np.max(half_b) > MAX_OFFSET_HALF_WIDTH * field:
@@ -353,6 +354,8 @@ def fit_magnetometer(
     h = (m - b) @ M.T
     norms = np.linalg.norm(h, axis=1)
     share, missing = coverage(h)
+    half_M: np.ndarray | None
+    half_b: np.ndarray | None
     if fitted.covariance is not None:
         half_M, half_b = unpack(half_widths(fitted.covariance, fitted.dof, CONFIDENCE))
     else:

@@ -331,18 +331,18 @@ def _heading_errors(gates: Gates, corrected_left_out, fw, C, ref) -> tuple[dict,
     """The heading errors against the reference azimuth ``ref``: after (the fields of the chosen model on
     segments left out) and before (the firmware's field), each summarised, and both series; None without an
     attitude (and before without the firmware's field). A fit that does not lower the error fails."""
-    heading = {"before": None, "after": None}
+    heading: dict[str, dict | None] = {"before": None, "after": None}
     err_before = err_after = None
     if C is not None:
         err_after = wrap_deg(headings_deg(corrected_left_out, C) - ref)
-        heading["after"] = error_summary(err_after)
+        heading["after"] = after = error_summary(err_after)
         if fw is not None:
             err_before = wrap_deg(headings_deg(fw, C) - ref)
-            heading["before"] = error_summary(err_before)
-            if heading["after"]["rms"] >= heading["before"]["rms"]:
+            heading["before"] = before = error_summary(err_before)
+            if after["rms"] >= before["rms"]:
                 gates.fail(
-                    f"the fit does not lower the heading error (rms {heading['after']['rms']:.2f}° on "
-                    f"segments left out against {heading['before']['rms']:.2f}° with the firmware's "
+                    f"the fit does not lower the heading error (rms {after['rms']:.2f}° on "
+                    f"segments left out against {before['rms']:.2f}° with the firmware's "
                     "calibration): keep the calibration the firmware has"
                 )
     return heading, err_before, err_after

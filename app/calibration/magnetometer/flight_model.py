@@ -75,6 +75,7 @@ class Fit:
     def field(self, u: np.ndarray, p: np.ndarray | None) -> np.ndarray:
         v = u - self.b
         if self.motor:
+            assert p is not None, "the motor term needs the power"
             v = v - np.outer(p, self.k)
         return v @ self.M.T
 
@@ -89,6 +90,7 @@ def design(
     eye = np.eye(3)
     cols += [np.broadcast_to(eye[:, l], (n, 3)) for l in range(3)]  # b
     if motor:
+        assert p is not None, "the motor term needs the power"
         cols += [np.outer(p, eye[:, l]) for l in range(3)]  # k p
     return np.stack(cols, axis=2), ((u - e) if model == "offsets" else u)
 
@@ -127,7 +129,7 @@ def solve_normal(A: np.ndarray, g: np.ndarray, model: str, motor: bool) -> Fit:
 
 def parameters(fit: Fit) -> np.ndarray:
     """``(M's fitted entries, b, k)`` of a fit as one vector (k only with the motor term)."""
-    M = [fit.M[i, j] for i, j in MATRIX_PARAMETERS[fit.model]]
+    M = np.array([fit.M[i, j] for i, j in MATRIX_PARAMETERS[fit.model]])
     return np.concatenate([M, fit.b] + ([fit.k] if fit.motor else []))
 
 

@@ -25,6 +25,7 @@ MotionCal keeps its previous calibration when a new one's field leaves 22–67 �
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -184,7 +185,8 @@ def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations
     if np.linalg.det(M) < 0:  # −M fits as well: keep the orientation of the readings
         M = -M
     r = sol.fun
-    covariance, dof, sigma2 = covariance_from_jacobian(sol.jac, r)
+    # a dense Jacobian: least_squares gives a sparse one or an operator only when asked to
+    covariance, dof, sigma2 = covariance_from_jacobian(cast(np.ndarray, sol.jac), r)
     inflation = correlation_inflation(r)
     if covariance is not None:
         covariance = covariance * inflation

@@ -51,8 +51,8 @@ class MagnetometerResult(CalibrationResult):
 
     M: np.ndarray = parameter()
     b: np.ndarray = parameter()
-    covariance: np.ndarray | None
-    dof: int
+    covariance: np.ndarray | None  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
+    dof: int  # type: ignore[misc]  # mypy takes parameter() (a field) for a default
     metrics: dict = field(default_factory=dict)
     samples: np.ndarray = field(default_factory=lambda: np.empty((0, 3)))
     warnings: tuple = ()

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import dataclasses
 from pathlib import Path
+from typing import Any
 
 from ..errors import LogFormatError
 from ..log import LogData
@@ -284,7 +285,7 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
         s.is_zip
         and o.format not in (phyphox.NAME, sensor_logger.NAME)
         and not (phyphox.detect(s) or sensor_logger.detect(s))
-        and not any(m.startswith("xl/") for m in s.members)
+        and not any(m.startswith("xl/") for m in s.members or ())
     ):
         # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
         from ..parts import read_parts_zip
@@ -350,7 +351,7 @@ def _read_text_log(path: Path, s: Sniff, fmt: str, column_map, o: ReadOptions, n
     chips = parse_chips(o.chip)
     comment_lsb = None if s.is_zip else generic_csv.lsb_from_comments(s.lines)
     lsb = o.lsb_per_g if o.lsb_per_g is not None else comment_lsb
-    extra = {}
+    extra: dict[str, Any] = {}
     if column_map:
         extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
     log = READERS[fmt](
@@ -435,5 +436,6 @@ def read_flight_log(path: Path, options: ReadOptions, *, name: str) -> LogData:
         check_mag=False,
         name=name,
     )
-    refuse_linear_acceleration(log.acc, log.units["acc"], name)
+    if log.acc is not None:  # a flight log's reader refuses a log without one
+        refuse_linear_acceleration(log.acc, log.units["acc"], name)
     return settle_sign(log, None)

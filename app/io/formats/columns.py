@@ -156,7 +156,7 @@ def triple_sensors(x: np.ndarray) -> set[str]:
         # readings that swing through a ball (a gyroscope turned every way) hold no field.
         turned_field = turn_field(x)
         on_shell = turned_field is not None
-        if on_shell:
+        if turned_field is not None:
             field = turned_field
     fits_field = on_shell and (_near(field, FIELD_REST.values()) or (whole and MAG_COUNTS[0] <= field <= MAG_COUNTS[1]))
     if fits_field and not (whole and "acc" in out) and (not moved or not one_rest):

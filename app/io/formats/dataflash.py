@@ -217,7 +217,7 @@ def _streams(reader, buf, name: str = "the file") -> list[Stream]:
             time = np.asarray(t["SampleUS"]).astype(np.int64) if "SampleUS" in t else time_us(t, msg, name)
             temperature = None
             it, temp = imu_temps.get(instance, (None, None))
-            if temp is not None and len(it) >= 2:  # the IMU's T (logged slower) at the batch's times
+            if it is not None and temp is not None and len(it) >= 2:  # the IMU's T (logged slower) at the batch's times
                 temperature = np.interp(time.astype(float), it.astype(float), temp)
             streams.append(
                 Stream(sensor, instance, source, time, xyz(t, prefix, msg), temperature, device(sensor, instance))

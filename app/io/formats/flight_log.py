@@ -21,6 +21,7 @@ the overview lists them.  A bad instance number is refused naming those the log 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NoReturn
 
 import numpy as np
 
@@ -149,7 +150,7 @@ def _numbers(streams, sensor):
     return sorted({s.instance for s in streams if s.sensor == sensor})
 
 
-def _refuse_instance(what: str, wanted: int, have: list[int], option: str, name: str, extra: str = ""):
+def _refuse_instance(what: str, wanted: int, have: list[int], option: str, name: str, extra: str = "") -> NoReturn:
     listed = ", ".join(str(i) for i in have) if have else "none"
     raise LogFormatError(
         f"{name} has no {what} instance {wanted}: its {what} instances are {listed}{extra}; give "
@@ -301,6 +302,7 @@ def choose(
         imu = pick(streams, "acc", instance, imu_sources)
         if imu is None:
             _refuse_instance("IMU", instance, accs, "instance", name)
+    assert imu is not None, "the first accelerometer instance has a stream"
     gyr = pick(streams, "gyr", imu.instance, (gyr_for[imu.source],) + tuple(v for v in gyr_for.values()))
     mags = _numbers(streams, "mag")
     if mag_instance is None:

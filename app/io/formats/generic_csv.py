@@ -369,8 +369,7 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
             "phyphox, Sensor Logger, Physics Toolbox, GnssLogger and the Arduino Serial Plotter are "
             "recognised as they are"
         )
-    partial = [s for s, axes in channels.items() if set(axes) != {"x", "y", "z"}]
-    for sensor in partial:
+    for sensor in [s for s, axes in channels.items() if set(axes) != {"x", "y", "z"}]:
         del channels[sensor]
     return channels, time_col, time_scale, units
 
@@ -587,6 +586,7 @@ def _named_from_data(path: Path, layout: Layout, name: str, header: list[str] | 
     width = len(layout.names)
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         head = [ln.rstrip("\r\n") for _, ln in zip(range(layout.skip_lines + PREVIEW_LINES), f)][layout.skip_lines :]
+    data: np.ndarray | None
     try:
         data = np.column_stack(
             read_columns(

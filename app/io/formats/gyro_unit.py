@@ -218,16 +218,17 @@ def gyro_evidence(
                     words = f"a still noise of {noise:.2g} per √Hz is {n_dps:.2g} °/s/√Hz in {unit_words(key)}"
                 ok = False
         plausible[key], said[key] = ok, words
-    errors, moves = {}, 0
+    errors: dict[str, float] = {}
+    moves = 0
     if ref is not None and len(runs) >= 2 and (fs or time_s is not None):
-        dt = (
-            np.diff(time_s, append=time_s[-1] + (time_s[-1] - time_s[-2]))
-            if time_s is not None and len(time_s) > 2
-            else np.full(len(gyr), 1.0 / fs)
-        )
+        if time_s is not None and len(time_s) > 2:
+            dt = np.diff(time_s, append=time_s[-1] + (time_s[-1] - time_s[-2]))
+        else:
+            assert fs, "the rate, where there are no times"
+            dt = np.full(len(gyr), 1.0 / fs)
         errors, moves = turn_errors(np.asarray(gyr, float), np.asarray(ref, float), runs, dt, scales)
     if errors:
-        ranked = sorted(errors, key=errors.get)
+        ranked = sorted(errors, key=lambda k: errors[k])
         best, e1 = ranked[0], errors[ranked[0]]
         e2 = errors[ranked[1]] if len(ranked) > 1 else math.inf
         if e1 <= TURN_TOLERANCE_DEG and e2 >= 2.0 * e1 + TURN_TOLERANCE_DEG and plausible[best]:

@@ -97,4 +97,5 @@ def settle_sign(log: LogData, sign: int | None) -> LogData:
         notes.append("sign=1 given: the file's accelerations are kept as they are (not negated)")
     if sign == log.sign:
         return dataclasses.replace(log, notes=tuple(log.notes) + tuple(notes))
-    return dataclasses.replace(log, acc=-log.acc, sign=sign, notes=tuple(log.notes) + tuple(notes))
+    acc = None if log.acc is None else -log.acc
+    return dataclasses.replace(log, acc=acc, sign=sign, notes=tuple(log.notes) + tuple(notes))

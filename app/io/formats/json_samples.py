@@ -19,6 +19,7 @@ import json
 import math
 import tempfile
 from pathlib import Path
+from typing import TypeGuard
 
 from ..errors import LogFormatError
 from .table import Sniff
@@ -45,7 +46,7 @@ def _flat(sample: dict, prefix: str = "") -> dict:
     return out
 
 
-def _number(value) -> bool:
+def _number(value) -> TypeGuard[int | float]:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 

@@ -50,6 +50,8 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     notes: list[str] = []
     if s.is_zip:
         member = find_member(s.members, RAW_DATA)
+        if member is None:
+            raise LogFormatError(f"{name} holds no {RAW_DATA}: give phyphox's zip export as it saved it")
         data = read_member(path, member, name)
         label = f"{member} in {name}"
         notes.append(f"read {member} from the phyphox zip export")

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..errors import LogFormatError
 from ..log import LogData
 from .table import Sniff, first_row, guess_decimal, read_columns, split_row
 
@@ -43,7 +44,10 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     """Read a Physics Toolbox CSV: the g-force columns, and gyroscope/magnetometer when present."""
     data = path.read_bytes()
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
-    index, delimiter, names = first_row(lines)
+    found = first_row(lines)
+    if found is None:
+        raise LogFormatError(f"{name} holds no lines: give the Physics Toolbox CSV with its header and readings")
+    index, delimiter, names = found
     lowered = [n.lower() for n in names]
     decimal = guess_decimal(lines[index + 1 :], delimiter, first_column=1)  # a clock may read 00:01,500
     sensors = {"acc": _GF, "gyr": ("wx", "wy", "wz"), "mag": ("bx", "by", "bz")}

@@ -168,9 +168,12 @@ def _magnetometer_only(
 def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
     """Read a Sensor Logger per-sensor CSV or the zip of a recording."""
     units = units or {}
-    extra: dict[str, np.ndarray] = {}
+    extra: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     if s.is_zip:
-        meta = read_metadata(read_member(path, find_member(s.members, METADATA), name))
+        meta_member = find_member(s.members, METADATA)
+        if meta_member is None:
+            raise LogFormatError(f"{name} holds no {METADATA}: give Sensor Logger's zip export as it saved it")
+        meta = read_metadata(read_member(path, meta_member, name))
         member = find_member(s.members, *ACC_FILES)
         mag_member = find_member(s.members, *MAG_FILES)
         if member is None and mag_member is not None and find_member(s.members, LINEAR_FILE) is None:
@@ -190,7 +193,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         for sensor, files in (("gyr", GYR_FILES), ("mag", MAG_FILES)):
             other = find_member(s.members, *files)
             if other is not None:
-                t_o, v_o, _ = _read_sensor(read_member(path, other, name), f"{other} in {name}")
+                t_o, v_o = _read_sensor(read_member(path, other, name), f"{other} in {name}")[:2]
                 extra[sensor] = (t_o, v_o)
         notes = [f"read {member} from the Sensor Logger zip"]
     else:

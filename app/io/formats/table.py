@@ -95,7 +95,7 @@ def decode_head(head: bytes, name: str) -> str:
 
 def find_member(members, *names: str) -> str | None:
     """The first member whose base name equals one of ``names`` (case-insensitive), in that order."""
-    by_base = {}
+    by_base: dict[str, str] = {}
     for m in members:
         by_base.setdefault(m.rsplit("/", 1)[-1].lower(), m)
     for n in names:
@@ -328,23 +328,23 @@ def read_columns(
         empty = np.logical_and.reduce(
             [table.column(names[c]).is_null().to_numpy(zero_copy_only=False) for c in drop_empty]
         )
-    out = []
+    out: list[np.ndarray] = []
     for c in columns:
-        arr = table.column(names[c])
-        if arr.null_count and (arr.is_null().to_numpy(zero_copy_only=False) & ~empty).any():
-            row = int(np.flatnonzero(arr.is_null().to_numpy(zero_copy_only=False) & ~empty)[0])
+        chunked = table.column(names[c])
+        if chunked.null_count and (chunked.is_null().to_numpy(zero_copy_only=False) & ~empty).any():
+            row = int(np.flatnonzero(chunked.is_null().to_numpy(zero_copy_only=False) & ~empty)[0])
             raise LogFormatError(
                 f"{name}: data row {row + 1} (line {first_line + row} if the file has no blank "
                 f"lines) has an empty value in column {(column_names or names)[c]!r}: fill or "
                 "remove that line",
                 code=BAD_LINE,
             )
-        arr = arr.to_numpy(zero_copy_only=False)
+        arr = chunked.to_numpy(zero_copy_only=False)
         arr = arr if c in integer_columns else arr.astype(float, copy=False)
         out.append(arr[~empty] if empty.any() else arr)
     # The table's blocks are numpy's now; Arrow's allocator keeps freed pages for reuse, which would
     # hold a second copy of a large log for the rest of the process (a night at 200 Hz: 0.6 GB).
-    del table, arr
+    del table, chunked, arr
     pa.default_memory_pool().release_unused()
     if empty.any():
         if empty.all():

@@ -190,6 +190,7 @@ def _rate_of(time_s: np.ndarray) -> tuple[float, tuple[Gap, ...]]:
     found with the interval, the interval without the gaps)."""
     n = len(time_s)
     span = float(time_s[-1] - time_s[0])
+    gaps: tuple[Gap, ...]
     interval, gaps = span / (n - 1), ()
     for _ in range(4):
         gaps = find_gaps(time_s, interval)

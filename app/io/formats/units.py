@@ -306,7 +306,11 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
 def _acc_by_scale(acc, norm: float, inferred, claim: Claim, lsb_per_g, lsb_source, chip: Chip | None, notes):
     """Accelerometer counts divided by the counts per g a chip or ``lsb_per_g`` gives, into g; refused when the
     readings are not counts, or rest far from 1 g with that scale."""
-    lsb = lsb_per_g if lsb_per_g is not None else 1.0 / chip.scale
+    if lsb_per_g is not None:
+        lsb = lsb_per_g
+    else:
+        assert chip is not None, "the counts per g of a chip where lsb_per_g is not given"
+        lsb = 1.0 / chip.scale
     what = f"chip {chip.name}" if chip is not None else f"{lsb_source}={lsb:g}"
     if not (np.isfinite(lsb) and lsb > 0):
         raise LogFormatError(f"lsb_per_g must be a positive number (e.g. 16384 for ±2 g on 16 bits); got {lsb}")
