@@ -32,7 +32,7 @@ def common_response(method: str) -> type[CalibrationCommon]:
     return create_model(
         f"CalibrationOut_{method}",
         __base__=CalibrationCommon,
-        method=(Literal[method], ...),
+        method=(Literal[method], ...),  # type: ignore[arg-type]  # a Literal of the name the table gives at run time
         model=(dict[str, Any], ...),
         metrics=(dict[str, Any], ...),
     )
