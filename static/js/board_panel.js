@@ -7,6 +7,7 @@ import { FORMAT_WORDS, UNIT_WORDS } from "./board_lines.js";
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { apiKey, sessionTokens } from "./tokens.js";
+import { kindOf } from "./result_kinds.js";
 import { preferSource } from "./use_calibration.js";
 import { $, dateTimeWords, el } from "./dom.js";
 
@@ -36,11 +37,13 @@ export function plotSvg(samples, gravity = TABLES.gravity) {
 }
 
 // What a calibration carries of the packet's two parts: the accelerometer's (with the gyroscope's) offsets,
-// and the compass's hard iron, soft iron and field (a compass calibration, or a cube's magnetometer).
+// and the compass's hard iron, soft iron and field, as the server's kind of it says (a compass calibration), or
+// a model with a magnetometer's part (a cube's).
 export function packetParts(cal) {
   const model = (cal && cal.model) || {};
-  const compass = model.type === "magnetometer" || Object.keys(model).some((k) => k !== "type" && /mag/i.test(k));
-  return { acc: model.type !== "magnetometer", compass };
+  const parts = kindOf({ model }).packet;
+  const compass = parts.includes("mag") || Object.keys(model).some((k) => k !== "type" && /mag/i.test(k));
+  return { acc: parts.includes("acc"), compass };
 }
 
 // The packet's CRC-16, as app/io/motioncal_packet.py computes it (the server's tables give its polynomial and start).

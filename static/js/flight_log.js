@@ -7,7 +7,7 @@ import { TABLES } from "./tables.js";
 import { $, cell } from "./dom.js";
 
 const SENSORS = { acc: "accelerometer", gyr: "gyroscope", mag: "compass" };
-const TEMPERATURE_SPAN_C = TABLES.temperature.minSpanC; // the temperature method's least span (its gate), °C
+const TEMPERATURE_SPAN_C = TABLES.flightLog.temperatureMinSpanC; // the temperature method's least span (its gate), °C
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot
 

@@ -28,7 +28,7 @@ function init(state) {
 function makeMachine(state) {
   // A cube may stand on an inclined plane: its up face is the nearest axis within the page's angle,
   // inside the server's.
-  const machine = new CaptureMachine(state.captureS * 1000, { maxAngleDeg: TABLES.cube.maxAngleDeg });
+  const machine = new CaptureMachine(state.captureS * 1000, { maxAngleDeg: TABLES.cube24.maxAngleDeg });
   state.cube.log = new MotionLog();
   const cube = state.cube;
   expectPosition(machine, nextPosition(state));
@@ -195,3 +195,5 @@ export const cubeFlow = {
   resume,
   redo,
 };
+
+export default cubeFlow; // the module the server's protocol table names (wizard.js imports it by that name)

@@ -102,3 +102,5 @@ function model(cal) {
 
 // No heading to change for a board: "Position k of 24" says it.
 export const cubeView = { ...VIEW_DEFAULTS, start, capture, model };
+
+export default cubeView; // the module the server's protocol table names (wizard.js imports it by that name)

@@ -108,3 +108,5 @@ function resume(state) {
 }
 
 export const freeFlow = { ...FLOW_DEFAULTS, init, makeMachine, firstInstruction, firstMotion, show, send, resume };
+
+export default freeFlow; // the module the server's protocol table names (wizard.js imports it by that name)

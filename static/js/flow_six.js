@@ -114,3 +114,5 @@ function redo(state, pose) {
 }
 
 export const sixFlow = { ...FLOW_DEFAULTS, makeMachine, adopted, firstInstruction, firstCode, firstMotion, show, send, resume, redo };
+
+export default sixFlow; // the module the server's protocol table names (wizard.js imports it by that name)

@@ -1,5 +1,5 @@
-// The wizard page: reads the server's tables, looks the flow up once by protocol (FLOWS: flow_six.js,
-// flow_cube.js, flow_free.js, each with its view's render hooks), owns the one state object
+// The wizard page: reads the server's tables, imports the flow the server names for its protocol (flow_six.js,
+// flow_cube.js or flow_free.js, each with its view's render hooks), owns the one state object
 // (wizard_state.js) and the one render(state) that writes the DOM. The flows change the state and call
 // the server; only render and the views' hooks it calls touch the page.
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
@@ -17,12 +17,6 @@ import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, deviceWords, instruct, newState, showResult } from "./wizard_state.js";
 import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
-import { sixFlow } from "./flow_six.js";
-import { cubeFlow } from "./flow_cube.js";
-import { freeFlow } from "./flow_free.js";
-import { sixView } from "./flow_six_view.js";
-import { cubeView } from "./flow_cube_view.js";
-import { freeView } from "./flow_free_view.js";
 import { $, el, setHidden, setText } from "./dom.js";
 
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
@@ -35,9 +29,12 @@ const state = newState({
   captureS: Number(root.dataset.captureS),
   device: SOURCE, // a board's page (source=board) reads the board from its first screen
 });
-// Each protocol's flow (its steps on the state and its server calls) and its view (its render hooks).
-const FLOWS = { six: [sixFlow, sixView], cube24: [cubeFlow, cubeView], free: [freeFlow, freeView] };
-const [flow, view] = FLOWS[state.protocol];
+// The protocol's flow (its steps on the state and its server calls) and its view (its render hooks): the
+// modules its entry in the server's protocol table names (app/guided/capture_rules.py WIZARD_PROTOCOLS).
+const [{ default: flow }, { default: view }] = await Promise.all([
+  import(`./${root.dataset.flow}.js`),
+  import(`./${root.dataset.flow}_view.js`),
+]);
 flow.init(state);
 let noMotionTimer = null;
 
