@@ -6,7 +6,7 @@ import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { $, cell } from "./dom.js";
 
-const SENSORS = { acc: "accelerometer", gyr: "gyroscope", mag: "compass" };
+const sensorWords = (sensor) => (TABLES.sensorWords[sensor] || sensor).toLowerCase(); // app/calibration/headlines.py
 const TEMPERATURE_SPAN_C = TABLES.flightLog.temperatureMinSpanC; // the temperature method's least span (its gate), °C
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot
@@ -73,7 +73,7 @@ export function showFlightLog(rec) {
     const range = i.temperature_min_c === null || i.temperature_min_c === undefined ? "—"
       : `${celsius(i.temperature_min_c)}–${celsius(i.temperature_max_c)}`;
     const device = i.device ? `${i.device.bus_type} ${i.device.bus}, address ${i.device.address}` : "—";
-    tr.append(cell("td", SENSORS[i.sensor] || i.sensor), cell("td", String(i.instance)), breakable(i.source),
+    tr.append(cell("td", sensorWords(i.sensor)), cell("td", String(i.instance)), breakable(i.source),
       cell("td", String(i.n_samples)), cell("td", i.sampling_rate_hz ? formatNumber(i.sampling_rate_hz, 1) : "—"),
       cell("td", range), cell("td", device));
     // Each cell named by its column, for a phone's block of lines (the table's header is hidden there).

@@ -134,7 +134,10 @@ function showSegments(rec) {
   if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
-  $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
+  $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz, {
+    sensor: (TABLES.sensorWords[rec.overview.sensor] || TABLES.sensorWords.acc).toLowerCase(),
+    unit: rec.overview.unit ? TABLES.unitWords[rec.overview.unit] || rec.overview.unit : "",
+  }) : "";
   // Seconds, one decimal, always; a log without a sampling rate counts samples.
   const sec = (i) => (rec.sampling_rate_hz ? (i / rec.sampling_rate_hz).toFixed(1) : String(i));
   // A recording made of several files (one per pose): each segment names its file.

@@ -54,7 +54,8 @@ export function columnSparkSvg(values, width = 150, height = 36) {
 function formatShort(v) { return Math.abs(v) >= 1000 || v === Math.round(v) ? String(Math.round(v)) : v.toPrecision(3); }
 
 // A log without a sampling rate (no time column, none given) is drawn over its samples.
-export function logPlotSvg(overview, segments, samplingRateHz) {
+// `words`: the sensor and the unit in words, as the server's tables say them (index.js passes them).
+export function logPlotSvg(overview, segments, samplingRateHz, words) {
   const perSample = samplingRateHz ? 1 / samplingRateHz : 1;
   const axis = samplingRateHz ? "s" : "samples";
   const t = overview.t_s ?? (overview.start || []);
@@ -83,7 +84,7 @@ export function logPlotSvg(overview, segments, samplingRateHz) {
     if (overview.low[i] !== null) band.push(`${x(t[i]).toFixed(1)},${y(overview.low[i]).toFixed(1)}`);
   }
   parts.push(`<polygon points="${band.join(" ")}" fill="#0b4f9c" stroke="#0b4f9c" stroke-width="1" />`);
-  const unit = overview.unit ? ` (${esc(overview.unit === "raw" ? "counts" : overview.unit)})` : "";
+  const unit = words.unit ? ` (${esc(words.unit)})` : "";
   parts.push(
     `<line x1="${LEFT}" y1="${H - BOTTOM}" x2="${W - RIGHT}" y2="${H - BOTTOM}" stroke="#111" />`,
     `<text x="${LEFT}" y="${H - 6}" font-size="10">0 ${axis}</text>`,
@@ -91,7 +92,7 @@ export function logPlotSvg(overview, segments, samplingRateHz) {
     `<text x="2" y="${(y(hi) + 4).toFixed(1)}" font-size="10">${hi.toPrecision(3)}</text>`,
     `<text x="2" y="${(y(lo) + 4).toFixed(1)}" font-size="10">${lo.toPrecision(3)}</text>`,
   );
-  const what = { mag: "magnetometer", gyr: "gyroscope" }[overview.sensor] || "accelerometer";
+  const what = words.sensor;
   const label = `The ${what}'s norm${unit} over the ${end.toFixed(samplingRateHz ? 1 : 0)} ${axis} of the log; ${segments.length} still `
     + `${segments.length === 1 ? "segment" : "segments"} shaded green, labelled with the face up`;
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" width="100%" role="img" `
