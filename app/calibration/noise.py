@@ -317,7 +317,7 @@ class NoiseResult(PerSensorResult):
     RESULT_TYPE: ClassVar[str] = "noise"
     MODEL_TYPE: ClassVar[str] = "noise"
     PAGE: ClassVar[PageFacts] = PageFacts(
-        uses="noise_figures",
+        uses="noiseFigures",
         snippets=False,
         heading="The noise terms",
         model="noiseTerms",

@@ -46,7 +46,7 @@ class PageFacts:
     model type in the page's tables (``kinds``) and static/js/result_kinds.js draws them with the drawing each
     names; whether it has a correction to apply comes from :attr:`CalibrationResult.KIND`."""
 
-    uses: str = "correction"
+    uses: str = "calibration"
     """The set of uses and export formats it offers (app/web/uses.py ``USE_SETS``)."""
     snippets: bool = True
     """Paste-ready lines of its correction under its file (``GET …/{id}/use``)."""

@@ -598,7 +598,7 @@ class TemperatureResult(PerSensorResult):
     RESULT_TYPE: ClassVar[str] = "temperature"
     MODEL_TYPE: ClassVar[str] = "temperature"
     PAGE: ClassVar[PageFacts] = PageFacts(
-        uses="thermal_compensation",
+        uses="thermalCompensation",
         snippets=False,
         heading="Each axis's offset polynomial",
         plot="temperature_svg",

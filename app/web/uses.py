@@ -146,13 +146,14 @@ once made, is remembered per source over it. A calibration with no source offers
 
 
 USE_SETS = {
-    "correction": (CALIBRATION_USES, FORMAT_NAMES),
-    "noise_figures": (NOISE_USES, NOISE_FORMATS),
-    "thermal_compensation": (TEMPERATURE_USES, TEMPERATURE_FORMATS),
-    "flight_compass": (FLIGHT_COMPASS_USES, FLIGHT_COMPASS_FORMATS),
+    "calibration": (CALIBRATION_USES, FORMAT_NAMES),
+    "noiseFigures": (NOISE_USES, NOISE_FORMATS),
+    "thermalCompensation": (TEMPERATURE_USES, TEMPERATURE_FORMATS),
+    "flightCompass": (FLIGHT_COMPASS_USES, FLIGHT_COMPASS_FORMATS),
 }
 """Each set of uses a result offers, with its export formats, by the name its result class gives
-(:attr:`app.calibration.result.PageFacts.uses`)."""
+(:attr:`app.calibration.result.PageFacts.uses`); the page remembers the person's choice under that name and the
+calibration's source (static/js/use_calibration.js)."""
 
 
 def uses_table() -> dict:

@@ -53,7 +53,7 @@ class FlightCompassCalibration(CalibrationResult):
     RESULT_TYPE: ClassVar[str] = "compass_flight"
     MODEL_TYPE: ClassVar[str] = "compass_flight"
     PAGE: ClassVar[PageFacts] = PageFacts(
-        uses="flight_compass",
+        uses="flightCompass",
         snippets=False,
         heading="The compass's model, h = M (Q m − b − k p)",
         plot="flight_svg",
