@@ -1,6 +1,7 @@
-// A flight controller's log on the upload page (PX4 ULog, ArduPilot DataFlash): fills its section with the sensor instances it
-// holds (app.io.formats.flight_log, the recording's `flight`), the IMU and compass read, the temperature
-// over the log, and whether the range allows a temperature calibration; the plot itself is a pure function.
+// A flight controller's log on the upload page (PX4 ULog, ArduPilot DataFlash): fills its section with the sensor
+// instances it holds (app.io.formats.flight_log, the recording's `flight`), the IMU and compass read, the
+// temperature over the log, and whether the range allows a temperature calibration; the plot itself is a pure
+// function.
 
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
@@ -40,7 +41,8 @@ export function temperaturePlotSvg(overview) {
     + `<polyline points="${points.join(" ")}" fill="none" stroke="#c62828" stroke-width="1.5" />`
     + `<text x="2" y="${y(hi) + 4}" font-size="10">${esc(celsius(hi))}</text>`
     + `<text x="2" y="${y(lo) + 4}" font-size="10">${esc(celsius(lo))}</text>`
-    + `<text x="${W - RIGHT}" y="${H - 4}" font-size="10" text-anchor="end">${esc(`${formatNumber(end, 0)} ${unit}`)}</text>`
+    + `<text x="${W - RIGHT}" y="${H - 4}" font-size="10" text-anchor="end">`
+    + `${esc(`${formatNumber(end, 0)} ${unit}`)}</text>`
     + `<text x="${LEFT}" y="${H - 4}" font-size="10">°C</text></svg>`;
 }
 
@@ -99,7 +101,8 @@ export function showFlightLog(rec) {
     ? "The IMU read logs no temperature."
     : `The IMU read went from ${Number(temp.min).toFixed(digits)} to ${Number(temp.max).toFixed(digits)} °C`
       + (span >= TEMPERATURE_SPAN_C ? ": enough for a temperature calibration."
-        : ` (a span of ${span.toFixed(digits)} °C): a temperature calibration needs ${TEMPERATURE_SPAN_C} °C or more — log a cold start, the board left still while it warms up.`);
+        : ` (a span of ${span.toFixed(digits)} °C): a temperature calibration needs ${TEMPERATURE_SPAN_C} °C `
+          + "or more — log a cold start, the board left still while it warms up.");
   $("#temperature-recording").hidden = !(span !== null && span >= TEMPERATURE_SPAN_C);
   return true;
 }

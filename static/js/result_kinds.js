@@ -80,7 +80,8 @@ export function magSpheres(cal) {
   };
   return [fig(svgs.before, "Before: the raw readings m"), fig(svgs.after, "After: h = M (m − b)"),
     el("p", "The sphere has the field's radius F; green faces: directions covered. Raw readings sit off it "
-      + "(the hard iron b moves them, soft iron stretches them); calibrated ones lie on it.", { class: "hint legend" })];
+      + "(the hard iron b moves them, soft iron stretches them); calibrated ones lie on it.",
+    { class: "hint legend" })];
 }
 
 // The norms per position, |m| raw and |a| calibrated, from what the server says of each reading: the page

@@ -144,7 +144,8 @@ function showSnippet(use, snippets) {
   $("#use-copy").textContent = "Copy these lines";
   const guessed = Object.entries(snippets?.scales || {}).filter(([, s]) => s && !s.known);
   $("#use-snippet-note").textContent = guessed.map(([sensor, s]) => `The ${TABLES.sensorWords[sensor].toLowerCase()}'s `
-    + `counts are scaled by ${s.words.replace(/: set your part's figure$/, "")}: set your part's figure from its datasheet.`).join(" ");
+    + `counts are scaled by ${s.words.replace(/: set your part's figure$/, "")}: `
+    + "set your part's figure from its datasheet.").join(" ");
   $("#use-snippet-note").hidden = !guessed.length;
 }
 

@@ -60,7 +60,8 @@ const PROBLEMS = {
       return [el("p", `Motion access was not allowed (${detail}), so the page cannot read the sensors.`),
         el("p", "To allow it: reload this page (or close the tab and open it again), tap Start and "
           + "choose Allow. On iOS 12, turn on Settings › Safari › Motion & Orientation Access. If Safari no "
-          + "longer asks, clear this site's data in Settings › Safari › Advanced › Website Data and reload."), p3];
+          + "longer asks, clear this site's data in Settings › Safari › Advanced › Website Data and reload."),
+      p3];
     },
     say: () => "Motion access was not allowed: see how to allow it.",
     apply: (v) => { v.startDisabled = false; },
@@ -187,7 +188,9 @@ function showProblem(kind, detail = null) {
   v.focus = "#problem";
 }
 
-function remember() { localStorage.setItem(state.storeKey, JSON.stringify({ id: state.session.id, token: state.token })); }
+function remember() {
+  localStorage.setItem(state.storeKey, JSON.stringify({ id: state.session.id, token: state.token }));
+}
 
 function adopt(session) {
   state.session = session;
@@ -363,7 +366,9 @@ function listen() {
   if (state.listening) return;
   if (state.device === "board") { listenBoard(); return; }
   state.listening = true;
-  state.sign = new SignDetector({ apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints) });
+  state.sign = new SignDetector({
+    apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints),
+  });
   state.machine = flow.makeMachine(state);
   window.addEventListener("deviceorientation", onOrientation);
   window.addEventListener("devicemotion", onMotion);
@@ -468,7 +473,10 @@ function redo(arg) {
   // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
   const go = () => { if (state.machine) { flow.redo(state, arg); render(state); } };
   if (!state.listening && state.device === "board" && board.connected) { startBoard(); go(); }
-  else if (!state.listening && state.device === "board") { instruct(state, "Connect the board first (above)."); render(state); }
+  else if (!state.listening && state.device === "board") {
+    instruct(state, "Connect the board first (above).");
+    render(state);
+  }
   else if (!state.listening) onStart().then(go);
   else go();
 }

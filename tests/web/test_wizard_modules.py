@@ -83,3 +83,14 @@ def test_errors_are_told_apart_by_their_code():
     for name in ("flow_six.js", "flow_cube.js"):
         assert 'err.code === "already_captured"' in (JS / name).read_text()
     assert 'err.code === "wrong_turn"' in (JS / "flow_cube.js").read_text()
+
+
+def test_the_page_scripts_keep_the_code_s_line_length():
+    """The page's JavaScript keeps the Python's line length (120, pyproject.toml's ruff)."""
+    long = [
+        f"{path.name}:{n}"
+        for path in sorted(JS.glob("*.js"))
+        for n, line in enumerate(path.read_text().splitlines(), 1)
+        if len(line) > 120
+    ]
+    assert not long, long
