@@ -53,6 +53,12 @@ def test_the_tables_name_the_protocols_the_api_and_the_command_take():
     assert SESSION_PROTOCOLS["six"] is BOARD_PROTOCOLS["six"] is SIX  # one strategy for the page and the terminal
     assert SESSION_PROTOCOLS["cube24"] is BOARD_PROTOCOLS["cube24"] is CUBE24
     assert SESSION_PROTOCOLS["free"] is BOARD_PROTOCOLS["free"] is FREE
+    # The one list of the protocols' names (app.guided.capture_rules): each has its strategy, the sessions are
+    # those it says a session runs, and every strategy is on it.
+    from app.guided.capture_rules import WIZARD_PROTOCOLS
+
+    assert {p.name for p in WIZARD_PROTOCOLS} == set(BOARD_PROTOCOLS)
+    assert tuple(SESSION_PROTOCOLS) == tuple(p.name for p in WIZARD_PROTOCOLS if p.session)
 
 
 def test_a_session_is_read_from_and_written_to_the_store_s_row(store):

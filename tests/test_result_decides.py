@@ -51,27 +51,6 @@ NOT_A_RESULT = {"auto"}
 """Methods no stored result carries: ``auto`` chooses a method and the body names the one it chose; ``auto``
 is also the value of every option read from the data (format, unit, sign, columns)."""
 
-AWAITING = {
-    "app/web/pages.py": {"noise"},
-    "app/web/tables.py": {"cube", "temperature"},
-    "app/web/uses.py": {"noise", "temperature"},
-    "static/js/board_panel.js": {"magnetometer"},
-    "static/js/result_kinds.js": {
-        "affine",
-        "compass_flight",
-        "cube",
-        "magnetometer",
-        "noise",
-        "nonorthogonal",
-        "temperature",
-        "triangular",
-    },
-    "static/js/wizard.js": {"cube24", "free", "six"},
-}
-"""What the scan finds today and others are removing (the page's copies, the CLI's printers, the methods' words
-in app/words.py): file → the names it still decides by. New findings fail; an entry no longer found fails too,
-so that this list only shrinks."""
-
 NOT_DECISIONS = {
     ("app/io/formats/sensor_logger.py", "magnetometer"): "a Sensor Logger file's name (MagnetometerUncalibrated.csv)",
     ("app/cli/main.py", "autocal"): "the `trical autocal` command in the table of commands",
@@ -283,23 +262,8 @@ FINDINGS = findings()
 
 
 def test_no_module_script_or_template_outside_the_results_decides_by_a_method_a_model_type_or_a_metric_key():
-    new = [
-        f"{rel}:{line}: {how} {literal!r}"
-        for rel, line, literal, how in FINDINGS
-        if literal not in AWAITING.get(rel, ())
-    ]
-    assert not new, "the result (or the method table) decides, not these:\n" + "\n".join(new)
-
-
-def test_every_finding_awaiting_its_removal_is_still_there():
-    present = {(rel, literal) for rel, _, literal, _ in FINDINGS}
-    gone = [
-        f"{rel}: {name!r}"
-        for rel, awaited in AWAITING.items()
-        for name in sorted(awaited)
-        if (rel, name) not in present
-    ]
-    assert not gone, "no longer found; strike them from AWAITING:\n" + "\n".join(gone)
+    found = [f"{rel}:{line}: {how} {literal!r}" for rel, line, literal, how in FINDINGS]
+    assert not found, "the result (or the method table) decides, not these:\n" + "\n".join(found)
 
 
 def test_every_pair_that_is_about_something_else_is_still_found():

@@ -45,7 +45,7 @@ from scipy.optimize import least_squares
 
 from .errors import CalibrationError
 from .fixed_point import fixed_point_descent
-from .result import StillReadingsResult, parameter
+from .result import PageFacts, StillReadingsResult, parameter
 from .uncertainty import covariance_from_jacobian, half_widths
 from .gates import (
     Gates,
@@ -220,6 +220,7 @@ class TriangularCalibration(StillReadingsResult):
 
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
+    PAGE = PageFacts(norms="captures")
     N_PARAMS = N_PARAMS
     REPORTS_IMPROVEMENT = True  # Farago et al. report it for their model (Table 3, eq. (21))
     CORRECTION_SOURCE = "Farago, Maczak and Gingl, IEEE Access, eq. (6): M = K, o = -o_model"

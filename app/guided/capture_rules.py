@@ -6,7 +6,47 @@ what the page or the terminal captures the server accepts.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from app.calibration.advice import MIN_SEPARATION_DEG
+
+
+@dataclass(frozen=True)
+class WizardProtocol:
+    """A capture protocol by name, and what the wizard's pages show of it (app/web/pages.py; the template
+    branches on the flags, never on a protocol's name). Its strategy, what it asks next and how it is solved,
+    is the class of app.guided.protocols whose ``name`` it is."""
+
+    name: str
+    words: str
+    """The protocol in words, on the pages' list of choices."""
+    session: bool = False
+    """A guided session runs it (the page's wizard, ``POST /api/v1/sessions``)."""
+    phone: bool = True
+    """A phone's motion events can do it (the noise page records a board)."""
+    template: str = "wizard.html"
+    flow: str = ""
+    """The page's flow module (static/js/<flow>.js, and its view's render hooks in <flow>_view.js)."""
+    has_turns: bool = False
+    """Positions in a fixed order, a turn between each that the gyroscope checks (pictures of a cube)."""
+    lists_poses: bool = False
+    """The six poses, listed each with its picture, captured in any order."""
+    any_pose: bool = False
+    """Poses of the person's choosing, as many as the fit needs (a sphere of the directions covered)."""
+
+
+WIZARD_PROTOCOLS = (
+    WizardProtocol("six", "six positions", session=True, flow="flow_six", lists_poses=True),
+    WizardProtocol("cube24", "24 positions of a cube", session=True, flow="flow_cube", has_turns=True),
+    WizardProtocol("free", "free poses, no jig", session=True, flow="flow_free", any_pose=True),
+    WizardProtocol("compass", "the compass: turn it through all directions", template="wizard_compass.html"),
+    WizardProtocol(
+        "noise", "the noise: a still recording of a chosen length", phone=False, template="wizard_noise.html"
+    ),
+)
+"""Every capture protocol, in the order the pages offer them: the one list of their names. The pages read it
+(app/web/pages.py), the guided sessions take theirs from it (app.guided.protocols ``SESSION_PROTOCOLS``), and
+``trical capture`` runs each of them on a board (app.guided.protocols ``BOARD_PROTOCOLS``)."""
 
 FREE_FIT_FROM = 10
 """The free flow fits the triangular model from this many poses on: nine parameters, and one more so

@@ -22,8 +22,9 @@ The six and free flows keep each capture's gyroscope mean, std and count when it
 calibration carries the gyroscope's bias over the still captures (``gyroscope_bias``,
 app.calibration.gyro_bias).
 
-A new protocol is one class here and one entry in :data:`SESSION_PROTOCOLS` (the page's wizard) or
-:data:`BOARD_PROTOCOLS` (``trical capture``).
+A new protocol is one class here, its entry in :data:`BOARD_PROTOCOLS` (``trical capture``) and, for the
+page's wizard, its name and page in app.guided.capture_rules.WIZARD_PROTOCOLS (a session's: ``session=True``,
+and its strategy in :data:`SESSION_PROTOCOLS`'s).
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ from app.guided.capture_rules import (
     FREE_MIN_ANGLE_DEG,
     FREE_TARGET_MIN_POSES,
     MAX_ROTATION_DEG_S,
+    WIZARD_PROTOCOLS,
 )
 from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
@@ -456,8 +458,11 @@ class NoiseProtocol(Protocol):
 
 SIX, FREE, CUBE24 = SixProtocol(), FreeProtocol(), Cube24Protocol()
 
-SESSION_PROTOCOLS: dict[str, SessionProtocol] = {p.name: p for p in (SIX, CUBE24, FREE)}
-"""The protocols the wizard's sessions follow (the API's ``SessionIn.protocol``)."""
+SESSION_PROTOCOLS: dict[str, SessionProtocol] = {
+    p.name: s for p in WIZARD_PROTOCOLS if p.session for s in (SIX, CUBE24, FREE) if s.name == p.name
+}
+"""The protocols the wizard's sessions follow (the API's ``SessionIn.protocol``): those
+app.guided.capture_rules.WIZARD_PROTOCOLS says a session runs, each its strategy."""
 
 BOARD_PROTOCOLS: dict[str, Protocol] = {p.name: p for p in (SIX, FREE, CUBE24, CompassProtocol(), NoiseProtocol())}
 """The protocols ``trical capture`` follows (app.io.board_formats.CAPTURE_PROTOCOLS, in that order)."""

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
 from typing import Any
 
 from fastapi import APIRouter, Request
@@ -12,7 +11,7 @@ from fastapi.responses import HTMLResponse
 from fastapi.templating import Jinja2Templates
 
 from app.calibration import CANONICAL_SIX
-from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, WIZARD_PROTOCOLS
 from app.io.formats.kinds import ACCEPTED_SUFFIXES
 from app.reach.addresses import reachable_url
 from app.reach.qr import qr_svg_data_uri
@@ -22,30 +21,10 @@ from .tables import SOURCES, page_tables
 router = APIRouter(include_in_schema=False)
 
 
-@dataclass(frozen=True)
-class WizardProtocol:
-    """A protocol the wizard pages offer: its words, its template and what its page shows (the template
-    branches on these, never on a protocol's name)."""
+PROTOCOLS = {p.name: p for p in WIZARD_PROTOCOLS}
+"""The protocols the wizard's pages offer, by name (app.guided.capture_rules: their words, template and flow)."""
 
-    words: str
-    template: str = "wizard.html"
-    has_turns: bool = False
-    """Positions in a fixed order, a turn between each that the gyroscope checks (pictures of a cube)."""
-    lists_poses: bool = False
-    """The six poses, listed each with its picture, captured in any order."""
-    any_pose: bool = False
-    """Poses of the person's choosing, as many as the fit needs (a sphere of the directions covered)."""
-
-
-PROTOCOLS = {
-    "six": WizardProtocol("six positions", lists_poses=True),
-    "cube24": WizardProtocol("24 positions of a cube", has_turns=True),
-    "free": WizardProtocol("free poses, no jig", any_pose=True),
-    "compass": WizardProtocol("the compass: turn it through all directions", template="wizard_compass.html"),
-    "noise": WizardProtocol("the noise: a still recording of a chosen length", template="wizard_noise.html"),
-}
-
-SOURCE_PROTOCOLS = {"phone": ("six", "cube24", "free", "compass"), "board": tuple(PROTOCOLS)}
+SOURCE_PROTOCOLS = {"phone": tuple(p.name for p in WIZARD_PROTOCOLS if p.phone), "board": tuple(PROTOCOLS)}
 """The flows each source can do: a phone's motion events have no noise page (it records a board)."""
 
 NOISE_LENGTHS_S = (10, 30, 60, 120, 300, 600, 1800, 3600, 7200)

@@ -22,7 +22,7 @@ from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
-from app.calibration.result import as_fitted_words
+from app.calibration.result import as_fitted_words, page_kinds
 from app.guided import capture_rules
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
@@ -201,17 +201,19 @@ def page_tables() -> dict:
     -------
     dict
         ``gravity`` (m/s²); ``poses`` (``order``, ``up`` vectors, ``names``); ``capture`` (the
-        capture machine's options); ``cube`` (the cube flow's face angle); ``free`` (the free flow's
+        capture machine's options); ``flightLog`` (the least temperature span a flight log needs for the
+        temperature method); ``free`` (the free flow's
         angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs); ``cube24`` (the 23
         ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
-        and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`);
+        the ``turnWords`` the server's refusals use and the flow's face angle ``maxAngleDeg``); ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
         (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
         ``methods`` (each method in words, from the method table, app.methods); ``metrics``
         (app.web.metric_words: each figure's name, unit and meaning); ``sensorWords`` (:data:`SENSOR_TITLES`);
         ``unitWords`` (app.words: each unit as a person reads it) and ``asFitted`` (by model type, how the
-        model as fitted relates to its correction: the result classes' ``AS_FITTED``).
+        model as fitted relates to its correction: the result classes' ``AS_FITTED``); ``kinds`` (by model
+        type, what the result page shows of a result and which drawing draws it: the result classes' ``PAGE``).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -224,8 +226,7 @@ def page_tables() -> dict:
             "short": {label: POSE_SHORT[label] for label in CANONICAL_SIX},
         },
         "capture": capture_thresholds(),
-        "cube": {"maxAngleDeg": capture_rules.PAGE_CUBE_FACE_MAX_ANGLE_DEG},
-        "temperature": {"minSpanC": TEMPERATURE_MIN_SPAN_C},
+        "flightLog": {"temperatureMinSpanC": TEMPERATURE_MIN_SPAN_C},
         "free": {
             "maxAngleDeg": capture_rules.FREE_MAX_ANGLE_DEG,
             "minAngleDeg": capture_rules.FREE_MIN_ANGLE_DEG,
@@ -237,6 +238,7 @@ def page_tables() -> dict:
             "ups": list(protocol.ups),
             "attitudes": attitudes.tolist(),
             "turnWords": dict(TURN_WORDS),
+            "maxAngleDeg": capture_rules.PAGE_CUBE_FACE_MAX_ANGLE_DEG,
         },
         "compass": compass_tables(),
         "uses": uses_table(),
@@ -247,5 +249,6 @@ def page_tables() -> dict:
         "sensorWords": dict(SENSOR_TITLES),
         "unitWords": dict(UNIT_WORDS),
         "asFitted": as_fitted_words(),
+        "kinds": page_kinds(),
         "sources": SOURCES,
     }

@@ -145,20 +145,26 @@ a phone app. The one rule: the page (static/js/use_calibration.js) looks it up h
 once made, is remembered per source over it. A calibration with no source offers its kind's first use."""
 
 
+USE_SETS = {
+    "calibration": (CALIBRATION_USES, FORMAT_NAMES),
+    "noiseFigures": (NOISE_USES, NOISE_FORMATS),
+    "thermalCompensation": (TEMPERATURE_USES, TEMPERATURE_FORMATS),
+    "flightCompass": (FLIGHT_COMPASS_USES, FLIGHT_COMPASS_FORMATS),
+}
+"""Each set of uses a result offers, with its export formats, by the name its result class gives
+(:attr:`app.calibration.result.PageFacts.uses`); the page remembers the person's choice under that name and the
+calibration's source (static/js/use_calibration.js)."""
+
+
 def uses_table() -> dict:
-    """The page's table of uses: ``defaults`` (:data:`DEFAULT_USES`), ``calibration``, ``noise`` and
-    ``temperature``, each a list of key, name,
-    format, how (and for a calibration the ``snippet`` shown);
-    ``formats``, ``noiseFormats`` and ``temperatureFormats``, every export as ``[key, name]`` in the order the page lists them
-    (pairs, since the template's JSON sorts an object's keys)."""
+    """The page's table of uses: ``defaults`` (:data:`DEFAULT_USES`) and ``sets``, by the name of each set of
+    :data:`USE_SETS`: its ``uses`` (each a key, name, format, how, and for a correction the ``snippet`` shown)
+    and its ``formats``, every export as ``[key, name]`` in the order the page lists them (pairs, since the
+    template's JSON sorts an object's keys)."""
     return {
         "defaults": {source: list(keys) for source, keys in DEFAULT_USES.items()},
-        "calibration": [dict(u) for u in CALIBRATION_USES],
-        "noise": [dict(u) for u in NOISE_USES],
-        "temperature": [dict(u) for u in TEMPERATURE_USES],
-        "flightCompass": [dict(u) for u in FLIGHT_COMPASS_USES],
-        "flightCompassFormats": [list(f) for f in FLIGHT_COMPASS_FORMATS.items()],
-        "formats": [list(f) for f in FORMAT_NAMES.items()],
-        "noiseFormats": [list(f) for f in NOISE_FORMATS.items()],
-        "temperatureFormats": [list(f) for f in TEMPERATURE_FORMATS.items()],
+        "sets": {
+            name: {"uses": [dict(u) for u in uses], "formats": [list(f) for f in formats.items()]}
+            for name, (uses, formats) in USE_SETS.items()
+        },
     }

@@ -90,7 +90,8 @@ export function getCalibration(id, token) {
 
 // Samples calibrated by the server with a stored calibration (its correction of `sensor`): {samples, unit}.
 export function applyCalibration(id, samples, sensor, token = null) {
-  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/apply`, json("POST", { samples, sensor }, bearer(token)));
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/apply`,
+    json("POST", { samples, sensor }, bearer(token)));
 }
 
 // One export as {blob, filename}: fetched with the token, since a plain link cannot send it.

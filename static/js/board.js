@@ -83,7 +83,9 @@ export class BoardPort {
         performance.now());
     });
     await tx.startNotifications();
-    device.addEventListener("gattserverdisconnected", () => { if (!this.closing) this.onError(new Error("the board disconnected")); });
+    device.addEventListener("gattserverdisconnected", () => {
+      if (!this.closing) this.onError(new Error("the board disconnected"));
+    });
     this.device = device;
     this.kind = "bluetooth";
   }
@@ -220,7 +222,8 @@ export class BoardSource {
     const n = this.rest.length;
     const mean = [0, 1, 2].map((i) => this.rest.reduce((s, x) => s + x.acc[i], 0) / n);
     const norm = Math.hypot(...mean);
-    const spread = Math.max(...[0, 1, 2].map((i) => Math.sqrt(this.rest.reduce((s, x) => s + (x.acc[i] - mean[i]) ** 2, 0) / n)));
+    const spread = Math.max(...[0, 1, 2].map(
+      (i) => Math.sqrt(this.rest.reduce((s, x) => s + (x.acc[i] - mean[i]) ** 2, 0) / n)));
     if (!(spread < 0.02 * norm)) return; // not at rest
     const acc = accUnitAtRest(norm);
     if (!acc) { this.unitProblem = norm; return; }

@@ -89,7 +89,8 @@ export function readHeader(line) {
     const time = TIME.exec(name);
     if (time && columns.t === null) {
       columns.t = i;
-      const unit = (time[2] || time[1] || (name === "millis" ? "ms" : name === "micros" ? "us" : "") || "").toLowerCase();
+      const named = name === "millis" ? "ms" : name === "micros" ? "us" : "";
+      const unit = (time[2] || time[1] || named || "").toLowerCase();
       timeMs = TIME_MS[unit] ?? null;
       return;
     }
@@ -232,7 +233,8 @@ export class BoardLines {
       if (this.format === "raw") {
         this.units = { acc: "m/s^2", gyr: "deg/s", mag: "uT" };
         return { t: null, acc: scale(values.slice(0, 3), spec.acc_g_per_count * G_TO_MS2),
-          gyr: scale(values.slice(3, 6), spec.gyr_dps_per_count), mag: scale(values.slice(6, 9), spec.mag_ut_per_count) };
+          gyr: scale(values.slice(3, 6), spec.gyr_dps_per_count),
+          mag: scale(values.slice(6, 9), spec.mag_ut_per_count) };
       }
       this.units = { ...spec.units };
       return { t: null, acc: values.slice(0, 3), gyr: values.slice(3, 6), mag: values.slice(6, 9) };
@@ -365,7 +367,9 @@ export class StreamRate {
     const ends = points.filter((p, i) => i + 1 < points.length && points[i + 1][0] - p[0] >= 0.5 * longest);
     const needed = Math.max(this.minS, this.steps * Math.max(longest, pause));
     if (ends.length < 2 || ends[ends.length - 1][0] - ends[0][0] < needed) return null;
-    if (halvesAgree(ends) || (full !== null && full >= this.windowS - longest)) return [ends[0], ends[ends.length - 1], longest];
+    if (halvesAgree(ends) || (full !== null && full >= this.windowS - longest)) {
+      return [ends[0], ends[ends.length - 1], longest];
+    }
     return null;
   }
 

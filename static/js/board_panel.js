@@ -7,6 +7,7 @@ import { FORMAT_WORDS, UNIT_WORDS } from "./board_lines.js";
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { apiKey, sessionTokens } from "./tokens.js";
+import { kindOf } from "./result_kinds.js";
 import { preferSource } from "./use_calibration.js";
 import { $, dateTimeWords, el } from "./dom.js";
 
@@ -19,7 +20,10 @@ const PACKET = TABLES.board.packet;
 export function plotSvg(samples, gravity = TABLES.gravity) {
   const W = 300;
   const H = 100;
-  if (samples.length < 2) return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" role="img" aria-label="No readings yet"></svg>`;
+  if (samples.length < 2) {
+    return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" role="img" `
+      + `aria-label="No readings yet"></svg>`;
+  }
   const t1 = samples[samples.length - 1].t;
   const t0 = t1 - PLOT_MS;
   let top = gravity * 1.2;
@@ -36,11 +40,13 @@ export function plotSvg(samples, gravity = TABLES.gravity) {
 }
 
 // What a calibration carries of the packet's two parts: the accelerometer's (with the gyroscope's) offsets,
-// and the compass's hard iron, soft iron and field (a compass calibration, or a cube's magnetometer).
+// and the compass's hard iron, soft iron and field, as the server's kind of it says (a compass calibration), or
+// a model with a magnetometer's part (a cube's).
 export function packetParts(cal) {
   const model = (cal && cal.model) || {};
-  const compass = model.type === "magnetometer" || Object.keys(model).some((k) => k !== "type" && /mag/i.test(k));
-  return { acc: model.type !== "magnetometer", compass };
+  const parts = kindOf({ model }).packet;
+  const compass = parts.includes("mag") || Object.keys(model).some((k) => k !== "type" && /mag/i.test(k));
+  return { acc: parts.includes("acc"), compass };
 }
 
 // The packet's CRC-16, as app/io/motioncal_packet.py computes it (the server's tables give its polynomial and start).
@@ -131,7 +137,10 @@ export class BoardPanel {
   async connect(kind) {
     if (this.port) return;
     const baud = Number($("#board-baud").value);
-    const port = new BoardPort({ onText: (chunk, now) => this.text(chunk, now), onError: (err) => this.close(`The board stopped: ${err.message}.`) });
+    const port = new BoardPort({
+      onText: (chunk, now) => this.text(chunk, now),
+      onError: (err) => this.close(`The board stopped: ${err.message}.`),
+    });
     this.message(null);
     // The source first: a port may hand over bytes it buffered as soon as it opens.
     this.source = new BoardSource({ format: $("#board-format").value, needAcc: this.needAcc,
@@ -144,7 +153,8 @@ export class BoardPanel {
     } catch (err) {
       const chosen = err && err.name === "NotFoundError";
       this.message(chosen ? "No board was chosen: connect it, then choose it in the browser's list."
-        : `The ${kind === "usb" ? "port" : "board"} could not be opened: ${err.message}. Close the serial monitor or any other program using it, and try again.`);
+        : `The ${kind === "usb" ? "port" : "board"} could not be opened: ${err.message}. `
+          + "Close the serial monitor or any other program using it, and try again.");
       this.source = null;
       return;
     }
@@ -158,7 +168,8 @@ export class BoardPanel {
     $("#board-ble").disabled = true;
     $("#board-live").hidden = false;
     $("#board-live").dataset.kind = kind;
-    $("#board-what").textContent = kind === "usb" ? `Connected at ${baud} baud: waiting for lines…` : "Connected over Bluetooth: waiting for lines…";
+    $("#board-what").textContent = kind === "usb" ? `Connected at ${baud} baud: waiting for lines…`
+      : "Connected over Bluetooth: waiting for lines…";
     this.watch = setInterval(() => this.check(), 250);
     this.showSend();
     this.onConnect(kind);
@@ -181,7 +192,8 @@ export class BoardPanel {
     if (quiet >= SILENCE_MS) {
       this.message(`Nothing arrives ${where}: check the rate and that the board prints readings.`);
     } else if (s.lines.readings === 0 && s.lines.skipped > 0 && now - this.openedAt >= SILENCE_MS) {
-      this.message(`The lines arriving are not readings: the last one is “${s.lines.lastSkipped}”. Check the baud rate, `
+      this.message(`The lines arriving are not readings: the last one is “${s.lines.lastSkipped}”. `
+        + "Check the baud rate, "
         + "and that the board prints Raw: or Uni: lines, CSV with a header line, or 3, 6 or 9 numbers a line.");
     } else if (s.unitProblem !== null && !s.units) {
       this.message(`At rest the accelerometer reads ${formatNumber(s.unitProblem, 4)}: neither g (about 1) nor m/s² `
@@ -216,10 +228,13 @@ export class BoardPanel {
     const said = [FORMAT_WORDS[s.format]];
     const accUnit = s.units ? s.units.acc : s.lines.units.acc;
     if (this.latest && this.latest.acc) {
-      said.push(accUnit ? `accelerometer in ${UNIT_WORDS[accUnit]}${s.lines.units.acc ? "" : " (from its reading at rest)"}`
+      const how = s.lines.units.acc ? "" : " (from its reading at rest)";
+      said.push(accUnit ? `accelerometer in ${UNIT_WORDS[accUnit]}${how}`
         : "accelerometer: keep the board still to check its unit");
     }
-    if (this.latest && this.latest.gyr) said.push(`gyroscope in ${UNIT_WORDS[units.gyr || "deg/s"]}${s.lines.units.gyr ? "" : " (assumed)"}`);
+    if (this.latest && this.latest.gyr) {
+      said.push(`gyroscope in ${UNIT_WORDS[units.gyr || "deg/s"]}${s.lines.units.gyr ? "" : " (assumed)"}`);
+    }
     if (this.latest && this.latest.mag) {
       said.push(units.mag && units.mag !== "unknown" ? `magnetometer in ${UNIT_WORDS[units.mag]}`
         : "magnetometer in the unit it prints (no unit named)");
@@ -298,7 +313,8 @@ export class BoardPanel {
     const reset = `no hard iron, an identity soft iron and ${PACKET.defaultFieldUt} µT`;
     let words;
     if (parts.acc && parts.compass) {
-      words = "From this calibration: the accelerometer's and gyroscope's offsets, and the compass's hard iron, soft iron and field.";
+      words = "From this calibration: the accelerometer's and gyroscope's offsets, and the compass's hard iron, "
+        + "soft iron and field.";
     } else if (parts.acc && included) {
       words = "From this calibration: the accelerometer's and gyroscope's offsets. From the compass calibration of "
         + `${dateTimeWords(found.cal.created_at)}: the compass's hard iron, soft iron and field.`;
@@ -328,7 +344,8 @@ export class BoardPanel {
     if (!this.port || !this.calibration) return;
     msg.textContent = "Sending…";
     const found = this.compass && $("#board-send-compass").checked ? this.compass : null;
-    const packet = async (id, token) => new Uint8Array(await (await fetchExport(id, "motioncal", token)).blob.arrayBuffer());
+    const packet = async (id, token) => new Uint8Array(
+      await (await fetchExport(id, "motioncal", token)).blob.arrayBuffer());
     const whole = (b) => b.length === PACKET.bytes && b[0] === PACKET.signature[0] && b[1] === PACKET.signature[1];
     let bytes;
     let compass = null;
@@ -342,12 +359,14 @@ export class BoardPanel {
       if (found) compass = await packet(found.cal.id, found.token);
     } catch (err) {
       msg.textContent = `The compass calibration of ${dateTimeWords(found.cal.created_at)} cannot go in the packet: `
-        + `${err.message}. Nothing was sent: untick it to send this calibration alone (the board's compass is then reset).`;
+        + `${err.message}. Nothing was sent: untick it to send this calibration alone `
+        + "(the board's compass is then reset).";
       return;
     }
     for (const b of [bytes, compass]) {
       if (b && !whole(b)) {
-        msg.textContent = `The server's answer is not MotionCal's ${PACKET.bytes}-byte packet (${b.length} bytes): nothing was sent.`;
+        msg.textContent = `The server's answer is not MotionCal's ${PACKET.bytes}-byte packet `
+          + `(${b.length} bytes): nothing was sent.`;
         return;
       }
     }
@@ -360,8 +379,8 @@ export class BoardPanel {
     }
     msg.dataset.sent = String(bytes.length);
     msg.dataset.compass = found ? found.cal.id : "";
-    msg.textContent = `Sent MotionCal's ${bytes.length}-byte packet to the board${found ? ", with the compass calibration of "
-      + dateTimeWords(found.cal.created_at) : ""}: a board running Adafruit's Sensor Calibration library checks its CRC, stores it `
-      + "and uses it from now on.";
+    const withWhat = found ? `, with the compass calibration of ${dateTimeWords(found.cal.created_at)}` : "";
+    msg.textContent = `Sent MotionCal's ${bytes.length}-byte packet to the board${withWhat}: a board running `
+      + "Adafruit's Sensor Calibration library checks its CRC, stores it and uses it from now on.";
   }
 }

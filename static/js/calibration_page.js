@@ -41,7 +41,9 @@ async function latest() {
       last ??= err;
     }
   }
-  if (!found.length) throw last ?? new ApiError(`no calibration of the device “${device}” is readable here`, 404, "not_found");
+  if (!found.length) {
+    throw last ?? new ApiError(`no calibration of the device “${device}” is readable here`, 404, "not_found");
+  }
   return found.sort((a, b) => b.cal.created_at.localeCompare(a.cal.created_at))[0];
 }
 
@@ -58,7 +60,8 @@ function showReadings(cal) {
     p.append("A newer reading of the same upload superseded this one (it is kept): ",
       el("a", "open the newer reading", { href: `/c/${encodeURIComponent(cal.superseded_by)}` }), ".");
   } else if (cal.earlier) {
-    p.append(`This reading superseded ${counted(cal.earlier, "earlier reading")} of the same upload, kept under its row in `,
+    p.append(
+      `This reading superseded ${counted(cal.earlier, "earlier reading")} of the same upload, kept under its row in `,
       el("a", "your calibrations", { href: "/history" }), ".");
   }
   p.hidden = !p.childNodes.length;

@@ -103,10 +103,12 @@ export class CompassCoverage {
         missing: FACE_NAMES.map((_, k) => k), directions: [], current: null };
     }
     const { c, radius } = fit;
-    const directions = this.readings.map((m) => [(m[0] - c[0]) / radius, (m[1] - c[1]) / radius, (m[2] - c[2]) / radius]);
+    const directions = this.readings.map(
+      (m) => [(m[0] - c[0]) / radius, (m[1] - c[1]) / radius, (m[2] - c[2]) / radius]);
     for (const d of directions) covered[faceOf(d)] = true;
     const missing = covered.flatMap((on, k) => (on ? [] : [k]));
-    return { count: this.count, centre: c, radius, covered, coverage: (covered.length - missing.length) / covered.length,
+    return { count: this.count, centre: c, radius, covered,
+      coverage: (covered.length - missing.length) / covered.length,
       missing, directions, current: directions[directions.length - 1] };
   }
 

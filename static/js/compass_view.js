@@ -51,7 +51,8 @@ function model(cal) {
 // line; then the readings on the sphere before and after.
 function result(cal) {
   const m = cal.metrics;
-  const source = { given: "given", model: "IGRF model at your place", estimated: "estimated" }[m.field_source] || m.field_source;
+  const source = { given: "given", model: "IGRF model at your place", estimated: "estimated" }[m.field_source]
+    || m.field_source;
   $("#result-summary").textContent = `Field ${formatNumber(m.field_ut, 1)} µT (${source}); spread of |h| `
     + `${formatNumber(m.norm_spread_raw_ut, 2)} µT before → ${formatNumber(m.norm_spread_ut, 2)} µT after; `
     + `error on new directions ${formatNumber(m.cv_error_ut, 2)} µT (raw ${formatNumber(m.raw_error_ut, 2)} µT); `

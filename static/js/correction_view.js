@@ -31,9 +31,11 @@ export async function showCorrection(box, cal, token = null, fittedNote = null) 
     const unitIn = UNIT_WORDS[c.input_unit] || c.input_unit || "";
     const unitOut = UNIT_WORDS[c.output_unit] || c.output_unit || "";
     const row = el("div", null, { class: "row" });
-    const mBox = el("div", null, { class: "scroll", tabindex: "0", role: "region", "aria-label": `M of the ${sensor}` });
+    const mBox = el("div", null,
+      { class: "scroll", tabindex: "0", role: "region", "aria-label": `M of the ${sensor}` });
     mBox.append(el("h4", `M (${unitOut} per ${unitIn})`), matrix(`correction-${sensor}-M`, c.M));
-    const oBox = el("div", null, { class: "scroll", tabindex: "0", role: "region", "aria-label": `o of the ${sensor}` });
+    const oBox = el("div", null,
+      { class: "scroll", tabindex: "0", role: "region", "aria-label": `o of the ${sensor}` });
     oBox.append(el("h4", `o (${unitIn})`), matrix(`correction-${sensor}-o`, column(c.o)));
     row.append(mBox, oBox);
     if (Object.keys(use.corrections).length > 1) parts.push(el("h4", TABLES.sensorWords[sensor] || sensor));

@@ -21,7 +21,9 @@ function fallback(key) {
 
 function valueText(v) {
   if (typeof v === "boolean") return v ? "yes" : "no";
-  if (Array.isArray(v)) return v.length ? v.map((x) => (typeof x === "number" ? formatNumber(x, 4) : String(x))).join(", ") : "none";
+  if (Array.isArray(v)) {
+    return v.length ? v.map((x) => (typeof x === "number" ? formatNumber(x, 4) : String(x))).join(", ") : "none";
+  }
   return formatNumber(v);
 }
 
@@ -31,7 +33,8 @@ export function figureRows(cal) {
   const row = (key, v, sensor = null) => {
     const [name, unit, meaning] = TABLES.metrics[key] || fallback(key);
     const shownUnit = unit === "input unit" ? inputUnit : unit === "sensor unit" ? "" : unit;
-    return { key, name: sensor ? `${TABLES.sensorWords[sensor] || sensor}: ${name.charAt(0).toLowerCase()}${name.slice(1)}` : name,
+    const lower = `${name.charAt(0).toLowerCase()}${name.slice(1)}`;
+    return { key, name: sensor ? `${TABLES.sensorWords[sensor] || sensor}: ${lower}` : name,
       value: valueText(v), unit: v === null || v === undefined ? "" : shownUnit, meaning };
   };
   return Object.entries(cal.metrics || {}).flatMap(([k, v]) => (v && typeof v === "object" && !Array.isArray(v)

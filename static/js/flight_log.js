@@ -1,13 +1,14 @@
-// A flight controller's log on the upload page (PX4 ULog, ArduPilot DataFlash): fills its section with the sensor instances it
-// holds (app.io.formats.flight_log, the recording's `flight`), the IMU and compass read, the temperature
-// over the log, and whether the range allows a temperature calibration; the plot itself is a pure function.
+// A flight controller's log on the upload page (PX4 ULog, ArduPilot DataFlash): fills its section with the sensor
+// instances it holds (app.io.formats.flight_log, the recording's `flight`), the IMU and compass read, the
+// temperature over the log, and whether the range allows a temperature calibration; the plot itself is a pure
+// function.
 
 import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { $, cell } from "./dom.js";
 
-const SENSORS = { acc: "accelerometer", gyr: "gyroscope", mag: "compass" };
-const TEMPERATURE_SPAN_C = TABLES.temperature.minSpanC; // the temperature method's least span (its gate), °C
+const sensorWords = (sensor) => (TABLES.sensorWords[sensor] || sensor).toLowerCase(); // app/calibration/headlines.py
+const TEMPERATURE_SPAN_C = TABLES.flightLog.temperatureMinSpanC; // the temperature method's least span (its gate), °C
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot
 
@@ -40,7 +41,8 @@ export function temperaturePlotSvg(overview) {
     + `<polyline points="${points.join(" ")}" fill="none" stroke="#c62828" stroke-width="1.5" />`
     + `<text x="2" y="${y(hi) + 4}" font-size="10">${esc(celsius(hi))}</text>`
     + `<text x="2" y="${y(lo) + 4}" font-size="10">${esc(celsius(lo))}</text>`
-    + `<text x="${W - RIGHT}" y="${H - 4}" font-size="10" text-anchor="end">${esc(`${formatNumber(end, 0)} ${unit}`)}</text>`
+    + `<text x="${W - RIGHT}" y="${H - 4}" font-size="10" text-anchor="end">`
+    + `${esc(`${formatNumber(end, 0)} ${unit}`)}</text>`
     + `<text x="${LEFT}" y="${H - 4}" font-size="10">°C</text></svg>`;
 }
 
@@ -73,7 +75,7 @@ export function showFlightLog(rec) {
     const range = i.temperature_min_c === null || i.temperature_min_c === undefined ? "—"
       : `${celsius(i.temperature_min_c)}–${celsius(i.temperature_max_c)}`;
     const device = i.device ? `${i.device.bus_type} ${i.device.bus}, address ${i.device.address}` : "—";
-    tr.append(cell("td", SENSORS[i.sensor] || i.sensor), cell("td", String(i.instance)), breakable(i.source),
+    tr.append(cell("td", sensorWords(i.sensor)), cell("td", String(i.instance)), breakable(i.source),
       cell("td", String(i.n_samples)), cell("td", i.sampling_rate_hz ? formatNumber(i.sampling_rate_hz, 1) : "—"),
       cell("td", range), cell("td", device));
     // Each cell named by its column, for a phone's block of lines (the table's header is hidden there).
@@ -99,7 +101,8 @@ export function showFlightLog(rec) {
     ? "The IMU read logs no temperature."
     : `The IMU read went from ${Number(temp.min).toFixed(digits)} to ${Number(temp.max).toFixed(digits)} °C`
       + (span >= TEMPERATURE_SPAN_C ? ": enough for a temperature calibration."
-        : ` (a span of ${span.toFixed(digits)} °C): a temperature calibration needs ${TEMPERATURE_SPAN_C} °C or more — log a cold start, the board left still while it warms up.`);
+        : ` (a span of ${span.toFixed(digits)} °C): a temperature calibration needs ${TEMPERATURE_SPAN_C} °C `
+          + "or more — log a cold start, the board left still while it warms up.");
   $("#temperature-recording").hidden = !(span !== null && span >= TEMPERATURE_SPAN_C);
   return true;
 }

@@ -28,7 +28,7 @@ function init(state) {
 function makeMachine(state) {
   // A cube may stand on an inclined plane: its up face is the nearest axis within the page's angle,
   // inside the server's.
-  const machine = new CaptureMachine(state.captureS * 1000, { maxAngleDeg: TABLES.cube.maxAngleDeg });
+  const machine = new CaptureMachine(state.captureS * 1000, { maxAngleDeg: TABLES.cube24.maxAngleDeg });
   state.cube.log = new MotionLog();
   const cube = state.cube;
   expectPosition(machine, nextPosition(state));
@@ -70,8 +70,12 @@ function show(state, out) {
   let text;
   switch (step) {
     case "waiting": text = "Reading the sensors…"; break;
-    case "moving": text = k >= 2 ? `Turning into position ${k}: ${turn}, then let go.` : "Stand the cube in position 1 and let go."; break;
-    case "tilted": text = `The cube is tilted ${Math.round(out.angleDeg)}° away from ${pose} up: stand it on a face.`; break;
+    case "moving":
+      text = k >= 2 ? `Turning into position ${k}: ${turn}, then let go.` : "Stand the cube in position 1 and let go.";
+      break;
+    case "tilted":
+      text = `The cube is tilted ${Math.round(out.angleDeg)}° away from ${pose} up: stand it on a face.`;
+      break;
     case "refused": text = `Position ${k} needs sensor ${up} up; the cube has ${pose} up.`
       + (turn ? ` From position ${k - 1}: ${turn}.` : ""); break;
     case "settling": text = `Position ${k} recognised: keep still…`; break;
@@ -83,7 +87,9 @@ function show(state, out) {
   if (text !== null) instruct(state, text);
   if (out.event === "restarted") announce(state, "Moved during the capture: it restarts once the cube is still again.");
   const key = `${step} ${pose} ${k}`;
-  if (key !== state.lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(step)) announce(state, text);
+  if (key !== state.lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(step)) {
+    announce(state, text);
+  }
   state.lastAnnounced = key;
 }
 
@@ -175,7 +181,8 @@ function redo(state) {
   state.machine.requireMove(!known && n >= 2); // from position n − 1 the cube must turn again
   state.view.turnAlert = null;
   const text = known || n === 1
-    ? `Redo position ${n}: leave the cube in position ${n} (or put it back there); the new capture replaces the old one.`
+    ? `Redo position ${n}: leave the cube in position ${n} (or put it back there); `
+      + "the new capture replaces the old one."
     : `Redo position ${n}: the cube should now stand in position ${n - 1}; ${turnInto(n).words} into position ${n}.`;
   instruct(state, text);
   announce(state, text);
@@ -195,3 +202,5 @@ export const cubeFlow = {
   resume,
   redo,
 };
+
+export default cubeFlow; // the module the server's protocol table names (wizard.js imports it by that name)

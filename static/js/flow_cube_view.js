@@ -9,7 +9,8 @@ import { VIEW_DEFAULTS } from "./wizard_state.js";
 import { WORDS } from "./source.js";
 import { $, el, setHidden, setText } from "./dom.js";
 
-const drawn = { figures: {}, turnAlert: null, resumePic: null }; // what is drawn: pictures are redrawn only when they change
+// What is drawn: pictures are redrawn only when they change.
+const drawn = { figures: {}, turnAlert: null, resumePic: null };
 
 function figure(box, k, turn, caption) {
   const key = `${k} ${turn}`;
@@ -64,7 +65,8 @@ function turnAlert(v) {
       const { message, k } = v.turnAlert;
       const pic = el("div", null, { class: "cube-pic" });
       pic.innerHTML = cubeSvg(k - 1, { turn: turnInto(k).label });
-      box.replaceChildren(el("p", message), el("p", `Put the cube back in position ${k - 1} as pictured, then make this turn:`), pic);
+      box.replaceChildren(el("p", message),
+        el("p", `Put the cube back in position ${k - 1} as pictured, then make this turn:`), pic);
     } else {
       box.replaceChildren();
     }
@@ -102,3 +104,5 @@ function model(cal) {
 
 // No heading to change for a board: "Position k of 24" says it.
 export const cubeView = { ...VIEW_DEFAULTS, start, capture, model };
+
+export default cubeView; // the module the server's protocol table names (wizard.js imports it by that name)

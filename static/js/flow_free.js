@@ -38,7 +38,8 @@ function init(state) { state.free = { current: null }; }
 
 function makeMachine(state) {
   // Any direction is a pose (no axis to be near); a direction already taken is refused.
-  return new CaptureMachine(state.captureS * 1000, { maxAngleDeg: FREE.maxAngleDeg, isDone: (mean) => taken(state, mean) });
+  return new CaptureMachine(state.captureS * 1000,
+    { maxAngleDeg: FREE.maxAngleDeg, isDone: (mean) => taken(state, mean) });
 }
 
 const firstInstruction = (state) => `Put the phone down in any still pose: flat, on an edge, leaning against `
@@ -63,7 +64,9 @@ function show(state, out) {
   }
   if (text !== null) instruct(state, text);
   state.free.current = out.still ? out.mean : null;
-  if (out.event === "restarted") announce(state, "Moved during the capture: it restarts once the phone is still again.");
+  if (out.event === "restarted") {
+    announce(state, "Moved during the capture: it restarts once the phone is still again.");
+  }
   const key = `${step} ${k}`;
   if (key !== state.lastAnnounced && ["settling", "capturing", "refused"].includes(step)) announce(state, text);
   state.lastAnnounced = key;
@@ -108,3 +111,5 @@ function resume(state) {
 }
 
 export const freeFlow = { ...FLOW_DEFAULTS, init, makeMachine, firstInstruction, firstMotion, show, send, resume };
+
+export default freeFlow; // the module the server's protocol table names (wizard.js imports it by that name)

@@ -54,3 +54,5 @@ function bind(state, ctx) {
 }
 
 export const freeView = { ...VIEW_DEFAULTS, capture, model, bind };
+
+export default freeView; // the module the server's protocol table names (wizard.js imports it by that name)

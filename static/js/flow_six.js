@@ -47,21 +47,30 @@ function show(state, out) {
   switch (step) {
     case "waiting": text = "Reading the sensors…"; break;
     case "moving": text = nextWords(remaining); break;
-    case "tilted": text = `The phone is tilted ${Math.round(out.angleDeg)}° away from ${words}: rest it flat on that side.`; break;
+    case "tilted":
+      text = `The phone is tilted ${Math.round(out.angleDeg)}° away from ${words}: rest it flat on that side.`;
+      break;
     case "settling": text = `${cap(words)}: recognised, keep still…`; break;
     case "capturing": text = `Capturing ${words}: keep still.`; break;
     case "sending": text = `Checking the capture of ${words}…`; break;
-    case "done": text = remaining.length ? `${cap(words)}: captured. ${nextWords(remaining)}` : "All six positions captured."; break;
-    case "refused": text = `${cap(words)} is already captured. ${nextWords(remaining)} To capture it again, press its Redo button.`;
+    case "done":
+      text = remaining.length ? `${cap(words)}: captured. ${nextWords(remaining)}` : "All six positions captured.";
+      break;
+    case "refused":
+      text = `${cap(words)} is already captured. ${nextWords(remaining)} To capture it again, press its Redo button.`;
       code = `${pose} is already captured. ${codes(remaining)}`; break;
     case "retry": text = null; break; // the server's refusal stays on screen until the phone moves
     default: text = null;
   }
   if (text !== null) instruct(state, text, code);
   state.view.current = step === "moving" ? null : pose;
-  if (out.event === "restarted") announce(state, "Moved during the capture: it restarts once the phone is still again.");
+  if (out.event === "restarted") {
+    announce(state, "Moved during the capture: it restarts once the phone is still again.");
+  }
   const key = `${step} ${pose}`;
-  if (key !== state.lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(step)) announce(state, text);
+  if (key !== state.lastAnnounced && ["settling", "capturing", "refused", "tilted"].includes(step)) {
+    announce(state, text);
+  }
   state.lastAnnounced = key;
 }
 
@@ -88,7 +97,8 @@ async function send(state, capture, ctx) {
     if (err.code === "already_captured") {
       try { ctx.adopt(await getSession(state.session.id, state.token)); } catch { /* keep the old view */ }
     }
-    const text = `The capture of ${describePose(capture.position)} was refused: ${err.message}. Move the phone and put it down again.`;
+    const text = `The capture of ${describePose(capture.position)} was refused: ${err.message}. `
+      + "Move the phone and put it down again.";
     instruct(state, text, `${capture.position} up.`);
     announce(state, text);
     ctx.render();
@@ -98,7 +108,8 @@ async function send(state, capture, ctx) {
 function resume(state) {
   const done = donePoses(state);
   state.view.capture = true;
-  const text = `You have a calibration in progress: ${done.length} of 6 positions captured (${done.map(shortPose).join(", ")}); `
+  const text = `You have a calibration in progress: ${done.length} of 6 positions captured `
+    + `(${done.map(shortPose).join(", ")}); `
     + `remaining: ${state.session.remaining.map(shortPose).join(", ")}. Tap Continue to go on, or Start over.`;
   state.view.resume = text;
   instruct(state, "Tap Continue to read the motion sensors again.");
@@ -113,4 +124,8 @@ function redo(state, pose) {
   announce(state, text);
 }
 
-export const sixFlow = { ...FLOW_DEFAULTS, makeMachine, adopted, firstInstruction, firstCode, firstMotion, show, send, resume, redo };
+export const sixFlow = {
+  ...FLOW_DEFAULTS, makeMachine, adopted, firstInstruction, firstCode, firstMotion, show, send, resume, redo,
+};
+
+export default sixFlow; // the module the server's protocol table names (wizard.js imports it by that name)

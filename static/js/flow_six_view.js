@@ -31,3 +31,5 @@ function model(cal) {
 }
 
 export const sixView = { ...VIEW_DEFAULTS, capture, next, model };
+
+export default sixView; // the module the server's protocol table names (wizard.js imports it by that name)

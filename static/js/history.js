@@ -31,7 +31,8 @@ async function readAll() {
     }
   }));
   // Those a link sent here opened: one each, while the link holds.
-  const linked = await Promise.all(linkedCalibrations().map(([id, token]) => getCalibration(id, token).catch(() => null)));
+  const linked = await Promise.all(
+    linkedCalibrations().map(([id, token]) => getCalibration(id, token).catch(() => null)));
   const seen = new Map();
   for (const cal of [...lists.flat(), ...linked.filter(Boolean)]) seen.set(cal.id, cal);
   return { cals: [...seen.values()].sort((a, b) => (a.created_at < b.created_at ? 1 : -1)), needKey };

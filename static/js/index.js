@@ -84,7 +84,8 @@ async function calibrate(payload, doing, refused, where, stillHint = false) {
     showResult(cal);
   } catch (err) {
     if (mine !== action) return;
-    const still = err.code === "insufficient_data" && stillHint ? " A still recording? Characterise its noise below." : "";
+    const still = err.code === "insufficient_data" && stillHint
+      ? " A still recording? Characterise its noise below." : "";
     offerOptions(err.asks || []);
     note(where, `${refused}: ${err.message.replace(/\.$/, "")}.${still}`, true);
   }
@@ -105,7 +106,11 @@ function showUnits(rec) {
     menu.id = `unit-${sensor}`;
     menu.dataset.sensor = sensor;
     if (!rec.units[sensor]) { const o = cell("option", "as the data show"); o.value = ""; menu.append(o); }
-    menu.append(...units[sensor].map(([value, words]) => { const o = cell("option", words); o.value = value; return o; }));
+    menu.append(...units[sensor].map(([value, words]) => {
+      const o = cell("option", words);
+      o.value = value;
+      return o;
+    }));
     menu.value = rec.units[sensor] || "";
     unit.append(menu);
     const part = cell("label", `${sensors[sensor]} part, for counts`);
@@ -115,7 +120,11 @@ function showUnits(rec) {
     chip.dataset.sensor = sensor;
     const none = cell("option", "none");
     none.value = "";
-    chip.append(none, ...parts[sensor].map(([name, words]) => { const o = cell("option", words); o.value = name; return o; }));
+    chip.append(none, ...parts[sensor].map(([name, words]) => {
+      const o = cell("option", words);
+      o.value = name;
+      return o;
+    }));
     chip.value = chips.find((c) => parts[sensor].some(([name]) => name === c)) || "";
     chip.addEventListener("change", () => { if (chip.value) menu.value = "raw"; });
     part.append(chip);
@@ -134,7 +143,10 @@ function showSegments(rec) {
   if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
-  $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz) : "";
+  $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz, {
+    sensor: (TABLES.sensorWords[rec.overview.sensor] || TABLES.sensorWords.acc).toLowerCase(),
+    unit: rec.overview.unit ? TABLES.unitWords[rec.overview.unit] || rec.overview.unit : "",
+  }) : "";
   // Seconds, one decimal, always; a log without a sampling rate counts samples.
   const sec = (i) => (rec.sampling_rate_hz ? (i / rec.sampling_rate_hz).toFixed(1) : String(i));
   // A recording made of several files (one per pose): each segment names its file.
@@ -148,12 +160,14 @@ function showSegments(rec) {
     return tr;
   }));
   $("#segments-table").hidden = !still;
-  const rate = rec.sampling_rate_hz ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
+  const rate = rec.sampling_rate_hz
+    ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
     : `${rec.n_samples} samples (no time column)`;
   const files = parts.length ? ` of ${parts.length} files` : "";
   note("#segments-msg", still ? `${counted(rec.segments.length, "still segment")} in ${rate}${files}: calibrating…`
     : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
-      : `The ${rec.channels.map((c) => (TABLES.sensorWords[c] || c).toLowerCase()).join(" and ")} alone, ${rate}${files}: `
+      : `The ${rec.channels.map((c) => (TABLES.sensorWords[c] || c).toLowerCase()).join(" and ")} alone, `
+        + `${rate}${files}: `
         + "nothing to calibrate from its poses…");
   // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
   // file gave which sensor when they are one per sensor, merged onto one clock).
@@ -211,7 +225,8 @@ async function offerCandidates(answer, file) {
     radio.name = "columns-candidate";
     radio.value = c.columns;
     radio.checked = i === 0;
-    label.append(radio, ` ${c.sensors} — ${c.columns.split(",").map((n, k) => `${k + 1}: ${n === "-" ? "not used" : n}`).join(", ")}`);
+    const columns = c.columns.split(",").map((n, k) => `${k + 1}: ${n === "-" ? "not used" : n}`).join(", ");
+    label.append(radio, ` ${c.sensors} — ${columns}`);
     return label;
   });
   list.replaceChildren(preview, plots, ...choices);
@@ -278,7 +293,8 @@ function uploadData() {
 // The upload's options, each only when it applies to the file chosen (its first line read here): the rate
 // when no column names a time, the column names when the file has no header row, the sign when the
 // header is iOS Core Motion's (its sign is read from it, app/io/formats/ios_sign.py) or absent.
-const TIME_NAME = /^(?:t|time|timestamp|times|elapsed|seconds_elapsed|time_elapsed|millis|micros)(?:[ _]?(?:s|sec|ms|us|ns))?(?:\s*[([].*[)\]])?$/i;
+const TIME_NAME = new RegExp("^(?:t|time|timestamp|times|elapsed|seconds_elapsed|time_elapsed|millis|micros)"
+  + "(?:[ _]?(?:s|sec|ms|us|ns))?(?:\\s*[([].*[)\\]])?$", "i");
 const CORE_MOTION = /acceleration[xyz]\(g\)|useracceleration|gravity[ _]?[xyz]/i;
 function optionsFor(firstLine) {
   const names = headerColumns(firstLine);
@@ -362,7 +378,9 @@ $("#noise-recording").addEventListener("click", () => calibrate({ method: "noise
 $("#flight-go").addEventListener("click", () => {
   if (!lastUpload) return;
   const data = new FormData();
-  for (const [key, value] of lastUpload.entries()) if (!["instance", "mag_instance"].includes(key)) data.append(key, value);
+  for (const [key, value] of lastUpload.entries()) {
+    if (!["instance", "mag_instance"].includes(key)) data.append(key, value);
+  }
   for (const [key, value] of Object.entries(flightFields())) data.set(key, value);
   upload(data);
 });
@@ -376,12 +394,14 @@ $("#flight-compass").addEventListener("click", () => {
     return;
   }
   delete place.field_ut;
-  calibrate({ method: "compass_flight", recording_id: recordingId, mag_instance: Number($("#flight-mag").value), ...place },
+  calibrate(
+    { method: "compass_flight", recording_id: recordingId, mag_instance: Number($("#flight-mag").value), ...place },
     "Fitting the compass against the flight's attitude and the Earth's field…", "Compass calibration refused",
     "#flight-compass-msg");
 });
 
-$("#temperature-recording").addEventListener("click", () => calibrate({ method: "temperature", recording_id: recordingId },
+$("#temperature-recording").addEventListener("click", () => calibrate(
+  { method: "temperature", recording_id: recordingId },
   "Fitting the offsets against temperature…", "Temperature calibration refused", "#segments-msg"));
 
 // The compass's place and date (the IGRF field there, app/geomag.py) or the field's strength, as the
@@ -400,7 +420,9 @@ function compassPlace() {
     if ($("#place-date").value) out.date = $("#place-date").value;
   }
   if (field !== null) {
-    if (!(field > 0 && field <= 1000)) throw new Error("the field's strength is in µT, between 0 and 1000 (the Earth's: 22–67 µT)");
+    if (!(field > 0 && field <= 1000)) {
+      throw new Error("the field's strength is in µT, between 0 and 1000 (the Earth's: 22–67 µT)");
+    }
     out.field_ut = field;
   }
   return out;
@@ -419,7 +441,10 @@ $("#compass-recording").addEventListener("click", () => {
 
 // Use my location: the Geolocation API, where the browser has it and the person allows it.
 $("#place-here").addEventListener("click", () => {
-  if (!navigator.geolocation) { note("#place-msg", "This browser gives no location: type the latitude and longitude.", true); return; }
+  if (!navigator.geolocation) {
+    note("#place-msg", "This browser gives no location: type the latitude and longitude.", true);
+    return;
+  }
   note("#place-msg", "Asking this browser for its location…");
   navigator.geolocation.getCurrentPosition((pos) => {
     $("#place-lat").value = pos.coords.latitude.toFixed(4);

@@ -51,10 +51,13 @@ export function columnSparkSvg(values, width = 150, height = 36) {
     + `fill="none" stroke="#0b4f9c" stroke-width="1" /></svg>`;
 }
 
-function formatShort(v) { return Math.abs(v) >= 1000 || v === Math.round(v) ? String(Math.round(v)) : v.toPrecision(3); }
+function formatShort(v) {
+  return Math.abs(v) >= 1000 || v === Math.round(v) ? String(Math.round(v)) : v.toPrecision(3);
+}
 
 // A log without a sampling rate (no time column, none given) is drawn over its samples.
-export function logPlotSvg(overview, segments, samplingRateHz) {
+// `words`: the sensor and the unit in words, as the server's tables say them (index.js passes them).
+export function logPlotSvg(overview, segments, samplingRateHz, words) {
   const perSample = samplingRateHz ? 1 / samplingRateHz : 1;
   const axis = samplingRateHz ? "s" : "samples";
   const t = overview.t_s ?? (overview.start || []);
@@ -74,25 +77,30 @@ export function logPlotSvg(overview, segments, samplingRateHz) {
     parts.push(`<rect class="still" x="${x0.toFixed(1)}" y="${TOP}" width="${(x1 - x0).toFixed(1)}" `
       + `height="${H - TOP - BOTTOM}" fill="#cfe8d2" />`);
     if (x1 - x0 >= 14 && s.up) {
-      parts.push(`<text x="${((x0 + x1) / 2).toFixed(1)}" y="${TOP - 5}" font-size="10" text-anchor="middle">${esc(s.up)}</text>`);
+      parts.push(`<text x="${((x0 + x1) / 2).toFixed(1)}" y="${TOP - 5}" font-size="10" text-anchor="middle">`
+        + `${esc(s.up)}</text>`);
     }
   });
   const band = [];
-  t.forEach((ti, i) => { if (overview.high[i] !== null) band.push(`${x(ti).toFixed(1)},${y(overview.high[i]).toFixed(1)}`); });
+  t.forEach((ti, i) => {
+    if (overview.high[i] !== null) band.push(`${x(ti).toFixed(1)},${y(overview.high[i]).toFixed(1)}`);
+  });
   for (let i = t.length - 1; i >= 0; i -= 1) {
     if (overview.low[i] !== null) band.push(`${x(t[i]).toFixed(1)},${y(overview.low[i]).toFixed(1)}`);
   }
   parts.push(`<polygon points="${band.join(" ")}" fill="#0b4f9c" stroke="#0b4f9c" stroke-width="1" />`);
-  const unit = overview.unit ? ` (${esc(overview.unit === "raw" ? "counts" : overview.unit)})` : "";
+  const unit = words.unit ? ` (${esc(words.unit)})` : "";
   parts.push(
     `<line x1="${LEFT}" y1="${H - BOTTOM}" x2="${W - RIGHT}" y2="${H - BOTTOM}" stroke="#111" />`,
     `<text x="${LEFT}" y="${H - 6}" font-size="10">0 ${axis}</text>`,
-    `<text x="${W - RIGHT}" y="${H - 6}" font-size="10" text-anchor="end">${end.toFixed(samplingRateHz ? 1 : 0)} ${axis}</text>`,
+    `<text x="${W - RIGHT}" y="${H - 6}" font-size="10" text-anchor="end">`
+      + `${end.toFixed(samplingRateHz ? 1 : 0)} ${axis}</text>`,
     `<text x="2" y="${(y(hi) + 4).toFixed(1)}" font-size="10">${hi.toPrecision(3)}</text>`,
     `<text x="2" y="${(y(lo) + 4).toFixed(1)}" font-size="10">${lo.toPrecision(3)}</text>`,
   );
-  const what = { mag: "magnetometer", gyr: "gyroscope" }[overview.sensor] || "accelerometer";
-  const label = `The ${what}'s norm${unit} over the ${end.toFixed(samplingRateHz ? 1 : 0)} ${axis} of the log; ${segments.length} still `
+  const what = words.sensor;
+  const label = `The ${what}'s norm${unit} over the ${end.toFixed(samplingRateHz ? 1 : 0)} ${axis} of the log; `
+    + `${segments.length} still `
     + `${segments.length === 1 ? "segment" : "segments"} shaded green, labelled with the face up`;
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" width="100%" role="img" `
     + `aria-label="${esc(label)}">${parts.join("")}</svg>`;

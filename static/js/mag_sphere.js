@@ -71,11 +71,14 @@ function disc(view, k, { covered, points, centre, current, radius, title }) {
   const cx = k * (SIZE + GAP) + PAD + R;
   const cy = PAD + R;
   const at = (p, r = R * radius) => [cx + r * dot(p, cam.e1), cy - r * dot(p, cam.e2)];
-  const parts = [`<circle cx="${cx}" cy="${cy}" r="${fmt(R * radius)}" fill="#fafafa" stroke="#555" stroke-width="1.5" />`];
+  const parts = [
+    `<circle cx="${cx}" cy="${cy}" r="${fmt(R * radius)}" fill="#fafafa" stroke="#555" stroke-width="1.5" />`,
+  ];
   C.faces.forEach((_, f) => {
     const outline = OUTLINES[f];
     if (!outline.some((p) => dot(p, cam.d) > 0)) return;
-    const d = outline.map((p) => at(onFront(p, cam))).map(([x, y], i) => `${i ? "L" : "M"}${fmt(x)} ${fmt(y)}`).join("") + "Z";
+    const d = outline.map((p) => at(onFront(p, cam)))
+      .map(([x, y], i) => `${i ? "L" : "M"}${fmt(x)} ${fmt(y)}`).join("") + "Z";
     const on = covered[f];
     parts.push(`<path class="face${on ? " covered" : ""}" data-face="${C.faceNames[f]}" d="${d}" `
       + `fill="${on ? "#8fd19a" : "#ffffff"}" stroke="#8a8a8a" stroke-width="0.8" />`);
@@ -87,15 +90,17 @@ function disc(view, k, { covered, points, centre, current, radius, title }) {
   }
   if (current && dot(current, cam.d) >= 0) {
     const [x, y] = at(current);
-    parts.push(`<g class="current" stroke="#a00000" stroke-width="2.5"><line x1="${fmt(x - 7)}" y1="${fmt(y)}" x2="${fmt(x + 7)}" `
-      + `y2="${fmt(y)}" /><line x1="${fmt(x)}" y1="${fmt(y - 7)}" x2="${fmt(x)}" y2="${fmt(y + 7)}" /></g>`);
+    parts.push(`<g class="current" stroke="#a00000" stroke-width="2.5">`
+      + `<line x1="${fmt(x - 7)}" y1="${fmt(y)}" x2="${fmt(x + 7)}" y2="${fmt(y)}" />`
+      + `<line x1="${fmt(x)}" y1="${fmt(y - 7)}" x2="${fmt(x)}" y2="${fmt(y + 7)}" /></g>`);
   }
   for (const [name, axis] of AXES) {
     const sign = dot(axis, cam.d) >= 0 ? 1 : -1;
     const tip = axis.map((v) => sign * v);
     const [x0, y0] = at(tip, R * radius);
     const [x1, y1] = at(tip, R * radius + 14);
-    parts.push(`<line x1="${fmt(x0)}" y1="${fmt(y0)}" x2="${fmt(x1)}" y2="${fmt(y1)}" stroke="#333" stroke-width="1.2" />`
+    parts.push(`<line x1="${fmt(x0)}" y1="${fmt(y0)}" x2="${fmt(x1)}" y2="${fmt(y1)}" `
+      + `stroke="#333" stroke-width="1.2" />`
       + `<text x="${fmt(x1)}" y="${fmt(y1 + 4)}" font-size="11" text-anchor="middle" fill="#111" stroke="#fff" `
       + `stroke-width="3" paint-order="stroke">${sign > 0 ? "+" : "−"}${name}</text>`);
   }
@@ -107,8 +112,9 @@ function disc(view, k, { covered, points, centre, current, radius, title }) {
 // radius; current: the latest reading, or null; scale: the picture's radius in those units (above 1
 // when points lie outside the sphere); centre: the points' own centre (default the sphere's);
 // label: the picture's accessible name.
-export function magSphereSvg({ covered, points = [], centre = [0, 0, 0], current = null, scale = 1.15, label, className = "",
-  sides = WORDS.sides }) {
+export function magSphereSvg({
+  covered, points = [], centre = [0, 0, 0], current = null, scale = 1.15, label, className = "", sides = WORDS.sides,
+}) {
   const radius = 1 / scale; // the sphere's radius in the picture, its disc R
   const discs = VIEWS.map((view, k) => disc(view, k, { covered, points, centre, current, radius, title: sides[k] }));
   const width = 2 * SIZE + GAP;
@@ -146,7 +152,8 @@ export function magResultSvgs(cal) {
   const mean = (pts) => [0, 1, 2].map((i) => pts.reduce((sum, p) => sum + p[i], 0) / Math.max(1, pts.length));
   const { sides } = sourceWords(cal);
   return {
-    before: magSphereSvg({ covered, points: before, centre: mean(before), scale: reach(before), className: "before", sides,
+    before: magSphereSvg({
+      covered, points: before, centre: mean(before), scale: reach(before), className: "before", sides,
       label: `Raw readings m around zero, the sphere of radius F = ${field.toFixed(1)} ${unit}` }),
     after: magSphereSvg({ covered, points: calibrated, scale: reach(calibrated), className: "after", sides,
       label: `Calibrated h = M (m − b), the sphere of radius F = ${field.toFixed(1)} ${unit}` }),

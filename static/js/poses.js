@@ -71,7 +71,8 @@ const poseWords = () => TABLES.sources[device];
 // describe_up, the table of TABLES.poses.names); a board's page says the board's.
 export function sourcePoseWords(text) {
   if (device === "phone") return text;
-  return Object.entries(TABLES.poses.names).reduce((t, [label, name]) => t.replace(`(${name})`, `(${describePose(label)})`), text);
+  return Object.entries(TABLES.poses.names)
+    .reduce((t, [label, name]) => t.replace(`(${name})`, `(${describePose(label)})`), text);
 }
 
 export function shortPose(label) { return poseWords().poseShort[label] || label; }
@@ -90,7 +91,8 @@ function frontBoard(down, up) {
   const edges = { bottom: "M-27 25 H27", top: "M-27 -25 H27", left: "M-29 -23 V23", right: "M29 -23 V23" };
   const arrows = { top: "M0 -27 V-45 M-5 -39 L0 -45 L5 -39", bottom: "M0 27 V45 M-5 39 L0 45 L5 39",
     left: "M-31 0 H-49 M-43 -5 L-49 0 L-43 5", right: "M31 0 H49 M43 -5 L49 0 L43 5" };
-  const pins = [-20, -12, -4, 4, 12, 20].map((x) => `<rect x="${x - 2.5}" y="16" width="5" height="5" fill="#d9b44a" />`).join("");
+  const pins = [-20, -12, -4, 4, 12, 20]
+    .map((x) => `<rect x="${x - 2.5}" y="16" width="5" height="5" fill="#d9b44a" />`).join("");
   return `
     <rect x="-29" y="-25" width="58" height="50" rx="3" fill="#1f6f43" />
     <rect x="-8" y="-8" width="16" height="16" fill="#222" />
@@ -131,7 +133,8 @@ export function poseSvg(label, size = 160) {
     body = `<g transform="translate(60 ${TABLE_Y - halfHeight - 2}) rotate(${angle})">`
       + `${board ? frontBoard(down, up) : frontPhone(down, up)}</g>`;
   } else {
-    body = `<g transform="translate(0 ${TABLE_Y - 92})">${board ? flatBoard(label === "+z") : flatPhone(label === "+z")}</g>`;
+    const flat = board ? flatBoard(label === "+z") : flatPhone(label === "+z");
+    body = `<g transform="translate(0 ${TABLE_Y - 92})">${flat}</g>`;
   }
   const dims = size ? `width="${size}" height="${size}"` : `width="100%"`;
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${W} ${H}" ${dims} `

@@ -39,7 +39,8 @@ export function normChartSvg(rows, gravity) {
     parts.push(
       `<text x="4" y="${cy + 4}" font-size="12" font-weight="700">${r.position}</text>`,
       `<line x1="${left}" y1="${cy}" x2="${width - right}" y2="${cy}" stroke="#c8c8c8" />`,
-      `<line x1="${x(dev(r.raw))}" y1="${cy}" x2="${x(dev(r.calibrated))}" y2="${cy}" stroke="#0b4f9c" stroke-width="2" />`,
+      `<line x1="${x(dev(r.raw))}" y1="${cy}" x2="${x(dev(r.calibrated))}" y2="${cy}" `
+        + `stroke="#0b4f9c" stroke-width="2" />`,
       `<circle cx="${x(dev(r.raw))}" cy="${cy}" r="5.5" fill="#fff" stroke="#a00000" stroke-width="2.5" />`,
       `<circle cx="${x(dev(r.calibrated))}" cy="${cy}" r="5" fill="#0b4f9c" />`,
     );

@@ -1,10 +1,10 @@
-// What each kind of calibration shows: one entry per kind of body, keyed by its model's type
-// (`cal.model.type`: affine, nonorthogonal, triangular, magnetometer, cube, noise, temperature). An entry
-// says which uses and formats the result offers (app/web/uses.py through the page's tables), whether it
-// has a correction to apply (GET …/{id}/use), the plot the server draws for it (an export), the heading
-// and tables of its model, the compass's spheres, and its norms per position. The result view, the
-// correction, "Use this calibration" and the wizard look a body's kind up once (kindOf) and read what to
-// show from its entry: no module branches on a method or a model type.
+// What each kind of calibration shows. The server says it, by model type (`cal.model.type`), in the page's
+// tables (TABLES.kinds: the result classes' page facts, app/calibration/result.py PageFacts): which set of uses
+// and formats the result offers (app/web/uses.py), whether it has a correction to apply (GET …/{id}/use), the
+// plot the server draws for it (an export), the heading of its model, and which drawing draws its model, its
+// norms per position and its plot's caption. This module keeps only the drawings, named by what they draw.
+// The result view, the correction, "Use this calibration" and the wizard look a body's kind up once (kindOf)
+// and read what to show from it: no module branches on a method or a model type.
 import { applyCalibration } from "./api.js";
 import { fillMatrix } from "./figures.js";
 import { magResultSvgs } from "./mag_sphere.js";
@@ -80,7 +80,8 @@ export function magSpheres(cal) {
   };
   return [fig(svgs.before, "Before: the raw readings m"), fig(svgs.after, "After: h = M (m − b)"),
     el("p", "The sphere has the field's radius F; green faces: directions covered. Raw readings sit off it "
-      + "(the hard iron b moves them, soft iron stretches them); calibrated ones lie on it.", { class: "hint legend" })];
+      + "(the hard iron b moves them, soft iron stretches them); calibrated ones lie on it.",
+    { class: "hint legend" })];
 }
 
 // The norms per position, |m| raw and |a| calibrated, from what the server says of each reading: the page
@@ -112,19 +113,6 @@ async function cubeNorms(cal, token) {
   return captures.map((c, i) => normRow(c.position, c.mean, samples[i]));
 }
 
-// A correction of a sensor: what every kind is unless its entry says otherwise.
-const CORRECTION = {
-  uses: "calibration", // the key of its uses in TABLES.uses
-  formats: "formats", // the key of its export formats in TABLES.uses
-  correction: true, // it has an f = M (m − o) to apply
-  snippets: true, // paste-ready lines of its correction under its file
-  plot: null, // {box, format}: the figure the server draws for it, an export
-  heading: "The model as fitted",
-  model: modelTables,
-  spheres: false, // the compass's before and after
-  norms: noNorms,
-};
-
 // A compass calibrated from a flight: what the picture does not say — the orientation found against the one the
 // firmware has, the directions covered, the model chosen and how the raw readings were had.
 const FIRMWARE_WORDS = { ardupilot: "ArduPilot", px4: "PX4" };
@@ -149,25 +137,30 @@ export function flightCaption(cal) {
     + `(${f.generation || firmware}); ${f.raw_how || ""}.`;
 }
 
-export const KINDS = {
-  affine: { ...CORRECTION, norms: readingNorms },
-  nonorthogonal: CORRECTION,
-  triangular: { ...CORRECTION, norms: captureNorms },
-  cube: { ...CORRECTION, norms: cubeNorms },
-  magnetometer: { ...CORRECTION, spheres: true },
-  noise: { ...CORRECTION, uses: "noise", formats: "noiseFormats", correction: false, snippets: false, heading: "The noise terms",
-    model: noiseTables, plot: { box: "#result-allan", format: "allan_svg" } },
-  compass_flight: { ...CORRECTION, uses: "flightCompass", formats: "flightCompassFormats", snippets: false,
-    // its numbers are in the frames of the firmware whose log it came from: that firmware's file, or the JSON
-    usesFor: (cal, uses) => uses.filter((u) => u.format === "json" || u.key === cal.flight?.firmware),
-    heading: "The compass's model, h = M (Q m − b − k p)",
-    plot: { box: "#result-flight", format: "flight_svg", caption: flightCaption } },
-  temperature: { ...CORRECTION, uses: "temperature", formats: "temperatureFormats", snippets: false,
-    heading: "Each axis's offset polynomial", plot: { box: "#result-temperature", format: "temperature_svg" } },
-};
+// The drawings, by the names the server's kinds give them.
+const MODELS = { parameters: modelTables, noiseTerms: noiseTables };
+const NORMS = { readings: readingNorms, captures: captureNorms, positions: cubeNorms };
+const CAPTIONS = { flight: flightCaption };
 
-// The entry of a calibration body: its model's type, else a correction's.
-export const kindOf = (cal) => KINDS[cal.model?.type] || CORRECTION;
+// A flight's compass calibration: its numbers are in the frames of the firmware whose log it came from, so it
+// offers that firmware's file, or the JSON.
+const firmwareUses = (cal, uses) => uses.filter((u) => u.format === "json" || u.key === cal.flight?.firmware);
+
+// A kind as the page uses it: the server's facts, with the drawings they name.
+function pageKind(facts) {
+  return {
+    ...facts,
+    model: MODELS[facts.model],
+    norms: NORMS[facts.norms] || noNorms,
+    usesFor: facts.firmware_uses ? firmwareUses : null,
+    plot: facts.plot ? { box: facts.box, format: facts.plot, caption: CAPTIONS[facts.caption] || null } : null,
+  };
+}
+
+const KINDS = Object.fromEntries(Object.entries(TABLES.kinds).map(([type, facts]) => [type, pageKind(facts)]));
+
+// The entry of a calibration body: its model's type's, else a correction's (the server's kind "").
+export const kindOf = (cal) => KINDS[cal.model?.type] || KINDS[""];
 
 // Every plot a kind may show (the result view hides the others).
 export const PLOTS = Object.values(KINDS).map((k) => k.plot).filter(Boolean);

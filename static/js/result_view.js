@@ -31,7 +31,8 @@ export function showCalibration(cal, token = null) {
   $("#result-headline").textContent = cal.headline || "";
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
-  ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
+  ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.`
+    : `Calibration ${cal.id} failed its checks: ${cal.reasons.join("; ")}`;
   const choice = $("#result-choice");
   choice.hidden = !cal.choice;
   // The server's words name the candidates by their method's key: each in the method table's words here.
@@ -39,7 +40,8 @@ export function showCalibration(cal, token = null) {
   const words = (text) => (named.length ? text.replace(new RegExp(`\\b(?:${named.join("|")})\\b`, "g"),
     (key) => TABLES.methods[key] || key) : text);
   choice.textContent = cal.choice
-    ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, chosen because ${words(cal.choice.why)}.` : "";
+    ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, chosen because ${words(cal.choice.why)}.`
+    : "";
   $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
   const kind = kindOf(cal);
   $("#result-model").replaceChildren(...kind.model(cal));
@@ -57,7 +59,8 @@ export function showCalibration(cal, token = null) {
   $("#result-readings .file-col").hidden = !fromFiles;
   $("#result-readings tbody").replaceChildren(...(cal.readings || []).map((r) => {
     const tr = document.createElement("tr");
-    tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)), cell("td", formatNumber(r.norm_error)));
+    tr.append(cell("td", r.up ?? "—"), cell("td", formatNumber(r.norm_error_raw)),
+      cell("td", formatNumber(r.norm_error)));
     if (fromFiles) tr.append(cell("td", r.source ?? "—"));
     return tr;
   }));
@@ -75,7 +78,9 @@ export function showCalibration(cal, token = null) {
   // The norms as soon as they are known (a cube's are the server's answer to …/apply), and before the
   // files are ready: #downloads[data-ready] means everything is on show.
   const norms = kind.norms(cal, token).catch(() => []).then((rows) => { if (shown === cal) showNorms(cal, rows); });
-  Promise.all([fetchDownloads(cal, token), norms]).then(([downloads]) => { if (shown === cal) showUse(cal, downloads); });
+  Promise.all([fetchDownloads(cal, token), norms]).then(([downloads]) => {
+    if (shown === cal) showUse(cal, downloads);
+  });
 }
 
 // Nothing of an earlier calibration stays on show.

@@ -29,7 +29,8 @@ function disc(k, title) {
   const cy = PAD + R;
   const sign = k ? -1 : 1;
   return `<circle cx="${cx}" cy="${cy}" r="${R}" fill="#f4f8fd" stroke="#555" stroke-width="1.5" />`
-    + `<circle cx="${cx}" cy="${cy}" r="${fmt(R * Math.sin(Math.PI / 4))}" fill="none" stroke="#c8c8c8" stroke-dasharray="3 3" />`
+    + `<circle cx="${cx}" cy="${cy}" r="${fmt(R * Math.sin(Math.PI / 4))}" fill="none" stroke="#c8c8c8" `
+    + `stroke-dasharray="3 3" />`
     + `<line x1="${cx - R}" y1="${cy}" x2="${cx + R}" y2="${cy}" stroke="#c8c8c8" />`
     + `<line x1="${cx}" y1="${cy - R}" x2="${cx}" y2="${cy + R}" stroke="#c8c8c8" />`
     + `<text x="${cx + sign * (R + 3)}" y="${cy + 4}" font-size="11" text-anchor="${k ? "end" : "start"}">+x</text>`
@@ -44,22 +45,26 @@ export function sphereSvg({ covered = [], advice = [], current = null, titles = 
   const parts = [disc(0, titles[0]), disc(1, titles[1])];
   for (const v of covered) {
     const p = project(v);
-    parts.push(`<circle class="covered" cx="${fmt(p.x)}" cy="${fmt(p.y)}" r="5" fill="#0a5a14" stroke="#fff" stroke-width="1" />`);
+    parts.push(`<circle class="covered" cx="${fmt(p.x)}" cy="${fmt(p.y)}" r="5" fill="#0a5a14" stroke="#fff" `
+      + `stroke-width="1" />`);
   }
   advice.forEach((v, i) => {
     const p = project(v);
     parts.push(`<g class="advised"><circle cx="${fmt(p.x)}" cy="${fmt(p.y)}" r="${i ? 7 : 9}" fill="#fff" `
       + `stroke="#b35c00" stroke-width="${i ? 2 : 3}" />`
-      + `<text x="${fmt(p.x)}" y="${fmt(p.y + 4)}" font-size="11" font-weight="700" text-anchor="middle" fill="#7a3e00">${i + 1}</text></g>`);
+      + `<text x="${fmt(p.x)}" y="${fmt(p.y + 4)}" font-size="11" font-weight="700" text-anchor="middle" `
+      + `fill="#7a3e00">${i + 1}</text></g>`);
   });
   if (current) {
     const p = project(current);
     parts.push(`<g class="current" stroke="#a00000" stroke-width="2.5"><line x1="${fmt(p.x - 7)}" y1="${fmt(p.y)}" `
-      + `x2="${fmt(p.x + 7)}" y2="${fmt(p.y)}" /><line x1="${fmt(p.x)}" y1="${fmt(p.y - 7)}" x2="${fmt(p.x)}" y2="${fmt(p.y + 7)}" /></g>`);
+      + `x2="${fmt(p.x + 7)}" y2="${fmt(p.y)}" />`
+      + `<line x1="${fmt(p.x)}" y1="${fmt(p.y - 7)}" x2="${fmt(p.x)}" y2="${fmt(p.y + 7)}" /></g>`);
   }
   const width = 2 * SIZE + GAP;
   const height = SIZE + 16;
-  const label = `Directions covered: ${covered.length} poses (green dots); next poses advised: ${advice.length} (numbered rings)`;
+  const label = `Directions covered: ${covered.length} poses (green dots); `
+    + `next poses advised: ${advice.length} (numbered rings)`;
   return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 ${width} ${height}" width="100%" `
     + `style="max-width:${width * 1.4}px" role="img" aria-label="${label}">${parts.join("")}</svg>`;
 }

@@ -22,7 +22,9 @@ export function rememberToken(calibrationId, token) {
 export function tokenFor(calibrationId) { return load(CALS, {})[calibrationId] || null; }
 
 // Every session token kept, once each (a session makes one calibration, redone ones share it).
-export function sessionTokens() { return [...new Set(Object.values(load(CALS, {})).filter((t) => t.startsWith("tks_")))]; }
+export function sessionTokens() {
+  return [...new Set(Object.values(load(CALS, {})).filter((t) => t.startsWith("tks_")))];
+}
 
 // The calibrations opened through a short link (lnk_…), each readable alone until its link expires.
 export function linkedCalibrations() { return Object.entries(load(CALS, {})).filter(([, t]) => t.startsWith("lnk_")); }

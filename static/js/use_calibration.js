@@ -33,7 +33,7 @@ export async function fetchDownloads(cal, token = null) {
   blobUrls = [];
   if (!cal.verdict.apply) return [];
   const kind = kindOf(cal);
-  const names = TABLES.uses[kind.formats];
+  const names = TABLES.uses.sets[kind.uses].formats;
   // The paste-ready lines of each use (app/io/snippets.py): a correction's only.
   const snippets = !kind.snippets ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
   const downloads = await Promise.all(names.map(async ([key, name]) => {
@@ -88,7 +88,8 @@ export function showUse(cal, downloads) {
   const entry = kindOf(cal);
   const kind = entry.uses;
   // A kind may offer only the uses that fit this calibration (a flight's compass: its own log's firmware).
-  const uses = entry.usesFor ? entry.usesFor(cal, TABLES.uses[kind]) : TABLES.uses[kind];
+  const usesOfKind = TABLES.uses.sets[kind].uses;
+  const uses = entry.usesFor ? entry.usesFor(cal, usesOfKind) : usesOfKind;
   const source = sourceOf(cal);
   const listed = `${kind}:${source}:${uses.map((u) => u.key).join(",")}`;
   const select = $("#use-with");
@@ -143,7 +144,8 @@ function showSnippet(use, snippets) {
   $("#use-copy").textContent = "Copy these lines";
   const guessed = Object.entries(snippets?.scales || {}).filter(([, s]) => s && !s.known);
   $("#use-snippet-note").textContent = guessed.map(([sensor, s]) => `The ${TABLES.sensorWords[sensor].toLowerCase()}'s `
-    + `counts are scaled by ${s.words.replace(/: set your part's figure$/, "")}: set your part's figure from its datasheet.`).join(" ");
+    + `counts are scaled by ${s.words.replace(/: set your part's figure$/, "")}: `
+    + "set your part's figure from its datasheet.").join(" ");
   $("#use-snippet-note").hidden = !guessed.length;
 }
 

@@ -1,5 +1,5 @@
-// The wizard page: reads the server's tables, looks the flow up once by protocol (FLOWS: flow_six.js,
-// flow_cube.js, flow_free.js, each with its view's render hooks), owns the one state object
+// The wizard page: reads the server's tables, imports the flow the server names for its protocol (flow_six.js,
+// flow_cube.js or flow_free.js, each with its view's render hooks), owns the one state object
 // (wizard_state.js) and the one render(state) that writes the DOM. The flows change the state and call
 // the server; only render and the views' hooks it calls touch the page.
 import { createSession, getCalibration, getSession, solveSession } from "./api.js";
@@ -17,12 +17,6 @@ import { rememberToken } from "./tokens.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { announce, deviceWords, instruct, newState, showResult } from "./wizard_state.js";
 import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
-import { sixFlow } from "./flow_six.js";
-import { cubeFlow } from "./flow_cube.js";
-import { freeFlow } from "./flow_free.js";
-import { sixView } from "./flow_six_view.js";
-import { cubeView } from "./flow_cube_view.js";
-import { freeView } from "./flow_free_view.js";
 import { $, el, setHidden, setText } from "./dom.js";
 
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
@@ -35,9 +29,12 @@ const state = newState({
   captureS: Number(root.dataset.captureS),
   device: SOURCE, // a board's page (source=board) reads the board from its first screen
 });
-// Each protocol's flow (its steps on the state and its server calls) and its view (its render hooks).
-const FLOWS = { six: [sixFlow, sixView], cube24: [cubeFlow, cubeView], free: [freeFlow, freeView] };
-const [flow, view] = FLOWS[state.protocol];
+// The protocol's flow (its steps on the state and its server calls) and its view (its render hooks): the
+// modules its entry in the server's protocol table names (app/guided/capture_rules.py WIZARD_PROTOCOLS).
+const [{ default: flow }, { default: view }] = await Promise.all([
+  import(`./${root.dataset.flow}.js`),
+  import(`./${root.dataset.flow}_view.js`),
+]);
 flow.init(state);
 let noMotionTimer = null;
 
@@ -63,7 +60,8 @@ const PROBLEMS = {
       return [el("p", `Motion access was not allowed (${detail}), so the page cannot read the sensors.`),
         el("p", "To allow it: reload this page (or close the tab and open it again), tap Start and "
           + "choose Allow. On iOS 12, turn on Settings › Safari › Motion & Orientation Access. If Safari no "
-          + "longer asks, clear this site's data in Settings › Safari › Advanced › Website Data and reload."), p3];
+          + "longer asks, clear this site's data in Settings › Safari › Advanced › Website Data and reload."),
+      p3];
     },
     say: () => "Motion access was not allowed: see how to allow it.",
     apply: (v) => { v.startDisabled = false; },
@@ -190,7 +188,9 @@ function showProblem(kind, detail = null) {
   v.focus = "#problem";
 }
 
-function remember() { localStorage.setItem(state.storeKey, JSON.stringify({ id: state.session.id, token: state.token })); }
+function remember() {
+  localStorage.setItem(state.storeKey, JSON.stringify({ id: state.session.id, token: state.token }));
+}
 
 function adopt(session) {
   state.session = session;
@@ -366,7 +366,9 @@ function listen() {
   if (state.listening) return;
   if (state.device === "board") { listenBoard(); return; }
   state.listening = true;
-  state.sign = new SignDetector({ apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints) });
+  state.sign = new SignDetector({
+    apple: isApplePlatform(navigator.userAgent, navigator.platform, navigator.maxTouchPoints),
+  });
   state.machine = flow.makeMachine(state);
   window.addEventListener("deviceorientation", onOrientation);
   window.addEventListener("devicemotion", onMotion);
@@ -471,7 +473,10 @@ function redo(arg) {
   // Not reading the sensors yet (a resumed session): this tap asks for them, as Continue would.
   const go = () => { if (state.machine) { flow.redo(state, arg); render(state); } };
   if (!state.listening && state.device === "board" && board.connected) { startBoard(); go(); }
-  else if (!state.listening && state.device === "board") { instruct(state, "Connect the board first (above)."); render(state); }
+  else if (!state.listening && state.device === "board") {
+    instruct(state, "Connect the board first (above).");
+    render(state);
+  }
   else if (!state.listening) onStart().then(go);
   else go();
 }

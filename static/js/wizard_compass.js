@@ -165,7 +165,9 @@ function start() {
   sensor.addEventListener("error", (event) => refused(event.error));
   sensor.start();
   c.timer = setTimeout(() => {
-    if (c.coverage.count === 0) noMagnetometer("The Generic Sensor API's Magnetometer is present, but it sent no reading.");
+    if (c.coverage.count === 0) {
+      noMagnetometer("The Generic Sensor API's Magnetometer is present, but it sent no reading.");
+    }
   }, NO_READING_MS);
   turning("Reading the magnetometer: turn the phone slowly through all directions.");
 }
@@ -259,7 +261,8 @@ $("#compass-where").addEventListener("click", () => {
   where("Asking for the location… (you can start meanwhile)");
   navigator.geolocation.getCurrentPosition((pos) => {
     c.place = { latitude_deg: pos.coords.latitude, longitude_deg: pos.coords.longitude };
-    where(`Location ${pos.coords.latitude.toFixed(2)}°, ${pos.coords.longitude.toFixed(2)}°: the reference field comes from the IGRF model.`);
+    where(`Location ${pos.coords.latitude.toFixed(2)}°, ${pos.coords.longitude.toFixed(2)}°: `
+      + "the reference field comes from the IGRF model.");
   }, (err) => {
     where(`No location (${err.message || "refused"}): the field's strength will be estimated.`);
   }, { maximumAge: 600000, timeout: 20000 });

@@ -128,25 +128,29 @@ function result(cal) {
   $("#result-headline").textContent = cal.headline || "";
   const ok = $("#result-ok");
   ok.className = cal.ok ? "ok" : "bad";
-  ok.textContent = cal.ok ? `Characterisation ${cal.id} passed its checks.` : `Characterisation ${cal.id} failed its checks: ${(cal.reasons || []).join("; ")}`;
+  ok.textContent = cal.ok ? `Characterisation ${cal.id} passed its checks.`
+    : `Characterisation ${cal.id} failed its checks: ${(cal.reasons || []).join("; ")}`;
   $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
   $("#result-model").replaceChildren(...Object.entries(cal.model).filter(([k]) => k !== "type").map(([sensor, m]) => {
     const box = el("div", null, { class: "scroll", tabindex: "0" });
     const table = el("table", null, { id: `result-noise-${sensor}` });
     const head = el("tr");
-    head.append(el("th", sensor, { scope: "col" }), ...["x", "y", "z"].map((a) => el("th", a, { scope: "col" })), el("th", "unit", { scope: "col" }));
+    head.append(el("th", sensor, { scope: "col" }), ...["x", "y", "z"].map((a) => el("th", a, { scope: "col" })),
+      el("th", "unit", { scope: "col" }));
     table.append(head);
     for (const [key, words] of NOISE_TERMS) {
       const tr = el("tr");
       tr.dataset.term = key;
-      tr.append(el("th", words, { scope: "row" }), ...(m[key] || [null, null, null]).map((v) => el("td", formatNumber(v, 6))),
+      tr.append(el("th", words, { scope: "row" }),
+        ...(m[key] || [null, null, null]).map((v) => el("td", formatNumber(v, 6))),
         el("td", m[`${key}_unit`] || m.unit || ""));
       table.append(tr);
     }
     box.append(table);
     return box;
   }));
-  $("#result-warnings").replaceChildren(...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
+  $("#result-warnings").replaceChildren(
+    ...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
 }
 
 const noiseView = { ...VIEW_DEFAULTS, result };

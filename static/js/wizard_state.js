@@ -7,7 +7,8 @@ export function newState({ protocol, captureS, device = "phone" }) {
     captureS,
     device, // the page's source (source.js), "phone" or "board": the flows' words say "board" for a board
     board: null, // the board panel (board_panel.js) when a board is the source
-    storeKey: `trical.wizard.${protocol}${device === "board" ? ".board" : ""}`, // a board's session resumes on a board's page
+    // A board's session resumes on a board's page.
+    storeKey: `trical.wizard.${protocol}${device === "board" ? ".board" : ""}`,
     session: null, // the server's session object
     token: null,
     apiKey: null,
@@ -50,8 +51,9 @@ export function newState({ protocol, captureS, device = "phone" }) {
 // The flows speak of the phone; with a board as the source, of the board.
 export function deviceWords(state, text) {
   if (state.device !== "board" || typeof text !== "string") return text;
+  // (no Start on a board's page)
   return text.replace(/\bphone's\b/g, "board's").replace(/\bphone\b/g, "board").replace(/\bPhone\b/g, "Board")
-    .replace(/\bTap Continue\b/g, "Connect the board").replace(/\btap Continue\b/g, "connect the board"); // no Start on a board's page
+    .replace(/\bTap Continue\b/g, "Connect the board").replace(/\btap Continue\b/g, "connect the board");
 }
 
 // Say `text` in the live region (again, even when it is the same words).

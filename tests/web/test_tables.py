@@ -99,7 +99,7 @@ def test_the_page_s_thresholds_stay_inside_the_server_s_checks():
     assert capture["spreadLow"] < capture["spreadHigh"] < STILL_MAX_STD_G * STANDARD_GRAVITY
     assert capture["gyrLow"] < capture["gyrHigh"] == capture_rules.MAX_ROTATION_DEG_S
     assert capture["maxAngleDeg"] == LABEL_MAX_ANGLE_DEG  # the six flow's pose angle is the server's
-    assert page_tables()["cube"]["maxAngleDeg"] < capture_rules.CUBE_FACE_MAX_ANGLE_DEG
+    assert page_tables()["cube24"]["maxAngleDeg"] < capture_rules.CUBE_FACE_MAX_ANGLE_DEG
 
 
 def test_the_pages_render_the_tables_as_data_the_csp_never_runs(client):
@@ -150,3 +150,27 @@ def test_each_source_s_default_use_is_one_its_calibrations_offer():
         "phone": ("app", "json"),
     }
     assert uses_table()["defaults"] == {s: list(k) for s, k in DEFAULT_USES.items()}
+
+
+def test_each_kind_of_result_tells_the_page_what_it_shows():
+    """The result classes declare what the page shows (PageFacts); the server sends it by model type, and the
+    page draws it with the drawings it names: each set of uses exists, results sharing a model type agree, and
+    each drawing, plot box and plot format the facts name is on the page."""
+    from app.calibration.result import CalibrationResult, page_kinds, registered_types
+    from app.web.uses import USE_SETS
+
+    kinds = page_kinds()
+    assert page_tables()["kinds"] == kinds
+    classes = [CalibrationResult.class_of({"model": {"type": t}, "method": t}) for t in registered_types()]
+    assert set(kinds) == {"", *(cls.MODEL_TYPE for cls in classes)}
+    for cls in classes:
+        assert cls.PAGE == next(c.PAGE for c in classes if c.MODEL_TYPE == cls.MODEL_TYPE), cls
+    kinds_js = (JS / "result_kinds.js").read_text()
+    templates = "".join(p.read_text() for p in (JS.parents[1] / "templates").glob("*.html"))
+    for facts in kinds.values():
+        assert facts["uses"] in USE_SETS
+        for drawing in (facts["model"], facts["norms"], facts["caption"]):
+            assert not drawing or re.search(rf"\b{drawing}: \w+", kinds_js), drawing
+        if facts["plot"]:
+            assert f'id="{facts["box"][1:]}"' in templates and facts["plot"] in USE_SETS[facts["uses"]][1]
+    assert kinds[""]["correction"] and not kinds["noise"]["correction"]

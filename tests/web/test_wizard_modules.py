@@ -25,7 +25,15 @@ def test_only_the_render_loops_and_the_views_touch_the_page():
         text = (JS / name).read_text()
         assert not DOM.findall(text), (name, DOM.findall(text))
     wizard = (JS / "wizard.js").read_text()
-    assert "flow_six.js" in wizard and "flow_cube.js" in wizard and "function render(" in wizard
+    assert "function render(" in wizard
+    # The flow is the module the server's protocol table names, imported by that name (no table of flows here).
+    from app.guided.capture_rules import WIZARD_PROTOCOLS
+
+    assert "import(`./${root.dataset.flow}.js`)" in wizard
+    for protocol in WIZARD_PROTOCOLS:
+        if protocol.flow:
+            assert "export default" in (JS / f"{protocol.flow}.js").read_text(), protocol.flow
+            assert "export default" in (JS / f"{protocol.flow}_view.js").read_text(), protocol.flow
     # Each flow brings its view's render hooks; the compass page renders through the same loop.
     for name in ("flow_six_view.js", "flow_cube_view.js", "flow_free_view.js", "compass_view.js"):
         assert "VIEW_DEFAULTS" in (JS / name).read_text(), name
@@ -75,3 +83,14 @@ def test_errors_are_told_apart_by_their_code():
     for name in ("flow_six.js", "flow_cube.js"):
         assert 'err.code === "already_captured"' in (JS / name).read_text()
     assert 'err.code === "wrong_turn"' in (JS / "flow_cube.js").read_text()
+
+
+def test_the_page_scripts_keep_the_code_s_line_length():
+    """The page's JavaScript keeps the Python's line length (120, pyproject.toml's ruff)."""
+    long = [
+        f"{path.name}:{n}"
+        for path in sorted(JS.glob("*.js"))
+        for n, line in enumerate(path.read_text().splitlines(), 1)
+        if len(line) > 120
+    ]
+    assert not long, long
