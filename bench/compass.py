@@ -30,9 +30,9 @@ import numpy as np
 
 from app.calibration.magnetometer import fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
-from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
 from app.io.formats import read_log
 from app.io.read_options import ReadOptions
+from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
 
 F = EARTH_FIELD_UT
 SCENARIOS = {

@@ -19,6 +19,7 @@ import datetime
 import numpy as np
 
 from app.calibration.rotations import ardupilot_matrix
+
 from .magnetometer import random_soft_iron
 
 

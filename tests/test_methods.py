@@ -17,8 +17,8 @@ from app.api.schemas import calibrations
 from app.cli.calibrate import calibration_request
 from app.cli.parser import build_parser
 from app.io import log as io_log
-from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_compass import FLIGHT_COMPASS_EXPORTERS
+from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_temperature import TEMPERATURE_EXPORTERS
 from app.io.exporters import EXPORTERS
 
@@ -194,8 +194,9 @@ def test_the_cli_builds_each_method_request_from_the_options_its_model_takes():
 
 
 def test_a_method_with_no_entry_is_refused_naming_the_methods():
-    from app.methods import describe_errors
     from pydantic import ValidationError
+
+    from app.methods import describe_errors
 
     with pytest.raises(ValidationError) as caught:
         methods.parse_calibration_request({"method": "auto_compass", "recording_id": "rec_1"})

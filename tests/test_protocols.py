@@ -9,15 +9,15 @@ import typing
 import numpy as np
 import pytest
 
-from app.guided import sessions
 from app.api.deps import new_session_token
 from app.api.schemas.sessions import SessionIn
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, InsufficientDataError, up_vector
 from app.calibration.advice import fibonacci_sphere
 from app.calibration.capture import PoseTooCloseError
+from app.guided import sessions
 from app.guided.capture_rules import FREE_FIT_FROM, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
-from app.io.board_formats import CAPTURE_PROTOCOLS
 from app.guided.protocols import BOARD_PROTOCOLS, CUBE24, FREE, SESSION_PROTOCOLS, SIX
+from app.io.board_formats import CAPTURE_PROTOCOLS
 from app.store import ConflictError, open_store
 from app.web.tables import capture_thresholds
 from tests.cube_phone import phone_cube

@@ -18,10 +18,9 @@ import ast
 import re
 from pathlib import Path
 
-from app.calibration.result import CalibrationResult, registered_types
-from app.calibration.result import FIGURE_METRICS
-from app.methods import METHODS
+from app.calibration.result import FIGURE_METRICS, CalibrationResult, registered_types
 from app.guided.protocols import BOARD_PROTOCOLS, SESSION_PROTOCOLS
+from app.methods import METHODS
 
 ROOT = Path(__file__).resolve().parent.parent
 APP = ROOT / "app"

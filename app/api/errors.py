@@ -49,8 +49,8 @@ from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.io.formats.columns import ColumnsAmbiguous
 from app.methods import describe_errors
-from app.words import asked, reader_of, render
 from app.store import ConflictError, NotFoundError
+from app.words import asked, reader_of, render
 
 log = logging.getLogger("trical")
 

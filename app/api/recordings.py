@@ -9,7 +9,6 @@ from typing import Annotated, Literal
 from fastapi import APIRouter, File, Form, UploadFile
 from pydantic import AfterValidator
 
-from app.workflows.recordings import add_recording
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas.recordings import RecordingOut
@@ -19,6 +18,7 @@ from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions
 from app.store import new_id
 from app.words import render_body
+from app.workflows.recordings import add_recording
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .correction import AffineCorrection
 from .errors import CalibrationError, InsufficientDataError
 from .gates import (
     Gates,
@@ -24,7 +25,6 @@ from .gates import (
     scale_gate,
 )
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
-from .correction import AffineCorrection
 from .result import StillReadingsResult, parameter
 from .validation import as_vectors, check_gravity
 

@@ -28,8 +28,6 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .errors import CalibrationError
-from .result import StillReadingsResult, parameter
-from .uncertainty import covariance_from_jacobian
 from .gates import (
     Gates,
     deviation_gate,
@@ -39,6 +37,8 @@ from .gates import (
     scale_gate,
     unknown_orientation_gates,
 )
+from .result import StillReadingsResult, parameter
+from .uncertainty import covariance_from_jacobian
 from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "nonorthogonal"

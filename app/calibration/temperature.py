@@ -49,8 +49,8 @@ Decisions (no paper makes them; docs/methods.md says the same):
 from __future__ import annotations
 
 import math
-from math import comb
 from dataclasses import dataclass
+from math import comb
 from typing import ClassVar
 
 import numpy as np

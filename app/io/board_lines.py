@@ -32,12 +32,12 @@ from pathlib import Path
 
 import numpy as np
 
+from ..calibration.gravity import STANDARD_GRAVITY
 from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_AGREE, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
 from .errors import LogFormatError
 from .formats.generic_csv import map_columns
 from .formats.table import WHITESPACE, guess_delimiter, split_row
 from .formats.timing import decide_timing, time_scale
-from ..calibration.gravity import STANDARD_GRAVITY
 from .formats.units import settle_units
 from .log import LogData
 

@@ -33,14 +33,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .plural import counted
-from .errors import ExportError
-from .log import ACC_PHYSICAL_UNITS
-from .export_common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
 from ..calibration.errors import CalibrationError
 from ..calibration.firmware_model import offset_scale_fit
 from ..calibration.gravity import STANDARD_GRAVITY
+from .errors import ExportError
+from .export_common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
 from .export_compass import to_ardupilot_compass, to_px4_compass
+from .log import ACC_PHYSICAL_UNITS
+from .plural import counted
 
 # The standard gravity is also ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G (9.80665 m/s²).
 

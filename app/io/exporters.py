@@ -11,7 +11,6 @@ import re
 
 from app.calibration.result import DRIFT, FIGURES
 
-from .plural import counted
 from .errors import ExportError
 from .export_common import FRAME, JSON_SCHEMA, SENSORS, Export, result_class, sensor_corrections, unit_label
 from .export_compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
@@ -19,6 +18,7 @@ from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
 from .export_temperature import TEMPERATURE_EXPORTERS, TEMPERATURE_FORMATS
+from .plural import counted
 
 
 def to_json(body: dict) -> Export:

@@ -27,10 +27,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .board_formats import MOTIONCAL_CRC, MOTIONCAL_MAG_FLOATS, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
-from .plural import counted
 from .errors import ExportError
 from .export_common import sensor_corrections
 from .log import TO_SI
+from .plural import counted
 
 CRC_POLYNOMIAL = MOTIONCAL_CRC["polynomial"]
 CRC_START = MOTIONCAL_CRC["start"]

@@ -20,8 +20,8 @@ from sqlalchemy import Engine, func, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 
 from . import migrate
-from .errors import ConflictError, NotFoundError  # noqa: F401  (raised here, named by the callers)
 from .engine import WRITE
+from .errors import ConflictError, NotFoundError  # noqa: F401  (raised here, named by the callers)
 from .schema import calibrations, links, recording_files, recordings, session_captures, sessions
 
 

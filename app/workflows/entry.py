@@ -8,7 +8,6 @@ from typing import Callable
 from app.calibration import CalibrationError
 from app.workflows.recordings import RecordingSource
 
-
 Handler = Callable[..., dict]
 """A method's handler: ``handler(request, recording)`` returns the calibration's plain form."""
 

@@ -9,7 +9,6 @@ from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.recordings import RecordingSource, require_rate
 from app.workflows.results import calibration_body
 
-
 NOISE_SENSORS = ("acc", "gyr", "mag")
 NOISE_REST_S = 5.0
 """A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),

@@ -14,9 +14,8 @@ from app.calibration.errors import InsufficientDataError
 from app.calibration.static import detect_static_segments
 from app.io.formats import SOURCE_OF_FORMAT, read_log
 from app.io.log import LogData
-from app.io.read_options import ReadOptions
 from app.io.parts import content_digest, pose_from_name
-
+from app.io.read_options import ReadOptions
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""

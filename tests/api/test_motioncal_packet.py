@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from simulations.magnetometer import simulate_session
 from app.io.motioncal_packet import MotionCalCalibration, PacketError, crc16, decode, encode, from_calibration
+from simulations.magnetometer import simulate_session
 from tests.processes import ProcessFailed, run_ok
 
 RECEIVER = Path(__file__).parents[1] / "io" / "c" / "motioncal_receiver.c"

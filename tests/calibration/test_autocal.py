@@ -15,9 +15,9 @@ from app.calibration.autocal import (
     select_points,
 )
 from app.calibration.comparison import fit_ellipsoid_axes, fit_sphere_van_hees
-from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
-from simulations.autocal import simulate_recording
 from app.calibration.stationary_002 import RestAccumulator, detect_rest_segments
+from simulations.autocal import simulate_recording
+from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 
 FS = 25.0  # a low rate keeps the recordings small; the segments stay 5 s long
 

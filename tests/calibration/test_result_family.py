@@ -10,10 +10,10 @@ import pytest
 
 from app.calibration import CalibrationError, fit_six_position
 from app.calibration.cube.calibrate import calibrate_cube
-from simulations.cube import FIELD_UT, simulate_session
 from app.calibration.nonorthogonal import fit_nonorthogonal
 from app.calibration.result import SCHEMA_VERSION, CalibrationResult, registered_types
 from app.calibration.triangular import fit_triangular
+from simulations.cube import FIELD_UT, simulate_session
 from tests.conftest import seed_table
 
 G = 9.81

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from app.calibration.errors import CalibrationError
+from app.calibration.triangular import fit_triangular
 from simulations.triangular import (
     bin_indices,
     cramer_rao_bound,
@@ -14,7 +15,6 @@ from simulations.triangular import (
     simulate_scenario,
     uncalibrate,
 )
-from app.calibration.triangular import fit_triangular
 
 
 def test_parameters_follow_eqs_17_18():

@@ -6,8 +6,8 @@ import pytest
 from app.calibration import CANONICAL_SIX, fit_six_position
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.gravity import STANDARD_GRAVITY
-from simulations.logs import simulate_static_log
 from app.calibration.static import StaticSegment, detect_static_segments
+from simulations.logs import simulate_static_log
 
 BOUNDARY_TOL_S = 0.4
 """Detected boundaries must lie within this many seconds of the true ones."""

@@ -7,7 +7,6 @@ import pytest
 
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.fixed_point import div_round, fixed_point_descent, format_for
-from simulations.triangular import simulate_scenario, uncalibrate
 from app.calibration.triangular import (
     TriangularCalibration,
     alpha_vector,
@@ -15,6 +14,7 @@ from app.calibration.triangular import (
     gradient_descent,
     k_matrix,
 )
+from simulations.triangular import simulate_scenario, uncalibrate
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 G = 9.80665

@@ -4,9 +4,8 @@ against a real trical server."""
 
 from __future__ import annotations
 
-import re
-
 import json
+import re
 import time
 
 import numpy as np

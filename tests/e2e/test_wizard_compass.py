@@ -6,16 +6,15 @@ phone; and a phyphox magnetometer export uploaded on the start page shows the sp
 
 from __future__ import annotations
 
-import json
-
 import datetime
+import json
 
 import numpy as np
 import pytest
 from playwright.sync_api import expect
 
-from simulations.magnetometer import random_soft_iron
 from app.geomag import reference_field
+from simulations.magnetometer import random_soft_iron
 from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot
 from tests.e2e.source_words import assert_only_its_words
 

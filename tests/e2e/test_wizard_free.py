@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 from playwright.sync_api import expect
 
-from app.workflows.still import calibrate_unknown
 from app.calibration.advice import fibonacci_sphere
+from app.workflows.still import calibrate_unknown
 from tests.e2e.conftest import shot
 from tests.e2e.source_words import assert_only_its_words
-from tests.e2e.test_wizard import G, X_TRUE, Y_TRUE, Motion, captures_sent, chromium_round
+from tests.e2e.test_wizard import X_TRUE, Y_TRUE, G, Motion, captures_sent, chromium_round
 from tests.live_server import LiveServer
 
 UPS = fibonacci_sphere(14)  # well spread up-directions

@@ -15,13 +15,12 @@ import re
 import numpy as np
 import pytest
 
+from app.calibration.result import CalibrationResult
 from app.io.errors import ExportError
 from app.io.exporters import export_calibration
-from app.workflows.temperature import temperature_log
-from app.calibration.result import CalibrationResult
-from tests.temperature_logs import warm_up
-
 from app.io.log import LogData
+from app.workflows.temperature import temperature_log
+from tests.temperature_logs import warm_up
 
 
 def _body(seed: int = 21, **kw) -> dict:

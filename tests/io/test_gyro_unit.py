@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from app.io.formats import read_log
 from app.calibration.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
+from app.io.formats import read_log
 from app.io.formats.chips import GYR_LSB_PER_DPS
 from app.io.formats.gyro_unit import compose, gyro_evidence, rotate_back
 from app.io.read_options import ReadOptions

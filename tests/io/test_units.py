@@ -6,13 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simulations.logs import simulate_static_log
-from simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.chips import CHIPS, parse_chips
 from app.io.formats.units import field_magnitude, infer_mag_unit
 from app.io.read_options import ReadOptions
+from simulations.logs import simulate_static_log
+from simulations.magnetometer import simulate_session
 
 G = 9.80665
 SIX = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=100.0, rest_s=(2.0, 2.5), turn_s=(1.0, 1.5))

@@ -8,7 +8,6 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-
 Vec3Out = list[float]
 Mat3Out = list[list[float]]
 

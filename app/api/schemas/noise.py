@@ -9,7 +9,6 @@ from pydantic import Field
 
 from app.api.schemas.common import CalibrationCommon, Out, Vec3Out
 
-
 Figures3 = list[float | None]
 
 

@@ -22,17 +22,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
-from ..validation import as_samples
 import scipy.sparse as sp
 from scipy import stats
 from scipy.linalg import cho_solve_banded, cholesky_banded
 
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates, residual_gate
-from ..uncertainty import CONFIDENCE
-from . import quaternion as quat
 from ..result import gate_fields
+from ..uncertainty import CONFIDENCE
+from ..validation import as_samples
+from . import quaternion as quat
 from .accmag import SensorFit, decomposition_jacobian
 
 LAMBDAS = tuple(10.0**k for k in range(-3, 7))

@@ -24,8 +24,8 @@ import re
 
 import numpy as np
 
-from ..errors import LogFormatError
 from ...calibration.plausible import GYRO_BIAS_MAX_DPS
+from ..errors import LogFormatError
 from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS, SENSOR_WORDS
 from .units import turn_field
 
