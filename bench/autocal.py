@@ -225,7 +225,7 @@ def main() -> None:
     if args.no_actipy:
         return
     try:
-        import actipy  # noqa: F401
+        import actipy
     except ImportError:
         print("\nactipy is not installed: pip install '.[bench]' to compare")
         return

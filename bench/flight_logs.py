@@ -35,7 +35,7 @@ from tests.flight_logs import (
     ardupilot_imu,
     ardupilot_mag,
     px4_sensor,
-    write_dataflash,  # noqa: E402
+    write_dataflash,
     write_ulog,
 )
 

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from app.workflows.still import Reading, calibrate_known, calibrate_unknown  # noqa: E402
-from tests.real_recordings import (  # noqa: E402
+from app.workflows.still import Reading, calibrate_known, calibrate_unknown
+from tests.real_recordings import (
     MPU6050_LSB_PER_G,
     by_name,
     pose_subsets,
@@ -105,7 +105,7 @@ def main() -> None:
             print(
                 f"{rec.name:22} {method:13} {len(rec.means):5d} {rec.raw_error_mg:8.2f} "
                 f"{in_sample_mg(result, rec.means, rec.gravity):10.3f} {extra['cv_error_mg']:8.2f} "
-                f"{extra['cv_error_max_mg']:8.2f} {str(result.ok):>5} {other:>19}"
+                f"{extra['cv_error_max_mg']:8.2f} {result.ok!s:>5} {other:>19}"
             )
         line = peer_line(rec)
         if line:
@@ -132,7 +132,7 @@ def main() -> None:
         print(
             f"{rec.name:22} {sl.start + 1:3d}-{sl.stop:<3d} {raw_error_mg(means, rec.gravity):8.2f} "
             f"{in_sample_mg(result, means, rec.gravity):10.3f} {extra['cv_error_mg']:8.2f} "
-            f"{extra['cv_error_max_mg']:8.2f} {str(result.ok):>5} "
+            f"{extra['cv_error_max_mg']:8.2f} {result.ok!s:>5} "
             f"{extra['holdout_error_before_mg']:7.2f} -> {extra['holdout_error_after_mg']:6.2f}  {'; '.join(verdict)}"
         )
 

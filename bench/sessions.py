@@ -22,9 +22,9 @@ import httpx
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from tests.cube_phone import phone_cube  # noqa: E402
-from tests.live_server import live_server  # noqa: E402
-from tests.phone_poses import pose_samples  # noqa: E402
+from tests.cube_phone import phone_cube
+from tests.live_server import live_server
+from tests.phone_poses import pose_samples
 
 SIX = ["+z", "-x", "+y", "-z", "+x", "-y"]
 

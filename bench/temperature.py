@@ -38,10 +38,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from app.calibration.temperature import (
     FIGURE_SCALE,
     calibrate_temperature,
-    offset_at,  # noqa: E402
+    offset_at,
     shift_polynomial,
 )
-from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up  # noqa: E402
+from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up
 
 TRUTH = {"acc": ACC_TRUTH, "gyr": GYR_TRUTH}
 

@@ -71,7 +71,7 @@ def test_every_response_model_of_the_union_is_an_entry_of_its_own_name():
     named = [m for m in methods.TABLE if m.response is not None]
     assert [model.__name__ for model in members] == [m.response for m in named]
     assert [literal_method(model) for model in members] == [m.name for m in named]
-    assert calibrations.RESPONSE_MODELS == {m.name: model for m, model in zip(named, members)}
+    assert {m.name: model for m, model in zip(named, members)} == calibrations.RESPONSE_MODELS
     # auto answers as the method it chose, each of which has its own entry and response.
     assert [m.name for m in methods.TABLE if m.response is None] == ["auto"]
 

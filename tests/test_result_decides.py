@@ -84,7 +84,7 @@ NOT_DECISIONS = {
 
 def decided_names() -> dict[str, str]:
     """Every literal that must not decide outside the results, with what it is."""
-    names = {name: "metric key" for name in FIGURE_METRICS}
+    names = dict.fromkeys(FIGURE_METRICS, "metric key")
     names.update({name: "method" for name in METHODS if name not in NOT_A_RESULT})
     for kind in registered_types():
         names[kind] = "model type"
@@ -209,9 +209,11 @@ def code_decisions(code: str, names: dict[str, str], offset: int, text: str) -> 
             continue
         before, after = blank[: m.start()], blank[m.end() :]
         items_before, items_after = IN_ITEMS.search(before), ITEMS_AFTER.match(after)
-        if BEFORE.search(before) or AFTER.match(after):
-            how = "compares with the"
-        elif items_before and items_after and (items_before.group(1) or items_after.group(1)):
+        if (
+            BEFORE.search(before)
+            or AFTER.match(after)
+            or (items_before and items_after and (items_before.group(1) or items_after.group(1)))
+        ):
             how = "compares with the"
         elif KEY_BEFORE.search(before) and re.match(r"\s*:", after):
             how = "keys a table by the"

@@ -149,7 +149,7 @@ class AffineCalibration(StillReadingsResult):
         )
 
     @classmethod
-    def _from_body(cls, data: dict) -> "AffineCalibration":
+    def _from_body(cls, data: dict) -> AffineCalibration:
         model, readings, common = cls.common_from_dict(data)
         common["dof"] = int((data.get("uncertainty") or {}).get("dof", max(len(readings) - 4, 0)))
         return cls(

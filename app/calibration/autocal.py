@@ -309,7 +309,7 @@ class AutoCalibration(CalibrationResult):
         )
 
     @classmethod
-    def _from_body(cls, data: dict) -> "AutoCalibration":
+    def _from_body(cls, data: dict) -> AutoCalibration:
         """Rebuild from :meth:`to_dict` output."""
         cal = None
         if data.get("readings"):
@@ -618,8 +618,8 @@ def autocalibrate_samples(
 
 
 __all__ = [
-    "AutoCalibration",
     "BIN_NAMES",
+    "AutoCalibration",
     "Selection",
     "autocalibrate",
     "autocalibrate_samples",

@@ -106,7 +106,7 @@ class AxisCalibration:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "AxisCalibration":
+    def from_dict(cls, data: dict) -> AxisCalibration:
         return cls(
             scale=np.asarray(data["scale"], dtype=float),
             offset=np.asarray(data["offset"], dtype=float),

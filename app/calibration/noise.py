@@ -356,7 +356,7 @@ class NoiseResult(PerSensorResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "NoiseResult":
+    def _from_body(cls, data: dict) -> NoiseResult:
         return cls(
             sensors=cls.parts_from(data, "adev"),
             sampling_rate_hz=float(data["sampling_rate_hz"]),

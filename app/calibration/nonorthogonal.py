@@ -241,7 +241,7 @@ class NonOrthogonalCalibration(StillReadingsResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "NonOrthogonalCalibration":
+    def _from_body(cls, data: dict) -> NonOrthogonalCalibration:
         model, _, common = cls.common_from_dict(data)
         return cls(**cls.parameters_from(model), **common)
 

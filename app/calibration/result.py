@@ -32,7 +32,7 @@ OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
 """What an accelerometer calibration calibrates into: readings in g into g; m/s² and raw counts
 into m/s² (the reference of raw readings stays in m/s² and the model maps it to counts)."""
 
-_REGISTRY: dict[str, type["CalibrationResult"]] = {}
+_REGISTRY: dict[str, type[CalibrationResult]] = {}
 
 CORRECTION, FIGURES, DRIFT = "correction", "figures", "drift"
 """What a result is, for the verdict and the exports (:attr:`CalibrationResult.KIND`): a correction
@@ -384,7 +384,7 @@ class CalibrationResult(Gated):
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "CalibrationResult":
+    def from_dict(cls, data: dict) -> CalibrationResult:
         """The result whose :meth:`to_dict` produced ``data``, of the class its type names.
 
         Called on a subclass, the data must be of that subclass's type.
@@ -406,7 +406,7 @@ class CalibrationResult(Gated):
         return target._from_body(data)
 
     @staticmethod
-    def class_of(data: dict) -> type["CalibrationResult"]:
+    def class_of(data: dict) -> type[CalibrationResult]:
         """The result class a plain form names (its method where that names a result kind of its own, else
         its model type), without rebuilding it: enough for the class answers (:attr:`KIND`,
         :meth:`figures_from`) of a body cut short.
@@ -424,7 +424,7 @@ class CalibrationResult(Gated):
         return target
 
     @classmethod
-    def _from_body(cls, data: dict) -> "CalibrationResult":  # pragma: no cover - every subclass defines it
+    def _from_body(cls, data: dict) -> CalibrationResult:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 
 
@@ -515,7 +515,7 @@ class StillReadingsResult(CalibrationResult, GatedFit):
         reason when there is no covariance (no residual degrees of freedom, or a degenerate fit)."""
         out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
         if self.covariance is None:
-            out.update({name: None for name in self.model_dict()}, note=self.NO_INTERVALS.format(n=len(self.means)))
+            out.update(dict.fromkeys(self.model_dict()), note=self.NO_INTERVALS.format(n=len(self.means)))
         else:
             out.update(self.interval_dict(half_widths(self.covariance, self.dof)))
         return out

@@ -320,7 +320,7 @@ class _Runs:
     counts: np.ndarray
 
     @classmethod
-    def trimmed(cls, x, run_a, run_b, *, w: int, half: int, thr: float, min_length: int) -> "_Runs":
+    def trimmed(cls, x, run_a, run_b, *, w: int, half: int, thr: float, min_length: int) -> _Runs:
         """Step 3: the runs with their transition edges cut (:func:`_trim`), too short ones dropped."""
         n = len(x)
         centre = np.median(x[:: max(1, n // 100_000)], axis=0)

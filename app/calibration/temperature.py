@@ -369,7 +369,7 @@ def _axis_drift(y: np.ndarray, dy: np.ndarray, b: _SensorBins, order: int | None
     the coefficients scaled back to dT^k, the curve with its interval, and the figures."""
     # The order on PX4's bins of temperature alone: each part of the range weighs the same in the
     # fits of the other bands (bins cut in time would weigh the final temperature the most).
-    by_order = {q: _rms(left_out_residuals(b.du, dy, b.dbands, q)) for q in range(0, MAX_ORDER + 1)}
+    by_order = {q: _rms(left_out_residuals(b.du, dy, b.dbands, q)) for q in range(MAX_ORDER + 1)}
     chosen = order or min(range(1, MAX_ORDER + 1), key=lambda q: (by_order[q], q))
     fit = fit_axis(b.u, y, chosen, b.walk_cov)
     held = left_out_residuals(b.du, dy, b.dbands, chosen)
@@ -658,7 +658,7 @@ class TemperatureResult(PerSensorResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "TemperatureResult":
+    def _from_body(cls, data: dict) -> TemperatureResult:
         return cls(
             sensors=cls.parts_from(data, "bins", "curve"),
             warnings=tuple(data.get("warnings", ())),

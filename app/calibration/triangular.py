@@ -264,7 +264,7 @@ class TriangularCalibration(StillReadingsResult):
         return {"solver": self.solver, **super().body_dict()}
 
     @classmethod
-    def _from_body(cls, data: dict) -> "TriangularCalibration":
+    def _from_body(cls, data: dict) -> TriangularCalibration:
         model, _, common = cls.common_from_dict(data)
         return cls(
             **cls.parameters_from(model),

@@ -309,7 +309,7 @@ class BoardLineReader:
             values = _prefixed(line, prefix, 9)
             if values is None:
                 return None
-            scale = RAW_SCALES if f.name == "raw" else {s: 1.0 for s in SENSORS}
+            scale = RAW_SCALES if f.name == "raw" else dict.fromkeys(SENSORS, 1.0)
             return BoardReading(
                 arrival_s,
                 None,

@@ -188,10 +188,10 @@ __all__ = [
     "EXPORTERS",
     "FLIGHT_COMPASS_EXPORTS",
     "FORMAT_NAMES",
-    "NOISE_FORMATS",
-    "TEMPERATURE_FORMATS",
     "FRAME",
     "JSON_SCHEMA",
+    "NOISE_FORMATS",
+    "TEMPERATURE_FORMATS",
     "Export",
     "export_calibration",
 ]

@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .board_formats import MOTIONCAL_CRC, MOTIONCAL_MAG_FLOATS, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
+from .board_formats import MOTIONCAL_CRC, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from .errors import ExportError
 from .export_common import sensor_corrections
 from .log import TO_SI

@@ -127,7 +127,7 @@ def make_self_signed(cert_path: Path | str, key_path: Path | str, hosts: list[st
         raise CertificateError("a certificate needs at least one host name or address")
     key = ec.generate_private_key(ec.SECP256R1())
     name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, f"trical on {hosts[0]}"[:64])])
-    now = dt.datetime.now(dt.timezone.utc)
+    now = dt.datetime.now(dt.UTC)
     public = key.public_key()
     cert = (
         x509.CertificateBuilder()
@@ -194,7 +194,7 @@ def _reusable(cert_path: Path, key_path: Path, hosts: list[str]) -> bool:
         return False
     if cert.public_key() != key.public_key():
         return False
-    if cert.not_valid_after_utc - dt.datetime.now(dt.timezone.utc) < MIN_REMAINING:
+    if cert.not_valid_after_utc - dt.datetime.now(dt.UTC) < MIN_REMAINING:
         return False
     return set(hosts) <= certificate_names(cert_path)
 

@@ -3,7 +3,7 @@ steps every method shares around its handler."""
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 from app.calibration import CalibrationError
 from app.workflows.recordings import RecordingSource

@@ -8,9 +8,9 @@ takes, whether it is cross-validated, whether it advises poses); the steps aroun
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 

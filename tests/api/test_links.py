@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 import time
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 
 import httpx
 import numpy as np
@@ -88,7 +88,7 @@ def test_the_link_is_at_the_address_the_phone_reached_and_a_loopback_one_becomes
             link = phone.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token)).json()
             assert link["url"] == f"{at_lan}/s/{link['code']}"
             expires = datetime.fromisoformat(link["expires_at"])
-            assert expires.utcoffset() is not None and expires > datetime.now(timezone.utc)
+            assert expires.utcoffset() is not None and expires > datetime.now(UTC)
             assert phone.get(link["url"]).status_code == 200  # the other machine opens it there
         with httpx.Client(base_url=f"http://127.0.0.1:{server.port}", timeout=30) as here:
             loop = here.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token)).json()

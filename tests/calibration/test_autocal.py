@@ -72,8 +72,8 @@ def test_held_out_error_below_1_mg_from_tens_of_mg(runs):
 
 def test_selection_fills_nine_bins_with_distinct_points(runs):
     res, _ = runs[0]
-    assert res.selection == {name: 2 for name in BIN_NAMES}
-    assert res.control_selection == {name: 2 for name in BIN_NAMES}
+    assert res.selection == dict.fromkeys(BIN_NAMES, 2)
+    assert res.control_selection == dict.fromkeys(BIN_NAMES, 2)
     assert not set(res.point_starts.tolist()) & set(res.control_starts.tolist())
     d = np.linalg.norm(res.points[:, None] - res.points[None], axis=2)
     assert d[np.triu_indices(18, 1)].min() >= 0.1

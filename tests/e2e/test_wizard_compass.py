@@ -117,7 +117,7 @@ def test_without_a_magnetometer_the_page_points_to_the_upload(page, server):
 
 def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     page = mag_page
-    today = datetime.datetime.now(datetime.timezone.utc).date()
+    today = datetime.datetime.now(datetime.UTC).date()
     field = reference_field(today, HELSINKI["latitude"], HELSINKI["longitude"]).field_ut
     readings, M_true = turn(11, field)
     sent: list[dict] = []

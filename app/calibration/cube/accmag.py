@@ -207,7 +207,7 @@ class FieldSensorCalibration(SensorFit):
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "FieldSensorCalibration":
+    def from_dict(cls, data: dict) -> FieldSensorCalibration:
         """Rebuild a result from :meth:`to_dict` output."""
         model = data["model"]
         rows = data.get("positions") or []
@@ -340,7 +340,7 @@ def _validated(means, covariances, counts, attitudes, reference, sensor: str, es
     if not np.all(np.isfinite(C)) or np.any(n < 1):
         raise CalibrationError(f"{sensor}: covariances must be finite and counts at least 1")
     n_par = N_PARAMETERS if estimate_angles else 12
-    if 3 * P <= n_par:
+    if n_par >= 3 * P:
         raise InsufficientDataError(
             f"{sensor}: {P} still positions give {3 * P} equations for {n_par} parameters (Särkkä et al. section "
             f"III-C); at least {n_par // 3 + 1} positions are needed, 24 in the cube protocol"

@@ -215,7 +215,7 @@ class CubeCalibration(CalibrationResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "CubeCalibration":
+    def _from_body(cls, data: dict) -> CubeCalibration:
         """Rebuild a result from :meth:`to_dict` output (the segmentation is not kept)."""
         det = data["details"]
         p = data["protocol"]

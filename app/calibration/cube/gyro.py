@@ -144,7 +144,7 @@ class GyroCalibration(SensorFit):
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "GyroCalibration":
+    def from_dict(cls, data: dict) -> GyroCalibration:
         """Rebuild a result from :meth:`to_dict` output."""
         model = data["model"]
         return cls(
@@ -372,7 +372,7 @@ def _validated(
             raise CalibrationError(f"rotation {k + 1}: NaN or infinite rates; drop those samples")
     numbers = tuple(range(1, K + 1)) if rotation_numbers is None else tuple(int(n) for n in rotation_numbers)
     n_theta = 12 if estimate_bias else 9
-    if 3 * K < n_theta:
+    if n_theta > 3 * K:
         raise InsufficientDataError(
             f"{K} rotations give {3 * K} attitude equations for {n_theta} gyroscope parameters "
             f"(Särkkä et al. section III-B): at least {-(-n_theta // 3)} rotations about different axes are needed"
@@ -446,7 +446,7 @@ def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance
 
 def _covariance(
     prob: _Problem,
-    lin: "_Linearisation",
+    lin: _Linearisation,
     Sigma,
     estimate_bias: bool,
     bias_covariance,
@@ -479,7 +479,7 @@ def _covariance(
 
 def _metrics(
     prob: _Problem,
-    lin: "_Linearisation",
+    lin: _Linearisation,
     x,
     rots,
     qs,

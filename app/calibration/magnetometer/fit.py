@@ -394,4 +394,4 @@ def fit_magnetometer(
     )
 
 
-__all__ = ["fit_magnetometer", "cross_validated_field_error", "measured_inclination"]
+__all__ = ["cross_validated_field_error", "fit_magnetometer", "measured_inclination"]

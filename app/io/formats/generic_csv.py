@@ -137,7 +137,7 @@ def _header_unit(text: str | None, sensor: str = "acc") -> str | None:
     key = (key[3:] if key.startswith("in ") else key).replace(" ", "")  # iOS loggers' "x (in G's)"
     if sensor == "mag" and key in _MAG_ALIASES:
         return _MAG_ALIASES[key]
-    return _UNIT_ALIASES.get(key, None)
+    return _UNIT_ALIASES.get(key)
 
 
 def split_header(text: str) -> tuple[int, str, list[str]]:
