@@ -29,7 +29,7 @@ def client(tmp_path):
     from fastapi.testclient import TestClient
 
     from app.main import create_app
-    from tests.api.conftest import make_settings
+    from tests.conftest import make_settings
 
     with TestClient(create_app(make_settings(tmp_path)), raise_server_exceptions=False) as c:
         yield c

@@ -14,8 +14,8 @@ from fastapi.testclient import TestClient
 from app.calibration import CANONICAL_SIX
 from app.main import create_app
 from app.reach.tls import lan_addresses
-from tests.api.conftest import make_settings
 from tests.api.test_sessions import auth, start
+from tests.conftest import make_settings
 from tests.live_server import free_port, live_server
 from tests.phone_poses import pose_samples
 

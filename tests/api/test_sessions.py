@@ -8,7 +8,7 @@ from fastapi.testclient import TestClient
 
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, fit_six_position
 from app.main import create_app
-from tests.api.conftest import make_settings
+from tests.conftest import make_settings
 from tests.phone_poses import X_TRUE, pose_samples
 
 G = STANDARD_GRAVITY
