@@ -66,7 +66,8 @@ def main() -> None:
     print(f"{'POST /api/v1/calibrations (six)':<36}{p(solve_ms, 50):>10.2f}{p(solve_ms, 99):>10.2f}")
     print(f"{'GET /healthz':<36}{p(health_ms, 50):>10.2f}{p(health_ms, 99):>10.2f}")
     print(
-        f"{'ratio six / healthz':<36}{p(solve_ms, 50) / p(health_ms, 50):>10.2f}{p(solve_ms, 99) / p(health_ms, 99):>10.2f}"
+        f"{'ratio six / healthz':<36}{p(solve_ms, 50) / p(health_ms, 50):>10.2f}"
+        f"{p(solve_ms, 99) / p(health_ms, 99):>10.2f}"
     )
 
 

@@ -133,7 +133,8 @@ def main() -> None:
     for name, body in (("session", flow), ("upload", upload)):
         m = body["metrics"]
         print(
-            f"  {name}: error on the six poses {m['error_before_mg']:.2f} mg → {m['error_after_mg']:.3f} mg, ok = {body['ok']}"
+            f"  {name}: error on the six poses {m['error_before_mg']:.2f} mg → {m['error_after_mg']:.3f} mg, "
+            f"ok = {body['ok']}"
         )
 
 

@@ -68,7 +68,8 @@ def pose_files(tmp: Path) -> None:
         )
     print(
         f"  mean: raw {body['metrics']['error_before_mg']:.2f} mg, trical {body['metrics']['error_after_mg']:.2f} mg, "
-        f"peer {mg(peer_cal).mean():.2f} mg; max |X − K R| = {np.abs(np.asarray(body['model']['X']) - K @ R).max():.1e}; "
+        f"peer {mg(peer_cal).mean():.2f} mg; "
+        f"max |X − K R| = {np.abs(np.asarray(body['model']['X']) - K @ R).max():.1e}; "
         f"y − b = {np.round(np.asarray(body['model']['y']) - b, 4).tolist()} m/s²"
     )
 

@@ -81,7 +81,8 @@ def main() -> None:
         "Real recordings: raw = mean | |m| - g | over the poses; in-sample = the same after calibration on those poses;"
     )
     print(
-        "cv = each pose calibrated by the fit made without it (leave-one-out); other = the device's other sessions, raw -> calibrated."
+        "cv = each pose calibrated by the fit made without it (leave-one-out); other = the device's other sessions, "
+        "raw -> calibrated."
     )
     print(
         f"{'recording':22} {'method':13} {'poses':>5} {'raw mg':>8} {'in-sample':>10} {'cv mg':>8} {'cv max':>8} "
@@ -112,7 +113,8 @@ def main() -> None:
             print(line)
     print()
     print(
-        "The issue's regime: 10 or 11 consecutive poses of a Georgieva et al. phone table, triangular, the rest held out."
+        "The issue's regime: 10 or 11 consecutive poses of a Georgieva et al. phone table, triangular, the rest "
+        "held out."
     )
     print(
         f"{'recording':22} {'poses':>7} {'raw mg':>8} {'in-sample':>10} {'cv mg':>8} {'cv max':>8} {'ok':>5} "

@@ -2,8 +2,8 @@
 
 ``detail`` says in words what is wrong and how to fix it; ``code`` is stable, for programs (the
 pages decide on it, never on the words). ``detail`` is in the API's words, or in the page's when the
-request comes from the page (``X-Trical-Client: page``, app.words). Bad input never yields a 500; an unexpected failure is
-logged with its traceback and answered with a 500 whose message holds no internals.
+request comes from the page (``X-Trical-Client: page``, app.words). Bad input never yields a 500; an unexpected failure
+is logged with its traceback and answered with a 500 whose message holds no internals.
 
 =====================  ======  ==========================================================
 code                   status  when

@@ -78,10 +78,10 @@ def upload_recording(
         ...,
         description=(
             "A log: CSV with or without a header row, a JSON array of samples, a phyphox / Sensor Logger zip, .npy / "
-            ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several "
-            "`file` parts (one file per pose) are one recording in parts, in the order given; files named one per sensor "
-            "(accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one clock "
-            "(app.io.sensor_files)."
+            ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. "
+            "Several `file` parts (one file per pose) are one recording in parts, in the order given; files named one "
+            "per sensor (accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one "
+            "clock (app.io.sensor_files)."
         ),
     ),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),

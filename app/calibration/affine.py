@@ -275,7 +275,8 @@ def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scal
         offset_gate(
             y,
             max_offset,
-            "offset of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit and the orientation labels",
+            "offset of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit and the orientation "
+            "labels",
         )
     )
     gates.warn(

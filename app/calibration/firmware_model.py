@@ -21,7 +21,8 @@ AccelCalibrator.cpp`` (started with ``ACCEL_CAL_AXIS_ALIGNED_ELLIPSOID`` by ``AP
 
 What the model cannot hold of ``M`` is split by the polar decomposition ``M = R P`` (``R`` a rotation, ``P``
 symmetric positive definite; Higham, *Functions of Matrices*, SIAM 2008, theorem 8.1): ``R`` turns the
-sensor's axes (an axis the correction inverts is first turned back: ``M = R P diag(±1)``), which the firmware's level calibration takes (ArduPilot ``AHRS_TRIM_X/Y``, PX4
+sensor's axes (an axis the correction inverts is first turned back: ``M = R P diag(±1)``), which the firmware's level
+calibration takes (ArduPilot ``AHRS_TRIM_X/Y``, PX4
 ``SENS_BOARD_X_OFF/Y_OFF``); the off-diagonal terms of ``P`` are the axes' non-orthogonality, which neither
 firmware holds.
 """

@@ -255,9 +255,9 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     flat = [axis for k, axis in enumerate("xyz") if not np.all(avar[:, k] > 0)]
     if flat:  # a sensor printing one value (absent, or quantised coarser than its noise) has no noise to read
         raise InsufficientDataError(
-            f"the {SENSOR_WORDS.get(sensor, sensor)}'s {', '.join(flat)} axis readings do not change over the recording, so they hold no noise "
-            "to characterise (a sensor that is absent and prints a constant, or one quantised coarser than its "
-            "noise): leave this sensor out, or log it at a finer resolution"
+            f"the {SENSOR_WORDS.get(sensor, sensor)}'s {', '.join(flat)} axis readings do not change over the "
+            "recording, so they hold no noise to characterise (a sensor that is absent and prints a constant, or one "
+            "quantised coarser than its noise): leave this sensor out, or log it at a finer resolution"
         )
     readings = [_read_axis(tau, avar[:, k], ms, n + 1) for k in range(3)]
     lo = np.column_stack([adev[:, k] * np.sqrt(r.lo) for k, r in enumerate(readings)])

@@ -475,7 +475,8 @@ class StillReadingsResult(CalibrationResult, GatedFit):
         dict
             ``count``, ``norm_error_max`` and ``norm_error_max_raw`` (relative), ``error_before_mg`` and
             ``error_after_mg`` (mean | |a| − g | in thousandths of g), and for the models that report it
-            ``improvement`` (eq. (21) of Farago et al., a fraction): :func:`app.calibration.norm_metrics.evaluate_still`.
+            ``improvement`` (eq. (21) of Farago et al., a fraction):
+            :func:`app.calibration.norm_metrics.evaluate_still`.
         """
         out = evaluate_still(means, self.apply, self.gravity)
         if not self.REPORTS_IMPROVEMENT:

@@ -12,7 +12,8 @@ subtracted from the reading: ``corrected = m − o(T)``. The steps:
 1. **Bins of temperature** (as PX4's ``process_sensor_caldata.py``, ``resampleWithDeltaX``): the
    range is cut into :data:`N_BINS` equal bins, each also cut every 1/:data:`N_BINS` of the
    recording's duration (the board resting at its final temperature fills many bins, not one); each
-   bin's samples are averaged (temperature and reading). The samples of a still recording are strongly correlated in time, and a bin's mean
+   bin's samples are averaged (temperature and reading). The samples of a still recording are strongly correlated in
+   time, and a bin's mean
    stands for a stretch of time: the fit sees bin means, not samples, so its degrees of freedom are
    the bins', not the millions of samples'.
 2. **Generalised least squares on the bin means**, per axis, in dT scaled to [−1, 1] for

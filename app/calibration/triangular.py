@@ -418,7 +418,8 @@ def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale,
         scale_gate(
             np.diag(K),
             plausible_scale,
-            "scale k_{axis}{axis} is {value:.4f}, outside the plausible {lo}–{hi}: check the unit and the gravity value",
+            "scale k_{axis}{axis} is {value:.4f}, outside the plausible {lo}–{hi}: check the unit and the gravity "
+            "value",
         )
     )
     gates.fail(

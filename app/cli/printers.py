@@ -43,7 +43,8 @@ def print_summary(body: dict, recording: dict) -> None:
         if name == "type" or isinstance(value, dict) or value is None:
             if isinstance(value, dict):
                 print(
-                    f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}"
+                    f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = "
+                    f"{np.round(value['b'], 6).tolist()}"
                 )
             continue
         arr = np.atleast_2d(np.asarray(value, dtype=float))

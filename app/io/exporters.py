@@ -129,9 +129,10 @@ def to_c_header(body: dict) -> Export:
             f"{half}): w = m - TRICAL_GYRO_BIAS_RAD_S */\n"
             f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n"
         )
+    unit_in, unit_out = unit_label(body.get("unit")), unit_label(body.get("output_unit"))
     text = f"""/* trical calibration {body["id"]}
  * method: {body["method"]}, created {body["created_at"]}, device: {body.get("device_id") or "-"}
- * input unit: {unit_label(body.get("unit"))}, output unit: {unit_label(body.get("output_unit"))}, gravity: {body.get("gravity")}
+ * input unit: {unit_in}, output unit: {unit_out}, gravity: {body.get("gravity")}
  * calibrated f = M (m - o): {corrections[0].source}
  */
 #ifndef {guard}

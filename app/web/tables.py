@@ -82,11 +82,13 @@ def face_words(name: str, source: str = "phone") -> str:
         said = []
         if to:
             said.append(
-                f"the corner the {' and '.join(to)} arrow{'s' if len(to) == 2 else ''} point{'' if len(to) == 2 else 's'} to"
+                f"the corner the {' and '.join(to)} arrow{'s' if len(to) == 2 else ''} "
+                f"point{'' if len(to) == 2 else 's'} to"
             )
         if away:
             said.append(
-                f"{'the corner ' if not to else ''}away from the {' and '.join(away)} arrow{'s' if len(away) == 2 else ''}"
+                f"{'the corner ' if not to else ''}away from the {' and '.join(away)} "
+                f"arrow{'s' if len(away) == 2 else ''}"
             )
         return f"{pick(side, 'z')}, {', '.join(said)}"
     if len(signs) == 3:
@@ -201,8 +203,8 @@ def page_tables() -> dict:
     dict
         ``gravity`` (m/s²); ``poses`` (``order``, ``up`` vectors, ``names``); ``capture`` (the
         capture machine's options); ``cube`` (the cube flow's face angle); ``free`` (the free flow's
-        angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs); ``cube24`` (the 23
-        ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
+        angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs);
+        ``cube24`` (the 23 ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
         and the ``turnWords`` the server's refusals use); ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``

@@ -149,8 +149,8 @@ def uses_table() -> dict:
     """The page's table of uses: ``defaults`` (:data:`DEFAULT_USES`), ``calibration``, ``noise`` and
     ``temperature``, each a list of key, name,
     format, how (and for a calibration the ``snippet`` shown);
-    ``formats``, ``noiseFormats`` and ``temperatureFormats``, every export as ``[key, name]`` in the order the page lists them
-    (pairs, since the template's JSON sorts an object's keys)."""
+    ``formats``, ``noiseFormats`` and ``temperatureFormats``, every export as ``[key, name]`` in the order the page
+    lists them (pairs, since the template's JSON sorts an object's keys)."""
     return {
         "defaults": {source: list(keys) for source, keys in DEFAULT_USES.items()},
         "calibration": [dict(u) for u in CALIBRATION_USES],

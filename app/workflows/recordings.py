@@ -191,7 +191,8 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
 
     The segments are the accelerometer's rests (a log of other sensors alone has none) that are still on
     every other sensor the log holds too (a gyroscope ringing after the board was put down, a compass
-    turning about gravity: docs/methods.md), none spanning a gap of the time column. A recording made of several files (one per pose, :mod:`app.io.parts`) is
+    turning about gravity: docs/methods.md), none spanning a gap of the time column. A recording made of several files
+    (one per pose, :mod:`app.io.parts`) is
     searched file by file, so that no segment joins two files; each segment then names its file
     (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
     readings contradict gets a note.

@@ -160,7 +160,8 @@ def readings_from_segments(recording: dict, method, indices: list[int] | None) -
         for i in indices:
             if not 0 <= i < len(segments):
                 raise CalibrationError(
-                    f"segment {i} does not exist: the recording has {len(segments)} static segments (0–{len(segments) - 1})"
+                    f"segment {i} does not exist: the recording has {len(segments)} static segments "
+                    f"(0–{len(segments) - 1})"
                 )
             if segments[i]["up"] is None:
                 raise CalibrationError(
@@ -463,8 +464,9 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
                 raise
     if not candidates:
         raise InsufficientDataError(
-            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses (each within 20° of one of ±x, ±y, ±z) "
-            f"and a magnitude model needs at least 9 free poses (12 or more recommended): add "
+            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses "
+            "(each within 20° of one of ±x, ±y, ±z) and a magnitude model needs at least 9 free poses (12 or more "
+            "recommended): add "
             f"{9 - len(m)} or more poses in other directions"
         )
 

@@ -176,8 +176,8 @@ def _cube_session(client):
 
 
 def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client, tmp_path):
-    """24 positions in order, each turn checked at once (Särkkä et al. section VII-A-1); the solution is Särkkä et al.'s method on
-    the joined recording, and recovers the phone's accelerometer and gyroscope."""
+    """24 positions in order, each turn checked at once (Särkkä et al. section VII-A-1); the solution is Särkkä et al.'s
+    method on the joined recording, and recovers the phone's accelerometer and gyroscope."""
     from app.calibration.cube import calibrate_cube
     from tests.cube_phone import B_GYR_DEG_S, S_GYR, X_ACC, Y_ACC, phone_cube
 

@@ -207,13 +207,15 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     note = (
         f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
         f"({elapsed / 24:.1f} s a position, turns of about 1.3 s peaking at 100-130 °/s, played by the page); "
-        f"turn angle seen by the server minus the angle played: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
+        f"turn angle seen by the server minus the angle played: {np.min(seen - fed):+.2f}° to "
+        f"{np.max(seen - fed):+.2f}° "
         f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°), minus the trapezoid of the samples "
         f"the page sent: up to {np.abs(seen - sent_angle).max():.2f}°; end attitude error up to "
         f"{errors.max():.2f}°; acc S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.4f}, "
         f"b − y up to {np.abs(np.array(acc['b']) - Y_ACC).max():.4f} m/s²; "
         f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}, b up to "
-        f"{np.degrees(np.abs(gyr['b']).max()):.3f} °/s; ok={doc['ok']} {[w for w in doc['warnings'] if 'rotation' in w]}"
+        f"{np.degrees(np.abs(gyr['b']).max()):.3f} °/s; "
+        f"ok={doc['ok']} {[w for w in doc['warnings'] if 'rotation' in w]}"
     )
     print("\n" + note)
     ARTIFACTS.mkdir(exist_ok=True)

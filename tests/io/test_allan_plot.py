@@ -1,6 +1,7 @@
 """The Allan deviation picture of a noise calibration (app/io/allan_plot.py): it parses as XML, has
 its panels, lines, marks and values; the fitted slopes pass through the right points when their
-coordinates are read back through the axis transform; null terms are left out with a note (its rendering in Chromium: tests/e2e/test_allan_plot.py)."""
+coordinates are read back through the axis transform; null terms are left out with a note (its rendering in Chromium:
+tests/e2e/test_allan_plot.py)."""
 
 from __future__ import annotations
 

@@ -176,7 +176,8 @@ def test_a_phyphox_gyroscope_file_keeps_its_headers_unit_when_read_as_the_gyrosc
 
 
 def test_json_arrays_one_per_sensor_are_one_recording(tmp_path):
-    """accelerometer.json and gyroscope.json, each an array of {"t", "x", "y", "z"}: the gyroscope's x, y, z are its own."""
+    """accelerometer.json and gyroscope.json, each an array of {"t", "x", "y", "z"}:
+    the gyroscope's x, y, z are its own."""
     import json
 
     rng = np.random.default_rng(12)

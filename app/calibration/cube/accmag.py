@@ -88,7 +88,8 @@ class SensorFit(GatedFit):
 
     @property
     def misalignment(self) -> np.ndarray:
-        """D⁻¹S: misalignments and cross-coupling (soft iron for the magnetometer, the gyroscope's D_ω⁻¹ S_ω), (3, 3)."""
+        """D⁻¹S, (3, 3): misalignments and cross-coupling (soft iron for the magnetometer, the gyroscope's
+        D_ω⁻¹ S_ω)."""
         return decompose(self.S)[1]
 
     def model(self) -> dict:

@@ -382,8 +382,8 @@ def fit_magnetometer(
         own = float(np.linalg.det(M)) ** (-1.0 / 3.0) * field
         if abs(own / field - 1.0) > MAX_SCALE_DEVIATION:
             gates.warn(
-                f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: check the "
-                "magnetometer's unit, or the place and date"
+                f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: "
+                "check the magnetometer's unit, or the place and date"
             )
     if stage == "refined" and not fitted.converged:
         gates.fail("the fit did not converge: turn the device slowly through all directions and try again")

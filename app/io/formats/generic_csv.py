@@ -447,8 +447,8 @@ def read_csv_log(
     LogFormatError
         Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks,
         a table without a header row whose columns its data do not name (or name more than one way:
-        :class:`~app.io.formats.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in a numeric column (with its line number), a
-        missing sampling rate.
+        :class:`~app.io.formats.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in
+        a numeric column (with its line number), a missing sampling rate.
     """
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)

@@ -157,7 +157,10 @@ def test_invalid_input_and_mismatched_protocols():
 
 
 def test_core_does_not_import_the_web_stack():
-    code = "import sys, app.calibration.cube as c; print(any(m.split('.')[0] in ('fastapi', 'pydantic') for m in sys.modules))"
+    code = (
+        "import sys, app.calibration.cube as c; "
+        "print(any(m.split('.')[0] in ('fastapi', 'pydantic') for m in sys.modules))"
+    )
     out = run_ok([sys.executable, "-c", code], timeout_s=120)
     assert out.stdout.strip() == "False"
 
