@@ -51,7 +51,7 @@ def pose_files(tmp: Path) -> None:
         for s in ORDER:
             lines = (REAL / "mpu6050_pose_files" / f"{s}.csv").read_text().splitlines(keepends=True)
             zf.writestr(f"{s}.csv", "".join(lines[: n + 1]))
-    meta, body = calibrate(joined, {"method": "six_position", "gravity": peer["gravity"]}, units={"acc": "m/s^2"})
+    _meta, body = calibrate(joined, {"method": "six_position", "gravity": peer["gravity"]}, units={"acc": "m/s^2"})
     g = peer["gravity"]
     K, R, b = np.diag(peer["K"]), np.asarray(peer["R"]), np.asarray(peer["b"])
     means = np.array([r["mean"] for r in body["readings"]])

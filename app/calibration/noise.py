@@ -142,7 +142,7 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
     lo_f, hi_f = chi2_interval(edf, CONFIDENCE)
     total = parts.sum(axis=1)
     best = {}
-    for j, name in enumerate(TERMS):
+    for j in range(len(TERMS)):
         share = np.where(total > 0, parts[:, j] / np.where(total > 0, total, 1.0), 0.0)
         share[~fit] = 0.0
         if theta[j] > 0 and share.max() >= SHARE_MIN:

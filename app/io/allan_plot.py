@@ -420,7 +420,7 @@ def _panel(s: _Sensor, top: float, index: int) -> tuple[str, float, str]:
         step = max(1, len(flat) // 8)
         plot += [_marker(axis, x, y) for x, y in flat[i * step // 3 :: step]]
     g.append(f'<g clip-path="url(#{clip})">{"".join(plot)}</g>')
-    for key, cls, symbol, _ in TERMS:
+    for key, cls, _symbol, _ in TERMS:
         for axis, p in zip(AXES, marks[key]):
             if p is None or not axes.inside(axes.x(p[0]), axes.y(p[1])):
                 continue

@@ -69,7 +69,7 @@ def face_words(name: str, source: str = "phone") -> str:
     the Y arrow``.
     """
     signs = [(name[i + 1], name[i] == "+") for i in range(0, len(name), 2)]
-    word = {axis: pos for axis, pos in signs}
+    word = dict(signs)
     board = source == "board"
     side, towards = (_BOARD_SIDE, _BOARD_TOWARDS) if board else (_SIDE, _TOWARDS)
 

@@ -38,7 +38,7 @@ def solved(client) -> tuple[dict, str]:
 def test_a_link_reads_its_one_calibration_until_it_expires(tmp_path):
     with TestClient(create_app(make_settings(tmp_path, link_ttl_min=0.01))) as client:  # 0.6 s
         cal, token = solved(client)
-        other, other_token = solved(client)
+        other, _other_token = solved(client)
         assert client.post(f"/api/v1/calibrations/{cal['id']}/links").status_code == 404  # not the session's
         r = client.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token))
         assert r.status_code == 201, r.text

@@ -53,7 +53,7 @@ def test_recovers_cross_axis_parameters_at_table2_level(runs):
 
 
 def test_held_out_error_below_1_mg_from_tens_of_mg(runs):
-    for res, truth in runs:
+    for res, _truth in runs:
         m = res.metrics
         assert m["error_before_mg"] > 10.0
         assert m["error_after_mg"] < 1.0

@@ -172,7 +172,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     assert "rounds its sensor values to 0.1 m/s²" in warnings and "may already calibrate" in warnings
     rows = page.eval_on_selector_all("#norm-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
     assert [r[0] for r in rows] == POSES
-    for (label, raw, calibrated), m in zip(rows, fed):
+    for (_label, raw, calibrated), m in zip(rows, fed):
         assert float(raw) == pytest.approx(np.linalg.norm(m), abs=1e-4)
         assert float(calibrated) == pytest.approx(np.linalg.norm(expected.apply(m[None])[0]), abs=1e-4)
     assert page.locator("#norm-chart svg circle").count() == 12

@@ -197,7 +197,7 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
 
 
 def test_a_phyphox_upload_shows_the_sphere_before_and_after(page, server, tmp_path):
-    readings, M_true = turn(12, 48.0, n=400)
+    readings, _M_true = turn(12, 48.0, n=400)
     t = np.arange(len(readings)) / 10.0
     path = tmp_path / "Raw Data.csv"
     header = '"Time (s)","Magnetic field x (µT)","Magnetic field y (µT)","Magnetic field z (µT)"'

@@ -119,7 +119,7 @@ def test_curves_and_fitted_slopes_pass_through_the_right_points(noise_three):
             for x, y in points(walk.get("d")):  # σ(τ) = K √(τ / 3)
                 assert tr.sigma_of(y) / math.sqrt(tr.tau_of(x) / 3) == pytest.approx(k, rel=2e-3)
             floor = p.find(f".//s:path[@class='fit bias-instability'][@data-axis='{axis}']", NS)
-            for x, y in points(floor.get("d")):  # σ = 0.664 B
+            for _x, y in points(floor.get("d")):  # σ = 0.664 B
                 assert tr.sigma_of(y) == pytest.approx(FLOOR * b, rel=2e-3)
 
             marks = {

@@ -58,7 +58,7 @@ def decompose(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def decomposition_jacobian(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Derivatives of D (3) and D⁻¹S (9, row-major) with respect to S (9, row-major)."""
-    D, M = decompose(S)
+    D, _M = decompose(S)
     JD = np.zeros((3, 9))
     for j in range(3):
         for i in range(3):
@@ -355,7 +355,7 @@ def _gauss_newton(x, free, m, Rs, ref: float, L, sensor: str, max_iterations: in
     y = m.reshape(-1)
     converged = False
     it = 0
-    for it in range(1, max_iterations + 1):
+    for it in range(1, max_iterations + 1):  # noqa: B007 - the count of iterations is read after the loop
         h, J = _model_and_jacobian(x, Rs, ref)
         p = h - y  # Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (12)
         # Eq. (13), step 3: (Jᵀ W J) Δx = Jᵀ W p, solved in whitened least-squares form.

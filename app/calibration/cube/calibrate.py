@@ -487,7 +487,7 @@ def _fit_gyro(rec: _Stages, w, lam, gates: Gates) -> tuple[GyroCalibration | Non
         return None, used
     res = fit_gyroscope(
         rates,
-        proto.quaternions[[k for k in used]],
+        proto.quaternions[list(used)],
         proto.quaternions[[k + 1 for k in used]],
         bias0=bias0,
         lam=lam,

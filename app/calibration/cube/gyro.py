@@ -349,7 +349,7 @@ def _gauss_newton(prob: _Problem, x, lam, max_iterations, tolerance):
     (below ``tolerance``) that same step has put the quaternions at their optimum.
     """
     it = 0
-    for it in range(1, max_iterations + 1):
+    for it in range(1, max_iterations + 1):  # noqa: B007 - the count of iterations is read after the loop
         dx = _NormalSolver(prob.evaluate(x, lam)).step()
         x = x + dx
         if np.max(np.abs(dx[prob.n_q :])) < tolerance:

@@ -133,7 +133,7 @@ def _candidates(models, power_usable: bool, power_given: bool) -> list[str]:
     out = []
     for name in names:
         try:
-            model, motor = parse_candidate(name)
+            _model, motor = parse_candidate(name)
         except ValueError:
             raise CalibrationError(
                 f"unknown compass model {name!r}: use auto or one of "

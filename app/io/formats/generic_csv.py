@@ -737,7 +737,7 @@ def read_arduino(
         )
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
-    first = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(data[0]))
+    first = {k.strip(): v for k, v in _PLOTTER_PAIR.findall(data[0])}
     labels = list(first)
     channels: dict[str, dict[str, str]] = {}
     for label in labels:
@@ -756,7 +756,7 @@ def read_arduino(
     for number, line in enumerate(lines, start=1):
         if not line.strip() or is_comment(line):
             continue
-        pairs = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(line))
+        pairs = {k.strip(): v for k, v in _PLOTTER_PAIR.findall(line)}
         try:
             for sensor, axes in channels.items():
                 rows[sensor].append([float(pairs[axes[a]]) for a in "xyz"])
