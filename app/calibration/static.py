@@ -16,6 +16,7 @@ The unit may be m/s², g or raw counts; thresholds are fractions of a reference 
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -401,7 +402,7 @@ class _Runs:
             std=std,
             count=count,
             up=nearest_orientation(mean, label_max_angle_deg),
-            gaps=tuple((int(self.b[i]), int(self.a[j])) for i, j in zip(grp[:-1], grp[1:])),
+            gaps=tuple((int(self.b[i]), int(self.a[j])) for i, j in itertools.pairwise(grp)),
             drift_deg_per_s=float(rate),
         )
 

@@ -17,6 +17,7 @@ panel says so.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from html import escape
@@ -322,7 +323,7 @@ def _obstacles(runs_by_axis: list, fits: list, marks: list[tuple[float, float]])
     rows = []
     for runs, weight in [(r, 1.0) for r in runs_by_axis] + [([f], 0.3) for f in fits]:
         for run in runs:
-            for (xa, ya), (xb, yb) in zip(run, run[1:]):
+            for (xa, ya), (xb, yb) in itertools.pairwise(run):
                 n = max(1, int(math.hypot(xb - xa, yb - ya) / 3))
                 t = np.linspace(0, 1, n, endpoint=False)
                 rows.append(np.column_stack([xa + t * (xb - xa), ya + t * (yb - ya), np.full(n, weight)]))

@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import itertools
 import math
 import re
 import time
@@ -393,14 +394,14 @@ class StreamRate:
 
     @staticmethod
     def _longest(points: list[tuple[float, int]]) -> float:
-        return max((q[0] - p[0] for p, q in zip(points, points[1:])), default=0.0)
+        return max((q[0] - p[0] for p, q in itertools.pairwise(points)), default=0.0)
 
     def _ends(self, points: list[tuple[float, int]], full: float | None, pause: float = 0.0):
         """The first and the latest burst end of ``points`` and their longest step, if they decide the rate:
         the ends span the needed time (for their longest step, or the ``pause`` before them) and the halves
         agree, or (``full``: the arrivals' age) fill the window."""
         longest = self._longest(points)
-        ends = [p for p, q in zip(points, points[1:]) if q[0] - p[0] >= 0.5 * longest]
+        ends = [p for p, q in itertools.pairwise(points) if q[0] - p[0] >= 0.5 * longest]
         if len(ends) < 2 or ends[-1][0] - ends[0][0] < max(self.min_s, self.steps * max(longest, pause)):
             return None
         if self._halves_agree(ends) or (full is not None and full >= self.window_s - longest):

@@ -4,6 +4,7 @@ recording a request calibrates from (:class:`RecordingSource`) with the checks e
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -172,7 +173,7 @@ def _still_between_gaps(acc, rate: float, gravity: float | None, cuts, others=()
     in time; a stretch shorter than one window holds none."""
     bounds = [0, *cuts, len(acc)]
     out = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
+    for a, b in itertools.pairwise(bounds):
         try:
             found = detect_static_segments(acc[a:b], rate, gravity=gravity, others=[o[a:b] for o in others])
         except InsufficientDataError:  # shorter than one window: no rest in it

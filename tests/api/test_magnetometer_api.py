@@ -218,7 +218,7 @@ def test_c_header_json_yaml_and_csv_carry_the_compass(client, cal, turn, tmp_pat
     cc = shutil.which("cc") or shutil.which("gcc")
     assert cc, "a C compiler (gcc) is needed to test the C header export"
     (tmp_path / "cal.h").write_text(_export(client, cal, "c"))
-    raw = ",".join("{%r,%r,%r}" % tuple(r) for r in m.tolist())
+    raw = ",".join("{{{!r},{!r},{!r}}}".format(*r) for r in m.tolist())
     (tmp_path / "main.c").write_text(
         '#include <stdio.h>\n#include "cal.h"\n'
         f"static const float raw[{len(m)}][3] = {{{raw}}};\n"

@@ -8,6 +8,7 @@ or the test stalled on a loaded machine; played by the page, they cannot be."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import time
 
@@ -134,7 +135,7 @@ def turn_integral_deg(motion: dict) -> float:
 def check_moves(sent: list[dict]):
     """Each move runs from the end of the capture accepted before it to the start of its own still
     window, without a gap: exactly the samples in between."""
-    for prev, cap in zip(sent, sent[1:]):
+    for prev, cap in itertools.pairwise(sent):
         motion = cap["motion"]
         t = np.array(motion["t_ms"])
         assert len(t) >= 20 and len(motion["gyr"]) == len(t) == len(motion["acc"])

@@ -28,7 +28,7 @@ def _write(tmp_path, header: str, columns: list, fmt: str = "%.6f", name: str = 
         f.write(header + "\n")
         for row in data:
             f.write(
-                ",".join(("%.3f" % v) if (i == 0 and header.startswith("t,")) else (fmt % v) for i, v in enumerate(row))
+                ",".join(f"{v:.3f}" if (i == 0 and header.startswith("t,")) else (fmt % v) for i, v in enumerate(row))
                 + "\n"
             )
     return path
