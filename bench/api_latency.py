@@ -60,7 +60,10 @@ def main() -> None:
         timed(solve, 20), timed(health, 20)  # warm-up
         solve_ms = timed(solve, args.requests)
         health_ms = timed(health, args.requests)
-    p = lambda a, q: float(np.percentile(a, q))  # noqa: E731
+
+    def p(a, q):
+        return float(np.percentile(a, q))
+
     print(f"{args.requests} sequential requests per endpoint, one keep-alive connection, loopback")
     print(f"{'endpoint':<36}{'p50 ms':>10}{'p99 ms':>10}")
     print(f"{'POST /api/v1/calibrations (six)':<36}{p(solve_ms, 50):>10.2f}{p(solve_ms, 99):>10.2f}")

@@ -43,7 +43,7 @@ def run(http: httpx.Client, protocol: str, captures: list[dict]) -> dict[str, li
     s = r.json()
     h = {"Authorization": f"Bearer {s['token']}"}
     for body in captures:
-        ms, r = _timed(lambda: http.post(f"/api/v1/sessions/{s['id']}/captures", json=body, headers=h))
+        ms, r = _timed(lambda: http.post(f"/api/v1/sessions/{s['id']}/captures", json=body, headers=h))  # noqa: B023 - called at once
         assert r.status_code == 201, r.text
         times["capture"].append(ms)
     ms, r = _timed(lambda: http.post(f"/api/v1/sessions/{s['id']}/solve", headers=h))
@@ -60,7 +60,10 @@ def main() -> None:
     six = [pose_samples(label, rng) for label in SIX]
     phone = phone_cube(0, static_s=5.0)
     cube = [phone.capture(k) for k in range(1, 25)]
-    p = lambda a, q: float(np.percentile(a, q))  # noqa: E731
+
+    def p(a, q):
+        return float(np.percentile(a, q))
+
     with (
         tempfile.TemporaryDirectory() as tmp,
         live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp}/bench.db"}) as server,

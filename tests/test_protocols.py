@@ -161,7 +161,7 @@ def test_cube24_asks_for_the_positions_in_order(store):
     assert CUBE24.next_position(session) == "4"
     assert CUBE24.remaining(session) == [str(k) for k in range(4, 25)]
     assert not CUBE24.solvable(session)
-    with pytest.raises(InsufficientDataError, match="capture 4, 5, .*, 24 first: the session has 3 of 24 positions"):
+    with pytest.raises(InsufficientDataError, match=r"capture 4, 5, .*, 24 first: the session has 3 of 24 positions"):
         sessions.solve(store, session)
     redone = CUBE24.check(session, {**phone.capture(3), "redo": True})  # the last one again, by the same turn
     assert redone["position"] == "3" and redone["turn"]["ok"]

@@ -216,7 +216,10 @@ def offset_scale_fit(M, o, gravity: float, means=None) -> OffsetScaleFit:
         raise CalibrationError("the correction mirrors the axes (a left-handed frame): no offsets and scales hold it")
     offset, scale = fit_offset_scale(readings, g, o, np.diag(P))
     scale = np.abs(scale) * sign
-    fit_apply = lambda m: (m - offset) * scale  # noqa: E731
+
+    def fit_apply(m):
+        return (m - offset) * scale
+
     Xs = np.linalg.inv(M * sign)
     rows = Xs / np.linalg.norm(Xs, axis=1, keepdims=True)  # the sensor's axes, in the calibrated frame
     cos = np.clip([rows[0] @ rows[1], rows[0] @ rows[2], rows[1] @ rows[2]], -1.0, 1.0)

@@ -160,7 +160,7 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
         # The other terms' fitted parts are subtracted with their own errors (each read where it is
         # most precise): their variances add to σ̂²'s, giving the effective degrees of freedom
         # (Satterthwaite's approximation) of the χ² interval.
-        var = 2.0 * avar[i] ** 2 / edf[i] + sum((parts[i, l] * best[l][1]) ** 2 for l in best if l != j)
+        var = 2.0 * avar[i] ** 2 / edf[i] + sum((parts[i, o] * best[o][1]) ** 2 for o in best if o != j)
         edf_i = max(2.0 * avar[i] ** 2 / var, 1.0) if var > 0 else edf[i]
         lo_i, hi_i = chi2_interval(edf_i, CONFIDENCE)
         read = [(avar[i] * f - others) / a[i, j] for f in (1.0, float(lo_i), float(hi_i))]

@@ -635,11 +635,14 @@ def heading_errors(body: dict) -> dict:
 
 def _flight_header(body: dict, target: str, notes: list[str]) -> list[str]:
     flight, errors = body.get("flight") or {}, heading_errors(body)
-    figure = lambda e: (
-        f"rms {e['rms']:.2f} deg, 95th percentile {e['p95']:.2f} deg"
-        if e.get("rms") is not None and e.get("p95") is not None
-        else "not measured"
-    )
+
+    def figure(e):
+        return (
+            f"rms {e['rms']:.2f} deg, 95th percentile {e['p95']:.2f} deg"
+            if e.get("rms") is not None and e.get("p95") is not None
+            else "not measured"
+        )
+
     before, after = errors["before"], errors["after"]
     lines = [
         f"trical calibration {body.get('id', '-')}",

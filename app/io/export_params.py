@@ -149,7 +149,10 @@ def firmware_summary(body: dict, target: str) -> dict:
         figure below raw's) and ``words`` (one sentence).
     """
     fit = offset_scale(body, target)["fit"]
-    mg = lambda v: float(1000.0 * v)  # noqa: E731 - relative norm errors to thousandths of g
+
+    def mg(v):
+        return float(1000.0 * v)  # relative norm errors to thousandths of g
+
     out = {
         "target": target,
         "count": fit.count,
@@ -217,7 +220,10 @@ def _number(v: float) -> str:
 def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
     """The comment lines that say what the firmware reaches with these numbers, and what it cannot hold."""
     fit = p["fit"]
-    mg = lambda v: f"{1000.0 * v:.3f}"  # noqa: E731 - relative norm errors to thousandths of g
+
+    def mg(v):
+        return f"{1000.0 * v:.3f}"  # relative norm errors to thousandths of g
+
     if fit.from_readings:
         on = f"the calibration's {counted(fit.count, 'still reading')}"
         exact = (

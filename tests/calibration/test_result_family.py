@@ -58,7 +58,10 @@ def test_round_trip_units_and_correction(result):
     assert body["schema_version"] == SCHEMA_VERSION and body["model"]["type"] == result.MODEL_TYPE
     assert body["ok"] is result.ok and body["unit"] == result.unit and body["output_unit"] == result.output_unit
     again = CalibrationResult.from_dict(body)
-    kept = lambda d: {k: v for k, v in d.items() if k != "segments"}  # noqa: E731  (the cube's segmentation is not kept)
+
+    def kept(d):
+        return {k: v for k, v in d.items() if k != "segments"}  # (the cube's segmentation is not kept)
+
     assert type(again) is type(result) and kept(again.to_dict()) == kept(body)
     assert type(CalibrationResult.from_dict(body)) is type(result)
     rng = np.random.default_rng(3)

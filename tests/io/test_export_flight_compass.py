@@ -139,7 +139,10 @@ def ardupilot_correct(
 ) -> np.ndarray:
     """AP_Compass_Backend::rotate_field then correct_field, with the export's parameters; µT in, µT out."""
     s = "" if instance == 0 else str(instance + 1)
-    v = lambda g: np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])  # noqa: E731
+
+    def v(g):
+        return np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])
+
     orient = int(params.get(f"COMPASS_ORIENT{s}", stored_orient))
     mag = ap_rotate(orient, sensor_ut) * 10.0  # milligauss
     mag = mag + v("OFS")
@@ -163,7 +166,10 @@ def px4_correct(
 ) -> np.ndarray:
     """Magnetometer::Correct with the export's parameters; µT in, µT out; power already in PX4's unit;
     ``_rotation = level adjustment * get_rot_matrix(ROT)`` (Magnetometer::set_rotation)."""
-    c = lambda g: np.array([params[f"CAL_MAG{slot}_{a}{g}"] for a in "XYZ"])  # noqa: E731
+
+    def c(g):
+        return np.array([params[f"CAL_MAG{slot}_{a}{g}"] for a in "XYZ"])
+
     R = level @ px4_rotation(int(params.get(f"CAL_MAG{slot}_ROT", stored_rot)))
     d, o = c("SCALE"), c("ODIAG")
     S = np.array([[d[0], o[0], o[1]], [o[0], d[1], o[2]], [o[1], o[2], d[2]]])
@@ -337,7 +343,10 @@ def dataflash_params(path: Path) -> dict[str, float]:
 def test_ardupilot_export_of_the_stored_calibration_is_the_stored_parameters(instance):
     params = {k: v for k, v in dataflash_params(REAL / "test.BIN").items() if k.startswith(("COMPASS_", "AHRS_"))}
     s = "" if instance == 0 else str(instance + 1)
-    v = lambda g: np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])  # noqa: E731
+
+    def v(g):
+        return np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])
+
     dia, odi = v("DIA"), v("ODI")
     M = np.array([[dia[0], odi[0], odi[1]], [odi[0], dia[1], odi[2]], [odi[1], odi[2], dia[2]]])
     body = flight_body(
@@ -362,7 +371,10 @@ def test_px4_export_of_the_stored_calibration_is_the_stored_parameters(rng):
         for k, v in ULog(str(REAL / "sample_log_small.ulg")).initial_parameters.items()
         if k.startswith(("CAL_MAG", "SENS_BOARD"))
     }
-    c = lambda g: np.array([params[f"CAL_MAG1_{a}{g}"] for a in "XYZ"])  # noqa: E731  slot 1: the external compass
+
+    def c(g):
+        return np.array([params[f"CAL_MAG1_{a}{g}"] for a in "XYZ"])  # slot 1: the external compass
+
     level = px4_level(params)  # SENS_BOARD_X_OFF 0.76, Y_OFF -2.94 degrees in this log
     R = level @ px4_rotation(int(params["CAL_MAG1_ROT"]))
     S, off = np.diag(c("SCALE")), 100.0 * c("OFF")

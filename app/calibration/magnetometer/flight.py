@@ -267,7 +267,10 @@ def fit_flight_compass(
     heading, err_before, err_after = _heading_errors(gates, left_out[chosen], fw, C, ref)
 
     idx = _thin(n)
-    thin = lambda a: None if a is None else a[idx]  # noqa: E731
+
+    def thin(a):
+        return None if a is None else a[idx]
+
     series = {
         "time_s": t[idx],
         "expected": e[idx],

@@ -87,9 +87,9 @@ def design(
     n = len(u)
     cols = [e @ E.T for E in _basis(model)]  # ∂(S e)/∂θ_j
     eye = np.eye(3)
-    cols += [np.broadcast_to(eye[:, l], (n, 3)) for l in range(3)]  # b
+    cols += [np.broadcast_to(eye[:, c], (n, 3)) for c in range(3)]  # b
     if motor:
-        cols += [np.outer(p, eye[:, l]) for l in range(3)]  # k p
+        cols += [np.outer(p, eye[:, c]) for c in range(3)]  # k p
     return np.stack(cols, axis=2), ((u - e) if model == "offsets" else u)
 
 
