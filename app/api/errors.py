@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
+from typing import ClassVar
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
@@ -62,7 +63,7 @@ class PayloadTooLarge(Exception):
     by app.api.body_limit before it is parsed)."""
 
     code = "payload_too_large"
-    LIMITS = {
+    LIMITS: ClassVar[dict[str, tuple[str, str, str]]] = {
         "upload": ("the upload", "TRICAL_MAX_UPLOAD_MB", "split the recording or raise the limit"),
         "json": (
             "the JSON body",

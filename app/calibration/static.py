@@ -341,12 +341,15 @@ class _Runs:
         groups: list[list[int]] = []
         g_sum = g_cnt = None
         for i in range(len(self.a)):
-            if groups and self.a[i] - self.b[groups[-1][-1]] <= max_gap:
-                if np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr:
-                    groups[-1].append(i)
-                    g_sum = g_sum + self.sums[i]
-                    g_cnt += self.counts[i]
-                    continue
+            if (
+                groups
+                and self.a[i] - self.b[groups[-1][-1]] <= max_gap
+                and np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr
+            ):
+                groups[-1].append(i)
+                g_sum = g_sum + self.sums[i]
+                g_cnt += self.counts[i]
+                continue
             groups.append([i])
             g_sum, g_cnt = self.sums[i], self.counts[i]
         return groups

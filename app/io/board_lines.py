@@ -548,12 +548,9 @@ class LogWriter:
     def __init__(self, path: Path, fmt: LineFormat):
         self.path = Path(path)
         self.fmt = fmt
-        self.file = open(self.path, "w", newline="", encoding="utf-8")
+        self.file = open(self.path, "w", newline="", encoding="utf-8")  # noqa: SIM115 - open until close()
         self.first_arrival: float | None = None
-        if fmt.time_col is not None:
-            time_name = fmt.header[fmt.time_col] if fmt.header else "time"
-        else:
-            time_name = "time_s"
+        time_name = (fmt.header[fmt.time_col] if fmt.header else "time") if fmt.time_col is not None else "time_s"
         names = [time_name]
         for s in fmt.sensors:
             unit = fmt.units.get(s)

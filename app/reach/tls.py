@@ -7,6 +7,7 @@ certificate files the user gives).
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
 import hashlib
 import ipaddress
@@ -56,10 +57,8 @@ def lan_addresses() -> list[str]:
                 found.append(s.getsockname()[0])
         except OSError:
             continue
-    try:
+    with contextlib.suppress(OSError, UnicodeError):
         found += socket.gethostbyname_ex(socket.gethostname())[2]
-    except (OSError, UnicodeError):
-        pass
     addresses = list(dict.fromkeys(a for a in found if _usable(a)))
     return addresses or ["127.0.0.1"]
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import re
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -155,7 +156,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
     download = info.value
-    doc = json.loads(open(download.path()).read())
+    doc = json.loads(Path(download.path()).read_text())
     np.testing.assert_allclose(np.array(doc["model"]["X"]), expected.X, rtol=1e-9, atol=0)
     np.testing.assert_allclose(np.array(doc["model"]["y"]), expected.y, rtol=1e-9, atol=0)
     assert download.suggested_filename == f"{doc['id']}.json"

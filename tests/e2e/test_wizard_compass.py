@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import datetime
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -166,7 +167,7 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     with page.expect_download() as info:
         page.click("#downloads a[data-format='json']")
     full = page.request.get(
-        f"{server.url}/api/v1/calibrations/{json.loads(open(info.value.path()).read())['id']}"
+        f"{server.url}/api/v1/calibrations/{json.loads(Path(info.value.path()).read_text())['id']}"
     ).json()
     # The verdict first, in µT on new directions; the file for the use chosen (a phone app: JSON) under it.
     assert page.text_content("#verdict-words") == full["verdict"]["words"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 import itertools
 import json
 import time
+from pathlib import Path
 
 import numpy as np
 from playwright.sync_api import expect
@@ -203,7 +204,7 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     # What the page shows: Särkkä et al.'s model with its half-widths, checks, warnings, downloads.
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
-    doc = json.loads(open(info.value.path()).read())
+    doc = json.loads(Path(info.value.path()).read_text())
     acc, gyr = doc["model"]["acc"], doc["model"]["gyr"]
     note = (
         f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "

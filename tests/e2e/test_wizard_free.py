@@ -6,6 +6,7 @@ calibration recovers the simulated phone."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -120,7 +121,7 @@ def test_free_poses_until_the_target(page, server_5mg):
 
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
-    doc = json.loads(open(info.value.path()).read())
+    doc = json.loads(Path(info.value.path()).read_text())
     saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.free')"))
     r = page.request.get(
         f"{server.url}/api/v1/calibrations/{doc['id']}", headers={"Authorization": f"Bearer {saved['token']}"}

@@ -26,6 +26,8 @@ from app.io.errors import ExportError
 from app.io.export_compass import FLIGHT_COMPASS_EXPORTS, export_flight_compass
 from app.io.exporters import export_calibration
 
+EYE = np.eye(3)
+
 # ArduPilot's Vector3::rotate, case by case (libraries/AP_Math/vector3.cpp), for the entries used here
 AP_ROTATE = {
     0: lambda x, y, z: (x, y, z),
@@ -62,15 +64,15 @@ def soft_iron(rng, scale=0.06) -> np.ndarray:
 def flight_body(
     firmware="ardupilot",
     *,
-    Q=np.eye(3),
-    M=np.eye(3),
+    Q=EYE,
+    M=EYE,
     b=(12.0, -20.0, 31.0),
     k=(0.4, -0.3, 0.6),
     motor="current",
     instance=0,
     orientation=0,
     params=None,
-    frame_to_body=np.eye(3),
+    frame_to_body=EYE,
     ok=True,
 ) -> dict:
     return {
@@ -162,7 +164,7 @@ def px4_level(params: dict) -> np.ndarray:
 
 
 def px4_correct(
-    params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray, level: np.ndarray = np.eye(3)
+    params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray, level: np.ndarray = EYE
 ) -> np.ndarray:
     """Magnetometer::Correct with the export's parameters; µT in, µT out; power already in PX4's unit;
     ``_rotation = level adjustment * get_rot_matrix(ROT)`` (Magnetometer::set_rotation)."""

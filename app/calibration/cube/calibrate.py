@@ -12,6 +12,7 @@ before the first mistake.  Every sensor follows ``raw = S f + b`` (Särkkä et a
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -90,7 +91,7 @@ class CubeCalibration(CalibrationResult):
     method = MODEL_TYPE
     PER_SENSOR = True
     CUBE_SENSORS = ("acc", "gyr", "mag")
-    CALIBRATED_UNITS = {"gyr": "rad/s", "mag": "uT"}
+    CALIBRATED_UNITS: ClassVar[dict[str, str]] = {"gyr": "rad/s", "mag": "uT"}
     """What the gyroscope and magnetometer corrections calibrate into."""
 
     @property
