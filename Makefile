@@ -8,7 +8,7 @@ CHROMIUM ?= /usr/bin/chromium
 WEBKIT_DRIVER ?= /usr/bin/WebKitWebDriver
 XVFB ?= /usr/bin/Xvfb
 
-.PHONY: run test install install-test system-deps bench clean
+.PHONY: run test lint install install-test system-deps bench clean
 
 # The service: a virtual environment, the package, and the server on $(HOST):$(PORT) with SQLite under ./var.
 run: $(VENV)/.installed
@@ -21,8 +21,15 @@ run: $(VENV)/.installed
 # (--dist worksteal), so the slowest browser walks do not leave one worker running alone at the end.
 # Every test is bounded (pytest-timeout, pyproject.toml).
 TEST_WORKERS ?= 3
-test: $(VENV)/.installed-test system-deps
+test: $(VENV)/.installed-test lint system-deps
 	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
+
+# The static checks, first in `make test`, each at zero findings: ruff's lint rules and its formatter's
+# check on the whole repository (ruff pinned in the test extra, its settings in pyproject.toml).
+# A type checker's line joins them here.
+lint: $(VENV)/.installed-test
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
 
 install: $(VENV)/.installed
 install-test: $(VENV)/.installed-test
