@@ -227,7 +227,10 @@ BY_NAME = {method.name: method for method in TABLE}
 METHODS = tuple(BY_NAME)
 """The values of `method` that POST /api/v1/calibrations accepts."""
 
-CalibrationIn = Annotated[Union[tuple(method.request for method in TABLE)], Field(discriminator="method")]  # noqa: UP007 - a union of a tuple made at run time: no `|` spelling
+CalibrationIn = Annotated[
+    Union[tuple(method.request for method in TABLE)],  # noqa: UP007 - a union of a run-time tuple: no `|` spelling
+    Field(discriminator="method"),
+]
 """A calibration request: the request model its ``method`` names."""
 
 CALIBRATION_REQUEST = TypeAdapter(CalibrationIn)

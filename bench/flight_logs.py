@@ -30,7 +30,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from tests.flight_logs import (  # noqa: E402 - after the sys.path entry for the repository
+from tests.flight_logs import (  # noqa: E402 - after sys.path.insert
     ardupilot_batch,
     ardupilot_imu,
     ardupilot_mag,

@@ -23,10 +23,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from app import methods  # noqa: E402 - after the sys.path entry for the repository
-from app.io.formats import read_log  # noqa: E402 - after the sys.path entry for the repository
-from app.io.read_options import ReadOptions  # noqa: E402 - after the sys.path entry for the repository
-from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402 - after the sys.path entry for the repository
+from app import methods  # noqa: E402 - after sys.path.insert
+from app.io.formats import read_log  # noqa: E402 - after sys.path.insert
+from app.io.read_options import ReadOptions  # noqa: E402 - after sys.path.insert
+from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402 - after sys.path.insert
 
 REAL = ROOT / "tests" / "data" / "real"
 ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")

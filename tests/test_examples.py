@@ -78,7 +78,8 @@ def test_the_arduino_example_correction_built_for_the_host(client, tmp_path):
     np.testing.assert_allclose(board, api.json()["samples"], atol=2e-5)  # float32 on the board
 
 
-def test_the_python_example_reads_a_board_and_calibrates_over_the_api(tmp_path, pty_board):  # noqa: F811 - pytest passes the fixture imported above
+# pty_board is the fixture imported above, which pytest passes: not a redefinition (F811).
+def test_the_python_example_reads_a_board_and_calibrates_over_the_api(tmp_path, pty_board):  # noqa: F811
     port, make = pty_board
     board = make(board_script(11, first_s=3.0, still_s=3.0, turn_s=0.4))  # 20 s; rests twice the detector's 1.5 s
     env = {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}

@@ -250,7 +250,8 @@ def test_free_flow_cues_its_captures_and_a_pose_too_close(page, server):
     assert page.errors == []
 
 
-def test_compass_start_asks_for_the_wake_lock_and_cues_the_first_reading(mag_page, server):  # noqa: F811 - pytest passes the fixture imported above
+# mag_page is the fixture imported above, which pytest passes: not a redefinition (F811).
+def test_compass_start_asks_for_the_wake_lock_and_cues_the_first_reading(mag_page, server):  # noqa: F811
     page = mag_page
     spy(page)
     readings, _ = turn(5, 50.0, n=40)

@@ -33,7 +33,10 @@ RESPONSE_MODELS = {method.name: response_model(method.response) for method in TA
 # top-level property). `method` fixes `model.type` one to one: six_position and orientations give
 # `affine`, nonorthogonal and triangular their own type, cube `cube`, and autocal a `triangular`
 # model with the fields of its pipeline.
-CalibrationOut = Annotated[Union[tuple(RESPONSE_MODELS.values())], Field(discriminator="method")]  # noqa: UP007 - a union of a tuple made at run time: no `|` spelling
+CalibrationOut = Annotated[
+    Union[tuple(RESPONSE_MODELS.values())],  # noqa: UP007 - a union of a run-time tuple: no `|` spelling
+    Field(discriminator="method"),
+]
 """A stored calibration, by method."""
 
 

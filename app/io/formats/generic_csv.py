@@ -72,7 +72,8 @@ _TIME = re.compile(
     r"(?:[ _]?(?P<suffix>s|sec|ms|us|ns))?(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?$"
 )
 _TEMPERATURE = re.compile(
-    r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature_c)(?:\s*[\(\[](?:°\s*c|deg\s*c|degc|c)[\)\]])?$|^t\s*[\(\[](?:°\s*c|deg\s*c|degc)[\)\]]$"
+    r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature_c)(?:\s*[\(\[](?:°\s*c|deg\s*c|degc|c)[\)\]])?$"
+    r"|^t\s*[\(\[](?:°\s*c|deg\s*c|degc)[\)\]]$"
 )
 """A column of the sensor's temperature in °C (``temp_c``, ``temp``, ``temperature``, ``T (°C)``)."""
 _INDEX = re.compile(r"^(?:index|idx|i|n|sample|sample_index|#)$")
