@@ -176,7 +176,7 @@ class Settings(BaseSettings):
         return int(self.max_json_mb * 1024 * 1024)
 
     @classmethod
-    def from_env(cls, environ: Mapping[str, str] | None = None) -> "Settings":
+    def from_env(cls, environ: Mapping[str, str] | None = None) -> Settings:
         """Build the settings from the environment (``os.environ`` by default).
 
         Raises

@@ -82,7 +82,7 @@ def _as_datetime(when: _dt.date | _dt.datetime | str) -> _dt.datetime:
         when = parsed
     if isinstance(when, _dt.datetime):
         if when.tzinfo is not None:
-            when = when.astimezone(_dt.timezone.utc).replace(tzinfo=None)
+            when = when.astimezone(_dt.UTC).replace(tzinfo=None)
         return when
     if isinstance(when, _dt.date):
         return _dt.datetime(when.year, when.month, when.day)

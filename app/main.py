@@ -11,9 +11,9 @@ import logging
 import re
 
 from fastapi import FastAPI, Request
+from fastapi.middleware.gzip import GZipMiddleware
 from fastapi.openapi.docs import get_swagger_ui_html
 from fastapi.responses import HTMLResponse
-from fastapi.middleware.gzip import GZipMiddleware
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 from swagger_ui_bundle import swagger_ui_path
@@ -28,7 +28,6 @@ from app.config import Settings
 from app.store import open_store
 from app.web import router as web_router
 from app.web.pages import not_found_page
-
 
 SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",

@@ -26,10 +26,10 @@ from pydantic import BaseModel, Field, TypeAdapter
 from app import calibration_requests as rq
 from app.calibration.solvers import SOLVERS
 from app.io.errors import ExportError
+from app.io.export_compass import FLIGHT_COMPASS_EXPORTS
 from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_temperature import TEMPERATURE_EXPORTERS
 from app.io.exporters import EXPORTERS, Export, export_calibration
-from app.io.export_compass import FLIGHT_COMPASS_EXPORTS
 from app.workflows import autocal, compass, cube, flight_compass, noise, still, temperature
 from app.workflows.entry import calibrate as run_handler
 from app.workflows.recordings import RecordingSource

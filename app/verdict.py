@@ -146,15 +146,18 @@ def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str]
         return _out(
             False, "failed", "Don't apply it: the calibration failed its checks.", _short_reason(reasons), **figures_out
         )
-    if before is not None and after is not None:
-        if after > (1.0 - MIN_GAIN_FRACTION) * before or before - after < MIN_GAIN.get(unit, MIN_GAIN_MG):
-            return _out(
-                False,
-                "no_gain",
-                f"No need to apply it: it changes too little to matter ({told}).",
-                "Your sensor is about as good without it; keep it as it is.",
-                **figures_out,
-            )
+    if (
+        before is not None
+        and after is not None
+        and (after > (1.0 - MIN_GAIN_FRACTION) * before or before - after < MIN_GAIN.get(unit, MIN_GAIN_MG))
+    ):
+        return _out(
+            False,
+            "no_gain",
+            f"No need to apply it: it changes too little to matter ({told}).",
+            "Your sensor is about as good without it; keep it as it is.",
+            **figures_out,
+        )
     words = (
         f"Apply it: {change} ({degrees['words']})."
         if degrees and change

@@ -20,8 +20,8 @@ import httpx
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from tests.conftest import seed_table  # noqa: E402
-from tests.live_server import live_server  # noqa: E402
+from tests.conftest import seed_table
+from tests.live_server import live_server
 
 LABELS = ["-x", "+x", "-y", "+y", "-z", "+z"]
 
@@ -60,13 +60,17 @@ def main() -> None:
         timed(solve, 20), timed(health, 20)  # warm-up
         solve_ms = timed(solve, args.requests)
         health_ms = timed(health, args.requests)
-    p = lambda a, q: float(np.percentile(a, q))  # noqa: E731
+
+    def p(a, q):
+        return float(np.percentile(a, q))
+
     print(f"{args.requests} sequential requests per endpoint, one keep-alive connection, loopback")
     print(f"{'endpoint':<36}{'p50 ms':>10}{'p99 ms':>10}")
     print(f"{'POST /api/v1/calibrations (six)':<36}{p(solve_ms, 50):>10.2f}{p(solve_ms, 99):>10.2f}")
     print(f"{'GET /healthz':<36}{p(health_ms, 50):>10.2f}{p(health_ms, 99):>10.2f}")
     print(
-        f"{'ratio six / healthz':<36}{p(solve_ms, 50) / p(health_ms, 50):>10.2f}{p(solve_ms, 99) / p(health_ms, 99):>10.2f}"
+        f"{'ratio six / healthz':<36}{p(solve_ms, 50) / p(health_ms, 50):>10.2f}"
+        f"{p(solve_ms, 99) / p(health_ms, 99):>10.2f}"
     )
 
 

@@ -225,7 +225,7 @@ def main() -> None:
     if args.no_actipy:
         return
     try:
-        import actipy  # noqa: F401
+        import actipy
     except ImportError:
         print("\nactipy is not installed: pip install '.[bench]' to compare")
         return
@@ -234,7 +234,8 @@ def main() -> None:
     info = res["info"]
     print(
         f"\nactipy {actipy.__version__} calibrate_gravity: {res['calibrate_s']:.2f} s "
-        f"({N_SAMPLES / res['calibrate_s'] / 1e6:.1f} M samples/s; building its DataFrame {res['frame_s']:.2f} s more), "
+        f"({N_SAMPLES / res['calibrate_s'] / 1e6:.1f} M samples/s; "
+        f"building its DataFrame {res['frame_s']:.2f} s more), "
         f"peak RSS {peak / 1024:.0f} MB; CalibOK {info.get('CalibOK')}, {info.get('CalibNumSamples')} windows, "
         f"its own error {info.get('CalibErrorBefore(mg)'):.2f} → {info.get('CalibErrorAfter(mg)'):.2f} mg"
     )

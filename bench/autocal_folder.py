@@ -29,7 +29,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from simulations.autocal import simulate_recording  # noqa: E402
+from simulations.autocal import simulate_recording  # noqa: E402 - after sys.path.insert
 
 
 def run_folder(folder: Path, rate: float, db: Path, *extra: str) -> tuple[float, list[dict]]:

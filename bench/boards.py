@@ -25,17 +25,16 @@ from __future__ import annotations
 import argparse
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import httpx
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from app.calibration import fit_six_position  # noqa: E402
-from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS  # noqa: E402
-from tests.e2e.test_board import BOOT, CAPTURED, ORDER, SHIM, pose_rows  # noqa: E402
-from tests.live_server import live_server  # noqa: E402
+from app.calibration import fit_six_position
+from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS
+from tests.e2e.test_board import BOOT, CAPTURED, ORDER, SHIM, pose_rows
+from tests.live_server import live_server
 
 G = 9.80665
 LOOPS = 3
@@ -134,7 +133,8 @@ def main() -> None:
     for name, body in (("session", flow), ("upload", upload)):
         m = body["metrics"]
         print(
-            f"  {name}: error on the six poses {m['error_before_mg']:.2f} mg → {m['error_after_mg']:.3f} mg, ok = {body['ok']}"
+            f"  {name}: error on the six poses {m['error_before_mg']:.2f} mg → {m['error_after_mg']:.3f} mg, "
+            f"ok = {body['ok']}"
         )
 
 

@@ -22,7 +22,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 BRANCH_PATTERNS = {
-    "method/model-type/protocol literal": r"(method|protocol|\[\"type\"\]|get\(\"type\"\)|\.type)\"?\]?\)?\s*(==|!=|===|!==)\s*[\"']",
+    "method/model-type/protocol literal": (
+        r"(method|protocol|\[\"type\"\]|get\(\"type\"\)|\.type)\"?\]?\)?\s*(==|!=|===|!==)\s*[\"']"
+    ),
     "metric key probed": r"\"(cv_error_ut|cv_error_mg|holdout_error_after_mg|count_control)\" in ",
     "page flow or model branch": r"(if \((cube|free)\)|(type|method|protocol|flow) !?==+ [\"'])",
 }

@@ -30,9 +30,9 @@ import numpy as np
 
 from app.calibration.magnetometer import fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
-from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
 from app.io.formats import read_log
 from app.io.read_options import ReadOptions
+from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
 
 F = EARTH_FIELD_UT
 SCENARIOS = {
@@ -126,7 +126,7 @@ def real() -> None:
     print(f"{'recording':<60} {'n':>5} {'raw':>7} {'sphere':>7} {'ellips.':>7} {'trical':>7}  trical b / ok")
     for path, m in readable:
         if len(m) < 50:
-            print(f"{str(path.relative_to(REAL)):<60} {len(m):>5}  too short to calibrate (fewer than 50 readings)")
+            print(f"{path.relative_to(REAL)!s:<60} {len(m):>5}  too short to calibrate (fewer than 50 readings)")
             continue
         result = fit_magnetometer(m)
         M_s, b_s = fit_sphere(m, result.metrics["field_ut"])
@@ -136,7 +136,7 @@ def real() -> None:
         except Exception:
             ell = float("nan")
         print(
-            f"{str(path.relative_to(REAL)):<60} {len(m):>5} {_spread(np.linalg.norm(m, axis=1)):7.2f} "
+            f"{path.relative_to(REAL)!s:<60} {len(m):>5} {_spread(np.linalg.norm(m, axis=1)):7.2f} "
             f"{_spread(np.linalg.norm((m - b_s) @ M_s.T, axis=1)):7.2f} {ell:7.2f} "
             f"{result.metrics['norm_spread_ut']:7.2f}  {np.round(result.b, 2).tolist()} / {result.ok} "
             f"{'; '.join(r[:60] for r in result.reasons)}"

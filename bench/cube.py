@@ -128,7 +128,8 @@ def _report(name, truth, est, hws, extra=None):
             f" {bm:>10.4f} ± {bh:<8.2g} {tab['b'][i]}±{tab['b_hw'][i]}"
         )
     print(
-        f"    truth (Table VI): diag(D) {np.round(truth[:3] * kD, 4).tolist()}, b {np.round(truth[12:] * kb, 4).tolist()}"
+        f"    truth (Table VI): diag(D) {np.round(truth[:3] * kD, 4).tolist()}, "
+        f"b {np.round(truth[12:] * kb, 4).tolist()}"
     )
     z = (mean - truth) / (sd / np.sqrt(runs))
     names = (

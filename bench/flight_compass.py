@@ -79,7 +79,10 @@ def main() -> None:
         after.append(auto.heading_error_deg["after"]["rms"])
     n = args.flights
     rates = {k: f"{np.mean(v):.3f}" for k, v in hits.items()}
-    print(f"{n} flights; 95 % intervals hold the truth: {rates}, overall {np.mean(sum(hits.values(), [])):.3f}")
+    print(
+        f"{n} flights; 95 % intervals hold the truth: {rates}, "
+        f"overall {np.mean([x for v in hits.values() for x in v]):.3f}"
+    )
     print(
         f"mounting found: trical {found}/{n} (angle left to the truth median {np.median(angle):.2f}°, "
         f"95th {np.percentile(angle, 95):.2f}°); sphere + Wahba {found_sphere}/{n} "

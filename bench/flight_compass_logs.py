@@ -34,10 +34,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from app import calibration_requests as rq  # noqa: E402
-from app.methods import calibrate  # noqa: E402
-from app.workflows.recordings import RecordingSource  # noqa: E402
-from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs  # noqa: E402
+from app import calibration_requests as rq  # noqa: E402 - after sys.path.insert
+from app.methods import calibrate  # noqa: E402 - after sys.path.insert
+from app.workflows.recordings import RecordingSource  # noqa: E402 - after sys.path.insert
+from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs  # noqa: E402 - after sys.path.insert
 
 MOUNTINGS = (2, 8, 4, 16, 25, 6)
 FIRMWARES = (("ardupilot", "dataflash", 0), ("px4", "ulog", 1))

@@ -30,12 +30,12 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from tests.flight_logs import (
+from tests.flight_logs import (  # noqa: E402 - after sys.path.insert
     ardupilot_batch,
     ardupilot_imu,
     ardupilot_mag,
     px4_sensor,
-    write_dataflash,  # noqa: E402
+    write_dataflash,
     write_ulog,
 )
 

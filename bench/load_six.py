@@ -22,8 +22,8 @@ import httpx
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from tests.conftest import seed_table  # noqa: E402
-from tests.live_server import live_server  # noqa: E402
+from tests.conftest import seed_table
+from tests.live_server import live_server
 
 LABELS = ["-x", "+x", "-y", "+y", "-z", "+z"]
 

@@ -30,9 +30,9 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=100)
     args = ap.parse_args()
     n = int(args.minutes * 60 * FS)
-    hits = {k: 0 for k in TRUTH}
-    seen = {k: 0 for k in TRUTH}
-    nulls = {k: 0 for k in TRUTH}
+    hits = dict.fromkeys(TRUTH, 0)
+    seen = dict.fromkeys(TRUTH, 0)
+    nulls = dict.fromkeys(TRUTH, 0)
     for run in range(args.runs):
         rng = np.random.default_rng(args.seed + run)
         samples = simulate_still(

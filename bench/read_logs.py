@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from app.io.formats import read_log  # noqa: E402
+from app.io.formats import read_log
 
 LAYOUTS = {
     "header, commas": ("time_ms,acc_x,acc_y,acc_z\n", ",", "%d,%.5f,%.5f,%.5f"),

@@ -23,10 +23,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
-from app import methods  # noqa: E402
-from app.io.formats import read_log  # noqa: E402
-from app.io.read_options import ReadOptions  # noqa: E402
-from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402
+from app import methods  # noqa: E402 - after sys.path.insert
+from app.io.formats import read_log  # noqa: E402 - after sys.path.insert
+from app.io.read_options import ReadOptions  # noqa: E402 - after sys.path.insert
+from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402 - after sys.path.insert
 
 REAL = ROOT / "tests" / "data" / "real"
 ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
@@ -51,7 +51,7 @@ def pose_files(tmp: Path) -> None:
         for s in ORDER:
             lines = (REAL / "mpu6050_pose_files" / f"{s}.csv").read_text().splitlines(keepends=True)
             zf.writestr(f"{s}.csv", "".join(lines[: n + 1]))
-    meta, body = calibrate(joined, {"method": "six_position", "gravity": peer["gravity"]}, units={"acc": "m/s^2"})
+    _meta, body = calibrate(joined, {"method": "six_position", "gravity": peer["gravity"]}, units={"acc": "m/s^2"})
     g = peer["gravity"]
     K, R, b = np.diag(peer["K"]), np.asarray(peer["R"]), np.asarray(peer["b"])
     means = np.array([r["mean"] for r in body["readings"]])
@@ -68,7 +68,8 @@ def pose_files(tmp: Path) -> None:
         )
     print(
         f"  mean: raw {body['metrics']['error_before_mg']:.2f} mg, trical {body['metrics']['error_after_mg']:.2f} mg, "
-        f"peer {mg(peer_cal).mean():.2f} mg; max |X − K R| = {np.abs(np.asarray(body['model']['X']) - K @ R).max():.1e}; "
+        f"peer {mg(peer_cal).mean():.2f} mg; "
+        f"max |X − K R| = {np.abs(np.asarray(body['model']['X']) - K @ R).max():.1e}; "
         f"y − b = {np.round(np.asarray(body['model']['y']) - b, 4).tolist()} m/s²"
     )
 

@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from app.workflows.still import Reading, calibrate_known, calibrate_unknown  # noqa: E402
-from tests.real_recordings import (  # noqa: E402
+from app.workflows.still import Reading, calibrate_known, calibrate_unknown
+from tests.real_recordings import (
     MPU6050_LSB_PER_G,
     by_name,
     pose_subsets,
@@ -81,7 +81,8 @@ def main() -> None:
         "Real recordings: raw = mean | |m| - g | over the poses; in-sample = the same after calibration on those poses;"
     )
     print(
-        "cv = each pose calibrated by the fit made without it (leave-one-out); other = the device's other sessions, raw -> calibrated."
+        "cv = each pose calibrated by the fit made without it (leave-one-out); other = the device's other sessions, "
+        "raw -> calibrated."
     )
     print(
         f"{'recording':22} {'method':13} {'poses':>5} {'raw mg':>8} {'in-sample':>10} {'cv mg':>8} {'cv max':>8} "
@@ -105,14 +106,15 @@ def main() -> None:
             print(
                 f"{rec.name:22} {method:13} {len(rec.means):5d} {rec.raw_error_mg:8.2f} "
                 f"{in_sample_mg(result, rec.means, rec.gravity):10.3f} {extra['cv_error_mg']:8.2f} "
-                f"{extra['cv_error_max_mg']:8.2f} {str(result.ok):>5} {other:>19}"
+                f"{extra['cv_error_max_mg']:8.2f} {result.ok!s:>5} {other:>19}"
             )
         line = peer_line(rec)
         if line:
             print(line)
     print()
     print(
-        "The issue's regime: 10 or 11 consecutive poses of a Georgieva et al. phone table, triangular, the rest held out."
+        "The issue's regime: 10 or 11 consecutive poses of a Georgieva et al. phone table, triangular, the rest "
+        "held out."
     )
     print(
         f"{'recording':22} {'poses':>7} {'raw mg':>8} {'in-sample':>10} {'cv mg':>8} {'cv max':>8} {'ok':>5} "
@@ -132,7 +134,7 @@ def main() -> None:
         print(
             f"{rec.name:22} {sl.start + 1:3d}-{sl.stop:<3d} {raw_error_mg(means, rec.gravity):8.2f} "
             f"{in_sample_mg(result, means, rec.gravity):10.3f} {extra['cv_error_mg']:8.2f} "
-            f"{extra['cv_error_max_mg']:8.2f} {str(result.ok):>5} "
+            f"{extra['cv_error_max_mg']:8.2f} {result.ok!s:>5} "
             f"{extra['holdout_error_before_mg']:7.2f} -> {extra['holdout_error_after_mg']:6.2f}  {'; '.join(verdict)}"
         )
 

@@ -17,9 +17,9 @@ import argparse
 import numpy as np
 
 from app.calibration.noise import characterise_noise
+from app.io.formats.timing import decide_timing
 from simulations.noise import simulate_still
 from simulations.serial import host_arrival_times
-from app.io.formats.timing import decide_timing
 
 FS = 100.0
 N_TRUE = 0.01

@@ -17,8 +17,8 @@ import time
 
 import numpy as np
 
-from simulations.triangular import PARAM_NAMES, cramer_rao_bound, simulate_scenario
 from app.calibration.triangular import SOLVERS, fit_triangular
+from simulations.triangular import PARAM_NAMES, cramer_rao_bound, simulate_scenario
 
 # Farago et al. Table 2 as printed: mean and SD of |error| at 1 mg and 5 mg.
 PAPER = {
@@ -40,7 +40,7 @@ def run(n: int, seed: int) -> dict:
     for k, noise in enumerate(NOISES):
         rng = np.random.default_rng([seed, k])
         crb, err = [], {s: [] for s in SOLVERS}
-        secs = {s: 0.0 for s in SOLVERS}
+        secs = dict.fromkeys(SOLVERS, 0.0)
         for _ in range(n):
             sc = simulate_scenario(rng, noise_g=noise)
             crb.append(np.diag(cramer_rao_bound(sc.p, sc.directions, noise)))

@@ -7,8 +7,8 @@ import time
 
 import numpy as np
 
-from simulations.logs import simulate_static_log
 from app.calibration.static import detect_static_segments, still_threshold, window_stats
+from simulations.logs import simulate_static_log
 
 CASES = {
     "clean": {},

@@ -38,10 +38,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from app.calibration.temperature import (
     FIGURE_SCALE,
     calibrate_temperature,
-    offset_at,  # noqa: E402
+    offset_at,
     shift_polynomial,
 )
-from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up  # noqa: E402
+from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up
 
 TRUTH = {"acc": ACC_TRUTH, "gyr": GYR_TRUTH}
 
@@ -114,7 +114,8 @@ def main() -> None:
     took = time.perf_counter() - start
     print(
         f"{args.runs} warm-ups of {args.minutes:g} min at {args.rate:g} Hz, 15 → 55 °C (τ 400 s), {args.noise} noise"
-        f"{f', gyroscope rate random walk {args.walk:g} rad/s^2/sqrt(Hz)' if args.walk else ''}; {took:.1f} s ({1000 * took / args.runs / 2:.0f} ms a calibration)"
+        f"{f', gyroscope rate random walk {args.walk:g} rad/s^2/sqrt(Hz)' if args.walk else ''}; "
+        f"{took:.1f} s ({1000 * took / args.runs / 2:.0f} ms a calibration)"
     )
     print(f"ok (order chosen): {ok} of {args.runs}")
     units = {"acc": "mg", "gyr": "°/s"}
@@ -127,7 +128,8 @@ def main() -> None:
         print(f"  orders chosen (axes): {dict(sorted(orders[s].items()))}")
         print(
             f"  drift over the range (largest axis, peak to peak): raw median {np.median(raw[s]):.3g} {units[s]}, "
-            f"on bands left out median {np.median(cv[s]):.3g} {units[s]} (95th percentile {np.percentile(cv[s], 95):.3g})"
+            f"on bands left out median {np.median(cv[s]):.3g} {units[s]} "
+            f"(95th percentile {np.percentile(cv[s], 95):.3g})"
         )
         print(
             f"  fitted offset against the truth over the range: RMS median {np.median(rms[s]):.3g} {units[s]}, "

@@ -19,8 +19,8 @@ import argparse
 
 import numpy as np
 
-from app.workflows.still import choose_model
 from app.calibration import InsufficientDataError
+from app.workflows.still import choose_model
 from simulations.free_poses import free_pose_session, fresh_error_mg
 
 POSES = (5, 9, 10, 12, 15, 20, 25, 30)

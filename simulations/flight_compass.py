@@ -19,6 +19,7 @@ import datetime
 import numpy as np
 
 from app.calibration.rotations import ardupilot_matrix
+
 from .magnetometer import random_soft_iron
 
 
@@ -150,7 +151,7 @@ def simulate_flight(
         "lat": 47.4,
         "lon": 8.5,
         "alt_m": 430.0,
-        "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.timezone.utc),
+        "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.UTC),
         "expected_ut": np.einsum("nji,j->ni", C_log, B),
         "mag_firmware_ut": firmware,
         "truth": {"b": b, "M": M, "k": k, "Q": Q, "orientation": orientation},

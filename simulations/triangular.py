@@ -57,7 +57,7 @@ def draw_parameters(rng: np.random.Generator) -> np.ndarray:
     delta = rng.random(9)  # δ for S_x, S_y, S_z, T_xy, T_xz, T_yz, O_x, O_y, O_z
     S = 2.0 * (delta[0:3] - 0.5) * 0.1 + 1.0  # Farago, Maczak and Gingl, IEEE Access, eq. (17)
     T = 2.0 * (delta[3:6] - 0.5) * 0.05
-    O = 2.0 * (delta[6:9] - 0.5) * 0.1
+    O = 2.0 * (delta[6:9] - 0.5) * 0.1  # noqa: E741 - the offsets, O in the paper
     # Farago, Maczak and Gingl, IEEE Access, eq. (18)
     return np.array([S[0], S[1], S[2], S[1] * T[0], S[2] * T[1], S[2] * T[2], O[0], O[1], O[2]])
 

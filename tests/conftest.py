@@ -6,6 +6,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fastapi.testclient import TestClient
+
+from app.config import Settings
+from app.main import create_app
 
 DATA = Path(__file__).parent / "data"
 E2E = Path(__file__).parent / "e2e"
@@ -53,3 +57,20 @@ def noise_short():
     from tests.noise_bodies import short_gyr_body
 
     return short_gyr_body()
+
+
+def make_settings(tmp_path, **overrides) -> Settings:
+    """The service's settings with its own SQLite file under ``tmp_path``."""
+    return Settings(database_url=f"sqlite:///{tmp_path / 'trical.db'}", **overrides)
+
+
+@pytest.fixture
+def settings(tmp_path) -> Settings:
+    return make_settings(tmp_path)
+
+
+@pytest.fixture
+def client(settings):
+    """A fresh application with its own SQLite file, driven through TestClient."""
+    with TestClient(create_app(settings), raise_server_exceptions=False) as c:
+        yield c

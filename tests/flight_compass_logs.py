@@ -32,7 +32,7 @@ def earth_field_at(flight_place: dict | None = None) -> np.ndarray:
         "lat": 47.4,
         "lon": 8.5,
         "alt_m": 430.0,
-        "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.timezone.utc),
+        "utc": datetime.datetime(2025, 6, 1, 10, 0, tzinfo=datetime.UTC),
     }
     e = reference_field(place["utc"].date(), place["lat"], place["lon"], place["alt_m"])
     return np.array([e.north_ut, e.east_ut, e.down_ut])

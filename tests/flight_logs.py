@@ -462,7 +462,7 @@ GPS_LEAP_S = 18
 def _gps_week_ms(utc):
     import datetime as dt
 
-    gps = utc + dt.timedelta(seconds=GPS_LEAP_S) - dt.datetime(1980, 1, 6, tzinfo=dt.timezone.utc)
+    gps = utc + dt.timedelta(seconds=GPS_LEAP_S) - dt.datetime(1980, 1, 6, tzinfo=dt.UTC)
     week = gps.days // 7
     ms = ((gps.days % 7) * 86400 + gps.seconds) * 1000 + gps.microseconds // 1000
     return week, ms
@@ -825,7 +825,7 @@ def simulated_flight(seed: int, *, n: int = 600, rate_hz: float = 10.0) -> dict:
         "lat": 47.3977419,
         "lon": 8.5455939,
         "alt_m": 488.0,
-        "utc": dt.datetime(2024, 3, 18, 14, 49, 19, 500000, tzinfo=dt.timezone.utc),
+        "utc": dt.datetime(2024, 3, 18, 14, 49, 19, 500000, tzinfo=dt.UTC),
         "stored": {
             "ardupilot": {
                 "offsets_ut": np.array([-8.1, 5.2, -11.9]),

@@ -53,7 +53,7 @@ class LiveServer:
         self.process: subprocess.Popen | None = None
         self.log = Path(tempfile.mkstemp(prefix="trical-server-", suffix=".log")[1])
 
-    def start(self, timeout_s: float = 60.0) -> "LiveServer":
+    def start(self, timeout_s: float = 60.0) -> LiveServer:
         with open(self.log, "ab") as out:
             self.process = subprocess.Popen(self.command, cwd=ROOT, env=self.env, stdout=out, stderr=subprocess.STDOUT)
         deadline = time.monotonic() + timeout_s

@@ -23,7 +23,8 @@ MPU6050_LSB_PER_G = 16384.0
 """MPU-6050 at ±2 g: the datasheet's nominal sensitivity, the 'raw' conversion the board's users apply."""
 
 GEORGIEVA_GRAVITY = 9.806
-"""Georgieva et al. (ESGI'95) section 2.4: the printed scales correspond to g = 9.806 (tests/calibration/test_nonorthogonal.py)."""
+"""Georgieva et al. (ESGI'95) section 2.4: the printed scales correspond to g = 9.806
+(tests/calibration/test_nonorthogonal.py)."""
 
 
 @dataclass(frozen=True)

@@ -10,10 +10,10 @@ import json
 
 import numpy as np
 
-from simulations.triangular import random_unit_vectors
 from app.cli.capture import capture_on_port
 from app.cli.parser import build_parser
 from app.config import Settings
+from simulations.triangular import random_unit_vectors
 from tests.cube_phone import B_GYR_DEG_S, S_GYR, X_ACC, Y_ACC, phone_cube
 
 G0 = 9.80665

@@ -145,8 +145,8 @@ def test_autocal_tiny_or_empty_recordings_never_crash(tmp_path, capsys, n):
 
 
 def test_autocal_raw_unit_is_refused_with_advice(tmp_path):
-    from app.workflows.autocal import autocalibrate_file
     from app.calibration import CalibrationError
+    from app.workflows.autocal import autocalibrate_file
 
     f = tmp_path / "raw.csv"
     f.write_text("acc_x,acc_y,acc_z\n" + "\n".join("0,0,1000" for _ in range(100)))

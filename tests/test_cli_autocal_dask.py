@@ -11,9 +11,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+import dask
 import numpy as np
 import pytest
-import dask
 from dask.distributed import Client, LocalCluster
 
 from simulations.autocal import simulate_recording

@@ -212,7 +212,7 @@ def test_six_poses_captured_calibrated_and_sent(tmp_path, pty_board, burst_s):
     board = make(board_script(23, first_s=4.5, still_s=4.0, turn_s=0.7), burst_s)
     started = time.monotonic()
     log = tmp_path / "board.csv"
-    proc, first = start_capture(
+    proc, _first = start_capture(
         tmp_path,
         port,
         "--protocol",

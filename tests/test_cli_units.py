@@ -21,7 +21,7 @@ def _write(path, header, columns, fmt="%.6f"):
     with open(path, "w") as f:
         f.write(header + "\n")
         for row in np.column_stack(columns):
-            f.write(",".join(("%.3f" % v) if (i == 0 and timed) else (fmt % v) for i, v in enumerate(row)) + "\n")
+            f.write(",".join(f"{v:.3f}" if (i == 0 and timed) else (fmt % v) for i, v in enumerate(row)) + "\n")
     return path
 
 

@@ -29,7 +29,7 @@ def client(tmp_path):
     from fastapi.testclient import TestClient
 
     from app.main import create_app
-    from tests.api.conftest import make_settings
+    from tests.conftest import make_settings
 
     with TestClient(create_app(make_settings(tmp_path)), raise_server_exceptions=False) as c:
         yield c
@@ -78,6 +78,7 @@ def test_the_arduino_example_correction_built_for_the_host(client, tmp_path):
     np.testing.assert_allclose(board, api.json()["samples"], atol=2e-5)  # float32 on the board
 
 
+# pty_board is the fixture imported above, which pytest passes: not a redefinition (F811).
 def test_the_python_example_reads_a_board_and_calibrates_over_the_api(tmp_path, pty_board):  # noqa: F811
     port, make = pty_board
     board = make(board_script(11, first_s=3.0, still_s=3.0, turn_s=0.4))  # 20 s; rests twice the detector's 1.5 s

@@ -17,8 +17,8 @@ from app.api.schemas import calibrations
 from app.cli.calibrate import calibration_request
 from app.cli.parser import build_parser
 from app.io import log as io_log
-from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_compass import FLIGHT_COMPASS_EXPORTERS
+from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_temperature import TEMPERATURE_EXPORTERS
 from app.io.exporters import EXPORTERS
 
@@ -71,7 +71,7 @@ def test_every_response_model_of_the_union_is_an_entry_of_its_own_name():
     named = [m for m in methods.TABLE if m.response != methods.AS_CHOSEN]
     assert [model.__name__ for model in members] == [m.response or f"CalibrationOut_{m.name}" for m in named]
     assert [literal_method(model) for model in members] == [m.name for m in named]
-    assert calibrations.RESPONSE_MODELS == {m.name: model for m, model in zip(named, members)}
+    assert {m.name: model for m, model in zip(named, members)} == calibrations.RESPONSE_MODELS
     # auto answers as the method it chose, each of which has its own entry and response.
     assert [m.name for m in methods.TABLE if m.response == methods.AS_CHOSEN] == ["auto"]
     # A method without a response model of its own answers with the fields every calibration has.
@@ -197,8 +197,9 @@ def test_the_cli_builds_each_method_request_from_the_options_its_model_takes():
 
 
 def test_a_method_with_no_entry_is_refused_naming_the_methods():
-    from app.methods import describe_errors
     from pydantic import ValidationError
+
+    from app.methods import describe_errors
 
     with pytest.raises(ValidationError) as caught:
         methods.parse_calibration_request({"method": "auto_compass", "recording_id": "rec_1"})

@@ -1,7 +1,5 @@
 """The start page renders and links its module scripts."""
 
-from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
-
 
 def test_start_page(client):
     r = client.get("/")
@@ -40,7 +38,7 @@ def test_start_page_shows_the_phone_address_as_a_qr_code(tmp_path):
 
     from app.main import create_app
     from app.reach.qr import qr_svg_data_uri
-    from tests.api.conftest import make_settings
+    from tests.conftest import make_settings
 
     url = "https://192.168.1.23:8443/wizard?protocol=six"
     with TestClient(create_app(make_settings(tmp_path, public_url=url))) as c:

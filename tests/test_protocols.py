@@ -9,15 +9,15 @@ import typing
 import numpy as np
 import pytest
 
-from app.guided import sessions
 from app.api.deps import new_session_token
 from app.api.schemas.sessions import SessionIn
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, InsufficientDataError, up_vector
 from app.calibration.advice import fibonacci_sphere
 from app.calibration.capture import PoseTooCloseError
+from app.guided import sessions
 from app.guided.capture_rules import FREE_FIT_FROM, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
-from app.io.board_formats import CAPTURE_PROTOCOLS
 from app.guided.protocols import BOARD_PROTOCOLS, CUBE24, FREE, SESSION_PROTOCOLS, SIX
+from app.io.board_formats import CAPTURE_PROTOCOLS
 from app.store import ConflictError, open_store
 from app.web.tables import capture_thresholds
 from tests.cube_phone import phone_cube
@@ -167,7 +167,7 @@ def test_cube24_asks_for_the_positions_in_order(store):
     assert CUBE24.next_position(session) == "4"
     assert CUBE24.remaining(session) == [str(k) for k in range(4, 25)]
     assert not CUBE24.solvable(session)
-    with pytest.raises(InsufficientDataError, match="capture 4, 5, .*, 24 first: the session has 3 of 24 positions"):
+    with pytest.raises(InsufficientDataError, match=r"capture 4, 5, .*, 24 first: the session has 3 of 24 positions"):
         sessions.solve(store, session)
     redone = CUBE24.check(session, {**phone.capture(3), "redo": True})  # the last one again, by the same turn
     assert redone["position"] == "3" and redone["turn"]["ok"]

@@ -18,10 +18,9 @@ import ast
 import re
 from pathlib import Path
 
-from app.calibration.result import CalibrationResult, registered_types
-from app.calibration.result import FIGURE_METRICS
-from app.methods import METHODS
+from app.calibration.result import FIGURE_METRICS, CalibrationResult, registered_types
 from app.guided.protocols import BOARD_PROTOCOLS, SESSION_PROTOCOLS
+from app.methods import METHODS
 
 ROOT = Path(__file__).resolve().parent.parent
 APP = ROOT / "app"
@@ -63,7 +62,7 @@ NOT_DECISIONS = {
 
 def decided_names() -> dict[str, str]:
     """Every literal that must not decide outside the results, with what it is."""
-    names = {name: "metric key" for name in FIGURE_METRICS}
+    names = dict.fromkeys(FIGURE_METRICS, "metric key")
     names.update({name: "method" for name in METHODS if name not in NOT_A_RESULT})
     for kind in registered_types():
         names[kind] = "model type"
@@ -188,9 +187,11 @@ def code_decisions(code: str, names: dict[str, str], offset: int, text: str) -> 
             continue
         before, after = blank[: m.start()], blank[m.end() :]
         items_before, items_after = IN_ITEMS.search(before), ITEMS_AFTER.match(after)
-        if BEFORE.search(before) or AFTER.match(after):
-            how = "compares with the"
-        elif items_before and items_after and (items_before.group(1) or items_after.group(1)):
+        if (
+            BEFORE.search(before)
+            or AFTER.match(after)
+            or (items_before and items_after and (items_before.group(1) or items_after.group(1)))
+        ):
             how = "compares with the"
         elif KEY_BEFORE.search(before) and re.match(r"\s*:", after):
             how = "keys a table by the"

@@ -7,8 +7,6 @@ from fastapi import APIRouter, Query
 from fastapi.responses import Response
 
 from app import methods
-from app.workflows.recordings import RecordingSource
-from app.workflows.results import apply_calibration
 from app.api.deps import OwnerDep, ReaderDep, StoreDep
 from app.api.schemas.calibrations import ApplyIn, ApplyOut, CalibrationList, CalibrationOut, SnippetsOut
 from app.io.snippets import usage_snippets
@@ -16,6 +14,8 @@ from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict
 from app.words import render_body
+from app.workflows.recordings import RecordingSource
+from app.workflows.results import apply_calibration
 
 router = APIRouter(prefix="/api/v1/calibrations", tags=["calibrations"])
 

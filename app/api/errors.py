@@ -2,8 +2,8 @@
 
 ``detail`` says in words what is wrong and how to fix it; ``code`` is stable, for programs (the
 pages decide on it, never on the words). ``detail`` is in the API's words, or in the page's when the
-request comes from the page (``X-Trical-Client: page``, app.words). Bad input never yields a 500; an unexpected failure is
-logged with its traceback and answered with a 500 whose message holds no internals.
+request comes from the page (``X-Trical-Client: page``, app.words). Bad input never yields a 500; an unexpected failure
+is logged with its traceback and answered with a 500 whose message holds no internals.
 
 =====================  ======  ==========================================================
 code                   status  when
@@ -49,8 +49,8 @@ from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
 from app.io.formats.columns import ColumnsAmbiguous
 from app.methods import describe_errors
-from app.words import asked, reader_of, render
 from app.store import ConflictError, NotFoundError
+from app.words import asked, reader_of, render
 
 log = logging.getLogger("trical")
 
@@ -62,7 +62,7 @@ class PayloadTooLarge(Exception):
     by app.api.body_limit before it is parsed)."""
 
     code = "payload_too_large"
-    LIMITS = {
+    LIMITS: ClassVar[dict[str, tuple[str, str, str]]] = {
         "upload": ("the upload", "TRICAL_MAX_UPLOAD_MB", "split the recording or raise the limit"),
         "json": (
             "the JSON body",

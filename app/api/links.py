@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Request
 
-from app.reach.addresses import reachable_origin
 from app.api.deps import LINK_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token
 from app.api.schemas.links import LinkOpened, LinkOut
+from app.reach.addresses import reachable_origin
 from app.reach.qr import qr_svg_data_uri
 
 router = APIRouter(tags=["links"])

@@ -9,7 +9,6 @@ from typing import Annotated, Literal
 from fastapi import APIRouter, File, Form, UploadFile
 from pydantic import AfterValidator
 
-from app.workflows.recordings import add_recording
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas.recordings import RecordingOut
@@ -21,6 +20,7 @@ from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions
 from app.store import new_id
 from app.words import render_body
+from app.workflows.recordings import add_recording
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
@@ -80,10 +80,10 @@ def upload_recording(
         ...,
         description=(
             "A log: CSV with or without a header row, a JSON array of samples, a phyphox / Sensor Logger zip, .npy / "
-            ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. Several "
-            "`file` parts (one file per pose) are one recording in parts, in the order given; files named one per sensor "
-            "(accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one clock "
-            "(app.io.sensor_files)."
+            ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. "
+            "Several `file` parts (one file per pose) are one recording in parts, in the order given; files named one "
+            "per sensor (accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one "
+            "clock (app.io.sensor_files)."
         ),
     ),
     sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),

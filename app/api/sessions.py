@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from fastapi import APIRouter, Depends, Request
 
-from app.guided import sessions
 from app.api.deps import (
     SESSION_TOKEN_PREFIX,
     OwnerDep,
@@ -19,6 +18,7 @@ from app.api.deps import (
 )
 from app.api.schemas.calibrations import CalibrationOut
 from app.api.schemas.sessions import CaptureIn, CaptureOut, SessionCreated, SessionIn, SessionOut
+from app.guided import sessions
 from app.store import NotFoundError
 from app.words import render_body
 

@@ -9,11 +9,11 @@ from .gravity import STANDARD_GRAVITY, normal_gravity
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
 
 __all__ = [
-    "AffineCalibration",
     "CANONICAL_SIX",
+    "STANDARD_GRAVITY",
+    "AffineCalibration",
     "CalibrationError",
     "InsufficientDataError",
-    "STANDARD_GRAVITY",
     "fit_orientations",
     "fit_six_position",
     "nearest_orientation",

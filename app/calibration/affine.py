@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .correction import AffineCorrection
 from .errors import CalibrationError, InsufficientDataError
 from .gates import (
     Gates,
@@ -150,7 +151,7 @@ class AffineCalibration(StillReadingsResult):
         )
 
     @classmethod
-    def _from_body(cls, data: dict) -> "AffineCalibration":
+    def _from_body(cls, data: dict) -> AffineCalibration:
         model, readings, common = cls.common_from_dict(data)
         common["dof"] = int((data.get("uncertainty") or {}).get("dof", max(len(readings) - 4, 0)))
         return cls(
@@ -276,7 +277,8 @@ def _gates(X, y, means, labels, gravity, fit, cond, dof, *, stds, plausible_scal
         offset_gate(
             y,
             max_offset,
-            "offset of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit and the orientation labels",
+            "offset of the {axis} axis is {value:.4g}, above 1 g in magnitude: check the unit and the orientation "
+            "labels",
         )
     )
     gates.warn(

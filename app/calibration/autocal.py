@@ -39,11 +39,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .comparison import fit_ellipsoid_axes, fit_sphere_van_hees
-from .norm_metrics import norm_errors
 from .cross_validation import cross_validated_error
 from .errors import CalibrationError
 from .gates import Gates
 from .headlines import accelerometer_headline
+from .norm_metrics import norm_errors
 from .result import CalibrationResult, Figure, cv_figure, first_figure, gate_fields, holdout_figure, in_sample_figure
 from .stationary_002 import RestSegments, detect_rest_segments
 from .triangular import SOLVERS, TriangularCalibration, fit_triangular
@@ -310,7 +310,7 @@ class AutoCalibration(CalibrationResult):
         )
 
     @classmethod
-    def _from_body(cls, data: dict) -> "AutoCalibration":
+    def _from_body(cls, data: dict) -> AutoCalibration:
         """Rebuild from :meth:`to_dict` output."""
         cal = None
         if data.get("readings"):
@@ -619,8 +619,8 @@ def autocalibrate_samples(
 
 
 __all__ = [
-    "AutoCalibration",
     "BIN_NAMES",
+    "AutoCalibration",
     "Selection",
     "autocalibrate",
     "autocalibrate_samples",

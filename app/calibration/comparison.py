@@ -106,7 +106,7 @@ class AxisCalibration:
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "AxisCalibration":
+    def from_dict(cls, data: dict) -> AxisCalibration:
         return cls(
             scale=np.asarray(data["scale"], dtype=float),
             offset=np.asarray(data["offset"], dtype=float),
@@ -221,7 +221,7 @@ def fit_sphere_van_hees(
     weights = np.ones(len(v))
     res_prev = np.inf
     it = 0
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 - the count of iterations is read after the loop
         curr = (vt + offset[:, None]) * scale[:, None]
         closest = curr / np.sqrt((curr * curr).sum(axis=0))
         # Weighted least squares closest_k ≈ b0 + b1·curr_k for the three axes at once.  Plain

@@ -21,7 +21,8 @@ AccelCalibrator.cpp`` (started with ``ACCEL_CAL_AXIS_ALIGNED_ELLIPSOID`` by ``AP
 
 What the model cannot hold of ``M`` is split by the polar decomposition ``M = R P`` (``R`` a rotation, ``P``
 symmetric positive definite; Higham, *Functions of Matrices*, SIAM 2008, theorem 8.1): ``R`` turns the
-sensor's axes (an axis the correction inverts is first turned back: ``M = R P diag(±1)``), which the firmware's level calibration takes (ArduPilot ``AHRS_TRIM_X/Y``, PX4
+sensor's axes (an axis the correction inverts is first turned back: ``M = R P diag(±1)``), which the firmware's level
+calibration takes (ArduPilot ``AHRS_TRIM_X/Y``, PX4
 ``SENS_BOARD_X_OFF/Y_OFF``); the off-diagonal terms of ``P`` are the axes' non-orthogonality, which neither
 firmware holds.
 """
@@ -218,7 +219,10 @@ def offset_scale_fit(M, o, gravity: float, means=None) -> OffsetScaleFit:
         raise CalibrationError("the correction mirrors the axes (a left-handed frame): no offsets and scales hold it")
     offset, scale = fit_offset_scale(readings, g, o, np.diag(P))
     scale = np.abs(scale) * sign
-    fit_apply = lambda m: (m - offset) * scale  # noqa: E731
+
+    def fit_apply(m):
+        return (m - offset) * scale
+
     Xs = np.linalg.inv(M * sign)
     rows = Xs / np.linalg.norm(Xs, axis=1, keepdims=True)  # the sensor's axes, in the calibrated frame
     cos = np.clip([rows[0] @ rows[1], rows[0] @ rows[2], rows[1] @ rows[2]], -1.0, 1.0)

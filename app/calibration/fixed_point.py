@@ -210,7 +210,7 @@ def fixed_point_descent(
     eye = np.eye(9, dtype=np.int64) * h_q
     it = 0
     f0 = _costs(fmt, P[None, :], v)[0]
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 - the count of iterations is read after the loop
         trial = fmt.sat(P[None, :] + eye)  # eq. (15)
         f = _costs(fmt, np.vstack([P[None, :], trial]), v)
         f0, fi = f[0], f[1:]

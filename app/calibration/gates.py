@@ -10,8 +10,8 @@ in its docstring; extra keyword arguments are passed on to the template.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import Callable, Iterable
 
 import numpy as np
 
@@ -136,17 +136,17 @@ class Gates:
     reasons: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
 
-    def fail(self, messages: str | Iterable[str]) -> "Gates":
+    def fail(self, messages: str | Iterable[str]) -> Gates:
         """Add reasons: a message or the list a gate returned."""
         self.reasons.extend([messages] if isinstance(messages, str) else messages)
         return self
 
-    def warn(self, messages: str | Iterable[str]) -> "Gates":
+    def warn(self, messages: str | Iterable[str]) -> Gates:
         """Add warnings: a message or the list a gate returned."""
         self.warnings.extend([messages] if isinstance(messages, str) else messages)
         return self
 
-    def merge(self, result, *, unique: bool = False) -> "Gates":
+    def merge(self, result, *, unique: bool = False) -> Gates:
         """Take over a part's reasons and its warnings that are not reasons.
 
         With ``unique`` a reason already present is not repeated.

@@ -142,7 +142,7 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
     lo_f, hi_f = chi2_interval(edf, CONFIDENCE)
     total = parts.sum(axis=1)
     best = {}
-    for j, name in enumerate(TERMS):
+    for j in range(len(TERMS)):
         share = np.where(total > 0, parts[:, j] / np.where(total > 0, total, 1.0), 0.0)
         share[~fit] = 0.0
         if theta[j] > 0 and share.max() >= SHARE_MIN:
@@ -162,7 +162,7 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
         # The other terms' fitted parts are subtracted with their own errors (each read where it is
         # most precise): their variances add to σ̂²'s, giving the effective degrees of freedom
         # (Satterthwaite's approximation) of the χ² interval.
-        var = 2.0 * avar[i] ** 2 / edf[i] + sum((parts[i, l] * best[l][1]) ** 2 for l in best if l != j)
+        var = 2.0 * avar[i] ** 2 / edf[i] + sum((parts[i, o] * best[o][1]) ** 2 for o in best if o != j)
         edf_i = max(2.0 * avar[i] ** 2 / var, 1.0) if var > 0 else edf[i]
         lo_i, hi_i = chi2_interval(edf_i, CONFIDENCE)
         read = [(avar[i] * f - others) / a[i, j] for f in (1.0, float(lo_i), float(hi_i))]
@@ -257,9 +257,9 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     flat = [axis for k, axis in enumerate("xyz") if not np.all(avar[:, k] > 0)]
     if flat:  # a sensor printing one value (absent, or quantised coarser than its noise) has no noise to read
         raise InsufficientDataError(
-            f"the {SENSOR_WORDS.get(sensor, sensor)}'s {', '.join(flat)} axis readings do not change over the recording, so they hold no noise "
-            "to characterise (a sensor that is absent and prints a constant, or one quantised coarser than its "
-            "noise): leave this sensor out, or log it at a finer resolution"
+            f"the {SENSOR_WORDS.get(sensor, sensor)}'s {', '.join(flat)} axis readings do not change over the "
+            "recording, so they hold no noise to characterise (a sensor that is absent and prints a constant, or one "
+            "quantised coarser than its noise): leave this sensor out, or log it at a finer resolution"
         )
     readings = [_read_axis(tau, avar[:, k], ms, n + 1) for k in range(3)]
     lo = np.column_stack([adev[:, k] * np.sqrt(r.lo) for k, r in enumerate(readings)])
@@ -366,7 +366,7 @@ class NoiseResult(PerSensorResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "NoiseResult":
+    def _from_body(cls, data: dict) -> NoiseResult:
         return cls(
             sensors=cls.parts_from(data, "adev"),
             sampling_rate_hz=float(data["sampling_rate_hz"]),

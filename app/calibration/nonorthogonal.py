@@ -28,8 +28,6 @@ import numpy as np
 from scipy.optimize import OptimizeResult, least_squares
 
 from .errors import CalibrationError
-from .result import StillReadingsResult, parameter
-from .uncertainty import covariance_from_jacobian
 from .gates import (
     Gates,
     deviation_gate,
@@ -39,6 +37,8 @@ from .gates import (
     scale_gate,
     unknown_orientation_gates,
 )
+from .result import StillReadingsResult, parameter
+from .uncertainty import covariance_from_jacobian
 from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "nonorthogonal"
@@ -241,7 +241,7 @@ class NonOrthogonalCalibration(StillReadingsResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "NonOrthogonalCalibration":
+    def _from_body(cls, data: dict) -> NonOrthogonalCalibration:
         model, _, common = cls.common_from_dict(data)
         return cls(**cls.parameters_from(model), **common)
 

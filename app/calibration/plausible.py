@@ -304,14 +304,14 @@ def correction_figures(sensor: str, M, o, input_unit: str | None, output_unit: s
 
 
 __all__ = [
+    "ACC_OFFSET_MAX_G",
+    "FIELD_RANGE_UT",
+    "GYRO_BIAS_MAX_DPS",
+    "NOISE_DENSITY",
+    "NOISE_FACTOR",
+    "SCALE_RANGE",
     "PhysicalFigure",
+    "correction_figures",
     "implausible",
     "is_plausibility_reason",
-    "correction_figures",
-    "NOISE_DENSITY",
-    "SCALE_RANGE",
-    "ACC_OFFSET_MAX_G",
-    "GYRO_BIAS_MAX_DPS",
-    "FIELD_RANGE_UT",
-    "NOISE_FACTOR",
 ]

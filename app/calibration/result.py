@@ -32,7 +32,7 @@ OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
 """What an accelerometer calibration calibrates into: readings in g into g; m/s² and raw counts
 into m/s² (the reference of raw readings stays in m/s² and the model maps it to counts)."""
 
-_REGISTRY: dict[str, type["CalibrationResult"]] = {}
+_REGISTRY: dict[str, type[CalibrationResult]] = {}
 
 CORRECTION, FIGURES, DRIFT = "correction", "figures", "drift"
 """What a result is, for the verdict and the exports (:attr:`CalibrationResult.KIND`): a correction
@@ -184,7 +184,8 @@ def page_kinds() -> dict[str, dict]:
 
 
 def _load_all() -> None:
-    # The models register on import; the core's package imports only the light ones.
+    # The models register on import (so these imports are used by their effect: F401 does not see it); the
+    # core's package imports only the light ones.
     from . import affine, autocal, magnetometer, noise, nonorthogonal, temperature, triangular  # noqa: F401
     from .cube import calibrate  # noqa: F401
 
@@ -460,7 +461,7 @@ class CalibrationResult(Gated):
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "CalibrationResult":
+    def from_dict(cls, data: dict) -> CalibrationResult:
         """The result whose :meth:`to_dict` produced ``data``, of the class its type names.
 
         Called on a subclass, the data must be of that subclass's type.
@@ -482,7 +483,7 @@ class CalibrationResult(Gated):
         return target._from_body(data)
 
     @staticmethod
-    def class_of(data: dict) -> type["CalibrationResult"]:
+    def class_of(data: dict) -> type[CalibrationResult]:
         """The result class a plain form names (its method where that names a result kind of its own, else
         its model type), without rebuilding it: enough for the class answers (:attr:`KIND`,
         :meth:`figures_from`) of a body cut short.
@@ -500,7 +501,7 @@ class CalibrationResult(Gated):
         return target
 
     @classmethod
-    def _from_body(cls, data: dict) -> "CalibrationResult":  # pragma: no cover - every subclass defines it
+    def _from_body(cls, data: dict) -> CalibrationResult:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
 
 
@@ -551,7 +552,8 @@ class StillReadingsResult(CalibrationResult, GatedFit):
         dict
             ``count``, ``norm_error_max`` and ``norm_error_max_raw`` (relative), ``error_before_mg`` and
             ``error_after_mg`` (mean | |a| − g | in thousandths of g), and for the models that report it
-            ``improvement`` (eq. (21) of Farago et al., a fraction): :func:`app.calibration.norm_metrics.evaluate_still`.
+            ``improvement`` (eq. (21) of Farago et al., a fraction):
+            :func:`app.calibration.norm_metrics.evaluate_still`.
         """
         out = evaluate_still(means, self.apply, self.gravity)
         if not self.REPORTS_IMPROVEMENT:
@@ -591,7 +593,7 @@ class StillReadingsResult(CalibrationResult, GatedFit):
         reason when there is no covariance (no residual degrees of freedom, or a degenerate fit)."""
         out: dict = {"confidence": CONFIDENCE, "dof": self.dof}
         if self.covariance is None:
-            out.update({name: None for name in self.model_dict()}, note=self.NO_INTERVALS.format(n=len(self.means)))
+            out.update(dict.fromkeys(self.model_dict()), note=self.NO_INTERVALS.format(n=len(self.means)))
         else:
             out.update(self.interval_dict(half_widths(self.covariance, self.dof)))
         return out

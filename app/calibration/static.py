@@ -16,6 +16,7 @@ The unit may be m/s², g or raw counts; thresholds are fractions of a reference 
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -320,7 +321,7 @@ class _Runs:
     counts: np.ndarray
 
     @classmethod
-    def trimmed(cls, x, run_a, run_b, *, w: int, half: int, thr: float, min_length: int) -> "_Runs":
+    def trimmed(cls, x, run_a, run_b, *, w: int, half: int, thr: float, min_length: int) -> _Runs:
         """Step 3: the runs with their transition edges cut (:func:`_trim`), too short ones dropped."""
         n = len(x)
         centre = np.median(x[:: max(1, n // 100_000)], axis=0)
@@ -340,12 +341,15 @@ class _Runs:
         groups: list[list[int]] = []
         g_sum, g_cnt = np.zeros(3), np.zeros(())  # the last group's, from its first run on
         for i in range(len(self.a)):
-            if groups and self.a[i] - self.b[groups[-1][-1]] <= max_gap:
-                if np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr:
-                    groups[-1].append(i)
-                    g_sum = g_sum + self.sums[i]
-                    g_cnt += self.counts[i]
-                    continue
+            if (
+                groups
+                and self.a[i] - self.b[groups[-1][-1]] <= max_gap
+                and np.linalg.norm(means[i] - g_sum / g_cnt) <= 2 * thr
+            ):
+                groups[-1].append(i)
+                g_sum = g_sum + self.sums[i]
+                g_cnt += self.counts[i]
+                continue
             groups.append([i])
             g_sum, g_cnt = self.sums[i], self.counts[i]
         return groups
@@ -401,7 +405,7 @@ class _Runs:
             std=std,
             count=count,
             up=nearest_orientation(mean, label_max_angle_deg),
-            gaps=tuple((int(self.b[i]), int(self.a[j])) for i, j in zip(grp[:-1], grp[1:])),
+            gaps=tuple((int(self.b[i]), int(self.a[j])) for i, j in itertools.pairwise(grp)),
             drift_deg_per_s=float(rate),
         )
 

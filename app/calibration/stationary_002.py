@@ -327,7 +327,7 @@ class RestAccumulator:
         seg_index = start // self.seg
         win = seg_index // k
         # Windows whose k segments are all rest: runs of k equal window numbers.
-        uniq, first, counts = np.unique(win, return_index=True, return_counts=True)
+        _uniq, first, counts = np.unique(win, return_index=True, return_counts=True)
         full = first[counts == k]
         if len(full) == 0:
             return np.zeros((0, 3)), np.zeros((0, 3))

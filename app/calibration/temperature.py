@@ -12,7 +12,8 @@ subtracted from the reading: ``corrected = m − o(T)``. The steps:
 1. **Bins of temperature** (as PX4's ``process_sensor_caldata.py``, ``resampleWithDeltaX``): the
    range is cut into :data:`N_BINS` equal bins, each also cut every 1/:data:`N_BINS` of the
    recording's duration (the board resting at its final temperature fills many bins, not one); each
-   bin's samples are averaged (temperature and reading). The samples of a still recording are strongly correlated in time, and a bin's mean
+   bin's samples are averaged (temperature and reading). The samples of a still recording are strongly correlated in
+   time, and a bin's mean
    stands for a stretch of time: the fit sees bin means, not samples, so its degrees of freedom are
    the bins', not the millions of samples'.
 2. **Generalised least squares on the bin means**, per axis, in dT scaled to [−1, 1] for
@@ -49,8 +50,8 @@ Decisions (no paper makes them; docs/methods.md says the same):
 from __future__ import annotations
 
 import math
-from math import comb
 from dataclasses import dataclass
+from math import comb
 from typing import ClassVar
 
 import numpy as np
@@ -369,7 +370,7 @@ def _axis_drift(y: np.ndarray, dy: np.ndarray, b: _SensorBins, order: int | None
     the coefficients scaled back to dT^k, the curve with its interval, and the figures."""
     # The order on PX4's bins of temperature alone: each part of the range weighs the same in the
     # fits of the other bands (bins cut in time would weigh the final temperature the most).
-    by_order = {q: _rms(left_out_residuals(b.du, dy, b.dbands, q)) for q in range(0, MAX_ORDER + 1)}
+    by_order = {q: _rms(left_out_residuals(b.du, dy, b.dbands, q)) for q in range(MAX_ORDER + 1)}
     chosen = order or min(range(1, MAX_ORDER + 1), key=lambda q: (by_order[q], q))
     fit = fit_axis(b.u, y, chosen, b.walk_cov)
     held = left_out_residuals(b.du, dy, b.dbands, chosen)
@@ -665,7 +666,7 @@ class TemperatureResult(PerSensorResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "TemperatureResult":
+    def _from_body(cls, data: dict) -> TemperatureResult:
         return cls(
             sensors=cls.parts_from(data, "bins", "curve"),
             warnings=tuple(data.get("warnings", ())),

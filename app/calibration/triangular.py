@@ -57,7 +57,9 @@ from .gates import (
     scale_gate,
     unknown_orientation_gates,
 )
+from .result import StillReadingsResult, parameter
 from .solvers import SOLVERS
+from .uncertainty import covariance_from_jacobian, half_widths
 from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "triangular"
@@ -265,7 +267,7 @@ class TriangularCalibration(StillReadingsResult):
         return {"solver": self.solver, **super().body_dict()}
 
     @classmethod
-    def _from_body(cls, data: dict) -> "TriangularCalibration":
+    def _from_body(cls, data: dict) -> TriangularCalibration:
         model, _, common = cls.common_from_dict(data)
         return cls(
             **cls.parameters_from(model),
@@ -419,7 +421,8 @@ def _gates(m, K, o, g, norm_err, cond, dof, hemisphere, solver, plausible_scale,
         scale_gate(
             np.diag(K),
             plausible_scale,
-            "scale k_{axis}{axis} is {value:.4f}, outside the plausible {lo}–{hi}: check the unit and the gravity value",
+            "scale k_{axis}{axis} is {value:.4f}, outside the plausible {lo}–{hi}: check the unit and the gravity "
+            "value",
         )
     )
     gates.fail(

@@ -26,8 +26,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from .norm_metrics import norm_errors
 from .gates import Gates
+from .norm_metrics import norm_errors
 from .uncertainty import half_widths
 
 NORM_GROWTH_TOLERANCE_MG = 0.1

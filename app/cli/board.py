@@ -36,11 +36,11 @@ import numpy as np
 from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.orientations import UP_VECTORS, nearest_orientation
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.guided.protocols import BOARD_PROTOCOLS, Protocol
 from app.io.board_formats import DEFAULT_BAUD, SILENCE_S, STALL_S
 from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, to_log
 from app.io.errors import LogFormatError
 from app.io.formats.timing import time_scale
-from app.guided.protocols import BOARD_PROTOCOLS, Protocol
 from app.web.tables import capture_thresholds
 
 CHECK_S = 1.0

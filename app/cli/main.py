@@ -12,15 +12,16 @@ import os
 import sys
 import traceback
 
+from pydantic import ValidationError
+
 from app import methods
 from app.calibration import CalibrationError
 from app.cli import autocal, calibrate, capture, export, noise, serve, temperature
 from app.cli.parser import build_parser
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
-from pydantic import ValidationError
-from app.store import NotFoundError
 from app.reach.tls import CertificateError
+from app.store import NotFoundError
 from app.words import render
 
 COMMANDS = {

@@ -7,6 +7,7 @@ import argparse
 
 from app import __version__, methods
 from app.calibration.solvers import SOLVERS
+from app.calibration_requests import CUBE_PROTOCOLS
 from app.cli import options as opt
 from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
@@ -15,6 +16,7 @@ from app.io.log import UNITS, UNITS_IN
 from app.calibration_requests import CUBE_PROTOCOLS
 from app.workflows.temperature import TEMPERATURE_SENSORS
 from app.workflows.autocal import AUTOCAL_UNITS
+from app.workflows.temperature import TEMPERATURE_SENSORS
 
 CALIBRATE_METHODS = methods.commanded_by("calibrate")
 """The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have

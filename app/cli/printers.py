@@ -45,7 +45,8 @@ def print_summary(body: dict, recording: dict) -> None:
         if name == "type" or isinstance(value, dict) or value is None:
             if isinstance(value, dict):
                 print(
-                    f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}"
+                    f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = "
+                    f"{np.round(value['b'], 6).tolist()}"
                 )
             continue
         arr = np.atleast_2d(np.asarray(value, dtype=float))
@@ -154,7 +155,7 @@ def print_folder_table(bodies: list[dict]) -> None:
         r = "-" if not m.get("improvement_pct") else f"{m['improvement_pct']:.0f}"
         note = b["reasons"][0] if b["reasons"] else ""
         print(
-            f"{b['label']:<{name_w}}  {str(b['ok']):<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}{tilt:>8}"
+            f"{b['label']:<{name_w}}  {b['ok']!s:<5}{b['detection']['n_rest']:>7}{m['count']:>7}{cv:>8}{tilt:>8}"
             f"{before:>10}{after:>10}{r:>8}  {note[:100]}"
         )
     n_ok = sum(1 for b in bodies if b.get("ok"))

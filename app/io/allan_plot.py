@@ -17,6 +17,7 @@ panel says so.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from html import escape
@@ -323,7 +324,7 @@ def _obstacles(runs_by_axis: list, fits: list, marks: list[tuple[float, float]])
     rows = []
     for runs, weight in [(r, 1.0) for r in runs_by_axis] + [([f], 0.3) for f in fits]:
         for run in runs:
-            for (xa, ya), (xb, yb) in zip(run, run[1:]):
+            for (xa, ya), (xb, yb) in itertools.pairwise(run):
                 n = max(1, int(math.hypot(xb - xa, yb - ya) / 3))
                 t = np.linspace(0, 1, n, endpoint=False)
                 rows.append(np.column_stack([xa + t * (xb - xa), ya + t * (yb - ya), np.full(n, weight)]))
@@ -421,7 +422,7 @@ def _panel(s: _Sensor, top: float, index: int) -> tuple[str, float, str]:
         step = max(1, len(flat) // 8)
         plot += [_marker(axis, x, y) for x, y in flat[i * step // 3 :: step]]
     g.append(f'<g clip-path="url(#{clip})">{"".join(plot)}</g>')
-    for key, cls, symbol, _ in TERMS:
+    for key, cls, _symbol, _ in TERMS:
         for axis, p in zip(AXES, marks[key]):
             if p is None or not axes.inside(axes.x(p[0]), axes.y(p[1])):
                 continue

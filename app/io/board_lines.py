@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import itertools
 import math
 import re
 import time
@@ -32,12 +33,12 @@ from pathlib import Path
 
 import numpy as np
 
+from ..calibration.gravity import STANDARD_GRAVITY
 from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_AGREE, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
 from .errors import LogFormatError
 from .formats.generic_csv import map_columns
 from .formats.table import WHITESPACE, guess_delimiter, split_row
 from .formats.timing import decide_timing, time_scale
-from ..calibration.gravity import STANDARD_GRAVITY
 from .formats.units import settle_units
 from .log import LogData
 
@@ -310,7 +311,7 @@ class BoardLineReader:
             values = _prefixed(line, prefix, 9)
             if values is None:
                 return None
-            scale = RAW_SCALES if f.name == "raw" else {s: 1.0 for s in SENSORS}
+            scale = RAW_SCALES if f.name == "raw" else dict.fromkeys(SENSORS, 1.0)
             return BoardReading(
                 arrival_s,
                 None,
@@ -396,14 +397,14 @@ class StreamRate:
 
     @staticmethod
     def _longest(points: list[tuple[float, int]]) -> float:
-        return max((q[0] - p[0] for p, q in zip(points, points[1:])), default=0.0)
+        return max((q[0] - p[0] for p, q in itertools.pairwise(points)), default=0.0)
 
     def _ends(self, points: list[tuple[float, int]], full: float | None, pause: float = 0.0):
         """The first and the latest burst end of ``points`` and their longest step, if they decide the rate:
         the ends span the needed time (for their longest step, or the ``pause`` before them) and the halves
         agree, or (``full``: the arrivals' age) fill the window."""
         longest = self._longest(points)
-        ends = [p for p, q in zip(points, points[1:]) if q[0] - p[0] >= 0.5 * longest]
+        ends = [p for p, q in itertools.pairwise(points) if q[0] - p[0] >= 0.5 * longest]
         if len(ends) < 2 or ends[-1][0] - ends[0][0] < max(self.min_s, self.steps * max(longest, pause)):
             return None
         if self._halves_agree(ends) or (full is not None and full >= self.window_s - longest):
@@ -550,12 +551,9 @@ class LogWriter:
     def __init__(self, path: Path, fmt: LineFormat):
         self.path = Path(path)
         self.fmt = fmt
-        self.file = open(self.path, "w", newline="", encoding="utf-8")
+        self.file = open(self.path, "w", newline="", encoding="utf-8")  # noqa: SIM115 - open until close()
         self.first_arrival: float | None = None
-        if fmt.time_col is not None:
-            time_name = fmt.header[fmt.time_col] if fmt.header else "time"
-        else:
-            time_name = "time_s"
+        time_name = (fmt.header[fmt.time_col] if fmt.header else "time") if fmt.time_col is not None else "time_s"
         names = [time_name]
         for s in fmt.sensors:
             unit = fmt.units.get(s)

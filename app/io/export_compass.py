@@ -11,7 +11,8 @@ Both firmwares apply a full symmetric matrix, so nothing is dropped; they differ
   default), diagonals in 0.2…5 and |off-diagonals| < 1
   (``libraries/AP_Compass/CompassCalibrator.cpp``, ``CompassCalibrator::fit_acceptable``); the export
   refuses what it would refuse.
-* PX4, ``src/lib/sensor_calibration/Magnetometer.hpp``, ``Magnetometer::Correct`` (the matrix built in ``Magnetometer.cpp``, ``ParametersUpdate``):
+* PX4, ``src/lib/sensor_calibration/Magnetometer.hpp``, ``Magnetometer::Correct`` (the matrix built in
+  ``Magnetometer.cpp``, ``ParametersUpdate``):
   ``_rotation * (_scale * (data − _offset))`` with ``_scale = [[XSCALE, XODIAG, YODIAG], [XODIAG,
   YSCALE, ZODIAG], [YODIAG, ZODIAG, ZSCALE]]``, the field in gauss (1 G = 100 µT). Hence
   ``CAL_MAG0_xOFF = b / 100`` (G), ``CAL_MAG0_xSCALE = diag M``, ``CAL_MAG0_xODIAG = (M_xy, M_xz, M_yz)``.
@@ -637,11 +638,14 @@ def heading_errors(body: dict) -> dict:
 
 def _flight_header(body: dict, target: str, notes: list[str]) -> list[str]:
     flight, errors = body.get("flight") or {}, heading_errors(body)
-    figure = lambda e: (
-        f"rms {e['rms']:.2f} deg, 95th percentile {e['p95']:.2f} deg"  # noqa: E731
-        if e.get("rms") is not None and e.get("p95") is not None
-        else "not measured"
-    )
+
+    def figure(e):
+        return (
+            f"rms {e['rms']:.2f} deg, 95th percentile {e['p95']:.2f} deg"
+            if e.get("rms") is not None and e.get("p95") is not None
+            else "not measured"
+        )
+
     before, after = errors["before"], errors["after"]
     lines = [
         f"trical calibration {body.get('id', '-')}",

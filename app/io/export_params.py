@@ -33,14 +33,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .plural import counted
-from .errors import ExportError
-from .log import ACC_PHYSICAL_UNITS
-from .export_common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
 from ..calibration.errors import CalibrationError
 from ..calibration.firmware_model import offset_scale_fit
 from ..calibration.gravity import STANDARD_GRAVITY
+from .errors import ExportError
+from .export_common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
 from .export_compass import to_ardupilot_compass, to_px4_compass
+from .log import ACC_PHYSICAL_UNITS
+from .plural import counted
 
 # The standard gravity is also ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G (9.80665 m/s²).
 
@@ -149,7 +149,10 @@ def firmware_summary(body: dict, target: str) -> dict:
         figure below raw's) and ``words`` (one sentence).
     """
     fit = offset_scale(body, target)["fit"]
-    mg = lambda v: float(1000.0 * v)  # noqa: E731 - relative norm errors to thousandths of g
+
+    def mg(v):
+        return float(1000.0 * v)  # relative norm errors to thousandths of g
+
     out = {
         "target": target,
         "count": fit.count,
@@ -217,7 +220,10 @@ def _number(v: float) -> str:
 def _fit_lines(p: dict, target: str, formula: str) -> list[str]:
     """The comment lines that say what the firmware reaches with these numbers, and what it cannot hold."""
     fit = p["fit"]
-    mg = lambda v: f"{1000.0 * v:.3f}"  # noqa: E731 - relative norm errors to thousandths of g
+
+    def mg(v):
+        return f"{1000.0 * v:.3f}"  # relative norm errors to thousandths of g
+
     if fit.from_readings:
         on = f"the calibration's {counted(fit.count, 'still reading')}"
         exact = (

@@ -11,7 +11,6 @@ import re
 
 from app.calibration.result import DRIFT, FIGURES
 
-from .plural import counted
 from .errors import ExportError
 from app.calibration.headlines import SENSOR_WORDS
 
@@ -21,6 +20,7 @@ from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
 from .export_params import to_ardupilot, to_px4
 from .export_tables import to_csv, to_yaml
 from .export_temperature import TEMPERATURE_EXPORTERS, TEMPERATURE_FORMATS
+from .plural import counted
 
 
 def to_json(body: dict) -> Export:
@@ -131,9 +131,10 @@ def to_c_header(body: dict) -> Export:
             f"{half}): w = m - TRICAL_GYRO_BIAS_RAD_S */\n"
             f"#define TRICAL_GYRO_BIAS_RAD_S {{{', '.join(_c_number(v) for v in gyro['rad_s'])}}}\n"
         )
+    unit_in, unit_out = unit_label(body.get("unit")), unit_label(body.get("output_unit"))
     text = f"""/* trical calibration {body["id"]}
  * method: {body["method"]}, created {body["created_at"]}, device: {body.get("device_id") or "-"}
- * input unit: {unit_label(body.get("unit"))}, output unit: {unit_label(body.get("output_unit"))}, gravity: {body.get("gravity")}
+ * input unit: {unit_in}, output unit: {unit_out}, gravity: {body.get("gravity")}
  * calibrated f = M (m - o): {corrections[0].source}
  */
 #ifndef {guard}
@@ -190,10 +191,10 @@ __all__ = [
     "EXPORTERS",
     "FLIGHT_COMPASS_EXPORTS",
     "FORMAT_NAMES",
-    "NOISE_FORMATS",
-    "TEMPERATURE_FORMATS",
     "FRAME",
     "JSON_SCHEMA",
+    "NOISE_FORMATS",
+    "TEMPERATURE_FORMATS",
     "Export",
     "export_calibration",
 ]

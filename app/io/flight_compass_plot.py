@@ -136,7 +136,7 @@ def _field_panel(t, expected, corrected) -> tuple[list[str], str]:
     for i, axis in enumerate("xyz"):
         parts.append(p.line(t, expected[:, i], COLOURS[axis], dash="5 3", cls=f"expected-{axis}"))
         parts.append(p.line(t, corrected[:, i], COLOURS[axis], cls=f"corrected-{axis}"))
-        parts.append(p.legend(i, COLOURS[axis], f"{axis} ({'forward right down'.split()[i]})", DASHES[axis]))
+        parts.append(p.legend(i, COLOURS[axis], f"{axis} ({['forward', 'right', 'down'][i]})", DASHES[axis]))
     return parts, (
         "The field's three axes in the vehicle's frame over the flight, expected from the attitude and "
         "the geomagnetic model, and as the compass reads it calibrated."

@@ -74,13 +74,13 @@ from .formats import dataflash, ulog
 
 MILLIGAUSS_TO_UT = dataflash.MILLIGAUSS_TO_UT
 GAUSS_TO_UT = ulog.GAUSS_TO_UT
-GPS_EPOCH = dt.datetime(1980, 1, 6, tzinfo=dt.timezone.utc)
+GPS_EPOCH = dt.datetime(1980, 1, 6, tzinfo=dt.UTC)
 LEAP_SECONDS = (
-    (dt.datetime(2017, 1, 1, tzinfo=dt.timezone.utc), 18),
-    (dt.datetime(2015, 7, 1, tzinfo=dt.timezone.utc), 17),
-    (dt.datetime(2012, 7, 1, tzinfo=dt.timezone.utc), 16),
-    (dt.datetime(2009, 1, 1, tzinfo=dt.timezone.utc), 15),
-    (dt.datetime(2006, 1, 1, tzinfo=dt.timezone.utc), 14),
+    (dt.datetime(2017, 1, 1, tzinfo=dt.UTC), 18),
+    (dt.datetime(2015, 7, 1, tzinfo=dt.UTC), 17),
+    (dt.datetime(2012, 7, 1, tzinfo=dt.UTC), 16),
+    (dt.datetime(2009, 1, 1, tzinfo=dt.UTC), 15),
+    (dt.datetime(2006, 1, 1, tzinfo=dt.UTC), 14),
 )
 """GPS time minus UTC from each date on (IERS Bulletin C; GPS time has no leap seconds)."""
 GPS_3D_FIX = 3
@@ -312,7 +312,7 @@ def stored_calibration_parameters(path, *, name: str = "the file") -> dict:
         with contextlib.redirect_stdout(io.StringIO()):
             try:
                 values = ULog(str(path), message_name_filter_list=[], disable_str_exceptions=True).initial_parameters
-            except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
+            except Exception as exc:  # pyulog raises many kinds on a damaged file
                 raise LogFormatError(
                     f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): "
                     "the file is damaged; download the log again"

@@ -185,7 +185,7 @@ def _px4_position(u, notes):
         else:  # older: int32 1e-7 degrees, int32 mm
             lat, lon, alt = float(g["lat"][i]) * 1e-7, float(g["lon"][i]) * 1e-7, float(g["alt"][i]) * 1e-3
         utc_us = int(g.get("time_utc_usec", [0] * (i + 1))[i])
-        utc = dt.datetime.fromtimestamp(utc_us * 1e-6, dt.timezone.utc) if utc_us > 0 else None
+        utc = dt.datetime.fromtimestamp(utc_us * 1e-6, dt.UTC) if utc_us > 0 else None
         return lat, lon, alt, utc
     g = _ds(u, "vehicle_global_position")
     if g is not None and "lat" in g and len(g["lat"]):
@@ -232,7 +232,7 @@ def _open_ulog(path, name):
     try:
         with contextlib.redirect_stdout(said):
             return ULog(str(path), message_name_filter_list=list(PX4_TOPICS), disable_str_exceptions=True)
-    except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
+    except Exception as exc:  # pyulog raises many kinds on a damaged file
         raise LogFormatError(
             f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
             "file is damaged or cut short in its definitions; download the log again"
@@ -346,7 +346,7 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
         firmware = logged_mag @ rotation.T
     if raw_mags:
         how = (
-            "PX4's formula applied to sensor_mag with CAL_MAG{}_*".format(slot)
+            f"PX4's formula applied to sensor_mag with CAL_MAG{slot}_*"
             if not sensor_mag_calibrated
             else "sensor_mag turned into the body frame"
         )

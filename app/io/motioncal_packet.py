@@ -34,6 +34,7 @@ from .plural import counted
 from .errors import ExportError
 from .export_common import sensor_corrections
 from .log import TO_SI
+from .plural import counted
 
 CRC_POLYNOMIAL = MOTIONCAL_CRC["polynomial"]
 CRC_START = MOTIONCAL_CRC["start"]

@@ -262,7 +262,7 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     clock_file, clock_log, _ = by_sensor[clock_sensor]
     times = np.asarray(clock_log.time_s, dtype=float) + starts[clock_sensor]
     drop = np.zeros(len(times), dtype=bool)
-    for s, (fname, log, _) in by_sensor.items():
+    for s, (_fname, log, _) in by_sensor.items():
         if s != clock_sensor:
             drop |= _outside(times, log, starts[s])
     if drop.mean() > MAX_MISSING_FRACTION:
@@ -274,7 +274,7 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     keep = ~drop
     kept_times = times[keep]
     arrays = {clock_sensor: np.asarray(getattr(clock_log, clock_sensor), dtype=float)[keep]}
-    for s, (fname, log, _) in by_sensor.items():
+    for s, (_fname, log, _) in by_sensor.items():
         if s == clock_sensor:
             continue
         t = np.asarray(log.time_s, dtype=float) + starts[s]

@@ -21,8 +21,8 @@ from .log import LogData
 WEARABLE_SUFFIXES = (".cwa", ".gt3x", ".bin")
 BIN_MAGICS = (b"Device Identity", b"MDTC")
 """The first bytes of the .bin files actipy reads (its readers: a GENEActiv .bin's text header ``Device Identity``,
-a Matrix .bin's ``MDTC`` signature); .bin is also ArduPilot's DataFlash log (:data:`app.io.formats.table.BINARY_LOG_MAGICS`),
-and the name of many a binary of no format trical reads."""
+a Matrix .bin's ``MDTC`` signature); .bin is also ArduPilot's DataFlash log
+(:data:`app.io.formats.table.BINARY_LOG_MAGICS`), and the name of many a binary of no format trical reads."""
 
 
 def refuse_unknown_binary(path: Path, name: str) -> None:
@@ -39,7 +39,8 @@ def refuse_unknown_binary(path: Path, name: str) -> None:
     if suffix == ".bin" and not head.startswith(BIN_MAGICS):
         raise LogFormatError(
             f"{name} is not a format trical reads: its first bytes ({head[:8].hex(' ')}) are none of the .bin "
-            f"formats (an ArduPilot DataFlash log, a GENEActiv or Matrix wearable's recording). trical reads: {formats_read()}",
+            "formats (an ArduPilot DataFlash log, a GENEActiv or Matrix wearable's recording). trical reads: "
+            f"{formats_read()}",
             status=415,
         )
 

@@ -7,6 +7,7 @@ certificate files the user gives).
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
 import hashlib
 import ipaddress
@@ -56,10 +57,8 @@ def lan_addresses() -> list[str]:
                 found.append(s.getsockname()[0])
         except OSError:
             continue
-    try:
+    with contextlib.suppress(OSError, UnicodeError):
         found += socket.gethostbyname_ex(socket.gethostname())[2]
-    except (OSError, UnicodeError):
-        pass
     addresses = list(dict.fromkeys(a for a in found if _usable(a)))
     return addresses or ["127.0.0.1"]
 
@@ -127,7 +126,7 @@ def make_self_signed(cert_path: Path | str, key_path: Path | str, hosts: list[st
         raise CertificateError("a certificate needs at least one host name or address")
     key = ec.generate_private_key(ec.SECP256R1())
     name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, f"trical on {hosts[0]}"[:64])])
-    now = dt.datetime.now(dt.timezone.utc)
+    now = dt.datetime.now(dt.UTC)
     public = key.public_key()
     cert = (
         x509.CertificateBuilder()
@@ -194,7 +193,7 @@ def _reusable(cert_path: Path, key_path: Path, hosts: list[str]) -> bool:
         return False
     if cert.public_key() != key.public_key():
         return False
-    if cert.not_valid_after_utc - dt.datetime.now(dt.timezone.utc) < MIN_REMAINING:
+    if cert.not_valid_after_utc - dt.datetime.now(dt.UTC) < MIN_REMAINING:
         return False
     return set(hosts) <= certificate_names(cert_path)
 

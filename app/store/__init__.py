@@ -27,7 +27,7 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def open_store(database_url: str, files_dir: Path) -> "Store":
+def open_store(database_url: str, files_dir: Path) -> Store:
     """The store a ``TRICAL_DATABASE_URL`` names (``sqlite:///path`` or ``postgresql://…``), migrated.
 
     With PostgreSQL the replicas share nothing but the database, so uploaded files are kept in it too.

@@ -13,15 +13,15 @@ from __future__ import annotations
 
 import json
 import secrets
-from datetime import datetime, timedelta, timezone
+from datetime import UTC, datetime, timedelta
 from pathlib import Path
 
 from sqlalchemy import Engine, func, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 
 from . import migrate
-from .errors import ConflictError, NotFoundError  # noqa: F401  (raised here, named by the callers)
 from .engine import WRITE
+from .errors import ConflictError, NotFoundError
 from .schema import calibrations, links, recording_files, recordings, session_captures, sessions
 
 
@@ -31,7 +31,7 @@ def new_id(prefix: str) -> str:
 
 
 def utc_now(after_s: float = 0.0) -> str:
-    when = datetime.now(timezone.utc) + timedelta(seconds=after_s)
+    when = datetime.now(UTC) + timedelta(seconds=after_s)
     return when.isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 

@@ -70,7 +70,7 @@ def face_words(name: str, source: str = "phone") -> str:
     the Y arrow``.
     """
     signs = [(name[i + 1], name[i] == "+") for i in range(0, len(name), 2)]
-    word = {axis: pos for axis, pos in signs}
+    word = dict(signs)
     board = source == "board"
     side, towards = (_BOARD_SIDE, _BOARD_TOWARDS) if board else (_SIDE, _TOWARDS)
 
@@ -83,11 +83,13 @@ def face_words(name: str, source: str = "phone") -> str:
         said = []
         if to:
             said.append(
-                f"the corner the {' and '.join(to)} arrow{'s' if len(to) == 2 else ''} point{'' if len(to) == 2 else 's'} to"
+                f"the corner the {' and '.join(to)} arrow{'s' if len(to) == 2 else ''} "
+                f"point{'' if len(to) == 2 else 's'} to"
             )
         if away:
             said.append(
-                f"{'the corner ' if not to else ''}away from the {' and '.join(away)} arrow{'s' if len(away) == 2 else ''}"
+                f"{'the corner ' if not to else ''}away from the {' and '.join(away)} "
+                f"arrow{'s' if len(away) == 2 else ''}"
             )
         return f"{pick(side, 'z')}, {', '.join(said)}"
     if len(signs) == 3:

@@ -28,7 +28,7 @@ def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
         return reference, {}
     from app.geomag import GeomagneticRangeError, reference_field  # the model's package loads only here
 
-    day = request.date or datetime.datetime.now(datetime.timezone.utc).date()
+    day = request.date or datetime.datetime.now(datetime.UTC).date()
     try:
         earth = reference_field(
             day, request.latitude_deg, request.longitude_deg, 0.0 if request.height_m is None else request.height_m

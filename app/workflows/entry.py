@@ -3,11 +3,10 @@ steps every method shares around its handler."""
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 from app.calibration import CalibrationError
 from app.workflows.recordings import RecordingSource
-
 
 Handler = Callable[..., dict]
 """A method's handler: ``handler(request, recording)`` returns the calibration's plain form."""

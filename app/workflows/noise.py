@@ -9,7 +9,6 @@ from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.recordings import RecordingSource, require_rate
 from app.workflows.results import calibration_body
 
-
 NOISE_SENSORS = ("acc", "gyr", "mag")
 NOISE_REST_S = 5.0
 """A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
@@ -99,8 +98,8 @@ def _still_span(runs: list, fs: float, n: int, notes: list, reasons: list) -> tu
         a, b = span
         said = (
             f"the device moved: the recording holds {len(rests)} rests separated by moves (the poses of a "
-            f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % of the "
-            "recording), was characterised — no term is fitted across a move"
+            f"calibration, or handling): only the longest, {a / fs:.1f}–{b / fs:.1f} s ({100 * (b - a) / n:.0f} % "
+            "of the recording), was characterised — no term is fitted across a move"
         )
         if b - a < MIN_STILL_FRACTION * n:
             reasons.append(

@@ -4,6 +4,7 @@ recording a request calibrates from (:class:`RecordingSource`) with the checks e
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -15,9 +16,8 @@ from app.calibration.orientations import WITHIN_LABEL_ANGLE
 from app.calibration.static import detect_static_segments
 from app.io.formats import SOURCE_OF_FORMAT, read_log
 from app.io.log import LogData
-from app.io.read_options import ReadOptions
 from app.io.parts import content_digest, pose_from_name
-
+from app.io.read_options import ReadOptions
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -174,7 +174,7 @@ def _still_between_gaps(acc, rate: float, gravity: float | None, cuts, others=()
     in time; a stretch shorter than one window holds none."""
     bounds = [0, *cuts, len(acc)]
     out = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
+    for a, b in itertools.pairwise(bounds):
         try:
             found = detect_static_segments(acc[a:b], rate, gravity=gravity, others=[o[a:b] for o in others])
         except InsufficientDataError:  # shorter than one window: no rest in it
@@ -193,7 +193,8 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
 
     The segments are the accelerometer's rests (a log of other sensors alone has none) that are still on
     every other sensor the log holds too (a gyroscope ringing after the board was put down, a compass
-    turning about gravity: docs/methods.md), none spanning a gap of the time column. A recording made of several files (one per pose, :mod:`app.io.parts`) is
+    turning about gravity: docs/methods.md), none spanning a gap of the time column. A recording made of several files
+    (one per pose, :mod:`app.io.parts`) is
     searched file by file, so that no segment joins two files; each segment then names its file
     (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
     readings contradict gets a note.

@@ -10,7 +10,8 @@ from app.verdict import verdict
 
 
 def holdout_metrics(result, holdout) -> dict:
-    """Norm errors of further still readings, prefixed ``holdout_`` (Georgieva et al. section 3.5, Farago et al. Table 3)."""
+    """Norm errors of further still readings, prefixed ``holdout_``
+    (Georgieva et al. section 3.5, Farago et al. Table 3)."""
     if not holdout:
         return {}
     return {f"holdout_{k}": v for k, v in result.evaluate(holdout).items()}

@@ -8,9 +8,9 @@ takes, whether it is cross-validated, whether it advises poses); the steps aroun
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -163,7 +163,8 @@ def readings_from_segments(recording: dict, method, indices: list[int] | None) -
         for i in indices:
             if not 0 <= i < len(segments):
                 raise CalibrationError(
-                    f"segment {i} does not exist: the recording has {len(segments)} static segments (0–{len(segments) - 1})"
+                    f"segment {i} does not exist: the recording has {len(segments)} static segments "
+                    f"(0–{len(segments) - 1})"
                 )
             if segments[i]["up"] is None:
                 raise CalibrationError(

@@ -9,7 +9,6 @@ from app.io.log import TO_SI, LogData
 from app.workflows.recordings import NOMINAL_RATE_HZ, RecordingSource
 from app.workflows.results import calibration_body
 
-
 TEMPERATURE_SENSORS = ("acc", "gyr")
 
 

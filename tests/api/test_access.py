@@ -6,10 +6,9 @@ import pytest
 from fastapi.testclient import TestClient
 
 from app.main import create_app
-from tests.api.conftest import make_settings
 from tests.api.test_calibrations import CANONICAL, six_request
 from tests.api.test_recordings import LOG
-from tests.conftest import seed_table
+from tests.conftest import make_settings, seed_table
 
 
 @pytest.fixture

@@ -16,10 +16,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from app.main import create_app
-from tests.api.conftest import make_settings
+from tests.conftest import make_settings
 
 EXAMPLES = 120
-"""Examples drawn: each uploads one file and runs the nine methods on it (about 20 s in all on a shared 2-core machine)."""
+"""Examples drawn: each uploads one file and runs the nine methods on it
+(about 20 s in all on a shared 2-core machine)."""
 
 AXES = "xyz"
 SPELLINGS = {  # how loggers name the axes of each sensor

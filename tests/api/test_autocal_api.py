@@ -26,7 +26,7 @@ def _upload(client, data: bytes, name: str):
 
 
 def test_autocal_on_uploaded_npy(client):
-    x, truth = simulate_recording(
+    x, _truth = simulate_recording(
         np.random.default_rng(11),
         duration_s=6 * 3600,
         sampling_rate_hz=FS,

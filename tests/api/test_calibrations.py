@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import shutil
 
 import numpy as np
@@ -102,7 +101,7 @@ def test_apply_and_exports(client, tmp_path):
     cc = shutil.which("cc") or shutil.which("gcc")
     assert cc, "a C compiler (gcc) is needed to test the C header export"
     (tmp_path / "cal.h").write_text(header.text)
-    rows = ",".join("{%r,%r,%r}" % tuple(r) for r in t1.tolist())
+    rows = ",".join("{{{!r},{!r},{!r}}}".format(*r) for r in t1.tolist())
     (tmp_path / "main.c").write_text(
         '#include <stdio.h>\n#include "cal.h"\n'
         f"static const float raw[{len(t1)}][3] = {{{rows}}};\n"

@@ -124,7 +124,9 @@ def check_cube_exports(client, body, tmp_path, headers=None):
         for s in sensors
     )
     arrays = "".join(
-        f"static const float raw_{s}[7][3] = {{" + ",".join("{%r,%r,%r}" % tuple(r) for r in raw[s].tolist()) + "};\n"
+        f"static const float raw_{s}[7][3] = {{"
+        + ",".join("{{{!r},{!r},{!r}}}".format(*r) for r in raw[s].tolist())
+        + "};\n"
         for s in sensors
     )
     (tmp_path / "main.c").write_text(

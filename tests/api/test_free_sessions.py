@@ -105,7 +105,7 @@ def test_the_target_defaults_to_the_setting(tmp_path):
     from fastapi.testclient import TestClient
 
     from app.main import create_app
-    from tests.api.conftest import make_settings
+    from tests.conftest import make_settings
 
     with TestClient(create_app(make_settings(tmp_path, free_target_mg=3.5))) as c:
         assert start(c, protocol="free")["target_mg"] == 3.5

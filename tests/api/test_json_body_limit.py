@@ -17,7 +17,7 @@ from fastapi.testclient import TestClient
 
 from app.config import Settings, SettingsError
 from app.main import create_app
-from tests.api.conftest import make_settings
+from tests.conftest import make_settings
 from tests.live_server import live_server
 
 DATA = Path(__file__).resolve().parent.parent / "data"

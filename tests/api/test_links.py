@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 import time
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 
 import httpx
 import numpy as np
@@ -14,8 +14,8 @@ from fastapi.testclient import TestClient
 from app.calibration import CANONICAL_SIX
 from app.main import create_app
 from app.reach.tls import lan_addresses
-from tests.api.conftest import make_settings
 from tests.api.test_sessions import auth, start
+from tests.conftest import make_settings
 from tests.live_server import free_port, live_server
 from tests.phone_poses import pose_samples
 
@@ -38,7 +38,7 @@ def solved(client) -> tuple[dict, str]:
 def test_a_link_reads_its_one_calibration_until_it_expires(tmp_path):
     with TestClient(create_app(make_settings(tmp_path, link_ttl_min=0.01))) as client:  # 0.6 s
         cal, token = solved(client)
-        other, other_token = solved(client)
+        other, _other_token = solved(client)
         assert client.post(f"/api/v1/calibrations/{cal['id']}/links").status_code == 404  # not the session's
         r = client.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token))
         assert r.status_code == 201, r.text
@@ -88,7 +88,7 @@ def test_the_link_is_at_the_address_the_phone_reached_and_a_loopback_one_becomes
             link = phone.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token)).json()
             assert link["url"] == f"{at_lan}/s/{link['code']}"
             expires = datetime.fromisoformat(link["expires_at"])
-            assert expires.utcoffset() is not None and expires > datetime.now(timezone.utc)
+            assert expires.utcoffset() is not None and expires > datetime.now(UTC)
             assert phone.get(link["url"]).status_code == 200  # the other machine opens it there
         with httpx.Client(base_url=f"http://127.0.0.1:{server.port}", timeout=30) as here:
             loop = here.post(f"/api/v1/calibrations/{cal['id']}/links", headers=auth(token)).json()

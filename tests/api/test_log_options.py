@@ -12,8 +12,8 @@ import json
 import numpy as np
 import pytest
 
-from app.workflows.recordings import RecordingSource
 from app.api.schemas.recordings import RecordingOut
+from app.workflows.recordings import RecordingSource
 from simulations.cube import FIELD_UT, simulate_session
 from tests.api.test_typed_contract import undescribed
 from tests.conftest import DATA

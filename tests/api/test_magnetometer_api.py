@@ -218,7 +218,7 @@ def test_c_header_json_yaml_and_csv_carry_the_compass(client, cal, turn, tmp_pat
     cc = shutil.which("cc") or shutil.which("gcc")
     assert cc, "a C compiler (gcc) is needed to test the C header export"
     (tmp_path / "cal.h").write_text(_export(client, cal, "c"))
-    raw = ",".join("{%r,%r,%r}" % tuple(r) for r in m.tolist())
+    raw = ",".join("{{{!r},{!r},{!r}}}".format(*r) for r in m.tolist())
     (tmp_path / "main.c").write_text(
         '#include <stdio.h>\n#include "cal.h"\n'
         f"static const float raw[{len(m)}][3] = {{{raw}}};\n"
@@ -238,7 +238,7 @@ def test_a_place_and_day_reference_the_earth_s_field(client):
     from app.geomag import reference_field
 
     earth = reference_field("2026-12-02", 60.17, 24.94, 20.0)  # Helsinki
-    m, M, b = simulate_session(24, n=400, field_ut=earth.field_ut)
+    m, M, _b = simulate_session(24, n=400, field_ut=earth.field_ut)
     r = _post(client, mag=m.tolist(), date="2026-12-02", latitude_deg=60.17, longitude_deg=24.94, height_m=20.0)
     assert r.status_code == 201, r.text
     metrics = r.json()["metrics"]

@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from simulations.magnetometer import simulate_session
 from app.io.motioncal_packet import MotionCalCalibration, PacketError, crc16, decode, encode, from_calibration
+from simulations.magnetometer import simulate_session
 from tests.processes import ProcessFailed, run_ok
 
 RECEIVER = Path(__file__).parents[1] / "io" / "c" / "motioncal_receiver.c"
@@ -71,7 +71,7 @@ def test_the_c_receiver_recovers_every_value_and_refuses_a_corrupted_byte(receiv
 
 
 def test_compass_calibration_exported_and_received(client, receiver):
-    m, M, b = simulate_session(21, n=300, hard_iron_ut=80.0)
+    m, _M, _b = simulate_session(21, n=300, hard_iron_ut=80.0)
     r = client.post("/api/v1/calibrations", json={"method": "magnetometer", "mag": m.tolist(), "field_ut": 48.0})
     assert r.status_code == 201, r.text
     cal = r.json()

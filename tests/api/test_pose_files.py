@@ -17,9 +17,8 @@ from pydantic import TypeAdapter
 
 from app.api.schemas.calibrations import CalibrationOut
 from app.api.schemas.recordings import RecordingOut
-from tests.api.conftest import make_settings
 from tests.api.test_typed_contract import undescribed
-from tests.conftest import DATA
+from tests.conftest import DATA, make_settings
 
 POSES = DATA / "real" / "mpu6050_pose_files"
 ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")

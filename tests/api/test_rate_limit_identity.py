@@ -8,7 +8,7 @@ import pytest
 from fastapi.testclient import TestClient
 
 from app.main import create_app
-from tests.api.conftest import make_settings
+from tests.conftest import make_settings
 
 LIMIT = 10
 

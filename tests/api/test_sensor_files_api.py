@@ -52,9 +52,12 @@ def test_an_accelerometer_and_a_gyroscope_file_of_one_still_recording_are_not_re
     t = 1000 + np.arange(1500) / 100.0
     acc = np.array([0.02, -0.01, 1.0]) + 0.002 * rng.standard_normal((1500, 3))
     gyr = np.array([-1.2, 0.8, 4.5]) + 0.05 * rng.standard_normal((1500, 3))  # deg/s of a still MPU-6050
-    table = lambda v: (
-        "t,x,y,z\n" + "\n".join(f"{a:.3f},{x:.5f},{y:.5f},{z:.5f}" for a, (x, y, z) in zip(t, v)) + "\n"
-    ).encode()
+
+    def table(v):
+        return (
+            "t,x,y,z\n" + "\n".join(f"{a:.3f},{x:.5f},{y:.5f},{z:.5f}" for a, (x, y, z) in zip(t, v)) + "\n"
+        ).encode()
+
     r = upload(client, [("mpu_accelerometer.csv", table(acc)), ("mpu_gyroscope.csv", table(gyr))], gyr_unit="deg/s")
     assert r.status_code == 201, r.text
     rec = r.json()

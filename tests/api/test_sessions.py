@@ -8,7 +8,7 @@ from fastapi.testclient import TestClient
 
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, fit_six_position
 from app.main import create_app
-from tests.api.conftest import make_settings
+from tests.conftest import make_settings
 from tests.phone_poses import X_TRUE, pose_samples
 
 G = STANDARD_GRAVITY
@@ -64,7 +64,7 @@ def test_a_board_s_session_has_no_notes_of_a_phone_s_browser(client):
     s = start(client, capture_s=5, source="board")
     assert s["source"] == "board" and start(client)["source"] == "phone"
     sent = {label: pose_samples(label, rng) for label in ("+z", "-x", "+y", "-z", "+x", "-y")}
-    for label, capture in sent.items():
+    for _label, capture in sent.items():
         r = client.post(f"/api/v1/sessions/{s['id']}/captures", json=capture, headers=auth(s["token"]))
         assert r.status_code == 201, r.text
     cal = client.post(f"/api/v1/sessions/{s['id']}/solve", headers=auth(s["token"])).json()
@@ -176,8 +176,8 @@ def _cube_session(client):
 
 
 def test_the_cube24_flow_checks_each_turn_and_solves_by_003(client, tmp_path):
-    """24 positions in order, each turn checked at once (Särkkä et al. section VII-A-1); the solution is Särkkä et al.'s method on
-    the joined recording, and recovers the phone's accelerometer and gyroscope."""
+    """24 positions in order, each turn checked at once (Särkkä et al. section VII-A-1); the solution is Särkkä et al.'s
+    method on the joined recording, and recovers the phone's accelerometer and gyroscope."""
     from app.calibration.cube import calibrate_cube
     from tests.cube_phone import B_GYR_DEG_S, S_GYR, X_ACC, Y_ACC, phone_cube
 
@@ -233,7 +233,7 @@ def test_cube_positions_go_in_order_and_need_the_gyroscope(client):
     from tests.cube_phone import phone_cube
 
     phone = phone_cube(3)
-    s, url, h = _cube_session(client)
+    _s, url, h = _cube_session(client)
     r = client.post(url, json={**phone.capture(1), "position": "2"}, headers=h)
     assert r.status_code == 422 and "goes in order: this capture is position 1" in r.json()["detail"]
     r = client.post(url, json={**phone.capture(1), "gyr": None}, headers=h)
@@ -251,7 +251,7 @@ def test_a_gyroscope_reporting_rad_s_is_recognised_from_the_turn(client):
     from tests.cube_phone import phone_cube
 
     phone = phone_cube(4)
-    s, url, h = _cube_session(client)
+    _s, url, h = _cube_session(client)
     for k in (1, 2):
         body = phone.capture(k)
         body["gyr"] = np.radians(body["gyr"]).tolist()  # an old browser: rad/s though it says deg/s

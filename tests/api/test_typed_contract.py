@@ -10,8 +10,8 @@ import pytest
 from pydantic import BaseModel, TypeAdapter
 
 from app.api.schemas.calibrations import RESPONSE_MODELS, CalibrationOut
-from simulations.cube import FIELD_UT, simulate_session
 from simulations.autocal import simulate_recording
+from simulations.cube import FIELD_UT, simulate_session
 from simulations.magnetometer import simulate_session as simulate_turn_session
 from tests.conftest import seed_table
 

@@ -26,7 +26,7 @@ def _csv(header: str, columns: list, fmt: str = "%.6f") -> bytes:
     out.write(header + "\n")
     timed = header.startswith("t,")
     for row in np.column_stack(columns):
-        out.write(",".join(("%.3f" % v) if (i == 0 and timed) else (fmt % v) for i, v in enumerate(row)) + "\n")
+        out.write(",".join(f"{v:.3f}" if (i == 0 and timed) else (fmt % v) for i, v in enumerate(row)) + "\n")
     return out.getvalue().encode()
 
 

@@ -68,7 +68,7 @@ def test_bad_input(client, method):
     assert same.status_code == 422
     nan = client.post(
         "/api/v1/calibrations",
-        content='{"method": "%s", "means": [[NaN, 1, 2]]}' % method,
+        content=f'{{"method": "{method}", "means": [[NaN, 1, 2]]}}',
         headers={"Content-Type": "application/json"},
     )
     assert nan.status_code == 422 and "finite" in nan.json()["detail"]

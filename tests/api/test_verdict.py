@@ -19,11 +19,11 @@ import re
 import numpy as np
 import pytest
 
-from simulations.magnetometer import simulate_session
-from simulations.triangular import random_unit_vectors
 from app.calibration.triangular import fit_triangular
 from app.geomag import reference_field
 from app.verdict import verdict
+from simulations.magnetometer import simulate_session
+from simulations.triangular import random_unit_vectors
 from tests.api.test_real_recordings import leave_one_out_mg
 from tests.real_recordings import by_name
 

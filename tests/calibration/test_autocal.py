@@ -15,9 +15,9 @@ from app.calibration.autocal import (
     select_points,
 )
 from app.calibration.comparison import fit_ellipsoid_axes, fit_sphere_van_hees
-from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
-from simulations.autocal import simulate_recording
 from app.calibration.stationary_002 import RestAccumulator, detect_rest_segments
+from simulations.autocal import simulate_recording
+from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 
 FS = 25.0  # a low rate keeps the recordings small; the segments stay 5 s long
 
@@ -53,7 +53,7 @@ def test_recovers_cross_axis_parameters_at_table2_level(runs):
 
 
 def test_held_out_error_below_1_mg_from_tens_of_mg(runs):
-    for res, truth in runs:
+    for res, _truth in runs:
         m = res.metrics
         assert m["error_before_mg"] > 10.0
         assert m["error_after_mg"] < 1.0
@@ -72,8 +72,8 @@ def test_held_out_error_below_1_mg_from_tens_of_mg(runs):
 
 def test_selection_fills_nine_bins_with_distinct_points(runs):
     res, _ = runs[0]
-    assert res.selection == {name: 2 for name in BIN_NAMES}
-    assert res.control_selection == {name: 2 for name in BIN_NAMES}
+    assert res.selection == dict.fromkeys(BIN_NAMES, 2)
+    assert res.control_selection == dict.fromkeys(BIN_NAMES, 2)
     assert not set(res.point_starts.tolist()) & set(res.control_starts.tolist())
     d = np.linalg.norm(res.points[:, None] - res.points[None], axis=2)
     assert d[np.triu_indices(18, 1)].min() >= 0.1

@@ -133,7 +133,7 @@ def test_the_intervals_hold_the_truth_at_their_rate_over_200_flights():
         hits["matrix"] += list((np.abs(r.matrix - truth["M"]) <= r.matrix_half_width)[upper])
         hits["motor"] += list(np.abs(r.motor_coefficients - truth["k"]) <= r.motor_half_width)
     rates = {k: float(np.mean(v)) for k, v in hits.items()}
-    overall = float(np.mean(sum(hits.values(), [])))
+    overall = float(np.mean([x for v in hits.values() for x in v]))
     print(f"coverage per class {rates}, overall {overall:.3f}, in {time.perf_counter() - start:.1f} s")
     assert found == 200
     assert 0.93 <= overall <= 0.97, rates

@@ -3,6 +3,7 @@ the import table's rule, checked by tests/test_architecture.py."""
 
 import sys
 from pathlib import Path
+
 from tests.processes import run_ok
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -121,7 +121,7 @@ def test_correlated_residuals_widen_the_intervals():
 
 
 def test_the_result_round_trips_and_applies():
-    m, M, b = simulate_session(14, n=300)
+    m, _M, _b = simulate_session(14, n=300)
     r = fit_magnetometer(m, field_ut=F)
     again = CalibrationResult.from_dict(r.to_dict())
     assert isinstance(again, MagnetometerResult)

@@ -56,8 +56,8 @@ def test_recovers_the_simulated_terms_in_their_units():
 
 def test_the_95_percent_intervals_cover_the_truth():
     # 40 simulations × 3 axes here; bench/noise_coverage.py runs the 200.
-    hits = {k: 0 for k in TRUTH}
-    seen = {k: 0 for k in TRUTH}
+    hits = dict.fromkeys(TRUTH, 0)
+    seen = dict.fromkeys(TRUTH, 0)
     for seed in range(40):
         r = characterise_noise(_simulate(100 + seed), FS, unit="rad/s")
         for name, truth in TRUTH.items():

@@ -2,6 +2,7 @@
 
 import sys
 from pathlib import Path
+
 from tests.processes import run_ok
 
 ROOT = Path(__file__).resolve().parents[2]

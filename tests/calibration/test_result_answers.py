@@ -15,12 +15,12 @@ from app.calibration.magnetometer.fit import fit_magnetometer
 from app.calibration.noise import NoiseResult
 from app.calibration.nonorthogonal import fit_nonorthogonal
 from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult, Figure
-from simulations import cube as cube_sim
-from simulations.magnetometer import simulate_session
-from simulations.temperature import simulate_warm_up
 from app.calibration.temperature import calibrate_temperature
 from app.calibration.triangular import fit_triangular
 from app.calibration.trust import review
+from simulations import cube as cube_sim
+from simulations.magnetometer import simulate_session
+from simulations.temperature import simulate_warm_up
 from tests.conftest import seed_table
 
 G = 9.806

@@ -10,10 +10,10 @@ import pytest
 
 from app.calibration import CalibrationError, fit_six_position
 from app.calibration.cube.calibrate import calibrate_cube
-from simulations.cube import FIELD_UT, simulate_session
 from app.calibration.nonorthogonal import fit_nonorthogonal
 from app.calibration.result import SCHEMA_VERSION, CalibrationResult, registered_types
 from app.calibration.triangular import fit_triangular
+from simulations.cube import FIELD_UT, simulate_session
 from tests.conftest import seed_table
 
 G = 9.81
@@ -58,7 +58,10 @@ def test_round_trip_units_and_correction(result):
     assert body["schema_version"] == SCHEMA_VERSION and body["model"]["type"] == result.MODEL_TYPE
     assert body["ok"] is result.ok and body["unit"] == result.unit and body["output_unit"] == result.output_unit
     again = CalibrationResult.from_dict(body)
-    kept = lambda d: {k: v for k, v in d.items() if k != "segments"}  # noqa: E731  (the cube's segmentation is not kept)
+
+    def kept(d):
+        return {k: v for k, v in d.items() if k != "segments"}  # (the cube's segmentation is not kept)
+
     assert type(again) is type(result) and kept(again.to_dict()) == kept(body)
     assert type(CalibrationResult.from_dict(body)) is type(result)
     rng = np.random.default_rng(3)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from app.calibration.errors import CalibrationError
+from app.calibration.triangular import fit_triangular
 from simulations.triangular import (
     bin_indices,
     cramer_rao_bound,
@@ -14,7 +15,6 @@ from simulations.triangular import (
     simulate_scenario,
     uncalibrate,
 )
-from app.calibration.triangular import fit_triangular
 
 
 def test_parameters_follow_eqs_17_18():
@@ -63,7 +63,10 @@ def test_crb_matches_the_projected_normal_form():
     rows = []
     for a in sc.directions:
         c = uncalibrate(sc.p, a[None, :])[0]
-        f = lambda q: np.linalg.norm((c + q[6:]) @ k_matrix(q).T)  # noqa: E731
+
+        def f(q):
+            return np.linalg.norm((c + q[6:]) @ k_matrix(q).T)  # noqa: B023 - called within this iteration
+
         grad_p = np.array([(f(sc.p + 1e-7 * e) - f(sc.p - 1e-7 * e)) / 2e-7 for e in np.eye(9)])
         grad_v = K.T @ a  # ∇ᵥ|K(v + o)| at |a| = 1
         rows.append(grad_p / np.linalg.norm(grad_v))

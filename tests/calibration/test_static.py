@@ -6,8 +6,8 @@ import pytest
 from app.calibration import CANONICAL_SIX, fit_six_position
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.gravity import STANDARD_GRAVITY
-from simulations.logs import simulate_static_log
 from app.calibration.static import StaticSegment, detect_static_segments
+from simulations.logs import simulate_static_log
 
 BOUNDARY_TOL_S = 0.4
 """Detected boundaries must lie within this many seconds of the true ones."""
@@ -101,11 +101,11 @@ def test_bump_in_a_rest_is_not_an_orientation(fs):
         for g0, g1 in seg.gaps:
             assert seg.start < g0 < g1 < seg.end
     # Every knock's strongest part is left out of the statistics.
-    for b0, b1 in log.bumps:
+    for b0, _b1 in log.bumps:
         seg = next(s for s in segs if s.start <= b0 < s.end)
         assert any(g0 <= b0 + 1 and b0 + 3 <= g1 for g0, g1 in seg.gaps)
     # The means are unaffected: within 0.02 m/s² of the clean values.
-    for seg, (s, e, _), d in zip(segs, log.segments, log.directions):
+    for seg, (_s, _e, _), d in zip(segs, log.segments, log.directions):
         truth = log.X @ (log.gravity * d) + log.y
         assert np.linalg.norm(seg.mean - truth) < 0.02
 

@@ -7,7 +7,6 @@ import pytest
 
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.fixed_point import div_round, fixed_point_descent, format_for
-from simulations.triangular import simulate_scenario, uncalibrate
 from app.calibration.triangular import (
     TriangularCalibration,
     alpha_vector,
@@ -15,6 +14,7 @@ from app.calibration.triangular import (
     gradient_descent,
     k_matrix,
 )
+from simulations.triangular import simulate_scenario, uncalibrate
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 G = 9.80665
@@ -183,13 +183,24 @@ def _reference_run(points, bits, frac, h, alphas, iters):
     """A plain-integer transcription of the documented scheme (no numpy), for a few iterations."""
     lo, hi = -(1 << (bits - 1)), (1 << (bits - 1)) - 1
     lo2, hi2 = -(1 << (2 * bits - 1)), (1 << (2 * bits - 1)) - 1
-    sat = lambda x: min(max(x, lo), hi)  # noqa: E731
-    sat2 = lambda x: min(max(x, lo2), hi2)  # noqa: E731
+
+    def sat(x):
+        return min(max(x, lo), hi)
+
+    def sat2(x):
+        return min(max(x, lo2), hi2)
+
     import math
 
-    qz = lambda x: sat(math.floor(x * (1 << frac) + 0.5))  # noqa: E731
-    mul = lambda x, y: sat((x * y + (1 << (frac - 1))) >> frac)  # noqa: E731
-    dv = lambda n, d: (2 * n + d) // (2 * d)  # noqa: E731
+    def qz(x):
+        return sat(math.floor(x * (1 << frac) + 0.5))
+
+    def mul(x, y):
+        return sat((x * y + (1 << (frac - 1))) >> frac)
+
+    def dv(n, d):
+        return (2 * n + d) // (2 * d)
+
     V = [[qz(c) for c in row] for row in points]
     P = [qz(c) for c in (1, 1, 1, 0, 0, 0, 0, 0, 0)]
     hq = qz(h)

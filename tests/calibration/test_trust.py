@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from app.calibration.trust import HALF_WIDTH_LIMITS
 from app.workflows.still import Reading, calibrate_known, calibrate_unknown
 from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
-from app.calibration.trust import HALF_WIDTH_LIMITS
 
 G = 9.80665
 AXES = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0), "+z": (0, 0, 1), "-z": (0, 0, -1)}

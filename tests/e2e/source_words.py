@@ -28,12 +28,14 @@ ALLOWED = {
 SEEN = """() => {
   const visible = (el) => {
     for (let e = el; e && e !== document.documentElement; e = e.parentElement) {
-      if (e.hidden || getComputedStyle(e).display === "none" || getComputedStyle(e).visibility === "hidden") return false;
+      if (e.hidden || getComputedStyle(e).display === "none"
+          || getComputedStyle(e).visibility === "hidden") return false;
     }
     return true;
   };
   const names = [...document.querySelectorAll("[aria-label], [alt], [title]")].filter(visible)
-    .map((el) => [el.getAttribute("aria-label"), el.getAttribute("alt"), el.getAttribute("title")].filter(Boolean).join(" "));
+    .map((el) => [el.getAttribute("aria-label"), el.getAttribute("alt"), el.getAttribute("title")]
+      .filter(Boolean).join(" "));
   const svgText = [...document.querySelectorAll("svg text")].filter(visible).map((t) => t.textContent);
   return [document.title, document.body.innerText, ...names, ...svgText].join("\\n");
 }"""

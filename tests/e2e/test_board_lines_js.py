@@ -143,7 +143,8 @@ def test_the_rate_counted_over_bursts_of_1_and_2_s_and_times_on_it(js, burst_s):
         const t = 1000 * k * {burst_s} + 37 * ((k * 7) % 3);
         const made = Math.round(62.5 * (k + 1) * {burst_s}); const first = Math.floor((made - lines) / 2);
         rate.arrive(first, t / 1000); rate.arrive(made - lines - first, t / 1000 + 0.1);
-        src.text('0.001 -0.002 1.000\\n'.repeat(first), t); src.text('0.001 -0.002 1.000\\n'.repeat(made - lines - first), t + 100);
+        src.text('0.001 -0.002 1.000\\n'.repeat(first), t);
+        src.text('0.001 -0.002 1.000\\n'.repeat(made - lines - first), t + 100);
         lines = made;
         if (decidedAt === null && rate.rateHz !== null) decidedAt = t / 1000;
       }}

@@ -56,5 +56,6 @@ def test_no_faces_before_the_phone_has_turned_and_repeats_are_dropped(js):
     st = js(feed(m) + "return c.status();")
     assert st["centre"] is None and st["coverage"] == 0 and len(st["missing"]) == 20
     assert js(
-        "const c = new m.CompassCoverage(); return [c.push([1, 2, 3]), c.push([1, 2, 3]), c.push([1, 2, NaN]), c.count];"
+        "const c = new m.CompassCoverage(); "
+        "return [c.push([1, 2, 3]), c.push([1, 2, 3]), c.push([1, 2, NaN]), c.count];"
     ) == [True, False, False, 1]

@@ -36,7 +36,7 @@ def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_pat
     assert caption.startswith("Orientation: the compass sits as ") and "COMPASS_ORIENT 2" in caption, caption
     assert "Directions covered:" in caption and "of the log (ArduPilot" in caption, caption
     # the numbers are in ArduPilot's frames: its file, or the JSON
-    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == [
+    assert list(page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")) == [
         "ardupilot",
         "filter",
     ]
@@ -69,7 +69,7 @@ def test_a_px4_log_without_gps_asks_for_the_place_in_the_pages_words(page, serve
     page.click("#flight-compass")
     page.wait_for_selector("#downloads[data-ready=true]", timeout=60_000)
     assert page.text_content("#verdict-words").startswith("Apply it: heading error on flight segments left out")
-    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == ["px4", "filter"]
+    assert list(page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")) == ["px4", "filter"]
     assert page.get_attribute("#use-file", "data-format") == "px4" and "CAL_MAG_COMP_TYP" in page.text_content(
         "#use-how"
     )

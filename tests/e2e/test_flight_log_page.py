@@ -105,7 +105,7 @@ def test_a_warm_up_is_calibrated_for_temperature_from_the_page(axe_page, server,
         " if (img.complete) done(img.naturalWidth); else img.onload = () => done(img.naturalWidth); })"
     )
     assert loaded > 0
-    assert [o for o in page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")] == [
+    assert list(page.eval_on_selector_all("#use-with option", "os => os.map(o => o.value)")) == [
         "px4",
         "ardupilot",
         "filter",

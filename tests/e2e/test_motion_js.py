@@ -41,7 +41,9 @@ def test_sign_detection(js):
     # No orientation: after a second of motion the platform decides; off Apple devices W3C is the default.
     got = js("""const a = new m.SignDetector({apple: true}), b = new m.SignDetector({apple: false});
       const r = [];
-      for (const s of [a, b]) { r.push(s.motion(0, [0, 0, 9.8]), s.motion(999, [0, 0, 9.8]), s.motion(1000, [0, 0, 9.8])); }
+      for (const s of [a, b]) {
+        r.push(s.motion(0, [0, 0, 9.8]), s.motion(999, [0, 0, 9.8]), s.motion(1000, [0, 0, 9.8]));
+      }
       return r;""")
     assert got == [
         None,

@@ -210,9 +210,10 @@ def test_with_api_keys_the_page_asks_for_the_key_and_reads_with_it(browser, tmp_
 def test_the_firmware_use_shows_the_lines_to_paste_which_gcc_builds_and_runs(browser, server, tmp_path):
     """The page's snippet under the C header, as a person copies it, compiled over the header the page
     downloads and run on its reading: the same numbers as the API's apply."""
+    import shutil
+
     from tests.io.test_snippets import C_FLAGS, counts_log, example_reading
     from tests.processes import run_ok
-    import shutil
 
     rec = httpx.post(
         server.url + "/api/v1/recordings",
@@ -470,9 +471,8 @@ def test_send_to_my_computer_hands_the_link_to_the_web_share_api(browser, server
 def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_it_beats_raw(page, server):
     """The MPU-6050's six pose files (tests/data/real/README.md): ArduPilot's file, with what its offsets and
     scales reach beside raw and trical's; a sensor whose only error is its axes' angles: no ArduPilot file."""
-    from tests.api.test_pose_files import ORDER, pose_bytes
-
     from app.calibration.firmware_model import DIRECTIONS
+    from tests.api.test_pose_files import ORDER, pose_bytes
 
     rec = httpx.post(
         server.url + "/api/v1/recordings",

@@ -315,7 +315,7 @@ def test_noise_of_an_uploaded_still_recording(page, server, tmp_path):
         "CSV (Allan table)",
         "Allan plot (SVG)",
     ]
-    for name, href in links:  # every link is a real export of this characterisation, fetched by the page
+    for name, _href in links:  # every link is a real export of this characterisation, fetched by the page
         with page.expect_download() as info:
             page.click(f"#downloads a:text-is('{name}')")
         assert info.value.suggested_filename, name

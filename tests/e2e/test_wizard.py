@@ -4,10 +4,10 @@ against a real trical server."""
 
 from __future__ import annotations
 
-import re
-
 import json
+import re
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -156,7 +156,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
     download = info.value
-    doc = json.loads(open(download.path()).read())
+    doc = json.loads(Path(download.path()).read_text())
     np.testing.assert_allclose(np.array(doc["model"]["X"]), expected.X, rtol=1e-9, atol=0)
     np.testing.assert_allclose(np.array(doc["model"]["y"]), expected.y, rtol=1e-9, atol=0)
     assert download.suggested_filename == f"{doc['id']}.json"
@@ -173,7 +173,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     assert "rounds its sensor values to 0.1 m/s²" in warnings and "may already calibrate" in warnings
     rows = page.eval_on_selector_all("#norm-table tbody tr", "rs => rs.map(r => [...r.cells].map(c => c.textContent))")
     assert [r[0] for r in rows] == POSES
-    for (label, raw, calibrated), m in zip(rows, fed):
+    for (_label, raw, calibrated), m in zip(rows, fed):
         assert float(raw) == pytest.approx(np.linalg.norm(m), abs=1e-4)
         assert float(calibrated) == pytest.approx(np.linalg.norm(expected.apply(m[None])[0]), abs=1e-4)
     assert page.locator("#norm-chart svg circle").count() == 12

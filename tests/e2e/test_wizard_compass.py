@@ -6,16 +6,16 @@ phone; and a phyphox magnetometer export uploaded on the start page shows the sp
 
 from __future__ import annotations
 
-import json
-
 import datetime
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 from playwright.sync_api import expect
 
-from simulations.magnetometer import random_soft_iron
 from app.geomag import reference_field
+from simulations.magnetometer import random_soft_iron
 from tests.e2e.conftest import CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot
 from tests.e2e.source_words import assert_only_its_words
 
@@ -118,7 +118,7 @@ def test_without_a_magnetometer_the_page_points_to_the_upload(page, server):
 
 def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     page = mag_page
-    today = datetime.datetime.now(datetime.timezone.utc).date()
+    today = datetime.datetime.now(datetime.UTC).date()
     field = reference_field(today, HELSINKI["latitude"], HELSINKI["longitude"]).field_ut
     readings, M_true = turn(11, field)
     sent: list[dict] = []
@@ -167,7 +167,7 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     with page.expect_download() as info:
         page.click("#downloads a[data-format='json']")
     full = page.request.get(
-        f"{server.url}/api/v1/calibrations/{json.loads(open(info.value.path()).read())['id']}"
+        f"{server.url}/api/v1/calibrations/{json.loads(Path(info.value.path()).read_text())['id']}"
     ).json()
     # The verdict first, in µT on new directions; the file for the use chosen (a phone app: JSON) under it.
     assert page.text_content("#verdict-words") == full["verdict"]["words"]
@@ -198,7 +198,7 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
 
 
 def test_a_phyphox_upload_shows_the_sphere_before_and_after(page, server, tmp_path):
-    readings, M_true = turn(12, 48.0, n=400)
+    readings, _M_true = turn(12, 48.0, n=400)
     t = np.arange(len(readings)) / 10.0
     path = tmp_path / "Raw Data.csv"
     header = '"Time (s)","Magnetic field x (µT)","Magnetic field y (µT)","Magnetic field z (µT)"'

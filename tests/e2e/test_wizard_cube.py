@@ -8,8 +8,10 @@ or the test stalled on a loaded machine; played by the page, they cannot be."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import time
+from pathlib import Path
 
 import numpy as np
 from playwright.sync_api import expect
@@ -134,7 +136,7 @@ def turn_integral_deg(motion: dict) -> float:
 def check_moves(sent: list[dict]):
     """Each move runs from the end of the capture accepted before it to the start of its own still
     window, without a gap: exactly the samples in between."""
-    for prev, cap in zip(sent, sent[1:]):
+    for prev, cap in itertools.pairwise(sent):
         motion = cap["motion"]
         t = np.array(motion["t_ms"])
         assert len(t) >= 20 and len(motion["gyr"]) == len(t) == len(motion["acc"])
@@ -202,18 +204,20 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
     # What the page shows: Särkkä et al.'s model with its half-widths, checks, warnings, downloads.
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
-    doc = json.loads(open(info.value.path()).read())
+    doc = json.loads(Path(info.value.path()).read_text())
     acc, gyr = doc["model"]["acc"], doc["model"]["gyr"]
     note = (
         f"cube24 wizard, capture_s=1: {elapsed:.1f} s from the Start tap to the downloads "
         f"({elapsed / 24:.1f} s a position, turns of about 1.3 s peaking at 100-130 °/s, played by the page); "
-        f"turn angle seen by the server minus the angle played: {np.min(seen - fed):+.2f}° to {np.max(seen - fed):+.2f}° "
+        f"turn angle seen by the server minus the angle played: {np.min(seen - fed):+.2f}° to "
+        f"{np.max(seen - fed):+.2f}° "
         f"(mean {np.mean(seen - fed):+.2f}°, sd {np.std(seen - fed):.2f}°), minus the trapezoid of the samples "
         f"the page sent: up to {np.abs(seen - sent_angle).max():.2f}°; end attitude error up to "
         f"{errors.max():.2f}°; acc S − X up to {np.abs(np.array(acc['S']) - X_ACC).max():.4f}, "
         f"b − y up to {np.abs(np.array(acc['b']) - Y_ACC).max():.4f} m/s²; "
         f"gyr S − I up to {np.abs(np.array(gyr['S']) - np.eye(3)).max():.4f}, b up to "
-        f"{np.degrees(np.abs(gyr['b']).max()):.3f} °/s; ok={doc['ok']} {[w for w in doc['warnings'] if 'rotation' in w]}"
+        f"{np.degrees(np.abs(gyr['b']).max()):.3f} °/s; "
+        f"ok={doc['ok']} {[w for w in doc['warnings'] if 'rotation' in w]}"
     )
     print("\n" + note)
     ARTIFACTS.mkdir(exist_ok=True)

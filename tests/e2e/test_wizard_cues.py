@@ -17,7 +17,8 @@ from playwright.sync_api import expect
 from tests.e2e.conftest import shot
 from tests.e2e.test_wizard import Motion, reading, repeat_the_first_pose, wait_captured
 from tests.e2e.test_wizard_compass import mag_browser, mag_page, magnetometer, turn  # noqa: F401 (fixtures)
-from tests.e2e.test_wizard_free import UPS, reading as free_reading
+from tests.e2e.test_wizard_free import UPS
+from tests.e2e.test_wizard_free import reading as free_reading
 
 # What each cue sounds and feels like (static/js/cues.js): every kind is told apart by both.
 TONE_KIND = {523.0: "start", 880.0: "captured", 220.0: "refused", 660.0: "finished"}
@@ -249,7 +250,8 @@ def test_free_flow_cues_its_captures_and_a_pose_too_close(page, server):
     assert page.errors == []
 
 
-def test_compass_start_asks_for_the_wake_lock_and_cues_the_first_reading(mag_page, server):
+# mag_page is the fixture imported above, which pytest passes: not a redefinition (F811).
+def test_compass_start_asks_for_the_wake_lock_and_cues_the_first_reading(mag_page, server):  # noqa: F811
     page = mag_page
     spy(page)
     readings, _ = turn(5, 50.0, n=40)

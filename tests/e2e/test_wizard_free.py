@@ -6,16 +6,17 @@ calibration recovers the simulated phone."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 from playwright.sync_api import expect
 
-from app.workflows.still import calibrate_unknown
 from app.calibration.advice import fibonacci_sphere
+from app.workflows.still import calibrate_unknown
 from tests.e2e.conftest import shot
 from tests.e2e.source_words import assert_only_its_words
-from tests.e2e.test_wizard import G, X_TRUE, Y_TRUE, Motion, captures_sent, chromium_round
+from tests.e2e.test_wizard import X_TRUE, Y_TRUE, G, Motion, captures_sent, chromium_round
 from tests.live_server import LiveServer
 
 UPS = fibonacci_sphere(14)  # well spread up-directions
@@ -120,7 +121,7 @@ def test_free_poses_until_the_target(page, server_5mg):
 
     with page.expect_download() as info:
         page.click("#downloads a[data-format=json]")
-    doc = json.loads(open(info.value.path()).read())
+    doc = json.loads(Path(info.value.path()).read_text())
     saved = json.loads(page.evaluate("localStorage.getItem('trical.wizard.free')"))
     r = page.request.get(
         f"{server.url}/api/v1/calibrations/{doc['id']}", headers={"Authorization": f"Bearer {saved['token']}"}

@@ -5,7 +5,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
 from tests.api.test_recordings import LOG, upload
 
 

@@ -1,6 +1,7 @@
 """The Allan deviation picture of a noise calibration (app/io/allan_plot.py): it parses as XML, has
 its panels, lines, marks and values; the fitted slopes pass through the right points when their
-coordinates are read back through the axis transform; null terms are left out with a note (its rendering in Chromium: tests/e2e/test_allan_plot.py)."""
+coordinates are read back through the axis transform; null terms are left out with a note (its rendering in Chromium:
+tests/e2e/test_allan_plot.py)."""
 
 from __future__ import annotations
 
@@ -118,7 +119,7 @@ def test_curves_and_fitted_slopes_pass_through_the_right_points(noise_three):
             for x, y in points(walk.get("d")):  # σ(τ) = K √(τ / 3)
                 assert tr.sigma_of(y) / math.sqrt(tr.tau_of(x) / 3) == pytest.approx(k, rel=2e-3)
             floor = p.find(f".//s:path[@class='fit bias-instability'][@data-axis='{axis}']", NS)
-            for x, y in points(floor.get("d")):  # σ = 0.664 B
+            for _x, y in points(floor.get("d")):  # σ = 0.664 B
                 assert tr.sigma_of(y) == pytest.approx(FLOOR * b, rel=2e-3)
 
             marks = {

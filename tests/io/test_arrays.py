@@ -8,8 +8,8 @@ import pyarrow.parquet as pq
 import pytest
 
 from app.io.arrays import read_npy_log, read_parquet_log
-from app.io.formats import read_log
 from app.io.errors import LogFormatError
+from app.io.formats import read_log
 from app.io.read_options import ReadOptions
 
 

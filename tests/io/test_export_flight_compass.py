@@ -26,6 +26,8 @@ from app.io.errors import ExportError
 from app.io.export_compass import FLIGHT_COMPASS_EXPORTS, export_flight_compass
 from app.io.exporters import export_calibration
 
+EYE = np.eye(3)
+
 # ArduPilot's Vector3::rotate, case by case (libraries/AP_Math/vector3.cpp), for the entries used here
 AP_ROTATE = {
     0: lambda x, y, z: (x, y, z),
@@ -62,15 +64,15 @@ def soft_iron(rng, scale=0.06) -> np.ndarray:
 def flight_body(
     firmware="ardupilot",
     *,
-    Q=np.eye(3),
-    M=np.eye(3),
+    Q=EYE,
+    M=EYE,
     b=(12.0, -20.0, 31.0),
     k=(0.4, -0.3, 0.6),
     motor="current",
     instance=0,
     orientation=0,
     params=None,
-    frame_to_body=np.eye(3),
+    frame_to_body=EYE,
     ok=True,
 ) -> dict:
     return {
@@ -139,7 +141,10 @@ def ardupilot_correct(
 ) -> np.ndarray:
     """AP_Compass_Backend::rotate_field then correct_field, with the export's parameters; µT in, µT out."""
     s = "" if instance == 0 else str(instance + 1)
-    v = lambda g: np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])  # noqa: E731
+
+    def v(g):
+        return np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])
+
     orient = int(params.get(f"COMPASS_ORIENT{s}", stored_orient))
     mag = ap_rotate(orient, sensor_ut) * 10.0  # milligauss
     mag = mag + v("OFS")
@@ -159,11 +164,14 @@ def px4_level(params: dict) -> np.ndarray:
 
 
 def px4_correct(
-    params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray, level: np.ndarray = np.eye(3)
+    params: dict, slot: int, stored_rot: int, sensor_ut: np.ndarray, power: np.ndarray, level: np.ndarray = EYE
 ) -> np.ndarray:
     """Magnetometer::Correct with the export's parameters; µT in, µT out; power already in PX4's unit;
     ``_rotation = level adjustment * get_rot_matrix(ROT)`` (Magnetometer::set_rotation)."""
-    c = lambda g: np.array([params[f"CAL_MAG{slot}_{a}{g}"] for a in "XYZ"])  # noqa: E731
+
+    def c(g):
+        return np.array([params[f"CAL_MAG{slot}_{a}{g}"] for a in "XYZ"])
+
     R = level @ px4_rotation(int(params.get(f"CAL_MAG{slot}_ROT", stored_rot)))
     d, o = c("SCALE"), c("ODIAG")
     S = np.array([[d[0], o[0], o[1]], [o[0], d[1], o[2]], [o[1], o[2], d[2]]])
@@ -337,7 +345,10 @@ def dataflash_params(path: Path) -> dict[str, float]:
 def test_ardupilot_export_of_the_stored_calibration_is_the_stored_parameters(instance):
     params = {k: v for k, v in dataflash_params(REAL / "test.BIN").items() if k.startswith(("COMPASS_", "AHRS_"))}
     s = "" if instance == 0 else str(instance + 1)
-    v = lambda g: np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])  # noqa: E731
+
+    def v(g):
+        return np.array([params[f"COMPASS_{g}{s}_{a}"] for a in "XYZ"])
+
     dia, odi = v("DIA"), v("ODI")
     M = np.array([[dia[0], odi[0], odi[1]], [odi[0], dia[1], odi[2]], [odi[1], odi[2], dia[2]]])
     body = flight_body(
@@ -362,7 +373,10 @@ def test_px4_export_of_the_stored_calibration_is_the_stored_parameters(rng):
         for k, v in ULog(str(REAL / "sample_log_small.ulg")).initial_parameters.items()
         if k.startswith(("CAL_MAG", "SENS_BOARD"))
     }
-    c = lambda g: np.array([params[f"CAL_MAG1_{a}{g}"] for a in "XYZ"])  # noqa: E731  slot 1: the external compass
+
+    def c(g):
+        return np.array([params[f"CAL_MAG1_{a}{g}"] for a in "XYZ"])  # slot 1: the external compass
+
     level = px4_level(params)  # SENS_BOARD_X_OFF 0.76, Y_OFF -2.94 degrees in this log
     R = level @ px4_rotation(int(params["CAL_MAG1_ROT"]))
     S, off = np.diag(c("SCALE")), 100.0 * c("OFF")

@@ -15,13 +15,12 @@ import re
 import numpy as np
 import pytest
 
+from app.calibration.result import CalibrationResult
 from app.io.errors import ExportError
 from app.io.exporters import export_calibration
-from app.workflows.temperature import temperature_log
-from app.calibration.result import CalibrationResult
-from tests.temperature_logs import warm_up
-
 from app.io.log import LogData
+from app.workflows.temperature import temperature_log
+from tests.temperature_logs import warm_up
 
 
 def _body(seed: int = 21, **kw) -> dict:
@@ -105,8 +104,9 @@ def test_ardupilot_parm_reproduces_trical_s_correction_relative_to_the_calibrati
         cal_temp = model["t_ref_c"] + cal_offset_c  # INS_ACC1_CALTEMP / INS_GYR1_CALTEMP
         m = np.random.default_rng(2).normal(0.0, 1.0, (len(T), 3))
 
+        # P is called within this iteration only: B023's late binding cannot happen.
         def P(x, axis):
-            c1, c2, c3 = (p[f"INS_TCAL1_{word}{k}_{'XYZ'[axis]}"] for k in (1, 2, 3))
+            c1, c2, c3 = (p[f"INS_TCAL1_{word}{k}_{'XYZ'[axis]}"] for k in (1, 2, 3))  # noqa: B023
             return (c1 * x + c2 * x**2 + c3 * x**3) * 1e-6
 
         t = np.clip(T, p["INS_TCAL1_TMIN"], p["INS_TCAL1_TMAX"])

@@ -65,7 +65,7 @@ def test_ardupilot_log_of_a_flight_reads_back_what_was_written(tmp_path, generat
     assert r.stored.motor_kind == "current" and r.stored.orientation == 0
     np.testing.assert_array_equal(r.frame_to_body, np.eye(3))
     # the firmware's field is ArduPilot's formula of that generation, written independently here
-    D, O = cal["matrix"], cal["offsets_ut"]
+    D, O = cal["matrix"], cal["offsets_ut"]  # noqa: E741 - ArduPilot's D and O (matrix, offsets)
     mofs = np.outer(flight["current_a"], cal["motor"])
     m = flight["mag_raw_ut"]
     h = (m + O) @ D.T + mofs if generation == "new" else (m + O + mofs) @ D.T

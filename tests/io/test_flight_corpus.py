@@ -92,13 +92,13 @@ def test_log171_compass_context_against_pymavlink(mavlink):
     assert r.current_a.max() == pytest.approx(27.44)
     ctun = first["CTUN"]
     assert (
-        0 <= r.throttle.min()
+        r.throttle.min() >= 0
         and r.throttle.max() <= 1
         and r.throttle[0] == pytest.approx(ctun.ThrOut / 1000.0, abs=1e-3)
     )
     fix = mavlink["gps_fix"]
     assert (r.latitude_deg, r.longitude_deg, r.altitude_m) == pytest.approx((fix.Lat, fix.Lng, fix.Alt), abs=1e-9)
-    gps = dt.datetime(1980, 1, 6, tzinfo=dt.timezone.utc) + dt.timedelta(weeks=fix.Week, milliseconds=fix.TimeMS)
+    gps = dt.datetime(1980, 1, 6, tzinfo=dt.UTC) + dt.timedelta(weeks=fix.Week, milliseconds=fix.TimeMS)
     assert r.utc == gps - dt.timedelta(seconds=17)  # GPS − UTC was 17 s from July 2015 to the end of 2016
     assert r.utc.date() == dt.date(2015, 11, 21)
 

@@ -121,7 +121,7 @@ def test_sensor_logger_columns_are_reordered_from_z_y_x(tmp_path):
 
 def test_sensor_logger_linear_accelerometer_file_alone_is_refused(tmp_path):
     rows = np.random.default_rng(2).normal(0, 0.05, (200, 3))
-    with pytest.raises(LogFormatError, match="linear acceleration \\(gravity removed\\).*TotalAcceleration"):
+    with pytest.raises(LogFormatError, match=r"linear acceleration \(gravity removed\).*TotalAcceleration"):
         read_log(write(tmp_path, "Accelerometer.csv", _sl_csv(rows)))
 
 

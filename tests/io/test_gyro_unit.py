@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from app.io.formats import read_log
 from app.calibration.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
+from app.io.formats import read_log
 from app.io.formats.chips import GYR_LSB_PER_DPS
 from app.io.formats.gyro_unit import compose, gyro_evidence, rotate_back
 from app.io.read_options import ReadOptions
@@ -43,7 +43,7 @@ def _write(tmp_path, name, header, columns, fmt="%.5f"):
 
 def test_the_chips_table_holds_the_offsets_the_limit_is_derived_from():
     assert {p.name: p.zero_rate_dps for p in GYR_PARTS}["MPU-6050"] == 20.0
-    assert GYRO_BIAS_MAX_DPS == 1.5 * max(p.zero_rate_dps for p in GYR_PARTS)
+    assert 1.5 * max(p.zero_rate_dps for p in GYR_PARTS) == GYRO_BIAS_MAX_DPS
 
 
 def test_a_real_still_mpu6050_in_deg_s_is_read_in_deg_s_whatever_the_header(tmp_path):

@@ -116,7 +116,7 @@ def test_bad_columns_name_the_problem(tmp_path, columns, fragment):
 
 def test_decimal_commas_between_comma_separators_are_refused_by_their_count(tmp_path):
     p = write(tmp_path, "eu.csv", "".join(f"{i / 100:.2f},0.01,0.02,9.81\n".replace(".", ",") for i in range(N)))
-    with pytest.raises(LogFormatError, match="decimal commas .* save the log with semicolons or tabs"):
+    with pytest.raises(LogFormatError, match=r"decimal commas .* save the log with semicolons or tabs"):
         read_log(p, ReadOptions(columns="t,acc_x,acc_y,acc_z"))
 
 
@@ -168,7 +168,7 @@ def test_sign_minus_one_negates_the_accelerations(tmp_path):
     kept, flipped = read_log(p), read_log(p, ReadOptions(sign=-1))
     np.testing.assert_array_equal(flipped.acc, -kept.acc)
     assert (kept.sign, flipped.sign) == (1, -1) and "accelerations negated as sign=-1 asks" in flipped.notes
-    with pytest.raises(LogFormatError, match="sign must be 1 .* or -1"):
+    with pytest.raises(LogFormatError, match=r"sign must be 1 .* or -1"):
         read_log(p, ReadOptions(sign=2))
 
 

@@ -9,11 +9,11 @@ import zipfile
 import numpy as np
 import pytest
 
-from simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.read_options import ReadOptions
 from app.workflows.recordings import describe_log
+from simulations.magnetometer import simulate_session
 
 N = 200
 RATE = 20.0

@@ -128,7 +128,7 @@ def test_microstrain_scaled_columns_are_the_accelerometer_beside_the_filters_lin
 
 
 def test_linear_columns_alone_are_refused_and_beside_unknown_acceleration_columns_asked_about():
-    with pytest.raises(LogFormatError, match="hold linear acceleration .gravity removed.; calibration needs"):
+    with pytest.raises(LogFormatError, match=r"hold linear acceleration .gravity removed.; calibration needs"):
         map_columns(["time", "accuracy", "linear_acceleration.x", "linear_acceleration.y", "linear_acceleration.z"])
     with pytest.raises(
         LogFormatError,
@@ -170,7 +170,7 @@ def test_rows_of_the_other_packet_are_dropped_with_a_note_and_a_partly_empty_row
     bad.write_text("\n".join(lines[:2] + [",".join(cells)] + lines[3:]) + "\n")
     with pytest.raises(
         LogFormatError,
-        match="data row 2 .line 3 if the file has no blank lines. has an empty value in column 'scaledAccelY'",
+        match=r"data row 2 .line 3 if the file has no blank lines. has an empty value in column 'scaledAccelY'",
     ):
         read_columns(
             bad,

@@ -130,8 +130,13 @@ def test_without_time_columns_files_of_equal_length_are_taken_sample_by_sample(t
     rng = np.random.default_rng(5)
     _, va = _stream(rng, 0, 100, 300, [0, 0, 9.81], 0.01)
     _, vg = _stream(rng, 0, 100, 300, [0.01, 0, 0], 0.001)
-    rows = lambda v: ("ax,ay,az\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
-    rowsg = lambda v: ("gx,gy,gz\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
+
+    def rows(v):
+        return ("ax,ay,az\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
+
+    def rowsg(v):
+        return ("gx,gy,gz\n" + "\n".join(",".join(f"{x:.5f}" for x in r) for r in v) + "\n").encode()
+
     log = read_log(
         zipped(tmp_path, {"accelerometer.csv": rows(va), "gyroscope.csv": rowsg(vg)}),
         ReadOptions(sampling_rate_hz=100),
@@ -176,13 +181,17 @@ def test_a_phyphox_gyroscope_file_keeps_its_headers_unit_when_read_as_the_gyrosc
 
 
 def test_json_arrays_one_per_sensor_are_one_recording(tmp_path):
-    """accelerometer.json and gyroscope.json, each an array of {"t", "x", "y", "z"}: the gyroscope's x, y, z are its own."""
+    """accelerometer.json and gyroscope.json, each an array of {"t", "x", "y", "z"}:
+    the gyroscope's x, y, z are its own."""
     import json
 
     rng = np.random.default_rng(12)
     ta, va = _stream(rng, 50.0, 100.0, 600, [0.0, 0.0, 9.81], 0.01)
     tg, vg = _stream(rng, 50.004, 100.0, 600, [0.02, -0.01, 0.0], 0.002)
-    as_json = lambda t, v: json.dumps([{"t": a, "x": x, "y": y, "z": z} for a, (x, y, z) in zip(t, v)]).encode()
+
+    def as_json(t, v):
+        return json.dumps([{"t": a, "x": x, "y": y, "z": z} for a, (x, y, z) in zip(t, v)]).encode()
+
     log = read_log(
         zipped(tmp_path, {"accelerometer.json": as_json(ta, va), "gyroscope.json": as_json(tg, vg)}), name="rec.zip"
     )

@@ -11,7 +11,6 @@ import sys
 import numpy as np
 import pytest
 
-from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
 from tests.processes import run_ok
 
 G = 9.80665

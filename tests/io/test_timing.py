@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simulations.serial import host_arrival_times
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.timing import JITTER_MAX, decide_timing, time_scale
+from simulations.serial import host_arrival_times
 
 FS = 100.0
 

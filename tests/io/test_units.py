@@ -6,13 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from simulations.logs import simulate_static_log
-from simulations.magnetometer import simulate_session
 from app.io.errors import LogFormatError
 from app.io.formats import read_log
 from app.io.formats.chips import CHIPS, parse_chips
 from app.io.formats.units import field_magnitude, infer_mag_unit
 from app.io.read_options import ReadOptions
+from simulations.logs import simulate_static_log
+from simulations.magnetometer import simulate_session
 
 G = 9.80665
 SIX = simulate_static_log(np.random.default_rng(22), sampling_rate_hz=100.0, rest_s=(2.0, 2.5), turn_s=(1.0, 1.5))
@@ -28,7 +28,7 @@ def _write(tmp_path, header: str, columns: list, fmt: str = "%.6f", name: str = 
         f.write(header + "\n")
         for row in data:
             f.write(
-                ",".join(("%.3f" % v) if (i == 0 and header.startswith("t,")) else (fmt % v) for i, v in enumerate(row))
+                ",".join(f"{v:.3f}" if (i == 0 and header.startswith("t,")) else (fmt % v) for i, v in enumerate(row))
                 + "\n"
             )
     return path
@@ -86,7 +86,7 @@ def test_chip_names_are_checked_one_per_sensor():
     }
     with pytest.raises(LogFormatError, match="chip 'mpu9999' is not one trical knows: give one of mpu6050-2g"):
         parse_chips("mpu9999")
-    with pytest.raises(LogFormatError, match="two parts for the magnetometer .ak8963-16bit, qmc5883l-2g."):
+    with pytest.raises(LogFormatError, match=r"two parts for the magnetometer .ak8963-16bit, qmc5883l-2g."):
         parse_chips("ak8963-16bit,qmc5883l-2g")
 
 
@@ -146,7 +146,7 @@ def test_a_chip_is_lsb_per_g_and_a_wrong_scale_names_the_right_one(tmp_path):
         r"lsb_per_g=8192 or chip=mpu6050-4g",
     ):
         _read(path, lsb_per_g=16384)
-    with pytest.raises(LogFormatError, match="chip mpu6050-2g .16384 LSB/g. and lsb_per_g=8192 disagree"):
+    with pytest.raises(LogFormatError, match=r"chip mpu6050-2g .16384 LSB/g. and lsb_per_g=8192 disagree"):
         _read(path, lsb_per_g=8192, chip="mpu6050-2g")
     with pytest.raises(LogFormatError, match="already in m/s\\^2"):
         _read(_write(tmp_path, "t,ax,ay,az", [T, ACC], name="ms2.csv"), chip="mpu6050-2g")

@@ -57,7 +57,7 @@ def test_a_link_opens_its_owner_s_calibration_until_it_expires(store):
     )
     short = store.add_link(a["id"], owner="session:ses_1", ttl_s=0.05)
     time.sleep(0.1)
-    with pytest.raises(NotFoundError, match="expired at .*: send it again"):
+    with pytest.raises(NotFoundError, match=r"expired at .*: send it again"):
         store.open_link(short["code"])
     with pytest.raises(NotFoundError, match="no link"):
         store.open_link("ABCDEFGHJK")

@@ -7,7 +7,7 @@ import numpy as np
 from fastapi.testclient import TestClient
 
 from app.main import create_app
-from tests.api.conftest import client, make_settings, settings  # noqa: F401  (fixtures)
+from tests.conftest import make_settings
 from tests.phone_poses import pose_samples
 
 

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
-
 
 def test_a_calibration_page_renders_the_result_view_and_its_script(client):
     r = client.get("/c/cal_" + "0123456789abcdef" * 2)

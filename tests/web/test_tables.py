@@ -19,7 +19,6 @@ from app.calibration.magnetometer.fit import MIN_COVERAGE, MIN_READINGS
 from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
 from app.guided import capture_rules
 from app.web.tables import COVERAGE_TO_SOLVE, POSE_NAMES, SOURCES, face_words, page_tables
-from tests.api.conftest import client, settings  # noqa: F401  (fixtures)
 
 JS = Path(__file__).resolve().parents[2] / "static" / "js"
 

@@ -70,8 +70,8 @@ class VerdictOut(Out):
     after: float | None = Field(description="The same, calibrated.")
     unit: Literal["mg", "µT", "counts", "°/s", "°"] | None = Field(
         description=(
-            "mg of g, or µT for a compass (counts for a magnetometer left in counts); °/s for a temperature calibration "
-            "of a gyroscope alone; ° (heading error) for a compass calibrated from a flight."
+            "mg of g, or µT for a compass (counts for a magnetometer left in counts); °/s for a temperature "
+            "calibration of a gyroscope alone; ° (heading error) for a compass calibrated from a flight."
         )
     )
     basis: str | None = Field(description="Which readings the figure is on, in words.")

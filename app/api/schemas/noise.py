@@ -9,7 +9,6 @@ from pydantic import Field
 
 from app.api.schemas.common import CalibrationCommon, Out, Vec3Out
 
-
 Figures3 = list[float | None]
 
 
@@ -86,7 +85,10 @@ class StillPart(Out):
     n_samples: int
     fraction: float = Field(description="Of the recording.")
     detected_from: str = Field(
-        description='The sensors whose stillness was tested, joined by ", " (every sensor the recording holds: still on all of them).'
+        description=(
+            'The sensors whose stillness was tested, joined by ", " (every sensor the recording holds: '
+            "still on all of them)."
+        )
     )
 
 

@@ -21,8 +21,8 @@ class SegmentOut(BaseModel):
     pose_from_name: str | None = Field(
         None,
         description=(
-            "The up axis the file's name gives (x_axis_pos → +x, z_down → -z), when it gives one; the data decide `up`, "
-            "and a note names a file whose name they contradict."
+            "The up axis the file's name gives (x_axis_pos → +x, z_down → -z), when it gives one; the data decide "
+            "`up`, and a note names a file whose name they contradict."
         ),
     )
 

@@ -159,11 +159,14 @@ class FreeProgress(BaseModel):
     target_reached: bool
     advice: list[PoseAdviceOut] = Field(
         description=(
-            "The next poses: D-optimal once fitted, before that the directions farthest from the poses taken (gain null)."
+            "The next poses: D-optimal once fitted, before that the directions farthest from the poses taken (gain "
+            "null)."
         )
     )
     message: str = Field(
-        description="The state in words, e.g. “11 poses: 3.2 mg expected on new orientations (target 2 mg, at least 12 poses)”."
+        description=(
+            "The state in words, e.g. “11 poses: 3.2 mg expected on new orientations (target 2 mg, at least 12 poses)”."
+        )
     )
 
 

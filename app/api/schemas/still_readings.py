@@ -36,7 +36,9 @@ class SessionRates(Out):
 class AffineModel(Out):
     type: Literal["affine"]
     X: Mat3Out = Field(
-        description="m = X a + y (Georgieva et al., ESGI'95, section 3.2), in the readings' unit per unit of the reference."
+        description=(
+            "m = X a + y (Georgieva et al., ESGI'95, section 3.2), in the readings' unit per unit of the reference."
+        )
     )
     y: Vec3Out = Field(description="Offset, in the readings' unit.")
 
@@ -185,7 +187,10 @@ class PoseAdviceOut(Out):
 
     up: Vec3Out = Field(description="Unit vector in the sensor frame that should point up (reads +g at rest).")
     words: str = Field(
-        description="The pose in words, e.g. “+x up (on its left edge as you face the screen, right edge up), tilted 30° towards −z”."
+        description=(
+            "The pose in words, e.g. “+x up (on its left edge as you face the screen, right edge up), "
+            "tilted 30° towards −z”."
+        )
     )
     gain: float | None = Field(
         description=(
@@ -242,7 +247,8 @@ class FreeFinish(Out):
 
     reason: Literal["target", "stopped"] = Field(
         description=(
-            "`target`: the cross-validated error fell below the target with enough poses; `stopped`: the person finished first."
+            "`target`: the cross-validated error fell below the target with enough poses; `stopped`: the person "
+            "finished first."
         )
     )
     text: str = Field(description="E.g. “target reached: 1.4 mg on new orientations”.")

@@ -59,7 +59,7 @@ def decompose(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def decomposition_jacobian(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Derivatives of D (3) and D⁻¹S (9, row-major) with respect to S (9, row-major)."""
-    D, M = decompose(S)
+    D, _M = decompose(S)
     JD = np.zeros((3, 9))
     for j in range(3):
         for i in range(3):
@@ -97,7 +97,8 @@ class SensorFit(GatedFit):
 
     @property
     def misalignment(self) -> np.ndarray:
-        """D⁻¹S: misalignments and cross-coupling (soft iron for the magnetometer, the gyroscope's D_ω⁻¹ S_ω), (3, 3)."""
+        """D⁻¹S, (3, 3): misalignments and cross-coupling (soft iron for the magnetometer, the gyroscope's
+        D_ω⁻¹ S_ω)."""
         return decompose(self.S)[1]
 
     def model(self) -> dict:
@@ -216,7 +217,7 @@ class FieldSensorCalibration(SensorFit):
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "FieldSensorCalibration":
+    def from_dict(cls, data: dict) -> FieldSensorCalibration:
         """Rebuild a result from :meth:`to_dict` output."""
         model = data["model"]
         rows = data.get("positions") or []
@@ -349,7 +350,7 @@ def _validated(means, covariances, counts, attitudes, reference, sensor: str, es
     if not np.all(np.isfinite(C)) or np.any(n < 1):
         raise CalibrationError(f"{sensor}: covariances must be finite and counts at least 1")
     n_par = N_PARAMETERS if estimate_angles else 12
-    if 3 * P <= n_par:
+    if n_par >= 3 * P:
         raise InsufficientDataError(
             f"{sensor}: {P} still positions give {3 * P} equations for {n_par} parameters (Särkkä et al. section "
             f"III-C); at least {n_par // 3 + 1} positions are needed, 24 in the cube protocol"
@@ -363,7 +364,7 @@ def _gauss_newton(x, free, m, Rs, ref: float, L, sensor: str, max_iterations: in
     y = m.reshape(-1)
     converged = False
     it = 0
-    for it in range(1, max_iterations + 1):
+    for it in range(1, max_iterations + 1):  # noqa: B007 - the count of iterations is read after the loop
         h, J = _model_and_jacobian(x, Rs, ref)
         p = h - y  # Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (12)
         # Eq. (13), step 3: (Jᵀ W J) Δx = Jᵀ W p, solved in whitened least-squares form.

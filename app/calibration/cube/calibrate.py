@@ -12,6 +12,7 @@ before the first mistake.  Every sensor follows ``raw = S f + b`` (Särkkä et a
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -91,7 +92,7 @@ class CubeCalibration(CalibrationResult):
     method = MODEL_TYPE
     PER_SENSOR = True
     CUBE_SENSORS = ("acc", "gyr", "mag")
-    CALIBRATED_UNITS = {"gyr": "rad/s", "mag": "uT"}
+    CALIBRATED_UNITS: ClassVar[dict[str, str]] = {"gyr": "rad/s", "mag": "uT"}
     """What the gyroscope and magnetometer corrections calibrate into."""
 
     @property
@@ -216,7 +217,7 @@ class CubeCalibration(CalibrationResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "CubeCalibration":
+    def _from_body(cls, data: dict) -> CubeCalibration:
         """Rebuild a result from :meth:`to_dict` output (the segmentation is not kept)."""
         det = data["details"]
         p = data["protocol"]
@@ -488,7 +489,7 @@ def _fit_gyro(rec: _Stages, w, lam, gates: Gates) -> tuple[GyroCalibration | Non
         return None, used
     res = fit_gyroscope(
         rates,
-        proto.quaternions[[k for k in used]],
+        proto.quaternions[list(used)],
         proto.quaternions[[k + 1 for k in used]],
         bias0=bias0,
         lam=lam,

@@ -11,7 +11,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-
 SIGNIFICANCE = 3.0
 """A change below this many standard errors is noise: removing it would only add noise."""
 

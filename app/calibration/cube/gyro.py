@@ -22,17 +22,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
-from ..validation import as_samples
 import scipy.sparse as sp
 from scipy import stats
 from scipy.linalg import cho_solve_banded, cholesky_banded
 
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates, residual_gate
-from ..uncertainty import CONFIDENCE
-from . import quaternion as quat
 from ..result import gate_fields
+from ..uncertainty import CONFIDENCE
+from ..validation import as_samples
+from . import quaternion as quat
 from .accmag import SensorFit, decomposition_jacobian
 
 LAMBDAS = tuple(10.0**k for k in range(-3, 7))
@@ -145,7 +144,7 @@ class GyroCalibration(SensorFit):
         }
 
     @classmethod
-    def from_dict(cls, data: dict) -> "GyroCalibration":
+    def from_dict(cls, data: dict) -> GyroCalibration:
         """Rebuild a result from :meth:`to_dict` output."""
         model = data["model"]
         return cls(
@@ -350,7 +349,7 @@ def _gauss_newton(prob: _Problem, x, lam, max_iterations, tolerance):
     (below ``tolerance``) that same step has put the quaternions at their optimum.
     """
     it = 0
-    for it in range(1, max_iterations + 1):
+    for it in range(1, max_iterations + 1):  # noqa: B007 - the count of iterations is read after the loop
         dx = _NormalSolver(prob.evaluate(x, lam)).step()
         x = x + dx
         if np.max(np.abs(dx[prob.n_q :])) < tolerance:
@@ -373,7 +372,7 @@ def _validated(
             raise CalibrationError(f"rotation {k + 1}: NaN or infinite rates; drop those samples")
     numbers = tuple(range(1, K + 1)) if rotation_numbers is None else tuple(int(n) for n in rotation_numbers)
     n_theta = 12 if estimate_bias else 9
-    if 3 * K < n_theta:
+    if n_theta > 3 * K:
         raise InsufficientDataError(
             f"{K} rotations give {3 * K} attitude equations for {n_theta} gyroscope parameters "
             f"(Särkkä et al. section III-B): at least {-(-n_theta // 3)} rotations about different axes are needed"
@@ -447,7 +446,7 @@ def _saturated_lambda(prob: _Problem, x, lambdas, max_iterations: int, tolerance
 
 def _covariance(
     prob: _Problem,
-    lin: "_Linearisation",
+    lin: _Linearisation,
     Sigma,
     estimate_bias: bool,
     bias_covariance,
@@ -480,7 +479,7 @@ def _covariance(
 
 def _metrics(
     prob: _Problem,
-    lin: "_Linearisation",
+    lin: _Linearisation,
     x,
     rots,
     qs,

@@ -10,6 +10,7 @@ that it begins and ends at rest (Särkkä et al. eq. (5) anchors both ends).
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -144,7 +145,7 @@ def segment_recording(
         t = min(trim, (b - a) // 4)
         static.append((a + t, b - t))
     rotations = []
-    for (a0, b0), (a1, b1) in zip(runs[:-1], runs[1:]):
+    for (a0, b0), (a1, b1) in itertools.pairwise(runs):
         rotations.append((max(a0, b0 - pad), min(b1, a1 + pad)))
     return Segmentation(
         static=tuple(static),

@@ -385,8 +385,8 @@ def fit_magnetometer(
         own = float(np.linalg.det(M)) ** (-1.0 / 3.0) * field
         if abs(own / field - 1.0) > MAX_SCALE_DEVIATION:
             gates.warn(
-                f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: check the "
-                "magnetometer's unit, or the place and date"
+                f"the readings' own field is about {own:.1f} {label} where {field:.1f} {label} was asked for: "
+                "check the magnetometer's unit, or the place and date"
             )
     if stage == "refined" and not fitted.converged:
         gates.fail("the fit did not converge: turn the device slowly through all directions and try again")
@@ -397,4 +397,4 @@ def fit_magnetometer(
     )
 
 
-__all__ = ["fit_magnetometer", "cross_validated_field_error", "measured_inclination"]
+__all__ = ["cross_validated_field_error", "fit_magnetometer", "measured_inclination"]

@@ -62,8 +62,8 @@ without turns the hard iron along the field and the field itself cannot be told 
 MAX_ONE_HEADING = 0.5
 """More than half of the flight in one 45° sector of heading (a vehicle parked, a straight leg): the few turns
 weigh too little against it, and the offsets trade off against a turn of the compass about the vertical —
-log171.bin of the real corpus, 77 % of it in one sector (mostly parked), shows the same 15–16° turn on all three compasses.
-A flight of turns and circles holds 12–25 % in its fullest sector."""
+log171.bin of the real corpus, 77 % of it in one sector (mostly parked), shows the same 15–16° turn on all three
+compasses. A flight of turns and circles holds 12–25 % in its fullest sector."""
 
 MIN_COVERAGE = 0.15
 """Share of the 20 faces (:mod:`.coverage`) the expected field must reach (3 faces): a level flight turning
@@ -133,7 +133,7 @@ def _candidates(models, power_usable: bool, power_given: bool) -> list[str]:
     out = []
     for name in names:
         try:
-            model, motor = parse_candidate(name)
+            _model, motor = parse_candidate(name)
         except ValueError:
             raise CalibrationError(
                 f"unknown compass model {name!r}: use auto or one of "
@@ -267,7 +267,10 @@ def fit_flight_compass(
     heading, err_before, err_after = _heading_errors(gates, left_out[chosen], fw, C, ref)
 
     idx = _thin(n)
-    thin = lambda a: None if a is None else a[idx]  # noqa: E731
+
+    def thin(a):
+        return None if a is None else a[idx]
+
     series = {
         "time_s": t[idx],
         "expected": e[idx],

@@ -78,7 +78,7 @@ class FlightCompassCalibration(CalibrationResult):
     gravity: float | None = None
 
     @classmethod
-    def from_fit(cls, fit, *, flight: dict, metrics: dict) -> "FlightCompassCalibration":
+    def from_fit(cls, fit, *, flight: dict, metrics: dict) -> FlightCompassCalibration:
         """The stored form of a :class:`.flight_result.FlightCompassResult` with the log's ``flight`` facts."""
         d = fit.to_dict()
         figures = {}
@@ -173,7 +173,7 @@ class FlightCompassCalibration(CalibrationResult):
         return {"flight": dict(self.flight), "series": dict(self.series)}
 
     @classmethod
-    def _from_body(cls, data: dict) -> "FlightCompassCalibration":
+    def _from_body(cls, data: dict) -> FlightCompassCalibration:
         half = {k: v for k, v in (data.get("uncertainty") or {}).items() if k != "confidence"}
         return cls(
             **cls.parameters_from(data["model"]),

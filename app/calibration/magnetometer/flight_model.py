@@ -88,7 +88,7 @@ def design(
     n = len(u)
     cols = [e @ E.T for E in _basis(model)]  # ∂(S e)/∂θ_j
     eye = np.eye(3)
-    cols += [np.broadcast_to(eye[:, l], (n, 3)) for l in range(3)]  # b
+    cols += [np.broadcast_to(eye[:, c], (n, 3)) for c in range(3)]  # b
     if motor:
         assert p is not None, "the motor term needs the power"
         cols += [np.outer(p, eye[:, l]) for l in range(3)]  # k p

@@ -148,7 +148,7 @@ class MagnetometerResult(CalibrationResult):
         }
 
     @classmethod
-    def _from_body(cls, data: dict) -> "MagnetometerResult":
+    def _from_body(cls, data: dict) -> MagnetometerResult:
         cov = data.get("covariance")
         return cls(
             **cls.parameters_from(data["model"]),

@@ -52,10 +52,10 @@ from . import (
     sensorlog,
     ulog,
 )
+from .chips import parse_chips
 from .flight_log import CLOCKS
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
-from .chips import parse_chips
 from .timing import with_timing
 from .units import refuse_linear_acceleration, settle_units
 

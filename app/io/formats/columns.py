@@ -24,7 +24,6 @@ import re
 
 import numpy as np
 
-from ..errors import LogFormatError
 from ...calibration.plausible import GYRO_BIAS_MAX_DPS
 from ...calibration.headlines import SENSOR_WORDS
 from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS

@@ -279,7 +279,7 @@ def open_log(path: Path, name: str = "the file"):
     try:
         with contextlib.redirect_stdout(said):  # DFReader prints what it skips; the note carries it
             reader = _indexed_reader(DFReader)(str(path), zero_time_base=True)
-    except Exception as exc:  # noqa: BLE001 - DFReader raises many kinds on a damaged file
+    except Exception as exc:  # DFReader raises many kinds on a damaged file
         raise LogFormatError(
             f"{name} starts as an ArduPilot DataFlash log but cannot be read ({type(exc).__name__}: "
             f"{exc}): the file is damaged; download the log again (Mission Planner, DataFlash "

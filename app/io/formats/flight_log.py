@@ -127,7 +127,7 @@ def decode_device_id(device_id: int | None) -> dict | None:
 def describe_streams(streams: list[Stream]) -> tuple[dict, ...]:
     """One line per sensor instance: sensor, instance, source, device id, samples, rate, temperature range."""
     rows = []
-    for s in sorted(streams, key=lambda s: ("acc gyr mag".split().index(s.sensor), s.source, s.instance)):
+    for s in sorted(streams, key=lambda s: (["acc", "gyr", "mag"].index(s.sensor), s.source, s.instance)):
         temp = s.temperature_c[np.isfinite(s.temperature_c)] if s.temperature_c is not None else np.array([])
         rate = s.rate_hz
         rows.append(

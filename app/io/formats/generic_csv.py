@@ -71,7 +71,8 @@ _TIME = re.compile(
     r"(?:[ _]?(?P<suffix>s|sec|ms|us|ns))?(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?$"
 )
 _TEMPERATURE = re.compile(
-    r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature_c)(?:\s*[\(\[](?:°\s*c|deg\s*c|degc|c)[\)\]])?$|^t\s*[\(\[](?:°\s*c|deg\s*c|degc)[\)\]]$"
+    r"^(?:temp|temperature|temp_c|t_c|imu_temp|temperature_c)(?:\s*[\(\[](?:°\s*c|deg\s*c|degc|c)[\)\]])?$"
+    r"|^t\s*[\(\[](?:°\s*c|deg\s*c|degc)[\)\]]$"
 )
 """A column of the sensor's temperature in °C (``temp_c``, ``temp``, ``temperature``, ``T (°C)``)."""
 _INDEX = re.compile(r"^(?:index|idx|i|n|sample|sample_index|#)$")
@@ -136,7 +137,7 @@ def _header_unit(text: str | None, sensor: str = "acc") -> str | None:
     key = (key[3:] if key.startswith("in ") else key).replace(" ", "")  # iOS loggers' "x (in G's)"
     if sensor == "mag" and key in _MAG_ALIASES:
         return _MAG_ALIASES[key]
-    return _UNIT_ALIASES.get(key, None)
+    return _UNIT_ALIASES.get(key)
 
 
 def split_header(text: str) -> tuple[int, str, list[str]]:
@@ -445,8 +446,8 @@ def read_csv_log(
     LogFormatError
         Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks,
         a table without a header row whose columns its data do not name (or name more than one way:
-        :class:`~app.io.formats.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in a numeric column (with its line number), a
-        missing sampling rate.
+        :class:`~app.io.formats.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in
+        a numeric column (with its line number), a missing sampling rate.
     """
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
@@ -736,7 +737,7 @@ def read_arduino(
         )
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
-    first = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(data[0]))
+    first = {k.strip(): v for k, v in _PLOTTER_PAIR.findall(data[0])}
     labels = list(first)
     channels: dict[str, dict[str, str]] = {}
     for label in labels:
@@ -755,7 +756,7 @@ def read_arduino(
     for number, line in enumerate(lines, start=1):
         if not line.strip() or is_comment(line):
             continue
-        pairs = dict((k.strip(), v) for k, v in _PLOTTER_PAIR.findall(line))
+        pairs = {k.strip(): v for k, v in _PLOTTER_PAIR.findall(line)}
         try:
             for sensor, axes in channels.items():
                 rows[sensor].append([float(pairs[axes[a]]) for a in "xyz"])

@@ -16,6 +16,7 @@ Navigation Technology*, 2nd ed., IET 2004, eq. 3.31, the body-rate update of the
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 
 import numpy as np
@@ -131,7 +132,7 @@ def turn_errors(gyr: np.ndarray, ref: np.ndarray, runs: list, dt: np.ndarray, sc
     ``ref`` (gravity), over the moves between consecutive rests that turn it by 20° or more."""
     errs: dict[str, list] = {k: [] for k in scales}
     factors = np.array(list(scales.values()))
-    for (a1, b1), (a2, b2) in zip(runs, runs[1:]):
+    for (a1, b1), (a2, b2) in itertools.pairwise(runs):
         g1, g2 = ref[a1:b1].mean(axis=0), ref[a2:b2].mean(axis=0)
         if _angle(g1, g2) < TURN_MIN_DEG or float(np.sum(dt[b1:a2])) > MOVE_MAX_S:
             continue

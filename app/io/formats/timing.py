@@ -330,8 +330,8 @@ def decide_timing(
                 f"{' without the gaps' if gaps else ''}, not {median_rate:.4g} Hz from the median step: give "
                 "sampling_rate_hz if you know the sensor's output data rate"
                 if source == "time column"
-                else f"the {'given' if given else 'file’s'} rate {rate:.4g} Hz is used, not {median_rate:.4g} Hz from the "
-                "median step"
+                else f"the {'given' if given else 'file’s'} rate {rate:.4g} Hz is used, not {median_rate:.4g} Hz "
+                "from the median step"
             )
         )
     if gaps:

@@ -170,7 +170,7 @@ def read(
     try:
         with contextlib.redirect_stdout(said):  # pyulog prints its warnings; the note carries them
             ulog = ULog(str(path), message_name_filter_list=list(TOPICS), disable_str_exceptions=True)
-    except Exception as exc:  # noqa: BLE001 - pyulog raises many kinds on a damaged file
+    except Exception as exc:  # pyulog raises many kinds on a damaged file
         raise LogFormatError(
             f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
             "file is damaged or cut short in its definitions; download the log again from the "

@@ -18,6 +18,7 @@ import dataclasses
 
 import numpy as np
 
+from ...calibration.gravity import STANDARD_GRAVITY
 from ..errors import LogFormatError
 from ..log import ACC_PHYSICAL_UNITS, LogData
 from ...calibration.gravity import STANDARD_GRAVITY

@@ -11,7 +11,7 @@ DATA = Path(__file__).resolve().parents[2] / "data"
 def table7():
     """Särkkä et al. Table VII as {sensor: {column: array}} (rows x, y, z)."""
     with open(DATA / "003_table7.csv") as fh:
-        rows = [r for r in csv.DictReader(line for line in fh if not line.startswith("#"))]
+        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
     out = {}
     for sensor in ("gyr", "acc", "mag"):
         rs = [r for r in rows if r["sensor"] == sensor]

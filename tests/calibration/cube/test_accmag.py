@@ -114,7 +114,7 @@ def test_fit_recovers_exact_parameters_without_noise():
     p = cube24()
     S, b = true_parameters("mag")
     rng = np.random.default_rng(0)
-    m, c, n = simulate_position_means(rng, p, sensor="mag", noise_var=1e-30)
+    m, _c, n = simulate_position_means(rng, p, sensor="mag", noise_var=1e-30)
     r = fit_field_sensor(
         m, np.broadcast_to(np.eye(3) * 1e-8, (24, 3, 3)), n, p.attitudes, reference=FIELD_UT, sensor="mag"
     )

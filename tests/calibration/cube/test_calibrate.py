@@ -39,7 +39,7 @@ def good():
 
 
 def test_cube24_session_recovers_all_three_sensors(good):
-    s, r = good
+    _s, r = good
     assert r.ok, r.reasons
     assert r.first_wrong_rotation is None and len(r.sequence) == 24  # 23 rotations + the return
     assert all(e["ok"] for e in r.sequence)
@@ -82,7 +82,7 @@ def test_wrong_axis_is_flagged_at_that_rotation_and_earlier_positions_still_cali
     assert "rotation 18" in r.reasons[0] and "position 19" in r.reasons[0]
     assert r.sequence[17]["ok"] is False and all(e["ok"] for e in r.sequence[:17])
     assert r.metrics["n_positions_used"] == 18 and r.metrics["rotations_used"] == list(range(1, 18))
-    S, b = true_parameters("acc")
+    _S, b = true_parameters("acc")
     assert np.all(np.abs(r.acc.b - b) <= 3 * np.array(r.acc.uncertainty()["b"]))
     assert r.gyr is not None and r.mag is not None
 
@@ -157,7 +157,10 @@ def test_invalid_input_and_mismatched_protocols():
 
 
 def test_core_does_not_import_the_web_stack():
-    code = "import sys, app.calibration.cube as c; print(any(m.split('.')[0] in ('fastapi', 'pydantic') for m in sys.modules))"
+    code = (
+        "import sys, app.calibration.cube as c; "
+        "print(any(m.split('.')[0] in ('fastapi', 'pydantic') for m in sys.modules))"
+    )
     out = run_ok([sys.executable, "-c", code], timeout_s=120)
     assert out.stdout.strip() == "False"
 

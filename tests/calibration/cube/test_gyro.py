@@ -50,7 +50,7 @@ def test_noise_free_rotations_recover_the_parameters_at_1_khz():
     np.testing.assert_allclose(g.S, S, atol=2e-6)
     np.testing.assert_allclose(g.b, b, atol=1e-7)
     assert g.ok and g.metrics["max_end_error_deg"] < 1e-3
-    D, M = decompose(S)
+    D, _M = decompose(S)
     np.testing.assert_allclose(g.D, D, atol=2e-6)  # Table VI diag(D_ω) 0.9581, 0.9539, 0.9765
     np.testing.assert_allclose(g.D, [0.9581, 0.9539, 0.9765], atol=2e-4)
     back = GyroCalibration.from_dict(g.to_dict())

@@ -134,7 +134,8 @@ class WebKitPhone:
                 return
             time.sleep(0.05)
         said = self.js(
-            "[...document.querySelectorAll('#instruction, #status, #problem')].map(e => e.id + ': ' + e.textContent.trim())"
+            "[...document.querySelectorAll('#instruction, #status, #problem')]"
+            ".map(e => e.id + ': ' + e.textContent.trim())"
         )
         raise AssertionError(
             f"{what or expression} not within {timeout:g} s; the page says {said}; errors {self.errors()}"

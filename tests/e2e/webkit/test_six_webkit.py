@@ -9,7 +9,7 @@ import json
 import numpy as np
 
 from app.calibration import fit_six_position
-from tests.e2e.test_wizard import CAPTURED, G, POSES, reading
+from tests.e2e.test_wizard import CAPTURED, POSES, G, reading
 
 ORDER = ["+z", "-y", "+x", "-z", "-x", "+y"]  # shuffled
 GYRO_DEG_S = [0.3, -0.2, 0.1]  # a gyroscope bias at rest
