@@ -8,7 +8,7 @@ CHROMIUM ?= /usr/bin/chromium
 WEBKIT_DRIVER ?= /usr/bin/WebKitWebDriver
 XVFB ?= /usr/bin/Xvfb
 
-.PHONY: run test typecheck install install-test system-deps bench clean
+.PHONY: run test lint typecheck install install-test system-deps bench clean
 
 # The service: a virtual environment, the package, and the server on $(HOST):$(PORT) with SQLite under ./var.
 run: $(VENV)/.installed
@@ -21,10 +21,16 @@ run: $(VENV)/.installed
 # (--dist worksteal), so the slowest browser walks do not leave one worker running alone at the end.
 # Every test is bounded (pytest-timeout, pyproject.toml).
 TEST_WORKERS ?= 3
-test: $(VENV)/.installed-test system-deps typecheck
+test: $(VENV)/.installed-test lint typecheck system-deps
 	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
 
-# mypy on app/, as pyproject.toml's [tool.mypy] sets it (run by `test` before the suite).
+# The static checks, first in `make test`, each at zero findings: ruff's lint rules and its formatter's
+# check on the whole repository (ruff pinned in the test extra, its settings in pyproject.toml), then
+# mypy on app/, as pyproject.toml's [tool.mypy] sets it.
+lint: $(VENV)/.installed-test
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+
 typecheck: $(VENV)/.installed-test
 	$(BIN)/mypy
 

@@ -17,9 +17,9 @@ with its handler.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Annotated, Any, Callable, TypeAlias, Union
+from typing import TYPE_CHECKING, Annotated, Any, TypeAlias
 
 from pydantic import BaseModel, Field, TypeAdapter
 
@@ -237,7 +237,7 @@ METHODS = tuple(BY_NAME)
 if TYPE_CHECKING:  # a union the table makes at run time: to the checker, the base of every request model
     CalibrationIn: TypeAlias = rq.Strict
 else:
-    CalibrationIn = Annotated[Union[tuple(method.request for method in TABLE)], Field(discriminator="method")]
+    CalibrationIn = Annotated[tuple(method.request for method in TABLE), Field(discriminator="method")]
 """A calibration request: the request model its ``method`` names."""
 
 CALIBRATION_REQUEST = TypeAdapter(CalibrationIn)

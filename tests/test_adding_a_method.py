@@ -154,7 +154,9 @@ with TestClient(create_app(settings), raise_server_exceptions=False) as client:
     spec = client.get("/openapi.json").json()["paths"]["/api/v1/calibrations"]["post"]
     seen["openapi"] = {
         "request": sorted(spec["requestBody"]["content"]["application/json"]["schema"]["discriminator"]["mapping"]),
-        "response": sorted(spec["responses"]["201"]["content"]["application/json"]["schema"]["discriminator"]["mapping"]),
+        "response": sorted(
+            spec["responses"]["201"]["content"]["application/json"]["schema"]["discriminator"]["mapping"]
+        ),
     }
     seen["exports"] = {
         fmt: client.get(f"/api/v1/calibrations/{cal}/export", params={"format": fmt}).status_code

@@ -25,7 +25,6 @@ from .gates import (
     scale_gate,
 )
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
-from .correction import AffineCorrection
 from .result import PageFacts, StillReadingsResult, parameter
 from .validation import as_vectors, check_gravity
 

@@ -122,7 +122,7 @@ class NormErrors:
     after: float | None
 
     @classmethod
-    def of(cls, figures: dict) -> "NormErrors":
+    def of(cls, figures: dict) -> NormErrors:
         """The errors of ``figures``: the ``metrics`` of a plain body, or one row of its ``comparison``."""
         return cls(figures.get("cv_error_mg"), figures.get("error_before_mg"), figures.get("error_after_mg"))
 

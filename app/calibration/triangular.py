@@ -45,8 +45,6 @@ from scipy.optimize import least_squares
 
 from .errors import CalibrationError
 from .fixed_point import fixed_point_descent
-from .result import PageFacts, StillReadingsResult, parameter
-from .uncertainty import covariance_from_jacobian, half_widths
 from .gates import (
     Gates,
     deviation_gate,
@@ -57,7 +55,7 @@ from .gates import (
     scale_gate,
     unknown_orientation_gates,
 )
-from .result import StillReadingsResult, parameter
+from .result import PageFacts, StillReadingsResult, parameter
 from .solvers import SOLVERS
 from .uncertainty import covariance_from_jacobian, half_widths
 from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis

@@ -13,8 +13,6 @@ from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.formats import FORMATS
 from app.io.log import UNITS, UNITS_IN
-from app.calibration_requests import CUBE_PROTOCOLS
-from app.workflows.temperature import TEMPERATURE_SENSORS
 from app.workflows.autocal import AUTOCAL_UNITS
 from app.workflows.temperature import TEMPERATURE_SENSORS
 

@@ -9,11 +9,10 @@ from __future__ import annotations
 import json
 import re
 
+from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.result import DRIFT, FIGURES
 
 from .errors import ExportError
-from app.calibration.headlines import SENSOR_WORDS
-
 from .export_common import FRAME, JSON_SCHEMA, Export, result_class, sensor_corrections, unit_label
 from .export_compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
 from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS

@@ -29,8 +29,7 @@ import numpy as np
 
 from app.calibration.headlines import SENSOR_WORDS
 
-from .board_formats import MOTIONCAL_CRC, MOTIONCAL_MAG_FLOATS, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
-from .plural import counted
+from .board_formats import MOTIONCAL_CRC, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from .errors import ExportError
 from .export_common import sensor_corrections
 from .log import TO_SI
@@ -151,7 +150,8 @@ def _refuse_counts(sensor: str, unit: str | None) -> float:
     table = UNIFIED_SCALES[sensor]
     if unit not in table:
         raise ExportError(
-            f"the {SENSOR_WORDS[sensor]} of this calibration is in {'counts' if unit == 'raw' else unit}, but MotionCal's packet "
+            f"the {SENSOR_WORDS[sensor]} of this calibration is in {'counts' if unit == 'raw' else unit}, "
+            "but MotionCal's packet "
             f"holds {', '.join(table)} only (Adafruit's Unified Sensor units): calibrate readings in those units "
             "(give chip for counts), or use the C header export"
         )

@@ -90,7 +90,8 @@ def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
     if scale is None and c.input_unit != "raw":
         numbers = ", ".join(_c_float(v) for v in sample)
         return [
-            f"/* One {SENSOR_WORDS[c.sensor]} reading m in {unit_in}, as the header takes it, calibrated into f, in {out}. */",
+            f"/* One {SENSOR_WORDS[c.sensor]} reading m in {unit_in}, as the header takes it, "
+            f"calibrated into f, in {out}. */",
             f"void {name}_calibrate(const float m[3], float f[3])",
             "{",
             f"    {name}_apply(m, f);",

@@ -20,9 +20,9 @@ from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
-from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
-from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS  # noqa: F401 (POSE_NAMES re-exported)
+from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS
 from app.calibration.result import as_fitted_words, page_kinds
+from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.guided import capture_rules
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
@@ -205,9 +205,11 @@ def page_tables() -> dict:
         ``gravity`` (m/s²); ``poses`` (``order``, ``up`` vectors, ``names``); ``capture`` (the
         capture machine's options); ``flightLog`` (the least temperature span a flight log needs for the
         temperature method); ``free`` (the free flow's
-        angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs); ``cube24`` (the 23
+        angle to an axis, any; its least angle between poses, the poses it fits from and those its target needs);
+        ``cube24`` (the 23
         ``rotations``, the 24 ``ups``, the integer ``attitudes`` R_k, sensor → calibration frame,
-        the ``turnWords`` the server's refusals use and the flow's face angle ``maxAngleDeg``); ``compass`` (:func:`compass_tables`);
+        the ``turnWords`` the server's refusals use and the flow's face angle ``maxAngleDeg``);
+        ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
         (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);

@@ -61,7 +61,8 @@ def _every_labelled(segments: list[dict]) -> list[int]:
     chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
     if not chosen:
         raise InsufficientDataError(
-            f"none of the recording's {counted(len(segments), 'still segment')} lies {WITHIN_LABEL_ANGLE} of an axis: method "
+            f"none of the recording's {counted(len(segments), 'still segment')} lies {WITHIN_LABEL_ANGLE} of an axis: "
+            "method "
             "orientations needs poses with an axis up; use a magnitude method (triangular, nonorthogonal) "
             "for free poses"
         )
@@ -389,7 +390,8 @@ def name_sources(body: dict, recording: RecordingSource | None) -> dict:
         if named and seg["up"] != named:
             body["warnings"].append(
                 f"{seg.get('source')} names {named} up, but its still reading points "
-                f"{seg['up'] or f'to no axis {WITHIN_LABEL_ANGLE}'}{' up' if seg['up'] else ''}: the data's pose was used — check "
+                f"{seg['up'] or f'to no axis {WITHIN_LABEL_ANGLE}'}{' up' if seg['up'] else ''}: "
+                "the data's pose was used — check "
                 "the file's name, or how the board lay"
             )
     return body
@@ -467,7 +469,8 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
                 raise
     if not candidates:
         raise InsufficientDataError(
-            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses (each {WITHIN_LABEL_ANGLE} of one of ±x, ±y, ±z) "
+            f"{counted(len(m), 'still reading')} {'is' if len(m) == 1 else 'are'} not the six axis-aligned poses "
+            f"(each {WITHIN_LABEL_ANGLE} of one of ±x, ±y, ±z) "
             f"and a magnitude model needs at least 9 free poses (12 or more recommended): add "
             f"{9 - len(m)} or more poses in other directions"
         )
@@ -490,12 +493,14 @@ def _why(fits: dict, aligned: bool, n: int) -> str:
     the method first ("Method: six positions, chosen because …")."""
     if not aligned:
         return (
-            f"the {n} poses are free (not all {WITHIN_LABEL_ANGLE} of an axis, or not all six axes), and a magnitude model "
+            f"the {n} poses are free (not all {WITHIN_LABEL_ANGLE} of an axis, or not all six axes), "
+            "and a magnitude model "
             "(Farago et al.) needs no orientation"
         )
     if len(fits) == 1:
         return (
-            f"the {n} poses are the six axis orientations (each {WITHIN_LABEL_ANGLE} of ±x, ±y, ±z), which determine the "
+            f"the {n} poses are the six axis orientations (each {WITHIN_LABEL_ANGLE} of ±x, ±y, ±z), "
+            "which determine the "
             "affine model in closed form (Georgieva et al.); nine or more distinct poses would also allow a "
             "magnitude model to check it"
         )

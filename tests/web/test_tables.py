@@ -163,7 +163,7 @@ def test_each_kind_of_result_tells_the_page_what_it_shows():
     classes = [CalibrationResult.class_of({"model": {"type": t}, "method": t}) for t in registered_types()]
     assert set(kinds) == {"", *(cls.MODEL_TYPE for cls in classes)}
     for cls in classes:
-        assert cls.PAGE == next(c.PAGE for c in classes if c.MODEL_TYPE == cls.MODEL_TYPE), cls
+        assert next(c.PAGE for c in classes if c.MODEL_TYPE == cls.MODEL_TYPE) == cls.PAGE, cls
     kinds_js = (JS / "result_kinds.js").read_text()
     templates = "".join(p.read_text() for p in (JS.parents[1] / "templates").glob("*.html"))
     for facts in kinds.values():

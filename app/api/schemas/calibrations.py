@@ -7,7 +7,7 @@ temperature); the method table (:mod:`app.methods`) names it, and :data:`RESPONS
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeAlias, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeAlias
 
 from pydantic import BaseModel, Field, create_model
 
@@ -52,7 +52,7 @@ RESPONSE_MODELS = {
 if TYPE_CHECKING:  # a union the table makes at run time: to the checker, the base of every response model
     CalibrationOut: TypeAlias = CalibrationCommon
 else:
-    CalibrationOut = Annotated[Union[tuple(RESPONSE_MODELS.values())], Field(discriminator="method")]
+    CalibrationOut = Annotated[tuple(RESPONSE_MODELS.values()), Field(discriminator="method")]
 """A stored calibration, by method."""
 
 

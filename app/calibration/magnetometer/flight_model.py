@@ -91,7 +91,7 @@ def design(
     cols += [np.broadcast_to(eye[:, c], (n, 3)) for c in range(3)]  # b
     if motor:
         assert p is not None, "the motor term needs the power"
-        cols += [np.outer(p, eye[:, l]) for l in range(3)]  # k p
+        cols += [np.outer(p, eye[:, c]) for c in range(3)]  # k p
     return np.stack(cols, axis=2), ((u - e) if model == "offsets" else u)
 
 

@@ -24,8 +24,9 @@ import re
 
 import numpy as np
 
-from ...calibration.plausible import GYRO_BIAS_MAX_DPS
 from ...calibration.headlines import SENSOR_WORDS
+from ...calibration.plausible import GYRO_BIAS_MAX_DPS
+from ..errors import LogFormatError
 from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS
 from .units import turn_field
 

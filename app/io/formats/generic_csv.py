@@ -37,6 +37,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, UNITS_IN, LogData
+from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
 from .table import (
     BAD_LINE,
     SNIFF_BYTES,
@@ -53,7 +54,6 @@ from .table import (
 )
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
-from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
 
 MAX_LISTED_COLUMNS = 20
 

@@ -19,10 +19,9 @@ import dataclasses
 import numpy as np
 
 from ...calibration.gravity import STANDARD_GRAVITY
+from ...calibration.headlines import SENSOR_WORDS
 from ..errors import LogFormatError
 from ..log import ACC_PHYSICAL_UNITS, LogData
-from ...calibration.gravity import STANDARD_GRAVITY
-from ...calibration.headlines import SENSOR_WORDS
 from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, Chip
 from .gyro_unit import gyro_evidence
 
