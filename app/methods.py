@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Annotated, Any, TypeAlias
+from typing import TYPE_CHECKING, Annotated, Any, TypeAlias, Union
 
 from pydantic import BaseModel, Field, TypeAdapter
 
@@ -237,7 +237,10 @@ METHODS = tuple(BY_NAME)
 if TYPE_CHECKING:  # a union the table makes at run time: to the checker, the base of every request model
     CalibrationIn: TypeAlias = rq.Strict
 else:
-    CalibrationIn = Annotated[tuple(method.request for method in TABLE), Field(discriminator="method")]
+    CalibrationIn = Annotated[
+        Union[tuple(method.request for method in TABLE)],  # noqa: UP007 - a union of a run-time tuple: no `|` spelling
+        Field(discriminator="method"),
+    ]
 """A calibration request: the request model its ``method`` names."""
 
 CALIBRATION_REQUEST = TypeAdapter(CalibrationIn)

@@ -7,7 +7,7 @@ temperature); the method table (:mod:`app.methods`) names it, and :data:`RESPONS
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeAlias
+from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeAlias, Union
 
 from pydantic import BaseModel, Field, create_model
 
@@ -52,7 +52,10 @@ RESPONSE_MODELS = {
 if TYPE_CHECKING:  # a union the table makes at run time: to the checker, the base of every response model
     CalibrationOut: TypeAlias = CalibrationCommon
 else:
-    CalibrationOut = Annotated[tuple(RESPONSE_MODELS.values()), Field(discriminator="method")]
+    CalibrationOut = Annotated[
+        Union[tuple(RESPONSE_MODELS.values())],  # noqa: UP007 - a union of a run-time tuple: no `|` spelling
+        Field(discriminator="method"),
+    ]
 """A stored calibration, by method."""
 
 
