@@ -74,7 +74,7 @@ def run_flow(url: str, lines: list[str], capture_s: float) -> tuple[float, list[
         page = browser.new_page(viewport={"width": 1280, "height": 900})
         page.add_init_script(SHIM)
         page.on("request", lambda r: sent.append(r.post_data_json) if r.url.endswith("/captures") else None)
-        page.goto(f"{url}/wizard?protocol=six&capture_s={capture_s:g}")
+        page.goto(f"{url}/wizard?protocol=six&source=board&capture_s={capture_s:g}")
         page.evaluate("([lines, hz]) => window.__board.play(lines, hz, '\\r\\n')", [lines, 62.5])
         t0 = page.evaluate("performance.now()")
         page.click("#board-usb")
@@ -82,7 +82,7 @@ def run_flow(url: str, lines: list[str], capture_s: float) -> tuple[float, list[
             page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=120_000)
         page.wait_for_selector("#downloads[data-ready=true]", timeout=60_000)
         elapsed = (page.evaluate("performance.now()") - t0) / 1000.0
-        saved = page.evaluate("JSON.parse(localStorage.getItem('trical.wizard.six'))")
+        saved = page.evaluate("JSON.parse(localStorage.getItem('trical.wizard.six.board'))")
         cal_id = page.evaluate("document.querySelector('#result-ok').textContent.split(' ')[1]")
         browser.close()
     return elapsed, sent, saved, cal_id
