@@ -382,29 +382,25 @@ class StreamRate:
         if self.first is None:
             self.points.append(self.last)
             self.points = [p for p in self.points if p[0] >= arrival_s - self.window_s]
-            decided = self._ends(self.points, full=arrival_s - self.points[0][0])
-            if decided is None and len(self.points) > 2:
+            gaps = [q[0] - p[0] for p, q in itertools.pairwise(self.points)]
+            self.longest = max(gaps, default=0.0)
+            decided = self._ends(self.points, gaps, full=arrival_s - self.points[0][0])
+            if decided is None and len(gaps) > 1:
                 # The arrivals since the window's longest pause (a page busy drawing as the board connected,
                 # a host's hiccup) decide alone once they span what the whole window needs and their halves
                 # agree: a short pause is not waited out for the whole window.
-                steps = [q[0] - p[0] for p, q in zip(self.points, self.points[1:])]
-                decided = self._ends(self.points[steps.index(max(steps)) + 1 :], full=None, pause=max(steps))
+                after = gaps.index(self.longest) + 1
+                decided = self._ends(self.points[after:], gaps[after:], full=None, pause=self.longest)
             if decided is not None:
                 self.first, self.end, self.longest = decided
                 self.points = []
-            else:
-                self.longest = self._longest(self.points)
 
-    @staticmethod
-    def _longest(points: list[tuple[float, int]]) -> float:
-        return max((q[0] - p[0] for p, q in itertools.pairwise(points)), default=0.0)
-
-    def _ends(self, points: list[tuple[float, int]], full: float | None, pause: float = 0.0):
-        """The first and the latest burst end of ``points`` and their longest step, if they decide the rate:
-        the ends span the needed time (for their longest step, or the ``pause`` before them) and the halves
-        agree, or (``full``: the arrivals' age) fill the window."""
-        longest = self._longest(points)
-        ends = [p for p, q in itertools.pairwise(points) if q[0] - p[0] >= 0.5 * longest]
+    def _ends(self, points: list[tuple[float, int]], gaps: list[float], full: float | None, pause: float = 0.0):
+        """The first and the latest burst end of ``points`` (``gaps`` apart) and their longest step, if they
+        decide the rate: the ends span the needed time (for their longest step, or the ``pause`` before them)
+        and the halves agree, or (``full``: the arrivals' age) fill the window."""
+        longest = max(gaps, default=0.0)
+        ends = [p for p, step in zip(points, gaps) if step >= 0.5 * longest]
         if len(ends) < 2 or ends[-1][0] - ends[0][0] < max(self.min_s, self.steps * max(longest, pause)):
             return None
         if self._halves_agree(ends) or (full is not None and full >= self.window_s - longest):

@@ -289,10 +289,6 @@ export function accUnitAtRest(norm) {
 
 // The rates from the first burst end to the one nearest the middle and from there to the last agree within
 // rateAgree: no end among them read late by a lagging reader (app.io.board_lines.StreamRate._halves_agree).
-function longestStep(points) {
-  return points.reduce((m, p, i) => (i ? Math.max(m, p[0] - points[i - 1][0]) : m), 0);
-}
-
 function halvesAgree(ends) {
   const middle = 0.5 * (ends[0][0] + ends[ends.length - 1][0]);
   const inner = ends.slice(1, -1);
@@ -341,30 +337,29 @@ export class StreamRate {
       this.points.push(this.last);
       // The longest step among the last windowS of arrivals: a pause of the reader is forgotten once it has left.
       this.points = this.points.filter((p) => p[0] >= t - this.windowS);
-      let decided = this.ends(this.points, t - this.points[0][0]);
-      if (decided === null && this.points.length > 2) {
+      const gaps = this.points.slice(1).map((p, i) => p[0] - this.points[i][0]);
+      this.longest = Math.max(0, ...gaps);
+      let decided = this.ends(this.points, gaps, t - this.points[0][0]);
+      if (decided === null && gaps.length > 1) {
         // The arrivals since the window's longest pause (a page busy drawing as the board connected, a
         // host's hiccup) decide alone once they span what the whole window needs and their halves agree:
         // a short pause is not waited out for the whole window.
-        const steps = this.points.slice(1).map((p, i) => p[0] - this.points[i][0]);
-        const pause = Math.max(...steps);
-        decided = this.ends(this.points.slice(steps.indexOf(pause) + 1), null, pause);
+        const after = gaps.indexOf(this.longest) + 1;
+        decided = this.ends(this.points.slice(after), gaps.slice(after), null, this.longest);
       }
       if (decided !== null) {
         [this.first, this.end, this.longest] = decided;
         this.points = [];
-      } else {
-        this.longest = longestStep(this.points);
       }
     }
   }
 
-  // The first and the latest burst end of `points` and their longest step, if they decide the rate: the ends
-  // span the needed time (for their longest step, or the `pause` before them) and the halves agree, or
-  // (`full`: the arrivals' age) fill the window; else null.
-  ends(points, full, pause = 0) {
-    const longest = longestStep(points);
-    const ends = points.filter((p, i) => i + 1 < points.length && points[i + 1][0] - p[0] >= 0.5 * longest);
+  // The first and the latest burst end of `points` (`gaps` apart) and their longest step, if they decide the
+  // rate: the ends span the needed time (for their longest step, or the `pause` before them) and the halves
+  // agree, or (`full`: the arrivals' age) fill the window; else null.
+  ends(points, gaps, full, pause = 0) {
+    const longest = Math.max(0, ...gaps);
+    const ends = points.filter((p, i) => i < gaps.length && gaps[i] >= 0.5 * longest);
     const needed = Math.max(this.minS, this.steps * Math.max(longest, pause));
     if (ends.length < 2 || ends[ends.length - 1][0] - ends[0][0] < needed) return null;
     if (halvesAgree(ends) || (full !== null && full >= this.windowS - longest)) {
