@@ -512,4 +512,4 @@ const local = ["localhost", "127.0.0.1", "[::1]"].includes(location.hostname);
 if (SOURCE === "phone" && !window.isSecureContext && !local) { // a board's page: the board card says what it can read
   showProblem("insecure");
   render(state);
-} else resume();
+} else resume().finally(() => render(state)); // Start (or Continue) comes alive once the page knows which

@@ -278,6 +278,27 @@ def test_a_reload_resumes_with_the_done_poses(page, server):
     assert page.errors == []
 
 
+def test_start_waits_for_the_flow_a_loaded_machine_is_slow_to_bring(page, server):
+    """The page loads its flow's modules after the page itself (a loaded machine, a slow link): Start is
+    disabled until they are there, so a tap is never lost, and the first tap once it is enabled reads the
+    sensors. CI saw the lost tap: the page stayed at "Waiting for motion data…" with Start on screen."""
+    held: list = []
+    page.route("**/static/js/flow_six*.js", lambda route: held.append(route))
+    motion = Motion(page)
+    page.goto(server.url + "/wizard?capture_s=1")
+    expect(page.locator("#start-btn")).to_be_disabled()
+    page.wait_for_timeout(300)
+    expect(page.locator("#start-btn")).to_be_disabled()  # still held: no tap can be lost
+    assert len(held) == 2  # the flow and its view
+    for route in held:
+        route.continue_()
+    expect(page.locator("#start-btn")).to_be_enabled()
+    motion.acc(reading("+z"))
+    page.click("#start-btn")
+    wait_captured(page, "+z")
+    assert page.errors == []
+
+
 def test_denied_permission_shows_how_to_allow_it(page, server):
     page.add_init_script("DeviceMotionEvent.requestPermission = () => Promise.resolve('denied');")
     page.goto(server.url + "/wizard")
