@@ -15,9 +15,8 @@ from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, I
 from app.calibration.advice import fibonacci_sphere
 from app.calibration.capture import PoseTooCloseError
 from app.guided import sessions
-from app.guided.capture_rules import FREE_FIT_FROM, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
+from app.guided.capture_rules import CAPTURE_PROTOCOLS, FREE_FIT_FROM, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
 from app.guided.protocols import BOARD_PROTOCOLS, CUBE24, FREE, SESSION_PROTOCOLS, SIX
-from app.io.board_formats import CAPTURE_PROTOCOLS
 from app.store import ConflictError, open_store
 from app.web.tables import capture_thresholds
 from tests.cube_phone import phone_cube
@@ -203,5 +202,5 @@ def test_the_terminal_s_labels_are_the_protocols_own():
     assert compass.poses is None and noise.poses is None  # they record for a time, no capture engine
     assert (compass.command, compass.method) == ("calibrate", "magnetometer")
     assert (noise.command, noise.method) == ("noise", "noise")
-    assert [BOARD_PROTOCOLS[p].minutes for p in CAPTURE_PROTOCOLS] == [10.0, 10.0, 15.0, 1.0, 1.0]
-    assert [BOARD_PROTOCOLS[p].method for p in CAPTURE_PROTOCOLS] == ["auto", "auto", "cube", "magnetometer", "noise"]
+    assert [BOARD_PROTOCOLS[p].minutes for p in CAPTURE_PROTOCOLS] == [10.0, 15.0, 10.0, 1.0, 1.0]
+    assert [BOARD_PROTOCOLS[p].method for p in CAPTURE_PROTOCOLS] == ["auto", "cube", "auto", "magnetometer", "noise"]

@@ -9,7 +9,8 @@ from app import __version__, methods
 from app.calibration.solvers import SOLVERS
 from app.calibration_requests import CUBE_PROTOCOLS
 from app.cli import options as opt
-from app.io.board_formats import CAPTURE_PROTOCOLS, DEFAULT_BAUD
+from app.guided.capture_rules import CAPTURE_PROTOCOLS, WIZARD_PROTOCOLS
+from app.io.board_formats import DEFAULT_BAUD
 from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.formats import FORMATS
 from app.io.log import UNITS, UNITS_IN
@@ -279,8 +280,8 @@ def _add_capture(sub) -> None:
     b.add_argument(
         "--protocol",
         choices=CAPTURE_PROTOCOLS,
-        default="six",
-        help="six (default), free poses, cube24, compass (turn it) or noise (leave it still)",
+        default=CAPTURE_PROTOCOLS[0],
+        help="; ".join(f"{p.name}: {p.words}" for p in WIZARD_PROTOCOLS) + f" (default {CAPTURE_PROTOCOLS[0]})",
     )
     b.add_argument(
         "--minutes",

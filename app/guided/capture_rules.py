@@ -48,6 +48,12 @@ WIZARD_PROTOCOLS = (
 (app/web/pages.py), the guided sessions take theirs from it (app.guided.protocols ``SESSION_PROTOCOLS``), and
 ``trical capture`` runs each of them on a board (app.guided.protocols ``BOARD_PROTOCOLS``)."""
 
+CAPTURE_PROTOCOLS = tuple(p.name for p in WIZARD_PROTOCOLS)
+"""The flows a board can be calibrated with (``trical capture --protocol``, the page's board source): all."""
+
+SESSION_PROTOCOL_NAMES = tuple(p.name for p in WIZARD_PROTOCOLS if p.session)
+"""The protocols a guided session runs (``POST /api/v1/sessions``' ``protocol``)."""
+
 FREE_FIT_FROM = 10
 """The free flow fits the triangular model from this many poses on: nine parameters, and one more so
 that every fit without one pose (the cross-validation) is still determined."""

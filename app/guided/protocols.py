@@ -41,13 +41,14 @@ from app.calibration.errors import NotStillError
 from app.calibration.gyro_bias import gyroscope_bias
 from app.calibration.orientations import nearest_orientation
 from app.guided.capture_rules import (
+    CAPTURE_PROTOCOLS,
     CUBE_FACE_MAX_ANGLE_DEG,
     FREE_FIT_FROM,
     FREE_MAX_ANGLE_DEG,
     FREE_MIN_ANGLE_DEG,
     FREE_TARGET_MIN_POSES,
     MAX_ROTATION_DEG_S,
-    WIZARD_PROTOCOLS,
+    SESSION_PROTOCOL_NAMES,
 )
 from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
@@ -457,15 +458,17 @@ class NoiseProtocol(Protocol):
 
 
 SIX, FREE, CUBE24 = SixProtocol(), FreeProtocol(), Cube24Protocol()
+_SESSION_STRATEGIES: dict[str, SessionProtocol] = {s.name: s for s in (SIX, FREE, CUBE24)}
+_STRATEGIES: dict[str, Protocol] = {**_SESSION_STRATEGIES, **{s.name: s for s in (CompassProtocol(), NoiseProtocol())}}
 
-SESSION_PROTOCOLS: dict[str, SessionProtocol] = {
-    p.name: s for p in WIZARD_PROTOCOLS if p.session for s in (SIX, CUBE24, FREE) if s.name == p.name
-}
+SESSION_PROTOCOLS: dict[str, SessionProtocol] = {name: _SESSION_STRATEGIES[name] for name in SESSION_PROTOCOL_NAMES}
 """The protocols the wizard's sessions follow (the API's ``SessionIn.protocol``): those
-app.guided.capture_rules.WIZARD_PROTOCOLS says a session runs, each its strategy."""
+app.guided.capture_rules.WIZARD_PROTOCOLS says a session runs, each its strategy (a name without one fails
+at import)."""
 
-BOARD_PROTOCOLS: dict[str, Protocol] = {p.name: p for p in (SIX, FREE, CUBE24, CompassProtocol(), NoiseProtocol())}
-"""The protocols ``trical capture`` follows (app.io.board_formats.CAPTURE_PROTOCOLS, in that order)."""
+BOARD_PROTOCOLS: dict[str, Protocol] = {name: _STRATEGIES[name] for name in CAPTURE_PROTOCOLS}
+"""The protocols ``trical capture`` follows (app.guided.capture_rules.CAPTURE_PROTOCOLS, in that order), each its
+strategy."""
 
 
 # -- what the protocols share ------------------------------------------------------------------------------------

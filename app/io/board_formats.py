@@ -80,9 +80,6 @@ NORDIC_UART = {
 }
 """The Nordic UART Service's UUIDs (nRF52 and ESP32 BLE UART examples use them)."""
 
-CAPTURE_PROTOCOLS = ("six", "free", "cube24", "compass", "noise")
-"""The flows a board can be calibrated with (``trical capture --protocol``, the page's board source)."""
-
 MOTIONCAL_PACKET_BYTES = 68
 MOTIONCAL_SIGNATURE = (117, 84)
 MOTIONCAL_CRC = {"polynomial": 0xA001, "start": 0xFFFF}

@@ -16,10 +16,12 @@ if TYPE_CHECKING:  # the readers' package imports this module
 
 AccUnit = Literal["m/s^2", "g", "raw"]
 AccPhysicalUnit = Literal["m/s^2", "g"]
+GyrPhysicalUnit = Literal["rad/s", "deg/s"]
+"""The gyroscope's units of a physical scale (a page's capture of a phone's or a board's rotation rate)."""
 
 UNITS: dict[str, tuple[str, ...]] = {
     "acc": get_args(AccUnit),
-    "gyr": ("rad/s", "deg/s", "raw"),
+    "gyr": (*get_args(GyrPhysicalUnit), "raw"),
     "mag": ("uT", "nT", "raw"),
 }
 """Accepted units per sensor; the first is the default when neither header nor caller names one."""

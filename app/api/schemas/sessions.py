@@ -3,22 +3,35 @@ session's progress."""
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import TYPE_CHECKING, Annotated, Literal, TypeAlias
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
 from app.api.schemas.still_readings import PoseAdviceOut
 from app.calibration_requests import Gravity, Label, Strict, Vec3
-from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, FREE_FIT_FROM, FREE_TARGET_MIN_POSES
-from app.io.log import AccPhysicalUnit
+from app.guided.capture_rules import (
+    CAPTURE_S_DEFAULT,
+    CAPTURE_S_RANGE,
+    FREE_FIT_FROM,
+    FREE_TARGET_MIN_POSES,
+    SESSION_PROTOCOL_NAMES,
+    WIZARD_PROTOCOLS,
+)
+from app.io.log import AccPhysicalUnit, GyrPhysicalUnit
+
+if TYPE_CHECKING:  # the names the protocol table gives at run time: to the checker, a string
+    SessionProtocolName: TypeAlias = str
+else:
+    SessionProtocolName = Literal[SESSION_PROTOCOL_NAMES]
+"""A protocol a guided session runs, by name (app.guided.capture_rules.WIZARD_PROTOCOLS)."""
 
 
 class SessionIn(Strict):
     """A guided wizard session (issue 6): the page captures each pose into it, then solves it."""
 
-    protocol: Literal["six", "cube24", "free"] = Field(
-        "six",
-        description=("`six` (any order), `cube24` (fixed order) or `free` (still poses in any direction, 12 or more)."),
+    protocol: SessionProtocolName = Field(
+        SESSION_PROTOCOL_NAMES[0],
+        description="; ".join(f"`{p.name}`: {p.words}" for p in WIZARD_PROTOCOLS if p.session) + ".",
     )
     capture_s: Annotated[float, Field(ge=CAPTURE_S_RANGE[0], le=CAPTURE_S_RANGE[1], allow_inf_nan=False)] = Field(
         CAPTURE_S_DEFAULT, description="Seconds captured per position."
@@ -107,7 +120,7 @@ class CaptureIn(Strict):
     gyr: Annotated[list[Vec3], Field(max_length=100_000)] | None = Field(
         None, description="rotationRate samples [x, y, z], one per acc sample."
     )
-    gyr_unit: Literal["deg/s", "rad/s"] = "deg/s"
+    gyr_unit: GyrPhysicalUnit = "deg/s"
     unit: AccPhysicalUnit | None = Field(None, description="Must be the session's unit when given.")
     sign: SignIn = Field(default_factory=SignIn)
     position: Label | CubePosition | None = Field(
@@ -142,7 +155,7 @@ class CaptureSummary(BaseModel):
     gyr_mean: list[float] | None = Field(None, description="Mean of the capture's gyroscope samples, in gyr_unit.")
     gyr_std: list[float] | None = Field(None, description="six, free: their standard deviation (ddof 1), in gyr_unit.")
     gyr_count: int | None = Field(None, description="six, free: how many gyroscope samples.")
-    gyr_unit: Literal["deg/s", "rad/s"] | None = Field(None, description="The unit the gyroscope samples came in.")
+    gyr_unit: GyrPhysicalUnit | None = Field(None, description="The unit the gyroscope samples came in.")
 
 
 class FreeProgress(BaseModel):
