@@ -112,7 +112,7 @@ TABLE: tuple[Method, ...] = (
         page_words="the calibration from still poses",
     ),
     Method(
-        "six_position",
+        still.SIX_POSITION.name,
         request=rq.SixPositionIn,
         handler=still.six_position,
         response="SixPositionOut",
@@ -123,7 +123,7 @@ TABLE: tuple[Method, ...] = (
         page_words="the six-position calibration",
     ),
     Method(
-        "orientations",
+        still.ORIENTATIONS.name,
         request=rq.OrientationsIn,
         handler=still.orientations,
         response="OrientationsOut",
@@ -134,7 +134,7 @@ TABLE: tuple[Method, ...] = (
         page_words="the calibration from known orientations",
     ),
     Method(
-        "nonorthogonal",
+        still.NONORTHOGONAL.name,
         request=rq.NonOrthogonalIn,
         handler=still.nonorthogonal,
         response="NonOrthogonalOut",
@@ -145,7 +145,7 @@ TABLE: tuple[Method, ...] = (
         page_words="the non-orthogonal calibration",
     ),
     Method(
-        "triangular",
+        still.TRIANGULAR.name,
         request=rq.TriangularIn,
         handler=still.triangular,
         response="TriangularOut",

@@ -53,7 +53,7 @@ from app.guided.capture_rules import (
 from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
 from app.workflows.results import calibration_body, pose_advice
-from app.workflows.still import Reading, calibrate_known, calibrate_unknown
+from app.workflows.still import SIX_POSITION, Reading, calibrate_known, calibrate_unknown
 
 if TYPE_CHECKING:
     from app.guided.sessions import Session
@@ -196,7 +196,7 @@ class SixProtocol(SessionProtocol):
         readings = [
             Reading(mean=tuple(c["mean"]), up=c["position"], std=tuple(c["std"]), count=c["count"]) for c in captures
         ]
-        result, extra = calibrate_known("six_position", readings, unit=session.unit, gravity=session.gravity)
+        result, extra = calibrate_known(SIX_POSITION, readings, unit=session.unit, gravity=session.gravity)
         return session_body(
             session, result, extra, captures=[{k: c[k] for k in CAPTURE_FIELDS if k != "up"} for c in captures]
         )
