@@ -53,6 +53,13 @@ RECORD_FACTOR = 10.0
 freedom (the overlapping estimator reaches τ = T / 2, with one or two)."""
 
 TERMS = ("noise_density", "bias_instability", "random_walk")
+TERM_WORDS = {
+    "noise_density": "noise density",
+    "random_walk": "random walk",
+    "bias_instability": "bias instability",
+    "bias": "bias",
+}
+"""Each figure of a sensor's noise in words, in the order the page's table and the plot's captions name them."""
 _ALPHAS = (WHITE, FLICKER, RANDOM_WALK)
 
 TERM_UNITS = {
@@ -323,6 +330,7 @@ class NoiseResult(PerSensorResult):
         snippets=False,
         heading="The noise terms",
         model="noiseTerms",
+        terms=tuple(TERM_WORDS.items()),
         plot="allan_svg",
         box="#result-allan",
     )

@@ -53,6 +53,8 @@ class PageFacts:
     heading: str = "The model as fitted"
     model: str = "parameters"
     """The drawing of its model: ``parameters`` (each parameter a small table) or ``noiseTerms``."""
+    terms: tuple[tuple[str, str], ...] = ()
+    """``noiseTerms``: the rows of each sensor's table, each a key of the model and its words."""
     norms: str = ""
     """The drawing of its norms per position: ``readings`` (labelled readings), ``captures`` (a session's
     poses), ``positions`` (a cube's captures, calibrated by the server); empty: none."""

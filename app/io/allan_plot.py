@@ -25,6 +25,7 @@ from html import escape
 import numpy as np
 
 from app.calibration.headlines import SENSOR_WORDS
+from app.calibration.noise import TERM_WORDS
 from app.calibration.result import FIGURES
 
 from .errors import ExportError
@@ -53,7 +54,6 @@ TERMS = (  # key in the model, mark class, symbol, where it is read
     ("random_walk", "random-walk", "K", "at τ = 3 s"),
     ("bias_instability", "bias-instability", "B", "(floor 0.664 B)"),
 )
-TERM_NAMES = {"noise_density": "noise density", "random_walk": "random walk", "bias_instability": "bias instability"}
 
 
 @dataclass(frozen=True)
@@ -531,7 +531,7 @@ def _missing(s: _Sensor) -> str:
     for key, _, symbol, _ in TERMS:
         axes = [a for a, v in zip(AXES, s.terms[key]) if v is None]
         if axes:
-            parts.append(f"{TERM_NAMES[key]} {symbol} of {', '.join(axes)}")
+            parts.append(f"{TERM_WORDS[key]} {symbol} of {', '.join(axes)}")
     return "; ".join(parts)
 
 
@@ -557,7 +557,7 @@ def _describe(s: _Sensor, marks: dict, missing: str) -> str:
     for key, _, symbol, where in TERMS:
         vals = [f"{a} {number(v)}" for a, v in zip(AXES, s.terms[key]) if v is not None]
         if vals:
-            parts.append(f"{TERM_NAMES[key].capitalize()} {symbol} {where} in {s.units[key]}: {', '.join(vals)}.")
+            parts.append(f"{TERM_WORDS[key].capitalize()} {symbol} {where} in {s.units[key]}: {', '.join(vals)}.")
     if missing:
         parts.append(f"Not available: {missing}.")
     return " ".join(parts)

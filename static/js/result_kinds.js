@@ -44,25 +44,26 @@ function modelTables(cal) {
   });
 }
 
-// A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's).
-export const NOISE_TERMS = [["noise_density", "noise density"], ["random_walk", "random walk"],
-  ["bias_instability", "bias instability"], ["bias", "bias"]];
-
+// A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's), the rows the
+// server's kind names (app/calibration/noise.py TERM_WORDS); a table wider than a phone scrolls in its box.
 function noiseTables(cal) {
+  const { terms } = kindOf(cal);
   return Object.entries(cal.model).filter(([name]) => name !== "type").map(([sensor, m]) => {
     const table = el("table", null, { id: `result-noise-${sensor}` });
     const head = el("tr");
     head.append(cell("th", ""), ...["x", "y", "z"].map((a) => cell("th", a)), cell("th", "unit"));
     table.append(head);
-    for (const [key, label] of NOISE_TERMS) {
+    for (const [key, label] of terms) {
       const tr = el("tr");
       tr.dataset.term = key;
       tr.append(cell("th", label), ...(m[key] || [null, null, null]).map((v) => cell("td", formatNumber(v, 8))),
         cell("td", m[`${key}_unit`] || m.unit || ""));
       table.append(tr);
     }
+    const scroll = el("div", null, { class: "scroll", tabindex: "0" });
+    scroll.append(table);
     const box = el("div");
-    box.append(cell("h4", TABLES.sensorWords[sensor] || sensor), table);
+    box.append(cell("h4", TABLES.sensorWords[sensor] || sensor), scroll);
     return box;
   });
 }

@@ -8,7 +8,7 @@ import { createCalibration, exportUrl, uploadRecording } from "./api.js";
 import { BoardPanel } from "./board_panel.js";
 import { cue, unlockCues } from "./cues.js";
 import { formatNumber } from "./readings.js";
-import { NOISE_TERMS } from "./result_kinds.js";
+import { kindOf } from "./result_kinds.js";
 import { fetchDownloads, resetUse, showVerdict } from "./use_calibration.js";
 import { VIEW_DEFAULTS, announce, newState, showResult } from "./wizard_state.js";
 import { newRendered, renderDownloads, renderVoice } from "./wizard_render.js";
@@ -131,24 +131,7 @@ function result(cal) {
   ok.textContent = cal.ok ? `Characterisation ${cal.id} passed its checks.`
     : `Characterisation ${cal.id} failed its checks: ${(cal.reasons || []).join("; ")}`;
   $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
-  $("#result-model").replaceChildren(...Object.entries(cal.model).filter(([k]) => k !== "type").map(([sensor, m]) => {
-    const box = el("div", null, { class: "scroll", tabindex: "0" });
-    const table = el("table", null, { id: `result-noise-${sensor}` });
-    const head = el("tr");
-    head.append(el("th", sensor, { scope: "col" }), ...["x", "y", "z"].map((a) => el("th", a, { scope: "col" })),
-      el("th", "unit", { scope: "col" }));
-    table.append(head);
-    for (const [key, words] of NOISE_TERMS) {
-      const tr = el("tr");
-      tr.dataset.term = key;
-      tr.append(el("th", words, { scope: "row" }),
-        ...(m[key] || [null, null, null]).map((v) => el("td", formatNumber(v, 6))),
-        el("td", m[`${key}_unit`] || m.unit || ""));
-      table.append(tr);
-    }
-    box.append(table);
-    return box;
-  }));
+  $("#result-model").replaceChildren(...kindOf(cal).model(cal)); // the start page's drawing (result_kinds.js)
   $("#result-warnings").replaceChildren(
     ...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
 }
