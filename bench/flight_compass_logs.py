@@ -35,8 +35,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 from app import calibration_requests as rq  # noqa: E402 - after sys.path.insert
+from app.io.formats import read_log  # noqa: E402 - after sys.path.insert
+from app.io.read_options import ReadOptions  # noqa: E402 - after sys.path.insert
 from app.methods import calibrate  # noqa: E402 - after sys.path.insert
-from app.workflows.recordings import RecordingSource  # noqa: E402 - after sys.path.insert
+from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402 - after sys.path.insert
 from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs  # noqa: E402 - after sys.path.insert
 
 MOUNTINGS = (2, 8, 4, 16, 25, 6)
@@ -58,7 +60,10 @@ def _array(values) -> np.ndarray:
 def calibrate_log(path: Path, fmt: str) -> dict:
     """The method ``compass_flight`` on a log file, as the API runs it on a stored recording."""
     request = rq.CompassFlightIn(method="compass_flight", recording_id="bench")
-    return calibrate(request, RecordingSource(meta={"format": fmt, "filename": path.name}, path=path))
+    options = ReadOptions(format=fmt)
+    log = read_log(path, options, name=path.name)  # read and described as an upload is (the flight's sensors)
+    meta = {**describe_log(log, options), "filename": path.name}
+    return calibrate(request, RecordingSource(meta=meta, path=path, log=log))
 
 
 def main() -> None:
