@@ -4,32 +4,21 @@ from __future__ import annotations
 
 import zipfile
 from pathlib import Path, PurePath
-from typing import Annotated, Literal
+from typing import Annotated
 
 from fastapi import APIRouter, File, Form, UploadFile
-from pydantic import AfterValidator
 
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
-from app.api.schemas.recordings import RecordingOut
-from app.calibration_requests import AccUnit
-from app.io.formats import FORMATS
+from app.api.schemas.recordings import RecordingOut, UploadOptions
 from app.io.formats.kinds import NAMED_SUFFIXES
-from app.io.log import UNITS_IN
 from app.io.parts import refuse_repeated_names
-from app.io.read_options import ReadOptions
 from app.store import new_id
 from app.words import render_body
 from app.workflows.recordings import add_recording
 
 router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
-
-
-def _plus_or_minus_one(value: int) -> int:
-    if value not in (1, -1):
-        raise ValueError("give 1 (keep the file's accelerations) or -1 (negate them: iOS Core Motion's sign)")
-    return value
 
 
 def _copy_limited(source, out, size: int, limit_bytes: int, limit_mb: float) -> int:
@@ -86,45 +75,7 @@ def upload_recording(
             "clock (app.io.sensor_files)."
         ),
     ),
-    sampling_rate_hz: float | None = Form(None, gt=0, le=100_000),
-    acc_unit: AccUnit | None = Form(None),
-    gyr_unit: Literal[UNITS_IN["gyr"]] | None = Form(None),  # type: ignore[valid-type, name-defined]
-    mag_unit: Literal[UNITS_IN["mag"]] | None = Form(None),  # type: ignore[valid-type, name-defined]
-    format: Literal[FORMATS] = Form(  # type: ignore[valid-type]
-        "auto", description="Log format; auto detects it from the header (app.io.formats)."
-    ),
-    lsb_per_g: float | None = Form(None, gt=0, description="Counts per g of a raw (LSB) accelerometer."),
-    chip: str | None = Form(
-        None,
-        description="The parts (and ranges) of sensors logged in counts, separated by "
-        "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "
-        "(app.io.formats.chips).",
-    ),
-    columns: str | None = Form(
-        None,
-        description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
-        "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)",
-    ),
-    sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Form(
-        None,
-        description="Factor on the file's accelerations: -1 for iOS Core Motion's "
-        "sign (-g up), 1 to keep them; detected from the header when omitted.",
-    ),
-    instance: int | None = Form(
-        None,
-        ge=0,
-        le=255,
-        description=(
-            "A flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance read (PX4 multi_id, ArduPilot I); "
-            "default: PX4 the source with the most samples, ArduPilot 0. `flight.instances` of the answer lists them."
-        ),
-    ),
-    mag_instance: int | None = Form(
-        None,
-        ge=0,
-        le=255,
-        description=("A flight controller's log: the compass instance the compass methods read (default: the first)."),
-    ),
+    form: Annotated[UploadOptions, Form()],
     settings: SettingsDep,
     store: StoreDep,
     owner: OwnerDep,
@@ -144,18 +95,7 @@ def upload_recording(
         save_uploads_as_zip(
             [(n, f.file) for n, f in zip(names, file)], dest, settings.max_upload_bytes, settings.max_upload_mb
         )
-    units = {k: v for k, v in (("acc", acc_unit), ("gyr", gyr_unit), ("mag", mag_unit)) if v}
-    options = ReadOptions(
-        format=format,
-        sampling_rate_hz=sampling_rate_hz,
-        units=units,
-        lsb_per_g=lsb_per_g,
-        columns=columns,
-        sign=sign,
-        chip=chip,
-        instance=instance,
-        mag_instance=mag_instance,
-    )
+    options = form.read_options()
     return render_body(
         add_recording(store, recording_id, dest, filename=filename, options=options, owner=owner), *reader
     )

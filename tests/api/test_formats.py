@@ -13,7 +13,7 @@ import typing
 import numpy as np
 import pytest
 
-from app.api.recordings import upload_recording
+from app.api.schemas.recordings import UploadOptions
 from app.io.formats import FORMATS
 from tests.conftest import DATA
 
@@ -161,8 +161,7 @@ def test_lsb_per_g_form_field(client):
 
 
 def test_the_upload_field_offers_every_format():
-    hints = typing.get_type_hints(upload_recording, include_extras=True)
-    assert set(typing.get_args(hints["format"])) == set(FORMATS)
+    assert set(typing.get_args(UploadOptions.model_fields["format"].annotation)) == set(FORMATS)
 
 
 def test_unrecognised_columns_mapped_with_the_columns_field(client):

@@ -32,7 +32,7 @@ def parameter_names() -> frozenset[str]:
     schemas = create_app(Settings(database_url=f"sqlite:///{folder}/trical.db")).openapi()["components"]["schemas"]
     names = set()
     for name, schema in schemas.items():
-        if name.startswith("Body_upload_recording") or name.endswith("In"):
+        if name.startswith("Body_upload_recording") or name == "UploadOptions" or name.endswith("In"):
             names.update(schema.get("properties", {}))
     return frozenset(names - {"file"})
 

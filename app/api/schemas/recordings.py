@@ -1,11 +1,82 @@
-"""The response model of /api/v1/recordings: an uploaded log as read, its still segments, parts, timing,
-overview and a flight controller's sensor instances."""
+"""The models of /api/v1/recordings: the upload form's options for the reader and the response, an
+uploaded log as read, its still segments, parts, timing, overview and a flight controller's sensor instances."""
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field
+
+from app.calibration_requests import AccUnit
+from app.io.formats import FORMATS
+from app.io.log import UNITS_IN
+from app.io.read_options import ReadOptions
+
+
+def _plus_or_minus_one(value: int) -> int:
+    if value not in (1, -1):
+        raise ValueError("give 1 (keep the file's accelerations) or -1 (negate them: iOS Core Motion's sign)")
+    return value
+
+
+class UploadOptions(BaseModel):
+    """The fields of ``POST /api/v1/recordings``' multipart form besides its files: the options the log is read
+    with (each default lets the file decide; :class:`app.io.read_options.ReadOptions` says what each does)."""
+
+    sampling_rate_hz: float | None = Field(None, gt=0, le=100_000)
+    acc_unit: AccUnit | None = None
+    gyr_unit: Literal[UNITS_IN["gyr"]] | None = None  # type: ignore[valid-type, name-defined]
+    mag_unit: Literal[UNITS_IN["mag"]] | None = None  # type: ignore[valid-type, name-defined]
+    format: Literal[FORMATS] = Field(  # type: ignore[valid-type]
+        "auto", description="Log format; auto detects it from the header (app.io.formats)."
+    )
+    lsb_per_g: float | None = Field(None, gt=0, description="Counts per g of a raw (LSB) accelerometer.")
+    chip: str | None = Field(
+        None,
+        description="The parts (and ranges) of sensors logged in counts, separated by "
+        "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "
+        "(app.io.formats.chips).",
+    )
+    columns: str | None = Field(
+        None,
+        description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
+        "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)",
+    )
+    sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Field(
+        None,
+        description="Factor on the file's accelerations: -1 for iOS Core Motion's "
+        "sign (-g up), 1 to keep them; detected from the header when omitted.",
+    )
+    instance: int | None = Field(
+        None,
+        ge=0,
+        le=255,
+        description=(
+            "A flight controller's log (PX4 .ulg, ArduPilot .bin): the IMU instance read (PX4 multi_id, ArduPilot I); "
+            "default: PX4 the source with the most samples, ArduPilot 0. `flight.instances` of the answer lists them."
+        ),
+    )
+    mag_instance: int | None = Field(
+        None,
+        ge=0,
+        le=255,
+        description="A flight controller's log: the compass instance the compass methods read (default: the first).",
+    )
+
+    def read_options(self) -> ReadOptions:
+        """The reader's options the form gives."""
+        units = {k: v for k, v in (("acc", self.acc_unit), ("gyr", self.gyr_unit), ("mag", self.mag_unit)) if v}
+        return ReadOptions(
+            format=self.format,
+            sampling_rate_hz=self.sampling_rate_hz,
+            units=units,
+            lsb_per_g=self.lsb_per_g,
+            columns=self.columns,
+            sign=self.sign,
+            chip=self.chip,
+            instance=self.instance,
+            mag_instance=self.mag_instance,
+        )
 
 
 class SegmentOut(BaseModel):
