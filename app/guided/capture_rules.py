@@ -54,6 +54,11 @@ CAPTURE_PROTOCOLS = tuple(p.name for p in WIZARD_PROTOCOLS)
 SESSION_PROTOCOL_NAMES = tuple(p.name for p in WIZARD_PROTOCOLS if p.session)
 """The protocols a guided session runs (``POST /api/v1/sessions``' ``protocol``)."""
 
+SIX_ASKED_ORDER = ("+z", "-z", "+y", "-y", "+x", "-x")
+"""The six flow's pose named next among those to do, on the page (app.web.tables ``poses.asked``) and in the
+terminal: flat ones first (the easiest to place), then standing, then on the side edges; any other remaining one
+is accepted as well."""
+
 FREE_FIT_FROM = 10
 """The free flow fits the triangular model from this many poses on: nine parameters, and one more so
 that every fit without one pose (the cross-validation) is still determined."""

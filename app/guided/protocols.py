@@ -49,6 +49,7 @@ from app.guided.capture_rules import (
     FREE_TARGET_MIN_POSES,
     MAX_ROTATION_DEG_S,
     SESSION_PROTOCOL_NAMES,
+    SIX_ASKED_ORDER,
 )
 from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
@@ -167,10 +168,7 @@ class SixProtocol(SessionProtocol):
         "rest the board on each of its six sides in turn (+x, -x, +y, -y, +z, -z up: the axis printed on "
         "the board pointing up; +z up is the component side up), still, until the bell"
     )
-    asked_order = ("+z", "-z", "+y", "-y", "+x", "-x")
-    """The pose named next among those to do, as the page names it (static/js/poses.js, ``NEXT_ORDER``): flat
-    ones first (the easiest to place), then standing, then on the side edges; any other remaining one is
-    accepted as well."""
+    asked_order = SIX_ASKED_ORDER
 
     def next_position(self, session):
         remaining = self.remaining(session)

@@ -225,6 +225,7 @@ def page_tables() -> dict:
         "gravity": STANDARD_GRAVITY,
         "poses": {
             "order": list(CANONICAL_SIX),
+            "asked": list(capture_rules.SIX_ASKED_ORDER),
             "up": {label: [int(v) for v in UP_VECTORS[label]] for label in CANONICAL_SIX},
             "names": {label: POSE_NAMES[label] for label in CANONICAL_SIX},
             "short": {label: POSE_SHORT[label] for label in CANONICAL_SIX},

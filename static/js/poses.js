@@ -79,7 +79,7 @@ export function shortPose(label) { return poseWords().poseShort[label] || label;
 
 // The pose the wizard names next among those still to do: flat ones first (the easiest to place),
 // then standing, then on the side edges.
-export const NEXT_ORDER = ["+z", "-z", "+y", "-y", "+x", "-x"];
+export const NEXT_ORDER = TABLES.poses.asked; // app/guided/capture_rules.py SIX_ASKED_ORDER
 export function nextPose(remaining) { return NEXT_ORDER.find((p) => remaining.includes(p)) || null; }
 
 export function describePose(label) { return poseWords().poseNames[label] || label; }
