@@ -55,29 +55,20 @@ def python_functions() -> list[tuple[int, str]]:
     return sorted(found, reverse=True)
 
 
-_JS_START = re.compile(r"^(export\s+)?(async\s+)?function\s+(\w+)|^\s*(\w+)\s*\([^)]*\)\s*\{\s*$")
-
-
 def js_functions() -> list[tuple[int, str]]:
-    """(lines, place) of the page's top-level functions, measured by braces."""
+    """(lines, place) of the page's top-level functions: from the ``function`` line to the first line after it
+    that closes at the margin (the modules' style), or one line when it closes where it opens. Counting braces
+    miscounted a function whose regular expression holds one (``/^\\s*[[{]/``)."""
     found = []
     for path in sorted((ROOT / "static" / "js").glob("*.js")):
         lines = path.read_text(encoding="utf-8").splitlines()
-        i = 0
-        while i < len(lines):
-            match = re.match(r"^(export\s+)?(async\s+)?function\s*\*?\s*(\w+)", lines[i])
+        for i, line in enumerate(lines):
+            match = re.match(r"^(export\s+)?(async\s+)?function\s*\*?\s*(\w+)", line)
             if not match:
-                i += 1
                 continue
-            depth, j, opened = 0, i, False
-            while j < len(lines):
-                depth += lines[j].count("{") - lines[j].count("}")
-                opened = opened or "{" in lines[j]
-                if opened and depth <= 0:
-                    break
-                j += 1
-            found.append((j - i + 1, f"{path.relative_to(ROOT)}:{i + 1} {match.group(3)}"))
-            i = j + 1
+            one_line = line.rstrip().endswith("}") and line.count("{") == line.count("}")
+            end = i if one_line else next((j for j in range(i + 1, len(lines)) if lines[j].startswith("}")), i)
+            found.append((end - i + 1, f"{path.relative_to(ROOT)}:{i + 1} {match.group(3)}"))
     return sorted(found, reverse=True)
 
 
