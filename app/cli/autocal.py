@@ -7,14 +7,18 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from app.calibration import CalibrationError
-from app.cli.printers import ProgressBar, print_autocal, print_folder_table
-from app.config import Settings
 from app.io.errors import LogFormatError
 from app.io.read_options import ReadOptions
-from app.store import open_store
 from app.workflows.autocal import autocalibrate_file
+
+if TYPE_CHECKING:
+    from app.config import Settings
+
+# The printers (app.words imports the method table, ~0.4 s) and the store are imported where they are used:
+# `trical autocal FILE --json` needs neither.
 
 
 def _autocal_options(args) -> dict:
@@ -51,13 +55,21 @@ def run(args, settings: Settings) -> int:
     options = _autocal_options(args)
     if args.path.is_dir():
         return _autocal_folder(args, settings, options)
-    progress = ProgressBar(args.path.name) if sys.stderr.isatty() else None
+    progress = None
+    if sys.stderr.isatty():
+        from app.cli.printers import ProgressBar
+
+        progress = ProgressBar(args.path.name)
     body = autocalibrate_file(args.path, progress=progress, **options)
     if args.store:
+        from app.store import open_store
+
         body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
+        from app.cli.printers import print_autocal
+
         print_autocal(body)
     return 0 if body["ok"] else 3
 
@@ -95,10 +107,14 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
             with ProcessPoolExecutor(max_workers=workers) as pool:
                 bodies = list(pool.map(_autocal_job, paths, [options] * len(paths)))
     if args.store:
+        from app.store import open_store
+
         store = open_store(settings.database_url, settings.recordings_dir)
         bodies = [store.add_calibration(b, owner=None) if "error" not in b else b for b in bodies]
     if args.json:
         print(json.dumps(bodies, indent=2))
     else:
+        from app.cli.printers import print_folder_table
+
         print_folder_table(bodies)
     return 0 if all(b.get("ok") for b in bodies) else 3
