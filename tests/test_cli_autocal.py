@@ -119,6 +119,36 @@ def test_autocal_folder_in_parallel(tmp_path, capsys, recording):
     assert lines[-1] == "2 of 3 recordings calibrated"
 
 
+def test_autocal_folder_equals_one_by_one_with_a_line_per_file(tmp_path, capsys):
+    """A folder on two processes gives each file's body as `trical autocal FILE` does alone (its detection on
+    one thread there, on every core alone: the same to the bit), in the files' order; stderr has one line per
+    file, numbered in the order they finish."""
+    for k in range(3):  # six hours each: enough rest in every orientation
+        x, _ = simulate_recording(np.random.default_rng(k + 1), duration_s=6 * 3600, sampling_rate_hz=FS)
+        np.save(tmp_path / f"r{k}.npy", x)
+    x, _ = simulate_recording(np.random.default_rng(4), duration_s=1800, sampling_rate_hz=FS)
+    np.save(tmp_path / "short.npy", x)  # too little rest: ok False with its reason
+    (tmp_path / "z.npy").write_bytes(b"garbage")
+    argv = ["--sampling-rate-hz", str(FS), "--unit", "g", "--json"]
+    code, out, err = _run(["autocal", str(tmp_path), *argv, "--workers", "2"], capsys)
+    assert code == 3, err
+    folder = json.loads(out)
+    names = ["r0.npy", "r1.npy", "r2.npy", "short.npy", "z.npy"]
+    assert [b["label"] for b in folder] == names
+    lines = err.splitlines()
+    assert [line.split("] ")[0] for line in lines] == [f"[{k}/5" for k in range(1, 6)]
+    assert sorted(line.split("] ")[1].split(":")[0] for line in lines) == names
+    by_name = {line.split("] ")[1].split(":")[0]: line for line in lines}
+    assert ": ok, " in by_name["r0.npy"] and " mg after (" in by_name["r0.npy"]
+    assert ": not ok" in by_name["short.npy"] and ": error: " in by_name["z.npy"]
+    for name, body in zip(names[:4], folder[:4]):
+        code, out, err = _run(["autocal", str(tmp_path / name), *argv], capsys)
+        assert code in (0, 3), err
+        assert json.loads(out) == body, name
+    assert [b["ok"] for b in folder] == [True, True, True, False, False]
+    assert "not a readable .npy" in folder[4]["error"]
+
+
 def test_autocal_dask_missing_is_a_clear_error(tmp_path, capsys, recording, monkeypatch):
     import sys
 

@@ -54,6 +54,7 @@ def autocalibrate_file(
     height_m: float | None = None,
     detection: dict | None = None,
     selection: dict | None = None,
+    threads: int | None = None,
     **fields,
 ) -> dict:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
@@ -76,6 +77,9 @@ def autocalibrate_file(
     detection, selection : dict, optional
         Options of :class:`app.calibration.stationary_002.RestAccumulator` and
         :func:`app.calibration.autocal.autocalibrate`.
+    threads : int, optional
+        Threads of the rest detection (default: the cores, :func:`app.calibration.stationary_002.detection_threads`);
+        1 where the files of a folder are the parallel work.
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -113,7 +117,7 @@ def autocalibrate_file(
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
     rate = require_rate(log.sampling_rate_hz, "autocal")
-    rest = detect_rest_segments(log.acc, rate, gravity=g, progress=progress, **(detection or {}))
+    rest = detect_rest_segments(log.acc, rate, gravity=g, progress=progress, workers=threads, **(detection or {}))
     if preload is not None:
         preload.join()
     from app.calibration.autocal import autocalibrate
