@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from app.calibration import CalibrationError
@@ -41,6 +42,11 @@ def autocal(request, recording: RecordingSource) -> dict:
 
 
 AUTOCAL_UNITS = ACC_PHYSICAL_UNITS
+
+SWITCH_INTERVAL_S = 1e-4
+"""The interpreter's switch interval while the fit's modules are imported beside the rest detection."""
+
+_SWITCH_INTERVAL_AT_IMPORT = sys.getswitchinterval()
 
 
 def autocalibrate_file(
@@ -91,13 +97,15 @@ def autocalibrate_file(
         ``comparison``, ``selection``, ``detection``, ``ok``, ``warnings``, ``reasons``.
     """
     import importlib
-    import sys
     import threading
 
     from app.calibration.stationary_002 import detect_rest_segments
 
-    # The fit needs scipy.optimize (~0.5 s to import): import it on the other core while this one
-    # reads the recording (numpy releases the GIL in its loops).
+    # The fit needs scipy.optimize (~0.4 s to import): import it in a thread while the detection reads the
+    # recording (numpy releases the GIL in its loops).  The import holds the GIL but for short moments; the
+    # detection's threads take it back after each numpy call, and would wait up to the switch interval (5 ms)
+    # each time: a shorter interval while both run lets them take turns instead of the detection waiting for
+    # the import to finish.
     preload = None
     if "app.calibration.autocal" not in sys.modules:
         preload = threading.Thread(
@@ -117,9 +125,14 @@ def autocalibrate_file(
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
     rate = require_rate(log.sampling_rate_hz, "autocal")
-    rest = detect_rest_segments(log.acc, rate, gravity=g, progress=progress, workers=threads, **(detection or {}))
     if preload is not None:
-        preload.join()
+        sys.setswitchinterval(min(SWITCH_INTERVAL_S, _SWITCH_INTERVAL_AT_IMPORT))
+    try:
+        rest = detect_rest_segments(log.acc, rate, gravity=g, progress=progress, workers=threads, **(detection or {}))
+    finally:
+        if preload is not None:
+            preload.join()
+            sys.setswitchinterval(_SWITCH_INTERVAL_AT_IMPORT)
     from app.calibration.autocal import autocalibrate
 
     result = autocalibrate(rest, solver=solver, **(selection or {}))
