@@ -231,3 +231,50 @@ def test_fit_modules_imported_beside_the_detection_leave_the_switch_interval_as_
             env={**os.environ, "PYTHONPATH": "."},
         )
         assert out.stdout.split() == ["autocal" if then else "missing", "True"]
+
+
+def _options(parser) -> dict:
+    import argparse
+
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {
+        name: [(a.dest, a.option_strings, a.default, a.choices, a.nargs, a.help) for a in cmd._actions]
+        for name, cmd in sub.choices.items()
+    }
+
+
+def test_one_commands_parser_is_the_whole_parsers_part():
+    """build_parser(command), which the entry uses when the line starts with a command, has that command's
+    options exactly as the whole parser has them."""
+    from app.cli.main import COMMANDS
+    from app.cli.parser import build_parser
+
+    whole = _options(build_parser())
+    assert set(whole) == set(COMMANDS)
+    for name in COMMANDS:
+        assert _options(build_parser(name)) == {name: whole[name]}
+
+
+def test_autocal_command_start_imports_neither_the_method_table_nor_scipy_stats(tmp_path, recording):
+    """`trical autocal FILE --json` runs without the method table (~0.4 s of imports) and without scipy.stats
+    (~0.7 s): what it imports is its own."""
+    import sys
+    from pathlib import Path
+
+    f = tmp_path / "day.npy"
+    np.save(f, recording[0][: int(FS * 3 * 3600)])
+    code = (
+        "import contextlib, io, sys\n"
+        "from app.cli.main import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    main(['autocal', {str(f)!r}, '--sampling-rate-hz', '{FS}', '--unit', 'g', '--json'])\n"
+        "print(sorted(m for m in ('app.methods', 'app.words', 'scipy.stats', 'app.calibration.cube') "
+        "if m in sys.modules))\n"
+    )
+    out = run_ok(
+        [sys.executable, "-c", code],
+        timeout_s=120,
+        cwd=Path(__file__).resolve().parents[1],
+        env={**os.environ, "PYTHONPATH": "."},
+    )
+    assert out.stdout.strip() == "[]"

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from app.calibration import CalibrationError
+from app.calibration.result import NormErrors
 from app.io.errors import LogFormatError
 from app.io.read_options import ReadOptions
 from app.workflows.autocal import autocalibrate_file
@@ -96,7 +97,7 @@ def _progress_line(done: int, total: int, path: str, body: dict, seconds: float)
     if "error" in body:
         what = f"error: {body['error'].splitlines()[0] if body['error'] else 'no message'}"
     else:
-        after = (body.get("metrics") or {}).get("error_after_mg")
+        after = NormErrors.of(body.get("metrics") or {}).after  # on the control points, held out of the fit
         what = ("ok" if body.get("ok") else "not ok") + ("" if after is None else f", {after:.3g} mg after")
         if not body.get("ok") and body.get("reasons"):
             what += f": {body['reasons'][0][:80]}"

@@ -50,17 +50,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     p = _Parser(prog="trical", description="Calibrate accelerometers of phones and IMU boards.")
     p.add_argument("--version", action="version", version=f"trical {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
-    adders = {
-        "serve": _add_serve,
-        "calibrate": _add_calibrate,
-        "autocal": _add_autocal,
-        "noise": _add_noise,
-        "temperature": _add_temperature,
-        "capture": _add_capture,
-        "export": _add_export,
-    }
-    for name, add in adders.items():
-        if command is None or name == command:
+    for add in (_add_serve, _add_calibrate, _add_autocal, _add_noise, _add_temperature, _add_capture, _add_export):
+        if command is None or add.__name__ == f"_add_{command}":  # _add_NAME adds the command NAME
             add(sub)
     return p
 
