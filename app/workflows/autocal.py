@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from app.calibration import CalibrationError
@@ -42,11 +41,6 @@ def autocal(request, recording: RecordingSource) -> dict:
 
 
 AUTOCAL_UNITS = ACC_PHYSICAL_UNITS
-
-SWITCH_INTERVAL_S = 1e-4
-"""The interpreter's switch interval while the fit's modules are imported beside the rest detection."""
-
-_SWITCH_INTERVAL_AT_IMPORT = sys.getswitchinterval()
 
 
 def autocalibrate_file(
@@ -96,23 +90,8 @@ def autocalibrate_file(
         ``metrics`` (``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set),
         ``comparison``, ``selection``, ``detection``, ``ok``, ``warnings``, ``reasons``.
     """
-    import importlib
-    import threading
-
     from app.calibration.stationary_002 import detect_rest_segments
 
-    # The fit needs scipy.optimize (~0.4 s to import): import it in a thread while the detection reads the
-    # recording (numpy releases the GIL in its loops).  The import holds the GIL but for short moments; the
-    # detection's threads take it back after each numpy call, and would wait up to the switch interval (5 ms)
-    # each time: a shorter interval while both run lets them take turns instead of the detection waiting for
-    # the import to finish.
-    preload = None
-    if "app.calibration.autocal" not in sys.modules:
-        preload = threading.Thread(
-            target=lambda: [importlib.import_module(m) for m in ("app.calibration.autocal", "scipy.special")],
-            daemon=True,
-        )
-        preload.start()
     path = Path(path)
     log = read_log(path, options, name=str(path))
     require_accelerometer(log.channels, "autocal")
@@ -125,14 +104,11 @@ def autocalibrate_file(
         )
     g, notes = reference_gravity(unit, gravity, latitude_deg, height_m)
     rate = require_rate(log.sampling_rate_hz, "autocal")
-    if preload is not None:
-        sys.setswitchinterval(min(SWITCH_INTERVAL_S, _SWITCH_INTERVAL_AT_IMPORT))
-    try:
-        rest = detect_rest_segments(log.acc, rate, gravity=g, progress=progress, workers=threads, **(detection or {}))
-    finally:
-        if preload is not None:
-            preload.join()
-            sys.setswitchinterval(_SWITCH_INTERVAL_AT_IMPORT)
+    # The detection on every core, then the fit's modules (scipy.optimize, ~0.4 s to import).  Not side by side:
+    # the import holds the GIL, which the detection's threads need back after each numpy call; with the default
+    # 5 ms switch interval they waited for the import to end, and with 0.1 ms the switches cost about what the
+    # overlap saves (by estimate under 0.1 s for a week); one after the other uses the least CPU.
+    rest = detect_rest_segments(log.acc, rate, gravity=g, progress=progress, workers=threads, **(detection or {}))
     from app.calibration.autocal import autocalibrate
 
     result = autocalibrate(rest, solver=solver, **(selection or {}))
