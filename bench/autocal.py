@@ -76,21 +76,30 @@ def _env() -> dict:
     return env
 
 
+CPU_S: list[float] = []
+"""The CPU time (user + system) of each command :func:`run_measured` ran, in order: beside the wall time, what a
+loaded machine inflates less."""
+
+
 def run_measured(cmd: list[str]) -> tuple[float, int, str]:
-    """Run ``cmd`` inside a wrapper process; returns (wall s, the command's peak RSS in kB, stdout)."""
+    """Run ``cmd`` inside a wrapper process; returns (wall s, the command's peak RSS in kB, stdout), and appends
+    its CPU time to :data:`CPU_S`."""
     wrapper = (
         "import resource, subprocess, sys, time, json\n"
         "t = time.perf_counter()\n"
         "p = subprocess.run(sys.argv[1:], stdout=subprocess.PIPE)\n"
         "dt = time.perf_counter() - t\n"
         "sys.stderr.write(json.dumps({'wall': dt, 'rc': p.returncode, "
-        "'maxrss': resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss}) + '\\n')\n"
+        "'maxrss': resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, "
+        "'cpu': resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime "
+        "+ resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime}) + '\\n')\n"
         "sys.stdout.buffer.write(p.stdout)\n"
     )
     p = subprocess.run([sys.executable, "-c", wrapper, *cmd], capture_output=True, env=_env(), cwd=ROOT)
     info = json.loads(p.stderr.decode().strip().splitlines()[-1])
     if info["rc"] not in (0, 3):
         raise SystemExit(f"{cmd} failed with status {info['rc']}")
+    CPU_S.append(info["cpu"])
     return info["wall"], info["maxrss"], p.stdout.decode()
 
 
@@ -226,14 +235,16 @@ def main() -> None:
 
     cmd = [sys.executable, "-m", "app.cli", "autocal", str(path), "--sampling-rate-hz", "100", "--unit", "g", "--json"]
     print("\n$ trical autocal " + path.name + " --sampling-rate-hz 100 --unit g --json")
-    walls, peaks, body = [], [], None
+    walls, peaks, cpus, body = [], [], [], None
     for i in range(args.runs):
         wall, peak, out = run_measured(cmd)
         walls.append(wall)
         peaks.append(peak)
+        cpus.append(CPU_S[-1])
         body = json.loads(out)
         print(
-            f"  run {i + 1}: {wall:.2f} s wall, {N_SAMPLES / wall / 1e6:.1f} M samples/s, peak RSS {peak / 1024:.0f} MB"
+            f"  run {i + 1}: {wall:.2f} s wall ({cpus[-1]:.2f} s CPU), {N_SAMPLES / wall / 1e6:.1f} M samples/s, "
+            f"peak RSS {peak / 1024:.0f} MB"
         )
     best = min(walls)
     print(
@@ -275,8 +286,8 @@ def main() -> None:
         ("read", [*me, "--read", str(path)]),
         ("pass", [*me, "--pass", str(path)]),
     ):
-        runs = [run_measured(cmd)[:2] for _ in range(args.runs)]
-        floor[name] = (min(w for w, _ in runs), max(p for _, p in runs))
+        runs = [(*run_measured(cmd)[:2], CPU_S[-1]) for _ in range(args.runs)]
+        floor[name] = (min(w for w, _, _ in runs), max(p for _, p, _ in runs), min(c for _, _, c in runs))
 
     actipy_s = actipy_peak = None
     if not args.no_actipy:
@@ -286,6 +297,7 @@ def main() -> None:
             print("\nactipy is not installed: pip install '.[bench]' to compare")
         else:
             wall, actipy_peak, out = run_measured([*me, "--actipy", str(path)])
+            actipy_process_cpu = CPU_S[-1]
             res = json.loads(out)
             info = res["info"]
             actipy_s = res["calibrate_s"]
@@ -315,22 +327,32 @@ def main() -> None:
         f"bound data + 50 % = {1.5 * size_mb:.0f} MiB); load {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs"
     )
 
-    def row(name: str, seconds: float, peak_kb: float, note: str = "") -> None:
-        print(f"  {name:<42}{seconds:>7.2f} s{peak_kb / 1024:>8.0f} MiB  {note}")
+    def row(name: str, seconds: float, peak_kb: float, cpu: str, note: str = "") -> None:
+        print(f"  {name:<42}{seconds:>7.2f} s{peak_kb / 1024:>8.0f} MiB{cpu:>14}  {note}")
 
+    print(f"  {'':<42}{'wall':>9}{'peak':>12}{'CPU':>14}")
     row(
         "trical autocal (whole process)",
         best,
         max(peaks),
+        f"{min(cpus):.2f} s",
         "within the bound" if max(peaks) / 1024 <= 1.5 * size_mb else "ABOVE the bound",
     )
     if actipy_s is not None and actipy_peak is not None:
         row(
-            "actipy calibrate_gravity (its fit alone)", actipy_s, actipy_peak, "peak of its process, DataFrame included"
+            "actipy calibrate_gravity (its fit alone)",
+            actipy_s,
+            actipy_peak,
+            f"({actipy_process_cpu:.2f} s)",
+            "peak of its process, DataFrame included; CPU of the whole process",
         )
-    row("floor: the process's start (import numpy)", *floor["start"])
-    row("floor: one read of the file", *floor["read"], "process included")
-    row("floor: one pass, the 5 s windows' sums", *floor["pass"], "process included, every core")
+    for name, key, note in (
+        ("floor: the process's start (import numpy)", "start", ""),
+        ("floor: one read of the file", "read", "process included"),
+        ("floor: one pass, the 5 s windows' sums", "pass", "process included, every core"),
+    ):
+        wall, peak, cpu = floor[key]
+        row(name, wall, peak, f"{cpu:.2f} s", note)
     if actipy_s is not None:
         print(f"  actipy / trical: {actipy_s / best:.2f}×; trical / floor pass: {best / floor['pass'][0]:.2f}×")
     else:
