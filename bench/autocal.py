@@ -10,9 +10,14 @@
    app.cli``), ``--runs`` times, timing the wall clock; peak memory is the child's ``ru_maxrss``
    (each run is wrapped in its own small process, so the figure is that run's own).
 3. Times detection + selection + fit (+ comparison fits) alone in a fresh process.
-4. When actipy is installed (``pip install '.[bench]'``), times its ``calibrate_gravity`` on the
+4. The floor, each in a fresh process timed whole, ``--runs`` times: the process's start (``python -c
+   "import numpy"``); one read of the file (4 MB pieces into one buffer); one pass computing the 5 s
+   windows' sums (the least an auto-calibration reads and computes) on every core.
+5. When actipy is installed (``pip install '.[bench]'``), times its ``calibrate_gravity`` on the
    same samples (as a pandas DataFrame with a DatetimeIndex, which it needs) in a fresh process,
    with its peak memory, and evaluates its coefficients on trical's control points.
+6. The summary: trical, actipy's fit alone and the floor side by side, each time with its process's peak
+   memory, the data's size and the bound on memory (the data's size + 50 %), and actipy / trical.
 
 It prints figures only; nothing passes or fails.  Note the machine's load (``uptime``): the 2 cores are
 shared.
@@ -71,21 +76,30 @@ def _env() -> dict:
     return env
 
 
+CPU_S: list[float] = []
+"""The CPU time (user + system) of each command :func:`run_measured` ran, in order: beside the wall time, what a
+loaded machine inflates less."""
+
+
 def run_measured(cmd: list[str]) -> tuple[float, int, str]:
-    """Run ``cmd`` inside a wrapper process; returns (wall s, the command's peak RSS in kB, stdout)."""
+    """Run ``cmd`` inside a wrapper process; returns (wall s, the command's peak RSS in kB, stdout), and appends
+    its CPU time to :data:`CPU_S`."""
     wrapper = (
         "import resource, subprocess, sys, time, json\n"
         "t = time.perf_counter()\n"
         "p = subprocess.run(sys.argv[1:], stdout=subprocess.PIPE)\n"
         "dt = time.perf_counter() - t\n"
         "sys.stderr.write(json.dumps({'wall': dt, 'rc': p.returncode, "
-        "'maxrss': resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss}) + '\\n')\n"
+        "'maxrss': resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss, "
+        "'cpu': resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime "
+        "+ resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime}) + '\\n')\n"
         "sys.stdout.buffer.write(p.stdout)\n"
     )
     p = subprocess.run([sys.executable, "-c", wrapper, *cmd], capture_output=True, env=_env(), cwd=ROOT)
     info = json.loads(p.stderr.decode().strip().splitlines()[-1])
     if info["rc"] not in (0, 3):
         raise SystemExit(f"{cmd} failed with status {info['rc']}")
+    CPU_S.append(info["cpu"])
     return info["wall"], info["maxrss"], p.stdout.decode()
 
 
@@ -116,6 +130,41 @@ def core_child(path: str) -> None:
             }
         )
     )
+
+
+def read_child(path: str) -> None:
+    """The floor's read: the whole file once, in 4 MB pieces into one buffer (no copy of the week kept)."""
+    buf = bytearray(4 << 20)
+    with open(path, "rb", buffering=0) as f:
+        while f.readinto(buf):
+            pass
+
+
+def pass_child(path: str) -> None:
+    """The floor's pass: each 5 s window's sums of x, y, z (one matrix-vector product each, as trical's
+    detection sums a still segment) over the memory-mapped file, in as many threads as cores."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from app.calibration.stationary_002 import _PageReleaser
+
+    x = np.load(path, mmap_mode="r")
+    pages = _PageReleaser(x)  # as trical's detection: the pages read leave the process (its peak stays small)
+    seg, step = 500, 500 * 256
+    ones = np.ones(seg, dtype=x.dtype)
+    whole = (len(x) // seg) * seg
+    threads = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    cuts = [(whole // step * k // threads) * step for k in range(threads)] + [whole]
+
+    def part(lo: int, hi: int) -> float:
+        total = 0.0
+        for s in range(lo, hi, step):
+            c = x[s : min(s + step, hi)]
+            total += float(np.matmul(ones, c.reshape(-1, seg, 3)).sum())
+            pages.release(c)
+        return total
+
+    with ThreadPoolExecutor(threads) as pool:
+        sum(pool.map(part, cuts[:-1], cuts[1:]))
 
 
 def actipy_child(path: str) -> None:
@@ -160,11 +209,17 @@ def main() -> None:
     ap.add_argument("--no-actipy", action="store_true")
     ap.add_argument("--core", help=argparse.SUPPRESS)
     ap.add_argument("--actipy", help=argparse.SUPPRESS)
+    ap.add_argument("--read", help=argparse.SUPPRESS)
+    ap.add_argument("--pass", dest="pass_", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.core:
         return core_child(args.core)
     if args.actipy:
         return actipy_child(args.actipy)
+    if args.read:
+        return read_child(args.read)
+    if args.pass_:
+        return pass_child(args.pass_)
 
     args.dir.mkdir(parents=True, exist_ok=True)
     path = args.dir / f"autocal_week_seed{args.seed}.npy"
@@ -180,14 +235,16 @@ def main() -> None:
 
     cmd = [sys.executable, "-m", "app.cli", "autocal", str(path), "--sampling-rate-hz", "100", "--unit", "g", "--json"]
     print("\n$ trical autocal " + path.name + " --sampling-rate-hz 100 --unit g --json")
-    walls, peaks, body = [], [], None
+    walls, peaks, cpus, body = [], [], [], None
     for i in range(args.runs):
         wall, peak, out = run_measured(cmd)
         walls.append(wall)
         peaks.append(peak)
+        cpus.append(CPU_S[-1])
         body = json.loads(out)
         print(
-            f"  run {i + 1}: {wall:.2f} s wall, {N_SAMPLES / wall / 1e6:.1f} M samples/s, peak RSS {peak / 1024:.0f} MB"
+            f"  run {i + 1}: {wall:.2f} s wall ({cpus[-1]:.2f} s CPU), {N_SAMPLES / wall / 1e6:.1f} M samples/s, "
+            f"peak RSS {peak / 1024:.0f} MB"
         )
     best = min(walls)
     print(
@@ -222,34 +279,84 @@ def main() -> None:
         f"detection + selection + fit {core_s:.2f} s = {N_SAMPLES / core_s / 1e6:.0f} M samples/s"
     )
 
-    if args.no_actipy:
-        return
-    try:
-        import actipy
-    except ImportError:
-        print("\nactipy is not installed: pip install '.[bench]' to compare")
-        return
-    wall, peak, out = run_measured([sys.executable, str(Path(__file__).resolve()), "--actipy", str(path)])
-    res = json.loads(out)
-    info = res["info"]
+    me = [sys.executable, str(Path(__file__).resolve())]
+    floor = {}
+    for name, cmd in (
+        ("start", [sys.executable, "-c", "import numpy"]),
+        ("read", [*me, "--read", str(path)]),
+        ("pass", [*me, "--pass", str(path)]),
+    ):
+        runs = [(*run_measured(cmd)[:2], CPU_S[-1]) for _ in range(args.runs)]
+        floor[name] = (min(w for w, _, _ in runs), max(p for _, p, _ in runs), min(c for _, _, c in runs))
+
+    actipy_s = actipy_peak = None
+    if not args.no_actipy:
+        try:
+            import actipy
+        except ImportError:
+            print("\nactipy is not installed: pip install '.[bench]' to compare")
+        else:
+            wall, actipy_peak, out = run_measured([*me, "--actipy", str(path)])
+            actipy_process_cpu = CPU_S[-1]
+            res = json.loads(out)
+            info = res["info"]
+            actipy_s = res["calibrate_s"]
+            print(
+                f"\nactipy {actipy.__version__} calibrate_gravity: {actipy_s:.2f} s "
+                f"({N_SAMPLES / actipy_s / 1e6:.1f} M samples/s; "
+                f"building its DataFrame {res['frame_s']:.2f} s more), "
+                f"peak RSS {actipy_peak / 1024:.0f} MB; CalibOK {info.get('CalibOK')}, {info.get('CalibNumSamples')} "
+                f"windows, its own error {info.get('CalibErrorBefore(mg)'):.2f} → "
+                f"{info.get('CalibErrorAfter(mg)'):.2f} mg"
+            )
+            print(f"  trical detection + selection + fit is {actipy_s / core_s:.1f}× faster")
+            if info.get("CalibOK"):
+                slope = np.array([info[f"Calib{a}Slope"] for a in "xyz"])
+                icpt = np.array([info[f"Calib{a}Intercept"] for a in "xyz"])
+                # actipy: a = intercept + slope·v  ⇔  a = slope (v + intercept/slope)
+                p_act = np.r_[slope, 0.0, 0.0, 0.0, icpt / slope]
+                print(f"  |p̂ − p| (no cross-axis terms): {_fmt_params(p_act, p_true)}")
+                ctl = np.array(body["control"])
+                after = np.abs(np.linalg.norm(icpt + ctl * slope, axis=1) - 1.0).mean() * 1000
+                before = np.abs(np.linalg.norm(ctl, axis=1) - 1.0).mean() * 1000
+                print(f"  on trical's control points: {before:.2f} mg before, {after:.3f} mg after")
+
+    size_mb = path.stat().st_size / 2**20
     print(
-        f"\nactipy {actipy.__version__} calibrate_gravity: {res['calibrate_s']:.2f} s "
-        f"({N_SAMPLES / res['calibrate_s'] / 1e6:.1f} M samples/s; "
-        f"building its DataFrame {res['frame_s']:.2f} s more), "
-        f"peak RSS {peak / 1024:.0f} MB; CalibOK {info.get('CalibOK')}, {info.get('CalibNumSamples')} windows, "
-        f"its own error {info.get('CalibErrorBefore(mg)'):.2f} → {info.get('CalibErrorAfter(mg)'):.2f} mg"
+        f"\nsummary (best of {args.runs} for trical and the floor; peak RSS of each process; data {size_mb:.0f} MiB, "
+        f"bound data + 50 % = {1.5 * size_mb:.0f} MiB); load {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs"
     )
-    print(f"  trical detection + selection + fit is {res['calibrate_s'] / core_s:.1f}× faster")
-    if info.get("CalibOK"):
-        slope = np.array([info[f"Calib{a}Slope"] for a in "xyz"])
-        icpt = np.array([info[f"Calib{a}Intercept"] for a in "xyz"])
-        # actipy: a = intercept + slope·v  ⇔  a = slope (v + intercept/slope)
-        p_act = np.r_[slope, 0.0, 0.0, 0.0, icpt / slope]
-        print(f"  |p̂ − p| (no cross-axis terms): {_fmt_params(p_act, p_true)}")
-        ctl = np.array(body["control"])
-        after = np.abs(np.linalg.norm(icpt + ctl * slope, axis=1) - 1.0).mean() * 1000
-        before = np.abs(np.linalg.norm(ctl, axis=1) - 1.0).mean() * 1000
-        print(f"  on trical's control points: {before:.2f} mg before, {after:.3f} mg after")
+
+    def row(name: str, seconds: float, peak_kb: float, cpu: str, note: str = "") -> None:
+        print(f"  {name:<42}{seconds:>7.2f} s{peak_kb / 1024:>8.0f} MiB{cpu:>14}  {note}")
+
+    print(f"  {'':<42}{'wall':>9}{'peak':>12}{'CPU':>14}")
+    row(
+        "trical autocal (whole process)",
+        best,
+        max(peaks),
+        f"{min(cpus):.2f} s",
+        "within the bound" if max(peaks) / 1024 <= 1.5 * size_mb else "ABOVE the bound",
+    )
+    if actipy_s is not None and actipy_peak is not None:
+        row(
+            "actipy calibrate_gravity (its fit alone)",
+            actipy_s,
+            actipy_peak,
+            f"({actipy_process_cpu:.2f} s)",
+            "peak of its process, DataFrame included; CPU of the whole process",
+        )
+    for name, key, note in (
+        ("floor: the process's start (import numpy)", "start", ""),
+        ("floor: one read of the file", "read", "process included"),
+        ("floor: one pass, the 5 s windows' sums", "pass", "process included, every core"),
+    ):
+        wall, peak, cpu = floor[key]
+        row(name, wall, peak, f"{cpu:.2f} s", note)
+    if actipy_s is not None:
+        print(f"  actipy / trical: {actipy_s / best:.2f}×; trical / floor pass: {best / floor['pass'][0]:.2f}×")
+    else:
+        print(f"  trical / floor pass: {best / floor['pass'][0]:.2f}×")
 
 
 if __name__ == "__main__":

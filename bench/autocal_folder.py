@@ -1,6 +1,6 @@
 """Wall time of ``trical autocal FOLDER`` on local processes beside a Dask LocalCluster.
 
-    PYTHONPATH=. python bench/autocal_folder.py [--files 8] [--hours 24] [--rate 25] [--workers 2] [--runs 2]
+    PYTHONPATH=. python bench/autocal_folder.py [--files 8] [--hours 24] [--rate 25] [--workers CORES] [--runs 2]
 
 Generates (in a temporary folder) ``--files`` synthetic recordings of ``--hours`` each at ``--rate`` Hz
 (:mod:`simulations.autocal`), then times ``trical autocal FOLDER --json`` run as a
@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 from simulations.autocal import simulate_recording  # noqa: E402 - after sys.path.insert
 
 
-def run_folder(folder: Path, rate: float, db: Path, *extra: str) -> tuple[float, list[dict]]:
+def run_folder(folder: Path, rate: float, db: Path, *extra: str) -> tuple[float, list[dict], str]:
     env = {**os.environ, "TRICAL_DATABASE_URL": f"sqlite:///{db}"}
     cmd = [
         sys.executable,
@@ -52,7 +52,7 @@ def run_folder(folder: Path, rate: float, db: Path, *extra: str) -> tuple[float,
     wall = time.perf_counter() - start
     if out.returncode not in (0, 3):
         raise SystemExit(f"trical autocal failed ({out.returncode}): {out.stderr.strip()}")
-    return wall, json.loads(out.stdout)
+    return wall, json.loads(out.stdout), out.stderr
 
 
 def main() -> None:
@@ -60,7 +60,7 @@ def main() -> None:
     ap.add_argument("--files", type=int, default=8)
     ap.add_argument("--hours", type=float, default=24.0)
     ap.add_argument("--rate", type=float, default=25.0)
-    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--workers", type=int, default=len(os.sched_getaffinity(0)))
     ap.add_argument("--runs", type=int, default=2)
     ap.add_argument("--seed", type=int, default=7)
     args = ap.parse_args()
@@ -85,12 +85,17 @@ def main() -> None:
             print(f"LocalCluster start-up {time.perf_counter() - start:.2f} s ({cluster.scheduler_address})")
             print(f"{'run':>4}{'local s':>10}{'dask s':>10}{'dask/local':>12}  same result")
             for run in range(1, args.runs + 1):
-                local_s, local = run_folder(folder, args.rate, Path(tmp) / "db.sqlite", "--workers", str(args.workers))
-                dask_s, dask = run_folder(
+                local_s, local, lines = run_folder(
+                    folder, args.rate, Path(tmp) / "db.sqlite", "--workers", str(args.workers)
+                )
+                dask_s, dask, _ = run_folder(
                     folder, args.rate, Path(tmp) / "db.sqlite", "--dask-scheduler", cluster.scheduler_address
                 )
                 same = all(a.get("ok") == b.get("ok") and a.get("model") == b.get("model") for a, b in zip(local, dask))
                 print(f"{run:>4}{local_s:>10.2f}{dask_s:>10.2f}{dask_s / local_s:>12.2f}  {same}")
+                if run == 1:
+                    print("     its progress (stderr, a line per file as it finishes):")
+                    print("\n".join(f"       {line}" for line in lines.splitlines()))
         ok = sum(1 for b in local if b.get("ok"))
         print(f"{ok} of {len(local)} recordings calibrated")
 

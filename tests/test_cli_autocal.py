@@ -119,6 +119,36 @@ def test_autocal_folder_in_parallel(tmp_path, capsys, recording):
     assert lines[-1] == "2 of 3 recordings calibrated"
 
 
+def test_autocal_folder_equals_one_by_one_with_a_line_per_file(tmp_path, capsys):
+    """A folder on two processes gives each file's body as `trical autocal FILE` does alone (its detection on
+    one thread there, on every core alone: the same to the bit), in the files' order; stderr has one line per
+    file, numbered in the order they finish."""
+    for k in range(3):  # six hours each: enough rest in every orientation
+        x, _ = simulate_recording(np.random.default_rng(k + 1), duration_s=6 * 3600, sampling_rate_hz=FS)
+        np.save(tmp_path / f"r{k}.npy", x)
+    x, _ = simulate_recording(np.random.default_rng(4), duration_s=1800, sampling_rate_hz=FS)
+    np.save(tmp_path / "short.npy", x)  # too little rest: ok False with its reason
+    (tmp_path / "z.npy").write_bytes(b"garbage")
+    argv = ["--sampling-rate-hz", str(FS), "--unit", "g", "--json"]
+    code, out, err = _run(["autocal", str(tmp_path), *argv, "--workers", "2"], capsys)
+    assert code == 3, err
+    folder = json.loads(out)
+    names = ["r0.npy", "r1.npy", "r2.npy", "short.npy", "z.npy"]
+    assert [b["label"] for b in folder] == names
+    lines = err.splitlines()
+    assert [line.split("] ")[0] for line in lines] == [f"[{k}/5" for k in range(1, 6)]
+    assert sorted(line.split("] ")[1].split(":")[0] for line in lines) == names
+    by_name = {line.split("] ")[1].split(":")[0]: line for line in lines}
+    assert ": ok, " in by_name["r0.npy"] and " mg after (" in by_name["r0.npy"]
+    assert ": not ok" in by_name["short.npy"] and ": error: " in by_name["z.npy"]
+    for name, body in zip(names[:4], folder[:4]):
+        code, out, err = _run(["autocal", str(tmp_path / name), *argv], capsys)
+        assert code in (0, 3), err
+        assert json.loads(out) == body, name
+    assert [b["ok"] for b in folder] == [True, True, True, False, False]
+    assert "not a readable .npy" in folder[4]["error"]
+
+
 def test_autocal_dask_missing_is_a_clear_error(tmp_path, capsys, recording, monkeypatch):
     import sys
 
@@ -155,13 +185,59 @@ def test_autocal_raw_unit_is_refused_with_advice(tmp_path):
 
 
 def test_cli_start_does_not_import_scipy_optimize_or_stats():
-    """`trical autocal` on a week stays under 3 s because scipy.optimize (~0.5 s) is imported on the
-    other core while detection runs, and scipy.stats (~0.7 s) never: keep them out of app.cli.main's imports.
+    """`trical autocal` on a week imports scipy.optimize (~0.4 s) only when the detection is done, and
+    scipy.stats (~0.7 s) never: keep them out of app.cli.main's imports.
     (pyarrow, ~20 ms, is imported: it reads the CSV.)"""
     import sys
     from pathlib import Path
 
     code = "import sys, app.cli.main; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
+    out = run_ok(
+        [sys.executable, "-c", code],
+        timeout_s=120,
+        cwd=Path(__file__).resolve().parents[1],
+        env={**os.environ, "PYTHONPATH": "."},
+    )
+    assert out.stdout.strip() == "[]"
+
+
+def _options(parser) -> dict:
+    import argparse
+
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {
+        name: [(a.dest, a.option_strings, a.default, a.choices, a.nargs, a.help) for a in cmd._actions]
+        for name, cmd in sub.choices.items()
+    }
+
+
+def test_one_commands_parser_is_the_whole_parsers_part():
+    """build_parser(command), which the entry uses when the line starts with a command, has that command's
+    options exactly as the whole parser has them."""
+    from app.cli.parser import build_parser
+
+    whole = _options(build_parser())
+    assert {"autocal", "calibrate", "noise", "export"} <= set(whole)
+    for name in whole:
+        assert _options(build_parser(name)) == {name: whole[name]}
+
+
+def test_autocal_command_start_imports_neither_the_method_table_nor_scipy_stats(tmp_path, recording):
+    """`trical autocal FILE --json` runs without the method table (~0.4 s of imports) and without scipy.stats
+    (~0.7 s): what it imports is its own."""
+    import sys
+    from pathlib import Path
+
+    f = tmp_path / "day.npy"
+    np.save(f, recording[0][: int(FS * 3 * 3600)])
+    code = (
+        "import contextlib, io, sys\n"
+        "from app.cli.main import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    main(['autocal', {str(f)!r}, '--sampling-rate-hz', '{FS}', '--unit', 'g', '--json'])\n"
+        "print(sorted(m for m in ('app.methods', 'app.words', 'scipy.stats', 'app.calibration.cube') "
+        "if m in sys.modules))\n"
+    )
     out = run_ok(
         [sys.executable, "-c", code],
         timeout_s=120,

@@ -23,16 +23,22 @@ already passed the range test, so a window whose segments failed it is never a G
 Memory stays bounded whatever the length: :class:`RestAccumulator` is fed chunks of samples (a
 memory-mapped array sliced in pieces, batches of a Parquet file...) and keeps only a remainder
 shorter than a segment plus a few numbers per rest segment.  Everything inside a chunk is
-vectorised: the range uses one strided max/min per tested axis, the sums a matrix–vector product.
-A memory-mapped array's pages are released after each chunk (:class:`_PageReleaser`), so the
-process's resident memory stays near 100 MB for a week at 100 Hz.  Detection of that week (60.5 M
-float32 samples) takes 0.5–0.9 s on the shared 2-core machine (``bench/autocal.py``).
+vectorised: the tested axis is copied out to contiguous rows for its max and min, the still segments
+are gathered and summed by a matrix–vector product each (float32 stays float32 until those sums).  A
+chunk (256 segments, 1.5 MB at 100 Hz) and its temporaries stay in a core's cache.
+:func:`detect_rest_segments` splits a whole recording among threads (numpy releases the GIL), each
+scanning whole chunks; every segment's numbers are computed the same way whatever the split, so the
+result is the same to the bit.  A memory-mapped array's pages are released after each chunk
+(:class:`_PageReleaser`), so the process's resident memory stays near 100 MB for a week at 100 Hz.
+Detection of that week (60.5 M float32 samples) takes ~0.35 s of CPU (``bench/autocal.py``).
 """
 
 from __future__ import annotations
 
 import math
 import mmap
+import os
+import threading
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -53,8 +59,15 @@ GGIR_WINDOW_S = 10.0
 GGIR_SD_G = 0.013
 """GGIR's no-movement windows: 10 s, standard deviation below 0.013 g on each axis (van Hees 2014)."""
 
-CHUNK_SEGMENTS = 720
-"""Segments processed at a time by :func:`detect_rest_segments` (an hour at 5 s: a few MB)."""
+CHUNK_SEGMENTS = 256
+"""Segments processed at a time by :func:`detect_rest_segments`: 1.5 MB of float32 at 100 Hz, so that a chunk and
+its temporaries stay in a core's cache between the range test and the sums."""
+
+MAX_THREADS = 4
+"""Most threads :func:`detect_rest_segments` uses by default: the pass is bound by memory beyond a few cores."""
+
+MIN_CHUNKS_PER_THREAD = 4
+"""A recording is split among threads only when each gets at least this many chunks."""
 
 
 @dataclass(frozen=True)
@@ -116,6 +129,20 @@ class RestSegments:
             "threshold": self.threshold,
             "axes": ["xyz"[a] for a in self.axes],
         }
+
+
+@dataclass
+class _Scanned:
+    """What the detector keeps of a run of whole segments: counts, and the rest segments' numbers."""
+
+    n: int
+    n_nan: int
+    n_moving: int
+    n_idle: int = 0
+    start: np.ndarray | None = None
+    mean: np.ndarray | None = None
+    range: np.ndarray | None = None
+    sq: np.ndarray | None = None
 
 
 class RestAccumulator:
@@ -227,50 +254,79 @@ class RestAccumulator:
 
     def _process(self, x: np.ndarray) -> None:
         """Whole segments only: x has a multiple of ``seg`` rows."""
+        self._add(self._scan(x, self._n_segments))
+
+    def _scan(self, x: np.ndarray, base: int) -> _Scanned:
+        """The statistics of whole segments (x has a multiple of ``seg`` rows), the first being segment ``base``.
+
+        Reads the accumulator's settings only, so two threads may scan two parts of a recording at once.
+        """
         seg = self.seg
         n = len(x) // seg
         c = x.reshape(n, seg, 3)
-        base = self._n_segments
-        self._n_segments += n
-        # Farago et al. section II.B.1: max − min of the tested axis (or axes) over the segment
+        # Farago et al. section II.B.1: max − min of the tested axis (or axes) over the segment.  The axis
+        # is copied out first: numpy's max and min along a contiguous row are several times faster than
+        # along a strided one, and the copy of a block stays in the cache for the sums below.
         rng: np.ndarray | None = None
         for a in self.axes:
-            ax = c[:, :, a]
+            ax = np.ascontiguousarray(c[:, :, a])
             r = ax.max(axis=1) - ax.min(axis=1)
             rng = r if rng is None else np.maximum(rng, r)
         assert rng is not None, "at least one axis is tested"
         # NaN propagates through max/min: such a segment fails the comparison.
         still = rng < self.threshold
-        if self._ones is None or self._ones.dtype != x.dtype:
-            self._ones = np.ones(seg, dtype=x.dtype)
+        ones = self._ones_for(x.dtype)
         idx = np.flatnonzero(still)
         nan_range = np.isnan(rng)
-        self._n_nan += int(nan_range.sum())
-        self._n_moving += int(n - still.sum() - nan_range.sum())
+        n_nan = int(nan_range.sum())
+        out = _Scanned(n, n_nan, int(n - still.sum() - nan_range.sum()))
         if len(idx) == 0:
-            return
-        # The mean of each segment (accumulated sums, Farago et al. section II.B.1), as one matrix–vector product over
-        # the whole chunk: cheaper than gathering the still segments first.
-        sums = np.matmul(self._ones, c)[idx].astype(np.float64)
+            return out
+        # The mean of each still segment (accumulated sums, Farago et al. section II.B.1): the still segments are
+        # gathered first (a copy within the cache), then one matrix–vector product each.
+        cs = c[idx]
+        sums = np.matmul(ones, cs).astype(np.float64)
         means = sums / seg
         keep = np.isfinite(means).all(axis=1)  # a NaN on an untested axis
-        self._n_nan += int((~keep).sum())
+        out.n_nan += int((~keep).sum())
         if self.idle_run is not None:
             idle = self._idle(c, idx) & keep
-            self._n_idle += int(idle.sum())
+            out.n_idle = int(idle.sum())
             keep &= ~idle
         if not keep.all():
             idx, means = idx[keep], means[keep]
         if len(idx) == 0:
-            return
-        self._start.append((base + idx).astype(np.int64) * seg)
-        self._mean.append(means)
-        self._range.append(rng[idx].astype(np.float64))
+            return out
+        out.start = (base + idx).astype(np.int64) * seg
+        out.mean = means
+        out.range = rng[idx].astype(np.float64)
         if self.ggir_group is not None:
             # Sums of squares for GGIR's standard deviations (float32 sums of ~1 g² terms: the
             # variance is good to ~1e-6 g², against GGIR's threshold of 1.7e-4 g²).
-            sq = np.matmul(self._ones, c * c) if len(idx) > n // 4 else np.matmul(self._ones, c[idx] ** 2)
-            self._sq.append((sq[idx] if len(sq) == n else sq).astype(np.float64))
+            if not keep.all():
+                cs = cs[keep]
+            out.sq = np.matmul(ones, cs * cs).astype(np.float64)
+        return out
+
+    def _ones_for(self, dtype) -> np.ndarray:
+        ones = self._ones
+        if ones is None or ones.dtype != dtype:
+            ones = self._ones = np.ones(self.seg, dtype=dtype)
+        return ones
+
+    def _add(self, s: _Scanned) -> None:
+        """Count a scanned part, the parts taken in the recording's order."""
+        self._n_segments += s.n
+        self._n_nan += s.n_nan
+        self._n_moving += s.n_moving
+        self._n_idle += s.n_idle
+        if s.start is None:
+            return
+        self._start.append(s.start)
+        self._mean.append(s.mean)
+        self._range.append(s.range)
+        if s.sq is not None:
+            self._sq.append(s.sq)
 
     def _idle(self, c: np.ndarray, idx: np.ndarray) -> np.ndarray:
         """Which segments ``c[idx]`` hold ``idle_run`` or more identical consecutive samples (all axes)."""
@@ -379,6 +435,18 @@ class _PageReleaser:
             self.mm = None
 
 
+def detection_threads(workers: int | None = None) -> int:
+    """Threads of :func:`detect_rest_segments`: ``workers`` when given, else the cores this process may use
+    (at most :data:`MAX_THREADS`)."""
+    if workers is not None:
+        return max(1, int(workers))
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(MAX_THREADS, cores))
+
+
 def detect_rest_segments(
     samples,
     sampling_rate_hz: float,
@@ -386,6 +454,7 @@ def detect_rest_segments(
     gravity: float = 1.0,
     chunk_segments: int = CHUNK_SEGMENTS,
     progress=None,
+    workers: int | None = None,
     **options,
 ) -> RestSegments:
     """Rest segments of a whole recording, processed in chunks (Farago et al. section II.B.1).
@@ -400,7 +469,12 @@ def detect_rest_segments(
     chunk_segments : int
         Segments per chunk.
     progress : callable, optional
-        Called as ``progress(done_samples, total_samples)`` after each chunk.
+        Called as ``progress(done_samples, total_samples)`` after each chunk (from the scanning threads,
+        one at a time).
+    workers : int, optional
+        Threads that scan parts of the recording at once (numpy releases the GIL in its loops); by
+        default :func:`detection_threads`.  A recording shorter than a few chunks per thread is scanned by
+        one.  The result does not depend on it.
     **options
         Passed to :class:`RestAccumulator` (``segment_s``, ``threshold_g``, ``axis``, ``all_axes``,
         ``idle_min_run_s``, ``ggir_window_s``, ``ggir_sd_g``).
@@ -416,10 +490,49 @@ def detect_rest_segments(
     n = x.shape[0]
     step = max(1, int(chunk_segments)) * acc.seg
     pages = _PageReleaser(x)
-    for s in range(0, n, step):
-        chunk = x[s : s + step]
-        acc.feed(chunk)
-        pages.release(chunk)
-        if progress is not None:
-            progress(min(n, s + step), n)
+    n_chunks = -(-n // step)
+    threads = min(detection_threads(workers), n_chunks // MIN_CHUNKS_PER_THREAD)
+    if threads <= 1:
+        for s in range(0, n, step):
+            chunk = x[s : s + step]
+            acc.feed(chunk)
+            pages.release(chunk)
+            if progress is not None:
+                progress(min(n, s + step), n)
+        return acc.result()
+    # Whole chunks to each thread, in the recording's order; the incomplete last segment is the tail's.
+    whole = (n // acc.seg) * acc.seg
+    cuts = [min(whole, (n_chunks * k // threads) * step) for k in range(threads + 1)]
+    done = [0]
+    lock = threading.Lock()
+
+    def scan(lo: int, hi: int) -> list[_Scanned]:
+        parts = []
+        for s in range(lo, hi, step):
+            chunk = x[s : min(s + step, hi)]
+            c = np.asarray(chunk)
+            if c.dtype not in (np.float32, np.float64):
+                c = c.astype(np.float64)
+            parts.append(acc._scan(c, s // acc.seg))
+            pages.release(chunk)
+            if progress is not None:
+                with lock:
+                    done[0] += len(c)
+                    progress(done[0], n)
+        return parts
+
+    from concurrent.futures import ThreadPoolExecutor
+
+    acc._ones_for(np.float32)  # made once, before the threads share it
+    acc._ones_for(x.dtype if x.dtype in (np.float32, np.float64) else np.float64)
+    with ThreadPoolExecutor(threads) as pool:
+        scanned = list(pool.map(scan, cuts[:-1], cuts[1:]))
+    for parts in scanned:
+        for part in parts:
+            acc._add(part)
+    acc._n_samples = whole
+    tail = x[whole:]
+    acc.feed(tail)  # shorter than a segment: counted, then ignored as the streaming detector does
+    if progress is not None and len(tail):
+        progress(n, n)
     return acc.result()

@@ -5,27 +5,32 @@ from __future__ import annotations
 
 import argparse
 
-from app import __version__, methods
+from app import __version__
 from app.calibration.solvers import SOLVERS
-from app.calibration_requests import CUBE_PROTOCOLS
 from app.cli import options as opt
-from app.guided.capture_rules import CAPTURE_PROTOCOLS, WIZARD_PROTOCOLS
-from app.io.board_formats import DEFAULT_BAUD
-from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
 from app.io.formats import FORMATS
 from app.io.log import UNITS, UNITS_IN
 from app.workflows.autocal import AUTOCAL_UNITS
-from app.workflows.temperature import TEMPERATURE_SENSORS
 
-CALIBRATE_METHODS = methods.commanded_by("calibrate")
-"""The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
-commands of their own)."""
+# What only one command's options need (the requests' models, the board's line formats…) is imported in that
+# command's _add_*: build_parser(command) builds one command's options and pays for its imports only.
+
+
+def calibrate_methods() -> tuple[str, ...]:
+    """The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
+    commands of their own).  The method table is imported here, not with this module: it takes ~0.4 s, which
+    the other commands do not pay."""
+    from app import methods
+
+    return methods.commanded_by("calibrate")
 
 
 def _takers(field: str) -> str:
     """The methods of ``trical calibrate`` whose request takes ``field``, for an option's help: "cube and
     magnetometer"."""
-    return " and ".join(m for m in CALIBRATE_METHODS if field in methods.BY_NAME[m].options)
+    from app import methods
+
+    return " and ".join(m for m in calibrate_methods() if field in methods.BY_NAME[m].options)
 
 
 SCALED_UNITS = tuple(unit for units in UNITS.values() for unit in units if unit != "raw")
@@ -39,18 +44,15 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``trical`` command's parser: its subcommands and their options."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The ``trical`` command's parser: its subcommands and their options; only ``command``'s when given (a
+    command line that starts with it parses the same, without the others' imports)."""
     p = _Parser(prog="trical", description="Calibrate accelerometers of phones and IMU boards.")
     p.add_argument("--version", action="version", version=f"trical {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
-    _add_serve(sub)
-    _add_calibrate(sub)
-    _add_autocal(sub)
-    _add_noise(sub)
-    _add_temperature(sub)
-    _add_capture(sub)
-    _add_export(sub)
+    for add in (_add_serve, _add_calibrate, _add_autocal, _add_noise, _add_temperature, _add_capture, _add_export):
+        if command is None or add.__name__ == f"_add_{command}":  # _add_NAME adds the command NAME
+            add(sub)
     return p
 
 
@@ -98,10 +100,12 @@ def _add_calibrate(sub) -> None:
     )
     c.add_argument(
         "--method",
-        choices=CALIBRATE_METHODS,
+        choices=calibrate_methods(),
         default="auto",
         help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones",
     )
+    from app.calibration_requests import CUBE_PROTOCOLS
+
     c.add_argument("--protocol", choices=CUBE_PROTOCOLS, default=CUBE_PROTOCOLS[0], help=f"{_takers('protocol')} only")
     c.add_argument(
         "--field-ut",
@@ -232,6 +236,8 @@ def _add_noise(sub) -> None:
 
 def _add_temperature(sub) -> None:
     """``trical temperature``: the offsets' drift with temperature."""
+    from app.workflows.temperature import TEMPERATURE_SENSORS
+
     t = sub.add_parser(
         "temperature",
         help="each axis's offset as a polynomial of temperature, from a still recording "
@@ -271,6 +277,10 @@ def _add_temperature(sub) -> None:
 
 def _add_capture(sub) -> None:
     """``trical capture``: the guided calibration of a board on a serial port."""
+    from app.guided.capture_rules import CAPTURE_PROTOCOLS, WIZARD_PROTOCOLS
+    from app.io.board_formats import DEFAULT_BAUD
+    from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
+
     b = sub.add_parser(
         "capture",
         help="the guided calibration of a board on a serial port (pyserial): capture, log, calibrate, verdict",
@@ -325,6 +335,8 @@ def _add_export(sub) -> None:
     """``trical export``: a stored calibration, in one of the formats."""
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
+    from app import methods
+
     e.add_argument("--format", choices=methods.ALL_FORMATS, default="json")
     e.add_argument(
         "--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)"

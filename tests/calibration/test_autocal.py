@@ -122,6 +122,51 @@ def test_streaming_in_odd_chunks_equals_one_pass():
     assert np.allclose(parts.ggir_mean, whole.ggir_mean, atol=1e-6)
 
 
+def _same_rest(a, b) -> None:
+    """Two detections are the same to the bit: every array and every count."""
+    for name in ("start", "mean", "range", "ggir_mean", "ggir_std"):
+        x, y = getattr(a, name), getattr(b, name)
+        assert x.dtype == y.dtype and np.array_equal(x, y), name
+    assert (a.n_samples, a.n_segments, a.n_moving, a.n_nan, a.n_idle) == (
+        b.n_samples,
+        b.n_segments,
+        b.n_moving,
+        b.n_nan,
+        b.n_idle,
+    )
+
+
+@pytest.mark.parametrize("time_column", [False, True])
+def test_threads_and_chunk_sizes_give_the_same_detection_to_the_bit(time_column):
+    """The recording split among threads (each scanning whole chunks), chunks of any size, and the streaming
+    accumulator fed odd pieces: the same rest segments, means, ranges and GGIR windows, bit for bit, NaN gaps
+    and idle sleep included; an N×4 array's strided x, y, z view as well."""
+    x, _ = _recording(22, days=0.3, idle_fraction=0.2, nan_fraction=0.2)
+    x = x[: len(x) - 77]  # an incomplete last segment
+    if time_column:
+        x = np.column_stack([np.arange(len(x), dtype=np.float32), x])[:, 1:]
+    one = detect_rest_segments(x, FS, workers=1)
+    assert one.n_rest > 50 and one.n_idle > 0 and one.n_nan > 0 and len(one.ggir_mean) > 10
+    for workers, chunk in ((2, 16), (3, 7), (4, 256), (2, 1)):
+        _same_rest(detect_rest_segments(x, FS, workers=workers, chunk_segments=chunk), one)
+    acc = RestAccumulator(FS)
+    rng = np.random.default_rng(1)
+    s = 0
+    while s < len(x):
+        n = int(rng.integers(1, 20000))
+        acc.feed(x[s : s + n])
+        s += n
+    _same_rest(acc.result(), one)
+
+
+def test_progress_reaches_the_end_with_threads():
+    x, _ = _recording(23, days=0.1)
+    seen = []
+    detect_rest_segments(x, FS, workers=2, chunk_segments=8, progress=lambda done, total: seen.append((done, total)))
+    assert seen[-1] == (len(x), len(x))
+    assert len(seen) > 8 and all(0 < d <= t == len(x) for d, t in seen)
+
+
 def test_detection_threshold_and_all_axes():
     # x still, y and z swinging: one-axis detection (Farago et al.) calls it rest, all_axes does not.
     t = np.arange(int(60 * FS)) / FS
