@@ -8,32 +8,26 @@ closed early (``trical ... | head``) ends quietly with status 141, as a command 
 
 from __future__ import annotations
 
+import importlib
 import os
 import sys
 import traceback
 
 from pydantic import ValidationError
 
-from app import methods
 from app.calibration import CalibrationError
-from app.cli import autocal, calibrate, capture, export, noise, serve, temperature
-from app.cli.parser import build_parser
+from app.cli.parser import COMMANDS, build_parser
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.reach.tls import CertificateError
 from app.store import NotFoundError
-from app.words import render
 
-COMMANDS = {
-    "serve": serve.run,
-    "calibrate": calibrate.run,
-    "autocal": autocal.run,
-    "noise": noise.run,
-    "temperature": temperature.run,
-    "export": export.run,
-    "capture": capture.run,
-}
-"""Each command's function, by its name on the command line: ``run(args, settings)`` returns the exit status."""
+
+def command(name: str):
+    """The function of ``trical NAME`` (``run(args, settings)``, returning the exit status), from its module
+    ``app.cli.NAME``: imported when the command runs, so that one command does not load every other's
+    dependencies (the method table's, the server's) before it starts."""
+    return importlib.import_module(f"app.cli.{name}").run
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -57,17 +51,27 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(argv: list[str] | None) -> int:
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    # Only the named command's options are built (all of them for `trical --help` or an unknown name).
+    args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
+    # The error messages' words (app.words) are the method table's: loaded when an error is to be said.
     try:
         settings = Settings.from_env()
-        return COMMANDS[args.command](args, settings)
+        return command(args.command)(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
+        from app.words import render
+
         print(f"trical: error: {render(str(exc), 'cli')}", file=sys.stderr)
         return 2
     except ValidationError as exc:
+        from app import methods
+        from app.words import render
+
         print(f"trical: error: {render(methods.describe_errors(exc.errors()), 'cli')}", file=sys.stderr)
         return 2
     except NotFoundError as exc:
+        from app.words import render
+
         print(f"trical: error: {render(str(exc.args[0]), 'cli')}", file=sys.stderr)
         return 2
     except FileNotFoundError as exc:

@@ -5,27 +5,28 @@ from __future__ import annotations
 
 import argparse
 
-from app import __version__, methods
-from app.calibration.solvers import SOLVERS
-from app.calibration_requests import CUBE_PROTOCOLS
+from app import __version__
 from app.cli import options as opt
-from app.guided.capture_rules import CAPTURE_PROTOCOLS, WIZARD_PROTOCOLS
-from app.io.board_formats import DEFAULT_BAUD
-from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
-from app.io.formats import FORMATS
 from app.io.log import UNITS, UNITS_IN
-from app.workflows.autocal import AUTOCAL_UNITS
-from app.workflows.temperature import TEMPERATURE_SENSORS
 
-CALIBRATE_METHODS = methods.commanded_by("calibrate")
-"""The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
-commands of their own)."""
+# Each command's options import what their choices come from (the method table, the solvers, the log
+# formats, the protocols) in the function that adds them: the parser of one command loads only its own.
+
+
+def _calibrate_methods():
+    """The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
+    commands of their own)."""
+    from app import methods
+
+    return methods.commanded_by("calibrate")
 
 
 def _takers(field: str) -> str:
     """The methods of ``trical calibrate`` whose request takes ``field``, for an option's help: "cube and
     magnetometer"."""
-    return " and ".join(m for m in CALIBRATE_METHODS if field in methods.BY_NAME[m].options)
+    from app import methods
+
+    return " and ".join(m for m in _calibrate_methods() if field in methods.BY_NAME[m].options)
 
 
 SCALED_UNITS = tuple(unit for units in UNITS.values() for unit in units if unit != "raw")
@@ -39,18 +40,15 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``trical`` command's parser: its subcommands and their options."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The ``trical`` command's parser: its subcommands and their options (only ``command``'s, when given:
+    what ``trical COMMAND …`` parses, without loading the other commands' choices)."""
     p = _Parser(prog="trical", description="Calibrate accelerometers of phones and IMU boards.")
     p.add_argument("--version", action="version", version=f"trical {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
-    _add_serve(sub)
-    _add_calibrate(sub)
-    _add_autocal(sub)
-    _add_noise(sub)
-    _add_temperature(sub)
-    _add_capture(sub)
-    _add_export(sub)
+    for name, add in _ADDERS.items():
+        if command is None or name == command:
+            add(sub)
     return p
 
 
@@ -88,6 +86,10 @@ def _add_serve(sub) -> None:
 
 def _add_calibrate(sub) -> None:
     """``trical calibrate``: a log of still orientations (or a cube, a compass turn), by the method table's methods."""
+    from app.calibration.solvers import SOLVERS
+    from app.calibration_requests import CUBE_PROTOCOLS
+    from app.io.formats import FORMATS
+
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument(
         "log",
@@ -98,7 +100,7 @@ def _add_calibrate(sub) -> None:
     )
     c.add_argument(
         "--method",
-        choices=CALIBRATE_METHODS,
+        choices=_calibrate_methods(),
         default="auto",
         help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones",
     )
@@ -156,6 +158,9 @@ def _add_calibrate(sub) -> None:
 
 def _add_autocal(sub) -> None:
     """``trical autocal``: a long recording, or a folder of them."""
+    from app.calibration.solvers import SOLVERS
+    from app.workflows.autocal import AUTOCAL_UNITS
+
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
     a.add_argument(
         "path",
@@ -232,6 +237,8 @@ def _add_noise(sub) -> None:
 
 def _add_temperature(sub) -> None:
     """``trical temperature``: the offsets' drift with temperature."""
+    from app.workflows.temperature import TEMPERATURE_SENSORS
+
     t = sub.add_parser(
         "temperature",
         help="each axis's offset as a polynomial of temperature, from a still recording "
@@ -271,6 +278,10 @@ def _add_temperature(sub) -> None:
 
 def _add_capture(sub) -> None:
     """``trical capture``: the guided calibration of a board on a serial port."""
+    from app.guided.capture_rules import CAPTURE_PROTOCOLS, WIZARD_PROTOCOLS
+    from app.io.board_formats import DEFAULT_BAUD
+    from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
+
     b = sub.add_parser(
         "capture",
         help="the guided calibration of a board on a serial port (pyserial): capture, log, calibrate, verdict",
@@ -323,6 +334,8 @@ def _add_capture(sub) -> None:
 
 def _add_export(sub) -> None:
     """``trical export``: a stored calibration, in one of the formats."""
+    from app import methods
+
     e = sub.add_parser("export", help="export a stored calibration")
     e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
     e.add_argument("--format", choices=methods.ALL_FORMATS, default="json")
@@ -375,11 +388,25 @@ def _read_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+_ADDERS = {
+    "serve": _add_serve,
+    "calibrate": _add_calibrate,
+    "autocal": _add_autocal,
+    "noise": _add_noise,
+    "temperature": _add_temperature,
+    "capture": _add_capture,
+    "export": _add_export,
+}
+
+COMMANDS = tuple(_ADDERS)
+"""The commands, in the order of ``trical --help``; each runs as ``app.cli.NAME.run(args, settings)``."""
+
+
 def defaults_of(command: str) -> dict:
     """Every option of ``trical COMMAND`` at its default, by its name in the parsed arguments (``no_store``), as
     argparse gives it when the option is left out: what a command that ends as another (``trical capture`` as
     ``trical calibrate`` or ``trical noise``) sets its own values on, with no command line to parse again."""
-    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    sub = next(a for a in build_parser(command)._actions if isinstance(a, argparse._SubParsersAction))
     return {
         a.dest: a.type(a.default) if isinstance(a.default, str) and a.type else a.default
         for a in sub.choices[command]._actions
