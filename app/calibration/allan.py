@@ -154,11 +154,13 @@ def _sums_of_share(x: np.ndarray, ms: np.ndarray, share: int, shares: int) -> np
     return out
 
 
-def second_difference_sums_fast(x: np.ndarray, ms: np.ndarray, pool: ThreadPoolExecutor | None = None) -> np.ndarray:
-    """:func:`second_difference_sums`, the range of i of every m cut into one share per worker of ``pool``
-    (equal shares: each core has the same work at every τ); equal to it up to the order of the additions."""
-    shares = pool._max_workers if pool is not None else 1
-    if shares == 1 or pool is None:
+def second_difference_sums_fast(
+    x: np.ndarray, ms: np.ndarray, pool: ThreadPoolExecutor | None = None, shares: int = 1
+) -> np.ndarray:
+    """:func:`second_difference_sums`, the range of i of every m cut into ``shares`` equal parts summed on
+    the threads of ``pool`` (one share per core: each core has the same work at every τ); equal to it up
+    to the order of the additions."""
+    if pool is None or shares <= 1:
         return _sums_of_share(x, ms, 0, 1)
     return np.sum(list(pool.map(lambda p: _sums_of_share(x, ms, p, shares), range(shares))), axis=0)
 
@@ -197,12 +199,13 @@ def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = N
     sums = np.empty((len(ms), k))
     mean = np.empty(k)
     # One axis at a time (its phase, 8 bytes a sample, is all that is held), its sums shared by the cores.
-    with ThreadPoolExecutor(max_workers=max(1, os.cpu_count() or 1)) as pool:
+    workers = max(1, os.cpu_count() or 1)
+    with ThreadPoolExecutor(max_workers=workers) as pool:
         for axis in range(k):
             x, mean[axis] = phase_of(samples[:, axis], sampling_rate_hz)
             if not np.isfinite(x[-1]):
                 raise CalibrationError("the samples hold NaN or infinite values: drop those rows first")
-            sums[:, axis] = second_difference_sums_fast(x, ms, pool)
+            sums[:, axis] = second_difference_sums_fast(x, ms, pool, workers)
             del x
     adev = np.sqrt(sums / (2.0 * tau * tau * n_terms)[:, None])
     return tau, adev, n_terms, mean

@@ -45,7 +45,7 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
         return [(0, n)]
     # Consecutive blocks of one window, not every window: a half-second resolution is plenty for the
     # still part of a long recording, and one pass over it (a night at 200 Hz in a tenth of a second),
-    # 2¹⁰ blocks at a time so that the variance's temporaries stay in the processor's cache (each block's
+    # about 2¹⁷ rows at a time so that the variance's temporaries stay in the processor's cache (each block's
     # figures do not depend on how many are taken together).
     blocks = n // w
     spread = np.empty(blocks)
