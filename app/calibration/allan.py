@@ -226,12 +226,18 @@ def edf_simple(n_phase: int, m, alpha) -> np.ndarray:
     return np.maximum(edf, 1.0)
 
 
+_PRELOADING: list[threading.Thread] = []
+
+
 def preload_quantiles() -> threading.Thread:
-    """Start importing scipy.special (a quarter of a second) on another thread; the caller computes
-    meanwhile and :func:`chi2_interval` finds it loaded."""
-    thread = threading.Thread(target=importlib.import_module, args=("scipy.special",), daemon=True)
-    thread.start()
-    return thread
+    """Start importing scipy.special (a quarter of a second) on another thread, once per process; the
+    caller reads and computes meanwhile (numpy's loops leave the other core free) and
+    :func:`chi2_interval` finds it loaded. The earlier it is called, the more of it is hidden."""
+    if not _PRELOADING:
+        thread = threading.Thread(target=importlib.import_module, args=("scipy.special",), daemon=True)
+        thread.start()
+        _PRELOADING.append(thread)
+    return _PRELOADING[0]
 
 
 def chi2_interval(edf, confidence: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
