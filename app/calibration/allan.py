@@ -165,6 +165,16 @@ def second_difference_sums_fast(
     return np.sum(list(pool.map(lambda p: _sums_of_share(x, ms, p, shares), range(shares))), axis=0)
 
 
+MAX_SHARES = 8
+"""Threads at most: past a few cores the sums wait on the memory, not on the arithmetic."""
+
+
+def cores() -> int:
+    """The cores this process may run on (its affinity where the system tells it), at most :data:`MAX_SHARES`."""
+    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    return max(1, min(MAX_SHARES, usable))
+
+
 def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = None):
     """The overlapping Allan deviation of every column of ``samples`` at τ = m / fs.
 
@@ -199,7 +209,7 @@ def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = N
     sums = np.empty((len(ms), k))
     mean = np.empty(k)
     # One axis at a time (its phase, 8 bytes a sample, is all that is held), its sums shared by the cores.
-    workers = max(1, os.cpu_count() or 1)
+    workers = cores()
     with ThreadPoolExecutor(max_workers=workers) as pool:
         for axis in range(k):
             x, mean[axis] = phase_of(samples[:, axis], sampling_rate_hz)
