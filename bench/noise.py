@@ -96,9 +96,9 @@ if pid == 0:
 _, status, usage = os.wait4(pid, 0)
 wall = time.perf_counter() - start
 with open(sys.argv[1], "w") as f:
-    json.dump([wall, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status)], f)
+    json.dump([wall, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status), usage.ru_utime + usage.ru_stime], f)
 """
-"""Forks the command from a small process and writes its wall time, peak RSS (MiB) and exit status."""
+"""Forks the command from a small process and writes its wall time, peak RSS (MiB), exit status and CPU time."""
 
 
 def flicker(rng: np.random.Generator, n: int, fs: float, b: float, axes: int) -> np.ndarray:
@@ -151,8 +151,10 @@ def make_night_file(folder: Path, hours: float) -> Path:
     return path
 
 
-def run(cmd: list[str]) -> tuple[float, float, int, str, str]:
-    """Wall time (s), peak RSS of the child (MiB), exit status, stdout, stderr (module docstring: the launcher)."""
+def run(cmd: list[str]) -> tuple[float, float, int, str, str, float]:
+    """Wall time (s), peak RSS of the child (MiB), exit status, stdout, stderr, CPU time (user + system, s,
+    all threads: less disturbed than the wall time by other work on the machine) (module docstring: the
+    launcher)."""
     root = Path(__file__).resolve().parent.parent
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     with (
@@ -168,10 +170,10 @@ def run(cmd: list[str]) -> tuple[float, float, int, str, str]:
             env={**env, "PYTHONPATH": str(root)},
             check=True,
         )
-        wall, rss, status = json.load(figures)
+        wall, rss, status, cpu = json.load(figures)
         out.seek(0)
         err.seek(0)
-        return wall, rss, status, out.read(), err.read()
+        return wall, rss, status, out.read(), err.read(), cpu
 
 
 def trical_cmd(path: Path, sensor: str | None) -> list[str]:
@@ -179,11 +181,11 @@ def trical_cmd(path: Path, sensor: str | None) -> list[str]:
     return cmd + (["--sensor", sensor] if sensor else [])
 
 
-def summary(name: str, runs: list[tuple[float, float]]) -> tuple[float, float]:
-    walls, rss = [r[0] for r in runs], [r[1] for r in runs]
+def summary(name: str, runs: list[tuple[float, float, float]]) -> tuple[float, float]:
+    walls, rss, cpu = [r[0] for r in runs], [r[1] for r in runs], [r[2] for r in runs]
     print(
-        f"{name:<44} wall min {min(walls):6.2f} s  median {statistics.median(walls):6.2f} s   "
-        f"peak RSS max {max(rss):5.0f} MiB"
+        f"{name:<44} wall min {min(walls):5.2f} s  median {statistics.median(walls):5.2f} s  "
+        f"CPU median {statistics.median(cpu):5.2f} s  peak RSS max {max(rss):4.0f} MiB"
     )
     return min(walls), statistics.median(walls)
 
@@ -208,7 +210,7 @@ def main() -> None:
 
     python = sys.executable
     ms = None
-    wall, rss, status, out, err = run(trical_cmd(path, "gyr"))  # untimed: compiles trical's modules once
+    _, _, status, out, err, _ = run(trical_cmd(path, "gyr"))  # untimed: compiles trical's modules once
     if status in (0, 3):
         ms = sorted({max(1, round(t * FS)) for t in json.loads(out)["adev"]["gyr"]["tau_s"]})
     else:
@@ -224,18 +226,18 @@ def main() -> None:
         "read": [python, "-c", FLOOR_READ, str(path)],
         "pass": [python, "-c", FLOOR_PASS, str(path), f"{FS:g}"],
     }
-    runs: dict[str, list[tuple[float, float]]] = {name: [] for name in commands}
+    runs: dict[str, list[tuple[float, float, float]]] = {name: [] for name in commands}
     outputs: dict[str, str] = {}
     for name, cmd in commands.items():
         if name != "trical":
             run(cmd)  # untimed, as trical's first run
     for _ in range(args.runs):
         for name, cmd in commands.items():  # in turn, so that a busy moment of the machine spreads over all
-            wall, rss, status, out, err = run(cmd)
+            wall, rss, status, out, err, cpu = run(cmd)
             if status not in (0, 3):
                 print(f"{name} failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
                 continue
-            runs[name].append((wall, rss))
+            runs[name].append((wall, rss, cpu))
             outputs[name] = out
 
     estimate = json.loads(outputs["trical"])["model"]["gyr"] if "trical" in outputs else None
@@ -280,7 +282,7 @@ def main() -> None:
             f"\nnight: {night} ({night.stat().st_size / 2**20:.0f} MiB, {args.night_hours:g} h at {FS:g} Hz, "
             f"acc + gyr; ready in {time.perf_counter() - t0:.1f} s)"
         )
-        wall, rss, status, _, err = run(trical_cmd(night, None))
+        wall, rss, status, _, err, _ = run(trical_cmd(night, None))
         if status in (0, 3):
             print(f"trical noise (six axes): wall {wall:.1f} s, peak RSS {rss:.0f} MiB (bound 2048 MiB)")
         else:
