@@ -159,7 +159,24 @@ def second_difference_sums_fast(
 ) -> np.ndarray:
     """:func:`second_difference_sums`, the range of i of every m cut into ``shares`` equal parts summed on
     the threads of ``pool`` (one share per core: each core has the same work at every τ); equal to it up
-    to the order of the additions."""
+    to the order of the additions.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (L,)
+        The phase (:func:`phase_of`), float64.
+    ms : numpy.ndarray of int
+        Averaging factors, each 1 ≤ m ≤ (L − 2) / 2.
+    pool : concurrent.futures.ThreadPoolExecutor, optional
+        Threads to sum the shares on (none: one share, on the calling thread).
+    shares : int
+        Parts of the range of i, one per thread of ``pool``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(ms),)
+        Σ (x_{i+2m} − 2 x_{i+m} + x_i)² over i = 0 … L − 2m − 1, for each m (NIST SP 1065, eq. (14)).
+    """
     if pool is None or shares <= 1:
         return _sums_of_share(x, ms, 0, 1)
     return np.sum(list(pool.map(lambda p: _sums_of_share(x, ms, p, shares), range(shares))), axis=0)
@@ -170,7 +187,13 @@ MAX_SHARES = 8
 
 
 def cores() -> int:
-    """The cores this process may run on (its affinity where the system tells it), at most :data:`MAX_SHARES`."""
+    """The cores this process may run on (its affinity where the system tells it), at most :data:`MAX_SHARES`.
+
+    Returns
+    -------
+    int
+        At least 1.
+    """
     usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
     return max(1, min(MAX_SHARES, usable))
 
