@@ -15,13 +15,25 @@ Generates once, cached under ``--dir`` (seeded ``np.random.default_rng``):
   header row ``time_s,acc_x,…,gyr_z``), for the peak memory of a night's recording (the issue's
   bound is 2 GB).
 
-Then, in one run, times side by side, ``--runs`` times each (min and median of the wall time, the
-peak resident memory of the child from ``os.wait4``):
+Then, in one run, times side by side, ``--runs`` times each, in turn (min and median of the wall time,
+the peak resident memory of the child):
 
 (a) ``python -m app.cli noise FILE --sampling-rate-hz 200 --sensor gyr --json``, end to end;
 (b) what a user would run instead: a Python child that loads the same file with numpy and runs
     allantools' ``oadev`` on the three axes at the same τ (read from trical's JSON, ``adev.gyr.tau_s``,
-    as m = τ·fs; octave-spaced m when trical gave none).
+    as m = τ·fs; octave-spaced m when trical gave none);
+(c) the floor, on the same file: the process's start (``python -c "import numpy"``), then one read of
+    the file (``numpy.load``), then one pass of trical's inner loop over the three axes (the phase and
+    the second differences at one τ: what each of the 61 τ costs at least), each a child of its own.
+
+and the largest relative difference between trical's Allan deviation and allantools' (the issue asks
+1e-9), the data's size and the bound on the peak memory (the data's size plus 50 %).
+
+Each child is started by a small launcher process that forks it and reads its peak memory with
+``os.wait4``: Linux keeps the peak of the process that called ``exec`` (this script, holding the
+generated data) in the child's, so a child started from here directly would report this script's.
+Every command runs once untimed first, so that Python's compiled modules are written as on a user's
+machine after its first run (``PYTHONDONTWRITEBYTECODE`` is dropped for the children).
 
 Prints figures only; nothing passes or fails. allantools comes with the ``bench`` extra
 (``pip install -e '.[bench]'``).
@@ -57,6 +69,36 @@ out = [allantools.oadev(np.ascontiguousarray(data[:, 1 + i]), rate=fs, data_type
        for i in range(3)]
 json.dump(out, sys.stdout)
 """
+
+
+FLOOR_READ = """
+import sys
+import numpy as np
+data = np.load(sys.argv[1])
+"""
+
+FLOOR_PASS = """
+import sys
+import numpy as np
+from app.calibration.allan import _sums_of_share, phase_of
+data = np.load(sys.argv[1], mmap_mode="r")
+for k in range(3):
+    x, _ = phase_of(data[:, 1 + k], float(sys.argv[2]))
+    _sums_of_share(x, np.array([1]), 0, 1)
+"""
+
+LAUNCHER = """
+import json, os, sys, time
+start = time.perf_counter()
+pid = os.fork()
+if pid == 0:
+    os.execv(sys.argv[2], sys.argv[2:])
+_, status, usage = os.wait4(pid, 0)
+wall = time.perf_counter() - start
+with open(sys.argv[1], "w") as f:
+    json.dump([wall, usage.ru_maxrss / 1024, os.waitstatus_to_exitcode(status), usage.ru_utime + usage.ru_stime], f)
+"""
+"""Forks the command from a small process and writes its wall time, peak RSS (MiB), exit status and CPU time."""
 
 
 def flicker(rng: np.random.Generator, n: int, fs: float, b: float, axes: int) -> np.ndarray:
@@ -109,23 +151,29 @@ def make_night_file(folder: Path, hours: float) -> Path:
     return path
 
 
-def run(cmd: list[str]) -> tuple[float, float, int, str, str]:
-    """Wall time (s), peak RSS of the child (MiB), exit status, stdout, stderr."""
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        start = time.perf_counter()
-        child = subprocess.Popen(
-            cmd,
+def run(cmd: list[str]) -> tuple[float, float, int, str, str, float]:
+    """Wall time (s), peak RSS of the child (MiB), exit status, stdout, stderr, CPU time (user + system, s,
+    all threads: less disturbed than the wall time by other work on the machine) (module docstring: the
+    launcher)."""
+    root = Path(__file__).resolve().parent.parent
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    with (
+        tempfile.TemporaryFile("w+") as out,
+        tempfile.TemporaryFile("w+") as err,
+        tempfile.NamedTemporaryFile("r", suffix=".json") as figures,
+    ):
+        subprocess.run(
+            [sys.executable, "-c", LAUNCHER, figures.name, *cmd],
             stdout=out,
             stderr=err,
-            cwd=Path(__file__).resolve().parent.parent,
-            env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parent.parent)},
+            cwd=root,
+            env={**env, "PYTHONPATH": str(root)},
+            check=True,
         )
-        _, status, usage = os.wait4(child.pid, 0)
-        wall = time.perf_counter() - start
-        child.returncode = os.waitstatus_to_exitcode(status)
+        wall, rss, status, cpu = json.load(figures)
         out.seek(0)
         err.seek(0)
-        return wall, usage.ru_maxrss / 1024, child.returncode, out.read(), err.read()
+        return wall, rss, status, out.read(), err.read(), cpu
 
 
 def trical_cmd(path: Path, sensor: str | None) -> list[str]:
@@ -133,11 +181,11 @@ def trical_cmd(path: Path, sensor: str | None) -> list[str]:
     return cmd + (["--sensor", sensor] if sensor else [])
 
 
-def summary(name: str, runs: list[tuple[float, float]]) -> tuple[float, float]:
-    walls, rss = [r[0] for r in runs], [r[1] for r in runs]
+def summary(name: str, runs: list[tuple[float, float, float]]) -> tuple[float, float]:
+    walls, rss, cpu = [r[0] for r in runs], [r[1] for r in runs], [r[2] for r in runs]
     print(
-        f"{name:<34} wall min {min(walls):7.2f} s  median {statistics.median(walls):7.2f} s   "
-        f"peak RSS max {max(rss):7.0f} MiB"
+        f"{name:<44} wall min {min(walls):5.2f} s  median {statistics.median(walls):5.2f} s  "
+        f"CPU median {statistics.median(cpu):5.2f} s  peak RSS max {max(rss):4.0f} MiB"
     )
     return min(walls), statistics.median(walls)
 
@@ -160,44 +208,72 @@ def main() -> None:
     )
     print("truth: " + ", ".join(f"{k} {v:.3g}" for k, v in TRUTH.items()))
 
-    trical_runs, ms, estimate = [], None, None
-    for _ in range(args.runs):
-        wall, rss, status, out, err = run(trical_cmd(path, "gyr"))
-        if status not in (0, 3):
-            print(f"trical noise failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
-            break
-        trical_runs.append((wall, rss))
-        body = json.loads(out)
-        ms = sorted({max(1, round(t * FS)) for t in body["adev"]["gyr"]["tau_s"]})
-        estimate = body["model"]["gyr"]
-    if estimate:
-        print("trical: " + ", ".join(f"{k} {estimate[k]}" for k in TRUTH))
+    python = sys.executable
+    ms = None
+    _, _, status, out, err, _ = run(trical_cmd(path, "gyr"))  # untimed: compiles trical's modules once
+    if status in (0, 3):
+        ms = sorted({max(1, round(t * FS)) for t in json.loads(out)["adev"]["gyr"]["tau_s"]})
+    else:
+        print(f"trical noise failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
     if ms is None:
         n = int(args.hours * 3600 * FS)
         ms = [2**k for k in range(int(np.log2(n // 4)) + 1)]
         print(f"(no τ from trical: allantools runs on {len(ms)} octave-spaced m instead)")
-
-    allan_runs = []
+    commands = {
+        "trical": trical_cmd(path, "gyr"),
+        "allantools": [python, "-c", ALLANTOOLS_CHILD, str(path), f"{FS:g}", json.dumps(ms)],
+        "start": [python, "-c", "import numpy"],
+        "read": [python, "-c", FLOOR_READ, str(path)],
+        "pass": [python, "-c", FLOOR_PASS, str(path), f"{FS:g}"],
+    }
+    runs: dict[str, list[tuple[float, float, float]]] = {name: [] for name in commands}
+    outputs: dict[str, str] = {}
+    for name, cmd in commands.items():
+        if name != "trical":
+            run(cmd)  # untimed, as trical's first run
     for _ in range(args.runs):
-        wall, rss, status, out, err = run(
-            [sys.executable, "-c", ALLANTOOLS_CHILD, str(path), f"{FS:g}", json.dumps(ms)]
-        )
-        if status != 0:
-            print(f"allantools failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
-            break
-        allan_runs.append((wall, rss))
+        for name, cmd in commands.items():  # in turn, so that a busy moment of the machine spreads over all
+            wall, rss, status, out, err, cpu = run(cmd)
+            if status not in (0, 3):
+                print(f"{name} failed (exit {status}): {err.strip().splitlines()[-1] if err.strip() else '-'}")
+                continue
+            runs[name].append((wall, rss, cpu))
+            outputs[name] = out
 
-    print(f"\n{len(ms)} τ values, 3 axes, {args.runs} runs each")
+    estimate = json.loads(outputs["trical"])["model"]["gyr"] if "trical" in outputs else None
+    if estimate:
+        print("trical: " + ", ".join(f"{k} {estimate[k]}" for k in TRUTH))
+    if "trical" in outputs and "allantools" in outputs:
+        ours = np.array(json.loads(outputs["trical"])["adev"]["gyr"]["value"])
+        theirs = np.array(json.loads(outputs["allantools"])).T
+        if ours.shape == theirs.shape:
+            worst = float(np.max(np.abs(ours / theirs - 1)))
+            print(f"Allan deviation, trical against allantools: largest relative difference {worst:.1e}")
+
+    size = path.stat().st_size / 2**20
+    print(
+        f"\n{len(ms)} τ values, 3 axes, {args.runs} runs each; the data: {size:.0f} MiB, so the peak memory bound "
+        f"(data + 50 %) is {1.5 * size:.0f} MiB"
+    )
     best = {}
-    if trical_runs:
-        best["trical"] = summary("(a) trical noise --sensor gyr", trical_runs)
-    if allan_runs:
-        best["allantools"] = summary("(b) numpy.load + allantools.oadev", allan_runs)
-    if len(best) == 2:
+    labels = {
+        "trical": "(a) trical noise --sensor gyr",
+        "allantools": "(b) numpy.load + allantools.oadev",
+        "start": "(c) floor: start (python -c 'import numpy')",
+        "read": "    floor: start + numpy.load",
+        "pass": "    floor: start + one pass (1 τ, 3 axes)",
+    }
+    for name, label in labels.items():
+        if runs[name]:
+            best[name] = summary(label, runs[name])
+    if "trical" in best and "allantools" in best:
         print(
             f"ratio trical / allantools: min {best['trical'][0] / best['allantools'][0]:.2f}, "
-            f"median {best['trical'][1] / best['allantools'][1]:.2f}"
+            f"median {best['trical'][1] / best['allantools'][1]:.2f} "
+            f"(allantools / trical: {best['allantools'][1] / best['trical'][1]:.1f}×)"
         )
+    if "trical" in best and "pass" in best:
+        print(f"trical − floor (start + one pass), median: {best['trical'][1] - best['pass'][1]:.2f} s")
 
     if not args.no_night:
         t0 = time.perf_counter()
@@ -206,7 +282,7 @@ def main() -> None:
             f"\nnight: {night} ({night.stat().st_size / 2**20:.0f} MiB, {args.night_hours:g} h at {FS:g} Hz, "
             f"acc + gyr; ready in {time.perf_counter() - t0:.1f} s)"
         )
-        wall, rss, status, _, err = run(trical_cmd(night, None))
+        wall, rss, status, _, err, _ = run(trical_cmd(night, None))
         if status in (0, 3):
             print(f"trical noise (six axes): wall {wall:.1f} s, peak RSS {rss:.0f} MiB (bound 2048 MiB)")
         else:

@@ -86,3 +86,30 @@ def test_noise_of_one_recording_in_a_file_per_sensor_is_of_both_and_refused_when
     body = json.loads(r.stdout)
     assert sorted(body["model"]) == ["acc", "gyr", "type"] and body["label"] == "Accelerometer.csv, Gyroscope.csv"
     assert body["ok"] is False and any("not still" in x for x in body["reasons"]), body["reasons"]
+
+
+def test_noise_loads_neither_the_other_commands_nor_the_other_models(tmp_path):
+    """`trical noise` imports its own command only: the method table (with the exporters and the cube's
+    models, ~0.9 s), scipy.stats and scipy.optimize are not loaded by a noise characterisation printed as
+    JSON; scipy.special (the χ² quantiles) is."""
+    from pathlib import Path
+
+    x = simulate_still(np.random.default_rng(5), n_samples=20_000, sampling_rate_hz=100.0, N=1e-3, B=2e-4, K=2e-5)
+    path = tmp_path / "gyr.npy"
+    np.save(path, x)
+    heavy = ("app.methods", "app.calibration.cube", "app.io.exporters", "scipy.stats", "scipy.optimize")
+    code = (
+        "import contextlib, io, sys\n"
+        "from app.cli.main import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    status = main(['noise', {str(path)!r}, '--sensor', 'gyr', '--sampling-rate-hz', '100', '--json'])\n"
+        f"print(status, sorted(m for m in {heavy!r} if m in sys.modules), 'scipy.special' in sys.modules)\n"
+    )
+    r = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        cwd=Path(__file__).resolve().parents[1],
+        timeout=300,
+    )
+    assert r.stdout.strip() == "0 [] True", r.stderr

@@ -52,9 +52,9 @@ is also the value of every option read from the data (format, unit, sign, column
 
 NOT_DECISIONS = {
     ("app/io/formats/sensor_logger.py", "magnetometer"): "a Sensor Logger file's name (MagnetometerUncalibrated.csv)",
-    ("app/cli/main.py", "autocal"): "the `trical autocal` command in the table of commands",
-    ("app/cli/main.py", "noise"): "the `trical noise` command in the table of commands",
-    ("app/cli/main.py", "temperature"): "the `trical temperature` command in the table of commands",
+    ("app/cli/parser.py", "autocal"): "the `trical autocal` command in the table of commands",
+    ("app/cli/parser.py", "noise"): "the `trical noise` command in the table of commands",
+    ("app/cli/parser.py", "temperature"): "the `trical temperature` command in the table of commands",
     ("app/cli/capture.py", "noise"): "`trical capture`'s noise protocol, which ends as `trical noise`",
 }
 """(file, literal) pairs whose comparison is about something else that bears the same word."""

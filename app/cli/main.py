@@ -16,31 +16,18 @@ import traceback
 from pydantic import ValidationError
 
 from app.calibration import CalibrationError
-from app.cli.parser import build_parser
+from app.cli.parser import COMMANDS, build_parser
 from app.config import Settings, SettingsError
 from app.io.errors import ExportError, LogFormatError
 from app.reach.tls import CertificateError
 from app.store import NotFoundError
 
-COMMANDS = {
-    "serve": "app.cli.serve",
-    "calibrate": "app.cli.calibrate",
-    "autocal": "app.cli.autocal",
-    "noise": "app.cli.noise",
-    "temperature": "app.cli.temperature",
-    "export": "app.cli.export",
-    "capture": "app.cli.capture",
-}
-"""Each command's module, by its name on the command line: its ``run(args, settings)`` returns the exit status.
-Imported when its command runs: a command's start pays for its own imports only (the method table's, ~0.4 s,
-are not ``trical autocal``'s)."""
 
-
-def render(text: str, medium: str) -> str:
-    """:func:`app.words.render`, imported when an error is printed (app.words imports the method table)."""
-    from app.words import render as render_words
-
-    return render_words(text, medium)
+def command(name: str):
+    """The function of ``trical NAME`` (``run(args, settings)``, returning the exit status), from its module
+    ``app.cli.NAME``: imported when the command runs, so that one command does not load every other's
+    dependencies (the method table's, the server's) before it starts."""
+    return importlib.import_module(f"app.cli.{name}").run
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -64,21 +51,27 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _run(argv: list[str] | None) -> int:
-    given = sys.argv[1:] if argv is None else argv
-    # Only the named command's options are built when the line starts with one (the same parse, fewer imports).
-    args = build_parser(given[0] if given and given[0] in COMMANDS else None).parse_args(argv)
+    argv = sys.argv[1:] if argv is None else argv
+    # Only the named command's options are built (all of them for `trical --help` or an unknown name).
+    args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
+    # The error messages' words (app.words) are the method table's: loaded when an error is to be said.
     try:
         settings = Settings.from_env()
-        return importlib.import_module(COMMANDS[args.command]).run(args, settings)
+        return command(args.command)(args, settings)
     except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
+        from app.words import render
+
         print(f"trical: error: {render(str(exc), 'cli')}", file=sys.stderr)
         return 2
     except ValidationError as exc:
         from app import methods
+        from app.words import render
 
         print(f"trical: error: {render(methods.describe_errors(exc.errors()), 'cli')}", file=sys.stderr)
         return 2
     except NotFoundError as exc:
+        from app.words import render
+
         print(f"trical: error: {render(str(exc.args[0]), 'cli')}", file=sys.stderr)
         return 2
     except FileNotFoundError as exc:

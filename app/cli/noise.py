@@ -8,9 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from app.calibration import CalibrationError
-from app.cli.calibrate import one_recording
+from app.calibration.allan import preload_quantiles
 from app.cli.finish import finish
-from app.cli.printers import print_noise
 from app.config import Settings
 from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
@@ -20,11 +19,16 @@ from app.workflows.noise import characterise_log
 
 def run(args, settings: Settings) -> int:
     """``trical noise PATH…``: the files as one still recording, characterised."""
+    if len(args.path) == 1:
+        return _noise_of(args, settings, args.path[0], args.path[0].name)
+    from app.cli.calibrate import one_recording  # several files joined as one recording (a zip of them)
+
     with tempfile.TemporaryDirectory(prefix="trical-") as tmp:
         return _noise_of(args, settings, one_recording(args.path, Path(tmp)), ", ".join(p.name for p in args.path))
 
 
 def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
+    preload_quantiles()  # the intervals' χ² quantiles load while the file is read and its still part found
     array = path.suffix.lower() in (".npy", ".parquet", ".pq")
     sensor = args.sensor or "acc"
     units = {}
@@ -59,9 +63,20 @@ def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
         device_id=args.device_id,
         label=label,
     )
+    return finish(args, settings, body, plot=_plot, summary=_summary)
+
+
+def _plot(body: dict) -> str:
     from app.io.allan_plot import allan_svg
 
-    return finish(args, settings, body, plot=allan_svg, summary=print_noise)
+    return allan_svg(body)
+
+
+def _summary(body: dict) -> None:
+    # The printers' words are the method table's (app.words): loaded for a summary, not for --json.
+    from app.cli.printers import print_noise
+
+    print_noise(body)
 
 
 def _relabel_units(log, unit: str):

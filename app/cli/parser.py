@@ -6,20 +6,16 @@ from __future__ import annotations
 import argparse
 
 from app import __version__
-from app.calibration.solvers import SOLVERS
 from app.cli import options as opt
-from app.io.formats import FORMATS
 from app.io.log import UNITS, UNITS_IN
-from app.workflows.autocal import AUTOCAL_UNITS
 
-# What only one command's options need (the requests' models, the board's line formats…) is imported in that
-# command's _add_*: build_parser(command) builds one command's options and pays for its imports only.
+# Each command's options import what their choices come from (the method table, the solvers, the log
+# formats, the protocols) in the function that adds them: the parser of one command loads only its own.
 
 
-def calibrate_methods() -> tuple[str, ...]:
+def _calibrate_methods():
     """The choices of ``trical calibrate --method`` (the method table's; autocal, noise and temperature have
-    commands of their own).  The method table is imported here, not with this module: it takes ~0.4 s, which
-    the other commands do not pay."""
+    commands of their own)."""
     from app import methods
 
     return methods.commanded_by("calibrate")
@@ -30,7 +26,7 @@ def _takers(field: str) -> str:
     magnetometer"."""
     from app import methods
 
-    return " and ".join(m for m in calibrate_methods() if field in methods.BY_NAME[m].options)
+    return " and ".join(m for m in _calibrate_methods() if field in methods.BY_NAME[m].options)
 
 
 SCALED_UNITS = tuple(unit for units in UNITS.values() for unit in units if unit != "raw")
@@ -45,13 +41,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
-    """The ``trical`` command's parser: its subcommands and their options; only ``command``'s when given (a
-    command line that starts with it parses the same, without the others' imports)."""
+    """The ``trical`` command's parser: its subcommands and their options (only ``command``'s, when given:
+    what ``trical COMMAND …`` parses, without loading the other commands' choices)."""
     p = _Parser(prog="trical", description="Calibrate accelerometers of phones and IMU boards.")
     p.add_argument("--version", action="version", version=f"trical {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
-    for add in (_add_serve, _add_calibrate, _add_autocal, _add_noise, _add_temperature, _add_capture, _add_export):
-        if command is None or add.__name__ == f"_add_{command}":  # _add_NAME adds the command NAME
+    for name, add in _ADDERS.items():
+        if command is None or name == command:
             add(sub)
     return p
 
@@ -90,6 +86,10 @@ def _add_serve(sub) -> None:
 
 def _add_calibrate(sub) -> None:
     """``trical calibrate``: a log of still orientations (or a cube, a compass turn), by the method table's methods."""
+    from app.calibration.solvers import SOLVERS
+    from app.calibration_requests import CUBE_PROTOCOLS
+    from app.io.formats import FORMATS
+
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument(
         "log",
@@ -100,12 +100,10 @@ def _add_calibrate(sub) -> None:
     )
     c.add_argument(
         "--method",
-        choices=calibrate_methods(),
+        choices=_calibrate_methods(),
         default="auto",
         help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones",
     )
-    from app.calibration_requests import CUBE_PROTOCOLS
-
     c.add_argument("--protocol", choices=CUBE_PROTOCOLS, default=CUBE_PROTOCOLS[0], help=f"{_takers('protocol')} only")
     c.add_argument(
         "--field-ut",
@@ -160,6 +158,9 @@ def _add_calibrate(sub) -> None:
 
 def _add_autocal(sub) -> None:
     """``trical autocal``: a long recording, or a folder of them."""
+    from app.calibration.solvers import SOLVERS
+    from app.workflows.autocal import AUTOCAL_UNITS
+
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
     a.add_argument(
         "path",
@@ -333,10 +334,10 @@ def _add_capture(sub) -> None:
 
 def _add_export(sub) -> None:
     """``trical export``: a stored calibration, in one of the formats."""
-    e = sub.add_parser("export", help="export a stored calibration")
-    e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
     from app import methods
 
+    e = sub.add_parser("export", help="export a stored calibration")
+    e.add_argument("id", type=opt.text("a calibration id"), help="calibration id (cal_...)")
     e.add_argument("--format", choices=methods.ALL_FORMATS, default="json")
     e.add_argument(
         "--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)"
@@ -387,11 +388,25 @@ def _read_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+_ADDERS = {
+    "serve": _add_serve,
+    "calibrate": _add_calibrate,
+    "autocal": _add_autocal,
+    "noise": _add_noise,
+    "temperature": _add_temperature,
+    "capture": _add_capture,
+    "export": _add_export,
+}
+
+COMMANDS = tuple(_ADDERS)
+"""The commands, in the order of ``trical --help``; each runs as ``app.cli.NAME.run(args, settings)``."""
+
+
 def defaults_of(command: str) -> dict:
     """Every option of ``trical COMMAND`` at its default, by its name in the parsed arguments (``no_store``), as
     argparse gives it when the option is left out: what a command that ends as another (``trical capture`` as
     ``trical calibrate`` or ``trical noise``) sets its own values on, with no command line to parse again."""
-    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    sub = next(a for a in build_parser(command)._actions if isinstance(a, argparse._SubParsersAction))
     return {
         a.dest: a.type(a.default) if isinstance(a.default, str) and a.type else a.default
         for a in sub.choices[command]._actions

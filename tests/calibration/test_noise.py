@@ -3,11 +3,20 @@ equality with allantools, the τ grid, recovery and coverage of simulated N, B, 
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import allantools
 import numpy as np
 import pytest
 
-from app.calibration.allan import overlapping_adev, tau_grid
+from app.calibration.allan import (
+    CHUNK,
+    overlapping_adev,
+    phase_of,
+    second_difference_sums,
+    second_difference_sums_fast,
+    tau_grid,
+)
 from app.calibration.errors import InsufficientDataError
 from app.calibration.noise import NoiseResult, characterise_noise
 from app.calibration.result import CalibrationResult
@@ -32,8 +41,23 @@ def test_equals_allantools_oadev_on_the_same_taus():
     for k in range(3):
         taus, dev, _, ns = allantools.oadev(y[:, k], rate=200.0, data_type="freq", taus=tau)
         np.testing.assert_allclose(taus, tau, rtol=1e-12)
-        np.testing.assert_allclose(adev[:, k], dev, rtol=1e-6)
+        np.testing.assert_allclose(adev[:, k], dev, rtol=1e-9)
         np.testing.assert_array_equal(n_terms, ns)
+
+
+@pytest.mark.parametrize("workers", [1, 2, 3])
+def test_the_shared_sums_equal_the_plain_reference(workers):
+    """The blocked, shared sums (first differences reused for m up to a block, the three windows apart
+    beyond) against the plain loop, at every m of the grid, at a block's length and on either side of it."""
+    rng = np.random.default_rng(11)
+    y = rng.normal(0.0, 0.02, 150_001) + np.cumsum(rng.normal(0.0, 1e-4, 150_001))
+    x, _ = phase_of(y, 100.0)
+    ms = np.unique(np.concatenate([tau_grid(len(y), 100.0), [CHUNK - 1, CHUNK, CHUNK + 1, 2 * CHUNK + 5]]))
+    reference = second_difference_sums(x, ms)
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        shared = second_difference_sums_fast(x, ms, pool, workers)
+    np.testing.assert_allclose(shared, reference, rtol=1e-12)
+    np.testing.assert_allclose(second_difference_sums_fast(x, ms), reference, rtol=1e-12)
 
 
 def test_tau_grid_has_ten_points_per_decade_up_to_the_longest_tau():
