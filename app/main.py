@@ -10,20 +10,19 @@ import hashlib
 import logging
 import re
 
-from fastapi import FastAPI, Request
+from fastapi import FastAPI
 from fastapi.middleware.gzip import GZipMiddleware
 from fastapi.openapi.docs import get_swagger_ui_html
 from fastapi.responses import HTMLResponse
 from fastapi.staticfiles import StaticFiles
-from starlette.concurrency import run_in_threadpool
 from swagger_ui_bundle import swagger_ui_path
 
 from app import __version__
 from app.api import router as api_router
 from app.api.body_limit import JsonBodyLimit
-from app.api.deps import bearer_token, verified_identity
-from app.api.errors import PayloadTooLarge, error_response, install_error_handlers
-from app.api.ratelimit import RateLimiter, retry_after
+from app.api.errors import install_error_handlers
+from app.api.middleware import DeclaredUploadLimit, RateLimit, SecurityHeaders
+from app.api.ratelimit import RateLimiter
 from app.config import Settings
 from app.store import open_store
 from app.web import router as web_router
@@ -98,45 +97,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.store = open_store(settings.database_url, settings.recordings_dir)
 
-    @app.middleware("http")
-    async def refuse_oversized_uploads(request: Request, call_next):
-        # Refuse before reading the body when the client declares a size above the limit;
-        # chunked uploads are counted while they are copied (app.api.recordings.save_upload).
-        length = request.headers.get("content-length")
-        if length and length.isdigit() and int(length) > settings.max_upload_bytes + 64 * 1024:
-            return error_response(413, str(PayloadTooLarge(settings.max_upload_mb)), "payload_too_large")
-        return await call_next(request)
-
-    @app.middleware("http")
-    async def security_headers(request: Request, call_next):
-        response = await call_next(request)
-        for name, value in SECURITY_HEADERS.items():
-            response.headers.setdefault(name, value)
-        if not request.url.path.startswith("/redoc"):  # /docs sets its own policy (swagger_ui_page)
-            response.headers.setdefault("Content-Security-Policy", CONTENT_SECURITY_POLICY)
-        return response
-
+    # Innermost first: each add_middleware wraps what was added before it. Pure ASGI layers
+    # (app.api.middleware): no task or stream of their own per request.
+    app.add_middleware(DeclaredUploadLimit, limit_bytes=settings.max_upload_bytes, limit_mb=settings.max_upload_mb)
+    app.add_middleware(SecurityHeaders, headers=SECURITY_HEADERS, policy=CONTENT_SECURITY_POLICY)
     if settings.rate_limit_per_minute > 0:
-        limiter = RateLimiter(settings.rate_limit_per_minute)
-
-        @app.middleware("http")
-        async def rate_limit(request: Request, call_next):
-            if request.url.path.startswith("/api/"):
-                # The bucket of the verified caller (a valid key or session token); any other token,
-                # made up or expired, counts against the client's address like no token at all.
-                identity = await run_in_threadpool(verified_identity, request) if bearer_token(request) else None
-                client = identity or "addr:" + (request.client.host if request.client else "unknown")
-                wait = limiter.acquire(client)
-                if wait > 0:
-                    return error_response(
-                        429,
-                        f"too many requests: at most {settings.rate_limit_per_minute:g} a minute "
-                        f"(TRICAL_RATE_LIMIT_PER_MINUTE); retry in {retry_after(wait)} s",
-                        "rate_limited",
-                        {"Retry-After": retry_after(wait)},
-                    )
-            return await call_next(request)
-
+        app.add_middleware(
+            RateLimit, limiter=RateLimiter(settings.rate_limit_per_minute), per_minute=settings.rate_limit_per_minute
+        )
     # Responses of 1 KiB or more compressed for clients that accept gzip (the pages, their scripts,
     # calibration bodies and exports); inside the JSON cap, which stays the outermost layer.
     app.add_middleware(GZipMiddleware, minimum_size=1024)

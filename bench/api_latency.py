@@ -4,13 +4,15 @@
 
 Starts `trical serve` on a free loopback port with a temporary SQLite database, then times
 sequential requests over one keep-alive connection: POST /api/v1/calibrations (six_position with
-Table 1 of Georgieva et al. (ESGI'95), computed and stored) and GET /healthz. Prints p50 and p99 of
-each and their ratio. Figures, not a pass/fail.
+Table 1 of Georgieva et al. (ESGI'95), computed and stored durably: SQLite in WAL with synchronous=FULL)
+and GET /healthz. Prints p50 and p99 of each and their ratio, and the machine's load average beside
+(the client runs on the same machine). Figures, not a pass/fail.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import tempfile
 import time
@@ -20,6 +22,7 @@ import httpx
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from app.store.engine import SQLITE_PRAGMAS
 from tests.conftest import seed_table
 from tests.live_server import live_server
 
@@ -64,7 +67,10 @@ def main() -> None:
     def p(a, q):
         return float(np.percentile(a, q))
 
-    print(f"{args.requests} sequential requests per endpoint, one keep-alive connection, loopback")
+    one, five, _ = os.getloadavg()
+    pragmas = ", ".join(f"{k}={v}" for k, v in SQLITE_PRAGMAS.items())
+    print(f"{args.requests} sequential requests per endpoint, one keep-alive connection, loopback; SQLite {pragmas}")
+    print(f"load average {one:.2f} (1 min) {five:.2f} (5 min) on {os.cpu_count()} CPUs")
     print(f"{'endpoint':<36}{'p50 ms':>10}{'p99 ms':>10}")
     print(f"{'POST /api/v1/calibrations (six)':<36}{p(solve_ms, 50):>10.2f}{p(solve_ms, 99):>10.2f}")
     print(f"{'GET /healthz':<36}{p(health_ms, 50):>10.2f}{p(health_ms, 99):>10.2f}")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
+from starlette.concurrency import run_in_threadpool
 
 from app import methods
 from app.api.deps import OwnerDep, ReaderDep, StoreDep
@@ -35,8 +36,15 @@ def recording_source(store: Store, recording_id: str | None, owner: str | None) 
     response_model_exclude_unset=True,
     summary="Compute and store a calibration",
 )
-def create_calibration(request: CalibrationIn, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
+async def create_calibration(request: CalibrationIn, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
+    # One hop to a worker thread for the fit and the store's commit; FastAPI validates and writes the answer
+    # on the event loop (for a plain ``def`` route it would hop once more, for the response's validation).
+    return await run_in_threadpool(calibrate_and_store, request, store, owner, reader)
+
+
+def calibrate_and_store(request: CalibrationIn, store: Store, owner: str | None, reader: tuple[str, str | None]):
+    """The body of POST /api/v1/calibrations: the calibration computed, stored, and its words for ``reader``."""
     source = recording_source(store, getattr(request, "recording_id", None), owner)
     body = methods.calibrate(request, source)
     # A calibration of the same upload and method supersedes the earlier ones (none is deleted).
@@ -76,8 +84,13 @@ def list_calibrations(
 @router.get(
     "/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True, summary="Read a calibration"
 )
-def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
+async def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
     """One stored calibration."""
+    return await run_in_threadpool(read_calibration, calibration_id, store, owner, reader)
+
+
+def read_calibration(calibration_id: str, store: Store, owner: str | None, reader: tuple[str, str | None]):
+    """The body of GET /api/v1/calibrations/{id}: the stored calibration with its verdict, in ``reader``'s words."""
     return render_body(with_verdict(store.get_calibration(calibration_id, owner=owner)), *reader)
 
 

@@ -1,4 +1,9 @@
-"""Dependencies shared by the routers: settings, the caller's identity and the store."""
+"""Dependencies shared by the routers: settings, the caller's identity and the store.
+
+They are ``async def``: FastAPI runs a plain ``def`` dependency in a worker thread, a hop to the thread pool
+and back for each of them on every request; these read the request and the application's state, and only
+the caller's identity may ask the store (for a session's or a link's token), in a worker thread then.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +13,7 @@ import secrets
 from typing import Annotated
 
 from fastapi import Depends, Request
+from starlette.concurrency import run_in_threadpool
 
 from app.config import Settings
 from app.store import NotFoundError, Store
@@ -18,7 +24,7 @@ class Unauthorized(Exception):
     """No valid API key was sent while TRICAL_API_KEYS is set (mapped to 401 in app.api.errors)."""
 
 
-def get_settings(request: Request) -> Settings:
+async def get_settings(request: Request) -> Settings:
     return request.app.state.settings
 
 
@@ -52,7 +58,7 @@ def session_of_token(request: Request, token: str | None) -> str | None:
     no session is a 401."""
     if token is None or not token.startswith(SESSION_TOKEN_PREFIX):
         return None
-    session_id = get_store(request).session_id_for_token(token_hash(token))
+    session_id = app_store(request).session_id_for_token(token_hash(token))
     if session_id is None:
         raise Unauthorized("the session token is not valid: start a new session with POST /api/v1/sessions")
     return session_id
@@ -68,7 +74,7 @@ def link_owner(request: Request, token: str | None) -> tuple[bool, str | None]:
     if token is None or not token.startswith(LINK_TOKEN_PREFIX):
         return False, None
     try:
-        link = get_store(request).open_link(token[len(LINK_TOKEN_PREFIX) :])
+        link = app_store(request).open_link(token[len(LINK_TOKEN_PREFIX) :])
     except NotFoundError as exc:
         raise Unauthorized(str(exc)) from None
     if request.path_params.get("calibration_id") != link["calibration_id"]:
@@ -76,7 +82,16 @@ def link_owner(request: Request, token: str | None) -> tuple[bool, str | None]:
     return True, link["owner"]
 
 
-def get_owner(request: Request) -> str | None:
+async def get_owner(request: Request) -> str | None:
+    """Who is calling (:func:`owner_of`); the store is asked, in a worker thread, only for a session's or a
+    link's token."""
+    token = bearer_token(request)
+    if token is not None and token.startswith((SESSION_TOKEN_PREFIX, LINK_TOKEN_PREFIX)):
+        return await run_in_threadpool(owner_of, request)
+    return owner_of(request)
+
+
+def owner_of(request: Request) -> str | None:
     """Who is calling: None when API keys are off, else a stable id derived from the key.
 
     With TRICAL_API_KEYS set every API call needs one of the keys; each key sees only what it
@@ -129,9 +144,14 @@ def verified_identity(request: Request) -> str | None:
     return key_owner(token, keys) if keys else None
 
 
-def get_store(request: Request) -> Store:
+def app_store(request: Request) -> Store:
     """The application's store; routes pass the caller's owner (get_owner) to each of its methods."""
     return request.app.state.store
+
+
+async def get_store(request: Request) -> Store:
+    """The application's store (:func:`app_store`), as a route's dependency."""
+    return app_store(request)
 
 
 StoreDep = Annotated[Store, Depends(get_store)]
@@ -142,7 +162,7 @@ SettingsDep = Annotated[Settings, Depends(get_settings)]
 """The service's settings (``settings: SettingsDep``)."""
 
 
-def get_reader(request: Request) -> tuple[str, str | None]:
+async def get_reader(request: Request) -> tuple[str, str | None]:
     """Who reads the answer (app.words.reader_of): ``("page", its path)`` from the page, else ``("api", None)``."""
     return reader_of(request.headers)
 

@@ -22,6 +22,11 @@ POOL = {"pool_size": 5, "max_overflow": 35}
 request waits for a connection."""
 
 
+SQLITE_PRAGMAS = {"journal_mode": "WAL", "synchronous": "FULL", "foreign_keys": "ON"}
+"""Set on each SQLite connection. In WAL mode ``synchronous=FULL`` syncs the log at every commit, so a
+commit that returned survives power loss; ``NORMAL`` would sync only at checkpoints (sqlite.org/pragma.html)."""
+
+
 def make_engine(database_url: str) -> Engine:
     """The engine of ``sqlite:///path`` or ``postgresql://…`` (also ``postgres://``), pooled."""
     problem = database_url_problem(database_url)
@@ -43,9 +48,8 @@ def _sqlite_engine(path: Path) -> Engine:
         # Transactions are begun by the "begin" listener below, not by the sqlite3 module.
         dbapi_connection.isolation_level = None
         cursor = dbapi_connection.cursor()
-        cursor.execute("PRAGMA journal_mode=WAL")
-        cursor.execute("PRAGMA synchronous=FULL")
-        cursor.execute("PRAGMA foreign_keys=ON")
+        for name, value in SQLITE_PRAGMAS.items():
+            cursor.execute(f"PRAGMA {name}={value}")
         cursor.close()
 
     @event.listens_for(engine, "begin")

@@ -49,3 +49,23 @@ def test_pages_scripts_and_calibrations_come_compressed_when_asked(tmp_path):
             assert len(packed.wire) < 0.6 * len(plain.wire), (path, len(packed.wire), len(plain.wire))
             # the security headers survive the compression
             assert packed.headers.get("x-content-type-options") == plain.headers.get("x-content-type-options")
+
+
+def test_an_answer_under_1_kib_comes_as_it_is_and_a_larger_one_whole(tmp_path):
+    """GZipMiddleware's minimum size holds for the API's answers too: /healthz is sent plain, a calibration
+    compressed in one piece with its length (neither streamed in chunks), each with the security headers."""
+    with live_server({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 't.db'}"}) as s:
+        cal = httpx.post(
+            f"{s.url}/api/v1/calibrations",
+            json={"method": "six_position", "readings": [{"up": k, "mean": v} for k, v in SIX.items()]},
+        )
+        assert cal.status_code == 201, cal.text
+        small = _raw_get(s.url + "/healthz", "gzip")
+        assert small.status_code == 200 and "content-encoding" not in small.headers
+        assert int(small.headers["content-length"]) == len(small.wire) < 1024
+        large = _raw_get(f"{s.url}/api/v1/calibrations/{cal.json()['id']}", "gzip")
+        assert large.headers["content-encoding"] == "gzip" and "transfer-encoding" not in large.headers
+        assert int(large.headers["content-length"]) == len(large.wire)
+        for r in (small, large):
+            assert r.headers["x-frame-options"] == "DENY"
+            assert r.headers["content-security-policy"].startswith("default-src 'self'")
