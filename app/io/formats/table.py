@@ -18,8 +18,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-import pyarrow as pa
-import pyarrow.csv as pacsv
 
 from ..errors import LogFormatError
 
@@ -302,6 +300,10 @@ def read_columns(
     LogFormatError
         A non-numeric value (naming its line and column), a partly empty row, or no data rows.
     """
+    # pyarrow (~0.16 s to import) is loaded by the first table read: a command given a .npy never pays for it.
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
     names = [f"c{i}" for i in range(n_columns)]
     first_line = first_line or skip_lines + 1
     try:
