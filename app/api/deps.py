@@ -82,11 +82,16 @@ def link_owner(request: Request, token: str | None) -> tuple[bool, str | None]:
     return True, link["owner"]
 
 
+def asks_the_store(token: str | None) -> bool:
+    """Whether telling who holds ``token`` reads the store (a session's or a link's token): done in a worker
+    thread then, and in memory for an API key or no token."""
+    return token is not None and token.startswith((SESSION_TOKEN_PREFIX, LINK_TOKEN_PREFIX))
+
+
 async def get_owner(request: Request) -> str | None:
     """Who is calling (:func:`owner_of`); the store is asked, in a worker thread, only for a session's or a
     link's token."""
-    token = bearer_token(request)
-    if token is not None and token.startswith((SESSION_TOKEN_PREFIX, LINK_TOKEN_PREFIX)):
+    if asks_the_store(bearer_token(request)):
         return await run_in_threadpool(owner_of, request)
     return owner_of(request)
 

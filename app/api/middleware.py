@@ -19,7 +19,7 @@ from starlette.datastructures import Headers, MutableHeaders
 from starlette.requests import Request
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
-from app.api.deps import bearer_token, verified_identity
+from app.api.deps import asks_the_store, bearer_token, verified_identity
 from app.api.errors import PayloadTooLarge, error_response
 from app.api.ratelimit import RateLimiter, retry_after
 
@@ -86,8 +86,11 @@ class RateLimit:
             await self.app(scope, receive, send)
             return
         request = Request(scope)
-        # The store is asked only for a bearer token, and then in a worker thread (a session's lookup).
-        identity = await run_in_threadpool(verified_identity, request) if bearer_token(request) else None
+        # The store is asked, in a worker thread, only for a session's token; a key is checked in memory.
+        if asks_the_store(bearer_token(request)):
+            identity = await run_in_threadpool(verified_identity, request)
+        else:
+            identity = verified_identity(request)
         client = identity or "addr:" + (request.client.host if request.client else "unknown")
         wait = self.limiter.acquire(client)
         if wait > 0:
