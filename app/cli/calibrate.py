@@ -14,7 +14,7 @@ from app.cli.printers import print_summary
 from app.config import Settings
 from app.io.formats import read_log
 from app.io.parts import refuse_repeated_names
-from app.io.read_options import ReadOptions
+from app.io.read_options import ReadOptions, units_named
 from app.store import open_store
 from app.workflows.recordings import RecordingSource, describe_log
 
@@ -53,7 +53,7 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
     """The calibration of the log at ``path`` as ``trical calibrate``'s options ask (stored unless
     ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
     capture) stand for the still segments the log's detector would find."""
-    units = {k: v for k, v in (("acc", args.unit), ("gyr", args.gyr_unit), ("mag", args.mag_unit)) if v}
+    units = units_named(args.unit, args.gyr_unit, args.mag_unit)
     options = ReadOptions(
         format=args.log_format,
         sampling_rate_hz=args.sampling_rate_hz,

@@ -73,3 +73,9 @@ class ReadOptions:
         """The options of a recording's stored ``read_with`` (:meth:`stored`; bodies stored before it give only
         some of its keys, the others keep their defaults)."""
         return cls(**read_with)
+
+
+def units_named(acc: str | None, gyr: str | None, mag: str | None) -> dict[str, str]:
+    """The units a caller named, by sensor (``ReadOptions.units``): the upload's ``acc_unit``, ``gyr_unit``,
+    ``mag_unit``, ``trical calibrate``'s ``--unit``, ``--gyr-unit``, ``--mag-unit``; a sensor not named is left out."""
+    return {sensor: unit for sensor, unit in (("acc", acc), ("gyr", gyr), ("mag", mag)) if unit}

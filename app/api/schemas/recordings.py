@@ -10,7 +10,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field
 from app.calibration_requests import AccUnit
 from app.io.formats import FORMATS
 from app.io.log import UNITS_IN
-from app.io.read_options import ReadOptions
+from app.io.read_options import ReadOptions, units_named
 
 
 def _plus_or_minus_one(value: int) -> int:
@@ -65,7 +65,7 @@ class UploadOptions(BaseModel):
 
     def read_options(self) -> ReadOptions:
         """The reader's options the form gives."""
-        units = {k: v for k, v in (("acc", self.acc_unit), ("gyr", self.gyr_unit), ("mag", self.mag_unit)) if v}
+        units = units_named(self.acc_unit, self.gyr_unit, self.mag_unit)
         return ReadOptions(
             format=self.format,
             sampling_rate_hz=self.sampling_rate_hz,
