@@ -32,10 +32,16 @@ import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
 
-CHUNK = 1 << 14
-"""Second differences summed per block (128 kB of float64): the block's buffers (three of them) stay in
-a core's second-level cache. They are squared and summed by numpy itself, not a BLAS dot product,
-whose threads cost more than they gain here."""
+CHUNK = 1 << 16
+"""Second differences formed per block (512 kB of float64): few enough numpy calls per τ that their own cost
+(about a microsecond each) stays small beside the arithmetic, and the block's buffers stay in the
+processor's last-level cache."""
+
+ROW = 1 << 13
+"""Second differences squared and summed per dot product: a block is summed as rows of this length by one
+:func:`numpy.vecdot` call. A BLAS dot product of more than 10 000 terms (OpenBLAS, which numpy's wheels
+ship) starts threads of its own, which compete with the shares' threads; rows below that stay on the
+calling thread, and the dot product is a third of the cost of squaring and summing in two passes."""
 
 PER_DECADE = 10
 """Points of the τ grid per decade of m (every integer m up to 10)."""
@@ -125,9 +131,9 @@ def _sums_of_share(x: np.ndarray, ms: np.ndarray, share: int, shares: int) -> np
     The second difference is the difference of two first differences (NIST SP 1065, eq. (14) rewritten),
     d_i = D_{i+m} − D_i with D_j = x_{j+m} − x_j; for m up to a block's length the block's D is taken
     once (k + m subtractions) and serves both terms, which saves a third of the passes over the block
-    when most τ are short (3 h at 200 Hz: 42 of the 61 points of the grid). Longer m take the three
+    when most τ are short (3 h at 200 Hz: 48 of the 61 points of the grid). Longer m take the three
     windows of the block apart. Every buffer is one block (:data:`CHUNK`), so the work stays in the
-    core's cache; numpy releases the GIL in each operation, so the shares run on threads side by side.
+    processor's cache; numpy releases the GIL in each operation, so the shares run on threads side by side.
     """
     out = np.empty(len(ms))
     first = np.empty(2 * CHUNK)
@@ -149,9 +155,22 @@ def _sums_of_share(x: np.ndarray, ms: np.ndarray, share: int, shares: int) -> np
                 np.subtract(x[a + 2 * m : a + 2 * m + k], x[a + m : a + m + k], out=d)
                 np.subtract(x[a + m : a + m + k], x[a : a + k], out=e)
                 d -= e
-            s += float(np.einsum("i,i->", d, d))  # numpy's own loop: a BLAS dot would start threads of its own
+            s += _sum_of_squares(d)
         out[j] = s
     return out
+
+
+def _sum_of_squares(d: np.ndarray) -> float:
+    """Σ d_i², as dot products of :data:`ROW` terms (one :func:`numpy.vecdot` call for the whole rows)."""
+    whole = len(d) - len(d) % ROW
+    s = 0.0
+    if whole:
+        rows = d[:whole].reshape(-1, ROW)
+        s += float(np.vecdot(rows, rows).sum())
+    if whole < len(d):
+        rest = d[whole:]
+        s += float(np.dot(rest, rest))
+    return s
 
 
 def second_difference_sums_fast(

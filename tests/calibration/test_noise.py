@@ -11,6 +11,7 @@ import pytest
 
 from app.calibration.allan import (
     CHUNK,
+    ROW,
     overlapping_adev,
     phase_of,
     second_difference_sums,
@@ -48,9 +49,11 @@ def test_equals_allantools_oadev_on_the_same_taus():
 @pytest.mark.parametrize("workers", [1, 2, 3])
 def test_the_shared_sums_equal_the_plain_reference(workers):
     """The blocked, shared sums (first differences reused for m up to a block, the three windows apart
-    beyond) against the plain loop, at every m of the grid, at a block's length and on either side of it."""
+    beyond, squared and summed in rows of dot products and a shorter rest) against the plain loop, at
+    every m of the grid, at a block's length and on either side of it."""
     rng = np.random.default_rng(11)
-    y = rng.normal(0.0, 0.02, 150_001) + np.cumsum(rng.normal(0.0, 1e-4, 150_001))
+    n = 4 * CHUNK + 3 * ROW + 17  # blocks that end in a partial row
+    y = rng.normal(0.0, 0.02, n) + np.cumsum(rng.normal(0.0, 1e-4, n))
     x, _ = phase_of(y, 100.0)
     ms = np.unique(np.concatenate([tau_grid(len(y), 100.0), [CHUNK - 1, CHUNK, CHUNK + 1, 2 * CHUNK + 5]]))
     reference = second_difference_sums(x, ms)
