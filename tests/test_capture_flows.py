@@ -86,7 +86,7 @@ def run_capture(tmp_path, monkeypatch, capsys, lines, rate_hz, *args) -> tuple[i
     cli_args = build_parser().parse_args(
         ["capture", "SIMULATED", "--out", str(tmp_path / "board.csv"), "--json", "--no-store", *args]
     )
-    status = capture_on_port(port, cli_args, Settings.from_env(), capture_s=cli_args.capture_s or 5.0, clock=clock)
+    status = capture_on_port(port, cli_args, Settings.from_env, capture_s=cli_args.capture_s or 5.0, clock=clock)
     out, steps = capsys.readouterr()
     assert out.strip(), f"no calibration printed (status {status}); the steps:\n{steps}"
     return status, json.loads(out), steps, port

@@ -91,13 +91,25 @@ def test_noise_of_one_recording_in_a_file_per_sensor_is_of_both_and_refused_when
 def test_noise_loads_neither_the_other_commands_nor_the_other_models(tmp_path):
     """`trical noise` imports its own command only: the method table (with the exporters and the cube's
     models, ~0.9 s), scipy.stats and scipy.optimize are not loaded by a noise characterisation printed as
-    JSON, nor pyarrow (the CSV reader's, ~0.16 s and 25 MiB) for a .npy; scipy.special (the χ² quantiles) is."""
+    JSON, nor pyarrow (the CSV reader's, ~0.16 s and 25 MiB) for a .npy, nor the settings (pydantic and
+    pydantic-settings, ~0.15 s), which a characterisation that is not stored does not read; scipy.special
+    (the χ² quantiles) is."""
     from pathlib import Path
 
     x = simulate_still(np.random.default_rng(5), n_samples=20_000, sampling_rate_hz=100.0, N=1e-3, B=2e-4, K=2e-5)
     path = tmp_path / "gyr.npy"
     np.save(path, x)
-    heavy = ("app.methods", "app.calibration.cube", "app.io.exporters", "scipy.stats", "scipy.optimize", "pyarrow")
+    heavy = (
+        "app.methods",
+        "app.calibration.cube",
+        "app.io.exporters",
+        "scipy.stats",
+        "scipy.optimize",
+        "pyarrow",
+        "app.config",
+        "pydantic",
+        "pydantic_settings",
+    )
     code = (
         "import contextlib, io, sys\n"
         "from app.cli.main import main\n"

@@ -16,6 +16,8 @@ from app.io.read_options import ReadOptions
 from app.workflows.autocal import autocalibrate_file
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from app.config import Settings
 
 # The printers (app.words imports the method table, ~0.4 s) and the store are imported where they are used:
@@ -51,7 +53,7 @@ def _autocal_job(path: str, options: dict) -> dict:
         return {"label": Path(path).name, "ok": False, "error": f"{type(exc).__name__}: {exc}"}
 
 
-def run(args, settings: Settings) -> int:
+def run(args, settings: Callable[[], Settings]) -> int:
     """``trical autocal PATH``: one recording (a progress bar on a terminal), or a folder of them."""
     options = _autocal_options(args)
     if args.path.is_dir():
@@ -63,9 +65,9 @@ def run(args, settings: Settings) -> int:
         progress = ProgressBar(args.path.name)
     body = autocalibrate_file(args.path, progress=progress, **options)
     if args.store:
-        from app.store import open_store
+        from app.cli.finish import store_of
 
-        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
+        body = store_of(settings).add_calibration(body, owner=None)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -135,7 +137,7 @@ def _finished_jobs(args, paths: list[str], options: dict):
             yield index[future], future.result()
 
 
-def _autocal_folder(args, settings: Settings, options: dict) -> int:
+def _autocal_folder(args, settings: Callable[[], Settings], options: dict) -> int:
     """Every recording of a folder, in parallel; a line on stderr as each finishes, the bodies (or the table) in
     the files' order once all have."""
     import time
@@ -150,9 +152,9 @@ def _autocal_folder(args, settings: Settings, options: dict) -> int:
             _progress_line(done, len(paths), paths[i], body, time.perf_counter() - start), file=sys.stderr, flush=True
         )
     if args.store:
-        from app.store import open_store
+        from app.cli.finish import store_of
 
-        store = open_store(settings.database_url, settings.recordings_dir)
+        store = store_of(settings)
         bodies = [store.add_calibration(b, owner=None) if "error" not in b else b for b in bodies]
     if args.json:
         print(json.dumps(bodies, indent=2))

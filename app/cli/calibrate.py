@@ -7,19 +7,24 @@ import json
 import tempfile
 import zipfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from app import methods
 from app.calibration import CalibrationError
+from app.cli.finish import store_of
 from app.cli.printers import print_summary
-from app.config import Settings
 from app.io.formats import read_log
 from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions, units_named
-from app.store import open_store
 from app.workflows.recordings import RecordingSource, describe_log
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
-def run(args, settings: Settings) -> int:
+    from app.config import Settings
+
+
+def run(args, settings: Callable[[], Settings]) -> int:
     """``trical calibrate LOG…``: the files as one recording, calibrated, printed; status 3 when not ok."""
     with tempfile.TemporaryDirectory(prefix="trical-") as tmp:
         return _calibrate_files(args, settings, one_recording(args.log, Path(tmp)))
@@ -40,7 +45,7 @@ def one_recording(paths: list[Path], tmp: Path) -> Path:
     return joined
 
 
-def _calibrate_files(args, settings: Settings, path: Path) -> int:
+def _calibrate_files(args, settings: Callable[[], Settings], path: Path) -> int:
     body, recording = calibrated(args, settings, path)
     if args.json:
         print(json.dumps(body, indent=2))
@@ -49,7 +54,7 @@ def _calibrate_files(args, settings: Settings, path: Path) -> int:
     return 0 if body["ok"] else 3
 
 
-def calibrated(args, settings: Settings, path: Path, captures: list | None = None) -> tuple[dict, dict]:
+def calibrated(args, settings: Callable[[], Settings], path: Path, captures: list | None = None) -> tuple[dict, dict]:
     """The calibration of the log at ``path`` as ``trical calibrate``'s options ask (stored unless
     ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
     capture) stand for the still segments the log's detector would find."""
@@ -91,7 +96,7 @@ def calibrated(args, settings: Settings, path: Path, captures: list | None = Non
             for seg in recording["segments"]
         ]
     if not args.no_store:
-        body = open_store(settings.database_url, settings.recordings_dir).add_calibration(body, owner=None)
+        body = store_of(settings).add_calibration(body, owner=None)
     return body, recording
 
 

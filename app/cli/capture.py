@@ -8,18 +8,23 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from app.calibration import CalibrationError
 from app.cli import noise
 from app.cli.calibrate import calibrated
 from app.cli.parser import defaults_of
 from app.cli.printers import print_summary
-from app.config import Settings
 from app.io.errors import LogFormatError
 from app.words import render
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
-def run(args, settings: Settings) -> int:
+    from app.config import Settings
+
+
+def run(args, settings: Callable[[], Settings]) -> int:
     """``trical capture PORT``: the board's lines captured hands-free into a log, then calibrated (app.cli.board)."""
     import serial  # pyserial
 
@@ -43,7 +48,7 @@ def run(args, settings: Settings) -> int:
         return capture_on_port(port, args, settings, capture_s=capture_s)
 
 
-def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=None) -> int:
+def capture_on_port(port, args, settings: Callable[[], Settings], *, capture_s: float, clock=None) -> int:
     """The steps of ``trical capture`` on an open port (``read(n)``, ``write``, ``flush``: pyserial's
     ``Serial``), on ``clock`` (``time.monotonic`` unless given)."""
     import time
@@ -98,7 +103,7 @@ def capture_on_port(port, args, settings: Settings, *, capture_s: float, clock=N
     return _CAPTURE_FINISH[capture.protocol.command](capture, outcome, args, settings)
 
 
-def _capture_noise(capture, outcome, args, settings: Settings) -> int:
+def _capture_noise(capture, outcome, args, settings: Callable[[], Settings]) -> int:
     """``trical capture --protocol noise``'s end: the log characterised as ``trical noise LOG`` does."""
     noise_args = argparse.Namespace(
         **{**defaults_of("noise"), "path": [capture.out_path], "json": args.json, "store": not args.no_store}
@@ -106,7 +111,7 @@ def _capture_noise(capture, outcome, args, settings: Settings) -> int:
     return noise.run(noise_args, settings)
 
 
-def _capture_calibration(capture, outcome, args, settings: Settings) -> int:
+def _capture_calibration(capture, outcome, args, settings: Callable[[], Settings]) -> int:
     """The end of ``trical capture``'s other protocols: the log calibrated with the protocol's method (from its
     captures' rows where the protocol says so), printed, and sent to the board with ``--send``."""
     from app.io.motioncal_packet import packet_of

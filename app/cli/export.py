@@ -3,16 +3,21 @@
 from __future__ import annotations
 
 import sys
+from typing import TYPE_CHECKING
 
 from app import methods
-from app.config import Settings
-from app.store import open_store
+from app.cli.finish import store_of
 from app.words import render
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
-def run(args, settings: Settings) -> int:
+    from app.config import Settings
+
+
+def run(args, settings: Callable[[], Settings]) -> int:
     """``trical export ID``: the stored calibration in ``--format``, to ``--output`` or stdout."""
-    body = open_store(settings.database_url, settings.recordings_dir).get_calibration(args.id, owner=None)
+    body = store_of(settings).get_calibration(args.id, owner=None)
     out = methods.export(body, args.format)
     content = out.content
     if args.output:

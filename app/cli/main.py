@@ -8,26 +8,65 @@ closed early (``trical ... | head``) ends quietly with status 141, as a command 
 
 from __future__ import annotations
 
+import functools
 import importlib
 import os
 import sys
 import traceback
 
-from pydantic import ValidationError
-
-from app.calibration import CalibrationError
 from app.cli.parser import COMMANDS, build_parser
-from app.config import Settings, SettingsError
-from app.io.errors import ExportError, LogFormatError
-from app.reach.tls import CertificateError
 from app.store import NotFoundError
 
 
 def command(name: str):
-    """The function of ``trical NAME`` (``run(args, settings)``, returning the exit status), from its module
+    """The function of ``trical NAME`` (``run(args, settings)``, returning the exit status; ``settings()`` gives
+    the TRICAL_* environment's settings, read when first asked: :func:`environment_settings`), from its module
     ``app.cli.NAME``: imported when the command runs, so that one command does not load every other's
     dependencies (the method table's, the server's) before it starts."""
     return importlib.import_module(f"app.cli.{name}").run
+
+
+def environment_settings():
+    """The settings of the TRICAL_* environment (app.config): loaded by the command that needs them (to store a
+    calibration, to serve), so that one that does not — ``trical noise`` without ``--save`` — does not import
+    pydantic-settings, a tenth of a second of a command that takes half a second."""
+    from app.config import Settings
+
+    return Settings.from_env()
+
+
+BAD_INPUT = (
+    ("app.calibration.errors", "CalibrationError"),
+    ("app.io.errors", "LogFormatError"),
+    ("app.io.errors", "ExportError"),
+    ("app.config", "SettingsError"),
+    ("app.reach.tls", "CertificateError"),
+)
+"""The errors of bad input whose message is said as it is (status 2), by module and name."""
+
+
+def _raised_by_loaded(exc: BaseException, module: str, name: str) -> bool:
+    """Whether ``exc`` is a ``module.name``, looked up only when that module is loaded: an error of a module the
+    command never imported cannot have been raised, and importing the module to catch its errors (pydantic,
+    app.config, ssl through app.reach.tls) would cost every command its import."""
+    loaded = sys.modules.get(module)
+    return loaded is not None and isinstance(exc, getattr(loaded, name))
+
+
+def _bad_input_words(exc: Exception) -> str | None:
+    """The one line that says what was wrong with the input (its words rendered for the command line), or None
+    when ``exc`` is not bad input."""
+    from app.words import render  # the method table's words: loaded when an error is to be said
+
+    if any(_raised_by_loaded(exc, module, name) for module, name in BAD_INPUT):
+        return render(str(exc), "cli")
+    if _raised_by_loaded(exc, "pydantic", "ValidationError"):
+        from app import methods
+
+        return render(methods.describe_errors(exc.errors()), "cli")  # type: ignore[attr-defined]
+    if isinstance(exc, NotFoundError):
+        return render(str(exc.args[0]), "cli")
+    return None
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -54,26 +93,15 @@ def _run(argv: list[str] | None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     # Only the named command's options are built (all of them for `trical --help` or an unknown name).
     args = build_parser(argv[0] if argv and argv[0] in COMMANDS else None).parse_args(argv)
-    # The error messages' words (app.words) are the method table's: loaded when an error is to be said.
     try:
-        settings = Settings.from_env()
-        return command(args.command)(args, settings)
-    except (CalibrationError, LogFormatError, ExportError, SettingsError, CertificateError) as exc:
-        from app.words import render
-
-        print(f"trical: error: {render(str(exc), 'cli')}", file=sys.stderr)
-        return 2
-    except ValidationError as exc:
-        from app import methods
-        from app.words import render
-
-        print(f"trical: error: {render(methods.describe_errors(exc.errors()), 'cli')}", file=sys.stderr)
-        return 2
-    except NotFoundError as exc:
-        from app.words import render
-
-        print(f"trical: error: {render(str(exc.args[0]), 'cli')}", file=sys.stderr)
-        return 2
+        try:
+            return command(args.command)(args, functools.cache(environment_settings))
+        except Exception as exc:
+            words = _bad_input_words(exc)
+            if words is None:
+                raise
+            print(f"trical: error: {words}", file=sys.stderr)
+            return 2
     except FileNotFoundError as exc:
         print(f"trical: error: no such file: {exc.filename}", file=sys.stderr)
         return 2

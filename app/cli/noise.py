@@ -4,20 +4,25 @@ from __future__ import annotations
 
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from app.calibration import CalibrationError
 from app.calibration.allan import preload_quantiles
 from app.cli.finish import finish
-from app.config import Settings
 from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
 from app.io.read_options import ReadOptions
 from app.workflows.noise import characterise_log
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
-def run(args, settings: Settings) -> int:
+    from app.config import Settings
+
+
+def run(args, settings: Callable[[], Settings]) -> int:
     """``trical noise PATH…``: the files as one still recording, characterised."""
     if len(args.path) == 1:
         return _noise_of(args, settings, args.path[0], args.path[0].name)
@@ -27,7 +32,7 @@ def run(args, settings: Settings) -> int:
         return _noise_of(args, settings, one_recording(args.path, Path(tmp)), ", ".join(p.name for p in args.path))
 
 
-def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
+def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) -> int:
     preload_quantiles()  # the intervals' χ² quantiles load while the file is read and its still part found
     array = path.suffix.lower() in (".npy", ".parquet", ".pq")
     sensor = args.sensor or "acc"

@@ -5,20 +5,26 @@ from __future__ import annotations
 
 import os
 import sys
+from typing import TYPE_CHECKING
 
 from app import __version__
-from app.config import Settings
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from app.config import Settings
 
 
-def run(args, settings: Settings) -> int:
+def run(args, settings: Callable[[], Settings]) -> int:
     """``trical serve``: uvicorn on HTTP, or on TLS with ``--https`` (or ``--cert`` and ``--key``)."""
     import uvicorn
 
-    port = args.port or settings.port
+    config = settings()
+    port = args.port or config.port
     if args.https or args.cert or args.key:
-        return _serve_https(args, settings, port)
-    host = args.host or settings.host or "127.0.0.1"
-    print(f"trical {__version__} on http://{host}:{port}  (database {settings.database_label})", flush=True)
+        return _serve_https(args, config, port)
+    host = args.host or config.host or "127.0.0.1"
+    print(f"trical {__version__} on http://{host}:{port}  (database {config.database_label})", flush=True)
     uvicorn.run("app.main:app", host=host, port=port, log_level="info")
     return 0
 

@@ -2,15 +2,21 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from app.cli.finish import finish
 from app.cli.printers import print_temperature
-from app.config import Settings
 from app.io.formats import read_log
 from app.io.read_options import ReadOptions
 from app.workflows.temperature import temperature_log
 
+if TYPE_CHECKING:
+    from collections.abc import Callable
 
-def run(args, settings: Settings) -> int:
+    from app.config import Settings
+
+
+def run(args, settings: Callable[[], Settings]) -> int:
     """``trical temperature PATH``: the offsets' drift with temperature, fitted."""
     log = read_log(
         args.path,
