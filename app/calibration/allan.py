@@ -9,10 +9,10 @@ The Allan variance of a rate ``y`` sampled at ``fs`` (IEEE Std 952-1997, Annex C
 
 with L = N + 1 phase points (NIST SP 1065, W. J. Riley, *Handbook of Frequency Stability
 Analysis*, 2008, eq. (14)).  The sum runs in blocks of :data:`CHUNK` terms, so each τ costs one pass
-over the phase with buffers that stay in the processor's cache; one axis is in memory at a time
-(its phase, float64), whatever the length of the (memory-mapped) input, and the blocks of every τ
-are shared between the cores (:func:`second_difference_sums_fast`); :func:`second_difference_sums`
-is the plain reference they are tested against.
+over the phase with buffers that stay in the processor's cache; two axes are in memory at a time
+(the phase, float64, of the one summed and of the next), whatever the length of the (memory-mapped)
+input, and the blocks of every τ are shared between the cores (:func:`second_difference_sums_fast`);
+:func:`second_difference_sums` is the plain reference they are tested against.
 
 The confidence of each point comes from its equivalent degrees of freedom for the dominant power-law
 noise (Howe, Allan and Barnes, *Properties of signal sources and measurement methods*, 35th Annual
@@ -250,11 +250,15 @@ def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = N
 
     sums = np.empty((len(ms), k))
     mean = np.empty(k)
-    # One axis at a time (its phase, 8 bytes a sample, is all that is held), its sums shared by the cores.
+    # One axis at a time, its sums shared by the cores, while the next axis's phase is taken on a thread of
+    # its own (two phases, 8 bytes a sample each, are all that is held).
     workers = cores()
-    with ThreadPoolExecutor(max_workers=workers) as pool:
+    with ThreadPoolExecutor(max_workers=workers) as pool, ThreadPoolExecutor(max_workers=1) as reader:
+        upcoming = reader.submit(phase_of, samples[:, 0], sampling_rate_hz)
         for axis in range(k):
-            x, mean[axis] = phase_of(samples[:, axis], sampling_rate_hz)
+            x, mean[axis] = upcoming.result()
+            if axis + 1 < k:
+                upcoming = reader.submit(phase_of, samples[:, axis + 1], sampling_rate_hz)
             if not np.isfinite(x[-1]):
                 raise CalibrationError("the samples hold NaN or infinite values: drop those rows first")
             sums[:, axis] = second_difference_sums_fast(x, ms, pool, workers)
