@@ -8,7 +8,6 @@ from pathlib import Path
 import numpy as np
 
 from app.calibration import CalibrationError
-from app.calibration.allan import preload_quantiles
 from app.cli.finish import finish
 from app.config import Settings
 from app.io.formats import read_log, starts_like_flight_log
@@ -28,7 +27,6 @@ def run(args, settings: Settings) -> int:
 
 
 def _noise_of(args, settings: Settings, path: Path, label: str) -> int:
-    preload_quantiles()  # the intervals' χ² quantiles load while the file is read and its still part found
     array = path.suffix.lower() in (".npy", ".parquet", ".pq")
     sensor = args.sensor or "acc"
     units = {}
