@@ -22,14 +22,13 @@ Frequency Control Symposium, 1981; the simple formulae of NIST SP 1065, Table 5,
 
 from __future__ import annotations
 
-import importlib
 import math
 import os
-import threading
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from .chi2 import chi2_upper_quantile
 from .errors import CalibrationError, InsufficientDataError
 
 CHUNK = 1 << 16
@@ -282,28 +281,15 @@ def edf_simple(n_phase: int, m, alpha) -> np.ndarray:
     return np.maximum(edf, 1.0)
 
 
-_PRELOADING: list[threading.Thread] = []
-
-
-def preload_quantiles() -> threading.Thread:
-    """Start importing scipy.special (a quarter of a second) on another thread, once per process; the
-    caller reads and computes meanwhile (numpy's loops leave the other core free) and
-    :func:`chi2_interval` finds it loaded. The earlier it is called, the more of it is hidden."""
-    if not _PRELOADING:
-        thread = threading.Thread(target=importlib.import_module, args=("scipy.special",), daemon=True)
-        thread.start()
-        _PRELOADING.append(thread)
-    return _PRELOADING[0]
-
-
 def chi2_interval(edf, confidence: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
     """Factors (lo, hi) on an estimated variance for its two-sided ``confidence`` interval:
-    edf / χ²_{(1+c)/2}(edf) and edf / χ²_{(1−c)/2}(edf) (NIST SP 1065, eq. (45))."""
+    edf / χ²_{(1+c)/2}(edf) and edf / χ²_{(1−c)/2}(edf) (NIST SP 1065, eq. (45)).
+
+    The χ² quantiles are :func:`app.calibration.chi2.chi2_upper_quantile`'s (scipy.special.chdtri's to
+    10⁻¹², without importing scipy.special, which takes longer than the rest of ``trical noise``'s imports).
+    """
+    if not 0.0 < confidence < 1.0:
+        raise CalibrationError(f"a confidence interval's confidence lies strictly between 0 and 1, not {confidence}")
     edf = np.asarray(edf, dtype=float)
     tail = (1.0 - confidence) / 2.0
-    # chdtri(ν, p) is the χ²_ν value exceeded with probability p (scipy.stats.chi2.isf, without the
-    # 0.4 s import of scipy.stats); scipy.special itself is imported here, where it is needed, so that
-    # :func:`overlapping_adev` can run while it loads (:func:`preload_quantiles`).
-    from scipy.special import chdtri
-
-    return edf / chdtri(edf, tail), edf / chdtri(edf, 1.0 - tail)
+    return edf / chi2_upper_quantile(edf, tail), edf / chi2_upper_quantile(edf, 1.0 - tail)

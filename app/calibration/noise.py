@@ -31,7 +31,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev, preload_quantiles
+from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev
 from .errors import CalibrationError, InsufficientDataError
 from .headlines import SENSOR_WORDS
 from .plausible import PhysicalFigure
@@ -256,7 +256,6 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     """
     if getattr(samples, "ndim", 0) != 2 or samples.shape[1] != 3:
         raise CalibrationError(f"{sensor}: expected N×3 samples, got shape {getattr(samples, 'shape', None)}")
-    preload_quantiles()  # the χ² quantiles' module loads while the Allan deviation is computed
     tau, adev, n_terms, mean = overlapping_adev(samples, sampling_rate_hz)
     n = samples.shape[0]
     ms = np.round(tau * sampling_rate_hz).astype(np.int64)

@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from app.calibration import CalibrationError
-from app.calibration.allan import preload_quantiles
 from app.cli.finish import finish
 from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
@@ -33,7 +32,6 @@ def run(args, settings: Callable[[], Settings]) -> int:
 
 
 def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) -> int:
-    preload_quantiles()  # the intervals' χ² quantiles load while the file is read and its still part found
     array = path.suffix.lower() in (".npy", ".parquet", ".pq")
     sensor = args.sensor or "acc"
     units = {}
