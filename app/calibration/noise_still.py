@@ -57,12 +57,8 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
     def spreads_from(start: int) -> None:
         stop = min(blocks, start + step)
         part = np.asarray(samples[start * w : stop * w], dtype=float).reshape(stop - start, w, -1)
-        mean = part.mean(axis=1)
-        # The blocks' variances as numpy's var computes them, from the means just taken (not taken twice).
-        dev = part - mean[:, None, :]
-        np.multiply(dev, dev, out=dev)
-        spread[start:stop] = np.sqrt((dev.sum(axis=1) / w).sum(axis=1))
-        means[start:stop] = mean
+        spreads = _block_spreads if part.shape[2] == 1 else _block_spreads_across
+        spreads(part, spread[start:stop], means[start:stop])
 
     with ThreadPoolExecutor(max_workers=cores()) as pool:
         list(pool.map(spreads_from, range(0, blocks, step)))
@@ -87,6 +83,41 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
         cut += [(int(g[0]), int(g[-1]) + 1) for g in np.split(idx, jumps + 1)]
     # The samples after the last whole block go with it.
     return [(p * w, n if q == blocks else q * w) for p, q in cut]
+
+
+def _block_spreads(part: np.ndarray, spread: np.ndarray, means: np.ndarray) -> None:
+    """Each block's spread (the root of its axes' summed variances) and mean, into ``spread`` and ``means``.
+
+    ``part`` is float, shape (blocks, w, k): the variances as numpy's var computes them, from the means
+    just taken (not taken twice)."""
+    w = part.shape[1]
+    mean = part.mean(axis=1)
+    dev = part - mean[:, None, :]
+    np.multiply(dev, dev, out=dev)
+    spread[:] = np.sqrt((dev.sum(axis=1) / w).sum(axis=1))
+    means[:] = mean
+
+
+def _block_spreads_across(part: np.ndarray, spread: np.ndarray, means: np.ndarray) -> None:
+    """:func:`_block_spreads` of blocks of two or more axes, with the same figures to the last bit.
+
+    numpy sums a block of shape (w, k) (rows of k > 1 axes) over its w rows one row after the other,
+    with the k axes in its innermost loop: a loop of 3 for every sample of a gyroscope, a tenth of a
+    second for a night at 200 Hz. Here the blocks are laid across (shape (w, k, blocks), one copy of a
+    chunk that stays in cache) and summed over the same w rows in the same order, with all the
+    chunk's blocks in the innermost loop.
+    """
+    w = part.shape[1]
+    across = np.empty((w, part.shape[2], part.shape[0]))
+    across[...] = part.transpose(1, 2, 0)
+    mean = np.add.reduce(across, axis=0)
+    mean /= w
+    np.subtract(across, mean, out=across)
+    np.multiply(across, across, out=across)
+    var = np.add.reduce(across, axis=0)
+    var /= w
+    spread[:] = np.sqrt(np.add.reduce(var, axis=0))
+    means[:] = mean.T
 
 
 def quantisation_step(samples) -> float:
