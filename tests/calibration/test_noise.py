@@ -175,6 +175,9 @@ def test_the_blocks_laid_across_give_numpy_s_spreads_and_means_to_the_last_bit(d
         _block_spreads(part, *expected)
         _block_spreads_across(part, *got)
         assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
+        # In part of a larger buffer (a thread's, reused chunk after chunk), the same.
+        _block_spreads_across(part, *got, across=np.empty((w, axes, blocks + 5))[..., :blocks])
+        assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
 
 
 def test_the_three_term_nnls_equals_scipy_s():
