@@ -199,8 +199,10 @@ def exact_median(values: np.ndarray) -> float:
     The middle two per cent of :data:`MEDIAN_SAMPLE` evenly spaced values give a band ``[lo, hi]``;
     when the counts below and above it show that the middle order statistics lie inside it, only the
     values inside are partitioned (a band of one value, as a steady clock's steps give, needs none),
-    and the two middle ones are averaged as numpy averages them. Otherwise (a band that misses the
-    middle, a NaN) numpy's median of all the values is returned.
+    and the two middle ones are averaged as numpy averages them (``numpy.median``: the mean of the
+    middle one or two values of a partition, NaN when any value is NaN). Otherwise (a band that misses
+    the middle, a NaN, fewer than 8 × :data:`MEDIAN_SAMPLE` values) numpy's median of all the values is
+    returned.
 
     Parameters
     ----------
