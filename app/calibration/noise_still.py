@@ -54,18 +54,22 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
     means = np.empty((blocks, np.shape(samples)[1]))
     step = max(1, (1 << 15) // w)
 
-    def spreads_from(start: int) -> None:
-        stop = min(blocks, start + step)
-        part = np.asarray(samples[start * w : stop * w], dtype=float).reshape(stop - start, w, -1)
-        mean = part.mean(axis=1)
-        # The blocks' variances as numpy's var computes them, from the means just taken (not taken twice).
-        dev = part - mean[:, None, :]
-        np.multiply(dev, dev, out=dev)
-        spread[start:stop] = np.sqrt((dev.sum(axis=1) / w).sum(axis=1))
-        means[start:stop] = mean
+    threads = cores()
+    # One buffer per thread for the chunks laid across, filled again chunk after chunk: a fresh one
+    # each time is fresh pages each time (their first touch costs as much as the sums).
+    across = np.empty((threads, w, means.shape[1], step)) if means.shape[1] > 1 else None
 
-    with ThreadPoolExecutor(max_workers=cores()) as pool:
-        list(pool.map(spreads_from, range(0, blocks, step)))
+    def spreads_from(thread: int) -> None:
+        for start in range(thread * step, blocks, threads * step):
+            stop = min(blocks, start + step)
+            part = np.asarray(samples[start * w : stop * w], dtype=float).reshape(stop - start, w, -1)
+            if across is None:
+                _block_spreads(part, spread[start:stop], means[start:stop])
+            else:
+                _block_spreads_across(part, spread[start:stop], means[start:stop], across[thread, ..., : stop - start])
+
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        list(pool.map(spreads_from, range(threads)))
     floor = max(float(np.percentile(spread, NOISE_PERCENTILE)), 0.5 * quantisation_step(samples))
     still = spread <= NOISE_FACTOR * floor
     gap = int(math.ceil(MAX_GAP_S * sampling_rate_hz / w))
@@ -87,6 +91,45 @@ def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
         cut += [(int(g[0]), int(g[-1]) + 1) for g in np.split(idx, jumps + 1)]
     # The samples after the last whole block go with it.
     return [(p * w, n if q == blocks else q * w) for p, q in cut]
+
+
+def _block_spreads(part: np.ndarray, spread: np.ndarray, means: np.ndarray) -> None:
+    """Each block's spread (the root of its axes' summed variances) and mean, into ``spread`` and ``means``.
+
+    ``part`` is float, shape (blocks, w, k): the variances as numpy's var computes them, from the means
+    just taken (not taken twice)."""
+    w = part.shape[1]
+    mean = part.mean(axis=1)
+    dev = part - mean[:, None, :]
+    np.multiply(dev, dev, out=dev)
+    spread[:] = np.sqrt((dev.sum(axis=1) / w).sum(axis=1))
+    means[:] = mean
+
+
+def _block_spreads_across(
+    part: np.ndarray, spread: np.ndarray, means: np.ndarray, across: np.ndarray | None = None
+) -> None:
+    """:func:`_block_spreads` of blocks of two or more axes, with the same figures to the last bit.
+
+    numpy sums a block of shape (w, k) (rows of k > 1 axes) over its w rows one row after the other,
+    with the k axes in its innermost loop: a loop of 3 for every sample of a gyroscope, a tenth of a
+    second for a night at 200 Hz. Here the blocks are laid across (shape (w, k, blocks), one copy of a
+    chunk that stays in cache) and summed over the same w rows in the same order, with all the
+    chunk's blocks in the innermost loop. ``across``, of shape (w, k, blocks), is used for that copy
+    when given.
+    """
+    w = part.shape[1]
+    if across is None:
+        across = np.empty((w, part.shape[2], part.shape[0]))
+    across[...] = part.transpose(1, 2, 0)
+    mean = np.add.reduce(across, axis=0)
+    mean /= w
+    np.subtract(across, mean, out=across)
+    np.multiply(across, across, out=across)
+    var = np.add.reduce(across, axis=0)
+    var /= w
+    spread[:] = np.sqrt(np.add.reduce(var, axis=0))
+    means[:] = mean.T
 
 
 def quantisation_step(samples) -> float:

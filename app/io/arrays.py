@@ -106,7 +106,10 @@ def read_npy_log(
         acc = arr[:, 1:4]
     time_s = None
     if time is not None and len(time) >= 2:
-        time_s = (time - time[0]) * infer_time_scale(time)[0]
+        time_s = time - time[0]  # scaled in place: one array the length of the column, not two
+        scale = infer_time_scale(time)[0]
+        if scale != 1.0:
+            time_s *= scale
     return with_timing(
         LogData(
             acc=acc,

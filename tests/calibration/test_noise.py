@@ -160,6 +160,29 @@ def test_a_gyroscope_turned_at_a_steady_rate_between_rests_is_not_still():
     assert not any(a + 50 < e < b - 50 for a, b in runs for e in edges)
 
 
+@pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int16])
+@pytest.mark.parametrize("axes", [2, 3, 4])
+def test_the_blocks_laid_across_give_numpy_s_spreads_and_means_to_the_last_bit(dtype, axes):
+    """still_runs sums each chunk's blocks laid across (app.calibration.noise_still._block_spreads_across):
+    the same figures as numpy's mean and variance of each block (_block_spreads), bit for bit, so the
+    still runs are those numpy's sums give."""
+    from app.calibration.noise_still import _block_spreads, _block_spreads_across
+
+    rng = np.random.default_rng(axes)
+    for blocks, w in [(327, 100), (50, 17), (3, 250), (1, 2)]:
+        rows = rng.normal(size=(blocks * w, axes + 1)) * rng.uniform(1e-3, 1e3) + rng.normal() * 100
+        samples = rows[:, 1:].astype(dtype)  # a view with the time column beside it, as an N×4 .npy's
+        part = np.asarray(samples, dtype=float).reshape(blocks, w, axes)
+        expected = np.empty(blocks), np.empty((blocks, axes))
+        got = np.empty(blocks), np.empty((blocks, axes))
+        _block_spreads(part, *expected)
+        _block_spreads_across(part, *got)
+        assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
+        # In part of a larger buffer (a thread's, reused chunk after chunk), the same.
+        _block_spreads_across(part, *got, across=np.empty((w, axes, blocks + 5))[..., :blocks])
+        assert np.array_equal(got[0], expected[0]) and np.array_equal(got[1], expected[1])
+
+
 def test_the_three_term_nnls_equals_scipy_s():
     from scipy.optimize import nnls
 

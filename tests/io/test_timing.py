@@ -120,3 +120,25 @@ def test_a_csv_of_host_stamps_in_ms_reads_at_the_sensor_s_rate(tmp_path):
     assert log.sampling_rate_hz == pytest.approx(FS, rel=3e-3) and log.timing.source == "time column"
     assert any("time column 't' read in ms" in n for n in log.notes)
     assert any("irregular" in n for n in log.notes)
+
+
+@pytest.mark.parametrize(
+    "steps",
+    [
+        0.005 + np.random.default_rng(1).integers(-11, 12, size=2_160_000) * 1e-13,  # a clock's steps, a few values
+        np.full(100_001, 0.01),  # all equal, odd count
+        np.diff(host_arrival_times(np.random.default_rng(2), n_samples=200_000, sampling_rate_hz=FS)),  # bursts
+        np.random.default_rng(3).integers(0, 3, size=300_000) * 1e-3,  # whole milliseconds, zeros among them
+        np.concatenate([np.full(150_000, 1.0), np.full(150_000, 2.0)]),  # the two middle values differ
+        np.sort(np.random.default_rng(4).exponential(size=250_000)),  # sorted
+        np.where(np.arange(300_000) == 7, np.nan, 0.01),  # a NaN: numpy's median is NaN
+        np.where(np.arange(300_000) % 1000 == 0, np.inf, 0.01),
+        np.random.default_rng(5).normal(size=1_000),  # short: numpy's median itself
+    ],
+)
+def test_the_exact_median_is_numpy_s_to_the_last_bit(steps):
+    from app.io.formats.timing import exact_median
+
+    expected, got = float(np.median(steps)), exact_median(steps)
+    assert got == expected or (np.isnan(got) and np.isnan(expected))
+    assert np.signbit(got) == np.signbit(expected)

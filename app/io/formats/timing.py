@@ -146,7 +146,7 @@ def _check_rate(rate: float) -> float:
     return float(rate)
 
 
-def find_gaps(time_s: np.ndarray, interval_s: float) -> tuple[Gap, ...]:
+def find_gaps(time_s: np.ndarray, interval_s: float, steps: np.ndarray | None = None) -> tuple[Gap, ...]:
     """The steps after which the samples stay more than :data:`GAP_INTERVALS` intervals late.
 
     Parameters
@@ -155,11 +155,14 @@ def find_gaps(time_s: np.ndarray, interval_s: float) -> tuple[Gap, ...]:
         Non-decreasing sample times in seconds.
     interval_s : float
         The sensor's sampling interval.
+    steps : numpy.ndarray, optional
+        ``numpy.diff(time_s)``, when the caller has it already.
     """
     n = len(time_s)
     if n < 3:
         return ()
-    steps = np.diff(time_s)
+    if steps is None:
+        steps = np.diff(time_s)
     limit = GAP_INTERVALS * interval_s
     candidates = np.flatnonzero(steps > limit)  # the step from sample i to i + 1
     if len(candidates) == 0:
@@ -185,7 +188,48 @@ def find_gaps(time_s: np.ndarray, interval_s: float) -> tuple[Gap, ...]:
     return tuple(gaps)
 
 
-def _rate_of(time_s: np.ndarray) -> tuple[float, tuple[Gap, ...]]:
+MEDIAN_SAMPLE = 8192
+"""Evenly spaced values of a long array whose middle two per cent bound its median (:func:`exact_median`)."""
+
+
+def exact_median(values: np.ndarray) -> float:
+    """``float(numpy.median(values))`` of a 1-D float array, the same to the last bit, without
+    partitioning a copy of all of it (a 3 h log at 200 Hz: 2 M steps, 17 MB).
+
+    The middle two per cent of :data:`MEDIAN_SAMPLE` evenly spaced values give a band ``[lo, hi]``;
+    when the counts below and above it show that the middle order statistics lie inside it, only the
+    values inside are partitioned (a band of one value, as a steady clock's steps give, needs none),
+    and the two middle ones are averaged as numpy averages them (``numpy.median``: the mean of the
+    middle one or two values of a partition, NaN when any value is NaN). Otherwise (a band that misses
+    the middle, a NaN, fewer than 8 × :data:`MEDIAN_SAMPLE` values) numpy's median of all the values is
+    returned.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        1-D, float.
+    """
+    n = len(values)
+    if n < 8 * MEDIAN_SAMPLE:
+        return float(np.median(values))
+    sample = np.sort(values[:: n // MEDIAN_SAMPLE])
+    lo, hi = sample[int(0.49 * len(sample))], sample[int(0.51 * len(sample))]
+    below, above = int(np.count_nonzero(values < lo)), int(np.count_nonzero(values > hi))
+    first, second = (n - 1) // 2, n // 2  # numpy's middle order statistics: one when n is odd
+    if not (below <= first and second < n - above):
+        return float(np.median(values))
+    inside = values == lo if lo == hi else (values >= lo) & (values <= hi)
+    if np.count_nonzero(inside) != n - below - above:  # a NaN, in no count: numpy's median is NaN
+        return float(np.median(values))
+    middle = (
+        np.array([lo, lo])  # a band of equal values
+        if lo == hi
+        else np.partition(values[inside], [first - below, second - below])[[first - below, second - below]]
+    )
+    return float(np.mean(middle[: 1 if first == second else 2]))
+
+
+def _rate_of(time_s: np.ndarray, steps: np.ndarray) -> tuple[float, tuple[Gap, ...]]:
     """The rate from the span with the time of gaps left out, and the gaps (a few rounds: the gaps are
     found with the interval, the interval without the gaps)."""
     n = len(time_s)
@@ -193,7 +237,7 @@ def _rate_of(time_s: np.ndarray) -> tuple[float, tuple[Gap, ...]]:
     gaps: tuple[Gap, ...]
     interval, gaps = span / (n - 1), ()
     for _ in range(4):
-        gaps = find_gaps(time_s, interval)
+        gaps = find_gaps(time_s, interval, steps)
         missing = sum(g.missing_s for g in gaps)
         new = (span - missing) / (n - 1)
         if not new > 0 or abs(new - interval) <= 1e-9 * interval:
@@ -291,7 +335,7 @@ def decide_timing(
     if len(back):
         # A timer that wrapped, or files joined: the span means nothing; the median step is all there is.
         i = int(back[0])
-        rate = 1.0 / float(np.median(steps[steps > 0]))
+        rate = 1.0 / exact_median(steps[steps > 0])
         notes.append(
             f"the time column of {name} goes back {len(back)} time(s), first after sample {i + 1} "
             f"({time_s[i]:.6g} → {time_s[i + 1]:.6g} s): its rate, {rate:.4g} Hz, is one over the median "
@@ -300,27 +344,26 @@ def decide_timing(
         return Timing(
             given or stated or rate,
             "sampling_rate_hz" if given else "file" if stated else "time column",
-            median_step_s=float(np.median(steps)),
+            median_step_s=exact_median(steps),
             notes=tuple(notes),
         )
-    measured, gaps = _rate_of(time_s)
+    measured, gaps = _rate_of(time_s, steps)
     rate, source = (given, "sampling_rate_hz") if given else (stated, "file") if stated else (measured, "time column")
     if given or stated:
-        gaps = find_gaps(time_s, 1.0 / rate)
+        gaps = find_gaps(time_s, 1.0 / rate, steps)
         if abs(measured / rate - 1.0) > 0.01:
             notes.append(
                 f"the {'given' if given else 'file’s'} rate {rate:g} Hz is used; the time column's span "
                 f"says {measured:.4g} Hz"
             )
-    gap_steps = np.zeros(len(steps), dtype=bool)
-    gap_steps[[g.index - 1 for g in gaps]] = True
-    kept = steps[~gap_steps]
+    kept = np.delete(steps, [g.index - 1 for g in gaps]) if gaps else steps
     interval = 1.0 / rate
-    median = float(np.median(steps))
-    positive = steps[steps > 0]
-    median_rate = 1.0 / float(np.median(positive)) if len(positive) else math.inf
+    median = exact_median(steps)
     jitter = _jitter(time_s, kept, interval)
     if jitter > JITTER_MAX:
+        # No step is negative here: when none is 0 either, the positive ones are all of them.
+        positive = steps if steps.min() > 0 else steps[steps > 0]
+        median_rate = 1.0 / (median if positive is steps else exact_median(positive)) if len(positive) else math.inf
         notes.append(
             f"the timestamps of {name} are irregular: their steps scatter by {100 * jitter:.0f} % of the interval "
             f"(from {_ms(float(kept.min()))} to {_ms(float(kept.max()))}, median {_ms(median)}), as when a host stamps "
