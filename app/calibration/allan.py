@@ -31,10 +31,11 @@ import numpy as np
 from .chi2 import chi2_upper_quantile
 from .errors import CalibrationError, InsufficientDataError
 
-CHUNK = 1 << 16
-"""Second differences formed per block (512 kB of float64): few enough numpy calls per τ that their own cost
-(about a microsecond each) stays small beside the arithmetic, and the block's buffers stay in the
-processor's last-level cache."""
+CHUNK = 1 << 18
+"""Second differences formed per block (2 MB of float64): few enough numpy calls per τ that their own cost
+(about a microsecond each, with the interpreter's lock held) stays small beside the arithmetic, so that the
+shares' threads seldom wait for each other; the block's buffers stay in the processor's last-level cache.
+(3 h at 200 Hz, three axes on two cores: 0.17–0.24 s against 0.26–0.33 s in blocks of 2¹⁶.)"""
 
 ROW = 1 << 13
 """Second differences squared and summed per dot product: a block is summed as rows of this length by one
@@ -78,28 +79,49 @@ def tau_grid(n_samples: int, sampling_rate_hz: float, per_decade: int = PER_DECA
     return np.unique(np.concatenate([small, large, [m_max]]))
 
 
-def phase_of(column, sampling_rate_hz: float) -> tuple[np.ndarray, float]:
+PHASE_BLOCK = 1 << 16
+"""Samples of a column taken at a time for the phase: each block's mean removed, summed, offset and scaled
+while it is in the processor's cache."""
+
+
+def phase_of(column, sampling_rate_hz: float, out: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """The phase x (N + 1 points, x_0 = 0) of one axis and the axis's mean.
 
     The mean is removed before the cumulative sum (it does not change the second differences, and
-    keeps the phase small so that they do not cancel in floating point); it is summed in chunks of a
-    memory-mapped column, so only the float64 phase is held.
+    keeps the phase small so that they do not cancel in floating point); the column (which may be a
+    strided column of a memory map) is read in blocks, so only the float64 phase is held.
+
+    Parameters
+    ----------
+    column : array_like, shape (N,)
+        One axis's rates.
+    sampling_rate_hz : float
+    out : numpy.ndarray, optional
+        Float64, at least N + 1 long: the phase is written into it (a buffer reused from axis to axis
+        costs no fresh pages of memory).
+
+    Returns
+    -------
+    x : numpy.ndarray, shape (N + 1,)
+        The phase, x_{i+1} = x_i + (y_i − ȳ) / fs.
+    mean : float
+        ȳ.
     """
     n = len(column)
     total = 0.0
     for a in range(0, n, 1 << 20):
         total += float(np.sum(np.asarray(column[a : a + (1 << 20)], dtype=np.float64)))
     mean = total / n
-    x = np.empty(n + 1)
+    x = np.empty(n + 1) if out is None else out[: n + 1]
     x[0] = 0.0
     carry = 0.0
-    for a in range(0, n, 1 << 20):
-        block = np.asarray(column[a : a + (1 << 20)], dtype=np.float64) - mean
-        out = x[1 + a : 1 + a + len(block)]
-        np.cumsum(block, out=out)
-        out += carry
-        carry = float(out[-1])
-    x /= sampling_rate_hz
+    for a in range(0, n, PHASE_BLOCK):
+        block = x[1 + a : 1 + a + PHASE_BLOCK]
+        np.subtract(column[a : a + PHASE_BLOCK], mean, out=block)
+        np.cumsum(block, out=block)
+        block += carry
+        carry = float(block[-1])
+        block /= sampling_rate_hz
     return x, mean
 
 
@@ -250,18 +272,18 @@ def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = N
     sums = np.empty((len(ms), k))
     mean = np.empty(k)
     # One axis at a time, its sums shared by the cores, while the next axis's phase is taken on a thread of
-    # its own (two phases, 8 bytes a sample each, are all that is held).
+    # its own into the other of two buffers (two phases, 8 bytes a sample each, are all that is held).
     workers = cores()
+    buffers = [np.empty(n + 1), np.empty(n + 1) if k > 1 else None]
     with ThreadPoolExecutor(max_workers=workers) as pool, ThreadPoolExecutor(max_workers=1) as reader:
-        upcoming = reader.submit(phase_of, samples[:, 0], sampling_rate_hz)
+        upcoming = reader.submit(phase_of, samples[:, 0], sampling_rate_hz, buffers[0])
         for axis in range(k):
             x, mean[axis] = upcoming.result()
             if axis + 1 < k:
-                upcoming = reader.submit(phase_of, samples[:, axis + 1], sampling_rate_hz)
+                upcoming = reader.submit(phase_of, samples[:, axis + 1], sampling_rate_hz, buffers[(axis + 1) % 2])
             if not np.isfinite(x[-1]):
                 raise CalibrationError("the samples hold NaN or infinite values: drop those rows first")
             sums[:, axis] = second_difference_sums_fast(x, ms, pool, workers)
-            del x
     adev = np.sqrt(sums / (2.0 * tau * tau * n_terms)[:, None])
     return tau, adev, n_terms, mean
 
