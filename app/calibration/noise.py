@@ -146,7 +146,6 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
     a = _basis(tau)
     parts = a * theta
     edf = edf_simple(n_phase, ms, _dominant(a, theta))
-    lo_f, hi_f = chi2_interval(edf, CONFIDENCE)
     total = parts.sum(axis=1)
     best = {}
     for j in range(len(TERMS)):
@@ -157,6 +156,17 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
                 score = np.where(share >= SHARE_MIN, np.sqrt(2.0 / edf) / share, np.inf)
             i = int(np.argmin(score))
             best[j] = (i, float(score[i]))  # the τ it is read at, and its relative standard error there
+    # The other terms' fitted parts are subtracted with their own errors (each read where it is most
+    # precise): their variances add to σ̂²'s, giving the effective degrees of freedom (Satterthwaite's
+    # approximation) of each term's χ² interval.
+    edf_terms = []
+    for j, (i, _) in best.items():
+        var = 2.0 * avar[i] ** 2 / edf[i] + sum((parts[i, o] * best[o][1]) ** 2 for o in best if o != j)
+        edf_terms.append(max(2.0 * avar[i] ** 2 / var, 1.0) if var > 0 else edf[i])
+    # Every τ's interval and every term's in one call: the quantiles' iterations run once for them all.
+    lo_all, hi_all = chi2_interval(np.concatenate([edf, edf_terms]), CONFIDENCE)
+    lo_f, hi_f = lo_all[: len(edf)], hi_all[: len(edf)]
+    term_factors = dict(zip(best, zip(lo_all[len(edf) :], hi_all[len(edf) :])))
     values: dict[str, float | None] = {}
     intervals: dict[str, list[float] | None] = {}
     taus: dict[str, float | None] = {}
@@ -166,12 +176,7 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
             continue
         i = best[j][0]
         others = total[i] - parts[i, j]
-        # The other terms' fitted parts are subtracted with their own errors (each read where it is
-        # most precise): their variances add to σ̂²'s, giving the effective degrees of freedom
-        # (Satterthwaite's approximation) of the χ² interval.
-        var = 2.0 * avar[i] ** 2 / edf[i] + sum((parts[i, o] * best[o][1]) ** 2 for o in best if o != j)
-        edf_i = max(2.0 * avar[i] ** 2 / var, 1.0) if var > 0 else edf[i]
-        lo_i, hi_i = chi2_interval(edf_i, CONFIDENCE)
+        lo_i, hi_i = term_factors[j]
         read = [(avar[i] * f - others) / a[i, j] for f in (1.0, float(lo_i), float(hi_i))]
         values[name] = math.sqrt(max(read[0], 0.0))
         intervals[name] = [math.sqrt(max(read[1], 0.0)), math.sqrt(max(read[2], 0.0))]
