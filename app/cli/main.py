@@ -28,7 +28,7 @@ def command(name: str):
 
 def environment_settings():
     """The settings of the TRICAL_* environment (app.config): loaded by the command that needs them (to store a
-    calibration, to serve), so that one that does not — ``trical noise`` without ``--save`` — does not import
+    calibration, to serve), so that one that does not — ``trical noise`` without ``--store`` — does not import
     pydantic-settings, a tenth of a second of a command that takes half a second."""
     from app.config import Settings
 
@@ -56,17 +56,19 @@ def _raised_by_loaded(exc: BaseException, module: str, name: str) -> bool:
 def _bad_input_words(exc: Exception) -> str | None:
     """The one line that says what was wrong with the input (its words rendered for the command line), or None
     when ``exc`` is not bad input."""
-    from app.words import render  # the method table's words: loaded when an error is to be said
-
     if any(_raised_by_loaded(exc, module, name) for module, name in BAD_INPUT):
-        return render(str(exc), "cli")
-    if _raised_by_loaded(exc, "pydantic", "ValidationError"):
+        text = str(exc)
+    elif _raised_by_loaded(exc, "pydantic", "ValidationError"):
         from app import methods
 
-        return render(methods.describe_errors(exc.errors()), "cli")  # type: ignore[attr-defined]
-    if isinstance(exc, NotFoundError):
-        return render(str(exc.args[0]), "cli")
-    return None
+        text = methods.describe_errors(exc.errors())  # type: ignore[attr-defined]
+    elif isinstance(exc, NotFoundError):
+        text = str(exc.args[0])
+    else:
+        return None
+    from app.words import render  # the method table's words: loaded when an error is to be said
+
+    return render(text, "cli")
 
 
 def main(argv: list[str] | None = None) -> int:
