@@ -1,5 +1,6 @@
 """Noise characterisation by the overlapping Allan deviation (app/calibration/allan.py, noise.py):
-equality with allantools, the τ grid, recovery and coverage of simulated N, B, K, nulls when too short."""
+equality with allantools (on the corpus's real still recordings first), the τ grid, recovery and coverage of
+simulated N, B, K, nulls when too short."""
 
 from __future__ import annotations
 
@@ -11,7 +12,12 @@ import pytest
 
 from app.calibration.allan import (
     CHUNK,
+    FLICKER,
+    RANDOM_WALK,
     ROW,
+    WHITE,
+    chi2_interval,
+    edf_simple,
     overlapping_adev,
     phase_of,
     second_difference_sums,
@@ -201,3 +207,69 @@ def test_an_axis_that_never_changes_is_refused_in_words():
     x[:, 2] = 0.0
     with pytest.raises(InsufficientDataError, match=r"the magnetometer's z axis readings do not change"):
         characterise_noise(x, 100.0, unit="uT", sensor="mag")
+
+
+def _real_still_logs():
+    """The corpus's real still recordings that trical characterises (tests/data/real/corpus, method noise):
+    a BNO055 on a Raspberry Pi's serial port, an HMC5883L on an ESP32, a phone's LSM6DS3, an MPU-6050's gyroscope
+    in counts, a PX4 flight controller's gyroscope after landing — read as their upload form says."""
+    from app.io.formats import read_log
+    from app.io.read_options import ReadOptions, units_named
+    from tests import real_corpus
+
+    for case in real_corpus.cases():
+        if case.spec.get("calibrate", {}).get("method") != "noise" or case.spec["expect"].get("status") != 201:
+            continue
+        form = case.form
+        options = ReadOptions(
+            sampling_rate_hz=float(form["sampling_rate_hz"]) if "sampling_rate_hz" in form else None,
+            columns=form.get("columns"),
+            lsb_per_g=float(form["lsb_per_g"]) if "lsb_per_g" in form else None,
+            units=units_named(form.get("acc_unit"), form.get("gyr_unit"), form.get("mag_unit")),
+        )
+        log = read_log(case.files[0], options, name=case.files[0].name)
+        for sensor in ("acc", "gyr", "mag"):
+            if getattr(log, sensor) is not None:
+                yield pytest.param(getattr(log, sensor), log.sampling_rate_hz, id=f"{case.name}-{sensor}")
+
+
+REAL_STILL = list(_real_still_logs())
+
+
+def test_the_corpus_holds_real_still_recordings_of_every_kind():
+    assert len(REAL_STILL) >= 12 and {p.id.rsplit("-", 1)[1] for p in REAL_STILL} == {"acc", "gyr", "mag"}
+
+
+@pytest.mark.parametrize(("samples", "fs"), REAL_STILL)
+def test_real_still_recordings_give_allantools_oadev_and_the_reference_sums(samples, fs):
+    """On real sensors' readings (counts that repeat, a quantised compass, a phone's irregular clock, a
+    flight controller ringing), the blocked, shared sums equal the plain reference, and the Allan deviation
+    allantools' oadev at every τ; a board's integer counts saved as int16 give the same figures."""
+    tau, adev, n_terms, mean = overlapping_adev(samples, fs)
+    for k in range(3):
+        _, dev, _, ns = allantools.oadev(np.ascontiguousarray(samples[:, k]), rate=fs, data_type="freq", taus=tau)
+        np.testing.assert_allclose(adev[:, k], dev, rtol=1e-9)
+        np.testing.assert_array_equal(n_terms, ns)
+        x, _ = phase_of(samples[:, k], fs)
+        ms = np.round(tau * fs).astype(np.int64)
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            np.testing.assert_allclose(
+                second_difference_sums_fast(x, ms, pool, 2), second_difference_sums(x, ms), rtol=1e-12
+            )
+    if np.array_equal(samples, np.rint(samples)) and np.abs(samples).max() < 2**15:
+        counts = overlapping_adev(samples.astype(np.int16), fs)
+        np.testing.assert_allclose(counts[1], adev, rtol=1e-12)
+        np.testing.assert_allclose(counts[3], mean, rtol=1e-12)
+
+
+@pytest.mark.parametrize(("samples", "fs"), REAL_STILL)
+def test_real_still_recordings_intervals_are_scipy_s(samples, fs):
+    """The χ² factors of every τ's interval on a real recording (its edf for each noise type) are scipy's."""
+    from scipy.stats import chi2
+
+    ms = tau_grid(len(samples), fs)
+    for alpha in (WHITE, FLICKER, RANDOM_WALK):
+        edf = edf_simple(len(samples) + 1, ms, alpha)
+        lo, hi = chi2_interval(edf, 0.95)
+        np.testing.assert_allclose(lo, edf / chi2.ppf(0.975, edf), rtol=1e-12)
+        np.testing.assert_allclose(hi, edf / chi2.ppf(0.025, edf), rtol=1e-12)

@@ -142,3 +142,22 @@ def test_the_exact_median_is_numpy_s_to_the_last_bit(steps):
     expected, got = float(np.median(steps)), exact_median(steps)
     assert got == expected or (np.isnan(got) and np.isnan(expected))
     assert np.signbit(got) == np.signbit(expected)
+
+
+@pytest.mark.parametrize(
+    "case", ["px4_sample_gyro_ringing_after_landing", "hyperimu_lsm6ds3_phone_still", "hmc5883l_esp32_still_counts"]
+)
+def test_the_exact_median_of_real_clocks_steps_is_numpy_s(case):
+    """A PX4 flight controller's microsecond stamps, a phone app's irregular milliseconds, an ESP32's serial log
+    (tests/data/real/corpus): their time columns' steps, repeated past the length from which exact_median
+    narrows a band (8 × MEDIAN_SAMPLE) and as they are, give numpy's median to the last bit."""
+    from app.io.formats.timing import MEDIAN_SAMPLE, exact_median
+    from app.io.read_options import ReadOptions
+    from tests import real_corpus
+
+    found = next(c for c in real_corpus.cases() if c.name == case)
+    log = read_log(found.files[0], ReadOptions(columns=found.form.get("columns")), name=found.files[0].name)
+    steps = np.diff(log.time_s)
+    long = np.tile(steps, 8 * MEDIAN_SAMPLE // len(steps) + 1)
+    for values in (steps, long, long[:-1]):
+        assert exact_median(values) == float(np.median(values))
