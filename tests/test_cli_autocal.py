@@ -184,21 +184,26 @@ def test_autocal_raw_unit_is_refused_with_advice(tmp_path):
         autocalibrate_file(f, ReadOptions(sampling_rate_hz=50.0, units={"acc": "raw"}))
 
 
-def test_cli_start_does_not_import_scipy_optimize_or_stats():
-    """`trical autocal` on a week imports scipy.optimize (~0.4 s) only when the detection is done, and
-    scipy.stats (~0.7 s) never: keep them out of app.cli.main's imports.
-    (pyarrow, ~20 ms, is imported: it reads the CSV.)"""
+def _printed_in_the_checkout(code: str) -> str:
+    """What ``python -c code`` prints, run in the checkout with its ``app`` first on the path."""
     import sys
     from pathlib import Path
 
-    code = "import sys, app.cli.main; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
     out = run_ok(
         [sys.executable, "-c", code],
         timeout_s=120,
         cwd=Path(__file__).resolve().parents[1],
         env={**os.environ, "PYTHONPATH": "."},
     )
-    assert out.stdout.strip() == "[]"
+    return out.stdout.strip()
+
+
+def test_cli_start_does_not_import_scipy_optimize_or_stats():
+    """`trical autocal` on a week imports scipy.optimize (~0.4 s) only when the detection is done, and
+    scipy.stats (~0.7 s) never: keep them out of app.cli.main's imports.
+    (pyarrow, ~20 ms, is imported: it reads the CSV.)"""
+    code = "import sys, app.cli.main; print(sorted(m for m in ('scipy.optimize', 'scipy.stats') if m in sys.modules))"
+    assert _printed_in_the_checkout(code) == "[]"
 
 
 def _options(parser) -> dict:
@@ -225,9 +230,6 @@ def test_one_commands_parser_is_the_whole_parsers_part():
 def test_autocal_command_start_imports_neither_the_method_table_nor_scipy_stats(tmp_path, recording):
     """`trical autocal FILE --json` runs without the method table (~0.4 s of imports) and without scipy.stats
     (~0.7 s): what it imports is its own."""
-    import sys
-    from pathlib import Path
-
     f = tmp_path / "day.npy"
     np.save(f, recording[0][: int(FS * 3 * 3600)])
     code = (
@@ -238,10 +240,4 @@ def test_autocal_command_start_imports_neither_the_method_table_nor_scipy_stats(
         "print(sorted(m for m in ('app.methods', 'app.words', 'scipy.stats', 'app.calibration.cube') "
         "if m in sys.modules))\n"
     )
-    out = run_ok(
-        [sys.executable, "-c", code],
-        timeout_s=120,
-        cwd=Path(__file__).resolve().parents[1],
-        env={**os.environ, "PYTHONPATH": "."},
-    )
-    assert out.stdout.strip() == "[]"
+    assert _printed_in_the_checkout(code) == "[]"

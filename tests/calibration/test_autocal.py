@@ -105,17 +105,22 @@ def test_select_points_rules():
         select_points(pts, min_per_bin=3, max_per_bin=2)
 
 
+def _fed_in_pieces(x, seed: int, longest: int):
+    """The streaming accumulator's detection of ``x`` fed in pieces of random lengths up to ``longest``."""
+    acc = RestAccumulator(FS)
+    rng = np.random.default_rng(seed)
+    s = 0
+    while s < len(x):
+        n = int(rng.integers(1, longest))
+        acc.feed(x[s : s + n])
+        s += n
+    return acc.result()
+
+
 def test_streaming_in_odd_chunks_equals_one_pass():
     x, _ = _recording(21, days=0.2)
     whole = detect_rest_segments(x, FS)
-    acc = RestAccumulator(FS)
-    rng = np.random.default_rng(0)
-    s = 0
-    while s < len(x):
-        n = int(rng.integers(1, 5000))
-        acc.feed(x[s : s + n])
-        s += n
-    parts = acc.result()
+    parts = _fed_in_pieces(x, seed=0, longest=5000)
     assert parts.n_rest == whole.n_rest > 50
     assert np.array_equal(parts.start, whole.start)
     assert np.allclose(parts.mean, whole.mean, atol=1e-6)
@@ -149,14 +154,7 @@ def test_threads_and_chunk_sizes_give_the_same_detection_to_the_bit(time_column)
     assert one.n_rest > 50 and one.n_idle > 0 and one.n_nan > 0 and len(one.ggir_mean) > 10
     for workers, chunk in ((2, 16), (3, 7), (4, 256), (2, 1)):
         _same_rest(detect_rest_segments(x, FS, workers=workers, chunk_segments=chunk), one)
-    acc = RestAccumulator(FS)
-    rng = np.random.default_rng(1)
-    s = 0
-    while s < len(x):
-        n = int(rng.integers(1, 20000))
-        acc.feed(x[s : s + n])
-        s += n
-    _same_rest(acc.result(), one)
+    _same_rest(_fed_in_pieces(x, seed=1, longest=20000), one)
 
 
 def test_progress_reaches_the_end_with_threads():
