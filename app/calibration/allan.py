@@ -23,12 +23,12 @@ Frequency Control Symposium, 1981; the simple formulae of NIST SP 1065, Table 5,
 from __future__ import annotations
 
 import math
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
 from .chi2 import chi2_upper_quantile
+from .cores import usable_cores
 from .errors import CalibrationError, InsufficientDataError
 
 CHUNK = 1 << 18
@@ -234,8 +234,7 @@ def cores() -> int:
     int
         At least 1.
     """
-    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-    return max(1, min(MAX_SHARES, usable))
+    return usable_cores(MAX_SHARES)
 
 
 def overlapping_adev(samples, sampling_rate_hz: float, ms: np.ndarray | None = None):

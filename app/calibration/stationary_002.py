@@ -37,12 +37,12 @@ from __future__ import annotations
 
 import math
 import mmap
-import os
 import threading
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .cores import usable_cores
 from .errors import CalibrationError
 from .validation import check_gravity
 
@@ -440,11 +440,7 @@ def detection_threads(workers: int | None = None) -> int:
     (at most :data:`MAX_THREADS`)."""
     if workers is not None:
         return max(1, int(workers))
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(MAX_THREADS, cores))
+    return usable_cores(MAX_THREADS)
 
 
 def detect_rest_segments(

@@ -4,12 +4,12 @@ or a Dask cluster)."""
 from __future__ import annotations
 
 import json
-import os
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from app.calibration import CalibrationError
+from app.calibration.cores import usable_cores
 from app.calibration.result import NormErrors
 from app.io.errors import LogFormatError
 from app.io.read_options import ReadOptions
@@ -86,14 +86,6 @@ def _folder_files(folder: Path) -> list[Path]:
     return files
 
 
-def _cores() -> int:
-    """The cores this process may use."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
-
-
 def _progress_line(done: int, total: int, path: str, body: dict, seconds: float) -> str:
     """One line per finished file, in the order they finish: ``[3/8] rec_002.npy: ok, 0.11 mg after (4.2 s)``."""
     if "error" in body:
@@ -123,7 +115,7 @@ def _finished_jobs(args, paths: list[str], options: dict):
             for future in as_completed(futures):
                 yield index[future.key], future.result()
         return
-    workers = min(len(paths), args.workers or _cores())
+    workers = min(len(paths), args.workers or usable_cores())
     if workers <= 1:
         for i, p in enumerate(paths):
             yield i, _autocal_job(p, options)  # one process: its detection may use every core
