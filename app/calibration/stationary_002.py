@@ -232,8 +232,7 @@ class RestAccumulator:
         x = np.asarray(chunk)
         if x.ndim != 2 or x.shape[1] != 3:
             raise CalibrationError(f"samples must have shape N×3; got shape {tuple(x.shape)}")
-        if x.dtype not in (np.float32, np.float64):
-            x = x.astype(np.float64)
+        x = _as_float(x)
         if len(x) == 0:
             return
         self._n_samples += len(x)
@@ -435,6 +434,11 @@ class _PageReleaser:
             self.mm = None
 
 
+def _as_float(x: np.ndarray) -> np.ndarray:
+    """Samples as the detector takes them: float32 and float64 as they are, any other type as float64."""
+    return x if x.dtype in (np.float32, np.float64) else x.astype(np.float64)
+
+
 def detection_threads(workers: int | None = None) -> int:
     """Threads of :func:`detect_rest_segments`: ``workers`` when given, else the cores this process may use
     (at most :data:`MAX_THREADS`)."""
@@ -506,9 +510,7 @@ def detect_rest_segments(
         parts = []
         for s in range(lo, hi, step):
             chunk = x[s : min(s + step, hi)]
-            c = np.asarray(chunk)
-            if c.dtype not in (np.float32, np.float64):
-                c = c.astype(np.float64)
+            c = _as_float(np.asarray(chunk))
             parts.append(acc._scan(c, s // acc.seg))
             pages.release(chunk)
             if progress is not None:
@@ -519,8 +521,7 @@ def detect_rest_segments(
 
     from concurrent.futures import ThreadPoolExecutor
 
-    acc._ones_for(np.float32)  # made once, before the threads share it
-    acc._ones_for(x.dtype if x.dtype in (np.float32, np.float64) else np.float64)
+    acc._ones_for(_as_float(x[:0]).dtype)  # made once, before the threads share it
     with ThreadPoolExecutor(threads) as pool:
         scanned = list(pool.map(scan, cuts[:-1], cuts[1:]))
     for parts in scanned:
