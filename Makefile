@@ -21,7 +21,7 @@ run: $(VENV)/.installed
 # (--dist worksteal), so the slowest browser walks do not leave one worker running alone at the end.
 # Every test is bounded (pytest-timeout, pyproject.toml).
 TEST_WORKERS ?= 3
-test: $(VENV)/.installed-test lint typecheck system-deps
+test: system-deps $(VENV)/.installed-test lint typecheck
 	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
 
 # The static checks, first in `make test`, each at zero findings: ruff's lint rules and its formatter's
@@ -41,20 +41,25 @@ $(VENV)/bin/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --upgrade pip
 
-$(VENV)/.installed: pyproject.toml | $(VENV)/bin/python
+# The package in place, with the Allan sums' compiled loop built beside its source where a C compiler is
+# (setup.py; without one the install goes on, and the sums run in numpy).
+FUSED_LOOP := setup.py app/calibration/allan_fused.pyx
+
+$(VENV)/.installed: pyproject.toml $(FUSED_LOOP) | $(VENV)/bin/python
 	$(BIN)/python -m pip install -e .
 	touch $@
 
-$(VENV)/.installed-test: pyproject.toml | $(VENV)/bin/python
+$(VENV)/.installed-test: pyproject.toml $(FUSED_LOOP) | $(VENV)/bin/python
 	$(BIN)/python -m pip install -e '.[test]'
 	touch $@ $(VENV)/.installed
 
 # Debian's packages the tests drive for real: Chromium and WebKitGTK's WebKitWebDriver with its
-# MiniBrowser under Xvfb (end-to-end tests in the two engines), PostgreSQL (storage tests) and a Java
-# runtime (actipy's wearable readers). Installed from the package registry when missing; no browser
-# or server downloads.
+# MiniBrowser under Xvfb (end-to-end tests in the two engines), PostgreSQL (storage tests), a Java
+# runtime (actipy's wearable readers), and a C compiler for the compiled loop the tests check (installed
+# before the package). Installed from the package registry when missing; no browser or server downloads.
 system-deps:
 	@missing=""; \
+	command -v cc >/dev/null 2>&1 || missing="$$missing gcc libc6-dev"; \
 	[ -x "$(CHROMIUM)" ] || missing="$$missing chromium"; \
 	ls /usr/lib/postgresql/*/bin/initdb >/dev/null 2>&1 || missing="$$missing postgresql"; \
 	command -v java >/dev/null 2>&1 || missing="$$missing default-jre-headless"; \
@@ -70,6 +75,7 @@ system-deps:
 	@command -v java >/dev/null 2>&1 || { echo "java could not be installed" >&2; exit 1; }
 	@test -x "$(WEBKIT_DRIVER)" || { echo "WebKitWebDriver is missing at $(WEBKIT_DRIVER) and could not be installed" >&2; exit 1; }
 	@test -x "$(XVFB)" || { echo "Xvfb is missing at $(XVFB) and could not be installed" >&2; exit 1; }
+	@command -v cc >/dev/null 2>&1 || { echo "a C compiler (cc) could not be installed" >&2; exit 1; }
 
 bench: $(VENV)/.installed-test
 	$(BIN)/python bench/api_latency.py

@@ -13,6 +13,7 @@ import pytest
 from app.calibration.allan import (
     CHUNK,
     FLICKER,
+    FUSED,
     RANDOM_WALK,
     ROW,
     WHITE,
@@ -52,11 +53,38 @@ def test_equals_allantools_oadev_on_the_same_taus():
         np.testing.assert_array_equal(n_terms, ns)
 
 
+LOOPS = [pytest.param(True, id="fused"), pytest.param(False, id="numpy")]
+"""A core's share summed by the compiled loop, and by numpy (its stand-in where it was not built)."""
+
+
+def test_the_fused_loop_is_built():
+    assert FUSED, "app/calibration/allan_fused.pyx was not compiled: install trical with a C compiler (make install)"
+
+
+def test_the_fused_loop_refuses_what_it_cannot_sum():
+    from app.calibration.allan_fused import sums_of_share
+
+    x = np.cumsum(np.random.default_rng(5).normal(size=1000))
+    out = np.empty(2)
+    for ms, share, shares, into, words in [
+        ([0, 1], 0, 1, out, "averaging factor 0 outside 1 … 499"),
+        ([1, 500], 0, 1, out, "averaging factor 500 outside 1 … 499 for 1000 phase points"),
+        ([1, 2], 2, 2, out, "share 2 of 2"),
+        ([1, 2], 0, 1, np.empty(3), "3 sums to write for 2 averaging factors"),
+    ]:
+        with pytest.raises(ValueError, match=words):
+            sums_of_share(x, np.array(ms, dtype=np.int64), share, shares, into)
+    with pytest.raises(ValueError, match="not C-contiguous"):
+        sums_of_share(x[::2], np.array([1], dtype=np.int64), 0, 1, out[:1])
+
+
+@pytest.mark.parametrize("fused", LOOPS)
 @pytest.mark.parametrize("workers", [1, 2, 3])
-def test_the_shared_sums_equal_the_plain_reference(workers):
-    """The blocked, shared sums (first differences reused for m up to a block, the three windows apart
-    beyond, squared and summed in rows of dot products and a shorter rest) against the plain loop, at
-    every m of the grid, at a block's length and on either side of it."""
+def test_the_shared_sums_equal_the_plain_reference(workers, fused):
+    """The shared sums against the plain loop, at every m of the grid, at a numpy block's length and on
+    either side of it: the fused loop (eight running sums and a rest), and the numpy one (first
+    differences reused for m up to a block, the three windows apart beyond, squared and summed in rows of
+    dot products and a shorter rest)."""
     rng = np.random.default_rng(11)
     n = 4 * CHUNK + 3 * ROW + 17  # blocks that end in a partial row
     y = rng.normal(0.0, 0.02, n) + np.cumsum(rng.normal(0.0, 1e-4, n))
@@ -64,9 +92,9 @@ def test_the_shared_sums_equal_the_plain_reference(workers):
     ms = np.unique(np.concatenate([tau_grid(len(y), 100.0), [CHUNK - 1, CHUNK, CHUNK + 1, 2 * CHUNK + 5]]))
     reference = second_difference_sums(x, ms)
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        shared = second_difference_sums_fast(x, ms, pool, workers)
+        shared = second_difference_sums_fast(x, ms, pool, workers, fused)
     np.testing.assert_allclose(shared, reference, rtol=1e-12)
-    np.testing.assert_allclose(second_difference_sums_fast(x, ms), reference, rtol=1e-12)
+    np.testing.assert_allclose(second_difference_sums_fast(x, ms, fused=fused), reference, rtol=1e-12)
 
 
 def test_tau_grid_has_ten_points_per_decade_up_to_the_longest_tau():
@@ -243,8 +271,8 @@ def test_the_corpus_holds_real_still_recordings_of_every_kind():
 @pytest.mark.parametrize(("samples", "fs"), REAL_STILL)
 def test_real_still_recordings_give_allantools_oadev_and_the_reference_sums(samples, fs):
     """On real sensors' readings (counts that repeat, a quantised compass, a phone's irregular clock, a
-    flight controller ringing), the blocked, shared sums equal the plain reference, and the Allan deviation
-    allantools' oadev at every τ; a board's integer counts saved as int16 give the same figures."""
+    flight controller ringing), the shared sums of both loops equal the plain reference, and the Allan
+    deviation allantools' oadev at every τ; a board's integer counts saved as int16 give the same figures."""
     tau, adev, n_terms, mean = overlapping_adev(samples, fs)
     for k in range(3):
         _, dev, _, ns = allantools.oadev(np.ascontiguousarray(samples[:, k]), rate=fs, data_type="freq", taus=tau)
@@ -252,10 +280,10 @@ def test_real_still_recordings_give_allantools_oadev_and_the_reference_sums(samp
         np.testing.assert_array_equal(n_terms, ns)
         x, _ = phase_of(samples[:, k], fs)
         ms = np.round(tau * fs).astype(np.int64)
+        reference = second_difference_sums(x, ms)
         with ThreadPoolExecutor(max_workers=2) as pool:
-            np.testing.assert_allclose(
-                second_difference_sums_fast(x, ms, pool, 2), second_difference_sums(x, ms), rtol=1e-12
-            )
+            for fused in (True, False):
+                np.testing.assert_allclose(second_difference_sums_fast(x, ms, pool, 2, fused), reference, rtol=1e-12)
     if np.array_equal(samples, np.rint(samples)) and np.abs(samples).max() < 2**15:
         counts = overlapping_adev(samples.astype(np.int16), fs)
         np.testing.assert_allclose(counts[1], adev, rtol=1e-12)
