@@ -1,4 +1,17 @@
 # trical: the API and the pages on 0.0.0.0:8000, SQLite in the /data volume.
+
+# The Allan sums' compiled loop (setup.py), built in a stage of its own: the image carries the built module
+# and no compiler.
+FROM python:3.11-slim AS fused
+RUN apt-get update \
+    && apt-get install -y --no-install-recommends gcc libc6-dev \
+    && rm -rf /var/lib/apt/lists/*
+WORKDIR /srv/trical
+COPY setup.py pyproject.toml README.md ./
+COPY app/calibration/allan_fused.pyx ./app/calibration/
+RUN pip install --no-cache-dir "setuptools>=77" "Cython>=3.0" \
+    && python setup.py build_ext --inplace
+
 FROM python:3.11-slim
 
 ENV PYTHONDONTWRITEBYTECODE=1 \
@@ -15,10 +28,11 @@ RUN mkdir app && touch app/__init__.py \
     && pip uninstall -y trical \
     && rm -rf app build ./*.egg-info
 
-# The code, installed in place so that static/ and templates/ sit beside the package.
+# The code, installed in place so that static/ and templates/ sit beside the package, and the compiled loop.
 COPY app ./app
 COPY static ./static
 COPY templates ./templates
+COPY --from=fused /srv/trical/app/calibration/allan_fused.*.so ./app/calibration/
 RUN pip install --no-deps -e . \
     && useradd --create-home --uid 10001 trical \
     && mkdir -p /data \

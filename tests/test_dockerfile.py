@@ -24,10 +24,21 @@ def instructions() -> list[tuple[str, str]]:
     return out
 
 
+def stages() -> dict[str, list[tuple[str, str]]]:
+    """The instructions of each stage, by its name (the last, the image, as "")."""
+    out: dict[str, list[tuple[str, str]]] = {}
+    for word, rest in instructions():
+        if word == "FROM":
+            name = rest.split(" AS ")[1].strip() if " AS " in rest else ""
+            out[name] = []
+        out[name].append((word, rest))
+    return out
+
+
 def test_image_rules():
-    ins = instructions()
+    ins = stages()[""]
     words = [w for w, _ in ins]
-    assert re.match(r"python:3\.1[1-9]-slim", dict(ins)["FROM"])
+    assert re.match(r"python:3\.1[1-9]-slim$", dict(ins)["FROM"])
     # Dependencies in a layer before the code.
     first_code_copy = next(i for i, (w, r) in enumerate(ins) if w == "COPY" and r.startswith("app"))
     deps_install = next(i for i, (w, r) in enumerate(ins) if w == "RUN" and "pip install ." in r)
@@ -39,11 +50,27 @@ def test_image_rules():
     assert "HEALTHCHECK" in words and "/healthz" in dict(ins)["HEALTHCHECK"]
     cmd = json.loads(dict(ins)["CMD"])
     assert cmd[:2] == ["trical", "serve"] and "0.0.0.0" in cmd and "8000" in cmd
-    # Every path the image copies exists in the repository.
-    for w, r in ins:
-        if w == "COPY":
+    # Every path the image copies exists in the repository, or comes from a stage before it.
+    for w, r in instructions():
+        if w == "COPY" and not r.startswith("--from="):
             for src in r.split()[:-1]:
                 assert (ROOT / src).exists(), src
+
+
+def test_the_compiled_loop_is_built_in_its_own_stage_and_copied_beside_its_source():
+    """The image has no compiler: the stage "fused" builds the extension that setup.py declares, and the
+    image copies the built module to where the package (installed in place) imports it from."""
+    fused = stages()["fused"]
+    assert re.match(r"python:3\.1[1-9]-slim AS fused$", fused[0][1])
+    assert any(w == "RUN" and "gcc" in r for w, r in fused)
+    assert any(w == "RUN" and "build_ext --inplace" in r for w, r in fused)
+    declared = re.search(r'Extension\("([\w.]+)", \["([\w/.]+)"\]', (ROOT / "setup.py").read_text())
+    assert declared, "setup.py declares the extension"
+    module, source = declared.groups()
+    assert (ROOT / source).exists() and ("COPY", f"{source} ./{source.rsplit('/', 1)[0]}/") in fused
+    copied = [r for w, r in stages()[""] if w == "COPY" and r.startswith("--from=fused ")]
+    built = "/srv/trical/" + module.replace(".", "/") + ".*.so"
+    assert copied == [f"--from=fused {built} ./{source.rsplit('/', 1)[0]}/"]
 
 
 def test_entry_command_and_health_check(tmp_path):
