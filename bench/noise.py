@@ -54,6 +54,8 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import lfilter
 
+from app.calibration.allan import FUSED
+
 FS = 200.0
 TRUTH = {"noise_density": 2.0e-3, "random_walk": 4.0e-5, "bias_instability": 1.0e-3}  # rad/s/√Hz, rad/s·√Hz, rad/s
 SEED = 20250131
@@ -254,6 +256,14 @@ def main() -> None:
     print(
         f"\n{len(ms)} τ values, 3 axes, {args.runs} runs each; the data: {size:.0f} MiB, so the peak memory bound "
         f"(data + 50 %) is {1.5 * size:.0f} MiB"
+    )
+    print(
+        "trical's Allan sums (and the floor's pass): "
+        + (
+            "the compiled, fused loop (app/calibration/allan_fused.pyx)"
+            if FUSED
+            else "the numpy loop (the compiled one was not built: pip install -e . with a C compiler)"
+        )
     )
     best = {}
     labels = {
