@@ -181,6 +181,14 @@ def _edge_rms(xc, idx, reg, offsets, lengths, ref, half) -> np.ndarray:
     return np.sqrt((cs[hi] - cs[lo]) / (hi - lo))
 
 
+def _means(csum: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The mean of the samples [lo, hi) of each run, from their cumulative sum; NaN where the range is empty
+    (a run of two samples has no inside to compare its edges with, and NaN is never above a tolerance)."""
+    width = (hi - lo)[:, None]
+    out = np.full((len(lo), csum.shape[1]), np.nan)
+    return np.divide(csum[hi] - csum[lo], width, out=out, where=width > 0)
+
+
 def _trim(xc, csum, a, b, max_trim: int, half: int, tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Cut the transition edges of the still runs [a, b), all runs at once.
 
@@ -194,8 +202,7 @@ def _trim(xc, csum, a, b, max_trim: int, half: int, tol: float) -> tuple[np.ndar
     long = n >= 2 * k + max_trim
     rs_a, rs_b = a + k, np.where(long, a + k + max_trim, b - k)
     re_a, re_b = np.where(long, b - k - max_trim, a + k), b - k
-    ref_s = (csum[rs_b] - csum[rs_a]) / (rs_b - rs_a)[:, None]
-    ref_e = (csum[re_b] - csum[re_a]) / (re_b - re_a)[:, None]
+    ref_s, ref_e = _means(csum, rs_a, rs_b), _means(csum, re_a, re_b)
     length = np.minimum(k + half, n)
 
     idx, reg, off = _ranges(a, length)

@@ -6,7 +6,7 @@ import pytest
 from app.calibration import CANONICAL_SIX, fit_six_position
 from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.static import StaticSegment, detect_static_segments
+from app.calibration.static import StaticSegment, _trim, detect_static_segments
 from simulations.logs import simulate_static_log
 
 BOUNDARY_TOL_S = 0.4
@@ -236,3 +236,18 @@ def test_a_rest_is_still_on_every_sensor_a_ringing_gyroscope_and_a_turning_compa
     assert not used[np.abs(ringing) > 0.04].any()  # none takes the ringing above 4 × the windows' noise floor
     assert not used[(t >= 20.2) & (t < 21.8)].any()  # nor the compass's turn, but for its first and last degrees
     assert used.mean() > 0.8 and used[0] and used[-1]
+
+
+def test_a_run_too_short_to_have_an_inside_is_left_as_it_is_without_a_warning():
+    """A still run of two samples (seen on a real compass turned by hand, its units mislabelled) has no
+    inside to compare its edges with: it is not cut, and no division by zero is announced."""
+    import warnings
+
+    x = np.random.default_rng(4).normal(size=(40, 3))
+    csum = np.zeros((41, 3))
+    np.cumsum(x, axis=0, out=csum[1:])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        a, b = _trim(x, csum, np.array([3, 10]), np.array([5, 40]), 5, 2, 0.5)
+    assert (a[0], b[0]) == (3, 5)
+    assert 10 <= a[1] < b[1] <= 40
