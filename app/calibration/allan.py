@@ -8,12 +8,12 @@ The Allan variance of a rate ``y`` sampled at ``fs`` (IEEE Std 952-1997, Annex C
     σ²(τ) = 1 / (2 τ² (L − 2m)) · Σ_{i=0}^{L−2m−1} (x_{i+2m} − 2 x_{i+m} + x_i)²
 
 with L = N + 1 phase points (NIST SP 1065, W. J. Riley, *Handbook of Frequency Stability
-Analysis*, 2008, eq. (14)).  Each τ costs one pass over the phase; two axes are in memory at a time (the phase, float64,
-of the one summed and of the next), whatever the length of the (memory-mapped) input, and the range of
-every τ is shared between the cores (:func:`second_difference_sums_fast`). A core's share is summed by
-the compiled, fused loop of :mod:`app.calibration.allan_fused` where the package was built with it
-(:data:`FUSED`), and otherwise by numpy in blocks of :data:`CHUNK` terms; :func:`second_difference_sums`
-is the plain reference both are tested against.
+Analysis*, 2008, eq. (14)).  Each τ costs one pass over the phase; two axes are in memory at a time
+(the phase, float64, of the one summed and of the next), whatever the length of the (memory-mapped)
+input, and the range of every τ is shared between the cores (:func:`second_difference_sums_fast`). A
+core's share is summed by the compiled, fused loop of :mod:`app.calibration.allan_fused` where the
+package was built with it (:data:`FUSED`), and otherwise by numpy in blocks of :data:`CHUNK` terms;
+:func:`second_difference_sums` is the plain reference both are tested against.
 
 The confidence of each point comes from its equivalent degrees of freedom for the dominant power-law
 noise (Howe, Allan and Barnes, *Properties of signal sources and measurement methods*, 35th Annual
