@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import lfilter
 
-from app.calibration.allan import FUSED
+from app.calibration.allan import FUSED, NOT_BUILT
 
 FS = 200.0
 TRUTH = {"noise_density": 2.0e-3, "random_walk": 4.0e-5, "bias_instability": 1.0e-3}  # rad/s/√Hz, rad/s·√Hz, rad/s
@@ -259,11 +259,7 @@ def main() -> None:
     )
     print(
         "trical's Allan sums (and the floor's pass): "
-        + (
-            "the compiled, fused loop (app/calibration/allan_fused.pyx)"
-            if FUSED
-            else "the numpy loop (the compiled one was not built: pip install -e . with a C compiler)"
-        )
+        + ("the compiled, fused loop (app/calibration/allan_fused.pyx)" if FUSED else f"the numpy loop ({NOT_BUILT})")
     )
     best = {}
     labels = {

@@ -50,6 +50,12 @@ FUSED = _fused_sums_of_share is not None
 compiler is present (setup.py). (3 h at 200 Hz, one axis, 61 τ: 0.07 s on one core and 0.03 s on two, against
 0.10 s and 0.075 s for the numpy loop.)"""
 
+NOT_BUILT = (
+    "the compiled loop (app/calibration/allan_fused.pyx) was not built: reinstall trical where a C compiler is "
+    "(pip install -e . in a checkout)"
+)
+"""What to do when the compiled loop is missing: said by the tests, the bench, and a caller that asks for it."""
+
 CHUNK = 1 << 18
 """Second differences formed per block (2 MB of float64): few enough numpy calls per τ that their own cost
 (about a microsecond each, with the interpreter's lock held) stays small beside the arithmetic, so that the
@@ -171,7 +177,7 @@ def _sums_of_share(x: np.ndarray, ms: np.ndarray, share: int, shares: int, fused
     if not fused:
         return _numpy_sums_of_share(x, ms, share, shares)
     if _fused_sums_of_share is None:
-        raise RuntimeError("the fused loop was not built: reinstall trical with a C compiler (pip install .)")
+        raise RuntimeError(NOT_BUILT)
     out = np.empty(len(ms))
     _fused_sums_of_share(x, np.ascontiguousarray(ms, dtype=np.int64), share, shares, out)
     return out

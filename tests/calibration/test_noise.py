@@ -14,6 +14,7 @@ from app.calibration.allan import (
     CHUNK,
     FLICKER,
     FUSED,
+    NOT_BUILT,
     RANDOM_WALK,
     ROW,
     WHITE,
@@ -58,7 +59,7 @@ LOOPS = [pytest.param(True, id="fused"), pytest.param(False, id="numpy")]
 
 
 def test_the_fused_loop_is_built():
-    assert FUSED, "app/calibration/allan_fused.pyx was not compiled: install trical with a C compiler (make install)"
+    assert FUSED, NOT_BUILT
 
 
 def test_the_fused_loop_refuses_what_it_cannot_sum():
