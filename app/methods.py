@@ -31,6 +31,7 @@ from app.io.export_noise import NOISE_EXPORTERS
 from app.io.export_temperature import TEMPERATURE_EXPORTERS
 from app.io.exporters import EXPORTERS, Export, export_calibration
 from app.workflows import autocal, compass, cube, flight_compass, noise, still, temperature
+from app.workflows.calibration import Calibration
 from app.workflows.entry import calibrate as run_handler
 from app.workflows.recordings import RecordingSource
 
@@ -74,7 +75,7 @@ class Method:
 
     name: str
     request: type[BaseModel]
-    handler: Callable[..., dict]
+    handler: Callable[..., Calibration]
     response: str | None
     command: str
     formats: tuple[str, ...]
@@ -260,9 +261,9 @@ def parse_calibration_request(data: dict):
     return CALIBRATION_REQUEST.validate_python(data)
 
 
-def calibrate(request, recording: RecordingSource | None = None) -> dict:
-    """The calibration a request asks for, computed by its method's handler (unstored); see
-    :func:`app.workflows.entry.calibrate`."""
+def calibrate(request, recording: RecordingSource | None = None) -> Calibration:
+    """The calibration a request asks for, computed by its method's handler (unstored, typed: its plain form by
+    :meth:`~app.workflows.calibration.Calibration.body`); see :func:`app.workflows.entry.calibrate`."""
     return run_handler(BY_NAME[request.method].handler, request, recording)
 
 

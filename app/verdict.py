@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from app.calibration.angles import figure_degrees
 from app.calibration.errors import CalibrationError
+from app.calibration.headlines import SENSOR_WORDS
+from app.calibration.noise import TERM_WORDS, duration_words
 from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult
 
 MIN_GAIN_FRACTION = 0.2
@@ -104,8 +106,15 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
 
 
 def _figures_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:
-    """A noise characterisation corrects nothing: its figures are for a filter."""
-    if ok:
+    """A noise characterisation corrects nothing: its figures are for a filter. Where a filter's noise model
+    lacks one of them (a sensor not recorded, a random walk a short rest does not show), it says what is missing
+    and how long to record; what was measured is still offered (the JSON, the CSV, the plot)."""
+    if not ok:
+        return _out(
+            False, "failed", "Don't use these figures: the noise could not be characterised.", _short_reason(reasons)
+        )
+    gaps = cls.filter_gaps(metrics)
+    if not gaps:
         return _out(
             True,
             "figures",
@@ -113,8 +122,36 @@ def _figures_verdict(cls, method, figures, line, ok: bool, reasons: list[str], m
             "White noise, random walk and bias instability per axis (IEEE Std 952), for a Kalman filter's noise model.",
         )
     return _out(
-        False, "failed", "Don't use these figures: the noise could not be characterised.", _short_reason(reasons)
+        True,
+        "figures",
+        f"Not enough for a filter yet: {_gaps_words(gaps)}.",
+        f"A filter's noise model (Kalibr, OpenVINS, VINS-Fusion) takes the {FILTER_NEEDS}. The figures measured are "
+        "in the JSON and CSV files and the Allan plot.",
     )
+
+
+FILTER_NEEDS = "accelerometer's and the gyroscope's white noise and random walk"
+
+
+def _gaps_words(gaps) -> str:
+    """What a filter lacks, its cause first and what to record second: "the gyroscope's random walk did not show
+    in this rest — record the device still for 27 s"."""
+    missing = [SENSOR_WORDS.get(g.sensor, g.sensor) for g in gaps if g.term is None]
+    unseen: dict[str, list[str]] = {}
+    for g in gaps:
+        if g.term is not None:
+            unseen.setdefault(SENSOR_WORDS.get(g.sensor, g.sensor), []).append(TERM_WORDS.get(g.term, g.term))
+    causes = [f"the recording has no {' and no '.join(missing)}"] if missing else []
+    if unseen:
+        terms = " and ".join(f"the {sensor}'s {' and '.join(words)}" for sensor, words in unseen.items())
+        causes.append(f"{terms} did not show in this rest")
+    records = [g.record_s for g in gaps if g.record_s is not None]
+    remedies = ["record the accelerometer and the gyroscope together"] if missing else []
+    if records:
+        remedies.append(f"record the device still for {duration_words(max(records))}")
+    elif unseen:
+        remedies.append("sample faster, or check that the readings are not filtered or rounded")
+    return f"{'; '.join(causes)} — {', and '.join(remedies)}"
 
 
 def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:

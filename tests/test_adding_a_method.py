@@ -95,14 +95,14 @@ from __future__ import annotations
 
 from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.toy import fit_toy
-from app.workflows.results import calibration_body
+from app.workflows.calibration import Calibration
 
 
-def toy(request, recording) -> dict:
+def toy(request, recording) -> Calibration:
     log = recording.read()
     unit = log.units["acc"]
     result = fit_toy(log.acc, STANDARD_GRAVITY if unit == "m/s^2" else 1.0)
-    return calibration_body(
+    return Calibration.of(
         result,
         {},
         unit=unit,

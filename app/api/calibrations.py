@@ -46,7 +46,7 @@ async def create_calibration(request: CalibrationIn, store: StoreDep, owner: Own
 def calibrate_and_store(request: CalibrationIn, store: Store, owner: str | None, reader: tuple[str, str | None]):
     """The body of POST /api/v1/calibrations: the calibration computed, stored, and its words for ``reader``."""
     source = recording_source(store, getattr(request, "recording_id", None), owner)
-    body = methods.calibrate(request, source)
+    body = methods.calibrate(request, source).body()
     # A calibration of the same upload and method supersedes the earlier ones (none is deleted).
     digest = source.meta.get("content_sha256") if source is not None else None
     return render_body(store.add_calibration(body, owner=owner, recording_digest=digest), *reader)

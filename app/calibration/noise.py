@@ -60,6 +60,23 @@ TERM_WORDS = {
     "bias": "bias",
 }
 """Each figure of a sensor's noise in words, in the order the page's table and the plot's captions name them."""
+
+FILTER_SENSORS = ("acc", "gyr")
+FILTER_TERMS = ("noise_density", "random_walk")
+"""What a navigation filter's noise model takes (Kalibr's imu.yaml, OpenVINS, VINS-Fusion): each of these sensors'
+white noise and random walk, one figure a sensor (app/io/export_noise.py)."""
+
+
+@dataclass(frozen=True)
+class FilterGap:
+    """A figure a filter needs that a noise characterisation lacks: the sensor's, or one term of it (``term`` None:
+    the sensor was not recorded); ``record_s``, how long a still recording would show it, where one would."""
+
+    sensor: str
+    term: str | None = None
+    record_s: float | None = None
+
+
 _ALPHAS = (WHITE, FLICKER, RANDOM_WALK)
 
 TERM_UNITS = {
@@ -184,22 +201,44 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
     return AxisNoise(values, intervals, taus, theta, edf, lo_f, hi_f)
 
 
+def _random_walk_bound(readings: list[AxisNoise], tau, avar_hi) -> tuple[float, float]:
+    """An unseen random walk: the largest K² the Allan variance's upper bounds allow, and the τ from which a
+    random walk that large would rise above the white noise and the floor (IEEE Std 952, Annex C: σ² = N²/τ
+    + 2 ln2 B²/π + K² τ/3)."""
+    n2 = max(r.theta[0] for r in readings)
+    k2 = float(np.max(np.min(3.0 * avar_hi / tau[:, None], axis=0)))  # the curve's upper end bounds K at every τ
+    b2 = max(r.theta[1] for r in readings)
+    need = (FLICKER_VARIANCE * b2 + math.sqrt((FLICKER_VARIANCE * b2) ** 2 + 4.0 * k2 * n2 / 3.0)) / (2.0 * k2 / 3.0)
+    return k2, need
+
+
+def record_for_s(name: str, readings: list[AxisNoise], tau, avar_hi) -> float | None:
+    """How long a still recording would show a term it did not (seconds), or None where a longer one would not
+    (a floor hidden by a random walk, a white noise that no τ shows)."""
+    tau_max = float(tau[-1])
+    if name == "random_walk":
+        _, need = _random_walk_bound(readings, tau, avar_hi)
+    elif name == "bias_instability" and not any(r.values["random_walk"] is not None for r in readings):
+        b2 = float(np.min(avar_hi)) / FLICKER_VARIANCE
+        need = max(r.theta[0] for r in readings) / (FLICKER_VARIANCE * b2) if b2 > 0 else math.inf
+    else:
+        return None
+    seconds = max(RECORD_FACTOR * need, 4.0 * tau_max)
+    return seconds if math.isfinite(seconds) else None
+
+
 def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, avar_hi, sensor: str, unit: str) -> str:
     """Why a term is null on some axes, and how long a recording would show it."""
     tau_max = float(tau[-1])
     which = f"{sensor} {'/'.join(axes)}"
     n2 = max(r.theta[0] for r in readings)
     if name == "random_walk":
-        k2 = float(np.max(np.min(3.0 * avar_hi / tau[:, None], axis=0)))  # the curve's upper end bounds K at every τ
-        b2 = max(r.theta[1] for r in readings)
-        need = (FLICKER_VARIANCE * b2 + math.sqrt((FLICKER_VARIANCE * b2) ** 2 + 4.0 * k2 * n2 / 3.0)) / (
-            2.0 * k2 / 3.0
-        )
+        k2, need = _random_walk_bound(readings, tau, avar_hi)
         return (
             f"{which}: random_walk is null — the Allan deviation does not turn up to τ = {tau_max:.3g} s "
             f"(the longest this still recording supports); a random walk of at most {math.sqrt(k2):.3g} "
             f"{term_units(unit)['random_walk_unit']} would show from τ ≈ {need:.3g} s: record the device still for "
-            f"at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}"
+            f"at least {duration_words(max(RECORD_FACTOR * need, 4.0 * tau_max))}"
         )
     if name == "bias_instability":
         b2 = float(np.min(avar_hi)) / FLICKER_VARIANCE
@@ -212,7 +251,7 @@ def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, 
         return (
             f"{which}: bias_instability is null — the Allan deviation still falls as white noise at "
             f"τ = {tau_max:.3g} s; a floor of B ≤ {math.sqrt(b2):.3g} {unit} would show from τ ≈ {need:.3g} s: "
-            f"record the device still for at least {_duration(max(RECORD_FACTOR * need, 4.0 * tau_max))}"
+            f"record the device still for at least {duration_words(max(RECORD_FACTOR * need, 4.0 * tau_max))}"
         )
     return (
         f"{which}: noise_density is null — white noise dominates no τ from {FIT_MIN_M} samples on: sample "
@@ -220,7 +259,7 @@ def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, 
     )
 
 
-def _duration(seconds: float) -> str:
+def duration_words(seconds: float) -> str:
     if not math.isfinite(seconds):
         return "much longer"
     if seconds < 120:
@@ -289,16 +328,20 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     uncertainty = {name: [r.intervals[name] for r in readings] for name in TERMS}
     uncertainty["bias"] = [[float(m - z * s), float(m + z * s)] for m, s in zip(mean, se)]
     warnings = []
+    record_for = {}
     for name in ("noise_density", "random_walk", "bias_instability"):
         axes = [ax for ax, r in zip("xyz", readings) if r.values[name] is None]
         if axes:
             warnings.append(_unseen_warning(name, axes, readings, tau, hi**2, sensor, unit))
+            if (seconds := record_for_s(name, readings, tau, hi**2)) is not None:
+                record_for[name] = seconds
     imin = np.argmin(adev, axis=0)
     metrics = {
         **{f"tau_{name}_s": [r.taus[name] for r in readings] for name in TERMS},
         "adev_min": [float(adev[imin[k], k]) for k in range(3)],
         "tau_adev_min_s": [float(tau[imin[k]]) for k in range(3)],
         "bias_standard_error": se.tolist(),
+        "record_for_s": record_for,
     }
     adev_plain = {
         "tau_s": tau.tolist(),
@@ -351,6 +394,22 @@ class NoiseResult(PerSensorResult):
 
     def apply(self, samples, sensor: str | None = None):
         raise CalibrationError("a noise characterisation corrects nothing: apply a calibration of another method")
+
+    @classmethod
+    def filter_gaps(cls, metrics: dict) -> tuple[FilterGap, ...]:
+        """What a filter's noise model needs (:data:`FILTER_SENSORS`' :data:`FILTER_TERMS`) that these metrics
+        lack: a sensor not characterised, or a term not seen on some axis (its τ is null), with how long a still
+        recording would show it. Read from the metrics, so that a stored body answers as its result does."""
+        gaps = []
+        for sensor in FILTER_SENSORS:
+            part = metrics.get(sensor)
+            if not part:
+                gaps.append(FilterGap(sensor))
+                continue
+            for term in FILTER_TERMS:
+                if any(t is None for t in part.get(f"tau_{term}_s") or [None]):
+                    gaps.append(FilterGap(sensor, term, (part.get("record_for_s") or {}).get(term)))
+        return tuple(gaps)
 
     def physical_figures(self) -> list:
         """Each sensor's noise density and the gyroscope's bias (its mean at rest), in the unit it was

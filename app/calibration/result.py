@@ -401,6 +401,17 @@ class CalibrationResult(Gated):
         """The sensors it has a correction of (the keys of :meth:`corrections`, without computing them)."""
         return ("acc",)
 
+    @classmethod
+    def filter_gaps(cls, metrics: dict) -> tuple:
+        """A result whose figures are for a filter (:attr:`KIND` ``figures``: the noise) says which figures a
+        filter needs that its metrics lack; others lack none."""
+        return ()
+
+    def figure_sensors(self) -> tuple[str, ...]:
+        """The sensors its figures are of: a question the reading left open about one of them (its unit)
+        leaves this result not ok. A correction's are the sensors it corrects."""
+        return self.corrected_sensors()
+
     @property
     def correction(self) -> AffineCorrection:
         """The accelerometer's correction ``a = M (m − o)``.
@@ -674,6 +685,9 @@ class PerSensorResult(CalibrationResult):
 
     def corrections(self) -> dict:
         return {}
+
+    def figure_sensors(self) -> tuple[str, ...]:
+        return tuple(self.sensors)
 
     def model_dict(self) -> dict:
         return {name: part["model"] for name, part in self.sensors.items()}

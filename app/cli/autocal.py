@@ -46,7 +46,7 @@ def _autocal_options(args) -> dict:
 def _autocal_job(path: str, options: dict) -> dict:
     """One file of a folder run (top level, so that worker processes can pickle it)."""
     try:
-        return autocalibrate_file(path, **options)
+        return autocalibrate_file(path, **options).body()
     except (CalibrationError, LogFormatError) as exc:
         return {"label": Path(path).name, "ok": False, "error": str(exc)}
     except Exception as exc:  # a worker must report, never take the run down
@@ -63,7 +63,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
         from app.cli.printers import ProgressBar
 
         progress = ProgressBar(args.path.name)
-    body = autocalibrate_file(args.path, progress=progress, **options)
+    body = autocalibrate_file(args.path, progress=progress, **options).body()
     if args.store:
         from app.cli.finish import store_of
 

@@ -82,7 +82,7 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
             + ", ".join(f"{a}–{b - 1}" for _, a, b in captures)
         )
     request = methods.parse_calibration_request(calibration_request(args, unit=log.units.get("acc", "m/s^2")))
-    body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log))
+    body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log)).body()
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
         body["captures"] = [
             {

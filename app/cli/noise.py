@@ -65,7 +65,7 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
         array_sensor=sensor if array else None,
         device_id=args.device_id,
         label=label,
-    )
+    ).body()
     return finish(args, settings, body, plot=_plot, summary=_summary)
 
 

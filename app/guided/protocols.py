@@ -53,7 +53,8 @@ from app.guided.capture_rules import (
 )
 from app.io.log import GYR_TO_RAD_S
 from app.store import ConflictError
-from app.workflows.results import calibration_body, pose_advice
+from app.workflows.calibration import Calibration
+from app.workflows.results import pose_advice
 from app.workflows.still import SIX_POSITION, Reading, calibrate_known, calibrate_unknown
 
 if TYPE_CHECKING:
@@ -140,7 +141,7 @@ class SessionProtocol(Protocol):
             f"{len(session.captures)} of {len(self.positions)} positions"
         )
 
-    def solve(self, store, session: Session) -> dict:
+    def solve(self, store, session: Session) -> Calibration:
         """The calibration body of the session.
 
         Raises
@@ -152,7 +153,7 @@ class SessionProtocol(Protocol):
             raise InsufficientDataError(self.unsolvable(session))
         return self._solve(store, session)
 
-    def _solve(self, store, session: Session) -> dict:
+    def _solve(self, store, session: Session) -> Calibration:
         raise NotImplementedError
 
 
@@ -425,7 +426,7 @@ class Cube24Protocol(SessionProtocol):
 
         acc, gyr, rate = self.recording(store, session)
         result = calibrate_cube(acc, gyr, None, sampling_rate_hz=rate, protocol=self.name, gravity=session.gravity)
-        return calibration_body(
+        return Calibration.of(
             result,
             {},
             unit=session.unit,
@@ -516,7 +517,7 @@ def session_gyroscope_bias(session: Session) -> dict | None:
     )
 
 
-def session_body(session: Session, result, extra: dict, **fields) -> dict:
+def session_body(session: Session, result, extra: dict, **fields) -> Calibration:
     """The calibration body of a solved session of still poses: the browser's notes, the capture rates, the
     gyroscope's bias, its owner's fields."""
     rates = [c["sampling_rate_hz"] for c in session.captures]
@@ -524,7 +525,7 @@ def session_body(session: Session, result, extra: dict, **fields) -> dict:
     bias = session_gyroscope_bias(session)
     if bias is not None:
         fields["gyroscope_bias"] = bias
-    return calibration_body(
+    return Calibration.of(
         result,
         extra,
         unit=session.unit,

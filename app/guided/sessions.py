@@ -179,11 +179,11 @@ def add_capture(store, session: Session, capture: dict) -> tuple[dict, dict]:
 
 
 def solve(store, session: Session) -> dict:
-    """The calibration of a complete session, as a calibration body (its protocol's method: app.guided.protocols).
+    """The calibration of a complete session, as its plain body (its protocol's method: app.guided.protocols).
 
     Raises
     ------
     InsufficientDataError
         Poses remain to be captured (free: fewer than FREE_FIT_FROM).
     """
-    return session.protocol.solve(store, session)
+    return session.protocol.solve(store, session).body()

@@ -8,12 +8,12 @@ from app.calibration import CalibrationError
 from app.io.formats import read_log
 from app.io.log import ACC_PHYSICAL_UNITS
 from app.io.read_options import ReadOptions
+from app.workflows.calibration import Calibration
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
-from app.workflows.results import calibration_body
 
 
-def autocal(request, recording: RecordingSource) -> dict:
+def autocal(request, recording: RecordingSource) -> Calibration:
     """Method ``autocal``: an uploaded long recording, read as it was uploaded (:func:`autocalibrate_file`)."""
     require_accelerometer(recording.meta["units"], "autocal")
     # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
@@ -56,8 +56,8 @@ def autocalibrate_file(
     selection: dict | None = None,
     threads: int | None = None,
     **fields,
-) -> dict:
-    """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration body.
+) -> Calibration:
+    """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration.
 
     Parameters
     ----------
@@ -85,8 +85,8 @@ def autocalibrate_file(
 
     Returns
     -------
-    dict
-        The body of :func:`calibration_body`: ``method: "autocal"``, ``model`` (triangular K, o),
+    Calibration
+        Its plain form (:meth:`Calibration.body`) holds ``method: "autocal"``, ``model`` (triangular K, o),
         ``metrics`` (``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set),
         ``comparison``, ``selection``, ``detection``, ``ok``, ``warnings``, ``reasons``.
     """
@@ -113,7 +113,7 @@ def autocalibrate_file(
 
     result = autocalibrate(rest, solver=solver, **(selection or {}))
     fields.setdefault("label", path.name)
-    return calibration_body(
+    return Calibration.of(
         result,
         {},
         unit=unit,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 from dataclasses import dataclass
 
@@ -9,8 +10,8 @@ import numpy as np
 
 from app.calibration import CalibrationError
 from app.io.log import MAG_TO_UT, LogData
+from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, still_segments
-from app.workflows.results import calibration_body
 
 
 def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
@@ -74,7 +75,7 @@ def inline_mag(mag: np.ndarray, notes: list[str]) -> tuple[np.ndarray, str]:
     return (mag, "raw") if inferred == "raw" else (mag * {"gauss": GAUSS_UT, **MAG_TO_UT}[inferred], "uT")
 
 
-def magnetometer(request, recording: RecordingSource | None) -> dict:
+def magnetometer(request, recording: RecordingSource | None) -> Calibration:
     """Method ``magnetometer``: inline readings or a recording, referenced to the field given, the Earth's at
     a place, or estimated."""
     from app.calibration.magnetometer import fit_magnetometer  # scipy.optimize: see still.calibrate_unknown
@@ -110,7 +111,7 @@ def magnetometer(request, recording: RecordingSource | None) -> dict:
     result = fit_magnetometer(
         mag, rests=rests, raw_comparable=unit == "uT", label="counts" if counts else "µT", **reference
     )
-    return calibration_body(
+    return Calibration.of(
         result,
         extra,
         unit=unit,
@@ -138,16 +139,16 @@ class CompassAsk:
     method: str = "magnetometer"
 
 
-def auto_compass(request, recording: RecordingSource) -> dict:
+def auto_compass(request, recording: RecordingSource) -> Calibration:
     """``auto`` on a recording of the magnetometer alone: the compass, its field estimated (``auto``
     takes no place; method magnetometer with a place references the Earth's field there)."""
     compass = CompassAsk(recording_id=request.recording_id, device_id=request.device_id, label=request.label)
-    body = magnetometer(compass, recording)
-    body["choice"] = {
+    calibration = magnetometer(compass, recording)
+    choice = {
         "method": compass.method,
         "candidates": {},
         "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
         "calibration; for the Earth's field at your place use method magnetometer with "
         "latitude_deg, longitude_deg and date",
     }
-    return body
+    return dataclasses.replace(calibration, fields={**calibration.fields, "choice": choice})

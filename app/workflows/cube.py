@@ -7,9 +7,9 @@ import dataclasses
 
 from app.calibration import CalibrationError
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, LogData
+from app.workflows.calibration import Calibration
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
-from app.workflows.results import calibration_body
 
 
 def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None, sections=None):
@@ -42,7 +42,7 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
     )
 
 
-def cube(request, recording: RecordingSource) -> dict:
+def cube(request, recording: RecordingSource) -> Calibration:
     """Method ``cube``: a recording of the cube's positions and the turns between them, in one file."""
     if recording.meta.get("parts"):
         raise CalibrationError(
@@ -59,6 +59,6 @@ def cube(request, recording: RecordingSource) -> dict:
         log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut, sections=sections
     )
     result = dataclasses.replace(result, units=dict(log.units))
-    return calibration_body(
+    return Calibration.of(
         result, {}, unit=unit, notes=notes, device_id=request.device_id, label=request.label, **recording.source_fields
     )

@@ -6,15 +6,16 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from app.calibration import CalibrationError
+from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource
 
-Handler = Callable[..., dict]
-"""A method's handler: ``handler(request, recording)`` returns the calibration's plain form."""
+Handler = Callable[..., Calibration]
+"""A method's handler: ``handler(request, recording)`` returns the typed calibration."""
 
 
-def calibrate(handler: Handler, request, recording: RecordingSource | None = None) -> dict:
-    """Compute the calibration a request asks for with its method's handler, and return its stored form
-    (unstored).
+def calibrate(handler: Handler, request, recording: RecordingSource | None = None) -> Calibration:
+    """Compute the calibration a request asks for with its method's handler (unstored, typed: its plain form,
+    headline and verdict come from :meth:`Calibration.body`, once).
 
     Parameters
     ----------
@@ -28,8 +29,9 @@ def calibrate(handler: Handler, request, recording: RecordingSource | None = Non
 
     Returns
     -------
-    dict
-        The calibration's plain form with ``device_id``, ``label`` and the recording's fields.
+    Calibration
+        The calibration with ``device_id``, ``label`` and the recording's fields; of a recording, the reader's
+        warnings first and the questions it left open among its reasons.
 
     Raises
     ------
@@ -40,19 +42,9 @@ def calibrate(handler: Handler, request, recording: RecordingSource | None = Non
     """
     if getattr(request, "recording_id", None) is not None and recording is None:
         raise CalibrationError(f"recording {request.recording_id!r} was not given to the workflow")
-    body = handler(request, recording)
-    if recording is not None:  # what the reader decided against the header or the caller (units) comes first
-        said = [w for w in recording.meta.get("warnings") or [] if w not in body["warnings"]]
-        body["warnings"] = said + list(body["warnings"])
-        # What the reading left open (a gyroscope's unit): a figure of that sensor hangs on it, so not ok.
-        asked = [q["detail"] for q in recording.meta.get("questions") or [] if _uses(body, q["sensor"])]
-        if asked and "ok" in body:
-            body["ok"] = False
-            body["reasons"] = asked + [r for r in body.get("reasons") or [] if r not in asked]
-    return body
-
-
-def _uses(body: dict, sensor: str) -> bool:
-    """Whether a calibration's figures are of ``sensor`` (its model holds them, or its type names it)."""
-    model = body.get("model") or {}
-    return sensor in model or sensor in str(model.get("type", "")) or body.get("sensor") == sensor
+    calibration = handler(request, recording)
+    if recording is None:
+        return calibration
+    # What the reader decided against the header or the caller (units) comes first; what it left open (a
+    # gyroscope's unit) is a reason of a result whose figures hang on it.
+    return calibration.read_from(recording.meta.get("warnings") or [], recording.meta.get("questions") or [])

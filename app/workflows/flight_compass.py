@@ -16,8 +16,8 @@ import datetime
 import numpy as np
 
 from app.calibration import CalibrationError
+from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource
-from app.workflows.results import calibration_body
 
 
 def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -72,7 +72,7 @@ def _place(request, log, notes: list[str]) -> tuple[float, float, float, datetim
     return float(lat), float(lon), float(height), day
 
 
-def compass_flight(request, recording: RecordingSource | None) -> dict:
+def compass_flight(request, recording: RecordingSource | None) -> Calibration:
     """Method ``compass_flight``: a flight log's compass against the field its attitude expects."""
     from app.calibration.magnetometer import FlightCompassCalibration, fit_flight_compass
     from app.geomag import GeomagneticRangeError, reference_field
@@ -138,7 +138,7 @@ def compass_flight(request, recording: RecordingSource | None) -> dict:
         "field_date": day.isoformat(),
     }
     result = FlightCompassCalibration.from_fit(fit, flight=flight, metrics=metrics)
-    return calibration_body(
+    return Calibration.of(
         result,
         {},
         unit="uT",

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from app.calibration import CalibrationError
 from app.io.log import SI_UNITS, TO_SI, LogData
+from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, require_rate
-from app.workflows.results import calibration_body
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
 NOISE_REST_S = 5.0
@@ -19,7 +21,7 @@ NOISE_GAPS_MAX = 0.01
 stretches as if they were adjacent."""
 
 
-def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = None, **fields) -> dict:
+def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = None, **fields) -> Calibration:
     """Noise characterisation (app.calibration.noise) of every chosen sensor of a still recording.
 
     ``array_sensor`` names the sensor a three-column array (``.npy``, Parquet) holds, which the readers
@@ -62,7 +64,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
         reasons=tuple(reasons),
         unit=parts[wanted[0]]["model"]["unit"],
     )
-    return calibration_body(result, {}, unit=result.unit, notes=notes, **fields)
+    return Calibration.of(result, {}, unit=result.unit, notes=notes, **fields)
 
 
 def _chosen_sensors(log: LogData, sensors, array_sensor: str | None) -> tuple[dict, dict, list]:
@@ -145,7 +147,7 @@ def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, rea
             notes.append(said + ": few enough for the Allan deviation")
 
 
-def noise(request, recording: RecordingSource) -> dict:
+def noise(request, recording: RecordingSource) -> Calibration:
     """Method ``noise``: the chosen sensors of a still recording (a flight log's compass on its own clock)."""
     clock = None
     if recording.meta.get("flight") is not None and request.sensors and "mag" in request.sensors:
@@ -159,7 +161,7 @@ def noise(request, recording: RecordingSource) -> dict:
     log, notes = recording.read(clock=clock), []
     if log.parts:  # one file per pose: the noise of one file, never across two
         log, notes = one_still_file(log)
-    body = characterise_log(
+    calibration = characterise_log(
         log,
         sensors=request.sensors,
         array_sensor=request.sensor,
@@ -167,8 +169,7 @@ def noise(request, recording: RecordingSource) -> dict:
         label=request.label or recording.meta.get("filename"),
         **recording.source_fields,
     )
-    body["warnings"] = notes + body["warnings"]
-    return body
+    return dataclasses.replace(calibration, read_warnings=tuple(notes) + calibration.read_warnings)
 
 
 def one_still_file(log: LogData) -> tuple[LogData, list[str]]:

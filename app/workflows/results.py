@@ -1,12 +1,7 @@
-"""What every method family shares about a result: its stored form (headline and verdict from the result
-the body rebuilds), the figures of readings held out, the poses to add next, and applying a stored
-calibration."""
+"""What every method family shares about a result: the figures of readings held out, the poses to add next,
+and applying a stored calibration (its typed form and plain body: app.workflows.calibration)."""
 
 from __future__ import annotations
-
-import dataclasses
-
-from app.verdict import verdict
 
 
 def holdout_metrics(result, holdout) -> dict:
@@ -30,21 +25,3 @@ def apply_calibration(body: dict, samples, sensor: str = "acc"):
     from app.calibration.result import CalibrationResult  # from_dict imports every model
 
     return CalibrationResult.from_dict(body).apply(samples, sensor)
-
-
-def calibration_body(result, extra_metrics: dict, *, unit: str, notes: list[str], **fields) -> dict:
-    """The stored and returned form of a calibration: the result's plain form with the metrics and
-    notes of the request and the caller's fields (device_id, label, the recording's id…); its headline
-    and verdict come from the result the body rebuilds, which sees the request's metrics too."""
-    if result.unit != unit:  # the core fits numbers; the caller knows their unit (the cube's is in its units)
-        result = dataclasses.replace(result, unit=unit)
-    body = result.to_dict()
-    body["metrics"].update(extra_metrics)
-    stored = type(result).from_dict(body)
-    line = stored.headline()  # the line a person reads first
-    if line is not None:
-        body["headline"] = line
-    body["warnings"] = list(body["warnings"]) + notes
-    body.update(fields)
-    body["verdict"] = verdict(body, stored)
-    return body

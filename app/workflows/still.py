@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -22,10 +22,11 @@ from app.calibration.trust import review
 from app.calibration.validation import as_vectors
 from app.io.log import ACC_PHYSICAL_UNITS
 from app.io.plural import counted
+from app.workflows.calibration import Calibration
 from app.workflows.compass import auto_compass
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer
-from app.workflows.results import calibration_body, holdout_metrics, pose_advice
+from app.workflows.results import holdout_metrics, pose_advice
 
 
 @dataclass(frozen=True)
@@ -306,7 +307,7 @@ def inline_unit(request, notes: list[str]) -> str:
     return unit
 
 
-def _known(spec: StillFit, request, recording: RecordingSource | None) -> dict:
+def _known(spec: StillFit, request, recording: RecordingSource | None) -> Calibration:
     unit, gravity, notes = _unit_gravity(request, recording)
     source: dict = {}
     if recording is not None:
@@ -326,7 +327,7 @@ def _known(spec: StillFit, request, recording: RecordingSource | None) -> dict:
         ]
     result, extra = calibrate_known(spec, readings, unit=unit, gravity=gravity, holdout=request.holdout)
     return name_sources(
-        calibration_body(
+        Calibration.of(
             result, extra, unit=unit, notes=notes, device_id=request.device_id, label=request.label, **source
         ),
         recording,
@@ -377,27 +378,25 @@ def _naming_missing_poses(recording: RecordingSource | None):
         raise InsufficientDataError(f"{str(exc).rstrip('.')}. {hint}") from None
 
 
-def name_sources(body: dict, recording: RecordingSource | None) -> dict:
+def name_sources(calibration: Calibration, recording: RecordingSource | None) -> Calibration:
     """On a recording made of several files (one per pose), each reading of the calibration names its
     file (``source``), and a warning names each file whose name gives a pose its reading contradicts."""
     if recording is None or not recording.meta.get("parts"):
-        return body
+        return calibration
     segments = recording.meta["segments"]
-    for reading, i in zip(body.get("readings") or [], body.get("segments_used") or []):
-        seg = segments[i]
-        reading["source"] = seg.get("source")
-        named = seg.get("pose_from_name")
-        if named and seg["up"] != named:
-            body["warnings"].append(
-                f"{seg.get('source')} names {named} up, but its still reading points "
-                f"{seg['up'] or f'to no axis {WITHIN_LABEL_ANGLE}'}{' up' if seg['up'] else ''}: "
-                "the data's pose was used — check "
-                "the file's name, or how the board lay"
-            )
-    return body
+    used = [segments[i] for i in calibration.fields.get("segments_used") or []]
+    warnings = [
+        f"{seg.get('source')} names {seg['pose_from_name']} up, but its still reading points "
+        f"{seg['up'] or f'to no axis {WITHIN_LABEL_ANGLE}'}{' up' if seg['up'] else ''}: "
+        "the data's pose was used — check "
+        "the file's name, or how the board lay"
+        for seg in used
+        if seg.get("pose_from_name") and seg["up"] != seg["pose_from_name"]
+    ]
+    return replace(calibration.noting(*warnings), reading_sources=tuple(seg.get("source") for seg in used))
 
 
-def _magnitude(spec: StillFit, request, recording: RecordingSource | None) -> dict:
+def _magnitude(spec: StillFit, request, recording: RecordingSource | None) -> Calibration:
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
     result, extra = calibrate_unknown(
@@ -405,29 +404,29 @@ def _magnitude(spec: StillFit, request, recording: RecordingSource | None) -> di
     )
     advice = {"advice": pose_advice(result)} if spec.advises else {}
     return name_sources(
-        calibration_body(
+        Calibration.of(
             result, extra, unit=unit, notes=notes, device_id=request.device_id, label=request.label, **advice, **source
         ),
         recording,
     )
 
 
-def six_position(request, recording: RecordingSource | None) -> dict:
+def six_position(request, recording: RecordingSource | None) -> Calibration:
     """Method ``six_position``: the first still reading of each of the six axis orientations."""
     return _known(SIX_POSITION, request, recording)
 
 
-def orientations(request, recording: RecordingSource | None) -> dict:
+def orientations(request, recording: RecordingSource | None) -> Calibration:
     """Method ``orientations``: every still reading within 20° of an axis, cross-validated."""
     return _known(ORIENTATIONS, request, recording)
 
 
-def nonorthogonal(request, recording: RecordingSource | None) -> dict:
+def nonorthogonal(request, recording: RecordingSource | None) -> Calibration:
     """Method ``nonorthogonal``: Georgieva et al.'s model of shifts, scales and angles between the axes."""
     return _magnitude(NONORTHOGONAL, request, recording)
 
 
-def triangular(request, recording: RecordingSource | None) -> dict:
+def triangular(request, recording: RecordingSource | None) -> Calibration:
     """Method ``triangular``: Farago et al.'s lower-triangular model, by the request's solver."""
     return _magnitude(TRIANGULAR, request, recording)
 
@@ -515,7 +514,7 @@ def _why(fits: dict, aligned: bool, n: int) -> str:
     )
 
 
-def auto(request, recording: RecordingSource | None) -> dict:
+def auto(request, recording: RecordingSource | None) -> Calibration:
     """Method ``auto``: the model the still readings support (:func:`choose_model`); a recording of the
     magnetometer alone is the compass's (:func:`app.workflows.compass.auto_compass`)."""
     if recording is not None and "acc" not in recording.meta["units"] and "mag" in recording.meta["units"]:
@@ -527,7 +526,7 @@ def auto(request, recording: RecordingSource | None) -> dict:
     if STILL_FITS[choice["method"]].advises:  # a magnitude model: which poses to add next
         source["advice"] = pose_advice(result)
     return name_sources(
-        calibration_body(
+        Calibration.of(
             result,
             extra,
             unit=unit,

@@ -6,13 +6,13 @@ import numpy as np
 
 from app.calibration import CalibrationError
 from app.io.log import TO_SI, LogData
+from app.workflows.calibration import Calibration
 from app.workflows.recordings import NOMINAL_RATE_HZ, RecordingSource
-from app.workflows.results import calibration_body
 
 TEMPERATURE_SENSORS = ("acc", "gyr")
 
 
-def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
+def temperature_log(log: LogData, *, sensors=None, **fields) -> Calibration:
     """Temperature calibration (app.calibration.temperature) of a still recording that carries the sensor's
     temperature; accelerometers in g become m/s², gyroscopes in deg/s rad/s (the firmwares' units)."""
     from app.calibration.temperature import calibrate_temperature
@@ -49,7 +49,7 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> dict:
         log.temperature_c, sampling_rate_hz=rate, time_s=log.time_s, acc=arrays.get("acc"), gyr=arrays.get("gyr")
     )
     ids = sensor_ids(log, wanted)
-    return calibration_body(result, {}, unit=result.unit, notes=notes, **({"sensor_ids": ids} if ids else {}), **fields)
+    return Calibration.of(result, {}, unit=result.unit, notes=notes, **({"sensor_ids": ids} if ids else {}), **fields)
 
 
 def sensor_ids(log: LogData, sensors) -> dict:
@@ -74,7 +74,7 @@ def sensor_ids(log: LogData, sensors) -> dict:
     return ids
 
 
-def temperature(request, recording: RecordingSource) -> dict:
+def temperature(request, recording: RecordingSource) -> Calibration:
     """Method ``temperature``: a still recording that carries the sensor's temperature (:func:`temperature_log`)."""
     log = recording.read()
     return temperature_log(

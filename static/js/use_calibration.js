@@ -60,12 +60,15 @@ export function preferSource(source) { connected = source; }
 export function sourceOf(cal) { return cal.source || cal.flight?.firmware || connected || "any"; }
 
 // The use offered first: the person's own choice for calibrations of this source, else the source's default
-// (app/web/uses.py DEFAULT_USES, the one rule), else the kind's first use.
-function chosenUse(uses, kind, source) {
+// (app/web/uses.py DEFAULT_USES, the one rule), else the kind's first use; among the uses whose file the server
+// gives, where any does (a noise without a random walk: not Kalibr, but the JSON).
+function chosenUse(uses, kind, source, works) {
   let saved = null;
   try { saved = localStorage.getItem(`${REMEMBER}.${kind}.${source}`); } catch { /* private mode: no memory */ }
-  const byDefault = (TABLES.uses.defaults[source] || []).map((key) => uses.find((u) => u.key === key)).find(Boolean);
-  return uses.find((u) => u.key === saved) || byDefault || uses[0];
+  const usable = uses.filter(works);
+  const among = usable.length ? usable : uses;
+  const byDefault = (TABLES.uses.defaults[source] || []).map((key) => among.find((u) => u.key === key)).find(Boolean);
+  return among.find((u) => u.key === saved) || byDefault || among[0];
 }
 
 // Before a new calibration's files are fetched: nothing stale on show.
@@ -101,7 +104,7 @@ export function showUse(cal, downloads) {
       showUse(cal, downloads);
     };
   }
-  const use = chosenUse(uses, kind, source);
+  const use = chosenUse(uses, kind, source, (u) => Boolean(downloads.find((d) => d.key === u.format)?.url));
   select.value = use.key;
   const file = downloads.find((d) => d.key === use.format);
   // A firmware's offsets and scales (app/io/export_params.py): what they reach on the readings, and the file

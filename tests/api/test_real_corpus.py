@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.api.test_one_verdict import disagreement
 from tests.real_corpus import CORPUS, at, cases, problems, readme
 
 CASES = cases()
@@ -65,3 +66,5 @@ def test_a_real_recording_answers_as_its_case_says(client, case):
     r = client.post("/api/v1/calibrations", json={**case.spec["calibrate"], "recording_id": rec["id"]})
     assert r.status_code < 500, r.text
     _check(r.json(), r.status_code, case.spec["expect"], f"{case.name} calibration")
+    if r.status_code == 201:  # one verdict, from the final result: ok, reasons and verdict agree
+        assert disagreement(r.json()) == "", case.name

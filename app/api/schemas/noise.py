@@ -71,6 +71,11 @@ class SensorNoiseMetrics(Out):
     bias_standard_error: Vec3Out = Field(
         description="Standard error of the bias: the fitted Allan deviation at the duration."
     )
+    record_for_s: dict[str, float] = Field(
+        {},
+        description="Each term no axis's curve showed, where a longer still recording would show it: how long "
+        "that recording would be (s).",
+    )
 
 
 class NoiseMetrics(Out):
