@@ -143,7 +143,7 @@ def test_what_a_method_takes_is_read_from_its_request_model():
 
 def cli_request(argv: list[str]) -> dict:
     args = build_parser().parse_args(["calibrate", *argv])
-    return calibration_request(args, unit="g")
+    return calibration_request(args, unit="g", method=args.method or "auto")
 
 
 def test_the_cli_builds_each_method_request_from_the_options_its_model_takes():

@@ -4,6 +4,7 @@ request, with imucal's section list for the cube (``--sections``)."""
 from __future__ import annotations
 
 import json
+import sys
 import tempfile
 import zipfile
 from pathlib import Path
@@ -12,11 +13,12 @@ from typing import TYPE_CHECKING
 from app import methods
 from app.calibration import CalibrationError
 from app.cli.finish import store_of
-from app.cli.printers import print_summary
+from app.cli.printers import print_autocal, print_noise, print_summary, print_temperature
 from app.io.formats import read_log
 from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions, units_named
 from app.workflows.recordings import RecordingSource, describe_log
+from app.workflows.supports import first_ready
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -50,8 +52,14 @@ def _calibrate_files(args, settings: Callable[[], Settings], path: Path) -> int:
     if args.json:
         print(json.dumps(body, indent=2))
     else:
-        print_summary(body, recording)
+        printer = COMMAND_PRINTERS.get(methods.BY_NAME[body["method"]].command)
+        printer(body) if printer is not None else print_summary(body, recording)
     return 0 if body["ok"] else 3
+
+
+COMMAND_PRINTERS = {"noise": print_noise, "temperature": print_temperature, "autocal": print_autocal}
+"""A method of another command that the recording chose (app.workflows.supports) is printed as that command
+prints it."""
 
 
 def calibrated(args, settings: Callable[[], Settings], path: Path, captures: list | None = None) -> tuple[dict, dict]:
@@ -81,7 +89,10 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
             f"the still segments are the {len(captures)} captures, rows "
             + ", ".join(f"{a}–{b - 1}" for _, a, b in captures)
         )
-    request = methods.parse_calibration_request(calibration_request(args, unit=log.units.get("acc", "m/s^2")))
+    method = args.method or chosen_method(recording)
+    request = methods.parse_calibration_request(
+        calibration_request(args, unit=log.units.get("acc", "m/s^2"), method=method)
+    )
     body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log)).body()
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
         body["captures"] = [
@@ -100,7 +111,24 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
     return body, recording
 
 
-def calibration_request(args, *, unit: str) -> dict:
+def chosen_method(recording: dict) -> str:
+    """What the page runs on this recording when the person chose nothing (app.workflows.supports): the first
+    calibration it supports that is ready, said on standard error with why; a refusal listing what it supports
+    and what each lacks when none is."""
+    found = recording["supports"]
+    first = first_ready(found)
+    if first is None:
+        lacks = "; ".join(f"{s['method']}: {s['why']}" for s in found) or "no sensor trical calibrates"
+        flags = [f"--{a.replace('_', '-')}" for s in found for a in s.get("asks") or []]
+        more = f"give {' or '.join(dict.fromkeys(flags))}, or " if flags else ""
+        raise CalibrationError(f"this recording is ready for no calibration ({lacks}): {more}give --method to try one")
+    others = [s["method"] for s in found if s is not first]
+    also = f" (it also supports {', '.join(others)}: --method)" if others else ""
+    print(f"method {first['method']}, chosen from the recording: {first['why']}{also}", file=sys.stderr)
+    return first["method"]
+
+
+def calibration_request(args, *, unit: str, method: str) -> dict:
     """The request of POST /api/v1/calibrations that ``trical calibrate`` makes of its options: each field the
     method's request model takes (app.methods) from the option of its name (``--field-ut``: ``field_ut``); the
     log file stands in for the stored recording, and ``unit`` is the log's accelerometer unit."""
@@ -114,8 +142,8 @@ def calibration_request(args, *, unit: str) -> dict:
         "sections": sections,
     }
     return {
-        "method": args.method,
-        **{name: given[name] for name in methods.BY_NAME[args.method].options if given.get(name) is not None},
+        "method": method,
+        **{name: given[name] for name in methods.BY_NAME[method].options if given.get(name) is not None},
     }
 
 

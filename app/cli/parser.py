@@ -101,8 +101,10 @@ def _add_calibrate(sub) -> None:
     c.add_argument(
         "--method",
         choices=_calibrate_methods(),
-        default="auto",
-        help="auto (default): six_position or orientations for axis-aligned poses, triangular for free ones",
+        default=None,
+        help="default: what the recording supports first, said with why (still poses: auto, which picks "
+        "six_position or orientations for axis-aligned poses and triangular for free ones; a compass turn: "
+        "magnetometer; a flight log: compass_flight)",
     )
     c.add_argument("--protocol", choices=CUBE_PROTOCOLS, default=CUBE_PROTOCOLS[0], help=f"{_takers('protocol')} only")
     c.add_argument(

@@ -18,6 +18,7 @@ from app.io.formats import SOURCE_OF_FORMAT, read_log
 from app.io.log import LogData
 from app.io.parts import content_digest, pose_from_name
 from app.io.read_options import ReadOptions
+from app.workflows.supports import supports
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
@@ -99,6 +100,7 @@ def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
         if log.units.get("acc") == "m/s^2" and log.acc is not None
         else None,
         "segments": segments,
+        "supports": [s.to_dict() for s in supports(log, segments)],
         "overview": overview(log),
     }
     if log.flight is not None:  # a flight controller's log: every instance, and those read

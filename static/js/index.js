@@ -72,9 +72,7 @@ function withDevice(payload) {
   return device ? { ...payload, device_id: device } : payload;
 }
 
-// `stillHint`: a refusal for too few poses points to the noise characterisation (an automatic choice of
-// the model, which a still recording cannot feed).
-async function calibrate(payload, doing, refused, where, stillHint = false) {
+async function calibrate(payload, doing, refused, where) {
   const mine = ++action;
   note(where, doing);
   try {
@@ -84,10 +82,8 @@ async function calibrate(payload, doing, refused, where, stillHint = false) {
     showResult(cal);
   } catch (err) {
     if (mine !== action) return;
-    const still = err.code === "insufficient_data" && stillHint
-      ? " A still recording? Characterise its noise below." : "";
     offerOptions(err.asks || []);
-    note(where, `${refused}: ${err.message.replace(/\.$/, "")}.${still}`, true);
+    note(where, `${refused}: ${err.message.replace(/\.$/, "")}.`, true);
   }
 }
 
@@ -133,15 +129,49 @@ function showUnits(rec) {
   $("#units").hidden = false;
 }
 
+// The action of each calibration a recording supports (app/workflows/supports.py): its button's, where the page
+// has one (the compass's and the flight's read their place and instance), else a request of its method.
+const SUPPORT_BUTTONS = { auto: "#calibrate-recording", noise: "#noise-recording", magnetometer: "#compass-recording",
+  temperature: "#temperature-recording", compass_flight: "#flight-compass" };
+function runSupport(method) {
+  const button = SUPPORT_BUTTONS[method];
+  if (button) $(button).click();
+  else calibrate({ method, recording_id: recordingId }, "Calibrating…", "Calibration refused", "#segments-msg");
+}
+
+// What the recording holds and can do, said first: each calibration it supports with its reason, a button for
+// those ready; one it cannot run yet says what it lacks, as a fact of the data (never in red).
+function showSupports(rec) {
+  const found = rec.supports || [];
+  $("#supports").hidden = !found.length;
+  $("#supports-list").replaceChildren(...found.map((s) => {
+    const li = cell("li", "");
+    li.dataset.method = s.method;
+    li.dataset.ready = String(s.ready);
+    const name = cell("strong", TABLES.methods[s.method] || s.method);
+    li.append(name, ` — ${s.why}`);
+    if (s.ready) {
+      const go = cell("button", "Run it");
+      go.type = "button";
+      go.className = "secondary";
+      go.addEventListener("click", () => runSupport(s.method));
+      li.append(" ", go);
+    }
+    return li;
+  }));
+  for (const [method, sel] of Object.entries(SUPPORT_BUTTONS)) {
+    if (method !== "compass_flight") $(sel).hidden = !found.some((s) => s.method === method);
+  }
+  return found.find((s) => s.ready) || null;
+}
+
 function showSegments(rec) {
   // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
   const still = rec.channels.includes("acc");
-  $("#compass-recording").hidden = !rec.channels.includes("mag");
   // A flight log's compass takes the place and date from its GPS; the fields are there for a log without one.
   const flightCompass = Boolean(rec.flight && rec.flight.instances.some((i) => i.sensor === "mag"));
   $("#compass-place").hidden = !rec.channels.includes("mag") && !flightCompass;
   if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
-  $("#calibrate-recording").hidden = !still;
   $("#segments").hidden = false;
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz, {
     sensor: (TABLES.sensorWords[rec.overview.sensor] || TABLES.sensorWords.acc).toLowerCase(),
@@ -164,11 +194,12 @@ function showSegments(rec) {
     ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
     : `${rec.n_samples} samples (no time column)`;
   const files = parts.length ? ` of ${parts.length} files` : "";
-  note("#segments-msg", still ? `${counted(rec.segments.length, "still segment")} in ${rate}${files}: calibrating…`
-    : rec.channels.includes("mag") ? `The magnetometer alone, ${rate}${files}: calibrating the compass…`
-      : `The ${rec.channels.map((c) => (TABLES.sensorWords[c] || c).toLowerCase()).join(" and ")} alone, `
-        + `${rate}${files}: `
-        + "nothing to calibrate from its poses…");
+  const sensors = rec.channels.map((c) => (TABLES.sensorWords[c] || c).toLowerCase()).join(", ");
+  const first = showSupports(rec);
+  const holds = `${sensors}, ${rate}${files}${still ? `, ${counted(rec.segments.length, "still segment")}` : ""}`;
+  $("#supports-holds").textContent = `It holds the ${holds}.`
+    + (first ? ` First: ${TABLES.methods[first.method] || first.method}.` : "");
+  note("#segments-msg", first ? "" : "Nothing this recording supports is ready yet: each line above says what it lacks.");
   // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
   // file gave which sensor when they are one per sensor, merged onto one clock).
   const several = parts.length > 0 || $("#log-file").files.length > 1;
@@ -262,8 +293,9 @@ async function upload(data) {
   // A flight controller's log states its units (the menus would be refused): its sensors instead.
   if (!showFlightLog(rec)) showUnits(rec);
   showSegments(rec);
-  await calibrate({ method: "auto", recording_id: rec.id }, $("#segments-msg").textContent,
-    "Not calibrated", "#segments-msg", true);
+  // The first calibration the recording supports that is ready runs at once; nothing else is tried.
+  const first = (rec.supports || []).find((s) => s.ready);
+  if (first) runSupport(first.method);
 }
 
 // A refusal that asks for a unit, a part or an option of the upload: their controls, to read the file again.
@@ -369,7 +401,7 @@ $("#units-go").addEventListener("click", () => {
 });
 
 $("#calibrate-recording").addEventListener("click", () => calibrate({ method: "auto", recording_id: recordingId },
-  "Calibrating…", "Calibration refused", "#segments-msg", true));
+  "Calibrating…", "Calibration refused", "#segments-msg"));
 
 $("#noise-recording").addEventListener("click", () => calibrate({ method: "noise", recording_id: recordingId },
   "Computing the Allan deviation…", "Noise characterisation refused", "#segments-msg"));

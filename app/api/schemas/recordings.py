@@ -217,6 +217,18 @@ class LogOverview(BaseModel):
     )
 
 
+class SupportOut(BaseModel):
+    """A calibration the recording supports (app.workflows.supports)."""
+
+    method: str = Field(description="The `method` of POST /api/v1/calibrations that runs it on this recording.")
+    why: str = Field(description="Why, in one line: a fact of the data (six axes up, a turn of the compass, one rest).")
+    ready: bool = Field(description="Whether it can run on the recording as it is; when not, `why` says what it lacks.")
+    asks: list[str] = Field(
+        [],
+        description="The upload's fields that would make it ready (`sampling_rate_hz` for a file without a time column).",
+    )
+
+
 class RecordingOut(BaseModel):
     model_config = ConfigDict(extra="allow")
 
@@ -261,6 +273,15 @@ class RecordingOut(BaseModel):
         ),
     )
     segments: list[SegmentOut]
+    supports: list[SupportOut] = Field(
+        [],
+        description=(
+            "The calibrations the recording supports, in the order a person meets them: still poses, a compass turn "
+            "(or a flight log's compass), one long rest (the noise), a sensor warming at rest (the temperature), "
+            "a long wear recording (autocal). The page runs the first one `ready` unless the person chose one. "
+            "Empty for recordings stored before it existed."
+        ),
+    )
     parts: list[PartOut] | None = Field(
         None,
         description=(
