@@ -63,7 +63,7 @@ def calibrate_log(path: Path, fmt: str) -> dict:
     options = ReadOptions(format=fmt)
     log = read_log(path, options, name=path.name)  # read and described as an upload is (the flight's sensors)
     meta = {**describe_log(log, options), "filename": path.name}
-    return calibrate(request, RecordingSource(meta=meta, path=path, log=log))
+    return calibrate(request, RecordingSource(meta=meta, path=path, log=log)).body()
 
 
 def main() -> None:

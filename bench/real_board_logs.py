@@ -39,7 +39,7 @@ def calibrate(path: Path, request: dict, **read_with) -> tuple[dict, dict]:
     body = methods.calibrate(
         methods.parse_calibration_request({**request, "recording_id": path.name}),
         RecordingSource(meta=meta, path=path, log=log),
-    )
+    ).body()
     return meta, body
 
 

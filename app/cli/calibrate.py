@@ -4,7 +4,6 @@ request, with imucal's section list for the cube (``--sections``)."""
 from __future__ import annotations
 
 import json
-import sys
 import tempfile
 import zipfile
 from pathlib import Path
@@ -52,6 +51,8 @@ def _calibrate_files(args, settings: Callable[[], Settings], path: Path) -> int:
     if args.json:
         print(json.dumps(body, indent=2))
     else:
+        if recording.get("chosen"):
+            print(recording["chosen"])
         printer = COMMAND_PRINTERS.get(methods.BY_NAME[body["method"]].command)
         printer(body) if printer is not None else print_summary(body, recording)
     return 0 if body["ok"] else 3
@@ -89,10 +90,15 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
             f"the still segments are the {len(captures)} captures, rows "
             + ", ".join(f"{a}–{b - 1}" for _, a, b in captures)
         )
-    method = args.method or chosen_method(recording)
+    chosen = None if args.method else chosen_support(recording)
+    method = args.method or (chosen or {})["method"]
     request = methods.parse_calibration_request(
         calibration_request(args, unit=log.units.get("acc", "m/s^2"), method=method)
     )
+    if chosen is not None:  # the summary's first line (the JSON has the recording's supports through the API)
+        others = [s["method"] for s in recording["supports"] if s is not chosen]
+        also = f" (it also supports {', '.join(others)}: --method)" if others else ""
+        recording["chosen"] = f"method {method}, chosen from the recording: {chosen['why']}{also}"
     body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log)).body()
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
         body["captures"] = [
@@ -111,10 +117,9 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
     return body, recording
 
 
-def chosen_method(recording: dict) -> str:
+def chosen_support(recording: dict) -> dict:
     """What the page runs on this recording when the person chose nothing (app.workflows.supports): the first
-    calibration it supports that is ready, said on standard error with why; a refusal listing what it supports
-    and what each lacks when none is."""
+    calibration it supports that is ready; a refusal listing what it supports and what each lacks when none is."""
     found = recording["supports"]
     first = first_ready(found)
     if first is None:
@@ -122,10 +127,7 @@ def chosen_method(recording: dict) -> str:
         flags = [f"--{a.replace('_', '-')}" for s in found for a in s.get("asks") or []]
         more = f"give {' or '.join(dict.fromkeys(flags))}, or " if flags else ""
         raise CalibrationError(f"this recording is ready for no calibration ({lacks}): {more}give --method to try one")
-    others = [s["method"] for s in found if s is not first]
-    also = f" (it also supports {', '.join(others)}: --method)" if others else ""
-    print(f"method {first['method']}, chosen from the recording: {first['why']}{also}", file=sys.stderr)
-    return first["method"]
+    return first
 
 
 def calibration_request(args, *, unit: str, method: str) -> dict:

@@ -38,6 +38,9 @@ class Calibration:
         ``readings[i].source``).
     read_warnings : tuple of str
         What the reader decided against the header or the caller (units, columns, clock): read first.
+    asked : tuple of str
+        The questions the reading left open that the result's figures hang on: reasons of the result (so not
+        ok), listed first in the plain form (the cause a person can answer).
     """
 
     result: CalibrationResult
@@ -46,6 +49,7 @@ class Calibration:
     fields: dict = field(default_factory=dict)
     reading_sources: tuple | None = None
     read_warnings: tuple[str, ...] = ()
+    asked: tuple[str, ...] = ()
 
     @classmethod
     def of(
@@ -83,7 +87,7 @@ class Calibration:
             result = dataclasses.replace(
                 result, reasons=tuple(asked) + tuple(r for r in result.reasons if r not in asked)
             )
-        return dataclasses.replace(self, result=result, read_warnings=said)
+        return dataclasses.replace(self, result=result, read_warnings=said, asked=tuple(asked))
 
     def noting(self, *notes: str) -> Calibration:
         """This calibration with more notes after its own."""
@@ -99,6 +103,7 @@ class Calibration:
         if line is not None:
             out["headline"] = line
         out["warnings"] = [*self.read_warnings, *out["warnings"], *self.notes]
+        out["reasons"] = [*self.asked, *(r for r in out["reasons"] if r not in self.asked)]
         out.update(self.fields)
         if self.reading_sources is not None:
             for reading, source in zip(out.get("readings") or [], self.reading_sources):

@@ -159,8 +159,9 @@ function showSupports(rec) {
     }
     return li;
   }));
+  // The buttons of the calibrations it supports (a flight's compass and its temperature: flight_log.js decides).
   for (const [method, sel] of Object.entries(SUPPORT_BUTTONS)) {
-    if (method !== "compass_flight") $(sel).hidden = !found.some((s) => s.method === method);
+    if (!["compass_flight", "temperature"].includes(method)) $(sel).hidden = !found.some((s) => s.method === method);
   }
   return found.find((s) => s.ready) || null;
 }

@@ -101,7 +101,9 @@ def upload_flight_log(page, url):
         page.set_input_files("#log-file", str(log))
         page.click("#upload-form button[type=submit]")
         page.wait_for_selector("#flight:not([hidden])")
-        page.wait_for_selector("#segments-msg.bad")  # auto on a still board: refused in words
+        # a still board: it supports the noise of its rest first, which runs at once (nothing else is tried)
+        page.wait_for_selector("#supports-list li[data-method=noise][data-ready=true]")
+        page.wait_for_selector("#result:not([hidden])", timeout=60_000)
 
 
 def upload_column_map(page, url):

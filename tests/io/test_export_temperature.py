@@ -36,7 +36,7 @@ def _body(seed: int = 21, **kw) -> dict:
         columns=[],
         temperature_c=w.temperature_c,
     )
-    body = temperature_log(log, label="warm.csv")
+    body = temperature_log(log, label="warm.csv").body()
     body.update(id="cal_test", created_at="2026-12-03T12:00:00.000Z")
     return body
 

@@ -225,7 +225,8 @@ class SupportOut(BaseModel):
     ready: bool = Field(description="Whether it can run on the recording as it is; when not, `why` says what it lacks.")
     asks: list[str] = Field(
         [],
-        description="The upload's fields that would make it ready (`sampling_rate_hz` for a file without a time column).",
+        description="The upload's fields that would make it ready (`sampling_rate_hz` for a file without a time "
+        "column).",
     )
 
 
