@@ -4,6 +4,7 @@ import { columnSparkSvg, columnsField, headerColumns, logPlotSvg, tableColumns }
 import { flightFields, showFlightLog } from "./flight_log.js";
 import { formatNumber, parseReadings } from "./readings.js";
 import { hideCalibration, showCalibration } from "./result_view.js";
+import { showNotes } from "./notes.js";
 import { TABLES } from "./tables.js";
 import { $, cell, counted } from "./dom.js";
 
@@ -129,13 +130,14 @@ function showUnits(rec) {
   $("#units").hidden = false;
 }
 
-// The action of each calibration a recording supports (app/workflows/supports.py): its button's, where the page
-// has one (the compass's and the flight's read their place and instance), else a request of its method.
-const SUPPORT_BUTTONS = { auto: "#calibrate-recording", noise: "#noise-recording", magnetometer: "#compass-recording",
-  temperature: "#temperature-recording", compass_flight: "#flight-compass" };
+// The action of each calibration a recording supports (app/workflows/supports.py): the button that runs it (its
+// data-runs, in the template: the compass's and the flight's read their place and instance), else a request of
+// its method alone.
+const runs = (method) => [...document.querySelectorAll("#segments button[data-runs]")]
+  .find((b) => b.dataset.runs === method);
 function runSupport(method) {
-  const button = SUPPORT_BUTTONS[method];
-  if (button) $(button).click();
+  const button = runs(method);
+  if (button) button.click();
   else calibrate({ method, recording_id: recordingId }, "Calibrating…", "Calibration refused", "#segments-msg");
 }
 
@@ -159,9 +161,9 @@ function showSupports(rec) {
     }
     return li;
   }));
-  // The buttons of the calibrations it supports (a flight's compass and its temperature: flight_log.js decides).
-  for (const [method, sel] of Object.entries(SUPPORT_BUTTONS)) {
-    if (!["compass_flight", "temperature"].includes(method)) $(sel).hidden = !found.some((s) => s.method === method);
+  // The buttons of the calibrations it supports (those shown by the flight's card: flight_log.js decides).
+  for (const button of document.querySelectorAll("#segments button[data-runs]:not([data-shown-by])")) {
+    button.hidden = !found.some((s) => s.method === button.dataset.runs);
   }
   return found.find((s) => s.ready) || null;
 }
@@ -200,12 +202,12 @@ function showSegments(rec) {
   const holds = `${sensors}, ${rate}${files}${still ? `, ${counted(rec.segments.length, "still segment")}` : ""}`;
   $("#supports-holds").textContent = `It holds the ${holds}.`
     + (first ? ` First: ${TABLES.methods[first.method] || first.method}.` : "");
-  note("#segments-msg", first ? "" : "Nothing this recording supports is ready yet: each line above says what it lacks.");
+  note("#segments-msg", first ? ""
+    : "Nothing this recording supports is ready yet: each line above says what it lacks.");
   // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
   // file gave which sensor when they are one per sensor, merged onto one clock).
   const several = parts.length > 0 || $("#log-file").files.length > 1;
-  $("#segments-notes").hidden = !(several && rec.notes.length);
-  $("#segments-notes").textContent = several ? rec.notes.join(" ") : "";
+  showNotes($("#segments-notes"), several ? rec.notes : []);
 }
 
 const HEADER_HINT = "trical did not recognise this file's header. Say what each column holds (leave the others "

@@ -7,6 +7,7 @@ import { exportUrl } from "./api.js";
 import { showCorrection } from "./correction_view.js";
 import { fillFigures } from "./figures.js";
 import { formatNumber } from "./readings.js";
+import { showNotes } from "./notes.js";
 import { normChartSvg } from "./result.js";
 import { PLOTS, kindOf, magSpheres } from "./result_kinds.js";
 import { offerSend } from "./send.js";
@@ -42,7 +43,7 @@ export function showCalibration(cal, token = null) {
   choice.textContent = cal.choice
     ? `Method: ${TABLES.methods[cal.choice.method] || cal.choice.method}, chosen because ${words(cal.choice.why)}.`
     : "";
-  $("#result-warnings").replaceChildren(...cal.warnings.map((w) => cell("li", w)));
+  showNotes($("#result-warnings"), cal.warnings);
   const kind = kindOf(cal);
   $("#result-model").replaceChildren(...kind.model(cal));
   $("#result-model-h").textContent = kind.heading;

@@ -7,12 +7,13 @@
 import { createCalibration, exportUrl, uploadRecording } from "./api.js";
 import { BoardPanel } from "./board_panel.js";
 import { cue, unlockCues } from "./cues.js";
+import { showNotes } from "./notes.js";
 import { formatNumber } from "./readings.js";
 import { kindOf } from "./result_kinds.js";
 import { fetchDownloads, resetUse, showVerdict } from "./use_calibration.js";
 import { VIEW_DEFAULTS, announce, newState, showResult } from "./wizard_state.js";
 import { newRendered, renderDownloads, renderVoice } from "./wizard_render.js";
-import { $, el, setHidden, setText } from "./dom.js";
+import { $, setHidden, setText } from "./dom.js";
 
 const state = newState({ protocol: "noise", captureS: null });
 state.noise = {
@@ -132,8 +133,7 @@ function result(cal) {
     : `Characterisation ${cal.id} failed its checks: ${(cal.reasons || []).join("; ")}`;
   $("#result-allan img").src = exportUrl(cal.id, "allan_svg");
   $("#result-model").replaceChildren(...kindOf(cal).model(cal)); // the start page's drawing (result_kinds.js)
-  $("#result-warnings").replaceChildren(
-    ...((cal.warnings || []).length ? cal.warnings : ["none"]).map((w) => el("li", w)));
+  showNotes($("#result-warnings"), cal.warnings);
 }
 
 const noiseView = { ...VIEW_DEFAULTS, result };

@@ -6,6 +6,7 @@
 // model, result), called from here; each page's render draws its own cards, then calls renderShared.
 import { showCorrection } from "./correction_view.js";
 import { fillFigures } from "./figures.js";
+import { showNotes } from "./notes.js";
 import { normChartSvg } from "./result.js";
 import { STANDARD_GRAVITY } from "./motion.js";
 import { resetUse, showUse, showVerdict } from "./use_calibration.js";
@@ -27,8 +28,7 @@ function renderResult(s, rendered, view) {
   ok.className = cal.ok ? "ok" : "bad";
   ok.textContent = cal.ok ? `Calibration ${cal.id} passed its checks.` : `Calibration ${cal.id} failed its checks:`;
   $("#result-reasons").replaceChildren(...(cal.reasons || []).map((r) => el("li", r)));
-  const warnings = cal.warnings || [];
-  $("#result-warnings").replaceChildren(...(warnings.length ? warnings : ["none"]).map((w) => el("li", w)));
+  showNotes($("#result-warnings"), cal.warnings);
   showCorrection($("#result-correction"), cal, s.token, $("#result-fitted-note"));
   view.model(cal, s);
   view.result(cal, s);
