@@ -108,9 +108,19 @@ class TriangularIn(UnknownOrientationIn):
 
 
 class AutoIn(UnknownOrientationIn):
-    """Still readings, axis-aligned or free: the workflow picks the model (app.workflows.still, ``auto``)."""
+    """Still readings, axis-aligned or free: the workflow picks the model (app.workflows.still, ``auto``); a recording
+    of the magnetometer alone is the compass's, referenced to the Earth's field at the place and date given."""
 
     method: Literal["auto"]
+    date: datetime.date | None = Field(
+        None, description="A recording of the magnetometer alone: the day of the turn, for the Earth's field."
+    )
+    longitude_deg: Annotated[float, Field(ge=-180, le=180)] | None = Field(
+        None, description="A recording of the magnetometer alone: with latitude_deg, the place of the turn."
+    )
+    field_ut: Annotated[float, Field(gt=0, le=1000, allow_inf_nan=False)] | None = Field(
+        None, description="A recording of the magnetometer alone: the local field's magnitude in µT."
+    )
 
 
 SectionKey = Literal["x_p", "x_a", "y_p", "y_a", "z_p", "z_a", "x_rot", "y_rot", "z_rot"]

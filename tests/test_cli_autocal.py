@@ -97,7 +97,7 @@ def test_autocal_no_rest_exits_3_with_reason(tmp_path, capsys):
     code, out, _ = _run(["autocal", str(f), "--sampling-rate-hz", str(FS), "--unit", "g", "--json"], capsys)
     assert code == 3
     body = json.loads(out)
-    assert body["ok"] is False and "no rest segment" in body["reasons"][0]
+    assert body["ok"] is False and body["reasons"][0].startswith("it never rested: all 720 segments of 5 s moved")
 
 
 def test_autocal_folder_in_parallel(tmp_path, capsys, recording):

@@ -398,6 +398,13 @@ def _rest_gates(
             why.append(f"{rest.n_nan} with NaN gaps")
         if rest.n_idle:
             why.append(f"{rest.n_idle} idle-sleep (identical repeated samples)")
+        if rest.n_moving and rest.n_moving == rest.n_segments:  # the cause: it never rested
+            gates.fail(
+                f"it never rested: all {rest.n_segments} segments of {seg_s:g} s moved (max − min above "
+                f"{rest.threshold:g}): auto-calibration needs still stretches of at least one segment in many "
+                "orientations — give a recording in which the device rests (taken off, or at night)"
+            )
+            return
         gates.fail(
             f"no rest segment found among the {rest.n_segments} segments of {seg_s:g} s"
             + (f" ({', '.join(why)})" if why else "")

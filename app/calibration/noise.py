@@ -386,6 +386,9 @@ class NoiseResult(PerSensorResult):
     sampling_rate_hz: float
     duration_s: float
     still: dict | None = None
+    units_stated: bool = False
+    """The recording's format states its units (a flight controller's log): an implausible figure is no misread
+    unit (app.calibration.plausible)."""
     method: str = "noise"
 
     @property
@@ -421,11 +424,18 @@ class NoiseResult(PerSensorResult):
             if density:
                 out.append(
                     PhysicalFigure(
-                        name, "noise_density", density, model.get("unit", ""), sampling_rate_hz=self.sampling_rate_hz
+                        name,
+                        "noise_density",
+                        density,
+                        model.get("unit", ""),
+                        sampling_rate_hz=self.sampling_rate_hz,
+                        stated=self.units_stated,
                     )
                 )
             if name == "gyr" and model.get("bias") is not None:
-                out.append(PhysicalFigure(name, "bias", tuple(model["bias"]), model.get("unit", "")))
+                out.append(
+                    PhysicalFigure(name, "bias", tuple(model["bias"]), model.get("unit", ""), stated=self.units_stated)
+                )
         return out
 
     def body_dict(self) -> dict:
@@ -434,6 +444,7 @@ class NoiseResult(PerSensorResult):
             "sampling_rate_hz": self.sampling_rate_hz,
             "duration_s": self.duration_s,
             "still": self.still,
+            **({"units_stated": True} if self.units_stated else {}),
         }
 
     @classmethod
@@ -443,6 +454,7 @@ class NoiseResult(PerSensorResult):
             sampling_rate_hz=float(data["sampling_rate_hz"]),
             duration_s=float(data["duration_s"]),
             still=data.get("still"),
+            units_stated=bool(data.get("units_stated", False)),
             warnings=tuple(data.get("warnings", ())),
             reasons=tuple(data.get("reasons", ())),
             unit=data.get("unit", ""),

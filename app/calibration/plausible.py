@@ -115,13 +115,15 @@ class PhysicalFigure:
     """One figure of a result to judge: its ``sensor`` (acc, gyr, mag), ``kind`` (``scale``, ``offset``,
     ``bias``, ``noise_density``, ``field``), ``values`` (per axis, or one) and the ``unit`` of the readings
     it came from (``raw``: counts, judged only as a scale between counts and as a noise density, which
-    needs the ``sampling_rate_hz``)."""
+    needs the ``sampling_rate_hz``); ``stated``: the unit is the format's own (a flight controller's log), so
+    an implausible figure is no misread unit."""
 
     sensor: str
     kind: str
     values: tuple
     unit: str
     sampling_rate_hz: float | None = None
+    stated: bool = False
 
 
 def _limits(fig: PhysicalFigure) -> tuple[float, float] | None:
@@ -205,6 +207,11 @@ def _misread_as(fig: PhysicalFigure, limits) -> list[str]:
 def _cause(fig: PhysicalFigure, limits) -> str:
     """The likely cause of an implausible figure and what to give."""
     option, word = OPTION.get(fig.sensor, "the unit"), SENSOR_WORDS.get(fig.sensor, fig.sensor)
+    if fig.stated:  # the log's own unit: the readings, not their unit, are not those of a sensor at rest
+        return (
+            f"the log states the {word}'s unit, so the readings are not those of a {word} at rest: a vehicle's "
+            "vibration, a touch or a turn reads as noise — record it resting on a table, motors off, untouched"
+        )
     if fig.unit == "raw" and fig.kind == "noise_density":
         return (
             f"these readings are not counts (whole numbers): give {option} the unit they are in "

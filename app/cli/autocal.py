@@ -71,9 +71,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
     if args.json:
         print(json.dumps(body, indent=2))
     else:
-        from app.cli.printers import print_autocal
-
-        print_autocal(body)
+        summary(body, verbose=args.verbose)
     return 0 if body["ok"] else 3
 
 
@@ -155,3 +153,10 @@ def _autocal_folder(args, settings: Callable[[], Settings], options: dict) -> in
 
         print_folder_table(bodies)
     return 0 if all(b.get("ok") for b in bodies) else 3
+
+
+def summary(body: dict, verbose: bool = False) -> None:
+    """The command's summary of one file's auto-calibration (``--verbose``: every note)."""
+    from app.cli.printers import print_autocal
+
+    print_autocal(body, verbose)

@@ -3,6 +3,7 @@ request, with imucal's section list for the cube (``--sections``)."""
 
 from __future__ import annotations
 
+import importlib
 import json
 import tempfile
 import zipfile
@@ -12,7 +13,7 @@ from typing import TYPE_CHECKING
 from app import methods
 from app.calibration import CalibrationError
 from app.cli.finish import store_of
-from app.cli.printers import print_autocal, print_noise, print_summary, print_temperature
+from app.cli.printers import print_summary
 from app.io.formats import read_log
 from app.io.parts import refuse_repeated_names
 from app.io.read_options import ReadOptions, units_named
@@ -53,14 +54,12 @@ def _calibrate_files(args, settings: Callable[[], Settings], path: Path) -> int:
     else:
         if recording.get("chosen"):
             print(recording["chosen"])
-        printer = COMMAND_PRINTERS.get(methods.BY_NAME[body["method"]].command)
-        printer(body) if printer is not None else print_summary(body, recording)
+        command = methods.BY_NAME[body["method"]].command
+        if command == "calibrate":
+            print_summary(body, recording, verbose=args.verbose)
+        else:  # a method of another command, chosen by the recording (app.workflows.supports): printed as it prints
+            importlib.import_module(f"app.cli.{command}").summary(body, verbose=args.verbose)
     return 0 if body["ok"] else 3
-
-
-COMMAND_PRINTERS = {"noise": print_noise, "temperature": print_temperature, "autocal": print_autocal}
-"""A method of another command that the recording chose (app.workflows.supports) is printed as that command
-prints it."""
 
 
 def calibrated(args, settings: Callable[[], Settings], path: Path, captures: list | None = None) -> tuple[dict, dict]:

@@ -133,7 +133,7 @@ def _capture_calibration(capture, outcome, args, settings: Callable[[], Settings
     if args.json:
         print(json.dumps(body, indent=2))
     else:
-        print_summary(body, recording)
+        print_summary(body, recording, verbose=getattr(args, "verbose", False))
     bell()
     if args.send:
         if not body["ok"]:

@@ -12,7 +12,7 @@ from app.calibration import CalibrationError
 from app.cli.finish import finish
 from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
-from app.io.read_options import ReadOptions
+from app.io.read_options import ReadOptions, units_named
 from app.workflows.noise import characterise_log
 
 if TYPE_CHECKING:
@@ -40,6 +40,8 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
             raise CalibrationError(f"--unit {args.unit} is not a {sensor} unit: use one of {', '.join(UNITS[sensor])}")
         units = {sensor: args.unit}
     read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
+    if not array:  # a log's gyroscope and magnetometer, as trical calibrate and the upload name them
+        read_units = {**units_named(None, args.gyr_unit, args.mag_unit), **read_units}
     # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
     clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
     name = str(args.path[0]) if len(args.path) == 1 else label
@@ -48,6 +50,7 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
         ReadOptions(
             sampling_rate_hz=args.sampling_rate_hz,
             units=read_units,
+            lsb_per_g=args.lsb_per_g,
             columns=args.columns,
             sign=args.sign,
             chip=args.chip,
@@ -66,7 +69,7 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
         device_id=args.device_id,
         label=label,
     ).body()
-    return finish(args, settings, body, plot=_plot, summary=_summary)
+    return finish(args, settings, body, plot=_plot, summary=lambda b: summary(b, verbose=args.verbose))
 
 
 def _plot(body: dict) -> str:
@@ -75,11 +78,12 @@ def _plot(body: dict) -> str:
     return allan_svg(body)
 
 
-def _summary(body: dict) -> None:
+def summary(body: dict, verbose: bool = False) -> None:
+    """The command's summary of a noise characterisation (``--verbose``: every note)."""
     # The printers' words are the method table's (app.words): loaded for a summary, not for --json.
     from app.cli.printers import print_noise
 
-    print_noise(body)
+    print_noise(body, verbose)
 
 
 def _relabel_units(log, unit: str):

@@ -161,3 +161,8 @@ BAUD = number("a baud rate", low=50, high=4_000_000, integer=True)
 MINUTES = number("a length in minutes", low=0, high=1440, low_open=True)
 INSTANCE = number("an instance number of the flight log's sensor", low=0, high=255, integer=True)
 CAPTURE_S = number("seconds captured per pose", low=0, low_open=True)
+
+
+NOTES_SHOWN = 5
+"""The notes a command's summary prints by default (``--verbose``: all): the first are the reader's decisions
+(units, columns, clock), then the calibration's own (app.cli.printers.print_notes)."""

@@ -121,8 +121,6 @@ def _add_calibrate(sub) -> None:
         help=f"{_takers('sections')} with --protocol ferraris: imucal's annotated section list (x_p … z_rot, "
         "sample indices)",
     )
-    c.add_argument("--gyr-unit", choices=UNITS_IN["gyr"], default=None)
-    c.add_argument("--mag-unit", choices=UNITS_IN["mag"], default=None)
     c.add_argument(
         "--solver",
         choices=SOLVERS,
@@ -134,7 +132,7 @@ def _add_calibrate(sub) -> None:
     )
     c.add_argument("--unit", choices=UNITS_IN["acc"], default=None, help="accelerometer unit of the log")
     c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
-    c.add_argument("--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer")
+    _unit_options(c)
     _read_options(c)
     c.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
     c.add_argument(
@@ -156,6 +154,7 @@ def _add_calibrate(sub) -> None:
     c.add_argument("--device-id", type=opt.text("a device id"), default=None)
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")
+    c.add_argument("--verbose", action="store_true", help=f"print every note (default: the first {opt.NOTES_SHOWN})")
 
 
 def _add_autocal(sub) -> None:
@@ -195,6 +194,7 @@ def _add_autocal(sub) -> None:
     a.add_argument("--device-id", type=opt.text("a device id"), default=None)
     a.add_argument("--store", action="store_true", help="store the calibration(s) in the database")
     a.add_argument("--json", action="store_true", help="print the API's JSON (a list for a folder)")
+    a.add_argument("--verbose", action="store_true", help=f"print every note (default: the first {opt.NOTES_SHOWN})")
 
 
 def _add_noise(sub) -> None:
@@ -222,8 +222,10 @@ def _add_noise(sub) -> None:
         "--unit",
         choices=SCALED_UNITS,
         default=None,
-        help="unit of the array's sensor (acc: m/s^2 or g; gyr: rad/s or deg/s; mag: uT or nT)",
+        help="unit of the array's sensor, or of a log's accelerometer (acc: m/s^2 or g; gyr: rad/s or deg/s; "
+        "mag: uT or nT)",
     )
+    _unit_options(n)
     _read_options(n)
     n.add_argument(
         "--plot",
@@ -235,6 +237,7 @@ def _add_noise(sub) -> None:
     n.add_argument("--device-id", type=opt.text("a device id"), default=None)
     n.add_argument("--store", action="store_true", help="store the characterisation in the database")
     n.add_argument("--json", action="store_true", help="print the API's JSON")
+    n.add_argument("--verbose", action="store_true", help=f"print every note (default: the first {opt.NOTES_SHOWN})")
 
 
 def _add_temperature(sub) -> None:
@@ -261,6 +264,8 @@ def _add_temperature(sub) -> None:
         default=None,
         help="calibrate only this sensor (default: the accelerometer and the gyroscope the log has)",
     )
+    t.add_argument("--unit", choices=UNITS_IN["acc"], default=None, help="the accelerometer's unit in the log")
+    _unit_options(t)
     _read_options(t)
     t.add_argument(
         "--plot",
@@ -276,6 +281,7 @@ def _add_temperature(sub) -> None:
         help="store the calibration in the database (then trical export ID --format px4 or ardupilot)",
     )
     t.add_argument("--json", action="store_true", help="print the API's JSON")
+    t.add_argument("--verbose", action="store_true", help=f"print every note (default: the first {opt.NOTES_SHOWN})")
 
 
 def _add_capture(sub) -> None:
@@ -332,6 +338,7 @@ def _add_capture(sub) -> None:
     b.add_argument("--device-id", type=opt.text("a device id"), default=None)
     b.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     b.add_argument("--json", action="store_true", help="print the API's JSON (the steps go to stderr)")
+    b.add_argument("--verbose", action="store_true", help=f"print every note (default: the first {opt.NOTES_SHOWN})")
 
 
 def _add_export(sub) -> None:
@@ -343,6 +350,17 @@ def _add_export(sub) -> None:
     e.add_argument("--format", choices=methods.ALL_FORMATS, default="json")
     e.add_argument(
         "--output", "-o", type=opt.output_file("a file to write"), default=None, help="file to write (default: stdout)"
+    )
+
+
+def _unit_options(parser: argparse.ArgumentParser) -> None:
+    """The units of a text log's gyroscope and magnetometer and the counts per g of its accelerometer, as the
+    upload's ``gyr_unit``, ``mag_unit`` and ``lsb_per_g`` say them (every command that reads a log takes them: a
+    message that asks for one names an option of the command it is read in)."""
+    parser.add_argument("--gyr-unit", choices=UNITS_IN["gyr"], default=None, help="the gyroscope's unit in the log")
+    parser.add_argument("--mag-unit", choices=UNITS_IN["mag"], default=None, help="the magnetometer's unit in the log")
+    parser.add_argument(
+        "--lsb-per-g", type=opt.LSB_PER_G, default=None, help="counts per g of a raw (LSB) accelerometer"
     )
 
 

@@ -10,11 +10,24 @@ import numpy as np
 from app.calibration.angles import degrees_text, tilt_error_deg
 from app.calibration.orientations import WITHIN_LABEL_ANGLE
 from app.calibration.result import NormErrors
+from app.cli.options import NOTES_SHOWN
 from app.io.plural import counted
 from app.words import render, render_body
 
 
-def print_summary(body: dict, recording: dict) -> None:
+def print_notes(notes, verbose: bool = False) -> None:
+    """A calibration's notes (its warnings), each once: at most :data:`NOTES_SHOWN` lines unless ``verbose``, with
+    a line that says how many more there are and how to see them."""
+    unique = list(dict.fromkeys(notes or []))
+    shown = unique if verbose else unique[:NOTES_SHOWN]
+    for w in shown:
+        print(f"warning: {w}")
+    if len(unique) > len(shown):
+        more = len(unique) - len(shown)
+        print(f"({more} more note{'s' if more > 1 else ''}: --verbose shows {'them' if more > 1 else 'it'})")
+
+
+def print_summary(body: dict, recording: dict, verbose: bool = False) -> None:
     body = render_body(body, "cli")
     rate = recording["sampling_rate_hz"]
     files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
@@ -65,8 +78,7 @@ def print_summary(body: dict, recording: dict) -> None:
         print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
     for a in body.get("advice") or []:
         print(f"next pose: {a['words']} (shrinks the parameters' generalized variance by {100 * a['gain']:.0f} %)")
-    for w in body["warnings"]:
-        print(f"warning: {w}")
+    print_notes(body["warnings"], verbose)
 
 
 def print_verdict(body: dict) -> None:
@@ -101,7 +113,7 @@ class ProgressBar:
         self.stream.flush()
 
 
-def print_autocal(body: dict) -> None:
+def print_autocal(body: dict, verbose: bool = False) -> None:
     body = render_body(body, "cli")
     det = body["detection"]
     print(
@@ -128,8 +140,7 @@ def print_autocal(body: dict) -> None:
                 f"{name:<22}{errors.before:>10.2f}{errors.after:>10.2f}"
                 f"{row['improvement_pct'] or 0:>9.0f}  {row.get('count')}"
             )
-    for w in body["warnings"]:
-        print(f"warning: {w}")
+    print_notes(body["warnings"], verbose)
 
 
 def print_folder_table(bodies: list[dict]) -> None:
@@ -162,7 +173,7 @@ def print_folder_table(bodies: list[dict]) -> None:
     print(f"{n_ok} of {len(bodies)} recordings calibrated")
 
 
-def print_temperature(body: dict) -> None:
+def print_temperature(body: dict, verbose: bool = False) -> None:
     body = render_body(body, "cli")
     stored = f", id {body['id']}" if body.get("id") else ""
     print(f"{body.get('label') or ''}: ok = {body['ok']}{stored}")
@@ -187,9 +198,10 @@ def print_temperature(body: dict) -> None:
                 f"{m['unit']} (bands left out)"
             )
         print(f"  samples per band: {', '.join(str(n) for n in m['samples_per_band'])}")
+    print_notes(body.get("warnings"), verbose)
 
 
-def print_noise(body: dict) -> None:
+def print_noise(body: dict, verbose: bool = False) -> None:
     body = render_body(body, "cli")
     still = body.get("still") or {}
     print(
@@ -217,5 +229,4 @@ def print_noise(body: dict) -> None:
         print(f"  {'bias':<20} {model['unit']:<12} " + "  ".join(f"{a} {v:.6g}" for a, v in zip("xyz", model["bias"])))
     for r in body["reasons"]:
         print(f"reason: {r}")
-    for w in body["warnings"]:
-        print(f"warning: {w}")
+    print_notes(body["warnings"], verbose)

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 from app.cli.finish import finish
 from app.cli.printers import print_temperature
 from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.read_options import ReadOptions, units_named
 from app.workflows.temperature import temperature_log
 
 if TYPE_CHECKING:
@@ -22,7 +22,8 @@ def run(args, settings: Callable[[], Settings]) -> int:
         args.path,
         ReadOptions(
             sampling_rate_hz=args.sampling_rate_hz,
-            units={},
+            units=units_named(args.unit, args.gyr_unit, args.mag_unit),
+            lsb_per_g=args.lsb_per_g,
             columns=args.columns,
             sign=args.sign,
             chip=args.chip,
@@ -35,4 +36,9 @@ def run(args, settings: Callable[[], Settings]) -> int:
     ).body()
     from app.io.export_temperature import temperature_svg
 
-    return finish(args, settings, body, plot=temperature_svg, summary=print_temperature)
+    return finish(args, settings, body, plot=temperature_svg, summary=lambda b: summary(b, verbose=args.verbose))
+
+
+def summary(body: dict, verbose: bool = False) -> None:
+    """The command's summary of a temperature calibration (``--verbose``: every note)."""
+    print_temperature(body, verbose)

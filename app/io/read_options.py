@@ -75,6 +75,19 @@ class ReadOptions:
         return cls(**read_with)
 
 
+UPLOAD_FIELDS = {
+    "text": ("format", "sampling_rate_hz", "acc_unit", "gyr_unit", "mag_unit", "lsb_per_g", "columns", "sign", "chip"),
+    "array": ("format", "sampling_rate_hz", "acc_unit", "gyr_unit", "mag_unit", "sign"),
+    "flight": ("format", "sampling_rate_hz", "instance", "mag_instance"),
+}
+"""The fields of the upload (``trical``'s options of the same names) that change how a log of each family is read:
+a text log (CSV, a phone app's export, JSON samples, a zip of them) takes them all but a flight log's instances; an
+array (``.npy``, Parquet, a wearable's binary) its unit, rate and sign (its samples are not counts); a flight
+controller's log (PX4 ULog, ArduPilot DataFlash) states its units, frame and columns, so only which IMU and which
+compass to read (app.io.formats.read_flight_log refuses the others). A message's remedy names only these
+(tests/api/test_remedies.py)."""
+
+
 def units_named(acc: str | None, gyr: str | None, mag: str | None) -> dict[str, str]:
     """The units a caller named, by sensor (``ReadOptions.units``): the upload's ``acc_unit``, ``gyr_unit``,
     ``mag_unit``, ``trical calibrate``'s ``--unit``, ``--gyr-unit``, ``--mag-unit``; a sensor not named is left out."""

@@ -140,15 +140,23 @@ class CompassAsk:
 
 
 def auto_compass(request, recording: RecordingSource) -> Calibration:
-    """``auto`` on a recording of the magnetometer alone: the compass, its field estimated (``auto``
-    takes no place; method magnetometer with a place references the Earth's field there)."""
-    compass = CompassAsk(recording_id=request.recording_id, device_id=request.device_id, label=request.label)
+    """``auto`` on a recording of the magnetometer alone: the compass, referenced to the Earth's field at the place
+    and date given (``latitude_deg`` with ``longitude_deg``), or to ``field_ut``, else estimated."""
+    placed = request.longitude_deg is not None
+    compass = CompassAsk(
+        recording_id=request.recording_id,
+        device_id=request.device_id,
+        label=request.label,
+        date=request.date,
+        latitude_deg=request.latitude_deg if placed else None,
+        longitude_deg=request.longitude_deg,
+        height_m=request.height_m if placed else None,
+        field_ut=request.field_ut,
+    )
     calibration = magnetometer(compass, recording)
     choice = {
         "method": compass.method,
         "candidates": {},
-        "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass "
-        "calibration; for the Earth's field at your place use method magnetometer with "
-        "latitude_deg, longitude_deg and date",
+        "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass calibration",
     }
     return dataclasses.replace(calibration, fields={**calibration.fields, "choice": choice})

@@ -61,6 +61,7 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
         sampling_rate_hz=fs,
         duration_s=duration,
         still={"start": a, "end": b, "n_samples": b - a, "fraction": (b - a) / n, "detected_from": ", ".join(still_on)},
+        units_stated=log.flight is not None,
         reasons=tuple(reasons),
         unit=parts[wanted[0]]["model"]["unit"],
     )

@@ -14,7 +14,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from app.calibration import CANONICAL_SIX, CalibrationError, fit_orientations, fit_six_position, nearest_orientation
+from app.calibration import (
+    CANONICAL_SIX,
+    STANDARD_GRAVITY,
+    CalibrationError,
+    fit_orientations,
+    fit_six_position,
+    nearest_orientation,
+)
 from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
 from app.calibration.errors import InsufficientDataError
 from app.calibration.orientations import WITHIN_LABEL_ANGLE
@@ -221,13 +228,33 @@ def require_segments(recording: dict, method: str) -> list[dict]:
     segments = recording["segments"]
     if not segments:
         unit = (recording.get("units") or {}).get("acc")
+        norm = _median_norm_in_g(recording)
+        if norm is not None and abs(norm - 1.0) <= 0.15:  # its unit is right: it never rested
+            raise InsufficientDataError(
+                f"the recording has no still segments: it never rested (its accelerometer reads about 1 g, a median "
+                f"norm of {norm:.2f} g over {recording['n_samples']} samples, but never holds still for 1.5 s): "
+                f"method {method} needs the device resting still in several orientations — record it a few "
+                "seconds in each, untouched"
+            )
+        said = "" if norm is None else f", a median norm of {norm:.2f} g"
         raise InsufficientDataError(
             f"the recording has no still segments ({recording['n_samples']} samples, its accelerometer read in "
-            f"{unit}; a rest lasts at least 1.5 s with the accelerometer reading about 1 g): method {method} needs "
-            "the device resting still in several orientations — record it a few seconds in each; if it did rest, "
-            "check the accelerometer's unit (acc_unit, or chip / lsb_per_g for counts)"
+            f"{unit}{said}; a rest lasts at least 1.5 s with the accelerometer reading about 1 g): method {method} "
+            "needs the device resting still in several orientations — record it a few seconds in each; if it did "
+            "rest, its readings are not in the unit they were read in: give acc_unit (or chip for counts)"
         )
     return segments
+
+
+def _median_norm_in_g(recording: dict) -> float | None:
+    """The accelerometer's median norm in g, from the recording's overview (each bin's middle), or None."""
+    overview = recording.get("overview") or {}
+    unit = (recording.get("units") or {}).get("acc")
+    per_g = {"g": 1.0, "m/s^2": STANDARD_GRAVITY}.get(unit or "")
+    mids = [(lo + hi) / 2 for lo, hi in zip(overview.get("low") or [], overview.get("high") or []) if lo is not None]
+    if overview.get("sensor") != "acc" or per_g is None or not mids:
+        return None
+    return float(np.median(mids)) / per_g
 
 
 def means_from_segments(
@@ -519,6 +546,13 @@ def auto(request, recording: RecordingSource | None) -> Calibration:
     magnetometer alone is the compass's (:func:`app.workflows.compass.auto_compass`)."""
     if recording is not None and "acc" not in recording.meta["units"] and "mag" in recording.meta["units"]:
         return auto_compass(request, recording)
+    compass_only = [f for f in ("date", "longitude_deg", "field_ut") if getattr(request, f, None) is not None]
+    if compass_only:
+        raise CalibrationError(
+            f"{', '.join(compass_only)} {'is' if len(compass_only) == 1 else 'are'} for a recording of the "
+            "magnetometer alone (the compass's field); these are the accelerometer's still readings: leave "
+            f"{'it' if len(compass_only) == 1 else 'them'} out"
+        )
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
     with _naming_missing_poses(recording):

@@ -109,3 +109,8 @@ class NoiseOut(CalibrationCommon):
     sampling_rate_hz: float
     duration_s: float = Field(description="Of the still part used.")
     still: StillPart | None
+    units_stated: bool = Field(
+        False,
+        description="The recording's format states its units (a flight controller's log): an implausible figure "
+        "is not taken for a misread unit. Absent when false.",
+    )

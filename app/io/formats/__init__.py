@@ -305,10 +305,11 @@ def _read_array_file(path: Path, o: ReadOptions, name: str) -> LogData:
     from ..arrays import read_array_log
 
     if o.chip or o.lsb_per_g is not None:
+        given = " and ".join(k for k, v in (("chip", o.chip), ("lsb_per_g", o.lsb_per_g)) if v)
         raise LogFormatError(
-            f"{name} is an array file, whose samples trical takes in the unit given (`unit`, "
-            "acc_unit); chip and lsb_per_g convert the counts of text logs: divide the counts "
-            "by the sensitivity before saving the array, or upload them as CSV"
+            f"{name} is an array file, whose samples trical takes in the unit given (acc_unit, gyr_unit or "
+            f"mag_unit): {given} convert{'s' if ' and ' not in given else ''} the counts of text logs — divide the "
+            "counts by the sensitivity before saving the array, or upload them as CSV"
         )
     check_sign(o.sign)
     log = read_array_log(path, sampling_rate_hz=o.sampling_rate_hz, units=o.units, name=name)

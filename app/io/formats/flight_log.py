@@ -151,7 +151,11 @@ def _numbers(streams, sensor):
 
 
 def _refuse_instance(what: str, wanted: int, have: list[int], option: str, name: str, extra: str = "") -> NoReturn:
-    listed = ", ".join(str(i) for i in have) if have else "none"
+    if not have:  # nothing to choose from: the remedy is to leave the choice out
+        raise LogFormatError(
+            f"{name} holds no {what}{extra}, so there is no {what} {wanted} to read: leave {option} out"
+        )
+    listed = ", ".join(str(i) for i in have)
     raise LogFormatError(
         f"{name} has no {what} instance {wanted}: its {what} instances are {listed}{extra}; give "
         f"{option} as one of them (or leave it out for the default)"
