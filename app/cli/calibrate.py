@@ -53,7 +53,9 @@ def _calibrate_files(args, settings: Callable[[], Settings], path: Path) -> int:
         print(json.dumps(body, indent=2))
     else:
         if recording.get("chosen"):
-            print(recording["chosen"])
+            from app.words import render  # the method table's words: loaded for a summary, not for --json
+
+            print(render(recording["chosen"], "cli"))
         command = methods.BY_NAME[body["method"]].command
         if command == "calibrate":
             print_summary(body, recording, verbose=args.verbose)
@@ -123,9 +125,7 @@ def chosen_support(recording: dict) -> dict:
     first = first_ready(found)
     if first is None:
         lacks = "; ".join(f"{s['method']}: {s['why']}" for s in found) or "no sensor trical calibrates"
-        flags = [f"--{a.replace('_', '-')}" for s in found for a in s.get("asks") or []]
-        more = f"give {' or '.join(dict.fromkeys(flags))}, or " if flags else ""
-        raise CalibrationError(f"this recording is ready for no calibration ({lacks}): {more}give --method to try one")
+        raise CalibrationError(f"this recording is ready for no calibration ({lacks}); or give --method to try one")
     return first
 
 

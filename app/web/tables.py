@@ -250,6 +250,8 @@ def page_tables() -> dict:
         "units": unit_tables(),
         "board": board_tables(),
         "methods": {method.name: method.words for method in METHOD_TABLE},
+        "calibrationWords": {method.name: method.page_words for method in METHOD_TABLE},
+        "recordingMethods": [method.name for method in METHOD_TABLE if "recording_id" in method.request.model_fields],
         "metrics": {key: list(words) for key, words in METRICS.items()},
         "sensorWords": dict(SENSOR_TITLES),
         "unitWords": dict(UNIT_WORDS),

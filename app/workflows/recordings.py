@@ -50,7 +50,7 @@ def add_recording(
     """
     try:
         log = read_log(path, options, name=filename or "the file")
-        body = describe_log(log, options)
+        body = describe_log(log, options, path=path)
         body["filename"] = filename
         body["content_sha256"] = content_digest(path)  # the same upload read again: its calibrations supersede
         return store.add_recording(recording_id, body, path, owner=owner)
@@ -68,13 +68,15 @@ def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float 
     return None
 
 
-def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
+def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path | None = None) -> dict:
     """Recording metadata and its static segments (docs/rest.md, POST /recordings).
 
     ``options`` are what the reader was told (:class:`app.io.read_options.ReadOptions`); they are kept as
-    ``read_with``, with the sign applied, so that the stored file is read again the same way.
+    ``read_with``, with the sign applied, so that the stored file is read again the same way. ``path``, the file
+    read: a flight controller's log's first GPS fix is read from it (``flight.fix``), for the compass's place.
     """
     segments, part_notes = still_segments(log)
+    fix = flight_fix(path, options) if log.flight is not None and path is not None else None
     rate = log.sampling_rate_hz
     notes = list(log.notes) + part_notes
     if log.acc is not None and log.sampling_rate_hz is None:
@@ -100,11 +102,11 @@ def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
         if log.units.get("acc") == "m/s^2" and log.acc is not None
         else None,
         "segments": segments,
-        "supports": [s.to_dict() for s in supports(log, segments)],
+        "supports": [s.to_dict() for s in supports(log, segments, fix=fix)],
         "overview": overview(log),
     }
     if log.flight is not None:  # a flight controller's log: every instance, and those read
-        body["flight"] = log.flight.to_dict()
+        body["flight"] = {**log.flight.to_dict(), "fix": fix}
         body["temperature_c"] = temperature_range(log.temperature_c)
     if log.parts:
         body["parts"] = [
@@ -120,6 +122,26 @@ def describe_log(log: LogData, options: ReadOptions | None = None) -> dict:
             for i, p in enumerate(log.parts)
         ]
     return body
+
+
+def flight_fix(path: Path, options: ReadOptions | None) -> dict | None:
+    """A flight controller's log's first 3-D GPS fix (``latitude_deg``, ``longitude_deg``, ``date``) as its compass
+    is read (app.io.flight_context), or None: no fix, no compass, or a log whose compass cannot be read (the
+    compass from the flight then says why)."""
+    from app.io.errors import LogFormatError
+    from app.io.flight_context import read_flight_compass
+
+    try:
+        log = read_flight_compass(path, mag_instance=(options or ReadOptions()).mag_instance)
+    except LogFormatError:
+        return None
+    if log.latitude_deg is None or log.longitude_deg is None:
+        return None
+    return {
+        "latitude_deg": float(log.latitude_deg),
+        "longitude_deg": float(log.longitude_deg),
+        "date": None if log.utc is None else log.utc.date().isoformat(),
+    }
 
 
 def temperature_range(temperature) -> dict | None:

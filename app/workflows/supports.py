@@ -47,13 +47,14 @@ class Support:
     why: str
     ready: bool
     asks: tuple[str, ...] = ()
-    """The upload's fields that would make it ready (a sampling rate for a file without a time column)."""
+    """The fields that would make it ready: the upload's (a sampling rate for a file without a time column) or the
+    calibration's (the place and date of a flight log without a GPS fix)."""
 
     def to_dict(self) -> dict:
         return {**asdict(self), "asks": list(self.asks)}
 
 
-def supports(log: LogData, segments: list[dict]) -> list[Support]:
+def supports(log: LogData, segments: list[dict], *, fix: dict | None = None) -> list[Support]:
     """The calibrations a recording supports, in the order a person meets them (the module's docstring).
 
     Parameters
@@ -63,6 +64,8 @@ def supports(log: LogData, segments: list[dict]) -> list[Support]:
     segments : list of dict
         Its still segments (app.workflows.recordings.still_segments), each with ``up`` (the axis within 20° of
         vertical, or None).
+    fix : dict, optional
+        A flight controller's log's first GPS fix (``latitude_deg``, ``longitude_deg``, ``date``), where it has one.
 
     Returns
     -------
@@ -73,7 +76,7 @@ def supports(log: LogData, segments: list[dict]) -> list[Support]:
     if log.acc is not None and segments:
         out.append(_still_poses(segments))
     if log.flight is not None:
-        out.extend(_flight_compass(log))
+        out.extend(_flight_compass(log, fix))
     elif log.mag is not None:
         out.append(_compass_turn(np.asarray(log.mag, dtype=float)))
     out.append(_noise(log))
@@ -182,17 +185,24 @@ def _largest_angle_deg(units: np.ndarray) -> float:
     return float(np.degrees(np.arccos(cos.min())))
 
 
-def _flight_compass(log: LogData) -> list[Support]:
+def _flight_compass(log: LogData, fix: dict | None) -> list[Support]:
     assert log.flight is not None
     compasses = [i for i in log.flight.to_dict()["instances"] if i["sensor"] == "mag"]
     if not compasses:
         return []
+    where = (
+        f"the Earth's field at its GPS fix ({fix['latitude_deg']:.2f}°, {fix['longitude_deg']:.2f}°"
+        + (f", {fix['date']})" if fix.get("date") else ")")
+        if fix
+        else "the Earth's field where it flew (the log has no GPS fix: give latitude_deg, longitude_deg and `date`)"
+    )
     return [
         Support(
             "compass_flight",
-            f"a flight controller's log with {counted(len(compasses), 'compass', 'compasses')}: "
-            "each against the flight's attitude and the Earth's field",
-            True,
+            f"a flight controller's log with {counted(len(compasses), 'compass', 'compasses')}: each against the "
+            f"flight's attitude and {where}",
+            fix is not None,
+            () if fix else ("latitude_deg", "longitude_deg", "date"),
         )
     ]
 
@@ -204,7 +214,7 @@ def _noise(log: LogData) -> Support:
     if rate is None:
         return Support(
             "noise",
-            "the noise needs the sampling rate: this recording has no time column",
+            "the noise needs the sampling rate, and this recording has no time column: give sampling_rate_hz",
             False,
             ("sampling_rate_hz",),
         )

@@ -40,6 +40,11 @@ function showResult(cal) {
 const ROLES = [["", "not used"], ["time_s", "time (s)"], ["time_ms", "time (ms)"], ["acc_x", "accelerometer x"],
   ["acc_y", "accelerometer y"], ["acc_z", "accelerometer z"], ["gyr_x", "gyroscope x"], ["gyr_y", "gyroscope y"],
   ["gyr_z", "gyroscope z"], ["mag_x", "magnetometer x"], ["mag_y", "magnetometer y"], ["mag_z", "magnetometer z"]];
+const ROLE_WORDS = { ...Object.fromEntries(ROLES.filter(([role]) => role)), "-": "not used" };
+// How to tell the sensors apart by what they read (app/io/formats/columns.py decides the same way).
+const COLUMN_HINT = "At rest an accelerometer's three columns read about 1 g together (9.8 m/s²) and turn from "
+  + "pose to pose; a gyroscope's read about 0 at every rest; a magnetometer's read the Earth's field (25–65 µT, "
+  + "or counts) as it turns; a time column rises on every line.";
 let action = 0; // the latest action: an older answer is never shown over a newer one
 
 // A message next to the control it is about (and heard through the status region).
@@ -141,30 +146,41 @@ function runSupport(method) {
   else calibrate({ method, recording_id: recordingId }, "Calibrating…", "Calibration refused", "#segments-msg");
 }
 
-// What the recording holds and can do, said first: each calibration it supports with its reason, a button for
-// those ready; one it cannot run yet says what it lacks, as a fact of the data (never in red).
+const calibrationWords = (method) => {
+  const words = TABLES.calibrationWords[method] || method;
+  return words[0].toUpperCase() + words.slice(1);
+};
+
+// What the recording holds and can do, said first: each calibration it supports with its reason and the button
+// that runs it (the page's own, moved into its line; a flight's stay in the flight's card); one it cannot run yet
+// says what it lacks, as a fact of the data (never in red).
 function showSupports(rec) {
   const found = rec.supports || [];
   $("#supports").hidden = !found.length;
+  const home = $("#support-buttons");
+  for (const button of document.querySelectorAll("#segments button[data-runs]:not([data-shown-by])")) {
+    button.hidden = true;
+    home.append(button); // back where it waits, before this recording's lines are drawn
+  }
   $("#supports-list").replaceChildren(...found.map((s) => {
     const li = cell("li", "");
     li.dataset.method = s.method;
     li.dataset.ready = String(s.ready);
-    const name = cell("strong", TABLES.methods[s.method] || s.method);
-    li.append(name, ` — ${s.why}`);
-    if (s.ready) {
-      const go = cell("button", "Run it");
+    li.append(cell("strong", calibrationWords(s.method)), ` — ${s.why}. `);
+    const own = runs(s.method);
+    if (!s.ready) return li;
+    if (own && !own.dataset.shownBy) {
+      own.hidden = false;
+      li.append(own);
+    } else {
+      const go = cell("button", `Run ${TABLES.calibrationWords[s.method] || s.method}`);
       go.type = "button";
       go.className = "secondary";
       go.addEventListener("click", () => runSupport(s.method));
-      li.append(" ", go);
+      li.append(go);
     }
     return li;
   }));
-  // The buttons of the calibrations it supports (those shown by the flight's card: flight_log.js decides).
-  for (const button of document.querySelectorAll("#segments button[data-runs]:not([data-shown-by])")) {
-    button.hidden = !found.some((s) => s.method === button.dataset.runs);
-  }
   return found.find((s) => s.ready) || null;
 }
 
@@ -172,7 +188,8 @@ function showSegments(rec) {
   // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
   const still = rec.channels.includes("acc");
   // A flight log's compass takes the place and date from its GPS; the fields are there for a log without one.
-  const flightCompass = Boolean(rec.flight && rec.flight.instances.some((i) => i.sensor === "mag"));
+  // (only where the log has no GPS fix: the fix gives them)
+  const flightCompass = Boolean(rec.flight && !rec.flight.fix && rec.flight.instances.some((i) => i.sensor === "mag"));
   $("#compass-place").hidden = !rec.channels.includes("mag") && !flightCompass;
   if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#segments").hidden = false;
@@ -197,21 +214,26 @@ function showSegments(rec) {
     ? `${formatNumber(rec.duration_s, 1)} s at ${formatNumber(rec.sampling_rate_hz, 1)} Hz`
     : `${rec.n_samples} samples (no time column)`;
   const files = parts.length ? ` of ${parts.length} files` : "";
-  const sensors = rec.channels.map((c) => (TABLES.sensorWords[c] || c).toLowerCase()).join(", ");
+  const names = rec.channels.map((c) => `the ${(TABLES.sensorWords[c] || c).toLowerCase()}`);
+  const sensors = names.length > 1 ? `${names.slice(0, -1).join(", ")} and ${names.at(-1)}` : names.join("");
   const first = showSupports(rec);
-  const holds = `${sensors}, ${rate}${files}${still ? `, ${counted(rec.segments.length, "still segment")}` : ""}`;
-  $("#supports-holds").textContent = `It holds the ${holds}.`
-    + (first ? ` First: ${TABLES.methods[first.method] || first.method}.` : "");
-  note("#segments-msg", first ? ""
+  const segs = still ? `, with ${counted(rec.segments.length, "still segment")}` : "";
+  const goal = $("#log-goal").value;
+  const running = goal ? `${TABLES.calibrationWords[goal] || goal}, as you chose`
+    : first && (TABLES.calibrationWords[first.method] || first.method);
+  $("#supports-holds").textContent = `It holds ${sensors}: ${rate}${files}${segs}.`
+    + (running ? ` Running ${running}.` : "");
+  note("#segments-msg", running ? ""
     : "Nothing this recording supports is ready yet: each line above says what it lacks.");
+  if (!running) offerOptions(found.flatMap((s) => s.asks || [])); // the upload's options they ask for, open
   // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
   // file gave which sensor when they are one per sensor, merged onto one clock).
   const several = parts.length > 0 || $("#log-file").files.length > 1;
   showNotes($("#segments-notes"), several ? rec.notes : []);
 }
 
-const HEADER_HINT = "trical did not recognise this file's header. Say what each column holds (leave the others "
-  + "as “not used”), then upload again.";
+const HEADER_HINT = "trical did not recognise this file's header. What does each column hold? Leave the others "
+  + "as “not used”, then upload again.";
 
 // The file's header was not recognised: a control per column to say what it holds.
 async function offerColumnMap(file) {
@@ -220,7 +242,7 @@ async function offerColumnMap(file) {
   const names = headerColumns(head.split(/\r?\n/)[0] || "");
   if (names.length < 2 || names.every((n) => Number.isFinite(Number(n)))) return false; // no header to map
   $("#columns-map-list").dataset.mode = "map";
-  $("#columns-map-hint").textContent = HEADER_HINT;
+  $("#columns-map-hint").textContent = `${HEADER_HINT} ${COLUMN_HINT}`;
   $("#columns-map-list").replaceChildren(...names.map((name, i) => {
     const label = cell("label", name);
     label.htmlFor = `map-${i}`;
@@ -245,10 +267,14 @@ async function offerCandidates(answer, file) {
   preview.className = "columns-preview";
   const plots = document.createElement("div");
   plots.className = "columns-plots";
+  // Each column on its own scale, its range under it: what it reads tells the sensor (COLUMN_HINT).
   columns.forEach((values, i) => {
     const fig = document.createElement("figure");
     fig.innerHTML = columnSparkSvg(values);
-    fig.append(cell("figcaption", `column ${i + 1}`));
+    const finite = values.filter(Number.isFinite);
+    const range = finite.length ? `: ${formatNumber(Math.min(...finite), 3)} to ${formatNumber(Math.max(...finite), 3)}`
+      : "";
+    fig.append(cell("figcaption", `column ${i + 1}${range}`));
     plots.append(fig);
   });
   const choices = (answer.candidates || []).map((c, i) => {
@@ -259,13 +285,13 @@ async function offerCandidates(answer, file) {
     radio.name = "columns-candidate";
     radio.value = c.columns;
     radio.checked = i === 0;
-    const columns = c.columns.split(",").map((n, k) => `${k + 1}: ${n === "-" ? "not used" : n}`).join(", ");
+    const columns = c.columns.split(",").map((n, k) => `${k + 1}: ${ROLE_WORDS[n] || n}`).join(", ");
     label.append(radio, ` ${c.sensors} — ${columns}`);
     return label;
   });
   list.replaceChildren(preview, plots, ...choices);
-  $("#columns-map-hint").textContent = "The columns of this file can be read more than one way. Choose what they hold "
-    + "(its first lines and a plot of each column are below), then upload again.";
+  $("#columns-map-hint").textContent = "The columns of this file can be read more than one way. Which do they "
+    + `hold? Its first lines and a plot of each column are below. ${COLUMN_HINT} Choose, then upload again.`;
   $("#columns-map").hidden = false;
 }
 
@@ -280,13 +306,13 @@ async function upload(data) {
     if (mine !== action) return;
     if (err.code === "columns_ambiguous" && !data.get("columns")) {
       await offerCandidates(err.body || {}, data.get("file"));
-      note("#upload-msg", "Say which column is which, below.", true);
+      note("#upload-msg", "Say which column is which, below.");
       return;
     }
     const mapped = err.code === "unreadable_log" && err.asks.includes("columns") && !data.get("columns")
       && await offerColumnMap(data.get("file"));
     if (!mapped) offerControls(err.asks, data);
-    note("#upload-msg", mapped ? "Say which column is which, below." : `Upload refused: ${err.message}`, true);
+    note("#upload-msg", mapped ? "Say which column is which, below." : `Upload refused: ${err.message}`, !mapped);
     return;
   }
   if (mine !== action) return;
@@ -296,8 +322,9 @@ async function upload(data) {
   // A flight controller's log states its units (the menus would be refused): its sensors instead.
   if (!showFlightLog(rec)) showUnits(rec);
   showSegments(rec);
-  // The first calibration the recording supports that is ready runs at once; nothing else is tried.
-  const first = (rec.supports || []).find((s) => s.ready);
+  // The calibration the person chose, else the first the recording supports that is ready; nothing else is tried.
+  const goal = $("#log-goal").value;
+  const first = goal ? { method: goal } : (rec.supports || []).find((s) => s.ready);
   if (first) runSupport(first.method);
 }
 
@@ -365,6 +392,13 @@ async function showOptions() {
   }
 }
 $("#log-file").addEventListener("change", showOptions);
+
+// What the person may ask of any recording (the method table's methods that read one), in the page's words.
+$("#log-goal").append(...TABLES.recordingMethods.map((method) => {
+  const o = cell("option", TABLES.calibrationWords[method] || method);
+  o.value = method;
+  return o;
+}));
 
 $("#upload-form").addEventListener("submit", (event) => {
   event.preventDefault();

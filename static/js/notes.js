@@ -8,7 +8,7 @@ import { cell } from "./dom.js";
 const DECISION = new RegExp("\\bunit\\b|\\binferred\\b|\\bcolumns?\\b|time column|\\bclock\\b|\\bsign\\b|\\bnegated\\b"
   + "|\\bmerged\\b|\\bread as\\b|\\bcounts\\b", "i");
 // A note about one file of several names it first: "gyro.csv: …" or "gyro.csv (the gyroscope) …".
-const FILE = /^([\w .()+-]+\.(?:csv|txt|tsv|json|zip|npy|parquet|ulg|bin))\b[:,]?\s*/i;
+const FILE = /^([\w.()+-]+\.(?:csv|txt|tsv|json|zip|npy|parquet|ulg|bin))\b/i;
 
 // Each note once, split into the decisions and the rest, each list grouped by the file a note names.
 export function sortNotes(notes) {

@@ -89,6 +89,14 @@ def test_every_remedy_names_an_option_its_place_takes(client):
             wrong += [
                 f"upload {name}: {w} in {m!r}" for w in wrong_remedies(m, fields=fields, command="calibrate", gave=gave)
             ]
+        for s in rec.get("supports") or []:  # what each supported calibration lacks, and what would make it ready
+            entry = methods.BY_NAME[s["method"]]
+            checked, named = checked + 1, named + bool(asked(s["why"]))
+            wrong += [
+                f"supports {name}: {w} in {s['why']!r}"
+                for w in wrong_remedies(s["why"], fields=fields | set(entry.options), command="calibrate", gave=gave)
+            ]
+            assert set(s["asks"]) <= set(asked(s["why"])), s  # what it asks for, its words name
         if r.status_code != 201:
             continue
         tried = {c["method"]: c for c in calibrations}

@@ -153,6 +153,14 @@ class InstanceOut(BaseModel):
     temperature_max_c: float | None = None
 
 
+class FixOut(BaseModel):
+    """A flight controller's log's first 3-D GPS fix."""
+
+    latitude_deg: float
+    longitude_deg: float
+    date: str | None = Field(None, description="Its UTC date (ISO 8601), where the log gives the GPS time.")
+
+
 class FlightOut(BaseModel):
     """What a flight controller's log holds, and what was read of it (app.io.formats.flight_log)."""
 
@@ -162,6 +170,11 @@ class FlightOut(BaseModel):
     clock: Literal["imu", "mag"] = Field(
         "imu",
         description="The samples are on the IMU's times; the compass methods read the log again on the compass's.",
+    )
+    fix: FixOut | None = Field(
+        None,
+        description="The first 3-D GPS fix of the compass read (the place and date of the Earth's field the compass "
+        "from the flight takes); null without one, or for recordings stored before it existed.",
     )
 
 
@@ -225,8 +238,8 @@ class SupportOut(BaseModel):
     ready: bool = Field(description="Whether it can run on the recording as it is; when not, `why` says what it lacks.")
     asks: list[str] = Field(
         [],
-        description="The upload's fields that would make it ready (`sampling_rate_hz` for a file without a time "
-        "column).",
+        description="The fields that would make it ready: the upload's (`sampling_rate_hz` for a file without a time "
+        "column) or the calibration's (`latitude_deg`, `longitude_deg`, `date` for a flight log without a GPS fix).",
     )
 
 

@@ -49,6 +49,18 @@ MAX_CANDIDATES = 6
 PREVIEW_LINES = 8
 
 
+def example_columns(n: int, name: str = "") -> str:
+    """A ``columns`` value for a table of ``n`` columns, as a person would name them: a time first where the count
+    leaves one over, then the sensor the file's name says (``gyro.txt``) and the others, accelerometer first
+    (``-`` for any column left)."""
+    named = [s for s in SENSORS if NAME_WORDS[s].search(name.lower())]
+    order = named + [s for s in SENSORS if s not in named]
+    time = ["t"] if n % 3 else []
+    triples = [f"{s}_{axis}" for s in order for axis in "xyz"][: 3 * ((n - len(time)) // 3)]
+    names = time + triples
+    return ",".join(names + ["-"] * (n - len(names)))
+
+
 class ColumnsAmbiguous(LogFormatError):
     """The data leave two or more readings of the columns open: each candidate's words and the
     ``columns`` value that reads the file so, with the file's first lines."""
@@ -300,8 +312,8 @@ def guess_columns(
         raise LogFormatError(
             f"{what} and its {values.shape[1]} columns read as no accelerometer, gyroscope or "
             "magnetometer (three columns each, with a time and a temperature column or not): name them, one per "
-            "column in order, with `columns`, e.g. "
-            "columns=t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips a column)"
+            f"column in order, with `columns`, e.g. columns={example_columns(values.shape[1], name)} (- skips "
+            "a column)"
         )
     shown = readings[:MAX_CANDIDATES]
     candidates = [{"sensors": words, "columns": ",".join(names)} for names, words in shown]
