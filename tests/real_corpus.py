@@ -8,7 +8,8 @@ A case folder holds the data (excerpts of public recordings, verbatim) and ``cas
      "source": {"repository": …, "path": …, "commit": <40 hex>, "licence": …, "kept": …},
      "files": ["gyro.csv"],                   # uploaded as `file` parts in this order, as the page does
      "form": {"sampling_rate_hz": "100"},     # the upload's form fields, as the page sends them
-     "upload": {"status": 201, "code": …, "units": {…}, "detail_contains": […], "warnings_contain": […]},
+     "upload": {"status": 201, "code": …, "units": {…}, "detail_contains": […], "warnings_contain": […],
+                "runs_first": "noise"},      # the supported calibration the page runs first (null: none ready)
      "calibrate": {"method": "noise"},        # POST /api/v1/calibrations (recording_id filled in)
      "expect": {"status": 201, "ok": true, "reasons_contain": […],
                 "values": [{"path": "model.gyr.bias", "value": […], "rtol": 0.05, "atol": 0}]},
@@ -94,12 +95,21 @@ def _answer(spec: dict) -> str:
     return said + (f" {exp['code']}" if exp.get("code") else "")
 
 
+def _runs_first(spec: dict) -> str:
+    """What the page runs first on the upload (the first supported calibration that is ready), in a few words."""
+    upload = spec.get("upload", {})
+    if "runs_first" not in upload:
+        return "—"
+    return upload["runs_first"] or "nothing ready"
+
+
 def table() -> str:
     """The corpus as a Markdown table (tests/data/real/corpus/README.md): case, device, files, what trical is
     asked and must answer, the reference, and the source with its commit and licence."""
     rows = [
-        "| case | device | files | asked | must answer | reference | source (repository, path, commit) | licence |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| case | device | files | runs first | asked | must answer | reference | source (repository, path, commit) "
+        "| licence |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for c in cases():
         s, src = c.spec, c.spec.get("source", {})
@@ -108,6 +118,7 @@ def table() -> str:
             c.name,
             s.get("device", ""),
             ", ".join(s.get("files", [])),
+            _runs_first(s),
             method,
             _answer(s),
             s.get("reference", ""),

@@ -73,7 +73,7 @@ def supports(log: LogData, segments: list[dict], *, fix: dict | None = None) -> 
         The first one ``ready`` is what the page and ``trical calibrate`` run when the person chose nothing.
     """
     out: list[Support] = []
-    if log.acc is not None and segments:
+    if log.acc is not None:
         out.append(_still_poses(segments))
     if log.flight is not None:
         out.extend(_flight_compass(log, fix))

@@ -38,6 +38,9 @@ def _check(body: dict, status: int, want: dict, what: str) -> None:
         assert body["units"] == want["units"], f"{what}: {body.get('units')} {body.get('warnings')}"
     if "ok" in want:
         assert body["ok"] is want["ok"], f"{what}: ok={body['ok']} reasons={body.get('reasons')}"
+    if "runs_first" in want:  # what the recording supports that the page runs first (null: nothing is ready)
+        first = next((s["method"] for s in body["supports"] if s["ready"]), None)
+        assert first == want["runs_first"], f"{what}: runs {first} first; supports {body['supports']}"
     _contains_all([body.get("detail", "")], want.get("detail_contains", []), f"{what} detail")
     _contains_all(body.get("warnings", []), want.get("warnings_contain", []), f"{what} warnings")
     _contains_all(body.get("reasons", []), want.get("reasons_contain", []), f"{what} reasons")
