@@ -29,7 +29,7 @@ def test_calibrate_several_files_names_each_pose_by_its_file(tmp_path):
     assert body["label"] == ", ".join(f"{s}.csv" for s in ORDER)
     human = trical("calibrate", *paths, "--unit", "m/s^2", "--no-store", tmp_path=tmp_path)
     lines = human.stdout.splitlines()
-    assert lines[0].startswith("method auto, chosen from the recording: 6 still poses"), lines[0]
+    assert lines[0].startswith("--method auto, chosen from the recording: 6 still poses"), lines[0]
     lines = lines[1:]  # the choice said, the summary as before
     assert (
         lines[0] == "6 still segments in 1200 samples of 6 files at 62.8687 Hz; used [0, 1, 2, 3, 4, 5]"

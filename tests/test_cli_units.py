@@ -31,7 +31,7 @@ def test_a_g_header_over_m_s2_values_calibrates_and_warns(tmp_path):
     path = _write(tmp_path / "board.csv", "t,aX (g),aY (g),aZ (g)", [t, six.samples])
     out = trical("calibrate", str(path), "--no-store", tmp_path=tmp_path)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.splitlines()[0].startswith("method auto, chosen from the recording:")
+    assert out.stdout.splitlines()[0].startswith("--method auto, chosen from the recording:")
     assert out.stdout.splitlines()[2].startswith("Apply it:")
     assert re.search(
         r"^warning: the header said g for the accelerometer, but its readings rest at a median norm of "

@@ -152,8 +152,8 @@ const calibrationWords = (method) => {
 };
 
 // What the recording holds and can do, said first: each calibration it supports with its reason and the button
-// that runs it (the page's own, moved into its line; a flight's stay in the flight's card); one it cannot run yet
-// says what it lacks, as a fact of the data (never in red).
+// that runs it (the page's own, moved into its line; a flight's stays in the flight's card); one it cannot run yet
+// says what it lacks, as a fact of the data (never in red), and nothing runs it unless the person asks.
 function showSupports(rec) {
   const found = rec.supports || [];
   $("#supports").hidden = !found.length;
@@ -167,12 +167,13 @@ function showSupports(rec) {
     li.dataset.method = s.method;
     li.dataset.ready = String(s.ready);
     li.append(cell("strong", calibrationWords(s.method)), ` — ${s.why}. `);
+    // Its own button, ready or not (the person may try what the data seem to lack: a refusal then says why);
+    // one without a button of its own gets one where it is ready.
     const own = runs(s.method);
-    if (!s.ready) return li;
     if (own && !own.dataset.shownBy) {
       own.hidden = false;
       li.append(own);
-    } else {
+    } else if (s.ready) {
       const go = cell("button", `Run ${TABLES.calibrationWords[s.method] || s.method}`);
       go.type = "button";
       go.className = "secondary";
@@ -225,7 +226,7 @@ function showSegments(rec) {
     + (running ? ` Running ${running}.` : "");
   note("#segments-msg", running ? ""
     : "Nothing this recording supports is ready yet: each line above says what it lacks.");
-  if (!running) offerOptions(found.flatMap((s) => s.asks || [])); // the upload's options they ask for, open
+  if (!running) offerOptions((rec.supports || []).flatMap((s) => s.asks || [])); // the options they ask for
   // What the reading of the files noticed (a file whose name contradicts its pose, one without a rest; which
   // file gave which sensor when they are one per sensor, merged onto one clock).
   const several = parts.length > 0 || $("#log-file").files.length > 1;
