@@ -46,7 +46,9 @@ def test_calibrate_json_then_export(tmp_path):
     # (six poses: no figure, and how to get one) before the in-sample figure.
     lines = human.stdout.splitlines()
     # What the recording supports first, the method run and why (the start page runs the same one).
-    assert lines[0].startswith("--method auto, chosen from the recording: 6 still poses covering the six axes"), lines[0]
+    assert lines[0].startswith("--method auto, chosen from the recording: 6 still poses covering the six axes"), lines[
+        0
+    ]
     lines = lines[1:]
     # The verdict first: apply it, on the six poses' own figure (raw → calibrated), saying why it is in-sample.
     assert lines[1].startswith("Apply it: error on the 6 poses fitted ") and "Six poses leave none out" in lines[2]

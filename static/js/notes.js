@@ -1,6 +1,7 @@
 // Notes a person reads (the reader's and the calibration's warnings): each once, the decisions first as a short
 // list — the units, the columns and the clock trical read the file with — grouped by the file they are about when
-// there are several, and the rest folded under "Details". Used by the start page and every result.
+// there are several, else by the sensor, and the rest folded under "Details". Used by the start page and every
+// result.
 
 import { cell } from "./dom.js";
 
@@ -10,7 +11,7 @@ const DECISION = new RegExp("\\bunit\\b|\\binferred\\b|\\bcolumns?\\b|time colum
 // A note about one file of several names it first: "gyro.csv: …" or "gyro.csv (the gyroscope) …".
 const FILE = /^([\w.()+-]+\.(?:csv|txt|tsv|json|zip|npy|parquet|ulg|bin))\b/i;
 
-// Each note once, split into the decisions and the rest, each list grouped by the file a note names.
+// Each note once, split into the decisions and the rest.
 export function sortNotes(notes) {
   const unique = [...new Set((notes || []).filter(Boolean))];
   return {
@@ -19,16 +20,27 @@ export function sortNotes(notes) {
   };
 }
 
-// The notes by the file each names first, where they name two files or more (else one group, "").
+const SENSOR = /\b(accelerometer|gyroscope|magnetometer|compass)\b/i;
+const SENSOR_TITLES = { compass: "magnetometer" };
+
+// The notes by the file each names first where they name two files or more, else by the sensor each is about
+// where they speak of two sensors or more (else one group, ""): a person reads what concerns one thing together.
 function byFile(notes) {
   const fileOf = (note) => note.match(FILE)?.[1] || "";
+  const sensorOf = (note) => {
+    const word = (note.match(SENSOR)?.[1] || "").toLowerCase();
+    return SENSOR_TITLES[word] || word;
+  };
   const files = new Set(notes.map(fileOf).filter(Boolean));
-  const groups = new Map();
+  const sensors = new Set(notes.map(sensorOf).filter(Boolean));
+  const keyOf = files.size > 1 ? fileOf : sensors.size > 1 ? sensorOf : () => "";
+  const groups = new Map([["", []]]);
   for (const note of notes) {
-    const file = files.size > 1 ? fileOf(note) : "";
-    if (!groups.has(file)) groups.set(file, []);
-    groups.get(file).push(note);
+    const key = keyOf(note);
+    if (!groups.has(key)) groups.set(key, []);
+    groups.get(key).push(note);
   }
+  if (!groups.get("").length) groups.delete("");
   return groups;
 }
 
@@ -39,7 +51,7 @@ function list(notes) {
   for (const [file, items] of groups) {
     if (!file) { ul.append(...items.map((n) => cell("li", n))); continue; }
     const li = cell("li", "");
-    li.append(cell("strong", file));
+    li.append(cell("strong", file.includes(".") ? file : file[0].toUpperCase() + file.slice(1))); // a sensor: a title
     const inner = document.createElement("ul");
     inner.append(...items.map((n) => cell("li", n)));
     li.append(inner);

@@ -18,6 +18,7 @@ import pytest
 
 from app.calibration.result import CalibrationResult
 from app.io.log import UNITS_IN as UNITS
+from tests.api.test_remedies import answer_problems
 from tests.conftest import DATA
 from tests.real_corpus import cases as corpus_cases
 
@@ -163,6 +164,11 @@ def test_no_mistake_reading_a_real_recording_gives_ok_with_an_implausible_figure
     for what, form in mistakes:
         r, c = _post(client, case, form)
         where = f"{case['name']}: {what}"
+        # Its remedies are ones their places take (tests/api/test_remedies.py): the mistake's own answer too.
+        problems = answer_problems(
+            r, c, names=[p.name for p in case["files"]], form=form, method=case["calibrate"]["method"]
+        )
+        assert not problems, (where, problems)
         if c is None or c.status_code != 201:
             answer = r if c is None else c
             assert 400 <= answer.status_code < 500 and answer.json().get("detail"), (where, answer.text)

@@ -61,6 +61,26 @@ def wrong_remedies(message: str, *, fields: set[str], command: str, gave: set[st
     return out
 
 
+def answer_problems(upload, calibration, *, names: list[str], form: dict, method: str) -> list[str]:
+    """The remedies an upload's answer and its calibration's name that their places do not take (the upload's
+    family, the method's request, its command; or what the person gave in ``form``)."""
+    rec = upload.json()
+    fields = set(UPLOAD_FIELDS[family(names, rec if upload.status_code == 201 else None)])
+    entry = methods.BY_NAME[method]
+    out = [
+        f"upload: {w} in {m!r}"
+        for m in messages(rec)
+        for w in wrong_remedies(m, fields=fields, command="calibrate", gave=set(form))
+    ]
+    if calibration is not None:
+        out += [
+            f"{method}: {w} in {m!r}"
+            for m in messages(calibration.json())
+            for w in wrong_remedies(m, fields=fields | set(entry.options), command=entry.command, gave=set(form))
+        ]
+    return out
+
+
 def uploads() -> list[tuple[str, list, dict, list[dict]]]:
     """(name, file parts, form, calibrations) of every real recording and flight log, and the upload mistakes of the
     API's unit tests."""
