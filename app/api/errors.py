@@ -131,7 +131,11 @@ def install_error_handlers(app: FastAPI, not_found_page: Callable[[Request], HTM
 
     @app.exception_handler(LogFormatError)
     async def _log_format(request: Request, exc: LogFormatError):
-        extra = {"candidates": exc.candidates, "preview": exc.preview} if isinstance(exc, ColumnsAmbiguous) else None
+        extra = (
+            {"candidates": exc.candidates, "preview": exc.preview, "file": exc.file}
+            if isinstance(exc, ColumnsAmbiguous)
+            else None
+        )
         return error_response(
             exc.status,
             str(exc),

@@ -260,7 +260,7 @@ async function offerColumnMap(file) {
 
 // The data let the columns be read more than one way: each reading as a choice, over the first lines
 // and a small plot of each column; the one chosen is sent as `columns`.
-async function offerCandidates(answer, file) {
+async function offerCandidates(answer, file, several = false) {
   const columns = tableColumns(await file.slice(0, 65536).text());
   const list = $("#columns-map-list");
   list.dataset.mode = "candidates";
@@ -291,10 +291,17 @@ async function offerCandidates(answer, file) {
     return label;
   });
   list.replaceChildren(preview, plots, ...choices);
-  $("#columns-map-hint").textContent = "The columns of this file can be read more than one way. Which do they "
+  list.dataset.file = several ? file.name : "";
+  const which = several ? `The columns of ${file.name} (one of the files)` : "The columns of this file";
+  $("#columns-map-hint").textContent = `${which} can be read more than one way. Which do they `
     + `hold? Its first lines and a plot of each column are below. ${COLUMN_HINT} Choose, then upload again.`;
   $("#columns-map").hidden = false;
 }
+
+// The columns chosen so far for each of several files uploaded together (one choice per file), sent as
+// `columns` NAME=COLUMNS;NAME=COLUMNS (app.io.formats.columns_of_file).
+let fileColumns = {};
+const perFileColumns = () => Object.entries(fileColumns).map(([name, cols]) => `${name}=${cols}`).join(";");
 
 async function upload(data) {
   clearOutput();
@@ -305,9 +312,13 @@ async function upload(data) {
     rec = await uploadRecording(data);
   } catch (err) {
     if (mine !== action) return;
-    if (err.code === "columns_ambiguous" && !data.get("columns")) {
-      await offerCandidates(err.body || {}, data.get("file"));
-      note("#upload-msg", "Say which column is which, below.");
+    const files = data.getAll("file");
+    const asked = files.find((f) => f.name === err.body?.file) || files[0];
+    const several = files.length > 1;
+    if (err.code === "columns_ambiguous" && (several ? !(asked.name in fileColumns) : !data.get("columns"))) {
+      await offerCandidates(err.body || {}, asked, several);
+      note("#upload-msg", several ? `Say which column is which in ${asked.name}, below.`
+        : "Say which column is which, below.");
       return;
     }
     const mapped = err.code === "unreadable_log" && err.asks.includes("columns") && !data.get("columns")
@@ -403,6 +414,7 @@ $("#log-goal").append(...TABLES.recordingMethods.map((method) => {
 
 $("#upload-form").addEventListener("submit", (event) => {
   event.preventDefault();
+  fileColumns = {}; // a new upload: no file's columns chosen yet
   upload(uploadData());
 });
 
@@ -411,7 +423,9 @@ $("#columns-map-go").addEventListener("click", () => {
   if ($("#columns-map-list").dataset.mode === "candidates") {
     const chosen = document.querySelector("#columns-map-list input[name=columns-candidate]:checked");
     if (!chosen) return;
-    data.set("columns", chosen.value);
+    const file = $("#columns-map-list").dataset.file;
+    if (file) fileColumns[file] = chosen.value; // one of several files: its choice beside the others'
+    data.set("columns", file ? perFileColumns() : chosen.value);
   } else {
     const mapping = Object.fromEntries([...document.querySelectorAll("#columns-map-list select")]
       .map((s) => [s.dataset.column, s.value]));

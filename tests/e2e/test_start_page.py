@@ -179,6 +179,41 @@ def test_columns_the_data_leave_open_are_chosen_on_the_card(page, server):
     assert "gyroscope" in page.text_content("#supports-holds")
 
 
+def test_several_files_are_each_asked_their_columns_on_the_card(page, server, tmp_path):
+    """Two files of a still MPU-6050's gyroscope in counts without a header row, chosen together: the card asks
+    about each in turn (a question, not a refusal in red), and the recording reads each with its own answer."""
+    from tests.api.test_columns_per_file import _two_files
+
+    paths = []
+    for _, (name, content, _mime) in _two_files():
+        (tmp_path / name).write_bytes(content)
+        paths.append(str(tmp_path / name))
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", paths)
+    page.click("#options-summary")
+    page.fill("#log-rate", "100")
+    page.click("#upload-form button[type=submit]")
+    for name in ("rest_1.csv", "rest_2.csv"):
+        page.wait_for_selector(f"#columns-map-list[data-file='{name}']")
+        assert page.text_content("#upload-msg") == f"Say which column is which in {name}, below."
+        assert page.locator("#upload-msg.bad").count() == 0  # a question, not a refusal
+        assert page.text_content("#columns-map-hint").startswith(f"The columns of {name} (one of the files)")
+        labels = page.eval_on_selector_all("#columns-map-list .columns-choice", "ls => ls.map(l => l.textContent)")
+        assert labels[0].strip().startswith("gyroscope — 1: gyroscope x, 2: gyroscope y, 3: gyroscope z"), labels
+        if name == "rest_1.csv":
+            for width in (320, 390, 1280):
+                page.set_viewport_size({"width": width, "height": 900})
+                assert page.evaluate("() => document.documentElement.scrollWidth") <= width  # no sideways scroll
+                shot(page, f"upload_columns_per_file_{width}")
+        page.check("#columns-map-list input[value='gyr_x,gyr_y,gyr_z']")
+        page.click("#columns-map-go")
+    page.wait_for_selector("#segments:not([hidden])")
+    assert "the gyroscope" in page.text_content("#supports-holds") and "of 2 files" in page.text_content(
+        "#supports-holds"
+    )
+    assert page.errors == [] or all("422" in e for e in page.errors)
+
+
 POSE_FILES = DATA / "real" / "mpu6050_pose_files"
 POSE_ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")
 

@@ -40,7 +40,9 @@ class UploadOptions(BaseModel):
     columns: str | None = Field(
         None,
         description="Map unrecognised CSV columns, e.g. acc_x:north,acc_y:east,acc_z:down, "
-        "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one)",
+        "or name every column in order, e.g. t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z (- skips one); for several "
+        "files uploaded together, one entry per file, NAME=COLUMNS;NAME=COLUMNS (a file not named is read by "
+        "its header or its data).",
     )
     sign: Annotated[int, AfterValidator(_plus_or_minus_one)] | None = Field(
         None,

@@ -125,6 +125,28 @@ SKIP = "-"
 """The name of a column to leave out (a list of ``columns``)."""
 
 
+FILE_COLUMNS = ";"
+"""Between the files' entries of ``columns`` for several files uploaded together: ``NAME=COLUMNS;NAME=COLUMNS``."""
+
+
+def columns_of_file(columns, name: str):
+    """The ``columns`` a file is read with: the upload's, or, where it names files (``a.csv=t,gyr_x,gyr_y,gyr_z;
+    b.csv=…``, one entry per file uploaded together), this file's entry (None for a file it does not name: its
+    header or its data decide)."""
+    if not isinstance(columns, str) or "=" not in columns:
+        return columns
+    entries = {}
+    for entry in filter(None, (e.strip() for e in columns.split(FILE_COLUMNS))):
+        file, sep, value = entry.partition("=")
+        if not sep or not file.strip() or not value.strip():
+            raise LogFormatError(
+                f"columns entry {entry!r} is not NAME=COLUMNS: for several files give one entry per file, e.g. "
+                "gyroscope.txt=t,gyr_x,gyr_y,gyr_z;accelerometer.txt=t,acc_x,acc_y,acc_z"
+            )
+        entries[file.strip()] = value.strip()
+    return entries.get(name)
+
+
 def parse_columns(columns: str | dict | list | None) -> dict | list | None:
     """``columns`` as a mapping ``{"acc_x": "north", ...}`` or as a list of names, one per column.
 
@@ -270,7 +292,7 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
     if o.format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
         return _read_array_file(path, o, name)
     check_sign(o.sign)
-    column_map = parse_columns(o.columns)
+    column_map = parse_columns(columns_of_file(o.columns, name))
     s = sniff(path, name)
     json_fmt = o.format if o.format in (betaflight_mag.NAME, json_samples.NAME) else None
     if o.format in ("auto", json_samples.NAME) and json_samples.detect(s):

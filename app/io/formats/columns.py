@@ -67,10 +67,13 @@ class ColumnsAmbiguous(LogFormatError):
 
     code = "columns_ambiguous"
 
-    def __init__(self, message: str, candidates: list[dict], preview: list[str]):
+    def __init__(self, message: str, candidates: list[dict], preview: list[str], file: str | None = None):
         super().__init__(message)
         self.candidates = candidates
         self.preview = preview
+        self.file = file
+        """The file whose columns are asked about: one of several uploaded together answers for its own
+        (``columns`` as ``NAME=…;NAME=…``, :func:`app.io.formats.columns_of_file`)."""
 
 
 def _whole(x: np.ndarray) -> bool:
@@ -307,6 +310,7 @@ def guess_columns(
             + " only by elimination (one set of three reads as no sensor on its own): say which, with `columns`",
             candidates,
             lines[:PREVIEW_LINES],
+            name,
         )
     if not readings:
         raise LogFormatError(
@@ -323,4 +327,5 @@ def guess_columns(
         + ": say which, with `columns`",
         candidates,
         lines[:PREVIEW_LINES],
+        name,
     )
