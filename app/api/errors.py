@@ -18,8 +18,9 @@ unreadable_log         422     a log that cannot be read (format, columns, units
 bad_line               422     a line of a log that is not numbers where numbers are read: the detail
                                names the line, the column and the text
 columns_ambiguous      422     a table whose columns its data let be read more than one way: the body
-                               adds ``candidates`` (each ``sensors`` and its ``columns`` value) and
-                               ``preview`` (the table's first lines); send one as ``columns``
+                               adds ``candidates`` (each ``sensors`` and its ``columns`` value),
+                               ``preview`` (the table's first lines) and ``file`` (the file asked about);
+                               send one as ``columns`` (of several files: ``NAME=COLUMNS;…``)
 unsupported_media      415     an upload that is not a log trical reads
 payload_too_large      413     an upload or JSON body over its limit
 export_refused         422     an export format that does not fit the calibration
