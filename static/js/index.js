@@ -268,16 +268,27 @@ async function offerCandidates(answer, file, several = false) {
   preview.className = "columns-preview";
   const plots = document.createElement("div");
   plots.className = "columns-plots";
-  // Each column on its own scale, its range under it: what it reads tells the sensor (COLUMN_HINT).
-  columns.forEach((values, i) => {
+  // Each column on its own scale, its range under it, and what the reading chosen makes of it: the sensor's
+  // axis and the units it may be in (whole numbers: counts). What it reads tells the sensor (COLUMN_HINT).
+  const captions = columns.map((values, i) => {
     const fig = document.createElement("figure");
     fig.innerHTML = columnSparkSvg(values);
-    const finite = values.filter(Number.isFinite);
-    const range = finite.length ? `: ${formatNumber(Math.min(...finite), 3)} to ${formatNumber(Math.max(...finite), 3)}`
-      : "";
-    fig.append(cell("figcaption", `column ${i + 1}${range}`));
+    const caption = cell("figcaption", "");
+    fig.append(caption);
     plots.append(fig);
+    return (role) => {
+      const finite = values.filter(Number.isFinite);
+      const range = finite.length ? `${formatNumber(Math.min(...finite), 3)} to ${formatNumber(Math.max(...finite), 3)}`
+        : "";
+      const sensor = (role || "").split("_")[0];
+      const whole = finite.length && finite.every(Number.isInteger);
+      const units = whole ? ["counts"]
+        : (TABLES.units.units[sensor] || []).filter(([u]) => u !== "raw").map(([, w]) => w);
+      const what = role && role !== "-" ? `, ${ROLE_WORDS[role] || role}` : "";
+      caption.textContent = `column ${i + 1}${what}: ${range}${units.length ? ` (${units.join(" or ")})` : ""}`;
+    };
   });
+  const describe = (value) => value.split(",").forEach((role, k) => captions[k]?.(role));
   const choices = (answer.candidates || []).map((c, i) => {
     const label = document.createElement("label");
     label.className = "columns-choice";
@@ -286,11 +297,13 @@ async function offerCandidates(answer, file, several = false) {
     radio.name = "columns-candidate";
     radio.value = c.columns;
     radio.checked = i === 0;
+    radio.addEventListener("change", () => describe(c.columns));
     const columns = c.columns.split(",").map((n, k) => `${k + 1}: ${ROLE_WORDS[n] || n}`).join(", ");
     label.append(radio, ` ${c.sensors} — ${columns}`);
     return label;
   });
   list.replaceChildren(preview, plots, ...choices);
+  describe(answer.candidates?.[0]?.columns || "");
   list.dataset.file = several ? file.name : "";
   const which = several ? `The columns of ${file.name} (one of the files)` : "The columns of this file";
   $("#columns-map-hint").textContent = `${which} can be read more than one way. Which do they `

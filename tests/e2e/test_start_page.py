@@ -169,6 +169,11 @@ def test_columns_the_data_leave_open_are_chosen_on_the_card(page, server):
     assert page.text_content("#columns-map-hint").startswith("The columns of this file can be read more than one way")
     assert page.text_content(".columns-preview").startswith("-480,193,-83")
     assert page.locator(".columns-plots svg").count() == 3
+    # Each plot on its own scale, with its range and what the reading chosen makes of it (whole numbers: counts).
+    captions = page.eval_on_selector_all(".columns-plots figcaption", "cs => cs.map(c => c.textContent)")
+    assert captions[0] == "column 1, gyroscope x: -480 to -386 (counts)", captions
+    page.check("#columns-map-list input[value='mag_x,mag_y,mag_z']")
+    assert page.text_content(".columns-plots figcaption").startswith("column 1, magnetometer x: "), captions
     choices = page.eval_on_selector_all("#columns-map-list input[name=columns-candidate]", "rs => rs.map(r => r.value)")
     assert choices == ["gyr_x,gyr_y,gyr_z", "mag_x,mag_y,mag_z"]
     shot(page, "upload_columns_candidates")
