@@ -20,16 +20,17 @@ export function sortNotes(notes) {
   };
 }
 
-const SENSOR = /\b(accelerometer|gyroscope|magnetometer|compass)\b/i;
-const SENSOR_TITLES = { compass: "magnetometer" };
+// The sensor a note is about: its first word of a sensor, a compass being the magnetometer.
+const SENSORS = ["accelerometer", "gyroscope", "magnetometer"];
+const SENSOR = /\b(?:(accelerometer)|(gyroscope)|(magnetometer|compass))\b/i;
 
 // The notes by the file each names first where they name two files or more, else by the sensor each is about
 // where they speak of two sensors or more (else one group, ""): a person reads what concerns one thing together.
 function byFile(notes) {
   const fileOf = (note) => note.match(FILE)?.[1] || "";
   const sensorOf = (note) => {
-    const word = (note.match(SENSOR)?.[1] || "").toLowerCase();
-    return SENSOR_TITLES[word] || word;
+    const m = note.match(SENSOR);
+    return m ? SENSORS[m.slice(1).findIndex(Boolean)] : "";
   };
   const files = new Set(notes.map(fileOf).filter(Boolean));
   const sensors = new Set(notes.map(sensorOf).filter(Boolean));
