@@ -69,10 +69,6 @@ class Calibration:
             return self.result
         return dataclasses.replace(self.result, metrics={**self.result.metrics, **self.extra_metrics})
 
-    @property
-    def ok(self) -> bool:
-        return self.result.ok
-
     def read_from(self, warnings: list[str], questions: list[dict]) -> Calibration:
         """This calibration of a recording: the reader's ``warnings`` first (what it decided against the header or
         the caller: units, columns, clock), and the ``questions`` it left open (a gyroscope's unit) as reasons of

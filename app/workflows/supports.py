@@ -18,7 +18,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from app.calibration.orientations import WITHIN_LABEL_ANGLE
+from app.calibration.orientations import CANONICAL_SIX, WITHIN_LABEL_ANGLE
 from app.io.log import LogData
 from app.io.plural import counted
 
@@ -98,7 +98,7 @@ def first_ready(found: list[dict]) -> dict | None:
 def _still_poses(segments: list[dict]) -> Support:
     ups = {s["up"] for s in segments if s.get("up")}
     n = len(segments)
-    if ups >= {"+x", "-x", "+y", "-y", "+z", "-z"} and len(ups) == 6:
+    if ups >= set(CANONICAL_SIX):
         return Support(
             "auto", f"{counted(n, 'still pose')} covering the six axes: the accelerometer's calibration", True
         )

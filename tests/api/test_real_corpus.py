@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from app.workflows.supports import first_ready
 from tests.api.test_one_verdict import disagreement
 from tests.real_corpus import CORPUS, at, cases, problems, readme
 
@@ -39,7 +40,7 @@ def _check(body: dict, status: int, want: dict, what: str) -> None:
     if "ok" in want:
         assert body["ok"] is want["ok"], f"{what}: ok={body['ok']} reasons={body.get('reasons')}"
     if "runs_first" in want:  # what the recording supports that the page runs first (null: nothing is ready)
-        first = next((s["method"] for s in body["supports"] if s["ready"]), None)
+        first = (first_ready(body["supports"]) or {}).get("method")
         assert first == want["runs_first"], f"{what}: runs {first} first; supports {body['supports']}"
     _contains_all([body.get("detail", "")], want.get("detail_contains", []), f"{what} detail")
     _contains_all(body.get("warnings", []), want.get("warnings_contain", []), f"{what} warnings")
