@@ -61,6 +61,7 @@ def ardupilot_cal(values: dict, instance: int) -> FirmwareCompassCal:
         motor_kind={1: "throttle", 2: "current"}.get(motct),
         orientation=int(values[orient]) if orient in values else None,
         params=used,
+        switch="COMPASS_USE" + k,
     )
 
 

@@ -109,6 +109,9 @@ class FirmwareCompassCal:
         COMPASS_ORIENTn / CAL_MAGn_ROT (the firmware's enum), None when absent.
     params : dict
         The parameters' names and values it came from.
+    switch : str or None
+        The parameter that has the firmware use this compass (ArduPilot COMPASS_USEn, PX4 CAL_MAGn_PRIO or,
+        before 1.12, CAL_MAGn_EN); None where the log stores no calibration slot for it.
     """
 
     firmware: str
@@ -119,6 +122,7 @@ class FirmwareCompassCal:
     motor_kind: str | None
     orientation: int | None
     params: dict
+    switch: str | None = None
 
     def to_dict(self) -> dict:
         d = asdict(self)

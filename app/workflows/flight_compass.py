@@ -72,6 +72,19 @@ def _place(request, log, notes: list[str]) -> tuple[float, float, float, datetim
     return float(lat), float(lon), float(height), day
 
 
+def _not_measuring_remedy(log) -> str:
+    """What to check on a compass that does not measure, in its firmware's settings."""
+    switch = log.stored.switch
+    off = (
+        f"; if it is not fitted or cannot be mended, set {switch} = 0 so that the firmware stops using it"
+        if switch
+        else ""
+    )
+    return (
+        f"check compass {log.instance}'s wiring, that it is enabled, and that no magnet or power wire sits near it{off}"
+    )
+
+
 def compass_flight(request, recording: RecordingSource | None) -> Calibration:
     """Method ``compass_flight``: a flight log's compass against the field its attitude expects."""
     from app.calibration.magnetometer import FlightCompassCalibration, fit_flight_compass
@@ -118,6 +131,7 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
         frame_to_body=log.frame_to_body,
         attitude=attitude,
         earth_ned=b_ned,
+        not_measuring_remedy=_not_measuring_remedy(log),
     )
     flight = {
         "firmware": log.firmware,

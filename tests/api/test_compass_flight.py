@@ -184,3 +184,16 @@ def test_a_log_without_gps_asks_for_the_place_and_date(client, tmp_path, which):
         "date": datetime.date(2025, 6, 1).isoformat(),
     }
     assert body["flight"]["rotation_nearest"]["ardupilot"] == ORIENTATION
+
+
+@pytest.mark.parametrize("which, switch", [(0, "COMPASS_USE"), (1, "CAL_MAG0_PRIO")])
+def test_a_dead_compass_is_said_not_to_measure_with_the_setting_that_stops_its_use(client, tmp_path, which, switch):
+    """A compass unplugged in flight reads 0: ArduPilot's log then shows its stored offsets, PX4's zeros. The
+    answer names that, and the firmware's own switch, before anything is fitted or called better."""
+    flight = seeded_flight(SEED, orientation=ORIENTATION, duration_s=120.0)
+    flight["mag_raw_ut"] = np.zeros_like(flight["mag_raw_ut"])
+    r = _calibrate(client, _upload(client, write_flight_compass_logs(tmp_path, flight)[which]))
+    assert r.status_code == 422 and r.json()["code"] == "compass_not_measuring", r.text
+    detail = r.json()["detail"]
+    assert detail.startswith("this compass does not measure: the compass reads 0.0 µT for the whole flight"), detail
+    assert f"set {switch} = 0" in detail and "better" not in detail

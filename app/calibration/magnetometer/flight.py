@@ -30,6 +30,7 @@ from ..gates import Gates
 from ..rotations import angle_between, nearest_rotation, rotation_matrix
 from ..uncertainty import CONFIDENCE, half_widths
 from .coverage import coverage, face_of
+from .flight_health import check_measuring
 from .flight_model import (
     MATRIX_PARAMETERS,
     MODELS,
@@ -182,6 +183,7 @@ def fit_flight_compass(
     folds: int = 5,
     models="auto",
     confidence: float = CONFIDENCE,
+    not_measuring_remedy: str | None = None,
 ) -> FlightCompassResult:
     """Calibrate a compass from a flight: ``h_body = M (Q m − b − k p)`` fitted to ``e = C_nbᵀ B_ned``.
 
@@ -211,6 +213,8 @@ def fit_flight_compass(
         each optionally ``+motor``.
     confidence : float
         Of the intervals.
+    not_measuring_remedy : str, optional
+        What to check when the readings do not measure the Earth's field (the firmware's own settings).
 
     Returns
     -------
@@ -220,6 +224,9 @@ def fit_flight_compass(
     ------
     CalibrationError
         Malformed input (shapes, non-finite times, an unknown model).
+    CompassNotMeasuringError
+        Readings that do not measure the Earth's field (:func:`.flight_health.check_measuring`): zero, not
+        turning with the vehicle, or turning by a wrong scale.
     InsufficientDataError
         Fewer than :data:`MIN_FIT_SAMPLES` usable samples.
     """
@@ -231,6 +238,7 @@ def fit_flight_compass(
     folds = int(folds)
 
     m, e, t, p, fw, C = _usable(m, e, t, p, fw, C)
+    check_measuring(m, e, remedy=not_measuring_remedy)  # before anything is fitted or judged "better"
     n = len(m)
     gates = Gates()
     if n < MIN_SAMPLES:
