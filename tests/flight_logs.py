@@ -760,6 +760,7 @@ def px4_flight_topics(flight: dict, *, device_id: int = 396809, slot: int = 0):
     params = {
         p + "ID": int(device_id),
         p + "ROT": int(-1 if cal.get("orientation") is None else cal["orientation"]),
+        p + "PRIO": 50,  # PX4 1.12 on: enabled at the default priority
         "CAL_MAG_COMP_TYP": {None: 0, "throttle": 1, "current": 2}[kind],
         "SENS_BOARD_ROT": 0,
     }

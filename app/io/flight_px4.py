@@ -197,14 +197,25 @@ def _px4_position(u, notes):
     return None, None, None, None
 
 
-def _px4_body_mag(u):
+def _px4_body_instances(u) -> list[int]:
+    """The instances of a calibrated body-frame compass, for logs without sensor_mag: sensor_combined's (PX4 ≤
+    1.8, instance 0), else each vehicle_magnetometer ``multi_id`` (as :mod:`app.io.formats.ulog` lists them)."""
+    combined = _ds(u, "sensor_combined")
+    if combined is not None and ulog.combined_mag(combined) is not None:
+        return [0]
+    return sorted(
+        d.multi_id for d in u.data_list if d.name == "vehicle_magnetometer" and "magnetometer_ga[0]" in d.data
+    )
+
+
+def _px4_body_mag(u, instance: int = 0):
     """``(time_us, gauss, topic, device_id)`` of a calibrated body-frame compass, for logs without sensor_mag:
-    sensor_combined's magnetometer_ga (PX4 ≤ 1.8), else vehicle_magnetometer (the selected compass); or None."""
+    sensor_combined's magnetometer_ga (PX4 ≤ 1.8), else vehicle_magnetometer's ``instance``; or None."""
     combined = _ds(u, "sensor_combined")
     found = None if combined is None else ulog.combined_mag(combined)
     if found is not None:
         return found[0], found[1], "sensor_combined.magnetometer_ga", None
-    vm = _ds(u, "vehicle_magnetometer")
+    vm = _ds(u, "vehicle_magnetometer", instance)
     if vm is None or "magnetometer_ga[0]" not in vm:
         return None
     device = int(vm["device_id"][-1]) if "device_id" in vm and len(vm["device_id"]) else None
@@ -298,8 +309,7 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
     values = dict(u.initial_parameters)
     notes: list[str] = []
     raw_mags = sorted(d.multi_id for d in u.data_list if d.name == "sensor_mag" and {"x", "y", "z"} <= set(d.data))
-    body = None if raw_mags else _px4_body_mag(u)
-    have = raw_mags or ([0] if body is not None else [])
+    have = raw_mags or _px4_body_instances(u)
     if not have:
         raise LogFormatError(
             f"{name} is a PX4 ULog without compass readings (no sensor_mag, no magnetometer_ga in "
@@ -326,6 +336,7 @@ def read_px4(path, mag_instance, name) -> FlightCompassLog:
         slot = _px4_slot(values, device, instance, notes)
         generation = f"{version} (sensor_mag{', calibrated' if sensor_mag_calibrated else ''})"
     else:
+        body = _px4_body_mag(u, instance)
         assert body is not None, "have holds an instance: sensor_mag's or the body's"
         t_us, ga, topic, device = body
         time_s = t_us * 1e-6

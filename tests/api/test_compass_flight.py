@@ -197,3 +197,26 @@ def test_a_dead_compass_is_said_not_to_measure_with_the_setting_that_stops_its_u
     detail = r.json()["detail"]
     assert detail.startswith("this compass does not measure: the compass reads 0.0 µT for the whole flight"), detail
     assert f"set {switch} = 0" in detail and "better" not in detail
+
+
+def test_a_px4_1_9_log_with_only_vehicle_magnetometer_lists_its_compass_and_calibrates_it(client):
+    """The real PX4 1.9 flight of tests/data/real/flight (px4-ulog-rs's esc_status_log.ulg) logs its compass only as
+    vehicle_magnetometer (calibrated, body frame, 117 samples): the upload lists it, the compass from the flight
+    is the first ready (a GPS fix: Zurich, 2019-05-13), compass 0 is taken by number, and the answer is ok false
+    for the too few samples, with the firmware's stored calibration (CAL_MAG0, enabled by CAL_MAG0_EN)."""
+    path = LOG171.parent / "px4_1.9_esc_status_log.ulg"
+    r = client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes())})
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    assert [(i["instance"], i["source"]) for i in rec["flight"]["instances"] if i["sensor"] == "mag"] == [
+        (0, "vehicle_magnetometer")
+    ]
+    first = next(s for s in rec["supports"] if s["ready"])
+    assert first["method"] == "compass_flight" and "(47.36°, 8.52°, 2019-05-13)" in first["why"], first
+    answer = _calibrate(client, rec["id"], mag_instance=0)
+    assert answer.status_code == 201, answer.text
+    body = answer.json()
+    assert body["ok"] is False and body["reasons"][0].startswith("only 117 samples"), body["reasons"]
+    assert body["flight"]["generation"] == "PX4 v1.9.0 (vehicle_magnetometer)"
+    assert body["flight"]["stored"]["switch"] == "CAL_MAG0_EN"
+    assert body["metrics"]["field_ut"] == pytest.approx(48.04, abs=0.01)  # IGRF-14 at the first 3-D fix

@@ -28,6 +28,7 @@ ULOGS = {
     "sample_appended_multiple.ulg": "PX4 v1.6.0 (sensor_combined)",
     "sample_log_small.ulg": "PX4 v1.11.2 (sensor_mag, calibrated)",
     "sample_px4_events.ulg": "PX4 v1.15.0 (sensor_mag)",
+    "px4_1.9_esc_status_log.ulg": "PX4 v1.9.0 (vehicle_magnetometer)",
 }
 
 
@@ -160,12 +161,20 @@ def test_ulog_corpus_reads_as_pyulog_reads_it(name):
         assert listed == {k: len(d["timestamp"]) for (t, k), d in data.items() if t == "sensor_mag"}
     else:
         combined = data[("sensor_combined", 0)]
-        rel = combined["magnetometer_timestamp_relative"].astype(np.int64)
-        t = combined["timestamp"].astype(np.int64) + rel
-        ok = rel != 0x7FFFFFFF
-        assert len(r.time_s) == len(np.unique(t[ok]))
-        first = np.array([combined[f"magnetometer_ga[{k}]"][ok][0] for k in range(3)]) * 100.0
+        if "magnetometer_ga[0]" in combined:  # PX4 ≤ 1.8: the compass inside sensor_combined
+            rel = combined["magnetometer_timestamp_relative"].astype(np.int64)
+            t = combined["timestamp"].astype(np.int64) + rel
+            ok = rel != 0x7FFFFFFF
+            assert len(r.time_s) == len(np.unique(t[ok]))
+            first = np.array([combined[f"magnetometer_ga[{k}]"][ok][0] for k in range(3)]) * 100.0
+        else:  # PX4 1.9–1.11's default profile: only vehicle_magnetometer, the selected compass
+            vm = data[("vehicle_magnetometer", 0)]
+            assert len(r.time_s) == len(vm["timestamp"])
+            first = np.array([vm[f"magnetometer_ga[{k}]"][0] for k in range(3)]) * 100.0
         np.testing.assert_allclose(r.mag_firmware_ut[0], first, atol=1e-5)
+        # the recording lists that compass, as the flight's compass reads it
+        listed = {i["instance"]: i["n_samples"] for i in read_log(path).flight.instances if i["sensor"] == "mag"}
+        assert listed == {0: len(r.time_s)}
         # read back: R S (m − o) is the logged field
         back = (r.mag_raw_ut - r.stored.offsets_ut) @ r.stored.matrix.T @ r.frame_to_body.T
         np.testing.assert_allclose(back, r.mag_firmware_ut, atol=1e-4)

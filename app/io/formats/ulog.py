@@ -52,7 +52,7 @@ MAGIC = b"ULog\x01\x12\x35"
 """The first seven bytes of every ULog file (PX4's ULog file format, "File Header")."""
 GAUSS_TO_UT = 100.0
 """1 gauss = 100 µT; PX4's sensor_mag is in gauss (msg/SensorMag.msg)."""
-TOPICS = ("sensor_accel", "sensor_gyro", "sensor_mag", "sensor_combined")
+TOPICS = ("sensor_accel", "sensor_gyro", "sensor_mag", "sensor_combined", "vehicle_magnetometer")
 SENSOR_OF = {"sensor_accel": ("acc", 1.0), "sensor_gyro": ("gyr", 1.0), "sensor_mag": ("mag", GAUSS_TO_UT)}
 
 
@@ -144,7 +144,31 @@ def _streams(ulog) -> list[Stream]:
             mag = combined_mag(data)
             if mag is not None:
                 streams.append(Stream("mag", int(d.multi_id), d.name, mag[0], mag[1] * GAUSS_TO_UT))
+    if not any(s.sensor == "mag" and s.n_samples for s in streams):
+        streams += _vehicle_magnetometer(ulog)
     return [s for s in streams if s.n_samples]
+
+
+def _vehicle_magnetometer(ulog) -> list[Stream]:
+    """The compasses of ``vehicle_magnetometer`` (calibrated, body frame), for a log whose compass is logged
+    nowhere else (PX4 1.9 on, with the default profile): each ``multi_id`` an instance."""
+    found = []
+    for d in ulog.data_list:
+        names = [f"magnetometer_ga[{k}]" for k in range(3)]
+        if d.name != "vehicle_magnetometer" or not set(names) <= set(d.data):
+            continue
+        device = d.data.get("device_id")
+        found.append(
+            Stream(
+                "mag",
+                int(d.multi_id),
+                d.name,
+                np.asarray(d.data.get("timestamp_sample", d.data["timestamp"]), dtype=np.int64),
+                np.column_stack([d.data[a] for a in names]).astype(float) * GAUSS_TO_UT,
+                device_id=None if device is None or not len(device) else int(device[-1]),
+            )
+        )
+    return found
 
 
 def read(
@@ -221,12 +245,18 @@ def read(
             "the compass of sensor_combined (PX4 1.8 and before) is logged after PX4's calibration (CAL_MAGn "
             "offsets and scales) in the body frame: a calibration from it is what is left over PX4's"
         )
+    if any(x.sensor == "mag" and x.source == "vehicle_magnetometer" for x in streams):
+        notes.append(
+            "the log's only compass readings are vehicle_magnetometer's, logged after PX4's calibration (CAL_MAGn "
+            "offsets and scales) in the body frame: a calibration from them is what is left over PX4's; the "
+            "compass from this flight reads them back to raw with the stored calibration"
+        )
     log = choose(
         streams,
         fmt=NAME,
         imu_sources=("sensor_accel", "sensor_combined"),
         gyr_for={"sensor_accel": "sensor_gyro", "sensor_combined": "sensor_combined"},
-        mag_sources=("sensor_mag", "sensor_combined"),
+        mag_sources=("sensor_mag", "sensor_combined", "vehicle_magnetometer"),
         instance=instance,
         mag_instance=mag_instance,
         clock=clock,
