@@ -82,3 +82,15 @@ def test_compass_from_a_flight_log(tmp_path):
     out = trical("calibrate", "--method", "compass_flight", str(path), "--json", "--no-store", tmp_path=tmp_path)
     body = json.loads(out.stdout)
     assert body["ok"] and body["flight"]["rotation_nearest"]["ardupilot"] == 12
+
+
+def test_a_real_px4_flight_log_runs_its_compass_from_its_own_gps_fix(tmp_path):
+    """`trical calibrate LOG` with no method on a real PX4 1.9 flight (tests/data/real/flight): the recording
+    decides, with the place and date read from the log's GPS fix as the upload reads them."""
+    from tests.conftest import DATA
+
+    path = DATA / "real" / "flight" / "px4_1.9_esc_status_log.ulg"
+    out = trical("calibrate", str(path), "--no-store", tmp_path=tmp_path)
+    assert out.returncode == 3, out.stderr  # ok false: 117 samples
+    first = out.stdout.splitlines()[0]
+    assert first.startswith("--method compass_flight, chosen from the recording") and "2019-05-13" in first, first

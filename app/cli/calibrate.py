@@ -82,7 +82,7 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
     )
     name = ", ".join(str(p) for p in args.log)
     log = read_log(path, options, name=name)
-    recording = describe_log(log, options)
+    recording = describe_log(log, options, path=path)
     if captures and log.acc is not None:
         from app.cli.board import capture_segments
 
