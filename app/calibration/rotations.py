@@ -250,7 +250,7 @@ CANDIDATES = _candidates()
 """(ArduPilot number or None, PX4 number or None, name, matrix) of every distinct firmware rotation."""
 
 
-def nearest_rotation(Q) -> tuple[int | None, int | None, str, float]:
+def nearest_rotation(Q, firmware: str | None = None) -> tuple[int | None, int | None, str, float]:
     """The firmware rotation nearest a rotation matrix.
 
     Parameters
@@ -259,6 +259,9 @@ def nearest_rotation(Q) -> tuple[int | None, int | None, str, float]:
         A rotation (sensor → body), e.g. the one a flight's data show. Where the readings were already
         turned by a firmware rotation T (ArduPilot logs them in the body frame under ``COMPASS_ORIENTn``),
         the setting to store is the nearest to ``Q @ T``.
+    firmware : {"ardupilot", "px4"}, optional
+        Only the rotations this firmware can apply (PX4 has no ``PITCH_7``, ArduPilot none of PX4's 44–47);
+        by default either firmware's.
 
     Returns
     -------
@@ -273,9 +276,11 @@ def nearest_rotation(Q) -> tuple[int | None, int | None, str, float]:
         The angle of the rotation left between ``Q`` and the nearest (:func:`angle_between`).
     """
     Q = np.asarray(Q, dtype=float)
-    angles = [angle_between(Q, c[3]) for c in CANDIDATES]
+    which = {None: None, "ardupilot": 0, "px4": 1}[firmware]
+    candidates = [c for c in CANDIDATES if which is None or c[which] is not None]
+    angles = [angle_between(Q, c[3]) for c in candidates]
     best = int(np.argmin(angles))
-    ap, px4, name, _ = CANDIDATES[best]
+    ap, px4, name, _ = candidates[best]
     return ap, px4, name, angles[best]
 
 

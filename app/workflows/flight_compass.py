@@ -132,6 +132,7 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
         attitude=attitude,
         earth_ned=b_ned,
         not_measuring_remedy=_not_measuring_remedy(log),
+        firmware=log.firmware,
     )
     flight = {
         "firmware": log.firmware,

@@ -83,3 +83,18 @@ def test_nearest_number_names_the_lowest_of_equal_entries_and_unknown_numbers_ar
     with pytest.raises(ValueError, match="unknown firmware"):
         firmware_matrix("betaflight", 0)
     assert PX4_ROTATIONS[PX4_EVERY_RELEASE][0] == "PITCH_270"
+
+
+def test_a_firmware_is_offered_only_the_rotations_it_can_apply():
+    from app.calibration.rotations import PX4_ROTATIONS, nearest_rotation, px4_matrix
+
+    # ArduPilot's PITCH_7 (41) has no PX4 number: PX4 is offered its own nearest, NONE, 7° away
+    pitch_7 = ardupilot_matrix(41)
+    assert nearest_rotation(pitch_7)[:3] == (41, None, "PITCH_7")
+    ap, px4, name, angle = nearest_rotation(pitch_7, "px4")
+    assert (ap, px4, name) == (0, 0, "NONE") and angle == pytest.approx(7.0, abs=1e-9)
+    # PX4's own entries past ArduPilot's table are never offered to ArduPilot
+    own = max(PX4_ROTATIONS)
+    assert nearest_rotation(px4_matrix(own))[:2] == (None, own)
+    ap, px4, _, angle = nearest_rotation(px4_matrix(own), "ardupilot")
+    assert ap is not None and angle > 1.0

@@ -184,6 +184,7 @@ def fit_flight_compass(
     models="auto",
     confidence: float = CONFIDENCE,
     not_measuring_remedy: str | None = None,
+    firmware: str | None = None,
 ) -> FlightCompassResult:
     """Calibrate a compass from a flight: ``h_body = M (Q m − b − k p)`` fitted to ``e = C_nbᵀ B_ned``.
 
@@ -215,6 +216,8 @@ def fit_flight_compass(
         Of the intervals.
     not_measuring_remedy : str, optional
         What to check when the readings do not measure the Earth's field (the firmware's own settings).
+    firmware : {"ardupilot", "px4"}, optional
+        The firmware that will apply the orientation: only its rotations are searched (by default either's).
 
     Returns
     -------
@@ -253,7 +256,7 @@ def fit_flight_compass(
 
     # 1. The orientation.
     Q_found = orientation(m, e, p if power_usable else None, w)
-    ap, px4, name, angle_left = nearest_rotation(Q_found)
+    ap, px4, name, angle_left = nearest_rotation(Q_found, firmware)
     Q = rotation_matrix(ap, px4)
     agrees = angle_between(Q, F2B) < 0.01
     _orientation_gates(gates, ap, px4, name, angle_left, agrees)
