@@ -237,6 +237,12 @@ def require_segments(recording: dict, method: str) -> list[dict]:
                 "seconds in each, untouched"
             )
         said = "" if norm is None else f", a median norm of {norm:.2f} g"
+        if recording.get("flight"):  # a flight controller's log states its unit: no unit to give
+            raise InsufficientDataError(
+                f"the log has no still segments: its IMU never rested for 1.5 s ({recording['n_samples']} samples"
+                f"{said}): method {method} needs the board resting still in several orientations — log it a few "
+                "seconds on each side, untouched, motors off"
+            )
         raise InsufficientDataError(
             f"the recording has no still segments ({recording['n_samples']} samples, its accelerometer read in "
             f"{unit}{said}; a rest lasts at least 1.5 s with the accelerometer reading about 1 g): method {method} "
