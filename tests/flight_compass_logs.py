@@ -49,15 +49,21 @@ def seeded_flight(seed: int, *, orientation: int = 2, stale_ut: float = 5.0, **k
     return flight
 
 
-def write_flight_compass_logs(directory, flight: dict, *, gps: bool = True, stem: str = "flight") -> tuple[Path, Path]:
+def write_flight_compass_logs(
+    directory, flight: dict, *, gps: bool = True, imu: bool = True, stem: str = "flight"
+) -> tuple[Path, Path]:
     """``flight`` (:func:`seeded_flight`) as an ArduPilot DataFlash log and a PX4 ULog with their IMU:
-    ``(bin_path, ulg_path)``. ``gps=False`` leaves the GPS out (no place, no date in the log)."""
+    ``(bin_path, ulg_path)``. ``gps=False`` leaves the GPS out (no place, no date in the log); ``imu=False``
+    the IMU (a minimal log: attitude, compass, GPS, power)."""
     directory = Path(directory)
     messages = ardupilot_flight_messages(flight)
     topics, params, info = px4_flight_topics(flight)
     if not gps:
         messages = [m for m in messages if m["name"] != "GPS"]
         topics = [t for t in topics if t["name"] != "vehicle_gps_position"]
+    if not imu:
+        messages = [m for m in messages if m["name"] not in ("IMU", "ACC", "GYR")]
+        topics = [t for t in topics if t["name"] not in ("sensor_accel", "sensor_gyro", "sensor_combined")]
     bin_path, ulg_path = directory / f"{stem}.bin", directory / f"{stem}.ulg"
     bin_path.write_bytes(dataflash_bytes(messages))
     ulg_path.write_bytes(ulog_bytes(topics, params=params, info=info))

@@ -80,7 +80,7 @@ def supports(log: LogData, segments: list[dict], *, fix: dict | None = None) -> 
     elif log.mag is not None:
         out.append(_compass_turn(np.asarray(log.mag, dtype=float)))
     out.append(_noise(log))
-    if log.temperature_c is not None:
+    if log.temperature_c is not None and (log.acc is not None or log.gyr is not None):  # an IMU's drift
         out.append(_temperature(log.temperature_c))
     rate = log.sampling_rate_hz
     if log.acc is not None and rate and log.n_samples / rate >= AUTOCAL_MIN_S:

@@ -90,6 +90,7 @@ export function showFlightLog(rec) {
     `${i.source} ${i.instance}`, i.instance === chosenImu.instance && i.source === chosenImu.source)));
   $("#flight-mag").replaceChildren(...mags.map((i) => option(i.instance, `${i.source} ${i.instance}`,
     flight.mag && i.instance === flight.mag.instance)));
+  $("#flight-imu-label").hidden = !imus.length;
   $("#flight-mag-label").hidden = !mags.length;
   $("#flight-compass-box").hidden = !mags.length;
   $("#flight-compass-msg").textContent = "";
@@ -97,7 +98,9 @@ export function showFlightLog(rec) {
   const temp = rec.temperature_c;
   const span = temp && temp.min !== null ? temp.max - temp.min : null;
   const digits = spanDecimals(span); // a small span with the digits that show it, its ends alike
-  $("#flight-temp").textContent = span === null
+  $("#flight-temp").textContent = !imus.length
+    ? "The log holds no IMU samples: its compass is read alone (log the IMU for the other calibrations)."
+    : span === null
     ? "The IMU read logs no temperature."
     : `The IMU read went from ${Number(temp.min).toFixed(digits)} to ${Number(temp.max).toFixed(digits)} °C`
       + (span >= TEMPERATURE_SPAN_C ? ": enough for a temperature calibration."
@@ -110,7 +113,7 @@ export function showFlightLog(rec) {
 export function flightFields() {
   const fields = {};
   const imu = $("#flight-imu").value;
-  if (imu !== "") fields.instance = imu;
+  if (imu !== "" && !$("#flight-imu-label").hidden) fields.instance = imu;
   if (!$("#flight-mag-label").hidden && $("#flight-mag").value !== "") fields.mag_instance = $("#flight-mag").value;
   return fields;
 }

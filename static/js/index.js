@@ -191,7 +191,7 @@ function showSegments(rec) {
   // A flight log's compass takes the place and date from its GPS; the fields are there for a log without one.
   // (only where the log has no GPS fix: the fix gives them)
   const flightCompass = Boolean(rec.flight && !rec.flight.fix && rec.flight.instances.some((i) => i.sensor === "mag"));
-  $("#compass-place").hidden = !rec.channels.includes("mag") && !flightCompass;
+  $("#compass-place").hidden = rec.flight ? !flightCompass : !rec.channels.includes("mag");
   if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#segments").hidden = false;
   $("#log-plot").innerHTML = rec.overview ? logPlotSvg(rec.overview, rec.segments, rec.sampling_rate_hz, {

@@ -220,3 +220,23 @@ def test_a_px4_1_9_log_with_only_vehicle_magnetometer_lists_its_compass_and_cali
     assert body["flight"]["generation"] == "PX4 v1.9.0 (vehicle_magnetometer)"
     assert body["flight"]["stored"]["switch"] == "CAL_MAG0_EN"
     assert body["metrics"]["field_ut"] == pytest.approx(48.04, abs=0.01)  # IGRF-14 at the first 3-D fix
+
+
+@pytest.mark.parametrize("which", [0, 1])
+def test_a_minimal_log_without_imu_is_read_for_its_compass_from_the_flight(client, flight, tmp_path, which):
+    """A minimal log (attitude, compass, GPS, power; no IMU message, as ArduPlane's minimal LOG_BITMASK writes
+    it) is read for what needs no IMU: the compass from the flight is listed, first and ready, and gives the
+    answer the same flight's full log gives; nothing that needs the IMU is offered."""
+    full = write_flight_compass_logs(tmp_path, flight)[which]
+    bare = write_flight_compass_logs(tmp_path, flight, imu=False, stem="minimal")[which]
+    rec = client.post("/api/v1/recordings", files={"file": (bare.name, bare.read_bytes())})
+    assert rec.status_code == 201, rec.text
+    body = rec.json()
+    assert [i["sensor"] for i in body["flight"]["instances"]] == ["mag"]
+    assert [(s["method"], s["ready"]) for s in body["supports"]] == [("compass_flight", True), ("noise", False)]
+    assert any(n.startswith("the log holds no IMU samples: read for what needs none") for n in body["notes"])
+    answers = [_calibrate(client, rid).json() for rid in (body["id"], _upload(client, full))]
+    assert answers[0]["ok"] is True and answers[0]["model"] == answers[1]["model"]
+    # an IMU asked of it names what the log holds
+    refused = client.post("/api/v1/recordings", files={"file": (bare.name, bare.read_bytes())}, data={"instance": "0"})
+    assert refused.status_code == 422 and "holds no IMU" in refused.json()["detail"], refused.text

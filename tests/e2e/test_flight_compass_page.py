@@ -74,3 +74,32 @@ def test_a_px4_log_without_gps_asks_for_the_place_in_the_pages_words(page, serve
         "#use-how"
     )
     assert [e for e in page.errors if "status of 422" not in e] == []
+
+
+def test_a_minimal_log_without_imu_runs_its_compass_from_the_flight_at_once(axe_page, server, tmp_path):
+    """ArduPilot's minimal logging (attitude, compass, GPS, current; no IMU message): the page offers no IMU to
+    choose, says the log holds none, and runs the compass from the flight, the first thing it supports."""
+    from tests.e2e.test_layout import layout_problems
+
+    page = axe_page
+    log, _ = write_flight_compass_logs(tmp_path, seeded_flight(3, rate_hz=10.0), imu=False)
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(log))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    expect(page.locator("#flight-imu-label")).to_be_hidden()
+    expect(page.locator("#compass-place")).to_be_hidden()  # the place and date come from the log's GPS
+    expect(page.locator("#flight-temp")).to_have_text(
+        "The log holds no IMU samples: its compass is read alone (log the IMU for the other calibrations)."
+    )
+    expect(page.locator("#verdict-words")).to_contain_text(
+        "Apply it: heading error on flight segments left out", timeout=60_000
+    )
+    assert page.locator("#segments-msg.bad, #upload-msg.bad").count() == 0  # no failure nobody asked for
+    problems = []
+    for width in (320, 390, 1280):
+        page.set_viewport_size({"width": width, "height": 900})
+        shot(page, f"flight_compass_minimal_log_{width}")
+        problems += layout_problems(page, "flight_compass_minimal_log", width)
+    assert not problems, "\n".join(problems)
+    assert [e for e in page.errors if "status of 422" not in e] == []

@@ -80,7 +80,7 @@ class FlightInfo:
     instances : tuple of dict
         Every sensor instance of the log (:func:`describe_streams`).
     imu : dict
-        The IMU read: ``{"instance", "source", "gyr_source"}``.
+        The IMU read: ``{"instance", "source", "gyr_source"}``; empty for a log without IMU samples.
     mag : dict or None
         The compass read (clock ``mag``), or the one the compass methods would read.
     clock : str
@@ -272,6 +272,35 @@ def build_log(
     )
 
 
+def compass_only_log(streams: list[Stream], mag: Stream, *, fmt: str, notes: list[str]) -> LogData:
+    """A flight log without IMU samples as a recording of its compass ``mag`` alone, on the compass's clock:
+    what needs no IMU (the compass from the flight, a compass turn, the compass's noise) reads it."""
+    notes = list(notes) + [
+        f"the log holds no IMU samples: read for what needs none, its compass ({mag.source} instance "
+        f"{mag.instance}, {mag.n_samples} samples) on its own clock; the accelerometer's and gyroscope's "
+        "calibrations need the IMU logged (PX4 SDLOG_PROFILE, ArduPilot LOG_BITMASK IMU)"
+    ]
+    t0 = int(mag.time_us[0])
+    return LogData(
+        acc=None,
+        gyr=None,
+        mag=np.asarray(mag.xyz, dtype=float),
+        time_s=(mag.time_us.astype(np.int64) - t0) * 1e-6,
+        sampling_rate_hz=None,
+        units={"mag": "uT"},
+        format=fmt,
+        columns=[],
+        notes=tuple(notes),
+        temperature_c=None if mag.temperature_c is None else np.asarray(mag.temperature_c, float),
+        flight=FlightInfo(
+            instances=describe_streams(streams),
+            imu={},
+            mag={"instance": mag.instance, "source": mag.source},
+            clock="mag",
+        ),
+    )
+
+
 def choose(
     streams: list[Stream],
     *,
@@ -295,11 +324,21 @@ def choose(
     the accelerometer read when no instance is given.
     """
     accs = _numbers(streams, "acc")
-    if not accs:
+    mags = _numbers(streams, "mag")
+    if not accs and not mags:
         raise LogFormatError(
-            f"{name} holds no accelerometer samples (PX4 sensor_accel or sensor_combined, "
-            "ArduPilot IMU or ACC): log the IMU (PX4 SDLOG_PROFILE, ArduPilot LOG_BITMASK IMU)"
+            f"{name} holds neither accelerometer nor compass samples (PX4 sensor_accel, sensor_combined or "
+            "sensor_mag, ArduPilot IMU, ACC or MAG): log the sensors (PX4 SDLOG_PROFILE, ArduPilot LOG_BITMASK "
+            "IMU and COMPASS)"
         )
+    if not accs:  # a minimal log (attitude, compass, GPS): read for what needs no IMU
+        if instance is not None:
+            _refuse_instance("IMU", instance, accs, "instance", name)
+        mag = pick(streams, "mag", mags[0] if mag_instance is None else mag_instance, mag_sources)
+        if mag is None:
+            _refuse_instance("magnetometer", mag_instance, mags, "mag_instance", name)
+        assert mag is not None, "the compass asked has a stream"
+        return compass_only_log(streams, mag, fmt=fmt, notes=notes)
     if instance is None:
         imu = default_imu or pick(streams, "acc", accs[0], imu_sources)
     else:
@@ -308,7 +347,6 @@ def choose(
             _refuse_instance("IMU", instance, accs, "instance", name)
     assert imu is not None, "the first accelerometer instance has a stream"
     gyr = pick(streams, "gyr", imu.instance, (gyr_for[imu.source],) + tuple(v for v in gyr_for.values()))
-    mags = _numbers(streams, "mag")
     if mag_instance is None:
         mag = pick(streams, "mag", mags[0], mag_sources) if mags else None
     else:
