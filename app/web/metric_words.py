@@ -137,6 +137,7 @@ METRICS: dict[str, tuple[str, str, str]] = {
         "how far the readings leave their best plane: 0 for a turn kept flat",
     ),
     "fit_stage": ("Fit shown", "", "the refined fit, or the closed form kept when the refinement ran away"),
+    "structure": ("Model", "", "what the readings determine: soft iron, a scale per axis, a sphere, or offsets"),
     # Noise (per sensor).
     "adev_min": ("Lowest Allan deviation", "sensor unit", "the floor of the curve"),
     "tau_adev_min_s": ("Averaging time at the floor", "s", "τ where the Allan deviation is lowest"),

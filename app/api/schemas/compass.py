@@ -49,6 +49,14 @@ class MagnetometerMetrics(Out):
             "to draw them only (ok is then false)."
         )
     )
+    structure: Literal["soft_iron", "scale", "sphere", "offsets"] = Field(
+        "soft_iron",
+        description=(
+            "The model the readings determine (app.calibration.magnetometer.refine.STRUCTURES), richest first: M "
+            "symmetric (hard and soft iron), M diagonal, M = s I (a sphere), M = I (the offsets alone, with the "
+            "field given); a warning names a simpler one than soft_iron and why."
+        ),
+    )
     count: int
     fit_error_ut: float = Field(description="RMS of |h| − F on the readings fitted (in-sample).")
     raw_error_ut: float | None = Field(description="RMS of |m| − F of the readings as they are (null for raw counts).")

@@ -18,7 +18,7 @@ from ..gates import Gates
 from ..uncertainty import CONFIDENCE, half_widths
 from .coverage import coverage, face_of, thickness
 from .ellipsoid import fit_ellipsoid, fit_sphere
-from .refine import Refined, held, refine, runs_away, unpack
+from .refine import STRUCTURES, Refined, held, refine, runs_away, unpack
 from .result import MagnetometerResult
 
 MIN_READINGS = 50
@@ -82,6 +82,20 @@ FIT_STAGES = {
 closed-form ellipsoid, the sphere or the readings' own centre (:func:`_kept`), in the reason's words."""
 
 
+STRUCTURE_WORDS = {
+    "scale": "the readings do not determine the full ellipsoid, so the offsets and a scale per axis were fitted "
+    "and the axes' cross terms held at 0: turn the device through all directions, tilted as well as level, for "
+    "the soft iron's cross terms",
+    "sphere": "the readings determine no ellipsoid, so the offsets and one scale were fitted (a sphere, as "
+    "ArduPilot's compass calibration fits first), the soft iron held at none: turn the device through all "
+    "directions, tilted as well as level, for the soft iron",
+    "offsets": "the readings determine no ellipsoid nor sphere, so the offsets alone were fitted, the readings' "
+    "scale taken as right and the soft iron held at none: turn the device through all directions, tilted as well "
+    "as level, for the scale and the soft iron",
+}
+"""The warning of a result whose readings determined a simpler model than the full ellipsoid (:func:`_model`)."""
+
+
 def _validated(mag) -> np.ndarray:
     m = np.asarray(mag, dtype=float)
     if m.ndim != 2 or m.shape[1] != 3:
@@ -128,31 +142,64 @@ def _kept(m: np.ndarray, M0: np.ndarray, b0: np.ndarray, stage: str, field: floa
     return held(m, (field / radius) * np.eye(3), centre, field), "centre"
 
 
-def _fit(m: np.ndarray, field: float | None, gates: Gates) -> tuple[Refined, float, str]:
-    """The refined fit, the field's magnitude (given, or estimated with ``det M = 1``) and the stage
-    kept (:data:`FIT_STAGES`).
+def _determined(fitted: Refined, field: float) -> bool:
+    """Whether a refined fit's 95 % intervals are within the gates' limits (:data:`MAX_OFFSET_HALF_WIDTH`,
+    :data:`MAX_MATRIX_HALF_WIDTH`): the readings determine every number it fits."""
+    if fitted.covariance is None or not fitted.converged:
+        return False
+    half_M, half_b = unpack(half_widths(fitted.covariance, fitted.dof, CONFIDENCE))
+    scale = float(np.mean(np.diag(fitted.M)))
+    return bool(np.max(half_b) <= MAX_OFFSET_HALF_WIDTH * field and np.max(half_M) <= MAX_MATRIX_HALF_WIDTH * scale)
+
+
+def _model(m: np.ndarray, full: Refined, M0: np.ndarray, b0: np.ndarray, stage: str, field: float, given: bool):
+    """The richest model of :data:`.refine.STRUCTURES` the readings determine (:func:`_determined`): the full
+    ellipsoid, else a scale per axis, else a sphere, else (with the field given) the offsets alone, each refined
+    from the sphere and
+    staying with the readings (:func:`.refine.runs_away`); where none is determined, the richest that stays
+    with them (its gates then say what is not determined), else a closed form (:func:`_kept`).
+
+    Returns ``(fitted, stage, structure)``."""
+    stays = [] if runs_away(full.M, full.b, m, field) else [(full, STRUCTURES[0])]
+    if stays and _determined(full, field):
+        return full, "refined", STRUCTURES[0]
+    M_s, b_s = fit_sphere(m, field)
+    # the offsets alone take the readings' unit as the field's: not where the field is the readings' own
+    for structure in STRUCTURES[1:] if given else STRUCTURES[1:-1]:
+        fitted = refine(m, M_s, b_s, field, structure=structure)
+        if fitted.converged and fitted.covariance is not None and not runs_away(fitted.M, fitted.b, m, field):
+            if _determined(fitted, field):
+                return fitted, "refined", structure
+            stays.append((fitted, structure))
+    if stays:
+        return stays[0][0], "refined", stays[0][1]
+    kept, stage = _kept(m, M0, b0, stage, field)
+    return kept, stage, STRUCTURES[0]
+
+
+def _fit(m: np.ndarray, field: float | None, gates: Gates) -> tuple[Refined, float, str, str]:
+    """The refined fit, the field's magnitude (given, or estimated with ``det M = 1``), the stage kept
+    (:data:`FIT_STAGES`) and the model's structure (:data:`.refine.STRUCTURES`).
 
     Without a field the scale of M is free (any F fits with M scaled by F); trical fixes it so that
     M changes no volume (``det M = 1``), and F is then the readings' own mean field.  A refinement
     that runs away from the readings (:func:`.refine.runs_away`: the criterion has no minimum there)
-    is not a result: a closed form is kept instead (:func:`_kept`), with no intervals.
+    is not a result, nor one whose intervals the readings do not bound: the richest simpler model they determine
+    is refined instead (:func:`_model`: a scale per axis, then the offsets alone, as a flight's readings near
+    level often allow), else a closed form is kept (:func:`_kept`), with no intervals.
     """
     unit_field = 1.0 if field is None else field
     M0, b0, stage = _start(m, unit_field, gates)
-    fitted = refine(m, M0, b0, unit_field)
-    if runs_away(fitted.M, fitted.b, m, unit_field):
-        fitted, stage = _kept(m, M0, b0, stage, unit_field)
-    else:
-        stage = "refined"
+    fitted, stage, structure = _model(m, refine(m, M0, b0, unit_field), M0, b0, stage, unit_field, field is not None)
     if field is None:
         first = fitted
         scale = float(np.linalg.det(first.M)) ** (-1.0 / 3.0)
         field = scale
-        again = refine(m, scale * first.M, first.b, field) if stage == "refined" else None
+        again = refine(m, scale * first.M, first.b, field, structure=structure) if stage == "refined" else None
         if again is None or runs_away(again.M, again.b, m, field):
             again = held(m, scale * first.M, first.b, field)
         fitted = again
-    return fitted, float(field), stage
+    return fitted, float(field), stage, structure
 
 
 def _spread(values: np.ndarray) -> float:
@@ -160,7 +207,7 @@ def _spread(values: np.ndarray) -> float:
     return float(hi - lo)
 
 
-def cross_validated_field_error(mag, M: np.ndarray, b: np.ndarray, field: float) -> dict:
+def cross_validated_field_error(mag, M: np.ndarray, b: np.ndarray, field: float, structure: str = "soft_iron") -> dict:
     """The error of |h| on directions the fit did not see: each covered face left out in turn.
 
     The readings are grouped by the face of the icosahedron their calibrated direction falls in
@@ -188,7 +235,7 @@ def cross_validated_field_error(mag, M: np.ndarray, b: np.ndarray, field: float)
                 "cv_scheme": "leave-one-direction-out",
                 "cv_note": "no figure for new directions: too few readings outside one direction",
             }
-        refit = refine(kept, M, b, field, max_evaluations=50)
+        refit = refine(kept, M, b, field, max_evaluations=50, structure=structure)
         e = np.linalg.norm((m[held] - refit.b) @ refit.M.T, axis=1) - field
         squared[held] = e * e
         worst = max(worst, float(np.sqrt(np.mean(e * e))))
@@ -343,7 +390,9 @@ def fit_magnetometer(
     source = "estimated" if field_ut is None else (field_source or "given")
     if source not in FIELD_SOURCES:
         raise CalibrationError(f"field_source must be one of {', '.join(FIELD_SOURCES)}; got {source!r}")
-    fitted, field, stage = _fit(m, field_ut, gates)
+    fitted, field, stage, structure = _fit(m, field_ut, gates)
+    if structure != STRUCTURES[0]:
+        gates.warn(STRUCTURE_WORDS[structure])
     if field_ut is None:
         gates.warn(
             f"no place and date, so the field's magnitude is estimated from the readings ({field:.1f} {label}, M "
@@ -372,12 +421,13 @@ def fit_magnetometer(
         "missing_directions": missing,
         "thickness": thickness(m),
         "fit_stage": stage,
+        "structure": structure,
         "count": int(len(m)),
         "fit_error_ut": float(np.sqrt(np.mean((norms - field) ** 2))),
         "raw_error_ut": float(np.sqrt(np.mean((raw_norms - field) ** 2))) if raw_comparable else None,
         "noise_ut": fitted.sigma_ut,
         "correlation_inflation": fitted.inflation,
-        **(cross_validated_field_error(m, M, b, field) if stage == "refined" else NO_CROSS_VALIDATION),
+        **(cross_validated_field_error(m, M, b, field, structure) if stage == "refined" else NO_CROSS_VALIDATION),
         "measured_inclination_deg": measured_inclination(rests, M, b),
         "rests": 0 if not rests else len(rests),
     }

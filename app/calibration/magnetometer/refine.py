@@ -46,6 +46,32 @@ about 20° (1 / sin α ≤ 3 and cos α / sin α ≤ 3).  Fits on simulated turn
 hemisphere) reach 1.2; the runaways of real turns reach 10 to 100 and beyond."""
 
 
+def _structure_map(structure: str) -> tuple[np.ndarray, np.ndarray]:
+    """``(D, c)`` of a structure's free numbers z to the nine of :func:`pack`, ``x = D z + c`` (affine): ``soft_iron``
+    all nine; ``scale`` M diagonal (three scales and b); ``sphere`` M = s I (one scale and b); ``offsets`` M = I
+    (b alone: the readings' unit taken as the field's)."""
+    c = np.zeros(N_PARAMETERS)
+    if structure == "soft_iron":
+        return np.eye(N_PARAMETERS), c
+    if structure == "scale":
+        return np.eye(N_PARAMETERS)[:, [0, 1, 2, 6, 7, 8]], c
+    if structure == "sphere":
+        D = np.zeros((N_PARAMETERS, 4))
+        D[0:3, 0] = 1.0
+        D[6:9, 1:4] = np.eye(3)
+        return D, c
+    if structure == "offsets":
+        c[0:3] = 1.0
+        return np.eye(N_PARAMETERS)[:, 6:9], c
+    raise ValueError(f"unknown structure {structure!r}: one of {', '.join(STRUCTURES)}")
+
+
+STRUCTURES = ("soft_iron", "scale", "sphere", "offsets")
+"""The models of ``h = M (m − b)``, richest first: M symmetric (hard and soft iron), M diagonal (hard iron and
+a scale per axis), M = s I (hard iron and one scale: a sphere, ArduPilot's CompassCalibrator's first step), M = I
+(hard iron alone, the readings' unit taken as the field's: what a compass read in µT near level determines)."""
+
+
 def pack(M: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The parameter vector ``(M_xx, M_yy, M_zz, M_xy, M_xz, M_yz, b_x, b_y, b_z)``."""
     return np.array([M[i, j] for i, j in SYMMETRIC_INDEX] + list(b), dtype=float)
@@ -155,7 +181,9 @@ def held(mag, M: np.ndarray, b: np.ndarray, field: float) -> Refined:
     )
 
 
-def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations: int = 200) -> Refined:
+def refine(
+    mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations: int = 200, structure: str = "soft_iron"
+) -> Refined:
     """Levenberg–Marquardt on ``|M (m − b)| − F`` from ``(M0, b0)``, and the covariance there.
 
     Parameters
@@ -166,22 +194,33 @@ def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations
         The start (the algebraic ellipsoid or the sphere).
     field : float
         The field's magnitude F, in the unit the calibrated readings take.
+    structure : {"soft_iron", "scale", "sphere", "offsets"}
+        Which entries of M are free (:data:`STRUCTURES`); the start is projected onto it. The covariance is
+        of the nine numbers of :func:`pack`, ``D C Dᵀ``, zero on the entries the structure holds.
 
     Returns
     -------
     Refined
     """
     m = np.asarray(mag, dtype=float).reshape(-1, 3)
+    D, c = _structure_map(structure)
+    z0 = np.linalg.lstsq(D, pack(0.5 * (M0 + M0.T), b0) - c, rcond=None)[0]  # the start's nearest of this structure
+
+    def fun(z: np.ndarray) -> np.ndarray:
+        return residuals(D @ z + c, m, field)
+
+    def jac(z: np.ndarray) -> np.ndarray:  # x = D z + c is affine: the chain rule is one product
+        return jacobian(D @ z + c, m, field) @ D
+
     sol = least_squares(
-        residuals,
-        pack(0.5 * (M0 + M0.T), b0),
-        jac=jacobian,
-        args=(m, field),
+        fun,
+        z0,
+        jac=jac,
         method="lm",
         x_scale="jac",
         max_nfev=max_evaluations,
     )
-    M, b = unpack(sol.x)
+    M, b = unpack(D @ sol.x + c)
     if np.linalg.det(M) < 0:  # −M fits as well: keep the orientation of the readings
         M = -M
     r = sol.fun
@@ -189,7 +228,7 @@ def refine(mag, M0: np.ndarray, b0: np.ndarray, field: float, *, max_evaluations
     covariance, dof, sigma2 = covariance_from_jacobian(cast(np.ndarray, sol.jac), r)
     inflation = correlation_inflation(r)
     if covariance is not None:
-        covariance = covariance * inflation
+        covariance = D @ (covariance * inflation) @ D.T
     return Refined(
         M=M,
         b=b,
