@@ -14,13 +14,19 @@ from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, still_segments
 
 
-def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
+def magnetometer_reference(request, notes: list[str], fix: dict | None = None) -> tuple[dict, dict]:
     """The field the calibration is referenced to: ``field_ut`` given, else the geomagnetic model's at
-    the place and day, else none (estimated by the fit); with a place, the model's dip and
-    declination too. Returns the keyword arguments of :func:`~app.calibration.magnetometer.fit_magnetometer`
-    and the metrics naming the model and its day (none without a place)."""
+    the place and day (the request's, else a flight log's first GPS fix ``fix``), else none (estimated by the
+    fit); with a place, the model's dip and declination too. Returns the keyword arguments of
+    :func:`~app.calibration.magnetometer.fit_magnetometer` and the metrics naming the model and its day (none
+    without a place)."""
     reference: dict = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
-    if request.latitude_deg is None:
+    lat, lon, day, height = request.latitude_deg, request.longitude_deg, request.date, request.height_m
+    if lat is None and fix is not None:
+        lat, lon = fix["latitude_deg"], fix["longitude_deg"]
+        day = day or (datetime.date.fromisoformat(fix["date"]) if fix.get("date") else None)
+        notes.append(f"the Earth's field at the log's first GPS fix ({lat:.5f}°, {lon:.5f}°)")
+    if lat is None or lon is None:
         if request.date is not None or request.height_m is not None:
             notes.append(
                 "`date` and height_m without latitude_deg and longitude_deg are not used: give the place too "
@@ -29,11 +35,9 @@ def magnetometer_reference(request, notes: list[str]) -> tuple[dict, dict]:
         return reference, {}
     from app.geomag import GeomagneticRangeError, reference_field  # the model's package loads only here
 
-    day = request.date or datetime.datetime.now(datetime.UTC).date()
+    day = day or datetime.datetime.now(datetime.UTC).date()
     try:
-        earth = reference_field(
-            day, request.latitude_deg, request.longitude_deg, 0.0 if request.height_m is None else request.height_m
-        )
+        earth = reference_field(day, lat, lon, 0.0 if height is None else height)
     except GeomagneticRangeError as exc:
         raise CalibrationError(str(exc)) from None
     reference.update(inclination_deg=earth.inclination_deg, declination_deg=earth.declination_deg)
@@ -100,7 +104,15 @@ def magnetometer(request, recording: RecordingSource | None) -> Calibration:
         segments = still_segments(log)[0] if log.flight is not None else recording.meta.get("segments") or []
         rests = compass_rests(log, segments)
         source = recording.source_fields
-    reference, extra = magnetometer_reference(request, notes)
+    flight = (recording.meta.get("flight") or {}) if recording is not None else {}
+    reference, extra = magnetometer_reference(request, notes, flight.get("fix"))
+    if flight:
+        notes.append(
+            "a flight log's compass is read as the firmware corrected it (its stored offsets, scales and motor "
+            "term applied): b and M are what this turn puts beyond the firmware's own calibration, b = 0 and "
+            "M = I where they agree. This method knows neither the attitude nor the motors' current, which moves "
+            "the field in flight: the compass from the flight (method compass_flight) fits both"
+        )
     counts = unit == "raw" and reference["field_ut"] is None
     if counts:
         notes.append(

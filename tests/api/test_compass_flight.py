@@ -240,3 +240,26 @@ def test_a_minimal_log_without_imu_is_read_for_its_compass_from_the_flight(clien
     # an IMU asked of it names what the log holds
     refused = client.post("/api/v1/recordings", files={"file": (bare.name, bare.read_bytes())}, data={"instance": "0"})
     assert refused.status_code == 422 and "holds no IMU" in refused.json()["detail"], refused.text
+
+
+def test_the_compass_method_on_a_flights_readings_says_the_model_they_determine(client):
+    """`magnetometer` on each compass of log171.bin (the firmware's corrected field, near level most of the
+    flight): the external MAG determines the full ellipsoid and passes (4.33 → 1.75 µT on new directions); MAG2
+    determines only a scale per axis and MAG3 (no stored calibration) only its offsets, each refused for the field
+    that moves with the motors' current, pointed to the compass from the flight; all against the field at the
+    log's GPS fix, as what the turn puts beyond the firmware's own calibration."""
+    got = []
+    for instance in range(3):
+        rid = _upload(client, LOG171, mag_instance=str(instance))
+        r = client.post("/api/v1/calibrations", json={"method": "magnetometer", "recording_id": rid})
+        assert r.status_code == 201, r.text
+        body = r.json()
+        assert body["metrics"]["field_source"] == "model" and body["metrics"]["field_ut"] == pytest.approx(
+            58.19, abs=0.01
+        )
+        assert any(w.startswith("the Earth's field at the log's first GPS fix (-35.36237°") for w in body["warnings"])
+        assert any("beyond the firmware's own calibration" in w and "compass_flight" in w for w in body["warnings"])
+        got.append((body["ok"], body["metrics"]["structure"]))
+        if instance:
+            assert "spreads over" in body["reasons"][0] and body["verdict"]["apply"] is False
+    assert got == [(True, "soft_iron"), (False, "scale"), (False, "offsets")]

@@ -334,9 +334,10 @@ def choose(
     if not accs:  # a minimal log (attitude, compass, GPS): read for what needs no IMU
         if instance is not None:
             _refuse_instance("IMU", instance, accs, "instance", name)
-        mag = pick(streams, "mag", mags[0] if mag_instance is None else mag_instance, mag_sources)
+        wanted = mags[0] if mag_instance is None else mag_instance
+        mag = pick(streams, "mag", wanted, mag_sources)
         if mag is None:
-            _refuse_instance("magnetometer", mag_instance, mags, "mag_instance", name)
+            _refuse_instance("magnetometer", wanted, mags, "mag_instance", name)
         assert mag is not None, "the compass asked has a stream"
         return compass_only_log(streams, mag, fmt=fmt, notes=notes)
     if instance is None:
