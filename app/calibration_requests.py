@@ -273,6 +273,18 @@ class CompassFlightIn(Strict):
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = Field(
         None, description="Height above the WGS84 ellipsoid (default: the fix's)."
     )
+    window: Literal["flying", "all"] = Field(
+        "flying",
+        description="The part of the log fitted: `flying` (default), the samples whose throttle is at least 0.3 "
+        "of the hover throttle (else whose current is above the idle's), so that time on the ground does not count "
+        "against the headings; `all`, every sample.",
+    )
+    from_s: Annotated[float, Field(ge=0)] | None = Field(
+        None, description="Seconds from the compass's first sample where the part fitted starts (default: the start)."
+    )
+    to_s: Annotated[float, Field(gt=0)] | None = Field(
+        None, description="Seconds from the compass's first sample where the part fitted ends (default: the end)."
+    )
     device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
     label: Annotated[str, Field(max_length=500)] | None = None
 
@@ -280,4 +292,6 @@ class CompassFlightIn(Strict):
     def _place(self):
         if (self.latitude_deg is None) != (self.longitude_deg is None):
             raise ValueError("give both `latitude_deg` and `longitude_deg` for the Earth's field there, or neither")
+        if self.from_s is not None and self.to_s is not None and self.to_s <= self.from_s:
+            raise ValueError("`to_s` must come after `from_s`: they are seconds from the compass's first sample")
         return self

@@ -151,6 +151,16 @@ def _add_calibrate(sub) -> None:
     c.add_argument(
         "--date", type=opt.DAY, default=None, help=f"{_takers('date')}: day of the recording (default today)"
     )
+    c.add_argument(
+        "--window",
+        choices=("flying", "all"),
+        default=None,
+        help=f"{_takers('window')}: the part of the log fitted, the flying part (default) or every sample",
+    )
+    c.add_argument(
+        "--from-s", type=opt.SECONDS, default=None, help=f"{_takers('from_s')}: seconds from the log's start"
+    )
+    c.add_argument("--to-s", type=opt.SECONDS, default=None, help=f"{_takers('to_s')}: seconds from the log's start")
     c.add_argument("--device-id", type=opt.text("a device id"), default=None)
     c.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
     c.add_argument("--json", action="store_true", help="print the API's JSON")

@@ -51,6 +51,60 @@ def _power_on(t: np.ndarray, log) -> tuple[np.ndarray | None, str | None, np.nda
     return None, None, np.ones(len(t), dtype=bool)
 
 
+FLYING_SHARE_OF_HOVER = 0.3
+"""The flying part of a log: throttle at least 0.3 of the hover throttle (the median of the throttle while the
+motors run, above 0.05), which leaves out the ground before take-off and after landing (throttle 0, or the
+spin of armed motors) and keeps a descent (a simulated flight's lowest throttle is 0.42 of its hover's)."""
+
+MIN_WINDOW_SAMPLES = 60
+"""A window keeping fewer compass samples than this is not applied (the whole log is fitted, a note says so)."""
+
+
+def _window(t: np.ndarray, log, request, notes: list[str]) -> np.ndarray:
+    """The samples fitted: the request's ``from_s``–``to_s`` (seconds from the compass's first sample), and with
+    ``window = "flying"`` the flying part (:data:`FLYING_SHARE_OF_HOVER` of the hover throttle; with the current
+    alone, above the idle's 5th percentile plus that share of the way to its median while flying)."""
+    start = t[0] if len(t) else 0.0
+    keep = np.ones(len(t), dtype=bool)
+    if request.from_s is not None:
+        keep &= t - start >= request.from_s
+    if request.to_s is not None:
+        keep &= t - start <= request.to_s
+    if keep.sum() < MIN_WINDOW_SAMPLES:
+        raise CalibrationError(
+            f"from_s–to_s keeps {int(keep.sum())} compass samples of {len(t)} (the log's compass spans "
+            f"{t[-1] - start:.0f} s): widen from_s and to_s, or leave them out for the whole flight"
+        )
+    if request.window != "flying" or log.power_time_s is None:
+        return keep
+    pt = np.asarray(log.power_time_s, dtype=float)
+    for values, kind in ((log.throttle, "throttle"), (log.current_a, "current")):
+        if values is None or len(values) < 2:
+            continue
+        v = np.interp(t, pt, np.asarray(values, dtype=float))
+        if kind == "throttle":
+            running = v[v > 0.05]
+            threshold = FLYING_SHARE_OF_HOVER * float(np.median(running)) if len(running) else np.inf
+        else:
+            idle = float(np.percentile(v, 5))
+            threshold = (
+                idle + FLYING_SHARE_OF_HOVER * (float(np.median(v[v > idle + 1.0])) - idle)
+                if np.any(v > idle + 1.0)
+                else np.inf
+            )
+        flying = keep & (v >= threshold)
+        if flying.sum() < MIN_WINDOW_SAMPLES:
+            notes.append(f"the {kind} shows no flight of {MIN_WINDOW_SAMPLES} samples or more: every sample is fitted")
+            return keep
+        if flying.sum() < keep.sum():
+            notes.append(
+                f"the flying part is fitted: {int(flying.sum())} of {int(keep.sum())} samples, the {kind} at or above "
+                f"{threshold:.2f}{' A' if kind == 'current' else ''} (to fit every sample: window=all)"
+            )
+        return flying
+    return keep
+
+
 def _place(request, log, notes: list[str]) -> tuple[float, float, float, datetime.date]:
     """Where and when the flight was: the request's place and date over the log's first GPS fix."""
     lat = request.latitude_deg if request.latitude_deg is not None else log.latitude_deg
@@ -108,7 +162,7 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
     t = np.asarray(log.time_s, dtype=float)
     c_nb, inside = _attitude_on(t, np.asarray(log.attitude_time_s, dtype=float), np.asarray(log.attitude_c_nb, float))
     power, kind, powered = _power_on(t, log)
-    keep = inside & powered
+    keep = inside & powered & _window(t, log, request, notes)
     attitude = np.empty((len(t), 3, 3))
     attitude[inside] = c_nb
     lat, lon, height, day = _place(request, log, notes)

@@ -491,8 +491,14 @@ $("#flight-compass").addEventListener("click", () => {
     return;
   }
   delete place.field_ut;
+  // The part of the log fitted: the flying part by default, and the seconds typed, if any.
+  const part = { window: $("#flight-window").value };
+  for (const [key, id] of [["from_s", "#flight-from"], ["to_s", "#flight-to"]]) {
+    if ($(id).value !== "") part[key] = Number($(id).value);
+  }
   calibrate(
-    { method: "compass_flight", recording_id: recordingId, mag_instance: Number($("#flight-mag").value), ...place },
+    { method: "compass_flight", recording_id: recordingId, mag_instance: Number($("#flight-mag").value), ...place,
+      ...part },
     "Fitting the compass against the flight's attitude and the Earth's field…", "Compass calibration refused",
     "#flight-compass-msg");
 });

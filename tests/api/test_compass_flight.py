@@ -119,10 +119,12 @@ def test_a_real_copter_log_parked_most_of_its_flight_is_not_ok_in_words(client, 
     assert "damaged" not in r.text
     assert body["ok"] is False and body["verdict"]["apply"] is False
     assert body["reasons"] and all(len(reason.split()) >= 6 for reason in body["reasons"])
-    # what to do first: the vehicle stood parked one way (77 % of the flight in one 45° sector of heading)
+    # what to do first: the vehicle flew mostly one way (68 % of its flying part, the 29 % on the ground left out,
+    # in one 45° sector of heading)
     assert body["reasons"][0].startswith(
-        "the flight turned through too few headings (8 of 8 sectors of 45° reached, 77% of it in one"
+        "the flight turned through too few headings (8 of 8 sectors of 45° reached, 68% of it in one"
     ), body["reasons"][0]
+    assert any(w.startswith("the flying part is fitted: ") for w in body["warnings"])
     assert body["flight"]["generation"] == f"ArduPilot Copter V3.3-dev (TimeMS, {('MAG', 'MAG2', 'MAG3')[instance]})"
     assert body["flight"]["instance"] == instance
     # the figure, before and after, in degrees, on segments left out
@@ -203,7 +205,8 @@ def test_a_px4_1_9_log_with_only_vehicle_magnetometer_lists_its_compass_and_cali
     """The real PX4 1.9 flight of tests/data/real/flight (px4-ulog-rs's esc_status_log.ulg) logs its compass only as
     vehicle_magnetometer (calibrated, body frame, 117 samples): the upload lists it, the compass from the flight
     is the first ready (a GPS fix: Zurich, 2019-05-13), compass 0 is taken by number, and the answer is ok false
-    for the too few samples, with the firmware's stored calibration (CAL_MAG0, enabled by CAL_MAG0_EN)."""
+    for the too few samples (108 of its flying part), with the firmware's stored calibration (CAL_MAG0, enabled by
+    CAL_MAG0_EN)."""
     path = LOG171.parent / "px4_1.9_esc_status_log.ulg"
     r = client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes())})
     assert r.status_code == 201, r.text
@@ -216,7 +219,7 @@ def test_a_px4_1_9_log_with_only_vehicle_magnetometer_lists_its_compass_and_cali
     answer = _calibrate(client, rec["id"], mag_instance=0)
     assert answer.status_code == 201, answer.text
     body = answer.json()
-    assert body["ok"] is False and body["reasons"][0].startswith("only 117 samples"), body["reasons"]
+    assert body["ok"] is False and body["reasons"][0].startswith("only 108 samples"), body["reasons"]
     assert body["flight"]["generation"] == "PX4 v1.9.0 (vehicle_magnetometer)"
     assert body["flight"]["stored"]["switch"] == "CAL_MAG0_EN"
     assert body["metrics"]["field_ut"] == pytest.approx(48.04, abs=0.01)  # IGRF-14 at the first 3-D fix
@@ -263,3 +266,30 @@ def test_the_compass_method_on_a_flights_readings_says_the_model_they_determine(
         if instance:
             assert "spreads over" in body["reasons"][0] and body["verdict"]["apply"] is False
     assert got == [(True, "soft_iron"), (False, "scale"), (False, "offsets")]
+
+
+def test_the_part_of_the_log_fitted_is_the_flying_part_unless_asked(client, flight, tmp_path):
+    """The log's first 40 s on the ground (throttle 0): left out by default, with a note of what was kept; `window`
+    all fits every sample; from_s and to_s cut the log by seconds, and a cut that leaves too little is refused
+    naming them."""
+    grounded = {**flight, "throttle": np.where(flight["time_s"] < 40.0, 0.0, flight["throttle"])}
+    log = write_flight_compass_logs(tmp_path, grounded)[0]
+    rid = _upload(client, log)
+    total = len(flight["time_s"])
+    flying = _calibrate(client, rid).json()
+    kept = flying["metrics"]["n_samples"]
+    # the ground's 1000 samples, and the few the logged throttle (CTUN, slower) takes to rise after them
+    assert total - 1000 - 25 <= kept <= total - 1000, kept
+    note = next(w for w in flying["warnings"] if w.startswith("the flying part is fitted: "))
+    assert note.startswith(f"the flying part is fitted: {kept} of {total} samples, the throttle at or above 0.10 "), (
+        note
+    )
+    assert note.endswith("(to fit every sample: window=all)")
+    every = _calibrate(client, rid, window="all").json()
+    assert every["metrics"]["n_samples"] == total and not any("flying part" in w for w in every["warnings"])
+    cut = _calibrate(client, rid, window="all", from_s=60.0, to_s=120.0).json()
+    assert cut["metrics"]["n_samples"] == 60 * 25 + 1
+    narrow = _calibrate(client, rid, from_s=10.0, to_s=11.0)
+    assert narrow.status_code == 422 and "widen from_s and to_s" in narrow.json()["detail"], narrow.text
+    backwards = _calibrate(client, rid, from_s=20.0, to_s=10.0)
+    assert backwards.status_code == 422 and "`to_s` must come after `from_s`" in backwards.text

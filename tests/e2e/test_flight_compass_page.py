@@ -96,6 +96,15 @@ def test_a_minimal_log_without_imu_runs_its_compass_from_the_flight_at_once(axe_
         "Apply it: heading error on flight segments left out", timeout=60_000
     )
     assert page.locator("#segments-msg.bad, #upload-msg.bad").count() == 0  # no failure nobody asked for
+    # the part of the log fitted: every sample, from 10 s to 150 s
+    page.select_option("#flight-window", "all")
+    page.fill("#flight-from", "10")
+    page.fill("#flight-to", "150")
+    with page.expect_response(lambda r: r.url.endswith("/api/v1/calibrations") and r.request.method == "POST") as sent:
+        page.click("#flight-compass")
+    asked = sent.value.request.post_data_json
+    assert (asked["window"], asked["from_s"], asked["to_s"]) == ("all", 10, 150), asked
+    assert sent.value.status == 201 and sent.value.json()["metrics"]["n_samples"] == 1401
     problems = []
     for width in (320, 390, 1280):
         page.set_viewport_size({"width": width, "height": 900})
