@@ -76,9 +76,45 @@ def print_summary(body: dict, recording: dict, verbose: bool = False) -> None:
         print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f})")
     if "norm_error_max" in m:
         print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
+    if flight and flight.get("compasses"):
+        print_compasses(flight)
     for a in body.get("advice") or []:
         print(f"next pose: {a['words']} (shrinks the parameters' generalized variance by {100 * a['gain']:.0f} %)")
     print_notes(body["warnings"], verbose)
+
+
+def print_compasses(flight: dict) -> None:
+    """A flight log's compasses side by side (app.workflows.flight_compasses): heading error before → after,
+    orientation, the power's pull, agreement with the first compass, and one action each."""
+    print("the log's compasses (heading error on segments left out, firmware's → trical's):")
+
+    def deg(value) -> str:
+        return "—" if value is None else f"{value:.1f}°"
+
+    for row in flight["compasses"]:
+        pull = row.get("pull")
+        pulled = (
+            f", {pull['per_unit']:.2f} {pull['unit']} ({pull['at_top_deg']:.0f}° at the top "
+            f"{row['power_kind']}{'' if pull['determined'] else ', not determined'})"
+            if pull
+            else ""
+        )
+        agrees = {True: ", agrees with the first", False: ", inconsistent with the first", None: ""}[row["consistent"]]
+        left = row.get("orientation_left_deg")
+        mounted = row["orientation"] or "orientation not found"
+        if left is not None and left > 5.0:
+            mounted += f" ({left:.0f}° left: unresolved)"
+        print(
+            f"  compass {row['instance']}: {deg(row['before_deg'])} → {deg(row['after_deg'])}, "
+            f"{mounted}{pulled}{agrees}: {row['action']}"
+        )
+    for check in flight.get("consistency") or []:
+        first, other = check["pair"]
+        print(
+            f"  compass {other} against {first}: {check['xyz_angle_deg']:.0f}° apart, {check['xy_angle_deg']:.0f}° "
+            f"horizontally, {check['xy_length_diff_ut']:.1f} µT horizontal difference "
+            f"({'within' if check['consistent'] else 'beyond'} ArduPilot's 90°, 60°, 20 µT)"
+        )
 
 
 def print_verdict(body: dict) -> None:

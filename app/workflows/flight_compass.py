@@ -12,6 +12,8 @@ span are left out.
 from __future__ import annotations
 
 import datetime
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -139,21 +141,38 @@ def _not_measuring_remedy(log) -> str:
     )
 
 
-def compass_flight(request, recording: RecordingSource | None) -> Calibration:
-    """Method ``compass_flight``: a flight log's compass against the field its attitude expects."""
-    from app.calibration.magnetometer import FlightCompassCalibration, fit_flight_compass
+@dataclass(frozen=True)
+class Flown:
+    """One compass of a log fitted to its flight: the log read, the fit, and what it was fitted on."""
+
+    log: Any
+    fit: Any
+    time_s: np.ndarray
+    mag_raw: np.ndarray
+    power: np.ndarray | None
+    power_kind: str | None
+    expected: np.ndarray
+    attitude: np.ndarray
+    b_ned: np.ndarray
+    earth: Any
+    place: tuple
+
+
+def fly(request, recording: RecordingSource, instance: int | None, notes: list[str]) -> Flown:
+    """The compass ``instance`` of the stored log fitted to its flight (the module's docstring); ``notes`` gets
+    the reader's and the window's.
+
+    Raises
+    ------
+    CalibrationError
+        No attitude, no place, a window too narrow, or the fit's refusals (a compass that does not measure).
+    """
+    from app.calibration.magnetometer import fit_flight_compass
     from app.geomag import GeomagneticRangeError, reference_field
     from app.io.flight_context import read_flight_compass
 
-    if recording is None or recording.meta.get("flight") is None:  # a flight controller's log lists its sensors
-        raise CalibrationError(
-            "a compass from a flight reads a flight controller's log: upload the PX4 ULog (.ulg) "
-            "or ArduPilot DataFlash log (.bin) of a flight with turns"
-        )
-    read_with = recording.meta.get("read_with") or {}
-    instance = request.mag_instance if request.mag_instance is not None else read_with.get("mag_instance")
     log = read_flight_compass(recording.path, mag_instance=instance, name=recording.meta.get("filename") or "the log")
-    notes: list[str] = list(log.notes)
+    notes.extend(log.notes)
     if log.attitude_c_nb is None:
         raise CalibrationError(
             "the log has no attitude (ArduPilot ATT or AHR2, PX4 vehicle_attitude): a compass from "
@@ -165,9 +184,9 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
     keep = inside & powered & _window(t, log, request, notes)
     attitude = np.empty((len(t), 3, 3))
     attitude[inside] = c_nb
-    lat, lon, height, day = _place(request, log, notes)
+    place = _place(request, log, notes)
     try:
-        earth = reference_field(day, lat, lon, height)
+        earth = reference_field(place[3], *place[:3])
     except GeomagneticRangeError as exc:
         raise CalibrationError(str(exc)) from None
     b_ned = np.array([earth.north_ut, earth.east_ut, earth.down_ut])
@@ -175,11 +194,12 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
     expected = np.einsum("nji,j->ni", attitude, b_ned)  # e = C_nbᵀ B_ned
     if kind is None:
         notes.append("the log has neither the battery current nor the throttle: no motor term was tried")
+    power = None if power is None else power[keep]
     fit = fit_flight_compass(
         log.mag_raw_ut[keep],
         expected,
         time_s=t[keep],
-        power=None if power is None else power[keep],
+        power=power,
         power_kind=kind,
         firmware_field=log.mag_firmware_ut[keep],
         frame_to_body=log.frame_to_body,
@@ -188,6 +208,25 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
         not_measuring_remedy=_not_measuring_remedy(log),
         firmware=log.firmware,
     )
+    return Flown(log, fit, t[keep], log.mag_raw_ut[keep], power, kind, expected, attitude, b_ned, earth, place)
+
+
+def compass_flight(request, recording: RecordingSource | None) -> Calibration:
+    """Method ``compass_flight``: a flight log's compass against the field its attitude expects; with several
+    compasses in the log, each beside the others (:func:`app.workflows.flight_compasses.compasses_table`)."""
+    from app.calibration.magnetometer import FlightCompassCalibration
+    from app.workflows.flight_compasses import compasses_table
+
+    if recording is None or recording.meta.get("flight") is None:  # a flight controller's log lists its sensors
+        raise CalibrationError(
+            "a compass from a flight reads a flight controller's log: upload the PX4 ULog (.ulg) "
+            "or ArduPilot DataFlash log (.bin) of a flight with turns"
+        )
+    read_with = recording.meta.get("read_with") or {}
+    instance = request.mag_instance if request.mag_instance is not None else read_with.get("mag_instance")
+    notes: list[str] = []
+    flown = fly(request, recording, instance, notes)
+    log, (lat, lon, height, day), earth = flown.log, flown.place, flown.earth
     flight = {
         "firmware": log.firmware,
         "generation": log.generation,
@@ -196,8 +235,9 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
         "frame_to_body": log.frame_to_body.tolist(),
         "stored": log.stored.to_dict(),
         "attitude_source": log.attitude_source,
-        "power_source": log.power_source if kind else None,
+        "power_source": log.power_source if flown.power_kind else None,
         "place": {"latitude_deg": lat, "longitude_deg": lon, "height_m": height, "date": day.isoformat()},
+        **compasses_table(request, recording, flown),
     }
     metrics = {
         "field_ut": earth.field_ut,
@@ -206,7 +246,7 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
         "field_model": earth.model,
         "field_date": day.isoformat(),
     }
-    result = FlightCompassCalibration.from_fit(fit, flight=flight, metrics=metrics)
+    result = FlightCompassCalibration.from_fit(flown.fit, flight=flight, metrics=metrics)
     return Calibration.of(
         result,
         {},

@@ -4,6 +4,7 @@
 // deviation, the accelerometer's norms per reading), then the details: the model, the figures, the
 // readings and the notes.
 import { exportUrl } from "./api.js";
+import { showCompasses } from "./compasses_view.js";
 import { showCorrection } from "./correction_view.js";
 import { fillFigures } from "./figures.js";
 import { formatNumber } from "./readings.js";
@@ -73,6 +74,7 @@ export function showCalibration(cal, token = null) {
     else $(`${plot.box} img`).removeAttribute("src");
     if (plot.caption) $(`${plot.box} figcaption`).textContent = plot === kind.plot ? plot.caption(cal) : "";
   }
+  showCompasses(cal);
   shown = cal;
   offerSend(cal, token);
   resetUse(); // the files follow as they are fetched

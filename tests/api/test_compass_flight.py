@@ -293,3 +293,26 @@ def test_the_part_of_the_log_fitted_is_the_flying_part_unless_asked(client, flig
     assert narrow.status_code == 422 and "widen from_s and to_s" in narrow.json()["detail"], narrow.text
     backwards = _calibrate(client, rid, from_s=20.0, to_s=10.0)
     assert backwards.status_code == 422 and "`to_s` must come after `from_s`" in backwards.text
+
+
+def test_a_three_compass_log_says_which_compass_is_lying(client, log171):
+    """log171.bin's three compasses side by side in the answer of any one: each its heading error before and after,
+    orientation, the current's pull and one action; MAG3, never calibrated, fails ArduPilot's pre-arm consistency
+    check against MAG (its horizontal field 52.9 µT away, the limit 200 mG), so it is the one to calibrate or stop
+    using; MAG2 agrees with MAG (15.7° between their horizontal fields)."""
+    body = _calibrate(client, log171, mag_instance=1).json()
+    rows = {row["instance"]: row for row in body["flight"]["compasses"]}
+    assert sorted(rows) == [0, 1, 2] and rows[1]["after_deg"] == body["metrics"]["heading_error_after_deg"]
+    assert [rows[k]["before_deg"] for k in range(3)] == pytest.approx([9.38, 23.84, 38.97], abs=0.01)
+    assert all(rows[k]["measures"] and rows[k]["orientation"] == "NONE" for k in range(3))
+    assert all(rows[k]["pull"]["unit"] == "µT/A" and rows[k]["pull"]["determined"] is False for k in range(3))
+    (one, two) = body["flight"]["consistency"]
+    assert one["pair"] == [0, 1] and one["consistent"] and one["xy_angle_deg"] == pytest.approx(15.70, abs=0.01)
+    assert (
+        two["pair"] == [0, 2] and not two["consistent"] and two["xy_length_diff_ut"] == pytest.approx(52.87, abs=0.01)
+    )
+    assert rows[2]["action"].startswith("calibrate it or stop its use (COMPASS_USE3 = 0)")
+    assert (
+        rows[0]["action"] == rows[1]["action"] == "fly turns through every heading (a slow full yaw turn, or circles)"
+    )
+    assert rows[0]["reason"].startswith("the flight turned through too few headings")

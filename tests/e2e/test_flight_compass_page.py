@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from playwright.sync_api import expect
 
-from tests.e2e.conftest import shot
+from tests.e2e.conftest import ARTIFACTS, shot
 from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
 
 
@@ -110,5 +110,33 @@ def test_a_minimal_log_without_imu_runs_its_compass_from_the_flight_at_once(axe_
         page.set_viewport_size({"width": width, "height": 900})
         shot(page, f"flight_compass_minimal_log_{width}")
         problems += layout_problems(page, "flight_compass_minimal_log", width)
+    assert not problems, "\n".join(problems)
+    assert [e for e in page.errors if "status of 422" not in e] == []
+
+
+def test_a_three_compass_log_shows_which_compass_to_trust(axe_page, server):
+    """The real ArduCopter 3.3 log of tests/data/real/flight: its compass from the flight runs at once (a GPS fix),
+    and the result lists its three compasses side by side, MAG3 the one inconsistent with the first."""
+    from tests.conftest import DATA
+    from tests.e2e.test_layout import layout_problems
+
+    page = axe_page
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(DATA / "real" / "flight" / "log171.bin"))
+    page.click("#upload-form button[type=submit]")
+    expect(page.locator("#result-compasses")).to_be_visible(timeout=60_000)
+    rows = page.locator("#result-compasses-table tbody tr")
+    expect(rows).to_have_count(3)
+    assert rows.nth(0).locator("td").nth(0).text_content() == "0 (this result)"
+    assert rows.nth(2).locator("td").nth(4).text_content() == "no: inconsistent"
+    assert rows.nth(2).locator("td").nth(5).text_content().startswith("calibrate it or stop its use (COMPASS_USE3 = 0)")
+    assert "Compass 2 against 0: 67° apart" in page.text_content("#result-compasses-checks")
+    problems = []
+    for width in (320, 390, 1280):
+        page.set_viewport_size({"width": width, "height": 900})
+        page.locator("#result-compasses").scroll_into_view_if_needed()
+        shot(page, f"flight_compasses_{width}")
+        page.locator("#result-compasses").screenshot(path=str(ARTIFACTS / f"flight_compasses_table_{width}.png"))
+        problems += layout_problems(page, "flight_compasses", width)
     assert not problems, "\n".join(problems)
     assert [e for e in page.errors if "status of 422" not in e] == []

@@ -145,7 +145,12 @@ class CompassFlightOut(CalibrationCommon):
             "(offsets, scale, soft_iron), motor (current, throttle or null), rotation_found, rotation_nearest "
             "({ardupilot, px4, name}), angle_left_deg, orientation_agrees, frame_to_body, stored (the firmware's own "
             "calibration), attitude_source, power_source, place, models (each candidate's error on segments left out), "
-            "intervals."
+            "intervals; for a log of two compasses or more, compasses (each compass of the log fitted to the same "
+            "flight: instance, measures, ok, before_deg, after_deg, orientation, orientation_left_deg, "
+            "orientation_agrees, orientation_setting, pull {per_unit, at_top_ut, at_top_deg, unit, determined}, "
+            "power_kind, motor_setting, switch, reason, consistent, action) and consistency (each compass's field "
+            "against the first's: pair, xyz_angle_deg, xy_angle_deg, xy_length_diff_ut, consistent, ArduPilot's "
+            "pre-arm limits 90°, 60°, 200 mG)."
         )
     )
     series: dict[str, Any] = Field(
