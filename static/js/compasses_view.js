@@ -13,14 +13,16 @@ const degrees = (v) => (v === null || v === undefined ? "—" : `${formatNumber(
 function mounted(row) {
   if (!row.orientation) return "not found";
   const left = row.orientation_left_deg;
-  return left !== null && left > 5 ? `${row.orientation}, ${formatNumber(left, 0)}° left (unresolved)` : row.orientation;
+  if (left === null || left <= 5) return row.orientation;
+  return `${row.orientation}, ${formatNumber(left, 0)}° left (unresolved)`;
 }
 
 function pulled(row) {
   const p = row.pull;
   if (!p) return "—";
   const sure = p.determined ? "" : " (not determined)";
-  return `${formatNumber(p.per_unit, 2)} ${p.unit}: ${formatNumber(p.at_top_deg, 0)}° at the top ${row.power_kind}${sure}`;
+  const top = `${formatNumber(p.at_top_deg, 0)}° at the top ${row.power_kind}`;
+  return `${formatNumber(p.per_unit, 2)} ${p.unit}: ${top}${sure}`;
 }
 
 const AGREES = { true: "yes", false: "no: inconsistent", null: "— (the first)" };
@@ -32,7 +34,8 @@ export function showCompasses(cal) {
   $("#result-compasses-table tbody").replaceChildren(...rows.map((row) => {
     const tr = document.createElement("tr");
     const asked = row.instance === flight.instance ? " (this result)" : "";
-    tr.append(cell("td", `${row.instance}${asked}`), cell("td", `${degrees(row.before_deg)} → ${degrees(row.after_deg)}`),
+    tr.append(cell("td", `${row.instance}${asked}`),
+      cell("td", `${degrees(row.before_deg)} → ${degrees(row.after_deg)}`),
       cell("td", row.measures ? mounted(row) : "does not measure"), cell("td", pulled(row)),
       cell("td", AGREES[String(row.consistent ?? null)]), cell("td", row.action));
     [...tr.cells].forEach((td, k) => { td.dataset.label = HEADS[k]; });
