@@ -273,6 +273,12 @@ class CompassFlightIn(Strict):
     height_m: Annotated[float, Field(ge=-12000, le=100000)] | None = Field(
         None, description="Height above the WGS84 ellipsoid (default: the fix's)."
     )
+    attitude: Literal["ATT", "AHR2", "XKF1", "NKF1", "EKF1", "vehicle_attitude"] | None = Field(
+        None,
+        description="The attitude estimate the compass is judged by: ArduPilot's ATT (default: the one flown by, "
+        "whose yaw used the primary compass), AHR2 (the DCM backup), XKF1, NKF1 or EKF1 (an EKF's first core); "
+        "PX4's vehicle_attitude.",
+    )
     window: Literal["flying", "all"] = Field(
         "flying",
         description="The part of the log fitted: `flying` (default), the samples whose throttle is at least 0.3 "

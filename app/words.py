@@ -146,6 +146,7 @@ VOCABULARY: dict[str, Term] = {
             "a field's strength of {value} µT",
             pages={"/wizard": "your location (“Use my location for the reference field”)"},
         ),
+        Term("attitude", "the “Attitude from” menu", "{value} in the “Attitude from” menu"),
         Term(
             "window",
             "the “Part of the log fitted” menu",

@@ -152,6 +152,12 @@ def _add_calibrate(sub) -> None:
         "--date", type=opt.DAY, default=None, help=f"{_takers('date')}: day of the recording (default today)"
     )
     c.add_argument(
+        "--attitude",
+        choices=("ATT", "AHR2", "XKF1", "NKF1", "EKF1", "vehicle_attitude"),
+        default=None,
+        help=f"{_takers('attitude')}: the attitude estimate to judge the compass by (default ATT, or vehicle_attitude)",
+    )
+    c.add_argument(
         "--window",
         choices=("flying", "all"),
         default=None,

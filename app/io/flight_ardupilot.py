@@ -79,8 +79,25 @@ def _first(reader, buf, names):
     return None, None
 
 
-def _ardupilot_attitude(reader, buf, name):
-    msg, t = _first(reader, buf, ("ATT", "AHR2"))
+ATTITUDE_MESSAGES = ("ATT", "AHR2", "XKF1", "NKF1", "EKF1")
+"""ArduPilot's attitude estimates with Roll, Pitch, Yaw (deg): the one the vehicle flew by (ATT), the DCM backup
+(AHR2), and EKF3's, EKF2's and the older EKF's first core (XKF1, NKF1, EKF1). ATT's yaw comes from the estimator
+that used the primary compass, which flatters that compass's "before"."""
+
+
+def _ardupilot_attitude(reader, buf, name, wanted: str | None = None):
+    """``(time_s, C_nb, source)`` of ``wanted`` (one of :data:`ATTITUDE_MESSAGES`), by default the first logged."""
+    if wanted is not None and wanted not in ATTITUDE_MESSAGES:
+        raise LogFormatError(
+            f"attitude {wanted!r} is not an ArduPilot attitude message: give attitude as one of "
+            f"{', '.join(ATTITUDE_MESSAGES)}"
+        )
+    if wanted is not None and dataflash.table(reader, buf, wanted) is None:
+        logged = [m for m in ATTITUDE_MESSAGES if dataflash.table(reader, buf, m) is not None]
+        raise LogFormatError(
+            f"{name} has no {wanted} messages: choose attitude among those it logs ({', '.join(logged) or 'none'})"
+        )
+    msg, t = _first(reader, buf, ATTITUDE_MESSAGES if wanted is None else (wanted,))
     if t is None:
         return None, None, None
     rpy = [dataflash.column(t, msg, (f,), name) for f in ("Roll", "Pitch", "Yaw")]
@@ -148,7 +165,7 @@ def _ardupilot_generation(reader, release, mag_msg, t) -> str:
     return f"{release} ({clock}, {layout})"
 
 
-def read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
+def read_ardupilot(path, mag_instance, name, attitude: str | None = None) -> FlightCompassLog:
     reader, buf, said = dataflash.open_log(path, name)
     values = dataflash.params(reader, buf)
     mags = dataflash.instances(reader, buf, dataflash.MAG_NAMES)
@@ -201,9 +218,9 @@ def read_ardupilot(path, mag_instance, name) -> FlightCompassLog:
         f"read back to raw from {msg} (logged corrected, body frame) with OfsX…, MOfsX… and COMPASS_DIA/ODI"
         f"{'/SCALE' if newer else ''}: {formula}"
     )
-    att_t, att_c, att_source = _ardupilot_attitude(reader, buf, name)
+    att_t, att_c, att_source = _ardupilot_attitude(reader, buf, name, attitude)
     if att_t is None:
-        notes.append("no ATT or AHR2 messages: the attitude is missing (log ATTITUDE_MED/FAST)")
+        notes.append("no ATT, AHR2 or EKF messages: the attitude is missing (log ATTITUDE_MED/FAST)")
     release = _ardupilot_release(reader, buf)
     p_t, cur, thr, p_source = _ardupilot_power(reader, buf, name, release, notes)
     lat, lon, alt, utc = _ardupilot_position(reader, buf, name, notes)

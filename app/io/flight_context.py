@@ -257,7 +257,9 @@ def one_power_clock(current, throttle, notes: list):
     return t, onto[0], onto[1], source
 
 
-def read_flight_compass(path, *, mag_instance: int | None = None, name: str = "the file") -> FlightCompassLog:
+def read_flight_compass(
+    path, *, mag_instance: int | None = None, name: str = "the file", attitude: str | None = None
+) -> FlightCompassLog:
     """One compass of a PX4 ULog or ArduPilot DataFlash log, raw, with the flight's context.
 
     Parameters
@@ -267,6 +269,9 @@ def read_flight_compass(path, *, mag_instance: int | None = None, name: str = "t
         The compass instance (default the first the log has).
     name : str
         How messages name the file.
+    attitude : str, optional
+        The attitude estimate to read: ArduPilot's ATT (default), AHR2, XKF1, NKF1 or EKF1
+        (:data:`.flight_ardupilot.ATTITUDE_MESSAGES`); PX4's vehicle_attitude.
 
     Raises
     ------
@@ -280,12 +285,12 @@ def read_flight_compass(path, *, mag_instance: int | None = None, name: str = "t
         from .flight_px4 import read_px4
 
         with dataflash.unknown_layout(name, "a PX4 ULog"):
-            return read_px4(path, mag_instance, name)
+            return read_px4(path, mag_instance, name, attitude)
     if head.startswith(dataflash.MAGIC):
         from .flight_ardupilot import read_ardupilot
 
         with dataflash.unknown_layout(name):
-            return read_ardupilot(path, mag_instance, name)
+            return read_ardupilot(path, mag_instance, name, attitude)
     raise LogFormatError(
         f"{name} is not a flight controller's log: a compass from a flight reads a PX4 ULog (.ulg) "
         "or an ArduPilot DataFlash log (.bin)"

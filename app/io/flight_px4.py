@@ -304,7 +304,11 @@ def _px4_attitude(u, notes: list):
     return None, None, None
 
 
-def read_px4(path, mag_instance, name) -> FlightCompassLog:
+def read_px4(path, mag_instance, name, attitude: str | None = None) -> FlightCompassLog:
+    if attitude not in (None, "vehicle_attitude"):
+        raise LogFormatError(
+            f"attitude {attitude!r}: a PX4 log's attitude is vehicle_attitude (give attitude as that, or leave it out)"
+        )
     u = _open_ulog(path, name)
     values = dict(u.initial_parameters)
     notes: list[str] = []

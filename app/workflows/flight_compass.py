@@ -171,7 +171,12 @@ def fly(request, recording: RecordingSource, instance: int | None, notes: list[s
     from app.geomag import GeomagneticRangeError, reference_field
     from app.io.flight_context import read_flight_compass
 
-    log = read_flight_compass(recording.path, mag_instance=instance, name=recording.meta.get("filename") or "the log")
+    log = read_flight_compass(
+        recording.path,
+        mag_instance=instance,
+        name=recording.meta.get("filename") or "the log",
+        attitude=request.attitude,
+    )
     notes.extend(log.notes)
     if log.attitude_c_nb is None:
         raise CalibrationError(

@@ -491,8 +491,9 @@ $("#flight-compass").addEventListener("click", () => {
     return;
   }
   delete place.field_ut;
-  // The part of the log fitted: the flying part by default, and the seconds typed, if any.
+  // The attitude judged by and the part of the log fitted: the flying part by default, the seconds typed, if any.
   const part = { window: $("#flight-window").value };
+  if ($("#flight-attitude").value) part.attitude = $("#flight-attitude").value;
   for (const [key, id] of [["from_s", "#flight-from"], ["to_s", "#flight-to"]]) {
     if ($(id).value !== "") part[key] = Number($(id).value);
   }

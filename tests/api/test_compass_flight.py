@@ -316,3 +316,22 @@ def test_a_three_compass_log_says_which_compass_is_lying(client, log171):
         rows[0]["action"] == rows[1]["action"] == "fly turns through every heading (a slow full yaw turn, or circles)"
     )
     assert rows[0]["reason"].startswith("the flight turned through too few headings")
+
+
+def test_the_attitude_judged_by_is_chosen_among_the_logs_estimates(client, log171):
+    """MAGFit's control: the compass judged by another estimator's attitude. On log171.bin ATT (the EKF flown by)
+    and EKF1 agree; the DCM backup AHR2 gives other figures (MAG's before 8.7° against 9.4°); an estimate the log
+    lacks is refused naming those it has, and a PX4 log takes its vehicle_attitude only."""
+    by = {}
+    for attitude in (None, "AHR2", "EKF1"):
+        body = _calibrate(client, log171, mag_instance=0, **({"attitude": attitude} if attitude else {})).json()
+        assert body["flight"]["attitude_source"] == f"{attitude or 'ATT'} Roll, Pitch, Yaw (deg)"
+        by[attitude] = [round(row["before_deg"], 1) for row in body["flight"]["compasses"]]
+    assert by[None] == by["EKF1"] == [9.4, 23.8, 39.0] and by["AHR2"] == [8.7, 26.7, 27.8]
+    refused = _calibrate(client, log171, attitude="XKF1")
+    assert refused.status_code == 422 and refused.json()["detail"].endswith(
+        "has no XKF1 messages: choose attitude among those it logs (ATT, AHR2, EKF1)"
+    )
+    px4 = _upload(client, LOG171.parent / "px4_1.9_esc_status_log.ulg")
+    refused = _calibrate(client, px4, attitude="ATT")
+    assert refused.status_code == 422 and "a PX4 log's attitude is vehicle_attitude" in refused.json()["detail"]
