@@ -5,9 +5,7 @@ The formulas and the generations are in :mod:`.flight_context`'s docstring."""
 
 from __future__ import annotations
 
-import contextlib
 import datetime as dt
-import io
 
 import numpy as np
 
@@ -43,18 +41,8 @@ def px4_rotation(number: int, name: str, what: str) -> np.ndarray:
     return px4_matrix(number)
 
 
-PX4_TOPICS = (
-    "sensor_mag",
-    "sensor_combined",
-    "vehicle_magnetometer",
-    "vehicle_attitude",
-    "battery_status",
-    "actuator_controls_0",
-    "vehicle_thrust_setpoint",
-    "vehicle_gps_position",
-    "sensor_gps",
-    "vehicle_global_position",
-)
+PX4_TOPICS = ("sensor_mag", "sensor_combined", "vehicle_magnetometer") + ulog.CONTEXT_TOPICS
+"""The topics the compass from a flight reads: the compass's and the flight's context."""
 
 
 def px4_cal(values: dict, slot: int, instance: int) -> FirmwareCompassCal:
@@ -237,19 +225,9 @@ def px4_correct(raw_ut, cal: FirmwareCompassCal, rotation, power=None) -> np.nda
 
 
 def _open_ulog(path, name):
-    """The ULog's topics of :data:`PX4_TOPICS` (pyulog's printing kept off the output); a file pyulog cannot
-    read is refused."""
-    from pyulog import ULog  # here: only ULog uploads load it
-
-    said = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(said):
-            return ULog(str(path), message_name_filter_list=list(PX4_TOPICS), disable_str_exceptions=True)
-    except Exception as exc:  # pyulog raises many kinds on a damaged file
-        raise LogFormatError(
-            f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
-            "file is damaged or cut short in its definitions; download the log again"
-        ) from None
+    """The ULog parsed (:func:`app.io.formats.ulog.open_ulog`, pyulog's printing kept off the output); a file pyulog
+    cannot read is refused."""
+    return ulog.open_ulog(path, name, "download the log again")[0]
 
 
 def _px4_power_at(stored: FirmwareCompassCal, cur, thr, p_t, time_s, notes: list) -> np.ndarray | None:

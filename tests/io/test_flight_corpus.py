@@ -239,3 +239,21 @@ def test_stored_calibration_parameters_as_the_libraries_read_them(name):
     assert wanted and all(k in ours for k in wanted)
     for k in wanted:
         assert ours[k] == pytest.approx(theirs[k], abs=1e-12), k
+
+
+def test_a_ulog_is_parsed_once_for_the_upload_and_the_compass_and_again_when_it_changes(tmp_path):
+    """The upload's reading and the compass from the flight share pyulog's parse of the same file (a 100 MB log takes
+    seconds, bench/flight_compass_speed.py); a file rewritten in place is parsed afresh."""
+    import shutil
+
+    from app.io.formats import ulog
+
+    path = tmp_path / "flight.ulg"
+    shutil.copy(FLIGHT / "sample_log_small.ulg", path)
+    ulog._parsed.cache_clear()
+    read_log(path)
+    read_flight_compass(path, mag_instance=1)
+    assert (ulog._parsed.cache_info().hits, ulog._parsed.cache_info().misses) == (1, 1)
+    shutil.copy(FLIGHT / "px4_1.9_esc_status_log.ulg", path)
+    assert read_flight_compass(path).generation == "PX4 v1.9.0 (vehicle_magnetometer)"
+    assert ulog._parsed.cache_info().misses == 2

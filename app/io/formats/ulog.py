@@ -37,6 +37,7 @@ reads +g in both (specific force), as trical's convention has it.
 from __future__ import annotations
 
 import contextlib
+import functools
 import io
 from pathlib import Path
 
@@ -53,6 +54,16 @@ MAGIC = b"ULog\x01\x12\x35"
 GAUSS_TO_UT = 100.0
 """1 gauss = 100 µT; PX4's sensor_mag is in gauss (msg/SensorMag.msg)."""
 TOPICS = ("sensor_accel", "sensor_gyro", "sensor_mag", "sensor_combined", "vehicle_magnetometer")
+CONTEXT_TOPICS = (
+    "vehicle_attitude",
+    "battery_status",
+    "actuator_controls_0",
+    "vehicle_thrust_setpoint",
+    "vehicle_gps_position",
+    "sensor_gps",
+    "vehicle_global_position",
+)
+"""A flight's context the compass from the flight reads (app.io.flight_px4): attitude, power, place."""
 SENSOR_OF = {"sensor_accel": ("acc", 1.0), "sensor_gyro": ("gyr", 1.0), "sensor_mag": ("mag", GAUSS_TO_UT)}
 
 
@@ -171,6 +182,37 @@ def _vehicle_magnetometer(ulog) -> list[Stream]:
     return found
 
 
+@functools.lru_cache(maxsize=1)
+def _parsed(path: str, size: int, mtime_ns: int):
+    """pyulog's parse of a file's :data:`TOPICS` and :data:`CONTEXT_TOPICS`, with what it printed; the last file's
+    kept, so that an upload's reading, its GPS fix and the compass from the flight parse it once (a 100 MB log
+    takes seconds). Keyed by the file's size and modification time besides its path."""
+    from pyulog import ULog  # here: only ULog uploads load it
+
+    said = io.StringIO()
+    with contextlib.redirect_stdout(said):  # pyulog prints its warnings; the notes carry them
+        ulog = ULog(path, message_name_filter_list=list(TOPICS + CONTEXT_TOPICS), disable_str_exceptions=True)
+    return ulog, said.getvalue()
+
+
+def open_ulog(path, name: str, remedy: str):
+    """``(ulog, printed)``: the file parsed (:func:`_parsed`); a file pyulog cannot parse is refused with ``remedy``.
+
+    Raises
+    ------
+    LogFormatError
+    """
+    resolved = Path(path).resolve()
+    stat = resolved.stat()
+    try:
+        return _parsed(str(resolved), stat.st_size, stat.st_mtime_ns)
+    except Exception as exc:  # pyulog raises many kinds on a damaged file
+        raise LogFormatError(
+            f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
+            f"file is damaged or cut short in its definitions; {remedy}"
+        ) from None
+
+
 def read(
     path: Path,
     s: Sniff,
@@ -188,20 +230,11 @@ def read(
     LogFormatError
         A file pyulog cannot parse, one without IMU samples, or an instance the log does not have.
     """
-    from pyulog import ULog  # here: only ULog uploads load it
-
-    said = io.StringIO()
-    try:
-        with contextlib.redirect_stdout(said):  # pyulog prints its warnings; the note carries them
-            ulog = ULog(str(path), message_name_filter_list=list(TOPICS), disable_str_exceptions=True)
-    except Exception as exc:  # pyulog raises many kinds on a damaged file
-        raise LogFormatError(
-            f"{name} starts as a PX4 ULog but cannot be read ({type(exc).__name__}: {exc}): the "
-            "file is damaged or cut short in its definitions; download the log again from the "
-            "vehicle (QGroundControl, Analyze Tools > Log Download)"
-        ) from None
+    ulog, said = open_ulog(
+        path, name, "download the log again from the vehicle (QGroundControl, Analyze Tools > Log Download)"
+    )
     notes = []
-    if ulog.file_corruption or "corrupt" in said.getvalue().lower():
+    if ulog.file_corruption or "corrupt" in said.lower():
         notes.append(
             f"{name}: pyulog found damaged data in the file and skipped it; the samples read are those it could parse"
         )
