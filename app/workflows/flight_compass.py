@@ -72,7 +72,7 @@ def _window(t: np.ndarray, log, request, notes: list[str]) -> np.ndarray:
         keep &= t - start >= request.from_s
     if request.to_s is not None:
         keep &= t - start <= request.to_s
-    if keep.sum() < MIN_WINDOW_SAMPLES:
+    if (request.from_s is not None or request.to_s is not None) and keep.sum() < MIN_WINDOW_SAMPLES:
         raise CalibrationError(
             f"from_s–to_s keeps {int(keep.sum())} compass samples of {len(t)} (the log's compass spans "
             f"{t[-1] - start:.0f} s): widen from_s and to_s, or leave them out for the whole flight"
