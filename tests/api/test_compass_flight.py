@@ -335,3 +335,14 @@ def test_the_attitude_judged_by_is_chosen_among_the_logs_estimates(client, log17
     px4 = _upload(client, LOG171.parent / "px4_1.9_esc_status_log.ulg")
     refused = _calibrate(client, px4, attitude="ATT")
     assert refused.status_code == 422 and "a PX4 log's attitude is vehicle_attitude" in refused.json()["detail"]
+
+
+def test_a_flight_log_s_implausible_fit_never_asks_for_the_unit_the_log_states(client):
+    """The PX4 1.6 log of tests/data/real/flight, parked one way (1 of 8 sectors), with the place given (it has no
+    GPS): its undetermined scale (−8.6) is refused by the flight's own gates, never with a unit to give (the upload
+    of a flight log refuses mag_unit)."""
+    rid = _upload(client, LOG171.parent / "sample_appended_multiple.ulg")
+    body = _calibrate(client, rid, latitude_deg=47.4, longitude_deg=8.5, date="2017-01-01").json()
+    assert body["ok"] is False and body["reasons"][0].startswith("only 439 samples"), body["reasons"]
+    assert not any("mag_unit" in r or "MEMS" in r for r in body["reasons"] + body["warnings"]), body["reasons"]
+    assert any(r.startswith("the soft-iron matrix scales the field by -8.62") for r in body["reasons"])
