@@ -190,19 +190,22 @@ def _flight_compass(log: LogData, fix: dict | None) -> list[Support]:
     compasses = [i for i in log.flight.to_dict()["instances"] if i["sensor"] == "mag"]
     if not compasses:
         return []
-    where = (
-        f"the Earth's field at its GPS fix ({fix['latitude_deg']:.2f}°, {fix['longitude_deg']:.2f}°"
-        + (f", {fix['date']})" if fix.get("date") else ")")
-        if fix
-        else "the Earth's field where it flew (the log has no GPS fix: give latitude_deg, longitude_deg and `date`)"
-    )
+    place = f"{fix['latitude_deg']:.2f}°, {fix['longitude_deg']:.2f}°" if fix else ""
+    asks: tuple[str, ...]
+    if fix and fix.get("date"):
+        where, asks = f"the Earth's field at its GPS fix ({place}, {fix['date']})", ()
+    elif fix:  # a fix without the GPS's time: the day of the field is unknown
+        where, asks = f"the Earth's field at its GPS fix ({place}; the log has no GPS time: give `date`)", ("date",)
+    else:
+        where = "the Earth's field where it flew (the log has no GPS fix: give latitude_deg, longitude_deg and `date`)"
+        asks = ("latitude_deg", "longitude_deg", "date")
     return [
         Support(
             "compass_flight",
             f"a flight controller's log with {counted(len(compasses), 'compass', 'compasses')}: each against the "
             f"flight's attitude and {where}",
-            fix is not None,
-            () if fix else ("latitude_deg", "longitude_deg", "date"),
+            not asks,
+            asks,
         )
     ]
 

@@ -188,9 +188,10 @@ function showSupports(rec) {
 function showSegments(rec) {
   // A turn of the magnetometer alone has no still segments to calibrate an accelerometer from.
   const still = rec.channels.includes("acc");
-  // A flight log's compass takes the place and date from its GPS; the fields are there for a log without one.
-  // (only where the log has no GPS fix: the fix gives them)
-  const flightCompass = Boolean(rec.flight && !rec.flight.fix && rec.flight.instances.some((i) => i.sensor === "mag"));
+  // A flight log's compass takes the place and date from its GPS; the fields are there for a log without one
+  // (or whose fix has no GPS time: the day is typed there).
+  const flightCompass = Boolean(rec.flight && !(rec.flight.fix && rec.flight.fix.date)
+    && rec.flight.instances.some((i) => i.sensor === "mag"));
   $("#compass-place").hidden = rec.flight ? !flightCompass : !rec.channels.includes("mag");
   if (!$("#place-date").value) $("#place-date").value = new Date().toISOString().slice(0, 10);
   $("#segments").hidden = false;
@@ -491,6 +492,8 @@ $("#flight-compass").addEventListener("click", () => {
     return;
   }
   delete place.field_ut;
+  // A log whose fix has no GPS time: the day typed under Where and when, with the fix's place.
+  if (!place.date && !$("#compass-place").hidden && $("#place-date").value) place.date = $("#place-date").value;
   // The attitude judged by and the part of the log fitted: the flying part by default, the seconds typed, if any.
   const part = { window: $("#flight-window").value };
   if ($("#flight-attitude").value) part.attitude = $("#flight-attitude").value;

@@ -4,6 +4,7 @@ beside the current, the heading error before and after), the orientation found, 
 
 from __future__ import annotations
 
+import pytest
 from playwright.sync_api import expect
 
 from tests.e2e.conftest import ARTIFACTS, shot
@@ -139,4 +140,29 @@ def test_a_three_compass_log_shows_which_compass_to_trust(axe_page, server):
         page.locator("#result-compasses").screenshot(path=str(ARTIFACTS / f"flight_compasses_table_{width}.png"))
         problems += layout_problems(page, "flight_compasses", width)
     assert not problems, "\n".join(problems)
+    assert [e for e in page.errors if "status of 422" not in e] == []
+
+
+def test_a_log_whose_fix_has_no_gps_time_asks_the_day_and_takes_it(page, server):
+    """A real ArduPlane 4.2.3 log (no IMU, a fix without a GPS week): the compass from the flight waits for the day
+    (Where and when shows, nothing runs by itself), then runs with the day typed and the log's own place."""
+    from tests.conftest import DATA
+
+    page.goto(server.url + "/")
+    page.set_input_files("#log-file", str(DATA / "real" / "flight" / "arduplane_4.2_center_0003.bin"))
+    page.click("#upload-form button[type=submit]")
+    page.wait_for_selector("#flight:not([hidden])")
+    line = page.locator("#supports-list li[data-method=compass_flight]")
+    assert line.get_attribute("data-ready") == "false" and "the log has no GPS time" in line.text_content()
+    expect(page.locator("#compass-place")).to_be_visible()
+    assert page.locator("#verdict-words:not(:empty)").count() == 0  # nothing ran by itself
+    page.fill("#place-date", "2025-01-03")
+    with page.expect_response(lambda r: r.url.endswith("/api/v1/calibrations") and r.request.method == "POST") as sent:
+        page.click("#flight-compass")
+    asked = sent.value.request.post_data_json
+    assert asked["date"] == "2025-01-03" and "latitude_deg" not in asked, asked
+    assert sent.value.status == 201 and sent.value.json()["flight"]["place"]["latitude_deg"] == pytest.approx(
+        51.6416, abs=1e-4
+    )
+    expect(page.locator("#verdict-words")).to_contain_text("Don't apply it", timeout=60_000)
     assert [e for e in page.errors if "status of 422" not in e] == []
