@@ -346,3 +346,31 @@ def test_a_flight_log_s_implausible_fit_never_asks_for_the_unit_the_log_states(c
     assert body["ok"] is False and body["reasons"][0].startswith("only 439 samples"), body["reasons"]
     assert not any("mag_unit" in r or "MEMS" in r for r in body["reasons"] + body["warnings"]), body["reasons"]
     assert any(r.startswith("the soft-iron matrix scales the field by -8.62") for r in body["reasons"])
+
+
+def test_real_arduplane_logs_without_imu_are_read_for_their_compass(client):
+    """Two real ArduPlane 4.2.3 logs of minimal logging (ATT, MAG, GPS; no IMU message; PyFlightCoach/FlightData),
+    the plane on the ground in MANUAL: each is read for its compass alone. The first's GPS fix has no GPS time, so
+    the compass from the flight is listed but asks for `date` (not run by itself), and with it answers; the
+    second's runs at once. Neither is ok: the plane hardly turned (the orientation unresolved, 46° and 28° from
+    every rotation)."""
+    center = client.post(
+        "/api/v1/recordings",
+        files={"file": ("center.bin", (LOG171.parent / "arduplane_4.2_center_0003.bin").read_bytes())},
+    ).json()
+    (support,) = [s for s in center["supports"] if s["method"] == "compass_flight"]
+    assert support["ready"] is False and support["asks"] == ["date"]
+    assert support["why"].endswith("at its GPS fix (51.64°, -2.53°; the log has no GPS time: give `date`)")
+    assert center["channels"] == ["mag"] and center["flight"]["fix"]["date"] is None
+    body = _calibrate(client, center["id"], date="2025-01-03").json()
+    assert body["ok"] is False and body["metrics"]["n_samples"] == 464
+    assert any(
+        r.startswith("the compass's orientation is unresolved: the rotation the data show is 46°")
+        for r in body["reasons"]
+    )
+    pilot = _upload(client, LOG171.parent / "arduplane_4.2_pilot_0004.bin")
+    body = _calibrate(client, pilot).json()
+    assert body["ok"] is False and body["reasons"][0].startswith(
+        "the compass's orientation is unresolved: the rotation the data show is 28° from every firmware rotation"
+    )
+    assert body["metrics"]["heading_error_before_deg"] == pytest.approx(24.91, abs=0.01)

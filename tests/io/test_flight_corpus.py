@@ -29,6 +29,7 @@ ULOGS = {
     "sample_log_small.ulg": "PX4 v1.11.2 (sensor_mag, calibrated)",
     "sample_px4_events.ulg": "PX4 v1.15.0 (sensor_mag)",
     "px4_1.9_esc_status_log.ulg": "PX4 v1.9.0 (vehicle_magnetometer)",
+    "px4_1.12_roboto_test.ulg": "PX4 v1.12.3 (sensor_mag)",
 }
 
 
@@ -257,3 +258,38 @@ def test_a_ulog_is_parsed_once_for_the_upload_and_the_compass_and_again_when_it_
     shutil.copy(FLIGHT / "px4_1.9_esc_status_log.ulg", path)
     assert read_flight_compass(path).generation == "PX4 v1.9.0 (vehicle_magnetometer)"
     assert ulog._parsed.cache_info().misses == 2
+
+
+NEWER_ARDUPILOT = {
+    "arduplane_4.2_center_0003.bin": ("ArduPilot ArduPlane V4.2.3 (TimeUS, MAG with I)", {0: 465}, False),
+    "arduplane_4.2_pilot_0004.bin": ("ArduPilot ArduPlane V4.2.3 (TimeUS, MAG with I)", {0: 979}, False),
+    "arducopter_4.6_backend_log_80k.bin": ("ArduPilot ArduCopter V4.6.2 (TimeUS, MAG with I)", {0: 4, 1: 4}, True),
+}
+"""Real ArduPilot 4.x logs (tests/data/real/flight/README.md): two ArduPlane 4.2.3 logs with minimal logging (no
+IMU message), and an ArduCopter 4.6.2 log cut short after its parameters, two compasses of four rows each."""
+
+
+@pytest.mark.parametrize("name", sorted(NEWER_ARDUPILOT))
+def test_ardupilot_4_logs_read_as_pymavlink_reads_them(name):
+    generation, rows, has_imu = NEWER_ARDUPILOT[name]
+    path = FLIGHT / name
+    with contextlib.redirect_stdout(io.StringIO()):
+        reader = DFReader.DFReader_binary(str(path), zero_time_base=True)
+        mags: dict[int, list] = {}
+        kinds = set()
+        while (m := reader.recv_msg()) is not None:
+            kinds.add(m.get_type())
+            if m.get_type() == "MAG":
+                mags.setdefault(m.I, []).append(m)
+    assert {k: len(v) for k, v in mags.items()} == rows and ("IMU" in kinds) == has_imu
+    for instance, messages in mags.items():
+        r = read_flight_compass(path, mag_instance=instance)
+        assert r.generation == generation and len(r.time_s) == rows[instance]
+        first = messages[0]
+        np.testing.assert_allclose(r.mag_firmware_ut[0], np.array([first.MagX, first.MagY, first.MagZ]) * 0.1)
+    log = read_log(path)
+    if has_imu:
+        assert log.acc is not None and log.flight.imu
+    else:  # a minimal log is its compass alone, on the compass's clock
+        assert log.acc is None and log.channels == ["mag"] and log.flight.imu == {}
+        assert any(n.startswith("the log holds no IMU samples: read for what needs none") for n in log.notes)
