@@ -654,8 +654,25 @@ def _flight_header(body: dict, target: str, notes: list[str]) -> list[str]:
         f"{flight.get('structure')}, motor "
         f"{flight.get('motor') or 'none'}",
         f"heading error on flight segments left out: before {figure(before)}; after {figure(after)}",
-    ] + notes
+    ]
+    lines += _updated_lines(flight.get("updated")) + notes
     return [f"# {line}" for line in lines]
+
+
+def _updated_lines(updated: dict | None) -> list[str]:
+    """Which numbers are new from the flight and which are the firmware's own, written again as they were
+    (app.calibration.magnetometer.flight_partial), where the flight did not determine them all."""
+    if not updated:
+        return []
+    from app.calibration.magnetometer.flight_partial import HELD_WORDS, OFFSET_WORDS, held_words
+
+    held = {"b": [not u for u in updated["b"]], "M": not updated["M"], "k": not updated["k"]}
+    new = [w for w, u in zip(OFFSET_WORDS, updated["b"]) if u]
+    new += [HELD_WORDS[key] for key in ("M", "k") if updated[key]]
+    return [
+        f"new from this flight: {', '.join(new) or 'nothing'}",
+        f"kept at the values stored before (the flight does not determine them): {', '.join(held_words(held))}",
+    ]
 
 
 def to_ardupilot_flight_compass(body: dict) -> Export:

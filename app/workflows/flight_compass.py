@@ -128,6 +128,21 @@ def _place(request, log, notes: list[str]) -> tuple[float, float, float, datetim
     return float(lat), float(lon), float(height), day
 
 
+def _stored_model(log) -> dict | None:
+    """The firmware's stored calibration in the fit's terms, ``h = M (Q m − b − k p)`` with Q the rotation it
+    applies now: ArduPilot adds COMPASS_OFS to the body-frame field and applies DIA/ODI, so ``M = D``, ``b = −O``;
+    PX4 computes ``R S (m − o)``, so ``M = R S Rᵀ``, ``b = R o``. Its motor term only where it stores none (k = 0):
+    the firmwares store it in terms that differ by generation. None where nothing is stored (zero offsets, no
+    soft iron): there is nothing to keep, and holding "none" would only bend the rest."""
+    stored, R = log.stored, np.asarray(log.frame_to_body, dtype=float)
+    if not np.any(stored.offsets_ut) and np.allclose(stored.matrix, np.eye(3)):
+        return None
+    k = np.zeros(3) if stored.motor_kind is None else None
+    if stored.firmware == "ardupilot":
+        return {"M": np.asarray(stored.matrix, float), "b": -np.asarray(stored.offsets_ut, float), "k": k}
+    return {"M": R @ stored.matrix @ R.T, "b": R @ stored.offsets_ut, "k": k}
+
+
 def _not_measuring_remedy(log) -> str:
     """What to check on a compass that does not measure, in its firmware's settings."""
     switch = log.stored.switch
@@ -212,6 +227,7 @@ def fly(request, recording: RecordingSource, instance: int | None, notes: list[s
         earth_ned=b_ned,
         not_measuring_remedy=_not_measuring_remedy(log),
         firmware=log.firmware,
+        stored=_stored_model(log),
     )
     return Flown(log, fit, t[keep], log.mag_raw_ut[keep], power, kind, expected, attitude, b_ned, earth, place)
 

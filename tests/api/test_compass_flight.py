@@ -374,3 +374,56 @@ def test_real_arduplane_logs_without_imu_are_read_for_their_compass(client):
         "the compass's orientation is unresolved: the rotation the data show is 28° from every firmware rotation"
     )
     assert body["metrics"]["heading_error_before_deg"] == pytest.approx(24.91, abs=0.01)
+
+
+def _level(tmp_path, seed: int):
+    """A seeded flight kept within 2° of level (a yaw turn a minute, 2.5 min at 10 Hz, no soft iron), written as
+    an ArduPilot log with the firmware's stale offsets stored."""
+    flight = seeded_flight(seed, orientation=0, tilt_deg=2.0, soft_iron=0.0, duration_s=150.0, rate_hz=10.0)
+    return flight, write_flight_compass_logs(tmp_path, flight, stem=f"level{seed}")[0]
+
+
+def test_a_level_flight_whose_numbers_are_bounded_is_ok(client, tmp_path):
+    """Level flights reach a tenth of the directions, yet where every number's interval is within the gates the fit
+    stands: the offsets within 0.1 µT of the truth, the heading error 30.1° → 1.02°."""
+    flight, log = _level(tmp_path, 22)
+    body = _calibrate(client, _upload(client, log)).json()
+    assert body["ok"] is True and body["flight"]["updated"] is None, body["reasons"]
+    assert body["metrics"]["coverage"] == pytest.approx(0.10)
+    np.testing.assert_allclose(body["model"]["b"], flight["truth"]["b"], atol=0.1)
+    assert (
+        round(body["metrics"]["heading_error_before_deg"], 1),
+        round(body["metrics"]["heading_error_after_deg"], 2),
+    ) == (
+        30.1,
+        1.02,
+    )
+
+
+def test_what_the_flight_does_not_determine_is_kept_and_the_file_says_so(client, tmp_path):
+    """A level flight that leaves the vertical offset open: it is held at the firmware's stored value, the
+    horizontal offsets updated (11.7° → 4.93° on segments left out, beyond the interval of that drop), the answer
+    and the parameter file say which are new. The intervals assume the held value right: here it is 8.5 µT off,
+    and the horizontal offsets come out 2.9 and 5.2 µT from the truth, outside theirs — the warning says so."""
+    flight, log = _level(tmp_path, 24)
+    body = _calibrate(client, _upload(client, log)).json()
+    assert body["ok"] is True, body["reasons"]
+    assert body["flight"]["updated"] == {"b": [True, True, False], "M": False, "k": False}
+    held = next(w for w in body["warnings"] if w.startswith("the flight does not determine the z offset"))
+    assert held.endswith("(their intervals assume the held values are right)"), held
+    assert body["uncertainty"]["b"][2] == pytest.approx(0.0, abs=1e-9)
+    off = np.asarray(body["model"]["b"]) - flight["truth"]["b"]
+    assert list(np.round(off, 2)) == [2.94, -5.16, 8.52] and np.all(np.abs(off[:2]) > body["uncertainty"]["b"][:2])
+    stored_b = -np.asarray(body["flight"]["stored"]["offsets_ut"])  # ArduPilot adds COMPASS_OFS: b = −O
+    assert body["model"]["b"][2] == pytest.approx(stored_b[2])
+    assert (
+        round(body["metrics"]["heading_error_before_deg"], 1),
+        round(body["metrics"]["heading_error_after_deg"], 2),
+    ) == (
+        11.7,
+        4.93,
+    )
+    text = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "ardupilot"}).text
+    assert "# new from this flight: the x offset, the y offset\n" in text
+    kept = "the z offset, the soft iron, the motor term"
+    assert f"# kept at the values stored before (the flight does not determine them): {kept}\n" in text

@@ -47,6 +47,7 @@ from .flight_model import (
     solve_normal,
     wrap_deg,
 )
+from .flight_partial import fixed_entries, held_words, improvement, jackknife_fixed, solve_fixed, undetermined
 from .flight_result import FlightCompassResult
 
 MIN_FIT_SAMPLES = 60
@@ -185,6 +186,7 @@ def fit_flight_compass(
     confidence: float = CONFIDENCE,
     not_measuring_remedy: str | None = None,
     firmware: str | None = None,
+    stored=None,
 ) -> FlightCompassResult:
     """Calibrate a compass from a flight: ``h_body = M (Q m − b − k p)`` fitted to ``e = C_nbᵀ B_ned``.
 
@@ -218,6 +220,10 @@ def fit_flight_compass(
         What to check when the readings do not measure the Earth's field (the firmware's own settings).
     firmware : {"ardupilot", "px4"}, optional
         The firmware that will apply the orientation: only its rotations are searched (by default either's).
+    stored : dict, optional
+        The firmware's stored calibration in the fit's terms (``M``, ``b``, ``k`` of ``h = M (Q m − b − k p)``,
+        for the rotation the firmware applies now): where the flight leaves some numbers undetermined and the
+        mounting agrees, those are held at these values and the rest updated (:mod:`.flight_partial`).
 
     Returns
     -------
@@ -247,7 +253,7 @@ def fit_flight_compass(
     if n < MIN_SAMPLES:
         gates.fail(f"only {n} samples: fly at least a minute ({MIN_SAMPLES} samples) with turns through every heading")
     F = float(np.median(np.linalg.norm(e, axis=1)))
-    share = _direction_gates(gates, e, C)
+    share, level = _direction_gates(gates, e, C)
     power_usable = _power_usable(gates, p, power_kind)
     candidates = _candidates(models, power_usable, p is not None)
     if models == "auto" and p is None:
@@ -272,10 +278,27 @@ def fit_flight_compass(
 
     # 2. The fit on all samples and its intervals.
     fit, h, half, blocks = _fit_with_intervals(gates, u, e, p if motor else None, w, t, model, motor, confidence)
+    held = None
+    if stored is not None and agrees and half is not None and C is not None and fw is not None:
+        partial = _partial(
+            gates, u, e, p if motor else None, w, t, fold, folds, model, motor, half, F, stored, confidence
+        )
+        if partial is not None:
+            fit, h, half, blocks, left_out[chosen], held = partial
+    if level is not None and (half is None or _any_open(half, F, p, motor, model)):
+        gates.fail(level)  # a level flight: failed where it leaves a number open (not held, not bounded)
     _parameter_gates(gates, fit, half, F, p, power_kind, confidence)
 
     # 4. The figure: heading errors on segments left out, before and after.
     heading, err_before, err_after = _heading_errors(gates, left_out[chosen], fw, C, ref)
+    if held is not None and err_before is not None and err_after is not None:
+        drop, within = improvement(err_before, err_after, fold, folds, confidence)
+        heading["improvement"] = {"mean_deg": drop, "half_width_deg": within}
+        if drop - within <= 0:
+            gates.fail(
+                f"the update lowers the heading error by {drop:.2f}° ± {within:.2f}° on segments left out, within "
+                "its interval: keep the calibration the firmware has, and fly turns through every heading"
+            )
 
     idx = _thin(n)
 
@@ -318,6 +341,7 @@ def fit_flight_compass(
         series=series,
         intervals=blocks,
         confidence=confidence,
+        updated=None if held is None else _updated(held),
     )
 
 
@@ -383,25 +407,32 @@ def _usable(m, e, t, p, fw, C):
     return out
 
 
-def _direction_gates(gates: Gates, e: np.ndarray, C) -> float:
+def _direction_gates(gates: Gates, e: np.ndarray, C) -> tuple[float, str | None]:
     """The directions the flight reached in the body frame (:data:`MIN_HEADING_SECTORS`,
-    :data:`MIN_COVERAGE`) and the attitude; returns the share of the 20 faces covered."""
+    :data:`MIN_COVERAGE`) and the attitude; returns the share of the 20 faces covered, and the reason of a flight
+    that turned through every heading but stayed level (too few directions alone), which the caller gives unless
+    the numbers a level flight leaves open are held at the firmware's (:func:`_partial`)."""
     share, _ = coverage(e)
     azimuth = np.degrees(np.arctan2(e[:, 1], e[:, 0]))
     counts = np.bincount(((azimuth + 180.0) // 45.0).astype(int) % 8, minlength=8)
     sectors, one_way = int(np.count_nonzero(counts)), float(counts.max() / max(len(e), 1))
+    level = None  # too few directions alone: a reason only where a number stays open (the caller's)
     if sectors < MIN_HEADING_SECTORS or share < MIN_COVERAGE or one_way > MAX_ONE_HEADING:
-        gates.fail(
+        why = (
             f"the flight turned through too few headings ({sectors} of 8 sectors of 45° reached, {one_way:.0%} "
             f"of it in one; {share:.0%} of the directions): fly turns through every heading (a slow full yaw turn, "
             "or circles) so that the hard iron can be told from the field and from a turn of the compass"
         )
+        if sectors < MIN_HEADING_SECTORS or one_way > MAX_ONE_HEADING:
+            gates.fail(why)
+        else:
+            level = why
     if C is None:
         gates.fail(
             "no attitude in the log: the heading errors cannot be measured, so no fit can be judged; "
             "log the attitude (ArduPilot ATT, PX4 vehicle_attitude)"
         )
-    return float(share)
+    return float(share), level
 
 
 def _power_usable(gates: Gates, p, power_kind) -> bool:
@@ -504,12 +535,90 @@ def _fit_with_intervals(gates: Gates, u, e, p, w, t, model: str, motor: bool, co
             "singular): no intervals; fly turns through every heading with some pitch and roll"
         )
         return fit, h, None, blocks
-    hw = half_widths(cov, count - 1, confidence)
+    return fit, h, _split_half(half_widths(cov, count - 1, confidence), model, motor), blocks
+
+
+def _split_half(hw: np.ndarray, model: str, motor: bool) -> tuple:
+    """``(M's, b's, k's)`` half-widths from those of ``(M's entries, b, k)``."""
     nm = len(MATRIX_PARAMETERS[model])
     hw_M = np.zeros((3, 3))
     for value, (i, j) in zip(hw[:nm], MATRIX_PARAMETERS[model]):
         hw_M[i, j] = hw_M[j, i] = value
-    return fit, h, (hw_M, hw[nm : nm + 3], hw[nm + 3 : nm + 6] if motor else np.zeros(3)), blocks
+    return hw_M, hw[nm : nm + 3], hw[nm + 3 : nm + 6] if motor else np.zeros(3)
+
+
+def _partial(
+    gates: Gates, u, e, p, w, t, fold, folds: int, model: str, motor: bool, half, F: float, stored, confidence
+):
+    """Where the intervals leave some numbers undetermined and others not, the fit with those held at the
+    firmware's ``stored`` values (:mod:`.flight_partial`): its fit, field, half-widths (0 where held), blocks,
+    fields on segments left out, and what was held; None where nothing or everything is undetermined."""
+    limits = (MAX_OFFSET_HALF_WIDTH, MAX_MATRIX_HALF_WIDTH, MAX_MOTOR_HALF_WIDTH)
+    held = undetermined(half, F, p, motor, model, limits)
+    found = None
+    for _ in range(2):  # numbers freed may still be open once the others are held: hold them too, once
+        if motor and held["k"] and stored.get("k") is None:
+            return found  # a motor term the firmware stores in other terms: not held
+        one = _held_fit(u, e, p, w, t, fold, folds, model, motor, held, stored, confidence)
+        if one is None:
+            return found
+        found = (*one, held)
+        more = undetermined(one[2], F, p, motor, model, limits)
+        more = {"b": more["b"] | held["b"], "M": more["M"] or held["M"], "k": more["k"] or held["k"]}
+        if all(np.array_equal(more[key], held[key]) for key in held):
+            break
+        held = more
+    if found is not None:
+        gates.warn(
+            "the flight does not determine "
+            + ", ".join(held_words(found[-1]))
+            + ": held at the firmware's stored values, the rest updated from the flight (their intervals assume "
+            "the held values are right)"
+        )
+    return found
+
+
+def _held_fit(u, e, p, w, t, fold, folds: int, model: str, motor: bool, held: dict, stored, confidence):
+    """The fit with ``held`` at the ``stored`` values: fit, field, half-widths (0 where held), blocks and the fields
+    on segments left out; None where nothing or everything is held, or the rest is not determined."""
+    mask, values = fixed_entries(model, motor, held, stored)
+    if not mask.any() or mask.all():
+        return None
+    X, y = design(u, e, p, model, motor)
+    A, g = normal_equations(X, y, w, fold, folds)
+    try:
+        pred = np.empty_like(e)
+        for k in range(folds):
+            out = fold == k
+            f = solve_fixed(A.sum(axis=0) - A[k], g.sum(axis=0) - g[k], mask, values, model, motor)
+            pred[out] = f.field(u[out], p[out] if motor else None)
+        fit = solve_fixed(A.sum(axis=0), g.sum(axis=0), mask, values, model, motor)
+    except np.linalg.LinAlgError:
+        return None
+    h = fit.field(u, p)
+    corr = correlation_time(h - e)
+    n = len(u)
+    count = max(int(min(MAX_BLOCKS, n // max(MIN_BLOCK_SAMPLES, BLOCK_CORRELATION_TIMES * corr))), 2)
+    Ab, gb = normal_equations(X, y, w, _blocks(n, count), count)
+    try:
+        cov = jackknife_fixed(Ab, gb, mask, values, model, motor)
+    except np.linalg.LinAlgError:
+        return None
+    hw = half_widths(cov, count - 1, confidence)
+    dt = float(np.median(np.diff(t)))
+    blocks = {"blocks": count, "correlation_s": corr * dt, "dof": count - 1, "method": "jackknife over blocks of time"}
+    return fit, h, _split_half(hw, model, motor), blocks, pred
+
+
+def _any_open(half, F: float, p, motor: bool, model: str) -> bool:
+    """Whether a half-width leaves its number undetermined (a held one has none: it is the firmware's)."""
+    open_ = undetermined(half, F, p, motor, model, (MAX_OFFSET_HALF_WIDTH, MAX_MATRIX_HALF_WIDTH, MAX_MOTOR_HALF_WIDTH))
+    return bool(open_["b"].any() or open_["M"] or open_["k"])
+
+
+def _updated(held: dict) -> dict:
+    """What the flight updated (true) and what it held at the firmware's values (false)."""
+    return {"b": [not h for h in held["b"]], "M": not held["M"], "k": not held["k"]}
 
 
 def _parameter_gates(gates: Gates, fit, half, F: float, p, power_kind, confidence: float) -> None:

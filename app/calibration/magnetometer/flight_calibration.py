@@ -98,6 +98,7 @@ class FlightCompassCalibration(CalibrationResult):
                     "orientation_agrees",
                     "models",
                     "intervals",
+                    "updated",
                 )
             },
         }
