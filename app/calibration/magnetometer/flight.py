@@ -294,7 +294,7 @@ def fit_flight_compass(
     if held is not None and err_before is not None and err_after is not None:
         drop, within = improvement(err_before, err_after, fold, folds, confidence)
         heading["improvement"] = {"mean_deg": drop, "half_width_deg": within}
-        if drop - within <= 0:
+        if 0 < drop <= within:  # a rise is said by the "does not lower" gate
             gates.fail(
                 f"the update lowers the heading error by {drop:.2f}° ± {within:.2f}° on segments left out, within "
                 "its interval: keep the calibration the firmware has, and fly turns through every heading"
