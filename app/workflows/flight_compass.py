@@ -84,16 +84,10 @@ def _window(t: np.ndarray, log, request, notes: list[str]) -> np.ndarray:
         if values is None or len(values) < 2:
             continue
         v = np.interp(t, pt, np.asarray(values, dtype=float))
-        if kind == "throttle":
-            running = v[v > 0.05]
-            threshold = FLYING_SHARE_OF_HOVER * float(np.median(running)) if len(running) else np.inf
-        else:
-            idle = float(np.percentile(v, 5))
-            threshold = (
-                idle + FLYING_SHARE_OF_HOVER * (float(np.median(v[v > idle + 1.0])) - idle)
-                if np.any(v > idle + 1.0)
-                else np.inf
-            )
+        # the motors running: throttle above 0.05, or current 1 A above the idle's 5th percentile
+        idle, above = (0.0, 0.05) if kind == "throttle" else (float(np.percentile(v, 5)), 1.0)
+        running = v[v > idle + above]
+        threshold = idle + FLYING_SHARE_OF_HOVER * (float(np.median(running)) - idle) if len(running) else np.inf
         flying = keep & (v >= threshold)
         if flying.sum() < MIN_WINDOW_SAMPLES:
             notes.append(f"the {kind} shows no flight of {MIN_WINDOW_SAMPLES} samples or more: every sample is fitted")

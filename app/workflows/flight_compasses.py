@@ -15,6 +15,7 @@ from app.calibration.magnetometer.flight_compare import action, consistency, pul
 from app.calibration.magnetometer.flight_health import CompassNotMeasuringError
 from app.calibration.rotations import firmware_matrix, nearest_number
 from app.io.errors import LogFormatError
+from app.io.export_compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
 from app.workflows.flight_compass import Flown, fly
 from app.workflows.recordings import RecordingSource
 
@@ -28,6 +29,11 @@ def _compass_instances(recording: RecordingSource) -> list[int]:
     return sorted({int(i["instance"]) for i in instances if i.get("sensor") == "mag"})
 
 
+def _px4_prefix(stored) -> str | None:
+    """``CAL_MAGn_`` of the slot the stored calibration came from (its parameters name one), or None."""
+    return next((k[:-3] for k in stored.params if k.startswith("CAL_MAG") and k.endswith("_ID")), None)
+
+
 def _orientation_setting(flown: Flown) -> str | None:
     """The setting that mounts the compass as the flight shows, where it differs from the one applied."""
     fit, stored = flown.fit, flown.log.stored
@@ -36,20 +42,17 @@ def _orientation_setting(flown: Flown) -> str | None:
     if flown.log.firmware == "ardupilot":
         now = stored.orientation or 0
         number, _ = nearest_number("ardupilot", fit.rotation @ firmware_matrix("ardupilot", now))
-        return f"COMPASS_ORIENT{'' if stored.instance == 0 else stored.instance + 1} = {number}"
-    slot = next((k[:-3] for k in stored.params if k.startswith("CAL_MAG") and k.endswith("_ID")), None)
-    return None if slot is None else f"{slot}ROT = {fit.rotation_nearest['px4']}"
+        return f"{ardupilot_name('ORIENT', stored.instance)} = {number}"
+    prefix = _px4_prefix(stored)
+    return None if prefix is None else f"{prefix}ROT = {fit.rotation_nearest['px4']}"
 
 
 def _motor_setting(flown: Flown) -> str | None:
-    stored = flown.log.stored
+    stored, kind = flown.log.stored, flown.power_kind or "current"
     if flown.log.firmware == "ardupilot":
-        n = "" if stored.instance == 0 else str(stored.instance + 1)
-        kind = {"current": 2, "throttle": 1}[flown.power_kind or "current"]
-        return f"COMPASS_MOT{n}_X/Y/Z (COMPASS_MOTCT = {kind})"
-    slot = next((k[:-3] for k in stored.params if k.startswith("CAL_MAG") and k.endswith("_ID")), None)
-    kind = {"current": 2, "throttle": 1}[flown.power_kind or "current"]
-    return None if slot is None else f"{slot}X/Y/ZCOMP (CAL_MAG_COMP_TYP = {kind})"
+        return f"{ardupilot_name('MOT', stored.instance)}_X/Y/Z (COMPASS_MOTCT = {ARDUPILOT_MOTCT[kind]})"
+    prefix = _px4_prefix(stored)
+    return None if prefix is None else f"{prefix}X/Y/ZCOMP (CAL_MAG_COMP_TYP = {PX4_COMP_TYPE[kind]})"
 
 
 def _pull(flown: Flown) -> dict | None:
@@ -107,7 +110,7 @@ def _row(flown: Flown) -> dict:
     return row
 
 
-def _refused_row(request, recording: RecordingSource, instance: int, error: Exception) -> dict:
+def _refused_row(recording: RecordingSource, instance: int, error: Exception) -> dict:
     from app.io.flight_context import read_flight_compass
 
     try:
@@ -148,7 +151,7 @@ def compasses_table(request, recording: RecordingSource, asked: Flown) -> dict:
         try:
             flown = asked if instance == asked.log.instance else fly(request, recording, instance, [])
         except (CalibrationError, LogFormatError) as error:
-            rows.append(_refused_row(request, recording, instance, error))
+            rows.append(_refused_row(recording, instance, error))
             continue
         rows.append(_row(flown))
         fields[instance] = (np.asarray(flown.log.time_s, float), np.asarray(flown.log.mag_firmware_ut, float))

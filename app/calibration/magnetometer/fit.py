@@ -155,9 +155,8 @@ def _determined(fitted: Refined, field: float) -> bool:
 def _model(m: np.ndarray, full: Refined, M0: np.ndarray, b0: np.ndarray, stage: str, field: float, given: bool):
     """The richest model of :data:`.refine.STRUCTURES` the readings determine (:func:`_determined`): the full
     ellipsoid, else a scale per axis, else a sphere, else (with the field given) the offsets alone, each refined
-    from the sphere and
-    staying with the readings (:func:`.refine.runs_away`); where none is determined, the richest that stays
-    with them (its gates then say what is not determined), else a closed form (:func:`_kept`).
+    from the sphere and staying with the readings (:func:`.refine.runs_away`); where none is determined, the
+    richest that stays with them (its gates then say what is not determined), else a closed form (:func:`_kept`).
 
     Returns ``(fitted, stage, structure)``."""
     stays = [] if runs_away(full.M, full.b, m, field) else [(full, STRUCTURES[0])]

@@ -47,7 +47,7 @@ from .flight_model import (
     solve_normal,
     wrap_deg,
 )
-from .flight_partial import fixed_entries, held_words, improvement, jackknife_fixed, solve_fixed, undetermined
+from .flight_partial import fixed_entries, held_words, improvement, undetermined
 from .flight_result import FlightCompassResult
 
 MIN_FIT_SAMPLES = 60
@@ -93,6 +93,9 @@ MAX_MATRIX_HALF_WIDTH = 0.05
 
 MAX_MOTOR_HALF_WIDTH = 0.05
 """The motor term's 95 % half-width times the power's range above 5 % of the field: not determined."""
+
+HALF_WIDTH_LIMITS = (MAX_OFFSET_HALF_WIDTH, MAX_MATRIX_HALF_WIDTH, MAX_MOTOR_HALF_WIDTH)
+"""The three limits a number's interval must keep to be determined (:func:`.flight_partial.undetermined`)."""
 
 MIN_POWER_RANGE = 0.2
 """Power whose 5–95 % range is below 20 % of its 95th percentile hardly varied: no motor term is tried."""
@@ -476,17 +479,8 @@ def _left_out(candidates, u, e, p, w, fold, folds: int, C, ref) -> tuple[dict, d
     scores, left_out = {}, {}
     for cand in candidates:
         model, motor = parse_candidate(cand)
-        X, y = design(u, e, p if motor else None, model, motor)
-        A, g = normal_equations(X, y, w, fold, folds)
-        pred = np.full_like(e, np.nan)
-        for k in range(folds):
-            out = fold == k
-            try:
-                f = solve_normal(A.sum(axis=0) - A[k], g.sum(axis=0) - g[k], model, motor)
-            except np.linalg.LinAlgError:  # the other segments do not determine this candidate
-                break
-            pred[out] = f.field(u[out], p[out] if motor else None)
-        if np.isnan(pred).any():
+        pred = _fold_fields(u, e, p if motor else None, w, fold, folds, model, motor)
+        if pred is None:  # the other segments do not determine this candidate
             continue
         left_out[cand] = pred
         if C is not None:
@@ -502,14 +496,30 @@ def _left_out(candidates, u, e, p, w, fold, folds: int, C, ref) -> tuple[dict, d
     return scores, left_out
 
 
-def _fit_with_intervals(gates: Gates, u, e, p, w, t, model: str, motor: bool, confidence: float):
-    """The fit on every sample, its field, the half-widths ``(M, b, k)`` (None without intervals) and how
-    the blocks of the jackknife were chosen (:data:`BLOCK_CORRELATION_TIMES`)."""
+def _fold_fields(u, e, p, w, fold, folds: int, model: str, motor: bool, held=None) -> np.ndarray | None:
+    """Each fold's field from the fit on the other folds (``held`` entries fixed, :func:`.flight_model.
+    solve_normal`), or None where the other folds do not determine the model."""
+    X, y = design(u, e, p, model, motor)
+    A, g = normal_equations(X, y, w, fold, folds)
+    pred = np.empty_like(e)
+    for k in range(folds):
+        out = fold == k
+        try:
+            f = solve_normal(A.sum(axis=0) - A[k], g.sum(axis=0) - g[k], model, motor, held)
+        except np.linalg.LinAlgError:
+            return None
+        pred[out] = f.field(u[out], p[out] if motor else None)
+    return None if np.isnan(pred).any() else pred
+
+
+def _fit_with_intervals(gates: Gates, u, e, p, w, t, model: str, motor: bool, confidence: float, held=None):
+    """The fit on every sample (``held`` entries fixed), its field, the half-widths ``(M, b, k)`` (None without
+    intervals) and how the blocks of the jackknife were chosen (:data:`BLOCK_CORRELATION_TIMES`)."""
     n = len(u)
     X, y = design(u, e, p, model, motor)
     A, g = normal_equations(X, y, w, np.zeros(n, dtype=int), 1)
     try:
-        fit = solve_normal(A[0], g[0], model, motor)
+        fit = solve_normal(A[0], g[0], model, motor, held)
     except np.linalg.LinAlgError:
         raise InsufficientDataError(
             "the flight does not determine the compass's parameters (a singular fit): "
@@ -528,7 +538,7 @@ def _fit_with_intervals(gates: Gates, u, e, p, w, t, model: str, motor: bool, co
     blocks = {"blocks": count, "correlation_s": corr * dt, "dof": count - 1, "method": "jackknife over blocks of time"}
     A, g = normal_equations(X, y, w, _blocks(n, count), count)
     try:
-        cov = block_jackknife(A, g, model, motor)
+        cov = block_jackknife(A, g, model, motor, held)
     except np.linalg.LinAlgError:
         gates.fail(
             "a stretch of the flight holds all that determines a parameter (the fit without it is "
@@ -553,8 +563,7 @@ def _partial(
     """Where the intervals leave some numbers undetermined and others not, the fit with those held at the
     firmware's ``stored`` values (:mod:`.flight_partial`): its fit, field, half-widths (0 where held), blocks,
     fields on segments left out, and what was held; None where nothing or everything is undetermined."""
-    limits = (MAX_OFFSET_HALF_WIDTH, MAX_MATRIX_HALF_WIDTH, MAX_MOTOR_HALF_WIDTH)
-    held = undetermined(half, F, p, motor, model, limits)
+    held = undetermined(half, F, p, motor, model, HALF_WIDTH_LIMITS)
     found = None
     for _ in range(2):  # numbers freed may still be open once the others are held: hold them too, once
         if motor and held["k"] and stored.get("k") is None:
@@ -563,7 +572,7 @@ def _partial(
         if one is None:
             return found
         found = (*one, held)
-        more = undetermined(one[2], F, p, motor, model, limits)
+        more = undetermined(one[2], F, p, motor, model, HALF_WIDTH_LIMITS)
         more = {"b": more["b"] | held["b"], "M": more["M"] or held["M"], "k": more["k"] or held["k"]}
         if all(np.array_equal(more[key], held[key]) for key in held):
             break
@@ -581,38 +590,22 @@ def _partial(
 def _held_fit(u, e, p, w, t, fold, folds: int, model: str, motor: bool, held: dict, stored, confidence):
     """The fit with ``held`` at the ``stored`` values: fit, field, half-widths (0 where held), blocks and the fields
     on segments left out; None where nothing or everything is held, or the rest is not determined."""
-    mask, values = fixed_entries(model, motor, held, stored)
-    if not mask.any() or mask.all():
+    fixed = fixed_entries(model, motor, held, stored)
+    if not fixed[0].any() or fixed[0].all():
         return None
-    X, y = design(u, e, p, model, motor)
-    A, g = normal_equations(X, y, w, fold, folds)
-    try:
-        pred = np.empty_like(e)
-        for k in range(folds):
-            out = fold == k
-            f = solve_fixed(A.sum(axis=0) - A[k], g.sum(axis=0) - g[k], mask, values, model, motor)
-            pred[out] = f.field(u[out], p[out] if motor else None)
-        fit = solve_fixed(A.sum(axis=0), g.sum(axis=0), mask, values, model, motor)
-    except np.linalg.LinAlgError:
+    pred = _fold_fields(u, e, p, w, fold, folds, model, motor, fixed)
+    if pred is None:
         return None
-    h = fit.field(u, p)
-    corr = correlation_time(h - e)
-    n = len(u)
-    count = max(int(min(MAX_BLOCKS, n // max(MIN_BLOCK_SAMPLES, BLOCK_CORRELATION_TIMES * corr))), 2)
-    Ab, gb = normal_equations(X, y, w, _blocks(n, count), count)
-    try:
-        cov = jackknife_fixed(Ab, gb, mask, values, model, motor)
-    except np.linalg.LinAlgError:
+    try:  # its gates are the caller's: a singular fit, or no intervals, is no update
+        fit, h, half, blocks = _fit_with_intervals(Gates(), u, e, p, w, t, model, motor, confidence, fixed)
+    except InsufficientDataError:
         return None
-    hw = half_widths(cov, count - 1, confidence)
-    dt = float(np.median(np.diff(t)))
-    blocks = {"blocks": count, "correlation_s": corr * dt, "dof": count - 1, "method": "jackknife over blocks of time"}
-    return fit, h, _split_half(hw, model, motor), blocks, pred
+    return None if half is None else (fit, h, half, blocks, pred)
 
 
 def _any_open(half, F: float, p, motor: bool, model: str) -> bool:
     """Whether a half-width leaves its number undetermined (a held one has none: it is the firmware's)."""
-    open_ = undetermined(half, F, p, motor, model, (MAX_OFFSET_HALF_WIDTH, MAX_MATRIX_HALF_WIDTH, MAX_MOTOR_HALF_WIDTH))
+    open_ = undetermined(half, F, p, motor, model, HALF_WIDTH_LIMITS)
     return bool(open_["b"].any() or open_["M"] or open_["k"])
 
 

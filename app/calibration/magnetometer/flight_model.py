@@ -119,11 +119,20 @@ def from_theta(theta: np.ndarray, model: str, motor: bool) -> Fit:
     return Fit(model, motor, np.linalg.inv(S), theta[nm : nm + 3].copy(), k)
 
 
-def solve_normal(A: np.ndarray, g: np.ndarray, model: str, motor: bool) -> Fit:
-    """The fit from summed normal equations (columns scaled to unit diagonal before solving)."""
+def solve_normal(A: np.ndarray, g: np.ndarray, model: str, motor: bool, held=None) -> Fit:
+    """The fit from summed normal equations (columns scaled to unit diagonal before solving). ``held``, a pair
+    ``(mask, values)``, fixes those entries of θ: ``A_ff θ_f = g_f − A_fx θ_x`` (:mod:`.flight_partial`)."""
+    theta = np.zeros(len(g))
+    free = np.ones(len(g), dtype=bool)
+    if held is not None:
+        mask, values = held
+        free = ~mask
+        theta = values.copy()
+        g = g[free] - A[np.ix_(free, mask)] @ values[mask]
+        A = A[np.ix_(free, free)]
     d = np.sqrt(np.diag(A))
     d[d == 0] = 1.0
-    theta = np.linalg.solve(A / np.outer(d, d), g / d) / d
+    theta[free] = np.linalg.solve(A / np.outer(d, d), g / d) / d
     return from_theta(theta, model, motor)
 
 
@@ -133,7 +142,7 @@ def parameters(fit: Fit) -> np.ndarray:
     return np.concatenate([M, fit.b] + ([fit.k] if fit.motor else []))
 
 
-def block_jackknife(A: np.ndarray, g: np.ndarray, model: str, motor: bool) -> np.ndarray:
+def block_jackknife(A: np.ndarray, g: np.ndarray, model: str, motor: bool, held=None) -> np.ndarray:
     """The covariance of ``(M's entries, b, k)`` by the jackknife that leaves out one block of time at a time.
 
     With G contiguous blocks, θ₍g₎ the fit without block g and θ̄ their mean,
@@ -150,6 +159,8 @@ def block_jackknife(A: np.ndarray, g: np.ndarray, model: str, motor: bool) -> np
     ----------
     A, g : numpy.ndarray, shapes (G, P, P) and (G, P)
         Each block's normal equations (:func:`normal_equations`).
+    held : (mask, values), optional
+        Entries of θ held fixed in every refit (:func:`solve_normal`).
 
     Returns
     -------
@@ -157,7 +168,7 @@ def block_jackknife(A: np.ndarray, g: np.ndarray, model: str, motor: bool) -> np
     """
     G = len(A)
     At, gt = A.sum(axis=0), g.sum(axis=0)
-    thetas = np.array([parameters(solve_normal(At - A[k], gt - g[k], model, motor)) for k in range(G)])
+    thetas = np.array([parameters(solve_normal(At - A[k], gt - g[k], model, motor, held)) for k in range(G)])
     dev = thetas - thetas.mean(axis=0)
     return (G - 1.0) / G * dev.T @ dev
 

@@ -6,7 +6,8 @@ offset or the soft iron. Where the chosen model's 95 % intervals leave some numb
 :mod:`.flight`: an offset's half-width above 5 % of the field, an entry of M's above 0.05, the motor term's over
 the power's range above 5 % of the field), those are held at the firmware's stored values and the others refitted
 with them fixed: the linear system ``u = S e + b + k p`` (S = M⁻¹, :mod:`.flight_model`) solved for its free
-entries, ``A_ff θ_f = g_f − A_fx θ_x``, the held ones ``θ_x`` moved to the right-hand side. Its intervals are the
+entries, ``A_ff θ_f = g_f − A_fx θ_x``, the held ones ``θ_x`` moved to the right-hand side
+(:func:`.flight_model.solve_normal` with ``held``). Its intervals are the
 same block jackknife over the free entries (the held ones have none: they are the firmware's), and the update is
 judged on flight segments left out, fold by fold: it stands where it lowers the heading error beyond the
 interval of that improvement (Student's t over the folds' differences).
@@ -17,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
-from .flight_model import MATRIX_PARAMETERS, from_theta, parameters
+from .flight_model import MATRIX_PARAMETERS
 
 OFFSET_WORDS = ("the x offset", "the y offset", "the z offset")
 HELD_WORDS = {"M": "the soft iron", "k": "the motor term"}
@@ -56,28 +57,6 @@ def fixed_entries(model: str, motor: bool, held: dict, stored: dict) -> tuple[np
     return mask, values
 
 
-def solve_fixed(A: np.ndarray, g: np.ndarray, mask: np.ndarray, values: np.ndarray, model: str, motor: bool):
-    """The fit from summed normal equations with the entries ``mask`` held at ``values``:
-    ``A_ff θ_f = g_f − A_fx θ_x`` (columns scaled to a unit diagonal before solving)."""
-    free = ~mask
-    A_ff = A[np.ix_(free, free)]
-    rhs = g[free] - A[np.ix_(free, mask)] @ values[mask]
-    d = np.sqrt(np.diag(A_ff))
-    d[d == 0] = 1.0
-    theta = values.copy()
-    theta[free] = np.linalg.solve(A_ff / np.outer(d, d), rhs / d) / d
-    return from_theta(theta, model, motor)
-
-
-def jackknife_fixed(A: np.ndarray, g: np.ndarray, mask, values, model: str, motor: bool) -> np.ndarray:
-    """The block jackknife (:func:`.flight_model.block_jackknife`) of a fit with entries held."""
-    G = len(A)
-    At, gt = A.sum(axis=0), g.sum(axis=0)
-    thetas = np.array([parameters(solve_fixed(At - A[k], gt - g[k], mask, values, model, motor)) for k in range(G)])
-    dev = thetas - thetas.mean(axis=0)
-    return (G - 1.0) / G * dev.T @ dev
-
-
 def improvement(before_deg, after_deg, fold: np.ndarray, folds: int, confidence: float) -> tuple[float, float]:
     """The rms heading error's drop from ``before`` to ``after`` on the segments left out, fold by fold: its mean
     and the half-width of its interval (Student's t at ``folds − 1``)."""
@@ -97,4 +76,4 @@ def held_words(held: dict) -> list[str]:
     return words + [HELD_WORDS[key] for key in ("M", "k") if held[key]]
 
 
-__all__ = ["fixed_entries", "held_words", "improvement", "jackknife_fixed", "solve_fixed", "undetermined"]
+__all__ = ["fixed_entries", "held_words", "improvement", "undetermined"]
