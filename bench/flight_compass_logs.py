@@ -57,9 +57,10 @@ def _array(values) -> np.ndarray:
     )
 
 
-def calibrate_log(path: Path, fmt: str) -> dict:
-    """The method ``compass_flight`` on a log file, as the API runs it on a stored recording."""
-    request = rq.CompassFlightIn(method="compass_flight", recording_id="bench")
+def calibrate_log(path: Path, fmt: str, fields: dict | None = None) -> dict:
+    """The method ``compass_flight`` on a log file, as the API runs it on a stored recording (``fields``: the
+    request's other fields)."""
+    request = rq.CompassFlightIn(method="compass_flight", recording_id="bench", **(fields or {}))
     options = ReadOptions(format=fmt)
     log = read_log(path, options, name=path.name)  # read and described as an upload is (the flight's sensors)
     meta = {**describe_log(log, options), "filename": path.name}

@@ -9,8 +9,8 @@ import numpy as np
 CONFIDENCE = 0.95
 
 
-def t_quantile(dof: int, confidence: float = CONFIDENCE) -> float:
-    """Two-sided Student-t quantile for ``dof`` degrees of freedom (normal when dof is inf)."""
+def t_quantile(dof: float, confidence: float = CONFIDENCE) -> float:
+    """Two-sided Student-t quantile for ``dof`` degrees of freedom, which may be fractional (Satterthwaite's)."""
     if dof <= 0:
         raise ValueError("a t quantile needs at least one degree of freedom")
     from scipy.special import stdtrit
@@ -26,7 +26,8 @@ def half_widths(covariance: np.ndarray, dof: float, confidence: float = CONFIDEN
     covariance : numpy.ndarray, shape (p, p)
         Covariance of the parameter estimates.
     dof : float
-        Degrees of freedom of the variance estimate behind the covariance; ``numpy.inf``
+        Degrees of freedom of the variance estimate behind the covariance (fractional where Satterthwaite's
+        approximation gives them); ``numpy.inf``
         when the noise variance was known rather than estimated (normal quantile).
     confidence : float
         Two-sided coverage, 0.95 by default.
@@ -38,7 +39,7 @@ def half_widths(covariance: np.ndarray, dof: float, confidence: float = CONFIDEN
     """
     from scipy.special import ndtri
 
-    q = float(ndtri(0.5 + confidence / 2.0)) if np.isinf(dof) else t_quantile(int(dof), confidence)
+    q = float(ndtri(0.5 + confidence / 2.0)) if np.isinf(dof) else t_quantile(float(dof), confidence)
     return q * np.sqrt(np.clip(np.diag(covariance), 0.0, None))
 
 

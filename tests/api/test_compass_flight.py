@@ -402,18 +402,22 @@ def test_a_level_flight_whose_numbers_are_bounded_is_ok(client, tmp_path):
 
 def test_what_the_flight_does_not_determine_is_kept_and_the_file_says_so(client, tmp_path):
     """A level flight that leaves the vertical offset open: it is held at the firmware's stored value, the
-    horizontal offsets updated (11.7° → 4.93° on segments left out, beyond the interval of that drop), the answer
-    and the parameter file say which are new. The intervals assume the held value right: here it is 8.5 µT off,
-    and the horizontal offsets come out 2.9 and 5.2 µT from the truth, outside theirs — the warning says so."""
+    horizontal offsets and the motor term updated (11.7° → 1.19° on segments left out, beyond the interval of that
+    drop), the answer and the parameter file say which are new. The intervals assume the held value right: here it
+    is 8.5 µT off; the horizontal offsets land within 0.07 µT of the truth, inside their intervals, but the motor
+    term's vertical part takes up the held offset's error (the current varies, the vertical field hardly does) and
+    lies outside its interval — the warning says so."""
     flight, log = _level(tmp_path, 24)
     body = _calibrate(client, _upload(client, log)).json()
     assert body["ok"] is True, body["reasons"]
-    assert body["flight"]["updated"] == {"b": [True, True, False], "M": False, "k": False}
+    assert body["flight"]["updated"] == {"b": [True, True, False], "M": False, "k": True}
     held = next(w for w in body["warnings"] if w.startswith("the flight does not determine the z offset"))
     assert held.endswith("(their intervals assume the held values are right)"), held
     assert body["uncertainty"]["b"][2] == pytest.approx(0.0, abs=1e-9)
     off = np.asarray(body["model"]["b"]) - flight["truth"]["b"]
-    assert list(np.round(off, 2)) == [2.94, -5.16, 8.52] and np.all(np.abs(off[:2]) > body["uncertainty"]["b"][:2])
+    assert list(np.round(off, 2)) == [-0.07, -0.02, 8.52] and np.all(np.abs(off[:2]) < body["uncertainty"]["b"][:2])
+    k_off = np.asarray(body["model"]["k"]) - flight["truth"]["k"]
+    assert abs(k_off[2]) > 5 * body["uncertainty"]["k"][2] and np.all(np.abs(k_off[:2]) < body["uncertainty"]["k"][:2])
     stored_b = -np.asarray(body["flight"]["stored"]["offsets_ut"])  # ArduPilot adds COMPASS_OFS: b = −O
     assert body["model"]["b"][2] == pytest.approx(stored_b[2])
     assert (
@@ -421,9 +425,32 @@ def test_what_the_flight_does_not_determine_is_kept_and_the_file_says_so(client,
         round(body["metrics"]["heading_error_after_deg"], 2),
     ) == (
         11.7,
-        4.93,
+        1.19,
     )
     text = client.get(f"/api/v1/calibrations/{body['id']}/export", params={"format": "ardupilot"}).text
-    assert "# new from this flight: the x offset, the y offset\n" in text
-    kept = "the z offset, the soft iron, the motor term"
+    assert "# new from this flight: the x offset, the y offset, the motor term\n" in text
+    kept = "the z offset, the soft iron"
     assert f"# kept at the values stored before (the flight does not determine them): {kept}\n" in text
+
+
+def test_a_copter_3_5_landing_says_which_compass_the_current_pulls(client):
+    """A real ArduCopter 3.5 log (tests/data/real/flight: spark404/dataflashlog's test log, an RTL descent and
+    landing of 51 s, two compasses, COMPASS_MOTCT 0): both compasses are listed and ready with the log's fix
+    (Netherlands, 2017-09-10); neither fit is ok (484 samples, 95 % of them in one sector of heading), but the
+    table of compasses says what the flight does show: the external one is good as it is, the internal one is
+    pulled 9° by the current (a pull the flight determines), so COMPASS_MOT2 is what to set."""
+    path = LOG171.parent / "arducopter_3.5_rtl_landing_dataflashlog.bin"
+    r = client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes())})
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    assert [i["instance"] for i in rec["flight"]["instances"] if i["sensor"] == "mag"] == [0, 1]
+    body = _calibrate(client, rec["id"], mag_instance=1).json()
+    assert body["ok"] is False and body["reasons"][0].startswith("only 484 samples"), body["reasons"]
+    assert (
+        round(body["metrics"]["heading_error_before_deg"], 1),
+        round(body["metrics"]["heading_error_after_deg"], 1),
+    ) == (4.4, 1.3)
+    rows = {row["instance"]: row for row in body["flight"]["compasses"]}
+    assert rows[0]["action"] == "keep it as it is"
+    assert rows[1]["action"] == "set COMPASS_MOT2_X/Y/Z (COMPASS_MOTCT = 2) from this flight (the current pulls it 9°)"
+    assert [c["consistent"] for c in body["flight"]["consistency"]] == [True]

@@ -293,3 +293,21 @@ def test_ardupilot_4_logs_read_as_pymavlink_reads_them(name):
     else:  # a minimal log is its compass alone, on the compass's clock
         assert log.acc is None and log.channels == ["mag"] and log.flight.imu == {}
         assert any(n.startswith("the log holds no IMU samples: read for what needs none") for n in log.notes)
+
+
+def test_copter_3_5_with_numbered_compass_messages_reads_as_pymavlink_reads_it():
+    """The real ArduCopter 3.5 landing (spark404/dataflashlog's test log): MAG and MAG2 as their own messages, 503
+    rows each, read with pymavlink's first field (mG) as trical's first (µT), and its IMU messages read too."""
+    path = FLIGHT / "arducopter_3.5_rtl_landing_dataflashlog.bin"
+    with contextlib.redirect_stdout(io.StringIO()):
+        reader = DFReader.DFReader_binary(str(path), zero_time_base=True)
+        mags: dict[str, list] = {"MAG": [], "MAG2": []}
+        while (m := reader.recv_match(type=list(mags))) is not None:
+            mags[m.get_type()].append(m)
+    for instance, name in enumerate(mags):
+        r = read_flight_compass(path, mag_instance=instance)
+        assert r.generation == f"ArduPilot (TimeUS, {name})" and len(r.time_s) == len(mags[name]) == 503
+        first = mags[name][0]
+        np.testing.assert_allclose(r.mag_firmware_ut[0], np.array([first.MagX, first.MagY, first.MagZ]) * 0.1)
+    log = read_log(path)
+    assert log.acc is not None and log.flight.imu
