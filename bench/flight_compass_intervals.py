@@ -2,7 +2,7 @@
 the block jackknife trical uses (blocks of ten correlation times) beside shorter blocks and a
 heteroskedasticity-and-autocorrelation-consistent covariance, on the same seeded flights.
 
-    PYTHONPATH=. python bench/flight_compass_intervals.py [--flights 150] [--seed 5000] [--real]
+    PYTHONPATH=. python bench/flight_compass_intervals.py [--flights 150] [--seed 5000] [--real] [--level 60]
 
 Each flight (simulations.flight_compass) lasts 1–5 min (uniform) at 25 Hz with the logged attitude off by 0.5° per
 axis wandering with a time constant of 1–16 s (log-uniform): the residuals' correlation times of the real
@@ -17,6 +17,11 @@ their intervals, the median half-width of the offsets (µT), and the blocks or d
   Student's t at ν (U. K. Müller, "A theory of robust long-run variance estimation", J. Econometrics 141(2), 2007;
   E. Lazarus, D. J. Lewis, J. H. Stock and M. W. Watson, "HAR inference: recommendations for practice", J.
   Business & Economic Statistics 36(4), 2018), M's entries by the delta method (dM = −M dS M).
+
+With ``--level N`` it prints instead the partial update's figures on N seeded level flights (within 2° of level,
+2.5 min at 10 Hz, no soft iron, written as ArduPilot logs with stale offsets stored, 5 µT per axis, and calibrated
+by the method ``compass_flight``): how many were partial updates, how many ok, and the share of the updated numbers
+inside their intervals — which assume the held values right, so that a stale held value shows as a lower share.
 
 With ``--real`` it prints instead, for every compass of the real flight logs (tests/data/real/flight) whose fit has
 intervals, the blocks, degrees of freedom and largest half-widths of b, M and k with the jackknife of ten correlation
@@ -161,12 +166,45 @@ def real_main() -> None:
                 print(f"{path.name:<32}{instance:>4}  {cells[0]:<42}{cells[1]:<42}")
 
 
+def level_main(count: int, seed: int) -> None:
+    import tempfile
+
+    from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
+
+    partial = ok = 0
+    hits: dict[str, list[bool]] = {"b": [], "k": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        for k in range(count):
+            f = seeded_flight(seed + k, orientation=0, tilt_deg=2.0, soft_iron=0.0, duration_s=150.0, rate_hz=10.0)
+            log = write_flight_compass_logs(Path(tmp), f, stem=f"level{k}")[0]
+            body = calibrate_log(log, "dataflash")
+            updated, unc = body["flight"].get("updated"), body.get("uncertainty") or {}
+            if not updated or unc.get("b") is None:
+                continue
+            partial += 1
+            ok += bool(body["ok"])
+            for key in hits:
+                if unc.get(key) is None:
+                    continue
+                new = updated[key] if isinstance(updated[key], list) else [updated[key]] * 3
+                off = np.abs(np.asarray(body["model"][key]) - f["truth"][key])
+                hits[key] += [bool(o <= h) for o, h, u in zip(off, unc[key], new) if u]
+    print(f"{count} level flights: {partial} partial updates, {ok} of them ok")
+    for key, row in hits.items():
+        share = np.mean(row) if row else float("nan")
+        print(f"  updated {key}: {len(row)} numbers, {share:.3f} inside their 95 % intervals")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--flights", type=int, default=150)
     parser.add_argument("--seed", type=int, default=5000)
     parser.add_argument("--real", action="store_true", help="the real flight logs' widths instead")
+    parser.add_argument("--level", type=int, default=0, help="the partial update on this many level flights instead")
     args = parser.parse_args()
+    if args.level:
+        level_main(args.level, args.seed)
+        return
     if args.real:
         real_main()
         return
