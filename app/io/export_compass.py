@@ -664,11 +664,12 @@ def _updated_lines(updated: dict | None) -> list[str]:
     (app.calibration.magnetometer.flight_partial), where the flight did not determine them all."""
     if not updated:
         return []
-    from app.calibration.magnetometer.flight_partial import HELD_WORDS, OFFSET_WORDS, held_words
+    from app.calibration.magnetometer.flight_partial import HELD_WORDS, OFFSET_WORDS, held_words, motor_words
 
-    held = {"b": [not u for u in updated["b"]], "M": not updated["M"], "k": not updated["k"]}
+    k = [updated["k"]] * 3 if isinstance(updated["k"], bool) else updated["k"]  # one bool in results stored before
+    held = {"b": [not u for u in updated["b"]], "M": not updated["M"], "k": [not u for u in k]}
     new = [w for w, u in zip(OFFSET_WORDS, updated["b"]) if u]
-    new += [HELD_WORDS[key] for key in ("M", "k") if updated[key]]
+    new += ([HELD_WORDS["M"]] if updated["M"] else []) + motor_words(k)
     return [
         f"new from this flight: {', '.join(new) or 'nothing'}",
         f"kept at the values stored before (the flight does not determine them): {', '.join(held_words(held))}",

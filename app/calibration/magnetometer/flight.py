@@ -47,7 +47,7 @@ from .flight_model import (
     solve_normal,
     wrap_deg,
 )
-from .flight_partial import fixed_entries, held_words, improvement, undetermined
+from .flight_partial import fixed_entries, held_words, improvement, undetermined, with_motor_axes
 from .flight_result import FlightCompassResult
 
 MIN_FIT_SAMPLES = 60
@@ -594,17 +594,17 @@ def _partial(
     """Where the intervals leave some numbers undetermined and others not, the fit with those held at the
     firmware's ``stored`` values (:mod:`.flight_partial`): its fit, field, half-widths (0 where held), blocks,
     fields on segments left out, and what was held; None where nothing or everything is undetermined."""
-    held = undetermined(half, F, p, motor, model, HALF_WIDTH_LIMITS)
+    held = with_motor_axes(undetermined(half, F, p, motor, model, HALF_WIDTH_LIMITS))
     found = None
     for _ in range(2):  # numbers freed may still be open once the others are held: hold them too, once
-        if motor and held["k"] and stored.get("k") is None:
+        if motor and held["k"].any() and stored.get("k") is None:
             return found  # a motor term the firmware stores in other terms: not held
         one = _held_fit(u, e, p, w, t, fold, folds, model, motor, held, stored, confidence)
         if one is None:
             return found
         found = (*one, held)
         more = undetermined(one[2], F, p, motor, model, HALF_WIDTH_LIMITS)
-        more = {"b": more["b"] | held["b"], "M": more["M"] or held["M"], "k": more["k"] or held["k"]}
+        more = with_motor_axes({"b": more["b"] | held["b"], "M": more["M"] or held["M"], "k": more["k"] | held["k"]})
         if all(np.array_equal(more[key], held[key]) for key in held):
             break
         held = more
@@ -637,12 +637,12 @@ def _held_fit(u, e, p, w, t, fold, folds: int, model: str, motor: bool, held: di
 def _any_open(half, F: float, p, motor: bool, model: str) -> bool:
     """Whether a half-width leaves its number undetermined (a held one has none: it is the firmware's)."""
     open_ = undetermined(half, F, p, motor, model, HALF_WIDTH_LIMITS)
-    return bool(open_["b"].any() or open_["M"] or open_["k"])
+    return bool(open_["b"].any() or open_["M"] or open_["k"].any())
 
 
 def _updated(held: dict) -> dict:
     """What the flight updated (true) and what it held at the firmware's values (false)."""
-    return {"b": [not h for h in held["b"]], "M": not held["M"], "k": not held["k"]}
+    return {"b": [not h for h in held["b"]], "M": not held["M"], "k": [not h for h in held["k"]]}
 
 
 def _parameter_gates(gates: Gates, fit, half, F: float, p, power_kind, confidence: float) -> None:

@@ -43,8 +43,8 @@ class FlightCompassResult:
     confidence: float = CONFIDENCE
     updated: dict | None = None
     """Where the flight left some numbers undetermined (:mod:`.flight_partial`): ``{"b": [bool, bool, bool],
-    "M": bool, "k": bool}``, true for those updated from the flight, false for those held at the firmware's; None
-    where every number is the flight's."""
+    "M": bool, "k": [bool, bool, bool]}``, true for those updated from the flight, false for those held at the
+    firmware's; None where every number is the flight's."""
 
     def correct(self, mag, power=None) -> np.ndarray:
         """``h_body = M (Q m − b − k p)`` for raw readings ``mag`` (N, 3) in frame L and ``power`` (N,)."""
