@@ -177,6 +177,7 @@ def fly(request, recording: RecordingSource, instance: int | None, notes: list[s
         No attitude, no place, a window too narrow, or the fit's refusals (a compass that does not measure).
     """
     from app.calibration.magnetometer import fit_flight_compass
+    from app.calibration.magnetometer.flight import MAX_FIT_SAMPLES, thinning
     from app.geomag import GeomagneticRangeError, reference_field
     from app.io.flight_context import read_flight_compass
 
@@ -192,7 +193,14 @@ def fly(request, recording: RecordingSource, instance: int | None, notes: list[s
             "the log has no attitude (ArduPilot ATT or AHR2, PX4 vehicle_attitude): a compass from "
             "a flight compares the compass with the field the attitude expects — log the attitude"
         )
-    t = np.asarray(log.time_s, dtype=float)
+    every = thinning(len(log.time_s))
+    t = np.asarray(log.time_s, dtype=float)[every]
+    mag_raw, mag_firmware = log.mag_raw_ut[every], log.mag_firmware_ut[every]
+    if every.step > 1:
+        notes.append(
+            f"a long log: one in {every.step} of its {len(log.time_s)} compass samples fitted (at most "
+            f"{MAX_FIT_SAMPLES}; the residuals stay correlated over seconds, so the others add next to nothing)"
+        )
     c_nb, inside = _attitude_on(t, np.asarray(log.attitude_time_s, dtype=float), np.asarray(log.attitude_c_nb, float))
     power, kind, powered = _power_on(t, log)
     keep = inside & powered & _window(t, log, request, notes)
@@ -210,12 +218,12 @@ def fly(request, recording: RecordingSource, instance: int | None, notes: list[s
         notes.append("the log has neither the battery current nor the throttle: no motor term was tried")
     power = None if power is None else power[keep]
     fit = fit_flight_compass(
-        log.mag_raw_ut[keep],
+        mag_raw[keep],
         expected,
         time_s=t[keep],
         power=power,
         power_kind=kind,
-        firmware_field=log.mag_firmware_ut[keep],
+        firmware_field=mag_firmware[keep],
         frame_to_body=log.frame_to_body,
         attitude=attitude,
         earth_ned=b_ned,
@@ -223,7 +231,7 @@ def fly(request, recording: RecordingSource, instance: int | None, notes: list[s
         firmware=log.firmware,
         stored=_stored_model(log),
     )
-    return Flown(log, fit, t[keep], log.mag_raw_ut[keep], power, kind, expected, attitude, b_ned, earth, place)
+    return Flown(log, fit, t[keep], mag_raw[keep], power, kind, expected, attitude, b_ned, earth, place)
 
 
 def compass_flight(request, recording: RecordingSource | None) -> Calibration:

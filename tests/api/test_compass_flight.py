@@ -456,3 +456,22 @@ def test_a_copter_3_5_landing_says_which_compass_the_current_pulls(client):
     assert rows[0]["action"] == "keep it as it is"
     assert rows[1]["action"] == "set COMPASS_MOT2_X/Y/Z (COMPASS_MOTCT = 2) from this flight (the current pulls it 9°)"
     assert [c["consistent"] for c in body["flight"]["consistency"]] == [True]
+
+
+def test_a_long_log_is_thinned_evenly_and_says_so(client, flight, tmp_path, monkeypatch):
+    """A log of more compass samples than the fit takes (60 000, 40 min at 25 Hz; here the limit lowered to 1 500
+    for a 3 min flight of 4 500) is fitted on every k-th sample: the answer says so, and it is the full log's
+    within a few hundredths of a degree and a few tenths of a µT, inside the intervals."""
+    import app.calibration.magnetometer.flight as core
+
+    log = write_flight_compass_logs(tmp_path, flight)[0]
+    full = _calibrate(client, _upload(client, log)).json()
+    monkeypatch.setattr(core, "MAX_FIT_SAMPLES", 1500)
+    thin = _calibrate(client, _upload(client, log)).json()
+    assert full["ok"] and thin["ok"], thin["reasons"]
+    n = len(flight["time_s"])
+    said = f"a long log: one in 3 of its {n} compass samples fitted (at most 1500;"
+    assert any(line.startswith(said) for line in thin["warnings"]), thin["warnings"]
+    assert abs(thin["metrics"]["heading_error_after_deg"] - full["metrics"]["heading_error_after_deg"]) < 0.05
+    diff = np.abs(np.asarray(thin["model"]["b"]) - np.asarray(full["model"]["b"]))
+    assert np.all(diff < np.asarray(thin["uncertainty"]["b"])), (diff, thin["uncertainty"]["b"])

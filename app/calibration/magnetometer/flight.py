@@ -131,6 +131,17 @@ MIN_BLOCKS = 8
 
 SERIES_POINTS = 600
 
+MAX_FIT_SAMPLES = 60_000
+"""A log of more compass samples (40 min at 25 Hz) is thinned evenly to at most this many before the attitude is
+interpolated and the compass fitted (:func:`thinning`): the residuals of a flight stay correlated for 1.4–16 s
+(35–400 samples at 25 Hz, the real corpus's), so a sample every few tenths of a second carries nearly all that the
+flight holds, and the fit's time is the read's, not the samples' (bench/flight_compass_speed.py)."""
+
+
+def thinning(n: int) -> slice:
+    """Every k-th of ``n`` compass samples, k the smallest that keeps at most :data:`MAX_FIT_SAMPLES`."""
+    return slice(None, None, max(1, -(-n // MAX_FIT_SAMPLES)))
+
 
 def _weights(e: np.ndarray) -> np.ndarray:
     """One over the count of samples whose expected field falls in the same face, scaled to mean 1."""
