@@ -475,3 +475,22 @@ def test_a_long_log_is_thinned_evenly_and_says_so(client, flight, tmp_path, monk
     assert abs(thin["metrics"]["heading_error_after_deg"] - full["metrics"]["heading_error_after_deg"]) < 0.05
     diff = np.abs(np.asarray(thin["model"]["b"]) - np.asarray(full["model"]["b"]))
     assert np.all(diff < np.asarray(thin["uncertainty"]["b"])), (diff, thin["uncertainty"]["b"])
+
+
+def test_an_ardusub_dive_without_gps_asks_for_the_place_and_says_what_it_lacks(client):
+    """A real ArduSub 4.1 dive (tests/data/real/flight: clydemcqueen/ardusub_log_tools' small.BIN; two compasses whose
+    field, as the firmware corrects it, reads 91 and 105 µT against the model's 53 µT; no GPS): the compass from the
+    flight asks for the place and day; given them, neither compass is ok, for the samples and the one heading the
+    dive holds first, and the second compass's fitted z offset of −720 µT is named as no iron's."""
+    path = LOG171.parent / "ardusub_4.1_small.bin"
+    rec = client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes())}).json()
+    flight = next(s for s in rec["supports"] if s["method"] == "compass_flight")
+    assert not flight["ready"] and "latitude_deg" in flight["asks"], flight
+    place = {"latitude_deg": 48.386, "longitude_deg": -124.631, "date": "2023-05-04"}
+    body = _calibrate(client, rec["id"], mag_instance=1, **place).json()
+    assert body["ok"] is False and body["reasons"][0].startswith("only 86 samples"), body["reasons"]
+    assert any(r.startswith("the flight turned through too few headings (1 of 8 sectors") for r in body["reasons"])
+    assert any(r.startswith("the z offset -720 µT is beyond 300 µT") for r in body["reasons"]), body["reasons"]
+    assert [row["action"] for row in body["flight"]["compasses"]] == [
+        "fly at least a minute (600 samples) with turns through every heading"
+    ] * 2

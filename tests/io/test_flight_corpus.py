@@ -264,9 +264,11 @@ NEWER_ARDUPILOT = {
     "arduplane_4.2_center_0003.bin": ("ArduPilot ArduPlane V4.2.3 (TimeUS, MAG with I)", {0: 465}, False),
     "arduplane_4.2_pilot_0004.bin": ("ArduPilot ArduPlane V4.2.3 (TimeUS, MAG with I)", {0: 979}, False),
     "arducopter_4.6_backend_log_80k.bin": ("ArduPilot ArduCopter V4.6.2 (TimeUS, MAG with I)", {0: 4, 1: 4}, True),
+    "ardusub_4.1_small.bin": ("ArduPilot ArduSub V4.1.0 (TimeUS, MAG with I)", {0: 237, 1: 237}, True),
 }
 """Real ArduPilot 4.x logs (tests/data/real/flight/README.md): two ArduPlane 4.2.3 logs with minimal logging (no
-IMU message), and an ArduCopter 4.6.2 log cut short after its parameters, two compasses of four rows each."""
+IMU message), an ArduCopter 4.6.2 log cut short after its parameters, two compasses of four rows each, and an
+ArduSub 4.1.0 dive of two compasses and no GPS."""
 
 
 @pytest.mark.parametrize("name", sorted(NEWER_ARDUPILOT))
