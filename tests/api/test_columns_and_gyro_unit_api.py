@@ -85,3 +85,23 @@ def test_a_bad_line_is_named_first_with_its_own_code(client):
     r = _upload(client, "b.csv", b"acc_x,acc_y,acc_z\n0.1,0.2,9.8\n0.1,abc,9.8\n", sampling_rate_hz=100)
     assert r.status_code == 422 and r.json()["code"] == "bad_line"
     assert "line 3, column 'acc_y': 'abc' is not a number" in r.json()["detail"]
+
+
+def test_a_time_column_that_steps_back_once_is_still_the_time_column(client):
+    """The real headerless IMU log of twelve poses (imu_bias_gravity_12_poses_headerless_ns) with its clock set back
+    0.9 s after row 700, as an Android logger's clock adjusted while logging: the first column is still its time
+    (named in a note with the step), and the poses calibrate as the unchanged log's do (o within 0.02 m/s²)."""
+    lines = (CORPUS / "imu_bias_gravity_12_poses_headerless_ns" / "imu.csv").read_text().splitlines()
+    stepped = [
+        ",".join([str(int(line.split(",")[0]) - 900_000_000)] + line.split(",")[1:]) if i >= 700 else line
+        for i, line in enumerate(lines)
+    ]
+    r = _upload(client, "imu.csv", ("\n".join(stepped) + "\n").encode())
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    assert rec["channels"] == ["acc", "gyr"], rec
+    said = "goes back 1 time(s), first after sample 700 (55.92 → 55.1 s)"
+    assert any(said in note for note in rec["notes"]), rec["notes"]
+    body = client.post("/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]}).json()
+    assert body["ok"] is True, body.get("reasons")
+    np.testing.assert_allclose(body["model"]["o"], [0.1127, -0.0061, 0.0627], atol=0.02)

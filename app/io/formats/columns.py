@@ -81,12 +81,19 @@ def _whole(x: np.ndarray) -> bool:
     return bool(np.allclose(sub, np.round(sub)))
 
 
+MAX_TIME_STEPS_BACK = 3
+"""A time column may step back this many times (or once per thousand rows, if more): a clock adjusted while
+logging, files joined. :mod:`.timing` names the steps and takes the rate from the median step."""
+
+
 def is_time(col: np.ndarray) -> bool:
-    """A column that rises at (nearly) every line: a time or a sample counter."""
+    """A column that rises at (nearly) every line from its first row to its last: a time or a sample counter,
+    which may step back a few times (:data:`MAX_TIME_STEPS_BACK`)."""
     if len(col) < 3:
         return False
     d = np.diff(col)
-    return bool(np.all(d >= 0) and np.mean(d > 0) > 0.9)
+    back = int(np.count_nonzero(d < 0))
+    return bool(back <= max(MAX_TIME_STEPS_BACK, len(d) // 1000) and col[-1] > col[0] and np.mean(d > 0) > 0.9)
 
 
 def is_temperature(col: np.ndarray) -> bool:
