@@ -7,6 +7,7 @@ import io
 import math
 
 import numpy as np
+import pytest
 
 from tests.conftest import DATA
 
@@ -105,3 +106,20 @@ def test_a_time_column_that_steps_back_once_is_still_the_time_column(client):
     body = client.post("/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]}).json()
     assert body["ok"] is True, body.get("reasons")
     np.testing.assert_allclose(body["model"]["o"], [0.1127, -0.0061, 0.0627], atol=0.02)
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("sketch.ino", "void setup() {\n  Serial.begin(115200);\n}\n\nvoid loop() {\n  Serial.println(1);\n}\n"),
+        ("words.csv", "name,colour,size\nalpha,red,big\nbeta,blue,small\n"),
+    ],
+)
+def test_a_file_of_words_is_told_it_holds_no_readings(client, name, text):
+    """An Arduino sketch or a table of words uploaded by mistake: a 422 saying the file holds no readings and what to
+    upload instead, not a question about which column is which (no mapping reads numbers that are not there)."""
+    r = _upload(client, name, text.encode())
+    assert r.status_code == 422, r.text
+    detail = r.json()["detail"]
+    assert detail.startswith(f"{name} holds no readings: not one number after its first line"), detail
+    assert "columns" not in detail.split(":", 1)[1].replace("in columns", ""), detail

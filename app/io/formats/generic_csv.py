@@ -456,6 +456,7 @@ def read_csv_log(
     if layout.headerless and column_names is None:
         layout = _named_from_data(path, layout, name)
     _refuse_text_block(text, layout, name)
+    _refuse_words(text, layout, name)
     layout, channels, time_col, time_scale = _mapped_layout(path, layout, column_map, column_names, name)
     names = layout.names
     header_units = mapped_units(names, column_map)
@@ -532,6 +533,27 @@ def _refuse_text_block(text: str, layout, name: str) -> None:
             "a number: trical reads one number per column and row, so no columns mapping can read it; write each "
             "reading in a column of its own (e.g. acc_x, acc_y, acc_z), one row per sample"
         )
+
+
+_NUMBER = re.compile(r"^[+-]?(?:\d+[.,]?\d*|[.,]\d+)(?:[eE][+-]?\d+)?$")
+
+
+def _refuse_words(text: str, layout, name: str) -> None:
+    """Refuse a file whose lines after its header hold not one number (a sketch, a table of words): no columns
+    mapping can read numbers that are not there, so the columns' question would be a dead end. (A table of
+    numbers whose header names too few axes is the header's to refuse: it says what is missing.)"""
+    lines = [line for line in text.splitlines()[layout.skip_lines :] if line.strip()]
+    if not lines:
+        return  # a header alone: the table's own refusal says so
+    split = re.compile(r"[\s;,\t]+") if layout.delimiter in (None, " ") else re.compile(re.escape(layout.delimiter))
+    if any(_NUMBER.match(cell.strip()) for line in lines for cell in split.split(line)):
+        return
+    first = (text.splitlines() or [""])[0].strip()[:60]
+    raise LogFormatError(
+        f"{name} holds no readings: not one number after its first line (it begins {first!r}), so it is not a "
+        "recording of a sensor; upload the file the board or app wrote while logging (readings in columns, one "
+        "row per sample), or a flight controller's log"
+    )
 
 
 def _mapped_layout(path: Path, layout, column_map: dict | None, column_names: list[str] | None, name: str):
