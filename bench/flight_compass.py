@@ -29,7 +29,8 @@ from simulations.flight_compass import simulate_flight
 MOUNTINGS = (2, 8, 0, 4, 16, 25)
 
 
-def _fit(f, models):
+def fit_seeded(f, models):
+    """trical's fit of a seeded flight (simulations.flight_compass) with the candidates ``models``."""
     return fit_flight_compass(
         f["mag_raw_ut"],
         f["expected_ut"],
@@ -62,7 +63,7 @@ def main() -> None:
         f = simulate_flight(args.seed + i, orientation=MOUNTINGS[i % len(MOUNTINGS)])
         truth = f["truth"]
         start = time.perf_counter()
-        r = _fit(f, "soft_iron+motor")
+        r = fit_seeded(f, "soft_iron+motor")
         times.append(time.perf_counter() - start)
         hits["offsets"] += list(np.abs(r.offsets_ut - truth["b"]) <= r.offsets_half_width_ut)
         hits["matrix"] += list((np.abs(r.matrix - truth["M"]) <= r.matrix_half_width)[upper])
@@ -72,7 +73,7 @@ def main() -> None:
         Qs = _sphere_wahba(f["mag_raw_ut"], f["expected_ut"])
         found_sphere += nearest_rotation(Qs)[0] == truth["orientation"]
         angle_sphere.append(angle_between(Qs, truth["Q"]))
-        auto = _fit(f, "auto")
+        auto = fit_seeded(f, "auto")
         chosen[auto.model + ("+motor" if auto.motor else "")] += 1
         ok += auto.ok
         before.append(auto.heading_error_deg["before"]["rms"])

@@ -36,12 +36,12 @@ import argparse
 from pathlib import Path
 
 import numpy as np
-from flight_compass_logs import calibrate_log  # bench/, the script's folder
+from flight_compass import fit_seeded  # bench/, the script's folder
+from flight_compass_logs import calibrate_log
 from scipy import stats
 
 import app.calibration.magnetometer.flight as flight
 from app.calibration.magnetometer import flight_model as fm
-from app.calibration.magnetometer.flight import fit_flight_compass
 from simulations.flight_compass import simulate_flight
 
 MOUNTINGS = (2, 8, 0, 4)
@@ -82,16 +82,7 @@ def _upper_first(values: np.ndarray) -> np.ndarray:
 
 def _jackknife(f, block_times: float, steps: int, short: float) -> tuple[np.ndarray, np.ndarray, float, int]:
     flight.BLOCK_CORRELATION_TIMES, flight.BLOCK_STEPS, flight.SHORT_BLOCK_CORRELATION_TIMES = block_times, steps, short
-    r = fit_flight_compass(
-        f["mag_raw_ut"],
-        f["expected_ut"],
-        time_s=f["time_s"],
-        power=f["current_a"],
-        power_kind="current",
-        attitude=f["attitude_c_nb"],
-        earth_ned=f["earth_ned"],
-        models="soft_iron+motor",
-    )
+    r = fit_seeded(f, "soft_iron+motor")
     intervals = r.to_dict()["intervals"]
     if r.offsets_half_width_ut is None:
         return np.full(12, np.nan), np.full(12, np.nan), 0.0, intervals["blocks"]

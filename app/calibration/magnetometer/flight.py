@@ -533,7 +533,7 @@ def _fold_fields(u, e, p, w, fold, folds: int, model: str, motor: bool, held=Non
         except np.linalg.LinAlgError:
             return None
         pred[out] = f.field(u[out], p[out] if motor else None)
-    return None if np.isnan(pred).any() else pred
+    return pred
 
 
 def _fit_with_intervals(gates: Gates, u, e, p, w, t, model: str, motor: bool, confidence: float, held=None):

@@ -15,16 +15,16 @@ interval of that improvement (Student's t over the folds' differences).
 An axis's offset held holds that axis's motor term too (:func:`with_motor_axes`): on that axis the residual is
 ``b + k p`` plus what the field explains, and with the offset fixed at a stored value that may be stale, the motor
 term takes up the difference as far as the power's mean allows. On 200 seeded level flights with offsets stored
-5 µT stale (21 partial updates, ``bench/flight_compass_intervals.py --level 200``), the updated motor terms held the
-truth inside their 95 % intervals 65 % of the time with only the open numbers held, 95.3 % holding each held offset's
-axis too; the updated offsets 97.7 % either way.
+5 µT stale (21 partial updates; the level-flight study of ``bench/flight_compass_intervals.py``), the updated motor
+terms held the truth inside their 95 % intervals 65 % of the time with only the open numbers held, 95.3 % holding
+each held offset's axis too; the updated offsets 97.7 % either way.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy import stats
 
+from ..uncertainty import t_quantile
 from .flight_model import MATRIX_PARAMETERS
 
 OFFSET_WORDS = ("the x offset", "the y offset", "the z offset")
@@ -79,7 +79,7 @@ def improvement(before_deg, after_deg, fold: np.ndarray, folds: int, confidence:
         rms = [float(np.sqrt(np.mean(np.square(x[out])))) for x in (before_deg, after_deg)]
         drops.append(rms[0] - rms[1])
     d = np.asarray(drops)
-    half = float(stats.t.ppf(0.5 + confidence / 2.0, folds - 1) * d.std(ddof=1) / np.sqrt(folds))
+    half = t_quantile(folds - 1, confidence) * float(d.std(ddof=1)) / np.sqrt(folds)
     return float(d.mean()), half
 
 

@@ -536,6 +536,7 @@ def _refuse_text_block(text: str, layout, name: str) -> None:
 
 
 _NUMBER = re.compile(r"^[+-]?(?:\d+[.,]?\d*|[.,]\d+)(?:[eE][+-]?\d+)?$")
+_CELLS = re.compile(r"[\s;,\t]+")
 
 
 def _refuse_words(text: str, layout, name: str) -> None:
@@ -545,7 +546,7 @@ def _refuse_words(text: str, layout, name: str) -> None:
     lines = [line for line in text.splitlines()[layout.skip_lines :] if line.strip()]
     if not lines:
         return  # a header alone: the table's own refusal says so
-    split = re.compile(r"[\s;,\t]+") if layout.delimiter in (None, " ") else re.compile(re.escape(layout.delimiter))
+    split = _CELLS if layout.delimiter in (None, " ") else re.compile(re.escape(layout.delimiter))
     if any(_NUMBER.match(cell.strip()) for line in lines for cell in split.split(line)):
         return
     first = (text.splitlines() or [""])[0].strip()[:60]
