@@ -124,3 +124,23 @@ def test_noise_loads_neither_the_other_commands_nor_the_other_models(tmp_path):
         timeout=300,
     )
     assert r.stdout.strip() == "0 []", r.stderr
+
+
+def test_every_command_that_reads_a_file_takes_the_log_format(tmp_path):
+    """The real x-io log whose header names each column's unit (tests/data/real/corpus/xio_fusion_units_in_header):
+    `trical noise` reads every sensor of it, and `--log-format` is a flag of every command that reads a file."""
+    from app.cli.parser import build_parser
+    from tests.conftest import DATA
+
+    log = DATA / "real" / "corpus" / "xio_fusion_units_in_header" / "sensor_data_excerpt.csv"
+    r = _run(log, "--log-format", "csv", "--json", cwd=tmp_path)
+    assert r.returncode in (0, 3), r.stderr
+    body = json.loads(r.stdout)
+    assert list(body["model"]) == ["type", "acc", "gyr", "mag"]  # no column dropped
+    for command in ("calibrate", "autocal", "noise", "temperature"):
+        options = {
+            o
+            for a in build_parser(command)._subparsers._group_actions[0].choices[command]._actions
+            for o in a.option_strings
+        }
+        assert "--log-format" in options, command

@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING
 from app.calibration import CalibrationError
 from app.calibration.cores import usable_cores
 from app.calibration.result import NormErrors
+from app.cli.reading import read_options
 from app.io.errors import LogFormatError
-from app.io.read_options import ReadOptions
 from app.workflows.autocal import autocalibrate_file
 
 if TYPE_CHECKING:
@@ -25,14 +25,7 @@ if TYPE_CHECKING:
 
 
 def _autocal_options(args) -> dict:
-    read = ReadOptions(
-        sampling_rate_hz=args.sampling_rate_hz,
-        units={"acc": args.unit} if args.unit else {},
-        columns=args.columns,
-        sign=args.sign,
-        chip=args.chip,
-        instance=args.instance,
-    )
+    read = read_options(args, units={"acc": args.unit} if args.unit else {})
     return dict(
         options=read,
         solver=args.solver,

@@ -14,9 +14,10 @@ from app import methods
 from app.calibration import CalibrationError
 from app.cli.finish import store_of
 from app.cli.printers import print_summary
+from app.cli.reading import read_options
 from app.io.formats import read_log
 from app.io.parts import refuse_repeated_names
-from app.io.read_options import ReadOptions, units_named
+from app.io.read_options import units_named
 from app.workflows.recordings import RecordingSource, describe_log
 from app.workflows.supports import first_ready
 
@@ -69,17 +70,7 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
     ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
     capture) stand for the still segments the log's detector would find."""
     units = units_named(args.unit, args.gyr_unit, args.mag_unit)
-    options = ReadOptions(
-        format=args.log_format,
-        sampling_rate_hz=args.sampling_rate_hz,
-        units=units,
-        lsb_per_g=args.lsb_per_g,
-        columns=args.columns,
-        sign=args.sign,
-        chip=args.chip,
-        instance=args.instance,
-        mag_instance=args.mag_instance,
-    )
+    options = read_options(args, units=units)
     name = ", ".join(str(p) for p in args.log)
     log = read_log(path, options, name=name)
     recording = describe_log(log, options, path=path)

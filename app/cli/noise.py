@@ -10,9 +10,10 @@ import numpy as np
 
 from app.calibration import CalibrationError
 from app.cli.finish import finish
+from app.cli.reading import read_options
 from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
-from app.io.read_options import ReadOptions, units_named
+from app.io.read_options import units_named
 from app.workflows.noise import characterise_log
 
 if TYPE_CHECKING:
@@ -47,17 +48,7 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
     name = str(args.path[0]) if len(args.path) == 1 else label
     log = read_log(
         path,
-        ReadOptions(
-            sampling_rate_hz=args.sampling_rate_hz,
-            units=read_units,
-            lsb_per_g=args.lsb_per_g,
-            columns=args.columns,
-            sign=args.sign,
-            chip=args.chip,
-            instance=args.instance,
-            mag_instance=args.mag_instance,
-            clock=clock,
-        ),
+        read_options(args, units=read_units, clock=clock),
         name=name,
     )
     if array and sensor != "acc" and units:

@@ -88,7 +88,6 @@ def _add_calibrate(sub) -> None:
     """``trical calibrate``: a log of still orientations (or a cube, a compass turn), by the method table's methods."""
     from app.calibration.solvers import SOLVERS
     from app.calibration_requests import CUBE_PROTOCOLS
-    from app.io.formats import FORMATS
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
     c.add_argument(
@@ -131,7 +130,6 @@ def _add_calibrate(sub) -> None:
         "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column"
     )
     c.add_argument("--unit", choices=UNITS_IN["acc"], default=None, help="accelerometer unit of the log")
-    c.add_argument("--log-format", choices=FORMATS, default="auto", help="log format (default: from the header)")
     _unit_options(c)
     _read_options(c)
     c.add_argument("--gravity", type=opt.GRAVITY, default=None, help="reference gravity in m/s^2")
@@ -381,7 +379,15 @@ def _unit_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _read_options(parser: argparse.ArgumentParser) -> None:
-    """The options that say how to read a log, as the upload's form fields do."""
+    """The options that say how to read a log, as the upload's form fields do (app.cli.reading builds them)."""
+    from app.io.formats import FORMATS
+
+    parser.add_argument(
+        "--log-format",
+        choices=FORMATS,
+        default="auto",
+        help="the log's format (default: recognised from the file)",
+    )
     parser.add_argument(
         "--columns",
         type=opt.text("column names or a mapping"),

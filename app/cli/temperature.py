@@ -6,8 +6,9 @@ from typing import TYPE_CHECKING
 
 from app.cli.finish import finish
 from app.cli.printers import print_temperature
+from app.cli.reading import read_options
 from app.io.formats import read_log
-from app.io.read_options import ReadOptions, units_named
+from app.io.read_options import units_named
 from app.workflows.temperature import temperature_log
 
 if TYPE_CHECKING:
@@ -20,15 +21,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
     """``trical temperature PATH``: the offsets' drift with temperature, fitted."""
     log = read_log(
         args.path,
-        ReadOptions(
-            sampling_rate_hz=args.sampling_rate_hz,
-            units=units_named(args.unit, args.gyr_unit, args.mag_unit),
-            lsb_per_g=args.lsb_per_g,
-            columns=args.columns,
-            sign=args.sign,
-            chip=args.chip,
-            instance=args.instance,
-        ),
+        read_options(args, units=units_named(args.unit, args.gyr_unit, args.mag_unit)),
         name=str(args.path),
     )
     body = temperature_log(
