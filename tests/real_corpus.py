@@ -8,7 +8,8 @@ A case folder holds the data (excerpts of public recordings, verbatim) and ``cas
      "source": {"repository": …, "path": …, "commit": <40 hex>, "licence": …, "kept": …},
      "files": ["gyro.csv"],                   # uploaded as `file` parts in this order, as the page does
      "form": {"sampling_rate_hz": "100"},     # the upload's form fields, as the page sends them
-     "upload": {"status": 201, "code": …, "units": {…}, "detail_contains": […], "warnings_contain": […],
+     "upload": {"status": 201, "code": …, "units": {…}, "channels": […], "detail_contains": […],
+                "warnings_contain": […], "notes_contain": […],
                 "runs_first": "noise"},      # the supported calibration the page runs first (null: none ready)
      "calibrate": {"method": "noise"},        # POST /api/v1/calibrations (recording_id filled in)
      "expect": {"status": 201, "ok": true, "reasons_contain": […],

@@ -44,6 +44,9 @@ def _check(body: dict, status: int, want: dict, what: str) -> None:
         assert first == want["runs_first"], f"{what}: runs {first} first; supports {body['supports']}"
     _contains_all([body.get("detail", "")], want.get("detail_contains", []), f"{what} detail")
     _contains_all(body.get("warnings", []), want.get("warnings_contain", []), f"{what} warnings")
+    _contains_all(body.get("notes", []), want.get("notes_contain", []), f"{what} notes")
+    if "channels" in want:
+        assert body["channels"] == want["channels"], f"{what}: channels {body.get('channels')} {body.get('notes')}"
     _contains_all(body.get("reasons", []), want.get("reasons_contain", []), f"{what} reasons")
     for v in want.get("values", []):
         if isinstance(v["value"], str):

@@ -53,6 +53,7 @@ from . import (
     ulog,
 )
 from .chips import parse_chips
+from .columns import SKIP
 from .flight_log import CLOCKS
 from .ios_sign import check_sign, settle_sign
 from .table import Sniff, sniff
@@ -121,8 +122,6 @@ CANONICAL_COLUMNS = (
 """Names a column can be mapped to with ``columns``."""
 TIME_NAMES = ("t", "time")
 """Names of a time column whose unit is inferred from its step (a list of ``columns``)."""
-SKIP = "-"
-"""The name of a column to leave out (a list of ``columns``)."""
 
 
 FILE_COLUMNS = ";"

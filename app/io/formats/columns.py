@@ -30,6 +30,9 @@ from ..errors import LogFormatError
 from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS
 from .units import turn_field
 
+SKIP = "-"
+"""The name of a column to leave out (a list of ``columns``)."""
+
 SENSORS = ("acc", "gyr", "mag")
 NAME_WORDS = {
     "gyr": re.compile(r"gyr|gyro|gyroscope|angular|rotation[ _-]?rate|rate[ _-]?gyro"),
@@ -58,7 +61,7 @@ def example_columns(n: int, name: str = "") -> str:
     time = ["t"] if n % 3 else []
     triples = [f"{s}_{axis}" for s in order for axis in "xyz"][: 3 * ((n - len(time)) // 3)]
     names = time + triples
-    return ",".join(names + ["-"] * (n - len(names)))
+    return ",".join(names + [SKIP] * (n - len(names)))
 
 
 class ColumnsAmbiguous(LogFormatError):
@@ -250,7 +253,7 @@ def _readings(
     for assign in itertools.product(*[sorted(k, key=SENSORS.index) for k in kinds]):
         if len(set(assign)) != len(assign):
             continue
-        names = ["-"] * width
+        names = [SKIP] * width
         if time_col is not None:
             names[time_col] = "time"
         if temp_col is not None:

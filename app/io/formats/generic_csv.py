@@ -37,7 +37,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, UNITS_IN, LogData
-from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
+from .columns import PREVIEW_LINES, SKIP, ColumnsAmbiguous, guess_columns
 from .table import (
     BAD_LINE,
     SNIFF_BYTES,
@@ -324,6 +324,7 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
         for sensor, pattern in PATTERNS.items():
             m = pattern.match(name)
             if m:
+                sensor = _sensor_of_bare_axis(name, m.group("unit")) or sensor
                 channels.setdefault(sensor, {}).setdefault(m.group("axis"), col)
                 unit = _header_unit(m.group("unit"), sensor)
                 if unit:
@@ -373,6 +374,22 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
     for sensor in [s for s, axes in channels.items() if set(axes) != {"x", "y", "z"}]:
         del channels[sensor]
     return channels, time_col, time_scale, units
+
+
+_BARE_AXIS = re.compile(r"^\(?[xyz]\)?\s*[\(\[]")
+
+
+def _sensor_of_bare_axis(name: str, unit: str | None) -> str | None:
+    """The sensor of a column named by its axis and unit alone, ``X (rad/s)``, ``x (µT)``: the unit's (a rate is
+    a gyroscope's, a field a magnetometer's), as a per-sensor export (phyphox, Physics Toolbox) writes them; None
+    for an acceleration's unit, or no unit (an ``x`` column is an accelerometer's)."""
+    if not _BARE_AXIS.match(name):
+        return None
+    if _header_unit(unit, "gyr") in ("rad/s", "deg/s"):
+        return "gyr"
+    if _header_unit(unit, "mag") in ("uT", "nT", "gauss"):
+        return "mag"
+    return None
 
 
 def temperature_column(names: list[str]) -> int | None:
@@ -467,6 +484,9 @@ def read_csv_log(
     sensors = [channels[sensor][a] for sensor in ("acc", "gyr", "mag") if sensor in channels for a in "xyz"]
     used += sensors
     notes = list(layout.notes)
+    left = _left_out(names, used)
+    if left:
+        notes.append(left)
     values = dict(
         zip(
             used,
@@ -492,7 +512,7 @@ def read_csv_log(
     except LogFormatError as exc:
         if not (layout.headerless and column_names is None and time is not None):
             raise
-        other = ",".join("-" if c == time_col else n for c, n in enumerate(names))
+        other = ",".join(SKIP if c == time_col else n for c, n in enumerate(names))
         raise LogFormatError(
             f"{exc}. {name} has no header row, and its column {time_col + 1} rises at every line, "
             f"so it was read as the time: if it is not a time, name the columns with `columns`, e.g. columns={other}"
@@ -520,6 +540,23 @@ def read_csv_log(
         ),
         sampling_rate_hz,
         name,
+    )
+
+
+def _left_out(names: list[str], used: list[int]) -> str | None:
+    """The note naming the header's columns that are not read (none is dropped in silence): not a time, a
+    temperature or a sensor's three axes. A column named ``-`` was left out by the ``columns`` given, and an empty
+    name (a trailing separator) names nothing."""
+    left = [n.strip() for c, n in enumerate(names) if c not in used and n.strip() not in ("", SKIP)]
+    if not left:
+        return None
+    listed = ", ".join(repr(n[:40]) for n in left[:MAX_LISTED_COLUMNS])
+    if len(left) > MAX_LISTED_COLUMNS:
+        listed += f" and {len(left) - MAX_LISTED_COLUMNS} more"
+    return (
+        f"{len(left)} column{'s' if len(left) > 1 else ''} not read: {listed} (trical reads a time, a temperature "
+        "and the x, y and z of an accelerometer, a gyroscope and a magnetometer; map one with columns if it is one "
+        "of these)"
     )
 
 

@@ -28,17 +28,28 @@ _TIME = re.compile(r"^time \(s\)$")
 _COLUMN = re.compile(
     r"^(?P<sensor>linear acceleration|acceleration|gyroscope|magnetic field) (?P<axis>[xyz]) \((?P<unit>[^)]*)\)$"
 )
+_ABSOLUTE = re.compile(r"^absolute (acceleration|field) \([^)]*\)$")
+"""phyphox's norm columns beside the axes (``Absolute acceleration (m/s^2)``, ``Absolute field (µT)``): not read."""
 _SENSOR = {"acceleration": "acc", "gyroscope": "gyr", "magnetic field": "mag"}
 _UNIT = {"m/s^2": "m/s^2", "rad/s": "rad/s", "µt": "uT", "μt": "uT", "ut": "uT"}
 
 
 def _is_phyphox_header(names: list[str]) -> bool:
-    lowered = [n.lower() for n in names]
-    return bool(lowered) and bool(_TIME.match(lowered[0])) and any(_COLUMN.match(n) for n in lowered)
+    """``Time (s)``, then phyphox's own columns only: a header that names any other column (another app's
+    ``Accelerometer X (g)`` beside ``Gyroscope X (deg/s)``) is not phyphox's, and is read by the general reader
+    with every column its header names."""
+    lowered = [n.strip().lower() for n in names]
+    rest = [n for n in lowered[1:] if n]
+    return (
+        bool(lowered)
+        and bool(_TIME.match(lowered[0]))
+        and bool(rest)
+        and all(_COLUMN.match(n) or _ABSOLUTE.match(n) for n in rest)
+    )
 
 
 def detect(s: Sniff) -> bool:
-    """A zip holding ``Raw Data.csv``, or a header ``Time (s)`` followed by phyphox sensor columns."""
+    """A zip holding ``Raw Data.csv``, or a header ``Time (s)`` followed by phyphox's sensor columns only."""
     if s.is_zip:
         return find_member(s.members, RAW_DATA) is not None
     found = first_row(s.lines)
@@ -68,12 +79,20 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     channels: dict[str, dict[str, int]] = {}
     found_units: dict[str, str] = {}
     linear = False
+    left: dict[str, list[str]] = {
+        "the norm of the three axes, which trical computes itself": [],
+        "linear acceleration, gravity removed, which no calibration can use": [],
+    }
+    norms, gravity_removed = left.values()
     for col, raw in enumerate(names):
-        m = _COLUMN.match(raw.lower())
+        m = _COLUMN.match(raw.strip().lower())
         if not m:
+            if col and raw.strip():
+                norms.append(raw.strip())
             continue
         if m.group("sensor") == "linear acceleration":
             linear = True
+            gravity_removed.append(raw.strip())
             continue
         sensor = _SENSOR[m.group("sensor")]
         channels.setdefault(sensor, {})[m.group("axis")] = col
@@ -107,6 +126,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
     final_units = {s_: (units or {}).get(s_) or found_units.get(s_) for s_ in stacked}
     if decimal == ",":
         notes.append("decimal comma")
+    notes += [f"not read: {', '.join(map(repr, cols))} ({why})" for why, cols in left.items() if cols]
     return LogData(
         acc=stacked.get("acc"),
         gyr=stacked.get("gyr"),
