@@ -122,6 +122,16 @@ def sensor_from_name(filename: str) -> str | None:
     return found.pop() if len(found) == 1 else None
 
 
+GRAVITY_REMOVED_WORDS = ("linear", "linearacceleration", "useracceleration", "gravity")
+"""Words of a file's name that say it holds not the accelerometer's readings but what a phone computes from them
+(phyphox's ``Linear Acceleration.csv``, ``Gravity.csv``; Core Motion's user acceleration): left out beside the
+accelerometer's own file, with a note."""
+
+
+def _gravity_removed(filename: str) -> bool:
+    return any(t in GRAVITY_REMOVED_WORDS for t in _tokens(filename))
+
+
 UNNAMED_COLUMNS = {3: ["x", "y", "z"], 4: ["time", "x", "y", "z"]}
 """The columns of a file named for one sensor whose rows carry no names: its x, y, z (after its time)."""
 
@@ -305,7 +315,50 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
         warnings=_warnings(logs),
         temperature_c=None if temperature is None else np.asarray(temperature)[keep],
     )
-    return with_timing(merged, None, name)
+    return _gyro_against_gravity(with_timing(merged, None, name), by_sensor)
+
+
+GYRO_UNIT_WORDS = ("for the gyroscope", "gyroscope unit", "the gyroscope's unit")
+"""What the reading of a gyroscope's file alone says of its unit (app.io.formats.units): said again, or
+overruled, once the accelerometer's file beside it is merged (:func:`_gyro_against_gravity`)."""
+
+
+def _gyro_against_gravity(merged: LogData, by_sensor: dict) -> LogData:
+    """The gyroscope's unit, decided on its own file (its header's, or what its data showed alone), checked
+    against the accelerometer's file merged beside it: the gyroscope's integral against gravity's turn between
+    rests or over windows of motion (:func:`~app.io.formats.gyro_unit.gyro_evidence`). Where the turns decide,
+    what the file alone said of the unit is replaced by their word, and a unit they contradict is overruled
+    (the readings are kept; their unit changes), naming both."""
+    from .formats.gyro_unit import gyro_evidence
+
+    unit = merged.units.get("gyr")
+    if merged.acc is None or merged.gyr is None or unit not in ("rad/s", "deg/s"):
+        return merged
+    fname, log, _ = by_sensor["gyr"]
+    if any("counts" in n for n in (*log.notes, *log.warnings)):
+        return merged  # counts scaled by a chip or a sensitivity: the scale was given or found, not a unit
+    ev = gyro_evidence(merged.gyr, whole=False, acc=merged.acc, fs=merged.sampling_rate_hz, time_s=merged.time_s)
+    if ev.unit is None or not ev.by_turns:
+        return merged
+    prefix = f"{fname}: "
+
+    def about_unit(text: str) -> bool:
+        return text.startswith(prefix) and any(w in text for w in GYRO_UNIT_WORDS)
+
+    notes = [n for n in merged.notes if not about_unit(n)]
+    warnings = [w for w in merged.warnings if not about_unit(w)]
+    questions = tuple(q for q in merged.questions if q.get("sensor") != "gyr")
+    if ev.unit == unit:
+        notes.append(f"{prefix}the gyroscope's unit {unit}, against the accelerometer beside it: {ev.words}")
+        return dataclasses.replace(merged, notes=tuple(notes), warnings=tuple(warnings), questions=questions)
+    header = any(f"({unit})" in str(c).lower() for c in log.columns)
+    warnings.append(
+        f"{prefix}{'its header says' if header else 'read alone, its data said'} {unit} for the gyroscope, but "
+        f"against the accelerometer beside it {ev.words}: read as {ev.unit}"
+    )
+    units = {**merged.units, "gyr": ev.unit}
+    notes = [n.replace(f"the gyroscope ({unit})", f"the gyroscope ({ev.unit})") for n in notes]
+    return dataclasses.replace(merged, units=units, notes=tuple(notes), warnings=tuple(warnings), questions=questions)
 
 
 def _one_to_one(logs: list, by_sensor: dict, notes: list, name: str) -> LogData:
@@ -385,6 +438,16 @@ def read_sensor_files(sources: list[tuple[str, Path]], read, *, name: str, colum
     columns_given : bool
         The upload named the columns itself: they are used for every file as they are.
     """
+    derived = [n for n, _ in sources if _gravity_removed(n)]
+    kept = [(n, p) for n, p in sources if n not in derived]
+    if derived and "acc" in (per_sensor_files([n for n, _ in kept]) or {}).values():
+        merged = read_sensor_files(kept, read, name=name, columns_given=columns_given)
+        note = (
+            f"{', '.join(derived)} left out: {'they hold' if len(derived) > 1 else 'it holds'} what the phone "
+            "computed from the accelerometer (gravity or the acceleration without it), not its readings, which "
+            f"{next(n for n, _ in kept if sensor_from_name(n) == 'acc')} holds"
+        )
+        return None if merged is None else dataclasses.replace(merged, notes=(note, *merged.notes))
     sensors = per_sensor_files([n for n, _ in sources])
     if sensors is None:
         return None

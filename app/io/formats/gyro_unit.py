@@ -43,6 +43,17 @@ TURN_TOLERANCE_DEG = 10.0
 FIRM_FACTOR = 3.0
 """An offset this many times beyond what a MEMS gyroscope reads rules a unit out even at a rest the
 accelerometer does not confirm (4.5 read as rad/s: 258 °/s, 8.6 times the limit)."""
+WINDOW_S = 0.5
+"""Without rests, the turn of gravity's direction is read over windows of this length of motion: the
+accelerometer's direction (smoothed over :data:`SMOOTH_S`, centred, so that a hand's linear acceleration
+weighs less) at a window's two ends, against the gyroscope's integral across it."""
+SMOOTH_S = 0.3
+WINDOW_TURN_MIN_DEG = 10.0
+"""A window weighs the scales when gravity's direction turns this much across it (and no more than 90°)."""
+MIN_WINDOWS = 5
+"""Windows needed for the windows' median to decide a unit."""
+MAX_WINDOWS = 400
+"""At most this many windows are integrated (evenly chosen over a long recording)."""
 MIN_REST_S = 1.0
 """The shortest rest whose offset and noise are read (a second: fifty half-second blocks' worth of a
 detector that cuts every knock)."""
@@ -82,6 +93,9 @@ class GyroEvidence:
     or an offset read at a rest the accelerometer confirms (or beyond :data:`FIRM_FACTOR` times what a part
     reads). A rest found on the gyroscope alone may be a steady turn, and a hand never quite still reads a
     noise no MEMS part has: such evidence decides only where nothing states the unit."""
+    by_turns: bool = False
+    """Whether gravity's turns decided (between rests, or over windows of motion): the accelerometer beside the
+    gyroscope confirms the unit, whatever a rest's offset or noise would say."""
 
 
 def _mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
@@ -147,6 +161,80 @@ def turn_errors(gyr: np.ndarray, ref: np.ndarray, runs: list, dt: np.ndarray, sc
     return {k: float(np.median(v)) for k, v in errs.items() if v}, moves
 
 
+def window_turn_errors(
+    gyr: np.ndarray, ref: np.ndarray, dt: np.ndarray, fs: float, scales: dict
+) -> tuple[dict, int, float]:
+    """The median angle (degrees) by which each scale's integral over a half-second window of motion misses
+    the turn of gravity's direction across it, the number of windows that turn it by 10°–90°, and their
+    median turn. No rest is needed: a phone turned in the hand the whole time shows its scale so (the
+    accelerometer smoothed over 0.3 s, its direction at the window's ends, g₂ = Rᵀ g₁ as between rests;
+    the offset, unknown without a rest, is a MEMS part's few tenths of a degree per second at most)."""
+    k = max(1, int(round(SMOOTH_S * fs)))
+    m = max(2, int(round(WINDOW_S * fs)))
+    if len(ref) < m + 2 * k + 1:
+        return {}, 0, 0.0
+    kernel = np.ones(k) / k
+    smooth = np.column_stack([np.convolve(ref[:, i], kernel, mode="same") for i in range(3)])
+    starts = np.arange(k, len(ref) - m - k, m)
+    turn = _angle(smooth[starts], smooth[starts + m])
+    weighs = (turn >= WINDOW_TURN_MIN_DEG) & (turn <= 90.0)
+    starts, turn = starts[weighs], turn[weighs]
+    if len(starts) > MAX_WINDOWS:
+        pick = np.linspace(0, len(starts) - 1, MAX_WINDOWS).astype(int)
+        starts, turn = starts[pick], turn[pick]
+    if len(starts) == 0:
+        return {}, 0, 0.0
+    rows = starts[:, None] + np.arange(m)[None]
+    steps = gyr[rows] * dt[rows][..., None]
+    factors = np.array(list(scales.values()))
+    q = compose(factors[:, None, None, None] * steps[None])
+    predicted = rotate_back(q, np.broadcast_to(smooth[starts], (len(factors), len(starts), 3)))
+    errors = _angle(predicted, smooth[starts + m][None])
+    return {key: float(np.median(e)) for key, e in zip(scales, errors)}, len(starts), float(np.median(turn))
+
+
+def _decided(errors: dict, plausible: dict | None = None) -> tuple[str, float, str] | None:
+    """The scale whose integral lands within 10° of gravity's turns while every other misses by twice that and
+    10° more (and the offset rules it out no more), with its error and the others' words; else None."""
+    if not errors:
+        return None
+    ranked = sorted(errors, key=lambda k: errors[k])
+    best, e1 = ranked[0], errors[ranked[0]]
+    e2 = errors[ranked[1]] if len(ranked) > 1 else math.inf
+    if e1 <= TURN_TOLERANCE_DEG and e2 >= 2.0 * e1 + TURN_TOLERANCE_DEG and (plausible or {}).get(best, True):
+        return best, e1, ", ".join(f"{unit_words(k)} {errors[k]:.0f}°" for k in ranked[1:])
+    return None
+
+
+def _by_windows(gyr: np.ndarray, ref: np.ndarray | None, dt: np.ndarray | None, fs: float | None, scales: dict):
+    """The evidence of half-second windows of motion (:func:`window_turn_errors`), or None where they decide
+    nothing: too few windows, or a right scale that does not land within a third of the turn."""
+    if ref is None or len(ref) != len(gyr) or dt is None:
+        return None
+    fs = fs or 1.0 / float(np.median(dt))
+    errors, windows, turn = window_turn_errors(np.asarray(gyr, float), np.asarray(ref, float), dt, fs, scales)
+    found = _decided(errors) if windows >= MIN_WINDOWS else None
+    if found is None or found[1] > turn / 3.0:
+        return None
+    best, e1, others = found
+    return GyroEvidence(
+        best,
+        f"its integral over {windows} half-second windows of motion lands within {e1:.1f}° of the turn of "
+        f"gravity's direction ({turn:.0f}° in the median window) in {unit_words(best)} (off by {others})",
+        math.nan,
+        errors,
+        windows,
+        by_turns=True,
+    )
+
+
+def _steps_s(n: int, fs: float | None, time_s: np.ndarray | None) -> np.ndarray | None:
+    """Each sample's time step in seconds: from the times where there are, else from the rate, else None."""
+    if time_s is not None and len(time_s) > 2:
+        return np.diff(time_s, append=time_s[-1] + (time_s[-1] - time_s[-2]))
+    return np.full(n, 1.0 / fs) if fs else None
+
+
 def rest_figures(gyr: np.ndarray, run: tuple[int, int], fs: float | None) -> tuple[np.ndarray, float | None]:
     """The offset (median at rest) and, when the readings are fine enough, the white rate noise density
     in the readings' unit per √Hz: the Allan deviation at τ = 0.1 s times √τ (IEEE Std 952-1997, annex
@@ -194,7 +282,11 @@ def gyro_evidence(
     runs = still_runs(ref if ref is not None else gyr, fs or 100.0) if len(gyr) >= 20 else [(0, len(gyr))]
     least = max(10, int(round(MIN_REST_S * (fs or 100.0))))
     runs = [r for r in runs if r[1] - r[0] >= least]
+    dt = _steps_s(len(gyr), fs, time_s)
     if not runs:  # never still for a second: neither an offset nor a noise to read, nor turns between rests
+        windows = _by_windows(gyr, ref, dt, fs, scales)
+        if windows is not None:
+            return windows
         return GyroEvidence(
             None,
             f"it never rests for {MIN_REST_S:g} s, so neither its offset nor its noise shows its unit",
@@ -221,28 +313,24 @@ def gyro_evidence(
         plausible[key], said[key] = ok, words
     errors: dict[str, float] = {}
     moves = 0
-    if ref is not None and len(runs) >= 2 and (fs or time_s is not None):
-        if time_s is not None and len(time_s) > 2:
-            dt = np.diff(time_s, append=time_s[-1] + (time_s[-1] - time_s[-2]))
-        else:
-            assert fs, "the rate, where there are no times"
-            dt = np.full(len(gyr), 1.0 / fs)
+    if ref is not None and len(runs) >= 2 and dt is not None:
         errors, moves = turn_errors(np.asarray(gyr, float), np.asarray(ref, float), runs, dt, scales)
-    if errors:
-        ranked = sorted(errors, key=lambda k: errors[k])
-        best, e1 = ranked[0], errors[ranked[0]]
-        e2 = errors[ranked[1]] if len(ranked) > 1 else math.inf
-        if e1 <= TURN_TOLERANCE_DEG and e2 >= 2.0 * e1 + TURN_TOLERANCE_DEG and plausible[best]:
-            others = ", ".join(f"{unit_words(k)} {errors[k]:.0f}°" for k in ranked[1:])
-            return GyroEvidence(
-                best,
-                f"its integral over {moves} turn{'s' if moves > 1 else ''} between rests "
-                f"lands within {e1:.1f}° of gravity's direction in {unit_words(best)} "
-                f"(off by {others})",
-                off,
-                errors,
-                moves,
-            )
+    found = _decided(errors, plausible)
+    if found is not None:
+        best, e1, others = found
+        return GyroEvidence(
+            best,
+            f"its integral over {moves} turn{'s' if moves > 1 else ''} between rests "
+            f"lands within {e1:.1f}° of gravity's direction in {unit_words(best)} "
+            f"(off by {others})",
+            off,
+            errors,
+            moves,
+            by_turns=True,
+        )
+    windows = _by_windows(gyr, ref, dt, fs, scales)
+    if windows is not None and by_offset[windows.unit]:  # a hand's tremor at a "rest" is no sensor's noise
+        return dataclasses.replace(windows, offset=off)
     left = [k for k, ok in plausible.items() if ok]
     if len(left) == 1 and not whole:
         gone = next(k for k in scales if k not in left)
