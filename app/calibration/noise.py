@@ -260,8 +260,11 @@ def _unseen_warning(name: str, axes: list[str], readings: list[AxisNoise], tau, 
 
 
 def duration_words(seconds: float) -> str:
+    """A length of time as a person reads it: ``0.5 s``, ``40 s``, ``12 min``, ``3.5 h``."""
     if not math.isfinite(seconds):
         return "much longer"
+    if seconds < 10:
+        return f"{seconds:.2g} s"
     if seconds < 120:
         return f"{seconds:.0f} s"
     if seconds < 7200:

@@ -14,7 +14,12 @@ from app.workflows.recordings import RecordingSource, require_rate
 NOISE_SENSORS = ("acc", "gyr", "mag")
 NOISE_REST_S = 5.0
 """A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
-and only the longest is characterised."""
+and only the longest is characterised. It is also the least rest the noise is read from (:data:`NOISE_MIN_S`)."""
+NOISE_MIN_S = NOISE_REST_S
+"""One rest long enough for the noise: its white noise shows from a few seconds at tens of hertz (the real PX4
+sample's 7.5 s rest gives the density of its whole 61 s within 15 %; half a second gives an interval spanning a
+factor of six); the verdict says how long a filter's random walk needs (app.verdict). Shorter, the recording lists
+the noise as not ready and the method answers ok false."""
 NOISE_GAPS_MAX = 0.01
 """Gaps losing more than this fraction of the still part's time make its Allan deviation unreliable
 (``ok`` false): the estimator takes the samples as evenly spaced, and a lost stretch joins two
@@ -44,6 +49,14 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     span = _still_span(runs, fs, n, notes, reasons)
     _judge_gaps(log, span, fs, notes, reasons)
     a, b = span
+    if (b - a) / fs < NOISE_MIN_S and not reasons:
+        from app.calibration.noise import duration_words
+
+        reasons.append(
+            f"too short: the still part lasts {duration_words((b - a) / fs)}, and the noise needs one rest of "
+            f"{duration_words(NOISE_MIN_S)} or more — record the device resting, untouched, for "
+            f"{duration_words(NOISE_MIN_S)} or more"
+        )
     parts = {}
     for name in wanted:
         unit = units[name]

@@ -25,6 +25,7 @@ from app.calibration import (
 from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
 from app.calibration.errors import InsufficientDataError
 from app.calibration.orientations import WITHIN_LABEL_ANGLE
+from app.calibration.static import MIN_DURATION_S
 from app.calibration.trust import review
 from app.calibration.validation import as_vectors
 from app.io.log import ACC_PHYSICAL_UNITS
@@ -229,25 +230,33 @@ def require_segments(recording: dict, method: str) -> list[dict]:
     if not segments:
         unit = (recording.get("units") or {}).get("acc")
         norm = _median_norm_in_g(recording)
+        duration = recording.get("duration_s")
+        if duration is not None and duration < MIN_DURATION_S:  # shorter than one rest: nothing else to say
+            raise InsufficientDataError(
+                f"the recording is too short: it lasts {duration:.2g} s ({recording['n_samples']} samples), less "
+                f"than one rest ({MIN_DURATION_S:g} s): method {method} needs the device resting still in several "
+                "orientations — record it a few seconds in each, untouched"
+            )
         if norm is not None and abs(norm - 1.0) <= 0.15:  # its unit is right: it never rested
             raise InsufficientDataError(
                 f"the recording has no still segments: it never rested (its accelerometer reads about 1 g, a median "
-                f"norm of {norm:.2f} g over {recording['n_samples']} samples, but never holds still for 1.5 s): "
-                f"method {method} needs the device resting still in several orientations — record it a few "
-                "seconds in each, untouched"
+                f"norm of {norm:.2f} g over {recording['n_samples']} samples, but never holds still for "
+                f"{MIN_DURATION_S:g} s): method {method} needs the device resting still in several orientations — "
+                "record it a few seconds in each, untouched"
             )
         said = "" if norm is None else f", a median norm of {norm:.2f} g"
         if recording.get("flight"):  # a flight controller's log states its unit: no unit to give
             raise InsufficientDataError(
-                f"the log has no still segments: its IMU never rested for 1.5 s ({recording['n_samples']} samples"
-                f"{said}): method {method} needs the board resting still in several orientations — log it a few "
-                "seconds on each side, untouched, motors off"
+                f"the log has no still segments: its IMU never rested for {MIN_DURATION_S:g} s "
+                f"({recording['n_samples']} samples{said}): method {method} needs the board resting still in several "
+                "orientations — log it a few seconds on each side, untouched, motors off"
             )
         raise InsufficientDataError(
             f"the recording has no still segments ({recording['n_samples']} samples, its accelerometer read in "
-            f"{unit}{said}; a rest lasts at least 1.5 s with the accelerometer reading about 1 g): method {method} "
-            "needs the device resting still in several orientations — record it a few seconds in each; if it did "
-            "rest, its readings are not in the unit they were read in: give acc_unit (or chip for counts)"
+            f"{unit}{said}; a rest lasts at least {MIN_DURATION_S:g} s with the accelerometer reading about 1 g): "
+            f"method {method} needs the device resting still in several orientations — record it a few seconds in "
+            "each; if it did rest, its readings are not in the unit they were read in: give acc_unit (or chip for "
+            "counts)"
         )
     return segments
 

@@ -29,10 +29,6 @@ TURN_MIN_DEG = 90.0
 """A compass turn: the field's direction in the sensor's frame must swing through at least this much (the
 largest angle between two readings' directions) for an ellipsoid or a sphere to be fitted to it."""
 
-NOISE_MIN_S = 10.0
-"""One rest long enough for the noise: its white noise shows from a few seconds at tens of hertz; the verdict
-says how long a filter's random walk needs (app.verdict)."""
-
 AUTOCAL_MIN_S = 6 * 3600.0
 """A wear recording long enough for auto-calibration: Farago et al.'s rests of everyday wear fill the
 orientation bins over hours (its own gates say whether they did)."""
@@ -118,12 +114,12 @@ def _compass_turn(mag: np.ndarray) -> Support:
     finite = mag[np.all(np.isfinite(mag), axis=1)]
     if len(finite) < 10 or not np.any(finite):
         return Support("magnetometer", "the magnetometer reads nothing (zero or no readings)", False)
-    swing = _turn_deg(finite)
+    swing, not_a_turn = _turn_deg(finite)
     if swing >= TURN_MIN_DEG:
         return Support("magnetometer", f"the magnetometer turned through {swing:.0f}° of directions: the compass", True)
-    if swing == 0.0:
+    if not_a_turn is not None:
         return Support(
-            "magnetometer", "the magnetometer did not turn (the compass needs a turn through every direction)", False
+            "magnetometer", f"the magnetometer {not_a_turn} (the compass needs a turn through every direction)", False
         )
     return Support(
         "magnetometer",
@@ -146,25 +142,29 @@ TURN_ONE_SIDE = 0.5
 """…and no sixth of the directions (the side of a cube they point through) holds more than this fraction."""
 
 
-def _turn_deg(mag: np.ndarray) -> float:
+def _turn_deg(mag: np.ndarray) -> tuple[float, str | None]:
     """How far the field's direction turned in the sensor's frame: the largest angle between two readings seen
     from their centre (the middle of their range on each axis, the hard iron's first estimate, as MotionCal and
-    Adafruit's tools begin), 0 for readings that are no turn: moving no more than their noise, off a shell about
-    that centre, or mostly to one side of it."""
+    Adafruit's tools begin); or 0 with what the readings did instead of a turn: move no more than their noise, lie
+    off a shell about that centre, or point mostly to one side of it."""
     spread = mag.max(axis=0) - mag.min(axis=0)
     if float(spread.max()) <= TURN_SPREAD_NOISE * _noise_floor(mag):
-        return 0.0
+        return 0.0, "did not turn (its readings move no more than their noise)"
     centred = mag - (mag.max(axis=0) + mag.min(axis=0)) / 2.0
     norms = np.linalg.norm(centred, axis=1)
     low, mid, high = np.percentile(norms, [10, 50, 90])
     if mid <= 0 or (high - low) > TURN_SHELL * mid:
-        return 0.0
+        return 0.0, "turned only part of the way: its readings do not go round their middle as a turn does"
     units = centred[norms > 0] / norms[norms > 0, None]
     axis = np.abs(units).argmax(axis=1)
     side = axis * 2 + (units[np.arange(len(units)), axis] > 0)
-    if np.bincount(side, minlength=6).max() > TURN_ONE_SIDE * len(units):
-        return 0.0
-    return _largest_angle_deg(units)
+    crowded = np.bincount(side, minlength=6).max() / len(units)
+    if crowded > TURN_ONE_SIDE:
+        return (
+            0.0,
+            f"turned only part of the way: {100 * crowded:.0f} % of its readings point to one side of their middle",
+        )
+    return _largest_angle_deg(units), None
 
 
 def _noise_floor(mag: np.ndarray, window: int = 10) -> float:
@@ -211,7 +211,9 @@ def _flight_compass(log: LogData, fix: dict | None) -> list[Support]:
 
 
 def _noise(log: LogData) -> Support:
+    from app.calibration.noise import duration_words
     from app.calibration.noise_still import MIN_STILL_FRACTION, common_still_runs
+    from app.workflows.noise import NOISE_MIN_S
 
     rate = log.sampling_rate_hz
     if rate is None:
@@ -226,11 +228,15 @@ def _noise(log: LogData) -> Support:
     longest = max((b - a for a, b in runs), default=0)
     still_s, total_s = longest / rate, log.n_samples / rate
     if still_s >= NOISE_MIN_S and longest >= MIN_STILL_FRACTION * log.n_samples:
-        return Support("noise", f"one rest of {still_s:.0f} s of {total_s:.0f} s: the sensors' noise", True)
+        return Support(
+            "noise", f"one rest of {duration_words(still_s)} of {duration_words(total_s)}: the sensors' noise", True
+        )
+    needs = f"the noise needs one rest of {duration_words(NOISE_MIN_S)} or more"
+    if total_s < NOISE_MIN_S:
+        return Support("noise", f"the recording lasts {duration_words(total_s)} ({needs})", False)
     return Support(
         "noise",
-        f"its longest rest is {still_s:.1f} s of {total_s:.0f} s (the noise needs one rest of "
-        f"{NOISE_MIN_S:.0f} s or more, most of the recording)",
+        f"its longest rest is {duration_words(still_s)} of {duration_words(total_s)} ({needs}, most of the recording)",
         False,
     )
 

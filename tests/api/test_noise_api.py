@@ -8,6 +8,7 @@ import numpy as np
 import yaml
 
 from simulations.noise import simulate_still
+from tests.conftest import DATA
 
 FS = 100.0
 
@@ -79,3 +80,26 @@ def test_a_sensor_the_recording_lacks_is_refused(client):
         "/api/v1/calibrations", json={"method": "noise", "recording_id": r.json()["id"], "sensors": ["mag"]}
     )
     assert r.status_code == 422 and "no mag samples" in r.json()["detail"]
+
+
+def test_half_a_second_of_a_real_still_board_is_too_short_everywhere_it_is_read(client):
+    """The first 0.5 s of a real MPU-6050 resting (tests/data/real/mpu6050_session2_still_30s.csv): the upload lists
+    the noise as not ready for the recording's length, the noise method answers ok false for the same cause with
+    the same length to record (never a remedy asking for less than the list does), and still poses say that it is
+    too short, not that it never rested."""
+    lines = (DATA / "real" / "mpu6050_session2_still_30s.csv").read_text().splitlines()
+    content = "\n".join([ln for ln in lines if not ln.startswith("#")][:51]).encode()  # the header and 50 rows
+    r = client.post(
+        "/api/v1/recordings",
+        files={"file": ("still.csv", content, "text/csv")},
+        data={"columns": "acc_x,acc_y,acc_z", "acc_unit": "raw", "lsb_per_g": "16384", "sampling_rate_hz": "100"},
+    )
+    assert r.status_code == 201, r.text
+    rec = r.json()
+    noise = next(s for s in rec["supports"] if s["method"] == "noise")
+    assert not noise["ready"] and noise["why"] == "the recording lasts 0.5 s (the noise needs one rest of 5 s or more)"
+    body = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"]}).json()
+    assert body["ok"] is False and body["reasons"][0].startswith("too short: the still part lasts 0.5 s")
+    assert "5 s or more" in body["reasons"][0] and body["verdict"]["apply"] is False
+    r = client.post("/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]})
+    assert r.status_code == 422 and r.json()["detail"].startswith("the recording is too short: it lasts 0.5 s")
