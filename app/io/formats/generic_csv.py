@@ -383,7 +383,7 @@ def _sensor_of_bare_axis(name: str, unit: str | None) -> str | None:
     """The sensor of a column named by its axis and unit alone, ``X (rad/s)``, ``x (µT)``: the unit's (a rate is
     a gyroscope's, a field a magnetometer's), as a per-sensor export (phyphox, Physics Toolbox) writes them; None
     for an acceleration's unit, or no unit (an ``x`` column is an accelerometer's)."""
-    if not _BARE_AXIS.match(name):
+    if not _BARE_AXIS.match(name) or _header_unit(unit, "acc") in UNITS_IN["acc"]:  # x (g) is an acceleration
         return None
     if _header_unit(unit, "gyr") in ("rad/s", "deg/s"):
         return "gyr"
