@@ -17,6 +17,8 @@ format                    recognised by
 ``gnss_logger``           lines ``UncalAccel,…`` (or the ``# UncalAccel,…`` header)
 ``physics_toolbox``       header naming ``gFx, gFy, gFz``
 ``sensorlog``             header naming ``accelerometerAccelerationX(G)`` … (SensorLog, iOS)
+``tagged``                lines naming their sensor first: ``acc 2060 0.03 -0.01 0.97``, ``gyro 2060 …``
+                          (:mod:`.tagged_lines`)
 ``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
 ``csv``                   any other header row, or none (:mod:`app.io.formats.generic_csv`)
 (parts)                   any other zip: its log files, one per pose, read each as above and
@@ -50,6 +52,7 @@ from . import (
     physics_toolbox,
     sensor_logger,
     sensorlog,
+    tagged_lines,
     ulog,
 )
 from .chips import parse_chips
@@ -70,6 +73,7 @@ READERS = {
     sensorlog.NAME: sensorlog.read,
     betaflight_mag.NAME: betaflight_mag.read,
     json_samples.NAME: json_samples.read,
+    tagged_lines.NAME: tagged_lines.read,
     generic_csv.ARDUINO: generic_csv.read_arduino,
     generic_csv.CSV: generic_csv.read_csv,
 }
@@ -85,12 +89,15 @@ DETECTORS = (
     (sensorlog.NAME, sensorlog.detect),
     (betaflight_mag.NAME, betaflight_mag.detect),
     (json_samples.NAME, json_samples.detect),
+    (tagged_lines.NAME, tagged_lines.detect),
     (generic_csv.ARDUINO, generic_csv.detect_arduino),
     (generic_csv.CSV, generic_csv.detect_csv),
 )
 """Detection order: the first format whose detector accepts the sniffed file is read."""
 
 FORMATS = ("auto", *READERS)
+MAKER_FORMATS = (generic_csv.CSV, generic_csv.ARDUINO, tagged_lines.NAME)
+"""Formats a maker's program writes, which state no unit (or a header's): the data decide each sensor's."""
 """Values of the upload's ``format`` field."""
 FLIGHT_FORMATS = (ulog.NAME, dataflash.NAME)
 """Flight controllers' logs: several IMU and compass instances, chosen by ``instance`` and ``mag_instance``."""
@@ -103,6 +110,7 @@ SOURCE_OF_FORMAT = {
     ulog.NAME: "px4",
     dataflash.NAME: "ardupilot",
     generic_csv.ARDUINO: "board",
+    tagged_lines.NAME: "board",
     phyphox.NAME: "phone",
     sensor_logger.NAME: "phone",
     gnss_logger.NAME: "phone",
@@ -380,9 +388,13 @@ def _read_text_log(path: Path, s: Sniff, fmt: str, column_map, o: ReadOptions, n
         path, s, sampling_rate_hz=o.sampling_rate_hz, units=dict(o.units or {}), name=name, lsb_per_g=lsb, **extra
     )
     log = with_timing(log, o.sampling_rate_hz, name)  # the one decision of the rate (.timing)
-    maker = fmt in (generic_csv.CSV, generic_csv.ARDUINO)
+    maker = fmt in MAKER_FORMATS
     if maker:  # a header row names the units, or nothing does
-        stated = {} if isinstance(column_map, list) else generic_csv.header_units(s.text, column_map)
+        stated = (
+            {}
+            if isinstance(column_map, list) or fmt == tagged_lines.NAME
+            else generic_csv.header_units(s.text, column_map)
+        )
     else:  # a phone app's format states its units
         stated = {k: v for k, v in log.units.items() if k not in (o.units or {})}
     log = settle_units(
