@@ -313,6 +313,7 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
         notes=tuple(notes + _file_notes(logs)),
         sign=clock_log.sign,
         warnings=_warnings(logs),
+        questions=_questions(logs),
         temperature_c=None if temperature is None else np.asarray(temperature)[keep],
     )
     return _gyro_against_gravity(with_timing(merged, None, name), by_sensor)
@@ -384,6 +385,7 @@ def _one_to_one(logs: list, by_sensor: dict, notes: list, name: str) -> LogData:
         units={s: log.units[s] for s, (_, log, _) in by_sensor.items()},
         notes=tuple(notes + _file_notes(logs)),
         warnings=_warnings(logs),
+        questions=_questions(logs),
         parts=(),
         format=_format(logs),
     )
@@ -414,6 +416,11 @@ def _format(logs) -> str:
 def _file_notes(logs) -> list:
     """What the reading of each file noticed (its time column's unit, its unit inferred), named by the file."""
     return [f"{fname}: {note}" for fname, _, log, _ in logs for note in log.notes]
+
+
+def _questions(logs) -> tuple:
+    """What the reading of each file left open (the gyroscope's unit), named by the file."""
+    return tuple({**q, "detail": f"{fname}: {q['detail']}"} for fname, _, log, _ in logs for q in log.questions)
 
 
 def _warnings(logs) -> tuple:

@@ -123,3 +123,20 @@ def test_a_file_of_words_is_told_it_holds_no_readings(client, name, text):
     detail = r.json()["detail"]
     assert detail.startswith(f"{name} holds no readings: not one number after its first line"), detail
     assert "columns" not in detail.split(":", 1)[1].replace("in columns", ""), detail
+
+
+def test_without_a_time_or_a_rate_the_gyroscope_question_asks_for_the_rate_first(client):
+    """A real Android phone's still accelerometer.txt and gyro.txt, headerless, without a time column
+    (tests/data/real/corpus/android_still_headerless_per_sensor_no_time): the gyroscope's offset alone cannot
+    tell rad/s from deg/s, and what is missing is the rate (its noise at rest is read over time), so the question
+    asks for sampling_rate_hz first; given a rate, the phone's noise decides rad/s and nothing is asked."""
+    folder = CORPUS / "android_still_headerless_per_sensor_no_time"
+    files = [("file", (n, (folder / n).read_bytes(), "text/plain")) for n in ("accelerometer.txt", "gyro.txt")]
+    rec = client.post("/api/v1/recordings", files=files).json()
+    (question,) = [q for q in rec["questions"] if q["sensor"] == "gyr"]
+    assert "without the sampling rate" in question["detail"]
+    assert question["detail"].endswith(
+        "give sampling_rate_hz, from which its data may show the unit, or gyr_unit (rad/s or deg/s)"
+    )
+    rec = client.post("/api/v1/recordings", files=files, data={"sampling_rate_hz": "50"}).json()
+    assert rec["units"] == {"acc": "m/s^2", "gyr": "rad/s"} and not rec["questions"], rec["warnings"]

@@ -54,6 +54,8 @@ MIN_WINDOWS = 5
 """Windows needed for the windows' median to decide a unit."""
 MAX_WINDOWS = 400
 """At most this many windows are integrated (evenly chosen over a long recording)."""
+NO_RATE_WORDS = "; without the sampling rate neither its noise at rest nor its turns can be read"
+"""What the evidence lacks in a recording without times or a rate: the rate, first (app.io.formats.units asks it)."""
 MIN_REST_S = 1.0
 """The shortest rest whose offset and noise are read (a second: fifty half-second blocks' worth of a
 detector that cuts every knock)."""
@@ -353,7 +355,9 @@ def gyro_evidence(
         + " fit "
         + " and ".join(unit_words(k) for k in left or scales)
         + (
-            ", and no turn between rests shows its scale"
+            NO_RATE_WORDS
+            if dt is None
+            else ", and no turn between rests shows its scale"
             if not errors
             else ", and its turns between rests do not single out one scale"
         ),
