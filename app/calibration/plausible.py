@@ -209,7 +209,8 @@ def _cause(fig: PhysicalFigure, limits) -> str:
     option, word = OPTION.get(fig.sensor, "the unit"), SENSOR_WORDS.get(fig.sensor, fig.sensor)
     if fig.stated:  # the log's own unit: the readings, not their unit, are not those of a sensor at rest
         return (
-            f"the log states the {word}'s unit, so the readings are not those of a {word} at rest: a vehicle's "
+            f"the log states the {word}'s unit, so the readings are not those of {'an' if word[0] in 'aeiou' else 'a'} "
+            f"{word} at rest: a vehicle's "
             "vibration, a touch or a turn reads as noise — record it resting on a table, motors off, untouched"
         )
     if fig.unit == "raw" and fig.kind == "noise_density":

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import dataclasses
+import itertools
 
 import numpy as np
 
 from app.calibration import CalibrationError
+from app.calibration.errors import InsufficientDataError
 from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, require_rate
@@ -37,8 +39,13 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     """
     from app.calibration.noise import NoiseResult, characterise_noise
     from app.calibration.noise_still import common_still_runs
+    from app.calibration.spikes import remove_spikes
 
     arrays, units, wanted = _chosen_sensors(log, sensors, array_sensor)
+    # Spikes out first: a torn read breaks the half-second block it falls in, and the still part with it.
+    spikes = {}
+    for name in list(arrays):
+        arrays[name], spikes[name] = remove_spikes(arrays[name])
     fs, n = require_rate(log.sampling_rate_hz, "noise"), len(next(iter(arrays.values())))
     notes: list[str] = list(log.warnings) + list(log.notes)
     # Still means still on every sensor the recording holds, asked for or not (a gyroscope ringing after
@@ -46,21 +53,29 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
     still_on = [s for s in NOISE_SENSORS if s in arrays]
     runs = common_still_runs([arrays[s] for s in still_on], fs)
     reasons: list[str] = []
-    span = _still_span(runs, fs, n, notes, reasons)
+    span = _gap_free(log, _still_span(runs, fs, n, notes, reasons), fs, notes)
     _judge_gaps(log, span, fs, notes, reasons)
     a, b = span
-    if (b - a) / fs < NOISE_MIN_S and not reasons:
+    if (b - a) / fs < NOISE_MIN_S:
+        from app.calibration.allan import MIN_SAMPLES
         from app.calibration.noise import duration_words
 
-        reasons.append(
-            f"too short: the still part lasts {duration_words((b - a) / fs)}, and the noise needs one rest of "
-            f"{duration_words(NOISE_MIN_S)} or more — record the device resting, untouched, for "
+        said = (
+            f"too short: the still part lasts {duration_words((b - a) / fs)} ({b - a} samples), and the noise needs "
+            f"one rest of {duration_words(NOISE_MIN_S)} or more — record the device resting, untouched, for "
             f"{duration_words(NOISE_MIN_S)} or more"
         )
+        if b - a < MIN_SAMPLES:  # no Allan deviation at all: nothing to answer but what to record
+            raise InsufficientDataError(said[0].upper() + said[1:])
+        if not reasons:
+            reasons.append(said)
     parts = {}
     for name in wanted:
         unit = units[name]
         samples = arrays[name][a:b]
+        counts = spikes[name][a:b].sum(axis=0).tolist()
+        if any(counts):
+            notes.append(_spikes_said(name, counts))
         scale = TO_SI[name].get(unit, 1.0)
         if scale != 1.0:
             samples = np.asarray(samples, dtype=float) * scale
@@ -79,6 +94,19 @@ def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = N
         unit=parts[wanted[0]]["model"]["unit"],
     )
     return Calibration.of(result, {}, unit=result.unit, notes=notes, **fields)
+
+
+def _spikes_said(sensor: str, counts: list[int]) -> str:
+    """The warning that names the spikes removed from a sensor's still part, axis by axis."""
+    from app.calibration.headlines import SENSOR_WORDS
+
+    axes = ", ".join(f"{n} on {axis}" for n, axis in zip(counts, "xyz") if n)
+    return (
+        f"the {SENSOR_WORDS[sensor]}'s still part holds {sum(counts)} spike{'s' if sum(counts) > 1 else ''} ({axes}): "
+        "one or two samples far off both neighbours, as a register read in two halves (a torn read), a bus error or "
+        "a knock shorter than a sample gives, removed (each replaced by its neighbours) before the Allan deviation; "
+        "on a board, reading the sensor's registers in one burst avoids torn reads"
+    )
 
 
 def _chosen_sensors(log: LogData, sensors, array_sensor: str | None) -> tuple[dict, dict, list]:
@@ -140,9 +168,44 @@ def _still_span(runs: list, fs: float, n: int, notes: list, reasons: list) -> tu
     return span
 
 
+def _gap_free(log: LogData, span: tuple[int, int], fs: float, notes: list) -> tuple[int, int]:
+    """The longest stretch of the still part that holds no gap of the time column, when it is long enough for the
+    noise (:data:`NOISE_MIN_S`; a note names the gaps it avoids); else the still part, whose gaps are judged."""
+    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    if not inside:
+        return span
+    edges = [span[0], *(g.index for g in inside), span[1]]
+    a, b = max(itertools.pairwise(edges), key=lambda e: e[1] - e[0])
+    if (b - a) / fs < NOISE_MIN_S:
+        return span
+    longest = max(inside, key=lambda g: g.missing_s)
+    notes.append(
+        f"the timing: {len(inside)} gap{'s' if len(inside) > 1 else ''} in the time column inside the still part "
+        f"(the longest {longest.missing_s:.3g} s at {longest.t_s:.1f} s): the longest stretch without one, "
+        f"{a / fs:.1f}–{b / fs:.1f} s ({(b - a) / fs:.1f} s), was characterised — the Allan deviation takes its "
+        "samples as evenly spaced"
+    )
+    return a, b
+
+
+GAP_REMEDIES = {
+    "ardupilot": "log again with fewer messages or a faster SD card (the log dropped messages: its DSF messages "
+    "count them)",
+    "px4": "log again with a faster SD card or a lighter logging profile (the logger dropped samples)",
+    "phone": "record again with the app in the foreground and the screen on (the phone paused the sensors)",
+}
+"""How to record again without losing samples, by where the recording comes from (app.io.formats.SOURCES); a
+board printing to a serial port (or an unknown source) loses them on the way to the host."""
+SERIAL_REMEDY = (
+    "record again without losing samples (a faster serial baud rate, fewer columns printed, a larger host buffer)"
+)
+
+
 def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, reasons: list) -> None:
     """A note on the time column's gaps inside the still part, or a reason when they lose too much of it for
-    the Allan deviation (:data:`NOISE_GAPS_MAX`)."""
+    the Allan deviation (:data:`NOISE_GAPS_MAX`), with the remedy of the recording's source."""
+    from app.io.formats import SOURCE_OF_FORMAT
+
     inside = [g for g in log.gaps if span[0] < g.index < span[1]]
     if inside:
         lost = sum(g.missing_s for g in inside)
@@ -152,10 +215,11 @@ def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, rea
             f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)"
         )
         if lost > NOISE_GAPS_MAX * still_s:
+            source = next(filter(None, map(SOURCE_OF_FORMAT.get, log.format.split("+"))), None)
             reasons.append(
-                said + ": the Allan deviation assumes samples evenly spaced in time, so this curve is not "
-                "the sensor's — record again without losing samples (a faster serial baud rate, "
-                "fewer columns printed, a larger host buffer)"
+                said + ", and no stretch without a gap lasts "
+                f"{NOISE_MIN_S:g} s: the Allan deviation assumes samples evenly spaced in time, so this curve is "
+                f"not the sensor's — {GAP_REMEDIES.get(source or '', SERIAL_REMEDY)}"
             )
         else:
             notes.append(said + ": few enough for the Allan deviation")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 
 import numpy as np
+import pytest
 import yaml
 
 from simulations.noise import simulate_still
@@ -99,7 +100,60 @@ def test_half_a_second_of_a_real_still_board_is_too_short_everywhere_it_is_read(
     noise = next(s for s in rec["supports"] if s["method"] == "noise")
     assert not noise["ready"] and noise["why"] == "the recording lasts 0.5 s (the noise needs one rest of 5 s or more)"
     body = client.post("/api/v1/calibrations", json={"method": "noise", "recording_id": rec["id"]}).json()
-    assert body["ok"] is False and body["reasons"][0].startswith("too short: the still part lasts 0.5 s")
+    assert body["ok"] is False and body["reasons"][0].startswith("too short: the still part lasts 0.5 s (50 samples)")
     assert "5 s or more" in body["reasons"][0] and body["verdict"]["apply"] is False
     r = client.post("/api/v1/calibrations", json={"method": "auto", "recording_id": rec["id"]})
     assert r.status_code == 422 and r.json()["detail"].startswith("the recording is too short: it lasts 0.5 s")
+
+
+def _without_lines(path, start_s: float, stop_s: float) -> bytes:
+    """A real tagged log with the lines of [start_s, stop_s) from its first line removed: a logger that lost them."""
+    lines = path.read_text().splitlines()
+    t0 = float(lines[0].split()[1])
+    return "\n".join(ln for ln in lines if not start_s <= (float(ln.split()[1]) - t0) / 1e3 < stop_s).encode()
+
+
+def test_the_noise_is_read_on_the_longest_still_stretch_without_a_gap(client):
+    """A real board's still gyroscope (tests/data/real/corpus/tagged_lines_gyro_still, 11.7 s, times in ms) with
+    1.5 s of its lines removed after 7 s: the still part holds the gap, and the 7 s before it are taken, the gap
+    named in a note, ok true; with a second gap no stretch lasts 5 s, and the gap is the reason, with a board's
+    remedy (the serial port's), never a flight controller's."""
+    gyro = DATA / "real" / "corpus" / "tagged_lines_gyro_still" / "gyro.txt"
+    body = _noise(client, _without_lines(gyro, 7.0, 8.5))
+    assert body["ok"], body["reasons"]
+    (note,) = [w for w in body["warnings"] if "the longest stretch without one" in w]
+    assert "(the longest 1.5 s at 7.0 s)" in note and "0.0–7.0 s" in note
+    assert body["still"]["n_samples"] == pytest.approx(7.0 * body["sampling_rate_hz"], abs=2)
+    lines = _without_lines(gyro, 7.0, 8.5).decode().splitlines()
+    t0 = float(lines[0].split()[1])
+    twice = "\n".join(ln for ln in lines if not 3.5 <= (float(ln.split()[1]) - t0) / 1e3 < 4.0).encode()
+    body = _noise(client, twice)
+    assert not body["ok"] and "no stretch without a gap lasts 5 s" in body["reasons"][0]
+    assert "a faster serial baud rate" in body["reasons"][0]
+
+
+def test_torn_reads_are_removed_and_named(client):
+    """A seeded still MPU-6050 gyroscope in counts whose y axis holds 45 torn reads (±256 counts for one sample):
+    the noise answer names the 45 spikes and reads the density of the clean recording."""
+    rng = np.random.default_rng(46)
+    n = 6_000
+    gyr = np.round(simulate_still(rng, n_samples=n, sampling_rate_hz=FS, N=0.12, B=0.5, K=0.02, bias=[-427, 147, -81]))
+    clean = _noise(client, _counts_csv(gyr))
+    gyr[rng.choice(np.arange(50, n - 50, 100), size=45, replace=False), 1] += 256.0  # apart: 45 spikes, 45 samples
+    body = _noise(client, _counts_csv(gyr))
+    (said,) = [w for w in body["warnings"] if "spike" in w]
+    assert "holds 45 spikes (45 on y)" in said and "torn read" in said
+    np.testing.assert_allclose(body["model"]["gyr"]["noise_density"], clean["model"]["gyr"]["noise_density"], rtol=0.03)
+
+
+def _counts_csv(gyr: np.ndarray) -> bytes:
+    buf = io.StringIO()
+    np.savetxt(
+        buf,
+        np.column_stack([np.arange(len(gyr)) / FS, gyr]),
+        delimiter=",",
+        comments="",
+        fmt="%.6g",
+        header="time_s,gyr_x,gyr_y,gyr_z",
+    )
+    return buf.getvalue().encode()
