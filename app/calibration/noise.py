@@ -98,9 +98,15 @@ def term_units(unit: str) -> dict:
     }
 
 
-def _basis(tau: np.ndarray) -> np.ndarray:
-    """Columns of the three-term model in (N², B², K²): 1/τ, 2 ln 2/π, τ/3 (IEEE Std 952, Table C.1)."""
-    return np.column_stack([1.0 / tau, np.full_like(tau, FLICKER_VARIANCE), tau / 3.0])
+def _basis(tau: np.ndarray, f0: float | None = None) -> np.ndarray:
+    """Columns of the three-term model in (N², B², K²): 1/τ, 2 ln 2/π, τ/3 (IEEE Std 952, Table C.1); with a
+    frequency ``f0``, a fourth for a periodic disturbance there, (sin² πf₀τ / πf₀τ)² (the Allan variance of a
+    sinusoid of amplitude Ω is Ω² times it: IEEE Std 952-1997, C.1.1)."""
+    columns = [1.0 / tau, np.full_like(tau, FLICKER_VARIANCE), tau / 3.0]
+    if f0 is None:
+        return np.column_stack(columns)
+    x = np.pi * f0 * tau
+    return np.column_stack([*columns, (np.sin(x) ** 2 / x) ** 2])
 
 
 def _nnls(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -122,24 +128,33 @@ def _nnls(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return best
 
 
-def _fit_terms(tau, avar, n_phase, ms) -> np.ndarray:
-    """(N², B², K²) by non-negative least squares on the relative residuals, each point weighted by its
-    equivalent degrees of freedom (var σ̂² ≈ 2 σ⁴ / edf), the dominant term choosing the edf."""
-    a = _basis(tau)
+def _fit_terms(tau, avar, n_phase, ms, f0: float | None = None) -> tuple[np.ndarray, float]:
+    """(N², B², K²) — and the amplitude² of a periodic disturbance at ``f0`` — by non-negative least squares on
+    the relative residuals, each point weighted by its equivalent degrees of freedom (var σ̂² ≈ 2 σ⁴ / edf), the
+    dominant term choosing the edf; and the weighted residual's sum of squares."""
+    a = _basis(tau, f0)
     scale = avar * np.sqrt(2.0 / edf_simple(n_phase, ms, WHITE))
-    theta = np.zeros(3)
+    theta = np.zeros(a.shape[1])
     for _ in range(3):
         theta = _nnls(a / scale[:, None], avar / scale)
         model = a @ theta
         if not np.all(model > 0):
             break
         scale = model * np.sqrt(2.0 / edf_simple(n_phase, ms, _dominant(a, theta)))
-    return theta
+    return theta, float(np.sum(((a @ theta - avar) / scale) ** 2))
+
+
+def _periodic_fit(tau, avar, n_phase, ms, peak_tau: float) -> tuple[np.ndarray, float]:
+    """The terms with a periodic disturbance whose hump peaks at ``peak_tau``: its frequency the one, within
+    a factor of two of 0.371 / τ (:data:`HUMP_TAU_F0`), whose sinusoid's curve leaves the least residual."""
+    fits = [(*_fit_terms(tau, avar, n_phase, ms, f0), f0) for f0 in HUMP_TAU_F0 / peak_tau * np.geomspace(0.5, 2.0, 41)]
+    theta, _, f0 = min(fits, key=lambda f: f[1])
+    return theta, float(f0)
 
 
 def _dominant(a: np.ndarray, theta: np.ndarray) -> np.ndarray:
-    """The power-law exponent α of the largest term at each τ."""
-    return np.asarray(_ALPHAS)[np.argmax(a * theta, axis=1)]
+    """The power-law exponent α of the largest term at each τ (a periodic disturbance's counted as white)."""
+    return np.asarray((*_ALPHAS, WHITE)[: a.shape[1]])[np.argmax(a * theta, axis=1)]
 
 
 @dataclass(frozen=True)
@@ -153,14 +168,53 @@ class AxisNoise:
     edf: np.ndarray
     lo: np.ndarray
     hi: np.ndarray
+    hump: tuple[float, float, float, float] | None = None
+    """A periodic disturbance's hump: the τ of its peak, how far above the white-noise line (in σ), the τ where
+    the line is lowest past it, and the disturbance's fitted frequency."""
+
+
+HUMP_FACTOR = 1.3
+"""σ²(τ)·τ, flat on the white-noise line and rising with the bias instability and the random walk, never falls
+with τ for the three terms; where it falls by more than this factor beyond both points' 95 % intervals, a
+periodic disturbance's hump lies above the white-noise line (the Allan variance of a sinusoid of frequency f₀,
+Ω²(sin² πf₀τ / πf₀τ)², peaks at τ ≈ 0.371/f₀ and falls as τ⁻² after it: IEEE Std 952-1997, C.1.1)."""
+HUMP_CONFIDENCE = 0.999
+"""The hump stands above the line beyond both points' intervals at this confidence: a white-noise curve's
+highest short-τ point and lowest longer-τ point are the extremes of some twenty, so 95 % would name a hump in
+one clean recording of a hundred."""
+HUMP_TAU_F0 = 0.371
+"""τ·f₀ at the peak of a sinusoid's Allan deviation (IEEE Std 952-1997, C.1.1)."""
+
+
+def _past_hump(tau, avar, ms, n_phase, fit) -> tuple[float, float, float] | None:
+    """Where a periodic disturbance's hump stands above the white-noise line (:data:`HUMP_FACTOR`): the τ of its
+    peak, how far above the line it stands (in σ), and the τ past it from which the terms are fitted; else None."""
+    idx = np.flatnonzero(fit)
+    if len(idx) < 4:
+        return None
+    w = avar[idx] * tau[idx]
+    lo, hi = chi2_interval(edf_simple(n_phase, ms[idx], WHITE), HUMP_CONFIDENCE)
+    q = int(np.argmin(w * hi))  # the white-noise line's surest low point: the terms rise from it to longer τ
+    if q == 0:
+        return None
+    p = int(np.argmax(w[:q] * lo[:q]))
+    if w[p] * lo[p] <= HUMP_FACTOR * w[q] * hi[q] or len(idx) - q < 3:
+        return None
+    return float(tau[idx[p]]), math.sqrt(w[p] / w[q]), float(tau[idx[q]])
 
 
 def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
     fit = ms >= FIT_MIN_M
     if fit.sum() < 3:
         fit = np.ones_like(ms, dtype=bool)
-    theta = _fit_terms(tau[fit], avar[fit], n_phase, ms[fit])
-    a = _basis(tau)
+    hump = _past_hump(tau, avar, ms, n_phase, fit)
+    f0 = None
+    if hump is None:
+        theta = _fit_terms(tau[fit], avar[fit], n_phase, ms[fit])[0]
+    else:  # the disturbance fitted as a term of its own, so that each term is read where it stands alone
+        theta, f0 = _periodic_fit(tau[fit], avar[fit], n_phase, ms[fit], hump[0])
+        hump = (*hump, f0)
+    a = _basis(tau, f0)
     parts = a * theta
     edf = edf_simple(n_phase, ms, _dominant(a, theta))
     total = parts.sum(axis=1)
@@ -198,7 +252,7 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
         values[name] = math.sqrt(max(read[0], 0.0))
         intervals[name] = [math.sqrt(max(read[1], 0.0)), math.sqrt(max(read[2], 0.0))]
         taus[name] = float(tau[i])
-    return AxisNoise(values, intervals, taus, theta, edf, lo_f, hi_f)
+    return AxisNoise(values, intervals, taus, theta[:3], edf, lo_f, hi_f, hump)
 
 
 def _random_walk_bound(readings: list[AxisNoise], tau, avar_hi) -> tuple[float, float]:
@@ -338,8 +392,21 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
             warnings.append(_unseen_warning(name, axes, readings, tau, hi**2, sensor, unit))
             if (seconds := record_for_s(name, readings, tau, hi**2)) is not None:
                 record_for[name] = seconds
+    humps = [(axis, r.hump) for axis, r in zip("xyz", readings) if r.hump is not None]
+    if humps:
+        f0 = [h[3] for _, h in humps]
+        near = f"{min(f0):.2g} Hz" if max(f0) < 1.2 * min(f0) else f"{min(f0):.2g}–{max(f0):.2g} Hz"
+        warnings.append(
+            f"{sensor} {'/'.join(a for a, _ in humps)}: a hump in the Allan deviation at τ ≈ "
+            f"{max(h[0] for _, h in humps):.2g} s stands {max(h[1] for _, h in humps):.2g}× above the white-noise "
+            f"line — a periodic disturbance near {near} (a fan, a motor, a pump or a vibrating table; mains hum "
+            "aliased by the sampling), not the sensor's noise: fitted as a term of its own, so that the noise "
+            "density is read on the white-noise line; record away from what vibrates for the sensor's own curve"
+        )
     imin = np.argmin(adev, axis=0)
     metrics = {
+        "hump_tau_s": [None if r.hump is None else r.hump[0] for r in readings],
+        "hump_hz": [None if r.hump is None else r.hump[3] for r in readings],
         **{f"tau_{name}_s": [r.taus[name] for r in readings] for name in TERMS},
         "adev_min": [float(adev[imin[k], k]) for k in range(3)],
         "tau_adev_min_s": [float(tau[imin[k]]) for k in range(3)],

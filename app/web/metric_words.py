@@ -145,5 +145,7 @@ METRICS: dict[str, tuple[str, str, str]] = {
     "tau_random_walk_s": ("τ of the random walk", "s", "where K was read"),
     "tau_bias_instability_s": ("τ of the bias instability", "s", "where B was read"),
     "bias_standard_error": ("Bias standard error", "sensor unit", "the Allan deviation at the recording's length"),
+    "hump_tau_s": ("τ of a disturbance's hump", "s", "a periodic disturbance above the white-noise line"),
+    "hump_hz": ("Disturbance's frequency", "Hz", "the periodic disturbance fitted beside the noise terms"),
 }
 """key → (name, unit, one line on what it is). A ``_raw`` twin or a ``holdout_`` figure has its own line."""

@@ -71,6 +71,12 @@ class SensorNoiseMetrics(Out):
     bias_standard_error: Vec3Out = Field(
         description="Standard error of the bias: the fitted Allan deviation at the duration."
     )
+    hump_tau_s: Figures3 = Field(
+        [None, None, None],
+        description="Where a periodic disturbance's hump stands above the white-noise line: the τ of its peak "
+        "(None: no hump). The disturbance is fitted as a term of its own.",
+    )
+    hump_hz: Figures3 = Field([None, None, None], description="The disturbance's fitted frequency (Hz).")
     record_for_s: dict[str, float] = Field(
         {},
         description="Each term no axis's curve showed, where a longer still recording would show it: how long "
