@@ -28,11 +28,16 @@ NEIGHBOURS_AGREE = 0.5
 reading came back to where it was (a knock, a step or a turn does not)."""
 
 
-def _threshold(x: np.ndarray) -> float:
-    """How far a spike leaves its neighbours: :data:`SPIKE_SIGMAS` times the difference noise, read on the
-    non-zero differences (a reading held between a slow sensor's updates repeats, and zeros would make the
-    noise look like none), and at least :data:`SPIKE_STEPS` quantisation steps."""
-    d = np.diff(x)
+MAD_SAMPLES = 200_000
+"""The difference noise is read on at most this many differences, evenly spread (plenty for a median)."""
+
+
+def _threshold(d: np.ndarray) -> float:
+    """How far a spike leaves its neighbours, from the first differences ``d``: :data:`SPIKE_SIGMAS` times the
+    difference noise, read on the non-zero differences (a reading held between a slow sensor's updates
+    repeats, and zeros would make the noise look like none), and at least :data:`SPIKE_STEPS` quantisation
+    steps."""
+    d = d[:: max(1, len(d) // MAD_SAMPLES)]
     d = d[np.isfinite(d) & (d != 0)]
     if d.size == 0:
         return np.inf
@@ -59,17 +64,22 @@ def spike_mask(x) -> np.ndarray:
     mask = np.zeros(n, dtype=bool)
     if n < 5:
         return mask
-    t = _threshold(x)
+    d = np.diff(x)
+    t = _threshold(d)
     if not np.isfinite(t):
         return mask
+    jump = np.abs(d) > t  # a spike jumps away and back: only where two jumps stand close is anything checked
     for width in (1, 2):  # a sample alone, or two in a row (a torn read repeated)
-        before, after = x[: n - width - 1], x[width + 1 :]
-        inner = np.stack([x[1 + k : n - width + k] for k in range(width)])
-        agree = np.abs(after - before) < NEIGHBOURS_AGREE * t
-        agree &= ~mask[: n - width - 1] & ~mask[width + 1 :]  # neighbours that are spikes themselves are no guide
+        starts = np.flatnonzero(jump[: len(jump) - width] & jump[width:]) + 1  # the spike's first sample
+        starts = starts[(starts >= 1) & (starts + width < n)]
+        if starts.size == 0:
+            continue
+        before, after = x[starts - 1], x[starts + width]
+        inner = np.stack([x[starts + k] for k in range(width)])
+        agree = (np.abs(after - before) < NEIGHBOURS_AGREE * t) & ~mask[starts - 1] & ~mask[starts + width]
         up = np.all(inner - np.maximum(before, after) > t, axis=0)
         down = np.all(np.minimum(before, after) - inner > t, axis=0)
-        hit = np.flatnonzero(agree & (up | down)) + 1
+        hit = starts[agree & (up | down)]
         for k in range(width):
             mask[hit + k] = True
     return mask
