@@ -68,7 +68,7 @@ def spike_mask(x) -> np.ndarray:
     t = _threshold(d)
     if not np.isfinite(t):
         return mask
-    jump = np.abs(d) > t  # a spike jumps away and back: only where two jumps stand close is anything checked
+    jump = np.abs(d, out=d) > t  # a spike jumps away and back: only where two jumps stand close is anything checked
     for width in (1, 2):  # a sample alone, or two in a row (a torn read repeated)
         starts = np.flatnonzero(jump[: len(jump) - width] & jump[width:]) + 1  # the spike's first sample
         starts = starts[(starts >= 1) & (starts + width < n)]
