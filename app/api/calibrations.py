@@ -146,13 +146,13 @@ def snippets(calibration_id: str, store: StoreDep, owner: OwnerDep):
     """Paste-ready lines that apply the calibration: C over its header, Python and JavaScript over its JSON;
     a board's counts scaled into the calibration's unit by the part its recording was read with."""
     body = store.get_calibration(calibration_id, owner=owner)
-    read_with = None
+    recording: dict = {}
     if body.get("recording_id"):
         try:
-            read_with = store.get_recording(body["recording_id"], owner=owner)[0].get("read_with")
+            recording = store.get_recording(body["recording_id"], owner=owner)[0]
         except NotFoundError:
-            read_with = None  # a recording deleted since: the examples name a common part's figure instead
-    return usage_snippets(body, read_with)
+            recording = {}  # a recording deleted since: the examples name a common part's figure instead
+    return usage_snippets(body, recording.get("read_with"), recording.get("scales"))
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")

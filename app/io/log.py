@@ -81,6 +81,12 @@ class LogData:
         What the data leave open and a calibration's figures hang on (``{"sensor": "gyr", "detail":
         ...}``: a gyroscope's unit neither the data nor anyone said): a calibration of that sensor is
         not ok, and its reasons ask.
+    scales : dict or None
+        How the file's numbers became each sensor's unit, where they were not in it (``{"mag": {"op": "*",
+        "value": 100.0, "words": "100 µT per gauss", "read_in": "gauss"}}``: counts of a part, counts per g,
+        gauss); a sensor absent from
+        it was read in its unit. None where the reader states its units (a flight log, an array): no board's
+        driver gives its numbers. What a snippet scales a driver's readings by (app.io.snippets).
     flight : app.io.formats.flight_log.FlightInfo or None
         A flight controller's log (PX4 ULog, ArduPilot DataFlash): every sensor instance it holds, the
         IMU and compass read, and the clock the samples are on; None for other logs.
@@ -108,6 +114,7 @@ class LogData:
     temperature_c: np.ndarray | None = None
     flight: FlightInfo | None = None
     questions: tuple = ()
+    scales: dict | None = None
 
     @property
     def gaps(self) -> tuple:

@@ -314,6 +314,7 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
         sign=clock_log.sign,
         warnings=_warnings(logs),
         questions=_questions(logs),
+        scales=_scales(logs),
         temperature_c=None if temperature is None else np.asarray(temperature)[keep],
     )
     return _gyro_against_gravity(with_timing(merged, None, name), by_sensor)
@@ -386,6 +387,7 @@ def _one_to_one(logs: list, by_sensor: dict, notes: list, name: str) -> LogData:
         notes=tuple(notes + _file_notes(logs)),
         warnings=_warnings(logs),
         questions=_questions(logs),
+        scales=_scales(logs),
         parts=(),
         format=_format(logs),
     )
@@ -416,6 +418,14 @@ def _format(logs) -> str:
 def _file_notes(logs) -> list:
     """What the reading of each file noticed (its time column's unit, its unit inferred), named by the file."""
     return [f"{fname}: {note}" for fname, _, log, _ in logs for note in log.notes]
+
+
+def _scales(logs) -> dict | None:
+    """How each file's numbers became its sensor's unit (:attr:`app.io.log.LogData.scales`); None where no file
+    says (arrays)."""
+    if all(log.scales is None for _, _, log, _ in logs):
+        return None
+    return {s: log.scales[s] for _, s, log, _ in logs if log.scales and s in log.scales}
 
 
 def _questions(logs) -> tuple:

@@ -33,12 +33,20 @@ def _c_float(v: float) -> str:
     return (text if "e" in text or "." in text else text + ".0") + "f"
 
 
-def input_scale(sensor: str, unit: str | None, read_with: dict | None) -> dict | None:
-    """How the counts of ``sensor`` become the calibration's input ``unit``: ``{"op": "/" or "*",
-    "value", "words", "known"}``; None when the input is already counts (``raw``) or is not a
-    physical unit a board's counts scale into (m/s², as a phone reports)."""
+def input_scale(sensor: str, unit: str | None, read_with: dict | None, scales: dict | None = None) -> dict | None:
+    """How the numbers a driver gives for ``sensor`` become the calibration's input ``unit``: ``{"op": "/" or
+    "*", "value", "words", "known"}``; None when the input is already counts (``raw``), or the recording's
+    numbers were in that unit.
+
+    ``scales`` are the recording's (:attr:`app.io.log.LogData.scales`): the scale its numbers were read with, the
+    part's, the counts per g or gauss's, never another part's; a sensor absent from them was read in its unit (a
+    board printing g or µT, a phone's m/s²). Without them (a recording deleted, or stored before they were kept),
+    the part the upload named, else a common part's figure the person sets."""
     if unit in (None, "raw"):
         return None
+    if scales is not None:
+        scale = scales.get(sensor)
+        return None if scale is None else {**scale, "known": True}
     read_with = read_with or {}
     for name in str(read_with.get("chip") or "").split(","):
         chip = CHIPS.get(name.strip())
@@ -75,9 +83,14 @@ def _sample(c, scale: dict | None, field_ut: float | None) -> list[float]:
     rest = c.o + np.linalg.solve(c.M, np.array([0.0, 0.0, up]))
     if scale is not None:
         rest = rest * scale["value"] if scale["op"] == "/" else rest / scale["value"]
-    if scale is not None or c.input_unit == "raw":
+    if (scale is not None and _read_in(scale) == "counts") or c.input_unit == "raw":
         return [float(v) for v in np.round(rest)]
     return [float(f"{v:.6g}") for v in rest]
+
+
+def _read_in(scale: dict) -> str:
+    """What a driver's numbers are before the scale: counts, or another unit (gauss)."""
+    return scale.get("read_in", "counts")
 
 
 def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
@@ -107,27 +120,30 @@ def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
             for i in range(3)
         ]
     else:
-        k, op = _c_float(scale["value"]), scale["op"]
+        k, op, read_in = _c_float(scale["value"]), scale["op"], _read_in(scale)
         body = [
-            f"    m[{i}] = raw[{i}] {op} {k};" + (f"  /* counts to {unit_in}: {scale['words']} */" if i == 0 else "")
+            f"    m[{i}] = raw[{i}] {op} {k};" + (f"  /* {read_in} to {unit_in}: {scale['words']} */" if i == 0 else "")
             for i in range(3)
         ]
+    counts = scale is None or _read_in(scale) == "counts"
+    kind, values = ("int16_t", [str(int(v)) for v in sample]) if counts else ("float", [_c_float(v) for v in sample])
     return [
-        f"/* One {SENSOR_WORDS[c.sensor]} reading from your driver, in counts, calibrated into f, in {out}. */",
-        f"void {name}_calibrate(const int16_t raw[3], float f[3])",
+        f"/* One {SENSOR_WORDS[c.sensor]} reading from your driver, in {'counts' if counts else _read_in(scale)}, "
+        f"calibrated into f, in {out}. */",
+        f"void {name}_calibrate(const {kind} raw[3], float f[3])",
         "{",
         "    float m[3];",
         *body,
         f"    {name}_apply(m, f);",
         "}",
         "/* For each reading, e.g. at rest with z up:",
-        f" *     int16_t raw[3] = {{{', '.join(str(int(v)) for v in sample)}}};",
+        f" *     {kind} raw[3] = {{{', '.join(values)}}};",
         f" *     float f[3];  {name}_calibrate(raw, f);",
         " */",
     ]
 
 
-def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
+def usage_snippets(body: dict, read_with: dict | None = None, read_scales: dict | None = None) -> dict:
     """The examples of one calibration.
 
     Parameters
@@ -136,6 +152,8 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         The stored calibration (``id``, ``model``, ``unit``, ``output_unit``).
     read_with : dict, optional
         What its recording was read with (``chip``, ``lsb_per_g``), to scale counts exactly.
+    read_scales : dict, optional
+        How its recording's numbers became each sensor's unit (:func:`input_scale`'s ``scales``).
 
     Returns
     -------
@@ -157,7 +175,7 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
     py_lines += ["import json", "import numpy as np", f'cal = json.load(open("{json_name}"))']
     js_lines += [f'const cal = await (await fetch("{json_name}")).json();  // the JSON file, served with your app']
     for c in corrections:
-        scale = input_scale(c.sensor, c.input_unit, read_with)
+        scale = input_scale(c.sensor, c.input_unit, read_with, read_scales)
         scales[c.sensor] = scale
         sample = _sample(c, scale, (body.get("metrics") or {}).get("field_ut"))
         c_blocks += ["", *_c_lines(c, scale, sample)]
@@ -165,7 +183,10 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         numbers = ", ".join(f"{v:g}" for v in sample)
         to_unit = ""
         if scale is not None:
-            to_unit = f" {scale['op']} {scale['value']:g}  # counts to {unit_label(c.input_unit)}: {scale['words']}"
+            to_unit = (
+                f" {scale['op']} {scale['value']:g}  # {_read_in(scale)} to {unit_label(c.input_unit)}: "
+                f"{scale['words']}"
+            )
         suffix = "" if len(corrections) == 1 else f"_{c.sensor}"
         py_lines += [
             f"M{suffix}, o{suffix} = np.array({where}['M']), np.array({where}['o'])".replace("'", '"'),
@@ -177,12 +198,12 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         js_lines += [
             f"const {{ {names} }} = {js_where};",
             f"const m{suffix} = [{numbers}];  // one reading from the {SENSOR_WORDS[c.sensor]}, in "
-            f"{unit_label(c.input_unit) if scale is None else 'counts: scale it as below'}",
+            f"{unit_label(c.input_unit) if scale is None else _read_in(scale) + ': scale it as below'}",
         ]
         if scale is not None:
             js_lines.append(
                 f"const s{suffix} = m{suffix}.map((v) => v {scale['op']} {scale['value']:g});  "
-                f"// counts to {unit_label(c.input_unit)}: {scale['words']}"
+                f"// {_read_in(scale)} to {unit_label(c.input_unit)}: {scale['words']}"
             )
         arg = f"s{suffix}" if scale is not None else f"m{suffix}"
         js_lines.append(
@@ -199,7 +220,10 @@ def usage_snippets(body: dict, read_with: dict | None = None) -> dict:
         }
         for c in corrections
     }
-    counts = any(scales[c.sensor] is not None or c.input_unit == "raw" for c in corrections)  # int16_t
+    counts = any(  # int16_t
+        (scales[c.sensor] is not None and _read_in(scales[c.sensor]) == "counts") or c.input_unit == "raw"
+        for c in corrections
+    )
     c_lines = ["#include <stdint.h>  /* int16_t */", f'#include "{header}"'] if counts else [f'#include "{header}"']
     c_lines += c_blocks
     return {

@@ -95,6 +95,7 @@ def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path
         "notes": notes,
         "warnings": list(log.warnings),
         "questions": [dict(q) for q in log.questions],
+        "scales": log.scales,
         "sign": log.sign,
         "timing": None if log.timing is None else log.timing.to_dict(),
         "read_with": (options or ReadOptions()).stored(log.sign),

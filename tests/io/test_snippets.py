@@ -62,10 +62,11 @@ def run_c(client, cal: dict, snippet: str, tmp_path, sensor: str = "acc") -> np.
     (tmp_path / f"trical_{cal['id']}.h").write_text(header.text)
     reading = example_reading(snippet, sensor)
     counts = f"void trical_{sensor}_calibrate(const int16_t raw[3]" in snippet
+    scaled_floats = f"void trical_{sensor}_calibrate(const float raw[3]" in snippet  # gauss, scaled into µT
     declare = (
         f"    int16_t raw[3] = {{{', '.join(str(int(v)) for v in reading)}}};"
         if counts
-        else f"    float m[3] = {{{', '.join(f'{v!r}f' for v in reading)}}};"
+        else f"    float {'raw' if scaled_floats else 'm'}[3] = {{{', '.join(f'{v!r}f' for v in reading)}}};"
     )
     source = "\n".join(
         [
@@ -76,7 +77,7 @@ def run_c(client, cal: dict, snippet: str, tmp_path, sensor: str = "acc") -> np.
             "{",
             declare,
             "    float f[3];",
-            f"    trical_{sensor}_calibrate({'raw' if counts else 'm'}, f);",
+            f"    trical_{sensor}_calibrate({'raw' if counts or scaled_floats else 'm'}, f);",
             '    printf("%.9g %.9g %.9g\\n", f[0], f[1], f[2]);',
             "    return 0;",
             "}",
@@ -110,6 +111,7 @@ def test_counts_of_a_named_part_are_scaled_into_g_and_the_c_lines_compile_and_ru
         "value": 8192.0,
         "known": True,
         "words": "the MPU-6050/6500/9250, ICM-20948 accelerometer ±4 g (8192 LSB/g)",
+        "read_in": "counts",
     }
     lines = s["c"].splitlines()
     # File scope: the #include lines first, then a function, never an #include among a body's lines.
@@ -141,10 +143,16 @@ def test_counts_of_a_named_part_are_scaled_into_g_and_the_c_lines_compile_and_ru
     np.testing.assert_allclose([float(v) for v in out.stdout.split()], want, atol=1e-12)
 
 
-def test_counts_of_an_unnamed_part_say_which_figure_to_set(client, tmp_path):
+def test_counts_of_an_unnamed_part_are_scaled_as_the_data_showed(client, tmp_path):
     cal = calibrate(client, counts_log(16384, seed=25))  # the data say counts of 16384 per g: into g
     s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
-    assert s["scales"]["acc"]["known"] is False and "set your part's figure" in s["scales"]["acc"]["words"]
+    assert s["scales"]["acc"] == {
+        "op": "/",
+        "value": 16384.0,
+        "known": True,
+        "words": "16384 counts per g, as the data showed",
+        "read_in": "counts",
+    }
     raw = example_reading(s["c"])
     np.testing.assert_allclose(
         run_c(client, cal, s["c"], tmp_path), applied(client, cal, np.array(raw) / 16384.0), atol=2e-6
@@ -231,3 +239,59 @@ def test_the_triangular_model_s_o_is_applied_with_its_sign_turned(client, tmp_pa
     m = example_reading(use["c"])
     f = run_c(client, cal, use["c"], tmp_path)
     np.testing.assert_allclose(f, np.array(cal["model"]["K"]) @ (np.array(m) + np.array(cal["model"]["o"])), atol=2e-5)
+
+
+def test_without_its_recording_a_common_part_s_figure_is_offered_to_set():
+    """A calibration whose recording is gone (or was stored before the recording kept its scales): counts in g
+    are scaled by a common part's figure, which the person is told to set."""
+    from app.io.snippets import input_scale
+
+    scale = input_scale("acc", "g", None, None)
+    assert scale["known"] is False and "set your part's figure" in scale["words"] and scale["value"] == 16384.0
+    assert input_scale("acc", "g", None, {}) is None  # its recording read it in g: no scale
+
+
+def test_a_compass_read_in_gauss_is_scaled_from_gauss_not_by_another_part_s_counts(client, tmp_path):
+    """A real x-IMU whose header gives the magnetometer in gauss (G), read into µT (tests/data/real/corpus/
+    ximu_packet_number_no_time): its lines take the driver's gauss and multiply by 100 — never an AK8963's
+    0.15 µT per count, a 1.6x error for this board — and the C lines give what the API's apply gives."""
+    from tests.conftest import DATA
+
+    log = DATA / "real" / "corpus" / "ximu_packet_number_no_time" / "straightLine_CalInertialAndMag_excerpt.csv"
+    r = client.post(
+        "/api/v1/recordings", files={"file": (log.name, log.read_bytes(), "text/csv")}, data={"sampling_rate_hz": "256"}
+    )
+    assert r.status_code == 201 and r.json()["scales"]["mag"]["read_in"] == "gauss", r.text
+    cal = client.post("/api/v1/calibrations", json={"method": "magnetometer", "recording_id": r.json()["id"]}).json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
+    assert s["scales"]["mag"] == {
+        "op": "*",
+        "value": 100.0,
+        "known": True,
+        "words": "100 µT per gauss",
+        "read_in": "gauss",
+    }
+    assert "void trical_mag_calibrate(const float raw[3], float f[3])" in s["c"] and "int16_t" not in s["c"]
+    raw = example_reading(s["c"], "mag")
+    np.testing.assert_allclose(
+        run_c(client, cal, s["c"], tmp_path, "mag"), applied_mag(client, cal, np.array(raw) * 100.0), atol=1e-3
+    )
+
+
+def test_a_board_printing_g_needs_no_scale(client, tmp_path):
+    """A real board's six-position test printed in g (tests/data/real/corpus/tagged_lines_six_position): its
+    lines take floats in g, not an MPU-6050's counts."""
+    from tests.conftest import DATA
+
+    folder = DATA / "real" / "corpus" / "tagged_lines_six_position"
+    files = [
+        ("file", (n, (folder / n).read_bytes(), "text/plain"))
+        for n in ("up.txt", "down.txt", "left.txt", "right.txt", "front.txt", "back.txt")
+    ]
+    rec = client.post("/api/v1/recordings", files=files).json()
+    assert rec["scales"] == {}
+    cal = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
+    assert s["scales"]["acc"] is None and "void trical_acc_calibrate(const float m[3], float f[3])" in s["c"]
+    m = example_reading(s["c"])
+    np.testing.assert_allclose(run_c(client, cal, s["c"], tmp_path), applied(client, cal, m), atol=2e-6)

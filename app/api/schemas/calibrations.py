@@ -71,6 +71,7 @@ class ScaleOut(BaseModel):
         description="True when the upload named the part (chip, lsb_per_g); false for a common "
         "part's figure the person should check against the datasheet."
     )
+    read_in: Literal["counts", "gauss"] = Field("counts", description="What a driver's numbers are before the scale.")
 
 
 class CorrectionOut(BaseModel):

@@ -245,6 +245,13 @@ class SupportOut(BaseModel):
     )
 
 
+class FileScaleOut(BaseModel):
+    op: Literal["/", "*"] = Field(description="The file's number `op` value gives the unit.")
+    value: float
+    words: str = Field(description="Where the figure comes from: the part, the option, or the data.")
+    read_in: Literal["counts", "gauss"] = Field("counts", description="What a driver's numbers are before the scale.")
+
+
 class RecordingOut(BaseModel):
     model_config = ConfigDict(extra="allow")
 
@@ -276,6 +283,13 @@ class RecordingOut(BaseModel):
         description="What the data leave open and a figure hangs on "
         "(`sensor`, `detail`: a gyroscope's unit neither its data nor the "
         "upload say): a calibration of that sensor is not ok, its reasons ask.",
+    )
+    scales: dict[str, FileScaleOut] | None = Field(
+        None,
+        description="How the file's numbers became each sensor's unit where they were not in it (counts of a part, "
+        "counts per g, gauss: `op`, `value`, `words`); a sensor absent from it was read in its unit. Null for a "
+        "flight log or an array, and for recordings stored before it existed. The snippets scale a driver's "
+        "readings by it.",
     )
     quantization_step: float | None = None
     sign: Literal[1, -1] = Field(1, description="-1 when the accelerations were negated (iOS Core Motion's sign).")

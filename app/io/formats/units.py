@@ -240,6 +240,19 @@ def settle_units(
             notes,
             warns,
         )
+    scales = {
+        sensor: scale
+        for sensor in arrays
+        if (
+            scale := _scale(
+                getattr(log, sensor),
+                arrays[sensor],
+                sensor,
+                chips.get(sensor),
+                given_by=lsb_source if sensor == "acc" and lsb_per_g is not None else None,
+            )
+        )
+    }
     return dataclasses.replace(
         log,
         **arrays,
@@ -247,7 +260,32 @@ def settle_units(
         notes=tuple(log.notes) + tuple(notes),
         warnings=tuple(log.warnings) + tuple(warns),
         questions=tuple(log.questions) + tuple(questions),
+        scales=scales,
     )
+
+
+def _scale(before, after, sensor: str, chip: Chip | None, given_by: str | None = None) -> dict | None:
+    """How the file's numbers became the sensor's unit (:attr:`app.io.log.LogData.scales`), or None where they
+    were in it: the factor of the largest reading, a magnetometer's as µT per number (× 0.15, × 100), the
+    others' as numbers per unit (÷ 16384 counts per g, ÷ 131 per °/s), with the part, the option that gave it
+    (``given_by``) or the data that showed it."""
+    head = np.asarray(before[:1000], dtype=float)
+    if head.size == 0 or after is before:
+        return None
+    i = np.unravel_index(int(np.argmax(np.abs(head))), head.shape)
+    if head[i] == 0:
+        return None
+    k = float(f"{float(np.asarray(after[:1000], dtype=float)[i] / head[i]):.12g}")
+    if abs(k - 1.0) < 1e-9:
+        return None
+    source = f"the {chip.label}" if chip is not None else None
+    if sensor == "mag":
+        gauss = chip is None and abs(k - GAUSS_UT) < 1e-9
+        words = source or ("100 µT per gauss" if gauss else f"{k:g} µT per count, as the data showed")
+        return {"op": "*", "value": k, "words": words, "read_in": "gauss" if gauss else "counts"}
+    per, value = {"acc": "g", "gyr": "°/s"}[sensor], float(f"{1.0 / k:.12g}")
+    said = f"{value:g} counts per {per}, " + (f"as {given_by} gave it" if given_by else "as the data showed")
+    return {"op": "/", "value": value, "words": source or said, "read_in": "counts"}
 
 
 def _refuse_scale_and_unit(sensor: str, claim: Claim, scale: str) -> None:
