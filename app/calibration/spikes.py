@@ -77,12 +77,27 @@ def spike_mask(x) -> np.ndarray:
         before, after = x[starts - 1], x[starts + width]
         inner = np.stack([x[starts + k] for k in range(width)])
         agree = (np.abs(after - before) < NEIGHBOURS_AGREE * t) & ~mask[starts - 1] & ~mask[starts + width]
+        agree &= _quiet_around(x, starts, width, NEIGHBOURS_AGREE * t)
         up = np.all(inner - np.maximum(before, after) > t, axis=0)
         down = np.all(np.minimum(before, after) - inner > t, axis=0)
         hit = starts[agree & (up | down)]
         for k in range(width):
             mask[hit + k] = True
     return mask
+
+
+QUIET = 5
+"""Samples on each side of a spike that must stay within the neighbours' agreement: a spike stands out of a
+quiet stream (a torn read on a board at rest), not out of a hand's motion, whose fast samples look alike."""
+
+
+def _quiet_around(x: np.ndarray, starts: np.ndarray, width: int, spread: float) -> np.ndarray:
+    """Whether the :data:`QUIET` samples on each side of each candidate (not counting it) stay within ``spread``,
+    the highest and the lowest of them left out (another spike nearby)."""
+    offsets = np.concatenate([np.arange(-QUIET, 0), np.arange(width, width + QUIET)])
+    rows = np.clip(starts[:, None] + offsets[None], 0, len(x) - 1)
+    around = np.sort(x[rows], axis=1)
+    return (around[:, -2] - around[:, 1]) < spread
 
 
 def remove_spikes(samples) -> tuple[np.ndarray, np.ndarray]:
