@@ -212,7 +212,7 @@ def test_the_rate_a_hyperimu_comment_states_is_used_when_there_is_no_time_column
     path.write_text("\n".join(lines[:3] + [",".join(r.split(",")[1:4]) for r in lines[3:]]) + "\n")
     log = read_log(path, ReadOptions(sampling_rate_hz=None, units={}), name="imu.csv")
     assert log.sampling_rate_hz == 20.0 and log.timing.source == "file"
-    assert "no time column: the rate 20 Hz its comment line states is used" in log.notes
+    assert "no time column: the rate 20 Hz the lines before its table state is used" in log.notes
     assert read_log(path, ReadOptions(sampling_rate_hz=25.0, units={}), name="imu.csv").sampling_rate_hz == 25.0
     # With its time column the timestamps decide (Android delivers near, not at, the requested rate).
     assert (

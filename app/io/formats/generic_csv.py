@@ -519,7 +519,7 @@ def read_csv_log(
         ) from None
     stated_rate = None if time_s is not None else rate_from_comments(text.splitlines()[: layout.skip_lines])
     if stated_rate is not None and sampling_rate_hz is None:
-        notes.append(f"no time column: the rate {stated_rate:g} Hz its comment line states is used")
+        notes.append(f"no time column: the rate {stated_rate:g} Hz the lines before its table state is used")
     final_units = {s: (units or {}).get(s) or header_units.get(s) or UNITS[s][0] for s in arrays}
     for sensor, unit in final_units.items():
         accepted = UNITS_IN[sensor]
@@ -702,16 +702,22 @@ _PLOTTER_PAIR = re.compile(r"([A-Za-z_][A-Za-z0-9_ ]*?)\s*:\s*(-?[0-9][0-9.eE+-]
 _PLOTTER_LINE = re.compile(r"^\s*[A-Za-z_][A-Za-z0-9_]*\s*:\s*-?[0-9]")
 
 
-_RATE_COMMENT = re.compile(r"sampling[ _]?rate\s*[:=]\s*([0-9][0-9.]*)\s*(ms|hz)\b", re.IGNORECASE)
+_RATE_COMMENT = re.compile(
+    r"(?:^|[^a-z])(?:sampl(?:ing|e)[ _]?rate|data[ _]?rate|output[ _]?data[ _]?rate|odr|fs)\s*[:=,]\s*"
+    r"([0-9][0-9.]*)\s*(ms|hz)?\b",
+    re.IGNORECASE,
+)
+"""A rate stated before the table: HyperIMU's ``@ … Sampling Rate:50ms``, PicoQuake's ``# Config: data_rate =
+2000.0 Hz``, a logger's ``Fs,100`` line (a rate's name without a unit is in Hz)."""
 _RATE_HZ = {"ms": lambda v: 1000.0 / v, "hz": lambda v: v}
 
 
 def rate_from_comments(lines: list[str]) -> float | None:
-    """The rate a comment line states, in Hz (HyperIMU's ``@ Date:…, Sampling Rate:50ms``), if any."""
+    """The rate the lines before the table state (comments, or a preamble of ``key,value`` lines), in Hz."""
     for line in lines:
-        m = _RATE_COMMENT.search(line) if is_comment(line) else None
+        m = _RATE_COMMENT.search(line)
         if m and float(m.group(1)) > 0:
-            return _RATE_HZ[m.group(2).lower()](float(m.group(1)))
+            return _RATE_HZ[(m.group(2) or "hz").lower()](float(m.group(1)))
     return None
 
 

@@ -31,6 +31,8 @@ TAGS = {
 _SENSOR_OF = {word: sensor for sensor, words in TAGS.items() for word in words}
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 _LINE = re.compile(rf"^\s*(?P<tag>[A-Za-z][A-Za-z_]*)\s*:?[\s,;]+(?P<values>{_NUMBER}(?:[\s,;]+{_NUMBER}){{2,3}})\s*$")
+MAX_HEADER_LINES = 3
+"""Lines before the first reading that are skipped as a header (more are refused: they are not such a log)."""
 MIN_LINES = 5
 """Lines needed before the format is recognised."""
 TAGGED_FRACTION = 0.9
@@ -63,8 +65,12 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         lines = [ln for ln in f.read().splitlines() if ln.strip() and not is_comment(ln)]
     streams: dict[str, list[list[float]]] = {}
     other: dict[str, int] = {}
+    first = next((i for i, line in enumerate(lines) if _parse(line) is not None), 0)
+    header = lines[:first] if first <= MAX_HEADER_LINES else []  # a header row (VMU931's Attribute,Time stamp,x,y,z)
     for number, line in enumerate(lines, start=1):
         parsed = _parse(line)
+        if parsed is None and number <= len(header):
+            continue
         if parsed is None:
             raise LogFormatError(
                 f"{name}: line {number} {line[:60]!r} is not a tagged reading: every line must name its sensor "
@@ -82,6 +88,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         f"{count} line{'s' if count > 1 else ''} tagged {tag!r} not read (no sensor trical calibrates)"
         for tag, count in other.items()
     ]
+    notes += [f"line {k} {line[:60]!r} skipped before the readings" for k, line in enumerate(header, start=1)]
     if timed:
         scale, unit = time_scale(arrays[base][:, 0])
         t0 = arrays[base][0, 0]
