@@ -399,9 +399,10 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
         warnings.append(
             f"{sensor} {'/'.join(a for a, _ in humps)}: a hump in the Allan deviation at τ ≈ "
             f"{max(h[0] for _, h in humps):.2g} s stands {max(h[1] for _, h in humps):.2g}× above the white-noise "
-            f"line — a periodic disturbance near {near} (a fan, a motor, a pump or a vibrating table; mains hum "
-            "aliased by the sampling), not the sensor's noise: fitted as a term of its own, so that the noise "
-            "density is read on the white-noise line; record away from what vibrates for the sensor's own curve"
+            f"line — a periodic disturbance near {near} (a fan, a motor, a pump, a vibrating table or a frame still "
+            "ringing; mains hum aliased by the sampling), not the sensor's noise: fitted as a term of its own, so that "
+            "the noise density is read on the white-noise line; record away from what vibrates for the sensor's own "
+            "curve"
         )
     imin = np.argmin(adev, axis=0)
     metrics = {

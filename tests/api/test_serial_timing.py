@@ -68,7 +68,10 @@ def test_a_still_gyroscope_with_bursty_host_stamps_gives_its_noise_density(clien
     np.testing.assert_allclose(_noise(client, rec["id"])["model"]["gyr"]["noise_density"], N_RAD, rtol=0.05)
 
 
-def test_gaps_in_the_still_part_make_the_noise_not_ok_naming_the_timing(client):
+def test_gaps_in_the_still_part_are_left_out_or_name_the_timing(client):
+    """A serial log losing 7 s in two gaps: the longest stretch without one (116 s) is characterised, the gaps
+    named; losing 1 s every 4 s, no stretch lasts the noise's 5 s, and the timing is the reason, with a serial
+    port's remedy."""
     n = 30_000
     lost = [(9_000, 9_400), (21_000, 21_300)]  # 7 s of 300 s lost
     t = host_arrival_times(np.random.default_rng(13), n_samples=n, sampling_rate_hz=FS, lost=lost)
@@ -79,10 +82,22 @@ def test_gaps_in_the_still_part_make_the_noise_not_ok_naming_the_timing(client):
     assert [g["index"] for g in rec["timing"]["gaps"]] == [9_000, 20_600]
     assert rec["timing"]["missing_s"] == pytest.approx(7.0, abs=0.15)
     body = _noise(client, rec["id"])
-    assert not body["ok"]
+    assert body["ok"], body["reasons"]
+    assert body["still"]["start"] == 9_000 and body["still"]["end"] == 20_600
     assert any(
-        r.startswith("the timing: 2 gaps in the time column lose") and "evenly spaced" in r for r in body["reasons"]
+        "the longest stretch without one, 90.0–206.0 s (116.0 s), was characterised" in w for w in body["warnings"]
     )
+    lost = [(k, k + 100) for k in range(300, n - 100, 400)]  # 1 s lost every 4 s
+    t = host_arrival_times(np.random.default_rng(13), n_samples=n, sampling_rate_hz=FS, lost=lost)
+    keep = np.ones(n, dtype=bool)
+    for a, b in lost:
+        keep[a:b] = False
+    rec = _upload(client, _csv("time_ms,gyr_x,gyr_y,gyr_z", t * 1e3, _still_gyr(14, n)[keep]), gyr_unit="deg/s")
+    body = _noise(client, rec["id"])
+    assert not body["ok"]
+    (reason,) = [r for r in body["reasons"] if r.startswith("the timing:")]
+    assert "no stretch without a gap lasts 5 s" in reason and "evenly spaced" in reason
+    assert "a faster serial baud rate" in reason
 
 
 def _six_poses(seed: int, *, time: bool) -> bytes:

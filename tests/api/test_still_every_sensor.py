@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from app.calibration.noise import characterise_noise
 from app.calibration.static import detect_static_segments
@@ -66,12 +67,16 @@ def test_the_noise_of_a_gyroscope_ringing_after_landing_is_taken_where_it_rests(
     nd = np.asarray(body["model"]["gyr"]["noise_density"])
     print("gyr noise density", nd, "against the cut's", REFERENCE, "ratio", nd / REFERENCE)
     assert np.all(np.abs(nd / REFERENCE - 1) < 0.1)
-    # What the accelerometer alone called still (from the landing on): the figure 20 times too high.
+    # What the accelerometer alone called still (from the landing on): the ringing, a decaying oscillation near
+    # 6 Hz, is named as a periodic disturbance and fitted as one, yet a ringing is no steady sinusoid, and the
+    # figure stays 2.5-4 times too high on x and y (20 times before the disturbance was fitted).
     acc_only = detect_static_segments(acc, fs)
     assert len(acc_only) == 1 and t[acc_only[0].start] < 1.6
-    wrong = np.asarray(characterise_noise(gyr[acc_only[0].start :], fs, unit="rad/s")["model"]["noise_density"])
+    ringing = characterise_noise(gyr[acc_only[0].start :], fs, unit="rad/s")
+    wrong = np.asarray(ringing["model"]["noise_density"])
     print("from the accelerometer's still part", wrong, "ratio", wrong / REFERENCE)
-    assert np.all(wrong[:2] / REFERENCE[:2] > 15)
+    assert np.all(wrong[:2] / REFERENCE[:2] > 2)
+    assert ringing["metrics"]["hump_hz"][:2] == [pytest.approx(6.0, rel=0.1)] * 2
 
 
 def test_the_upload_s_still_segment_starts_after_the_ringing(client):
