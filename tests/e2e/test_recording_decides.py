@@ -28,14 +28,20 @@ CASES = {
         None,
         "#supports",
     ),
-    "an iPhone's three files, one per sensor": (
+    "an iPhone's three files, one per sensor, lying still for 10 s": (
         [
             CORPUS / "iphone_heading_per_sensor_files" / f
             for f in ("accelerometer.csv", "gyroscope.csv", "magnetometer.csv")
         ],
         None,
+        "noise",
+        "#result",
+    ),
+    "a Betaflight compass tumble's JSON": (
+        [CORPUS / "betaflight_compass_tumble_samples" / "calibration_samples_2026-06-11T03-08-04-544Z.json"],
         None,
-        "#segments-notes",
+        "magnetometer",
+        "#result",
     ),
 }
 

@@ -9,11 +9,21 @@ the compass samples it streamed, and its *export* button saves ``characterizatio
 ``alignment``, ``geo_reference``, ``quality`` (with the ``sample_count``) and ``downstream_fusion`` — but
 none of the samples: trical, which calibrates from samples, refuses it naming what it holds and what to
 upload instead.
+
+The configurator's other export of the tumble, ``calibration_samples_<time>.json`` (``"type":
+"calibration_tumble"``), holds the samples themselves: each the flight controller's magnetometer ``x``,
+``y``, ``z`` in the counts MSP reports, a ``timestamp`` in ms, and what the configurator drew with it (its
+``roll``, ``pitch``, ``heading``, the quaternion ``qw`` … ``qz``, ``field_magnitude``, ``voxel_display``).
+It is read as the compass's samples on their timestamps; the rest is named in a note.
 """
 
 from __future__ import annotations
 
+import csv
+import dataclasses
 import json
+import re
+import tempfile
 from pathlib import Path
 
 from ..errors import LogFormatError
@@ -26,13 +36,26 @@ MAX_BYTES = 4 << 20
 """The export is a few kilobytes; a larger file is not one."""
 
 
+TUMBLE = re.compile(r'"type"\s*:\s*"calibration_tumble"')
+"""The samples' export of a tumble names its type near its start."""
+TUMBLE_COLUMNS = {"timestamp": "time_ms", "x": "mag_x", "y": "mag_y", "z": "mag_z"}
+"""A tumble sample's fields read, and the columns they are read as."""
+MAX_TUMBLE_BYTES = 64 << 20
+
+
 def detect(s: Sniff) -> bool:
-    """A JSON object whose ``$schema`` names Betaflight's magnetometer characterization model."""
-    return not s.is_zip and s.text.lstrip().startswith("{") and SCHEMA in s.text[:4096]
+    """A JSON object whose ``$schema`` names Betaflight's magnetometer characterization model, or the configurator's
+    export of a tumble's samples."""
+    if s.is_zip or not s.text.lstrip().startswith("{"):
+        return False
+    return SCHEMA in s.text[:4096] or TUMBLE.search(s.text[:4096]) is not None
 
 
-def read(path: Path, s: Sniff, *, name: str = "the file", **_):
-    """Refuse the export: it holds the configurator's fit, not the samples trical calibrates from."""
+def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
+    """Read a tumble's samples as the compass's (``read_table(path, name)`` reads the table they make); refuse
+    the characterization model: it holds the configurator's fit, not the samples trical calibrates from."""
+    if TUMBLE.search(s.text[:4096]) and read_table is not None:
+        return _tumble(path, name, read_table)
     try:
         model = json.loads(path.read_bytes()[:MAX_BYTES].decode("utf-8-sig"))
     except (ValueError, UnicodeDecodeError):
@@ -49,3 +72,37 @@ def read(path: Path, s: Sniff, *, name: str = "the file", **_):
         "CSV or a JSON array of samples) and upload those",
         status=422,
     )
+
+
+def _tumble(path: Path, name: str, read_table):
+    """The tumble's samples as a table of the magnetometer on its timestamps, read as any table is."""
+    if path.stat().st_size > MAX_TUMBLE_BYTES:
+        raise LogFormatError(f"{name} is a tumble export over {MAX_TUMBLE_BYTES >> 20} MiB: no tumble is that long")
+    data = json.loads(path.read_bytes().decode("utf-8-sig"))
+    samples = data.get("samples") if isinstance(data, dict) else None
+    if not isinstance(samples, list) or not samples or not all(isinstance(x, dict) for x in samples):
+        raise LogFormatError(
+            f"{name} is the Betaflight configurator's tumble export but holds no samples: export the tumble again "
+            "after turning the flight controller through every direction"
+        )
+    missing = [k for k in TUMBLE_COLUMNS if any(k not in x for x in samples)]
+    if missing:
+        raise LogFormatError(
+            f"{name} is the Betaflight configurator's tumble export, but its samples lack {', '.join(missing)}: "
+            "export the tumble again with this configurator, or upload the samples as CSV (time_ms, mag_x, mag_y, "
+            "mag_z)"
+        )
+    left = sorted({k for x in samples for k in x} - set(TUMBLE_COLUMNS))
+    with tempfile.TemporaryDirectory(prefix="trical-tumble-") as tmp:
+        table = Path(tmp) / "tumble.csv"
+        with open(table, "w", newline="", encoding="utf-8") as f:
+            writer = csv.writer(f)
+            writer.writerow(list(TUMBLE_COLUMNS.values()))
+            writer.writerows([repr(x[k]) for k in TUMBLE_COLUMNS] for x in samples)
+        log = read_table(table, name)
+    note = (
+        f"the Betaflight configurator's compass tumble: {len(samples)} samples of the flight controller's "
+        "magnetometer (x, y, z as MSP reports them) on their timestamps"
+        + (f"; not read: {', '.join(left)} (the configurator's attitude and drawing)" if left else "")
+    )
+    return dataclasses.replace(log, notes=(note, *log.notes), format=NAME)
