@@ -160,19 +160,25 @@ def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_give
                 f"{part_name} is a zip inside a recording of several files: give the files "
                 "themselves, or one zip of them"
             )
-    from .sensor_files import first_time, merge_sensor_logs, read_sensor_files
+    from .sensor_files import columns_for, first_time, merge_sensor_logs, read_sensor_files, sensor_from_name
 
     merged = read_sensor_files(sources, read, name=name, columns_given=columns_given)
     if merged is not None:  # named one per sensor
         return merged
-    logs = [(part_name, read(path, part_name)) for part_name, path in sources]
-    one_each = [log.channels[0] for _, log in logs if len(log.channels) == 1]
-    if len(logs) > 1 and len(one_each) == len(logs) and len(set(one_each)) == len(logs):
-        # Not named so, but each file holds one sensor, a different one: one per sensor all the same.
+    logs = []
+    for part_name, path in sources:  # a file named for one sensor reads its unnamed x, y, z as that sensor's
+        sensor = None if columns_given else sensor_from_name(part_name)
+        mapping = columns_for(path, sensor, part_name) if sensor else None
+        logs.append((part_name, read(path, part_name, mapping) if mapping else read(path, part_name)))
+    held = [s for _, log in logs for s in log.channels]
+    if len(logs) > 1 and len(held) == len(set(held)):
+        # Not named so, but the files hold different sensors (one each, or x-io's Inertial.csv beside its
+        # Magnetometer.csv): one recording, each sensor from its file, merged onto one clock.
         return merge_sensor_logs(
             [
-                (part_name, log.channels[0], log, first_time(path, log, part_name))
+                (part_name, sensor, log, first_time(path, log, part_name))
                 for (part_name, log), (_, path) in zip(logs, sources)
+                for sensor in log.channels
             ],
             name=name,
         )

@@ -257,8 +257,10 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     """
     by_sensor = {sensor: (fname, log, start) for fname, sensor, log, start in logs}
     timed = all(log.time_s is not None and len(log.time_s) >= 2 for _, log, _ in by_sensor.values())
+    files = list(dict.fromkeys(fname for fname, _, _, _ in logs))
     notes = [
-        f"one recording in {len(logs)} files, one per sensor: "
+        f"one recording in {len(files)} files, "
+        + ("one per sensor: " if len(files) == len(logs) else "each with sensors of its own: ")
         + ", ".join(f"{fname} the {WORDS[sensor]} ({log.units[sensor]})" for fname, sensor, log, _ in logs)
     ]
     if not timed:
@@ -284,15 +286,18 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
     keep = ~drop
     kept_times = times[keep]
     arrays = {clock_sensor: np.asarray(getattr(clock_log, clock_sensor), dtype=float)[keep]}
-    for s, (_fname, log, _) in by_sensor.items():
+    for s, (fname, log, _) in by_sensor.items():
         if s == clock_sensor:
+            continue
+        if fname == clock_file:  # a sensor of the clock's own file: on its times already
+            arrays[s] = np.asarray(getattr(log, s), dtype=float)[keep]
             continue
         t = np.asarray(log.time_s, dtype=float) + starts[s]
         v = np.asarray(getattr(log, s), dtype=float)
         arrays[s] = np.column_stack([np.interp(kept_times, t, v[:, k]) for k in range(3)])
     notes.append(
         f"merged on the clock of {clock_file} ({why}, {clock_log.sampling_rate_hz or 0:.4g} Hz); "
-        + ", ".join(f"{f} interpolated onto it" for s, (f, _, _) in by_sensor.items() if s != clock_sensor)
+        + ", ".join(dict.fromkeys(f"{f} interpolated onto it" for f, _, _ in by_sensor.values() if f != clock_file))
     )
     if drop.any():
         notes.append(
@@ -415,9 +420,14 @@ def _format(logs) -> str:
     return formats[0] if len(formats) == 1 else "+".join(formats)
 
 
+def _files(logs) -> dict:
+    """Each file's log, once (a file of several sensors gives an entry per sensor)."""
+    return {fname: log for fname, _, log, _ in logs}
+
+
 def _file_notes(logs) -> list:
     """What the reading of each file noticed (its time column's unit, its unit inferred), named by the file."""
-    return [f"{fname}: {note}" for fname, _, log, _ in logs for note in log.notes]
+    return [f"{fname}: {note}" for fname, log in _files(logs).items() for note in log.notes]
 
 
 def _scales(logs) -> dict | None:
@@ -430,14 +440,13 @@ def _scales(logs) -> dict | None:
 
 def _questions(logs) -> tuple:
     """What the reading of each file left open (the gyroscope's unit), named by the file."""
-    return tuple({**q, "detail": f"{fname}: {q['detail']}"} for fname, _, log, _ in logs for q in log.questions)
+    return tuple(
+        {**q, "detail": f"{fname}: {q['detail']}"} for fname, log in _files(logs).items() for q in log.questions
+    )
 
 
 def _warnings(logs) -> tuple:
-    out = []
-    for fname, _, log, _ in logs:
-        out += [f"{fname}: {w}" for w in log.warnings]
-    return tuple(out)
+    return tuple(f"{fname}: {w}" for fname, log in _files(logs).items() for w in log.warnings)
 
 
 def read_sensor_files(sources: list[tuple[str, Path]], read, *, name: str, columns_given: bool) -> LogData | None:
