@@ -56,10 +56,9 @@ from . import (
     ulog,
 )
 from .chips import parse_chips
-from .columns import SKIP
 from .flight_log import CLOCKS
 from .ios_sign import check_sign, settle_sign
-from .table import Sniff, sniff
+from .table import SKIP, Sniff, sniff
 from .timing import with_timing
 from .units import refuse_linear_acceleration, settle_units
 

@@ -28,10 +28,8 @@ from ...calibration.headlines import SENSOR_WORDS
 from ...calibration.plausible import GYRO_BIAS_MAX_DPS
 from ..errors import LogFormatError
 from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS
+from .table import SKIP
 from .units import turn_field
-
-SKIP = "-"
-"""The name of a column to leave out (a list of ``columns``)."""
 
 SENSORS = ("acc", "gyr", "mag")
 NAME_WORDS = {

@@ -37,16 +37,19 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import UNITS, UNITS_IN, LogData
-from .columns import PREVIEW_LINES, SKIP, ColumnsAmbiguous, guess_columns
+from .columns import PREVIEW_LINES, ColumnsAmbiguous, guess_columns
 from .table import (
     BAD_LINE,
+    SKIP,
     SNIFF_BYTES,
     WHITESPACE,
     Sniff,
+    columns_not_read,
     decode_head,
     guess_decimal,
     guess_delimiter,
     is_comment,
+    listed_columns,
     numeric_layout,
     read_columns,
     split_row,
@@ -54,8 +57,6 @@ from .table import (
 )
 from .timing import time_scale as infer_time_scale
 from .timing import with_timing
-
-MAX_LISTED_COLUMNS = 20
 
 _AXIS = r"[ _.\-]?(?:\(?)(?P<axis>[xyz])(?:\)?)"
 _UNIT = r"(?:\s*[\(\[](?P<unit>[^\)\]]*)[\)\]])?"
@@ -362,9 +363,7 @@ def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]
         )
     complete = [s for s, axes in channels.items() if set(axes) == {"x", "y", "z"}]
     if not complete:
-        listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
-        if len(names) > MAX_LISTED_COLUMNS:
-            listed += f" and {len(names) - MAX_LISTED_COLUMNS} more"
+        listed = listed_columns(names)
         partial = ", ".join(f"{s}_{a}" for s, axes in channels.items() for a in "xyz" if a in axes)
         raise LogFormatError(
             f"no accelerometer, gyroscope or magnetometer x, y and z columns among the header's columns {listed}"
@@ -489,7 +488,12 @@ def read_csv_log(
     sensors = [channels[sensor][a] for sensor in ("acc", "gyr", "mag") if sensor in channels for a in "xyz"]
     used += sensors
     notes = list(layout.notes)
-    left = _left_out(names, used)
+    left = columns_not_read(
+        names,
+        used,
+        "trical reads a time, a temperature and the x, y and z of an accelerometer, a gyroscope and a magnetometer; "
+        "map one with columns if it is one of these",
+    )
     if left:
         notes.append(left)
     values = dict(
@@ -545,23 +549,6 @@ def read_csv_log(
         ),
         sampling_rate_hz,
         name,
-    )
-
-
-def _left_out(names: list[str], used: list[int]) -> str | None:
-    """The note naming the header's columns that are not read (none is dropped in silence): not a time, a
-    temperature or a sensor's three axes. A column named ``-`` was left out by the ``columns`` given, and an empty
-    name (a trailing separator) names nothing."""
-    left = [n.strip() for c, n in enumerate(names) if c not in used and n.strip() not in ("", SKIP)]
-    if not left:
-        return None
-    listed = ", ".join(repr(n[:40]) for n in left[:MAX_LISTED_COLUMNS])
-    if len(left) > MAX_LISTED_COLUMNS:
-        listed += f" and {len(left) - MAX_LISTED_COLUMNS} more"
-    return (
-        f"{len(left)} column{'s' if len(left) > 1 else ''} not read: {listed} (trical reads a time, a temperature "
-        "and the x, y and z of an accelerometer, a gyroscope and a magnetometer; map one with columns if it is one "
-        "of these)"
     )
 
 

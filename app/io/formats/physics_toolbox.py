@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, first_row, guess_decimal, read_columns, split_row
+from .table import Sniff, columns_not_read, first_row, guess_decimal, read_columns, split_row
 
 NAME = "physics_toolbox"
 _GF = ("gfx", "gfy", "gfz")
@@ -80,7 +80,14 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
             if back.any():
                 period = 86400.0 if ":" in rows[0][col] and rows[0][col].count(":") >= 2 else 3600.0
                 time = time + period * np.concatenate([[0], np.cumsum(back)])
-    notes = ["g-force columns gFx, gFy, gFz (g); linear ax, ay, az not used"]
+    notes = ["g-force columns gFx, gFy, gFz (g)"]
+    left = columns_not_read(
+        names,
+        order + ([lowered.index("time")] if time is not None else []),
+        "the linear acceleration ax, ay, az (gravity removed), the total and the other sensors: trical reads the "
+        "g-force, the gyroscope and the magnetometer",
+    )
+    notes += [left] if left else []
     if time is None and "time" in lowered:
         notes.append(f"the time column of {name} could not be read as seconds or a clock: it is not used")
     units = units or {}

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .table import Sniff, first_row, guess_decimal, read_columns
+from .table import Sniff, columns_not_read, first_row, guess_decimal, read_columns
 
 NAME = "sensorlog"
 TIME = "accelerometertimestamp_sincereboot(s)"
@@ -35,6 +35,12 @@ def detect(s: Sniff) -> bool:
         return False
     found = first_row(s.lines)
     return found is not None and set(STREAMS["acc"][0]) <= {n.lower() for n in found[2]}
+
+
+NOT_READ = (
+    "SensorLog's fused motion values, its location and its other sensors and fields: trical reads the raw "
+    "accelerometer, gyroscope and magnetometer"
+)
 
 
 def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
@@ -71,8 +77,5 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         units={k: units.get(k) or STREAMS[k][1] for k in stacked},
         format=NAME,
         columns=names,
-        notes=(
-            "SensorLog's raw accelerometer, gyroscope and magnetometer columns; its motion* (fused) "
-            "values are not used",
-        ),
+        notes=tuple(filter(None, [columns_not_read(names, order, NOT_READ)])),
     )

@@ -141,6 +141,28 @@ def guess_delimiter(line: str) -> str:
     return max((",", ";", "\t"), key=line.count)
 
 
+MAX_LISTED_COLUMNS = 20
+"""Columns named in a message before "and N more"."""
+SKIP = "-"
+"""The name of a column to leave out (a list of ``columns``)."""
+
+
+def listed_columns(names: list[str]) -> str:
+    """Column names as a message lists them: quoted, cut at 40 characters, the first 20 and how many more."""
+    listed = ", ".join(repr(n[:40]) for n in names[:MAX_LISTED_COLUMNS])
+    return listed + (f" and {len(names) - MAX_LISTED_COLUMNS} more" if len(names) > MAX_LISTED_COLUMNS else "")
+
+
+def columns_not_read(names: list[str], used, why: str) -> str | None:
+    """The note naming a header's columns a reader left (none is dropped in silence), and ``why``; None when it
+    read them all. A column named ``-`` was left out by the ``columns`` given, and an empty name (a trailing
+    separator) names nothing."""
+    left = [n.strip() for c, n in enumerate(names) if c not in set(used) and n.strip() not in ("", SKIP)]
+    if not left:
+        return None
+    return f"{len(left)} column{'s' if len(left) > 1 else ''} not read: {listed_columns(left)} ({why})"
+
+
 def first_row(lines: list[str]) -> tuple[int, str, list[str]] | None:
     """The 0-based index, delimiter (comma, semicolon or tab) and fields of the first non-blank line."""
     for index, line in enumerate(lines):
