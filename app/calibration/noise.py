@@ -207,13 +207,13 @@ def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
     fit = ms >= FIT_MIN_M
     if fit.sum() < 3:
         fit = np.ones_like(ms, dtype=bool)
-    hump = _past_hump(tau, avar, ms, n_phase, fit)
-    f0 = None
-    if hump is None:
+    found = _past_hump(tau, avar, ms, n_phase, fit)
+    f0, hump = None, None
+    if found is None:
         theta = _fit_terms(tau[fit], avar[fit], n_phase, ms[fit])[0]
     else:  # the disturbance fitted as a term of its own, so that each term is read where it stands alone
-        theta, f0 = _periodic_fit(tau[fit], avar[fit], n_phase, ms[fit], hump[0])
-        hump = (*hump, f0)
+        theta, f0 = _periodic_fit(tau[fit], avar[fit], n_phase, ms[fit], found[0])
+        hump = (*found, f0)
     a = _basis(tau, f0)
     parts = a * theta
     edf = edf_simple(n_phase, ms, _dominant(a, theta))

@@ -125,11 +125,11 @@ def _c_lines(c, scale: dict | None, sample: list[float]) -> list[str]:
             f"    m[{i}] = raw[{i}] {op} {k};" + (f"  /* {read_in} to {unit_in}: {scale['words']} */" if i == 0 else "")
             for i in range(3)
         ]
-    counts = scale is None or _read_in(scale) == "counts"
+    read_in = "counts" if scale is None else _read_in(scale)
+    counts = read_in == "counts"
     kind, values = ("int16_t", [str(int(v)) for v in sample]) if counts else ("float", [_c_float(v) for v in sample])
     return [
-        f"/* One {SENSOR_WORDS[c.sensor]} reading from your driver, in {'counts' if counts else _read_in(scale)}, "
-        f"calibrated into f, in {out}. */",
+        f"/* One {SENSOR_WORDS[c.sensor]} reading from your driver, in {read_in}, calibrated into f, in {out}. */",
         f"void {name}_calibrate(const {kind} raw[3], float f[3])",
         "{",
         "    float m[3];",
@@ -221,7 +221,7 @@ def usage_snippets(body: dict, read_with: dict | None = None, read_scales: dict 
         for c in corrections
     }
     counts = any(  # int16_t
-        (scales[c.sensor] is not None and _read_in(scales[c.sensor]) == "counts") or c.input_unit == "raw"
+        ((scale := scales[c.sensor]) is not None and _read_in(scale) == "counts") or c.input_unit == "raw"
         for c in corrections
     )
     c_lines = ["#include <stdint.h>  /* int16_t */", f'#include "{header}"'] if counts else [f'#include "{header}"']

@@ -76,11 +76,11 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
                 f"{name}: line {number} {line[:60]!r} is not a tagged reading: every line must name its sensor "
                 "(acc, gyro or mag) and then give an optional time and three numbers; fix or remove that line"
             )
-        tag, values = parsed
+        tag, numbers = parsed
         if tag not in _SENSOR_OF:
             other[tag] = other.get(tag, 0) + 1
             continue
-        streams.setdefault(_SENSOR_OF[tag], []).append(values)
+        streams.setdefault(_SENSOR_OF[tag], []).append(numbers)
     arrays = {sensor: _rows(rows, sensor, name) for sensor, rows in streams.items()}
     base = "acc" if "acc" in arrays else next(iter(arrays))
     timed = all(a.shape[1] == 4 for a in arrays.values())
