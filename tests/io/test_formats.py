@@ -218,3 +218,13 @@ def test_g_readings_declared_in_m_s2_are_read_in_g_with_a_warning():
         and n.endswith("about 1 g in g: calibrated in g")
         for n in log.warnings
     )
+
+
+def test_a_sensor_logger_zip_names_the_files_it_does_not_read():
+    """Sensor Logger's Android zip (Metadata, TotalAcceleration, Accelerometer, Gyroscope, a README): the
+    accelerometer with gravity and the gyroscope are read, and the user acceleration and the README are named as
+    not read, never left in silence."""
+    log = read_log(SAMPLES / "sensor_logger_android.zip", name="rec.zip")
+    assert log.channels == ["acc", "gyr"]
+    (said,) = [n for n in log.notes if "of the zip not read" in n]
+    assert said.startswith("2 files of the zip not read: Accelerometer.csv, README.txt")

@@ -196,6 +196,15 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
                 t_o, v_o = _read_sensor(read_member(path, other, name), f"{other} in {name}")[:2]
                 extra[sensor] = (t_o, v_o)
         notes = [f"read {member} from the Sensor Logger zip"]
+        read = {meta_member, member, *(find_member(s.members, *files) for files in (GYR_FILES, MAG_FILES))}
+        left = [m for m in s.members or () if m not in read and not m.endswith("/") and "__macosx" not in m.lower()]
+        if left:
+            notes.append(
+                f"{len(left)} file{'s' if len(left) > 1 else ''} of the zip not read: {', '.join(left[:12])}"
+                + (f" and {len(left) - 12} more" if len(left) > 12 else "")
+                + " (Sensor Logger's other sensors and its derived streams: trical reads the accelerometer with "
+                "gravity, the gyroscope and the magnetometer)"
+            )
     else:
         meta, member, label = None, None, name
         time_ns, acc, names = _read_sensor(path.read_bytes(), label)
