@@ -47,9 +47,9 @@ def calibrate_and_store(request: CalibrationIn, store: Store, owner: str | None,
     """The body of POST /api/v1/calibrations: the calibration computed, stored, and its words for ``reader``."""
     source = recording_source(store, getattr(request, "recording_id", None), owner)
     body = methods.calibrate(request, source).body()
-    # A calibration of the same upload and method supersedes the earlier ones (none is deleted).
-    digest = source.meta.get("content_sha256") if source is not None else None
-    return render_body(store.add_calibration(body, owner=owner, recording_digest=digest), *reader)
+    # A calibration of the same upload, method (and compass) supersedes the earlier ones (none is deleted).
+    key = source.supersede_key(body) if source is not None else None
+    return render_body(store.add_calibration(body, owner=owner, recording_digest=key), *reader)
 
 
 @router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")

@@ -39,8 +39,9 @@ def ardupilot_cal(values: dict, instance: int) -> FirmwareCompassCal:
     }
     orient = "COMPASS_ORIENT" + k
     scale = "COMPASS_SCALE" + k
+    extern = "COMPASS_EXTERNAL" if not k else "COMPASS_EXTERN" + k  # 0 internal, 1 external, 2 forced external
     used = {n: values[n] for group in names.values() for n in group if n in values}
-    for n in ("COMPASS_MOTCT", orient, scale):
+    for n in ("COMPASS_MOTCT", orient, scale, extern):
         if n in values:
             used[n] = values[n]
     ofs = np.array([values.get(n, 0.0) for n in names["ofs"]])
@@ -62,6 +63,7 @@ def ardupilot_cal(values: dict, instance: int) -> FirmwareCompassCal:
         orientation=int(values[orient]) if orient in values else None,
         params=used,
         switch="COMPASS_USE" + k,
+        external=None if extern not in values else values[extern] > 0,
     )
 
 

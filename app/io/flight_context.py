@@ -112,6 +112,9 @@ class FirmwareCompassCal:
     switch : str or None
         The parameter that has the firmware use this compass (ArduPilot COMPASS_USEn, PX4 CAL_MAGn_PRIO or,
         before 1.12, CAL_MAGn_EN); None where the log stores no calibration slot for it.
+    external : bool or None
+        Whether the firmware takes it for an external compass (ArduPilot COMPASS_EXTERNAL, _EXTERN2, _EXTERN3
+        non-zero; PX4 a CAL_MAGn_ROT of its own, −1 meaning internal); None where the log does not say.
     """
 
     firmware: str
@@ -123,6 +126,7 @@ class FirmwareCompassCal:
     orientation: int | None
     params: dict
     switch: str | None = None
+    external: bool | None = None
 
     def to_dict(self) -> dict:
         d = asdict(self)

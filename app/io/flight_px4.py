@@ -88,6 +88,7 @@ def px4_cal(values: dict, slot: int, instance: int) -> FirmwareCompassCal:
         params=used,
         # 1.12 on a priority, 0 disabling it; before, CAL_MAGn_EN; neither in the log: not said
         switch=next((p + k for k in ("PRIO", "EN") if slot >= 0 and p + k in values), None),
+        external=None if rot is None else int(rot) >= 0,  # CAL_MAGn_ROT −1: internal, the board's rotation
     )
 
 

@@ -113,8 +113,9 @@ class Store:
         """Store a calibration; ``id`` and ``created_at`` are assigned here and returned in it. With
         ``session_id``, the session names it as its calibration in the same transaction: a solved session
         and its calibration are stored together or not at all. With ``recording_digest`` (the SHA-256 of the
-        recording's upload), it supersedes the owner's earlier calibrations of the same recording, method and
-        device name (read again with other options): they stay, each naming it in ``superseded_by``."""
+        recording's upload, with the compass for a flight log's: RecordingSource.supersede_key), it supersedes the
+        owner's earlier calibrations of the same recording, method and device name (read again with other
+        options): they stay, each naming it in ``superseded_by``."""
         body = dict(body, id=new_id("cal"), created_at=utc_now())
         row = {
             "id": body["id"],

@@ -254,6 +254,7 @@ def compass_flight(request, recording: RecordingSource | None) -> Calibration:
         "firmware": log.firmware,
         "generation": log.generation,
         "instance": log.instance,
+        "external": log.stored.external,
         "raw_how": log.raw_how,
         "frame_to_body": log.frame_to_body.tolist(),
         "stored": log.stored.to_dict(),

@@ -358,6 +358,15 @@ class RecordingSource:
         return fields if source is None else {**fields, "source": source}
 
 
+    def supersede_key(self, body: dict) -> str | None:
+        """What a calibration of this recording supersedes the earlier ones by (with its method, device name and
+        owner: app.store): the upload's digest, and for a flight log's compass which compass it is — compass 1's
+        calibration is no later reading of compass 0's."""
+        digest = self.meta.get("content_sha256")
+        instance = (body.get("flight") or {}).get("instance")
+        return digest if digest is None or instance is None else f"{digest}:compass{instance}"
+
+
 def require_rate(rate: float | None, method: str) -> float:
     """The recording's sampling rate, or a refusal naming what to give: methods over time need one."""
     if rate is None:

@@ -60,10 +60,19 @@ function row(cal, earlierThan = null) {
   verdict.dataset.kind = cal.verdict.kind;
   const named = (label, text) => { const td = cell("td", text); td.dataset.label = label; return td; };
   const device = named("Device", cal.device_id || "—");
-  const method = named("Method", TABLES.methods[cal.method] || cal.method);
+  const method = named("Method", (TABLES.methods[cal.method] || cal.method) + compassOf(cal));
   verdict.dataset.label = "Verdict";
   tr.append(date, device, method, verdict);
   return tr;
+}
+
+// A flight log's compass: which one it was, and whether the firmware takes it for external (its row is its own:
+// compass 1's calibration is no later reading of compass 0's).
+function compassOf(cal) {
+  const flight = cal.flight;
+  if (!flight || flight.instance == null) return "";
+  const where = flight.external === true ? " (external)" : flight.external === false ? " (internal)" : "";
+  return `, compass ${flight.instance}${where}`;
 }
 
 // "N earlier": the earlier calibrations of the row's recording and method, under it; again hides them.

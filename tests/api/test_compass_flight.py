@@ -122,7 +122,7 @@ def test_a_real_copter_log_parked_most_of_its_flight_is_not_ok_in_words(client, 
     # what to do first: the vehicle flew mostly one way (68 % of its flying part, the 29 % on the ground left out,
     # in one 45° sector of heading)
     assert body["reasons"][0].startswith(
-        "the flight turned through too few headings (8 of 8 sectors of 45° reached, 68% of it in one"
+        "the flight held one heading for most of it (8 of 8 sectors of 45° reached, but 68% of the flight in one"
     ), body["reasons"][0]
     assert any(w.startswith("the flying part is fitted: ") for w in body["warnings"])
     assert body["flight"]["generation"] == f"ArduPilot Copter V3.3-dev (TimeMS, {('MAG', 'MAG2', 'MAG3')[instance]})"
@@ -313,9 +313,11 @@ def test_a_three_compass_log_says_which_compass_is_lying(client, log171):
     )
     assert rows[2]["action"].startswith("calibrate it or stop its use (COMPASS_USE3 = 0)")
     assert (
-        rows[0]["action"] == rows[1]["action"] == "fly turns through every heading (a slow full yaw turn, or circles)"
+        rows[0]["action"]
+        == rows[1]["action"]
+        == "fly turns through every heading (a slow full yaw turn, or circles), banked as well as level"
     )
-    assert rows[0]["reason"].startswith("the flight turned through too few headings")
+    assert rows[0]["reason"].startswith("the flight held one heading for most of it")
 
 
 def test_the_attitude_judged_by_is_chosen_among_the_logs_estimates(client, log171):

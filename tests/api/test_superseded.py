@@ -47,3 +47,31 @@ def test_reading_the_same_pose_files_again_supersedes_and_keeps_the_earlier_ones
     assert orient["method"] != c["method"]
     items = client.get("/api/v1/calibrations").json()["items"]
     assert [x["id"] for x in items] == [orient["id"], other["id"], c["id"]] and items[2]["earlier"] == 2
+
+
+def test_each_compass_of_a_flight_log_keeps_its_own_calibration(client):
+    """The real ArduCopter log171.bin (tests/data/real/flight/README.md): its compass 1 calibrated after compass 0 is
+    another compass, not a later reading of the first — both stay listed, each naming its compass (external,
+    internal: COMPASS_EXTERNAL, COMPASS_EXTERN2) — and compass 0 calibrated again supersedes compass 0 only."""
+    from tests.conftest import DATA
+
+    log = DATA / "real" / "flight" / "log171.bin"
+    rec = client.post("/api/v1/recordings", files={"file": (log.name, log.read_bytes(), "application/octet-stream")})
+    assert rec.status_code == 201, rec.text
+
+    def compass(instance: int, **extra) -> dict:
+        r = client.post(
+            "/api/v1/calibrations",
+            json={"method": "compass_flight", "recording_id": rec.json()["id"], "mag_instance": instance, **extra},
+        )
+        assert r.status_code == 201, r.text
+        return r.json()
+
+    zero, one = compass(0), compass(1)
+    assert (zero["flight"]["instance"], zero["flight"]["external"]) == (0, True)
+    assert (one["flight"]["instance"], one["flight"]["external"]) == (1, False)
+    items = client.get("/api/v1/calibrations").json()["items"]
+    assert [x["id"] for x in items] == [one["id"], zero["id"]] and not any("earlier" in x for x in items)
+    again = compass(0, window="all")
+    items = client.get("/api/v1/calibrations").json()["items"]
+    assert [x["id"] for x in items] == [again["id"], one["id"]] and items[0]["earlier"] == 1

@@ -65,11 +65,12 @@ BASE = {
         (
             {
                 "pull": {"at_top_deg": 9.6, "determined": False},
-                "reason": "the flight turned through too few headings (8 of 8 sectors of 45° reached, 68% of it in "
-                "one; 80% of the directions): fly turns through every heading (a slow full yaw turn, or circles) so "
-                "that the hard iron can be told from the field and from a turn of the compass",
+                "reason": "the flight held one heading for most of it (8 of 8 sectors of 45° reached, but 68% of the "
+                "flight in one; 80% of the directions): fly turns through every heading (a slow full yaw turn, or "
+                "circles), banked as well as level, so that the hard iron can be told from the field and from a turn "
+                "of the compass",
             },
-            "fly turns through every heading (a slow full yaw turn, or circles)",
+            "fly turns through every heading (a slow full yaw turn, or circles), banked as well as level",
         ),
         ({"ok": True}, "apply this calibration"),
         ({"consistent": False}, "calibrate it or stop its use (COMPASS_USE2 = 0)"),

@@ -511,3 +511,28 @@ def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_
     assert page.locator("#downloads a[data-format=px4]").count() == 1  # still listed among every format
     shot(page, "use_px4_not_offered")
     assert page.errors == []
+
+
+def test_the_history_names_each_compass_of_a_flight_log(page, server):
+    """The real log171.bin's compass 0 and compass 1 calibrated from the flight: two rows of the drone's history,
+    each naming its compass and whether the firmware takes it for external."""
+    log = DATA / "real" / "flight" / "log171.bin"
+    with httpx.Client(base_url=server.url, timeout=120) as http:
+        rec = http.post("/api/v1/recordings", files={"file": (log.name, log.read_bytes())}).json()
+        for instance in (0, 1):
+            r = http.post(
+                "/api/v1/calibrations",
+                json={
+                    "method": "compass_flight",
+                    "recording_id": rec["id"],
+                    "mag_instance": instance,
+                    "device_id": "log171-quad",
+                },
+            )
+            assert r.status_code == 201, r.text
+    page.goto(server.url + "/history?device=log171-quad")
+    page.wait_for_selector("#history-table:not([hidden])")
+    methods = page.eval_on_selector_all(
+        "#history-table tbody td[data-label='Method']", "(c) => c.map((x) => x.textContent)"
+    )
+    assert [m.split(", ", 1)[1] for m in methods] == ["compass 1 (internal)", "compass 0 (external)"], methods

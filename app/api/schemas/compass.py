@@ -141,7 +141,8 @@ class CompassFlightOut(CalibrationCommon):
     metrics: CompassFlightMetrics
     flight: dict[str, Any] = Field(
         description=(
-            "The log and the fit: firmware, generation, instance, raw_how (how the raw readings were had), structure "
+            "The log and the fit: firmware, generation, instance, external (true for an external compass, false for "
+            "the board's own, null where the log does not say), raw_how (how the raw readings were had), structure "
             "(offsets, scale, soft_iron), motor (current, throttle or null), rotation_found, rotation_nearest "
             "({ardupilot, px4, name}), angle_left_deg, orientation_agrees, frame_to_body, stored (the firmware's own "
             "calibration), attitude_source, power_source, place, models (each candidate's error on segments left out), "

@@ -445,10 +445,20 @@ def _direction_gates(gates: Gates, e: np.ndarray, C) -> tuple[float, str | None]
     sectors, one_way = int(np.count_nonzero(counts)), float(counts.max() / max(len(e), 1))
     level = None  # too few directions alone: a reason only where a number stays open (the caller's)
     if sectors < MIN_HEADING_SECTORS or share < MIN_COVERAGE or one_way > MAX_ONE_HEADING:
+        # The cause that failed, said so that the figures never contradict it: 8 of 8 sectors is no "too few".
+        if sectors < MIN_HEADING_SECTORS:
+            said = f"the flight turned through too few headings ({sectors} of 8 sectors of 45° reached"
+        elif one_way > MAX_ONE_HEADING:
+            said = (
+                f"the flight held one heading for most of it ({sectors} of 8 sectors of 45° reached, but "
+                f"{one_way:.0%} of the flight in one"
+            )
+        else:
+            said = f"the flight stayed level ({sectors} of 8 sectors of 45° reached, but tilted little"
         why = (
-            f"the flight turned through too few headings ({sectors} of 8 sectors of 45° reached, {one_way:.0%} "
-            f"of it in one; {share:.0%} of the directions): fly turns through every heading (a slow full yaw turn, "
-            "or circles) so that the hard iron can be told from the field and from a turn of the compass"
+            f"{said}; {share:.0%} of the directions): fly turns through every heading (a slow full yaw turn, or "
+            "circles), banked as well as level, so that the hard iron can be told from the field and from a turn of "
+            "the compass"
         )
         if sectors < MIN_HEADING_SECTORS or one_way > MAX_ONE_HEADING:
             gates.fail(why)
