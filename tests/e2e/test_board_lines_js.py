@@ -223,3 +223,28 @@ def test_a_stalled_capture_says_what_it_waits_for(js):
         "No capture for 20 s. Waiting for X arrow up (+x) or Y arrow down (-y): the board is still, components up "
         "(+z), captured already; turn it to a pose asked.",
     ]
+
+
+def test_a_board_without_a_compass_is_told_nothing_of_a_compass_reset(page, server):
+    """The packet of an accelerometer calibration for a board whose lines carry no magnetometer (an MPU-6050):
+    the send box says its compass part concerns nothing on that board, and offers no compass calibration; a board
+    that prints a magnetometer is told its compass calibration will be reset (board_panel.js describeSend)."""
+    page.goto(server.url + "/wizard?protocol=six&source=board")
+    said = page.evaluate(
+        """async () => {
+          const m = await import('/static/js/board_panel.js');
+          const X = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
+          const cal = { device_id: 'imu-1', model: { type: 'affine', X, y: [0, 0, 0] } };
+          const words = (latest) => {
+            const panel = { calibration: cal, compass: null, latest };
+            m.BoardPanel.prototype.describeSend.call(panel);
+            return [document.querySelector('#board-send-parts').textContent,
+                    document.querySelector('#board-send-compass-box').hidden];
+          };
+          return [words({ acc: [0, 0, 9.8], gyr: [0, 0, 0], mag: null }),
+                  words({ acc: [0, 0, 9.8], gyr: [0, 0, 0], mag: [20, 0, -40] })];
+        }"""
+    )
+    (without, hidden), (with_mag, _) = said
+    assert "This board prints no magnetometer" in without and "will be reset" not in without and hidden
+    assert "The board's compass calibration will be reset" in with_mag
