@@ -351,11 +351,21 @@ class RecordingSource:
 
     @property
     def source_fields(self) -> dict:
-        """The calibration's fields about its recording: its id, and where it came from (``source``, by its
-        format: app.io.formats.SOURCE_OF_FORMAT) when its format says."""
+        """The calibration's fields about its recording: its id, and where it came from (``source``): by its
+        format (app.io.formats.SOURCE_OF_FORMAT: each of several files' formats), else a board where its readings
+        were counts (no phone app logs counts: an Arduino's CSV, an HMC5883L's)."""
         fields = {} if self.id is None else {"recording_id": self.id}
-        source = SOURCE_OF_FORMAT.get(self.meta.get("format", ""))
+        formats = str(self.meta.get("format", "")).split("+")
+        source = next(filter(None, map(SOURCE_OF_FORMAT.get, formats)), None)
+        if source is None and self._counts():
+            source = "board"
         return fields if source is None else {**fields, "source": source}
+
+    def _counts(self) -> bool:
+        """Whether the recording's readings were counts (kept as counts, or scaled from them)."""
+        scales = (self.meta.get("scales") or {}).values()
+        units = (self.meta.get("units") or {}).values()
+        return "raw" in units or any(s.get("read_in") == "counts" for s in scales)
 
 
     def supersede_key(self, body: dict) -> str | None:

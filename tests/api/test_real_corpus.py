@@ -75,3 +75,22 @@ def test_a_real_recording_answers_as_its_case_says(client, case):
     _check(r.json(), r.status_code, case.spec["expect"], f"{case.name} calibration")
     if r.status_code == 201:  # one verdict, from the final result: ok, reasons and verdict agree
         assert disagreement(r.json()) == "", case.name
+
+
+@pytest.mark.parametrize(
+    "name, source",
+    [
+        ("hmc5883l_esp32_still_counts", "board"),  # an ESP32's CSV of counts: a board, whose use is its firmware
+        ("tagged_lines_six_position", "board"),
+        ("phyphox_turntable_zip", "phone"),
+        ("hyperimu_lsm6ds3_phone_still", None),  # a plain CSV in m/s²: nothing says where it came from
+    ],
+)
+def test_a_calibration_says_where_its_readings_came_from(client, name, source):
+    """Where a calibration's readings came from decides the use the page offers first (app/web/uses.py): a phone
+    app's format says phone, a recording of counts a board (no phone app logs counts)."""
+    case = next(c for c in CASES if c.name == name)
+    rec = client.post("/api/v1/recordings", files=case.upload_parts(), data=case.form).json()
+    method = (case.spec.get("calibrate") or {}).get("method", "noise")
+    body = client.post("/api/v1/calibrations", json={"method": method, "recording_id": rec["id"]}).json()
+    assert body.get("source") == source, body.get("source")
