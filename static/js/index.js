@@ -418,6 +418,11 @@ async function showOptions() {
   }
 }
 $("#log-file").addEventListener("change", showOptions);
+// The drone's door: its first step is the log itself, chosen with the upload's own file chooser.
+$("#drone-log").addEventListener("click", () => {
+  $("#upload-form").scrollIntoView();
+  $("#log-file").click();
+});
 
 // What the person may ask of any recording (the method table's methods that read one), in the page's words.
 $("#log-goal").append(...TABLES.recordingMethods.map((method) => {

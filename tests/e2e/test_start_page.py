@@ -484,7 +484,18 @@ def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_besi
     page.on("console", lambda msg: errors.append(msg.text) if msg.type == "error" else None)
     page.goto(server.url + "/")
     assert page.locator("h1 .for-desktop").is_visible() and page.locator("h1 .for-phone").is_hidden()
-    assert page.inner_text("h1") == "Calibrate a board's or a phone's motion sensors"  # what is shown
+    assert page.inner_text("h1") == "Calibrate the motion sensors of a phone, a board or a drone"  # what is shown
+    # Three doors, each a heading a person scans, each to its own first step (issue 45).
+    doors = page.locator("#doors .door")
+    assert [doors.nth(i).locator(".door-h").inner_text() for i in range(3)] == [
+        "A phone",
+        "A board",
+        "A drone's flight log",
+    ]
+    assert [doors.nth(i).get_attribute("href") for i in range(3)] == ["#on-phone", "#on-board", "#on-drone"]
+    with page.expect_file_chooser() as chooser:  # the drone's first step: its log, in the upload's chooser
+        page.click("#drone-log")
+    assert chooser.value.is_multiple() and chooser.value.element.get_attribute("id") == "log-file"
     # Chromium has the Web Serial API: the board's flows lead, the upload under them, the QR code beside.
     board = page.locator("#on-board").bounding_box()
     upload = page.locator("#upload-form").bounding_box()
