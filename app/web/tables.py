@@ -28,6 +28,7 @@ from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
 from app.web.metric_words import METRICS
+from app.web.sketches import sketch_table
 from app.web.uses import uses_table
 from app.words import UNIT_WORDS
 
@@ -213,6 +214,7 @@ def page_tables() -> dict:
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
         (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
+        ``sketches`` (:func:`app.web.sketches.sketch_table`: what a maker flashes, its baud rate and file);
         ``methods`` (each method in words, from the method table, app.methods); ``metrics``
         (app.web.metric_words: each figure's name, unit and meaning); ``sensorWords`` (:data:`SENSOR_TITLES`);
         ``unitWords`` (app.words: each unit as a person reads it) and ``asFitted`` (by model type, how the
@@ -249,6 +251,7 @@ def page_tables() -> dict:
         "uses": uses_table(),
         "units": unit_tables(),
         "board": board_tables(),
+        "sketches": sketch_table(),
         "methods": {method.name: method.words for method in METHOD_TABLE},
         "calibrationWords": {method.name: method.page_words for method in METHOD_TABLE},
         "recordingMethods": [method.name for method in METHOD_TABLE if "recording_id" in method.request.model_fields],

@@ -367,7 +367,6 @@ class RecordingSource:
         units = (self.meta.get("units") or {}).values()
         return "raw" in units or any(s.get("read_in") == "counts" for s in scales)
 
-
     def supersede_key(self, body: dict) -> str | None:
         """What a calibration of this recording supersedes the earlier ones by (with its method, device name and
         owner: app.store): the upload's digest, and for a flight log's compass which compass it is — compass 1's

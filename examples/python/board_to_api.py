@@ -1,6 +1,6 @@
 """Read a board's lines with pyserial and calibrate them with trical's REST API.
 
-The board prints Adafruit's ``Uni:`` lines (the sketches of examples/arduino); this script records them for a while as
+The board prints Adafruit's ``Uni:`` lines (the sketches of static/sketches); this script records them for a while as
 the board rests in its six poses, uploads them as a log and asks
 for a calibration (method ``auto``), then prints the verdict and saves the C header.
 

@@ -82,6 +82,21 @@ export async function latestCompass(device) {
   return found[0] || null;
 }
 
+// "Copy the sketch": the file as served, on the clipboard; where the browser does not allow it (an http page on
+// the LAN), the person is pointed to the file's link beside the button.
+async function copySketch(button) {
+  const msg = $("#sketch-msg");
+  const name = button.dataset.url.split("/").pop();
+  try {
+    const text = await (await fetch(button.dataset.url)).text();
+    await navigator.clipboard.writeText(text);
+    msg.textContent = `${name} copied: paste it into a new sketch of the Arduino IDE.`;
+  } catch {
+    msg.textContent = `This browser did not let the page copy: open ${name} (the link beside the button) and copy it.`;
+  }
+  msg.hidden = false;
+}
+
 export class BoardPanel {
   // needAcc: the flow needs the accelerometer (its unit is checked at rest before samples flow);
   // onConnect(kind): the board is connected (from the click's promise); onSample(sample): a sample in
@@ -125,6 +140,9 @@ export class BoardPanel {
     if (send) send.addEventListener("click", () => this.send());
     const include = $("#board-send-compass");
     if (include) include.addEventListener("change", () => this.describeSend());
+    for (const button of document.querySelectorAll(".sketch-copy")) {
+      button.addEventListener("click", () => copySketch(button));
+    }
   }
 
   message(text) {

@@ -248,3 +248,27 @@ def test_a_board_without_a_compass_is_told_nothing_of_a_compass_reset(page, serv
     (without, hidden), (with_mag, _) = said
     assert "This board prints no magnetometer" in without and "will be reset" not in without and hidden
     assert "The board's compass calibration will be reset" in with_mag
+
+
+def test_the_board_page_says_what_to_flash_and_copies_the_sketch(browser, server):
+    """The board page lists the sketches that print what it reads (static/sketches), each with its baud rate — read
+    from the sketch's own Serial.begin — and its libraries; Copy the sketch puts the served file on the clipboard."""
+    from app.web.sketches import SKETCHES
+
+    context = browser.new_context(viewport={"width": 390, "height": 800})
+    context.grant_permissions(["clipboard-read", "clipboard-write"], origin=server.url)
+    page = context.new_page()
+    try:
+        page.goto(server.url + "/wizard?protocol=six&source=board")
+        page.click("#board-sketches summary")
+        items = page.locator("#board-sketches li")
+        assert [items.nth(i).get_attribute("data-sketch") for i in range(items.count())] == [s.name for s in SKETCHES]
+        mpu = page.locator("#board-sketches li[data-sketch='mpu6050_uni']")
+        assert "at 115200 baud" in mpu.inner_text() and "Adafruit MPU6050" in mpu.inner_text()
+        mpu.locator(".sketch-copy").click()
+        expect_copied = "mpu6050_uni.ino copied: paste it into a new sketch of the Arduino IDE."
+        page.wait_for_function(f"document.querySelector('#sketch-msg').textContent === {expect_copied!r}")
+        pasted = page.evaluate("navigator.clipboard.readText()")
+        assert pasted == SKETCHES[0].path.read_text(encoding="utf-8") and "Serial.begin(115200)" in pasted
+    finally:
+        context.close()

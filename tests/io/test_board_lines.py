@@ -153,7 +153,7 @@ def test_a_chosen_format_skips_what_is_not_it():
 
 
 def test_a_sensor_printed_as_zeros_is_left_out():
-    """An MPU-6050 has no magnetometer: its Uni: lines print zeros there (examples/arduino/mpu6050_uni)."""
+    """An MPU-6050 has no magnetometer: its Uni: lines print zeros there (static/sketches/mpu6050_uni)."""
     lines = [f"Uni:{a:.4f},0.1000,9.8000,0.01000,-0.00200,0.00300,0,0,0" for a in np.linspace(-0.1, 0.1, 30)]
     out, reader = read_lines(lines)
     assert reader.format.sensors == ("acc", "gyr") and set(out[0].values) == {"acc", "gyr"}
