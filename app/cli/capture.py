@@ -139,13 +139,41 @@ def _capture_calibration(capture, outcome, args, settings: Callable[[], Settings
         if not body["ok"]:
             say("not sent to the board: the calibration is not ok (see the reasons)")
             return 3
-        packet, notes = packet_of(body)
+        compass = None if args.without_compass else _latest_compass(body, args.device_id, settings)
+        if compass is not None:
+            say(
+                f"including the compass calibration of {args.device_id} from {compass['created_at']} "
+                f"({compass['id']}), so that the board keeps it (--without-compass leaves it out)"
+            )
+        packet, notes = packet_of(body, compass)
         port.write(packet)
         port.flush()
         say(f"sent MotionCal's {len(packet)}-byte calibration packet to the board")
         for note in notes:
             say(f"note: {render(note, 'cli')}")
     return 0 if body["ok"] else 3
+
+
+def _latest_compass(body: dict, device_id: str | None, settings: Callable[[], Settings]) -> dict | None:
+    """The device's latest stored compass calibration that is ok, for a packet whose own calibration has no compass
+    (the page's latestCompass): None without a device name, or where the calibration has its own compass."""
+    from app.cli.finish import store_of
+
+    if not device_id or "mag" in _sensors(body):
+        return None
+    listed = store_of(settings).list_calibrations(owner=None, device_id=device_id)
+    return next((cal for cal in listed if cal.get("ok") and _sensors(cal) == {"mag"}), None)
+
+
+def _sensors(body: dict) -> set[str]:
+    """The sensors a calibration corrects (none for a noise or temperature characterisation)."""
+    from app.io.export_common import sensor_corrections
+    from app.io.errors import ExportError
+
+    try:
+        return {c.sensor for c in sensor_corrections(body)}
+    except ExportError:
+        return set()
 
 
 _CAPTURE_FINISH = {"noise": _capture_noise, "calibrate": _capture_calibration}

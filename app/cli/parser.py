@@ -347,7 +347,14 @@ def _add_capture(sub) -> None:
     b.add_argument(
         "--send",
         action="store_true",
-        help="write MotionCal's 68-byte calibration packet to the board (Adafruit Sensor Calibration)",
+        help="write MotionCal's 68-byte calibration packet to the board (Adafruit Sensor Calibration); with "
+        "--device-id, an accelerometer's packet carries that device's latest stored compass calibration, as the "
+        "page's Send to the board does",
+    )
+    b.add_argument(
+        "--without-compass",
+        action="store_true",
+        help="with --send: leave the device's stored compass calibration out (the board's is then reset)",
     )
     b.add_argument("--device-id", type=opt.text("a device id"), default=None)
     b.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")

@@ -22,7 +22,7 @@ export applies the whole model.
 from __future__ import annotations
 
 import struct
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -227,7 +227,19 @@ def from_calibration(body: dict) -> MotionCalCalibration:
     return MotionCalCalibration(**cal, notes=tuple(notes))
 
 
-def packet_of(body: dict) -> tuple[bytes, tuple[str, ...]]:
-    """The 68 bytes for a stored calibration, and the notes on what they do not carry."""
+def packet_of(body: dict, compass: dict | None = None) -> tuple[bytes, tuple[str, ...]]:
+    """The 68 bytes for a stored calibration, and the notes on what they do not carry; with ``compass`` (a stored
+    compass calibration of the same board, for a calibration that has none), its hard iron, field and soft iron in
+    place of the library's defaults, so that the board keeps its compass calibration."""
     cal = from_calibration(body)
+    if compass is not None:
+        mag = from_calibration(compass)
+        kept = [n for n in cal.notes if not n.startswith("magnetometer:")]
+        cal = replace(
+            cal,
+            mag_hardiron=mag.mag_hardiron,
+            mag_field=mag.mag_field,
+            mag_softiron=mag.mag_softiron,
+            notes=(*kept, f"magnetometer: from the compass calibration {compass['id']}, carried whole"),
+        )
     return encode(cal), cal.notes

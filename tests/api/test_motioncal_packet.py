@@ -149,3 +149,40 @@ def test_cli_export_writes_the_bytes_and_says_what_they_do_not_carry(tmp_path, r
     assert "C header" in export.stderr
     got = receive(receiver, packet_file.read_bytes())
     np.testing.assert_allclose(got[:3], body["model"]["y"], rtol=1e-6, atol=1e-6)
+
+
+def test_trical_capture_s_packet_keeps_the_device_s_stored_compass(client, receiver, table1, tmp_path):
+    """`trical capture --send` with --device-id, as the page's Send to the board: an accelerometer calibration's
+    packet carries the device's latest ok compass calibration from the store (its hard iron, field and soft iron,
+    the receiver's values), and nothing of a noise characterisation or of another device; --without-compass
+    leaves it out."""
+    from app.cli.capture import _latest_compass
+    from app.config import Settings
+    from app.io.motioncal_packet import packet_of
+    from app.store import open_store
+
+    m, _M, _b = simulate_session(22, n=300, hard_iron_ut=60.0)
+    readings = [{"up": lab, "mean": row.tolist()} for lab, row in zip(CANONICAL, table1[:6])]
+    acc = client.post("/api/v1/calibrations", json={"method": "six_position", "unit": "m/s^2", "readings": readings})
+    compass = client.post(
+        "/api/v1/calibrations",
+        json={"method": "magnetometer", "mag": m.tolist(), "field_ut": 48.0, "device_id": "imu-7"},
+    )
+    assert acc.status_code == compass.status_code == 201 and compass.json()["ok"], compass.text
+    db = tmp_path / "trical.db"
+    store = open_store(f"sqlite:///{db}", tmp_path / "recordings")
+    stored = store.add_calibration(compass.json(), owner=None)
+    store.add_calibration({**compass.json(), "device_id": "imu-8"}, owner=None)  # another device's
+    settings = lambda: Settings(database_url=f"sqlite:///{db}", data_dir=tmp_path / "recordings")  # noqa: E731
+    body = {**acc.json(), "device_id": "imu-7"}
+    found = _latest_compass(body, "imu-7", settings)
+    assert found is not None and found["id"] == stored["id"]
+    assert _latest_compass(body, None, settings) is None and _latest_compass(body, "imu-9", settings) is None
+    packet, notes = packet_of(body, found)
+    got = receive(receiver, packet)
+    np.testing.assert_allclose(got[0:3], acc.json()["model"]["y"], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(got[6:9], compass.json()["model"]["b"], rtol=1e-7, atol=1e-5)
+    assert got[9] == pytest.approx(48.0, rel=1e-7)
+    assert any(n == f"magnetometer: from the compass calibration {stored['id']}, carried whole" for n in notes)
+    alone = receive(receiver, packet_of(body)[0])
+    assert np.all(alone[6:9] == 0.0) and alone[9] == 50.0
