@@ -167,8 +167,8 @@ def _latest_compass(body: dict, device_id: str | None, settings: Callable[[], Se
 
 def _sensors(body: dict) -> set[str]:
     """The sensors a calibration corrects (none for a noise or temperature characterisation)."""
-    from app.io.export_common import sensor_corrections
     from app.io.errors import ExportError
+    from app.io.export_common import sensor_corrections
 
     try:
         return {c.sensor for c in sensor_corrections(body)}
