@@ -323,7 +323,7 @@ export class BoardPanel {
     const device = cal.device_id;
     const found = this.compass;
     const included = Boolean(found) && $("#board-send-compass").checked;
-    $("#board-send-compass-box").hidden = !found || Boolean(this.latest && !this.latest.mag);
+    $("#board-send-compass-box").hidden = !found;
     if (found) {
       $("#board-send-compass-words").textContent = `Include the compass calibration of ${device} from `
         + `${dateTimeWords(found.cal.created_at)} (its hard iron, soft iron and field), so that the board keeps it.`;
@@ -336,8 +336,9 @@ export class BoardPanel {
     } else if (parts.acc && included) {
       words = "From this calibration: the accelerometer's and gyroscope's offsets. From the compass calibration of "
         + `${dateTimeWords(found.cal.created_at)}: the compass's hard iron, soft iron and field.`;
-    } else if (parts.acc && this.latest && !this.latest.mag) {
-      // A board whose lines carry no magnetometer (an MPU-6050): the packet's compass part changes nothing on it.
+    } else if (parts.acc && !found && this.latest && !this.latest.mag) {
+      // A board whose lines carry no magnetometer (an MPU-6050), and no compass calibration of it stored: the
+      // packet's compass part changes nothing on it.
       words = "From this calibration: the accelerometer's and gyroscope's offsets. This board prints no "
         + "magnetometer, so the packet's compass part (no hard iron, an identity soft iron) concerns nothing on it.";
     } else if (parts.acc) {

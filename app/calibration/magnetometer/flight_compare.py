@@ -113,7 +113,7 @@ def _remedy(reason: str | None) -> str | None:
     if cut not in reason:
         return None
     remedy = reason.split(cut, 1)[1]
-    return remedy.split(" so that ", 1)[0].rstrip(". ")
+    return remedy.split(" so that ", 1)[0].rstrip(".,; ")
 
 
 __all__ = ["action", "consistency", "pull"]
