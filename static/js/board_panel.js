@@ -12,6 +12,7 @@ import { preferSource } from "./use_calibration.js";
 import { $, dateTimeWords, el } from "./dom.js";
 
 const PLOT_MS = 5000;
+const ACK_MS = 2000; // how long the board's reply to a packet is waited for
 const DRAW_MS = 200;
 const PACKET = TABLES.board.packet;
 
@@ -137,7 +138,11 @@ export class BoardPanel {
     $("#board-ble").addEventListener("click", () => this.connect("bluetooth"));
     $("#board-close").addEventListener("click", () => this.close("You disconnected the board."));
     const send = $("#board-send");
-    if (send) send.addEventListener("click", () => this.send());
+    if (send) {  // two steps: what it replaces is confirmed before anything is written
+      send.addEventListener("click", () => this.confirmSend(true));
+      $("#board-send-cancel").addEventListener("click", () => this.confirmSend(false));
+      $("#board-send-go").addEventListener("click", () => { this.confirmSend(false); this.send(); });
+    }
     const include = $("#board-send-compass");
     if (include) include.addEventListener("change", () => this.describeSend());
     for (const button of document.querySelectorAll(".sketch-copy")) {
@@ -361,6 +366,20 @@ export class BoardPanel {
     $("#board-send").disabled = !this.port;
   }
 
+  confirmSend(asking) {
+    $("#board-send-confirm").hidden = !asking;
+    $("#board-send").hidden = asking;
+    if (asking) $("#board-send-go").focus();
+  }
+
+  // What the board printed in reply within ACK_MS of the packet: a line that is not a reading (Adafruit's
+  // calibration sketch prints none; others acknowledge), or null.
+  async acknowledgement(before) {
+    await new Promise((done) => setTimeout(done, ACK_MS));
+    const lines = this.source && this.source.lines;
+    return lines && lines.skipped > before ? lines.lastSkipped : null;
+  }
+
   // MotionCal's packet from the API (GET …/export?format=motioncal), written to the port as it came.
   async send() {
     const msg = $("#board-send-msg");
@@ -394,6 +413,7 @@ export class BoardPanel {
       }
     }
     if (compass) bytes = withCompass(bytes, compass);
+    const before = this.source && this.source.lines ? this.source.lines.skipped : 0;
     try {
       await this.port.write(bytes);
     } catch (err) {
@@ -403,7 +423,13 @@ export class BoardPanel {
     msg.dataset.sent = String(bytes.length);
     msg.dataset.compass = found ? found.cal.id : "";
     const withWhat = found ? `, with the compass calibration of ${dateTimeWords(found.cal.created_at)}` : "";
-    msg.textContent = `Sent MotionCal's ${bytes.length}-byte packet to the board${withWhat}: a board running `
-      + "Adafruit's Sensor Calibration library checks its CRC, stores it and uses it from now on.";
+    const sent = `Sent MotionCal's ${bytes.length}-byte packet to the board${withWhat}.`;
+    msg.textContent = `${sent} Waiting for the board's reply…`;
+    const reply = await this.acknowledgement(before);
+    msg.dataset.ack = reply === null ? "none" : "line";
+    msg.textContent = reply === null
+      ? `${sent} The board printed no reply within ${ACK_MS / 1000} s: Adafruit's Sensor Calibration library checks `
+        + "the CRC and stores the packet without a word, so its readings from now on show whether it took it."
+      : `${sent} The board replied: “${reply}”.`;
   }
 }

@@ -201,9 +201,16 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     assert page.is_checked("#board-send-compass")
     assert f"Include the compass calibration of {DEVICE} from " in page.text_content("#board-send-compass-box")
     assert "From the compass calibration of" in page.text_content("#board-send-parts")
-    page.click("#board-send")
+    page.click("#board-send")  # asks first: what the packet replaces, confirmed before anything is written
+    expect(page.locator("#board-send-confirm")).to_be_visible()
+    assert bytes(page.evaluate("window.__board.written")) == b""
+    box.screenshot(path=str(ARTIFACTS / "board_send_confirm_1280.png"))
+    page.click("#board-send-go")
     expect(page.locator("#board-send-msg")).to_have_attribute("data-sent", "68")
     assert page.get_attribute("#board-send-msg", "data-compass") == compass["id"]
+    # the board's reply, or that none came within 2 s (the shim, as Adafruit's sketch, prints none)
+    expect(page.locator("#board-send-msg")).to_have_attribute("data-ack", "none", timeout=10_000)
+    assert "The board printed no reply within 2 s" in page.text_content("#board-send-msg")
     written = bytes(page.evaluate("window.__board.written"))
     sent_cal, ours = decode(written), decode(api.body())  # decode checks the signature and the CRC
     theirs = decode(
@@ -227,6 +234,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
         in page.text_content("#board-send-parts")
     )
     page.click("#board-send")
+    page.click("#board-send-go")
     page.wait_for_function("window.__board.written.length === 136")
     assert bytes(page.evaluate("window.__board.written"))[68:] == api.body()
     page.check("#board-send-compass")
