@@ -191,3 +191,44 @@ def test_bad_certificate_options_are_one_line(tmp_path):
         assert "Traceback" not in out.stderr and out.stderr.count("\n") == 1
     bad_url = trical("serve", "--https", "--port", port, tmp_path=tmp_path, TRICAL_PUBLIC_URL="phone.local")
     assert bad_url.returncode == 2 and "TRICAL_PUBLIC_URL" in bad_url.stderr
+
+
+NO_LAN_SCRIPT = r"""
+import subprocess, sys, time, httpx
+subprocess.run(["ip", "link", "set", "lo", "up"], check=True)
+command = [sys.executable, "-m", "app.cli", "serve", "--port", "8765"]
+server = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+try:
+    for _ in range(200):
+        try:
+            page = httpx.get("http://127.0.0.1:8765/", timeout=2).text
+            break
+        except httpx.TransportError:
+            time.sleep(0.1)
+    else:
+        server.kill()
+        sys.exit("the server did not answer within 20 s: " + server.stderr.read()[-2000:])
+    print("QR" if 'id="phone-qr"' in page else "NO QR")
+    print("SAID" if 'id="phone-no-lan"' in page else "NOT SAID")
+finally:
+    server.terminate()
+    server.wait(timeout=10)
+"""
+
+
+def test_without_a_lan_address_the_start_page_says_so_instead_of_a_qr_code_to_nowhere(tmp_path):
+    """A machine with no network but its loopback (a network namespace of its own, `unshare -n`, as a laptop off
+    every network is): the start page draws no QR code of 127.0.0.1, which no phone can open, and says what to do."""
+    import shutil
+
+    from tests.processes import run_ok
+
+    unshare = shutil.which("unshare")
+    assert unshare and shutil.which("ip"), "util-linux's unshare and iproute2's ip are needed (Debian: both base)"
+    out = run_ok(
+        [unshare, "-n", sys.executable, "-c", NO_LAN_SCRIPT],
+        timeout_s=90,
+        cwd=ROOT,
+        env={"PATH": "/usr/bin:/bin:/usr/sbin:/sbin", **server_env(tmp_path)},
+    )
+    assert out.stdout.split() == ["NO", "QR", "SAID"], out.stdout

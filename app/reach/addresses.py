@@ -25,6 +25,13 @@ def reachable_url(request: Request) -> str:
     return f"{request.url.scheme}://{'[' + host + ']' if ':' in host else host}{port}/"
 
 
+def another_machine_can_open(url: str) -> bool:
+    """Whether the address :func:`reachable_url` gave is one another machine can open: not a loopback one, which
+    it stays where this machine has no LAN address (no Wi-Fi or Ethernet connection) and no public URL is set."""
+    host = url.partition("://")[2].split("/")[0].rsplit(":", 1)[0].strip("[]")
+    return host not in LOOPBACK
+
+
 def reachable_origin(request: Request) -> str:
     """``scheme://host[:port]`` of :func:`reachable_url`, without its path (TRICAL_PUBLIC_URL may carry one)."""
     scheme, _, rest = reachable_url(request).partition("://")

@@ -13,7 +13,7 @@ from fastapi.templating import Jinja2Templates
 from app.calibration import CANONICAL_SIX
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, WIZARD_PROTOCOLS
 from app.io.formats.kinds import ACCEPTED_SUFFIXES
-from app.reach.addresses import reachable_url
+from app.reach.addresses import another_machine_can_open, reachable_url
 from app.reach.qr import qr_svg_data_uri
 
 from .tables import SOURCES, page_tables
@@ -52,14 +52,15 @@ def index(request: Request):
     """Start page: Start on a phone with motion sensors; on a desktop, the QR code and address of
     the phone page (always), and the upload."""
     url = reachable_url(request)
+    reachable = another_machine_can_open(url)  # no LAN address: no QR code to nowhere, the page says what to do
     return _templates(request).TemplateResponse(
         request,
         "index.html",
         {
             "labels": list(CANONICAL_SIX),
             "tables": page_tables(),
-            "phone_url": url,
-            "phone_qr": qr_svg_data_uri(url),
+            "phone_url": url if reachable else None,
+            "phone_qr": qr_svg_data_uri(url) if reachable else None,
             "accept": ",".join(ACCEPTED_SUFFIXES),
         },
     )
