@@ -168,14 +168,15 @@ class AxisNoise:
     edf: np.ndarray
     lo: np.ndarray
     hi: np.ndarray
-    hump: tuple[float, float, float, float] | None = None
-    """A periodic disturbance's hump: the τ of its peak, how far above the white-noise line (in σ), the τ where
-    the line is lowest past it, and the disturbance's fitted frequency."""
+    hump: tuple[float, float, float] | None = None
+    """A periodic disturbance's hump: the τ of its peak, how far above the white-noise line (in σ), and the
+    disturbance's fitted frequency."""
 
 
 HUMP_FACTOR = 1.3
 """σ²(τ)·τ, flat on the white-noise line and rising with the bias instability and the random walk, never falls
-with τ for the three terms; where it falls by more than this factor beyond both points' 95 % intervals, a
+with τ for the three terms; where it falls by more than this factor beyond both points' intervals
+(:data:`HUMP_CONFIDENCE`), a
 periodic disturbance's hump lies above the white-noise line (the Allan variance of a sinusoid of frequency f₀,
 Ω²(sin² πf₀τ / πf₀τ)², peaks at τ ≈ 0.371/f₀ and falls as τ⁻² after it: IEEE Std 952-1997, C.1.1)."""
 HUMP_CONFIDENCE = 0.999
@@ -186,9 +187,9 @@ HUMP_TAU_F0 = 0.371
 """τ·f₀ at the peak of a sinusoid's Allan deviation (IEEE Std 952-1997, C.1.1)."""
 
 
-def _past_hump(tau, avar, ms, n_phase, fit) -> tuple[float, float, float] | None:
+def _past_hump(tau, avar, ms, n_phase, fit) -> tuple[float, float] | None:
     """Where a periodic disturbance's hump stands above the white-noise line (:data:`HUMP_FACTOR`): the τ of its
-    peak, how far above the line it stands (in σ), and the τ past it from which the terms are fitted; else None."""
+    peak and how far above the line it stands (in σ); else None."""
     idx = np.flatnonzero(fit)
     if len(idx) < 4:
         return None
@@ -200,7 +201,7 @@ def _past_hump(tau, avar, ms, n_phase, fit) -> tuple[float, float, float] | None
     p = int(np.argmax(w[:q] * lo[:q]))
     if w[p] * lo[p] <= HUMP_FACTOR * w[q] * hi[q] or len(idx) - q < 3:
         return None
-    return float(tau[idx[p]]), math.sqrt(w[p] / w[q]), float(tau[idx[q]])
+    return float(tau[idx[p]]), math.sqrt(w[p] / w[q])
 
 
 def _read_axis(tau, avar, ms, n_phase) -> AxisNoise:
@@ -394,7 +395,7 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
                 record_for[name] = seconds
     humps = [(axis, r.hump) for axis, r in zip("xyz", readings) if r.hump is not None]
     if humps:
-        f0 = [h[3] for _, h in humps]
+        f0 = [h[2] for _, h in humps]
         near = f"{min(f0):.2g} Hz" if max(f0) < 1.2 * min(f0) else f"{min(f0):.2g}–{max(f0):.2g} Hz"
         warnings.append(
             f"{sensor} {'/'.join(a for a, _ in humps)}: a hump in the Allan deviation at τ ≈ "
@@ -407,7 +408,7 @@ def characterise_noise(samples, sampling_rate_hz: float, *, unit: str, sensor: s
     imin = np.argmin(adev, axis=0)
     metrics = {
         "hump_tau_s": [None if r.hump is None else r.hump[0] for r in readings],
-        "hump_hz": [None if r.hump is None else r.hump[3] for r in readings],
+        "hump_hz": [None if r.hump is None else r.hump[2] for r in readings],
         **{f"tau_{name}_s": [r.taus[name] for r in readings] for name in TERMS},
         "adev_min": [float(adev[imin[k], k]) for k in range(3)],
         "tau_adev_min_s": [float(tau[imin[k]]) for k in range(3)],

@@ -160,16 +160,15 @@ def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_give
                 f"{part_name} is a zip inside a recording of several files: give the files "
                 "themselves, or one zip of them"
             )
-    from .sensor_files import columns_for, first_time, merge_sensor_logs, read_sensor_files, sensor_from_name
+    from .sensor_files import first_time, merge_sensor_logs, read_as_named, read_sensor_files, sensor_from_name
 
     merged = read_sensor_files(sources, read, name=name, columns_given=columns_given)
     if merged is not None:  # named one per sensor
         return merged
-    logs = []
-    for part_name, path in sources:  # a file named for one sensor reads its unnamed x, y, z as that sensor's
-        sensor = None if columns_given else sensor_from_name(part_name)
-        mapping = columns_for(path, sensor, part_name) if sensor else None
-        logs.append((part_name, read(path, part_name, mapping) if mapping else read(path, part_name)))
+    logs = [  # a file named for one sensor reads its unnamed x, y, z as that sensor's
+        (part_name, read_as_named(read, path, part_name, sensor_from_name(part_name), columns_given))
+        for part_name, path in sources
+    ]
     held = [s for _, log in logs for s in log.channels]
     if len(logs) > 1 and len(held) == len(set(held)):
         # Not named so, but the files hold different sensors (one each, or x-io's Inertial.csv beside its

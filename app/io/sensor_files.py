@@ -205,6 +205,13 @@ def columns_for(path: Path, sensor: str, name: str) -> dict | None:
     return {f"{sensor}_{axis}": names[col] for axis, col in channels["acc"].items()}
 
 
+def read_as_named(read, path: Path, fname: str, sensor: str | None, columns_given: bool) -> LogData:
+    """A file read with ``read`` (:func:`read_sensor_files`), its unnamed ``x, y, z`` columns read as ``sensor``'s
+    where its name names one (:func:`columns_for`), unless the upload named the columns itself."""
+    mapping = None if columns_given or sensor is None else columns_for(path, sensor, fname)
+    return read(path, fname, mapping) if mapping else read(path, fname, None)
+
+
 def first_time(path: Path, log: LogData, name: str) -> float | None:
     """The time of a file's first sample in seconds on the file's own clock (its time column's zero), or None.
 
@@ -342,7 +349,7 @@ def _gyro_against_gravity(merged: LogData, by_sensor: dict) -> LogData:
     if merged.acc is None or merged.gyr is None or unit not in ("rad/s", "deg/s"):
         return merged
     fname, log, _ = by_sensor["gyr"]
-    if any("counts" in n for n in (*log.notes, *log.warnings)):
+    if (log.scales or {}).get("gyr"):
         return merged  # counts scaled by a chip or a sensitivity: the scale was given or found, not a unit
     ev = gyro_evidence(merged.gyr, whole=False, acc=merged.acc, fs=merged.sampling_rate_hz, time_s=merged.time_s)
     if ev.unit is None or not ev.by_turns:
@@ -480,8 +487,7 @@ def read_sensor_files(sources: list[tuple[str, Path]], read, *, name: str, colum
     logs = []
     for fname, path in sources:
         sensor = sensors[fname]
-        mapping = None if columns_given else columns_for(path, sensor, fname)
-        log = read(path, fname, mapping) if mapping else read(path, fname, None)
+        log = read_as_named(read, path, fname, sensor, columns_given)
         if log.channels != [sensor]:
             if len(log.channels) > 1:
                 return None  # a file of several sensors: the files are a recording's poses, or parts of one

@@ -168,10 +168,15 @@ def _still_span(runs: list, fs: float, n: int, notes: list, reasons: list) -> tu
     return span
 
 
+def _gaps_inside(log: LogData, span: tuple[int, int]) -> list:
+    """The time column's gaps inside the still part ``span``."""
+    return [g for g in log.gaps if span[0] < g.index < span[1]]
+
+
 def _gap_free(log: LogData, span: tuple[int, int], fs: float, notes: list) -> tuple[int, int]:
     """The longest stretch of the still part that holds no gap of the time column, when it is long enough for the
     noise (:data:`NOISE_MIN_S`; a note names the gaps it avoids); else the still part, whose gaps are judged."""
-    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    inside = _gaps_inside(log, span)
     if not inside:
         return span
     edges = [span[0], *(g.index for g in inside), span[1]]
@@ -204,9 +209,9 @@ SERIAL_REMEDY = (
 def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, reasons: list) -> None:
     """A note on the time column's gaps inside the still part, or a reason when they lose too much of it for
     the Allan deviation (:data:`NOISE_GAPS_MAX`), with the remedy of the recording's source."""
-    from app.io.formats import SOURCE_OF_FORMAT
+    from app.io.formats import source_of_format
 
-    inside = [g for g in log.gaps if span[0] < g.index < span[1]]
+    inside = _gaps_inside(log, span)
     if inside:
         lost = sum(g.missing_s for g in inside)
         still_s = (span[1] - span[0]) / fs
@@ -215,7 +220,7 @@ def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, rea
             f"{lost:.3g} s of the {still_s:.1f} s still part ({100 * lost / (still_s + lost):.2g} %)"
         )
         if lost > NOISE_GAPS_MAX * still_s:
-            source = next(filter(None, map(SOURCE_OF_FORMAT.get, log.format.split("+"))), None)
+            source = source_of_format(log.format)
             reasons.append(
                 said + ", and no stretch without a gap lasts "
                 f"{NOISE_MIN_S:g} s: the Allan deviation assumes samples evenly spaced in time, so this curve is "

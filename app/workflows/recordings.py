@@ -14,7 +14,7 @@ from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientat
 from app.calibration.errors import InsufficientDataError
 from app.calibration.orientations import WITHIN_LABEL_ANGLE
 from app.calibration.static import detect_static_segments
-from app.io.formats import SOURCE_OF_FORMAT, read_log
+from app.io.formats import read_log, source_of_format
 from app.io.log import LogData
 from app.io.parts import content_digest, pose_from_name
 from app.io.read_options import ReadOptions
@@ -352,11 +352,10 @@ class RecordingSource:
     @property
     def source_fields(self) -> dict:
         """The calibration's fields about its recording: its id, and where it came from (``source``): by its
-        format (app.io.formats.SOURCE_OF_FORMAT: each of several files' formats), else a board where its readings
+        format (app.io.formats.source_of_format), else a board where its readings
         were counts (no phone app logs counts: an Arduino's CSV, an HMC5883L's)."""
         fields = {} if self.id is None else {"recording_id": self.id}
-        formats = str(self.meta.get("format", "")).split("+")
-        source = next(filter(None, map(SOURCE_OF_FORMAT.get, formats)), None)
+        source = source_of_format(self.meta.get("format", ""))
         if source is None and self._counts():
             source = "board"
         return fields if source is None else {**fields, "source": source}

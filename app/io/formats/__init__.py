@@ -118,6 +118,13 @@ SOURCE_OF_FORMAT = {
 }
 """The source of a recording of each format (:data:`SOURCES`); a plain CSV or JSON says none."""
 
+
+def source_of_format(fmt: str) -> str | None:
+    """The source of a recording read in ``fmt`` (:data:`SOURCE_OF_FORMAT`); several files' formats joined by ``+``
+    (``csv+phyphox``) give the first that has one."""
+    return next(filter(None, map(SOURCE_OF_FORMAT.get, str(fmt).split("+"))), None)
+
+
 CANONICAL_COLUMNS = (
     *(f"{s}_{a}" for s in ("acc", "gyr", "mag") for a in "xyz"),
     "time_s",

@@ -19,11 +19,9 @@ It is read as the compass's samples on their timestamps; the rest is named in a 
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import json
 import re
-import tempfile
 from pathlib import Path
 
 from ..errors import LogFormatError
@@ -92,14 +90,11 @@ def _tumble(path: Path, name: str, read_table):
             "export the tumble again with this configurator, or upload the samples as CSV (time_ms, mag_x, mag_y, "
             "mag_z)"
         )
+    from .json_samples import read_rows
+
     left = sorted({k for x in samples for k in x} - set(TUMBLE_COLUMNS))
-    with tempfile.TemporaryDirectory(prefix="trical-tumble-") as tmp:
-        table = Path(tmp) / "tumble.csv"
-        with open(table, "w", newline="", encoding="utf-8") as f:
-            writer = csv.writer(f)
-            writer.writerow(list(TUMBLE_COLUMNS.values()))
-            writer.writerows([repr(x[k]) for k in TUMBLE_COLUMNS] for x in samples)
-        log = read_table(table, name)
+    rows = [[x[k] for k in TUMBLE_COLUMNS] for x in samples]
+    log = read_rows(list(TUMBLE_COLUMNS.values()), rows, name, read_table)
     note = (
         f"the Betaflight configurator's compass tumble: {len(samples)} samples of the flight controller's "
         "magnetometer (x, y, z as MSP reports them) on their timestamps"

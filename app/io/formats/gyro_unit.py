@@ -55,7 +55,7 @@ MIN_WINDOWS = 5
 MAX_WINDOWS = 400
 """At most this many windows are integrated (evenly chosen over a long recording)."""
 NO_RATE_WORDS = "; without the sampling rate neither its noise at rest nor its turns can be read"
-"""What the evidence lacks in a recording without times or a rate: the rate, first (app.io.formats.units asks it)."""
+"""What the evidence says it lacks in a recording without times or a rate (:attr:`GyroEvidence.needs_rate`)."""
 MIN_REST_S = 1.0
 """The shortest rest whose offset and noise are read (a second: fifty half-second blocks' worth of a
 detector that cuts every knock)."""
@@ -95,6 +95,9 @@ class GyroEvidence:
     or an offset read at a rest the accelerometer confirms (or beyond :data:`FIRM_FACTOR` times what a part
     reads). A rest found on the gyroscope alone may be a steady turn, and a hand never quite still reads a
     noise no MEMS part has: such evidence decides only where nothing states the unit."""
+    needs_rate: bool = False
+    """Whether a rate (or times) would let the data show the unit: without one neither the noise at rest nor the
+    turns are read (the question asks for the rate first)."""
     by_turns: bool = False
     """Whether gravity's turns decided (between rests, or over windows of motion): the accelerometer beside the
     gyroscope confirms the unit, whatever a rest's offset or noise would say."""
@@ -364,4 +367,5 @@ def gyro_evidence(
         off,
         errors,
         moves,
+        needs_rate=dt is None,
     )

@@ -156,6 +156,13 @@ def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
             f"{exc.msg}; save it again whole (the file may be cut short)"
         ) from None
     header, rows, note = to_table(data, name)
+    log = read_rows(header, rows, name, read_table)
+    return dataclasses.replace(log, notes=(note,) + tuple(log.notes))
+
+
+def read_rows(header: list[str] | None, rows, name: str, read_table):
+    """Rows of numbers (a header of column names, or None) read as the CSV table they make, by ``read_table(path,
+    name)``: the columns, the time and the units decided exactly as for a CSV file."""
     with tempfile.TemporaryDirectory(prefix="trical-json-") as tmp:
         table = Path(tmp) / "samples.csv"
         with open(table, "w", newline="", encoding="utf-8") as f:
@@ -163,5 +170,4 @@ def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
             if header:
                 writer.writerow(header)
             writer.writerows([repr(v) for v in row] for row in rows)
-        log = read_table(table, name)
-    return dataclasses.replace(log, notes=(note,) + tuple(log.notes))
+        return read_table(table, name)

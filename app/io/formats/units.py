@@ -23,7 +23,7 @@ from ...calibration.headlines import SENSOR_WORDS
 from ..errors import LogFormatError
 from ..log import ACC_PHYSICAL_UNITS, LogData
 from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, Chip
-from .gyro_unit import NO_RATE_WORDS, gyro_evidence
+from .gyro_unit import gyro_evidence
 
 LINEAR_FRACTION = 0.25
 """A log whose median norm is below this fraction of g holds no gravity (linear acceleration)."""
@@ -458,7 +458,7 @@ def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questi
         return gyr, claim.unit
     remedy = (
         "give sampling_rate_hz, from which its data may show the unit, or gyr_unit (rad/s or deg/s)"
-        if ev.words.endswith(NO_RATE_WORDS)
+        if ev.needs_rate
         else "give gyr_unit (rad/s or deg/s)"
     )
     question = (
