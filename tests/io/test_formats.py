@@ -228,3 +228,12 @@ def test_a_sensor_logger_zip_names_the_files_it_does_not_read():
     assert log.channels == ["acc", "gyr"]
     (said,) = [n for n in log.notes if "of the zip not read" in n]
     assert said.startswith("2 files of the zip not read: Accelerometer.csv, README.txt")
+
+
+def test_tagged_lines_that_name_no_sensor_are_refused_naming_their_tags(tmp_path):
+    """A file read as format=tagged whose lines' tags name no sensor: a refusal naming its tags and the ones trical
+    reads (it was a StopIteration, an error without a message)."""
+    path = tmp_path / "tags.txt"
+    path.write_text("foo 1 2 3\nfoo 2 3 4\nbar 3 4 5\nfoo 4 5 6\nbar 5 6 7\n")
+    with pytest.raises(LogFormatError, match="no line names a sensor trical reads \\(its tags are bar, foo\\)"):
+        read_log(path, ReadOptions(format="tagged"), name="tags.txt")

@@ -81,6 +81,11 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
             other[tag] = other.get(tag, 0) + 1
             continue
         streams.setdefault(_SENSOR_OF[tag], []).append(numbers)
+    if not streams:
+        raise LogFormatError(
+            f"{name}: no line names a sensor trical reads (its tags are {', '.join(sorted(other)) or 'none'}): "
+            f"tag each line with {', '.join(_SENSOR_OF)}, or upload it with format=auto"
+        )
     arrays = {sensor: _rows(rows, sensor, name) for sensor, rows in streams.items()}
     base = "acc" if "acc" in arrays else next(iter(arrays))
     timed = all(a.shape[1] == 4 for a in arrays.values())
