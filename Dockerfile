@@ -48,4 +48,6 @@ EXPOSE 8000
 HEALTHCHECK --interval=30s --timeout=3s --start-period=10s --retries=3 \
     CMD ["python", "-c", "import sys, urllib.request; sys.exit(0 if urllib.request.urlopen('http://127.0.0.1:8000/healthz', timeout=2).status == 200 else 1)"]
 
-CMD ["trical", "serve", "--host", "0.0.0.0", "--port", "8000"]
+# No phone's door (--phone-port 0): inside a container the LAN address trical sees is the container's, which no
+# phone opens; a phone reaches a container through the operator's TLS proxy (TRICAL_PUBLIC_URL).
+CMD ["trical", "serve", "--host", "0.0.0.0", "--port", "8000", "--phone-port", "0"]

@@ -44,6 +44,7 @@ HINTS = {
     "rate_limit_per_minute": "must be 0 (off) or a positive number of requests per minute",
     "port": "must be an integer",
     "public_url": "must be an http:// or https:// address",
+    "phone_port": "must be a TCP port, or 0 for no phone's door",
 }
 """What each setting must be, for the one-line message of a bad value."""
 
@@ -69,14 +70,18 @@ class Settings(BaseSettings):
         When non-empty, every API call needs ``Authorization: Bearer <key>`` (TRICAL_API_KEYS,
         comma-separated).
     host, port : str or None, int
-        Where ``trical serve`` and ``make run`` listen (HOST, PORT).  Without HOST, ``trical serve``
-        listens on 127.0.0.1, and ``trical serve --https`` on 0.0.0.0 (a phone on the LAN must reach it).
+        Where ``trical serve`` and ``make run`` listen (HOST, PORT); without HOST, on 127.0.0.1 (over TLS too with
+        ``--https``): the desktop's listener. A phone comes in through the phone's door (``phone_port``).
     data_dir : pathlib.Path
         Where uploaded recordings and the generated TLS certificate are kept (TRICAL_DATA_DIR;
         default: beside the database).
     public_url : str or None
-        The address the start page shows as a QR code for a phone (TRICAL_PUBLIC_URL); ``trical serve
-        --https`` sets it to its LAN wizard address when unset.
+        The address the start page shows as a QR code for a phone (TRICAL_PUBLIC_URL, e.g. a reverse proxy's);
+        unset, the phone's door's.
+    phone_port : int
+        Where ``trical serve`` opens the phone's door (TRICAL_PHONE_PORT): HTTPS on every interface for the phone
+        that scanned the start page's code only (app.reach.phone_door); 0 opens none, and so does a
+        TRICAL_PUBLIC_URL.
     free_target_mg : float
         The cross-validated error (mg of g) that ends a free wizard session (TRICAL_FREE_TARGET_MG),
         unless the session sets its own ``target_mg``.
@@ -102,6 +107,7 @@ class Settings(BaseSettings):
     port: int = Field(8000, validation_alias="PORT")
     data_dir: Path | None = None
     public_url: str | None = None
+    phone_port: int = Field(8443, ge=0, le=65535)
     free_target_mg: float = Field(2.0, gt=0, le=1000, allow_inf_nan=False)
     link_ttl_min: float = Field(60.0, gt=0, le=7 * 24 * 60, allow_inf_nan=False)
     static_dir: Path = PROJECT_ROOT / "static"

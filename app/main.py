@@ -21,12 +21,12 @@ from app import __version__
 from app.api import router as api_router
 from app.api.body_limit import JsonBodyLimit
 from app.api.errors import install_error_handlers
-from app.api.middleware import DeclaredUploadLimit, RateLimit, SecurityHeaders
+from app.api.middleware import DeclaredUploadLimit, PhoneDoorGate, RateLimit, SecurityHeaders
 from app.api.ratelimit import RateLimiter
 from app.config import Settings
 from app.store import open_store
 from app.web import router as web_router
-from app.web.pages import not_found_page
+from app.web.pages import not_found_page, phone_door_refused_page
 
 SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
@@ -96,10 +96,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.state.settings = settings
     app.state.store = open_store(settings.database_url, settings.recordings_dir)
+    app.state.phone_door = None  # the phone's door, when `trical serve` opens one (app.cli.serve)
+    app.state.listens_on = None  # the desktop listener's address, when `trical serve` runs it
 
     # Innermost first: each add_middleware wraps what was added before it. Pure ASGI layers
     # (app.api.middleware): no task or stream of their own per request.
     app.add_middleware(DeclaredUploadLimit, limit_bytes=settings.max_upload_bytes, limit_mb=settings.max_upload_mb)
+    # A request through the phone's door (app.reach.phone_door) passes only with its session; the refusal
+    # inside the security headers, which it carries as every page does.
+    app.add_middleware(PhoneDoorGate, refusal_page=phone_door_refused_page)
     app.add_middleware(SecurityHeaders, headers=SECURITY_HEADERS, policy=CONTENT_SECURITY_POLICY)
     if settings.rate_limit_per_minute > 0:
         app.add_middleware(

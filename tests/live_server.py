@@ -39,7 +39,8 @@ class LiveServer:
         self.port = port or free_port()
         self.https_ca = https_ca
         self.url = f"{'https' if https_ca else 'http'}://127.0.0.1:{self.port}"
-        self.env = {**os.environ, **env}
+        # No phone's door unless a test opens one (TRICAL_PHONE_PORT): parallel servers would share its port.
+        self.env = {**os.environ, "TRICAL_PHONE_PORT": "0", **env}
         self.command = command or [
             sys.executable,
             "-m",

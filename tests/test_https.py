@@ -1,8 +1,10 @@
-"""HTTPS on a LAN: the certificate, and `trical serve --https` run as a user runs it (real TLS, real HTTP)."""
+"""HTTPS on a LAN: the certificate, and `trical serve --https` run as a user runs it (real TLS, real HTTP); the
+phone's door itself is tests/test_phone_door.py's."""
 
 from __future__ import annotations
 
 import ipaddress
+import re
 import ssl
 import stat
 import subprocess
@@ -15,8 +17,9 @@ from cryptography.hazmat.primitives import hashes
 from cryptography.hazmat.primitives.asymmetric import ec
 from cryptography.x509.oid import ExtendedKeyUsageOID
 
+from app import __version__
 from app.reach import tls
-from app.reach.qr import qr_svg_data_uri, qr_terminal
+from app.reach.qr import qr_svg_data_uri
 from tests.live_server import ROOT, LiveServer, free_port
 
 LAN_IP = "192.168.1.23"
@@ -99,28 +102,30 @@ def test_stored_certificate_is_reused_until_it_no_longer_fits(tmp_path):
 
 
 def test_serve_https_with_a_self_signed_certificate(tmp_path):
-    port = free_port()
+    port, door_port = free_port(), free_port()
     cert_path = tmp_path / "tls" / "cert.pem"
-    command = [sys.executable, "-m", "app.cli", "serve", "--https", "--port", str(port)]
+    command = [sys.executable, "-m", "app.cli", "serve", "--https", "--port", str(port), "--phone-port", str(door_port)]
     server = LiveServer(server_env(tmp_path), port=port, command=command, https_ca=cert_path).start()
     try:
         health = httpx.get(f"https://127.0.0.1:{port}/healthz", verify=server.verify(), timeout=10)
         assert health.status_code == 200
         with httpx.Client(verify=server.verify(), timeout=10) as client:  # the name localhost is covered too
             assert client.get(f"https://localhost:{port}/healthz").status_code == 200
-        assert served_fingerprint(port) == tls.fingerprint(cert_path)
+        # The desktop's listener and the phone's door present the one certificate.
+        assert served_fingerprint(port) == served_fingerprint(door_port) == tls.fingerprint(cert_path)
         names = tls.certificate_names(cert_path)
         assert {"localhost", "127.0.0.1", *tls.lan_addresses()} <= names
 
-        url = f"https://{tls.lan_addresses()[0]}:{port}/wizard?protocol=six"
         printed = server.log.read_text(encoding="utf-8")
-        assert f"Open {url} on your phone" in printed
-        assert qr_terminal(url) in printed
-        assert "listening on every interface (0.0.0.0)" in printed
-        assert tls.fingerprint(cert_path) in printed and "not trusted" in printed
-        # Without TRICAL_PUBLIC_URL the server shows its own LAN address on the start page.
+        assert f"trical {__version__} on https://127.0.0.1:{port}" in printed  # the desktop's: loopback
+        lan = tls.lan_addresses()[0]
+        assert f"phone's door on https://{lan}:{door_port} (every interface)" in printed
+        assert tls.fingerprint(cert_path) in printed and "signed itself" in printed
+        # The start page's QR code is the door's, with a code; the page names the certificate's fingerprint.
         page = httpx.get(f"https://127.0.0.1:{port}/", verify=server.verify(), timeout=10).text
-        assert f'alt="QR code of {escape(url)}"' in page and escape(qr_svg_data_uri(url)) in page
+        url = re.search(r'alt="QR code of (https://[^"]+)"', page).group(1)
+        assert url.startswith(f"https://{lan}:{door_port}/phone?pass=")
+        assert escape(qr_svg_data_uri(url)) in page and tls.fingerprint(cert_path)[:11] in page
         assert "Traceback" not in printed
     finally:
         server.stop()
@@ -162,8 +167,8 @@ def test_serve_https_with_given_files(tmp_path):
         assert httpx.get(f"{server.url}/healthz", verify=server.verify(), timeout=10).status_code == 200
         assert served_fingerprint(port) == tls.fingerprint(given_cert)
         printed = server.log.read_text(encoding="utf-8")
-        assert f"Open https://127.0.0.1:{port}/wizard?protocol=six on your phone" in printed
-        assert "every interface" not in printed
+        assert f"certificate {given_cert} (SHA-256 {tls.fingerprint(given_cert)})" in printed
+        assert "phone's door" not in printed  # the public address is the phones' way in
         # TRICAL_PUBLIC_URL, when set, is what the start page shows.
         page = httpx.get(f"{server.url}/", verify=server.verify(), timeout=10).text
         assert f'alt="QR code of {escape(public)}"' in page

@@ -26,7 +26,8 @@ payload_too_large      413     an upload or JSON body over its limit
 export_refused         422     an export format that does not fit the calibration
 not_found              404     no such resource for this caller
 already_captured       409     a wizard pose captured already (send redo)
-unauthorized           401     a missing or invalid API key or session token
+unauthorized           401     a missing or invalid API key or session token; at the phone's door
+                               (app.reach.phone_door), a request without the door's session
 rate_limited           429     too many requests (with Retry-After)
 http_error             4xx     any other HTTP error (unknown route, method not allowed); an unknown
                                address outside /api/ asked for by a browser (Accept: text/html)

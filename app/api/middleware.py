@@ -1,5 +1,5 @@
 """The application's own layers around every request, as pure ASGI middleware: the security headers, the
-declared size of an upload, the rate limit.
+declared size of an upload, the rate limit, the phone's door.
 
 They were ``@app.middleware("http")`` functions (Starlette's ``BaseHTTPMiddleware``), which run the rest of
 the application in a task of its own and pass its response through a memory stream: a task group, a stream
@@ -12,16 +12,18 @@ whatever its size; now only a response of ``GZipMiddleware``'s minimum size or m
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import Headers, MutableHeaders
 from starlette.requests import Request
+from starlette.responses import RedirectResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from app.api.deps import asks_the_store, bearer_token, verified_identity
-from app.api.errors import PayloadTooLarge, error_response
+from app.api.errors import PayloadTooLarge, error_response, wants_page
 from app.api.ratelimit import RateLimiter, retry_after
+from app.reach.phone_door import COOKIE, ENTRY_PATH, OPEN_PREFIX, REFUSALS, REMEDY, SCOPE_KEY, SESSION_TTL_S
 
 
 class SecurityHeaders:
@@ -104,3 +106,44 @@ class RateLimit:
             await refusal(scope, receive, send)
             return
         await self.app(scope, receive, send)
+
+
+class PhoneDoorGate:
+    """Keeps the phone's door (app.reach.phone_door): a request that came through it passes with the door's
+    session cookie, or to ``/static/``; ``/phone?pass=CODE`` lets a device in (a session cookie, then the start
+    page); any other is a 401 that says why and what to do — ``refusal_page`` for a browser's page, the API's
+    error body otherwise. A request of the desktop's listener passes untouched."""
+
+    def __init__(self, app: ASGIApp, refusal_page: Callable[[Request, str], Response] | None = None):
+        self.app = app
+        self.refusal_page = refusal_page
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        door = scope.get(SCOPE_KEY) if scope["type"] == "http" else None
+        if door is None:
+            await self.app(scope, receive, send)
+            return
+        request = Request(scope)
+        session = request.cookies.get(COOKIE)
+        refusal = "none"
+        if scope["path"] == ENTRY_PATH:
+            if door.admits(session):  # the same phone, scanning again
+                await RedirectResponse("/", status_code=303)(scope, receive, send)
+                return
+            session, refusal = door.enter(request.query_params.get("pass", ""))
+            if session is not None:
+                entered = RedirectResponse("/", status_code=303)
+                entered.set_cookie(
+                    COOKIE, session, max_age=int(SESSION_TTL_S), path="/", secure=True, httponly=True, samesite="lax"
+                )
+                await entered(scope, receive, send)
+                return
+        elif door.admits(session) or scope["path"].startswith(OPEN_PREFIX):
+            await self.app(scope, receive, send)
+            return
+        detail = f"{REFUSALS[refusal or 'none']}: {REMEDY}"
+        if self.refusal_page is not None and wants_page(request):
+            response = self.refusal_page(request, detail)
+        else:
+            response = error_response(401, detail, "unauthorized", {"WWW-Authenticate": 'Pass realm="trical phone"'})
+        await response(scope, receive, send)

@@ -59,21 +59,27 @@ def _add_serve(sub) -> None:
         "--host",
         type=opt.text("an address to listen on"),
         default=None,
-        help="address to listen on (default: HOST, else 127.0.0.1, or 0.0.0.0 with --https)",
+        help="address of the desktop's listener (default: HOST, else 127.0.0.1)",
     )
-    s.add_argument("--port", type=opt.PORT, default=None, help="port (default: PORT or 8000)")
+    s.add_argument("--port", type=opt.PORT, default=None, help="port of the desktop's listener (default: PORT or 8000)")
+    s.add_argument(
+        "--phone-port",
+        type=opt.number("a TCP port, or 0 for none", low=0, high=65535, integer=True),
+        default=None,
+        help="port of the phone's door: HTTPS on every interface for the phone that scans the start page's QR code "
+        "only (default: TRICAL_PHONE_PORT or 8443; 0: none)",
+    )
     s.add_argument(
         "--https",
         action="store_true",
-        help="serve over TLS so that a phone on the LAN can use its motion sensors "
-        "(a self-signed certificate unless --cert and --key)",
+        help="serve the desktop's listener over TLS too (a self-signed certificate unless --cert and --key)",
     )
     s.add_argument(
         "--cert",
         type=opt.input_path("a PEM certificate"),
         default=None,
         metavar="FILE",
-        help="PEM certificate to serve (implies --https)",
+        help="PEM certificate to serve, at the phone's door and (it implies --https) the desktop's listener",
     )
     s.add_argument(
         "--key",

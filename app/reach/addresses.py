@@ -1,12 +1,14 @@
 """The address another machine opens this server at: the start page's QR code for a phone, and a short
-link's page (*Send to my computer*) for a computer. One rule for both: TRICAL_PUBLIC_URL when set, else
-the address the request reached the server at, with this machine's LAN address in place of a loopback
-one (another machine cannot open 127.0.0.1)."""
+link's page (*Send to my computer*) for a computer. TRICAL_PUBLIC_URL when set; else, for a phone, the phone's
+door (app.reach.phone_door) with a new code where ``trical serve`` opened one, and for the computer a phone at
+the door sends to, the desktop's listener; else the address the request reached the server at, with this
+machine's LAN address in place of a loopback one (another machine cannot open 127.0.0.1)."""
 
 from __future__ import annotations
 
 from starlette.requests import Request
 
+from app.reach.phone_door import SCOPE_KEY, PhoneDoor
 from app.reach.tls import lan_addresses
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
@@ -18,11 +20,42 @@ def reachable_url(request: Request) -> str:
     public_url = request.app.state.settings.public_url
     if public_url:
         return public_url
+    door = request.scope.get(SCOPE_KEY)
+    if door is not None:  # a phone at the door sends to the computer that runs trical, which the door would refuse
+        return door.desktop_origin + "/"
     host = request.url.hostname or "127.0.0.1"
     if host in LOOPBACK:
         host = lan_addresses()[0]
     port = f":{request.url.port}" if request.url.port else ""
     return f"{request.url.scheme}://{'[' + host + ']' if ':' in host else host}{port}/"
+
+
+def phone_url(request: Request) -> tuple[str | None, str | None]:
+    """The address the start page's QR code gives a phone, and why there is none.
+
+    TRICAL_PUBLIC_URL as given; else the phone's door at this machine's LAN address, with a new code for the
+    desktop's page (a phone's own request came in already); else :func:`reachable_url`, unless ``trical serve``
+    listens on loopback alone (its door closed: ``--phone-port 0`` or a port taken).
+
+    Returns
+    -------
+    (url, why_none) : tuple of str or None
+        The address and None, or None and ``"no_lan"`` (this machine has no LAN address) or ``"no_door"``.
+    """
+    state = request.app.state
+    if state.phone_door is not None and not state.settings.public_url:
+        return _at_the_door(request, state.phone_door)
+    url = reachable_url(request)
+    if state.settings.public_url is None and state.listens_on in LOOPBACK:
+        return None, "no_door"
+    return (url, None) if another_machine_can_open(url) else (None, "no_lan")
+
+
+def _at_the_door(request: Request, door: PhoneDoor) -> tuple[str | None, str | None]:
+    lan = lan_addresses()[0]
+    if lan in LOOPBACK:
+        return None, "no_lan"
+    return (door.origin(lan) + "/" if request.scope.get(SCOPE_KEY) is door else door.entry_url(lan)), None
 
 
 def another_machine_can_open(url: str) -> bool:

@@ -1,8 +1,7 @@
-"""QR codes of an address, for a phone's camera: an SVG for the start page, text for the terminal."""
+"""QR codes of an address, for a phone's camera: an SVG for the start page and a short link's."""
 
 from __future__ import annotations
 
-import io
 from functools import lru_cache
 
 
@@ -28,21 +27,3 @@ def qr_svg_data_uri(text: str) -> str:
         ``data:image/svg+xml,...``, black on white with the standard quiet zone.
     """
     return _code(text).svg_data_uri(scale=4, dark="#000", light="#fff")
-
-
-def qr_terminal(text: str) -> str:
-    """The QR code of `text` drawn with Unicode half blocks, two modules a character line.
-
-    Parameters
-    ----------
-    text : str
-        What the code holds, usually a URL.
-
-    Returns
-    -------
-    str
-        Lines ending in newlines, ready to print to a UTF-8 terminal.
-    """
-    out = io.StringIO()
-    _code(text).terminal(out=out, compact=True)
-    return out.getvalue()

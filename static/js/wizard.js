@@ -48,8 +48,9 @@ const uploadLink = (text = "upload a log instead") => el("a", text, { href: "/" 
 // else on the page changes.
 const PROBLEMS = {
   insecure: {
-    parts: () => ["Motion sensors need HTTPS: run ", el("code", "trical serve --https"),
-      " and open the https address it prints. Or ", uploadLink(), " (a log recorded with a sensor app)."],
+    parts: () => ["Motion sensors need HTTPS: on the computer that runs trical, scan the QR code of its start page ",
+      "(", el("em", "Open on your phone"), "): it opens this page over HTTPS. Or ", uploadLink(),
+      " (a log recorded with a sensor app)."],
     say: () => "Motion sensors need HTTPS.",
     apply: (v) => { v.startHidden = true; },
   },

@@ -273,5 +273,6 @@ if (SOURCE === "phone" && !("Magnetometer" in window)) { // a board's page reads
   noMagnetometer(window.isSecureContext
     ? "This browser has no Magnetometer (the Generic Sensor API's): Chrome on Android has it behind a flag "
       + "(chrome://flags, “Generic Sensor Extra Classes”); Safari and Firefox do not have it."
-    : "The magnetometer needs HTTPS: run trical serve --https and open the https address it prints.");
+    : "The magnetometer needs HTTPS: on the computer that runs trical, scan the QR code of its start page "
+      + "(Open on your phone): it opens this page over HTTPS.");
 }

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 
 from tests.e2e.axe import axe_context
-from tests.live_server import ROOT, LiveServer
+from tests.live_server import ROOT, LiveServer, free_port
 
 CHROMIUM = os.environ.get("TRICAL_CHROMIUM", "/usr/bin/chromium")
 ARTIFACTS = ROOT / "test-artifacts"
@@ -55,7 +55,8 @@ def server(tmp_path_factory):
     context, so its own sessions and storage, and no test reads what another wrote. Starting a server
     costs a process and the application's imports; one a test cost minutes of the suite."""
     db = tmp_path_factory.mktemp("server") / "trical.db"
-    s = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{db}"}).start()
+    # As `make run` serves: the desktop's listener on loopback and the phone's door (on a free port of its own).
+    s = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{db}", "TRICAL_PHONE_PORT": str(free_port())}).start()
     yield s
     try:
         s.check_alive("during the test")

@@ -15,7 +15,17 @@ def test_https_start_page_shows_the_qr_code(browser, tmp_path):
         env,
         port=port,
         https_ca=tmp_path / "tls" / "cert.pem",
-        command=[sys.executable, "-m", "app.cli", "serve", "--https", "--port", str(port)],
+        command=[
+            sys.executable,
+            "-m",
+            "app.cli",
+            "serve",
+            "--https",
+            "--port",
+            str(port),
+            "--phone-port",
+            str(free_port()),
+        ],
     ).start()
     # The browser has not been told to trust the self-signed certificate: the user's "proceed".
     context = browser.new_context(viewport={"width": 360, "height": 640}, ignore_https_errors=True)

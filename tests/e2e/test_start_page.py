@@ -8,6 +8,7 @@ import re
 import numpy as np
 
 from app.calibration import fit_six_position
+from app.reach.tls import lan_addresses
 from tests.conftest import DATA, seed_table
 from tests.e2e.conftest import shot
 
@@ -371,10 +372,12 @@ def test_the_start_page_by_capability(browser, server):
     page.goto(server.url + "/")
     assert page.evaluate("() => document.documentElement.dataset.device") == "desktop"
     assert page.locator("#on-phone").is_visible() and page.locator("#phone-start").is_hidden()
+    # The phone's door (app.reach.phone_door): HTTPS at the LAN address, with a code for one phone.
     url = page.text_content("#phone-url")
-    port = server.url.rsplit(":", 1)[1]
-    assert url.startswith("http://") and url.endswith(f":{port}/") and "127.0.0.1" not in url  # the LAN address
+    door_port = server.env["TRICAL_PHONE_PORT"]
+    assert re.fullmatch(rf"https://{re.escape(lan_addresses()[0])}:{door_port}/phone\?pass=[2-9a-z]{{10}}", url), url
     assert page.get_attribute("#phone-qr", "alt") == f"QR code of {url}"
+    assert "lets in one phone, for 10 minutes" in page.text_content("#phone-door")
     assert page.locator("#upload-form").is_visible()
     assert "serve --https" not in page.text_content("main")  # operator hints are in the README
     shot(page, "start_page_desktop_1280")
@@ -503,9 +506,9 @@ def test_a_computer_sees_a_board_and_the_upload_first_and_the_phone_s_needs_besi
     assert board["y"] < upload["y"] and phone["x"] > board["x"] + board["width"] - 1 and phone["y"] < upload["y"]
     assert page.get_attribute("#board-flows .cta", "href") == "/wizard?protocol=six&source=board"
     assert page.locator("#board-no-serial").is_hidden()
-    # The phone's address is http:// on the LAN: the page says a phone needs HTTPS for its motion data.
-    assert page.text_content("#phone-url").startswith("http://")
-    assert "only over HTTPS" in page.text_content("#phone-https")
+    # The phone's address is the door's, over HTTPS: the page tells what the phone's browser will say of it.
+    assert page.text_content("#phone-url").startswith("https://")
+    assert "signed its own certificate" in page.text_content("#phone-door")
     # The upload's options show once a file is chosen, each only when it applies to it.
     assert page.locator("#options").is_hidden()
     page.set_input_files(

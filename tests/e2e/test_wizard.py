@@ -395,7 +395,7 @@ def test_insecure_context_asks_for_https(browser, server):
         assert page.evaluate("window.isSecureContext") is False
         problem = page.locator("#problem")
         expect(problem).to_contain_text(
-            "Motion sensors need HTTPS: run trical serve --https and open the https address"
+            "Motion sensors need HTTPS: on the computer that runs trical, scan the QR code of its start page"
         )
         assert page.get_attribute("#problem a", "href") == "/"
         assert page.locator("#start-btn").is_hidden()
