@@ -23,7 +23,6 @@ def run(args, settings: Callable[[], Settings]) -> int:
     TRICAL_PUBLIC_URL gives the phones' address."""
     import asyncio
 
-    from app.main import create_app
     from app.reach import tls
 
     config = settings()
@@ -37,6 +36,8 @@ def run(args, settings: Callable[[], Settings]) -> int:
     scheme = "https" if desktop_tls else "http"
     print(f"trical {__version__} on {scheme}://{_url_host(host)}:{port}  (database {config.database_label})")
     tls_files = _certificate(args, config, host) if desktop_tls or door_wanted else None
+    from app.main import create_app  # the whole application: imported once the options are known to be good
+
     app = create_app(config)
     app.state.listens_on = host
     listeners = [_listener(app, host, port, tls_files if desktop_tls else None)]

@@ -6,6 +6,7 @@ API (board_shim.js) that the page's own timer drives in real time, into the same
 from __future__ import annotations
 
 import json
+import re
 import time
 from pathlib import Path
 
@@ -20,6 +21,7 @@ from simulations.magnetometer import simulate_session
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context
 from tests.e2e.conftest import ARTIFACTS, shot, watched_page
+from tests.e2e.journey import Journey
 from tests.e2e.source_words import other_source_words
 
 SHIM = (Path(__file__).parent / "board_shim.js").read_text()
@@ -113,28 +115,39 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     )
     assert r.status == 201, r.text()
     compass = r.json()
-    page.goto(server.url + "/wizard?protocol=six&source=board&capture_s=0.5")
+    # The maker's journey (issue 45): from the start page's board door to the packet on the board.
+    journey = Journey("board, six poses")
+    page.goto(server.url + "/")
+    with journey.looking():
+        shot(page, "journey_board_first_1280")
+    journey.click(page, "#board-flows .cta", "Connect a board: six positions")
+    page.wait_for_url("**/wizard?protocol=six&source=board")
+    page.goto(page.url + "&capture_s=0.5")  # the test's one shortcut: half-second captures (the person's are 5 s)
     expect(page.locator("#board")).to_be_visible()
     # A board's page from the first screen: its title, the board's card first, no Start, a board pictured.
     assert page.title() == "Calibrate this board — trical" and page.text_content("h1") == "Calibrate this board"
     assert page.evaluate("document.querySelector('main .card:not([hidden])').id") == "board"
     assert page.locator("#start-btn").count() == 0
-    problems = board_state(page, "six", "before_start", widths=(320, 390, 1280))
+    with journey.looking():
+        problems = board_state(page, "six", "before_start", widths=(320, 390, 1280))
     assert page.input_value("#board-baud") == "115200"
     page.fill("#device-name", DEVICE)
+    journey.act("type the board's name")
     lines, printed = six_lines()
     # Lines without the board's time (the Timestamp column dropped), reaching the page 1 s at a time (a
     # USB-serial bridge's buffer, a loaded computer): the rate is counted over the arrivals.
     lines = BOOT + [line.split(",", 1)[1] for line in lines[len(BOOT) :]]
     play(page, lines, 62.5, "\r\n", 1000)
     t0 = time.monotonic()
-    page.click("#board-usb")
+    journey.click(page, "#board-usb", "Connect over USB")
+    journey.act("pick the board's port in the browser's chooser")
     assert page.evaluate("window.__board.requests") == [True]  # the chooser, from the click
     assert page.evaluate("window.__board.opened") == [115200]
     expect(page.locator("#board-live")).to_have_attribute("data-format", "csv", timeout=5_000)
     expect(page.locator("#board-live")).to_have_attribute("data-acc-unit", "m/s^2", timeout=RATE_WAIT_MS)
     checks = time.monotonic()
-    problems += board_state(page, "six", "connected")
+    with journey.looking():
+        problems += board_state(page, "six", "connected")
     what = page.text_content("#board-what")
     assert "CSV with a header line" in what and "accelerometer in m/s² (from its reading at rest)" in what
     assert "gyroscope in °/s (assumed)" in what
@@ -147,12 +160,14 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     for k, label in enumerate(ORDER):
         page.wait_for_selector(CAPTURED.format(label), state="attached", timeout=15_000)
         if k == 1:
-            problems += board_state(page, "six", "capture_done", widths=(320, 390, 1280))
+            with journey.looking():
+                problems += board_state(page, "six", "capture_done", widths=(320, 390, 1280))
             checks = time.monotonic() - checks  # the seconds the checks above held the page (left out below)
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
     elapsed = time.monotonic() - t0 - checks
-    page.click("#result-details summary")  # the details open too
-    problems += board_state(page, "six", "result")
+    with journey.looking():
+        page.click("#result-details summary")  # the details open too
+        problems += board_state(page, "six", "result")
 
     # The captures are the board's rows, verbatim and in order, on the board's clock (its counted rate).
     assert [c["position"] for c in sent] == ORDER
@@ -201,12 +216,16 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     assert page.is_checked("#board-send-compass")
     assert f"Include the compass calibration of {DEVICE} from " in page.text_content("#board-send-compass-box")
     assert "From the compass calibration of" in page.text_content("#board-send-parts")
-    page.click("#board-send")  # asks first: what the packet replaces, confirmed before anything is written
+    journey.click(page, "#board-send", "Send to the board")  # asks first: what the packet replaces
     expect(page.locator("#board-send-confirm")).to_be_visible()
     assert bytes(page.evaluate("window.__board.written")) == b""
-    box.screenshot(path=str(ARTIFACTS / "board_send_confirm_1280.png"))
-    page.click("#board-send-go")
+    with journey.looking():
+        box.screenshot(path=str(ARTIFACTS / "board_send_confirm_1280.png"))
+    journey.click(page, "#board-send-go", "Replace the board's calibration")
     expect(page.locator("#board-send-msg")).to_have_attribute("data-sent", "68")
+    journey.report(
+        "the packet written to the board", 6 * (5 - 0.5) + 6 * 8, "5 s captures, and 8 s to turn the board each time"
+    )
     assert page.get_attribute("#board-send-msg", "data-compass") == compass["id"]
     # the board's reply, or that none came within 2 s (the shim, as Adafruit's sketch, prints none)
     expect(page.locator("#board-send-msg")).to_have_attribute("data-ack", "none", timeout=10_000)
@@ -225,7 +244,7 @@ def test_six_poses_from_a_board_over_web_serial_and_the_result_s_layout(desk, se
     np.testing.assert_allclose(sent_cal.mag_hardiron, compass["model"]["b"], rtol=1e-6)
     np.testing.assert_allclose(sent_cal.mag_softiron, compass["model"]["M"], rtol=1e-6, atol=1e-7)
     assert sent_cal.mag_field == pytest.approx(compass["metrics"]["field_ut"], rel=1e-6)
-    shot(page, "board_six_sent_1280")
+    shot(page, "journey_board_last_1280")
     box.screenshot(path=str(ARTIFACTS / "board_send_compass_1280.png"))
     # Left out: the page says the board's compass calibration is reset, and the packet is the server's own.
     page.uncheck("#board-send-compass")
@@ -309,21 +328,36 @@ def test_compass_from_a_board_turned_by_hand(desk, server):
     text = (DATA / "real" / "magnetometer" / "tomisuarez2_qmc5883l_turn_every10.csv").read_text().splitlines()
     header_at = next(i for i, line in enumerate(text) if line.startswith("mx"))
     rows = text[header_at + 1 :][300:]  # after the 60 s at rest (5 rows a second here)
-    page.goto(server.url + "/wizard?protocol=compass&source=board")
+    # The maker's journey to the compass (issue 45): from the start page's board door to the C header.
+    journey = Journey("board, compass")
+    page.goto(server.url + "/")
+    journey.click(page, "#board-flows a[href='/wizard?protocol=compass&source=board']", "The compass: turn the board")
+    page.wait_for_url("**/wizard?protocol=compass&source=board")
     assert (
         page.text_content("h1") == "Calibrate this board's compass" and page.locator("#compass-start-btn").count() == 0
     )
-    problems = board_state(page, "compass", "before_start", widths=(320, 390, 1280))
+    with journey.looking():
+        problems = board_state(page, "compass", "before_start", widths=(320, 390, 1280))
     play(page, [text[header_at]] + rows, 100, "\n")
-    page.click("#board-usb")
+    journey.click(page, "#board-usb", "Connect over USB")
+    journey.act("pick the board's port in the browser's chooser")
     expect(page.locator("#compass-capture")).to_be_visible()
     assert page.text_content("#compass-capture-h") == "Turn the board slowly through all directions"
     expect(page.locator("#board-live")).to_have_attribute("data-format", "csv")
     expect(page.locator(".board-plot-fig")).to_be_hidden()  # no accelerometer to plot
-    problems += board_state(page, "compass", "turning")
+    with journey.looking():
+        problems += board_state(page, "compass", "turning")
     assert "screen" not in page.inner_html("#compass-sphere")
     page.wait_for_selector("#result:not([hidden])", timeout=40_000)
+    read = int(page.get_attribute("#board-live", "data-readings"))  # the turn's rows the page read to its result
     page.wait_for_selector("#downloads[data-ready=true]", timeout=20_000)
+    assert page.input_value("#use-with") == "firmware"  # a board's: the C header
+    with page.expect_download() as info:
+        journey.click(page, "#use-file", "download the C header")
+    header = Path(info.value.path()).read_text()
+    assert re.search(r"static TRICAL_INLINE void \w+_apply\(const float m\[3\], float f\[3\]\)", header), header[:600]
+    # The rows were played at 100 a second; the person turned the board at the log's 5 rows a second.
+    journey.report("the compass's C header", read / 5 - read / 100, f"the {read} rows turned at the log's pace")
     problems += board_state(page, "compass", "result", widths=(320, 390, 1280))
     assert (
         page.eval_on_selector_all("#result-mag svg text", "ts => ts.map(t => t.textContent)").count("component side")

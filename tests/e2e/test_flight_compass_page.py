@@ -4,25 +4,40 @@ beside the current, the heading error before and after), the orientation found, 
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from playwright.sync_api import expect
 
 from tests.e2e.conftest import ARTIFACTS, shot
+from tests.e2e.journey import Journey
+from tests.e2e.test_wizard import looked_at
 from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs
+from tests.io.test_export_flight_compass import parse_ardupilot
 
 
 def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_path):
     from tests.e2e.test_layout import layout_problems
 
     page = axe_page
+    # The drone builder's journey (issue 45): from the start page's drone door to the file for ArduPilot. No real
+    # log of the corpus flew enough headings for an "apply" (each says why, tests/api/test_compass_flight.py):
+    # this flight is seeded, written as ArduPilot writes its logs.
     log, _ = write_flight_compass_logs(tmp_path, seeded_flight(3, rate_hz=10.0))  # mounted yaw 90°, stored 0
+    journey = Journey("drone log")
     page.goto(server.url + "/")
-    page.set_input_files("#log-file", str(log))
-    page.click("#upload-form button[type=submit]")
+    with journey.looking():
+        problems = looked_at(page, "journey_drone_first")
+    with page.expect_file_chooser() as chooser:
+        journey.click(page, "#drone-log", "A drone's flight log")
+    chooser.value.set_files(str(log))
+    journey.act("choose the log")
+    journey.click(page, "#upload-form button[type=submit]", "Upload and calibrate")
     page.wait_for_selector("#flight:not([hidden])")
     expect(page.locator("#flight-compass")).to_be_visible()
-    shot(page, "flight_compass_start_390")
-    page.click("#flight-compass")
+    with journey.looking():
+        shot(page, "flight_compass_start_390")
+    journey.click(page, "#flight-compass", "Calibrate the compass from this flight")
     page.wait_for_selector("#downloads[data-ready=true]", timeout=60_000)
     words = page.text_content("#verdict-words")
     assert words.startswith("Apply it: heading error on flight segments left out"), words
@@ -43,10 +58,15 @@ def test_a_flights_compass_is_calibrated_from_the_page(axe_page, server, tmp_pat
     ]
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => a.dataset.format)")
     assert "ardupilot" in links and "flight_svg" in links, links
-    problems = []
+    assert page.input_value("#use-with") == "ardupilot"
+    with page.expect_download() as info:
+        journey.click(page, "#use-file", "download the ArduPilot parameters")
+    params = parse_ardupilot(Path(info.value.path()).read_text())  # as Mission Planner's Load from file reads it
+    assert {"COMPASS_OFS_X", "COMPASS_OFS_Y", "COMPASS_OFS_Z"} <= params.keys() and params["COMPASS_ORIENT"] == 2
+    journey.report("the ArduPilot parameter file")
     for width in (320, 390, 1280):
         page.set_viewport_size({"width": width, "height": 900})
-        shot(page, f"flight_compass_result_{width}")
+        shot(page, f"journey_drone_last_{width}")
         problems += layout_problems(page, "flight_compass_result", width)
     assert not problems, "\n".join(problems)
     assert [e for e in page.errors if "status of 422" not in e] == []

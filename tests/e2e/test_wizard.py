@@ -14,7 +14,9 @@ import pytest
 from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
-from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot, tab_to
+from tests.e2e.axe import axe_context
+from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot, tab_to, watched_page
+from tests.e2e.journey import Journey
 from tests.e2e.source_words import assert_only_its_words
 from tests.live_server import LiveServer
 
@@ -118,21 +120,64 @@ def grant_on_tap(page):
       };""")
 
 
-def test_six_poses_hands_free_match_the_closed_form(page, server):
+def looked_at(page, state: str, widths=(390, 1280)) -> list[str]:
+    """The page as it stands at each width (resized in place): no sideways scrolling, no axe violation, no
+    small target; screenshots test-artifacts/<state>_<width>.png. Returns the problems found."""
+    from tests.e2e.test_layout import layout_problems
+
+    size = page.viewport_size
+    problems = []
+    for width in widths:
+        page.set_viewport_size({"width": width, "height": 900})
+        problems += layout_problems(page, state, width, f"{state}_{width}")
+    page.set_viewport_size(size)
+    return problems
+
+
+def test_six_poses_hands_free_match_the_closed_form(browser, server):
+    """The phone's journey (issue 45): the computer's start page, the phone scanning its code into the phone's door
+    (HTTPS, the certificate's warning passed as a person does), Start, six poses hands-free, and the file for a
+    phone app; the result is the closed form on what the browser handed the page."""
+    journey = Journey("phone")
+    desktop = axe_context(browser, viewport={"width": 1280, "height": 900}, device_scale_factor=1)
+    start = watched_page(desktop)
+    start.goto(server.url + "/")
+    code = start.text_content("#phone-url")
+    with journey.looking():
+        problems = looked_at(start, "journey_phone_first", widths=(1280,))
+    phone = axe_context(
+        browser,
+        viewport={"width": 390, "height": 844},
+        device_scale_factor=1,
+        is_mobile=True,
+        has_touch=True,
+        ignore_https_errors=True,  # the person's "proceed" past the self-signed certificate's warning
+    )
+    page = watched_page(phone)
     grant_on_tap(page)
     sent = captures_sent(page)
     motion = Motion(page)
     gyro_deg_s = np.array([0.3, -0.2, 0.1])  # a gyroscope bias at rest, multiples of Chromium's 0.1 °/s rounding
     motion.send("gyroscope", np.radians(gyro_deg_s))  # the sensor in rad/s, rotationRate in °/s
-    page.goto(server.url + "/wizard?protocol=six&capture_s=1")
+    journey.act("scan the code")
+    page.goto(code)
+    door = code.partition("/phone?")[0]
+    assert door.startswith("https://") and page.url == door + "/"  # in, on the phone's start page
+    expect(page.locator("#phone-start")).to_be_visible()
+    with journey.looking():
+        problems += looked_at(page, "journey_phone_start", widths=(390,))
+    journey.click(page, "#phone-start a[href='/wizard?protocol=six']", "Start: six positions")
+    page.wait_for_url("**/wizard?protocol=six")
+    page.goto(page.url + "&capture_s=1")  # the test's one shortcut: 1 s captures (the person's are 5 s)
     shot(page, "wizard_start")
     assert_only_its_words(page, "phone")
     assert "flat, steady table" in page.text_content("#start")
     order = ["+z", "-y", "+x", "-z", "-x", "+y"]  # shuffled
     motion.acc(reading(order[0]))
     page.fill("#device-name", "bench phone")  # named before Start: the session, and so its calibration, carry it
+    journey.act("type the phone's name")
     t0 = time.monotonic()
-    page.click("#start-btn")
+    journey.click(page, "#start-btn", "Start")
     assert page.evaluate("window.__permissionCalls") == [True]  # asked once, from the tap
     expect(page.locator("#device-name")).to_be_hidden()
     for k, label in enumerate(order):
@@ -153,9 +198,14 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
     # The closed form of Georgieva et al. section 3.3.1 on what Chromium handed the page.
     fed = np.array([chromium_round(reading(label)) for label in POSES])
     expected = fit_six_position(fed, POSES, gravity=G)
+    assert page.input_value("#use-with") == "app"  # a phone's calibration: the file for a phone app
     with page.expect_download() as info:
-        page.click("#downloads a[data-format=json]")
+        journey.click(page, "#use-file", "download the JSON")
     download = info.value
+    journey.report("the phone app's JSON", 6 * (5 - 1) + 6 * 8, "5 s captures, and 8 s to turn the phone to each pose")
+    with journey.looking():
+        problems += looked_at(page, "journey_phone_last")
+    assert not problems, "\n".join(problems)
     doc = json.loads(Path(download.path()).read_text())
     np.testing.assert_allclose(np.array(doc["model"]["X"]), expected.X, rtol=1e-9, atol=0)
     np.testing.assert_allclose(np.array(doc["model"]["y"]), expected.y, rtol=1e-9, atol=0)
@@ -192,7 +242,7 @@ def test_six_poses_hands_free_match_the_closed_form(page, server):
         assert c["t_ms"][-1] - c["t_ms"][0] >= 1000
     assert page.errors == []
     # The device's latest calibration, read in this browser (with the session's token it keeps), is this one.
-    page.goto(server.url + "/c/latest?device=bench%20phone")
+    page.goto(door + "/c/latest?device=bench%20phone")
     expect(page.locator("#cal-meta")).to_contain_text(doc["id"])
 
     per_pose = elapsed / 6
