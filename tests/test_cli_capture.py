@@ -201,11 +201,12 @@ def finish(proc, timeout_s: float):
             proc.wait(timeout=10)
 
 
-@pytest.mark.parametrize("burst_s", [1.0, 2.0])
+@pytest.mark.parametrize("burst_s", [2.0])
 def test_six_poses_captured_calibrated_and_sent(tmp_path, pty_board, burst_s):
-    """The board's lines reach the port in bursts of 1 s and of 2 s (a USB-serial bridge's buffer, a loaded
-    host): the rate is counted over the arrivals, the captures on the board's clock, X within 2e-3 of the
-    truth the board was simulated with."""
+    """The board's lines reach the port in bursts of 2 s (a USB-serial bridge's buffer, a loaded host): the rate
+    is counted over the arrivals, the captures on the board's clock, X within 2e-3 of the truth the board was
+    simulated with. (Bursts of 1 s, the milder case, are the board page's, tests/e2e/test_board.py: 30 s of the
+    suite's real time each.)"""
     port, make = pty_board
     # Rests of 4 s leave room for a capture refused when a burst of late lines brings the turn into its window
     # (a loaded machine) to start again within the same rest.
