@@ -118,7 +118,8 @@ def named_modules(cell: str, root: Path) -> list[tuple[str, bool]]:
     for path in re.findall(r"`(app[^`]*)`", cell):
         name = module_name(path)
         found = module_file(name, root)
-        out.append((name, found is not None and found.is_dir()))
+        # A package's `__init__.py` is that one file: it allows `from app import __version__`, not all of `app`.
+        out.append((name, found is not None and found.is_dir() and not path.endswith("__init__.py")))
     return out
 
 
@@ -321,6 +322,16 @@ def test_planted_an_import_the_may_column_does_not_name_fails(tmp_path):
     )
     assert [v for _, v in violations(rows, root)] == [
         "app/workflows/still.py imports app.api.routes, which its row's may-import cell does not name"
+    ]
+
+
+def test_planted_a_package_s_init_named_allows_that_file_alone(tmp_path):
+    """A cell naming `app/__init__.py` (the version) allows ``from app import __version__``, not all of ``app``:
+    it did, which let `trical serve` import the application with no word of the table."""
+    rows, root = plant(tmp_path, {}, "| `app/cli.py` | `app/__init__.py` | — |\n")
+    (root / "app/cli.py").write_text("from app import __version__\nfrom app.api import routes\n", encoding="utf-8")
+    assert [v for _, v in violations(rows, root)] == [
+        "app/cli.py imports app.api.routes, which its row's may-import cell does not name"
     ]
 
 

@@ -15,10 +15,15 @@ from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, I
 from app.calibration.advice import fibonacci_sphere
 from app.calibration.capture import PoseTooCloseError
 from app.guided import sessions
-from app.guided.capture_rules import CAPTURE_PROTOCOLS, FREE_FIT_FROM, FREE_MIN_ANGLE_DEG, FREE_TARGET_MIN_POSES
+from app.guided.capture_rules import (
+    CAPTURE_PROTOCOLS,
+    FREE_FIT_FROM,
+    FREE_MIN_ANGLE_DEG,
+    FREE_TARGET_MIN_POSES,
+    capture_thresholds,
+)
 from app.guided.protocols import BOARD_PROTOCOLS, CUBE24, FREE, SESSION_PROTOCOLS, SIX
 from app.store import ConflictError, open_store
-from app.web.tables import capture_thresholds
 from tests.cube_phone import phone_cube
 from tests.phone_poses import direction_samples, pose_samples
 

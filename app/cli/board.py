@@ -11,7 +11,7 @@ held still for the page's hold time in a new pose, a capture starts, and it is d
 length unless the board moves (refused, and it starts again once still). A capture that makes no progress
 for :data:`app.io.board_formats.STALL_S` says what it waits for and what it sees. The thresholds are the
 page's own, the Python constants
-:func:`app.web.tables.capture_thresholds` renders for it.
+:func:`app.guided.capture_rules.capture_thresholds`, which the page's tables render for it.
 
 Then the log is calibrated (``auto``, or the protocol's method) and the verdict printed. The six and free
 flows calibrate from their own captures, as a wizard session does: the log's rows of each capture are its
@@ -35,13 +35,12 @@ import numpy as np
 
 from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.orientations import UP_VECTORS, nearest_orientation
-from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE
+from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, capture_thresholds
 from app.guided.protocols import BOARD_PROTOCOLS, Protocol
 from app.io.board_formats import DEFAULT_BAUD, SILENCE_S, STALL_S
 from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, to_log
 from app.io.errors import LogFormatError
 from app.io.formats.timing import time_scale
-from app.web.tables import capture_thresholds
 
 CHECK_S = 1.0
 """Seconds of readings the unit is checked on, at rest, before any capture."""

@@ -1,7 +1,8 @@
 """The rules of the guided capture flows: how long a pose is captured, when a device is still, how far a free
 pose must point from the others and how many the free flow fits from — shared by the server's sessions
 (app.guided.sessions), the pages' tables (app.web.tables) and the terminal's capture (app.cli.board), so that
-what the page or the terminal captures the server accepts.
+what the page or the terminal captures the server accepts; with the capture machine's own thresholds
+(:func:`capture_thresholds`).
 """
 
 from __future__ import annotations
@@ -9,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from app.calibration.advice import MIN_SEPARATION_DEG
+from app.calibration.orientations import LABEL_MAX_ANGLE_DEG
 
 
 @dataclass(frozen=True)
@@ -100,3 +102,24 @@ PAGE_STILL_LEAVE_STD = 0.25
 """The same for the accelerometer, in m/s²: the largest per-axis standard deviation over the
 window; the page leaves "still" below the server's limit (app.calibration.capture.STILL_MAX_STD_G,
 0.03 g = 0.29 m/s²), so that a capture it completes is still for the server too."""
+
+CAPTURE_WINDOW_MS = 500
+"""The capture machine's moving window of the mean and spread (ms): the page's (static/js/motion.js) and the
+terminal's (app.cli.board)."""
+
+CAPTURE_HOLD_MS = 1500
+"""Still in a valid pose this long before a capture starts (ms)."""
+
+
+def capture_thresholds() -> dict:
+    """The options of the capture machine (the page's CaptureMachine, static/js/motion.js, which the page's tables
+    hand it; and ``trical capture``'s, app.cli.board), each from the server check it stays inside."""
+    return {
+        "windowMs": CAPTURE_WINDOW_MS,
+        "holdMs": CAPTURE_HOLD_MS,
+        "spreadLow": PAGE_STILL_ENTER_STD,
+        "spreadHigh": PAGE_STILL_LEAVE_STD,
+        "gyrLow": PAGE_STILL_ENTER_DEG_S,
+        "gyrHigh": PAGE_STILL_LEAVE_DEG_S,
+        "maxAngleDeg": LABEL_MAX_ANGLE_DEG,
+    }

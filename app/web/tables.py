@@ -1,8 +1,8 @@
 """The constants the pages share with the server, as one table the page routes render into the page.
 
 Python is their only source: the poses and their up vectors, the cube24 positions and turns, and
-the thresholds the page's capture machine uses to stay inside the server's checks.  The routes put
-:func:`page_tables` into the template as JSON (``<script type="application/json"
+the thresholds the page's capture machine uses to stay inside the server's checks (app.guided.capture_rules).
+The routes put :func:`page_tables` into the template as JSON (``<script type="application/json"
 id="trical-tables">``, data the CSP lets through since it is never run); static/js/tables.js reads
 it once.
 """
@@ -20,24 +20,18 @@ from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
-from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, POSE_NAMES, UP_VECTORS
+from app.calibration.orientations import POSE_NAMES, UP_VECTORS
 from app.calibration.result import as_fitted_words, page_kinds
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.guided import capture_rules
 from app.io.board_formats import board_tables
 from app.io.formats.chips import CHIPS
+from app.io.log import UNITS_IN
 from app.methods import TABLE as METHOD_TABLE
 from app.web.metric_words import METRICS
 from app.web.sketches import sketch_table
 from app.web.uses import uses_table
 from app.words import UNIT_WORDS
-
-CAPTURE_WINDOW_MS = 500
-"""The page's moving window of the mean and spread (ms)."""
-
-CAPTURE_HOLD_MS = 1500
-"""Still in a valid pose this long before the page starts a capture (ms)."""
-
 
 COVERAGE_TO_SOLVE = 0.9
 """Share of the 20 icosahedron faces the compass page waits for before it solves by itself; the
@@ -113,25 +107,8 @@ def compass_tables() -> dict:
     }
 
 
-def capture_thresholds() -> dict:
-    """The options of the page's CaptureMachine (static/js/motion.js), each from the server check
-    it stays inside."""
-    return {
-        "windowMs": CAPTURE_WINDOW_MS,
-        "holdMs": CAPTURE_HOLD_MS,
-        "spreadLow": capture_rules.PAGE_STILL_ENTER_STD,
-        "spreadHigh": capture_rules.PAGE_STILL_LEAVE_STD,
-        "gyrLow": capture_rules.PAGE_STILL_ENTER_DEG_S,
-        "gyrHigh": capture_rules.PAGE_STILL_LEAVE_DEG_S,
-        "maxAngleDeg": LABEL_MAX_ANGLE_DEG,
-    }
-
-
 SENSOR_TITLES = {sensor: words.capitalize() for sensor, words in SENSOR_WORDS.items()}
 """Each sensor's word as a heading or a menu's label (``Accelerometer``), from the core's words."""
-
-SENSOR_UNITS = {"acc": ("m/s^2", "g", "raw"), "gyr": ("rad/s", "deg/s", "raw"), "mag": ("uT", "nT", "gauss", "raw")}
-"""The units the upload's ``acc_unit``, ``gyr_unit`` and ``mag_unit`` take (app/api/recordings.py)."""
 
 
 def unit_tables() -> dict:
@@ -139,8 +116,8 @@ def unit_tables() -> dict:
     (app.io.formats.chips) that turn its counts into a physical unit, by sensor, with their datasheet scale in
     words."""
     return {
-        "units": {s: [[u, UNIT_WORDS[u]] for u in units] for s, units in SENSOR_UNITS.items()},
-        "chips": {s: [[c.name, c.label] for c in CHIPS.values() if c.sensor == s] for s in SENSOR_UNITS},
+        "units": {s: [[u, UNIT_WORDS[u]] for u in units] for s, units in UNITS_IN.items()},
+        "chips": {s: [[c.name, c.label] for c in CHIPS.values() if c.sensor == s] for s in UNITS_IN},
     }
 
 
@@ -232,7 +209,7 @@ def page_tables() -> dict:
             "names": {label: POSE_NAMES[label] for label in CANONICAL_SIX},
             "short": {label: POSE_SHORT[label] for label in CANONICAL_SIX},
         },
-        "capture": capture_thresholds(),
+        "capture": capture_rules.capture_thresholds(),
         "flightLog": {"temperatureMinSpanC": TEMPERATURE_MIN_SPAN_C},
         "free": {
             "maxAngleDeg": capture_rules.FREE_MAX_ANGLE_DEG,
