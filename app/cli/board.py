@@ -259,6 +259,8 @@ class Capture:
         self.written = 0
         self.fed = 0
         self.progress_at: float | None = None
+        self.silence_said = False  # the silence is said once
+        self.last_live = 0.0  # when the live line was last rewritten
 
     def _step(self, text: str, bell: bool = False) -> None:
         if bell:
@@ -352,73 +354,87 @@ class Capture:
 
     def run(self) -> CaptureOutcome:
         opened = self.clock()
-        silence_said = False
-        last_live = 0.0
         try:
             while True:
                 now = self.clock()
                 data = self.port.read(4096)
                 new = self.reader.feed(data, now) if data else []
-                if self.reader.format is not None and self.writer is None:
-                    self.writer = LogWriter(self.out_path, self.reader.format)
-                    self._step(
-                        f"lines read as {self.reader.format.words()}"
-                        + (
-                            f"; {self.reader.skipped} lines that are not readings skipped"
-                            if self.reader.skipped
-                            else ""
-                        )
-                    )
-                if new:
-                    self.readings += new
-                    self.stream.arrive(len(new), now)
-                elif not self.readings and not silence_said and now - opened > SILENCE_S:
-                    silence_said = True
-                    if self.reader.lines:
-                        self._step(
-                            f"lines arrive but none is a reading; the last: {self.reader.last_unreadable!r}: "
-                            "choose the format with --format, or check the sketch",
-                            bell=True,
-                        )
-                    else:
-                        self._step(
-                            f"Nothing arrives at {self.baud} baud: check the rate and that the board prints readings",
-                            bell=True,
-                        )
-                if not self.checked and self._rate() is not None:
-                    try:
-                        self._check_units()
-                    except LogFormatError as exc:
-                        self._step(f"refused: {exc}", bell=True)
-                        return self._outcome("refused", str(exc))
-                    self.record_from = self.progress_at = now
-                    if self.engine is None:
-                        self._step(f"recording {self.seconds:g} s: {self.protocol.words}", bell=True)
-                    else:
-                        self._step(self.protocol.words)
-                if self.checked:
-                    self._clock()
-                    self._write()
-                    self._feed_engine()
-                    self._stalled(now)
-                    if self.live and new and now - last_live > 0.1:
-                        last_live = now
-                        self.live(_live_words(new[-1]))
-                    if self.engine is not None and self.engine.finished:
-                        self._step(f"all {self.protocol.poses} poses captured", bell=True)
-                        return self._outcome("finished")
-                    if self.engine is None and now - self.record_from >= self.seconds:
-                        self._step(f"recorded {self.seconds:g} s", bell=True)
-                        return self._outcome("finished")
-                if now - opened > self.seconds + (60.0 if self.engine is None else 0.0):
+                self._open_log()
+                self._arrive(new, now, now - opened)
+                outcome = self._start(now) if not self.checked and self._rate() is not None else None
+                if outcome is None and self.checked:
+                    outcome = self._advance(now, new)
+                if outcome is None and now - opened > self.seconds + (60.0 if self.engine is None else 0.0):
                     self._step(f"refused: {self.seconds / 60:g} min passed before the protocol was done", bell=True)
-                    return self._outcome("timeout")
+                    outcome = self._outcome("timeout")
+                if outcome is not None:
+                    return outcome
         except KeyboardInterrupt:
             return self._outcome("interrupted")
         finally:
             if self.writer is not None:
                 self._write_rest()
                 self.writer.close()
+
+    def _open_log(self) -> None:
+        """The log, once the lines' format is known (its header names their columns)."""
+        if self.reader.format is None or self.writer is not None:
+            return
+        self.writer = LogWriter(self.out_path, self.reader.format)
+        skipped = f"; {self.reader.skipped} lines that are not readings skipped" if self.reader.skipped else ""
+        self._step(f"lines read as {self.reader.format.words()}{skipped}")
+
+    def _arrive(self, new: list, now: float, waited_s: float) -> None:
+        """The readings that arrived, counted for the rate; or, once, why none came after SILENCE_S."""
+        if new:
+            self.readings += new
+            self.stream.arrive(len(new), now)
+            return
+        if self.readings or self.silence_said or waited_s <= SILENCE_S:
+            return
+        self.silence_said = True
+        if self.reader.lines:
+            self._step(
+                f"lines arrive but none is a reading; the last: {self.reader.last_unreadable!r}: "
+                "choose the format with --format, or check the sketch",
+                bell=True,
+            )
+        else:
+            self._step(
+                f"Nothing arrives at {self.baud} baud: check the rate and that the board prints readings", bell=True
+            )
+
+    def _start(self, now: float) -> CaptureOutcome | None:
+        """The units checked at rest once the rate is known, then the protocol's first words; a refusal ends it."""
+        try:
+            self._check_units()
+        except LogFormatError as exc:
+            self._step(f"refused: {exc}", bell=True)
+            return self._outcome("refused", str(exc))
+        self.record_from = self.progress_at = now
+        if self.engine is None:
+            self._step(f"recording {self.seconds:g} s: {self.protocol.words}", bell=True)
+        else:
+            self._step(self.protocol.words)
+        return None
+
+    def _advance(self, now: float, new: list) -> CaptureOutcome | None:
+        """One step of a checked capture: the board's clock, the log, the poses, the live line; the end when the
+        protocol is done or the recording is long enough."""
+        self._clock()
+        self._write()
+        self._feed_engine()
+        self._stalled(now)
+        if self.live and new and now - self.last_live > 0.1:
+            self.last_live = now
+            self.live(_live_words(new[-1]))
+        if self.engine is not None and self.engine.finished:
+            self._step(f"all {self.protocol.poses} poses captured", bell=True)
+            return self._outcome("finished")
+        if self.engine is None and self.record_from is not None and now - self.record_from >= self.seconds:
+            self._step(f"recorded {self.seconds:g} s", bell=True)
+            return self._outcome("finished")
+        return None
 
     def _write_rest(self) -> None:
         """The readings not yet written (the rate still unknown, or a capture stopped): on the rate once it

@@ -28,45 +28,69 @@ def print_notes(notes, verbose: bool = False) -> None:
 
 
 def print_summary(body: dict, recording: dict, verbose: bool = False) -> None:
+    """What ``trical calibrate`` prints of a calibration: what the recording held, the verdict, what each file
+    gave, the model, the figures and the notes."""
     body = render_body(body, "cli")
-    rate = recording["sampling_rate_hz"]
-    files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
     flight = body.get("flight")  # a compass from a flight: the log's facts, and no still segments read
+    _print_source(body, recording, flight)
+    if body.get("id"):
+        print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
+    print_verdict(body)
+    if recording.get("parts"):
+        _print_parts(body, recording)
+    print_model(body["model"])
+    _print_figures(body)
+    if flight and flight.get("compasses"):
+        print_compasses(flight)
+    for a in body.get("advice") or []:
+        print(f"next pose: {a['words']} (shrinks the parameters' generalized variance by {100 * a['gain']:.0f} %)")
+    print_notes(body["warnings"], verbose)
+
+
+def _print_source(body: dict, recording: dict, flight: dict | None) -> None:
+    """A flight's log and compass, or the still segments of the recording and those used."""
     if flight:
         print(
             f"{flight['generation']}: compass {flight['instance']}, {body['metrics']['n_samples']} samples "
             f"({flight['raw_how']}), attitude from {flight['attitude_source']}"
         )
-    else:
+        return
+    rate = recording["sampling_rate_hz"]
+    files = f" of {len(recording['parts'])} files" if recording.get("parts") else ""
+    print(
+        f"{counted(len(recording['segments']), 'still segment')} in {recording['n_samples']} samples{files} "
+        f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
+        f"used {body.get('segments_used', 'all')}"
+    )
+
+
+def _print_parts(body: dict, recording: dict) -> None:
+    """One file per pose: what each file gave."""
+    used = body.get("segments_used") or []
+    for r, i in zip(body.get("readings") or [], used):
+        up = recording["segments"][i]["up"]
         print(
-            f"{counted(len(recording['segments']), 'still segment')} in {recording['n_samples']} samples{files} "
-            f"{'without a sampling rate' if rate is None else f'at {rate:g} Hz'}; "
-            f"used {body.get('segments_used', 'all')}"
+            f"{r.get('source')}: {up + ' up' if up else f'no axis {WITHIN_LABEL_ANGLE}'}, mean "
+            + "  ".join(f"{v:.4f}" for v in r["mean"])
         )
-    if body.get("id"):
-        print(f"calibration {body['id']} ({body['method']}), ok = {body['ok']}")
-    print_verdict(body)
-    if recording.get("parts"):  # one file per pose: what each file gave
-        used = body.get("segments_used") or []
-        for r, i in zip(body.get("readings") or [], used):
-            up = recording["segments"][i]["up"]
-            print(
-                f"{r.get('source')}: {up + ' up' if up else f'no axis {WITHIN_LABEL_ANGLE}'}, mean "
-                + "  ".join(f"{v:.4f}" for v in r["mean"])
-            )
-    for name, value in body["model"].items():
+
+
+def print_model(model: dict) -> None:
+    """The model's parameters: a vector on one line, a matrix a row a line, a sensor's part as its S and b."""
+    for name, value in model.items():
+        if isinstance(value, dict):
+            print(f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}")
         if name == "type" or isinstance(value, dict) or value is None:
-            if isinstance(value, dict):
-                print(
-                    f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = "
-                    f"{np.round(value['b'], 6).tolist()}"
-                )
             continue
         arr = np.atleast_2d(np.asarray(value, dtype=float))
         print(f"{name} =" if arr.shape[0] > 1 else f"{name} = " + "  ".join(f"{v: .6f}" for v in arr[0]))
         if arr.shape[0] > 1:
             for row in arr:
                 print("   " + "  ".join(f"{v: .6f}" for v in row))
+
+
+def _print_figures(body: dict) -> None:
+    """Why auto chose its method, the headline, and the fit's largest errors."""
     m = body["metrics"]
     if body.get("choice"):
         print(f"method auto chose {body['choice']['method']}: {body['choice']['why']}")
@@ -76,11 +100,6 @@ def print_summary(body: dict, recording: dict, verbose: bool = False) -> None:
         print(f"fit error max {m['fit_error_max']:.6f} (raw {m['fit_error_max_raw']:.6f})")
     if "norm_error_max" in m:
         print(f"norm error max {m['norm_error_max']:.6f} (raw {m['norm_error_max_raw']:.6f})")
-    if flight and flight.get("compasses"):
-        print_compasses(flight)
-    for a in body.get("advice") or []:
-        print(f"next pose: {a['words']} (shrinks the parameters' generalized variance by {100 * a['gain']:.0f} %)")
-    print_notes(body["warnings"], verbose)
 
 
 def print_compasses(flight: dict) -> None:
