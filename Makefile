@@ -8,7 +8,7 @@ CHROMIUM ?= /usr/bin/chromium
 WEBKIT_DRIVER ?= /usr/bin/WebKitWebDriver
 XVFB ?= /usr/bin/Xvfb
 
-.PHONY: run test lint typecheck install install-test system-deps bench clean
+.PHONY: run test check lint typecheck install install-test system-deps bench clean
 
 # The service: a virtual environment, the package, and the server on $(HOST):$(PORT) with SQLite under ./var.
 run: $(VENV)/.installed
@@ -23,6 +23,11 @@ run: $(VENV)/.installed
 TEST_WORKERS ?= 3
 test: system-deps $(VENV)/.installed-test lint typecheck
 	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
+
+# The quick loop while developing: the static checks, then every test that needs no browser (`-m "not e2e"`:
+# tests/e2e is marked so by tests/conftest.py) on the same workers; the browsers' tests are `make test`'s.
+check: system-deps $(VENV)/.installed-test lint typecheck
+	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal -m "not e2e"
 
 # The static checks, first in `make test`, each at zero findings: ruff's lint rules and its formatter's
 # check on the whole repository (ruff pinned in the test extra, its settings in pyproject.toml), then
