@@ -250,7 +250,7 @@ ALL_FORMATS = tuple(dict.fromkeys(fmt for method in TABLE for fmt in method.form
 """Every export format of any calibration (``trical export --format``)."""
 
 
-def parse_calibration_request(data: dict):
+def parse_calibration_request(data: dict[str, Any]) -> CalibrationIn:
     """The request model for ``data`` (its ``method`` picks the model).
 
     Raises
@@ -261,7 +261,7 @@ def parse_calibration_request(data: dict):
     return CALIBRATION_REQUEST.validate_python(data)
 
 
-def calibrate(request, recording: RecordingSource | None = None) -> Calibration:
+def calibrate(request: Any, recording: RecordingSource | None = None) -> Calibration:
     """The calibration a request asks for, computed by its method's handler (unstored, typed: its plain form by
     :meth:`~app.workflows.calibration.Calibration.body`); see :func:`app.workflows.entry.calibrate`."""
     return run_handler(BY_NAME[request.method].handler, request, recording)
@@ -280,7 +280,7 @@ def formats_in_words() -> str:
     return "; ".join(f"method {', '.join(names)}: {', '.join(formats)}" for formats, names in groups.items())
 
 
-def export(body: dict, fmt: str) -> Export:
+def export(body: dict[str, Any], fmt: str) -> Export:
     """A stored calibration in ``fmt``, which its method must offer (:attr:`Method.formats`).
 
     Raises
@@ -302,7 +302,7 @@ def export(body: dict, fmt: str) -> Export:
 # -- a request that fails validation, in words (the API's 422s and the CLI's errors) ---------------------------
 
 
-def _location(loc) -> str:
+def _location(loc: Iterable[int | str]) -> str:
     parts: list[str] = []
     for item in loc:
         if item in ("body", "query", "path", "form") and not parts:

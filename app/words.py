@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from typing import Any, TypeVar
 
 from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.plausible import UNIT_WORDS as PHYSICAL_UNIT_WORDS
@@ -273,13 +274,17 @@ MESSAGE_KEYS = ("detail", "warnings", "notes", "reasons", "words", "why", "headl
 """The keys of an answer whose strings are messages (the rest are data, never rewritten)."""
 
 
-def render_body(body, reader: str = "api", page: str | None = None):
+_Body = TypeVar("_Body")
+"""An answer's type, which :func:`render_body` keeps."""
+
+
+def render_body(body: _Body, reader: str = "api", page: str | None = None) -> _Body:
     """An answer (a dict of lists and dicts) with every message under :data:`MESSAGE_KEYS` rendered for
     ``reader``; the data are left as they are. ``api``: the body itself."""
     if reader == "api":
         return body
 
-    def walk(node, message: bool = False):
+    def walk(node: Any, message: bool = False) -> Any:
         if isinstance(node, dict):
             return {k: walk(v, k in MESSAGE_KEYS) for k, v in node.items()}
         if isinstance(node, list):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from fastapi import APIRouter, Query
 from fastapi.responses import Response
@@ -36,14 +38,18 @@ def recording_source(store: Store, recording_id: str | None, owner: str | None) 
     response_model_exclude_unset=True,
     summary="Compute and store a calibration",
 )
-async def create_calibration(request: CalibrationIn, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
+async def create_calibration(
+    request: CalibrationIn, store: StoreDep, owner: OwnerDep, reader: ReaderDep
+) -> dict[str, Any]:
     """Compute a calibration by `method` and store it; 201 with the stored resource."""
     # One hop to a worker thread for the fit and the store's commit; FastAPI validates and writes the answer
     # on the event loop (for a plain ``def`` route it would hop once more, for the response's validation).
     return await run_in_threadpool(calibrate_and_store, request, store, owner, reader)
 
 
-def calibrate_and_store(request: CalibrationIn, store: Store, owner: str | None, reader: tuple[str, str | None]):
+def calibrate_and_store(
+    request: CalibrationIn, store: Store, owner: str | None, reader: tuple[str, str | None]
+) -> dict[str, Any]:
     """The body of POST /api/v1/calibrations: the calibration computed, stored, and its words for ``reader``."""
     source = recording_source(store, getattr(request, "recording_id", None), owner)
     body = methods.calibrate(request, source).body()
@@ -65,7 +71,7 @@ def list_calibrations(
     store: StoreDep,
     owner: OwnerDep,
     reader: ReaderDep,
-):
+) -> dict[str, Any]:
     """Calibrations, newest first, optionally of one device: one per recording and method (the latest; each
     says how many ``earlier`` it superseded), or with ``superseded_by`` those earlier ones."""
     return render_body(
@@ -84,12 +90,14 @@ def list_calibrations(
 @router.get(
     "/{calibration_id}", response_model=CalibrationOut, response_model_exclude_unset=True, summary="Read a calibration"
 )
-async def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
+async def get_calibration(calibration_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep) -> dict[str, Any]:
     """One stored calibration."""
     return await run_in_threadpool(read_calibration, calibration_id, store, owner, reader)
 
 
-def read_calibration(calibration_id: str, store: Store, owner: str | None, reader: tuple[str, str | None]):
+def read_calibration(
+    calibration_id: str, store: Store, owner: str | None, reader: tuple[str, str | None]
+) -> dict[str, Any]:
     """The body of GET /api/v1/calibrations/{id}: the stored calibration with its verdict, in ``reader``'s words."""
     return render_body(with_verdict(store.get_calibration(calibration_id, owner=owner)), *reader)
 
@@ -116,7 +124,7 @@ def export(
     format: str = Query("json", description=f"By the calibration's method: {methods.formats_in_words()}"),
     store: StoreDep,
     owner: OwnerDep,
-):
+) -> Response:
     """The calibration as a file for firmware or analysis code.
 
     ``json`` (versioned schema), ``c`` (C99 header), ``yaml`` and ``csv`` carry the full correction
@@ -142,11 +150,11 @@ def export(
     response_model=SnippetsOut,
     summary="How to apply it: the corrections and paste-ready lines",
 )
-def snippets(calibration_id: str, store: StoreDep, owner: OwnerDep):
+def snippets(calibration_id: str, store: StoreDep, owner: OwnerDep) -> dict[str, Any]:
     """Paste-ready lines that apply the calibration: C over its header, Python and JavaScript over its JSON;
     a board's counts scaled into the calibration's unit by the part its recording was read with."""
     body = store.get_calibration(calibration_id, owner=owner)
-    recording: dict = {}
+    recording: dict[str, Any] = {}
     if body.get("recording_id"):
         try:
             recording = store.get_recording(body["recording_id"], owner=owner)[0]
@@ -156,7 +164,7 @@ def snippets(calibration_id: str, store: StoreDep, owner: OwnerDep):
 
 
 @router.post("/{calibration_id}/apply", response_model=ApplyOut, summary="Calibrate samples")
-def apply(calibration_id: str, request: ApplyIn, store: StoreDep, owner: OwnerDep):
+def apply(calibration_id: str, request: ApplyIn, store: StoreDep, owner: OwnerDep) -> dict[str, Any]:
     """Samples calibrated with a stored calibration."""
     body = store.get_calibration(calibration_id, owner=owner)
     calibrated = apply_calibration(body, request.samples, request.sensor)

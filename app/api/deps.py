@@ -10,7 +10,7 @@ from __future__ import annotations
 import hashlib
 import hmac
 import secrets
-from typing import Annotated
+from typing import Annotated, cast
 
 from fastapi import Depends, Request
 from starlette.concurrency import run_in_threadpool
@@ -25,7 +25,7 @@ class Unauthorized(Exception):
 
 
 async def get_settings(request: Request) -> Settings:
-    return request.app.state.settings
+    return cast(Settings, request.app.state.settings)  # app.main's create_app sets it
 
 
 def bearer_token(request: Request) -> str | None:
@@ -151,7 +151,7 @@ def verified_identity(request: Request) -> str | None:
 
 def app_store(request: Request) -> Store:
     """The application's store; routes pass the caller's owner (get_owner) to each of its methods."""
-    return request.app.state.store
+    return cast(Store, request.app.state.store)  # app.main's create_app sets it
 
 
 async def get_store(request: Request) -> Store:

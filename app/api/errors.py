@@ -40,11 +40,11 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Mapping
-from typing import ClassVar
+from typing import Any, ClassVar
 
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import HTMLResponse, JSONResponse
+from fastapi.responses import HTMLResponse, JSONResponse, Response
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from app.api.deps import Unauthorized
@@ -91,7 +91,7 @@ def error_response(
     code: str,
     headers: Mapping[str, str] | None = None,
     request: Request | None = None,
-    extra: dict | None = None,
+    extra: dict[str, Any] | None = None,
 ) -> JSONResponse:
     """The error body every failure of the API answers with, its ``detail`` in the words of who reads it, and
     ``asks``: the parameters the detail asks for (app.words.asked), when it names any, so that a page can
@@ -122,17 +122,17 @@ def install_error_handlers(app: FastAPI, not_found_page: Callable[[Request], HTM
     page, given by app.main: the API does not import the pages) answers a browser's unknown address."""
 
     @app.exception_handler(RequestValidationError)
-    async def _validation(request: Request, exc: RequestValidationError):
+    async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
         return error_response(422, describe_validation(exc), "invalid_request", request=request)
 
     @app.exception_handler(CalibrationError)
-    async def _calibration(request: Request, exc: CalibrationError):
+    async def _calibration(request: Request, exc: CalibrationError) -> JSONResponse:
         return error_response(
             422, str(exc), exc.code, request=request
         )  # calibration_refused, insufficient_data, not_still…
 
     @app.exception_handler(LogFormatError)
-    async def _log_format(request: Request, exc: LogFormatError):
+    async def _log_format(request: Request, exc: LogFormatError) -> JSONResponse:
         extra = (
             {"candidates": exc.candidates, "preview": exc.preview, "file": exc.file}
             if isinstance(exc, ColumnsAmbiguous)
@@ -147,33 +147,33 @@ def install_error_handlers(app: FastAPI, not_found_page: Callable[[Request], HTM
         )
 
     @app.exception_handler(ExportError)
-    async def _export(request: Request, exc: ExportError):
+    async def _export(request: Request, exc: ExportError) -> JSONResponse:
         return error_response(422, str(exc), "export_refused", request=request)
 
     @app.exception_handler(NotFoundError)
-    async def _not_found(request: Request, exc: NotFoundError):
+    async def _not_found(request: Request, exc: NotFoundError) -> JSONResponse:
         return error_response(404, str(exc.args[0]) if exc.args else "not found", "not_found", request=request)
 
     @app.exception_handler(ConflictError)
-    async def _conflict(request: Request, exc: ConflictError):
+    async def _conflict(request: Request, exc: ConflictError) -> JSONResponse:
         return error_response(409, str(exc), "already_captured", request=request)
 
     @app.exception_handler(Unauthorized)
-    async def _unauthorized(request: Request, exc: Unauthorized):
+    async def _unauthorized(request: Request, exc: Unauthorized) -> JSONResponse:
         return error_response(401, str(exc), "unauthorized", {"WWW-Authenticate": "Bearer"}, request=request)
 
     @app.exception_handler(PayloadTooLarge)
-    async def _too_large(request: Request, exc: PayloadTooLarge):
+    async def _too_large(request: Request, exc: PayloadTooLarge) -> JSONResponse:
         return error_response(413, str(exc), "payload_too_large", request=request)
 
     @app.exception_handler(StarletteHTTPException)
-    async def _http(request: Request, exc: StarletteHTTPException):
+    async def _http(request: Request, exc: StarletteHTTPException) -> Response:
         if exc.status_code == 404 and not_found_page is not None and wants_page(request):
             return not_found_page(request)
         return error_response(exc.status_code, exc.detail, "http_error", exc.headers, request=request)
 
     @app.exception_handler(Exception)
-    async def _unexpected(request: Request, exc: Exception):
+    async def _unexpected(request: Request, exc: Exception) -> JSONResponse:
         log.exception("unexpected error on %s %s", request.method, request.url.path)
         return error_response(
             500, "internal error: the request was not completed; nothing was stored", "internal_error", request=request

@@ -8,6 +8,6 @@ router = APIRouter(tags=["health"])
 
 
 @router.get("/healthz", response_model=Health, summary="Liveness")
-def healthz():
+def healthz() -> dict[str, str]:
     """`{"status": "ok"}` while the service answers."""
     return {"status": "ok"}

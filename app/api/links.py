@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from fastapi import APIRouter, Request
 
 from app.api.deps import LINK_TOKEN_PREFIX, OwnerDep, SettingsDep, StoreDep, Unauthorized, bearer_token
@@ -24,7 +26,9 @@ def link_address(request: Request, code: str) -> str:
     response_model=LinkOut,
     summary="A short link that reads the calibration for a while",
 )
-def create_link(calibration_id: str, request: Request, store: StoreDep, owner: OwnerDep, settings: SettingsDep):
+def create_link(
+    calibration_id: str, request: Request, store: StoreDep, owner: OwnerDep, settings: SettingsDep
+) -> dict[str, Any]:
     """A short link to the calibration, for another device to open until it expires (TRICAL_LINK_TTL_MIN)."""
     if (bearer_token(request) or "").startswith(LINK_TOKEN_PREFIX):
         raise Unauthorized("a link cannot make another link: send it from the device that made the calibration")
@@ -34,7 +38,7 @@ def create_link(calibration_id: str, request: Request, store: StoreDep, owner: O
 
 
 @router.get("/api/v1/links/{code}", response_model=LinkOpened, summary="The calibration a link opens")
-def open_link(code: str, store: StoreDep):
+def open_link(code: str, store: StoreDep) -> dict[str, Any]:
     """The calibration a link's code opens and until when; the code, as ``Bearer lnk_<code>``, then reads it."""
     link = store.open_link(code)
     return {

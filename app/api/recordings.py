@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import zipfile
 from pathlib import Path, PurePath
-from typing import Annotated
+from typing import IO, Annotated, Any, BinaryIO
 
 from fastapi import APIRouter, File, Form, UploadFile
 
@@ -21,7 +21,7 @@ router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
 
 
-def _copy_limited(source, out, size: int, limit_bytes: int, limit_mb: float) -> int:
+def _copy_limited(source: BinaryIO, out: IO[bytes], size: int, limit_bytes: int, limit_mb: float) -> int:
     """Copy ``source`` into ``out`` in chunks; ``size`` counts what came before. Refuses past the limit."""
     while chunk := source.read(CHUNK):
         size += len(chunk)
@@ -31,7 +31,7 @@ def _copy_limited(source, out, size: int, limit_bytes: int, limit_mb: float) -> 
     return size
 
 
-def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
+def save_upload(source: BinaryIO, dest: Path, limit_bytes: int, limit_mb: float) -> int:
     """Copy an upload to ``dest`` in chunks, refusing it past the size limit; returns its size."""
     dest.parent.mkdir(parents=True, exist_ok=True)
     try:
@@ -42,7 +42,7 @@ def save_upload(source, dest: Path, limit_bytes: int, limit_mb: float) -> int:
         raise
 
 
-def save_uploads_as_zip(uploads: list[tuple[str, object]], dest: Path, limit_bytes: int, limit_mb: float) -> None:
+def save_uploads_as_zip(uploads: list[tuple[str, BinaryIO]], dest: Path, limit_bytes: int, limit_mb: float) -> None:
     """Store several uploaded files as one zip, each under its own name, refusing them past the size limit
     (counted over all of them)."""
     refuse_repeated_names([name for name, _ in uploads])
@@ -80,7 +80,7 @@ def upload_recording(
     store: StoreDep,
     owner: OwnerDep,
     reader: ReaderDep,
-):
+) -> dict[str, Any]:
     """Store a log (or one file per pose, as one recording) and return its static segments with their orientation."""
     recording_id = new_id("rec")
     if len(file) == 1:
@@ -102,7 +102,7 @@ def upload_recording(
 
 
 @router.get("/{recording_id}", response_model=RecordingOut, summary="Read a recording's metadata")
-def get_recording(recording_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep):
+def get_recording(recording_id: str, store: StoreDep, owner: OwnerDep, reader: ReaderDep) -> dict[str, Any]:
     """A recording's metadata and static segments."""
     body, _ = store.get_recording(recording_id, owner=owner)
     return render_body(body, *reader)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from fastapi import APIRouter, Depends, Request
 
 from app.api.deps import (
@@ -39,7 +41,7 @@ def session_of(session_id: str, request: Request, store: StoreDep) -> sessions.S
 
 
 @router.post("", status_code=201, response_model=SessionCreated)
-def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep, settings: SettingsDep):
+def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep, settings: SettingsDep) -> dict[str, Any]:
     """Start a wizard session; the token in the answer opens it (with TRICAL_API_KEYS set, starting
     one needs a key)."""
     token, digest = new_session_token()
@@ -49,7 +51,7 @@ def create_session(body: SessionIn, store: StoreDep, owner: OwnerDep, settings: 
 
 
 @router.get("/{session_id}", response_model=SessionOut)
-def get_session(reader: ReaderDep, session: sessions.Session = Depends(session_of)):
+def get_session(reader: ReaderDep, session: sessions.Session = Depends(session_of)) -> dict[str, Any]:
     """A session: its captures, the positions that remain, its calibration once solved."""
     return render_body(sessions.view(session), *reader)
 
@@ -57,14 +59,16 @@ def get_session(reader: ReaderDep, session: sessions.Session = Depends(session_o
 @router.post("/{session_id}/captures", status_code=201, response_model=CaptureOut)
 def add_capture(
     *, body: CaptureIn, session: sessions.Session = Depends(session_of), store: StoreDep, reader: ReaderDep
-):
+) -> dict[str, Any]:
     """Check the raw samples of one still pose and store them (409 when that pose is done)."""
     capture, view = sessions.add_capture(store, session, body.model_dump())
     return render_body({"capture": capture, "session": view}, *reader)
 
 
 @router.post("/{session_id}/solve", status_code=201, response_model=CalibrationOut, response_model_exclude_unset=True)
-def solve_session(*, session: sessions.Session = Depends(session_of), store: StoreDep, reader: ReaderDep):
+def solve_session(
+    *, session: sessions.Session = Depends(session_of), store: StoreDep, reader: ReaderDep
+) -> dict[str, Any]:
     """Compute and store the calibration of a complete session; its token reads it."""
     assert session.id is not None, "a session read from the store has its id"
     return render_body(

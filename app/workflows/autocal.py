@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from app.calibration import CalibrationError
 from app.io.formats import read_log
@@ -13,7 +15,7 @@ from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
 
 
-def autocal(request, recording: RecordingSource) -> Calibration:
+def autocal(request: Any, recording: RecordingSource) -> Calibration:
     """Method ``autocal``: an uploaded long recording, read as it was uploaded (:func:`autocalibrate_file`)."""
     require_accelerometer(recording.meta["units"], "autocal")
     # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.
@@ -44,18 +46,18 @@ AUTOCAL_UNITS = ACC_PHYSICAL_UNITS
 
 
 def autocalibrate_file(
-    path,
+    path: str | Path,
     options: ReadOptions = ReadOptions(),
     *,
-    progress=None,
+    progress: Callable[[int, int], object] | None = None,
     solver: str = "lm",
     gravity: float | None = None,
     latitude_deg: float | None = None,
     height_m: float | None = None,
-    detection: dict | None = None,
-    selection: dict | None = None,
+    detection: dict[str, Any] | None = None,
+    selection: dict[str, Any] | None = None,
     threads: int | None = None,
-    **fields,
+    **fields: Any,
 ) -> Calibration:
     """Auto-calibrate a long recording by the pipeline of Farago et al. and return the calibration.
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+from typing import Any
 
 from app.calibration.result import CalibrationResult
 from app.verdict import verdict
@@ -44,16 +45,16 @@ class Calibration:
     """
 
     result: CalibrationResult
-    extra_metrics: dict = field(default_factory=dict)
+    extra_metrics: dict[str, Any] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
-    fields: dict = field(default_factory=dict)
-    reading_sources: tuple | None = None
+    fields: dict[str, Any] = field(default_factory=dict)
+    reading_sources: tuple[str | None, ...] | None = None
     read_warnings: tuple[str, ...] = ()
     asked: tuple[str, ...] = ()
 
     @classmethod
     def of(
-        cls, result: CalibrationResult, extra_metrics: dict, *, unit: str, notes: list[str], **fields
+        cls, result: CalibrationResult, extra_metrics: dict[str, Any], *, unit: str, notes: list[str], **fields: Any
     ) -> Calibration:
         """A handler's calibration: the core's ``result`` in ``unit`` (the core fits numbers; the caller knows
         their unit), the request's metrics and notes, the caller's fields."""
@@ -69,7 +70,7 @@ class Calibration:
             return self.result
         return dataclasses.replace(self.result, metrics={**self.result.metrics, **self.extra_metrics})
 
-    def read_from(self, warnings: list[str], questions: list[dict]) -> Calibration:
+    def read_from(self, warnings: list[str], questions: list[dict[str, Any]]) -> Calibration:
         """This calibration of a recording: the reader's ``warnings`` first (what it decided against the header or
         the caller: units, columns, clock), and the ``questions`` it left open (a gyroscope's unit) as reasons of
         the result where its figures are of that sensor (:meth:`CalibrationResult.figure_sensors`): a figure
@@ -89,7 +90,7 @@ class Calibration:
         """This calibration with more notes after its own."""
         return dataclasses.replace(self, notes=self.notes + notes)
 
-    def body(self) -> dict:
+    def body(self) -> dict[str, Any]:
         """The plain form that the API answers and the store keeps: the final result's, with its headline,
         the notes after its warnings, the caller's fields, and its verdict (app.verdict), each computed once
         from the final result."""

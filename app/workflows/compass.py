@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import dataclasses
 import datetime
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -14,13 +16,15 @@ from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, still_segments
 
 
-def magnetometer_reference(request, notes: list[str], fix: dict | None = None) -> tuple[dict, dict]:
+def magnetometer_reference(
+    request: Any, notes: list[str], fix: dict[str, Any] | None = None
+) -> tuple[dict[str, Any], dict[str, Any]]:
     """The field the calibration is referenced to: ``field_ut`` given, else the geomagnetic model's at
     the place and day (the request's, else a flight log's first GPS fix ``fix``), else none (estimated by the
     fit); with a place, the model's dip and declination too. Returns the keyword arguments of
     :func:`~app.calibration.magnetometer.fit_magnetometer` and the metrics naming the model and its day (none
     without a place)."""
-    reference: dict = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
+    reference: dict[str, Any] = {"field_ut": request.field_ut, "field_source": "given" if request.field_ut else None}
     lat, lon, day, height = request.latitude_deg, request.longitude_deg, request.date, request.height_m
     if lat is None and fix is not None:
         lat, lon = fix["latitude_deg"], fix["longitude_deg"]
@@ -51,7 +55,7 @@ def magnetometer_reference(request, notes: list[str], fix: dict | None = None) -
     return reference, {"field_model": earth.model, "field_date": day.isoformat()}
 
 
-def compass_rests(log: LogData, segments: list[dict]) -> list[tuple]:
+def compass_rests(log: LogData, segments: list[dict[str, Any]]) -> list[tuple[Sequence[float], np.ndarray]]:
     """The accelerometer's still segments of a recording with their mean magnetometer reading."""
     if log.mag is None or log.acc is None:
         return []
@@ -79,13 +83,13 @@ def inline_mag(mag: np.ndarray, notes: list[str]) -> tuple[np.ndarray, str]:
     return (mag, "raw") if inferred == "raw" else (mag * {"gauss": GAUSS_UT, **MAG_TO_UT}[inferred], "uT")
 
 
-def magnetometer(request, recording: RecordingSource | None) -> Calibration:
+def magnetometer(request: Any, recording: RecordingSource | None) -> Calibration:
     """Method ``magnetometer``: inline readings or a recording, referenced to the field given, the Earth's at
     a place, or estimated."""
     from app.calibration.magnetometer import fit_magnetometer  # scipy.optimize: see still.calibrate_unknown
 
     notes: list[str] = []
-    rests: list = []
+    rests: list[tuple[Sequence[float], np.ndarray]] = []
     unit = "uT"
     if recording is None:
         mag, unit = inline_mag(np.asarray(request.mag, dtype=float), notes)
@@ -142,7 +146,7 @@ class CompassAsk:
     recording_id: str | None
     device_id: str | None = None
     label: str | None = None
-    mag: list | None = None
+    mag: list[list[float]] | None = None
     date: datetime.date | None = None
     latitude_deg: float | None = None
     longitude_deg: float | None = None
@@ -151,7 +155,7 @@ class CompassAsk:
     method: str = "magnetometer"
 
 
-def auto_compass(request, recording: RecordingSource) -> Calibration:
+def auto_compass(request: Any, recording: RecordingSource) -> Calibration:
     """``auto`` on a recording of the magnetometer alone: the compass, referenced to the Earth's field at the place
     and date given (``latitude_deg`` with ``longitude_deg``), or to ``field_ut``, else estimated."""
     placed = request.longitude_deg is not None

@@ -4,6 +4,7 @@ magnetometer (IEEE Sensors Journal 17(11) 2017)."""
 from __future__ import annotations
 
 import dataclasses
+from typing import TYPE_CHECKING, Any
 
 from app.calibration import CalibrationError
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, LogData
@@ -11,8 +12,18 @@ from app.workflows.calibration import Calibration
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
 
+if TYPE_CHECKING:
+    from app.calibration.cube import CubeCalibration
 
-def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: float | None, sections=None):
+
+def calibrate_cube_log(
+    log: LogData,
+    *,
+    protocol: str | dict[str, Any],
+    gravity: float,
+    field_ut: float | None,
+    sections: dict[str, dict[str, Any]] | None = None,
+) -> CubeCalibration:
     """Särkkä et al.'s multi-position calibration of a recording's acc, gyr and optional mag.
 
     Gyroscope samples in deg/s are converted to rad/s and magnetometer samples in nT to µT first, so
@@ -42,7 +53,7 @@ def calibrate_cube_log(log: LogData, *, protocol, gravity: float, field_ut: floa
     )
 
 
-def cube(request, recording: RecordingSource) -> Calibration:
+def cube(request: Any, recording: RecordingSource) -> Calibration:
     """Method ``cube``: a recording of the cube's positions and the turns between them, in one file."""
     if recording.meta.get("parts"):
         raise CalibrationError(

@@ -4,6 +4,7 @@ steps every method shares around its handler."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 from app.calibration import CalibrationError
 from app.workflows.calibration import Calibration
@@ -13,7 +14,7 @@ Handler = Callable[..., Calibration]
 """A method's handler: ``handler(request, recording)`` returns the typed calibration."""
 
 
-def calibrate(handler: Handler, request, recording: RecordingSource | None = None) -> Calibration:
+def calibrate(handler: Handler, request: Any, recording: RecordingSource | None = None) -> Calibration:
     """Compute the calibration a request asks for with its method's handler (unstored, typed: its plain form,
     headline and verdict come from :meth:`Calibration.body`, once).
 

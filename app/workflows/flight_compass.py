@@ -13,13 +13,16 @@ from __future__ import annotations
 
 import datetime
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from app.calibration import CalibrationError
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource
+
+if TYPE_CHECKING:
+    from app.io.flight_context import FlightCompassLog
 
 
 def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -37,7 +40,7 @@ def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.nd
     return slerp(t[inside]).as_matrix(), inside
 
 
-def _power_on(t: np.ndarray, log) -> tuple[np.ndarray | None, str | None, np.ndarray]:
+def _power_on(t: np.ndarray, log: FlightCompassLog) -> tuple[np.ndarray | None, str | None, np.ndarray]:
     """The current (preferred: what the interference follows) or else the throttle at the times ``t``, its
     kind, and the mask of the times inside its span (all true without power)."""
     for values, kind in ((log.current_a, "current"), (log.throttle, "throttle")):
@@ -62,7 +65,7 @@ MIN_WINDOW_SAMPLES = 60
 """A window keeping fewer compass samples than this is not applied (the whole log is fitted, a note says so)."""
 
 
-def _window(t: np.ndarray, log, request, notes: list[str]) -> np.ndarray:
+def _window(t: np.ndarray, log: FlightCompassLog, request: Any, notes: list[str]) -> np.ndarray:
     """The samples fitted: the request's ``from_s``–``to_s`` (seconds from the compass's first sample), and with
     ``window = "flying"`` the flying part (:data:`FLYING_SHARE_OF_HOVER` of the hover throttle; with the current
     alone, above the idle's 5th percentile plus that share of the way to its median while flying)."""
@@ -83,7 +86,7 @@ def _window(t: np.ndarray, log, request, notes: list[str]) -> np.ndarray:
     for values, kind in ((log.throttle, "throttle"), (log.current_a, "current")):
         if values is None or len(values) < 2:
             continue
-        v = np.interp(t, pt, np.asarray(values, dtype=float))
+        v: np.ndarray = np.interp(t, pt, np.asarray(values, dtype=float))
         # the motors running: throttle above 0.05, or current 1 A above the idle's 5th percentile
         idle, above = (0.0, 0.05) if kind == "throttle" else (float(np.percentile(v, 5)), 1.0)
         running = v[v > idle + above]
@@ -101,7 +104,7 @@ def _window(t: np.ndarray, log, request, notes: list[str]) -> np.ndarray:
     return keep
 
 
-def _place(request, log, notes: list[str]) -> tuple[float, float, float, datetime.date]:
+def _place(request: Any, log: FlightCompassLog, notes: list[str]) -> tuple[float, float, float, datetime.date]:
     """Where and when the flight was: the request's place and date over the log's first GPS fix."""
     lat = request.latitude_deg if request.latitude_deg is not None else log.latitude_deg
     lon = request.longitude_deg if request.longitude_deg is not None else log.longitude_deg
@@ -122,7 +125,7 @@ def _place(request, log, notes: list[str]) -> tuple[float, float, float, datetim
     return float(lat), float(lon), float(height), day
 
 
-def _stored_model(log) -> dict | None:
+def _stored_model(log: FlightCompassLog) -> dict[str, np.ndarray | None] | None:
     """The firmware's stored calibration in the fit's terms, ``h = M (Q m − b − k p)`` with Q the rotation it
     applies now: ArduPilot adds COMPASS_OFS to the body-frame field and applies DIA/ODI, so ``M = D``, ``b = −O``;
     PX4 computes ``R S (m − o)``, so ``M = R S Rᵀ``, ``b = R o``. Its motor term only where it stores none (k = 0):
@@ -137,7 +140,7 @@ def _stored_model(log) -> dict | None:
     return {"M": R @ stored.matrix @ R.T, "b": R @ stored.offsets_ut, "k": k}
 
 
-def _not_measuring_remedy(log) -> str:
+def _not_measuring_remedy(log: FlightCompassLog) -> str:
     """What to check on a compass that does not measure, in its firmware's settings."""
     switch = log.stored.switch
     off = (
@@ -164,10 +167,10 @@ class Flown:
     attitude: np.ndarray
     b_ned: np.ndarray
     earth: Any
-    place: tuple
+    place: tuple[float, float, float, datetime.date]
 
 
-def fly(request, recording: RecordingSource, instance: int | None, notes: list[str]) -> Flown:
+def fly(request: Any, recording: RecordingSource, instance: int | None, notes: list[str]) -> Flown:
     """The compass ``instance`` of the stored log fitted to its flight (the module's docstring); ``notes`` gets
     the reader's and the window's.
 
@@ -234,7 +237,7 @@ def fly(request, recording: RecordingSource, instance: int | None, notes: list[s
     return Flown(log, fit, t[keep], mag_raw[keep], power, kind, expected, attitude, b_ned, earth, place)
 
 
-def compass_flight(request, recording: RecordingSource | None) -> Calibration:
+def compass_flight(request: Any, recording: RecordingSource | None) -> Calibration:
     """Method ``compass_flight``: a flight log's compass against the field its attitude expects; with several
     compasses in the log, each beside the others (:func:`app.workflows.flight_compasses.compasses_table`)."""
     from app.calibration.magnetometer import FlightCompassCalibration

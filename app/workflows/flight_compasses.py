@@ -7,6 +7,8 @@ row, with why.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from app.calibration import CalibrationError
@@ -19,6 +21,9 @@ from app.io.export_compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
 from app.workflows.flight_compass import Flown, fly
 from app.workflows.recordings import RecordingSource
 
+if TYPE_CHECKING:
+    from app.io.flight_context import FirmwareCompassCal
+
 MAX_ORIENTATION_LEFT_DEG = 5.0
 """A mounting is named for re-orienting only where the rotation found lies within 5° of it (the flight fit's own
 warning limit): further, the orientation is unresolved and the fit says so."""
@@ -29,7 +34,7 @@ def _compass_instances(recording: RecordingSource) -> list[int]:
     return sorted({int(i["instance"]) for i in instances if i.get("sensor") == "mag"})
 
 
-def _px4_prefix(stored) -> str | None:
+def _px4_prefix(stored: FirmwareCompassCal) -> str | None:
     """``CAL_MAGn_`` of the slot the stored calibration came from (its parameters name one), or None."""
     return next((k[:-3] for k in stored.params if k.startswith("CAL_MAG") and k.endswith("_ID")), None)
 
@@ -55,7 +60,7 @@ def _motor_setting(flown: Flown) -> str | None:
     return None if prefix is None else f"{prefix}X/Y/ZCOMP (CAL_MAG_COMP_TYP = {PX4_COMP_TYPE[kind]})"
 
 
-def _pull(flown: Flown) -> dict | None:
+def _pull(flown: Flown) -> dict[str, Any] | None:
     """The power's pull on the compass (:func:`.flight_compare.pull`) from a fit of the offsets and the motor term on
     the same samples, and whether the flight determines it (the fit's motor gate)."""
     from app.calibration.magnetometer import fit_flight_compass
@@ -88,7 +93,7 @@ def _pull(flown: Flown) -> dict | None:
     }
 
 
-def _row(flown: Flown) -> dict:
+def _row(flown: Flown) -> dict[str, Any]:
     fit = flown.fit
     heading = fit.heading_error_deg or {}
     row = {
@@ -110,7 +115,7 @@ def _row(flown: Flown) -> dict:
     return row
 
 
-def _refused_row(recording: RecordingSource, instance: int, error: Exception) -> dict:
+def _refused_row(recording: RecordingSource, instance: int, error: Exception) -> dict[str, Any]:
     from app.io.flight_context import read_flight_compass
 
     try:
@@ -140,7 +145,7 @@ def _on(t: np.ndarray, at: np.ndarray, field: np.ndarray) -> np.ndarray:
     return np.column_stack([np.interp(t, at, field[:, k]) for k in range(3)])
 
 
-def compasses_table(request, recording: RecordingSource, asked: Flown) -> dict:
+def compasses_table(request: Any, recording: RecordingSource, asked: Flown) -> dict[str, Any]:
     """``{"compasses": [...], "consistency": [...]}`` for a log of two compasses or more (else empty): each
     compass's row (the one asked reuses its fit) and each other compass's field against the first's."""
     instances = _compass_instances(recording)
@@ -155,7 +160,7 @@ def compasses_table(request, recording: RecordingSource, asked: Flown) -> dict:
             continue
         rows.append(_row(flown))
         fields[instance] = (np.asarray(flown.log.time_s, float), np.asarray(flown.log.mag_firmware_ut, float))
-    checks: list[dict] = []
+    checks: list[dict[str, Any]] = []
     if fields:
         primary = min(fields)
         pt, pf = fields[primary]

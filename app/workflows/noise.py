@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -12,6 +14,9 @@ from app.calibration.errors import InsufficientDataError
 from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, require_rate
+
+if TYPE_CHECKING:
+    from app.io.formats.timing import Gap
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
 NOISE_REST_S = 5.0
@@ -28,7 +33,9 @@ NOISE_GAPS_MAX = 0.01
 stretches as if they were adjacent."""
 
 
-def characterise_log(log: LogData, *, sensors=None, array_sensor: str | None = None, **fields) -> Calibration:
+def characterise_log(
+    log: LogData, *, sensors: Sequence[str] | None = None, array_sensor: str | None = None, **fields: Any
+) -> Calibration:
     """Noise characterisation (app.calibration.noise) of every chosen sensor of a still recording.
 
     ``array_sensor`` names the sensor a three-column array (``.npy``, Parquet) holds, which the readers
@@ -109,7 +116,9 @@ def _spikes_said(sensor: str, counts: list[int]) -> str:
     )
 
 
-def _chosen_sensors(log: LogData, sensors, array_sensor: str | None) -> tuple[dict, dict, list]:
+def _chosen_sensors(
+    log: LogData, sensors: Sequence[str] | None, array_sensor: str | None
+) -> tuple[dict[str, np.ndarray], dict[str, str], list[str]]:
     """The recording's samples and units by sensor (an array's under the sensor it holds), and the sensors
     asked for (by default every one it has); a sensor it lacks is refused."""
     arrays = {name: getattr(log, name) for name in log.channels}
@@ -131,7 +140,9 @@ def _chosen_sensors(log: LogData, sensors, array_sensor: str | None) -> tuple[di
     return arrays, units, wanted
 
 
-def _still_span(runs: list, fs: float, n: int, notes: list, reasons: list) -> tuple[int, int]:
+def _still_span(
+    runs: list[tuple[int, int]], fs: float, n: int, notes: list[str], reasons: list[str]
+) -> tuple[int, int]:
     """The longest still stretch (the whole recording when none is), with a note or a reason when the device
     moved: several rests, or too little of the recording still."""
     from app.calibration.noise_still import MIN_STILL_FRACTION
@@ -168,12 +179,12 @@ def _still_span(runs: list, fs: float, n: int, notes: list, reasons: list) -> tu
     return span
 
 
-def _gaps_inside(log: LogData, span: tuple[int, int]) -> list:
+def _gaps_inside(log: LogData, span: tuple[int, int]) -> list[Gap]:
     """The time column's gaps inside the still part ``span``."""
     return [g for g in log.gaps if span[0] < g.index < span[1]]
 
 
-def _gap_free(log: LogData, span: tuple[int, int], fs: float, notes: list) -> tuple[int, int]:
+def _gap_free(log: LogData, span: tuple[int, int], fs: float, notes: list[str]) -> tuple[int, int]:
     """The longest stretch of the still part that holds no gap of the time column, when it is long enough for the
     noise (:data:`NOISE_MIN_S`; a note names the gaps it avoids); else the still part, whose gaps are judged."""
     inside = _gaps_inside(log, span)
@@ -206,7 +217,7 @@ SERIAL_REMEDY = (
 )
 
 
-def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, reasons: list) -> None:
+def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list[str], reasons: list[str]) -> None:
     """A note on the time column's gaps inside the still part, or a reason when they lose too much of it for
     the Allan deviation (:data:`NOISE_GAPS_MAX`), with the remedy of the recording's source."""
     from app.io.formats import source_of_format
@@ -230,7 +241,7 @@ def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list, rea
             notes.append(said + ": few enough for the Allan deviation")
 
 
-def noise(request, recording: RecordingSource) -> Calibration:
+def noise(request: Any, recording: RecordingSource) -> Calibration:
     """Method ``noise``: the chosen sensors of a still recording (a flight log's compass on its own clock)."""
     clock = None
     if recording.meta.get("flight") is not None and request.sensors and "mag" in request.sensors:
@@ -261,9 +272,11 @@ def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
     from app.calibration.noise_still import longest_still
     from app.io.parts import part_log
 
-    def still_samples(i):
+    def still_samples(i: int) -> int:
         one = part_log(log, i)
-        span = longest_still([getattr(one, name) for name in one.channels], one.sampling_rate_hz)
+        # Pose files without a time column and no rate given have none: refused as the whole log is (characterise_log).
+        rate = require_rate(one.sampling_rate_hz, "noise")
+        span = longest_still([getattr(one, name) for name in one.channels], rate)
         return 0 if span is None else span[1] - span[0]
 
     lengths = [still_samples(i) for i in range(len(log.parts))]

@@ -5,28 +5,33 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientation
 from app.calibration.errors import InsufficientDataError
 from app.calibration.orientations import WITHIN_LABEL_ANGLE
-from app.calibration.static import detect_static_segments
+from app.calibration.static import StaticSegment, detect_static_segments
 from app.io.formats import read_log, source_of_format
 from app.io.log import LogData
-from app.io.parts import content_digest, pose_from_name
+from app.io.parts import Part, content_digest, pose_from_name
 from app.io.read_options import ReadOptions
 from app.workflows.supports import supports
+
+if TYPE_CHECKING:
+    from app.store import Store
 
 BROWSER_STEP = 0.1
 """Browsers round DeviceMotion values to 0.1 m/s² (W3C Device Orientation, fingerprinting mitigation)."""
 
 
 def add_recording(
-    store, recording_id: str, path: Path, *, filename: str | None, options: ReadOptions, owner: str | None
-) -> dict:
+    store: Store, recording_id: str, path: Path, *, filename: str | None, options: ReadOptions, owner: str | None
+) -> dict[str, Any]:
     """Read a saved upload, describe it and store it as a recording; the file is removed if any step fails,
     so that nothing is kept that no recording names.
 
@@ -68,7 +73,7 @@ def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float 
     return None
 
 
-def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path | None = None) -> dict:
+def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path | None = None) -> dict[str, Any]:
     """Recording metadata and its static segments (docs/rest.md, POST /recordings).
 
     ``options`` are what the reader was told (:class:`app.io.read_options.ReadOptions`); they are kept as
@@ -84,7 +89,7 @@ def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path
             f"still segments looked for as if sampled at {NOMINAL_RATE_HZ:g} Hz (the log has no rate): "
             "their start and end are sample indices"
         )
-    body = {
+    body: dict[str, Any] = {
         "format": log.format,
         "n_samples": log.n_samples,
         "sampling_rate_hz": rate,
@@ -125,7 +130,7 @@ def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path
     return body
 
 
-def flight_fix(path: Path, options: ReadOptions | None) -> dict | None:
+def flight_fix(path: Path, options: ReadOptions | None) -> dict[str, Any] | None:
     """A flight controller's log's first 3-D GPS fix (``latitude_deg``, ``longitude_deg``, ``date``) as its compass
     is read (app.io.flight_context), or None: no fix, no compass, or a log whose compass cannot be read (the
     compass from the flight then says why)."""
@@ -145,7 +150,7 @@ def flight_fix(path: Path, options: ReadOptions | None) -> dict | None:
     }
 
 
-def temperature_range(temperature) -> dict | None:
+def temperature_range(temperature: np.ndarray | None) -> dict[str, float] | None:
     """The smallest and largest of a log's sensor temperature (°C), or None without one."""
     if temperature is None:
         return None
@@ -154,7 +159,9 @@ def temperature_range(temperature) -> dict | None:
     return {"min": float(finite.min()), "max": float(finite.max())} if finite.size else None
 
 
-def _short_still_file(acc, part, gravity: float | None, everything) -> tuple[list[dict], str] | None:
+def _short_still_file(
+    acc: np.ndarray, part: Part, gravity: float | None, everything: np.ndarray
+) -> tuple[list[dict[str, Any]], str] | None:
     """A pose file too short for a still segment (under MIN_DURATION_S) that is still all through: the
     whole file is its pose's reading, as the person who saved it meant (one file, one pose).
 
@@ -192,7 +199,9 @@ NOMINAL_RATE_HZ = 100.0
 windows and least length are counted in samples as at 100 Hz; a note says so."""
 
 
-def _still_between_gaps(acc, rate: float, gravity: float | None, cuts, others=()) -> list:
+def _still_between_gaps(
+    acc: np.ndarray, rate: float, gravity: float | None, cuts: Sequence[int], others: Sequence[np.ndarray] = ()
+) -> list[StaticSegment]:
     """Still segments (app.calibration.static) of ``acc``, still on every sensor of ``others`` too (the
     gyroscope's and the magnetometer's samples on its clock), each stretch between the sample indices
     ``cuts`` (gaps of the time column) searched on its own, so that a segment's samples are contiguous
@@ -213,7 +222,7 @@ def _still_between_gaps(acc, rate: float, gravity: float | None, cuts, others=()
     return out
 
 
-def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
+def still_segments(log: LogData) -> tuple[list[dict[str, Any]], list[str]]:
     """A log's still segments in their plain form (docs/rest.md), and notes on a recording in parts.
 
     The segments are the accelerometer's rests (a log of other sensors alone has none) that are still on
@@ -231,9 +240,9 @@ def still_segments(log: LogData) -> tuple[list[dict], list[str]]:
     rate = log.sampling_rate_hz or NOMINAL_RATE_HZ
     others = [o for o in (log.gyr, log.mag) if o is not None]
     if not log.parts:
-        found = _still_between_gaps(log.acc, rate, gravity, [g.index for g in log.gaps], others)
-        return [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(found)], []
-    segments: list[dict] = []
+        rests = _still_between_gaps(log.acc, rate, gravity, [g.index for g in log.gaps], others)
+        return [dict(index=i, **seg.to_dict(), count=seg.count) for i, seg in enumerate(rests)], []
+    segments: list[dict[str, Any]] = []
     notes: list[str] = []
     for k, part in enumerate(log.parts):
         cuts = [g.index - part.start for g in log.gaps if part.start < g.index < part.end]
@@ -282,7 +291,7 @@ OVERVIEW_POINTS = 300
 """Bins of a log's overview: enough for a plot the width of a phone."""
 
 
-def overview(log: LogData) -> dict:
+def overview(log: LogData) -> dict[str, Any]:
     """The norm of the accelerometer (else the magnetometer, else the gyroscope) in at most
     :data:`OVERVIEW_POINTS` bins: the smallest and largest of each bin, so that a short move still shows,
     for the page's plot of the log. ``t_s`` is null in a log without a rate; ``start`` counts samples;
@@ -323,7 +332,7 @@ class RecordingSource:
         The file already read, when the caller has it.
     """
 
-    meta: dict
+    meta: dict[str, Any]
     path: Path
     id: str | None = None
     log: LogData | None = None
@@ -350,7 +359,7 @@ class RecordingSource:
         )
 
     @property
-    def source_fields(self) -> dict:
+    def source_fields(self) -> dict[str, Any]:
         """The calibration's fields about its recording: its id, and where it came from (``source``): by its
         format (app.io.formats.source_of_format), else a board where its readings
         were counts (no phone app logs counts: an Arduino's CSV, an HMC5883L's)."""
@@ -366,7 +375,7 @@ class RecordingSource:
         units = (self.meta.get("units") or {}).values()
         return "raw" in units or any(s.get("read_in") == "counts" for s in scales)
 
-    def supersede_key(self, body: dict) -> str | None:
+    def supersede_key(self, body: dict[str, Any]) -> str | None:
         """What a calibration of this recording supersedes the earlier ones by (with its method, device name and
         owner: app.store): the upload's digest, and for a flight log's compass which compass it is — compass 1's
         calibration is no later reading of compass 0's."""
@@ -386,7 +395,7 @@ def require_rate(rate: float | None, method: str) -> float:
     return rate
 
 
-def require_accelerometer(channels, method: str) -> None:
+def require_accelerometer(channels: Collection[str], method: str) -> None:
     """Refuse a recording without accelerometer columns for an accelerometer method, naming the fix."""
     if "acc" not in channels:
         other = {

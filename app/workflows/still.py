@@ -8,11 +8,13 @@ takes, whether it is cross-validated, whether it advises poses); the steps aroun
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from app.calibration import (
     CANONICAL_SIX,
@@ -36,19 +38,25 @@ from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer
 from app.workflows.results import holdout_metrics, pose_advice
 
+if TYPE_CHECKING:
+    from app.calibration.affine import AffineCalibration
+    from app.calibration.nonorthogonal import NonOrthogonalCalibration
+    from app.calibration.result import StillReadingsResult
+    from app.calibration.triangular import TriangularCalibration
+
 
 @dataclass(frozen=True)
 class Reading:
     """One averaged still reading handed to a known-orientation method."""
 
-    mean: tuple
+    mean: tuple[float, ...]
     up: str | None = None
-    expected: tuple | None = None
-    std: tuple | None = None
+    expected: tuple[float, ...] | None = None
+    std: tuple[float, ...] | None = None
     count: int | None = None
 
 
-def _first_of_each_axis(segments: list[dict]) -> list[int]:
+def _first_of_each_axis(segments: list[dict[str, Any]]) -> list[int]:
     """The first still segment of each of the six orientations (six_position), or a refusal naming those
     missing."""
     first: dict[str, int] = {}
@@ -65,7 +73,7 @@ def _first_of_each_axis(segments: list[dict]) -> list[int]:
     return sorted(first.values())
 
 
-def _every_labelled(segments: list[dict]) -> list[int]:
+def _every_labelled(segments: list[dict[str, Any]]) -> list[int]:
     """Every still segment within 20° of an axis (orientations), or a refusal when none is."""
     chosen = [i for i, seg in enumerate(segments) if seg["up"] is not None]
     if not chosen:
@@ -78,13 +86,17 @@ def _every_labelled(segments: list[dict]) -> list[int]:
     return chosen
 
 
-def _fit_six(readings: list[Reading], *, gravity: float, stds, gates: dict):
+def _fit_six(
+    readings: list[Reading], *, gravity: float, stds: list[tuple[float, ...]] | None, gates: dict[str, Any]
+) -> AffineCalibration:
     if any(r.up is None for r in readings):
         raise CalibrationError(f"six_position readings each need an `up` label ({', '.join(CANONICAL_SIX)})")
     return fit_six_position([r.mean for r in readings], [r.up for r in readings], gravity=gravity, stds=stds, **gates)
 
 
-def _fit_orientations(readings: list[Reading], *, gravity: float, stds, gates: dict):
+def _fit_orientations(
+    readings: list[Reading], *, gravity: float, stds: list[tuple[float, ...]] | None, gates: dict[str, Any]
+) -> AffineCalibration:
     return fit_orientations(
         [r.mean for r in readings],
         [r.up for r in readings],
@@ -95,13 +107,15 @@ def _fit_orientations(readings: list[Reading], *, gravity: float, stds, gates: d
     )
 
 
-def _fit_nonorthogonal(m, *, gravity: float, solver: str, gates: dict):
+def _fit_nonorthogonal(
+    m: np.ndarray, *, gravity: float, solver: str, gates: dict[str, Any]
+) -> NonOrthogonalCalibration:
     from app.calibration.nonorthogonal import fit_nonorthogonal  # scipy.optimize when it runs: see calibrate_unknown
 
     return fit_nonorthogonal(m, gravity=gravity, **gates)
 
 
-def _fit_triangular(m, *, gravity: float, solver: str, gates: dict):
+def _fit_triangular(m: np.ndarray, *, gravity: float, solver: str, gates: dict[str, Any]) -> TriangularCalibration:
     from app.calibration.triangular import fit_triangular  # scipy.optimize when it runs: see calibrate_unknown
 
     return fit_triangular(m, gravity=gravity, solver=solver, **gates)
@@ -128,8 +142,8 @@ class StillFit:
     """
 
     name: str
-    fit: Callable
-    pick: Callable[[list[dict]], list[int]] | None = None
+    fit: Callable[..., StillReadingsResult]
+    pick: Callable[[list[dict[str, Any]]], list[int]] | None = None
     cv_note: str | None = None
     advises: bool = False
 
@@ -145,7 +159,7 @@ AUTO_CHOICES = (SIX_POSITION.name, ORIENTATIONS.name, TRIANGULAR.name)
 """The fits ``auto`` chooses among on still readings (:func:`choose_model`)."""
 
 
-def still_fit(method):
+def still_fit(method: StillFit | str) -> StillFit:
     """The fit a name (or the fit itself) stands for; a name of no still-readings method is refused."""
     if isinstance(method, StillFit):
         return method
@@ -154,13 +168,15 @@ def still_fit(method):
     return STILL_FITS[method]
 
 
-def _gates(unit: str) -> dict:
+def _gates(unit: str) -> dict[str, Any]:
     """Raw readings: the reference stays in m/s² and the model maps it to counts, so the scale and offset
     gates do not apply."""
     return dict(plausible_scale=None, max_offset=math.inf) if unit == "raw" else {}
 
 
-def readings_from_segments(recording: dict, method, indices: list[int] | None) -> tuple[list[Reading], list[int]]:
+def readings_from_segments(
+    recording: dict[str, Any], method: StillFit | str, indices: list[int] | None
+) -> tuple[list[Reading], list[int]]:
     """Readings from a recording's static segments, and the indices of the segments used.
 
     ``method`` (a :class:`StillFit` of known orientations, or its name) picks them unless ``indices`` lists them:
@@ -169,7 +185,7 @@ def readings_from_segments(recording: dict, method, indices: list[int] | None) -
     spec = still_fit(method)
     segments = require_segments(recording, spec.name)
     if indices is not None:
-        chosen = []
+        chosen: list[int] = []
         for i in indices:
             if not 0 <= i < len(segments):
                 raise CalibrationError(
@@ -183,6 +199,8 @@ def readings_from_segments(recording: dict, method, indices: list[int] | None) -
                 )
             chosen.append(i)
     else:
+        # ``method`` is a fit of known orientations (its callers': six_position, orientations), which picks segments.
+        assert spec.pick is not None, "a fit of known orientations picks its segments"
         chosen = spec.pick(segments)
     readings = [
         Reading(
@@ -196,7 +214,14 @@ def readings_from_segments(recording: dict, method, indices: list[int] | None) -
     return readings, chosen
 
 
-def calibrate_known(method, readings: list[Reading], *, unit: str, gravity: float, holdout=None):
+def calibrate_known(
+    method: StillFit | str,
+    readings: list[Reading],
+    *,
+    unit: str,
+    gravity: float,
+    holdout: Sequence[Sequence[float]] | None = None,
+) -> tuple[StillReadingsResult, dict[str, Any]]:
     """Run a known-orientation method (:data:`SIX_POSITION`, :data:`ORIENTATIONS`, or its name) on readings,
     reviewed (app.calibration.trust); returns the result and the holdout's metrics."""
     spec = still_fit(method)
@@ -205,7 +230,7 @@ def calibrate_known(method, readings: list[Reading], *, unit: str, gravity: floa
         stds = [r.std for r in readings]
     gates = _gates(unit)
 
-    def fit(idx):
+    def fit(idx: Iterable[int]) -> StillReadingsResult:
         return spec.fit(
             [readings[i] for i in idx],
             gravity=gravity,
@@ -222,11 +247,11 @@ def calibrate_known(method, readings: list[Reading], *, unit: str, gravity: floa
     return result, holdout_metrics(result, holdout)
 
 
-def require_segments(recording: dict, method: str) -> list[dict]:
+def require_segments(recording: dict[str, Any], method: str) -> list[dict[str, Any]]:
     """A recording's still segments, or a refusal saying what to record and what to check: a method of
     still poses has nothing to fit without them (the unit first: readings in a unit other than the one
     read find no rest near the expected gravity)."""
-    segments = recording["segments"]
+    segments: list[dict[str, Any]] = recording["segments"]
     if not segments:
         unit = (recording.get("units") or {}).get("acc")
         norm = _median_norm_in_g(recording)
@@ -261,7 +286,7 @@ def require_segments(recording: dict, method: str) -> list[dict]:
     return segments
 
 
-def _median_norm_in_g(recording: dict) -> float | None:
+def _median_norm_in_g(recording: dict[str, Any]) -> float | None:
     """The accelerometer's median norm in g, from the recording's overview (each bin's middle), or None."""
     overview = recording.get("overview") or {}
     unit = (recording.get("units") or {}).get("acc")
@@ -273,8 +298,8 @@ def _median_norm_in_g(recording: dict) -> float | None:
 
 
 def means_from_segments(
-    recording: dict, indices: list[int] | None, method: str = "the method"
-) -> tuple[list, list[int]]:
+    recording: dict[str, Any], indices: list[int] | None, method: str = "the method"
+) -> tuple[list[list[float]], list[int]]:
     """Means of a recording's static segments (all, or the listed ones), orientation unknown."""
     segments = require_segments(recording, method)
     chosen = list(range(len(segments))) if indices is None else list(indices)
@@ -284,7 +309,15 @@ def means_from_segments(
     return [segments[i]["acc_mean"] for i in chosen], chosen
 
 
-def calibrate_unknown(method, means, *, unit: str, gravity: float, solver: str = "lm", holdout=None):
+def calibrate_unknown(
+    method: StillFit | str,
+    means: ArrayLike,
+    *,
+    unit: str,
+    gravity: float,
+    solver: str = "lm",
+    holdout: Sequence[Sequence[float]] | None = None,
+) -> tuple[StillReadingsResult, dict[str, Any]]:
     """Run a magnitude model (:data:`NONORTHOGONAL`, Georgieva et al. Approach 1; :data:`TRIANGULAR`, Farago et
     al.; or its name) on still readings, reviewed with their cross-validated error (app.calibration.trust); the
     extra metrics are the holdout's."""
@@ -294,14 +327,14 @@ def calibrate_unknown(method, means, *, unit: str, gravity: float, solver: str =
     m = as_vectors(means, "means")
     gates = _gates(unit)
 
-    def fit(idx):
+    def fit(idx: np.ndarray) -> StillReadingsResult:
         return spec.fit(m[idx], gravity=gravity, solver=solver, gates=gates)
 
     result = review(fit(np.arange(len(m))), cross_validated_error(fit, m, gravity), raw_unit=unit == "raw")
     return result, holdout_metrics(result, holdout)
 
 
-def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
+def _unit_gravity(request: Any, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
     """The unit, the reference magnitude and notes for a request on inline readings or a recording."""
     unit = request.unit
     notes: list[str] = []
@@ -325,13 +358,13 @@ def _unit_gravity(request, recording: RecordingSource | None) -> tuple[str, floa
     return unit, gravity, notes + more
 
 
-def inline_unit(request, notes: list[str]) -> str:
+def inline_unit(request: Any, notes: list[str]) -> str:
     """The unit of a request's inline readings, checked against their magnitude as an upload's is
     (app.io.formats.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
     request's unit (given, or the default) says otherwise the data win, and a note says both."""
     from app.io.formats.units import infer_acc_unit
 
-    unit = request.unit
+    unit: str = request.unit
     means = (
         [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
     )
@@ -349,9 +382,9 @@ def inline_unit(request, notes: list[str]) -> str:
     return unit
 
 
-def _known(spec: StillFit, request, recording: RecordingSource | None) -> Calibration:
+def _known(spec: StillFit, request: Any, recording: RecordingSource | None) -> Calibration:
     unit, gravity, notes = _unit_gravity(request, recording)
-    source: dict = {}
+    source: dict[str, Any] = {}
     if recording is not None:
         with _naming_missing_poses(recording):
             readings, used = readings_from_segments(recording.meta, spec, request.segments)
@@ -376,7 +409,7 @@ def _known(spec: StillFit, request, recording: RecordingSource | None) -> Calibr
     )
 
 
-def _means_and_source(request, recording: RecordingSource | None) -> tuple[list, dict]:
+def _means_and_source(request: Any, recording: RecordingSource | None) -> tuple[list[list[float]], dict[str, Any]]:
     """The still readings of a request on means: inline, or the recording's segments (and their fields)."""
     if recording is None:
         return request.means, {}
@@ -384,7 +417,7 @@ def _means_and_source(request, recording: RecordingSource | None) -> tuple[list,
     return means, {**recording.source_fields, "segments_used": used}
 
 
-def missing_named_poses(meta: dict) -> str:
+def missing_named_poses(meta: dict[str, Any]) -> str:
     """On a recording of pose files, the poses their names promise that no still reading shows, and the
     files whose readings point elsewhere ("" when the names and the data agree, or name no pose)."""
     parts = meta.get("parts") or []
@@ -408,7 +441,7 @@ def missing_named_poses(meta: dict) -> str:
 
 
 @contextmanager
-def _naming_missing_poses(recording: RecordingSource | None):
+def _naming_missing_poses(recording: RecordingSource | None) -> Iterator[None]:
     """Too few still readings of a recording of pose files: the refusal also names the poses the files'
     names promise that no still reading shows (:func:`missing_named_poses`)."""
     try:
@@ -438,7 +471,7 @@ def name_sources(calibration: Calibration, recording: RecordingSource | None) ->
     return replace(calibration.noting(*warnings), reading_sources=tuple(seg.get("source") for seg in used))
 
 
-def _magnitude(spec: StillFit, request, recording: RecordingSource | None) -> Calibration:
+def _magnitude(spec: StillFit, request: Any, recording: RecordingSource | None) -> Calibration:
     unit, gravity, notes = _unit_gravity(request, recording)
     means, source = _means_and_source(request, recording)
     result, extra = calibrate_unknown(
@@ -453,27 +486,34 @@ def _magnitude(spec: StillFit, request, recording: RecordingSource | None) -> Ca
     )
 
 
-def six_position(request, recording: RecordingSource | None) -> Calibration:
+def six_position(request: Any, recording: RecordingSource | None) -> Calibration:
     """Method ``six_position``: the first still reading of each of the six axis orientations."""
     return _known(SIX_POSITION, request, recording)
 
 
-def orientations(request, recording: RecordingSource | None) -> Calibration:
+def orientations(request: Any, recording: RecordingSource | None) -> Calibration:
     """Method ``orientations``: every still reading within 20° of an axis, cross-validated."""
     return _known(ORIENTATIONS, request, recording)
 
 
-def nonorthogonal(request, recording: RecordingSource | None) -> Calibration:
+def nonorthogonal(request: Any, recording: RecordingSource | None) -> Calibration:
     """Method ``nonorthogonal``: Georgieva et al.'s model of shifts, scales and angles between the axes."""
     return _magnitude(NONORTHOGONAL, request, recording)
 
 
-def triangular(request, recording: RecordingSource | None) -> Calibration:
+def triangular(request: Any, recording: RecordingSource | None) -> Calibration:
     """Method ``triangular``: Farago et al.'s lower-triangular model, by the request's solver."""
     return _magnitude(TRIANGULAR, request, recording)
 
 
-def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdout=None) -> tuple:
+def choose_model(
+    means: ArrayLike,
+    *,
+    unit: str,
+    gravity: float,
+    solver: str = "lm",
+    holdout: Sequence[Sequence[float]] | None = None,
+) -> tuple[StillReadingsResult, dict[str, Any], dict[str, Any]]:
     """The ``auto`` method: the model these still readings support, fitted, and why it was chosen.
 
     Readings each within 20° of an axis, covering all six, are known orientations: ``six_position``
@@ -495,7 +535,7 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
     m = as_vectors(means, "means")
     labels = [nearest_orientation(v) for v in m]
     aligned = None not in labels and set(labels) == set(CANONICAL_SIX)
-    candidates = {}
+    candidates: dict[str, tuple[StillReadingsResult, dict[str, Any]]] = {}
     if aligned:
         known = SIX_POSITION if len(m) == 6 else ORIENTATIONS
         readings = [Reading(mean=tuple(v), up=lab) for v, lab in zip(m, labels)]
@@ -516,7 +556,7 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
             f"{9 - len(m)} or more poses in other directions"
         )
 
-    def rank(name):
+    def rank(name: str) -> tuple[bool, float]:
         result = candidates[name][0]
         cv = result.error_on_new_orientations
         return (not result.ok, math.inf if cv is None else cv)
@@ -529,7 +569,7 @@ def choose_model(means, *, unit: str, gravity: float, solver: str = "lm", holdou
     return result, extra, {"method": chosen, "why": why, "candidates": summary}
 
 
-def _why(fits: dict, aligned: bool, n: int) -> str:
+def _why(fits: dict[str, StillReadingsResult], aligned: bool, n: int) -> str:
     """Why the chosen model fits these poses, in words that do not name it again: the page and the command line say
     the method first ("Method: six positions, chosen because …")."""
     if not aligned:
@@ -546,7 +586,7 @@ def _why(fits: dict, aligned: bool, n: int) -> str:
             "magnitude model to check it"
         )
 
-    def figure(name):
+    def figure(name: str) -> str:
         cv = fits[name].error_on_new_orientations
         return f"{name} {'n/a' if cv is None else f'{cv:.2f} mg'}{'' if fits[name].ok else ' (not ok)'}"
 
@@ -556,7 +596,7 @@ def _why(fits: dict, aligned: bool, n: int) -> str:
     )
 
 
-def auto(request, recording: RecordingSource | None) -> Calibration:
+def auto(request: Any, recording: RecordingSource | None) -> Calibration:
     """Method ``auto``: the model the still readings support (:func:`choose_model`); a recording of the
     magnetometer alone is the compass's (:func:`app.workflows.compass.auto_compass`)."""
     if recording is not None and "acc" not in recording.meta["units"] and "mag" in recording.meta["units"]:

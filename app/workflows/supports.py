@@ -15,6 +15,7 @@ a compass turn (the magnetometer's) or, on a flight controller's log, the compas
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 
@@ -46,11 +47,11 @@ class Support:
     """The fields that would make it ready: the upload's (a sampling rate for a file without a time column) or the
     calibration's (the place and date of a flight log without a GPS fix)."""
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {**asdict(self), "asks": list(self.asks)}
 
 
-def supports(log: LogData, segments: list[dict], *, fix: dict | None = None) -> list[Support]:
+def supports(log: LogData, segments: list[dict[str, Any]], *, fix: dict[str, Any] | None = None) -> list[Support]:
     """The calibrations a recording supports, in the order a person meets them (the module's docstring).
 
     Parameters
@@ -86,12 +87,12 @@ def supports(log: LogData, segments: list[dict], *, fix: dict | None = None) -> 
     return out
 
 
-def first_ready(found: list[dict]) -> dict | None:
+def first_ready(found: list[dict[str, Any]]) -> dict[str, Any] | None:
     """The support a recording runs first when the person chose nothing (plain ``supports`` as stored)."""
     return next((s for s in found if s["ready"]), None)
 
 
-def _still_poses(segments: list[dict]) -> Support:
+def _still_poses(segments: list[dict[str, Any]]) -> Support:
     ups = {s["up"] for s in segments if s.get("up")}
     n = len(segments)
     if ups >= set(CANONICAL_SIX):
@@ -185,7 +186,7 @@ def _largest_angle_deg(units: np.ndarray) -> float:
     return float(np.degrees(np.arccos(cos.min())))
 
 
-def _flight_compass(log: LogData, fix: dict | None) -> list[Support]:
+def _flight_compass(log: LogData, fix: dict[str, Any] | None) -> list[Support]:
     assert log.flight is not None
     compasses = [i for i in log.flight.to_dict()["instances"] if i["sensor"] == "mag"]
     if not compasses:
@@ -241,7 +242,7 @@ def _noise(log: LogData) -> Support:
     )
 
 
-def _temperature(temperature_c) -> Support:
+def _temperature(temperature_c: np.ndarray) -> Support:
     from app.calibration.temperature import MIN_SPAN_C
 
     t = np.asarray(temperature_c, dtype=float)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Collection, Sequence
+from typing import Any
+
 import numpy as np
 
 from app.calibration import CalibrationError
@@ -12,7 +15,7 @@ from app.workflows.recordings import NOMINAL_RATE_HZ, RecordingSource
 TEMPERATURE_SENSORS = ("acc", "gyr")
 
 
-def temperature_log(log: LogData, *, sensors=None, **fields) -> Calibration:
+def temperature_log(log: LogData, *, sensors: Sequence[str] | None = None, **fields: Any) -> Calibration:
     """Temperature calibration (app.calibration.temperature) of a still recording that carries the sensor's
     temperature; accelerometers in g become m/s², gyroscopes in deg/s rad/s (the firmwares' units)."""
     from app.calibration.temperature import calibrate_temperature
@@ -52,7 +55,7 @@ def temperature_log(log: LogData, *, sensors=None, **fields) -> Calibration:
     return Calibration.of(result, {}, unit=result.unit, notes=notes, **({"sensor_ids": ids} if ids else {}), **fields)
 
 
-def sensor_ids(log: LogData, sensors) -> dict:
+def sensor_ids(log: LogData, sensors: Collection[str]) -> dict[str, int]:
     """The firmware's device id of each sensor a flight log's IMU was read from (``LogData.flight``: the
     instance and source read, and the log's list of instances), for the parameters that name the sensor a
     calibration belongs to (PX4's ``TC_A0_ID``, ``TC_G0_ID``); empty for other recordings, or a source without
@@ -74,7 +77,7 @@ def sensor_ids(log: LogData, sensors) -> dict:
     return ids
 
 
-def temperature(request, recording: RecordingSource) -> Calibration:
+def temperature(request: Any, recording: RecordingSource) -> Calibration:
     """Method ``temperature``: a still recording that carries the sensor's temperature (:func:`temperature_log`)."""
     log = recording.read()
     return temperature_log(

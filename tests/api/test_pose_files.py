@@ -236,6 +236,30 @@ def test_the_noise_of_pose_files_is_one_file_s_never_across_files(client):
     assert body["model"]["acc"]["noise_density"][0] < 2e-3  # m/s²/√Hz: a still file's, not a pose change's
 
 
+def test_the_noise_of_pose_files_without_a_rate_is_refused_as_a_log_without_one(tmp_path):
+    # No time column and no rate given: the files have no rate, and the noise refuses them as it refuses one file
+    # without a rate (app.workflows.recordings.require_rate), before it looks for each file's still stretch.
+    from types import SimpleNamespace
+
+    from app.calibration import CalibrationError
+    from app.io.formats import read_log
+    from app.io.read_options import ReadOptions
+    from app.workflows.noise import noise
+    from app.workflows.recordings import RecordingSource, describe_log
+
+    path = tmp_path / "poses.zip"
+    with zipfile.ZipFile(path, "w") as zf:
+        for stem in ORDER:
+            lines = pose_bytes(stem).decode().splitlines()
+            zf.writestr(f"{stem}.csv", "\n".join(line.split(",", 1)[1] for line in lines) + "\n")
+    options = ReadOptions(units={"acc": "m/s^2"})
+    log = read_log(path, options, name="poses.zip")
+    assert log.parts and all(p.sampling_rate_hz is None for p in log.parts)
+    request = SimpleNamespace(sensors=["acc"], sensor=None, device_id=None, label=None)
+    with pytest.raises(CalibrationError, match="method noise needs the sensor's sampling rate"):
+        noise(request, RecordingSource(meta=describe_log(log, options, path=path), path=path, log=log))
+
+
 def test_pose_files_too_short_for_a_still_segment_are_each_one_reading(client):
     # 60 samples (0.96 s) per pose, under the 1.5 s a still segment needs: each file, still all through, is its
     # pose's reading, and the calibration is the one its means give.

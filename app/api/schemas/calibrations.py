@@ -22,6 +22,7 @@ FAMILIES = (still_readings, autocal, cube, noise, compass, temperature)
 
 def response_model(name: str) -> type[CalibrationCommon]:
     """The response model the method table names (``Method.response``), found in its family's module."""
+    model: type[CalibrationCommon]
     (model,) = {getattr(module, name) for module in FAMILIES if hasattr(module, name)}
     return model
 

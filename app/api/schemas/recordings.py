@@ -3,7 +3,7 @@ uploaded log as read, its still segments, parts, timing, overview and a flight c
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field
 
@@ -167,8 +167,8 @@ class FlightOut(BaseModel):
     """What a flight controller's log holds, and what was read of it (app.io.formats.flight_log)."""
 
     instances: list[InstanceOut]
-    imu: dict = Field(description="The IMU read: instance, source, gyr_source.")
-    mag: dict | None = Field(None, description="The compass the compass methods read: instance, source.")
+    imu: dict[str, Any] = Field(description="The IMU read: instance, source, gyr_source.")
+    mag: dict[str, Any] | None = Field(None, description="The compass the compass methods read: instance, source.")
     clock: Literal["imu", "mag"] = Field(
         "imu",
         description="The samples are on the IMU's times; the compass methods read the log again on the compass's.",

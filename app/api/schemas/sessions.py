@@ -3,7 +3,7 @@ session's progress."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Literal, TypeAlias
+from typing import TYPE_CHECKING, Annotated, Literal, Self, TypeAlias
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
@@ -100,7 +100,7 @@ class MotionIn(Strict):
     acc: Annotated[list[Vec3], Field(max_length=200_000)] | None = None
 
     @model_validator(mode="after")
-    def _same_lengths(self):
+    def _same_lengths(self) -> Self:
         for name in ("gyr", "acc"):
             values = getattr(self, name)
             if values is not None and len(values) != len(self.t_ms):
@@ -134,7 +134,7 @@ class CaptureIn(Strict):
     motion: MotionIn | None = Field(None, description="cube24: the rates of the turn into this position.")
 
     @model_validator(mode="after")
-    def _same_lengths(self):
+    def _same_lengths(self) -> Self:
         if self.gyr is not None and len(self.gyr) != len(self.acc):
             raise ValueError(f"gyr has {len(self.gyr)} samples for {len(self.acc)} acc samples: send one per event")
         return self
