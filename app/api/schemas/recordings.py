@@ -108,7 +108,9 @@ class PartOut(BaseModel):
     start: int = Field(description="Its first sample in the recording.")
     end: int = Field(description="The sample after its last.")
     n_samples: int
-    sampling_rate_hz: float
+    sampling_rate_hz: float | None = Field(
+        description="Its rate, from its time column or the one given; null when it has neither."
+    )
     pose_from_name: str | None = Field(None, description="The up axis its name gives, if any.")
 
 
