@@ -15,8 +15,10 @@ from tests.live_server import LiveServer
 from tests.noise_bodies import noise_body
 
 
-@pytest.fixture
-def server(tmp_path):
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    """One server for the module's tests (each stores its own calibrations): a start costs seconds."""
+    tmp_path = tmp_path_factory.mktemp("allan")
     s = LiveServer({"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 'trical.db'}"}).start()
     yield s, tmp_path
     s.stop()
