@@ -125,17 +125,16 @@ class PhoneDoorGate:
             return
         request = Request(scope)
         session = request.cookies.get(COOKIE)
-        refusal = "none"
+        refusal: str | None = "none"
         if scope["path"] == ENTRY_PATH:
-            if door.admits(session):  # the same phone, scanning again
-                await RedirectResponse("/", status_code=303)(scope, receive, send)
-                return
-            session, refusal = door.enter(request.query_params.get("pass", ""))
-            if session is not None:
+            # The same phone scanning again is in already; another device brings the code.
+            fresh, refusal = (None, None) if door.admits(session) else door.enter(request.query_params.get("pass", ""))
+            if refusal is None:
                 entered = RedirectResponse("/", status_code=303)
-                entered.set_cookie(
-                    COOKIE, session, max_age=int(SESSION_TTL_S), path="/", secure=True, httponly=True, samesite="lax"
-                )
+                if fresh is not None:
+                    entered.set_cookie(
+                        COOKIE, fresh, max_age=int(SESSION_TTL_S), path="/", secure=True, httponly=True, samesite="lax"
+                    )
                 await entered(scope, receive, send)
                 return
         elif door.admits(session) or scope["path"].startswith(OPEN_PREFIX):

@@ -34,7 +34,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
     desktop_tls = bool(args.https or args.cert)
     door_wanted = phone_port > 0 and not config.public_url
     scheme = "https" if desktop_tls else "http"
-    print(f"trical {__version__} on {scheme}://{_url_host(host)}:{port}  (database {config.database_label})")
+    print(f"trical {__version__} on {scheme}://{tls.url_host(host)}:{port}  (database {config.database_label})")
     tls_files = _certificate(args, config, host) if desktop_tls or door_wanted else None
     from app.main import create_app  # the whole application: imported once the options are known to be good
 
@@ -50,10 +50,6 @@ def run(args, settings: Callable[[], Settings]) -> int:
     return 0
 
 
-def _url_host(host: str) -> str:
-    return f"[{host}]" if ":" in host else host
-
-
 def _certificate(args, config: Settings, host: str) -> tuple[Path, Path]:
     """The given certificate files, checked, or trical's self-signed certificate for this machine's names."""
     from app.reach import tls
@@ -62,8 +58,7 @@ def _certificate(args, config: Settings, host: str) -> tuple[Path, Path]:
         tls.check_certificate_files(args.cert, args.key)
         print(f"certificate {args.cert} (SHA-256 {tls.fingerprint(args.cert)})")
         return args.cert, args.key
-    everywhere = host in ("0.0.0.0", "::")
-    hosts = tls.certificate_hosts([] if everywhere or host == "127.0.0.1" else [host])
+    hosts = tls.certificate_hosts([] if host in (*tls.EVERY_INTERFACE, "127.0.0.1") else [host])
     cert, key, made = tls.self_signed_certificate(config.tls_dir, hosts)
     print(f"{'made a' if made else 'reusing the'} self-signed certificate {cert} for {', '.join(hosts)}")
     print(f"  SHA-256 {tls.fingerprint(cert)} (a browser warns that it signed itself: proceed when it shows this)")
@@ -93,14 +88,14 @@ def _door(cert: Path, phone_port: int, scheme: str, host: str, port: int) -> Pho
 
     # A link the phone sends to "my computer" opens on the desktop's listener: its own address, or, on
     # every interface, this machine's LAN address (another computer may open it then).
-    desktop_host = tls.lan_addresses()[0] if host in ("0.0.0.0", "::") else _url_host(host)
+    lan = tls.lan_addresses()[0]
+    desktop_host = lan if host in tls.EVERY_INTERFACE else tls.url_host(host)
     door = PhoneDoor(
         port=phone_port, desktop_origin=f"{scheme}://{desktop_host}:{port}", fingerprint=tls.fingerprint(cert)
     )
-    lan = tls.lan_addresses()[0]
     print(
         f"phone's door on {door.origin(lan)} (every interface): only for the phone that scans the QR code of the "
-        f"start page, {scheme}://{_url_host(host)}:{port}/"
+        f"start page, {scheme}://{tls.url_host(host)}:{port}/"
     )
     return door
 

@@ -6,10 +6,12 @@ machine's LAN address in place of a loopback one (another machine cannot open 12
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from starlette.requests import Request
 
 from app.reach.phone_door import SCOPE_KEY, PhoneDoor
-from app.reach.tls import lan_addresses
+from app.reach.tls import lan_addresses, url_host
 
 LOOPBACK = ("127.0.0.1", "localhost", "::1")
 
@@ -27,35 +29,40 @@ def reachable_url(request: Request) -> str:
     if host in LOOPBACK:
         host = lan_addresses()[0]
     port = f":{request.url.port}" if request.url.port else ""
-    return f"{request.url.scheme}://{'[' + host + ']' if ':' in host else host}{port}/"
+    return f"{request.url.scheme}://{url_host(host)}{port}/"
 
 
-def phone_url(request: Request) -> tuple[str | None, str | None]:
-    """The address the start page's QR code gives a phone, and why there is none.
+class PhoneAddress(NamedTuple):
+    """What the start page offers a phone: the address, or why there is none; and the door whose new code the
+    address holds (its certificate and the code's lifetime are told beside it)."""
 
-    TRICAL_PUBLIC_URL as given; else the phone's door at this machine's LAN address, with a new code for the
-    desktop's page (a phone's own request came in already); else :func:`reachable_url`, unless ``trical serve``
-    listens on loopback alone (its door closed: ``--phone-port 0`` or a port taken).
+    url: str | None
+    why_none: str | None = None
+    """``"no_lan"`` (this machine has no LAN address) or ``"no_door"`` (the door closed, the desktop on loopback)."""
+    door: PhoneDoor | None = None
 
-    Returns
-    -------
-    (url, why_none) : tuple of str or None
-        The address and None, or None and ``"no_lan"`` (this machine has no LAN address) or ``"no_door"``.
-    """
+
+def phone_url(request: Request) -> PhoneAddress:
+    """The address the start page's QR code gives a phone: TRICAL_PUBLIC_URL as given; else the phone's door at
+    this machine's LAN address, with a new code for the desktop's page (a phone's own request came in already);
+    else :func:`reachable_url`, unless ``trical serve`` listens on loopback alone (its door closed:
+    ``--phone-port 0`` or a port taken)."""
     state = request.app.state
     if state.phone_door is not None and not state.settings.public_url:
         return _at_the_door(request, state.phone_door)
     url = reachable_url(request)
     if state.settings.public_url is None and state.listens_on in LOOPBACK:
-        return None, "no_door"
-    return (url, None) if another_machine_can_open(url) else (None, "no_lan")
+        return PhoneAddress(None, "no_door")
+    return PhoneAddress(url) if another_machine_can_open(url) else PhoneAddress(None, "no_lan")
 
 
-def _at_the_door(request: Request, door: PhoneDoor) -> tuple[str | None, str | None]:
+def _at_the_door(request: Request, door: PhoneDoor) -> PhoneAddress:
     lan = lan_addresses()[0]
     if lan in LOOPBACK:
-        return None, "no_lan"
-    return (door.origin(lan) + "/" if request.scope.get(SCOPE_KEY) is door else door.entry_url(lan)), None
+        return PhoneAddress(None, "no_lan")
+    if request.scope.get(SCOPE_KEY) is door:
+        return PhoneAddress(door.origin(lan) + "/")
+    return PhoneAddress(door.entry_url(lan), door=door)
 
 
 def another_machine_can_open(url: str) -> bool:

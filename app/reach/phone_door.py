@@ -23,6 +23,8 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from app.reach.tls import url_host
+
 PASS_TTL_S = 600.0
 """How long a start page's code lets a phone in: long enough to find the phone and pass its browser's warning."""
 SESSION_TTL_S = 12 * 3600.0
@@ -77,7 +79,7 @@ class PhoneDoor:
 
     def origin(self, host: str) -> str:
         """``https://host:port`` of the door at ``host`` (an address of this machine)."""
-        return f"https://{'[' + host + ']' if ':' in host else host}:{self.port}"
+        return f"https://{url_host(host)}:{self.port}"
 
     def entry_url(self, host: str) -> str:
         """The address of a new code at ``host``: what the start page's QR code holds."""
@@ -100,15 +102,16 @@ class PhoneDoor:
             A new session's cookie value and None, or None and why the code lets nobody in (a key of
             :data:`REFUSALS`). The first device to bring a code is let in; the code then lets in no other.
         """
+        code = code.strip().lower()
         with self._lock:
             self._forget_expired()
-            expires, used_by = self._passes.get(code.strip().lower(), (None, None))
+            expires, used_by = self._passes.get(code, (None, None))
             if expires is None:
                 return None, "unknown"  # never made, or made and forgotten when it expired: the same to its holder
             if used_by is not None:
                 return None, "used"
             session = secrets.token_urlsafe(32)
-            self._passes[code.strip().lower()] = (expires, session)
+            self._passes[code] = (expires, session)
             self._sessions[session] = self.clock() + SESSION_TTL_S
             return session, None
 

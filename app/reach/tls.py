@@ -63,6 +63,15 @@ def lan_addresses() -> list[str]:
     return addresses or ["127.0.0.1"]
 
 
+EVERY_INTERFACE = ("0.0.0.0", "::")
+"""The addresses a listener binds to be on every interface."""
+
+
+def url_host(host: str) -> str:
+    """``host`` as an address's host part: an IPv6 address in brackets (``[fe80::1]``), anything else as it is."""
+    return f"[{host}]" if ":" in host else host
+
+
 def host_name() -> str | None:
     """This machine's host name when it can go into a certificate, else None."""
     try:

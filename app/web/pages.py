@@ -14,7 +14,7 @@ from app.calibration import CANONICAL_SIX
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, WIZARD_PROTOCOLS
 from app.io.formats.kinds import ACCEPTED_SUFFIXES
 from app.reach.addresses import phone_url
-from app.reach.phone_door import ENTRY_PATH, PASS_TTL_S
+from app.reach.phone_door import PASS_TTL_S
 from app.reach.qr import qr_svg_data_uri
 
 from .tables import SOURCES, page_tables
@@ -52,19 +52,18 @@ def not_found_page(request: Request) -> HTMLResponse:
 def index(request: Request):
     """Start page: Start on a phone with motion sensors; on a desktop, the QR code and address of
     the phone page (always), and the upload."""
-    url, no_url = phone_url(request)  # no QR code to nowhere: the page says why and what to do
-    door = request.app.state.phone_door
+    phone = phone_url(request)  # no QR code to nowhere: the page says why and what to do
     return _templates(request).TemplateResponse(
         request,
         "index.html",
         {
             "labels": list(CANONICAL_SIX),
             "tables": page_tables(),
-            "phone_url": url,
-            "no_phone_url": no_url,
-            "phone_qr": qr_svg_data_uri(url) if url else None,
+            "phone_url": phone.url,
+            "no_phone_url": phone.why_none,
+            "phone_qr": qr_svg_data_uri(phone.url) if phone.url else None,
             # The door's code: its lifetime, and the certificate the phone's browser will warn of.
-            "door": door if url and ENTRY_PATH + "?pass=" in url else None,
+            "door": phone.door,
             "pass_minutes": f"{PASS_TTL_S / 60:g}",
             "accept": ",".join(ACCEPTED_SUFFIXES),
         },

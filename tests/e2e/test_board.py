@@ -87,15 +87,10 @@ def board_state(page, flow: str, state: str, widths=(390, 1280)) -> list[str]:
     """A board's page as it stands: none of a phone's words, and at each width (the one page resized in
     place) no sideways scrolling, no axe violation, no target under 44 px, a screenshot
     test-artifacts/board_<flow>_<state>_<width>.png. Returns the problems found."""
-    from tests.e2e.test_layout import layout_problems
+    from tests.e2e.test_layout import looked_at
 
     problems = [f"board_{flow}_{state}: a phone's word {w}" for w in other_source_words(page, "board")]
-    size = page.viewport_size
-    for width in widths:
-        page.set_viewport_size({"width": width, "height": 900})
-        problems += layout_problems(page, f"board_{flow}_{state}", width, f"board_{flow}_{state}_{width}")
-    page.set_viewport_size(size)
-    return problems
+    return problems + looked_at(page, f"board_{flow}_{state}", widths)
 
 
 def play(page, lines: list[str], hz: float, eol: str = "\r\n", chunk_ms: float = 16) -> None:

@@ -299,6 +299,18 @@ def layout_problems(page, state: str, width: int, shot_name: str | None = None) 
     return [f"{state} at {width} px: {p}" for p in problems]
 
 
+def looked_at(page, state: str, widths=(390, 1280)) -> list[str]:
+    """:func:`layout_problems` of the page as it stands at each width, the one page resized in place (and given
+    back its size); screenshots test-artifacts/<state>_<width>.png."""
+    size = page.viewport_size
+    problems = []
+    for width in widths:
+        page.set_viewport_size({"width": width, "height": 900})
+        problems += layout_problems(page, state, width, f"{state}_{width}")
+    page.set_viewport_size(size)
+    return problems
+
+
 def source_of(state: str) -> str | None:
     """A wizard state's source: a board's (board_*, and the noise page, a board's only) or a phone's."""
     if state.startswith("board_") or state == "wizard_noise":

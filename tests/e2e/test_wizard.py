@@ -18,6 +18,7 @@ from tests.e2e.axe import axe_context
 from tests.e2e.conftest import ARTIFACTS, CHROMIUM, CHROMIUM_ARGS, LAUNCH_TIMEOUT_MS, shot, tab_to, watched_page
 from tests.e2e.journey import Journey
 from tests.e2e.source_words import assert_only_its_words
+from tests.e2e.test_layout import layout_problems, looked_at
 from tests.live_server import LiveServer
 
 G = 9.80665  # the session's default gravity
@@ -118,20 +119,6 @@ def grant_on_tap(page):
         window.__permissionCalls.push(navigator.userActivation.isActive);
         return Promise.resolve('granted');
       };""")
-
-
-def looked_at(page, state: str, widths=(390, 1280)) -> list[str]:
-    """The page as it stands at each width (resized in place): no sideways scrolling, no axe violation, no
-    small target; screenshots test-artifacts/<state>_<width>.png. Returns the problems found."""
-    from tests.e2e.test_layout import layout_problems
-
-    size = page.viewport_size
-    problems = []
-    for width in widths:
-        page.set_viewport_size({"width": width, "height": 900})
-        problems += layout_problems(page, state, width, f"{state}_{width}")
-    page.set_viewport_size(size)
-    return problems
 
 
 def test_six_poses_hands_free_match_the_closed_form(browser, server):
@@ -482,8 +469,6 @@ def test_the_next_pose_is_named_in_words_with_its_large_picture_before_the_phone
     large picture shows it (the axis codes only in the grey note); once a pose is captured, the next one
     is named and pictured while the phone is moving; the six thumbnails are two rows of three, each
     named in words and no two alike."""
-    from tests.e2e.axe import axe_context
-    from tests.e2e.test_layout import layout_problems
 
     context = axe_context(browser, viewport={"width": 390, "height": 844}, device_scale_factor=1)
     try:
