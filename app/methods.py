@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Annotated, Any, TypeAlias, Union
+from typing import TYPE_CHECKING, Annotated, Any, Generic, TypeAlias, TypeVar, Union
 
 from pydantic import BaseModel, Field, TypeAdapter
 
@@ -44,8 +44,13 @@ AS_CHOSEN = "as the method it chose"
 """The :attr:`Method.response` of ``auto``: its calibrations answer as the method it chose."""
 
 
+Request = TypeVar("Request", bound=BaseModel)
+"""A method's request model, which its handler must read as what it declares (app.workflows.requests): mypy
+checks each entry of :data:`TABLE`, so a handler reading a field its model lacks is a type error."""
+
+
 @dataclass(frozen=True)
-class Method:
+class Method(Generic[Request]):
     """One calibration method.
 
     Attributes
@@ -55,7 +60,8 @@ class Method:
     request : type
         Its request model (a member of :data:`CalibrationIn`).
     handler : callable
-        ``handler(request, recording)``: the workflow's function that computes its calibration's plain form.
+        ``handler(request, recording)``: the workflow's function that computes its typed calibration (the
+        recording is None for a request on inline readings, where its handler takes them).
     response : str or None
         The class name of its response model in its family's module of :mod:`app.api.schemas`;
         :data:`AS_CHOSEN` for ``auto``, which answers as the method it chose; None (a method without a model
@@ -74,8 +80,8 @@ class Method:
     """
 
     name: str
-    request: type[BaseModel]
-    handler: Callable[..., Calibration]
+    request: type[Request]
+    handler: Callable[[Request, RecordingSource], Calibration]
     response: str | None
     command: str
     formats: tuple[str, ...]
@@ -100,7 +106,7 @@ class Method:
         return tuple(name for name in self.request.model_fields if name != "method")
 
 
-TABLE: tuple[Method, ...] = (
+_ENTRIES = (  # unannotated, so that mypy checks each request model against its handler
     Method(
         "auto",
         request=rq.AutoIn,
@@ -223,6 +229,7 @@ TABLE: tuple[Method, ...] = (
         page_words="the compass calibration from a flight",
     ),
 )
+TABLE: tuple[Method[Any], ...] = _ENTRIES
 """Every method. ``auto`` on a recording of the magnetometer alone is the compass (its handler calls
 :func:`app.workflows.compass.auto_compass`), answered as method ``magnetometer``: not a method of its own."""
 

@@ -96,9 +96,11 @@ from __future__ import annotations
 from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.toy import fit_toy
 from app.workflows.calibration import Calibration
+from app.workflows.recordings import RecordingSource
+from app.workflows.requests import Described
 
 
-def toy(request, recording) -> Calibration:
+def toy(request: Described, recording: RecordingSource) -> Calibration:
     log = recording.read()
     unit = log.units["acc"]
     result = fit_toy(log.acc, STANDARD_GRAVITY if unit == "m/s^2" else 1.0)
@@ -192,7 +194,7 @@ def add_the_toy(tree: Path) -> None:
     (tree / "app" / "workflows" / "toy.py").write_text(HANDLER, encoding="utf-8")
     table = tree / "app" / "methods.py"
     text = table.read_text(encoding="utf-8")
-    end = '\n)\n"""Every method.'
+    end = '\n)\nTABLE: tuple'
     assert text.count(end) == 1 and text.count("from app.workflows import ") == 1
     text = text.replace(end, "\n" + ENTRY.rstrip("\n") + end).replace(
         "from app.workflows import ", "from app.workflows import toy, "

@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from app.config import Settings
+    from app.workflows.calibration import Calibration
 
 
 def run(args, settings: Callable[[], Settings]) -> int:
@@ -49,7 +50,7 @@ def one_recording(paths: list[Path], tmp: Path) -> Path:
 
 
 def _calibrate_files(args, settings: Callable[[], Settings], path: Path) -> int:
-    body, recording = calibrated(args, settings, path)
+    calibration, body, recording = calibrated(args, settings, path)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
@@ -59,15 +60,17 @@ def _calibrate_files(args, settings: Callable[[], Settings], path: Path) -> int:
             print(render(recording["chosen"], "cli"))
         command = methods.BY_NAME[body["method"]].command
         if command == "calibrate":
-            print_summary(body, recording, verbose=args.verbose)
+            print_summary(calibration, body, recording, verbose=args.verbose)
         else:  # a method of another command, chosen by the recording (app.workflows.supports): printed as it prints
             importlib.import_module(f"app.cli.{command}").summary(body, verbose=args.verbose)
     return 0 if body["ok"] else 3
 
 
-def calibrated(args, settings: Callable[[], Settings], path: Path, captures: list | None = None) -> tuple[dict, dict]:
-    """The calibration of the log at ``path`` as ``trical calibrate``'s options ask (stored unless
-    ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
+def calibrated(
+    args, settings: Callable[[], Settings], path: Path, captures: list | None = None
+) -> tuple[Calibration, dict, dict]:
+    """The calibration of the log at ``path`` as ``trical calibrate``'s options ask, typed and as its plain form
+    (stored unless ``--no-store``), and the recording's description; ``captures`` (``trical capture``'s rows of each
     capture) stand for the still segments the log's detector would find."""
     units = units_named(args.unit, args.gyr_unit, args.mag_unit)
     options = read_options(args, units=units)
@@ -91,22 +94,25 @@ def calibrated(args, settings: Callable[[], Settings], path: Path, captures: lis
         others = [s["method"] for s in recording["supports"] if s is not chosen]
         also = f" (it also supports {', '.join(others)}: --method)" if others else ""
         recording["chosen"] = f"method {method}, chosen from the recording: {chosen['why']}{also}"
-    body = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log)).body()
+    calibration = methods.calibrate(request, RecordingSource(meta=recording, path=path, log=log))
     if captures:  # each capture's rows of the log and its reading, as a wizard session's body lists its captures
-        body["captures"] = [
-            {
-                "position": seg["capture"],
-                "rows": [seg["start"], seg["end"]],
-                "up": seg["up"],
-                "mean": seg["acc_mean"],
-                "std": seg["acc_std"],
-                "count": seg["count"],
-            }
-            for seg in recording["segments"]
-        ]
+        calibration = calibration.with_fields(
+            captures=[
+                {
+                    "position": seg["capture"],
+                    "rows": [seg["start"], seg["end"]],
+                    "up": seg["up"],
+                    "mean": seg["acc_mean"],
+                    "std": seg["acc_std"],
+                    "count": seg["count"],
+                }
+                for seg in recording["segments"]
+            ]
+        )
+    body = calibration.body()
     if not args.no_store:
         body = store_of(settings).add_calibration(body, owner=None)
-    return body, recording
+    return calibration, body, recording
 
 
 def chosen_support(recording: dict) -> dict:

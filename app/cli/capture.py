@@ -129,11 +129,11 @@ def _capture_calibration(capture, outcome, args, settings: Callable[[], Settings
     )
     captures = outcome.rows if protocol.from_captures else None
     say(f"calibrating {out} ({protocol.method}{f' on its {len(captures)} captures' if captures else ''})")
-    body, recording = calibrated(cal_args, settings, out, captures)
+    calibration, body, recording = calibrated(cal_args, settings, out, captures)
     if args.json:
         print(json.dumps(body, indent=2))
     else:
-        print_summary(body, recording, verbose=getattr(args, "verbose", False))
+        print_summary(calibration, body, recording, verbose=getattr(args, "verbose", False))
     bell()
     if args.send:
         if not body["ok"]:

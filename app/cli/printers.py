@@ -4,6 +4,7 @@ and the progress bar."""
 from __future__ import annotations
 
 import sys
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -13,6 +14,9 @@ from app.calibration.result import NormErrors
 from app.cli.options import NOTES_SHOWN
 from app.io.plural import counted
 from app.words import render, render_body
+
+if TYPE_CHECKING:
+    from app.workflows.calibration import Calibration
 
 
 def print_notes(notes, verbose: bool = False) -> None:
@@ -27,9 +31,9 @@ def print_notes(notes, verbose: bool = False) -> None:
         print(f"({more} more note{'s' if more > 1 else ''}: --verbose shows {'them' if more > 1 else 'it'})")
 
 
-def print_summary(body: dict, recording: dict, verbose: bool = False) -> None:
-    """What ``trical calibrate`` prints of a calibration: what the recording held, the verdict, what each file
-    gave, the model, the figures and the notes."""
+def print_summary(calibration: Calibration, body: dict, recording: dict, verbose: bool = False) -> None:
+    """What ``trical calibrate`` prints of a calibration (typed, and its plain form as answered and stored):
+    what the recording held, the verdict, what each file gave, the model, the figures and the notes."""
     body = render_body(body, "cli")
     flight = body.get("flight")  # a compass from a flight: the log's facts, and no still segments read
     _print_source(body, recording, flight)
@@ -38,7 +42,7 @@ def print_summary(body: dict, recording: dict, verbose: bool = False) -> None:
     print_verdict(body)
     if recording.get("parts"):
         _print_parts(body, recording)
-    print_model(body["model"])
+    print_model(body["model"], per_sensor=calibration.result.PER_SENSOR)
     _print_figures(body)
     if flight and flight.get("compasses"):
         print_compasses(flight)
@@ -75,12 +79,14 @@ def _print_parts(body: dict, recording: dict) -> None:
         )
 
 
-def print_model(model: dict) -> None:
-    """The model's parameters: a vector on one line, a matrix a row a line, a sensor's part as its S and b."""
+def print_model(model: dict, per_sensor: bool = False) -> None:
+    """The model's parameters: a vector on one line, a matrix a row a line; of a model with a part per sensor
+    (the cube's, :attr:`~app.calibration.result.CalibrationResult.PER_SENSOR`), each sensor's S and b."""
     for name, value in model.items():
-        if isinstance(value, dict):
+        if name == "type" or value is None:
+            continue
+        if per_sensor:
             print(f"{name}: S = {np.round(np.asarray(value['S']), 6).tolist()}, b = {np.round(value['b'], 6).tolist()}")
-        if name == "type" or isinstance(value, dict) or value is None:
             continue
         arr = np.atleast_2d(np.asarray(value, dtype=float))
         print(f"{name} =" if arr.shape[0] > 1 else f"{name} = " + "  ".join(f"{v: .6f}" for v in arr[0]))

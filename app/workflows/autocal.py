@@ -13,9 +13,10 @@ from app.io.read_options import ReadOptions
 from app.workflows.calibration import Calibration
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
+from app.workflows.requests import AutocalRequest
 
 
-def autocal(request: Any, recording: RecordingSource) -> Calibration:
+def autocal(request: AutocalRequest, recording: RecordingSource) -> Calibration:
     """Method ``autocal``: an uploaded long recording, read as it was uploaded (:func:`autocalibrate_file`)."""
     require_accelerometer(recording.meta["units"], "autocal")
     # Read as the upload was (its chip or sensitivity turns counts into g), or as the stored units say.

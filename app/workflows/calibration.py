@@ -90,6 +90,10 @@ class Calibration:
         """This calibration with more notes after its own."""
         return dataclasses.replace(self, notes=self.notes + notes)
 
+    def with_fields(self, **fields: Any) -> Calibration:
+        """This calibration with more of the caller's fields (``trical calibrate``'s captures, ``auto``'s choice)."""
+        return dataclasses.replace(self, fields={**self.fields, **fields})
+
     def body(self) -> dict[str, Any]:
         """The plain form that the API answers and the store keeps: the final result's, with its headline,
         the notes after its warnings, the caller's fields, and its verdict (app.verdict), each computed once

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import datetime
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -14,10 +13,11 @@ from app.calibration import CalibrationError
 from app.io.log import MAG_TO_UT, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, still_segments
+from app.workflows.requests import AutoRequest, FieldPlace, MagnetometerRequest
 
 
 def magnetometer_reference(
-    request: Any, notes: list[str], fix: dict[str, Any] | None = None
+    request: FieldPlace, notes: list[str], fix: dict[str, Any] | None = None
 ) -> tuple[dict[str, Any], dict[str, Any]]:
     """The field the calibration is referenced to: ``field_ut`` given, else the geomagnetic model's at
     the place and day (the request's, else a flight log's first GPS fix ``fix``), else none (estimated by the
@@ -83,7 +83,7 @@ def inline_mag(mag: np.ndarray, notes: list[str]) -> tuple[np.ndarray, str]:
     return (mag, "raw") if inferred == "raw" else (mag * {"gauss": GAUSS_UT, **MAG_TO_UT}[inferred], "uT")
 
 
-def magnetometer(request: Any, recording: RecordingSource | None) -> Calibration:
+def magnetometer(request: MagnetometerRequest, recording: RecordingSource | None) -> Calibration:
     """Method ``magnetometer``: inline readings or a recording, referenced to the field given, the Earth's at
     a place, or estimated."""
     from app.calibration.magnetometer import fit_magnetometer  # scipy.optimize: see still.calibrate_unknown
@@ -152,10 +152,11 @@ class CompassAsk:
     longitude_deg: float | None = None
     height_m: float | None = None
     field_ut: float | None = None
+    source: str | None = None
     method: str = "magnetometer"
 
 
-def auto_compass(request: Any, recording: RecordingSource) -> Calibration:
+def auto_compass(request: AutoRequest, recording: RecordingSource) -> Calibration:
     """``auto`` on a recording of the magnetometer alone: the compass, referenced to the Earth's field at the place
     and date given (``latitude_deg`` with ``longitude_deg``), or to ``field_ut``, else estimated."""
     placed = request.longitude_deg is not None
@@ -175,4 +176,4 @@ def auto_compass(request: Any, recording: RecordingSource) -> Calibration:
         "candidates": {},
         "why": "the recording holds the magnetometer alone (no accelerometer columns): the compass calibration",
     }
-    return dataclasses.replace(calibration, fields={**calibration.fields, "choice": choice})
+    return calibration.with_fields(choice=choice)

@@ -11,6 +11,7 @@ from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
+from app.workflows.requests import CubeRequest
 
 if TYPE_CHECKING:
     from app.calibration.cube import CubeCalibration
@@ -53,7 +54,7 @@ def calibrate_cube_log(
     )
 
 
-def cube(request: Any, recording: RecordingSource) -> Calibration:
+def cube(request: CubeRequest, recording: RecordingSource) -> Calibration:
     """Method ``cube``: a recording of the cube's positions and the turns between them, in one file."""
     if recording.meta.get("parts"):
         raise CalibrationError(
@@ -65,7 +66,9 @@ def cube(request: Any, recording: RecordingSource) -> Calibration:
     require_accelerometer(log.channels, "cube")
     unit = log.units["acc"]
     gravity, notes = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
-    sections = None if request.sections is None else {k: v.model_dump() for k, v in request.sections.items()}
+    sections = (
+        None if request.sections is None else {k: {"start": v.start, "end": v.end} for k, v in request.sections.items()}
+    )
     result = calibrate_cube_log(
         log, protocol=request.protocol, gravity=gravity, field_ut=request.field_ut, sections=sections
     )

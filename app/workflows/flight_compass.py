@@ -20,6 +20,7 @@ import numpy as np
 from app.calibration import CalibrationError
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource
+from app.workflows.requests import CompassFlightRequest
 
 if TYPE_CHECKING:
     from app.io.flight_context import FlightCompassLog
@@ -65,7 +66,7 @@ MIN_WINDOW_SAMPLES = 60
 """A window keeping fewer compass samples than this is not applied (the whole log is fitted, a note says so)."""
 
 
-def _window(t: np.ndarray, log: FlightCompassLog, request: Any, notes: list[str]) -> np.ndarray:
+def _window(t: np.ndarray, log: FlightCompassLog, request: CompassFlightRequest, notes: list[str]) -> np.ndarray:
     """The samples fitted: the request's ``from_s``–``to_s`` (seconds from the compass's first sample), and with
     ``window = "flying"`` the flying part (:data:`FLYING_SHARE_OF_HOVER` of the hover throttle; with the current
     alone, above the idle's 5th percentile plus that share of the way to its median while flying)."""
@@ -104,7 +105,9 @@ def _window(t: np.ndarray, log: FlightCompassLog, request: Any, notes: list[str]
     return keep
 
 
-def _place(request: Any, log: FlightCompassLog, notes: list[str]) -> tuple[float, float, float, datetime.date]:
+def _place(
+    request: CompassFlightRequest, log: FlightCompassLog, notes: list[str]
+) -> tuple[float, float, float, datetime.date]:
     """Where and when the flight was: the request's place and date over the log's first GPS fix."""
     lat = request.latitude_deg if request.latitude_deg is not None else log.latitude_deg
     lon = request.longitude_deg if request.longitude_deg is not None else log.longitude_deg
@@ -170,7 +173,7 @@ class Flown:
     place: tuple[float, float, float, datetime.date]
 
 
-def fly(request: Any, recording: RecordingSource, instance: int | None, notes: list[str]) -> Flown:
+def fly(request: CompassFlightRequest, recording: RecordingSource, instance: int | None, notes: list[str]) -> Flown:
     """The compass ``instance`` of the stored log fitted to its flight (the module's docstring); ``notes`` gets
     the reader's and the window's.
 
@@ -237,7 +240,7 @@ def fly(request: Any, recording: RecordingSource, instance: int | None, notes: l
     return Flown(log, fit, t[keep], mag_raw[keep], power, kind, expected, attitude, b_ned, earth, place)
 
 
-def compass_flight(request: Any, recording: RecordingSource | None) -> Calibration:
+def compass_flight(request: CompassFlightRequest, recording: RecordingSource | None) -> Calibration:
     """Method ``compass_flight``: a flight log's compass against the field its attitude expects; with several
     compasses in the log, each beside the others (:func:`app.workflows.flight_compasses.compasses_table`)."""
     from app.calibration.magnetometer import FlightCompassCalibration

@@ -20,6 +20,7 @@ from app.io.errors import LogFormatError
 from app.io.export_compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
 from app.workflows.flight_compass import Flown, fly
 from app.workflows.recordings import RecordingSource
+from app.workflows.requests import CompassFlightRequest
 
 if TYPE_CHECKING:
     from app.io.flight_context import FirmwareCompassCal
@@ -145,7 +146,7 @@ def _on(t: np.ndarray, at: np.ndarray, field: np.ndarray) -> np.ndarray:
     return np.column_stack([np.interp(t, at, field[:, k]) for k in range(3)])
 
 
-def compasses_table(request: Any, recording: RecordingSource, asked: Flown) -> dict[str, Any]:
+def compasses_table(request: CompassFlightRequest, recording: RecordingSource, asked: Flown) -> dict[str, Any]:
     """``{"compasses": [...], "consistency": [...]}`` for a log of two compasses or more (else empty): each
     compass's row (the one asked reuses its fit) and each other compass's field against the first's."""
     instances = _compass_instances(recording)

@@ -14,6 +14,7 @@ from app.calibration.errors import InsufficientDataError
 from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, require_rate
+from app.workflows.requests import NoiseRequest
 
 if TYPE_CHECKING:
     from app.io.formats.timing import Gap
@@ -241,7 +242,7 @@ def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list[str]
             notes.append(said + ": few enough for the Allan deviation")
 
 
-def noise(request: Any, recording: RecordingSource) -> Calibration:
+def noise(request: NoiseRequest, recording: RecordingSource) -> Calibration:
     """Method ``noise``: the chosen sensors of a still recording (a flight log's compass on its own clock)."""
     clock = None
     if recording.meta.get("flight") is not None and request.sensors and "mag" in request.sensors:

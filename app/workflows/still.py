@@ -36,6 +36,7 @@ from app.workflows.calibration import Calibration
 from app.workflows.compass import auto_compass
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer
+from app.workflows.requests import AutoRequest, KnownOrientationRequest, MagnitudeRequest, SolvedRequest, StillRequest
 from app.workflows.results import holdout_metrics, pose_advice
 
 if TYPE_CHECKING:
@@ -334,7 +335,9 @@ def calibrate_unknown(
     return result, holdout_metrics(result, holdout)
 
 
-def _unit_gravity(request: Any, recording: RecordingSource | None) -> tuple[str, float, list[str]]:
+def _unit_gravity(
+    request: StillRequest, inline: Sequence[Sequence[float]] | None, recording: RecordingSource | None
+) -> tuple[str, float, list[str]]:
     """The unit, the reference magnitude and notes for a request on inline readings or a recording."""
     unit = request.unit
     notes: list[str] = []
@@ -353,21 +356,18 @@ def _unit_gravity(request: Any, recording: RecordingSource | None) -> tuple[str,
                 "round motion sensor data): each reading's mean is still precise when averaged over many samples"
             )
     else:
-        unit = inline_unit(request, notes)
+        unit = inline_unit(request, inline, notes)
     gravity, more = reference_gravity(unit, request.gravity, request.latitude_deg, request.height_m)
     return unit, gravity, notes + more
 
 
-def inline_unit(request: Any, notes: list[str]) -> str:
+def inline_unit(request: StillRequest, means: Sequence[Sequence[float]] | None, notes: list[str]) -> str:
     """The unit of a request's inline readings, checked against their magnitude as an upload's is
     (app.io.formats.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
     request's unit (given, or the default) says otherwise the data win, and a note says both."""
     from app.io.formats.units import infer_acc_unit
 
     unit: str = request.unit
-    means = (
-        [r.mean for r in request.readings] if getattr(request, "readings", None) else getattr(request, "means", None)
-    )
     if unit not in ACC_PHYSICAL_UNITS or not means:
         return unit
     inferred = infer_acc_unit(np.asarray(means, dtype=float))
@@ -382,8 +382,9 @@ def inline_unit(request: Any, notes: list[str]) -> str:
     return unit
 
 
-def _known(spec: StillFit, request: Any, recording: RecordingSource | None) -> Calibration:
-    unit, gravity, notes = _unit_gravity(request, recording)
+def _known(spec: StillFit, request: KnownOrientationRequest, recording: RecordingSource | None) -> Calibration:
+    inline = None if request.readings is None else [r.mean for r in request.readings]
+    unit, gravity, notes = _unit_gravity(request, inline, recording)
     source: dict[str, Any] = {}
     if recording is not None:
         with _naming_missing_poses(recording):
@@ -398,7 +399,7 @@ def _known(spec: StillFit, request: Any, recording: RecordingSource | None) -> C
                 std=None if r.std is None else tuple(r.std),
                 count=r.count,
             )
-            for r in request.readings
+            for r in request.readings or ()
         ]
     result, extra = calibrate_known(spec, readings, unit=unit, gravity=gravity, holdout=request.holdout)
     return name_sources(
@@ -409,10 +410,12 @@ def _known(spec: StillFit, request: Any, recording: RecordingSource | None) -> C
     )
 
 
-def _means_and_source(request: Any, recording: RecordingSource | None) -> tuple[list[list[float]], dict[str, Any]]:
+def _means_and_source(
+    request: MagnitudeRequest, recording: RecordingSource | None
+) -> tuple[list[list[float]], dict[str, Any]]:
     """The still readings of a request on means: inline, or the recording's segments (and their fields)."""
     if recording is None:
-        return request.means, {}
+        return [list(m) for m in request.means or ()], {}
     means, used = means_from_segments(recording.meta, request.segments, request.method)
     return means, {**recording.source_fields, "segments_used": used}
 
@@ -471,12 +474,12 @@ def name_sources(calibration: Calibration, recording: RecordingSource | None) ->
     return replace(calibration.noting(*warnings), reading_sources=tuple(seg.get("source") for seg in used))
 
 
-def _magnitude(spec: StillFit, request: Any, recording: RecordingSource | None) -> Calibration:
-    unit, gravity, notes = _unit_gravity(request, recording)
+def _magnitude(
+    spec: StillFit, request: MagnitudeRequest, recording: RecordingSource | None, solver: str = "lm"
+) -> Calibration:
+    unit, gravity, notes = _unit_gravity(request, request.means, recording)
     means, source = _means_and_source(request, recording)
-    result, extra = calibrate_unknown(
-        spec, means, unit=unit, gravity=gravity, solver=getattr(request, "solver", "lm"), holdout=request.holdout
-    )
+    result, extra = calibrate_unknown(spec, means, unit=unit, gravity=gravity, solver=solver, holdout=request.holdout)
     advice = {"advice": pose_advice(result)} if spec.advises else {}
     return name_sources(
         Calibration.of(
@@ -486,24 +489,24 @@ def _magnitude(spec: StillFit, request: Any, recording: RecordingSource | None) 
     )
 
 
-def six_position(request: Any, recording: RecordingSource | None) -> Calibration:
+def six_position(request: KnownOrientationRequest, recording: RecordingSource | None) -> Calibration:
     """Method ``six_position``: the first still reading of each of the six axis orientations."""
     return _known(SIX_POSITION, request, recording)
 
 
-def orientations(request: Any, recording: RecordingSource | None) -> Calibration:
+def orientations(request: KnownOrientationRequest, recording: RecordingSource | None) -> Calibration:
     """Method ``orientations``: every still reading within 20° of an axis, cross-validated."""
     return _known(ORIENTATIONS, request, recording)
 
 
-def nonorthogonal(request: Any, recording: RecordingSource | None) -> Calibration:
+def nonorthogonal(request: MagnitudeRequest, recording: RecordingSource | None) -> Calibration:
     """Method ``nonorthogonal``: Georgieva et al.'s model of shifts, scales and angles between the axes."""
     return _magnitude(NONORTHOGONAL, request, recording)
 
 
-def triangular(request: Any, recording: RecordingSource | None) -> Calibration:
+def triangular(request: SolvedRequest, recording: RecordingSource | None) -> Calibration:
     """Method ``triangular``: Farago et al.'s lower-triangular model, by the request's solver."""
-    return _magnitude(TRIANGULAR, request, recording)
+    return _magnitude(TRIANGULAR, request, recording, solver=request.solver)
 
 
 def choose_model(
@@ -596,19 +599,20 @@ def _why(fits: dict[str, StillReadingsResult], aligned: bool, n: int) -> str:
     )
 
 
-def auto(request: Any, recording: RecordingSource | None) -> Calibration:
+def auto(request: AutoRequest, recording: RecordingSource | None) -> Calibration:
     """Method ``auto``: the model the still readings support (:func:`choose_model`); a recording of the
     magnetometer alone is the compass's (:func:`app.workflows.compass.auto_compass`)."""
     if recording is not None and "acc" not in recording.meta["units"] and "mag" in recording.meta["units"]:
         return auto_compass(request, recording)
-    compass_only = [f for f in ("date", "longitude_deg", "field_ut") if getattr(request, f, None) is not None]
+    given = {"date": request.date, "longitude_deg": request.longitude_deg, "field_ut": request.field_ut}
+    compass_only = [f for f, value in given.items() if value is not None]
     if compass_only:
         raise CalibrationError(
             f"{', '.join(compass_only)} {'is' if len(compass_only) == 1 else 'are'} for a recording of the "
             "magnetometer alone (the compass's field); these are the accelerometer's still readings: leave "
             f"{'it' if len(compass_only) == 1 else 'them'} out"
         )
-    unit, gravity, notes = _unit_gravity(request, recording)
+    unit, gravity, notes = _unit_gravity(request, request.means, recording)
     means, source = _means_and_source(request, recording)
     with _naming_missing_poses(recording):
         result, extra, choice = choose_model(means, unit=unit, gravity=gravity, holdout=request.holdout)

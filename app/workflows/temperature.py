@@ -11,6 +11,7 @@ from app.calibration import CalibrationError
 from app.io.log import TO_SI, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import NOMINAL_RATE_HZ, RecordingSource
+from app.workflows.requests import SensorsRequest
 
 TEMPERATURE_SENSORS = ("acc", "gyr")
 
@@ -77,7 +78,7 @@ def sensor_ids(log: LogData, sensors: Collection[str]) -> dict[str, int]:
     return ids
 
 
-def temperature(request: Any, recording: RecordingSource) -> Calibration:
+def temperature(request: SensorsRequest, recording: RecordingSource) -> Calibration:
     """Method ``temperature``: a still recording that carries the sensor's temperature (:func:`temperature_log`)."""
     log = recording.read()
     return temperature_log(
