@@ -194,7 +194,7 @@ def add_the_toy(tree: Path) -> None:
     (tree / "app" / "workflows" / "toy.py").write_text(HANDLER, encoding="utf-8")
     table = tree / "app" / "methods.py"
     text = table.read_text(encoding="utf-8")
-    end = '\n)\nTABLE: tuple'
+    end = "\n)\nTABLE: tuple"
     assert text.count(end) == 1 and text.count("from app.workflows import ") == 1
     text = text.replace(end, "\n" + ENTRY.rstrip("\n") + end).replace(
         "from app.workflows import ", "from app.workflows import toy, "

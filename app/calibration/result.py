@@ -11,6 +11,7 @@ by :meth:`CalibrationResult.from_dict` whatever its method.
 from __future__ import annotations
 
 import dataclasses
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
@@ -33,6 +34,9 @@ OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
 into m/s² (the reference of raw readings stays in m/s² and the model maps it to counts)."""
 
 _REGISTRY: dict[str, type[CalibrationResult]] = {}
+
+_READING_STORED: ContextVar[bool] = ContextVar("reading_stored", default=False)
+"""Set while :meth:`CalibrationResult.from_dict` rebuilds a stored body, whose gates are not judged again."""
 
 CORRECTION, FIGURES, DRIFT = "correction", "figures", "drift"
 """What a result is, for the verdict and the exports (:attr:`CalibrationResult.KIND`): a correction
@@ -292,10 +296,14 @@ class CalibrationResult(Gated):
             _REGISTRY[cls.RESULT_TYPE] = cls
 
     def __post_init__(self):
-        # The one plausibility gate (app/calibration/plausible.py): every result, however made — fitted,
-        # given its unit afterwards (dataclasses.replace), or read back from the store —, is not ok with a
-        # figure no MEMS part can have. Its reasons come first; those of an earlier making (another unit,
-        # a stored body) are dropped and judged again, so that they always say what this result holds.
+        # The one plausibility gate (app/calibration/plausible.py): every result made here — fitted, or given
+        # its unit afterwards (dataclasses.replace) — is not ok with a figure no MEMS part can have. Its reasons
+        # come first; those of an earlier making (another unit) are dropped and judged again, so that they
+        # always say what this result holds. A result read back from a stored body (:meth:`from_dict`) keeps
+        # the reasons it was stored with: a body is not rewritten on reading (a limit that changes is a new
+        # SCHEMA_VERSION and its migration).
+        if _READING_STORED.get():
+            return
         found = tuple(self.plausibility())
         reasons = tuple(r for r in self.reasons if not is_plausibility_reason(r))
         warnings = tuple(w for w in self.warnings if not is_plausibility_reason(w))
@@ -493,7 +501,11 @@ class CalibrationResult(Gated):
         target = CalibrationResult.class_of(data)
         if cls is not CalibrationResult and not issubclass(target, cls):
             raise CalibrationError(f"not a {cls.MODEL_TYPE} model: type {result_type_of(data)!r}")
-        return target._from_body(data)
+        token = _READING_STORED.set(True)
+        try:
+            return target._from_body(data)
+        finally:
+            _READING_STORED.reset(token)
 
     @staticmethod
     def class_of(data: dict) -> type[CalibrationResult]:

@@ -9,7 +9,7 @@ import numpy as np
 from app.calibration import CANONICAL_SIX, fit_six_position, up_vector
 from app.calibration.magnetometer.fit import fit_magnetometer
 from app.calibration.noise import NoiseResult, characterise_noise
-from app.calibration.plausible import PhysicalFigure, implausible
+from app.calibration.plausible import PhysicalFigure, implausible, is_plausibility_reason
 from app.calibration.result import CalibrationResult
 
 SIX = np.array([up_vector(label) for label in CANONICAL_SIX])
@@ -76,6 +76,22 @@ def test_the_gate_is_judged_again_when_a_result_is_made_again():
     stored = as_ut.to_dict()
     again = CalibrationResult.from_dict(stored)
     assert again.reasons == as_ut.reasons  # read back: the same reason once, not twice
+
+
+def test_a_stored_body_is_read_back_as_it_was_stored_not_judged_again():
+    # A body stored under other limits (here: its plausibility reason taken away, as if an older trical had
+    # stored it) reads back with the reasons it holds: reading does not rewrite it (issue 46, deliverable 2).
+    rng = np.random.default_rng(4)
+    d = rng.normal(size=(400, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    as_ut = fit_magnetometer(1000 * d + rng.normal(scale=2.0, size=(400, 3)))
+    assert not as_ut.ok
+    stored = {**as_ut.to_dict(), "ok": True, "reasons": [], "warnings": []}
+    again = CalibrationResult.from_dict(stored)
+    assert again.reasons == () and again.warnings == ()
+    assert again.to_dict() == stored
+    made_again = dataclasses.replace(again, unit="uT")  # made anew from it: its figures judged again
+    assert made_again.reasons == tuple(r for r in as_ut.reasons if is_plausibility_reason(r)) != ()
 
 
 def test_offsets_and_biases_have_limits_scales_and_densities_a_range():
