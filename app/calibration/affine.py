@@ -25,7 +25,7 @@ from .gates import (
     scale_gate,
 )
 from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
-from .result import PageFacts, StillReadingsResult, parameter
+from .result import StillReadingsResult, parameter
 from .validation import as_vectors, check_gravity
 
 MODEL_TYPE = "affine"
@@ -82,7 +82,6 @@ class AffineCalibration(StillReadingsResult):
 
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
-    PAGE = PageFacts(norms="readings")
     N_PARAMS = 12
     CORRECTION_SOURCE = "Georgieva et al., ESGI'95, eq. (20): M = X^-1, o = y"
     AS_FITTED = "As fitted (Georgieva et al., ESGI'95, section 3.2): m = X a + y, so X = M⁻¹ and y = o."

@@ -238,7 +238,6 @@ class AutoCalibration(CalibrationResult):
 
     RESULT_TYPE = METHOD
     MODEL_TYPE = MODEL_TYPE
-    PAGE = TriangularCalibration.PAGE
     CORRECTION_SOURCE = TriangularCalibration.CORRECTION_SOURCE
     AS_FITTED = TriangularCalibration.AS_FITTED
 

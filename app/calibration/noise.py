@@ -35,7 +35,7 @@ from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overl
 from .errors import CalibrationError, InsufficientDataError
 from .headlines import SENSOR_WORDS
 from .plausible import PhysicalFigure
-from .result import FIGURES, PageFacts, PerSensorResult
+from .result import FIGURES, PerSensorResult
 
 CONFIDENCE = 0.95
 FLICKER_VARIANCE = 2.0 * math.log(2.0) / math.pi
@@ -444,15 +444,6 @@ class NoiseResult(PerSensorResult):
 
     RESULT_TYPE: ClassVar[str] = "noise"
     MODEL_TYPE: ClassVar[str] = "noise"
-    PAGE: ClassVar[PageFacts] = PageFacts(
-        uses="noiseFigures",
-        snippets=False,
-        heading="The noise terms",
-        model="noiseTerms",
-        terms=tuple(TERM_WORDS.items()),
-        plot="allan_svg",
-        box="#result-allan",
-    )
     KIND: ClassVar[str] = FIGURES
 
     sampling_rate_hz: float

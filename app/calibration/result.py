@@ -45,39 +45,6 @@ with temperature, applied with each reading's temperature."""
 
 
 @dataclass(frozen=True)
-class PageFacts:
-    """What the page shows of a result of one class (:attr:`CalibrationResult.PAGE`): app/web sends these by
-    model type in the page's tables (``kinds``) and static/js/result_kinds.js draws them with the drawing each
-    names; whether it has a correction to apply comes from :attr:`CalibrationResult.KIND`."""
-
-    uses: str = "calibration"
-    """The set of uses and export formats it offers (app/web/uses.py ``USE_SETS``)."""
-    snippets: bool = True
-    """Paste-ready lines of its correction under its file (``GET …/{id}/use``)."""
-    heading: str = "The model as fitted"
-    model: str = "parameters"
-    """The drawing of its model: ``parameters`` (each parameter a small table) or ``noiseTerms``."""
-    terms: tuple[tuple[str, str], ...] = ()
-    """``noiseTerms``: the rows of each sensor's table, each a key of the model and its words."""
-    norms: str = ""
-    """The drawing of its norms per position: ``readings`` (labelled readings), ``captures`` (a session's
-    poses), ``positions`` (a cube's captures, calibrated by the server); empty: none."""
-    spheres: bool = False
-    """The compass's raw and calibrated readings on the field's sphere."""
-    plot: str = ""
-    """The export format of the figure the server draws for it, shown in the page's box ``box``."""
-    box: str = ""
-    caption: str = ""
-    """The drawing of the plot's caption (``flight``: what a flight's compass calibration found)."""
-    firmware_uses: bool = False
-    """Whether it offers only the uses of the firmware whose log it came from (and the JSON)."""
-    packet: tuple[str, ...] = ("acc",)
-    """The parts of a board's calibration packet it holds, by sensor: ``acc`` (the accelerometer's and
-    gyroscope's offsets), ``mag`` (the compass's hard iron, soft iron and field); a model with a magnetometer's
-    part (a cube's) holds the compass's too."""
-
-
-@dataclass(frozen=True)
 class Figure:
     """The figure a calibration stands on: its error ``before`` and ``after`` (None where it has none),
     their ``unit`` (``mg``, ``µT``, ``counts``, ``°/s``; empty without a figure) and the ``basis`` in words
@@ -180,13 +147,10 @@ def as_fitted_words() -> dict[str, str]:
     return {cls.MODEL_TYPE: cls.AS_FITTED for cls in _REGISTRY.values() if cls.AS_FITTED}
 
 
-def page_kinds() -> dict[str, dict]:
-    """By model type, what the page shows of a result (:class:`PageFacts`, and ``correction``: whether it has
-    a correction to apply); results that share a model type (autocal's triangular model) share their facts.
-    The key ``""`` holds the base class's: a correction's, for a body whose model type is not known."""
+def registered_classes() -> tuple[type[CalibrationResult], ...]:
+    """Every result class :meth:`CalibrationResult.from_dict` can rebuild, in the order they registered."""
     _load_all()
-    classes: list[type[CalibrationResult]] = [CalibrationResult, *_REGISTRY.values()]
-    return {cls.MODEL_TYPE: {**dataclasses.asdict(cls.PAGE), "correction": cls.KIND != FIGURES} for cls in classes}
+    return tuple(_REGISTRY.values())
 
 
 def _load_all() -> None:
@@ -274,8 +238,6 @@ class CalibrationResult(Gated):
     KIND: ClassVar[str] = CORRECTION
     """:data:`CORRECTION`, :data:`FIGURES` or :data:`DRIFT`: which verdict and which exports fit it. A class
     answer, so that a body cut short (no model) is still told apart."""
-    PAGE: ClassVar[PageFacts] = PageFacts()
-    """What the page shows of it (:func:`page_kinds`)."""
     PER_SENSOR: ClassVar[bool] = False
     """Whether its corrections are named by sensor in the exports (the cube: one per sensor)."""
 

@@ -59,7 +59,7 @@ import numpy as np
 from .errors import CalibrationError, InsufficientDataError
 from .gravity import STANDARD_GRAVITY
 from .headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS, temperature_headline
-from .result import DRIFT, Figure, PageFacts, PerSensorResult
+from .result import DRIFT, Figure, PerSensorResult
 
 CONFIDENCE = 0.95
 N_BINS = 60
@@ -598,13 +598,6 @@ class TemperatureResult(PerSensorResult):
 
     RESULT_TYPE: ClassVar[str] = "temperature"
     MODEL_TYPE: ClassVar[str] = "temperature"
-    PAGE: ClassVar[PageFacts] = PageFacts(
-        uses="thermalCompensation",
-        snippets=False,
-        heading="Each axis's offset polynomial",
-        plot="temperature_svg",
-        box="#result-temperature",
-    )
     KIND: ClassVar[str] = DRIFT
 
     method: str = "temperature"

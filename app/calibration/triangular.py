@@ -55,7 +55,7 @@ from .gates import (
     scale_gate,
     unknown_orientation_gates,
 )
-from .result import PageFacts, StillReadingsResult, parameter
+from .result import StillReadingsResult, parameter
 from .solvers import SOLVERS
 from .uncertainty import covariance_from_jacobian, half_widths
 from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
@@ -220,7 +220,6 @@ class TriangularCalibration(StillReadingsResult):
 
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
-    PAGE = PageFacts(norms="captures")
     N_PARAMS = N_PARAMS
     REPORTS_IMPROVEMENT = True  # Farago et al. report it for their model (Table 3, eq. (21))
     CORRECTION_SOURCE = "Farago, Maczak and Gingl, IEEE Access, eq. (6): M = K, o = -o_model"

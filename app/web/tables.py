@@ -21,7 +21,7 @@ from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
 from app.calibration.orientations import POSE_NAMES, UP_VECTORS
-from app.calibration.result import as_fitted_words, page_kinds
+from app.calibration.result import as_fitted_words
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.guided import capture_rules
 from app.io.board_formats import board_tables
@@ -29,6 +29,7 @@ from app.io.formats.chips import CHIPS
 from app.io.log import UNITS_IN
 from app.methods import TABLE as METHOD_TABLE
 from app.web.metric_words import METRICS
+from app.web.result_pages import page_kinds
 from app.web.sketches import sketch_table
 from app.web.uses import uses_table
 from app.words import UNIT_WORDS

@@ -1,5 +1,5 @@
 // What each kind of calibration shows. The server says it, by model type (`cal.model.type`), in the page's
-// tables (TABLES.kinds: the result classes' page facts, app/calibration/result.py PageFacts): which set of uses
+// tables (TABLES.kinds: the result classes' page facts, app/web/result_pages.py PageFacts): which set of uses
 // and formats the result offers (app/web/uses.py), whether it has a correction to apply (GET …/{id}/use), the
 // plot the server draws for it (an export), the heading of its model, and which drawing draws its model, its
 // norms per position and its plot's caption. This module keeps only the drawings, named by what they draw.

@@ -152,10 +152,11 @@ def test_each_source_s_default_use_is_one_its_calibrations_offer():
 
 
 def test_each_kind_of_result_tells_the_page_what_it_shows():
-    """The result classes declare what the page shows (PageFacts); the server sends it by model type, and the
-    page draws it with the drawings it names: each set of uses exists, results sharing a model type agree, and
-    each drawing, plot box and plot format the facts name is on the page."""
-    from app.calibration.result import CalibrationResult, page_kinds, registered_types
+    """The page's presenter says what the page shows of each result class (app/web/result_pages.py PageFacts);
+    the server sends it by model type, and the page draws it with the drawings it names: each set of uses exists,
+    results sharing a model type agree, and each drawing, plot box and plot format the facts name is on the page."""
+    from app.calibration.result import CalibrationResult, registered_types
+    from app.web.result_pages import page_facts, page_kinds
     from app.web.uses import USE_SETS
 
     kinds = page_kinds()
@@ -163,7 +164,8 @@ def test_each_kind_of_result_tells_the_page_what_it_shows():
     classes = [CalibrationResult.class_of({"model": {"type": t}, "method": t}) for t in registered_types()]
     assert set(kinds) == {"", *(cls.MODEL_TYPE for cls in classes)}
     for cls in classes:
-        assert next(c.PAGE for c in classes if c.MODEL_TYPE == cls.MODEL_TYPE) == cls.PAGE, cls
+        same_type = [c for c in classes if c.MODEL_TYPE == cls.MODEL_TYPE]
+        assert {page_facts(c) for c in same_type} == {page_facts(cls)}, cls
     kinds_js = (JS / "result_kinds.js").read_text()
     templates = "".join(p.read_text() for p in (JS.parents[1] / "templates").glob("*.html"))
     for facts in kinds.values():

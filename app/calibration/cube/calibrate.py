@@ -20,7 +20,7 @@ from ..correction import AffineCorrection
 from ..errors import CalibrationError, InsufficientDataError
 from ..gates import Gates
 from ..norm_metrics import norm_errors
-from ..result import NO_FIGURE, CalibrationResult, Figure, PageFacts, gate_fields
+from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields
 from ..uncertainty import CONFIDENCE
 from ..validation import as_vectors, check_gravity
 from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
@@ -83,7 +83,6 @@ class CubeCalibration(CalibrationResult):
 
     RESULT_TYPE = MODEL_TYPE
     MODEL_TYPE = MODEL_TYPE
-    PAGE = PageFacts(norms="positions")
     CORRECTION_SOURCE = "Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1): raw = S f + b, so M = S^-1, o = b"
     AS_FITTED = (
         "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (1)): raw = S f + b per sensor, "

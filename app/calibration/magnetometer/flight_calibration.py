@@ -15,7 +15,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..correction import AffineCorrection
-from ..result import NO_FIGURE, CalibrationResult, Figure, PageFacts, gate_fields, parameter
+from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 
 SOURCE = (
     "h = M (Q m − b − k p): the compass's offsets b, soft iron M and motor interference k p after the "
@@ -51,15 +51,6 @@ class FlightCompassCalibration(CalibrationResult):
 
     RESULT_TYPE: ClassVar[str] = "compass_flight"
     MODEL_TYPE: ClassVar[str] = "compass_flight"
-    PAGE: ClassVar[PageFacts] = PageFacts(
-        uses="flightCompass",
-        snippets=False,
-        heading="The compass's model, h = M (Q m − b − k p)",
-        plot="flight_svg",
-        box="#result-flight",
-        caption="flight",
-        firmware_uses=True,  # its numbers are in the frames of the firmware whose log it came from
-    )
     CORRECTION_SOURCE: ClassVar[str] = SOURCE
 
     M: np.ndarray = parameter()

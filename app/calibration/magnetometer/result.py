@@ -10,7 +10,7 @@ import numpy as np
 from ..correction import AffineCorrection
 from ..headlines import compass_headline
 from ..plausible import PhysicalFigure
-from ..result import NO_FIGURE, CalibrationResult, Figure, PageFacts, gate_fields, parameter
+from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 from ..uncertainty import CONFIDENCE, half_widths
 from .refine import unpack
 
@@ -44,7 +44,6 @@ class MagnetometerResult(CalibrationResult):
 
     RESULT_TYPE: ClassVar[str] = "magnetometer"
     MODEL_TYPE: ClassVar[str] = "magnetometer"
-    PAGE: ClassVar[PageFacts] = PageFacts(spheres=True, packet=("mag",))
     CORRECTION_SOURCE: ClassVar[str] = SOURCE
     AS_FITTED: ClassVar[str] = (
         "As fitted (Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (6)): h = M (m − b), so b = o."
