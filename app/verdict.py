@@ -27,6 +27,7 @@ from app.calibration.errors import CalibrationError
 from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.noise import TERM_WORDS, duration_words
 from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult
+from app.headlines import headline, verdict_note
 
 MIN_GAIN_FRACTION = 0.2
 """The calibrated error must be at most 80 % of the raw one."""
@@ -93,7 +94,7 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
     """
     result = rebuilt(body) if result is None else result
     if result is not None:
-        cls, figures, line = type(result), result.figures(), result.headline()
+        cls, figures, line = type(result), result.figures(), headline(result)
         ok, reasons = result.ok, list(result.reasons)
     else:
         try:
@@ -200,7 +201,7 @@ def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str]
         if degrees and change
         else (f"Apply it: {change}." if change else "Apply it: it passed every check.")
     )
-    why = cls.verdict_note(method, figure) or ("It passed every check." if change else "")
+    why = verdict_note(cls, method, figure) or ("It passed every check." if change else "")
     return _out(True, "apply", words, why, **figures_out)
 
 

@@ -164,8 +164,9 @@ def forbidden(row: Row, root: Path) -> tuple[list[tuple[str, bool]], list[str], 
     banned = named_modules(row.must_not, root)
     libraries = [w for w in WEB_STACK if re.search(rf"\b{w}\b", row.must_not)]
     back = []
-    if "everything else in `app`" in row.must_not:
+    if "everything else in `app`" in row.must_not:  # else: than what its may-import cell names
         banned.append(("app", True))
+        back += allowed(row, root)
         if "but the core" in row.must_not:
             back.append(("app.calibration", True))
     if "port library" in row.must_not:

@@ -32,7 +32,7 @@ EXEMPT = (
     "app/calibration/cube/calibrate.py",
     "app/calibration/magnetometer/result.py",
     "app/calibration/temperature.py",
-    "app/calibration/headlines.py",
+    "app/headlines.py",
     "app/calibration/trust.py",
     "app/calibration/comparison.py",
     "app/calibration/magnetometer/fit.py",
@@ -40,10 +40,10 @@ EXEMPT = (
     "app/methods.py",
 )
 """The files that may decide, named one by one (every other file of app/calibration is scanned too): the result
-modules, which choose their figures and headlines by their metrics (result, affine, autocal, cube/calibrate,
-magnetometer/result, temperature), the core's modules that write those metrics and read them back in the same
-fit (headlines, trust, comparison, magnetometer/fit; the free-pose simulation's report), and the method table,
-which declares."""
+modules, which choose their figures by their metrics (result, affine, autocal, cube/calibrate, magnetometer/result,
+temperature), the presenter that tells their headlines by result class (app/headlines.py), the core's modules that
+write those metrics and read them back in the same fit (trust, comparison, magnetometer/fit; the free-pose
+simulation's report), and the method table, which declares."""
 
 
 NOT_A_RESULT = {"auto"}

@@ -96,16 +96,6 @@ class AffineCalibration(StillReadingsResult):
     ) + (("y1", "offset", "x"), ("y2", "offset", "y"), ("y3", "offset", "z"))
     """Name, kind and axes of each parameter in the covariance's order (z of eq. (21))."""
 
-    @classmethod
-    def verdict_note(cls, method: str | None, figure) -> str:
-        """Six poses' figure is in-sample: say so, and how to measure the error on new orientations."""
-        if method == "six_position" and figure.before is not None:
-            return (
-                "Six poses leave none out to test on: the figure is on the poses fitted. A free session "
-                "measures the error on new orientations."
-            )
-        return ""
-
     @property
     def correction_matrix(self) -> np.ndarray:
         """X⁻¹, the matrix firmware multiplies by after subtracting y (Georgieva et al. eq. (20))."""

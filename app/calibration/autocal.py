@@ -42,7 +42,6 @@ from .comparison import fit_ellipsoid_axes, fit_sphere_van_hees
 from .cross_validation import cross_validated_error
 from .errors import CalibrationError
 from .gates import Gates
-from .headlines import accelerometer_headline
 from .norm_metrics import norm_errors
 from .result import CalibrationResult, Figure, cv_figure, first_figure, gate_fields, holdout_figure, in_sample_figure
 from .stationary_002 import RestSegments, detect_rest_segments
@@ -272,12 +271,6 @@ class AutoCalibration(CalibrationResult):
         """Readings the request held out, else its control points (held out of its fit, Farago et al.
         Table 3), else its cross-validated error, else the in-sample error."""
         return (first_figure(metrics, (holdout_figure, control_figure, cv_figure, in_sample_figure)),)
-
-    def headline(self) -> str | None:
-        """Its error on new orientations, then on its control points (held out) and raw."""
-        if "cv_error_mg" not in self.metrics:
-            return None
-        return accelerometer_headline(self.metrics, held_out=True)
 
     def uncertainty(self) -> dict:
         if self.calibration is None:

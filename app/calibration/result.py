@@ -19,7 +19,7 @@ import numpy as np
 
 from .correction import AffineCorrection, correction_of
 from .errors import CalibrationError
-from .headlines import SENSOR_WORDS, accelerometer_headline
+from .headlines import SENSOR_WORDS
 from .norm_metrics import evaluate_still, relative_norm_errors
 from .plausible import correction_figures, implausible, is_plausibility_reason
 from .uncertainty import CONFIDENCE, half_widths
@@ -314,15 +314,6 @@ class CalibrationResult(Gated):
         """The figure it stands on: ``before``, ``after``, ``unit``, ``basis``."""
         return (self.figures() or (NO_FIGURE,))[0]
 
-    def headline(self) -> str | None:
-        """The line a person reads first about its figures, or None where it has none."""
-        return None
-
-    @classmethod
-    def verdict_note(cls, method: str | None, figure: Figure) -> str:
-        """One line more under an "apply it" verdict on ``figure``, where the figure needs it."""
-        return ""
-
     # -- corrections -------------------------------------------------------------------------
 
     def apply(self, samples, sensor: str | None = None) -> np.ndarray:
@@ -564,13 +555,6 @@ class StillReadingsResult(CalibrationResult, GatedFit):
     def largest_error_on_new_orientations(self) -> float | None:
         """The largest of those errors (mg), or None."""
         return self.metrics.get("cv_error_max_mg")
-
-    def headline(self) -> str | None:
-        """Its error on new orientations, then in-sample and raw (every fit of still readings reports a
-        cross-validated error, ``cv_error_mg``, or says why it has none)."""
-        if "cv_error_mg" not in self.metrics:
-            return None
-        return accelerometer_headline(self.metrics, held_out=False)
 
     NO_INTERVALS: ClassVar[str] = (
         "no intervals: {n} positions fit the 9 parameters exactly (0 residual degrees "

@@ -58,7 +58,7 @@ import numpy as np
 
 from .errors import CalibrationError, InsufficientDataError
 from .gravity import STANDARD_GRAVITY
-from .headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS, temperature_headline
+from .headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS
 from .result import DRIFT, Figure, PerSensorResult
 
 CONFIDENCE = 0.95
@@ -627,10 +627,6 @@ class TemperatureResult(PerSensorResult):
             for s in TEMPERATURE_SENSORS
             if s in metrics
         )
-
-    def headline(self) -> str | None:
-        """The offset drift over the range raw, then on bands left out, per sensor."""
-        return temperature_headline(self.model_dict(), self.metrics)
 
     def apply(self, samples, sensor: str | None = None):
         raise CalibrationError(

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from app.calibration.result import CalibrationResult
+from app.headlines import headline
 from app.verdict import verdict
 
 
@@ -100,7 +101,7 @@ class Calibration:
         from the final result."""
         result = self.final
         out = result.to_dict()
-        line = result.headline()  # the line a person reads first
+        line = headline(result)  # the line a person reads first
         if line is not None:
             out["headline"] = line
         out["warnings"] = [*self.read_warnings, *out["warnings"], *self.notes]

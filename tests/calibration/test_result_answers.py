@@ -1,5 +1,6 @@
-"""The result decides: every result type answers ``figure()``, ``headline()``, ``apply(samples, sensor)`` and
-``corrects`` from its own fields, each figure recomputed here from the readings or the metrics it stands on."""
+"""The result decides: every result type answers ``figure()``, ``apply(samples, sensor)`` and ``corrects`` from its
+own fields, and its headline (app/headlines.py, by its class) is told from them, each figure recomputed here from
+the readings or the metrics it stands on."""
 
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, Calibr
 from app.calibration.temperature import calibrate_temperature
 from app.calibration.triangular import fit_triangular
 from app.calibration.trust import review
+from app.headlines import headline, verdict_note
 from simulations import cube as cube_sim
 from simulations.magnetometer import simulate_session
 from simulations.temperature import simulate_warm_up
@@ -73,15 +75,15 @@ def test_a_still_readings_fit_stands_on_held_out_readings_then_new_orientations_
     assert r.figure() == Figure(41.5, 1.25, "mg", "error on the readings you held out")
     r = dataclasses.replace(triangular, metrics={k: v for k, v in metrics.items() if not k.startswith("holdout")})
     assert r.figure() == Figure(40.0, 2.5, "mg", "error on new orientations")
-    assert r.headline() == (
+    assert headline(r) == (
         "on new orientations expect 2.50 mg of g, a level off by 0.14° at most (up to 6.00 mg; leave one out); "
         "on the poses fitted (in-sample) 0.75 mg, raw 40.00 mg"
     )
     r = dataclasses.replace(triangular, metrics={**r.metrics, "cv_error_mg": None, "cv_note": "too few poses"})
     assert r.figure() == Figure(40.0, 0.75, "mg", "error on the 20 poses fitted")
-    assert r.headline() == "too few poses; on the poses fitted (in-sample) 0.75 mg, raw 40.00 mg"
+    assert headline(r) == "too few poses; on the poses fitted (in-sample) 0.75 mg, raw 40.00 mg"
     assert dataclasses.replace(triangular, metrics={}).figure() == NO_FIGURE
-    assert dataclasses.replace(triangular, metrics={}).headline() is None  # no cross-validated figure asked for
+    assert headline(dataclasses.replace(triangular, metrics={})) is None  # no cross-validated figure asked for
 
 
 def test_a_stored_body_rebuilds_with_its_metrics_as_stored_so_the_request_s_holdout_decides(triangular):
@@ -117,11 +119,11 @@ def test_six_poses_are_in_sample_and_say_how_to_measure_new_orientations():
     means = np.array(list(SIX.values()))
     assert f.basis == "error on the 6 poses fitted" and f.before == pytest.approx(_raw_mg(means, G), rel=1e-12)
     assert f.after == pytest.approx(_raw_mg(r.apply(means), G), rel=1e-9)
-    assert r.headline() == (
+    assert headline(r) == (
         f"six poses leave none out; on the poses fitted (in-sample) {f.after:.2f} mg, raw {f.before:.2f} mg"
     )
-    assert r.verdict_note("six_position", f).startswith("Six poses leave none out to test on")
-    assert r.verdict_note("orientations", f) == ""
+    assert verdict_note(type(r), "six_position", f).startswith("Six poses leave none out to test on")
+    assert verdict_note(type(r), "orientations", f) == ""
 
 
 @pytest.mark.parametrize(
@@ -175,7 +177,7 @@ def test_autocal_stands_on_its_control_points_and_says_so_in_its_headline(triang
         unit="m/s^2",
     )
     assert r.figure() == Figure(30.0, 1.5, "mg", "error on control points held out of the fit")
-    assert r.headline() == (
+    assert headline(r) == (
         "on new orientations expect 2.00 mg of g, a level off by 0.11° at most (up to 4.00 mg; leave one out); "
         "on the control points (held out) 1.50 mg, raw 30.00 mg"
     )
@@ -199,7 +201,7 @@ def test_the_compass_stands_on_the_field_strength_on_new_directions_in_microtesl
     h = r.M @ (m - r.b).T
     rms = float(np.sqrt(np.mean((np.linalg.norm(h, axis=0) - 48.0) ** 2)))
     assert r.metrics["fit_error_ut"] == pytest.approx(rms, rel=1e-9)  # the in-sample figure, recomputed
-    assert r.headline().startswith(f"on new directions expect {r.metrics['cv_error_ut']:.2f} µT of the 48.0 µT field")
+    assert headline(r).startswith(f"on new directions expect {r.metrics['cv_error_ut']:.2f} µT of the 48.0 µT field")
     fitted = dataclasses.replace(r, metrics={**r.metrics, "cv_error_ut": None})
     assert fitted.figure() == Figure(
         r.metrics["raw_error_ut"], r.metrics["fit_error_ut"], "µT", "error of the field strength on the readings fitted"
@@ -227,7 +229,7 @@ def test_the_cube_stands_on_its_accelerometer_positions_recomputed_with_s_invers
     assert f.basis == f"accelerometer error on the {len(means)} positions fitted" and f.unit == "mg"
     assert f.before == pytest.approx(_raw_mg(means, 9.80665), rel=1e-12)
     assert f.after == pytest.approx(_raw_mg(calibrated, 9.80665), rel=1e-12)
-    assert cube.headline() is None and cube.PER_SENSOR
+    assert headline(cube) is None and cube.PER_SENSOR
     again = CalibrationResult.from_dict(cube.to_dict())
     assert again.figure() == f
 
@@ -252,7 +254,7 @@ def test_a_noise_characterisation_corrects_nothing_and_has_no_figure():
         duration_s=600.0,
     )
     assert not r.corrects and r.KIND == FIGURES
-    assert r.figure() == NO_FIGURE and r.figures() == (NO_FIGURE,) and r.headline() is None
+    assert r.figure() == NO_FIGURE and r.figures() == (NO_FIGURE,) and headline(r) is None
     with pytest.raises(CalibrationError, match="corrects nothing"):
         r.apply(np.zeros((2, 3)), "gyr")
 
@@ -267,7 +269,7 @@ def test_a_temperature_calibration_stands_on_each_sensor_s_drift_on_bands_left_o
     assert gyr == Figure(r.metrics["gyr"]["drift_raw_max"], r.metrics["gyr"]["drift_cv_max"], "°/s", basis)
     assert r.figure() == acc
     lo = min(r.model_dict()[s]["t_min_c"] for s in ("acc", "gyr"))
-    assert r.headline().startswith(f"offset drift over {lo:.0f}–") and "accelerometer " in r.headline()
+    assert headline(r).startswith(f"offset drift over {lo:.0f}–") and "accelerometer " in headline(r)
     with pytest.raises(CalibrationError, match="needs each sample's temperature"):
         r.apply(w.acc[:3], "acc")
 

@@ -144,22 +144,6 @@ class FlightCompassCalibration(CalibrationResult):
             ),
         )
 
-    def headline(self) -> str | None:
-        """The heading error on segments left out and its 95th percentile, then the firmware's."""
-        m = self.metrics
-        if m.get("heading_error_after_deg") is None:
-            return None
-        line = (
-            f"on flight segments left out expect a heading error of {m['heading_error_after_deg']:.1f}° rms "
-            f"(95 % within {m['heading_error_after_p95_deg']:.1f}°)"
-        )
-        if m.get("heading_error_before_deg") is not None:
-            line += (
-                f"; with the firmware's own calibration {m['heading_error_before_deg']:.1f}° rms "
-                f"(95 % within {m['heading_error_before_p95_deg']:.1f}°)"
-            )
-        return line
-
     def uncertainty(self) -> dict:
         return {"confidence": 0.95, **self.half_widths}
 

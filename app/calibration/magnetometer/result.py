@@ -8,7 +8,6 @@ from typing import ClassVar
 import numpy as np
 
 from ..correction import AffineCorrection
-from ..headlines import compass_headline
 from ..plausible import PhysicalFigure
 from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 from ..uncertainty import CONFIDENCE, half_widths
@@ -99,12 +98,6 @@ class MagnetometerResult(CalibrationResult):
                 "error of the field strength on the readings fitted",
             ),
         )
-
-    def headline(self) -> str | None:
-        """The error of |h| on directions left out, then in-sample and raw."""
-        if "cv_error_ut" not in self.metrics:
-            return None
-        return compass_headline(self.metrics, figure_unit(self.output_unit))
 
     @property
     def correction(self) -> AffineCorrection:
