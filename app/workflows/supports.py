@@ -186,11 +186,33 @@ def _largest_angle_deg(units: np.ndarray) -> float:
     return float(np.degrees(np.arccos(cos.min())))
 
 
+def _too_few_compass_samples(compasses: list[dict[str, Any]], read: int | None) -> str:
+    """Why the compass a flight calibration reads (the instance read, else the first) has too few samples to be
+    fitted at all (app.calibration.magnetometer.flight.MIN_FIT_SAMPLES), naming a compass of the log that has
+    enough; "" when it has enough."""
+    from app.calibration.magnetometer.flight import MIN_FIT_SAMPLES
+
+    counts = {c["instance"]: c["n_samples"] for c in compasses}
+    instance = read if read in counts else compasses[0]["instance"]
+    if counts[instance] >= MIN_FIT_SAMPLES:
+        return ""
+    enough = [k for k, n in counts.items() if n >= MIN_FIT_SAMPLES]
+    other = f"; compass {enough[0]} has {counts[enough[0]]}: give mag_instance {enough[0]}" if enough else ""
+    return (
+        f"its compass {instance} logged {counted(counts[instance], 'sample')}: a calibration from a flight needs "
+        f"at least {MIN_FIT_SAMPLES}, and a minute of flight with turns{other}"
+    )
+
+
 def _flight_compass(log: LogData, fix: dict[str, Any] | None) -> list[Support]:
     assert log.flight is not None
-    compasses = [i for i in log.flight.to_dict()["instances"] if i["sensor"] == "mag"]
+    flight = log.flight.to_dict()
+    compasses = [i for i in flight["instances"] if i["sensor"] == "mag"]
     if not compasses:
         return []
+    short = _too_few_compass_samples(compasses, (flight.get("mag") or {}).get("instance"))
+    if short:
+        return [Support("compass_flight", short, False, ("mag_instance",) if "mag_instance" in short else ())]
     place = f"{fix['latitude_deg']:.2f}°, {fix['longitude_deg']:.2f}°" if fix else ""
     asks: tuple[str, ...]
     if fix and fix.get("date"):

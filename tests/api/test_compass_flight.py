@@ -496,3 +496,27 @@ def test_an_ardusub_dive_without_gps_asks_for_the_place_and_says_what_it_lacks(c
     assert [row["action"] for row in body["flight"]["compasses"]] == [
         "fly at least a minute (600 samples) with turns through every heading"
     ] * 2
+
+
+@pytest.mark.parametrize(
+    ("name", "samples"),
+    [
+        ("px4_1.12_roboto_test.ulg", 10),
+        ("sample_log_small.ulg", 6),
+        ("sample_px4_events.ulg", 31),
+        ("arducopter_4.6_backend_log_80k.bin", 4),
+    ],
+)
+def test_a_real_log_whose_compass_logged_too_few_samples_is_not_ready_for_the_compass(client, name, samples):
+    # These logs' compasses logged a few samples each (a bench test, a log cut at 80 kB): the compass from the
+    # flight was listed as ready, and the page ran it into a refusal ("N usable compass samples … at least 60").
+    path = LOG171.parent / name
+    rec = client.post("/api/v1/recordings", files={"file": (path.name, path.read_bytes())}).json()
+    support = next(s for s in rec["supports"] if s["method"] == "compass_flight")
+    assert support["ready"] is False and support["asks"] == [], support
+    assert support["why"] == (
+        f"its compass 0 logged {samples} samples: a calibration from a flight needs at least 60, and a minute of "
+        "flight with turns"
+    )
+    refused = _calibrate(client, rec["id"], latitude_deg=47.4, longitude_deg=8.5, date="2020-01-01")
+    assert refused.status_code == 422, refused.text  # the support says what the calibration would refuse
