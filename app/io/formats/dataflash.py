@@ -296,9 +296,29 @@ def read(
     mag_instance: int | None = None,
     clock: str = "imu",
     name: str = "the file",
-    **_,
 ) -> LogData:
     """Read the IMU instance ``instance`` (and compass ``mag_instance``) of an ArduPilot DataFlash log.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The log.
+    s : Sniff
+        Its head (its magic: already checked).
+    instance : int, optional
+        The IMU instance read (default: the first).
+    mag_instance : int, optional
+        The compass instance read (default the first).
+    clock : {"imu", "mag"}
+        The samples on the IMU's times, or on the compass's with the IMU interpolated onto them
+        (:func:`app.io.formats.flight_log.choose`).
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        The chosen sensors on one clock, ``flight`` listing every instance, ``format`` ``dataflash``.
 
     Raises
     ------

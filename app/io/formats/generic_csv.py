@@ -753,46 +753,76 @@ def read_csv(
     path: Path,
     s: Sniff,
     *,
-    sampling_rate_hz=None,
-    units=None,
-    name="the file",
-    lsb_per_g=None,
-    fmt: str = CSV,
-    column_map: dict | None = None,
-    column_names: list[str] | None = None,
-    **_,
+    sampling_rate_hz: float | None = None,
+    units: dict[str, str] | None = None,
+    columns: dict[str, str] | list[str] | None = None,
+    name: str = "the file",
 ) -> LogData:
     """Read a generic CSV log, its units as the caller or the header name them (settled from the data
-    by :func:`app.io.formats.units.settle_units`)."""
-    units = units or {}
+    by :func:`app.io.formats.units.settle_units`).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head (unused: the table's layout is read from the file itself).
+    sampling_rate_hz : float, optional
+        The caller's rate: a time column whose unit is unclear is then left out (:func:`read_csv_log`).
+    units : dict, optional
+        The caller's units by sensor, over the header's.
+    columns : dict or list of str, optional
+        The caller's columns as :func:`app.io.formats.parse_columns` gives them: a mapping of canonical
+        names to the header's (``{"acc_x": "north"}``), or one name per column.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Its samples, ``format`` ``csv``.
+    """
     log = read_csv_log(
         path,
         sampling_rate_hz=sampling_rate_hz,
-        units=units,
+        units=units or {},
         name=name,
-        column_map=column_map,
-        column_names=column_names,
+        column_map=columns if isinstance(columns, dict) else None,
+        column_names=columns if isinstance(columns, list) else None,
     )
-    return dataclasses.replace(log, format=fmt)
+    return dataclasses.replace(log, format=CSV)
 
 
 def read_arduino(
-    path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None, **kw
+    path: Path,
+    s: Sniff,
+    *,
+    sampling_rate_hz: float | None = None,
+    units: dict[str, str] | None = None,
+    columns: dict[str, str] | list[str] | None = None,
+    name: str = "the file",
 ) -> LogData:
-    """Read Arduino output: Serial Plotter ``label:value`` lines, or a CSV with an ``lsb_per_g`` comment."""
+    """Read Arduino output: Serial Plotter ``label:value`` lines, or a CSV with an ``lsb_per_g`` comment.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head: Serial Plotter lines, or else a CSV read by :func:`read_csv`.
+    sampling_rate_hz, units, columns, name
+        As :func:`read_csv`'s (Serial Plotter lines read only ``units`` and ``name``: their labels name the
+        columns, and they carry no time).
+
+    Returns
+    -------
+    LogData
+        Its samples, ``format`` ``arduino``.
+    """
     data = _data_lines(s.lines)
     if not (data and _PLOTTER_LINE.match(data[0])):
-        return read_csv(
-            path,
-            s,
-            sampling_rate_hz=sampling_rate_hz,
-            units=units,
-            name=name,
-            lsb_per_g=lsb_per_g,
-            fmt=ARDUINO,
-            column_map=kw.get("column_map"),
-            column_names=kw.get("column_names"),
-        )
+        log = read_csv(path, s, sampling_rate_hz=sampling_rate_hz, units=units, columns=columns, name=name)
+        return dataclasses.replace(log, format=ARDUINO)
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
     first = {k.strip(): v for k, v in _PLOTTER_PAIR.findall(data[0])}
