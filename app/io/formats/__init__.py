@@ -210,11 +210,17 @@ TIME_NAMES = ("t", "time")
 """Names of a time column whose unit is inferred from its step (a list of ``columns``)."""
 
 
+Columns = dict[str, str] | list[str]
+"""The columns a caller named, parsed (:func:`parse_columns`): canonical names mapped to the header's, or one name
+per column."""
+ColumnsGiven = str | Columns | None
+"""The columns as a caller gives them (``ReadOptions.columns``): text, a mapping or a list of names."""
+
 FILE_COLUMNS = ";"
 """Between the files' entries of ``columns`` for several files uploaded together: ``NAME=COLUMNS;NAME=COLUMNS``."""
 
 
-def columns_of_file(columns, name: str):
+def columns_of_file(columns: ColumnsGiven, name: str) -> ColumnsGiven:
     """The ``columns`` a file is read with: the upload's, or, where it names files (``a.csv=t,gyr_x,gyr_y,gyr_z;
     b.csv=…``, one entry per file uploaded together), this file's entry (None for a file it does not name: its
     header or its data decide)."""
@@ -232,7 +238,7 @@ def columns_of_file(columns, name: str):
     return entries.get(name)
 
 
-def parse_columns(columns: str | dict | list | None) -> dict | list | None:
+def parse_columns(columns: ColumnsGiven) -> Columns | None:
     """``columns`` as a mapping ``{"acc_x": "north", ...}`` or as a list of names, one per column.
 
     ``"acc_x:north,acc_y:east"`` (or a dict) maps canonical names to the file's header names;
@@ -392,9 +398,7 @@ def _check_options(o: ReadOptions) -> None:
         raise LogFormatError(f"unknown clock {o.clock!r}: use one of {', '.join(CLOCKS)}")
 
 
-def _read_part(
-    options: ReadOptions, path: Path, name: str, columns: str | dict[str, str] | list[str] | None = None
-) -> LogData:
+def _read_part(options: ReadOptions, path: Path, name: str, columns: ColumnsGiven = None) -> LogData:
     """One file of a zip of log files (:func:`app.io.parts.read_parts_zip`), read with the upload's options on the
     IMU's clock (``columns``, when given, replaces the upload's: a file named for one sensor)."""
     o = dataclasses.replace(options, columns=columns or options.columns, clock="imu")
@@ -432,7 +436,7 @@ class Plan:
     path: Path
     fmt: str | None = None
     sniff: Sniff | None = None
-    columns: dict[str, str] | list[str] | None = None
+    columns: Columns | None = None
     samples: json_samples.Samples | None = None
 
 
@@ -490,7 +494,7 @@ def _json_format(s: Sniff, format: str) -> str | None:
     return json_fmt
 
 
-def reader_options(o: ReadOptions, columns: dict[str, str] | list[str] | None) -> dict[str, Any]:
+def reader_options(o: ReadOptions, columns: Columns | None) -> dict[str, Any]:
     """Every option of :data:`READER_OPTIONS`, from ``o`` and the parsed ``columns``: what :meth:`Reader.call` takes
     each reader's from."""
     return {
@@ -532,7 +536,7 @@ def _read_array_file(path: Path, o: ReadOptions, name: str) -> LogData:
     return settle_sign(with_timing(log, o.sampling_rate_hz, name), o.sign)
 
 
-def _text_format(s: Sniff, format: str, column_map: dict[str, str] | list[str] | None, name: str) -> str:
+def _text_format(s: Sniff, format: str, column_map: Columns | None, name: str) -> str:
     """The format a text log (or a phone app's zip) is read in: the one asked for, else the one detected; a
     generic CSV when its columns are mapped. Refuses a format the file cannot be."""
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
@@ -562,9 +566,7 @@ def _text_format(s: Sniff, format: str, column_map: dict[str, str] | list[str] |
     return fmt
 
 
-def _read_text_log(
-    path: Path, s: Sniff, fmt: str, column_map: dict[str, str] | list[str] | None, o: ReadOptions, name: str
-) -> LogData:
+def _read_text_log(path: Path, s: Sniff, fmt: str, column_map: Columns | None, o: ReadOptions, name: str) -> LogData:
     """A text log (or a phone app's zip) read by the reader of ``fmt``, then timed, put in its units (the
     caller's, the header's, the format's, the chips' or the counts per g) and signed; linear acceleration is
     refused."""

@@ -18,7 +18,7 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TypeGuard
+from typing import Any, TypeGuard
 
 from ..errors import LogFormatError
 from .table import Sniff
@@ -34,7 +34,7 @@ def detect(s: Sniff) -> bool:
     return not s.is_zip and s.text.lstrip()[:1] in ("[", "{")
 
 
-def _flat(sample: dict, prefix: str = "") -> dict:
+def _flat(sample: dict[str, Any], prefix: str = "") -> dict[str, Any]:
     out = {}
     for key, value in sample.items():
         column = f"{prefix}{key}"
@@ -45,11 +45,11 @@ def _flat(sample: dict, prefix: str = "") -> dict:
     return out
 
 
-def _number(value) -> TypeGuard[int | float]:
+def _number(value: object) -> TypeGuard[int | float]:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def _samples(data, name: str) -> tuple[list, str]:
+def _samples(data: object, name: str) -> tuple[list[Any], str]:
     """The array of samples in ``data`` and where it was."""
     if isinstance(data, list):
         return data, "the top-level array"
@@ -79,7 +79,7 @@ def _samples(data, name: str) -> tuple[list, str]:
     )
 
 
-def to_table(data, name: str) -> tuple[list[str] | None, list[list[float]], str]:
+def to_table(data: object, name: str) -> tuple[list[str] | None, list[list[float]], str]:
     """The header (None for lists of numbers), the rows and a note saying what was read.
 
     Raises

@@ -58,7 +58,7 @@ def detect(s: Sniff) -> bool:
     return _is_sensor_header(first)
 
 
-def read_metadata(data: bytes) -> dict:
+def read_metadata(data: bytes) -> dict[str, str]:
     """``Metadata.csv`` (a header row and one value row) as a dict with lower-case keys."""
     rows = list(csv.reader(io.StringIO(data.decode("utf-8-sig", errors="replace"))))
     rows = [r for r in rows if any(c.strip() for c in r)]
@@ -92,7 +92,7 @@ def _read_sensor(data: bytes, label: str) -> tuple[np.ndarray, np.ndarray, list[
 
 
 def _sign_and_unit(
-    acc: np.ndarray, meta: dict | None, acc_file: str | None, caller_unit: str | None, label: str
+    acc: np.ndarray, meta: dict[str, str] | None, acc_file: str | None, caller_unit: str | None, label: str
 ) -> tuple[float, str, list[str]]:
     """The factor (+1 or −1) and unit of the accelerometer readings, from the data and the metadata."""
     data_unit = infer_acc_unit(acc)
