@@ -84,7 +84,7 @@ UPLOAD_FIELDS = {
 a text log (CSV, a phone app's export, JSON samples, a zip of them) takes them all but a flight log's instances; an
 array (``.npy``, Parquet, a wearable's binary) its unit, rate and sign (its samples are not counts); a flight
 controller's log (PX4 ULog, ArduPilot DataFlash) states its units, frame and columns, so only which IMU and which
-compass to read (app.io.formats.read_flight_log refuses the others). A message's remedy names only these
+compass to read (app.io.formats.plan_read refuses the others). A message's remedy names only these
 (tests/api/test_remedies.py)."""
 
 

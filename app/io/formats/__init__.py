@@ -2,7 +2,8 @@
 
 ``read_log(path, options)`` sniffs the upload (the first 64 KiB, or the member names of a
 zip), picks the first format whose ``detect`` accepts it — in the order of :data:`DETECTORS`, most
-specific first — and reads it.  Whatever the format, the result then goes through the same checks:
+specific first — and calls that format's one reader (:func:`plan_read` decides, once, before any
+reader runs).  Whatever the format, the result then goes through the same checks:
 counts become g when ``lsb_per_g`` is known (caller or a ``# lsb_per_g=…`` comment), and a log
 without gravity (linear acceleration) is refused with that reason.
 
@@ -19,11 +20,20 @@ format                    recognised by
 ``sensorlog``             header naming ``accelerometerAccelerationX(G)`` … (SensorLog, iOS)
 ``tagged``                lines naming their sensor first: ``acc 2060 0.03 -0.01 0.97``, ``gyro 2060 …``
                           (:mod:`.tagged_lines`)
+``betaflight_mag``        the Betaflight configurator's compass tumble (JSON; its characterization model refused)
+``json``                  a JSON array of samples (:mod:`.json_samples`), read as the CSV table it makes
 ``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
 ``csv``                   any other header row, or none (:mod:`app.io.formats.generic_csv`)
 (parts)                   any other zip: its log files, one per pose, read each as above and
                           joined as one recording in parts (:mod:`app.io.parts`)
 ========================  =====================================================================
+
+Each reader takes, besides the file, its sniffed head and ``name``, the options it reads as keyword-only
+parameters and no others (:data:`READERS` names them; an option misspelled is a TypeError): a flight log's
+``instance``, ``mag_instance`` and ``clock``; a phone app's format's and the tagged lines' ``units``; a generic
+or Arduino CSV's ``sampling_rate_hz``, ``units`` and ``columns``; JSON none, its samples becoming a table read
+as a CSV. The rest — the rate, counts per g, chips, the sign — ``read_log`` applies after the reader, the same
+for every format, and an option a format has no use for is refused there with its remedy, or has no effect.
 
 A flight controller's log holds several IMU and compass instances: ``instance`` and ``mag_instance``
 choose them, and ``clock`` which sensor's times the samples are on (:mod:`.flight_log`).
@@ -36,8 +46,14 @@ reader decided (+1, or Sensor Logger's iOS flip).
 from __future__ import annotations
 
 import dataclasses
+import functools
+import inspect
+import tempfile
+from collections.abc import Callable, Mapping
+from contextlib import ExitStack
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from ..errors import LogFormatError
 from ..log import LogData
@@ -62,43 +78,99 @@ from .table import SKIP, Sniff, sniff
 from .timing import with_timing
 from .units import refuse_linear_acceleration, settle_units
 
-READERS = {
-    ulog.NAME: ulog.read,
-    dataflash.NAME: dataflash.read,
-    phyphox.NAME: phyphox.read,
-    sensor_logger.NAME: sensor_logger.read,
-    gnss_logger.NAME: gnss_logger.read,
-    physics_toolbox.NAME: physics_toolbox.read,
-    sensorlog.NAME: sensorlog.read,
-    betaflight_mag.NAME: betaflight_mag.read,
-    json_samples.NAME: json_samples.read,
-    tagged_lines.NAME: tagged_lines.read,
-    generic_csv.ARDUINO: generic_csv.read_arduino,
-    generic_csv.CSV: generic_csv.read_csv,
-}
-"""Readers by format name."""
+Family = Literal["flight", "text", "json"]
 
-DETECTORS = (
-    (ulog.NAME, ulog.detect),
-    (dataflash.NAME, dataflash.detect),
-    (phyphox.NAME, phyphox.detect),
-    (sensor_logger.NAME, sensor_logger.detect),
-    (gnss_logger.NAME, gnss_logger.detect),
-    (physics_toolbox.NAME, physics_toolbox.detect),
-    (sensorlog.NAME, sensorlog.detect),
-    (betaflight_mag.NAME, betaflight_mag.detect),
-    (json_samples.NAME, json_samples.detect),
-    (tagged_lines.NAME, tagged_lines.detect),
-    (generic_csv.ARDUINO, generic_csv.detect_arduino),
-    (generic_csv.CSV, generic_csv.detect_csv),
-)
+READER_OPTIONS = ("units", "sampling_rate_hz", "columns", "instance", "mag_instance", "clock")
+"""The options a reader may take, each a keyword-only parameter of that name besides ``name``, given by
+:func:`read_log` from the :class:`~app.io.read_options.ReadOptions` (:func:`reader_options`): the caller's
+``units`` by sensor, the caller's ``sampling_rate_hz``, the ``columns`` as :func:`parse_columns` gives them, and a
+flight controller's ``instance``, ``mag_instance`` and ``clock``. The other options (counts per g, chips, sign, the
+rate of the samples read) are applied by :func:`read_log` itself after the reader, the same for every format."""
+
+
+@dataclass(frozen=True)
+class Reader:
+    """A format of :data:`READERS`: how it is recognised, which function reads it and the options it honours.
+
+    Attributes
+    ----------
+    family : {"flight", "text", "json"}
+        How :func:`read_log` reads it: a flight controller's log (its units and frame are the format's, so the
+        options of text logs are refused), a text log (the reader's samples then timed, put in their units and
+        signed), or JSON, whose reader returns its samples as a table (:class:`.json_samples.Samples`) that is
+        then read as a text log.
+    detect : callable
+        ``detect(sniff) -> bool``: whether a sniffed upload is in this format (:data:`DETECTORS`).
+    read : callable
+        ``read(path, sniff, *, name, **honoured)``; no catch-all ``**kwargs``: an option it does not declare is a
+        TypeError.
+    honours : tuple of str
+        The options of :data:`READER_OPTIONS` it takes: its keyword-only parameters besides ``name``, and what
+        :meth:`call` passes it.
+
+    Raises
+    ------
+    TypeError
+        ``honours`` names an option that is not one of :data:`READER_OPTIONS`, or is not what ``read`` declares
+        (the table and the readers' signatures cannot drift apart), or ``read`` takes ``**kwargs``.
+    """
+
+    family: Family
+    detect: Callable[[Sniff], bool]
+    read: Callable[..., Any]
+    honours: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        params = inspect.signature(self.read).parameters.values()
+        declared = {p.name for p in params if p.kind is p.KEYWORD_ONLY} - {"name"}
+        catch_all = [p.name for p in params if p.kind is p.VAR_KEYWORD]
+        unknown = sorted(set(self.honours) - set(READER_OPTIONS))
+        if catch_all or unknown or declared != set(self.honours):
+            raise TypeError(
+                f"{self.read.__module__}.{self.read.__qualname__} declares {sorted(declared)}"
+                + (f" and **{catch_all[0]}" if catch_all else "")
+                + f", but the table says it honours {list(self.honours)}"
+                + (f" ({', '.join(unknown)} not among {', '.join(READER_OPTIONS)})" if unknown else "")
+            )
+
+    def call(self, path: Path, s: Sniff, *, name: str, options: Mapping[str, Any]) -> Any:
+        """``read(path, s, name=name)`` with the options it honours, taken from ``options`` (every one of
+        :data:`READER_OPTIONS`: :func:`reader_options`)."""
+        return self.read(path, s, name=name, **{k: options[k] for k in self.honours})
+
+
+_FLIGHT = ("instance", "mag_instance", "clock")
+_APP = ("units",)
+_TABLE = ("sampling_rate_hz", "units", "columns")
+
+READERS: dict[str, Reader] = {
+    ulog.NAME: Reader("flight", ulog.detect, ulog.read, _FLIGHT),
+    dataflash.NAME: Reader("flight", dataflash.detect, dataflash.read, _FLIGHT),
+    phyphox.NAME: Reader("text", phyphox.detect, phyphox.read, _APP),
+    sensor_logger.NAME: Reader("text", sensor_logger.detect, sensor_logger.read, _APP),
+    gnss_logger.NAME: Reader("text", gnss_logger.detect, gnss_logger.read, _APP),
+    physics_toolbox.NAME: Reader("text", physics_toolbox.detect, physics_toolbox.read, _APP),
+    sensorlog.NAME: Reader("text", sensorlog.detect, sensorlog.read, _APP),
+    betaflight_mag.NAME: Reader("json", betaflight_mag.detect, betaflight_mag.read),
+    json_samples.NAME: Reader("json", json_samples.detect, json_samples.read),
+    tagged_lines.NAME: Reader("text", tagged_lines.detect, tagged_lines.read, _APP),
+    generic_csv.ARDUINO: Reader("text", generic_csv.detect_arduino, generic_csv.read_arduino, _TABLE),
+    generic_csv.CSV: Reader("text", generic_csv.detect_csv, generic_csv.read_csv, _TABLE),
+}
+"""Every format by name, in the order of detection (most specific first), with the options its reader honours:
+the one place that says which format reads which option. A flight log's reader reads the instances and the clock;
+a phone app's (and the tagged lines') the caller's units, its columns and time being the app's; a generic or an
+Arduino CSV the units, the rate (a time column whose unit is unclear is then left out) and the columns; JSON none:
+its samples become a table, read as a CSV with these."""
+
+DETECTORS = tuple((fmt, reader.detect) for fmt, reader in READERS.items())
 """Detection order: the first format whose detector accepts the sniffed file is read."""
 
 FORMATS = ("auto", *READERS)
+"""Values of the upload's ``format`` field."""
 MAKER_FORMATS = (generic_csv.CSV, generic_csv.ARDUINO, tagged_lines.NAME)
 """Formats a maker's program writes, which state no unit (or a header's): the data decide each sensor's."""
-"""Values of the upload's ``format`` field."""
-FLIGHT_FORMATS = (ulog.NAME, dataflash.NAME)
+FLIGHT_FORMATS = tuple(fmt for fmt, reader in READERS.items() if reader.family == "flight")
 """Flight controllers' logs: several IMU and compass instances, chosen by ``instance`` and ``mag_instance``."""
 
 SOURCES = ("board", "phone", "px4", "ardupilot")
@@ -138,11 +210,17 @@ TIME_NAMES = ("t", "time")
 """Names of a time column whose unit is inferred from its step (a list of ``columns``)."""
 
 
+Columns = dict[str, str] | list[str]
+"""The columns a caller named, parsed (:func:`parse_columns`): canonical names mapped to the header's, or one name
+per column."""
+ColumnsGiven = str | Columns | None
+"""The columns as a caller gives them (``ReadOptions.columns``): text, a mapping or a list of names."""
+
 FILE_COLUMNS = ";"
 """Between the files' entries of ``columns`` for several files uploaded together: ``NAME=COLUMNS;NAME=COLUMNS``."""
 
 
-def columns_of_file(columns, name: str):
+def columns_of_file(columns: ColumnsGiven, name: str) -> ColumnsGiven:
     """The ``columns`` a file is read with: the upload's, or, where it names files (``a.csv=t,gyr_x,gyr_y,gyr_z;
     b.csv=…``, one entry per file uploaded together), this file's entry (None for a file it does not name: its
     header or its data decide)."""
@@ -160,7 +238,7 @@ def columns_of_file(columns, name: str):
     return entries.get(name)
 
 
-def parse_columns(columns: str | dict | list | None) -> dict | list | None:
+def parse_columns(columns: ColumnsGiven) -> Columns | None:
     """``columns`` as a mapping ``{"acc_x": "north", ...}`` or as a list of names, one per column.
 
     ``"acc_x:north,acc_y:east"`` (or a dict) maps canonical names to the file's header names;
@@ -236,8 +314,8 @@ def parse_column_names(names: list[str]) -> list[str]:
     return names
 
 
-def detect_format(s: Sniff) -> str:
-    """The name of the format of a sniffed upload.
+def detect_format(s: Sniff, families: tuple[Family, ...] = ("flight", "text", "json")) -> str:
+    """The name of the format of a sniffed upload: the first of :data:`DETECTORS` of ``families`` that accepts it.
 
     Raises
     ------
@@ -245,7 +323,7 @@ def detect_format(s: Sniff) -> str:
         A zip that is neither a phyphox nor a Sensor Logger export.
     """
     for fmt, accepts in DETECTORS:
-        if accepts(s):
+        if READERS[fmt].family in families and accepts(s):
             return fmt
     listed = ", ".join(s.members[:12]) if s.members else "nothing"
     if any(m.startswith("xl/") for m in s.members or ()):
@@ -265,13 +343,21 @@ def detect_format(s: Sniff) -> str:
 def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "the file") -> LogData:
     """Read a log in any supported format into arrays.
 
+    The format is decided first, once (:func:`plan_read`: a flight log's magic, an array file's suffix, a zip's
+    members, a JSON file's kind and then its table's format, a text file's header), then one reader of
+    :data:`READERS` reads it with the options it honours; a zip of several log files reads each member the same
+    way and joins them (:mod:`app.io.parts`).
+
     Parameters
     ----------
     path : pathlib.Path
         The uploaded file (text or zip).
     options : ReadOptions
         How to read it (:class:`app.io.read_options.ReadOptions`: format, rate, units, counts per g, columns,
-        sign, chips, a flight controller's instances and clock); by default the file decides.
+        sign, chips, a flight controller's instances and clock); by default the file decides. An option the
+        format has no use for is refused with the remedy (the columns of a phone app's format, the text logs'
+        options of a flight log, a flight log's instances of a text file) or has no effect, as documented per
+        option.
     name : str
         How to call the file in messages.
 
@@ -288,51 +374,150 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
         Unknown format, a file the format cannot read (the message names the line or column and
         the fix), linear acceleration, inconsistent units or signs.
     """
-    o = options
+    _check_options(options)
+    with ExitStack() as stack:  # holds the table a JSON file's samples make while it is read
+        plan = plan_read(path, options, name, stack)
+        if plan.family == "parts":
+            from ..parts import read_parts_zip  # here: app.io.parts reads its members through this package
+
+            return read_parts_zip(
+                path,
+                plan.sniff.members if plan.sniff is not None else (),
+                functools.partial(_read_part, options),
+                name=name,
+                columns_given=bool(options.columns),
+            )
+        return _read_planned(plan, options, name)
+
+
+def _check_options(o: ReadOptions) -> None:
+    """Refuse a format or a clock that is none of the known ones."""
     if o.format not in FORMATS:
         raise LogFormatError(f"unknown format {o.format!r}: use one of {', '.join(FORMATS)}")
-    from ..arrays import is_array_file  # here: app.io.arrays reads CSV through this package
-
     if o.clock not in CLOCKS:
         raise LogFormatError(f"unknown clock {o.clock!r}: use one of {', '.join(CLOCKS)}")
+
+
+def _read_part(options: ReadOptions, path: Path, name: str, columns: ColumnsGiven = None) -> LogData:
+    """One file of a zip of log files (:func:`app.io.parts.read_parts_zip`), read with the upload's options on the
+    IMU's clock (``columns``, when given, replaces the upload's: a file named for one sensor)."""
+    o = dataclasses.replace(options, columns=columns or options.columns, clock="imu")
+    with ExitStack() as stack:
+        plan = plan_read(path, o, name, stack)
+        if plan.family == "parts":
+            raise LogFormatError(
+                f"{name} is a zip inside a recording of several files: give the files themselves, or one zip of them"
+            )
+        return _read_planned(plan, o, name)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What :func:`plan_read` decided a file is, before any reader runs.
+
+    Attributes
+    ----------
+    family : {"flight", "array", "text", "parts"}
+        A flight controller's log, an array file (:mod:`app.io.arrays`), a text log (or a phone app's zip, or the
+        table of a JSON file's samples), or a zip of log files (:mod:`app.io.parts`).
+    path : pathlib.Path
+        The file the reader reads: the upload, or the table a JSON file's samples make.
+    fmt : str or None
+        The format read (a key of :data:`READERS`); None for an array file or a zip of log files.
+    sniff : Sniff or None
+        The head of ``path`` (None for an array file).
+    columns : dict or list of str, optional
+        The columns the caller named for this file (:func:`parse_columns`).
+    samples : json_samples.Samples, optional
+        A JSON file's samples, whose note (and format) the log read from their table takes.
+    """
+
+    family: Literal["flight", "array", "text", "parts"]
+    path: Path
+    fmt: str | None = None
+    sniff: Sniff | None = None
+    columns: Columns | None = None
+    samples: json_samples.Samples | None = None
+
+
+def plan_read(path: Path, options: ReadOptions, name: str, stack: ExitStack) -> Plan:
+    """Decide what a file is and which reader reads it: a flight log by its magic, an array file by its suffix, a
+    JSON file's kind (its samples then written as a table, in a folder ``stack`` removes, whose format is decided
+    as a text file's), a zip of log files, else a text log's format, asked or detected.
+
+    Raises
+    ------
+    LogFormatError
+        What :func:`read_log` refuses before reading: an option the file's family has no use for, a sign that is
+        not ±1, columns that do not parse, a format the file cannot be, a JSON file that holds no samples.
+    """
+    o = options
     if o.format in FLIGHT_FORMATS or (o.format == "auto" and starts_like_flight_log(path)):
-        return read_flight_log(path, o, name=name)
+        return _flight_plan(path, o, name)
     if o.instance is not None or o.mag_instance is not None:
         raise LogFormatError(
             f"instance and mag_instance choose a sensor of a flight controller's log (PX4 .ulg, "
             f"ArduPilot .bin); {name} is not one: leave them out"
         )
+    from ..arrays import is_array_file  # here: app.io.arrays reads CSV through this package
+
     if o.format == "auto" and is_array_file(path):  # .npy, Parquet, wearables: named by their suffix
-        return _read_array_file(path, o, name)
+        return Plan("array", path)
     check_sign(o.sign)
-    column_map = parse_columns(columns_of_file(o.columns, name))
+    columns = parse_columns(columns_of_file(o.columns, name))
     s = sniff(path, name)
-    json_fmt = o.format if o.format in (betaflight_mag.NAME, json_samples.NAME) else None
-    if o.format in ("auto", json_samples.NAME) and json_samples.detect(s):
-        json_fmt = betaflight_mag.NAME if betaflight_mag.detect(s) else json_samples.NAME
+    json_fmt = _json_format(s, o.format)
     if json_fmt is not None:  # JSON: the export of a fit (refused), or an array of samples read as its table
-
-        def read_table(table, table_name):
-            return read_log(table, dataclasses.replace(o, format="auto", clock="imu"), name=table_name)
-
-        return READERS[json_fmt](path, s, name=name, read_table=read_table)
+        samples: json_samples.Samples = READERS[json_fmt].call(path, s, name=name, options=reader_options(o, None))
+        table = json_samples.write_table(samples, Path(stack.enter_context(tempfile.TemporaryDirectory())))
+        s = sniff(table, name)
+        return Plan("text", table, _text_format(s, "auto", columns, name), s, columns, samples)
     if (
         s.is_zip
         and o.format not in (phyphox.NAME, sensor_logger.NAME)
         and not (phyphox.detect(s) or sensor_logger.detect(s))
         and not any(m.startswith("xl/") for m in s.members or ())
-    ):
-        # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
-        from ..parts import read_parts_zip
+    ):  # a zip of log files, one per pose or per sensor (app.io.parts): each read as the upload says, then joined
+        return Plan("parts", path, sniff=s)
+    return Plan("text", path, _text_format(s, o.format, columns, name), s, columns)
 
-        def read_part(part_path, part_name, part_columns=None):
-            return read_log(
-                part_path, dataclasses.replace(o, columns=part_columns or o.columns, clock="imu"), name=part_name
-            )
 
-        return read_parts_zip(path, s.members, read_part, name=name, columns_given=bool(o.columns))
-    fmt = _text_format(s, o.format, column_map, name)
-    return _read_text_log(path, s, fmt, column_map, o, name)
+def _json_format(s: Sniff, format: str) -> str | None:
+    """The JSON format a file is read in: the one asked for, or for ``auto`` or ``json`` the Betaflight tumble's
+    when the file names it, else JSON samples; None for a file that is not JSON."""
+    if format in (betaflight_mag.NAME, json_samples.NAME):
+        json_fmt: str | None = format
+    else:
+        json_fmt = None
+    if format in ("auto", json_samples.NAME) and json_samples.detect(s):
+        json_fmt = betaflight_mag.NAME if betaflight_mag.detect(s) else json_samples.NAME
+    return json_fmt
+
+
+def reader_options(o: ReadOptions, columns: Columns | None) -> dict[str, Any]:
+    """Every option of :data:`READER_OPTIONS`, from ``o`` and the parsed ``columns``: what :meth:`Reader.call` takes
+    each reader's from."""
+    return {
+        "units": dict(o.units or {}),
+        "sampling_rate_hz": o.sampling_rate_hz,
+        "columns": columns,
+        "instance": o.instance,
+        "mag_instance": o.mag_instance,
+        "clock": o.clock,
+    }
+
+
+def _read_planned(plan: Plan, o: ReadOptions, name: str) -> LogData:
+    """The file as :func:`plan_read` decided: its one reader, then its timing, units and sign."""
+    if plan.family == "array":
+        return _read_array_file(plan.path, o, name)
+    assert plan.sniff is not None and plan.fmt is not None  # a flight or a text log's plan holds both
+    if plan.family == "flight":
+        return _read_flight_log(plan.path, plan.sniff, plan.fmt, o, name)
+    log = _read_text_log(plan.path, plan.sniff, plan.fmt, plan.columns, o, name)
+    if plan.samples is None:
+        return log
+    return dataclasses.replace(log, notes=(plan.samples.note, *log.notes), format=plan.samples.format or log.format)
 
 
 def _read_array_file(path: Path, o: ReadOptions, name: str) -> LogData:
@@ -351,7 +536,7 @@ def _read_array_file(path: Path, o: ReadOptions, name: str) -> LogData:
     return settle_sign(with_timing(log, o.sampling_rate_hz, name), o.sign)
 
 
-def _text_format(s: Sniff, format: str, column_map, name: str) -> str:
+def _text_format(s: Sniff, format: str, column_map: Columns | None, name: str) -> str:
     """The format a text log (or a phone app's zip) is read in: the one asked for, else the one detected; a
     generic CSV when its columns are mapped. Refuses a format the file cannot be."""
     if column_map and format not in ("auto", generic_csv.CSV, generic_csv.ARDUINO):
@@ -359,7 +544,8 @@ def _text_format(s: Sniff, format: str, column_map, name: str) -> str:
             f"columns names the columns of a generic CSV; the {format} format has fixed columns: "
             "leave columns out, or use format=csv"
         )
-    fmt = detect_format(s) if format == "auto" else format
+    # a text format: flight logs and JSON were told apart before (plan_read), and a JSON file's table is read as text
+    fmt = detect_format(s, ("text",)) if format == "auto" else format
     if column_map and fmt not in (generic_csv.CSV, generic_csv.ARDUINO):
         fmt = generic_csv.CSV
     if s.is_zip and fmt not in (phyphox.NAME, sensor_logger.NAME):
@@ -371,7 +557,7 @@ def _text_format(s: Sniff, format: str, column_map, name: str) -> str:
     if (
         not s.is_zip
         and fmt in (phyphox.NAME, sensor_logger.NAME, gnss_logger.NAME, physics_toolbox.NAME, sensorlog.NAME)
-        and not dict(DETECTORS)[fmt](s)
+        and not READERS[fmt].detect(s)
     ):
         raise LogFormatError(
             f"{name} does not look like a {fmt} file (its header does not match): use "
@@ -380,19 +566,14 @@ def _text_format(s: Sniff, format: str, column_map, name: str) -> str:
     return fmt
 
 
-def _read_text_log(path: Path, s: Sniff, fmt: str, column_map, o: ReadOptions, name: str) -> LogData:
+def _read_text_log(path: Path, s: Sniff, fmt: str, column_map: Columns | None, o: ReadOptions, name: str) -> LogData:
     """A text log (or a phone app's zip) read by the reader of ``fmt``, then timed, put in its units (the
     caller's, the header's, the format's, the chips' or the counts per g) and signed; linear acceleration is
     refused."""
     chips = parse_chips(o.chip)
     comment_lsb = None if s.is_zip else generic_csv.lsb_from_comments(s.lines)
     lsb = o.lsb_per_g if o.lsb_per_g is not None else comment_lsb
-    extra: dict[str, Any] = {}
-    if column_map:
-        extra = {"column_names": column_map} if isinstance(column_map, list) else {"column_map": column_map}
-    log = READERS[fmt](
-        path, s, sampling_rate_hz=o.sampling_rate_hz, units=dict(o.units or {}), name=name, lsb_per_g=lsb, **extra
-    )
+    log: LogData = READERS[fmt].call(path, s, name=name, options=reader_options(o, column_map))
     log = with_timing(log, o.sampling_rate_hz, name)  # the one decision of the rate (.timing)
     maker = fmt in MAKER_FORMATS
     if maker:  # a header row names the units, or nothing does
@@ -430,10 +611,10 @@ def starts_like_flight_log(path: Path) -> bool:
         return f.read(8).startswith(BINARY_LOG_MAGICS)
 
 
-def read_flight_log(path: Path, options: ReadOptions, *, name: str) -> LogData:
+def _flight_plan(path: Path, o: ReadOptions, name: str) -> Plan:
     """A PX4 ULog or ArduPilot DataFlash log (:mod:`.ulog`, :mod:`.dataflash`): its units and frame are the
-    format's, so the options of text logs (columns, chip, lsb_per_g, units, sign) are refused."""
-    o = options
+    format's, so the options of text logs (columns, chip, lsb_per_g, units, sign) are refused, as an instance
+    that is not a number; the format asked for must be the file's."""
     own = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
     other_units = {k: v for k, v in (o.units or {}).items() if own.get(k) != v}
     given = [
@@ -458,12 +639,18 @@ def read_flight_log(path: Path, options: ReadOptions, *, name: str) -> LogData:
             raise LogFormatError(f"{what} {value!r} is not an instance number: give a whole number from 0")
     s = sniff(path, name)
     fmt = detect_format(s) if o.format == "auto" else o.format
-    if not dict(DETECTORS)[fmt](s):
+    if not READERS[fmt].detect(s):
         raise LogFormatError(
             f"{name} does not start as a {fmt} log (its first bytes are not the format's magic): "
             "use format=auto, or upload the .ulg / .bin file the vehicle wrote"
         )
-    log = READERS[fmt](path, s, instance=o.instance, mag_instance=o.mag_instance, clock=o.clock, name=name)
+    return Plan("flight", path, fmt, s)
+
+
+def _read_flight_log(path: Path, s: Sniff, fmt: str, o: ReadOptions, name: str) -> LogData:
+    """A flight controller's log read by the reader of ``fmt`` (the instances and the clock asked for), timed, its
+    units the format's."""
+    log: LogData = READERS[fmt].call(path, s, name=name, options=reader_options(o, None))
     log = with_timing(log, o.sampling_rate_hz, name)
     log = settle_units(
         log,

@@ -19,12 +19,12 @@ It is read as the compass's samples on their timestamps; the rest is named in a 
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import re
 from pathlib import Path
 
 from ..errors import LogFormatError
+from .json_samples import Samples
 from .table import Sniff
 
 NAME = "betaflight_mag"
@@ -49,11 +49,32 @@ def detect(s: Sniff) -> bool:
     return SCHEMA in s.text[:4096] or TUMBLE.search(s.text[:4096]) is not None
 
 
-def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
-    """Read a tumble's samples as the compass's (``read_table(path, name)`` reads the table they make); refuse
-    the characterization model: it holds the configurator's fit, not the samples trical calibrates from."""
-    if TUMBLE.search(s.text[:4096]) and read_table is not None:
-        return _tumble(path, name, read_table)
+def read(path: Path, s: Sniff, *, name: str = "the file") -> Samples:
+    """Read a tumble's samples as the compass's; refuse the characterization model: it holds the configurator's
+    fit, not the samples trical calibrates from.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head, which names a tumble's type.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    Samples
+        The tumble's magnetometer on its timestamps (``time_ms, mag_x, mag_y, mag_z``), for
+        :func:`app.io.formats.read_log` to read as a CSV table; the log is named ``betaflight_mag``.
+
+    Raises
+    ------
+    LogFormatError
+        The characterization model (naming what it holds), or a tumble without samples or lacking a field.
+    """
+    if TUMBLE.search(s.text[:4096]):
+        return _tumble(path, name)
     try:
         model = json.loads(path.read_bytes()[:MAX_BYTES].decode("utf-8-sig"))
     except (ValueError, UnicodeDecodeError):
@@ -72,7 +93,7 @@ def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
     )
 
 
-def _tumble(path: Path, name: str, read_table):
+def _tumble(path: Path, name: str) -> Samples:
     """The tumble's samples as a table of the magnetometer on its timestamps, read as any table is."""
     if path.stat().st_size > MAX_TUMBLE_BYTES:
         raise LogFormatError(f"{name} is a tumble export over {MAX_TUMBLE_BYTES >> 20} MiB: no tumble is that long")
@@ -90,14 +111,11 @@ def _tumble(path: Path, name: str, read_table):
             "export the tumble again with this configurator, or upload the samples as CSV (time_ms, mag_x, mag_y, "
             "mag_z)"
         )
-    from .json_samples import read_rows
-
     left = sorted({k for x in samples for k in x} - set(TUMBLE_COLUMNS))
     rows = [[x[k] for k in TUMBLE_COLUMNS] for x in samples]
-    log = read_rows(list(TUMBLE_COLUMNS.values()), rows, name, read_table)
     note = (
         f"the Betaflight configurator's compass tumble: {len(samples)} samples of the flight controller's "
         "magnetometer (x, y, z as MSP reports them) on their timestamps"
         + (f"; not read: {', '.join(left)} (the configurator's attitude and drawing)" if left else "")
     )
-    return dataclasses.replace(log, notes=(note, *log.notes), format=NAME)
+    return Samples(list(TUMBLE_COLUMNS.values()), rows, note, format=NAME)

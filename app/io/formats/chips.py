@@ -119,7 +119,7 @@ LIS3DH libraries): counts whose resting magnitude sits near one of them are read
 ACC_RANGE = {16384.0: "±2 g", 8192.0: "±4 g", 4096.0: "±8 g", 2048.0: "±16 g", 1000.0: "mg"}
 
 
-def parse_chips(chip: str | list | None) -> dict[str, Chip]:
+def parse_chips(chip: str | list[str] | None) -> dict[str, Chip]:
     """The chips of a ``chip`` field — one name, or several separated by commas, at most one per
     sensor — by sensor.
 

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import itertools
 import re
+from collections.abc import Iterable
+from typing import Any
 
 import numpy as np
 
@@ -68,7 +70,7 @@ class ColumnsAmbiguous(LogFormatError):
 
     code = "columns_ambiguous"
 
-    def __init__(self, message: str, candidates: list[dict], preview: list[str], file: str | None = None):
+    def __init__(self, message: str, candidates: list[dict[str, Any]], preview: list[str], file: str | None = None):
         super().__init__(message)
         self.candidates = candidates
         self.preview = preview
@@ -126,11 +128,11 @@ def _angle(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.degrees(np.arccos(np.clip(c, -1.0, 1.0))))
 
 
-def _near(value: float, ranges) -> bool:
+def _near(value: float, ranges: Iterable[tuple[float, float]]) -> bool:
     return any(lo <= value <= hi for lo, hi in ranges)
 
 
-def _counts_near(value: float, scales) -> bool:
+def _counts_near(value: float, scales: Iterable[float]) -> bool:
     return any(abs(value / s - 1.0) <= COUNTS_TOLERANCE for s in scales)
 
 

@@ -53,7 +53,9 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -99,7 +101,7 @@ def detect(s: Sniff) -> bool:
     return s.head.startswith(MAGIC)
 
 
-def _dtype(fmt) -> np.dtype:
+def _dtype(fmt: Any) -> np.dtype:
     """The numpy record of a message's body, from pymavlink's struct string (``<QffffffIIfBBHH``)."""
     fields = []
     for (count, code), column in zip(re.findall(r"(\d*)([a-zA-Z])", fmt.msg_struct), fmt.columns):
@@ -108,7 +110,7 @@ def _dtype(fmt) -> np.dtype:
     return np.dtype([(n, t) if not shape else (n, t, shape) for n, t, shape in fields])
 
 
-def time_us(table: dict, message: str, name: str = "the file") -> np.ndarray:
+def time_us(table: dict[str, np.ndarray], message: str, name: str = "the file") -> np.ndarray:
     """A message's time in µs since boot: ``TimeUS``, or ``TimeMS`` × 1000 in logs before ``TimeUS``."""
     if "TimeUS" in table:
         return np.asarray(table["TimeUS"]).astype(np.int64)
@@ -120,7 +122,7 @@ def time_us(table: dict, message: str, name: str = "the file") -> np.ndarray:
     )
 
 
-def column(table: dict, message: str, names: tuple[str, ...], name: str = "the file") -> np.ndarray:
+def column(table: dict[str, np.ndarray], message: str, names: tuple[str, ...], name: str = "the file") -> np.ndarray:
     """The first of the fields ``names`` the message has, or a refusal naming the message and the fields."""
     for n in names:
         if n in table:
@@ -131,7 +133,7 @@ def column(table: dict, message: str, names: tuple[str, ...], name: str = "the f
     )
 
 
-def table(reader, buf: np.ndarray, name: str) -> dict | None:
+def table(reader: Any, buf: np.ndarray, name: str) -> dict[str, np.ndarray] | None:
     """The columns of every message ``name`` in the log (multipliers applied), or None when it has none."""
     type_id = reader.name_to_id.get(name)
     if type_id is None or not reader.offsets[type_id]:
@@ -148,7 +150,7 @@ def table(reader, buf: np.ndarray, name: str) -> dict | None:
     for start in range(0, len(offsets), GATHER_ROWS):  # in blocks: the byte indices of all rows at once are large
         block = offsets[start : start + GATHER_ROWS]
         raw[start : start + len(block)] = buf[block[:, None] + span]
-    out = {}
+    out: dict[str, np.ndarray] = {}
     for i, column in enumerate(fmt.columns):
         values = rows[column]
         mult = fmt.msg_mults[i] if i < len(fmt.msg_mults) else None
@@ -156,7 +158,7 @@ def table(reader, buf: np.ndarray, name: str) -> dict | None:
     return out
 
 
-def params(reader, buf) -> dict:
+def params(reader: Any, buf: np.ndarray) -> dict[str, float]:
     """The log's parameters (PARM Name, Value), the last value of each name."""
     t = table(reader, buf, "PARM")
     if t is None or "Name" not in t or "Value" not in t:
@@ -164,16 +166,17 @@ def params(reader, buf) -> dict:
     return {n.split(b"\0")[0].decode("ascii", "replace"): float(v) for n, v in zip(t["Name"], t["Value"])}
 
 
-def instance_field(reader, name: str) -> str | None:
+def instance_field(reader: Any, name: str) -> str | None:
     """The field that numbers a message's instances: FMTU's ``#`` unit when logged, else ``I`` (``Inst`` of BAT)."""
     type_id = reader.name_to_id.get(name)
     fmt = None if type_id is None else reader.formats[type_id]
     if fmt is not None and fmt.instance_field:
-        return fmt.instance_field
+        field: str = fmt.instance_field  # pymavlink's column name
+        return field
     return next((c for c in INSTANCE_FIELDS if fmt is not None and c in fmt.columns), None)
 
 
-def instances(reader, buf, names: dict[str, int]) -> list[tuple[int, str, dict]]:
+def instances(reader: Any, buf: np.ndarray, names: dict[str, int]) -> list[tuple[int, str, dict[str, np.ndarray]]]:
     """``(instance, columns)`` of a message with an ``I`` field, or of its numbered names (``IMU2`` is
     instance 1 in logs before the field): ``names`` maps each name to its instance when it has no ``I``.
     Returns ``(instance, message name, columns)``."""
@@ -191,15 +194,15 @@ def instances(reader, buf, names: dict[str, int]) -> list[tuple[int, str, dict]]
     return out
 
 
-def _streams(reader, buf, name: str = "the file") -> list[Stream]:
+def _streams(reader: Any, buf: np.ndarray, name: str = "the file") -> list[Stream]:
     values = params(reader, buf)
 
-    def device(sensor, instance):
+    def device(sensor: str, instance: int) -> int | None:
         names = DEVICE_PARAMS[sensor]
         value = values.get(names[instance]) if instance < len(names) else None
         return int(value) if value else None
 
-    def xyz(t, prefix, msg):
+    def xyz(t: dict[str, np.ndarray], prefix: str, msg: str) -> np.ndarray:
         return np.column_stack([column(t, msg, (f"{prefix}{a}",), name) for a in "XYZ"]).astype(float)
 
     streams: list[Stream] = []
@@ -237,21 +240,20 @@ def _streams(reader, buf, name: str = "the file") -> list[Stream]:
     return [s for s in streams if s.n_samples]
 
 
-def _indexed_reader(DFReader):
+def _indexed_reader(DFReader: Any) -> Any:
     """pymavlink's binary reader for its FMT parsing and its index of where every message is, without working
     out the log's wall clock: that parses every message of a log without GPS time (a bench log), and trical
-    reads each message's own TimeUS."""
+    reads each message's own TimeUS. (Made with ``type``: pymavlink ships no types, so its class is Any.)"""
 
-    class IndexedReader(DFReader.DFReader_binary):
-        def init_clock(self):
-            self._rewind(keep_messages=True)
-            self.init_clock_usec()
+    def init_clock(self: Any) -> None:
+        self._rewind(keep_messages=True)
+        self.init_clock_usec()
 
-    return IndexedReader
+    return type("IndexedReader", (DFReader.DFReader_binary,), {"init_clock": init_clock})
 
 
 @contextlib.contextmanager
-def unknown_layout(name: str, what: str = "an ArduPilot DataFlash log"):
+def unknown_layout(name: str, what: str = "an ArduPilot DataFlash log") -> Iterator[None]:
     """Taking apart a log the library read: what goes wrong is a layout trical does not know, not a damaged file."""
     try:
         yield
@@ -265,7 +267,7 @@ def unknown_layout(name: str, what: str = "an ArduPilot DataFlash log"):
         ) from None
 
 
-def open_log(path: Path, name: str = "the file"):
+def open_log(path: Path, name: str = "the file") -> tuple[Any, np.ndarray, io.StringIO]:
     """pymavlink's index of the log, its bytes, and what DFReader printed: ``(reader, buf, said)``.
 
     Raises
@@ -296,9 +298,29 @@ def read(
     mag_instance: int | None = None,
     clock: str = "imu",
     name: str = "the file",
-    **_,
 ) -> LogData:
     """Read the IMU instance ``instance`` (and compass ``mag_instance``) of an ArduPilot DataFlash log.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The log.
+    s : Sniff
+        Its head (its magic: already checked).
+    instance : int, optional
+        The IMU instance read (default: the first).
+    mag_instance : int, optional
+        The compass instance read (default the first).
+    clock : {"imu", "mag"}
+        The samples on the IMU's times, or on the compass's with the IMU interpolated onto them
+        (:func:`app.io.formats.flight_log.choose`).
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        The chosen sensors on one clock, ``flight`` listing every instance, ``format`` ``dataflash``.
 
     Raises
     ------

@@ -21,7 +21,7 @@ the overview lists them.  A bad instance number is refused naming those the log 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NoReturn
+from typing import Any, NoReturn
 
 import numpy as np
 
@@ -87,12 +87,12 @@ class FlightInfo:
         ``imu`` or ``mag`` (see the module's docstring).
     """
 
-    instances: tuple = ()
-    imu: dict = field(default_factory=dict)
-    mag: dict | None = None
+    instances: tuple[dict[str, Any], ...] = ()
+    imu: dict[str, Any] = field(default_factory=dict)
+    mag: dict[str, Any] | None = None
     clock: str = "imu"
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "instances": [dict(i) for i in self.instances],
             "imu": dict(self.imu),
@@ -106,7 +106,7 @@ BUS_TYPES = {0: "unknown", 1: "i2c", 2: "spi", 3: "uavcan", 4: "simulation", 5: 
 and ArduPilot's ``AP_HAL::Device::BusType`` (libraries/AP_HAL/Device.h) number them."""
 
 
-def decode_device_id(device_id: int | None) -> dict | None:
+def decode_device_id(device_id: int | None) -> dict[str, Any] | None:
     """The fields packed in a device id: bus type (bits 0–2), bus (3–7), address (8–15), device type (16–23).
 
     The layout of PX4's ``device::Device::DeviceStructure`` (src/lib/drivers/device/Device.hpp) and
@@ -124,7 +124,7 @@ def decode_device_id(device_id: int | None) -> dict | None:
     }
 
 
-def describe_streams(streams: list[Stream]) -> tuple[dict, ...]:
+def describe_streams(streams: list[Stream]) -> tuple[dict[str, Any], ...]:
     """One line per sensor instance: sensor, instance, source, device id, samples, rate, temperature range."""
     rows = []
     for s in sorted(streams, key=lambda s: (["acc", "gyr", "mag"].index(s.sensor), s.source, s.instance)):
@@ -146,7 +146,7 @@ def describe_streams(streams: list[Stream]) -> tuple[dict, ...]:
     return tuple(rows)
 
 
-def _numbers(streams, sensor):
+def _numbers(streams: list[Stream], sensor: str) -> list[int]:
     return sorted({s.instance for s in streams if s.sensor == sensor})
 
 

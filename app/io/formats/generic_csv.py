@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -310,7 +311,7 @@ def _refuse_a_bad_first_line(lines: list[str], name: str, start: int = 0) -> Non
         )
 
 
-def map_columns(names: list[str]) -> tuple[dict, int | None, float | None, dict]:
+def map_columns(names: list[str]) -> tuple[dict[str, dict[str, int]], int | None, float | None, dict[str, str]]:
     """Find the sensor, time and index columns; returns (channels, time column, time scale, units)."""
     channels: dict[str, dict[str, int]] = {}
     units: dict[str, str] = {}
@@ -404,7 +405,7 @@ def temperature_column(names: list[str]) -> int | None:
 _UNIT_IN_NAME = re.compile(r"[\(\[]([^\)\]]*)[\)\]]")
 
 
-def mapped_units(names: list[str], column_map: dict | None) -> dict:
+def mapped_units(names: list[str], column_map: dict[str, str] | None) -> dict[str, str]:
     """The units a header names per sensor, the columns of ``column_map`` keeping the unit their own name
     gives (``x (rad/s)`` mapped to ``gyr_x`` is in rad/s)."""
     units = map_columns(renamed(names, column_map))[3]
@@ -417,7 +418,7 @@ def mapped_units(names: list[str], column_map: dict | None) -> dict:
     return units
 
 
-def renamed(names: list[str], column_map: dict | None) -> list[str]:
+def renamed(names: list[str], column_map: dict[str, str] | None) -> list[str]:
     """The header with the columns of ``column_map`` (canonical name → file column) renamed."""
     if not column_map:
         return names
@@ -438,9 +439,9 @@ def read_csv_log(
     path: Path,
     *,
     sampling_rate_hz: float | None = None,
-    units: dict | None = None,
+    units: dict[str, str] | None = None,
     name: str = "the file",
-    column_map: dict | None = None,
+    column_map: dict[str, str] | None = None,
     column_names: list[str] | None = None,
 ) -> LogData:
     """Read a generic CSV log into arrays, its units as the caller or the header name them.
@@ -519,7 +520,7 @@ def read_csv_log(
     try:
         time_s = _time_seconds(time, time_scale, None if time_col is None else names[time_col], sampling_rate_hz, notes)
     except LogFormatError as exc:
-        if not (layout.headerless and column_names is None and time is not None):
+        if not (layout.headerless and column_names is None and time is not None and time_col is not None):
             raise
         other = ",".join(SKIP if c == time_col else n for c, n in enumerate(names))
         raise LogFormatError(
@@ -552,7 +553,7 @@ def read_csv_log(
     )
 
 
-def _refuse_text_block(text: str, layout, name: str) -> None:
+def _refuse_text_block(text: str, layout: Layout, name: str) -> None:
     """Refuse a header row's table whose cell holds a block of text over several lines: no mapping reads it."""
     block = None if layout.headerless else text_block_cell(text, layout.delimiter, layout.skip_lines, layout.names)
     if block is not None:
@@ -568,7 +569,7 @@ _NUMBER = re.compile(r"^[+-]?(?:\d+[.,]?\d*|[.,]\d+)(?:[eE][+-]?\d+)?$")
 _CELLS = re.compile(r"[\s;,\t]+")
 
 
-def _refuse_words(text: str, layout, name: str) -> None:
+def _refuse_words(text: str, layout: Layout, name: str) -> None:
     """Refuse a file whose lines after its header hold not one number (a sketch, a table of words): no columns
     mapping can read numbers that are not there, so the columns' question would be a dead end. (A table of
     numbers whose header names too few axes is the header's to refuse: it says what is missing.)"""
@@ -586,7 +587,9 @@ def _refuse_words(text: str, layout, name: str) -> None:
     )
 
 
-def _mapped_layout(path: Path, layout, column_map: dict | None, column_names: list[str] | None, name: str):
+def _mapped_layout(
+    path: Path, layout: Layout, column_map: dict[str, str] | None, column_names: list[str] | None, name: str
+) -> tuple[Layout, dict[str, dict[str, int]], int | None, float | None]:
     """The table's layout (its columns named from the data when its header names no sensor), the sensors'
     columns, the time column and the time's scale (:func:`map_columns`)."""
     names = layout.names
@@ -612,7 +615,13 @@ def _mapped_layout(path: Path, layout, column_map: dict | None, column_names: li
     return layout, channels, time_col, time_scale
 
 
-def _time_seconds(time, time_scale: float | None, column: str | None, sampling_rate_hz: float | None, notes: list[str]):
+def _time_seconds(
+    time: np.ndarray | None,
+    time_scale: float | None,
+    column: str | None,
+    sampling_rate_hz: float | None,
+    notes: list[str],
+) -> np.ndarray | None:
     """Seconds since the first sample from the time column (None without one, or when its unit is unclear and
     the rate was given: a note says so); its unit from its step when the header does not name it."""
     if time is None or len(time) < 2:
@@ -626,7 +635,8 @@ def _time_seconds(time, time_scale: float | None, column: str | None, sampling_r
                 raise
             notes.append(f"time column {column!r} not used: its unit is unclear and sampling_rate_hz was given")
     if time_scale is not None:
-        return (time - time[0]) * time_scale
+        seconds: np.ndarray = (time - time[0]) * time_scale
+        return seconds
     return None
 
 
@@ -701,7 +711,7 @@ _RATE_COMMENT = re.compile(
 )
 """A rate stated before the table: HyperIMU's ``@ … Sampling Rate:50ms``, PicoQuake's ``# Config: data_rate =
 2000.0 Hz``, a logger's ``Fs,100`` line (a rate's name without a unit is in Hz)."""
-_RATE_HZ = {"ms": lambda v: 1000.0 / v, "hz": lambda v: v}
+_RATE_HZ: dict[str, Callable[[float], float]] = {"ms": lambda v: 1000.0 / v, "hz": lambda v: v}
 
 
 def rate_from_comments(lines: list[str]) -> float | None:
@@ -739,7 +749,7 @@ def detect_csv(s: Sniff) -> bool:
     return not s.is_zip
 
 
-def header_units(text: str, column_map: dict | None = None) -> dict:
+def header_units(text: str, column_map: dict[str, str] | None = None) -> dict[str, str]:
     """The units a header row names per sensor (``acc_x (g)`` …), its columns mapped by ``column_map``
     (:func:`mapped_units`); empty when it names none."""
     try:
@@ -753,46 +763,76 @@ def read_csv(
     path: Path,
     s: Sniff,
     *,
-    sampling_rate_hz=None,
-    units=None,
-    name="the file",
-    lsb_per_g=None,
-    fmt: str = CSV,
-    column_map: dict | None = None,
-    column_names: list[str] | None = None,
-    **_,
+    sampling_rate_hz: float | None = None,
+    units: dict[str, str] | None = None,
+    columns: dict[str, str] | list[str] | None = None,
+    name: str = "the file",
 ) -> LogData:
     """Read a generic CSV log, its units as the caller or the header name them (settled from the data
-    by :func:`app.io.formats.units.settle_units`)."""
-    units = units or {}
+    by :func:`app.io.formats.units.settle_units`).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head (unused: the table's layout is read from the file itself).
+    sampling_rate_hz : float, optional
+        The caller's rate: a time column whose unit is unclear is then left out (:func:`read_csv_log`).
+    units : dict, optional
+        The caller's units by sensor, over the header's.
+    columns : dict or list of str, optional
+        The caller's columns as :func:`app.io.formats.parse_columns` gives them: a mapping of canonical
+        names to the header's (``{"acc_x": "north"}``), or one name per column.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Its samples, ``format`` ``csv``.
+    """
     log = read_csv_log(
         path,
         sampling_rate_hz=sampling_rate_hz,
-        units=units,
+        units=units or {},
         name=name,
-        column_map=column_map,
-        column_names=column_names,
+        column_map=columns if isinstance(columns, dict) else None,
+        column_names=columns if isinstance(columns, list) else None,
     )
-    return dataclasses.replace(log, format=fmt)
+    return dataclasses.replace(log, format=CSV)
 
 
 def read_arduino(
-    path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", lsb_per_g=None, **kw
+    path: Path,
+    s: Sniff,
+    *,
+    sampling_rate_hz: float | None = None,
+    units: dict[str, str] | None = None,
+    columns: dict[str, str] | list[str] | None = None,
+    name: str = "the file",
 ) -> LogData:
-    """Read Arduino output: Serial Plotter ``label:value`` lines, or a CSV with an ``lsb_per_g`` comment."""
+    """Read Arduino output: Serial Plotter ``label:value`` lines, or a CSV with an ``lsb_per_g`` comment.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head: Serial Plotter lines, or else a CSV read by :func:`read_csv`.
+    sampling_rate_hz, units, columns, name
+        As :func:`read_csv`'s (Serial Plotter lines read only ``units`` and ``name``: their labels name the
+        columns, and they carry no time).
+
+    Returns
+    -------
+    LogData
+        Its samples, ``format`` ``arduino``.
+    """
     data = _data_lines(s.lines)
     if not (data and _PLOTTER_LINE.match(data[0])):
-        return read_csv(
-            path,
-            s,
-            sampling_rate_hz=sampling_rate_hz,
-            units=units,
-            name=name,
-            lsb_per_g=lsb_per_g,
-            fmt=ARDUINO,
-            column_map=kw.get("column_map"),
-            column_names=kw.get("column_names"),
-        )
+        log = read_csv(path, s, sampling_rate_hz=sampling_rate_hz, units=units, columns=columns, name=name)
+        return dataclasses.replace(log, format=ARDUINO)
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
     first = {k.strip(): v for k, v in _PLOTTER_PAIR.findall(data[0])}

@@ -64,8 +64,26 @@ def _records(
     return arr[:, 0], arr[:, 1:]
 
 
-def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
-    """Read the uncalibrated accelerometer (and gyroscope, magnetometer) lines of a GnssLogger file."""
+def read(path: Path, s: Sniff, *, units: dict[str, str] | None = None, name: str = "the file") -> LogData:
+    """Read the uncalibrated accelerometer (and gyroscope, magnetometer) lines of a GnssLogger file.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head (unused: the file is read whole).
+    units : dict, optional
+        The caller's units by sensor, over the format's (the records'); the rate, the counts and the sign are
+        :func:`app.io.formats.read_log`'s.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Each sensor's samples on the accelerometer's times, ``format`` ``gnss_logger``.
+    """
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = f.read().splitlines()
     layouts = _layouts(lines)

@@ -88,7 +88,7 @@ class GyroEvidence:
     unit: str | None
     words: str
     offset: float
-    turn_errors: dict
+    turn_errors: dict[str, float]
     moves: int
     firm: bool = True
     """Whether the evidence may overrule a unit the header or the caller stated: the turns between rests,
@@ -143,13 +143,16 @@ def rotate_back(q: np.ndarray, v: np.ndarray) -> np.ndarray:
 def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     a = a / np.linalg.norm(a, axis=-1, keepdims=True)
     b = b / np.linalg.norm(b, axis=-1, keepdims=True)
-    return np.degrees(np.arccos(np.clip(np.sum(a * b, axis=-1), -1.0, 1.0)))
+    angle: np.ndarray = np.degrees(np.arccos(np.clip(np.sum(a * b, axis=-1), -1.0, 1.0)))
+    return angle
 
 
-def turn_errors(gyr: np.ndarray, ref: np.ndarray, runs: list, dt: np.ndarray, scales: dict) -> tuple[dict, int]:
+def turn_errors(
+    gyr: np.ndarray, ref: np.ndarray, runs: list[tuple[int, int]], dt: np.ndarray, scales: dict[str, float]
+) -> tuple[dict[str, float], int]:
     """The median angle (degrees) by which each scale's integral misses the next rest's direction of
     ``ref`` (gravity), over the moves between consecutive rests that turn it by 20° or more."""
-    errs: dict[str, list] = {k: [] for k in scales}
+    errs: dict[str, list[float]] = {k: [] for k in scales}
     factors = np.array(list(scales.values()))
     for (a1, b1), (a2, b2) in itertools.pairwise(runs):
         g1, g2 = ref[a1:b1].mean(axis=0), ref[a2:b2].mean(axis=0)
@@ -167,8 +170,8 @@ def turn_errors(gyr: np.ndarray, ref: np.ndarray, runs: list, dt: np.ndarray, sc
 
 
 def window_turn_errors(
-    gyr: np.ndarray, ref: np.ndarray, dt: np.ndarray, fs: float, scales: dict
-) -> tuple[dict, int, float]:
+    gyr: np.ndarray, ref: np.ndarray, dt: np.ndarray, fs: float, scales: dict[str, float]
+) -> tuple[dict[str, float], int, float]:
     """The median angle (degrees) by which each scale's integral over a half-second window of motion misses
     the turn of gravity's direction across it, the number of windows that turn it by 10°–90°, and their
     median turn. No rest is needed: a phone turned in the hand the whole time shows its scale so (the
@@ -198,7 +201,7 @@ def window_turn_errors(
     return {key: float(np.median(e)) for key, e in zip(scales, errors)}, len(starts), float(np.median(turn))
 
 
-def _decided(errors: dict, plausible: dict | None = None) -> tuple[str, float, str] | None:
+def _decided(errors: dict[str, float], plausible: dict[str, bool] | None = None) -> tuple[str, float, str] | None:
     """The scale whose integral lands within 10° of gravity's turns while every other misses by twice that and
     10° more (and the offset rules it out no more), with its error and the others' words; else None."""
     if not errors:
@@ -211,7 +214,9 @@ def _decided(errors: dict, plausible: dict | None = None) -> tuple[str, float, s
     return None
 
 
-def _by_windows(gyr: np.ndarray, ref: np.ndarray | None, dt: np.ndarray | None, fs: float | None, scales: dict):
+def _by_windows(
+    gyr: np.ndarray, ref: np.ndarray | None, dt: np.ndarray | None, fs: float | None, scales: dict[str, float]
+) -> GyroEvidence | None:
     """The evidence of half-second windows of motion (:func:`window_turn_errors`), or None where they decide
     nothing: too few windows, or a right scale that does not land within a third of the turn."""
     if ref is None or len(ref) != len(gyr) or dt is None:
@@ -334,7 +339,8 @@ def gyro_evidence(
             by_turns=True,
         )
     windows = _by_windows(gyr, ref, dt, fs, scales)
-    if windows is not None and by_offset[windows.unit]:  # a hand's tremor at a "rest" is no sensor's noise
+    # a hand's tremor at a "rest" is no sensor's noise (the windows' evidence always names a unit)
+    if windows is not None and windows.unit is not None and by_offset[windows.unit]:
         return dataclasses.replace(windows, offset=off)
     left = [k for k, ok in plausible.items() if ok]
     if len(left) == 1 and not whole:

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from collections.abc import Iterable
 
 from ..errors import LogFormatError
 from ..log import LogData
@@ -35,7 +36,7 @@ def _compact(name: str) -> str:
     return re.sub(r"[^a-z]", "", name.lower().split("(")[0])
 
 
-def core_motion_columns(columns) -> list[str]:
+def core_motion_columns(columns: Iterable[str] | None) -> list[str]:
     """The columns whose names are Core Motion's (SensorLog's, or ``userAcceleration``/``gravity``)."""
     compact = [(c, _compact(str(c))) for c in columns or ()]
     found = [c for c, k in compact if _CORE_MOTION.match(k)]
@@ -44,7 +45,7 @@ def core_motion_columns(columns) -> list[str]:
     return found
 
 
-def check_sign(sign) -> int | None:
+def check_sign(sign: object) -> int | None:
     """``sign`` as +1 or −1 (None when not given).
 
     Raises

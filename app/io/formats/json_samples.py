@@ -14,12 +14,11 @@ What is not an array of samples is refused, naming what the file holds.
 from __future__ import annotations
 
 import csv
-import dataclasses
 import json
 import math
-import tempfile
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TypeGuard
+from typing import Any, TypeGuard
 
 from ..errors import LogFormatError
 from .table import Sniff
@@ -35,7 +34,7 @@ def detect(s: Sniff) -> bool:
     return not s.is_zip and s.text.lstrip()[:1] in ("[", "{")
 
 
-def _flat(sample: dict, prefix: str = "") -> dict:
+def _flat(sample: dict[str, Any], prefix: str = "") -> dict[str, Any]:
     out = {}
     for key, value in sample.items():
         column = f"{prefix}{key}"
@@ -46,11 +45,11 @@ def _flat(sample: dict, prefix: str = "") -> dict:
     return out
 
 
-def _number(value) -> TypeGuard[int | float]:
+def _number(value: object) -> TypeGuard[int | float]:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def _samples(data, name: str) -> tuple[list, str]:
+def _samples(data: object, name: str) -> tuple[list[Any], str]:
     """The array of samples in ``data`` and where it was."""
     if isinstance(data, list):
         return data, "the top-level array"
@@ -80,7 +79,7 @@ def _samples(data, name: str) -> tuple[list, str]:
     )
 
 
-def to_table(data, name: str) -> tuple[list[str] | None, list[list[float]], str]:
+def to_table(data: object, name: str) -> tuple[list[str] | None, list[list[float]], str]:
     """The header (None for lists of numbers), the rows and a note saying what was read.
 
     Raises
@@ -138,8 +137,52 @@ def to_table(data, name: str) -> tuple[list[str] | None, list[list[float]], str]
     )
 
 
-def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
-    """Read a JSON array of samples as the table it is (``read_table(path, name)`` reads the table)."""
+@dataclass(frozen=True)
+class Samples:
+    """A JSON file's samples as the table they make, which :func:`app.io.formats.read_log` then reads as a CSV
+    file (:func:`write_table`), the columns, the time and the units decided exactly as for one.
+
+    Attributes
+    ----------
+    header : list of str or None
+        The columns' names (None: lists of numbers, a table without a header row).
+    rows : list of list
+        One row of numbers per sample.
+    note : str
+        What was read (where the array was, how many samples, which keys), the log's first note.
+    format : str or None
+        The format the log is then named by (the Betaflight configurator's tumble: ``betaflight_mag``); None keeps
+        the format its table is read in.
+    """
+
+    header: list[str] | None
+    rows: list[list[float]]
+    note: str
+    format: str | None = None
+
+
+def read(path: Path, s: Sniff, *, name: str = "the file") -> Samples:
+    """Read a JSON array of samples as the table it is.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head (unused: the file is parsed whole).
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    Samples
+        Its rows, for :func:`app.io.formats.read_log` to read as a CSV table.
+
+    Raises
+    ------
+    LogFormatError
+        A file over :data:`MAX_BYTES`, not UTF-8, not JSON, or holding no array of samples (:func:`to_table`).
+    """
     if path.stat().st_size > MAX_BYTES:
         raise LogFormatError(
             f"{name} is a JSON file over {MAX_BYTES >> 20} MiB: save a recording this long as CSV", status=413
@@ -156,18 +199,16 @@ def read(path: Path, s: Sniff, *, name: str = "the file", read_table=None, **_):
             f"{exc.msg}; save it again whole (the file may be cut short)"
         ) from None
     header, rows, note = to_table(data, name)
-    log = read_rows(header, rows, name, read_table)
-    return dataclasses.replace(log, notes=(note,) + tuple(log.notes))
+    return Samples(header, rows, note)
 
 
-def read_rows(header: list[str] | None, rows, name: str, read_table):
-    """Rows of numbers (a header of column names, or None) read as the CSV table they make, by ``read_table(path,
-    name)``: the columns, the time and the units decided exactly as for a CSV file."""
-    with tempfile.TemporaryDirectory(prefix="trical-json-") as tmp:
-        table = Path(tmp) / "samples.csv"
-        with open(table, "w", newline="", encoding="utf-8") as f:
-            writer = csv.writer(f)
-            if header:
-                writer.writerow(header)
-            writer.writerows([repr(v) for v in row] for row in rows)
-        return read_table(table, name)
+def write_table(samples: Samples, folder: Path) -> Path:
+    """Write the rows of ``samples`` as the CSV table they make (its header row when they have one) in ``folder``,
+    where :func:`app.io.formats.read_log` reads it; its path."""
+    table = Path(folder) / "samples.csv"
+    with open(table, "w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f)
+        if samples.header:
+            writer.writerow(samples.header)
+        writer.writerows([repr(v) for v in row] for row in samples.rows)
+    return table

@@ -56,8 +56,26 @@ def detect(s: Sniff) -> bool:
     return found is not None and _is_phyphox_header(found[2])
 
 
-def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
-    """Read a phyphox CSV or zip export."""
+def read(path: Path, s: Sniff, *, units: dict[str, str] | None = None, name: str = "the file") -> LogData:
+    """Read a phyphox CSV or zip export.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file (a CSV, or the zip export).
+    s : Sniff
+        Its head: its header row, or the zip's members.
+    units : dict, optional
+        The caller's units by sensor, over the format's (the header's); the rate, the counts and the sign are
+        :func:`app.io.formats.read_log`'s.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Its samples on its ``Time (s)``, ``format`` ``phyphox``.
+    """
     notes: list[str] = []
     if s.is_zip:
         member = find_member(s.members, RAW_DATA)

@@ -40,8 +40,26 @@ def _clock_seconds(text: str) -> float:
     return seconds + (int(frac) / 10 ** len(frac) if frac else 0.0)
 
 
-def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
-    """Read a Physics Toolbox CSV: the g-force columns, and gyroscope/magnetometer when present."""
+def read(path: Path, s: Sniff, *, units: dict[str, str] | None = None, name: str = "the file") -> LogData:
+    """Read a Physics Toolbox CSV: the g-force columns, and gyroscope/magnetometer when present.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head (unused: the file is read whole).
+    units : dict, optional
+        The caller's units by sensor, over the format's (g, rad/s, µT); the rate, the counts and the sign are
+        :func:`app.io.formats.read_log`'s.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Its samples on its time column when it reads as seconds or a clock, ``format`` ``physics_toolbox``.
+    """
     data = path.read_bytes()
     lines = data.decode("utf-8-sig", errors="replace").splitlines()
     found = first_row(lines)

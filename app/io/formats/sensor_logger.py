@@ -58,7 +58,7 @@ def detect(s: Sniff) -> bool:
     return _is_sensor_header(first)
 
 
-def read_metadata(data: bytes) -> dict:
+def read_metadata(data: bytes) -> dict[str, str]:
     """``Metadata.csv`` (a header row and one value row) as a dict with lower-case keys."""
     rows = list(csv.reader(io.StringIO(data.decode("utf-8-sig", errors="replace"))))
     rows = [r for r in rows if any(c.strip() for c in r)]
@@ -92,7 +92,7 @@ def _read_sensor(data: bytes, label: str) -> tuple[np.ndarray, np.ndarray, list[
 
 
 def _sign_and_unit(
-    acc: np.ndarray, meta: dict | None, acc_file: str | None, caller_unit: str | None, label: str
+    acc: np.ndarray, meta: dict[str, str] | None, acc_file: str | None, caller_unit: str | None, label: str
 ) -> tuple[float, str, list[str]]:
     """The factor (+1 or −1) and unit of the accelerometer readings, from the data and the metadata."""
     data_unit = infer_acc_unit(acc)
@@ -148,7 +148,7 @@ def _is_magnetometer_file(name: str) -> bool:
 
 
 def _magnetometer_only(
-    time_ns: np.ndarray, mag: np.ndarray, names: list[str], label: str, units: dict, sampling_rate_hz, notes: list[str]
+    time_ns: np.ndarray, mag: np.ndarray, names: list[str], units: dict[str, str], notes: list[str]
 ) -> LogData:
     """A recording of the magnetometer alone (a compass calibration's turn), in µT."""
     time_s = (time_ns - time_ns[0]).astype(float) * 1e-9
@@ -165,8 +165,27 @@ def _magnetometer_only(
     )
 
 
-def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
-    """Read a Sensor Logger per-sensor CSV or the zip of a recording."""
+def read(path: Path, s: Sniff, *, units: dict[str, str] | None = None, name: str = "the file") -> LogData:
+    """Read a Sensor Logger per-sensor CSV or the zip of a recording.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file (a sensor's CSV, or the zip of a recording).
+    s : Sniff
+        Its head: the zip's members.
+    units : dict, optional
+        The caller's units by sensor, over the format's (m/s^2 or g by the data and Metadata.csv, rad/s, µT);
+        the rate, the counts and the sign are :func:`app.io.formats.read_log`'s.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        The accelerometer's samples (or a magnetometer's alone), the others on its times, ``sign`` the iOS
+        flip decided, ``format`` ``sensor_logger``.
+    """
     units = units or {}
     extra: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     if s.is_zip:
@@ -179,9 +198,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         if member is None and mag_member is not None and find_member(s.members, LINEAR_FILE) is None:
             label = f"{mag_member} in {name}"
             time_ns, mag, names = _read_sensor(read_member(path, mag_member, name), label)
-            return _magnetometer_only(
-                time_ns, mag, names, label, units, sampling_rate_hz, [f"read {mag_member} from the Sensor Logger zip"]
-            )
+            return _magnetometer_only(time_ns, mag, names, units, [f"read {mag_member} from the Sensor Logger zip"])
         if member is None:
             raise LogFormatError(
                 f"{name} holds only {LINEAR_FILE}, Sensor Logger's acceleration without gravity (linear "
@@ -209,7 +226,7 @@ def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the f
         meta, member, label = None, None, name
         time_ns, acc, names = _read_sensor(path.read_bytes(), label)
         if _is_magnetometer_file(name):
-            return _magnetometer_only(time_ns, acc, names, label, units, sampling_rate_hz, [])
+            return _magnetometer_only(time_ns, acc, names, units, [])
         notes = []
     sign, unit, sign_notes = _sign_and_unit(acc, meta, member, units.get("acc"), label)
     notes += sign_notes

@@ -43,8 +43,26 @@ NOT_READ = (
 )
 
 
-def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
-    """Read the raw accelerometer (and gyroscope, magnetometer) columns of a SensorLog CSV."""
+def read(path: Path, s: Sniff, *, units: dict[str, str] | None = None, name: str = "the file") -> LogData:
+    """Read the raw accelerometer (and gyroscope, magnetometer) columns of a SensorLog CSV.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head: its header row.
+    units : dict, optional
+        The caller's units by sensor, over the format's (g, rad/s, µT); the rate, the counts and the sign are
+        :func:`app.io.formats.read_log`'s.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Its samples on the accelerometer's timestamps, on Core Motion's sign, ``format`` ``sensorlog``.
+    """
     found = first_row(s.lines)
     if found is None or not detect(s):
         raise LogFormatError(

@@ -14,8 +14,10 @@ import csv
 import io
 import itertools
 import zipfile
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, BinaryIO
 
 import numpy as np
 
@@ -91,10 +93,10 @@ def decode_head(head: bytes, name: str) -> str:
         return head[: exc.start].decode("utf-8-sig")
 
 
-def find_member(members, *names: str) -> str | None:
+def find_member(members: Iterable[str] | None, *names: str) -> str | None:
     """The first member whose base name equals one of ``names`` (case-insensitive), in that order."""
     by_base: dict[str, str] = {}
-    for m in members:
+    for m in members or ():
         by_base.setdefault(m.rsplit("/", 1)[-1].lower(), m)
     for n in names:
         if n.lower() in by_base:
@@ -153,7 +155,7 @@ def listed_columns(names: list[str]) -> str:
     return listed + (f" and {len(names) - MAX_LISTED_COLUMNS} more" if len(names) > MAX_LISTED_COLUMNS else "")
 
 
-def columns_not_read(names: list[str], used, why: str) -> str | None:
+def columns_not_read(names: list[str], used: Iterable[int], why: str) -> str | None:
     """The note naming a header's columns a reader left (none is dropped in silence), and ``why``; None when it
     read them all. A column named ``-`` was left out by the ``columns`` given, and an empty name (a trailing
     separator) names nothing."""
@@ -225,7 +227,7 @@ class _SingleSpaced(io.RawIOBase):
     """A text file whose runs of blanks become one space, with none at a line's ends: what pyarrow's
     one-character delimiter needs to read whitespace-separated columns. Read in blocks, never whole."""
 
-    def __init__(self, source, block_size: int = 1 << 22):
+    def __init__(self, source: BinaryIO, block_size: int = 1 << 22):
         self._source = source
         self._block_size = block_size
         self._pending = b""
@@ -254,7 +256,7 @@ class _SingleSpaced(io.RawIOBase):
             text = text[:-1]
         self._out = memoryview(text)
 
-    def readinto(self, buffer) -> int:
+    def readinto(self, buffer: Any) -> int:
         while not self._out and not self._eof:
             self._fill()
         n = min(len(buffer), len(self._out))
@@ -267,7 +269,7 @@ class _SingleSpaced(io.RawIOBase):
         super().close()
 
 
-def _csv_source(data: bytes | Path, delimiter: str):
+def _csv_source(data: bytes | Path, delimiter: str) -> io.BufferedReader | contextlib.nullcontext[io.BytesIO | str]:
     """What pyarrow reads: the bytes, the file's path (its own reader), or the single-spaced stream."""
     if delimiter == WHITESPACE:
         return io.BufferedReader(_SingleSpaced(io.BytesIO(data) if isinstance(data, bytes) else open(data, "rb")))
@@ -396,7 +398,7 @@ BAD_LINE = "bad_line"
 """The code of a refusal naming a line that is not numbers (its line, its column and its text)."""
 
 
-def _text_lines(data: bytes | Path):
+def _text_lines(data: bytes | Path) -> Iterator[str]:
     if isinstance(data, bytes):
         yield from data.decode("utf-8-sig", errors="replace").splitlines()
         return
@@ -424,7 +426,15 @@ def first_bad_line(
         )
 
 
-def _scan_for_bad_line(data, skip_lines, delimiter, decimal, columns, names, first_line) -> str:
+def _scan_for_bad_line(
+    data: bytes | Path,
+    skip_lines: int,
+    delimiter: str,
+    decimal: str,
+    columns: list[int],
+    names: list[str],
+    first_line: int,
+) -> str:
     for offset, line in enumerate(itertools.islice(_text_lines(data), skip_lines, None)):
         number = first_line + offset
         if not line.strip() or is_comment(line):

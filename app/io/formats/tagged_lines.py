@@ -59,8 +59,26 @@ def detect(s: Sniff) -> bool:
     )
 
 
-def read(path: Path, s: Sniff, *, sampling_rate_hz=None, units=None, name="the file", **_) -> LogData:
-    """Read a log of tagged lines: each sensor's lines one stream, on the accelerometer's times."""
+def read(path: Path, s: Sniff, *, units: dict[str, str] | None = None, name: str = "the file") -> LogData:
+    """Read a log of tagged lines: each sensor's lines one stream, on the accelerometer's times.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file.
+    s : Sniff
+        Its head (unused: the file is read whole).
+    units : dict, optional
+        The caller's units by sensor, over the format's (none stated: the data decide); the rate, the counts
+        and the sign are :func:`app.io.formats.read_log`'s.
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        Each sensor's samples on the accelerometer's times, ``format`` ``tagged``.
+    """
     with open(path, encoding="utf-8-sig", errors="replace") as f:
         lines = [ln for ln in f.read().splitlines() if ln.strip() and not is_comment(ln)]
     streams: dict[str, list[list[float]]] = {}

@@ -28,10 +28,14 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import LogFormatError
+
+if TYPE_CHECKING:  # app.io.log imports this module's Timing
+    from ..log import LogData
 
 JITTER_MAX = 0.2
 """Steps that scatter by more than this fraction of the interval (their standard deviation over
@@ -62,7 +66,7 @@ class Gap:
     t_s: float
     missing_s: float
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {"index": self.index, "t_s": self.t_s, "missing_s": self.missing_s}
 
 
@@ -87,14 +91,14 @@ class Timing:
     source: str
     jitter: float | None = None
     median_step_s: float | None = None
-    gaps: tuple = ()
-    notes: tuple = field(default=())
+    gaps: tuple[Gap, ...] = ()
+    notes: tuple[str, ...] = field(default=())
 
     @property
     def missing_s(self) -> float:
         return float(sum(g.missing_s for g in self.gaps))
 
-    def to_dict(self) -> dict:
+    def to_dict(self) -> dict[str, Any]:
         return {
             "source": self.source,
             "sampling_rate_hz": self.sampling_rate_hz,
@@ -382,7 +386,7 @@ def decide_timing(
     return Timing(rate, source, jitter=jitter, median_step_s=median, gaps=gaps, notes=tuple(notes))
 
 
-def with_timing(log, sampling_rate_hz: float | None = None, name: str = "the file"):
+def with_timing(log: LogData, sampling_rate_hz: float | None = None, name: str = "the file") -> LogData:
     """``log`` (a :class:`~app.io.log.LogData`) with its rate decided by :func:`decide_timing` and the
     notes of that decision; a log whose timing is decided already is returned as it is. A reader
     leaves ``sampling_rate_hz`` None, or sets the rate its file's metadata states."""

@@ -40,6 +40,7 @@ import contextlib
 import functools
 import io
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -73,13 +74,13 @@ PX4Magnetometer …) applied the CAL_* offsets and scales; from it src/lib/senso
 does.  Seen in sample_log_small.ulg (PX4 1.11.2): its external compass's sensor_mag equals vehicle_magnetometer."""
 
 
-def release(ulog) -> tuple[int, int] | None:
+def release(ulog: Any) -> tuple[int, int] | None:
     """PX4's release (major, minor) from the ``ver_sw_release`` information (0xAABBCCTT), None when not logged."""
     v = ulog.msg_info_dict.get("ver_sw_release")
     return ((int(v) >> 24) & 0xFF, (int(v) >> 16) & 0xFF) if v else None
 
 
-def release_before(ulog, version: tuple[int, int]) -> bool:
+def release_before(ulog: Any, version: tuple[int, int]) -> bool:
     r = release(ulog)
     return r is not None and r < version
 
@@ -93,7 +94,7 @@ RELATIVE_INVALID = 0x7FFFFFFF
 """sensor_combined's RELATIVE_TIMESTAMP_INVALID: no sample of that sensor in the message (msg/SensorCombined.msg)."""
 
 
-def combined_mag(data: dict) -> tuple[np.ndarray, np.ndarray] | None:
+def combined_mag(data: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray] | None:
     """``(time_us, gauss)`` of the compass inside an old ``sensor_combined`` (PX4 ≤ 1.8), or None."""
     names = [f"magnetometer_ga[{k}]" for k in range(3)]
     if not set(names) <= set(data):
@@ -107,7 +108,7 @@ def combined_mag(data: dict) -> tuple[np.ndarray, np.ndarray] | None:
     return t[keep], xyz[keep]
 
 
-def _streams(ulog) -> list[Stream]:
+def _streams(ulog: Any) -> list[Stream]:
     streams = []
     for d in ulog.data_list:
         data = d.data
@@ -160,7 +161,7 @@ def _streams(ulog) -> list[Stream]:
     return [s for s in streams if s.n_samples]
 
 
-def _vehicle_magnetometer(ulog) -> list[Stream]:
+def _vehicle_magnetometer(ulog: Any) -> list[Stream]:
     """The compasses of ``vehicle_magnetometer`` (calibrated, body frame), for a log whose compass is logged
     nowhere else (PX4 1.9 on, with the default profile): each ``multi_id`` an instance."""
     found = []
@@ -183,7 +184,7 @@ def _vehicle_magnetometer(ulog) -> list[Stream]:
 
 
 @functools.lru_cache(maxsize=1)
-def _parsed(path: str, size: int, mtime_ns: int):
+def _parsed(path: str, size: int, mtime_ns: int) -> tuple[Any, str]:
     """pyulog's parse of a file's :data:`TOPICS` and :data:`CONTEXT_TOPICS`, with what it printed; the last file's
     kept, so that an upload's reading, its GPS fix and the compass from the flight parse it once (a 100 MB log
     takes seconds). Keyed by the file's size and modification time besides its path."""
@@ -195,7 +196,7 @@ def _parsed(path: str, size: int, mtime_ns: int):
     return ulog, said.getvalue()
 
 
-def open_ulog(path, name: str, remedy: str):
+def open_ulog(path: Path | str, name: str, remedy: str) -> tuple[Any, str]:
     """``(ulog, printed)``: the file parsed (:func:`_parsed`); a file pyulog cannot parse is refused with ``remedy``.
 
     Raises
@@ -221,9 +222,29 @@ def read(
     mag_instance: int | None = None,
     clock: str = "imu",
     name: str = "the file",
-    **_,
 ) -> LogData:
     """Read the IMU instance ``instance`` (and compass ``mag_instance``) of a ULog file.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The log.
+    s : Sniff
+        Its head (its magic: already checked).
+    instance : int, optional
+        The IMU instance read (default: the source with the most samples).
+    mag_instance : int, optional
+        The compass instance read (default the first).
+    clock : {"imu", "mag"}
+        The samples on the IMU's times, or on the compass's with the IMU interpolated onto them
+        (:func:`app.io.formats.flight_log.choose`).
+    name : str
+        How to call the file in messages.
+
+    Returns
+    -------
+    LogData
+        The chosen sensors on one clock, ``flight`` listing every instance, ``format`` ``ulog``.
 
     Raises
     ------

@@ -15,6 +15,7 @@ not known to be the field: it holds the hard iron).
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -141,7 +142,7 @@ class Claim:
         return f"{self.by} said {self.unit}"
 
 
-def _claim(sensor: str, given: dict, stated: dict, stated_by: str) -> Claim:
+def _claim(sensor: str, given: dict[str, str], stated: dict[str, str], stated_by: str) -> Claim:
     if given.get(sensor):
         return Claim(given[sensor], f"{sensor}_unit")
     if stated.get(sensor):
@@ -152,11 +153,11 @@ def _claim(sensor: str, given: dict, stated: dict, stated_by: str) -> Claim:
 def settle_units(
     log: LogData,
     *,
-    given: dict | None = None,
-    stated: dict | None = None,
+    given: dict[str, str] | None = None,
+    stated: dict[str, str] | None = None,
     lsb_per_g: float | None = None,
     lsb_source: str = "lsb_per_g",
-    chips: dict | None = None,
+    chips: dict[str, Chip] | None = None,
     stated_by: str = "the header",
     check_mag: bool = True,
     name: str = "the file",
@@ -199,9 +200,9 @@ def settle_units(
     given, stated, chips = dict(given or {}), dict(stated or {}), dict(chips or {})
     notes: list[str] = []
     warns: list[str] = []
-    questions: list[dict] = []
+    questions: list[dict[str, Any]] = []
     units = dict(log.units)
-    arrays = {}
+    arrays: dict[str, Any] = {}
     for sensor, chip in chips.items():
         if getattr(log, sensor) is None:
             notes.append(f"chip {chip.name} is for the {SENSOR_WORDS[sensor]}, which the file does not have: not used")
@@ -264,7 +265,9 @@ def settle_units(
     )
 
 
-def _scale(before, after, sensor: str, chip: Chip | None, given_by: str | None = None) -> dict | None:
+def _scale(
+    before: np.ndarray, after: np.ndarray, sensor: str, chip: Chip | None, given_by: str | None = None
+) -> dict[str, Any] | None:
     """How the file's numbers became the sensor's unit (:attr:`app.io.log.LogData.scales`), or None where they
     were in it: the factor of the largest reading, a magnetometer's as µT per number (× 0.15, × 100), the
     others' as numbers per unit (÷ 16384 counts per g, ÷ 131 per °/s), with the part, the option that gave it
@@ -297,7 +300,17 @@ def _refuse_scale_and_unit(sensor: str, claim: Claim, scale: str) -> None:
         )
 
 
-def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | None, notes, warns, name):
+def _settle_acc(
+    acc: np.ndarray,
+    unit: str | None,
+    claim: Claim,
+    lsb_per_g: float | None,
+    lsb_source: str,
+    chip: Chip | None,
+    notes: list[str],
+    warns: list[str],
+    name: str,
+) -> tuple[np.ndarray, str | None]:
     norm = median_norm(acc) if len(acc) else 0.0
     inferred = infer_acc_unit(acc) if len(acc) else None
     if chip is not None and lsb_per_g is not None and abs(lsb_per_g * chip.scale - 1.0) > 1e-9:
@@ -341,7 +354,16 @@ def _settle_acc(acc, unit, claim: Claim, lsb_per_g, lsb_source, chip: Chip | Non
     return acc, unit
 
 
-def _acc_by_scale(acc, norm: float, inferred, claim: Claim, lsb_per_g, lsb_source, chip: Chip | None, notes):
+def _acc_by_scale(
+    acc: np.ndarray,
+    norm: float,
+    inferred: str | None,
+    claim: Claim,
+    lsb_per_g: float | None,
+    lsb_source: str,
+    chip: Chip | None,
+    notes: list[str],
+) -> tuple[np.ndarray, str | None]:
     """Accelerometer counts divided by the counts per g a chip or ``lsb_per_g`` gives, into g; refused when the
     readings are not counts, or rest far from 1 g with that scale."""
     if lsb_per_g is not None:
@@ -377,7 +399,7 @@ def _acc_by_scale(acc, norm: float, inferred, claim: Claim, lsb_per_g, lsb_sourc
     return acc / lsb, "g"
 
 
-def _acc_counts(acc, norm: float, claim: Claim, warns):
+def _acc_counts(acc: np.ndarray, norm: float, claim: Claim, warns: list[str]) -> tuple[np.ndarray, str | None]:
     """Accelerometer readings that are counts of an ADC (median norm over 50) with no scale given: divided
     into g by the common sensitivity they fit, else left in counts; a warning says which."""
     if claim.by == "acc_unit" and claim.unit == "raw":
@@ -404,7 +426,19 @@ def _acc_counts(acc, norm: float, claim: Claim, warns):
     return acc, "raw"
 
 
-def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questions, *, acc=None, fs=None, time_s=None):
+def _settle_gyr(
+    gyr: np.ndarray,
+    unit: str | None,
+    claim: Claim,
+    chip: Chip | None,
+    notes: list[str],
+    warns: list[str],
+    questions: list[dict[str, Any]],
+    *,
+    acc: np.ndarray | None = None,
+    fs: float | None = None,
+    time_s: np.ndarray | None = None,
+) -> tuple[np.ndarray, str | None]:
     if chip is not None:
         _refuse_scale_and_unit("gyr", claim, f"chip {chip.name}")
         notes.append(f"gyroscope counts times {chip.scale:.6g} °/s per count (chip {chip.name}) into deg/s")
@@ -470,7 +504,9 @@ def _settle_gyr(gyr, unit, claim: Claim, chip: Chip | None, notes, warns, questi
     return gyr, unit
 
 
-def _settle_mag(mag, unit, claim: Claim, chip: Chip | None, check: bool, notes, warns):
+def _settle_mag(
+    mag: np.ndarray, unit: str | None, claim: Claim, chip: Chip | None, check: bool, notes: list[str], warns: list[str]
+) -> tuple[np.ndarray, str | None]:
     if chip is not None:
         _refuse_scale_and_unit("mag", claim, f"chip {chip.name}")
         out = mag * chip.scale
