@@ -11,7 +11,7 @@ import numpy as np
 from app.calibration.gravity import STANDARD_GRAVITY
 
 if TYPE_CHECKING:  # the readers' package imports this module
-    from .formats.flight_log import FlightInfo
+    from .flight.instances import FlightInfo
     from .formats.timing import Timing
 
 AccUnit = Literal["m/s^2", "g", "raw"]
@@ -87,7 +87,7 @@ class LogData:
         gauss); a sensor absent from
         it was read in its unit. None where the reader states its units (a flight log, an array): no board's
         driver gives its numbers. What a snippet scales a driver's readings by (app.io.snippets).
-    flight : app.io.formats.flight_log.FlightInfo or None
+    flight : app.io.flight.instances.FlightInfo or None
         A flight controller's log (PX4 ULog, ArduPilot DataFlash): every sensor instance it holds, the
         IMU and compass read, and the clock the samples are on; None for other logs.
     sign : int

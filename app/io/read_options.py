@@ -38,7 +38,7 @@ class ReadOptions:
         first); an instance the log lacks is refused naming those it has.
     clock : {"imu", "mag"}
         A flight controller's log: the samples on the IMU's times (no compass), or on the compass's
-        with the IMU interpolated onto them (what the compass methods read; :mod:`app.io.formats.flight_log`).
+        with the IMU interpolated onto them (what the compass methods read; :mod:`app.io.flight.instances`).
     """
 
     format: str = "auto"

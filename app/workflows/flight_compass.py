@@ -1,6 +1,6 @@
 """The compass calibrated from a flight: a flight controller's log, its attitude and the Earth's field.
 
-Reads the compass of a stored PX4 or ArduPilot log with its context (:func:`app.io.flight_context.
+Reads the compass of a stored PX4 or ArduPilot log with its context (:func:`app.io.flight.compass.
 read_flight_compass`: the raw readings, the firmware's own field, the attitude, the current or throttle,
 the place and date of the first GPS fix), turns the geomagnetic model's field there (IGRF, app.geomag) into
 the body frame with the attitude at each compass sample, ``e = C_nbᵀ B_ned``, and fits the compass to it
@@ -22,7 +22,7 @@ from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource
 
 if TYPE_CHECKING:
-    from app.io.flight_context import FlightCompassLog
+    from app.io.flight.context import FlightCompassLog
 
 
 def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -182,7 +182,7 @@ def fly(request: Any, recording: RecordingSource, instance: int | None, notes: l
     from app.calibration.magnetometer import fit_flight_compass
     from app.calibration.magnetometer.flight import MAX_FIT_SAMPLES, thinning
     from app.geomag import GeomagneticRangeError, reference_field
-    from app.io.flight_context import read_flight_compass
+    from app.io.flight.compass import read_flight_compass
 
     log = read_flight_compass(
         recording.path,

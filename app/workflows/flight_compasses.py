@@ -22,7 +22,7 @@ from app.workflows.flight_compass import Flown, fly
 from app.workflows.recordings import RecordingSource
 
 if TYPE_CHECKING:
-    from app.io.flight_context import FirmwareCompassCal
+    from app.io.flight.context import FirmwareCompassCal
 
 MAX_ORIENTATION_LEFT_DEG = 5.0
 """A mounting is named for re-orienting only where the rotation found lies within 5° of it (the flight fit's own
@@ -116,7 +116,7 @@ def _row(flown: Flown) -> dict[str, Any]:
 
 
 def _refused_row(recording: RecordingSource, instance: int, error: Exception) -> dict[str, Any]:
-    from app.io.flight_context import read_flight_compass
+    from app.io.flight.compass import read_flight_compass
 
     try:
         switch = read_flight_compass(recording.path, mag_instance=instance).stored.switch

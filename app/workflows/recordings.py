@@ -132,10 +132,10 @@ def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path
 
 def flight_fix(path: Path, options: ReadOptions | None) -> dict[str, Any] | None:
     """A flight controller's log's first 3-D GPS fix (``latitude_deg``, ``longitude_deg``, ``date``) as its compass
-    is read (app.io.flight_context), or None: no fix, no compass, or a log whose compass cannot be read (the
+    is read (app.io.flight.context), or None: no fix, no compass, or a log whose compass cannot be read (the
     compass from the flight then says why)."""
     from app.io.errors import LogFormatError
-    from app.io.flight_context import read_flight_compass
+    from app.io.flight.compass import read_flight_compass
 
     try:
         log = read_flight_compass(path, mag_instance=(options or ReadOptions()).mag_instance)
@@ -339,7 +339,7 @@ class RecordingSource:
 
     def read(self, clock: str | None = None) -> LogData:
         """The recording's samples as stored; ``clock="mag"`` reads a flight controller's log on its compass's
-        clock (app.io.formats.flight_log), which the compass methods ask for (other logs are read as stored)."""
+        clock (app.io.flight.instances), which the compass methods ask for (other logs are read as stored)."""
         flight = self.meta.get("flight")
         if clock is not None and (flight is None or flight.get("clock", "imu") == clock):
             clock = None

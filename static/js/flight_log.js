@@ -1,5 +1,5 @@
 // A flight controller's log on the upload page (PX4 ULog, ArduPilot DataFlash): fills its section with the sensor
-// instances it holds (app.io.formats.flight_log, the recording's `flight`), the IMU and compass read, the
+// instances it holds (app.io.flight.instances, the recording's `flight`), the IMU and compass read, the
 // temperature over the log, and whether the range allows a temperature calibration; the plot itself is a pure
 // function.
 

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
+from app.io.flight.instances import decode_device_id
 from app.io.formats import read_log
-from app.io.formats.flight_log import decode_device_id
 from app.io.read_options import ReadOptions
 from tests.flight_logs import (
     GYR_BIAS,

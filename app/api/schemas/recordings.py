@@ -166,7 +166,7 @@ class FixOut(BaseModel):
 
 
 class FlightOut(BaseModel):
-    """What a flight controller's log holds, and what was read of it (app.io.formats.flight_log)."""
+    """What a flight controller's log holds, and what was read of it (app.io.flight.instances)."""
 
     instances: list[InstanceOut]
     imu: dict[str, Any] = Field(description="The IMU read: instance, source, gyr_source.")

@@ -9,9 +9,9 @@ without gravity (linear acceleration) is refused with that reason.
 ========================  =====================================================================
 format                    recognised by
 ========================  =====================================================================
-``ulog``                  PX4's ULog: the file header ``ULog`` 0x01 0x12 0x35 (:mod:`.ulog`, pyulog)
-``dataflash``             ArduPilot's DataFlash ``.bin``: a first message 0xA3 0x95 0x80, FMT (:mod:`.dataflash`,
-                          pymavlink)
+``ulog``                  PX4's ULog: the file header ``ULog`` 0x01 0x12 0x35 (:mod:`app.io.flight.ulog`, pyulog)
+``dataflash``             ArduPilot's DataFlash ``.bin``: a first message 0xA3 0x95 0x80, FMT
+                          (:mod:`app.io.flight.dataflash`, pymavlink)
 ``phyphox``               zip holding ``Raw Data.csv``; header ``"Time (s)","Acceleration x (m/s^2)"…``
 ``sensor_logger``         zip holding ``Metadata.csv``; header ``time,seconds_elapsed,z,y,x``
 ``gnss_logger``           lines ``UncalAccel,…`` (or the ``# UncalAccel,…`` header)
@@ -26,7 +26,7 @@ format                    recognised by
 ========================  =====================================================================
 
 A flight controller's log holds several IMU and compass instances: ``instance`` and ``mag_instance``
-choose them, and ``clock`` which sensor's times the samples are on (:mod:`.flight_log`).
+choose them, and ``clock`` which sensor's times the samples are on (:mod:`app.io.flight.instances`).
 
 Then the sign (:mod:`.ios_sign`): the caller's ``sign`` (+1 keeps, −1 negates the accelerations),
 else −1 for a log whose header names Core Motion's columns in g (a note says so), else what the
@@ -40,11 +40,12 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import LogFormatError
+from ..flight import dataflash, ulog
+from ..flight.instances import CLOCKS
 from ..log import LogData
 from ..read_options import ReadOptions
 from . import (
     betaflight_mag,
-    dataflash,
     generic_csv,
     gnss_logger,
     json_samples,
@@ -53,10 +54,8 @@ from . import (
     sensor_logger,
     sensorlog,
     tagged_lines,
-    ulog,
 )
 from .chips import parse_chips
-from .flight_log import CLOCKS
 from .ios_sign import check_sign, settle_sign
 from .table import SKIP, Sniff, sniff
 from .timing import with_timing
@@ -431,8 +430,8 @@ def starts_like_flight_log(path: Path) -> bool:
 
 
 def read_flight_log(path: Path, options: ReadOptions, *, name: str) -> LogData:
-    """A PX4 ULog or ArduPilot DataFlash log (:mod:`.ulog`, :mod:`.dataflash`): its units and frame are the
-    format's, so the options of text logs (columns, chip, lsb_per_g, units, sign) are refused."""
+    """A PX4 ULog or ArduPilot DataFlash log (:mod:`app.io.flight.ulog`, :mod:`app.io.flight.dataflash`): its units
+    and frame are the format's, so the options of text logs (columns, chip, lsb_per_g, units, sign) are refused."""
     o = options
     own = {"acc": "m/s^2", "gyr": "rad/s", "mag": "uT"}
     other_units = {k: v for k, v in (o.units or {}).items() if own.get(k) != v}

@@ -1,7 +1,7 @@
 """A flight log's compass with its context: raw readings, the firmware's stored calibration, attitude,
 current or throttle, position and date — what a compass fit from a flight needs.
 
-The readers of the two formats (:mod:`.formats.dataflash`, :mod:`.formats.ulog`) give the tables; this
+The readers of the two formats (:mod:`.dataflash`, :mod:`.ulog`) give the tables; this
 module picks the compass instance asked, reads its readings back to *raw* where the firmware logged them
 corrected, and puts every series on one clock: seconds on the flight controller's clock (since its boot:
 ArduPilot's ``TimeUS``/``TimeMS``, PX4's ``timestamp_sample``/``timestamp``), which every message of a log
@@ -39,7 +39,7 @@ The firmwares' formulas, from their sources:
   COMPASS_MOT * thr_or_curr`` (COMPASS_MOTCT 1: throttle 0..1, 2: current in A).  The logger writes the
   corrected field with the offsets (OfsX…, int16, the parameter truncated) and the motor offset applied
   (MOfsX…) — the order is told by COMPASS_PMOT_EN or COMPASS_SCALE in the log's parameters
-  (:data:`.flight_ardupilot.ARDUPILOT_MOTOR_AFTER_MATRIX`); with DIA/ODI the identity or no motor offset both orders are
+  (:data:`.ardupilot.ARDUPILOT_MOTOR_AFTER_MATRIX`); with DIA/ODI the identity or no motor offset both orders are
   the same.
 - PX4, ``calibration::Magnetometer::Correct`` (src/lib/sensor_calibration/Magnetometer.hpp):
   ``rotation * (scale * ((data + power_compensation) - offset))`` in gauss, ``scale`` the symmetric
@@ -52,8 +52,8 @@ The firmwares' formulas, from their sources:
   scales.  The note a reading carries says which (``raw_how``); where sensor_mag is raw and
   vehicle_magnetometer logged, a note gives how far PX4's formula applied to sensor_mag lies from it.
 
-Each firmware's part is its own module (:mod:`.flight_ardupilot`, :mod:`.flight_px4`); this one holds what they
-share and :func:`read_flight_compass`.
+Each firmware's part is its own module (:mod:`.ardupilot`, :mod:`.px4`); this one holds what they share, and
+:func:`.compass.read_flight_compass` reads a log by its firmware's part.
 
 The stored calibration (:class:`FirmwareCompassCal`) keeps each parameter's meaning: ArduPilot's
 COMPASS_OFS (mG, ×0.1 to µT) is *added* to the raw field, PX4's CAL_MAGn_xOFF (gauss, ×100) is
@@ -69,8 +69,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .errors import LogFormatError
-from .formats import dataflash, ulog
+from ..errors import LogFormatError
+from . import dataflash, ulog
 
 MILLIGAUSS_TO_UT = dataflash.MILLIGAUSS_TO_UT
 GAUSS_TO_UT = ulog.GAUSS_TO_UT
@@ -259,46 +259,6 @@ def one_power_clock(current, throttle, notes: list):
         other = throttle if base is current else current
         source += f" ({other[2]} interpolated onto {base[2].split('.')[0]}'s times)"
     return t, onto[0], onto[1], source
-
-
-def read_flight_compass(
-    path, *, mag_instance: int | None = None, name: str = "the file", attitude: str | None = None
-) -> FlightCompassLog:
-    """One compass of a PX4 ULog or ArduPilot DataFlash log, raw, with the flight's context.
-
-    Parameters
-    ----------
-    path : path-like
-    mag_instance : int, optional
-        The compass instance (default the first the log has).
-    name : str
-        How messages name the file.
-    attitude : str, optional
-        The attitude estimate to read: ArduPilot's ATT (default), AHR2, XKF1, NKF1 or EKF1
-        (:data:`.flight_ardupilot.ATTITUDE_MESSAGES`); PX4's vehicle_attitude.
-
-    Raises
-    ------
-    LogFormatError
-        Not a flight log, a damaged file, no compass, an instance the log lacks, or a message without a field
-        trical needs (named).
-    """
-    with open(path, "rb") as f:
-        head = f.read(16)
-    if head.startswith(ulog.MAGIC):
-        from .flight_px4 import read_px4
-
-        with dataflash.unknown_layout(name, "a PX4 ULog"):
-            return read_px4(path, mag_instance, name, attitude)
-    if head.startswith(dataflash.MAGIC):
-        from .flight_ardupilot import read_ardupilot
-
-        with dataflash.unknown_layout(name):
-            return read_ardupilot(path, mag_instance, name, attitude)
-    raise LogFormatError(
-        f"{name} is not a flight controller's log: a compass from a flight reads a PX4 ULog (.ulg) "
-        "or an ArduPilot DataFlash log (.bin)"
-    )
 
 
 CALIBRATION_PREFIXES = (

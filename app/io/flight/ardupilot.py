@@ -1,13 +1,14 @@
-"""ArduPilot's part of :mod:`.flight_context`: a DataFlash log's compass read back to raw, its stored
+"""ArduPilot's part of :mod:`.context`: a DataFlash log's compass read back to raw, its stored
 calibration (COMPASS_*), attitude (ATT, AHR2), current (BAT, CURR), throttle (CTUN) and first GPS fix.
-The formulas and the generations are in :mod:`.flight_context`'s docstring."""
+The formulas and the generations are in :mod:`.context`'s docstring."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .errors import LogFormatError
-from .flight_context import (
+from ..errors import LogFormatError
+from . import dataflash
+from .context import (
     GPS_3D_FIX,
     MILLIGAUSS_TO_UT,
     FirmwareCompassCal,
@@ -17,7 +18,6 @@ from .flight_context import (
     one_power_clock,
     symmetric,
 )
-from .formats import dataflash
 
 ARDUPILOT_SUFFIX = ("", "2", "3")
 ARDUPILOT_MOTOR_AFTER_MATRIX = ("COMPASS_PMOT_EN", "COMPASS_SCALE", "COMPASS_SCALE2", "COMPASS_SCALE3")

@@ -1,7 +1,7 @@
-"""PX4's part of :mod:`.flight_context`: a ULog's compass (sensor_mag, or read back from sensor_combined or
+"""PX4's part of :mod:`.context`: a ULog's compass (sensor_mag, or read back from sensor_combined or
 vehicle_magnetometer), its stored calibration (CAL_MAGn_* matched by device id), attitude (vehicle_attitude),
 current (battery_status), throttle (actuator_controls_0, vehicle_thrust_setpoint) and first GPS fix.
-The formulas and the generations are in :mod:`.flight_context`'s docstring."""
+The formulas and the generations are in :mod:`.context`'s docstring."""
 
 from __future__ import annotations
 
@@ -11,8 +11,9 @@ import numpy as np
 
 from app.calibration.rotations import PX4_EVERY_RELEASE, PX4_ROTATIONS, px4_matrix
 
-from .errors import LogFormatError
-from .flight_context import (
+from ..errors import LogFormatError
+from . import ulog
+from .context import (
     GAUSS_TO_UT,
     GPS_3D_FIX,
     FirmwareCompassCal,
@@ -22,7 +23,6 @@ from .flight_context import (
     quaternion_to_c_nb,
     symmetric,
 )
-from .formats import ulog
 
 KILOAMP_PER_AMP = 1e-3
 """PX4's CAL_MAGn_xCOMP are per kA of battery current (src/modules/sensors/vehicle_magnetometer: current_a * 0.001)."""
@@ -188,7 +188,7 @@ def _px4_position(u, notes):
 
 def _px4_body_instances(u) -> list[int]:
     """The instances of a calibrated body-frame compass, for logs without sensor_mag: sensor_combined's (PX4 ≤
-    1.8, instance 0), else each vehicle_magnetometer ``multi_id`` (as :mod:`app.io.formats.ulog` lists them)."""
+    1.8, instance 0), else each vehicle_magnetometer ``multi_id`` (as :mod:`app.io.flight.ulog` lists them)."""
     combined = _ds(u, "sensor_combined")
     if combined is not None and ulog.combined_mag(combined) is not None:
         return [0]
@@ -226,7 +226,7 @@ def px4_correct(raw_ut, cal: FirmwareCompassCal, rotation, power=None) -> np.nda
 
 
 def _open_ulog(path, name):
-    """The ULog parsed (:func:`app.io.formats.ulog.open_ulog`, pyulog's printing kept off the output); a file pyulog
+    """The ULog parsed (:func:`app.io.flight.ulog.open_ulog`, pyulog's printing kept off the output); a file pyulog
     cannot read is refused."""
     return ulog.open_ulog(path, name, "download the log again")[0]
 

@@ -54,13 +54,16 @@ import contextlib
 import io
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .flight_log import Stream, choose
-from .table import Sniff
+from .instances import Stream, choose
+
+if TYPE_CHECKING:  # a type only: the readers' package (read_log) imports this module
+    from ..formats.table import Sniff
 
 NAME = "dataflash"
 MAGIC = b"\xa3\x95\x80"

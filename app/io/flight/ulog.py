@@ -20,7 +20,7 @@ Generations: PX4 1.6–1.8 logs (``sample.ulg``) hold ``sensor_combined`` alone,
 ``sensor_accel``/``sensor_gyro``/``sensor_mag`` are logged per instance when the profile asks.  Old
 ``sensor_combined`` compass readings are *calibrated* (the driver applied CAL_MAGn offsets and scales,
 the sensors module SENS_BOARD_ROT): trical lists them as instance 0 of source ``sensor_combined`` and says
-so; :mod:`app.io.flight_context` reads them back to raw.
+so; :mod:`app.io.flight.context` reads them back to raw.
 
 Each ``multi_id`` of ``sensor_accel`` (and ``sensor_gyro``, ``sensor_mag``) is an instance.  Their
 frame is the *board's* FRD frame (x forward, y right, z down): the driver has turned the chip's axes
@@ -40,13 +40,16 @@ import contextlib
 import functools
 import io
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
-from .flight_log import Stream, choose
-from .table import Sniff
+from .instances import Stream, choose
+
+if TYPE_CHECKING:  # a type only: the readers' package (read_log) imports this module
+    from ..formats.table import Sniff
 
 NAME = "ulog"
 MAGIC = b"ULog\x01\x12\x35"
@@ -63,7 +66,7 @@ CONTEXT_TOPICS = (
     "sensor_gps",
     "vehicle_global_position",
 )
-"""A flight's context the compass from the flight reads (app.io.flight_px4): attitude, power, place."""
+"""A flight's context the compass from the flight reads (app.io.flight.px4): attitude, power, place."""
 SENSOR_OF = {"sensor_accel": ("acc", 1.0), "sensor_gyro": ("gyr", 1.0), "sensor_mag": ("mag", GAUSS_TO_UT)}
 
 
