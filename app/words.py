@@ -28,7 +28,7 @@ from typing import Any, TypeVar
 
 from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.plausible import UNIT_WORDS as PHYSICAL_UNIT_WORDS
-from app.io.formats.chips import CHIPS
+from app.io.readers.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
 
 READERS = ("api", "cli", "page")

@@ -51,7 +51,7 @@ NOT_A_RESULT = {"auto"}
 is also the value of every option read from the data (format, unit, sign, columns)."""
 
 NOT_DECISIONS = {
-    ("app/io/formats/sensor_logger.py", "magnetometer"): "a Sensor Logger file's name (MagnetometerUncalibrated.csv)",
+    ("app/io/readers/sensor_logger.py", "magnetometer"): "a Sensor Logger file's name (MagnetometerUncalibrated.csv)",
     ("app/cli/parser.py", "autocal"): "the `trical autocal` command in the table of commands",
     ("app/cli/parser.py", "noise"): "the `trical noise` command in the table of commands",
     ("app/cli/parser.py", "temperature"): "the `trical temperature` command in the table of commands",

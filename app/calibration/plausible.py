@@ -21,7 +21,7 @@ The limits (docs/methods.md, "Plausible figures"):
 - a noise density within a factor of :data:`NOISE_FACTOR` of the datasheets of the quietest and the
   noisiest common part (:data:`NOISE_DENSITY`).
 
-The datasheet scales of the parts trical reads counts of (``app/io/formats/chips.py``) live at the
+The datasheet scales of the parts trical reads counts of (``app/io/readers/chips.py``) live at the
 edge, where the counts are read; these limits are the core's, so that the core imports nothing of
 ``app.io`` and a result read back from the store is judged by the same numbers.
 """
@@ -63,7 +63,7 @@ GYR_PARTS = (
     GyroPart("LSM6DS3", 10.0, 0.007),  # ST LSM6DS3 datasheet DocID026899, table 3
 )
 """The MEMS gyroscopes of boards and phones whose figures bound what a gyroscope can read: the bias gate
-here, and the gyroscope's unit read from its data at the edge (``app/io/formats/gyro_unit.py``)."""
+here, and the gyroscope's unit read from its data at the edge (``app/io/readers/gyro_unit.py``)."""
 
 GYRO_BIAS_MAX_DPS = 1.5 * max(p.zero_rate_dps for p in GYR_PARTS)
 """The largest plausible gyroscope bias, in °/s: the widest datasheet tolerance (the MPU-6050's ±20 °/s)

@@ -69,7 +69,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
 
 
 def _folder_files(folder: Path) -> list[Path]:
-    from app.io.arrays import SUFFIXES
+    from app.io.readers.arrays import SUFFIXES
 
     files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in SUFFIXES)
     if not files:

@@ -40,7 +40,7 @@ from app.guided.protocols import BOARD_PROTOCOLS, Protocol
 from app.io.board_formats import DEFAULT_BAUD, SILENCE_S, STALL_S
 from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, to_log
 from app.io.errors import LogFormatError
-from app.io.formats.timing import time_scale
+from app.io.readers.timing import time_scale
 
 CHECK_S = 1.0
 """Seconds of readings the unit is checked on, at rest, before any capture."""

@@ -11,9 +11,9 @@ import numpy as np
 from app.calibration import CalibrationError
 from app.cli.finish import finish
 from app.cli.reading import read_options
-from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
-from app.io.read_options import units_named
+from app.io.readers import read_log, starts_like_flight_log
+from app.io.readers.read_options import units_named
 from app.workflows.noise import characterise_log
 
 if TYPE_CHECKING:

@@ -393,7 +393,7 @@ def _unit_options(parser: argparse.ArgumentParser) -> None:
 
 def _read_options(parser: argparse.ArgumentParser) -> None:
     """The options that say how to read a log, as the upload's form fields do (app.cli.reading builds them)."""
-    from app.io.formats import FORMATS
+    from app.io.readers import FORMATS
 
     parser.add_argument(
         "--log-format",

@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING
 from app.cli.finish import finish
 from app.cli.printers import print_temperature
 from app.cli.reading import read_options
-from app.io.formats import read_log
-from app.io.read_options import units_named
+from app.io.readers import read_log
+from app.io.readers.read_options import units_named
 from app.workflows.temperature import temperature_log
 
 if TYPE_CHECKING:

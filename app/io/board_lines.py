@@ -8,16 +8,16 @@ The formats (:mod:`app.io.board_formats` holds their constants):
   at MotionCal's fixed scales, read into m/s² (standard gravity), °/s and µT;
 - ``uni``: ``Uni:`` and the same nine values in m/s², rad/s and µT (Adafruit's Unified Sensor units);
 - ``csv``: a header line naming the columns as trical's log readers know them
-  (:func:`app.io.formats.generic_csv.map_columns`), then rows of numbers;
+  (:func:`app.io.readers.generic_csv.map_columns`), then rows of numbers;
 - ``numbers``: bare numbers in 3, 6 or 9 columns (accelerometer, gyroscope, magnetometer x, y, z in that
   order), optionally after a leading time (4, 7 or 10 columns), separated by commas, semicolons, tabs
   or spaces.
 
 Lines end in CR, LF or CRLF. The rate is the board's: from its time column when the lines have one
-(:func:`app.io.formats.timing.decide_timing`); else, for lines read live, from the count of readings
+(:func:`app.io.readers.timing.decide_timing`); else, for lines read live, from the count of readings
 against their arrival over several seconds (:class:`StreamRate`), never from the arrival of one burst. The
 units are checked at rest by the rules of every log
-(:func:`app.io.formats.units.settle_units`) when the readings become a log (:func:`to_log`).
+(:func:`app.io.readers.units.settle_units`) when the readings become a log (:func:`to_log`).
 """
 
 from __future__ import annotations
@@ -36,11 +36,11 @@ import numpy as np
 from ..calibration.gravity import STANDARD_GRAVITY
 from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_AGREE, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
 from .errors import LogFormatError
-from .formats.generic_csv import map_columns
-from .formats.table import WHITESPACE, guess_delimiter, split_row
-from .formats.timing import decide_timing, time_scale
-from .formats.units import settle_units
 from .log import LogData
+from .readers.generic_csv import map_columns
+from .readers.table import WHITESPACE, guess_delimiter, split_row
+from .readers.timing import decide_timing, time_scale
+from .readers.units import settle_units
 
 FORMATS = ("auto", "raw", "uni", "csv", "numbers")
 """The names a caller chooses a format by (``--format``); ``auto`` recognises it from the first lines."""
@@ -346,7 +346,7 @@ class StreamRate:
     comes after at least half the longest step seen (a split's parts come closer together); when a burst
     ends, every line printed until then has arrived. The rate is the readings counted between the end of
     the first burst and the end of the latest one, over the time between them — the span rule of uploads
-    (:func:`app.io.formats.timing.decide_timing`: samples over time, never one step), taken between
+    (:func:`app.io.readers.timing.decide_timing`: samples over time, never one step), taken between
     moments when the count is whole. A steady stream's every chunk ends a "burst". It is decided once
     those ends span :data:`app.io.board_formats.RATE_MIN_S` and :data:`~app.io.board_formats.RATE_STEPS`
     times the longest step among the arrivals of the last :data:`~app.io.board_formats.RATE_WINDOW_S`
@@ -466,7 +466,7 @@ def arrival_times_s(readings: list[BoardReading]) -> np.ndarray:
 
 
 def board_rate(readings: list[BoardReading], fmt: LineFormat, name: str = "the board's lines"):
-    """The board's rate (:class:`app.io.formats.timing.Timing`): from its time column, else from the span
+    """The board's rate (:class:`app.io.readers.timing.Timing`): from its time column, else from the span
     of the arrivals, never from their median step (bursts of a serial host do not change it)."""
     times, _ = board_times_s(readings, fmt)
     if times is None:
@@ -484,7 +484,7 @@ def to_log(
     name: str = "the board's lines",
 ) -> LogData:
     """The readings as a log, their rate decided (:func:`board_rate`) and their units settled at rest
-    by the rules of every log (:func:`app.io.formats.units.settle_units`).
+    by the rules of every log (:func:`app.io.readers.units.settle_units`).
 
     Parameters
     ----------

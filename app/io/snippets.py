@@ -18,7 +18,7 @@ from app.calibration.headlines import SENSOR_WORDS
 
 from .export_common import result_class, sensor_corrections, unit_label
 from .export_params import firmware_figures
-from .formats.chips import CHIPS
+from .readers.chips import CHIPS
 
 _EXAMPLE_SCALE = {
     "acc": (16384.0, "16384 counts per g of an MPU-6050 at ±2 g (its datasheet, section 6.2)", "g"),

@@ -25,8 +25,8 @@ from app.calibration.result import as_fitted_words, page_kinds
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.guided import capture_rules
 from app.io.board_formats import board_tables
-from app.io.formats.chips import CHIPS
 from app.io.log import UNITS_IN
+from app.io.readers.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
 from app.web.metric_words import METRICS
 from app.web.sketches import sketch_table
@@ -113,7 +113,7 @@ SENSOR_TITLES = {sensor: words.capitalize() for sensor, words in SENSOR_WORDS.it
 
 def unit_tables() -> dict:
     """The start page's unit menus: each sensor's units in words (its name: ``sensorWords``), and the chips
-    (app.io.formats.chips) that turn its counts into a physical unit, by sensor, with their datasheet scale in
+    (app.io.readers.chips) that turn its counts into a physical unit, by sensor, with their datasheet scale in
     words."""
     return {
         "units": {s: [[u, UNIT_WORDS[u]] for u in units] for s, units in UNITS_IN.items()},

@@ -16,7 +16,7 @@ from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, require_rate
 
 if TYPE_CHECKING:
-    from app.io.formats.timing import Gap
+    from app.io.readers.timing import Gap
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
 NOISE_REST_S = 5.0
@@ -210,7 +210,7 @@ GAP_REMEDIES = {
     "px4": "log again with a faster SD card or a lighter logging profile (the logger dropped samples)",
     "phone": "record again with the app in the foreground and the screen on (the phone paused the sensors)",
 }
-"""How to record again without losing samples, by where the recording comes from (app.io.formats.SOURCES); a
+"""How to record again without losing samples, by where the recording comes from (app.io.readers.SOURCES); a
 board printing to a serial port (or an unknown source) loses them on the way to the host."""
 SERIAL_REMEDY = (
     "record again without losing samples (a faster serial baud rate, fewer columns printed, a larger host buffer)"
@@ -220,7 +220,7 @@ SERIAL_REMEDY = (
 def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list[str], reasons: list[str]) -> None:
     """A note on the time column's gaps inside the still part, or a reason when they lose too much of it for
     the Allan deviation (:data:`NOISE_GAPS_MAX`), with the remedy of the recording's source."""
-    from app.io.formats import source_of_format
+    from app.io.readers import source_of_format
 
     inside = _gaps_inside(log, span)
     if inside:
@@ -270,7 +270,7 @@ def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
     """The file of a recording in parts with the longest still stretch, as a log of its own, and a note
     naming it: the Allan deviation of a sequence joined from several files would see their seams."""
     from app.calibration.noise_still import longest_still
-    from app.io.parts import part_log
+    from app.io.readers.parts import part_log
 
     def still_samples(i: int) -> int:
         one = part_log(log, i)

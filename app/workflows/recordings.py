@@ -16,10 +16,10 @@ from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientat
 from app.calibration.errors import InsufficientDataError
 from app.calibration.orientations import WITHIN_LABEL_ANGLE
 from app.calibration.static import StaticSegment, detect_static_segments
-from app.io.formats import read_log, source_of_format
 from app.io.log import LogData
-from app.io.parts import Part, content_digest, pose_from_name
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log, source_of_format
+from app.io.readers.parts import Part, content_digest, pose_from_name
+from app.io.readers.read_options import ReadOptions
 from app.workflows.supports import supports
 
 if TYPE_CHECKING:
@@ -44,7 +44,7 @@ def add_recording(
         The saved upload (one file, or a zip of several files, one per pose).
     filename : str or None
         The name (or names) it came with, for messages and the recording.
-    options : app.io.read_options.ReadOptions
+    options : app.io.readers.read_options.ReadOptions
         How to read it (the caller's rate included), kept with the recording.
     owner : str or None
 
@@ -76,7 +76,7 @@ def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float 
 def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path | None = None) -> dict[str, Any]:
     """Recording metadata and its static segments (docs/rest.md, POST /recordings).
 
-    ``options`` are what the reader was told (:class:`app.io.read_options.ReadOptions`); they are kept as
+    ``options`` are what the reader was told (:class:`app.io.readers.read_options.ReadOptions`); they are kept as
     ``read_with``, with the sign applied, so that the stored file is read again the same way. ``path``, the file
     read: a flight controller's log's first GPS fix is read from it (``flight.fix``), for the compass's place.
     """
@@ -228,7 +228,7 @@ def still_segments(log: LogData) -> tuple[list[dict[str, Any]], list[str]]:
     The segments are the accelerometer's rests (a log of other sensors alone has none) that are still on
     every other sensor the log holds too (a gyroscope ringing after the board was put down, a compass
     turning about gravity: docs/methods.md), none spanning a gap of the time column. A recording made of several files
-    (one per pose, :mod:`app.io.parts`) is
+    (one per pose, :mod:`app.io.readers.parts`) is
     searched file by file, so that no segment joins two files; each segment then names its file
     (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
     readings contradict gets a note.
@@ -361,7 +361,7 @@ class RecordingSource:
     @property
     def source_fields(self) -> dict[str, Any]:
         """The calibration's fields about its recording: its id, and where it came from (``source``): by its
-        format (app.io.formats.source_of_format), else a board where its readings
+        format (app.io.readers.source_of_format), else a board where its readings
         were counts (no phone app logs counts: an Arduino's CSV, an HMC5883L's)."""
         fields = {} if self.id is None else {"recording_id": self.id}
         source = source_of_format(self.meta.get("format", ""))

@@ -360,9 +360,9 @@ def _unit_gravity(request: Any, recording: RecordingSource | None) -> tuple[str,
 
 def inline_unit(request: Any, notes: list[str]) -> str:
     """The unit of a request's inline readings, checked against their magnitude as an upload's is
-    (app.io.formats.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
+    (app.io.readers.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
     request's unit (given, or the default) says otherwise the data win, and a note says both."""
-    from app.io.formats.units import infer_acc_unit
+    from app.io.readers.units import infer_acc_unit
 
     unit: str = request.unit
     means = (

@@ -56,7 +56,7 @@ function numbers(fields) {
   return fields.map(Number);
 }
 
-// The column names of trical's log readers (app/io/formats/generic_csv.py), as patterns.
+// The column names of trical's log readers (app/io/readers/generic_csv.py), as patterns.
 const AXIS = "[ _.\\-]?\\(?([xyz])\\)?(?:[ _]?axis)?";
 const UNIT = "(?:\\s*[\\(\\[]([^\\)\\]]*)[\\)\\]])?";
 const COLUMN = {

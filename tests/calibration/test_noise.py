@@ -242,8 +242,8 @@ def _real_still_logs():
     """The corpus's real still recordings that trical characterises (tests/data/real/corpus, method noise):
     a BNO055 on a Raspberry Pi's serial port, an HMC5883L on an ESP32, a phone's LSM6DS3, an MPU-6050's gyroscope
     in counts, a PX4 flight controller's gyroscope after landing — read as their upload form says."""
-    from app.io.formats import read_log
-    from app.io.read_options import ReadOptions, units_named
+    from app.io.readers import read_log
+    from app.io.readers.read_options import ReadOptions, units_named
     from tests import real_corpus
 
     for case in real_corpus.cases():

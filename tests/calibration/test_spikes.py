@@ -8,8 +8,8 @@ import pytest
 
 from app.calibration.noise import characterise_noise
 from app.calibration.spikes import remove_spikes, spike_mask
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 from simulations.noise import simulate_still
 from tests.conftest import DATA
 

@@ -18,8 +18,8 @@ from scipy.spatial.transform import Rotation
 from app.calibration.magnetometer.ellipsoid import fit_sphere
 from app.io.flight.compass import read_flight_compass
 from app.io.flight.context import stored_calibration_parameters
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 
 FLIGHT = Path(__file__).resolve().parents[1] / "data" / "real" / "flight"
 LOG171 = FLIGHT / "log171.bin"

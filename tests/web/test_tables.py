@@ -137,7 +137,7 @@ def test_the_capture_duration_bounds_are_the_sessions_(client):
 def test_each_source_s_default_use_is_one_its_calibrations_offer():
     """The one rule of the use offered first (app/web/uses.py DEFAULT_USES): a board's calibration goes into its
     firmware (the C header), a flight log's into that firmware's parameters, a phone's into a phone app."""
-    from app.io.formats import SOURCES
+    from app.io.readers import SOURCES
     from app.web.uses import CALIBRATION_USES, DEFAULT_USES, uses_table
 
     assert set(DEFAULT_USES) == set(SOURCES)

@@ -63,7 +63,7 @@ from ..log import LogData
 from .instances import Stream, choose
 
 if TYPE_CHECKING:  # a type only: the readers' package (read_log) imports this module
-    from ..formats.table import Sniff
+    from ..readers.table import Sniff
 
 NAME = "dataflash"
 MAGIC = b"\xa3\x95\x80"

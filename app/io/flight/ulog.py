@@ -49,7 +49,7 @@ from ..log import LogData
 from .instances import Stream, choose
 
 if TYPE_CHECKING:  # a type only: the readers' package (read_log) imports this module
-    from ..formats.table import Sniff
+    from ..readers.table import Sniff
 
 NAME = "ulog"
 MAGIC = b"ULog\x01\x12\x35"

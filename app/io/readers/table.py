@@ -1,7 +1,7 @@
 """Shared pieces of the format readers: the sniffed head of an upload, zip members, numeric columns.
 
-The one CSV stack of :mod:`app.io`: the readers of :mod:`app.io.formats` (and the array readers'
-CSV fallback, :mod:`app.io.arrays`) see an upload through :class:`Sniff` (its first bytes as text, or
+The one CSV stack of :mod:`app.io`: the readers of :mod:`app.io.readers` (and the array readers'
+CSV fallback, :mod:`app.io.readers.arrays`) see an upload through :class:`Sniff` (its first bytes as text, or
 the member names of a zip), read their numeric columns with :func:`read_columns` (pyarrow's CSV
 reader, from a file or from bytes, with the delimiter and the decimal mark: phyphox writes ``1,5``
 with ``;`` separators); the sampling rate is decided in :mod:`.timing`.

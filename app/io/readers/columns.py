@@ -4,7 +4,7 @@ A time column rises at every line; a temperature column is one number that stays
 degrees; the rest are sensors, three columns each (x, y, z), told apart by what they read:
 
 - an accelerometer rests at about 1 g: a norm of 0.8–1.2 (g), 8–12 (m/s²) or near a common
-  sensitivity in counts (:data:`~app.io.formats.chips.ACC_LSB_PER_G`), and its direction turns from
+  sensitivity in counts (:data:`~app.io.readers.chips.ACC_LSB_PER_G`), and its direction turns from
   rest to rest while its norm stays;
 - a gyroscope rests near zero — an offset a MEMS part can have (within 30 °/s, or its counts at
   131 LSB per °/s, :data:`~app.calibration.plausible.GYRO_BIAS_MAX_DPS`) — and comes back to the same
@@ -74,7 +74,7 @@ class ColumnsAmbiguous(LogFormatError):
         self.preview = preview
         self.file = file
         """The file whose columns are asked about: one of several uploaded together answers for its own
-        (``columns`` as ``NAME=…;NAME=…``, :func:`app.io.formats.columns_of_file`)."""
+        (``columns`` as ``NAME=…;NAME=…``, :func:`app.io.readers.columns_of_file`)."""
 
 
 def _whole(x: np.ndarray) -> bool:

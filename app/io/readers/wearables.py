@@ -14,21 +14,21 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import LogFormatError
-from .formats.timing import with_timing
-from .log import LogData
+from ..errors import LogFormatError
+from ..log import LogData
+from .timing import with_timing
 
 WEARABLE_SUFFIXES = (".cwa", ".gt3x", ".bin")
 BIN_MAGICS = (b"Device Identity", b"MDTC")
 """The first bytes of the .bin files actipy reads (its readers: a GENEActiv .bin's text header ``Device Identity``,
 a Matrix .bin's ``MDTC`` signature); .bin is also ArduPilot's DataFlash log
-(:data:`app.io.formats.table.BINARY_LOG_MAGICS`), and the name of many a binary of no format trical reads."""
+(:data:`app.io.readers.table.BINARY_LOG_MAGICS`), and the name of many a binary of no format trical reads."""
 
 
 def refuse_unknown_binary(path: Path, name: str) -> None:
     """Refuse a ``.bin`` file whose first bytes are none of the .bin formats trical reads (a binary of no known
-    format), listing the formats trical reads (:data:`app.io.formats.kinds.FILE_KINDS`)."""
-    from .formats.kinds import formats_read
+    format), listing the formats trical reads (:data:`app.io.readers.kinds.FILE_KINDS`)."""
+    from .kinds import formats_read
 
     suffixes = [s.lower() for s in Path(path).suffixes]
     if suffixes and suffixes[-1] in (".gz", ".zip"):

@@ -20,9 +20,9 @@ format                    recognised by
 ``tagged``                lines naming their sensor first: ``acc 2060 0.03 -0.01 0.97``, ``gyro 2060 …``
                           (:mod:`.tagged_lines`)
 ``arduino``               Serial Plotter ``ax:… ay:… az:…`` lines, or a ``lsb_per_g`` comment
-``csv``                   any other header row, or none (:mod:`app.io.formats.generic_csv`)
+``csv``                   any other header row, or none (:mod:`app.io.readers.generic_csv`)
 (parts)                   any other zip: its log files, one per pose, read each as above and
-                          joined as one recording in parts (:mod:`app.io.parts`)
+                          joined as one recording in parts (:mod:`app.io.readers.parts`)
 ========================  =====================================================================
 
 A flight controller's log holds several IMU and compass instances: ``instance`` and ``mag_instance``
@@ -31,6 +31,13 @@ choose them, and ``clock`` which sensor's times the samples are on (:mod:`app.io
 Then the sign (:mod:`.ios_sign`): the caller's ``sign`` (+1 keeps, −1 negates the accelerations),
 else −1 for a log whose header names Core Motion's columns in g (a note says so), else what the
 reader decided (+1, or Sensor Logger's iOS flip).
+
+What the package holds: how to read a log (:mod:`.read_options`), one module per app format over one CSV
+stack (:mod:`.table`, :mod:`.generic_csv`, :mod:`.columns`), the rate (:mod:`.timing`), the units and the
+chips' scales (:mod:`.units`, :mod:`.gyro_unit`, :mod:`.chips`), the sign (:mod:`.ios_sign`), JSON
+(:mod:`.json_samples`, :mod:`.betaflight_mag`), arrays and wearables' files (:mod:`.arrays`, :mod:`.wearables`),
+recordings in several files, one per pose or one per sensor (:mod:`.parts`, :mod:`.sensor_files`), and the kinds
+of file read (:mod:`.kinds`). The flight controllers' logs are read through :mod:`app.io.flight`.
 """
 
 from __future__ import annotations
@@ -43,7 +50,6 @@ from ..errors import LogFormatError
 from ..flight import dataflash, ulog
 from ..flight.instances import CLOCKS
 from ..log import LogData
-from ..read_options import ReadOptions
 from . import (
     betaflight_mag,
     generic_csv,
@@ -57,6 +63,7 @@ from . import (
 )
 from .chips import parse_chips
 from .ios_sign import check_sign, settle_sign
+from .read_options import ReadOptions
 from .table import SKIP, Sniff, sniff
 from .timing import with_timing
 from .units import refuse_linear_acceleration, settle_units
@@ -269,7 +276,7 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
     path : pathlib.Path
         The uploaded file (text or zip).
     options : ReadOptions
-        How to read it (:class:`app.io.read_options.ReadOptions`: format, rate, units, counts per g, columns,
+        How to read it (:class:`app.io.readers.read_options.ReadOptions`: format, rate, units, counts per g, columns,
         sign, chips, a flight controller's instances and clock); by default the file decides.
     name : str
         How to call the file in messages.
@@ -290,7 +297,7 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
     o = options
     if o.format not in FORMATS:
         raise LogFormatError(f"unknown format {o.format!r}: use one of {', '.join(FORMATS)}")
-    from ..arrays import is_array_file  # here: app.io.arrays reads CSV through this package
+    from .arrays import is_array_file  # here: app.io.readers.arrays reads CSV through this package
 
     if o.clock not in CLOCKS:
         raise LogFormatError(f"unknown clock {o.clock!r}: use one of {', '.join(CLOCKS)}")
@@ -321,8 +328,8 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
         and not (phyphox.detect(s) or sensor_logger.detect(s))
         and not any(m.startswith("xl/") for m in s.members or ())
     ):
-        # A zip of pose files, one per pose (app.io.parts): each read as the upload says, then joined.
-        from ..parts import read_parts_zip
+        # A zip of pose files, one per pose (app.io.readers.parts): each read as the upload says, then joined.
+        from .parts import read_parts_zip
 
         def read_part(part_path, part_name, part_columns=None):
             return read_log(
@@ -335,8 +342,9 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
 
 
 def _read_array_file(path: Path, o: ReadOptions, name: str) -> LogData:
-    """A .npy, Parquet or wearable's file (:mod:`app.io.arrays`): its samples in the unit given, timed and signed."""
-    from ..arrays import read_array_log
+    """A .npy, Parquet or wearable's file (:mod:`app.io.readers.arrays`): its samples in the unit given, timed and
+    signed."""
+    from .arrays import read_array_log
 
     if o.chip or o.lsb_per_g is not None:
         given = " and ".join(k for k, v in (("chip", o.chip), ("lsb_per_g", o.lsb_per_g)) if v)

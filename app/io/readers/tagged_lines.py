@@ -6,7 +6,7 @@ optionally followed by ``:``), then an optional time and the three readings, sep
 commas or semicolons. Each tag's lines are one sensor's stream; the streams are put on the
 accelerometer's times (else the first sensor's) by linear interpolation, as GnssLogger's records are
 (:mod:`.gnss_logger`). Nothing in the lines states a unit: the data decide it
-(:func:`app.io.formats.units.settle_units`), the accelerometer and the gyroscope together.
+(:func:`app.io.readers.units.settle_units`), the accelerometer and the gyroscope together.
 """
 
 from __future__ import annotations

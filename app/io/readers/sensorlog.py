@@ -7,7 +7,7 @@ trical reads the raw streams — ``accelerometerAcceleration*`` (``CMAcceleromet
 ``gyroRotation*`` (``CMGyroData``, rad/s) and ``magnetometer*`` (``CMMagnetometerData``, µT) — with
 the accelerometer's own timestamps; the ``motion*`` values are Core Motion's fused estimates and are
 not used.  The accelerations are on Core Motion's sign (−1 g on the up axis): :mod:`.ios_sign`
-negates them in :func:`app.io.formats.read_log` unless the caller gives ``sign=1``.
+negates them in :func:`app.io.readers.read_log` unless the caller gives ``sign=1``.
 """
 
 from __future__ import annotations

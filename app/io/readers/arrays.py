@@ -6,11 +6,11 @@ it is read.  An N×4 array holds the time in its first column (seconds, or milli
 inferred from the step, as for CSV logs).
 
 Parquet files are read with pyarrow; the columns are recognised by the same names as CSV headers
-(:mod:`app.io.formats.generic_csv`: ``acc_x``/``ax``/``x``…, an optional time column ``time``/``time_s``/
+(:mod:`app.io.readers.generic_csv`: ``acc_x``/``ax``/``x``…, an optional time column ``time``/``time_s``/
 ``timestamp``…).  A timestamp column of Arrow type ``timestamp`` is converted to seconds.
 
 :func:`read_array_log` picks the reader from the file name (``.npy``, ``.parquet``/``.pq``, the wearable
-formats ``.cwa``/``.gt3x``/``.bin`` through the optional actipy (:mod:`app.io.wearables`), else CSV).
+formats ``.cwa``/``.gt3x``/``.bin`` through the optional actipy (:mod:`app.io.readers.wearables`), else CSV).
 """
 
 from __future__ import annotations
@@ -21,11 +21,11 @@ import numpy as np
 
 from app.calibration.headlines import SENSOR_WORDS
 
-from .errors import LogFormatError
-from .formats.generic_csv import map_columns, read_csv_log
-from .formats.timing import time_scale as infer_time_scale
-from .formats.timing import with_timing
-from .log import UNITS, LogData
+from ..errors import LogFormatError
+from ..log import UNITS, LogData
+from .generic_csv import map_columns, read_csv_log
+from .timing import time_scale as infer_time_scale
+from .timing import with_timing
 
 NPY_SUFFIXES = (".npy",)
 PARQUET_SUFFIXES = (".parquet", ".pq")

@@ -1,5 +1,5 @@
 """How to read a log: the reader's options (:class:`ReadOptions`), given once by the upload, the command line or a
-stored recording, and passed whole to :func:`app.io.formats.read_log`."""
+stored recording, and passed whole to :func:`app.io.readers.read_log`."""
 
 from __future__ import annotations
 
@@ -8,12 +8,12 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class ReadOptions:
-    """The options :func:`app.io.formats.read_log` reads a log with; each default lets the file decide.
+    """The options :func:`app.io.readers.read_log` reads a log with; each default lets the file decide.
 
     Attributes
     ----------
     format : str
-        One of :data:`app.io.formats.FORMATS`; ``auto`` detects it from the header.
+        One of :data:`app.io.readers.FORMATS`; ``auto`` detects it from the header.
     sampling_rate_hz : float, optional
         Required when the file has no time column; overrides the rate the time column gives.
     units : dict, optional
@@ -24,16 +24,16 @@ class ReadOptions:
     columns : str, dict or list, optional
         Column mapping of a CSV whose header trical does not recognise, ``"acc_x:north,acc_y:east,
         acc_z:down,time_ms:t"``, or one name per column, ``"t,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z"``
-        (a table without a header row, or instead of its header row; :func:`app.io.formats.parse_columns`);
+        (a table without a header row, or instead of its header row; :func:`app.io.readers.parse_columns`);
         the file is then read as a generic (or Arduino) CSV.
     sign : {1, -1}, optional
         Factor on the file's accelerations (−1 for Core Motion's sign); detected when None
-        (:mod:`app.io.formats.ios_sign`).
+        (:mod:`app.io.readers.ios_sign`).
     chip : str, optional
         The parts and ranges of the file's sensors in counts, separated by commas (``mpu6050-4g,
-        ak8963-16bit``; :data:`app.io.formats.chips.CHIPS`): their counts become g, °/s and µT.
+        ak8963-16bit``; :data:`app.io.readers.chips.CHIPS`): their counts become g, °/s and µT.
     instance, mag_instance : int, optional
-        A flight controller's log (:data:`app.io.formats.FLIGHT_FORMATS`): the IMU instance read (default:
+        A flight controller's log (:data:`app.io.readers.FLIGHT_FORMATS`): the IMU instance read (default:
         PX4 the source with the most samples, ArduPilot the first) and the compass instance (default the
         first); an instance the log lacks is refused naming those it has.
     clock : {"imu", "mag"}
@@ -84,7 +84,7 @@ UPLOAD_FIELDS = {
 a text log (CSV, a phone app's export, JSON samples, a zip of them) takes them all but a flight log's instances; an
 array (``.npy``, Parquet, a wearable's binary) its unit, rate and sign (its samples are not counts); a flight
 controller's log (PX4 ULog, ArduPilot DataFlash) states its units, frame and columns, so only which IMU and which
-compass to read (app.io.formats.read_flight_log refuses the others). A message's remedy names only these
+compass to read (app.io.readers.read_flight_log refuses the others). A message's remedy names only these
 (tests/api/test_remedies.py)."""
 
 

@@ -3,7 +3,7 @@
 A maker who calibrates a board over a serial port usually saves one file per pose
 (``x_axis_pos.csv``, ``x_axis_neg.csv``, …). trical reads such a set — several files, or a zip of
 them — as **one recording in parts**: every file is read by the same reader with the same options
-(:func:`app.io.formats.read_log`), and the parts are joined end to end, each keeping its name and
+(:func:`app.io.readers.read_log`), and the parts are joined end to end, each keeping its name and
 its sample range (:class:`Part`), so that every still reading can say which file it came from.
 
 A file's name may name its pose (:func:`pose_from_name`): ``x_axis_pos``, ``xpos``, ``+x``,
@@ -23,9 +23,9 @@ from pathlib import Path, PurePosixPath
 
 import numpy as np
 
-from .errors import LogFormatError
-from .formats.kinds import TEXT_SUFFIXES
-from .log import LogData
+from ..errors import LogFormatError
+from ..log import LogData
+from .kinds import TEXT_SUFFIXES
 
 MAX_PARTS = 200
 """More files than this in one recording are refused: a calibration needs a few poses, not thousands."""
@@ -121,7 +121,7 @@ def refuse_repeated_names(names) -> None:
 
 def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_given: bool = False) -> LogData:
     """Read every file of a recording in parts with ``read`` and join them end to end — or, when the files
-    are one per sensor (:mod:`app.io.sensor_files`), merge them onto one clock.
+    are one per sensor (:mod:`app.io.readers.sensor_files`), merge them onto one clock.
 
     Parameters
     ----------
@@ -273,7 +273,7 @@ def read_parts_zip(path: Path, members, read, *, name: str, columns_given: bool 
     Each member is read by ``read(path, member name)`` in the zip's order; the parts are named by
     the members' names without their folders.
     """
-    from .formats.table import MAX_UNZIPPED_BYTES, read_member
+    from .table import MAX_UNZIPPED_BYTES, read_member
 
     files = log_members(members)
     nested = [m for m in files if m.lower().endswith(".zip")]

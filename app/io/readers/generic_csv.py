@@ -6,7 +6,7 @@ Accelerometer columns are recognised by names such as ``acc_x``, ``ax``, ``x`` o
 time column (seconds, milliseconds, microseconds or nanoseconds) gives the sampling rate; without
 one, the caller gives ``sampling_rate_hz``.  Error messages name lines 1-based, the header being
 line 1 (comment lines starting with ``#`` or ``@`` before the header count too).  Parquet files name their
-columns the same way (:mod:`app.io.arrays` uses :func:`map_columns`).
+columns the same way (:mod:`app.io.readers.arrays` uses :func:`map_columns`).
 
 Loggers often write no header row: numbers from the first line, separated by commas, semicolons,
 tabs or spaces (runs of blanks, as in aligned tables), with a decimal point or — with any separator
@@ -18,7 +18,7 @@ with ``columns`` — one name per column in order, ``t,acc_x,acc_y,acc_z,gyr_x,g
 commas between comma separators cannot be told apart and are refused by their column count.
 
 The unit comes from the caller, else the header (``acc_x (g)``, ``mag_x (G)`` for gauss); the
-data then have the last word (:func:`app.io.formats.units.settle_units`).  Readings in counts (LSB)
+data then have the last word (:func:`app.io.readers.units.settle_units`).  Readings in counts (LSB)
 become g with the sensor's sensitivity, given as ``lsb_per_g`` or ``chip`` by the caller or in a
 comment line of the file such as ``# MPU-6050 ±2 g, lsb_per_g=16384``.
 
@@ -185,7 +185,7 @@ messages: ``GPIO initialized.``, ``i2c bus opened with handle 0.``) and be skipp
 def leading_prose(lines: list[str]) -> list[int]:
     """The 0-based indices of the lines before a table that are neither its header nor numbers.
 
-    The table starts at the first line below which :func:`~app.io.formats.table.numeric_layout` finds
+    The table starts at the first line below which :func:`~app.io.readers.table.numeric_layout` finds
     rows of numbers; of the lines above it (comments and blank lines aside), the last is the header
     when it splits into names by the numbers' separator (for spaces: as many as the numbers), and the
     others are prose. None when no rows of numbers begin within :data:`MAX_PROSE_LINES` lines.
@@ -467,7 +467,7 @@ def read_csv_log(
     LogFormatError
         Empty, binary or header-only files, unrecognised columns, a mapped column the header lacks,
         a table without a header row whose columns its data do not name (or name more than one way:
-        :class:`~app.io.formats.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in
+        :class:`~app.io.readers.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in
         a numeric column (with its line number), a missing sampling rate.
     """
     with open(path, "rb") as f:
@@ -763,7 +763,7 @@ def read_csv(
     **_,
 ) -> LogData:
     """Read a generic CSV log, its units as the caller or the header name them (settled from the data
-    by :func:`app.io.formats.units.settle_units`)."""
+    by :func:`app.io.readers.units.settle_units`)."""
     units = units or {}
     log = read_csv_log(
         path,

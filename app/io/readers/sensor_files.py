@@ -2,19 +2,19 @@
 
 Many loggers (phone apps, makers' boards writing one file per sensor to an SD card) save each sensor
 of one recording in a file of its own, each with its own time column. trical tells such a set from
-the files of one calibration's poses (:mod:`app.io.parts`) by the files themselves
+the files of one calibration's poses (:mod:`app.io.readers.parts`) by the files themselves
 (:func:`per_sensor_files`):
 
 * every file's name names one sensor (:func:`sensor_from_name`: ``acc``, ``accel``, ``accelerometer``;
   ``gyr``, ``gyro``, ``gyroscope``; ``mag``, ``magnetometer``, ``compass``, ``hmc…``, ``qmc…``,
   ``ak…``), and no two files name the same one — each file then holds that one sensor (columns named
   ``x, y, z`` are that sensor's); or, whatever their names, each file's columns name one sensor, and no
-  two the same (``ax, ay, az`` in one, ``gx, gy, gz`` in the other: :func:`app.io.parts.read_parts`);
+  two the same (``ax, ay, az`` in one, ``gx, gy, gz`` in the other: :func:`app.io.readers.parts.read_parts`);
 * their time columns overlap in time, rather than follow each other as the poses of a calibration do
   (files that do not are refused).
 
 Each file is read alone, so that its unit is decided on its own data
-(:func:`app.io.formats.units.settle_units`, through the reader). The files are then merged onto one
+(:func:`app.io.readers.units.settle_units`, through the reader). The files are then merged onto one
 clock (:func:`merge_sensor_logs`): the accelerometer's, or the fastest sensor's when there is none;
 every other sensor is interpolated linearly onto it, never across one of its gaps (nor beyond its
 first or last sample): clock samples there are dropped, and the merged recording shows a gap there.
@@ -32,10 +32,10 @@ import numpy as np
 
 from app.calibration.headlines import SENSOR_WORDS as WORDS
 
-from .errors import LogFormatError
-from .formats.kinds import TEXT_SUFFIXES
-from .formats.timing import with_timing
-from .log import LogData
+from ..errors import LogFormatError
+from ..log import LogData
+from .kinds import TEXT_SUFFIXES
+from .timing import with_timing
 
 SENSOR_WORDS = {
     "acc": (
@@ -152,10 +152,10 @@ def per_sensor_files(names: list[str]) -> dict[str, str] | None:
 def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] | None:
     """A file's column names, its time column and the first two values of that column, or None when the file
     is not a table trical reads as one (a zip, a table it cannot lay out). A JSON array of samples is the table
-    it becomes (:mod:`app.io.formats.json_samples`)."""
-    from .formats import json_samples
-    from .formats.generic_csv import map_columns, table_layout
-    from .formats.table import SNIFF_BYTES, decode_head, is_comment, split_row
+    it becomes (:mod:`app.io.readers.json_samples`)."""
+    from . import json_samples
+    from .generic_csv import map_columns, table_layout
+    from .table import SNIFF_BYTES, decode_head, is_comment, split_row
 
     with open(path, "rb") as f:
         head = f.read(SNIFF_BYTES)
@@ -188,7 +188,7 @@ def columns_for(path: Path, sensor: str, name: str) -> dict | None:
     None when the file's header names its sensor's columns itself (``gx, gy, gz``), names another
     sensor's too, or is not a table (a zip): it is then read as it is.
     """
-    from .formats.generic_csv import map_columns
+    from .generic_csv import map_columns
 
     if sensor == "acc":
         return None
@@ -333,17 +333,17 @@ def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, nam
 
 
 GYRO_UNIT_WORDS = ("for the gyroscope", "gyroscope unit", "the gyroscope's unit")
-"""What the reading of a gyroscope's file alone says of its unit (app.io.formats.units): said again, or
+"""What the reading of a gyroscope's file alone says of its unit (app.io.readers.units): said again, or
 overruled, once the accelerometer's file beside it is merged (:func:`_gyro_against_gravity`)."""
 
 
 def _gyro_against_gravity(merged: LogData, by_sensor: dict) -> LogData:
     """The gyroscope's unit, decided on its own file (its header's, or what its data showed alone), checked
     against the accelerometer's file merged beside it: the gyroscope's integral against gravity's turn between
-    rests or over windows of motion (:func:`~app.io.formats.gyro_unit.gyro_evidence`). Where the turns decide,
+    rests or over windows of motion (:func:`~app.io.readers.gyro_unit.gyro_evidence`). Where the turns decide,
     what the file alone said of the unit is replaced by their word, and a unit they contradict is overruled
     (the readings are kept; their unit changes), naming both."""
-    from .formats.gyro_unit import gyro_evidence
+    from .gyro_unit import gyro_evidence
 
     unit = merged.units.get("gyr")
     if merged.acc is None or merged.gyr is None or unit not in ("rad/s", "deg/s"):

@@ -5,7 +5,7 @@ format, before any method sees the arrays.
 
 A still or slowly turned accelerometer reads about 1 g: a median norm of 0.6–1.6 is in g, 6–14 in
 m/s², and numbers above 50 are counts of an ADC (LSB) — near 16384, 8192, 4096 or 2048 per g for
-the common 16-bit parts, or 1000 for readings in mg (:data:`~app.io.formats.chips.ACC_LSB_PER_G`).
+the common 16-bit parts, or 1000 for readings in mg (:data:`~app.io.readers.chips.ACC_LSB_PER_G`).
 A magnetometer turned through all directions reads the Earth's field, 22–67 µT anywhere on the
 Earth (IGRF): 15–100 µT, 0.15–1 gauss or 15 000–100 000 nT; whole numbers outside those are
 counts, and so are the whole numbers of a still magnetometer whose unit nothing states (its norm is
@@ -175,7 +175,7 @@ def settle_units(
     lsb_per_g : float, optional
         Counts per g of the accelerometer (the caller's, or a comment of the file: ``lsb_source``).
     chips : dict, optional
-        :class:`~app.io.formats.chips.Chip` per sensor (:func:`~app.io.formats.chips.parse_chips`).
+        :class:`~app.io.readers.chips.Chip` per sensor (:func:`~app.io.readers.chips.parse_chips`).
     check_mag : bool
         Whether the magnetometer's unit is checked against its field (a phone format that states µT
         keeps it: a phone's hard iron can exceed the Earth's field on a still recording).

@@ -2,7 +2,7 @@
 and that the refusal of a file of no known format names.
 
 Each entry is a description and the suffixes such files carry. The readers recognise most formats by
-their content (:data:`app.io.formats.DETECTORS`), not by the suffix; the suffixes are for the file
+their content (:data:`app.io.readers.DETECTORS`), not by the suffix; the suffixes are for the file
 chooser and for the messages.
 """
 
