@@ -307,8 +307,8 @@ def _add_temperature(sub) -> None:
 def _add_capture(sub) -> None:
     """``trical capture``: the guided calibration of a board on a serial port."""
     from app.guided.capture_rules import CAPTURE_PROTOCOLS, WIZARD_PROTOCOLS
-    from app.io.board_formats import DEFAULT_BAUD
-    from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
+    from app.io.board.formats import DEFAULT_BAUD
+    from app.io.board.lines import FORMATS as BOARD_LINE_FORMATS
 
     b = sub.add_parser(
         "capture",

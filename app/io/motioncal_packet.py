@@ -29,7 +29,7 @@ import numpy as np
 
 from app.calibration.headlines import SENSOR_WORDS
 
-from .board_formats import MOTIONCAL_CRC, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
+from .board.formats import DEFAULT_FIELD_UT, MOTIONCAL_CRC, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from .errors import ExportError
 from .export_common import sensor_corrections
 from .log import TO_SI
@@ -40,8 +40,6 @@ CRC_START = MOTIONCAL_CRC["start"]
 SOFT_IRON_ORDER = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 """The packet's six soft-iron entries, in order."""
 # Adafruit's Unified Sensor units are m/s² (a g is STANDARD_GRAVITY of them), rad/s and µT.
-DEFAULT_FIELD_UT = 50.0
-"""The field Adafruit_Sensor_Calibration starts with (µT), sent when the calibration has no magnetometer."""
 SYMMETRY_TOLERANCE = 1e-6
 """A soft-iron matrix whose antisymmetric part exceeds this fraction of its norm is not symmetric."""
 

@@ -24,7 +24,7 @@ from app.calibration.orientations import POSE_NAMES, UP_VECTORS
 from app.calibration.result import as_fitted_words, page_kinds
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.guided import capture_rules
-from app.io.board_formats import board_tables
+from app.io.board.formats import board_tables
 from app.io.log import UNITS_IN
 from app.io.readers.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
@@ -190,7 +190,7 @@ def page_tables() -> dict:
         ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
-        (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
+        (:func:`app.io.board.formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
         ``sketches`` (:func:`app.web.sketches.sketch_table`: what a maker flashes, its baud rate and file);
         ``methods`` (each method in words, from the method table, app.methods); ``metrics``
         (app.web.metric_words: each figure's name, unit and meaning); ``sensorWords`` (:data:`SENSOR_TITLES`);

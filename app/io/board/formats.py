@@ -68,7 +68,7 @@ whose thread was held 0.4 s as the board connected (a steady stream after it) is
 the pause, not once the pause has left the window. A bridge's buffer
 or a loaded host delivering 1–2 s of lines at once is decided after 3–4 bursts, a reader that lags now and
 then by the window's 8 s at the latest. Never the step of one burst's
-arrival (app.io.board_lines.StreamRate, static/js/board_lines.js StreamRate)."""
+arrival (app.io.board.lines.StreamRate, static/js/board_lines.js StreamRate)."""
 
 STALL_S = 20.0
 """A capture that makes no progress for this long says what it waits for and what to do."""
@@ -87,12 +87,12 @@ MOTIONCAL_CRC = {"polynomial": 0xA001, "start": 0xFFFF}
 MOTIONCAL_MAG_FLOATS = (6, 16)
 """The packet's floats [6, 16) are the magnetometer's (hard iron, field, soft iron); [0, 6) the accelerometer's
 and gyroscope's offsets (app.io.motioncal_packet)."""
+DEFAULT_FIELD_UT = 50.0
+"""The field Adafruit_Sensor_Calibration starts with (µT), sent when the calibration has no magnetometer."""
 
 
 def board_tables() -> dict:
     """The board connection's constants as plain JSON-ready data (for the page)."""
-    from .motioncal_packet import DEFAULT_FIELD_UT  # it imports this module's packet facts
-
     return {
         "raw": dict(MOTIONCAL_RAW),
         "uni": {**ADAFRUIT_UNI, "units": dict(ADAFRUIT_UNI["units"])},

@@ -2,7 +2,7 @@
 turned into a reading stamped with the host's arrival time (and the board's own time when the line has
 one), boot text skipped and counted.
 
-The formats (:mod:`app.io.board_formats` holds their constants):
+The formats (:mod:`app.io.board.formats` holds their constants):
 
 - ``raw``: MotionCal's and Adafruit SensorLab's ``Raw:ax,ay,az,gx,gy,gz,mx,my,mz``, nine int16 counts
   at MotionCal's fixed scales, read into m/s² (standard gravity), °/s and µT;
@@ -33,14 +33,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..calibration.gravity import STANDARD_GRAVITY
-from .board_formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_AGREE, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
-from .errors import LogFormatError
-from .log import LogData
-from .readers.generic_csv import map_columns
-from .readers.table import WHITESPACE, guess_delimiter, split_row
-from .readers.timing import decide_timing, time_scale
-from .readers.units import settle_units
+from ...calibration.gravity import STANDARD_GRAVITY
+from ..errors import LogFormatError
+from ..log import LogData
+from ..readers.generic_csv import map_columns
+from ..readers.table import WHITESPACE, guess_delimiter, split_row
+from ..readers.timing import decide_timing, time_scale
+from ..readers.units import settle_units
+from .formats import ADAFRUIT_UNI, MOTIONCAL_RAW, RATE_AGREE, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
 
 FORMATS = ("auto", "raw", "uni", "csv", "numbers")
 """The names a caller chooses a format by (``--format``); ``auto`` recognises it from the first lines."""
@@ -348,10 +348,10 @@ class StreamRate:
     the first burst and the end of the latest one, over the time between them — the span rule of uploads
     (:func:`app.io.readers.timing.decide_timing`: samples over time, never one step), taken between
     moments when the count is whole. A steady stream's every chunk ends a "burst". It is decided once
-    those ends span :data:`app.io.board_formats.RATE_MIN_S` and :data:`~app.io.board_formats.RATE_STEPS`
-    times the longest step among the arrivals of the last :data:`~app.io.board_formats.RATE_WINDOW_S`
+    those ends span :data:`app.io.board.formats.RATE_MIN_S` and :data:`~app.io.board.formats.RATE_STEPS`
+    times the longest step among the arrivals of the last :data:`~app.io.board.formats.RATE_WINDOW_S`
     (bursts of 1–2 s: after 3–4 bursts) and the rates over the span's two halves agree within
-    :data:`~app.io.board_formats.RATE_AGREE` (else once the arrivals fill the window), and stays decided.
+    :data:`~app.io.board.formats.RATE_AGREE` (else once the arrivals fill the window), and stays decided.
     When the window's arrivals do not decide, those after its longest pause (a page busy drawing as the
     board connected, a host's hiccup) may, by the same rule with the halves agreeing, once their ends span
     what the window needs (``RATE_STEPS`` times that pause): a short pause is not waited out until it
