@@ -26,10 +26,10 @@ from pydantic import BaseModel, Field, TypeAdapter
 from app import calibration_requests as rq
 from app.calibration.solvers import SOLVERS
 from app.io.errors import ExportError
-from app.io.export_compass import FLIGHT_COMPASS_EXPORTS
-from app.io.export_noise import NOISE_EXPORTERS
-from app.io.export_temperature import TEMPERATURE_EXPORTERS
-from app.io.exporters import EXPORTERS, Export, export_calibration
+from app.io.exports.compass import FLIGHT_COMPASS_EXPORTS
+from app.io.exports.exporters import EXPORTERS, Export, export_calibration
+from app.io.exports.noise import NOISE_EXPORTERS
+from app.io.exports.temperature import TEMPERATURE_EXPORTERS
 from app.workflows import autocal, compass, cube, flight_compass, noise, still, temperature
 from app.workflows.calibration import Calibration
 from app.workflows.entry import calibrate as run_handler
@@ -287,7 +287,7 @@ def export(body: dict[str, Any], fmt: str) -> Export:
     ------
     ExportError
         A format its method does not offer (naming those it does), or one that does not fit this
-        calibration's model (:func:`app.io.exporters.export_calibration`).
+        calibration's model (:func:`app.io.exports.exporters.export_calibration`).
     """
     method = BY_NAME.get(body.get("method", ""))
     if method is not None and fmt not in method.formats and fmt in ALL_FORMATS:

@@ -37,7 +37,7 @@ def test_noise_of_a_gyroscope_array(tmp_path):
 
 
 def test_plot_writes_the_allan_svg(tmp_path):
-    from app.io.allan_plot import allan_svg  # noqa: F401  (written beside this branch; the lead merges both)
+    from app.io.exports.allan_plot import allan_svg  # noqa: F401  (written beside this branch; the lead merges both)
 
     x = simulate_still(np.random.default_rng(5), n_samples=20_000, sampling_rate_hz=100.0, N=1e-3, B=2e-4, K=2e-5)
     path = tmp_path / "gyr.npy"
@@ -102,7 +102,7 @@ def test_noise_loads_neither_the_other_commands_nor_the_other_models(tmp_path):
     heavy = (
         "app.methods",
         "app.calibration.cube",
-        "app.io.exporters",
+        "app.io.exports.exporters",
         "scipy",
         "pyarrow",
         "app.config",

@@ -64,7 +64,7 @@ TERM_WORDS = {
 FILTER_SENSORS = ("acc", "gyr")
 FILTER_TERMS = ("noise_density", "random_walk")
 """What a navigation filter's noise model takes (Kalibr's imu.yaml, OpenVINS, VINS-Fusion): each of these sensors'
-white noise and random walk, one figure a sensor (app/io/export_noise.py)."""
+white noise and random walk, one figure a sensor (app/io/exports/noise.py)."""
 
 
 @dataclass(frozen=True)

@@ -64,7 +64,7 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
 
 
 def _plot(body: dict) -> str:
-    from app.io.allan_plot import allan_svg
+    from app.io.exports.allan_plot import allan_svg
 
     return allan_svg(body)
 

@@ -27,7 +27,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
     body = temperature_log(
         log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id, label=args.path.name
     ).body()
-    from app.io.export_temperature import temperature_svg
+    from app.io.exports.temperature import temperature_svg
 
     return finish(args, settings, body, plot=temperature_svg, summary=lambda b: summary(b, verbose=args.verbose))
 

@@ -86,7 +86,7 @@ class LogData:
         "value": 100.0, "words": "100 µT per gauss", "read_in": "gauss"}}``: counts of a part, counts per g,
         gauss); a sensor absent from
         it was read in its unit. None where the reader states its units (a flight log, an array): no board's
-        driver gives its numbers. What a snippet scales a driver's readings by (app.io.snippets).
+        driver gives its numbers. What a snippet scales a driver's readings by (app.io.exports.snippets).
     flight : app.io.flight.instances.FlightInfo or None
         A flight controller's log (PX4 ULog, ArduPilot DataFlash): every sensor instance it holds, the
         IMU and compass read, and the clock the samples are on; None for other logs.

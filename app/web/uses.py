@@ -7,8 +7,8 @@ export formats of app.io (FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS).
 
 from __future__ import annotations
 
-from app.io.export_compass import FLIGHT_COMPASS_FORMATS
-from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
+from app.io.exports.compass import FLIGHT_COMPASS_FORMATS
+from app.io.exports.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
 
 CALIBRATION_USES = (
     {

@@ -17,7 +17,7 @@ from app.calibration.magnetometer.flight_compare import action, consistency, pul
 from app.calibration.magnetometer.flight_health import CompassNotMeasuringError
 from app.calibration.rotations import firmware_matrix, nearest_number
 from app.io.errors import LogFormatError
-from app.io.export_compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
+from app.io.exports.compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
 from app.workflows.flight_compass import Flown, fly
 from app.workflows.recordings import RecordingSource
 

@@ -16,7 +16,7 @@ from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
 from app.io.board.formats import RATE_WINDOW_S
-from app.io.motioncal_packet import decode
+from app.io.exports.motioncal_packet import decode
 from simulations.magnetometer import simulate_session
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context

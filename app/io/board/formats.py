@@ -86,7 +86,7 @@ MOTIONCAL_CRC = {"polynomial": 0xA001, "start": 0xFFFF}
 """The packet's CRC-16 (reflected polynomial 0xA001, CRC-16/MODBUS, from 0xFFFF), low byte first after byte 65."""
 MOTIONCAL_MAG_FLOATS = (6, 16)
 """The packet's floats [6, 16) are the magnetometer's (hard iron, field, soft iron); [0, 6) the accelerometer's
-and gyroscope's offsets (app.io.motioncal_packet)."""
+and gyroscope's offsets (app.io.exports.motioncal_packet)."""
 DEFAULT_FIELD_UT = 50.0
 """The field Adafruit_Sensor_Calibration starts with (µT), sent when the calibration has no magnetometer."""
 

@@ -29,11 +29,11 @@ import numpy as np
 
 from app.calibration.headlines import SENSOR_WORDS
 
-from .board.formats import DEFAULT_FIELD_UT, MOTIONCAL_CRC, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
-from .errors import ExportError
-from .export_common import sensor_corrections
-from .log import TO_SI
-from .plural import counted
+from ..board.formats import DEFAULT_FIELD_UT, MOTIONCAL_CRC, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
+from ..errors import ExportError
+from ..log import TO_SI
+from ..plural import counted
+from .common import sensor_corrections
 
 CRC_POLYNOMIAL = MOTIONCAL_CRC["polynomial"]
 CRC_START = MOTIONCAL_CRC["start"]

@@ -36,8 +36,8 @@ import numpy as np
 
 from app.calibration.rotations import angle_between, euler_matrix, firmware_matrix, nearest_number, rotation_name
 
-from .errors import ExportError
-from .export_common import JSON_SCHEMA, Export, describe, sensor_corrections, unit_label
+from ..errors import ExportError
+from .common import JSON_SCHEMA, Export, describe, sensor_corrections, unit_label
 from .flight_compass_plot import to_flight_compass_svg
 
 MGAUSS_PER_UT = 10.0

@@ -12,14 +12,14 @@ import re
 from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.result import DRIFT, FIGURES
 
-from .errors import ExportError
-from .export_common import FRAME, JSON_SCHEMA, Export, result_class, sensor_corrections, unit_label
-from .export_compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
-from .export_noise import NOISE_EXPORTERS, NOISE_FORMATS
-from .export_params import to_ardupilot, to_px4
-from .export_tables import to_csv, to_yaml
-from .export_temperature import TEMPERATURE_EXPORTERS, TEMPERATURE_FORMATS
-from .plural import counted
+from ..errors import ExportError
+from ..plural import counted
+from .common import FRAME, JSON_SCHEMA, Export, result_class, sensor_corrections, unit_label
+from .compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
+from .noise import NOISE_EXPORTERS, NOISE_FORMATS
+from .params import to_ardupilot, to_px4
+from .tables import to_csv, to_yaml
+from .temperature import TEMPERATURE_EXPORTERS, TEMPERATURE_FORMATS
 
 
 def to_json(body: dict) -> Export:
@@ -158,7 +158,7 @@ def to_c_header(body: dict) -> Export:
 
 
 def to_motioncal(body: dict) -> Export:
-    """MotionCal's 68-byte calibration packet (app.io.motioncal_packet), for a board running Adafruit's
+    """MotionCal's 68-byte calibration packet (app.io.exports.motioncal_packet), for a board running Adafruit's
     Sensor Calibration library: the offsets, and the compass's hard iron, field and soft iron; the
     notes say what it does not carry (the accelerometer's scales and cross terms)."""
     from .motioncal_packet import packet_of

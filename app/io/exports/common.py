@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from app.calibration.correction import AffineCorrection
 from app.calibration.errors import CalibrationError
 
-from .errors import ExportError
+from ..errors import ExportError
 
 JSON_SCHEMA = "https://trical.dev/schema/calibration/v1"
 FRAME = "device frame of the data: x right, y up along the screen, z out of the screen (W3C DeviceMotion)"

@@ -20,10 +20,10 @@ from html import escape
 
 import numpy as np
 
+from ..errors import ExportError
 from .allan_plot import COLOURS, DASHES, FONT, svg_picture
-from .errors import ExportError
-from .export_common import Export
-from .export_temperature import ticks
+from .common import Export
+from .temperature import ticks
 
 WIDTH, PANEL_H = 640, 200
 LEFT, RIGHT, TOP, BOTTOM = 56, 56, 30, 34

@@ -15,9 +15,9 @@ import csv
 import io
 import json
 
+from ..errors import ExportError
 from .allan_plot import to_allan_svg
-from .errors import ExportError
-from .export_common import JSON_SCHEMA, Export
+from .common import JSON_SCHEMA, Export
 
 NOISE_FORMATS = {
     "kalibr": "Kalibr imu.yaml",

@@ -1,5 +1,5 @@
 """Flight-controller parameter exports: ArduPilot ``INS_ACCOFFS_*``/``INS_ACCSCAL_*``, PX4 ``CAL_ACC0_*``
-(a compass calibration's ``COMPASS_*`` and ``CAL_MAG0_*``: app.io.export_compass).
+(a compass calibration's ``COMPASS_*`` and ``CAL_MAG0_*``: app.io.exports.compass).
 
 Both firmwares correct each accelerometer axis with an offset and a scale only, in the sensor
 frame, readings in m/s², before rotating into the body frame:
@@ -33,14 +33,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..calibration.errors import CalibrationError
-from ..calibration.firmware_model import offset_scale_fit
-from ..calibration.gravity import STANDARD_GRAVITY
-from .errors import ExportError
-from .export_common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
-from .export_compass import to_ardupilot_compass, to_px4_compass
-from .log import ACC_PHYSICAL_UNITS
-from .plural import counted
+from ...calibration.errors import CalibrationError
+from ...calibration.firmware_model import offset_scale_fit
+from ...calibration.gravity import STANDARD_GRAVITY
+from ..errors import ExportError
+from ..log import ACC_PHYSICAL_UNITS
+from ..plural import counted
+from .common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
+from .compass import to_ardupilot_compass, to_px4_compass
 
 # The standard gravity is also ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G (9.80665 m/s²).
 

@@ -16,9 +16,9 @@ import numpy as np
 from app.calibration import STANDARD_GRAVITY
 from app.calibration.headlines import SENSOR_WORDS
 
-from .export_common import result_class, sensor_corrections, unit_label
-from .export_params import firmware_figures
-from .readers.chips import CHIPS
+from ..readers.chips import CHIPS
+from .common import result_class, sensor_corrections, unit_label
+from .params import firmware_figures
 
 _EXAMPLE_SCALE = {
     "acc": (16384.0, "16384 counts per g of an MPU-6050 at ±2 g (its datasheet, section 6.2)", "g"),
@@ -165,7 +165,7 @@ def usage_snippets(body: dict, read_with: dict | None = None, read_scales: dict 
         (the C functions by sensor), ``scales`` (how counts become each sensor's input unit; None
         where none applies) and ``corrections`` (each sensor's ``M``, ``o``, units and the source of
         the correction ``f = M (m − o)``: what the lines apply, as the page shows it), and ``firmware``
-        (what ArduPilot's and PX4's offsets and scales reach: app.io.export_params.firmware_figures).
+        (what ArduPilot's and PX4's offsets and scales reach: app.io.exports.params.firmware_figures).
     """
     corrections = sensor_corrections(body)
     header = f"trical_{body['id']}.h"

@@ -28,8 +28,8 @@ from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.noise import TERM_WORDS
 from app.calibration.result import FIGURES
 
-from .errors import ExportError
-from .export_common import Export, result_class
+from ..errors import ExportError
+from .common import Export, result_class
 
 AXES = ("x", "y", "z")
 SENSOR_ORDER = ("acc", "gyr", "mag")

@@ -33,9 +33,9 @@ from app.calibration.gravity import STANDARD_GRAVITY
 from app.calibration.result import DRIFT
 from app.calibration.temperature import shift_polynomial
 
+from ..errors import ExportError
 from .allan_plot import COLOURS, DASHES, FONT, GLYPHS, svg_picture
-from .errors import ExportError
-from .export_common import JSON_SCHEMA, Export, result_class
+from .common import JSON_SCHEMA, Export, result_class
 
 PX4_SOURCE = (
     "src/modules/sensors/temperature_compensation/TemperatureCompensation.cpp "

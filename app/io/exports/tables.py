@@ -15,8 +15,8 @@ import math
 
 from app.calibration.headlines import SENSOR_WORDS
 
-from .errors import ExportError
-from .export_common import FRAME, JSON_SCHEMA, Export, describe, sensor_corrections
+from ..errors import ExportError
+from .common import FRAME, JSON_SCHEMA, Export, describe, sensor_corrections
 
 
 def yaml_number(v: float) -> str:
