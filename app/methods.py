@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeAlias, Union
 from pydantic import BaseModel, Field, TypeAdapter
 
 from app import calibration_requests as rq
-from app.calibration.solvers import SOLVERS
+from app.calibration.still.solvers import SOLVERS
 from app.io.errors import ExportError
 from app.io.exports.compass import FLIGHT_COMPASS_EXPORTS
 from app.io.exports.exporters import EXPORTERS, Export, export_calibration

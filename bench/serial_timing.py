@@ -16,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from app.calibration.noise import characterise_noise
+from app.calibration.noise.characterise import characterise_noise
 from app.io.readers.timing import decide_timing
 from simulations.noise import simulate_still
 from simulations.serial import host_arrival_times

@@ -18,7 +18,7 @@ import ast
 import re
 from pathlib import Path
 
-from app.calibration.result import FIGURE_METRICS, CalibrationResult, registered_types
+from app.calibration.shared.result import FIGURE_METRICS, CalibrationResult, registered_types
 from app.guided.protocols import BOARD_PROTOCOLS, SESSION_PROTOCOLS
 from app.methods import METHODS
 
@@ -26,15 +26,15 @@ ROOT = Path(__file__).resolve().parent.parent
 APP = ROOT / "app"
 
 EXEMPT = (
-    "app/calibration/result.py",
-    "app/calibration/affine.py",
+    "app/calibration/shared/result.py",
+    "app/calibration/still/affine.py",
     "app/calibration/autocal.py",
     "app/calibration/cube/calibrate.py",
     "app/calibration/magnetometer/result.py",
     "app/calibration/temperature.py",
-    "app/calibration/headlines.py",
-    "app/calibration/trust.py",
-    "app/calibration/comparison.py",
+    "app/calibration/shared/headlines.py",
+    "app/calibration/still/trust.py",
+    "app/calibration/still/comparison.py",
     "app/calibration/magnetometer/fit.py",
     "simulations/free_poses.py",
     "app/methods.py",

@@ -3,10 +3,10 @@
 One method = one function = one frozen result dataclass (docs/architecture.md).
 """
 
-from .affine import AffineCalibration, fit_orientations, fit_six_position
-from .errors import CalibrationError, InsufficientDataError
-from .gravity import STANDARD_GRAVITY, normal_gravity
-from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
+from .shared.errors import CalibrationError, InsufficientDataError
+from .shared.gravity import STANDARD_GRAVITY, normal_gravity
+from .shared.orientations import CANONICAL_SIX, nearest_orientation, up_vector
+from .still.affine import AffineCalibration, fit_orientations, fit_six_position
 
 __all__ = [
     "CANONICAL_SIX",

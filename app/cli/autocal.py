@@ -9,8 +9,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from app.calibration import CalibrationError
-from app.calibration.cores import usable_cores
-from app.calibration.result import NormErrors
+from app.calibration.shared.cores import usable_cores
+from app.calibration.shared.result import NormErrors
 from app.cli.reading import read_options
 from app.io.errors import LogFormatError
 from app.workflows.autocal import autocalibrate_file

@@ -33,8 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
-from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.orientations import UP_VECTORS, nearest_orientation
+from app.calibration.shared.gravity import STANDARD_GRAVITY
+from app.calibration.shared.orientations import UP_VECTORS, nearest_orientation
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, capture_thresholds
 from app.guided.protocols import BOARD_PROTOCOLS, Protocol
 from app.io.board.formats import DEFAULT_BAUD, SILENCE_S, STALL_S

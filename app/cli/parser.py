@@ -92,7 +92,7 @@ def _add_serve(sub) -> None:
 
 def _add_calibrate(sub) -> None:
     """``trical calibrate``: a log of still orientations (or a cube, a compass turn), by the method table's methods."""
-    from app.calibration.solvers import SOLVERS
+    from app.calibration.still.solvers import SOLVERS
     from app.calibration_requests import CUBE_PROTOCOLS
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
@@ -179,7 +179,7 @@ def _add_calibrate(sub) -> None:
 
 def _add_autocal(sub) -> None:
     """``trical autocal``: a long recording, or a folder of them."""
-    from app.calibration.solvers import SOLVERS
+    from app.calibration.still.solvers import SOLVERS
     from app.workflows.autocal import AUTOCAL_UNITS
 
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")

@@ -7,9 +7,9 @@ import sys
 
 import numpy as np
 
-from app.calibration.angles import degrees_text, tilt_error_deg
-from app.calibration.orientations import WITHIN_LABEL_ANGLE
-from app.calibration.result import NormErrors
+from app.calibration.shared.angles import degrees_text, tilt_error_deg
+from app.calibration.shared.orientations import WITHIN_LABEL_ANGLE
+from app.calibration.shared.result import NormErrors
 from app.cli.options import NOTES_SHOWN
 from app.io.plural import counted
 from app.words import render, render_body
@@ -201,7 +201,7 @@ def print_autocal(body: dict, verbose: bool = False) -> None:
 def print_folder_table(bodies: list[dict]) -> None:
     bodies = [render_body(b, "cli") for b in bodies]
     name_w = max(8, *(len(b.get("label") or "") for b in bodies))
-    # "tilt": the worst tilt a level reads with the cv error (app.calibration.angles).
+    # "tilt": the worst tilt a level reads with the cv error (app.calibration.shared.angles).
     print(
         f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'tilt':>8}{'before mg':>10}{'after mg':>10}"
         f"{'R %':>8}  note"

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
 
-from app.calibration.gravity import STANDARD_GRAVITY
+from app.calibration.shared.gravity import STANDARD_GRAVITY
 
 if TYPE_CHECKING:  # the readers' package imports this module
     from .flight.instances import FlightInfo

@@ -152,7 +152,7 @@ USE_SETS = {
     "flightCompass": (FLIGHT_COMPASS_USES, FLIGHT_COMPASS_FORMATS),
 }
 """Each set of uses a result offers, with its export formats, by the name its result class gives
-(:attr:`app.calibration.result.PageFacts.uses`); the page remembers the person's choice under that name and the
+(:attr:`app.calibration.shared.result.PageFacts.uses`); the page remembers the person's choice under that name and the
 calibration's source (static/js/use_calibration.js)."""
 
 

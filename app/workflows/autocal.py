@@ -77,11 +77,12 @@ def autocalibrate_file(
     gravity, latitude_deg, height_m : float, optional
         Reference gravity for m/s² input (see :func:`reference_gravity`).
     detection, selection : dict, optional
-        Options of :class:`app.calibration.stationary_002.RestAccumulator` and
+        Options of :class:`app.calibration.segments.stationary_002.RestAccumulator` and
         :func:`app.calibration.autocal.autocalibrate`.
     threads : int, optional
-        Threads of the rest detection (default: the cores, :func:`app.calibration.stationary_002.detection_threads`);
-        1 where the files of a folder are the parallel work.
+        Threads of the rest detection (default: the cores,
+        :func:`app.calibration.segments.stationary_002.detection_threads`); 1 where the files of a folder are the
+        parallel work.
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -92,7 +93,7 @@ def autocalibrate_file(
         ``metrics`` (``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set),
         ``comparison``, ``selection``, ``detection``, ``ok``, ``warnings``, ``reasons``.
     """
-    from app.calibration.stationary_002 import detect_rest_segments
+    from app.calibration.segments.stationary_002 import detect_rest_segments
 
     path = Path(path)
     log = read_log(path, options, name=str(path))

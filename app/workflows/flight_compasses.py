@@ -15,7 +15,7 @@ from app.calibration import CalibrationError
 from app.calibration.magnetometer.flight import MAX_MOTOR_HALF_WIDTH
 from app.calibration.magnetometer.flight_compare import action, consistency, pull
 from app.calibration.magnetometer.flight_health import CompassNotMeasuringError
-from app.calibration.rotations import firmware_matrix, nearest_number
+from app.calibration.shared.rotations import firmware_matrix, nearest_number
 from app.io.errors import LogFormatError
 from app.io.exports.compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
 from app.workflows.flight_compass import Flown, fly

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from app.calibration import CalibrationError
-from app.calibration.errors import InsufficientDataError
+from app.calibration.shared.errors import InsufficientDataError
 from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, require_rate
@@ -36,7 +36,7 @@ stretches as if they were adjacent."""
 def characterise_log(
     log: LogData, *, sensors: Sequence[str] | None = None, array_sensor: str | None = None, **fields: Any
 ) -> Calibration:
-    """Noise characterisation (app.calibration.noise) of every chosen sensor of a still recording.
+    """Noise characterisation (app.calibration.noise.characterise) of every chosen sensor of a still recording.
 
     ``array_sensor`` names the sensor a three-column array (``.npy``, Parquet) holds, which the readers
     return as ``acc``. Gyroscopes in deg/s become rad/s, magnetometers in nT µT, accelerometers in g
@@ -44,9 +44,9 @@ def characterise_log(
     holds: when some of the recording moved, a warning says what was used; when less than half of it is
     still, ``ok`` is false.
     """
-    from app.calibration.noise import NoiseResult, characterise_noise
-    from app.calibration.noise_still import common_still_runs
-    from app.calibration.spikes import remove_spikes
+    from app.calibration.noise.characterise import NoiseResult, characterise_noise
+    from app.calibration.noise.spikes import remove_spikes
+    from app.calibration.noise.still_part import common_still_runs
 
     arrays, units, wanted = _chosen_sensors(log, sensors, array_sensor)
     # Spikes out first: a torn read breaks the half-second block it falls in, and the still part with it.
@@ -64,8 +64,8 @@ def characterise_log(
     _judge_gaps(log, span, fs, notes, reasons)
     a, b = span
     if (b - a) / fs < NOISE_MIN_S:
-        from app.calibration.allan import MIN_SAMPLES
-        from app.calibration.noise import duration_words
+        from app.calibration.noise.allan import MIN_SAMPLES
+        from app.calibration.noise.characterise import duration_words
 
         said = (
             f"too short: the still part lasts {duration_words((b - a) / fs)} ({b - a} samples), and the noise needs "
@@ -105,7 +105,7 @@ def characterise_log(
 
 def _spikes_said(sensor: str, counts: list[int]) -> str:
     """The warning that names the spikes removed from a sensor's still part, axis by axis."""
-    from app.calibration.headlines import SENSOR_WORDS
+    from app.calibration.shared.headlines import SENSOR_WORDS
 
     axes = ", ".join(f"{n} on {axis}" for n, axis in zip(counts, "xyz") if n)
     return (
@@ -145,7 +145,7 @@ def _still_span(
 ) -> tuple[int, int]:
     """The longest still stretch (the whole recording when none is), with a note or a reason when the device
     moved: several rests, or too little of the recording still."""
-    from app.calibration.noise_still import MIN_STILL_FRACTION
+    from app.calibration.noise.still_part import MIN_STILL_FRACTION
 
     span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
     rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
@@ -269,7 +269,7 @@ def noise(request: Any, recording: RecordingSource) -> Calibration:
 def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
     """The file of a recording in parts with the longest still stretch, as a log of its own, and a note
     naming it: the Allan deviation of a sequence joined from several files would see their seams."""
-    from app.calibration.noise_still import longest_still
+    from app.calibration.noise.still_part import longest_still
     from app.io.readers.parts import part_log
 
     def still_samples(i: int) -> int:

@@ -13,9 +13,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientation
-from app.calibration.errors import InsufficientDataError
-from app.calibration.orientations import WITHIN_LABEL_ANGLE
-from app.calibration.static import StaticSegment, detect_static_segments
+from app.calibration.segments.static import StaticSegment, detect_static_segments
+from app.calibration.shared.errors import InsufficientDataError
+from app.calibration.shared.orientations import WITHIN_LABEL_ANGLE
 from app.io.log import LogData
 from app.io.readers import read_log, source_of_format
 from app.io.readers.parts import Part, content_digest, pose_from_name
@@ -167,7 +167,7 @@ def _short_still_file(
 
     Still means the spread (root of the summed per-axis variances) within CAP_G of gravity and a mean
     norm within NORM_RANGE_G, the bounds of the still-segment detector (docs/methods.md)."""
-    from app.calibration.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
+    from app.calibration.segments.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
 
     rate = part.sampling_rate_hz or NOMINAL_RATE_HZ
     if part.n_samples < 2 or part.n_samples / rate >= MIN_DURATION_S:
@@ -202,7 +202,7 @@ windows and least length are counted in samples as at 100 Hz; a note says so."""
 def _still_between_gaps(
     acc: np.ndarray, rate: float, gravity: float | None, cuts: Sequence[int], others: Sequence[np.ndarray] = ()
 ) -> list[StaticSegment]:
-    """Still segments (app.calibration.static) of ``acc``, still on every sensor of ``others`` too (the
+    """Still segments (app.calibration.segments.static) of ``acc``, still on every sensor of ``others`` too (the
     gyroscope's and the magnetometer's samples on its clock), each stretch between the sample indices
     ``cuts`` (gaps of the time column) searched on its own, so that a segment's samples are contiguous
     in time; a stretch shorter than one window holds none."""

@@ -7,7 +7,8 @@ import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { $, cell } from "./dom.js";
 
-const sensorWords = (sensor) => (TABLES.sensorWords[sensor] || sensor).toLowerCase(); // app/calibration/headlines.py
+// The sensors' words: app/calibration/shared/headlines.py.
+const sensorWords = (sensor) => (TABLES.sensorWords[sensor] || sensor).toLowerCase();
 const TEMPERATURE_SPAN_C = TABLES.flightLog.temperatureMinSpanC; // the temperature method's least span (its gate), °C
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot

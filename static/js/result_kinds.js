@@ -1,5 +1,5 @@
 // What each kind of calibration shows. The server says it, by model type (`cal.model.type`), in the page's
-// tables (TABLES.kinds: the result classes' page facts, app/calibration/result.py PageFacts): which set of uses
+// tables (TABLES.kinds: the result classes' page facts, app/calibration/shared/result.py PageFacts): which set of uses
 // and formats the result offers (app/web/uses.py), whether it has a correction to apply (GET …/{id}/use), the
 // plot the server draws for it (an export), the heading of its model, and which drawing draws its model, its
 // norms per position and its plot's caption. This module keeps only the drawings, named by what they draw.
@@ -45,7 +45,8 @@ function modelTables(cal) {
 }
 
 // A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's), the rows the
-// server's kind names (app/calibration/noise.py TERM_WORDS); a table wider than a phone scrolls in its box.
+// server's kind names (app/calibration/noise/characterise.py TERM_WORDS); a table wider than a phone scrolls in its
+// box.
 function noiseTables(cal) {
   const { terms } = kindOf(cal);
   return Object.entries(cal.model).filter(([name]) => name !== "type").map(([sensor, m]) => {

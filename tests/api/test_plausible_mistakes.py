@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.result import CalibrationResult
+from app.calibration.shared.result import CalibrationResult
 from app.io.log import UNITS_IN as UNITS
 from tests.api.test_remedies import answer_problems
 from tests.conftest import DATA

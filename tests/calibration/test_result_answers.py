@@ -12,12 +12,12 @@ from app.calibration import CalibrationError, fit_six_position
 from app.calibration.autocal import AutoCalibration
 from app.calibration.cube.calibrate import calibrate_cube
 from app.calibration.magnetometer.fit import fit_magnetometer
-from app.calibration.noise import NoiseResult
-from app.calibration.nonorthogonal import fit_nonorthogonal
-from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult, Figure
+from app.calibration.noise.characterise import NoiseResult
+from app.calibration.shared.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult, Figure
+from app.calibration.still.nonorthogonal import fit_nonorthogonal
+from app.calibration.still.triangular import fit_triangular
+from app.calibration.still.trust import review
 from app.calibration.temperature import calibrate_temperature
-from app.calibration.triangular import fit_triangular
-from app.calibration.trust import review
 from simulations import cube as cube_sim
 from simulations.magnetometer import simulate_session
 from simulations.temperature import simulate_warm_up

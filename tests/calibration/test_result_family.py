@@ -10,9 +10,9 @@ import pytest
 
 from app.calibration import CalibrationError, fit_six_position
 from app.calibration.cube.calibrate import calibrate_cube
-from app.calibration.nonorthogonal import fit_nonorthogonal
-from app.calibration.result import SCHEMA_VERSION, CalibrationResult, registered_types
-from app.calibration.triangular import fit_triangular
+from app.calibration.shared.result import SCHEMA_VERSION, CalibrationResult, registered_types
+from app.calibration.still.nonorthogonal import fit_nonorthogonal
+from app.calibration.still.triangular import fit_triangular
 from simulations.cube import FIELD_UT, simulate_session
 from tests.conftest import seed_table
 
@@ -74,7 +74,7 @@ def test_round_trip_units_and_correction(result):
 
 def test_a_subclass_refuses_another_type_and_newer_versions_are_refused():
     six = fit_six_position(list(SIX.values()), list(SIX), gravity=G).to_dict()
-    from app.calibration.triangular import TriangularCalibration
+    from app.calibration.still.triangular import TriangularCalibration
 
     with pytest.raises(CalibrationError, match="not a triangular model"):
         TriangularCalibration.from_dict(six)

@@ -15,7 +15,7 @@ import re
 import numpy as np
 import pytest
 
-from app.calibration.result import CalibrationResult
+from app.calibration.shared.result import CalibrationResult
 from app.io.errors import ExportError
 from app.io.exports.exporters import export_calibration
 from app.io.log import LogData

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.rotations import px4_matrix
+from app.calibration.shared.rotations import px4_matrix
 from app.io.errors import LogFormatError
 from app.io.flight.compass import read_flight_compass
 from app.io.flight.px4 import px4_rotation

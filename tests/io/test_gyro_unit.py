@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from app.calibration.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
+from app.calibration.shared.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
 from app.io.readers import read_log
 from app.io.readers.chips import GYR_LSB_PER_DPS
 from app.io.readers.gyro_unit import compose, gyro_evidence, rotate_back

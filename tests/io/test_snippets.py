@@ -223,7 +223,7 @@ def test_a_noise_characterisation_has_no_example_to_apply(client):
 def test_the_triangular_model_s_o_is_applied_with_its_sign_turned(client, tmp_path):
     """Farago et al. write a = K (v + o): the correction the person applies is f = M (m − o) with M = K and
     o = −o_model, and the C lines, the JSON's correction and /use all carry that o."""
-    from app.calibration.advice import fibonacci_sphere
+    from app.calibration.still.advice import fibonacci_sphere
 
     ups = fibonacci_sphere(14)
     means = [(G * (X_TRUE @ u) + G * Y_TRUE).tolist() for u in ups]

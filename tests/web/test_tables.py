@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
-from app.calibration.capture import STILL_MAX_STD_G
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
 from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage
 from app.calibration.magnetometer.fit import MIN_COVERAGE, MIN_READINGS
-from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
+from app.calibration.shared.capture import STILL_MAX_STD_G
+from app.calibration.shared.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
 from app.guided import capture_rules
 from app.web.tables import COVERAGE_TO_SOLVE, POSE_NAMES, SOURCES, face_words, page_tables
 
@@ -155,7 +155,7 @@ def test_each_kind_of_result_tells_the_page_what_it_shows():
     """The result classes declare what the page shows (PageFacts); the server sends it by model type, and the
     page draws it with the drawings it names: each set of uses exists, results sharing a model type agree, and
     each drawing, plot box and plot format the facts name is on the page."""
-    from app.calibration.result import CalibrationResult, page_kinds, registered_types
+    from app.calibration.shared.result import CalibrationResult, page_kinds, registered_types
     from app.web.uses import USE_SETS
 
     kinds = page_kinds()

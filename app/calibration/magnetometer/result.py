@@ -7,11 +7,11 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..correction import AffineCorrection
-from ..headlines import compass_headline
-from ..plausible import PhysicalFigure
-from ..result import NO_FIGURE, CalibrationResult, Figure, PageFacts, gate_fields, parameter
-from ..uncertainty import CONFIDENCE, half_widths
+from ..shared.correction import AffineCorrection
+from ..shared.headlines import compass_headline
+from ..shared.plausible import PhysicalFigure
+from ..shared.result import NO_FIGURE, CalibrationResult, Figure, PageFacts, gate_fields, parameter
+from ..shared.uncertainty import CONFIDENCE, half_widths
 from .refine import unpack
 
 SOURCE = (

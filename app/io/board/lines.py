@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...calibration.gravity import STANDARD_GRAVITY
+from ...calibration.shared.gravity import STANDARD_GRAVITY
 from ..errors import LogFormatError
 from ..log import LogData
 from ..readers.generic_csv import map_columns

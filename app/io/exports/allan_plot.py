@@ -24,9 +24,9 @@ from html import escape
 
 import numpy as np
 
-from app.calibration.headlines import SENSOR_WORDS
-from app.calibration.noise import TERM_WORDS
-from app.calibration.result import FIGURES
+from app.calibration.noise.characterise import TERM_WORDS
+from app.calibration.shared.headlines import SENSOR_WORDS
+from app.calibration.shared.result import FIGURES
 
 from ..errors import ExportError
 from .common import Export, result_class

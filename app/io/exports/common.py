@@ -1,12 +1,12 @@
 """What every export shares: the file it returns, and each sensor's correction ``f = M (m − o)``
-taken from the calibration's typed result (app.calibration.result)."""
+taken from the calibration's typed result (app.calibration.shared.result)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from app.calibration.correction import AffineCorrection
-from app.calibration.errors import CalibrationError
+from app.calibration.shared.correction import AffineCorrection
+from app.calibration.shared.errors import CalibrationError
 
 from ..errors import ExportError
 
@@ -26,7 +26,7 @@ class Export:
 
 
 def _result(body: dict):
-    from app.calibration.result import CalibrationResult  # from_dict imports every model
+    from app.calibration.shared.result import CalibrationResult  # from_dict imports every model
 
     try:
         return CalibrationResult.from_dict(body)
@@ -35,9 +35,9 @@ def _result(body: dict):
 
 
 def result_class(body: dict):
-    """The result class a stored calibration names (app.calibration.result): its class answers (``KIND``,
+    """The result class a stored calibration names (app.calibration.shared.result): its class answers (``KIND``,
     ``PER_SENSOR``) say which exports fit it, even for a body cut short."""
-    from app.calibration.result import CalibrationResult  # class_of imports every model
+    from app.calibration.shared.result import CalibrationResult  # class_of imports every model
 
     try:
         return CalibrationResult.class_of(body)

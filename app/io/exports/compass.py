@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.calibration.rotations import angle_between, euler_matrix, firmware_matrix, nearest_number, rotation_name
+from app.calibration.shared.rotations import angle_between, euler_matrix, firmware_matrix, nearest_number, rotation_name
 
 from ..errors import ExportError
 from .common import JSON_SCHEMA, Export, describe, sensor_corrections, unit_label

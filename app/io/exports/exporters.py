@@ -9,8 +9,8 @@ from __future__ import annotations
 import json
 import re
 
-from app.calibration.headlines import SENSOR_WORDS
-from app.calibration.result import DRIFT, FIGURES
+from app.calibration.shared.headlines import SENSOR_WORDS
+from app.calibration.shared.result import DRIFT, FIGURES
 
 from ..errors import ExportError
 from ..plural import counted
@@ -72,7 +72,7 @@ def to_json(body: dict) -> Export:
         c = corrections[0]
         doc["correction"] = {"formula": "a = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "source": c.source}
     gyro = body.get("gyroscope_bias")
-    if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
+    if gyro:  # a wizard session's still captures (app.calibration.still.gyro_bias)
         doc["gyroscope"] = {
             "formula": "w = m - b",
             "unit": "rad/s",
@@ -123,7 +123,7 @@ def to_c_header(body: dict) -> Export:
     guard = "TRICAL_" + re.sub(r"[^A-Za-z0-9]", "_", body["id"]).upper() + "_H"
     sensors = "\n".join(_c_sensor(c) for c in corrections)
     gyro = body.get("gyroscope_bias")
-    if gyro:  # a wizard session's still captures (app.calibration.gyro_bias)
+    if gyro:  # a wizard session's still captures (app.calibration.still.gyro_bias)
         half = ", ".join(f"{v:.3g}" for v in gyro["half_width_rad_s"])
         sensors += (
             f"\n/* gyroscope bias at rest, rad/s, over {counted(gyro['count'], 'still capture')} (95 % half-widths "

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from app.calibration.headlines import SENSOR_WORDS
+from app.calibration.shared.headlines import SENSOR_WORDS
 
 from ..board.formats import DEFAULT_FIELD_UT, MOTIONCAL_CRC, MOTIONCAL_PACKET_BYTES, MOTIONCAL_SIGNATURE
 from ..errors import ExportError

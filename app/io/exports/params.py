@@ -20,7 +20,7 @@ file does ``gyro -= _gyro_offset`` in the sensor frame, so ``w_i = m_i − INS_G
 
 trical's correction is ``a = M (m − o)``; neither firmware holds its cross-axis terms. The offsets and scales
 exported are fitted on the calibration's own still readings as ArduPilot's own calibration fits them, to the
-magnitude ``|S (m − b)| = g`` (app.calibration.firmware_model), not taken from ``M``'s diagonal: ``M`` also turns
+magnitude ``|S (m − b)| = g`` (app.calibration.still.firmware_model), not taken from ``M``'s diagonal: ``M`` also turns
 the sensor's axes into the frame the poses define (the table's tilt, the board's mounting), which the
 firmware's level calibration takes. The comment header gives the norm error the firmware reaches with these
 numbers on the readings, beside the raw one and trical's full model's, and splits what it cannot hold of ``M``
@@ -33,9 +33,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...calibration.errors import CalibrationError
-from ...calibration.firmware_model import offset_scale_fit
-from ...calibration.gravity import STANDARD_GRAVITY
+from ...calibration.shared.errors import CalibrationError
+from ...calibration.shared.gravity import STANDARD_GRAVITY
+from ...calibration.still.firmware_model import offset_scale_fit
 from ..errors import ExportError
 from ..log import ACC_PHYSICAL_UNITS
 from ..plural import counted
@@ -92,7 +92,7 @@ def _mg(v: float) -> str:
 
 def offset_scale(body: dict, target: str) -> dict:
     """Per-axis offset (m/s²) and scale of the firmware's model fitted on a calibration's still readings, and
-    what it reaches on them (app.calibration.firmware_model).
+    what it reaches on them (app.calibration.still.firmware_model).
 
     Parameters
     ----------
@@ -104,8 +104,9 @@ def offset_scale(body: dict, target: str) -> dict:
     Returns
     -------
     dict
-        ``offset_mps2``, ``scale`` (arrays of 3), ``fit`` (:class:`~app.calibration.firmware_model.OffsetScaleFit`,
-        in the calibration's unit), ``gravity`` (in that unit), ``output_unit`` and ``source``.
+        ``offset_mps2``, ``scale`` (arrays of 3), ``fit``
+        (:class:`~app.calibration.still.firmware_model.OffsetScaleFit`, in the calibration's unit), ``gravity`` (in
+        that unit), ``output_unit`` and ``source``.
 
     Raises
     ------

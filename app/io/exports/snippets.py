@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from app.calibration import STANDARD_GRAVITY
-from app.calibration.headlines import SENSOR_WORDS
+from app.calibration.shared.headlines import SENSOR_WORDS
 
 from ..readers.chips import CHIPS
 from .common import result_class, sensor_corrections, unit_label

@@ -13,7 +13,7 @@ import io
 import json
 import math
 
-from app.calibration.headlines import SENSOR_WORDS
+from app.calibration.shared.headlines import SENSOR_WORDS
 
 from ..errors import ExportError
 from .common import FRAME, JSON_SCHEMA, Export, describe, sensor_corrections

@@ -29,8 +29,8 @@ import json
 
 import numpy as np
 
-from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.result import DRIFT
+from app.calibration.shared.gravity import STANDARD_GRAVITY
+from app.calibration.shared.result import DRIFT
 from app.calibration.temperature import shift_polynomial
 
 from ..errors import ExportError

@@ -9,7 +9,7 @@ import datetime as dt
 
 import numpy as np
 
-from app.calibration.rotations import PX4_EVERY_RELEASE, PX4_ROTATIONS, px4_matrix
+from app.calibration.shared.rotations import PX4_EVERY_RELEASE, PX4_ROTATIONS, px4_matrix
 
 from ..errors import LogFormatError
 from . import ulog
@@ -30,7 +30,7 @@ KILOAMP_PER_AMP = 1e-3
 
 def px4_rotation(number: int, name: str, what: str) -> np.ndarray:
     """PX4's rotation ``number`` as a matrix (rotation.cpp get_rot_matrix), one of the entries every PX4 release
-    shares (:data:`app.calibration.rotations.PX4_EVERY_RELEASE`); a later entry is refused by name."""
+    shares (:data:`app.calibration.shared.rotations.PX4_EVERY_RELEASE`); a later entry is refused by name."""
     if not 0 <= number <= PX4_EVERY_RELEASE:
         last = PX4_ROTATIONS[PX4_EVERY_RELEASE][0]
         raise LogFormatError(

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from app.calibration.headlines import SENSOR_WORDS
+from app.calibration.shared.headlines import SENSOR_WORDS
 
 from ..errors import LogFormatError
 from ..log import UNITS, LogData

@@ -24,7 +24,7 @@ sensitivity (typical value), cited by part and document:
 1 gauss = 100 µT.
 
 What a part can read once its counts are scaled — its largest offset and bias, its noise density —
-is the core's (``app/calibration/plausible.py``, which every result is judged by, and whose datasheet
+is the core's (``app/calibration/shared/plausible.py``, which every result is judged by, and whose datasheet
 figures of the common gyroscopes, ``GYR_PARTS``, also decide a gyroscope's unit at the edge:
 ``gyro_unit.py``); these are only the scales that turn counts into units at the edge.
 """
@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ...calibration.headlines import SENSOR_WORDS
+from ...calibration.shared.headlines import SENSOR_WORDS
 from ..errors import LogFormatError
 
 GAUSS_UT = 100.0

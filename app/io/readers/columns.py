@@ -7,7 +7,7 @@ degrees; the rest are sensors, three columns each (x, y, z), told apart by what 
   sensitivity in counts (:data:`~app.io.readers.chips.ACC_LSB_PER_G`), and its direction turns from
   rest to rest while its norm stays;
 - a gyroscope rests near zero — an offset a MEMS part can have (within 30 °/s, or its counts at
-  131 LSB per °/s, :data:`~app.calibration.plausible.GYRO_BIAS_MAX_DPS`) — and comes back to the same
+  131 LSB per °/s, :data:`~app.calibration.shared.plausible.GYRO_BIAS_MAX_DPS`) — and comes back to the same
   offset at every rest, however far it swung between;
 - a magnetometer reads the Earth's field, 22–67 µT (0.22–0.67 gauss, or counts), a near-constant
   norm around its hard iron while its direction turns.
@@ -24,8 +24,8 @@ import re
 
 import numpy as np
 
-from ...calibration.headlines import SENSOR_WORDS
-from ...calibration.plausible import GYRO_BIAS_MAX_DPS
+from ...calibration.shared.headlines import SENSOR_WORDS
+from ...calibration.shared.plausible import GYRO_BIAS_MAX_DPS
 from ..errors import LogFormatError
 from .chips import ACC_LSB_PER_G, CHIPS, GYR_LSB_PER_DPS
 from .table import SKIP

@@ -1,7 +1,7 @@
 """The gyroscope's unit from its own data, as the accelerometer's is from its resting magnitude.
 
 A still gyroscope reads its offset and its noise, whatever its unit; what a MEMS gyroscope can read
-bounds both (:data:`~app.calibration.plausible.GYR_PARTS`): an offset beyond 30 °/s, a white rate noise
+bounds both (:data:`~app.calibration.shared.plausible.GYR_PARTS`): an offset beyond 30 °/s, a white rate noise
 outside 0.0014–0.45 °/s/√Hz is no MEMS part's. So a still offset of 4.5 read as rad/s (258 °/s) is
 impossible, and a phone's noise of 0.001 rad/s per sample read as °/s is far below any part's.
 
@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from ...calibration.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
+from ...calibration.shared.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
 from .chips import GYR_LSB_PER_DPS, GYR_RANGE
 
 DEG = math.pi / 180.0
@@ -280,7 +280,7 @@ def gyro_evidence(
     -------
     GyroEvidence
     """
-    from ...calibration.noise_still import still_runs  # here: the core's detector, as the noise method's
+    from ...calibration.noise.still_part import still_runs  # here: the core's detector, as the noise method's
 
     scales = candidates(whole)
     ref = acc if acc is not None and len(acc) == len(gyr) else None

@@ -30,7 +30,7 @@ from pathlib import Path, PurePosixPath
 
 import numpy as np
 
-from app.calibration.headlines import SENSOR_WORDS as WORDS
+from app.calibration.shared.headlines import SENSOR_WORDS as WORDS
 
 from ..errors import LogFormatError
 from ..log import LogData

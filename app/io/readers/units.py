@@ -18,8 +18,8 @@ import dataclasses
 
 import numpy as np
 
-from ...calibration.gravity import STANDARD_GRAVITY
-from ...calibration.headlines import SENSOR_WORDS
+from ...calibration.shared.gravity import STANDARD_GRAVITY
+from ...calibration.shared.headlines import SENSOR_WORDS
 from ..errors import LogFormatError
 from ..log import ACC_PHYSICAL_UNITS, LogData
 from .chips import ACC_LSB_PER_G, ACC_RANGE, GAUSS_UT, GYR_RANGE, Chip

@@ -1,7 +1,7 @@
 """What a MEMS sensor can read: the physical limits every result is checked against, in one place.
 
 A figure outside them is not a sensor's but a mistake in how its readings were read — the unit, the
-columns, the chip — and a result holding one is not ok (:meth:`~app.calibration.result.CalibrationResult.
+columns, the chip — and a result holding one is not ok (:meth:`~app.calibration.shared.result.CalibrationResult.
 plausibility`, which every result runs when it is made). Each result says which figures it holds
 (``physical_figures``); this module says what is plausible and, when a figure is not, the likely
 cause and what to give.

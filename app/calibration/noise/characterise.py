@@ -31,11 +31,11 @@ from typing import ClassVar
 
 import numpy as np
 
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.headlines import SENSOR_WORDS
+from ..shared.plausible import PhysicalFigure
+from ..shared.result import FIGURES, PageFacts, PerSensorResult
 from .allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, overlapping_adev
-from .errors import CalibrationError, InsufficientDataError
-from .headlines import SENSOR_WORDS
-from .plausible import PhysicalFigure
-from .result import FIGURES, PageFacts, PerSensorResult
 
 CONFIDENCE = 0.95
 FLICKER_VARIANCE = 2.0 * math.log(2.0) / math.pi
@@ -460,7 +460,7 @@ class NoiseResult(PerSensorResult):
     still: dict | None = None
     units_stated: bool = False
     """The recording's format states its units (a flight controller's log): an implausible figure is no misread
-    unit (app.calibration.plausible)."""
+    unit (app.calibration.shared.plausible)."""
     method: str = "noise"
 
     @property

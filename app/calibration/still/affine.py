@@ -13,9 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .correction import AffineCorrection
-from .errors import CalibrationError, InsufficientDataError
-from .gates import (
+from ..shared.correction import AffineCorrection
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.gates import (
     Gates,
     exact_fit_gate,
     limit_gate,
@@ -24,9 +24,9 @@ from .gates import (
     residual_gate,
     scale_gate,
 )
-from .orientations import CANONICAL_SIX, nearest_orientation, up_vector
-from .result import PageFacts, StillReadingsResult, parameter
-from .validation import as_vectors, check_gravity
+from ..shared.orientations import CANONICAL_SIX, nearest_orientation, up_vector
+from ..shared.result import PageFacts, StillReadingsResult, parameter
+from ..shared.validation import as_vectors, check_gravity
 
 MODEL_TYPE = "affine"
 

@@ -3,7 +3,7 @@
 Every result of the core derives from :class:`CalibrationResult`.  It carries its model type, the
 units of the readings it was fitted on, ``ok`` / ``reasons`` / ``warnings``, a versioned plain-dict
 form (:meth:`CalibrationResult.to_dict`, :meth:`CalibrationResult.from_dict`) and the correction
-firmware applies, ``f = M (m − o)`` (:class:`~app.calibration.correction.AffineCorrection`), one
+firmware applies, ``f = M (m − o)`` (:class:`~app.calibration.shared.correction.AffineCorrection`), one
 per sensor.  Subclasses register themselves by their ``RESULT_TYPE``, so a stored result is rebuilt
 by :meth:`CalibrationResult.from_dict` whatever its method.
 """
@@ -188,8 +188,10 @@ def page_kinds() -> dict[str, dict]:
 def _load_all() -> None:
     # The models register on import (so these imports are used by their effect: F401 does not see it); the
     # core's package imports only the light ones.
-    from . import affine, autocal, magnetometer, noise, nonorthogonal, temperature, triangular  # noqa: F401
-    from .cube import calibrate  # noqa: F401
+    from .. import autocal, magnetometer, temperature  # noqa: F401
+    from ..cube import calibrate  # noqa: F401
+    from ..noise import characterise  # noqa: F401
+    from ..still import affine, nonorthogonal, triangular  # noqa: F401
 
 
 PARAMETER = {"parameter": True}
@@ -292,7 +294,7 @@ class CalibrationResult(Gated):
             _REGISTRY[cls.RESULT_TYPE] = cls
 
     def __post_init__(self):
-        # The one plausibility gate (app/calibration/plausible.py): every result, however made — fitted,
+        # The one plausibility gate (app/calibration/shared/plausible.py): every result, however made — fitted,
         # given its unit afterwards (dataclasses.replace), or read back from the store —, is not ok with a
         # figure no MEMS part can have. Its reasons come first; those of an earlier making (another unit,
         # a stored body) are dropped and judged again, so that they always say what this result holds.
@@ -304,7 +306,7 @@ class CalibrationResult(Gated):
             object.__setattr__(self, "warnings", found + warnings)
 
     def physical_figures(self) -> list:
-        """Its figures a MEMS part bounds (:class:`~app.calibration.plausible.PhysicalFigure`): by default
+        """Its figures a MEMS part bounds (:class:`~app.calibration.shared.plausible.PhysicalFigure`): by default
         each correction's scale and offset (a gyroscope's bias); a result with other figures adds its own
         (a compass's field, a noise characterisation's densities)."""
         out = []
@@ -314,7 +316,7 @@ class CalibrationResult(Gated):
 
     def plausibility(self) -> list[str]:
         """One reason per figure no MEMS part can have, naming the likely cause (the unit, the columns, the
-        chip) and what to give (:func:`app.calibration.plausible.implausible`); empty when all are plausible."""
+        chip) and what to give (:func:`app.calibration.shared.plausible.implausible`); empty when all are plausible."""
         return implausible(self.physical_figures())
 
     @property
@@ -569,7 +571,7 @@ class StillReadingsResult(CalibrationResult, GatedFit):
             ``count``, ``norm_error_max`` and ``norm_error_max_raw`` (relative), ``error_before_mg`` and
             ``error_after_mg`` (mean | |a| − g | in thousandths of g), and for the models that report it
             ``improvement`` (eq. (21) of Farago et al., a fraction):
-            :func:`app.calibration.norm_metrics.evaluate_still`.
+            :func:`app.calibration.shared.norm_metrics.evaluate_still`.
         """
         out = evaluate_still(means, self.apply, self.gravity)
         if not self.REPORTS_IMPROVEMENT:

@@ -3,7 +3,7 @@
 The cross-validated error (each reading calibrated by the fit made without it) comes first, labelled
 as what to expect; the in-sample error of the fitted readings beside it, labelled as such, since it
 flatters every fit (zero for an exact one). Each result class chooses its line
-(:meth:`app.calibration.result.CalibrationResult.headline`); these functions write it.
+(:meth:`app.calibration.shared.result.CalibrationResult.headline`); these functions write it.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ def _mg(value) -> str:
 
 def accelerometer_headline(metrics: dict, *, held_out: bool) -> str:
     """``metrics`` of an accelerometer calibration in one line: new orientations first (and the tilt it can
-    give a level, app.calibration.angles), in-sample and raw beside.
+    give a level, app.calibration.shared.angles), in-sample and raw beside.
 
     ``held_out``: its ``error_*_mg`` are control points held out of the fit (autocal's), not the fitted
     readings.
@@ -39,7 +39,7 @@ def accelerometer_headline(metrics: dict, *, held_out: bool) -> str:
 
 def compass_headline(metrics: dict, label: str = "µT") -> str:
     """A compass calibration's line: the error of |h| on directions left out (and the heading error it can
-    give at the field's inclination, app.calibration.angles), then in-sample and raw;
+    give at the field's inclination, app.calibration.shared.angles), then in-sample and raw;
     ``label`` is ``counts`` for a magnetometer left in counts (its ``_ut`` figures are then counts)."""
 
     def ut(value) -> str:

@@ -12,7 +12,7 @@ readings of unknown orientation:
   closest points on the unit sphere; the weights are ``min(1/distance, 100)``; it stops when the
   weighted mean squared distance changes by less than 1e-10 g², at most 1000 iterations.  GGIR
   feeds it the means of 10 s windows with a standard deviation below 0.013 g on every axis
-  (:class:`~app.calibration.stationary_002.RestSegments.ggir_mean`); here it also runs on the Farago et al.
+  (:class:`~app.calibration.segments.stationary_002.RestSegments.ggir_mean`); here it also runs on the Farago et al.
   points so that all methods are compared on the same points, as Farago et al. section III does.
 
 The results are :class:`AxisCalibration`; ``to_dict`` gives the model as the lower-triangular model
@@ -26,10 +26,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InsufficientDataError
-from .gates import Gates, limit_gate
-from .norm_metrics import norm_errors
-from .validation import as_samples, as_vectors, check_gravity
+from ..shared.errors import InsufficientDataError
+from ..shared.gates import Gates, limit_gate
+from ..shared.norm_metrics import norm_errors
+from ..shared.validation import as_samples, as_vectors, check_gravity
 
 VAN_HEES_TOL = 1e-10
 VAN_HEES_MAX_ITER = 1000

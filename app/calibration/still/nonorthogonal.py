@@ -27,8 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import OptimizeResult, least_squares
 
-from .errors import CalibrationError
-from .gates import (
+from ..shared.errors import CalibrationError
+from ..shared.gates import (
     Gates,
     deviation_gate,
     hemisphere_gate,
@@ -37,9 +37,9 @@ from .gates import (
     scale_gate,
     unknown_orientation_gates,
 )
-from .result import StillReadingsResult, parameter
-from .uncertainty import covariance_from_jacobian
-from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
+from ..shared.result import StillReadingsResult, parameter
+from ..shared.uncertainty import covariance_from_jacobian
+from ..shared.validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "nonorthogonal"
 
@@ -178,7 +178,7 @@ class NonOrthogonalCalibration(StillReadingsResult):
     dof : int
         Residual degrees of freedom, N − 9.
     metrics, warnings, reasons
-        As in :class:`~app.calibration.affine.AffineCalibration`.
+        As in :class:`~app.calibration.still.affine.AffineCalibration`.
     """
 
     s: np.ndarray = parameter()
@@ -228,7 +228,7 @@ class NonOrthogonalCalibration(StillReadingsResult):
     def jacobian(self, means) -> np.ndarray:
         """Jacobian (N, 9) of the terms of (17) for readings ``means`` (N, 3) with respect to
         (s, b, φ, ψ, θ) at the fitted parameters: what each reading adds to the information JᵀJ
-        behind :attr:`covariance` (app.calibration.advice)."""
+        behind :attr:`covariance` (app.calibration.still.advice)."""
         return _jacobian_17(self.params, as_vectors(means, "means"), self.gravity)
 
     def interval_dict(self, hw: np.ndarray) -> dict:

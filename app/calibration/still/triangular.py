@@ -21,7 +21,7 @@ Solvers (``solver=``):
   rates the sum diverges for N = 18 (the offset curvature is about 8·Σvₓ² ≈ 48, and 0.2·48 > 2),
   so the cost is the mean over the points, for which the published rates converge.
 - ``fixed16`` / ``fixed32``: the same descent in 16-bit (Q3.12, h = 0.01) and 32-bit (Q7.24,
-  h = 10⁻⁵) fixed point, bit-exact to the scheme documented in :mod:`app.calibration.fixed_point`.
+  h = 10⁻⁵) fixed point, bit-exact to the scheme documented in :mod:`app.calibration.still.fixed_point`.
 
 With h = 0.01 the forward difference moves the point where the descent stops by about
 −(h/2)·H⁻¹·diag(H) (H the Hessian of the cost), several 95 % intervals at 1–5 mg noise; this is the
@@ -43,9 +43,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from .errors import CalibrationError
-from .fixed_point import fixed_point_descent
-from .gates import (
+from ..shared.errors import CalibrationError
+from ..shared.gates import (
     Gates,
     deviation_gate,
     hemisphere_gate,
@@ -55,10 +54,11 @@ from .gates import (
     scale_gate,
     unknown_orientation_gates,
 )
-from .result import PageFacts, StillReadingsResult, parameter
+from ..shared.result import PageFacts, StillReadingsResult, parameter
+from ..shared.uncertainty import covariance_from_jacobian, half_widths
+from ..shared.validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
+from .fixed_point import fixed_point_descent
 from .solvers import SOLVERS
-from .uncertainty import covariance_from_jacobian, half_widths
-from .validation import as_vectors, check_gravity, check_sphere_points, one_hemisphere_axis
 
 MODEL_TYPE = "triangular"
 N_PARAMS = 9
@@ -210,7 +210,7 @@ class TriangularCalibration(StillReadingsResult):
     dof : int
         N − 9.
     metrics, warnings, reasons
-        As in :class:`~app.calibration.affine.AffineCalibration`.
+        As in :class:`~app.calibration.still.affine.AffineCalibration`.
     """
 
     K: np.ndarray = parameter()
@@ -253,7 +253,7 @@ class TriangularCalibration(StillReadingsResult):
     def jacobian(self, means) -> np.ndarray:
         """Jacobian (N, 9) of the ``lm`` residuals (module docstring) of readings ``means`` (N, 3) with
         respect to p at the fitted parameters, offsets in g as the fit works: what each reading adds
-        to the information JᵀJ behind :attr:`covariance` (app.calibration.advice)."""
+        to the information JᵀJ behind :attr:`covariance` (app.calibration.still.advice)."""
         g = self.gravity
         p_g = np.r_[self.p[:6], self.o / g]  # Farago et al. eq. (6), offsets in g
         return _jacobian_lm(p_g, as_vectors(means, "means") / g, central=True)

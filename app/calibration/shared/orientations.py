@@ -31,7 +31,7 @@ POSE_NAMES = {
 """Each of the six poses in words for a person holding a phone (W3C frame: x right, y up along the
 screen, z out of the screen), by what every phone has: the screen, the earpiece at the top edge, the
 charging port at the bottom (the side buttons differ between makers); left and right as seen facing
-the screen. The pages and the pose advice (:mod:`app.calibration.advice`) use them."""
+the screen. The pages and the pose advice (:mod:`app.calibration.still.advice`) use them."""
 
 LABEL_MAX_ANGLE_DEG = 20.0
 """A direction is labelled with its nearest axis only when within this angle (docs/rest.md)."""

@@ -1,11 +1,11 @@
 """The still part of a noise recording: the longest stretch in which the device rested.
 
 The half-second blocks whose spread stays below four times the stream's own noise floor (the rule
-of the upload's rest detection, app.calibration.static), knocks of up to a second merged — on every
+of the upload's rest detection, app.calibration.segments.static), knocks of up to a second merged — on every
 sensor the recording holds (:func:`common_still_runs`): a vehicle put down rests at once by its
 accelerometer while its gyroscope rings for a second more, and a compass turned about gravity moves
 no accelerometer.  The still segments of
-an upload (:func:`app.calibration.static.detect_static_segments`) are not used: they end where the
+an upload (:func:`app.calibration.segments.static.detect_static_segments`) are not used: they end where the
 mean leaves the segment's by more than a threshold, which is how they tell orientations apart — and a
 still recording's slow bias drift is what the noise characterisation measures (a night of a phone
 accelerometer with 1 mg of bias instability broke into stretches of seconds).
@@ -18,8 +18,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from ..segments.static import MAX_GAP_S, NOISE_FACTOR, NOISE_PERCENTILE, WINDOW_S, quantisation_step
 from .allan import cores
-from .static import MAX_GAP_S, NOISE_FACTOR, NOISE_PERCENTILE, WINDOW_S
 
 MIN_STILL_FRACTION = 0.5
 """Below half of the recording still, the recording is not a still one: ok is false."""
@@ -130,21 +130,6 @@ def _block_spreads_across(
     var /= w
     spread[:] = np.sqrt(np.add.reduce(var, axis=0))
     means[:] = mean.T
-
-
-def quantisation_step(samples) -> float:
-    """The smallest non-zero change between consecutive samples (of the first 100 000): the step of a
-    sensor quantised coarser than its noise, whose half-second blocks can all read one value (their
-    spread, and the percentile of the spreads, then 0); for continuous readings a tiny number.
-
-    Parameters
-    ----------
-    samples : array_like, shape (N, k)
-    """
-    head = np.asarray(samples[:100_000], dtype=float)
-    steps = np.abs(np.diff(head, axis=0))
-    steps = steps[np.isfinite(steps) & (steps > 0)]
-    return float(steps.min()) if steps.size else 0.0
 
 
 def _intersect(first: list[tuple[int, int]], second: list[tuple[int, int]]) -> list[tuple[int, int]]:

@@ -11,7 +11,7 @@ with L = N + 1 phase points (NIST SP 1065, W. J. Riley, *Handbook of Frequency S
 Analysis*, 2008, eq. (14)).  Each τ costs one pass over the phase; two axes are in memory at a time
 (the phase, float64, of the one summed and of the next), whatever the length of the (memory-mapped)
 input, and the range of every τ is shared between the cores (:func:`second_difference_sums_fast`). A
-core's share is summed by the compiled, fused loop of :mod:`app.calibration.allan_fused` where the
+core's share is summed by the compiled, fused loop of :mod:`app.calibration.noise.allan_fused` where the
 package was built with it (:data:`FUSED`), and otherwise by numpy in blocks of :data:`CHUNK` terms;
 :func:`second_difference_sums` is the plain reference both are tested against.
 
@@ -29,9 +29,9 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .chi2 import chi2_upper_quantile
-from .cores import usable_cores
-from .errors import CalibrationError, InsufficientDataError
+from ..shared.chi2 import chi2_upper_quantile
+from ..shared.cores import usable_cores
+from ..shared.errors import CalibrationError, InsufficientDataError
 
 
 def _fused_loop() -> Callable[[np.ndarray, np.ndarray, int, int, np.ndarray], None] | None:
@@ -51,7 +51,7 @@ compiler is present (setup.py). (3 h at 200 Hz, one axis, 61 τ: 0.07 s on one c
 0.10 s and 0.075 s for the numpy loop.)"""
 
 NOT_BUILT = (
-    "the compiled loop (app/calibration/allan_fused.pyx) was not built: reinstall trical where a C compiler is "
+    "the compiled loop (app/calibration/noise/allan_fused.pyx) was not built: reinstall trical where a C compiler is "
     "(pip install -e . in a checkout)"
 )
 """What to do when the compiled loop is missing: said by the tests, the bench, and a caller that asks for it."""
@@ -346,7 +346,7 @@ def chi2_interval(edf, confidence: float = 0.95) -> tuple[np.ndarray, np.ndarray
     """Factors (lo, hi) on an estimated variance for its two-sided ``confidence`` interval:
     edf / χ²_{(1+c)/2}(edf) and edf / χ²_{(1−c)/2}(edf) (NIST SP 1065, eq. (45)).
 
-    The χ² quantiles are :func:`app.calibration.chi2.chi2_upper_quantile`'s (scipy.special.chdtri's to
+    The χ² quantiles are :func:`app.calibration.shared.chi2.chi2_upper_quantile`'s (scipy.special.chdtri's to
     10⁻¹², without importing scipy.special, which takes longer than the rest of ``trical noise``'s imports).
     """
     if not 0.0 < confidence < 1.0:

@@ -26,9 +26,9 @@ from __future__ import annotations
 
 import dataclasses
 
-from .gates import Gates
-from .norm_metrics import norm_errors
-from .uncertainty import half_widths
+from ..shared.gates import Gates
+from ..shared.norm_metrics import norm_errors
+from ..shared.uncertainty import half_widths
 
 NORM_GROWTH_TOLERANCE_MG = 0.1
 """The in-sample norm error may exceed the raw one by this much (mg of g) before it counts as grown:
@@ -51,7 +51,7 @@ def review(result, cv: dict, *, raw_unit: bool = False):
     result : StillReadingsResult
         A fit of still readings (``means``, ``apply``, ``covariance``, ``dof``, ``PARAMETERS``).
     cv : dict
-        Its cross-validated error (:func:`~app.calibration.cross_validation.cross_validated_error`),
+        Its cross-validated error (:func:`~app.calibration.still.cross_validation.cross_validated_error`),
         or the six-position's null figures.
     raw_unit : bool
         Readings in raw counts: the raw norm error is not comparable to g, so the gates that compare

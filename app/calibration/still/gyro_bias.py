@@ -21,8 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import CalibrationError
-from .uncertainty import CONFIDENCE, t_quantile
+from ..shared.errors import CalibrationError
+from ..shared.uncertainty import CONFIDENCE, t_quantile
 
 FORMULA_CAPTURES = "b = mean_k m_k; half-width = t(0.975, K-1) * s_K / sqrt(K), s_K the std of the K capture means"
 FORMULA_SAMPLES = "b = m_1; half-width = t(0.975, n-1) * s / sqrt(n), s the std of the capture's n samples"

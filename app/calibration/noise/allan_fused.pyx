@@ -7,7 +7,7 @@ for each averaging factor m (NIST SP 1065, W. J. Riley, *Handbook of Frequency S
 2008, eq. (14)), in one pass that reads the three windows of the phase once and keeps the sums in
 registers, without the interpreter's lock, so the shares run side by side on threads.
 
-The numpy loop of :mod:`app.calibration.allan` is its reference and its stand-in where the package was
+The numpy loop of :mod:`app.calibration.noise.allan` is its reference and its stand-in where the package was
 installed without a C compiler. Both take the second difference as a difference of first differences,
 (x_{i+2m} − x_{i+m}) − (x_{i+m} − x_i); here consecutive i go to :data:`LANES` running sums, which the
 compiler keeps in vector registers, so the additions come in another order than numpy's and the sums
@@ -26,7 +26,7 @@ def sums_of_share(const double[::1] x, const int64_t[::1] ms, Py_ssize_t share, 
     of (x_{i+2m} − 2 x_{i+m} + x_i)², with m = ``ms[j]`` and L = ``len(x)``.
 
     The parts are cut as ``count · share // shares`` … ``count · (share + 1) // shares`` with
-    count = L − 2m, as :func:`app.calibration.allan._numpy_sums_of_share` cuts them.
+    count = L − 2m, as :func:`app.calibration.noise.allan._numpy_sums_of_share` cuts them.
 
     Raises ValueError for an m outside 1 … (L − 1) / 2, a share outside 0 … shares − 1, or an ``out``
     whose length is not that of ``ms``.

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import CalibrationError
+from ..shared.errors import CalibrationError
 
 Q_FORMATS = {16: 12, 32: 24}
 """Fraction bits F per word width W: Q3.12 and Q7.24."""

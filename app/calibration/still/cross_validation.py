@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import CalibrationError
+from ..shared.errors import CalibrationError
 
 LEAVE_ONE_OUT_MAX = 50
 """Up to this many readings every one is left out in turn; above, K-fold with :data:`K_FOLDS`."""

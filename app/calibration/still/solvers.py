@@ -1,5 +1,5 @@
 """The solvers of Farago, Maczak and Gingl's triangular model (IEEE Access), by name: the one list the core, the
-request models and the CLI offer (app.calibration.triangular documents each)."""
+request models and the CLI offer (app.calibration.still.triangular documents each)."""
 
 from typing import Literal, get_args
 

@@ -29,9 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 
-from .errors import CalibrationError
-from .gravity import STANDARD_GRAVITY
-from .validation import check_gravity
+from ..shared.errors import CalibrationError
+from ..shared.gravity import STANDARD_GRAVITY
+from ..shared.validation import check_gravity
 
 NONORTHOGONALITY = 0.02
 """Up to 2 % non-orthogonality of the axes (Georgieva et al. section 2, [5])."""

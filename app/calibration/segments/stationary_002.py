@@ -42,9 +42,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .cores import usable_cores
-from .errors import CalibrationError
-from .validation import check_gravity
+from ..shared.cores import usable_cores
+from ..shared.errors import CalibrationError
+from ..shared.validation import check_gravity
 
 SEGMENT_S = 5.0
 """Segment length (Farago et al. section II.B.1)."""

@@ -6,7 +6,7 @@ floor.  Runs of still windows are trimmed at their transition edges, halves of a
 short knock are merged (the knock's samples are left out), and a run is kept only when it lasts
 long enough, its mean norm is plausible for gravity, and its direction does not drift (a slow turn
 through a pose is not a rest).  Each rest is labelled with the axis that points up
-(:func:`~app.calibration.orientations.nearest_orientation`, the 20° rule of docs/rest.md).
+(:func:`~app.calibration.shared.orientations.nearest_orientation`, the 20° rule of docs/rest.md).
 
 Everything is O(N): the moving windows use cumulative sums and the edge trimming is vectorised over
 all runs; 10⁷ samples with ~10⁴ rests take ~4.5 s on a shared 2-core machine (bench/static_segments.py).
@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import CalibrationError, InsufficientDataError
-from .orientations import LABEL_MAX_ANGLE_DEG, nearest_orientation
-from .validation import as_vectors, check_gravity
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.orientations import LABEL_MAX_ANGLE_DEG, nearest_orientation
+from ..shared.validation import as_vectors, check_gravity
 
 WINDOW_S = 0.5
 """Moving-window length: long enough to average noise (50–100 samples), short enough to see a turn."""
@@ -261,6 +261,21 @@ def still_threshold(
     return g_ref, thr
 
 
+def quantisation_step(samples) -> float:
+    """The smallest non-zero change between consecutive samples (of the first 100 000): the step of a
+    sensor quantised coarser than its noise, whose half-second blocks can all read one value (their
+    spread, and the percentile of the spreads, then 0); for continuous readings a tiny number.
+
+    Parameters
+    ----------
+    samples : array_like, shape (N, k)
+    """
+    head = np.asarray(samples[:100_000], dtype=float)
+    steps = np.abs(np.diff(head, axis=0))
+    steps = steps[np.isfinite(steps) & (steps > 0)]
+    return float(steps.min()) if steps.size else 0.0
+
+
 def others_still(
     others, w: int, noise_percentile: float = NOISE_PERCENTILE, noise_factor: float = NOISE_FACTOR
 ) -> np.ndarray | None:
@@ -271,10 +286,8 @@ def others_still(
     times the ``noise_percentile`` percentile of that sensor's own spreads — the accelerometer's rule,
     on the sensor's own noise floor and in its own unit —, that floor being at least half a
     quantisation step (a sensor quantised coarser than its noise:
-    :func:`app.calibration.noise_still.quantisation_step`), as in the noise method's still part.
+    :func:`quantisation_step`), as in the noise method's still part.
     """
-    from .noise_still import quantisation_step
-
     still = None
     for samples in others:
         o = as_vectors(samples, "samples of another sensor")

@@ -35,9 +35,9 @@ import numpy as np
 from scipy.linalg import polar
 from scipy.spatial.transform import Rotation
 
-from .errors import CalibrationError
-from .norm_metrics import relative_norm_errors
-from .validation import as_vectors
+from ..shared.errors import CalibrationError
+from ..shared.norm_metrics import relative_norm_errors
+from ..shared.validation import as_vectors
 
 N_PARAMS = 6
 """Three offsets and three scales."""

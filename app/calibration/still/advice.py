@@ -36,8 +36,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .orientations import POSE_NAMES
-from .validation import as_vectors, sphere_directions
+from ..shared.orientations import POSE_NAMES
+from ..shared.validation import as_vectors, sphere_directions
 
 CANDIDATES = 400
 """Candidate up-directions on a Fibonacci sphere: neighbours about 10° apart."""
