@@ -22,6 +22,7 @@ applying; below that it is "no need": the sensor is already as good as the calib
 
 from __future__ import annotations
 
+from app.calibration import registry
 from app.calibration.noise.characterise import TERM_WORDS, duration_words
 from app.calibration.shared.angles import figure_degrees
 from app.calibration.shared.errors import CalibrationError
@@ -60,10 +61,10 @@ def _short_reason(reasons: list[str]) -> str:
 
 
 def rebuilt(body: dict) -> CalibrationResult | None:
-    """The result a stored body rebuilds (:meth:`CalibrationResult.from_dict`, the body's metrics as stored),
+    """The result a stored body rebuilds (:func:`app.calibration.registry.from_dict`, the body's metrics as stored),
     or None for a body cut short (no model: written by hand, or by a client), whose class still answers."""
     try:
-        return CalibrationResult.from_dict(body)
+        return registry.from_dict(body)
     except (CalibrationError, LookupError, TypeError, ValueError):
         return None
 
@@ -97,7 +98,7 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
         ok, reasons = result.ok, list(result.reasons)
     else:
         try:
-            cls = CalibrationResult.class_of(body)
+            cls = registry.class_of(body)
         except CalibrationError:
             cls = CalibrationResult
         figures, line = cls.figures_from(body.get("metrics") or {}, body.get("output_unit")), body.get("headline")

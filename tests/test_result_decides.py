@@ -4,7 +4,7 @@ that chooses a figure, reads such a metric by its key, or keys a table by a meth
 
 Such a comparison (``body["model"]["type"] == "cube"``, ``method in ("six_position", "orientations")``,
 ``"cv_error_mg" in metrics``, a ``case "noise":``) is a
-place that knows a method by name: the stored body's result (``CalibrationResult.from_dict``) or the method
+place that knows a method by name: the stored body's result (``registry.from_dict``) or the method
 table answers instead. The names are taken from the code: the result registry's types and model types, the
 methods the requests accept, and the metrics the results choose their figures by; in the page (templates and
 scripts) the protocols' names too, from the protocol table. Four scanners: Python comparisons, Python reads of a
@@ -18,7 +18,8 @@ import ast
 import re
 from pathlib import Path
 
-from app.calibration.shared.result import FIGURE_METRICS, CalibrationResult, registered_types
+from app.calibration.registry import class_of, registered_types
+from app.calibration.shared.result import FIGURE_METRICS
 from app.guided.protocols import BOARD_PROTOCOLS, SESSION_PROTOCOLS
 from app.methods import METHODS
 
@@ -66,7 +67,7 @@ def decided_names() -> dict[str, str]:
     names.update({name: "method" for name in METHODS if name not in NOT_A_RESULT})
     for kind in registered_types():
         names[kind] = "model type"
-        names[CalibrationResult.class_of({"model": {"type": kind}, "method": kind}).MODEL_TYPE] = "model type"
+        names[class_of({"model": {"type": kind}, "method": kind}).MODEL_TYPE] = "model type"
     return names
 
 

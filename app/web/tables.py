@@ -19,9 +19,9 @@ from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
+from app.calibration.registry import as_fitted_words, page_kinds
 from app.calibration.shared.headlines import SENSOR_WORDS
 from app.calibration.shared.orientations import POSE_NAMES, UP_VECTORS
-from app.calibration.shared.result import as_fitted_words, page_kinds
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.guided import capture_rules
 from app.io.board.formats import board_tables

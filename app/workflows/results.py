@@ -31,6 +31,6 @@ def pose_advice(result: StillReadingsResult) -> list[dict[str, Any]]:
 def apply_calibration(body: dict[str, Any], samples: ArrayLike, sensor: str = "acc") -> np.ndarray:
     """Calibrate samples of one sensor with a stored calibration: the result it rebuilds applies its
     correction of that sensor, or says which sensors it has (a noise characterisation corrects nothing)."""
-    from app.calibration.shared.result import CalibrationResult  # from_dict imports every model
+    from app.calibration import registry  # from_dict imports every model
 
-    return CalibrationResult.from_dict(body).apply(samples, sensor)
+    return registry.from_dict(body).apply(samples, sensor)

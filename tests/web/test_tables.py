@@ -155,12 +155,12 @@ def test_each_kind_of_result_tells_the_page_what_it_shows():
     """The result classes declare what the page shows (PageFacts); the server sends it by model type, and the
     page draws it with the drawings it names: each set of uses exists, results sharing a model type agree, and
     each drawing, plot box and plot format the facts name is on the page."""
-    from app.calibration.shared.result import CalibrationResult, page_kinds, registered_types
+    from app.calibration.registry import class_of, page_kinds, registered_types
     from app.web.uses import USE_SETS
 
     kinds = page_kinds()
     assert page_tables()["kinds"] == kinds
-    classes = [CalibrationResult.class_of({"model": {"type": t}, "method": t}) for t in registered_types()]
+    classes = [class_of({"model": {"type": t}, "method": t}) for t in registered_types()]
     assert set(kinds) == {"", *(cls.MODEL_TYPE for cls in classes)}
     for cls in classes:
         assert next(c.PAGE for c in classes if c.MODEL_TYPE == cls.MODEL_TYPE) == cls.PAGE, cls

@@ -5,13 +5,16 @@ units of the readings it was fitted on, ``ok`` / ``reasons`` / ``warnings``, a v
 form (:meth:`CalibrationResult.to_dict`, :meth:`CalibrationResult.from_dict`) and the correction
 firmware applies, ``f = M (m − o)`` (:class:`~app.calibration.shared.correction.AffineCorrection`), one
 per sensor.  Subclasses register themselves by their ``RESULT_TYPE``, so a stored result is rebuilt
-by :meth:`CalibrationResult.from_dict` whatever its method.
+by :meth:`CalibrationResult.from_dict` whatever its method; this base imports none of them, and the core's
+registry (:mod:`app.calibration.registry`) is what loads them all.
 """
 
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
@@ -163,35 +166,11 @@ def first_figure(metrics: dict, sources) -> Figure:
     return NO_FIGURE
 
 
-def registered_types() -> tuple[str, ...]:
-    """The result types :meth:`CalibrationResult.from_dict` can rebuild."""
-    _load_all()
-    return tuple(_REGISTRY)
-
-
-def as_fitted_words() -> dict[str, str]:
-    """By model type, how the model as fitted relates to its correction (:attr:`CalibrationResult.AS_FITTED`),
-    for the models that say it."""
-    _load_all()
-    return {cls.MODEL_TYPE: cls.AS_FITTED for cls in _REGISTRY.values() if cls.AS_FITTED}
-
-
-def page_kinds() -> dict[str, dict]:
-    """By model type, what the page shows of a result (:class:`PageFacts`, and ``correction``: whether it has
-    a correction to apply); results that share a model type (autocal's triangular model) share their facts.
-    The key ``""`` holds the base class's: a correction's, for a body whose model type is not known."""
-    _load_all()
-    classes: list[type[CalibrationResult]] = [CalibrationResult, *_REGISTRY.values()]
-    return {cls.MODEL_TYPE: {**dataclasses.asdict(cls.PAGE), "correction": cls.KIND != FIGURES} for cls in classes}
-
-
-def _load_all() -> None:
-    # The models register on import (so these imports are used by their effect: F401 does not see it); the
-    # core's package imports only the light ones.
-    from .. import autocal, magnetometer, temperature  # noqa: F401
-    from ..cube import calibrate  # noqa: F401
-    from ..noise import characterise  # noqa: F401
-    from ..still import affine, nonorthogonal, triangular  # noqa: F401
+def registered() -> Mapping[str, type[CalibrationResult]]:
+    """The result classes registered so far, by their type (a read-only view): each class enters when its module is
+    imported (:meth:`CalibrationResult.__init_subclass__`). This base imports none of them; the core's registry
+    (:mod:`app.calibration.registry`) imports them all."""
+    return MappingProxyType(_REGISTRY)
 
 
 PARAMETER = {"parameter": True}
@@ -477,7 +456,8 @@ class CalibrationResult(Gated):
 
     @classmethod
     def from_dict(cls, data: dict) -> CalibrationResult:
-        """The result whose :meth:`to_dict` produced ``data``, of the class its type names.
+        """The result whose :meth:`to_dict` produced ``data``, of the class its type names (among the classes
+        registered: :func:`app.calibration.registry.from_dict` loads them all first).
 
         Called on a subclass, the data must be of that subclass's type.
 
@@ -501,17 +481,14 @@ class CalibrationResult(Gated):
     def class_of(data: dict) -> type[CalibrationResult]:
         """The result class a plain form names (its method where that names a result kind of its own, else
         its model type), without rebuilding it: enough for the class answers (:attr:`KIND`,
-        :meth:`figures_from`) of a body cut short.
+        :meth:`figures_from`) of a body cut short. Among the classes registered
+        (:func:`app.calibration.registry.class_of` loads them all first).
 
         Raises
         ------
         CalibrationError
             If the type is unknown.
         """
-        if data.get("method") not in _REGISTRY:
-            # A method whose class is loaded names it (result_type_of); only otherwise is every model loaded (the
-            # cube's imports scipy.stats, ~0.7 s, which `trical autocal` has no use for).
-            _load_all()
         kind = result_type_of(data)
         target = _REGISTRY.get(kind) if kind is not None else None
         if target is None:

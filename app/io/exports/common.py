@@ -1,5 +1,5 @@
 """What every export shares: the file it returns, and each sensor's correction ``f = M (m − o)``
-taken from the calibration's typed result (app.calibration.shared.result)."""
+taken from the calibration's typed result (app.calibration.registry)."""
 
 from __future__ import annotations
 
@@ -26,21 +26,21 @@ class Export:
 
 
 def _result(body: dict):
-    from app.calibration.shared.result import CalibrationResult  # from_dict imports every model
+    from app.calibration import registry  # from_dict imports every model
 
     try:
-        return CalibrationResult.from_dict(body)
+        return registry.from_dict(body)
     except CalibrationError as exc:
         raise ExportError(f"{exc}: this calibration cannot be exported") from None
 
 
 def result_class(body: dict):
-    """The result class a stored calibration names (app.calibration.shared.result): its class answers (``KIND``,
+    """The result class a stored calibration names (app.calibration.registry): its class answers (``KIND``,
     ``PER_SENSOR``) say which exports fit it, even for a body cut short."""
-    from app.calibration.shared.result import CalibrationResult  # class_of imports every model
+    from app.calibration import registry  # class_of imports every model
 
     try:
-        return CalibrationResult.class_of(body)
+        return registry.class_of(body)
     except CalibrationError as exc:
         raise ExportError(f"{exc}: this calibration cannot be exported") from None
 
