@@ -30,7 +30,7 @@ from app.io.exports.compass import FLIGHT_COMPASS_EXPORTS
 from app.io.exports.exporters import EXPORTERS, Export, export_calibration
 from app.io.exports.noise import NOISE_EXPORTERS
 from app.io.exports.temperature import TEMPERATURE_EXPORTERS
-from app.workflows import autocal, compass, cube, flight_compass, noise, still, temperature
+from app.workflows import autocal, compass, cube, flight_compasses, noise, still, temperature
 from app.workflows.calibration import Calibration
 from app.workflows.entry import calibrate as run_handler
 from app.workflows.recordings import RecordingSource
@@ -214,7 +214,7 @@ TABLE: tuple[Method, ...] = (
     Method(
         "compass_flight",
         request=rq.CompassFlightIn,
-        handler=flight_compass.compass_flight,
+        handler=flight_compasses.compass_flight,
         response="CompassFlightOut",
         command="calibrate",
         formats=FLIGHT_COMPASS_EXPORTS,

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from app.calibration import CalibrationError
+from app.calibration.noise.still_part import NOISE_MIN_S, NOISE_REST_S
 from app.calibration.shared.errors import InsufficientDataError
 from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.calibration import Calibration
@@ -19,14 +20,6 @@ if TYPE_CHECKING:
     from app.io.readers.timing import Gap
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
-NOISE_REST_S = 5.0
-"""A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
-and only the longest is characterised. It is also the least rest the noise is read from (:data:`NOISE_MIN_S`)."""
-NOISE_MIN_S = NOISE_REST_S
-"""One rest long enough for the noise: its white noise shows from a few seconds at tens of hertz (the real PX4
-sample's 7.5 s rest gives the density of its whole 61 s within 15 %; half a second gives an interval spanning a
-factor of six); the verdict says how long a filter's random walk needs (app.verdict). Shorter, the recording lists
-the noise as not ready and the method answers ok false."""
 NOISE_GAPS_MAX = 0.01
 """Gaps losing more than this fraction of the still part's time make its Allan deviation unreliable
 (``ok`` false): the estimator takes the samples as evenly spaced, and a lost stretch joins two

@@ -23,6 +23,14 @@ from .allan import cores
 
 MIN_STILL_FRACTION = 0.5
 """Below half of the recording still, the recording is not a still one: ok is false."""
+NOISE_REST_S = 5.0
+"""A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
+and only the longest is characterised. It is also the least rest the noise is read from (:data:`NOISE_MIN_S`)."""
+NOISE_MIN_S = NOISE_REST_S
+"""One rest long enough for the noise: its white noise shows from a few seconds at tens of hertz (the real PX4
+sample's 7.5 s rest gives the density of its whole 61 s within 15 %; half a second gives an interval spanning a
+factor of six); the verdict says how long a filter's random walk needs (app.verdict). Shorter, the recording lists
+the noise as not ready and the method answers ok false."""
 
 
 def still_runs(samples, sampling_rate_hz: float) -> list[tuple[int, int]]:
