@@ -8,7 +8,7 @@ RUN apt-get update \
     && rm -rf /var/lib/apt/lists/*
 WORKDIR /srv/trical
 COPY setup.py pyproject.toml README.md ./
-COPY app/calibration/allan_fused.pyx ./app/calibration/
+COPY app/calibration/noise/allan_fused.pyx ./app/calibration/noise/
 RUN pip install --no-cache-dir "setuptools>=77" "Cython>=3.0" \
     && python setup.py build_ext --inplace
 
@@ -32,7 +32,7 @@ RUN mkdir app && touch app/__init__.py \
 COPY app ./app
 COPY static ./static
 COPY templates ./templates
-COPY --from=fused /srv/trical/app/calibration/allan_fused.*.so ./app/calibration/
+COPY --from=fused /srv/trical/app/calibration/noise/allan_fused.*.so ./app/calibration/noise/
 RUN pip install --no-deps -e . \
     && useradd --create-home --uid 10001 trical \
     && mkdir -p /data \

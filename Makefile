@@ -48,7 +48,7 @@ $(VENV)/bin/python:
 
 # The package in place, with the Allan sums' compiled loop built beside its source where a C compiler is
 # (setup.py; without one the install goes on, and the sums run in numpy).
-FUSED_LOOP := setup.py app/calibration/allan_fused.pyx
+FUSED_LOOP := setup.py app/calibration/noise/allan_fused.pyx
 
 $(VENV)/.installed: pyproject.toml $(FUSED_LOOP) | $(VENV)/bin/python
 	$(BIN)/python -m pip install -e .

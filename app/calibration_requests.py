@@ -12,7 +12,7 @@ from typing import Annotated, Any, ClassVar, Literal, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, FiniteFloat, model_validator
 
-from app.calibration.solvers import Solver
+from app.calibration.still.solvers import Solver
 from app.io.log import AccPhysicalUnit, AccUnit
 
 Label = Literal["+x", "-x", "+y", "-y", "+z", "-z"]

@@ -13,13 +13,13 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, TypeVar
 
-from app.calibration.affine import AffineCalibration
-from app.calibration.angles import compass_inclination, degrees_text, heading_error_deg, tilt_error_deg
 from app.calibration.autocal import AutoCalibration
-from app.calibration.headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS
 from app.calibration.magnetometer.flight_calibration import FlightCompassCalibration
 from app.calibration.magnetometer.result import MagnetometerResult, figure_unit
-from app.calibration.result import CalibrationResult, Figure, StillReadingsResult
+from app.calibration.shared.angles import compass_inclination, degrees_text, heading_error_deg, tilt_error_deg
+from app.calibration.shared.headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS
+from app.calibration.shared.result import CalibrationResult, Figure, StillReadingsResult
+from app.calibration.still.affine import AffineCalibration
 from app.calibration.temperature import TemperatureResult
 
 _Told = TypeVar("_Told")

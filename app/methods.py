@@ -24,13 +24,13 @@ from typing import TYPE_CHECKING, Annotated, Any, Generic, TypeAlias, TypeVar, U
 from pydantic import BaseModel, Field, TypeAdapter
 
 from app import calibration_requests as rq
-from app.calibration.solvers import SOLVERS
+from app.calibration.still.solvers import SOLVERS
 from app.io.errors import ExportError
-from app.io.export_compass import FLIGHT_COMPASS_EXPORTS
-from app.io.export_noise import NOISE_EXPORTERS
-from app.io.export_temperature import TEMPERATURE_EXPORTERS
-from app.io.exporters import EXPORTERS, Export, export_calibration
-from app.workflows import autocal, compass, cube, flight_compass, noise, still, temperature
+from app.io.exports.compass import FLIGHT_COMPASS_EXPORTS
+from app.io.exports.exporters import EXPORTERS, Export, export_calibration
+from app.io.exports.noise import NOISE_EXPORTERS
+from app.io.exports.temperature import TEMPERATURE_EXPORTERS
+from app.workflows import autocal, compass, cube, flight_compasses, noise, still, temperature
 from app.workflows.calibration import Calibration
 from app.workflows.entry import calibrate as run_handler
 from app.workflows.recordings import RecordingSource
@@ -220,7 +220,7 @@ _ENTRIES = (  # unannotated, so that mypy checks each request model against its 
     Method(
         "compass_flight",
         request=rq.CompassFlightIn,
-        handler=flight_compass.compass_flight,
+        handler=flight_compasses.compass_flight,
         response="CompassFlightOut",
         command="calibrate",
         formats=FLIGHT_COMPASS_EXPORTS,
@@ -294,7 +294,7 @@ def export(body: dict[str, Any], fmt: str) -> Export:
     ------
     ExportError
         A format its method does not offer (naming those it does), or one that does not fit this
-        calibration's model (:func:`app.io.exporters.export_calibration`).
+        calibration's model (:func:`app.io.exports.exporters.export_calibration`).
     """
     method = BY_NAME.get(body.get("method", ""))
     if method is not None and fmt not in method.formats and fmt in ALL_FORMATS:

@@ -7,7 +7,7 @@ figure grew, whatever the gates said: ``ok`` true on a calibration that makes th
 be a bug elsewhere, and the verdict does not pass it on.
 
 The figure is the most honest one the calibration has; the result decides which
-(:meth:`app.calibration.result.CalibrationResult.figure`, each class in its own order):
+(:meth:`app.calibration.shared.result.CalibrationResult.figure`, each class in its own order):
 
 1. readings the request held out (``holdout_*``), or autocal's control points, held out of its fit;
 2. the cross-validated error (each reading calibrated by the fit made without it), against the same
@@ -22,11 +22,12 @@ applying; below that it is "no need": the sensor is already as good as the calib
 
 from __future__ import annotations
 
-from app.calibration.angles import figure_degrees
-from app.calibration.errors import CalibrationError
-from app.calibration.headlines import SENSOR_WORDS
-from app.calibration.noise import TERM_WORDS, duration_words
-from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult
+from app.calibration import registry
+from app.calibration.noise.characterise import TERM_WORDS, duration_words
+from app.calibration.shared.angles import figure_degrees
+from app.calibration.shared.errors import CalibrationError
+from app.calibration.shared.headlines import SENSOR_WORDS
+from app.calibration.shared.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult
 from app.headlines import headline, verdict_note
 
 MIN_GAIN_FRACTION = 0.2
@@ -34,7 +35,7 @@ MIN_GAIN_FRACTION = 0.2
 
 MIN_GAIN_MG = 0.5
 """…and smaller by 0.5 mg of g: five times the averaging noise of a few-second still reading of a phone
-(app.calibration.trust.NORM_GROWTH_TOLERANCE_MG)."""
+(app.calibration.still.trust.NORM_GROWTH_TOLERANCE_MG)."""
 
 MIN_GAIN_UT = 0.5
 """The compass's: 0.5 µT, about 1 % of the Earth's field and a quarter of a degree of heading at most."""
@@ -61,10 +62,10 @@ def _short_reason(reasons: list[str]) -> str:
 
 
 def rebuilt(body: dict) -> CalibrationResult | None:
-    """The result a stored body rebuilds (:meth:`CalibrationResult.from_dict`, the body's metrics as stored),
+    """The result a stored body rebuilds (:func:`app.calibration.registry.from_dict`, the body's metrics as stored),
     or None for a body cut short (no model: written by hand, or by a client), whose class still answers."""
     try:
-        return CalibrationResult.from_dict(body)
+        return registry.from_dict(body)
     except (CalibrationError, LookupError, TypeError, ValueError):
         return None
 
@@ -86,7 +87,7 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
         or ``figures`` for a noise characterisation, which corrects nothing), ``words`` (the sentence),
         ``why`` (one line more), and ``before``, ``after``, ``unit``, ``basis`` of its figure (null
         where it has none), and ``degrees``: the figure as a level's tilt or a compass's heading error
-        (app.calibration.angles.figure_degrees; null for a figure that is no error of gravity or of the field).
+        (app.calibration.shared.angles.figure_degrees; null for a figure that is no error of gravity or of the field).
 
     The result decides what it stands on: its kind (:attr:`CalibrationResult.KIND`), its figures
     (:meth:`CalibrationResult.figures`), its headline and the note under its figure. A body cut short
@@ -98,7 +99,7 @@ def verdict(body: dict, result: CalibrationResult | None = None) -> dict:
         ok, reasons = result.ok, list(result.reasons)
     else:
         try:
-            cls = CalibrationResult.class_of(body)
+            cls = registry.class_of(body)
         except CalibrationError:
             cls = CalibrationResult
         figures, line = cls.figures_from(body.get("metrics") or {}, body.get("output_unit")), body.get("headline")
@@ -157,7 +158,7 @@ def _gaps_words(gaps) -> str:
 
 def _correction_verdict(cls, method, figures, line, ok: bool, reasons: list[str], metrics: dict) -> dict:
     """A correction: its one figure, the most honest it has (the result's order), and what it means as an angle
-    (app.calibration.angles.figure_degrees): a level's tilt for an accelerometer, a heading for a compass."""
+    (app.calibration.shared.angles.figure_degrees): a level's tilt for an accelerometer, a heading for a compass."""
     figure = figures[0] if figures else NO_FIGURE
     before, after, unit, basis = figure.before, figure.after, figure.unit, figure.basis
     change = (
@@ -209,7 +210,7 @@ def _drift_verdict(cls, method, figures, line, ok: bool, reasons: list[str], met
     """A temperature calibration: its offset drift over the range, raw against bands of temperature left out
     (each predicted by the fit made without it), the accelerometer's in mg first, else the gyroscope's in °/s;
     worse when any sensor's drift grew, no gain when none shrank enough. The accelerometer's drift is also told
-    as the tilt it gives a level (app.calibration.angles.figure_degrees)."""
+    as the tilt it gives a level (app.calibration.shared.angles.figure_degrees)."""
     if not figures:
         return _out(
             False, "failed", "Don't apply it: the calibration has no temperature model.", _short_reason(reasons)

@@ -26,9 +26,9 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, TypeVar
 
-from app.calibration.headlines import SENSOR_WORDS
-from app.calibration.plausible import UNIT_WORDS as PHYSICAL_UNIT_WORDS
-from app.io.formats.chips import CHIPS
+from app.calibration.shared.headlines import SENSOR_WORDS
+from app.calibration.shared.plausible import UNIT_WORDS as PHYSICAL_UNIT_WORDS
+from app.io.readers.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
 
 READERS = ("api", "cli", "page")
@@ -42,7 +42,7 @@ PAGE_HEADER = "X-Trical-Page"
 
 UNIT_WORDS = {**PHYSICAL_UNIT_WORDS, "raw": "counts"}
 """Each unit as a person reads it (the start page's unit menus show these): the core's words of the physical
-units (app/calibration/plausible.py), and counts."""
+units (app/calibration/shared/plausible.py), and counts."""
 
 UNITS_CARD = "“Units, as the data show them”"
 OPTIONS = "the upload's Options"

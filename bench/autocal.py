@@ -107,7 +107,7 @@ def core_child(path: str) -> None:
     """Detection + selection + fit in this process, memory-mapped."""
     t0 = time.perf_counter()
     from app.calibration.autocal import autocalibrate
-    from app.calibration.stationary_002 import detect_rest_segments
+    from app.calibration.segments.stationary_002 import detect_rest_segments
 
     t_import = time.perf_counter() - t0
     x = np.load(path, mmap_mode="r")
@@ -145,7 +145,7 @@ def pass_child(path: str) -> None:
     detection sums a still segment) over the memory-mapped file, in as many threads as cores."""
     from concurrent.futures import ThreadPoolExecutor
 
-    from app.calibration.stationary_002 import _PageReleaser
+    from app.calibration.segments.stationary_002 import _PageReleaser
 
     x = np.load(path, mmap_mode="r")
     pages = _PageReleaser(x)  # as trical's detection: the pages read leave the process (its peak stays small)

@@ -30,8 +30,8 @@ import numpy as np
 
 from app.calibration.magnetometer import fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_turn
 
 F = EARTH_FIELD_UT

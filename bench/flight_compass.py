@@ -23,7 +23,7 @@ import numpy as np
 
 from app.calibration.magnetometer.ellipsoid import fit_sphere
 from app.calibration.magnetometer.flight import fit_flight_compass
-from app.calibration.rotations import angle_between, nearest_rotation
+from app.calibration.shared.rotations import angle_between, nearest_rotation
 from simulations.flight_compass import simulate_flight
 
 MOUNTINGS = (2, 8, 0, 4, 16, 25)

@@ -3,7 +3,7 @@
     PYTHONPATH=. python bench/flight_compass_exports.py [--bodies 100] [--readings 2000] [--seed 1]
 
 For each scenario, ``--bodies`` seeded calibration bodies (a random symmetric soft iron about I, offsets and
-motor coefficients) are exported (app.io.export_compass); the numbers are read back from the file's text and
+motor coefficients) are exported (app.io.exports.compass); the numbers are read back from the file's text and
 put into the firmware's own formula (ArduPilot's rotate_field and correct_field, PX4's Magnetometer::Correct,
 written in tests/io/test_export_flight_compass.py from the firmware sources) over ``--readings`` random raw
 readings and currents or throttles. Printed: the largest |h_firmware − h_trical| in µT over every body and
@@ -16,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from app.io.export_compass import export_flight_compass
+from app.io.exports.compass import export_flight_compass
 from tests.io.test_export_flight_compass import (
     YAW_90,
     ap_rotate,

@@ -35,8 +35,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 from app import calibration_requests as rq  # noqa: E402 - after sys.path.insert
-from app.io.formats import read_log  # noqa: E402 - after sys.path.insert
-from app.io.read_options import ReadOptions  # noqa: E402 - after sys.path.insert
+from app.io.readers import read_log  # noqa: E402 - after sys.path.insert
+from app.io.readers.read_options import ReadOptions  # noqa: E402 - after sys.path.insert
 from app.methods import calibrate  # noqa: E402 - after sys.path.insert
 from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402 - after sys.path.insert
 from tests.flight_compass_logs import seeded_flight, write_flight_compass_logs  # noqa: E402 - after sys.path.insert

@@ -10,7 +10,7 @@ hours of it) as an ArduPilot DataFlash log and a PX4 ULog of about ``--mb`` MB e
   in process (the app, SQLite, the upload's reading and the fit; no network);
 - pymavlink's ``DFReader_binary`` reading every message trical uses on the way (``recv_match``): the IMU the
   upload reads (IMU), the compass (MAG), the attitude (ATT), the power (BAT, CTUN), the fix (GPS), the parameters;
-- pyulog's ``ULog`` reading the topics trical uses on the way (``app.io.formats.ulog.TOPICS`` and
+- pyulog's ``ULog`` reading the topics trical uses on the way (``app.io.flight.ulog.TOPICS`` and
   ``CONTEXT_TOPICS``: the IMU the upload reads, the compass, attitude, power and fix).
 
 It prints the sizes, the seconds and trical's time over the peer's; nothing passes or fails.
@@ -76,7 +76,7 @@ def _pymavlink(path: Path) -> float:
 def _pyulog(path: Path) -> float:
     from pyulog import ULog
 
-    from app.io.formats.ulog import CONTEXT_TOPICS, TOPICS
+    from app.io.flight.ulog import CONTEXT_TOPICS, TOPICS
 
     start = time.perf_counter()
     with contextlib.redirect_stdout(io.StringIO()):

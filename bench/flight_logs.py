@@ -113,7 +113,7 @@ def main() -> None:
         ulg = write_px4(work / "bench.ulg", int(args.mb * 1e6 / ULOG_BYTES_PER_S), rng)
         binlog = write_ardupilot(work / "bench.bin", int(args.mb * 1e6 / DATAFLASH_BYTES_PER_S), rng)
         read = (
-            "import sys; from pathlib import Path; from app.io.formats import read_log; "
+            "import sys; from pathlib import Path; from app.io.readers import read_log; "
             "log = read_log(Path(sys.argv[1])); print(log.n_samples, len(log.flight.instances))"
         )
         rows = []

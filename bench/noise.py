@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import lfilter
 
-from app.calibration.allan import FUSED, NOT_BUILT
+from app.calibration.noise.allan import FUSED, NOT_BUILT
 
 FS = 200.0
 TRUTH = {"noise_density": 2.0e-3, "random_walk": 4.0e-5, "bias_instability": 1.0e-3}  # rad/s/√Hz, rad/s·√Hz, rad/s
@@ -82,7 +82,7 @@ data = np.load(sys.argv[1])
 FLOOR_PASS = """
 import sys
 import numpy as np
-from app.calibration.allan import _sums_of_share, phase_of
+from app.calibration.noise.allan import _sums_of_share, phase_of
 data = np.load(sys.argv[1], mmap_mode="r")
 for k in range(3):
     x, _ = phase_of(data[:, 1 + k], float(sys.argv[2]))
@@ -259,7 +259,11 @@ def main() -> None:
     )
     print(
         "trical's Allan sums (and the floor's pass): "
-        + ("the compiled, fused loop (app/calibration/allan_fused.pyx)" if FUSED else f"the numpy loop ({NOT_BUILT})")
+        + (
+            "the compiled, fused loop (app/calibration/noise/allan_fused.pyx)"
+            if FUSED
+            else f"the numpy loop ({NOT_BUILT})"
+        )
     )
     best = {}
     labels = {

@@ -4,7 +4,7 @@
 
 Each run simulates a still gyroscope at 100 Hz (simulations.noise: white noise N,
 flicker B, random walk K, the values of tests/calibration/test_noise.py), characterises it by the
-overlapping Allan deviation (app.calibration.noise.characterise_noise) and checks, per axis, whether
+overlapping Allan deviation (app.calibration.noise.characterise.characterise_noise) and checks, per axis, whether
 each term's 95 % interval holds the true value. It prints, per term, the coverage over the axes that
 had a figure and how many were null (too short a recording to see the term). Figures only; nothing
 passes or fails.
@@ -16,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from app.calibration.noise import characterise_noise
+from app.calibration.noise.characterise import characterise_noise
 from simulations.noise import simulate_still
 
 FS = 100.0

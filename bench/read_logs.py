@@ -3,7 +3,7 @@
     python bench/read_logs.py [--rows 1000000]
 
 Writes one seeded recording (time in ms, x, y, z in m/s²) in several layouts into a temporary
-folder and times ``app.io.formats.read_log`` on each (best of three). Prints MB, seconds and
+folder and times ``app.io.readers.read_log`` on each (best of three). Prints MB, seconds and
 rows per second; nothing is asserted (the tests check what is read, not how fast).
 """
 
@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from app.io.formats import read_log
+from app.io.readers import read_log
 
 LAYOUTS = {
     "header, commas": ("time_ms,acc_x,acc_y,acc_z\n", ",", "%d,%.5f,%.5f,%.5f"),

@@ -3,7 +3,7 @@
     python bench/real_board_logs.py
 
 Three logs as makers write them over a serial port, each read by the same loader the API and the
-CLI use (``app.io.formats.read_log``), then calibrated through the method table (``methods.calibrate``), as they do:
+CLI use (``app.io.readers.read_log``), then calibrated through the method table (``methods.calibrate``), as they do:
 
 - an MPU-6050's six pose files, one per pose (``x_axis_pos.csv`` …), as one recording in parts,
   beside the maker's Ferraris fit (imucal) of the same first 100 samples per file, g = 9.81;
@@ -24,8 +24,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 from app import methods  # noqa: E402 - after sys.path.insert
-from app.io.formats import read_log  # noqa: E402 - after sys.path.insert
-from app.io.read_options import ReadOptions  # noqa: E402 - after sys.path.insert
+from app.io.readers import read_log  # noqa: E402 - after sys.path.insert
+from app.io.readers.read_options import ReadOptions  # noqa: E402 - after sys.path.insert
 from app.workflows.recordings import RecordingSource, describe_log  # noqa: E402 - after sys.path.insert
 
 REAL = ROOT / "tests" / "data" / "real"

@@ -5,7 +5,7 @@
 Each run simulates a still gyroscope at 100 Hz with white noise N = 0.01 °/s/√Hz
 (simulations.noise), stamps its lines as a USB serial host does on arrival — in
 bursts, polls 1–70 ms apart, lines 1–3 ms apart (simulations.serial) — and reads
-the stamps as trical does (app.io.formats.timing: the span), and as one over the median step did.
+the stamps as trical does (app.io.readers.timing: the span), and as one over the median step did.
 It prints, over the runs, the rate each way and the noise density each gives, as the median and the
 range of their ratio to the truth. Figures only; nothing passes or fails.
 """
@@ -16,8 +16,8 @@ import argparse
 
 import numpy as np
 
-from app.calibration.noise import characterise_noise
-from app.io.formats.timing import decide_timing
+from app.calibration.noise.characterise import characterise_noise
+from app.io.readers.timing import decide_timing
 from simulations.noise import simulate_still
 from simulations.serial import host_arrival_times
 

@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from app.calibration.triangular import SOLVERS, fit_triangular
+from app.calibration.still.triangular import SOLVERS, fit_triangular
 from simulations.triangular import PARAM_NAMES, cramer_rao_bound, simulate_scenario
 
 # Farago et al. Table 2 as printed: mean and SD of |error| at 1 mg and 5 mg.

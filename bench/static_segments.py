@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from app.calibration.static import detect_static_segments, still_threshold, window_stats
+from app.calibration.segments.static import detect_static_segments, still_threshold, window_stats
 from simulations.logs import simulate_static_log
 
 CASES = {

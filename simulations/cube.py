@@ -18,7 +18,7 @@ import numpy as np
 from app.calibration.cube import quaternion as quat
 from app.calibration.cube.accmag import direction_matrix, reference_direction
 from app.calibration.cube.protocols import Protocol, get_protocol, parse_rotation
-from app.calibration.gravity import STANDARD_GRAVITY
+from app.calibration.shared.gravity import STANDARD_GRAVITY
 
 # Särkkä et al., IEEE Sensors Journal 17(11) 2017, Table VI, in the table's units: D (diag), D⁻¹S, b.
 TABLE_VI = {

@@ -18,7 +18,7 @@ import datetime
 
 import numpy as np
 
-from app.calibration.rotations import ardupilot_matrix
+from app.calibration.shared.rotations import ardupilot_matrix
 
 from .magnetometer import random_soft_iron
 

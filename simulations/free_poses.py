@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from app.calibration.norm_metrics import norm_errors
+from app.calibration.shared.norm_metrics import norm_errors
 
 from .triangular import draw_parameters, random_unit_vectors, uncalibrate
 

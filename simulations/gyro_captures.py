@@ -1,4 +1,4 @@
-"""Still gyroscope captures of a wizard session with a known bias (app.calibration.gyro_bias).
+"""Still gyroscope captures of a wizard session with a known bias (app.calibration.still.gyro_bias).
 
 Each capture k reads b + w_k + e_ki: the session's bias b, a wander w_k of the bias between
 captures (independent, normal, standard deviation ``wander``: the bias instability and turn-on

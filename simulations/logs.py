@@ -18,10 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.calibration.errors import CalibrationError
-from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.orientations import CANONICAL_SIX, UP_VECTORS, nearest_orientation
-from app.calibration.validation import check_gravity
+from app.calibration.shared.errors import CalibrationError
+from app.calibration.shared.gravity import STANDARD_GRAVITY
+from app.calibration.shared.orientations import CANONICAL_SIX, UP_VECTORS, nearest_orientation
+from app.calibration.shared.validation import check_gravity
 
 
 @dataclass(frozen=True)

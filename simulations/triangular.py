@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from app.calibration.errors import CalibrationError
+from app.calibration.shared.errors import CalibrationError
 
 PARAM_NAMES = ("k_xx", "k_yy", "k_zz", "k_xy", "k_xz", "k_yz", "o_x", "o_y", "o_z")
 

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .result import CalibrationResult, gate_fields, parameter
+from .shared.result import CalibrationResult, gate_fields, parameter
 
 
 @dataclass(frozen=True)
@@ -93,7 +93,7 @@ HANDLER = '''\
 
 from __future__ import annotations
 
-from app.calibration.gravity import STANDARD_GRAVITY
+from app.calibration.shared.gravity import STANDARD_GRAVITY
 from app.calibration.toy import fit_toy
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource

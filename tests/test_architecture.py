@@ -8,6 +8,10 @@ cell names third-party libraries, the row's files import no other. Paths are mat
 path ``app/workflow.py`` is that module alone, a directory ``app/workflows`` that package and what it holds.
 A path that names no file or package fails, so that a move that forgets the table is seen. The document and
 the code cannot drift apart.
+
+No import circle between modules of ``app/`` either: the graph of what importing each module runs (its imports at
+the top and inside functions, and the packages whose ``__init__.py`` runs first) has no strongly connected
+component of two modules or more. Imports under ``if TYPE_CHECKING:`` are exempt: they never run.
 """
 
 from __future__ import annotations
@@ -75,27 +79,37 @@ def resolve(name: str, root: Path) -> str:
     return name
 
 
-def statements(tree: ast.AST):
+def for_the_type_checker(node: ast.AST) -> bool:
+    """Whether a statement is ``if TYPE_CHECKING:`` (or ``typing.TYPE_CHECKING``), whose body never runs."""
+    test = node.test if isinstance(node, ast.If) else None
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
+
+
+def statements(tree: ast.AST, *, running: bool = False):
     """Every statement of a module, nested ones too (imports stand only as statements: no need to walk the
-    expressions, which keeps the guard fast)."""
+    expressions, which keeps the guard fast); with ``running``, those that can run: not the body of an
+    ``if TYPE_CHECKING:``."""
     stack = [tree]
     while stack:
         node = stack.pop()
         yield node
         for field in ("body", "orelse", "finalbody", "handlers", "cases"):
-            stack.extend(getattr(node, field, ()))
+            if not (running and field == "body" and for_the_type_checker(node)):
+                stack.extend(getattr(node, field, ()))
 
 
 @functools.cache
-def imports_of(file: Path, root: Path) -> frozenset[str]:
-    """Every module a file imports, absolute, wherever the import statement stands; ``app``'s resolved to the
-    module or package named, third-party ones as written."""
+def imports_of(file: Path, root: Path, *, running: bool = False) -> frozenset[str]:
+    """Every module a file imports, absolute, wherever the import statement stands (with ``running``, not those
+    for the type checker alone); ``app``'s resolved to the module or package named, third-party ones as written."""
     tree = ast.parse(file.read_text(encoding="utf-8"))
     package = module_name(str(file.relative_to(root)))
     if file.name != "__init__.py":
         package = package.rsplit(".", 1)[0]
     names = set()
-    for node in statements(tree):
+    for node in statements(tree, running=running):
         if isinstance(node, ast.Import):
             names.update(a.name for a in node.names)
         elif isinstance(node, ast.ImportFrom):
@@ -277,6 +291,75 @@ def test_no_module_of_app_imports_what_serves_only_tests():
     assert not found, "\n".join(found)
 
 
+def packages_of(name: str) -> list[str]:
+    """The packages holding a module, outermost last: ``app.io.readers.table`` → ``app.io.readers``, ``app.io``,
+    ``app``."""
+    parts = name.split(".")
+    return [".".join(parts[:end]) for end in range(len(parts) - 1, 0, -1)]
+
+
+def import_graph(root: Path) -> dict[str, set[str]]:
+    """Each module of ``app`` (a package is its ``__init__.py``) → the modules of ``app`` that importing it runs:
+    those it imports, at the top or inside a function (not those for the type checker alone, under ``if
+    TYPE_CHECKING:``, which never run), and the packages holding them that are not already running (Python runs a
+    package's ``__init__.py`` before its modules: importing ``app.io.readers.table`` from ``app.io.board`` runs
+    ``app.io.readers`` first)."""
+    files = {module_name(f.relative_to(root).as_posix()): f for f in sorted((root / "app").rglob("*.py"))}
+    graph: dict[str, set[str]] = {}
+    for name, file in files.items():
+        running = {name, *packages_of(name)}
+        targets = set()
+        for imported in imports_of(file, root, running=True):
+            if imported in files:
+                targets.add(imported)
+                targets.update(p for p in packages_of(imported) if p in files and p not in running)
+        graph[name] = targets - {name}
+    return graph
+
+
+def circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The import circles: every set of two modules or more each of which imports the others, directly or not
+    (the graph's strongly connected components, Tarjan's algorithm), each sorted, in order."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    found = []
+
+    def visit(module: str) -> None:
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        for other in sorted(graph.get(module, ())):
+            if other not in index:
+                visit(other)
+                low[module] = min(low[module], low[other])
+            elif other in stack:
+                low[module] = min(low[module], index[other])
+        if low[module] == index[module]:
+            component = stack[stack.index(module) :]
+            del stack[stack.index(module) :]
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for module in sorted(graph):
+        if module not in index:
+            visit(module)
+    return sorted(found)
+
+
+def test_no_import_circle_between_modules_of_app():
+    """No module of ``app`` imports, directly or through others, a module that imports it: the imports of each
+    room run one way. Imports inside functions count (they run, later), and so does the package whose
+    ``__init__.py`` an import runs first; imports under ``if TYPE_CHECKING:`` are exempt, since they never run
+    (two such remain: ``app/io/log.py`` names the flight instances' ``FlightInfo``, ``app/guided/protocols.py``
+    the session it is handed)."""
+    graph = import_graph(ROOT)
+    found = [
+        " ⇄ ".join(c) + ": " + "; ".join(f"{m} → {o}" for m in c for o in sorted(graph[m]) if o in c)
+        for c in circles(graph)
+    ]
+    assert not found, "import circles:\n" + "\n".join(found)
+
+
 # Planted examples: a tiny table and tiny files in tmp_path, each with the one fault a check looks for.
 
 PLANTED_DOC = """# Architecture
@@ -381,3 +464,46 @@ def test_planted_matching_is_exact_not_by_prefix(tmp_path):
 def test_planted_a_path_that_is_no_module_fails(tmp_path):
     rows, root = plant(tmp_path, {}, "| `app/__init__.py`, `app/requests.py` | `app/protocols` | — |\n")
     assert missing_paths(rows, root) == ["app/protocols", "app/requests.py"]
+
+
+def test_planted_an_import_circle_fails_wherever_the_import_stands(tmp_path):
+    """A module that imports, inside a function, a module that imports it at the top closes a circle; so does a
+    chain of three."""
+    _, root = plant(
+        tmp_path,
+        {
+            "app/core/gates.py": "def check():\n    from app.core.fit import numpy\n",
+            "app/core/fit.py": "import numpy\nfrom app.core import gates\n",
+            "app/api/a.py": "from app.api import b\n",
+            "app/api/b.py": "from app.api.c import X\n",
+            "app/api/c.py": "import app.api.a\n",
+        },
+    )
+    assert circles(import_graph(root)) == [["app.api.a", "app.api.b", "app.api.c"], ["app.core.fit", "app.core.gates"]]
+
+
+def test_planted_an_import_for_the_type_checker_alone_closes_no_circle(tmp_path):
+    _, root = plant(
+        tmp_path,
+        {
+            "app/core/fit.py": "from typing import TYPE_CHECKING\n"
+            "if TYPE_CHECKING:\n    from app.core.gates import G\n",
+            "app/core/gates.py": "from app.core.fit import numpy\nimport typing\nif typing.TYPE_CHECKING:\n"
+            "    import app.core.fit\nelse:\n    pass\n",
+        },
+    )
+    assert circles(import_graph(root)) == []
+
+
+def test_planted_a_circle_through_a_package_s_init_fails(tmp_path):
+    """``app/api/__init__.py`` runs before any module of ``app.api``: a module it imports that imports one of them
+    has it run again, half done."""
+    _, root = plant(
+        tmp_path,
+        {
+            "app/api/__init__.py": "from app.workflows import still\n",
+            "app/workflows/still.py": "from app.api.routes import X\n",
+            "app/api/routes.py": "",
+        },
+    )
+    assert circles(import_graph(root)) == [["app.api", "app.workflows.still"]]

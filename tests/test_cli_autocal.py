@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from app.cli.main import main
-from app.io.read_options import ReadOptions
+from app.io.readers.read_options import ReadOptions
 from simulations.autocal import simulate_recording
 from tests.processes import run_ok
 

@@ -20,7 +20,7 @@ import tty
 import numpy as np
 import pytest
 
-from app.io.motioncal_packet import decode
+from app.io.exports.motioncal_packet import decode
 from tests.live_server import ROOT
 
 G0 = 9.80665

@@ -37,7 +37,7 @@ def test_noise_of_a_gyroscope_array(tmp_path):
 
 
 def test_plot_writes_the_allan_svg(tmp_path):
-    from app.io.allan_plot import allan_svg  # noqa: F401  (written beside this branch; the lead merges both)
+    from app.io.exports.allan_plot import allan_svg  # noqa: F401  (written beside this branch; the lead merges both)
 
     x = simulate_still(np.random.default_rng(5), n_samples=20_000, sampling_rate_hz=100.0, N=1e-3, B=2e-4, K=2e-5)
     path = tmp_path / "gyr.npy"
@@ -90,7 +90,7 @@ def test_noise_of_one_recording_in_a_file_per_sensor_is_of_both_and_refused_when
 
 def test_noise_loads_neither_the_other_commands_nor_the_other_models(tmp_path):
     """`trical noise` imports its own command only: the method table (with the exporters and the cube's
-    models, ~0.9 s) and scipy (its χ² quantiles are app.calibration.chi2's: scipy.special alone takes 0.2–0.3 s
+    models, ~0.9 s) and scipy (its χ² quantiles are app.calibration.shared.chi2's: scipy.special alone takes 0.2–0.3 s
     to import) are not loaded by a noise characterisation printed as JSON, nor pyarrow (the CSV reader's,
     ~0.16 s and 25 MiB) for a .npy, nor the settings (pydantic and pydantic-settings, ~0.15 s), which a
     characterisation that is not stored does not read."""
@@ -102,7 +102,7 @@ def test_noise_loads_neither_the_other_commands_nor_the_other_models(tmp_path):
     heavy = (
         "app.methods",
         "app.calibration.cube",
-        "app.io.exporters",
+        "app.io.exports.exporters",
         "scipy",
         "pyarrow",
         "app.config",

@@ -17,10 +17,10 @@ from app.api.schemas import calibrations
 from app.cli.calibrate import calibration_request
 from app.cli.parser import build_parser
 from app.io import log as io_log
-from app.io.export_compass import FLIGHT_COMPASS_EXPORTERS
-from app.io.export_noise import NOISE_EXPORTERS
-from app.io.export_temperature import TEMPERATURE_EXPORTERS
-from app.io.exporters import EXPORTERS
+from app.io.exports.compass import FLIGHT_COMPASS_EXPORTERS
+from app.io.exports.exporters import EXPORTERS
+from app.io.exports.noise import NOISE_EXPORTERS
+from app.io.exports.temperature import TEMPERATURE_EXPORTERS
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -12,8 +12,8 @@ import pytest
 from app.api.deps import new_session_token
 from app.api.schemas.sessions import SessionIn
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY, CalibrationError, InsufficientDataError, up_vector
-from app.calibration.advice import fibonacci_sphere
-from app.calibration.capture import PoseTooCloseError
+from app.calibration.shared.capture import PoseTooCloseError
+from app.calibration.still.advice import fibonacci_sphere
 from app.guided import sessions
 from app.guided.capture_rules import (
     CAPTURE_PROTOCOLS,

@@ -4,7 +4,7 @@ that chooses a figure, reads such a metric by its key, or keys a table by a meth
 
 Such a comparison (``body["model"]["type"] == "cube"``, ``method in ("six_position", "orientations")``,
 ``"cv_error_mg" in metrics``, a ``case "noise":``) is a
-place that knows a method by name: the stored body's result (``CalibrationResult.from_dict``) or the method
+place that knows a method by name: the stored body's result (``registry.from_dict``) or the method
 table answers instead. The names are taken from the code: the result registry's types and model types, the
 methods the requests accept, and the metrics the results choose their figures by; in the page (templates and
 scripts) the protocols' names too, from the protocol table. Four scanners: Python comparisons, Python reads of a
@@ -18,7 +18,8 @@ import ast
 import re
 from pathlib import Path
 
-from app.calibration.result import FIGURE_METRICS, CalibrationResult, registered_types
+from app.calibration.registry import class_of, registered_types
+from app.calibration.shared.result import FIGURE_METRICS
 from app.guided.protocols import BOARD_PROTOCOLS, SESSION_PROTOCOLS
 from app.methods import METHODS
 
@@ -26,15 +27,15 @@ ROOT = Path(__file__).resolve().parent.parent
 APP = ROOT / "app"
 
 EXEMPT = (
-    "app/calibration/result.py",
-    "app/calibration/affine.py",
+    "app/calibration/shared/result.py",
+    "app/calibration/still/affine.py",
     "app/calibration/autocal.py",
     "app/calibration/cube/calibrate.py",
     "app/calibration/magnetometer/result.py",
     "app/calibration/temperature.py",
     "app/headlines.py",
-    "app/calibration/trust.py",
-    "app/calibration/comparison.py",
+    "app/calibration/still/trust.py",
+    "app/calibration/still/comparison.py",
     "app/calibration/magnetometer/fit.py",
     "simulations/free_poses.py",
     "app/methods.py",
@@ -51,7 +52,7 @@ NOT_A_RESULT = {"auto"}
 is also the value of every option read from the data (format, unit, sign, columns)."""
 
 NOT_DECISIONS = {
-    ("app/io/formats/sensor_logger.py", "magnetometer"): "a Sensor Logger file's name (MagnetometerUncalibrated.csv)",
+    ("app/io/readers/sensor_logger.py", "magnetometer"): "a Sensor Logger file's name (MagnetometerUncalibrated.csv)",
     ("app/cli/parser.py", "autocal"): "the `trical autocal` command in the table of commands",
     ("app/cli/parser.py", "noise"): "the `trical noise` command in the table of commands",
     ("app/cli/parser.py", "temperature"): "the `trical temperature` command in the table of commands",
@@ -66,7 +67,7 @@ def decided_names() -> dict[str, str]:
     names.update({name: "method" for name in METHODS if name not in NOT_A_RESULT})
     for kind in registered_types():
         names[kind] = "model type"
-        names[CalibrationResult.class_of({"model": {"type": kind}, "method": kind}).MODEL_TYPE] = "model type"
+        names[class_of({"model": {"type": kind}, "method": kind}).MODEL_TYPE] = "model type"
     return names
 
 

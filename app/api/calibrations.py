@@ -12,7 +12,7 @@ from starlette.concurrency import run_in_threadpool
 from app import methods
 from app.api.deps import OwnerDep, ReaderDep, StoreDep
 from app.api.schemas.calibrations import ApplyIn, ApplyOut, CalibrationList, CalibrationOut, SnippetsOut
-from app.io.snippets import usage_snippets
+from app.io.exports.snippets import usage_snippets
 from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict

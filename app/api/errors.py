@@ -50,7 +50,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from app.api.deps import Unauthorized
 from app.calibration import CalibrationError
 from app.io.errors import ExportError, LogFormatError
-from app.io.formats.columns import ColumnsAmbiguous
+from app.io.readers.columns import ColumnsAmbiguous
 from app.methods import describe_errors
 from app.store import ConflictError, NotFoundError
 from app.words import asked, reader_of, render

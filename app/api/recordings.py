@@ -11,8 +11,8 @@ from fastapi import APIRouter, File, Form, UploadFile
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.errors import PayloadTooLarge
 from app.api.schemas.recordings import RecordingOut, UploadOptions
-from app.io.formats.kinds import NAMED_SUFFIXES
-from app.io.parts import refuse_repeated_names
+from app.io.readers.kinds import NAMED_SUFFIXES
+from app.io.readers.parts import refuse_repeated_names
 from app.store import new_id
 from app.words import render_body
 from app.workflows.recordings import add_recording
@@ -72,7 +72,7 @@ def upload_recording(
             ".parquet samples, a PX4 ULog (.ulg) or ArduPilot DataFlash (.bin) flight log, or a zip of log files. "
             "Several `file` parts (one file per pose) are one recording in parts, in the order given; files named one "
             "per sensor (accelerometer.csv, gyroscope.csv, magnetometer.csv) whose times overlap are merged onto one "
-            "clock (app.io.sensor_files)."
+            "clock (app.io.readers.sensor_files)."
         ),
     ),
     form: Annotated[UploadOptions, Form()],
@@ -88,7 +88,7 @@ def upload_recording(
         suffix = Path(filename or "").suffix.lower()
         dest = settings.recordings_dir / f"{recording_id}{suffix if suffix in NAMED_SUFFIXES else '.csv'}"
         save_upload(file[0].file, dest, settings.max_upload_bytes, settings.max_upload_mb)
-    else:  # one file per pose: kept together, each under its name, and read as a zip of them (app.io.parts)
+    else:  # one file per pose: kept together, each under its name, and read as a zip of them (app.io.readers.parts)
         names = [_part_name(f, i) for i, f in enumerate(file)]
         filename = ", ".join(names)
         dest = settings.recordings_dir / f"{recording_id}.zip"

@@ -4,7 +4,7 @@
 Farago, Maczak and Gingl, IEEE Access:
 
 1. **Rest segments** (section II.B.1): fixed 5 s segments whose max − min on one axis stays below
-   0.12 g; NaN gaps and idle-sleep runs are refused (:mod:`app.calibration.stationary_002`).
+   0.12 g; NaN gaps and idle-sleep runs are refused (:mod:`app.calibration.segments.stationary_002`).
 2. **Selection** (eq. (10)): each axis is split into [−1.25, −0.75], [−0.25, 0.25] and
    [0.75, 1.25] g, giving nine subsets C_xn … C_zp; each must hold between ``min_per_bin`` and
    ``max_per_bin`` points (2 and 2 → 18 points in the paper).  Figure 6, the paper's exact rule for
@@ -18,13 +18,13 @@ Farago, Maczak and Gingl, IEEE Access:
 3. **Control set** (section III.B): a second, distinct set selected by the same rule from the rest
    segments not chosen for calibration.
 4. **Fit** of the 9-parameter model ``a = K (v + o)`` (eqs. (6)–(9)) with
-   :func:`app.calibration.triangular.fit_triangular` and any of its solvers.
+   :func:`app.calibration.still.triangular.fit_triangular` and any of its solvers.
 5. **Held-out evaluation** (section III.B, Table 3): the mean of | |r| − 1 g | over the control
    points before and after, in mg, and the improvement R of eq. (21) in per cent.
 6. **Comparison** on the same points and control set, like Table 3: the non-iterative ellipsoid fit
    (Farago, Maczak and Gingl, IEEE Access, ref. [34]) and the van Hees / GGIR sphere fit, the latter
    also on its own 10 s windows
-   (:mod:`app.calibration.comparison`).
+   (:mod:`app.calibration.still.comparison`).
 
 A recording that cannot be calibrated (no rest, rest in only one orientation, subsets left empty)
 returns an :class:`AutoCalibration` with ``ok = False``, the identity model when no fit was possible,
@@ -38,15 +38,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .comparison import fit_ellipsoid_axes, fit_sphere_van_hees
-from .cross_validation import cross_validated_error
-from .errors import CalibrationError
-from .gates import Gates
-from .norm_metrics import norm_errors
-from .result import CalibrationResult, Figure, cv_figure, first_figure, gate_fields, holdout_figure, in_sample_figure
-from .stationary_002 import RestSegments, detect_rest_segments
-from .triangular import SOLVERS, TriangularCalibration, fit_triangular
-from .trust import worse_than_raw
+from .segments.stationary_002 import RestSegments, detect_rest_segments
+from .shared.errors import CalibrationError
+from .shared.gates import Gates
+from .shared.norm_metrics import norm_errors
+from .shared.result import (
+    CalibrationResult,
+    Figure,
+    cv_figure,
+    first_figure,
+    gate_fields,
+    holdout_figure,
+    in_sample_figure,
+)
+from .still.comparison import fit_ellipsoid_axes, fit_sphere_van_hees
+from .still.cross_validation import cross_validated_error
+from .still.triangular import SOLVERS, TriangularCalibration, fit_triangular
+from .still.trust import worse_than_raw
 
 MODEL_TYPE = "triangular"
 METHOD = "autocal"
@@ -467,7 +475,7 @@ def _held_out(cal: TriangularCalibration, control: np.ndarray, g: float, metrics
 
 
 def _cross_validated(points: np.ndarray, g: float, solver: str, metrics: dict, gates: Gates) -> None:
-    """The cross-validated error of the calibration points (app.calibration.cross_validation: each
+    """The cross-validated error of the calibration points (app.calibration.still.cross_validation: each
     point calibrated by the fit made without it) beside the control points' held-out one; a reason
     when it is not below the points' raw error."""
     cv = cross_validated_error(lambda idx: fit_triangular(points[idx], gravity=g, solver=solver), points, g)
@@ -515,10 +523,10 @@ def autocalibrate(
     Parameters
     ----------
     rest : RestSegments
-        From :func:`~app.calibration.stationary_002.detect_rest_segments` or a
-        :class:`~app.calibration.stationary_002.RestAccumulator`.
+        From :func:`~app.calibration.segments.stationary_002.detect_rest_segments` or a
+        :class:`~app.calibration.segments.stationary_002.RestAccumulator`.
     solver : {"lm", "gradient", "fixed16", "fixed32"}
-        Solver of :func:`~app.calibration.triangular.fit_triangular`.
+        Solver of :func:`~app.calibration.still.triangular.fit_triangular`.
     min_per_bin, max_per_bin : int
         Points per subset of eq. (10) (2 and 2: 18 points).
     min_distance_g : float
@@ -605,7 +613,7 @@ def autocalibrate_samples(
     progress : callable, optional
         ``progress(done, total)`` in samples.
     detection : dict, optional
-        Options of :class:`~app.calibration.stationary_002.RestAccumulator`.
+        Options of :class:`~app.calibration.segments.stationary_002.RestAccumulator`.
     **selection
         ``min_per_bin``, ``max_per_bin``, ``min_distance_g``, ``compare`` of :func:`autocalibrate`.
 

@@ -56,10 +56,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from .errors import CalibrationError, InsufficientDataError
-from .gravity import STANDARD_GRAVITY
-from .headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS
-from .result import DRIFT, Figure, PerSensorResult
+from .shared.errors import CalibrationError, InsufficientDataError
+from .shared.gravity import STANDARD_GRAVITY
+from .shared.headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS
+from .shared.result import DRIFT, Figure, PerSensorResult
 
 CONFIDENCE = 0.95
 N_BINS = 60
@@ -565,7 +565,7 @@ def offset_at(model: dict, temperature_c) -> np.ndarray:
 def movement(sensors: list, sampling_rate_hz: float) -> tuple[np.ndarray, str | None]:
     """The samples inside a rest of every sensor (a boolean mask) and, when the device moved (its longest
     rest, by any sensor, under :data:`STILL_FRACTION` of the recording), what was seen."""
-    from .noise_still import still_runs
+    from .noise.still_part import still_runs
 
     n = len(sensors[0])
     mask = np.ones(n, dtype=bool)
@@ -678,7 +678,7 @@ def calibrate_temperature(
     gyr : array_like, shape (N, 3), optional
         Gyroscope, rad/s.
     sampling_rate_hz : float
-        For finding the rests (:func:`app.calibration.noise_still.still_runs`).
+        For finding the rests (:func:`app.calibration.noise.still_part.still_runs`).
     time_s : array_like, shape (N,), optional
         Each sample's time (default: sample index / rate), for the bias's random walk in time.
     order : int, optional

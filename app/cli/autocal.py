@@ -9,8 +9,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from app.calibration import CalibrationError
-from app.calibration.cores import usable_cores
-from app.calibration.result import NormErrors
+from app.calibration.shared.cores import usable_cores
+from app.calibration.shared.result import NormErrors
 from app.cli.reading import read_options
 from app.io.errors import LogFormatError
 from app.workflows.autocal import autocalibrate_file
@@ -69,7 +69,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
 
 
 def _folder_files(folder: Path) -> list[Path]:
-    from app.io.arrays import SUFFIXES
+    from app.io.readers.arrays import SUFFIXES
 
     files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in SUFFIXES)
     if not files:

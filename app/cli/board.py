@@ -1,15 +1,15 @@
 """The capture on a board's port behind ``trical capture PORT`` (:mod:`app.cli.capture` opens the port): the guided
 calibration of a board in the terminal.
 
-The board's lines are read as they arrive (:mod:`app.io.board_lines`), timed on the board's clock — its
-time column, else its rate counted over several seconds of arrivals (:class:`app.io.board_lines.StreamRate`),
+The board's lines are read as they arrive (:mod:`app.io.board.lines`), timed on the board's clock — its
+time column, else its rate counted over several seconds of arrivals (:class:`app.io.board.lines.StreamRate`),
 so that lines handed over in bursts are neither motion nor gaps — written to a CSV log and watched by the
 hands-free capture engine the page uses: the device is still when the per-axis
 spread of the accelerometer over a moving window (and the mean rotation rate, when the lines carry a
 gyroscope) falls below the page's thresholds, and moving again above their higher limits (hysteresis);
 held still for the page's hold time in a new pose, a capture starts, and it is done after the capture
 length unless the board moves (refused, and it starts again once still). A capture that makes no progress
-for :data:`app.io.board_formats.STALL_S` says what it waits for and what it sees. The thresholds are the
+for :data:`app.io.board.formats.STALL_S` says what it waits for and what it sees. The thresholds are the
 page's own, the Python constants
 :func:`app.guided.capture_rules.capture_thresholds`, which the page's tables render for it.
 
@@ -33,14 +33,14 @@ from pathlib import Path
 
 import numpy as np
 
-from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.orientations import UP_VECTORS, nearest_orientation
+from app.calibration.shared.gravity import STANDARD_GRAVITY
+from app.calibration.shared.orientations import UP_VECTORS, nearest_orientation
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, capture_thresholds
 from app.guided.protocols import BOARD_PROTOCOLS, Protocol
-from app.io.board_formats import DEFAULT_BAUD, SILENCE_S, STALL_S
-from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, to_log
+from app.io.board.formats import DEFAULT_BAUD, SILENCE_S, STALL_S
+from app.io.board.lines import BoardLineReader, LogWriter, StreamRate, board_rate, to_log
 from app.io.errors import LogFormatError
-from app.io.formats.timing import time_scale
+from app.io.readers.timing import time_scale
 
 CHECK_S = 1.0
 """Seconds of readings the unit is checked on, at rest, before any capture."""
@@ -296,7 +296,7 @@ class Capture:
 
     def _rate(self) -> float | None:
         """The board's rate: its time column's (the upload rule) once it spans :data:`CHECK_S`, else the
-        count of readings over their arrival (:class:`app.io.board_lines.StreamRate`); None while unknown."""
+        count of readings over their arrival (:class:`app.io.board.lines.StreamRate`); None while unknown."""
         fmt = self.reader.format
         if fmt is not None and fmt.time_col is not None:
             if len(self.readings) < 2:
@@ -341,7 +341,7 @@ class Capture:
                 return
 
     def _stalled(self, now: float) -> None:
-        """Every :data:`app.io.board_formats.STALL_S` without a capture started or done: what the engine
+        """Every :data:`app.io.board.formats.STALL_S` without a capture started or done: what the engine
         waits for, what it sees, and what to do."""
         if self.engine is None or self.progress_at is None or now - self.progress_at < STALL_S:
             return

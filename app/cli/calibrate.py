@@ -15,9 +15,9 @@ from app.calibration import CalibrationError
 from app.cli.finish import store_of
 from app.cli.printers import print_summary
 from app.cli.reading import read_options
-from app.io.formats import read_log
-from app.io.parts import refuse_repeated_names
-from app.io.read_options import units_named
+from app.io.readers import read_log
+from app.io.readers.parts import refuse_repeated_names
+from app.io.readers.read_options import units_named
 from app.workflows.recordings import RecordingSource, describe_log
 from app.workflows.supports import first_ready
 
@@ -36,7 +36,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
 
 def one_recording(paths: list[Path], tmp: Path) -> Path:
     """The log to read: the one path, or the pose files put together, each under its name, in a zip that
-    is read as one recording in parts (app.io.parts), as the API stores several uploaded files."""
+    is read as one recording in parts (app.io.readers.parts), as the API stores several uploaded files."""
     if len(paths) == 1:
         return paths[0]
     refuse_repeated_names([p.name for p in paths])

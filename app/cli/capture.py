@@ -114,7 +114,7 @@ def _capture_noise(capture, outcome, args, settings: Callable[[], Settings]) -> 
 def _capture_calibration(capture, outcome, args, settings: Callable[[], Settings]) -> int:
     """The end of ``trical capture``'s other protocols: the log calibrated with the protocol's method (from its
     captures' rows where the protocol says so), printed, and sent to the board with ``--send``."""
-    from app.io.motioncal_packet import packet_of
+    from app.io.exports.motioncal_packet import packet_of
 
     protocol, out, port, say, bell = capture.protocol, capture.out_path, capture.port, capture.say, capture.bell
     cal_args = argparse.Namespace(
@@ -168,7 +168,7 @@ def _latest_compass(body: dict, device_id: str | None, settings: Callable[[], Se
 def _sensors(body: dict) -> set[str]:
     """The sensors a calibration corrects (none for a noise or temperature characterisation)."""
     from app.io.errors import ExportError
-    from app.io.export_common import sensor_corrections
+    from app.io.exports.common import sensor_corrections
 
     try:
         return {c.sensor for c in sensor_corrections(body)}

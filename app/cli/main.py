@@ -36,7 +36,7 @@ def environment_settings():
 
 
 BAD_INPUT = (
-    ("app.calibration.errors", "CalibrationError"),
+    ("app.calibration.shared.errors", "CalibrationError"),
     ("app.io.errors", "LogFormatError"),
     ("app.io.errors", "ExportError"),
     ("app.config", "SettingsError"),

@@ -11,9 +11,9 @@ import numpy as np
 from app.calibration import CalibrationError
 from app.cli.finish import finish
 from app.cli.reading import read_options
-from app.io.formats import read_log, starts_like_flight_log
 from app.io.log import GYR_TO_RAD_S, MAG_TO_UT, UNITS
-from app.io.read_options import units_named
+from app.io.readers import read_log, starts_like_flight_log
+from app.io.readers.read_options import units_named
 from app.workflows.noise import characterise_log
 
 if TYPE_CHECKING:
@@ -43,7 +43,7 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
     read_units = {"acc": units[sensor]} if array and units and sensor == "acc" else ({} if array else units)
     if not array:  # a log's gyroscope and magnetometer, as trical calibrate and the upload name them
         read_units = {**units_named(None, args.gyr_unit, args.mag_unit), **read_units}
-    # A flight controller's compass is on its own clock (app.io.formats.flight_log): --sensor mag reads it there.
+    # A flight controller's compass is on its own clock (app.io.flight.instances): --sensor mag reads it there.
     clock = "mag" if args.sensor == "mag" and not array and starts_like_flight_log(path) else "imu"
     name = str(args.path[0]) if len(args.path) == 1 else label
     log = read_log(
@@ -64,7 +64,7 @@ def _noise_of(args, settings: Callable[[], Settings], path: Path, label: str) ->
 
 
 def _plot(body: dict) -> str:
-    from app.io.allan_plot import allan_svg
+    from app.io.exports.allan_plot import allan_svg
 
     return allan_svg(body)
 

@@ -128,11 +128,11 @@ def day(what: str):
 
 
 def chips(what: str):
-    """One or more part names separated by commas, each one trical knows (app.io.formats.chips)."""
+    """One or more part names separated by commas, each one trical knows (app.io.readers.chips)."""
 
     def parse(value: str) -> str:
         from app.io.errors import LogFormatError
-        from app.io.formats.chips import parse_chips
+        from app.io.readers.chips import parse_chips
         from app.words import render
 
         if not value.strip():

@@ -92,7 +92,7 @@ def _add_serve(sub) -> None:
 
 def _add_calibrate(sub) -> None:
     """``trical calibrate``: a log of still orientations (or a cube, a compass turn), by the method table's methods."""
-    from app.calibration.solvers import SOLVERS
+    from app.calibration.still.solvers import SOLVERS
     from app.calibration_requests import CUBE_PROTOCOLS
 
     c = sub.add_parser("calibrate", help="calibrate from a log of still orientations")
@@ -179,7 +179,7 @@ def _add_calibrate(sub) -> None:
 
 def _add_autocal(sub) -> None:
     """``trical autocal``: a long recording, or a folder of them."""
-    from app.calibration.solvers import SOLVERS
+    from app.calibration.still.solvers import SOLVERS
     from app.workflows.autocal import AUTOCAL_UNITS
 
     a = sub.add_parser("autocal", help="auto-calibrate a long recording (or a folder of them), Farago et al. pipeline")
@@ -307,8 +307,8 @@ def _add_temperature(sub) -> None:
 def _add_capture(sub) -> None:
     """``trical capture``: the guided calibration of a board on a serial port."""
     from app.guided.capture_rules import CAPTURE_PROTOCOLS, WIZARD_PROTOCOLS
-    from app.io.board_formats import DEFAULT_BAUD
-    from app.io.board_lines import FORMATS as BOARD_LINE_FORMATS
+    from app.io.board.formats import DEFAULT_BAUD
+    from app.io.board.lines import FORMATS as BOARD_LINE_FORMATS
 
     b = sub.add_parser(
         "capture",
@@ -393,7 +393,7 @@ def _unit_options(parser: argparse.ArgumentParser) -> None:
 
 def _read_options(parser: argparse.ArgumentParser) -> None:
     """The options that say how to read a log, as the upload's form fields do (app.cli.reading builds them)."""
-    from app.io.formats import FORMATS
+    from app.io.readers import FORMATS
 
     parser.add_argument(
         "--log-format",

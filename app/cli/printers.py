@@ -8,9 +8,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from app.calibration.angles import degrees_text, tilt_error_deg
-from app.calibration.orientations import WITHIN_LABEL_ANGLE
-from app.calibration.result import NormErrors
+from app.calibration.shared.angles import degrees_text, tilt_error_deg
+from app.calibration.shared.orientations import WITHIN_LABEL_ANGLE
+from app.calibration.shared.result import NormErrors
 from app.cli.options import NOTES_SHOWN
 from app.io.plural import counted
 from app.words import render, render_body
@@ -81,7 +81,7 @@ def _print_parts(body: dict, recording: dict) -> None:
 
 def print_model(model: dict, per_sensor: bool = False) -> None:
     """The model's parameters: a vector on one line, a matrix a row a line; of a model with a part per sensor
-    (the cube's, :attr:`~app.calibration.result.CalibrationResult.PER_SENSOR`), each sensor's S and b."""
+    (the cube's, :attr:`~app.calibration.shared.result.CalibrationResult.PER_SENSOR`), each sensor's S and b."""
     for name, value in model.items():
         if name == "type" or value is None:
             continue
@@ -207,7 +207,7 @@ def print_autocal(body: dict, verbose: bool = False) -> None:
 def print_folder_table(bodies: list[dict]) -> None:
     bodies = [render_body(b, "cli") for b in bodies]
     name_w = max(8, *(len(b.get("label") or "") for b in bodies))
-    # "tilt": the worst tilt a level reads with the cv error (app.calibration.angles).
+    # "tilt": the worst tilt a level reads with the cv error (app.calibration.shared.angles).
     print(
         f"{'file':<{name_w}}  {'ok':<5}{'rest':>7}{'points':>7}{'cv mg':>8}{'tilt':>8}{'before mg':>10}{'after mg':>10}"
         f"{'R %':>8}  note"

@@ -1,11 +1,11 @@
 """The read options a command's flags give (:func:`read_options`): every command that reads a file takes the same
-flags for it (``parser._read_options``), so each builds its :class:`~app.io.read_options.ReadOptions` here."""
+flags for it (``parser._read_options``), so each builds its :class:`~app.io.readers.read_options.ReadOptions` here."""
 
 from __future__ import annotations
 
 import argparse
 
-from app.io.read_options import ReadOptions
+from app.io.readers.read_options import ReadOptions
 
 
 def read_options(args: argparse.Namespace, *, units: dict | None, clock: str = "imu") -> ReadOptions:

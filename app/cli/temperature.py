@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING
 from app.cli.finish import finish
 from app.cli.printers import print_temperature
 from app.cli.reading import read_options
-from app.io.formats import read_log
-from app.io.read_options import units_named
+from app.io.readers import read_log
+from app.io.readers.read_options import units_named
 from app.workflows.temperature import temperature_log
 
 if TYPE_CHECKING:
@@ -27,7 +27,7 @@ def run(args, settings: Callable[[], Settings]) -> int:
     body = temperature_log(
         log, sensors=[args.sensor] if args.sensor else None, device_id=args.device_id, label=args.path.name
     ).body()
-    from app.io.export_temperature import temperature_svg
+    from app.io.exports.temperature import temperature_svg
 
     return finish(args, settings, body, plot=temperature_svg, summary=lambda b: summary(b, verbose=args.verbose))
 

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from app.calibration.advice import MIN_SEPARATION_DEG
-from app.calibration.orientations import LABEL_MAX_ANGLE_DEG
+from app.calibration.shared.orientations import LABEL_MAX_ANGLE_DEG
+from app.calibration.still.advice import MIN_SEPARATION_DEG
 
 
 @dataclass(frozen=True)
@@ -100,7 +100,7 @@ PAGE_STILL_LEAVE_DEG_S = MAX_ROTATION_DEG_S
 PAGE_STILL_ENTER_STD = 0.1
 PAGE_STILL_LEAVE_STD = 0.25
 """The same for the accelerometer, in m/s²: the largest per-axis standard deviation over the
-window; the page leaves "still" below the server's limit (app.calibration.capture.STILL_MAX_STD_G,
+window; the page leaves "still" below the server's limit (app.calibration.shared.capture.STILL_MAX_STD_G,
 0.03 g = 0.29 m/s²), so that a capture it completes is still for the server too."""
 
 CAPTURE_WINDOW_MS = 500

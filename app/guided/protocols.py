@@ -8,7 +8,7 @@ captures the same poses from a board's lines.
 - ``free``: still poses in any direction, no jig (issue 11): each at least :data:`FREE_MIN_ANGLE_DEG` from
   every earlier one; from :data:`FREE_FIT_FROM` poses on, the triangular model of Farago, Maczak and Gingl,
   IEEE Access is fitted to the capture means after each capture, and the session reports its cross-validated
-  error (app.calibration.cross_validation) and the D-optimal next poses (app.calibration.advice); the target
+  error (app.calibration.still.cross_validation) and the D-optimal next poses (app.calibration.still.advice); the target
   is reached when that error is below the session's ``target_mg`` with at least :data:`FREE_TARGET_MIN_POSES`
   poses.
 - ``cube24``: positions 1–24 in order (docs/methods.md); each capture after the first brings the rates of
@@ -20,7 +20,7 @@ captures the same poses from a board's lines.
 
 The six and free flows keep each capture's gyroscope mean, std and count when it was sent; their
 calibration carries the gyroscope's bias over the still captures (``gyroscope_bias``,
-app.calibration.gyro_bias).
+app.calibration.still.gyro_bias).
 
 A new protocol is one class here, its entry in :data:`BOARD_PROTOCOLS` (``trical capture``) and, for the
 page's wizard, its name and page in app.guided.capture_rules.WIZARD_PROTOCOLS (a session's: ``session=True``,
@@ -34,12 +34,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from app.calibration import CANONICAL_SIX, CalibrationError, InsufficientDataError
-from app.calibration.advice import farthest_directions
-from app.calibration.capture import PoseTooCloseError, check_new_direction, check_still_capture, on_uniform_grid
 from app.calibration.cube.protocols import CUBE24_UPS, cube24
-from app.calibration.errors import NotStillError
-from app.calibration.gyro_bias import gyroscope_bias
-from app.calibration.orientations import nearest_orientation
+from app.calibration.shared.capture import PoseTooCloseError, check_new_direction, check_still_capture, on_uniform_grid
+from app.calibration.shared.errors import NotStillError
+from app.calibration.shared.orientations import nearest_orientation
+from app.calibration.still.advice import farthest_directions
+from app.calibration.still.gyro_bias import gyroscope_bias
 from app.guided.capture_rules import (
     CAPTURE_PROTOCOLS,
     CUBE_FACE_MAX_ANGLE_DEG,
@@ -262,7 +262,7 @@ class FreeProtocol(SessionProtocol):
         -------
         progress : dict
             ``count``, ``fit_from``, ``target_poses``, ``target_mg``, ``cv_error_mg``, ``cv_error_max_mg``,
-            ``target_reached``, ``advice`` (app.calibration.advice: D-optimal once fitted, else the
+            ``target_reached``, ``advice`` (app.calibration.still.advice: D-optimal once fitted, else the
             directions farthest from the poses taken) and ``message``.
         fit : (TriangularCalibration, dict) or None
         """
@@ -490,7 +490,7 @@ def check_not_turning(capture: dict, what: str = "device") -> None:
 
 
 def gyr_summary(capture: dict) -> dict:
-    """A still capture's gyroscope, as the session keeps it for the bias (app.calibration.gyro_bias): the mean,
+    """A still capture's gyroscope, as the session keeps it for the bias (app.calibration.still.gyro_bias): the mean,
     the standard deviation (ddof 1) and the count of its samples, in the unit they came in; empty without them."""
     if capture.get("gyr") is None:
         return {}
@@ -505,7 +505,7 @@ def gyr_summary(capture: dict) -> dict:
 
 def session_gyroscope_bias(session: Session) -> dict | None:
     """The gyroscope bias over a session's still captures that carried gyroscope samples, in rad/s with its 95 %
-    interval (app.calibration.gyro_bias); None when none did (or they were stored before captures kept it)."""
+    interval (app.calibration.still.gyro_bias); None when none did (or they were stored before captures kept it)."""
     captures = [c for c in session.captures if c.get("gyr_std") is not None]
     if not captures:
         return None

@@ -1,7 +1,7 @@
 """Guided wizard sessions (issue 6): create, capture a pose, solve — between the API and the store.
 
 A session belongs to whoever holds its token.  Each capture holds the raw samples of one pose
-(kept in the store); the server checks them itself (app.calibration.capture) rather than trusting
+(kept in the store); the server checks them itself (app.calibration.shared.capture) rather than trusting
 the page.
 
 A session is a :class:`Session`, read from the store's row and written to it in one place

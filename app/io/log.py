@@ -8,11 +8,11 @@ from typing import TYPE_CHECKING, Literal, get_args
 
 import numpy as np
 
-from app.calibration.gravity import STANDARD_GRAVITY
+from app.calibration.shared.gravity import STANDARD_GRAVITY
 
 if TYPE_CHECKING:  # the readers' package imports this module
-    from .formats.flight_log import FlightInfo
-    from .formats.timing import Timing
+    from .flight.instances import FlightInfo
+    from .readers.timing import Timing
 
 AccUnit = Literal["m/s^2", "g", "raw"]
 AccPhysicalUnit = Literal["m/s^2", "g"]
@@ -29,7 +29,7 @@ UNITS: dict[str, tuple[str, ...]] = {
 UNITS_IN: dict[str, tuple[str, ...]] = {**UNITS, "mag": ("uT", "nT", "gauss", "raw")}
 """The units a caller or a header may name per sensor (the upload's ``acc_unit``, ``gyr_unit``, ``mag_unit``;
 ``trical calibrate``'s ``--unit``, ``--gyr-unit``, ``--mag-unit``): :data:`UNITS`, and a magnetometer's gauss,
-which becomes µT on reading (app.io.formats.units)."""
+which becomes µT on reading (app.io.readers.units)."""
 
 ACC_PHYSICAL_UNITS: tuple[str, ...] = get_args(AccPhysicalUnit)
 """The accelerometer's units of a physical scale (counts, ``raw``, are not): what gravity is told in, what a
@@ -59,7 +59,7 @@ class LogData:
     time_s : numpy.ndarray or None
         Seconds since the first sample, when the file had a time column.
     sampling_rate_hz : float or None
-        The sensor's rate (:mod:`app.io.formats.timing`); None when neither the caller nor the file
+        The sensor's rate (:mod:`app.io.readers.timing`); None when neither the caller nor the file
         gives one (a file of still poses or a compass turn without a time column).
     units : dict
         Unit per present sensor.
@@ -86,14 +86,14 @@ class LogData:
         "value": 100.0, "words": "100 µT per gauss", "read_in": "gauss"}}``: counts of a part, counts per g,
         gauss); a sensor absent from
         it was read in its unit. None where the reader states its units (a flight log, an array): no board's
-        driver gives its numbers. What a snippet scales a driver's readings by (app.io.snippets).
-    flight : app.io.formats.flight_log.FlightInfo or None
+        driver gives its numbers. What a snippet scales a driver's readings by (app.io.exports.snippets).
+    flight : app.io.flight.instances.FlightInfo or None
         A flight controller's log (PX4 ULog, ArduPilot DataFlash): every sensor instance it holds, the
         IMU and compass read, and the clock the samples are on; None for other logs.
     sign : int
         The factor the file's accelerations were multiplied by on reading: −1 when they came on the
         iOS Core Motion sign (−g on the up axis) and were negated, +1 otherwise.
-    parts : tuple of app.io.parts.Part
+    parts : tuple of app.io.readers.parts.Part
         A recording made of several files (one per pose): each file's name and its samples; empty
         for a recording of one file.
     """
@@ -118,7 +118,7 @@ class LogData:
 
     @property
     def gaps(self) -> tuple:
-        """Where samples were lost (:class:`app.io.formats.timing.Gap`), from the time column."""
+        """Where samples were lost (:class:`app.io.readers.timing.Gap`), from the time column."""
         return () if self.timing is None else self.timing.gaps
 
     @property

@@ -12,7 +12,7 @@ from fastapi.templating import Jinja2Templates
 
 from app.calibration import CANONICAL_SIX
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, WIZARD_PROTOCOLS
-from app.io.formats.kinds import ACCEPTED_SUFFIXES
+from app.io.readers.kinds import ACCEPTED_SUFFIXES
 from app.reach.addresses import phone_url
 from app.reach.phone_door import PASS_TTL_S
 from app.reach.qr import qr_svg_data_uri

@@ -12,21 +12,22 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
-from app.calibration.affine import AffineCalibration
 from app.calibration.autocal import AutoCalibration
 from app.calibration.cube.calibrate import CubeCalibration
 from app.calibration.magnetometer.flight_calibration import FlightCompassCalibration
 from app.calibration.magnetometer.result import MagnetometerResult
-from app.calibration.noise import TERM_WORDS, NoiseResult
-from app.calibration.result import FIGURES, CalibrationResult, registered_classes
+from app.calibration.noise.characterise import TERM_WORDS, NoiseResult
+from app.calibration.registry import registered_classes
+from app.calibration.shared.result import FIGURES, CalibrationResult
+from app.calibration.still.affine import AffineCalibration
+from app.calibration.still.triangular import TriangularCalibration
 from app.calibration.temperature import TemperatureResult
-from app.calibration.triangular import TriangularCalibration
 
 
 @dataclass(frozen=True)
 class PageFacts:
     """What the page shows of a result of one class; whether it has a correction to apply comes from the
-    class's :attr:`~app.calibration.result.CalibrationResult.KIND`."""
+    class's :attr:`~app.calibration.shared.result.CalibrationResult.KIND`."""
 
     uses: str = "calibration"
     """The set of uses and export formats it offers (app/web/uses.py ``USE_SETS``)."""

@@ -17,16 +17,16 @@ import numpy as np
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
-from app.calibration.headlines import SENSOR_WORDS
 from app.calibration.magnetometer import coverage as compass
 from app.calibration.magnetometer.fit import MIN_READINGS as COMPASS_MIN_READINGS
-from app.calibration.orientations import POSE_NAMES, UP_VECTORS
-from app.calibration.result import as_fitted_words
+from app.calibration.registry import as_fitted_words
+from app.calibration.shared.headlines import SENSOR_WORDS
+from app.calibration.shared.orientations import POSE_NAMES, UP_VECTORS
 from app.calibration.temperature import MIN_SPAN_C as TEMPERATURE_MIN_SPAN_C
 from app.guided import capture_rules
-from app.io.board_formats import board_tables
-from app.io.formats.chips import CHIPS
+from app.io.board.formats import board_tables
 from app.io.log import UNITS_IN
+from app.io.readers.chips import CHIPS
 from app.methods import TABLE as METHOD_TABLE
 from app.web.metric_words import METRICS
 from app.web.result_pages import page_kinds
@@ -114,7 +114,7 @@ SENSOR_TITLES = {sensor: words.capitalize() for sensor, words in SENSOR_WORDS.it
 
 def unit_tables() -> dict:
     """The start page's unit menus: each sensor's units in words (its name: ``sensorWords``), and the chips
-    (app.io.formats.chips) that turn its counts into a physical unit, by sensor, with their datasheet scale in
+    (app.io.readers.chips) that turn its counts into a physical unit, by sensor, with their datasheet scale in
     words."""
     return {
         "units": {s: [[u, UNIT_WORDS[u]] for u in units] for s, units in UNITS_IN.items()},
@@ -191,7 +191,7 @@ def page_tables() -> dict:
         ``compass`` (:func:`compass_tables`);
         ``uses`` (app.web.uses: the file for each use of a calibration and how to apply it);
         ``units`` (:func:`unit_tables`: the start page's unit and chip menus per sensor); ``board``
-        (:func:`app.io.board_formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
+        (:func:`app.io.board.formats.board_tables`: the lines boards print, baud rates, the Nordic UART);
         ``sketches`` (:func:`app.web.sketches.sketch_table`: what a maker flashes, its baud rate and file);
         ``methods`` (each method in words, from the method table, app.methods); ``metrics``
         (app.web.metric_words: each figure's name, unit and meaning); ``sensorWords`` (:data:`SENSOR_TITLES`);

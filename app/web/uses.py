@@ -7,8 +7,8 @@ export formats of app.io (FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS).
 
 from __future__ import annotations
 
-from app.io.export_compass import FLIGHT_COMPASS_FORMATS
-from app.io.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
+from app.io.exports.compass import FLIGHT_COMPASS_FORMATS
+from app.io.exports.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
 
 CALIBRATION_USES = (
     {
@@ -139,7 +139,7 @@ FLIGHT_COMPASS_USES = (
 
 DEFAULT_USES = {"board": ("firmware", "filter"), "px4": ("px4",), "ardupilot": ("ardupilot",), "phone": ("app",)}
 """The use offered first by where the calibration's readings came from (its ``source``,
-app.io.formats.SOURCES), the first of these keys its kind offers: a board's goes into its own firmware (the C
+app.io.readers.SOURCES), the first of these keys its kind offers: a board's goes into its own firmware (the C
 header; a temperature calibration's polynomials), a flight log's into that firmware's parameters, a phone's into
 a phone app. The one rule: the page (static/js/use_calibration.js) looks it up here; the person's own choice,
 once made, is remembered per source over it. A calibration with no source offers its kind's first use."""

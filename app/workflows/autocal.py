@@ -7,9 +7,9 @@ from pathlib import Path
 from typing import Any
 
 from app.calibration import CalibrationError
-from app.io.formats import read_log
 from app.io.log import ACC_PHYSICAL_UNITS
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 from app.workflows.calibration import Calibration
 from app.workflows.gravity import reference_gravity
 from app.workflows.recordings import RecordingSource, require_accelerometer, require_rate
@@ -66,8 +66,8 @@ def autocalibrate_file(
     ----------
     path : str or pathlib.Path
         ``.npy`` (N×3, or N×4 with time first; memory-mapped), Parquet or CSV.
-    options : app.io.read_options.ReadOptions
-        How to read it (:func:`app.io.formats.read_log`): the rate, needed when the file has no time column;
+    options : app.io.readers.read_options.ReadOptions
+        How to read it (:func:`app.io.readers.read_log`): the rate, needed when the file has no time column;
         the accelerometer's unit (``units["acc"]``: g or m/s²; the file's (header) unit, else m/s², when
         omitted); a CSV's columns and sign; the part and range (``chip``) or the counts per g of a CSV in
         counts; the IMU instance of a flight controller's log (PX4 ULog, ArduPilot DataFlash).
@@ -78,11 +78,12 @@ def autocalibrate_file(
     gravity, latitude_deg, height_m : float, optional
         Reference gravity for m/s² input (see :func:`reference_gravity`).
     detection, selection : dict, optional
-        Options of :class:`app.calibration.stationary_002.RestAccumulator` and
+        Options of :class:`app.calibration.segments.stationary_002.RestAccumulator` and
         :func:`app.calibration.autocal.autocalibrate`.
     threads : int, optional
-        Threads of the rest detection (default: the cores, :func:`app.calibration.stationary_002.detection_threads`);
-        1 where the files of a folder are the parallel work.
+        Threads of the rest detection (default: the cores,
+        :func:`app.calibration.segments.stationary_002.detection_threads`); 1 where the files of a folder are the
+        parallel work.
     **fields
         Added to the body (``device_id``, ``label``...).
 
@@ -93,7 +94,7 @@ def autocalibrate_file(
         ``metrics`` (``error_before_mg``, ``error_after_mg``, ``improvement_pct`` on the control set),
         ``comparison``, ``selection``, ``detection``, ``ok``, ``warnings``, ``reasons``.
     """
-    from app.calibration.stationary_002 import detect_rest_segments
+    from app.calibration.segments.stationary_002 import detect_rest_segments
 
     path = Path(path)
     log = read_log(path, options, name=str(path))

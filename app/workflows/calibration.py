@@ -15,7 +15,7 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Any
 
-from app.calibration.result import CalibrationResult
+from app.calibration.shared.result import CalibrationResult
 from app.headlines import headline
 from app.verdict import verdict
 

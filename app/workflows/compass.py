@@ -67,9 +67,9 @@ def compass_rests(log: LogData, segments: list[dict[str, Any]]) -> list[tuple[Se
 
 def inline_mag(mag: np.ndarray, notes: list[str]) -> tuple[np.ndarray, str]:
     """A request's inline magnetometer readings in µT, or in counts (``raw``), as the field they show says
-    (app.io.formats.units, as an upload's): a board's compass page sends its counts as they are."""
-    from app.io.formats.chips import GAUSS_UT
-    from app.io.formats.units import field_magnitude, infer_mag_unit
+    (app.io.readers.units, as an upload's): a board's compass page sends its counts as they are."""
+    from app.io.readers.chips import GAUSS_UT
+    from app.io.readers.units import field_magnitude, infer_mag_unit
 
     inferred = infer_mag_unit(mag)
     if inferred in (None, "uT"):

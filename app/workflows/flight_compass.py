@@ -1,12 +1,13 @@
 """The compass calibrated from a flight: a flight controller's log, its attitude and the Earth's field.
 
-Reads the compass of a stored PX4 or ArduPilot log with its context (:func:`app.io.flight_context.
+Reads the compass of a stored PX4 or ArduPilot log with its context (:func:`app.io.flight.compass.
 read_flight_compass`: the raw readings, the firmware's own field, the attitude, the current or throttle,
 the place and date of the first GPS fix), turns the geomagnetic model's field there (IGRF, app.geomag) into
 the body frame with the attitude at each compass sample, ``e = C_nbᵀ B_ned``, and fits the compass to it
 (:func:`app.calibration.magnetometer.fit_flight_compass`). The attitude is interpolated onto the compass's
 times by spherical linear interpolation of its quaternions, the power linearly; samples outside either's
-span are left out.
+span are left out. One compass is fitted here (:func:`fly`); the method's handler, which fits the one asked and
+sets every compass of the log beside it, is :func:`app.workflows.flight_compasses.compass_flight`.
 """
 
 from __future__ import annotations
@@ -18,12 +19,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from app.calibration import CalibrationError
-from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource
 from app.workflows.requests import CompassFlightRequest
 
 if TYPE_CHECKING:
-    from app.io.flight_context import FlightCompassLog
+    from app.io.flight.context import FlightCompassLog
 
 
 def _attitude_on(t: np.ndarray, at: np.ndarray, c_nb: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -185,7 +185,7 @@ def fly(request: CompassFlightRequest, recording: RecordingSource, instance: int
     from app.calibration.magnetometer import fit_flight_compass
     from app.calibration.magnetometer.flight import MAX_FIT_SAMPLES, thinning
     from app.geomag import GeomagneticRangeError, reference_field
-    from app.io.flight_context import read_flight_compass
+    from app.io.flight.compass import read_flight_compass
 
     log = read_flight_compass(
         recording.path,
@@ -238,51 +238,3 @@ def fly(request: CompassFlightRequest, recording: RecordingSource, instance: int
         stored=_stored_model(log),
     )
     return Flown(log, fit, t[keep], mag_raw[keep], power, kind, expected, attitude, b_ned, earth, place)
-
-
-def compass_flight(request: CompassFlightRequest, recording: RecordingSource | None) -> Calibration:
-    """Method ``compass_flight``: a flight log's compass against the field its attitude expects; with several
-    compasses in the log, each beside the others (:func:`app.workflows.flight_compasses.compasses_table`)."""
-    from app.calibration.magnetometer import FlightCompassCalibration
-    from app.workflows.flight_compasses import compasses_table
-
-    if recording is None or recording.meta.get("flight") is None:  # a flight controller's log lists its sensors
-        raise CalibrationError(
-            "a compass from a flight reads a flight controller's log: upload the PX4 ULog (.ulg) "
-            "or ArduPilot DataFlash log (.bin) of a flight with turns"
-        )
-    read_with = recording.meta.get("read_with") or {}
-    instance = request.mag_instance if request.mag_instance is not None else read_with.get("mag_instance")
-    notes: list[str] = []
-    flown = fly(request, recording, instance, notes)
-    log, (lat, lon, height, day), earth = flown.log, flown.place, flown.earth
-    flight = {
-        "firmware": log.firmware,
-        "generation": log.generation,
-        "instance": log.instance,
-        "external": log.stored.external,
-        "raw_how": log.raw_how,
-        "frame_to_body": log.frame_to_body.tolist(),
-        "stored": log.stored.to_dict(),
-        "attitude_source": log.attitude_source,
-        "power_source": log.power_source if flown.power_kind else None,
-        "place": {"latitude_deg": lat, "longitude_deg": lon, "height_m": height, "date": day.isoformat()},
-        **compasses_table(request, recording, flown),
-    }
-    metrics = {
-        "field_ut": earth.field_ut,
-        "inclination_deg": earth.inclination_deg,
-        "declination_deg": earth.declination_deg,
-        "field_model": earth.model,
-        "field_date": day.isoformat(),
-    }
-    result = FlightCompassCalibration.from_fit(flown.fit, flight=flight, metrics=metrics)
-    return Calibration.of(
-        result,
-        {},
-        unit="uT",
-        notes=notes,
-        device_id=request.device_id,
-        label=request.label or recording.meta.get("filename"),
-        **recording.source_fields,
-    )

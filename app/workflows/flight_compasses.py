@@ -2,7 +2,8 @@
 one action, and the firmware's consistency check between them (:mod:`app.calibration.magnetometer.flight_compare`).
 
 Only for a log with two compasses or more; a compass that does not measure, or whose fit is refused, still has its
-row, with why.
+row, with why. The method's handler is here too (:func:`compass_flight`): the compass asked, fitted as every compass
+is (:func:`app.workflows.flight_compass.fly`), with the table of them all.
 """
 
 from __future__ import annotations
@@ -15,15 +16,16 @@ from app.calibration import CalibrationError
 from app.calibration.magnetometer.flight import MAX_MOTOR_HALF_WIDTH
 from app.calibration.magnetometer.flight_compare import action, consistency, pull
 from app.calibration.magnetometer.flight_health import CompassNotMeasuringError
-from app.calibration.rotations import firmware_matrix, nearest_number
+from app.calibration.shared.rotations import firmware_matrix, nearest_number
 from app.io.errors import LogFormatError
-from app.io.export_compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
+from app.io.exports.compass import ARDUPILOT_MOTCT, PX4_COMP_TYPE, ardupilot_name
+from app.workflows.calibration import Calibration
 from app.workflows.flight_compass import Flown, fly
 from app.workflows.recordings import RecordingSource
 from app.workflows.requests import CompassFlightRequest
 
 if TYPE_CHECKING:
-    from app.io.flight_context import FirmwareCompassCal
+    from app.io.flight.context import FirmwareCompassCal
 
 MAX_ORIENTATION_LEFT_DEG = 5.0
 """A mounting is named for re-orienting only where the rotation found lies within 5° of it (the flight fit's own
@@ -117,7 +119,7 @@ def _row(flown: Flown) -> dict[str, Any]:
 
 
 def _refused_row(recording: RecordingSource, instance: int, error: Exception) -> dict[str, Any]:
-    from app.io.flight_context import read_flight_compass
+    from app.io.flight.compass import read_flight_compass
 
     try:
         switch = read_flight_compass(recording.path, mag_instance=instance).stored.switch
@@ -172,3 +174,50 @@ def compasses_table(request: CompassFlightRequest, recording: RecordingSource, a
     agrees = {c["pair"][1]: c["consistent"] for c in checks}
     rows = [{**row, "consistent": agrees.get(row["instance"])} for row in rows]
     return {"compasses": [{**row, "action": action(row)} for row in rows], "consistency": checks}
+
+
+def compass_flight(request: CompassFlightRequest, recording: RecordingSource | None) -> Calibration:
+    """Method ``compass_flight``: a flight log's compass against the field its attitude expects; with several
+    compasses in the log, each beside the others (:func:`compasses_table`)."""
+    from app.calibration.magnetometer import FlightCompassCalibration
+
+    if recording is None or recording.meta.get("flight") is None:  # a flight controller's log lists its sensors
+        raise CalibrationError(
+            "a compass from a flight reads a flight controller's log: upload the PX4 ULog (.ulg) "
+            "or ArduPilot DataFlash log (.bin) of a flight with turns"
+        )
+    read_with = recording.meta.get("read_with") or {}
+    instance = request.mag_instance if request.mag_instance is not None else read_with.get("mag_instance")
+    notes: list[str] = []
+    flown = fly(request, recording, instance, notes)
+    log, (lat, lon, height, day), earth = flown.log, flown.place, flown.earth
+    flight = {
+        "firmware": log.firmware,
+        "generation": log.generation,
+        "instance": log.instance,
+        "external": log.stored.external,
+        "raw_how": log.raw_how,
+        "frame_to_body": log.frame_to_body.tolist(),
+        "stored": log.stored.to_dict(),
+        "attitude_source": log.attitude_source,
+        "power_source": log.power_source if flown.power_kind else None,
+        "place": {"latitude_deg": lat, "longitude_deg": lon, "height_m": height, "date": day.isoformat()},
+        **compasses_table(request, recording, flown),
+    }
+    metrics = {
+        "field_ut": earth.field_ut,
+        "inclination_deg": earth.inclination_deg,
+        "declination_deg": earth.declination_deg,
+        "field_model": earth.model,
+        "field_date": day.isoformat(),
+    }
+    result = FlightCompassCalibration.from_fit(flown.fit, flight=flight, metrics=metrics)
+    return Calibration.of(
+        result,
+        {},
+        unit="uT",
+        notes=notes,
+        device_id=request.device_id,
+        label=request.label or recording.meta.get("filename"),
+        **recording.source_fields,
+    )

@@ -10,24 +10,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from app.calibration import CalibrationError
-from app.calibration.errors import InsufficientDataError
+from app.calibration.noise.still_part import NOISE_MIN_S, NOISE_REST_S
+from app.calibration.shared.errors import InsufficientDataError
 from app.io.log import SI_UNITS, TO_SI, LogData
 from app.workflows.calibration import Calibration
 from app.workflows.recordings import RecordingSource, require_rate
 from app.workflows.requests import NoiseRequest
 
 if TYPE_CHECKING:
-    from app.io.formats.timing import Gap
+    from app.io.readers.timing import Gap
 
 NOISE_SENSORS = ("acc", "gyr", "mag")
-NOISE_REST_S = 5.0
-"""A still stretch this long counts as a rest: two or more of them are separate rests (poses, handling),
-and only the longest is characterised. It is also the least rest the noise is read from (:data:`NOISE_MIN_S`)."""
-NOISE_MIN_S = NOISE_REST_S
-"""One rest long enough for the noise: its white noise shows from a few seconds at tens of hertz (the real PX4
-sample's 7.5 s rest gives the density of its whole 61 s within 15 %; half a second gives an interval spanning a
-factor of six); the verdict says how long a filter's random walk needs (app.verdict). Shorter, the recording lists
-the noise as not ready and the method answers ok false."""
 NOISE_GAPS_MAX = 0.01
 """Gaps losing more than this fraction of the still part's time make its Allan deviation unreliable
 (``ok`` false): the estimator takes the samples as evenly spaced, and a lost stretch joins two
@@ -37,7 +30,7 @@ stretches as if they were adjacent."""
 def characterise_log(
     log: LogData, *, sensors: Sequence[str] | None = None, array_sensor: str | None = None, **fields: Any
 ) -> Calibration:
-    """Noise characterisation (app.calibration.noise) of every chosen sensor of a still recording.
+    """Noise characterisation (app.calibration.noise.characterise) of every chosen sensor of a still recording.
 
     ``array_sensor`` names the sensor a three-column array (``.npy``, Parquet) holds, which the readers
     return as ``acc``. Gyroscopes in deg/s become rad/s, magnetometers in nT µT, accelerometers in g
@@ -45,9 +38,9 @@ def characterise_log(
     holds: when some of the recording moved, a warning says what was used; when less than half of it is
     still, ``ok`` is false.
     """
-    from app.calibration.noise import NoiseResult, characterise_noise
-    from app.calibration.noise_still import common_still_runs
-    from app.calibration.spikes import remove_spikes
+    from app.calibration.noise.characterise import NoiseResult, characterise_noise
+    from app.calibration.noise.spikes import remove_spikes
+    from app.calibration.noise.still_part import common_still_runs
 
     arrays, units, wanted = _chosen_sensors(log, sensors, array_sensor)
     # Spikes out first: a torn read breaks the half-second block it falls in, and the still part with it.
@@ -65,8 +58,8 @@ def characterise_log(
     _judge_gaps(log, span, fs, notes, reasons)
     a, b = span
     if (b - a) / fs < NOISE_MIN_S:
-        from app.calibration.allan import MIN_SAMPLES
-        from app.calibration.noise import duration_words
+        from app.calibration.noise.allan import MIN_SAMPLES
+        from app.calibration.noise.characterise import duration_words
 
         said = (
             f"too short: the still part lasts {duration_words((b - a) / fs)} ({b - a} samples), and the noise needs "
@@ -106,7 +99,7 @@ def characterise_log(
 
 def _spikes_said(sensor: str, counts: list[int]) -> str:
     """The warning that names the spikes removed from a sensor's still part, axis by axis."""
-    from app.calibration.headlines import SENSOR_WORDS
+    from app.calibration.shared.headlines import SENSOR_WORDS
 
     axes = ", ".join(f"{n} on {axis}" for n, axis in zip(counts, "xyz") if n)
     return (
@@ -146,7 +139,7 @@ def _still_span(
 ) -> tuple[int, int]:
     """The longest still stretch (the whole recording when none is), with a note or a reason when the device
     moved: several rests, or too little of the recording still."""
-    from app.calibration.noise_still import MIN_STILL_FRACTION
+    from app.calibration.noise.still_part import MIN_STILL_FRACTION
 
     span = max(runs, key=lambda r: r[1] - r[0]) if runs else None
     rests = [r for r in runs if r[1] - r[0] >= NOISE_REST_S * fs]
@@ -211,7 +204,7 @@ GAP_REMEDIES = {
     "px4": "log again with a faster SD card or a lighter logging profile (the logger dropped samples)",
     "phone": "record again with the app in the foreground and the screen on (the phone paused the sensors)",
 }
-"""How to record again without losing samples, by where the recording comes from (app.io.formats.SOURCES); a
+"""How to record again without losing samples, by where the recording comes from (app.io.readers.SOURCES); a
 board printing to a serial port (or an unknown source) loses them on the way to the host."""
 SERIAL_REMEDY = (
     "record again without losing samples (a faster serial baud rate, fewer columns printed, a larger host buffer)"
@@ -221,7 +214,7 @@ SERIAL_REMEDY = (
 def _judge_gaps(log: LogData, span: tuple[int, int], fs: float, notes: list[str], reasons: list[str]) -> None:
     """A note on the time column's gaps inside the still part, or a reason when they lose too much of it for
     the Allan deviation (:data:`NOISE_GAPS_MAX`), with the remedy of the recording's source."""
-    from app.io.formats import source_of_format
+    from app.io.readers import source_of_format
 
     inside = _gaps_inside(log, span)
     if inside:
@@ -270,8 +263,8 @@ def noise(request: NoiseRequest, recording: RecordingSource) -> Calibration:
 def one_still_file(log: LogData) -> tuple[LogData, list[str]]:
     """The file of a recording in parts with the longest still stretch, as a log of its own, and a note
     naming it: the Allan deviation of a sequence joined from several files would see their seams."""
-    from app.calibration.noise_still import longest_still
-    from app.io.parts import part_log
+    from app.calibration.noise.still_part import longest_still
+    from app.io.readers.parts import part_log
 
     def still_samples(i: int) -> int:
         one = part_log(log, i)

@@ -13,13 +13,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from app.calibration import STANDARD_GRAVITY, CalibrationError, nearest_orientation
-from app.calibration.errors import InsufficientDataError
-from app.calibration.orientations import WITHIN_LABEL_ANGLE
-from app.calibration.static import StaticSegment, detect_static_segments
-from app.io.formats import read_log, source_of_format
+from app.calibration.segments.static import StaticSegment, detect_static_segments
+from app.calibration.shared.errors import InsufficientDataError
+from app.calibration.shared.orientations import WITHIN_LABEL_ANGLE
 from app.io.log import LogData
-from app.io.parts import Part, content_digest, pose_from_name
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log, source_of_format
+from app.io.readers.parts import Part, content_digest, pose_from_name
+from app.io.readers.read_options import ReadOptions
 from app.workflows.supports import supports
 
 if TYPE_CHECKING:
@@ -44,7 +44,7 @@ def add_recording(
         The saved upload (one file, or a zip of several files, one per pose).
     filename : str or None
         The name (or names) it came with, for messages and the recording.
-    options : app.io.read_options.ReadOptions
+    options : app.io.readers.read_options.ReadOptions
         How to read it (the caller's rate included), kept with the recording.
     owner : str or None
 
@@ -76,7 +76,7 @@ def quantization_step(samples: np.ndarray, step: float = BROWSER_STEP) -> float 
 def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path | None = None) -> dict[str, Any]:
     """Recording metadata and its static segments (docs/rest.md, POST /recordings).
 
-    ``options`` are what the reader was told (:class:`app.io.read_options.ReadOptions`); they are kept as
+    ``options`` are what the reader was told (:class:`app.io.readers.read_options.ReadOptions`); they are kept as
     ``read_with``, with the sign applied, so that the stored file is read again the same way. ``path``, the file
     read: a flight controller's log's first GPS fix is read from it (``flight.fix``), for the compass's place.
     """
@@ -132,10 +132,10 @@ def describe_log(log: LogData, options: ReadOptions | None = None, *, path: Path
 
 def flight_fix(path: Path, options: ReadOptions | None) -> dict[str, Any] | None:
     """A flight controller's log's first 3-D GPS fix (``latitude_deg``, ``longitude_deg``, ``date``) as its compass
-    is read (app.io.flight_context), or None: no fix, no compass, or a log whose compass cannot be read (the
+    is read (app.io.flight.context), or None: no fix, no compass, or a log whose compass cannot be read (the
     compass from the flight then says why)."""
     from app.io.errors import LogFormatError
-    from app.io.flight_context import read_flight_compass
+    from app.io.flight.compass import read_flight_compass
 
     try:
         log = read_flight_compass(path, mag_instance=(options or ReadOptions()).mag_instance)
@@ -167,7 +167,7 @@ def _short_still_file(
 
     Still means the spread (root of the summed per-axis variances) within CAP_G of gravity and a mean
     norm within NORM_RANGE_G, the bounds of the still-segment detector (docs/methods.md)."""
-    from app.calibration.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
+    from app.calibration.segments.static import CAP_G, MIN_DURATION_S, NORM_RANGE_G
 
     rate = part.sampling_rate_hz or NOMINAL_RATE_HZ
     if part.n_samples < 2 or part.n_samples / rate >= MIN_DURATION_S:
@@ -202,7 +202,7 @@ windows and least length are counted in samples as at 100 Hz; a note says so."""
 def _still_between_gaps(
     acc: np.ndarray, rate: float, gravity: float | None, cuts: Sequence[int], others: Sequence[np.ndarray] = ()
 ) -> list[StaticSegment]:
-    """Still segments (app.calibration.static) of ``acc``, still on every sensor of ``others`` too (the
+    """Still segments (app.calibration.segments.static) of ``acc``, still on every sensor of ``others`` too (the
     gyroscope's and the magnetometer's samples on its clock), each stretch between the sample indices
     ``cuts`` (gaps of the time column) searched on its own, so that a segment's samples are contiguous
     in time; a stretch shorter than one window holds none."""
@@ -228,7 +228,7 @@ def still_segments(log: LogData) -> tuple[list[dict[str, Any]], list[str]]:
     The segments are the accelerometer's rests (a log of other sensors alone has none) that are still on
     every other sensor the log holds too (a gyroscope ringing after the board was put down, a compass
     turning about gravity: docs/methods.md), none spanning a gap of the time column. A recording made of several files
-    (one per pose, :mod:`app.io.parts`) is
+    (one per pose, :mod:`app.io.readers.parts`) is
     searched file by file, so that no segment joins two files; each segment then names its file
     (``source``, ``part``), and a file whose name names a pose (``x_axis_pos``) that its still
     readings contradict gets a note.
@@ -339,7 +339,7 @@ class RecordingSource:
 
     def read(self, clock: str | None = None) -> LogData:
         """The recording's samples as stored; ``clock="mag"`` reads a flight controller's log on its compass's
-        clock (app.io.formats.flight_log), which the compass methods ask for (other logs are read as stored)."""
+        clock (app.io.flight.instances), which the compass methods ask for (other logs are read as stored)."""
         flight = self.meta.get("flight")
         if clock is not None and (flight is None or flight.get("clock", "imu") == clock):
             clock = None
@@ -361,7 +361,7 @@ class RecordingSource:
     @property
     def source_fields(self) -> dict[str, Any]:
         """The calibration's fields about its recording: its id, and where it came from (``source``): by its
-        format (app.io.formats.source_of_format), else a board where its readings
+        format (app.io.readers.source_of_format), else a board where its readings
         were counts (no phone app logs counts: an Arduino's CSV, an HMC5883L's)."""
         fields = {} if self.id is None else {"recording_id": self.id}
         source = source_of_format(self.meta.get("format", ""))

@@ -27,7 +27,7 @@ class Described(Protocol):
 
 
 class Placed(Protocol):
-    """Where the readings were taken, for the local gravity (app.calibration.gravity)."""
+    """Where the readings were taken, for the local gravity (app.calibration.shared.gravity)."""
 
     @property
     def gravity(self) -> float | None: ...

@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
-    from app.calibration.result import StillReadingsResult
+    from app.calibration.shared.result import StillReadingsResult
 
 
 def holdout_metrics(result: StillReadingsResult, holdout: Sequence[Sequence[float]] | None) -> dict[str, Any]:
@@ -22,8 +22,8 @@ def holdout_metrics(result: StillReadingsResult, holdout: Sequence[Sequence[floa
 
 
 def pose_advice(result: StillReadingsResult) -> list[dict[str, Any]]:
-    """The next poses a magnitude model's fit is advised (app.calibration.advice, D-optimal), plain."""
-    from app.calibration.advice import next_poses
+    """The next poses a magnitude model's fit is advised (app.calibration.still.advice, D-optimal), plain."""
+    from app.calibration.still.advice import next_poses
 
     return [a.to_dict() for a in next_poses(result)]
 
@@ -31,6 +31,6 @@ def pose_advice(result: StillReadingsResult) -> list[dict[str, Any]]:
 def apply_calibration(body: dict[str, Any], samples: ArrayLike, sensor: str = "acc") -> np.ndarray:
     """Calibrate samples of one sensor with a stored calibration: the result it rebuilds applies its
     correction of that sensor, or says which sensors it has (a noise characterisation corrects nothing)."""
-    from app.calibration.result import CalibrationResult  # from_dict imports every model
+    from app.calibration import registry  # from_dict imports every model
 
-    return CalibrationResult.from_dict(body).apply(samples, sensor)
+    return registry.from_dict(body).apply(samples, sensor)

@@ -24,12 +24,12 @@ from app.calibration import (
     fit_six_position,
     nearest_orientation,
 )
-from app.calibration.cross_validation import SIX_POSITION_NOTE, cross_validated_error
-from app.calibration.errors import InsufficientDataError
-from app.calibration.orientations import WITHIN_LABEL_ANGLE
-from app.calibration.static import MIN_DURATION_S
-from app.calibration.trust import review
-from app.calibration.validation import as_vectors
+from app.calibration.segments.static import MIN_DURATION_S
+from app.calibration.shared.errors import InsufficientDataError
+from app.calibration.shared.orientations import WITHIN_LABEL_ANGLE
+from app.calibration.shared.validation import as_vectors
+from app.calibration.still.cross_validation import SIX_POSITION_NOTE, cross_validated_error
+from app.calibration.still.trust import review
 from app.io.log import ACC_PHYSICAL_UNITS
 from app.io.plural import counted
 from app.workflows.calibration import Calibration
@@ -40,10 +40,10 @@ from app.workflows.requests import AutoRequest, KnownOrientationRequest, Magnitu
 from app.workflows.results import holdout_metrics, pose_advice
 
 if TYPE_CHECKING:
-    from app.calibration.affine import AffineCalibration
-    from app.calibration.nonorthogonal import NonOrthogonalCalibration
-    from app.calibration.result import StillReadingsResult
-    from app.calibration.triangular import TriangularCalibration
+    from app.calibration.shared.result import StillReadingsResult
+    from app.calibration.still.affine import AffineCalibration
+    from app.calibration.still.nonorthogonal import NonOrthogonalCalibration
+    from app.calibration.still.triangular import TriangularCalibration
 
 
 @dataclass(frozen=True)
@@ -111,13 +111,14 @@ def _fit_orientations(
 def _fit_nonorthogonal(
     m: np.ndarray, *, gravity: float, solver: str, gates: dict[str, Any]
 ) -> NonOrthogonalCalibration:
-    from app.calibration.nonorthogonal import fit_nonorthogonal  # scipy.optimize when it runs: see calibrate_unknown
+    # scipy.optimize when it runs: see calibrate_unknown
+    from app.calibration.still.nonorthogonal import fit_nonorthogonal
 
     return fit_nonorthogonal(m, gravity=gravity, **gates)
 
 
 def _fit_triangular(m: np.ndarray, *, gravity: float, solver: str, gates: dict[str, Any]) -> TriangularCalibration:
-    from app.calibration.triangular import fit_triangular  # scipy.optimize when it runs: see calibrate_unknown
+    from app.calibration.still.triangular import fit_triangular  # scipy.optimize when it runs: see calibrate_unknown
 
     return fit_triangular(m, gravity=gravity, solver=solver, **gates)
 
@@ -224,7 +225,7 @@ def calibrate_known(
     holdout: Sequence[Sequence[float]] | None = None,
 ) -> tuple[StillReadingsResult, dict[str, Any]]:
     """Run a known-orientation method (:data:`SIX_POSITION`, :data:`ORIENTATIONS`, or its name) on readings,
-    reviewed (app.calibration.trust); returns the result and the holdout's metrics."""
+    reviewed (app.calibration.still.trust); returns the result and the holdout's metrics."""
     spec = still_fit(method)
     stds = None
     if readings and all(r.std is not None for r in readings):
@@ -320,7 +321,7 @@ def calibrate_unknown(
     holdout: Sequence[Sequence[float]] | None = None,
 ) -> tuple[StillReadingsResult, dict[str, Any]]:
     """Run a magnitude model (:data:`NONORTHOGONAL`, Georgieva et al. Approach 1; :data:`TRIANGULAR`, Farago et
-    al.; or its name) on still readings, reviewed with their cross-validated error (app.calibration.trust); the
+    al.; or its name) on still readings, reviewed with their cross-validated error (app.calibration.still.trust); the
     extra metrics are the holdout's."""
     # The fits import scipy.optimize when they run, not at the top: the CLI's autocal imports it on the
     # other core while detection runs (tests/test_cli_autocal.py).
@@ -363,9 +364,9 @@ def _unit_gravity(
 
 def inline_unit(request: StillRequest, means: Sequence[Sequence[float]] | None, notes: list[str]) -> str:
     """The unit of a request's inline readings, checked against their magnitude as an upload's is
-    (app.io.formats.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
+    (app.io.readers.units): readings resting at about 1 are in g, at about 9.8 in m/s²; where the
     request's unit (given, or the default) says otherwise the data win, and a note says both."""
-    from app.io.formats.units import infer_acc_unit
+    from app.io.readers.units import infer_acc_unit
 
     unit: str = request.unit
     if unit not in ACC_PHYSICAL_UNITS or not means:

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from app.calibration.orientations import CANONICAL_SIX, WITHIN_LABEL_ANGLE
+from app.calibration.shared.orientations import CANONICAL_SIX, WITHIN_LABEL_ANGLE
 from app.io.log import LogData
 from app.io.plural import counted
 
@@ -234,9 +234,8 @@ def _flight_compass(log: LogData, fix: dict[str, Any] | None) -> list[Support]:
 
 
 def _noise(log: LogData) -> Support:
-    from app.calibration.noise import duration_words
-    from app.calibration.noise_still import MIN_STILL_FRACTION, common_still_runs
-    from app.workflows.noise import NOISE_MIN_S
+    from app.calibration.noise.characterise import duration_words
+    from app.calibration.noise.still_part import MIN_STILL_FRACTION, NOISE_MIN_S, common_still_runs
 
     rate = log.sampling_rate_hz
     if rate is None:

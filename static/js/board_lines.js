@@ -56,7 +56,7 @@ function numbers(fields) {
   return fields.map(Number);
 }
 
-// The column names of trical's log readers (app/io/formats/generic_csv.py), as patterns.
+// The column names of trical's log readers (app/io/readers/generic_csv.py), as patterns.
 const AXIS = "[ _.\\-]?\\(?([xyz])\\)?(?:[ _]?axis)?";
 const UNIT = "(?:\\s*[\\(\\[]([^\\)\\]]*)[\\)\\]])?";
 const COLUMN = {
@@ -288,7 +288,7 @@ export function accUnitAtRest(norm) {
 }
 
 // The rates from the first burst end to the one nearest the middle and from there to the last agree within
-// rateAgree: no end among them read late by a lagging reader (app.io.board_lines.StreamRate._halves_agree).
+// rateAgree: no end among them read late by a lagging reader (app.io.board.lines.StreamRate._halves_agree).
 function halvesAgree(ends) {
   const middle = 0.5 * (ends[0][0] + ends[ends.length - 1][0]);
   const inner = ends.slice(1, -1);
@@ -300,7 +300,7 @@ function halvesAgree(ends) {
 }
 
 // The board's rate from live lines without a time column: readings counted over their arrival, the twin
-// of app/io/board_lines.py's StreamRate on the same constants (the server's tables). Each chunk is a point
+// of app/io/board/lines.py's StreamRate on the same constants (the server's tables). Each chunk is a point
 // (arrival, readings so far); a burst ends at a point whose next chunk comes after at least half the
 // longest step (a read that splits a burst brings its parts closer together), and when it ends every
 // line printed until then has arrived. The rate is the readings counted between the end of the first

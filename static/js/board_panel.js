@@ -50,7 +50,8 @@ export function packetParts(cal) {
   return { acc: parts.includes("acc"), compass };
 }
 
-// The packet's CRC-16, as app/io/motioncal_packet.py computes it (the server's tables give its polynomial and start).
+// The packet's CRC-16, as app/io/exports/motioncal_packet.py computes it (the server's tables give its polynomial
+// and start).
 export function crc16(bytes, crc = PACKET.crc.start) {
   for (const byte of bytes) {
     crc ^= byte;

@@ -1,5 +1,5 @@
 // A flight controller's log on the upload page (PX4 ULog, ArduPilot DataFlash): fills its section with the sensor
-// instances it holds (app.io.formats.flight_log, the recording's `flight`), the IMU and compass read, the
+// instances it holds (app.io.flight.instances, the recording's `flight`), the IMU and compass read, the
 // temperature over the log, and whether the range allows a temperature calibration; the plot itself is a pure
 // function.
 
@@ -7,7 +7,8 @@ import { formatNumber } from "./readings.js";
 import { TABLES } from "./tables.js";
 import { $, cell } from "./dom.js";
 
-const sensorWords = (sensor) => (TABLES.sensorWords[sensor] || sensor).toLowerCase(); // app/calibration/headlines.py
+// The sensors' words: app/calibration/shared/headlines.py.
+const sensorWords = (sensor) => (TABLES.sensorWords[sensor] || sensor).toLowerCase();
 const TEMPERATURE_SPAN_C = TABLES.flightLog.temperatureMinSpanC; // the temperature method's least span (its gate), °C
 
 const celsius = (v) => Number(v).toFixed(1); // temperatures alike in the table, the caption and the plot

@@ -41,7 +41,7 @@ const ROLES = [["", "not used"], ["time_s", "time (s)"], ["time_ms", "time (ms)"
   ["acc_y", "accelerometer y"], ["acc_z", "accelerometer z"], ["gyr_x", "gyroscope x"], ["gyr_y", "gyroscope y"],
   ["gyr_z", "gyroscope z"], ["mag_x", "magnetometer x"], ["mag_y", "magnetometer y"], ["mag_z", "magnetometer z"]];
 const ROLE_WORDS = { ...Object.fromEntries(ROLES.filter(([role]) => role)), "-": "not used" };
-// How to tell the sensors apart by what they read (app/io/formats/columns.py decides the same way).
+// How to tell the sensors apart by what they read (app/io/readers/columns.py decides the same way).
 const COLUMN_HINT = "At rest an accelerometer's three columns read about 1 g together (9.8 m/s²) and turn from "
   + "pose to pose; a gyroscope's read about 0 at every rest; a magnetometer's read the Earth's field (25–65 µT, "
   + "or counts) as it turns; a time column rises on every line.";
@@ -94,7 +94,7 @@ async function calibrate(payload, doing, refused, where) {
 }
 
 // One unit menu per sensor the file has, set to the unit trical read from the data (or "as the data show",
-// sending none, for a file refused before its units were read), and the parts (app.io.formats.chips) that
+// sending none, for a file refused before its units were read), and the parts (app.io.readers.chips) that
 // turn that sensor's counts into g, °/s or µT; the reader's warnings above.
 function showUnits(rec) {
   const chips = (rec.read_with && rec.read_with.chip ? rec.read_with.chip.split(",") : []).map((c) => c.trim());
@@ -313,7 +313,7 @@ async function offerCandidates(answer, file, several = false) {
 }
 
 // The columns chosen so far for each of several files uploaded together (one choice per file), sent as
-// `columns` NAME=COLUMNS;NAME=COLUMNS (app.io.formats.columns_of_file).
+// `columns` NAME=COLUMNS;NAME=COLUMNS (app.io.readers.columns_of_file).
 let fileColumns = {};
 const perFileColumns = () => Object.entries(fileColumns).map(([name, cols]) => `${name}=${cols}`).join(";");
 
@@ -380,7 +380,7 @@ function uploadData() {
 
 // The upload's options, each only when it applies to the file chosen (its first line read here): the rate
 // when no column names a time, the column names when the file has no header row, the sign when the
-// header is iOS Core Motion's (its sign is read from it, app/io/formats/ios_sign.py) or absent.
+// header is iOS Core Motion's (its sign is read from it, app/io/readers/ios_sign.py) or absent.
 const TIME_NAME = new RegExp("^(?:t|time|timestamp|times|elapsed|seconds_elapsed|time_elapsed|millis|micros)"
   + "(?:[ _]?(?:s|sec|ms|us|ns))?(?:\\s*[([].*[)\\]])?$", "i");
 const CORE_MOTION = /acceleration[xyz]\(g\)|useracceleration|gravity[ _]?[xyz]/i;
@@ -397,7 +397,7 @@ async function showOptions() {
   if (file && /\.(ulg|bin)$/i.test(file.name)) {
     // a flight controller's log states its rate, units and columns: nothing to give
   } else if (file && /\.json$/i.test(file.name)) {
-    // a JSON array of samples: its keys name the columns (app/io/formats/json_samples.py); the rate is asked
+    // a JSON array of samples: its keys name the columns (app/io/readers/json_samples.py); the rate is asked
     // for unless a key names a time
     const head = await file.slice(0, 4096).text();
     const timeKey = [...head.matchAll(/"([^"]{1,40})"\s*:/g)].some((m) => TIME_NAME.test(m[1]));

@@ -67,7 +67,7 @@ const device = SOURCE;
 // arrows and its component side): two or three words under a thumbnail ("screen up", a board's "X arrow
 // up"), and the whole pose (a phone lying flat with its screen up).
 const poseWords = () => TABLES.sources[device];
-// The server names an advised pose's nearest axis in a phone's words (app/calibration/advice.py
+// The server names an advised pose's nearest axis in a phone's words (app/calibration/still/advice.py
 // describe_up, the table of TABLES.poses.names); a board's page says the board's.
 export function sourcePoseWords(text) {
   if (device === "phone") return text;

@@ -56,7 +56,8 @@ export function withInterval(value, halfWidth, format) {
   return halfWidth === undefined || halfWidth === null ? format(value) : `${format(value)} ± ${format(halfWidth)}`;
 }
 
-// The gyroscope's bias at rest over the still captures (app.calibration.gyro_bias), in °/s with its 95 % half-widths.
+// The gyroscope's bias at rest over the still captures (app.calibration.still.gyro_bias), in °/s with its 95 %
+// half-widths.
 export function gyroBiasText(bias) {
   const list = (v) => v.map((x) => x.toFixed(3)).join(", ");
   const over = bias.interval_from === "samples" ? "1 still capture, interval from its samples"

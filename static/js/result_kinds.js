@@ -45,7 +45,8 @@ function modelTables(cal) {
 }
 
 // A noise characterisation: per sensor, its noise terms per axis with their units (Kalibr's), the rows the
-// server's kind names (app/calibration/noise.py TERM_WORDS); a table wider than a phone scrolls in its box.
+// server's kind names (app/calibration/noise/characterise.py TERM_WORDS); a table wider than a phone scrolls in its
+// box.
 function noiseTables(cal) {
   const { terms } = kindOf(cal);
   return Object.entries(cal.model).filter(([name]) => name !== "type").map(([sensor, m]) => {

@@ -34,7 +34,7 @@ export async function fetchDownloads(cal, token = null) {
   if (!cal.verdict.apply) return [];
   const kind = kindOf(cal);
   const names = TABLES.uses.sets[kind.uses].formats;
-  // The paste-ready lines of each use (app/io/snippets.py): a correction's only.
+  // The paste-ready lines of each use (app/io/exports/snippets.py): a correction's only.
   const snippets = !kind.snippets ? Promise.resolve(null) : getUse(cal.id, token).catch(() => null);
   const downloads = await Promise.all(names.map(async ([key, name]) => {
     try {
@@ -107,7 +107,7 @@ export function showUse(cal, downloads) {
   const use = chosenUse(uses, kind, source, (u) => Boolean(downloads.find((d) => d.key === u.format)?.url));
   select.value = use.key;
   const file = downloads.find((d) => d.key === use.format);
-  // A firmware's offsets and scales (app/io/export_params.py): what they reach on the readings, and the file
+  // A firmware's offsets and scales (app/io/exports/params.py): what they reach on the readings, and the file
   // offered only where that is better than raw.
   const firmware = file?.url ? downloads.snippets?.firmware?.[use.format] : null;
   const offered = Boolean(file?.url) && (!firmware || firmware.improves);

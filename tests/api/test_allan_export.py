@@ -9,7 +9,7 @@ import xml.etree.ElementTree as ET
 import httpx
 import pytest
 
-from app.io.allan_plot import allan_svg
+from app.io.exports.allan_plot import allan_svg
 from app.store import open_store
 from tests.live_server import LiveServer
 from tests.noise_bodies import noise_body

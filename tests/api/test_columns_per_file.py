@@ -1,6 +1,6 @@
 """Several files uploaded together, each asked which column is which on its own (issue 42, the column card for
 several files): a refusal names the file it asks about (``file``), and ``columns`` takes one entry per file,
-``NAME=COLUMNS;NAME=COLUMNS`` (app.io.formats.columns_of_file). Real data: a still MPU-6050's gyroscope in counts
+``NAME=COLUMNS;NAME=COLUMNS`` (app.io.readers.columns_of_file). Real data: a still MPU-6050's gyroscope in counts
 without a header row (tests/data/real/corpus/mpu6050_still_gyro_counts_headerless), whose columns read as a
 gyroscope or a magnetometer, split in two files as two rests of one board."""
 

@@ -21,7 +21,7 @@ import re
 import numpy as np
 import pytest
 
-from app.io.exporters import EXPORTERS, FORMAT_NAMES
+from app.io.exports.exporters import EXPORTERS, FORMAT_NAMES
 from tests.conftest import seed_table
 
 G0 = 9.80665

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from app.api.schemas.recordings import UploadOptions
-from app.io.formats import FORMATS
+from app.io.readers import FORMATS
 from tests.conftest import DATA
 
 SAMPLES = DATA / "formats"

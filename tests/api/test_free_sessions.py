@@ -9,7 +9,7 @@ from pydantic import TypeAdapter
 
 from app.api.schemas.calibrations import CalibrationOut
 from app.api.schemas.sessions import SessionOut
-from app.calibration.advice import fibonacci_sphere
+from app.calibration.still.advice import fibonacci_sphere
 from tests.api.test_sessions import auth, start
 from tests.api.test_typed_contract import undescribed
 from tests.phone_poses import X_TRUE, Y_TRUE, direction_samples

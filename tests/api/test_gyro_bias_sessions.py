@@ -1,4 +1,4 @@
-"""The gyroscope bias of a wizard session (app.calibration.gyro_bias), through real HTTP calls: six and free
+"""The gyroscope bias of a wizard session (app.calibration.still.gyro_bias), through real HTTP calls: six and free
 sessions, the calibration's `gyroscope_bias` and its exports (ArduPilot INS_GYROFFS_*, C header, JSON)."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from scipy import stats
 from app.api.schemas.calibrations import CalibrationOut
 from app.api.schemas.sessions import SessionOut
 from app.calibration import CANONICAL_SIX
-from app.calibration.advice import fibonacci_sphere
+from app.calibration.still.advice import fibonacci_sphere
 from tests.api.test_sessions import auth, start
 from tests.api.test_typed_contract import undescribed
 from tests.phone_poses import direction_samples, pose_samples

@@ -1,4 +1,4 @@
-"""MotionCal's 68-byte calibration packet (app/io/motioncal_packet.py, ``format=motioncal``), checked by a
+"""MotionCal's 68-byte calibration packet (app/io/exports/motioncal_packet.py, ``format=motioncal``), checked by a
 receiver written independently in C (tests/io/c/motioncal_receiver.c, compiled by gcc here): it checks
 the signature and the CRC, recovers every value to float32 precision, and refuses a corrupted byte."""
 
@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.io.motioncal_packet import MotionCalCalibration, PacketError, crc16, decode, encode, from_calibration
+from app.io.exports.motioncal_packet import MotionCalCalibration, PacketError, crc16, decode, encode, from_calibration
 from simulations.magnetometer import simulate_session
 from tests.processes import ProcessFailed, run_ok
 
@@ -158,7 +158,7 @@ def test_trical_capture_s_packet_keeps_the_device_s_stored_compass(client, recei
     leaves it out."""
     from app.cli.capture import _latest_compass
     from app.config import Settings
-    from app.io.motioncal_packet import packet_of
+    from app.io.exports.motioncal_packet import packet_of
     from app.store import open_store
 
     m, _M, _b = simulate_session(22, n=300, hard_iron_ut=60.0)

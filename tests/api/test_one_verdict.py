@@ -9,8 +9,8 @@ import copy
 from pathlib import Path
 
 from app import methods
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 from app.verdict import verdict
 from app.workflows.recordings import RecordingSource, describe_log
 from tests.real_corpus import cases

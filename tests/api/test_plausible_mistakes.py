@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.result import CalibrationResult
+from app.calibration import registry
 from app.io.log import UNITS_IN as UNITS
 from tests.api.test_remedies import answer_problems
 from tests.conftest import DATA
@@ -179,7 +179,7 @@ def test_no_mistake_reading_a_real_recording_gives_ok_with_an_implausible_figure
             assert body["reasons"], where
             outcomes["ok false with reasons"] += 1
             continue
-        assert CalibrationResult.from_dict(body).plausibility() == [], where
+        assert registry.from_dict(body).plausibility() == [], where
         right = _figures(baseline["body"])
         for name, (values, unit) in _figures(body).items():
             if name in right and right[name][1] == unit and len(right[name][0]) == len(values):

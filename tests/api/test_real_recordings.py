@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.affine import fit_orientations
-from app.calibration.triangular import fit_triangular
+from app.calibration.still.affine import fit_orientations
+from app.calibration.still.triangular import fit_triangular
 from tests.real_recordings import MPU6050_LSB_PER_G, by_name, pose_subsets, raw_error_mg, recordings, tedaldi_apply
 
 RECS = by_name()

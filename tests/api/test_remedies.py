@@ -1,7 +1,7 @@
 """Every remedy is one its place accepts (issue 42, deliverable 2): a message that names a parameter names one the
-place where it is read takes — the API's upload for that family of file (app.io.read_options.UPLOAD_FIELDS) or the
-calibration's request for that method, the command line's parser of the command that runs it — or one the person
-gave (a refusal says which of theirs to leave out). Every message trical gives over the real recordings
+place where it is read takes — the API's upload for that family of file (app.io.readers.read_options.UPLOAD_FIELDS)
+or the calibration's request for that method, the command line's parser of the command that runs it — or one the
+person gave (a refusal says which of theirs to leave out). Every message trical gives over the real recordings
 (tests/data/real: the loose files, the folders of one file per pose or per sensor, the corpus's cases, the flight
 controllers' logs) and the API tests' mistakes, each with every method it supports and the methods a person tries,
 is checked; the page reads the same messages in its own words (tests/api/test_page_words.py), and offers a control
@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from app import methods
-from app.io.read_options import UPLOAD_FIELDS
+from app.io.readers.read_options import UPLOAD_FIELDS
 from app.words import VOCABULARY, asked
 from tests.api import test_units_api
 from tests.api.test_page_words import _files, messages, real_uploads

@@ -10,7 +10,7 @@ import re
 
 import numpy as np
 
-from app.io.formats.kinds import ACCEPTED_SUFFIXES
+from app.io.readers.kinds import ACCEPTED_SUFFIXES
 from tests.conftest import DATA
 
 IPHONE = DATA / "real" / "corpus" / "iphone_heading_per_sensor_files"

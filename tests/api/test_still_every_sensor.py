@@ -14,8 +14,8 @@ import json
 import numpy as np
 import pytest
 
-from app.calibration.noise import characterise_noise
-from app.calibration.static import detect_static_segments
+from app.calibration.noise.characterise import characterise_noise
+from app.calibration.segments.static import detect_static_segments
 from tests.conftest import DATA
 
 CASE = DATA / "real" / "corpus" / "px4_sample_gyro_ringing_after_landing"

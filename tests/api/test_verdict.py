@@ -19,7 +19,7 @@ import re
 import numpy as np
 import pytest
 
-from app.calibration.triangular import fit_triangular
+from app.calibration.still.triangular import fit_triangular
 from app.geomag import reference_field
 from app.verdict import verdict
 from simulations.magnetometer import simulate_session
@@ -53,7 +53,7 @@ def test_a_good_calibration_says_apply_it_with_the_error_on_new_orientations(cli
     body = _post(client, rec.means, unit=rec.unit, gravity=rec.gravity)
     v = body["verdict"]
     assert body["ok"] and v["apply"] is True and v["kind"] == "apply"
-    # no-break spaces; the figure as a level's tilt, asin(e/g) (app.calibration.angles)
+    # no-break spaces; the figure as a level's tilt, asin(e/g) (app.calibration.shared.angles)
     assert (
         v["words"] == "Apply it: error on new orientations 74.0\u00a0mg → 1.20\u00a0mg (a level off by 4.2° → 0.07°)."
     )
@@ -62,7 +62,7 @@ def test_a_good_calibration_says_apply_it_with_the_error_on_new_orientations(cli
     assert v["before"] == pytest.approx(raw, rel=1e-9) and v["after"] == pytest.approx(cv, rel=1e-6)
     assert _figures(v["words"]) == (round(raw, 1), round(cv, 2))
     assert v["unit"] == "mg" and v["basis"] == "error on new orientations"
-    # The tilt a level reads with that error, at worst: asin(e/g) (app.calibration.angles, docs/methods.md).
+    # The tilt a level reads with that error, at worst: asin(e/g) (app.calibration.shared.angles, docs/methods.md).
     d = v["degrees"]
     assert d["kind"] == "tilt" and d["before_deg"] == pytest.approx(np.degrees(np.arcsin(raw / 1000)), rel=1e-9)
     assert d["after_deg"] == pytest.approx(np.degrees(np.arcsin(cv / 1000)), rel=1e-6)

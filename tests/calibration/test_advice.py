@@ -1,11 +1,11 @@
-"""Which pose to add next (app.calibration.advice): D-optimal over a Fibonacci sphere."""
+"""Which pose to add next (app.calibration.still.advice): D-optimal over a Fibonacci sphere."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from app.calibration.advice import (
+from app.calibration.still.advice import (
     MIN_SEPARATION_DEG,
     candidate_directions,
     describe_up,
@@ -13,8 +13,8 @@ from app.calibration.advice import (
     fibonacci_sphere,
     next_poses,
 )
-from app.calibration.nonorthogonal import fit_nonorthogonal
-from app.calibration.triangular import fit_triangular
+from app.calibration.still.nonorthogonal import fit_nonorthogonal
+from app.calibration.still.triangular import fit_triangular
 
 G = 9.80665
 # A phone's accelerometer: m = X a + y (X off the identity, y off zero), readings in m/s².

@@ -10,7 +10,7 @@ from app.calibration import (
     fit_orientations,
     fit_six_position,
 )
-from app.calibration.result import CalibrationResult
+from app.calibration.shared.result import CalibrationResult
 
 HUAWEI_X = [[1.00381, -0.00227028, -0.0141925], [-0.00324982, 1.00003, 0.00734762], [-0.019297, 0.0362144, 0.988311]]
 HUAWEI_Y = [0.353222, 0.363473, -1.18129]

@@ -1,4 +1,4 @@
-"""A figure in degrees (app.calibration.angles): the worst angle a vector error of size e turns a vector of
+"""A figure in degrees (app.calibration.shared.angles): the worst angle a vector error of size e turns a vector of
 size r by is asin(e/r), checked here against a brute-force search over the error's direction; a heading's r
 is the horizontal component H = F cos I, checked against IGRF-14's own H (app.geomag)."""
 
@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from app.calibration.angles import (
+from app.calibration.shared.angles import (
     ASSUMED_INCLINATION_DEG,
     compass_inclination,
     degrees_text,

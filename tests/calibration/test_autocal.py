@@ -14,8 +14,8 @@ from app.calibration.autocal import (
     bin_of,
     select_points,
 )
-from app.calibration.comparison import fit_ellipsoid_axes, fit_sphere_van_hees
-from app.calibration.stationary_002 import RestAccumulator, detect_rest_segments
+from app.calibration.segments.stationary_002 import RestAccumulator, detect_rest_segments
+from app.calibration.still.comparison import fit_ellipsoid_axes, fit_sphere_van_hees
 from simulations.autocal import simulate_recording
 from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 

@@ -1,4 +1,4 @@
-"""The still-capture check of the wizard (app/calibration/capture.py)."""
+"""The still-capture check of the wizard (app/calibration/shared/capture.py)."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from app.calibration import CalibrationError
-from app.calibration.capture import STILL_MAX_STD_G, check_still_capture
+from app.calibration.shared.capture import STILL_MAX_STD_G, check_still_capture
 
 
 def test_rate_comes_from_event_timestamps_not_a_nominal_interval():
@@ -36,7 +36,7 @@ def test_the_stillness_gate_is_a_fraction_of_gravity_in_either_unit(gravity):
 
 
 def test_a_new_direction_must_be_ten_degrees_from_the_ones_taken():
-    from app.calibration.capture import PoseTooCloseError, check_new_direction
+    from app.calibration.shared.capture import PoseTooCloseError, check_new_direction
 
     check_new_direction([0, 0, 9.8], np.zeros((0, 3)), min_angle_deg=10)
     taken = [[9.8, 0, 0], [0, 0, 9.8]]

@@ -1,4 +1,4 @@
-"""The χ² quantiles of app/calibration/chi2.py against scipy.special.chdtri, and, where scipy's own are off
+"""The χ² quantiles of app/calibration/shared/chi2.py against scipy.special.chdtri, and, where scipy's own are off
 (the lower tail of ν = 10⁸), against the incomplete gamma function summed to 40 digits."""
 
 from decimal import Decimal, localcontext
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from scipy.special import chdtri
 
-from app.calibration.allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, tau_grid
-from app.calibration.chi2 import chi2_upper_quantile
-from app.calibration.errors import CalibrationError
+from app.calibration.noise.allan import FLICKER, RANDOM_WALK, WHITE, chi2_interval, edf_simple, tau_grid
+from app.calibration.shared.chi2 import chi2_upper_quantile
+from app.calibration.shared.errors import CalibrationError
 
 RTOL = 1e-12
 DOF_GRID = np.concatenate([[1.0, 1.5, 2.0], np.geomspace(3.0, 1e8, 400)])

@@ -18,7 +18,7 @@ def test_triangular_cv_error_on_seed_table_2_exceeds_the_in_sample_error():
     assert result.metrics["cv_error_mg"] > result.metrics["error_after_mg"]  # in-sample flatters
     assert result.metrics["cv_error_max_mg"] >= result.metrics["cv_error_mg"]
     # Reading 0 calibrated by the fit on the other 19, by hand.
-    from app.calibration.triangular import fit_triangular
+    from app.calibration.still.triangular import fit_triangular
 
     m = seed_table(2)[:20]
     errors = [

@@ -1,5 +1,5 @@
 """The compass calibrated from a flight (app/calibration/magnetometer/flight.py) on seeded flights, and the
-firmwares' rotation tables (app/calibration/rotations.py) against their sources."""
+firmwares' rotation tables (app/calibration/shared/rotations.py) against their sources."""
 
 import json
 import time
@@ -7,9 +7,9 @@ import time
 import numpy as np
 import pytest
 
-from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.magnetometer.flight import fit_flight_compass
-from app.calibration.rotations import (
+from app.calibration.shared.errors import CalibrationError, InsufficientDataError
+from app.calibration.shared.rotations import (
     ARDUPILOT_ROTATIONS,
     PX4_ROTATIONS,
     ardupilot_matrix,

@@ -18,7 +18,7 @@ LOG171 = DATA / "real" / "flight" / "log171.bin"
 def _flight(instance: int) -> dict:
     """One compass of log171.bin with the field its attitude expects, on the compass's times."""
     from app.geomag import reference_field
-    from app.io.flight_context import read_flight_compass
+    from app.io.flight.compass import read_flight_compass
     from app.workflows.flight_compass import _attitude_on
 
     log = read_flight_compass(LOG171, mag_instance=instance)

@@ -1,4 +1,4 @@
-"""The gyroscope bias of still captures and its 95 % interval (app.calibration.gyro_bias)."""
+"""The gyroscope bias of still captures and its 95 % interval (app.calibration.still.gyro_bias)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from scipy import stats
 
 from app.calibration import CalibrationError
-from app.calibration.gyro_bias import gyroscope_bias
+from app.calibration.still.gyro_bias import gyroscope_bias
 from simulations.gyro_captures import capture_statistics, simulate_captures
 
 BIAS = np.array([0.004, -0.0025, 0.0012])  # rad/s: 0.23, −0.14, 0.07 °/s, a phone gyroscope's order

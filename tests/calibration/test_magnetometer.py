@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from app.calibration.errors import CalibrationError, InsufficientDataError
 from app.calibration.magnetometer import MagnetometerResult, fit_magnetometer
 from app.calibration.magnetometer.ellipsoid import fit_ellipsoid, fit_sphere
 from app.calibration.magnetometer.refine import correlation_inflation, pack
-from app.calibration.result import CalibrationResult
+from app.calibration.shared.errors import CalibrationError, InsufficientDataError
+from app.calibration.shared.result import CalibrationResult
 from simulations.magnetometer import EARTH_FIELD_UT, random_soft_iron, simulate_rests, simulate_session, simulate_turn
 
 F = EARTH_FIELD_UT

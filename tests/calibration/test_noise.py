@@ -1,4 +1,4 @@
-"""Noise characterisation by the overlapping Allan deviation (app/calibration/allan.py, noise.py):
+"""Noise characterisation by the overlapping Allan deviation (app/calibration/noise/allan.py, noise.py):
 equality with allantools (on the corpus's real still recordings first), the τ grid, recovery and coverage of
 simulated N, B, K, nulls when too short."""
 
@@ -10,7 +10,7 @@ import allantools
 import numpy as np
 import pytest
 
-from app.calibration.allan import (
+from app.calibration.noise.allan import (
     CHUNK,
     FLICKER,
     FUSED,
@@ -26,9 +26,9 @@ from app.calibration.allan import (
     second_difference_sums_fast,
     tau_grid,
 )
-from app.calibration.errors import InsufficientDataError
-from app.calibration.noise import NoiseResult, characterise_noise
-from app.calibration.result import CalibrationResult
+from app.calibration.noise.characterise import NoiseResult, characterise_noise
+from app.calibration.shared.errors import InsufficientDataError
+from app.calibration.shared.result import CalibrationResult
 from simulations.noise import simulate_still
 
 FS = 100.0
@@ -63,7 +63,7 @@ def test_the_fused_loop_is_built():
 
 
 def test_the_fused_loop_refuses_what_it_cannot_sum():
-    from app.calibration.allan_fused import sums_of_share
+    from app.calibration.noise.allan_fused import sums_of_share
 
     x = np.cumsum(np.random.default_rng(5).normal(size=1000))
     out = np.empty(2)
@@ -162,7 +162,7 @@ def test_result_round_trips_and_corrects_nothing():
 def test_a_still_recording_that_drifts_is_still_from_end_to_end():
     # An accelerometer with 1 mg of bias instability and a strong random walk over 20 minutes: its
     # mean wanders by more than the orientation segments tolerate, yet it never moved.
-    from app.calibration.noise_still import longest_still
+    from app.calibration.noise.still_part import longest_still
 
     rng = np.random.default_rng(8)
     n = 120_000
@@ -177,7 +177,7 @@ def test_a_still_recording_that_drifts_is_still_from_end_to_end():
 def test_a_gyroscope_turned_at_a_steady_rate_between_rests_is_not_still():
     # Six rests of 20 s joined by 2 s turns at 45 °/s: the spread of a turn is as small as a rest's,
     # its level is not — six rests, and no stretch across a turn (the turns are stretches of their own).
-    from app.calibration.noise_still import still_runs
+    from app.calibration.noise.still_part import still_runs
 
     rng = np.random.default_rng(9)
     parts, starts = [], []
@@ -198,10 +198,10 @@ def test_a_gyroscope_turned_at_a_steady_rate_between_rests_is_not_still():
 @pytest.mark.parametrize("dtype", [np.float64, np.float32, np.int16])
 @pytest.mark.parametrize("axes", [2, 3, 4])
 def test_the_blocks_laid_across_give_numpy_s_spreads_and_means_to_the_last_bit(dtype, axes):
-    """still_runs sums each chunk's blocks laid across (app.calibration.noise_still._block_spreads_across):
+    """still_runs sums each chunk's blocks laid across (app.calibration.noise.still_part._block_spreads_across):
     the same figures as numpy's mean and variance of each block (_block_spreads), bit for bit, so the
     still runs are those numpy's sums give."""
-    from app.calibration.noise_still import _block_spreads, _block_spreads_across
+    from app.calibration.noise.still_part import _block_spreads, _block_spreads_across
 
     rng = np.random.default_rng(axes)
     for blocks, w in [(327, 100), (50, 17), (3, 250), (1, 2)]:
@@ -221,7 +221,7 @@ def test_the_blocks_laid_across_give_numpy_s_spreads_and_means_to_the_last_bit(d
 def test_the_three_term_nnls_equals_scipy_s():
     from scipy.optimize import nnls
 
-    from app.calibration.noise import _nnls
+    from app.calibration.noise.characterise import _nnls
 
     rng = np.random.default_rng(3)
     for _ in range(500):
@@ -242,8 +242,8 @@ def _real_still_logs():
     """The corpus's real still recordings that trical characterises (tests/data/real/corpus, method noise):
     a BNO055 on a Raspberry Pi's serial port, an HMC5883L on an ESP32, a phone's LSM6DS3, an MPU-6050's gyroscope
     in counts, a PX4 flight controller's gyroscope after landing — read as their upload form says."""
-    from app.io.formats import read_log
-    from app.io.read_options import ReadOptions, units_named
+    from app.io.readers import read_log
+    from app.io.readers.read_options import ReadOptions, units_named
     from tests import real_corpus
 
     for case in real_corpus.cases():

@@ -5,8 +5,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.calibration.errors import CalibrationError, InsufficientDataError
-from app.calibration.nonorthogonal import (
+from app.calibration.shared.errors import CalibrationError, InsufficientDataError
+from app.calibration.still.nonorthogonal import (
     NonOrthogonalCalibration,
     affine_matrix,
     calibration_matrix,

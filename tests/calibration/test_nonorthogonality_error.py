@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from app.calibration.errors import CalibrationError
-from app.calibration.nonorthogonal import gram_matrix
-from app.calibration.nonorthogonality_error import (
+from app.calibration.shared.errors import CalibrationError
+from app.calibration.still.nonorthogonal import gram_matrix
+from app.calibration.still.nonorthogonality_error import (
     a_nonorth,
     a_orth,
     max_error_at_gravity,

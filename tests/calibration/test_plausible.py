@@ -1,4 +1,4 @@
-"""The one plausibility gate of every result (app/calibration/plausible.py, issue 31 point 6)."""
+"""The one plausibility gate of every result (app/calibration/shared/plausible.py, issue 31 point 6)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import numpy as np
 
 from app.calibration import CANONICAL_SIX, fit_six_position, up_vector
 from app.calibration.magnetometer.fit import fit_magnetometer
-from app.calibration.noise import NoiseResult, characterise_noise
-from app.calibration.plausible import PhysicalFigure, implausible, is_plausibility_reason
-from app.calibration.result import CalibrationResult
+from app.calibration.noise.characterise import NoiseResult, characterise_noise
+from app.calibration.shared.plausible import PhysicalFigure, implausible, is_plausibility_reason
+from app.calibration.shared.result import CalibrationResult
 
 SIX = np.array([up_vector(label) for label in CANONICAL_SIX])
 

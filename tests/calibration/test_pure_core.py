@@ -10,7 +10,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def test_core_imports_without_web_stack():
     code = (
-        "import sys, app.calibration, app.calibration.result\n"
+        "import sys, app.calibration, app.calibration.shared.result\n"
         "import pkgutil, importlib\n"
         "for m in pkgutil.walk_packages(app.calibration.__path__, 'app.calibration.'):\n"
         "    importlib.import_module(m.name)\n"

@@ -9,16 +9,16 @@ import dataclasses
 import numpy as np
 import pytest
 
-from app.calibration import CalibrationError, fit_six_position
+from app.calibration import CalibrationError, fit_six_position, registry
 from app.calibration.autocal import AutoCalibration
 from app.calibration.cube.calibrate import calibrate_cube
 from app.calibration.magnetometer.fit import fit_magnetometer
-from app.calibration.noise import NoiseResult
-from app.calibration.nonorthogonal import fit_nonorthogonal
-from app.calibration.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult, Figure
+from app.calibration.noise.characterise import NoiseResult
+from app.calibration.shared.result import CORRECTION, DRIFT, FIGURES, NO_FIGURE, CalibrationResult, Figure
+from app.calibration.still.nonorthogonal import fit_nonorthogonal
+from app.calibration.still.triangular import fit_triangular
+from app.calibration.still.trust import review
 from app.calibration.temperature import calibrate_temperature
-from app.calibration.triangular import fit_triangular
-from app.calibration.trust import review
 from app.headlines import headline, verdict_note
 from simulations import cube as cube_sim
 from simulations.magnetometer import simulate_session
@@ -275,8 +275,8 @@ def test_a_temperature_calibration_stands_on_each_sensor_s_drift_on_bands_left_o
 
 
 def test_a_body_cut_short_is_still_told_apart_by_its_class():
-    assert CalibrationResult.class_of({"method": "noise"}).KIND == FIGURES
-    assert CalibrationResult.class_of({"method": "six_position", "model": {"type": "affine"}}).KIND == CORRECTION
+    assert registry.class_of({"method": "noise"}).KIND == FIGURES
+    assert registry.class_of({"method": "six_position", "model": {"type": "affine"}}).KIND == CORRECTION
     metrics = {"cv_error_mg": 3.0, "error_before_mg": 2.0, "error_after_mg": 1.0}
-    f = CalibrationResult.class_of({"method": "triangular"}).figures_from(metrics, None)[0]
+    f = registry.class_of({"method": "triangular"}).figures_from(metrics, None)[0]
     assert f == Figure(2.0, 3.0, "mg", "error on new orientations") and f.grew

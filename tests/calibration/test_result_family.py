@@ -10,9 +10,10 @@ import pytest
 
 from app.calibration import CalibrationError, fit_six_position
 from app.calibration.cube.calibrate import calibrate_cube
-from app.calibration.nonorthogonal import fit_nonorthogonal
-from app.calibration.result import SCHEMA_VERSION, CalibrationResult, registered_types
-from app.calibration.triangular import fit_triangular
+from app.calibration.registry import from_dict, registered_types
+from app.calibration.shared.result import SCHEMA_VERSION
+from app.calibration.still.nonorthogonal import fit_nonorthogonal
+from app.calibration.still.triangular import fit_triangular
 from simulations.cube import FIELD_UT, simulate_session
 from tests.conftest import seed_table
 
@@ -57,13 +58,13 @@ def test_round_trip_units_and_correction(result):
     body = result.to_dict()
     assert body["schema_version"] == SCHEMA_VERSION and body["model"]["type"] == result.MODEL_TYPE
     assert body["ok"] is result.ok and body["unit"] == result.unit and body["output_unit"] == result.output_unit
-    again = CalibrationResult.from_dict(body)
+    again = from_dict(body)
 
     def kept(d):
         return {k: v for k, v in d.items() if k != "segments"}  # (the cube's segmentation is not kept)
 
     assert type(again) is type(result) and kept(again.to_dict()) == kept(body)
-    assert type(CalibrationResult.from_dict(body)) is type(result)
+    assert type(from_dict(body)) is type(result)
     rng = np.random.default_rng(3)
     for sensor, c in result.corrections().items():
         assert c.sensor == sensor and c.source
@@ -74,14 +75,14 @@ def test_round_trip_units_and_correction(result):
 
 def test_a_subclass_refuses_another_type_and_newer_versions_are_refused():
     six = fit_six_position(list(SIX.values()), list(SIX), gravity=G).to_dict()
-    from app.calibration.triangular import TriangularCalibration
+    from app.calibration.still.triangular import TriangularCalibration
 
     with pytest.raises(CalibrationError, match="not a triangular model"):
         TriangularCalibration.from_dict(six)
     with pytest.raises(CalibrationError, match="newer than this trical reads"):
-        CalibrationResult.from_dict({**six, "schema_version": SCHEMA_VERSION + 1})
+        from_dict({**six, "schema_version": SCHEMA_VERSION + 1})
     with pytest.raises(CalibrationError, match="unknown model type"):
-        CalibrationResult.from_dict({**six, "model": {"type": "quartic"}, "method": "quartic"})
+        from_dict({**six, "model": {"type": "quartic"}, "method": "quartic"})
     # Bodies stored before the version field are read as version 1.
     legacy = {k: v for k, v in six.items() if k != "schema_version"}
-    assert CalibrationResult.from_dict(legacy).to_dict() == six
+    assert from_dict(legacy).to_dict() == six

@@ -1,4 +1,4 @@
-"""The firmwares' rotation numbers (app/calibration/rotations.py) against ArduPilot's ``Vector3<T>::rotate``
+"""The firmwares' rotation numbers (app/calibration/shared/rotations.py) against ArduPilot's ``Vector3<T>::rotate``
 (libraries/AP_Math/vector3.cpp), written here case by case, and PX4's ``rot_lookup`` (src/lib/conversion/rotation.h):
 the entries, the firmware's own number nearest a rotation, the names, and where the two enums part. The entries
 tests/calibration/test_flight_compass.py checks by hand (2, 8, 16, 18, 24, 26, 39, 40) are not repeated here."""
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from app.calibration.rotations import (
+from app.calibration.shared.rotations import (
     ARDUPILOT_ROTATIONS,
     FIRMWARE_ROTATIONS,
     PX4_EVERY_RELEASE,
@@ -86,7 +86,7 @@ def test_nearest_number_names_the_lowest_of_equal_entries_and_unknown_numbers_ar
 
 
 def test_a_firmware_is_offered_only_the_rotations_it_can_apply():
-    from app.calibration.rotations import PX4_ROTATIONS, nearest_rotation, px4_matrix
+    from app.calibration.shared.rotations import PX4_ROTATIONS, nearest_rotation, px4_matrix
 
     # ArduPilot's PITCH_7 (41) has no PX4 number: PX4 is offered its own nearest, NONE, 7° away
     pitch_7 = ardupilot_matrix(41)

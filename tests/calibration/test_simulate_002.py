@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from app.calibration.errors import CalibrationError
-from app.calibration.triangular import fit_triangular
+from app.calibration.shared.errors import CalibrationError
+from app.calibration.still.triangular import fit_triangular
 from simulations.triangular import (
     bin_indices,
     cramer_rao_bound,

@@ -1,15 +1,15 @@
-"""Spikes in still recordings (app/calibration/spikes.py): found on real still boards and phones not once, and on a
-seeded MPU-6050 with torn reads every one, the noise density back to the clean recording's."""
+"""Spikes in still recordings (app/calibration/noise/spikes.py): found on real still boards and phones not once, and on
+a seeded MPU-6050 with torn reads every one, the noise density back to the clean recording's."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from app.calibration.noise import characterise_noise
-from app.calibration.spikes import remove_spikes, spike_mask
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.calibration.noise.characterise import characterise_noise
+from app.calibration.noise.spikes import remove_spikes, spike_mask
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 from simulations.noise import simulate_still
 from tests.conftest import DATA
 

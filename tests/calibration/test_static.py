@@ -1,12 +1,12 @@
-"""Static-segment detection on simulated raw logs (app.calibration.static, simulations.logs)."""
+"""Static-segment detection on simulated raw logs (app.calibration.segments.static, simulations.logs)."""
 
 import numpy as np
 import pytest
 
 from app.calibration import CANONICAL_SIX, fit_six_position
-from app.calibration.errors import CalibrationError, InsufficientDataError
-from app.calibration.gravity import STANDARD_GRAVITY
-from app.calibration.static import StaticSegment, _trim, detect_static_segments
+from app.calibration.segments.static import StaticSegment, _trim, detect_static_segments
+from app.calibration.shared.errors import CalibrationError, InsufficientDataError
+from app.calibration.shared.gravity import STANDARD_GRAVITY
 from simulations.logs import simulate_static_log
 
 BOUNDARY_TOL_S = 0.4

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.errors import CalibrationError
-from app.calibration.result import CalibrationResult
+from app.calibration.shared.errors import CalibrationError
+from app.calibration.shared.result import CalibrationResult
 from app.calibration.temperature import TemperatureResult, calibrate_temperature, offset_at, shift_polynomial
 from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C, simulate_warm_up
 from tests.temperature_logs import real_still_noise, warm_up

@@ -5,9 +5,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from app.calibration.errors import CalibrationError, InsufficientDataError
-from app.calibration.fixed_point import div_round, fixed_point_descent, format_for
-from app.calibration.triangular import (
+from app.calibration.shared.errors import CalibrationError, InsufficientDataError
+from app.calibration.still.fixed_point import div_round, fixed_point_descent, format_for
+from app.calibration.still.triangular import (
     TriangularCalibration,
     alpha_vector,
     fit_triangular,
@@ -160,7 +160,7 @@ def test_one_hemisphere_is_not_ok():
         assert any("one hemisphere" in r for r in cal.reasons)
 
 
-# --- the fixed-point scheme of app/calibration/fixed_point.py, checked independently ---------
+# --- the fixed-point scheme of app/calibration/still/fixed_point.py, checked independently ---------
 
 
 def test_fixed_point_primitives():

@@ -1,11 +1,11 @@
-"""The trust gates (app.calibration.trust): every one fires on the session it is for, and a good
+"""The trust gates (app.calibration.still.trust): every one fires on the session it is for, and a good
 session passes."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from app.calibration.trust import HALF_WIDTH_LIMITS
+from app.calibration.still.trust import HALF_WIDTH_LIMITS
 from app.workflows.still import Reading, calibrate_known, calibrate_unknown
 from simulations.triangular import draw_parameters, random_unit_vectors, uncalibrate
 

@@ -1,4 +1,4 @@
-"""The Allan deviation picture (app/io/allan_plot.py) in real headless Chromium at 320, 390 and
+"""The Allan deviation picture (app/io/exports/allan_plot.py) in real headless Chromium at 320, 390 and
 1280 px: it decodes as an image, scales to the width, and leaves a screenshot in test-artifacts/."""
 
 from __future__ import annotations
@@ -7,7 +7,7 @@ import base64
 
 import pytest
 
-from app.io.allan_plot import allan_svg
+from app.io.exports.allan_plot import allan_svg
 from tests.e2e.conftest import shot
 
 

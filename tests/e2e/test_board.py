@@ -15,8 +15,8 @@ import pytest
 from playwright.sync_api import expect
 
 from app.calibration import fit_six_position
-from app.io.board_formats import RATE_WINDOW_S
-from app.io.motioncal_packet import decode
+from app.io.board.formats import RATE_WINDOW_S
+from app.io.exports.motioncal_packet import decode
 from simulations.magnetometer import simulate_session
 from tests.conftest import DATA
 from tests.e2e.axe import axe_context

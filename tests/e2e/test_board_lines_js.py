@@ -7,7 +7,7 @@ import json
 
 import pytest
 
-from app.io.board_formats import MOTIONCAL_RAW
+from app.io.board.formats import MOTIONCAL_RAW
 
 G = 9.80665
 
@@ -159,12 +159,12 @@ def test_the_rate_counted_over_bursts_of_1_and_2_s_and_times_on_it(js, burst_s):
 
 
 def test_the_twins_decide_the_same_rate_at_the_same_arrival(js):
-    """The page's StreamRate and the CLI's (app.io.board_lines.StreamRate) given the same arrivals — a
+    """The page's StreamRate and the CLI's (app.io.board.lines.StreamRate) given the same arrivals — a
     reader held once for 0.4 s and 3 s, bursts of 1 s with one read late, a host hiccuping now and then —
     decide at the same arrival on the same rate."""
     import numpy as np
 
-    from app.io.board_lines import StreamRate
+    from app.io.board.lines import StreamRate
     from tests.io.test_board_lines import held_reader
 
     rng = np.random.default_rng(7)

@@ -183,7 +183,7 @@ def board(
     return open_board
 
 
-# 20 s of a board's lines: more than the page may take to count their rate (its window, app/io/board_formats.py
+# 20 s of a board's lines: more than the page may take to count their rate (its window, app/io/board/formats.py
 # RATE_WINDOW_S, once a loaded machine held the page), as a board prints for as long as it is on. With 6 s of
 # lines, a pause of the page early on left too few arrivals after it to decide, and the lines ran out (CI).
 UNI = tuple(f"Uni:{0.12 + 0.01 * (k % 3):.2f},-0.05,9.79,0.001,-0.002,0.000,21.5,-3.2,40.1" for k in range(2000))

@@ -471,7 +471,7 @@ def test_send_to_my_computer_hands_the_link_to_the_web_share_api(browser, server
 def test_the_firmware_file_is_offered_with_the_figure_it_reaches_and_only_where_it_beats_raw(page, server):
     """The MPU-6050's six pose files (tests/data/real/README.md): ArduPilot's file, with what its offsets and
     scales reach beside raw and trical's; a sensor whose only error is its axes' angles: no ArduPilot file."""
-    from app.calibration.firmware_model import DIRECTIONS
+    from app.calibration.still.firmware_model import DIRECTIONS
     from tests.api.test_pose_files import ORDER, pose_bytes
 
     rec = httpx.post(

@@ -215,7 +215,7 @@ def test_six_poses_hands_free_match_the_closed_form(browser, server):
         assert float(raw) == pytest.approx(np.linalg.norm(m), abs=1e-4)
         assert float(calibrated) == pytest.approx(np.linalg.norm(expected.apply(m[None])[0]), abs=1e-4)
     assert page.locator("#norm-chart svg circle").count() == 12
-    # The gyroscope's bias over the still captures (app.calibration.gyro_bias), and its export.
+    # The gyroscope's bias over the still captures (app.calibration.still.gyro_bias), and its export.
     assert page.text_content("#result-gyro") == (
         "Gyroscope bias: 0.300, -0.200, 0.100 °/s ± 0.000, 0.000, 0.000 °/s (95 %, 6 still captures)"
     )

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from playwright.sync_api import expect
 
-from app.calibration.advice import fibonacci_sphere
+from app.calibration.still.advice import fibonacci_sphere
 from app.workflows.still import calibrate_unknown
 from tests.e2e.conftest import shot
 from tests.e2e.source_words import assert_only_its_words

@@ -1,4 +1,4 @@
-"""The Allan deviation picture of a noise calibration (app/io/allan_plot.py): it parses as XML, has
+"""The Allan deviation picture of a noise calibration (app/io/exports/allan_plot.py): it parses as XML, has
 its panels, lines, marks and values; the fitted slopes pass through the right points when their
 coordinates are read back through the axis transform; null terms are left out with a note (its rendering in Chromium:
 tests/e2e/test_allan_plot.py)."""
@@ -12,9 +12,9 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from app.io.allan_plot import FLOOR, allan_svg, number, to_allan_svg
 from app.io.errors import ExportError
-from app.io.exporters import export_calibration
+from app.io.exports.allan_plot import FLOOR, allan_svg, number, to_allan_svg
+from app.io.exports.exporters import export_calibration
 from tests.noise_bodies import noise_body
 
 NS = {"s": "http://www.w3.org/2000/svg"}

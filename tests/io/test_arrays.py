@@ -1,4 +1,4 @@
-""".npy and Parquet readers (app/io/arrays.py) and the dispatch by suffix."""
+""".npy and Parquet readers (app/io/readers/arrays.py) and the dispatch by suffix."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
-from app.io.arrays import read_npy_log, read_parquet_log
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.arrays import read_npy_log, read_parquet_log
+from app.io.readers.read_options import ReadOptions
 
 
 def _samples(n=1000, seed=0):

@@ -1,4 +1,4 @@
-"""The lines boards print, read live (app/io/board_lines.py): real board recordings of tests/data/real
+"""The lines boards print, read live (app/io/board/lines.py): real board recordings of tests/data/real
 replayed as the bytes a serial port delivers, in chunks, with boot text and every line end."""
 
 from __future__ import annotations
@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from app.calibration import STANDARD_GRAVITY
-from app.io.board_formats import MOTIONCAL_RAW, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
-from app.io.board_lines import BoardLineReader, LogWriter, StreamRate, board_rate, numbers_format, read_lines, to_log
+from app.io.board.formats import MOTIONCAL_RAW, RATE_MIN_S, RATE_STEPS, RATE_WINDOW_S
+from app.io.board.lines import BoardLineReader, LogWriter, StreamRate, board_rate, numbers_format, read_lines, to_log
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
+from app.io.readers import read_log
 
 REAL = Path(__file__).parents[1] / "data" / "real"
 POSE = REAL / "mpu6050_pose_files" / "x_axis_pos.csv"  # Arduino, ms timestamps, m/s² under a "(g)" header

@@ -23,8 +23,8 @@ from pyulog import ULog
 from scipy.spatial.transform import Rotation
 
 from app.io.errors import ExportError
-from app.io.export_compass import FLIGHT_COMPASS_EXPORTS, export_flight_compass
-from app.io.exporters import export_calibration
+from app.io.exports.compass import FLIGHT_COMPASS_EXPORTS, export_flight_compass
+from app.io.exports.exporters import export_calibration
 
 EYE = np.eye(3)
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from app.io.errors import ExportError
-from app.io.export_params import firmware_summary, offset_scale, to_ardupilot, to_px4
+from app.io.exports.params import firmware_summary, offset_scale, to_ardupilot, to_px4
 
 
 def body(X, y, unit="m/s^2", gravity=9.80665):

@@ -15,9 +15,9 @@ import re
 import numpy as np
 import pytest
 
-from app.calibration.result import CalibrationResult
+from app.calibration.shared.result import CalibrationResult
 from app.io.errors import ExportError
-from app.io.exporters import export_calibration
+from app.io.exports.exporters import export_calibration
 from app.io.log import LogData
 from app.workflows.temperature import temperature_log
 from tests.temperature_logs import warm_up

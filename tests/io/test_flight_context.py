@@ -7,11 +7,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.calibration.rotations import px4_matrix
+from app.calibration.shared.rotations import px4_matrix
 from app.io.errors import LogFormatError
-from app.io.flight_context import read_flight_compass
-from app.io.flight_px4 import px4_rotation
-from app.io.formats import read_log
+from app.io.flight.compass import read_flight_compass
+from app.io.flight.px4 import px4_rotation
+from app.io.readers import read_log
 from tests.flight_logs import (
     ardupilot_flight_messages,
     ardupilot_imu,

@@ -16,9 +16,10 @@ from pyulog import ULog
 from scipy.spatial.transform import Rotation
 
 from app.calibration.magnetometer.ellipsoid import fit_sphere
-from app.io.flight_context import read_flight_compass, stored_calibration_parameters
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.flight.compass import read_flight_compass
+from app.io.flight.context import stored_calibration_parameters
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 
 FLIGHT = Path(__file__).resolve().parents[1] / "data" / "real" / "flight"
 LOG171 = FLIGHT / "log171.bin"
@@ -247,7 +248,7 @@ def test_a_ulog_is_parsed_once_for_the_upload_and_the_compass_and_again_when_it_
     seconds, bench/flight_compass_speed.py); a file rewritten in place is parsed afresh."""
     import shutil
 
-    from app.io.formats import ulog
+    from app.io.flight import ulog
 
     path = tmp_path / "flight.ulg"
     shutil.copy(FLIGHT / "sample_log_small.ulg", path)

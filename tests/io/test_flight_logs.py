@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.formats.flight_log import decode_device_id
-from app.io.read_options import ReadOptions
+from app.io.flight.instances import decode_device_id
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 from tests.flight_logs import (
     GYR_BIAS,
     TRUTH,

@@ -1,4 +1,4 @@
-"""app.io.formats: detection rules, decimal commas, clocks, Sensor Logger signs, GnssLogger lines, units."""
+"""app.io.readers: detection rules, decimal commas, clocks, Sensor Logger signs, GnssLogger lines, units."""
 
 from __future__ import annotations
 
@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import detect_format, read_log
-from app.io.formats.table import sniff
-from app.io.formats.units import infer_acc_unit
-from app.io.read_options import ReadOptions
+from app.io.readers import detect_format, read_log
+from app.io.readers.read_options import ReadOptions
+from app.io.readers.table import sniff
+from app.io.readers.units import infer_acc_unit
 from tests.conftest import DATA
 
 SAMPLES = DATA / "formats"
@@ -189,7 +189,7 @@ def test_zip_with_a_broken_directory(tmp_path):
 
 
 def test_zip_member_size_is_checked(tmp_path, monkeypatch):
-    import app.io.formats.table as table
+    import app.io.readers.table as table
 
     monkeypatch.setattr(table, "MAX_UNZIPPED_BYTES", 1000)
     with pytest.raises(LogFormatError, match="expands to") as e:

@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from app.calibration.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
-from app.io.formats import read_log
-from app.io.formats.chips import GYR_LSB_PER_DPS
-from app.io.formats.gyro_unit import compose, gyro_evidence, rotate_back
-from app.io.read_options import ReadOptions
+from app.calibration.shared.plausible import GYR_PARTS, GYRO_BIAS_MAX_DPS
+from app.io.readers import read_log
+from app.io.readers.chips import GYR_LSB_PER_DPS
+from app.io.readers.gyro_unit import compose, gyro_evidence, rotate_back
+from app.io.readers.read_options import ReadOptions
 from tests.conftest import DATA
 
 CORPUS = DATA / "real" / "corpus"
@@ -114,7 +114,7 @@ def _simulated_turns(seed: int, lsb: float | None, unit: str):
 
 
 def _step(q, r):
-    from app.io.formats.gyro_unit import _mul
+    from app.io.readers.gyro_unit import _mul
 
     return _mul(q, compose(r[None]))
 

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
 from tests.conftest import DATA
 
 BETAFLIGHT = (

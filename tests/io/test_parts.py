@@ -1,4 +1,4 @@
-"""Recordings made of several files (app.io.parts): the pose a file's name gives, the files joined."""
+"""Recordings made of several files (app.io.readers.parts): the pose a file's name gives, the files joined."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.parts import log_members, pose_from_name
+from app.io.readers import read_log
+from app.io.readers.parts import log_members, pose_from_name
 
 
 @pytest.mark.parametrize(
@@ -112,7 +112,7 @@ def test_files_in_different_units_are_refused_naming_both(tmp_path):
 
 
 def test_a_zip_whose_files_expand_past_the_limit_together_is_refused(tmp_path, monkeypatch):
-    from app.io.formats import table
+    from app.io.readers import table
 
     p = tmp_path / "poses.zip"
     with zipfile.ZipFile(p, "w", compression=zipfile.ZIP_DEFLATED) as zf:

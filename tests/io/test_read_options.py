@@ -1,4 +1,4 @@
-"""The readers' interface: each reader of app.io.formats.READERS takes the options it reads as keyword-only
+"""The readers' interface: each reader of app.io.readers.READERS takes the options it reads as keyword-only
 parameters and nothing else, the table says which, and read_log decides the format once, then calls one reader.
 
 A misspelled option is a programming mistake and fails loudly (TypeError), wherever it is planted: in a
@@ -15,9 +15,9 @@ import zipfile
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import FLIGHT_FORMATS, READER_OPTIONS, READERS, Reader, read_log, reader_options, tagged_lines
-from app.io.formats.table import sniff
-from app.io.read_options import ReadOptions
+from app.io.readers import FLIGHT_FORMATS, READER_OPTIONS, READERS, Reader, read_log, reader_options, tagged_lines
+from app.io.readers.read_options import ReadOptions
+from app.io.readers.table import sniff
 from tests.conftest import DATA
 
 CSV = DATA / "formats" / "generic_g.csv"
@@ -98,7 +98,7 @@ def test_read_log_reads_a_zip_of_json_files_without_calling_itself(tmp_path):
 
 
 def test_a_zip_inside_a_zip_under_another_name_is_refused(tmp_path):
-    """A member that is itself a zip of log files is refused as one named .zip is (app.io.parts), not read as a
+    """A member that is itself a zip of log files is refused as one named .zip is (app.io.readers.parts), not read as a
     recording inside the recording."""
     inner = tmp_path / "inner.zip"
     with zipfile.ZipFile(inner, "w") as zf:

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.formats.generic_csv import leading_prose, map_columns, split_header, table_layout
-from app.io.formats.table import read_columns, text_block_cell
-from app.io.formats.units import common_sensitivity, field_magnitude, infer_mag_unit, turn_field
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.generic_csv import leading_prose, map_columns, split_header, table_layout
+from app.io.readers.read_options import ReadOptions
+from app.io.readers.table import read_columns, text_block_cell
+from app.io.readers.units import common_sensitivity, field_magnitude, infer_mag_unit, turn_field
 from tests.conftest import DATA
 
 CORPUS = DATA / "real" / "corpus"

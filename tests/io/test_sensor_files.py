@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.read_options import ReadOptions
-from app.io.sensor_files import per_sensor_files, sensor_from_name
+from app.io.readers import read_log
+from app.io.readers.read_options import ReadOptions
+from app.io.readers.sensor_files import per_sensor_files, sensor_from_name
 from tests.conftest import DATA
 
 IPHONE = DATA / "real" / "corpus" / "iphone_heading_per_sensor_files"

@@ -223,7 +223,7 @@ def test_a_noise_characterisation_has_no_example_to_apply(client):
 def test_the_triangular_model_s_o_is_applied_with_its_sign_turned(client, tmp_path):
     """Farago et al. write a = K (v + o): the correction the person applies is f = M (m − o) with M = K and
     o = −o_model, and the C lines, the JSON's correction and /use all carry that o."""
-    from app.calibration.advice import fibonacci_sphere
+    from app.calibration.still.advice import fibonacci_sphere
 
     ups = fibonacci_sphere(14)
     means = [(G * (X_TRUE @ u) + G * Y_TRUE).tolist() for u in ups]
@@ -244,7 +244,7 @@ def test_the_triangular_model_s_o_is_applied_with_its_sign_turned(client, tmp_pa
 def test_without_its_recording_a_common_part_s_figure_is_offered_to_set():
     """A calibration whose recording is gone (or was stored before the recording kept its scales): counts in g
     are scaled by a common part's figure, which the person is told to set."""
-    from app.io.snippets import input_scale
+    from app.io.exports.snippets import input_scale
 
     scale = input_scale("acc", "g", None, None)
     assert scale["known"] is False and "set your part's figure" in scale["words"] and scale["value"] == 16384.0

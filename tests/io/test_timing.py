@@ -1,4 +1,4 @@
-"""The sampling rate of a time column (app/io/formats/timing.py): units, bursts of a serial host, gaps."""
+"""The sampling rate of a time column (app/io/readers/timing.py): units, bursts of a serial host, gaps."""
 
 from __future__ import annotations
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.formats.timing import JITTER_MAX, decide_timing, time_scale
+from app.io.readers import read_log
+from app.io.readers.timing import JITTER_MAX, decide_timing, time_scale
 from simulations.serial import host_arrival_times
 
 FS = 100.0
@@ -137,7 +137,7 @@ def test_a_csv_of_host_stamps_in_ms_reads_at_the_sensor_s_rate(tmp_path):
     ],
 )
 def test_the_exact_median_is_numpy_s_to_the_last_bit(steps):
-    from app.io.formats.timing import exact_median
+    from app.io.readers.timing import exact_median
 
     expected, got = float(np.median(steps)), exact_median(steps)
     assert got == expected or (np.isnan(got) and np.isnan(expected))
@@ -151,8 +151,8 @@ def test_the_exact_median_of_real_clocks_steps_is_numpy_s(case):
     """A PX4 flight controller's microsecond stamps, a phone app's irregular milliseconds, an ESP32's serial log
     (tests/data/real/corpus): their time columns' steps, repeated past the length from which exact_median
     narrows a band (8 × MEDIAN_SAMPLE) and as they are, give numpy's median to the last bit."""
-    from app.io.formats.timing import MEDIAN_SAMPLE, exact_median
-    from app.io.read_options import ReadOptions
+    from app.io.readers.read_options import ReadOptions
+    from app.io.readers.timing import MEDIAN_SAMPLE, exact_median
     from tests import real_corpus
 
     found = next(c for c in real_corpus.cases() if c.name == case)

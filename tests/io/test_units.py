@@ -1,5 +1,5 @@
-"""Units decided from the data (app.io.formats.units) and the chips' datasheet scales
-(app.io.formats.chips), read through read_log as an upload is."""
+"""Units decided from the data (app.io.readers.units) and the chips' datasheet scales
+(app.io.readers.chips), read through read_log as an upload is."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from app.io.errors import LogFormatError
-from app.io.formats import read_log
-from app.io.formats.chips import CHIPS, parse_chips
-from app.io.formats.units import field_magnitude, infer_mag_unit
-from app.io.read_options import ReadOptions
+from app.io.readers import read_log
+from app.io.readers.chips import CHIPS, parse_chips
+from app.io.readers.read_options import ReadOptions
+from app.io.readers.units import field_magnitude, infer_mag_unit
 from simulations.logs import simulate_static_log
 from simulations.magnetometer import simulate_session
 

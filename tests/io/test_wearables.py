@@ -1,4 +1,4 @@
-"""Wearable device files through the optional actipy (app/io/wearables.py)."""
+"""Wearable device files through the optional actipy (app/io/readers/wearables.py)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import types
 import numpy as np
 import pytest
 
-from app.io.arrays import read_array_log as read_log
 from app.io.errors import LogFormatError
-from app.io.wearables import is_wearable
+from app.io.readers.arrays import read_array_log as read_log
+from app.io.readers.wearables import is_wearable
 
 
 def test_suffixes():

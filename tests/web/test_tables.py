@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
-from app.calibration.capture import STILL_MAX_STD_G
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, CUBE24_UPS, cube24
 from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage
 from app.calibration.magnetometer.fit import MIN_COVERAGE, MIN_READINGS
-from app.calibration.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
+from app.calibration.shared.capture import STILL_MAX_STD_G
+from app.calibration.shared.orientations import LABEL_MAX_ANGLE_DEG, UP_VECTORS
 from app.guided import capture_rules
 from app.web.tables import COVERAGE_TO_SOLVE, POSE_NAMES, SOURCES, face_words, page_tables
 
@@ -137,7 +137,7 @@ def test_the_capture_duration_bounds_are_the_sessions_(client):
 def test_each_source_s_default_use_is_one_its_calibrations_offer():
     """The one rule of the use offered first (app/web/uses.py DEFAULT_USES): a board's calibration goes into its
     firmware (the C header), a flight log's into that firmware's parameters, a phone's into a phone app."""
-    from app.io.formats import SOURCES
+    from app.io.readers import SOURCES
     from app.web.uses import CALIBRATION_USES, DEFAULT_USES, uses_table
 
     assert set(DEFAULT_USES) == set(SOURCES)
@@ -155,13 +155,13 @@ def test_each_kind_of_result_tells_the_page_what_it_shows():
     """The page's presenter says what the page shows of each result class (app/web/result_pages.py PageFacts);
     the server sends it by model type, and the page draws it with the drawings it names: each set of uses exists,
     results sharing a model type agree, and each drawing, plot box and plot format the facts name is on the page."""
-    from app.calibration.result import CalibrationResult, registered_types
+    from app.calibration.registry import class_of, registered_types
     from app.web.result_pages import page_facts, page_kinds
     from app.web.uses import USE_SETS
 
     kinds = page_kinds()
     assert page_tables()["kinds"] == kinds
-    classes = [CalibrationResult.class_of({"model": {"type": t}, "method": t}) for t in registered_types()]
+    classes = [class_of({"model": {"type": t}, "method": t}) for t in registered_types()]
     assert set(kinds) == {"", *(cls.MODEL_TYPE for cls in classes)}
     for cls in classes:
         same_type = [c for c in classes if c.MODEL_TYPE == cls.MODEL_TYPE]

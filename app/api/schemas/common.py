@@ -78,8 +78,9 @@ class VerdictOut(Out):
     degrees: DegreesOut | None = Field(
         default=None,
         description=(
-            "The figure as an angle (app.calibration.angles, docs/methods.md): a level's tilt for an accelerometer, a "
-            "heading error for a compass; null for a figure that is no error of gravity or of the field."
+            "The figure as an angle (app.calibration.shared.angles, docs/methods.md): a level's tilt for an "
+            "accelerometer, a heading error for a compass; null for a figure that is no error of gravity or of the "
+            "field."
         ),
     )
 

@@ -8,9 +8,9 @@ from typing import Annotated, Any, Literal
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field
 
 from app.calibration_requests import AccUnit
-from app.io.formats import FORMATS
 from app.io.log import UNITS_IN
-from app.io.read_options import ReadOptions, units_named
+from app.io.readers import FORMATS
+from app.io.readers.read_options import ReadOptions, units_named
 
 
 def _plus_or_minus_one(value: int) -> int:
@@ -21,21 +21,21 @@ def _plus_or_minus_one(value: int) -> int:
 
 class UploadOptions(BaseModel):
     """The fields of ``POST /api/v1/recordings``' multipart form besides its files: the options the log is read
-    with (each default lets the file decide; :class:`app.io.read_options.ReadOptions` says what each does)."""
+    with (each default lets the file decide; :class:`app.io.readers.read_options.ReadOptions` says what each does)."""
 
     sampling_rate_hz: float | None = Field(None, gt=0, le=100_000)
     acc_unit: AccUnit | None = None
     gyr_unit: Literal[UNITS_IN["gyr"]] | None = None  # type: ignore[valid-type, name-defined]
     mag_unit: Literal[UNITS_IN["mag"]] | None = None  # type: ignore[valid-type, name-defined]
     format: Literal[FORMATS] = Field(  # type: ignore[valid-type]
-        "auto", description="Log format; auto detects it from the header (app.io.formats)."
+        "auto", description="Log format; auto detects it from the header (app.io.readers)."
     )
     lsb_per_g: float | None = Field(None, gt=0, description="Counts per g of a raw (LSB) accelerometer.")
     chip: str | None = Field(
         None,
         description="The parts (and ranges) of sensors logged in counts, separated by "
         "commas, e.g. mpu6050-4g,mpu6050-500dps,ak8963-16bit: their counts become g, deg/s, µT "
-        "(app.io.formats.chips).",
+        "(app.io.readers.chips).",
     )
     columns: str | None = Field(
         None,
@@ -121,7 +121,7 @@ class ReadWithOut(BaseModel):
     units: dict[str, str]
     lsb_per_g: float | None
     columns: str | None
-    chip: str | None = Field(None, description="The parts the upload named (app.io.formats.chips).")
+    chip: str | None = Field(None, description="The parts the upload named (app.io.readers.chips).")
     sampling_rate_hz: float | None = Field(None, description="The rate the upload gave (null: the file's own).")
     sign: Literal[1, -1] = Field(description="The factor applied to the file's accelerations.")
     instance: int | None = Field(
@@ -166,7 +166,7 @@ class FixOut(BaseModel):
 
 
 class FlightOut(BaseModel):
-    """What a flight controller's log holds, and what was read of it (app.io.formats.flight_log)."""
+    """What a flight controller's log holds, and what was read of it (app.io.flight.instances)."""
 
     instances: list[InstanceOut]
     imu: dict[str, Any] = Field(description="The IMU read: instance, source, gyr_source.")
@@ -194,7 +194,7 @@ class GapOut(BaseModel):
 
 
 class TimingOut(BaseModel):
-    """How the sampling rate was decided (app.io.formats.timing), and what the time column showed."""
+    """How the sampling rate was decided (app.io.readers.timing), and what the time column showed."""
 
     source: Literal["sampling_rate_hz", "file", "time column", "none"] = Field(
         description=("The upload's sampling_rate_hz, the file's metadata, the time column's span, or none (no rate).")

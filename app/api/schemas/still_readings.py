@@ -104,7 +104,7 @@ class MagnitudeReading(Out):
 
 
 class GyroscopeBiasOut(Out):
-    """The gyroscope's bias over a wizard session's still captures (app.calibration.gyro_bias)."""
+    """The gyroscope's bias over a wizard session's still captures (app.calibration.still.gyro_bias)."""
 
     rad_s: Vec3Out = Field(description="Mean of the captures' gyroscope means, per axis, rad/s.")
     half_width_rad_s: Vec3Out = Field(description="Half-width of its 95 % interval, rad/s.")
@@ -183,7 +183,7 @@ class NonOrthogonalMetrics(MagnitudeMetrics):
 
 
 class PoseAdviceOut(Out):
-    """One pose to add next (app.calibration.advice): D-optimal for the model's parameters."""
+    """One pose to add next (app.calibration.still.advice): D-optimal for the model's parameters."""
 
     up: Vec3Out = Field(description="Unit vector in the sensor frame that should point up (reads +g at rest).")
     words: str = Field(

@@ -22,11 +22,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy import stats
 
-from ..errors import CalibrationError, InsufficientDataError
-from ..gates import Gates, limit_gate, residual_gate
-from ..result import GatedFit, gate_fields
-from ..uncertainty import CONFIDENCE
-from ..validation import as_samples, as_vectors
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.gates import Gates, limit_gate, residual_gate
+from ..shared.result import GatedFit, gate_fields
+from ..shared.uncertainty import CONFIDENCE
+from ..shared.validation import as_samples, as_vectors
 
 MAX_FIT_ERROR = 0.05
 """A calibrated position mean further than 5 % of the reference from its model fails the fit."""

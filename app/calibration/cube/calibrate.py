@@ -16,13 +16,13 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..correction import AffineCorrection
-from ..errors import CalibrationError, InsufficientDataError
-from ..gates import Gates
-from ..norm_metrics import norm_errors
-from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields
-from ..uncertainty import CONFIDENCE
-from ..validation import as_vectors, check_gravity
+from ..shared.correction import AffineCorrection
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.gates import Gates
+from ..shared.norm_metrics import norm_errors
+from ..shared.result import NO_FIGURE, CalibrationResult, Figure, gate_fields
+from ..shared.uncertainty import CONFIDENCE
+from ..shared.validation import as_vectors, check_gravity
 from .accmag import FieldSensorCalibration, drift_covariance, fit_field_sensor
 from .drift import Drift, estimate_drift
 from .gyro import GyroCalibration, fit_gyroscope, fit_gyroscope_full_turns

@@ -26,11 +26,11 @@ import scipy.sparse as sp
 from scipy import stats
 from scipy.linalg import cho_solve_banded, cholesky_banded
 
-from ..errors import CalibrationError, InsufficientDataError
-from ..gates import Gates, residual_gate
-from ..result import gate_fields
-from ..uncertainty import CONFIDENCE
-from ..validation import as_samples
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.gates import Gates, residual_gate
+from ..shared.result import gate_fields
+from ..shared.uncertainty import CONFIDENCE
+from ..shared.validation import as_samples
 from . import quaternion as quat
 from .accmag import SensorFit, decomposition_jacobian
 

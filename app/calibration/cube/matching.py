@@ -37,8 +37,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..errors import CalibrationError, InsufficientDataError
-from ..orientations import nearest_orientation
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.orientations import nearest_orientation
 from .protocols import FERRARIS_SIX, Protocol, explicit_protocol, turn_spec
 from .segmentation import Segmentation
 from .sequence import FACE_MAX_ANGLE_DEG, normalised_directions

@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import CalibrationError
-from ..orientations import UP_VECTORS, nearest_orientation, up_vector
+from ..shared.errors import CalibrationError
+from ..shared.orientations import UP_VECTORS, nearest_orientation, up_vector
 from . import quaternion as quat
 
 CUBE24_ROTATIONS: tuple[str, ...] = (

@@ -19,8 +19,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import CalibrationError
-from ..orientations import nearest_orientation
+from ..shared.errors import CalibrationError
+from ..shared.orientations import nearest_orientation
 from .matching import integrated_rate
 from .protocols import FERRARIS_SIX, Protocol, explicit_protocol, turn_spec
 from .segmentation import Segmentation

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InsufficientDataError
+from ..shared.errors import InsufficientDataError
 
 DEFAULT_THRESHOLD = 0.05
 """Smoothed rate (rad/s, about 3°/s) below which the device counts as still."""

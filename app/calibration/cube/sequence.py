@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..orientations import nearest_orientation
+from ..shared.orientations import nearest_orientation
 from . import quaternion as quat
 from .protocols import Protocol
 

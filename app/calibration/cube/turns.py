@@ -17,8 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..capture import on_uniform_grid
-from ..errors import CalibrationError
+from ..shared.capture import on_uniform_grid
+from ..shared.errors import CalibrationError
 from . import quaternion as quat
 from .protocols import Protocol
 from .sequence import element_tolerance

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import CalibrationError
+from ..shared.errors import CalibrationError
 
 
 def _normalised(m: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import CalibrationError, InsufficientDataError
-from ..gates import Gates
-from ..uncertainty import CONFIDENCE, half_widths
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.gates import Gates
+from ..shared.uncertainty import CONFIDENCE, half_widths
 from .coverage import coverage, face_of, thickness
 from .ellipsoid import fit_ellipsoid, fit_sphere
 from .refine import STRUCTURES, Refined, held, refine, runs_away, unpack

@@ -6,7 +6,7 @@ geomagnetic model's field at the log's place and date). The readings ``m`` (in t
 them in) are fitted to it:
 
 1. **The orientation** (:func:`.flight_model.orientation`): the rotation Q (L → body) the data show, the
-   nearest of the firmwares' rotations (:func:`app.calibration.rotations.nearest_rotation`) and the angle
+   nearest of the firmwares' rotations (:func:`app.calibration.shared.rotations.nearest_rotation`) and the angle
    left. The fit below uses the firmware's rotation, the only one a flight controller can apply.
 2. **The fit** (:func:`.flight_model.design`): least squares of ``Q m − (M⁻¹ e + b + k p)``, linear in
    ``(M⁻¹, b, k)``; every sample weighted by one over the number of samples whose expected field points
@@ -25,10 +25,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import CalibrationError, InsufficientDataError
-from ..gates import Gates
-from ..rotations import angle_between, nearest_rotation, rotation_matrix
-from ..uncertainty import CONFIDENCE, half_widths
+from ..shared.errors import CalibrationError, InsufficientDataError
+from ..shared.gates import Gates
+from ..shared.rotations import angle_between, nearest_rotation, rotation_matrix
+from ..shared.uncertainty import CONFIDENCE, half_widths
 from .coverage import coverage, face_of
 from .flight_health import check_measuring
 from .flight_model import (

@@ -1,7 +1,7 @@
 """A compass calibrated from a flight as a stored calibration: ``h = M (Q m − b − k p)`` in the result family.
 
 :func:`.flight.fit_flight_compass` returns the fit (:class:`.flight_result.FlightCompassResult`); this
-class is what trical stores, exports and judges (:class:`~app.calibration.result.CalibrationResult`):
+class is what trical stores, exports and judges (:class:`~app.calibration.shared.result.CalibrationResult`):
 its parameters are the model's ``M``, ``b``, ``k`` and ``Q``; its figure is the heading error on flight
 segments left out of the fit, the firmware's own calibration before and this one after, in degrees; its
 ``flight`` holds what the log is and what the firmware stored, and ``series`` what the page draws.
@@ -14,8 +14,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..correction import AffineCorrection
-from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
+from ..shared.correction import AffineCorrection
+from ..shared.result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
 
 SOURCE = (
     "h = M (Q m − b − k p): the compass's offsets b, soft iron M and motor interference k p after the "

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import CalibrationError
+from ..shared.errors import CalibrationError
 
 ZERO_UT = 1.0
 """A median reading below 1 µT: the compass reads zero."""

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..uncertainty import t_quantile
+from ..shared.uncertainty import t_quantile
 from .flight_model import MATRIX_PARAMETERS
 
 OFFSET_WORDS = ("the x offset", "the y offset", "the z offset")

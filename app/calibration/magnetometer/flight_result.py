@@ -6,8 +6,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import CalibrationError
-from ..uncertainty import CONFIDENCE
+from ..shared.errors import CalibrationError
+from ..shared.uncertainty import CONFIDENCE
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from typing import cast
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..uncertainty import covariance_from_jacobian
+from ..shared.uncertainty import covariance_from_jacobian
 
 SYMMETRIC_INDEX = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 """Where the six free numbers of the symmetric M sit: the diagonal, then xy, xz, yz."""

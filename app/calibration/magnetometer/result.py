@@ -7,10 +7,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from ..correction import AffineCorrection
-from ..plausible import PhysicalFigure
-from ..result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
-from ..uncertainty import CONFIDENCE, half_widths
+from ..shared.correction import AffineCorrection
+from ..shared.plausible import PhysicalFigure
+from ..shared.result import NO_FIGURE, CalibrationResult, Figure, gate_fields, parameter
+from ..shared.uncertainty import CONFIDENCE, half_widths
 from .refine import unpack
 
 SOURCE = (

@@ -1,5 +1,5 @@
 /* A receiver of MotionCal's 68-byte calibration packet, written for trical's tests independently of
- * app/io/motioncal_packet.py: it reads the bytes a board would receive from standard input, checks the
+ * app/io/exports/motioncal_packet.py: it reads the bytes a board would receive from standard input, checks the
  * length, the signature 117, 84 and the CRC-16 (polynomial 0xA001 reflected, from 0xFFFF, run over all
  * 68 bytes to zero), and prints the sixteen floats, one a line, with 9 significant digits (enough to
  * round-trip a float32). It refuses a bad packet with status 1 and a reason on standard error.
