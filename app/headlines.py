@@ -1,7 +1,7 @@
 """The line a person reads first about a calibration, and the note under its verdict: by result class.
 
 The core's results hold the figures (their metrics); how they are told is said here, once per result class
-(:data:`HEADLINES`, :data:`VERDICT_NOTES`; a class without an entry has its nearest base's). The
+(:data:`HEADLINES`, :data:`VERDICT_NOTES`, by the class's name; a class without an entry has its nearest base's). The
 cross-validated error (each reading calibrated by the fit made without it) comes first, labelled as what to
 expect; the in-sample error of the fitted readings beside it, labelled as such, since it flatters every fit
 (zero for an exact one). The headline is computed once, from the final result, where its plain form is made
@@ -11,16 +11,17 @@ expect; the in-sample error of the fitted readings beside it, labelled as such, 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
-from app.calibration.autocal import AutoCalibration
-from app.calibration.magnetometer.flight_calibration import FlightCompassCalibration
-from app.calibration.magnetometer.result import MagnetometerResult, figure_unit
 from app.calibration.shared.angles import compass_inclination, degrees_text, heading_error_deg, tilt_error_deg
 from app.calibration.shared.headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS
 from app.calibration.shared.result import CalibrationResult, Figure, StillReadingsResult
-from app.calibration.still.affine import AffineCalibration
-from app.calibration.temperature import TemperatureResult
+
+if TYPE_CHECKING:  # the methods' classes are named, not imported: a command loads only its own method's models
+    from app.calibration.autocal import AutoCalibration
+    from app.calibration.magnetometer.flight_calibration import FlightCompassCalibration
+    from app.calibration.magnetometer.result import MagnetometerResult
+    from app.calibration.temperature import TemperatureResult
 
 _Told = TypeVar("_Told")
 
@@ -117,6 +118,8 @@ def _autocal(result: AutoCalibration) -> str | None:
 
 def _compass(result: MagnetometerResult) -> str | None:
     """The error of |h| on directions left out, then in-sample and raw."""
+    from app.calibration.magnetometer.result import figure_unit  # loaded with the result being told
+
     if "cv_error_ut" not in result.metrics:
         return None
     return compass_headline(result.metrics, figure_unit(result.output_unit))
@@ -149,15 +152,16 @@ def _none(result: CalibrationResult) -> str | None:
     return None
 
 
-HEADLINES: dict[type[CalibrationResult], Callable[[Any], str | None]] = {
-    CalibrationResult: _none,
-    StillReadingsResult: _still_readings,
-    AutoCalibration: _autocal,
-    MagnetometerResult: _compass,
-    FlightCompassCalibration: _flight_compass,
-    TemperatureResult: _temperature,
+HEADLINES: dict[str, Callable[[Any], str | None]] = {
+    CalibrationResult.__name__: _none,
+    StillReadingsResult.__name__: _still_readings,
+    "AutoCalibration": _autocal,
+    "MagnetometerResult": _compass,
+    "FlightCompassCalibration": _flight_compass,
+    "TemperatureResult": _temperature,
 }
-"""By result class, how its headline is told from it."""
+"""By result class (its name: the methods' modules are not imported here, and a test holds every name to a class
+of the core's registry), how its headline is told from it."""
 
 
 def _six_poses(method: str | None, figure: Figure) -> str:
@@ -174,16 +178,16 @@ def _no_note(method: str | None, figure: Figure) -> str:
     return ""
 
 
-VERDICT_NOTES: dict[type[CalibrationResult], Callable[[str | None, Figure], str]] = {
-    CalibrationResult: _no_note,
-    AffineCalibration: _six_poses,
+VERDICT_NOTES: dict[str, Callable[[str | None, Figure], str]] = {
+    CalibrationResult.__name__: _no_note,
+    "AffineCalibration": _six_poses,
 }
 """By result class, the line under an "apply it" verdict on its figure, where the figure needs one."""
 
 
-def _of_class(table: dict[type[CalibrationResult], _Told], cls: type[CalibrationResult]) -> _Told:
+def _of_class(table: dict[str, _Told], cls: type[CalibrationResult]) -> _Told:
     """A table's entry of a result class: its own, else its nearest base's."""
-    return next(table[base] for base in cls.__mro__ if base in table)
+    return next(table[base.__name__] for base in cls.__mro__ if base.__name__ in table)
 
 
 def headline(result: CalibrationResult) -> str | None:

@@ -12,16 +12,9 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
-from app.calibration.autocal import AutoCalibration
-from app.calibration.cube.calibrate import CubeCalibration
-from app.calibration.magnetometer.flight_calibration import FlightCompassCalibration
-from app.calibration.magnetometer.result import MagnetometerResult
-from app.calibration.noise.characterise import TERM_WORDS, NoiseResult
+from app.calibration.noise.characterise import TERM_WORDS
 from app.calibration.registry import registered_classes
 from app.calibration.shared.result import FIGURES, CalibrationResult
-from app.calibration.still.affine import AffineCalibration
-from app.calibration.still.triangular import TriangularCalibration
-from app.calibration.temperature import TemperatureResult
 
 
 @dataclass(frozen=True)
@@ -56,14 +49,14 @@ class PageFacts:
     part (a cube's) holds the compass's too."""
 
 
-PAGE_FACTS: dict[type[CalibrationResult], PageFacts] = {
-    CalibrationResult: PageFacts(),
-    AffineCalibration: PageFacts(norms="readings"),
-    TriangularCalibration: PageFacts(norms="captures"),
-    AutoCalibration: PageFacts(norms="captures"),  # its model is a triangular one
-    CubeCalibration: PageFacts(norms="positions"),
-    MagnetometerResult: PageFacts(spheres=True, packet=("mag",)),
-    FlightCompassCalibration: PageFacts(
+PAGE_FACTS: dict[str, PageFacts] = {
+    CalibrationResult.__name__: PageFacts(),
+    "AffineCalibration": PageFacts(norms="readings"),
+    "TriangularCalibration": PageFacts(norms="captures"),
+    "AutoCalibration": PageFacts(norms="captures"),  # its model is a triangular one
+    "CubeCalibration": PageFacts(norms="positions"),
+    "MagnetometerResult": PageFacts(spheres=True, packet=("mag",)),
+    "FlightCompassCalibration": PageFacts(
         uses="flightCompass",
         snippets=False,
         heading="The compass's model, h = M (Q m − b − k p)",
@@ -72,14 +65,14 @@ PAGE_FACTS: dict[type[CalibrationResult], PageFacts] = {
         caption="flight",
         firmware_uses=True,  # its numbers are in the frames of the firmware whose log it came from
     ),
-    TemperatureResult: PageFacts(
+    "TemperatureResult": PageFacts(
         uses="thermalCompensation",
         snippets=False,
         heading="Each axis's offset polynomial",
         plot="temperature_svg",
         box="#result-temperature",
     ),
-    NoiseResult: PageFacts(
+    "NoiseResult": PageFacts(
         uses="noiseFigures",
         snippets=False,
         heading="The noise terms",
@@ -89,12 +82,13 @@ PAGE_FACTS: dict[type[CalibrationResult], PageFacts] = {
         box="#result-allan",
     ),
 }
-"""By result class, what the page shows of it."""
+"""By result class (its name, as :data:`app.headlines.HEADLINES` keys its lines: a test holds every name to a class
+of the core's registry), what the page shows of it."""
 
 
 def page_facts(cls: type[CalibrationResult]) -> PageFacts:
     """The page's facts of a result class: its own entry of :data:`PAGE_FACTS`, else its nearest base's."""
-    return next(PAGE_FACTS[base] for base in cls.__mro__ if base in PAGE_FACTS)
+    return next(PAGE_FACTS[base.__name__] for base in cls.__mro__ if base.__name__ in PAGE_FACTS)
 
 
 def page_kinds() -> dict[str, dict[str, Any]]:
