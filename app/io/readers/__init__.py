@@ -60,7 +60,7 @@ from collections.abc import Callable, Mapping
 from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, cast
 
 from ..errors import LogFormatError
 from ..flight import dataflash, ulog
@@ -388,7 +388,8 @@ def read_log(path: Path, options: ReadOptions = ReadOptions(), *, name: str = "t
 
             return read_parts_zip(
                 path,
-                plan.sniff.members if plan.sniff is not None else (),
+                # A zip's plan (plan_read): its sniff lists the zip's members.
+                cast("tuple[str, ...]", plan.sniff.members) if plan.sniff is not None else (),
                 functools.partial(_read_part, options),
                 name=name,
                 columns_given=bool(options.columns),

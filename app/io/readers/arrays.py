@@ -33,7 +33,7 @@ CSV_SUFFIXES = (".csv", ".txt", ".tsv")
 SUFFIXES = NPY_SUFFIXES + PARQUET_SUFFIXES + CSV_SUFFIXES + (".cwa", ".gt3x", ".bin")
 
 
-def _unit(units: dict | None) -> str:
+def _unit(units: dict[str, str] | None) -> str:
     unit = (units or {}).get("acc") or UNITS["acc"][0]
     if unit not in UNITS["acc"]:
         raise LogFormatError(f"acc unit {unit!r} is not one of {', '.join(UNITS['acc'])}")
@@ -41,7 +41,7 @@ def _unit(units: dict | None) -> str:
 
 
 def read_npy_log(
-    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str = "the file"
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict[str, str] | None = None, name: str = "the file"
 ) -> LogData:
     """Memory-map a ``.npy`` array of samples (N×3 ``x, y, z`` or N×4 ``time, x, y, z``).
 
@@ -127,7 +127,7 @@ def read_npy_log(
 
 
 def read_parquet_log(
-    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str = "the file"
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict[str, str] | None = None, name: str = "the file"
 ) -> LogData:
     """Read a Parquet table of samples (columns named as in CSV logs).
 
@@ -211,7 +211,7 @@ def is_array_file(path: Path) -> bool:
 
 
 def read_array_log(
-    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str | None = None
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict[str, str] | None = None, name: str | None = None
 ) -> LogData:
     """Read a binary sample file, chosen by the file name's suffix (CSV when none matches)."""
     path = Path(path)

@@ -18,14 +18,19 @@ import dataclasses
 import re
 import tempfile
 import zipfile
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import LogFormatError
 from ..log import LogData
 from .kinds import TEXT_SUFFIXES
+
+if TYPE_CHECKING:  # for the annotations only: read_parts imports the module where it reads
+    from .sensor_files import ReadFile
 
 MAX_PARTS = 200
 """More files than this in one recording are refused: a calibration needs a few poses, not thousands."""
@@ -39,7 +44,7 @@ class Part:
     start: int
     end: int
     sampling_rate_hz: float | None
-    notes: tuple = ()
+    notes: tuple[str, ...] = ()
 
     @property
     def n_samples(self) -> int:
@@ -98,7 +103,7 @@ SKIPPED_MEMBERS = ("__macosx/", ".ds_store", "thumbs.db", "desktop.ini")
 """Members a zip made on a Mac or Windows carries besides the files put in it."""
 
 
-def log_members(members) -> list[str]:
+def log_members(members: Iterable[str]) -> list[str]:
     """The members of a zip that are files put in it (not folders, not a system's own files), in its order."""
     kept = []
     for m in members:
@@ -110,7 +115,7 @@ def log_members(members) -> list[str]:
     return kept
 
 
-def refuse_repeated_names(names) -> None:
+def refuse_repeated_names(names: Sequence[str]) -> None:
     """Refuse two files of one name in one recording: each file's name is what its readings are called by."""
     twice = sorted({n for n in names if list(names).count(n) > 1})
     if twice:
@@ -119,7 +124,7 @@ def refuse_repeated_names(names) -> None:
         )
 
 
-def read_parts(sources: list[tuple[str, Path]], read, *, name: str, columns_given: bool = False) -> LogData:
+def read_parts(sources: list[tuple[str, Path]], read: ReadFile, *, name: str, columns_given: bool = False) -> LogData:
     """Read every file of a recording in parts with ``read`` and join them end to end — or, when the files
     are one per sensor (:mod:`app.io.readers.sensor_files`), merge them onto one clock.
 
@@ -249,7 +254,7 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
         jitters = [log.timing.jitter for _, log in logs if log.timing is not None and log.timing.jitter is not None]
         timing = dataclasses.replace(timing, sampling_rate_hz=rate, gaps=gaps, jitter=max(jitters) if jitters else None)
 
-    def stacked(sensor):
+    def stacked(sensor: str) -> np.ndarray | None:
         if getattr(first, sensor) is None:
             return None
         return np.concatenate([np.asarray(getattr(log, sensor), dtype=float) for _, log in logs])
@@ -267,7 +272,9 @@ def join_parts(logs: list[tuple[str, LogData]]) -> LogData:
     )
 
 
-def read_parts_zip(path: Path, members, read, *, name: str, columns_given: bool = False) -> LogData:
+def read_parts_zip(
+    path: Path, members: Iterable[str], read: ReadFile, *, name: str, columns_given: bool = False
+) -> LogData:
     """Read a zip of pose files (not a phyphox or Sensor Logger export) as one recording in parts.
 
     Each member is read by ``read(path, member name)`` in the zip's order; the parts are named by
@@ -318,7 +325,7 @@ def part_log(log: LogData, index: int) -> LogData:
     """One file of a recording in parts, as a log of its own (its samples, its rate, its notes)."""
     part = log.parts[index]
 
-    def cut(a):
+    def cut(a: np.ndarray | None) -> np.ndarray | None:
         return None if a is None else a[part.start : part.end]
 
     time_s = None if log.time_s is None else log.time_s[part.start : part.end] - log.time_s[part.start]

@@ -4,6 +4,7 @@ stored recording, and passed whole to :func:`app.io.readers.read_log`."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 
 @dataclass(frozen=True)
@@ -29,8 +30,8 @@ class ReadOptions:
     sign : {1, -1}, optional
         Factor on the file's accelerations (−1 for Core Motion's sign); detected when None
         (:mod:`app.io.readers.ios_sign`).
-    chip : str, optional
-        The parts and ranges of the file's sensors in counts, separated by commas (``mpu6050-4g,
+    chip : str or list of str, optional
+        The parts and ranges of the file's sensors in counts, separated by commas or listed (``mpu6050-4g,
         ak8963-16bit``; :data:`app.io.readers.chips.CHIPS`): their counts become g, °/s and µT.
     instance, mag_instance : int, optional
         A flight controller's log (:data:`app.io.readers.FLIGHT_FORMATS`): the IMU instance read (default:
@@ -43,16 +44,16 @@ class ReadOptions:
 
     format: str = "auto"
     sampling_rate_hz: float | None = None
-    units: dict | None = None
+    units: dict[str, str] | None = None
     lsb_per_g: float | None = None
-    columns: str | dict | list | None = None
+    columns: str | dict[str, str] | list[str] | None = None
     sign: int | None = None
-    chip: str | list | None = None
+    chip: str | list[str] | None = None
     instance: int | None = None
     mag_instance: int | None = None
     clock: str = "imu"
 
-    def stored(self, sign: int) -> dict:
+    def stored(self, sign: int) -> dict[str, object]:
         """The plain form kept with a recording (its ``read_with``, docs/rest.md), with the ``sign`` the reader
         applied, so that the stored file is read again the same way; the clock is the reader's choice of the
         moment, not the recording's, and is not kept."""
@@ -68,8 +69,9 @@ class ReadOptions:
             "sign": sign,
         }
 
+    # Any: the body is read back from a recording's stored JSON, its values of the fields' several types.
     @classmethod
-    def from_stored(cls, read_with: dict) -> ReadOptions:
+    def from_stored(cls, read_with: dict[str, Any]) -> ReadOptions:
         """The options of a recording's stored ``read_with`` (:meth:`stored`; bodies stored before it give only
         some of its keys, the others keep their defaults)."""
         return cls(**read_with)

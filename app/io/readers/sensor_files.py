@@ -26,7 +26,9 @@ from __future__ import annotations
 import dataclasses
 import json
 import re
+from collections.abc import Callable
 from pathlib import Path, PurePosixPath
+from typing import cast
 
 import numpy as np
 
@@ -84,6 +86,15 @@ _SUFFIXES = (".gz", *TEXT_SUFFIXES)
 MAX_MISSING_FRACTION = 0.5
 """More of the clock's samples than this fraction without every other sensor around them: the files are
 not one recording (or their clocks differ), and they are refused."""
+
+ReadFile = Callable[[Path, str, dict[str, str] | None], LogData]
+"""The one reader of a recording's files, with the upload's options: ``read(path, name, columns)``, where ``columns``
+(None for the upload's own) reads a file's unnamed ``x, y, z`` columns as its sensor's (:func:`columns_for`)."""
+SensorFile = tuple[str, str, LogData, float | None]
+"""One sensor of a recording's files (:func:`merge_sensor_logs`): the file's name, the sensor, the file's log and
+its first sample's time on the files' shared clock (None when its time column gives none)."""
+BySensor = dict[str, tuple[str, LogData, float | None]]
+"""Each sensor's file: its name, its log and its first sample's time on the shared clock."""
 
 
 def _tokens(filename: str) -> list[str]:
@@ -182,7 +193,7 @@ def _table(path: Path, name: str) -> tuple[list[str], int | None, list[float]] |
     return [n.strip().strip('"').strip() for n in layout.names], time_col, raw
 
 
-def columns_for(path: Path, sensor: str, name: str) -> dict | None:
+def columns_for(path: Path, sensor: str, name: str) -> dict[str, str] | None:
     """The ``columns`` mapping that reads a file's unnamed ``x, y, z`` columns as ``sensor``'s, or None.
 
     None when the file's header names its sensor's columns itself (``gx, gy, gz``), names another
@@ -205,7 +216,7 @@ def columns_for(path: Path, sensor: str, name: str) -> dict | None:
     return {f"{sensor}_{axis}": names[col] for axis, col in channels["acc"].items()}
 
 
-def read_as_named(read, path: Path, fname: str, sensor: str | None, columns_given: bool) -> LogData:
+def read_as_named(read: ReadFile, path: Path, fname: str, sensor: str | None, columns_given: bool) -> LogData:
     """A file read with ``read`` (:func:`read_sensor_files`), its unnamed ``x, y, z`` columns read as ``sensor``'s
     where its name names one (:func:`columns_for`), unless the upload named the columns itself."""
     mapping = None if columns_given or sensor is None else columns_for(path, sensor, fname)
@@ -231,13 +242,13 @@ def first_time(path: Path, log: LogData, name: str) -> float | None:
 def _outside(times: np.ndarray, log: LogData, start: float) -> np.ndarray:
     """Where ``times`` (on the shared clock) fall outside ``log``'s samples or inside one of its gaps."""
     t = np.asarray(log.time_s, dtype=float) + start
-    out = (times < t[0]) | (times > t[-1])
+    out: np.ndarray = (times < t[0]) | (times > t[-1])
     for gap in log.gaps:
         out |= (times > t[gap.index - 1]) & (times < t[gap.index])
     return out
 
 
-def merge_sensor_logs(logs: list[tuple[str, str, LogData, float | None]], *, name: str) -> LogData:
+def merge_sensor_logs(logs: list[SensorFile], *, name: str) -> LogData:
     """One recording from the files of its sensors, on one clock.
 
     Parameters
@@ -337,7 +348,7 @@ GYRO_UNIT_WORDS = ("for the gyroscope", "gyroscope unit", "the gyroscope's unit"
 overruled, once the accelerometer's file beside it is merged (:func:`_gyro_against_gravity`)."""
 
 
-def _gyro_against_gravity(merged: LogData, by_sensor: dict) -> LogData:
+def _gyro_against_gravity(merged: LogData, by_sensor: BySensor) -> LogData:
     """The gyroscope's unit, decided on its own file (its header's, or what its data showed alone), checked
     against the accelerometer's file merged beside it: the gyroscope's integral against gravity's turn between
     rests or over windows of motion (:func:`~app.io.readers.gyro_unit.gyro_evidence`). Where the turns decide,
@@ -375,7 +386,7 @@ def _gyro_against_gravity(merged: LogData, by_sensor: dict) -> LogData:
     return dataclasses.replace(merged, units=units, notes=tuple(notes), warnings=tuple(warnings), questions=questions)
 
 
-def _one_to_one(logs: list, by_sensor: dict, notes: list, name: str) -> LogData:
+def _one_to_one(logs: list[SensorFile], by_sensor: BySensor, notes: list[str], name: str) -> LogData:
     """Files without a time column in every one: their samples taken as simultaneous, one to one, when they
     hold as many; refused otherwise."""
     counts = {log.n_samples for _, log, _ in by_sensor.values()}
@@ -405,13 +416,16 @@ def _one_to_one(logs: list, by_sensor: dict, notes: list, name: str) -> LogData:
     )
 
 
-def _overlapping_starts(by_sensor: dict, name: str) -> dict:
+def _overlapping_starts(by_sensor: BySensor, name: str) -> dict[str, float]:
     """Each sensor's first time on the files' shared clock, from the earliest (a file without one starts with
     the others); files whose times do not overlap are refused."""
     starts = {s: (st if st is not None else 0.0) for s, (_, _, st) in by_sensor.items()}
     zero = min(starts.values())
     starts = {s: st - zero for s, st in starts.items()}
-    spans = {s: (starts[s], starts[s] + float(log.time_s[-1])) for s, (_, log, _) in by_sensor.items()}
+    # Every file has its time column here (merge_sensor_logs): its log's time_s is an array.
+    spans = {
+        s: (starts[s], starts[s] + float(cast(np.ndarray, log.time_s)[-1])) for s, (_, log, _) in by_sensor.items()
+    }
     begin, end = max(a for a, _ in spans.values()), min(b for _, b in spans.values())
     if end <= begin:
         listed = ", ".join(f"{by_sensor[s][0]} {a:.3f}–{b:.3f} s" for s, (a, b) in spans.items())
@@ -422,22 +436,22 @@ def _overlapping_starts(by_sensor: dict, name: str) -> dict:
     return starts
 
 
-def _format(logs) -> str:
+def _format(logs: list[SensorFile]) -> str:
     formats = list(dict.fromkeys(log.format for _, _, log, _ in logs))
     return formats[0] if len(formats) == 1 else "+".join(formats)
 
 
-def _files(logs) -> dict:
+def _files(logs: list[SensorFile]) -> dict[str, LogData]:
     """Each file's log, once (a file of several sensors gives an entry per sensor)."""
     return {fname: log for fname, _, log, _ in logs}
 
 
-def _file_notes(logs) -> list:
+def _file_notes(logs: list[SensorFile]) -> list[str]:
     """What the reading of each file noticed (its time column's unit, its unit inferred), named by the file."""
     return [f"{fname}: {note}" for fname, log in _files(logs).items() for note in log.notes]
 
 
-def _scales(logs) -> dict | None:
+def _scales(logs: list[SensorFile]) -> dict[str, dict[str, str | float]] | None:
     """How each file's numbers became its sensor's unit (:attr:`app.io.log.LogData.scales`); None where no file
     says (arrays)."""
     if all(log.scales is None for _, _, log, _ in logs):
@@ -445,18 +459,20 @@ def _scales(logs) -> dict | None:
     return {s: log.scales[s] for _, s, log, _ in logs if log.scales and s in log.scales}
 
 
-def _questions(logs) -> tuple:
+def _questions(logs: list[SensorFile]) -> tuple[dict[str, str], ...]:
     """What the reading of each file left open (the gyroscope's unit), named by the file."""
     return tuple(
         {**q, "detail": f"{fname}: {q['detail']}"} for fname, log in _files(logs).items() for q in log.questions
     )
 
 
-def _warnings(logs) -> tuple:
+def _warnings(logs: list[SensorFile]) -> tuple[str, ...]:
     return tuple(f"{fname}: {w}" for fname, log in _files(logs).items() for w in log.warnings)
 
 
-def read_sensor_files(sources: list[tuple[str, Path]], read, *, name: str, columns_given: bool) -> LogData | None:
+def read_sensor_files(
+    sources: list[tuple[str, Path]], read: ReadFile, *, name: str, columns_given: bool
+) -> LogData | None:
     """Read the files of one recording as one per sensor, or None when they are not (then they are poses).
 
     Parameters

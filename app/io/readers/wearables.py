@@ -54,7 +54,7 @@ def is_wearable(path: Path) -> bool:
 
 
 def read_wearable_log(
-    path: Path, *, sampling_rate_hz: float | None = None, units: dict | None = None, name: str = "the file"
+    path: Path, *, sampling_rate_hz: float | None = None, units: dict[str, str] | None = None, name: str = "the file"
 ) -> LogData:
     """Read a wearable device file with actipy into samples in g.
 
