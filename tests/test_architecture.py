@@ -432,6 +432,22 @@ def test_planted_an_import_the_must_not_column_bans_fails_even_when_the_may_colu
     ]
 
 
+def test_planted_everything_else_in_app_is_else_than_what_the_may_column_names(tmp_path):
+    """A must-not-import cell's "everything else in `app`" bans what the row's may-import cell does not name: the
+    verdict's row names the presenter of headlines, which it then does not ban; another module it still bans."""
+    row = "| `app/verdict.py` | `app/workflow.py`, `app/core` | everything else in `app` |\n"
+    for tree, source, found in (
+        ("named", "from app import workflow\nfrom app.core import fit\n", []),
+        (
+            "other",
+            "from app import workflow\nfrom app.api import routes\n",
+            ["app/verdict.py imports app.api.routes, which its row's may-import cell does not name"],
+        ),
+    ):
+        rows, root = plant(tmp_path / tree, {"app/verdict.py": source}, row)
+        assert [v for _, v in violations(rows, root)] == found, tree
+
+
 def test_planted_a_library_the_may_column_does_not_name_fails_where_it_names_libraries(tmp_path):
     rows, root = plant(
         tmp_path,
