@@ -35,7 +35,19 @@ BROWSER_MODULE_SECONDS = {
     "test_recording_decides.py": 31,
 }
 """The browser modules' real time (s) as `pytest --durations=0` measured it here (a module not named: 5 s a
-test), for :func:`spread_browser_tests`; weights, not bounds: no test asserts them."""
+test), for :func:`spread_long_tests`; weights, not bounds: no test asserts them."""
+
+WAITING_TEST_SECONDS = {
+    "test_examples.py::test_the_python_example_reads_a_board_and_calibrates_over_the_api": 58,
+    "test_cli_capture.py::test_six_poses_captured_calibrated_and_sent": 35,
+    "test_cli_capture.py::test_compass_records_a_turn_and_fits_the_hard_iron": 21,
+    "test_cli_capture.py::test_noise_records_the_minutes_asked_at_rest": 15,
+    "test_cli_capture.py::test_silence_is_said": 10,
+    "test_cli_capture.py::test_ctrl_c_keeps_the_log_and_says_how_to_finish_it": 8,
+}
+"""The tests outside tests/e2e that mostly wait on real time (a simulated board's lines at 100 Hz, the minutes
+a capture is asked to last), by their node id without parameters, with their real time (s) as measured here;
+a few seconds of CPU each. Weights for :func:`spread_long_tests`, as above."""
 
 
 def pytest_collection_modifyitems(config, items):
@@ -44,35 +56,56 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if E2E in Path(item.path).parents:
             item.add_marker(pytest.mark.e2e)
-    spread_browser_tests(items, int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")))
 
 
-def spread_browser_tests(items: list, workers: int) -> None:
-    """Order the tests so that each of `make test`'s workers starts with its share of the browser tests, the
-    longest module first.
+class SpreadLongTests:
+    """Orders the selected tests for xdist's workers, once ``-m``'s deselection is done (hence ``trylast``)."""
+
+    @pytest.hookimpl(trylast=True)
+    def pytest_collection_modifyitems(self, config, items):
+        spread_long_tests(items, int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1")), os.cpu_count() or 1)
+
+
+def pytest_configure(config):
+    config.pluginmanager.register(SpreadLongTests(), "trical-spread-long-tests")
+
+
+def spread_long_tests(items: list, workers: int, cores: int) -> None:
+    """Order the tests so that the workers start with the long ones that wait on real time, the longest first:
+    the browser modules (`make test`) and the tests of :data:`WAITING_TEST_SECONDS`.
 
     pytest-xdist's work stealing hands worker k the k-th of ``workers`` consecutive slices of this order (each
     ``remaining // workers_left`` long), and an idle worker steals the back half of a busy one's queue. The
-    browser modules (two thirds of the suite's time, a few long real-time flows each) were all in the first
+    browser modules (two thirds of `make test`'s time, a few long real-time flows each) were all in the first
     slice: the other workers stole its quick tests from the back and the long flows ran one after another on
     one worker. They are shared out by their measured time (the longest first, to the least loaded worker,
-    a module kept whole for its server), each slice filled up with the other tests in their order."""
-    browser = [item for item in items if E2E in Path(item.path).parents]
-    others = [item for item in items if E2E not in Path(item.path).parents]
-    modules: dict[Path, list] = {}
-    for item in browser:
-        modules.setdefault(Path(item.path), []).append(item)
+    a module kept whole for its server), each slice filled up with the other tests in their order.
 
-    def seconds(path: Path) -> float:
-        return BROWSER_MODULE_SECONDS.get(path.relative_to(E2E).as_posix(), 5.0 * len(modules[path]))
-
+    Without browser tests (`make check`) the rest is CPU work on every core: the waiting tests go to the
+    workers beyond the cores only (one at least), which wait on them while the others keep the cores busy, and
+    no longer start last (tests/test_examples.py, in the last slice by its name, was the run's tail)."""
+    groups: dict[object, list] = {}
+    weight: dict[object, float] = {}
+    for item in items:
+        path = Path(item.path)
+        if E2E in path.parents:
+            groups.setdefault(path, []).append(item)
+            weight[path] = BROWSER_MODULE_SECONDS.get(path.relative_to(E2E).as_posix(), 5.0 * len(groups[path]))
+            continue
+        name = f"{path.relative_to(E2E.parent).as_posix()}::{getattr(item, 'originalname', item.name)}"
+        if name in WAITING_TEST_SECONDS:
+            groups[item.nodeid] = [item]
+            weight[item.nodeid] = WAITING_TEST_SECONDS[name]
+    browser = any(isinstance(key, Path) for key in groups)
+    takers = workers if browser else min(workers, max(1, workers - cores))
     shares: list[list] = [[] for _ in range(max(workers, 1))]
     loads = [0.0] * len(shares)
-    for path in sorted(modules, key=seconds, reverse=True):
-        k = loads.index(min(loads))
-        shares[k] += modules[path]
-        loads[k] += seconds(path)
-    order, rest = [], iter(others)
+    for key in sorted(groups, key=lambda k: weight[k], reverse=True):
+        k = loads.index(min(loads[: max(takers, 1)]))
+        shares[k] += groups[key]
+        loads[k] += weight[key]
+    placed = {id(item) for share in shares for item in share}
+    order, rest = [], iter([item for item in items if id(item) not in placed])
     for k, share in enumerate(shares):
         size = (len(items) - len(order)) // (len(shares) - k)
         order += share + list(itertools.islice(rest, max(0, size - len(share))))

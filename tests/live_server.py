@@ -58,17 +58,29 @@ class LiveServer:
         with open(self.log, "ab") as out:
             self.process = subprocess.Popen(self.command, cwd=ROOT, env=self.env, stdout=out, stderr=subprocess.STDOUT)
         deadline = time.monotonic() + timeout_s
-        while time.monotonic() < deadline:
-            if self.process.poll() is not None:
-                raise RuntimeError(f"the server exited with status {self.process.returncode}:\n{self.output()}")
-            if self.https_ca and not Path(self.https_ca).exists():
-                time.sleep(0.1)
-                continue
-            try:
-                if httpx.get(f"{self.url}/healthz", timeout=1.0, verify=self.verify()).status_code == 200:
-                    return self
-            except (httpx.HTTPError, ssl.SSLError):  # not listening yet, or the certificate half written
-                time.sleep(0.1)
+        # One client for the polls (a new one each poll built its TLS context again, loading the CA bundle: tens of
+        # ms of CPU a poll, some 20 polls a start); over HTTPS made again after a failed poll, as the certificate
+        # the server presents may be written or replaced meanwhile.
+        client: httpx.Client | None = None
+        try:
+            while time.monotonic() < deadline:
+                if self.process.poll() is not None:
+                    raise RuntimeError(f"the server exited with status {self.process.returncode}:\n{self.output()}")
+                if self.https_ca and not Path(self.https_ca).exists():
+                    time.sleep(0.1)
+                    continue
+                try:
+                    client = client or httpx.Client(timeout=1.0, verify=self.verify())
+                    if client.get(f"{self.url}/healthz").status_code == 200:
+                        return self
+                except (httpx.HTTPError, ssl.SSLError):  # not listening yet, or the certificate half written
+                    if self.https_ca and client is not None:  # the certificate may be another by the next poll
+                        client.close()
+                        client = None
+                    time.sleep(0.1)
+        finally:
+            if client is not None:
+                client.close()
         self.stop()
         raise RuntimeError(f"the server did not answer /healthz within {timeout_s} s:\n{self.output()}")
 

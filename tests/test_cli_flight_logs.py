@@ -1,4 +1,5 @@
-"""`trical calibrate/noise LOG --instance N` on flight controllers' logs, as a user runs it (a subprocess)."""
+"""`trical calibrate/noise LOG --instance N` on flight controllers' logs, as a user runs it (its output and exit
+status, run in this process: tests/cli_in_process.py)."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import json
 
 import numpy as np
 
+from tests.cli_in_process import trical
 from tests.flight_logs import (
     GYR_BIAS,
     HARD_IRON_UT,
@@ -16,7 +18,6 @@ from tests.flight_logs import (
     px4_file,
     still_board,
 )
-from tests.test_cli import trical
 
 
 def test_calibrate_six_poses_of_an_instance(tmp_path):

@@ -1,4 +1,5 @@
-"""trical calibrate --method magnetometer, run as a user runs it, and its ArduPilot export."""
+"""trical calibrate --method magnetometer, run as a user runs it (in this process: tests/cli_in_process.py), and
+its ArduPilot export."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import json
 import numpy as np
 
 from simulations.magnetometer import simulate_session
-from tests.test_cli import trical
+from tests.cli_in_process import trical
 
 
 def _log(tmp_path, n=400, **kwargs):

@@ -1,4 +1,5 @@
-"""`trical noise` end to end as a subprocess: a gyroscope array, the summary, --json, --plot."""
+"""`trical noise` end to end: a gyroscope array, the summary, --json, --plot (the command run in this process,
+tests/cli_in_process.py; what it imports, in a subprocess of its own)."""
 
 from __future__ import annotations
 
@@ -9,16 +10,12 @@ import sys
 import numpy as np
 
 from simulations.noise import simulate_still
+from tests.cli_in_process import run_main
 
 
 def _run(*args, cwd):
-    return subprocess.run(
-        [sys.executable, "-m", "app.cli", "noise", *map(str, args)],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=300,
-    )
+    """`trical noise ARGS` in ``cwd`` with this environment, run in this process (tests/cli_in_process.py)."""
+    return run_main(["noise", *map(str, args)], None, cwd)
 
 
 def test_noise_of_a_gyroscope_array(tmp_path):

@@ -5,8 +5,8 @@ from __future__ import annotations
 import json
 import shutil
 
+from tests.cli_in_process import trical
 from tests.conftest import DATA
-from tests.test_cli import trical
 
 POSES = DATA / "real" / "mpu6050_pose_files"
 ORDER = ("x_axis_pos", "x_axis_neg", "y_axis_pos", "y_axis_neg", "z_axis_pos", "z_axis_neg")

@@ -4,20 +4,14 @@ temperature is one line on stderr and exit status 2."""
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
+from tests.cli_in_process import run_main
 from tests.temperature_logs import warm_up_csv
 
 
 def _run(*args, cwd):
-    return subprocess.run(
-        [sys.executable, "-m", "app.cli", "temperature", *map(str, args)],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=300,
-    )
+    """`trical temperature ARGS` in ``cwd`` with this environment, run in this process (tests/cli_in_process.py)."""
+    return run_main(["temperature", *map(str, args)], None, cwd)
 
 
 def test_a_warm_up_from_the_command_line(tmp_path):

@@ -1,5 +1,5 @@
 """``trical calibrate`` and ``trical export`` with units the data contradict, counts, and --chip, run as a
-user runs them."""
+user runs them (in this process: tests/cli_in_process.py)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import numpy as np
 
 from simulations.logs import simulate_static_log
 from simulations.magnetometer import simulate_session
-from tests.test_cli import trical
+from tests.cli_in_process import trical
 
 G = 9.80665
 MAG, _, B_TRUE = simulate_session(7, n=600)

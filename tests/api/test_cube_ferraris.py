@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from simulations.cube import simulate_hand_ferraris
+from tests.cli_in_process import trical
 from tests.conftest import DATA
-from tests.test_cli import trical
 
 SECTION_FILE = DATA / "imucal_example_ferraris_session_list.json"
 SECTIONS = json.loads(SECTION_FILE.read_text())

@@ -6,16 +6,13 @@ temperature, so only the instance asked for can be calibrated."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 
 from app.calibration.temperature import shift_polynomial
 from simulations.temperature import ACC_TRUTH, GYR_TRUTH, T_POLY_REF_C
+from tests.cli_in_process import run_main
 from tests.flight_logs import ardupilot_file, px4_file
-from tests.live_server import ROOT
 from tests.temperature_logs import warm_up
 
 RATE_HZ = 50.0
@@ -100,13 +97,9 @@ def test_the_instance_at_one_temperature_is_refused_in_words(client, tmp_path):
 
 def test_trical_temperature_reads_the_instance_of_a_flight_log(tmp_path):
     log = ardupilot_file(tmp_path / "warm.bin", warm_instances(43))
-    run = subprocess.run(
-        [sys.executable, "-m", "app.cli", "temperature", str(log), "--instance", "1", "--sensor", "gyr"],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env={"PATH": "/usr/bin:/bin", "TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 't.db'}"},
+    run = run_main(  # the command in this process (tests/cli_in_process.py)
+        ["temperature", str(log), "--instance", "1", "--sensor", "gyr"],
+        {"TRICAL_DATABASE_URL": f"sqlite:///{tmp_path / 't.db'}"},
     )
     assert run.returncode == 0, run.stdout + run.stderr
     assert "ok = True" in run.stdout and "gyr (rad/s)" in run.stdout

@@ -127,8 +127,8 @@ def test_counts_are_refused(client, table1):
 
 
 def test_cli_export_writes_the_bytes_and_says_what_they_do_not_carry(tmp_path, receiver):
+    from tests.cli_in_process import trical
     from tests.conftest import DATA
-    from tests.test_cli import trical
 
     out = trical(
         "calibrate",

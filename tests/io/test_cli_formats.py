@@ -1,4 +1,5 @@
-"""The trical command reads every log format too: a Sensor Logger zip and an Arduino log in counts."""
+"""The trical command reads every log format too: a Sensor Logger zip and an Arduino log in counts (the command
+run in this process: tests/cli_in_process.py)."""
 
 from __future__ import annotations
 
@@ -6,8 +7,8 @@ import json
 
 import numpy as np
 
+from tests.cli_in_process import trical
 from tests.conftest import DATA
-from tests.test_cli import trical
 
 SAMPLES = DATA / "formats"
 TRUTH = json.loads((SAMPLES / "format_samples.json").read_text())

@@ -20,7 +20,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy import stats
 
 from ..shared.errors import CalibrationError, InsufficientDataError
 from ..shared.gates import Gates, limit_gate, residual_gate
@@ -74,6 +73,8 @@ def decomposition_jacobian(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _quantile(confidence: float) -> float:
+    from scipy import stats  # here: scipy.stats takes ~0.5 s to import, which every start of the server would pay
+
     return float(stats.norm.ppf(0.5 + confidence / 2.0))
 
 

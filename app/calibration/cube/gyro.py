@@ -20,11 +20,9 @@ with sparse matrices it is not).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.sparse as sp
-from scipy import stats
-from scipy.linalg import cho_solve_banded, cholesky_banded
 
 from ..shared.errors import CalibrationError, InsufficientDataError
 from ..shared.gates import Gates, residual_gate
@@ -33,6 +31,21 @@ from ..shared.uncertainty import CONFIDENCE
 from ..shared.validation import as_samples
 from . import quaternion as quat
 from .accmag import SensorFit, decomposition_jacobian
+
+if TYPE_CHECKING:
+    import scipy.sparse as sp
+
+# scipy's modules are imported where a fit or its intervals use them, not here: importing scipy.stats and
+# scipy.linalg takes most of a second, which every start of the server and of the command would pay (the
+# cube's protocols are read by the guided sessions, and this package's __init__ imports this module).
+
+
+def _banded():
+    """scipy.linalg, for its banded Cholesky factorisation and solve."""
+    import scipy.linalg
+
+    return scipy.linalg
+
 
 LAMBDAS = tuple(10.0**k for k in range(-3, 7))
 """λ values tried in turn, upwards, until the parameters saturate (Särkkä et al., IEEE Sensors Journal
@@ -112,6 +125,8 @@ class GyroCalibration(SensorFit):
 
     def uncertainty(self, confidence: float = CONFIDENCE) -> dict:
         """95 % half-widths of S, b, D, D⁻¹S and S⁻¹ in the shapes of the model (Särkkä et al. App. B)."""
+        from scipy import stats  # when asked: see the module's imports
+
         z = float(stats.norm.ppf(0.5 + confidence / 2.0))
         cov = self.covariance
         sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
@@ -273,6 +288,8 @@ class _Linearisation:
     def jacobian(self) -> sp.csr_matrix:
         """The sparse Jacobian J of Särkkä et al., IEEE Sensors Journal 17(11) 2017, eq. (11) (r1 rows,
         then the √λ G rows)."""
+        import scipy.sparse as sp  # when a fit runs: see the module's imports
+
         p = self.prob
         vals1 = np.concatenate([self.A, self.C, self.Th], axis=2)
         vals2 = np.full(8 * len(p.first), self.sl)
@@ -323,13 +340,13 @@ class _NormalSolver:
     def __init__(self, lin: _Linearisation):
         ab, self.Hqt, Htt, self.g = lin.normal_equations()
         self.n_q = lin.prob.n_q
-        self.cb = cholesky_banded(ab, lower=False)
-        self.Xt = cho_solve_banded((self.cb, False), self.Hqt)
+        self.cb = _banded().cholesky_banded(ab, lower=False)
+        self.Xt = _banded().cho_solve_banded((self.cb, False), self.Hqt)
         self.schur_inv = np.linalg.inv(Htt - self.Hqt.T @ self.Xt)
 
     def solve(self, g: np.ndarray) -> np.ndarray:
         gq, gt = g[: self.n_q], g[self.n_q :]
-        Xg = cho_solve_banded((self.cb, False), gq)
+        Xg = _banded().cho_solve_banded((self.cb, False), gq)
         dt = self.schur_inv @ (gt - self.Hqt.T @ Xg)
         return np.concatenate([Xg - self.Xt @ dt, dt])
 

@@ -28,7 +28,6 @@ from dataclasses import dataclass
 from typing import cast
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from ..shared.uncertainty import covariance_from_jacobian
 
@@ -212,7 +211,9 @@ def refine(
     def jac(z: np.ndarray) -> np.ndarray:  # x = D z + c is affine: the chain rule is one product
         return jacobian(D @ z + c, m, field) @ D
 
-    sol = least_squares(
+    from scipy.optimize import least_squares  # here: scipy.optimize takes ~0.4 s to import, which the server's
+
+    sol = least_squares(  # start paid for the compass page's thresholds (app/web/tables.py)
         fun,
         z0,
         jac=jac,

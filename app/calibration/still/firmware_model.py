@@ -32,8 +32,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import polar
-from scipy.spatial.transform import Rotation
 
 from ..shared.errors import CalibrationError
 from ..shared.norm_metrics import relative_norm_errors
@@ -214,6 +212,9 @@ def offset_scale_fit(M, o, gravity: float, means=None) -> OffsetScaleFit:
     # An axis the correction inverts (a negative diagonal term) keeps its sign in the scale: the magnitude does
     # not see it. M = R P diag(sign), P symmetric positive definite.
     sign = np.where(np.diag(M) < 0, -1.0, 1.0)
+    from scipy.linalg import polar  # here, as least_squares below: scipy.linalg and scipy.spatial take ~0.3 s
+    from scipy.spatial.transform import Rotation  # to import, which every command that lists the exports paid
+
     R, P = polar(M * sign)
     if np.linalg.det(R) < 0:
         raise CalibrationError("the correction mirrors the axes (a left-handed frame): no offsets and scales hold it")
