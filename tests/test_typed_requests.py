@@ -26,7 +26,7 @@ def findings(tmp_path_factory) -> dict[str, str]:
     for name, source in PLANTED.items():
         (folder / f"{name}.py").write_text(source)
     done = subprocess.run(
-        [sys.executable, "-m", "mypy", "--strict", *sorted(str(p) for p in folder.glob("*.py"))],
+        [sys.executable, "-m", "mypy", *sorted(str(p) for p in folder.glob("*.py"))],
         cwd=ROOT,
         capture_output=True,
         text=True,
