@@ -21,22 +21,19 @@ run: $(VENV)/.installed
 # (--dist worksteal), so the slowest browser walks do not leave one worker running alone at the end.
 # Every test is bounded (pytest-timeout, pyproject.toml).
 TEST_WORKERS ?= 3
-# The workers' environment. pytest keeps the test modules it rewrites (for its assertions) as bytecode beside
-# them between runs: where the environment asks for no bytecode files (PYTHONDONTWRITEBYTECODE, as containers
-# often set it) each worker rewrote and compiled them all again on every run, 8 s of CPU a worker. The workers
-# already use every core: numpy's OpenBLAS (and pyarrow's pool) in each of them, and in the servers and commands
-# they start, runs on one thread, where a thread a core only spun waiting for the others (a third of the CPU time
-# of the linear-algebra-heavy tests, for no gain in their time).
-TEST_ENV := PYTHONDONTWRITEBYTECODE= OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
+# pytest keeps the test modules it rewrites (for its assertions) as bytecode beside them between runs; where the
+# environment asks for no bytecode files (PYTHONDONTWRITEBYTECODE, as containers often set it) each worker
+# rewrote and compiled them all again on every run, 8 s of CPU a worker.
+KEEP_BYTECODE := PYTHONDONTWRITEBYTECODE=
 test: system-deps $(VENV)/.installed-test lint typecheck
-	$(TEST_ENV) $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
+	$(KEEP_BYTECODE) $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
 
 # The quick loop while developing: the static checks, then every test that needs no browser (`-m "not e2e"`:
 # tests/e2e is marked so by tests/conftest.py) on the same workers; the browsers' tests are `make test`'s. Its
 # tests are CPU work but for the few that wait on a simulated board in real time, which tests/conftest.py
 # starts first on the worker beyond the two cores (spread_long_tests) while the other two keep them busy.
 check: system-deps $(VENV)/.installed-test lint typecheck
-	$(TEST_ENV) $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal -m "not e2e"
+	$(KEEP_BYTECODE) $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal -m "not e2e"
 
 # The static checks, first in `make test`, each at zero findings: ruff's lint rules and its formatter's
 # check on the whole repository (ruff pinned in the test extra, its settings in pyproject.toml), then
