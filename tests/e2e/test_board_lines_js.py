@@ -267,7 +267,8 @@ def test_the_board_page_says_what_to_flash_and_copies_the_sketch(browser, server
         assert "at 115200 baud" in mpu.inner_text() and "Adafruit MPU6050" in mpu.inner_text()
         mpu.locator(".sketch-copy").click()
         expect_copied = "mpu6050_uni.ino copied: paste it into a new sketch of the Arduino IDE."
-        page.wait_for_function(f"document.querySelector('#sketch-msg').textContent === {expect_copied!r}")
+        # a function, not an expression: the page's CSP forbids eval, which an expression's polling needs
+        page.wait_for_function("text => document.querySelector('#sketch-msg').textContent === text", arg=expect_copied)
         pasted = page.evaluate("navigator.clipboard.readText()")
         assert pasted == SKETCHES[0].path.read_text(encoding="utf-8") and "Serial.begin(115200)" in pasted
     finally:
