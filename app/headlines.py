@@ -11,19 +11,17 @@ expect; the in-sample error of the fitted readings beside it, labelled as such, 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, Any
 
 from app.calibration.shared.angles import compass_inclination, degrees_text, heading_error_deg, tilt_error_deg
 from app.calibration.shared.headlines import FIGURE_WORDS, SENSOR_WORDS, TEMPERATURE_SENSORS
-from app.calibration.shared.result import CalibrationResult, Figure, StillReadingsResult
+from app.calibration.shared.result import CalibrationResult, Figure, StillReadingsResult, by_class_name
 
 if TYPE_CHECKING:  # the methods' classes are named, not imported: a command loads only its own method's models
     from app.calibration.autocal import AutoCalibration
     from app.calibration.magnetometer.flight_calibration import FlightCompassCalibration
     from app.calibration.magnetometer.result import MagnetometerResult
     from app.calibration.temperature import TemperatureResult
-
-_Told = TypeVar("_Told")
 
 
 def _mg(value: float | None) -> str:
@@ -185,16 +183,11 @@ VERDICT_NOTES: dict[str, Callable[[str | None, Figure], str]] = {
 """By result class, the line under an "apply it" verdict on its figure, where the figure needs one."""
 
 
-def _of_class(table: dict[str, _Told], cls: type[CalibrationResult]) -> _Told:
-    """A table's entry of a result class: its own, else its nearest base's."""
-    return next(table[base.__name__] for base in cls.__mro__ if base.__name__ in table)
-
-
 def headline(result: CalibrationResult) -> str | None:
     """The line a person reads first about a result's figures, or None where it has none."""
-    return _of_class(HEADLINES, type(result))(result)
+    return by_class_name(HEADLINES, type(result))(result)
 
 
 def verdict_note(cls: type[CalibrationResult], method: str | None, figure: Figure) -> str:
     """One line more under an "apply it" verdict on ``figure`` of a result of class ``cls``, or ""."""
-    return _of_class(VERDICT_NOTES, cls)(method, figure)
+    return by_class_name(VERDICT_NOTES, cls)(method, figure)

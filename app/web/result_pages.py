@@ -14,7 +14,7 @@ from typing import Any
 
 from app.calibration.noise.characterise import TERM_WORDS
 from app.calibration.registry import registered_classes
-from app.calibration.shared.result import FIGURES, CalibrationResult
+from app.calibration.shared.result import FIGURES, CalibrationResult, by_class_name
 
 
 @dataclass(frozen=True)
@@ -88,7 +88,7 @@ of the core's registry), what the page shows of it."""
 
 def page_facts(cls: type[CalibrationResult]) -> PageFacts:
     """The page's facts of a result class: its own entry of :data:`PAGE_FACTS`, else its nearest base's."""
-    return next(PAGE_FACTS[base.__name__] for base in cls.__mro__ if base.__name__ in PAGE_FACTS)
+    return by_class_name(PAGE_FACTS, cls)
 
 
 def page_kinds() -> dict[str, dict[str, Any]]:

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from contextvars import ContextVar
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, ClassVar, TypeVar
 
 import numpy as np
 
@@ -37,6 +37,8 @@ OUTPUT_UNIT = {"m/s^2": "m/s^2", "g": "g", "raw": "m/s^2"}
 into m/s² (the reference of raw readings stays in m/s² and the model maps it to counts)."""
 
 _REGISTRY: dict[str, type[CalibrationResult]] = {}
+
+_Entry = TypeVar("_Entry")
 
 _READING_STORED: ContextVar[bool] = ContextVar("reading_stored", default=False)
 """Set while :meth:`CalibrationResult.from_dict` rebuilds a stored body, whose gates are not judged again."""
@@ -466,6 +468,18 @@ class CalibrationResult(Gated):
     @classmethod
     def _from_body(cls, data: dict) -> CalibrationResult:  # pragma: no cover - every subclass defines it
         raise NotImplementedError
+
+
+def by_class_name(table: Mapping[str, _Entry], cls: type) -> _Entry:
+    """A presenter's entry for a result class, its tables keyed by class name (so that they import no method's
+    module): the class's own entry, else its nearest base's.
+
+    Raises
+    ------
+    StopIteration
+        If neither the class nor a base has an entry (every table has one for :class:`CalibrationResult`).
+    """
+    return next(table[base.__name__] for base in cls.__mro__ if base.__name__ in table)
 
 
 def result_type_of(data: dict) -> str | None:
