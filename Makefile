@@ -8,7 +8,7 @@ CHROMIUM ?= /usr/bin/chromium
 WEBKIT_DRIVER ?= /usr/bin/WebKitWebDriver
 XVFB ?= /usr/bin/Xvfb
 
-.PHONY: run test check lint typecheck install install-test system-deps bench clean
+.PHONY: run test check quick-tests lint typecheck install install-test system-deps bench clean
 
 # The service: a virtual environment, the package, and the server on $(HOST):$(PORT) with SQLite under ./var.
 run: $(VENV)/.installed
@@ -28,11 +28,15 @@ KEEP_BYTECODE := PYTHONDONTWRITEBYTECODE=
 test: system-deps $(VENV)/.installed-test lint typecheck
 	$(KEEP_BYTECODE) $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal
 
-# The quick loop while developing: the static checks, then every test that needs no browser (`-m "not e2e"`:
-# tests/e2e is marked so by tests/conftest.py) on the same workers; the browsers' tests are `make test`'s. Its
-# tests are CPU work but for the few that wait on a simulated board in real time, which tests/conftest.py
-# starts first on the worker beyond the two cores (spread_long_tests) while the other two keep them busy.
-check: system-deps $(VENV)/.installed-test lint typecheck
+# The quick loop while developing: the static checks beside every test that needs no browser (`-m "not e2e"`:
+# tests/e2e is marked so by tests/conftest.py) on the same workers, in parallel (make -j: the static checks' ten
+# seconds overlap the workers' start); the browsers' tests are `make test`'s. Its tests are CPU work but for the
+# few that wait on a simulated board in real time, which tests/conftest.py starts first on the worker beyond the
+# two cores (spread_long_tests) while the other two keep them busy. It fails if any of the three fails.
+check: system-deps $(VENV)/.installed-test
+	$(MAKE) --no-print-directory -j3 lint typecheck quick-tests
+
+quick-tests: $(VENV)/.installed-test
 	$(KEEP_BYTECODE) $(BIN)/python -m pytest -n $(TEST_WORKERS) --dist worksteal -m "not e2e"
 
 # The static checks, first in `make test`, each at zero findings: ruff's lint rules and its formatter's
