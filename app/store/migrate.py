@@ -10,6 +10,7 @@ than run on it), and the upgrade continues — all in one transaction.
 
 from __future__ import annotations
 
+from functools import cache
 from pathlib import Path
 
 from alembic import command
@@ -39,7 +40,10 @@ def alembic_config(connection: Connection | None = None) -> Config:
     return config
 
 
+@cache
 def head_revision() -> str:
+    """The newest revision of the package's migrations (read once a process: Alembic imports every migration's
+    module to find it)."""
     head = ScriptDirectory.from_config(alembic_config()).get_current_head()
     assert head is not None, "the migrations have one head"
     return head
@@ -54,6 +58,8 @@ def upgrade(engine: Engine) -> None:
     with engine.connect().execution_options(**{WRITE: True}) as connection, connection.begin():
         if connection.dialect.name == "postgresql":
             connection.execute(text("SELECT pg_advisory_xact_lock(:key)"), {"key": MIGRATION_LOCK})
+        if current_revision(connection) == head_revision():
+            return  # at the head: nothing to run (Alembic's upgrade would import every migration to find that out)
         config = alembic_config(connection)
         adopt_legacy_schema(connection, config)
         command.upgrade(config, "head")
