@@ -190,11 +190,6 @@ def _bootstrap_mean(values: np.ndarray, groups: np.ndarray | None = None, *, rms
     return (float(math.sqrt(lo)), float(math.sqrt(hi))) if rms else (float(lo), float(hi))
 
 
-def _decide(current: Interval, fresh: Interval, tolerance: float) -> bool:
-    """Keep: the intervals overlap, or the current error is within the tolerance."""
-    return current.low <= fresh.high or current.value <= tolerance
-
-
 def _size(d: Difference, reference: float) -> float:
     """What a difference does to a vector of the reference's size, in the calibrated unit: an offset itself, a
     scale's ppm × r, a cross term's or a rotation's angle (rad) × r."""
@@ -207,22 +202,38 @@ def _size(d: Difference, reference: float) -> float:
 
 def _drifted(drift: SensorComparison, without: tuple[str, ...], tolerance: float) -> tuple[str, ...]:
     """The groups of the fresh fit's drift that are real (their interval excludes none) and matter (they move a
-    vector of the reference's size by half the tolerance or more); else the group that moves it most."""
+    vector of the reference's size by half the tolerance, and half the largest drift's move, or more), the largest
+    first; else the group that moves it most. A drift smaller than half the largest is the current calibration's
+    own error, not what changed."""
     reference = 1000.0 if drift.effect_unit == "mg" else drift.reference  # g in mg, or F
-    out: list[str] = []
-    for d in drift.differences:
-        if d.group not in without and d.real and _size(d, reference) >= tolerance / 2 and d.words not in out:
-            out.append(d.words)
-    if out:
-        return tuple(out)
-    scored = [d for d in drift.differences if d.group not in without]
-    if not scored:
+    considered = [d for d in drift.differences if d.group not in without]
+    if not considered:
         return ()
-    return (max(scored, key=lambda d: _size(d, reference)).words,)
+    largest: dict[str, float] = {}
+    for d in considered:
+        largest[d.words] = max(largest.get(d.words, 0.0), _size(d, reference))
+    floor = max(tolerance / 2, max(largest.values()) / 2)
+    real = {d.words for d in considered if d.real and _size(d, reference) >= floor}
+    named = sorted(real, key=lambda w: -largest[w])
+    return tuple(named) if named else (max(largest, key=largest.__getitem__),)
 
 
 def _identity(c: AffineCorrection) -> AffineCorrection:
     return AffineCorrection(np.eye(3), np.zeros(3), c.output_unit, c.output_unit, sensor=c.sensor)
+
+
+Halves = tuple[np.ndarray | None, np.ndarray | None]
+
+
+def _in_calibrated_frame(c: AffineCorrection, half: Halves) -> Halves:
+    """The current correction's half-widths carried into the frame of its corrected readings, where the fresh fit
+    is made (and the current correction is the identity): o's through M, ``|M| h_o``, and M's relative to M,
+    ``|h_M| |M⁻¹|`` (first order, each entry bounded by the triangle inequality)."""
+    hw_M, hw_o = half
+    return (
+        None if hw_M is None else np.abs(hw_M) @ np.abs(np.linalg.inv(c.M)),
+        None if hw_o is None else np.abs(c.M) @ np.abs(hw_o),
+    )
 
 
 def _fresh_fit(a: np.ndarray, labels, g: float) -> tuple[StillReadingsResult, float]:
@@ -244,6 +255,7 @@ def check_still(
     *,
     gravity: float | None = None,
     labels=None,
+    half: Halves = (None, None),
 ) -> SensorCheck:
     """Check an accelerometer's correction on new still poses (module docstring).
 
@@ -258,6 +270,9 @@ def check_still(
     labels : sequence of str, optional
         The axis up in each pose (``+x`` … ``-z``) where every pose has one: the fresh fit is then the affine
         model of known orientations (its orientation is then seen too), from :data:`MIN_LABELLED_POSES` poses.
+    half : (M's half-widths or None, o's half-widths or None)
+        The current correction's 95 % half-widths (:func:`app.calibration.compare.correction_half_widths`): a
+        drift is real when it exceeds both calibrations' intervals, combined.
 
     Returns
     -------
@@ -301,8 +316,13 @@ def check_still(
     fresh = Interval(f_value, f_low, f_high, unit, tilt_error_deg(f_value), tilt_error_deg(f_high))
     fc = fit.correction
     fresh_correction = AffineCorrection(fc.M, fc.o, correction.output_unit, correction.output_unit, sensor="acc")
-    half = correction_half_widths(fit).get("acc", (None, None))
-    drift = compare_corrections(_identity(correction), fresh_correction, half_b=half, gravity=g)
+    drift = compare_corrections(
+        _identity(correction),
+        fresh_correction,
+        half_a=_in_calibrated_frame(correction, half),
+        half_b=correction_half_widths(fit).get("acc", (None, None)),
+        gravity=g,
+    )
     unseen = () if known else ("orientation",)
     return _finish("acc", current, fresh, drift, KEEP_TOLERANCE_MG, len(m), "tilt", unseen)
 
@@ -323,8 +343,8 @@ def _finish(
         f"{current.high:.2f}; {angle} off by up to {current.value_deg:.2f}°) on these readings, a fresh one would "
         f"by {fresh.value:.2f} {fresh.unit} ({fresh.low:.2f}–{fresh.high:.2f})"
     )
-    if _decide(current, fresh, tolerance):
-        why = "within reach of a fresh calibration" if current.low <= fresh.high else "within the tolerance"
+    if current.value <= tolerance or current.low <= fresh.high:
+        why = "within the tolerance" if current.value <= tolerance else "within reach of a fresh calibration"
         return SensorCheck(
             sensor, KEEP, (f"{told}: {why}, keep it",), count, current, fresh, (), drift, angle_kind=kind
         )
@@ -349,6 +369,7 @@ def check_turn(
     *,
     field_ut: float | None = None,
     inclination_deg: float | None = None,
+    half: Halves = (None, None),
 ) -> SensorCheck:
     """Check a compass's correction on the readings of a new turn (module docstring).
 
@@ -363,6 +384,8 @@ def check_turn(
         readings' magnitude without it (said in the reasons).
     inclination_deg : float, optional
         The place's inclination, for the heading (60° assumed without it).
+    half : (M's half-widths or None, o's half-widths or None)
+        The current correction's 95 % half-widths, as :func:`check_still` takes them.
 
     Returns
     -------
@@ -398,7 +421,10 @@ def check_turn(
     fit = fit_magnetometer(h, field_ut=F if field_ut is not None else None, raw_comparable=True)
     metrics = fit.metrics
     own = float(np.linalg.det(fit.M)) ** (-1.0 / 3.0) * F if field_ut is not None else None
-    cv = metrics.get("cv_error_ut")
+    fresh_norms = np.linalg.norm(fit.apply(h), axis=1) - metrics["field_ut"]
+    fit_error = float(np.sqrt(np.mean(fresh_norms**2)))
+    figure = fit.figure()  # its error on directions the fit did not see, where it has one
+    cv = figure.after if figure.basis.endswith("on new directions") else None
     if (
         metrics["fit_stage"] != "refined"
         or metrics["norm_spread_ut"] > MAX_SPREAD * metrics["field_ut"]
@@ -432,10 +458,7 @@ def check_turn(
             current,
             angle_kind="heading",
         )
-    fit_error = metrics.get("fit_error_ut") or 0.0
-    fresh_errors = np.linalg.norm(fit.apply(h), axis=1) - metrics["field_ut"]
-    if cv is not None and fit_error > 0:
-        fresh_errors = fresh_errors * (cv / fit_error)
+    fresh_errors = fresh_norms * (cv / fit_error) if cv is not None and fit_error > 0 else fresh_norms
     f_value = float(np.sqrt(np.mean(fresh_errors**2)))
     f_low, f_high = _bootstrap_mean(fresh_errors, faces, rms=True)
     fresh = Interval(
@@ -443,8 +466,14 @@ def check_turn(
     )
     fc = fit.correction
     fresh_correction = AffineCorrection(fc.M, fc.o, correction.output_unit, correction.output_unit, sensor="mag")
-    half = correction_half_widths(fit).get("mag", (None, None))
-    drift = compare_corrections(_identity(correction), fresh_correction, half_b=half, field_ut=F, inclination_deg=inc)
+    drift = compare_corrections(
+        _identity(correction),
+        fresh_correction,
+        half_a=_in_calibrated_frame(correction, half),
+        half_b=correction_half_widths(fit).get("mag", (None, None)),
+        field_ut=F,
+        inclination_deg=inc,
+    )
     out = _finish("mag", current, fresh, drift, KEEP_TOLERANCE_UT, len(m), "heading", ("orientation",))
     return SensorCheck(
         out.sensor,
@@ -503,6 +532,7 @@ def check(
     result: CalibrationResult,
     *,
     still_means=None,
+    labels=None,
     mag=None,
     gyr_rest=None,
     field_ut: float | None = None,
@@ -516,6 +546,8 @@ def check(
         Any calibration with corrections (:meth:`~CalibrationResult.corrections`).
     still_means : array_like, shape (N, 3), optional
         The accelerometer's still poses (their means), in the result's unit.
+    labels : sequence of str, optional
+        The axis up in each still pose, where each is known (:func:`check_still`).
     mag : array_like, shape (N, 3), optional
         A turn's magnetometer readings.
     gyr_rest : array_like, shape (N, 3), optional
@@ -542,15 +574,28 @@ def check(
             f"{', '.join(corrections) or 'nothing'}: check it on a recording of a sensor it corrects"
         )
     checks: list[SensorCheck] = []
+    halves = correction_half_widths(result)
     if "acc" in sensors:
         gravity = result.gravity if result.unit != "raw" and isinstance(result.gravity, (int, float)) else None
-        checks.append(check_still(corrections["acc"], still_means, gravity=gravity))
+        checks.append(
+            check_still(
+                corrections["acc"], still_means, gravity=gravity, labels=labels, half=halves.get("acc", (None, None))
+            )
+        )
     if "mag" in sensors:
         field = field_ut
         if field is None:
             own = result.metrics.get("field_ut") if isinstance(result.metrics, dict) else None
             field = float(own) if isinstance(own, (int, float)) else None
-        checks.append(check_turn(corrections["mag"], mag, field_ut=field, inclination_deg=inclination_deg))
+        checks.append(
+            check_turn(
+                corrections["mag"],
+                mag,
+                field_ut=field,
+                inclination_deg=inclination_deg,
+                half=halves.get("mag", (None, None)),
+            )
+        )
     if "gyr" in sensors:
         checks.append(check_rest(corrections["gyr"], gyr_rest))
     verdict = max((c.verdict for c in checks), key=SEVERITY.__getitem__)
