@@ -1,0 +1,117 @@
+"""Check a stored calibration on a new recording, and compare two, over real HTTP
+(POST /api/v1/calibrations/{id}/check, GET /api/v1/calibrations/{id}/compare?with=…)."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+from pydantic import TypeAdapter
+
+from app.api.schemas.calibrations import CheckOut, CompareOut
+from simulations.drift import disturbed_turn
+from simulations.magnetometer import simulate_session, simulate_turn
+from tests.api.test_pose_files import six, upload_files
+from tests.api.test_typed_contract import undescribed
+
+F = 48.0
+
+
+def turn_csv(m: np.ndarray) -> bytes:
+    buf = io.StringIO()
+    np.savetxt(
+        buf,
+        np.column_stack([np.arange(len(m)) / 50.0, m]),
+        delimiter=",",
+        fmt="%.6f",
+        comments="",
+        header="time_s,mag_x,mag_y,mag_z",
+    )
+    return buf.getvalue().encode()
+
+
+def upload_turn(client, m: np.ndarray) -> str:
+    r = client.post(
+        "/api/v1/recordings", files={"file": ("turn.csv", turn_csv(m), "text/csv")}, data={"mag_unit": "uT"}
+    )
+    assert r.status_code == 201, r.text
+    return r.json()["id"]
+
+
+@pytest.fixture()
+def compass(client):
+    m, M, b = simulate_session(31, n=300)
+    r = client.post("/api/v1/calibrations", json={"method": "magnetometer", "mag": m.tolist(), "field_ut": F})
+    assert r.status_code == 201, r.text
+    return r.json(), M, b
+
+
+def check(client, cal_id: str, recording_id: str, **extra):
+    return client.post(f"/api/v1/calibrations/{cal_id}/check", json={"recording_id": recording_id, **extra})
+
+
+def test_a_compass_turn_with_a_moved_hard_iron_is_told_to_calibrate_again(client, compass):
+    cal, M, b = compass
+    rng = np.random.default_rng(5)
+    kept = check(client, cal["id"], upload_turn(client, simulate_turn(rng, M, b, n=300)), inclination_deg=64.0)
+    assert kept.status_code == 200, kept.text
+    assert kept.json()["verdict"] == "keep"
+    r = check(client, cal["id"], upload_turn(client, simulate_turn(rng, M, b + [4.0, 0.0, 0.0], n=300)))
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert undescribed(TypeAdapter(CheckOut).validate_python(out)) == []
+    assert out["verdict"] == "calibrate_again" and out["calibration_id"] == cal["id"]
+    mag = out["sensors"][0]
+    assert mag["drifted"] == ["hard iron"] and mag["angle_kind"] == "heading"
+    assert mag["current"]["unit"] == "µT" and mag["current"]["value"] > mag["fresh"]["high"]
+    assert "hard iron drifted" in out["reasons"][0]
+
+
+def test_a_disturbed_turn_is_told_to_move_the_compass(client, compass):
+    cal, M, b = compass
+    r = check(client, cal["id"], upload_turn(client, disturbed_turn(np.random.default_rng(6), M, b)))
+    assert r.status_code == 200, r.text
+    assert r.json()["verdict"] == "move_the_compass" and "move it away" in r.json()["reasons"][0]
+
+
+def test_two_compass_calibrations_compared_say_which_differences_are_real(client, compass):
+    cal, M, b = compass
+    m2 = simulate_turn(np.random.default_rng(7), M, b + [0.0, 0.0, 5.0], n=300)
+    other = client.post("/api/v1/calibrations", json={"method": "magnetometer", "mag": m2.tolist(), "field_ut": F})
+    r = client.get(
+        f"/api/v1/calibrations/{cal['id']}/compare", params={"with": other.json()["id"], "inclination_deg": 64}
+    )
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert undescribed(TypeAdapter(CompareOut).validate_python(out)) == []
+    assert out["with"] == other.json()["id"] and out["missing"] == []
+    mag = out["sensors"][0]
+    z = next(d for d in mag["differences"] if d["group"] == "offsets" and d["axis"] == "z")
+    assert z["real"] and z["parameter"] == "hard iron" and z["unit"] == "µT"
+    assert z["difference"] == pytest.approx(5.0, abs=1.0)
+    assert mag["effect_kind"] == "heading" and mag["effect_deg"] > 5.0
+
+
+def test_real_pose_files_calibration_checked_on_its_own_session_is_kept(client):
+    """The MPU-6050 of tests/data/real/mpu6050_pose_files: its six-position calibration on its own six poses (the
+    affine model of known orientations refitted on them)."""
+    rec = upload_files(client, six()).json()
+    cal = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    r = check(client, cal["id"], rec["id"])
+    assert r.status_code == 200, r.text
+    acc = r.json()["sensors"][0]
+    assert acc["verdict"] == "keep" and acc["count"] == 6 and acc["angle_kind"] == "tilt"
+
+
+def test_what_cannot_be_checked_or_compared_is_a_4xx_naming_the_cause(client, compass):
+    cal = compass[0]
+    missing = check(client, cal["id"], "rec_nothing")
+    assert missing.status_code == 404
+    rec = upload_files(client, six()).json()  # an accelerometer's poses: nothing a compass calibration corrects
+    r = check(client, cal["id"], rec["id"])
+    assert r.status_code == 422 and "corrects mag" in r.json()["detail"]
+    acc = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    r = client.get(f"/api/v1/calibrations/{cal['id']}/compare", params={"with": acc["id"]})
+    assert r.status_code == 422 and "no sensor in common" in r.json()["detail"]
+    assert client.get(f"/api/v1/calibrations/{cal['id']}/compare").status_code == 422  # `with` is required
