@@ -35,7 +35,7 @@ def disturbed_turn(
     M: np.ndarray,
     b,
     *,
-    strength: float = 0.5,
+    strength: float = 0.7,
     width: float = 0.15,
     field_ut: float = EARTH_FIELD_UT,
     noise_ut: float = 0.3,

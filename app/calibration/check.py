@@ -83,9 +83,10 @@ MIN_POSES = 12
 """Fewest still poses a check of the accelerometer takes: the fresh nine-parameter fit needs 9, and three more
 leave its error and intervals degrees of freedom."""
 
-MAX_FRESH_ERROR = 0.03
-"""A fresh compass fit that errs by more than 3 % of F on directions it did not see (1.4 µT at 48 µT; a phone's
-fit on a clean turn errs by 0.3–1 µT) fits no ellipsoid: the field changed with the device's attitude."""
+MAX_FRESH_ERROR = 0.05
+"""A fresh compass fit that errs by more than 5 % of F on directions it did not see (2.4 µT at 48 µT; a phone's
+fit on a clean turn errs by 0.3–1 µT, the QMC5883L board's of tests/data/real/magnetometer by 2.9 %) fits no
+ellipsoid: the field changed with the device's attitude."""
 
 MIN_LABELLED_POSES = 6
 """Fewest still poses of known orientation (each labelled with the axis up) a check takes: the fresh fit is then
@@ -410,13 +411,13 @@ def check_turn(
     F = field_ut
     if F is None:
         F = float(np.median(norms))
-        notes = (f"no field for the place: the corrected readings' own median ({F:.1f} µT) was taken",)
+        notes = (f"no field for the place: the corrected readings' own median ({F:.1f}) was taken",)
     inc = ASSUMED_INCLINATION_DEG if inclination_deg is None else inclination_deg
     faces = face_of(h)
     errors = norms - F
     value = float(np.sqrt(np.mean(errors**2)))
     low, high = _bootstrap_mean(errors, faces, rms=True)
-    unit = "µT"
+    unit, _ = calibrated_unit(correction)  # µT, or counts for a compass left in counts
     current = Interval(value, low, high, unit, heading_error_deg(value, F, inc), heading_error_deg(high, F, inc))
     fit = fit_magnetometer(h, field_ut=F if field_ut is not None else None, raw_comparable=True)
     metrics = fit.metrics
@@ -430,15 +431,15 @@ def check_turn(
         or metrics["norm_spread_ut"] > MAX_SPREAD * metrics["field_ut"]
         or (cv is not None and cv > MAX_FRESH_ERROR * metrics["field_ut"])
     ):
-        fresh_words = "" if cv is None else f", and a fresh fit errs by {cv:.1f} µT on directions it did not see"
+        fresh_words = "" if cv is None else f", and a fresh fit errs by {cv:.1f} {unit} on directions it did not see"
         return SensorCheck(
             "mag",
             MOVE,
             (
                 *notes,
-                f"no calibration fits this turn: the field's strength varies by {metrics['norm_spread_ut']:.1f} µT "
+                f"no calibration fits this turn: the field's strength varies by {metrics['norm_spread_ut']:.1f} {unit} "
                 f"(5–95 %) as the device turns{fresh_words} (at most {100 * MAX_SPREAD:.0f} % and "
-                f"{100 * MAX_FRESH_ERROR:.0f} % of {metrics['field_ut']:.1f} µT where a calibration fits) — iron, "
+                f"{100 * MAX_FRESH_ERROR:.0f} % of {metrics['field_ut']:.1f} {unit} where a calibration fits) — iron, "
                 "magnets or current near the compass: move it away from them (or them from it) and check again",
             ),
             len(m),

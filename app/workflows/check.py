@@ -36,6 +36,12 @@ def _in_unit(values: np.ndarray, sensor: str, have: str | None, want: str | None
     )
 
 
+def _finite(values) -> np.ndarray:
+    """The rows of readings where the sensor read (a sensor merged onto another's clock is NaN across its gaps)."""
+    v = np.asarray(values, dtype=float)
+    return v[np.all(np.isfinite(v), axis=1)]
+
+
 def _unit_words(unit: str | None) -> str | None:
     """A correction's unit as the recordings name it (a compass's µT is ``uT``)."""
     return {"µT": "uT", "°/s": "deg/s"}.get(unit or "", unit)
@@ -60,7 +66,7 @@ def readings_of(result: CalibrationResult, log: LogData) -> dict[str, Any]:
             out["labels"] = labels
     if "mag" in corrections and log.mag is not None:
         out["mag"] = _in_unit(
-            np.asarray(log.mag, dtype=float),
+            _finite(log.mag),
             "mag",
             log.units.get("mag"),
             _unit_words(corrections["mag"].input_unit),
@@ -69,7 +75,7 @@ def readings_of(result: CalibrationResult, log: LogData) -> dict[str, Any]:
     if "gyr" in corrections and log.gyr is not None and segments:
         longest = max(segments, key=lambda s: s["end"] - s["start"])
         out["gyr_rest"] = _in_unit(
-            np.asarray(log.gyr[longest["start"] : longest["end"]], dtype=float),
+            _finite(log.gyr[longest["start"] : longest["end"]]),
             "gyr",
             log.units.get("gyr"),
             _unit_words(corrections["gyr"].input_unit),
