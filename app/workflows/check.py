@@ -36,7 +36,7 @@ def _in_unit(values: np.ndarray, sensor: str, have: str | None, want: str | None
     )
 
 
-def _finite(values) -> np.ndarray:
+def _finite(values: np.ndarray) -> np.ndarray:
     """The rows of readings where the sensor read (a sensor merged onto another's clock is NaN across its gaps)."""
     v = np.asarray(values, dtype=float)
     return v[np.all(np.isfinite(v), axis=1)]
