@@ -64,6 +64,13 @@ from .still.triangular import fit_triangular
 
 KEEP, AGAIN, MOVE, CANNOT = "keep", "calibrate_again", "move_the_compass", "cannot_tell"
 VERDICTS = (KEEP, AGAIN, MOVE, CANNOT)
+VERDICT_WORDS = {
+    KEEP: "keep it",
+    AGAIN: "calibrate again",
+    MOVE: "move the compass",
+    CANNOT: "cannot tell",
+}
+"""Each verdict in words, as the terminal and the page say it."""
 SEVERITY = {MOVE: 3, AGAIN: 2, KEEP: 1, CANNOT: 0}
 """Which sensor's verdict is the device's: the worst that is told (a sensor that cannot tell decides nothing)."""
 
@@ -609,6 +616,7 @@ __all__ = [
     "KEEP",
     "MOVE",
     "VERDICTS",
+    "VERDICT_WORDS",
     "CheckResult",
     "SensorCheck",
     "check",

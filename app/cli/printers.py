@@ -293,15 +293,6 @@ def print_noise(body: dict, verbose: bool = False) -> None:
     print_notes(body["warnings"], verbose)
 
 
-VERDICT_WORDS = {
-    "keep": "keep it",
-    "calibrate_again": "calibrate again",
-    "move_the_compass": "move the compass",
-    "cannot_tell": "cannot tell",
-}
-"""A check's verdict as the terminal says it (app.calibration.check)."""
-
-
 def _interval(figure: dict | None) -> str:
     if figure is None:
         return "-"
@@ -311,6 +302,8 @@ def _interval(figure: dict | None) -> str:
 
 def print_check(out: dict) -> None:
     """A check's verdict, then each sensor's error now and a fresh calibration's, what drifted and the reasons."""
+    from app.calibration.check import VERDICT_WORDS
+
     print(f"verdict: {VERDICT_WORDS[out['verdict']]}")
     for s in out["sensors"]:
         print(f"  {s['sensor']}: {VERDICT_WORDS[s['verdict']]} ({s['count']} readings)")
