@@ -57,7 +57,8 @@ RAD_S_TO_DEG_S = 180.0 / math.pi
 class Difference:
     """One parameter's difference B − A: its ``group`` (``offsets``, ``scales``, ``cross``, ``orientation``), its
     ``axis`` (``x``, ``xy``…, empty for the orientation), ``value`` and 95 % ``half_width`` (None without one) in
-    ``unit`` (``mg``, ``µT``, ``°/s``, ``counts``, ``ppm``, ``°``)."""
+    ``unit`` (``mg``, ``µT``, ``°/s``, ``counts``, ``ppm``, ``°``); an offset's also ``in_input_unit``, o_B − o_A in
+    the readings' own ``input_unit`` (counts, m/s², g…)."""
 
     sensor: str
     group: str
@@ -65,6 +66,8 @@ class Difference:
     value: float
     half_width: float | None
     unit: str
+    in_input_unit: float | None = None
+    input_unit: str | None = None
 
     @property
     def real(self) -> bool | None:
@@ -86,6 +89,8 @@ class Difference:
             "half_width": self.half_width,
             "unit": self.unit,
             "real": self.real,
+            "difference_in_input_unit": self.in_input_unit,
+            "input_unit": self.input_unit,
         }
 
 
@@ -298,7 +303,8 @@ def compare_corrections(
     offset = scale_a * (b.o - a.o) * factor
     for i, axis in enumerate(AXES):
         hw = None if hw_o is None else float(abs(scale_a[i]) * hw_o[i] * factor)
-        diffs.append(Difference(a.sensor, "offsets", axis, float(offset[i]), hw, unit))
+        raw = float(b.o[i] - a.o[i])
+        diffs.append(Difference(a.sensor, "offsets", axis, float(offset[i]), hw, unit, raw, a.input_unit))
     # Scales: S_B,ii / S_A,ii − 1 in ppm; M's diagonal half-widths taken for S's (relative to each scale).
     for i, axis in enumerate(AXES):
         rel = None if hw_M is None else float(1e6 * hw_M[i, i] / scale_a[i])

@@ -38,6 +38,7 @@ def test_an_offset_moved_between_two_sessions_is_real_and_told_in_mg_and_degrees
     d = by_name(acc)
     assert d["offsets", "y"].real and d["offsets", "y"].value == pytest.approx(10.0, abs=1.5)
     assert d["offsets", "y"].unit == "mg" and d["offsets", "y"].half_width is not None
+    assert d["offsets", "y"].input_unit == "g" and d["offsets", "y"].in_input_unit == pytest.approx(0.01, abs=0.0015)
     assert not d["offsets", "x"].real and not d["scales", "x"].real
     # the effect at 1 g: the 10 mg moved and each session's own error, a level off by asin(e / g) at worst
     assert 8.0 < acc.effect < 18.0

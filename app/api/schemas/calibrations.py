@@ -188,6 +188,10 @@ class DifferenceOut(BaseModel):
     half_width: float | None = Field(description="Its 95 % half-width from both intervals; null without any.")
     unit: str = Field(description="mg, µT, °/s or counts (offsets), ppm (scales), ° (cross-axis terms, orientation).")
     real: bool | None = Field(description="Whether the interval excludes zero; null without an interval.")
+    difference_in_input_unit: float | None = Field(
+        description="An offset's difference in the readings' own unit (o_B − o_A); null for the other groups."
+    )
+    input_unit: str | None = Field(description="The readings' unit (counts are raw).")
 
 
 class SensorComparisonOut(BaseModel):
