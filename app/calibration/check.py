@@ -347,9 +347,9 @@ def _finish(
 ) -> SensorCheck:
     angle = "a level" if kind == "tilt" else "a heading"
     told = (
-        f"the current calibration errs by {current.value:.2f} {current.unit} (95 % {current.low:.2f}–"
-        f"{current.high:.2f}; {angle} off by up to {current.value_deg:.2f}°) on these readings, a fresh one would "
-        f"by {fresh.value:.2f} {fresh.unit} ({fresh.low:.2f}–{fresh.high:.2f})"
+        f"on these readings the current calibration leaves {angle} off by up to {current.value_deg:.2f}° (an error "
+        f"of {current.value:.2f} {current.unit}, 95 % {current.low:.2f}–{current.high:.2f}), a fresh one "
+        f"{fresh.value_deg:.2f}° ({fresh.value:.2f} {fresh.unit}, {fresh.low:.2f}–{fresh.high:.2f})"
     )
     if current.value <= tolerance or current.low <= fresh.high:
         why = "within the tolerance" if current.value <= tolerance else "within reach of a fresh calibration"
