@@ -26,7 +26,7 @@ from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict
 from app.words import render_body
-from app.workflows.check import check_recording, compare_calibrations
+from app.workflows.check import check_source, compare_calibrations
 from app.workflows.recordings import RecordingSource
 from app.workflows.results import apply_calibration
 
@@ -187,8 +187,8 @@ def check_calibration(calibration_id: str, request: CheckIn, store: StoreDep, ow
     move the compass, or cannot tell (saying what to record)."""
     body = store.get_calibration(calibration_id, owner=owner)
     meta, path = store.get_recording(request.recording_id, owner=owner)
-    log = RecordingSource(meta=meta, path=path, id=request.recording_id).read()
-    return check_recording(body, log, field_ut=request.field_ut, inclination_deg=request.inclination_deg)
+    source = RecordingSource(meta=meta, path=path, id=request.recording_id)
+    return check_source(body, source, field_ut=request.field_ut, inclination_deg=request.inclination_deg)
 
 
 @router.get(

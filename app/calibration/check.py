@@ -606,8 +606,13 @@ def check(
         )
     if "gyr" in sensors:
         checks.append(check_rest(corrections["gyr"], gyr_rest))
-    verdict = max((c.verdict for c in checks), key=SEVERITY.__getitem__)
-    return CheckResult(verdict, tuple(checks))
+    return combined(checks)
+
+
+def combined(checks) -> CheckResult:
+    """The device's check from its sensors' (at least one): its verdict the worst that tells (:data:`SEVERITY`)."""
+    checks = tuple(checks)
+    return CheckResult(max((c.verdict for c in checks), key=SEVERITY.__getitem__), checks)
 
 
 __all__ = [
@@ -623,4 +628,5 @@ __all__ = [
     "check_rest",
     "check_still",
     "check_turn",
+    "combined",
 ]

@@ -14,6 +14,7 @@ from simulations.drift import disturbed_turn
 from simulations.magnetometer import simulate_session, simulate_turn
 from tests.api.test_pose_files import six, upload_files
 from tests.api.test_typed_contract import undescribed
+from tests.conftest import DATA
 
 F = 48.0
 
@@ -115,3 +116,18 @@ def test_what_cannot_be_checked_or_compared_is_a_4xx_naming_the_cause(client, co
     r = client.get(f"/api/v1/calibrations/{cal['id']}/compare", params={"with": acc["id"]})
     assert r.status_code == 422 and "no sensor in common" in r.json()["detail"]
     assert client.get(f"/api/v1/calibrations/{cal['id']}/compare").status_code == 422  # `with` is required
+
+
+def test_a_flight_log_s_compass_is_not_checked_and_the_answer_says_what_to_do(client):
+    """The real ArduPilot log171.bin: its compass calibrated from the flight, then checked on that flight. The field's
+    strength in flight moves with the motors' current, so the check cannot tell and says what would."""
+    log = DATA / "real" / "flight" / "log171.bin"
+    rec = client.post("/api/v1/recordings", files={"file": (log.name, log.read_bytes())}).json()
+    cal = client.post(
+        "/api/v1/calibrations", json={"method": "compass_flight", "recording_id": rec["id"], "mag_instance": 0}
+    ).json()
+    r = check(client, cal["id"], rec["id"])
+    assert r.status_code == 200, r.text
+    out = r.json()
+    assert out["verdict"] == "cannot_tell" and out["sensors"][0]["sensor"] == "mag"
+    assert "turn through all directions" in out["reasons"][0] and "compare the two" in out["reasons"][0]
