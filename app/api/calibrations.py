@@ -5,12 +5,12 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Depends, Query
 from fastapi.responses import Response
 from starlette.concurrency import run_in_threadpool
 
 from app import methods
-from app.api.deps import OwnerDep, ReaderDep, StoreDep
+from app.api.deps import OwnerDep, ReaderDep, StoreDep, not_a_link
 from app.api.schemas.calibrations import (
     ApplyIn,
     ApplyOut,
@@ -193,6 +193,7 @@ def check_calibration(calibration_id: str, request: CheckIn, store: StoreDep, ow
 
 @router.get(
     "/{calibration_id}/compare",
+    dependencies=[Depends(not_a_link)],
     response_model=CompareOut,
     response_model_by_alias=True,
     summary="Compare two calibrations of a device",
