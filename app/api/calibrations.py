@@ -181,7 +181,12 @@ def apply(calibration_id: str, request: ApplyIn, store: StoreDep, owner: OwnerDe
     return {"samples": np.asarray(calibrated).tolist(), "unit": body.get("output_unit")}
 
 
-@router.post("/{calibration_id}/check", response_model=CheckOut, summary="Check a calibration on a new recording")
+@router.post(
+    "/{calibration_id}/check",
+    dependencies=[Depends(not_a_link)],
+    response_model=CheckOut,
+    summary="Check a calibration on a new recording",
+)
 def check_calibration(calibration_id: str, request: CheckIn, store: StoreDep, owner: OwnerDep) -> dict[str, Any]:
     """The calibration applied to a new recording of the device: keep it, calibrate again (naming what drifted),
     move the compass, or cannot tell (saying what to record)."""

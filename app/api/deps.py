@@ -84,12 +84,12 @@ def link_owner(request: Request, token: str | None) -> tuple[bool, str | None]:
 
 def not_a_link(request: Request) -> None:
     """Refuse a short link's token where a request would read more than the link's one calibration (a comparison
-    names another): a link reads its own calibration only."""
+    names another, a check a recording): a link reads its own calibration only."""
     token = bearer_token(request)
     if token is not None and token.startswith(LINK_TOKEN_PREFIX):
         raise Unauthorized(
-            "a link reads its own calibration only: compare two calibrations with the API key or the session that "
-            "made them"
+            "a link reads its own calibration only: check or compare calibrations with the API key or the session "
+            "that made them"
         )
 
 

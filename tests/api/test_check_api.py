@@ -133,8 +133,9 @@ def test_a_flight_log_s_compass_is_not_checked_and_the_answer_says_what_to_do(cl
     assert "turn through all directions" in out["reasons"][0] and "compare the two" in out["reasons"][0]
 
 
-def test_a_link_reads_its_own_calibration_and_compares_it_with_none(client, compass):
-    """A short link's token reads its one calibration: a comparison names another, so it is refused (401)."""
+def test_a_link_reads_its_own_calibration_and_neither_checks_nor_compares_it(client, compass):
+    """A short link's token reads its one calibration: a comparison names another and a check reads a recording, so
+    both are refused (401)."""
     cal = compass[0]
     other = client.post(
         "/api/v1/calibrations", json={"method": "magnetometer", "mag": simulate_session(32, n=300)[0].tolist()}
@@ -148,3 +149,9 @@ def test_a_link_reads_its_own_calibration_and_compares_it_with_none(client, comp
     )
     assert r.status_code == 401 and "its own calibration only" in r.json()["detail"]
     assert client.get(f"/api/v1/calibrations/{cal['id']}/compare", params={"with": other["id"]}).status_code == 200
+    r = client.post(
+        f"/api/v1/calibrations/{cal['id']}/check",
+        json={"recording_id": "rec_any"},
+        headers={"Authorization": f"Bearer {token}"},
+    )
+    assert r.status_code == 401 and "its own calibration only" in r.json()["detail"]
