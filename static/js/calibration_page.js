@@ -111,11 +111,12 @@ async function load() {
   }
 }
 
-// Check it on a new recording (POST …/{id}/check): the upload, then the verdict. Only a correction is checked.
+// Check it on a new recording (POST …/{id}/check): the upload, then the verdict. Only a correction is checked,
+// and not through a short link (lnk_…), which reads its one calibration only.
 let checking = null;
 function offerCheck(cal, token) {
   checking = { cal, token };
-  $("#check-card").hidden = !kindOf(cal).correction;
+  $("#check-card").hidden = !kindOf(cal).correction || Boolean(token?.startsWith("lnk_"));
 }
 
 $("#check-form").addEventListener("submit", async (event) => {
