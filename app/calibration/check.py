@@ -38,6 +38,7 @@ The device's verdict is its worst sensor's, in the order move the compass, calib
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -52,7 +53,15 @@ from .compare import (
     correction_half_widths,
 )
 from .magnetometer.coverage import coverage, face_of
-from .magnetometer.fit import MAX_SCALE_DEVIATION, MAX_SPREAD, MIN_COVERAGE, MIN_READINGS, fit_magnetometer
+from .magnetometer.fit import (
+    MAX_INCLINATION_ERROR_DEG,
+    MAX_SCALE_DEVIATION,
+    MAX_SPREAD,
+    MIN_COVERAGE,
+    MIN_READINGS,
+    fit_magnetometer,
+    measured_inclination,
+)
 from .shared.angles import ASSUMED_INCLINATION_DEG, heading_error_deg, tilt_error_deg
 from .shared.correction import AffineCorrection
 from .shared.errors import CalibrationError
@@ -378,6 +387,8 @@ def check_turn(
     field_ut: float | None = None,
     inclination_deg: float | None = None,
     half: Halves = (None, None),
+    rests=None,
+    dip_deg: float | None = None,
 ) -> SensorCheck:
     """Check a compass's correction on the readings of a new turn (module docstring).
 
@@ -394,6 +405,13 @@ def check_turn(
         The place's inclination, for the heading (60° assumed without it).
     half : (M's half-widths or None, o's half-widths or None)
         The current correction's 95 % half-widths, as :func:`check_still` takes them.
+    rests : sequence of (acc_mean, mag_mean), optional
+        Still moments of the device in the recording (the accelerometer's mean and the magnetometer's raw mean).
+    dip_deg : float, optional
+        The dip the field should show between them: the place's inclination, else the one the calibration measured.
+        With ``rests``, the dip of the corrected field at each rest (:func:`_dips`) more than
+        :data:`~app.calibration.magnetometer.fit.MAX_INCLINATION_ERROR_DEG` from it (RMS) names the compass's
+        orientation against the accelerometer as drifted (a compass remounted, or a board bent).
 
     Returns
     -------
@@ -483,16 +501,23 @@ def check_turn(
         inclination_deg=inc,
     )
     out = _finish("mag", current, fresh, drift, KEEP_TOLERANCE_UT, len(m), "heading", ("orientation",))
-    return SensorCheck(
-        out.sensor,
-        out.verdict,
-        notes + out.reasons,
-        out.count,
-        out.current,
-        out.fresh,
-        out.drifted,
-        out.drift,
-        "heading",
+    if not rests or dip_deg is None:
+        return dataclasses.replace(out, reasons=notes + out.reasons)
+    dips = _dips(rests, correction)
+    off = float(np.sqrt(np.mean((dips - dip_deg) ** 2)))
+    if off <= MAX_INCLINATION_ERROR_DEG:
+        return dataclasses.replace(out, reasons=notes + out.reasons)
+    turned = (
+        f"where the device rested the field dips {np.min(dips):.1f}°–{np.max(dips):.1f}° under the horizontal, "
+        f"{dip_deg:.1f}° expected ({off:.1f}° RMS apart, more than {MAX_INCLINATION_ERROR_DEG:.0f}°): the compass "
+        "turned against the accelerometer (remounted, or the board bent) — calibrate again, the compass with the "
+        "accelerometer at rest"
+    )
+    return dataclasses.replace(
+        out,
+        verdict=AGAIN,
+        reasons=(*notes, *out.reasons, turned) if out.verdict == AGAIN else (*notes, turned),
+        drifted=(*out.drifted, "orientation"),
     )
 
 
@@ -542,6 +567,7 @@ def check(
     still_means=None,
     labels=None,
     mag=None,
+    rests=None,
     gyr_rest=None,
     field_ut: float | None = None,
     inclination_deg: float | None = None,
@@ -558,6 +584,9 @@ def check(
         The axis up in each still pose, where each is known (:func:`check_still`).
     mag : array_like, shape (N, 3), optional
         A turn's magnetometer readings.
+    rests : sequence of (acc_mean, mag_mean), optional
+        Still moments of the turn, for the compass's orientation against the accelerometer (:func:`check_turn`): its
+        dip set against the place's inclination, else the one the calibration measured.
     gyr_rest : array_like, shape (N, 3), optional
         The gyroscope at rest.
     field_ut, inclination_deg : float, optional
@@ -602,11 +631,26 @@ def check(
                 field_ut=field,
                 inclination_deg=inclination_deg,
                 half=halves.get("mag", (None, None)),
+                rests=rests,
+                dip_deg=inclination_deg if inclination_deg is not None else _measured_dip(result),
             )
         )
     if "gyr" in sensors:
         checks.append(check_rest(corrections["gyr"], gyr_rest))
     return combined(checks)
+
+
+def _dips(rests, correction: AffineCorrection) -> np.ndarray:
+    """The dip of the corrected field under the horizontal at each rest: the angle between the accelerometer's up
+    and the field is 90° + I (:func:`app.calibration.magnetometer.fit.measured_inclination`, rest by rest). A compass
+    that turned against the accelerometer reads a dip that changes with the attitude; one that did not, the same."""
+    return np.array([measured_inclination([rest], correction.M, correction.o) for rest in rests], dtype=float)
+
+
+def _measured_dip(result: CalibrationResult) -> float | None:
+    """The dip a compass calibration measured between its accelerometer's rests and its field, where it did."""
+    dip = result.metrics.get("measured_inclination_deg") if isinstance(result.metrics, dict) else None
+    return float(dip) if isinstance(dip, (int, float)) else None
 
 
 def combined(checks) -> CheckResult:

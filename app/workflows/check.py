@@ -59,12 +59,13 @@ def _unit_words(unit: str | None) -> str | None:
 
 def readings_of(result: CalibrationResult, log: LogData) -> dict[str, Any]:
     """What a recording gives the check of a result: the still poses' means and their labels (the accelerometer),
-    the readings of the turn (the magnetometer), the gyroscope during the longest rest; each in the unit of the
-    result's correction of that sensor, and only for the sensors it corrects."""
+    the readings of the turn and its still moments beside the accelerometer's (the magnetometer), the gyroscope during
+    the longest rest; each in the unit of the result's correction of that sensor, and only for the sensors it
+    corrects."""
     corrections = result.corrections()
     out: dict[str, Any] = {}
     segments: list[dict[str, Any]] = []
-    if log.acc is not None and ("acc" in corrections or "gyr" in corrections):
+    if log.acc is not None and set(corrections) & {"acc", "gyr", "mag"}:
         segments, _ = still_segments(log)
     if "acc" in corrections and log.acc is not None:
         means = np.array([s["acc_mean"] for s in segments], dtype=float).reshape(-1, 3)
@@ -75,13 +76,16 @@ def readings_of(result: CalibrationResult, log: LogData) -> dict[str, Any]:
         if 0 < len(labels) <= MAX_LABELLED_POSES and all(labels):
             out["labels"] = labels
     if "mag" in corrections and log.mag is not None:
-        out["mag"] = _in_unit(
-            _finite(log.mag),
-            "mag",
-            log.units.get("mag"),
-            _unit_words(corrections["mag"].input_unit),
-            "mag_unit",
-        )
+        mag_unit = log.units.get("mag"), _unit_words(corrections["mag"].input_unit)
+        out["mag"] = _in_unit(_finite(log.mag), "mag", *mag_unit, "mag_unit")
+        # The still moments of the turn: the accelerometer's up beside the field (the compass's orientation).
+        rests = [
+            (np.asarray(s["acc_mean"], dtype=float), _finite(log.mag[s["start"] : s["end"]]).mean(axis=0))
+            for s in segments
+            if len(_finite(log.mag[s["start"] : s["end"]]))
+        ]
+        if rests:
+            out["rests"] = [(acc, _in_unit(mag, "mag", *mag_unit, "mag_unit")) for acc, mag in rests]
     if "gyr" in corrections and log.gyr is not None and segments:
         longest = max(segments, key=lambda s: s["end"] - s["start"])
         out["gyr_rest"] = _in_unit(
@@ -137,6 +141,8 @@ def check_recording(
             f"{', '.join(result.corrections()) or 'nothing'}: check it on a recording of a sensor it corrects"
         )
     flight_compass = found.pop("mag") if log.flight is not None and "mag" in found else None
+    if flight_compass is not None:
+        found.pop("rests", None)
     checks = list(check(result, field_ut=field_ut, inclination_deg=inclination_deg, **found).sensors) if found else []
     if flight_compass is not None:
         checks.append(SensorCheck("mag", CANNOT, (FLIGHT_COMPASS,), len(flight_compass)))

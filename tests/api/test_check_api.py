@@ -11,7 +11,7 @@ from pydantic import TypeAdapter
 
 from app.api.schemas.calibrations import CheckOut, CompareOut
 from simulations.drift import disturbed_turn
-from simulations.magnetometer import simulate_session, simulate_turn
+from simulations.magnetometer import simulate_rests, simulate_session, simulate_turn
 from tests.api.test_pose_files import six, upload_files
 from tests.api.test_typed_contract import undescribed
 from tests.conftest import DATA
@@ -155,3 +155,49 @@ def test_a_link_reads_its_own_calibration_and_neither_checks_nor_compares_it(cli
         headers={"Authorization": f"Bearer {token}"},
     )
     assert r.status_code == 401 and "its own calibration only" in r.json()["detail"]
+
+
+def turn_with_rests(rng, m: np.ndarray, rests) -> bytes:
+    """A recording of acc and mag at 50 Hz: each rest 2 s, then a part of the turn (the accelerometer moving)."""
+    rows, step = [], len(m) // len(rests)
+    for k, (acc, mag) in enumerate(rests):
+        rows += [np.r_[acc + rng.normal(0, 0.01, 3), mag + rng.normal(0, 0.2, 3)] for _ in range(100)]
+        rows += [np.r_[[0.3, -0.2, 9.4] + rng.normal(0, 2.0, 3), v] for v in m[k * step : (k + 1) * step]]
+    data = np.array(rows)
+    buf = io.StringIO()
+    np.savetxt(
+        buf,
+        np.column_stack([np.arange(len(data)) / 50.0, data]),
+        delimiter=",",
+        fmt="%.6f",
+        comments="",
+        header="time_s,acc_x,acc_y,acc_z,mag_x,mag_y,mag_z",
+    )
+    return buf.getvalue().encode()
+
+
+def test_a_compass_remounted_against_the_accelerometer_is_named_by_the_rests_of_the_new_recording(client):
+    rng = np.random.default_rng(23)
+    m, M, b = simulate_session(23, n=1200, hard_iron_ut=40.0)
+    first = turn_with_rests(rng, m, simulate_rests(rng, M, b, inclination_deg=64.0, n=6))
+    up = client.post("/api/v1/recordings", files={"file": ("first.csv", first, "text/csv")}, data={"mag_unit": "uT"})
+    cal = client.post(
+        "/api/v1/calibrations", json={"method": "magnetometer", "recording_id": up.json()["id"], "field_ut": F}
+    ).json()
+    assert cal["metrics"]["measured_inclination_deg"] == pytest.approx(64.0, abs=1.0)
+    same = turn_with_rests(rng, simulate_turn(rng, M, b, n=1200), simulate_rests(rng, M, b, inclination_deg=64.0, n=6))
+    up = client.post("/api/v1/recordings", files={"file": ("same.csv", same, "text/csv")}, data={"mag_unit": "uT"})
+    assert check(client, cal["id"], up.json()["id"]).json()["verdict"] == "keep"
+    angle = np.radians(25.0)
+    remount = np.array([[np.cos(angle), 0.0, np.sin(angle)], [0.0, 1.0, 0.0], [-np.sin(angle), 0.0, np.cos(angle)]])
+    rests = [
+        (acc, np.linalg.solve(M, remount @ (M @ (mag - b))) + b)
+        for acc, mag in simulate_rests(rng, M, b, inclination_deg=64.0, n=6)
+    ]
+    again = turn_with_rests(rng, simulate_turn(rng, M, b, n=1200), rests)
+    up = client.post("/api/v1/recordings", files={"file": ("again.csv", again, "text/csv")}, data={"mag_unit": "uT"})
+    r = check(client, cal["id"], up.json()["id"])
+    assert r.status_code == 200, r.text
+    mag = r.json()["sensors"][0]
+    assert mag["verdict"] == "calibrate_again" and mag["drifted"] == ["orientation"], mag["reasons"]
+    assert "turned against the accelerometer" in mag["reasons"][-1]

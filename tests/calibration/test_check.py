@@ -14,7 +14,7 @@ from app.calibration.still.affine import fit_six_position
 from app.calibration.still.triangular import fit_triangular
 from simulations.drift import disturbed_turn, drifted_poses
 from simulations.free_poses import free_pose_session
-from simulations.magnetometer import EARTH_FIELD_UT, simulate_session, simulate_turn
+from simulations.magnetometer import EARTH_FIELD_UT, simulate_rests, simulate_session, simulate_turn
 from tests.conftest import DATA
 from tests.real_recordings import mpu6050_session1, mpu6050_session2, mpu9250_sessions
 
@@ -186,3 +186,18 @@ def test_a_recording_of_a_sensor_the_calibration_does_not_correct_is_refused():
     cal = compass(1)[3]
     with pytest.raises(Exception, match="corrects mag"):
         check(cal, still_means=np.ones((12, 3)))
+
+
+def test_a_compass_turned_against_the_accelerometer_is_named_by_the_dip_where_it_rested():
+    """The turn alone cannot see the compass's orientation; its rests beside the accelerometer can: the field dips
+    64° at the place, and a compass remounted 20° off reads another dip."""
+    rng, M, b, cal = compass(9)
+    turn = simulate_turn(rng, M, b, n=300)
+    level = check(cal, mag=turn, rests=simulate_rests(rng, M, b, n=8), inclination_deg=64.0).sensors[0]
+    assert level.verdict == KEEP, level.reasons
+    angle = np.radians(20.0)
+    remount = np.array([[1.0, 0.0, 0.0], [0.0, np.cos(angle), -np.sin(angle)], [0.0, np.sin(angle), np.cos(angle)]])
+    rests = [(acc, np.linalg.solve(M, remount @ (M @ (mag - b))) + b) for acc, mag in simulate_rests(rng, M, b, n=8)]
+    turned = check(cal, mag=turn, rests=rests, inclination_deg=64.0).sensors[0]
+    assert turned.verdict == AGAIN and turned.drifted == ("orientation",)
+    assert "turned against the accelerometer" in turned.reasons[-1]
