@@ -23,7 +23,13 @@ from tests.live_server import ROOT
 
 TRICAL = Path(sys.executable).parent / "trical"
 LOG = DATA / "six_orientations_150hz.csv"
-VALID_POSITIONALS = {"log": str(LOG), "path": str(LOG), "id": "cal_missing", "port": "/dev/ttyACM0"}
+VALID_POSITIONALS = {
+    "log": str(LOG),
+    "path": str(LOG),
+    "id": "cal_missing",
+    "other": "cal_missing",
+    "port": "/dev/ttyACM0",
+}
 
 
 @pytest.fixture(scope="module")
@@ -108,6 +114,8 @@ def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
         "temperature",
         "export",
         "capture",
+        "check",
+        "compare",
     }
     results = [run_in_process(args, env) for args in cases]
     failures = []

@@ -1,22 +1,32 @@
-"""Routes of /api/v1/calibrations: compute and store, read, list, export, apply."""
+"""Routes of /api/v1/calibrations: compute and store, read, list, export, apply, check, compare."""
 
 from __future__ import annotations
 
 from typing import Any
 
 import numpy as np
-from fastapi import APIRouter, Query
+from fastapi import APIRouter, Depends, Query
 from fastapi.responses import Response
 from starlette.concurrency import run_in_threadpool
 
 from app import methods
-from app.api.deps import OwnerDep, ReaderDep, StoreDep
-from app.api.schemas.calibrations import ApplyIn, ApplyOut, CalibrationList, CalibrationOut, SnippetsOut
+from app.api.deps import OwnerDep, ReaderDep, StoreDep, not_a_link
+from app.api.schemas.calibrations import (
+    ApplyIn,
+    ApplyOut,
+    CalibrationList,
+    CalibrationOut,
+    CheckIn,
+    CheckOut,
+    CompareOut,
+    SnippetsOut,
+)
 from app.io.exports.snippets import usage_snippets
 from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict
 from app.words import render_body
+from app.workflows.check import check_source, compare_calibrations
 from app.workflows.recordings import RecordingSource
 from app.workflows.results import apply_calibration
 
@@ -169,3 +179,40 @@ def apply(calibration_id: str, request: ApplyIn, store: StoreDep, owner: OwnerDe
     body = store.get_calibration(calibration_id, owner=owner)
     calibrated = apply_calibration(body, request.samples, request.sensor)
     return {"samples": np.asarray(calibrated).tolist(), "unit": body.get("output_unit")}
+
+
+@router.post(
+    "/{calibration_id}/check",
+    dependencies=[Depends(not_a_link)],
+    response_model=CheckOut,
+    summary="Check a calibration on a new recording",
+)
+def check_calibration(calibration_id: str, request: CheckIn, store: StoreDep, owner: OwnerDep) -> dict[str, Any]:
+    """The calibration applied to a new recording of the device: keep it, calibrate again (naming what drifted),
+    move the compass, or cannot tell (saying what to record)."""
+    body = store.get_calibration(calibration_id, owner=owner)
+    meta, path = store.get_recording(request.recording_id, owner=owner)
+    source = RecordingSource(meta=meta, path=path, id=request.recording_id)
+    return check_source(body, source, field_ut=request.field_ut, inclination_deg=request.inclination_deg)
+
+
+@router.get(
+    "/{calibration_id}/compare",
+    dependencies=[Depends(not_a_link)],
+    response_model=CompareOut,
+    response_model_by_alias=True,
+    summary="Compare two calibrations of a device",
+)
+def compare_with(
+    *,
+    calibration_id: str,
+    other: str = Query(..., alias="with", max_length=200, description="The other calibration's id (B; this is A)."),
+    field_ut: float | None = Query(None, gt=0, le=1000, description="The place's field F in µT, for the heading."),
+    inclination_deg: float | None = Query(None, ge=-90, le=90, description="The place's inclination (60° assumed)."),
+    store: StoreDep,
+    owner: OwnerDep,
+) -> dict[str, Any]:
+    """The differences B − A per parameter, with their intervals (which are real) and their effect in degrees."""
+    a = store.get_calibration(calibration_id, owner=owner)
+    b = store.get_calibration(other, owner=owner)
+    return compare_calibrations(a, b, field_ut=field_ut, inclination_deg=inclination_deg)

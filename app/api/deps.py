@@ -82,6 +82,17 @@ def link_owner(request: Request, token: str | None) -> tuple[bool, str | None]:
     return True, link["owner"]
 
 
+def not_a_link(request: Request) -> None:
+    """Refuse a short link's token where a request would read more than the link's one calibration (a comparison
+    names another, a check a recording): a link reads its own calibration only."""
+    token = bearer_token(request)
+    if token is not None and token.startswith(LINK_TOKEN_PREFIX):
+        raise Unauthorized(
+            "a link reads its own calibration only: check or compare calibrations with the API key or the session "
+            "that made them"
+        )
+
+
 def asks_the_store(token: str | None) -> bool:
     """Whether telling who holds ``token`` reads the store (a session's or a link's token): done in a worker
     thread then, and in memory for an API key or no token."""

@@ -380,6 +380,55 @@ def _add_export(sub) -> None:
     )
 
 
+def _place_options(parser: argparse.ArgumentParser) -> None:
+    """The place's field and inclination a compass's heading is told at (``trical check``, ``trical compare``)."""
+    parser.add_argument(
+        "--field-ut",
+        type=opt.FIELD_UT,
+        default=None,
+        help="the place's field in uT (default: the calibration's own, else the turn's)",
+    )
+    parser.add_argument(
+        "--inclination-deg",
+        type=opt.INCLINATION,
+        default=None,
+        help="the place's inclination in degrees, for the heading (default: 60 assumed)",
+    )
+
+
+def _add_check(sub) -> None:
+    """``trical check``: a stored calibration checked on a new recording of the device."""
+    c = sub.add_parser(
+        "check",
+        help="check a calibration on a new recording: keep it, calibrate again, or move the compass",
+    )
+    c.add_argument(
+        "id",
+        type=opt.text("a calibration id or file"),
+        help="calibration id (cal_...) or a calibration's JSON file (trical calibrate --json)",
+    )
+    c.add_argument("log", type=opt.input_path("a recording"), help="the new recording: still poses, a turn, a rest")
+    c.add_argument(
+        "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="needed when the log has no time column"
+    )
+    c.add_argument("--unit", choices=UNITS_IN["acc"], default=None, help="accelerometer unit of the log")
+    _unit_options(c)
+    _read_options(c)
+    _place_options(c)
+    c.add_argument("--json", action="store_true", help="print the API's JSON")
+
+
+def _add_compare(sub) -> None:
+    """``trical compare``: two stored calibrations of a device, parameter by parameter."""
+    c = sub.add_parser("compare", help="compare two calibrations of a device, parameter by parameter")
+    c.add_argument("id", type=opt.text("a calibration id or file"), help="the first calibration, A (id or JSON file)")
+    c.add_argument(
+        "other", type=opt.text("a calibration id or file"), help="the second, B (id or JSON file): B − A is told"
+    )
+    _place_options(c)
+    c.add_argument("--json", action="store_true", help="print the API's JSON")
+
+
 def _unit_options(parser: argparse.ArgumentParser) -> None:
     """The units of a text log's gyroscope and magnetometer and the counts per g of its accelerometer, as the
     upload's ``gyr_unit``, ``mag_unit`` and ``lsb_per_g`` say them (every command that reads a log takes them: a
@@ -451,6 +500,8 @@ _ADDERS = {
     "temperature": _add_temperature,
     "capture": _add_capture,
     "export": _add_export,
+    "check": _add_check,
+    "compare": _add_compare,
 }
 
 COMMANDS = tuple(_ADDERS)

@@ -291,3 +291,43 @@ def print_noise(body: dict, verbose: bool = False) -> None:
     for r in body["reasons"]:
         print(f"reason: {r}")
     print_notes(body["warnings"], verbose)
+
+
+def _interval(figure: dict | None) -> str:
+    if figure is None:
+        return "-"
+    angle = "" if figure.get("value_deg") is None else f", {figure['value_deg']:.2f}°"
+    return f"{figure['value']:.2f} {figure['unit']} (95 % {figure['low']:.2f}–{figure['high']:.2f}{angle})"
+
+
+def print_check(out: dict) -> None:
+    """A check's verdict, then each sensor's error now and a fresh calibration's, what drifted and the reasons."""
+    from app.calibration.check import VERDICT_WORDS
+
+    print(f"verdict: {VERDICT_WORDS[out['verdict']]}")
+    for s in out["sensors"]:
+        print(f"  {s['sensor']}: {VERDICT_WORDS[s['verdict']]} ({s['count']} readings)")
+        if s["current"] is not None:
+            print(f"    current calibration: {_interval(s['current'])}")
+        if s["fresh"] is not None:
+            print(f"    fresh calibration:   {_interval(s['fresh'])}")
+        if s["drifted"]:
+            print(f"    drifted: {', '.join(s['drifted'])}")
+        for reason in s["reasons"]:
+            print(f"    - {reason}")
+
+
+def print_comparison(out: dict) -> None:
+    """Two calibrations compared: per sensor, each parameter's difference B − A with its interval, the real ones
+    marked, and the effect as a tilt or a heading."""
+    print(f"{out['with'] or 'B'} − {out['calibration_id'] or 'A'}")
+    for s in out["sensors"]:
+        angle = "" if s["effect_deg"] is None else f", a {s['effect_kind']} off by up to {s['effect_deg']:.2f}°"
+        print(f"  {s['sensor']}: at most {s['effect']:.3g} {s['effect_unit']}{angle}")
+        for d in s["differences"]:
+            hw = "no interval" if d["half_width"] is None else f"± {d['half_width']:.3g}"
+            mark = "  real" if d["real"] else ""
+            axis = f" {d['axis']}" if d["axis"] else ""
+            print(f"    {d['parameter']}{axis}: {d['difference']:+.3g} {d['unit']} {hw}{mark}")
+    if out["missing"]:
+        print(f"  only one of them corrects: {', '.join(out['missing'])}")

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from app.calibration import CANONICAL_SIX, STANDARD_GRAVITY
+from app.calibration.check import VERDICT_WORDS as CHECK_VERDICT_WORDS
 from app.calibration.cube.protocols import CUBE24_ROTATIONS, cube24
 from app.calibration.cube.turns import TURN_WORDS
 from app.calibration.magnetometer import coverage as compass
@@ -197,7 +198,8 @@ def page_tables() -> dict:
         (app.web.metric_words: each figure's name, unit and meaning); ``sensorWords`` (:data:`SENSOR_TITLES`);
         ``unitWords`` (app.words: each unit as a person reads it) and ``asFitted`` (by model type, how the
         model as fitted relates to its correction: the result classes' ``AS_FITTED``); ``kinds`` (by model
-        type, what the result page shows of a result and which drawing draws it: the result classes' ``PAGE``).
+        type, what the result page shows of a result and which drawing draws it: the result classes' ``PAGE``);
+        ``checkVerdicts`` (a check's verdicts in words: app.calibration.check).
     """
     protocol = cube24()
     attitudes = np.rint(protocol.attitudes).astype(int) + 0  # quarter turns: exact integers
@@ -239,4 +241,5 @@ def page_tables() -> dict:
         "asFitted": as_fitted_words(),
         "kinds": page_kinds(),
         "sources": SOURCES,
+        "checkVerdicts": dict(CHECK_VERDICT_WORDS),
     }

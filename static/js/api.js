@@ -53,8 +53,8 @@ function json(method, payload, headers = {}) {
   return { method, headers: { "Content-Type": "application/json", ...headers }, body: JSON.stringify(payload) };
 }
 
-export function uploadRecording(formData) {
-  return request("/api/v1/recordings", { method: "POST", body: formData });
+export function uploadRecording(formData, token = null) {
+  return request("/api/v1/recordings", { method: "POST", body: formData, headers: bearer(token) });
 }
 
 export function createCalibration(payload) {
@@ -129,4 +129,16 @@ export function createLink(id, token = null) {
 // What a link's code opens: {calibration_id, expires_at, token}.
 export function openLink(code) {
   return request(`/api/v1/links/${encodeURIComponent(code)}`);
+}
+
+// A stored calibration checked on an uploaded recording: {verdict, reasons, sensors}.
+export function checkCalibration(id, recordingId, token = null) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/check`,
+    json("POST", { recording_id: recordingId }, bearer(token)));
+}
+
+// Two calibrations compared, `other` − `id`: {sensors: [{differences, effect, effect_deg, …}], missing}.
+export function compareCalibrations(id, other, token = null) {
+  const query = new URLSearchParams({ with: other });
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/compare?${query}`, { headers: bearer(token) });
 }

@@ -1,6 +1,8 @@
 // A stored calibration's own page, /c/{id} (or /c/latest?device=NAME): read through the API with
 // the token this browser keeps for it (tokens.js), then shown by the one result view (result_view.js).
-import { ApiError, getCalibration, listCalibrations, openLink } from "./api.js";
+import { ApiError, checkCalibration, getCalibration, listCalibrations, openLink, uploadRecording } from "./api.js";
+import { checkBlock } from "./check_view.js";
+import { kindOf } from "./result_kinds.js";
 import { showCalibration } from "./result_view.js";
 import { TABLES } from "./tables.js";
 import { candidates, rememberApiKey, rememberToken, sessionTokens } from "./tokens.js";
@@ -89,6 +91,7 @@ async function load() {
     showReadings(cal);
     document.title = `${cal.device_id ? `${cal.device_id}: ` : ""}calibration ${cal.id} — trical`;
     showCalibration(cal, token);
+    offerCheck(cal, token);
     $("#status").textContent = `Calibration ${cal.id}. ${cal.verdict.words}`;
   } catch (err) {
     $("#cal-loading").hidden = true;
@@ -107,6 +110,36 @@ async function load() {
     $("#status").textContent = why;
   }
 }
+
+// Check it on a new recording (POST …/{id}/check): the upload, then the verdict. Only a correction is checked,
+// and not through a short link (lnk_…), which reads its one calibration only.
+let checking = null;
+function offerCheck(cal, token) {
+  checking = { cal, token };
+  $("#check-card").hidden = !kindOf(cal).correction || Boolean(token?.startsWith("lnk_"));
+}
+
+$("#check-form").addEventListener("submit", async (event) => {
+  event.preventDefault();
+  if (!checking) return;
+  const { cal, token } = checking;
+  const file = $("#check-file").files[0];
+  if (!file) return;
+  const data = new FormData();
+  data.append("file", file);
+  $("#check-result").replaceChildren();
+  $("#check-msg").textContent = "Uploading…";
+  try {
+    const rec = await uploadRecording(data, token);
+    $("#check-msg").textContent = "Checking…";
+    const out = await checkCalibration(cal.id, rec.id, token);
+    $("#check-msg").textContent = "";
+    $("#check-result").replaceChildren(checkBlock(out));
+    $("#status").textContent = `Checked: ${TABLES.checkVerdicts[out.verdict]}.`;
+  } catch (err) {
+    $("#check-msg").textContent = `The check could not be made: ${err.message}.`;
+  }
+});
 
 $("#cal-key-form").addEventListener("submit", (event) => {
   event.preventDefault();

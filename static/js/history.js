@@ -2,7 +2,9 @@
 // each wizard session's token kept in tokens.js), newest first, filtered by device; a device's
 // latest calibration is one link, /c/latest?device=NAME. One row per recording and method: a reading of the
 // same upload again supersedes the earlier ones, which "N earlier" under its date shows in place.
-import { getCalibration, listCalibrations, listEarlier } from "./api.js";
+import { compareCalibrations, getCalibration, listCalibrations, listEarlier } from "./api.js";
+import { comparisonBlock } from "./check_view.js";
+import { kindOf } from "./result_kinds.js";
 import { TABLES } from "./tables.js";
 import { apiKey, linkedCalibrations, rememberApiKey, sessionTokens } from "./tokens.js";
 import { $, cell, el } from "./dom.js";
@@ -106,9 +108,43 @@ function render() {
     $("#history-latest-link").href = `/c/latest?device=${encodeURIComponent(device)}`;
     $("#history-latest-link").textContent = `The latest calibration of ${device}`;
   }
+  offerComparison(shown);
   const url = device ? `/history?device=${encodeURIComponent(device)}` : "/history";
   if (location.pathname + location.search !== url) history.replaceState(null, "", url);
 }
+
+// Compare two of the calibrations shown (GET …/{id}/compare?with=…): the older A, the newer B by default.
+function offerComparison(shown) {
+  const cals = shown.filter((c) => kindOf(c).correction);
+  const option = (c) => Object.assign(cell("option", `${when(c.created_at)} · ${c.device_id || "no device"} · `
+    + `${TABLES.methods[c.method] || c.method}`), { value: c.id });
+  for (const [id, pick] of [["#compare-a", Math.min(1, cals.length - 1)], ["#compare-b", 0]]) {
+    const select = $(id);
+    const kept = select.value;
+    select.replaceChildren(...cals.map(option));
+    select.value = cals.some((c) => c.id === kept) ? kept : cals[pick]?.id ?? "";
+  }
+  $("#compare-card").hidden = cals.length < 2;
+}
+
+$("#compare-form").addEventListener("submit", async (event) => {
+  event.preventDefault();
+  const a = $("#compare-a").value;
+  const b = $("#compare-b").value;
+  $("#compare-result").replaceChildren();
+  if (!a || !b || a === b) {
+    $("#compare-msg").textContent = "Choose two different calibrations.";
+    return;
+  }
+  $("#compare-msg").textContent = "Comparing…";
+  try {
+    const out = await compareCalibrations(a, b, readWith.get(a) ?? null);
+    $("#compare-msg").textContent = "";
+    $("#compare-result").replaceChildren(comparisonBlock(out));
+  } catch (err) {
+    $("#compare-msg").textContent = `They could not be compared: ${err.message}.`;
+  }
+});
 
 async function load() {
   const { cals, needKey } = await readAll();

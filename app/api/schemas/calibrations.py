@@ -150,3 +150,84 @@ class ApplyIn(Strict):
 class ApplyOut(BaseModel):
     samples: list[list[float]]
     unit: str
+
+
+class CheckIn(Strict):
+    recording_id: str = Field(
+        ...,
+        max_length=200,
+        description="An uploaded recording of the device (POST /api/v1/recordings): still poses, a compass turn, "
+        "a rest.",
+    )
+    field_ut: float | None = Field(
+        None, gt=0, le=1000, description="The place's field F in µT (default: the calibration's own, else the turn's)."
+    )
+    inclination_deg: float | None = Field(
+        None, ge=-90, le=90, description="The place's inclination, for the heading (default: 60° assumed)."
+    )
+
+
+Verdict: TypeAlias = Literal["keep", "calibrate_again", "move_the_compass", "cannot_tell"]
+
+
+class ErrorInterval(BaseModel):
+    value: float = Field(description="The error: mean | |a| − g | (mg), RMS | |h| − F | (µT) or the bias (°/s).")
+    low: float = Field(description="Its 95 % interval's lower end.")
+    high: float = Field(description="Its 95 % interval's upper end.")
+    unit: str
+    value_deg: float | None = Field(None, description="The error as the worst tilt or heading it allows, in °.")
+    high_deg: float | None = Field(None, description="The interval's upper end as an angle, in °.")
+
+
+class DifferenceOut(BaseModel):
+    sensor: Literal["acc", "gyr", "mag"]
+    group: Literal["offsets", "scales", "cross", "orientation"]
+    parameter: str = Field(description="The group as said of the sensor (offsets, hard iron, soft iron…).")
+    axis: str = Field(description="x, y, z; xy, xz, yz for a cross-axis term; empty for the orientation.")
+    difference: float = Field(description="B − A (a check: the fresh fit's drift from the current calibration).")
+    half_width: float | None = Field(description="Its 95 % half-width from both intervals; null without any.")
+    unit: str = Field(description="mg, µT, °/s or counts (offsets), ppm (scales), ° (cross-axis terms, orientation).")
+    real: bool | None = Field(description="Whether the interval excludes zero; null without an interval.")
+    difference_in_input_unit: float | None = Field(
+        description="An offset's difference in the readings' own unit (o_B − o_A); null for the other groups."
+    )
+    input_unit: str | None = Field(description="The readings' unit (counts are raw).")
+
+
+class SensorComparisonOut(BaseModel):
+    sensor: Literal["acc", "gyr", "mag"]
+    differences: list[DifferenceOut]
+    effect: float = Field(description="The largest difference the two corrections make to a vector of size g or F.")
+    effect_unit: str
+    effect_deg: float | None = Field(description="That difference as the worst tilt (acc) or heading (mag), in °.")
+    effect_kind: Literal["tilt", "heading"] | None
+    reference: float = Field(description="g or F in the calibrated unit.")
+    real: list[str] = Field(description="The real differences, in words.")
+
+
+class SensorCheckOut(BaseModel):
+    sensor: Literal["acc", "gyr", "mag"]
+    verdict: Verdict
+    reasons: list[str]
+    count: int = Field(description="Still poses, turn readings or rest samples checked.")
+    angle_kind: Literal["tilt", "heading"] | None
+    current: ErrorInterval | None = Field(description="The current calibration's error on the new readings.")
+    fresh: ErrorInterval | None = Field(description="A fresh calibration's error on the same readings.")
+    drifted: list[str] = Field(description="What drifted, in words (calibrate_again).")
+    drift: SensorComparisonOut | None = Field(description="The fresh fit's parameters against the current ones.")
+
+
+class CheckOut(BaseModel):
+    calibration_id: str | None
+    verdict: Verdict
+    reasons: list[str]
+    sensors: list[SensorCheckOut]
+
+
+class CompareOut(BaseModel):
+    calibration_id: str | None
+    with_: str | None = Field(alias="with", serialization_alias="with")
+    sensors: list[SensorComparisonOut]
+    missing: list[str] = Field(description="Sensors only one of the two corrects.")
+
+    model_config = {"populate_by_name": True}
