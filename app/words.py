@@ -165,6 +165,8 @@ VOCABULARY: dict[str, Term] = {
         Term("means", "the still readings", cli="the log file"),
         Term("segments", "the still segments", cli="the log file"),
         Term("mag", "the magnetometer's readings", cli="the log file"),
+        Term("firmware", "the firmware menu of the import", "{value} in the firmware menu of the import"),
+        Term("file_base64", "the file", cli="the file"),
     )
 }
 """Every parameter a message may name, and its words on the command line and on the page."""
