@@ -183,3 +183,24 @@ def test_an_ardupilot_file_outside_the_firmware_s_ranges_is_not_ok():
     assert not r.ok
     assert any("INS_ACCOFFS_X = 4 m/s/s is outside" in reason for reason in r.reasons)
     assert any("INS_ACCSCAL_X = 1.3 is outside" in reason for reason in r.reasons)
+
+
+def test_a_real_betaflight_4_0_diff_all_holds_its_zero_in_counts_at_2048_per_g():
+    r = read_calibration((REAL / "imports" / "betaflight_4.0_dysf4pro_diff_all.txt").read_bytes()).result
+    assert (r.firmware, r.version, r.file_kind) == ("Betaflight", "4.0.5", "Betaflight CLI diff/dump (DYSF4PRO (DYS4))")
+    # set acc_calibration = -137,-40,-65 (three values in 4.0): counts of 2048 per g
+    np.testing.assert_allclose(r.correction.o, np.array([-137, -40, -65]) * G / ACC_1G)
+    np.testing.assert_array_equal(r.correction.M, np.eye(3))
+    assert r.ok and r.sensors[0].parameters == {"acc_calibration": "-137,-40,-65"}
+
+
+def test_a_real_inav_2_4_diff_all_holds_its_zero_and_gain():
+    r = read_calibration((REAL / "imports" / "inav_2.4_matekf411_diff_all.txt").read_bytes()).result
+    assert (r.firmware, r.version) == ("INAV", "2.4.0") and r.ok
+    np.testing.assert_allclose(r.correction.o, np.array([94, -24, -125]) * G / ACC_1G)
+    np.testing.assert_allclose(np.diag(r.correction.M), np.array([4100, 4111, 4041]) / INAV_GAIN_ONE)
+    # written again, INAV gets the same whole numbers back: this file's round trip is exact
+    body = stored(imported_body_from_text((REAL / "imports" / "inav_2.4_matekf411_diff_all.txt").read_text()))
+    text = export_calibration(body, "inav").content
+    for line in ("set acczero_x = 94", "set acczero_z = -125", "set accgain_y = 4111", "set accgain_z = 4041"):
+        assert line in text.splitlines()

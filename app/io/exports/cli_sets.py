@@ -2,18 +2,20 @@
 
 Both firmwares hold the accelerometer's calibration in the sensor's raw counts, before the board's alignment:
 
-* Betaflight (``src/main/sensors/acceleration.c``, ``performAccelerometerCalibration`` and the update that
-  subtracts ``accelerationRuntime.accelerationTrims->raw``): ``accADC_i = m_i − acc_calibration_i``, in counts of
-  ``acc_1G`` per g; 4.3 and later store it as ``set acc_calibration = x,y,z,1`` (the last value: calibration done),
-  earlier 4.x and 3.x as ``acc_zero_x``, ``acc_zero_y``, ``acc_zero_z``. Betaflight holds no scale.
-* INAV (``src/main/sensors/acceleration.c``, ``applyAccelerationZero``): ``accADC_i = (m_i − acczero_i) ·
-  accgain_i / 4096``, counts of ``acc_1G`` per g: a gain of 4096 is 1.0.
+* Betaflight (``src/main/sensors/acceleration.c``, the update that subtracts
+  ``accelerationRuntime.accelerationTrims->raw``): ``accADC_i = m_i − acc_calibration_i``, in counts of ``acc_1G``
+  per g; 4.0 and later store it as ``set acc_calibration = x,y,z`` (a real 4.0.5 ``diff all`` has three values;
+  4.3 added a fourth, 1 once calibrated), 3.x as ``acc_zero_x``, ``acc_zero_y``, ``acc_zero_z``. Betaflight holds
+  no scale.
+* INAV (``src/main/sensors/acceleration.c``, ``applyAccelerationZero``, before ``applySensorAlignment``):
+  ``accADC_i = (m_i − acczero_i) · accgain_i / 4096``, counts of ``acc_1G`` per g: a gain of 4096 is 1.0
+  (``performAcclerationCalibration``: ``accGain = lrintf(scale · 4096)``).
 
-``acc_1G`` is the driver's: 2048 counts per g for the gyro-and-accelerometer parts both firmwares run at ±16 g
-(MPU-6000, MPU-6500, ICM-20602, ICM-42605, ICM-42688-P, BMI270: ``acc->acc_1G = 512 * 4`` in their drivers);
-a part with another ``acc_1G`` needs its own scale. In trical's m/s², ``o = zero · 9.80665 / acc_1G`` and
-``M = diag(gain / 4096)`` (Betaflight: ``M = I``). The values are whole numbers: a zero is rounded to
-1 / 2048 g (4.8 mm/s²), a gain to 1 / 4096 (0.024 %).
+``acc_1G`` is the driver's: 2048 counts per g for the parts both firmwares run at ±16 g (``acc->acc_1G = 512 * 4``
+in INAV's drivers of the MPU-6000, MPU-6500, ICM-42605, LSM6DSL, ASM330LHH and Betaflight's alike); INAV's
+MPU-6050 of an early revision has 1024, and a part with another ``acc_1G`` needs its numbers scaled. In trical's
+m/s², ``o = zero · 9.80665 / acc_1G`` and ``M = diag(gain / 4096)`` (Betaflight: ``M = I``). The values are whole
+numbers: a zero is rounded to 1 / 2048 g (4.8 mm/s²), a gain to 1 / 4096 (0.024 %).
 """
 
 from __future__ import annotations
@@ -72,7 +74,8 @@ def _whole(values, names, limits, target) -> list[int]:
 
 
 def to_betaflight(body: dict) -> Export:
-    """Betaflight CLI: ``set acc_calibration = x,y,z,1`` (4.3 and later), in counts at 2048 per g."""
+    """Betaflight CLI: ``set acc_calibration = x,y,z,1`` (4.3 and later; 4.0 to 4.2 take the first three), in counts
+    at 2048 per g."""
     offset, scale, how = offset_and_scale(body, "Betaflight")
     zero = _whole(counts_of(offset), [f"acc_calibration {a}" for a in "xyz"], INT16, "Betaflight")
     c = accelerometer_correction(body)
@@ -85,7 +88,7 @@ def to_betaflight(body: dict) -> Export:
         + ", ".join(f"{v:.5f}" for v in scale)
         + " are dropped) and no cross-axis terms; the compass's calibration is not written.",
         f"Rounded to whole counts: 1/{ACC_1G} g = {STANDARD_GRAVITY / ACC_1G * 1000:.2f} mm/s^2 at most half of that.",
-        "Betaflight 4.2 and older: set acc_zero_x/y/z to the same three numbers.",
+        "Betaflight 4.0 to 4.2: set acc_calibration to the first three numbers; 3.x: acc_zero_x/y/z.",
     ]
     lines = [f"# {c}" for c in comments]
     lines.append(f"set acc_calibration = {zero[0]},{zero[1]},{zero[2]},1")

@@ -53,8 +53,8 @@ def _to_mps2(counts) -> np.ndarray:
 
 
 def betaflight(values: dict[str, str], version: str | None, file_kind: str) -> ImportedCalibration:
-    """Betaflight's ``acc_calibration = x,y,z,done`` (4.3 and later) or ``acc_zero_x/y/z`` (3.x to 4.2): ``M = I``,
-    ``o`` the zero in m/s² (Betaflight holds no scale).
+    """Betaflight's ``acc_calibration = x,y,z`` (4.0 and later; 4.3 adds a fourth value, 1 once calibrated) or
+    ``acc_zero_x/y/z`` (3.x): ``M = I``, ``o`` the zero in m/s² (Betaflight holds no scale).
 
     Raises
     ------
