@@ -303,6 +303,10 @@ class CompassFlightIn(Strict):
         return self
 
 
+ImportFirmware = Literal["ardupilot", "px4", "betaflight", "inav", "trical"]
+"""The families an import may be forced to (app.io.imports.FIRMWARES, which a test holds it to)."""
+
+
 class ImportIn(Strict):
     """A calibration a device already holds, brought in from the file its firmware or ground station wrote
     (issue 47): ArduPilot, PX4, Betaflight, INAV or trical's own JSON export."""
@@ -311,7 +315,7 @@ class ImportIn(Strict):
     file_base64: Annotated[str, Field(min_length=1, max_length=70_000_000)] = Field(
         description="The file's bytes, base64-encoded (POST /api/v1/calibrations/import takes the file itself)."
     )
-    firmware: Literal["ardupilot", "px4", "betaflight", "inav", "trical"] | None = Field(
+    firmware: ImportFirmware | None = Field(
         None, description="The file's family, where its content does not say it (it is otherwise recognised)."
     )
     instance: Annotated[int, Field(ge=0, le=3)] = Field(

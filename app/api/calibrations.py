@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import base64
 import io
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 import numpy as np
 from fastapi import APIRouter, File, Form, Query, UploadFile
@@ -15,7 +15,7 @@ from app import methods
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep
 from app.api.recordings import copy_limited
 from app.api.schemas.calibrations import ApplyIn, ApplyOut, CalibrationList, CalibrationOut, SnippetsOut
-from app.calibration_requests import ImportIn
+from app.calibration_requests import ImportFirmware, ImportIn
 from app.io.exports.snippets import usage_snippets
 from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
@@ -79,7 +79,7 @@ def import_calibration(
     device_id: Annotated[str | None, Form(min_length=1, max_length=200)] = None,
     label: Annotated[str | None, Form(max_length=500)] = None,
     firmware: Annotated[
-        Literal["ardupilot", "px4", "betaflight", "inav", "trical"] | None,
+        ImportFirmware | None,
         Form(description="The file's family, where its content does not say it."),
     ] = None,
     instance: Annotated[int, Form(ge=0, le=3, description="Which IMU and compass of a file holding several.")] = 0,

@@ -20,6 +20,7 @@ from typing import ClassVar
 import numpy as np
 
 from .shared.correction import AffineCorrection
+from .shared.errors import CalibrationError
 from .shared.gravity import STANDARD_GRAVITY
 from .shared.result import CalibrationResult, Figure, gate_fields
 from .shared.validation import as_samples
@@ -117,6 +118,15 @@ class ImportedCalibration(CalibrationResult):
 
     def corrected_sensors(self) -> tuple[str, ...]:
         return tuple(s.sensor for s in self.sensors)
+
+    def require_sensor(self, sensor: str | None) -> None:
+        """Refuse a sensor the file held no calibration of, naming those it held."""
+        held = self.corrected_sensors()
+        if sensor is not None and sensor not in held:
+            raise CalibrationError(
+                f"this imported calibration has no {sensor} model: the file held {', '.join(held)}; send `sensor` as "
+                "one of them"
+            )
 
     def apply(self, samples, sensor: str | None = None) -> np.ndarray:
         """Correct raw samples of one sensor (by default the first held) with its ``f = M (m − o)``."""

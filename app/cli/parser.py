@@ -382,6 +382,8 @@ def _add_export(sub) -> None:
 
 def _add_import(sub) -> None:
     """``trical import``: a device's own calibration, from its firmware's file."""
+    from app.io.imports import FIRMWARES
+
     i = sub.add_parser(
         "import",
         help="import the calibration a device already holds (ArduPilot, PX4, Betaflight, INAV, trical JSON)",
@@ -389,7 +391,7 @@ def _add_import(sub) -> None:
     i.add_argument("path", type=opt.input_path("the device's parameter file, log or CLI dump"), help="the file")
     i.add_argument(
         "--firmware",
-        choices=("ardupilot", "px4", "betaflight", "inav", "trical"),
+        choices=FIRMWARES,
         default=None,
         help="the file's family (default: recognised from its content)",
     )

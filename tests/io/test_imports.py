@@ -204,3 +204,12 @@ def test_a_real_inav_2_4_diff_all_holds_its_zero_and_gain():
     text = export_calibration(body, "inav").content
     for line in ("set acczero_x = 94", "set acczero_z = -125", "set accgain_y = 4111", "set accgain_z = 4041"):
         assert line in text.splitlines()
+
+
+def test_the_families_an_import_may_be_forced_to_are_one_list():
+    import typing
+
+    from app.calibration_requests import ImportFirmware
+    from app.io.imports import FIRMWARES
+
+    assert typing.get_args(ImportFirmware) == FIRMWARES

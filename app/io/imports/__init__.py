@@ -21,8 +21,15 @@ from ..errors import LogFormatError
 from ..flight import dataflash, ulog
 from . import ardupilot, cli_dump, parameters, px4, trical_json
 
-FIRMWARES = ("ardupilot", "px4", "betaflight", "inav", "trical")
-"""What ``firmware`` may force (the format is otherwise recognised from the content)."""
+FIRMWARE_NAMES = {
+    "ardupilot": "ArduPilot",
+    "px4": "PX4",
+    "betaflight": "Betaflight",
+    "inav": "INAV",
+    "trical": "trical's JSON export",
+}
+"""What ``firmware`` may force (the format is otherwise recognised from the content), and its name for a person."""
+FIRMWARES = tuple(FIRMWARE_NAMES)
 
 ACCEPTED = (
     "ArduPilot parameter files (Mission Planner .param, MAVProxy .parm) and DataFlash logs (.bin); PX4's "
