@@ -232,7 +232,7 @@ _ENTRIES = (  # unannotated, so that mypy checks each request model against its 
         "imported",
         request=rq.ImportIn,
         handler=imports.imported,
-        response=None,
+        response="ImportedOut",
         command="import",
         formats=CORRECTION_EXPORTS,
         kind="a calibration imported from a device",

@@ -108,6 +108,7 @@ def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
         "temperature",
         "export",
         "capture",
+        "import",
     }
     results = [run_in_process(args, env) for args in cases]
     failures = []
