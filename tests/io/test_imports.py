@@ -213,3 +213,12 @@ def test_the_families_an_import_may_be_forced_to_are_one_list():
     from app.io.imports import FIRMWARES
 
     assert typing.get_args(ImportFirmware) == FIRMWARES
+
+
+def test_a_dataflash_log_s_banner_gives_the_version_and_an_old_dump_is_warned_of():
+    r = read_calibration((REAL / "flight" / "arducopter_4.6_backend_log_80k.bin").read_bytes()).result
+    assert (r.firmware, r.version, r.corrected_sensors()) == ("ArduPilot", "4.6.2", ("acc", "gyr", "mag"))
+    old = read_calibration(b"# INAV/SPRACINGF3 1.9.1 Dec 21 2020\nset acczero_x = 12\n").result
+    assert old.version == "1.9.1" and any("older than 2.0" in w for w in old.warnings) and old.ok
+    bare = read_calibration(b"set acc_calibration = 1,2,3,1\n").result
+    assert bare.firmware == "Betaflight" and any("no version line" in w for w in bare.warnings)

@@ -86,7 +86,8 @@ def to_betaflight(body: dict) -> Export:
         f"Offsets {how}.",
         "Not carried: Betaflight holds no scale (scales "
         + ", ".join(f"{v:.5f}" for v in scale)
-        + " are dropped) and no cross-axis terms; the compass's calibration is not written.",
+        + " are dropped) and no cross-axis terms; the compass's calibration is not written (Betaflight holds it in "
+        "the magnetometer's raw counts, whose scale a calibration in uT does not give).",
         f"Rounded to whole counts: 1/{ACC_1G} g = {STANDARD_GRAVITY / ACC_1G * 1000:.2f} mm/s^2 at most half of that.",
         "Betaflight 4.0 to 4.2: set acc_calibration to the first three numbers; 3.x: acc_zero_x/y/z.",
     ]
@@ -106,7 +107,8 @@ def to_inav(body: dict) -> Export:
         f"INAV corrects per axis in the sensor's raw counts ({INAV_SOURCE}),",
         f"  counts of acc_1G = {ACC_1G} per g (the parts run at +-16 g); gain {INAV_GAIN_ONE} = 1.0.",
         f"Offsets and scales {how}.",
-        "Not carried: cross-axis terms; the compass's calibration is not written.",
+        "Not carried: cross-axis terms; the compass's calibration is not written (INAV's magzero/maggain are in the "
+        "magnetometer's raw counts, whose scale a calibration in uT does not give).",
         f"Rounded to whole numbers: a zero to 1/{ACC_1G} g, a gain to 1/{INAV_GAIN_ONE}.",
     ]
     lines = [f"# {c}" for c in comments]

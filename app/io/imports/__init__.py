@@ -10,6 +10,7 @@ its ``set`` lines, and parameter files by the parameters they hold (ArduPilot's 
 from __future__ import annotations
 
 import json
+import re
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,6 +20,7 @@ from app.calibration.shared.result import CalibrationResult
 
 from ..errors import LogFormatError
 from ..flight import dataflash, ulog
+from ..flight.ardupilot import ardupilot_release
 from . import ardupilot, cli_dump, parameters, px4, trical_json
 
 FIRMWARE_NAMES = {
@@ -61,9 +63,11 @@ def _with_file(data: bytes, suffix: str, read):
         return read(path)
 
 
-def _dataflash_params(path: Path) -> dict[str, float]:
+def _dataflash_params(path: Path) -> tuple[dict[str, float], str | None]:
+    """The log's parameters, and the firmware's version its banner states (``ArduCopter V4.6.2`` → ``4.6.2``)."""
     reader, buf, _ = dataflash.open_log(path)
-    return dataflash.params(reader, buf)
+    found = re.search(r"\bV(\d+\.\d+(?:\.\d+)?)", ardupilot_release(reader, buf))
+    return dataflash.params(reader, buf), None if found is None else found.group(1)
 
 
 def _ulog_params(path: Path) -> tuple[dict[str, float], str | None]:
@@ -113,8 +117,8 @@ def read_calibration(data: bytes, *, firmware: str | None = None, instance: int 
     if firmware is not None and firmware not in FIRMWARES:
         raise _refuse(f"firmware {firmware!r} is not one trical reads: give one of {', '.join(FIRMWARES)}")
     if data.startswith(dataflash.MAGIC) and firmware in (None, "ardupilot"):
-        params = _with_file(data, ".bin", _dataflash_params)
-        result = _from_params("ardupilot", params, "DataFlash log PARM", None, instance)
+        params, version = _with_file(data, ".bin", _dataflash_params)
+        result = _from_params("ardupilot", params, "DataFlash log PARM", version, instance)
         return ImportedFile(result, "an ArduPilot DataFlash log's parameters")
     if data.startswith(ulog.MAGIC) and firmware in (None, "px4"):
         params, version = _with_file(data, ".ulg", _ulog_params)

@@ -74,6 +74,7 @@ def betaflight(values: dict[str, str], version: str | None, file_kind: str) -> I
     else:
         raise LookupError("no accelerometer calibration: neither acc_calibration nor acc_zero_x/y/z is set")
     reasons = _int16(params, zero)
+    warnings += _version_warning("Betaflight", version)
     mag = [n for n in ("mag_calibration", "mag_zero_x") if n in values]
     if mag:
         warnings.append(MAG_NOTE.format(names=", ".join(mag)))
@@ -107,7 +108,7 @@ def inav(values: dict[str, str], version: str | None, file_kind: str) -> Importe
     reasons = _int16(params, zero)
     lo, hi = INAV_GAIN_RANGE
     reasons += [f"accgain_{a} = {v:g} is outside INAV's {lo}…{hi}" for a, v in zip("xyz", gain) if not lo <= v <= hi]
-    warnings: list[str] = []
+    warnings = _version_warning("INAV", version)
     mag = [n for n in ("magzero_x", "maggain_x") if n in values]
     if mag:
         warnings.append(MAG_NOTE.format(names=", ".join(mag)))
@@ -121,6 +122,24 @@ def inav(values: dict[str, str], version: str | None, file_kind: str) -> Importe
         warnings=tuple(reasons + warnings),
         reasons=tuple(reasons),
     )
+
+
+SUPPORTED_FROM = {"Betaflight": (3, 0), "INAV": (2, 0)}
+"""The first release whose calibration trical reads as described (Betaflight's acc_zero_* from 3.x, acc_calibration
+from 4.0; INAV's acczero_*/accgain_* from 2.0)."""
+
+
+def _version_warning(firmware: str, version: str | None) -> list[str]:
+    """A warning for a release older than :data:`SUPPORTED_FROM`, or for a dump without a version line."""
+    if version is None:
+        return [f"the dump has no version line: read as {firmware} from {'.'.join(map(str, SUPPORTED_FROM[firmware]))}"]
+    parts = tuple(int(v) for v in version.split(".")[:2])
+    if parts < SUPPORTED_FROM[firmware]:
+        first = ".".join(map(str, SUPPORTED_FROM[firmware]))
+        return [
+            f"{firmware} {version} is older than {first}, the first release whose calibration trical reads: check it"
+        ]
+    return []
 
 
 def _int16(params: dict[str, str], zero) -> list[str]:
