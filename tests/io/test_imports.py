@@ -222,3 +222,26 @@ def test_a_dataflash_log_s_banner_gives_the_version_and_an_old_dump_is_warned_of
     assert old.version == "1.9.1" and any("older than 2.0" in w for w in old.warnings) and old.ok
     bare = read_calibration(b"set acc_calibration = 1,2,3,1\n").result
     assert bare.firmware == "Betaflight" and any("no version line" in w for w in bare.warnings)
+
+
+def test_a_real_mission_planner_param_file_with_two_imus_and_two_compasses():
+    path = REAL / "imports" / "ardupilot_holybro_x650_mandatory_hardware.param"
+    first = read_calibration(path.read_bytes())
+    assert first.recognised == "Mission Planner .param of ardupilot" and first.result.ok
+    c = first.result.corrections()
+    np.testing.assert_allclose(np.diag(c["acc"].M), [0.995622, 0.996019, 0.999418])
+    np.testing.assert_allclose(c["gyr"].o, [0.010204, -0.034151, 0.004063])
+    # COMPASS_DIA_* left out (0: never set) is 1, so the matrix is COMPASS_SCALE's; OFS in mGauss, o = -OFS / 10 µT
+    np.testing.assert_allclose(c["mag"].M, 1.025156 * np.eye(3))
+    np.testing.assert_allclose(c["mag"].o, [-2.363675, -1.5930922, -7.305943])
+    assert any("`instance` 1" in w for w in first.result.warnings)
+    second = read_calibration(path.read_bytes(), instance=1).result.corrections()
+    np.testing.assert_allclose(second["acc"].o, [-0.260936, 0.439903, 0.182458])
+    # COMPASS_SCALE2 times the symmetric matrix of DIA2 and ODI2
+    np.testing.assert_allclose(second["mag"].M[0], 0.941493 * np.array([1.041821, -0.010626, 0.091521]))
+    np.testing.assert_allclose(second["mag"].o, [-7.704732, 2.4457249, -6.897945])
+    body = imported_body(path, instance=1)
+    back = again(body, "ardupilot").corrections()
+    for name in second:
+        np.testing.assert_allclose(back[name].M, second[name].M, atol=1e-6)
+        np.testing.assert_allclose(back[name].o, second[name].o, atol=1e-6)

@@ -425,6 +425,7 @@ def _exact(body: dict, target: str) -> Export:
         f"The numbers {imported.get('firmware') or 'the device'} held ({imported.get('file_kind') or 'imported'}), "
         f"written for {target} as they are: nothing fitted, nothing dropped.",
         f"Frame: {imported.get('frame') or 'as imported'}.",
+        "Written as the first instance (INS_ACCOFFS, COMPASS_OFS; CAL_ACC0, CAL_MAG0): rename them for another.",
     ]
     lines = [f"# {c}" for c in comments]
     if target == "ArduPilot":

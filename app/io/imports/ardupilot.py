@@ -130,12 +130,14 @@ def from_parameters(
             f"no calibration of instance {instance}: none of {off_name}X, {gyro_name(instance)}X, "
             f"{ardupilot_name('OFS', instance)}_X"
         )
-    others = [n for n in (1, 2) if n != instance and acc_names(n)[0] + "X" in params]
+    others = [n for n in (0, 1, 2) if n != instance and acc_names(n)[0] + "X" in params]
     if others:
         warnings.append(
-            "the file also holds the calibration of IMU "
+            f"imported: IMU and compass {instance + 1} ({off_name}*); the file also holds the calibration of IMU "
             + ", ".join(str(n + 1) for n in others)
-            + f"; imported: IMU {instance + 1} ({off_name}*)"
+            + " (`instance` "
+            + ", ".join(str(n) for n in others)
+            + ")"
         )
     if params.get("AHRS_ORIENTATION"):
         warnings.append(
