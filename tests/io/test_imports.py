@@ -73,6 +73,10 @@ def test_a_mavproxy_parm_and_a_ulog_are_recognised_from_their_content():
     assert ulg.result.firmware == "PX4" and ulg.result.version == "1.11"
     # the README's CAL_MAG0 offsets (−0.003, −0.222, 0.029) G
     np.testing.assert_allclose(ulg.result.corrections()["mag"].o, [-0.25, -22.17, 2.91], atol=0.01)
+    # the external compass PX4 used, slot 1: the README's CAL_MAG1 offsets (0.029, 0.556, −0.388) G
+    assert any("`instance` 1" in w for w in ulg.result.warnings)
+    slot1 = read_calibration((REAL / "flight" / "sample_log_small.ulg").read_bytes(), instance=1).result
+    np.testing.assert_allclose(slot1.corrections()["mag"].o, [2.90, 55.55, -38.80], atol=0.01)
 
 
 @pytest.mark.parametrize(

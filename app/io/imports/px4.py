@@ -83,6 +83,21 @@ def from_parameters(
     if not sensors:
         raise LookupError(f"no calibration of slot {instance}: none of {acc}XOFF, {gyro}XOFF, {mag}XOFF")
     warnings = list(reasons)
+    others = [
+        n
+        for n in range(4)
+        if n != instance
+        and any(params.get(f"CAL_{kind}{n}_ID") and f"CAL_{kind}{n}_XOFF" in params for kind in ("ACC", "GYRO", "MAG"))
+    ]
+    if others:
+        warnings.append(
+            f"imported: slot {instance} (CAL_ACC{instance}, CAL_GYRO{instance}, CAL_MAG{instance}); the file also "
+            "holds the calibration of slot "
+            + ", ".join(map(str, others))
+            + " (`instance` "
+            + ", ".join(map(str, others))
+            + ")"
+        )
     comp = _vector(params, mag, "COMP", 0.0)
     if comp is not None and np.any(comp):
         warnings.append(f"{mag}XCOMP… (the motors' compensation) is not part of the correction imported")
