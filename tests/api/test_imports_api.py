@@ -46,3 +46,22 @@ def test_a_forced_family_and_a_file_of_no_accepted_kind_are_refused_with_their_c
         "/api/v1/calibrations/import", files={"file": ("x.txt", b"x", "text/plain")}, data={"firmware": "dji"}
     )
     assert r.status_code == 422 and r.json()["code"] == "invalid_request"
+
+
+def test_the_same_import_as_json_and_a_file_beyond_the_firmware_s_ranges_is_stored_not_ok(client):
+    import base64
+
+    text = b"INS_ACCOFFS_X,4.2\nINS_ACCOFFS_Y,0.1\nINS_ACCOFFS_Z,-0.2\nINS_ACCSCAL_X,1.01\n"
+    r = client.post(
+        "/api/v1/calibrations",
+        json={"method": "imported", "file_base64": base64.b64encode(text).decode("ascii"), "device_id": "old-fc"},
+    )
+    assert r.status_code == 201, r.text
+    body = r.json()
+    assert not body["ok"] and body["verdict"]["kind"] == "failed"
+    assert body["reasons"][0].startswith("INS_ACCOFFS_X = 4.2 m/s/s is outside ArduPilot's -3.5…3.5 m/s/s")
+    applied = client.post(f"/api/v1/calibrations/{body['id']}/apply", json={"samples": [[4.2, 0.1, 9.8]]})
+    assert applied.status_code == 200 and applied.json()["samples"][0][0] == 0.0
+    r = client.post("/api/v1/calibrations", json={"method": "imported", "file_base64": "not base64!"})
+    assert r.status_code == 422 and r.json()["code"] == "unrecognised_calibration", r.text
+    assert r.json()["detail"].startswith("`file_base64` is not base64")
