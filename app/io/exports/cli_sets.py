@@ -24,7 +24,7 @@ import numpy as np
 
 from ...calibration.shared.gravity import STANDARD_GRAVITY
 from ..errors import ExportError
-from .common import Export, accelerometer_correction, describe, result_class
+from .common import Export, accelerometer_correction, describe, only_compass, result_class
 from .params import offset_scale
 
 ACC_1G = 2048
@@ -47,7 +47,18 @@ def counts_of(offset_mps2) -> np.ndarray:
 def offset_and_scale(body: dict, target: str) -> tuple[np.ndarray, np.ndarray, str]:
     """The accelerometer's offset (m/s²) and per-axis scale for ``target``: an imported calibration's own numbers,
     else the firmware's model fitted on the correction as the ArduPilot export fits it (app.io.exports.params), and
-    a line saying which."""
+    a line saying which.
+
+    Raises
+    ------
+    ExportError
+        A compass's calibration (the firmware holds it in the magnetometer's raw counts), or one in counts.
+    """
+    if only_compass(body):
+        raise ExportError(
+            f"{target} holds a compass's calibration in the magnetometer's raw counts, whose scale a compass "
+            "calibration does not give, and trical writes only the accelerometer's: use the json export"
+        )
     if result_class(body).EXACT_PARAMETERS:
         c = accelerometer_correction(body)
         if body.get("unit") != "m/s^2":
