@@ -249,3 +249,13 @@ def test_a_real_mission_planner_param_file_with_two_imus_and_two_compasses():
     for name in second:
         np.testing.assert_allclose(back[name].M, second[name].M, atol=1e-6)
         np.testing.assert_allclose(back[name].o, second[name].o, atol=1e-6)
+
+
+def test_the_device_ids_a_calibration_belongs_to_are_kept_and_an_unused_px4_slot_is_said():
+    path = REAL / "imports" / "ardupilot_holybro_x650_mandatory_hardware.param"
+    r = read_calibration(path.read_bytes()).result
+    assert r.parameters["INS_ACC_ID"] == 3408650 and r.parameters["COMPASS_DEV_ID"] == 658953
+    px4 = read_calibration((REAL / "imports" / "px4_1.12_flight1_cal.params").read_bytes()).result
+    assert px4.parameters["CAL_ACC0_ID"] == 3932170 and px4.parameters["CAL_MAG0_ROT"] == -1
+    unused = read_calibration(b"1\t1\tCAL_ACC0_ID\t0\t6\n1\t1\tCAL_ACC0_XOFF\t0.1\t9\n").result
+    assert any(w.startswith("CAL_ACC0_ID 0: PX4 applies") for w in unused.warnings)

@@ -44,6 +44,13 @@ def acc_names(instance: int) -> tuple[str, str]:
     return f"INS_ACC{n}OFFS_", f"INS_ACC{n}SCAL_"
 
 
+def id_name(kind: str, instance: int) -> str:
+    """The device id of IMU or compass ``instance``: ``INS_ACC_ID``, ``INS_ACC2_ID``; ``COMPASS_DEV_ID``,
+    ``COMPASS_DEV_ID2`` (what a calibration belongs to: ArduPilot matches it at boot)."""
+    n = "" if instance == 0 else str(instance + 1)
+    return f"COMPASS_DEV_ID{n}" if kind == "MAG" else f"INS_{kind}{n}_ID"
+
+
 def gyro_name(instance: int) -> str:
     n = "" if instance == 0 else str(instance + 1)
     return f"INS_GYR{n}OFFS_"
@@ -77,7 +84,7 @@ def from_parameters(
     if offset is not None:
         scale = _vector(params, scale_name, 1.0)
         scale = np.ones(3) if scale is None else np.where(scale == 0.0, 1.0, scale)
-        names = [p + a for p in (off_name, scale_name) for a in XYZ]
+        names = [p + a for p in (off_name, scale_name) for a in XYZ] + [id_name("ACC", instance)]
         sensors.append(offset_scale_sensor("acc", offset, scale, "m/s^2", _read(params, names)))
         lo, hi = ARDUPILOT_OFFSET_RANGE
         reasons += [
@@ -93,7 +100,7 @@ def from_parameters(
         ]
     gyro = _vector(params, gyro_name(instance), 0.0)
     if gyro is not None:
-        names = [gyro_name(instance) + a for a in XYZ]
+        names = [gyro_name(instance) + a for a in XYZ] + [id_name("GYR", instance)]
         sensors.append(offset_scale_sensor("gyr", gyro, np.ones(3), "rad/s", _read(params, names)))
     ofs = _vector(params, ardupilot_name("OFS", instance) + "_", 0.0)
     if ofs is not None:
@@ -104,7 +111,7 @@ def from_parameters(
         scale_param = ardupilot_name("SCALE", instance)
         factor = params.get(scale_param, 0.0) or 1.0
         names = [ardupilot_name(g, instance) + "_" + a for g in ("OFS", "DIA", "ODI") for a in XYZ]
-        names += [scale_param, ardupilot_name("ORIENT", instance), "COMPASS_OFFS_MAX"]
+        names += [scale_param, ardupilot_name("ORIENT", instance), "COMPASS_OFFS_MAX", id_name("MAG", instance)]
         M = factor * symmetric(dia, odi)
         sensors.append(ImportedSensor("mag", M, -ofs / MGAUSS_PER_UT, "mGauss", _read(params, names)))
         limit = params.get("COMPASS_OFFS_MAX") or ARDUPILOT_OFFSET_MAX_MGAUSS

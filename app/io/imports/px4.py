@@ -98,6 +98,12 @@ def from_parameters(
             + ", ".join(map(str, others))
             + ")"
         )
+    unused = [f"CAL_{k}{instance}_ID" for k in ("ACC", "GYRO", "MAG") if params.get(f"CAL_{k}{instance}_ID") == 0]
+    if unused:
+        warnings.append(
+            f"{', '.join(unused)} 0: PX4 applies a slot's calibration to the sensor whose device id it holds, so "
+            "none of this slot's is in use"
+        )
     comp = _vector(params, mag, "COMP", 0.0)
     if comp is not None and np.any(comp):
         warnings.append(f"{mag}XCOMP… (the motors' compensation) is not part of the correction imported")
