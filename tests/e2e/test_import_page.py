@@ -33,7 +33,8 @@ def test_an_inav_diff_all_is_brought_in_from_the_history_page(browser, server, t
         page.wait_for_selector("#verdict-words")
         page.wait_for_function("document.querySelector('#verdict-words').textContent.length > 0")
         assert page.text_content("#verdict-words").startswith("Apply it")
-        assert "mini-ar-wing" in page.text_content("#cal-meta")
+        meta = page.text_content("#cal-meta")
+        assert "mini-ar-wing" in meta and "read from INAV 2.4.0 (INAV CLI diff/dump (MATEKF411))" in meta, meta
         assert re.search(r"/c/cal_[0-9a-f]{32}$", page.url)
         assert not errors, errors
     finally:
