@@ -41,7 +41,7 @@ def test_a_forced_family_and_a_file_of_no_accepted_kind_are_refused_with_their_c
         files={"file": ("x.txt", b"INS_ACCOFFS_X 0.1\n", "text/plain")},
         data={"firmware": "px4"},
     )
-    assert r.status_code == 422 and "of PX4 with 1 parameters but no calibration of slot 0" in r.json()["detail"]
+    assert r.status_code == 422 and "of PX4 with 1 parameter but no calibration of slot 0" in r.json()["detail"]
     r = client.post(
         "/api/v1/calibrations/import", files={"file": ("x.txt", b"x", "text/plain")}, data={"firmware": "dji"}
     )

@@ -259,3 +259,14 @@ def test_the_device_ids_a_calibration_belongs_to_are_kept_and_an_unused_px4_slot
     assert px4.parameters["CAL_ACC0_ID"] == 3932170 and px4.parameters["CAL_MAG0_ROT"] == -1
     unused = read_calibration(b"1\t1\tCAL_ACC0_ID\t0\t6\n1\t1\tCAL_ACC0_XOFF\t0.1\t9\n").result
     assert any(w.startswith("CAL_ACC0_ID 0: PX4 applies") for w in unused.warnings)
+
+
+def test_a_dump_s_calibration_line_that_is_not_a_number_is_named():
+    with pytest.raises(LogFormatError) as caught:
+        read_calibration(b"# INAV/MATEKF411 2.4.0 Feb 11 2020\nset acczero_x = abc\n")
+    assert str(caught.value) == (
+        "the file is an INAV CLI dump with 1 set line but `set acczero_x = abc` is not a number: give it the number "
+        "INAV's CLI printed"
+    )
+    with pytest.raises(LogFormatError, match="trical's JSON export but the JSON export lacks part of its model"):
+        read_calibration(b'{"$schema": "https://trical.dev/schema/calibration/v1", "model": [1, 2]}')

@@ -21,6 +21,7 @@ from app.calibration.shared.result import CalibrationResult
 from ..errors import LogFormatError
 from ..flight import dataflash, ulog
 from ..flight.ardupilot import ardupilot_release
+from ..plural import counted
 from . import ardupilot, cli_dump, parameters, px4, trical_json
 
 FIRMWARE_NAMES = {
@@ -84,7 +85,7 @@ def _from_params(family: str, params: dict[str, float], kind: str, version: str 
         return reader.from_parameters(params, file_kind=kind, version=version, instance=instance)
     except LookupError as exc:
         raise _refuse(
-            f"the file is {kind} of {reader.FIRMWARE} with {len(params)} parameters but {exc}: export the "
+            f"the file is {kind} of {reader.FIRMWARE} with {counted(len(params), 'parameter')} but {exc}: export the "
             "parameters after the sensors were calibrated"
         ) from None
 
@@ -145,7 +146,11 @@ def read_calibration(data: bytes, *, firmware: str | None = None, instance: int 
     family = firmware if firmware in ("ardupilot", "px4") else _family_of(params)
     if family is not None:
         return ImportedFile(_from_params(family, params, kind, version, instance), f"{kind} of {family}")
-    seen = f"{len(params)} parameters ({kind}) of no calibration" if params else "no parameter, set line or JSON"
+    seen = (
+        f"{counted(len(params), 'parameter')} ({kind}) of no calibration"
+        if params
+        else "no parameter, set line or JSON"
+    )
     raise _refuse(f"the file holds {seen}: give one of {ACCEPTED}, or name its family in `firmware`")
 
 
@@ -173,11 +178,11 @@ def _dump(firmware: str | None, dump, values: dict[str, str]) -> ImportedFile:
         name = "INAV" if any(k.startswith(("acczero_", "accgain_")) for k in values) else "Betaflight"
     kind = f"{name} CLI diff/dump" + (f" ({board})" if board else "")
     read = cli_dump.inav if name == "INAV" else cli_dump.betaflight
+    dump = f"the file is {'an' if name == 'INAV' else 'a'} {name} CLI dump with {counted(len(values), 'set line')}"
     try:
         result = read(values, version, kind)
+    except cli_dump.NotANumber as exc:
+        raise _refuse(f"{dump} but {exc}: give it the number {name}'s CLI printed") from None
     except LookupError as exc:
-        raise _refuse(
-            f"the file is a {name} CLI dump with {len(values)} set lines but {exc}: calibrate the accelerometer "
-            "and run diff all again"
-        ) from None
+        raise _refuse(f"{dump} but {exc}: calibrate the accelerometer and run diff all again") from None
     return ImportedFile(result, kind)

@@ -44,8 +44,26 @@ def firmware_of(text: str) -> tuple[str, str | None, str | None] | None:
     return name, m.group(2).strip(), m.group(3)
 
 
-def _ints(value: str) -> list[float]:
-    return [float(v) for v in value.replace(" ", "").split(",") if v]
+class NotANumber(ValueError):
+    """A ``set`` line of the calibration whose value is not a number (the message names the line)."""
+
+
+def _number(name: str, value: str) -> float:
+    """A value of a ``set`` line as a number.
+
+    Raises
+    ------
+    NotANumber
+        A value that is not a number, named with its line.
+    """
+    try:
+        return float(value)
+    except ValueError:
+        raise NotANumber(f"`set {name} = {value}` is not a number") from None
+
+
+def _ints(name: str, value: str) -> list[float]:
+    return [_number(name, v) for v in value.replace(" ", "").split(",") if v]
 
 
 def _to_mps2(counts) -> np.ndarray:
@@ -63,13 +81,13 @@ def betaflight(values: dict[str, str], version: str | None, file_kind: str) -> I
     """
     warnings: list[str] = []
     if "acc_calibration" in values:
-        numbers = _ints(values["acc_calibration"])
+        numbers = _ints("acc_calibration", values["acc_calibration"])
         zero = (numbers + [0.0, 0.0, 0.0])[:3]
         params = {"acc_calibration": values["acc_calibration"]}
         if len(numbers) >= 4 and numbers[3] == 0:
             warnings.append("acc_calibration's last value is 0: Betaflight counts the accelerometer as not calibrated")
     elif any(f"acc_zero_{a}" in values for a in "xyz"):
-        zero = [float(values.get(f"acc_zero_{a}", 0)) for a in "xyz"]
+        zero = [_number(f"acc_zero_{a}", values.get(f"acc_zero_{a}", "0")) for a in "xyz"]
         params = {f"acc_zero_{a}": values[f"acc_zero_{a}"] for a in "xyz" if f"acc_zero_{a}" in values}
     else:
         raise LookupError("no accelerometer calibration: neither acc_calibration nor acc_zero_x/y/z is set")
@@ -102,8 +120,8 @@ def inav(values: dict[str, str], version: str | None, file_kind: str) -> Importe
     names = [f"acczero_{a}" for a in "xyz"] + [f"accgain_{a}" for a in "xyz"]
     if not any(n in values for n in names):
         raise LookupError("no accelerometer calibration: none of acczero_x/y/z, accgain_x/y/z is set")
-    zero = [float(values.get(f"acczero_{a}", 0)) for a in "xyz"]
-    gain = np.array([float(values.get(f"accgain_{a}", INAV_GAIN_ONE)) for a in "xyz"])
+    zero = [_number(f"acczero_{a}", values.get(f"acczero_{a}", "0")) for a in "xyz"]
+    gain = np.array([_number(f"accgain_{a}", values.get(f"accgain_{a}", str(INAV_GAIN_ONE))) for a in "xyz"])
     params = {n: values[n] for n in names if n in values}
     reasons = _int16(params, zero)
     lo, hi = INAV_GAIN_RANGE

@@ -49,13 +49,13 @@ def from_export(doc: dict) -> tuple[CalibrationResult, dict]:
     body = body_of(doc)
     try:
         result = registry.from_dict(body)
-    except (KeyError, TypeError, ValueError) as exc:
+    except (AttributeError, IndexError, KeyError, TypeError, ValueError) as exc:
         if isinstance(exc, CalibrationError):
             raise
         raise CalibrationError(f"the JSON export lacks part of its model ({type(exc).__name__}: {exc})") from None
     fields: dict = {}
     gyro = doc.get("gyroscope")
-    if gyro:
+    if isinstance(gyro, dict) and gyro:
         fields["gyroscope_bias"] = {
             "rad_s": gyro["bias"],
             "half_width_rad_s": gyro["half_width"],
