@@ -312,7 +312,7 @@ class ImportIn(Strict):
     (issue 47): ArduPilot, PX4, Betaflight, INAV or trical's own JSON export."""
 
     method: Literal["imported"]
-    file_base64: Annotated[str, Field(min_length=1, max_length=70_000_000)] = Field(
+    file_base64: Annotated[str, Field(max_length=70_000_000)] = Field(
         description="The file's bytes, base64-encoded (POST /api/v1/calibrations/import takes the file itself)."
     )
     firmware: ImportFirmware | None = Field(

@@ -65,3 +65,9 @@ def test_the_same_import_as_json_and_a_file_beyond_the_firmware_s_ranges_is_stor
     r = client.post("/api/v1/calibrations", json={"method": "imported", "file_base64": "not base64!"})
     assert r.status_code == 422 and r.json()["code"] == "unrecognised_calibration", r.text
     assert r.json()["detail"].startswith("`file_base64` is not base64")
+
+
+def test_an_empty_file_is_refused_as_such(client):
+    r = client.post("/api/v1/calibrations/import", files={"file": ("empty.param", b"", "text/plain")})
+    assert r.status_code == 422 and r.json()["code"] == "unrecognised_calibration", r.text
+    assert r.json()["detail"].startswith("the file is empty: give one of ArduPilot parameter files")

@@ -115,6 +115,8 @@ def read_calibration(data: bytes, *, firmware: str | None = None, instance: int 
         A file of no accepted kind (code ``unrecognised_calibration``), naming what it looked like and what is
         accepted; one of an accepted kind that holds no calibration.
     """
+    if not data:
+        raise _refuse(f"the file is empty: give one of {ACCEPTED}")
     if firmware is not None and firmware not in FIRMWARES:
         raise _refuse(f"firmware {firmware!r} is not one trical reads: give one of {', '.join(FIRMWARES)}")
     if data.startswith(dataflash.MAGIC) and firmware in (None, "ardupilot"):
