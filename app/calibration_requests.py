@@ -301,3 +301,25 @@ class CompassFlightIn(Strict):
         if self.from_s is not None and self.to_s is not None and self.to_s <= self.from_s:
             raise ValueError("`to_s` must come after `from_s`: they are seconds from the compass's first sample")
         return self
+
+
+ImportFirmware = Literal["ardupilot", "px4", "betaflight", "inav", "trical"]
+"""The families an import may be forced to (app.io.imports.FIRMWARES, which a test holds it to)."""
+
+
+class ImportIn(Strict):
+    """A calibration a device already holds, brought in from the file its firmware or ground station wrote
+    (issue 47): ArduPilot, PX4, Betaflight, INAV or trical's own JSON export."""
+
+    method: Literal["imported"]
+    file_base64: Annotated[str, Field(max_length=70_000_000)] = Field(
+        description="The file's bytes, base64-encoded (POST /api/v1/calibrations/import takes the file itself)."
+    )
+    firmware: ImportFirmware | None = Field(
+        None, description="The file's family, where its content does not say it (it is otherwise recognised)."
+    )
+    instance: Annotated[int, Field(ge=0, le=3)] = Field(
+        0, description="Which IMU and compass of a file holding several (ArduPilot's 0-2, PX4's slot)."
+    )
+    device_id: Annotated[str, Field(min_length=1, max_length=200)] | None = None
+    label: Annotated[str, Field(max_length=500)] | None = None

@@ -19,6 +19,7 @@ from app.calibration.shared.result import CalibrationResult, Figure, StillReadin
 
 if TYPE_CHECKING:  # the methods' classes are named, not imported: a command loads only its own method's models
     from app.calibration.autocal import AutoCalibration
+    from app.calibration.imported import ImportedCalibration
     from app.calibration.magnetometer.flight_calibration import FlightCompassCalibration
     from app.calibration.magnetometer.result import MagnetometerResult
     from app.calibration.temperature import TemperatureResult
@@ -145,6 +146,13 @@ def _temperature(result: TemperatureResult) -> str | None:
     return temperature_headline(result.model_dict(), result.metrics)
 
 
+def _imported(result: ImportedCalibration) -> str | None:
+    """What was read, from which firmware and file: an imported calibration has no error to tell."""
+    sensors = ", ".join(SENSOR_WORDS[s] for s in result.corrected_sensors())
+    version = f" {result.version}" if result.version else ""
+    return f"imported from {result.firmware}{version} ({result.file_kind}): {sensors}; read, not fitted"
+
+
 def _none(result: CalibrationResult) -> str | None:
     """No line: a result without a figure to tell first (a cube's, a noise characterisation's)."""
     return None
@@ -157,6 +165,7 @@ HEADLINES: dict[str, Callable[[Any], str | None]] = {
     "MagnetometerResult": _compass,
     "FlightCompassCalibration": _flight_compass,
     "TemperatureResult": _temperature,
+    "ImportedCalibration": _imported,
 }
 """By result class (its name: the methods' modules are not imported here, and a test holds every name to a class
 of the core's registry), how its headline is told from it."""
@@ -176,8 +185,16 @@ def _no_note(method: str | None, figure: Figure) -> str:
     return ""
 
 
+def _imported_note(method: str | None, figure: Figure) -> str:
+    return (
+        "It is the device's own calibration, read from its firmware's parameters, not measured: its numbers are "
+        "within the firmware's ranges."
+    )
+
+
 VERDICT_NOTES: dict[str, Callable[[str | None, Figure], str]] = {
     CalibrationResult.__name__: _no_note,
+    "ImportedCalibration": _imported_note,
     "AffineCalibration": _six_poses,
 }
 """By result class, the line under an "apply it" verdict on its figure, where the figure needs one."""

@@ -30,7 +30,7 @@ from app.io.exports.compass import FLIGHT_COMPASS_EXPORTS
 from app.io.exports.exporters import EXPORTERS, Export, export_calibration
 from app.io.exports.noise import NOISE_EXPORTERS
 from app.io.exports.temperature import TEMPERATURE_EXPORTERS
-from app.workflows import autocal, compass, cube, flight_compasses, noise, still, temperature
+from app.workflows import autocal, compass, cube, flight_compasses, imports, noise, still, temperature
 from app.workflows.calibration import Calibration
 from app.workflows.entry import calibrate as run_handler
 from app.workflows.recordings import RecordingSource
@@ -227,6 +227,17 @@ _ENTRIES = (  # unannotated, so that mypy checks each request model against its 
         kind="a compass calibrated from a flight",
         words="the compass from a flight (flight controller)",
         page_words="the compass calibration from a flight",
+    ),
+    Method(
+        "imported",
+        request=rq.ImportIn,
+        handler=imports.imported,
+        response="ImportedOut",
+        command="import",
+        formats=CORRECTION_EXPORTS,
+        kind="a calibration imported from a device",
+        words="imported from the device's firmware",
+        page_words="the imported calibration",
     ),
 )
 TABLE: tuple[Method[Any], ...] = _ENTRIES

@@ -46,6 +46,7 @@ units (app/calibration/shared/plausible.py), and counts."""
 
 UNITS_CARD = "“Units, as the data show them”"
 OPTIONS = "the upload's Options"
+IMPORT_CARD = "“Bring in a calibration a device already holds”, on the history page"
 
 
 @dataclass(frozen=True)
@@ -165,6 +166,12 @@ VOCABULARY: dict[str, Term] = {
         Term("means", "the still readings", cli="the log file"),
         Term("segments", "the still segments", cli="the log file"),
         Term("mag", "the magnetometer's readings", cli="the log file"),
+        Term(
+            "firmware",
+            f"the Firmware menu (in {IMPORT_CARD})",
+            "{value} in the Firmware menu (in " + IMPORT_CARD + ")",
+        ),
+        Term("file_base64", f"the File (in {IMPORT_CARD})", cli="the file"),
     )
 }
 """Every parameter a message may name, and its words on the command line and on the page."""

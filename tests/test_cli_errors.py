@@ -116,6 +116,7 @@ def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
         "capture",
         "check",
         "compare",
+        "import",
     }
     results = [run_in_process(args, env) for args in cases]
     failures = []

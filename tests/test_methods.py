@@ -63,6 +63,7 @@ def test_every_request_model_of_the_union_is_an_entry_of_its_own_name():
         "magnetometer",
         "temperature",
         "compass_flight",
+        "imported",
     )
 
 

@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
-from typing import Any
+import base64
+import io
+from typing import Annotated, Any
 
 import numpy as np
-from fastapi import APIRouter, Depends, Query
+from fastapi import APIRouter, Depends, File, Form, Query, UploadFile
 from fastapi.responses import Response
 from starlette.concurrency import run_in_threadpool
 
 from app import methods
-from app.api.deps import OwnerDep, ReaderDep, StoreDep, not_a_link
+from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep, not_a_link
+from app.api.recordings import copy_limited
 from app.api.schemas.calibrations import (
     ApplyIn,
     ApplyOut,
@@ -21,6 +24,7 @@ from app.api.schemas.calibrations import (
     CompareOut,
     SnippetsOut,
 )
+from app.calibration_requests import ImportFirmware, ImportIn
 from app.io.exports.snippets import usage_snippets
 from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
@@ -66,6 +70,48 @@ def calibrate_and_store(
     # A calibration of the same upload, method (and compass) supersedes the earlier ones (none is deleted).
     key = source.supersede_key(body) if source is not None else None
     return render_body(store.add_calibration(body, owner=owner, recording_digest=key), *reader)
+
+
+@router.post(
+    "/import",
+    status_code=201,
+    response_model=CalibrationOut,
+    response_model_exclude_unset=True,
+    summary="Import the calibration a device already holds",
+)
+def import_calibration(
+    *,
+    file: UploadFile = File(
+        ...,
+        description="An ArduPilot .param/.parm or DataFlash log (.bin), a PX4 QGroundControl .params or ULog (.ulg), "
+        "a Betaflight or INAV CLI `diff all`/`dump`, or trical's JSON export: recognised from its content.",
+    ),
+    device_id: Annotated[str | None, Form(min_length=1, max_length=200)] = None,
+    label: Annotated[str | None, Form(max_length=500)] = None,
+    firmware: Annotated[
+        ImportFirmware | None,
+        Form(description="The file's family, where its content does not say it."),
+    ] = None,
+    instance: Annotated[int, Form(ge=0, le=3, description="Which IMU and compass of a file holding several.")] = 0,
+    settings: SettingsDep,
+    store: StoreDep,
+    owner: OwnerDep,
+    reader: ReaderDep,
+) -> dict[str, Any]:
+    """Read a device's calibration from its file and store it as the device's calibration (method ``imported``;
+    trical's own JSON export as the model it was written from); 201 with the stored resource."""
+    data = io.BytesIO()
+    copy_limited(file.file, data, 0, settings.max_upload_bytes, settings.max_upload_mb)
+    request = ImportIn(
+        method="imported",
+        file_base64=base64.b64encode(data.getvalue()).decode("ascii"),
+        firmware=firmware,
+        instance=instance,
+        device_id=device_id,
+        label=label,
+    )
+    body = methods.calibrate(request).body()
+    return render_body(store.add_calibration(body, owner=owner), *reader)
 
 
 @router.get("", response_model=CalibrationList, response_model_exclude_unset=True, summary="List calibrations")

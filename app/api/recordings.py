@@ -21,7 +21,7 @@ router = APIRouter(prefix="/api/v1/recordings", tags=["recordings"])
 CHUNK = 1 << 20
 
 
-def _copy_limited(source: BinaryIO, out: IO[bytes], size: int, limit_bytes: int, limit_mb: float) -> int:
+def copy_limited(source: BinaryIO, out: IO[bytes], size: int, limit_bytes: int, limit_mb: float) -> int:
     """Copy ``source`` into ``out`` in chunks; ``size`` counts what came before. Refuses past the limit."""
     while chunk := source.read(CHUNK):
         size += len(chunk)
@@ -36,7 +36,7 @@ def save_upload(source: BinaryIO, dest: Path, limit_bytes: int, limit_mb: float)
     dest.parent.mkdir(parents=True, exist_ok=True)
     try:
         with open(dest, "wb") as out:
-            return _copy_limited(source, out, 0, limit_bytes, limit_mb)
+            return copy_limited(source, out, 0, limit_bytes, limit_mb)
     except BaseException:
         dest.unlink(missing_ok=True)
         raise
@@ -52,7 +52,7 @@ def save_uploads_as_zip(uploads: list[tuple[str, BinaryIO]], dest: Path, limit_b
         with zipfile.ZipFile(dest, "w", compression=zipfile.ZIP_DEFLATED) as zf:
             for name, source in uploads:
                 with zf.open(name, "w", force_zip64=True) as out:
-                    size = _copy_limited(source, out, size, limit_bytes, limit_mb)
+                    size = copy_limited(source, out, size, limit_bytes, limit_mb)
     except BaseException:
         dest.unlink(missing_ok=True)
         raise

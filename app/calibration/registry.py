@@ -17,7 +17,7 @@ from .shared.result import CalibrationResult, registered
 def load_all() -> None:
     """Import every method's result module (each class registers itself on import: these imports are used by that
     effect, which F401 does not see)."""
-    from . import autocal, magnetometer, temperature  # noqa: F401
+    from . import autocal, imported, magnetometer, temperature  # noqa: F401
     from .cube import calibrate  # noqa: F401
     from .noise import characterise  # noqa: F401
     from .still import affine, nonorthogonal, triangular  # noqa: F401

@@ -22,8 +22,13 @@ def command(name: str):
     """The function of ``trical NAME`` (``run(args, settings)``, returning the exit status; ``settings()`` gives
     the TRICAL_* environment's settings, read when first asked: :func:`environment_settings`), from its module
     ``app.cli.NAME``: imported when the command runs, so that one command does not load every other's
-    dependencies (the method table's, the server's) before it starts."""
-    return importlib.import_module(f"app.cli.{name}").run
+    dependencies (the method table's, the server's) before it starts; ``trical import``'s is ``app.cli.imports``
+    (``import`` is Python's keyword)."""
+    return importlib.import_module(f"app.cli.{MODULES.get(name, name)}").run
+
+
+MODULES = {"import": "imports"}
+"""The commands whose module is not named as the command."""
 
 
 def environment_settings():

@@ -429,6 +429,35 @@ def _add_compare(sub) -> None:
     c.add_argument("--json", action="store_true", help="print the API's JSON")
 
 
+def _add_import(sub) -> None:
+    """``trical import``: a device's own calibration, from its firmware's file."""
+    from app.io.imports import FIRMWARES
+
+    i = sub.add_parser(
+        "import",
+        help="import the calibration a device already holds (ArduPilot, PX4, Betaflight, INAV, trical JSON)",
+    )
+    i.add_argument("path", type=opt.input_path("the device's parameter file, log or CLI dump"), help="the file")
+    i.add_argument(
+        "--firmware",
+        choices=FIRMWARES,
+        default=None,
+        help="the file's family (default: recognised from its content)",
+    )
+    i.add_argument(
+        "--instance",
+        type=opt.INSTANCE,
+        default=0,
+        metavar="N",
+        help="which IMU and compass of a file holding several (ArduPilot 0-2, PX4's slot; default 0)",
+    )
+    i.add_argument("--device-id", type=opt.text("a device id"), default=None, help="the device it is stored for")
+    i.add_argument("--label", type=opt.text("a label"), default=None, help="its label (default: the file's name)")
+    i.add_argument("--no-store", action="store_true", help="do not store the calibration in the database")
+    i.add_argument("--json", action="store_true", help="print the API's JSON")
+    i.add_argument("--verbose", action="store_true", help=f"print every note (default: the first {opt.NOTES_SHOWN})")
+
+
 def _unit_options(parser: argparse.ArgumentParser) -> None:
     """The units of a text log's gyroscope and magnetometer and the counts per g of its accelerometer, as the
     upload's ``gyr_unit``, ``mag_unit`` and ``lsb_per_g`` say them (every command that reads a log takes them: a
@@ -502,6 +531,7 @@ _ADDERS = {
     "export": _add_export,
     "check": _add_check,
     "compare": _add_compare,
+    "import": _add_import,
 }
 
 COMMANDS = tuple(_ADDERS)

@@ -12,6 +12,7 @@ from fastapi.templating import Jinja2Templates
 
 from app.calibration import CANONICAL_SIX
 from app.guided.capture_rules import CAPTURE_S_DEFAULT, CAPTURE_S_RANGE, WIZARD_PROTOCOLS
+from app.io.imports import FIRMWARE_NAMES
 from app.io.readers.kinds import ACCEPTED_SUFFIXES
 from app.reach.addresses import phone_url
 from app.reach.phone_door import PASS_TTL_S
@@ -199,5 +200,6 @@ def history_page(request: Request, device: str | None = None):
         {
             "device": device or "",
             "tables": page_tables(),
+            "import_firmwares": list(FIRMWARE_NAMES.items()),
         },
     )

@@ -56,6 +56,7 @@ PAGE_FACTS: dict[str, PageFacts] = {
     "AutoCalibration": PageFacts(norms="captures"),  # its model is a triangular one
     "CubeCalibration": PageFacts(norms="positions"),
     "MagnetometerResult": PageFacts(spheres=True, packet=("mag",)),
+    "ImportedCalibration": PageFacts(heading="The firmware's numbers, as read (f = M (m − o) per sensor)"),
     "FlightCompassCalibration": PageFacts(
         uses="flightCompass",
         snippets=False,

@@ -41,6 +41,19 @@ CALIBRATION_USES = (
         "and reboot.",
     },
     {
+        "key": "betaflight",
+        "name": "Betaflight",
+        "format": "betaflight",
+        "how": "In Betaflight Configurator's CLI tab, paste the lines: save stores them and reboots the board "
+        "(Betaflight takes the accelerometer's offsets only, as the file's header says).",
+    },
+    {
+        "key": "inav",
+        "name": "INAV",
+        "format": "inav",
+        "how": "In INAV Configurator's CLI tab, paste the lines: save stores them and reboots the board.",
+    },
+    {
         "key": "firmware",
         "name": "my own firmware",
         "format": "c",

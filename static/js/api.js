@@ -57,6 +57,11 @@ export function uploadRecording(formData, token = null) {
   return request("/api/v1/recordings", { method: "POST", body: formData, headers: bearer(token) });
 }
 
+// The calibration a device already holds, from its firmware's file (POST /api/v1/calibrations/import).
+export function importCalibration(formData, token = null) {
+  return request("/api/v1/calibrations/import", { method: "POST", body: formData, headers: bearer(token) });
+}
+
 export function createCalibration(payload) {
   return request("/api/v1/calibrations", json("POST", payload));
 }

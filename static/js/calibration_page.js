@@ -85,8 +85,11 @@ async function load() {
     $("#cal-loading").hidden = true;
     const meta = $("#cal-meta");
     const method = TABLES.methods[cal.method] || cal.method;
-    meta.textContent = [cal.device_id && `Device ${cal.device_id}`, `Method: ${method}`, `made ${when(cal.created_at)}`,
-      `id ${cal.id}`].filter(Boolean).join(" · ");
+    // A calibration a device already held says what it was read from (its firmware, version and file).
+    const source = cal.read_from
+      && `read from ${[cal.read_from.firmware, cal.read_from.version].filter(Boolean).join(" ")} (${cal.read_from.file_kind})`;
+    meta.textContent = [cal.device_id && `Device ${cal.device_id}`, `Method: ${method}`, source,
+      `made ${when(cal.created_at)}`, `id ${cal.id}`].filter(Boolean).join(" · ");
     meta.hidden = false;
     showReadings(cal);
     document.title = `${cal.device_id ? `${cal.device_id}: ` : ""}calibration ${cal.id} — trical`;

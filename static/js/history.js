@@ -2,7 +2,7 @@
 // each wizard session's token kept in tokens.js), newest first, filtered by device; a device's
 // latest calibration is one link, /c/latest?device=NAME. One row per recording and method: a reading of the
 // same upload again supersedes the earlier ones, which "N earlier" under its date shows in place.
-import { compareCalibrations, getCalibration, listCalibrations, listEarlier } from "./api.js";
+import { compareCalibrations, getCalibration, importCalibration, listCalibrations, listEarlier } from "./api.js";
 import { comparisonBlock } from "./check_view.js";
 import { kindOf } from "./result_kinds.js";
 import { TABLES } from "./tables.js";
@@ -161,7 +161,28 @@ async function load() {
   render();
 }
 
-$("#history-device").addEventListener("change", render);
+$("#history-device").addEventListener("change", () => {
+  render();
+  if ($("#history-device").value) $("#import-device").value = $("#history-device").value;
+});
+
+// A device's own calibration, from its firmware's file: stored as the device's, then opened on its page.
+$("#import-form").addEventListener("submit", async (event) => {
+  event.preventDefault();
+  const form = new FormData($("#import-form"));
+  for (const name of ["device_id", "firmware"]) if (!form.get(name)) form.delete(name);
+  $("#import-submit").disabled = true;
+  $("#import-msg").textContent = "Reading the file…";
+  try {
+    const cal = await importCalibration(form, apiKey());
+    $("#import-msg").textContent = cal.headline || "Stored.";
+    location.assign(`/c/${encodeURIComponent(cal.id)}`);
+  } catch (err) {
+    $("#import-msg").textContent = `Not brought in: ${err.message}.`;
+  } finally {
+    $("#import-submit").disabled = false;
+  }
+});
 $("#cal-key-form").addEventListener("submit", (event) => {
   event.preventDefault();
   rememberApiKey($("#cal-key").value.trim());

@@ -119,6 +119,12 @@ def _requests(client, cube_csv):
         log, _ = write_flight_compass_logs(folder, seeded_flight(4, rate_hz=10.0))
         rec = _upload(client, "flight.bin", log.read_bytes())
     yield {"method": "compass_flight", "recording_id": rec}
+    import base64
+
+    from tests.conftest import DATA
+
+    params = (DATA / "real" / "imports" / "px4_1.12_flight1_cal.params").read_bytes()
+    yield {"method": "imported", "file_base64": base64.b64encode(params).decode("ascii"), "device_id": "fc-1"}
 
 
 def _still_csv() -> bytes:
@@ -152,7 +158,7 @@ def test_every_method_s_response_is_described_field_by_field(client, cube_csv):
         seen.add(body["method"])
     assert seen == set(RESPONSE_MODELS)
     listed = client.get("/api/v1/calibrations").json()["items"]
-    assert len(listed) == 16 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
+    assert len(listed) == 17 and all(undescribed(adapter.validate_python(b)) == [] for b in listed)
 
 
 def test_openapi_documents_each_method_s_response(client):

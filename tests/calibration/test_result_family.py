@@ -57,6 +57,7 @@ def test_registry_knows_every_type():
         "magnetometer",
         "temperature",
         "compass_flight",
+        "imported",
     }
 
 

@@ -200,7 +200,16 @@ def test_six_poses_hands_free_match_the_closed_form(browser, server):
     assert download.suggested_filename == f"{doc['id']}.json"
     assert doc["device_id"] == "bench phone"
     links = page.eval_on_selector_all("#downloads a", "as => as.map(a => [a.textContent, a.href, a.download])")
-    assert [name for name, _, _ in links] == ["JSON", "C header", "ArduPilot", "PX4", "YAML", "CSV"]
+    assert [name for name, _, _ in links] == [
+        "JSON",
+        "C header",
+        "ArduPilot",
+        "PX4",
+        "Betaflight",
+        "INAV",
+        "YAML",
+        "CSV",
+    ]
     assert all(href.startswith("blob:") and filename for _, href, filename in links)
 
     # What the page showed: X with intervals, the server's warnings, the norm chart per pose.

@@ -273,6 +273,8 @@ def test_the_24_positions_hands_free_recover_the_accelerometer(page, server):
         ["c", "C header"],
         ["ardupilot", "ArduPilot"],
         ["px4", "PX4"],
+        ["betaflight", "Betaflight"],
+        ["inav", "INAV"],
         ["yaml", "YAML"],
         ["csv", "CSV"],
     ]

@@ -11,12 +11,12 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeAlias, Union
 
 from pydantic import BaseModel, Field, create_model
 
-from app.api.schemas import autocal, compass, cube, noise, still_readings, temperature
+from app.api.schemas import autocal, compass, cube, imports, noise, still_readings, temperature
 from app.api.schemas.common import CalibrationCommon, Mat3Out, Vec3Out
 from app.calibration_requests import Strict, Vec3
 from app.methods import AS_CHOSEN, TABLE
 
-FAMILIES = (still_readings, autocal, cube, noise, compass, temperature)
+FAMILIES = (still_readings, autocal, cube, noise, compass, temperature, imports)
 """The modules that hold the methods' response models, by method family."""
 
 

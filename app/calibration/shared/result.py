@@ -226,6 +226,9 @@ class CalibrationResult(Gated):
     answer, so that a body cut short (no model) is still told apart."""
     PER_SENSOR: ClassVar[bool] = False
     """Whether its corrections are named by sensor in the exports (the cube: one per sensor)."""
+    EXACT_PARAMETERS: ClassVar[bool] = False
+    """Whether its corrections are a firmware's own per-axis numbers (an imported calibration): the firmware
+    exports then write them as they are, every sensor, rather than fit the firmware's model on the correction."""
 
     if TYPE_CHECKING:  # what every subclass has: a frozen dataclass's fields (metrics may be a property)
         __dataclass_fields__: ClassVar[dict[str, dataclasses.Field]]

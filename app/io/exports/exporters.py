@@ -14,6 +14,7 @@ from app.calibration.shared.result import DRIFT, FIGURES
 
 from ..errors import ExportError
 from ..plural import counted
+from .cli_sets import to_betaflight, to_inav
 from .common import FRAME, JSON_SCHEMA, Export, result_class, sensor_corrections, unit_label
 from .compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
 from .noise import NOISE_EXPORTERS, NOISE_FORMATS
@@ -71,6 +72,8 @@ def to_json(body: dict) -> Export:
     else:
         c = corrections[0]
         doc["correction"] = {"formula": "a = M (m - o)", "M": c.M.tolist(), "o": c.o.tolist(), "source": c.source}
+    if body.get("read_from"):  # what a device's own calibration was read from (app.io.imports)
+        doc["read_from"] = body["read_from"]
     gyro = body.get("gyroscope_bias")
     if gyro:  # a wizard session's still captures (app.calibration.still.gyro_bias)
         doc["gyroscope"] = {
@@ -175,10 +178,21 @@ EXPORTERS = {
     "yaml": to_yaml,
     "csv": to_csv,
     "motioncal": to_motioncal,
+    "betaflight": to_betaflight,
+    "inav": to_inav,
 }
 """Export formats by their query name."""
 
-FORMAT_NAMES = {"json": "JSON", "c": "C header", "ardupilot": "ArduPilot", "px4": "PX4", "yaml": "YAML", "csv": "CSV"}
+FORMAT_NAMES = {
+    "json": "JSON",
+    "c": "C header",
+    "ardupilot": "ArduPilot",
+    "px4": "PX4",
+    "betaflight": "Betaflight",
+    "inav": "INAV",
+    "yaml": "YAML",
+    "csv": "CSV",
+}
 """The page's download links; ``motioncal`` (bytes for a board, not a file to keep) is left out: the page
 writes it to the board with *Send to the board*, and the API and ``trical export`` give it."""
 

@@ -39,8 +39,16 @@ from ...calibration.still.firmware_model import offset_scale_fit
 from ..errors import ExportError
 from ..log import ACC_PHYSICAL_UNITS
 from ..plural import counted
-from .common import Export, accelerometer_correction, accelerometer_readings, describe, only_compass
-from .compass import to_ardupilot_compass, to_px4_compass
+from .common import (
+    Export,
+    accelerometer_correction,
+    accelerometer_readings,
+    describe,
+    only_compass,
+    result_class,
+    sensor_corrections,
+)
+from .compass import GAUSS_PER_UT, MGAUSS_PER_UT, to_ardupilot_compass, to_px4_compass
 
 # The standard gravity is also ArduPilot's GRAVITY_MSS and PX4's CONSTANTS_ONE_G (9.80665 m/s²).
 
@@ -284,6 +292,8 @@ def to_ardupilot(body: dict) -> Export:
     ExportError
         Counts calibrations, and values outside ArduPilot's accepted ranges (the reason named).
     """
+    if result_class(body).EXACT_PARAMETERS:
+        return _exact(body, "ArduPilot")
     if only_compass(body):
         return to_ardupilot_compass(body)
     p = offset_scale(body, "ArduPilot")
@@ -331,6 +341,8 @@ def to_ardupilot(body: dict) -> Export:
 
 def to_px4(body: dict) -> Export:
     """PX4 parameters ``CAL_ACC0_XOFF``… (m/s²) and ``CAL_ACC0_XSCALE``…, as ``param set`` lines."""
+    if result_class(body).EXACT_PARAMETERS:
+        return _exact(body, "PX4")
     if only_compass(body):
         return to_px4_compass(body)
     p = offset_scale(body, "PX4")
@@ -358,4 +370,66 @@ def to_px4(body: dict) -> Export:
     lines = [f"# {c}" for c in comments]
     lines += [f"param set CAL_ACC0_{a}OFF {_number(v)}" for a, v in zip("XYZ", p["offset_mps2"])]
     lines += [f"param set CAL_ACC0_{a}SCALE {_number(v)}" for a, v in zip("XYZ", p["scale"])]
+    return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body['id']}_px4.txt")
+
+
+def exact_parameters(body: dict, target: str) -> dict[str, float]:
+    """A calibration whose corrections are a firmware's own numbers (an imported one: ``EXACT_PARAMETERS``) as
+    ``target``'s parameters, every sensor it holds, each the exact inverse of the importer's reading
+    (app.io.imports.ardupilot, app.io.imports.px4): the accelerometer's offset and the diagonal of its ``M``, the
+    gyroscope's bias, the compass's ``M`` and hard iron.
+
+    Raises
+    ------
+    ExportError
+        An accelerometer's ``M`` with cross-axis terms, which neither firmware holds.
+    """
+    params: dict[str, float] = {}
+    for c in sensor_corrections(body):
+        M, o = np.asarray(c.M, dtype=float), np.asarray(c.o, dtype=float)
+        if c.sensor != "mag" and np.any(np.abs(M - np.diag(np.diag(M))) > 0):
+            raise ExportError(f"{target} holds no cross-axis terms of the {c.sensor} correction: use the json export")
+        if c.sensor == "acc":
+            names = (
+                ("INS_ACCOFFS_", "INS_ACCSCAL_") if target == "ArduPilot" else ("CAL_ACC0_{}OFF", "CAL_ACC0_{}SCALE")
+            )
+            for template, values in zip(names, (o, np.diag(M))):
+                params.update({_name(template, a): float(v) for a, v in zip("XYZ", values)})
+        elif c.sensor == "gyr":
+            template = "INS_GYROFFS_" if target == "ArduPilot" else "CAL_GYRO0_{}OFF"
+            params.update({_name(template, a): float(v) for a, v in zip("XYZ", o)})
+        else:
+            off = np.array([M[0, 1], M[0, 2], M[1, 2]])
+            if target == "ArduPilot":  # COMPASS_OFS = -10 b (mGauss), DIA/ODI = M (app.io.exports.compass)
+                groups: dict[str, np.ndarray] = {
+                    "COMPASS_OFS_": -MGAUSS_PER_UT * o,
+                    "COMPASS_DIA_": np.diag(M),
+                    "COMPASS_ODI_": off,
+                }
+                params.update({f"{g}{a}": float(v) for g, vs in groups.items() for a, v in zip("XYZ", vs)})
+                params["COMPASS_SCALE"] = 1.0
+            else:  # CAL_MAG0_xOFF = b / 100 (gauss), xSCALE/xODIAG = M
+                groups = {"OFF": GAUSS_PER_UT * o, "SCALE": np.diag(M), "ODIAG": off}
+                params.update({f"CAL_MAG0_{a}{g}": float(v) for g, vs in groups.items() for a, v in zip("XYZ", vs)})
+    return params
+
+
+def _name(template: str, axis: str) -> str:
+    return template.format(axis) if "{}" in template else template + axis
+
+
+def _exact(body: dict, target: str) -> Export:
+    params = exact_parameters(body, target)
+    imported = body.get("read_from") or {}
+    comments = describe(body, sensor_corrections(body)[0].source) + [
+        f"The numbers {imported.get('firmware') or 'the device'} held ({imported.get('file_kind') or 'imported'}), "
+        f"written for {target} as they are: nothing fitted, nothing dropped.",
+        f"Frame: {imported.get('frame') or 'as imported'}.",
+        "Written as the first instance (INS_ACCOFFS, COMPASS_OFS; CAL_ACC0, CAL_MAG0): rename them for another.",
+    ]
+    lines = [f"# {c}" for c in comments]
+    if target == "ArduPilot":
+        lines += [f"{n} {_number(v)}" for n, v in params.items()]
+        return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body['id']}_ardupilot.parm")
+    lines += [f"param set {n} {_number(v)}" for n, v in params.items()]
     return Export("\n".join(lines) + "\n", "text/plain", f"trical_{body['id']}_px4.txt")

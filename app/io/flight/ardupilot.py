@@ -150,7 +150,7 @@ def _ardupilot_position(reader, buf, name, notes):
     return lat, lon, alt, utc
 
 
-def _ardupilot_release(reader, buf) -> str:
+def ardupilot_release(reader, buf) -> str:
     """The firmware's banner from the log's MSG (``ArduPilot Copter V3.3-dev``), or ``ArduPilot``."""
     msgs = dataflash.table(reader, buf, "MSG")
     if msgs is not None and "Message" in msgs:
@@ -223,7 +223,7 @@ def read_ardupilot(path, mag_instance, name, attitude: str | None = None) -> Fli
     att_t, att_c, att_source = _ardupilot_attitude(reader, buf, name, attitude)
     if att_t is None:
         notes.append("no ATT, AHR2 or EKF messages: the attitude is missing (log ATTITUDE_MED/FAST)")
-    release = _ardupilot_release(reader, buf)
+    release = ardupilot_release(reader, buf)
     p_t, cur, thr, p_source = _ardupilot_power(reader, buf, name, release, notes)
     lat, lon, alt, utc = _ardupilot_position(reader, buf, name, notes)
     if said.getvalue().strip():

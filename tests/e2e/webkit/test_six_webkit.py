@@ -68,7 +68,7 @@ def test_six_poses_in_webkit_as_on_an_iphone(webkit, server):
     assert full["verdict"]["words"].startswith("Apply it: error on the 6 poses fitted ")
     assert webkit.js("document.querySelector('#use-file').dataset.format") == "json"
     names = webkit.js("[...document.querySelectorAll('#downloads a')].map(a => a.textContent)")
-    assert names == ["JSON", "C header", "ArduPilot", "PX4", "YAML", "CSV"]
+    assert names == ["JSON", "C header", "ArduPilot", "PX4", "Betaflight", "INAV", "YAML", "CSV"]
     rows = webkit.js("[...document.querySelectorAll('#norm-table tbody tr')].map(r => r.cells[0].textContent)")
     assert rows == POSES
     assert webkit.js("document.querySelectorAll('#norm-chart svg circle').length") == 12
