@@ -94,11 +94,20 @@ def sensor_steps(result: Any, units: dict[str, str], sensors: list[str], name: s
         else:
             raise CalibrationError(
                 f"the calibration's {SENSOR_WORDS[s]} model takes {_unit(want)}, and {name} gives its "
-                f"{SENSOR_WORDS[s]} in {_unit(have)}, which cannot be converted: read the recording in {_unit(want)} "
-                f"({s}_unit={want}), or apply a calibration fitted in {_unit(have)}"
+                f"{SENSOR_WORDS[s]} in {_unit(have)}, which cannot be converted: {_remedy(s, have, want)}"
             )
         steps.append(SensorStep(s, have, corrected=True, factor=factor, output_unit=c.output_unit))
     return steps
+
+
+def _remedy(sensor: str, have: str, want: str) -> str:
+    """How to read a recording in the calibration's unit: counts given their scale, or read as counts."""
+    if have == "raw":
+        scale = "chip or lsb_per_g" if sensor == "acc" else "chip"
+        return (
+            f"give the counts' scale ({scale}) so that they are read in {want}, or apply a calibration fitted in counts"
+        )
+    return f"read the recording in counts ({sensor}_unit=raw), or apply a calibration fitted in {have}"
 
 
 def _unit(unit: str) -> str:

@@ -61,13 +61,13 @@ def output_format(path: Path | str | None, fmt: str | None) -> str:
     """
     if fmt:
         if fmt not in FORMATS:
-            raise LogFormatError(f"unknown output format {fmt!r}: use one of {', '.join(FORMATS)}")
+            raise LogFormatError(f"unknown output format {fmt!r}: give `output_format` as one of {', '.join(FORMATS)}")
         return fmt
     suffix = Path(path or "").suffix.lower()
     if suffix not in SUFFIXES:
         raise LogFormatError(
             f"the output's suffix {suffix or '(none)'!r} names no format: end its name in .csv, .parquet or .npy, "
-            f"or give format (one of {', '.join(FORMATS)})"
+            f"or give `output_format` (one of {', '.join(FORMATS)})"
         )
     return SUFFIXES[suffix]
 
