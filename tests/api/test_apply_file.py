@@ -91,9 +91,9 @@ def test_parquet_fields_say_their_unit(client):
 def test_bad_input_is_a_4xx_naming_the_fields(client):
     body = _calibrate(client)
     r = _apply(client, body["id"], output_format="hdf5")
-    assert r.status_code == 422 and "output_format" in r.text
+    assert r.status_code == 422 and r.json()["code"] == "invalid_request" and "output_format" in r.text
     r = _apply(client, body["id"], acc_unit="raw")
-    assert r.status_code == 422
+    assert r.status_code == 422 and r.json()["code"] == "calibration_refused"
     assert "gives its accelerometer in counts (raw), which cannot be converted" in r.json()["detail"]
     assert "(chip or lsb_per_g)" in r.json()["detail"]
     r = _apply(client, "cal_0000")
