@@ -37,6 +37,11 @@ from .timing import time_scale as infer_time_scale
 CHUNK_ROWS = 1 << 18
 """Rows per chunk by default: 262 144 (a little under 45 minutes at 100 Hz), about 8 MB per three float64 columns."""
 
+MAX_BLOCK_BYTES = 1 << 20
+"""The largest block of a CSV read at a time (its rows are a chunk): pyarrow's streaming reader keeps several
+blocks read ahead, so the process's memory grows with the block (a week at 100 Hz: ~140 MB peak with 1 MB blocks,
+~270 MB with 4 MB), and no faster beyond it."""
+
 HEAD_LINES = 10_000
 """Lines of a text log its reading is decided on (format, columns, units, sign)."""
 
@@ -106,7 +111,8 @@ def read_in_chunks(
     name : str
         How to call the file in messages.
     chunk_rows : int
-        Rows per chunk (a CSV's chunks are pyarrow's blocks, sized to about this many rows).
+        Rows per chunk at most (a CSV's chunks are pyarrow's blocks, sized to about this many rows and at most
+        :data:`MAX_BLOCK_BYTES`).
     head_lines : int
         Lines of a text log its reading is decided on; a file no longer than that is read whole.
 
@@ -209,7 +215,8 @@ def _streamed_csv(
     wanted = used + [c for c in (time_col, table.temp_col) if c is not None]
     head_bytes = sum(len(line) + 1 for line in table.text.splitlines()[: layout.skip_lines + 200])
     per_line = max(8, head_bytes // max(1, min(200 + layout.skip_lines, len(table.text.splitlines()))))
-    block = max(4096, per_line * chunk_rows)
+    # pyarrow's reader reads several blocks ahead: memory grows with the block, not with the file.
+    block = min(MAX_BLOCK_BYTES, max(4096, per_line * chunk_rows))
 
     def chunks() -> Iterator[Chunk]:
         import pyarrow as pa
@@ -264,7 +271,7 @@ def _streamed_csv(
                 )
                 raise LogFormatError(f"{name}: {detail}: every used column must hold numbers", code=BAD_LINE) from None
 
-    notes = head.notes + (f"read in chunks of about {chunk_rows} rows",)
+    notes = head.notes + (f"read in chunks of about {max(1, block // per_line)} rows ({block // 1024} kB)",)
     return ChunkedLog(
         _replace_notes(head, notes),
         True,
