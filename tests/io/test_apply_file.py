@@ -163,3 +163,16 @@ def test_a_line_of_text_deep_in_a_streamed_csv_is_refused_naming_its_line(calibr
     bad.write_text("\n".join(lines) + "\n")
     with pytest.raises(LogFormatError, match="line 2501"):
         written(body, bad, chunk_rows=100, head_lines=500)
+
+
+def test_a_json_longer_than_the_head_is_read_whole_and_said_so():
+    """A Betaflight configurator's tumble export (14 127 lines of JSON): its first lines are no JSON, so it is read
+    whole, then handed on in chunks."""
+    path = REAL / "corpus" / "betaflight_compass_tumble_samples" / "calibration_samples_2026-06-11T03-08-04-544Z.json"
+    chunked = read_in_chunks(path, name=path.name, chunk_rows=100)
+    assert not chunked.streamed
+    assert (
+        chunked.log.notes[-1] == "read whole: betaflight_mag files are not read in chunks (a generic CSV and .npy are)"
+    )
+    whole = read_log(path, name=path.name).mag
+    assert np.array_equal(np.vstack([c.sensors["mag"] for c in chunked.chunks()]), whole)

@@ -141,10 +141,12 @@ def _linear(scales: dict[str, dict[str, Any]] | None) -> bool:
 
 
 def _is_text(path: Path) -> bool:
-    """A text log (a CSV and its kin), not a zip, an array, a flight log or a wearable's binary."""
+    """A text log (a CSV and its kin) whose first lines read as the whole would, not a zip, an array, a flight log,
+    a wearable's binary or JSON (whose head is not JSON)."""
     with open(path, "rb") as f:
         start = f.read(4096)
-    return b"\x00" not in start and not start.startswith(b"PK")
+    first = start.lstrip(b"\xef\xbb\xbf \t\r\n")[:1]
+    return b"\x00" not in start and not start.startswith(b"PK") and first not in (b"[", b"{")
 
 
 def _read_head(path: Path, options: ReadOptions, name: str, head_lines: int) -> tuple[LogData, int]:
