@@ -1,6 +1,6 @@
 """``trical apply`` on a synthetic week of wear at 100 Hz, beside the read alone: wall time and peak memory.
 
-    PYTHONPATH=. python bench/apply_week.py [--days 1 7] [--seed 7] [--format csv] [--dir DIR] [--keep]
+    PYTHONPATH=. python bench/apply_week.py [--days 1 7] [--seed 7] [--format csv [npy parquet]] [--dir DIR]
 
 For each length asked (days; 7 is the week, 60 480 000 rows):
 
@@ -10,7 +10,7 @@ For each length asked (days; 7 is the week, 60 480 000 rows):
    seconds, the samples to 10 µg); and a calibration of the same sensor, a triangular fit (Farago et al.) on 18
    still poses drawn through the same parameters, as a JSON body (``cal.json``).
 2. Runs, each as a process of its own inside a small wrapper that reads its ``ru_maxrss`` (RUSAGE_CHILDREN):
-   - ``trical apply cal.json week.csv -o out.FORMAT`` (``python -m app.cli``);
+   - ``trical apply cal.json week.csv -o out.FORMAT`` (``python -m app.cli``), for each ``--format`` asked;
    - the read alone, the floor: the same CSV read in the same chunks (:func:`app.io.readers.chunks.read_in_chunks`),
      nothing applied or written;
    - the bytes alone: the file read in 4 MB pieces (what any reader of it pays).
@@ -117,22 +117,18 @@ BYTES_ALONE = (
 )
 
 
-def measure(days: float, seed: int, fmt: str, folder: Path) -> dict:
+def measure(days: float, seed: int, formats: list[str], folder: Path) -> dict:
     csv, cal, gen_s = make_recording(folder, days, seed)
-    out = folder / f"out.{fmt}"
     rows = int(round(days * 86400 * RATE_HZ))
-    figures = {
-        "days": days,
-        "rows": rows,
-        "csv_mb": csv.stat().st_size / 1e6,
-        "generated_s": gen_s,
-        "apply": run_measured([sys.executable, "-m", "app.cli", "apply", str(cal), str(csv), "-o", str(out)]),
-        "read": run_measured([sys.executable, "-c", READ_ALONE, str(csv)]),
-        "bytes": run_measured([sys.executable, "-c", BYTES_ALONE, str(csv)]),
-    }
-    figures["out_mb"] = out.stat().st_size / 1e6
-    for p in (csv, out):
-        p.unlink()
+    figures = {"days": days, "rows": rows, "csv_mb": csv.stat().st_size / 1e6, "generated_s": gen_s, "apply": {}}
+    for fmt in formats:
+        out = folder / f"out.{fmt}"
+        cmd = [sys.executable, "-m", "app.cli", "apply", str(cal), str(csv), "-o", str(out)]
+        figures["apply"][fmt] = {**run_measured(cmd), "out_mb": out.stat().st_size / 1e6}
+        out.unlink()
+    figures["read"] = run_measured([sys.executable, "-c", READ_ALONE, str(csv)])
+    figures["bytes"] = run_measured([sys.executable, "-c", BYTES_ALONE, str(csv)])
+    csv.unlink()
     return figures
 
 
@@ -144,7 +140,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--days", type=float, nargs="+", default=[1.0, 7.0])
     parser.add_argument("--seed", type=int, default=7)
-    parser.add_argument("--format", choices=("csv", "parquet", "npy"), default="csv")
+    parser.add_argument("--format", choices=("csv", "parquet", "npy"), nargs="+", default=["csv"])
     parser.add_argument("--dir", type=Path, default=None, help="where to write the files (default: a temporary folder)")
     args = parser.parse_args()
     folder = Path(tempfile.mkdtemp(prefix="trical-apply-week-", dir=args.dir))
@@ -156,25 +152,21 @@ def main() -> None:
             results.append(f)
             print(
                 f"{days:g} day(s) at 100 Hz: {f['rows']:,} rows, CSV {f['csv_mb']:.0f} MB "
-                f"(generated in {f['generated_s']:.0f} s), output {args.format} {f['out_mb']:.0f} MB"
+                f"(generated in {f['generated_s']:.0f} s)"
             )
-            print(line(f"trical apply -> .{args.format}", f["apply"]))
+            for fmt, a in f["apply"].items():
+                print(line(f"trical apply -> .{fmt}", a) + f"  ({a['out_mb']:.0f} MB written)")
             print(line("read alone (chunks, floor)", f["read"]))
             print(line("bytes alone (4 MB pieces)", f["bytes"]))
-            print(
-                f"  apply: {f['rows'] / f['apply']['wall'] / 1e6:.2f} M rows/s; read alone: "
-                f"{f['rows'] / f['read']['wall'] / 1e6:.2f} M rows/s",
-                flush=True,
-            )
+            rates = ", ".join(f"-> .{fmt} {f['rows'] / a['wall'] / 1e6:.2f}" for fmt, a in f["apply"].items())
+            print(f"  M rows/s: apply {rates}; read alone {f['rows'] / f['read']['wall'] / 1e6:.2f}", flush=True)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     if len(results) > 1:
         print("peak RSS by length (bounded memory: the same whatever the length):")
         for f in results:
-            print(
-                f"  {f['days']:g} day(s): apply {f['apply']['maxrss_kb'] / 1024:.0f} MB, "
-                f"read alone {f['read']['maxrss_kb'] / 1024:.0f} MB"
-            )
+            peaks = ", ".join(f".{fmt} {a['maxrss_kb'] / 1024:.0f} MB" for fmt, a in f["apply"].items())
+            print(f"  {f['days']:g} day(s): apply {peaks}; read alone {f['read']['maxrss_kb'] / 1024:.0f} MB")
 
 
 if __name__ == "__main__":
