@@ -69,10 +69,12 @@ def sensor_steps(result: Any, units: dict[str, str], sensors: list[str], name: s
     Raises
     ------
     CalibrationError
-        The result corrects none of the file's sensors (naming both), or a file's unit that is not the
-        calibration's and cannot become it (counts against a physical unit).
+        The result corrects nothing (its own ``apply`` says why), none of the file's sensors (naming both), or a
+        file's unit that is not the calibration's and cannot become it (counts against a physical unit).
     """
     corrections = result.corrections()
+    if not corrections:  # a noise characterisation, a temperature calibration: its own apply says why not
+        result.apply(np.zeros((1, 3)))
     if not set(corrections) & set(sensors):
         have = ", ".join(SENSOR_WORDS[s] for s in corrections) or "no sensor (it corrects nothing)"
         held = ", ".join(SENSOR_WORDS[s] for s in sensors)
@@ -186,7 +188,13 @@ def apply_to_file(
 
     path = Path(path)
     name = name or path.name
-    result = registry.from_dict(body)
+    try:
+        result = registry.from_dict(body)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CalibrationError(
+            f"the calibration cannot be read back as a result ({type(exc).__name__}: {exc}): give a calibration as "
+            "trical stored it (its id, or its JSON body as the API gives it)"
+        ) from None
     chunked = read_in_chunks(path, options, name=name, chunk_rows=chunk_rows, head_lines=head_lines)
     steps = sensor_steps(result, chunked.log.units, chunked.sensors, name)
     columns = output_columns(chunked, steps)

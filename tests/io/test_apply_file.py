@@ -176,3 +176,18 @@ def test_a_json_longer_than_the_head_is_read_whole_and_said_so():
     )
     whole = read_log(path, name=path.name).mag
     assert np.array_equal(np.vstack([c.sensors["mag"] for c in chunked.chunks()]), whole)
+
+
+def test_a_noise_characterisation_is_refused_in_its_own_words():
+    """The board's still recording characterised (its noise), then applied: it corrects nothing."""
+    from app.workflows.noise import characterise_log
+
+    body = characterise_log(read_log(STILL, ReadOptions(sampling_rate_hz=100.0))).body()
+    with pytest.raises(CalibrationError, match="a noise characterisation corrects nothing"):
+        written(body, STILL)
+
+
+def test_a_body_cut_short_is_refused_saying_what_it_lacks(calibration):
+    body, _ = calibration
+    with pytest.raises(CalibrationError, match=r"cannot be read back .*'model'"):
+        written({k: v for k, v in body.items() if k != "model"}, STILL)
