@@ -75,3 +75,17 @@ def test_errors_name_this_commands_flags_and_leave_no_file(tmp_path, stored):
     assert r.returncode == 2 and "no calibration with id 'cal_0000'" in r.stderr
     r = trical("apply", "nothing-here", STILL, "-o", tmp_path / "out.csv", tmp_path=tmp_path)
     assert r.returncode == 2 and "neither a file nor a calibration id" in r.stderr
+
+
+def test_the_json_that_trical_export_writes_is_a_calibration_file_too(tmp_path, stored, fitted):
+    _, result = fitted
+    exported = tmp_path / "exported.json"
+    assert trical("export", stored, "--format", "json", "-o", exported, tmp_path=tmp_path).returncode == 0
+    out = tmp_path / "calibrated.csv"
+    r = trical("apply", exported, STILL, "-o", out, tmp_path=tmp_path)
+    assert r.returncode == 0, r.stderr
+    lines = out.read_text().splitlines()
+    assert lines[0] == f"# calibrated by trical with calibration {stored} (triangular) from {STILL.name}"
+    assert lines[2] == "acc_x (g),acc_y (g),acc_z (g)"
+    rows = np.loadtxt(lines[3:], delimiter=",")
+    assert np.max(np.abs(rows - result.apply(read_log(STILL).acc, "acc"))) <= 1e-9

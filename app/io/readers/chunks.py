@@ -9,7 +9,8 @@ How the file is read is decided once, as :func:`app.io.readers.read_log` decides
   (rows whose sensors are all empty dropped, a partly empty or non-numeric row refused naming its line), then
   scaled and signed as the head's read decided (counts per g, gauss into µT, iOS's sign: ``LogData.scales`` and
   ``sign``), the time in seconds since the first row;
-- a ``.npy`` array is memory-mapped by its reader and taken a slice at a time;
+- a ``.npy`` array is memory-mapped by its reader and taken a slice at a time (an N×4 array's time column is
+  turned into seconds whole by the reader: 8 bytes a row);
 - every other file (a phone app's export, Parquet, a flight log, a zip, JSON) is read whole by :func:`read_log`,
   then handed on in chunks; :attr:`ChunkedLog.streamed` is False and a note says so.
 """
