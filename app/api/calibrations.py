@@ -211,7 +211,9 @@ def _file_chunks(path: Path) -> Iterator[bytes]:
 def apply_file(
     calibration_id: str,
     *,
-    file: UploadFile = File(..., description="The recording: any log the upload reads; a CSV is read in chunks."),
+    file: UploadFile = File(
+        ..., description="The recording: any log the upload reads; CSV, .npy and Parquet in chunks."
+    ),
     form: Annotated[ApplyFileOptions, Form()],
     settings: SettingsDep,
     store: StoreDep,

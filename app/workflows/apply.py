@@ -3,7 +3,7 @@ the file holds is calibrated by the result's own ``apply`` (``f = M (m − o)``)
 and the rows are written as CSV, Parquet or ``.npy`` (app.io.writers.samples) with each column's unit in its name.
 
 Memory is a chunk's (app.io.readers.chunks), whatever the recording's length, where the file is read in chunks (a
-generic CSV, a ``.npy`` array); other formats are read whole first, and the answer's notes say so."""
+generic CSV, a ``.npy`` array, Parquet); other formats are read whole first, and the answer's notes say so."""
 
 from __future__ import annotations
 
@@ -160,8 +160,8 @@ def apply_to_file(
     body : dict
         A stored calibration's body (rebuilt by :func:`app.calibration.registry.from_dict`).
     path : str or pathlib.Path
-        The recording: any log :func:`app.io.readers.read_log` reads; a generic CSV and ``.npy`` are read in
-        chunks.
+        The recording: any log :func:`app.io.readers.read_log` reads; a generic CSV, ``.npy`` and Parquet are
+        read in chunks.
     out : binary file
         Where to write (seekable for ``npy``).
     fmt : str

@@ -172,7 +172,8 @@ def test_a_json_longer_than_the_head_is_read_whole_and_said_so():
     chunked = read_in_chunks(path, name=path.name, chunk_rows=100)
     assert not chunked.streamed
     assert (
-        chunked.log.notes[-1] == "read whole: betaflight_mag files are not read in chunks (a generic CSV and .npy are)"
+        chunked.log.notes[-1]
+        == "read whole: betaflight_mag files are not read in chunks (a generic CSV, Parquet and .npy are)"
     )
     whole = read_log(path, name=path.name).mag
     assert np.array_equal(np.vstack([c.sensors["mag"] for c in chunked.chunks()]), whole)
@@ -191,3 +192,25 @@ def test_a_body_cut_short_is_refused_saying_what_it_lacks(calibration):
     body, _ = calibration
     with pytest.raises(CalibrationError, match=r"cannot be read back .*'model'"):
         written({k: v for k, v in body.items() if k != "model"}, STILL)
+
+
+def test_a_parquet_recording_is_read_in_batches_as_the_reader_reads_it_whole(calibration, tmp_path):
+    """The phone's recording written as Parquet (time, accelerometer in g, gyroscope, magnetometer), then read in
+    batches: the same samples, units and seconds as its whole read, and the calibration applied the same."""
+    body, result = calibration
+    recording = tmp_path / "phone.parquet"
+    with open(recording, "wb") as f:
+        apply_to_file(body, HYPERIMU, f, fmt="parquet", options=ReadOptions(columns=HYPERIMU_COLUMNS))
+    whole = read_log(recording, name=recording.name)
+    chunked = read_in_chunks(recording, name=recording.name, chunk_rows=64, head_lines=100)
+    assert chunked.streamed and chunked.log.units == whole.units == {"acc": "g", "gyr": "rad/s", "mag": "uT"}
+    chunks = list(chunked.chunks())
+    assert len(chunks) == -(-whole.n_samples // 64)
+    for sensor in ("acc", "gyr", "mag"):
+        assert np.array_equal(np.vstack([c.sensors[sensor] for c in chunks]), getattr(whole, sensor))
+    assert np.array_equal(np.concatenate([c.time_s for c in chunks]), whole.time_s)
+    applied, out = written(body, recording, chunk_rows=64, head_lines=100)
+    assert applied.streamed and applied.passed == ("gyr", "mag")
+    names, values = npy_columns(out)
+    assert names[:4] == ("time (s)", "acc_x (g)", "acc_y (g)", "acc_z (g)")
+    assert np.max(np.abs(values[:, 1:4] - result.apply(whole.acc, "acc"))) <= 1e-9

@@ -11,8 +11,10 @@ How the file is read is decided once, as :func:`app.io.readers.read_log` decides
   ``sign``), the time in seconds since the first row;
 - a ``.npy`` array is memory-mapped by its reader and taken a slice at a time (an N×4 array's time column is
   turned into seconds whole by the reader: 8 bytes a row);
-- every other file (a phone app's export, Parquet, a flight log, a zip, JSON) is read whole by :func:`read_log`,
-  then handed on in chunks; :attr:`ChunkedLog.streamed` is False and a note says so.
+- a Parquet file is read a batch of rows at a time (pyarrow's ``iter_batches``), its columns and units decided by
+  :func:`read_log` on a Parquet file of its first rows;
+- every other file (a phone app's export, a flight log, a wearable's binary, a zip, JSON) is read whole by
+  :func:`read_log`, then handed on in chunks; :attr:`ChunkedLog.streamed` is False and a note says so.
 """
 
 from __future__ import annotations
@@ -30,7 +32,8 @@ import numpy as np
 from ..errors import LogFormatError
 from ..log import LogData
 from . import parse_columns, read_log
-from .generic_csv import CSV, csv_columns
+from .arrays import PARQUET_SUFFIXES
+from .generic_csv import CSV, csv_columns, map_columns
 from .read_options import ReadOptions
 from .table import BAD_LINE, _csv_source, first_bad_line
 from .timing import time_scale as infer_time_scale
@@ -125,6 +128,8 @@ def read_in_chunks(
     """
     path = Path(path)
     chunk_rows = max(1, int(chunk_rows))
+    if path.suffix.lower() in PARQUET_SUFFIXES:
+        return _streamed_parquet(path, options, name, chunk_rows, head_lines)
     if path.suffix.lower() == ".npy" or not _is_text(path):
         return _whole(read_log(path, options, name=name), chunk_rows, streamed=path.suffix.lower() == ".npy")
     head, lines = _read_head(path, options, name, head_lines)
@@ -167,7 +172,7 @@ def _whole(log: LogData, chunk_rows: int, *, streamed: bool, small: bool = False
     """A log read whole (a ``.npy`` memory-mapped), handed on in slices of ``chunk_rows``."""
     notes = log.notes
     if not streamed and not small:
-        notes += (f"read whole: {log.format} files are not read in chunks (a generic CSV and .npy are)",)
+        notes += (f"read whole: {log.format} files are not read in chunks (a generic CSV, Parquet and .npy are)",)
     n = log.n_samples
 
     def chunks() -> Iterator[Chunk]:
@@ -312,3 +317,54 @@ def _checked(
     if not keep.any():
         return None
     return {s: np.column_stack([arrays[c] for c in group]) for s, group in sensors.items()}, keep
+
+
+def _streamed_parquet(path: Path, options: ReadOptions, name: str, chunk_rows: int, head_lines: int) -> ChunkedLog:
+    """A Parquet table read a batch of rows at a time; what :func:`read_log` decides (units, sign, the time column)
+    decided on a file of its first ``head_lines`` rows."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    try:
+        pf = pq.ParquetFile(path)
+    except (pa.ArrowInvalid, OSError):
+        return _whole(read_log(path, options, name=name), chunk_rows, streamed=False)  # its refusal, read_log's
+    if pf.metadata.num_rows <= head_lines:
+        return _whole(read_log(path, options, name=name), chunk_rows, streamed=False, small=True)
+    with tempfile.TemporaryDirectory(prefix="trical-head-") as tmp:
+        first = Path(tmp) / path.name
+        pq.write_table(pa.Table.from_batches([next(pf.iter_batches(batch_size=head_lines))]), first)
+        head = read_log(first, options, name=name)
+    names = list(pf.schema_arrow.names)
+    channels, time_col, time_scale, _ = map_columns(names)
+    sensors = {s: [names[channels[s][a]] for a in "xyz"] for s in head.channels}
+    time_name = names[time_col] if time_col is not None and head.time_s is not None else None
+    wanted = [c for group in sensors.values() for c in group] + ([time_name] if time_name else [])
+
+    def chunks() -> Iterator[Chunk]:
+        t0: float | None = None
+        scale = time_scale
+        for batch in pf.iter_batches(batch_size=chunk_rows, columns=wanted):
+            arrays = {
+                s: head.sign * np.column_stack([np.asarray(batch.column(c), dtype=float) for c in group])
+                if s == "acc"
+                else np.column_stack([np.asarray(batch.column(c), dtype=float) for c in group])
+                for s, group in sensors.items()
+            }
+            time_s = None
+            if time_name is not None:
+                col = batch.column(time_name)
+                if pa.types.is_timestamp(col.type):  # as the reader: nanoseconds relative to the first, then seconds
+                    t = np.asarray(col.cast(pa.timestamp("ns")).to_numpy(zero_copy_only=False)).astype(np.int64)
+                    t0 = float(t[0]) if t0 is None else t0
+                    time_s = (t - np.int64(t0)).astype(float) * 1e-9
+                else:
+                    tf = np.asarray(col, dtype=float)
+                    if t0 is None:
+                        t0 = float(tf[0])
+                        scale = scale or infer_time_scale(tf)[0]
+                    time_s = (tf - t0) * float(scale or 1.0)
+            yield Chunk(arrays, time_s, None)
+
+    notes = head.notes + (f"read in chunks of {chunk_rows} rows",)
+    return ChunkedLog(_replace_notes(head, notes), True, time_name is not None, False, chunks)
