@@ -1,13 +1,14 @@
 """``trical apply`` on a synthetic week of wear at 100 Hz, beside the read alone: wall time and peak memory.
 
-    PYTHONPATH=. python bench/apply_week.py [--days 1 7] [--seed 7] [--format csv [npy parquet]] [--dir DIR]
+    PYTHONPATH=. python bench/apply_week.py [--days 1 7] [--seed 7] [--format csv [npy parquet]] [--gyro] [--dir DIR]
 
 For each length asked (days; 7 is the week, 60 480 000 rows):
 
 1. Generates, seeded, in a temporary folder (or ``--dir``): the accelerometer of rest and movement bouts through
    the sensor errors of Farago et al. eq. (17) with 3 mg noise (:mod:`simulations.autocal`, the week of
    bench/autocal.py), written as a CSV ``time,acc_x (g),acc_y (g),acc_z (g)`` a million rows at a time (the time in
-   seconds, the samples to 10 µg); and a calibration of the same sensor, a triangular fit (Farago et al.) on 18
+   seconds, the samples to 10 µg; ``--gyro`` adds a gyroscope at rest, ``gyr_x (rad/s)`` …, which the
+   calibration passes through); and a calibration of the same sensor, a triangular fit (Farago et al.) on 18
    still poses drawn through the same parameters, as a JSON body (``cal.json``).
 2. Runs, each as a process of its own inside a small wrapper that reads its ``ru_maxrss`` (RUSAGE_CHILDREN):
    - ``trical apply cal.json week.csv -o out.FORMAT`` (``python -m app.cli``), for each ``--format`` asked;
@@ -41,7 +42,7 @@ RATE_HZ = 100.0
 PIECE = 1_000_000
 
 
-def make_recording(folder: Path, days: float, seed: int) -> tuple[Path, Path, float]:
+def make_recording(folder: Path, days: float, seed: int, gyro: bool = False) -> tuple[Path, Path, float]:
     """The CSV of ``days`` at 100 Hz and the calibration's JSON in ``folder``; returns their paths and the seconds
     the generation took."""
     import dataclasses
@@ -60,7 +61,9 @@ def make_recording(folder: Path, days: float, seed: int) -> tuple[Path, Path, fl
     _, sim = simulate_recording(rng, duration_s=n / RATE_HZ, sampling_rate_hz=RATE_HZ, noise_g=0.003, out=samples)
     csv = folder / f"week_{days:g}d.csv"
     with open(csv, "wb") as out:
-        out.write(b"time,acc_x (g),acc_y (g),acc_z (g)\n")
+        header = "time,acc_x (g),acc_y (g),acc_z (g)" + (",gyr_x (rad/s),gyr_y (rad/s),gyr_z (rad/s)" if gyro else "")
+        out.write(header.encode() + b"\n")
+        gyro_rng = np.random.default_rng(seed + 1)
         for s in range(0, n, PIECE):
             e = min(n, s + PIECE)
             x = np.round(np.asarray(samples[s:e], dtype=np.float64), 5)
@@ -70,6 +73,12 @@ def make_recording(folder: Path, days: float, seed: int) -> tuple[Path, Path, fl
                     "x": x[:, 0],
                     "y": x[:, 1],
                     "z": x[:, 2],
+                    # A gyroscope at rest (bias and 5 mrad/s of white noise), which the calibration passes through.
+                    **(
+                        {f"g{a}": np.round(gyro_rng.normal(0.01 * k, 0.005, e - s), 5) for k, a in enumerate("xyz")}
+                        if gyro
+                        else {}
+                    ),
                 }
             )
             pacsv.write_csv(table, out, write_options=pacsv.WriteOptions(include_header=False))
@@ -117,8 +126,8 @@ BYTES_ALONE = (
 )
 
 
-def measure(days: float, seed: int, formats: list[str], folder: Path) -> dict:
-    csv, cal, gen_s = make_recording(folder, days, seed)
+def measure(days: float, seed: int, formats: list[str], folder: Path, gyro: bool = False) -> dict:
+    csv, cal, gen_s = make_recording(folder, days, seed, gyro)
     rows = int(round(days * 86400 * RATE_HZ))
     figures = {"days": days, "rows": rows, "csv_mb": csv.stat().st_size / 1e6, "generated_s": gen_s, "apply": {}}
     for fmt in formats:
@@ -141,6 +150,7 @@ def main() -> None:
     parser.add_argument("--days", type=float, nargs="+", default=[1.0, 7.0])
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--format", choices=("csv", "parquet", "npy"), nargs="+", default=["csv"])
+    parser.add_argument("--gyro", action="store_true", help="a gyroscope's three columns too (passed through)")
     parser.add_argument("--dir", type=Path, default=None, help="where to write the files (default: a temporary folder)")
     args = parser.parse_args()
     folder = Path(tempfile.mkdtemp(prefix="trical-apply-week-", dir=args.dir))
@@ -148,7 +158,7 @@ def main() -> None:
     results = []
     try:
         for days in args.days:
-            f = measure(days, args.seed, args.format, folder)
+            f = measure(days, args.seed, args.format, folder, args.gyro)
             results.append(f)
             print(
                 f"{days:g} day(s) at 100 Hz: {f['rows']:,} rows, CSV {f['csv_mb']:.0f} MB "
