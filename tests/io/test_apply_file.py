@@ -214,3 +214,14 @@ def test_a_parquet_recording_is_read_in_batches_as_the_reader_reads_it_whole(cal
     names, values = npy_columns(out)
     assert names[:4] == ("time (s)", "acc_x (g)", "acc_y (g)", "acc_z (g)")
     assert np.max(np.abs(values[:, 1:4] - result.apply(whole.acc, "acc"))) <= 1e-9
+
+
+def test_a_npy_recording_is_memory_mapped_and_sliced(calibration, tmp_path):
+    """The board's still recording saved as an N×3 .npy in g (as a wearable's export is): sliced, the same rows."""
+    body, result = calibration
+    acc = read_log(STILL).acc
+    recording = tmp_path / "still.npy"
+    np.save(recording, acc)
+    applied, out = written(body, recording, chunk_rows=7, options=ReadOptions(units={"acc": "g"}))
+    assert applied.streamed and applied.rows == 3000
+    assert np.array_equal(npy_columns(out)[1], result.apply(acc, "acc"))
