@@ -225,3 +225,22 @@ def test_a_npy_recording_is_memory_mapped_and_sliced(calibration, tmp_path):
     applied, out = written(body, recording, chunk_rows=7, options=ReadOptions(units={"acc": "g"}))
     assert applied.streamed and applied.rows == 3000
     assert np.array_equal(npy_columns(out)[1], result.apply(acc, "acc"))
+
+
+def test_a_temperature_column_passes_through_and_the_file_is_streamed(calibration, tmp_path):
+    """A seeded warm-up (its noise the real board's, tests/temperature_logs.py) with a ``temp_c`` column, in g."""
+    from tests.temperature_logs import warm_up_csv
+
+    body, result = calibration
+    recording = tmp_path / "warm_up.csv"
+    recording.write_bytes(warm_up_csv(acc_in_g=True))
+    whole = read_log(recording, ReadOptions(units={"acc": "g"}))
+    applied, out = written(
+        body, recording, fmt="csv", options=ReadOptions(units={"acc": "g"}), chunk_rows=500, head_lines=2000
+    )
+    assert applied.streamed and [c.name for c in applied.columns][-1] == "temp_c"
+    text = out.getvalue().decode()
+    rows = np.loadtxt(io.StringIO(text), delimiter=",", comments="#", skiprows=4)
+    assert len(rows) == whole.n_samples > 2000
+    assert np.array_equal(rows[:, -1], whole.temperature_c)
+    assert np.max(np.abs(rows[:, 1:4] - result.apply(whole.acc, "acc"))) <= 1e-9
