@@ -126,6 +126,7 @@ VOCABULARY: dict[str, Term] = {
             "a Sampling rate (Hz) of {value} (in " + OPTIONS + ")",
         ),
         Term("format", "a file named for its format (.csv, .zip, .ulg, .bin)", cli="--log-format"),
+        Term("output_format", "the output's format", cli="--format"),
         Term("instance", "the “IMU read” menu", "IMU {value} in the “IMU read” menu"),
         Term("mag_instance", "the “Compass read” menu", "compass {value} in the “Compass read” menu"),
         Term(

@@ -29,7 +29,12 @@ VALID_POSITIONALS = {
     "id": "cal_missing",
     "other": "cal_missing",
     "port": "/dev/ttyACM0",
+    "calibration": "cal_missing",
+    "file": str(LOG),
 }
+REQUIRED_OPTIONS = {"apply": {"output": ["-o", str(ROOT / "never-written.csv")]}}
+"""Options a command cannot run without, given valid where another option's bad value is tried (the bad value is
+refused before anything is written)."""
 
 
 @pytest.fixture(scope="module")
@@ -78,6 +83,9 @@ def bad_invocations() -> list[list[str]]:
                     args.append(value if p is action else VALID_POSITIONALS[p.dest])
                 if action.option_strings:
                     args.insert(1, f"{action.option_strings[0]}={value}")
+                for dest, given in REQUIRED_OPTIONS.get(name, {}).items():
+                    if dest != action.dest:
+                        args += given
                 cases.append(args)
     return cases
 
@@ -113,6 +121,7 @@ def test_every_option_of_every_subcommand_refuses_bad_values_in_one_line(env):
         "noise",
         "temperature",
         "export",
+        "apply",
         "capture",
         "check",
         "compare",

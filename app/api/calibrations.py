@@ -4,17 +4,23 @@ from __future__ import annotations
 
 import base64
 import io
+import shutil
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
 from typing import Annotated, Any
 
 import numpy as np
 from fastapi import APIRouter, Depends, File, Form, Query, UploadFile
-from fastapi.responses import Response
+from fastapi.responses import Response, StreamingResponse
+from starlette.background import BackgroundTask
 from starlette.concurrency import run_in_threadpool
 
 from app import methods
 from app.api.deps import OwnerDep, ReaderDep, SettingsDep, StoreDep, not_a_link
-from app.api.recordings import copy_limited
+from app.api.recordings import copy_limited, save_upload
 from app.api.schemas.calibrations import (
+    ApplyFileOptions,
     ApplyIn,
     ApplyOut,
     CalibrationList,
@@ -26,10 +32,13 @@ from app.api.schemas.calibrations import (
 )
 from app.calibration_requests import ImportFirmware, ImportIn
 from app.io.exports.snippets import usage_snippets
+from app.io.readers.kinds import NAMED_SUFFIXES
+from app.io.writers.samples import MEDIA_TYPES
 from app.methods import CalibrationIn
 from app.store import NotFoundError, Store
 from app.verdict import with_verdict
 from app.words import render_body
+from app.workflows.apply import apply_to_file
 from app.workflows.check import check_source, compare_calibrations
 from app.workflows.recordings import RecordingSource
 from app.workflows.results import apply_calibration
@@ -262,3 +271,64 @@ def compare_with(
     a = store.get_calibration(calibration_id, owner=owner)
     b = store.get_calibration(other, owner=owner)
     return compare_calibrations(a, b, field_ut=field_ut, inclination_deg=inclination_deg)
+
+
+STREAM_BYTES = 1 << 20
+"""Bytes of the written file sent at a time by the apply-file answer."""
+
+
+def _file_chunks(path: Path) -> Iterator[bytes]:
+    with open(path, "rb") as f:
+        while block := f.read(STREAM_BYTES):
+            yield block
+
+
+@router.post(
+    "/{calibration_id}/apply-file",
+    response_class=StreamingResponse,
+    summary="Calibrate a recording: its samples, streamed as CSV, Parquet or .npy",
+    responses={
+        200: {
+            "content": {media: {} for media in MEDIA_TYPES.values()},
+            "description": "The calibrated samples, each column named with its unit (docs/rest.md).",
+        }
+    },
+)
+def apply_file(
+    calibration_id: str,
+    *,
+    file: UploadFile = File(
+        ..., description="The recording: any log the upload reads; CSV, .npy and Parquet in chunks."
+    ),
+    form: Annotated[ApplyFileOptions, Form()],
+    settings: SettingsDep,
+    store: StoreDep,
+    owner: OwnerDep,
+) -> StreamingResponse:
+    """A stored calibration applied to every sample of an uploaded recording; the rows streamed back."""
+    body = store.get_calibration(calibration_id, owner=owner)
+    work = Path(tempfile.mkdtemp(prefix="trical-apply-"))
+    try:
+        suffix = Path(file.filename or "").suffix.lower()
+        source = work / f"recording{suffix if suffix in NAMED_SUFFIXES else '.csv'}"
+        save_upload(file.file, source, settings.max_upload_bytes, settings.max_upload_mb)
+        fmt = form.output_format
+        with open(work / f"calibrated.{fmt}", "wb") as out:
+            applied = apply_to_file(
+                body, source, out, fmt=fmt, options=form.read_options(), name=Path(file.filename or "the file").name
+            )
+    except BaseException:
+        shutil.rmtree(work, ignore_errors=True)
+        raise
+    return StreamingResponse(
+        _file_chunks(work / f"calibrated.{fmt}"),
+        media_type=MEDIA_TYPES[fmt],
+        headers={
+            "Content-Disposition": f'attachment; filename="{calibration_id}-calibrated.{fmt}"',
+            "X-Trical-Rows": str(applied.rows),
+            "X-Trical-Corrected": ",".join(applied.corrected),
+            "X-Trical-Passed-Through": ",".join(applied.passed),
+            "X-Trical-Streamed": "true" if applied.streamed else "false",
+        },
+        background=BackgroundTask(shutil.rmtree, work, ignore_errors=True),
+    )

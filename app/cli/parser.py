@@ -458,6 +458,37 @@ def _add_import(sub) -> None:
     i.add_argument("--verbose", action="store_true", help=f"print every note (default: the first {opt.NOTES_SHOWN})")
 
 
+def _add_apply(sub) -> None:
+    """``trical apply``: a calibration applied to every sample of a recording, written as CSV, Parquet or .npy."""
+    from app.io.writers.samples import FORMATS
+
+    a = sub.add_parser(
+        "apply", help="apply a calibration to a recording and write the calibrated samples (read in chunks)"
+    )
+    a.add_argument(
+        "calibration",
+        type=opt.text("a calibration id or file"),
+        metavar="CAL",
+        help="a stored calibration's id (cal_...), or a JSON file of a calibration (trical calibrate --json, "
+        "trical export --format json)",
+    )
+    a.add_argument("file", type=opt.input_path("a recording"), metavar="FILE", help="the recording to calibrate")
+    a.add_argument("--output", "-o", type=opt.output_file("a file to write"), required=True, help="the file to write")
+    a.add_argument(
+        "--format",
+        choices=FORMATS,
+        default=None,
+        help="the output's format (default: its suffix: .csv, .parquet, .npy)",
+    )
+    a.add_argument(
+        "--sampling-rate-hz", type=opt.SAMPLING_RATE, default=None, help="the recording's rate, if it has no time"
+    )
+    a.add_argument("--unit", choices=UNITS_IN["acc"], default=None, help="the accelerometer's unit in the recording")
+    _unit_options(a)
+    _read_options(a)
+    a.add_argument("--json", action="store_true", help="print what was written as JSON (rows, columns, units)")
+
+
 def _unit_options(parser: argparse.ArgumentParser) -> None:
     """The units of a text log's gyroscope and magnetometer and the counts per g of its accelerometer, as the
     upload's ``gyr_unit``, ``mag_unit`` and ``lsb_per_g`` say them (every command that reads a log takes them: a
@@ -532,6 +563,7 @@ _ADDERS = {
     "check": _add_check,
     "compare": _add_compare,
     "import": _add_import,
+    "apply": _add_apply,
 }
 
 COMMANDS = tuple(_ADDERS)

@@ -22,7 +22,8 @@ PAGE = {CLIENT_HEADER: "page"}
 
 @lru_cache(maxsize=1)
 def parameter_names() -> frozenset[str]:
-    """Every field of the upload's form and of the API's request bodies (its schema's ``…In`` models)."""
+    """Every field of the upload's form, the apply-file form and the API's request bodies (its schema's ``…In``
+    models)."""
     import tempfile
 
     from app.config import Settings
@@ -32,7 +33,11 @@ def parameter_names() -> frozenset[str]:
     schemas = create_app(Settings(database_url=f"sqlite:///{folder}/trical.db")).openapi()["components"]["schemas"]
     names = set()
     for name, schema in schemas.items():
-        if name.startswith("Body_upload_recording") or name == "UploadOptions" or name.endswith("In"):
+        if (
+            name.startswith("Body_upload_recording")
+            or name in ("UploadOptions", "ApplyFileOptions")
+            or name.endswith("In")
+        ):
             names.update(schema.get("properties", {}))
     return frozenset(names - {"file"})
 

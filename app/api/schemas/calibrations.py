@@ -13,7 +13,9 @@ from pydantic import BaseModel, Field, create_model
 
 from app.api.schemas import autocal, compass, cube, imports, noise, still_readings, temperature
 from app.api.schemas.common import CalibrationCommon, Mat3Out, Vec3Out
+from app.api.schemas.recordings import UploadOptions
 from app.calibration_requests import Strict, Vec3
+from app.io.writers.samples import FORMATS as SAMPLE_FORMATS
 from app.methods import AS_CHOSEN, TABLE
 
 FAMILIES = (still_readings, autocal, cube, noise, compass, temperature, imports)
@@ -145,6 +147,15 @@ class SnippetsOut(BaseModel):
 class ApplyIn(Strict):
     samples: Annotated[list[Vec3], Field(min_length=1, max_length=1_000_000)]
     sensor: Literal["acc", "gyr", "mag"] = Field("acc", description="Which sensor's model to apply (cube).")
+
+
+class ApplyFileOptions(UploadOptions):
+    """The fields of ``POST /api/v1/calibrations/{id}/apply-file``'s multipart form besides its ``file``: how the
+    recording is read (as the upload's), and the format the calibrated samples are written in."""
+
+    output_format: Literal[SAMPLE_FORMATS] = Field(  # type: ignore[valid-type]
+        "csv", description="The answer's format: csv, parquet or npy (app.io.writers.samples)."
+    )
 
 
 class ApplyOut(BaseModel):

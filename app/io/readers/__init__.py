@@ -46,8 +46,9 @@ What the package holds: how to read a log (:mod:`.read_options`), one module per
 stack (:mod:`.table`, :mod:`.generic_csv`, :mod:`.columns`), the rate (:mod:`.timing`), the units and the
 chips' scales (:mod:`.units`, :mod:`.gyro_unit`, :mod:`.chips`), the sign (:mod:`.ios_sign`), JSON
 (:mod:`.json_samples`, :mod:`.betaflight_mag`), arrays and wearables' files (:mod:`.arrays`, :mod:`.wearables`),
-recordings in several files, one per pose or one per sensor (:mod:`.parts`, :mod:`.sensor_files`), and the kinds
-of file read (:mod:`.kinds`). The flight controllers' logs are read through :mod:`app.io.flight`.
+recordings in several files, one per pose or one per sensor (:mod:`.parts`, :mod:`.sensor_files`), the kinds
+of file read (:mod:`.kinds`), and a recording read in chunks, its reading decided as here (:mod:`.chunks`). The
+flight controllers' logs are read through :mod:`app.io.flight`.
 """
 
 from __future__ import annotations

@@ -435,6 +435,40 @@ def renamed(names: list[str], column_map: dict[str, str] | None) -> list[str]:
     return out
 
 
+@dataclass(frozen=True)
+class CsvColumns:
+    """Which column of a generic CSV is which, decided from its head: the layout, each sensor's x, y and z
+    columns, the time column and its scale (None: inferred from its step), the temperature column."""
+
+    layout: Layout
+    channels: dict[str, dict[str, int]]
+    time_col: int | None
+    time_scale: float | None
+    temp_col: int | None
+    text: str
+
+
+def csv_columns(
+    path: Path,
+    name: str = "the file",
+    column_map: dict[str, str] | None = None,
+    column_names: list[str] | None = None,
+) -> CsvColumns:
+    """The columns of a generic CSV log as :func:`read_csv_log` reads them (and a reader in chunks,
+    :mod:`app.io.readers.chunks`), from the file's head; refusals as :func:`read_csv_log`'s."""
+    with open(path, "rb") as f:
+        head = f.read(SNIFF_BYTES)
+    text = decode_head(head, name)
+    layout = table_layout(text, name, column_names)
+    if layout.headerless and column_names is None:
+        layout = _named_from_data(path, layout, name)
+    _refuse_text_block(text, layout, name)
+    _refuse_words(text, layout, name)
+    layout, channels, time_col, time_scale = _mapped_layout(path, layout, column_map, column_names, name)
+    temp_col = temperature_column(renamed(layout.names, column_map))
+    return CsvColumns(layout, channels, time_col, time_scale, temp_col, text)
+
+
 def read_csv_log(
     path: Path,
     *,
@@ -471,18 +505,17 @@ def read_csv_log(
         :class:`~app.io.readers.columns.ColumnsAmbiguous`), a count of ``column_names`` that is not the file's, text in
         a numeric column (with its line number), a missing sampling rate.
     """
-    with open(path, "rb") as f:
-        head = f.read(SNIFF_BYTES)
-    text = decode_head(head, name)
-    layout = table_layout(text, name, column_names)
-    if layout.headerless and column_names is None:
-        layout = _named_from_data(path, layout, name)
-    _refuse_text_block(text, layout, name)
-    _refuse_words(text, layout, name)
-    layout, channels, time_col, time_scale = _mapped_layout(path, layout, column_map, column_names, name)
+    table = csv_columns(path, name, column_map, column_names)
+    layout, channels, time_col, time_scale, temp_col = (
+        table.layout,
+        table.channels,
+        table.time_col,
+        table.time_scale,
+        table.temp_col,
+    )
+    text = table.text
     names = layout.names
     header_units = mapped_units(names, column_map)
-    temp_col = temperature_column(renamed(names, column_map))
     used = [time_col] if time_col is not None else []
     if temp_col is not None:
         used.append(temp_col)
