@@ -55,7 +55,7 @@ PAGE_FACTS: dict[str, PageFacts] = {
     "TriangularCalibration": PageFacts(norms="captures"),
     "AutoCalibration": PageFacts(norms="captures"),  # its model is a triangular one
     "CubeCalibration": PageFacts(norms="positions"),
-    "MagnetometerResult": PageFacts(spheres=True, packet=("mag",)),
+    "MagnetometerResult": PageFacts(uses="compassCalibration", spheres=True, packet=("mag",)),
     "ImportedCalibration": PageFacts(heading="The firmware's numbers, as read (f = M (m − o) per sensor)"),
     "FlightCompassCalibration": PageFacts(
         uses="flightCompass",

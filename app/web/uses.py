@@ -8,7 +8,7 @@ export formats of app.io (FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS).
 from __future__ import annotations
 
 from app.io.exports.compass import FLIGHT_COMPASS_FORMATS
-from app.io.exports.exporters import FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
+from app.io.exports.exporters import COMPASS_FORMAT_NAMES, FORMAT_NAMES, NOISE_FORMATS, TEMPERATURE_FORMATS
 
 CALIBRATION_USES = (
     {
@@ -64,6 +64,10 @@ CALIBRATION_USES = (
 )
 """A correction of a sensor (every method but noise). ``snippet`` names the lines of
 ``GET /api/v1/calibrations/{id}/use`` (app/io/use.py) shown under the file."""
+
+COMPASS_USES = tuple(u for u in CALIBRATION_USES if u["format"] in COMPASS_FORMAT_NAMES)
+"""A compass's correction: the uses of :data:`CALIBRATION_USES` whose file carries a compass (not Betaflight's or
+INAV's, which hold only the accelerometer's)."""
 
 NOISE_USES = (
     {
@@ -160,6 +164,7 @@ once made, is remembered per source over it. A calibration with no source offers
 
 USE_SETS = {
     "calibration": (CALIBRATION_USES, FORMAT_NAMES),
+    "compassCalibration": (COMPASS_USES, COMPASS_FORMAT_NAMES),
     "noiseFigures": (NOISE_USES, NOISE_FORMATS),
     "thermalCompensation": (TEMPERATURE_USES, TEMPERATURE_FORMATS),
     "flightCompass": (FLIGHT_COMPASS_USES, FLIGHT_COMPASS_FORMATS),

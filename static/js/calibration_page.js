@@ -86,8 +86,8 @@ async function load() {
     const meta = $("#cal-meta");
     const method = TABLES.methods[cal.method] || cal.method;
     // A calibration a device already held says what it was read from (its firmware, version and file).
-    const source = cal.read_from
-      && `read from ${[cal.read_from.firmware, cal.read_from.version].filter(Boolean).join(" ")} (${cal.read_from.file_kind})`;
+    const from = cal.read_from;
+    const source = from && `read from ${[from.firmware, from.version].filter(Boolean).join(" ")} (${from.file_kind})`;
     meta.textContent = [cal.device_id && `Device ${cal.device_id}`, `Method: ${method}`, source,
       `made ${when(cal.created_at)}`, `id ${cal.id}`].filter(Boolean).join(" · ");
     meta.hidden = false;

@@ -35,6 +35,11 @@ INT16 = (-32768, 32767)
 """The range of a zero (an int16 in both firmwares' parameter groups)."""
 INAV_GAIN_RANGE = (1, 8192)
 """INAV's ``accgain_*`` range (its settings table)."""
+ACCELEROMETER_ONLY = ("betaflight", "inav")
+"""The formats of this module: they carry an accelerometer's correction alone (both firmwares hold their compass in
+the magnetometer's raw counts, whose scale a compass calibration does not give), so a compass's calibration is
+refused them."""
+
 BETAFLIGHT_SOURCE = "src/main/sensors/acceleration.c (accelerationTrims: accADC = m - acc_calibration)"
 INAV_SOURCE = "src/main/sensors/acceleration.c (applyAccelerationZero: accADC = (m - acczero) * accgain / 4096)"
 

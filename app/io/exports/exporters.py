@@ -14,7 +14,7 @@ from app.calibration.shared.result import DRIFT, FIGURES
 
 from ..errors import ExportError
 from ..plural import counted
-from .cli_sets import to_betaflight, to_inav
+from .cli_sets import ACCELEROMETER_ONLY, to_betaflight, to_inav
 from .common import FRAME, JSON_SCHEMA, Export, result_class, sensor_corrections, unit_label
 from .compass import FLIGHT_COMPASS_EXPORTS, FLIGHT_COMPASS_METHOD, export_flight_compass
 from .noise import NOISE_EXPORTERS, NOISE_FORMATS
@@ -196,11 +196,16 @@ FORMAT_NAMES = {
 """The page's download links; ``motioncal`` (bytes for a board, not a file to keep) is left out: the page
 writes it to the board with *Send to the board*, and the API and ``trical export`` give it."""
 
+COMPASS_FORMAT_NAMES = {key: name for key, name in FORMAT_NAMES.items() if key not in ACCELEROMETER_ONLY}
+"""The page's download links for a compass's calibration: the formats that carry a compass (:data:`FORMAT_NAMES` but
+Betaflight's and INAV's, which the export refuses for it)."""
+
 ALL_FORMATS = tuple(dict.fromkeys([*EXPORTERS, *NOISE_EXPORTERS, *TEMPERATURE_EXPORTERS, *FLIGHT_COMPASS_EXPORTS]))
 """Every format name of any calibration (the CLI's choices)."""
 
 __all__ = [
     "ALL_FORMATS",
+    "COMPASS_FORMAT_NAMES",
     "EXPORTERS",
     "FLIGHT_COMPASS_EXPORTS",
     "FORMAT_NAMES",
