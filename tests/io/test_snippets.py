@@ -186,6 +186,20 @@ def test_a_phone_s_readings_in_m_s2_need_no_scale(client, tmp_path):
     np.testing.assert_allclose(f, [0, 0, G], atol=2e-3)  # the reading at rest, z up, calibrated
 
 
+def test_a_phone_s_compass_turn_in_ut_needs_no_scale(client):
+    """The compass page's turn (its readings sent as the phone read them, in µT; no recording to say so): the example
+    reading is the phone's own µT, not a part's counts scaled."""
+    from simulations.magnetometer import simulate_session
+
+    m = simulate_session(5, n=300)[0]
+    body = {"method": "magnetometer", "mag": m.tolist(), "field_ut": 48.0, "source": "phone"}
+    cal = client.post("/api/v1/calibrations", json=body).json()
+    s = client.get(f"/api/v1/calibrations/{cal['id']}/use").json()
+    assert s["scales"]["mag"] is None and "counts" not in s["javascript"], s["javascript"]
+    board = client.post("/api/v1/calibrations", json={**body, "source": "board"}).json()
+    assert client.get(f"/api/v1/calibrations/{board['id']}/use").json()["scales"]["mag"]["known"] is False
+
+
 @pytest.mark.parametrize("chip", ["qmc5883l-8g"])
 def test_a_compass_in_counts_of_a_named_part_is_scaled_into_ut(client, tmp_path, chip):
     from tests.conftest import DATA

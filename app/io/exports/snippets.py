@@ -168,6 +168,8 @@ def usage_snippets(body: dict, read_with: dict | None = None, read_scales: dict 
         (what ArduPilot's and PX4's offsets and scales reach: app.io.exports.params.firmware_figures).
     """
     corrections = sensor_corrections(body)
+    if read_scales is None and body.get("source") == "phone":
+        read_scales = {}  # a phone's readings come in their unit (m/s², rad/s, µT), never in a part's counts
     header = f"trical_{body['id']}.h"
     json_name = f"{body['id']}.json"
     cube = result_class(body).PER_SENSOR
