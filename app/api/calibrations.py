@@ -39,7 +39,7 @@ from app.store import NotFoundError, Store
 from app.verdict import with_verdict
 from app.words import render_body
 from app.workflows.apply import apply_to_file
-from app.workflows.check import check_source, compare_calibrations
+from app.workflows.check import check_source, check_turn, compare_calibrations
 from app.workflows.recordings import RecordingSource
 from app.workflows.results import apply_calibration
 
@@ -243,12 +243,14 @@ def apply(calibration_id: str, request: ApplyIn, store: StoreDep, owner: OwnerDe
     summary="Check a calibration on a new recording",
 )
 def check_calibration(calibration_id: str, request: CheckIn, store: StoreDep, owner: OwnerDep) -> dict[str, Any]:
-    """The calibration applied to a new recording of the device: keep it, calibrate again (naming what drifted),
-    move the compass, or cannot tell (saying what to record)."""
+    """The calibration applied to a new recording of the device, or to a turn's readings: keep it, calibrate again
+    (naming what drifted), move the compass, or cannot tell (saying what to record)."""
     body = store.get_calibration(calibration_id, owner=owner)
+    place = {"field_ut": request.field_ut, "inclination_deg": request.inclination_deg}
+    if request.recording_id is None:  # a turn's readings sent as read (the page's live turn)
+        return check_turn(body, request.mag, **place)
     meta, path = store.get_recording(request.recording_id, owner=owner)
-    source = RecordingSource(meta=meta, path=path, id=request.recording_id)
-    return check_source(body, source, field_ut=request.field_ut, inclination_deg=request.inclination_deg)
+    return check_source(body, RecordingSource(meta=meta, path=path, id=request.recording_id), **place)
 
 
 @router.get(

@@ -98,10 +98,17 @@ def default_source(protocol: str) -> str:
 
 
 @router.get("/wizard", response_class=HTMLResponse)
-def wizard(request: Request, protocol: str = "six", capture_s: str | None = None, source: str | None = None):
+def wizard(
+    request: Request,
+    protocol: str = "six",
+    capture_s: str | None = None,
+    source: str | None = None,
+    check: str | None = None,
+):
     """The guided calibration with the phone's own motion sensors (``source=phone``, the default) or
     a board's lines over Web Serial or Bluetooth (``source=board``): the page is that source's from
-    its first screen (app/web/tables.py SOURCES holds its words)."""
+    its first screen (app/web/tables.py SOURCES holds its words). ``check`` (the compass's only): the turn checks
+    that stored calibration (POST …/{id}/check with its readings) instead of making a new one."""
     seconds, problem = _capture_s(capture_s)
     source = source if source is not None else default_source(protocol)
     if protocol not in PROTOCOLS:
@@ -110,6 +117,11 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
         problem = f"The source “{source[:40]}” is unknown: source is phone or board; choose one below."
     elif protocol not in SOURCE_PROTOCOLS[source]:
         problem = f"A {source} cannot do “{PROTOCOLS[protocol].words}” on this page: choose one below."
+    elif check is not None and (protocol != "compass" or not CALIBRATION_ID.match(check)):
+        problem = (
+            f"“{check[:40]}” is not a compass calibration's id to check: open the check from the calibration's page "
+            "(Check it on a new recording), or choose a calibration below."
+        )
     shown = source if source in SOURCES else "phone"
     context: dict[str, Any] = {
         "protocol": protocol,
@@ -125,6 +137,7 @@ def wizard(request: Request, protocol: str = "six", capture_s: str | None = None
             (label, SOURCES[shown]["poseNames"][label], SOURCES[shown]["poseShort"][label]) for label in CANONICAL_SIX
         ],
         "tables": None if problem else page_tables(),
+        "check_id": check,
     }
     if problem:
         page = "wizard.html"

@@ -43,6 +43,9 @@ class PageFacts:
     """The drawing of the plot's caption (``flight``: what a flight's compass calibration found)."""
     firmware_uses: bool = False
     """Whether it offers only the uses of the firmware whose log it came from (and the JSON)."""
+    live_check: bool = False
+    """Whether a live turn on the compass page checks it (``/wizard?protocol=compass&check=ID``: a compass's
+    calibration from a turn, which the same device's next turn checks; POST …/check with ``mag``)."""
     packet: tuple[str, ...] = ("acc",)
     """The parts of a board's calibration packet it holds, by sensor: ``acc`` (the accelerometer's and
     gyroscope's offsets), ``mag`` (the compass's hard iron, soft iron and field); a model with a magnetometer's
@@ -55,7 +58,7 @@ PAGE_FACTS: dict[str, PageFacts] = {
     "TriangularCalibration": PageFacts(norms="captures"),
     "AutoCalibration": PageFacts(norms="captures"),  # its model is a triangular one
     "CubeCalibration": PageFacts(norms="positions"),
-    "MagnetometerResult": PageFacts(uses="compassCalibration", spheres=True, packet=("mag",)),
+    "MagnetometerResult": PageFacts(uses="compassCalibration", spheres=True, live_check=True, packet=("mag",)),
     "ImportedCalibration": PageFacts(heading="The firmware's numbers, as read (f = M (m − o) per sensor)"),
     "FlightCompassCalibration": PageFacts(
         uses="flightCompass",

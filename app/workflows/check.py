@@ -149,6 +149,32 @@ def check_recording(
     return {"calibration_id": body.get("id"), **combined(checks).to_dict()}
 
 
+def check_turn(
+    body: dict[str, Any],
+    mag: Any,
+    *,
+    field_ut: float | None = None,
+    inclination_deg: float | None = None,
+) -> dict[str, Any]:
+    """The check of a stored calibration's compass on a turn's readings as the device read them (the page's live
+    turn: in the unit of the calibration's compass correction), as :func:`check_recording` answers it.
+
+    Raises
+    ------
+    CalibrationError
+        When the calibration does not correct the compass.
+    """
+    result = registry.from_dict(body)
+    if "mag" not in result.corrections():
+        raise CalibrationError(
+            f"the calibration corrects {', '.join(result.corrections()) or 'nothing'}, not the compass: a turn "
+            "checks a compass's calibration; check it on a recording of a sensor it corrects (recording_id)"
+        )
+    readings = _finite(np.asarray(mag, dtype=float).reshape(-1, 3))
+    checks = check(result, mag=readings, field_ut=field_ut, inclination_deg=inclination_deg).sensors
+    return {"calibration_id": body.get("id"), **combined(list(checks)).to_dict()}
+
+
 def compare_calibrations(
     a: dict[str, Any],
     b: dict[str, Any],

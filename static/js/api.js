@@ -142,6 +142,11 @@ export function checkCalibration(id, recordingId, token = null) {
     json("POST", { recording_id: recordingId }, bearer(token)));
 }
 
+// A stored compass calibration checked on a turn's readings as the device read them (the compass page's live turn).
+export function checkTurn(id, mag, token = null) {
+  return request(`/api/v1/calibrations/${encodeURIComponent(id)}/check`, json("POST", { mag }, bearer(token)));
+}
+
 // Two calibrations compared, `other` − `id`: {sensors: [{differences, effect, effect_deg, …}], missing}.
 export function compareCalibrations(id, other, token = null) {
   const query = new URLSearchParams({ with: other });

@@ -120,6 +120,14 @@ let checking = null;
 function offerCheck(cal, token) {
   checking = { cal, token };
   $("#check-card").hidden = !kindOf(cal).correction || Boolean(token?.startsWith("lnk_"));
+  // A compass's calibration from a phone's or a board's turn: the compass page's live turn on that phone or board
+  // checks it, with no file to record first.
+  const live = kindOf(cal).live_check && ["phone", "board"].includes(cal.source);
+  $("#check-live").hidden = !live;
+  if (!live) return;
+  const query = new URLSearchParams({ protocol: "compass", source: cal.source, check: cal.id });
+  $("#check-live-link").href = `/wizard?${query}`;
+  $("#check-live-link").textContent = `Turn the ${cal.source} for a minute`;
 }
 
 $("#check-form").addEventListener("submit", async (event) => {

@@ -2,9 +2,12 @@
 // Sensor API), fills the sphere of directions as the phone turns, and posts the readings to
 // POST /api/v1/calibrations (method magnetometer) once the faces are covered. Where the browser has
 // no magnetometer, it says so and points to a recording app and the upload on the start page.
+// With ?check=ID (a calibration's page offers it) the turn checks that calibration instead: its readings go to
+// POST /api/v1/calibrations/{id}/check, and the verdict is shown in place of a result.
 // The wizard's state (wizard_state.js) and render loop (wizard_render.js): the steps below change the
 // state, render(state) alone writes the page, with the compass's hooks (compass_view.js).
-import { createCalibration } from "./api.js";
+import { checkTurn, createCalibration } from "./api.js";
+import { checkBlock } from "./check_view.js";
 import { cue, unlockCues } from "./cues.js";
 import { keepScreenOn, letScreenSleep } from "./wake_lock.js";
 import { CompassCoverage, COVERAGE_TO_SOLVE } from "./compass_flow.js";
@@ -13,6 +16,7 @@ import { offerSend } from "./send.js";
 import { TABLES } from "./tables.js";
 import { BoardPanel } from "./board_panel.js";
 import { SOURCE } from "./source.js";
+import { candidates } from "./tokens.js";
 import { fetchDownloads } from "./use_calibration.js";
 import { announce, newState, showResult } from "./wizard_state.js";
 import { bindStartOver, newRendered, renderShared } from "./wizard_render.js";
@@ -21,6 +25,8 @@ import { $, setHidden, setText } from "./dom.js";
 const WIZARD_URL = location.pathname + location.search; // before a result moves to /c/{id}
 const NO_READING_MS = 3000;
 const DRAW_MS = 150; // the sphere is redrawn at most this often
+const CHECK = $("#compass").dataset.check || null; // the calibration this turn checks, if any
+const SOLVE = $("#compass-solve").textContent; // the button's words: "Calibrate now", or "Check now"
 
 const state = newState({ protocol: "compass", captureS: null, device: SOURCE });
 state.compass = {
@@ -30,6 +36,7 @@ state.compass = {
   whereText: null, // what came of the location asked for
   sensor: null, place: null, solving: false, autoSolved: false, drawnAt: 0, timer: null, drawTimer: null,
   reading: false, boardOn: false,
+  checked: null, // the check's answer (CHECK): {verdict, reasons, sensors}
 };
 const c = state.compass;
 
@@ -51,6 +58,11 @@ function render(s) {
   if (v.problem) setText($("#compass-none-why"), v.problem.detail);
   setHidden($("#compass-capture"), !v.capture);
   compassView.capture(s);
+  if (CHECK) {
+    setHidden($("#compass-check"), !c.checked);
+    if (c.checked && rendered.checked !== c.checked) $("#check-result").replaceChildren(checkBlock(c.checked));
+    rendered.checked = c.checked;
+  }
   renderShared(s, rendered, compassView);
 }
 
@@ -80,7 +92,7 @@ function refused(err) {
   if (c.coverage.count > 0) { // it stopped mid-turn: the readings so far are kept
     stopSensor();
     cue("refused");
-    const text = `The magnetometer stopped (${err && (err.message || err.name)}): tap Calibrate now to use the `
+    const text = `The magnetometer stopped (${err && (err.message || err.name)}): tap ${SOLVE} to use the `
       + `${c.coverage.count} readings so far, or Start over.`;
     c.message = text;
     say(text);
@@ -129,7 +141,7 @@ function show() {
   if (!c.autoSolved && c.coverage.ready(st)) {
     c.autoSolved = true;
     cue("finished");
-    say(`Coverage ${Math.round(100 * st.coverage)} %: calibrating.`);
+    say(`Coverage ${Math.round(100 * st.coverage)} %: ${CHECK ? "checking" : "calibrating"}.`);
     render(state);
     solve();
   }
@@ -181,20 +193,53 @@ function payload() {
   return body;
 }
 
+// The check of CHECK on this turn's readings, with the first token this browser keeps that reads it (tokens.js).
+async function checked() {
+  let last = null;
+  for (const token of candidates(CHECK)) {
+    try {
+      return await checkTurn(CHECK, c.coverage.readings, token);
+    } catch (err) {
+      if (err.code !== "unauthorized" && err.code !== "not_found") throw err;
+      last ??= err;
+    }
+  }
+  throw last;
+}
+
+// The check's verdict in place of a result: the turn is not kept as a calibration.
+function showCheck(out) {
+  letScreenSleep();
+  const v = state.view;
+  v.capture = false;
+  v.startOver = true;
+  v.focus = "#compass-check";
+  c.checked = out;
+  cue(out.verdict === "keep" ? "captured" : "refused");
+  say(`Checked: ${TABLES.checkVerdicts[out.verdict] || out.verdict}. ${out.reasons[0] || ""}`);
+}
+
 async function solve() {
   if (c.solving) return;
   c.solving = true;
   render(state);
   try {
+    if (CHECK) {
+      const out = await checked();
+      stopSensor();
+      c.boardOn = false;
+      showCheck(out);
+      return;
+    }
     const cal = await createCalibration(payload());
     stopSensor();
     c.boardOn = false;
     c.solving = false;
     finish(cal);
   } catch (err) {
-    say(`The calibration could not be computed: ${err.message}`);
+    say(`The ${CHECK ? "check could not be made" : "calibration could not be computed"}: ${err.message}`);
     cue("refused");
-    c.message = `The server refused: ${err.message}. Keep turning, then tap Calibrate now.`;
+    c.message = `The server refused: ${err.message}. Keep turning, then tap ${SOLVE}.`;
   } finally {
     c.solving = false;
     render(state);
@@ -255,7 +300,7 @@ $("#compass-more").addEventListener("click", () => {
 });
 // Start over (the readings are lost).
 bindStartOver(state, render, () => { letScreenSleep(); location.assign(WIZARD_URL); });
-$("#compass-where").addEventListener("click", () => {
+$("#compass-where")?.addEventListener("click", () => { // not on a check's page: it takes the calibration's field
   const where = (text) => { c.whereText = text; render(state); };
   if (!navigator.geolocation) { where("This browser gives no location: the strength will be estimated."); return; }
   where("Asking for the location… (you can start meanwhile)");

@@ -105,6 +105,25 @@ def test_real_pose_files_calibration_checked_on_its_own_session_is_kept(client):
     assert acc["verdict"] == "keep" and acc["count"] == 6 and acc["angle_kind"] == "tilt"
 
 
+def test_a_turn_s_readings_sent_as_read_are_checked_as_its_recording_is(client, compass):
+    """The page's live turn: the readings in the body, no upload; the same answer as the same turn uploaded."""
+    cal, M, b = compass
+    moved = simulate_turn(np.random.default_rng(5), M, b + [4.0, 0.0, 0.0], n=300)
+    r = client.post(f"/api/v1/calibrations/{cal['id']}/check", json={"mag": moved.tolist()})
+    assert r.status_code == 200, r.text
+    assert r.json()["verdict"] == "calibrate_again" and r.json()["sensors"][0]["drifted"] == ["hard iron"]
+    uploaded = check(client, cal["id"], upload_turn(client, moved)).json()
+    assert r.json()["sensors"][0]["current"]["value"] == pytest.approx(uploaded["sensors"][0]["current"]["value"], 1e-5)
+    both = client.post(f"/api/v1/calibrations/{cal['id']}/check", json={"mag": moved.tolist(), "recording_id": "x"})
+    neither = client.post(f"/api/v1/calibrations/{cal['id']}/check", json={})
+    for answer in (both, neither):
+        assert answer.status_code == 422 and "give recording_id" in answer.json()["detail"], answer.text
+    rec = upload_files(client, six()).json()
+    acc = client.post("/api/v1/calibrations", json={"method": "six_position", "recording_id": rec["id"]}).json()
+    r = client.post(f"/api/v1/calibrations/{acc['id']}/check", json={"mag": moved.tolist()})
+    assert r.status_code == 422 and "not the compass" in r.json()["detail"] and "recording_id" in r.json()["detail"]
+
+
 def test_what_cannot_be_checked_or_compared_is_a_4xx_naming_the_cause(client, compass):
     cal = compass[0]
     missing = check(client, cal["id"], "rec_nothing")

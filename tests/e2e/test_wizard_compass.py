@@ -197,6 +197,52 @@ def test_a_full_turn_fills_the_sphere_and_recovers_the_phone(mag_page, server):
     assert page.errors == []
 
 
+def test_a_live_turn_checks_the_phone_s_calibration_from_its_page(mag_page, server):
+    """Issue 47: a 60-second turn on the page is enough for the compass's check. The calibration's page offers the
+    live turn; the compass page then checks the calibration on it (no new calibration), here one whose hard iron
+    moved by 8 µT: calibrate again, naming the hard iron."""
+    page = mag_page
+    readings, M_true = turn(11, 50.0)
+    cal = page.request.post(
+        f"{server.url}/api/v1/calibrations",
+        data={"method": "magnetometer", "mag": readings.tolist(), "field_ut": 50.0, "source": "phone"},
+    ).json()
+    page.goto(f"{server.url}/c/{cal['id']}")
+    expect(page.locator("#check-live")).to_be_visible()
+    expect(page.locator("#check-live-link")).to_have_text("Turn the phone for a minute")
+    shots(page, "check_offered")
+    page.click("#check-live-link")
+    page.wait_for_url(f"**/wizard?protocol=compass&source=phone&check={cal['id']}")
+    expect(page.locator("#compass-start")).to_contain_text("makes no new calibration")
+    assert page.locator("#compass-where").count() == 0 and page.text_content("#compass-solve") == "Check now"
+    shots(page, "check_start")
+    # The same phone turned again, its hard iron moved by 8 µT along z.
+    noise = np.random.default_rng(12).normal(0.0, 0.3, (N_TURN, 3))
+    moved = 50.0 * spiral(N_TURN) @ np.linalg.inv(M_true).T + B_TRUE + [0.0, 0.0, 8.0] + noise
+    created: list[str] = []
+    page.on("request", lambda r: created.append(r.url) if r.url.endswith("/api/v1/calibrations") else None)
+    feed = magnetometer(page)
+    feed(moved[0])
+    page.click("#compass-start-btn")
+    page.wait_for_function("() => document.querySelector('#compass-coverage').dataset.count === '1'")
+    for k, m in enumerate(moved[1:], start=2):
+        feed(m)
+        page.wait_for_function(
+            f"() => Number(document.querySelector('#compass-coverage').dataset.count) >= {k}"
+            " || !document.querySelector('#compass-check').hidden"
+        )
+        if not page.is_hidden("#compass-check"):
+            break
+    expect(page.locator("#compass-check")).to_be_visible(timeout=20_000)
+    assert page.get_attribute(".check-result", "data-verdict") == "calibrate_again"
+    text = page.inner_text("#check-result")
+    assert "Verdict: calibrate again." in text and "Drifted: hard iron" in text, text
+    assert created == []  # the turn checked the calibration and made none
+    expect(page.locator("#compass-check a[href='/c/" + cal["id"] + "']")).to_be_visible()
+    shots(page, "check_result")
+    assert page.errors == []
+
+
 def test_a_phyphox_upload_shows_the_sphere_before_and_after(page, server, tmp_path):
     readings, _M_true = turn(12, 48.0, n=400)
     t = np.arange(len(readings)) / 10.0

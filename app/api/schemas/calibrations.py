@@ -7,9 +7,9 @@ temperature); the method table (:mod:`app.methods`) names it, and :data:`RESPONS
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Any, Literal, TypeAlias, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Self, TypeAlias, Union
 
-from pydantic import BaseModel, Field, create_model
+from pydantic import BaseModel, Field, create_model, model_validator
 
 from app.api.schemas import autocal, compass, cube, imports, noise, still_readings, temperature
 from app.api.schemas.common import CalibrationCommon, Mat3Out, Vec3Out
@@ -164,11 +164,16 @@ class ApplyOut(BaseModel):
 
 
 class CheckIn(Strict):
-    recording_id: str = Field(
-        ...,
+    recording_id: str | None = Field(
+        None,
         max_length=200,
         description="An uploaded recording of the device (POST /api/v1/recordings): still poses, a compass turn, "
-        "a rest.",
+        "a rest. Give it or mag.",
+    )
+    mag: Annotated[list[Vec3], Field(min_length=1, max_length=200_000)] | None = Field(
+        None,
+        description="A compass turn's readings [x, y, z] as the device read them, in the unit of the calibration's "
+        "compass (the page's live turn). Give it or recording_id.",
     )
     field_ut: float | None = Field(
         None, gt=0, le=1000, description="The place's field F in µT (default: the calibration's own, else the turn's)."
@@ -176,6 +181,12 @@ class CheckIn(Strict):
     inclination_deg: float | None = Field(
         None, ge=-90, le=90, description="The place's inclination, for the heading (default: 60° assumed)."
     )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Self:
+        if (self.recording_id is None) == (self.mag is None):
+            raise ValueError("give recording_id (an uploaded recording of the device) or mag (a turn's readings)")
+        return self
 
 
 Verdict: TypeAlias = Literal["keep", "calibrate_again", "move_the_compass", "cannot_tell"]
