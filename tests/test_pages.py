@@ -104,6 +104,17 @@ def test_wizard_refuses_an_unknown_protocol_or_capture_time_with_links(client):
         assert r.status_code == 400 and f"capture_s={bad} is not a number of seconds between 0.5 and 30" in r.text
 
 
+def test_the_compass_page_checks_a_calibration_named_by_its_id_and_refuses_anything_else(client):
+    cal = "cal_" + "0" * 32
+    r = client.get(f"/wizard?protocol=compass&check={cal}")
+    assert r.status_code == 200 and f'data-check="{cal}"' in r.text
+    assert "<h1>Check this phone&#39;s compass</h1>" in r.text
+    assert "compass-where" not in r.text  # the check takes the calibration's own field
+    for query in ("protocol=compass&check=cal_nope", f"protocol=six&check={cal}"):
+        r = client.get(f"/wizard?{query}")
+        assert r.status_code == 400 and "is not a compass calibration's id to check" in r.text, query
+
+
 def test_cube24_wizard_page(client):
     r = client.get("/wizard?protocol=cube24&capture_s=2")
     assert r.status_code == 200
