@@ -112,7 +112,7 @@ def test_the_compass_page_checks_a_calibration_named_by_its_id_and_refuses_anyth
     assert "compass-where" not in r.text  # the check takes the calibration's own field
     for query in ("protocol=compass&check=cal_nope", f"protocol=six&check={cal}"):
         r = client.get(f"/wizard?{query}")
-        assert r.status_code == 400 and "is not a compass calibration's id to check" in r.text, query
+        assert r.status_code == 400 and "is not a compass calibration&#39;s id to check" in r.text, query
 
 
 def test_cube24_wizard_page(client):
