@@ -188,7 +188,7 @@ def _no_note(method: str | None, figure: Figure) -> str:
 def _imported_note(method: str | None, figure: Figure) -> str:
     return (
         "It is the device's own calibration, read from its firmware's parameters, not measured: its numbers are "
-        "within the firmware's ranges."
+        "within the firmware's ranges. Whether it still holds, a check on a new recording of the device tells."
     )
 
 

@@ -26,7 +26,7 @@ def turn_file(path, m: np.ndarray):
     return path
 
 
-@pytest.mark.parametrize("width", [390, 1280])
+@pytest.mark.parametrize("width", [320, 390, 1280])
 def test_a_calibration_checked_on_its_page_and_compared_on_the_history(browser, server, tmp_path, width):
     context = axe_context(browser, viewport={"width": width, "height": 844}, device_scale_factor=1)
     try:
