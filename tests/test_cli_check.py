@@ -7,19 +7,13 @@ import json
 import numpy as np
 
 from simulations.magnetometer import simulate_session, simulate_turn
+from tests.api.test_check_api import turn_csv
 from tests.cli_in_process import trical
 from tests.conftest import DATA
 
 
 def turn_log(path, m: np.ndarray):
-    np.savetxt(
-        path,
-        np.column_stack([np.arange(len(m)) / 20.0, m]),
-        delimiter=",",
-        fmt="%.6f",
-        comments="",
-        header="time_s,mag_x,mag_y,mag_z",
-    )
+    path.write_bytes(turn_csv(m, rate_hz=20.0))
     return path
 
 

@@ -19,11 +19,12 @@ from tests.conftest import DATA
 F = 48.0
 
 
-def turn_csv(m: np.ndarray) -> bytes:
+def turn_csv(m: np.ndarray, rate_hz: float = 50.0) -> bytes:
+    """A compass turn's readings as a logger writes them: a time column in s, then the three axes (µT)."""
     buf = io.StringIO()
     np.savetxt(
         buf,
-        np.column_stack([np.arange(len(m)) / 50.0, m]),
+        np.column_stack([np.arange(len(m)) / rate_hz, m]),
         delimiter=",",
         fmt="%.6f",
         comments="",

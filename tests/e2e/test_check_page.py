@@ -9,20 +9,14 @@ import numpy as np
 import pytest
 
 from simulations.magnetometer import simulate_session, simulate_turn
+from tests.api.test_check_api import turn_csv
 from tests.e2e.axe import axe_context
 from tests.e2e.conftest import watched_page
 from tests.e2e.test_layout import layout_problems
 
 
 def turn_file(path, m: np.ndarray):
-    np.savetxt(
-        path,
-        np.column_stack([np.arange(len(m)) / 20.0, m]),
-        delimiter=",",
-        fmt="%.6f",
-        comments="",
-        header="time_s,mag_x,mag_y,mag_z",
-    )
+    path.write_bytes(turn_csv(m, rate_hz=20.0))
     return path
 
 
