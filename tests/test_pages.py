@@ -110,6 +110,9 @@ def test_the_compass_page_checks_a_calibration_named_by_its_id_and_refuses_anyth
     assert r.status_code == 200 and f'data-check="{cal}"' in r.text
     assert "<h1>Check this phone&#39;s compass</h1>" in r.text
     assert "compass-where" not in r.text  # the check takes the calibration's own field
+    board = client.get(f"/wizard?protocol=compass&source=board&check={cal}")
+    assert board.status_code == 200 and "<h1>Check this board&#39;s compass</h1>" in board.text
+    assert 'checks <a href="/c/' + cal + "\">the board's calibration</a>" in board.text
     for query in ("protocol=compass&check=cal_nope", f"protocol=six&check={cal}"):
         r = client.get(f"/wizard?{query}")
         assert r.status_code == 400 and "is not a compass calibration&#39;s id to check" in r.text, query
