@@ -6,10 +6,9 @@ from __future__ import annotations
 import json
 import os
 import sys
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from app.calibration import CalibrationError
+from app.cli.finish import calibration_body
 from app.cli.reading import read_options
 from app.io.readers.read_options import units_named
 from app.io.writers.samples import output_format
@@ -19,32 +18,6 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from app.config import Settings
-
-
-def calibration_body(cal: str, settings: Callable[[], Settings]) -> dict[str, Any]:
-    """The calibration ``CAL`` names: a JSON file of one (the API's body, or trical's JSON export), else a stored
-    calibration's id."""
-    path = Path(cal)
-    if path.is_file():
-        try:
-            body = json.loads(path.read_text(encoding="utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise CalibrationError(
-                f"{path.name} is not a calibration's JSON ({exc}): give CAL as a calibration "
-                "id (cal_...) or a file trical calibrate --json wrote"
-            ) from None
-        if not isinstance(body, dict) or "model" not in body or "method" not in body:
-            raise CalibrationError(
-                f"{path.name} holds no calibration (no method and model): give CAL as a calibration id (cal_...) or "
-                "a file trical calibrate --json or trical export --format json wrote"
-            )
-        # trical's JSON export names the input unit input_unit; the API's body names it unit.
-        return {**body, "unit": body.get("unit") or body.get("input_unit")}
-    if not cal.startswith("cal_"):
-        raise CalibrationError(f"{cal} is neither a file nor a calibration id (cal_...): give CAL as one of them")
-    from app.cli.finish import store_of
-
-    return store_of(settings).get_calibration(cal, owner=None)
 
 
 def run(args, settings: Callable[[], Settings]) -> int:

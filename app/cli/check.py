@@ -4,11 +4,9 @@ move the compass, cannot tell)."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from app.calibration import CalibrationError
-from app.cli.finish import store_of
+from app.cli.finish import calibration_body
 from app.cli.reading import read_options
 from app.io.readers import read_log, starts_like_flight_log
 from app.io.readers.read_options import units_named
@@ -18,26 +16,6 @@ if TYPE_CHECKING:
     from collections.abc import Callable
 
     from app.config import Settings
-
-
-def calibration_body(ref: str, settings: Callable[[], Settings]) -> dict:
-    """A calibration's body: the JSON file ``ref`` names (``trical calibrate --json``), else the stored calibration of
-    that id."""
-    path = Path(ref)
-    if path.suffix.lower() == ".json" or path.is_file():
-        try:
-            body = json.loads(path.read_text(encoding="utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-            raise CalibrationError(
-                f"{ref} is not a calibration's JSON ({exc}): give a calibration id or the JSON "
-                "trical calibrate --json prints"
-            ) from None
-        if not isinstance(body, dict) or "model" not in body:
-            raise CalibrationError(
-                f"{ref} holds no calibration (no model): give the JSON trical calibrate --json prints"
-            )
-        return body
-    return store_of(settings).get_calibration(ref, owner=None)
 
 
 def run(args, settings: Callable[[], Settings]) -> int:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import json
 from typing import TYPE_CHECKING
 
-from app.cli.check import calibration_body
+from app.cli.finish import calibration_body
 from app.workflows.check import compare_calibrations
 
 if TYPE_CHECKING:
