@@ -242,6 +242,21 @@ def _identity(c: AffineCorrection) -> AffineCorrection:
 Halves = tuple[np.ndarray | None, np.ndarray | None]
 
 
+def _drift(correction: AffineCorrection, half: Halves, fit, **place) -> SensorComparison:
+    """What drifted: the fresh fit made on the corrected readings against the identity (the current correction in
+    that frame), with both calibrations' intervals, the current one's carried into it; ``place`` is the vector's
+    size it is told at (``gravity``, or ``field_ut`` and ``inclination_deg``)."""
+    fc = fit.correction
+    fresh = AffineCorrection(fc.M, fc.o, correction.output_unit, correction.output_unit, sensor=correction.sensor)
+    return compare_corrections(
+        _identity(correction),
+        fresh,
+        half_a=_in_calibrated_frame(correction, half),
+        half_b=correction_half_widths(fit).get(correction.sensor, (None, None)),
+        **place,
+    )
+
+
 def _in_calibrated_frame(c: AffineCorrection, half: Halves) -> Halves:
     """The current correction's half-widths carried into the frame of its corrected readings, where the fresh fit
     is made (and the current correction is the identity): o's through M, ``|M| h_o``, and M's relative to M,
@@ -331,15 +346,7 @@ def check_still(
     f_low, f_high = _bootstrap_mean(fresh_errors)
     f_value = float(fresh_errors.mean())
     fresh = Interval(f_value, f_low, f_high, unit, tilt_error_deg(f_value), tilt_error_deg(f_high))
-    fc = fit.correction
-    fresh_correction = AffineCorrection(fc.M, fc.o, correction.output_unit, correction.output_unit, sensor="acc")
-    drift = compare_corrections(
-        _identity(correction),
-        fresh_correction,
-        half_a=_in_calibrated_frame(correction, half),
-        half_b=correction_half_widths(fit).get("acc", (None, None)),
-        gravity=g,
-    )
+    drift = _drift(correction, half, fit, gravity=g)
     unseen = () if known else ("orientation",)
     return _finish("acc", current, fresh, drift, KEEP_TOLERANCE_MG, len(m), "tilt", unseen)
 
@@ -490,16 +497,7 @@ def check_turn(
     fresh = Interval(
         f_value, f_low, f_high, unit, heading_error_deg(f_value, F, inc), heading_error_deg(f_high, F, inc)
     )
-    fc = fit.correction
-    fresh_correction = AffineCorrection(fc.M, fc.o, correction.output_unit, correction.output_unit, sensor="mag")
-    drift = compare_corrections(
-        _identity(correction),
-        fresh_correction,
-        half_a=_in_calibrated_frame(correction, half),
-        half_b=correction_half_widths(fit).get("mag", (None, None)),
-        field_ut=F,
-        inclination_deg=inc,
-    )
+    drift = _drift(correction, half, fit, field_ut=F, inclination_deg=inc)
     out = _finish("mag", current, fresh, drift, KEEP_TOLERANCE_UT, len(m), "heading", ("orientation",))
     if not rests or dip_deg is None:
         return dataclasses.replace(out, reasons=notes + out.reasons)
